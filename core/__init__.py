@@ -1,0 +1,21 @@
+"""metro core: units, plugin system, abstractions, budgets and shared maths.
+
+Import the pieces from their modules (``metro.core.budget``, ``metro.core.model``, …);
+this package only exposes the hook markers and the version, so ``import metro.core`` stays
+cheap.
+"""
+
+from __future__ import annotations
+
+from importlib import metadata as _md
+
+import pluggy as _pluggy
+
+hookimpl = _pluggy.HookimplMarker("metro")
+
+try:
+    __version__ = _md.version("metro")
+except _md.PackageNotFoundError:  # pragma: no cover - running from a bare checkout
+    __version__ = "0+unknown"
+
+__all__ = ["hookimpl", "__version__"]

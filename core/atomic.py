@@ -1,0 +1,139 @@
+"""Atomic file writing: a file is either written completely or not at all.
+
+Everything is written to a temporary file in the target's own directory (named
+``.{name}.tmp-XXXXXXXX``, so it is on the same file system and hidden from a plain ``ls``);
+only when the writer has finished without an error is the temporary file flushed to disk
+and renamed onto the target with :func:`os.replace`, which is atomic on POSIX and Windows.
+On any exception, ``KeyboardInterrupt`` included, the temporary file is removed and a file
+that already existed at the target is left exactly as it was.
+
+>>> atomic_write_text(path, "hello\\n")                     # doctest: +SKIP
+>>> atomic_write(path, lambda tmp: figure.savefig(tmp, format="png"))  # doctest: +SKIP
+>>> with atomic_path("report.docx") as tmp:                 # doctest: +SKIP
+...     document.save(tmp)
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import secrets
+import stat
+from pathlib import Path
+from typing import Callable, Iterator
+
+__all__ = ["atomic_path", "atomic_write", "atomic_write_text", "atomic_write_bytes", "TMP_MARKER"]
+
+#: Every temporary file's name contains this marker: ``.{name}{TMP_MARKER}{8 hex digits}``.
+TMP_MARKER = ".tmp-"
+
+_TRIES = 100
+
+
+def _create_temp(final: Path) -> Path:
+    """Create (exclusively) an empty temporary file next to ``final`` and return its path.
+
+    The file is created with mode 0o666 filtered by the process umask, like any new file,
+    so the final file gets the usual permissions (``tempfile.mkstemp`` would give 0o600).
+    """
+    for _ in range(_TRIES):
+        tmp = final.with_name(f".{final.name}{TMP_MARKER}{secrets.token_hex(4)}")
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+        except FileExistsError:
+            continue
+        os.close(fd)
+        return tmp
+    raise FileExistsError(f"could not create a temporary file next to {final}")  # pragma: no cover
+
+
+def _fsync_file(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _fsync_dir(directory: Path) -> None:
+    """Make the rename durable (POSIX); directories cannot be opened on Windows."""
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:  # pragma: no cover - Windows
+        return
+    try:
+        os.fsync(fd)
+    except OSError:  # pragma: no cover - some file systems refuse fsync on a directory
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """Yield a temporary path to write; on success it replaces ``path`` atomically.
+
+    The temporary file exists (empty) when the block starts; the block may overwrite it,
+    e.g. ``document.save(tmp)``.  If the target exists, its permission bits are copied to
+    the new file.  The target's directory must exist.  A symbolic link at the target is
+    replaced by the new file, not followed.
+    """
+    final = Path(path)
+    directory = final.parent
+    if not directory.is_dir():
+        raise FileNotFoundError(f"cannot write {final}: directory {directory} does not exist")
+    tmp = _create_temp(final)
+    try:
+        yield tmp
+        if not tmp.exists():
+            raise FileNotFoundError(f"the writer for {final} removed its temporary file {tmp.name}")
+        try:
+            mode = stat.S_IMODE(os.stat(final).st_mode)
+        except FileNotFoundError:
+            pass
+        else:
+            os.chmod(tmp, mode)
+        _fsync_file(tmp)
+        os.replace(tmp, final)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
+    _fsync_dir(directory)
+
+
+def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], None]) -> Path:
+    """Call ``writer(tmp_path)`` and move what it wrote onto ``path`` atomically; return ``path``."""
+    with atomic_path(path) as tmp:
+        writer(tmp)
+    return Path(path)
+
+
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; return ``path``."""
+
+    def _write(tmp: Path) -> None:
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+
+    return atomic_write(path, _write)
+
+
+def atomic_write_text(
+    path: str | os.PathLike[str],
+    text: str,
+    *,
+    encoding: str = "utf-8",
+    newline: str | None = None,
+) -> Path:
+    """Write ``text`` to ``path`` atomically (UTF-8 by default); return ``path``.
+
+    ``newline`` is as for :func:`open`: ``None`` writes the platform's line ending for
+    ``"\\n"``, ``""`` writes the text unchanged.
+    """
+
+    def _write(tmp: Path) -> None:
+        with open(tmp, "w", encoding=encoding, newline=newline) as fh:
+            fh.write(text)
+
+    return atomic_write(path, _write)

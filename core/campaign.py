@@ -1,0 +1,226 @@
+"""Reading a campaign manifest (TOML) into a :class:`~metro.core.model.Campaign`.
+
+The format is documented in docs/data-format.md.  Every problem is a
+:class:`~metro.core.errors.DataError` naming the manifest (or samples file), the field and
+the reason; nothing is evaluated until the whole manifest has been checked.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import tomllib
+from pathlib import Path
+from typing import Any, Mapping
+
+from .errors import DataError, UnitError
+from .model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
+from .provenance import sha256_file
+from .units import parse_quantity
+
+FORMAT = "metro-campaign/1"
+
+_DEVICE_KEYS = {"id", "manufacturer", "model", "serial", "technology", "application", "output"}
+_DEVICE_QUANTITIES = {"scale_factor": None, "scale_factor_U": None}
+_TECH = {"laser", "fibre", "fiber", "mems", "vibratory", "other", ""}
+_OUTPUT = {"pulse", "digital", "analog", "rate", ""}
+
+
+def _table(doc: Mapping, key: str, src: str, *, required: bool = True) -> Mapping:
+    v = doc.get(key)
+    if v is None:
+        if required:
+            raise DataError(src, f"[{key}]", "missing table", hint=f"add a [{key}] table (docs/data-format.md)")
+        return {}
+    if not isinstance(v, dict):
+        raise DataError(src, key, f"must be a table, got {type(v).__name__}")
+    return v
+
+
+def _str(t: Mapping, key: str, src: str, where: str, *, required: bool = True, default: str = "") -> str:
+    v = t.get(key)
+    if v is None:
+        if required:
+            raise DataError(src, f"{where}.{key}", "missing", hint=f"add {key} = \"…\" to [{where}]")
+        return default
+    if not isinstance(v, (str, int)):
+        raise DataError(src, f"{where}.{key}", f"must be text, got {v!r}")
+    return str(v)
+
+
+def _maybe_quantity(v: Any, src: str, field: str) -> Any:
+    """Values written as text with a unit become quantities; plain text stays text."""
+    if isinstance(v, str):
+        try:
+            return parse_quantity(v, file=src, field=field)
+        except UnitError:
+            return v
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, (int, float)):
+        return v
+    return v
+
+
+def _calibration(t: Mapping, src: str, where: str) -> Calibration:
+    cert = _str(t, "certificate", src, where)
+    if "U" not in t:
+        raise DataError(src, f"{where}.U", "missing expanded uncertainty",
+                        hint="write U = \"0.5 arcsec\" (absolute) or U = \"1e-4\" (relative) with its k")
+    U = parse_quantity(t["U"] if not isinstance(t["U"], (int, float)) else str(t["U"]), file=src, field=f"{where}.U")
+    k = t.get("k", 2.0)
+    if not isinstance(k, (int, float)) or k <= 0:
+        raise DataError(src, f"{where}.k", f"must be a positive number, got {k!r}")
+    due = t.get("due")
+    if due is not None and not isinstance(due, dt.date):
+        try:
+            due = dt.date.fromisoformat(str(due))
+        except ValueError as exc:
+            raise DataError(src, f"{where}.due", f"not a date (YYYY-MM-DD): {due!r}") from exc
+    dist = _str(t, "distribution", src, where, required=False, default="normal")
+    if dist not in ("normal", "uniform"):
+        raise DataError(src, f"{where}.distribution", f"must be normal or uniform, got {dist!r}")
+    return Calibration(cert, U, float(k), due, _str(t, "lab", src, where, required=False), dist)
+
+
+def load_manifest(path: str | Path, reader_for) -> Campaign:
+    """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
+    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``)."""
+    path = Path(path)
+    src = str(path)
+    if not path.is_file():
+        raise DataError(src, None, "manifest not found", hint="give the path of a manifest.toml (docs/data-format.md)")
+    try:
+        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise DataError(src, None, f"not valid TOML: {exc}") from exc
+    fmt = doc.get("format", FORMAT)
+    if fmt != FORMAT:
+        raise DataError(src, "format", f"unsupported format {fmt!r}; this metro reads {FORMAT!r}")
+
+    camp = _table(doc, "campaign", src, required=False)
+    dev_t = _table(doc, "device", src)
+    dev_id = _str(dev_t, "id", src, "device")
+    tech = _str(dev_t, "technology", src, "device", required=False).lower()
+    if tech not in _TECH:
+        raise DataError(src, "device.technology", f"unknown technology {tech!r}; use one of laser, fibre, mems, vibratory, other")
+    output = _str(dev_t, "output", src, "device", required=False).lower()
+    if output not in _OUTPUT:
+        raise DataError(src, "device.output", f"unknown output {output!r}; use pulse, digital, analog or rate")
+    props: dict[str, Any] = {}
+    for key, val in dev_t.items():
+        if key in _DEVICE_KEYS:
+            continue
+        if key == "scale_factor_k":
+            if not isinstance(val, (int, float)) or val <= 0:
+                raise DataError(src, "device.scale_factor_k", f"must be a positive number, got {val!r}")
+            props[key] = float(val)
+        elif key in _DEVICE_QUANTITIES:
+            props[key] = parse_quantity(val if not isinstance(val, (int, float)) else str(val), file=src,
+                                        field=f"device.{key}")
+        else:
+            props[key] = _maybe_quantity(val, src, f"device.{key}")
+    device = DeviceUnderTest(
+        id=dev_id, model=_str(dev_t, "model", src, "device", required=False),
+        serial=_str(dev_t, "serial", src, "device", required=False),
+        manufacturer=_str(dev_t, "manufacturer", src, "device", required=False),
+        properties=props, technology="fibre" if tech == "fiber" else tech,
+        application=_str(dev_t, "application", src, "device", required=False), output=output,
+    )
+
+    env_t = _table(doc, "environment", src)
+    environment: dict[str, Any] = {}
+    for key, dim in (("temperature", "degC"), ("humidity", "percent")):
+        if key not in env_t:
+            raise DataError(src, f"environment.{key}", "missing", hint=f"add {key} = \"…\" under [environment]")
+        environment[key] = parse_quantity(env_t[key], dimension=dim, file=src, field=f"environment.{key}")
+    for key, val in env_t.items():
+        if key not in environment:
+            environment[key] = _maybe_quantity(val, src, f"environment.{key}")
+
+    site_t = _table(doc, "site", src)
+    if "latitude" not in site_t:
+        raise DataError(src, "site.latitude", "missing", hint="add latitude = \"39.98°\" under [site]")
+    site: dict[str, Any] = {"latitude": parse_quantity(site_t["latitude"], dimension="deg", file=src, field="site.latitude")}
+    lat = site["latitude"].to("deg").magnitude
+    if not -90 <= lat <= 90:
+        raise DataError(src, "site.latitude", f"{lat:g}° is not a latitude (−90° … 90°)")
+    for key, val in site_t.items():
+        if key not in site:
+            site[key] = _maybe_quantity(val, src, f"site.{key}")
+
+    equipment = []
+    seen: set[str] = set()
+    eq_list = doc.get("equipment", [])
+    if not isinstance(eq_list, list):
+        raise DataError(src, "equipment", "must be an array of tables ([[equipment]])")
+    for i, e in enumerate(eq_list):
+        where = f"equipment[{i}]"
+        eid = _str(e, "id", src, where)
+        if eid in seen:
+            raise DataError(src, f"{where}.id", f"duplicate equipment id {eid!r}")
+        seen.add(eid)
+        cal = _calibration(e["calibration"], src, f"{where}.calibration") if "calibration" in e else None
+        eprops = {k: _maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
+                  if k not in {"id", "role", "model", "serial", "manufacturer", "calibration"}}
+        equipment.append(Equipment(
+            id=eid, role=_str(e, "role", src, where), model=_str(e, "model", src, where, required=False),
+            serial=_str(e, "serial", src, where, required=False),
+            manufacturer=_str(e, "manufacturer", src, where, required=False),
+            properties=eprops, calibration=cal,
+        ))
+
+    seg_list = doc.get("segments")
+    if not seg_list:
+        raise DataError(src, "segments", "no [[segments]] given; a campaign needs at least one measured segment")
+    segments = []
+    seen = set()
+    for i, s in enumerate(seg_list):
+        where = f"segments[{i}]"
+        sid = _str(s, "id", src, where)
+        if sid in seen:
+            raise DataError(src, f"{where}.id", f"duplicate segment id {sid!r}")
+        seen.add(sid)
+        kind = _str(s, "kind", src, where)
+        fname = _str(s, "file", src, where)
+        fpath = (path.parent / fname).resolve()
+        if not fpath.is_file():
+            raise DataError(src, f"{where}.file", f"samples file {fname!r} not found (looked in {fpath.parent})")
+        if "sample_interval" not in s:
+            raise DataError(src, f"{where}.sample_interval", "missing", hint="add sample_interval = \"1 s\"")
+        interval = parse_quantity(s["sample_interval"], dimension="s", file=src, field=f"{where}.sample_interval")
+        if not interval.magnitude > 0:
+            raise DataError(src, f"{where}.sample_interval", "must be positive")
+        conds = s.get("conditions", {})
+        if not isinstance(conds, dict):
+            raise DataError(src, f"{where}.conditions", "must be a table")
+        conditions = {k: _maybe_quantity(v, src, f"{where}.conditions.{k}") for k, v in conds.items()}
+        declared = s.get("units", {})
+        if not isinstance(declared, dict):
+            raise DataError(src, f"{where}.units", "must be a table of column = \"unit\"")
+        reader = reader_for(fpath)
+        interval_s = float(interval.to("s").magnitude)
+        segments.append(Segment(
+            id=sid, kind=kind, conditions=conditions, interval=interval, file=str(fpath),
+            sha256=sha256_file(fpath), declared_units={k: str(v) for k, v in declared.items()},
+            loader=_make_loader(reader.read, fpath, interval_s, declared),
+        ))
+
+    return Campaign(
+        id=_str(camp, "id", src, "campaign", required=False, default=path.parent.name),
+        device=device, equipment=equipment, environment=environment, site=site, segments=segments,
+        source=src, simulated=False,
+        meta={k: v for k, v in camp.items() if k != "id"},
+    )
+
+
+def _make_loader(read, fpath: Path, interval_s: float, declared: Mapping[str, str]):
+    def load():
+        table = read(fpath, expected_interval_s=interval_s)
+        out = {}
+        for name, arr in table.columns.items():
+            out[name] = (arr, table.units[name])
+        return out
+
+    return load

@@ -1,0 +1,232 @@
+"""The ``metro`` command line.
+
+Start-up is kept fast: only argparse is imported here at module level; numpy, pint,
+scipy, docxtpl and the plugins load when a command needs them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from typing import Any, Sequence
+
+EXIT_USER_ERROR = 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="metro",
+        description="Calibrate and test inertial sensors to published standards "
+        "(GB/T 45570, JJF 2014, JJF 2003 …). Standards are plugins.",
+        epilog="Example: metro run --standard gbt45570 --item D.5.6   "
+        "(no --data: runs on the built-in simulated test station)",
+    )
+    p.add_argument("--no-plugin-autoload", action="store_true",
+                   help="load only metro's built-in plugins (also METRO_DISABLE_PLUGIN_AUTOLOAD=1)")
+    p.add_argument("--block-plugin", action="append", default=[], metavar="NAME",
+                   help="do not load the plugin NAME (repeatable; also METRO_BLOCK_PLUGINS=a,b)")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+
+    r = sub.add_parser("run", help="evaluate one or more items of a standard",
+                       description="Evaluate items of a standard on a campaign (--data) or, without --data, "
+                       "on the built-in simulated test station.")
+    r.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
+    r.add_argument("--item", "-i", action="append", required=True,
+                   help="item id, e.g. D.5.6 (repeat or comma-separate for several)")
+    r.add_argument("--data", "-d", metavar="MANIFEST", help="campaign manifest (TOML); see docs/data-format.md")
+    r.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE",
+                   help="item option, e.g. -o t=\"100 s\" (see `metro items`)")
+    r.add_argument("--json", action="store_true", help="print one JSON document on stdout")
+    r.add_argument("--out", default="metro-out", metavar="DIR", help="where the Word report goes (default: metro-out)")
+    r.add_argument("--report", metavar="PATH", help="write the Word report to PATH instead")
+    r.add_argument("--no-report", action="store_true", help="do not write a Word report")
+    r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
+    r.add_argument("--no-progress", action="store_true", help="no progress bars")
+
+    pl = sub.add_parser("plugins", help="list loaded plugins and their versions")
+    pl.add_argument("--json", action="store_true")
+
+    it = sub.add_parser("items", help="list the items of the loaded standards")
+    it.add_argument("--standard", "-s")
+    it.add_argument("--json", action="store_true")
+
+    pn = sub.add_parser("plan", help="print an item's test sequence (what to measure)")
+    pn.add_argument("--standard", "-s", required=True)
+    pn.add_argument("--item", "-i", action="append", required=True)
+    pn.add_argument("--json", action="store_true")
+    return p
+
+
+def _items(values: Sequence[str]) -> list[str]:
+    out: list[str] = []
+    for v in values:
+        out.extend(x.strip() for x in v.split(",") if x.strip())
+    return out
+
+
+def _options(values: Sequence[str]) -> dict[str, Any]:
+    from .errors import MetroError
+
+    out: dict[str, Any] = {}
+    for v in values:
+        if "=" not in v:
+            raise MetroError(f"option {v!r} is not NAME=VALUE")
+        k, val = v.split("=", 1)
+        out[k.strip()] = val.strip()
+    return out
+
+
+def _pm(args):
+    from .plugins import get_plugin_manager
+
+    return get_plugin_manager(autoload=False if args.no_plugin_autoload else None, block=args.block_plugin)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    if args.command is None:
+        _parser().print_help()
+        return 0
+    from .errors import MetroError
+
+    try:
+        if args.command == "run":
+            return _cmd_run(args)
+        if args.command == "plugins":
+            return _cmd_plugins(args)
+        if args.command == "items":
+            return _cmd_items(args)
+        if args.command == "plan":
+            return _cmd_plan(args)
+    except MetroError as exc:
+        if getattr(args, "json", False):
+            print(json.dumps({"error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
+                              "file": getattr(exc, "file", None), "field": getattr(exc, "field", None)}))
+        print(f"metro: error: {exc.reason}", file=sys.stderr)
+        if exc.hint:
+            print(f"  what to do: {exc.hint}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except KeyboardInterrupt:
+        print("metro: interrupted; nothing was written", file=sys.stderr)
+        return 130
+    return 1
+
+
+# ----------------------------------------------------------------------------------------
+
+
+def _cmd_run(args) -> int:
+    from pathlib import Path
+
+    from rich.console import Console
+
+    from . import present
+    from .runner import run_items
+
+    err = Console(stderr=True)
+    pm = _pm(args)
+    items = _items(args.item)
+    options = _options(args.option)
+    station_options = {"seed": args.seed} if args.seed is not None else {}
+    if args.data is None and not args.json:
+        err.print("[bold yellow]No --data given: running on the built-in SIMULATED test station "
+                  "(a virtual optical gyro with declared, seeded truth).[/]")
+    with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
+        record = run_items(pm, args.standard, items, data=args.data, options=options,
+                           station_options=station_options, progress=prog)
+        report_path = None
+        if not args.no_report:
+            from .report import write_report
+
+            target = Path(args.report) if args.report else Path(args.out) / f"{record.report_number}.docx"
+            target.parent.mkdir(parents=True, exist_ok=True)
+            template = pm.template_for(args.standard).path
+            prog("writing report", 0, 1) if prog else None
+            report_path = write_report(target, record, template=template)
+            pm.report_written(report_path, record.outcomes)
+    if args.json:
+        print(json.dumps(present.as_json(record, report_path), ensure_ascii=False, indent=2))
+    else:
+        present.print_record(record, report_path)
+    return 0
+
+
+def _cmd_plugins(args) -> int:
+    pm = _pm(args)
+    reg = pm.registry
+    rows = []
+    for name, info in sorted(pm.plugins.items()):
+        stds = sorted(s.id for s in reg.standards.values() if s.plugin == name)
+        n_items = sum(1 for p in reg.procedures.values() if p.plugin == name)
+        rows.append({"name": name, "distribution": info.distribution, "version": info.version,
+                     "builtin": info.builtin, "module": info.module, "standards": stds, "items": n_items})
+    if args.json:
+        print(json.dumps({"plugins": rows,
+                          "autoload": not (args.no_plugin_autoload or os.environ.get("METRO_DISABLE_PLUGIN_AUTOLOAD"))},
+                         indent=2))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title="metro plugins")
+    for col in ("plugin", "distribution", "version", "built-in", "standards", "items"):
+        t.add_column(col)
+    for r in rows:
+        t.add_row(r["name"], r["distribution"] or "-", r["version"] or "-", "yes" if r["builtin"] else "no",
+                  ", ".join(r["standards"]) or "-", str(r["items"]))
+    Console().print(t)
+    return 0
+
+
+def _cmd_items(args) -> int:
+    pm = _pm(args)
+    rows = []
+    for pid, info in sorted(pm.registry.procedures.items()):
+        cls = info.cls
+        if args.standard and cls.standard != args.standard:
+            continue
+        rows.append({"id": pid, "standard": cls.standard, "item": cls.item, "title": cls.title,
+                     "clause": cls.clause, "plugin": info.plugin,
+                     "options": {o.name: {"default": o.default, "unit": o.unit, "description": o.description}
+                                 for o in cls.options}})
+    if args.json:
+        print(json.dumps({"items": rows}, ensure_ascii=False, indent=2))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title="metro items")
+    for col in ("id", "title", "clause", "plugin", "options"):
+        t.add_column(col)
+    for r in rows:
+        t.add_row(r["id"], r["title"], r["clause"], r["plugin"],
+                  "; ".join(f"{k} (default {v['default']})" for k, v in r["options"].items()) or "-")
+    Console().print(t)
+    return 0
+
+
+def _cmd_plan(args) -> int:
+    from .runner import merge_steps
+
+    pm = _pm(args)
+    procs = [pm.procedure(args.standard, i) for i in _items(args.item)]
+    steps = merge_steps([cls().sequence(cls.option_values({})) for cls in procs])
+    rows = [{"segment": s.segment, "kind": s.kind, "duration": f"{s.duration:~P}", "interval": f"{s.interval:~P}",
+             "warmup": f"{s.warmup:~P}" if s.warmup is not None else None,
+             "conditions": {k: str(v) for k, v in s.conditions.items()}, "description": s.description}
+            for s in steps]
+    if args.json:
+        print(json.dumps({"steps": rows}, ensure_ascii=False, indent=2))
+        return 0
+    for i, r in enumerate(rows, 1):
+        print(f"{i}. [{r['segment']}] {r['description']}")
+        print(f"   kind={r['kind']} duration={r['duration']} interval={r['interval']}"
+              + (f" warm-up≥{r['warmup']}" if r["warmup"] else "")
+              + "".join(f" {k}={v}" for k, v in r["conditions"].items()))
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,157 @@
+"""Every hook metro calls, in one module, grouped by phase.
+
+Plugins implement hooks with ``@metro.core.hookimpl``.  Built-in standards are plugins
+loaded from the same ``metro`` entry-point group as third-party ones.  metro never relies on
+the order in which implementations are called (pluggy calls the newest registered first);
+where one answer is wanted the hook is ``firstresult``.
+
+Phases:
+
+1. **Set-up** — :func:`metro_unit_definitions`, run once when the plugin manager is built.
+2. **Registration** — :func:`metro_register_standards`, :func:`metro_register_readers`,
+   :func:`metro_register_stations`, :func:`metro_register_templates`.  Each receives a
+   *registrar* that validates what it is given and remembers which plugin gave it.
+3. **Run** — :func:`metro_campaign_loaded`, :func:`metro_procedure_started`,
+   :func:`metro_procedure_finished`, :func:`metro_report_written`: lifecycle events.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Sequence
+
+import pluggy
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pathlib import Path
+
+    from .model import Campaign, Outcome, Procedure, RunContext
+    from .plugins import ReaderRegistrar, StandardRegistrar, StationRegistrar, TemplateRegistrar
+
+PROJECT = "metro"
+hookspec = pluggy.HookspecMarker(PROJECT)
+hookimpl = pluggy.HookimplMarker(PROJECT)
+
+
+# ---------------------------------------------------------------------------------------
+# 1. Set-up
+# ---------------------------------------------------------------------------------------
+
+
+@hookspec
+def metro_unit_definitions() -> Sequence[str]:
+    """Return unit definition lines to add to metro's single unit registry.
+
+    Lines use pint's definitions-file syntax (as in pint's ``default_en.txt``), e.g.
+    ``"milli_earth_rate = 0.015041 * degree / hour = mΩe"``.  Called once, before any
+    registration hook, so registered procedures can use the new units.
+
+    :return: a sequence of definition lines (may be empty).  Results of all plugins are
+        added; a line that redefines an existing unit is an error naming the plugin.
+    """
+
+
+# ---------------------------------------------------------------------------------------
+# 2. Registration
+# ---------------------------------------------------------------------------------------
+
+
+@hookspec
+def metro_register_standards(registrar: "StandardRegistrar") -> None:
+    """Register standards and their procedures (calibration items).
+
+    Call ``registrar.add_standard(id, title, ...)`` then
+    ``registrar.add_procedure(ProcedureClass)`` for each item.  A plugin may also add
+    procedures to a standard another plugin registered (a vendor-specific item), as long as
+    the item id is new: a duplicate ``standard:item`` is an error naming both plugins.
+
+    :param registrar: validates and records what this plugin registers.
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_register_readers(registrar: "ReaderRegistrar") -> None:
+    """Register data readers for samples files, by file suffix.
+
+    Call ``registrar.add_reader(suffixes=(".csv",), read=callable, description=...)``.
+    ``read(path, **kw)`` returns a :class:`metro.instruments.readers.SampleTable`-like
+    object with ``columns``, ``units`` and ``sha256``, or raises
+    :class:`metro.core.errors.DataError`.  A suffix claimed twice is an error naming both.
+
+    :param registrar: validates and records the readers.
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_register_stations(registrar: "StationRegistrar") -> None:
+    """Register test stations (simulated or live) that can acquire a campaign.
+
+    Call ``registrar.add_station(name, factory, description=...)``; ``factory(**options)``
+    returns an object with ``acquire(procedure, steps, ctx) -> Campaign``.  The built-in
+    ``simulated`` station is registered this way by ``metro.instruments``.
+
+    :param registrar: validates and records the stations.
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_register_templates(registrar: "TemplateRegistrar") -> None:
+    """Register Word (docxtpl) report or certificate templates.
+
+    Call ``registrar.add_template(name, path, standard=None, kind="report")``.  A template
+    registered for a standard is used for that standard's reports; ``standard=None`` makes
+    it the generic fallback.  Names must be unique.
+
+    :param registrar: validates and records the templates.
+    :return: nothing.
+    """
+
+
+# ---------------------------------------------------------------------------------------
+# 3. Run (lifecycle events)
+# ---------------------------------------------------------------------------------------
+
+
+@hookspec
+def metro_campaign_loaded(campaign: "Campaign") -> None:
+    """Called after a campaign was read (or acquired) and validated, before any procedure runs.
+
+    Raise :class:`metro.core.errors.DataError` to refuse it (e.g. a lab rule that equipment
+    must be within its calibration period).
+
+    :param campaign: the loaded campaign.
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_procedure_started(procedure: "Procedure", campaign: "Campaign", ctx: "RunContext") -> None:
+    """Called just before ``procedure.evaluate(campaign, ctx)``.
+
+    :param procedure: the procedure about to run.
+    :param campaign: its data.
+    :param ctx: the run context (options, progress).
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_procedure_finished(procedure: "Procedure", outcome: "Outcome") -> None:
+    """Called when a procedure has produced its outcome (results and budgets).
+
+    :param procedure: the procedure that ran.
+    :param outcome: what it produced.
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_report_written(path: "Path", outcomes: Sequence["Outcome"]) -> None:
+    """Called after a report or certificate was written (atomically) to ``path``.
+
+    :param path: the final path of the document.
+    :param outcomes: the outcomes it contains.
+    :return: nothing.
+    """

@@ -1,0 +1,545 @@
+"""metro's core abstractions: instruments, campaigns, procedures, metrics and results.
+
+Values are ``attrs.frozen`` (readings, results, calibration data); the pieces that carry
+state while a run is under way (:class:`RunContext`) are ``attrs.define``.  I/O lives
+elsewhere: a :class:`Segment` holds a *loader* supplied by a reader, never a file handle.
+"""
+
+from __future__ import annotations
+
+import abc
+import datetime as dt
+import math
+from types import MappingProxyType
+from typing import Any, Callable, ClassVar, Iterable, Mapping, Sequence
+
+import attrs
+import numpy as np
+import pint
+
+from .budget import UncertaintyBudget, report_pair
+from .errors import DataError, ProcedureError
+from .units import Q_, check_dimension, fmt_unit, parse_quantity, unit
+
+__all__ = [
+    "Calibration",
+    "Instrument",
+    "DeviceUnderTest",
+    "Equipment",
+    "Series",
+    "Segment",
+    "Campaign",
+    "Metric",
+    "Result",
+    "PlotSpec",
+    "TableSpec",
+    "Outcome",
+    "SegmentRequirement",
+    "EquipmentRequirement",
+    "Option",
+    "Step",
+    "Procedure",
+    "RunContext",
+]
+
+
+def _frozen_map(m: Mapping | None) -> Mapping:
+    return MappingProxyType(dict(m or {}))
+
+
+# --------------------------------------------------------------------------------------
+# Instruments
+# --------------------------------------------------------------------------------------
+
+
+@attrs.frozen
+class Calibration:
+    """A piece of equipment's calibration data, as its certificate states it.
+
+    ``uncertainty`` is the expanded uncertainty U (absolute, e.g. ``0.5 ″``, or relative,
+    e.g. ``1e-4`` / ``100 ppm``) with coverage factor ``k``; ``distribution`` is ``normal``
+    for a certificate's U, or ``uniform`` when only a maximum permissible error (a
+    half-width) is known, in which case ``k`` is ignored.
+    """
+
+    certificate: str
+    uncertainty: pint.Quantity
+    k: float = 2.0
+    due: dt.date | None = None
+    lab: str = ""
+    distribution: str = "normal"
+
+    @property
+    def standard_uncertainty(self) -> pint.Quantity:
+        if self.distribution == "normal":
+            return self.uncertainty / self.k
+        return self.uncertainty / math.sqrt(3.0)
+
+    def status(self, on: dt.date | None = None) -> str:
+        """'valid until …', 'EXPIRED on …' or 'no due date' as of ``on`` (today by default)."""
+        on = on or dt.date.today()
+        if self.due is None:
+            return f"certificate {self.certificate}, no due date stated"
+        if self.due < on:
+            return f"certificate {self.certificate}, EXPIRED on {self.due.isoformat()}"
+        return f"certificate {self.certificate}, valid until {self.due.isoformat()}"
+
+    def is_valid(self, on: dt.date | None = None) -> bool:
+        return self.due is None or self.due >= (on or dt.date.today())
+
+
+@attrs.frozen
+class Instrument:
+    """A device under test or a piece of the lab's equipment (identification + properties)."""
+
+    id: str
+    model: str = ""
+    serial: str = ""
+    manufacturer: str = ""
+    properties: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+
+    def prop(self, name: str, dimension: str | None = None, *, source: str | None = None) -> Any:
+        """A property by name, checked against ``dimension`` when given; a clear error if missing."""
+        if name not in self.properties:
+            raise DataError(source, f"{self.kind}.{name}", f"missing (needed for {self.id})")
+        v = self.properties[name]
+        if dimension is not None:
+            check_dimension(v, dimension, file=source, field=f"{self.kind}.{name}")
+        return v
+
+    @property
+    def kind(self) -> str:
+        return "instrument"
+
+    def describe(self) -> str:
+        parts = [p for p in (self.manufacturer, self.model) if p]
+        text = " ".join(parts) or self.id
+        if self.serial:
+            text += f" (s/n {self.serial})"
+        return text
+
+
+@attrs.frozen
+class DeviceUnderTest(Instrument):
+    """The gyro (or IMU, or angle instrument) being tested.
+
+    ``technology`` (e.g. ``laser``/``fibre``), ``application`` (e.g. ``aerospace``) and
+    ``output`` (``pulse``, ``digital``, ``analog``, ``rate``) drive method selection and
+    conformity in the plugins.
+    """
+
+    technology: str = ""
+    application: str = ""
+    output: str = ""
+
+    @property
+    def kind(self) -> str:
+        return "device"
+
+
+@attrs.frozen
+class Equipment(Instrument):
+    """A piece of the lab's equipment with its role in the test and its calibration data."""
+
+    role: str = ""
+    calibration: Calibration | None = None
+
+    @property
+    def kind(self) -> str:
+        return "equipment"
+
+    def status(self, on: dt.date | None = None) -> str:
+        if self.calibration is None:
+            return "no calibration data given"
+        return self.calibration.status(on)
+
+
+# --------------------------------------------------------------------------------------
+# Data: series, segments, campaigns
+# --------------------------------------------------------------------------------------
+
+
+@attrs.frozen
+class Series:
+    """A uniformly sampled column: ``data`` (a pint quantity wrapping a 1-D array, not copied)
+    sampled every ``interval``, from ``source`` (file and column)."""
+
+    data: pint.Quantity
+    interval: pint.Quantity
+    source: str = ""
+    column: str = ""
+
+    @property
+    def n(self) -> int:
+        return int(np.shape(self.data.magnitude)[0])
+
+    @property
+    def duration(self) -> pint.Quantity:
+        return self.interval * self.n
+
+    @property
+    def unit(self) -> pint.Unit:
+        return self.data.units
+
+
+@attrs.frozen(eq=False)
+class Segment:
+    """One measurement segment of a campaign: its conditions and its samples.
+
+    ``loader`` returns ``{column: (array, unit_text)}`` when called; it is supplied by a
+    reader (files) or by a station (simulation) and is called at most once per run.
+    """
+
+    id: str
+    kind: str
+    conditions: Mapping[str, Any] = attrs.field(converter=_frozen_map)
+    interval: pint.Quantity | None
+    file: str | None = None
+    sha256: str | None = None
+    declared_units: Mapping[str, str] = attrs.field(factory=dict, converter=_frozen_map)
+    loader: Callable[[], Mapping[str, tuple[np.ndarray, str]]] | None = None
+    _cache: dict = attrs.field(factory=dict, init=False, repr=False)
+
+    def condition(self, name: str, dimension: str | None = None) -> Any:
+        if name not in self.conditions:
+            raise DataError(self.file, f"segments.{self.id}.conditions.{name}", "missing condition",
+                            hint=f"add '{name} = \"…\"' under [segments.conditions] of segment {self.id!r}")
+        v = self.conditions[name]
+        if dimension is not None:
+            v = parse_quantity(v, dimension=dimension, file=self.file, field=f"segments.{self.id}.conditions.{name}")
+        return v
+
+    def columns(self) -> Mapping[str, tuple[np.ndarray, str]]:
+        if "cols" not in self._cache:
+            if self.loader is None:
+                raise DataError(self.file, f"segments.{self.id}", "segment has no data")
+            self._cache["cols"] = self.loader()
+        return self._cache["cols"]
+
+    def series(self, column: str, dimension: str | Sequence[str]) -> Series:
+        """The named column as a :class:`Series`, its header unit checked against ``dimension``
+        (one unit or a list of acceptable ones)."""
+        cols = self.columns()
+        if column not in cols:
+            raise DataError(
+                self.file, column,
+                f"segment {self.id!r} has no column {column!r} (columns: {', '.join(cols) or 'none'})",
+            )
+        arr, utext = cols[column]
+        try:
+            u = unit(utext)
+        except Exception as exc:
+            raise DataError(self.file, column, f"cannot read unit {utext!r} in the header ({exc})") from exc
+        dims = [dimension] if isinstance(dimension, str) else list(dimension)
+        errors = []
+        for d in dims:
+            try:
+                check_dimension(Q_(1.0, u), d, file=self.file, field=column)
+                break
+            except DataError as exc:
+                errors.append(exc)
+        else:
+            raise DataError(
+                self.file, column,
+                f"header unit {fmt_unit(u)} is not one of the accepted kinds "
+                f"({', '.join(fmt_unit(d) for d in dims)})",
+            )
+        declared = self.declared_units.get(column)
+        if declared is not None and unit(declared) != u:
+            raise DataError(
+                self.file, column,
+                f"the header says [{utext}] but the manifest declares [{declared}]; "
+                "metro does not guess which is right",
+                hint="correct the header or the manifest's units table",
+            )
+        if self.interval is None:
+            raise DataError(self.file, f"segments.{self.id}.sample_interval", "missing sample interval")
+        return Series(Q_(arr, u), self.interval, source=self.file or f"segment {self.id}", column=column)
+
+
+@attrs.frozen(eq=False)
+class Campaign:
+    """Everything measured in one test campaign on one device."""
+
+    id: str
+    device: DeviceUnderTest
+    equipment: tuple[Equipment, ...] = attrs.field(converter=tuple)
+    environment: Mapping[str, Any] = attrs.field(converter=_frozen_map)
+    site: Mapping[str, Any] = attrs.field(converter=_frozen_map)
+    segments: tuple[Segment, ...] = attrs.field(converter=tuple)
+    source: str = ""  # manifest path, or "simulated station"
+    simulated: bool = False
+    truth: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+    meta: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+
+    def find_segments(self, kind: str | None = None, **conditions: Any) -> list[Segment]:
+        out = []
+        for s in self.segments:
+            if kind is not None and s.kind != kind:
+                continue
+            if all(str(s.conditions.get(k)) == str(v) for k, v in conditions.items()):
+                out.append(s)
+        return out
+
+    def equipment_for(self, role: str) -> Equipment | None:
+        for e in self.equipment:
+            if e.role == role:
+                return e
+        return None
+
+    def site_value(self, name: str, dimension: str) -> pint.Quantity:
+        if name not in self.site:
+            raise DataError(self.source, f"site.{name}", "missing", hint=f"add '{name} = \"…\"' under [site]")
+        return parse_quantity(self.site[name], dimension=dimension, file=self.source, field=f"site.{name}")
+
+    def data_files(self) -> list[tuple[str, str]]:
+        """(file, sha256) of every raw data file used by the campaign."""
+        return [(s.file, s.sha256) for s in self.segments if s.file and s.sha256]
+
+
+# --------------------------------------------------------------------------------------
+# Procedures and their results
+# --------------------------------------------------------------------------------------
+
+
+@attrs.frozen
+class Metric:
+    """A declared output of a procedure: what it is, its unit, and where its formula is."""
+
+    key: str
+    name: str
+    symbol: str
+    unit: str
+    clause: str
+    equation: str = ""
+    description: str = ""
+
+
+@attrs.frozen
+class Result:
+    """A metric's value with its standard uncertainty and budget."""
+
+    metric: Metric
+    value: pint.Quantity
+    u: pint.Quantity | None = None
+    budget: UncertaintyBudget | None = None
+    note: str = ""
+
+    def __attrs_post_init__(self) -> None:
+        check_dimension(self.value, self.metric.unit, field=self.metric.key)
+        if not np.all(np.isfinite(np.asarray(self.value.magnitude, dtype=float))):
+            raise ProcedureError(f"{self.metric.key}: result is not finite ({self.value})")
+
+    @property
+    def k(self) -> float | None:
+        return self.budget.k if self.budget is not None else None
+
+    @property
+    def U(self) -> pint.Quantity | None:
+        if self.budget is not None:
+            return self.budget.expanded.to(self.metric.unit)
+        return None
+
+    def reported(self) -> tuple[str, str | None]:
+        """(value text, U text) rounded as JJF 1059.1 asks, in the metric's unit."""
+        v = float(self.value.to(self.metric.unit).magnitude)
+        if self.U is None:
+            return f"{v:.6g}", None
+        mode = self.budget.round_mode if self.budget else "half-even"
+        rv, rU = report_pair(v, float(self.U.magnitude), mode=mode)
+        return rv.text, rU.text
+
+    def as_dict(self) -> dict:
+        unit_ = self.metric.unit
+        val = self.value.to(unit_).magnitude
+        vtext, Utext = self.reported()
+        return {
+            "key": self.metric.key,
+            "quantity": self.metric.name,
+            "symbol": self.metric.symbol,
+            "clause": self.metric.clause,
+            "equation": self.metric.equation,
+            "value": float(val),
+            "unit": fmt_unit(unit_),
+            "u": None if self.u is None else float(self.u.to(unit_).magnitude),
+            "U": None if self.U is None else float(self.U.magnitude),
+            "k": self.k,
+            "nu_eff": None if self.budget is None or math.isinf(self.budget.nu_eff) else self.budget.nu_eff,
+            "reported": {"value": vtext, "U": Utext},
+            "note": self.note,
+        }
+
+
+@attrs.frozen
+class PlotSpec:
+    """Data for one figure; reports render it (matplotlib), procedures only describe it."""
+
+    name: str
+    title: str
+    xlabel: str
+    ylabel: str
+    series: tuple[Mapping[str, Any], ...] = attrs.field(converter=tuple)  # {label, x, y, style, yerr}
+    logx: bool = False
+    logy: bool = False
+
+
+@attrs.frozen
+class TableSpec:
+    """A supplementary table (e.g. B_s(τ_k) per level)."""
+
+    name: str
+    title: str
+    header: tuple[str, ...] = attrs.field(converter=tuple)
+    rows: tuple[tuple[Any, ...], ...] = attrs.field(converter=lambda rs: tuple(tuple(r) for r in rs))
+
+
+@attrs.frozen
+class Outcome:
+    """What one procedure produced from one campaign."""
+
+    standard: str
+    item: str
+    title: str
+    clause: str
+    results: tuple[Result, ...] = attrs.field(converter=tuple)
+    plots: tuple[PlotSpec, ...] = attrs.field(default=(), converter=tuple)
+    tables: tuple[TableSpec, ...] = attrs.field(default=(), converter=tuple)
+    warnings: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    segments: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    options: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+
+    @property
+    def id(self) -> str:
+        return f"{self.standard}:{self.item}"
+
+    def result(self, key: str) -> Result:
+        for r in self.results:
+            if r.metric.key == key:
+                return r
+        raise KeyError(key)
+
+
+@attrs.frozen
+class SegmentRequirement:
+    """What data a procedure needs: segments of ``kind`` with these conditions and columns."""
+
+    kind: str
+    description: str
+    conditions: Mapping[str, str] = attrs.field(factory=dict, converter=_frozen_map)  # name -> unit
+    columns: Mapping[str, tuple[str, ...]] = attrs.field(factory=dict, converter=_frozen_map)  # name -> accepted units
+    min_duration: pint.Quantity | None = None
+    min_count: int = 1
+
+
+@attrs.frozen
+class EquipmentRequirement:
+    role: str
+    description: str
+    required: bool = False
+
+
+@attrs.frozen
+class Option:
+    """An item option (the standard's '除另有规定外' values), with its unit and default."""
+
+    name: str
+    default: Any
+    unit: str | None
+    description: str
+
+    def parse(self, value: Any) -> Any:
+        if self.unit is None:
+            return value
+        return parse_quantity(value, dimension=self.unit, field=f"option {self.name}")
+
+
+@attrs.frozen
+class Step:
+    """One step of a test sequence: acquire a segment under these conditions."""
+
+    segment: str
+    kind: str
+    description: str
+    duration: pint.Quantity
+    interval: pint.Quantity
+    conditions: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+    warmup: pint.Quantity | None = None
+
+
+@attrs.define
+class RunContext:
+    """State of one run: options, the progress reporter, lifecycle hooks, the clock."""
+
+    options: dict[str, Any] = attrs.field(factory=dict)
+    progress: Callable[[str, float, float], None] | None = None
+    today: dt.date = attrs.field(factory=dt.date.today)
+
+    def report_progress(self, task: str, done: float, total: float) -> None:
+        if self.progress is not None:
+            self.progress(task, done, total)
+
+
+class Procedure(abc.ABC):
+    """One calibration/test item of one standard (e.g. ``gbt45570:D.5.6``).
+
+    Subclasses declare, as class attributes, the item's id, clause, title, the metrics it
+    produces, the data and equipment it needs, its options, and implement
+    :meth:`sequence` (what to measure) and :meth:`evaluate` (formulas → results + budgets).
+    """
+
+    standard: ClassVar[str]
+    item: ClassVar[str]
+    title: ClassVar[str]
+    clause: ClassVar[str]
+    metrics: ClassVar[tuple[Metric, ...]] = ()
+    requires: ClassVar[tuple[SegmentRequirement, ...]] = ()
+    equipment: ClassVar[tuple[EquipmentRequirement, ...]] = ()
+    options: ClassVar[tuple[Option, ...]] = ()
+
+    @classmethod
+    def qualified_id(cls) -> str:
+        return f"{cls.standard}:{cls.item}"
+
+    @classmethod
+    def option_values(cls, given: Mapping[str, Any] | None) -> dict[str, Any]:
+        """Defaults overlaid with ``given`` (parsed and unit-checked); unknown names are errors."""
+        given = dict(given or {})
+        known = {o.name: o for o in cls.options}
+        unknown = sorted(set(given) - set(known))
+        if unknown:
+            raise ProcedureError(
+                f"{cls.qualified_id()}: unknown option(s) {', '.join(unknown)}; "
+                f"this item takes: {', '.join(known) or 'no options'}"
+            )
+        out = {}
+        for name, opt in known.items():
+            out[name] = opt.parse(given[name]) if name in given else opt.parse(opt.default)
+        return out
+
+    @abc.abstractmethod
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        """The test sequence: the segments to acquire, in order."""
+
+    @abc.abstractmethod
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        """Compute the item's results (with budgets) from ``campaign``."""
+
+
+def required_segments(proc: type[Procedure] | Procedure, campaign: Campaign) -> list[Segment]:
+    """Check that ``campaign`` holds what ``proc`` requires; return the matching segments in order."""
+    out: list[Segment] = []
+    for req in proc.requires:
+        found = campaign.find_segments(req.kind)
+        if len(found) < req.min_count:
+            raise DataError(
+                campaign.source, "segments",
+                f"{proc.qualified_id()} needs {req.min_count} segment(s) of kind {req.kind!r} "
+                f"({req.description}); found {len(found)}",
+                hint=f"add a [[segments]] entry with kind = \"{req.kind}\"; `metro plan` lists what to measure",
+            )
+        out.extend(found)
+    return out
+
+
+def iter_rows(budget: UncertaintyBudget) -> Iterable[dict]:
+    yield from budget.as_dict()["rows"]

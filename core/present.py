@@ -1,0 +1,177 @@
+"""Terminal and JSON presentation of a run record (rich tables, progress bars)."""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from pathlib import Path
+from typing import Any, Iterator
+
+from .provenance import RunRecord
+from .units import fmt_unit
+
+
+@contextlib.contextmanager
+def progress(enabled: bool = True) -> Iterator[Any]:
+    """A ``progress(task, done, total)`` callback backed by a rich progress bar on stderr."""
+    if not enabled:
+        yield None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.percentage:>5.1f}%"),
+                   TimeElapsedColumn(), TimeRemainingColumn(), console=Console(stderr=True), transient=True)
+    tasks: dict[str, Any] = {}
+
+    def update(task: str, done: float, total: float) -> None:
+        if task not in tasks:
+            tasks[task] = bar.add_task(task, total=total or 1)
+        bar.update(tasks[task], completed=done, total=total or 1)
+
+    with bar:
+        yield update
+
+
+def _q(v: Any) -> Any:
+    try:
+        import pint
+
+        if isinstance(v, pint.Quantity):
+            return {"value": float(v.magnitude), "unit": fmt_unit(v.units)}
+    except ImportError:  # pragma: no cover
+        pass
+    return v if isinstance(v, (int, float, str, bool)) or v is None else str(v)
+
+
+def truth_checks(record: RunRecord) -> list[dict[str, Any]]:
+    """On a simulated run, compare each result that has a declared truth with it."""
+    if not record.simulated:
+        return []
+    from metro.instruments.simulated import GyroTruth, expected
+
+    t = record.truth
+    try:
+        truth = GyroTruth(
+            scale_factor_P_per_arcsec=float(t["scale factor K"].magnitude) if t.get("output") == "pulse" else 0.8,
+            bias_deg_h=float(t["bias B0"].to("deg/h").magnitude),
+            arw_deg_rt_h=float(t["angle random walk"].to("deg/hour**0.5").magnitude),
+        )
+        exp = expected(truth, float(t["site latitude"].to("deg").magnitude))
+    except (KeyError, AttributeError):
+        return []
+    out = []
+    for o in record.outcomes:
+        for r in o.results:
+            if r.metric.key in exp and r.U is not None:
+                v = float(r.value.to(r.metric.unit).magnitude)
+                U = float(r.U.magnitude)
+                out.append({"item": o.item, "key": r.metric.key, "truth": exp[r.metric.key],
+                            "value": v, "U": U, "within_U": abs(v - exp[r.metric.key]) <= U,
+                            "unit": fmt_unit(r.metric.unit)})
+    return out
+
+
+def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
+    results = []
+    budgets = []
+    for o in record.outcomes:
+        for r in o.results:
+            d = r.as_dict()
+            d["item"] = o.item
+            d["budget"] = r.budget.as_dict() if r.budget is not None else None
+            if r.budget is not None:
+                budgets.append(d["budget"] | {"item": o.item})
+            results.append(d)
+    c = record.campaign
+    return {
+        "standard": record.standard,
+        "item": ",".join(o.item for o in record.outcomes),
+        "items": [{"item": o.item, "title": o.title, "clause": o.clause, "warnings": list(o.warnings),
+                   "tables": [{"name": t.name, "title": t.title, "header": list(t.header),
+                               "rows": [list(map(str, r)) for r in t.rows]} for t in o.tables]}
+                  for o in record.outcomes],
+        "results": results,
+        "budget": budgets[0] if budgets else None,
+        "budgets": budgets,
+        "report": str(report_path) if report_path else None,
+        "report_number": record.report_number,
+        "simulated": record.simulated,
+        "truth": {k: _q(v) for k, v in record.truth.items()},
+        "truth_checks": truth_checks(record),
+        "device": {"id": c.device.id, "model": c.device.model, "serial": c.device.serial},
+        "environment": {k: _q(v) for k, v in c.environment.items()},
+        "site": {k: _q(v) for k, v in c.site.items()},
+        "equipment": [{"id": e.id, "role": e.role, "status": e.status()} for e in c.equipment],
+        "provenance": {"software": dict(record.software), "plugins": dict(record.plugins),
+                       "data_files": [{"file": f, "sha256": h} for f, h in record.data_files],
+                       "source": c.source, "created": record.created.isoformat()},
+    }
+
+
+def print_record(record: RunRecord, report_path: Path | None) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    con = Console()
+    c = record.campaign
+    con.print(f"[bold]{record.standard}[/] on {c.device.describe()} — campaign {c.id} ({c.source})")
+    t = Table(title="Results")
+    for col in ("item", "quantity", "value", "U", "k", "unit", "clause"):
+        t.add_column(col, justify="right" if col in ("value", "U", "k") else "left")
+    for o in record.outcomes:
+        for r in o.results:
+            v, U = r.reported()
+            t.add_row(o.item, f"{r.metric.name} {r.metric.symbol}", v, U or (f"u={r.u.magnitude:.2g}" if r.u is not None else "-"),
+                      f"{r.k:.2f}" if r.k else "-", fmt_unit(r.metric.unit), f"{r.metric.clause} ({r.metric.equation})")
+    con.print(t)
+    for o in record.outcomes:
+        for r in o.results:
+            if r.budget is None:
+                continue
+            b = r.budget.as_dict()
+            bt = Table(title=f"Budget {o.item} {r.metric.symbol} [{b['unit']}]")
+            for col in ("source", "type", "dist.", "u(xᵢ)", "cᵢ", "uᵢ(y)", "ν"):
+                bt.add_column(col)
+            for row in b["rows"]:
+                bt.add_row(row["source"], row["type"], row["distribution"],
+                           f"{row['standard_uncertainty']:.3g} {row['value_unit']}",
+                           f"{row['sensitivity']:.3g} {row['sensitivity_unit']}", f"{row['contribution']:.3g}",
+                           "∞" if row["dof"] is None else f"{row['dof']:.0f}")
+            nu = "∞" if b["nu_eff"] is None else f"{b['nu_eff']:.0f}"
+            bt.caption = f"u_c = {b['u_c']:.3g}, ν_eff = {nu}, k = {b['k']:.2f}, U = {b['U_reported']} {b['unit']}"
+            con.print(bt)
+        for tab in o.tables:
+            tt = Table(title=tab.title)
+            for h in tab.header:
+                tt.add_column(h, justify="right")
+            for row in tab.rows:
+                tt.add_row(*map(str, row))
+            con.print(tt)
+        for w in o.warnings:
+            con.print(f"[yellow]warning ({o.item}):[/] {w}")
+    checks = truth_checks(record)
+    if record.simulated:
+        con.print("[bold yellow]SIMULATED station[/]: declared truth "
+                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
+        for ch in checks:
+            mark = "[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]"
+            con.print(f"  {ch['item']} {ch['key']}: result {ch['value']:.5g} vs truth {ch['truth']:.5g} "
+                      f"{ch['unit']} (U = {ch['U']:.2g}) → {mark}")
+    for f, h in record.data_files:
+        con.print(f"data: {f}  sha256 {h}")
+    con.print(f"report number {record.report_number}" + (f"; Word report: {report_path}" if report_path else ""))
+
+
+def _fmt(v: Any) -> str:
+    try:
+        import pint
+
+        if isinstance(v, pint.Quantity):
+            return f"{v.magnitude:g} {fmt_unit(v.units)}"
+    except ImportError:  # pragma: no cover
+        pass
+    return str(v)
+
+
+__all__ = ["progress", "as_json", "print_record", "truth_checks", "math"]

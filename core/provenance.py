@@ -1,0 +1,63 @@
+"""Provenance of a run: who/what/which data, and a unique report number."""
+
+from __future__ import annotations
+
+import datetime as dt
+import hashlib
+import platform
+import secrets
+import sys
+from typing import Any, Mapping
+
+import attrs
+
+from .model import Campaign, Outcome
+
+
+def sha256_file(path, chunk: int = 1 << 20) -> str:
+    """SHA-256 of a file's bytes, read in chunks."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while True:
+            block = fh.read(chunk)
+            if not block:
+                break
+            h.update(block)
+    return h.hexdigest()
+
+
+def new_report_number(now: dt.datetime | None = None) -> str:
+    """A unique report number: ``MTR-YYYYMMDD-HHMMSS-XXXXXX`` (UTC time + 24 random bits)."""
+    now = now or dt.datetime.now(dt.timezone.utc)
+    return f"MTR-{now:%Y%m%d-%H%M%S}-{secrets.token_hex(3).upper()}"
+
+
+@attrs.frozen
+class RunRecord:
+    """Everything a report needs: the outcomes, the campaign and the provenance."""
+
+    report_number: str
+    created: dt.datetime
+    campaign: Campaign
+    outcomes: tuple[Outcome, ...] = attrs.field(converter=tuple)
+    software: Mapping[str, str] = attrs.field(factory=dict)  # {"metro": "0.1.0", "python": ..., "numpy": ...}
+    plugins: Mapping[str, str] = attrs.field(factory=dict)  # {plugin name: "dist version"}
+    data_files: tuple[tuple[str, str], ...] = attrs.field(default=(), converter=tuple)  # (file, sha256)
+    simulated: bool = False
+    truth: Mapping[str, Any] = attrs.field(factory=dict)
+
+    @property
+    def standard(self) -> str:
+        return self.outcomes[0].standard if self.outcomes else ""
+
+
+def software_versions() -> dict[str, str]:
+    from importlib import metadata
+
+    out = {"python": sys.version.split()[0], "platform": platform.platform(terse=True)}
+    for dist in ("metro", "numpy", "scipy", "pint", "pluggy", "attrs", "uncertainties", "docxtpl", "numba"):
+        try:
+            out[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            pass
+    return out

@@ -1,0 +1,25 @@
+"""metro's built-in instruments as a plugin: the sample-file readers and the simulated station.
+
+Loaded through the ``metro`` entry-point group like any third-party plugin.
+"""
+
+from __future__ import annotations
+
+from metro.core import hookimpl
+
+
+@hookimpl
+def metro_register_readers(registrar) -> None:
+    from . import readers
+
+    registrar.add_reader((".csv",), readers.read_samples, "comma-separated samples with `name [unit]` headers")
+    registrar.add_reader((".tsv", ".txt"), readers.read_samples, "tab-separated samples with `name [unit]` headers")
+    registrar.add_reader((".npy",), readers.read_samples, "NumPy .npy samples")
+    registrar.add_reader((".parquet",), readers.read_samples, "Apache Parquet samples")
+
+
+@hookimpl
+def metro_register_stations(registrar) -> None:
+    from .simulated import station_factory
+
+    registrar.add_station("simulated", station_factory, "built-in simulated test station (virtual optical gyro)")

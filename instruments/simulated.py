@@ -1,0 +1,217 @@
+"""The built-in simulated test station: a virtual optical gyro whose truth is declared and seeded.
+
+The gyro sits on a levelled platform at a site of known latitude, input axis (IRA) up or
+down.  Its indicated rate is::
+
+    ω(t) = ±Ω_e·sin θ + B0 + w(t) + b(t) + r(t)
+
+* ``Ω_e`` the earth rate (7.292115e-5 rad/s ≈ 15.04107 °/h, the physical value; the standard's
+  formula subtracts 15.041 °/h, so a 0.00007·sin θ °/h difference is part of the truth);
+* ``B0`` the bias, ``w`` white rate noise of angle random walk ``arw`` (°/√h): per sample of
+  interval τ its standard deviation is arw/√τ;
+* ``b`` a first-order Gauss–Markov bias wander of standard deviation ``gm_sigma`` and
+  correlation time ``gm_tau`` (a stand-in for bias instability; zero by default);
+* ``r`` rate random walk of coefficient ``rrw`` (°/h/√h), zero by default.
+
+Pulse output integrates ω into angle and emits whole pulses of weight 1/K, carrying the
+remainder so no angle is lost (this is quantization noise: white angle noise of about
+1/(K√12) ″).  Digital output is ω·K rounded to LSB; ``rate`` output is ω in °/h.
+
+Records are generated in chunks so an 8 h record at 1 kHz never needs several full copies.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from typing import Any, Mapping
+
+import attrs
+import numpy as np
+
+from metro.core.model import Campaign, Calibration, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.units import Q_, fmt_unit
+
+EARTH_RATE_DEG_PER_H = math.degrees(7.2921150e-5) * 3600.0  # 15.04107 °/h, physical (IERS)
+
+
+@attrs.frozen
+class GyroTruth:
+    """The simulated gyro's declared truth (magnitudes in the units in their names)."""
+
+    scale_factor_P_per_arcsec: float = 0.8
+    bias_deg_h: float = 0.12
+    arw_deg_rt_h: float = 0.0012
+    gm_sigma_deg_h: float = 0.0
+    gm_tau_s: float = 600.0
+    rrw_deg_h_rt_h: float = 0.0
+    output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
+    lsb_per_deg_s: float = 5000.0
+    seed: int = 20251122
+
+    def as_quantities(self) -> dict[str, Any]:
+        out = {
+            "bias B0": Q_(self.bias_deg_h, "deg/h"),
+            "angle random walk": Q_(self.arw_deg_rt_h, "deg/hour**0.5"),
+            "Gauss–Markov bias wander σ": Q_(self.gm_sigma_deg_h, "deg/h"),
+            "Gauss–Markov correlation time": Q_(self.gm_tau_s, "s"),
+            "rate random walk": Q_(self.rrw_deg_h_rt_h, "deg/h/hour**0.5"),
+            "seed": self.seed,
+            "output": self.output,
+        }
+        if self.output == "pulse":
+            out["scale factor K"] = Q_(self.scale_factor_P_per_arcsec, "P/arcsec")
+        elif self.output == "digital":
+            out["scale factor K"] = Q_(self.lsb_per_deg_s, "LSB/(deg/s)")
+        return out
+
+
+def simulate_static(
+    truth: GyroTruth,
+    *,
+    n: int,
+    interval_s: float,
+    latitude_deg: float,
+    orientation: str = "up",
+    seed: int | None = None,
+    chunk: int = 1 << 20,
+    progress=None,
+) -> np.ndarray:
+    """Raw output of a gyro at rest for ``n`` samples of ``interval_s``.
+
+    Returns float64 samples in the output's raw unit (P per interval, LSB, or °/h).
+    """
+    if n < 1 or interval_s <= 0:
+        raise ValueError("n must be ≥ 1 and the interval > 0")
+    rng = np.random.default_rng(truth.seed if seed is None else seed)
+    sign = 1.0 if orientation == "up" else -1.0
+    mean_rate = sign * EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h
+    tau_h = interval_s / 3600.0
+    white_sd = truth.arw_deg_rt_h / math.sqrt(tau_h)  # °/h per sample
+    out = np.empty(n, dtype=np.float64)
+    gm = 0.0
+    gm_phi = math.exp(-interval_s / truth.gm_tau_s) if truth.gm_sigma_deg_h > 0 else 0.0
+    gm_drive = truth.gm_sigma_deg_h * math.sqrt(1.0 - gm_phi**2)
+    rrw = 0.0
+    rrw_sd = truth.rrw_deg_h_rt_h * math.sqrt(tau_h)
+    carry = 0.0  # angle not yet emitted, in pulses
+    K = truth.scale_factor_P_per_arcsec
+    if truth.gm_sigma_deg_h > 0:
+        gm = rng.normal(0.0, truth.gm_sigma_deg_h)
+    for start in range(0, n, chunk):
+        stop = min(n, start + chunk)
+        k = stop - start
+        w = rng.normal(mean_rate, white_sd, size=k) if white_sd > 0 else np.full(k, mean_rate)
+        if truth.gm_sigma_deg_h > 0:
+            e = rng.normal(0.0, gm_drive, size=k)
+            # first-order recursion b_i = φ·b_{i-1} + e_i, solved per chunk with lfilter
+            from scipy.signal import lfilter
+
+            b, _ = lfilter([1.0], [1.0, -gm_phi], e, zi=[gm_phi * gm])
+            w += b
+            gm = float(b[-1])
+        if truth.rrw_deg_h_rt_h > 0:
+            r = rrw + np.cumsum(rng.normal(0.0, rrw_sd, size=k))
+            w += r
+            rrw = float(r[-1])
+        if truth.output == "pulse":
+            # angle increment per sample in pulses: rate[°/h = ″/s] · τ[s] · K[P/″]
+            inc = w * (interval_s * K)
+            cum = np.cumsum(inc) + carry
+            whole = np.floor(cum)
+            out[start:stop] = np.diff(whole, prepend=0.0)
+            carry = float(cum[-1] - whole[-1])
+        elif truth.output == "digital":
+            out[start:stop] = np.round(w / 3600.0 * truth.lsb_per_deg_s)
+        else:
+            out[start:stop] = w
+        if progress is not None:
+            progress(stop, n)
+    return out
+
+
+@attrs.define
+class SimulatedStation:
+    """A simulated test station: a levelled platform, a counter, and the virtual gyro."""
+
+    truth: GyroTruth = attrs.field(factory=GyroTruth)
+    latitude_deg: float = 39.98
+    interval: Any = attrs.field(factory=lambda: Q_(1, "s"))
+    duration_scale: float = 1.0  # <1 shortens every step (tests)
+
+    name = "simulated"
+
+    def device(self) -> DeviceUnderTest:
+        t = self.truth
+        props: dict[str, Any] = {}
+        if t.output == "pulse":
+            props["scale_factor"] = Q_(t.scale_factor_P_per_arcsec, "P/arcsec")
+            props["scale_factor_U"] = Q_(4e-6, "")  # as if from a D.1.1 calibration, k = 2
+            props["scale_factor_k"] = 2.0
+        elif t.output == "digital":
+            props["scale_factor"] = Q_(t.lsb_per_deg_s, "LSB/(deg/s)")
+            props["scale_factor_U"] = Q_(2e-5, "")
+            props["scale_factor_k"] = 2.0
+        return DeviceUnderTest(
+            id="SIM-OG-1", model="virtual optical gyro", serial=f"seed {t.seed}", manufacturer="metro simulator",
+            properties=props, technology="laser", application="aviation",
+            output={"pulse": "pulse", "digital": "digital", "rate": "rate"}[t.output],
+        )
+
+    def equipment(self) -> list[Equipment]:
+        return [
+            Equipment(id="SIM-PLATFORM", model="simulated levelled platform", role="platform",
+                      properties={"levelness": Q_(2.0, "arcsec")}),
+            Equipment(id="SIM-COUNTER", model="simulated counter/time base", role="counter",
+                      calibration=Calibration("SIM-CAL-0001", Q_(1e-7, ""), k=2.0, due=None,
+                                              lab="simulated")),
+        ]
+
+    def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
+        """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""
+        segments = []
+        t = self.truth
+        unit = {"pulse": "P", "digital": "LSB", "rate": "deg/h"}[t.output]
+        for i, step in enumerate(steps):
+            interval_s = float(step.interval.to("s").magnitude) if step.interval is not None else float(
+                self.interval.to("s").magnitude)
+            n = max(1, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
+            orient = str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
+            cb = (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot)) if progress else None
+            data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=self.latitude_deg,
+                                   orientation=orient, seed=t.seed + i, progress=cb)
+            digest = hashlib.sha256(data.tobytes()).hexdigest()
+            segments.append(Segment(
+                id=step.segment, kind=step.kind, conditions=dict(step.conditions),
+                interval=Q_(interval_s, "s"), file=None, sha256=digest,
+                loader=(lambda d=data, u=unit: {"output": (d, u)}),
+            ))
+        return Campaign(
+            id="SIMULATED",
+            device=self.device(),
+            equipment=self.equipment(),
+            environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
+            site={"latitude": Q_(self.latitude_deg, "deg"), "latitude_uncertainty": Q_(0.001, "deg")},
+            segments=segments,
+            source="simulated station",
+            simulated=True,
+            truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+        )
+
+
+def station_factory(**options: Any) -> SimulatedStation:
+    """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale …)."""
+    truth_kw = {k: v for k, v in options.items() if k in attrs.fields_dict(GyroTruth)}
+    st_kw = {k: v for k, v in options.items() if k in ("latitude_deg", "duration_scale")}
+    return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
+
+
+def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
+    """What an ideal evaluation of the truth gives, per item (for tests and the CLI's comparison)."""
+    return {
+        "B0": truth.bias_deg_h + (EARTH_RATE_DEG_PER_H - 15.041) * math.sin(math.radians(latitude_deg)),
+        "RWC": truth.arw_deg_rt_h,
+    }
+
+
+__all__ = ["GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "fmt_unit"]

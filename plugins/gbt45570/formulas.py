@@ -1,0 +1,176 @@
+"""GB/T 45570—2025 appendix D formulas, as pure functions on plain numbers.
+
+Units are those the standard states for each formula (given in each docstring); the
+procedures in :mod:`metro.plugins.gbt45570.procedures` convert at the boundary.  Shared
+maths (block statistics, least squares) comes from :mod:`metro.core`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import attrs
+import numpy as np
+
+from metro.core.lsq import fit_linear
+
+#: Earth rotation rate as printed in D.40, °/h.
+EARTH_RATE_DEG_PER_H = 15.041
+
+
+def bias_d40(mean_count: float, tau_s: float, K_P_per_arcsec: float, latitude_deg: float) -> float:
+    """Bias (zero offset) of a pulse-output gyro, GB/T 45570 D.5.1.3 eq. (D.40)::
+
+        B0 = (1/(τ·K)) · (1/n) Σ N_i − 15.041 · sin θ
+
+    :param mean_count: (1/n) Σ N_i, mean pulses per sampling interval, P.
+    :param tau_s: sampling interval τ, s.
+    :param K_P_per_arcsec: scale factor K, P/″.
+    :param latitude_deg: site latitude θ, °.
+    :return: B0 in °/h (1 ″/s = 1 °/h exactly).
+    """
+    return mean_count / (tau_s * K_P_per_arcsec) - earth_rate_vertical(latitude_deg)
+
+
+def earth_rate_vertical(latitude_deg: float, orientation: str = "up") -> float:
+    """Component of the earth rate along an input axis pointing ``up`` (or ``down``), °/h:
+    ±15.041·sin θ (the term subtracted in D.40)."""
+    sign = {"up": 1.0, "down": -1.0}[orientation]
+    return sign * EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg))
+
+
+def bias_stability_d41(accumulated_counts: Sequence[float], t_s: float, K_P_per_arcsec: float) -> float:
+    """Bias stability, GB/T 45570 D.5.2.3 eq. (D.41)::
+
+        B_s = (1/(t·K)) · [ Σ (N'_i − N̄')² / (m − 1) ]^(1/2)
+
+    :param accumulated_counts: N'_i, pulses accumulated over each smoothing time t (m values).
+    :param t_s: smoothing time t, s.
+    :param K_P_per_arcsec: scale factor K, P/″.
+    :return: B_s in °/h.
+    """
+    n = np.asarray(accumulated_counts, dtype=float)
+    if n.size < 2:
+        raise ValueError(f"D.41 needs at least 2 accumulated values, got {n.size}")
+    return float(np.std(n, ddof=1)) / (t_s * K_P_per_arcsec)
+
+
+def bias_repeatability_d42(biases: Sequence[float]) -> float:
+    """Bias repeatability, D.5.3.3 eq. (D.42): Bessel standard deviation of the Q biases (°/h)."""
+    b = np.asarray(biases, dtype=float)
+    if b.size < 2:
+        raise ValueError("D.42 needs at least 2 biases")
+    return float(np.std(b, ddof=1))
+
+
+@attrs.frozen
+class D45Fit:
+    """Result of fitting B_s²(τ_k) = α0 + α1/τ_k + α2/τ_k² (D.45), τ_k in hours."""
+
+    alpha: np.ndarray  # α0 [(°/h)²], α1 [(°)²/h], α2 [(°)²]
+    cov: np.ndarray
+    chi2: float
+    dof: int
+    birge: float  # sqrt(chi2/dof) when > 1 (covariance scaled by its square), else 1
+    tau_h: np.ndarray
+    bs2: np.ndarray
+    m: np.ndarray
+
+    @property
+    def u_alpha(self) -> np.ndarray:
+        return np.sqrt(np.diag(self.cov))
+
+    def model(self, tau_h: np.ndarray) -> np.ndarray:
+        t = np.asarray(tau_h, dtype=float)
+        return self.alpha[0] + self.alpha[1] / t + self.alpha[2] / t**2
+
+
+def d45_design(tau_h: np.ndarray) -> np.ndarray:
+    """Design matrix [1, 1/τ, 1/τ²] of eq. (D.45)."""
+    t = np.asarray(tau_h, dtype=float)
+    return np.column_stack([np.ones_like(t), 1.0 / t, 1.0 / t**2])
+
+
+def d45_covariance(model_bs2: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """Covariance of the sample variances B_s²(τ_k) of nested block means.
+
+    Treating the block means at each level as independent normal values (exact for white
+    noise), level k+d is built from level k by averaging groups of 2^d, and the sum of
+    squares at level k splits into the level-(k+d) part and an independent within-group
+    part.  Hence, with σ_k² the expected variance at level k and m_k its number of blocks::
+
+        var(s_k²)        = 2 σ_k⁴ / (m_k − 1)
+        cov(s_j², s_k²)  = 2 σ_j² σ_k² / (m_j − 1)     (j the finer level, m_j > m_k)
+
+    so adjacent levels correlate by about 1/√2.  (interpretations.md, "D.5.6 fit weights")
+    """
+    s2 = np.asarray(model_bs2, dtype=float)
+    mm = np.asarray(m, dtype=float)
+    n = s2.size
+    C = np.empty((n, n))
+    for j in range(n):
+        for k in range(n):
+            fine = j if mm[j] >= mm[k] else k
+            C[j, k] = 2.0 * s2[j] * s2[k] / (mm[fine] - 1.0)
+    return C
+
+
+def fit_d45(tau_h: Sequence[float], bs: Sequence[float], m: Sequence[int], *, iterations: int = 4) -> D45Fit:
+    """Least-squares fit of the bias-stability model, GB/T 45570 D.5.6.3 eq. (D.45)::
+
+        B_s²(τ_k) = α0 + α1 (1/τ_k) + α2 (1/τ_k)²,   τ_k in h, B_s in °/h
+
+    The standard says "least squares" without weights.  B_s² spans decades, so metro uses
+    generalised least squares with the covariance of :func:`d45_covariance` evaluated at
+    the model (iterated from the observed values); if the fit's χ²/ν exceeds 1 the
+    covariance of α is scaled by it (Birge ratio), so a model that does not fit the data
+    reports a larger uncertainty.  See docs/interpretations.md.
+
+    :param tau_h: τ_k in hours (at least 4 levels).
+    :param bs: B_s(τ_k) in °/h.
+    :param m: number of blocks behind each B_s(τ_k).
+    """
+    t = np.asarray(tau_h, dtype=float)
+    b = np.asarray(bs, dtype=float)
+    mm = np.asarray(m, dtype=float)
+    if not (t.size == b.size == mm.size):
+        raise ValueError("tau, B_s and m must have the same length")
+    if t.size < 4:
+        raise ValueError(
+            f"the D.45 fit has 3 coefficients and needs at least 4 τ levels; got {t.size} "
+            "(record too short for the τ range)"
+        )
+    if np.any(b <= 0) or not np.all(np.isfinite(b)):
+        bad = int(np.argmin(b > 0)) if np.any(b <= 0) else int(np.argmin(np.isfinite(b)))
+        raise ValueError(
+            f"B_s(τ) must be positive and finite; level {bad + 1} (τ = {t[bad] * 3600:g} s) gives {b[bad]!r} "
+            "(zero-variance or constant data?)"
+        )
+    if np.any(mm < 2):
+        raise ValueError("every level needs at least 2 blocks")
+    y = b**2
+    A = d45_design(t)
+    s2 = y.copy()
+    fit = None
+    for _ in range(max(1, iterations)):
+        C = d45_covariance(s2, mm)
+        fit = fit_linear(A, y, cov_y=C, scale_cov=False)
+        pred = A @ fit.coef
+        # keep the covariance positive: where the model is not positive use the observation
+        s2 = np.where(pred > 0, pred, y)
+    assert fit is not None
+    C = d45_covariance(s2, mm)
+    r = y - A @ fit.coef
+    chi2 = float(r @ np.linalg.solve(C, r))
+    dof = t.size - 3
+    birge = math.sqrt(chi2 / dof) if dof > 0 and chi2 > dof else 1.0
+    cov = np.asarray(fit.cov) * birge**2
+    return D45Fit(np.asarray(fit.coef), cov, chi2, dof, birge, t, y, mm)
+
+
+def rwc_d46(alpha1: float) -> float:
+    """Angle random walk coefficient, D.5.6.3 eq. (D.46): RWC = α1^(1/2), °/√h."""
+    if not alpha1 > 0:
+        raise ValueError(f"α1 = {alpha1:g} is not positive, so RWC = √α1 is undefined")
+    return math.sqrt(alpha1)
