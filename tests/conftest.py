@@ -11,3 +11,33 @@ def pm():
     from metro.core.plugins import get_plugin_manager
 
     return get_plugin_manager(autoload=False)
+
+
+def _load_local(name: str):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parent / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"metro_tests_{name}", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.fixture(scope="session")
+def campaign_factory():
+    """The module tests/campaign_factory.py (writes small valid campaigns)."""
+    return _load_local("campaign_factory")
+
+
+@pytest.fixture
+def run_cli(capsys):
+    """Run ``metro`` in-process; return (exit code, stdout, stderr)."""
+    from metro.core.cli import main
+
+    def run(*args: str):
+        code = main(list(args))
+        out = capsys.readouterr()
+        return code, out.out, out.err
+
+    return run

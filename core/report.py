@@ -1,0 +1,507 @@
+"""Render a :class:`~metro.core.provenance.RunRecord` as a Word test report.
+
+Two steps, so the content can be checked without Word:
+
+1. :func:`report_context` turns the record into a plain dict of strings, lists and dicts
+   (every number already formatted: results as :meth:`Result.reported` rounds them,
+   budget figures with four significant digits, units as :func:`fmt_unit` prints them);
+2. :func:`write_report` renders that dict into a docxtpl template (by default
+   ``metro/core/templates/report.docx``, built by ``templates/make_templates.py``), draws
+   the figures with :mod:`metro.core.plots` and writes the ``.docx`` atomically: a failure
+   at any point leaves no file at the target (and an earlier report there untouched).
+
+docxtpl, python-docx, matplotlib and pint are imported inside the functions, so
+``import metro.core.report`` stays cheap.
+
+A custom template sees the same context; its keys are listed in :func:`report_context`.
+Dict keys are chosen not to clash with ``dict`` methods (Jinja looks attributes up first,
+so a key called ``items`` or ``values`` would be shadowed in ``{{ x.items }}``).
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Iterable, Mapping
+
+from .atomic import atomic_path
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .budget import UncertaintyBudget
+    from .model import Equipment, Outcome, Result, TableSpec
+    from .provenance import RunRecord
+
+__all__ = [
+    "write_report",
+    "report_context",
+    "default_template",
+    "fmt_num",
+    "fmt_quantity",
+    "SIMULATED_BANNER",
+    "IMAGE_WIDTH_MM",
+]
+
+SIMULATED_BANNER = (
+    "SIMULATED — Results from the built-in simulated test station — "
+    "not a measurement of a real device."
+)
+
+#: Width of a figure in the report.
+IMAGE_WIDTH_MM = 150
+
+_DASH = "—"
+_SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
+
+
+# --------------------------------------------------------------------------------------
+# Number and unit formatting
+# --------------------------------------------------------------------------------------
+
+
+def fmt_num(x: Any, sig: int = 4) -> str:
+    """A number with ``sig`` significant digits, powers of ten as ``1.23×10⁻⁵``.
+
+    ``None`` prints as a dash, infinity as ``∞``; integers print in full.
+
+    >>> fmt_num(0.000012345), fmt_num(1234.5), fmt_num(2.0), fmt_num(None), fmt_num(float("inf"))
+    ('1.234×10⁻⁵', '1234', '2', '—', '∞')
+    """
+    if x is None:
+        return _DASH
+    if isinstance(x, bool):
+        return str(x)
+    if isinstance(x, int):
+        return str(x)
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return str(x)
+    if math.isnan(v):
+        return "NaN"
+    if math.isinf(v):
+        return "∞" if v > 0 else "-∞"
+    if v == 0:
+        return "0"
+    text = f"{v:.{sig}g}"
+    if "e" in text:
+        mant, exp = text.split("e")
+        return f"{mant}×10{str(int(exp)).translate(_SUPERSCRIPT)}"
+    return text
+
+
+def _fmt_dof(d: float | None) -> str:
+    """Degrees of freedom: ``∞`` for none/infinite, whole numbers without decimals."""
+    if d is None or (isinstance(d, float) and math.isinf(d)):
+        return "∞"
+    d = float(d)
+    if abs(d - round(d)) < 1e-9 or d >= 100:
+        return f"{d:.0f}"
+    return f"{d:.3g}"
+
+
+_ROOTS = ((math.sqrt(2.0), "√2"), (math.sqrt(3.0), "√3"), (math.sqrt(6.0), "√6"))
+
+
+def _fmt_divisor(d: float) -> str:
+    for value, text in _ROOTS:
+        if math.isclose(d, value, rel_tol=1e-9):
+            return text
+    return fmt_num(d)
+
+
+def _unit_text(u: Any) -> str:
+    """``fmt_unit`` text, empty for a dimensionless unit."""
+    from .units import fmt_unit
+
+    text = fmt_unit(u)
+    return "" if text in ("1", "") else text
+
+
+def _with_unit(num: str, unit_text: str) -> str:
+    if not unit_text:
+        return num
+    return f"{num} {unit_text}"
+
+
+def fmt_quantity(q: Any, sig: int = 4) -> str:
+    """A pint quantity (or anything else) as report text: ``20 ℃``, ``0.0012 °/√h``, ``1×10⁻⁷``."""
+    if hasattr(q, "magnitude") and hasattr(q, "units"):
+        mag = q.magnitude
+        if getattr(mag, "ndim", 0):
+            return f"[{', '.join(fmt_num(m, sig) for m in mag.ravel())}] {_unit_text(q.units)}".rstrip()
+        return _with_unit(fmt_num(mag, sig), _unit_text(q.units))
+    if isinstance(q, float):
+        return fmt_num(q, sig)
+    if q is None:
+        return _DASH
+    return str(q)
+
+
+def _text(v: Any) -> str:
+    """A free-text field: empty or missing prints as a dash."""
+    if v is None:
+        return _DASH
+    s = str(v).strip()
+    return s or _DASH
+
+
+def _label(key: str) -> str:
+    """``latitude_uncertainty`` -> ``Latitude uncertainty``."""
+    s = str(key).replace("_", " ").strip()
+    return s[:1].upper() + s[1:] if s else s
+
+
+def _name_values(m: Mapping[str, Any], *, relabel: bool = True) -> list[dict[str, str]]:
+    return [{"name": _label(k) if relabel else str(k), "value": fmt_quantity(v)} for k, v in m.items()]
+
+
+def _date_text(d: dt.datetime | dt.date) -> str:
+    if isinstance(d, dt.datetime):
+        text = d.strftime("%Y-%m-%d %H:%M")
+        if d.tzinfo is not None:
+            off = d.utcoffset()
+            text += " UTC" if off == dt.timedelta(0) else d.strftime(" %z")
+        return text
+    return d.isoformat()
+
+
+# --------------------------------------------------------------------------------------
+# Sections
+# --------------------------------------------------------------------------------------
+
+
+def _equipment_row(e: "Equipment", on: dt.date) -> dict[str, Any]:
+    cal = e.calibration
+    status = e.status(on)
+    if cal is not None:
+        prefix = f"certificate {cal.certificate}, "
+        if status.startswith(prefix):
+            status = status[len(prefix):]
+        if cal.distribution == "normal":
+            U = f"{fmt_quantity(cal.uncertainty)} (k = {fmt_num(cal.k, 3)})"
+        else:
+            U = f"{fmt_quantity(cal.uncertainty)} ({cal.distribution}, half-width)"
+        expired = not cal.is_valid(on)
+    else:
+        U = _DASH
+        expired = False
+    certificate = _DASH if cal is None else cal.certificate + (f" ({cal.lab})" if cal.lab else "")
+    return {
+        "id": e.id,
+        "description": e.describe(),
+        "role": _text(e.role),
+        "certificate": certificate,
+        "U": U,
+        "due": _DASH if cal is None or cal.due is None else cal.due.isoformat(),
+        "status": status,
+        "expired": expired,
+        "valid": cal is not None and not expired,
+    }
+
+
+def _result_row(r: "Result") -> dict[str, Any]:
+    m = r.metric
+    vtext, Utext = r.reported()
+    if Utext is None and r.u is not None:
+        u = float(r.u.to(m.unit).magnitude)
+        Utext = f"u = {fmt_num(u, 2)}"  # a standard uncertainty without a budget: say so
+    reference = m.clause + (f", {m.equation}" if m.equation else "")
+    return {
+        "key": m.key,
+        "quantity": m.name,
+        "symbol": m.symbol,
+        "value": vtext,
+        "U": Utext if Utext is not None else _DASH,
+        "unit": _unit_text(m.unit) or "1",
+        "k": _DASH if r.k is None else fmt_num(r.k, 3),
+        "clause": m.clause,
+        "equation": m.equation,
+        "reference": reference or _DASH,
+        "note": r.note,
+    }
+
+
+def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
+    d = budget.as_dict()
+    unit = d["unit"] if d["unit"] != "1" else ""
+    rows = []
+    for row in d["rows"]:
+        sens_unit = row["sensitivity_unit"] if row["sensitivity_unit"] != "1" else ""
+        value_unit = row["value_unit"] if row["value_unit"] != "1" else ""
+        rows.append({
+            "source": row["source"] + (f" ({row['note']})" if row["note"] else ""),
+            "symbol": row["symbol"],
+            "type": row["type"],
+            "distribution": row["distribution"],
+            "value": _with_unit(fmt_num(row["value"]), value_unit),
+            "divisor": _fmt_divisor(row["divisor"]),
+            "sensitivity": _with_unit(fmt_num(row["sensitivity"]), sens_unit),
+            "contribution": fmt_num(row["contribution"]),
+            "dof": _fmt_dof(row["dof"]),
+        })
+    m = r.metric
+    return {
+        "title": f"{m.name} {m.symbol}".strip() + (f" ({d['measurand']})" if d["measurand"] not in (m.symbol, m.key, m.name) else ""),
+        "measurand": d["measurand"],
+        "result": m.key,
+        "unit": unit or "1",
+        "relative": d["relative"],
+        "rows": rows,
+        "u_c": fmt_num(d["u_c"]),
+        "nu_eff": _fmt_dof(d["nu_eff"]),
+        "k": fmt_num(d["k"], 3),
+        "coverage": d["coverage"],
+        "U": d["U_reported"],
+        "U_unrounded": fmt_num(d["U"]),
+        "rounding": d["rounding"],
+        "note": d["note"],
+    }
+
+
+def _cell(v: Any) -> str:
+    if isinstance(v, str):
+        return v
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    return fmt_quantity(v, 6)
+
+
+def _table_block(t: "TableSpec") -> dict[str, Any]:
+    return {
+        "name": t.name,
+        "title": t.title,
+        "header": [str(h) for h in t.header],
+        "rows": [[_cell(c) for c in row] for row in t.rows],
+    }
+
+
+def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: int) -> dict[str, Any]:
+    results = list(o.results)
+    plots = [
+        {"number": first_figure + i, "name": p.name, "title": p.title, "spec": p, "image": None}
+        for i, p in enumerate(o.plots)
+    ]
+    return {
+        "number": number,
+        "id": o.id,
+        "standard": o.standard,
+        "designation": designation,
+        "item": o.item,
+        "title": o.title,
+        "clause": o.clause,
+        "segments_text": ", ".join(o.segments) or _DASH,
+        "options": _name_values(o.options, relabel=False),
+        "options_text": "; ".join(f"{k} = {fmt_quantity(v)}" for k, v in o.options.items()),
+        "results": [_result_row(r) for r in results],
+        "notes": [f"{r.metric.symbol or r.metric.name}: {r.note}" for r in results if r.note],
+        "budgets": [_budget_block(r, r.budget) for r in results if r.budget is not None],
+        "tables": [_table_block(t) for t in o.tables],
+        "plots": plots,
+        "warnings": [str(w) for w in o.warnings],
+    }
+
+
+def _unique(seq: Iterable[str]) -> list[str]:
+    return list(dict.fromkeys(seq))
+
+
+def _data_files(record: "RunRecord") -> list[dict[str, str]]:
+    files = list(record.data_files) or list(record.campaign.data_files())
+    out = [{"file": str(f), "sha256": str(h)} for f, h in files]
+    if not out:  # a simulated campaign: its samples live in memory, still hashed
+        out = [
+            {"file": f"segment {s.id} ({'simulated, ' if record.campaign.simulated else ''}in memory)",
+             "sha256": s.sha256}
+            for s in record.campaign.segments if s.sha256
+        ]
+    return out
+
+
+def report_context(record: "RunRecord", *, designations: Mapping[str, str] | None = None) -> dict[str, Any]:
+    """Everything the report shows, as plain Python (strings, lists, dicts).
+
+    ``designations`` maps a standard id to its designation (``{"gbt45570": "GB/T 45570—2025"}``,
+    from the plugin registry's ``StandardInfo``); without it the standard id is shown.
+
+    Keys: ``report_number``, ``created``, ``created_iso``, ``title``, ``footer``,
+    ``generator``, ``standards`` (list of {id, designation, items}), ``standards_text``,
+    ``items_text``, ``simulated``, ``simulated_banner``, ``truth`` ([{name, value}]),
+    ``campaign`` {id, source}, ``device`` {id, manufacturer, model, serial, technology,
+    application, output, description, properties}, ``environment`` and ``site``
+    ([{name, value}]), ``latitude``, ``equipment`` ([{id, description, role, certificate, U,
+    due, status, expired, valid}]), ``equipment_warnings``, ``outcomes`` (see below) and
+    ``provenance`` {source, software, plugins ([{name, version}]), data_files ([{file,
+    sha256}])}.
+
+    Each outcome: ``number`` ("5.1"), ``id``, ``standard``, ``designation``, ``item``,
+    ``title``, ``clause``, ``segments_text``, ``options``, ``options_text``, ``results``
+    ([{key, quantity, symbol, value, U, unit, k, clause, equation, reference, note}] — value
+    and U as :meth:`Result.reported` gives them), ``notes``, ``budgets`` ([{title,
+    measurand, result, unit, rows, u_c, nu_eff, k, coverage, U, U_unrounded, rounding,
+    note}], each row {source, symbol, type, distribution, value, divisor, sensitivity,
+    contribution, dof}), ``tables`` ([{name, title, header, rows}]), ``plots`` ([{number,
+    name, title, spec, image}]; ``image`` is filled in by :func:`write_report`) and
+    ``warnings``.
+    """
+    designations = dict(designations or {})
+    camp = record.campaign
+    dev = camp.device
+    simulated = bool(record.simulated or camp.simulated)
+    on = record.created.date() if isinstance(record.created, dt.datetime) else record.created
+
+    # standards and items, in the order the outcomes came
+    standards: dict[str, list[str]] = {}
+    for o in record.outcomes:
+        standards.setdefault(o.standard, []).append(o.item)
+    std_list = [
+        {"id": s, "designation": designations.get(s) or s, "items_text": ", ".join(_unique(items))}
+        for s, items in standards.items()
+    ]
+    items_text = "; ".join(f"{s['designation']} {s['items_text']}" for s in std_list)
+    title = "Test report — " + (items_text or camp.id)
+
+    outcomes = []
+    figure = 1
+    for i, o in enumerate(record.outcomes, start=1):
+        block = _outcome_block(o, f"5.{i}", designations.get(o.standard) or o.standard, figure)
+        figure += len(block["plots"])
+        outcomes.append(block)
+
+    equipment = [_equipment_row(e, on) for e in camp.equipment]
+    equipment_warnings = [
+        f"The calibration of {e['id']} ({e['certificate']}) is {e['status']}: results that depend "
+        "on it are not traceable until it is recalibrated."
+        for e in equipment if e["expired"]
+    ]
+
+    truth = dict(camp.truth)
+    truth.update(record.truth)
+    site = dict(camp.site)
+    latitude = fmt_quantity(site["latitude"]) if "latitude" in site else None
+
+    software = dict(record.software)
+    generator = f"metro {software['metro']}" if "metro" in software else "metro"
+    source = camp.source or ("simulated station" if simulated else _DASH)
+
+    return {
+        "report_number": record.report_number,
+        "created": _date_text(record.created),
+        "created_iso": record.created.isoformat(),
+        "title": title,
+        "footer": f"{title} · {record.report_number}",
+        "generator": generator,
+        "standards": std_list,
+        "standards_text": ", ".join(s["designation"] for s in std_list) or _DASH,
+        "items_text": items_text or _DASH,
+        "simulated": simulated,
+        "simulated_banner": SIMULATED_BANNER if simulated else "",
+        "truth": _name_values(truth, relabel=False) if simulated else [],
+        "campaign": {"id": camp.id, "source": source},
+        "device": {
+            "id": dev.id,
+            "manufacturer": _text(dev.manufacturer),
+            "model": _text(dev.model),
+            "serial": _text(dev.serial),
+            "technology": _text(dev.technology),
+            "application": _text(dev.application),
+            "output": _text(dev.output),
+            "description": dev.describe(),
+            "properties": _name_values(dev.properties),
+        },
+        "environment": _name_values(camp.environment),
+        "site": _name_values(site),
+        "latitude": latitude,
+        "equipment": equipment,
+        "equipment_warnings": equipment_warnings,
+        "outcomes": outcomes,
+        "provenance": {
+            "source": source,
+            "software": [{"name": k, "version": str(v)} for k, v in software.items()],
+            "plugins": [{"name": k, "version": str(v)} for k, v in dict(record.plugins).items()],
+            "data_files": _data_files(record),
+        },
+    }
+
+
+# --------------------------------------------------------------------------------------
+# Word
+# --------------------------------------------------------------------------------------
+
+
+def default_template() -> Any:
+    """The packaged template, ``metro/core/templates/report.docx`` (an importlib Traversable)."""
+    from importlib import resources
+
+    return resources.files("metro.core") / "templates" / "report.docx"
+
+
+def write_report(
+    path: str | os.PathLike[str],
+    record: "RunRecord",
+    *,
+    template: str | os.PathLike[str] | None = None,
+    designations: Mapping[str, str] | None = None,
+) -> Path:
+    """Render ``record`` into ``template`` (default: :func:`default_template`) and write the
+    ``.docx`` to ``path`` atomically; return ``path``.
+
+    Figures are drawn to PNG in a temporary directory and inserted 15 cm wide.  A template
+    error (a bad tag in a custom template) is raised as :class:`~metro.core.errors.MetroError`
+    naming the template; any failure leaves no file (and no temporary file) behind.
+    """
+    import io
+
+    from docx.shared import Mm
+    from docxtpl import DocxTemplate, InlineImage
+    from jinja2 import TemplateError
+
+    from . import plots
+    from .errors import MetroError
+
+    path = Path(path)
+    ctx = report_context(record, designations=designations)
+    if template is None:
+        source: Any = io.BytesIO(default_template().read_bytes())
+        template_name = "metro/core/templates/report.docx"
+    else:
+        template_name = os.fspath(template)
+        if not Path(template_name).is_file():
+            raise MetroError(f"report template {template_name} does not exist")
+        source = template_name
+    tpl = DocxTemplate(source)
+
+    with tempfile.TemporaryDirectory(prefix="metro-report-") as tmpdir:
+        for o in ctx["outcomes"]:
+            for p in o["plots"]:
+                png = Path(tmpdir) / f"figure-{p['number']}.png"
+                plots.render_png(p["spec"], png)
+                p["image"] = InlineImage(tpl, str(png), width=Mm(IMAGE_WIDTH_MM))
+        try:
+            tpl.render(ctx, autoescape=True)
+        except TemplateError as exc:
+            where = f" (line {exc.lineno})" if getattr(exc, "lineno", None) else ""
+            raise MetroError(
+                f"report template {template_name}: {exc}{where}",
+                hint="check the template's {{ }} and {% %} tags against metro.core.report.report_context",
+            ) from exc
+
+    props = tpl.docx.core_properties
+    props.title = ctx["title"]
+    props.subject = ctx["items_text"]
+    props.identifier = record.report_number
+    props.author = ctx["generator"]
+    props.last_modified_by = ctx["generator"]
+    props.keywords = "SIMULATED" if ctx["simulated"] else ""
+    created = record.created
+    if isinstance(created, dt.datetime):
+        if created.tzinfo is not None:  # python-docx writes naive datetimes as UTC
+            created = created.astimezone(dt.timezone.utc).replace(tzinfo=None)
+        props.created = props.modified = created
+    props.revision = 1
+
+    with atomic_path(path) as tmp:
+        tpl.save(tmp)
+    return path

@@ -1,0 +1,94 @@
+"""A sample third-party plugin: a vendor standard with one item, a unit, lifecycle listeners.
+
+Used by tests/test_plugins.py; it implements every hook so each hook has a test.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from metro.core import hookimpl
+from metro.core.budget import BudgetRow, UncertaintyBudget
+from metro.core.model import Metric, Outcome, Procedure, Result, SegmentRequirement, Step
+from metro.core.units import Q_
+
+EVENTS: list[tuple[str, Any]] = []
+
+
+class MeanOutput(Procedure):
+    """Vendor item V.1: mean of the output, in °/h (for rate-output devices)."""
+
+    standard = "vendorx"
+    item = "V.1"
+    title = "Mean output"
+    clause = "V.1"
+    metrics = (Metric("mean", "mean output", "ω̄", "deg/h", "V.1", "V-1"),)
+    requires = (SegmentRequirement("static", "any static record", columns={"output": ("deg/h",)}),)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [Step("static", "static", "record", Q_(10, "min"), Q_(1, "s"), {"orientation": "IRA up"})]
+
+    def evaluate(self, campaign, ctx) -> Outcome:
+        seg = campaign.find_segments("static")[0]
+        s = seg.series("output", "deg/h")
+        x = np.asarray(s.data.to("deg/h").magnitude)
+        u = float(np.std(x, ddof=1) / np.sqrt(x.size))
+        b = UncertaintyBudget("mean", "deg/h", [BudgetRow.type_a("scatter", "s/√n", Q_(u, "deg/h"), x.size - 1)])
+        r = Result(self.metrics[0], Q_(float(np.mean(x)), "deg/h"), b.combined, b)
+        return Outcome(self.standard, self.item, self.title, self.clause, [r], segments=[seg.id])
+
+
+def _read_vendor(path, **kw):  # pragma: no cover - registration only
+    raise NotImplementedError
+
+
+@hookimpl
+def metro_unit_definitions():
+    return ["vendor_tick = 0.5 * arcsecond = vtick"]
+
+
+@hookimpl
+def metro_register_standards(registrar):
+    registrar.add_standard("vendorx", "Vendor X internal procedures", designation="VX-001")
+    registrar.add_procedure(MeanOutput)
+
+
+@hookimpl
+def metro_register_readers(registrar):
+    registrar.add_reader((".vxb",), _read_vendor, "Vendor X binary")
+
+
+@hookimpl
+def metro_register_stations(registrar):
+    registrar.add_station("vendorx-bench", lambda **kw: None, "Vendor X bench (not connected in tests)")
+
+
+@hookimpl
+def metro_register_templates(registrar):
+    from importlib import resources
+
+    p = Path(str(resources.files("metro.core").joinpath("templates", "report.docx")))
+    registrar.add_template("vendorx-report", p, standard="vendorx")
+
+
+@hookimpl
+def metro_campaign_loaded(campaign):
+    EVENTS.append(("campaign_loaded", campaign.id))
+
+
+@hookimpl
+def metro_procedure_started(procedure, campaign, ctx):
+    EVENTS.append(("procedure_started", procedure.qualified_id()))
+
+
+@hookimpl
+def metro_procedure_finished(procedure, outcome):
+    EVENTS.append(("procedure_finished", outcome.id))
+
+
+@hookimpl
+def metro_report_written(path, outcomes):
+    EVENTS.append(("report_written", str(path)))

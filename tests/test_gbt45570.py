@@ -1,0 +1,160 @@
+"""GB/T 45570—2025 D.5.1, D.5.2, D.5.6: hand-worked formulas and simulated devices with known truth."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from metro.core.errors import DataError, ProcedureError
+from metro.core.runner import run_items
+from metro.instruments.simulated import EARTH_RATE_DEG_PER_H, GyroTruth, SimulatedStation, expected
+from metro.plugins.gbt45570 import formulas as F
+
+# ---------------------------------------------------------------------------- hand-worked
+
+
+def test_d40_hand_worked():
+    # mean 10 P per 1 s, K = 1 P/″ → 10 ″/s = 10 °/h; θ = 30° → 15.041 × 0.5 = 7.5205
+    assert F.bias_d40(10.0, 1.0, 1.0, 30.0) == pytest.approx(10.0 - 7.5205, abs=1e-12)
+    # K = 0.5 P/″, τ = 2 s: 10 / (2 × 0.5) = 10 °/h; θ = 0 → no earth term
+    assert F.bias_d40(10.0, 2.0, 0.5, 0.0) == pytest.approx(10.0, abs=1e-12)
+
+
+def test_d41_hand_worked():
+    # N' = 100, 102, 98, 100 over t = 10 s, K = 1 P/″: s = sqrt(8/3) = 1.632993, B_s = 0.1632993 °/h
+    assert F.bias_stability_d41([100, 102, 98, 100], 10.0, 1.0) == pytest.approx(math.sqrt(8 / 3) / 10, rel=1e-12)
+
+
+def test_d42_hand_worked():
+    assert F.bias_repeatability_d42([0.1, 0.3, 0.2]) == pytest.approx(0.1, rel=1e-12)
+
+
+def test_d46_negative_alpha1_refused():
+    with pytest.raises(ValueError, match="not positive"):
+        F.rwc_d46(-1e-6)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    a0=st.floats(1e-8, 1e-2), a1=st.floats(1e-8, 1e-2), a2=st.floats(1e-12, 1e-6),
+)
+def test_d45_fit_recovers_exact_model(a0, a1, a2):
+    tau_h = 2.0 ** np.arange(12) / 3600.0
+    bs = np.sqrt(a0 + a1 / tau_h + a2 / tau_h**2)
+    m = (28800 // 2 ** np.arange(12)).astype(float)
+    fit = F.fit_d45(tau_h, bs, m)
+    np.testing.assert_allclose(fit.alpha, [a0, a1, a2], rtol=1e-6, atol=1e-9 * (a0 + a1 + a2))
+
+
+def test_d45_covariance_matches_monte_carlo_for_white_noise():
+    """The nested-level covariance (formulas.d45_covariance) against 4000 simulated white
+    series of 1024 samples: adjacent-level correlation of the sample variances ≈ 1/√2."""
+    from metro.core import allan
+
+    rng = np.random.default_rng(7)
+    reps = 4000
+    v = []
+    for _ in range(reps):
+        pyr = allan.block_variance_doubling(rng.normal(size=1024), 1.0, min_blocks=16)
+        v.append(np.asarray(pyr.std) ** 2)
+    v = np.array(v)
+    m = np.asarray(pyr.m, dtype=float)
+    C_mc = np.cov(v.T)
+    C = F.d45_covariance(1.0 / 2.0 ** np.arange(v.shape[1]), m)
+    # variances within 10 % (MC relative error of a variance with 4000 reps ≈ 3 %)
+    np.testing.assert_allclose(np.diag(C_mc), np.diag(C), rtol=0.1)
+    corr_mc = C_mc[0, 1] / math.sqrt(C_mc[0, 0] * C_mc[1, 1])
+    corr = C[0, 1] / math.sqrt(C[0, 0] * C[1, 1])
+    assert corr == pytest.approx(math.sqrt((m[1] - 1) / (m[0] - 1)), rel=1e-12)
+    assert corr_mc == pytest.approx(corr, abs=0.05)
+
+
+# ----------------------------------------------------------------------- simulated truth
+
+
+def _run(pm, items, truth, lat=39.98, scale=1.0, **opts):
+    st_ = SimulatedStation(truth=truth, latitude_deg=lat, duration_scale=scale)
+    from metro.core.runner import merge_steps
+
+    procs = [pm.procedure("gbt45570", i) for i in items]
+    camp = st_.acquire(merge_steps([c().sequence({}) for c in procs]))
+    return run_items(pm, "gbt45570", items, campaign=camp, options=opts)
+
+
+def test_white_noise_arw_recovered_within_its_uncertainty_over_seeds(pm):
+    """Rate output, white rate noise only (no quantization): RWC vs truth over 30 seeds.
+    With k for 95 % coverage, at least 26 of 30 must be within U (binomial P(<26) ≈ 1 %),
+    and the normalised errors must have a spread near 1 (the uncertainty is not inflated)."""
+    z, inside = [], 0
+    for seed in range(30):
+        truth = GyroTruth(output="rate", arw_deg_rt_h=0.002, bias_deg_h=0.1, seed=1000 + seed)
+        rec = _run(pm, ["D.5.6"], truth)
+        r = rec.outcomes[0].result("RWC")
+        err = r.value.to("deg/hour**0.5").magnitude - 0.002
+        inside += abs(err) <= r.U.magnitude
+        z.append(err / r.u.to("deg/hour**0.5").magnitude)
+    assert inside >= 26
+    assert 0.5 < float(np.std(z)) < 1.6
+
+
+def test_default_pulse_gyro_recovers_truth(pm):
+    """The embedded default (pulse output with quantization) recovers ARW and bias within U."""
+    truth = GyroTruth()
+    rec = _run(pm, ["D.5.1", "D.5.2", "D.5.6"], truth)
+    exp = expected(truth, 39.98)
+    rwc = rec.outcomes[2].result("RWC")
+    assert abs(rwc.value.magnitude - exp["RWC"]) <= rwc.U.magnitude
+    b0 = rec.outcomes[0].result("B0")
+    assert abs(b0.value.magnitude - exp["B0"]) <= b0.U.magnitude
+    # D.5.1, D.5.2 and D.5.6 used the same 8 h static record
+    assert rec.outcomes[0].segments == rec.outcomes[2].segments
+
+
+@pytest.mark.parametrize("lat", [45.0, -33.9])
+def test_d51_earth_rate_term_with_nonzero_latitude(pm, lat):
+    truth = GyroTruth(output="rate", bias_deg_h=0.25, arw_deg_rt_h=0.001, seed=3)
+    rec = _run(pm, ["D.5.1"], truth, lat=lat, scale=1 / 8)
+    r = rec.outcomes[0].result("B0")
+    true_b0 = 0.25 + (EARTH_RATE_DEG_PER_H - 15.041) * math.sin(math.radians(lat))
+    assert abs(r.value.magnitude - true_b0) <= r.U.magnitude
+    # without the earth term the result would be off by 15.041·sin θ ≫ U
+    assert abs(15.041 * math.sin(math.radians(lat))) > 50 * r.U.magnitude
+
+
+def test_d51_budget_rows(pm):
+    rec = _run(pm, ["D.5.1"], GyroTruth(seed=5), scale=1 / 8)
+    b = rec.outcomes[0].result("B0").budget
+    sources = " ".join(r.source for r in b.rows)
+    for word in ("batch means", "scale factor", "latitude", "levelling", "time base"):
+        assert word in sources
+    assert {r.type for r in b.rows} == {"A", "B"}
+
+
+def test_d52_white_noise_bs_equals_arw_over_sqrt_t(pm):
+    truth = GyroTruth(output="rate", arw_deg_rt_h=0.003, seed=11)
+    rec = _run(pm, ["D.5.2"], truth)
+    for key, t_s in (("Bs_10s", 10.0), ("Bs_100s", 100.0)):
+        r = rec.outcomes[0].result(key)
+        expect = 0.003 / math.sqrt(t_s / 3600.0)
+        assert abs(r.value.magnitude - expect) <= r.U.magnitude, key
+
+
+def test_d56_too_short_record(pm):
+    with pytest.raises(DataError, match="τ"):
+        _run(pm, ["D.5.6"], GyroTruth(seed=1), scale=60 / 28800)
+
+
+def test_d56_negative_alpha1_is_a_clear_error(pm):
+    """A rate random walk that dominates everywhere makes B_s grow with τ; α1 < 0 → error."""
+    truth = GyroTruth(output="rate", arw_deg_rt_h=1e-7, rrw_deg_h_rt_h=5.0, seed=2)
+    with pytest.raises(ProcedureError, match="α1"):
+        _run(pm, ["D.5.6"], truth)
+
+
+def test_d52_option_t_must_be_multiple_of_tau(pm):
+    with pytest.raises(ProcedureError, match="whole number"):
+        _run(pm, ["D.5.2"], GyroTruth(seed=1), scale=1 / 8, t="2.5 s")

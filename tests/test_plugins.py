@@ -1,0 +1,121 @@
+"""The plugin system: entry-point loading, registrars, duplicates, blocking, every hook."""
+
+from __future__ import annotations
+
+import pytest
+
+from metro.core import hookspec
+from metro.core.errors import PluginError
+from metro.core.plugins import MetroPluginManager, get_plugin_manager
+
+
+def _pm_with(*modules):
+    pm = MetroPluginManager().load(autoload=False)
+    for name in modules:
+        pm.add_plugin(_load_sample(name), name)
+    return pm
+
+
+def _load_sample(name):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parent / "plugins" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"metro_test_plugins.{name}", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_builtins_load_through_the_entry_point_group(pm):
+    names = set(pm.plugins)
+    assert {"core", "instruments", "gbt45570"} <= names
+    for n in ("core", "instruments", "gbt45570"):
+        assert pm.plugins[n].distribution == "metro" and pm.plugins[n].builtin
+        assert pm.plugins[n].version
+    assert {"gbt45570:D.5.1", "gbt45570:D.5.2", "gbt45570:D.5.6"} <= set(pm.registry.procedures)
+    assert pm.registry.procedures["gbt45570:D.5.6"].plugin == "gbt45570"
+
+
+def test_block_one_plugin_by_option_and_env(monkeypatch):
+    pm = get_plugin_manager(autoload=False, block=["gbt45570"])
+    assert "gbt45570" not in pm.plugins and "gbt45570" not in pm.registry.standards
+    monkeypatch.setenv("METRO_BLOCK_PLUGINS", "gbt45570")
+    pm = get_plugin_manager()
+    assert "gbt45570" not in pm.plugins
+    with pytest.raises(PluginError, match="unknown standard"):
+        pm.procedure("gbt45570", "D.5.6")
+
+
+def test_autoload_env_var_keeps_builtins(monkeypatch):
+    monkeypatch.setenv("METRO_DISABLE_PLUGIN_AUTOLOAD", "1")
+    pm = get_plugin_manager()
+    assert all(p.builtin for p in pm.plugins.values())
+    assert "gbt45570" in pm.plugins
+
+
+def test_duplicate_item_names_both_plugins():
+    pm = _pm_with("duplicate_item")
+    with pytest.raises(PluginError) as exc:
+        pm.register_all()
+    msg = str(exc.value)
+    assert "gbt45570:D.5.6" in msg and "'gbt45570'" in msg and "'duplicate_item'" in msg
+
+
+def test_registrar_validates_input():
+    from metro.core.plugins import Registry, StandardRegistrar
+
+    reg = StandardRegistrar(Registry(), "p")
+    with pytest.raises(PluginError, match="not a metro Procedure"):
+        reg.add_procedure(object)
+    with pytest.raises(PluginError, match="lower-case"):
+        reg.add_standard("GB T", "x")
+
+
+def test_every_hook_of_a_third_party_plugin(tmp_path):
+    """One sample plugin implements every hook; each one is exercised here."""
+    from metro.core.model import Campaign, DeviceUnderTest, Segment
+    from metro.core.runner import run_items
+    from metro.core.units import Q_
+    import numpy as np
+
+    mod = _load_sample("sample_vendor")
+    pm = _pm_with()
+    pm.add_plugin(mod, "sample_vendor")
+    reg = pm.register_all()
+    # metro_unit_definitions
+    assert Q_(2, "vtick").to("arcsec").magnitude == pytest.approx(1.0)
+    # metro_register_standards
+    assert pm.procedure("vendorx", "V.1").__name__ == "MeanOutput"
+    # metro_register_readers / stations / templates
+    assert reg.readers[".vxb"].plugin == "sample_vendor"
+    assert pm.station("vendorx-bench").plugin == "sample_vendor"
+    assert pm.template_for("vendorx").name == "vendorx-report"
+    assert pm.template_for("gbt45570").name == "generic-report"
+    # lifecycle hooks
+    data = np.linspace(1.0, 2.0, 101)
+    camp = Campaign("C1", DeviceUnderTest("D1"), [], {}, {}, [
+        Segment("s", "static", {}, Q_(1, "s"), loader=lambda: {"output": (data, "deg/h")}, sha256="0" * 64)])
+    pm.campaign_loaded(camp)
+    rec = run_items(pm, "vendorx", ["V.1"], campaign=camp)
+    assert rec.outcomes[0].results[0].value.magnitude == pytest.approx(1.5)
+    from metro.core.report import write_report
+
+    path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("vendorx").path)
+    pm.report_written(path, rec.outcomes)
+    kinds = [e[0] for e in mod.EVENTS]
+    for k in ("campaign_loaded", "procedure_started", "procedure_finished", "report_written"):
+        assert k in kinds
+
+
+def test_hookspecs_are_documented_typed_stubs():
+    import inspect
+
+    names = [n for n in dir(hookspec) if n.startswith("metro_")]
+    assert len(names) == 9
+    for n in names:
+        fn = getattr(hookspec, n)
+        doc = inspect.getdoc(fn) or ""
+        assert len(doc) > 80, n
+        assert ":return:" in doc, n
+        assert "return" in inspect.get_annotations(fn), n
