@@ -144,7 +144,8 @@ def _cmd_run(args) -> int:
             target.parent.mkdir(parents=True, exist_ok=True)
             template = pm.template_for(args.standard).path
             prog("writing report", 0, 1) if prog else None
-            report_path = write_report(target, record, template=template)
+            designations = {s.id: s.designation for s in pm.registry.standards.values()}
+            report_path = write_report(target, record, template=template, designations=designations)
             pm.report_written(report_path, record.outcomes)
     if args.json:
         print(json.dumps(present.as_json(record, report_path), ensure_ascii=False, indent=2))

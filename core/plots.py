@@ -16,7 +16,8 @@ A series is a mapping with the keys
 * ``yerr`` — optional symmetric error bars (one value per point, or one for all).
 
 Labels may use any character of DejaVu Sans (matplotlib's default font), which covers the
-field's symbols: ° √ τ α ν σ χ ₀…₉ ² ″.
+field's symbols: ° √ τ α ν σ χ ₀…₉ ² ″.  Chinese text needs a CJK font on the machine
+(one of :data:`FALLBACK_FONTS`); without one matplotlib warns and draws boxes.
 """
 
 from __future__ import annotations
@@ -30,12 +31,24 @@ from .atomic import atomic_write
 if TYPE_CHECKING:  # pragma: no cover
     from .model import PlotSpec
 
-__all__ = ["render_png", "FIGSIZE_IN"]
+__all__ = ["render_png", "FIGSIZE_IN", "FALLBACK_FONTS"]
 
 #: Figure size in inches (about 16 cm × 10 cm: printed at 15 cm wide in reports).
 FIGSIZE_IN = (6.3, 3.9)
 
 _MARKER_STYLES = frozenset({"o", "s", "^", "v", "D", "x", "+", "."})
+
+#: Fonts tried after DejaVu Sans for characters it lacks (Chinese titles), when installed.
+FALLBACK_FONTS = ("Noto Sans CJK SC", "Noto Sans SC", "Source Han Sans SC", "WenQuanYi Zen Hei",
+                  "WenQuanYi Micro Hei", "SimHei", "Microsoft YaHei", "PingFang SC")
+
+
+def _font_families() -> list[str]:
+    """DejaVu Sans first, then the installed fallback fonts (matplotlib ≥ 3.6 falls back per glyph)."""
+    from matplotlib import font_manager
+
+    installed = {f.name for f in font_manager.fontManager.ttflist}
+    return ["DejaVu Sans"] + [f for f in FALLBACK_FONTS if f in installed]
 
 
 def _values(v: Any) -> Any:
@@ -73,17 +86,8 @@ def _draw_series(ax, s: Mapping[str, Any], index: int) -> bool:
     return label is not None
 
 
-def render_png(spec: "PlotSpec", path: str | os.PathLike[str], *, dpi: int = 150) -> Path:
-    """Draw ``spec`` and write it as a PNG to ``path`` (atomically); return ``path``.
-
-    Log axes as ``spec.logx`` / ``spec.logy`` ask (non-positive values are not drawn on a
-    log axis), a grid, the axis labels, the title and a legend when a series has a label.
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, layout="constrained")
-    FigureCanvasAgg(fig)
+def _draw(fig, spec: "PlotSpec") -> None:
+    """Draw ``spec`` on an empty figure."""
     ax = fig.add_subplot()
     labelled = False
     for i, s in enumerate(spec.series):
@@ -101,4 +105,20 @@ def render_png(spec: "PlotSpec", path: str | os.PathLike[str], *, dpi: int = 150
         ax.grid(True, which="minor", linewidth=0.4, alpha=0.25)
     if labelled:
         ax.legend(fontsize="small")
-    return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))
+
+
+def render_png(spec: "PlotSpec", path: str | os.PathLike[str], *, dpi: int = 150) -> Path:
+    """Draw ``spec`` and write it as a PNG to ``path`` (atomically); return ``path``.
+
+    Log axes as ``spec.logx`` / ``spec.logy`` ask (non-positive values are not drawn on a
+    log axis), a grid, the axis labels, the title and a legend when a series has a label.
+    """
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    with matplotlib.rc_context({"font.family": "sans-serif", "font.sans-serif": _font_families()}):
+        fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, layout="constrained")
+        FigureCanvasAgg(fig)  # Agg canvas: no GUI backend, nothing registered with pyplot
+        _draw(fig, spec)
+        return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))

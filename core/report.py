@@ -243,6 +243,9 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
             "dof": _fmt_dof(row["dof"]),
         })
     m = r.metric
+    k_text = fmt_num(d["k"], 3)
+    if d["coverage"] != f"k = {d['k']:g}":  # k from t_p(ν_eff): say how it was chosen
+        k_text += f" ({d['coverage'].removeprefix('k = ')})"
     return {
         "title": f"{m.name} {m.symbol}".strip() + (f" ({d['measurand']})" if d["measurand"] not in (m.symbol, m.key, m.name) else ""),
         "measurand": d["measurand"],
@@ -252,7 +255,7 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
         "rows": rows,
         "u_c": fmt_num(d["u_c"]),
         "nu_eff": _fmt_dof(d["nu_eff"]),
-        "k": fmt_num(d["k"], 3),
+        "k": k_text,
         "coverage": d["coverage"],
         "U": d["U_reported"],
         "U_unrounded": fmt_num(d["U"]),
@@ -302,6 +305,20 @@ def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: in
         "plots": plots,
         "warnings": [str(w) for w in o.warnings],
     }
+
+
+_XML_INVALID = dict.fromkeys(c for c in range(0x20) if c not in (0x09, 0x0A, 0x0D))
+
+
+def _sanitize(obj: Any) -> Any:
+    """Drop the control characters XML 1.0 cannot hold from every string of the context."""
+    if isinstance(obj, str):
+        return obj.translate(_XML_INVALID)
+    if isinstance(obj, dict):
+        return {k: _sanitize(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_sanitize(v) for v in obj]
+    return obj
 
 
 def _unique(seq: Iterable[str]) -> list[str]:
@@ -386,7 +403,7 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     generator = f"metro {software['metro']}" if "metro" in software else "metro"
     source = camp.source or ("simulated station" if simulated else _DASH)
 
-    return {
+    return _sanitize({
         "report_number": record.report_number,
         "created": _date_text(record.created),
         "created_iso": record.created.isoformat(),
@@ -423,7 +440,7 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
             "plugins": [{"name": k, "version": str(v)} for k, v in dict(record.plugins).items()],
             "data_files": _data_files(record),
         },
-    }
+    })
 
 
 # --------------------------------------------------------------------------------------

@@ -158,13 +158,15 @@ def _new_table(doc, n_rows: int, widths_mm: list[float]):
     return table
 
 
-def loop_table(doc, headers: list[str], cells: list[str], widths_mm: list[float], loop: str):
-    """A table: a header row, then one row per item of ``loop`` (``"r in o.results"``)."""
+def loop_table(doc, headers: list[str], cells: list[str], widths_mm: list[float], loop: str,
+               styles: dict[int, str] | None = None):
+    """A table: a header row, then one row per item of ``loop`` (``"r in o.results"``);
+    ``styles`` gives a paragraph style to some columns of the template row."""
     table = _new_table(doc, 4, widths_mm)
     _header_row(table, headers)
     _set_text(table.rows[1].cells[0], f"{{%tr for {loop} %}}")
-    for cell, text in zip(table.rows[2].cells, cells):
-        _set_text(cell, text)
+    for i, (cell, text) in enumerate(zip(table.rows[2].cells, cells)):
+        _set_text(cell, text, style=(styles or {}).get(i, "Table Text"))
     _row_flag(table.rows[2], "w:cantSplit")
     _set_text(table.rows[3].cells[0], "{%tr endfor %}")
     return table
@@ -180,12 +182,12 @@ def kv_table(doc, rows: list[tuple[str, str]], widths_mm=(50, TEXT_W - 50), loop
         _shade_cell(row.cells[0], HEAD_FILL)
         _set_text(row.cells[1], value)
     if loop:
-        spec, label, value = loop
+        spec, loop_label, loop_value = loop
         r0, r1, r2 = table.rows[len(rows):]
         _set_text(r0.cells[0], f"{{%tr for {spec} %}}")
-        _set_text(r1.cells[0], label, bold=True)
+        _set_text(r1.cells[0], loop_label, bold=True)
         _shade_cell(r1.cells[0], HEAD_FILL)
-        _set_text(r1.cells[1], value)
+        _set_text(r1.cells[1], loop_value)
         _set_text(r2.cells[0], "{%tr endfor %}")
     return table
 
@@ -294,6 +296,11 @@ def _styles(doc) -> None:
     th.font.size = Pt(8.5)
     th.paragraph_format.space_after = Pt(0)
     th.paragraph_format.space_before = Pt(0)
+
+    mono = styles.add_style("Table Mono", WD_STYLE_TYPE.PARAGRAPH)
+    mono.base_style = th
+    mono.font.name = "Consolas"
+    mono.font.size = Pt(7.5)
 
     hd = styles.add_style("Table Head", WD_STYLE_TYPE.PARAGRAPH)
     hd.base_style = th
@@ -439,10 +446,10 @@ def build() -> "docx.document.Document":
     tag(doc, "{%p if equipment %}")
     loop_table(
         doc,
-        ["Equipment", "Description", "Role", "Certificate", "U (k)", "Due", "Status"],
+        ["ID", "Description", "Role", "Certificate", "U (k)", "Due", "Status"],
         ["{{ e.id }}", "{{ e.description }}", "{{ e.role }}", "{{ e.certificate }}", "{{ e.U }}",
          "{{ e.due }}", "{{ e.status }}"],
-        [21, 35, 19, 25, 24, 18, 28],
+        [20, 33, 18, 25, 24, 20, 30],
         "e in equipment",
     )
     tag(doc, "{%p else %}")
@@ -474,7 +481,7 @@ def build() -> "docx.document.Document":
         ["Quantity", "Symbol", "Value", "U", "Unit", "k", "Clause / equation"],
         ["{{ r.quantity }}", "{{ r.symbol }}", "{{ r.value }}", "{{ r.U }}", "{{ r.unit }}", "{{ r.k }}",
          "{{ r.reference }}"],
-        [40, 16, 24, 20, 16, 10, 44],
+        [38, 18, 24, 20, 16, 10, 44],
         "r in o.results",
     )
     tag(doc, "{%p for n in o.notes %}")
@@ -483,7 +490,7 @@ def build() -> "docx.document.Document":
 
     tag(doc, "{%p for b in o.budgets %}")
     heading(doc, "Uncertainty budget: {{ b.title }}", 3)
-    widths = [46, 15, 9, 17, 19, 12, 22, 20, 10]
+    widths = [35, 17, 12, 19, 20, 14, 22, 21, 10]
     budget = loop_table(
         doc,
         ["Source of uncertainty", "Symbol", "Type", "Distribution", "Value", "Divisor",
@@ -496,7 +503,7 @@ def build() -> "docx.document.Document":
     for label_text, value_text in (
         ("Combined standard uncertainty u_c", "{{ b.u_c }} {{ b.unit }}"),
         ("Effective degrees of freedom ν_eff", "{{ b.nu_eff }}"),
-        ("Coverage factor k", "{{ b.k }} ({{ b.coverage }})"),
+        ("Coverage factor k", "{{ b.k }}"),
         ("Expanded uncertainty U = k·u_c", "{{ b.U }} {{ b.unit }}"),
     ):
         row = budget.add_row()
@@ -548,8 +555,8 @@ def build() -> "docx.document.Document":
     tag(doc, "{%p endif %}")
     label(doc, "Raw data")
     tag(doc, "{%p if provenance.data_files %}")
-    loop_table(doc, ["File", "SHA-256"], ["{{ f.file }}", "{{ f.sha256 }}"], [62, TEXT_W - 62],
-               "f in provenance.data_files")
+    loop_table(doc, ["File", "SHA-256"], ["{{ f.file }}", "{{ f.sha256 }}"], [58, TEXT_W - 58],
+               "f in provenance.data_files", styles={1: "Table Mono"})
     tag(doc, "{%p else %}")
     para(doc, "No raw data files were recorded.", italic=True)
     tag(doc, "{%p endif %}")

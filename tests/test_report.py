@@ -1,0 +1,325 @@
+"""metro.core.report (context + Word rendering), metro.core.plots and the template generator."""
+
+from __future__ import annotations
+
+import datetime as dt
+import io
+import subprocess
+import sys
+import warnings
+import zipfile
+from pathlib import Path
+
+import docx
+import pytest
+
+from metro.core import plots, report
+from metro.core.atomic import TMP_MARKER
+from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
+from metro.core.model import (
+    Calibration,
+    Campaign,
+    DeviceUnderTest,
+    Equipment,
+    Metric,
+    Outcome,
+    PlotSpec,
+    Result,
+    TableSpec,
+)
+from metro.core.provenance import RunRecord
+from metro.core.units import Q_
+
+REPORT_NO = "MTR-20250301-101500-0A1B2C"
+SHA = "3f" * 32
+DESIGNATIONS = {"gbt45570": "GB/T 45570—2025"}
+
+
+def make_record(*, simulated: bool = False, with_plot: bool = True) -> RunRecord:
+    device = DeviceUnderTest(
+        id="DUT-42", model="FOG-300", serial="S/N 0042", manufacturer="Acme Inertial",
+        properties={"scale_factor": Q_(0.8, "P/arcsec")},
+        technology="fibre", application="aerospace", output="pulse",
+    )
+    equipment = [
+        Equipment(id="CNT-1", model="53230A", manufacturer="Keysight", serial="MY555", role="counter",
+                  calibration=Calibration("CERT-2023-0117", Q_(1e-7, ""), k=2.0, due=dt.date(2024, 6, 30))),
+        Equipment(id="PLAT-1", model="granite table", role="platform",
+                  calibration=Calibration("CERT-2025-0009", Q_(2.0, "arcsec"), distribution="uniform",
+                                          due=dt.date(2030, 1, 1))),
+    ]
+    campaign = Campaign(
+        id="CAMP-7", device=device, equipment=equipment,
+        environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
+        site={"latitude": Q_(39.95, "deg")},
+        segments=[],
+        source="simulated station" if simulated else "/lab/camp7/manifest.toml",
+        simulated=simulated,
+        truth={"angle random walk": Q_(0.0012, "deg/hour**0.5"), "seed": 7} if simulated else {},
+    )
+    metric = Metric("RWC", "Random walk coefficient", "RWC", "deg/hour**0.5", "D.5.6", "D.45")
+    rows = [
+        BudgetRow.type_a("Fit of B_s(τ_k) over the levels", "u(α₁)", Q_(3.3e-5, "deg/hour**0.5"), 12),
+        BudgetRow.type_b("Counter time base", "u(T)", Q_(1e-7, ""), distribution="normal", k=2,
+                         sensitivity=Q_(0.0012, "deg/hour**0.5")),
+        BudgetRow.type_b("Platform levelness", "u(θ)", Q_(2.0, "arcsec"),
+                         sensitivity=Q_(1e-6, "deg/hour**0.5/arcsec")),
+    ]
+    budget = UncertaintyBudget("RWC", "deg/hour**0.5", rows, coverage=Coverage.fixed(2.0))
+    result = Result(metric, Q_(0.00123456, "deg/hour**0.5"), budget.combined, budget)
+    plot = PlotSpec(
+        "bs_tau", "B_s(τ_k) and the fit", "τ_k (s)", "B_s (°/h)",
+        [
+            {"label": "B_s(τ_k)", "x": [1, 10, 100], "y": [0.1, 0.03, 0.01], "yerr": [0.01, 0.003, 0.001],
+             "style": "o"},
+            {"label": "fit √(α₀ + α₁/τ)", "x": [1, 10, 100], "y": [0.1, 0.032, 0.01], "style": "-"},
+            {"label": "ARW term", "x": [1, 10, 100], "y": [0.09, 0.03, 0.009], "style": "--"},
+        ],
+        logx=True, logy=True,
+    )
+    table = TableSpec("levels", "B_s(τ_k) per level", ["k", "τ_k (s)", "B_s (°/h)"],
+                      [[1, "10", "0.031"], [2, "100", "0.0101"]])
+    outcome = Outcome(
+        "gbt45570", "D.5.6", "Angle random walk", "D.5.6", [result],
+        plots=[plot] if with_plot else [], tables=[table],
+        warnings=["the record is shorter than the standard asks"], segments=["static-1"],
+    )
+    return RunRecord(
+        REPORT_NO, dt.datetime(2025, 3, 1, 10, 15, tzinfo=dt.timezone.utc), campaign, [outcome],
+        software={"metro": "0.1.0", "numpy": "2.0"}, plugins={"gbt45570": "metro 0.1.0"},
+        data_files=[("/lab/camp7/static-1.csv", SHA)], simulated=simulated,
+    )
+
+
+def docx_text(path: Path) -> str:
+    """All text of a .docx: body paragraphs, table cells, headers and footers."""
+    d = docx.Document(str(path))
+    parts = [p.text for p in d.paragraphs]
+    for t in d.tables:
+        for row in t.rows:
+            parts.extend(c.text for c in row.cells)
+    for s in d.sections:
+        parts.extend(p.text for p in s.header.paragraphs)
+        parts.extend(p.text for p in s.footer.paragraphs)
+    return "\n".join(parts)
+
+
+# --------------------------------------------------------------------------------------
+# report_context
+# --------------------------------------------------------------------------------------
+
+
+def test_context_has_every_section():
+    ctx = report.report_context(make_record(), designations=DESIGNATIONS)
+    for key in ("report_number", "created", "title", "device", "environment", "site", "equipment",
+                "outcomes", "provenance", "simulated", "truth"):
+        assert key in ctx
+    assert ctx["report_number"] == REPORT_NO
+    assert ctx["created"] == "2025-03-01 10:15 UTC"
+    assert ctx["title"] == "Test report — GB/T 45570—2025 D.5.6"
+    assert ctx["device"]["serial"] == "S/N 0042"
+    assert ctx["device"]["technology"] == "fibre"
+    assert {"name": "Temperature", "value": "20 °C"} in ctx["environment"]
+    assert ctx["latitude"] == "39.95 °"
+    assert ctx["simulated"] is False and ctx["simulated_banner"] == "" and ctx["truth"] == []
+    prov = ctx["provenance"]
+    assert prov["data_files"] == [{"file": "/lab/camp7/static-1.csv", "sha256": SHA}]
+    assert prov["source"] == "/lab/camp7/manifest.toml"
+    assert {"name": "gbt45570", "version": "metro 0.1.0"} in prov["plugins"]
+
+
+def test_context_without_designations_uses_the_standard_id():
+    ctx = report.report_context(make_record())
+    assert ctx["title"] == "Test report — gbt45570 D.5.6"
+
+
+def test_context_numbers_follow_the_model():
+    rec = make_record()
+    res = rec.outcomes[0].results[0]
+    ctx = report.report_context(rec)
+    (o,) = ctx["outcomes"]
+    assert o["number"] == "5.1" and o["clause"] == "D.5.6"
+    (r,) = o["results"]
+    assert (r["value"], r["U"]) == res.reported()
+    assert r["unit"] == "°/√h" and r["k"] == "2" and r["reference"] == "D.5.6, D.45"
+    (b,) = o["budgets"]
+    d = res.budget.as_dict()
+    assert b["U"] == d["U_reported"]
+    assert [row["source"] for row in b["rows"]] == [row.source for row in res.budget.rows]
+    assert [row["type"] for row in b["rows"]] == ["A", "B", "B"]
+    assert [row["divisor"] for row in b["rows"]] == ["1", "2", "√3"]
+    assert [row["dof"] for row in b["rows"]] == ["12", "∞", "∞"]
+    assert b["rows"][2]["value"] == "2 ″"
+    assert b["u_c"] == report.fmt_num(d["u_c"])
+    assert o["tables"][0]["header"] == ["k", "τ_k (s)", "B_s (°/h)"]
+    assert o["tables"][0]["rows"][0] == ["1", "10", "0.031"]
+    assert o["plots"][0]["number"] == 1 and o["plots"][0]["image"] is None
+    assert o["warnings"] == ["the record is shorter than the standard asks"]
+
+
+def test_context_equipment_status():
+    eq = {e["id"]: e for e in report.report_context(make_record())["equipment"]}
+    assert eq["CNT-1"]["certificate"] == "CERT-2023-0117"
+    assert eq["CNT-1"]["expired"] is True
+    assert eq["CNT-1"]["status"].startswith("EXPIRED")
+    assert eq["CNT-1"]["U"] == "1×10⁻⁷ (k = 2)"
+    assert eq["CNT-1"]["description"] == "Keysight 53230A (s/n MY555)"
+    assert eq["PLAT-1"]["status"] == "valid until 2030-01-01"
+
+
+def test_context_simulated_has_banner_and_truth():
+    ctx = report.report_context(make_record(simulated=True))
+    assert ctx["simulated"] is True
+    assert "built-in simulated test station" in ctx["simulated_banner"]
+    assert {"name": "angle random walk", "value": "0.0012 °/√h"} in ctx["truth"]
+
+
+def test_context_strips_characters_xml_cannot_hold():
+    rec = make_record()
+    bad = Outcome("gbt45570", "D.5.6", "Angle\x0b random walk", "D.5.6", rec.outcomes[0].results,
+                  warnings=["bell\x07 rang"])
+    rec = RunRecord(REPORT_NO, rec.created, rec.campaign, [bad])
+    (o,) = report.report_context(rec)["outcomes"]
+    assert o["title"] == "Angle random walk" and o["warnings"] == ["bell rang"]
+
+
+def test_fmt_num():
+    assert report.fmt_num(0.000012345) == "1.234×10⁻⁵"
+    assert report.fmt_num(123456.0) == "1.235×10⁵"
+    assert report.fmt_num(0.5) == "0.5"
+    assert report.fmt_num(3) == "3"
+    assert report.fmt_num(None) == "—"
+    assert report.fmt_num(float("inf")) == "∞"
+    assert report.fmt_quantity(Q_(45.0, "percent")) == "45 %"
+
+
+# --------------------------------------------------------------------------------------
+# write_report
+# --------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def simulated_docx(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("report") / "report.docx"
+    assert report.write_report(out, make_record(simulated=True), designations=DESIGNATIONS) == out
+    return out
+
+
+def test_docx_contents(simulated_docx):
+    text = docx_text(simulated_docx)
+    assert REPORT_NO in text
+    assert SHA in text
+    assert "CERT-2023-0117" in text
+    assert "EXPIRED" in text
+    assert report.SIMULATED_BANNER in text
+    assert "0.0012 °/√h" in text  # the declared truth
+    for source in ("Fit of B_s(τ_k) over the levels", "Counter time base", "Platform levelness"):
+        assert source in text
+    assert "B_s(τ_k) per level" in text and "τ_k (s)" in text
+    assert "The results in this report relate only to the item tested" in text
+    assert "{{" not in text and "{%" not in text
+
+
+def test_docx_has_the_figure_and_page_fields(simulated_docx):
+    with zipfile.ZipFile(simulated_docx) as z:
+        names = z.namelist()
+        assert any(n.startswith("word/media/") and n.endswith(".png") for n in names)
+        headers = [z.read(n).decode("utf-8") for n in names if n.startswith("word/header")]
+    assert any(REPORT_NO in h and "PAGE" in h and "NUMPAGES" in h for h in headers)
+    d = docx.Document(str(simulated_docx))
+    assert len(d.inline_shapes) == 1
+    assert abs(d.inline_shapes[0].width.mm - report.IMAGE_WIDTH_MM) < 0.5
+    assert d.core_properties.identifier == REPORT_NO
+
+
+def test_real_campaign_has_no_banner(tmp_path):
+    out = report.write_report(tmp_path / "r.docx", make_record(simulated=False, with_plot=False))
+    text = docx_text(out)
+    assert "simulated test station" not in text
+    assert "/lab/camp7/manifest.toml" in text
+
+
+def test_failure_while_rendering_leaves_nothing(tmp_path, monkeypatch):
+    def broken(*a, **kw):
+        raise RuntimeError("renderer broke")
+
+    monkeypatch.setattr(plots, "render_png", broken)
+    target = tmp_path / "report.docx"
+    with pytest.raises(RuntimeError, match="renderer broke"):
+        report.write_report(target, make_record())
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_failure_while_saving_keeps_the_previous_report(tmp_path, monkeypatch):
+    import docxtpl
+
+    target = tmp_path / "report.docx"
+    target.write_bytes(b"previous report")
+
+    def broken_save(self, filename, *a, **kw):
+        Path(filename).write_bytes(b"half a zip")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(docxtpl.DocxTemplate, "save", broken_save)
+    with pytest.raises(OSError, match="disk full"):
+        report.write_report(target, make_record(with_plot=False))
+    assert target.read_bytes() == b"previous report"
+    assert [p.name for p in tmp_path.iterdir() if TMP_MARKER in p.name] == []
+
+
+def test_bad_custom_template_is_a_metro_error(tmp_path):
+    from metro.core.errors import MetroError
+
+    bad = docx.Document()
+    bad.add_paragraph("{{ report_number ")  # unterminated tag
+    tpl = tmp_path / "bad.docx"
+    bad.save(str(tpl))
+    with pytest.raises(MetroError, match="bad.docx"):
+        report.write_report(tmp_path / "out.docx", make_record(with_plot=False), template=tpl)
+    assert not (tmp_path / "out.docx").exists()
+
+
+def test_import_is_cheap():
+    code = (
+        "import sys, metro.core.report, metro.core.plots; "
+        "print(sorted(m for m in ('docxtpl', 'docx', 'matplotlib', 'pint') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+# --------------------------------------------------------------------------------------
+# plots and the template
+# --------------------------------------------------------------------------------------
+
+
+def test_render_png_with_unicode_labels(tmp_path):
+    spec = PlotSpec("u", "σ(τ) — α₀ and √h", "τ (s)", "B (°/h), ARW (°/√h)",
+                    [{"label": "α₀ ″", "x": Q_([1.0, 2.0, 4.0], "s"), "y": [3.0, 2.0, 1.0],
+                      "yerr": 0.1, "style": "o"},
+                     {"x": [1, 4], "y": [3, 1], "style": "--"}],
+                    logx=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a missing glyph is a warning in matplotlib
+        out = plots.render_png(spec, tmp_path / "fig.png", dpi=60)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["fig.png"]
+
+
+def test_render_png_rejects_mismatched_series(tmp_path):
+    spec = PlotSpec("bad", "", "x", "y", [{"x": [1, 2], "y": [1, 2, 3]}])
+    with pytest.raises(ValueError, match="series 0"):
+        plots.render_png(spec, tmp_path / "bad.png")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_committed_template_is_what_the_generator_builds():
+    from metro.core.templates import make_templates
+
+    buf = io.BytesIO()
+    make_templates.build().save(buf)
+    fresh = zipfile.ZipFile(io.BytesIO(make_templates._reproducible_zip(buf.getvalue())))
+    committed = zipfile.ZipFile(io.BytesIO(report.default_template().read_bytes()))
+    assert fresh.namelist() == committed.namelist()
+    for name in fresh.namelist():
+        assert fresh.read(name) == committed.read(name), f"{name} differs: re-run make_templates.py"
