@@ -62,7 +62,7 @@ def test_d45_covariance_matches_monte_carlo_for_white_noise():
         pyr = allan.block_variance_doubling(rng.normal(size=1024), 1.0, min_blocks=16)
         v.append(np.asarray(pyr.std) ** 2)
     v = np.array(v)
-    m = np.asarray(pyr.m, dtype=float)
+    m = np.asarray(pyr.n_blocks, dtype=float)
     C_mc = np.cov(v.T)
     C = F.d45_covariance(1.0 / 2.0 ** np.arange(v.shape[1]), m)
     # variances within 10 % (MC relative error of a variance with 4000 reps ≈ 3 %)
@@ -149,8 +149,9 @@ def test_d56_too_short_record(pm):
 
 
 def test_d56_negative_alpha1_is_a_clear_error(pm):
-    """A rate random walk that dominates everywhere makes B_s grow with τ; α1 < 0 → error."""
-    truth = GyroTruth(output="rate", arw_deg_rt_h=1e-7, rrw_deg_h_rt_h=5.0, seed=2)
+    """A pulse gyro with no rate noise at all: only the (deterministic) quantization of a
+    constant rate, so B_s² ∝ 1/τ² and the fitted α1 comes out negative → a clear error."""
+    truth = GyroTruth(output="pulse", arw_deg_rt_h=0.0, seed=2)
     with pytest.raises(ProcedureError, match="α1"):
         _run(pm, ["D.5.6"], truth)
 

@@ -87,7 +87,7 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     assert Q_(2, "vtick").to("arcsec").magnitude == pytest.approx(1.0)
     # metro_register_standards
     assert pm.procedure("vendorx", "V.1").__name__ == "MeanOutput"
-    # metro_register_readers / stations / templates
+    # metro_register_readers, metro_register_stations, metro_register_templates
     assert reg.readers[".vxb"].plugin == "sample_vendor"
     assert pm.station("vendorx-bench").plugin == "sample_vendor"
     assert pm.template_for("vendorx").name == "vendorx-report"
@@ -104,8 +104,10 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("vendorx").path)
     pm.report_written(path, rec.outcomes)
     kinds = [e[0] for e in mod.EVENTS]
-    for k in ("campaign_loaded", "procedure_started", "procedure_finished", "report_written"):
-        assert k in kinds
+    for hook in ("metro_campaign_loaded", "metro_procedure_started", "metro_procedure_finished",
+                 "metro_report_written"):
+        assert hook in kinds, hook
+    assert kinds.index("metro_procedure_started") < kinds.index("metro_procedure_finished")
 
 
 def test_hookspecs_are_documented_typed_stubs():

@@ -305,9 +305,9 @@ class AngleRandomWalkD56(Procedure):
         ctx.report_progress("D.5.6 block means", 0, 1)
         pyr = allan.block_variance_doubling(raw, tau0_s, min_blocks=min_blocks)
         ctx.report_progress("D.5.6 block means", 1, 1)
-        tau_s = np.asarray(pyr.taus, dtype=float)
+        tau_s = np.asarray(pyr.tau, dtype=float)
         bs = np.asarray(pyr.std, dtype=float) * conv.magnitude
-        m = np.asarray(pyr.m)
+        m = np.asarray(pyr.n_blocks)
         if tau_s.size < 4:
             raise DataError(seg.file, "output",
                             f"a record of {raw.size} samples gives only {tau_s.size} τ levels with ≥ {min_blocks} "

@@ -76,19 +76,19 @@ def metro_register_templates(registrar):
 
 @hookimpl
 def metro_campaign_loaded(campaign):
-    EVENTS.append(("campaign_loaded", campaign.id))
+    EVENTS.append(("metro_campaign_loaded", campaign.id))
 
 
 @hookimpl
 def metro_procedure_started(procedure, campaign, ctx):
-    EVENTS.append(("procedure_started", procedure.qualified_id()))
+    EVENTS.append(("metro_procedure_started", procedure.qualified_id()))
 
 
 @hookimpl
 def metro_procedure_finished(procedure, outcome):
-    EVENTS.append(("procedure_finished", outcome.id))
+    EVENTS.append(("metro_procedure_finished", outcome.id))
 
 
 @hookimpl
 def metro_report_written(path, outcomes):
-    EVENTS.append(("report_written", str(path)))
+    EVENTS.append(("metro_report_written", str(path)))
