@@ -13,9 +13,10 @@ down.  Its indicated rate is::
   correlation time ``gm_tau`` (a stand-in for bias instability; zero by default);
 * ``r`` rate random walk of coefficient ``rrw`` (°/h/√h), zero by default.
 
-Pulse output integrates ω into angle and emits whole pulses of weight 1/K, carrying the
-remainder so no angle is lost (this is quantization noise: white angle noise of about
-1/(K√12) ″).  Digital output is ω·K rounded to LSB; ``rate`` output is ω in °/h.
+Pulse output integrates ω into angle and emits whole pulses of weight 1/K; the count read
+at each sample is the integrated angle rounded at a random readout phase (as a dithered ring
+laser gyro's is), so the remainder is carried, no angle is lost over the record, and the
+quantization error is white angle noise of variance ≈ 1/(6K²) ″² (the α2 term of D.45).  Digital output is ω·K rounded to LSB; ``rate`` output is ω in °/h.
 
 Records are generated in chunks so an 8 h record at 1 kHz never needs several full copies.
 """
@@ -41,7 +42,7 @@ class GyroTruth:
 
     scale_factor_P_per_arcsec: float = 0.8
     bias_deg_h: float = 0.12
-    arw_deg_rt_h: float = 0.0012
+    arw_deg_rt_h: float = 0.0015
     gm_sigma_deg_h: float = 0.0
     gm_tau_s: float = 600.0
     rrw_deg_h_rt_h: float = 0.0
@@ -95,6 +96,7 @@ def simulate_static(
     rrw = 0.0
     rrw_sd = truth.rrw_deg_h_rt_h * math.sqrt(tau_h)
     carry = 0.0  # angle not yet emitted, in pulses
+    emitted = 0.0  # pulses emitted so far, relative to ``carry``
     K = truth.scale_factor_P_per_arcsec
     if truth.gm_sigma_deg_h > 0:
         gm = rng.normal(0.0, truth.gm_sigma_deg_h)
@@ -118,9 +120,12 @@ def simulate_static(
             # angle increment per sample in pulses: rate[°/h = ″/s] · τ[s] · K[P/″]
             inc = w * (interval_s * K)
             cum = np.cumsum(inc) + carry
-            whole = np.floor(cum)
-            out[start:stop] = np.diff(whole, prepend=0.0)
-            carry = float(cum[-1] - whole[-1])
+            whole = np.floor(cum + rng.random(k))  # random readout phase (dither)
+            out[start:stop] = np.diff(whole, prepend=emitted)
+            emitted = float(whole[-1])
+            # keep the running totals small: subtract the emitted whole pulses from both
+            carry = float(cum[-1] - emitted)
+            emitted = 0.0
         elif truth.output == "digital":
             out[start:stop] = np.round(w / 3600.0 * truth.lsb_per_deg_s)
         else:
