@@ -149,11 +149,21 @@ def test_d56_too_short_record(pm):
 
 
 def test_d56_negative_alpha1_is_a_clear_error(pm):
-    """A pulse gyro with no rate noise at all: only the (deterministic) quantization of a
-    constant rate, so B_s² ∝ 1/τ² and the fitted α1 comes out negative → a clear error."""
-    truth = GyroTruth(output="pulse", arw_deg_rt_h=0.0, seed=2)
-    with pytest.raises(ProcedureError, match="α1"):
-        _run(pm, ["D.5.6"], truth)
+    """A pulse output with no noise at all: a constant rate read with plain floor() gives a
+    periodic (deterministic) quantization pattern; B_s² then bends below α0 + α2/τ² and the
+    fitted α1 comes out negative → a clear error that says what to look at."""
+    from metro.core.model import Campaign, DeviceUnderTest, Segment
+    from metro.core.units import Q_
+
+    n = 8 * 3600
+    counts = np.diff(np.floor(9.6321 * np.arange(n + 1)))  # α1 ≈ −1.2e-7 (°)²/h
+    seg = Segment("s", "static", {"orientation": "IRA up"}, Q_(1, "s"), sha256="0" * 64,
+                  loader=lambda: {"output": (counts, "P")})
+    dev = DeviceUnderTest("D", properties={"scale_factor": Q_(0.8, "P/arcsec")})
+    camp = Campaign("C", dev, [], {}, {"latitude": Q_(40, "deg")}, [seg])
+    with pytest.raises(ProcedureError, match="α1") as exc:
+        run_items(pm, "gbt45570", ["D.5.6"], campaign=camp)
+    assert exc.value.hint
 
 
 def test_d52_option_t_must_be_multiple_of_tau(pm):
