@@ -14,7 +14,6 @@ from typing import Any, Mapping
 
 from .errors import DataError, UnitError
 from .model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
-from .provenance import sha256_file
 from .units import parse_quantity
 
 FORMAT = "metro-campaign/1"
@@ -203,7 +202,7 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         interval_s = float(interval.to("s").magnitude)
         segments.append(Segment(
             id=sid, kind=kind, conditions=conditions, interval=interval, file=str(fpath),
-            sha256=sha256_file(fpath), declared_units={k: str(v) for k, v in declared.items()},
+            sha256=None, declared_units={k: str(v) for k, v in declared.items()},
             loader=_make_loader(reader.read, fpath, interval_s, declared),
         ))
 
@@ -215,12 +214,39 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
     )
 
 
+class _Columns(dict):
+    """Columns of a samples file, with the SHA-256 of its bytes (computed while reading)."""
+
+    sha256: str | None = None
+
+
 def _make_loader(read, fpath: Path, interval_s: float, declared: Mapping[str, str]):
     def load():
-        table = read(fpath, expected_interval_s=interval_s)
-        out = {}
+        table = read(fpath)
+        out = _Columns()
         for name, arr in table.columns.items():
             out[name] = (arr, table.units[name])
+        if "time" in out:
+            _check_time_interval(fpath, out["time"], interval_s)
+        out.sha256 = table.sha256
         return out
 
     return load
+
+
+def _check_time_interval(fpath: Path, time_col, interval_s: float) -> None:
+    """The time column's step (in its header unit) must equal the manifest's sample_interval."""
+    arr, utext = time_col
+    try:
+        u = parse_quantity(f"1 {utext}", dimension="s", file=str(fpath), field="time")
+    except DataError:
+        raise
+    if arr.size < 2:
+        return
+    step = float(arr[1] - arr[0]) * float(u.to("s").magnitude)
+    if abs(step - interval_s) > 1e-6 * interval_s:
+        raise DataError(
+            str(fpath), "time",
+            f"the time column steps by {step:g} s but the manifest's sample_interval is {interval_s:g} s",
+            hint="correct sample_interval in the manifest or the time column",
+        )

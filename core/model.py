@@ -216,6 +216,14 @@ class Segment:
             self._cache["cols"] = self.loader()
         return self._cache["cols"]
 
+    def digest(self) -> str | None:
+        """SHA-256 of the raw data: as given, or as computed by the reader while loading."""
+        if self.sha256:
+            return self.sha256
+        if "cols" in self._cache:
+            return getattr(self._cache["cols"], "sha256", None)
+        return None
+
     def series(self, column: str, dimension: str | Sequence[str]) -> Series:
         """The named column as a :class:`Series`, its header unit checked against ``dimension``
         (one unit or a list of acceptable ones)."""
@@ -294,7 +302,7 @@ class Campaign:
 
     def data_files(self) -> list[tuple[str, str]]:
         """(file, sha256) of every raw data file used by the campaign."""
-        return [(s.file, s.sha256) for s in self.segments if s.file and s.sha256]
+        return [(s.file, s.digest()) for s in self.segments if s.file and s.digest()]
 
 
 # --------------------------------------------------------------------------------------

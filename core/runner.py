@@ -99,8 +99,8 @@ def run_items(
         pm.procedure_finished(proc, outcome)
         outcomes.append(outcome)
     used = {sid for o in outcomes for sid in o.segments}
-    files = [(s.file or f"simulated segment {s.id}", s.sha256) for s in campaign.segments
-             if s.id in used and s.sha256]
+    files = [(s.file or f"simulated segment {s.id}", s.digest()) for s in campaign.segments
+             if s.id in used and s.digest()]
     return RunRecord(
         report_number=new_report_number(),
         created=dt.datetime.now(dt.timezone.utc),
