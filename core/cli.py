@@ -145,7 +145,11 @@ def _cmd_run(args) -> int:
             template = pm.template_for(args.standard).path
             prog("writing report", 0, 1) if prog else None
             designations = {s.id: s.designation for s in pm.registry.standards.values()}
+            import time
+
+            t0 = time.perf_counter()
             report_path = write_report(target, record, template=template, designations=designations)
+            record.timings["write report"] = time.perf_counter() - t0
             pm.report_written(report_path, record.outcomes)
     if args.json:
         print(json.dumps(present.as_json(record, report_path), ensure_ascii=False, indent=2))

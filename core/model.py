@@ -213,8 +213,17 @@ class Segment:
         if "cols" not in self._cache:
             if self.loader is None:
                 raise DataError(self.file, f"segments.{self.id}", "segment has no data")
+            import time
+
+            t0 = time.perf_counter()
             self._cache["cols"] = self.loader()
+            self._cache["load_seconds"] = time.perf_counter() - t0
         return self._cache["cols"]
+
+    @property
+    def load_seconds(self) -> float:
+        """Wall time spent reading this segment's samples (0 if not read)."""
+        return float(self._cache.get("load_seconds", 0.0))
 
     def digest(self) -> str | None:
         """SHA-256 of the raw data: as given, or as computed by the reader while loading."""

@@ -103,6 +103,7 @@ def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
         "environment": {k: _q(v) for k, v in c.environment.items()},
         "site": {k: _q(v) for k, v in c.site.items()},
         "equipment": [{"id": e.id, "role": e.role, "status": e.status()} for e in c.equipment],
+        "timings_s": dict(record.timings),
         "provenance": {"software": dict(record.software), "plugins": dict(record.plugins),
                        "data_files": [{"file": f, "sha256": h} for f, h in record.data_files],
                        "source": c.source, "created": record.created.isoformat()},

@@ -45,6 +45,7 @@ class RunRecord:
     data_files: tuple[tuple[str, str], ...] = attrs.field(default=(), converter=tuple)  # (file, sha256)
     simulated: bool = False
     truth: Mapping[str, Any] = attrs.field(factory=dict)
+    timings: Mapping[str, float] = attrs.field(factory=dict)  # stage -> seconds
 
     @property
     def standard(self) -> str:

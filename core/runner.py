@@ -6,6 +6,7 @@ No printing and no files here: the CLI presents, :mod:`metro.core.report` writes
 from __future__ import annotations
 
 import datetime as dt
+import time
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
@@ -87,15 +88,25 @@ def run_items(
         raise MetroError("no item given", hint="use --item, e.g. --item D.5.6")
     procs = [pm.procedure(standard, item) for item in items]
     per_opts = split_options(procs, dict(options or {}))
+    timings: dict[str, float] = {}
+    t0 = time.perf_counter()
     if campaign is None:
         campaign = load_campaign(pm, procs, per_opts, data=data, station=station,
                                  station_options=station_options, progress=progress)
+    timings["campaign (manifest or simulation)"] = time.perf_counter() - t0
     outcomes: list[Outcome] = []
     for cls, opts in zip(procs, per_opts):
         proc = cls()
         ctx = RunContext(options=dict(opts), progress=progress)
         pm.procedure_started(proc, campaign, ctx)
+        read_before = sum(s.load_seconds for s in campaign.segments)
+        t1 = time.perf_counter()
         outcome = proc.evaluate(campaign, ctx)
+        dt_eval = time.perf_counter() - t1
+        read = sum(s.load_seconds for s in campaign.segments) - read_before
+        if read > 0:
+            timings[f"read samples ({cls.item})"] = read
+        timings[f"evaluate {cls.item}"] = dt_eval - read
         pm.procedure_finished(proc, outcome)
         outcomes.append(outcome)
     used = {sid for o in outcomes for sid in o.segments}
@@ -111,4 +122,5 @@ def run_items(
         data_files=files,
         simulated=campaign.simulated,
         truth=dict(campaign.truth),
+        timings=timings,
     )

@@ -33,7 +33,7 @@ def _make_registry() -> pint.UnitRegistry:
     reg = pint.UnitRegistry(
         autoconvert_offset_to_baseunit=True,
         non_int_type=float,
-        cache_folder=None,
+        cache_folder=":auto:",
     )
     text = resources.files(__package__).joinpath("units.txt").read_text(encoding="utf-8")
     _load_lines(reg, text.splitlines())
