@@ -368,8 +368,3 @@ def report_pair(value: float, U: float, *, digits: int = 2, mode: str = "half-ev
     if U == 0:
         return Reported(value, repr(value), 0), rU
     return round_to(value, rU.exponent), rU
-
-
-def budget_from_rows(measurand: str, unit: str | pint.Unit, rows: Sequence[BudgetRow], **kw) -> UncertaintyBudget:
-    """Convenience: ``UncertaintyBudget(measurand, unit, rows, **kw)``."""
-    return UncertaintyBudget(measurand, unit, tuple(rows), **kw)

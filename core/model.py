@@ -540,23 +540,3 @@ class Procedure(abc.ABC):
     @abc.abstractmethod
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         """Compute the item's results (with budgets) from ``campaign``."""
-
-
-def required_segments(proc: type[Procedure] | Procedure, campaign: Campaign) -> list[Segment]:
-    """Check that ``campaign`` holds what ``proc`` requires; return the matching segments in order."""
-    out: list[Segment] = []
-    for req in proc.requires:
-        found = campaign.find_segments(req.kind)
-        if len(found) < req.min_count:
-            raise DataError(
-                campaign.source, "segments",
-                f"{proc.qualified_id()} needs {req.min_count} segment(s) of kind {req.kind!r} "
-                f"({req.description}); found {len(found)}",
-                hint=f"add a [[segments]] entry with kind = \"{req.kind}\"; `metro plan` lists what to measure",
-            )
-        out.extend(found)
-    return out
-
-
-def iter_rows(budget: UncertaintyBudget) -> Iterable[dict]:
-    yield from budget.as_dict()["rows"]

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import datetime as dt
-import hashlib
 import platform
 import secrets
 import sys
@@ -12,18 +11,6 @@ from typing import Any, Mapping
 import attrs
 
 from .model import Campaign, Outcome
-
-
-def sha256_file(path, chunk: int = 1 << 20) -> str:
-    """SHA-256 of a file's bytes, read in chunks."""
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        while True:
-            block = fh.read(chunk)
-            if not block:
-                break
-            h.update(block)
-    return h.hexdigest()
 
 
 def new_report_number(now: dt.datetime | None = None) -> str:

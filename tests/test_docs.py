@@ -63,3 +63,16 @@ def test_readme_has_the_two_commands_and_ci_runs_the_test_one():
     assert "metro run" in run_cmd and "pytest" in test_cmd
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     assert test_cmd in ci
+
+
+def test_worked_example_campaign_runs(run_cli):
+    import json
+
+    manifest = ROOT / "docs" / "examples" / "campaign" / "manifest.toml"
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest), "--json",
+                             "--no-report", "--no-progress")
+    assert code == 0, err
+    doc = json.loads(out)
+    b0 = [r for r in doc["results"] if r["key"] == "B0"][0]
+    # the example's simulated truth: B0 = 0.12 °/h (+ 0.00007·sin θ); within U
+    assert abs(b0["value"] - 0.12) <= b0["U"]
