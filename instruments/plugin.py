@@ -15,7 +15,7 @@ def metro_register_readers(registrar) -> None:
     registrar.add_reader((".csv",), readers.read_samples, "comma-separated samples with `name [unit]` headers")
     registrar.add_reader((".tsv", ".txt"), readers.read_samples, "tab-separated samples with `name [unit]` headers")
     registrar.add_reader((".npy",), readers.read_samples, "NumPy .npy samples")
-    registrar.add_reader((".parquet",), readers.read_samples, "Apache Parquet samples")
+    registrar.add_reader((".parquet", ".pq"), readers.read_samples, "Apache Parquet samples")
 
 
 @hookimpl
