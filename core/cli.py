@@ -43,6 +43,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--report", metavar="PATH", help="write the Word report to PATH instead")
     r.add_argument("--no-report", action="store_true", help="do not write a Word report")
     r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
+    r.add_argument("--station", help="station to acquire on when no --data is given (default: the item's "
+                   "simulated station)")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
 
     pl = sub.add_parser("plugins", help="list loaded plugins and their versions")
@@ -134,7 +136,7 @@ def _cmd_run(args) -> int:
         err.print("[bold yellow]No --data given: running on the built-in SIMULATED test station "
                   "(a virtual optical gyro with declared, seeded truth).[/]")
     with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
-        record = run_items(pm, args.standard, items, data=args.data, options=options,
+        record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
                            station_options=station_options, progress=prog)
         report_path = None
         if not args.no_report:
@@ -148,7 +150,8 @@ def _cmd_run(args) -> int:
             import time
 
             t0 = time.perf_counter()
-            report_path = write_report(target, record, template=template, designations=designations)
+            report_path = write_report(target, record, template=template, designations=designations,
+                                       extend=pm.extend_report_context)
             record.timings["write report"] = time.perf_counter() - t0
             pm.report_written(report_path, record.outcomes)
     if args.json:

@@ -11,6 +11,7 @@ Phases:
 2. **Registration** — :func:`metro_register_standards`, :func:`metro_register_readers`,
    :func:`metro_register_stations`, :func:`metro_register_templates`.  Each receives a
    *registrar* that validates what it is given and remembers which plugin gave it.
+   :func:`metro_extend_report_context` lets a plugin add to what report templates see.
 3. **Run** — :func:`metro_campaign_loaded`, :func:`metro_procedure_started`,
    :func:`metro_procedure_finished`, :func:`metro_report_written`: lifecycle events.
 """
@@ -25,6 +26,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from pathlib import Path
 
     from .model import Campaign, Outcome, Procedure, RunContext
+    from .provenance import RunRecord
     from .plugins import ReaderRegistrar, StandardRegistrar, StationRegistrar, TemplateRegistrar
 
 PROJECT = "metro"
@@ -105,6 +107,22 @@ def metro_register_templates(registrar: "TemplateRegistrar") -> None:
     it the generic fallback.  Names must be unique.
 
     :param registrar: validates and records the templates.
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_extend_report_context(record: "RunRecord", context: dict) -> None:
+    """Add entries to the context a Word report/certificate template is rendered with.
+
+    Called after :func:`metro.core.report.report_context` has built the generic context and
+    before the template renders.  Add keys under a name of your own (e.g.
+    ``context["jjf2003"] = {...}`` with matrices laid out as rows) so certificate templates
+    registered with :func:`metro_register_templates` can show standard-specific layouts.
+    Do not remove or change existing keys.
+
+    :param record: the run record being reported.
+    :param context: the template context (a plain dict), modified in place.
     :return: nothing.
     """
 

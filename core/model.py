@@ -288,6 +288,8 @@ class Campaign:
     simulated: bool = False
     truth: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
     meta: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+    #: on a simulated campaign: what an ideal evaluation gives, by metric key (a quantity)
+    expected: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
 
     def find_segments(self, kind: str | None = None, **conditions: Any) -> list[Segment]:
         out = []
@@ -512,6 +514,8 @@ class Procedure(abc.ABC):
     requires: ClassVar[tuple[SegmentRequirement, ...]] = ()
     equipment: ClassVar[tuple[EquipmentRequirement, ...]] = ()
     options: ClassVar[tuple[Option, ...]] = ()
+    #: the registered station that runs this item when no data is given
+    station: ClassVar[str] = "simulated"
 
     @classmethod
     def qualified_id(cls) -> str:

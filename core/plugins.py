@@ -344,6 +344,9 @@ class MetroPluginManager:
     def procedure_finished(self, procedure: Procedure, outcome: Outcome) -> None:
         self.pm.hook.metro_procedure_finished(procedure=procedure, outcome=outcome)
 
+    def extend_report_context(self, record: Any, context: dict) -> None:
+        self.pm.hook.metro_extend_report_context(record=record, context=context)
+
     def report_written(self, path: Path, outcomes: Sequence[Outcome]) -> None:
         self.pm.hook.metro_report_written(path=path, outcomes=list(outcomes))
 

@@ -45,30 +45,21 @@ def _q(v: Any) -> Any:
 
 
 def truth_checks(record: RunRecord) -> list[dict[str, Any]]:
-    """On a simulated run, compare each result that has a declared truth with it."""
+    """On a simulated run, compare each result with the station's expected value (by metric key)."""
     if not record.simulated:
         return []
-    from metro.instruments.simulated import GyroTruth, expected
-
-    t = record.truth
-    try:
-        truth = GyroTruth(
-            scale_factor_P_per_arcsec=float(t["scale factor K"].magnitude) if t.get("output") == "pulse" else 0.8,
-            bias_deg_h=float(t["bias B0"].to("deg/h").magnitude),
-            arw_deg_rt_h=float(t["angle random walk"].to("deg/hour**0.5").magnitude),
-        )
-        exp = expected(truth, float(t["site latitude"].to("deg").magnitude))
-    except (KeyError, AttributeError):
-        return []
+    exp = record.campaign.expected
     out = []
     for o in record.outcomes:
         for r in o.results:
-            if r.metric.key in exp and r.U is not None:
-                v = float(r.value.to(r.metric.unit).magnitude)
-                U = float(r.U.magnitude)
-                out.append({"item": o.item, "key": r.metric.key, "truth": exp[r.metric.key],
-                            "value": v, "U": U, "within_U": abs(v - exp[r.metric.key]) <= U,
-                            "unit": fmt_unit(r.metric.unit)})
+            if r.metric.key not in exp or r.U is None:
+                continue
+            unit = r.metric.unit
+            v = float(r.value.to(unit).magnitude)
+            t = float(exp[r.metric.key].to(unit).magnitude)
+            U = float(r.U.magnitude)
+            out.append({"item": o.item, "key": r.metric.key, "truth": t, "value": v, "U": U,
+                        "within_U": abs(v - t) <= U, "unit": fmt_unit(unit)})
     return out
 
 

@@ -25,7 +25,7 @@ import math
 import os
 import tempfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterable, Mapping
+from typing import Callable, TYPE_CHECKING, Any, Iterable, Mapping
 
 from .atomic import atomic_path
 
@@ -461,6 +461,7 @@ def write_report(
     *,
     template: str | os.PathLike[str] | None = None,
     designations: Mapping[str, str] | None = None,
+    extend: Callable[["RunRecord", dict], None] | None = None,
 ) -> Path:
     """Render ``record`` into ``template`` (default: :func:`default_template`) and write the
     ``.docx`` to ``path`` atomically; return ``path``.
@@ -480,6 +481,8 @@ def write_report(
 
     path = Path(path)
     ctx = report_context(record, designations=designations)
+    if extend is not None:  # plugins' metro_extend_report_context
+        extend(record, ctx)
     if template is None:
         source: Any = io.BytesIO(default_template().read_bytes())
         template_name = "metro/core/templates/report.docx"

@@ -57,13 +57,21 @@ def load_campaign(
     options: Sequence[Mapping[str, Any]],
     *,
     data: str | Path | None,
-    station: str = "simulated",
+    station: str | None = None,
     station_options: Mapping[str, Any] | None = None,
     progress: Progress | None = None,
 ) -> Campaign:
     if data is not None:
         campaign = load_manifest(data, pm.reader_for)
     else:
+        if station is None:
+            wanted = sorted({cls.station for cls in procs})
+            if len(wanted) > 1:
+                raise ProcedureError(
+                    f"the items need different simulated stations ({', '.join(wanted)}); run them separately "
+                    "or give --data"
+                )
+            station = wanted[0]
         st = pm.station(station).factory(**dict(station_options or {}))
         steps = merge_steps([cls().sequence(cls.option_values(o)) for cls, o in zip(procs, options)])
         campaign = st.acquire(steps, progress=progress)
@@ -78,7 +86,7 @@ def run_items(
     *,
     data: str | Path | None = None,
     options: Mapping[str, Any] | None = None,
-    station: str = "simulated",
+    station: str | None = None,
     station_options: Mapping[str, Any] | None = None,
     progress: Progress | None = None,
     campaign: Campaign | None = None,

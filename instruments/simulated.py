@@ -201,6 +201,8 @@ class SimulatedStation:
             source="simulated station",
             simulated=True,
             truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+            expected={k: Q_(v, u) for (k, v), u in zip(expected(t, self.latitude_deg).items(),
+                                                      ("deg/h", "deg/hour**0.5"))},
         )
 
 

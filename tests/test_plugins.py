@@ -101,11 +101,12 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     assert rec.outcomes[0].results[0].value.magnitude == pytest.approx(1.5)
     from metro.core.report import write_report
 
-    path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("vendorx").path)
+    path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("vendorx").path,
+                        extend=pm.extend_report_context)
     pm.report_written(path, rec.outcomes)
     kinds = [e[0] for e in mod.EVENTS]
     for hook in ("metro_campaign_loaded", "metro_procedure_started", "metro_procedure_finished",
-                 "metro_report_written"):
+                 "metro_extend_report_context", "metro_report_written"):
         assert hook in kinds, hook
     assert kinds.index("metro_procedure_started") < kinds.index("metro_procedure_finished")
 
@@ -114,10 +115,32 @@ def test_hookspecs_are_documented_typed_stubs():
     import inspect
 
     names = [n for n in dir(hookspec) if n.startswith("metro_")]
-    assert len(names) == 9
+    assert len(names) == 10
     for n in names:
         fn = getattr(hookspec, n)
         doc = inspect.getdoc(fn) or ""
         assert len(doc) > 80, n
         assert ":return:" in doc, n
         assert "return" in inspect.get_annotations(fn), n
+
+
+def test_items_choose_their_default_station():
+    """Procedure.station names the station used without data; mixing stations is an error."""
+    from metro.core.errors import ProcedureError
+    from metro.core.runner import run_items
+
+    mod = _load_sample("sample_vendor")
+    pm = _pm_with()
+    pm.add_plugin(mod, "sample_vendor")
+    pm.register_all()
+    assert pm.procedure("gbt45570", "D.5.6").station == "simulated"
+
+    class Other(pm.procedure("gbt45570", "D.5.1")):
+        station = "elsewhere"
+        item = "X.1"
+
+    pm.registry.procedures["gbt45570:X.1"] = type(pm.registry.procedures["gbt45570:D.5.1"])(Other, "test")
+    with pytest.raises(ProcedureError, match="different simulated stations"):
+        run_items(pm, "gbt45570", ["D.5.1", "X.1"])
+    with pytest.raises(PluginError, match="unknown station 'elsewhere'"):
+        run_items(pm, "gbt45570", ["X.1"])

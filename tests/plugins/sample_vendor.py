@@ -90,5 +90,11 @@ def metro_procedure_finished(procedure, outcome):
 
 
 @hookimpl
+def metro_extend_report_context(record, context):
+    context["vendorx"] = {"note": "added by sample_vendor"}
+    EVENTS.append(("metro_extend_report_context", sorted(context)[:3]))
+
+
+@hookimpl
 def metro_report_written(path, outcomes):
     EVENTS.append(("metro_report_written", str(path)))
