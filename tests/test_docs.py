@@ -55,6 +55,16 @@ def test_every_registered_procedure_is_documented_with_its_test():
         assert info.cls.__name__ in text, f"{pid}: class {info.cls.__name__} not named in {page.name}"
 
 
+def test_every_registered_procedure_has_a_reference_test():
+    """Each registered procedure class is named in at least one tests/test_*.py file."""
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    sources = "\n".join(p.read_text(encoding="utf-8") for p in (ROOT / "tests").rglob("test_*.py"))
+    missing = [pid for pid, info in pm.registry.procedures.items() if info.cls.__name__ not in sources]
+    assert not missing, f"procedures without a reference test: {missing}"
+
+
 def test_readme_has_the_two_commands_and_ci_runs_the_test_one():
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     blocks = re.findall(r"```sh\n(.*?)\n```", readme, re.S)

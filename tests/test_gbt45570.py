@@ -169,3 +169,10 @@ def test_d56_negative_alpha1_is_a_clear_error(pm):
 def test_d52_option_t_must_be_multiple_of_tau(pm):
     with pytest.raises(ProcedureError, match="whole number"):
         _run(pm, ["D.5.2"], GyroTruth(seed=1), scale=1 / 8, t="2.5 s")
+
+
+def test_procedure_classes_are_registered(pm):
+    from metro.plugins.gbt45570.procedures import AngleRandomWalkD56, BiasD51, BiasStabilityD52
+
+    for cls in (BiasD51, BiasStabilityD52, AngleRandomWalkD56):
+        assert pm.procedure("gbt45570", cls.item) is cls
