@@ -72,6 +72,16 @@ def _static_segment(proc: type[Procedure], campaign: Campaign, options: Mapping[
     return seg
 
 
+def _static_input(proc: type[Procedure], campaign: Campaign, options: Mapping[str, Any]):
+    """The static segment, its output series, the conversion to °/h and the raw samples
+    (checked finite) — the common start of every D.5 item."""
+    seg = _static_segment(proc, campaign, options)
+    series, conv = gyro_output(seg, campaign.device, source=campaign.source)
+    raw = np.asarray(series.data.magnitude)
+    _check_finite(raw, seg)
+    return seg, series, conv, raw
+
+
 def _orientation(seg: Segment) -> str:
     return str(seg.conditions["orientation"]).strip().lower().replace("ira", "").strip()
 
@@ -141,10 +151,7 @@ class BiasD51(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        seg = _static_segment(type(self), campaign, opts)
-        series, conv = gyro_output(seg, campaign.device, source=campaign.source)
-        raw = np.asarray(series.data.magnitude)
-        _check_finite(raw, seg)
+        seg, series, conv, raw = _static_input(type(self), campaign, opts)
         b = int(opts["batches"])
         if raw.size < 2 * b:
             raise DataError(seg.file, "output", f"{raw.size} samples are too few for {b} batch means")
@@ -219,10 +226,7 @@ class BiasStabilityD52(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        seg = _static_segment(type(self), campaign, opts)
-        series, conv = gyro_output(seg, campaign.device, source=campaign.source)
-        raw = np.asarray(series.data.magnitude)
-        _check_finite(raw, seg)
+        seg, series, conv, raw = _static_input(type(self), campaign, opts)
         tau0 = float(series.interval.to("s").magnitude)
         from metro.core.units import parse_quantity
         results = []
@@ -296,10 +300,7 @@ class AngleRandomWalkD56(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        seg = _static_segment(type(self), campaign, opts)
-        series, conv = gyro_output(seg, campaign.device, source=campaign.source)
-        raw = np.asarray(series.data.magnitude)
-        _check_finite(raw, seg)
+        seg, series, conv, raw = _static_input(type(self), campaign, opts)
         tau0_s = float(series.interval.to("s").magnitude)
         min_blocks = int(opts["min_blocks"])
         ctx.report_progress("D.5.6 block means", 0, 1)
