@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
+import attrs
 import numpy as np
 
 from metro.core import allan
@@ -31,7 +32,7 @@ from metro.core.model import (
     TableSpec,
 )
 from metro.core.signals import OUTPUT_UNITS, RateConversion, gyro_output
-from metro.core.units import Q_, fmt_unit
+from metro.core.units import Q_, fmt_unit, parse_quantity
 
 from . import formulas as F
 
@@ -65,10 +66,7 @@ def _static_segment(proc: type[Procedure], campaign: Campaign, options: Mapping[
             hint="`metro plan --standard gbt45570 --item " + proc.item + "` shows what to measure",
         )
     seg = segs[0]
-    orient = str(seg.condition("orientation")).strip().lower().replace("ira", "").strip()
-    if orient not in ("up", "down"):
-        raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.orientation",
-                        f"must be \"IRA up\" or \"IRA down\" (D.5.1.2 a)), got {seg.conditions['orientation']!r}")
+    _orientation(seg, campaign)
     return seg
 
 
@@ -82,8 +80,13 @@ def _static_input(proc: type[Procedure], campaign: Campaign, options: Mapping[st
     return seg, series, conv, raw
 
 
-def _orientation(seg: Segment) -> str:
-    return str(seg.conditions["orientation"]).strip().lower().replace("ira", "").strip()
+def _orientation(seg: Segment, campaign: Campaign) -> str:
+    """'up' or 'down' from the segment's required ``orientation`` condition (D.5.1.2 a))."""
+    orient = str(seg.condition("orientation")).strip().lower().replace("ira", "").strip()
+    if orient not in ("up", "down"):
+        raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.orientation",
+                        f"must be \"IRA up\" or \"IRA down\" (D.5.1.2 a)), got {seg.conditions['orientation']!r}")
+    return orient
 
 
 def _timebase_row(campaign: Campaign, measured: float, unit: str, what: str) -> list[BudgetRow]:
@@ -151,49 +154,75 @@ class BiasD51(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        seg, series, conv, raw = _static_input(type(self), campaign, opts)
-        b = int(opts["batches"])
-        if raw.size < 2 * b:
-            raise DataError(seg.file, "output", f"{raw.size} samples are too few for {b} batch means")
-        lat = campaign.site_value("latitude", "deg")
-        theta = float(lat.to("deg").magnitude)
-        mean_raw = float(np.mean(raw, dtype=np.float64))
-        indicated = mean_raw * conv.magnitude
-        orient = _orientation(seg)
-        earth = F.earth_rate_vertical(theta, orient)
-        if conv.output_kind == "pulse":
-            B0 = F.bias_d40(mean_raw, float(series.interval.to("s").magnitude),
-                            float(conv.scale_factor.to("P/arcsec").magnitude), theta)
-            if orient == "down":
-                B0 += 2 * F.earth_rate_vertical(theta)
-        else:
-            B0 = indicated - earth
-        sd_batch, nb = allan.block_std(raw, raw.size // b)
-        uA = sd_batch * conv.magnitude / math.sqrt(nb)
-        rows = [BudgetRow.type_a("scatter of the output (batch means)", "s_b/√b", Q_(uA, "deg/h"), nb - 1,
-                                 note=f"{nb} batches of {raw.size // b} samples")]
-        rows += _scale_factor_row(conv, indicated, "deg/h")
-        lat_u = campaign.site.get("latitude_uncertainty")
-        if lat_u is not None:
-            from metro.core.units import parse_quantity
-            lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
-            c = F.EARTH_RATE_DEG_PER_H * math.cos(math.radians(theta))
-            rows.append(BudgetRow.type_b("site latitude θ", "u(θ)", lu.to("rad"), distribution="uniform",
-                                         sensitivity=Q_(c, "deg/h/rad"), note="∂B0/∂θ = −15.041·cos θ"))
-        plat = campaign.equipment_for("platform")
-        if plat is not None and "levelness" in plat.properties:
-            lev = plat.prop("levelness", "arcsec", source=campaign.source)
-            c = F.EARTH_RATE_DEG_PER_H * math.cos(math.radians(theta))
-            rows.append(BudgetRow.type_b(f"levelling of the IRA ({plat.describe()})", "δ", lev.to("rad"),
-                                         distribution="uniform", sensitivity=Q_(c, "deg/h/rad"),
-                                         note="horizontal earth rate Ω·cos θ·sin δ leaks into the IRA"))
-        rows += _timebase_row(campaign, indicated, "deg/h", "indicated rate")
-        budget = UncertaintyBudget("B0", "deg/h", rows, coverage=COVERAGE)
-        res = Result(self.metrics[0], Q_(B0, "deg/h"), budget.combined, budget,
-                     note=f"earth rate {earth:+.4f} °/h removed ({orient}, θ = {theta:g}°)")
-        warnings = _duration_warnings(series, Q_(1, "h"), "D.5.1.2 c)")
+        seg = _static_segment(type(self), campaign, opts)
+        est = segment_bias(seg, campaign, int(opts["batches"]))
+        res = Result(self.metrics[0], Q_(est.B0, "deg/h"), est.budget.combined, est.budget,
+                     note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation}, θ = {est.theta:g}°)")
+        warnings = _duration_warnings(est.series, Q_(1, "h"), "D.5.1.2 c)")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
+
+
+@attrs.frozen
+class BiasEstimate:
+    """D.40 applied to one static segment, with its full budget and its type A part."""
+
+    B0: float  # °/h
+    u_A: float  # °/h, batch-means standard uncertainty
+    nu_A: int
+    budget: UncertaintyBudget
+    earth: float
+    orientation: str
+    theta: float
+    conv: RateConversion
+    series: Any
+
+
+def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEstimate:
+    """Bias of one static segment by D.40 (D.5.1.3), with its budget.
+
+    Shared by D.5.1 and the items built on it (D.5.3 repeatability, D.5.4 temperature and
+    D.5.5 magnetic sensitivity), which apply "the method of D.5.1.2" to each segment.
+    """
+    series, conv = gyro_output(seg, campaign.device, source=campaign.source)
+    raw = np.asarray(series.data.magnitude)
+    _check_finite(raw, seg)
+    b = int(batches)
+    if raw.size < 2 * b:
+        raise DataError(seg.file or f"segment {seg.id}", "output",
+                        f"{raw.size} samples are too few for {b} batch means")
+    orient = _orientation(seg, campaign)
+    theta = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+    mean_raw = float(np.mean(raw, dtype=np.float64))
+    indicated = mean_raw * conv.magnitude
+    earth = F.earth_rate_vertical(theta, orient)
+    if conv.output_kind == "pulse":
+        B0 = F.bias_d40(mean_raw, float(series.interval.to("s").magnitude),
+                        float(conv.scale_factor.to("P/arcsec").magnitude), theta)
+        if orient == "down":
+            B0 += 2 * F.earth_rate_vertical(theta)
+    else:
+        B0 = indicated - earth
+    sd_batch, nb = allan.block_std(raw, raw.size // b)
+    uA = sd_batch * conv.magnitude / math.sqrt(nb)
+    rows = [BudgetRow.type_a("scatter of the output (batch means)", "s_b/√b", Q_(uA, "deg/h"), nb - 1,
+                             note=f"{nb} batches of {raw.size // b} samples")]
+    rows += _scale_factor_row(conv, indicated, "deg/h")
+    lat_u = campaign.site.get("latitude_uncertainty")
+    c_theta = F.EARTH_RATE_DEG_PER_H * math.cos(math.radians(theta))
+    if lat_u is not None:
+        lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
+        rows.append(BudgetRow.type_b("site latitude θ", "u(θ)", lu.to("rad"), distribution="uniform",
+                                     sensitivity=Q_(c_theta, "deg/h/rad"), note="∂B0/∂θ = −15.041·cos θ"))
+    plat = campaign.equipment_for("platform")
+    if plat is not None and "levelness" in plat.properties:
+        lev = plat.prop("levelness", "arcsec", source=campaign.source)
+        rows.append(BudgetRow.type_b(f"levelling of the IRA ({plat.describe()})", "δ", lev.to("rad"),
+                                     distribution="uniform", sensitivity=Q_(c_theta, "deg/h/rad"),
+                                     note="horizontal earth rate Ω·cos θ·sin δ leaks into the IRA"))
+    rows += _timebase_row(campaign, indicated, "deg/h", "indicated rate")
+    budget = UncertaintyBudget("B0", "deg/h", rows, coverage=COVERAGE)
+    return BiasEstimate(B0, uA, nb - 1, budget, earth, orient, theta, conv, series)
 
 
 # --------------------------------------------------------------------------------------------
