@@ -31,7 +31,7 @@ import attrs
 import numpy as np
 
 from metro.core.model import Campaign, Calibration, DeviceUnderTest, Equipment, Segment, Step
-from metro.core.units import Q_, fmt_unit
+from metro.core.units import Q_
 
 EARTH_RATE_DEG_PER_H = math.degrees(7.2921150e-5) * 3600.0  # 15.04107 °/h, physical (IERS)
 
@@ -46,6 +46,10 @@ class GyroTruth:
     gm_sigma_deg_h: float = 0.0
     gm_tau_s: float = 600.0
     rrw_deg_h_rt_h: float = 0.0
+    bias_tc_deg_h_per_C: float = 0.0006
+    temp_ref_C: float = 20.0
+    mag_sens_deg_h_per_mT: tuple[float, float, float] = (0.04, 0.015, 0.025)  # field along IRA, XRA, YRA
+    turn_on_sigma_deg_h: float = 0.002
     output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
     lsb_per_deg_s: float = 5000.0
     seed: int = 20251122
@@ -57,6 +61,10 @@ class GyroTruth:
             "Gauss–Markov bias wander σ": Q_(self.gm_sigma_deg_h, "deg/h"),
             "Gauss–Markov correlation time": Q_(self.gm_tau_s, "s"),
             "rate random walk": Q_(self.rrw_deg_h_rt_h, "deg/h/hour**0.5"),
+            "bias temperature coefficient": Q_(self.bias_tc_deg_h_per_C, "deg/h/delta_degC"),
+            "bias magnetic sensitivity (IRA, XRA, YRA)": ", ".join(
+                f"{v:g}" for v in self.mag_sens_deg_h_per_mT) + " °/h/mT",
+            "turn-on bias σ (per power-on)": Q_(self.turn_on_sigma_deg_h, "deg/h"),
             "seed": self.seed,
             "output": self.output,
         }
@@ -77,8 +85,11 @@ def simulate_static(
     seed: int | None = None,
     chunk: int = 1 << 20,
     progress=None,
+    bias_offset_deg_h: float = 0.0,
 ) -> np.ndarray:
     """Raw output of a gyro at rest for ``n`` samples of ``interval_s``.
+
+    ``bias_offset_deg_h`` adds to the bias (temperature, field, turn-on effects of the step).
 
     Returns float64 samples in the output's raw unit (P per interval, LSB, or °/h).
     """
@@ -86,7 +97,8 @@ def simulate_static(
         raise ValueError("n must be ≥ 1 and the interval > 0")
     rng = np.random.default_rng(truth.seed if seed is None else seed)
     sign = 1.0 if orientation == "up" else -1.0
-    mean_rate = sign * EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h
+    mean_rate = (sign * EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h
+                 + bias_offset_deg_h)
     tau_h = interval_s / 3600.0
     white_sd = truth.arw_deg_rt_h / math.sqrt(tau_h)  # °/h per sample
     out = np.empty(n, dtype=np.float64)
@@ -135,6 +147,10 @@ def simulate_static(
     return out
 
 
+_EXPECTED_UNITS = {"B0": "deg/h", "RWC": "deg/hour**0.5", "Br": "deg/h", "Bt": "deg/h/delta_degC",
+                   "Bh": "deg/h/mT"}
+
+
 @attrs.define
 class SimulatedStation:
     """A simulated test station: a levelled platform, a counter, and the virtual gyro."""
@@ -167,6 +183,11 @@ class SimulatedStation:
         return [
             Equipment(id="SIM-PLATFORM", model="simulated levelled platform", role="platform",
                       properties={"levelness": Q_(2.0, "arcsec")}),
+            Equipment(id="SIM-CHAMBER", model="simulated temperature chamber", role="chamber",
+                      calibration=Calibration("SIM-CAL-0002", Q_(0.3, "K"), k=2.0, lab="simulated")),
+            Equipment(id="SIM-FIELD", model="simulated DC magnetic field generator", role="field_generator",
+                      properties={"uniformity": Q_(5, "percent")},
+                      calibration=Calibration("SIM-CAL-0003", Q_(1e-2, ""), k=2.0, lab="simulated")),
             Equipment(id="SIM-COUNTER", model="simulated counter/time base", role="counter",
                       calibration=Calibration("SIM-CAL-0001", Q_(1e-7, ""), k=2.0, due=None,
                                               lab="simulated")),
@@ -183,8 +204,9 @@ class SimulatedStation:
             n = max(1, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
             orient = str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
             cb = (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot)) if progress else None
+            offset = bias_offset(t, step.conditions)
             data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=self.latitude_deg,
-                                   orientation=orient, seed=t.seed + i, progress=cb)
+                                   orientation=orient, seed=t.seed + i, progress=cb, bias_offset_deg_h=offset)
             digest = hashlib.sha256(data.tobytes()).hexdigest()
             segments.append(Segment(
                 id=step.segment, kind=step.kind, conditions=dict(step.conditions),
@@ -201,9 +223,34 @@ class SimulatedStation:
             source="simulated station",
             simulated=True,
             truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
-            expected={k: Q_(v, u) for (k, v), u in zip(expected(t, self.latitude_deg).items(),
-                                                      ("deg/h", "deg/hour**0.5"))},
+            expected={k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()},
         )
+
+
+AXES = ("IRA", "XRA", "YRA")
+
+
+def bias_offset(truth: GyroTruth, conditions) -> float:
+    """The bias shift (°/h) a step's conditions cause on the virtual gyro.
+
+    * ``temperature``: bias_tc·(T − T_ref) (linear; D.5.4 recovers bias_tc);
+    * ``field_axis`` (IRA/XRA/YRA) and signed ``field`` (mT): sensitivity·H (D.5.5);
+    * ``run`` = i: a turn-on bias drawn from N(0, σ) seeded by (seed, i) — each power-on
+      of D.5.3 gives its own bias; segments without ``run`` get none.
+    """
+    from metro.core.units import parse_quantity
+
+    off = 0.0
+    if "temperature" in conditions:
+        T = parse_quantity(conditions["temperature"], dimension="degC").to("degC").magnitude
+        off += truth.bias_tc_deg_h_per_C * (float(T) - truth.temp_ref_C)
+    if "field_axis" in conditions and "field" in conditions:
+        H = float(parse_quantity(conditions["field"], dimension="mT").to("mT").magnitude)
+        off += truth.mag_sens_deg_h_per_mT[AXES.index(str(conditions["field_axis"]).upper())] * H
+    if "run" in conditions:
+        r = np.random.default_rng([truth.seed, int(conditions["run"])])
+        off += float(r.normal(0.0, truth.turn_on_sigma_deg_h))
+    return off
 
 
 def station_factory(**options: Any) -> SimulatedStation:
@@ -215,10 +262,15 @@ def station_factory(**options: Any) -> SimulatedStation:
 
 def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     """What an ideal evaluation of the truth gives, per item (for tests and the CLI's comparison)."""
-    return {
+    out = {
         "B0": truth.bias_deg_h + (EARTH_RATE_DEG_PER_H - 15.041) * math.sin(math.radians(latitude_deg)),
         "RWC": truth.arw_deg_rt_h,
+        "Br": truth.turn_on_sigma_deg_h,
+        "Bt": truth.bias_tc_deg_h_per_C,
     }
+    for ax, v in zip(AXES, truth.mag_sens_deg_h_per_mT):
+        out[f"Bh_{ax}"] = abs(v)
+    return out
 
 
-__all__ = ["GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "fmt_unit"]
+__all__ = ["GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]

@@ -176,3 +176,61 @@ def test_procedure_classes_are_registered(pm):
 
     for cls in (BiasD51, BiasStabilityD52, AngleRandomWalkD56):
         assert pm.procedure("gbt45570", cls.item) is cls
+
+
+# ------------------------------------------------------------------ D.5.3, D.5.4, D.5.5
+
+
+def test_d43_hand_worked():
+    # B = 0.10 (20 °C), 0.13 (60 °C), 0.07 (−40 °C): |0.03/40| = 7.5e-4, |−0.03/−60| = 5e-4
+    bt, i = F.bias_temperature_sensitivity_d43([0.10, 0.13, 0.07], [20.0, 60.0, -40.0], 0)
+    assert bt == pytest.approx(7.5e-4, rel=1e-12) and i == 1
+
+
+def test_d44_hand_worked():
+    assert F.bias_magnetic_sensitivity_d44(0.15, 0.11, 1.0) == pytest.approx(0.02, rel=1e-12)
+
+
+def test_d53_d54_d55_recover_simulated_truth(pm):
+    from metro.plugins.gbt45570.procedures import (
+        BiasMagneticSensitivityD55,
+        BiasRepeatabilityD53,
+        BiasTemperatureSensitivityD54,
+    )
+
+    truth = GyroTruth(seed=21)
+    rec = _run(pm, ["D.5.3", "D.5.4", "D.5.5"], truth)
+    assert [type(pm.procedure("gbt45570", o.item)) for o in rec.outcomes]  # registered
+    assert pm.procedure("gbt45570", "D.5.3") is BiasRepeatabilityD53
+    assert pm.procedure("gbt45570", "D.5.4") is BiasTemperatureSensitivityD54
+    assert pm.procedure("gbt45570", "D.5.5") is BiasMagneticSensitivityD55
+    exp = expected(truth, 39.98)
+    for o in rec.outcomes:
+        for r in o.results:
+            assert abs(r.value.magnitude - exp[r.metric.key]) <= r.U.magnitude, r.metric.key
+    # the chamber's temperature uncertainty and the field uniformity are in the budgets
+    sources = " ".join(row.source for o in rec.outcomes for r in o.results for row in r.budget.rows)
+    assert "chamber" in sources and "uniformity" in sources
+
+
+def test_d53_needs_seven_power_ons(pm):
+    st_ = SimulatedStation(truth=GyroTruth(seed=1), duration_scale=0.1)
+    steps = pm.procedure("gbt45570", "D.5.3")().sequence({"Q": 6})
+    camp = st_.acquire(steps)
+    with pytest.raises(DataError, match="at least 7"):
+        run_items(pm, "gbt45570", ["D.5.3"], campaign=camp)
+
+
+def test_d54_needs_room_temperature(pm):
+    st_ = SimulatedStation(truth=GyroTruth(seed=1), duration_scale=0.1)
+    steps = pm.procedure("gbt45570", "D.5.4")().sequence({"temperatures": "-40 °C, 0 °C, 60 °C"})
+    with pytest.raises(DataError, match="room temperature"):
+        run_items(pm, "gbt45570", ["D.5.4"], campaign=st_.acquire(steps))
+
+
+def test_d55_needs_both_field_directions(pm):
+    st_ = SimulatedStation(truth=GyroTruth(seed=1))
+    steps = [s for s in pm.procedure("gbt45570", "D.5.5")().sequence({}) if s.segment != "field-XRA-minus"]
+    steps.append(steps[0])  # still six segments, but XRA has no reversed field
+    with pytest.raises(DataError, match="reversed"):
+        run_items(pm, "gbt45570", ["D.5.5"], campaign=st_.acquire(steps))

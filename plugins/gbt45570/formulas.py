@@ -174,3 +174,34 @@ def rwc_d46(alpha1: float) -> float:
     if not alpha1 > 0:
         raise ValueError(f"α1 = {alpha1:g} is not positive, so RWC = √α1 is undefined")
     return math.sqrt(alpha1)
+
+
+def bias_temperature_sensitivity_d43(biases: Sequence[float], temps_C: Sequence[float], i0: int) -> tuple[float, int]:
+    """Bias temperature sensitivity, D.5.4.3 eq. (D.43)::
+
+        B_t = | (B_i − B_00) / (T_i − T_0) |_max
+
+    :param biases: B_i in °/h at each temperature point (the room-temperature one included).
+    :param temps_C: T_i in °C.
+    :param i0: index of the room-temperature point (B_00, T_0).
+    :return: (B_t in (°/h)/°C, index i of the maximising point).
+    """
+    best, imax = -1.0, -1
+    for i, (b, t) in enumerate(zip(biases, temps_C)):
+        if i == i0:
+            continue
+        if t == temps_C[i0]:
+            raise ValueError(f"point {i} has the room temperature {t} °C; D.43 divides by T_i − T_0")
+        r = abs((b - biases[i0]) / (t - temps_C[i0]))
+        if r > best:
+            best, imax = r, i
+    if imax < 0:
+        raise ValueError("D.43 needs at least one point besides room temperature")
+    return best, imax
+
+
+def bias_magnetic_sensitivity_d44(b_plus: float, b_minus: float, H_b_mT: float) -> float:
+    """Bias magnetic sensitivity, D.5.5.3 eq. (D.44): B_h = |B_0+ − B_0−| / (2 H_b), (°/h)/mT."""
+    if not H_b_mT > 0:
+        raise ValueError(f"H_b must be positive, got {H_b_mT}")
+    return abs(b_plus - b_minus) / (2.0 * H_b_mT)

@@ -290,6 +290,241 @@ class BiasStabilityD52(Procedure):
 
 
 # --------------------------------------------------------------------------------------------
+# D.5.3 Bias repeatability, D.5.4 temperature sensitivity, D.5.5 magnetic sensitivity
+# --------------------------------------------------------------------------------------------
+
+
+def _segments_of(proc: type[Procedure], campaign: Campaign, kind: str, need: int, what: str) -> list[Segment]:
+    segs = campaign.find_segments(kind)
+    if len(segs) < need:
+        raise DataError(
+            campaign.source, "segments",
+            f"{proc.qualified_id()} needs at least {need} segments of kind \"{kind}\" ({what}); found {len(segs)}",
+            hint=f"`metro plan --standard gbt45570 --item {proc.item}` lists them",
+        )
+    return segs
+
+
+class BiasRepeatabilityD53(Procedure):
+    """GB/T 45570—2025 D.5.3 零偏重复性 (bias repeatability), eq. (D.42).
+
+    Q ≥ 7 biases B_oi, each by D.5.1 (eq. D.40) on its own power-on (segments of kind
+    ``static-repeat`` with condition ``run`` = 1 … Q), and B_r = Bessel standard deviation
+    of them.  Type A: u(B_r) = B_r/√(2(Q − 1)), ν = Q − 1 (the within-run scatter is part of
+    what D.42 measures).  Type B: scale factor.
+    """
+
+    standard = STANDARD
+    item = "D.5.3"
+    title = "Bias repeatability (零偏重复性)"
+    clause = "D.5.3"
+    metrics = (Metric("Br", "bias repeatability", "B_r", "deg/h", "D.5.3.3", "D.42"),)
+    requires = (SegmentRequirement("static-repeat", "Q ≥ 7 power-ons, each as D.5.1.2 (condition run = i)",
+                                   conditions={"orientation": "", "run": ""}, columns={"output": OUTPUT_UNITS},
+                                   min_count=7),)
+    equipment = _EQUIPMENT
+    options = (Option("Q", 7, None, "number of repeats (≥ 7) for the sequence"),
+               Option("batches", 20, None, "batch means per run for each bias's type A uncertainty"))
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        q = int(options.get("Q", 7))
+        return [Step(f"repeat-{i}", "static-repeat", f"power-on {i} of {q}: as D.5.1.2, 1 h at τ = 1 s; then power "
+                     "off for at least one working time (D.5.3.2)", Q_(1, "h"), Q_(1, "s"),
+                     {"orientation": "IRA up", "run": i}) for i in range(1, q + 1)]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        segs = _segments_of(type(self), campaign, "static-repeat", 7, "Q ≥ 7 power-ons (D.5.3.2)")
+        ests = [segment_bias(s, campaign, int(opts["batches"])) for s in segs]
+        b = [e.B0 for e in ests]
+        Q = len(b)
+        Br = F.bias_repeatability_d42(b)
+        if not Br > 0:
+            raise DataError(campaign.source, "segments", "all Q biases are identical; B_r = 0 cannot be right")
+        rows = [BudgetRow.type_a(f"sampling of the standard deviation of Q = {Q} biases", "B_r/√(2(Q−1))",
+                                 Q_(Br / math.sqrt(2 * (Q - 1)), "deg/h"), Q - 1)]
+        rows += _scale_factor_row(ests[0].conv, Br, "deg/h")
+        budget = UncertaintyBudget("B_r", "deg/h", rows, coverage=COVERAGE)
+        res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget, note=f"Q = {Q}")
+        table = TableSpec("biases", "Bias of each power-on (D.40)", ["run", "segment", "B₀ (°/h)", "u_A (°/h)"],
+                          [[s.conditions.get("run", i + 1), s.id, f"{e.B0:.5f}", f"{e.u_A:.2g}"]
+                           for i, (s, e) in enumerate(zip(segs, ests))])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table],
+                       segments=[s.id for s in segs], options={k: str(v) for k, v in opts.items()})
+
+
+def _delta_temperature_u(campaign: Campaign) -> tuple[float, str] | None:
+    """Standard uncertainty (K) of one chamber temperature reading, from the chamber's calibration."""
+    ch = campaign.equipment_for("chamber")
+    if ch is None or ch.calibration is None:
+        return None
+    U = ch.calibration.uncertainty
+    # an uncertainty is a temperature *difference*: "0.3 K" or "0.3 delta_degC"; "0.3 °C" means the same here
+    mag = float(U.magnitude) if str(U.units) in ("degree_Celsius", "degC") else float(U.to("K").magnitude)
+    div = ch.calibration.k if ch.calibration.distribution == "normal" else math.sqrt(3.0)
+    return mag / div, ch.describe()
+
+
+class BiasTemperatureSensitivityD54(Procedure):
+    """GB/T 45570—2025 D.5.4 零偏温度灵敏度 (bias temperature sensitivity), eq. (D.43).
+
+    B_t = max_i |(B_i − B_00)/(T_i − T_0)|: B_i by D.5.1 at each temperature point (segments of
+    kind ``static-temperature`` with condition ``temperature``), B_00/T_0 at room temperature —
+    the point nearest the ``room`` option, which must lie within 6.1.1's 15 °C … 35 °C.
+    Budget of the maximising point: the two biases' type A (batch means), the chamber's
+    temperature uncertainty on T_i − T_0, the scale factor.
+    """
+
+    standard = STANDARD
+    item = "D.5.4"
+    title = "Bias temperature sensitivity (零偏温度灵敏度)"
+    clause = "D.5.4"
+    metrics = (Metric("Bt", "bias temperature sensitivity", "B_t", "deg/h/delta_degC", "D.5.4.3", "D.43"),)
+    requires = (SegmentRequirement("static-temperature", "1 h at each temperature point after ≥ 2 h soak",
+                                   conditions={"orientation": "", "temperature": "degC"},
+                                   columns={"output": OUTPUT_UNITS}, min_count=3),)
+    equipment = _EQUIPMENT + (EquipmentRequirement("chamber", "temperature chamber, control better than ±2 °C"),)
+    options = (Option("temperatures", "-40 °C, 20 °C, 60 °C", None,
+                      "temperature points for the sequence: both limits and room temperature (D.5.4.2 b))"),
+               Option("room", "20 °C", "degC", "room temperature T0: the nearest point is the reference"),
+               Option("batches", 20, None, "batch means per point for each bias's type A uncertainty"))
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        temps = [t.strip() for t in str(options.get("temperatures", "-40 °C, 20 °C, 60 °C")).split(",")]
+        return [Step(f"temperature-{i + 1}", "static-temperature", f"power off, soak ≥ 2 h at {t}, then as D.5.1.2 "
+                     "record 1 h (D.5.4.2 c))", Q_(1, "h"), Q_(1, "s"), {"orientation": "IRA up", "temperature": t},
+                     warmup=Q_(2, "h")) for i, t in enumerate(temps)]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        segs = _segments_of(type(self), campaign, "static-temperature", 3,
+                            "two limit temperatures and room temperature (D.5.4.2 b))")
+        temps = [float(s.condition("temperature", "degC").to("degC").magnitude) for s in segs]
+        room = float(opts["room"].to("degC").magnitude)
+        i0 = int(np.argmin([abs(t - room) for t in temps]))
+        if not 15.0 <= temps[i0] <= 35.0:
+            raise DataError(campaign.source, f"segments.{segs[i0].id}.conditions.temperature",
+                            f"no point at room temperature: the nearest is {temps[i0]:g} °C (6.1.1: 15 °C … 35 °C)")
+        ests = [segment_bias(s, campaign, int(opts["batches"])) for s in segs]
+        for i, t in enumerate(temps):
+            if i != i0 and abs(t - temps[i0]) < 1.0:
+                raise DataError(campaign.source, f"segments.{segs[i].id}.conditions.temperature",
+                                f"{t:g} °C is within 1 °C of room temperature {temps[i0]:g} °C; D.43 divides by T_i − T0")
+        Bt, imax = F.bias_temperature_sensitivity_d43([e.B0 for e in ests], temps, i0)
+        dT = temps[imax] - temps[i0]
+        eA, e0 = ests[imax], ests[i0]
+        uA = math.hypot(eA.u_A, e0.u_A) / abs(dT)
+        nu = uA**4 / ((eA.u_A / dT) ** 4 / eA.nu_A + (e0.u_A / dT) ** 4 / e0.nu_A)
+        rows = [BudgetRow.type_a("scatter of B_i and B_00 (batch means)", "√(u²(B_i)+u²(B_00))/|ΔT|",
+                                 Q_(uA, "deg/h/delta_degC"), nu)]
+        uT = _delta_temperature_u(campaign)
+        if uT is not None:
+            rows.append(BudgetRow.type_b(f"chamber temperature T_i and T_0 ({uT[1]})", "√2·u(T)",
+                                         Q_(math.sqrt(2) * uT[0], "K"), distribution="normal", k=1.0,
+                                         sensitivity=Q_(Bt / abs(dT), "deg/h/delta_degC/K"),
+                                         note="∂B_t/∂ΔT = −B_t/ΔT"))
+        rows += _scale_factor_row(eA.conv, Bt, "deg/h/delta_degC")
+        budget = UncertaintyBudget("B_t", "deg/h/delta_degC", rows, coverage=COVERAGE)
+        res = Result(self.metrics[0], Q_(Bt, "deg/h/delta_degC"), budget.combined, budget,
+                     note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C")
+        order = np.argsort(temps)
+        plot = PlotSpec("bias_temperature", "Bias against temperature (D.5.4)", "T (°C)", "B₀ (°/h)",
+                        [{"label": "B₀(T) (D.40)", "x": [temps[i] for i in order], "y": [ests[i].B0 for i in order],
+                          "yerr": [2 * ests[i].u_A for i in order], "style": "o"},
+                         {"label": f"slope of the largest |ΔB/ΔT| = {Bt:.3g} °/h/°C",
+                          "x": [temps[i0], temps[imax]], "y": [e0.B0, eA.B0], "style": "--"}])
+        table = TableSpec("bias_points", "Bias at each temperature point",
+                          ["segment", "T (°C)", "B₀ (°/h)", "|ΔB/ΔT| ((°/h)/°C)"],
+                          [[s.id, f"{t:g}", f"{e.B0:.5f}", "room (T0)" if i == i0 else
+                            f"{abs((e.B0 - e0.B0) / (t - temps[i0])):.3g}"]
+                           for i, (s, t, e) in enumerate(zip(segs, temps, ests))])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[table],
+                       segments=[s.id for s in segs], options={k: str(v) for k, v in opts.items()})
+
+
+class BiasMagneticSensitivityD55(Procedure):
+    """GB/T 45570—2025 D.5.5 零偏磁场灵敏度 (bias magnetic sensitivity), eq. (D.44).
+
+    For each axis (IRA, XRA, YRA): B_h = |B_0+ − B_0−| / (2 H_b), the biases by D.5.1 with the
+    field H_b applied forward and reversed (segments of kind ``static-field`` with conditions
+    ``field_axis`` and a signed ``field``, 10 min each).  Budget: the two biases' type A, the
+    field generator's uniformity (5 %, uniform) and calibration, the scale factor.
+    """
+
+    standard = STANDARD
+    item = "D.5.5"
+    title = "Bias magnetic sensitivity (零偏磁场灵敏度)"
+    clause = "D.5.5"
+    metrics = tuple(Metric(f"Bh_{ax}", f"bias magnetic sensitivity, field along {ax}", f"B_h({ax})",
+                           "deg/h/mT", "D.5.5.3", "D.44") for ax in ("IRA", "XRA", "YRA"))
+    requires = (SegmentRequirement("static-field", "10 min with +H_b and with −H_b along each of IRA, XRA, YRA",
+                                   conditions={"orientation": "", "field_axis": "", "field": "mT"},
+                                   columns={"output": OUTPUT_UNITS}, min_count=6),)
+    equipment = _EQUIPMENT + (EquipmentRequirement("field_generator", "DC magnetic field generator, uniformity "
+                                                   "better than 5 % over the gyro (D.5.5.1 b))"),)
+    options = (Option("H_b", "1 mT", "mT", "field strength for the sequence"),
+               Option("batches", 20, None, "batch means per segment for each bias's type A uncertainty"))
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        H = parse_quantity(options.get("H_b", "1 mT"), dimension="mT").to("mT").magnitude
+        steps = []
+        for ax in ("IRA", "XRA", "YRA"):
+            for sign, word in ((1, "forward"), (-1, "reversed")):
+                steps.append(Step(f"field-{ax}-{'plus' if sign > 0 else 'minus'}", "static-field",
+                                  f"{word} field of {H:g} mT along {ax}; bias as D.5.1.2 for 10 min (D.5.5.2)",
+                                  Q_(10, "min"), Q_(1, "s"),
+                                  {"orientation": "IRA up", "field_axis": ax, "field": f"{sign * H:g} mT"}))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        segs = _segments_of(type(self), campaign, "static-field", 6, "±H_b along IRA, XRA and YRA")
+        gen = campaign.equipment_for("field_generator")
+        uniformity = 0.05
+        if gen is not None and "uniformity" in gen.properties:
+            uniformity = float(gen.prop("uniformity", "percent", source=campaign.source).to("").magnitude)
+        results, rows_table, used = [], [], []
+        for metric, ax in zip(self.metrics, ("IRA", "XRA", "YRA")):
+            mine = [s for s in segs if str(s.condition("field_axis")).upper() == ax]
+            fields = [float(s.condition("field", "mT").to("mT").magnitude) for s in mine]
+            plus = [s for s, h in zip(mine, fields) if h > 0]
+            minus = [s for s, h in zip(mine, fields) if h < 0]
+            if not plus or not minus:
+                raise DataError(campaign.source, "segments",
+                                f"D.5.5 needs a forward (+) and a reversed (−) field segment along {ax}; "
+                                f"found {len(plus)} forward and {len(minus)} reversed")
+            sp, sm = plus[0], minus[0]
+            Hp = float(sp.condition("field", "mT").to("mT").magnitude)
+            Hm = -float(sm.condition("field", "mT").to("mT").magnitude)
+            Hb = 0.5 * (Hp + Hm)
+            ep = segment_bias(sp, campaign, int(opts["batches"]))
+            em = segment_bias(sm, campaign, int(opts["batches"]))
+            Bh = F.bias_magnetic_sensitivity_d44(ep.B0, em.B0, Hb)
+            uA = math.hypot(ep.u_A, em.u_A) / (2.0 * Hb)
+            nu = uA**4 / ((ep.u_A / (2 * Hb)) ** 4 / ep.nu_A + (em.u_A / (2 * Hb)) ** 4 / em.nu_A)
+            rows = [BudgetRow.type_a("scatter of B_0+ and B_0− (batch means)", "√(u²₊+u²₋)/(2H_b)",
+                                     Q_(uA, "deg/h/mT"), nu)]
+            rows.append(BudgetRow.type_b("field uniformity over the gyro", "ΔH/H", Q_(uniformity, ""),
+                                         distribution="uniform", sensitivity=Q_(Bh, "deg/h/mT"),
+                                         note="D.5.5.1 b): better than 5 %"))
+            if gen is not None and gen.calibration is not None and gen.calibration.uncertainty.dimensionless:
+                rows.append(BudgetRow.from_calibration(f"field strength ({gen.describe()})", "u_rel(H_b)",
+                                                       gen.calibration, sensitivity=Q_(Bh, "deg/h/mT")))
+            rows += _scale_factor_row(ep.conv, Bh, "deg/h/mT")
+            budget = UncertaintyBudget(metric.symbol, "deg/h/mT", rows, coverage=COVERAGE)
+            warn = ""
+            if abs(Hp - Hm) > 0.01 * Hb:
+                warn = f"forward {Hp:g} mT and reversed {Hm:g} mT differ; H_b = their mean"
+            results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=warn))
+            rows_table.append([ax, f"{Hb:g}", f"{ep.B0:.5f}", f"{em.B0:.5f}", f"{Bh:.4g}"])
+            used += [sp.id, sm.id]
+        table = TableSpec("field_biases", "Biases with the field forward and reversed (D.5.5)",
+                          ["axis", "H_b (mT)", "B₀₊ (°/h)", "B₀₋ (°/h)", "B_h ((°/h)/mT)"], rows_table)
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table], segments=used,
+                       options={k: str(v) for k, v in opts.items()})
+
+
+# --------------------------------------------------------------------------------------------
 # D.5.6 Angle random walk
 # --------------------------------------------------------------------------------------------
 
@@ -413,4 +648,5 @@ def _duration_warnings(series, wanted, clause: str) -> list[str]:
     return []
 
 
-PROCEDURES = (BiasD51, BiasStabilityD52, AngleRandomWalkD56)
+PROCEDURES = (BiasD51, BiasStabilityD52, BiasRepeatabilityD53, BiasTemperatureSensitivityD54,
+              BiasMagneticSensitivityD55, AngleRandomWalkD56)
