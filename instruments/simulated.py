@@ -50,6 +50,11 @@ class GyroTruth:
     temp_ref_C: float = 20.0
     mag_sens_deg_h_per_mT: tuple[float, float, float] = (0.04, 0.015, 0.025)  # field along IRA, XRA, YRA
     turn_on_sigma_deg_h: float = 0.002
+    # scale factor of the pulse output against rate Ω (°/s) and direction s = ±1:
+    # K_s(Ω) = K · (1 + sf_slope·Ω + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
+    sf_slope_per_deg_s: float = 2e-9
+    sf_quadratic: float = 3e-6
+    sf_asymmetry: float = 4e-6
     output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
     lsb_per_deg_s: float = 5000.0
     seed: int = 20251122
@@ -65,6 +70,9 @@ class GyroTruth:
             "bias magnetic sensitivity (IRA, XRA, YRA)": ", ".join(
                 f"{v:g}" for v in self.mag_sens_deg_h_per_mT) + " °/h/mT",
             "turn-on bias σ (per power-on)": Q_(self.turn_on_sigma_deg_h, "deg/h"),
+            "scale-factor slope (relative per °/s)": self.sf_slope_per_deg_s,
+            "scale-factor quadratic term at 400 °/s (relative)": self.sf_quadratic,
+            "scale-factor asymmetry (relative)": self.sf_asymmetry,
             "seed": self.seed,
             "output": self.output,
         }
@@ -148,7 +156,7 @@ def simulate_static(
 
 
 _EXPECTED_UNITS = {"B0": "deg/h", "RWC": "deg/hour**0.5", "Br": "deg/h", "Bt": "deg/h/delta_degC",
-                   "Bh": "deg/h/mT"}
+                   "Bh": "deg/h/mT", "K": "P/arcsec", "W": "P/arcsec/(deg/s)", "Kn": "", "Ka": ""}
 
 
 @attrs.define
@@ -183,6 +191,9 @@ class SimulatedStation:
         return [
             Equipment(id="SIM-PLATFORM", model="simulated levelled platform", role="platform",
                       properties={"levelness": Q_(2.0, "arcsec")}),
+            Equipment(id="SIM-RATE-TABLE", model="simulated rate table with revolution pulses",
+                      role="rate_table", properties={"revolution_pulse_accuracy": Q_(2.0, "arcsec")},
+                      calibration=Calibration("SIM-CAL-0004", Q_(1e-5, ""), k=2.0, lab="simulated")),
             Equipment(id="SIM-CHAMBER", model="simulated temperature chamber", role="chamber",
                       calibration=Calibration("SIM-CAL-0002", Q_(0.3, "K"), k=2.0, lab="simulated")),
             Equipment(id="SIM-FIELD", model="simulated DC magnetic field generator", role="field_generator",
@@ -205,6 +216,22 @@ class SimulatedStation:
             orient = str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
             cb = (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot)) if progress else None
             offset = bias_offset(t, step.conditions)
+            if step.kind == "rate-revolutions":
+                from metro.core.units import parse_quantity
+
+                rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
+                direction = 1 if rate > 0 else -1
+                counts, dur = simulate_revolutions(t, rate_deg_s=abs(rate), direction=direction,
+                                                   turns=int(step.conditions.get("turns", 5)),
+                                                   latitude_deg=self.latitude_deg, seed=t.seed + 7919 * (i + 1),
+                                                   bias_offset_deg_h=offset)
+                digest = hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest()
+                segments.append(Segment(
+                    id=step.segment, kind=step.kind, conditions=dict(step.conditions),
+                    interval=Q_(float(dur[0]), "s"), file=None, sha256=digest,
+                    loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}),
+                ))
+                continue
             data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=self.latitude_deg,
                                    orientation=orient, seed=t.seed + i, progress=cb, bias_offset_deg_h=offset)
             digest = hashlib.sha256(data.tobytes()).hexdigest()
@@ -213,6 +240,14 @@ class SimulatedStation:
                 interval=Q_(interval_s, "s"), file=None, sha256=digest,
                 loader=(lambda d=data, u=unit: {"output": (d, u)}),
             ))
+        exp = {k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()}
+        rates = [s.conditions["rate"] for s in segments if s.kind == "rate-revolutions"]
+        if rates:
+            from metro.core.units import parse_quantity
+
+            vals = [parse_quantity(r, dimension="deg/s").to("deg/s").magnitude for r in rates]
+            exp |= {k: Q_(v, _EXPECTED_UNITS[k])
+                    for k, v in expected_scale_factor(t, vals, self.latitude_deg).items()}
         return Campaign(
             id="SIMULATED",
             device=self.device(),
@@ -223,11 +258,49 @@ class SimulatedStation:
             source="simulated station",
             simulated=True,
             truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
-            expected={k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()},
+            expected=exp,
         )
 
 
 AXES = ("IRA", "XRA", "YRA")
+
+
+def scale_factor_at(truth: GyroTruth, rate_deg_s: float, direction: int) -> float:
+    """The virtual gyro's scale factor (P/″) at |Ω| = ``rate_deg_s`` turning in ``direction`` (±1)."""
+    r = abs(rate_deg_s)
+    return truth.scale_factor_P_per_arcsec * (1.0 + truth.sf_slope_per_deg_s * r
+                                              + truth.sf_quadratic * (r / 400.0) ** 2
+                                              + direction * truth.sf_asymmetry / 2.0)
+
+
+def simulate_revolutions(
+    truth: GyroTruth,
+    *,
+    rate_deg_s: float,
+    direction: int,
+    turns: int,
+    latitude_deg: float,
+    seed: int,
+    bias_offset_deg_h: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Pulses counted over each of ``turns`` whole table revolutions at ``rate_deg_s`` (GB/T 45570
+    D.1.1.2 g)), IRA up along the table axis, and each revolution's duration (s).
+
+    Per revolution the gyro sees the table's ±360° plus the vertical earth rate and its bias
+    over the revolution time; its angle random walk adds white angle noise, and the count is read
+    at a random readout phase (as in :func:`simulate_static`), so no pulse is lost between turns.
+    """
+    rng = np.random.default_rng(seed)
+    t = 360.0 / abs(rate_deg_s)
+    K = scale_factor_at(truth, rate_deg_s, direction)
+    drift = EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h + bias_offset_deg_h
+    angle = direction * 360.0 * 3600.0 + drift * t  # ″ per revolution (°/h = ″/s)
+    noise_sd = truth.arw_deg_rt_h * math.sqrt(t / 3600.0) * 3600.0  # ″ of angle random walk per turn
+    inc = K * (angle + rng.normal(0.0, noise_sd, size=turns))
+    cum = np.cumsum(inc)
+    whole = np.floor(cum + rng.random(turns))
+    counts = np.diff(whole, prepend=0.0)
+    return counts, np.full(turns, t)
 
 
 def bias_offset(truth: GyroTruth, conditions) -> float:
@@ -253,6 +326,25 @@ def bias_offset(truth: GyroTruth, conditions) -> float:
     return off
 
 
+def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) -> dict[str, float]:
+    """What D.1.1–D.1.3 give on noise-free revolutions of the virtual gyro at these rate points:
+    the truth the angle-method items must recover (K, W, K_n, K_a)."""
+    rates = np.asarray(sorted(set(abs(float(r)) for r in rates_deg_s)), dtype=float)
+    d = EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h  # ″/s
+    rev = 360.0 * 3600.0
+    t = 360.0 / rates
+    kp = np.array([scale_factor_at(truth, r, 1) for r in rates])
+    km = np.array([scale_factor_at(truth, r, -1) for r in rates])
+    n_plus, n_minus = kp * (rev + d * t), km * (-rev + d * t)
+    Ki = (n_plus - n_minus) / (2 * rev)
+    W, K = np.polyfit(rates, Ki, 1)
+    n0 = truth.scale_factor_P_per_arcsec * d
+    Kp = np.polyfit(rates, (n_plus - n0 * t) / rev, 1)[1]
+    Km = np.polyfit(rates, (n_minus - n0 * t) / -rev, 1)[1]
+    return {"K": float(K), "W": float(W), "Kn": float(np.max(np.abs(Ki - K)) / K),
+            "Ka": float(abs(Kp - Km) / ((Kp + Km) / 2))}
+
+
 def station_factory(**options: Any) -> SimulatedStation:
     """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale …)."""
     truth_kw = {k: v for k, v in options.items() if k in attrs.fields_dict(GyroTruth)}
@@ -273,4 +365,4 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]
+__all__ = ["expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]

@@ -1,7 +1,7 @@
 """GB/T 45570—2025 光学陀螺仪通用技术要求 (optical gyroscopes) as a metro plugin.
 
 Registered through the ``metro`` entry-point group, like any third-party plugin.
-Items implemented so far: D.5.1 bias, D.5.2 bias stability, D.5.6 angle random walk.
+Items implemented so far: D.1.1–D.1.3 (angle method) and D.5.1–D.5.6 (bias series, ARW).
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ STANDARD_ID = "gbt45570"
 
 @hookimpl
 def metro_register_standards(registrar) -> None:
+    from . import angle_method
     from .procedures import PROCEDURES
 
     registrar.add_standard(
@@ -21,5 +22,5 @@ def metro_register_standards(registrar) -> None:
         designation="GB/T 45570—2025",
         description="test methods of normative appendix D",
     )
-    for cls in PROCEDURES:
+    for cls in angle_method.PROCEDURES + PROCEDURES:
         registrar.add_procedure(cls)

@@ -205,3 +205,73 @@ def bias_magnetic_sensitivity_d44(b_plus: float, b_minus: float, H_b_mT: float) 
     if not H_b_mT > 0:
         raise ValueError(f"H_b must be positive, got {H_b_mT}")
     return abs(b_plus - b_minus) / (2.0 * H_b_mT)
+
+
+# --------------------------------------------------------------------------------------------
+# D.1 scale factor series, angle method (pulse output)
+# --------------------------------------------------------------------------------------------
+
+#: arcseconds in one revolution, 360 × 3 600 (the denominators of D.2, D.8, D.9)
+REVOLUTION_ARCSEC = 360.0 * 3600.0
+
+
+def mean_counts_d1(counts_per_turn: Sequence[float]) -> float:
+    """N_±i = (1/m) Σ_j N_±ij, eq. (D.1): mean pulses per whole revolution (P)."""
+    c = np.asarray(counts_per_turn, dtype=float)
+    if c.size < 1:
+        raise ValueError("D.1 needs at least one revolution")
+    return float(c.mean())
+
+
+def scale_factor_d2(n_plus: float, n_minus: float) -> float:
+    """K_i = (N_+i − N_−i) / (2 × 360 × 3 600), eq. (D.2), in P/″.
+
+    (The standard's unit line prints P/(°); the 3 600 in the denominator makes it P/″, as
+    table A.1 states — see interpretations.md.)
+    """
+    return (n_plus - n_minus) / (2.0 * REVOLUTION_ARCSEC)
+
+
+def scale_factor_d3(n_plus: float, n_minus: float, theta_plus_deg: float, theta_minus_deg: float) -> float:
+    """Fixed-angle method, eq. (D.3): K_i = (N'_+i − N'_−i) / ((|θ_+| + |θ_−|) × 3 600), P/″."""
+    return (n_plus - n_minus) / ((abs(theta_plus_deg) + abs(theta_minus_deg)) * 3600.0)
+
+
+def scale_factor_fit_d5_d6(K_i: Sequence[float], rates_deg_s: Sequence[float]) -> tuple[float, float]:
+    """Least squares of K_i = K + W·Ω_i (eq. D.4), closed forms (D.5) and (D.6).
+
+    :return: (K in P/″, W in (P/″)/((°)/s)).
+    """
+    k = np.asarray(K_i, dtype=float)
+    w = np.asarray(rates_deg_s, dtype=float)
+    n = k.size
+    if n < 2 or w.size != n:
+        raise ValueError("D.5/D.6 need at least 2 rate points and one K_i per rate")
+    den = n * np.sum(w**2) - np.sum(w) ** 2
+    if den == 0:
+        raise ValueError("all rate points are equal; the D.4 fit is singular")
+    K = (np.sum(k) * np.sum(w**2) - np.sum(k * w) * np.sum(w)) / den
+    W = (n * np.sum(k * w) - np.sum(w) * np.sum(k)) / den
+    return float(K), float(W)
+
+
+def nonlinearity_d7(K_i: Sequence[float], K: float) -> tuple[float, int]:
+    """K_n = |K_i − K|_max / K, eq. (D.7); returns (K_n, index of the maximum)."""
+    d = np.abs(np.asarray(K_i, dtype=float) - K)
+    i = int(np.argmax(d))
+    return float(d[i] / K), i
+
+
+def scale_factor_plus_d8(n_plus: float, n0_per_s: float, t_plus_s: float) -> float:
+    """K_+i = (N_+i − N̄_0 × t_+i) / (360 × 3 600), eq. (D.8), P/″."""
+    return (n_plus - n0_per_s * t_plus_s) / REVOLUTION_ARCSEC
+
+
+def scale_factor_minus_d9(n_minus: float, n0_per_s: float, t_minus_s: float) -> float:
+    """K_−i = (N_−i − N̄_0 × t_−i) / (−360 × 3 600), eq. (D.9), P/″."""
+    return (n_minus - n0_per_s * t_minus_s) / (-REVOLUTION_ARCSEC)
+
+
+def asymmetry_d10(K_plus: float, K_minus: float) -> float:
+    """K_a = |K_+ − K_−| / ((K_+ + K_−)/2), eq. (D.10)."""
+    return abs(K_plus - K_minus) / ((K_plus + K_minus) / 2.0)

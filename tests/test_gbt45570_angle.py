@@ -1,0 +1,104 @@
+"""GB/T 45570—2025 D.1.1–D.1.3, angle method: hand-worked formulas and simulated truth."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from metro.core.errors import DataError
+from metro.core.lsq import fit_line
+from metro.core.runner import run_items
+from metro.instruments.simulated import GyroTruth, SimulatedStation
+from metro.plugins.gbt45570 import formulas as F
+from metro.plugins.gbt45570.angle_method import AsymmetryD13, NonlinearityD12, ScaleFactorD11, rate_points
+
+
+def test_d1_d2_hand_worked():
+    assert F.mean_counts_d1([1036896, 1036898]) == 1036897
+    # K = 0.8 P/″: +360° gives 1 036 800 P, −360° gives −1 036 800 P
+    assert F.scale_factor_d2(1_036_800.0, -1_036_800.0) == pytest.approx(0.8, rel=1e-15)
+
+
+def test_d3_fixed_angle_hand_worked():
+    # 90° each way at K = 0.8 P/″: N' = ±259 200 P
+    assert F.scale_factor_d3(259_200.0, -259_200.0, 90.0, -90.0) == pytest.approx(0.8, rel=1e-15)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.floats(0.5, 500.0), min_size=3, max_size=14, unique=True),
+       st.floats(0.2, 2.0), st.floats(-1e-8, 1e-8))
+def test_d5_d6_closed_forms_equal_the_qr_least_squares(rates, K, W):
+    rates = np.array(rates)
+    Ki = K + W * rates + 1e-9 * np.sin(rates)
+    k, w = F.scale_factor_fit_d5_d6(Ki, rates)
+    fit = fit_line(rates, Ki)
+    assert k == pytest.approx(fit.coef[0], rel=1e-9)
+    assert w == pytest.approx(fit.coef[1], rel=1e-6, abs=1e-15)
+
+
+def test_d7_hand_worked():
+    kn, i = F.nonlinearity_d7([0.800001, 0.799998, 0.8000004], 0.8)
+    assert kn == pytest.approx(2.5e-6, rel=1e-9) and i == 1
+
+
+def test_d8_d9_d10_hand_worked():
+    # N0 = 10 P/s over t = 12 s removes 120 P from each direction's count
+    kp = F.scale_factor_plus_d8(1_036_800.0 + 120.0 + 4.0, 10.0, 12.0)
+    km = F.scale_factor_minus_d9(-1_036_800.0 + 120.0, 10.0, 12.0)
+    assert km == pytest.approx(0.8, rel=1e-15)
+    assert F.asymmetry_d10(kp, km) == pytest.approx((4 / 1_296_000) / ((kp + km) / 2), rel=1e-12)
+
+
+def test_r5_rate_points_include_the_maximum():
+    pts = rate_points(400.0)
+    assert len(pts) >= 11 and pts[-1] == 400.0 and pts[0] == 1.0
+    assert rate_points(300.0)[-1] == 300.0
+
+
+def _camp(pm, items, seed=9, drop=None, edit=None):
+    st_ = SimulatedStation(truth=GyroTruth(seed=seed))
+    from metro.core.runner import merge_steps
+
+    steps = merge_steps([pm.procedure("gbt45570", i)().sequence({}) for i in items])
+    if drop:
+        steps = [s for s in steps if s.segment not in drop]
+    return st_.acquire(steps)
+
+
+def test_angle_method_recovers_simulated_truth(pm):
+    assert pm.procedure("gbt45570", "D.1.1") is ScaleFactorD11
+    assert pm.procedure("gbt45570", "D.1.2") is NonlinearityD12
+    assert pm.procedure("gbt45570", "D.1.3") is AsymmetryD13
+    camp = _camp(pm, ["D.1.1", "D.1.2", "D.1.3"])
+    rec = run_items(pm, "gbt45570", ["D.1.1", "D.1.2", "D.1.3"], campaign=camp)
+    checked = 0
+    for o in rec.outcomes:
+        for r in o.results:
+            if r.metric.key in camp.expected and r.U is not None:
+                exp = camp.expected[r.metric.key].to(r.metric.unit).magnitude
+                assert abs(r.value.to(r.metric.unit).magnitude - exp) <= r.U.magnitude, r.metric.key
+                checked += 1
+    assert checked == 3
+    # a non-trivial device: the nonlinearity and asymmetry are resolved (not zero)
+    assert rec.outcomes[1].result("Kn").value.to("ppm").magnitude > 1.0
+
+
+def test_fewer_than_eleven_rate_points(pm):
+    camp = _camp(pm, ["D.1.1"], drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5", "rate-2.5",
+                                      "rate+4", "rate-4"})
+    with pytest.raises(DataError, match="at least 11 rate points"):
+        run_items(pm, "gbt45570", ["D.1.1"], campaign=camp)
+
+
+def test_missing_direction(pm):
+    camp = _camp(pm, ["D.1.1"], drop={"rate-25"})
+    with pytest.raises(DataError, match="clockwise"):
+        run_items(pm, "gbt45570", ["D.1.1"], campaign=camp)
+
+
+def test_asymmetry_needs_zero_rate_count(pm):
+    camp = _camp(pm, ["D.1.3"], drop={"zero-start", "zero-end"})
+    with pytest.raises(DataError, match="static-zero"):
+        run_items(pm, "gbt45570", ["D.1.3"], campaign=camp)
