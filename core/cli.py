@@ -134,7 +134,7 @@ def _cmd_run(args) -> int:
     station_options = {"seed": args.seed} if args.seed is not None else {}
     if args.data is None and not args.json:
         err.print("[bold yellow]No --data given: running on the built-in SIMULATED test station "
-                  "(a virtual optical gyro with declared, seeded truth).[/]")
+                  "(a virtual device with declared, seeded truth).[/]")
     with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
                            station_options=station_options, progress=prog)

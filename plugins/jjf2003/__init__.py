@@ -1,1 +1,45 @@
 """JJF 2003—2022 微惯性测量组合(MIMU)校准规范 — plugin `jjf2003`."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from metro.core import hookimpl
+
+STANDARD_ID = "jjf2003"
+CERTIFICATE = Path(__file__).with_name("templates") / "certificate.docx"
+
+
+@hookimpl
+def metro_register_standards(registrar) -> None:
+    from .procedures import PROCEDURES
+
+    registrar.add_standard(
+        STANDARD_ID,
+        "微惯性测量组合(MIMU)校准规范 (Calibration specification for micro inertial measurement units)",
+        designation="JJF 2003—2022",
+        description="the eight items of table 2, clauses 7.2.1–7.2.5",
+    )
+    for cls in PROCEDURES:
+        registrar.add_procedure(cls)
+
+
+@hookimpl
+def metro_register_stations(registrar) -> None:
+    from metro.instruments.mimu import station_factory
+
+    registrar.add_station("simulated-mimu", station_factory,
+                          "simulated MIMU (JJF 2003 eq. (1), (2)) on a three-axis position/rate table")
+
+
+@hookimpl
+def metro_register_templates(registrar) -> None:
+    registrar.add_template("jjf2003-certificate", CERTIFICATE, standard=STANDARD_ID, kind="report")
+
+
+@hookimpl
+def metro_extend_report_context(record, context: dict) -> None:
+    from .certificate import certificate_context
+
+    if any(o.standard == STANDARD_ID for o in record.outcomes):
+        context[STANDARD_ID] = certificate_context(record)

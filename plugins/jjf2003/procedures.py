@@ -1,0 +1,763 @@
+"""JJF 2003—2022 items 7.2.1–7.2.5 (the eight items of table 2).
+
+Table 2 → metro item ids:
+
+* 1 陀螺标度因数 → ``7.2.1`` :class:`GyroScaleFactor`
+* 2 陀螺零偏, 3 陀螺零偏加速度敏感系数 → ``7.2.2`` :class:`GyroBiasGSensitivity`
+* 4 陀螺交叉耦合系数 → ``7.2.3`` :class:`GyroCrossCoupling`
+* 5 加速度计偏值, 6 标度因数, 7 交叉耦合系数 → ``7.2.4`` :class:`AccelSixPosition`
+* 8 加速度计角速度灵敏系数 → ``7.2.5`` :class:`AccelRateSensitivity`
+
+Data: ``rate`` segments (conditions ``axis`` = x|y|z pointing up along the table axis,
+``rate`` signed about +axis) and ``position`` segments (conditions ``up`` = ±x|±y|±z,
+``heading`` = 0°|180°), with columns gx, gy, gz (angular rate) and ax, ay, az (acceleration).
+Budgets follow appendix A: u₁ three-axis table, u₂ acquisition quantization, u₃ repeatability
+from the data; k = 2; U rounded up to two significant digits.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import (
+    Campaign,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    Outcome,
+    PlotSpec,
+    Procedure,
+    Result,
+    RunContext,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+)
+from metro.core.units import Q_
+
+from . import formulas as F
+
+STANDARD = "jjf2003"
+STATION = "simulated-mimu"
+COVERAGE = Coverage.fixed(2.0)
+ROUND = "up"
+AXES = ("x", "y", "z")
+GYRO = ("gx", "gy", "gz")
+ACCEL = ("ax", "ay", "az")
+RATE_UNIT = "deg/s"
+ACC_UNIT = "gn"
+P_UNIT = "gn/(rad/s)**2"
+G_UNIT = "deg/s/gn"
+MIN_SECONDS = 30.0
+HEADINGS = (0.0, 180.0)
+EARTH_RATE_DEG_S = math.degrees(7.2921150e-5)
+BATCHES = 10
+
+RATE_SEG = SegmentRequirement(
+    kind="rate",
+    description="MIMU axis `axis` up along the rate table axis, table at `rate` (signed about +axis), ≥ 30 s",
+    conditions={"axis": "", "rate": "deg/s"},
+    columns={c: ("deg/s",) for c in GYRO} | {c: ("m/s**2",) for c in ACCEL},
+    min_duration=Q_(30, "s"), min_count=21,
+)
+POSITION_SEG = SegmentRequirement(
+    kind="position",
+    description="MIMU axis `up` (±x, ±y, ±z) to the zenith, table heading 0° or 180°, ≥ 30 s (appendix C)",
+    conditions={"up": "", "heading": "deg"},
+    columns={c: ("deg/s",) for c in GYRO} | {c: ("m/s**2",) for c in ACCEL},
+    min_duration=Q_(30, "s"), min_count=12,
+)
+EQUIPMENT = (
+    EquipmentRequirement("table", "three-axis position/rate table (table 1); its rate uncertainty (calibration, "
+                         "relative) and `position_accuracy` enter the budgets", required=False),
+    EquipmentRequirement("acquisition", "data acquisition; its `bits` give the quantization term u₂ (A.3)"),
+)
+
+Means = Callable[[Segment], tuple[np.ndarray, np.ndarray]]
+
+
+# ------------------------------------------------------------------------------ data access
+
+
+def _duration_ok(seg: Segment, campaign: Campaign) -> None:
+    s = seg.series("gx", "deg/s")
+    dur = float(s.duration.to("s").magnitude)
+    if dur < MIN_SECONDS * 0.999:
+        raise DataError(seg.file or campaign.source, f"segments.{seg.id}",
+                        f"held for {dur:.3g} s; JJF 2003 7.2.1.1 d) / 7.2.2.1 a) ask for at least 30 s",
+                        hint="record each rate point and position for 30 s or more")
+
+
+def _columns(seg: Segment, names, dim: str) -> np.ndarray:
+    arrs = []
+    for c in names:
+        s = seg.series(c, dim)
+        a = np.asarray(s.data.to(RATE_UNIT if dim == "deg/s" else ACC_UNIT).magnitude, dtype=float)
+        if a.size < 2 * BATCHES:
+            raise DataError(seg.file, c, f"segment {seg.id!r} has {a.size} samples; at least {2 * BATCHES} needed")
+        bad = ~np.isfinite(a)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise DataError(seg.file or f"segment {seg.id}", c, f"sample {i + 1} is {a[i]!r}")
+        arrs.append(a)
+    return np.vstack(arrs)
+
+
+def _batch_u(a: np.ndarray) -> np.ndarray:
+    """Standard uncertainty of each row's mean from BATCHES batch means (dof BATCHES − 1)."""
+    m = a.shape[1] // BATCHES
+    b = a[:, : m * BATCHES].reshape(a.shape[0], BATCHES, m).mean(axis=2)
+    return b.std(axis=1, ddof=1) / math.sqrt(BATCHES)
+
+
+def data_means(campaign: Campaign) -> tuple[Means, Callable[[Segment], tuple[np.ndarray, np.ndarray]]]:
+    """(means(seg) → (gyro[3] °/s, accel[3] gn) by eq. (3); u(seg) → their standard uncertainties)."""
+    cache: dict[str, tuple] = {}
+
+    def load(seg: Segment):
+        if seg.id not in cache:
+            _duration_ok(seg, campaign)
+            g = _columns(seg, GYRO, "deg/s")
+            a = _columns(seg, ACCEL, "m/s**2")
+            cache[seg.id] = (g.mean(axis=1), a.mean(axis=1), _batch_u(g), _batch_u(a))
+        return cache[seg.id]
+
+    return (lambda s: load(s)[:2]), (lambda s: load(s)[2:])
+
+
+def _rate_of(seg: Segment, campaign: Campaign) -> float:
+    r = seg.condition("rate", "deg/s")
+    return float(r.to("deg/s").magnitude)
+
+
+def _axis_of(seg: Segment, campaign: Campaign) -> str:
+    a = str(seg.condition("axis")).strip().lower().lstrip("+")
+    if a not in AXES:
+        raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.axis",
+                        f"must be x, y or z (the MIMU axis along the table axis, pointing up), got {a!r}")
+    return a
+
+
+def sweeps(campaign: Campaign, axes=AXES) -> dict[str, list[tuple[float, Segment]]]:
+    """Rate segments per axis, sorted by rate; checks 7–11 distinct rates (7.2.1.1 c))."""
+    out: dict[str, list[tuple[float, Segment]]] = {a: [] for a in axes}
+    for seg in campaign.find_segments("rate"):
+        a = _axis_of(seg, campaign)
+        if a in out:
+            out[a].append((_rate_of(seg, campaign), seg))
+    for a, pts in out.items():
+        rates = [r for r, _ in pts]
+        if len(set(rates)) != len(rates):
+            dup = sorted({r for r in rates if rates.count(r) > 1})
+            raise DataError(campaign.source, "segments", f"axis {a}: more than one segment at rate(s) "
+                            f"{', '.join(f'{r:g}' for r in dup)} °/s; metro does not guess which to use")
+        if len(rates) < 7:
+            raise DataError(campaign.source, "segments",
+                            f"axis {a} is swept with {len(rates)} rate(s); JJF 2003 7.2.1.1 c) asks for 7–11 "
+                            "rate points including the maximum input rate",
+                            hint="`metro plan -s jjf2003 -i 7.2.1` lists the rate points")
+        pts.sort(key=lambda p: p[0])
+    return out
+
+
+def _heading_of(seg: Segment, campaign: Campaign) -> float:
+    h = seg.condition("heading")
+    if isinstance(h, (int, float)):
+        v = float(h)
+    else:
+        v = float(seg.condition("heading", "deg").to("deg").magnitude)
+    v = v % 360.0
+    for ref in HEADINGS:
+        if abs(v - ref) < 1e-6:
+            return ref
+    raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.heading",
+                    f"must be 0° or 180° (7.2.2.1 a): two mountings a 180° turn apart), got {v:g}°")
+
+
+def positions(campaign: Campaign) -> dict[tuple[str, float], Segment]:
+    """The twelve mountings (up axis, heading) of 7.2.2.1 a); all must be present."""
+    found: dict[tuple[str, float], Segment] = {}
+    for seg in campaign.find_segments("position"):
+        up = str(seg.condition("up")).strip().lower()
+        if up in AXES:
+            up = "+" + up
+        if up not in F.SIX_POSITIONS:
+            raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.up",
+                            f"must be one of {', '.join(F.SIX_POSITIONS)}, got {up!r}")
+        key = (up, _heading_of(seg, campaign))
+        if key in found:
+            raise DataError(campaign.source, "segments", f"two segments ({found[key].id}, {seg.id}) for position "
+                            f"{up} up, heading {key[1]:g}°")
+        found[key] = seg
+    missing = [f"{u} up, heading {h:g}°" for u in F.SIX_POSITIONS for h in HEADINGS if (u, h) not in found]
+    if missing:
+        raise DataError(campaign.source, "segments",
+                        f"the six-position method (7.2.2.1 a), appendix C) needs 12 mountings; missing: "
+                        f"{'; '.join(missing)}", hint="`metro plan -s jjf2003 -i 7.2.2` lists the 12 mountings")
+    return found
+
+
+# ------------------------------------------------------------------------------ computations
+
+
+def sweep_fits(campaign: Campaign, means: Means) -> dict[str, dict[str, Any]]:
+    """Per swept axis j: eq. (5) fits of each gyro output i against the rate → K_g[i, j]."""
+    out = {}
+    for j, pts in sweeps(campaign).items():
+        X = np.array([r for r, _ in pts])
+        U = np.array([means(s)[0] for _, s in pts])  # n × 3
+        fits = []
+        for i in range(3):
+            try:
+                fits.append(F.scale_factor_eq5(X, U[:, i]))
+            except ValueError as exc:
+                raise ProcedureError(f"7.2.1 axis {j}: the eq. (5) design is singular or too small ({exc})") from exc
+        out[j] = {"X": X, "U": U, "fits": fits, "segments": [s.id for _, s in pts]}
+    return out
+
+
+def six_position(campaign: Campaign, means: Means, which: int) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Pair-averaged outputs U (3×6) of the gyros (which=0) or accelerometers (1) and the eq. (7)/(10)
+    solution [M | B] (3×4)."""
+    segs = positions(campaign)
+    cols = []
+    for up in F.SIX_POSITIONS:
+        cols.append(F.pair_average(means(segs[(up, 0.0)])[which], means(segs[(up, 180.0)])[which]))
+    U = np.column_stack(cols)
+    try:
+        GB = F.six_position_eq7(U)
+    except ValueError as exc:
+        raise ProcedureError(f"six-position method: {exc}") from exc
+    return U, GB, [s.id for s in segs.values()]
+
+
+def rate_pairs(campaign: Campaign, omega_deg_s: float) -> dict[str, tuple[Segment, Segment]]:
+    """Per axis: the segment at rest (U₇) and at ω (U₈) of 7.2.5.1 a)–d)."""
+    out = {}
+    for a in AXES:
+        rest = turning = None
+        for seg in campaign.find_segments("rate"):
+            if _axis_of(seg, campaign) != a:
+                continue
+            r = _rate_of(seg, campaign)
+            if r == 0.0:
+                rest = seg
+            elif abs(r - omega_deg_s) < 1e-9 * max(1.0, abs(omega_deg_s)):
+                turning = seg
+        if rest is None or turning is None:
+            what = "at rest (U₇)" if rest is None else f"turning at ω = {omega_deg_s:g} °/s (U₈)"
+            raise DataError(campaign.source, "segments",
+                            f"7.2.5 needs, for axis {a} up, a rate segment {what}; none found",
+                            hint="`metro plan -s jjf2003 -i 7.2.5`, or set the option omega to a recorded rate")
+        out[a] = (rest, turning)
+    return out
+
+
+def p_matrix(campaign: Campaign, means: Means, omega_deg_s: float, sign: str) -> np.ndarray:
+    """p (3×3, zero diagonal) by eq. (12)/(13) with ω in rad/s."""
+    w = math.radians(omega_deg_s)
+    p = np.zeros((3, 3))
+    for j, a in enumerate(AXES):
+        rest, turning = rate_pairs(campaign, omega_deg_s)[a]
+        u7, u8 = means(rest)[1], means(turning)[1]
+        for i in range(3):
+            if i != j:
+                p[i, j] = F.rate_sensitivity_eq12(u7[i], u8[i], w, sign=sign)
+    return p
+
+
+def ideal_evaluation(campaign: Campaign, means: Means) -> dict[str, Any]:
+    """Every metric by the default evaluation, from given (exact) segment means (for ``expected``)."""
+    out: dict[str, Any] = {}
+    try:
+        fits = sweep_fits(campaign, means)
+        for j, d in fits.items():
+            for i, r in enumerate(AXES):
+                out[f"K_g{r}{j}"] = Q_(float(d["fits"][i].coef[0]), "")
+    except Exception:  # noqa: BLE001 - items not in this campaign
+        pass
+    for which, prefix_m, prefix_b, mu, bu in ((0, "g_", "B_g", G_UNIT, RATE_UNIT), (1, "K_a", "B_a", "", ACC_UNIT)):
+        try:
+            _, GB, _ = six_position(campaign, means, which)
+        except Exception:  # noqa: BLE001
+            continue
+        for i, r in enumerate(AXES):
+            out[f"{prefix_b}{r}"] = Q_(float(GB[i, 3]), bu)
+            for j, c in enumerate(AXES):
+                out[f"{prefix_m}{r}{c}"] = Q_(float(GB[i, j]), mu)
+    try:
+        p = p_matrix(campaign, means, 400.0, "model")
+        for i, r in enumerate(AXES):
+            for j, c in enumerate(AXES):
+                if i != j:
+                    out[f"p_{r}{c}"] = Q_(float(p[i, j]), P_UNIT)
+    except Exception:  # noqa: BLE001
+        pass
+    return out
+
+
+# ------------------------------------------------------------------------------ budget rows
+
+
+def _table_rate_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
+    eq = campaign.equipment_for("table")
+    if eq is None or eq.calibration is None or not eq.calibration.uncertainty.dimensionless:
+        warnings.append("no three-axis table with a relative rate uncertainty (equipment role \"table\", "
+                        "calibration U relative): u₁ (A.1.2.1) is missing from the budget")
+        return []
+    return [BudgetRow.from_calibration(f"three-axis table rate ({eq.describe()})", "u₁", eq.calibration,
+                                       sensitivity=sensitivity, note=note)]
+
+
+def _table_position_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
+    eq = campaign.equipment_for("table")
+    if eq is None or "position_accuracy" not in eq.properties:
+        warnings.append("no `position_accuracy` of the three-axis table (equipment role \"table\"): "
+                        "u₁ (A.2.2.1) is missing from the budget")
+        return []
+    acc = eq.prop("position_accuracy", "deg", source=campaign.source)
+    return [BudgetRow.type_b(f"three-axis table positioning ({eq.describe()})", "u₁", acc.to("rad"),
+                             distribution="uniform", sensitivity=sensitivity, note=note)]
+
+
+def _bits(campaign: Campaign, warnings: list[str]) -> int | None:
+    eq = campaign.equipment_for("acquisition")
+    if eq is None or "bits" not in eq.properties:
+        warnings.append("no acquisition `bits` (equipment role \"acquisition\"): u₂ (A.1.2.2) is missing "
+                        "from the budget")
+        return None
+    return int(eq.properties["bits"])
+
+
+def _relative_quant_row(campaign: Campaign, scale: float, warnings: list[str]) -> list[BudgetRow]:
+    """A.1.2.2: δ = 1/2^N relative, uniform, times the scale factor of the swept axis."""
+    n = _bits(campaign, warnings)
+    if n is None:
+        return []
+    return [BudgetRow.type_b(f"acquisition quantization, {n} bits (A.3)", "u₂", Q_(1.0 / 2**n, ""),
+                             distribution="uniform", sensitivity=Q_(abs(scale), ""),
+                             note="δ = 1/2^N relative to full scale")]
+
+
+def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warnings: list[str]) -> list[BudgetRow]:
+    """A.2.2.2: one LSB q = 2·FS/2^N of the output (half-width, uniform) in every mean; Σ|c_i| sensitivity."""
+    n = _bits(campaign, warnings)
+    if n is None:
+        return []
+    dev = campaign.device
+    if range_prop not in dev.properties:
+        warnings.append(f"no device `{range_prop}` (full scale): u₂ is missing from the budget")
+        return []
+    fs = dev.prop(range_prop, unit, source=campaign.source).to(unit).magnitude
+    q = 2.0 * float(fs) / 2**n
+    return [BudgetRow.type_b(f"acquisition quantization, {n} bits over ±{float(fs):g} (A.3)", "u₂", Q_(q, unit),
+                             distribution="uniform", sensitivity=csum, note="one LSB in each mean, Σ|cᵢ|")]
+
+
+# ------------------------------------------------------------------------------ procedures
+
+
+def _rates_option(opts: Mapping[str, Any]) -> list[float]:
+    from metro.core.units import parse_quantity
+
+    out = []
+    for t in str(opts["rates"]).split(","):
+        t = t.strip()
+        if not t:
+            continue
+        q = parse_quantity(t if any(ch.isalpha() or ch in "°/" for ch in t) else t + " deg/s",
+                           dimension="deg/s", field="option rates")
+        out.append(float(q.to("deg/s").magnitude))
+    return out
+
+
+def _sweep_steps(opts: Mapping[str, Any]) -> list[Step]:
+    steps = []
+    for a in AXES:
+        for r in _rates_option(opts):
+            steps.append(Step(f"rate-{a}-{r:g}", "rate",
+                              f"MIMU {a} axis up along the table axis (7.2.1.1 a), e), f)); table at {r:g} °/s; "
+                              "record ≥ 30 s after the rate is steady", Q_(30, "s"), Q_(0.01, "s"),
+                              {"axis": a, "rate": Q_(r, "deg/s")}))
+    return steps
+
+
+def _position_steps() -> list[Step]:
+    steps = []
+    for up in F.SIX_POSITIONS:
+        for h in HEADINGS:
+            steps.append(Step(f"pos{up}-h{h:g}", "position",
+                              f"MIMU {up} axis to the zenith, heading {h:g}° (7.2.2.1 a), appendix C); hold ≥ 30 s",
+                              Q_(30, "s"), Q_(0.01, "s"), {"up": up, "heading": Q_(h, "deg")}))
+    return steps
+
+
+_SWEEP_OPTIONS = (Option("rates", "-400, -200, -100, -50, 0, 50, 100, 200, 400", None,
+                         "rate points in °/s for each axis (7–11 including the maximum, 7.2.1.1 c))"),)
+
+
+def _opts_text(opts):
+    return {k: str(v) for k, v in opts.items()}
+
+
+def _fit_results(proc, campaign, fits, pairs, warnings) -> list[Result]:
+    results = []
+    for (i, j) in pairs:
+        d = fits[AXES[j]]
+        fit = d["fits"][i]
+        K = float(fit.coef[0])
+        Kjj = float(d["fits"][j].coef[0])
+        rows = _table_rate_row(campaign, Q_(abs(Kjj), ""), "input rate error scales the slope (A.1.2.1)", warnings)
+        rows += _relative_quant_row(campaign, Kjj, warnings)
+        rows.append(BudgetRow.type_a("repeatability: least-squares scatter of eq. (5)", "u₃",
+                                     Q_(float(fit.stderr[0]), ""), max(fit.dof, 1),
+                                     note=f"{len(d['X'])} rate points"))
+        metric = proc.metric_for(i, j)
+        budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
+        results.append(Result(metric, Q_(K, ""), budget.combined, budget,
+                              note=f"fitted bias b = {float(fit.coef[1]):.5g} °/s"))
+    return results
+
+
+def _kg_metric(i: int, j: int) -> Metric:
+    r, c = AXES[i], AXES[j]
+    if i == j:
+        return Metric(f"K_g{r}{c}", f"{r.upper()} gyro scale factor", f"K_g{r}{c}", "", "7.2.1.2", "eq. (5)")
+    return Metric(f"K_g{r}{c}", f"gyro cross-coupling ({c.upper()} input → {r.upper()} gyro)", f"K_g{r}{c}", "",
+                  "7.2.3.2", "K̄_g, eq. (5)")
+
+
+def _fit_plot_table(fits) -> tuple[PlotSpec, TableSpec]:
+    series, rows = [], []
+    for j, d in fits.items():
+        i = AXES.index(j)
+        fit = d["fits"][i]
+        series.append({"label": f"{j} axis: residual of eq. (5)", "x": d["X"].tolist(),
+                       "y": np.asarray(fit.residuals).tolist(), "style": "o-"})
+        for X, U, sid in zip(d["X"], d["U"], d["segments"]):
+            rows.append([j, f"{X:g}", f"{U[0]:.6g}", f"{U[1]:.6g}", f"{U[2]:.6g}", sid])
+    plot = PlotSpec("sf_residuals", "Residuals of the eq. (5) fits", "input rate (°/s)", "residual (°/s)", series)
+    table = TableSpec("rate_points", "Mean outputs at each rate point, eq. (3)",
+                      ["axis", "rate (°/s)", "gx (°/s)", "gy (°/s)", "gz (°/s)", "segment"], rows)
+    return plot, table
+
+
+def _sweep_warnings(campaign: Campaign, fits) -> list[str]:
+    w = []
+    rng = campaign.device.properties.get("gyro_range")
+    for j, d in fits.items():
+        if len(d["X"]) > 11:
+            w.append(f"axis {j}: {len(d['X'])} rate points; 7.2.1.1 c) asks for 7–11")
+        if rng is not None:
+            top = float(rng.to("deg/s").magnitude)
+            if np.max(np.abs(d["X"])) < 0.999 * top:
+                w.append(f"axis {j}: the largest rate {np.max(np.abs(d['X'])):g} °/s is below the measuring "
+                         f"range {top:g} °/s; 7.2.1.1 c) includes the maximum input rate")
+    return w
+
+
+class GyroScaleFactor(Procedure):
+    """JJF 2003—2022 7.2.1 陀螺标度因数: K_gxx, K_gyy, K_gzz by least squares, eq. (3)–(5).
+
+    Each axis is swept over 7–11 rates (≥ 30 s each); U_k = mean output (3), [K b] = (HᵀH)⁻¹HᵀU (5).
+    Budget (appendix A.1): u₁ table rate (relative, × K), u₂ quantization δ/√3 (× K), u₃ the
+    standard error of K from the fit; k = 2, U rounded up.
+    """
+
+    standard = STANDARD
+    item = "7.2.1"
+    title = "Gyro scale factors (陀螺标度因数)"
+    clause = "7.2.1"
+    metrics = tuple(_kg_metric(i, i) for i in range(3))
+    requires = (RATE_SEG,)
+    equipment = EQUIPMENT
+    options = _SWEEP_OPTIONS
+    station = STATION
+
+    @staticmethod
+    def metric_for(i: int, j: int) -> Metric:
+        return _kg_metric(i, j)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return _sweep_steps(options)
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        means, _ = data_means(campaign)
+        fits = sweep_fits(campaign, means)
+        warnings = _sweep_warnings(campaign, fits)
+        results = _fit_results(self, campaign, fits, [(i, i) for i in range(3)], warnings)
+        plot, table = _fit_plot_table(fits)
+        segs = [s for d in fits.values() for s in d["segments"]]
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=[plot], tables=[table],
+                       warnings=_unique(warnings), segments=segs, options=_opts_text(opts))
+
+
+class GyroCrossCoupling(Procedure):
+    """JJF 2003—2022 7.2.3 陀螺交叉耦合: the full K̄_g matrix (7.2.3.2) from the three sweeps of 7.2.1.
+
+    Column j of K̄_g holds the eq. (5) slopes of the three gyro outputs while the table turns
+    about axis j; the off-diagonal terms are the cross-coupling coefficients.  Budget as A.4
+    (the same model as the scale factor; u₁ and u₂ relative to K_jj of the swept axis).
+    """
+
+    standard = STANDARD
+    item = "7.2.3"
+    title = "Gyro cross-coupling (陀螺交叉耦合系数)"
+    clause = "7.2.3"
+    metrics = tuple(_kg_metric(i, j) for i in range(3) for j in range(3))
+    requires = (RATE_SEG,)
+    equipment = EQUIPMENT
+    options = _SWEEP_OPTIONS
+    station = STATION
+
+    @staticmethod
+    def metric_for(i: int, j: int) -> Metric:
+        return _kg_metric(i, j)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return _sweep_steps(options)
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        means, _ = data_means(campaign)
+        fits = sweep_fits(campaign, means)
+        warnings = _sweep_warnings(campaign, fits)
+        results = _fit_results(self, campaign, fits, [(i, j) for i in range(3) for j in range(3)], warnings)
+        K = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
+        table = TableSpec("K_g", "K̄_g (rows: gyro x, y, z; columns: input about x, y, z)",
+                          ["", "x", "y", "z"], [[AXES[i]] + [f"{K[i, j]:.6g}" for j in range(3)] for i in range(3)])
+        segs = [s for d in fits.values() for s in d["segments"]]
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
+                       warnings=_unique(warnings), segments=segs, options=_opts_text(opts))
+
+
+def _six_budget_rows(campaign, u_means, segs, which, col, i, M, warnings, unit, range_prop, per_gn: bool):
+    """Appendix A.2/A.3 rows for entry (i, col) of [M | B] from the six-position data."""
+    S = F.six_position_sensitivities()  # 6 × 4
+    c = S[:, col]
+    u6 = []
+    for up in F.SIX_POSITIONS:
+        u0 = u_means(segs[(up, 0.0)])[which][i]
+        u1 = u_means(segs[(up, 180.0)])[which][i]
+        u6.append(0.5 * math.hypot(u0, u1))
+    out_unit = unit + ("/gn" if per_gn else "")
+    csum = Q_(float(np.sum(np.abs(c))), "1/gn" if per_gn else "")
+    uA = float(np.sum(np.abs(c) * np.array(u6)))
+    rows = [BudgetRow.type_a("repeatability of the position means, Σ|cᵢ|·u(Uᵢ) (A.2.2.3)", "u₃",
+                             Q_(uA, out_unit), BATCHES - 1,
+                             note=f"{BATCHES} batch means per mounting; linear sum as appendix A")]
+    rows += _abs_quant_row(campaign, range_prop, unit, csum, warnings)
+    off = [abs(M[i, k]) for k in range(3) if k != col] if col < 3 else [abs(M[i, k]) for k in range(3)]
+    tilt = max(off) if off else 0.0
+    if tilt > 0:
+        sens = Q_(tilt, f"{out_unit}/rad") if per_gn else Q_(tilt, f"{unit}/rad")
+        rows += _table_position_row(campaign, sens, "a tilt δθ puts δθ·gn on the other axes", warnings)
+    return rows
+
+
+def _unique(seq):
+    return list(dict.fromkeys(seq))
+
+
+class GyroBiasGSensitivity(Procedure):
+    """JJF 2003—2022 7.2.2 陀螺零偏、零偏加速度敏感系数: B_g and the 3×3 g matrix, eq. (6)–(8).
+
+    Twelve mountings (six axis-up/axis-down positions, each at heading 0° and 180°); U_i is the
+    pair mean; Ḡ = U·Āᵀ(ĀĀᵀ)⁻¹ = [G | B].  Option ``earth_rate``: ``no`` (the standard) or
+    ``yes`` (subtract the vertical earth rate K_g[:, j]·Ω·sin φ that eq. (7) puts into column j;
+    a deviation, stated in the warnings).  Budget (A.2, A.3): u₃ repeatability Σ|cᵢ|u(Uᵢ),
+    u₂ quantization (one LSB per mean), u₁ table positioning (tilt).
+    """
+
+    standard = STANDARD
+    item = "7.2.2"
+    title = "Gyro bias and g-sensitivity (陀螺零偏、零偏加速度敏感系数)"
+    clause = "7.2.2"
+    metrics = tuple(Metric(f"B_g{r}", f"{r.upper()} gyro bias", f"B_g{r}", RATE_UNIT, "7.2.2.2", "eq. (8)")
+                    for r in AXES) + tuple(
+        Metric(f"g_{r}{c}", f"gyro g-sensitivity ({c.upper()} acceleration → {r.upper()} gyro)", f"g_{r}{c}",
+               G_UNIT, "7.2.2.2", "eq. (8)") for r in AXES for c in AXES)
+    requires = (POSITION_SEG,)
+    equipment = EQUIPMENT
+    options = (Option("earth_rate", "no", None, "yes: remove the earth-rate leak from the g diagonal "
+                      "(a deviation from 7.2.2; needs site.latitude)"),)
+    station = STATION
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return _position_steps()
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        flag = str(opts["earth_rate"]).strip().lower()
+        if flag not in ("yes", "no", "true", "false", "on", "off"):
+            raise ProcedureError(f"7.2.2: option earth_rate must be yes or no, got {opts['earth_rate']!r}")
+        correct = flag in ("yes", "true", "on")
+        means, u_means = data_means(campaign)
+        U, GB, seg_ids = six_position(campaign, means, 0)
+        segs = positions(campaign)
+        warnings: list[str] = []
+        G = GB[:, :3].copy()
+        leak = None
+        if correct:
+            lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+            try:
+                fits = sweep_fits(campaign, means)
+                Kg = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
+                src = "K̄_g from the campaign's rate sweeps (7.2.3)"
+            except (DataError, ProcedureError):
+                Kg = np.eye(3)
+                src = "K̄_g taken as the identity (no complete rate sweeps in the campaign)"
+            leak = F.earth_rate_leak(Kg, lat, EARTH_RATE_DEG_S)
+            G = G - leak
+            warnings.append(f"DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = "
+                            f"{EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600:.4f} °/h at φ = {lat:g}°) "
+                            f"that eq. (7) puts into the g matrix was removed, using {src}")
+        results = []
+        for i, r in enumerate(AXES):
+            rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT, "gyro_range", False)
+            m = self.metrics[i]
+            b = UncertaintyBudget(m.symbol, RATE_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
+            results.append(Result(m, Q_(float(GB[i, 3]), RATE_UNIT), b.combined, b))
+        for i, r in enumerate(AXES):
+            for j, c in enumerate(AXES):
+                rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
+                m = self.metrics[3 + 3 * i + j]
+                b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
+                note = ""
+                if leak is not None and i == j:
+                    note = f"earth-rate leak {leak[i, j]:.3g} (°/s)/gn removed (deviation)"
+                results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note))
+        table = TableSpec("six_positions", "Pair-averaged gyro outputs U_g (°/s), eq. (6)",
+                          ["", *F.SIX_POSITIONS], [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
+                                                   for i in range(3)])
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
+                       warnings=_unique(warnings), segments=seg_ids, options=_opts_text(opts))
+
+
+class AccelSixPosition(Procedure):
+    """JJF 2003—2022 7.2.4 加速度计偏值、标度因数、交叉耦合: K̄_a = U_a·Āᵀ(ĀĀᵀ)⁻¹ = [K_a | B_a],
+    eq. (9)–(11), from the same twelve mountings as 7.2.2.
+
+    Diagonal of K_a: scale factors; off-diagonal: cross-coupling; B_a: biases (gn).  Budget as
+    7.2.2 (u₃ repeatability, u₂ quantization over the accelerometer range, u₁ table tilt).
+    """
+
+    standard = STANDARD
+    item = "7.2.4"
+    title = "Accelerometer biases, scale factors and cross-coupling (加速度计偏值、标度因数、交叉耦合)"
+    clause = "7.2.4"
+    metrics = tuple(Metric(f"B_a{r}", f"{r.upper()} accelerometer bias", f"B_a{r}", ACC_UNIT, "7.2.4.2", "eq. (11)")
+                    for r in AXES) + tuple(
+        Metric(f"K_a{r}{c}", (f"{r.upper()} accelerometer scale factor" if r == c else
+                              f"accelerometer cross-coupling ({c.upper()} input → {r.upper()} accelerometer)"),
+               f"K_a{r}{c}", "", "7.2.4.2", "eq. (11)") for r in AXES for c in AXES)
+    requires = (POSITION_SEG,)
+    equipment = EQUIPMENT
+    options = ()
+    station = STATION
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return _position_steps()
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        means, u_means = data_means(campaign)
+        U, KB, seg_ids = six_position(campaign, means, 1)
+        segs = positions(campaign)
+        warnings: list[str] = []
+        results = []
+        for i in range(3):
+            rows = _six_budget_rows(campaign, u_means, segs, 1, 3, i, KB[:, :3], warnings, ACC_UNIT, "accel_range",
+                                    False)
+            m = self.metrics[i]
+            b = UncertaintyBudget(m.symbol, ACC_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
+            results.append(Result(m, Q_(float(KB[i, 3]), ACC_UNIT), b.combined, b))
+        for i in range(3):
+            for j in range(3):
+                rows = _six_budget_rows(campaign, u_means, segs, 1, j, i, KB[:, :3], warnings, ACC_UNIT,
+                                        "accel_range", True)
+                m = self.metrics[3 + 3 * i + j]
+                b = UncertaintyBudget(m.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
+                results.append(Result(m, Q_(float(KB[i, j]), ""), b.combined, b))
+        table = TableSpec("six_positions", "Pair-averaged accelerometer outputs U_a (gn), eq. (9)",
+                          ["", *F.SIX_POSITIONS], [[f"a{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
+                                                   for i in range(3)])
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
+                       warnings=_unique(warnings), segments=seg_ids, options=_opts_text(opts))
+
+
+class AccelRateSensitivity(Procedure):
+    """JJF 2003—2022 7.2.5 加速度计角速度灵敏系数: the six off-diagonal p terms, eq. (12), (13).
+
+    Axis j up on the rate table: U₇ at rest, U₈ turning at ω; p_ij = (U₈ − U₇)/ω² with ω in rad/s.
+    Eq. (12) prints (U₇ − U₈)/ω², the opposite sign to the model eq. (2): metro follows the
+    model by default (option ``sign`` = ``model`` | ``as-printed``; docs/interpretations.md).
+    Budget (A.5): u₃ = |c|(u(U₇) + u(U₈)), u₂ quantization (one LSB in each mean), u₁ table rate
+    (c(ω) = −2p/ω, so 2|p|·u_rel).
+    """
+
+    standard = STANDARD
+    item = "7.2.5"
+    title = "Accelerometer angular-rate sensitivity (加速度计角速度灵敏系数)"
+    clause = "7.2.5"
+    metrics = tuple(Metric(f"p_{r}{c}", f"accelerometer rate sensitivity ({c.upper()} rate → {r.upper()} "
+                           "accelerometer)", f"p_{r}{c}", P_UNIT, "7.2.5.2", "eq. (12)")
+                    for r in AXES for c in AXES if r != c)
+    requires = (RATE_SEG,)
+    equipment = EQUIPMENT
+    options = (Option("omega", "400 deg/s", "deg/s", "table rate ω of 7.2.5.1 b)"),
+               Option("sign", "model", None, "model: p = (U₈ − U₇)/ω² (eq. (2)); as-printed: (U₇ − U₈)/ω² (eq. (12))"))
+    station = STATION
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        w = float(self.option_values(options)["omega"].to("deg/s").magnitude)
+        steps = []
+        for a in AXES:
+            for r in (0.0, w):
+                steps.append(Step(f"rate-{a}-{r:g}", "rate", f"MIMU {a} accelerometer axis up on the table "
+                                  f"(7.2.5.1); table at {r:g} °/s; record ≥ 30 s", Q_(30, "s"), Q_(0.01, "s"),
+                                  {"axis": a, "rate": Q_(r, "deg/s")}))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        sign = str(opts["sign"]).strip().lower()
+        if sign not in ("model", "as-printed"):
+            raise ProcedureError(f"7.2.5: option sign must be model or as-printed, got {opts['sign']!r}")
+        w_deg = float(opts["omega"].to("deg/s").magnitude)
+        if w_deg == 0:
+            raise ProcedureError("7.2.5: ω must not be zero (eq. (12) divides by ω²)")
+        w = math.radians(w_deg)
+        means, u_means = data_means(campaign)
+        pairs = rate_pairs(campaign, w_deg)
+        p = p_matrix(campaign, means, w_deg, sign)
+        warnings: list[str] = []
+        if sign == "as-printed":
+            warnings.append("p computed with eq. (12) as printed, (U₇ − U₈)/ω²: opposite sign to the model of eq. (2)")
+        results = []
+        c = 1.0 / w**2
+        for m in self.metrics:
+            i, j = AXES.index(m.key[2]), AXES.index(m.key[3])
+            rest, turning = pairs[AXES[j]]
+            u7, u8 = u_means(rest)[1][i], u_means(turning)[1][i]
+            rows = [BudgetRow.type_a("repeatability of U₇ and U₈, |c|(u(U₇) + u(U₈)) (A.5.2.3)", "u₃",
+                                     Q_(c * (u7 + u8), P_UNIT), BATCHES - 1)]
+            rows += _abs_quant_row(campaign, "accel_range", ACC_UNIT, Q_(2 * c, "1/(rad/s)**2"), warnings)
+            rows += _table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT), "c(ω) = −2p/ω (A.12)", warnings)
+            b = UncertaintyBudget(m.symbol, P_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
+            results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b))
+        table = TableSpec("p", "p (rows: accelerometer x, y, z; columns: rate about x, y, z), gn/(rad/s)²",
+                          ["", "x", "y", "z"], [[AXES[i]] + [f"{p[i, j]:.5g}" for j in range(3)] for i in range(3)])
+        segs = [s.id for pr in pairs.values() for s in pr]
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
+                       warnings=_unique(warnings), segments=segs, options=_opts_text(opts))
+
+
+PROCEDURES = (GyroScaleFactor, GyroBiasGSensitivity, GyroCrossCoupling, AccelSixPosition, AccelRateSensitivity)

@@ -1,0 +1,394 @@
+"""JJF 2003—2022 (MIMU): appendix A digits, hand-worked formulas, simulated MIMUs with known
+full matrices, the earth-rate and eq. (12) readings, bad input, and the certificate."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from metro.core.errors import DataError, ProcedureError
+from metro.core.runner import merge_steps, run_items
+from metro.core.units import Q_
+from metro.instruments.mimu import EARTH_RATE_DEG_S, MimuStation, MimuTruth
+from metro.plugins.jjf2003 import formulas as F
+from metro.plugins.jjf2003.procedures import (
+    AccelRateSensitivity,
+    AccelSixPosition,
+    GyroBiasGSensitivity,
+    GyroCrossCoupling,
+    GyroScaleFactor,
+)
+
+ALL = ["7.2.1", "7.2.2", "7.2.3", "7.2.4", "7.2.5"]
+
+
+# ------------------------------------------------------------------------------ appendix A
+
+
+@pytest.mark.parametrize("name, uc, U", [
+    ("A.1 scale factor", "2.12e-04", "0.00043"),
+    ("A.2 bias", "2.68e-04", "0.000536"),
+    ("A.3 g-sensitivity", "5.02e-03", "0.011"),
+    ("A.4 cross-coupling", "2.12e-04", "0.00043"),
+    ("A.5 rate sensitivity p", "5.02e-03", "0.011"),
+])
+def test_appendix_a_reproduced_digit_for_digit(name, uc, U):
+    ex = F.appendix_a_examples()[name]
+    assert ex["u_c_text"] == uc
+    assert ex["U_text"] == U
+
+
+def test_appendix_a_inputs_and_rounding_direction():
+    assert f"{F.quantization_u2(12):.2e}" == "1.41e-04"  # A.1.2.2
+    assert F.linear_sum_u3([3.41e-5] * 6) == pytest.approx(2.046e-4, rel=1e-12)  # A.2.2.3
+    ex = F.appendix_a_examples()["A.1 scale factor"]
+    # 2·u_c = 4.23×10⁻⁴: half-even would print 4.2×10⁻⁴; the appendix rounds up to 4.3×10⁻⁴
+    assert ex["U"] == pytest.approx(4.2309e-4, rel=1e-4)
+    assert F.appendix_a_examples()["A.3 g-sensitivity"]["U"] == pytest.approx(1.0046e-2, rel=1e-4)
+
+
+# ------------------------------------------------------------------------------ hand-worked
+
+
+def test_eq5_hand_worked():
+    # U = 2X + 0.5 exactly on 7 points → K = 2, b = 0.5
+    X = np.array([-300, -200, -100, 0, 100, 200, 300], float)
+    fit = F.scale_factor_eq5(X, 2 * X + 0.5)
+    assert fit.coef == pytest.approx([2.0, 0.5], abs=1e-12)
+    # three points (−1, 0), (0, 1), (1, 1): K = 1/2, b = 2/3 (by hand from the normal equations)
+    fit = F.scale_factor_eq5([-1, 0, 1], [0, 1, 1])
+    assert fit.coef == pytest.approx([0.5, 2 / 3], abs=1e-12)
+
+
+def test_eq3_mean():
+    assert F.mean_output_eq3([1.0, 2.0, 6.0]) == 3.0
+
+
+def test_eq7_hand_worked_and_appendix_simplifications():
+    # outputs of one gyro row: U = (g·a + B) at the six positions
+    gx, gy, gz, B = 0.3, -0.2, 0.1, 0.05
+    U = np.array([[B + gx, B - gx, B + gy, B - gy, B + gz, B - gz]])
+    GB = F.six_position_eq7(U)
+    assert GB[0] == pytest.approx([gx, gy, gz, B], abs=1e-14)
+    # (A.4) B = mean of the six; (A.6) g_xx = (U1 − U2)/2
+    S = F.six_position_sensitivities()
+    assert S[:, 3] == pytest.approx([1 / 6] * 6)
+    assert S[:, 0] == pytest.approx([0.5, -0.5, 0, 0, 0, 0])
+
+
+def test_pair_average():
+    assert F.pair_average([1.0, 2.0], [3.0, 6.0]) == pytest.approx([2.0, 4.0])
+
+
+def test_eq12_sign_model_versus_as_printed():
+    # model eq. (2): a'_y = … + p_yx ω_x²; with p_yx = 1e-3 and ω = 2 rad/s, U8 − U7 = 4e-3
+    assert F.rate_sensitivity_eq12(0.010, 0.014, 2.0) == pytest.approx(1e-3)
+    assert F.rate_sensitivity_eq12(0.010, 0.014, 2.0, sign="as-printed") == pytest.approx(-1e-3)
+    with pytest.raises(ValueError):
+        F.rate_sensitivity_eq12(0.0, 1.0, 0.0)
+
+
+def test_earth_rate_leak_hand_worked():
+    leak = F.earth_rate_leak(np.eye(3), 30.0, 2.0)
+    assert leak == pytest.approx(np.eye(3) * 1.0)
+
+
+def test_singular_designs_are_refused():
+    with pytest.raises(ValueError):
+        F.scale_factor_eq5([100.0] * 7, np.arange(7.0))
+    A = F.six_position_design()
+    A[2] = 0.0  # no Z up / Z down positions
+    with pytest.raises(ValueError, match="singular"):
+        F.six_position_eq7(np.zeros((3, 6)), A)
+
+
+# ------------------------------------------------------------------------------ simulated MIMU
+
+
+def _campaign(truth=None, lat=39.98, items=ALL):
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    procs = [pm.procedure("jjf2003", i) for i in items]
+    st = MimuStation(truth=truth or MimuTruth(), latitude_deg=lat)
+    return pm, st.acquire(merge_steps([c().sequence(c.option_values({})) for c in procs]))
+
+
+@pytest.fixture(scope="module")
+def default_run():
+    pm, camp = _campaign()
+    return camp, run_items(pm, "jjf2003", ALL, campaign=camp)
+
+
+def test_full_matrices_recovered_within_uncertainty(default_run):
+    camp, rec = default_run
+    n = 0
+    for o in rec.outcomes:
+        for r in o.results:
+            key, unit = r.metric.key, r.metric.unit
+            v = r.value.to(unit).magnitude
+            assert abs(v - camp.expected[key].to(unit).magnitude) <= r.U.magnitude, (o.item, key)
+            if not key.startswith("g_"):  # g: the standard's value carries the earth-rate leak
+                assert abs(v - camp.truth[key].to(unit).magnitude) <= r.U.magnitude, (o.item, key)
+            n += 1
+    assert n == 3 + 12 + 9 + 12 + 6
+
+
+def test_truth_is_non_trivial_and_resolved(default_run):
+    """Every off-diagonal K_g, K_a and p term is resolved: |value| > U (a zero matrix would fail)."""
+    camp, rec = default_run
+    for o in rec.outcomes:
+        for r in o.results:
+            k = r.metric.key
+            if (k.startswith(("K_g", "K_a")) and k[-1] != k[-2]) or k.startswith("p_"):
+                assert abs(r.value.magnitude) > r.U.magnitude, k
+
+
+def test_scale_factor_coverage_over_seeds():
+    """K̄_g and p against truth over 6 seeds: at least 95 % of the 90 checks within U."""
+    inside, total = 0, 0
+    for seed in range(6):
+        pm, camp = _campaign(MimuTruth(seed=100 + seed, bits=16), items=["7.2.3", "7.2.5"])
+        rec = run_items(pm, "jjf2003", ["7.2.3", "7.2.5"], campaign=camp)
+        for o in rec.outcomes:
+            for r in o.results:
+                t = camp.truth[r.metric.key].to(r.metric.unit).magnitude
+                inside += abs(r.value.magnitude - t) <= r.U.magnitude
+                total += 1
+    assert inside >= 0.95 * total
+
+
+def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run):
+    camp, rec = default_run
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    plain = rec.outcomes[1]
+    corr = run_items(pm, "jjf2003", ["7.2.2"], campaign=camp, options={"earth_rate": "yes"}).outcomes[0]
+    assert any("DEVIATION" in w for w in corr.warnings)
+    assert not any("DEVIATION" in w for w in plain.warnings)
+    lat = 39.98
+    K = np.array(MimuTruth().K_g)
+    for i, r in enumerate("xyz"):
+        key = f"g_{r}{r}"
+        d = plain.result(key).value.magnitude - corr.result(key).value.magnitude
+        # the removed leak is K_g[i, i]·Ω·sin φ, with K_g from the campaign's sweeps
+        assert d == pytest.approx(K[i, i] * EARTH_RATE_DEG_S * math.sin(math.radians(lat)), rel=2e-3)
+        assert corr.result(key).note
+    # the uncorrected standard value sits off the truth by the leak; the corrected one on it (noise-free means)
+    g_true = MimuTruth().G_deg_s_per_gn[0][0]
+    assert camp.expected["g_xx"].magnitude - g_true == pytest.approx(
+        K[0, 0] * EARTH_RATE_DEG_S * math.sin(math.radians(lat)), rel=1e-6)
+
+
+def test_p_sign_follows_model_by_default(default_run):
+    camp, rec = default_run
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    p_model = rec.outcomes[4]
+    p_printed = run_items(pm, "jjf2003", ["7.2.5"], campaign=camp, options={"sign": "as-printed"}).outcomes[0]
+    for r in p_model.results:
+        assert np.sign(r.value.magnitude) == np.sign(camp.truth[r.metric.key].magnitude)
+        assert p_printed.result(r.metric.key).value.magnitude == pytest.approx(-r.value.magnitude)
+    assert any("as printed" in w for w in p_printed.warnings)
+
+
+def test_budgets_follow_appendix_a_structure(default_run):
+    camp, rec = default_run
+    b = rec.outcomes[0].result("K_gxx").budget
+    assert [r.symbol for r in b.rows] == ["u₁", "u₂", "u₃"]
+    assert b.round_mode == "up" and b.k == 2.0
+    # u₁: table U = 2e-4, k = 2 → 1e-4 relative, times K
+    assert b.rows[0].contribution.magnitude == pytest.approx(1e-4 * rec.outcomes[0].result("K_gxx").value.magnitude)
+    for o in rec.outcomes[1:]:
+        for r in o.results:
+            assert {"A", "B"} <= {row.type for row in r.budget.rows}
+
+
+def test_twelve_bit_acquisition_quantization_row():
+    pm, camp = _campaign(MimuTruth(bits=12, seed=9), items=["7.2.1"])
+    rec = run_items(pm, "jjf2003", ["7.2.1"], campaign=camp)
+    r = rec.outcomes[0].result("K_gyy")
+    u2 = [row for row in r.budget.rows if row.symbol == "u₂"][0]
+    assert f"{u2.standard_uncertainty.magnitude:.2e}" == "1.41e-04"  # A.1.2.2
+    assert abs(r.value.magnitude - 0.9963) <= r.U.magnitude
+
+
+def test_procedure_classes_are_registered(pm):
+    for cls in (GyroScaleFactor, GyroBiasGSensitivity, GyroCrossCoupling, AccelSixPosition, AccelRateSensitivity):
+        assert pm.procedure("jjf2003", cls.item) is cls
+        assert cls.station == "simulated-mimu"
+    assert pm.station("simulated-mimu")
+
+
+# ------------------------------------------------------------------------------ bad input
+
+
+def _without(camp, drop):
+    import attrs
+
+    return attrs.evolve(camp, segments=[s for s in camp.segments if not drop(s)])
+
+
+def test_missing_position_is_a_clear_error(default_run):
+    camp, _ = default_run
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    bad = _without(camp, lambda s: s.id == "pos-y-h180")
+    for item in ("7.2.2", "7.2.4"):
+        with pytest.raises(DataError, match=r"-y up, heading 180"):
+            run_items(pm, "jjf2003", [item], campaign=bad)
+
+
+def test_axis_with_too_few_rates(default_run):
+    camp, _ = default_run
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    bad = _without(camp, lambda s: s.id in ("rate-z-50", "rate-z--50", "rate-z-100"))
+    with pytest.raises(DataError, match="axis z is swept with 6 rate"):
+        run_items(pm, "jjf2003", ["7.2.1"], campaign=bad)
+
+
+def test_position_held_under_30_s():
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    st = MimuStation(duration_scale=0.5)
+    proc = pm.procedure("jjf2003", "7.2.4")
+    camp = st.acquire(proc().sequence({}))
+    with pytest.raises(DataError, match="at least 30 s"):
+        run_items(pm, "jjf2003", ["7.2.4"], campaign=camp)
+
+
+def test_bad_options():
+    pm, camp = _campaign(items=["7.2.5"])
+    with pytest.raises(ProcedureError, match="sign"):
+        run_items(pm, "jjf2003", ["7.2.5"], campaign=camp, options={"sign": "maybe"})
+    with pytest.raises(DataError, match="ω = 123"):
+        run_items(pm, "jjf2003", ["7.2.5"], campaign=camp, options={"omega": "123 deg/s"})
+
+
+# ------------------------------------------------------------------------------ files, CLI, certificate
+
+
+def write_mimu_campaign(root: Path, camp, drop=(), shorten=()) -> Path:
+    """Write the campaign's segments as CSV files and a manifest (docs/standards/jjf2003.md layout)."""
+    root.mkdir(parents=True, exist_ok=True)
+    lines = [
+        'format = "metro-campaign/1"', "", "[campaign]", 'id = "MIMU-T-1"', 'customer = "Example Nav Co."',
+        'customer_address = "1 Test Road"', 'laboratory = "Metro Lab"', 'laboratory_address = "2 Lab Street"',
+        'operator = "A. Tester"', 'checker = "B. Checker"', 'issuer = "C. Issuer"', 'issuer_title = "head"',
+        'received = "2026-11-01"', "", "[device]", 'id = "MIMU-7"', 'manufacturer = "Acme"', 'model = "IMU-1"',
+        'serial = "0007"', 'technology = "mems"', 'output = "rate"', 'gyro_range = "400 °/s"',
+        'accel_range = "8 gn"', "", "[environment]", 'temperature = "20.1 °C"', 'humidity = "40 %"', "",
+        "[site]", 'latitude = "39.98°"', "", "[[equipment]]", 'id = "TBL-1"', 'role = "table"',
+        'model = "three-axis table"', 'position_accuracy = "10″"', "[equipment.calibration]",
+        'certificate = "CAL-TBL-1"', 'U = "2e-4"', "k = 2", "", "[[equipment]]", 'id = "DAQ-1"',
+        'role = "acquisition"', 'model = "16-bit DAQ"', "bits = 16", "",
+    ]
+    for seg in camp.segments:
+        if seg.id in drop:
+            continue
+        cols = seg.columns()
+        n = len(cols["gx"][0])
+        if seg.id in shorten:
+            n = n // 2
+        fname = f"{seg.id}.csv"
+        names = ["gx", "gy", "gz", "ax", "ay", "az"]
+        header = ",".join(f"{c} [{'°/s' if c.startswith('g') else 'gn'}]" for c in names)
+        data = np.column_stack([cols[c][0][:n] for c in names])
+        body = "\n".join(",".join(f"{v:.9g}" for v in row) for row in data)
+        (root / fname).write_text(header + "\n" + body + "\n", encoding="utf-8")
+        lines += ["[[segments]]", f'id = "{seg.id}"', f'kind = "{seg.kind}"', f'file = "{fname}"',
+                  'sample_interval = "0.01 s"', "[segments.conditions]"]
+        for k, v in seg.conditions.items():
+            text = f"{v.magnitude:g} {'°/s' if k == 'rate' else '°'}" if hasattr(v, "magnitude") else str(v)
+            lines.append(f'{k} = "{text}"')
+        lines.append("")
+    (root / "manifest.toml").write_text("\n".join(lines), encoding="utf-8")
+    return root / "manifest.toml"
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory, default_run):
+    camp, _ = default_run
+    return camp, tmp_path_factory.mktemp("mimu")
+
+
+def test_cli_campaign_writes_certificate(files, run_cli, tmp_path):
+    import docx
+
+    camp, root = files
+    manifest = write_mimu_campaign(root / "good", camp)
+    out = tmp_path / "cert.docx"
+    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", ",".join(ALL), "--data", str(manifest),
+                                "--report", str(out), "--no-progress", "--json")
+    assert code == 0, err
+    import json
+
+    doc = json.loads(stdout)
+    kxx = [r for r in doc["results"] if r["key"] == "K_gxx"][0]
+    assert abs(kxx["value"] - 1.0125) <= kxx["U"]
+    d = docx.Document(str(out))
+    text = "\n".join(p.text for p in d.paragraphs)
+    cells = [[c.text for c in row.cells] for t in d.tables for row in t.rows]
+    flat = "\n".join(" | ".join(r) for r in cells)
+    for word in ("Example Nav Co.", "1 Test Road", "Metro Lab", "A. Tester", "B. Checker", "C. Issuer",
+                 "2026-11-01", "CAL-TBL-1", "0007", "20.1"):
+        assert word in flat + text, word
+    assert "SIMULATED" not in text
+    # the g and p matrices laid out as 3×3 tables (header + 3 rows of x, y, z)
+    mats = [t for t in d.tables if [c.text for c in t.rows[0].cells] == ["", "x", "y", "z"]]
+    assert len(mats) == 8  # K_g, K_a, g, p: values and U each
+    p_vals = mats[6]
+    assert [p_vals.rows[i].cells[i].text for i in range(1, 4)] == ["0", "0", "0"]
+    for sec in ("1. 标度因数", "2. 零偏", "3. 陀螺交叉耦合系数", "4. 加速度计交叉耦合系数", "5. 陀螺加速度敏感系数",
+                "6. 加速度计角速度灵敏系数"):
+        assert sec in text
+
+
+@pytest.mark.parametrize("drop, shorten, item, message", [
+    (("pos+z-h0",), (), "7.2.2", "missing"),
+    (("rate-x-200", "rate-x--200", "rate-x-50"), (), "7.2.1", "axis x is swept with 6 rate"),
+    ((), ("pos-x-h0",), "7.2.4", "30 s"),
+])
+def test_cli_bad_campaigns_write_nothing(files, run_cli, tmp_path, drop, shorten, item, message):
+    camp, root = files
+    manifest = write_mimu_campaign(root / f"bad-{item}-{len(drop)}", camp, drop=drop, shorten=shorten)
+    out = tmp_path / "cert.docx"
+    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", item, "--data", str(manifest), "--report", str(out),
+                                "--no-progress")
+    assert code == 2
+    assert message in err
+    assert not out.exists()
+
+
+def test_certificate_template_is_reproducible(tmp_path):
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "plugins" / "jjf2003" / "templates" / "make_certificate.py"
+    spec = importlib.util.spec_from_file_location("make_certificate", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    mod.main([str(tmp_path / "c.docx")])
+    assert (tmp_path / "c.docx").read_bytes() == path.with_name("certificate.docx").read_bytes()
+
+
+def test_singular_six_position_design_is_a_procedure_error(default_run, monkeypatch):
+    """A design that does not span the axes (here: the Z positions zeroed) is refused with a
+    clear error, not a numpy exception."""
+    camp, _ = default_run
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    degenerate = F.six_position_design()
+    degenerate[2] = 0.0
+    monkeypatch.setattr(F, "six_position_design", lambda: degenerate.copy())
+    with pytest.raises(ProcedureError, match="singular"):
+        run_items(pm, "jjf2003", ["7.2.4"], campaign=camp)
