@@ -8,6 +8,8 @@ distribution.  Fixtures:
 * ``metro_pm_factory`` — ``metro_pm_factory(*plugins)`` → such a manager with the given
   plugin objects (modules or instances) added under their ``__name__``;
 * ``simulated_station`` — ``simulated_station(**options)`` → the built-in simulated station;
+* ``metro_station`` — ``metro_station(name, **options)`` → any station a built-in plugin
+  registers, by name (e.g. ``"simulated-ogam"``, the angle instrument on a turntable);
 * ``approx_quantity`` — ``approx_quantity(expected, rel=…, abs=…)``: a unit-aware
   ``pytest.approx`` that converts the actual value to the expected one's unit and refuses a
   dimension mismatch.  Write it on the left: ``assert approx_quantity(Q_(1, "deg/h")) == q``
@@ -47,6 +49,14 @@ def simulated_station():
     from metro.instruments.simulated import station_factory
 
     return station_factory
+
+
+@pytest.fixture
+def metro_station(metro_pm):
+    def make(name: str, **options: Any):
+        return metro_pm.station(name).factory(**options)
+
+    return make
 
 
 class _ApproxQuantity:

@@ -1,0 +1,262 @@
+"""A simulated optical-gyro angle measuring instrument on a low-speed turntable (station
+``simulated-ogam``, registered by the ``ogam`` plugin).
+
+The instrument integrates the rate its optical gyro senses about the turntable axis and shows
+the angle turned since it was zeroed.  For a turntable stopped at standard angle S (°), reached
+at elapsed time t after zeroing while turning at rate v, the angle the gyro senses is::
+
+    φ = θ + a₁·sin θ + a₂·sin(2θ + β) + (sin²ψ/8)·sin 2θ + g·(v − 60 °/s)/(60 °/s)·θ
+        + (b + η·Ω_axis)·t + w(t) + n
+
+* θ = S + p the true table angle, p the turntable positioning error (uniform, ± ``positioning``);
+* a₁, a₂ the instrument's position-dependent (harmonic) errors;
+* (sin²ψ/8)·sin 2θ the sensing-plane/turntable-plane tilt error of the draft's appendix A 4.2
+  in its small-angle form (ψ the tilt);
+* g the rate dependence of the integration (relative scale error per 60 °/s off the reference);
+* b the residual zero drift after warm-up, η the relative error of the earth-rate compensation
+  and Ω_axis the earth-rate component along the axis (up: Ω sin φ_lat, north/south: ±Ω cos φ_lat,
+  east/west: 0);
+* w an angle random walk of coefficient ``arw`` (°/√h) and n white reading noise.
+
+The instrument's output counts are C = round(K·φ) with K its true scale factor (counts/°, written
+``P/deg``); its reading is M = C'/K_nom rounded to ``resolution``, where C' is the unrounded
+count and K_nom = K/(1 + ε) the scale factor it was programmed with (ε its scale-factor error).
+
+``expected`` holds what an ideal evaluation of the deterministic part gives (positioning error,
+random walk and noise set to zero), computed here from the model, not from the plugin's code.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import attrs
+import numpy as np
+from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.units import Q_, parse_quantity
+
+EARTH_RATE_DEG_PER_H = math.degrees(7.2921150e-5) * 3600.0
+AXES = ("up", "north", "south", "east", "west")
+
+
+@attrs.frozen
+class AngleInstrumentTruth:
+    """Declared truth of the simulated angle instrument (magnitudes in the units in the names)."""
+
+    K_P_per_deg: float = 20000.0
+    scale_factor_error: float = 4e-8
+    a1_arcsec: float = 0.08
+    a2_arcsec: float = 0.05
+    a2_phase_deg: float = 30.0
+    tilt_deg: float = 0.05
+    rate_coeff: float = 1.5e-8
+    drift_deg_h: float = 1.0e-4
+    earth_comp_error: float = 1.0e-5
+    arw_deg_rt_h: float = 2.0e-5
+    reading_noise_arcsec: float = 0.02
+    positioning_arcsec: float = 0.1
+    resolution_arcsec: float = 0.01
+    seed: int = 20261122
+
+    def quiet(self) -> AngleInstrumentTruth:
+        """The same instrument with every random term off (for the expected values)."""
+        return attrs.evolve(self, arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0,
+                            resolution_arcsec=0.0)
+
+    def as_quantities(self) -> dict[str, Any]:
+        return {
+            "scale factor K": Q_(self.K_P_per_deg, "P/deg"),
+            "scale-factor error ε (programmed K_nom = K/(1+ε))": self.scale_factor_error,
+            "harmonic error a₁ (sin θ)": Q_(self.a1_arcsec, "arcsec"),
+            "harmonic error a₂ (sin(2θ+β))": Q_(self.a2_arcsec, "arcsec"),
+            "sensing-plane tilt ψ": Q_(self.tilt_deg, "deg"),
+            "rate coefficient g": self.rate_coeff,
+            "residual zero drift b": Q_(self.drift_deg_h, "deg/h"),
+            "earth-rate compensation error η": self.earth_comp_error,
+            "angle random walk": Q_(self.arw_deg_rt_h, "deg/hour**0.5"),
+            "reading noise": Q_(self.reading_noise_arcsec, "arcsec"),
+            "turntable positioning error (±)": Q_(self.positioning_arcsec, "arcsec"),
+            "seed": self.seed,
+        }
+
+
+def earth_rate_along(axis: str, latitude_deg: float) -> float:
+    """Earth-rate component along a turntable axis pointing ``axis``, °/h."""
+    lat = math.radians(latitude_deg)
+    return {"up": math.sin(lat), "north": math.cos(lat), "south": -math.cos(lat),
+            "east": 0.0, "west": 0.0}[axis] * EARTH_RATE_DEG_PER_H
+
+
+def sensed_error_arcsec(truth: AngleInstrumentTruth, theta_deg: np.ndarray, elapsed_s: np.ndarray,
+                        rate_deg_s: float, axis: str, latitude_deg: float) -> np.ndarray:
+    """Deterministic part of φ − θ (module docstring), ″."""
+    th = np.radians(np.asarray(theta_deg, dtype=float))
+    t_h = np.asarray(elapsed_s, dtype=float) / 3600.0
+    harm = truth.a1_arcsec * np.sin(th) + truth.a2_arcsec * np.sin(2 * th + math.radians(truth.a2_phase_deg))
+    tilt = math.degrees(math.sin(math.radians(truth.tilt_deg)) ** 2 / 8.0) * 3600.0 * np.sin(2 * th)
+    rate = truth.rate_coeff * (rate_deg_s - 60.0) / 60.0 * np.degrees(th) * 3600.0
+    drift = (truth.drift_deg_h + truth.earth_comp_error * earth_rate_along(axis, latitude_deg)) * 3600.0 * t_h
+    return harm + tilt + rate + drift
+
+
+def stop_times(stops_deg: np.ndarray, rate_deg_s: float, dwell_s: float = 60.0) -> np.ndarray:
+    """Elapsed time at arrival at each stop of a sequential run 0 → S₁ → S₂ … (dwell at each)."""
+    s = np.asarray(stops_deg, dtype=float)
+    turn = np.diff(s, prepend=0.0) / rate_deg_s
+    return np.cumsum(turn) + dwell_s * np.arange(s.size)
+
+
+def _cond(step: Step, name: str, dim: str | None = None, default: Any = None) -> Any:
+    v = step.conditions.get(name, default)
+    if v is None:
+        raise ValueError(f"step {step.segment!r} has no condition {name!r}")
+    return parse_quantity(v, dimension=dim) if dim else v
+
+
+@attrs.define
+class AngleInstrumentStation:
+    """Low-speed turntable (axis up/north/east), timer, and the virtual angle instrument."""
+
+    truth: AngleInstrumentTruth = attrs.field(factory=AngleInstrumentTruth)
+    latitude_deg: float = 39.98
+
+    name = "simulated-ogam"
+
+    def device(self) -> DeviceUnderTest:
+        t = self.truth
+        return DeviceUnderTest(
+            id="SIM-OGAM-1", model="virtual optical-gyro angle measuring instrument", serial=f"seed {t.seed}",
+            manufacturer="metro simulator", technology="laser", output="pulse",
+            properties={"scale_factor": Q_(t.K_P_per_deg / (1 + t.scale_factor_error), "P/deg"),
+                        "zero_stability": Q_(0.005, "deg/h")},
+        )
+
+    def equipment(self) -> list[Equipment]:
+        return [
+            Equipment(id="SIM-TURNTABLE", model="simulated low-speed turntable", role="turntable",
+                      properties={"axis_wobble": Q_(0.3, "arcsec"), "parallelism": Q_(0.1, "deg")},
+                      calibration=Calibration("SIM-TT-0001", Q_(self.truth.positioning_arcsec or 0.1, "arcsec"),
+                                              distribution="uniform", lab="simulated")),
+            Equipment(id="SIM-TIMER", model="simulated timer", role="timer"),
+        ]
+
+    # -- one segment per step ---------------------------------------------------------------
+    def _positions(self, step: Step, rng: np.random.Generator, truth: AngleInstrumentTruth):
+        rate = float(_cond(step, "rate", "deg/s").to("deg/s").magnitude)
+        axis = str(_cond(step, "axis", default="up")).strip().lower()
+        inc = float(_cond(step, "step", "deg").to("deg").magnitude)
+        stops = int(_cond(step, "stops"))
+        S = inc * np.arange(1, stops + 1)
+        t = stop_times(S, rate, float(step.interval.to("s").magnitude))
+        p = rng.uniform(-1, 1, S.size) * truth.positioning_arcsec
+        theta = S + p / 3600.0
+        err = sensed_error_arcsec(truth, theta, t, rate, axis, self.latitude_deg)
+        if truth.arw_deg_rt_h > 0:
+            dt_h = np.diff(t, prepend=0.0) / 3600.0
+            err = err + np.cumsum(rng.normal(0, 1, S.size) * truth.arw_deg_rt_h * 3600.0 * np.sqrt(dt_h))
+        err = err + rng.normal(0, 1, S.size) * truth.reading_noise_arcsec if truth.reading_noise_arcsec else err
+        phi = theta + err / 3600.0
+        return S, phi
+
+    def _reading(self, phi: np.ndarray, truth: AngleInstrumentTruth) -> np.ndarray:
+        m = phi * (1.0 + truth.scale_factor_error)  # C'/K_nom
+        if truth.resolution_arcsec > 0:
+            m = np.round(m * 3600.0 / truth.resolution_arcsec) * truth.resolution_arcsec / 3600.0
+        return m
+
+    def segment_data(self, step: Step, index: int, truth: AngleInstrumentTruth | None = None
+                     ) -> dict[str, tuple[np.ndarray, str]]:
+        truth = truth or self.truth
+        rng = np.random.default_rng([truth.seed, index])
+        if step.kind == "scale-factor":
+            S, phi = self._positions(step, rng, truth)
+            counts = np.round(truth.K_P_per_deg * phi) if truth.resolution_arcsec > 0 else truth.K_P_per_deg * phi
+            return {"angle": (S, "deg"), "counts": (counts, "P")}
+        if step.kind == "positioning":
+            S, phi = self._positions(step, rng, truth)
+            return {"standard": (S, "deg"), "reading": (self._reading(phi, truth), "deg")}
+        if step.kind == "zero":
+            dt_s = float(step.interval.to("s").magnitude)
+            n = int(round(float(step.duration.to("s").magnitude) / dt_s)) + 1
+            t = dt_s * np.arange(n)
+            err = (truth.drift_deg_h + truth.earth_comp_error * earth_rate_along("up", self.latitude_deg)) * t
+            if truth.arw_deg_rt_h > 0:
+                steps = rng.normal(0, 1, n) * truth.arw_deg_rt_h * 3600.0 * math.sqrt(dt_s / 3600.0)
+                steps[0] = 0.0
+                err = err + np.cumsum(steps)
+            if truth.reading_noise_arcsec:
+                err = err + rng.normal(0, 1, n) * truth.reading_noise_arcsec
+            m = self._reading(err / 3600.0, truth) * 3600.0
+            return {"time": (t / 60.0, "min"), "reading": (m, "arcsec")}
+        raise ValueError(f"the simulated angle instrument cannot acquire steps of kind {step.kind!r}")
+
+    def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
+        segments = []
+        for i, step in enumerate(steps):
+            data = self.segment_data(step, i)
+            digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a, _ in data.values())).hexdigest()
+            segments.append(Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions),
+                                    interval=step.interval, file=None, sha256=digest,
+                                    loader=(lambda d=data: d)))
+            if progress is not None:
+                progress("simulating angle instrument", i + 1, len(steps))
+        return Campaign(
+            id="SIMULATED-OGAM", device=self.device(), equipment=self.equipment(),
+            environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
+            site={"latitude": Q_(self.latitude_deg, "deg")},
+            segments=segments, source="simulated station (angle instrument)", simulated=True,
+            truth=self.truth.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+            expected=self.expected(steps),
+        )
+
+    def expected(self, steps: list[Step]) -> Mapping[str, Any]:
+        """What an ideal evaluation of the deterministic model gives, per metric key."""
+        q = self.truth.quiet()
+        out: dict[str, Any] = {}
+        e_by: dict[tuple[float, str], float] = {}
+        for i, step in enumerate(steps):
+            d = self.segment_data(step, i, q)
+            if step.kind == "scale-factor":
+                k_i = d["counts"][0] / d["angle"][0]
+                out["K"] = Q_(float(np.mean(k_i)), "P/deg")
+                out["Kl"] = Q_(100.0 * float(k_i.max() - k_i.min()) / float(np.mean(k_i)), "percent")
+            elif step.kind == "zero":
+                m = d["reading"][0]
+                out["Bs"] = Q_(float(np.std(m, ddof=1)) / 3600.0 / (float(step.duration.to("h").magnitude)), "deg/h")
+            elif step.kind == "positioning":
+                e = float(np.max(np.abs(d["reading"][0] - d["standard"][0]))) * 3600.0
+                rate = float(_cond(step, "rate", "deg/s").to("deg/s").magnitude)
+                axis = str(_cond(step, "axis", default="up")).lower()
+                e_by[(rate, axis)] = e
+                if rate == 60.0 and axis == "up":
+                    out["E"] = Q_(e, "arcsec")
+        rates = {r: e for (r, a), e in e_by.items() if a == "up"}
+        if len(rates) > 1 and 60.0 in rates:
+            out["Cv"] = Q_(100.0 * (max(rates.values()) - min(rates.values())) / rates[60.0], "percent")
+        axes = {a: e for (r, a), e in e_by.items() if r == 60.0}
+        if len(axes) > 1 and "up" in axes:
+            out["Cg"] = Q_(100.0 * (max(axes.values()) - min(axes.values())) / axes["up"], "percent")
+        return out
+
+
+def station_factory(**options: Any) -> AngleInstrumentStation:
+    """Factory of the ``simulated-ogam`` station (options: seed, latitude_deg, and any truth field)."""
+    truth_kw = {k: v for k, v in options.items() if k in attrs.fields_dict(AngleInstrumentTruth)}
+    st_kw = {k: v for k, v in options.items() if k == "latitude_deg"}
+    unknown = set(options) - set(truth_kw) - set(st_kw)
+    if unknown:
+        raise ValueError(f"simulated-ogam: unknown option(s) {', '.join(sorted(unknown))}")
+    return AngleInstrumentStation(truth=AngleInstrumentTruth(**truth_kw), **st_kw)
+
+
+__all__ = [
+    "AngleInstrumentStation",
+    "AngleInstrumentTruth",
+    "earth_rate_along",
+    "sensed_error_arcsec",
+    "station_factory",
+    "stop_times",
+]

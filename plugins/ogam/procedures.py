@@ -1,0 +1,623 @@
+"""Draft JJF 光学陀螺测角仪校准规范 items 7.1–7.7 as metro procedures.
+
+Each class is one item; formulas live in :mod:`.formulas`.  Data (docs/standards/ogam.md):
+
+* ``scale-factor`` segments (7.1, 7.2): one row per round, columns ``angle`` (θ_i, the
+  standard angular displacement) and ``counts`` (C_i, in P);
+* ``zero`` segments (7.3): one row per reading, column ``reading`` (an angle), read every
+  ``sample_interval`` (5 min) for 1 h;
+* ``positioning`` segments (7.4–7.7): one round of the 7.4 table, one row per stop, columns
+  ``standard`` (S_i) and ``reading`` (M_i); conditions ``rate`` (°/s), ``axis``
+  (up/north/south/east/west) and ``round`` (1, 2, …).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import attrs
+import numpy as np
+from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import (
+    Campaign,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    Outcome,
+    PlotSpec,
+    Procedure,
+    Result,
+    RunContext,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+)
+from metro.core.units import Q_, parse_quantity
+
+from . import formulas as F
+
+STANDARD = "ogam"
+STATION = "simulated-ogam"
+COVERAGE = Coverage.fixed(2.0)  # appendix A 8 and appendix B: k = 2
+REF_RATE = 60.0  # °/s, clauses 7.1, 7.4 and the reference of 7.6
+RATES = (1.0, 10.0, 60.0, 100.0, 150.0, 200.0, 250.0, 300.0)  # clause 7.6
+AXES = ("up", "north", "east")  # clause 7.7 (north may be south, east may be west)
+ROUNDS = 10  # clause 7.5
+#: table 1: turntable angle-positioning error ±0.1″, used when no turntable calibration is given
+TABLE1_POSITIONING = Q_(0.1, "arcsec")
+#: appendix A 1: sensing plane parallel to the turntable plane to better than 0.1°
+DEFAULT_TILT = Q_(0.1, "deg")
+
+SCALE = SegmentRequirement(
+    "scale-factor", "axis vertical, 60 °/s, six rounds to 60°…360°, 60 s stop at each (7.1)",
+    conditions={"rate": "deg/s", "axis": ""}, columns={"angle": ("deg",), "counts": ("P",)},
+)
+ZERO = SegmentRequirement(
+    "zero", "instrument at rest on a stable platform, after 1 h warm-up a reading every 5 min for 1 h (7.3)",
+    columns={"reading": ("deg",)},
+)
+POSITIONING = SegmentRequirement(
+    "positioning", "one round of the 7.4 table: twelve stops 30°…360°, 60 s each",
+    conditions={"rate": "deg/s", "axis": "", "round": ""}, columns={"standard": ("deg",), "reading": ("deg",)},
+    min_count=1,
+)
+EQUIPMENT = (
+    EquipmentRequirement("turntable", "low-speed turntable of table 1 (positioning error ±0.1″, axis up/north/east); "
+                         "its calibration (a uniform half-width) enters the E budget", required=False),
+    EquipmentRequirement("timer", "timer (table 1)"),
+)
+
+
+# ------------------------------------------------------------------------------ sequences
+
+
+def _scale_step() -> Step:
+    return Step("sf-60-up", "scale-factor",
+                "axis vertical; zero both readouts; 60 °/s to 60°, 120°, …, 360°, stop 60 s at each; "
+                "record the counts C_i of each round (7.1)",
+                Q_(7, "min"), Q_(60, "s"),
+                {"axis": "up", "rate": "60 deg/s", "step": "60 deg", "stops": "6"})
+
+
+def _pos_step(rate: float, axis: str, rnd: int) -> Step:
+    turn_s = 360.0 / rate
+    return Step(f"pos-{rate:g}-{axis}-r{rnd:02d}", "positioning",
+                f"axis {axis}; zero both readouts; {rate:g} °/s through 30°, 60°, …, 360°, stop 60 s at each; "
+                f"read M_i and S_i (7.4, round {rnd})",
+                Q_(12 * 60 + turn_s, "s"), Q_(60, "s"),
+                {"axis": axis, "rate": f"{rate:g} deg/s", "step": "30 deg", "stops": "12", "round": str(rnd)})
+
+
+def _rounds_at_reference() -> list[Step]:
+    return [_pos_step(REF_RATE, "up", r) for r in range(1, ROUNDS + 1)]
+
+
+# ------------------------------------------------------------------------------ data access
+
+
+def _rate(seg: Segment) -> float:
+    return round(float(seg.condition("rate", "deg/s").to("deg/s").magnitude), 6)
+
+
+def _axis(seg: Segment) -> str:
+    a = str(seg.condition("axis")).strip().lower()
+    if a not in ("up", "north", "south", "east", "west"):
+        raise DataError(seg.file, f"segments.{seg.id}.conditions.axis",
+                        f"must be up, north, south, east or west (7.7), got {a!r}")
+    return a
+
+
+def _round(seg: Segment) -> int:
+    v = seg.conditions.get("round", 1)
+    try:
+        return int(str(v))
+    except ValueError:
+        raise DataError(seg.file, f"segments.{seg.id}.conditions.round", f"must be a whole number, got {v!r}") from None
+
+
+def _column(seg: Segment, name: str, unit: str) -> np.ndarray:
+    s = seg.series(name, unit)
+    a = np.asarray(s.data.to(unit).magnitude, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(a))
+    if bad.size:
+        raise DataError(seg.file or f"segment {seg.id}", name, f"row {bad[0] + 1} is not a finite number")
+    return a
+
+
+def positioning_groups(campaign: Campaign) -> dict[tuple[float, str], list[tuple[int, Segment]]]:
+    """Positioning segments by (rate °/s, axis), each list sorted by round."""
+    out: dict[tuple[float, str], list[tuple[int, Segment]]] = {}
+    for seg in campaign.find_segments("positioning"):
+        out.setdefault((_rate(seg), _axis(seg)), []).append((_round(seg), seg))
+    for key, lst in out.items():
+        lst.sort(key=lambda x: x[0])
+        rounds = [r for r, _ in lst]
+        if len(set(rounds)) != len(rounds):
+            raise DataError(campaign.source, "segments",
+                            f"two positioning segments at {key[0]:g} °/s, axis {key[1]} have the same round")
+    return out
+
+
+def round_errors(seg: Segment) -> tuple[np.ndarray, np.ndarray]:
+    """(S_i in °, E_i = M_i − S_i in ″) of one positioning round (7.4)."""
+    S = _column(seg, "standard", "deg")
+    M = _column(seg, "reading", "deg")
+    if S.size < 2:
+        raise DataError(seg.file or f"segment {seg.id}", "standard", "a round needs at least 2 stops")
+    return S, F.position_errors_74(M, S) * F.ARCSEC_PER_DEG
+
+
+def _group(campaign: Campaign, rate: float, axis: str, item: str) -> list[tuple[int, Segment]]:
+    groups = positioning_groups(campaign)
+    if (rate, axis) not in groups:
+        have = ", ".join(f"{r:g} °/s {a}" for r, a in sorted(groups)) or "none"
+        raise DataError(campaign.source, "segments",
+                        f"{item} needs positioning segments at {rate:g} °/s with the axis {axis}; found: {have}",
+                        hint=f"`metro plan -s ogam -i {item}` lists what to measure")
+    return groups[(rate, axis)]
+
+
+def error_matrix(rounds: list[tuple[int, Segment]]) -> tuple[np.ndarray, np.ndarray]:
+    """(S_i, E_ij as rounds × positions, ″); every round must stop at the same S_i."""
+    S0, rows = None, []
+    for _, seg in rounds:
+        S, E = round_errors(seg)
+        if S0 is None:
+            S0 = S
+        elif S.size != S0.size or np.max(np.abs(S - S0)) > 1e-6:
+            raise DataError(seg.file or f"segment {seg.id}", "standard",
+                            "this round does not stop at the same standard angles as the first round (7.5)")
+        rows.append(E)
+    return S0, np.vstack(rows)
+
+
+def _opt_q(opts: Mapping[str, Any], name: str, dim: str) -> Any:
+    v = opts.get(name)
+    return None if v is None else parse_quantity(v, dimension=dim, field=f"option {name}")
+
+
+# ------------------------------------------------------------------------------ budgets
+
+
+def positioning_row(campaign: Campaign, warnings: list[str]) -> BudgetRow:
+    """Appendix A 4.1: the turntable's angle-positioning error (from its calibration, else table 1)."""
+    tt = campaign.equipment_for("turntable")
+    if tt is not None and tt.calibration is not None:
+        return BudgetRow.from_calibration(f"turntable angle positioning ({tt.describe()})", "u(P)", tt.calibration)
+    warnings.append("no turntable calibration given: the E budget uses table 1's ±0.1″ positioning error")
+    return BudgetRow.type_b("turntable angle positioning (table 1 requirement, ±0.1″)", "u(P)",
+                            TABLE1_POSITIONING, distribution="uniform")
+
+
+def tilt_row(psi: Any) -> tuple[BudgetRow, F.TiltSimulation]:
+    """Appendix A 4.2: simulate the tilt ψ over 0…360° (eqs. (2)–(5)); its extreme is a uniform half-width."""
+    sim = F.tilt_error_simulation(float(psi.to("deg").magnitude))
+    row = BudgetRow.type_b(
+        "sensing plane not parallel to the turntable plane", "u(θ_ψ)", Q_(sim.extreme_arcsec, "arcsec"),
+        distribution="uniform",
+        note=f"ψ = {sim.psi_deg:g}°, simulated extreme {sim.extreme_arcsec:.4f}″ (appendix A 4.2)")
+    return row, sim
+
+
+def drift_row(zero_stability: Any, time: Any) -> BudgetRow:
+    """Appendix A 4.3: zero drift over the measurement time, a uniform half-width."""
+    a = F.zero_drift_error(float(zero_stability.to("deg/h").magnitude), float(time.to("min").magnitude))
+    return BudgetRow.type_b("zero drift of the instrument", "u(δ)", Q_(a, "arcsec"), distribution="uniform",
+                            note=f"{zero_stability.to('deg/h').magnitude:g} °/h over {time.to('min').magnitude:g} min")
+
+
+def repeatability_row(R_arcsec: float, rounds: int) -> BudgetRow:
+    """Appendix A 4.4: the 7.5 repeatability (largest R_i), type A with ν = rounds − 1."""
+    return BudgetRow.type_a("measurement repeatability (max R_i, 7.5)", "u(r)", Q_(R_arcsec, "arcsec"), rounds - 1,
+                            note=f"{rounds} rounds")
+
+
+def e_budget(rows: list[BudgetRow]) -> UncertaintyBudget:
+    """Appendix A 7–8: u_c = sqrt(u(P)² + u(θ_ψ)² + u(δ)² + u(r)²), U = 2·u_c."""
+    return UncertaintyBudget("E", "arcsec", rows, coverage=COVERAGE)
+
+
+def _zero_stability(campaign: Campaign, opts: Mapping[str, Any]) -> Any:
+    v = _opt_q(opts, "zero_stability", "deg/h")
+    if v is not None:
+        return v
+    if "zero_stability" in campaign.device.properties:
+        return campaign.device.prop("zero_stability", "deg/h", source=campaign.source)
+    raise DataError(campaign.source, "device.zero_stability",
+                    "missing: the E budget (appendix A 4.3) needs the instrument's zero stability",
+                    hint="add zero_stability = \"0.005 °/h\" under [device] or give -o zero_stability=…")
+
+
+class _EBase(Procedure):
+    """Shared by the items whose results rest on the 7.4 angle-position error."""
+
+    standard = STANDARD
+    station = STATION
+    equipment = EQUIPMENT
+    requires = (POSITIONING,)
+    options = (
+        Option("tilt", None, None, "largest sensing-plane/turntable tilt ψ (default: the turntable's "
+               "`parallelism` property, else 0.1° as appendix A 1)"),
+        Option("zero_stability", None, None, "instrument zero stability for appendix A 4.3 "
+               "(default: device property zero_stability)"),
+        Option("drift_time", "0.5 min", None, "measurement time for the drift term (appendix A 1 and 4.3: 0.5 min)"),
+    )
+
+    def _reference(self, campaign: Campaign, opts: Mapping[str, Any], warnings: list[str]):
+        """(S, E_ij at 60 °/s axis up, R, R_i, the E budget rows, the tilt simulation)."""
+        rounds = _group(campaign, REF_RATE, "up", self.item)
+        S, E = error_matrix(rounds)
+        if E.shape[0] < 2:
+            raise DataError(campaign.source, "segments",
+                            f"only {E.shape[0]} round at 60 °/s with the axis up: the repeatability (7.5) and "
+                            "the E budget (appendix A 4.4) need the 7.4 test repeated (10 rounds)",
+                            hint="record rounds 1…10 as segments with conditions round = 1 … 10")
+        if E.shape[0] < ROUNDS:
+            warnings.append(f"{E.shape[0]} rounds at 60 °/s; clause 7.5 asks for {ROUNDS}")
+        R, R_i = F.repeatability_75(E)
+        psi = _opt_q(opts, "tilt", "deg")
+        if psi is None:
+            tt = campaign.equipment_for("turntable")
+            psi = tt.prop("parallelism", "deg") if tt is not None and "parallelism" in tt.properties else DEFAULT_TILT
+        trow, sim = tilt_row(psi)
+        time = parse_quantity(opts["drift_time"], dimension="min", field="option drift_time")
+        rows = [positioning_row(campaign, warnings), trow, drift_row(_zero_stability(campaign, opts), time),
+                repeatability_row(R, E.shape[0])]
+        return S, E, rounds, R, R_i, rows, sim
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return _rounds_at_reference()
+
+
+# ------------------------------------------------------------------------------ 7.1 and 7.2
+
+
+def _scale_factors(campaign: Campaign, item: str):
+    segs = campaign.find_segments("scale-factor")
+    if not segs:
+        raise DataError(campaign.source, "segments",
+                        f"{item} needs a segment of kind \"scale-factor\" ({SCALE.description}); none found",
+                        hint=f"`metro plan -s ogam -i {item}` shows what to measure")
+    seg = segs[0]
+    theta = _column(seg, "angle", "deg")
+    counts = _column(seg, "counts", "P")
+    if theta.size < 2:
+        raise DataError(seg.file or f"segment {seg.id}", "angle", "7.1 needs several rounds (six)")
+    if np.any(theta <= 0):
+        raise DataError(seg.file or f"segment {seg.id}", "angle", "every angular displacement θ_i must be positive")
+    return seg, theta, counts, F.scale_factors_71(counts, theta)
+
+
+class ScaleFactor71(Procedure):
+    """Draft JJF 光学陀螺测角仪 7.1 标度因数 (scale factor): K_i = C_i/θ_i, K = (1/6)ΣK_i.
+
+    Budget: scatter of the K_i (type A, s/√n, ν = n − 1), the turntable positioning error,
+    which changes each θ_i (type B; sensitivity of the mean, sqrt(Σ(K_i/θ_i)²)/n per ″), and
+    the resolution of the counts (±0.5 count, uniform; sensitivity sqrt(Σθ_i⁻²)/n).
+    """
+
+    standard = STANDARD
+    item = "7.1"
+    title = "Scale factor (标度因数)"
+    clause = "7.1"
+    station = STATION
+    metrics = (Metric("K", "scale factor", "K", "P/deg", "7.1", "K = ΣK_i/6, K_i = C_i/θ_i"),)
+    requires = (SCALE,)
+    equipment = EQUIPMENT
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [_scale_step()]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        seg, theta, counts, k_i = _scale_factors(campaign, self.item)
+        K = F.scale_factor_71(k_i)
+        warnings: list[str] = []
+        n = k_i.size
+        if n != 6:
+            warnings.append(f"{n} rounds; clause 7.1 asks for six (60°…360°)")
+        sens = math.sqrt(float(np.sum((k_i / (theta * F.ARCSEC_PER_DEG)) ** 2))) / n
+        rows = [
+            BudgetRow.type_a("scatter of the rounds' K_i", "s(K_i)/√n", Q_(float(np.std(k_i, ddof=1)) / math.sqrt(n),
+                             "P/deg"), n - 1, note=f"{n} rounds"),
+            attrs_evolve_sensitivity(positioning_row(campaign, warnings), Q_(sens, "P/deg/arcsec")),
+            BudgetRow.type_b("resolution of the counts C_i (±0.5 count)", "u(C)", Q_(0.5, "P"), distribution="uniform",
+                             sensitivity=Q_(math.sqrt(float(np.sum(theta ** -2.0))) / n, "1/deg"),
+                             note="each K_i = C_i/θ_i, independent roundings"),
+        ]
+        budget = UncertaintyBudget("K", "P/deg", rows, coverage=COVERAGE)
+        res = Result(self.metrics[0], Q_(K, "P/deg"), budget.combined, budget)
+        table = TableSpec("k_rounds", "Scale factor per round (7.1)", ["round", "θ_i (°)", "C_i (P)", "K_i (P/°)"],
+                          [[i + 1, f"{theta[i]:g}", f"{counts[i]:.0f}", f"{k_i[i]:.6f}"] for i in range(n)])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
+                       segments=[seg.id], options={k: str(v) for k, v in opts.items()})
+
+
+def attrs_evolve_sensitivity(row: BudgetRow, sensitivity) -> BudgetRow:
+    """The same budget row with another sensitivity coefficient."""
+    return attrs.evolve(row, sensitivity=sensitivity)
+
+
+class Linearity72(Procedure):
+    """Draft JJF 光学陀螺测角仪 7.2 标度因数线性度 (scale-factor linearity):
+    K_l = (max K_i − min K_i)/K, in %.
+
+    Budget: the turntable positioning error of the two extreme rounds (type B; sensitivity
+    sqrt(1/θ_max-round² + 1/θ_min-round²)·100 %/″, θ in ″).
+    """
+
+    standard = STANDARD
+    item = "7.2"
+    title = "Scale-factor linearity (标度因数线性度)"
+    clause = "7.2"
+    station = STATION
+    metrics = (Metric("Kl", "scale-factor linearity", "K_l", "percent", "7.2", "K_l = (max K_i − min K_i)/K"),)
+    requires = (SCALE,)
+    equipment = EQUIPMENT
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [_scale_step()]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        seg, theta, _counts, k_i = _scale_factors(campaign, self.item)
+        Kl = F.linearity_72(k_i) * 100.0
+        warnings: list[str] = []
+        th = theta * F.ARCSEC_PER_DEG
+        i_max, i_min = int(np.argmax(k_i)), int(np.argmin(k_i))
+        sens = 100.0 * math.sqrt(th[i_max] ** -2 + th[i_min] ** -2)
+        rows = [attrs_evolve_sensitivity(positioning_row(campaign, warnings), Q_(sens, "percent/arcsec"))]
+        budget = UncertaintyBudget("K_l", "percent", rows, coverage=COVERAGE)
+        res = Result(self.metrics[0], Q_(Kl, "percent"), budget.combined, budget,
+                     note=f"max K_i at θ = {theta[i_max]:g}°, min at θ = {theta[i_min]:g}°")
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings, segments=[seg.id],
+                       options={k: str(v) for k, v in opts.items()})
+
+
+# ------------------------------------------------------------------------------------ 7.3
+
+
+class ZeroStability73(Procedure):
+    """Draft JJF 光学陀螺测角仪 7.3 零位稳定性 (zero stability) B_s, °/h.
+
+    B_s = s(M_n)/T (clause 7.3: Bessel standard deviation over the duration T); with
+    ``statistic=range`` the definition 3.3 reading (max − min)/T.  T = (n − 1)·Δt, the time
+    the readings span.  Type A: sampling of a standard deviation of n values, B_s/√(2(n−1)).
+    """
+
+    standard = STANDARD
+    item = "7.3"
+    title = "Zero stability (零位稳定性)"
+    clause = "7.3"
+    station = STATION
+    metrics = (Metric("Bs", "zero stability", "B_s", "deg/h", "7.3", "B_s = s(M)/T"),)
+    requires = (ZERO,)
+    equipment = EQUIPMENT
+    options = (Option("statistic", "std", None, "std (clause 7.3, default) or range (definition 3.3)"),)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [Step("zero-1h", "zero", "instrument at rest on a stable platform, sensitive axis vertical; warm up "
+                     "1 h, then read the angle every 5 min for 1 h (7.3)", Q_(1, "h"), Q_(5, "min"),
+                     {"axis": "up"}, warmup=Q_(1, "h"))]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        stat = str(opts["statistic"]).strip().lower()
+        if stat not in ("std", "range"):
+            raise ProcedureError(f"7.3: option statistic must be std or range, got {stat!r}")
+        segs = campaign.find_segments("zero")
+        if not segs:
+            raise DataError(campaign.source, "segments", f"7.3 needs a segment of kind \"zero\" ({ZERO.description})",
+                            hint="`metro plan -s ogam -i 7.3` shows what to measure")
+        seg = segs[0]
+        m = _column(seg, "reading", "deg")
+        if m.size < 3:
+            raise DataError(seg.file or f"segment {seg.id}", "reading", f"{m.size} readings; 7.3 needs at least 3")
+        T_h = (m.size - 1) * float(seg.interval.to("h").magnitude)
+        Bs = F.zero_stability_73(m, T_h, stat)
+        warnings = []
+        if abs(T_h - 1.0) > 1e-6:
+            warnings.append(f"the readings span {T_h * 60:g} min; clause 7.3 asks for 1 h")
+        if not Bs > 0:
+            raise DataError(seg.file or f"segment {seg.id}", "reading", "the readings do not vary at all; "
+                            "B_s would be zero (is the instrument running?)")
+        n = m.size
+        rows = [BudgetRow.type_a(f"sampling of the {'standard deviation' if stat == 'std' else 'range'} of {n} "
+                                 "readings", "B_s/√(2(n−1))", Q_(Bs / math.sqrt(2 * (n - 1)), "deg/h"), n - 1)]
+        budget = UncertaintyBudget("B_s", "deg/h", rows, coverage=COVERAGE)
+        other = F.zero_stability_73(m, T_h, "range" if stat == "std" else "std")
+        res = Result(self.metrics[0], Q_(Bs, "deg/h"), budget.combined, budget,
+                     note=f"{n} readings over {T_h * 60:g} min; {'range' if stat == 'std' else 'std'} reading "
+                          f"{other:.3g} °/h")
+        plot = PlotSpec("zero", "Readings at rest (7.3)", "t (min)", "M (″)",
+                        [{"label": "M_n", "x": (np.arange(n) * T_h * 60 / (n - 1)).tolist(),
+                          "y": (m * F.ARCSEC_PER_DEG).tolist(), "style": "o-"}])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], warnings=warnings,
+                       segments=[seg.id], options={k: str(v) for k, v in opts.items()})
+
+
+# ------------------------------------------------------------------------------ 7.4 and 7.5
+
+
+class PositionError74(_EBase):
+    """Draft JJF 光学陀螺测角仪 7.4 角位置测量偏差 (angle-position error): E_i = M_i − S_i,
+    E = ± max|E_i|, with the appendix A budget: turntable positioning (4.1), the simulated
+    sensing-plane tilt (4.2, eqs. (2)–(5)), zero drift (4.3) and repeatability (4.4);
+    u_c as appendix A 7, U = 2·u_c (A 8).  E is taken from the first round unless ``round``
+    is given (7.4 is one round; 7.5 repeats it).
+    """
+
+    item = "7.4"
+    title = "Angle-position error (角位置测量偏差)"
+    clause = "7.4"
+    metrics = (Metric("E", "angle-position error", "E", "arcsec", "7.4", "E = ±max|E_i|; appendix A"),)
+    options = _EBase.options + (Option("round", None, None, "the round whose E_i give E (default: the first)"),)
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        warnings: list[str] = []
+        S, E, rounds, _R, R_i, rows, sim = self._reference(campaign, opts, warnings)
+        rnums = [r for r, _ in rounds]
+        want = rnums[0] if opts["round"] is None else int(str(opts["round"]))
+        if want not in rnums:
+            raise ProcedureError(f"7.4: no round {want} at 60 °/s axis up; rounds: {rnums}")
+        e_i = E[rnums.index(want)]
+        Emax = F.position_error_74(e_i)
+        j = int(np.argmax(np.abs(e_i)))
+        budget = e_budget(rows)
+        res = Result(self.metrics[0], Q_(Emax, "arcsec"), budget.combined, budget,
+                     note=f"reported as ±{Emax:.3g}″; largest |E_i| at S = {S[j]:g}° (E_i = {e_i[j]:+.3f}″), "
+                          f"round {want}")
+        plot = PlotSpec("E_i", "Angle-position error per position (7.4)", "S (°)", "E_i (″)",
+                        [{"label": f"round {r}", "x": S.tolist(), "y": E[k].tolist(),
+                          "style": "o-" if r == want else ":"} for k, r in enumerate(rnums)])
+        tilt = PlotSpec("tilt", f"Simulated tilt error, ψ = {sim.psi_deg:g}° (appendix A 4.2)", "θ (°)", "Δ(θ) (″)",
+                        [{"label": "Δ(θ) = θ_ψ − θ", "x": sim.theta_deg[::40].tolist(),
+                          "y": sim.error_arcsec[::40].tolist(), "style": "-"}])
+        table = TableSpec("E_i", "E_i and R_i per calibration point", ["i", "S_i (°)", "E_i (″)", "R_i (″)"],
+                          [[i + 1, f"{S[i]:g}", f"{e_i[i]:+.3f}", f"{R_i[i]:.3f}"] for i in range(S.size)])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot, tilt], tables=[table],
+                       warnings=warnings, segments=[s.id for _, s in rounds],
+                       options={k: str(v) for k, v in opts.items()})
+
+
+class Repeatability75(_EBase):
+    """Draft JJF 光学陀螺测角仪 7.5 角位置测量重复性 (repeatability): R_i = Bessel standard
+    deviation of E_ij over the 10 rounds, R = max R_i.  Type A: R/√(2(n−1)), ν = n − 1.
+    """
+
+    item = "7.5"
+    title = "Angle-position repeatability (角位置测量重复性)"
+    clause = "7.5"
+    metrics = (Metric("R", "angle-position repeatability", "R", "arcsec", "7.5", "R = max R_i"),)
+    options = ()
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        rounds = _group(campaign, REF_RATE, "up", self.item)
+        S, E = error_matrix(rounds)
+        warnings = []
+        if E.shape[0] < 2:
+            raise DataError(campaign.source, "segments", f"7.5 needs the 7.4 test repeated; found {E.shape[0]} round")
+        if E.shape[0] < ROUNDS:
+            warnings.append(f"{E.shape[0]} rounds; clause 7.5 asks for {ROUNDS}")
+        R, R_i = F.repeatability_75(E)
+        n = E.shape[0]
+        budget = UncertaintyBudget("R", "arcsec", [BudgetRow.type_a(
+            f"sampling of a standard deviation of {n} rounds", "R/√(2(n−1))", Q_(R / math.sqrt(2 * (n - 1)), "arcsec"),
+            n - 1)], coverage=COVERAGE)
+        j = int(np.argmax(R_i))
+        res = Result(self.metrics[0], Q_(R, "arcsec"), budget.combined, budget, note=f"largest at S = {S[j]:g}°")
+        plot = PlotSpec("R_i", "Repeatability per position (7.5)", "S (°)", "R_i (″)",
+                        [{"label": "R_i", "x": S.tolist(), "y": R_i.tolist(), "style": "o-"}])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], warnings=warnings,
+                       segments=[s.id for _, s in rounds], options={k: str(v) for k, v in opts.items()})
+
+
+# ------------------------------------------------------------------------------ 7.6 and 7.7
+
+
+def _consistency(proc: _EBase, campaign: Campaign, opts, groups_wanted: list[tuple[float, str]],
+                 ref: tuple[float, str], label):
+    """(C in %, budget rows, warnings, segment ids used, {key: E}, table rows) for 7.6/7.7."""
+    warnings: list[str] = []
+    *_, rows, _sim = proc._reference(campaign, opts, warnings)
+    groups = positioning_groups(campaign)
+    values, used, table_rows = {}, [], []
+    for key in groups_wanted:
+        if key not in groups:
+            continue
+        lst = groups[key]
+        _, e = round_errors(lst[0][1])
+        values[key] = F.position_error_74(e)
+        used.append(lst[0][1].id)
+        table_rows.append([label(key), f"{values[key]:.3f}"])
+    missing = [label(k) for k in groups_wanted if k not in values]
+    if len(values) < 2:
+        raise DataError(campaign.source, "segments", f"{proc.item} needs the angle-position error under at least "
+                        f"two {('rates' if proc.item == '7.6' else 'axis directions')}; missing: {', '.join(missing)}",
+                        hint=f"`metro plan -s ogam -i {proc.item}` lists what to measure")
+    if missing:
+        warnings.append(f"not measured: {', '.join(missing)}")
+    e_ref = values[ref]
+    if e_ref == 0:
+        raise ProcedureError(f"{proc.item}: the reference angle-position error is zero, so the ratio is undefined")
+    C = F.consistency_ratio(list(values.values()), e_ref) * 100.0
+    # the extreme and the reference E each carry the non-common part of the E budget
+    # (positioning, drift, repeatability); the tilt error is common to all and cancels
+    c = 100.0 * math.sqrt(2.0 + (C / 100.0) ** 2) / e_ref
+    brows = [attrs_evolve_sensitivity(r, Q_(c, "percent/arcsec")) for r in (rows[0], rows[2], rows[3])]
+    uE = math.sqrt(sum(float(r.standard_uncertainty.to("arcsec").magnitude) ** 2 for r in (rows[0], rows[2], rows[3])))
+    if e_ref < 2 * uE:
+        warnings.append(f"the reference E = {e_ref:.3g}″ is below twice its uncertainty ({2 * uE:.2g}″): the ratio "
+                        "is ill-conditioned; see the range (max − min) in the note")
+    return C, brows, warnings, used, values, table_rows
+
+
+class RateConsistency76(_EBase):
+    """Draft JJF 光学陀螺测角仪 7.6 速率一致性 (rate consistency), definition 3.4:
+    C_v = (max E_v − min E_v)/E_60°/s in %, E_v the 7.4 result (max|E_i|, first round) at each of
+    the 8 rates.  Budget: the non-common E components (positioning, drift, repeatability),
+    sensitivity sqrt(2 + C_v²)/E_60 (linearised).
+    """
+
+    item = "7.6"
+    title = "Rate consistency (速率一致性)"
+    clause = "7.6"
+    metrics = (Metric("Cv", "rate consistency", "C_v", "percent", "7.6", "C_v = (max E_v − min E_v)/E_60"),)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [_pos_step(v, "up", 1) for v in RATES if v != REF_RATE] + _rounds_at_reference()
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        C, rows, warnings, used, values, trows = _consistency(
+            self, campaign, opts, [(v, "up") for v in RATES], (REF_RATE, "up"), lambda k: f"{k[0]:g} °/s")
+        budget = UncertaintyBudget("C_v", "percent", rows, coverage=COVERAGE)
+        rng = max(values.values()) - min(values.values())
+        res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
+                     note=f"max E_v − min E_v = {rng:.3f}″, E_60 = {values[(REF_RATE, 'up')]:.3f}″")
+        table = TableSpec("E_v", "Angle-position error per rate (7.6)", ["rate", "E_v (″)"], trows)
+        plot = PlotSpec("E_v", "Angle-position error against rate (7.6)", "v (°/s)", "E_v (″)",
+                        [{"label": "E_v", "x": [k[0] for k in values], "y": list(values.values()), "style": "o-"}],
+                        logx=True)
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[table],
+                       warnings=warnings, segments=used, options={k: str(v) for k, v in opts.items()})
+
+
+class PointingConsistency77(_EBase):
+    """Draft JJF 光学陀螺测角仪 7.7 指向一致性 (pointing consistency), definition 3.5:
+    C_g = (max E_g − min E_g)/E_up in %, E_g the 7.4 result (first round) with the turntable
+    axis up, north (or south), east (or west).  Budget as 7.6.
+    """
+
+    item = "7.7"
+    title = "Pointing consistency (指向一致性)"
+    clause = "7.7"
+    metrics = (Metric("Cg", "pointing consistency", "C_g", "percent", "7.7", "C_g = (max E_g − min E_g)/E_up"),)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [_pos_step(REF_RATE, a, 1) for a in AXES if a != "up"] + _rounds_at_reference()
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        groups = positioning_groups(campaign)
+        north = "north" if (REF_RATE, "north") in groups or (REF_RATE, "south") not in groups else "south"
+        east = "east" if (REF_RATE, "east") in groups or (REF_RATE, "west") not in groups else "west"
+        C, rows, warnings, used, values, trows = _consistency(
+            self, campaign, opts, [(REF_RATE, a) for a in ("up", north, east)], (REF_RATE, "up"), lambda k: k[1])
+        budget = UncertaintyBudget("C_g", "percent", rows, coverage=COVERAGE)
+        rng = max(values.values()) - min(values.values())
+        res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
+                     note=f"max E_g − min E_g = {rng:.3f}″, E_up = {values[(REF_RATE, 'up')]:.3f}″")
+        table = TableSpec("E_g", "Angle-position error per axis direction (7.7)", ["axis", "E_g (″)"], trows)
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
+                       segments=used, options={k: str(v) for k, v in opts.items()})
+
+
+PROCEDURES = (ScaleFactor71, Linearity72, ZeroStability73, PositionError74, Repeatability75, RateConsistency76,
+              PointingConsistency77)

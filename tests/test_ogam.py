@@ -1,0 +1,295 @@
+"""Draft JJF 光学陀螺测角仪 (plugin ogam): hand-worked formulas, the appendix A budget and its
+tilt simulation, the simulated angle instrument with known truth, recorded data, certificate."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from metro.core.budget import BudgetRow
+from metro.core.errors import DataError, ProcedureError
+from metro.core.runner import run_items
+from metro.core.units import Q_
+from metro.instruments.angle_instrument import AngleInstrumentStation, AngleInstrumentTruth
+from metro.plugins.ogam import formulas as F
+from metro.plugins.ogam import procedures as P
+from metro.plugins.ogam.procedures import (
+    Linearity72,
+    PointingConsistency77,
+    PositionError74,
+    RateConsistency76,
+    Repeatability75,
+    ScaleFactor71,
+    ZeroStability73,
+)
+
+ALL = ["7.1", "7.2", "7.3", "7.4", "7.5", "7.6", "7.7"]
+
+# ----------------------------------------------------------------------- appendix A
+
+
+def test_tilt_simulation_reproduces_the_appendix_extreme():
+    sim = F.tilt_error_simulation(0.1)
+    # appendix A 4.2: "误差极限值 0.08″" (printed to two decimals)
+    assert f"{sim.extreme_arcsec:.2f}" == "0.08"
+    # independent check: small-angle closed form sin²ψ/8 rad
+    assert sim.extreme_arcsec == pytest.approx(F.tilt_error_small_angle(0.1), rel=1e-4)
+    # Δ(0) = Δ(360°) = 0 (the scale factor is fixed over a full turn), extreme near 45°
+    assert abs(sim.error_arcsec[0]) < 1e-12 and abs(sim.error_arcsec[-1]) < 1e-9
+    assert sim.theta_deg[int(np.argmax(sim.error_arcsec))] == pytest.approx(45.0, abs=0.2)
+
+
+def test_tilt_simulation_scales_with_psi_squared_and_vanishes_without_tilt():
+    assert F.tilt_error_simulation(0.0).extreme_arcsec == pytest.approx(0.0, abs=1e-6)
+    ratio = F.tilt_error_simulation(0.2).extreme_arcsec / F.tilt_error_simulation(0.1).extreme_arcsec
+    assert ratio == pytest.approx(4.0, rel=1e-4)
+
+
+def test_ellipse_radius_eq_a3():
+    r = F.ellipse_radius_a3(np.array([0.0, math.pi / 2]), math.radians(60))
+    # θ = 0: r·cosψ/cosψ = r; θ = 90°: r·cosψ
+    assert r == pytest.approx([1.0, 0.5], rel=1e-12)
+
+
+def test_appendix_a_budget_reproduces_uc_and_U():
+    rows = [
+        BudgetRow.type_b("turntable", "u(P)", Q_(0.1, "arcsec"), distribution="uniform"),
+        P.tilt_row(Q_(0.1, "deg"))[0],
+        P.drift_row(Q_(0.005, "deg/h"), Q_(0.5, "min")),
+        P.repeatability_row(0.096, 10),
+    ]
+    b = P.e_budget(rows)
+    c = b.contributions()
+    # appendix A 4.1–4.4: 0.06″, 0.05″, 0.09″, 0.096″
+    assert [f"{x:.2f}" for x in c[:3]] == ["0.06", "0.05", "0.09"]
+    assert c[3] == pytest.approx(0.096, abs=1e-12)
+    # appendix A 7–8: u_c = 0.15″, U = 0.30″ (k = 2)
+    assert f"{b.combined.to('arcsec').magnitude:.2f}" == "0.15"
+    assert b.k == 2.0
+    assert b.expanded_reported().text == "0.30"
+
+
+def test_zero_drift_term_appendix_a43():
+    # 0.005 °/h = 0.3 ″/min; × 0.5 min = 0.15 ″
+    assert F.zero_drift_error(0.005, 0.5) == pytest.approx(0.15, rel=1e-12)
+
+
+# ----------------------------------------------------------------------- hand-worked formulas
+
+
+def test_71_72_hand_worked():
+    k_i = F.scale_factors_71([1200, 2400.6, 3599.4], [60, 120, 180])
+    assert k_i == pytest.approx([20.0, 20.005, 19.99667], rel=1e-5)
+    assert F.scale_factor_71(k_i) == pytest.approx((20.0 + 20.005 + 3599.4 / 180) / 3, rel=1e-12)
+    assert F.linearity_72([10.0, 10.2, 9.8]) == pytest.approx(0.04, rel=1e-12)
+    with pytest.raises(ValueError, match="zero"):
+        F.scale_factors_71([1.0], [0.0])
+
+
+def test_73_hand_worked_std_and_range():
+    m = [0.0, 0.001, 0.002, 0.001]  # °
+    assert F.zero_stability_73(m, 0.5, "std") == pytest.approx(np.std(m, ddof=1) / 0.5, rel=1e-12)
+    assert F.zero_stability_73(m, 0.5, "range") == pytest.approx(0.004, rel=1e-12)
+    with pytest.raises(ValueError, match="statistic"):
+        F.zero_stability_73(m, 1.0, "mad")
+
+
+def test_74_75_hand_worked():
+    e = F.position_errors_74([30.0001, 59.9998], [30.0, 60.0])
+    assert e == pytest.approx([1e-4, -2e-4], abs=1e-12)
+    assert F.position_error_74(e) == pytest.approx(2e-4, rel=1e-9)
+    R, R_i = F.repeatability_75(np.array([[0.1, 0.0], [0.3, 0.0], [0.2, 0.0]]))
+    assert R == pytest.approx(0.1, rel=1e-12) and R_i[1] == 0.0
+
+
+def test_consistency_ratio_hand_worked():
+    assert F.consistency_ratio([0.2, 0.3, 0.25], 0.25) == pytest.approx(0.4, rel=1e-12)
+    with pytest.raises(ValueError, match="zero"):
+        F.consistency_ratio([0.1, 0.2], 0.0)
+
+
+# ----------------------------------------------------------------------- simulated instrument
+
+
+def _run(pm, items, **truth):
+    st = AngleInstrumentStation(truth=AngleInstrumentTruth(**truth))
+    procs = [pm.procedure("ogam", i) for i in items]
+    from metro.core.runner import merge_steps
+
+    camp = st.acquire(merge_steps([c().sequence(c.option_values({})) for c in procs]))
+    return run_items(pm, "ogam", items, campaign=camp), camp
+
+
+def test_items_registered_with_their_station(pm):
+    classes = {c.item: c for c in pm.procedures_of("ogam")}
+    assert sorted(classes) == ALL
+    assert {c.station for c in classes.values()} == {"simulated-ogam"}
+    assert pm.station("simulated-ogam").plugin == "ogam"
+    assert pm.template_for("ogam").name == "ogam-certificate"
+
+
+def test_quiet_instrument_matches_the_model_exactly(pm):
+    rec, camp = _run(pm, ALL, arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0,
+                     resolution_arcsec=0.0)
+    got = {r.metric.key: r for o in rec.outcomes for r in o.results}
+    for key in ("K", "Kl", "Bs", "E", "Cv", "Cg"):
+        exp = camp.expected[key]
+        assert got[key].value.to(exp.units).magnitude == pytest.approx(exp.magnitude, rel=1e-9, abs=1e-12), key
+    assert got["R"].value.magnitude == pytest.approx(0.0, abs=1e-9)
+
+
+def test_pure_scale_factor_error_gives_e_equal_eps_times_360_degrees(pm):
+    eps = 1e-7
+    zero = dict(a1_arcsec=0.0, a2_arcsec=0.0, tilt_deg=0.0, rate_coeff=0.0, drift_deg_h=0.0, earth_comp_error=0.0,
+                arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0, resolution_arcsec=0.0)
+    rec, _ = _run(pm, ["7.4", "7.1"], scale_factor_error=eps, **zero)
+    E = rec.outcomes[0].results[0].value.to("arcsec").magnitude
+    assert E == pytest.approx(eps * 360 * 3600, rel=1e-6)
+    K = rec.outcomes[1].results[0].value.to("P/deg").magnitude
+    assert K == pytest.approx(20000.0, rel=1e-12)
+
+
+def test_linear_drift_gives_the_analytic_zero_stability(pm):
+    d = 0.002  # °/h, pure linear drift
+    quiet = dict(drift_deg_h=d, earth_comp_error=0.0, arw_deg_rt_h=0.0, reading_noise_arcsec=0.0,
+                 resolution_arcsec=0.0, scale_factor_error=0.0)
+    rec, camp = _run(pm, ["7.3"], **quiet)
+    n = 13  # readings at 0, 5, …, 60 min
+    expected = d / (n - 1) * math.sqrt(n * (n + 1) / 12.0)  # s of an arithmetic sequence / 1 h
+    assert rec.outcomes[0].results[0].value.to("deg/h").magnitude == pytest.approx(expected, rel=1e-9)
+    rng_rec = run_items(pm, "ogam", ["7.3"], campaign=camp, options={"statistic": "range"})
+    assert rng_rec.outcomes[0].results[0].value.to("deg/h").magnitude == pytest.approx(d, rel=1e-9)
+
+
+def test_noisy_instrument_e_within_U_of_truth_over_seeds(pm):
+    inside = 0
+    for seed in range(8):
+        rec, camp = _run(pm, ["7.4"], seed=seed)
+        r = rec.outcomes[0].results[0]
+        inside += abs(r.value.to("arcsec").magnitude - camp.expected["E"].to("arcsec").magnitude) <= r.U.magnitude
+        b = r.budget.as_dict()
+        assert [row["symbol"] for row in b["rows"]] == ["u(P)", "u(θ_ψ)", "u(δ)", "u(r)"]
+        assert b["k"] == 2.0
+    assert inside >= 7
+
+
+def test_consistency_warns_when_the_reference_is_small(pm):
+    rec, _ = _run(pm, ["7.6", "7.7"])
+    for o in rec.outcomes:
+        assert "ratio" in " ".join(o.warnings) or o.results[0].value.magnitude >= 0
+        assert "max E" in o.results[0].note
+
+
+# ----------------------------------------------------------------------- recorded data
+
+
+def _write_campaign(root: Path, rounds: int = 10, *, mismatch: bool = False, axis: str = "up") -> Path:
+    st = AngleInstrumentStation(truth=AngleInstrumentTruth(seed=5))
+    steps = [P._pos_step(60.0, "up", r) for r in range(1, rounds + 1)]  # the data; `axis` is what is declared
+    lines = ["format = \"metro-campaign/1\"", "[campaign]", "id = \"OGAM-REC\"",
+             "[device]", "id = \"OGA-7\"", "model = \"RLG angle meter\"", "output = \"pulse\"",
+             "zero_stability = \"0.005 °/h\"",
+             "[environment]", "temperature = \"20.1 °C\"", "humidity = \"50 %\"",
+             "[site]", "latitude = \"39.98°\"",
+             "[[equipment]]", "id = \"TT-1\"", "role = \"turntable\"", "parallelism = \"0.1°\"",
+             "[equipment.calibration]", "certificate = \"TT-CAL-1\"", "U = \"0.1″\"", "distribution = \"uniform\""]
+    root.mkdir(parents=True, exist_ok=True)
+    for i, step in enumerate(steps):
+        d = st.segment_data(step, i)
+        S, M = d["standard"][0], d["reading"][0]
+        if mismatch and i == 1:
+            S = S + 1.0
+        name = f"round{i + 1}.csv"
+        (root / name).write_text("standard [°],reading [°]\n" + "".join(f"{float(s)!r},{float(m)!r}\n" for s, m in zip(S, M)),
+                                 encoding="utf-8")
+        lines += ["[[segments]]", f"id = \"r{i + 1}\"", "kind = \"positioning\"", f"file = \"{name}\"",
+                  "sample_interval = \"60 s\"", "[segments.conditions]", "rate = \"60 °/s\"", f"axis = \"{axis}\"",
+                  f"round = {i + 1}"]
+    (root / "manifest.toml").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return root / "manifest.toml"
+
+
+def test_recorded_campaign_runs_and_matches_the_simulation(pm, tmp_path):
+    man = _write_campaign(tmp_path)
+    rec = run_items(pm, "ogam", ["7.4", "7.5"], data=man)
+    st = AngleInstrumentStation(truth=AngleInstrumentTruth(seed=5))
+    direct = run_items(pm, "ogam", ["7.4", "7.5"], campaign=st.acquire(P._rounds_at_reference()))
+    for a, b in zip(rec.outcomes, direct.outcomes):
+        assert a.results[0].value.magnitude == pytest.approx(b.results[0].value.magnitude, rel=1e-9)
+    assert rec.outcomes[0].results[0].budget.rows[0].note == "certificate TT-CAL-1"
+
+
+def test_recorded_campaign_via_cli(run_cli, tmp_path):
+    import json
+
+    man = _write_campaign(tmp_path)
+    code, out, err = run_cli("run", "-s", "ogam", "-i", "7.4", "--data", str(man), "--json", "--no-report",
+                             "--no-progress")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["results"][0]["key"] == "E" and doc["results"][0]["k"] == 2.0
+
+
+def test_bad_recorded_data_is_refused(pm, tmp_path):
+    with pytest.raises(DataError, match="same standard angles"):
+        run_items(pm, "ogam", ["7.4"], data=_write_campaign(tmp_path / "a", 3, mismatch=True))
+    with pytest.raises(DataError, match="repeated"):
+        run_items(pm, "ogam", ["7.4"], data=_write_campaign(tmp_path / "b", 1))
+    with pytest.raises(DataError, match="axis"):
+        run_items(pm, "ogam", ["7.4"], data=_write_campaign(tmp_path / "c", 2, axis="sideways"))
+    with pytest.raises(DataError, match="at least"):
+        run_items(pm, "ogam", ["7.6"], data=_write_campaign(tmp_path / "d", 2))
+    with pytest.raises(ProcedureError, match="statistic"):
+        st = AngleInstrumentStation()
+        run_items(pm, "ogam", ["7.3"], campaign=st.acquire(ZeroStability73().sequence({})),
+                  options={"statistic": "mad"})
+
+
+# ----------------------------------------------------------------------- certificate
+
+
+def test_certificate_appendix_b(pm, tmp_path):
+    import docx
+    from metro.core.report import write_report
+
+    rec, _ = _run(pm, ["7.1", "7.4", "7.5"])
+    path = write_report(tmp_path / "c.docx", rec, template=pm.template_for("ogam").path,
+                        extend=pm.extend_report_context)
+    d = docx.Document(str(path))
+    rows = [[c.text for c in r.cells] for r in d.tables[0].rows]
+    assert [r[0] for r in rows[1:]] == ["1", "2", "3", "4", "5", "6", "7"]
+    assert rows[4][2].startswith("±") and rows[4][2].endswith("″")
+    assert rows[2][2].startswith("—")
+    text = "\n".join(p.text for p in d.paragraphs)
+    E = rec.outcomes[1].results[0]
+    assert f"U = {E.reported()[1]}″, k = 2" in text
+    assert "SIMULATED" in text
+
+
+def test_certificate_template_is_reproducible(tmp_path):
+    import importlib.util
+
+    root = Path(P.__file__).parent / "templates"
+    spec = importlib.util.spec_from_file_location("make_certificate", root / "make_certificate.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.build() == (root / "certificate.docx").read_bytes()
+
+
+def test_classes_named():
+    # every item class, for the docs check (each is exercised above through run_items)
+    assert [c.__name__ for c in P.PROCEDURES] == [
+        ScaleFactor71.__name__, Linearity72.__name__, ZeroStability73.__name__, PositionError74.__name__,
+        Repeatability75.__name__, RateConsistency76.__name__, PointingConsistency77.__name__]
+
+
+def test_scale_factor_within_U_of_truth_over_seeds(pm):
+    inside = 0
+    for seed in range(10):
+        rec, camp = _run(pm, ["7.1"], seed=seed)
+        r = rec.outcomes[0].results[0]
+        inside += abs(r.value.magnitude - camp.expected["K"].to(r.value.units).magnitude) <= r.U.magnitude
+        assert [row.symbol for row in r.budget.rows] == ["s(K_i)/√n", "u(P)", "u(C)"]
+    assert inside >= 8
