@@ -1,1 +1,51 @@
-"""JJF 2014—2022 金属振子式速率陀螺校准规范 — plugin `jjf2014`."""
+"""JJF 2014—2022 金属振子式速率陀螺校准规范 — plugin `jjf2014`.
+
+All 24 calibration items of table 3 (clauses 7.2.1–7.2.23) as procedures, the simulated
+station ``simulated-jjf2014`` (an analog-output vibratory rate gyro, in
+:mod:`metro.instruments.vibratory`), the appendix-A/clause-8 certificate template and its
+report-context extension (``context["jjf2014"]``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from metro.core import hookimpl
+
+STANDARD_ID = "jjf2014"
+TEMPLATE = Path(__file__).parent / "templates" / "certificate.docx"
+
+
+@hookimpl
+def metro_register_standards(registrar) -> None:
+    from .procedures import PROCEDURES
+
+    registrar.add_standard(
+        STANDARD_ID,
+        "金属振子式速率陀螺校准规范 (Calibration specification for metal-shell vibratory rate gyroscopes)",
+        designation="JJF 2014—2022",
+        description="calibration items of clause 7.2 (table 3); uncertainty after appendix B",
+    )
+    for cls in PROCEDURES:
+        registrar.add_procedure(cls)
+
+
+@hookimpl
+def metro_register_stations(registrar) -> None:
+    from metro.instruments.vibratory import station_factory
+
+    registrar.add_station("simulated-jjf2014", station_factory,
+                          "simulated JJF 2014 station (virtual analog vibratory rate gyro on rate/vibration tables)")
+
+
+@hookimpl
+def metro_register_templates(registrar) -> None:
+    if TEMPLATE.is_file():
+        registrar.add_template("jjf2014-certificate", TEMPLATE, standard=STANDARD_ID, kind="report")
+
+
+@hookimpl
+def metro_extend_report_context(record, context) -> None:
+    from .certificate import extend_context
+
+    extend_context(record, context)

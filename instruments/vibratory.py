@@ -1,0 +1,504 @@
+"""A simulated test station for an analog (mV) metal-shell vibratory rate gyro (JJF 2014—2022).
+
+The station holds a rate table with a temperature chamber, a two-axis position table, a
+shock machine, a linear vibration table, an angular vibration table with its reference
+sensor, a 6½-digit DMM (the data acquisition) and a timer.  The virtual gyro's declared,
+seeded truth is :class:`VibratoryTruth`; every segment is generated from it by
+:func:`simulate_segment` from the segment's *kind* and *conditions*, which are exactly what
+the ``jjf2014`` procedures put in their :class:`~metro.core.model.Step` lists.
+
+The gyro's steady output for an input rate Ω (°/s) along its input axis is::
+
+    r   = Ω·Ω²/(Ω² + Ω_th²)                          dead zone (threshold)  [r(0) = 0]
+    F   = K_±·r + K·c·r³/Ω_fs² + K·b + noise         mV
+
+with K_± = K(1 ± a/2) for r > 0 / r < 0 (asymmetry a), a cubic nonlinearity c relative to
+full scale Ω_fs, and the bias b (°/s).  K and b depend on temperature (linear coefficients),
+on gravity along the input axis, on the run (seeded repeatability draws), and change after
+shock and vibration (per axis).  A rate increment ΔΩ on top of a steady rate is passed with
+gain ΔΩ²/(ΔΩ² + r_res²) (a stick–slip resolution model).  Dynamics: first order with time
+constant T = 1/(2π·B_w) in series with a pure delay T_d (JJF 2014 eq. (46), (47)).  Start-up:
+the output settles as K·d₀·exp(−t/τ_s) after power-on.
+
+Noise (static records): white rate noise of angle random walk N, white angle noise of
+quantization Q (σ_θ = Q, so σ²(τ) = 3Q²/τ²), rate random walk K_rrw and a rate ramp R; on the
+other records white rate noise only.  The earth rate (physical 15.04107 °/h) adds
+Ω_e·sin φ to the input when the input axis points up (rate table, bias records), as it
+physically does; the jjf2014 bias items leave it in unless asked to remove it.
+
+``expected`` values are computed here, independently of the plugin's code, by applying the
+standard's definitions to the noiseless model at the planned points.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import zlib
+from collections.abc import Mapping
+from typing import Any
+
+import attrs
+import numpy as np
+from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.units import Q_, parse_quantity
+
+EARTH_RATE_DEG_PER_H = math.degrees(7.2921150e-5) * 3600.0  # physical, 15.04107 °/h
+AXES = ("X", "Y", "Z")
+
+
+@attrs.frozen
+class VibratoryTruth:
+    """Declared truth of the virtual gyro (magnitudes in the units named)."""
+
+    K_mV_per_dps: float = 20.0
+    bias_dps: float = 0.05
+    asymmetry: float = 2e-4
+    cubic: float = 3e-4
+    full_scale_dps: float = 100.0
+    arw_deg_rt_h: float = 0.1
+    quantization_arcsec: float = 0.0
+    rrw_deg_h_rt_h: float = 0.0
+    rate_ramp_deg_h2: float = 0.0
+    sf_temp_per_degC: float = 1.5e-4
+    bias_temp_dps_per_degC: float = 2e-4
+    sf_accel_mV_dps_per_g: float = 0.004
+    bias_accel_dps_per_g: tuple = (0.002, -0.001, 0.003)
+    sf_shock_mV_dps: tuple = (0.004, -0.002, 0.006)
+    bias_shock_dps: tuple = (0.001, -0.003, 0.002)
+    sf_vib_mV_dps: tuple = (-0.003, 0.005, 0.002)
+    bias_vib_dps: tuple = (0.002, 0.001, -0.004)
+    sf_repeat_rel: float = 1e-4
+    bias_repeat_dps: float = 5e-4
+    threshold_dps: float = 0.008
+    resolution_dps: float = 0.004
+    misalign_alpha_rad: float = 1.0e-3
+    misalign_beta_rad: float = -6.0e-4
+    fixture_error_rad: tuple = (2e-3, -1e-3)  # (about x: enters positions 1/2, about y: 3/4)
+    misalign_repeat_rad: float = 2e-5
+    bandwidth_hz: float = 80.0
+    delay_s: float = 0.002
+    startup_tau_s: float = 3.0
+    startup_excursion_dps: float = 5.0
+    ref_noise_dps: float = 0.01
+    seed: int = 20221122
+
+    def as_quantities(self) -> dict[str, Any]:
+        return {
+            "scale factor K": Q_(self.K_mV_per_dps, "mV/(deg/s)"),
+            "bias b": Q_(self.bias_dps * 3600, "deg/h"),
+            "asymmetry a": self.asymmetry,
+            "cubic nonlinearity c (rel. to full scale)": self.cubic,
+            "full scale": Q_(self.full_scale_dps, "deg/s"),
+            "angle random walk": Q_(self.arw_deg_rt_h, "deg/hour**0.5"),
+            "quantization": Q_(self.quantization_arcsec, "arcsec"),
+            "rate random walk": Q_(self.rrw_deg_h_rt_h, "deg/h/hour**0.5"),
+            "rate ramp": Q_(self.rate_ramp_deg_h2, "deg/h**2"),
+            "K temperature coefficient": Q_(self.sf_temp_per_degC, "1/delta_degC"),
+            "bias temperature coefficient": Q_(self.bias_temp_dps_per_degC * 3600, "deg/h/delta_degC"),
+            "threshold model Ω_th": Q_(self.threshold_dps, "deg/s"),
+            "resolution model r_res": Q_(self.resolution_dps, "deg/s"),
+            "misalignment α, β": f"{self.misalign_alpha_rad:g} rad, {self.misalign_beta_rad:g} rad",
+            "bandwidth": Q_(self.bandwidth_hz, "Hz"),
+            "delay": Q_(self.delay_s, "s"),
+            "start-up time constant": Q_(self.startup_tau_s, "s"),
+            "seed": self.seed,
+        }
+
+
+# ------------------------------------------------------------------------------ the model
+
+
+def _dead_zone(omega: np.ndarray | float, th: float) -> np.ndarray:
+    w = np.asarray(omega, dtype=float)
+    if th <= 0:
+        return w
+    return w * w * w / (w * w + th * th)
+
+
+def steady_output(t: VibratoryTruth, omega_dps, *, K: float, bias_dps: float) -> np.ndarray:
+    """Noiseless steady output (mV) for input rate(s) Ω (°/s) with scale factor K and bias b."""
+    r = _dead_zone(omega_dps, t.threshold_dps)
+    kdir = np.where(r > 0, K * (1 + t.asymmetry / 2), K * (1 - t.asymmetry / 2))
+    return kdir * r + K * t.cubic * r**3 / t.full_scale_dps**2 + K * bias_dps
+
+
+def _cond(conditions: Mapping[str, Any], name: str, unit: str | None = None, default=None):
+    if name not in conditions:
+        return default
+    v = conditions[name]
+    if unit is None:
+        return v
+    return float(parse_quantity(v, dimension=unit).to(unit).magnitude)
+
+
+def _run_rng(t: VibratoryTruth, tag: str, run: Any) -> np.random.Generator:
+    return np.random.default_rng([t.seed, zlib.crc32(tag.encode()), zlib.crc32(str(run).encode())])
+
+
+def operating_point(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude_deg: float) -> tuple[float, float]:
+    """(K in mV/(°/s), bias in °/s, earth rate included) for a segment's conditions."""
+    K, b = t.K_mV_per_dps, t.bias_dps
+    T = _cond(c, "temperature", "degC", 20.0)
+    K *= 1 + t.sf_temp_per_degC * (T - 20.0)
+    b += t.bias_temp_dps_per_degC * (T - 20.0)
+    run = c.get("run")
+    if run is not None and kind in ("rate-repeat", "static-repeat"):
+        rng = _run_rng(t, kind, run)
+        K *= 1 + t.sf_repeat_rel * rng.standard_normal()
+        b += t.bias_repeat_dps * rng.standard_normal()
+    axis = str(c.get("axis", "Z")).upper()
+    orient = str(c.get("orientation", "up")).lower()
+    sign = -1.0 if "down" in orient else 1.0
+    if kind == "rate-accel":  # IRA (Z) up or down: ±1 g along the input axis
+        K += t.sf_accel_mV_dps_per_g * sign
+        b += t.bias_accel_dps_per_g[2] * sign
+    if kind == "static-accel":
+        b += t.bias_accel_dps_per_g[AXES.index(axis)] * sign
+    phase = str(c.get("phase", "before")).lower()
+    if phase == "after" and kind in ("rate-shock", "rate-vibration", "static-shock", "static-vibration"):
+        i = AXES.index(axis)
+        if kind == "rate-shock":
+            K += t.sf_shock_mV_dps[i]
+        elif kind == "rate-vibration":
+            K += t.sf_vib_mV_dps[i]
+        elif kind == "static-shock":
+            b += t.bias_shock_dps[i]
+        else:
+            b += t.bias_vib_dps[i]
+    # earth rate along the input axis: vertical input axis (IRA up/down); in the X/Y pairs of
+    # the acceleration test the input axis is horizontal and set east–west (no component)
+    ira_vertical = not (kind == "static-accel" and axis != "Z")
+    if ira_vertical and kind not in ("misalignment", "angular-vibration"):
+        b += sign * EARTH_RATE_DEG_PER_H / 3600.0 * math.sin(math.radians(latitude_deg))
+    return K, b
+
+
+def misalignment_angles(t: VibratoryTruth, run: Any) -> tuple[float, float]:
+    """(α, β) in rad of one mounting run (the mounting repeatability draw)."""
+    if t.misalign_repeat_rad <= 0:
+        return t.misalign_alpha_rad, t.misalign_beta_rad
+    rng = _run_rng(t, "misalignment", run)
+    return (t.misalign_alpha_rad + t.misalign_repeat_rad * rng.standard_normal(),
+            t.misalign_beta_rad + t.misalign_repeat_rad * rng.standard_normal())
+
+
+def mean_output(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude_deg: float) -> float:
+    """Noiseless mean output (mV) of a rate-type or static segment."""
+    K, b = operating_point(t, kind, c, latitude_deg)
+    if kind == "resolution":
+        base = _cond(c, "base_rate", "deg/s")
+        d = _cond(c, "increment", "deg/s")
+        gain = d * d / (d * d + t.resolution_dps**2) if d != 0 else 0.0
+        return float(steady_output(t, base, K=K, bias_dps=b) + K * gain * d)
+    omega = _cond(c, "rate", "deg/s", 0.0)
+    if kind == "misalignment":
+        a, be = misalignment_angles(t, c.get("run", 1))
+        pos = int(c["position"])
+        proj = {1: a + t.fixture_error_rad[0], 2: -a + t.fixture_error_rad[0],
+                3: be + t.fixture_error_rad[1], 4: -be + t.fixture_error_rad[1]}[pos]
+        omega = omega * math.sin(proj)
+    return float(steady_output(t, omega, K=K, bias_dps=b))
+
+
+def _white_rate(rng, n: int, interval_s: float, arw: float) -> np.ndarray:
+    """White rate noise (°/s) of angle random walk ``arw`` (°/√h) sampled every ``interval_s``."""
+    if arw <= 0:
+        return np.zeros(n)
+    return rng.normal(0.0, arw / (60.0 * math.sqrt(interval_s)), size=n)
+
+
+def static_noise(t: VibratoryTruth, rng, n: int, interval_s: float) -> np.ndarray:
+    """Rate noise (°/s) of a static record: ARW + quantization + RRW + ramp."""
+    w = _white_rate(rng, n, interval_s, t.arw_deg_rt_h)
+    if t.quantization_arcsec > 0:
+        theta = rng.normal(0.0, t.quantization_arcsec / 3600.0, size=n + 1)  # °
+        w += np.diff(theta) / interval_s
+    if t.rrw_deg_h_rt_h > 0:
+        step = t.rrw_deg_h_rt_h * math.sqrt(interval_s / 3600.0) / 3600.0  # °/s per sample
+        w += np.cumsum(rng.normal(0.0, step, size=n))
+    if t.rate_ramp_deg_h2 > 0:
+        tt = (np.arange(n) + 0.5) * interval_s
+        w += t.rate_ramp_deg_h2 * (tt / 3600.0) / 3600.0  # R·t in °/h, as °/s
+    return w
+
+
+def simulate_segment(t: VibratoryTruth, kind: str, c: Mapping[str, Any], n: int, interval_s: float,
+                     latitude_deg: float, rng: np.random.Generator) -> dict[str, tuple[np.ndarray, str]]:
+    """The columns of one segment (``output`` in mV; ``reference`` in °/s on the angular
+    vibration table)."""
+    if kind == "angular-vibration":
+        f = _cond(c, "frequency", "Hz")
+        A = _cond(c, "amplitude", "deg/s")
+        K, b = operating_point(t, kind, c, latitude_deg)
+        tt = np.arange(n) * interval_s
+        ph = rng.uniform(-math.pi, math.pi)
+        w = 2 * math.pi * f
+        T = 1.0 / (2 * math.pi * t.bandwidth_hz)
+        gain = 1.0 / math.sqrt(1 + (w * T) ** 2)
+        lag = math.atan(w * T) + w * t.delay_s
+        ref = A * np.cos(w * tt + ph) + rng.normal(0.0, t.ref_noise_dps, n)
+        out = K * b + K * A * gain * np.cos(w * tt + ph - lag) + K * _white_rate(rng, n, interval_s, t.arw_deg_rt_h)
+        return {"output": (out, "mV"), "reference": (ref, "deg/s")}
+    if kind == "startup":
+        K, b = operating_point(t, kind, c, latitude_deg)
+        omega = _cond(c, "rate", "deg/s", 0.0)
+        tt = (np.arange(n) + 1) * interval_s
+        out = (steady_output(t, omega, K=K, bias_dps=b)
+               + K * t.startup_excursion_dps * np.exp(-tt / t.startup_tau_s)
+               + K * _white_rate(rng, n, interval_s, t.arw_deg_rt_h))
+        return {"output": (np.asarray(out, dtype=float), "mV")}
+    m = mean_output(t, kind, c, latitude_deg)
+    K, _ = operating_point(t, kind, c, latitude_deg)
+    if kind.startswith("static"):
+        noise = static_noise(t, rng, n, interval_s)
+    else:
+        noise = _white_rate(rng, n, interval_s, t.arw_deg_rt_h)
+    return {"output": (m + K * noise, "mV")}
+
+
+# ------------------------------------------------------------------------------ expected
+
+
+def _fit(om, F):
+    A = np.column_stack([om, np.ones_like(om)])
+    (K, F0), *_ = np.linalg.lstsq(A, F, rcond=None)
+    return float(K), float(F0)
+
+
+def _sets(steps, kind, key):
+    out: dict[Any, list] = {}
+    for s in steps:
+        if s.kind == kind:
+            out.setdefault(tuple(str(s.conditions.get(k)) for k in key), []).append(s)
+    return out
+
+
+def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlinearity_spec: float) -> dict[str, Any]:
+    """An ideal (noiseless) evaluation of the planned steps, by the standard's definitions."""
+    ex: dict[str, Any] = {}
+
+    def sf(group, kind):
+        om = np.array([_cond(s.conditions, "rate", "deg/s") for s in group])
+        F = np.array([mean_output(t, kind, s.conditions, lat) for s in group])
+        return om, F
+
+    rate = [s for s in steps if s.kind == "rate"]
+    if rate:
+        om, F = sf(rate, "rate")
+        K, F0 = _fit(om, F)
+        ex["K"], ex["F0"] = Q_(K, "mV/(deg/s)"), Q_(F0, "mV")
+        span = om.max() - om.min()
+        ex["Kn"] = Q_(float(np.max(np.abs(K * om + F0 - F)) / (K * span)), "")
+        mags = np.unique(np.abs(om))[::-1]
+        rng_ = None
+        for top in mags:
+            sel = np.abs(om) <= top
+            if np.any(om[sel] > 0) and np.any(om[sel] < 0) and sel.sum() >= 3:
+                k, f0 = _fit(om[sel], F[sel])
+                kn = np.max(np.abs(k * om[sel] + f0 - F[sel])) / (k * (om[sel].max() - om[sel].min()))
+                if kn <= nonlinearity_spec:
+                    rng_ = top
+                    break
+        if rng_ is not None:
+            ex["range"] = Q_(float(rng_), "deg/s")
+        kp, _ = _fit(om[om > 0], F[om > 0])
+        km, _ = _fit(om[om < 0], F[om < 0])
+        ex["Ka"] = Q_(abs(kp - km) / K, "")
+
+    def kset(kind, key):
+        return {k: _fit(*sf(g, kind))[0] for k, g in _sets(steps, kind, key).items()}
+
+    rep = kset("rate-repeat", ("run",))
+    if len(rep) >= 2:
+        v = np.array(list(rep.values()))
+        ex["Kr"] = Q_(float(np.std(v, ddof=1) / np.mean(v)), "")
+    temp = kset("rate-temperature", ("temperature",))
+    if len(temp) >= 2:
+        T = {k: _cond({"t": k[0]}, "t", "degC") for k in temp}
+        km = min(temp, key=lambda k: abs(T[k] - 20.0))
+        ex["Kt"] = Q_(max(abs((temp[k] - temp[km]) / (temp[km] * (T[k] - T[km]))) for k in temp if k != km),
+                      "1/delta_degC")
+    acc = kset("rate-accel", ("orientation",))
+    if len(acc) == 2:
+        up = [v for k, v in acc.items() if "up" in k[0].lower()][0]
+        dn = [v for k, v in acc.items() if "down" in k[0].lower()][0]
+        ex["Kg"] = Q_((up - dn) / 2.0, "mV/(deg/s)/gn")
+    for kind, key in (("rate-shock", "dK_shock"), ("rate-vibration", "dK_vib")):
+        s = kset(kind, ("axis", "phase"))
+        if s:
+            ex[key] = Q_(max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s),
+                         "mV/(deg/s)")
+    # the items divide by K as calibrated by 7.2.1 (the noiseless fit), not by the nominal K
+    Kn = float(ex["K"].magnitude) if "K" in ex else t.K_mV_per_dps
+    static = [s for s in steps if s.kind == "static"]
+    if static:
+        ex["B0"] = Q_(mean_output(t, "static", static[0].conditions, lat) / Kn * 3600.0, "deg/h")
+        ex["ARW"] = Q_(t.arw_deg_rt_h, "deg/hour**0.5")
+
+    def bset(kind, key):
+        return {k: mean_output(t, kind, g[0].conditions, lat) / Kn * 3600.0 for k, g in _sets(steps, kind, key).items()}
+
+    br = bset("static-repeat", ("run",))
+    if len(br) >= 2:
+        ex["Br"] = Q_(float(np.std(list(br.values()), ddof=1)), "deg/h")
+    bt = bset("static-temperature", ("temperature",))
+    if len(bt) >= 2:
+        T = {k: _cond({"t": k[0]}, "t", "degC") for k in bt}
+        km = min(bt, key=lambda k: abs(T[k] - 20.0))
+        ex["Bt"] = Q_(max(abs((bt[k] - bt[km]) / (T[k] - T[km])) for k in bt if k != km), "deg/h/delta_degC")
+    bg = bset("static-accel", ("axis", "orientation"))
+    if bg:
+        vals = []
+        for a in AXES:
+            up = [v for k, v in bg.items() if k[0] == a and "up" in k[1].lower()]
+            dn = [v for k, v in bg.items() if k[0] == a and "down" in k[1].lower()]
+            if up and dn:
+                vals.append(abs(up[0] - dn[0]) / 2.0)
+        ex["Bg"] = Q_(max(vals), "deg/h/gn")
+    for kind, key in (("static-shock", "dB_shock"), ("static-vibration", "dB_vib")):
+        s = bset(kind, ("axis", "phase"))
+        if s:
+            ex[key] = Q_(max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s), "deg/h")
+    mis = _sets(steps, "misalignment", ("run",))
+    if mis:
+        gam = []
+        for run in mis:
+            a, b = misalignment_angles(t, run[0] if run[0] != "None" else 1)
+            gam.append(math.degrees(math.hypot(a, b)) * 60.0)
+        ex["gamma"] = Q_(gam[0], "arcmin")
+        if len(gam) >= 2:
+            ex["gamma_r"] = Q_(float(np.std(gam, ddof=1)), "arcmin")
+    def last_passing(pairs, K):
+        """Largest-first run of levels with |(KΩ − F)/(KΩ)| ≤ 50 % (eqs. (17), (18)): its last level."""
+        last = None
+        for om, f in sorted(pairs, key=lambda p: -abs(p[0])):
+            if abs((K * om - f) / (K * om)) > 0.5:
+                break
+            last = abs(om)
+        return last
+
+    if rate and any(s.kind == "threshold" for s in steps):
+        f0 = mean_output(t, "threshold", {"rate": "0 deg/s"}, lat)
+        lv = [s for s in steps if s.kind == "threshold" and _cond(s.conditions, "rate", "deg/s") != 0]
+        c = [last_passing([(_cond(s.conditions, "rate", "deg/s"),
+                            mean_output(t, "threshold", s.conditions, lat) - f0)
+                           for s in lv if np.sign(_cond(s.conditions, "rate", "deg/s")) == sg], ex["K"].magnitude)
+             for sg in (1, -1)]
+        if all(x is not None for x in c):
+            ex["threshold"] = Q_(max(c), "deg/s")
+    if rate and any(s.kind == "resolution" for s in steps):
+        c = []
+        for sg in (1, -1):
+            mine = [s for s in steps if s.kind == "resolution" and np.sign(_cond(s.conditions, "base_rate", "deg/s")) == sg]
+            base = [s for s in mine if _cond(s.conditions, "increment", "deg/s") == 0]
+            if not base:
+                continue
+            fb = mean_output(t, "resolution", base[0].conditions, lat)
+            c.append(last_passing([(_cond(s.conditions, "increment", "deg/s"),
+                                    mean_output(t, "resolution", s.conditions, lat) - fb)
+                                   for s in mine if _cond(s.conditions, "increment", "deg/s") != 0], ex["K"].magnitude))
+        if c and all(x is not None for x in c):
+            ex["resolution"] = Q_(max(c), "deg/s")
+    if any(s.kind == "angular-vibration" for s in steps):
+        # eq. (47) model; 7.2.21 reads the curve at K = 0.707 (not 1/√2): f = B_w·√(1/0.707² − 1)
+        ex["Bw"] = Q_(t.bandwidth_hz * math.sqrt(1 / 0.707**2 - 1), "Hz")
+        ex["Td"] = Q_(t.delay_s, "s")
+    return ex
+
+
+# ------------------------------------------------------------------------------ station
+
+
+@attrs.define
+class VibratoryStation:
+    """The simulated JJF 2014 station; ``acquire(steps)`` returns an in-memory campaign."""
+
+    truth: VibratoryTruth = attrs.field(factory=VibratoryTruth)
+    latitude_deg: float = 39.98
+    duration_scale: float = 1.0
+    nonlinearity_spec: float = 2e-4
+
+    name = "simulated-jjf2014"
+
+    def device(self) -> DeviceUnderTest:
+        return DeviceUnderTest(
+            id="SIM-MVG-1", model="virtual metal-shell vibratory rate gyro", serial=f"seed {self.truth.seed}",
+            manufacturer="metro simulator",
+            properties={"full_scale": Q_(self.truth.full_scale_dps, "deg/s"),
+                        "nonlinearity_spec": Q_(self.nonlinearity_spec, "")},
+            technology="vibratory", application="", output="analog",
+        )
+
+    def equipment(self) -> list[Equipment]:
+        def cal(cert, U, **kw):
+            return Calibration(cert, U, k=2.0, due=None, lab="simulated", **kw)
+
+        return [
+            Equipment(id="SIM-RT", model="simulated rate table with chamber", role="rate-table",
+                      calibration=cal("SIM-RT-001", Q_(1e-4, ""))),
+            Equipment(id="SIM-DMM", model="simulated 6½-digit DMM", role="dmm",
+                      calibration=cal("SIM-DMM-001", Q_(6e-5, ""))),
+            Equipment(id="SIM-CH", model="simulated temperature chamber", role="chamber",
+                      calibration=cal("SIM-CH-001", Q_(0.5, "delta_degC"))),
+            Equipment(id="SIM-PT", model="simulated two-axis position table", role="position-table",
+                      calibration=cal("SIM-PT-001", Q_(3.0, "arcsec"))),
+            Equipment(id="SIM-AVT", model="simulated angular vibration table + reference sensor",
+                      role="angular-vibration", calibration=cal("SIM-AVT-001", Q_(5e-3, "")),
+                      properties={"phase_U": Q_(0.2, "deg")}),
+            Equipment(id="SIM-SHOCK", model="simulated shock machine", role="shock"),
+            Equipment(id="SIM-VIB", model="simulated linear vibration table", role="vibration"),
+            Equipment(id="SIM-TIMER", model="simulated timer", role="timer",
+                      calibration=cal("SIM-TIMER-001", Q_(1e-6, ""))),
+        ]
+
+    def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
+        t = self.truth
+        segs = []
+        for i, st in enumerate(steps):
+            dt_ = float(st.interval.to("s").magnitude)
+            n_full = int(round(float(st.duration.to("s").magnitude) / dt_))
+            scale = self.duration_scale if st.kind.startswith("static") else 1.0
+            n = max(10, int(round(n_full * scale)))
+            rng = np.random.default_rng([t.seed, i])
+            cols = simulate_segment(t, st.kind, st.conditions, n, dt_, self.latitude_deg, rng)
+            h = hashlib.sha256()
+            for name in sorted(cols):
+                h.update(cols[name][0].tobytes())
+            segs.append(Segment(id=st.segment, kind=st.kind, conditions=dict(st.conditions),
+                                interval=Q_(dt_, "s"), sha256=h.hexdigest(),
+                                loader=(lambda c=cols: c)))
+            if progress is not None:
+                progress("simulating", i + 1, len(steps))
+        return Campaign(
+            id="SIMULATED-JJF2014", device=self.device(), equipment=self.equipment(),
+            environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent"),
+                         "location": "simulated laboratory"},
+            site={"latitude": Q_(self.latitude_deg, "deg")},
+            segments=segs, source="simulated station (simulated-jjf2014)", simulated=True,
+            truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+            expected=expected_values(t, steps, self.latitude_deg, self.nonlinearity_spec),
+        )
+
+
+def station_factory(**options: Any) -> VibratoryStation:
+    """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
+    latitude_deg, duration_scale, nonlinearity_spec)."""
+    fields = attrs.fields_dict(VibratoryTruth)
+    truth_kw = {k: (int(v) if k == "seed" else v) for k, v in options.items() if k in fields}
+    st_kw = {k: float(v) for k, v in options.items() if k in ("latitude_deg", "duration_scale", "nonlinearity_spec")}
+    return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
+
+
+__all__ = [
+    "EARTH_RATE_DEG_PER_H",
+    "VibratoryStation",
+    "VibratoryTruth",
+    "expected_values",
+    "mean_output",
+    "misalignment_angles",
+    "operating_point",
+    "simulate_segment",
+    "station_factory",
+    "steady_output",
+]

@@ -1,0 +1,77 @@
+"""Uncertainty budgets of JJF 2014—2022, built the way appendix B builds them.
+
+* B.1 scale factor, model K = (F − F_0 − ν)/Ω (B.1), propagation (B.2): rate table
+  (relative U, k = 2), data acquisition (6½-digit DMM, relative U, k = 2) and the measurement
+  repeatability (type A, from the data).
+* B.2 bias, model B_0 = F/K (B.3), propagation (B.4): data acquisition (relative) and the
+  scale factor (its relative combined uncertainty from B.1).  In a real run metro adds the
+  type A scatter of the mean output F̄, which appendix B leaves out (interpretations.md).
+
+Rows are relative standard uncertainties multiplied by the measured value (sensitivity), so
+the budget is in the measurand's unit; with the value 1 (dimensionless) the budget is the
+relative one that appendix B prints.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import pint
+from metro.core.budget import INF, BudgetRow, Coverage, UncertaintyBudget
+from metro.core.model import Calibration
+from metro.core.units import Q_
+
+COVERAGE = Coverage.fixed(2.0)  # appendix B: k = 2
+
+
+def relative_calibration_row(source: str, symbol: str, cal: Calibration | None, value: pint.Quantity,
+                             warnings: list[str] | None = None, note: str = "") -> list[BudgetRow]:
+    """A type B row from a relative (dimensionless) calibration uncertainty, sensitivity |value|.
+    Nothing (and a warning) when the equipment has no relative calibration data."""
+    if cal is None or not cal.uncertainty.dimensionless:
+        if warnings is not None:
+            warnings.append(f"{source}: no relative calibration uncertainty given, left out of the budget")
+        return []
+    return [BudgetRow.from_calibration(source, symbol, cal, sensitivity=abs(value),
+                                       note=note or f"certificate {cal.certificate}")]
+
+
+def scale_factor_budget(K: pint.Quantity, u_rep: pint.Quantity, dof: float, *,
+                        rate_table: Calibration | None, dmm: Calibration | None,
+                        warnings: list[str] | None = None, rep_source: str = "measurement repeatability",
+                        extra: Sequence[BudgetRow] = ()) -> UncertaintyBudget:
+    """Appendix B.1 budget of K: u_c² = u_1² + u_2² + u_3² (B.2 with relative components).
+
+    :param K: the scale factor (use ``Q_(1, "")`` for the relative budget of appendix B).
+    :param u_rep: standard uncertainty from repeatability, in K's unit (B.1.2.2 3)).
+    :param dof: its degrees of freedom (``math.inf`` when stated without).
+    """
+    rows = relative_calibration_row("rate table (B.1.2.2 1))", "u₁", rate_table, K, warnings)
+    rows += relative_calibration_row("data acquisition, 6½-digit DMM (B.1.2.2 2))", "u₂", dmm, K, warnings)
+    rows.append(BudgetRow.type_a(rep_source + " (B.1.2.2 3))", "u₃", u_rep, dof))
+    rows += list(extra)
+    return UncertaintyBudget("scale factor K", K.units, rows, coverage=COVERAGE)
+
+
+def bias_budget(B0: pint.Quantity, u_rel_K: float, *, dmm: Calibration | None, u_A: pint.Quantity | None = None,
+                dof_A: float = INF, warnings: list[str] | None = None,
+                extra: Sequence[BudgetRow] = ()) -> UncertaintyBudget:
+    """Appendix B.2 budget of B_0 = F/K: data acquisition (relative, B.2.2.2 1)) and the scale
+    factor (relative u_c of K, B.2.2.2 2)); plus, when given, the type A scatter of F̄/K."""
+    rows = relative_calibration_row("data acquisition, 6½-digit DMM (B.2.2.2 1))", "u₁", dmm, B0, warnings)
+    rows.append(BudgetRow.type_b("scale factor K (B.2.2.2 2))", "u₂", Q_(u_rel_K, ""), distribution="normal",
+                                 k=1.0, sensitivity=abs(B0), note="relative combined uncertainty of K (B.1.3)"))
+    if u_A is not None:
+        rows.append(BudgetRow.type_a("scatter of the mean output (batch means)", "u_A", u_A, dof_A))
+    rows += list(extra)
+    return UncertaintyBudget("bias B0", B0.units, rows, coverage=COVERAGE)
+
+
+def type_a_budget(measurand: str, unit: str, rows: Sequence[BudgetRow]) -> UncertaintyBudget:
+    return UncertaintyBudget(measurand, unit, list(rows), coverage=COVERAGE)
+
+
+def std_of_std(s: float, q: int) -> tuple[float, float]:
+    """Standard uncertainty of a Bessel standard deviation of q values, s/√(2(q − 1)), and ν = q − 1."""
+    return s / math.sqrt(2.0 * (q - 1)), float(q - 1)

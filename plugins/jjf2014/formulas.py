@@ -1,0 +1,467 @@
+"""JJF 2014—2022 clause 7.2 formulas and appendix B budgets, as pure functions on numbers.
+
+Units are those named in each docstring: input rates Ω in °/s, outputs F in mV, scale
+factors K in mV/[(°)/s], biases in °/s unless stated.  The procedures convert at the
+boundary.  Shared maths comes from :mod:`metro.core` (lsq, allan, sinefit).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import attrs
+import numpy as np
+from metro.core.lsq import fit_linear
+
+#: Earth rotation rate in °/h, as GB/T 45570 D.40 prints it (JJF 2014 has no earth term).
+EARTH_RATE_DEG_PER_H = 15.041
+
+
+# ------------------------------------------------------------------ 7.2.1 scale factor
+
+
+@attrs.frozen
+class LineFit:
+    """Result of the eq. (3)–(5) fit F_i = K·Ω_i + F_0 + v_i."""
+
+    K: float
+    F0: float
+    u_K: float  # standard error of K from the residuals (s/√Σ(Ω−Ω̄)²)
+    u_F0: float
+    residuals: np.ndarray  # v_i = F_i − (KΩ_i + F_0)
+    dof: int
+
+    def predict(self, omega) -> np.ndarray:
+        """F̂_i = K·Ω_i + F_0, eq. (6)."""
+        return self.K * np.asarray(omega, dtype=float) + self.F0
+
+
+def mean_output_eq2(samples: Sequence[float]) -> float:
+    """F̄_i = (1/N) Σ F_iP, eq. (2) (mV)."""
+    a = np.asarray(samples, dtype=float)
+    if a.size < 1:
+        raise ValueError("eq. (2) needs at least one sample")
+    return float(np.mean(a))
+
+
+def scale_factor_eq4_5(omega: Sequence[float], F: Sequence[float]) -> LineFit:
+    """Least-squares K and F_0 of the linear model eq. (3), JJF 2014 7.2.1.2 eqs. (4), (5)::
+
+        K   = [n ΣΩ_iF_i − ΣΩ_i ΣF_i] / [n ΣΩ_i² − (ΣΩ_i)²]
+        F_0 = (1/n) ΣF_i − (K/n) ΣΩ_i
+
+    evaluated in the algebraically identical centred form K = Σ(Ω−Ω̄)(F−F̄)/Σ(Ω−Ω̄)²
+    (no cancellation of large sums).  Standard errors from the residual variance
+    s² = Σv_i²/(n − 2): u(K) = s/√Σ(Ω−Ω̄)², u(F_0) = s·√(1/n + Ω̄²/Σ(Ω−Ω̄)²).
+
+    :param omega: input rates Ω_i (°/s), at least 3, not all equal.
+    :param F: mean outputs F̄_i (mV).
+    """
+    om = np.asarray(omega, dtype=float)
+    f = np.asarray(F, dtype=float)
+    if om.shape != f.shape or om.ndim != 1:
+        raise ValueError("Ω and F must be 1-D of the same length")
+    if om.size < 3:
+        raise ValueError(f"eq. (4) needs at least 3 input rates for a fit with an uncertainty, got {om.size}")
+    if not (np.all(np.isfinite(om)) and np.all(np.isfinite(f))):
+        raise ValueError("Ω or F is not finite")
+    ob, fb = om.mean(), f.mean()
+    sxx = float(np.sum((om - ob) ** 2))
+    if sxx == 0.0:
+        raise ValueError("all input rates are equal: K is undefined (eq. (4) denominator is zero)")
+    K = float(np.sum((om - ob) * (f - fb)) / sxx)
+    F0 = float(fb - K * ob)
+    v = f - (K * om + F0)
+    dof = om.size - 2
+    s = math.sqrt(float(v @ v) / dof)
+    return LineFit(K, F0, s / math.sqrt(sxx), s * math.sqrt(1.0 / om.size + ob * ob / sxx), v, dof)
+
+
+# ------------------------------------------------------------------ 7.2.2 – 7.2.4
+
+
+def nonlinearity_eq7_8(omega: Sequence[float], F: Sequence[float], fit: LineFit) -> tuple[np.ndarray, float]:
+    """Point deviations a_i = (F̂_i − F_i)/(K·|Ω_max+ − Ω_max−|), eq. (7), and
+    K_n = |a_i|_max, eq. (8).  Ω_max+ / Ω_max− are the largest forward / reverse rates."""
+    om = np.asarray(omega, dtype=float)
+    f = np.asarray(F, dtype=float)
+    if not (np.any(om > 0) and np.any(om < 0)):
+        raise ValueError("eq. (7) needs forward (Ω > 0) and reverse (Ω < 0) rates")
+    span = abs(om.max() - om.min())
+    a = (fit.predict(om) - f) / (fit.K * span)
+    return a, float(np.max(np.abs(a)))
+
+
+def range_from_nonlinearity(omega: Sequence[float], F: Sequence[float], limit: float) -> tuple[float | None, float]:
+    """The range (7.2.2.2, last paragraph): the largest input rate Ω_m such that the
+    eq. (4)–(8) nonlinearity of the points with |Ω| ≤ Ω_m meets ``limit``.
+
+    Returns (Ω_m or None if no range meets it, K_n over that range)."""
+    om = np.asarray(omega, dtype=float)
+    f = np.asarray(F, dtype=float)
+    for top in np.unique(np.abs(om))[::-1]:
+        sel = np.abs(om) <= top
+        if sel.sum() < 3 or not (np.any(om[sel] > 0) and np.any(om[sel] < 0)):
+            break
+        fit = scale_factor_eq4_5(om[sel], f[sel])
+        _, kn = nonlinearity_eq7_8(om[sel], f[sel], fit)
+        if kn <= limit:
+            return float(top), kn
+    return None, float("nan")
+
+
+def asymmetry_eq9(K_plus: float, K_minus: float, K: float) -> float:
+    """K_a = |K_+ − K_−| / K, eq. (9)."""
+    if K == 0:
+        raise ValueError("K = 0")
+    return abs(K_plus - K_minus) / abs(K)
+
+
+def relative_repeatability_eq10(K: Sequence[float]) -> float:
+    """K_r = s(K_i)/K̄ (Bessel), eq. (10)."""
+    k = np.asarray(K, dtype=float)
+    if k.size < 2:
+        raise ValueError(f"eq. (10) needs Q ≥ 2 calibrations, got {k.size}")
+    return float(np.std(k, ddof=1) / np.mean(k))
+
+
+# ------------------------------------------------------------------ 7.2.5 – 7.2.8, 7.2.16 – 7.2.19
+
+
+def sf_temperature_eq11(K: Sequence[float], T: Sequence[float], m: int) -> tuple[float, int]:
+    """K_t = max_i |(K_i − K_m)/(K_m (T_i − T_m))|, eq. (11) (1/°C); returns (K_t, argmax i).
+    ``m`` is the index of the room-temperature point."""
+    k = np.asarray(K, dtype=float)
+    t = np.asarray(T, dtype=float)
+    vals = [(abs((k[i] - k[m]) / (k[m] * (t[i] - t[m]))), i) for i in range(k.size) if i != m]
+    if not vals:
+        raise ValueError("eq. (11) needs at least one temperature point besides room temperature")
+    if any(t[i] == t[m] for i in range(k.size) if i != m):
+        raise ValueError("two temperature points equal room temperature: T_i − T_m = 0 in eq. (11)")
+    return max(vals)
+
+
+def bias_temperature_eq31(B: Sequence[float], T: Sequence[float], m: int) -> tuple[float, int]:
+    """B_t = max_i |(B_0i − B_0m)/(T_i − T_m)|, eq. (31); returns (B_t, argmax i)."""
+    b = np.asarray(B, dtype=float)
+    t = np.asarray(T, dtype=float)
+    if any(t[i] == t[m] for i in range(b.size) if i != m):
+        raise ValueError("two temperature points equal room temperature: T_i − T_m = 0 in eq. (31)")
+    vals = [(abs((b[i] - b[m]) / (t[i] - t[m])), i) for i in range(b.size) if i != m]
+    if not vals:
+        raise ValueError("eq. (31) needs at least one temperature point besides room temperature")
+    return max(vals)
+
+
+def per_g_726(up: float, down: float) -> float:
+    """7.2.6.2 / 7.2.17.2: (value with the axis up − value with it down) / 2 g (per g)."""
+    return (up - down) / 2.0
+
+
+def max_change_eq12_13(before: Mapping[str, float], after: Mapping[str, float]) -> tuple[float, str, dict]:
+    """ΔK_j = |K_j2 − K_j1| per axis j (eq. (12)/(14)/(32)/(33)) and the maximum over the
+    axes (eq. (13)/(15), 7.2.18.2/7.2.19.2 last sentence); returns (max, its axis, per axis)."""
+    axes = [a for a in before if a in after]
+    if not axes:
+        raise ValueError("no axis has both a before and an after value")
+    d = {a: abs(after[a] - before[a]) for a in axes}
+    worst = max(d, key=d.get)
+    return d[worst], worst, d
+
+
+# ------------------------------------------------------------------ 7.2.9, 7.2.10
+
+
+def threshold_eq16_17(omega_desc: Sequence[float], F_cal: Sequence[float], K: float) -> tuple[float | None, int]:
+    """Candidate threshold of one direction, eqs. (16), (17).
+
+    Rates are taken in the order applied (decreasing |Ω|); F̂_i = K·Ω_i (eq. (16)); a rate
+    meets eq. (17) when |(F̂_i − F_i)/F̂_i| ≤ 50 %.  The candidate is the last rate of the
+    unbroken run of rates, from the largest down, that meet it (interpretations.md).
+    Returns (candidate or None if the largest rate already fails, index of the candidate)."""
+    om = np.asarray(omega_desc, dtype=float)
+    f = np.asarray(F_cal, dtype=float)
+    if np.any(np.diff(np.abs(om)) >= 0):
+        raise ValueError("threshold rates must be strictly decreasing in magnitude")
+    ok = np.abs((K * om - f) / (K * om)) <= 0.5
+    if not ok[0]:
+        return None, -1
+    i = int(np.argmin(ok)) - 1 if not ok.all() else om.size - 1
+    return float(om[i]), i
+
+
+def resolution_eq18(increments_desc: Sequence[float], dF: Sequence[float], K: float) -> tuple[float | None, int]:
+    """Candidate resolution of one direction, eq. (18): ΔF̂_i = K·ΔΩ_i (slope of eq. (6));
+    an increment meets it when |(ΔF̂_i − ΔF_i)/ΔF̂_i| ≤ 50 %; same run rule as eq. (17)."""
+    return threshold_eq16_17(increments_desc, dF, K)
+
+
+# ------------------------------------------------------------------ 7.2.11, 7.2.12
+
+
+def misalignment_eq19_25(F: Mapping[tuple[int, str], float], omega: float, K: float) -> dict[str, float]:
+    """Input-axis misalignment, eqs. (19)–(25).
+
+    ``F[(p, '+')]``/``F[(p, '-')]`` are the mean outputs (mV) at mounting position p = 1…4 with
+    the table turning forward/reverse at Ω_(+) = ``omega`` (°/s); K in mV/[(°)/s].
+    δ_p = (F_p+ − F_p−)/(2Ω_(+)K) (19), (20), (22), (23); α_m = (δ1 − δ2)/2 (21);
+    β_m = (δ3 − δ4)/2 (24); γ_m = 10800·√(α_m² + β_m²)/π in ′ (25)."""
+    if omega == 0 or K == 0:
+        raise ValueError("Ω_(+) and K must be non-zero")
+    d = {p: (F[(p, "+")] - F[(p, "-")]) / (2.0 * omega * K) for p in (1, 2, 3, 4)}
+    alpha = (d[1] - d[2]) / 2.0
+    beta = (d[3] - d[4]) / 2.0
+    gamma = 10800.0 * math.hypot(alpha, beta) / math.pi
+    return {"delta1": d[1], "delta2": d[2], "delta3": d[3], "delta4": d[4],
+            "alpha": alpha, "beta": beta, "gamma": gamma}
+
+
+def std_bessel(values: Sequence[float], clause: str = "eq. (26)/(30)", min_q: int = 2) -> float:
+    """Bessel standard deviation [Σ(x_i − x̄)²/(Q − 1)]^½, eqs. (26), (30)."""
+    x = np.asarray(values, dtype=float)
+    if x.size < min_q:
+        raise ValueError(f"{clause} needs Q ≥ {min_q} values, got {x.size}")
+    return float(np.std(x, ddof=1))
+
+
+# ------------------------------------------------------------------ 7.2.13 – 7.2.15
+
+
+def bias_eq27_28(F: Sequence[float], K: float) -> float:
+    """B_0 = F̄/K with F̄ = (1/N)ΣF_i, eqs. (27), (28) (°/s for K in mV/[(°)/s])."""
+    return mean_output_eq2(F) / K
+
+
+def bias_stability_eq29(F: Sequence[float], K: float, P: int) -> tuple[float, int]:
+    """B_s = (1/K)·[Σ(F̄_i − F̄)²/(N/P − 1)]^½ over the N/P averages of P samples, eq. (29).
+    An incomplete last block is dropped.  Returns (B_s, number of averages)."""
+    f = np.asarray(F, dtype=float)
+    if P < 1:
+        raise ValueError("the averaging period P must be ≥ 1 sample")
+    m = f.size // P
+    if m < 2:
+        raise ValueError(f"eq. (29) needs at least 2 averages of {P} samples; the record has {f.size} samples")
+    means = f[: m * P].reshape(m, P).mean(axis=1)
+    return float(np.std(means, ddof=1) / abs(K)), m
+
+
+# ------------------------------------------------------------------ 7.2.20 Allan variance
+
+
+#: exponents m of eq. (38) and the name of each term
+ALLAN_TERMS = ((-2, "quantization"), (-1, "angle random walk"), (0, "bias instability"),
+               (1, "rate random walk"), (2, "rate ramp"))
+
+
+@attrs.frozen
+class AllanFit:
+    """Result of the eq. (38) fit σ²(τ) = Σ A_m τ^m (τ in h, σ in °/h)."""
+
+    A: np.ndarray  # A_-2 … A_2 as fitted (0 for a term removed by the non-negative variant)
+    u_A: np.ndarray  # standard uncertainties (unconstrained value's u for a dropped term)
+    raw: np.ndarray  # unconstrained estimates
+    active: np.ndarray  # bool per term: kept and ≥ 0 (a False term is reported "not resolved")
+    chi2: float
+    dof: int
+    birge: float
+
+    def model(self, tau_h) -> np.ndarray:
+        """The fitted σ²(τ) (with every coefficient as fitted, negative ones included)."""
+        t = np.asarray(tau_h, dtype=float)
+        return sum(self.A[i] * t ** m for i, (m, _) in enumerate(ALLAN_TERMS))
+
+
+def allan_covariance(model_s2: np.ndarray, edf: np.ndarray) -> np.ndarray:
+    """Covariance of the σ̂²(τ_k) used as the fit's weights.
+
+    var(σ̂²_k) = 2σ_k⁴/edf_k (χ² law); between levels the nested-average approximation
+    cov(σ̂²_j, σ̂²_k) = 2σ_j²σ_k²/max(edf_j, edf_k), i.e. a correlation √(edf_coarse/edf_fine)
+    (the same structure as GB/T 45570 D.45 in metro); octave levels of an overlapping Allan
+    variance are strongly correlated, and ignoring it understates the uncertainty."""
+    s2 = np.asarray(model_s2, dtype=float)
+    e = np.asarray(edf, dtype=float)
+    C = 2.0 * np.outer(s2, s2) / np.maximum.outer(e, e)
+    # guard: equal edf at two levels would make them fully correlated (singular); cap at 0.95
+    d = np.sqrt(np.diag(C))
+    R = np.minimum(C / np.outer(d, d), 0.95)
+    np.fill_diagonal(R, 1.0)
+    return R * np.outer(d, d)
+
+
+def _allan_wls(tau_h, s2, cov, active):
+    cols = [tau_h ** m for (m, _), a in zip(ALLAN_TERMS, active) if a]
+    A = np.column_stack(cols)
+    return fit_linear(A, s2, cov_y=cov, scale_cov=False), A
+
+
+def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence[float], *,
+                   iterations: int = 4, nonnegative: bool = False) -> AllanFit:
+    """Generalised least-squares fit of eq. (38), σ²(τ) = Σ_{m=−2}^{2} A_m τ^m.
+
+    Weights: the covariance of :func:`allan_covariance` — var(σ̂²(τ)) = 2 σ⁴(τ)/edf(τ) (χ² law
+    of a variance with edf equivalent degrees of freedom) and the nested-level correlation —
+    with σ²(τ) taken from the model and iterated (start: the observations).
+    Covariance of A = (AᵀC⁻¹A)⁻¹, scaled by χ²/ν when that exceeds 1 (Birge ratio).
+    A coefficient that comes out negative is not physical.  Default (``nonnegative=False``):
+    all five estimates are kept as fitted (unbiased; ``active`` flags the non-negative ones)
+    and the caller reports a negative one as "not resolved".  With ``nonnegative=True`` the
+    negative term is removed and the fit repeated (active-set non-negative least squares)
+    until all kept terms are ≥ 0; a removed term is 0 with the standard uncertainty of its
+    all-terms estimate.  The constraint biases the kept terms (ARW low by ≈ 0.7 u on white
+    noise), which is why it is not the default (interpretations.md, "7.2.20 weighting and
+    negative coefficients").
+
+    :param tau_h: cluster times τ in hours (≥ 6 values).
+    :param sigma: Allan deviations σ(τ) in °/h.
+    :param edf: equivalent degrees of freedom of each σ²(τ).
+    """
+    t = np.asarray(tau_h, dtype=float)
+    s = np.asarray(sigma, dtype=float)
+    e = np.asarray(edf, dtype=float)
+    if not (t.size == s.size == e.size):
+        raise ValueError("τ, σ and edf must have the same length")
+    if t.size < 6:
+        raise ValueError(f"eq. (38) has 5 coefficients and needs at least 6 τ values, got {t.size}")
+    if np.any(~(s > 0)) or not np.all(np.isfinite(s)):
+        raise ValueError("σ(τ) must be positive and finite (constant or zero-variance data?)")
+    s2 = s**2
+    active = np.ones(5, dtype=bool)
+    raw = None
+    raw_u = None
+    for _ in range(5):
+        model = s2.copy()
+        for _ in range(max(1, iterations)):
+            fit, A = _allan_wls(t, s2, allan_covariance(model, e), active)
+            pred = A @ fit.coef
+            model = np.where(pred > 0, pred, s2)
+        if raw is None:
+            raw, raw_u = np.asarray(fit.coef, dtype=float), np.sqrt(np.diag(fit.cov))
+        coef = np.zeros(5)
+        coef[active] = fit.coef
+        if not nonnegative or np.all(coef[active] >= 0):
+            break
+        neg = np.flatnonzero(active)[np.argmin(np.where(coef[active] < 0, coef[active] / np.maximum(
+            np.sqrt(np.diag(fit.cov)), 1e-300), np.inf))]
+        active[neg] = False
+        if not active.any():
+            raise ValueError("every coefficient of eq. (38) came out negative")
+    r = s2 - A @ fit.coef
+    chi2 = float(r @ np.linalg.solve(allan_covariance(model, e), r))
+    dof = t.size - int(active.sum())
+    birge = math.sqrt(chi2 / dof) if dof > 0 and chi2 > dof else 1.0
+    u = np.zeros(5)
+    u[active] = np.sqrt(np.diag(fit.cov)) * birge
+    u[~active] = np.asarray(raw_u)[~active] * birge
+    raw_full = np.asarray(raw)
+    if not nonnegative:
+        active = coef >= 0
+    return AllanFit(coef, u, raw_full, active.copy(), chi2, dof, birge)
+
+
+def noise_coefficients(A: Sequence[float]) -> dict[str, float]:
+    """IEEE Std 952 coefficients from the eq. (38) A_m (τ in h, σ in °/h):
+
+    * quantization Q = √(A_−2/3)     (°; σ² = 3Q²/τ²)
+    * ARW N = √A_−1                   (°/√h; eq. (39))
+    * bias instability B = √(A_0·π/(2 ln 2))   (°/h; σ² = (2 ln 2/π)B²)
+    * rate random walk K = √(3A_1)    (°/h/√h; σ² = K²τ/3)
+    * rate ramp R = √(2A_2)           (°/h²; σ² = R²τ²/2)
+    """
+    a = np.clip(np.asarray(A, dtype=float), 0.0, None)
+    return {"Q": math.sqrt(a[0] / 3.0), "N": math.sqrt(a[1]),
+            "B": math.sqrt(a[2] * math.pi / (2 * math.log(2))), "K": math.sqrt(3 * a[3]),
+            "R": math.sqrt(2 * a[4])}
+
+
+#: d(coefficient)/d(A_m) factor c in coefficient = √(c·A): u(coef) = c·u(A)/(2·coef)
+NOISE_FACTORS = (1.0 / 3.0, 1.0, math.pi / (2 * math.log(2)), 3.0, 2.0)
+
+
+def arw_eq39(A_minus1: float) -> float:
+    """ARW = √A_−1, eq. (39)."""
+    if not A_minus1 > 0:
+        raise ValueError(f"A_−1 = {A_minus1:g} is not positive, so ARW = √A_−1 (eq. (39)) is undefined")
+    return math.sqrt(A_minus1)
+
+
+# ------------------------------------------------------------------ 7.2.21, 7.2.22
+
+
+def bandwidth_fit_743(f: Sequence[float], Kr: Sequence[float], level: float = 0.707) -> tuple[float, np.ndarray, np.ndarray]:
+    """Curve fit of the N + 1 sensitivity ratios (7.2.21.2, after eq. (43)) and its 0.707 point.
+
+    The curve is the amplitude response of the first-order model of eq. (46),
+    K(f) = 1/√(a + b f²), fitted as the straight line 1/K_i² = a + b·f_i² through the N
+    measured ratios and the zero-frequency point (0, 1).  f_c solves K(f_c) = ``level``:
+    f_c = √((1/level² − a)/b).  Returns (f_c, (a, b), cov(a, b))."""
+    ff = np.asarray(f, dtype=float)
+    k = np.asarray(Kr, dtype=float)
+    if np.any(~(k > 0)):
+        raise ValueError("sensitivity ratios must be positive")
+    x = np.concatenate([[0.0], ff**2])
+    y = np.concatenate([[1.0], 1.0 / k**2])
+    fit = fit_linear(np.column_stack([np.ones_like(x), x]), y)
+    a, b = (float(c) for c in fit.coef)
+    if not b > 0:
+        raise ValueError("the fitted amplitude curve does not fall with frequency (b ≤ 0): no 0.707 point")
+    q = (1.0 / level**2 - a) / b
+    if not q > 0:
+        raise ValueError("the fitted curve is below 0.707 already at 0 Hz")
+    return math.sqrt(q), np.array([a, b]), np.asarray(fit.cov)
+
+
+def delay_eq48_50(omega: Sequence[float], P: Sequence[float], T: float) -> tuple[float, float, np.ndarray]:
+    """Output delay T_d by least squares, eqs. (48)–(50)::
+
+        y_i = −P_i − atan(ω_i T) = ω_i T_d,   T_d = (ΩΩᵀ)⁻¹ Ω y
+
+    :param omega: angular frequencies ω_i (rad/s).
+    :param P: phase delays P_i = φ̄_i − φ_0 (rad; negative for a lag), unwrapped.
+    :param T: time constant T = 1/(2π B_w), eq. (47) (s).
+    :return: (T_d in s, its standard error from the residuals, residuals y − ωT_d)."""
+    w = np.asarray(omega, dtype=float)
+    p = np.asarray(P, dtype=float)
+    if w.size < 2:
+        raise ValueError("eq. (50) needs at least 2 frequencies")
+    y = -p - np.arctan(w * T)
+    Td = float(w @ y / (w @ w))
+    r = y - w * Td
+    s = math.sqrt(float(r @ r) / (w.size - 1))
+    return Td, s / math.sqrt(float(w @ w)), r
+
+
+# ------------------------------------------------------------------ 7.2.23
+
+
+def settle_time(t: Sequence[float], x: Sequence[float], target: float, tol: float) -> float:
+    """7.2.23.2: time from power-on until x stays within target ± tol (the first sample
+    after the last sample outside).  Returns the time of that sample; raises if x never
+    settles (the last sample is outside)."""
+    tt = np.asarray(t, dtype=float)
+    xx = np.asarray(x, dtype=float)
+    out = np.abs(xx - target) > tol
+    if out[-1]:
+        raise ValueError("the output is still outside the tolerance at the end of the record")
+    if not out.any():
+        return float(tt[0])
+    return float(tt[int(np.flatnonzero(out)[-1]) + 1])
+
+
+# ------------------------------------------------------------------ appendix B
+
+
+def appendix_b_presentation(u_c: float, k: float = 2.0) -> tuple[str, str]:
+    """Appendix B's way of writing the result: u_c rounded to three significant digits and
+    U = k × that rounded u_c, printed without trailing zeros (B.1.3/B.1.4: 1.65×10⁻⁴ → 3.3×10⁻⁴;
+    B.2.3/B.2.4: 1.68×10⁻⁴ → 3.36×10⁻⁴).  Returns (u_c text, U text) in 'd.dd×10⁻ⁿ' form."""
+    def sci(x: float, digits: int) -> str:
+        e = math.floor(math.log10(abs(x)))
+        m = round(x / 10**e, digits - 1)
+        if m >= 10:
+            m, e = m / 10, e + 1
+        txt = f"{m:.{digits - 1}f}".rstrip("0").rstrip(".")
+        return f"{txt}×10^{e}"
+    e = math.floor(math.log10(u_c))
+    uc3 = round(u_c / 10**e, 2) * 10**e
+    return sci(uc3, 3), sci(k * uc3, 3)

@@ -1,0 +1,147 @@
+"""JJF 2014 certificate: template registered, appendix-A rows, items not performed marked, page x of y."""
+
+from __future__ import annotations
+
+import json
+import math
+import zipfile
+from pathlib import Path
+
+import docx
+import pytest
+from metro.core.runner import merge_steps, run_items
+from metro.instruments.vibratory import VibratoryStation
+from metro.plugins.jjf2014 import certificate as C
+
+ITEMS = ["7.2.1", "7.2.2", "7.2.13", "7.2.20", "7.2.21", "7.2.22"]
+OPTS = {"records": 2, "frequencies": 10, "sample_rate": "2000 Hz"}
+
+
+@pytest.fixture(scope="module")
+def record():
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    procs = [pm.procedure("jjf2014", i) for i in ITEMS]
+    from metro.core.runner import split_options
+
+    per = split_options(procs, OPTS)
+    camp = VibratoryStation(duration_scale=0.25).acquire(
+        merge_steps([c().sequence(c.option_values(o)) for c, o in zip(procs, per)]))
+    return pm, run_items(pm, "jjf2014", ITEMS, campaign=camp, options=OPTS)
+
+
+def test_rows_mark_items_not_performed(record):
+    _, rec = record
+    rows = C.certificate_rows(rec.outcomes)
+    assert [r["no"] for r in rows] == [str(i) for i in range(1, 25)]
+    done = {r["no"] for r in rows if r["performed"]}
+    assert done == {"1", "2", "3", "14", "21", "22", "23"}
+    for r in rows:
+        if r["performed"]:
+            assert "U = " in r["U"] and r["value"] not in ("", "0")
+        else:
+            assert r["value"] == C.NOT_PERFORMED
+
+
+def test_certificate_written_with_the_registered_template(record, tmp_path):
+    pm, rec = record
+    from metro.core.report import write_report
+
+    tpl = pm.template_for("jjf2014")
+    assert tpl.name == "jjf2014-certificate"
+    out = write_report(tmp_path / "cert.docx", rec, template=tpl.path,
+                       designations={"jjf2014": "JJF 2014—2022"}, extend=pm.extend_report_context)
+    d = docx.Document(out)
+    text = "\n".join(p.text for p in d.paragraphs)
+    cells = "\n".join(c.text for t in d.tables for row in t.rows for c in row.cells)
+    assert "校准证书" in text and C.STATEMENT_VALIDITY in text and C.STATEMENT_COPY in text
+    assert cells.count(C.NOT_PERFORMED) == 24 - 7
+    assert "标度因数" in cells and "启动时间" in cells and "JJF 2014—2022" in cells
+    header = d.sections[0].header.paragraphs[0]._p.xml
+    assert rec.report_number in d.sections[0].header.paragraphs[0].text
+    assert 'w:instr="PAGE"' in header and 'w:instr="NUMPAGES"' in header
+    assert "{{" not in text + cells and "{%" not in text + cells
+    with zipfile.ZipFile(out) as z:
+        images = [n for n in z.namelist() if n.startswith("word/media/")]
+    assert len(images) >= 4  # scale-factor fit, Allan, amplitude ratio, phase
+    assert "SIMULATED" in text + cells
+
+
+def test_template_is_reproducible(tmp_path):
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "plugins" / "jjf2014" / "templates" / "make_certificate.py"
+    spec = importlib.util.spec_from_file_location("make_certificate", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.build() == (path.parent / "certificate.docx").read_bytes()
+
+
+def test_cli_runs_an_item_on_the_simulated_station(run_cli, tmp_path):
+    code, out, err = run_cli("--no-plugin-autoload", "run", "--standard", "jjf2014", "--item", "7.2.1,7.2.3",
+                             "--json", "--out", str(tmp_path))
+    assert code == 0, err
+    data = json.loads(out)
+    assert "jjf2014" in json.dumps(data)
+    assert list(tmp_path.glob("*.docx"))
+
+
+def _write_recorded_campaign(root: Path) -> Path:
+    """A recorded campaign on disk: manifest + one CSV per segment (output [mV]), written from
+    the simulator with its noise, as a lab's acquisition would write it."""
+    import numpy as np
+    from metro.instruments.vibratory import VibratoryTruth, simulate_segment
+
+    t = VibratoryTruth(seed=99)
+    lines = ['format = "metro-campaign/1"', "", "[campaign]", 'id = "JJF-REC-1"', 'customer = "ACME Navigation"',
+             'lab = "Test lab"', "", "[device]", 'id = "MVG-7"', 'model = "MVG-100"', 'serial = "7"',
+             'output = "analog"', "", "[environment]", 'temperature = "20.5 °C"', 'humidity = "40 %"', "",
+             "[site]", 'latitude = "39.98°"', "",
+             "[[equipment]]", 'id = "RT-1"', 'role = "rate-table"', "[equipment.calibration]",
+             'certificate = "RT-CAL-1"', 'U = "1e-4"', "k = 2", "",
+             "[[equipment]]", 'id = "DMM-1"', 'role = "dmm"', "[equipment.calibration]",
+             'certificate = "DMM-CAL-1"', 'U = "6e-5"', "k = 2", ""]
+    rng = np.random.default_rng(5)
+    segs = [(f"r{sgn * r:+g}", "rate", {"rate": f"{sgn * r:g} °/s"}, 10, 1.0)
+            for r in (0.1, 0.25, 0.63, 1.6, 4, 10, 16, 25, 40, 63, 100) for sgn in (1, -1)]
+    segs.append(("static", "static", {"orientation": "IRA up"}, 3600, 1.0))
+    for sid, kind, cond, n, dt_ in segs:
+        cols = simulate_segment(t, kind, cond, n, dt_, 39.98, rng)
+        fname = f"{sid}.csv"
+        (root / fname).write_text("output [mV]\n" + "\n".join(f"{v:.6f}" for v in cols["output"][0]) + "\n",
+                                  encoding="utf-8")
+        lines += ["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{fname}"',
+                  f'sample_interval = "{dt_:g} s"', "[segments.conditions]"]
+        lines += [f'{k} = "{v}"' for k, v in cond.items()] + [""]
+    (root / "manifest.toml").write_text("\n".join(lines), encoding="utf-8")
+    return root / "manifest.toml"
+
+
+def test_recorded_campaign_from_manifest(run_cli, tmp_path):
+    from metro.instruments.vibratory import VibratoryTruth
+
+    man = _write_recorded_campaign(tmp_path)
+    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.1,7.2.13", "--data", str(man),
+                             "--json", "--report", str(tmp_path / "cert.docx"))
+    assert code == 0, err
+    data = json.loads(out)
+    assert not data["simulated"]
+    res = {r["key"]: r for r in data["results"]}
+    t = VibratoryTruth()
+    assert abs(res["K"]["value"] - t.K_mV_per_dps) < 0.01
+    # K budget: rate table 1e-4/2 and DMM 6e-5/2 of K, plus the fit's repeatability
+    assert res["K"]["U"] > 2 * t.K_mV_per_dps * math.hypot(0.5e-4, 3e-5) * 0.999
+    d = docx.Document(tmp_path / "cert.docx")
+    cells = "\n".join(c.text for tb in d.tables for row in tb.rows for c in row.cells)
+    assert "ACME Navigation" in cells and cells.count(C.NOT_PERFORMED) == 22
+
+
+def test_recorded_campaign_with_a_bad_unit_writes_nothing(run_cli, tmp_path):
+    man = _write_recorded_campaign(tmp_path)
+    p = tmp_path / "static.csv"
+    p.write_text(p.read_text(encoding="utf-8").replace("output [mV]", "output [deg/h]"), encoding="utf-8")
+    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.13", "--data", str(man),
+                             "--report", str(tmp_path / "cert.docx"))
+    assert code == 2 and "output" in err
+    assert not (tmp_path / "cert.docx").exists()
