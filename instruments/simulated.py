@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import attrs
 import numpy as np
@@ -216,6 +216,11 @@ class SimulatedStation:
             orient = str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
             cb = (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot)) if progress else None
             offset = bias_offset(t, step.conditions)
+            custom = step_simulators().get(step.kind)
+            if custom is not None:
+                segments.append(custom(self, step, i, interval_s=interval_s, n=n, orientation=orient,
+                                       bias_offset_deg_h=offset, progress=cb))
+                continue
             if step.kind == "rate-revolutions":
                 from metro.core.units import parse_quantity
 
@@ -263,6 +268,37 @@ class SimulatedStation:
 
 
 AXES = ("IRA", "XRA", "YRA")
+
+#: step kind -> simulator; see :func:`register_step_kind`
+_STEP_SIMULATORS: dict[str, Callable[..., Segment]] = {}
+#: modules that register further step kinds of the virtual gyro (imported on first use)
+STEP_MODULES: tuple[str, ...] = ()
+
+
+def register_step_kind(kind: str) -> Callable[[Callable[..., Segment]], Callable[..., Segment]]:
+    """Decorator: ``fn(station, step, index, *, interval_s, n, orientation, bias_offset_deg_h,
+    progress) -> Segment`` simulates steps of ``kind`` on :class:`SimulatedStation`.
+
+    Keeps one station (one virtual gyro, one truth) while the test methods that need other
+    motions (rate runs, tilts, vibration …) live in their own modules.
+    """
+
+    def deco(fn: Callable[..., Segment]) -> Callable[..., Segment]:
+        if kind in _STEP_SIMULATORS and _STEP_SIMULATORS[kind] is not fn:
+            raise ValueError(f"step kind {kind!r} is already simulated by {_STEP_SIMULATORS[kind].__qualname__}")
+        _STEP_SIMULATORS[kind] = fn
+        return fn
+
+    return deco
+
+
+def step_simulators() -> Mapping[str, Callable[..., Segment]]:
+    import importlib
+
+    for mod in STEP_MODULES:
+        importlib.import_module(mod)
+    return _STEP_SIMULATORS
+
 
 
 def scale_factor_at(truth: GyroTruth, rate_deg_s: float, direction: int) -> float:
@@ -365,4 +401,4 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]
+__all__ = ["register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]
