@@ -38,7 +38,7 @@ import numpy as np
 from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
-EARTH_RATE_DEG_PER_H = math.degrees(7.2921150e-5) * 3600.0
+from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402
 AXES = ("up", "north", "south", "east", "west")
 
 

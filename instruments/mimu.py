@@ -36,8 +36,7 @@ import numpy as np
 from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_
 
-EARTH_RATE_RAD_S = 7.2921150e-5
-EARTH_RATE_DEG_S = math.degrees(EARTH_RATE_RAD_S)
+from metro.core.earth import EARTH_RATE_DEG_S, EARTH_RATE_RAD_S  # noqa: E402
 
 AXES = ("x", "y", "z")
 GYRO_COLUMNS = ("gx", "gy", "gz")

@@ -33,7 +33,7 @@ import numpy as np
 from metro.core.model import Campaign, Calibration, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_
 
-EARTH_RATE_DEG_PER_H = math.degrees(7.2921150e-5) * 3600.0  # 15.04107 °/h, physical (IERS)
+from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, physical (IERS)
 
 
 @attrs.frozen

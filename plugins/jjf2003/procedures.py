@@ -56,7 +56,7 @@ P_UNIT = "gn/(rad/s)**2"
 G_UNIT = "deg/s/gn"
 MIN_SECONDS = 30.0
 HEADINGS = (0.0, 180.0)
-EARTH_RATE_DEG_S = math.degrees(7.2921150e-5)
+from metro.core.earth import EARTH_RATE_DEG_S  # noqa: E402
 BATCHES = 10
 
 RATE_SEG = SegmentRequirement(
