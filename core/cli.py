@@ -58,6 +58,24 @@ def _parser() -> argparse.ArgumentParser:
     pn.add_argument("--standard", "-s", required=True)
     pn.add_argument("--item", "-i", action="append", required=True)
     pn.add_argument("--json", action="store_true")
+
+    aq = sub.add_parser("acquire", help="run items' test sequence on a station and write the campaign",
+                        description="Acquire the merged test sequence of one or more items on a station "
+                        "(simulated or live) and write it as a campaign folder (manifest.toml + samples, "
+                        "docs/data-format.md) that `metro run --data DIR/manifest.toml` evaluates.")
+    aq.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
+    aq.add_argument("--item", "-i", action="append", required=True,
+                    help="item id (repeat or comma-separate for several; shared steps are measured once)")
+    aq.add_argument("--station", help="registered station (default: the items' simulated station)")
+    aq.add_argument("--out", required=True, metavar="DIR", help="campaign folder to create (must not exist "
+                    "or be empty)")
+    aq.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
+    aq.add_argument("--seed", type=int, help="seed of a simulated station")
+    aq.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
+                    help="station option, e.g. duration_scale=0.1 (numbers are read as numbers)")
+    aq.add_argument("--npy-rows", type=int, default=None, metavar="N",
+                    help="segments of N rows or more are written as .npy (default 100000), shorter as CSV")
+    aq.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
 
 
@@ -102,6 +120,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _cmd_items(args)
         if args.command == "plan":
             return _cmd_plan(args)
+        if args.command == "acquire":
+            return _cmd_acquire(args)
     except MetroError as exc:
         if getattr(args, "json", False):
             print(json.dumps({"error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
@@ -233,6 +253,35 @@ def _cmd_plan(args) -> int:
         print(f"   kind={r['kind']} duration={r['duration']} interval={r['interval']}"
               + (f" warm-up≥{r['warmup']}" if r["warmup"] else "")
               + "".join(f" {k}={v}" for k, v in r["conditions"].items()))
+    return 0
+
+
+def _number(text: str) -> Any:
+    for conv in (int, float):
+        try:
+            return conv(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _cmd_acquire(args) -> int:
+    from rich.console import Console
+
+    from metro.instruments.campaign_writer import NPY_ROWS, acquire_campaign
+
+    from . import present
+
+    pm = _pm(args)
+    station_options = {k: _number(v) for k, v in _options(args.station_option).items()}
+    if args.seed is not None:
+        station_options["seed"] = args.seed
+    with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
+        manifest = acquire_campaign(pm, args.standard, _items(args.item), args.out, station=args.station,
+                                    options=_options(args.option), station_options=station_options,
+                                    npy_rows=args.npy_rows or NPY_ROWS, progress=prog)
+    Console(stderr=True).print(f"campaign written: {manifest}")
+    print(manifest)
     return 0
 
 
