@@ -35,7 +35,7 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
 from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402
@@ -135,13 +135,9 @@ class AngleInstrumentStation:
         )
 
     def equipment(self) -> list[Equipment]:
-        return [
-            Equipment(id="SIM-TURNTABLE", model="simulated low-speed turntable", role="turntable",
-                      properties={"axis_wobble": Q_(0.3, "arcsec"), "parallelism": Q_(0.1, "deg")},
-                      calibration=Calibration("SIM-TT-0001", Q_(self.truth.positioning_arcsec or 0.1, "arcsec"),
-                                              distribution="uniform", lab="simulated")),
-            Equipment(id="SIM-TIMER", model="simulated timer", role="timer"),
-        ]
+        from .equipment import angle_instrument_equipment, equipment_list
+
+        return equipment_list(angle_instrument_equipment(self.truth.positioning_arcsec))
 
     # -- one segment per step ---------------------------------------------------------------
     def _positions(self, step: Step, rng: np.random.Generator, truth: AngleInstrumentTruth):

@@ -33,7 +33,7 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 
-from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_
 
 from metro.core.earth import EARTH_RATE_DEG_S, EARTH_RATE_RAD_S  # noqa: E402
@@ -187,13 +187,9 @@ class MimuStation:
         )
 
     def equipment(self) -> list[Equipment]:
-        return [
-            Equipment(id="SIM-3AXIS", model="simulated three-axis position/rate table", role="table",
-                      properties={"position_accuracy": Q_(10.0, "arcsec")},
-                      calibration=Calibration("SIM-CAL-3AX", Q_(2e-4, ""), k=2.0, lab="simulated")),
-            Equipment(id="SIM-DAQ", model=f"simulated {self.truth.bits}-bit acquisition", role="acquisition",
-                      properties={"bits": self.truth.bits}),
-        ]
+        from .equipment import equipment_list, jjf2003_equipment
+
+        return equipment_list(jjf2003_equipment(self.truth.bits))
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         t = self.truth

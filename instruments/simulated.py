@@ -188,21 +188,9 @@ class SimulatedStation:
         )
 
     def equipment(self) -> list[Equipment]:
-        return [
-            Equipment(id="SIM-PLATFORM", model="simulated levelled platform", role="platform",
-                      properties={"levelness": Q_(2.0, "arcsec")}),
-            Equipment(id="SIM-RATE-TABLE", model="simulated rate table with revolution pulses",
-                      role="rate_table", properties={"revolution_pulse_accuracy": Q_(2.0, "arcsec")},
-                      calibration=Calibration("SIM-CAL-0004", Q_(1e-5, ""), k=2.0, lab="simulated")),
-            Equipment(id="SIM-CHAMBER", model="simulated temperature chamber", role="chamber",
-                      calibration=Calibration("SIM-CAL-0002", Q_(0.3, "K"), k=2.0, lab="simulated")),
-            Equipment(id="SIM-FIELD", model="simulated DC magnetic field generator", role="field_generator",
-                      properties={"uniformity": Q_(5, "percent")},
-                      calibration=Calibration("SIM-CAL-0003", Q_(1e-2, ""), k=2.0, lab="simulated")),
-            Equipment(id="SIM-COUNTER", model="simulated counter/time base", role="counter",
-                      calibration=Calibration("SIM-CAL-0001", Q_(1e-7, ""), k=2.0, due=None,
-                                              lab="simulated")),
-        ]
+        from .equipment import equipment_list, gbt45570_equipment
+
+        return equipment_list(gbt45570_equipment())
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""

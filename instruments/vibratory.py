@@ -40,7 +40,7 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
 from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  physical, 15.04107 °/h
@@ -431,26 +431,9 @@ class VibratoryStation:
         )
 
     def equipment(self) -> list[Equipment]:
-        def cal(cert, U, **kw):
-            return Calibration(cert, U, k=2.0, due=None, lab="simulated", **kw)
+        from .equipment import equipment_list, jjf2014_equipment
 
-        return [
-            Equipment(id="SIM-RT", model="simulated rate table with chamber", role="rate-table",
-                      calibration=cal("SIM-RT-001", Q_(1e-4, ""))),
-            Equipment(id="SIM-DMM", model="simulated 6½-digit DMM", role="dmm",
-                      calibration=cal("SIM-DMM-001", Q_(6e-5, ""))),
-            Equipment(id="SIM-CH", model="simulated temperature chamber", role="chamber",
-                      calibration=cal("SIM-CH-001", Q_(0.5, "delta_degC"))),
-            Equipment(id="SIM-PT", model="simulated two-axis position table", role="position-table",
-                      calibration=cal("SIM-PT-001", Q_(3.0, "arcsec"))),
-            Equipment(id="SIM-AVT", model="simulated angular vibration table + reference sensor",
-                      role="angular-vibration", calibration=cal("SIM-AVT-001", Q_(5e-3, "")),
-                      properties={"phase_U": Q_(0.2, "deg")}),
-            Equipment(id="SIM-SHOCK", model="simulated shock machine", role="shock"),
-            Equipment(id="SIM-VIB", model="simulated linear vibration table", role="vibration"),
-            Equipment(id="SIM-TIMER", model="simulated timer", role="timer",
-                      calibration=cal("SIM-TIMER-001", Q_(1e-6, ""))),
-        ]
+        return equipment_list(jjf2014_equipment())
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         t = self.truth

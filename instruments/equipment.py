@@ -1,0 +1,802 @@
+"""Models of the lab's test equipment: what each one states about its accuracy, and how it acts.
+
+Every model is an ``attrs.frozen`` value holding its accuracy parameters as pint quantities
+(checked against their dimension when the model is made) and its calibration data.  A model
+does two things:
+
+* :meth:`~EquipmentModel.equipment` gives the :class:`~metro.core.model.Equipment` a campaign
+  carries — its ``role``, its accuracy parameters as properties and a
+  :class:`~metro.core.model.Calibration` (certificate id, U, k, due date) — which the procedures
+  read as type B components of their budgets (``campaign.equipment_for(role)``);
+* its *act* methods reproduce, in simulation, the errors it states: a rate table turns at the set
+  rate with its band's systematic error and ripple, a DMM adds its reading error and rounds to
+  its resolution, an ADC quantizes, a counter counts whole pulses and carries the remainder, a
+  chamber holds its set point within its setpoint error and fluctuation once soaked …
+
+Errors that are *fixed for an instrument* (a DMM's gain and offset, a rate table's error at one
+set point) are drawn from the model's ``seed`` and the set point, so the same instrument gives
+the same error every time it is asked; errors that vary from sample to sample (ripple,
+fluctuation, noise) are drawn from the generator the caller passes.  Half-widths (maximum
+permissible errors) are drawn uniformly inside ±the half-width, so an act never exceeds what the
+model states; tests in ``tests/test_equipment.py`` check each claim.
+
+Role names are the ones the built-in procedures look for: ``platform``, ``rate_table``,
+``chamber``, ``field_generator``, ``counter`` (GB/T 45570); ``rate-table``, ``dmm``, ``chamber``,
+``position-table``, ``angular-vibration``, ``shock``, ``vibration``, ``timer`` (JJF 2014);
+``table``, ``acquisition`` (JJF 2003); ``turntable``, ``timer`` (angle instruments).  Each model
+has a default role and takes another one as ``role=``.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import math
+import zlib
+from typing import Any, Callable, Sequence
+
+import attrs
+import numpy as np
+import pint
+
+from metro.core.errors import DataError
+from metro.core.model import Calibration, Equipment
+from metro.core.units import Q_, parse_quantity
+
+__all__ = [
+    "EquipmentModel",
+    "RateBand",
+    "RateTable",
+    "LevelPlatform",
+    "Fixture",
+    "PositionTable",
+    "TiltTable",
+    "ThreeAxisTable",
+    "TemperatureChamber",
+    "AngularVibrationTable",
+    "LinearShaker",
+    "ShockTable",
+    "FieldGenerator",
+    "DigitalMultimeter",
+    "Counter",
+    "ADC",
+    "Timer",
+    "AngleTurntable",
+    "gbt45570_equipment",
+    "jjf2014_equipment",
+    "jjf2003_equipment",
+    "angle_instrument_equipment",
+]
+
+
+# ------------------------------------------------------------------------------ helpers
+
+
+def _q(dimension: str) -> Callable[[Any], pint.Quantity]:
+    """attrs converter: a quantity (or its text) of ``dimension``; a bare number only if dimensionless."""
+
+    def conv(v: Any) -> pint.Quantity:
+        return parse_quantity(v, dimension=dimension, field=f"equipment parameter ({dimension or 'ratio'})")
+
+    return conv
+
+
+def _opt_q(dimension: str) -> Callable[[Any], pint.Quantity | None]:
+    c = _q(dimension)
+    return lambda v: None if v is None else c(v)
+
+
+def _nonneg(inst: Any, attribute: attrs.Attribute, value: pint.Quantity) -> None:
+    if value is not None and float(np.min(value.magnitude)) < 0:
+        raise DataError(None, f"{type(inst).__name__}.{attribute.name}",
+                        f"must not be negative (got {value})")
+
+
+def _f(q: pint.Quantity, unit: str) -> float:
+    return float(q.to(unit).magnitude)
+
+
+def _arr(q: Any, unit: str, name: str) -> np.ndarray:
+    q = parse_quantity(q, dimension=unit, field=name) if not isinstance(q, pint.Quantity) else q
+    try:
+        return np.asarray(q.to(unit).magnitude, dtype=float)
+    except pint.DimensionalityError as exc:
+        raise DataError(None, name, f"expected a quantity like {unit}, got {q.units}") from exc
+
+
+def _fixed_rng(seed: int, *tags: Any) -> np.random.Generator:
+    """A generator for an instrument's fixed errors: the same instrument (seed) and tags, the same draw."""
+    words = [int(seed) & 0xFFFFFFFF] + [zlib.crc32(repr(t).encode()) for t in tags]
+    return np.random.default_rng(words)
+
+
+# ------------------------------------------------------------------------------ base
+
+
+@attrs.frozen(kw_only=True)
+class EquipmentModel:
+    """Identification and calibration data common to every model.
+
+    ``U`` is the expanded uncertainty of the certificate (relative, e.g. ``1e-5``, or absolute,
+    e.g. ``"0.3 K"``) with coverage factor ``k``; ``distribution = "uniform"`` makes ``U`` a
+    half-width.  ``certificate = ""`` means no calibration data are given.
+    """
+
+    id: str
+    model: str = ""
+    manufacturer: str = ""
+    serial: str = ""
+    role: str = ""
+    certificate: str = ""
+    U: pint.Quantity | None = attrs.field(default=None, converter=lambda v: _U_dim(None)(v), validator=_nonneg)
+    k: float = 2.0
+    due: dt.date | None = None
+    lab: str = ""
+    distribution: str = attrs.field(default="normal", validator=attrs.validators.in_(("normal", "uniform")))
+    seed: int = 1
+
+    #: the role a model of this class takes unless ``role`` is given (set by each subclass)
+    ROLE = ""
+
+    def __attrs_post_init__(self) -> None:
+        if self.certificate and self.U is None:
+            raise DataError(None, f"{self.id}.U", "a certificate is given without its expanded uncertainty U")
+
+    @property
+    def calibration(self) -> Calibration | None:
+        if not self.certificate:
+            return None
+        return Calibration(self.certificate, self.U, k=float(self.k), due=self.due, lab=self.lab,
+                           distribution=self.distribution)
+
+    def properties(self) -> dict[str, Any]:
+        """The accuracy parameters as equipment properties (names the procedures read)."""
+        return {}
+
+    def equipment(self) -> Equipment:
+        """The :class:`Equipment` a campaign carries for this instrument."""
+        role = self.role or type(self).ROLE
+        return Equipment(id=self.id, model=self.model, serial=self.serial, manufacturer=self.manufacturer,
+                         role=role, properties=self.properties(), calibration=self.calibration)
+
+
+def _U_dim(dimension: str | None):
+    """Converter for a calibration U: relative, or (if ``dimension`` is given) of ``dimension``."""
+
+    def conv(v: Any) -> pint.Quantity | None:
+        if v is None:
+            return None
+        q = parse_quantity(v, field="U")
+        if dimension is not None and not q.dimensionless:
+            q = parse_quantity(v, dimension=dimension, field="U")
+        return q
+
+    return conv
+
+
+# ------------------------------------------------------------------------------ tables
+
+
+@attrs.frozen
+class RateBand:
+    """Accuracy of a rate table for rates |Ω| up to ``upper``: the mean rate is within
+    ±``error`` (relative, a half-width) of the set point, and the rate over one sample scatters
+    with relative standard deviation ``ripple`` (the rate stability)."""
+
+    upper: pint.Quantity = attrs.field(converter=_q("deg/s"))
+    error: pint.Quantity = attrs.field(converter=_q(""), validator=_nonneg)
+    ripple: pint.Quantity = attrs.field(converter=_q(""), validator=_nonneg)
+
+
+def _default_bands() -> tuple[RateBand, ...]:
+    return (RateBand("1 deg/s", 1e-4, 1e-3), RateBand("10 deg/s", 1e-5, 1e-4), RateBand("1000 deg/s", 5e-6, 2e-5))
+
+
+@attrs.frozen(kw_only=True)
+class RateTable(EquipmentModel):
+    """Single-axis rate table with an angle output and a once-per-revolution pulse.
+
+    * ``bands`` — rate error and ripple by rate band (:class:`RateBand`, by increasing ``upper``);
+    * ``angle_resolution`` — the step of its angle output;
+    * ``revolution_pulse_accuracy`` — where, within ±this angle, the revolution pulse comes
+      (GB/T 45570 D.1.1 reads it as ``revolution_pulse_accuracy``).
+    """
+
+    ROLE = "rate_table"
+    bands: tuple[RateBand, ...] = attrs.field(factory=_default_bands, converter=tuple)
+    angle_resolution: pint.Quantity = attrs.field(default=Q_(0.36, "arcsec"), converter=_q("arcsec"),
+                                                  validator=_nonneg)
+    revolution_pulse_accuracy: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=_q("arcsec"),
+                                                           validator=_nonneg)
+
+    def __attrs_post_init__(self) -> None:
+        super().__attrs_post_init__()
+        ups = [_f(b.upper, "deg/s") for b in self.bands]
+        if not ups or ups != sorted(ups):
+            raise DataError(None, f"{self.id}.bands", "give at least one band, by increasing upper rate")
+
+    def properties(self) -> dict[str, Any]:
+        p: dict[str, Any] = {"revolution_pulse_accuracy": self.revolution_pulse_accuracy,
+                             "angle_resolution": self.angle_resolution}
+        for i, b in enumerate(self.bands, 1):
+            p[f"rate_band_{i}_upper"] = b.upper
+            p[f"rate_band_{i}_error"] = b.error
+            p[f"rate_band_{i}_ripple"] = b.ripple
+        return p
+
+    def band(self, rate: pint.Quantity) -> RateBand:
+        """The band that covers |``rate``|; a rate above the last band is an error."""
+        r = abs(_f(parse_quantity(rate, dimension="deg/s", field="rate"), "deg/s"))
+        for b in self.bands:
+            if r <= _f(b.upper, "deg/s"):
+                return b
+        raise DataError(None, "rate", f"{r:g} °/s is beyond the table's range ({self.bands[-1].upper})")
+
+    def systematic_error(self, setpoint: pint.Quantity) -> float:
+        """The table's fixed relative rate error at this set point (inside ±band error)."""
+        b = self.band(setpoint)
+        e = float(b.error.to("").magnitude)
+        return float(_fixed_rng(self.seed, "rate", round(_f(setpoint, "deg/s"), 9)).uniform(-e, e))
+
+    def actual_rate(self, setpoint: pint.Quantity, n: int, rng: np.random.Generator) -> pint.Quantity:
+        """``n`` samples of the rate the table actually turns at: Ω·(1 + δ) + Ω·ripple·N(0, 1)."""
+        om = _f(parse_quantity(setpoint, dimension="deg/s", field="setpoint"), "deg/s")
+        rip = float(self.band(setpoint).ripple.to("").magnitude)
+        mean = om * (1.0 + self.systematic_error(setpoint))
+        noise = rng.normal(0.0, abs(om) * rip, size=n) if rip > 0 else np.zeros(n)
+        return Q_(mean + noise, "deg/s")
+
+    def angle_output(self, rate: pint.Quantity, interval: pint.Quantity,
+                     start: pint.Quantity = Q_(0.0, "deg")) -> tuple[pint.Quantity, pint.Quantity]:
+        """The table's angle readings at the end of each sample for this rate record, and the
+        true angle at the end (pass it as ``start`` of the next chunk).
+
+        Readings are the true accumulated angle truncated to ``angle_resolution``; as they read an
+        absolute angle, splitting a record into chunks loses nothing.
+        """
+        w = _arr(rate, "deg/s", "rate")
+        dt_s = _f(parse_quantity(interval, dimension="s", field="interval"), "s")
+        theta = _f(start, "arcsec") + np.cumsum(w) * dt_s * 3600.0
+        res = _f(self.angle_resolution, "arcsec")
+        read = np.floor(theta / res) * res if res > 0 else theta
+        return Q_(read, "arcsec").to("deg"), Q_(float(theta[-1]) if theta.size else _f(start, "arcsec"),
+                                                 "arcsec").to("deg")
+
+    def revolution_times(self, rate: pint.Quantity, turns: int, rng: np.random.Generator) -> pint.Quantity:
+        """Times of the ``turns`` revolution pulses at a constant ``rate``: k·360°/Ω, each shifted by
+        the pulse's angle error (uniform in ±``revolution_pulse_accuracy``) divided by Ω."""
+        om = abs(_f(parse_quantity(rate, dimension="deg/s", field="rate"), "deg/s"))
+        if om <= 0:
+            raise DataError(None, "rate", "revolution pulses need a non-zero rate")
+        acc = _f(self.revolution_pulse_accuracy, "deg")
+        k = np.arange(1, turns + 1)
+        err = rng.uniform(-acc, acc, size=turns) if acc > 0 else np.zeros(turns)
+        return Q_((360.0 * k + err) / om, "s")
+
+
+@attrs.frozen(kw_only=True)
+class LevelPlatform(EquipmentModel):
+    """A levelled platform: its top is level within ±``levelness`` (GB/T 45570 D.5 reads ``levelness``)."""
+
+    ROLE = "platform"
+    levelness: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=_q("arcsec"), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        return {"levelness": self.levelness}
+
+    def tilt(self) -> pint.Quantity:
+        """The platform's fixed tilt (inside ±levelness)."""
+        lv = _f(self.levelness, "arcsec")
+        return Q_(float(_fixed_rng(self.seed, "tilt").uniform(-lv, lv)), "arcsec")
+
+
+@attrs.frozen(kw_only=True)
+class Fixture(EquipmentModel):
+    """The gyro's mounting fixture: each time the gyro is re-seated (e.g. turned 180° about its
+    IRA) its axes tilt by up to ±``reseat_tilt`` (GB/T 45570's misalignment items read ``reseat_tilt``)."""
+
+    ROLE = "fixture"
+    reseat_tilt: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=_q("arcsec"), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        return {"reseat_tilt": self.reseat_tilt}
+
+    def reseat(self, rng: np.random.Generator) -> tuple[pint.Quantity, pint.Quantity]:
+        """The tilts (about two axes) after one re-seating, each uniform in ±reseat_tilt."""
+        e = _f(self.reseat_tilt, "arcsec")
+        a, b = rng.uniform(-e, e, size=2) if e > 0 else (0.0, 0.0)
+        return Q_(float(a), "arcsec"), Q_(float(b), "arcsec")
+
+
+@attrs.frozen(kw_only=True)
+class _Positioner(EquipmentModel):
+    """A table that sets angles within ±``position_accuracy`` (uniform)."""
+
+    position_accuracy: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=_q("arcsec"),
+                                                   validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        return {"position_accuracy": self.position_accuracy}
+
+    def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
+        """The angles the table actually reaches for these set points."""
+        s = _arr(setpoints, "deg", "setpoints")
+        e = _f(self.position_accuracy, "deg")
+        return Q_(s + (rng.uniform(-e, e, size=s.shape) if e > 0 else 0.0), "deg")
+
+
+@attrs.frozen(kw_only=True)
+class PositionTable(_Positioner):
+    """Two-axis position table (orientations for the g-sensitivity and misalignment tests)."""
+
+    ROLE = "position-table"
+
+
+@attrs.frozen(kw_only=True)
+class TiltTable(_Positioner):
+    """Tilt (latitude) table: sets the input axis to an angle from the horizontal within
+    ±``position_accuracy`` (GB/T 45570's threshold items read ``position_accuracy``);
+    ``tilt_range`` is the largest tilt it can set."""
+
+    ROLE = "tilt_table"
+    tilt_range: pint.Quantity = attrs.field(default=Q_(90.0, "deg"), converter=_q("deg"))
+
+    def properties(self) -> dict[str, Any]:
+        return super().properties() | {"tilt_range": self.tilt_range}
+
+    def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
+        s = _arr(setpoints, "deg", "setpoints")
+        lim = _f(self.tilt_range, "deg")
+        if np.any(np.abs(s) > lim):
+            raise DataError(None, "setpoints", f"a tilt beyond ±{lim:g}° cannot be set on {self.id}")
+        return super().position(setpoints, rng)
+
+
+@attrs.frozen(kw_only=True)
+class ThreeAxisTable(RateTable):
+    """Three-axis position/rate table: positions each axis within ±``position_accuracy``
+    (JJF 2003 reads ``position_accuracy``) and turns with the rate bands of :class:`RateTable`."""
+
+    ROLE = "table"
+    position_accuracy: pint.Quantity = attrs.field(default=Q_(10.0, "arcsec"), converter=_q("arcsec"),
+                                                   validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        p = super().properties()
+        del p["revolution_pulse_accuracy"]
+        return {"position_accuracy": self.position_accuracy} | p
+
+    def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
+        """Angles reached on one axis for these set points (uniform in ±position_accuracy)."""
+        s = _arr(setpoints, "deg", "setpoints")
+        e = _f(self.position_accuracy, "deg")
+        return Q_(s + (rng.uniform(-e, e, size=s.shape) if e > 0 else 0.0), "deg")
+
+
+# ------------------------------------------------------------------------------ environment
+
+
+@attrs.frozen(kw_only=True)
+class TemperatureChamber(EquipmentModel):
+    """Temperature chamber: once soaked, the air is within ±``setpoint_error`` of the set point
+    (a fixed offset per set point) and fluctuates within ±``fluctuation`` about it (a slow
+    cycle of period ``cycle``); ``soak`` is the time it needs to settle after a change (the
+    approach is exponential with time constant soak/5, i.e. within 1 % of the step at ``soak``).
+    ``uniformity`` (optional) is the half-width of the temperature differences over the working
+    volume; GB/T 45570's temperature items add it to the budget of the applied temperature.
+    """
+
+    ROLE = "chamber"
+    U: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("K"), validator=_nonneg)
+    setpoint_error: pint.Quantity = attrs.field(default=Q_(0.5, "K"), converter=_q("K"), validator=_nonneg)
+    fluctuation: pint.Quantity = attrs.field(default=Q_(0.2, "K"), converter=_q("K"), validator=_nonneg)
+    soak: pint.Quantity = attrs.field(default=Q_(60.0, "min"), converter=_q("s"), validator=_nonneg)
+    cycle: pint.Quantity = attrs.field(default=Q_(10.0, "min"), converter=_q("s"))
+    uniformity: pint.Quantity | None = attrs.field(default=None, converter=_opt_q("K"), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        p = {"setpoint_error": self.setpoint_error, "fluctuation": self.fluctuation, "soak": self.soak}
+        if self.uniformity is not None:
+            p["uniformity"] = self.uniformity
+        return p
+
+    def offset(self, setpoint: pint.Quantity) -> float:
+        """The fixed offset (K) of the chamber at this set point (inside ±setpoint_error)."""
+        e = _f(self.setpoint_error, "K")
+        T = _f(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
+        return float(_fixed_rng(self.seed, "T", round(T, 6)).uniform(-e, e))
+
+    def temperature(self, setpoint: pint.Quantity, times: pint.Quantity, rng: np.random.Generator, *,
+                    previous: pint.Quantity | None = None) -> pint.Quantity:
+        """Air temperature at ``times`` after the set point was changed from ``previous`` (default:
+        already soaked at ``setpoint``)."""
+        t = _arr(times, "s", "times")
+        T = _f(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
+        target = T + self.offset(setpoint)
+        fl = _f(self.fluctuation, "K")
+        phase = rng.uniform(0.0, 2.0 * math.pi)
+        wave = fl * np.sin(2.0 * math.pi * t / _f(self.cycle, "s") + phase)
+        if previous is None:
+            base = np.full(t.shape, target)
+        else:
+            T0 = _f(parse_quantity(previous, dimension="degC", field="previous"), "degC")
+            tau = max(_f(self.soak, "s") / 5.0, 1e-9)
+            base = target + (T0 - target) * np.exp(-np.clip(t, 0, None) / tau)
+        return Q_(base + wave, "degC")
+
+    def soaked(self, elapsed: pint.Quantity) -> bool:
+        """Whether ``elapsed`` since the last change is at least the soak time."""
+        return _f(parse_quantity(elapsed, dimension="s", field="elapsed"), "s") >= _f(self.soak, "s")
+
+
+@attrs.frozen(kw_only=True)
+class FieldGenerator(EquipmentModel):
+    """DC magnetic field generator (Helmholtz coil): the field at the centre is the set point
+    times (1 + δ), δ fixed per set point within ±``setting_error``; over the test volume it varies
+    by ±``uniformity`` (GB/T 45570 D.5.5 reads ``uniformity``)."""
+
+    ROLE = "field_generator"
+    setting_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=_q(""), validator=_nonneg)
+    uniformity: pint.Quantity = attrs.field(default=Q_(5.0, "percent"), converter=_q(""), validator=_nonneg)
+    max_field: pint.Quantity = attrs.field(default=Q_(2.0, "mT"), converter=_q("mT"))
+
+    def properties(self) -> dict[str, Any]:
+        return {"uniformity": self.uniformity, "setting_error": self.setting_error, "max_field": self.max_field}
+
+    def field(self, setpoint: pint.Quantity, position: float = 0.0) -> pint.Quantity:
+        """Field at a point of the test volume; ``position`` ∈ [−1, 1] from the centre to the edge."""
+        H = _f(parse_quantity(setpoint, dimension="mT", field="setpoint"), "mT")
+        if abs(H) > _f(self.max_field, "mT"):
+            raise DataError(None, "setpoint", f"{H:g} mT is beyond {self.id}'s {self.max_field}")
+        if not -1.0 <= position <= 1.0:
+            raise DataError(None, "position", "must be in [-1, 1] (centre 0, edge of the test volume ±1)")
+        e = float(self.setting_error.to("").magnitude)
+        d = float(_fixed_rng(self.seed, "H", round(H, 9)).uniform(-e, e))
+        return Q_(H * (1.0 + d) * (1.0 + float(self.uniformity.to("").magnitude) * position), "mT")
+
+
+# ------------------------------------------------------------------------------ vibration, shock
+
+
+@attrs.frozen(kw_only=True)
+class AngularVibrationTable(EquipmentModel):
+    """Angular vibration table with a reference rate sensor.
+
+    The table turns as Ω_a·sin(2πft); the reference sensor reads it with a relative amplitude
+    error fixed per frequency within ±``amplitude_error`` and a phase error fixed per frequency,
+    normal with expanded uncertainty ``phase_U`` (k = 2).  JJF 2014 7.2.22 reads ``phase_U``.
+    """
+
+    ROLE = "angular-vibration"
+    amplitude_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=_q(""), validator=_nonneg)
+    phase_U: pint.Quantity = attrs.field(default=Q_(0.2, "deg"), converter=_q("deg"), validator=_nonneg)
+    frequency_range: tuple[pint.Quantity, pint.Quantity] = attrs.field(
+        default=(Q_(0.1, "Hz"), Q_(500.0, "Hz")), converter=lambda v: tuple(_q("Hz")(x) for x in v))
+
+    def properties(self) -> dict[str, Any]:
+        return {"phase_U": self.phase_U, "amplitude_error": self.amplitude_error,
+                "frequency_min": self.frequency_range[0], "frequency_max": self.frequency_range[1]}
+
+    def motion(self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
+               ) -> tuple[pint.Quantity, pint.Quantity]:
+        """(true rate, reference sensor reading) at ``times``."""
+        a = _f(parse_quantity(amplitude, dimension="deg/s", field="amplitude"), "deg/s")
+        f = _f(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
+        lo, hi = (_f(x, "Hz") for x in self.frequency_range)
+        if not lo <= f <= hi:
+            raise DataError(None, "frequency", f"{f:g} Hz is outside {self.id}'s range {lo:g}–{hi:g} Hz")
+        t = _arr(times, "s", "times")
+        r = _fixed_rng(self.seed, "avt", round(f, 9))
+        e = float(self.amplitude_error.to("").magnitude)
+        da = r.uniform(-e, e)
+        dphi = r.normal(0.0, _f(self.phase_U, "rad") / 2.0)
+        w = 2.0 * math.pi * f
+        return Q_(a * np.sin(w * t), "deg/s"), Q_(a * (1.0 + da) * np.sin(w * t + dphi), "deg/s")
+
+
+@attrs.frozen(kw_only=True)
+class LinearShaker(EquipmentModel):
+    """Linear vibration table: sinusoidal acceleration of amplitude within ±``amplitude_error``
+    (relative) of the set value and frequency within ±``frequency_error`` (relative).
+    ``level_accuracy`` (optional; relative or in g) is stated as a property for procedures that
+    budget the applied level from it (GB/T 45570's vibration items read ``level_accuracy``)."""
+
+    ROLE = "vibration"
+    amplitude_error: pint.Quantity = attrs.field(default=Q_(0.05, ""), converter=_q(""), validator=_nonneg)
+    frequency_error: pint.Quantity = attrs.field(default=Q_(1e-3, ""), converter=_q(""), validator=_nonneg)
+    max_acceleration: pint.Quantity = attrs.field(default=Q_(20.0, "gn"), converter=_q("gn"))
+    level_accuracy: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("gn"), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        p = {"amplitude_error": self.amplitude_error, "frequency_error": self.frequency_error,
+             "max_acceleration": self.max_acceleration}
+        if self.level_accuracy is not None:
+            p["level_accuracy"] = self.level_accuracy
+        return p
+
+    def acceleration(self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
+                     ) -> pint.Quantity:
+        a = _f(parse_quantity(amplitude, dimension="gn", field="amplitude"), "gn")
+        if abs(a) > _f(self.max_acceleration, "gn"):
+            raise DataError(None, "amplitude", f"{a:g} g is beyond {self.id}'s {self.max_acceleration}")
+        f = _f(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
+        r = _fixed_rng(self.seed, "shaker", round(a, 9), round(f, 9))
+        ea, ef = (float(x.to("").magnitude) for x in (self.amplitude_error, self.frequency_error))
+        t = _arr(times, "s", "times")
+        return Q_(a * (1 + r.uniform(-ea, ea)) * np.sin(2 * math.pi * f * (1 + r.uniform(-ef, ef)) * t), "gn")
+
+
+@attrs.frozen(kw_only=True)
+class ShockTable(EquipmentModel):
+    """Shock machine: half-sine pulses whose peak is within ±``peak_error`` (relative) and whose
+    duration is within ±``duration_accuracy`` of the set values (GB/T 45570's shock item reads
+    ``duration_accuracy``)."""
+
+    ROLE = "shock"
+    peak_error: pint.Quantity = attrs.field(default=Q_(0.1, ""), converter=_q(""), validator=_nonneg)
+    duration_accuracy: pint.Quantity = attrs.field(default=Q_(1.0, "ms"), converter=_q("s"), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        return {"peak_error": self.peak_error, "duration_accuracy": self.duration_accuracy}
+
+    def pulse(self, peak: pint.Quantity, duration: pint.Quantity, interval: pint.Quantity,
+              rng: np.random.Generator) -> pint.Quantity:
+        """One half-sine pulse sampled every ``interval`` (and one zero sample either side)."""
+        p = _f(parse_quantity(peak, dimension="gn", field="peak"), "gn")
+        d = _f(parse_quantity(duration, dimension="s", field="duration"), "s")
+        dt_s = _f(parse_quantity(interval, dimension="s", field="interval"), "s")
+        ep, ed = float(self.peak_error.to("").magnitude), _f(self.duration_accuracy, "s")
+        if ed >= d:
+            raise DataError(None, "duration", f"{d:g} s is not longer than {self.id}'s duration accuracy")
+        p *= 1 + rng.uniform(-ep, ep)
+        d += rng.uniform(-ed, ed)
+        t = np.arange(-dt_s, d + 2 * dt_s, dt_s)
+        a = np.where((t >= 0) & (t <= d), p * np.sin(math.pi * np.clip(t, 0, d) / d), 0.0)
+        return Q_(a, "gn")
+
+
+# ------------------------------------------------------------------------------ data acquisition
+
+
+def _meter_range(v: Any) -> pint.Quantity:
+    q = parse_quantity(v, field="range")
+    for unit_ in ("V", "A"):
+        if q.dimensionality == Q_(1, unit_).dimensionality:
+            return q
+    raise DataError(None, "range", f"a DC voltage (V) or current (A) range, not {q}")
+
+
+@attrs.frozen(kw_only=True)
+class DigitalMultimeter(EquipmentModel):
+    """6½-digit DMM on a DC voltage (or current) range: error within ±(``reading_error``·|x| +
+    ``range_error``·range) — a gain and an offset fixed for the instrument — and readings rounded
+    to the resolution range/10^⌊digits⌋ (10 µV on the 10 V range for 6½ digits).  The same model
+    serves as the ``voltmeter`` or ``ammeter`` (GB/T 45570 power item) with ``role=``."""
+
+    ROLE = "dmm"
+    range: pint.Quantity = attrs.field(default=Q_(10.0, "V"), converter=_meter_range)
+    reading_error: pint.Quantity = attrs.field(default=Q_(35.0, "ppm"), converter=_q(""), validator=_nonneg)
+    range_error: pint.Quantity = attrs.field(default=Q_(5.0, "ppm"), converter=_q(""), validator=_nonneg)
+    digits: float = 6.5
+
+    @property
+    def _unit(self) -> str:
+        return "V" if self.range.dimensionality == Q_(1, "V").dimensionality else "A"
+
+    @property
+    def resolution(self) -> pint.Quantity:
+        return self.range / 10 ** math.floor(self.digits)
+
+    def properties(self) -> dict[str, Any]:
+        return {"range": self.range, "reading_error": self.reading_error, "range_error": self.range_error,
+                "resolution": self.resolution}
+
+    def error_bound(self, values: pint.Quantity) -> pint.Quantity:
+        """The stated maximum error at these readings (without the rounding's half step)."""
+        u = self._unit
+        v = np.abs(_arr(values, u, "values"))
+        return Q_(float(self.reading_error.to("").magnitude) * v
+                  + float(self.range_error.to("").magnitude) * _f(self.range, u), u)
+
+    def read(self, values: pint.Quantity) -> pint.Quantity:
+        """What the meter reads for these true values (returned in the unit they were given)."""
+        u = self._unit
+        q = values if isinstance(values, pint.Quantity) else parse_quantity(values, dimension=u, field="values")
+        v = _arr(q, u, "values")
+        rng_v = _f(self.range, u)
+        if np.any(np.abs(v) > 1.2 * rng_v):
+            raise DataError(None, "values", f"overload: a reading beyond 1.2 × the {self.range} range of {self.id}")
+        r = _fixed_rng(self.seed, "dmm", rng_v)
+        gain = r.uniform(-1, 1) * float(self.reading_error.to("").magnitude)
+        offset = r.uniform(-1, 1) * float(self.range_error.to("").magnitude) * rng_v
+        res = _f(self.resolution, u)
+        out = np.round((v * (1 + gain) + offset) / res) * res
+        return Q_(out, u).to(q.units)
+
+
+@attrs.frozen(kw_only=True)
+class Counter(EquipmentModel):
+    """Pulse counter with a time base of relative error within ±``timebase_error``: gates last
+    the nominal time × (1 + δ); counts are whole pulses and the part of a pulse not yet complete is
+    carried into the next gate, so no pulse is lost or counted twice."""
+
+    ROLE = "counter"
+    timebase_error: pint.Quantity = attrs.field(default=Q_(5e-8, ""), converter=_q(""), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        return {"timebase_error": self.timebase_error}
+
+    def gate(self, nominal: pint.Quantity) -> pint.Quantity:
+        e = float(self.timebase_error.to("").magnitude)
+        d = float(_fixed_rng(self.seed, "timebase").uniform(-e, e))
+        return parse_quantity(nominal, dimension="s", field="gate") * (1.0 + d)
+
+    @staticmethod
+    def count(increments: pint.Quantity, carry: float = 0.0) -> tuple[pint.Quantity, float]:
+        """Whole pulses counted in each gate for these (fractional) pulse increments, and the carry
+        (0 ≤ carry < 1 for non-negative totals) to pass to the next call."""
+        inc = _arr(increments, "P", "increments")
+        cum = np.cumsum(inc) + carry
+        whole = np.floor(cum)
+        counts = np.diff(whole, prepend=math.floor(carry))
+        new_carry = float(cum[-1] - whole[-1]) if cum.size else carry
+        return Q_(counts, "P"), new_carry
+
+
+@attrs.frozen(kw_only=True)
+class ADC(EquipmentModel):
+    """N-bit analogue-to-digital converter over ±``full_scale``: a code per LSB =
+    2·full_scale/2^N, rounded to the nearest code (error within ±½ LSB), clipped at the ends.
+    JJF 2003 reads ``bits`` (A.1.2.2: δ = 1/2^N)."""
+
+    ROLE = "acquisition"
+    bits: int = 12
+    full_scale: pint.Quantity = attrs.field(default=Q_(10.0, "V"), converter=_q("V"))
+
+    def __attrs_post_init__(self) -> None:
+        super().__attrs_post_init__()
+        if not 2 <= int(self.bits) <= 32:
+            raise DataError(None, f"{self.id}.bits", f"{self.bits} bits is not a converter (2 … 32)")
+
+    @property
+    def lsb(self) -> pint.Quantity:
+        return 2 * self.full_scale / 2 ** int(self.bits)
+
+    def properties(self) -> dict[str, Any]:
+        return {"bits": int(self.bits), "full_scale": self.full_scale}
+
+    def codes(self, volts: pint.Quantity) -> tuple[np.ndarray, int]:
+        """Integer codes (−2^(N−1) … 2^(N−1) − 1) and how many samples were clipped."""
+        v = _arr(volts, "V", "volts")
+        lo, hi = -(2 ** (int(self.bits) - 1)), 2 ** (int(self.bits) - 1) - 1
+        c = np.round(v / _f(self.lsb, "V"))
+        clipped = int(np.count_nonzero((c < lo) | (c > hi)))
+        return np.clip(c, lo, hi).astype(np.int64), clipped
+
+    def quantize(self, volts: pint.Quantity) -> pint.Quantity:
+        """The voltages the converter reports (code × LSB); clipping is an error."""
+        c, clipped = self.codes(volts)
+        if clipped:
+            raise DataError(None, "volts", f"{clipped} sample(s) beyond ±{self.full_scale} were clipped by {self.id}")
+        return Q_(c * _f(self.lsb, "V"), "V")
+
+
+@attrs.frozen(kw_only=True)
+class Timer(EquipmentModel):
+    """Timer: measures intervals with relative error within ±``accuracy`` and rounds to ``resolution``."""
+
+    ROLE = "timer"
+    accuracy: pint.Quantity = attrs.field(default=Q_(5e-7, ""), converter=_q(""), validator=_nonneg)
+    resolution: pint.Quantity = attrs.field(default=Q_(1e-6, "s"), converter=_q("s"), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        return {"accuracy": self.accuracy, "resolution": self.resolution}
+
+    def measure(self, elapsed: pint.Quantity) -> pint.Quantity:
+        t = _arr(elapsed, "s", "elapsed")
+        e = float(self.accuracy.to("").magnitude)
+        d = float(_fixed_rng(self.seed, "timer").uniform(-e, e))
+        res = _f(self.resolution, "s")
+        m = t * (1 + d)
+        return Q_(np.round(m / res) * res if res > 0 else m, "s")
+
+
+@attrs.frozen(kw_only=True)
+class AngleTurntable(_Positioner):
+    """Low-speed angle turntable (angle instruments): stops within ±``position_accuracy``;
+    ``axis_wobble`` and ``parallelism`` (of the instrument's axis to the table's; the ``ogam``
+    items read it) are stated too."""
+
+    ROLE = "turntable"
+    position_accuracy: pint.Quantity = attrs.field(default=Q_(0.1, "arcsec"), converter=_q("arcsec"),
+                                                   validator=_nonneg)
+    axis_wobble: pint.Quantity = attrs.field(default=Q_(0.3, "arcsec"), converter=_q("arcsec"), validator=_nonneg)
+    parallelism: pint.Quantity = attrs.field(default=Q_(0.1, "deg"), converter=_q("deg"), validator=_nonneg)
+
+    def properties(self) -> dict[str, Any]:
+        return {"axis_wobble": self.axis_wobble, "parallelism": self.parallelism,
+                "position_accuracy": self.position_accuracy}
+
+
+# ------------------------------------------------------------------------------ station kits
+
+
+def gbt45570_equipment() -> list[EquipmentModel]:
+    """The simulated GB/T 45570 station: levelled platform, rate table with revolution pulses,
+    temperature chamber, field generator, fixture, tilt table, vibration and shock tables,
+    voltmeter and ammeter (power), counter."""
+    sim = {"lab": "simulated"}
+    return [
+        LevelPlatform(id="SIM-PLATFORM", model="simulated levelled platform", levelness=Q_(2.0, "arcsec")),
+        RateTable(id="SIM-RATE-TABLE", model="simulated rate table with revolution pulses",
+                  revolution_pulse_accuracy=Q_(2.0, "arcsec"), certificate="SIM-CAL-0004", U=Q_(1e-5, ""), **sim),
+        TemperatureChamber(id="SIM-CHAMBER", model="simulated temperature chamber", certificate="SIM-CAL-0002",
+                           U=Q_(0.3, "K"), **sim),
+        FieldGenerator(id="SIM-FIELD", model="simulated DC magnetic field generator",
+                       uniformity=Q_(5, "percent"), certificate="SIM-CAL-0003", U=Q_(1e-2, ""), **sim),
+        Fixture(id="SIM-FIXTURE", model="simulated gyro fixture, 180° turn about IRA", reseat_tilt=Q_(3.0, "arcsec")),
+        TiltTable(id="SIM-TILT", model="simulated two-axis tilt table", position_accuracy=Q_(2.0, "arcsec")),
+        LinearShaker(id="SIM-VIB", model="simulated vibration table", role="vibration_table",
+                     certificate="SIM-CAL-0005", U=Q_(0.05, ""), **sim),
+        ShockTable(id="SIM-SHOCK", model="simulated shock table", role="shock_table",
+                   duration_accuracy=Q_(1.0, "ms"), certificate="SIM-CAL-0006", U=Q_(0.08, ""), **sim),
+        DigitalMultimeter(id="SIM-DVM", model="simulated voltmeter", role="voltmeter", range=Q_(100.0, "V"),
+                          certificate="SIM-CAL-0007", U=Q_(5e-4, ""), **sim),
+        DigitalMultimeter(id="SIM-AMM", model="simulated ammeter", role="ammeter", range=Q_(3.0, "A"),
+                          reading_error=Q_(500.0, "ppm"), range_error=Q_(100.0, "ppm"), digits=5.5,
+                          certificate="SIM-CAL-0008", U=Q_(2e-3, ""), **sim),
+        Counter(id="SIM-COUNTER", model="simulated counter/time base", certificate="SIM-CAL-0001",
+                U=Q_(1e-7, ""), **sim),
+    ]
+
+
+def jjf2014_equipment() -> list[EquipmentModel]:
+    """The simulated JJF 2014 station (rate table with chamber, DMM, tables, shock, vibration, timer)."""
+    sim = {"lab": "simulated"}
+    return [
+        RateTable(id="SIM-RT", model="simulated rate table with chamber", role="rate-table",
+                  certificate="SIM-RT-001", U=Q_(1e-4, ""), **sim),
+        DigitalMultimeter(id="SIM-DMM", model="simulated 6½-digit DMM", certificate="SIM-DMM-001",
+                          U=Q_(6e-5, ""), **sim),
+        TemperatureChamber(id="SIM-CH", model="simulated temperature chamber", certificate="SIM-CH-001",
+                           U=Q_(0.5, "delta_degC"), **sim),
+        PositionTable(id="SIM-PT", model="simulated two-axis position table", certificate="SIM-PT-001",
+                      U=Q_(3.0, "arcsec"), **sim),
+        AngularVibrationTable(id="SIM-AVT", model="simulated angular vibration table + reference sensor",
+                              certificate="SIM-AVT-001", U=Q_(5e-3, ""), phase_U=Q_(0.2, "deg"), **sim),
+        ShockTable(id="SIM-SHOCK", model="simulated shock machine"),
+        LinearShaker(id="SIM-VIB", model="simulated linear vibration table"),
+        Timer(id="SIM-TIMER", model="simulated timer", certificate="SIM-TIMER-001", U=Q_(1e-6, ""), **sim),
+    ]
+
+
+def jjf2003_equipment(bits: int) -> list[EquipmentModel]:
+    """The simulated JJF 2003 (MIMU) station: three-axis position/rate table and an N-bit acquisition."""
+    return [
+        ThreeAxisTable(id="SIM-3AXIS", model="simulated three-axis position/rate table",
+                       position_accuracy=Q_(10.0, "arcsec"), certificate="SIM-CAL-3AX", U=Q_(2e-4, ""),
+                       lab="simulated"),
+        ADC(id="SIM-DAQ", model=f"simulated {bits}-bit acquisition", bits=int(bits)),
+    ]
+
+
+def angle_instrument_equipment(positioning_arcsec: float) -> list[EquipmentModel]:
+    """The simulated angle-instrument station: low-speed turntable (uniform ±positioning error) and timer."""
+    p = positioning_arcsec or 0.1
+    return [
+        AngleTurntable(id="SIM-TURNTABLE", model="simulated low-speed turntable",
+                       position_accuracy=Q_(p, "arcsec"), axis_wobble=Q_(0.3, "arcsec"), parallelism=Q_(0.1, "deg"),
+                       certificate="SIM-TT-0001", U=Q_(p, "arcsec"), distribution="uniform", lab="simulated"),
+        Timer(id="SIM-TIMER", model="simulated timer"),
+    ]
+
+
+def equipment_list(models: Sequence[EquipmentModel]) -> list[Equipment]:
+    """The campaign's equipment for these models; two models may not share an id."""
+    ids = [m.id for m in models]
+    dup = sorted({i for i in ids if ids.count(i) > 1})
+    if dup:
+        raise DataError(None, "equipment", f"duplicate equipment id(s) {', '.join(dup)}")
+    return [m.equipment() for m in models]
+
+
+__all__ += ["equipment_list"]
