@@ -206,12 +206,35 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
             loader=_make_loader(reader.read, fpath, interval_s, declared),
         ))
 
+    spec_t = _table(doc, "specification", src, required=False)
+    specification = _specification(spec_t, src)
+
     return Campaign(
         id=_str(camp, "id", src, "campaign", required=False, default=path.parent.name),
         device=device, equipment=equipment, environment=environment, site=site, segments=segments,
         source=src, simulated=False,
         meta={k: v for k, v in camp.items() if k != "id"},
+        specification=specification,
     )
+
+
+def _specification(t: Mapping, src: str) -> dict[str, str]:
+    """The ``[specification]`` table: ``symbol = "limit"`` lines (checked now, so a bad limit is
+    reported before anything is evaluated), ``decision_rule`` and ``source``."""
+    from .conformity import rule_named, specifications_from_table
+
+    out: dict[str, str] = {}
+    for key, val in t.items():
+        if not isinstance(val, str):
+            raise DataError(src, f"specification.{key}", f"must be text such as \"<= 10 ppm\", got {val!r}")
+        out[key] = val
+    if "decision_rule" in out:
+        try:
+            rule_named(out["decision_rule"])
+        except DataError as exc:
+            raise DataError(src, "specification.decision_rule", exc.detail) from exc
+    specifications_from_table(out, file=src)
+    return out
 
 
 class _Columns(dict):

@@ -33,8 +33,12 @@ def _parser() -> argparse.ArgumentParser:
                        description="Evaluate items of a standard on a campaign (--data) or, without --data, "
                        "on the built-in simulated test station.")
     r.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
-    r.add_argument("--item", "-i", action="append", required=True,
-                   help="item id, e.g. D.5.6 (repeat or comma-separate for several)")
+    r.add_argument("--item", "-i", action="append", default=[],
+                   help="item id, e.g. D.5.6, or a series name, e.g. scale-factor (repeat or comma-separate)")
+    r.add_argument("--all", action="store_true", dest="run_all",
+                   help="run every item of the standard that applies to the device")
+    r.add_argument("--decision-rule", choices=("guarded", "simple"),
+                   help="conformity decision rule (default: the manifest's, else guarded: w = U)")
     r.add_argument("--data", "-d", metavar="MANIFEST", help="campaign manifest (TOML); see docs/data-format.md")
     r.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE",
                    help="item option, e.g. -o t=\"100 s\" (see `metro items`)")
@@ -150,6 +154,10 @@ def _cmd_run(args) -> int:
     err = Console(stderr=True)
     pm = _pm(args)
     items = _items(args.item)
+    if not items and not args.run_all:
+        from .errors import MetroError
+
+        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
     options = _options(args.option)
     station_options = {"seed": args.seed} if args.seed is not None else {}
     if args.data is None and not args.json:
@@ -157,7 +165,8 @@ def _cmd_run(args) -> int:
                   "(a virtual device with declared, seeded truth).[/]")
     with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
-                           station_options=station_options, progress=prog)
+                           station_options=station_options, progress=prog, run_all=args.run_all,
+                           decision_rule=args.decision_rule)
         report_path = None
         if not args.no_report:
             from .report import write_report

@@ -12,6 +12,9 @@ Phases:
    :func:`metro_register_stations`, :func:`metro_register_templates`.  Each receives a
    *registrar* that validates what it is given and remembers which plugin gave it.
    :func:`metro_extend_report_context` lets a plugin add to what report templates see.
+   :func:`metro_item_applicability` decides which items of a standard apply to a device
+   (``metro run --all`` and series); :func:`metro_conformity_specifications` supplies the
+   limits results are judged against.
 3. **Run** — :func:`metro_campaign_loaded`, :func:`metro_procedure_started`,
    :func:`metro_procedure_finished`, :func:`metro_report_written`: lifecycle events.
 """
@@ -25,7 +28,8 @@ import pluggy
 if TYPE_CHECKING:  # pragma: no cover
     from pathlib import Path
 
-    from .model import Campaign, Outcome, Procedure, RunContext
+    from .conformity import Specification
+    from .model import Applicability, Campaign, DeviceUnderTest, Outcome, Procedure, RunContext
     from .provenance import RunRecord
     from .plugins import ReaderRegistrar, StandardRegistrar, StationRegistrar, TemplateRegistrar
 
@@ -124,6 +128,45 @@ def metro_extend_report_context(record: "RunRecord", context: dict) -> None:
     :param record: the run record being reported.
     :param context: the template context (a plain dict), modified in place.
     :return: nothing.
+    """
+
+
+@hookspec(firstresult=True)
+def metro_item_applicability(
+    procedure: "type[Procedure]", device: "DeviceUnderTest | None"
+) -> "Applicability | None":
+    """Decide whether an item applies to a device when a whole standard or a series is run.
+
+    ``metro run --standard S --all`` and series aliases (``registrar.add_series``) run only the
+    items that apply.  The first non-``None`` answer decides; when every plugin returns
+    ``None`` the procedure's own :meth:`~metro.core.model.Procedure.applies_to` does (every item
+    applies by default).  Answer only for standards you know — GB/T 45570 uses it to choose
+    the angle method (D.1) or the rate method (D.2) by clause 6.2.7.1 — and say why in the
+    :class:`~metro.core.model.Applicability`'s ``reason``: it is printed and reported.
+
+    :param procedure: the candidate item's procedure class.
+    :param device: the device under test (from the manifest, or the station's virtual device);
+        ``None`` when it is not known before acquisition.
+    :return: an :class:`~metro.core.model.Applicability` (applies, reason), or ``None`` to
+        leave the decision to others.
+    """
+
+
+@hookspec
+def metro_conformity_specifications(standard: str, campaign: "Campaign") -> "Sequence[Specification] | None":
+    """Supply the specification limits results of ``standard`` are judged against.
+
+    Return :class:`metro.core.conformity.Specification` values (metric key, ``≤``/``≥``/range,
+    the limit as a pint quantity, the source cited, e.g. "GB/T 45570—2025 table A.1,
+    aviation") chosen for the campaign's device (``campaign.device.technology``,
+    ``.application``).  Results of all plugins are combined; limits the campaign manifest
+    gives in its ``[specification]`` table replace them metric by metric.  Results are then
+    judged with the run's decision rule (:mod:`metro.core.conformity`).
+
+    :param standard: the standard whose items were run.
+    :param campaign: the campaign they were run on.
+    :return: a sequence of specifications (may be empty), or ``None`` when this plugin has
+        none for ``standard``.
     """
 
 

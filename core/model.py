@@ -19,7 +19,7 @@ import pint
 
 from .budget import UncertaintyBudget, report_pair
 from .errors import DataError, ProcedureError
-from .units import Q_, check_dimension, fmt_unit, parse_quantity, unit
+from .units import Q_, check_dimension, difference_unit, fmt_unit, parse_quantity, unit
 
 __all__ = [
     "Calibration",
@@ -36,6 +36,7 @@ __all__ = [
     "Outcome",
     "SegmentRequirement",
     "EquipmentRequirement",
+    "Applicability",
     "Option",
     "Step",
     "Procedure",
@@ -290,6 +291,8 @@ class Campaign:
     meta: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
     #: on a simulated campaign: what an ideal evaluation gives, by metric key (a quantity)
     expected: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+    #: the manifest's ``[specification]`` table as written (limits as text; see core.conformity)
+    specification: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
 
     def find_segments(self, kind: str | None = None, **conditions: Any) -> list[Segment]:
         out = []
@@ -356,7 +359,7 @@ class Result:
     @property
     def U(self) -> pint.Quantity | None:
         if self.budget is not None:
-            return self.budget.expanded.to(self.metric.unit)
+            return self.budget.expanded.to(difference_unit(self.metric.unit))  # °C: U in Δ°C
         return None
 
     def reported(self) -> tuple[str, str | None]:
@@ -380,7 +383,7 @@ class Result:
             "equation": self.metric.equation,
             "value": float(val),
             "unit": fmt_unit(unit_),
-            "u": None if self.u is None else float(self.u.to(unit_).magnitude),
+            "u": None if self.u is None else float(self.u.to(difference_unit(unit_)).magnitude),
             "U": None if self.U is None else float(self.U.magnitude),
             "k": self.k,
             "nu_eff": None if self.budget is None or math.isinf(self.budget.nu_eff) else self.budget.nu_eff,
@@ -458,6 +461,14 @@ class EquipmentRequirement:
 
 
 @attrs.frozen
+class Applicability:
+    """Whether an item applies to a device (``metro run --all``, series), and why in words."""
+
+    applies: bool
+    reason: str = ""
+
+
+@attrs.frozen
 class Option:
     """An item option (the standard's '除另有规定外' values), with its unit and default."""
 
@@ -520,6 +531,13 @@ class Procedure(abc.ABC):
     @classmethod
     def qualified_id(cls) -> str:
         return f"{cls.standard}:{cls.item}"
+
+    @classmethod
+    def applies_to(cls, device: DeviceUnderTest | None) -> Applicability:
+        """Whether this item applies to ``device`` (``None``: not known yet) when a whole
+        standard or a series is run.  Every item applies unless a subclass says otherwise; a
+        plugin can also decide for items it does not own with ``metro_item_applicability``."""
+        return Applicability(True, "")
 
     @classmethod
     def option_values(cls, given: Mapping[str, Any] | None) -> dict[str, Any]:

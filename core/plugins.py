@@ -17,7 +17,7 @@ import importlib
 import os
 from importlib import metadata
 from pathlib import Path
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping, Sequence
 
 import attrs
 import pluggy
@@ -26,6 +26,10 @@ from . import hookspec
 from .errors import PluginError
 from .model import Campaign, Outcome, Procedure, RunContext
 from .units import add_definitions
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .conformity import Specification
+    from .model import Applicability
 
 ENTRY_POINT_GROUP = "metro"
 BUILTIN_DIST = "metro"
@@ -52,6 +56,18 @@ class ProcedureInfo:
     @property
     def id(self) -> str:
         return self.cls.qualified_id()
+
+
+@attrs.frozen
+class SeriesInfo:
+    """A named group of items of one standard (e.g. GB/T 45570 ``scale-factor``): running
+    the series runs those of its members that apply to the device."""
+
+    standard: str
+    name: str
+    members: tuple[str, ...]
+    description: str
+    plugin: str
 
 
 @attrs.frozen
@@ -94,6 +110,7 @@ class Registry:
 
     standards: dict[str, StandardInfo] = attrs.field(factory=dict)
     procedures: dict[str, ProcedureInfo] = attrs.field(factory=dict)
+    series: dict[str, SeriesInfo] = attrs.field(factory=dict)
     readers: dict[str, ReaderInfo] = attrs.field(factory=dict)
     stations: dict[str, StationInfo] = attrs.field(factory=dict)
     templates: dict[str, TemplateInfo] = attrs.field(factory=dict)
@@ -141,6 +158,17 @@ class StandardRegistrar(_Registrar):
         if pid in self.registry.procedures:
             raise self._dup("item", pid, self.registry.procedures[pid].plugin)
         self.registry.procedures[pid] = ProcedureInfo(cls, self.plugin)
+
+    def add_series(self, standard: str, name: str, members: Sequence[str], description: str = "") -> None:
+        """A series alias: ``metro run -s standard -i name`` runs those ``members`` (item ids) that
+        are registered and apply to the device (``metro_item_applicability``), and says which
+        it chose and why.  A name may not be an item id; members need not all be registered yet."""
+        if not name or not members:
+            raise PluginError(f"plugin {self.plugin!r}: series needs a name and at least one member item")
+        key = f"{standard}:{name}"
+        if key in self.registry.series:
+            raise self._dup("series", key, self.registry.series[key].plugin)
+        self.registry.series[key] = SeriesInfo(standard, name, tuple(members), description, self.plugin)
 
 
 class ReaderRegistrar(_Registrar):
@@ -273,6 +301,9 @@ class MetroPluginManager:
         self._call_each("metro_register_readers", ReaderRegistrar)
         self._call_each("metro_register_stations", StationRegistrar)
         self._call_each("metro_register_templates", TemplateRegistrar)
+        for key, ser in self.registry.series.items():
+            if key in self.registry.procedures:
+                raise PluginError(f"plugin {ser.plugin!r}: series {key!r} has the id of an item")
         for pid, info in self.registry.procedures.items():
             if info.cls.standard not in self.registry.standards:
                 raise PluginError(
@@ -299,6 +330,38 @@ class MetroPluginManager:
     def procedures_of(self, standard: str) -> list[type[Procedure]]:
         reg = self.register_all()
         return [p.cls for p in reg.procedures.values() if p.cls.standard == standard]
+
+    def series(self, standard: str, name: str) -> SeriesInfo | None:
+        """The series ``name`` of ``standard``, or ``None`` if there is none by that name."""
+        return self.register_all().series.get(f"{standard}:{name}")
+
+    def item_applicability(self, procedure: type[Procedure], device: Any) -> "Applicability":
+        """Whether ``procedure`` applies to ``device``: the first plugin that answers
+        ``metro_item_applicability``, else the procedure's own ``applies_to``."""
+        from .model import Applicability
+
+        ans = self.pm.hook.metro_item_applicability(procedure=procedure, device=device)
+        if ans is None:
+            ans = procedure.applies_to(device)
+        if not isinstance(ans, Applicability):
+            raise PluginError(f"applicability of {procedure.qualified_id()} is {ans!r}, not an Applicability")
+        return ans
+
+    def conformity_specifications(self, standard: str, campaign: Campaign) -> list["Specification"]:
+        """Every plugin's specifications for ``standard`` (checked, in plugin-name order)."""
+        from .conformity import Specification
+
+        out: list[Specification] = []
+        caller = self.pm.hook.metro_conformity_specifications
+        for impl in sorted(caller.get_hookimpls(), key=lambda i: i.plugin_name):
+            given = {"standard": standard, "campaign": campaign}
+            specs = impl.function(**{k: v for k, v in given.items() if k in impl.argnames})
+            for s in specs or ():
+                if not isinstance(s, Specification):
+                    raise PluginError(f"plugin {impl.plugin_name!r} returned {s!r} as a specification; "
+                                      "return metro.core.conformity.Specification values")
+                out.append(s)
+        return out
 
     def reader_for(self, path: Path) -> ReaderInfo:
         reg = self.register_all()

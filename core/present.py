@@ -95,6 +95,16 @@ def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
         "site": {k: _q(v) for k, v in c.site.items()},
         "equipment": [{"id": e.id, "role": e.role, "status": e.status()} for e in c.equipment],
         "timings_s": dict(record.timings),
+        "selection": [{"item": ch.item, "run": ch.run, "reason": ch.reason, "via": ch.via}
+                      for ch in record.selection],
+        "conformity": None if record.conformity is None else {
+            "rule": record.conformity.rule.name,
+            "statement": record.conformity.rule.statement,
+            "overall": record.conformity.overall.value if record.conformity.overall else None,
+            "verdicts": [v.as_dict() for v in record.conformity.verdicts],
+            "not_assessed": [{"symbol": sp.symbol, "limit": sp.text(), "source": sp.source}
+                             for sp in record.conformity.not_assessed],
+        },
         "provenance": {"software": dict(record.software), "plugins": dict(record.plugins),
                        "data_files": [{"file": f, "sha256": h} for f, h in record.data_files],
                        "source": c.source, "created": record.created.isoformat()},
@@ -108,6 +118,9 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
     con = Console()
     c = record.campaign
     con.print(f"[bold]{record.standard}[/] on {c.device.describe()} — campaign {c.id} ({c.source})")
+    for ch in record.selection:
+        mark = "[green]run[/]" if ch.run else "[dim]not run[/]"
+        con.print(f"  {ch.item} ({ch.via}): {mark} — {ch.reason}")
     t = Table(title="Results")
     for col in ("item", "quantity", "value", "U", "k", "unit", "clause"):
         t.add_column(col, justify="right" if col in ("value", "U", "k") else "left")
@@ -150,6 +163,21 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
             mark = "[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]"
             con.print(f"  {ch['item']} {ch['key']}: result {ch['value']:.5g} vs truth {ch['truth']:.5g} "
                       f"{ch['unit']} (U = {ch['U']:.2g}) → {mark}")
+    if record.conformity is not None:
+        a = record.conformity
+        ct = Table(title=f"Conformity — {a.rule.title}")
+        for col in ("item", "result", "limit", "source", "verdict", "why"):
+            ct.add_column(col)
+        colour = {"pass": "green", "fail": "red", "indeterminate": "yellow"}
+        for v in a.verdicts:
+            st = v.status.value
+            ct.add_row(v.item, v.key, v.spec.text(), v.spec.source,
+                       f"[{colour[st]}]{st}[/]" + (f" ({v.detail})" if v.detail not in ("pass", "fail") else ""),
+                       v.reason)
+        con.print(ct)
+        if a.not_assessed:
+            con.print("not assessed (item not performed): "
+                      + ", ".join(f"{sp.symbol} {sp.text()}" for sp in a.not_assessed))
     for f, h in record.data_files:
         con.print(f"data: {f}  sha256 {h}")
     con.print(f"report number {record.report_number}" + (f"; Word report: {report_path}" if report_path else ""))

@@ -33,6 +33,10 @@ class RunRecord:
     simulated: bool = False
     truth: Mapping[str, Any] = attrs.field(factory=dict)
     timings: Mapping[str, float] = attrs.field(factory=dict)  # stage -> seconds
+    #: which items ran and why (``--all``, series): runner.ItemChoice values
+    selection: tuple[Any, ...] = attrs.field(default=(), converter=tuple)
+    #: the results judged against specifications (a conformity.Assessment), if any were given
+    conformity: Any = None
 
     @property
     def standard(self) -> str:

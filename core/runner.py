@@ -10,9 +10,13 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
+import re
+
+import attrs
+
 from .campaign import load_manifest
 from .errors import MetroError, ProcedureError
-from .model import Campaign, Outcome, Procedure, RunContext, Step
+from .model import Campaign, DeviceUnderTest, Outcome, Procedure, RunContext, Step
 from .plugins import MetroPluginManager
 from .provenance import RunRecord, new_report_number, software_versions
 
@@ -51,6 +55,109 @@ def split_options(procs: Sequence[type[Procedure]], options: Mapping[str, Any]) 
     return per
 
 
+@attrs.frozen
+class ItemChoice:
+    """One candidate item of ``--all`` or a series: whether it runs, and why (printed and reported)."""
+
+    item: str
+    run: bool
+    reason: str
+    via: str  # "--all", "series scale-factor" or "requested"
+
+
+def _item_order(item: str) -> tuple:
+    """D.1.10 after D.1.9: compare the numeric parts as numbers."""
+    return tuple((0, int(p), "") if p.isdigit() else (1, 0, p) for p in re.split(r"[.\-]", item))
+
+
+def select_items(
+    pm: MetroPluginManager, standard: str, requested: Sequence[str], *, run_all: bool = False,
+    device: DeviceUnderTest | None = None,
+) -> tuple[list[str], list[ItemChoice]]:
+    """Expand ``--all`` and series aliases into the items to run.
+
+    Items named explicitly always run.  With ``run_all`` every registered item of the
+    standard is a candidate; a series name stands for its members.  A candidate runs if it is
+    registered and applies to ``device`` (``metro_item_applicability``, else
+    ``Procedure.applies_to``).  Returns (items to run, in order; every choice with its reason).
+    """
+    if standard not in pm.register_all().standards:
+        pm.procedure(standard, "")  # raises the unknown-standard error listing the loaded ones
+    choices: list[ItemChoice] = []
+    registered = {cls.item: cls for cls in pm.procedures_of(standard)}
+
+    def consider(item: str, via: str) -> None:
+        if any(c.item == item for c in choices):
+            return
+        cls = registered.get(item)
+        if cls is None:
+            choices.append(ItemChoice(item, False, "not implemented in this metro (no plugin registers it)", via))
+            return
+        a = pm.item_applicability(cls, device)
+        choices.append(ItemChoice(item, a.applies, a.reason or ("applies" if a.applies else "does not apply"), via))
+
+    for name in requested:
+        ser = pm.series(standard, name)
+        if ser is not None:
+            for m in ser.members:
+                consider(m, f"series {name}")
+        else:
+            pm.procedure(standard, name)  # an unknown item is an error naming the items
+            if not any(c.item == name for c in choices):
+                choices.append(ItemChoice(name, True, "requested", "requested"))
+    if run_all:
+        for item in sorted(registered, key=_item_order):
+            consider(item, "--all")
+    run = [c.item for c in choices if c.run]
+    if not run:
+        raise ProcedureError(
+            f"none of the candidate items of {standard} applies to this device: "
+            + "; ".join(f"{c.item}: {c.reason}" for c in choices),
+        )
+    return run, choices
+
+
+def _station_device(pm: MetroPluginManager, name: str, station_options: Mapping[str, Any] | None):
+    """The virtual device a station would measure, when the station can say before acquiring."""
+    st = pm.station(name).factory(**dict(station_options or {}))
+    dev = getattr(st, "device", None)
+    dev = dev() if callable(dev) else dev
+    return dev if isinstance(dev, DeviceUnderTest) else None
+
+
+def _merge_campaigns(parts: Sequence[tuple[str, Campaign]]) -> Campaign:
+    """One campaign from several stations' campaigns of the *same* device (segments, equipment,
+    truth joined); a report covers one device, so different devices are an error."""
+    if len(parts) == 1:
+        return parts[0][1]
+    first = parts[0][1]
+    if any(c.device != first.device for _, c in parts[1:]):
+        raise ProcedureError(
+            "the items need different simulated stations ("
+            + ", ".join(f"{n}: device {c.device.id}" for n, c in parts)
+            + ") that simulate different devices; a report covers one device, so run them separately "
+            "or give --data",
+        )
+    segments, seen, equipment, eq_ids = [], set(), [], set()
+    truth: dict[str, Any] = {}
+    expected: dict[str, Any] = {}
+    for name, c in parts:
+        for seg in c.segments:
+            segments.append(seg if seg.id not in seen else attrs.evolve(seg, id=f"{name}:{seg.id}"))
+            seen.add(segments[-1].id)
+        for e in c.equipment:
+            if e.id not in eq_ids:
+                equipment.append(e)
+                eq_ids.add(e.id)
+        truth.update(c.truth)
+        expected.update(c.expected)
+    return attrs.evolve(
+        first, id="+".join(c.id for _, c in parts), equipment=equipment, segments=segments,
+        source="; ".join(f"{c.source} ({n})" for n, c in parts), simulated=any(c.simulated for _, c in parts),
+        truth=truth, expected=expected,
+    )
+
+
 def load_campaign(
     pm: MetroPluginManager,
     procs: Sequence[type[Procedure]],
@@ -64,17 +171,16 @@ def load_campaign(
     if data is not None:
         campaign = load_manifest(data, pm.reader_for)
     else:
-        if station is None:
-            wanted = sorted({cls.station for cls in procs})
-            if len(wanted) > 1:
-                raise ProcedureError(
-                    f"the items need different simulated stations ({', '.join(wanted)}); run them separately "
-                    "or give --data"
-                )
-            station = wanted[0]
-        st = pm.station(station).factory(**dict(station_options or {}))
-        steps = merge_steps([cls().sequence(cls.option_values(o)) for cls, o in zip(procs, options)])
-        campaign = st.acquire(steps, progress=progress)
+        # one acquisition per station the items need (all on --station when given)
+        groups: dict[str, list[int]] = {}
+        for i, cls in enumerate(procs):
+            groups.setdefault(station or cls.station, []).append(i)
+        parts = []
+        for name, idx in groups.items():
+            st = pm.station(name).factory(**dict(station_options or {}))
+            steps = merge_steps([procs[i]().sequence(procs[i].option_values(options[i])) for i in idx])
+            parts.append((name, st.acquire(steps, progress=progress)))
+        campaign = _merge_campaigns(parts)
     pm.campaign_loaded(campaign)
     return campaign
 
@@ -90,14 +196,32 @@ def run_items(
     station_options: Mapping[str, Any] | None = None,
     progress: Progress | None = None,
     campaign: Campaign | None = None,
+    run_all: bool = False,
+    decision_rule: str | None = None,
 ) -> RunRecord:
-    """Evaluate ``items`` of ``standard`` on one campaign and return the run record."""
-    if not items:
-        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6")
-    procs = [pm.procedure(standard, item) for item in items]
-    per_opts = split_options(procs, dict(options or {}))
+    """Evaluate ``items`` of ``standard`` on one campaign and return the run record.
+
+    ``items`` may name series (``registrar.add_series``); ``run_all`` adds every item of the
+    standard that applies to the device.  Results are judged against the specifications
+    plugins and the manifest give, with ``decision_rule`` (``simple``/``guarded``; default:
+    the manifest's ``decision_rule``, else :data:`metro.core.conformity.DEFAULT_RULE`).
+    """
+    if not items and not run_all:
+        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, or --all")
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
+    selection: list[ItemChoice] = []
+    if run_all or any(pm.series(standard, i) is not None for i in items):
+        if campaign is None and data is not None:
+            campaign = load_campaign(pm, [], [], data=data)
+        if campaign is not None:
+            device = campaign.device
+        else:
+            cands = pm.procedures_of(standard)
+            device = _station_device(pm, station or (cands[0].station if cands else "simulated"), station_options)
+        items, selection = select_items(pm, standard, items, run_all=run_all, device=device)
+    procs = [pm.procedure(standard, item) for item in items]
+    per_opts = split_options(procs, dict(options or {}))
     if campaign is None:
         campaign = load_campaign(pm, procs, per_opts, data=data, station=station,
                                  station_options=station_options, progress=progress)
@@ -117,6 +241,9 @@ def run_items(
         timings[f"evaluate {cls.item}"] = dt_eval - read
         pm.procedure_finished(proc, outcome)
         outcomes.append(outcome)
+    t1 = time.perf_counter()
+    conformity = judge(pm, standard, campaign, outcomes, decision_rule)
+    timings["conformity"] = time.perf_counter() - t1
     used = {sid for o in outcomes for sid in o.segments}
     files = [(s.file or f"simulated segment {s.id}", s.digest()) for s in campaign.segments
              if s.id in used and s.digest()]
@@ -131,4 +258,21 @@ def run_items(
         simulated=campaign.simulated,
         truth=dict(campaign.truth),
         timings=timings,
+        selection=selection,
+        conformity=conformity,
     )
+
+
+def judge(pm: MetroPluginManager, standard: str, campaign: Campaign, outcomes: Sequence[Outcome],
+          decision_rule: str | None = None):
+    """The conformity assessment of ``outcomes``: plugins' specifications for ``standard``, the
+    manifest's ``[specification]`` replacing them metric by metric; ``None`` when there is none."""
+    from . import conformity as cf
+
+    given = dict(campaign.specification)
+    specs = cf.merge_specifications(pm.conformity_specifications(standard, campaign),
+                                    cf.specifications_from_table(given, file=campaign.source))
+    if not specs:
+        return None
+    rule = cf.rule_named(decision_rule or given.get("decision_rule"))
+    return cf.assess(outcomes, specs, rule)

@@ -74,6 +74,7 @@ def test_registrar_validates_input():
 
 def test_every_hook_of_a_third_party_plugin(tmp_path):
     """One sample plugin implements every hook; each one is exercised here."""
+    from metro.core.errors import ProcedureError
     from metro.core.model import Campaign, DeviceUnderTest, Segment
     from metro.core.runner import run_items
     from metro.core.units import Q_
@@ -91,7 +92,8 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     assert reg.readers[".vxb"].plugin == "sample_vendor"
     assert pm.station("vendorx-bench").plugin == "sample_vendor"
     assert pm.template_for("vendorx").name == "vendorx-report"
-    assert pm.template_for("gbt45570").name == "generic-report"
+    assert pm.template_for("gbt45570").name == "gbt45570-report"
+    assert pm.template_for("jjf2003-unknown").name == "generic-report"
     # lifecycle hooks
     data = np.linspace(1.0, 2.0, 101)
     camp = Campaign("C1", DeviceUnderTest("D1"), [], {}, {}, [
@@ -99,6 +101,18 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     pm.campaign_loaded(camp)
     rec = run_items(pm, "vendorx", ["V.1"], campaign=camp)
     assert rec.outcomes[0].results[0].value.magnitude == pytest.approx(1.5)
+    # metro_conformity_specifications: the vendor's limit judges the result (default rule: guarded)
+    (verdict,) = rec.conformity.verdicts
+    assert verdict.spec.source == "VX-001 limit table" and verdict.status.value == "pass"
+    # metro_item_applicability and a series: the series runs the members that exist and apply
+    rec = run_items(pm, "vendorx", ["all-means"], campaign=camp)
+    assert [o.item for o in rec.outcomes] == ["V.1"]
+    assert {c.item: c.run for c in rec.selection} == {"V.1": True, "V.2": False}
+    assert "not implemented" in rec.selection[1].reason
+    from metro.core.runner import select_items
+
+    with pytest.raises(ProcedureError, match="V.1: V.1 needs a rate-output device"):
+        select_items(pm, "vendorx", [], run_all=True, device=DeviceUnderTest("P", output="pulse"))
     from metro.core.report import write_report
 
     path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("vendorx").path,
@@ -106,7 +120,8 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     pm.report_written(path, rec.outcomes)
     kinds = [e[0] for e in mod.EVENTS]
     for hook in ("metro_campaign_loaded", "metro_procedure_started", "metro_procedure_finished",
-                 "metro_extend_report_context", "metro_report_written"):
+                 "metro_extend_report_context", "metro_report_written", "metro_item_applicability",
+                 "metro_conformity_specifications"):
         assert hook in kinds, hook
     assert kinds.index("metro_procedure_started") < kinds.index("metro_procedure_finished")
 
@@ -115,7 +130,7 @@ def test_hookspecs_are_documented_typed_stubs():
     import inspect
 
     names = [n for n in dir(hookspec) if n.startswith("metro_")]
-    assert len(names) == 10
+    assert len(names) == 12
     for n in names:
         fn = getattr(hookspec, n)
         doc = inspect.getdoc(fn) or ""
@@ -140,7 +155,8 @@ def test_items_choose_their_default_station():
         item = "X.1"
 
     pm.registry.procedures["gbt45570:X.1"] = type(pm.registry.procedures["gbt45570:D.5.1"])(Other, "test")
-    with pytest.raises(ProcedureError, match="different simulated stations"):
+    # items on different stations: each station acquires its own campaign
+    with pytest.raises(PluginError, match="unknown station 'elsewhere'"):
         run_items(pm, "gbt45570", ["D.5.1", "X.1"])
     with pytest.raises(PluginError, match="unknown station 'elsewhere'"):
         run_items(pm, "gbt45570", ["X.1"])

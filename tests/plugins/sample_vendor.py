@@ -54,6 +54,7 @@ def metro_unit_definitions():
 def metro_register_standards(registrar):
     registrar.add_standard("vendorx", "Vendor X internal procedures", designation="VX-001")
     registrar.add_procedure(MeanOutput)
+    registrar.add_series("vendorx", "all-means", ["V.1", "V.2"], "V.1, and V.2 once it exists")
 
 
 @hookimpl
@@ -72,6 +73,27 @@ def metro_register_templates(registrar):
 
     p = Path(str(resources.files("metro.core").joinpath("templates", "report.docx")))
     registrar.add_template("vendorx-report", p, standard="vendorx")
+
+
+@hookimpl
+def metro_item_applicability(procedure, device):
+    if procedure.standard != "vendorx":
+        return None
+    from metro.core.model import Applicability
+
+    EVENTS.append(("metro_item_applicability", procedure.qualified_id()))
+    rate = device is None or device.output in ("", "rate")
+    return Applicability(rate, "V.1 reads a rate output" if rate else "V.1 needs a rate-output device")
+
+
+@hookimpl
+def metro_conformity_specifications(standard, campaign):
+    if standard != "vendorx":
+        return None
+    from metro.core.conformity import parse_limit
+
+    EVENTS.append(("metro_conformity_specifications", campaign.id))
+    return [parse_limit("mean", "<= 2 deg/h", source="VX-001 limit table")]
 
 
 @hookimpl
