@@ -6,9 +6,12 @@ Items implemented so far: D.1.1–D.1.3 (angle method) and D.5.1–D.5.6 (bias s
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from metro.core import hookimpl
 
 STANDARD_ID = "gbt45570"
+REPORT_TEMPLATE = Path(__file__).parent / "templates" / "report.docx"
 
 
 @hookimpl
@@ -24,3 +27,37 @@ def metro_register_standards(registrar) -> None:
     )
     for cls in angle_method.PROCEDURES + PROCEDURES:
         registrar.add_procedure(cls)
+
+    from .method_rule import SERIES
+
+    for name, (members, description) in SERIES.items():
+        registrar.add_series(STANDARD_ID, name, members, description)
+
+
+@hookimpl
+def metro_item_applicability(procedure, device):
+    from .method_rule import applicability
+
+    return applicability(procedure, device)
+
+
+@hookimpl
+def metro_conformity_specifications(standard, campaign):
+    if standard != STANDARD_ID:
+        return None
+    from .conformity import specifications
+
+    return specifications(campaign.device)
+
+
+@hookimpl
+def metro_register_templates(registrar) -> None:
+    if REPORT_TEMPLATE.is_file():
+        registrar.add_template("gbt45570-report", REPORT_TEMPLATE, standard=STANDARD_ID, kind="report")
+
+
+@hookimpl
+def metro_extend_report_context(record, context) -> None:
+    from .report import extend_context
+
+    extend_context(record, context)
