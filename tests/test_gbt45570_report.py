@@ -1,0 +1,149 @@
+"""The GB/T 45570—2025 test report: template, context, the produced .docx read back with python-docx."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+
+import docx
+import pytest
+
+from metro.core.conformity import GUARDED, SIMPLE
+from metro.core.plugins import get_plugin_manager
+from metro.core.report import write_report
+from metro.core.runner import run_items
+from metro.plugins.gbt45570 import report as gbt_report
+
+ITEMS = ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"]
+
+
+@pytest.fixture(scope="module")
+def produced(tmp_path_factory):
+    """A short simulated run of five items, written with the GB/T template; (record, Document, path)."""
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "gbt45570", ITEMS, station_options={"duration_scale": 0.25, "seed": 11})
+    tpl = pm.template_for("gbt45570")
+    assert tpl.name == "gbt45570-report"
+    path = write_report(tmp_path_factory.mktemp("gbt") / "r.docx", rec, template=tpl.path,
+                        designations={"gbt45570": "GB/T 45570—2025"}, extend=pm.extend_report_context)
+    return rec, docx.Document(str(path)), path
+
+
+def _texts(doc) -> list[str]:
+    return [p.text for p in doc.paragraphs]
+
+
+def _table_with(doc, header_word: str):
+    for t in doc.tables:
+        if any(header_word in c.text for c in t.rows[0].cells):
+            yield t
+
+
+def test_verdict_table_lists_every_verdict_with_its_reason(produced):
+    rec, doc, _ = produced
+    verdicts = rec.conformity.verdicts
+    assert rec.conformity.rule is GUARDED and verdicts
+    (table,) = [t for t in _table_with(doc, "理由 Reason") if "限值 Limit" in t.rows[0].cells[2].text]
+    rows = [[c.text for c in r.cells] for r in table.rows[1:]]
+    assert len(rows) == len(verdicts)
+    for row, v in zip(rows, verdicts):
+        assert row[0] == v.item and row[1] == v.key and row[2] == v.spec.text()
+        assert row[5] == gbt_report.STATUS_TEXT[v.status.value]
+        assert row[6] == v.reason
+    assert {"B0", "Kn", "K", "RWC", "Bt"} <= {r[1] for r in rows}
+
+
+def test_decision_rule_text_and_sources(produced):
+    _, doc, _ = produced
+    text = "\n".join(_texts(doc))
+    assert "判定规则 Decision rule: guarded acceptance (guard band w = U)" in text
+    assert GUARDED.statement in text
+    assert "GB/T 45570—2025 table A.1 row 2" in text  # the limit's source is cited
+
+
+def test_report_number_on_every_page_and_in_the_properties(produced):
+    rec, doc, path = produced
+    num = rec.report_number
+    for sec in doc.sections:
+        assert num in sec.header.paragraphs[0].text
+        assert num in sec.footer.paragraphs[0].text
+    xml = doc.sections[0].header._element.xml
+    assert 'w:instr="PAGE"' in xml and 'w:instr="NUMPAGES"' in xml  # page x of y
+    assert doc.core_properties.identifier == num
+    assert not list(path.parent.glob("*.tmp*"))  # written atomically, nothing left over
+
+
+def test_data_digest_is_the_sha256_of_every_segment_digest(produced):
+    rec, doc, _ = produced
+    files = rec.data_files
+    assert files
+    lines = sorted(f"{h}  {f}\n" for f, h in files)
+    want = hashlib.sha256("".join(lines).encode("utf-8")).hexdigest()
+    (para,) = [t for t in _texts(doc) if t.startswith("数据摘要 Data digest")]
+    assert para.endswith(want)
+    (table,) = list(_table_with(doc, "SHA-256"))
+    assert {r.cells[1].text for r in table.rows[1:]} == {h for _, h in files}
+
+
+def test_items_not_performed_are_marked_never_zero(produced):
+    rec, doc, _ = produced
+    (table,) = [t for t in _table_with(doc, "指标 Limit")]
+    rows = {r.cells[1].text: r.cells[4].text for r in table.rows[1:]}
+    assert rows["标度因数重复性 scale factor repeatability"] == gbt_report.NOT_PERFORMED
+    assert rows["零偏重复性 bias repeatability"] == gbt_report.NOT_PERFORMED
+    assert any(k.startswith("零偏 bias (B₀)") and "U =" in v for k, v in rows.items())
+    for value in rows.values():
+        assert value == gbt_report.NOT_PERFORMED or not value.startswith("0 ")
+    text = "\n".join(_texts(doc))
+    assert "Kr ≤ 7 ppm" not in text and "Br ≤ 0.007 °/h" in text  # not assessed, listed as such
+
+
+def test_environment_equipment_method_and_figures(produced):
+    rec, doc, _ = produced
+    (env,) = list(_table_with(doc, "条件 Condition"))
+    cells = {r.cells[0].text: (r.cells[2].text, r.cells[3].text) for r in env.rows[1:]}
+    assert cells["温度 Temperature (6.1.1 a)"] == ("20 °C", "合格 conforms")
+    (eq,) = list(_table_with(doc, "用途 Role"))
+    assert {r.cells[0].text.split()[0] for r in eq.rows[1:]} == {e.id for e in rec.campaign.equipment}
+    text = "\n".join(_texts(doc))
+    assert "angle method (D.1): laser gyro: clause 6.2.7.1" in text
+    titles = [t for t in _texts(doc) if t.startswith("Figure ")]
+    assert [t.split(":")[0] for t in titles] == [f"Figure {i}" for i in range(1, len(titles) + 1)]
+    assert any("Residuals of K_i" in t for t in titles) and any("D.45 fit" in t for t in titles)
+    assert any("Bias against temperature" in t for t in titles)
+    assert len(doc.inline_shapes) == len(titles)
+
+
+def test_simple_rule_and_no_specification_are_stated():
+    from metro.core.model import DeviceUnderTest
+    from metro.core.report import report_context
+
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1}, decision_rule="simple")
+    ctx = report_context(rec)
+    pm.extend_report_context(rec, ctx)
+    assert ctx["gbt45570"]["rule"]["statement"] == SIMPLE.statement
+    assert all(v["status"] in ("pass", "fail") for v in ctx["gbt45570"]["verdicts"])
+    import attrs
+
+    other = attrs.evolve(rec, campaign=attrs.evolve(rec.campaign, device=DeviceUnderTest("M", technology="mems")),
+                         conformity=None)
+    ctx = report_context(other)
+    pm.extend_report_context(other, ctx)
+    assert not ctx["gbt45570"]["has_conformity"] and "no conformity statement" in ctx["gbt45570"]["rule"]["statement"]
+    assert ctx["gbt45570"]["limits"] is None
+
+
+def test_series_alias_reports_the_method_choice(run_cli):
+    code, out, _ = run_cli("run", "-s", "gbt45570", "-i", "scale-factor", "--json", "--no-report",
+                           "--no-progress", "--seed", "5")
+    assert code == 0
+    doc = json.loads(out)
+    sel = {c["item"]: c for c in doc["selection"]}
+    assert sel["D.1.1"]["run"] and sel["D.1.1"]["via"] == "series scale-factor"
+    assert "6.2.7.1" in sel["D.1.1"]["reason"] and "angle method" in sel["D.1.1"]["reason"]
+    assert not sel["D.2.1"]["run"]
+    assert {r["item"] for r in doc["results"]} <= {"D.1.1", "D.1.2", "D.1.3", "D.1.4", "D.1.5"}
+    assert doc["conformity"]["rule"] == "guarded" and doc["conformity"]["verdicts"]
+    code, _, err = run_cli("run", "-s", "gbt45570", "--no-report")
+    assert code == 2 and "--all" in err
