@@ -56,3 +56,9 @@ class PluginError(MetroError):
 
 class ProcedureError(MetroError):
     """A procedure cannot produce a result from the data it was given (e.g. a fit failed)."""
+
+
+class DriverError(DataError):
+    """A live instrument failed: names the resource (VISA address, serial port), what was being
+    done (the command, the frame and its byte position) and why — a dropped connection, a
+    malformed reply, an instrument error."""
