@@ -72,19 +72,22 @@ def _item_order(item: str) -> tuple:
 
 def select_items(
     pm: MetroPluginManager, standard: str, requested: Sequence[str], *, run_all: bool = False,
-    device: DeviceUnderTest | None = None,
+    device: DeviceUnderTest | None = None, campaign: Campaign | None = None,
 ) -> tuple[list[str], list[ItemChoice]]:
     """Expand ``--all`` and series aliases into the items to run.
 
     Items named explicitly always run.  With ``run_all`` every registered item of the
     standard is a candidate; a series name stands for its members.  A candidate runs if it is
     registered and applies to ``device`` (``metro_item_applicability``, else
-    ``Procedure.applies_to``).  Returns (items to run, in order; every choice with its reason).
+    ``Procedure.applies_to``) and, given a recorded ``campaign`` (whose device is then used),
+    if the campaign has segments of every kind the item requires.  Returns (items to run, in order; every choice with its reason).
     """
     if standard not in pm.register_all().standards:
         pm.procedure(standard, "")  # raises the unknown-standard error listing the loaded ones
     choices: list[ItemChoice] = []
     registered = {cls.item: cls for cls in pm.procedures_of(standard)}
+    if campaign is not None:
+        device = campaign.device
 
     def consider(item: str, via: str) -> None:
         if any(c.item == item for c in choices):
@@ -94,6 +97,12 @@ def select_items(
             choices.append(ItemChoice(item, False, "not implemented in this metro (no plugin registers it)", via))
             return
         a = pm.item_applicability(cls, device)
+        if a.applies and campaign is not None:  # recorded data: only items whose segments are there
+            missing = [req for req in cls.requires if not campaign.find_segments(req.kind)]
+            if missing:
+                choices.append(ItemChoice(item, False, "no data: the campaign has no segment of kind "
+                                          + ", ".join(f"'{r.kind}' ({r.description})" for r in missing), via))
+                return
         choices.append(ItemChoice(item, a.applies, a.reason or ("applies" if a.applies else "does not apply"), via))
 
     for name in requested:
@@ -215,11 +224,11 @@ def run_items(
         if campaign is None and data is not None:
             campaign = load_campaign(pm, [], [], data=data)
         if campaign is not None:
-            device = campaign.device
+            items, selection = select_items(pm, standard, items, run_all=run_all, campaign=campaign)
         else:
             cands = pm.procedures_of(standard)
             device = _station_device(pm, station or (cands[0].station if cands else "simulated"), station_options)
-        items, selection = select_items(pm, standard, items, run_all=run_all, device=device)
+            items, selection = select_items(pm, standard, items, run_all=run_all, device=device)
     procs = [pm.procedure(standard, item) for item in items]
     per_opts = split_options(procs, dict(options or {}))
     if campaign is None:

@@ -127,7 +127,7 @@ def specs(draw):
     return Specification("X", kind, Q_(a, "deg/h"), magnitude=mag)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(specs(), finite, nonneg)
 def test_guarded_verdicts_imply_simple_ones(spec, value, U):
     g = decide(spec, Q_(value, "deg/h"), Q_(U, "deg/h"), GUARDED).status
@@ -139,7 +139,7 @@ def test_guarded_verdicts_imply_simple_ones(spec, value, U):
         assert s is Status.FAIL
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(specs(), finite, nonneg, st.floats(min_value=0, max_value=1))
 def test_a_smaller_U_never_turns_a_decision_around(spec, value, U, shrink):
     big = decide(spec, Q_(value, "deg/h"), Q_(U, "deg/h"), GUARDED).status
@@ -148,14 +148,14 @@ def test_a_smaller_U_never_turns_a_decision_around(spec, value, U, shrink):
         assert small is big
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(specs(), finite)
 def test_zero_U_guarded_equals_simple(spec, value):
     g = decide(spec, Q_(value, "deg/h"), Q_(0.0, "deg/h"), GUARDED).status
     assert g is decide(spec, Q_(value, "deg/h"), None, SIMPLE).status
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(specs(), finite, nonneg)
 def test_verdict_does_not_depend_on_the_unit_the_value_is_in(spec, value, U):
     lo, hi = spec.bounds
@@ -317,3 +317,19 @@ def test_items_on_two_stations_are_acquired_separately_and_merged():
                                                       "another device", "test")
     with pytest.raises(ProcedureError, match="simulate different devices"):
         run_items(pm, "gbt45570", ["D.5.1", "X.2"], station_options={"duration_scale": 0.2})
+
+
+def test_all_on_recorded_data_runs_the_items_the_campaign_has_data_for():
+    from pathlib import Path
+
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import run_items
+
+    manifest = Path(__file__).parents[1] / "docs" / "examples" / "campaign" / "manifest.toml"
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "gbt45570", ["bias"], data=manifest)
+    assert [o.item for o in rec.outcomes] == ["D.5.1", "D.5.2"]
+    why = {c.item: c for c in rec.selection}
+    assert not why["D.5.3"].run and "no data" in why["D.5.3"].reason and "'static-repeat'" in why["D.5.3"].reason
+    assert why["D.5.1"].via == "series bias"
+    assert {v.key for v in rec.conformity.verdicts} >= {"B0", "Bs_10s"}  # A.1, aviation (the example's device)
