@@ -56,7 +56,7 @@ def method_for(device: DeviceUnderTest | None) -> tuple[str, str]:
     who = "fibre gyro" if tech in ("fibre", "fiber") else f"{tech or 'unstated'}-technology gyro"
     declared = _declared_nonlinearity(device)
     if declared is not None:
-        what = f"declared nonlinearity {declared.to('ppm').magnitude:g} ×10⁻⁶"
+        what = f"declared nonlinearity {declared.to('ppm').magnitude:g}×10⁻⁶"
         basis = declared
     else:
         app = application_of(device.application)
@@ -65,7 +65,7 @@ def method_for(device: DeviceUnderTest | None) -> tuple[str, str]:
                             "clause 6.2.7.1 rate method (D.2), which does not presume K_n ≤ 5×10⁻⁶")
         row = next(r for r in TABLE_B1 if r.key == "Kn")
         basis = Q_(row.limits[app], row.unit)
-        what = f"typical nonlinearity limit {basis.to('ppm').magnitude:g} ×10⁻⁶ (table B.1, {app}; none declared)"
+        what = f"typical nonlinearity limit {basis.to('ppm').magnitude:g}×10⁻⁶ (table B.1, {app}; none declared)"
     if basis.to("").magnitude <= THRESHOLD.magnitude:
         return "angle", f"{who}, {what} ≤ 5×10⁻⁶: clause 6.2.7.1 angle method (D.1)"
     return "rate", f"{who}, {what} > 5×10⁻⁶: clause 6.2.7.1 rate method (D.2)"
