@@ -60,7 +60,7 @@ def _parser() -> argparse.ArgumentParser:
 
     pn = sub.add_parser("plan", help="print an item's test sequence (what to measure)")
     pn.add_argument("--standard", "-s", required=True)
-    pn.add_argument("--item", "-i", action="append", required=True)
+    pn.add_argument("--item", "-i", action="append", required=True, help="item ids or a series name")
     pn.add_argument("--json", action="store_true")
 
     aq = sub.add_parser("acquire", help="run items' test sequence on a station and write the campaign",
@@ -248,7 +248,14 @@ def _cmd_plan(args) -> int:
     from .runner import merge_steps
 
     pm = _pm(args)
-    procs = [pm.procedure(args.standard, i) for i in _items(args.item)]
+    items = _items(args.item)
+    if any(pm.series(args.standard, i) is not None for i in items):  # a series: its members for the station's device
+        from .runner import select_items, station_device
+
+        cands = pm.procedures_of(args.standard)
+        device = station_device(pm, cands[0].station if cands else "simulated", {})
+        items, _ = select_items(pm, args.standard, items, device=device)
+    procs = [pm.procedure(args.standard, i) for i in items]
     steps = merge_steps([cls().sequence(cls.option_values({})) for cls in procs])
     rows = [{"segment": s.segment, "kind": s.kind, "duration": f"{s.duration:~P}", "interval": f"{s.interval:~P}",
              "warmup": f"{s.warmup:~P}" if s.warmup is not None else None,

@@ -126,7 +126,7 @@ def select_items(
     return run, choices
 
 
-def _station_device(pm: MetroPluginManager, name: str, station_options: Mapping[str, Any] | None):
+def station_device(pm: MetroPluginManager, name: str, station_options: Mapping[str, Any] | None):
     """The virtual device a station would measure, when the station can say before acquiring."""
     st = pm.station(name).factory(**dict(station_options or {}))
     dev = getattr(st, "device", None)
@@ -227,7 +227,7 @@ def run_items(
             items, selection = select_items(pm, standard, items, run_all=run_all, campaign=campaign)
         else:
             cands = pm.procedures_of(standard)
-            device = _station_device(pm, station or (cands[0].station if cands else "simulated"), station_options)
+            device = station_device(pm, station or (cands[0].station if cands else "simulated"), station_options)
             items, selection = select_items(pm, standard, items, run_all=run_all, device=device)
     procs = [pm.procedure(standard, item) for item in items]
     per_opts = split_options(procs, dict(options or {}))
