@@ -9,7 +9,8 @@ Phases:
 
 1. **Set-up** — :func:`metro_unit_definitions`, run once when the plugin manager is built.
 2. **Registration** — :func:`metro_register_standards`, :func:`metro_register_readers`,
-   :func:`metro_register_stations`, :func:`metro_register_templates`.  Each receives a
+   :func:`metro_register_stations`, :func:`metro_register_templates`,
+   :func:`metro_register_drivers`.  Each receives a
    *registrar* that validates what it is given and remembers which plugin gave it.
    :func:`metro_extend_report_context` lets a plugin add to what report templates see.
    :func:`metro_item_applicability` decides which items of a standard apply to a device
@@ -31,7 +32,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .conformity import Specification
     from .model import Applicability, Campaign, DeviceUnderTest, Outcome, Procedure, RunContext
     from .provenance import RunRecord
-    from .plugins import ReaderRegistrar, StandardRegistrar, StationRegistrar, TemplateRegistrar
+    from .plugins import DriverRegistrar, ReaderRegistrar, StandardRegistrar, StationRegistrar, TemplateRegistrar
 
 PROJECT = "metro"
 hookspec = pluggy.HookspecMarker(PROJECT)
@@ -111,6 +112,24 @@ def metro_register_templates(registrar: "TemplateRegistrar") -> None:
     it the generic fallback.  Names must be unique.
 
     :param registrar: validates and records the templates.
+    :return: nothing.
+    """
+
+
+@hookspec
+def metro_register_drivers(registrar: "DriverRegistrar") -> None:
+    """Register drivers for live instruments (a vendor's rate table, a DMM, a gyro's output).
+
+    Call ``registrar.add_driver(name, kind, cls, description=...)``.  ``kind`` is one of
+    ``metro.instruments.drivers.DRIVER_KINDS`` (``"rate-table"``, ``"dmm"``,
+    ``"gyro-output"``) and ``cls`` a class implementing that kind's interface
+    (:class:`metro.instruments.drivers.base.RateTableDriver` …); ``cls(**options)`` opens a
+    connection.  The registrar refuses an unknown kind, a class that does not subclass the
+    interface or leaves abstract methods unimplemented, and a name registered twice (naming
+    both plugins).  Driver modules should import their I/O libraries (PyVISA, pyserial, a
+    vendor SDK) when a driver is opened, not at registration, so ``metro --help`` stays fast.
+
+    :param registrar: validates and records the drivers.
     :return: nothing.
     """
 

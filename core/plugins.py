@@ -87,6 +87,15 @@ class StationInfo:
 
 
 @attrs.frozen
+class DriverInfo:
+    name: str
+    kind: str
+    cls: type
+    description: str
+    plugin: str
+
+
+@attrs.frozen
 class TemplateInfo:
     name: str
     path: Path
@@ -114,6 +123,7 @@ class Registry:
     readers: dict[str, ReaderInfo] = attrs.field(factory=dict)
     stations: dict[str, StationInfo] = attrs.field(factory=dict)
     templates: dict[str, TemplateInfo] = attrs.field(factory=dict)
+    drivers: dict[str, DriverInfo] = attrs.field(factory=dict)
 
 
 # --------------------------------------------------------------------------------------
@@ -199,6 +209,31 @@ class TemplateRegistrar(_Registrar):
         if name in self.registry.templates:
             raise self._dup("template", name, self.registry.templates[name].plugin)
         self.registry.templates[name] = TemplateInfo(name, p, standard, kind, self.plugin)
+
+
+class DriverRegistrar(_Registrar):
+    """Validates and records live-instrument drivers for one plugin."""
+
+    def add_driver(self, name: str, kind: str, cls: type, description: str = "") -> None:
+        from metro.instruments.drivers.base import DRIVER_KINDS
+
+        if not isinstance(name, str) or not name or name != name.strip() or any(c.isspace() for c in name):
+            raise PluginError(f"plugin {self.plugin!r}: driver name {name!r} must be a non-empty word")
+        if kind not in DRIVER_KINDS:
+            raise PluginError(f"plugin {self.plugin!r}: driver {name!r} has unknown kind {kind!r}; "
+                              f"kinds: {', '.join(sorted(DRIVER_KINDS))}")
+        iface = DRIVER_KINDS[kind]
+        if not (isinstance(cls, type) and issubclass(cls, iface)):
+            raise PluginError(f"plugin {self.plugin!r}: driver {name!r} ({cls!r}) does not subclass "
+                              f"{iface.__module__}.{iface.__name__}",
+                              hint=f"derive the driver class from {iface.__name__} and implement its methods")
+        missing = sorted(getattr(cls, "__abstractmethods__", ()) or ())
+        if missing:
+            raise PluginError(f"plugin {self.plugin!r}: driver {name!r} ({cls.__name__}) does not implement "
+                              f"{', '.join(missing)}")
+        if name in self.registry.drivers:
+            raise self._dup("driver", name, self.registry.drivers[name].plugin)
+        self.registry.drivers[name] = DriverInfo(name, kind, cls, description, self.plugin)
 
 
 # --------------------------------------------------------------------------------------
@@ -301,6 +336,7 @@ class MetroPluginManager:
         self._call_each("metro_register_readers", ReaderRegistrar)
         self._call_each("metro_register_stations", StationRegistrar)
         self._call_each("metro_register_templates", TemplateRegistrar)
+        self._call_each("metro_register_drivers", DriverRegistrar)
         for key, ser in self.registry.series.items():
             if key in self.registry.procedures:
                 raise PluginError(f"plugin {ser.plugin!r}: series {key!r} has the id of an item")
@@ -380,6 +416,18 @@ class MetroPluginManager:
         if name not in reg.stations:
             raise PluginError(f"unknown station {name!r}; available: {', '.join(sorted(reg.stations))}")
         return reg.stations[name]
+
+    def driver(self, name: str) -> DriverInfo:
+        reg = self.register_all()
+        if name not in reg.drivers:
+            raise PluginError(f"unknown driver {name!r}; available: {', '.join(sorted(reg.drivers)) or 'none'}",
+                              hint="`metro plugins` lists the loaded plugins; drivers come from metro_register_drivers")
+        return reg.drivers[name]
+
+    def drivers_of(self, kind: str) -> list[DriverInfo]:
+        """Registered drivers of one kind (``rate-table``, ``dmm``, ``gyro-output``), by name."""
+        reg = self.register_all()
+        return [d for _, d in sorted(reg.drivers.items()) if d.kind == kind]
 
     def template_for(self, standard: str | None, kind: str = "report") -> TemplateInfo:
         reg = self.register_all()

@@ -23,3 +23,14 @@ def metro_register_stations(registrar) -> None:
     from .simulated import station_factory
 
     registrar.add_station("simulated", station_factory, "built-in simulated test station (virtual optical gyro)")
+
+
+@hookimpl
+def metro_register_drivers(registrar) -> None:
+    # the modules import PyVISA / pyserial only when a driver is opened
+    from .drivers.scpi_dmm import ScpiDmm
+    from .drivers.serial_gyro import SerialGyro
+
+    registrar.add_driver("scpi-dmm", "dmm", ScpiDmm, "SCPI 6½-digit DMM over PyVISA (GPIB, USB-TMC, LAN)")
+    registrar.add_driver("serial-gyro", "gyro-output", SerialGyro,
+                         "gyro digital output over RS-422/RS-485: binary frames with a declared layout")

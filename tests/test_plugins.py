@@ -72,6 +72,34 @@ def test_registrar_validates_input():
         reg.add_standard("GB T", "x")
 
 
+def test_driver_registrar_validates_input():
+    """metro_register_drivers: kind, interface, completeness and duplicates are checked."""
+    from metro.core.plugins import DriverRegistrar, Registry
+    from metro.instruments.drivers.base import RateTableDriver
+
+    reg = Registry()
+    r = DriverRegistrar(reg, "p")
+    with pytest.raises(PluginError, match="unknown kind 'oven'"):
+        r.add_driver("x", "oven", RateTableDriver)
+    with pytest.raises(PluginError, match="does not subclass"):
+        r.add_driver("x", "rate-table", object)
+    with pytest.raises(PluginError, match="does not subclass"):
+        r.add_driver("x", "rate-table", lambda **kw: None)
+
+    class Half(RateTableDriver):
+        def identify(self):
+            return None
+
+    with pytest.raises(PluginError, match="does not implement .*set_rate"):
+        r.add_driver("x", "rate-table", Half)
+    with pytest.raises(PluginError, match="non-empty word"):
+        r.add_driver("two words", "rate-table", Half)
+    mod = _load_sample("sample_vendor")
+    r.add_driver("acme", "rate-table", mod.AcmeRateTableDriver)
+    with pytest.raises(PluginError, match="registered twice: by plugin 'p' and by plugin 'q'"):
+        DriverRegistrar(reg, "q").add_driver("acme", "rate-table", mod.AcmeRateTableDriver)
+
+
 def test_every_hook_of_a_third_party_plugin(tmp_path):
     """One sample plugin implements every hook; each one is exercised here."""
     from metro.core.errors import ProcedureError
@@ -94,6 +122,20 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     assert pm.template_for("vendorx").name == "vendorx-report"
     assert pm.template_for("gbt45570").name == "gbt45570-report"
     assert pm.template_for("jjf2003-unknown").name == "generic-report"
+    # metro_register_drivers: the vendor's rate table, next to the built-in drivers
+    info = pm.driver("acme-rt300")
+    assert (info.kind, info.plugin) == ("rate-table", "sample_vendor")
+    assert [d.name for d in pm.drivers_of("rate-table")] == ["acme-rt300"]
+    assert {"scpi-dmm", "serial-gyro"} <= set(reg.drivers)
+    with info.cls(seed=3) as table:
+        table.set_rate(Q_(10, "deg/s"))
+        assert abs(table.rate().to("deg/s").magnitude / 10 - 1) <= 1e-5  # within the 10 °/s band's error
+        table.move_to(Q_(90, "deg"))
+        assert table.angle().to("deg").magnitude == pytest.approx(90.0)
+        eq = table.equipment()
+        assert eq.role == "rate_table" and eq.calibration.certificate == "ACME-CAL-2031"
+    with pytest.raises(PluginError, match="unknown driver 'nope'"):
+        pm.driver("nope")
     # lifecycle hooks
     data = np.linspace(1.0, 2.0, 101)
     camp = Campaign("C1", DeviceUnderTest("D1"), [], {}, {}, [
@@ -130,7 +172,7 @@ def test_hookspecs_are_documented_typed_stubs():
     import inspect
 
     names = [n for n in dir(hookspec) if n.startswith("metro_")]
-    assert len(names) == 12
+    assert len(names) == 13
     for n in names:
         fn = getattr(hookspec, n)
         doc = inspect.getdoc(fn) or ""

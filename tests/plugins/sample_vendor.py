@@ -1,10 +1,12 @@
-"""A sample third-party plugin: a vendor standard with one item, a unit, lifecycle listeners.
+"""A sample third-party plugin: a vendor standard with one item, a unit, a rate-table driver,
+lifecycle listeners.
 
 Used by tests/test_plugins.py; it implements every hook so each hook has a test.
 """
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -13,7 +15,10 @@ import numpy as np
 from metro.core import hookimpl
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.model import Metric, Outcome, Procedure, Result, SegmentRequirement, Step
-from metro.core.units import Q_
+from metro.core.errors import DriverError
+from metro.core.units import Q_, parse_quantity
+from metro.instruments.drivers.base import Identity, RateTableDriver
+from metro.instruments.equipment import RateTable
 
 EVENTS: list[tuple[str, Any]] = []
 
@@ -65,6 +70,84 @@ def metro_register_readers(registrar):
 @hookimpl
 def metro_register_stations(registrar):
     registrar.add_station("vendorx-bench", lambda **kw: None, "Vendor X bench (not connected in tests)")
+
+
+class AcmeRateTableDriver(RateTableDriver):
+    """Vendor X's rate-table driver, as a vendor writes one (see docs/instruments.md).
+
+    The controller here is simulated: an ``equipment.RateTable`` model turns at the set rate with
+    its band's error and integrates the angle between calls.  A real driver sends the same
+    requests over the vendor's protocol (serial, TCP, an SDK) and parses the replies.
+    """
+
+    def __init__(self, address: str = "sim://acme-rt", *, seed: int = 1):
+        self.resource = address
+        self.model = RateTable(id="ACME-RT-300", model="ACME RT-300", manufacturer="ACME", serial="42",
+                               certificate="ACME-CAL-2031", U=Q_(2e-5, ""), seed=seed)
+        self._rate = 0.0
+        self._angle = 0.0
+        self._t = time.monotonic()
+        self._open = True
+
+    def _advance(self) -> None:
+        now = time.monotonic()
+        self._angle += self._actual() * (now - self._t)
+        self._t = now
+
+    def _actual(self) -> float:
+        if self._rate == 0.0:
+            return 0.0
+        return self._rate * (1.0 + self.model.systematic_error(Q_(self._rate, "deg/s")))
+
+    def _check(self, axis: int) -> None:
+        if not self._open:
+            raise DriverError(self.resource, None, "the connection is closed")
+        if axis != 1:
+            raise DriverError(self.resource, "axis", f"the RT-300 has one axis, not axis {axis}")
+
+    def identify(self) -> Identity:
+        return Identity("ACME", "RT-300", "42", "3.1")
+
+    def set_rate(self, rate, *, axis=1):
+        self._check(axis)
+        self._advance()
+        r = parse_quantity(rate, dimension="deg/s", field="rate")
+        self.model.band(r)  # refuses a rate beyond the table's range
+        self._rate = float(r.to("deg/s").magnitude)
+
+    def move_to(self, angle, *, axis=1):
+        self._check(axis)
+        self._rate = 0.0
+        self._angle = float(parse_quantity(angle, dimension="deg", field="angle").to("deg").magnitude)
+        self._t = time.monotonic()
+
+    def stop(self, *, axis=None):
+        self._advance()
+        self._rate = 0.0
+
+    def rate(self, *, axis=1):
+        self._check(axis)
+        return Q_(self._actual(), "deg/s")
+
+    def angle(self, *, axis=1):
+        self._check(axis)
+        self._advance()
+        return Q_(self._angle % 360.0, "deg")
+
+    def wait_stable(self, timeout, *, axis=1):
+        self._check(axis)
+        return True
+
+    def equipment(self):
+        return self.model.equipment()
+
+    def close(self):
+        self._open = False
+
+
+@hookimpl
+def metro_register_drivers(registrar):
+    registrar.add_driver("acme-rt300", "rate-table", AcmeRateTableDriver, "ACME RT-300 rate table (simulated)")
 
 
 @hookimpl
