@@ -271,10 +271,17 @@ class Verdict:
         }
 
 
-def _fmt(x: float, unit_text: str) -> str:
+def _fmt(x: float, unit_text: str, sig: int = 4) -> str:
     from .report import fmt_num
 
-    return (fmt_num(x) + ("" if unit_text == "1" else f" {unit_text}")).replace("-", "−")
+    return (fmt_num(x, sig) + ("" if unit_text == "1" else f" {unit_text}")).replace("-", "−")
+
+
+def _digits(x: float, U: float) -> int:
+    """Significant digits that keep x − U and x + U apart in the text (4 at least)."""
+    if U <= 0 or x == 0:
+        return 4
+    return int(min(12, max(4, math.ceil(math.log10(abs(x) / U)) + 2)))
 
 
 def decide(
@@ -314,7 +321,8 @@ def decide(
         # the interval of the compared quantity; |x| cannot go below zero
         x_lo = max(0.0, x - Uv) if spec.magnitude else x - Uv
         x_hi = x + Uv
-        interval = f"[{_fmt(x_lo, '1')}, {_fmt(x_hi, ut)}]"
+        sig = _digits(max(abs(x_lo), abs(x_hi)), Uv)
+        interval = f"[{_fmt(x_lo, '1', sig)}, {_fmt(x_hi, ut, sig)}]"
         if lo <= x_lo and x_hi <= hi:
             status, detail = Status.PASS, "pass"
             reason = f"{what} ± U = {interval} lies wholly within {limit_text}"

@@ -24,6 +24,11 @@ def metro_register_stations(registrar) -> None:
 
     registrar.add_station("simulated", station_factory, "built-in simulated test station (virtual optical gyro)")
 
+    from .sim_gbt_rate import digital_station_factory
+
+    registrar.add_station("simulated-digital", digital_station_factory,
+                          "the simulated station with a digital (LSB) output gyro, for the GB/T 45570 rate method")
+
 
 @hookimpl
 def metro_register_drivers(registrar) -> None:

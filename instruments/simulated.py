@@ -55,6 +55,14 @@ class GyroTruth:
     sf_slope_per_deg_s: float = 2e-9
     sf_quadratic: float = 3e-6
     sf_asymmetry: float = 4e-6
+    # --- scale-factor repeatability, temperature sensitivity and input-axis misalignment
+    # (GB/T 45570 D.1.4–D.1.6, D.2.4–D.2.6; motions in instruments/sim_gbt_rate.py) ---
+    sf_turn_on_sigma: float = 3e-6  # relative scatter of K between power-ons (drawn per `run`)
+    sf_tc_per_C: float = 3e-7  # relative change of K per °C about temp_ref_C (linear)
+    misalign_alpha_arcsec: float = 40.0  # IA tilted from IRA towards XRA (α of fig. D.1)
+    misalign_beta_arcsec: float = -25.0  # IA tilted from IRA towards YRA (β)
+    fixture_tilt_arcsec: tuple[float, float] = (90.0, -60.0)  # XRA-up, YRA-up fixture errors (cancelled by 180°)
+    # --- end of the D.1.4–D.1.6 / D.2 block ---
     output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
     lsb_per_deg_s: float = 5000.0
     seed: int = 20251122
@@ -73,6 +81,10 @@ class GyroTruth:
             "scale-factor slope (relative per °/s)": self.sf_slope_per_deg_s,
             "scale-factor quadratic term at 400 °/s (relative)": self.sf_quadratic,
             "scale-factor asymmetry (relative)": self.sf_asymmetry,
+            "scale-factor turn-on σ (relative, per power-on)": self.sf_turn_on_sigma,
+            "scale-factor temperature coefficient": Q_(self.sf_tc_per_C, "1/delta_degC"),
+            "input-axis misalignment α, β": f"{self.misalign_alpha_arcsec:g}″, {self.misalign_beta_arcsec:g}″",
+            "fixture tilt (XRA-up, YRA-up mountings)": ", ".join(f"{v:g}″" for v in self.fixture_tilt_arcsec),
             "seed": self.seed,
             "output": self.output,
         }
@@ -183,7 +195,7 @@ class SimulatedStation:
             props["scale_factor_k"] = 2.0
         return DeviceUnderTest(
             id="SIM-OG-1", model="virtual optical gyro", serial=f"seed {t.seed}", manufacturer="metro simulator",
-            properties=props, technology="laser", application="aviation",
+            properties=props, technology="fibre" if t.output == "digital" else "laser", application="aviation",
             output={"pulse": "pulse", "digital": "digital", "rate": "rate"}[t.output],
         )
 
@@ -241,6 +253,8 @@ class SimulatedStation:
             vals = [parse_quantity(r, dimension="deg/s").to("deg/s").magnitude for r in rates]
             exp |= {k: Q_(v, _EXPECTED_UNITS[k])
                     for k, v in expected_scale_factor(t, vals, self.latitude_deg).items()}
+        for contribute in expected_contributors():
+            exp |= contribute(self, segments)
         return Campaign(
             id="SIMULATED",
             device=self.device(),
@@ -260,7 +274,7 @@ AXES = ("IRA", "XRA", "YRA")
 #: step kind -> simulator; see :func:`register_step_kind`
 _STEP_SIMULATORS: dict[str, Callable[..., Segment]] = {}
 #: modules that register further step kinds of the virtual gyro (imported on first use)
-STEP_MODULES: tuple[str, ...] = ()
+STEP_MODULES: tuple[str, ...] = ("metro.instruments.sim_gbt_rate",)
 
 
 def register_step_kind(kind: str) -> Callable[[Callable[..., Segment]], Callable[..., Segment]]:
@@ -278,6 +292,23 @@ def register_step_kind(kind: str) -> Callable[[Callable[..., Segment]], Callable
         return fn
 
     return deco
+
+
+#: functions ``fn(station, segments) -> {metric key: quantity}`` adding expected values
+_EXPECTED_CONTRIBUTORS: list[Callable[..., Mapping[str, Any]]] = []
+
+
+def register_expected(fn: Callable[..., Mapping[str, Any]]) -> Callable[..., Mapping[str, Any]]:
+    """Decorator: ``fn(station, segments)`` returns expected values (quantities by metric key) for
+    the items whose motions a step module simulates; merged into the campaign's ``expected``."""
+    if fn not in _EXPECTED_CONTRIBUTORS:
+        _EXPECTED_CONTRIBUTORS.append(fn)
+    return fn
+
+
+def expected_contributors() -> list[Callable[..., Mapping[str, Any]]]:
+    step_simulators()  # imports the step modules, which register their contributors
+    return list(_EXPECTED_CONTRIBUTORS)
 
 
 def step_simulators() -> Mapping[str, Callable[..., Segment]]:
@@ -389,4 +420,4 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]
+__all__ = ["register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]

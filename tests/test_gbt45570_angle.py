@@ -1,6 +1,8 @@
-"""GB/T 45570—2025 D.1.1–D.1.3, angle method: hand-worked formulas and simulated truth."""
+"""GB/T 45570—2025 D.1.1–D.1.6, angle method: hand-worked formulas and simulated truth."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
@@ -102,3 +104,108 @@ def test_asymmetry_needs_zero_rate_count(pm):
     camp = _camp(pm, ["D.1.3"], drop={"zero-start", "zero-end"})
     with pytest.raises(DataError, match="static-zero"):
         run_items(pm, "gbt45570", ["D.1.3"], campaign=camp)
+
+
+# ---------------------------------------------------------------------------- D.1.4–D.1.6
+
+
+def test_d11_on_seven_d2_scale_factors_hand_worked():
+    from metro.plugins.gbt45570 import formulas_rate as F2
+
+    # seven runs at 30 °/s: K_j from D.2, then D.11
+    n = [(1_036_800.0 + d, -1_036_800.0 - d) for d in (0.0, 1.0, -1.0, 2.0, 0.0, -2.0, 0.0)]
+    k = [F.scale_factor_d2(p, m) for p, m in n]
+    expect = np.std(k, ddof=1) / np.mean(k)
+    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(expect, rel=1e-12)
+    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(math.sqrt(10 / 6) / 1_036_800.0, rel=1e-9)
+
+
+def test_d14_reversed_mounting_cancels_a_fixture_error_exactly():
+    from metro.plugins.gbt45570 import formulas_rate as F2
+
+    K, rev = 0.8, 1_296_000.0
+    alpha, eps = math.radians(40 / 3600), math.radians(90 / 3600)
+    # N₊ − N₋ = 2·K·360·3600·sin(±α + ε)
+    a1 = F2.misalignment_d14(K * rev * math.sin(alpha + eps), -K * rev * math.sin(alpha + eps), K)
+    a2 = F2.misalignment_d14(K * rev * math.sin(-alpha + eps), -K * rev * math.sin(-alpha + eps), K)
+    got = F2.misalignment_half_difference_d15(a1, a2)
+    assert got * 3600 == pytest.approx(40.0 * math.cos(eps), rel=1e-6)
+
+
+def test_d14_d15_d16_recover_simulated_truth(pm):
+    from metro.plugins.gbt45570.angle_method import (
+        InputAxisMisalignmentD16,
+        ScaleFactorRepeatabilityD14,
+        ScaleFactorTemperatureSensitivityD15,
+    )
+
+    assert pm.procedure("gbt45570", "D.1.4") is ScaleFactorRepeatabilityD14
+    assert pm.procedure("gbt45570", "D.1.5") is ScaleFactorTemperatureSensitivityD15
+    assert pm.procedure("gbt45570", "D.1.6") is InputAxisMisalignmentD16
+    items = ["D.1.4", "D.1.5", "D.1.6"]
+    st_ = SimulatedStation(truth=GyroTruth(seed=11, sf_turn_on_sigma=1e-5, sf_tc_per_C=4e-7,
+                                           misalign_alpha_arcsec=-55.0, misalign_beta_arcsec=35.0,
+                                           fixture_tilt_arcsec=(300.0, 200.0)))
+    from metro.core.runner import merge_steps
+
+    camp = st_.acquire(merge_steps([pm.procedure("gbt45570", i)().sequence({}) for i in items]))
+    rec = run_items(pm, "gbt45570", items, campaign=camp)
+    checked = set()
+    for o in rec.outcomes:
+        for r in o.results:
+            assert any(row.type == "A" for row in r.budget.rows) and any(row.type == "B" for row in r.budget.rows)
+            exp = camp.expected[r.metric.key].to(r.metric.unit).magnitude
+            assert abs(r.value.to(r.metric.unit).magnitude - exp) <= r.U.magnitude, r.metric.key
+            checked.add(r.metric.key)
+    assert checked == {"Kr", "Kt", "alpha", "beta", "gamma"}
+    o = rec.outcomes[2]
+    # the truth itself: the 300″/200″ fixture errors cancel in D.15
+    assert o.result("alpha").value.to("arcsec").magnitude == pytest.approx(-55.0, abs=o.result("alpha").U.to("arcsec").magnitude)
+    assert o.result("beta").value.to("arcsec").magnitude == pytest.approx(35.0, abs=o.result("beta").U.to("arcsec").magnitude)
+    assert rec.outcomes[1].result("Kt").value.to("ppm/delta_degC").magnitude == pytest.approx(0.4, rel=0.05)
+
+
+def test_d14_six_repeats_instead_of_seven(pm):
+    camp = _camp(pm, ["D.1.4"], drop={"run7-rate+30", "run7-rate-30"})
+    with pytest.raises(DataError, match=r"D.1.4 needs 7 power-ons.*found 6 run"):
+        run_items(pm, "gbt45570", ["D.1.4"], campaign=camp)
+
+
+def test_d14_missing_direction_names_the_run(pm):
+    camp = _camp(pm, ["D.1.4"], drop={"run3-rate-30"})
+    with pytest.raises(DataError, match=r"in run 3 has no clockwise") as e:
+        run_items(pm, "gbt45570", ["D.1.4"], campaign=camp)
+    assert e.value.field == "segments.run3-rate+30"
+
+
+def test_d15_temperatures_without_room_temperature(pm):
+    from metro.core.runner import merge_steps
+
+    st_ = SimulatedStation(truth=GyroTruth(seed=3))
+    steps = pm.procedure("gbt45570", "D.1.5")().sequence({"temperatures": "-40 °C, 0 °C, 60 °C"})
+    camp = st_.acquire(merge_steps([steps]))
+    with pytest.raises(DataError, match="no point at room temperature: the nearest is 0 °C"):
+        run_items(pm, "gbt45570", ["D.1.5"], campaign=camp)
+
+
+def test_d15_needs_three_temperature_points(pm):
+    camp = _camp(pm, ["D.1.5"], drop={s.segment for s in pm.procedure("gbt45570", "D.1.5")().sequence({})
+                                      if s.segment.startswith("T3-")})
+    with pytest.raises(DataError, match="at least 3 temperature points"):
+        run_items(pm, "gbt45570", ["D.1.5"], campaign=camp)
+
+
+def test_d16_missing_mounting(pm):
+    camp = _camp(pm, ["D.1.6"], drop={"XRA-180-rate+30", "XRA-180-rate-30"})
+    with pytest.raises(DataError, match=r"four mountings.*missing: XRA up, turned 180°"):
+        run_items(pm, "gbt45570", ["D.1.6"], campaign=camp)
+
+
+def test_d16_needs_the_device_scale_factor(pm):
+    import attrs
+
+    camp = _camp(pm, ["D.1.6"])
+    camp = attrs.evolve(camp, device=attrs.evolve(camp.device, properties={}))
+    with pytest.raises(DataError, match="divides by the scale factor") as e:
+        run_items(pm, "gbt45570", ["D.1.6"], campaign=camp)
+    assert e.value.field == "device.scale_factor"

@@ -1,7 +1,9 @@
 """GB/T 45570—2025 光学陀螺仪通用技术要求 (optical gyroscopes) as a metro plugin.
 
 Registered through the ``metro`` entry-point group, like any third-party plugin.
-Items implemented so far: D.1.1–D.1.3 (angle method) and D.5.1–D.5.6 (bias series, ARW).
+Items implemented so far: D.1.1–D.1.6 (angle method, pulse output, :mod:`.angle_method`),
+D.2.1–D.2.6 (rate method, LSB output, on the ``simulated-digital`` station) and D.3 (maximum
+input rate, either method; :mod:`.rate_method`), and D.5.1–D.5.6 (bias series, ARW).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ REPORT_TEMPLATE = Path(__file__).parent / "templates" / "report.docx"
 
 @hookimpl
 def metro_register_standards(registrar) -> None:
-    from . import angle_method
+    from . import angle_method, rate_method
     from .procedures import PROCEDURES
 
     registrar.add_standard(
@@ -25,7 +27,7 @@ def metro_register_standards(registrar) -> None:
         designation="GB/T 45570—2025",
         description="test methods of normative appendix D",
     )
-    for cls in angle_method.PROCEDURES + PROCEDURES:
+    for cls in angle_method.PROCEDURES + rate_method.PROCEDURES + PROCEDURES:
         registrar.add_procedure(cls)
 
     from .method_rule import SERIES

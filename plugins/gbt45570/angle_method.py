@@ -1,5 +1,6 @@
 """GB/T 45570—2025 D.1 scale factor series by the angle method (pulse output):
-D.1.1 scale factor, D.1.2 nonlinearity, D.1.3 asymmetry.
+D.1.1 scale factor, D.1.2 nonlinearity, D.1.3 asymmetry, D.1.4 repeatability, D.1.5
+temperature sensitivity, D.1.6 input-axis misalignment.
 
 Data: one segment of kind ``rate-revolutions`` per rate point and direction, with conditions
 ``rate`` (signed: + counter-clockwise, − clockwise, D.1.1.2 note) and ``turns`` (m), and columns
@@ -37,6 +38,7 @@ from metro.core.model import (
 from metro.core.units import Q_
 
 from . import formulas as F
+from . import formulas_rate as F2
 from .procedures import COVERAGE, STANDARD
 
 #: GB/T 321 R5 preferred numbers, rounded, up to 400 °/s (D.1.1.2 e))
@@ -112,9 +114,14 @@ class RatePoint:
         return math.hypot(up, um) / (2 * F.REVOLUTION_ARCSEC)
 
 
-def collect_rate_points(proc: type[Procedure], campaign: Campaign, min_points: int) -> list[RatePoint]:
-    """Pair the + and − revolution segments of every rate point (D.1.1.2 g), eq. (D.1))."""
-    segs = campaign.find_segments("rate-revolutions")
+def collect_rate_points(proc: type[Procedure], campaign: Campaign, min_points: int,
+                        segments: list | None = None, what: str = "") -> list[RatePoint]:
+    """Pair the + and − revolution segments of every rate point (D.1.1.2 g), eq. (D.1)).
+
+    ``segments`` (default: every ``rate-revolutions`` segment) and ``what`` (e.g. "at 60 °C",
+    named in the errors) let D.1.4–D.1.6 apply it to one run, temperature or mounting.
+    """
+    segs = campaign.find_segments("rate-revolutions") if segments is None else segments
     by_rate: dict[float, dict[int, Any]] = {}
     for s in segs:
         rate = float(s.condition("rate", "deg/s").to("deg/s").magnitude)
@@ -131,7 +138,8 @@ def collect_rate_points(proc: type[Procedure], campaign: Campaign, min_points: i
             missing = "clockwise (−)" if 1 in pair else "counter-clockwise (+)"
             only = pair.get(1) or pair.get(-1)
             raise DataError(campaign.source, f"segments.{only.id}",
-                            f"rate point {rate:g} °/s has no {missing} run; D.2 needs both directions")
+                            f"rate point {rate:g} °/s{' ' + what if what else ''} has no {missing} run; "
+                            "D.2 needs both directions")
         stats = {}
         for d, s in pair.items():
             c = np.asarray(s.series("count", "P").data.magnitude, dtype=float)
@@ -150,8 +158,9 @@ def collect_rate_points(proc: type[Procedure], campaign: Campaign, min_points: i
         points.append(RatePoint(rate, np_, nm, sp, sm, mp, mm, tp, tm, (idp, idm)))
     if len(points) < min_points:
         raise DataError(campaign.source, "segments",
-                        f"{proc.qualified_id()} needs at least {min_points} rate points (D.1.1.2 e)); "
-                        f"found {len(points)}", hint="or lower the option min_points if agreed with the user")
+                        f"{proc.qualified_id()} needs at least {min_points} rate points (D.1.1.2 e))"
+                        f"{' ' + what if what else ''}; found {len(points)}",
+                        hint="or lower the option min_points if agreed with the user")
     return points
 
 
@@ -308,4 +317,382 @@ class AsymmetryD13(ScaleFactorD11):
                        options={k: str(v) for k, v in opts.items()})
 
 
-PROCEDURES = (ScaleFactorD11, NonlinearityD12, AsymmetryD13)
+# --------------------------------------------------------------------------------------------
+# D.1.4 repeatability, D.1.5 temperature sensitivity, D.1.6 input-axis misalignment
+# --------------------------------------------------------------------------------------------
+
+REPEAT_RATE = "30 °/s"  # D.1.4.2
+
+
+def _grouped(campaign: Campaign, kind: str, key: str) -> dict[str, list]:
+    groups: dict[str, list] = {}
+    for s in campaign.find_segments(kind):
+        groups.setdefault(str(s.condition(key)), []).append(s)
+    return groups
+
+
+def _counter_row(pts: list[RatePoint], value: float, unit: str) -> BudgetRow:
+    """±1 P of the counter on the pulses of m revolutions, as a relative half-width on K."""
+    p = pts[0]
+    rel = 1.0 / (min(p.m_plus, p.m_minus) * abs(p.n_plus - p.n_minus))
+    return BudgetRow.type_b("counter resolution (±1 P over m revolutions each way)", "δN/N", Q_(rel, ""),
+                            distribution="uniform", sensitivity=Q_(abs(value), unit))
+
+
+class ScaleFactorRepeatabilityD14(Procedure):
+    """GB/T 45570—2025 D.1.4 标度因数重复性 (scale-factor repeatability), angle method, eq. (D.11).
+
+    Q = 7 power-ons (segments of kind ``revolutions-repeat``, condition ``run`` = 1 … 7, at 30 °/s
+    both ways), K_j by eq. (D.2) for each, K_r = s(K_j)/K̄.  Type A: the sampling uncertainty of a
+    standard deviation of Q values, K_r/√(2(Q − 1)), ν = Q − 1; type B: the counter's ±1 P and
+    the revolution-pulse position, per run (both bounded, uniform).
+    """
+
+    standard = STANDARD
+    item = "D.1.4"
+    title = "Scale factor repeatability, angle method (标度因数重复性)"
+    clause = "D.1.4"
+    metrics = (Metric("Kr", "scale factor repeatability", "K_r", "ppm", "D.1.4.3", "D.11"),)
+    requires = (SegmentRequirement("revolutions-repeat", "m whole revolutions each way at 30 °/s on each of 7 "
+                                   "power-ons, off ≥ 10 min between (D.1.4.2)",
+                                   conditions={"rate": "deg/s", "turns": "", "run": ""},
+                                   columns={"count": ("P",), "duration": ("s",)}, min_count=14),)
+    equipment = _EQUIPMENT
+    options = (Option("rate", REPEAT_RATE, "deg/s", "table rate of the repeats (D.1.4.2: 30 °/s)"),
+               Option("turns", 5, None, "whole revolutions m each way"),
+               Option("Q", 7, None, "number of power-ons; D.11 is written for 7"))
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        from metro.core.units import parse_quantity
+
+        r = float(parse_quantity(options.get("rate", REPEAT_RATE), dimension="deg/s").to("deg/s").magnitude)
+        m, q = int(options.get("turns", 5)), int(options.get("Q", 7))
+        steps = []
+        for j in range(1, q + 1):
+            for sign, word in ((1, "counter-clockwise (+)"), (-1, "clockwise (−)")):
+                steps.append(Step(f"run{j}-rate{sign * r:+g}", "revolutions-repeat",
+                                  f"power-on {j} of {q}: {m} whole revolutions at {r:g} °/s {word} as D.1.1.2; "
+                                  "then power off ≥ 10 min (D.1.4.2)", Q_(m * 360.0 / r, "s"), Q_(360.0 / r, "s"),
+                                  {"rate": f"{sign * r:g} deg/s", "turns": m, "run": j}, warmup=Q_(30, "min")))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        q = int(opts["Q"])
+        runs = _grouped(campaign, "revolutions-repeat", "run")
+        if len(runs) != q:
+            raise DataError(campaign.source, "segments",
+                            f"D.1.4 needs {q} power-ons (segments of kind \"revolutions-repeat\" with run = 1 … {q}, "
+                            f"D.1.4.2); found {len(runs)} run(s): {', '.join(sorted(runs)) or 'none'}",
+                            hint="D.11 is written for 7 repeats")
+        pts = []
+        for run, segs in sorted(runs.items()):
+            p = collect_rate_points(type(self), campaign, 1, segs, f"in run {run}")
+            if len(p) != 1:
+                raise DataError(campaign.source, f"segments.{segs[0].id}.conditions.rate",
+                                f"run {run} has {len(p)} rate points; D.1.4 tests at one rate ({opts['rate']:~P})")
+            pts.append((run, p[0]))
+        Kj = [p.K for _, p in pts]
+        Kr = F2.scale_factor_repeatability_d11(Kj)
+        if not Kr > 0:
+            raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
+        rows = [BudgetRow.type_a(f"sampling of the standard deviation of Q = {q} scale factors", "K_r/√(2(Q−1))",
+                                 Q_(Kr / math.sqrt(2 * (q - 1)), ""), q - 1),
+                _counter_row([p for _, p in pts], 1.0, "")]
+        m = min(min(p.m_plus, p.m_minus) for _, p in pts)
+        rows += [attrs.evolve(r, source=r.source + ", run to run", sensitivity=Q_(1.0 / m, ""),
+                              note=r.note + f"; over m = {m} revolutions") for r in _angle_row(campaign, 1.0, "")]
+        budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
+        mean = float(np.mean(Kj))
+        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.8f} P/″, Q = {q}")
+        table = TableSpec("K_runs", "K_j of each power-on (D.2)", ["run", "Ω (°/s)", "K_j (P/″)", "K_j − K̄ (ppm)"],
+                          [[run, f"{p.rate:g}", f"{p.K:.8f}", f"{(p.K - mean) / mean * 1e6:.2f}"] for run, p in pts])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table],
+                       segments=[s for _, p in pts for s in p.segments], options={k: str(v) for k, v in opts.items()})
+
+
+def room_index(campaign: Campaign, segs_by_T: Mapping[str, list], room: float, need: int, clause: str) -> tuple[
+        list[str], list[float], int]:
+    """The temperature points (sorted), their values in °C and the index of room temperature
+    (the point nearest ``room``, which must lie in 6.1.1's 15 °C … 35 °C)."""
+    keys = sorted(segs_by_T, key=lambda k: float(parse_T(campaign, segs_by_T[k][0])))
+    if len(keys) < need:
+        raise DataError(campaign.source, "segments",
+                        f"{clause} needs at least {need} temperature points (both limits and room temperature); "
+                        f"found {len(keys)}: {', '.join(keys) or 'none'}")
+    temps = [parse_T(campaign, segs_by_T[k][0]) for k in keys]
+    i0 = int(np.argmin([abs(t - room) for t in temps]))
+    if not 15.0 <= temps[i0] <= 35.0:
+        raise DataError(campaign.source, f"segments.{segs_by_T[keys[i0]][0].id}.conditions.temperature",
+                        f"no point at room temperature: the nearest is {temps[i0]:g} °C (6.1.1: 15 °C … 35 °C); "
+                        f"{clause} refers K_t to room temperature")
+    for i, t in enumerate(temps):
+        if i != i0 and abs(t - temps[i0]) < 1.0:
+            raise DataError(campaign.source, f"segments.{segs_by_T[keys[i]][0].id}.conditions.temperature",
+                            f"{t:g} °C is within 1 °C of room temperature {temps[i0]:g} °C; K_t divides by T_i − T0")
+    return keys, temps, i0
+
+
+def parse_T(campaign: Campaign, seg) -> float:
+    return float(seg.condition("temperature", "degC").to("degC").magnitude)
+
+
+class ScaleFactorTemperatureSensitivityD15(Procedure):
+    """GB/T 45570—2025 D.1.5 标度因数温度灵敏度 (scale-factor temperature sensitivity), angle
+    method, eq. (D.12).
+
+    At each temperature point (segments of kind ``revolutions-temperature``, condition
+    ``temperature``, the full D.1.1.2 rate sweep) K is the D.5 intercept; K_t = max |(K_i − K_00)/
+    (K_00 (T_i − T_0))| with K_00, T_0 at room temperature (the point nearest the option ``room``,
+    within 15 °C … 35 °C).  Budget of the maximising point: the two fits' standard errors (A) and
+    the chamber's temperature uncertainty on T_i − T_0 (B).
+    """
+
+    standard = STANDARD
+    item = "D.1.5"
+    title = "Scale factor temperature sensitivity, angle method (标度因数温度灵敏度)"
+    clause = "D.1.5"
+    metrics = (Metric("Kt", "scale factor temperature sensitivity", "K_t", "ppm/delta_degC", "D.1.5.3", "D.12"),)
+    requires = (SegmentRequirement("revolutions-temperature", "the D.1.1.2 rate sweep at each temperature point after "
+                                   "≥ 2 h soak, powered off while the temperature changes (D.1.5.2)",
+                                   conditions={"rate": "deg/s", "turns": "", "temperature": "degC"},
+                                   columns={"count": ("P",), "duration": ("s",)}, min_count=66),)
+    equipment = _EQUIPMENT + (EquipmentRequirement("chamber", "temperature chamber, vibration-isolated, control "
+                                                   "better than ±2 °C (D.1.5.1 b))"),)
+    options = _OPTIONS + (
+        Option("temperatures", "-40 °C, 20 °C, 60 °C", None,
+               "temperature points for the sequence: both limits and room temperature (D.1.5.2 b))"),
+        Option("room", "20 °C", "degC", "room temperature T0: the nearest point is the reference"),
+    )
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        temps = [t.strip() for t in str(options.get("temperatures", "-40 °C, 20 °C, 60 °C")).split(",")]
+        steps = []
+        for i, T in enumerate(temps):
+            for st in _sequence(options, zero=False):
+                steps.append(attrs.evolve(st, segment=f"T{i + 1}-{st.segment}", kind="revolutions-temperature",
+                                          description=f"at {T} (power off, soak ≥ 2 h, D.1.5.2 c)): " + st.description,
+                                          conditions=dict(st.conditions) | {"temperature": T},
+                                          warmup=Q_(2, "h")))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        byT = _grouped(campaign, "revolutions-temperature", "temperature")
+        keys, temps, i0 = room_index(campaign, byT, float(opts["room"].to("degC").magnitude), 3, "D.1.5")
+        Ks, uKs, dofs, used = [], [], [], []
+        for k, T in zip(keys, temps):
+            pts = collect_rate_points(type(self), campaign, int(opts["min_points"]), byT[k], f"at {T:g} °C")
+            rates = np.array([p.rate for p in pts])
+            Ks.append(F.scale_factor_fit_d5_d6([p.K for p in pts], rates)[0])
+            # type A of the D.5 intercept from each K_i's revolution scatter (not the residuals,
+            # which hold the nonlinearity)
+            ca, _ = F2.line_fit_sensitivities(rates)
+            u, nu = F2.propagate(ca, [p.u_K for p in pts], [max(min(p.m_plus, p.m_minus) - 1, 1) for p in pts])
+            uKs.append(u)
+            dofs.append(nu)
+            used += [s for p in pts for s in p.segments]
+        Kt, imax = F2.scale_factor_temperature_sensitivity_d12(Ks, temps, i0)
+        return _temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used, "P/″")
+
+
+def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, imax: int, i0: int, temps, Ks, uKs,
+                         dofs, segments, k_unit: str) -> Outcome:
+    """Result, budget, plot and table of D.1.5 / D.2.5 (the maximising point of D.12 / D.29)."""
+    from .procedures import _delta_temperature_u
+
+    dT = temps[imax] - temps[i0]
+    K0 = Ks[i0]
+    ci, c0 = 1.0 / (K0 * abs(dT)), abs(Ks[imax]) / (K0 * K0 * abs(dT))
+    uA = math.hypot(ci * uKs[imax], c0 * uKs[i0])
+    parts = [(ci * uKs[imax], dofs[imax]), (c0 * uKs[i0], dofs[i0])]
+    den = sum(u**4 / max(d, 1) for u, d in parts)
+    nu = uA**4 / den if den > 0 else math.inf
+    rows = [BudgetRow.type_a("K at T_i and at T_0 (fits of each sweep)", "u(K_i − K₀₀)/(K₀₀|ΔT|)",
+                             Q_(uA, "1/delta_degC"), nu)]
+    uT = _delta_temperature_u(campaign)
+    if uT is not None:
+        rows.append(BudgetRow.type_b(f"chamber temperature T_i and T_0 ({uT[1]})", "√2·u(T)",
+                                     Q_(math.sqrt(2) * uT[0], "K"), distribution="normal", k=1.0,
+                                     sensitivity=Q_(Kt / abs(dT), "1/delta_degC/K"), note="∂K_t/∂ΔT = −K_t/ΔT"))
+    budget = UncertaintyBudget("K_t", "ppm/delta_degC", rows, coverage=COVERAGE)
+    res = Result(proc.metrics[0], Q_(Kt, "1/delta_degC"), budget.combined, budget,
+                 note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C")
+    plot = PlotSpec("K_temperature", f"Scale factor against temperature ({proc.item})", "T (°C)",
+                    f"(K − K₀₀)/K₀₀ (ppm)",
+                    [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],
+                      "yerr": [2e6 * u / K0 for u in uKs], "style": "o"}])
+    table = TableSpec("K_temperatures", "K at each temperature point", ["T (°C)", f"K ({k_unit})",
+                                                                        "|(K − K₀₀)/(K₀₀ΔT)| (ppm/°C)"],
+                      [[f"{t:g}", f"{k:.8g}", "room (T0)" if i == i0 else f"{abs((k - K0) / (K0 * (t - temps[i0]))) * 1e6:.4g}"]
+                       for i, (t, k) in enumerate(zip(temps, Ks))])
+    return Outcome(STANDARD, proc.item, proc.title, proc.clause, [res], plots=[plot], tables=[table],
+                   segments=list(segments), options={k: str(v) for k, v in opts.items()})
+
+
+#: the four mountings of D.1.6.3 / D.2.6.3: (axis along the table axis, turn about IRA)
+MOUNTINGS = (("XRA", 0), ("XRA", 180), ("YRA", 0), ("YRA", 180))
+
+
+def mounting_groups(campaign: Campaign, kind: str, clause: str) -> dict[tuple[str, int], list]:
+    """Segments of each of the four mountings (conditions ``axis_up`` XRA/YRA and ``turn`` 0°/180°);
+    a missing mounting is an error that names it."""
+    groups: dict[tuple[str, int], list] = {}
+    from metro.core.units import parse_quantity
+
+    for s in campaign.find_segments(kind):
+        ax = str(s.condition("axis_up")).upper().replace("+", "").strip()
+        turn = float(parse_quantity(s.condition("turn"), dimension="deg", file=campaign.source,
+                                    field=f"segments.{s.id}.conditions.turn").to("deg").magnitude) % 360.0
+        if ax not in ("XRA", "YRA") or min(abs(turn), abs(turn - 180.0)) > 1e-6:
+            raise DataError(campaign.source, f"segments.{s.id}.conditions",
+                            f"axis_up = {s.conditions.get('axis_up')!r}, turn = {s.conditions.get('turn')!r}: a "
+                            f"{clause} mounting has XRA or YRA along the table axis, turned 0° or 180° about IRA")
+        groups.setdefault((ax, int(round(turn))), []).append(s)
+    missing = [f"{ax} up, turned {t}°" for ax, t in MOUNTINGS if (ax, t) not in groups]
+    if missing:
+        raise DataError(campaign.source, "segments",
+                        f"{clause} needs four mountings (segments of kind \"{kind}\"); missing: {'; '.join(missing)}",
+                        hint="the 180° turn about IRA cancels the fixture's error (D.1.6.3 e))")
+    return groups
+
+
+def misalignment_outcome(proc: Procedure, campaign: Campaign, opts, ang: Mapping[tuple[str, int], tuple[float, float, int]],
+                         rel_rows: list[BudgetRow], segments: list[str], what: str) -> Outcome:
+    """α, β (D.15/D.32, D.35) and γ (D.16/D.36) with their budgets from the four mountings'
+    angles ``ang[(axis, turn)] = (angle in °, its type A standard uncertainty in °, ν)``.
+
+    ``rel_rows`` are relative type B rows (scale factor, revolution pulse …) with sensitivity 1;
+    each is scaled by the result.  The fixture's re-seating tilt (``fixture`` equipment,
+    ``reseat_tilt``, a half-width per mounting) enters each angle with sensitivity 1/√2."""
+    fx = campaign.equipment_for("fixture")
+    reseat = None
+    if fx is not None and "reseat_tilt" in fx.properties:
+        reseat = (fx.prop("reseat_tilt", "arcsec", source=campaign.source), fx.describe())
+    vals, us, nus = {}, {}, {}
+    for sym, ax in (("α", "XRA"), ("β", "YRA")):
+        (a1, u1, n1), (a2, u2, n2) = ang[(ax, 0)], ang[(ax, 180)]
+        vals[sym] = F2.misalignment_half_difference_d15(a1, a2)
+        us[sym] = 0.5 * math.hypot(u1, u2)
+        nus[sym] = max(min(n1, n2), 1)
+    gamma = F2.misalignment_gamma_d16(vals["α"], vals["β"])
+    results = []
+    for metric in proc.metrics:
+        sym = metric.symbol
+        if sym in vals:
+            v = vals[sym]
+            rows = [BudgetRow.type_a(f"{what}, the two {sym} mountings", f"u({sym})", Q_(us[sym], "deg"), nus[sym])]
+            sens_reseat = 1.0 / math.sqrt(2.0)
+        else:
+            v = gamma
+            ca = vals["α"] / gamma if gamma > 0 else 1.0
+            cb = vals["β"] / gamma if gamma > 0 else 1.0
+            rows = [BudgetRow.type_a(f"{what}, α mountings", "u(α)", Q_(us["α"], "deg"), nus["α"],
+                                     sensitivity=Q_(abs(ca), "")),
+                    BudgetRow.type_a(f"{what}, β mountings", "u(β)", Q_(us["β"], "deg"), nus["β"],
+                                     sensitivity=Q_(abs(cb), ""))]
+            sens_reseat = math.hypot(ca, cb) / math.sqrt(2.0)
+        if reseat is not None:
+            rows.append(BudgetRow.type_b(f"re-seating tilt of the gyro in the fixture ({reseat[1]})", "δ_fixture",
+                                         reseat[0].to("deg"), distribution="uniform",
+                                         sensitivity=Q_(sens_reseat, ""),
+                                         note="independent in the 0° and 180° mountings; (δ₁ − δ₂)/2"))
+        rows += [attrs.evolve(r, sensitivity=Q_(abs(v), "deg")) for r in rel_rows]
+        budget = UncertaintyBudget(sym, "deg", rows, coverage=COVERAGE)
+        results.append(Result(metric, Q_(v, "deg"), budget.combined, budget,
+                              note=f"= {v * 3600:.2f}″"))
+    table = TableSpec("mountings", f"Angle of each mounting ({proc.item})", ["mounting", "angle (°)", "angle (″)"],
+                      [[f"{ax} up, turned {t}°", f"{ang[(ax, t)][0]:.6f}", f"{ang[(ax, t)][0] * 3600:.2f}"]
+                       for ax, t in MOUNTINGS])
+    return Outcome(STANDARD, proc.item, proc.title, proc.clause, results, tables=[table], segments=segments,
+                   options={k: str(v) for k, v in opts.items()})
+
+
+def misalignment_metrics(clause: str, eqs: tuple[str, str, str]) -> tuple[Metric, ...]:
+    return (Metric("alpha", "input axis misalignment towards XRA", "α", "deg", clause, eqs[0]),
+            Metric("beta", "input axis misalignment towards YRA", "β", "deg", clause, eqs[1]),
+            Metric("gamma", "input axis misalignment", "γ", "deg", clause, eqs[2]))
+
+
+def mounting_steps(kind: str, rate: float, options: Mapping[str, Any], revolutions: bool) -> list[Step]:
+    m = int(options.get("turns", 5))
+    steps = []
+    for ax, turn in MOUNTINGS:
+        for sign, word in ((1, "counter-clockwise (+)"), (-1, "clockwise (−)")):
+            cond = {"axis_up": ax, "turn": f"{turn} deg", "rate": f"{sign * rate:g} deg/s"}
+            what = (f"{m} whole revolutions" if revolutions else f"{m} whole revolutions' output")
+            if revolutions:
+                cond["turns"] = m
+            steps.append(Step(f"{ax}-{turn}-rate{sign * rate:+g}", kind,
+                              f"{ax} along the table axis, gyro turned {turn}° about IRA in the fixture: {what} at "
+                              f"{rate:g} °/s {word}", Q_(m * 360.0 / rate, "s"),
+                              Q_(360.0 / rate, "s") if revolutions else Q_(1, "s"), cond, warmup=Q_(30, "min")))
+    return steps
+
+
+class InputAxisMisalignmentD16(Procedure):
+    """GB/T 45570—2025 D.1.6 输入轴失准角 (input-axis misalignment), angle method, eqs. (D.13)–(D.16).
+
+    Four mountings (segments of kind ``revolutions-mounting``, conditions ``axis_up`` XRA/YRA and
+    ``turn`` 0°/180° about IRA, signed ``rate``): N_± per mounting (D.13), α_{1,2} = (N₊ − N₋)/
+    (2·360·3600·K)·180/π (D.14) with the device's K, α = (α₁ − α₂)/2 (D.15), β likewise,
+    γ = √(α² + β²) (D.16).  Type A: the revolutions' count scatter; type B: the fixture's
+    re-seating tilt, the scale factor K, the revolution-pulse position.
+    """
+
+    standard = STANDARD
+    item = "D.1.6"
+    title = "Input axis misalignment, angle method (输入轴失准角)"
+    clause = "D.1.6"
+    metrics = misalignment_metrics("D.1.6.4", ("D.15", "D.15", "D.16"))
+    requires = (SegmentRequirement("revolutions-mounting", "m whole revolutions each way with XRA, then YRA, along the "
+                                   "table axis, each before and after a 180° turn about IRA (D.1.6.3)",
+                                   conditions={"axis_up": "", "turn": "deg", "rate": "deg/s", "turns": ""},
+                                   columns={"count": ("P",), "duration": ("s",)}, min_count=8),)
+    equipment = _EQUIPMENT + (EquipmentRequirement("fixture", "fixture holding XRA/YRA along the table axis, "
+                                                   "turnable 180° about IRA; its re-seating tilt enters the budget"),)
+    options = (Option("rate", REPEAT_RATE, "deg/s", "table rate (D.1.6.3 d): \"a given rate\")"),
+               Option("turns", 5, None, "whole revolutions m each way"))
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        from metro.core.units import parse_quantity
+
+        r = float(parse_quantity(options.get("rate", REPEAT_RATE), dimension="deg/s").to("deg/s").magnitude)
+        return mounting_steps("revolutions-mounting", r, options, revolutions=True)
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        from metro.core.signals import device_scale_factor
+
+        opts = self.option_values(ctx.options)
+        groups = mounting_groups(campaign, "revolutions-mounting", "D.1.6")
+        K, u_rel_K = device_scale_factor(campaign.device, campaign.source)
+        if K is None:
+            raise DataError(campaign.source, "device.scale_factor", "D.14 divides by the scale factor K (P/″); "
+                            "give the device's K from D.1.1", hint="add scale_factor = \"… P/″\" under [device]")
+        from metro.core.units import check_dimension
+
+        check_dimension(K, "P/arcsec", file=campaign.source, field="device.scale_factor")
+        k = float(K.to("P/arcsec").magnitude)
+        ang, used = {}, []
+        for (ax, turn), segs in groups.items():
+            pts = collect_rate_points(type(self), campaign, 1, segs, f"({ax} up, turned {turn}°)")
+            if len(pts) != 1:
+                raise DataError(campaign.source, f"segments.{segs[0].id}.conditions.rate",
+                                f"mounting {ax} up, turned {turn}° has {len(pts)} rate points; D.1.6 uses one rate")
+            p = pts[0]
+            a = F2.misalignment_d14(p.n_plus, p.n_minus, k)
+            up = p.s_plus / math.sqrt(p.m_plus) if p.m_plus > 1 else 0.5
+            um = p.s_minus / math.sqrt(p.m_minus) if p.m_minus > 1 else 0.5
+            u = math.hypot(up, um) / (2.0 * F.REVOLUTION_ARCSEC * k) * 180.0 / math.pi
+            ang[(ax, turn)] = (a, u, max(min(p.m_plus, p.m_minus) - 1, 1))
+            used += list(p.segments)
+        rel = []
+        if u_rel_K > 0:
+            rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
+                                        k=1.0, note=f"K = {K:~P}; α ∝ 1/K"))
+        rel += [attrs.evolve(r, sensitivity=Q_(1.0, "")) for r in _angle_row(campaign, 1.0, "")]
+        return misalignment_outcome(self, campaign, opts, ang, rel, used, "revolution count scatter")
+
+
+PROCEDURES = (ScaleFactorD11, NonlinearityD12, AsymmetryD13, ScaleFactorRepeatabilityD14,
+              ScaleFactorTemperatureSensitivityD15, InputAxisMisalignmentD16)

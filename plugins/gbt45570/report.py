@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from metro.core.budget import report_pair
 from metro.core.conformity import SIMPLE, Comparison, Specification, decide
 from metro.core.model import PlotSpec
 from metro.core.units import Q_
@@ -86,10 +87,15 @@ def verdict_rows(assessment) -> list[dict[str, str]]:
         ut = fmt_unit(v.spec.limit.units)
         ut = "" if ut == "1" else f" {ut}"
         value, U = v.in_limit_unit()
+        if U is not None and U > 0:  # rounded as the results are (JJF 1059.1: U to 2 digits)
+            rv, rU = report_pair(value, U)
+            vtext, Utext = rv.text + ut, rU.text + ut
+        else:
+            vtext, Utext = fmt_num(value, 6) + ut, (DASH if U is None else "0" + ut)
         rows.append({
             "item": v.item, "key": v.key, "limit": v.spec.text(), "source": v.spec.source,
-            "value": fmt_num(value) + ut,
-            "U": DASH if U is None else fmt_num(U) + ut,
+            "value": vtext,
+            "U": Utext,
             "k": DASH if v.k is None else f"{v.k:.2f}",
             "status": v.status.value, "status_text": STATUS_TEXT[v.status.value],
             "detail": v.detail, "reason": v.reason,

@@ -61,7 +61,10 @@ def _grid(doc, header: list[str], cells: list[str], loop: str | None = None, wid
         table.cell(row, i).text = c
     if loop:
         table.cell(row + 1, 0).text = "{%tr endfor %}"
-    if widths:
+    if widths:  # the grid (LibreOffice) and every cell (Word) carry the widths
+        table.autofit = False
+        for col, w in zip(table.columns, widths):
+            col.width = Mm(w)
         for r in table.rows:
             for cell, w in zip(r.cells, widths):
                 cell.width = Mm(w)
@@ -74,6 +77,8 @@ def _pairs(doc, pairs: list[tuple[str, str]]) -> None:
         table.cell(i, 0).text = label
         table.cell(i, 1).text = value
         table.cell(i, 0).width, table.cell(i, 1).width = Mm(50), Mm(120)
+    table.autofit = False
+    table.columns[0].width, table.columns[1].width = Mm(50), Mm(120)
 
 
 def _lines(doc, loop: str, body: str) -> None:
@@ -132,7 +137,7 @@ def build() -> bytes:
     doc.add_heading("3 试验设备 Equipment and calibration status", level=2)
     _grid(doc, ["设备 Equipment", "用途 Role", "证书 Certificate", "U", "状态 Status"],
           ["{{ e.id }} {{ e.description }}", "{{ e.role }}", "{{ e.certificate }}", "{{ e.U }}", "{{ e.status }}"],
-          loop="e in equipment")
+          loop="e in equipment", widths=(50, 25, 35, 25, 35))
     _lines(doc, "w in equipment_warnings", "{{ w }}")
 
     doc.add_heading("4 试验方法与项目 Method and items", level=2)
@@ -163,7 +168,7 @@ def build() -> bytes:
     _grid(doc, ["项目 Item", "结果 Result", "限值 Limit", "值 Value", "U (k)", "判定 Verdict", "理由 Reason"],
           ["{{ v.item }}", "{{ v.key }}", "{{ v.limit }}", "{{ v.value }}", "{{ v.U }} ({{ v.k }})",
            "{{ v.status_text }}", "{{ v.reason }}"],
-          loop="v in gbt45570.verdicts", widths=(14, 18, 24, 22, 24, 22, 46))
+          loop="v in gbt45570.verdicts", widths=(14, 16, 22, 20, 22, 20, 56))
     doc.add_paragraph("限值来源 Sources of the limits:")
     _lines(doc, "v in gbt45570.verdicts", "{{ v.key }}: {{ v.source }}")
     doc.add_paragraph("{%p if gbt45570.not_assessed %}")

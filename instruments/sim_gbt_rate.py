@@ -1,0 +1,385 @@
+"""Motions of GB/T 45570 D.1.4–D.1.6, D.2 and D.3 on the simulated station's virtual gyro.
+
+Registered step kinds (see :func:`metro.instruments.simulated.register_step_kind`):
+
+* ``revolutions-repeat`` / ``revolutions-temperature`` — whole table revolutions, IRA up, as
+  ``rate-revolutions`` but on a power-on ``run`` (D.1.4) or at a chamber ``temperature`` (D.1.5);
+  columns ``count`` (P per revolution) and ``duration`` (s);
+* ``revolutions-mounting`` — the same with XRA or YRA along the table axis (condition
+  ``axis_up``), the gyro turned 0° or 180° about its IRA in the fixture (condition ``turn``)
+  (D.1.6);
+* ``rate-output`` — the table turning at a constant signed ``rate``, IRA up, the output sampled
+  (LSB for the digital gyro) (D.2.1–D.2.5, D.3); with ``run`` or ``temperature`` as above;
+* ``rate-mounting`` — ``rate-output`` in the mountings of D.2.6.
+
+The table at rest (``rate-static``) is the station's ordinary static record.
+
+The truth (fields of :class:`~metro.instruments.simulated.GyroTruth`): the scale factor at
+rate |Ω| and direction s is K·(1 + sf_slope·|Ω| + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
+(as in the angle method), times (1 + sf_tc·(T − T_ref)) in the chamber and times (1 + δ_run)
+after power-on ``run`` (δ_run ~ N(0, sf_turn_on_sigma), seeded by (seed, run)).  The input
+axis IA leans from IRA by α towards XRA and β towards YRA; a mounting's fixture leans the
+reference axis by ε (``fixture_tilt_arcsec``) towards IRA, the same before and after the 180°
+turn, so D.15/D.32 cancel it.  The horizontal earth rate turns with the table and averages out
+over the whole revolutions a step lasts; its vertical part and the bias enter as a constant.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from typing import Any, Mapping
+
+import numpy as np
+
+from metro.core.model import Segment
+from metro.core.units import Q_, parse_quantity
+
+from .simulated import (
+    EARTH_RATE_DEG_PER_H,
+    GyroTruth,
+    SimulatedStation,
+    register_expected,
+    register_step_kind,
+    scale_factor_at,
+    station_factory,
+)
+
+REV_ARCSEC = 360.0 * 3600.0
+
+
+# --------------------------------------------------------------------------------------------
+# the truth at a step's conditions
+# --------------------------------------------------------------------------------------------
+
+
+def turn_on_scale_factor(truth: GyroTruth, run: Any) -> float:
+    """Relative scale-factor change δ_run of power-on ``run`` (seeded by (seed, run))."""
+    rng = np.random.default_rng([truth.seed, int(run), 1931])
+    return float(rng.normal(0.0, truth.sf_turn_on_sigma))
+
+
+def scale_factor_multiplier(truth: GyroTruth, rate_deg_s: float, direction: int,
+                            conditions: Mapping[str, Any]) -> float:
+    """K(|Ω|, s, T, run)/K: rate, direction, temperature and power-on effects on the scale factor."""
+    f = scale_factor_at(truth, rate_deg_s, direction) / truth.scale_factor_P_per_arcsec
+    if "temperature" in conditions:
+        T = float(parse_quantity(conditions["temperature"], dimension="degC").to("degC").magnitude)
+        f *= 1.0 + truth.sf_tc_per_C * (T - truth.temp_ref_C)
+    if "run" in conditions:
+        f *= 1.0 + turn_on_scale_factor(truth, conditions["run"])
+    return f
+
+
+def input_axis(truth: GyroTruth) -> np.ndarray:
+    """IA as a unit vector in (XRA, YRA, IRA), from α (towards XRA) and β (towards YRA), fig. D.1."""
+    v = np.array([math.tan(math.radians(truth.misalign_alpha_arcsec / 3600.0)),
+                  math.tan(math.radians(truth.misalign_beta_arcsec / 3600.0)), 1.0])
+    return v / np.linalg.norm(v)
+
+
+def mounting_projection(truth: GyroTruth, conditions: Mapping[str, Any]) -> float:
+    """IA · (table axis) in a D.1.6/D.2.6 mounting: ``axis_up`` XRA or YRA along the table axis,
+    ``turn`` 0° or 180° about IRA; the fixture leans the axis by ε towards IRA in both turns."""
+    axis = str(conditions.get("axis_up", "IRA")).upper().replace("+", "").strip()
+    turn = float(parse_quantity(conditions.get("turn", "0 deg"), dimension="deg").to("deg").magnitude)
+    flip = -1.0 if abs((turn % 360.0) - 180.0) < 1e-6 else 1.0
+    if axis == "IRA":
+        return float(input_axis(truth)[2])
+    k = {"XRA": 0, "YRA": 1}[axis]
+    eps = math.radians(truth.fixture_tilt_arcsec[k] / 3600.0)
+    a = np.zeros(3)
+    a[k] = flip * math.cos(eps)
+    a[2] = math.sin(eps)
+    return float(input_axis(truth) @ a)
+
+
+def _signed_rate(step) -> tuple[float, int]:
+    rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
+    if rate == 0:
+        raise ValueError(f"step {step.segment}: a turning step needs a non-zero rate")
+    return abs(rate), (1 if rate > 0 else -1)
+
+
+# --------------------------------------------------------------------------------------------
+# whole revolutions (angle method)
+# --------------------------------------------------------------------------------------------
+
+
+def _revolutions(station: SimulatedStation, step, index: int, projection: float, bias_offset_deg_h: float) -> Segment:
+    t = station.truth
+    rate, direction = _signed_rate(step)
+    turns = int(step.conditions.get("turns", 5))
+    K = t.scale_factor_P_per_arcsec * scale_factor_multiplier(t, rate, direction, step.conditions)
+    T = 360.0 / rate
+    drift = (EARTH_RATE_DEG_PER_H * math.sin(math.radians(station.latitude_deg)) * projection
+             + t.bias_deg_h + bias_offset_deg_h)  # ″/s along IA
+    rng = np.random.default_rng([t.seed, index, 7411])
+    noise_sd = t.arw_deg_rt_h * math.sqrt(T / 3600.0) * 3600.0
+    angle = direction * REV_ARCSEC * projection + drift * T
+    cum = np.cumsum(K * (angle + rng.normal(0.0, noise_sd, size=turns)))
+    counts = np.diff(np.floor(cum + rng.random(turns)), prepend=0.0)
+    dur = np.full(turns, T)
+    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(T, "s"),
+                   sha256=hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest(),
+                   loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}))
+
+
+@register_step_kind("revolutions-repeat")
+def sim_revolutions_repeat(station, step, index, *, bias_offset_deg_h, **_):
+    return _revolutions(station, step, index, 1.0, bias_offset_deg_h)
+
+
+@register_step_kind("revolutions-temperature")
+def sim_revolutions_temperature(station, step, index, *, bias_offset_deg_h, **_):
+    return _revolutions(station, step, index, 1.0, bias_offset_deg_h)
+
+
+@register_step_kind("revolutions-mounting")
+def sim_revolutions_mounting(station, step, index, *, bias_offset_deg_h, **_):
+    return _revolutions(station, step, index, mounting_projection(station.truth, step.conditions), bias_offset_deg_h)
+
+
+# --------------------------------------------------------------------------------------------
+# sampled output at a constant table rate (rate method)
+# --------------------------------------------------------------------------------------------
+
+
+def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_s: float, projection: float,
+                  bias_offset_deg_h: float) -> Segment:
+    t = station.truth
+    rate, direction = _signed_rate(step)
+    f = scale_factor_multiplier(t, rate, direction, step.conditions)
+    rng = np.random.default_rng([t.seed, index, 5309])
+    static = (EARTH_RATE_DEG_PER_H * math.sin(math.radians(station.latitude_deg)) * projection
+              + t.bias_deg_h + bias_offset_deg_h)  # °/h
+    white_sd = t.arw_deg_rt_h / math.sqrt(interval_s / 3600.0)
+    # indicated rate, °/h: the table's component along IA through the scale factor, plus the rest
+    w = direction * rate * 3600.0 * projection * f + static + rng.normal(0.0, white_sd, size=n)
+    if t.output == "digital":
+        out, unit = np.round(w / 3600.0 * t.lsb_per_deg_s), "LSB"
+    elif t.output == "pulse":
+        cum = np.cumsum(w * interval_s * t.scale_factor_P_per_arcsec)
+        out, unit = np.diff(np.floor(cum + rng.random(n)), prepend=0.0), "P"
+    else:
+        out, unit = w, "deg/h"
+    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
+                   sha256=hashlib.sha256(out.tobytes()).hexdigest(), loader=(lambda d=out, u=unit: {"output": (d, u)}))
+
+
+@register_step_kind("rate-output")
+def sim_rate_output(station, step, index, *, interval_s, n, bias_offset_deg_h, **_):
+    return _rate_samples(station, step, index, n, interval_s, 1.0, bias_offset_deg_h)
+
+
+@register_step_kind("rate-mounting")
+def sim_rate_mounting(station, step, index, *, interval_s, n, bias_offset_deg_h, **_):
+    return _rate_samples(station, step, index, n, interval_s, mounting_projection(station.truth, step.conditions),
+                         bias_offset_deg_h)
+
+
+# --------------------------------------------------------------------------------------------
+# what an ideal evaluation gives (noise-free data through the standard's formulas)
+# --------------------------------------------------------------------------------------------
+
+
+def _rate_of(seg: Segment) -> float:
+    return float(parse_quantity(seg.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
+
+
+def _ideal_Ki(truth: GyroTruth, rates, conditions, latitude_deg: float, projection: float = 1.0) -> np.ndarray:
+    """K_i (D.2) of noise-free revolutions at the rate magnitudes ``rates``."""
+    d = EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) * projection + truth.bias_deg_h
+    out = []
+    for r in rates:
+        T = 360.0 / r
+        kp = truth.scale_factor_P_per_arcsec * scale_factor_multiplier(truth, r, 1, conditions)
+        km = truth.scale_factor_P_per_arcsec * scale_factor_multiplier(truth, r, -1, conditions)
+        n_plus = kp * (REV_ARCSEC * projection + d * T)
+        n_minus = km * (-REV_ARCSEC * projection + d * T)
+        out.append((n_plus - n_minus) / (2 * REV_ARCSEC))
+    return np.array(out)
+
+
+def _ideal_Fk(truth: GyroTruth, signed_rates, conditions, projection: float = 1.0) -> np.ndarray:
+    """F_kj (D.19) of the noise-free digital output: the static part removed exactly."""
+    return np.array([truth.lsb_per_deg_s * r * projection
+                     * scale_factor_multiplier(truth, abs(r), 1 if r > 0 else -1, conditions) for r in signed_rates])
+
+
+def _line(x, y) -> tuple[float, float]:
+    slope, icept = np.polyfit(np.asarray(x, float), np.asarray(y, float), 1)
+    return float(slope), float(icept)
+
+
+def _kn_angle(rates, Ki) -> float:
+    W, K = _line(rates, Ki)
+    return float(np.max(np.abs(Ki - K)) / K)
+
+
+def _kn_rate(signed, Fk) -> float:
+    K, F0 = _line(signed, Fk)
+    return float(np.max(np.abs(K * np.asarray(signed) + F0 - Fk)) / np.max(np.abs(Fk)))
+
+
+def _omega_max(rates_abs, kn_of, limit: float) -> float | None:
+    r = sorted(set(rates_abs))
+    ok = [om for om in r[2:] if kn_of(om) <= limit]
+    return max(ok) if ok else None
+
+
+def _by(segs, key):
+    groups: dict[str, list[Segment]] = {}
+    for s in segs:
+        groups.setdefault(str(s.conditions[key]), []).append(s)
+    return groups
+
+
+def _temperature(text) -> float:
+    return float(parse_quantity(text, dimension="degC").to("degC").magnitude)
+
+
+def _kt(values: dict[str, float]) -> float:
+    temps = {k: _temperature(k) for k in values}
+    room = min(temps, key=lambda k: abs(temps[k] - 20.0))
+    return max(abs((values[k] - values[room]) / (values[room] * (temps[k] - temps[room])))
+               for k in values if k != room)
+
+
+def _kr(values) -> float:
+    v = np.asarray(list(values), float)
+    return float(np.std(v, ddof=1) / np.mean(v))
+
+
+def _abg(a1, a2, b1, b2) -> dict[str, Any]:
+    a, b = (a1 - a2) / 2.0, (b1 - b2) / 2.0
+    return {"alpha": Q_(a, "deg"), "beta": Q_(b, "deg"), "gamma": Q_(math.hypot(a, b), "deg")}
+
+
+@register_expected
+def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
+    """Expected K_r, K_t, α, β, γ (D.1.4–D.1.6, D.2.4–D.2.6), K, F_0, K_n, K_a (D.2.1–D.2.3) and
+    Ω_max (D.3, with the default nonlinearity limit for the simulated device)."""
+    from metro.plugins.gbt45570.rate_method import default_nonlinearity_limit
+
+    t, lat = station.truth, station.latitude_deg
+    out: dict[str, Any] = {}
+    kinds: dict[str, list[Segment]] = {}
+    for s in segments:
+        kinds.setdefault(s.kind, []).append(s)
+    limit = float(default_nonlinearity_limit(station.device())[0].to("").magnitude)
+    if "rate-revolutions" in kinds:
+        rates = sorted({abs(_rate_of(s)) for s in kinds["rate-revolutions"]})
+        if len(rates) >= 3:
+            om = _omega_max(rates, lambda c: _kn_angle([r for r in rates if r <= c],
+                                                       _ideal_Ki(t, [r for r in rates if r <= c], {}, lat)), limit)
+            if om is not None:
+                out["Omega_max"] = Q_(om, "deg/s")
+    if "revolutions-repeat" in kinds:
+        runs = _by(kinds["revolutions-repeat"], "run")
+        Kj = [float(_ideal_Ki(t, [abs(_rate_of(g[0]))], g[0].conditions, lat)[0]) for g in runs.values()]
+        if len(Kj) >= 2:
+            out["Kr"] = Q_(_kr(Kj), "")
+    if "revolutions-temperature" in kinds:
+        Ks = {}
+        for T, g in _by(kinds["revolutions-temperature"], "temperature").items():
+            rates = sorted({abs(_rate_of(s)) for s in g})
+            Ks[T] = _line(rates, _ideal_Ki(t, rates, g[0].conditions, lat))[1] if len(rates) > 1 else float(
+                _ideal_Ki(t, rates, g[0].conditions, lat)[0])
+        if len(Ks) >= 2:
+            out["Kt"] = Q_(_kt(Ks), "1/delta_degC")
+    if "revolutions-mounting" in kinds:
+        ang = {}
+        for s in kinds["revolutions-mounting"]:
+            key = (str(s.conditions["axis_up"]).upper(), str(s.conditions["turn"]))
+            proj = mounting_projection(t, s.conditions)
+            r = abs(_rate_of(s))
+            ang[key] = math.degrees(float(_ideal_Ki(t, [r], {}, lat, proj)[0]) / t.scale_factor_P_per_arcsec)
+        out |= _mounting_expected(ang)
+    if "rate-output" in kinds:
+        plain = [s for s in kinds["rate-output"] if "run" not in s.conditions and "temperature" not in s.conditions]
+        if plain:
+            signed = [_rate_of(s) for s in plain]
+            Fk = _ideal_Fk(t, signed, {})
+            K, F0 = _line(signed, Fk)
+            out["K"], out["F0"] = Q_(K, "LSB/(deg/s)"), Q_(F0, "LSB")
+            out["Kn"] = Q_(_kn_rate(signed, Fk), "")
+            pos = [(r, f) for r, f in zip(signed, Fk) if r > 0]
+            neg = [(r, f) for r, f in zip(signed, Fk) if r < 0]
+            if len(pos) > 1 and len(neg) > 1:
+                kp, km = _line(*zip(*pos))[0], _line(*zip(*neg))[0]
+                out["Ka"] = Q_(abs(kp - km) / ((kp + km) / 2), "")
+            mags = sorted({abs(r) for r in signed})
+            if len(mags) >= 3:
+                def kn_of(c):
+                    sel = [r for r in signed if abs(r) <= c]
+                    return _kn_rate(sel, _ideal_Fk(t, sel, {}))
+                om = _omega_max(mags, kn_of, limit)
+                if om is not None:
+                    out["Omega_max"] = Q_(om, "deg/s")
+        runs = _by([s for s in kinds["rate-output"] if "run" in s.conditions], "run")
+        if len(runs) >= 2:
+            Kj = []
+            for g in runs.values():
+                signed = [_rate_of(s) for s in g]
+                Kj.append(_line(signed, _ideal_Fk(t, signed, g[0].conditions))[0])
+            out["Kr"] = Q_(_kr(Kj), "")
+        temps = _by([s for s in kinds["rate-output"] if "temperature" in s.conditions], "temperature")
+        if len(temps) >= 2:
+            Ks = {}
+            for T, g in temps.items():
+                signed = [_rate_of(s) for s in g]
+                Ks[T] = _line(signed, _ideal_Fk(t, signed, g[0].conditions))[0]
+            out["Kt"] = Q_(_kt(Ks), "1/delta_degC")
+    if "rate-mounting" in kinds:
+        ang = {}
+        for (ax, turn), g in _pairs(kinds["rate-mounting"]).items():
+            r = abs(_rate_of(g[0]))
+            proj = mounting_projection(t, g[0].conditions)
+            fp, fm = _ideal_Fk(t, [r, -r], {}, proj)
+            ang[(ax, turn)] = math.degrees(math.asin((fp - fm) / (2 * t.lsb_per_deg_s * r)))
+        out |= _mounting_expected(ang)
+    return out
+
+
+def _pairs(segs) -> dict[tuple[str, str], list[Segment]]:
+    groups: dict[tuple[str, str], list[Segment]] = {}
+    for s in segs:
+        groups.setdefault((str(s.conditions["axis_up"]).upper(), str(s.conditions["turn"])), []).append(s)
+    return groups
+
+
+def _mounting_expected(ang: Mapping[tuple[str, str], float]) -> dict[str, Any]:
+    def get(ax, flip):
+        for (a, turn), v in ang.items():
+            deg = float(parse_quantity(turn, dimension="deg").to("deg").magnitude) % 360.0
+            if a == ax and (abs(deg - 180.0) < 1e-6) == flip:
+                return v
+        return None
+
+    vals = [get("XRA", False), get("XRA", True), get("YRA", False), get("YRA", True)]
+    if any(v is None for v in vals):
+        return {}
+    return _abg(*vals)
+
+
+# --------------------------------------------------------------------------------------------
+# the digital-output station
+# --------------------------------------------------------------------------------------------
+
+#: a fibre-optic gyro with a digital output and a scale-factor nonlinearity above 5 × 10⁻⁶, which
+#: 6.2.7.1 sends to the rate method (D.2)
+DIGITAL_DEFAULTS: Mapping[str, Any] = {
+    "output": "digital", "sf_quadratic": 3e-5, "sf_slope_per_deg_s": 2e-8, "sf_asymmetry": 2e-5,
+    "sf_tc_per_C": 2e-6, "sf_turn_on_sigma": 5e-6,
+}
+
+
+def digital_station_factory(**options: Any) -> SimulatedStation:
+    """Factory registered as ``simulated-digital``: the virtual gyro with LSB output (a fibre gyro
+    for the rate method); options as for ``simulated``, over :data:`DIGITAL_DEFAULTS`."""
+    return station_factory(**(dict(DIGITAL_DEFAULTS) | dict(options)))
+
+
+__all__ = ["digital_station_factory", "expected_rate_items", "mounting_projection", "scale_factor_multiplier",
+           "turn_on_scale_factor", "input_axis", "DIGITAL_DEFAULTS"]

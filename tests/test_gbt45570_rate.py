@@ -1,0 +1,331 @@
+"""GB/T 45570—2025 D.2.1–D.2.6 (rate method, LSB output) and D.3 (maximum input rate):
+hand-worked formulas, simulated devices with known truth, and bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from metro.core.errors import DataError, ProcedureError
+from metro.core.lsq import fit_line
+from metro.core.runner import merge_steps, run_items
+from metro.core.units import Q_
+from metro.instruments.sim_gbt_rate import DIGITAL_DEFAULTS, digital_station_factory
+from metro.instruments.simulated import station_factory
+from metro.plugins.gbt45570 import formulas_rate as F2
+from metro.plugins.gbt45570.rate_method import (
+    AsymmetryD23,
+    InputAxisMisalignmentD26,
+    MaxInputRateD3,
+    NonlinearityD22,
+    ScaleFactorD21,
+    ScaleFactorRepeatabilityD24,
+    ScaleFactorTemperatureSensitivityD25,
+    default_nonlinearity_limit,
+)
+
+FAST = 0.1  # duration_scale: 10 samples per rate point keep the tests quick
+
+# ---------------------------------------------------------------------------- hand-worked
+
+
+def test_d11_d28_hand_worked():
+    # K_j = 1 ± small: mean 1.000002, std of (0, 1, 2, 3, 4, 2, 2)·1e-6 = sqrt(10/6)·1e-6
+    k = [1.0 + d * 1e-6 for d in (0, 1, 2, 3, 4, 2, 2)]
+    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(math.sqrt(10 / 6) * 1e-6 / 1.000002, rel=1e-6)
+    assert F2.scale_factor_repeatability_d28 is F2.scale_factor_repeatability_d11
+    with pytest.raises(ValueError, match="at least 2"):
+        F2.scale_factor_repeatability_d11([1.0])
+
+
+def test_d12_d29_hand_worked():
+    # K00 = 5000 at 20 °C; at 60 °C +1 LSB/(°/s) → 1/(5000·40) = 5e-6/°C; at −40 °C −0.9 → 3e-6/°C
+    kt, i = F2.scale_factor_temperature_sensitivity_d12([4999.1, 5000.0, 5001.0], [-40.0, 20.0, 60.0], 1)
+    assert kt == pytest.approx(5e-6, rel=1e-12) and i == 2
+    with pytest.raises(ValueError, match="T_i − T_0"):
+        F2.scale_factor_temperature_sensitivity_d12([1.0, 1.0], [20.0, 20.0], 0)
+
+
+def test_d13_to_d16_hand_worked():
+    # K = 0.8 P/″, N₊ − N₋ = 2·1 296 000·0.8·1e-4 → α₁ = 1e-4 rad = 0.0057296°
+    a1 = F2.misalignment_d14(1000.0 + 103.68, 1000.0 - 103.68, 0.8)
+    assert a1 == pytest.approx(math.degrees(1e-4), rel=1e-12)
+    # fixture error e common to both mountings cancels: α₁ = α + e, α₂ = −α + e
+    assert F2.misalignment_half_difference_d15(0.03 + 0.01, -0.03 + 0.01) == pytest.approx(0.03)
+    assert F2.misalignment_gamma_d16(0.03, -0.04) == pytest.approx(0.05)
+
+
+def test_d30_hand_worked():
+    # (F₊ − F₋)/(2KΩ) = 0.5 → δ = 30°
+    assert F2.misalignment_d30(500.0, -250.0, 50.0, 15.0) == pytest.approx(30.0, rel=1e-12)
+    with pytest.raises(ValueError, match="outside"):
+        F2.misalignment_d30(3000.0, -3000.0, 50.0, 15.0)
+
+
+def test_d17_to_d22_hand_worked():
+    assert F2.mean_output_d17([1.0, 2.0, 6.0]) == 3.0
+    assert F2.rest_output_d18(2.0, 4.0) == 3.0
+    assert F2.rate_output_d19(103.0, 3.0) == 100.0
+    # exact line F = 5000·Ω + 2
+    w = np.array([-10.0, -1.0, 1.0, 10.0, 20.0])
+    K, F0 = F2.scale_factor_fit_d21_d22(w, 5000.0 * w + 2.0)
+    assert K == pytest.approx(5000.0, rel=1e-14) and F0 == pytest.approx(2.0, abs=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.floats(0.5, 500.0), min_size=2, max_size=14, unique=True), st.floats(100.0, 1e5),
+       st.floats(-50.0, 50.0))
+def test_d21_d22_closed_forms_equal_the_qr_least_squares(rates, K, F0):
+    w = np.concatenate([np.array(rates), -np.array(rates)])
+    f = K * w + F0 + 1e-3 * K * np.sin(w)
+    k, f0 = F2.scale_factor_fit_d21_d22(w, f)
+    fit = fit_line(w, f)
+    assert k == pytest.approx(fit.coef[1], rel=1e-9)
+    assert f0 == pytest.approx(fit.coef[0], rel=1e-7, abs=1e-7 * K)
+
+
+def test_d23_to_d27_hand_worked():
+    w = np.array([-2.0, -1.0, 1.0, 2.0])
+    Fk = np.array([-200.0, -100.0, 101.0, 200.0])
+    K, F0 = F2.scale_factor_fit_d21_d22(w, Fk)
+    hat = F2.fitted_output_d23(K, F0, w)
+    # the fit: K = ΣΩF/ΣΩ² = 1001/10, F0 = ΣF/4 = 0.25; a_j = (F̂ − F)/|F_m| with F_m = 200
+    assert K == pytest.approx(100.1) and F0 == pytest.approx(0.25)
+    kn, j = F2.nonlinearity_d24_d25(hat, Fk, 200.0)
+    assert j == 2 and kn == pytest.approx(abs(100.35 - 101.0) / 200.0)
+    assert F2.asymmetry_d26_d27(5001.0, 4999.0) == pytest.approx(2.0 / 5000.0)
+
+
+def test_d3_largest_range_meeting_the_limit():
+    kn = {1.0: 1e-6, 2.0: 2e-6, 4.0: 4e-6, 8.0: 9e-6, 16.0: 30e-6}
+    om, curve = F2.max_input_rate_d3(list(kn), kn.__getitem__, 10e-6, min_points=3)
+    assert om == 8.0 and [r for r, _ in curve] == [4.0, 8.0, 16.0]
+    om, _ = F2.max_input_rate_d3(list(kn), kn.__getitem__, 1e-6, min_points=3)
+    assert om is None
+
+
+def test_line_fit_sensitivities_give_the_ols_coefficients_and_propagate():
+    x = np.array([-3.0, -1.0, 2.0, 5.0])
+    y = np.array([1.0, 2.0, -1.0, 4.0])
+    ca, cb = F2.line_fit_sensitivities(x)
+    fit = fit_line(x, y)
+    assert ca @ y == pytest.approx(fit.coef[0]) and cb @ y == pytest.approx(fit.coef[1])
+    u, nu = F2.propagate(cb, [0.1] * 4, [9] * 4)
+    assert u == pytest.approx(0.1 / math.sqrt(np.sum((x - x.mean()) ** 2)))
+    assert nu > 9
+
+
+# ---------------------------------------------------------------------------- simulated truth
+
+
+def _camp(pm, items, station=None, drop=(), options=None, **truth):
+    st_ = station or digital_station_factory(duration_scale=FAST, **truth)
+    steps = merge_steps([pm.procedure("gbt45570", i)().sequence((options or {}).get(i, {})) for i in items])
+    steps = [s for s in steps if s.segment not in set(drop)]
+    return st_.acquire(steps)
+
+
+def _check_truth(rec, camp, keys):
+    checked = set()
+    for o in rec.outcomes:
+        for r in o.results:
+            assert r.budget is not None and any(row.type == "A" for row in r.budget.rows), r.metric.key
+            if r.metric.key in camp.expected and r.metric.key in keys:
+                exp = camp.expected[r.metric.key].to(r.metric.unit).magnitude
+                got = r.value.to(r.metric.unit).magnitude
+                assert abs(got - exp) <= r.U.magnitude, (o.item, r.metric.key, got, exp, r.U)
+                checked.add(r.metric.key)
+    assert checked == set(keys)
+
+
+def test_rate_method_recovers_simulated_truth(pm):
+    for cls in (ScaleFactorD21, NonlinearityD22, AsymmetryD23):
+        assert pm.procedure("gbt45570", cls.item) is cls and cls.station == "simulated-digital"
+    items = ["D.2.1", "D.2.2", "D.2.3"]
+    camp = _camp(pm, items)
+    rec = run_items(pm, "gbt45570", items, campaign=camp)
+    _check_truth(rec, camp, {"K", "F0", "Kn", "Ka"})
+    # a non-trivial device: nonlinearity and asymmetry resolved well above their uncertainty
+    kn, ka = rec.outcomes[1].results[0], rec.outcomes[2].results[0]
+    assert kn.value.to("ppm").magnitude > 2 * kn.U.to("ppm").magnitude
+    assert ka.value.to("ppm").magnitude > 2 * ka.U.to("ppm").magnitude
+    # type B rows come from the campaign's rate table
+    assert any(r.type == "B" and "rate-table" in r.source for r in rec.outcomes[0].results[0].budget.rows)
+
+
+def test_d24_repeatability_recovers_turn_on_scatter(pm):
+    assert pm.procedure("gbt45570", "D.2.4") is ScaleFactorRepeatabilityD24
+    camp = _camp(pm, ["D.2.4"], sf_turn_on_sigma=2e-5)
+    rec = run_items(pm, "gbt45570", ["D.2.4"], campaign=camp)
+    _check_truth(rec, camp, {"Kr"})
+    assert rec.outcomes[0].results[0].value.to("ppm").magnitude > 5
+
+
+def test_d25_temperature_sensitivity(pm):
+    assert pm.procedure("gbt45570", "D.2.5") is ScaleFactorTemperatureSensitivityD25
+    camp = _camp(pm, ["D.2.5"])
+    rec = run_items(pm, "gbt45570", ["D.2.5"], campaign=camp)
+    _check_truth(rec, camp, {"Kt"})
+    r = rec.outcomes[0].results[0]
+    assert r.value.to("ppm/delta_degC").magnitude == pytest.approx(DIGITAL_DEFAULTS["sf_tc_per_C"] * 1e6, rel=0.05)
+    assert any(row.type == "B" and "chamber" in row.source for row in r.budget.rows)
+
+
+def test_d26_misalignment_cancels_the_fixture(pm):
+    assert pm.procedure("gbt45570", "D.2.6") is InputAxisMisalignmentD26
+    camp = _camp(pm, ["D.2.6"], misalign_alpha_arcsec=70.0, misalign_beta_arcsec=-30.0,
+                 fixture_tilt_arcsec=(400.0, -250.0))
+    rec = run_items(pm, "gbt45570", ["D.2.6"], campaign=camp)
+    _check_truth(rec, camp, {"alpha", "beta", "gamma"})
+    o = rec.outcomes[0]
+    # the truth itself, not only the ideal evaluation: the 400″ fixture error is gone
+    assert o.result("alpha").value.to("arcsec").magnitude == pytest.approx(70.0, abs=o.result("alpha").U.to("arcsec").magnitude)
+    assert o.result("beta").value.to("arcsec").magnitude == pytest.approx(-30.0, abs=o.result("beta").U.to("arcsec").magnitude)
+    assert any("fixture" in row.source for row in o.result("gamma").budget.rows)
+
+
+def test_d3_rate_method_finds_the_largest_range_within_the_limit(pm):
+    assert pm.procedure("gbt45570", "D.3") is MaxInputRateD3
+    opts = {"method": "rate", "Kn_limit": "20 ppm"}
+    camp = _camp(pm, ["D.3"], options={"D.3": opts}, sf_quadratic=2e-4)
+    rec = run_items(pm, "gbt45570", ["D.3"], campaign=camp, options=opts)
+    o = rec.outcomes[0]
+    om = o.results[0].value.to("deg/s").magnitude
+    assert 10 < om < 400
+    rows = {float(r[0]): r[2] for r in o.tables[0].rows}
+    assert rows[om] == "yes" and all(v == "no" for r, v in rows.items() if r > om)
+    assert any(row.type == "A" for row in o.results[0].budget.rows)
+
+
+def test_d3_default_limit_from_tables_a1_b1_and_device(pm):
+    dev = digital_station_factory().device()
+    lim, src = default_nonlinearity_limit(dev)
+    assert lim.to("ppm").magnitude == pytest.approx(50.0) and "B.1" in src  # fibre, aviation
+    lim, src = default_nonlinearity_limit(station_factory().device())
+    assert lim.to("ppm").magnitude == pytest.approx(10.0) and "A.1" in src  # laser, aviation
+    import attrs
+
+    spec = attrs.evolve(dev, properties=dict(dev.properties) | {"nonlinearity_limit": Q_(30, "ppm")})
+    assert default_nonlinearity_limit(spec)[0].to("ppm").magnitude == pytest.approx(30.0)
+    with pytest.raises(DataError, match="Kn_limit"):
+        default_nonlinearity_limit(attrs.evolve(dev, technology="MEMS"))
+
+
+def test_d3_on_the_default_pulse_station_matches_expected(pm):
+    camp = _camp(pm, ["D.3"], station=station_factory())
+    rec = run_items(pm, "gbt45570", ["D.3"], campaign=camp)
+    _check_truth(rec, camp, {"Omega_max"})
+    assert any("largest rate tested" in w for w in rec.outcomes[0].warnings)
+
+
+def test_d3_no_range_meets_the_limit(pm):
+    opts = {"method": "rate", "Kn_limit": "0.001 ppm"}
+    camp = _camp(pm, ["D.3"], options={"D.3": opts}, sf_quadratic=2e-4)
+    with pytest.raises(ProcedureError, match="no tested range meets"):
+        run_items(pm, "gbt45570", ["D.3"], campaign=camp, options=opts)
+
+
+def test_d3_limit_option_is_unit_checked(pm):
+    opts = {"method": "rate", "Kn_limit": "20 deg/s"}
+    camp = _camp(pm, ["D.2.1"])
+    with pytest.raises(DataError, match="Kn_limit"):
+        run_items(pm, "gbt45570", ["D.3"], campaign=camp, options=opts)
+
+
+# ---------------------------------------------------------------------------- interpretations
+
+
+def test_d21_type_a_is_propagated_not_the_residual_scatter(pm):
+    """interpretations.md "D.2.1 — type A of the fit": a strongly nonlinear gyro has large fit
+    residuals, but its K is measured as precisely as its outputs' scatter allows."""
+    camp = _camp(pm, ["D.2.1"], sf_quadratic=3e-4)
+    r = run_items(pm, "gbt45570", ["D.2.1"], campaign=camp).outcomes[0].results[0]
+    row = r.budget.rows[0]
+    assert row.type == "A" and "residual s" in row.note
+    resid = float(row.note.split("residual s = ")[1].split(" ")[0])
+    assert resid > 10  # LSB: the nonlinearity
+    assert row.contribution.magnitude < 0.01  # LSB/(°/s): the noise only
+
+
+def test_d22_fm_is_the_larger_output_at_the_maximum_rate():
+    """interpretations.md "D.2.2 — F_m": |F_m| is the larger |F_kj| of the two directions at the
+    largest rate."""
+    from metro.plugins.gbt45570.rate_method import RateData, nonlinearity_of
+
+    w = np.array([-2.0, -1.0, 1.0, 2.0])
+    data = RateData(w, np.array([-199.0, -100.0, 100.0, 202.0]), np.ones(4), np.full(4, 10), 0.0, 0.0, ())
+    kn, j, Fm, *_ = nonlinearity_of(data)
+    assert Fm == 202.0
+    only_small = nonlinearity_of(data, upto=1.0)
+    assert only_small[2] == 100.0
+
+
+# ---------------------------------------------------------------------------- bad input
+
+
+def test_fewer_than_eleven_rate_points(pm):
+    camp = _camp(pm, ["D.2.1"], drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5", "rate-2.5",
+                                      "rate+4", "rate-4"})
+    with pytest.raises(DataError, match="at least 11 rate points"):
+        run_items(pm, "gbt45570", ["D.2.1"], campaign=camp)
+
+
+def test_missing_direction(pm):
+    camp = _camp(pm, ["D.2.2"], drop={"rate-25"})
+    with pytest.raises(DataError, match=r"25 °/s has no clockwise \(−\)") as e:
+        run_items(pm, "gbt45570", ["D.2.2"], campaign=camp)
+    assert e.value.field == "segments.rate+25"
+
+
+def test_missing_rest_output(pm):
+    camp = _camp(pm, ["D.2.3"], drop={"rest-end"})
+    with pytest.raises(DataError, match="at rest.*missing: end"):
+        run_items(pm, "gbt45570", ["D.2.3"], campaign=camp)
+
+
+def test_d24_six_repeats_instead_of_seven(pm):
+    drop = {s.segment for s in ScaleFactorRepeatabilityD24().sequence({}) if s.segment.startswith("run7-")}
+    camp = _camp(pm, ["D.2.4"], drop=drop)
+    with pytest.raises(DataError, match=r"needs 7 power-ons.*found 6 run") as e:
+        run_items(pm, "gbt45570", ["D.2.4"], campaign=camp)
+    assert e.value.field == "segments"
+
+
+def test_d25_temperatures_without_room_temperature(pm):
+    temps = {"temperatures": "-40 °C, -20 °C, 0 °C, 40 °C, 60 °C"}
+    camp = _camp(pm, ["D.2.5"], options={"D.2.5": temps})
+    with pytest.raises(DataError, match="no point at room temperature"):
+        run_items(pm, "gbt45570", ["D.2.5"], campaign=camp)
+
+
+def test_d25_fewer_than_five_temperatures(pm):
+    temps = {"temperatures": "-40 °C, 20 °C, 60 °C"}
+    camp = _camp(pm, ["D.2.5"], options={"D.2.5": temps})
+    with pytest.raises(DataError, match="at least 5 temperature points"):
+        run_items(pm, "gbt45570", ["D.2.5"], campaign=camp)
+
+
+def test_d26_missing_mounting(pm):
+    camp = _camp(pm, ["D.2.6"], drop={"YRA-180-rate+30", "YRA-180-rate-30"})
+    with pytest.raises(DataError, match=r"missing: YRA up, turned 180°"):
+        run_items(pm, "gbt45570", ["D.2.6"], campaign=camp)
+
+
+def test_rate_method_refuses_pulse_output(pm):
+    camp = _camp(pm, ["D.2.1"], station=station_factory(duration_scale=FAST))
+    with pytest.raises(DataError, match="LSB"):
+        run_items(pm, "gbt45570", ["D.2.1"], campaign=camp)
+
+
+def test_cli_runs_d21_on_the_digital_station(run_cli):
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.2.1", "--no-report", "--no-progress", "--json")
+    assert code == 0, err
+    import json
+
+    doc = json.loads(out)
+    k = [r for r in doc["results"] if r["key"] == "K"][0]
+    assert k["unit"].startswith("LSB")
