@@ -279,9 +279,10 @@ def _fmt(x: float, unit_text: str, sig: int = 4) -> str:
 
 def _digits(x: float, U: float) -> int:
     """Significant digits that keep x − U and x + U apart in the text (4 at least)."""
-    if U <= 0 or x == 0:
+    ratio = abs(x) / U if U > 0 else math.inf
+    if x == 0 or not math.isfinite(ratio):
         return 4
-    return int(min(12, max(4, math.ceil(math.log10(abs(x) / U)) + 2)))
+    return int(min(12, max(4, math.ceil(math.log10(ratio)) + 2)))
 
 
 def decide(

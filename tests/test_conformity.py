@@ -62,6 +62,9 @@ def test_guarded_and_simple_hand_worked():
     assert decide(kn, Q_(10, "ppm"), None, SIMPLE).status is Status.PASS  # on the limit conforms
     nou = decide(kn, Q_(1, "ppm"), None, GUARDED)
     assert nou.status is Status.INDETERMINATE and "no expanded uncertainty" in nou.reason
+    # the interval is printed with digits enough to tell its ends apart
+    k = decide(parse_limit("K", ">= 0.25 P/″"), Q_(0.8, "P/arcsec"), Q_(1.4e-6, "P/arcsec"))
+    assert "[0.7999986, 0.8000014 P/″]" in k.reason
     # a range in °/h judged on a value in ″/s (1 ″/s = 1 °/h)
     b0 = parse_limit("B0", "-1 .. 1 deg/h")
     assert decide(b0, Q_(-0.5, "arcsec/s"), Q_(0.1, "deg/h")).status is Status.PASS
