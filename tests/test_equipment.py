@@ -277,7 +277,10 @@ def test_models_check_units_and_calibration():
 # every (role, property) the built-in procedures read — keep in step with
 # `grep -rn 'equipment_for\|\.prop("' plugins/`
 READ_BY_PROCEDURES = {
-    "simulated": {"platform": ["levelness"], "rate_table": ["revolution_pulse_accuracy"], "chamber": [],
+    "simulated": {"platform": ["levelness"],
+                  "rate_table": ["revolution_pulse_accuracy", "rate_band_1_upper", "rate_band_1_error",
+                                 "rate_band_1_ripple"],
+                  "chamber": [],
                   "field_generator": ["uniformity"], "counter": [], "fixture": ["reseat_tilt"],
                   "tilt_table": ["position_accuracy"], "vibration_table": [], "shock_table": ["duration_accuracy"],
                   "voltmeter": [], "ammeter": []},
