@@ -213,7 +213,7 @@ def _line(x, y) -> tuple[float, float]:
 
 
 def _kn_angle(rates, Ki) -> float:
-    W, K = _line(rates, Ki)
+    _, K = _line(rates, Ki)
     return float(np.max(np.abs(Ki - K)) / K)
 
 

@@ -258,7 +258,7 @@ def test_d22_fm_is_the_larger_output_at_the_maximum_rate():
 
     w = np.array([-2.0, -1.0, 1.0, 2.0])
     data = RateData(w, np.array([-199.0, -100.0, 100.0, 202.0]), np.ones(4), np.full(4, 10), 0.0, 0.0, ())
-    kn, j, Fm, *_ = nonlinearity_of(data)
+    Fm = nonlinearity_of(data)[2]
     assert Fm == 202.0
     only_small = nonlinearity_of(data, upto=1.0)
     assert only_small[2] == 100.0
@@ -327,5 +327,5 @@ def test_cli_runs_d21_on_the_digital_station(run_cli):
     import json
 
     doc = json.loads(out)
-    k = [r for r in doc["results"] if r["key"] == "K"][0]
+    k = next(r for r in doc["results"] if r["key"] == "K")
     assert k["unit"].startswith("LSB")

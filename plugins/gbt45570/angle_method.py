@@ -519,7 +519,7 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     res = Result(proc.metrics[0], Q_(Kt, "1/delta_degC"), budget.combined, budget,
                  note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C")
     plot = PlotSpec("K_temperature", f"Scale factor against temperature ({proc.item})", "T (°C)",
-                    f"(K − K₀₀)/K₀₀ (ppm)",
+                    "(K − K₀₀)/K₀₀ (ppm)",
                     [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],
                       "yerr": [2e6 * u / K0 for u in uKs], "style": "o"}])
     table = TableSpec("K_temperatures", "K at each temperature point", ["T (°C)", f"K ({k_unit})",

@@ -212,7 +212,7 @@ def max_input_rate_d3(rates_deg_s: Sequence[float], nonlinearity_of: Callable[[f
         has two parameters).
     :return: (Ω_max or None if no range meets the limit, [(Ω, K_n of the range up to Ω), …]).
     """
-    r = sorted(set(abs(float(x)) for x in rates_deg_s))
+    r = sorted({abs(float(x)) for x in rates_deg_s})
     if len(r) < min_points:
         raise ValueError(f"D.3 needs at least {min_points} rate points, got {len(r)}")
     curve = [(om, float(nonlinearity_of(om))) for om in r[min_points - 1:]]

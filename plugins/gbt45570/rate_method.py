@@ -46,8 +46,6 @@ from . import formulas_rate as F2
 from .angle_method import (
     MOUNTINGS,
     REPEAT_RATE,
-    _angle_row,
-    _grouped,
     _sequence as _angle_sequence,
     _temperature_outcome,
     collect_rate_points,
@@ -143,7 +141,7 @@ class RateData:
 
     @property
     def magnitudes(self) -> list[float]:
-        return sorted(set(float(abs(r)) for r in self.rates))
+        return sorted({float(abs(r)) for r in self.rates})
 
 
 def _mean_output(seg: Segment, campaign: Campaign) -> tuple[float, float, int]:
@@ -708,7 +706,7 @@ class MaxInputRateD3(Procedure):
     item = "D.3"
     title = "Maximum input rate (最大输入角速率)"
     clause = "D.3"
-    metrics = (Metric("Omega_max", "maximum input rate", "Ω_max", "deg/s", "D.3", ""),)
+    metrics = (Metric("Omega_max", "maximum input rate", "Ω_max", "deg/s", "D.3", "D.7, D.25"),)
     requires = (attrs.evolve(RATE_OUTPUT, description="rate method: " + RATE_OUTPUT.description),
                 SegmentRequirement("rate-revolutions", "or, angle method: m whole revolutions at each rate point, each "
                                    "direction (D.1.1.2 g))", conditions={"rate": "deg/s", "turns": ""},
