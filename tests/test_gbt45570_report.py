@@ -150,3 +150,24 @@ def test_series_alias_reports_the_method_choice(run_cli):
     code, out, _ = run_cli("plan", "-s", "gbt45570", "-i", "scale-factor", "--json")
     kinds = {s["kind"] for s in json.loads(out)["steps"]}
     assert code == 0 and "rate-revolutions" in kinds and "rate-output" not in kinds  # the angle method's steps
+
+
+def test_fibre_gyro_takes_the_rate_method_and_table_b1():
+    """The digital-output (fibre) simulated gyro: 6.2.7.1 picks D.2 (no declared nonlinearity; B.1
+    aviation limit 50×10⁻⁶ > 5×10⁻⁶) and the verdicts cite table B.1."""
+    from metro.core.report import report_context
+
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "gbt45570", ["scale-factor"], station="simulated-digital",
+                    station_options={"duration_scale": 0.3, "seed": 4})
+    assert rec.campaign.device.technology == "fibre"
+    assert [o.item for o in rec.outcomes] == ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5"]
+    why = {c.item: c for c in rec.selection}
+    assert not why["D.1.1"].run and "rate method (D.2)" in why["D.1.1"].reason and "table B.1" in why["D.1.1"].reason
+    assert all("table B.1" in v.spec.source for v in rec.conformity.verdicts)
+    ctx = report_context(rec)
+    pm.extend_report_context(rec, ctx)
+    g = ctx["gbt45570"]
+    assert g["limits"]["table"] == "B.1" and g["method"].startswith("Scale-factor series by the rate method (D.2)")
+    rows = {r["name"].split(" (")[0]: r for r in g["limits"]["rows"]}
+    assert rows["零偏 bias"]["result"] == gbt_report.NOT_PERFORMED
