@@ -25,7 +25,7 @@ from .errors import UnitError
 
 __all__ = [
     "ureg", "Q_", "Quantity", "unit", "parse_quantity", "check_dimension", "add_definitions",
-    "fmt_unit", "normalise_unit_text", "angle_power",
+    "fmt_unit", "normalise_unit_text", "angle_power", "difference_unit",
 ]
 
 
@@ -127,6 +127,15 @@ def angle_power(unit: Any) -> float:
         if name in _ANGLE_UNITS:
             total += exp
     return total
+
+
+def difference_unit(u: Any) -> pint.Unit:
+    """The unit of a difference or an uncertainty of quantities in ``u``: ``u`` itself, except
+    for an offset unit (°C → Δ°C), whose values cannot be added or scaled."""
+    uu = ureg.Unit(u) if not isinstance(u, pint.Unit) else u
+    if Q_(1.0, uu)._is_multiplicative:
+        return uu
+    return ureg.Unit(" * ".join(f"delta_{name} ** {exp:g}" for name, exp in uu._units.items()))
 
 
 def unit(text: str) -> pint.Unit:
