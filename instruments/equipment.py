@@ -246,7 +246,7 @@ class RateTable(EquipmentModel):
         return Q_(mean + noise, "deg/s")
 
     def angle_output(self, rate: pint.Quantity, interval: pint.Quantity,
-                     start: pint.Quantity = Q_(0.0, "deg")) -> tuple[pint.Quantity, pint.Quantity]:
+                     start: pint.Quantity | None = None) -> tuple[pint.Quantity, pint.Quantity]:
         """The table's angle readings at the end of each sample for this rate record, and the
         true angle at the end (pass it as ``start`` of the next chunk).
 
@@ -255,6 +255,7 @@ class RateTable(EquipmentModel):
         """
         w = _arr(rate, "deg/s", "rate")
         dt_s = _f(parse_quantity(interval, dimension="s", field="interval"), "s")
+        start = Q_(0.0, "deg") if start is None else parse_quantity(start, dimension="deg", field="start")
         theta = _f(start, "arcsec") + np.cumsum(w) * dt_s * 3600.0
         res = _f(self.angle_resolution, "arcsec")
         read = np.floor(theta / res) * res if res > 0 else theta
