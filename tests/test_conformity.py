@@ -130,7 +130,7 @@ def specs(draw):
     return Specification("X", kind, Q_(a, "deg/h"), magnitude=mag)
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(specs(), finite, nonneg)
 def test_guarded_verdicts_imply_simple_ones(spec, value, U):
     g = decide(spec, Q_(value, "deg/h"), Q_(U, "deg/h"), GUARDED).status
@@ -142,7 +142,7 @@ def test_guarded_verdicts_imply_simple_ones(spec, value, U):
         assert s is Status.FAIL
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(specs(), finite, nonneg, st.floats(min_value=0, max_value=1))
 def test_a_smaller_U_never_turns_a_decision_around(spec, value, U, shrink):
     big = decide(spec, Q_(value, "deg/h"), Q_(U, "deg/h"), GUARDED).status

@@ -157,13 +157,17 @@ def test_fibre_gyro_takes_the_rate_method_and_table_b1():
     aviation limit 50×10⁻⁶ > 5×10⁻⁶) and the verdicts cite table B.1."""
     from metro.core.report import report_context
 
+    from metro.core.runner import select_items, station_device
+
     pm = get_plugin_manager(autoload=False)
-    rec = run_items(pm, "gbt45570", ["scale-factor"], station="simulated-digital",
-                    station_options={"duration_scale": 0.3, "seed": 4})
-    assert rec.campaign.device.technology == "fibre"
-    assert [o.item for o in rec.outcomes] == ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5"]
-    why = {c.item: c for c in rec.selection}
+    device = station_device(pm, "simulated-digital", {})
+    assert device.technology == "fibre"
+    items, choices = select_items(pm, "gbt45570", ["scale-factor"], device=device)
+    assert items == ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5"]
+    why = {c.item: c for c in choices}
     assert not why["D.1.1"].run and "rate method (D.2)" in why["D.1.1"].reason and "table B.1" in why["D.1.1"].reason
+    rec = run_items(pm, "gbt45570", ["D.2.1", "D.2.2"], station="simulated-digital",
+                    station_options={"duration_scale": 0.3, "seed": 4})
     assert all("table B.1" in v.spec.source for v in rec.conformity.verdicts)
     ctx = report_context(rec)
     pm.extend_report_context(rec, ctx)
