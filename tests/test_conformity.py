@@ -336,3 +336,26 @@ def test_all_on_recorded_data_runs_the_items_the_campaign_has_data_for():
     assert not why["D.5.3"].run and "no data" in why["D.5.3"].reason and "'static-repeat'" in why["D.5.3"].reason
     assert why["D.5.1"].via == "series bias"
     assert {v.key for v in rec.conformity.verdicts} >= {"B0", "Bs_10s"}  # A.1, aviation (the example's device)
+
+
+def test_a_procedure_decides_its_own_applicability_when_no_plugin_answers():
+    from metro.core.model import Applicability
+    from metro.core.plugins import ProcedureInfo, get_plugin_manager
+    from metro.core.runner import select_items
+
+    pm = get_plugin_manager(autoload=False)
+
+    class MemsOnly(pm.procedure("jjf2014", "7.2.1")):
+        item = "X.9"
+
+        @classmethod
+        def applies_to(cls, device):
+            ok = device is not None and device.technology == "mems"
+            return Applicability(ok, "for MEMS gyros only" if not ok else "a MEMS gyro")
+
+    pm.registry.procedures["jjf2014:X.9"] = ProcedureInfo(MemsOnly, "test")
+    items, choices = select_items(pm, "jjf2014", [], run_all=True, device=DeviceUnderTest("V", technology="vibratory"))
+    assert "X.9" not in items and "7.2.1" in items
+    assert {c.item: c.reason for c in choices}["X.9"] == "for MEMS gyros only"
+    items, _ = select_items(pm, "jjf2014", ["X.9"], device=DeviceUnderTest("V", technology="vibratory"))
+    assert items == ["X.9"]  # named explicitly: it runs
