@@ -418,6 +418,10 @@ class VibratoryStation:
     latitude_deg: float = 39.98
     duration_scale: float = 1.0
     nonlinearity_spec: float = 2e-4
+    #: read the mV output through the station's DMM model (its gain and offset errors and 6½-digit
+    #: rounding, :class:`metro.instruments.equipment.DigitalMultimeter`); off by default so the
+    #: declared truth is what the records carry
+    instrument_errors: bool = False
 
     name = "simulated-jjf2014"
 
@@ -435,6 +439,13 @@ class VibratoryStation:
 
         return equipment_list(jjf2014_equipment())
 
+    def _through_dmm(self, cols: dict[str, tuple[np.ndarray, str]]) -> dict[str, tuple[np.ndarray, str]]:
+        from .equipment import DigitalMultimeter, jjf2014_equipment
+
+        dmm = next(m for m in jjf2014_equipment() if isinstance(m, DigitalMultimeter))
+        arr, u = cols["output"]
+        return cols | {"output": (np.asarray(dmm.read(Q_(arr, u)).to(u).magnitude, dtype=float), u)}
+
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         t = self.truth
         segs = []
@@ -445,6 +456,8 @@ class VibratoryStation:
             n = max(10, int(round(n_full * scale)))
             rng = np.random.default_rng([t.seed, i])
             cols = simulate_segment(t, st.kind, st.conditions, n, dt_, self.latitude_deg, rng)
+            if self.instrument_errors:
+                cols = self._through_dmm(cols)
             h = hashlib.sha256()
             for name in sorted(cols):
                 h.update(cols[name][0].tobytes())
@@ -466,10 +479,12 @@ class VibratoryStation:
 
 def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
-    latitude_deg, duration_scale, nonlinearity_spec)."""
+    latitude_deg, duration_scale, nonlinearity_spec, instrument_errors)."""
     fields = attrs.fields_dict(VibratoryTruth)
     truth_kw = {k: (int(v) if k == "seed" else v) for k, v in options.items() if k in fields}
     st_kw = {k: float(v) for k, v in options.items() if k in ("latitude_deg", "duration_scale", "nonlinearity_spec")}
+    if "instrument_errors" in options:
+        st_kw["instrument_errors"] = str(options["instrument_errors"]).lower() in ("1", "true", "yes")
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 

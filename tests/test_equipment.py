@@ -302,3 +302,30 @@ def test_station_equipment_keeps_the_roles_and_properties_procedures_read(statio
         assert role in eq, f"{station}: no equipment with role {role!r}"
         for p in props:
             assert p in eq[role].properties, f"{station}: {role} lacks {p!r}"
+
+
+def test_a_simulated_station_reads_its_output_through_its_dmm_model():
+    """simulated-jjf2014 with instrument_errors: the mV record is what the station's DMM reads —
+    within the DMM's stated error of the gyro's output, on its 6½-digit grid — and the item still
+    recovers the truth within U."""
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import load_campaign, run_items
+
+    pm = get_plugin_manager(autoload=False)
+    proc = pm.procedure("jjf2014", "7.2.1")
+    ideal = load_campaign(pm, [proc], [{}], data=None, station_options={"duration_scale": 0.05})
+    real = load_campaign(pm, [proc], [{}], data=None,
+                         station_options={"duration_scale": 0.05, "instrument_errors": True})
+    dmm = next(m for m in E.jjf2014_equipment() if isinstance(m, E.DigitalMultimeter))
+    res_mV = dmm.resolution.to("mV").magnitude
+    for a, b in zip(ideal.segments, real.segments):
+        x, u = a.columns()["output"]
+        y, _ = b.columns()["output"]
+        bound = dmm.error_bound(Q_(x, u)).to(u).magnitude + res_mV / 2
+        assert np.all(np.abs(y - x) <= bound * (1 + 1e-9))
+        np.testing.assert_allclose(y / res_mV, np.round(y / res_mV), atol=1e-6)
+    assert any(np.any(a.columns()["output"][0] != b.columns()["output"][0])
+               for a, b in zip(ideal.segments, real.segments))
+    r = run_items(pm, "jjf2014", ["7.2.1"], campaign=real).outcomes[0].result("K")
+    truth = real.expected["K"]
+    assert abs(r.value - truth) <= r.U
