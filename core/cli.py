@@ -228,8 +228,12 @@ def _cmd_items(args) -> int:
                      "clause": cls.clause, "plugin": info.plugin,
                      "options": {o.name: {"default": o.default, "unit": o.unit, "description": o.description}
                                  for o in cls.options}})
+    series = [{"id": key, "standard": ser.standard, "name": ser.name, "members": list(ser.members),
+               "description": ser.description, "plugin": ser.plugin}
+              for key, ser in sorted(pm.registry.series.items())
+              if not args.standard or ser.standard == args.standard]
     if args.json:
-        print(json.dumps({"items": rows}, ensure_ascii=False, indent=2))
+        print(json.dumps({"items": rows, "series": series}, ensure_ascii=False, indent=2))
         return 0
     from rich.console import Console
     from rich.table import Table
@@ -241,6 +245,8 @@ def _cmd_items(args) -> int:
         t.add_row(r["id"], r["title"], r["clause"], r["plugin"],
                   "; ".join(f"{k} (default {v['default']})" for k, v in r["options"].items()) or "-")
     Console().print(t)
+    for ser in series:  # `metro run -s S -i NAME` runs the members that apply to the device
+        Console().print(f"series {ser['id']}: {', '.join(ser['members'])} — {ser['description']}")
     return 0
 
 

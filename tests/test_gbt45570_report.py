@@ -147,6 +147,9 @@ def test_series_alias_reports_the_method_choice(run_cli):
     assert doc["conformity"]["rule"] == "guarded" and doc["conformity"]["verdicts"]
     code, _, err = run_cli("run", "-s", "gbt45570", "--no-report")
     assert code == 2 and "--all" in err
+    code, out, _ = run_cli("items", "-s", "gbt45570", "--json")
+    series = {x["name"]: x for x in json.loads(out)["series"]}
+    assert code == 0 and series["scale-factor"]["members"][:2] == ["D.1.1", "D.1.2"]
     code, out, _ = run_cli("plan", "-s", "gbt45570", "-i", "scale-factor", "--json")
     kinds = {s["kind"] for s in json.loads(out)["steps"]}
     assert code == 0 and "rate-revolutions" in kinds and "rate-output" not in kinds  # the angle method's steps
