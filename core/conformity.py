@@ -365,18 +365,25 @@ class Assessment:
 
 
 def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: DecisionRule = DEFAULT_RULE) -> Assessment:
-    """Judge every result of ``outcomes`` that a specification applies to."""
-    verdicts: list[Verdict] = []
-    met: set[int] = set()
+    """Judge every result of ``outcomes`` that a specification applies to.
+
+    Where several apply to one result the most specific wins (the longest symbol: a limit on
+    ``B0_low`` judges ``B0_low``, not the limit on ``B0``).  Verdicts come in the order of ``specs``.
+    """
     outcomes = list(outcomes)
-    for i, spec in enumerate(specs):
-        for o in outcomes:
-            for r in o.results:
-                if not spec.applies_to(r.metric.key, o.item):
-                    continue
-                met.add(i)
-                verdicts.append(decide(spec, r.value, r.U, rule, key=r.metric.key, item=o.item, k=r.k))
-    return Assessment(rule, verdicts, [s for i, s in enumerate(specs) if i not in met])
+    judged: dict[int, list[tuple[Any, Any]]] = {}
+    for o in outcomes:
+        for r in o.results:
+            fits = [i for i, sp in enumerate(specs) if sp.applies_to(r.metric.key, o.item)]
+            if not fits:
+                continue
+            longest = max(len(specs[i].symbol) for i in fits)
+            for i in fits:
+                if len(specs[i].symbol) == longest:
+                    judged.setdefault(i, []).append((o, r))
+    verdicts = [decide(specs[i], r.value, r.U, rule, key=r.metric.key, item=o.item, k=r.k)
+                for i in sorted(judged) for o, r in judged[i]]
+    return Assessment(rule, verdicts, [sp for i, sp in enumerate(specs) if i not in judged])
 
 
 # --------------------------------------------------------------------------------------

@@ -98,6 +98,11 @@ def test_assess_matches_keyed_variants_and_lists_unmet_limits():
     assert [(v.key, v.status) for v in a.verdicts] == [("Bh_IRA", Status.PASS), ("Bh_XRA", Status.FAIL)]
     assert [s.symbol for s in a.not_assessed] == ["RWC"]
     assert a.overall is Status.FAIL and a.counts() == {"pass": 1, "fail": 1, "indeterminate": 0}
+    # the most specific limit judges a result
+    both = [parse_limit("Bh", "|x| <= 1 deg/h/mT"), parse_limit("Bh_XRA", "|x| <= 0.6 deg/h/mT")]
+    a = cf.assess([out], both, SIMPLE)
+    assert [(v.spec.symbol, v.key, v.status) for v in a.verdicts] == [
+        ("Bh", "Bh_IRA", Status.PASS), ("Bh_XRA", "Bh_XRA", Status.PASS)]
     # a manifest's limit replaces the standard's for the same symbol
     merged = cf.merge_specifications(specs, [parse_limit("Bh", "<= 1 deg/h/mT", source="product spec")])
     assert {s.symbol: s.source for s in merged} == {"Bh": "product spec", "RWC": ""}
