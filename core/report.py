@@ -321,6 +321,21 @@ def _sanitize(obj: Any) -> Any:
     return obj
 
 
+def _conformity_block(a: Any) -> dict[str, Any] | None:
+    """The verdicts as text (None when no specification applied)."""
+    if a is None:
+        return None
+    return {
+        "rule": a.rule.name,
+        "rule_title": a.rule.title,
+        "statement": a.rule.statement,
+        "overall": a.overall.value if a.overall is not None else _DASH,
+        "verdicts": [{"item": v.item, "key": v.key, "limit": v.spec.text(), "source": v.spec.source,
+                      "status": v.status.value, "detail": v.detail, "reason": v.reason} for v in a.verdicts],
+        "not_assessed": [f"{s.symbol} {s.text()} ({s.source})" for s in a.not_assessed],
+    }
+
+
 def _unique(seq: Iterable[str]) -> list[str]:
     return list(dict.fromkeys(seq))
 
@@ -349,9 +364,11 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     ``campaign`` {id, source}, ``device`` {id, manufacturer, model, serial, technology,
     application, output, description, properties}, ``environment`` and ``site``
     ([{name, value}]), ``latitude``, ``equipment`` ([{id, description, role, certificate, U,
-    due, status, expired, valid}]), ``equipment_warnings``, ``outcomes`` (see below) and
+    due, status, expired, valid}]), ``equipment_warnings``, ``outcomes`` (see below),
     ``provenance`` {source, software, plugins ([{name, version}]), data_files ([{file,
-    sha256}])}.
+    sha256}])}, ``selection`` ([{item, run, reason, via}]: what ``--all``/a series chose and why)
+    and ``conformity`` (None, or {rule, rule_title, statement, overall, verdicts ([{item, key,
+    limit, source, status, detail, reason}]), not_assessed ([text])}).
 
     Each outcome: ``number`` ("5.1"), ``id``, ``standard``, ``designation``, ``item``,
     ``title``, ``clause``, ``segments_text``, ``options``, ``options_text``, ``results``
@@ -434,6 +451,9 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
         "equipment": equipment,
         "equipment_warnings": equipment_warnings,
         "outcomes": outcomes,
+        "selection": [{"item": c.item, "run": c.run, "reason": c.reason, "via": c.via}
+                      for c in getattr(record, "selection", ())],
+        "conformity": _conformity_block(getattr(record, "conformity", None)),
         "provenance": {
             "source": source,
             "software": [{"name": k, "version": str(v)} for k, v in software.items()],

@@ -121,6 +121,7 @@ def test_simple_rule_and_no_specification_are_stated():
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1}, decision_rule="simple")
     ctx = report_context(rec)
+    assert ctx["conformity"]["rule"] == "simple" and ctx["conformity"]["verdicts"][0]["key"] == "B0"
     pm.extend_report_context(rec, ctx)
     assert ctx["gbt45570"]["rule"]["statement"] == SIMPLE.statement
     assert all(v["status"] in ("pass", "fail") for v in ctx["gbt45570"]["verdicts"])
