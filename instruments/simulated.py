@@ -63,6 +63,18 @@ class GyroTruth:
     misalign_beta_arcsec: float = -25.0  # IA tilted from IRA towards YRA (β)
     fixture_tilt_arcsec: tuple[float, float] = (90.0, -60.0)  # XRA-up, YRA-up fixture errors (cancelled by 180°)
     # --- end of the D.1.4–D.1.6 / D.2 block ---
+    # --- threshold, environmental response, set-up and power (GB/T 45570 D.4, D.6.1–D.6.4,
+    # 6.2.7.7, 6.2.7.8; motions in instruments/sim_gbt_env.py) ---
+    dead_band_deg_h: float = 0.0035  # response r = sign(Ω)·max(|Ω| − d, 0): threshold (50 %) at 2d
+    vib_shift_during_deg_h: tuple[float, float, float] = (0.02, 0.012, 0.015)  # while vibrating along IRA, XRA, YRA
+    vib_shift_after_deg_h: tuple[float, float, float] = (0.006, 0.004, 0.005)  # after performance vibration
+    vib_endurance_shift_deg_h: tuple[float, float, float] = (0.01, 0.007, 0.008)  # after endurance vibration
+    shock_shift_deg_h: tuple[float, float, float] = (0.008, 0.005, 0.006)  # after the shocks along each axis
+    setup_transient_deg_h: float = 300.0  # bias excess at switch-on, decaying exponentially …
+    setup_tau_s: float = 1.5  # … with this time constant (set-up time ≈ τ·ln(A/tolerance))
+    power_supplies: tuple[tuple[float, float], ...] = ((5.0, 0.24), (15.0, 0.06), (-15.0, -0.02))  # (V, A)
+    power_noise_rel: float = 0.002  # relative noise of each voltage and current sample
+    # --- end of the D.4 / D.6 / set-up / power block ---
     output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
     lsb_per_deg_s: float = 5000.0
     seed: int = 20251122
@@ -274,7 +286,7 @@ AXES = ("IRA", "XRA", "YRA")
 #: step kind -> simulator; see :func:`register_step_kind`
 _STEP_SIMULATORS: dict[str, Callable[..., Segment]] = {}
 #: modules that register further step kinds of the virtual gyro (imported on first use)
-STEP_MODULES: tuple[str, ...] = ("metro.instruments.sim_gbt_rate",)
+STEP_MODULES: tuple[str, ...] = ("metro.instruments.sim_gbt_rate", "metro.instruments.sim_gbt_env")
 
 
 def register_step_kind(kind: str) -> Callable[[Callable[..., Segment]], Callable[..., Segment]]:

@@ -1,0 +1,662 @@
+"""GB/T 45570—2025 D.6 environmental tests and the general tests 6.2.7.7 and 6.2.7.8:
+D.6.1 low-temperature and D.6.2 high-temperature operation (bias and bias stability at the
+temperature), D.6.3 vibration (ΔB_V12, ΔB_V13), D.6.4 mechanical shock (ΔB_V13), 6.2.7.7 set-up
+time and 6.2.7.8 power consumption.
+
+Besides the bias quantities each environmental item reports the condition it applied (the
+temperature, the vibration or shock level), with the uncertainty of the equipment that set it,
+since table C.1 states its limits as those conditions.
+
+Data (segment kinds and conditions):
+
+* D.6.1 / D.6.2: ``low-temperature`` / ``high-temperature``, conditions ``orientation`` and
+  ``temperature``, 1 h of ``output`` after a soak of at least 2 h;
+* D.6.3: ``vibration``, conditions ``axis`` (IRA/XRA/YRA, the axis along the vibration),
+  ``test`` (``performance``/``endurance``), ``phase`` (``before``/``during``/``after``) and
+  ``level`` (g_rms); ``during`` only for performance vibration (unpowered otherwise);
+* D.6.4: ``shock``, conditions ``axis``, ``phase`` (``before``/``after``), ``level`` (peak, g) and
+  ``pulse`` (duration, ms);
+* 6.2.7.7: ``power-on``, ``output`` from the switch-on (its first sample starts at t = 0);
+* 6.2.7.8: ``power``, one per supply (condition ``supply``), columns ``voltage`` (V) and
+  ``current`` (A).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+import numpy as np
+
+from metro.core import allan
+from metro.core.budget import BudgetRow, UncertaintyBudget
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import (
+    Campaign,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    Outcome,
+    PlotSpec,
+    Procedure,
+    Result,
+    RunContext,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+)
+from metro.core.signals import OUTPUT_UNITS, gyro_output
+from metro.core.units import Q_, parse_quantity
+
+from . import env_formulas as E
+from .procedures import COVERAGE, STANDARD, _check_finite, _scale_factor_row, _timebase_row, segment_bias
+
+AXES = ("IRA", "XRA", "YRA")
+_COUNTER = EquipmentRequirement("counter", "gyro test system / counter; its time-base uncertainty enters the budgets")
+
+
+def _opts_text(opts: Mapping[str, Any]) -> dict[str, str]:
+    return {k: str(v) for k, v in opts.items()}
+
+
+def _names(text: Any, allowed: tuple[str, ...], option: str) -> list[str]:
+    out = [p.strip() for p in str(text).split(",") if p.strip()]
+    for p in out:
+        if p not in allowed:
+            raise ProcedureError(f"option {option}: {p!r} is not one of {', '.join(allowed)}")
+    return out
+
+
+def _mean_rate(seg: Segment, campaign: Campaign, batches: int) -> dict[str, Any]:
+    """Mean indicated rate of a segment (°/h, the first term of D.40) and its batch-means u."""
+    series, conv = gyro_output(seg, campaign.device, source=campaign.source)
+    raw = np.asarray(series.data.magnitude, dtype=float)
+    _check_finite(raw, seg)
+    if raw.size < 2 * batches:
+        raise DataError(seg.file or f"segment {seg.id}", "output",
+                        f"{raw.size} samples are too few for {batches} batch means")
+    sd, nb = allan.block_std(raw, raw.size // batches)
+    return {"rate": float(np.mean(raw)) * conv.magnitude, "u": sd * conv.magnitude / math.sqrt(nb),
+            "nu": nb - 1, "conv": conv}
+
+
+def _condition_result(metric: Metric, value, equipment, campaign: Campaign, *, prop: str | None = None,
+                      what: str) -> tuple[Result, list[str]]:
+    """A Result for an applied condition (temperature, vibration or shock level) with a budget
+    from the equipment that set it: its calibration (relative or absolute) and, if given, the
+    property ``prop`` (a half-width, uniform)."""
+    unit = metric.unit
+    mag = float(value.to(unit).magnitude)
+    delta = "delta_degC" if unit == "degC" else unit
+    rows, warnings = [], []
+    if equipment is not None and equipment.calibration is not None:
+        cal = equipment.calibration
+        sens = Q_(abs(mag), delta) if cal.uncertainty.dimensionless else Q_(1.0, "")
+        rows.append(BudgetRow.from_calibration(f"{what} ({equipment.describe()})", f"u({metric.symbol})", cal,
+                                               sensitivity=sens))
+    if equipment is not None and prop and prop in equipment.properties:
+        v = equipment.properties[prop]
+        q = parse_quantity(v, file=campaign.source, field=f"equipment.{prop}") if isinstance(v, str) else v
+        sens = Q_(abs(mag), delta) if q.dimensionless else Q_(1.0, "")
+        rows.append(BudgetRow.type_b(f"{prop.replace('_', ' ')} of the {equipment.role.replace('_', ' ')}",
+                                     f"δ({metric.symbol})", q, distribution="uniform", sensitivity=sens))
+    if not rows:
+        rows.append(BudgetRow.type_b(f"{what}: no calibration data given", f"u({metric.symbol})", Q_(0.0, delta),
+                                     distribution="uniform", note="uncertainty of the condition not evaluated"))
+        warnings.append(f"{metric.name}: no calibration data for the {what}; its uncertainty is not evaluated")
+    budget = UncertaintyBudget(metric.symbol, delta, rows, coverage=COVERAGE)
+    return Result(metric, Q_(mag, unit), budget.combined, budget), warnings
+
+
+# --------------------------------------------------------------------------------------------
+# D.6.1 / D.6.2 low- and high-temperature operation
+# --------------------------------------------------------------------------------------------
+
+
+class _TemperatureOperation(Procedure):
+    """Shared by D.6.1 and D.6.2: bias (D.5.1, D.40) and bias stability (D.5.2, D.41) of 1 h at
+    the temperature point after the soak, and the temperature itself."""
+
+    standard = STANDARD
+    kind: str
+    word: str
+    tag: str
+    equipment = (EquipmentRequirement("chamber", "high/low temperature chamber (D.6.1.1 b)); its calibration and "
+                                      "property uniformity enter the temperature's budget"), _COUNTER)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        T = parse_quantity(options.get("temperature", self.options[0].default), dimension="degC")
+        Tc = float(T.to("degC").magnitude)
+        return [Step(f"{self.kind}", self.kind,
+                     f"chamber to {Tc:+g} °C at ≤ 1 °C/min, soak ≥ 2 h; record 1 h at τ = 1 s (IRA up) "
+                     f"({self.clause}.2 a), b))", Q_(1, "h"), Q_(1, "s"),
+                     {"orientation": "IRA up", "temperature": f"{Tc:g} degC"}, warmup=Q_(2, "h"))]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        segs = campaign.find_segments(self.kind)
+        if not segs:
+            raise DataError(campaign.source, "segments",
+                            f"{self.qualified_id()} needs a segment of kind \"{self.kind}\" (1 h at the {self.word} "
+                            "temperature after the soak, conditions orientation and temperature); none found",
+                            hint=f"`metro plan --standard gbt45570 --item {self.item}` shows what to measure")
+        seg = segs[0]
+        T = seg.condition("temperature", "degC")
+        est = segment_bias(seg, campaign, int(opts["batches"]))
+        m = self.metrics
+        results, warnings = [], []
+        r, w = _condition_result(m[0], T, campaign.equipment_for("chamber"), campaign, prop="uniformity",
+                                 what="chamber temperature")
+        results.append(r)
+        warnings += w
+        results.append(Result(m[1], Q_(est.B0, "deg/h"), est.budget.combined,
+                              UncertaintyBudget(m[1].symbol, "deg/h", est.budget.rows, coverage=COVERAGE),
+                              note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation})"))
+        raw = np.asarray(est.series.data.magnitude, dtype=float)
+        tau0 = float(est.series.interval.to("s").magnitude)
+        conv = est.conv
+        for metric, t_s in ((m[2], 10.0), (m[3], 100.0)):
+            factor = t_s / tau0
+            if abs(factor - round(factor)) > 1e-9 or round(factor) < 1:
+                raise DataError(seg.file or f"segment {seg.id}", "sample_interval",
+                                f"t = {t_s:g} s is not a whole number of sampling intervals τ = {tau0:g} s (D.5.2)")
+            if raw.size // int(round(factor)) < 3:
+                raise DataError(seg.file or f"segment {seg.id}", "output",
+                                f"the record gives fewer than 3 values of t = {t_s:g} s; D.41 needs at least 3",
+                                hint=f"{self.clause}.2 b) asks for 1 h")
+            sd, mm = allan.block_std(raw, int(round(factor)))
+            Bs = sd * conv.magnitude
+            rows = [BudgetRow.type_a(f"sampling of the standard deviation of {mm} values", "B_s/√(2(m−1))",
+                                     Q_(Bs / math.sqrt(2 * (mm - 1)), "deg/h"), mm - 1)]
+            rows += _scale_factor_row(conv, Bs, "deg/h")
+            rows += _timebase_row(campaign, Bs, "deg/h", "B_s")
+            budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
+            results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {mm}"))
+        dur = est.series.duration.to("h")
+        if dur < Q_(1, "h") * 0.999:
+            warnings.append(f"the record lasts {dur:~.3gP}; {self.clause}.2 b) asks for 1 h")
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, warnings=warnings, segments=[seg.id],
+                       options=_opts_text(opts))
+
+
+def _temperature_metrics(tag: str, word: str, clause: str, row: str) -> tuple[Metric, ...]:
+    return (
+        Metric(f"T_{tag}", f"{word} operating temperature (table C.1 {row})", f"T_{tag}", "degC", f"{clause}.2", ""),
+        Metric(f"B0_{tag}", f"bias at the {word} temperature", "B₀", "deg/h", f"{clause}.3", "D.40"),
+        Metric(f"Bs_{tag}_10s", f"bias stability at the {word} temperature (t = 10 s)", "B_s(10 s)", "deg/h",
+               f"{clause}.3", "D.41"),
+        Metric(f"Bs_{tag}_100s", f"bias stability at the {word} temperature (t = 100 s)", "B_s(100 s)", "deg/h",
+               f"{clause}.3", "D.41"),
+    )
+
+
+class LowTemperatureOperationD61(_TemperatureOperation):
+    """GB/T 45570—2025 D.6.1 低温工作试验 (low-temperature operation): after ≥ 2 h soak at the low
+    temperature, 1 h of output processed by D.5.1 (B₀, eq. (D.40)) and D.5.2 (B_s, eq. (D.41),
+    t = 10 s and 100 s) (D.6.1.3); the temperature T_low (table C.1 row 1) with the chamber's budget."""
+
+    item = "D.6.1"
+    clause = "D.6.1"
+    title = "Low-temperature operation (低温工作)"
+    kind = "low-temperature"
+    word = "low"
+    metrics = _temperature_metrics("low", "low", "D.6.1", "row 1")
+    requires = (SegmentRequirement("low-temperature", "1 h at the low temperature after a soak of at least 2 h",
+                                   conditions={"orientation": "", "temperature": "degC"},
+                                   columns={"output": OUTPUT_UNITS}),)
+    options = (Option("temperature", "-55 °C", "degC", "the low temperature point (product spec; table C.1 row 1: "
+                                                     "−45/−55/−20 °C, the default covers all three)"),
+               Option("batches", 20, None, "batch means for the bias's type A uncertainty"))
+
+
+class HighTemperatureOperationD62(_TemperatureOperation):
+    """GB/T 45570—2025 D.6.2 高温工作试验 (high-temperature operation): as D.6.1 at the high
+    temperature (D.6.2.3: B₀ by eq. (D.40), B_s by eq. (D.41)); T_high is table C.1 row 3."""
+
+    item = "D.6.2"
+    clause = "D.6.2"
+    title = "High-temperature operation (高温工作)"
+    kind = "high-temperature"
+    word = "high"
+    metrics = _temperature_metrics("high", "high", "D.6.2", "row 3")
+    requires = (SegmentRequirement("high-temperature", "1 h at the high temperature after a soak of at least 2 h",
+                                   conditions={"orientation": "", "temperature": "degC"},
+                                   columns={"output": OUTPUT_UNITS}),)
+    options = (Option("temperature", "85 °C", "degC", "the high temperature point (product spec; table C.1 row 3: "
+                                                    "+70/+85/+60 °C, the default covers all three)"),
+               Option("batches", 20, None, "batch means for the bias's type A uncertainty"))
+
+
+# --------------------------------------------------------------------------------------------
+# D.6.3 vibration, D.6.4 mechanical shock
+# --------------------------------------------------------------------------------------------
+
+
+def _phase_segments(proc: type[Procedure], campaign: Campaign, kind: str, axis: str, phases: tuple[str, ...],
+                    **conds: str) -> dict[str, Segment]:
+    segs = [s for s in campaign.find_segments(kind)
+            if str(s.conditions.get("axis", "")).upper() == axis
+            and all(str(s.conditions.get(k, "")).lower() == v for k, v in conds.items())]
+    found: dict[str, Segment] = {}
+    for s in segs:
+        ph = str(s.condition("phase")).lower()
+        if ph in found:
+            raise DataError(campaign.source, f"segments.{s.id}", f"a second \"{ph}\" segment for axis {axis} "
+                            f"({', '.join(f'{k} {v}' for k, v in conds.items()) or kind}); also {found[ph].id}")
+        found[ph] = s
+    missing = [p for p in phases if p not in found]
+    if missing:
+        what = ", ".join(f"{k} = {v}" for k, v in conds.items())
+        raise DataError(campaign.source, "segments",
+                        f"{proc.qualified_id()} needs the {' and '.join(missing)} segment(s) of kind \"{kind}\" for "
+                        f"axis {axis}{' (' + what + ')' if what else ''}; found phases: "
+                        f"{', '.join(sorted(found)) or 'none'}",
+                        hint=f"`metro plan --standard gbt45570 --item {proc.item}` lists the segments")
+    return found
+
+
+def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign, value: float) -> Result:
+    """|B_a − B_b| (D.47/D.48) with its budget: the two means' batch scatter (A), scale factor, time base."""
+    uA = math.hypot(a["u"], b["u"])
+    nu = uA**4 / (a["u"] ** 4 / a["nu"] + b["u"] ** 4 / b["nu"]) if uA > 0 else math.inf
+    rows = [BudgetRow.type_a("scatter of the two biases (batch means)", "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
+                             note="the earth-rate term of D.40 is common to both and cancels")]
+    rows += _scale_factor_row(a["conv"], value, "deg/h")
+    rows += _timebase_row(campaign, value, "deg/h", metric.symbol)
+    budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
+    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=f"eq. ({eq})")
+
+
+def _vibration_metrics() -> tuple[Metric, ...]:
+    out = [Metric("vib_perf_level", "performance vibration level (table C.1 row 8)", "a_rms", "gn", "D.6.3.2", ""),
+           Metric("vib_end_level", "endurance vibration level (table C.1 row 9)", "a_rms", "gn", "D.6.3.2", "")]
+    for ax in AXES:
+        out += [Metric(f"dBV12_{ax}", f"bias change during performance vibration along {ax}", "ΔB_V12", "deg/h",
+                       "D.6.3.3", "D.47"),
+                Metric(f"dBV13_{ax}", f"bias change after performance vibration along {ax}", "ΔB_V13", "deg/h",
+                       "D.6.3.3", "D.48"),
+                Metric(f"dBV13end_{ax}", f"bias change after endurance vibration along {ax}", "ΔB_V13", "deg/h",
+                       "D.6.3.3", "D.48")]
+    return tuple(out)
+
+
+class VibrationD63(Procedure):
+    """GB/T 45570—2025 D.6.3 振动试验 (vibration), eqs. (D.47), (D.48).
+
+    Along each of IRA, XRA, YRA: for performance vibration the biases before (B_01), during
+    (B_02, sampled at 1 s) and after (B_03) by D.5.1, ΔB_V12 = |B_02 − B_01| (D.47) and
+    ΔB_V13 = |B_03 − B_01| (D.48); for endurance vibration (unpowered while vibrating) ΔB_V13
+    (D.48).  The biases are the mean indicated rates of D.40; its earth-rate term is common to
+    the two segments of a difference and cancels.  Budget: the two biases' batch-means scatter
+    (A), scale factor and time base (B).  The applied levels (g_rms, table C.1 rows 8 and 9; the
+    smallest over the axes) carry the vibration table's calibration.
+    """
+
+    standard = STANDARD
+    item = "D.6.3"
+    title = "Vibration (振动试验)"
+    clause = "D.6.3"
+    metrics = _vibration_metrics()
+    requires = (SegmentRequirement("vibration", "10 min before, during (performance only) and 10 min after the "
+                                   "vibration along each axis", conditions={"axis": "", "test": "", "phase": "",
+                                                                            "level": "gn"},
+                                   columns={"output": OUTPUT_UNITS}, min_count=15),)
+    equipment = (EquipmentRequirement("vibration_table", "vibration table (D.6.3.1 b)); its calibration (level) "
+                                      "enters the level's budget"), _COUNTER)
+    options = (
+        Option("tests", "performance, endurance", None, "which vibration tests: performance, endurance"),
+        Option("axes", "IRA, XRA, YRA", None, "axes along the vibration (D.6.3.2 e))"),
+        Option("performance_level", "6.6 g", "gn", "performance vibration level, g_rms (product spec; table C.1 row 8)"),
+        Option("endurance_level", "9 g", "gn", "endurance vibration level, g_rms (product spec; table C.1 row 9)"),
+        Option("vibration_time", "10 min", "s", "vibration time per axis (product spec)"),
+        Option("batches", 10, None, "batch means per segment for the type A uncertainty"),
+    )
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})
+        vt = opts["vibration_time"]
+        steps = []
+        for ax in _names(opts["axes"], AXES, "axes"):
+            orient = "IRA up" if ax == "IRA" else "IRA east"
+            for test in _names(opts["tests"], ("performance", "endurance"), "tests"):
+                lvl = opts[f"{test}_level"].to("gn").magnitude
+                base = {"orientation": orient, "axis": ax, "test": test, "level": f"{lvl:g} gn"}
+                steps.append(Step(f"vib-{test[:4]}-{ax}-before", "vibration",
+                                  f"{ax} along the vibration; warm up 10 min, record 10 min before {test} vibration "
+                                  "(D.6.3.2 b))", Q_(10, "min"), Q_(1, "s"), base | {"phase": "before"},
+                                  warmup=Q_(10, "min")))
+                if test == "performance":
+                    steps.append(Step(f"vib-perf-{ax}-during", "vibration",
+                                      f"{lvl:g} g_rms along {ax}, powered, sampled at 1 s (D.6.3.2 c))", vt,
+                                      Q_(1, "s"), base | {"phase": "during"}))
+                steps.append(Step(f"vib-{test[:4]}-{ax}-after", "vibration",
+                                  f"after {test} vibration ({lvl:g} g_rms{', unpowered' if test == 'endurance' else ''}):"
+                                  " record 10 min (D.6.3.2 d))", Q_(10, "min"), Q_(1, "s"), base | {"phase": "after"}))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        tests = _names(opts["tests"], ("performance", "endurance"), "tests")
+        axes = _names(opts["axes"], AXES, "axes")
+        b = int(opts["batches"])
+        byk = {m.key: m for m in self.metrics}
+        results, warnings, used, table = [], [], [], []
+        levels: dict[str, list[float]] = {t: [] for t in tests}
+        for ax in axes:
+            for test in tests:
+                phases = ("before", "during", "after") if test == "performance" else ("before", "after")
+                segs = _phase_segments(type(self), campaign, "vibration", ax, phases, test=test)
+                if test == "endurance" and "during" in segs:
+                    warnings.append(f"a \"during\" segment of endurance vibration along {ax} is ignored (D.6.3.2 c): "
+                                    "the gyro is not powered)")
+                means = {p: _mean_rate(segs[p], campaign, b) for p in phases}
+                levels[test].append(float(segs["before"].condition("level", "gn").to("gn").magnitude))
+                used += [segs[p].id for p in phases]
+                if test == "performance":
+                    v12 = E.bias_change_d47(means["during"]["rate"], means["before"]["rate"])
+                    v13 = E.bias_change_d48(means["after"]["rate"], means["before"]["rate"])
+                    results.append(_delta_result(byk[f"dBV12_{ax}"], "D.47", means["during"], means["before"],
+                                                 campaign, v12))
+                    results.append(_delta_result(byk[f"dBV13_{ax}"], "D.48", means["after"], means["before"],
+                                                 campaign, v13))
+                else:
+                    v13 = E.bias_change_d48(means["after"]["rate"], means["before"]["rate"])
+                    results.append(_delta_result(byk[f"dBV13end_{ax}"], "D.48", means["after"], means["before"],
+                                                 campaign, v13))
+                table.append([ax, test] + [f"{means[p]['rate']:.5f}" if p in means else "—"
+                                           for p in ("before", "during", "after")])
+        table_eq = campaign.equipment_for("vibration_table")
+        for test in tests:
+            key = "vib_perf_level" if test == "performance" else "vib_end_level"
+            r, w = _condition_result(byk[key], Q_(min(levels[test]), "gn"), table_eq, campaign, prop="level_accuracy",
+                                     what="vibration level")
+            results.insert(0 if test == "performance" else 1, r)
+            warnings += w
+        tab = TableSpec("vibration_biases", "Mean indicated rate before, during and after vibration (°/h)",
+                        ["axis", "test", "before B₀₁", "during B₀₂", "after B₀₃"], table)
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[tab], warnings=warnings,
+                       segments=used, options=_opts_text(opts))
+
+
+def _shock_metrics() -> tuple[Metric, ...]:
+    out = [Metric("shock_level", "mechanical shock peak level (table C.1 row 10)", "a_p", "gn", "D.6.4.2", ""),
+           Metric("shock_duration", "mechanical shock pulse duration (table C.1 row 10)", "t_p", "ms", "D.6.4.2", "")]
+    for ax in AXES:
+        out.append(Metric(f"dBshock_{ax}", f"bias change after mechanical shock along {ax}", "ΔB_V13", "deg/h",
+                          "D.6.4.3", "D.48"))
+    return tuple(out)
+
+
+class MechanicalShockD64(Procedure):
+    """GB/T 45570—2025 D.6.4 机械冲击试验 (mechanical shock), eq. (D.48).
+
+    Along each of IRA, XRA, YRA the biases before and after the (unpowered) shocks by D.5.1 and
+    ΔB_V13 = |B_03 − B_01| (D.48, as D.6.4.3 directs).  Budget as D.6.3.  The applied peak level
+    (g) and pulse duration (ms) of table C.1 row 10 (the smallest over the axes) carry the shock
+    table's calibration and its duration accuracy.
+    """
+
+    standard = STANDARD
+    item = "D.6.4"
+    title = "Mechanical shock (机械冲击试验)"
+    clause = "D.6.4"
+    metrics = _shock_metrics()
+    requires = (SegmentRequirement("shock", "10 min before and 10 min after the shocks along each axis",
+                                   conditions={"axis": "", "phase": "", "level": "gn", "pulse": "ms"},
+                                   columns={"output": OUTPUT_UNITS}, min_count=6),)
+    equipment = (EquipmentRequirement("shock_table", "shock table (D.6.4.1 b)); its calibration (peak level) and "
+                                      "property duration_accuracy enter the budgets"), _COUNTER)
+    options = (
+        Option("axes", "IRA, XRA, YRA", None, "axes along the shock (D.6.4.2 e))"),
+        Option("level", "40 g", "gn", "peak acceleration (product spec; table C.1 row 10)"),
+        Option("pulse", "20 ms", "ms", "pulse duration (product spec; table C.1 row 10)"),
+        Option("batches", 10, None, "batch means per segment for the type A uncertainty"),
+    )
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})
+        lvl = opts["level"].to("gn").magnitude
+        dur = opts["pulse"].to("ms").magnitude
+        steps = []
+        for ax in _names(opts["axes"], AXES, "axes"):
+            base = {"orientation": "IRA up" if ax == "IRA" else "IRA east", "axis": ax, "level": f"{lvl:g} gn",
+                    "pulse": f"{dur:g} ms"}
+            steps.append(Step(f"shock-{ax}-before", "shock", f"{ax} along the shock; warm up 10 min, record 10 min "
+                              "(D.6.4.2 b))", Q_(10, "min"), Q_(1, "s"), base | {"phase": "before"}, warmup=Q_(10, "min")))
+            steps.append(Step(f"shock-{ax}-after", "shock", f"unpowered shocks of {lvl:g} g, {dur:g} ms along {ax}; "
+                              "then record 10 min (D.6.4.2 c), d))", Q_(10, "min"), Q_(1, "s"), base | {"phase": "after"}))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        b = int(opts["batches"])
+        byk = {m.key: m for m in self.metrics}
+        results, warnings, used, table, lv, pl = [], [], [], [], [], []
+        for ax in _names(opts["axes"], AXES, "axes"):
+            segs = _phase_segments(type(self), campaign, "shock", ax, ("before", "after"))
+            means = {p: _mean_rate(segs[p], campaign, b) for p in ("before", "after")}
+            lv.append(float(segs["after"].condition("level", "gn").to("gn").magnitude))
+            pl.append(float(segs["after"].condition("pulse", "ms").to("ms").magnitude))
+            v = E.bias_change_d48(means["after"]["rate"], means["before"]["rate"])
+            results.append(_delta_result(byk[f"dBshock_{ax}"], "D.48", means["after"], means["before"], campaign, v))
+            used += [segs["before"].id, segs["after"].id]
+            table.append([ax, f"{means['before']['rate']:.5f}", f"{means['after']['rate']:.5f}", f"{v:.5f}"])
+        eq = campaign.equipment_for("shock_table")
+        r1, w1 = _condition_result(byk["shock_level"], Q_(min(lv), "gn"), eq, campaign, what="shock peak level")
+        r2, w2 = _condition_result(byk["shock_duration"], Q_(min(pl), "ms"), None if eq is None else _no_cal(eq),
+                                   campaign, prop="duration_accuracy", what="shock pulse duration")
+        tab = TableSpec("shock_biases", "Mean indicated rate before and after the shocks (°/h)",
+                        ["axis", "before B₀₁", "after B₀₃", "ΔB_V13"], table)
+        return Outcome(STANDARD, self.item, self.title, self.clause, [r1, r2] + results, tables=[tab],
+                       warnings=warnings + w1 + w2, segments=used, options=_opts_text(opts))
+
+
+def _no_cal(eq):
+    """The equipment without its calibration (whose uncertainty is that of the level, not the duration)."""
+    import attrs
+
+    return attrs.evolve(eq, calibration=None)
+
+
+# --------------------------------------------------------------------------------------------
+# 6.2.7.7 set-up time
+# --------------------------------------------------------------------------------------------
+
+
+class SetupTime6277(Procedure):
+    """GB/T 45570—2025 6.2.7.7 准备时间 (set-up time): the time from switch-on until the gyro
+    reaches the required performance, read as the instant the window mean of the output comes
+    within ±``tolerance`` of the settled bias (the mean of the last ``settled`` of the record);
+    where noise takes it in and out of the band, the midpoint of the first entry and the final
+    one (eq. in :func:`.env_formulas.setup_time_6277`; interpretations.md).  Budget: the crossing's noise
+    (A: σ of a window mean over the output's slope there), the re-crossings of the band between
+    the first entry and the final one (B: uniform over that span), the sampling of the record (B: uniform
+    ±τ), the timer or the counter's time base (B).
+    """
+
+    standard = STANDARD
+    item = "6.2.7.7"
+    title = "Set-up time (准备时间)"
+    clause = "6.2.7.7"
+    metrics = (Metric("setup_time", "set-up time", "t_s", "s", "6.2.7.7", ""),)
+    requires = (SegmentRequirement("power-on", "output recorded from the switch-on, IRA up",
+                                   conditions={"orientation": ""}, columns={"output": OUTPUT_UNITS}),)
+    equipment = (EquipmentRequirement("timer", "timer (6.2.7.7); its calibration enters the budget, otherwise the "
+                                      "counter's time base"), _COUNTER)
+    options = (
+        Option("tolerance", "5 deg/h", "deg/h", "the required performance: band around the settled bias"),
+        Option("window", "1 s", "s", "averaging window of the output"),
+        Option("settled", "60 s", "s", "the last part of the record that gives the settled bias"),
+        Option("record", "120 s", "s", "record length from the switch-on"),
+        Option("interval", "0.1 s", "s", "sampling interval"),
+    )
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})
+        return [Step("power-on", "power-on", "gyro at rest, IRA up, unpowered; switch on and record from that instant "
+                     f"for {opts['record']:~P} at {opts['interval']:~P} (6.2.7.7)", opts["record"].to("s"),
+                     opts["interval"].to("s"), {"orientation": "IRA up"})]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        segs = campaign.find_segments("power-on")
+        if not segs:
+            raise DataError(campaign.source, "segments", "6.2.7.7 needs a segment of kind \"power-on\": the output "
+                            "recorded from the switch-on; none found",
+                            hint="`metro plan --standard gbt45570 --item 6.2.7.7` shows what to measure")
+        seg = segs[0]
+        series, conv = gyro_output(seg, campaign.device, source=campaign.source)
+        raw = np.asarray(series.data.magnitude, dtype=float)
+        _check_finite(raw, seg)
+        tau = float(series.interval.to("s").magnitude)
+        y = raw * conv.magnitude
+        w = max(1, int(round(float(opts["window"].to("s").magnitude) / tau)))
+        n_set = int(round(float(opts["settled"].to("s").magnitude) / tau))
+        tol = float(opts["tolerance"].to("deg/h").magnitude)
+        start = y.size - n_set
+        if start < 2 * w or n_set < 2 * w:
+            raise DataError(seg.file or f"segment {seg.id}", "output",
+                            f"a record of {y.size} samples at {tau:g} s is too short for the settled part "
+                            f"({opts['settled']:~P}) and windows of {opts['window']:~P} before it")
+        try:
+            ts, settled, t_in, t_out = E.setup_time_6277(y, tau, w, start, tol)
+        except ValueError as exc:
+            raise DataError(seg.file or f"segment {seg.id}", "output", str(exc),
+                            hint="record longer, or check the option tolerance against the product spec") from exc
+        tail = y[start: start + (n_set // w) * w].reshape(-1, w).mean(axis=1)
+        s_w = float(np.std(tail, ddof=1)) if tail.size > 1 else 0.0
+        mm = E.moving_mean(y[:start], w)
+        j = int(round(ts / tau)) - w  # index of the crossing window in mm
+        lo, hi = max(j - w, 0), min(j + w, mm.size - 1)
+        slope = abs(mm[hi] - mm[lo]) / ((hi - lo) * tau) if hi > lo else 0.0
+        slope_noise = s_w * math.sqrt(2.0) / ((hi - lo) * tau) if hi > lo else math.inf
+        rows = []
+        if t_out > w * tau:  # the output was outside the band at first: the crossing time carries noise
+            eff = max(slope, 2.0 * slope_noise)
+            rows.append(BudgetRow.type_a("noise of the window mean at the crossing, over the output's slope",
+                                         "σ_w/|dȳ/dt|", Q_(s_w / eff if eff > 0 else 0.0, "s"), max(tail.size - 1, 1),
+                                         note=f"σ_w = {s_w:.3g} °/h, slope {slope:.3g} (°/h)/s"))
+        rows.append(BudgetRow.type_b("sampling: the window means step by τ, the crossing lies within ±τ of the "
+                                     "reported instant", "τ", Q_(tau, "s"), distribution="uniform"))
+        if t_out > t_in:  # noise took the output in and out of the band: the crossing is ambiguous
+            rows.append(BudgetRow.type_b("re-crossings of the band between the first entry and the final one",
+                                         "(t_out − t_in)/2", Q_((t_out - t_in) / 2.0, "s"), distribution="uniform",
+                                         note=f"first inside at {t_in:g} s, inside for good from {t_out:g} s"))
+        timer = campaign.equipment_for("timer")
+        if timer is not None and timer.calibration is not None:
+            cal = timer.calibration
+            sens = Q_(ts, "s") if cal.uncertainty.dimensionless else Q_(1.0, "")
+            rows.append(BudgetRow.from_calibration(f"timer ({timer.describe()})", "u(t)", cal, sensitivity=sens))
+        else:
+            rows += _timebase_row(campaign, ts, "s", "t_s")
+        budget = UncertaintyBudget("t_s", "s", rows, coverage=COVERAGE)
+        res = Result(self.metrics[0], Q_(ts, "s"), budget.combined, budget,
+                     note=f"settled bias {settled:.4g} °/h, band ±{tol:g} °/h, window {w * tau:g} s")
+        t_mm = (np.arange(mm.size) + w) * tau
+        step = max(1, mm.size // 400)
+        plot = PlotSpec("setup", "Window mean of the output after switch-on (6.2.7.7)", "t (s)", "ω̄ (°/h)",
+                        [{"label": f"{w * tau:g} s mean", "x": t_mm[::step].tolist(), "y": mm[::step].tolist(),
+                          "style": "-"},
+                         {"label": "band", "x": [0.0, float(t_mm[-1])], "y": [settled + tol, settled + tol],
+                          "style": "--"},
+                         {"label": "", "x": [0.0, float(t_mm[-1])], "y": [settled - tol, settled - tol], "style": "--"},
+                         {"label": f"t_s = {ts:g} s", "x": [ts, ts], "y": [settled - tol, settled + tol],
+                          "style": "-"}])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], segments=[seg.id],
+                       options=_opts_text(opts))
+
+
+# --------------------------------------------------------------------------------------------
+# 6.2.7.8 power consumption
+# --------------------------------------------------------------------------------------------
+
+
+class PowerConsumption6278(Procedure):
+    """GB/T 45570—2025 6.2.7.8 功耗 (power consumption): P = Σ_j mean(U_j·I_j) over the supplies.
+
+    One ``power`` segment per supply with ``voltage`` and ``current`` columns.  Budget: each
+    supply's batch-means scatter of U·I (A), the voltmeter's and the ammeter's calibration (B,
+    relative or absolute; the same instrument on every supply, so its rows add linearly over the
+    supplies and are entered once).
+    """
+
+    standard = STANDARD
+    item = "6.2.7.8"
+    title = "Power consumption (功耗)"
+    clause = "6.2.7.8"
+    metrics = (Metric("P", "power consumption", "P", "W", "6.2.7.8", ""),)
+    requires = (SegmentRequirement("power", "input voltage and current of one supply, in operation",
+                                   conditions={"supply": ""}, columns={"voltage": ("V",), "current": ("A",)}),)
+    equipment = (EquipmentRequirement("voltmeter", "voltage measuring equipment (6.2.7.8)"),
+                 EquipmentRequirement("ammeter", "current measuring equipment (6.2.7.8)"))
+    options = (
+        Option("supplies", "5 V, 15 V, -15 V", None, "nominal voltages of the gyro's supplies"),
+        Option("record", "60 s", "s", "record per supply"),
+        Option("batches", 10, None, "batch means per supply for the type A uncertainty"),
+    )
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})
+        steps = []
+        for text in str(opts["supplies"]).split(","):
+            V = parse_quantity(text.strip(), dimension="V", field="option supplies")
+            v = float(V.to("V").magnitude)
+            steps.append(Step(f"power-{v:+g}V", "power", f"gyro in operation: record the {v:+g} V supply's voltage and "
+                              f"current for {opts['record']:~P} at 1 s (6.2.7.8)", opts["record"].to("s"), Q_(1, "s"),
+                              {"supply": f"{v:g} V"}))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        segs = campaign.find_segments("power")
+        if not segs:
+            raise DataError(campaign.source, "segments", "6.2.7.8 needs one segment of kind \"power\" per supply "
+                            "(columns voltage [V] and current [A]); none found")
+        b = int(opts["batches"])
+        Us, Is, rowsA, table = [], [], [], []
+        for s in segs:
+            s.condition("supply")
+            u = np.asarray(s.series("voltage", "V").data.to("V").magnitude, dtype=float)
+            i = np.asarray(s.series("current", "A").data.to("A").magnitude, dtype=float)
+            for name, a in (("voltage", u), ("current", i)):
+                if not np.all(np.isfinite(a)):
+                    k = int(np.argmin(np.isfinite(a)))
+                    raise DataError(s.file or f"segment {s.id}", name, f"sample {k + 1} is {a[k]!r}")
+            if u.size != i.size:
+                raise DataError(s.file or f"segment {s.id}", "current",
+                                f"{i.size} current samples against {u.size} voltage samples")
+            if u.size < 2 * b:
+                raise DataError(s.file or f"segment {s.id}", "voltage", f"{u.size} samples are too few for {b} batches")
+            Us.append(u)
+            Is.append(i)
+            sd, nb = allan.block_std(u * i, u.size // b)
+            rowsA.append(BudgetRow.type_a(f"scatter of U·I, supply {s.conditions['supply']} (batch means)",
+                                          "s_b/√b", Q_(sd / math.sqrt(nb), "W"), nb - 1))
+        P, parts = E.power_6278(Us, Is)
+        rows = list(rowsA)
+        for role, sym, means in (("voltmeter", "u(U)", [abs(float(np.mean(x))) for x in Us]),
+                                 ("ammeter", "u(I)", [abs(float(np.mean(x))) for x in Is])):
+            eq = campaign.equipment_for(role)
+            if eq is None or eq.calibration is None:
+                continue
+            cal = eq.calibration
+            other = [abs(float(np.mean(x))) for x in (Is if role == "voltmeter" else Us)]
+            if cal.uncertainty.dimensionless:
+                sens = Q_(P, "W")
+            else:
+                sens = Q_(sum(other), "W") / Q_(1.0, "V" if role == "voltmeter" else "A")
+            rows.append(BudgetRow.from_calibration(f"{role} ({eq.describe()})", sym, cal, sensitivity=sens,
+                                                   note="same instrument on every supply: contributions add linearly"))
+        budget = UncertaintyBudget("P", "W", rows, coverage=COVERAGE)
+        for s, u, i, p in zip(segs, Us, Is, parts):
+            table.append([s.id, str(s.conditions["supply"]), f"{np.mean(u):.4f}", f"{np.mean(i):.5f}", f"{p:.4f}"])
+        tab = TableSpec("supplies", "Mean voltage, current and power per supply (6.2.7.8)",
+                        ["segment", "supply", "U (V)", "I (A)", "U·I (W)"], table)
+        res = Result(self.metrics[0], Q_(P, "W"), budget.combined, budget, note=f"{len(segs)} supplies")
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[tab],
+                       segments=[s.id for s in segs], options=_opts_text(opts))
+
+
+PROCEDURES = (LowTemperatureOperationD61, HighTemperatureOperationD62, VibrationD63, MechanicalShockD64,
+              SetupTime6277, PowerConsumption6278)

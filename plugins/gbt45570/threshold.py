@@ -1,0 +1,220 @@
+"""GB/T 45570—2025 D.4 threshold (阈值) by tilting the input axis against the earth rate.
+
+The tilt table's face is first tilted south by the latitude, which puts the IRA in the
+equatorial plane (Ψ = 90°, no earth-rate input); the reference output N̄_0 is recorded there.
+Tilting further changes Ψ_i, the angle between the IRA and the earth's axis, and the gyro sees
+Ω_e·cos Ψ_i.  Data: segments of kind ``tilt`` with condition ``psi`` (Ψ_i, an angle; the
+reference has ``psi = "90 deg"``) and an ``output`` column, τ = 1 s, n = 600 (D.4.2 d), e)).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+import numpy as np
+
+from metro.core import allan
+from metro.core.budget import BudgetRow, UncertaintyBudget
+from metro.core.errors import DataError
+from metro.core.model import (
+    Campaign,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    Outcome,
+    PlotSpec,
+    Procedure,
+    Result,
+    RunContext,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+)
+from metro.core.signals import OUTPUT_UNITS, gyro_output
+from metro.core.units import Q_, parse_quantity
+
+from . import env_formulas as E
+from .formulas import EARTH_RATE_DEG_PER_H
+from .procedures import COVERAGE, STANDARD, _check_finite, _scale_factor_row
+
+TILT = SegmentRequirement(
+    "tilt", "IRA at the angle Ψ_i to the earth's axis on the tilt table; Ψ = 90° (tilted south by the "
+    "latitude) is the reference N̄_0 (D.4.2 b)–e))",
+    conditions={"psi": "deg"}, columns={"output": OUTPUT_UNITS}, min_count=2,
+)
+
+
+def psi_for_input(input_deg_h: float) -> float:
+    """Ψ_i (°) at which the IRA sees ``input_deg_h`` of the earth rate (D.37's Ω_e·cos Ψ_i)."""
+    if not 0 <= input_deg_h <= EARTH_RATE_DEG_PER_H:
+        raise ValueError(f"an input of {input_deg_h:g} °/h is outside 0 … 15.041 °/h")
+    return math.degrees(math.acos(input_deg_h / EARTH_RATE_DEG_PER_H))
+
+
+def _psi(seg: Segment) -> float:
+    return float(seg.condition("psi", "deg").to("deg").magnitude)
+
+
+class ThresholdD4(Procedure):
+    """GB/T 45570—2025 D.4 阈值 (threshold), eqs. (D.37)–(D.39).
+
+    At each tilt position N_i = K·Ω_e cos Ψ_i·τ (D.37) is the expected output and N̄*_i the
+    mean measured one (D.38); the threshold is the smallest Ω_e cos Ψ_i for which
+    |(N̄*_i − N̄_0)/N_i| ≥ 50 % (D.39).  For LSB or rate output every term is taken in °/h.
+    Budget: the response's noise (type A, batch means of N̄*_i and N̄_0, as an input-equivalent
+    rate), the step of the tilt series (type B, uniform between the next smaller input and the
+    threshold), the tilt table's position accuracy and the site latitude (type B, through
+    Ω_e·sin Ψ), the scale factor (type B).
+    """
+
+    standard = STANDARD
+    item = "D.4"
+    title = "Threshold (阈值)"
+    clause = "D.4"
+    metrics = (Metric("threshold", "threshold", "Ω_i", "deg/h", "D.4.3", "D.37–D.39"),)
+    requires = (TILT,)
+    equipment = (
+        EquipmentRequirement("tilt_table", "two-axis tilt table, position accuracy of a few arcseconds (D.4.1 a)); "
+                             "its property position_accuracy enters the budget"),
+        EquipmentRequirement("counter", "gyro test system / counter"),
+    )
+    options = (
+        Option("levels", "0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.03, 0.05", None,
+               "inputs Ω_e·cos Ψ_i of the tilt series in °/h, smallest first (the sequence's Ψ_i)"),
+        Option("seconds", "600 s", "s", "record per position, τ = 1 s (D.4.2 d): n = 600)"),
+        Option("batches", 10, None, "batch means per position for the type A uncertainty"),
+    )
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        n = parse_quantity(options.get("seconds", "600 s"), dimension="s")
+        steps = [Step("tilt-ref", "tilt", "tilt the table face south by the latitude (IRA in the equatorial plane, "
+                      "Ψ = 90°); warm up 30 min; record N̄_0 (D.4.2 b)–d))", n, Q_(1, "s"), {"psi": "90 deg"},
+                      warmup=Q_(30, "min"))]
+        for x in _levels(options.get("levels", self.options[0].default)):
+            psi = psi_for_input(x)
+            steps.append(Step(f"tilt-{x:g}", "tilt", f"Ψ = {psi:.7f}° (input Ω_e·cos Ψ = {x:g} °/h); record "
+                              "600 s; stop once D.39 holds (D.4.2 e), f))", n, Q_(1, "s"), {"psi": f"{psi:.7f} deg"}))
+        return steps
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        segs = campaign.find_segments("tilt")
+        refs = [s for s in segs if abs(_psi(s) - 90.0) < 1e-9]
+        tilted = [s for s in segs if abs(_psi(s) - 90.0) >= 1e-9]
+        if not refs:
+            raise DataError(campaign.source, "segments", "D.4 needs the reference position: a segment of kind "
+                            "\"tilt\" with psi = \"90 deg\" (table tilted south by the latitude, D.4.2 b), d)); "
+                            f"found {len(segs)} tilt segment(s) and none at Ψ = 90°",
+                            hint="`metro plan --standard gbt45570 --item D.4` lists the positions")
+        if not tilted:
+            raise DataError(campaign.source, "segments", "D.4 needs tilt positions with Ψ_i ≠ 90° (D.4.2 e)); none found")
+        batches = int(opts["batches"])
+        ref = _mean_response(refs[0], campaign, batches)
+        conv = ref["conv"]
+        pulse = conv.output_kind == "pulse"
+        tau = ref["tau"]
+        K = float(conv.scale_factor.to("P/arcsec").magnitude) if pulse else None
+        rows_t, inputs, ratios, points = [], [], [], []
+        for s in sorted(tilted, key=lambda s: abs(math.cos(math.radians(_psi(s))))):
+            m = _mean_response(s, campaign, batches)
+            psi = _psi(s)
+            if pulse:
+                if abs(m["tau"] - tau) > 1e-9 * tau:
+                    raise DataError(s.file or f"segment {s.id}", "output", f"sampling interval {m['tau']:g} s "
+                                    f"differs from the reference's {tau:g} s; D.39 compares pulses per interval")
+                Ni = E.expected_counts_d37(K, psi, tau)
+                ratio = E.response_ratio_d39(m["raw_mean"], ref["raw_mean"], Ni)
+            else:
+                Ni = E.tilt_input_d37(psi)
+                ratio = E.response_ratio_d39(m["rate"], ref["rate"], Ni)
+            x = E.tilt_input_d37(psi)
+            inputs.append(x)
+            ratios.append(ratio)
+            points.append((s, psi, m, Ni))
+            rows_t.append([s.id, f"{psi:.7f}", f"{x:.5f}", f"{Ni:.5g}",
+                           f"{m['raw_mean'] if pulse else m['rate']:.5g}", f"{ratio * 100:.1f}"])
+        th, i = E.threshold_d39(inputs, ratios)
+        if th is None:
+            j = int(np.argmax(np.abs(inputs)))
+            raise DataError(campaign.source, "segments",
+                            f"the tilt series never reaches 50 % of the expected response (D.39): the largest input "
+                            f"{abs(inputs[j]):.4g} °/h (segment {points[j][0].id}) gives "
+                            f"{abs(ratios[j]) * 100:.1f} %, the best {max(abs(r) for r in ratios) * 100:.1f} %",
+                            hint="continue the series to larger inputs (option levels)")
+        seg, psi, m, Ni = points[i]
+        warnings = []
+        if ratios[i] < 0:
+            warnings.append(f"at {th:.4g} °/h the response is {ratios[i] * 100:.0f} % of the expected one: opposite "
+                            "in sign to the input (D.39 compares the absolute value; check the polarity)")
+        smaller = [abs(x) for x in inputs if abs(x) < th]
+        below = max(smaller) if smaller else 0.0
+        uA = math.hypot(m["u"], ref["u"])
+        nu = uA**4 / (m["u"] ** 4 / m["nu"] + ref["u"] ** 4 / ref["nu"]) if uA > 0 else math.inf
+        rows = [BudgetRow.type_a("noise of the response N̄*_i − N̄_0 (batch means), as an input rate", "√(u²(N̄*)+u²(N̄₀))",
+                                 Q_(uA, "deg/h"), nu, note=f"ratio {ratios[i] * 100:.1f} % against 50 %"),
+                BudgetRow.type_b("step of the tilt series: the threshold lies between the next smaller input and Ω_i",
+                                 "(Ω_i − Ω_i−1)/2", Q_((th - below) / 2.0, "deg/h"), distribution="uniform",
+                                 note=f"next smaller input {below:.4g} °/h")]
+        c_psi = EARTH_RATE_DEG_PER_H * abs(math.sin(math.radians(psi)))
+        table = campaign.equipment_for("tilt_table")
+        if table is not None and "position_accuracy" in table.properties:
+            acc = table.prop("position_accuracy", "arcsec", source=campaign.source)
+            rows.append(BudgetRow.type_b(f"tilt table position, Ψ_i and the reference ({table.describe()})", "δΨ",
+                                         acc.to("rad"), distribution="uniform",
+                                         sensitivity=Q_(math.hypot(c_psi, EARTH_RATE_DEG_PER_H), "deg/h/rad"),
+                                         note="∂(Ω_e cos Ψ)/∂Ψ = −Ω_e sin Ψ at Ψ_i and at Ψ = 90°"))
+        lat_u = campaign.site.get("latitude_uncertainty")
+        if lat_u is not None:
+            lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
+            rows.append(BudgetRow.type_b("site latitude (sets the reference tilt)", "u(θ)", lu.to("rad"),
+                                         distribution="uniform", sensitivity=Q_(c_psi, "deg/h/rad"),
+                                         note="a latitude error tilts every position by the same angle"))
+        rows += _scale_factor_row(conv, th, "deg/h")
+        budget = UncertaintyBudget("Ω_i", "deg/h", rows, coverage=COVERAGE)
+        res = Result(self.metrics[0], Q_(th, "deg/h"), budget.combined, budget,
+                     note=f"Ψ_i = {psi:.6f}° (segment {seg.id}); N̄_0 from {refs[0].id}")
+        order = np.argsort(np.abs(inputs))
+        plot = PlotSpec("threshold_ratio", "Response against the expected one (D.39)", "Ω_e cos Ψ_i (°/h)",
+                        "|(N̄* − N̄₀)/N_i| (%)",
+                        [{"label": "D.39 ratio", "x": [abs(inputs[k]) for k in order],
+                          "y": [abs(ratios[k]) * 100 for k in order], "style": "o-"},
+                         {"label": "50 %", "x": [abs(inputs[k]) for k in order[[0, -1]]], "y": [50, 50], "style": "--"}],
+                        logx=True)
+        tab = TableSpec("tilt_positions", "Tilt positions (D.37–D.39)",
+                        ["segment", "Ψ_i (°)", "Ω_e cos Ψ_i (°/h)", "N_i (D.37)" + (" (P)" if pulse else " (°/h)"),
+                         "N̄*_i (D.38)" + (" (P)" if pulse else " (°/h)"), "ratio (%)"], rows_t)
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[tab],
+                       warnings=warnings, segments=[refs[0].id] + [p[0].id for p in points],
+                       options={k: str(v) for k, v in opts.items()})
+
+
+def _levels(text: Any) -> list[float]:
+    out = []
+    for part in str(text).split(","):
+        part = part.strip()
+        if not part:
+            continue
+        try:
+            out.append(float(part))
+        except ValueError as exc:
+            raise DataError(None, "option levels", f"{part!r} is not a number of °/h") from exc
+    return out
+
+
+def _mean_response(seg: Segment, campaign: Campaign, batches: int) -> dict[str, Any]:
+    """Mean output of one tilt position (D.38) in raw units and °/h, with its batch-means u (°/h)."""
+    series, conv = gyro_output(seg, campaign.device, source=campaign.source)
+    raw = np.asarray(series.data.magnitude, dtype=float)
+    _check_finite(raw, seg)
+    if raw.size < 2 * batches:
+        raise DataError(seg.file or f"segment {seg.id}", "output",
+                        f"{raw.size} samples are too few for {batches} batch means")
+    mean_raw = E.mean_counts_d38(raw)
+    sd, nb = allan.block_std(raw, raw.size // batches)
+    return {"raw_mean": mean_raw, "rate": mean_raw * conv.magnitude, "u": sd * conv.magnitude / math.sqrt(nb),
+            "nu": nb - 1, "conv": conv, "tau": float(series.interval.to("s").magnitude)}
+
+
+PROCEDURES = (ThresholdD4,)
