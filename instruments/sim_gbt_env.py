@@ -27,7 +27,6 @@ import math
 from typing import Any
 
 import numpy as np
-
 from metro.core.model import Segment
 from metro.core.units import Q_, parse_quantity
 

@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 import pytest
-
 from metro.core.errors import DataError
 from metro.core.model import Campaign, DeviceUnderTest, Segment
 from metro.core.runner import merge_steps, run_items
@@ -266,7 +265,7 @@ def test_d63_earth_rate_cancels_in_the_bias_change(pm):
     """The biases of D.6.3 are mean indicated rates: with the IRA up (earth rate 9.7 °/h) or
     horizontal east (none), the same shift gives the same ΔB."""
     truth = GyroTruth(output="rate", arw_deg_rt_h=5e-4, seed=7, vib_shift_after_deg_h=(0.02, 0.02, 0.02))
-    camp, rec = _run(pm, ["D.6.3"], truth, {"tests": "performance"})
+    _, rec = _run(pm, ["D.6.3"], truth, {"tests": "performance"})
     v = rec.outcomes[0]
     assert v.result("dBV13_IRA").value.magnitude == pytest.approx(v.result("dBV13_XRA").value.magnitude, abs=0.004)
 

@@ -8,7 +8,7 @@ Units are those stated in each docstring; the procedures in :mod:`.threshold` an
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 

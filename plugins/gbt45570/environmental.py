@@ -24,10 +24,10 @@ Data (segment kinds and conditions):
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
-
 from metro.core import allan
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
@@ -50,7 +50,14 @@ from metro.core.signals import OUTPUT_UNITS, gyro_output
 from metro.core.units import Q_, parse_quantity
 
 from . import env_formulas as E
-from .procedures import COVERAGE, STANDARD, _check_finite, _scale_factor_row, _timebase_row, segment_bias
+from .procedures import (
+    COVERAGE,
+    STANDARD,
+    _check_finite,
+    _scale_factor_row,
+    _timebase_row,
+    segment_bias,
+)
 
 AXES = ("IRA", "XRA", "YRA")
 _COUNTER = EquipmentRequirement("counter", "gyro test system / counter; its time-base uncertainty enters the budgets")

@@ -10,10 +10,10 @@ reference has ``psi = "90 deg"``) and an ``output`` column, τ = 1 s, n = 600 (D
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
-
 from metro.core import allan
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError
