@@ -12,7 +12,9 @@ Registered step kinds (see :func:`metro.instruments.simulated.register_step_kind
   (LSB for the digital gyro) (D.2.1–D.2.5, D.3); with ``run`` or ``temperature`` as above;
 * ``rate-mounting`` — ``rate-output`` in the mountings of D.2.6.
 
-The table at rest (``rate-static``) is the station's ordinary static record.
+The table at rest (``rate-static``) is the station's ordinary static record.  While turning,
+the table's model (:class:`metro.instruments.equipment.RateTable`) sets the rate: its fixed
+error at each set point and its ripple, the errors the procedures' type B rows must cover.
 
 The truth (fields of :class:`~metro.instruments.simulated.GyroTruth`): the scale factor at
 rate |Ω| and direction s is K·(1 + sf_slope·|Ω| + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
@@ -26,6 +28,7 @@ over the whole revolutions a step lasts; its vertical part and the bias enter as
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 from typing import Any, Mapping
@@ -145,6 +148,15 @@ def sim_revolutions_mounting(station, step, index, *, bias_offset_deg_h, **_):
 # --------------------------------------------------------------------------------------------
 
 
+@functools.lru_cache(maxsize=1)
+def _rate_table():
+    """The station's rate-table model (its band error and ripple act on every rate step; the
+    models are frozen values, so one is kept)."""
+    from .equipment import RateTable, gbt45570_equipment
+
+    return next((m for m in gbt45570_equipment() if isinstance(m, RateTable)), None)
+
+
 def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_s: float, projection: float,
                   bias_offset_deg_h: float) -> Segment:
     t = station.truth
@@ -154,8 +166,12 @@ def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_
     static = (EARTH_RATE_DEG_PER_H * math.sin(math.radians(station.latitude_deg)) * projection
               + t.bias_deg_h + bias_offset_deg_h)  # °/h
     white_sd = t.arw_deg_rt_h / math.sqrt(interval_s / 3600.0)
+    table = _rate_table()
+    # the rate the table actually turns at: its fixed error at this set point and its ripple
+    actual = (np.asarray(table.actual_rate(Q_(direction * rate, "deg/s"), n, rng).to("deg/s").magnitude)
+              if table is not None else np.full(n, direction * rate))
     # indicated rate, °/h: the table's component along IA through the scale factor, plus the rest
-    w = direction * rate * 3600.0 * projection * f + static + rng.normal(0.0, white_sd, size=n)
+    w = actual * 3600.0 * projection * f + static + rng.normal(0.0, white_sd, size=n)
     if t.output == "digital":
         out, unit = np.round(w / 3600.0 * t.lsb_per_deg_s), "LSB"
     elif t.output == "pulse":

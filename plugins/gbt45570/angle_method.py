@@ -508,8 +508,11 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     parts = [(ci * uKs[imax], dofs[imax]), (c0 * uKs[i0], dofs[i0])]
     den = sum(u**4 / max(d, 1) for u, d in parts)
     nu = uA**4 / den if den > 0 else math.inf
-    rows = [BudgetRow.type_a("K at T_i and at T_0 (fits of each sweep)", "u(K_i − K₀₀)/(K₀₀|ΔT|)",
-                             Q_(uA, "1/delta_degC"), nu)]
+    s_mc, bias = F2.max_ratio_monte_carlo(Ks, uKs, temps, i0)
+    rows = [BudgetRow.type_a("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo)",
+                             "s + |bias| of max_i |ΔK_i/(K₀₀ΔT_i)|", Q_(max(s_mc + abs(bias), uA), "1/delta_degC"),
+                             nu, note=f"the maximising point alone gives {uA:.3g}/°C; selecting the largest of "
+                             f"{len(Ks) - 1} noisy ratios adds a bias of about {bias:+.2g}/°C, added linearly")]
     uT = _delta_temperature_u(campaign)
     if uT is not None:
         rows.append(BudgetRow.type_b(f"chamber temperature T_i and T_0 ({uT[1]})", "√2·u(T)",

@@ -246,3 +246,26 @@ def propagate(c: Sequence[float], u: Sequence[float], dof: Sequence[float]) -> t
     d = np.asarray(dof, dtype=float)
     den = float(np.sum(parts**4 / d))
     return uc, (uc**4 / den if den > 0 else math.inf)
+
+
+def max_ratio_monte_carlo(K_i: Sequence[float], u_K: Sequence[float], temps_C: Sequence[float], i0: int,
+                          draws: int = 4000, seed: int = 45570) -> tuple[float, float]:
+    """Standard uncertainty of K_t = max_i |(K_i − K_00)/(K_00 (T_i − T_0))| (D.12, D.29) by Monte
+    Carlo over the K_i (normal, independent; GUM Supplement 1), and the bias of the maximum.
+
+    The maximum of several noisy ratios is biased upwards and may switch between points, which
+    the maximising point's own uncertainty does not show.  Returns the standard deviation s of
+    the simulated maxima and their bias (mean minus the measured K_t); the procedures add the
+    bias linearly, u = s + |bias|, as an uncorrected systematic effect.
+    :return: (s, bias), both in 1/°C.
+    """
+    K = np.asarray(K_i, dtype=float)
+    u = np.asarray(u_K, dtype=float)
+    T = np.asarray(temps_C, dtype=float)
+    kt, _ = scale_factor_temperature_sensitivity_d12(K, T, i0)
+    others = np.array([i for i in range(K.size) if i != i0])
+    sample = np.random.default_rng(seed).normal(K, u, size=(int(draws), K.size))
+    k0 = sample[:, [i0]]
+    mx = np.max(np.abs((sample[:, others] - k0) / (k0 * (T[others] - T[i0]))), axis=1)
+    bias = float(mx.mean() - kt)
+    return float(mx.std(ddof=1)), bias
