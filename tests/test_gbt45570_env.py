@@ -111,6 +111,27 @@ def test_d4_threshold_set_by_a_dead_band_is_recovered(pm):
     assert pm.procedure("gbt45570", "D.4") is ThresholdD4
 
 
+def test_d4_decision_row_when_a_ratio_is_near_fifty_percent():
+    from metro.plugins.gbt45570.threshold import _decision_row
+
+    # u(ratio) at 0.008 °/h = √(3.5e-4² + 2.4e-4²)/0.008 = 0.053: 56 % is within 2u of 50 %, so the
+    # threshold might be the next larger position, 0.002 °/h away
+    rows = _decision_row([0.006, 0.008, 0.01], [0.30, 0.56, 0.65], [3.5e-4] * 3, 2.4e-4, 1)
+    assert len(rows) == 1 and rows[0].value.magnitude == pytest.approx(0.002)
+    # well clear of 50 % on both sides: no row
+    assert _decision_row([0.006, 0.008, 0.01], [0.30, 0.56, 0.65], [1e-5] * 3, 1e-5, 1) == []
+
+
+def test_d4_threshold_within_U_over_seeds(pm):
+    """The threshold is a grid value; with the decision row, U covers the ideal evaluation on at
+    least 18 of 20 seeds (noise near 50 % moves the decision by a whole position)."""
+    inside = 0
+    for seed in range(20):
+        camp, rec = _run(pm, ["D.4"], GyroTruth(output="rate", arw_deg_rt_h=1e-4, seed=700 + seed))
+        inside += _within(rec.outcomes[0].result("threshold"), camp.expected["threshold"])
+    assert inside >= 18
+
+
 def test_d4_pulse_output(pm):
     truth = GyroTruth(arw_deg_rt_h=3e-4, dead_band_deg_h=0.012, seed=42)
     opts = {"levels": "0.01, 0.02, 0.03, 0.05", "seconds": "3600 s"}

@@ -65,7 +65,8 @@ class ThresholdD4(Procedure):
     |(N̄*_i − N̄_0)/N_i| ≥ 50 % (D.39).  For LSB or rate output every term is taken in °/h.
     Budget: the response's noise (type A, batch means of N̄*_i and N̄_0, as an input-equivalent
     rate), the step of the tilt series (type B, uniform between the next smaller input and the
-    threshold), the tilt table's position accuracy and the site latitude (type B, through
+    threshold), the 50 % decision (type B, the whole distance to a neighbouring position when
+    its ratio or the threshold's is within 2u of 50 %), the tilt table's position accuracy and the site latitude (type B, through
     Ω_e·sin Ψ), the scale factor (type B).
     """
 
@@ -157,6 +158,7 @@ class ThresholdD4(Procedure):
                 BudgetRow.type_b("step of the tilt series: the threshold lies between the next smaller input and Ω_i",
                                  "(Ω_i − Ω_i−1)/2", Q_((th - below) / 2.0, "deg/h"), distribution="uniform",
                                  note=f"next smaller input {below:.4g} °/h")]
+        rows += _decision_row(inputs, ratios, [p[2]["u"] for p in points], ref["u"], i)
         c_psi = EARTH_RATE_DEG_PER_H * abs(math.sin(math.radians(psi)))
         table = campaign.equipment_for("tilt_table")
         if table is not None and "position_accuracy" in table.properties:
@@ -188,6 +190,35 @@ class ThresholdD4(Procedure):
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[tab],
                        warnings=warnings, segments=[refs[0].id] + [p[0].id for p in points],
                        options={k: str(v) for k, v in opts.items()})
+
+
+def _decision_row(inputs: list[float], ratios: list[float], u_pos: list[float], u_ref: float,
+                  i: int) -> list[BudgetRow]:
+    """A type B row when the 50 % decision at the threshold position, or at the next smaller one,
+    is within 2 standard uncertainties of the ratio: noise may have moved the threshold to that
+    neighbour, so the row spans the whole distance to it (uniform)."""
+    x = [abs(v) for v in inputs]
+    th = x[i]
+
+    def doubtful(j: int) -> bool:
+        u_ratio = math.hypot(u_pos[j], u_ref) / x[j]
+        return abs(abs(ratios[j]) - E.THRESHOLD_FRACTION) < 2.0 * u_ratio
+
+    larger = [v for v in x if v > th]
+    smaller = [(v, j) for j, v in enumerate(x) if v < th]
+    half, why = 0.0, []
+    if larger and doubtful(i):
+        half = max(half, min(larger) - th)
+        why.append(f"Ω_i's ratio {abs(ratios[i]) * 100:.1f} % is within 2u of 50 %")
+    if smaller:
+        v, j = max(smaller)
+        if doubtful(j):
+            half = max(half, th - v)
+            why.append(f"the next smaller input's ratio {abs(ratios[j]) * 100:.1f} % is within 2u of 50 %")
+    if half == 0.0:
+        return []
+    return [BudgetRow.type_b("50 % decision near the noise: the threshold may be the neighbouring position",
+                             "ΔΩ (neighbour)", Q_(half, "deg/h"), distribution="uniform", note="; ".join(why))]
 
 
 def _levels(text: Any) -> list[float]:
