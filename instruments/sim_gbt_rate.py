@@ -289,7 +289,7 @@ def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
         if len(rates) >= 3:
             om = _omega_max(rates, lambda c: _kn_angle([r for r in rates if r <= c],
                                                        _ideal_Ki(t, [r for r in rates if r <= c], {}, lat)), limit)
-            if om is not None:
+            if om is not None and not (t.output == "digital" and "rate-output" in kinds):
                 out["Omega_max"] = Q_(om, "deg/s")
     if "revolutions-repeat" in kinds:
         runs = _by(kinds["revolutions-repeat"], "run")
@@ -331,7 +331,7 @@ def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
                     sel = [r for r in signed if abs(r) <= c]
                     return _kn_rate(sel, _ideal_Fk(t, sel, {}))
                 om = _omega_max(mags, kn_of, limit)
-                if om is not None:
+                if om is not None and (t.output == "digital" or "rate-revolutions" not in kinds):
                     out["Omega_max"] = Q_(om, "deg/s")
         runs = _by([s for s in kinds["rate-output"] if "run" in s.conditions], "run")
         if len(runs) >= 2:

@@ -209,3 +209,14 @@ def test_d16_needs_the_device_scale_factor(pm):
     with pytest.raises(DataError, match="divides by the scale factor") as e:
         run_items(pm, "gbt45570", ["D.1.6"], campaign=camp)
     assert e.value.field == "device.scale_factor"
+
+
+def test_d14_warns_when_the_runs_are_not_at_the_stated_rate(pm):
+    from metro.core.runner import merge_steps
+
+    st_ = SimulatedStation(truth=GyroTruth(seed=5))
+    camp = st_.acquire(merge_steps([pm.procedure("gbt45570", "D.1.4")().sequence({"rate": "60 °/s"})]))
+    o = run_items(pm, "gbt45570", ["D.1.4"], campaign=camp).outcomes[0]
+    assert any("repeats the test at 30 °/s" in w for w in o.warnings)
+    o = run_items(pm, "gbt45570", ["D.1.4"], campaign=camp, options={"rate": "60 °/s"}).outcomes[0]
+    assert not o.warnings

@@ -342,3 +342,14 @@ def test_d12_maximum_uncertainty_by_monte_carlo():
     K, T = [1.0, 1.0 + 20e-6, 1.0 - 20e-6, 1.0 + 20e-6], [20.0, 40.0, 0.0, 40.0]
     s, bias = F2.max_ratio_monte_carlo(K, [5e-6] * 4, T, 0)
     assert bias > 0.3 * s > 0
+
+
+def test_d3_auto_follows_the_device_output_when_both_sweeps_exist(pm):
+    """interpretations.md "D.3 — which rate is the maximum input rate": with both sweeps in the
+    data, auto picks the one matching the device's output."""
+    camp = _camp(pm, ["D.2.1", "D.3"], sf_quadratic=2e-4)
+    assert camp.find_segments("rate-revolutions") and camp.find_segments("rate-output")
+    o = run_items(pm, "gbt45570", ["D.3"], campaign=camp, options={"Kn_limit": "20 ppm"}).outcomes[0]
+    assert o.results[0].note.endswith("rate method")
+    o = run_items(pm, "gbt45570", ["D.3"], campaign=camp, options={"Kn_limit": "20 ppm", "method": "angle"}).outcomes[0]
+    assert o.results[0].note.endswith("angle method")

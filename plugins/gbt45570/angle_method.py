@@ -393,6 +393,9 @@ class ScaleFactorRepeatabilityD14(Procedure):
                                 f"run {run} has {len(p)} rate points; D.1.4 tests at one rate ({opts['rate']:~P})")
             pts.append((run, p[0]))
         Kj = [p.K for _, p in pts]
+        want = float(opts["rate"].to("deg/s").magnitude)
+        off = sorted({f"{p.rate:g}" for _, p in pts if abs(p.rate - want) > 0.01 * want})
+        warnings = [f"runs at {', '.join(off)} °/s; D.1.4.2 repeats the test at {want:g} °/s (option rate)"] if off else []
         Kr = F2.scale_factor_repeatability_d11(Kj)
         if not Kr > 0:
             raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
@@ -407,7 +410,7 @@ class ScaleFactorRepeatabilityD14(Procedure):
         res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.8f} P/″, Q = {q}")
         table = TableSpec("K_runs", "K_j of each power-on (D.2)", ["run", "Ω (°/s)", "K_j (P/″)", "K_j − K̄ (ppm)"],
                           [[run, f"{p.rate:g}", f"{p.K:.8f}", f"{(p.K - mean) / mean * 1e6:.2f}"] for run, p in pts])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table],
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
                        segments=[s for _, p in pts for s in p.segments], options={k: str(v) for k, v in opts.items()})
 
 

@@ -716,7 +716,8 @@ class MaxInputRateD3(Procedure):
         Option("Kn_limit", None, None, "nonlinearity limit, e.g. \"10 ppm\" (default: device.nonlinearity_limit, "
                "else table A.1/B.1 for the device's technology and application)"),
         Option("method", "auto", None, "\"angle\" (pulse output, D.1), \"rate\" (LSB output, D.2) or \"auto\" "
-               "(from the segments; for the sequence, \"auto\" means angle)"),
+               "(the sweep the data hold; both: the one matching the device's output; for the sequence, "
+               "\"auto\" means angle)"),
         Option("max_rate", "400 °/s", "deg/s", "largest rate point tested (test beyond the expected maximum)"),
         Option("turns", 5, None, "angle method: whole revolutions m per rate point and direction"),
         Option("duration", "100 s", "s", "rate method: record at each rate point and at rest"),
@@ -736,9 +737,14 @@ class MaxInputRateD3(Procedure):
         if method not in ("auto", "angle", "rate"):
             raise ProcedureError(f"D.3: option method = {opts['method']!r}; use angle, rate or auto")
         if method == "auto":
-            if campaign.find_segments("rate-revolutions"):
+            has_angle = bool(campaign.find_segments("rate-revolutions"))
+            has_rate = any(_group_of(s) == ("", "") for s in campaign.find_segments("rate-output"))
+            if has_angle and has_rate:
+                # both sweeps measured: the one that matches the device's output
+                method = "rate" if str(campaign.device.output).lower() in ("digital", "analog") else "angle"
+            elif has_angle:
                 method = "angle"
-            elif any(_group_of(s) == ("", "") for s in campaign.find_segments("rate-output")):
+            elif has_rate:
                 method = "rate"
             else:
                 raise DataError(campaign.source, "segments",
