@@ -7,7 +7,10 @@ Data: one segment of kind ``rate-revolutions`` per rate point and direction, wit
 ``count`` (P, pulses over each whole revolution, counted between revolution pulses) and
 ``duration`` (s, the time of each revolution, D.1.3.2 a)); for D.1.3 also segments of kind
 ``static-zero`` (table at rest, τ = 1 s, n = 300, at several symmetric positions, at the start
-and end of the test) with an ``output`` column in P.
+and end of the test) with an ``output`` column in P.  D.1.4 uses segments of kind
+``revolutions-repeat`` (the same columns at 30 °/s, condition ``run`` = 1 … 7), D.1.5
+``revolutions-temperature`` (the whole sweep at each ``temperature``) and D.1.6
+``revolutions-mounting`` (conditions ``axis_up`` XRA/YRA and ``turn`` 0°/180° about IRA).
 """
 
 from __future__ import annotations
