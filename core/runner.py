@@ -80,7 +80,8 @@ def select_items(
     standard is a candidate; a series name stands for its members.  A candidate runs if it is
     registered and applies to ``device`` (``metro_item_applicability``, else
     ``Procedure.applies_to``) and, given a recorded ``campaign`` (whose device is then used),
-    if the campaign has segments of every kind the item requires.  Returns (items to run, in order; every choice with its reason).
+    if the campaign has segments of every kind the item requires.  Returns (items to run, in
+    order; every choice with its reason).
     """
     if standard not in pm.register_all().standards:
         pm.procedure(standard, "")  # raises the unknown-standard error listing the loaded ones
@@ -112,8 +113,8 @@ def select_items(
                 consider(m, f"series {name}")
         else:
             pm.procedure(standard, name)  # an unknown item is an error naming the items
-            if not any(c.item == name for c in choices):
-                choices.append(ItemChoice(name, True, "requested", "requested"))
+            choices[:] = [c for c in choices if c.item != name]  # named explicitly: it runs
+            choices.append(ItemChoice(name, True, "requested", "requested"))
     if run_all:
         for item in sorted(registered, key=_item_order):
             consider(item, "--all")

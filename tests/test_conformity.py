@@ -270,6 +270,8 @@ def test_applicability_hook_and_series(pm):
     why = {c.item: c for c in choices}
     assert why["D.1.1"].via == "series scale-factor" and "laser" in why["D.1.1"].reason
     assert not why["D.2.1"].run
+    both, _ = select_items(pm, "gbt45570", ["scale-factor", "D.2.1"], device=laser)
+    assert "D.2.1" in both and "D.1.1" in both  # an item named explicitly runs whatever the rule says
     all_items, _ = select_items(pm, "gbt45570", [], run_all=True, device=laser)
     assert {"D.1.1", "D.5.1", "D.5.6"} <= set(all_items)
     from metro.core.errors import PluginError
