@@ -336,6 +336,11 @@ class Metric:
     equation: str = ""
     description: str = ""
 
+    @property
+    def reference(self) -> str:
+        """Where the formula is: the clause, and the equation when there is one (``D.5.1.3 (D.40)``)."""
+        return f"{self.clause} ({self.equation})" if self.equation else self.clause
+
 
 @attrs.frozen
 class Result:

@@ -128,7 +128,7 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
         for r in o.results:
             v, U = r.reported()
             t.add_row(o.item, f"{r.metric.name} {r.metric.symbol}", v, U or (f"u={r.u.magnitude:.2g}" if r.u is not None else "-"),
-                      f"{r.k:.2f}" if r.k else "-", fmt_unit(r.metric.unit), f"{r.metric.clause} ({r.metric.equation})")
+                      f"{r.k:.2f}" if r.k else "-", fmt_unit(r.metric.unit), r.metric.reference)
     con.print(t)
     for o in record.outcomes:
         for r in o.results:

@@ -323,3 +323,8 @@ def test_committed_template_is_what_the_generator_builds():
     assert fresh.namelist() == committed.namelist()
     for name in fresh.namelist():
         assert fresh.read(name) == committed.read(name), f"{name} differs: re-run make_templates.py"
+
+
+def test_metric_reference_names_the_equation_only_when_there_is_one():
+    assert Metric("B0", "bias", "B₀", "deg/h", "D.5.1.3", "D.40").reference == "D.5.1.3 (D.40)"
+    assert Metric("t_s", "set-up time", "t_s", "s", "6.2.7.7").reference == "6.2.7.7"
