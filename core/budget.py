@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from decimal import ROUND_CEILING, ROUND_HALF_EVEN, ROUND_FLOOR, Decimal
-from typing import Literal, Sequence
+from typing import Literal
 
 import attrs
 import pint

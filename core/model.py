@@ -11,7 +11,7 @@ import abc
 import datetime as dt
 import math
 from types import MappingProxyType
-from typing import Any, Callable, ClassVar, Iterable, Mapping, Sequence
+from typing import Any, Callable, ClassVar, Mapping, Sequence
 
 import attrs
 import numpy as np

@@ -119,6 +119,19 @@ def device_scale_factor(device, source: str | None = None) -> tuple[pint.Quantit
     return K, abs(rel) / k
 
 
+def required_scale_factor(device, unit: str, *, source: str | None, needed_by: str) -> tuple[float, float]:
+    """The device's scale factor K as a number in ``unit`` and its relative standard
+    uncertainty, for a formula that divides by K; a missing or wrongly dimensioned
+    ``[device] scale_factor`` is a :class:`DataError` saying which formula needs it
+    (``needed_by``, e.g. ``"D.14 (D.1.6)"``)."""
+    K, urel = device_scale_factor(device, source)
+    if K is None:
+        raise DataError(source, "device.scale_factor", f"{needed_by} divides by the scale factor K ({fmt_unit(unit)}); "
+                        "give the device's K", hint=f"add scale_factor = \"… {unit}\" under [device]")
+    check_dimension(K, unit, file=source, field="device.scale_factor")
+    return float(K.to(unit).magnitude), urel
+
+
 def gyro_output(segment, device, *, column: str = "output", source: str | None = None):
     """The segment's gyro output column and the conversion of its samples to °/h."""
     series = segment.series(column, OUTPUT_UNITS)

@@ -30,7 +30,7 @@ from typing import Any, Callable, Mapping
 import attrs
 import numpy as np
 
-from metro.core.model import Campaign, Calibration, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_
 
 from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, physical (IERS)

@@ -9,9 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from metro.core.errors import DataError
+from metro.core.errors import DataError, UnitError
 from metro.core.lsq import fit_line
 from metro.core.runner import run_items
+from metro.core.units import Q_
 from metro.instruments.simulated import GyroTruth, SimulatedStation
 from metro.plugins.gbt45570 import formulas as F
 from metro.plugins.gbt45570.angle_method import AsymmetryD13, NonlinearityD12, ScaleFactorD11, rate_points
@@ -209,6 +210,11 @@ def test_d16_needs_the_device_scale_factor(pm):
     with pytest.raises(DataError, match="divides by the scale factor") as e:
         run_items(pm, "gbt45570", ["D.1.6"], campaign=camp)
     assert e.value.field == "device.scale_factor"
+    # a K in the rate method's unit is not silently used by the angle method
+    camp = attrs.evolve(camp, device=attrs.evolve(camp.device, properties={"scale_factor": Q_(100.0, "LSB/(deg/s)")}))
+    with pytest.raises(UnitError, match="scale_factor") as e:
+        run_items(pm, "gbt45570", ["D.1.6"], campaign=camp)
+    assert "LSB" in str(e.value)
 
 
 def test_d14_warns_when_the_runs_are_not_at_the_stated_rate(pm):

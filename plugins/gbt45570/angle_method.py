@@ -670,18 +670,12 @@ class InputAxisMisalignmentD16(Procedure):
         return mounting_steps("revolutions-mounting", r, options, revolutions=True)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        from metro.core.signals import device_scale_factor
+        from metro.core.signals import required_scale_factor
 
         opts = self.option_values(ctx.options)
         groups = mounting_groups(campaign, "revolutions-mounting", "D.1.6")
-        K, u_rel_K = device_scale_factor(campaign.device, campaign.source)
-        if K is None:
-            raise DataError(campaign.source, "device.scale_factor", "D.14 divides by the scale factor K (P/″); "
-                            "give the device's K from D.1.1", hint="add scale_factor = \"… P/″\" under [device]")
-        from metro.core.units import check_dimension
-
-        check_dimension(K, "P/arcsec", file=campaign.source, field="device.scale_factor")
-        k = float(K.to("P/arcsec").magnitude)
+        k, u_rel_K = required_scale_factor(campaign.device, "P/arcsec", source=campaign.source,
+                                           needed_by="eq. (D.14) of D.1.6 (K from D.1.1)")
         ang, used = {}, []
         for (ax, turn), segs in groups.items():
             pts = collect_rate_points(type(self), campaign, 1, segs, f"({ax} up, turned {turn}°)")
@@ -698,7 +692,7 @@ class InputAxisMisalignmentD16(Procedure):
         rel = []
         if u_rel_K > 0:
             rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
-                                        k=1.0, note=f"K = {K:~P}; α ∝ 1/K"))
+                                        k=1.0, note=f"K = {k:g} P/″; α ∝ 1/K"))
         rel += [attrs.evolve(r, sensitivity=Q_(1.0, "")) for r in _angle_row(campaign, 1.0, "")]
         return misalignment_outcome(self, campaign, opts, ang, rel, used, "revolution count scatter")
 

@@ -14,7 +14,7 @@ import attrs
 import numpy as np
 
 from metro.core import allan
-from metro.core.budget import INF, BudgetRow, Coverage, UncertaintyBudget
+from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
 from metro.core.model import (
     Campaign,
@@ -32,7 +32,7 @@ from metro.core.model import (
     TableSpec,
 )
 from metro.core.signals import OUTPUT_UNITS, RateConversion, gyro_output
-from metro.core.units import Q_, fmt_unit, parse_quantity
+from metro.core.units import Q_, parse_quantity
 
 from . import formulas as F
 

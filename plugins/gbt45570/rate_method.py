@@ -39,7 +39,7 @@ from metro.core.model import (
     Step,
     TableSpec,
 )
-from metro.core.units import Q_, check_dimension, parse_quantity
+from metro.core.units import Q_, parse_quantity
 
 from . import formulas as F
 from . import formulas_rate as F2
@@ -634,17 +634,12 @@ class InputAxisMisalignmentD26(Procedure):
         return mounting_steps("rate-mounting", r, options, revolutions=False)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        from metro.core.signals import device_scale_factor
+        from metro.core.signals import required_scale_factor
 
         opts = self.option_values(ctx.options)
         groups = mounting_groups(campaign, "rate-mounting", "D.2.6")
-        K, u_rel_K = device_scale_factor(campaign.device, campaign.source)
-        if K is None:
-            raise DataError(campaign.source, "device.scale_factor", "D.30 divides by the scale factor K "
-                            "(LSB/[(°)/s]); give the device's K from D.2.1",
-                            hint="add scale_factor = \"… LSB/(°/s)\" under [device]")
-        check_dimension(K, LSB_PER_RATE, file=campaign.source, field="device.scale_factor")
-        k = float(K.to(LSB_PER_RATE).magnitude)
+        k, u_rel_K = required_scale_factor(campaign.device, LSB_PER_RATE, source=campaign.source,
+                                           needed_by="eq. (D.30) of D.2.6 (K from D.2.1)")
         ang, used = {}, []
         for (ax, turn), segs in groups.items():
             where = f"mounting {ax} up, turned {turn}°"
@@ -676,7 +671,7 @@ class InputAxisMisalignmentD26(Procedure):
         rel = []
         if u_rel_K > 0:
             rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
-                                        k=1.0, note=f"K = {K:~P}; δ ≈ (F₊ − F₋)/(2KΩ)"))
+                                        k=1.0, note=f"K = {k:g} LSB/[(°)/s]; δ ≈ (F₊ − F₋)/(2KΩ)"))
         r = rate_table_rel(campaign)
         if r is not None:
             rel.append(BudgetRow.type_b(f"rate-table rate accuracy ({r[1]})", "u_rel(Ω)", Q_(r[0], ""),
