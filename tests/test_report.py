@@ -328,3 +328,24 @@ def test_committed_template_is_what_the_generator_builds():
 def test_metric_reference_names_the_equation_only_when_there_is_one():
     assert Metric("B0", "bias", "B₀", "deg/h", "D.5.1.3", "D.40").reference == "D.5.1.3 (D.40)"
     assert Metric("t_s", "set-up time", "t_s", "s", "6.2.7.7").reference == "6.2.7.7"
+
+
+def test_generic_report_states_the_decision_rule_and_each_verdict(tmp_path):
+    import attrs
+
+    from metro.core import conformity as cf
+
+    record = make_record(with_plot=False)
+    specs = [cf.parse_limit("RWC", "<= 0.002 deg/hour**0.5", source="product spec FOG-300 rev B"),
+             cf.parse_limit("B0", "|x| <= 0.5 deg/h", source="product spec FOG-300 rev B")]
+    assessed = attrs.evolve(record, conformity=cf.assess(record.outcomes, specs, cf.GUARDED))
+    text = docx_text(report.write_report(tmp_path / "judged.docx", assessed))
+    assert cf.GUARDED.title in text and cf.GUARDED.statement in text
+    assert "product spec FOG-300 rev B" in text and "≤ 0.002" in text
+    verdict = assessed.conformity.verdicts[0]
+    assert verdict.reason in text and verdict.status.value in text
+    assert "B0" in text  # a limit with no result of this run is listed as not assessed
+    assert "makes no statement of conformity" not in text
+    # without a specification the report says it makes no statement, rather than leaving a gap
+    plain = docx_text(report.write_report(tmp_path / "plain.docx", record))
+    assert "makes no statement of conformity" in plain and cf.GUARDED.statement not in plain

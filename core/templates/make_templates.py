@@ -540,8 +540,31 @@ def build() -> "docx.document.Document":
     para(doc, "This report holds no results.", italic=True)
     tag(doc, "{%p endif %}")
 
-    # ---- 6 Provenance ------------------------------------------------------------------
-    heading(doc, "6 Provenance", 1)
+    # ---- 6 Conformity ------------------------------------------------------------------
+    heading(doc, "6 Conformity with the specification", 1)
+    tag(doc, "{%p if conformity %}")
+    para(doc, "Decision rule: {{ conformity.rule_title }}. {{ conformity.statement }}")
+    para(doc, "Overall: {{ conformity.overall }}", bold=True)
+    loop_table(
+        doc,
+        ["Item", "Result", "Limit", "Source of the limit", "Verdict", "Why"],
+        ["{{ v.item }}", "{{ v.key }}", "{{ v.limit }}", "{{ v.source }}", "{{ v.status }}", "{{ v.reason }}"],
+        [18, 18, 26, 40, 20, 48],
+        "v in conformity.verdicts",
+    )
+    tag(doc, "{%p if conformity.not_assessed %}")
+    label(doc, "Limits given but not assessed (no result of this run)")
+    tag(doc, "{%p for n in conformity.not_assessed %}")
+    para(doc, "{{ n }}", style="List Bullet")
+    tag(doc, "{%p endfor %}")
+    tag(doc, "{%p endif %}")
+    tag(doc, "{%p else %}")
+    para(doc, "No specification was given for this campaign; this report makes no statement of "
+              "conformity.", italic=True)
+    tag(doc, "{%p endif %}")
+
+    # ---- 7 Provenance ------------------------------------------------------------------
+    heading(doc, "7 Provenance", 1)
     para(doc, "Campaign source: {{ provenance.source }}")
     label(doc, "Software")
     loop_table(doc, ["Component", "Version"], ["{{ s.name }}", "{{ s.version }}"], [50, TEXT_W - 50],
