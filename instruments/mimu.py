@@ -20,6 +20,15 @@ Mountings (all with the MIMU at the table centre, so there is no centripetal ter
   table turning at ``rate`` (signed, right-handed about the +axis); the horizontal earth rate
   turns with the table and the vertical part adds to the rate (7.2.1.1, 7.2.5.1).
 
+The table is not perfect: it is the :class:`~metro.instruments.equipment.ThreeAxisTable` the
+campaign declares (:func:`station_equipment`), and its simulated action is used.  Every mounting
+is off by two small angles drawn by :meth:`ThreeAxisTable.position` (uniform within
+±``position_accuracy``), which tilt the table axis (= the zenith) in the body frame; every rate
+point turns at :meth:`ThreeAxisTable.actual_rate` (a fixed relative error per set point, drawn
+within the band's ±error, plus ripple).  The bands are set so that the table's errors are as
+large as its certificate says (U = 2×10⁻⁴, k = 2, appendix A.1.2.1), so the budget rows u₁ are
+exercised by the simulation rather than merely added to it.
+
 The truth is declared (:class:`MimuTruth`) and seeded; :func:`ideal_means` gives the exact
 mean of each output for a segment, from which the station computes ``expected``.
 """
@@ -108,27 +117,52 @@ def _frame(up: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return e, h1, h2
 
 
-def segment_kinematics(conditions: Mapping[str, Any], latitude_deg: float, n: int, interval_s: float):
-    """Body angular rate (°/s, shape (n, 3)) and specific force (gn, shape (3,)) for a segment."""
+def _tilted(e: np.ndarray, h1: np.ndarray, h2: np.ndarray, tilt_rad) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The body frame (zenith, h1, h2) after the mounting is off by the small angles
+    ``tilt_rad`` = (about h1, about h2): an exact rotation, so the three stay orthonormal."""
+    if tilt_rad is None:
+        return e, h1, h2
+    a, b = (float(v) for v in tilt_rad)
+
+    def rot(axis, ang, v):  # Rodrigues
+        return v * math.cos(ang) + np.cross(axis, v) * math.sin(ang) + axis * float(axis @ v) * (1 - math.cos(ang))
+
+    out = []
+    for v in (e, h1, h2):
+        out.append(rot(h2, b, rot(h1, a, v)))
+    return out[0], out[1], out[2]
+
+
+def _rate_of(conditions: Mapping[str, Any]) -> float:
+    rate = conditions["rate"]
+    return float(rate.to("deg/s").magnitude) if hasattr(rate, "to") else float(rate)
+
+
+def segment_kinematics(conditions: Mapping[str, Any], latitude_deg: float, n: int, interval_s: float,
+                       *, tilt_rad=None, rate_deg_s: np.ndarray | float | None = None):
+    """Body angular rate (°/s, shape (n, 3)) and specific force (gn, shape (3,)) for a segment.
+
+    ``tilt_rad``: the mounting's two small angle errors (the table axis / zenith is off the MIMU
+    axis by them); ``rate_deg_s``: the rate the table actually turns at (a number or n samples;
+    default the set point ``conditions["rate"]``)."""
     phi = math.radians(latitude_deg)
-    t = np.arange(n) * interval_s
     if "up" in conditions:  # static position, heading 0° / 180°
         up = str(conditions["up"])
         heading = math.radians(float(Q_(conditions["heading"]).to("deg").magnitude)
                                if not isinstance(conditions["heading"], (int, float)) else conditions["heading"])
-        e, h1, h2 = _frame(up)
+        e, h1, h2 = _tilted(*_frame(up), tilt_rad)
         north = math.cos(heading) * h1 - math.sin(heading) * h2
         w = EARTH_RATE_DEG_S * (math.sin(phi) * e + math.cos(phi) * north)
         omega = np.tile(w, (n, 1))
         force = e.copy()
     else:  # rate about a vertical MIMU axis
         axis = str(conditions["axis"])
-        rate = conditions["rate"]
-        r = float(rate.to("deg/s").magnitude) if hasattr(rate, "to") else float(rate)
-        e, h1, h2 = _frame("+" + axis)
-        ang = np.radians(r * t)
+        r = _rate_of(conditions) if rate_deg_s is None else rate_deg_s
+        r = np.broadcast_to(np.asarray(r, float), (n,))
+        e, h1, h2 = _tilted(*_frame("+" + axis), tilt_rad)
+        ang = np.radians(np.concatenate([[0.0], np.cumsum(r[:-1])]) * interval_s) if n else np.zeros(0)
         horiz = EARTH_RATE_DEG_S * math.cos(phi) * (np.cos(ang)[:, None] * h1 - np.sin(ang)[:, None] * h2)
-        omega = (r + EARTH_RATE_DEG_S * math.sin(phi)) * e[None, :] + horiz
+        omega = (r + EARTH_RATE_DEG_S * math.sin(phi))[:, None] * e[None, :] + horiz
         force = e.copy()
     return omega, force
 
@@ -143,17 +177,22 @@ def model_outputs(truth: MimuTruth, omega_deg_s: np.ndarray, force_gn: np.ndarra
 
 
 def ideal_means(truth: MimuTruth, conditions: Mapping[str, Any], latitude_deg: float,
-                n: int, interval_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """Exact (noise-free, unquantized) mean outputs of a segment."""
-    omega, force = segment_kinematics(conditions, latitude_deg, n, interval_s)
+                n: int, interval_s: float, *, tilt_rad=None, rate_deg_s: float | None = None
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Exact (noise-free, unquantized) mean outputs of a segment (with the mounting's tilt and
+    the table's mean rate, if given)."""
+    omega, force = segment_kinematics(conditions, latitude_deg, n, interval_s, tilt_rad=tilt_rad,
+                                      rate_deg_s=rate_deg_s)
     g, acc = model_outputs(truth, omega, force)
     return g.mean(axis=0), acc.mean(axis=0)
 
 
 def simulate_segment(truth: MimuTruth, conditions: Mapping[str, Any], latitude_deg: float, n: int,
-                     interval_s: float, seed: int) -> dict[str, np.ndarray]:
+                     interval_s: float, seed: int, *, tilt_rad=None,
+                     rate_deg_s: np.ndarray | None = None) -> dict[str, np.ndarray]:
     rng = np.random.default_rng(seed)
-    omega, force = segment_kinematics(conditions, latitude_deg, n, interval_s)
+    omega, force = segment_kinematics(conditions, latitude_deg, n, interval_s, tilt_rad=tilt_rad,
+                                      rate_deg_s=rate_deg_s)
     gyro, accel = model_outputs(truth, omega, force)
     gyro = gyro + rng.normal(0.0, truth.gyro_noise_deg_s, size=gyro.shape)
     accel = accel + rng.normal(0.0, truth.accel_noise_gn, size=accel.shape)
@@ -186,18 +225,40 @@ class MimuStation:
             technology="mems", output="rate",
         )
 
-    def equipment(self) -> list[Equipment]:
-        from .equipment import equipment_list, jjf2003_equipment
+    def table(self):
+        """The simulated three-axis table (:func:`station_table`) for this MIMU's seed."""
+        return station_table(self.truth.seed)
 
-        return equipment_list(jjf2003_equipment(self.truth.bits))
+    def equipment(self) -> list[Equipment]:
+        from .equipment import ADC, equipment_list
+
+        return equipment_list([self.table(), ADC(id="SIM-DAQ", model=f"simulated {self.truth.bits}-bit acquisition",
+                                                 bits=int(self.truth.bits))])
+
+    def mounting(self, index: int, step: Step, n: int) -> tuple[np.ndarray, np.ndarray | None, float | None]:
+        """The table's action for step ``index``: the two tilt angles (rad) of the mounting, the
+        n rate samples the table turns at (None for a position) and their set-point mean."""
+        table = self.table()
+        rng = np.random.default_rng([self.truth.seed & 0xFFFFFFFF, 0x7AB1E, index])
+        tilt = np.radians(table.position(Q_([0.0, 0.0], "deg"), rng).to("deg").magnitude)
+        if "rate" not in step.conditions:
+            return tilt, None, None
+        set_point = Q_(_rate_of(step.conditions), "deg/s")
+        rates = table.actual_rate(set_point, n, rng).to("deg/s").magnitude
+        mean = float(set_point.to("deg/s").magnitude) * (1.0 + table.systematic_error(set_point))
+        return tilt, np.asarray(rates, float), mean
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         t = self.truth
         segments = []
+        realized: dict[str, tuple[np.ndarray, float | None]] = {}
         for i, step in enumerate(steps):
             interval_s = float(step.interval.to("s").magnitude)
             n = max(2, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
-            cols = simulate_segment(t, step.conditions, self.latitude_deg, n, interval_s, t.seed + 7919 * (i + 1))
+            tilt, rates, mean_rate = self.mounting(i, step, n)
+            realized[step.segment] = (tilt, mean_rate)
+            cols = simulate_segment(t, step.conditions, self.latitude_deg, n, interval_s, t.seed + 7919 * (i + 1),
+                                    tilt_rad=tilt, rate_deg_s=rates)
             digest = hashlib.sha256(b"".join(cols[c].tobytes() for c in sorted(cols))).hexdigest()
             units = {c: ("deg/s" if c.startswith("g") else "gn") for c in cols}
             segments.append(Segment(
@@ -212,18 +273,34 @@ class MimuStation:
             site={"latitude": Q_(self.latitude_deg, "deg")}, segments=segments, source="simulated station",
             simulated=True, truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
         )
-        return attrs.evolve(camp, expected=_expected(self, camp))
+        return attrs.evolve(camp, expected=_expected(self, camp, realized))
 
 
-def _expected(station: MimuStation, camp: Campaign) -> dict[str, Any]:
-    """What an ideal evaluation gives: the plugin's own formulas applied to the exact means."""
+def station_table(seed: int):
+    """The simulated three-axis position/rate table (JJF 2003 table 1, appendix A.1.2.1).
+
+    Certificate U = 2×10⁻⁴ (k = 2, relative rate) and positioning ±10″ (table 1), and errors of
+    that size: one band to 14 000 °/s (clause 1) with a fixed relative error per set point within
+    ±√3×10⁻⁴ (uniform, standard deviation 1×10⁻⁴ = U/k) and ripple 5×10⁻⁴ (table 1: 0.05 %)."""
+    from .equipment import RateBand, ThreeAxisTable
+
+    return ThreeAxisTable(id="SIM-3AXIS", model="simulated three-axis position/rate table",
+                          position_accuracy=Q_(10.0, "arcsec"), certificate="SIM-CAL-3AX", U=Q_(2e-4, ""),
+                          lab="simulated", seed=int(seed),
+                          bands=(RateBand("14000 deg/s", math.sqrt(3.0) * 1e-4, 5e-4),))
+
+
+def _expected(station: MimuStation, camp: Campaign, realized: Mapping[str, tuple]) -> dict[str, Any]:
+    """What an ideal evaluation gives: the plugin's own formulas applied to the exact means of
+    what the table did (each mounting's tilt, each rate point's mean rate) without noise."""
     try:
         from metro.plugins.jjf2003.procedures import ideal_evaluation
     except ImportError:  # pragma: no cover - plugin not installed
         return {}
     return ideal_evaluation(camp, lambda seg: ideal_means(
         station.truth, seg.conditions, station.latitude_deg,
-        max(2, int(np.shape(seg.columns()["gx"][0])[0])), float(seg.interval.to("s").magnitude)))
+        max(2, int(np.shape(seg.columns()["gx"][0])[0])), float(seg.interval.to("s").magnitude),
+        tilt_rad=realized[seg.id][0], rate_deg_s=realized[seg.id][1]))
 
 
 def station_factory(**options: Any) -> MimuStation:
@@ -234,4 +311,4 @@ def station_factory(**options: Any) -> MimuStation:
 
 
 __all__ = ["MimuTruth", "MimuStation", "station_factory", "ideal_means", "simulate_segment",
-           "segment_kinematics", "model_outputs", "EARTH_RATE_DEG_S", "EARTH_RATE_RAD_S", "UPS"]
+           "segment_kinematics", "model_outputs", "station_table", "EARTH_RATE_DEG_S", "EARTH_RATE_RAD_S", "UPS"]

@@ -346,7 +346,9 @@ def _relative_quant_row(campaign: Campaign, scale: float, warnings: list[str]) -
 
 
 def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warnings: list[str]) -> list[BudgetRow]:
-    """A.2.2.2: one LSB q = 2·FS/2^N of the output (half-width, uniform) in every mean; Σ|c_i| sensitivity."""
+    """A.2.2.2 with (A.3): the quantization error δ = 1/2^N relative to the full scale FS, i.e. the
+    half-width δ·FS = FS/2^N (half an LSB of an N-bit converter over ±FS), uniform, in every mean;
+    sensitivity Σ|cᵢ| (the means' errors added linearly, as appendix A adds u₃)."""
     n = _bits(campaign, warnings)
     if n is None:
         return []
@@ -355,9 +357,10 @@ def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warning
         warnings.append(f"no device `{range_prop}` (full scale): u₂ is missing from the budget")
         return []
     fs = dev.prop(range_prop, unit, source=campaign.source).to(unit).magnitude
-    q = 2.0 * float(fs) / 2**n
-    return [BudgetRow.type_b(f"acquisition quantization, {n} bits over ±{float(fs):g} (A.3)", "u₂", Q_(q, unit),
-                             distribution="uniform", sensitivity=csum, note="one LSB in each mean, Σ|cᵢ|")]
+    half_width = float(fs) / 2**n  # δ·FS, δ = 1/2^N (A.3)
+    return [BudgetRow.type_b(f"acquisition quantization, {n} bits over ±{float(fs):g} (A.3)", "u₂",
+                             Q_(half_width, unit), distribution="uniform", sensitivity=csum,
+                             note="δ·FS = FS/2^N (half an LSB) in each mean, Σ|cᵢ|")]
 
 
 # ------------------------------------------------------------------------------ procedures
@@ -573,7 +576,7 @@ class GyroBiasGSensitivity(Procedure):
     pair mean; Ḡ = U·Āᵀ(ĀĀᵀ)⁻¹ = [G | B].  Option ``earth_rate``: ``no`` (the standard) or
     ``yes`` (subtract the vertical earth rate K_g[:, j]·Ω·sin φ that eq. (7) puts into column j;
     a deviation, stated in the warnings).  Budget (A.2, A.3): u₃ repeatability Σ|cᵢ|u(Uᵢ),
-    u₂ quantization (one LSB per mean), u₁ table positioning (tilt).
+    u₂ quantization (δ·FS = FS/2^N per mean), u₁ table positioning (tilt).
     """
 
     standard = STANDARD
@@ -699,7 +702,7 @@ class AccelRateSensitivity(Procedure):
     Axis j up on the rate table: U₇ at rest, U₈ turning at ω; p_ij = (U₈ − U₇)/ω² with ω in rad/s.
     Eq. (12) prints (U₇ − U₈)/ω², the opposite sign to the model eq. (2): metro follows the
     model by default (option ``sign`` = ``model`` | ``as-printed``; docs/interpretations.md).
-    Budget (A.5): u₃ = |c|(u(U₇) + u(U₈)), u₂ quantization (one LSB in each mean), u₁ table rate
+    Budget (A.5): u₃ = |c|(u(U₇) + u(U₈)), u₂ quantization (δ·FS in each mean), u₁ table rate
     (c(ω) = −2p/ω, so 2|p|·u_rel).
     """
 
