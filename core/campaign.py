@@ -209,10 +209,14 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
     spec_t = _table(doc, "specification", src, required=False)
     specification = _specification(spec_t, src)
 
+    simulated = camp.get("simulated", False)
+    if not isinstance(simulated, bool):
+        raise DataError(src, "campaign.simulated", f"must be true or false, got {simulated!r}",
+                        hint="metro acquire writes simulated = true for data from a simulated station")
     return Campaign(
         id=_str(camp, "id", src, "campaign", required=False, default=path.parent.name),
         device=device, equipment=equipment, environment=environment, site=site, segments=segments,
-        source=src, simulated=False,
+        source=src, simulated=simulated,
         meta={k: v for k, v in camp.items() if k != "id"},
         specification=specification,
     )

@@ -156,7 +156,10 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
         for w in o.warnings:
             con.print(f"[yellow]warning ({o.item}):[/] {w}")
     checks = truth_checks(record)
-    if record.simulated:
+    if record.simulated and not record.truth:
+        con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated station "
+                  "(its manifest says simulated = true); the report carries the SIMULATED banner")
+    elif record.simulated:
         con.print("[bold yellow]SIMULATED station[/]: declared truth "
                   + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
         for ch in checks:

@@ -62,7 +62,8 @@ def test_round_trip_gives_the_in_memory_results(pm, tmp_path, standard, items, s
     _same_results(mem, disk)
     files = {p.suffix for p in manifest.parent.iterdir() if p.name != "manifest.toml"}
     assert files == ({".npy"} if npy_rows < 1000 else {".csv"})
-    assert not disk.campaign.simulated and disk.campaign.meta["simulated"] is True
+    # data recorded on a simulated station stay marked as simulated (the report's banner)
+    assert disk.campaign.simulated and disk.campaign.meta["simulated"] is True
 
 
 def test_manifest_records_device_equipment_calibration_site_and_conditions(pm, tmp_path):
@@ -140,7 +141,7 @@ def test_cli_acquire_then_run(tmp_path, capsys):
     import json
 
     res = json.loads(capsys.readouterr().out)
-    assert res["results"][0]["key"] == "B0" and not res["simulated"]
+    assert res["results"][0]["key"] == "B0" and res["simulated"]
     # a second acquire into the same folder is refused with a clear message, exit code 2
     rc = main(["--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out", str(out),
                "--no-progress"])

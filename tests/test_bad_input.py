@@ -50,6 +50,8 @@ CASES = {
                                        ["static.csv", "τ"]),
     "zero-variance data": (None, lambda c: _constant(c), (), ["static.csv", "zero"]),
     "unknown option": (None, None, ("-o", "smoothing=3"), ["smoothing"]),
+    "simulated flag that is not a boolean": (lambda m: m.replace('id = "TEST-001"\n', 'id = "TEST-001"\nsimulated = "no"\n'),
+                                             None, (), ["manifest.toml", "campaign.simulated"]),
 }
 
 

@@ -506,7 +506,9 @@ def test_acquire_then_run_data_gives_the_in_memory_results(run_cli, tmp_path):
     import docx
 
     text = "\n".join(p.text for p in docx.Document(str(out)).paragraphs)
-    assert "SIMULATED station" in text  # recorded, but acquired on the simulator: the certificate says so
+    from metro.core.report import SIMULATED_BANNER
+
+    assert SIMULATED_BANNER in text  # recorded, but acquired on the simulator: the certificate says so
 
 
 def test_certificate_states_the_earth_rate_deviation(files, run_cli, tmp_path):

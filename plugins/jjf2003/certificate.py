@@ -99,11 +99,6 @@ def certificate_context(record) -> dict[str, Any]:
     }
     notes = [f"{o.item}: {w}" for o in record.outcomes if o.standard == "jjf2003" for w in o.warnings
              if "DEVIATION" in w or "as printed" in w]
-    if not (getattr(record, "simulated", False) or camp.simulated) and camp.meta.get("simulated") in (True, "true"):
-        # a recorded campaign written by a simulated station: the generic banner is not shown for
-        # data read from disk, so the certificate says it here
-        notes.insert(0, "The campaign was acquired on a SIMULATED station (manifest: simulated = true); "
-                        "these are not measurements of a real device.")
     return {
         "clause8": clause8,
         "scale_factors": _rows(res, [f"K_g{a}{a}" for a in AXES] + [f"K_a{a}{a}" for a in AXES]),
