@@ -63,7 +63,6 @@ __all__ = [
     "AngleTurntable",
     "gbt45570_equipment",
     "jjf2014_equipment",
-    "jjf2003_equipment",
     "angle_instrument_equipment",
 ]
 
@@ -767,16 +766,6 @@ def jjf2014_equipment() -> list[EquipmentModel]:
         ShockTable(id="SIM-SHOCK", model="simulated shock machine"),
         LinearShaker(id="SIM-VIB", model="simulated linear vibration table"),
         Timer(id="SIM-TIMER", model="simulated timer", certificate="SIM-TIMER-001", U=Q_(1e-6, ""), **sim),
-    ]
-
-
-def jjf2003_equipment(bits: int) -> list[EquipmentModel]:
-    """The simulated JJF 2003 (MIMU) station: three-axis position/rate table and an N-bit acquisition."""
-    return [
-        ThreeAxisTable(id="SIM-3AXIS", model="simulated three-axis position/rate table",
-                       position_accuracy=Q_(10.0, "arcsec"), certificate="SIM-CAL-3AX", U=Q_(2e-4, ""),
-                       lab="simulated"),
-        ADC(id="SIM-DAQ", model=f"simulated {bits}-bit acquisition", bits=int(bits)),
     ]
 
 
