@@ -81,25 +81,13 @@ def _calibration(t: Mapping, src: str, where: str) -> Calibration:
     return Calibration(cert, U, float(k), due, _str(t, "lab", src, where, required=False), dist)
 
 
-def load_manifest(path: str | Path, reader_for) -> Campaign:
-    """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
-    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``)."""
-    path = Path(path)
-    src = str(path)
-    if not path.is_file():
-        raise DataError(src, None, "manifest not found", hint="give the path of a manifest.toml (docs/data-format.md)")
-    try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
-    except UnicodeDecodeError as exc:
-        raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise DataError(src, None, f"not valid TOML: {exc}") from exc
-    fmt = doc.get("format", FORMAT)
-    if fmt != FORMAT:
-        raise DataError(src, "format", f"unsupported format {fmt!r}; this metro reads {FORMAT!r}")
+def calibration_from_table(t: Mapping, src: str, where: str) -> Calibration:
+    """A ``[….calibration]`` table (certificate, U, k, due, lab, distribution), checked."""
+    return _calibration(t, src, where)
 
-    camp = _table(doc, "campaign", src, required=False)
-    dev_t = _table(doc, "device", src)
+
+def device_from_table(dev_t: Mapping, src: str) -> DeviceUnderTest:
+    """The manifest's ``[device]`` table as a :class:`DeviceUnderTest` (also used by bench files)."""
     dev_id = _str(dev_t, "id", src, "device")
     tech = _str(dev_t, "technology", src, "device", required=False).lower()
     if tech not in _TECH:
@@ -120,7 +108,7 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
                                         field=f"device.{key}")
         else:
             props[key] = _maybe_quantity(val, src, f"device.{key}")
-    device = DeviceUnderTest(
+    return DeviceUnderTest(
         id=dev_id, model=_str(dev_t, "model", src, "device", required=False),
         serial=_str(dev_t, "serial", src, "device", required=False),
         manufacturer=_str(dev_t, "manufacturer", src, "device", required=False),
@@ -128,7 +116,9 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         application=_str(dev_t, "application", src, "device", required=False), output=output,
     )
 
-    env_t = _table(doc, "environment", src)
+
+def environment_from_table(env_t: Mapping, src: str) -> dict[str, Any]:
+    """The ``[environment]`` table: temperature and humidity required, other keys kept."""
     environment: dict[str, Any] = {}
     for key, dim in (("temperature", "degC"), ("humidity", "percent")):
         if key not in env_t:
@@ -137,8 +127,11 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
     for key, val in env_t.items():
         if key not in environment:
             environment[key] = _maybe_quantity(val, src, f"environment.{key}")
+    return environment
 
-    site_t = _table(doc, "site", src)
+
+def site_from_table(site_t: Mapping, src: str) -> dict[str, Any]:
+    """The ``[site]`` table: the latitude required (−90° … 90°), other keys kept."""
     if "latitude" not in site_t:
         raise DataError(src, "site.latitude", "missing", hint="add latitude = \"39.98°\" under [site]")
     site: dict[str, Any] = {"latitude": parse_quantity(site_t["latitude"], dimension="deg", file=src, field="site.latitude")}
@@ -148,6 +141,46 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
     for key, val in site_t.items():
         if key not in site:
             site[key] = _maybe_quantity(val, src, f"site.{key}")
+    return site
+
+
+def equipment_from_table(e: Mapping, src: str, where: str) -> Equipment:
+    """One ``[[equipment]]`` table (id, role, model, serial, manufacturer, properties, calibration)."""
+    if not isinstance(e, dict):
+        raise DataError(src, where, f"must be a table, got {type(e).__name__}")
+    eid = _str(e, "id", src, where)
+    cal = _calibration(e["calibration"], src, f"{where}.calibration") if "calibration" in e else None
+    eprops = {k: _maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
+              if k not in {"id", "role", "model", "serial", "manufacturer", "calibration"}}
+    return Equipment(
+        id=eid, role=_str(e, "role", src, where), model=_str(e, "model", src, where, required=False),
+        serial=_str(e, "serial", src, where, required=False),
+        manufacturer=_str(e, "manufacturer", src, where, required=False),
+        properties=eprops, calibration=cal,
+    )
+
+
+def load_manifest(path: str | Path, reader_for) -> Campaign:
+    """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
+    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``)."""
+    path = Path(path)
+    src = str(path)
+    if not path.is_file():
+        raise DataError(src, None, "manifest not found", hint="give the path of a manifest.toml (docs/data-format.md)")
+    try:
+        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise DataError(src, None, f"not valid TOML: {exc}") from exc
+    fmt = doc.get("format", FORMAT)
+    if fmt != FORMAT:
+        raise DataError(src, "format", f"unsupported format {fmt!r}; this metro reads {FORMAT!r}")
+
+    camp = _table(doc, "campaign", src, required=False)
+    device = device_from_table(_table(doc, "device", src), src)
+    environment = environment_from_table(_table(doc, "environment", src), src)
+    site = site_from_table(_table(doc, "site", src), src)
 
     equipment = []
     seen: set[str] = set()
@@ -160,15 +193,7 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         if eid in seen:
             raise DataError(src, f"{where}.id", f"duplicate equipment id {eid!r}")
         seen.add(eid)
-        cal = _calibration(e["calibration"], src, f"{where}.calibration") if "calibration" in e else None
-        eprops = {k: _maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
-                  if k not in {"id", "role", "model", "serial", "manufacturer", "calibration"}}
-        equipment.append(Equipment(
-            id=eid, role=_str(e, "role", src, where), model=_str(e, "model", src, where, required=False),
-            serial=_str(e, "serial", src, where, required=False),
-            manufacturer=_str(e, "manufacturer", src, where, required=False),
-            properties=eprops, calibration=cal,
-        ))
+        equipment.append(equipment_from_table(e, src, where))
 
     seg_list = doc.get("segments")
     if not seg_list:

@@ -51,7 +51,7 @@ def _parser() -> argparse.ArgumentParser:
                    "simulated station)")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
 
-    pl = sub.add_parser("plugins", help="list loaded plugins and their versions")
+    pl = sub.add_parser("plugins", help="list loaded plugins and their versions, stations and drivers")
     pl.add_argument("--json", action="store_true")
 
     it = sub.add_parser("items", help="list the items of the loaded standards")
@@ -199,10 +199,14 @@ def _cmd_plugins(args) -> int:
         n_items = sum(1 for p in reg.procedures.values() if p.plugin == name)
         rows.append({"name": name, "distribution": info.distribution, "version": info.version,
                      "builtin": info.builtin, "module": info.module, "standards": stds, "items": n_items})
+    stations = [{"name": st.name, "plugin": st.plugin, "description": st.description}
+                for _, st in sorted(reg.stations.items())]
+    drivers = [{"name": d.name, "kind": d.kind, "plugin": d.plugin, "description": d.description,
+                "class": f"{d.cls.__module__}.{d.cls.__qualname__}"} for _, d in sorted(reg.drivers.items())]
     if args.json:
-        print(json.dumps({"plugins": rows,
+        print(json.dumps({"plugins": rows, "stations": stations, "drivers": drivers,
                           "autoload": not (args.no_plugin_autoload or os.environ.get("METRO_DISABLE_PLUGIN_AUTOLOAD"))},
-                         indent=2))
+                         indent=2, ensure_ascii=False))
         return 0
     from rich.console import Console
     from rich.table import Table
@@ -213,7 +217,20 @@ def _cmd_plugins(args) -> int:
     for r in rows:
         t.add_row(r["name"], r["distribution"] or "-", r["version"] or "-", "yes" if r["builtin"] else "no",
                   ", ".join(r["standards"]) or "-", str(r["items"]))
-    Console().print(t)
+    console = Console()
+    console.print(t)
+    ts = Table(title="stations (metro acquire --station NAME)")
+    for col in ("station", "plugin", "description"):
+        ts.add_column(col)
+    for st in stations:
+        ts.add_row(st["name"], st["plugin"], st["description"] or "-")
+    console.print(ts)
+    td = Table(title="drivers (live instruments; a bench file names them)")
+    for col in ("driver", "kind", "plugin", "description"):
+        td.add_column(col)
+    for d in drivers:
+        td.add_row(d["name"], d["kind"], d["plugin"], d["description"] or "-")
+    console.print(td)
     return 0
 
 

@@ -289,7 +289,15 @@ def acquire_campaign(
         station = wanted[0]
     _fresh_target(Path(out).absolute())
     st = pm.station(station).factory(**dict(station_options or {}))
-    steps = merge_steps([cls().sequence(cls.option_values(o)) for cls, o in zip(procs, per_opts)])
+    sequences = [cls().sequence(cls.option_values(o)) for cls, o in zip(procs, per_opts)]
+    steps = merge_steps(sequences)
+    check = getattr(st, "check", None)
+    if callable(check):  # a live station refuses what it cannot do before anything moves
+        origin: dict[str, list[str]] = {}
+        for cls, seq in zip(procs, sequences):
+            for s in seq:
+                origin.setdefault(s.segment, []).append(cls.qualified_id())
+        check(steps, items=origin)
     if progress is not None:
         progress("acquiring", 0, len(steps))
     campaign = st.acquire(steps, progress=progress)

@@ -1,4 +1,5 @@
-"""metro's built-in instruments as a plugin: the sample-file readers and the simulated station.
+"""metro's built-in instruments as a plugin: the sample-file readers, the simulated stations, the
+live bench station and the drivers.
 
 Loaded through the ``metro`` entry-point group like any third-party plugin.
 """
@@ -28,6 +29,15 @@ def metro_register_stations(registrar) -> None:
 
     registrar.add_station("simulated-digital", digital_station_factory,
                           "the simulated station with a digital (LSB) output gyro, for the GB/T 45570 rate method")
+
+    from functools import partial
+
+    from .bench import bench_station_factory
+
+    # the registry is complete (drivers included) by the time a station is made
+    registrar.add_station("bench", partial(bench_station_factory, registrar.registry),
+                          "live bench: a registered rate-table driver and a DMM or gyro-output driver, "
+                          "configured by a bench file (--station-option config=bench.toml)")
 
 
 @hookimpl

@@ -32,9 +32,20 @@ DMM_ADDR = "TCPIP::dmm.metro.test::INSTR"
 def dmm():
     from metro.instruments.drivers.scpi_dmm import ScpiDmm
 
+    _fresh_sim()
     d = ScpiDmm(DMM_ADDR, visa_library=f"{DMM_YAML}@sim")
     yield d
     d.close()
+    _fresh_sim()
+
+
+def _fresh_sim() -> None:
+    """pyvisa caches one library (and pyvisa-sim its devices) per path: drop it between tests."""
+    from pyvisa.highlevel import VisaLibraryBase
+    from pyvisa_sim.highlevel import SimVisaLibrary
+
+    for key in [k for k in VisaLibraryBase._registry if k[0] is SimVisaLibrary]:
+        VisaLibraryBase._registry.pop(key)
 
 
 def test_dmm_identifies_configures_and_reads_quantities(dmm):
@@ -66,6 +77,32 @@ def test_dmm_instrument_errors_and_overload_are_loud(dmm):
     dmm.close()
     with pytest.raises(DriverError, match="closed"):
         dmm.read()
+
+
+def test_dmm_connection_dropped_mid_read_fails_loudly(dmm, monkeypatch):
+    """A connection lost between readings (cable pulled, instrument switched off) is a DriverError
+    naming the address and the command — never a reading, never an empty value."""
+    from pyvisa import constants, errors
+    from pyvisa_sim.highlevel import SimVisaLibrary
+
+    dmm._inst.write(f"SIM:INPUT {1.25e-3:E}")
+    assert dmm.read().to("mV").magnitude == pytest.approx(1.25)
+    real = SimVisaLibrary.read
+    state = {"lost": False}
+
+    def read(self, session, count):
+        if state["lost"]:
+            raise errors.VisaIOError(constants.VI_ERROR_CONN_LOST)
+        return real(self, session, count)
+
+    monkeypatch.setattr(SimVisaLibrary, "read", read)
+    state["lost"] = True
+    with pytest.raises(DriverError, match="no valid reply.*VI_ERROR_CONN_LOST") as ei:
+        dmm.read()
+    assert (ei.value.file, ei.value.field) == (DMM_ADDR, "READ?")
+    with pytest.raises(DriverError) as ei:
+        dmm.read_many(5)
+    assert ei.value.file == DMM_ADDR
 
 
 @pytest.mark.filterwarnings("ignore:read string doesn't end with termination characters")

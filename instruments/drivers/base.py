@@ -89,6 +89,11 @@ class GyroOutputDriver(Driver):
         """Read ``n_frames`` frames; return a record with the data columns (quantities) and every
         problem found (bad checksums, counter gaps with their byte positions)."""
 
+    def restart(self) -> None:
+        """Start a new record: discard what the device sent before now, so the next :meth:`read`
+        begins with fresh frames.  A streaming driver overrides it; the default does nothing
+        (for outputs that send only when asked)."""
+
 
 class RateTableDriver(Driver):
     """A single- or multi-axis rate/position table.

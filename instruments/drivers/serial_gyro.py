@@ -26,7 +26,7 @@ stream that ends mid-frame, a port that goes away — raise :class:`~metro.core.
 from __future__ import annotations
 
 import struct
-from typing import Any, Iterable, Iterator
+from typing import Any, Iterable, Iterator, Mapping
 
 import attrs
 import numpy as np
@@ -121,6 +121,55 @@ class FrameLayout:
         if len(set(names)) != len(names) or "time" in names:
             raise ValueError(f"field names must be distinct and not 'time': {names}")
 
+    @classmethod
+    def from_mapping(cls, m: Mapping[str, Any], *, where: str = "layout") -> "FrameLayout":
+        """A layout from plain data (a bench file's table)::
+
+            {"header": "AA55", "counter": {"name": "counter", "code": "B"},
+             "fields": [{"name": "rate", "code": "i", "scale": 1e-6, "unit": "deg/s"}, …],
+             "checksum": "sum8", "byte_order": "<"}
+
+        ``header`` is hexadecimal text; a missing key takes the default layout's value.  A bad
+        entry is a ``ValueError`` naming the key (``where.fields[1].code``)."""
+        if not isinstance(m, Mapping):
+            raise ValueError(f"{where}: must be a table, got {type(m).__name__}")
+        unknown = sorted(set(m) - {"header", "counter", "fields", "checksum", "byte_order"})
+        if unknown:
+            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; "
+                             "use header, counter, fields, checksum, byte_order")
+
+        def field(d: Any, w: str) -> FrameField:
+            if not isinstance(d, Mapping) or "name" not in d or "code" not in d:
+                raise ValueError(f"{w}: give a table with at least name and code, got {d!r}")
+            bad = sorted(set(d) - {"name", "code", "scale", "unit"})
+            if bad:
+                raise ValueError(f"{w}: unknown key(s) {', '.join(bad)}; use name, code, scale, unit")
+            try:
+                return FrameField(str(d["name"]), str(d["code"]), float(d.get("scale", 1.0)), str(d.get("unit", "1")))
+            except (ValueError, TypeError, pint.errors.UndefinedUnitError) as exc:
+                raise ValueError(f"{w}: {exc}") from exc
+
+        kw: dict[str, Any] = {}
+        if "header" in m:
+            try:
+                kw["header"] = bytes.fromhex(str(m["header"]))
+            except ValueError as exc:
+                raise ValueError(f"{where}.header: not hexadecimal bytes ({m['header']!r})") from exc
+        if "counter" in m:
+            kw["counter"] = field(m["counter"], f"{where}.counter")
+        if "fields" in m:
+            fl = m["fields"]
+            if not isinstance(fl, (list, tuple)) or not fl:
+                raise ValueError(f"{where}.fields: give a non-empty list of field tables")
+            kw["fields"] = tuple(field(d, f"{where}.fields[{i}]") for i, d in enumerate(fl))
+        for key in ("checksum", "byte_order"):
+            if key in m:
+                kw[key] = str(m[key])
+        try:
+            return cls(**kw)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"{where}: {exc}") from exc
+
     @property
     def body_format(self) -> str:
         return self.byte_order + self.counter.code + "".join(f.code for f in self.fields)
@@ -171,8 +220,12 @@ class FrameParser:
     in :attr:`issues`.  ``max_junk`` bytes without a valid frame is an error (a wrong layout or
     baud rate), as is ending mid-frame (:meth:`finish`)."""
 
-    def __init__(self, layout: FrameLayout, *, max_junk: int | None = None, source: str = "stream") -> None:
+    def __init__(self, layout: FrameLayout, *, max_junk: int | None = None, source: str = "stream",
+                 lead_in: bool = False) -> None:
         self.layout = layout
+        #: bytes skipped before the first good frame when the parser starts mid-stream (``lead_in``)
+        self.lead_in = 0
+        self._lead_in_open = lead_in
         self.source = source
         self.max_junk = max_junk if max_junk is not None else 4 * layout.size
         self.issues: list[FrameIssue] = []
@@ -193,6 +246,12 @@ class FrameParser:
             self._junk, self._junk_start = 0, None
 
     def _skip(self, n: int) -> None:
+        if self._lead_in_open and self._offset + n <= self.layout.size:
+            # started mid-stream: the tail of a frame sent before the record began
+            self.lead_in += n
+            del self._buf[:n]
+            self._offset += n
+            return
         counted = max(0, self._offset + n - max(self._offset, self._bad_until))
         if counted and self._junk_start is None:
             self._junk_start = max(self._offset, self._bad_until)
@@ -225,6 +284,9 @@ class FrameParser:
             body = frame[hlen:hlen + L.body_size]
             (stored,) = self._check.unpack(frame[hlen + L.body_size:])
             if checksum(L.checksum, body) != stored:
+                if self._lead_in_open and self._offset < size:
+                    self._skip(1)  # a header pattern inside the tail of an earlier frame
+                    continue
                 self._flush_junk()
                 self.issues.append(FrameIssue("checksum", self._offset, self._n_good,
                                               f"checksum {stored:#x} does not match the frame "
@@ -234,6 +296,7 @@ class FrameParser:
                 self._skip(1)
                 continue
             self._flush_junk()
+            self._lead_in_open = False
             raw = self._body.unpack(body)
             cnt = int(raw[0])
             if self._last_counter is not None:
@@ -327,9 +390,14 @@ class SerialGyro(GyroOutputDriver):
     :param timeout: how long a read may wait for bytes before the connection counts as dropped.
     """
 
-    def __init__(self, port: str, layout: FrameLayout, *, interval: Any = "1 ms", baudrate: int = 921600,
+    def __init__(self, port: str, layout: FrameLayout | Mapping[str, Any], *, interval: Any = "1 ms", baudrate: int = 921600,
                  timeout: Any = "1 s", parity: str = "N", stopbits: float = 1) -> None:
         self.resource = port
+        if isinstance(layout, Mapping):
+            try:
+                layout = FrameLayout.from_mapping(layout)
+            except ValueError as exc:
+                raise DriverError(port, "layout", str(exc)) from exc
         self.layout = layout
         self.interval = parse_quantity(interval, dimension="s", field="interval")
         self._timeout_s = float(parse_quantity(timeout, dimension="s", field="timeout").to("s").magnitude)
@@ -397,6 +465,19 @@ class SerialGyro(GyroOutputDriver):
             cols[f.name] = Q_(vals[:, k], f.unit)
         return GyroRecord(cols, unwrapped, self.interval, tuple(issues),
                           np.array([f.position for f in frames], dtype=np.int64), self.resource)
+
+    def restart(self) -> None:
+        """Start a new record: discard the bytes received so far (frames sent while the table was
+        still settling) and resynchronise.  The bytes before the first whole frame after this
+        point are the tail of a frame sent before it, not a fault: they are counted in
+        :attr:`FrameParser.lead_in` rather than reported as junk."""
+        try:
+            self._port.reset_input_buffer()
+        except (self._serial_mod.SerialException, OSError) as exc:
+            raise DriverError(self.resource, "reset_input_buffer", f"the connection was lost: {exc}") from exc
+        self.parser = FrameParser(self.layout, source=self.resource, lead_in=True)
+        self._pending = []
+        self._issues_read = 0
 
     def close(self) -> None:
         port = getattr(self, "_port", None)

@@ -1,0 +1,871 @@
+"""The live bench station: metro drives a rate table and records a gyro's output.
+
+A bench is composed from registered drivers (``metro_register_drivers``):
+
+* a **rate table** (driver kind ``rate-table``, e.g. a vendor's), commanded per step with
+  ``set_rate`` / ``stop`` and ``wait_stable``; it states its own accuracy and calibration with
+  ``equipment()``;
+* an **output** driver: a ``dmm`` reading an analog gyro's voltage at the step's interval (time
+  stamps from the clock), or a ``gyro-output`` reading a digital frame stream (frames averaged,
+  or summed, into samples at the step's interval; time from the frame counter).
+
+Its configuration is a TOML *bench file* (``metro acquire … --station bench --station-option
+config=bench.toml``, format in docs/instruments.md): the driver and its constructor arguments for
+each role, the device under test (the ``[device]`` keys of a campaign manifest), environment and
+site, and the lab's calibration data of each piece of equipment.  :func:`load_bench` checks all
+of it and names file, field and reason on any problem.
+
+What the bench cannot do by itself — re-mount the device, set a chamber temperature or a field,
+power-cycle the device, apply a shock — goes through an *operator* callback (by default: print the
+instruction and wait for Enter on a terminal).  Step kinds that need instruments the bench does
+not have are refused before anything moves (:meth:`BenchStation.check`).  The table is stopped
+and every driver closed on any error and on Ctrl-C; ``metro acquire`` then writes nothing.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import hashlib
+import inspect
+import math
+import sys
+import time
+import tomllib
+from pathlib import Path
+from types import TracebackType
+from typing import Any, Callable, Mapping, Protocol, Sequence
+
+import attrs
+import numpy as np
+import pint
+
+from metro.core.errors import DataError, DriverError, MetroError
+from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
+from metro.core.units import Q_, parse_quantity, unit
+
+__all__ = [
+    "BENCH_FORMAT",
+    "Clock",
+    "SystemClock",
+    "Operator",
+    "terminal_operator",
+    "DriverSpec",
+    "OutputSpec",
+    "BenchConfig",
+    "StepPlan",
+    "load_bench",
+    "BenchStation",
+    "bench_station_factory",
+    "SUPPORTED_KINDS",
+    "UNSUPPORTED_KINDS",
+]
+
+BENCH_FORMAT = "metro-bench/1"
+
+Progress = Callable[[str, float, float], None]
+
+# ------------------------------------------------------------------------------ time
+
+
+class Clock(Protocol):
+    """Where the bench gets its time: seconds from a monotonic clock, and a way to wait."""
+
+    def monotonic(self) -> float: ...
+
+    def sleep(self, seconds: float) -> None: ...
+
+
+@attrs.frozen
+class SystemClock:
+    """The real clock: :func:`time.monotonic` and :func:`time.sleep`."""
+
+    def monotonic(self) -> float:
+        return time.monotonic()
+
+    def sleep(self, seconds: float) -> None:
+        if seconds > 0:
+            time.sleep(seconds)
+
+
+# ------------------------------------------------------------------------------ the operator
+
+#: ``operator(instruction, step)`` returns once the operator has done what ``instruction`` says
+#: for ``step``; it raises (``KeyboardInterrupt``, a :class:`MetroError`) to abort the run.
+Operator = Callable[[str, Step], None]
+
+
+def terminal_operator(instruction: str, step: Step) -> None:
+    """Print the instruction and wait for Enter on the terminal (Ctrl-C aborts the run)."""
+    if not _interactive():
+        raise MetroError(f"step {step.segment!r} ({step.kind}) needs the operator: {instruction}; "
+                         "metro is not running on a terminal, so nobody can confirm it",
+                         hint=_ASSUME_READY_HINT)
+    print(f"\n[bench] step {step.segment} ({step.kind}): {instruction}", file=sys.stderr)
+    input("[bench] press Enter when done (Ctrl-C aborts the run) ")
+
+
+def _interactive() -> bool:
+    try:
+        return bool(sys.stdin is not None and sys.stdin.isatty())
+    except (AttributeError, ValueError):  # a closed or replaced stdin
+        return False
+
+
+_ASSUME_READY_HINT = ("run `metro acquire` from a terminal and confirm each instruction, or, if the bench is set "
+                      "up for every such step already (or they are automated), pre-confirm them all with "
+                      "--station-option assume_ready=true")
+
+# ------------------------------------------------------------------------------ step kinds
+
+#: step kinds the bench runs: the table turns at the step's ``rate`` (or rests without one)
+#: while the output is recorded; other conditions are set up by the operator
+SUPPORTED_KINDS: frozenset[str] = frozenset({
+    "static", "static-zero", "rate", "rate-output", "rate-static", "threshold",
+    "rate-repeat", "static-repeat", "rate-temperature", "static-temperature", "high-temperature",
+    "low-temperature", "rate-accel", "static-accel", "static-field", "rate-shock", "rate-vibration",
+    "static-shock", "static-vibration", "misalignment", "rate-mounting",
+})
+
+#: step kinds the bench cannot run at all, and why
+UNSUPPORTED_KINDS: Mapping[str, str] = {
+    "rate-revolutions": "it counts the output over whole table revolutions timed by the table's revolution "
+                        "pulse; the bench has no pulse-counter input",
+    "revolutions-mounting": "it counts the output over whole revolutions (revolution pulse, counter)",
+    "revolutions-repeat": "it counts the output over whole revolutions (revolution pulse, counter)",
+    "revolutions-temperature": "it counts the output over whole revolutions (revolution pulse, counter)",
+    "angular-vibration": "it needs an angular vibration table and its reference sensor",
+    "shock": "it records during a shock pulse (shock machine, fast acquisition)",
+    "vibration": "it records during vibration (shaker, fast acquisition)",
+    "startup": "it records from the moment of power-on; the bench does not switch the device's power",
+    "power-on": "it records from the moment of power-on; the bench does not switch the device's power",
+    "power": "it needs a voltmeter and an ammeter on the supply",
+    "tilt": "it needs a tilt table",
+    "position": "it needs a position table and all outputs of a multi-axis IMU; the bench records one output",
+    "positioning": "it reads an angle instrument's output at turntable stops",
+    "scale-factor": "it reads an angle instrument's output at turntable stops",
+    "zero": "it reads an angle instrument's output at turntable stops",
+    "resolution": "it steps the input by small increments around a base rate, which the bench does not sequence",
+}
+
+#: conditions the bench sets itself
+_AUTOMATIC = frozenset({"rate"})
+#: conditions that only label a step
+_LABELS = frozenset({"when"})
+#: conditions that say how the device is mounted (a change is an operator step)
+_MOUNTING = ("orientation", "axis", "position", "axis_up", "turn")
+_SHOCK_KINDS = {"rate-shock": "shock", "static-shock": "shock", "rate-vibration": "vibration",
+                "static-vibration": "vibration"}
+_OPERATOR = frozenset(_MOUNTING) | {"temperature", "field", "field_axis", "run", "phase"}
+
+
+def _norm(v: Any) -> str:
+    return " ".join(str(v).split()).casefold()
+
+
+# ------------------------------------------------------------------------------ the bench file
+
+
+@attrs.frozen
+class DriverSpec:
+    """One driver of the bench: the registered ``name``, its ``kind`` and class, and the
+    constructor arguments from the bench file (``where`` names the table, e.g. ``rate_table``)."""
+
+    where: str
+    name: str
+    kind: str
+    cls: type
+    args: Mapping[str, Any]
+
+    def open(self) -> Any:
+        """Construct (connect) the driver; a failure that is not a DriverError is wrapped into one."""
+        try:
+            return self.cls(**dict(self.args))
+        except MetroError:
+            raise
+        except Exception as exc:  # a driver's own error type: name the role and the driver
+            raise DriverError(str(self.args.get("resource") or self.args.get("port") or self.name), "open",
+                              f"driver {self.name!r} ({self.where}) failed to open: {type(exc).__name__}: {exc}") from exc
+
+
+@attrs.frozen
+class OutputSpec:
+    """How the output is recorded into each segment: the column and its unit; for a DMM its
+    range and integration time; for a frame stream the field, how frames become samples and
+    the frame period."""
+
+    driver: DriverSpec
+    column: str
+    unit: str | None
+    range: pint.Quantity | None = None
+    nplc: float = 10.0
+    field: str | None = None
+    aggregate: str = "mean"
+    frame_interval: pint.Quantity | None = None
+    allow_unclean: bool = False
+    equipment: Equipment | None = None
+
+
+@attrs.frozen
+class BenchConfig:
+    """A checked bench file."""
+
+    source: str
+    id: str
+    device: DeviceUnderTest
+    environment: Mapping[str, Any]
+    site: Mapping[str, Any]
+    table: DriverSpec
+    table_axis: int
+    table_role: str | None
+    table_calibration: Calibration | None
+    output: OutputSpec
+    orientation: str
+    settle_timeout: pint.Quantity
+    equipment: tuple[Equipment, ...]
+
+
+_TOP = {"format", "bench", "device", "environment", "site", "rate_table", "output", "equipment"}
+_BENCH_KEYS = {"id", "orientation", "settle_timeout"}
+_TABLE_KEYS = {"driver", "args", "axis", "role", "calibration"}
+_DMM_KEYS = {"driver", "args", "id", "role", "model", "manufacturer", "serial", "column", "unit", "range", "nplc",
+             "calibration", "properties"}
+_GYRO_KEYS = {"driver", "args", "id", "role", "model", "manufacturer", "serial", "column", "unit", "field",
+              "aggregate", "allow_unclean", "calibration", "properties"}
+
+
+def _sub(doc: Mapping[str, Any], key: str, src: str, *, required: bool = True) -> Mapping[str, Any]:
+    v = doc.get(key)
+    if v is None:
+        if required:
+            raise DataError(src, f"[{key}]", "missing table", hint=f"add a [{key}] table (docs/instruments.md, "
+                            "Bench station)")
+        return {}
+    if not isinstance(v, dict):
+        raise DataError(src, key, f"must be a table, got {type(v).__name__}")
+    return v
+
+
+def _unknown(t: Mapping[str, Any], allowed: set[str], src: str, where: str) -> None:
+    bad = sorted(set(t) - allowed)
+    if bad:
+        raise DataError(src, f"{where}.{bad[0]}", f"unknown key{'s' if len(bad) > 1 else ''} "
+                        f"{', '.join(bad)}; [{where}] takes {', '.join(sorted(allowed))}")
+
+
+def _text(t: Mapping[str, Any], key: str, src: str, where: str, default: str | None = None) -> str:
+    v = t.get(key, default)
+    if v is None:
+        raise DataError(src, f"{where}.{key}", "missing", hint=f"add {key} = \"…\" to [{where}]")
+    if not isinstance(v, str) or not v.strip():
+        raise DataError(src, f"{where}.{key}", f"must be non-empty text, got {v!r}")
+    return v.strip()
+
+
+def _bool(v: Any, src: str, field: str) -> bool:
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, str) and v.strip().lower() in ("true", "yes", "1", "on", "false", "no", "0", "off"):
+        return v.strip().lower() in ("true", "yes", "1", "on")
+    if isinstance(v, int) and v in (0, 1):
+        return bool(v)
+    raise DataError(src, field, f"must be true or false, got {v!r}")
+
+
+def _driver(t: Mapping[str, Any], where: str, kinds: Sequence[str], drivers: Mapping[str, Any],
+            src: str) -> DriverSpec:
+    name = _text(t, "driver", src, where)
+    if name not in drivers:
+        avail = ", ".join(f"{n} ({d.kind})" for n, d in sorted(drivers.items())) or "none"
+        raise DataError(src, f"{where}.driver", f"no driver {name!r} is registered; registered drivers: {avail}",
+                        hint="`metro plugins` lists the drivers and their plugins; a vendor's driver comes with "
+                        "its plugin")
+    info = drivers[name]
+    if info.kind not in kinds:
+        raise DataError(src, f"{where}.driver", f"driver {name!r} is a {info.kind!r} driver; [{where}] needs "
+                        f"{' or '.join(repr(k) for k in kinds)}")
+    args = t.get("args", {})
+    if not isinstance(args, dict):
+        raise DataError(src, f"{where}.args", f"must be a table of the driver's arguments, got {args!r}")
+    try:
+        inspect.signature(info.cls).bind(**args)
+    except TypeError as exc:
+        try:
+            sig = str(inspect.signature(info.cls))
+        except (TypeError, ValueError):  # pragma: no cover - builtins without a signature
+            sig = "(…)"
+        raise DataError(src, f"{where}.args", f"driver {name!r} ({info.cls.__name__}{sig}) cannot take these "
+                        f"arguments: {exc}") from exc
+    return DriverSpec(where, name, info.kind, info.cls, dict(args))
+
+
+def _equipment_of(t: Mapping[str, Any], where: str, default_role: str, src: str, *,
+                  required: bool) -> Equipment | None:
+    from metro.core.campaign import calibration_from_table
+
+    if "id" not in t:
+        if required:
+            raise DataError(src, f"{where}.id", "missing: the lab's id of this instrument (asset number)",
+                            hint=f"add id = \"DMM-07\" to [{where}]")
+        return None
+    eid = _text(t, "id", src, where)
+    cal_t = t.get("calibration")
+    if cal_t is None and required:
+        raise DataError(src, f"{where}.calibration", "missing: the instrument's calibration data",
+                        hint=f"add [{where}.calibration] with certificate, U, k and due (the budgets use U)")
+    if cal_t is not None and not isinstance(cal_t, dict):
+        raise DataError(src, f"{where}.calibration", "must be a table (certificate, U, k, due, lab)")
+    cal = calibration_from_table(cal_t, src, f"{where}.calibration") if cal_t is not None else None
+    props_t = t.get("properties", {})
+    if not isinstance(props_t, dict):
+        raise DataError(src, f"{where}.properties", "must be a table of name = \"value unit\"")
+    from metro.core.campaign import _maybe_quantity
+
+    props = {k: _maybe_quantity(v, src, f"{where}.properties.{k}") for k, v in props_t.items()}
+    return Equipment(id=eid, role=_text(t, "role", src, where, default_role),
+                     model=str(t.get("model", "")), manufacturer=str(t.get("manufacturer", "")),
+                     serial=str(t.get("serial", "")), properties=props, calibration=cal)
+
+
+def _output(t: Mapping[str, Any], drivers: Mapping[str, Any], src: str) -> OutputSpec:
+    spec = _driver(t, "output", ("dmm", "gyro-output"), drivers, src)
+    column = _text(t, "column", src, "output", "output")
+    if spec.kind == "dmm":
+        _unknown(t, _DMM_KEYS, src, "output")
+        unit_text = _text(t, "unit", src, "output", "V")
+        try:
+            parse_quantity(f"1 {unit_text}", dimension="V", file=src, field="output.unit")
+        except DataError as exc:
+            raise DataError(src, "output.unit", f"a DMM reads volts: {unit_text!r} is not a voltage unit") from exc
+        rng = None
+        if "range" in t:
+            rng = parse_quantity(t["range"], dimension="V", file=src, field="output.range")
+            if not rng.magnitude > 0:
+                raise DataError(src, "output.range", f"must be positive, got {t['range']!r}")
+        nplc = t.get("nplc", 10.0)
+        if isinstance(nplc, bool) or not isinstance(nplc, (int, float)) or not (nplc > 0 and math.isfinite(nplc)):
+            raise DataError(src, "output.nplc", f"must be a positive number of power-line cycles, got {nplc!r}")
+        eq = _equipment_of(t, "output", "dmm", src, required=True)
+        return OutputSpec(spec, column, unit_text, range=rng, nplc=float(nplc), equipment=eq)
+    _unknown(t, _GYRO_KEYS, src, "output")
+    field = _text(t, "field", src, "output")
+    unit_text = t.get("unit")
+    if unit_text is not None:
+        unit_text = _text(t, "unit", src, "output")
+        try:
+            unit(unit_text)
+        except Exception as exc:  # noqa: BLE001 - pint raises several types
+            raise DataError(src, "output.unit", f"not a unit metro can read: {unit_text!r} ({exc})") from exc
+    agg = _text(t, "aggregate", src, "output", "mean")
+    if agg not in ("mean", "sum"):
+        raise DataError(src, "output.aggregate", f"must be \"mean\" (a rate output) or \"sum\" (increments, "
+                        f"pulses), got {agg!r}")
+    interval = None
+    if "interval" in spec.args:
+        interval = parse_quantity(spec.args["interval"], dimension="s", file=src, field="output.args.interval")
+        if not interval.magnitude > 0:
+            raise DataError(src, "output.args.interval", "the frame period must be positive")
+    allow = _bool(t.get("allow_unclean", False), src, "output.allow_unclean")
+    eq = _equipment_of(t, "output", "acquisition", src, required=False)
+    return OutputSpec(spec, column, unit_text, field=field, aggregate=agg, frame_interval=interval,
+                      allow_unclean=allow, equipment=eq)
+
+
+def load_bench(path: str | Path, drivers: Mapping[str, Any]) -> BenchConfig:
+    """Read and check a bench file; ``drivers`` maps registered driver names to their
+    :class:`~metro.core.plugins.DriverInfo`.  Every problem is a :class:`DataError` naming the
+    file, the field and the reason; nothing is opened or moved here."""
+    from metro.core.campaign import (calibration_from_table, device_from_table, environment_from_table,
+                                     equipment_from_table, site_from_table)
+
+    p = Path(path)
+    src = str(p)
+    if not p.is_file():
+        raise DataError(src, None, "bench file not found",
+                        hint="give its path with --station-option config=bench.toml (docs/instruments.md)")
+    try:
+        doc = tomllib.loads(p.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise DataError(src, None, f"not valid TOML: {exc}") from exc
+    fmt = doc.get("format", BENCH_FORMAT)
+    if fmt != BENCH_FORMAT:
+        raise DataError(src, "format", f"unsupported format {fmt!r}; this metro reads {BENCH_FORMAT!r}")
+    _unknown(doc, _TOP, src, "bench file")
+
+    b = _sub(doc, "bench", src, required=False)
+    _unknown(b, _BENCH_KEYS, src, "bench")
+    bench_id = _text(b, "id", src, "bench", p.stem)
+    orientation = _text(b, "orientation", src, "bench", "IRA up")
+    settle = parse_quantity(b.get("settle_timeout", "120 s"), dimension="s", file=src, field="bench.settle_timeout")
+    if not settle.magnitude > 0:
+        raise DataError(src, "bench.settle_timeout", f"must be positive, got {b.get('settle_timeout')!r}")
+
+    device = device_from_table(_sub(doc, "device", src), src)
+    environment = environment_from_table(_sub(doc, "environment", src), src)
+    site = site_from_table(_sub(doc, "site", src), src)
+
+    rt = _sub(doc, "rate_table", src)
+    _unknown(rt, _TABLE_KEYS, src, "rate_table")
+    table = _driver(rt, "rate_table", ("rate-table",), drivers, src)
+    axis = rt.get("axis", 1)
+    if isinstance(axis, bool) or not isinstance(axis, int) or axis < 1:
+        raise DataError(src, "rate_table.axis", f"must be a whole number from 1, got {axis!r}")
+    role = _text(rt, "role", src, "rate_table") if "role" in rt else None
+    cal_t = rt.get("calibration")
+    if cal_t is not None and not isinstance(cal_t, dict):
+        raise DataError(src, "rate_table.calibration", "must be a table (certificate, U, k, due, lab)")
+    table_cal = calibration_from_table(cal_t, src, "rate_table.calibration") if cal_t is not None else None
+
+    output = _output(_sub(doc, "output", src), drivers, src)
+
+    eq_list = doc.get("equipment", [])
+    if not isinstance(eq_list, list):
+        raise DataError(src, "equipment", "must be an array of tables ([[equipment]])")
+    equipment = tuple(equipment_from_table(e, src, f"equipment[{i}]") for i, e in enumerate(eq_list))
+    ids = [e.id for e in equipment] + ([output.equipment.id] if output.equipment else [])
+    dup = sorted({i for i in ids if ids.count(i) > 1})
+    if dup:
+        raise DataError(src, "equipment", f"duplicate equipment id(s) {', '.join(dup)}")
+    return BenchConfig(src, bench_id, device, environment, site, table, axis, role, table_cal, output,
+                       orientation, settle, equipment)
+
+
+# ------------------------------------------------------------------------------ planning
+
+
+@attrs.frozen
+class StepPlan:
+    """One step as the bench will run it: the table's rate (``None``: at rest), the samples to
+    record, and what the operator must do first."""
+
+    step: Step
+    rate: pint.Quantity | None
+    n: int
+    instructions: tuple[str, ...]
+    power_cycle: bool = False
+
+
+def _n_samples(step: Step) -> int:
+    n = float((step.duration / step.interval).to("").magnitude)
+    return max(1, int(round(n)))
+
+
+# ------------------------------------------------------------------------------ the station
+
+
+@attrs.define
+class BenchStation:
+    """A live bench (registered as station ``bench``).
+
+    :param config: the checked bench file.
+    :param clock: where time comes from (default: the system's monotonic clock and sleep).
+    :param operator: the operator callback (default: :func:`terminal_operator`).
+    :param assume_ready: every operator step is taken as done without asking.
+    :param allow_unclean: keep frame records with issues (recorded in the segment's conditions).
+    :param warmed_up: the device has warmed up already; steps' warm-up times are not waited.
+    """
+
+    config: BenchConfig
+    clock: Clock = attrs.field(factory=SystemClock)
+    operator: Operator | None = None
+    assume_ready: bool = False
+    allow_unclean: bool = False
+    warmed_up: bool = False
+
+    name = "bench"
+
+    def device(self) -> DeviceUnderTest:
+        return self.config.device
+
+    # -- planning -----------------------------------------------------------------------
+    def check(self, steps: Sequence[Step], *, items: Mapping[str, Sequence[str]] | None = None) -> list[StepPlan]:
+        """Check every step before anything is opened or moved and return the plan.
+
+        ``items`` maps segment ids to the items that asked for them (for the error messages).
+        Refused: a step kind the bench cannot run, a condition it does not know how to set up, a
+        rate that is not a rate, a step interval that is not a whole number of frame periods, and
+        operator steps when no operator can answer (no terminal and not ``assume_ready``).
+        """
+        items = items or {}
+        src = self.config.source
+
+        def who(step: Step) -> str:
+            its = items.get(step.segment)
+            return f" (item {', '.join(its)})" if its else ""
+
+        for step in steps:
+            if step.kind in UNSUPPORTED_KINDS or step.kind not in SUPPORTED_KINDS:
+                same = [s for s in steps if s.kind == step.kind]
+                segs = ", ".join(s.segment for s in same[:4]) + (" …" if len(same) > 4 else "")
+                its = sorted({i for s in same for i in items.get(s.segment, ())})
+                reason = UNSUPPORTED_KINDS.get(step.kind, "the bench does not know this kind of step")
+                raise MetroError(f"the bench cannot run steps of kind {step.kind!r}"
+                                 f"{' for item ' + ', '.join(its) if its else ''} (segment {segs}): {reason}; "
+                                 "nothing was commanded",
+                                 hint=f"the bench runs the kinds {', '.join(sorted(SUPPORTED_KINDS))}; acquire "
+                                 "the other items on a station that can, or record them and use `metro run --data`")
+            unknown = sorted(set(step.conditions) - _AUTOMATIC - _OPERATOR - _LABELS)
+            if unknown:
+                raise MetroError(f"step {step.segment!r} ({step.kind}){who(step)} has condition(s) "
+                                 f"{', '.join(unknown)} the bench does not know how to set up; nothing was commanded")
+            if not (step.interval.magnitude > 0 and step.duration.magnitude > 0):
+                raise MetroError(f"step {step.segment!r}{who(step)}: duration and interval must be positive")
+        plans: list[StepPlan] = []
+        state: dict[str, str | None] = {k: None for k in _OPERATOR}
+        state["orientation"] = _norm(self.config.orientation)
+        for step in steps:
+            rate = None
+            if "rate" in step.conditions:
+                rate = parse_quantity(step.conditions["rate"], dimension="deg/s", file=src,
+                                      field=f"step {step.segment}.rate")
+            self._check_frames(step, who(step))
+            instr, cycle = _instructions(step, state)
+            plans.append(StepPlan(step, rate, _n_samples(step), tuple(instr), cycle))
+        need = [p for p in plans if p.instructions]
+        if need and not self.assume_ready and self.operator is None and not _interactive():
+            first = need[0]
+            raise MetroError(f"step {first.step.segment!r} ({first.step.kind}){who(first.step)} needs the operator: "
+                             f"{'; '.join(first.instructions)}"
+                             f"{f' ({len(need) - 1} more step(s) need the operator too)' if len(need) > 1 else ''}; "
+                             "metro is not running on a terminal, so nobody can confirm it; nothing was commanded",
+                             hint=_ASSUME_READY_HINT)
+        return plans
+
+    def _check_frames(self, step: Step, who: str) -> None:
+        fi = self.config.output.frame_interval
+        if self.config.output.driver.kind != "gyro-output" or fi is None:
+            return
+        m = float((step.interval / fi).to("").magnitude)
+        if m < 0.999999 or abs(m - round(m)) > 1e-6 * max(1.0, m):
+            raise MetroError(f"step {step.segment!r}{who} samples every {step.interval:~P}, which is not a whole "
+                             f"number of the gyro's frame periods ({fi:~P}); nothing was commanded",
+                             hint="set the gyro's output rate so the step interval is a multiple of its frame period")
+
+    # -- running --------------------------------------------------------------------------
+    def acquire(self, steps: list[Step], *, progress: Progress | None = None) -> Campaign:
+        """Run ``steps`` on the bench and return the campaign (samples in memory)."""
+        plans = self.check(steps)
+        cfg = self.config
+        clock = self.clock
+        operator = self.operator or terminal_operator
+        segments: list[Segment] = []
+        prompts = 0
+        with _Drivers(cfg) as d:
+            table, out = d.table, d.output
+            if out.kind == "dmm":
+                out.driver.configure_dc_voltage(cfg.output.range, nplc=cfg.output.nplc)
+            powered_at = -math.inf if self.warmed_up else clock.monotonic()
+            for i, plan in enumerate(plans):
+                step = plan.step
+                if progress is not None:
+                    progress(f"bench: {step.segment}", i, len(plans))
+                if plan.instructions:
+                    # the table rests while the operator works on the bench
+                    table.stop(axis=cfg.table_axis)
+                    self._settle(table, step, None)
+                    if not self.assume_ready:
+                        operator("; ".join(plan.instructions), step)
+                    prompts += 1
+                    if plan.power_cycle:
+                        powered_at = clock.monotonic()
+                if plan.rate is not None:
+                    table.set_rate(plan.rate, axis=cfg.table_axis)
+                else:
+                    table.stop(axis=cfg.table_axis)
+                self._settle(table, step, plan.rate)
+                if step.warmup is not None:
+                    self._warm_up(step, powered_at, progress)
+                if out.kind == "dmm":
+                    segments.append(self._record_dmm(out, plan, progress))
+                else:
+                    segments.append(self._record_frames(out, plan, progress))
+            table.stop(axis=cfg.table_axis)
+            meta = {"bench": cfg.source, "bench_id": cfg.id,
+                    "rate_table": f"{d.table_identity} at {table.resource or cfg.table.name}",
+                    "output": f"{d.output_identity} at {out.driver.resource or cfg.output.driver.name}",
+                    "operator_steps": prompts}
+            equipment = d.equipment()
+        stamp = dt.datetime.now(dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+        return Campaign(id=f"{cfg.id}-{stamp}", device=cfg.device, equipment=equipment,
+                        environment=cfg.environment, site=cfg.site, segments=segments, source=cfg.source,
+                        simulated=False, meta=meta)
+
+    def _settle(self, table: Any, step: Step, rate: pint.Quantity | None) -> None:
+        cfg = self.config
+        if not table.wait_stable(cfg.settle_timeout, axis=cfg.table_axis):
+            what = f"at {rate:~P}" if rate is not None else "at rest"
+            raise DriverError(table.resource or cfg.table.name, f"wait_stable (step {step.segment})",
+                              f"the table did not settle {what} within {cfg.settle_timeout:~P}; nothing was recorded",
+                              hint="check the table (drive enabled, load, limits) or raise [bench] settle_timeout")
+
+    def _warm_up(self, step: Step, powered_at: float, progress: Progress | None) -> None:
+        need = float(step.warmup.to("s").magnitude)
+        start = self.clock.monotonic()
+        while True:
+            left = need - (self.clock.monotonic() - powered_at)
+            if left <= 0:
+                return
+            if progress is not None:
+                progress(f"bench: {step.segment} warm-up", self.clock.monotonic() - start,
+                         self.clock.monotonic() - start + left)
+            self.clock.sleep(min(left, 1.0))
+
+    def _record_dmm(self, out: "_Opened", plan: StepPlan, progress: Progress | None) -> Segment:
+        step, n = plan.step, plan.n
+        clock, dmm = self.clock, out.driver
+        unit_text = self.config.output.unit or "V"
+        dt_s = float(step.interval.to("s").magnitude)
+        values = np.empty(n, dtype=np.float64)
+        stamps = np.empty(n, dtype=np.float64)
+        t0 = clock.monotonic()
+        for k in range(n):
+            slot = t0 + k * dt_s
+            now = clock.monotonic()
+            if now < slot:
+                clock.sleep(slot - now)
+                now = clock.monotonic()
+            elif now - slot > 0.5 * dt_s:
+                raise DriverError(dmm.resource, f"READ? (step {step.segment}, sample {k})",
+                                  f"the reading is {now - slot:.3g} s late for its slot: the DMM cannot keep up with "
+                                  f"the step's {dt_s:g} s interval; nothing was written",
+                                  hint="lower nplc in the bench file's [output] table")
+            stamps[k] = now - t0
+            reading = dmm.read()
+            values[k] = float(parse_quantity(reading, dimension="V", field="reading").to(unit_text).magnitude)
+            if progress is not None:
+                progress(f"recording {step.segment}", k + 1, n)
+        cols = {"time": (np.arange(n, dtype=np.float64) * dt_s, "s"),
+                self.config.output.column: (values, unit_text),
+                "read_time": (stamps, "s")}
+        return _segment(step, dict(step.conditions), cols)
+
+    def _record_frames(self, out: "_Opened", plan: StepPlan, progress: Progress | None) -> Segment:
+        step, n = plan.step, plan.n
+        spec = self.config.output
+        gyro = out.driver
+        fi = getattr(gyro, "interval", None) or spec.frame_interval
+        if fi is None:
+            raise DataError(self.config.source, "output.args.interval",
+                            f"driver {spec.driver.name!r} does not say its frame period; give interval = \"…\"")
+        m = int(round(float((step.interval / fi).to("").magnitude)))
+        if m < 1 or abs(float((step.interval / fi).to("").magnitude) - m) > 1e-6 * m:
+            raise MetroError(f"step {step.segment!r} samples every {step.interval:~P}, not a whole number of the "
+                             f"gyro's frame periods ({fi:~P})")
+        if progress is not None:
+            progress(f"recording {step.segment}", 0, n)
+        gyro.restart()
+        rec = gyro.read(n * m)
+        if spec.field not in rec.columns:
+            raise DataError(self.config.source, "output.field",
+                            f"the frames have no field {spec.field!r}; fields: {', '.join(rec.columns)}")
+        clean = not rec.issues
+        if not clean and not (spec.allow_unclean or self.allow_unclean):
+            raise DriverError(gyro.resource, f"frames (step {step.segment})",
+                              "the record is not clean: " + "; ".join(rec.warnings) + "; nothing was written",
+                              hint="re-acquire (check cable, termination, baud rate), or keep such records with "
+                              "their issues written into the segment: allow_unclean = true in [output] or "
+                              "--station-option allow_unclean=true")
+        q = rec.columns[spec.field]
+        unit_text = spec.unit or f"{q.units:D}" or "1"
+        try:
+            x = np.asarray(q.to(unit_text).magnitude, dtype=np.float64)
+        except pint.DimensionalityError as exc:
+            raise DataError(self.config.source, "output.unit",
+                            f"the field {spec.field!r} is in {q.units:~P}, which cannot be given in {unit_text}") from exc
+        window = np.asarray(rec.counter, dtype=np.int64) // m
+        keep = window < n
+        counts = np.bincount(window[keep], minlength=n)[:n]
+        if np.any(counts == 0):
+            k = int(np.flatnonzero(counts == 0)[0])
+            raise DriverError(gyro.resource, f"frames (step {step.segment}, sample {k})",
+                              f"every frame of sample {k} is missing: a sample cannot be made from nothing; "
+                              + "; ".join(rec.warnings), hint="re-acquire")
+        if spec.aggregate == "sum" and np.any(counts < m):
+            raise DriverError(gyro.resource, f"frames (step {step.segment})",
+                              "frames are missing and the output is summed (increments): a sample with missing "
+                              "frames would be short by what they held; " + "; ".join(rec.warnings),
+                              hint="re-acquire")
+        sums = np.bincount(window[keep], weights=x[keep], minlength=n)[:n]
+        values = sums if spec.aggregate == "sum" else sums / counts
+        cols: dict[str, tuple[np.ndarray, str]] = {
+            "time": (np.arange(n, dtype=np.float64) * float(step.interval.to("s").magnitude), "s"),
+            spec.column: (values, unit_text)}
+        conditions = dict(step.conditions)
+        if not clean:
+            cols["frames"] = (counts.astype(np.int64), "1")
+            conditions["frame_issues"] = " | ".join(rec.warnings)
+            conditions["missing_frames"] = int(rec.missing_frames)
+        if progress is not None:
+            progress(f"recording {step.segment}", n, n)
+        return _segment(step, conditions, cols)
+
+
+def _instructions(step: Step, state: dict[str, str | None]) -> tuple[list[str], bool]:
+    """What the operator must do before ``step``, given the bench's ``state`` (updated)."""
+    c = {k: _norm(v) for k, v in step.conditions.items()}
+    raw = dict(step.conditions)
+    out: list[str] = []
+    cycle = False
+    shock = _SHOCK_KINDS.get(step.kind)
+    mount_keys = [k for k in _MOUNTING if k in c and not (shock and k == "axis")]
+    changed = [k for k in mount_keys if state.get(k) != c[k]]
+    if changed:
+        out.append("mount the device: " + ", ".join(f"{k.replace('_', ' ')} {raw[k]}" for k in mount_keys))
+    for k in mount_keys:
+        state[k] = c[k]
+    if "temperature" in c and state["temperature"] != c["temperature"]:
+        out.append(f"set the chamber to {raw['temperature']} and let the device soak")
+        state["temperature"] = c["temperature"]
+    if "field" in c or "field_axis" in c:
+        f = f"{c.get('field', '')}|{c.get('field_axis', '')}"
+        if state["field"] != f:
+            where = f" along {raw['field_axis']}" if "field_axis" in raw else ""
+            out.append(f"set the field generator to {raw.get('field', '0')}{where}")
+            state["field"] = f
+    if "run" in c:
+        if state["run"] is not None and state["run"] != c["run"]:
+            out.append(f"power the device off and on again (run {raw['run']})")
+            cycle = True
+        state["run"] = c["run"]
+    if shock and "phase" in c:
+        if c["phase"] == "after" and state["phase"] != "after":
+            axis = f" along axis {raw['axis']}" if "axis" in raw else ""
+            out.append(f"apply the {shock}{axis} as the standard asks ({step.description})")
+        state["phase"] = c["phase"]
+    return out, cycle
+
+
+def _segment(step: Step, conditions: dict[str, Any], cols: dict[str, tuple[np.ndarray, str]]) -> Segment:
+    h = hashlib.sha256()
+    for name, (a, u) in cols.items():
+        h.update(f"{name} [{u}]".encode())
+        h.update(np.ascontiguousarray(a).tobytes())
+    return Segment(id=step.segment, kind=step.kind, conditions=conditions, interval=step.interval, file=None,
+                   sha256=h.hexdigest(), loader=lambda c=cols: c)
+
+
+@attrs.define
+class _Opened:
+    """An open driver of the bench."""
+
+    spec: DriverSpec
+    driver: Any
+
+    @property
+    def kind(self) -> str:
+        return self.spec.kind
+
+
+class _Drivers:
+    """Opens the bench's drivers; on leaving — normally, on an error or on Ctrl-C — stops the
+    table and closes every driver.  A failure while cleaning up after an error is added to that
+    error as a note rather than hiding it."""
+
+    def __init__(self, config: BenchConfig) -> None:
+        self.config = config
+        self._table: _Opened | None = None
+        self._output: _Opened | None = None
+        self.table_identity = ""
+        self.output_identity = ""
+        self._table_eq: Equipment | None = None
+
+    @property
+    def table(self) -> Any:
+        assert self._table is not None
+        return self._table.driver
+
+    @property
+    def output(self) -> _Opened:
+        assert self._output is not None
+        return self._output
+
+    def __enter__(self) -> "_Drivers":
+        try:
+            self._table = _Opened(self.config.table, self.config.table.open())
+            ident = self.table.identify()
+            self.table_identity = _describe(ident)
+            eq = self.table.equipment()
+            if not isinstance(eq, Equipment):
+                raise DriverError(self.table.resource or self.config.table.name, "equipment()",
+                                  f"driver {self.config.table.name!r} returned {eq!r}, not an Equipment")
+            self._table_eq = attrs.evolve(
+                eq, manufacturer=ident.manufacturer or eq.manufacturer, model=ident.model or eq.model,
+                serial=ident.serial or eq.serial, role=self.config.table_role or eq.role,
+                calibration=self.config.table_calibration or eq.calibration)
+            self._output = _Opened(self.config.output.driver, self.config.output.driver.open())
+            oid = self._output.driver.identify()
+            self.output_identity = _describe(oid)
+            self._output_ident = oid
+        except BaseException as exc:
+            self.__exit__(type(exc), exc, exc.__traceback__)
+            raise
+        return self
+
+    def equipment(self) -> list[Equipment]:
+        out = [self._table_eq] if self._table_eq is not None else []
+        e = self.config.output.equipment
+        if e is not None:
+            oid = self._output_ident
+            out.append(attrs.evolve(e, manufacturer=e.manufacturer or oid.manufacturer, model=e.model or oid.model,
+                                    serial=e.serial or oid.serial))
+        return out + list(self.config.equipment)
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        problems: list[BaseException] = []
+        if self._table is not None:
+            try:
+                self._table.driver.stop(axis=None)
+            except Exception as e:  # noqa: BLE001 - reported below
+                problems.append(e)
+        for opened in (self._output, self._table):
+            if opened is None:
+                continue
+            try:
+                opened.driver.close()
+            except Exception as e:  # noqa: BLE001
+                problems.append(e)
+        self._output = None
+        self._table = None
+        if problems:
+            if exc is not None:
+                for p in problems:
+                    exc.add_note(f"while stopping the bench: {type(p).__name__}: {p}")
+            else:
+                raise problems[0]
+
+
+def _describe(ident: Any) -> str:
+    parts = [p for p in (getattr(ident, "manufacturer", ""), getattr(ident, "model", "")) if p]
+    text = " ".join(parts) or str(ident)
+    if getattr(ident, "serial", ""):
+        text += f" s/n {ident.serial}"
+    if getattr(ident, "firmware", ""):
+        text += f" firmware {ident.firmware}"
+    return text
+
+
+_OPTIONS = {"config", "assume_ready", "allow_unclean", "warmed_up", "clock", "operator"}
+
+
+def bench_station_factory(registry: Any, **options: Any) -> BenchStation:
+    """The ``bench`` station: ``config`` (the bench file, required), ``assume_ready``,
+    ``allow_unclean``, ``warmed_up`` (true/false); from Python also ``clock`` and ``operator``.
+
+    ``registry`` is the plugin registry (its ``drivers``); the bench file is read and checked
+    here, so a bad file fails before any instrument is opened."""
+    unknown = sorted(set(options) - _OPTIONS)
+    if unknown:
+        extra = " (--seed is for simulated stations)" if "seed" in unknown else ""
+        raise DataError(None, f"station option {unknown[0]}",
+                        f"the bench station does not take {', '.join(unknown)}{extra}; it takes config, "
+                        "assume_ready, allow_unclean, warmed_up")
+    if "config" not in options:
+        raise DataError(None, "station option config", "missing: the bench file",
+                        hint="--station-option config=bench.toml (format: docs/instruments.md, Bench station)")
+    cfg = load_bench(str(options["config"]), registry.drivers)
+    flags = {k: _bool(options[k], cfg.source, f"station option {k}")
+             for k in ("assume_ready", "allow_unclean", "warmed_up") if k in options}
+    clock = options.get("clock") or SystemClock()
+    return BenchStation(cfg, clock=clock, operator=options.get("operator"), **flags)
