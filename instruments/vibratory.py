@@ -10,18 +10,23 @@ the ``jjf2014`` procedures put in their :class:`~metro.core.model.Step` lists.
 The gyro's steady output for an input rate Ω (°/s) along its input axis is::
 
     r   = Ω·Ω²/(Ω² + Ω_th²)                          dead zone (threshold)  [r(0) = 0]
+    r   = Ω if |Ω| ≥ Ω_th else 0                     with ``hard_dead_band`` (a dead band)
     F   = K_±·r + K·c·r³/Ω_fs² + K·b + noise         mV
 
 with K_± = K(1 ± a/2) for r > 0 / r < 0 (asymmetry a), a cubic nonlinearity c relative to
 full scale Ω_fs, and the bias b (°/s).  K and b depend on temperature (linear coefficients),
 on gravity along the input axis, on the run (seeded repeatability draws), and change after
 shock and vibration (per axis).  A rate increment ΔΩ on top of a steady rate is passed with
-gain ΔΩ²/(ΔΩ² + r_res²) (a stick–slip resolution model).  Dynamics: first order with time
+gain ΔΩ²/(ΔΩ² + r_res²) (a stick–slip resolution model), or with ``hard_dead_band`` passed
+whole when |ΔΩ| ≥ r_res and not at all below.  Either way the response is exactly half (soft)
+or jumps from none to all (hard) at Ω_th / r_res, so by the 50 % criterion of eqs. (17)/(18)
+the device's threshold is Ω_th and its resolution r_res: those are the declared truth.  Dynamics: first order with time
 constant T = 1/(2π·B_w) in series with a pure delay T_d (JJF 2014 eq. (46), (47)).  Start-up:
 the output settles as K·d₀·exp(−t/τ_s) after power-on.
 
 Noise (static records): white rate noise of angle random walk N, white angle noise of
-quantization Q (σ_θ = Q, so σ²(τ) = 3Q²/τ²), rate random walk K_rrw and a rate ramp R; on the
+quantization Q (σ_θ = Q, so σ²(τ) = 3Q²/τ²), flicker rate noise of bias instability B
+(σ²(τ) ≈ (2 ln 2/π)B²), rate random walk K_rrw and a rate ramp R; on the
 other records white rate noise only.  The earth rate (physical 15.04107 °/h) adds
 Ω_e·sin φ to the input when the input axis points up (rate table, bias records), as it
 physically does; the jjf2014 bias items leave it in unless asked to remove it.
@@ -60,6 +65,7 @@ class VibratoryTruth:
     quantization_arcsec: float = 0.0
     rrw_deg_h_rt_h: float = 0.0
     rate_ramp_deg_h2: float = 0.0
+    bias_instability_deg_h: float = 0.0
     sf_temp_per_degC: float = 1.5e-4
     bias_temp_dps_per_degC: float = 2e-4
     sf_accel_mV_dps_per_g: float = 0.004
@@ -72,6 +78,7 @@ class VibratoryTruth:
     bias_repeat_dps: float = 5e-4
     threshold_dps: float = 0.008
     resolution_dps: float = 0.004
+    hard_dead_band: bool = False
     misalign_alpha_rad: float = 1.0e-3
     misalign_beta_rad: float = -6.0e-4
     fixture_error_rad: tuple = (2e-3, -1e-3)  # (about x: enters positions 1/2, about y: 3/4)
@@ -94,10 +101,13 @@ class VibratoryTruth:
             "quantization": Q_(self.quantization_arcsec, "arcsec"),
             "rate random walk": Q_(self.rrw_deg_h_rt_h, "deg/h/hour**0.5"),
             "rate ramp": Q_(self.rate_ramp_deg_h2, "deg/h**2"),
+            "bias instability": Q_(self.bias_instability_deg_h, "deg/h"),
             "K temperature coefficient": Q_(self.sf_temp_per_degC, "1/delta_degC"),
             "bias temperature coefficient": Q_(self.bias_temp_dps_per_degC * 3600, "deg/h/delta_degC"),
             "threshold model Ω_th": Q_(self.threshold_dps, "deg/s"),
             "resolution model r_res": Q_(self.resolution_dps, "deg/s"),
+            "dead band": "hard (no output below Ω_th / r_res)" if self.hard_dead_band
+            else "soft (Ω³/(Ω² + Ω_th²))",
             "misalignment α, β": f"{self.misalign_alpha_rad:g} rad, {self.misalign_beta_rad:g} rad",
             "bandwidth": Q_(self.bandwidth_hz, "Hz"),
             "delay": Q_(self.delay_s, "s"),
@@ -109,16 +119,27 @@ class VibratoryTruth:
 # ------------------------------------------------------------------------------ the model
 
 
-def _dead_zone(omega: np.ndarray | float, th: float) -> np.ndarray:
+def _dead_zone(omega: np.ndarray | float, th: float, hard: bool = False) -> np.ndarray:
     w = np.asarray(omega, dtype=float)
     if th <= 0:
         return w
+    if hard:
+        return np.where(np.abs(w) >= th, w, 0.0)
     return w * w * w / (w * w + th * th)
+
+
+def increment_gain(t: VibratoryTruth, d: float) -> float:
+    """Fraction of a rate increment ΔΩ (°/s) on a steady rate that reaches the output."""
+    if d == 0:
+        return 0.0
+    if t.hard_dead_band:
+        return 1.0 if abs(d) >= t.resolution_dps else 0.0
+    return d * d / (d * d + t.resolution_dps**2)
 
 
 def steady_output(t: VibratoryTruth, omega_dps, *, K: float, bias_dps: float) -> np.ndarray:
     """Noiseless steady output (mV) for input rate(s) Ω (°/s) with scale factor K and bias b."""
-    r = _dead_zone(omega_dps, t.threshold_dps)
+    r = _dead_zone(omega_dps, t.threshold_dps, t.hard_dead_band)
     kdir = np.where(r > 0, K * (1 + t.asymmetry / 2), K * (1 - t.asymmetry / 2))
     return kdir * r + K * t.cubic * r**3 / t.full_scale_dps**2 + K * bias_dps
 
@@ -189,8 +210,7 @@ def mean_output(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude_deg
     if kind == "resolution":
         base = _cond(c, "base_rate", "deg/s")
         d = _cond(c, "increment", "deg/s")
-        gain = d * d / (d * d + t.resolution_dps**2) if d != 0 else 0.0
-        return float(steady_output(t, base, K=K, bias_dps=b) + K * gain * d)
+        return float(steady_output(t, base, K=K, bias_dps=b) + K * increment_gain(t, d) * d)
     omega = _cond(c, "rate", "deg/s", 0.0)
     if kind == "misalignment":
         a, be = misalignment_angles(t, c.get("run", 1))
@@ -208,9 +228,31 @@ def _white_rate(rng, n: int, interval_s: float, arw: float) -> np.ndarray:
     return rng.normal(0.0, arw / (60.0 * math.sqrt(interval_s)), size=n)
 
 
+def flicker_rate(rng, n: int, interval_s: float, B_deg_h: float) -> np.ndarray:
+    """Flicker (1/f) rate noise (°/s) of bias instability B (°/h).
+
+    IEEE Std 952 C.3 writes the two-sided PSD S_Ω(f) = (B²/2π)/|f|, i.e. the one-sided
+    B²/(π f), whose Allan variance is (2 ln 2/π)·B² for Δt ≪ τ (2 ln 2·h₋₁ with h₋₁ = B²/π).
+    Drawn in the frequency domain over 8n samples (so the spectrum reaches 1/(8n·Δt) and the
+    plateau holds up to τ ≈ n·Δt/4) and cut to the first n."""
+    if B_deg_h <= 0 or n < 4:
+        return np.zeros(n)
+    m = 8 * n
+    f = np.fft.rfftfreq(m, interval_s)
+    S = np.zeros_like(f)
+    S[1:] = B_deg_h**2 / (math.pi * f[1:])
+    amp = np.sqrt(S * m / (2.0 * interval_s))
+    X = amp * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)) / math.sqrt(2.0)
+    if m % 2 == 0:  # the Nyquist bin is real
+        X[-1] = amp[-1] * rng.standard_normal()
+    return np.fft.irfft(X, m)[:n] / 3600.0
+
+
 def static_noise(t: VibratoryTruth, rng, n: int, interval_s: float) -> np.ndarray:
-    """Rate noise (°/s) of a static record: ARW + quantization + RRW + ramp."""
+    """Rate noise (°/s) of a static record: ARW + quantization + bias instability + RRW + ramp."""
     w = _white_rate(rng, n, interval_s, t.arw_deg_rt_h)
+    if t.bias_instability_deg_h > 0:
+        w += flicker_rate(rng, n, interval_s, t.bias_instability_deg_h)
     if t.quantization_arcsec > 0:
         theta = rng.normal(0.0, t.quantization_arcsec / 3600.0, size=n + 1)  # °
         w += np.diff(theta) / interval_s
@@ -335,6 +377,10 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
     if static:
         ex["B0"] = Q_(mean_output(t, "static", static[0].conditions, lat) / Kn * 3600.0, "deg/h")
         ex["ARW"] = Q_(t.arw_deg_rt_h, "deg/hour**0.5")
+        ex["Q"] = Q_(t.quantization_arcsec, "arcsec")
+        ex["RRW"] = Q_(t.rrw_deg_h_rt_h, "deg/h/hour**0.5")
+        ex["RR"] = Q_(t.rate_ramp_deg_h2, "deg/h**2")
+        ex["BI"] = Q_(t.bias_instability_deg_h, "deg/h")
 
     def bset(kind, key):
         return {k: mean_output(t, kind, g[0].conditions, lat) / Kn * 3600.0 for k, g in _sets(steps, kind, key).items()}
@@ -386,7 +432,10 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
                            for s in lv if np.sign(_cond(s.conditions, "rate", "deg/s")) == sg], ex["K"].magnitude)
              for sg in (1, -1)]
         if all(x is not None for x in c):
-            ex["threshold"] = Q_(max(c), "deg/s")
+            # the device's threshold by the 50 % criterion is Ω_th; the last passing level of the
+            # planned (noiseless) sequence is what 7.2.9 reports, one level step above it at most
+            ex["threshold"] = Q_(t.threshold_dps, "deg/s")
+            ex["threshold_grid"] = Q_(max(c), "deg/s")
     if rate and any(s.kind == "resolution" for s in steps):
         c = []
         for sg in (1, -1):
@@ -399,7 +448,8 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
                                     mean_output(t, "resolution", s.conditions, lat) - fb)
                                    for s in mine if _cond(s.conditions, "increment", "deg/s") != 0], ex["K"].magnitude))
         if c and all(x is not None for x in c):
-            ex["resolution"] = Q_(max(c), "deg/s")
+            ex["resolution"] = Q_(t.resolution_dps, "deg/s")
+            ex["resolution_grid"] = Q_(max(c), "deg/s")
     if any(s.kind == "angular-vibration" for s in steps):
         # eq. (47) model; 7.2.21 reads the curve at K = 0.707 (not 1/√2): f = B_w·√(1/0.707² − 1)
         ex["Bw"] = Q_(t.bandwidth_hz * math.sqrt(1 / 0.707**2 - 1), "Hz")
@@ -481,7 +531,14 @@ def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
     latitude_deg, duration_scale, nonlinearity_spec, instrument_errors)."""
     fields = attrs.fields_dict(VibratoryTruth)
-    truth_kw = {k: (int(v) if k == "seed" else v) for k, v in options.items() if k in fields}
+    def conv(k, v):
+        if k == "seed":
+            return int(v)
+        if k == "hard_dead_band":
+            return v if isinstance(v, bool) else str(v).lower() in ("1", "true", "yes", "on")
+        return v
+
+    truth_kw = {k: conv(k, v) for k, v in options.items() if k in fields}
     st_kw = {k: float(v) for k, v in options.items() if k in ("latitude_deg", "duration_scale", "nonlinearity_spec")}
     if "instrument_errors" in options:
         st_kw["instrument_errors"] = str(options["instrument_errors"]).lower() in ("1", "true", "yes")

@@ -145,3 +145,70 @@ def test_recorded_campaign_with_a_bad_unit_writes_nothing(run_cli, tmp_path):
                              "--report", str(tmp_path / "cert.docx"))
     assert code == 2 and "output" in err
     assert not (tmp_path / "cert.docx").exists()
+
+
+ALL = [f"7.2.{i}" for i in range(1, 24)]
+ACQ_OPTS = ["-o", "records=2", "-o", "frequencies=10", "-o", "sample_rate=2000 Hz", "-o", "rates=1, 4, 16, 40, 100"]
+
+
+@pytest.fixture(scope="module")
+def acquired(tmp_path_factory):
+    """`metro acquire` of all 23 items on the simulated station → a campaign folder on disk."""
+    from metro.core.cli import main
+
+    root = tmp_path_factory.mktemp("acq") / "c"
+    code = main(["acquire", "-s", "jjf2014", "-i", ",".join(ALL), "--out", str(root), "--seed", "11",
+                 "--station-option", "duration_scale=0.25", "--no-progress", *ACQ_OPTS])
+    assert code == 0
+    return root / "manifest.toml"
+
+
+def test_acquire_then_one_command_evaluates_the_campaign_and_writes_the_certificate(acquired, run_cli, tmp_path):
+    """acquire → `metro run --all --data` (recorded data): the same values and U as the in-memory
+    run on the same station, all 24 appendix-A rows filled, the five figures, page x of y."""
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import split_options
+
+    out = tmp_path / "cert.docx"
+    code, stdout, err = run_cli("run", "-s", "jjf2014", "--all", "--data", str(acquired), "--report", str(out),
+                                "--no-progress", "--json")
+    assert code == 0, err
+    disk = {f"{r['key']}@{r['item']}": (r["value"], r["U"]) for r in json.loads(stdout)["results"]}
+    assert len(disk) == 29  # 24 rows + F₀ + the four other Allan coefficients
+    pm = get_plugin_manager(autoload=False)
+    procs = [pm.procedure("jjf2014", i) for i in ALL]
+    opts = {"records": 2, "frequencies": 10, "sample_rate": "2000 Hz", "rates": "1, 4, 16, 40, 100"}
+    per = split_options(procs, opts)
+    st = pm.station("simulated-jjf2014").factory(seed=11, duration_scale=0.25)
+    camp = st.acquire(merge_steps([c().sequence(c.option_values(o)) for c, o in zip(procs, per)]))
+    mem = run_items(pm, "jjf2014", ALL, campaign=camp)
+    for o in mem.outcomes:
+        for r in o.results:
+            v, U = disk[f"{r.metric.key}@{o.item}"]
+            assert v == pytest.approx(r.value.magnitude, rel=1e-6, abs=1e-12), r.metric.key
+            assert U == pytest.approx(r.U.magnitude, rel=1e-5), r.metric.key
+    d = docx.Document(out)
+    cells = "\n".join(c.text for t in d.tables for row in t.rows for c in row.cells)
+    assert C.NOT_PERFORMED not in cells
+    with zipfile.ZipFile(out) as z:
+        assert len([n for n in z.namelist() if n.startswith("word/media/")]) >= 5
+    header = d.sections[0].header.paragraphs[0]._p.xml
+    assert 'w:instr="PAGE"' in header and 'w:instr="NUMPAGES"' in header
+
+
+@pytest.mark.parametrize("old,new,field", [('position = "4"', 'position = "five"', "position"),
+                                           ('trial = "rate"', 'trial = "warm"', "trial")])
+def test_acquired_campaign_with_a_bad_condition_writes_nothing(acquired, run_cli, tmp_path, old, new, field):
+    import shutil
+
+    root = tmp_path / "c"
+    shutil.copytree(acquired.parent, root)
+    man = root / "manifest.toml"
+    text = man.read_text(encoding="utf-8")
+    assert old in text
+    man.write_text(text.replace(old, new, 1), encoding="utf-8")
+    out = tmp_path / "cert.docx"
+    code, _, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1,7.2.11,7.2.23", "--data", str(man), "--report", str(out),
+                           "--no-progress")
+    assert code == 2 and f"conditions.{field}" in err and ".csv" in err
+    assert not out.exists()

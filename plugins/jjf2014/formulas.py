@@ -272,19 +272,24 @@ class AllanFit:
         return sum(self.A[i] * t ** m for i, (m, _) in enumerate(ALLAN_TERMS))
 
 
-def allan_covariance(model_s2: np.ndarray, edf: np.ndarray) -> np.ndarray:
+def allan_covariance(model_s2: np.ndarray, edf: np.ndarray, tau: np.ndarray | None = None) -> np.ndarray:
     """Covariance of the σ̂²(τ_k) used as the fit's weights.
 
-    var(σ̂²_k) = 2σ_k⁴/edf_k (χ² law); between levels the nested-average approximation
-    cov(σ̂²_j, σ̂²_k) = 2σ_j²σ_k²/max(edf_j, edf_k), i.e. a correlation √(edf_coarse/edf_fine)
-    (the same structure as GB/T 45570 D.45 in metro); octave levels of an overlapping Allan
-    variance are strongly correlated, and ignoring it understates the uncertainty."""
+    var(σ̂²_k) = 2σ_k⁴/edf_k (χ² law).  Between levels the correlation is taken as
+    √(τ_fine/τ_coarse) — 0.71 between adjacent octaves, 0.5 two apart — which lies between
+    what simulation shows for white rate noise (≈ 0.5 adjacent) and flicker (≈ 0.66) / rate
+    random walk (≈ 0.88) noise.  Without ``tau`` the older nested-average proxy
+    √(edf_coarse/edf_fine) is used; it gives 0.93 between τ₀ and 2τ₀ (the edf formula's
+    first level), which made u(A₋₂) about half what repeated records show.  Capped at 0.95."""
     s2 = np.asarray(model_s2, dtype=float)
     e = np.asarray(edf, dtype=float)
-    C = 2.0 * np.outer(s2, s2) / np.maximum.outer(e, e)
-    # guard: equal edf at two levels would make them fully correlated (singular); cap at 0.95
-    d = np.sqrt(np.diag(C))
-    R = np.minimum(C / np.outer(d, d), 0.95)
+    d = np.sqrt(2.0 / e) * s2
+    if tau is None:
+        R = np.sqrt(np.minimum.outer(e, e) / np.maximum.outer(e, e))
+    else:
+        t = np.asarray(tau, dtype=float)
+        R = np.sqrt(np.minimum.outer(t, t) / np.maximum.outer(t, t))
+    R = np.minimum(R, 0.95)
     np.fill_diagonal(R, 1.0)
     return R * np.outer(d, d)
 
@@ -332,7 +337,7 @@ def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence
     for _ in range(5):
         model = s2.copy()
         for _ in range(max(1, iterations)):
-            fit, A = _allan_wls(t, s2, allan_covariance(model, e), active)
+            fit, A = _allan_wls(t, s2, allan_covariance(model, e, t), active)
             pred = A @ fit.coef
             model = np.where(pred > 0, pred, s2)
         if raw is None:
@@ -347,7 +352,7 @@ def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence
         if not active.any():
             raise ValueError("every coefficient of eq. (38) came out negative")
     r = s2 - A @ fit.coef
-    chi2 = float(r @ np.linalg.solve(allan_covariance(model, e), r))
+    chi2 = float(r @ np.linalg.solve(allan_covariance(model, e, t), r))
     dof = t.size - int(active.sum())
     birge = math.sqrt(chi2 / dof) if dof > 0 and chi2 > dof else 1.0
     u = np.zeros(5)
@@ -376,6 +381,24 @@ def noise_coefficients(A: Sequence[float]) -> dict[str, float]:
 
 #: d(coefficient)/d(A_m) factor c in coefficient = √(c·A): u(coef) = c·u(A)/(2·coef)
 NOISE_FACTORS = (1.0 / 3.0, 1.0, math.pi / (2 * math.log(2)), 3.0, 2.0)
+
+
+def coefficient_u(A: float, u_A: float, c: float, k: float = 2.0) -> tuple[float, str]:
+    """Standard uncertainty of a noise coefficient √(c·A) (:func:`noise_coefficients`) from the
+    fitted A and u(A), and how it was obtained (7.2.20, interpretations.md).
+
+    The A ± k·u(A) interval is mapped through the monotone √(c·max(A, 0)) and the larger
+    distance from the reported value to an end of the mapped interval is taken as k·u.  When A
+    is many u(A) above 0 this is the linear c·u(A)/(2√(cA)) to first order; near 0 the linearisation
+    collapses (u → small as the value → 0) while the mapped interval still reaches 0, which is
+    what keeps a barely resolved coefficient's interval honest.  A negative A (reported as 0):
+    the upper end √(c·(A + k·u)), or √(c·u(A)) when even that is negative."""
+    val = math.sqrt(c * A) if A > 0 else 0.0
+    lo = math.sqrt(c * max(A - k * u_A, 0.0))
+    hi = math.sqrt(c * max(A + k * u_A, 0.0))
+    if A > 0:
+        return max(val - lo, hi - val) / k, "k·u(A) interval of A mapped through √(c·A)"
+    return max(hi, math.sqrt(c * u_A)) / k, "A ≤ 0, reported 0: k·u = max(√(c·(A + k·u(A))), √(c·u(A)))"
 
 
 def arw_eq39(A_minus1: float) -> float:

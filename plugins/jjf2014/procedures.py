@@ -60,6 +60,28 @@ def _q(v: float, unit: str) -> str:
     return f"{v:g} {unit}"
 
 
+def _num(options: Mapping[str, Any], name: str, lo: float, *, integer: bool = False) -> float:
+    """A numeric option, checked: ≥ ``lo`` and (when ``integer``) whole."""
+    raw = options[name]
+    try:
+        v = float(raw)
+    except (TypeError, ValueError) as exc:
+        raise ProcedureError(f"option {name}: {raw!r} is not a number") from exc
+    if not math.isfinite(v) or v < lo or (integer and v != int(v)):
+        raise ProcedureError(f"option {name}: {raw!r} must be {'a whole number ' if integer else ''}≥ {lo:g}")
+    return int(v) if integer else v
+
+
+def _flag(options: Mapping[str, Any], name: str) -> bool:
+    """An on/off option."""
+    t = str(options[name]).strip().lower()
+    if t in ("on", "true", "yes", "1"):
+        return True
+    if t in ("off", "false", "no", "0", ""):
+        return False
+    raise ProcedureError(f"option {name} must be on or off, got {options[name]!r}")
+
+
 # ------------------------------------------------------------------------------- data access
 
 
@@ -224,15 +246,21 @@ class _JJF(Procedure):
                        options={k: str(v) for k, v in (opts or {}).items()})
 
 
-def _sf_plot(s: SFSet, name: str = "sf_fit") -> PlotSpec:
+def _sf_plots(s: SFSet) -> list[PlotSpec]:
+    """7.2.1 figures: the mean outputs with the eq. (6) line, and the eq. (3) residuals v_i on
+    their own axis (at the outputs' scale a residual of µV would be invisible)."""
     fit = s.fit
-    return PlotSpec(name, "Scale factor: outputs, eq. (6) line and residuals v_i (eq. (3))",
-                    "input rate Ω (°/s)", "output (mV) / residual (mV ×1000)",
-                    [{"label": "F̄_i (eq. (2))", "x": s.omega.tolist(), "y": s.F.tolist(), "style": "o"},
-                     {"label": f"F̂ = KΩ + F₀, K = {fit.K:.6g} mV/((°)/s)", "x": s.omega.tolist(),
-                      "y": fit.predict(s.omega).tolist(), "style": "-"},
-                     {"label": "residual v_i ×1000", "x": s.omega.tolist(), "y": (fit.residuals * 1000).tolist(),
-                      "style": "x"}])
+    return [PlotSpec("sf_fit", "Scale factor: mean outputs F̄_i (eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))",
+                     "input rate Ω (°/s)", "output (mV)",
+                     [{"label": "F̄_i (eq. (2))", "x": s.omega.tolist(), "y": s.F.tolist(), "style": "o"},
+                      {"label": f"F̂ = KΩ + F₀, K = {fit.K:.6g} mV/((°)/s), F₀ = {fit.F0:.4g} mV",
+                       "x": s.omega.tolist(), "y": fit.predict(s.omega).tolist(), "style": "-"}]),
+            PlotSpec("sf_residuals", "Scale factor: residuals v_i = F̄_i − (KΩ_i + F₀) of the eq. (3) fit",
+                     "input rate Ω (°/s)", "residual v_i (mV)",
+                     [{"label": "v_i", "x": s.omega.tolist(), "y": fit.residuals.tolist(), "style": "o",
+                       "yerr": s.uF.tolist()},
+                      {"label": "0", "x": [float(s.omega.min()), float(s.omega.max())], "y": [0.0, 0.0],
+                       "style": ":"}])]
 
 
 # =============================================================================== 7.2.1 – 7.2.4
@@ -274,7 +302,7 @@ class ScaleFactor(_JJF):
                         ["Ω_i (°/s)", "F̄_i (mV)", "u(F̄_i) (mV)", "v_i (mV)"],
                         [[f"{o:g}", f"{f:.6f}", f"{u:.2g}", f"{v:.3g}"]
                          for o, f, u, v in zip(s.omega, s.F, s.uF, s.fit.residuals)])
-        return self._outcome(res, plots=[_sf_plot(s)], tables=[tab], warnings=w, segments=s.ids, opts=opts)
+        return self._outcome(res, plots=_sf_plots(s), tables=[tab], warnings=w, segments=s.ids, opts=opts)
 
 
 class NonlinearityRange(_JJF):
@@ -377,7 +405,7 @@ class Repeatability(_JJF):
 
     def sequence(self, options):
         steps = []
-        for q in range(1, int(options["runs"]) + 1):
+        for q in range(1, _num(options, "runs", 2, integer=True) + 1):
             steps += _rate_steps("rate-repeat", _floats(options["rates"], "rates"), {"run": str(q)}, tag=f"#{q}")
         return steps
 
@@ -399,6 +427,32 @@ class Repeatability(_JJF):
 
 
 # =============================================================================== 7.2.5 – 7.2.8
+
+
+def _distinct(campaign: Campaign, values: np.ndarray, what: str) -> None:
+    """Levels applied in decreasing order must differ (two records of one level: which one?)."""
+    mags = np.abs(values)
+    if np.unique(mags).size != mags.size:
+        dup = sorted({float(v) for v in mags if np.sum(mags == v) > 1})
+        raise DataError(campaign.source, "segments", f"{what}: the level(s) {', '.join(f'{v:g}' for v in dup)} "
+                        "°/s appear more than once; give one record per level")
+
+
+def _temperatures(groups: Mapping[str, list[Segment]], what: str) -> dict[str, float]:
+    """The chamber temperature (°C) of each group, parsed from its first segment's condition;
+    two groups at the same temperature (e.g. "20 °C" and "20 degC") are an error."""
+    T = {k: _cond_q(g[0], "temperature", "degC") for k, g in groups.items()}
+    seen: dict[float, str] = {}
+    for k, t in T.items():
+        if t in seen:
+            raise DataError(_where(groups[k][0]), f"segments.{groups[k][0].id}.conditions.temperature",
+                            f"{what}: {k!r} and {seen[t]!r} are the same temperature; one calibration per point")
+        seen[t] = k
+    return T
+
+
+def _where(seg: Segment) -> str:
+    return seg.file or seg.id
 
 
 def _room_index(temps: list[float], Tm: float, what: str) -> int:
@@ -440,7 +494,7 @@ class SFTemperature(_JJF):
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         groups = _by(_need(campaign, type(self), "rate-temperature"), "temperature")
-        T = {k: float(parse_quantity(k, dimension="degC").to("degC").magnitude) for k in groups}
+        T = _temperatures(groups, "7.2.5")
         keys = sorted(groups, key=T.get)
         temps = [T[k] for k in keys]
         if len(keys) < 2:
@@ -573,12 +627,18 @@ class SFVibration(_SFChange):
 
 
 def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign, what: str):
-    """Result for a grid-searched quantity: the larger |candidate| of the two directions; the
-    true value lies between it and the next smaller level tried (uniform), plus the table."""
+    """Result for a grid-searched quantity: the larger |candidate| of the two directions, as
+    7.2.9.1 f) / 7.2.10.1 g) report it.  The candidate meets eq. (17)/(18) and the next smaller
+    level does not, so the true value lies in (next level, candidate] (or (0, candidate] when
+    every level passed): the candidate errs by 0 … one step, always upward.  Its standard
+    uncertainty about the candidate is the RMS of that one-sided error, step/√3, written as a
+    uniform of half-width one step (interpretations.md, "7.2.9 / 7.2.10")."""
     d = max(cands, key=lambda k: abs(cands[k][0]))
     val, nxt = cands[d]
-    half = (abs(val) - abs(nxt)) / 2.0 if nxt is not None else abs(val) / 2.0
-    rows = [BudgetRow.type_b(f"step of the {what} levels ({d})", "Δ/2", Q_(half, "deg/s"), distribution="uniform")]
+    step = abs(val) - abs(nxt) if nxt is not None else abs(val)
+    rows = [BudgetRow.type_b(f"step of the {what} levels ({d}): true value in (next level, candidate]", "Δ",
+                             Q_(step, "deg/s"), distribution="uniform",
+                             note="one-sided: the candidate errs by 0 … Δ, u = Δ/√3")]
     rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", _cal(campaign, "rate-table"),
                                        Q_(abs(val), "deg/s"))
     b = B.type_a_budget(metric.key, "deg/s", rows)
@@ -602,7 +662,7 @@ class Threshold(_JJF):
                            Option("seconds", 200, None, "record length per level (s at 1 s)"))
 
     def sequence(self, options):
-        n = float(options["seconds"])
+        n = _num(options, "seconds", 2)
         steps = ScaleFactor().sequence(options)
         steps.append(Step("threshold-0", "threshold", "table at rest (zero input)", Q_(n, "s"), Q_(1, "s"),
                           {"rate": "0 deg/s"}))
@@ -628,6 +688,7 @@ class Threshold(_JJF):
             if len(d) < 2:
                 raise DataError(campaign.source, "segments", f"7.2.9 needs at least 2 {name} levels")
             om = np.array([_cond_q(s, "rate", "deg/s") for s in d])
+            _distinct(campaign, om, f"7.2.9 {name} levels (condition rate)")
             fc = np.array([_mean_u(s)[0] - f0 for s in d])
             c, i = F.threshold_eq16_17(om, fc, K)
             if c is None:
@@ -660,7 +721,7 @@ class Resolution(_JJF):
                            Option("seconds", 200, None, "record length per level (s at 1 s)"))
 
     def sequence(self, options):
-        n = float(options["seconds"])
+        n = _num(options, "seconds", 2)
         base = float(options["base_rate"].to("deg/s").magnitude)
         steps = ScaleFactor().sequence(options)
         for sgn, d in ((1, "+"), (-1, "-")):
@@ -687,6 +748,10 @@ class Resolution(_JJF):
                                 f"7.2.10 needs, in the {name} direction, a base segment (increment 0) and ≥ 2 increments")
             fb = _mean_u(base[0])[0]
             dom = np.array([_cond_q(s, "increment", "deg/s") for s in inc])
+            _distinct(campaign, dom, f"7.2.10 {name} increments (condition increment)")
+            if len(base) > 1:
+                raise DataError(campaign.source, "segments", f"7.2.10: {len(base)} {name} base segments (increment 0); "
+                                "give one")
             dF = np.array([_mean_u(s)[0] - fb for s in inc])
             c, i = F.resolution_eq18(dom, dF, K)
             if c is None:
@@ -707,11 +772,18 @@ def _misalignment_run(campaign, proc, segs: list[Segment], K: float, uK_rel: flo
     uF: dict[tuple[int, str], float] = {}
     omegas = set()
     for s in segs:
-        p = int(str(s.condition("position")))
+        ptxt = str(s.condition("position")).strip()
+        p = int(ptxt) if ptxt in ("1", "2", "3", "4") else 0
+        if not p:
+            raise DataError(s.file or s.id, f"segments.{s.id}.conditions.position",
+                            f"must be 1, 2, 3 or 4 (the four mountings of 7.2.11.1), got {ptxt!r}")
         om = _cond_q(s, "rate", "deg/s")
-        if p not in (1, 2, 3, 4) or om == 0:
-            raise DataError(s.file or s.id, f"segments.{s.id}.conditions", "position must be 1–4 and rate non-zero")
+        if om == 0:
+            raise DataError(s.file or s.id, f"segments.{s.id}.conditions.rate", "must be ±Ω_(+), not 0")
         key = (p, "+" if om > 0 else "-")
+        if key in Fm:
+            raise DataError(s.file or s.id, f"segments.{s.id}.conditions",
+                            f"two records of position {p} turning {'forward' if key[1] == '+' else 'reverse'} in one run")
         Fm[key], uF[key], _ = _mean_u(s)
         omegas.add(abs(om))
     missing = [f"{p}{d}" for p in (1, 2, 3, 4) for d in "+-" if (p, d) not in Fm]
@@ -789,7 +861,7 @@ class MisalignmentRepeatability(Misalignment):
     options = Misalignment.options + (Option("runs", 7, None, "Q (≥ 7)"),)
 
     def sequence(self, options):
-        return self._steps(options, int(options["runs"]))
+        return self._steps(options, _num(options, "runs", 7, integer=True))
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
@@ -817,9 +889,17 @@ EARTH_OPT = Option("earth_rate", "off", None,
                    "on: subtract 15.041·sin(latitude) °/h for IRA up (add for down); the standard has no such term")
 
 
+def _static(campaign: Campaign, proc, warnings: list[str]) -> Segment:
+    """The 7.2.13.1 record: the one segment of kind "static" (several: the first, with a warning)."""
+    segs = _need(campaign, proc, "static")
+    if len(segs) > 1:
+        warnings.append(f"{len(segs)} segments of kind static; {proc.item} uses the first, {segs[0].id!r}")
+    return segs[0]
+
+
 def _earth_term(campaign, seg: Segment | None, on: str, orient: str | None = None) -> float:
     """Earth-rate correction (°/h) to subtract; 0 unless the option is on (README reading note)."""
-    if str(on).lower() not in ("on", "true", "yes", "1"):
+    if not _flag({"earth_rate": on}, "earth_rate"):
         return 0.0
     lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
     o = orient or (str(seg.conditions.get("orientation", "IRA up")).lower() if seg is not None else "ira up")
@@ -863,15 +943,15 @@ class Bias(_JJF):
         opts = self.option_values(ctx.options)
         w: list[str] = []
         K, uK, src = scale_factor_for(campaign, type(self))
-        seg = _need(campaign, type(self), "static")[0]
-        bv = BiasValue(seg, K, _earth_term(campaign, seg, opts["earth_rate"]), int(opts["batches"]))
+        seg = _static(campaign, type(self), w)
+        bv = BiasValue(seg, K, _earth_term(campaign, seg, opts["earth_rate"]), _num(opts, "batches", 2, integer=True))
         dur = bv.x.size * bv.dt
         if dur < 3600 * 0.999:
             w.append(f"the record lasts {dur / 60:.3g} min; 7.2.13.1 c) asks for more than 1 h")
         b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=_cal(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
                           warnings=w)
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
-                                     note=f"K from {src}; earth rate {'subtracted' if opts['earth_rate'] == 'on' else 'not subtracted'}")],
+                                     note=f"K from {src}; earth rate {'subtracted' if _flag(opts, 'earth_rate') else 'not subtracted'}")],
                              warnings=w, segments=[seg.id], opts=opts)
 
 
@@ -890,8 +970,9 @@ class BiasStability(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
+        w: list[str] = []
         K, uK, _ = scale_factor_for(campaign, type(self))
-        seg = _need(campaign, type(self), "static")[0]
+        seg = _static(campaign, type(self), w)
         x, dt = _output(seg)
         p = float(opts["P"].to("s").magnitude) / dt
         if abs(p - round(p)) > 1e-6 or round(p) < 1:
@@ -908,7 +989,7 @@ class BiasStability(_JJF):
         rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
         b = B.type_a_budget("Bs", "deg/h", rows)
         return self._outcome([Result(self.metrics[0], Q_(bs, "deg/h"), b.combined, b, note=f"{m} averages of P")],
-                             segments=[seg.id], opts=opts)
+                             warnings=w, segments=[seg.id], opts=opts)
 
 
 class BiasRepeatability(_JJF):
@@ -925,7 +1006,7 @@ class BiasRepeatability(_JJF):
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
             Step(f"static-repeat#{q}", "static-repeat", STATIC_STEP_DESC + f", run {q}, 1 h at 1 s", Q_(1, "h"),
-                 Q_(1, "s"), {"run": str(q), "orientation": "IRA up"}) for q in range(1, int(options["runs"]) + 1)]
+                 Q_(1, "s"), {"run": str(q), "orientation": "IRA up"}) for q in range(1, _num(options, "runs", 2, integer=True) + 1)]
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
@@ -933,6 +1014,10 @@ class BiasRepeatability(_JJF):
         runs = _by(_need(campaign, type(self), "static-repeat"), "run")
         if len(runs) < 2:
             raise DataError(campaign.source, "segments", f"7.2.15 needs Q ≥ 2 runs, got {len(runs)}")
+        for r, g in runs.items():
+            if len(g) > 1:
+                raise DataError(_where(g[1]), f"segments.{g[1].id}.conditions.run",
+                                f"7.2.15: run {r!r} has {len(g)} records; give one per run")
         bvs = [BiasValue(g[0], K) for _, g in sorted(runs.items())]
         br = F.std_bessel([b.B0 for b in bvs], "eq. (30)")
         u, dof = B.std_of_std(br, len(bvs))
@@ -968,11 +1053,15 @@ class BiasTemperature(_JJF):
         opts = self.option_values(ctx.options)
         K, uK, _ = scale_factor_for(campaign, type(self))
         groups = _by(_need(campaign, type(self), "static-temperature"), "temperature")
-        T = {k: float(parse_quantity(k, dimension="degC").to("degC").magnitude) for k in groups}
+        T = _temperatures(groups, "7.2.16")
         keys = sorted(groups, key=T.get)
         if len(keys) < 2:
             raise DataError(campaign.source, "segments", "7.2.16 needs at least 2 temperatures")
         temps = [T[k] for k in keys]
+        for k in keys:
+            if len(groups[k]) > 1:
+                raise DataError(_where(groups[k][1]), f"segments.{groups[k][1].id}.conditions.temperature",
+                                f"7.2.16: {len(groups[k])} records at {k}; give one per temperature")
         bvs = [BiasValue(groups[k][0], K) for k in keys]
         m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.16")
         bt, i = F.bias_temperature_eq31([b.B0 for b in bvs], temps, m)
@@ -1020,6 +1109,8 @@ class BiasAcceleration(_JJF):
         for s in _need(campaign, type(self), "static-accel"):
             a, o = _axis(s), _updown(s)
             earth = _earth_term(campaign, s, opts["earth_rate"], o) if a == ira else 0.0
+            if o in vals.get(a, {}):
+                raise DataError(_where(s), f"segments.{s.id}.conditions", f"7.2.17: two records for axis {a} {o}; give one")
             vals.setdefault(a, {})[o] = BiasValue(s, K, earth)
         per = {a: F.per_g_726(v["up"].B0, v["down"].B0) for a, v in vals.items() if {"up", "down"} <= set(v)}
         if not per:
@@ -1055,7 +1146,11 @@ class _BiasChange(_JJF):
         K, uK, _ = scale_factor_for(campaign, type(self))
         vals: dict[tuple[str, str], BiasValue] = {}
         for s in _need(campaign, type(self), self.kind):
-            vals[(_axis(s), _phase(s))] = BiasValue(s, K)
+            key = (_axis(s), _phase(s))
+            if key in vals:
+                raise DataError(_where(s), f"segments.{s.id}.conditions",
+                                f"{self.item}: two records for axis {key[0]} {key[1]}; give one")
+            vals[key] = BiasValue(s, K)
         before = {a: vals[(a, "before")].B0 for a in AXES if (a, "before") in vals}
         after = {a: vals[(a, "after")].B0 for a in AXES if (a, "after") in vals}
         try:
@@ -1132,18 +1227,18 @@ class AngleRandomWalk(_JJF):
         opts = self.option_values(ctx.options)
         w: list[str] = []
         K, uK, _ = scale_factor_for(campaign, type(self))
-        seg = _need(campaign, type(self), "static")[0]
+        seg = _static(campaign, type(self), w)
         x, dt = _output(seg)
         rate = x / K * 3600.0  # eq. (34), °/h
         try:
-            ad = allan.oadev(rate, dt, allan.octave_m(rate.size, float(opts["max_fraction"])))
+            ad = allan.oadev(rate, dt, allan.octave_m(rate.size, _num(opts, "max_fraction", 1e-6)))
         except ValueError as exc:
             raise DataError(seg.file or seg.id, "output", f"Allan variance: {exc}") from exc
         tau_h = np.asarray(ad.tau) / 3600.0
         sig = np.asarray(ad.deviation)
         try:
             fit = F.fit_allan_eq38(tau_h, sig, np.asarray(ad.edf),
-                                   nonnegative=str(opts["nonnegative"]).lower() in ("on", "true", "yes", "1"))
+                                   nonnegative=_flag(opts, "nonnegative"))
         except ValueError as exc:
             raise ProcedureError(f"7.2.20: {exc}", hint="record longer (7.2.13.1: ≥ 1 h) or check the data") from exc
         if not fit.A[1] > 0:
@@ -1164,19 +1259,18 @@ class AngleRandomWalk(_JJF):
         cnames = ("Q", "N", "B", "K", "R")
         results = []
         for i, (key, unit_, cn, fac) in enumerate(zip(keys, units, cnames, F.NOISE_FACTORS)):
-            val = coefs[cn]
-            if fit.A[i] > 0 and val > 0:
-                u_fit = fac * fit.u_A[i] / (2.0 * val)
-            else:  # removed term: √(c·u(A)) as a scale of what the data cannot exclude
-                u_fit = math.sqrt(fac * fit.u_A[i])
-            rows = [_budget_row_a(f"eq. (38) WLS fit (edf per τ), A_{F.ALLAN_TERMS[i][0]}", "u(A)", u_fit, unit_,
-                                  max(fit.dof, 1), note=f"{tau_h.size} τ values, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}"),
-                    BudgetRow.type_b("scale factor K (eq. (34))", "u_rel(K)", Q_(uK, ""), distribution="normal",
-                                     k=1.0, sensitivity=Q_(val, unit_))]
-            b = B.type_a_budget(key, unit_, rows)
             metric = self.metrics[[m.key for m in self.metrics].index(key)]
-            v = Q_(val, unit_).to(metric.unit)
-            results.append(Result(metric, v, b.combined.to(metric.unit), b,
+            to_metric = float(Q_(1.0, unit_).to(metric.unit).magnitude)
+            val = coefs[cn] * to_metric
+            u_fit, how = F.coefficient_u(fit.A[i], fit.u_A[i], fac)
+            u_fit *= to_metric
+            rows = [_budget_row_a(f"eq. (38) GLS fit (edf per τ), A_{F.ALLAN_TERMS[i][0]}", "u(A)", u_fit, metric.unit,
+                                  max(fit.dof, 1), note=f"{tau_h.size} τ values, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}; "
+                                  + how),
+                    BudgetRow.type_b("scale factor K (eq. (34))", "u_rel(K)", Q_(uK, ""), distribution="normal",
+                                     k=1.0, sensitivity=Q_(val, metric.unit))]
+            b = B.type_a_budget(key, metric.unit, rows)
+            results.append(Result(metric, Q_(val, metric.unit), b.combined, b,
                                   note="" if fit.active[i] else "term not resolved (fitted negative)"))
         results.insert(0, results.pop(1))  # ARW first
         model = fit.model(tau_h)
@@ -1264,10 +1358,10 @@ class Bandwidth(_JJF):
         bw = float(options["bandwidth_estimate"].to("Hz").magnitude)
         fs = float(options["sample_rate"].to("Hz").magnitude)
         A = float(options["amplitude"].to("deg/s").magnitude)
-        freqs = np.round(np.geomspace(10.0, 2 * bw, int(options["frequencies"])), 1)
+        freqs = np.round(np.geomspace(10.0, 2 * bw, _num(options, "frequencies", 3, integer=True)), 1)
         steps = ScaleFactor().sequence(options)
         for f in freqs:
-            for j in range(1, int(options["records"]) + 1):
+            for j in range(1, _num(options, "records", 1, integer=True) + 1):
                 steps.append(Step(f"angvib-{f:g}Hz#{j}", "angular-vibration", f"{f:g} Hz, {A:g} °/s, record {j}",
                                   Q_(1, "s"), Q_(1 / fs, "s"),
                                   {"frequency": _q(f, "Hz"), "amplitude": _q(A, "deg/s"), "repeat": str(j)}))
@@ -1419,8 +1513,12 @@ class StartupTime(_JJF):
         btol = float(opts["bias_tolerance"].to("deg/s").magnitude)
         rtol = float(opts["rate_tolerance"].to("").magnitude)
         win = float(opts["window"].to("s").magnitude)
-        pos = [s for s in segs if str(s.condition("trial")).lower() == "position"]
-        rat = [s for s in segs if str(s.condition("trial")).lower() == "rate"]
+        for s in segs:
+            if str(s.condition("trial")).strip().lower() not in ("position", "rate"):
+                raise DataError(s.file or s.id, f"segments.{s.id}.conditions.trial",
+                                f"must be \"position\" or \"rate\" (7.2.23.1), got {s.condition('trial')!r}")
+        pos = [s for s in segs if str(s.condition("trial")).strip().lower() == "position"]
+        rat = [s for s in segs if str(s.condition("trial")).strip().lower() == "rate"]
         if not pos:
             raise DataError(campaign.source, "segments", "7.2.23 needs at least one position trial (trial = position)")
         rows, times = [], []
