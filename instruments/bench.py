@@ -41,7 +41,7 @@ import pint
 
 from metro.core.errors import DataError, DriverError, MetroError
 from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
-from metro.core.units import Q_, parse_quantity, unit
+from metro.core.units import parse_quantity, unit
 
 __all__ = [
     "BENCH_FORMAT",
@@ -353,7 +353,7 @@ def _output(t: Mapping[str, Any], drivers: Mapping[str, Any], src: str) -> Outpu
         unit_text = _text(t, "unit", src, "output")
         try:
             unit(unit_text)
-        except Exception as exc:  # noqa: BLE001 - pint raises several types
+        except Exception as exc:  # pint raises several types
             raise DataError(src, "output.unit", f"not a unit metro can read: {unit_text!r} ({exc})") from exc
     agg = _text(t, "aggregate", src, "output", "mean")
     if agg not in ("mean", "sum"):
@@ -488,7 +488,6 @@ class BenchStation:
         operator steps when no operator can answer (no terminal and not ``assume_ready``).
         """
         items = items or {}
-        src = self.config.source
 
         def who(step: Step) -> str:
             its = items.get(step.segment)
@@ -517,8 +516,8 @@ class BenchStation:
         for step in steps:
             rate = None
             if "rate" in step.conditions:
-                rate = parse_quantity(step.conditions["rate"], dimension="deg/s", file=src,
-                                      field=f"step {step.segment}.rate")
+                rate = parse_quantity(step.conditions["rate"], dimension="deg/s",
+                                      field=f"segments.{step.segment}.conditions.rate")
             self._check_frames(step, who(step))
             instr, cycle = _instructions(step, state)
             plans.append(StepPlan(step, rate, _n_samples(step), tuple(instr), cycle))
@@ -868,4 +867,11 @@ def bench_station_factory(registry: Any, **options: Any) -> BenchStation:
     flags = {k: _bool(options[k], cfg.source, f"station option {k}")
              for k in ("assume_ready", "allow_unclean", "warmed_up") if k in options}
     clock = options.get("clock") or SystemClock()
-    return BenchStation(cfg, clock=clock, operator=options.get("operator"), **flags)
+    if not (callable(getattr(clock, "monotonic", None)) and callable(getattr(clock, "sleep", None))):
+        raise DataError(None, "station option clock", f"{clock!r} is not a clock (monotonic() and sleep(s))",
+                        hint="the clock and the operator are given from Python, not on the command line")
+    operator = options.get("operator")
+    if operator is not None and not callable(operator):
+        raise DataError(None, "station option operator", f"{operator!r} is not a callable operator(instruction, step)",
+                        hint="the clock and the operator are given from Python, not on the command line")
+    return BenchStation(cfg, clock=clock, operator=operator, **flags)

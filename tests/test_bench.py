@@ -297,7 +297,7 @@ def test_operator_step_without_a_terminal_is_a_clear_error(tmp_path, world, pm, 
     assert 'operator_steps = 1' in Path(stdout.strip()).read_text(encoding="utf-8")
 
 
-def test_operator_is_asked_with_the_table_at_rest_and_power_cycles_restart_the_warm_up(tmp_path, world, pm):
+def test_operator_is_asked_with_the_table_at_rest_and_between_power_cycles(tmp_path, world, pm):
     asked = []
 
     def operator(instruction, step):
@@ -589,3 +589,39 @@ def test_metro_plugins_lists_stations_and_drivers_with_their_plugin(vendor, run_
     for text in ("stations", "bench", "simulated-jjf2014", "drivers", "scpi-dmm", "serial-gyro", "acme-rt500",
                  "rate-table", "bench_vendor"):
         assert text in out, text
+
+
+def test_clock_and_operator_come_from_python_only(tmp_path, pm, world):
+    bench = str(_bench(tmp_path))
+    with pytest.raises(DataError, match="is not a clock"):
+        pm.station("bench").factory(config=bench, clock="fast")
+    with pytest.raises(DataError, match="not a callable operator"):
+        pm.station("bench").factory(config=bench, operator="alice")
+
+
+def test_warm_up_is_waited_on_the_clock_from_the_start_and_after_a_power_cycle(tmp_path, pm, world):
+    from metro.core.model import Step
+
+    warm = Q_(30, "min")
+    steps = [Step("rest-1", "rate-static", "", Q_(10, "s"), Q_(1, "s"), {"run": "1"}, warmup=warm),
+             Step("rest-2", "rate-static", "", Q_(10, "s"), Q_(1, "s"), {"run": "2"}, warmup=warm)]
+    events = {}
+
+    def operator(instruction, step):
+        events["power cycle"] = world.clock.t
+
+    def progress(task, done, total):
+        if task.startswith("recording") and done == 1:
+            events.setdefault(task, world.clock.t)
+
+    start = world.clock.t
+    st = pm.station("bench").factory(config=str(_bench(tmp_path)), operator=operator)
+    st.acquire(steps, progress=progress)
+    assert events["recording rest-1"] - start >= 1800
+    assert events["recording rest-2"] - events["power cycle"] >= 1800
+    # warmed_up=true: the device is known to be warm, no waiting at the start
+    world.clock.t = start = 5e6
+    events.clear()
+    pm.station("bench").factory(config=str(_bench(tmp_path)), operator=operator, warmed_up="true").acquire(
+        steps[:1], progress=progress)
+    assert events["recording rest-1"] - start < 60
