@@ -123,7 +123,7 @@ SUPPORTED_KINDS: frozenset[str] = frozenset({
     "static", "static-zero", "rate", "rate-output", "rate-static", "threshold",
     "rate-repeat", "static-repeat", "rate-temperature", "static-temperature", "high-temperature",
     "low-temperature", "rate-accel", "static-accel", "static-field", "rate-shock", "rate-vibration",
-    "static-shock", "static-vibration", "misalignment", "rate-mounting",
+    "static-shock", "static-vibration", "misalignment", "rate-mounting", "polarity",
 })
 
 #: step kinds the bench cannot run at all, and why

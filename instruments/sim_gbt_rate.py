@@ -10,7 +10,8 @@ Registered step kinds (see :func:`metro.instruments.simulated.register_step_kind
   (D.1.6);
 * ``rate-output`` — the table turning at a constant signed ``rate``, IRA up, the output sampled
   (LSB for the digital gyro) (D.2.1–D.2.5, D.3); with ``run`` or ``temperature`` as above;
-* ``rate-mounting`` — ``rate-output`` in the mountings of D.2.6.
+* ``rate-mounting`` — ``rate-output`` in the mountings of D.2.6;
+* ``polarity`` — the output at rest (``rate`` 0) or turning at a signed ``rate`` about IRA (6.2.6).
 
 The table at rest (``rate-static``) is the station's ordinary static record.  While turning,
 the table's model (:class:`metro.instruments.equipment.RateTable`) sets the rate: its fixed
@@ -34,7 +35,6 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-
 from metro.core.model import Segment
 from metro.core.units import Q_, parse_quantity
 
@@ -188,6 +188,22 @@ def sim_rate_output(station, step, index, *, interval_s, n, bias_offset_deg_h, *
     return _rate_samples(station, step, index, n, interval_s, 1.0, bias_offset_deg_h)
 
 
+@register_step_kind("polarity")
+def sim_polarity(station, step, index, *, interval_s, n, orientation, bias_offset_deg_h, progress=None, **_):
+    """GB/T 45570 6.2.6: the output at rest (``rate`` 0) or turning at a signed ``rate`` about IRA."""
+    rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
+    if rate != 0:
+        return _rate_samples(station, step, index, n, interval_s, 1.0, bias_offset_deg_h)
+    from .simulated import simulate_static
+
+    out = simulate_static(station.truth, n=n, interval_s=interval_s, latitude_deg=station.latitude_deg,
+                          orientation=orientation, seed=station.truth.seed + 104729 * (index + 1),
+                          progress=progress, bias_offset_deg_h=bias_offset_deg_h)
+    unit = {"pulse": "P", "digital": "LSB", "rate": "deg/h"}[station.truth.output]
+    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
+                   sha256=hashlib.sha256(out.tobytes()).hexdigest(), loader=(lambda d=out, u=unit: {"output": (d, u)}))
+
+
 @register_step_kind("rate-mounting")
 def sim_rate_mounting(station, step, index, *, interval_s, n, bias_offset_deg_h, **_):
     return _rate_samples(station, step, index, n, interval_s, mounting_projection(station.truth, step.conditions),
@@ -270,6 +286,19 @@ def _kr(values) -> float:
 def _abg(a1, a2, b1, b2) -> dict[str, Any]:
     a, b = (a1 - a2) / 2.0, (b1 - b2) / 2.0
     return {"alpha": Q_(a, "deg"), "beta": Q_(b, "deg"), "gamma": Q_(math.hypot(a, b), "deg")}
+
+
+@register_expected
+def expected_polarity(station: SimulatedStation, segments) -> dict[str, Any]:
+    """Expected response ratio r and polarity of 6.2.6: the polarity times the scale factor's
+    relative value at the turning rate (the table's rate error is left to the budget)."""
+    turning = [s for s in segments if s.kind == "polarity" and _rate_of(s) != 0]
+    if not turning:
+        return {}
+    rate = _rate_of(turning[0])
+    t = station.truth
+    f = scale_factor_multiplier(t, abs(rate), 1 if rate > 0 else -1, turning[0].conditions)
+    return {"polarity_ratio": Q_(t.polarity * f, ""), "polarity": Q_(float(t.polarity), "")}
 
 
 @register_expected

@@ -77,6 +77,9 @@ class GyroTruth:
     # --- end of the D.4 / D.6 / set-up / power block ---
     output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
     lsb_per_deg_s: float = 5000.0
+    # GB/T 45570 5.2.9 / 6.2.6: +1 when the output grows while the gyro turns counter-clockwise about
+    # +IA (right-hand rule); −1 a reversed gyro (every output column is negated)
+    polarity: int = attrs.field(default=1, validator=attrs.validators.in_((1, -1)))
     seed: int = 20251122
 
     def as_quantities(self) -> dict[str, Any]:
@@ -99,6 +102,7 @@ class GyroTruth:
             "fixture tilt (XRA-up, YRA-up mountings)": ", ".join(f"{v:g}″" for v in self.fixture_tilt_arcsec),
             "seed": self.seed,
             "output": self.output,
+            "polarity (6.2.6)": "positive" if self.polarity > 0 else "negative",
         }
         if self.output == "pulse":
             out["scale factor K"] = Q_(self.scale_factor_P_per_arcsec, "P/arcsec")
@@ -257,6 +261,8 @@ class SimulatedStation:
                 interval=Q_(interval_s, "s"), file=None, sha256=digest,
                 loader=(lambda d=data, u=unit: {"output": (d, u)}),
             ))
+        if t.polarity < 0:
+            segments = [_reversed(seg) for seg in segments]
         exp = {k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()}
         rates = [s.conditions["rate"] for s in segments if s.kind == "rate-revolutions"]
         if rates:
@@ -282,6 +288,18 @@ class SimulatedStation:
 
 
 AXES = ("IRA", "XRA", "YRA")
+
+#: the gyro's output columns, negated for a gyro of negative polarity
+OUTPUT_COLUMNS = ("output", "count")
+
+
+def _reversed(seg: Segment) -> Segment:
+    """``seg`` as a gyro of negative polarity gives it: its output columns negated (the digest
+    is of what the procedures read)."""
+    cols = {name: ((-np.asarray(data) if name in OUTPUT_COLUMNS else data), unit)
+            for name, (data, unit) in seg.columns().items()}
+    digest = hashlib.sha256(b"".join(np.ascontiguousarray(d).tobytes() for d, _ in cols.values())).hexdigest()
+    return attrs.evolve(seg, sha256=digest, loader=lambda c=cols: c)
 
 #: step kind -> simulator; see :func:`register_step_kind`
 _STEP_SIMULATORS: dict[str, Callable[..., Segment]] = {}

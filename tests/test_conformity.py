@@ -197,7 +197,8 @@ def test_specifications_hook_collects_plugin_limits(pm):
     assert by["Kn"].limit == Q_(10, "ppm") and "table B.1" in by["Kn"].source
     assert by["K"].limit == Q_(5000, "LSB/(deg/s)")
     unknown = Campaign("c", DeviceUnderTest("U", technology="laser", application=""), [], {}, {}, [])
-    assert pm.conformity_specifications("gbt45570", unknown) == []
+    # with no application no table applies, but 5.2.9 (positive polarity) holds for every gyro
+    assert [s.symbol for s in pm.conformity_specifications("gbt45570", unknown)] == ["polarity_ratio"]
 
 
 def test_tables_hold_the_published_numbers():

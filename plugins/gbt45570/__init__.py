@@ -5,7 +5,7 @@ Items implemented so far: D.1.1–D.1.6 (angle method, pulse output, :mod:`.angl
 D.2.1–D.2.6 (rate method, LSB output, on the ``simulated-digital`` station) and D.3 (maximum
 input rate, either method; :mod:`.rate_method`), D.4 (threshold, :mod:`.threshold`),
 D.5.1–D.5.6 (bias series, ARW), D.6.1–D.6.4 (environmental) and 6.2.7.7/6.2.7.8 (set-up time,
-power; :mod:`.environmental`).
+power; :mod:`.environmental`) and 6.2.6 (polarity, :mod:`.polarity`).
 """
 
 from __future__ import annotations
@@ -29,9 +29,9 @@ def metro_register_standards(registrar) -> None:
         designation="GB/T 45570—2025",
         description="test methods of normative appendix D",
     )
-    from . import environmental, threshold
+    from . import environmental, polarity, threshold
 
-    for cls in angle_method.PROCEDURES + rate_method.PROCEDURES + PROCEDURES + threshold.PROCEDURES + environmental.PROCEDURES:
+    for cls in angle_method.PROCEDURES + rate_method.PROCEDURES + PROCEDURES + threshold.PROCEDURES + environmental.PROCEDURES + polarity.PROCEDURES:
         registrar.add_procedure(cls)
 
     from .method_rule import SERIES

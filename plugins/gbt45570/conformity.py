@@ -20,7 +20,7 @@ from typing import Any, Mapping
 
 import attrs
 
-from metro.core.conformity import Comparison, Specification
+from metro.core.conformity import Comparison, Specification, parse_limit
 from metro.core.units import Q_
 
 STANDARD = "gbt45570"
@@ -231,9 +231,14 @@ def specifications(device) -> list[Specification]:
     rows = table_for(device.technology)
     app = application_of(device.application)
     if rows is None or app is None:
-        return []
+        return [POLARITY]
     severities = [r.specification(app) for r in TABLE_C1]
-    return [r.specification(app) for r in rows] + [s for s in severities if s is not None]
+    return [r.specification(app) for r in rows] + [s for s in severities if s is not None] + [POLARITY]
+
+
+#: 5.2.9 极性: the polarity shall be positive — 6.2.6's response ratio r (output change over the
+#: applied counter-clockwise rate) must be above zero, whatever the device's technology
+POLARITY = parse_limit("polarity_ratio", ">= 0", source="GB/T 45570—2025 5.2.9 (极性应为正 polarity positive)")
 
 
 @attrs.frozen
