@@ -160,22 +160,31 @@ def equipment_from_table(e: Mapping, src: str, where: str) -> Equipment:
     )
 
 
-def load_manifest(path: str | Path, reader_for) -> Campaign:
-    """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
-    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``)."""
-    path = Path(path)
-    src = str(path)
-    if not path.is_file():
-        raise DataError(src, None, "manifest not found", hint="give the path of a manifest.toml (docs/data-format.md)")
+def read_toml(path: str | Path, fmt: str, *, what: str, hint: str) -> tuple[str, dict[str, Any]]:
+    """``(source text, document)`` of a metro TOML file (a manifest, a bench file) whose
+    ``format`` key, if given, must be ``fmt``; a missing, undecodable or invalid file is a
+    :class:`DataError` naming it (``what`` and ``hint`` say what was expected)."""
+    p = Path(path)
+    src = str(p)
+    if not p.is_file():
+        raise DataError(src, None, f"{what} not found", hint=hint)
     try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+        doc = tomllib.loads(p.read_text(encoding="utf-8"))
     except UnicodeDecodeError as exc:
         raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
     except tomllib.TOMLDecodeError as exc:
         raise DataError(src, None, f"not valid TOML: {exc}") from exc
-    fmt = doc.get("format", FORMAT)
-    if fmt != FORMAT:
-        raise DataError(src, "format", f"unsupported format {fmt!r}; this metro reads {FORMAT!r}")
+    found = doc.get("format", fmt)
+    if found != fmt:
+        raise DataError(src, "format", f"unsupported format {found!r}; this metro reads {fmt!r}")
+    return src, doc
+
+
+def load_manifest(path: str | Path, reader_for) -> Campaign:
+    """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
+    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``)."""
+    path = Path(path)
+    src, doc = read_toml(path, FORMAT, what="manifest", hint="give the path of a manifest.toml (docs/data-format.md)")
 
     camp = _table(doc, "campaign", src, required=False)
     device = device_from_table(_table(doc, "device", src), src)

@@ -30,7 +30,6 @@ import inspect
 import math
 import sys
 import time
-import tomllib
 from pathlib import Path
 from types import TracebackType
 from typing import Any, Callable, Mapping, Protocol, Sequence
@@ -375,22 +374,11 @@ def load_bench(path: str | Path, drivers: Mapping[str, Any]) -> BenchConfig:
     :class:`~metro.core.plugins.DriverInfo`.  Every problem is a :class:`DataError` naming the
     file, the field and the reason; nothing is opened or moved here."""
     from metro.core.campaign import (calibration_from_table, device_from_table, environment_from_table,
-                                     equipment_from_table, site_from_table)
+                                     equipment_from_table, read_toml, site_from_table)
 
     p = Path(path)
-    src = str(p)
-    if not p.is_file():
-        raise DataError(src, None, "bench file not found",
-                        hint="give its path with --station-option config=bench.toml (docs/instruments.md)")
-    try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8"))
-    except UnicodeDecodeError as exc:
-        raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise DataError(src, None, f"not valid TOML: {exc}") from exc
-    fmt = doc.get("format", BENCH_FORMAT)
-    if fmt != BENCH_FORMAT:
-        raise DataError(src, "format", f"unsupported format {fmt!r}; this metro reads {BENCH_FORMAT!r}")
+    src, doc = read_toml(p, BENCH_FORMAT, what="bench file",
+                         hint="give its path with --station-option config=bench.toml (docs/instruments.md)")
     _unknown(doc, _TOP, src, "bench file")
 
     b = _sub(doc, "bench", src, required=False)
