@@ -86,3 +86,95 @@ def test_worked_example_campaign_runs(run_cli):
     b0 = [r for r in doc["results"] if r["key"] == "B0"][0]
     # the example's simulated truth: B0 = 0.12 °/h (+ 0.00007·sin θ); within U
     assert abs(b0["value"] - 0.12) <= b0["U"]
+
+
+# ----------------------------------------------------------------------- the public plugin API
+
+#: plugin code held to the public API: package name → (folder, the package's dotted name)
+_API_CHECKED = {
+    "ogam plugin": (ROOT / "plugins" / "ogam", "metro.plugins.ogam"),
+    "ogam station": (ROOT / "instruments" / "angle_instrument.py", "metro.instruments"),
+    "example vendor plugin": (ROOT / "examples" / "acme-metro-plugin" / "acme_metro", "acme_metro"),
+}
+
+
+def _public_modules() -> list[str]:
+    """The first-column modules of the table in docs/plugins-writing.md section 9."""
+    text = (ROOT / "docs" / "plugins-writing.md").read_text(encoding="utf-8")
+    section = text.split("## 9. What a plugin may import", 1)[1].split("\n## ", 1)[0]
+    mods = re.findall(r"^\| `(metro[\w.*<>]*)` \|", section, re.M)
+    assert "metro.core.model" in mods and "metro.core.budget" in mods, mods
+    return mods
+
+
+def _is_public(module: str, public: list[str]) -> bool:
+    for p in public:
+        if p.endswith(".*") or p.endswith(".<standard>"):
+            if module.startswith(p.rsplit(".", 1)[0] + "."):
+                return True
+        elif module == p:
+            return True
+    return False
+
+
+def _metro_imports(path: Path, package: str):
+    """(line, module, names) of every import of a metro module in ``path``, relative ones resolved."""
+    import ast
+
+    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] == "metro":
+                    yield node.lineno, a.name, []
+        elif isinstance(node, ast.ImportFrom):
+            mod = node.module or ""
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)] if node.level > 1 else base
+                mod = ".".join(base + ([mod] if mod else []))
+            names = [a.name for a in node.names]
+            if mod.split(".")[0] == "metro":
+                yield node.lineno, mod, names
+
+
+def test_plugins_import_only_the_public_api():
+    public = _public_modules()
+    bad = []
+    for what, (where, package) in _API_CHECKED.items():
+        files = [where] if where.is_file() else sorted(where.rglob("*.py"))
+        assert files, what
+        for f in files:
+            sub = f.parent.relative_to(where).parts if where.is_dir() else ()
+            for line, mod, names in _metro_imports(f, ".".join((package, *sub))):
+                own = mod == package or mod.startswith(package + ".")
+                if not own and not _is_public(mod, public):
+                    bad.append(f"{f.relative_to(ROOT)}:{line}: {mod} is not in the public API table")
+                if any(part.startswith("_") for part in mod.split(".")) or any(
+                        n.startswith("_") for n in names):
+                    bad.append(f"{f.relative_to(ROOT)}:{line}: private name from {mod}: {names}")
+    assert not bad, "\n".join(bad)
+
+
+def test_public_api_check_catches_a_private_import(tmp_path):
+    (tmp_path / "p.py").write_text("from metro.core.runner import run_items\nfrom metro.core.units import _x\n"
+                                   "from .sibling import thing\n", encoding="utf-8")
+    got = list(_metro_imports(tmp_path / "p.py", "metro.plugins.zzz"))
+    assert [m for _, m, _ in got] == ["metro.core.runner", "metro.core.units", "metro.plugins.zzz.sibling"]
+    public = _public_modules()
+    assert not _is_public("metro.core.runner", public) and not _is_public("metro.core.cli", public)
+    assert _is_public("metro.core.model", public) and _is_public("metro.plugins.gbt45570.formulas", public)
+    assert _is_public("metro.instruments.equipment", public)
+
+
+def test_every_test_a_doc_names_exists():
+    """A doc that cites `test_x` (alone or as `tests/test_y.py::test_x`) cites a real test."""
+    defs = set()
+    for f in (ROOT / "tests").rglob("test_*.py"):
+        defs |= set(re.findall(r"^\s*def (test_\w+)", f.read_text(encoding="utf-8"), re.M))
+    missing = []
+    for doc in sorted((ROOT / "docs").rglob("*.md")) + [ROOT / "README.md"]:
+        for name in sorted(set(re.findall(r"`(?:[\w/.]*::)?(test_\w+)`", doc.read_text(encoding="utf-8")))):
+            if name not in defs:
+                missing.append(f"{doc.relative_to(ROOT)}: {name}")
+    assert not missing, missing

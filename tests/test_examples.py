@@ -1,8 +1,9 @@
 """The example vendor distribution (examples/acme-metro-plugin) extends metro without changing it.
 
 In-process tests exercise its item, reader and template through metro's public API; the venv
-test installs metro and the example into a fresh virtual environment (no system site-packages)
-and drives the installed ``metro`` command.
+test pip-installs metro and the example into a fresh virtual environment (no system
+site-packages, offline: ``--no-index``, third-party dependencies taken from the running
+environment) and drives that environment's ``metro`` command.
 """
 
 from __future__ import annotations
@@ -10,8 +11,11 @@ from __future__ import annotations
 import importlib
 import json
 import os
+import re
+import shutil
 import subprocess
 import sys
+import sysconfig
 from pathlib import Path
 
 import numpy as np
@@ -140,50 +144,88 @@ def test_vendor_template_is_reproducible(acme):
 
 # ----------------------------------------------------------------------- a fresh virtual environment
 
+#: what the fresh environment must not inherit from the running one: metro itself (its
+#: editable install), the example, and pip's own machinery
+_NOT_SHARED = ("metro", "__editable__", "acme", "_acme", "pip", "__pycache__")
 
-def _index_reachable() -> bool:
-    import urllib.request
 
-    try:
-        urllib.request.urlopen("https://pypi.org/simple/pip/", timeout=5).close()
-        return True
-    except Exception:
-        return False
+def _dependency_overlay(dest: Path) -> Path:
+    """A directory of links to the third-party packages installed in the running environment
+    (numpy, pint, pluggy, setuptools, …), without metro, the example or any ``.pth`` file.
+
+    The fresh venv sees it through one ``.pth`` line, so installing metro and the example into
+    it resolves every dependency offline (``--no-index``) and nothing can come from PyPI —
+    neither metro's dependencies nor an unrelated distribution that happens to be called
+    "metro".
+    """
+    dest.mkdir()
+    for site in {Path(p) for p in (sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"])}:
+        for entry in site.iterdir():
+            low = entry.name.lower()
+            if entry.suffix == ".pth" or low.startswith(_NOT_SHARED) or (dest / entry.name).exists():
+                continue
+            (dest / entry.name).symlink_to(entry, target_is_directory=entry.is_dir())
+    return dest
+
+
+def _source_copy(dest: Path) -> Path:
+    """metro's source tree as a clean clone has it (the packaging files and the three package
+    folders), so building the wheel writes nothing into the working tree."""
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", "build")
+    dest.mkdir()
+    for name in ("pyproject.toml", "setup.py", "README.md"):
+        shutil.copy2(ROOT / name, dest / name)
+    for name in ("core", "plugins", "instruments"):
+        shutil.copytree(ROOT / name, dest / name, ignore=ignore)
+    return dest
 
 
 def test_installed_next_to_metro_in_a_fresh_venv(tmp_path):
-    if not _index_reachable():
-        pytest.skip("PyPI is unreachable: metro's dependencies cannot be installed into a fresh venv")
+    """`pip install` metro and the example into a new venv (no system site-packages, no
+    network: ``--no-index``, dependencies from the running environment's packages), then the
+    venv's own ``metro`` lists the plugin and runs its item."""
     venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, capture_output=True)
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, capture_output=True)
     py = venv / "bin" / "python"
-    pip = subprocess.run([str(py), "-m", "pip", "install", "-q", str(ROOT), str(EXAMPLE)],
-                         capture_output=True, text=True, timeout=900)
-    assert pip.returncode == 0, pip.stderr[-3000:]
-    env = {k: v for k, v in os.environ.items() if not k.startswith("METRO_") and k != "PYTHONPATH"}
+    site = Path(subprocess.run([str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                               check=True, capture_output=True, text=True).stdout.strip())
+    (site / "_metro_test_deps.pth").write_text(f"{_dependency_overlay(tmp_path / 'deps')}\n", encoding="utf-8")
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(("METRO_", "PIP_")) and k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    env["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
+    src = _source_copy(tmp_path / "metro-src")
+    example = shutil.copytree(EXAMPLE, tmp_path / "acme-src",
+                              ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "build"))
+    # the running pip installs into the venv (--python); metro first, then the example, whose
+    # "metro>=0.1" requirement is then met by the metro just installed
+    for what in (src, example):
+        pip = subprocess.run([sys.executable, "-m", "pip", "--python", str(py), "install", "-q", "--no-index",
+                              "--no-build-isolation", "--no-cache-dir", str(what)],
+                             capture_output=True, text=True, env=env, cwd=tmp_path, timeout=600)
+        assert pip.returncode == 0, f"pip install {what.name}:\n{pip.stdout[-2000:]}{pip.stderr[-3000:]}"
     metro = venv / "bin" / "metro"
     out = subprocess.run([str(metro), "plugins", "--json"], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     plugins = {p["name"]: p for p in json.loads(out.stdout)["plugins"]}
     assert plugins["acme"]["distribution"] == "acme-metro-plugin" and not plugins["acme"]["builtin"]
     assert plugins["acme"]["standards"] == ["acme"] and plugins["acme"]["items"] == 2
+    assert plugins["ogam"]["builtin"]
     out = subprocess.run([str(metro), "run", "-s", "gbt45570", "-i", "ACME.BS10", "--json", "--no-progress",
                           "--no-report"], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     res = json.loads(out.stdout)["results"]
-    assert res[0]["key"] == "Bs_ma10" and res[0]["value"] > 0
-    # the plugin is not importable from the test's own environment path: it came from the venv
-    where = subprocess.run([str(py), "-c", "import acme_metro, metro; print(acme_metro.__file__, metro.__file__)"],
-                           capture_output=True, text=True, env=env, cwd=tmp_path)
-    assert str(venv) in where.stdout
+    assert res[0]["key"] == "Bs_ma10" and res[0]["value"] > 0 and res[0]["U"] > 0
+    # both came from the venv (installed copies), not from the repository or the test's environment
+    where = subprocess.run([str(py), "-c", "import acme_metro, metro.core; print(acme_metro.__file__); "
+                            "print(metro.core.__file__)"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert where.returncode == 0, where.stderr
+    assert all(line.startswith(str(site)) for line in where.stdout.split()), where.stdout
 
 
 # ----------------------------------------------------------------------- the writing tutorial
 
 
 def _tutorial_blocks() -> tuple[str, str]:
-    import re
-
     text = (ROOT / "docs" / "plugins-writing.md").read_text(encoding="utf-8")
     blocks = re.findall(r"```python\n(.*?)```", text, re.DOTALL)
     plugin = "\n".join(b.split("\n", 1)[1] for b in blocks if b.startswith("# file: demo_metro/plugin.py"))
@@ -193,20 +235,25 @@ def _tutorial_blocks() -> tuple[str, str]:
 
 
 def test_writing_tutorial_runs(tmp_path):
-    """docs/plugins-writing.md: its plugin code is a working plugin and its tests pass with
-    metro's pytest plugin (run in a subprocess, as a plugin author would)."""
+    """docs/plugins-writing.md: its plugin code is a working plugin and its tests — and the
+    example of docs/plugins-testing.md — pass with metro's pytest plugin (run in a subprocess,
+    as a plugin author would)."""
     plugin, tests = _tutorial_blocks()
     pkg = tmp_path / "demo_metro"
     pkg.mkdir()
     (pkg / "__init__.py").write_text("", encoding="utf-8")
     (pkg / "plugin.py").write_text(plugin, encoding="utf-8")
     (tmp_path / "test_demo.py").write_text(tests, encoding="utf-8")
+    # docs/plugins-testing.md's example tests the same plugin with the same fixtures
+    testing_doc = (ROOT / "docs" / "plugins-testing.md").read_text(encoding="utf-8")
+    (doc_tests,) = re.findall(r"```python\n(.*?)```", testing_doc, re.DOTALL)
+    (tmp_path / "test_testing_doc.py").write_text(doc_tests, encoding="utf-8")
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
     out = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--rootdir", str(tmp_path),
-                          str(tmp_path / "test_demo.py")], capture_output=True, text=True, env=env, cwd=tmp_path,
-                         timeout=300)
+                          str(tmp_path / "test_demo.py"), str(tmp_path / "test_testing_doc.py")],
+                         capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
     assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-2000:]
-    assert "2 passed" in out.stdout
+    assert "4 passed" in out.stdout
     # and through the CLI, loaded by METRO_PLUGINS without installing it
     env["METRO_PLUGINS"] = "demo_metro.plugin"
     out = subprocess.run([sys.executable, "-m", "metro.core.cli", "run", "-s", "demo", "-i", "4.1", "--json",

@@ -176,10 +176,32 @@ def test_noisy_instrument_e_within_U_of_truth_over_seeds(pm):
 
 
 def test_consistency_warns_when_the_reference_is_small(pm):
+    # the default instrument: E at 60 °/s up ≈ 0.2″, below twice its non-common uncertainty
     rec, _ = _run(pm, ["7.6", "7.7"])
     for o in rec.outcomes:
-        assert "ratio" in " ".join(o.warnings) or o.results[0].value.magnitude >= 0
+        assert any("ill-conditioned" in w for w in o.warnings), (o.item, o.warnings)
         assert "max E" in o.results[0].note
+    # a large harmonic error (5″) makes E_ref well above its uncertainty: no such warning
+    rec, _ = _run(pm, ["7.6", "7.7"], a1_arcsec=5.0)
+    for o in rec.outcomes:
+        assert not any("ill-conditioned" in w for w in o.warnings), (o.item, o.warnings)
+        assert o.results[0].U.to("percent").magnitude < 10.0  # vs ≈ 180 % with E_ref ≈ 0.2″
+
+
+def test_74_round_option_picks_the_round(pm):
+    rec, camp = _run(pm, ["7.4"])
+    o1 = rec.outcomes[0]
+    rec3 = run_items(pm, "ogam", ["7.4"], campaign=camp, options={"round": "3"})
+    E = {r: None for r in (1, 3)}
+    for seg in camp.find_segments("positioning"):
+        rnd = int(seg.conditions["round"])
+        if rnd in E:
+            E[rnd] = float(np.max(np.abs(P.round_errors(seg)[1])))
+    assert o1.results[0].value.to("arcsec").magnitude == pytest.approx(E[1], rel=1e-12)
+    assert rec3.outcomes[0].results[0].value.to("arcsec").magnitude == pytest.approx(E[3], rel=1e-12)
+    assert E[1] != E[3]
+    with pytest.raises(ProcedureError, match="no round 11"):
+        run_items(pm, "ogam", ["7.4"], campaign=camp, options={"round": "11"})
 
 
 # ----------------------------------------------------------------------- recorded data
@@ -247,6 +269,42 @@ def test_bad_recorded_data_is_refused(pm, tmp_path):
                   options={"statistic": "mad"})
 
 
+def test_acquire_then_run_all_seven_items_from_disk(run_cli, pm, tmp_path):
+    """`metro acquire` all of 7.1–7.7 on the simulated instrument, then `metro run --all --data`:
+    the same results as in memory, and the appendix B certificate with every row filled."""
+    import json
+
+    import docx
+    from metro.core.runner import load_campaign
+
+    camp_dir = tmp_path / "camp"
+    code, out, err = run_cli("--no-plugin-autoload", "acquire", "-s", "ogam", "-i", ",".join(ALL), "--out",
+                             str(camp_dir), "--seed", "11", "--no-progress")
+    assert code == 0, err
+    manifest = camp_dir / "manifest.toml"
+    kinds = {p.name.split("-")[0] for p in camp_dir.glob("*.csv")}
+    assert kinds == {"sf", "zero", "pos"}, kinds
+    cert = tmp_path / "cert.docx"
+    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "ogam", "--all", "--data", str(manifest), "--json",
+                             "--report", str(cert), "--no-progress")
+    assert code == 0, err
+    disk = {r["key"]: r for r in json.loads(out)["results"]}
+    assert sorted(disk) == sorted(["K", "Kl", "Bs", "E", "R", "Cv", "Cg"])
+    procs = [pm.procedure("ogam", i) for i in ALL]
+    camp = load_campaign(pm, procs, [{} for _ in procs], data=None, station_options={"seed": 11})
+    mem = {r.metric.key: r for o in run_items(pm, "ogam", ALL, campaign=camp).outcomes for r in o.results}
+    for key, r in disk.items():
+        unit = mem[key].metric.unit  # the JSON gives values in the metric's unit (shown as "%", "″", …)
+        assert r["value"] == pytest.approx(mem[key].value.to(unit).magnitude, rel=1e-9), key
+        assert r["U"] == pytest.approx(mem[key].U.to(unit).magnitude, rel=1e-9), key
+        assert r["k"] == 2.0
+    rows = [[c.text for c in row.cells] for row in docx.Document(str(cert)).tables[0].rows]
+    assert [r[0] for r in rows[1:]] == ["1", "2", "3", "4", "5", "6", "7"]
+    assert not any(r[2].startswith("—") for r in rows[1:]), rows
+    text = "\n".join(p.text for p in docx.Document(str(cert)).paragraphs)
+    assert "U = " in text and "k = 2" in text and "SIMULATED" in text
+
+
 # ----------------------------------------------------------------------- certificate
 
 
@@ -278,11 +336,25 @@ def test_certificate_template_is_reproducible(tmp_path):
     assert mod.build() == (root / "certificate.docx").read_bytes()
 
 
-def test_classes_named():
-    # every item class, for the docs check (each is exercised above through run_items)
-    assert [c.__name__ for c in P.PROCEDURES] == [
-        ScaleFactor71.__name__, Linearity72.__name__, ZeroStability73.__name__, PositionError74.__name__,
-        Repeatability75.__name__, RateConsistency76.__name__, PointingConsistency77.__name__]
+# ----------------------------------------------------------------------- one reference case per item
+
+#: the noise-free instrument (every random term off): each item's result equals the value the
+#: station's model gives independently (``campaign.expected``); R is then exactly 0
+QUIET = dict(arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0, resolution_arcsec=0.0)
+
+
+@pytest.mark.parametrize("cls", P.PROCEDURES, ids=[c.item for c in P.PROCEDURES])
+def test_reference_case_per_item(pm, cls, approx_quantity):
+    """Each registered class, run alone on its own sequence, against the model's value."""
+    assert pm.procedure("ogam", cls.item) is cls
+    rec, camp = _run(pm, [cls.item], **QUIET)
+    (res,) = rec.outcomes[0].results
+    assert res.metric.key == cls.metrics[0].key and res.budget is not None and res.U is not None
+    assert res.budget.k == 2.0
+    exp = Q_(0.0, "arcsec") if cls is Repeatability75 else camp.expected[res.metric.key]
+    assert approx_quantity(exp, rel=1e-9, abs=Q_(1e-9, exp.units)) == res.value
+    # and the model's value is not trivial (the ratio items divide by a non-zero E)
+    assert cls is Repeatability75 or exp.magnitude != 0
 
 
 def test_scale_factor_within_U_of_truth_over_seeds(pm):

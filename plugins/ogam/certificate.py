@@ -45,6 +45,12 @@ def certificate_context(record) -> dict[str, Any]:
     camp = record.campaign
     env = "; ".join(f"{k} {v:~P}" if hasattr(v, "units") else f"{k} {v}" for k, v in camp.environment.items())
     eq = "; ".join(f"{e.describe()} ({e.status()})" for e in camp.equipment)
-    warnings = [w for o in record.outcomes if o.standard == "ogam" for w in o.warnings]
+    # one note per distinct warning, naming the items it came from (7.6 and 7.7 share the E budget)
+    by_text: dict[str, list[str]] = {}
+    for o in record.outcomes:
+        if o.standard == "ogam":
+            for w in o.warnings:
+                by_text.setdefault(w, []).append(o.item)
+    warnings = [f"{', '.join(items)}: {w}" for w, items in by_text.items()]
     return {"designation": "JJF xxxx—xxxx 光学陀螺测角仪校准规范 (征求意见稿)", "rows": rows, "U_E": U_E, "k_E": k_E,
             "environment_text": env or "—", "equipment_text": eq or "—", "warnings": warnings}
