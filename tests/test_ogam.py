@@ -254,13 +254,23 @@ def test_recorded_campaign_via_cli(run_cli, tmp_path):
     assert doc["results"][0]["key"] == "E" and doc["results"][0]["k"] == 2.0
 
 
+def test_bad_recorded_data_via_cli_writes_nothing(run_cli, tmp_path):
+    man = _write_campaign(tmp_path / "c", 2, axis="sideways")
+    code, out, err = run_cli("run", "-s", "ogam", "-i", "7.4", "--data", str(man), "--out", str(tmp_path / "out"),
+                             "--no-progress")
+    assert code == 2 and "conditions.axis" in err and "sideways" in err
+    assert not (tmp_path / "out").exists()
+
+
 def test_bad_recorded_data_is_refused(pm, tmp_path):
     with pytest.raises(DataError, match="same standard angles"):
         run_items(pm, "ogam", ["7.4"], data=_write_campaign(tmp_path / "a", 3, mismatch=True))
     with pytest.raises(DataError, match="repeated"):
         run_items(pm, "ogam", ["7.4"], data=_write_campaign(tmp_path / "b", 1))
-    with pytest.raises(DataError, match="axis"):
+    with pytest.raises(DataError, match="axis") as exc:
         run_items(pm, "ogam", ["7.4"], data=_write_campaign(tmp_path / "c", 2, axis="sideways"))
+    # the condition is written in the manifest, so the manifest is the file named
+    assert "manifest.toml" in str(exc.value) and "segments.r1.conditions.axis" in str(exc.value)
     with pytest.raises(DataError, match="at least"):
         run_items(pm, "ogam", ["7.6"], data=_write_campaign(tmp_path / "d", 2))
     with pytest.raises(ProcedureError, match="statistic"):

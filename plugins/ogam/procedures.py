@@ -103,20 +103,21 @@ def _rate(seg: Segment) -> float:
     return round(float(seg.condition("rate", "deg/s").to("deg/s").magnitude), 6)
 
 
-def _axis(seg: Segment) -> str:
+def _axis(seg: Segment, manifest: Any = None) -> str:
     a = str(seg.condition("axis")).strip().lower()
     if a not in ("up", "north", "south", "east", "west"):
-        raise DataError(seg.file, f"segments.{seg.id}.conditions.axis",
+        # the conditions are written in the manifest, not in the segment's data file
+        raise DataError(manifest or seg.file, f"segments.{seg.id}.conditions.axis",
                         f"must be up, north, south, east or west (7.7), got {a!r}")
     return a
 
 
-def _round(seg: Segment) -> int:
+def _round(seg: Segment, manifest: Any = None) -> int:
     v = seg.conditions.get("round", 1)
     try:
         return int(str(v))
     except ValueError:
-        raise DataError(seg.file, f"segments.{seg.id}.conditions.round", f"must be a whole number, got {v!r}") from None
+        raise DataError(manifest or seg.file, f"segments.{seg.id}.conditions.round", f"must be a whole number, got {v!r}") from None
 
 
 def _column(seg: Segment, name: str, unit: str) -> np.ndarray:
@@ -132,7 +133,7 @@ def positioning_groups(campaign: Campaign) -> dict[tuple[float, str], list[tuple
     """Positioning segments by (rate °/s, axis), each list sorted by round."""
     out: dict[tuple[float, str], list[tuple[int, Segment]]] = {}
     for seg in campaign.find_segments("positioning"):
-        out.setdefault((_rate(seg), _axis(seg)), []).append((_round(seg), seg))
+        out.setdefault((_rate(seg), _axis(seg, campaign.source)), []).append((_round(seg, campaign.source), seg))
     for key, lst in out.items():
         lst.sort(key=lambda x: x[0])
         rounds = [r for r, _ in lst]
