@@ -55,14 +55,50 @@ def test_every_registered_procedure_is_documented_with_its_test():
         assert info.cls.__name__ in text, f"{pid}: class {info.cls.__name__} not named in {page.name}"
 
 
+def _test_sources() -> dict[str, str]:
+    """Each top-level test function's source with its decorators (so a parametrize list
+    counts), by name: a chunk starts at a top-level line, except inside a decorator before its
+    ``def``."""
+    out: dict[str, str] = {}
+    for f in (ROOT / "tests").rglob("test_*.py"):
+        chunks: list[list[str]] = []
+        seen_def = False
+        for line in f.read_text(encoding="utf-8").splitlines():
+            top = bool(line) and not line[0].isspace()
+            if top and (seen_def or not chunks or not chunks[-1][0].startswith("@")):
+                chunks.append([line])
+                seen_def = line.startswith(("def ", "class "))
+            elif chunks:
+                chunks[-1].append(line)
+                seen_def = seen_def or (top and line.startswith("def "))
+        for chunk in chunks:
+            text = "\n".join(chunk)
+            m = re.search(r"^def (test_\w+)\(", text, re.M)
+            if m:
+                out[m.group(1)] = text
+    return out
+
+
 def test_every_registered_procedure_has_a_reference_test():
-    """Each registered procedure class is named in at least one tests/test_*.py file."""
+    """Each registered procedure's row in its standard's page cites at least one existing test
+    that exercises the item: the test (or its parametrize list) names the procedure class, its
+    item id in quotes, or one of its metric keys in quotes — a clause → class → test hop that
+    holds, not a class name mentioned anywhere."""
     from metro.core.plugins import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
-    sources = "\n".join(p.read_text(encoding="utf-8") for p in (ROOT / "tests").rglob("test_*.py"))
-    missing = [pid for pid, info in pm.registry.procedures.items() if info.cls.__name__ not in sources]
-    assert not missing, f"procedures without a reference test: {missing}"
+    bodies = _test_sources()
+    missing = []
+    for pid, info in pm.registry.procedures.items():
+        std, item = pid.split(":")
+        page = (ROOT / "docs" / "standards" / f"{std}.md").read_text(encoding="utf-8")
+        cited = {n for line in page.splitlines() if f"`{info.cls.__name__}`" in line
+                 for n in re.findall(r"(test_\w+)", line)}
+        marks = [info.cls.__name__] + [f"'{x}'" for x in [item] + [m.key for m in info.cls.metrics]] + \
+                [f'"{x}"' for x in [item] + [m.key for m in info.cls.metrics]]
+        if not any(n in bodies and any(k in bodies[n] for k in marks) for n in cited):
+            missing.append(f"{pid} ({info.cls.__name__}): cites {sorted(cited) or 'no test'}")
+    assert not missing, "procedures without a cited reference test: " + "; ".join(missing)
 
 
 def test_readme_has_the_two_commands_and_ci_runs_the_test_one():
