@@ -32,13 +32,13 @@ from docx.shared import Mm, Pt
 OUT = Path(__file__).with_name("report.docx")
 
 
-def _field(paragraph, instruction: str, placeholder: str) -> None:
-    """A simple Word field (PAGE, NUMPAGES) showing ``placeholder`` until Word updates it."""
+def _field(paragraph, instruction: str, shown: str) -> None:
+    """A simple Word field (PAGE, NUMPAGES) showing ``shown`` until Word updates it."""
     fld = OxmlElement("w:fldSimple")
     fld.set(qn("w:instr"), instruction)
     run = OxmlElement("w:r")
     text = OxmlElement("w:t")
-    text.text = placeholder
+    text.text = shown
     run.append(text)
     fld.append(run)
     paragraph._p.append(fld)
