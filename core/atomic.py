@@ -1,7 +1,7 @@
 """Atomic file writing: a file is either written completely or not at all.
 
 Everything is written to a temporary file in the target's own directory (named
-``.{name}.tmp-XXXXXXXX``, so it is on the same file system and hidden from a plain ``ls``);
+``.{name}.tmp-<8 random characters>``, so it is on the same file system and hidden from a plain ``ls``);
 only when the writer has finished without an error is the temporary file flushed to disk
 and renamed onto the target with :func:`os.replace`, which is atomic on POSIX and Windows.
 On any exception, ``KeyboardInterrupt`` included, the temporary file is removed and a file

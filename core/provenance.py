@@ -14,7 +14,7 @@ from .model import Campaign, Outcome
 
 
 def new_report_number(now: dt.datetime | None = None) -> str:
-    """A unique report number: ``MTR-YYYYMMDD-HHMMSS-XXXXXX`` (UTC time + 24 random bits)."""
+    """A unique report number: ``MTR-<UTC date>-<UTC time>-<6 hex digits>`` (UTC time + 24 random bits)."""
     now = now or dt.datetime.now(dt.timezone.utc)
     return f"MTR-{now:%Y%m%d-%H%M%S}-{secrets.token_hex(3).upper()}"
 

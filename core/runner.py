@@ -95,7 +95,7 @@ def select_items(
             return
         cls = registered.get(item)
         if cls is None:
-            choices.append(ItemChoice(item, False, "not implemented in this metro (no plugin registers it)", via))
+            choices.append(ItemChoice(item, False, "not available in this metro (no loaded plugin registers it)", via))
             return
         a = pm.item_applicability(cls, device)
         if a.applies and campaign is not None:  # recorded data: only items whose segments are there

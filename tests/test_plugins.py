@@ -150,7 +150,7 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     rec = run_items(pm, "vendorx", ["all-means"], campaign=camp)
     assert [o.item for o in rec.outcomes] == ["V.1"]
     assert {c.item: c.run for c in rec.selection} == {"V.1": True, "V.2": False}
-    assert "not implemented" in rec.selection[1].reason
+    assert "not available" in rec.selection[1].reason
     from metro.core.runner import select_items
 
     with pytest.raises(ProcedureError, match="V.1: V.1 needs a rate-output device"):

@@ -11,7 +11,7 @@ D.2, …).  Rows of C.1 are test *severities* (the conditions of the environment
 limits on a measured value: they are listed with the D.6 item that applies them, or "no
 method in appendix D" where the standard leaves the test to the product specification.
 :func:`row_mapping` tells, for the loaded plugins, which rows map to a registered metric and
-which wait for an item not registered yet — reports print those as not implemented.
+which name an item no loaded plugin registers — reports print those as not available.
 """
 
 from __future__ import annotations
@@ -256,7 +256,7 @@ class RowMapping:
             return "no test method in appendix D (product specification)"
         if self.registered:
             return "implemented: " + ", ".join(self.registered)
-        return "NOT IMPLEMENTED YET: " + ", ".join(self.missing) + " not registered"
+        return "NOT AVAILABLE: " + ", ".join(self.missing) + " not registered by the loaded plugins"
 
 
 def _metric_keys(cls) -> set[str]:
