@@ -16,12 +16,7 @@ from metro.instruments.angle_instrument import AngleInstrumentStation, AngleInst
 from metro.plugins.ogam import formulas as F
 from metro.plugins.ogam import procedures as P
 from metro.plugins.ogam.procedures import (
-    Linearity72,
-    PointingConsistency77,
-    PositionError74,
-    RateConsistency76,
     Repeatability75,
-    ScaleFactor71,
     ZeroStability73,
 )
 

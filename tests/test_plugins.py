@@ -183,7 +183,6 @@ def test_hookspecs_are_documented_typed_stubs():
 
 def test_items_choose_their_default_station():
     """Procedure.station names the station used without data; mixing stations is an error."""
-    from metro.core.errors import ProcedureError
     from metro.core.runner import run_items
 
     mod = _load_sample("sample_vendor")
