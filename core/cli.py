@@ -49,6 +49,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
     r.add_argument("--station", help="station to acquire on when no --data is given (default: the item's "
                    "simulated station)")
+    r.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
+                   help="station option when no --data is given, e.g. table_errors=false (as for `metro acquire`)")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
 
     pl = sub.add_parser("plugins", help="list loaded plugins and their versions, stations and drivers")
@@ -159,7 +161,16 @@ def _cmd_run(args) -> int:
 
         raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
     options = _options(args.option)
-    station_options = {"seed": args.seed} if args.seed is not None else {}
+    station_options = {k: _number(v) for k, v in _options(args.station_option).items()}
+    if args.seed is not None:
+        station_options["seed"] = args.seed
+    if args.data is not None and (station_options or args.station):
+        from .errors import MetroError
+
+        given = ", ".join(x for x, on in (("--station", args.station), ("--seed", args.seed is not None),
+                                          ("--station-option", bool(args.station_option))) if on)
+        raise MetroError(f"{given} acts on a station, and --data {args.data} was recorded already",
+                         hint="drop --data to run on a station, or drop the station arguments to evaluate the data")
     if args.data is None and not args.json:
         err.print("[bold yellow]No --data given: running on the built-in SIMULATED test station "
                   "(a virtual device with declared, seeded truth).[/]")

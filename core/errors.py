@@ -7,6 +7,8 @@ anything else is a bug and keeps its traceback.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 
 class MetroError(Exception):
     """Base class of the errors metro reports to the user (exit code 2)."""
@@ -62,3 +64,17 @@ class DriverError(DataError):
     """A live instrument failed: names the resource (VISA address, serial port), what was being
     done (the command, the frame and its byte position) and why — a dropped connection, a
     malformed reply, an instrument error."""
+
+
+def check_options(owner: str, given: Iterable[str], accepted: Iterable[str], *, kind: str = "station option") -> None:
+    """Refuse option names that ``owner`` does not take.
+
+    A misspelt option (``table_error=false`` for ``table_errors``) would otherwise be dropped
+    without a word and the run would go ahead on defaults; the error names the option and lists
+    the ones ``owner`` takes."""
+    accepted = sorted(set(accepted))
+    unknown = sorted(set(given) - set(accepted))
+    if unknown:
+        raise DataError(None, f"{kind} {unknown[0]}",
+                        f"{owner} does not take {', '.join(unknown)}",
+                        hint=f"{owner} takes: {', '.join(accepted)}")

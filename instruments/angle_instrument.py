@@ -35,6 +35,7 @@ from typing import Any
 
 import attrs
 import numpy as np
+from metro.core.errors import check_options
 from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
@@ -242,9 +243,7 @@ def station_factory(**options: Any) -> AngleInstrumentStation:
     """Factory of the ``simulated-ogam`` station (options: seed, latitude_deg, and any truth field)."""
     truth_kw = {k: v for k, v in options.items() if k in attrs.fields_dict(AngleInstrumentTruth)}
     st_kw = {k: v for k, v in options.items() if k == "latitude_deg"}
-    unknown = set(options) - set(truth_kw) - set(st_kw)
-    if unknown:
-        raise ValueError(f"simulated-ogam: unknown option(s) {', '.join(sorted(unknown))}")
+    check_options("simulated-ogam", options, [*attrs.fields_dict(AngleInstrumentTruth), "latitude_deg"])
     return AngleInstrumentStation(truth=AngleInstrumentTruth(**truth_kw), **st_kw)
 
 

@@ -749,12 +749,19 @@ def gbt45570_equipment() -> list[EquipmentModel]:
     ]
 
 
-def jjf2014_equipment() -> list[EquipmentModel]:
-    """The simulated JJF 2014 station (rate table with chamber, DMM, tables, shock, vibration, timer)."""
-    sim = {"lab": "simulated"}
+def jjf2014_equipment(seed: int = 1) -> list[EquipmentModel]:
+    """The simulated JJF 2014 station (rate table with chamber, DMM, tables, shock, vibration, timer);
+    ``seed`` draws the instruments' fixed errors (another seed, another instrument of the same
+    certificate)."""
+    sim = {"lab": "simulated", "seed": int(seed)}
     return [
+        # errs as its certificate says (appendix B.1: U_rel = 1×10⁻⁴, k = 2): a fixed error per set
+        # point uniform within ±√3 × 0.5×10⁻⁴ in every band; ripple within table 1's 速率平稳性
         RateTable(id="SIM-RT", model="simulated rate table with chamber", role="rate-table",
-                  certificate="SIM-RT-001", U=Q_(1e-4, ""), **sim),
+                  certificate="SIM-RT-001", U=Q_(1e-4, ""),
+                  bands=(RateBand("1 deg/s", math.sqrt(3.0) * 0.5e-4, 1e-3),
+                         RateBand("10 deg/s", math.sqrt(3.0) * 0.5e-4, 1e-4),
+                         RateBand("1000 deg/s", math.sqrt(3.0) * 0.5e-4, 2e-5)), **sim),
         DigitalMultimeter(id="SIM-DMM", model="simulated 6½-digit DMM", certificate="SIM-DMM-001",
                           U=Q_(6e-5, ""), **sim),
         TemperatureChamber(id="SIM-CH", model="simulated temperature chamber", certificate="SIM-CH-001",
@@ -763,8 +770,8 @@ def jjf2014_equipment() -> list[EquipmentModel]:
                       U=Q_(3.0, "arcsec"), **sim),
         AngularVibrationTable(id="SIM-AVT", model="simulated angular vibration table + reference sensor",
                               certificate="SIM-AVT-001", U=Q_(5e-3, ""), phase_U=Q_(0.2, "deg"), **sim),
-        ShockTable(id="SIM-SHOCK", model="simulated shock machine"),
-        LinearShaker(id="SIM-VIB", model="simulated linear vibration table"),
+        ShockTable(id="SIM-SHOCK", model="simulated shock machine", seed=int(seed)),
+        LinearShaker(id="SIM-VIB", model="simulated linear vibration table", seed=int(seed)),
         Timer(id="SIM-TIMER", model="simulated timer", certificate="SIM-TIMER-001", U=Q_(1e-6, ""), **sim),
     ]
 

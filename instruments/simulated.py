@@ -432,8 +432,12 @@ def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) ->
 
 def station_factory(**options: Any) -> SimulatedStation:
     """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale …)."""
+    from metro.core.errors import check_options
+
+    st_names = ("latitude_deg", "duration_scale")
+    check_options("the simulated gyro station", options, [*attrs.fields_dict(GyroTruth), *st_names])
     truth_kw = {k: v for k, v in options.items() if k in attrs.fields_dict(GyroTruth)}
-    st_kw = {k: v for k, v in options.items() if k in ("latitude_deg", "duration_scale")}
+    st_kw = {k: v for k, v in options.items() if k in st_names}
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
 
 

@@ -45,6 +45,7 @@ from typing import Any
 
 import attrs
 import numpy as np
+from metro.core.errors import check_options
 from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
@@ -459,6 +460,10 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
 
 # ------------------------------------------------------------------------------ station
 
+#: segments whose input comes from other equipment than the rate table (the angular vibration
+#: table with its reference sensor) or from nothing that turns (static records)
+TABLE_KINDS_ELSEWHERE = frozenset({"angular-vibration"})
+
 
 @attrs.define
 class VibratoryStation:
@@ -469,11 +474,20 @@ class VibratoryStation:
     duration_scale: float = 1.0
     nonlinearity_spec: float = 2e-4
     #: read the mV output through the station's DMM model (its gain and offset errors and 6½-digit
-    #: rounding, :class:`metro.instruments.equipment.DigitalMultimeter`); off by default so the
-    #: declared truth is what the records carry
+    #: rounding, :class:`metro.instruments.equipment.DigitalMultimeter`); off by default: appendix
+    #: B's DMM term is relative to the reading and does not cover the meter's range (offset) error
     instrument_errors: bool = False
+    #: the rate table turns at the rate it actually turns at (:meth:`RateTable.actual_rate`: a fixed
+    #: error per set point inside its band and a per-sample ripple), drawn from the device's seed so
+    #: that each seed is another table of the same certificate; off only to study the device alone
+    table_errors: bool = True
 
     name = "simulated-jjf2014"
+
+    def _models(self):
+        from .equipment import jjf2014_equipment
+
+        return jjf2014_equipment(seed=self.truth.seed)
 
     def device(self) -> DeviceUnderTest:
         return DeviceUnderTest(
@@ -485,16 +499,47 @@ class VibratoryStation:
         )
 
     def equipment(self) -> list[Equipment]:
-        from .equipment import equipment_list, jjf2014_equipment
+        from .equipment import equipment_list
 
-        return equipment_list(jjf2014_equipment())
+        return equipment_list(self._models())
 
     def _through_dmm(self, cols: dict[str, tuple[np.ndarray, str]]) -> dict[str, tuple[np.ndarray, str]]:
-        from .equipment import DigitalMultimeter, jjf2014_equipment
+        from .equipment import DigitalMultimeter
 
-        dmm = next(m for m in jjf2014_equipment() if isinstance(m, DigitalMultimeter))
+        dmm = next(m for m in self._models() if isinstance(m, DigitalMultimeter))
         arr, u = cols["output"]
         return cols | {"output": (np.asarray(dmm.read(Q_(arr, u)).to(u).magnitude, dtype=float), u)}
+
+    def _on_table(self, st: Step, cols: dict[str, tuple[np.ndarray, str]], n: int,
+                  rng: np.random.Generator) -> dict[str, tuple[np.ndarray, str]]:
+        """The output of a segment run on the rate table, at the rate the table really turned at.
+
+        The set point is the condition ``rate`` (``base_rate`` + ``increment`` for 7.2.10). The
+        table's mean error shifts the steady output exactly (the device's model is evaluated at
+        the scaled rate); its ripple, a relative 10⁻³ at most, enters through the local slope.
+        """
+        from .equipment import RateTable
+
+        if st.kind in TABLE_KINDS_ELSEWHERE or st.kind.startswith("static"):
+            return cols
+        c = st.conditions
+        names = ("base_rate", "increment") if st.kind == "resolution" else ("rate",)
+        om = sum(_cond(c, k, "deg/s", 0.0) for k in names)
+        if om == 0.0:
+            return cols
+        table = next(m for m in self._models() if isinstance(m, RateTable))
+        w = table.actual_rate(Q_(om, "deg/s"), n, rng).to("deg/s").magnitude
+
+        def out(scale: float) -> float:
+            return mean_output(self.truth, st.kind, {**c, **{k: Q_(_cond(c, k, "deg/s", 0.0) * scale, "deg/s")
+                                                             for k in names}}, self.latitude_deg)
+
+        w_mean = float(np.mean(w))
+        h = 1e-6
+        slope = (out(1 + h) - out(1 - h)) / (2 * h * om)
+        arr, u = cols["output"]
+        shifted = arr + (out(w_mean / om) - out(1.0)) + slope * (w - w_mean)
+        return cols | {"output": (np.asarray(shifted, dtype=float), u)}
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         t = self.truth
@@ -506,6 +551,8 @@ class VibratoryStation:
             n = max(10, int(round(n_full * scale)))
             rng = np.random.default_rng([t.seed, i])
             cols = simulate_segment(t, st.kind, st.conditions, n, dt_, self.latitude_deg, rng)
+            if self.table_errors:
+                cols = self._on_table(st, cols, n, np.random.default_rng([t.seed, i, 1]))
             if self.instrument_errors:
                 cols = self._through_dmm(cols)
             h = hashlib.sha256()
@@ -529,8 +576,11 @@ class VibratoryStation:
 
 def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
-    latitude_deg, duration_scale, nonlinearity_spec, instrument_errors)."""
+    latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors)."""
     fields = attrs.fields_dict(VibratoryTruth)
+    check_options("simulated-jjf2014", options, [*fields, "latitude_deg", "duration_scale", "nonlinearity_spec",
+                                                 "instrument_errors", "table_errors"])
+
     def conv(k, v):
         if k == "seed":
             return int(v)
@@ -540,8 +590,9 @@ def station_factory(**options: Any) -> VibratoryStation:
 
     truth_kw = {k: conv(k, v) for k, v in options.items() if k in fields}
     st_kw = {k: float(v) for k, v in options.items() if k in ("latitude_deg", "duration_scale", "nonlinearity_spec")}
-    if "instrument_errors" in options:
-        st_kw["instrument_errors"] = str(options["instrument_errors"]).lower() in ("1", "true", "yes")
+    for k in ("instrument_errors", "table_errors"):
+        if k in options:
+            st_kw[k] = options[k] if isinstance(options[k], bool) else str(options[k]).lower() in ("1", "true", "yes", "on")
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 

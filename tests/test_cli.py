@@ -102,3 +102,40 @@ def test_plugins_and_items_and_plan(run_cli):
 def test_unknown_item_lists_the_items(run_cli):
     code, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.9.9", "--no-report")
     assert code == 2 and "D.5.6" in err
+
+
+@pytest.mark.parametrize("station, item", [("simulated", ("gbt45570", "D.5.1")),
+                                           ("simulated-jjf2014", ("jjf2014", "7.2.13")),
+                                           ("simulated-mimu", ("jjf2003", "7.2.2")),
+                                           ("simulated-ogam", ("ogam", "7.3"))])
+def test_a_misspelt_station_option_is_refused_and_nothing_is_written(tmp_path, run_cli, station, item):
+    """A station option the station does not take is an error naming it and listing the ones it
+    takes — never dropped silently with the run going ahead on defaults."""
+    std, it = item
+    code, _, err = run_cli("acquire", "-s", std, "-i", it, "--station", station, "--station-option",
+                           "duration_scal=0.1", "--out", str(tmp_path / "c"), "--no-progress")
+    assert code == 2, err
+    assert "duration_scal" in err and "seed" in err  # the bad name, and what the station takes
+    assert not (tmp_path / "c").exists()
+    code, _, err = run_cli("run", "-s", std, "-i", it, "--station-option", "duration_scal=0.1", "--out",
+                           str(tmp_path / "r"), "--no-progress")
+    assert code == 2 and "duration_scal" in err
+    assert not (tmp_path / "r").exists()
+
+
+def test_run_takes_station_options_and_refuses_them_with_data(tmp_path, run_cli, campaign_factory):
+    """`metro run` without --data passes --station-option to the station (here: the JJF 2014
+    rate table made faultless changes K); with --data the station arguments are an error."""
+    ks = []
+    for opt in ("table_errors=true", "table_errors=false"):
+        code, out, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--station-option", opt,
+                                 "--station-option", "duration_scale=0.1", "--json", "--no-report", "--no-progress")
+        assert code == 0, err
+        ks.append(next(r["value"] for r in json.loads(out)["results"] if r["key"] == "K"))
+    assert ks[0] != ks[1]
+    manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.2)
+    for extra in (["--seed", "3"], ["--station-option", "duration_scale=0.1"]):
+        code, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), *extra,
+                               "--out", str(tmp_path / "o"), "--no-progress")
+        assert code == 2 and extra[0] in err and "--data" in err
+        assert not (tmp_path / "o").exists()

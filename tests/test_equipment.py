@@ -329,3 +329,40 @@ def test_a_simulated_station_reads_its_output_through_its_dmm_model():
     r = run_items(pm, "jjf2014", ["7.2.1"], campaign=real).outcomes[0].result("K")
     truth = real.expected["K"]
     assert abs(r.value - truth) <= r.U
+
+
+def test_the_simulated_jjf2014_rate_table_errs_as_its_certificate_says():
+    """simulated-jjf2014: every rate segment is recorded at the rate the table really turns at —
+    a fixed error per set point uniform within ±√3 × U/k (U_rel = 1×10⁻⁴, k = 2, appendix B.1) —
+    drawn afresh for each seed; the device's noise is the same draw with or without it, so the
+    difference of the two records is the table's doing alone."""
+    from metro.core.plugins import get_plugin_manager
+    from metro.instruments.vibratory import VibratoryStation, VibratoryTruth, mean_output
+
+    pm = get_plugin_manager(autoload=False)
+    steps = pm.procedure("jjf2014", "7.2.1")().sequence(pm.procedure("jjf2014", "7.2.1").option_values({}))
+    half = math.sqrt(3.0) * 0.5e-4
+    deltas = {}
+    for seed in (1, 2):
+        truth = VibratoryTruth(seed=seed)
+        exact = VibratoryStation(truth=truth, table_errors=False).acquire(steps)
+        real = VibratoryStation(truth=truth).acquire(steps)
+        table = next(m for m in E.jjf2014_equipment(seed=seed) if isinstance(m, E.RateTable))
+        assert table.U.magnitude == pytest.approx(1e-4)
+        for a, b, s in zip(exact.segments, real.segments, steps):
+            om = float(Q_(s.conditions["rate"]).to("deg/s").magnitude)
+            x = a.columns()["output"][0]
+            y = b.columns()["output"][0]
+            # the local slope of the device at this rate turns an output shift into a rate error
+            h = 1e-6
+            slope = (mean_output(truth, "rate", {"rate": Q_(om * (1 + h), "deg/s")}, 39.98)
+                     - mean_output(truth, "rate", {"rate": Q_(om * (1 - h), "deg/s")}, 39.98)) / (2 * h * om)
+            seen = float(np.mean(y - x)) / (slope * om)
+            ripple = float(table.band(Q_(om, "deg/s")).ripple.magnitude)
+            want = table.systematic_error(Q_(om, "deg/s"))
+            assert abs(want) <= half
+            assert seen == pytest.approx(want, abs=5 * ripple / math.sqrt(x.size) + 1e-9)
+            deltas[(seed, om)] = want
+    per_seed = [np.array([v for (s, _), v in sorted(deltas.items()) if s == seed]) for seed in (1, 2)]
+    assert max(np.max(np.abs(d)) for d in per_seed) > 0.5e-4  # the errors fill the certificate's interval
+    assert not np.allclose(per_seed[0], per_seed[1])  # another seed, another table
