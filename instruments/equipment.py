@@ -720,11 +720,12 @@ class AngleTurntable(_Positioner):
 # ------------------------------------------------------------------------------ station kits
 
 
-def gbt45570_equipment() -> list[EquipmentModel]:
+def gbt45570_equipment(seed: int = 1) -> list[EquipmentModel]:
     """The simulated GB/T 45570 station: levelled platform, rate table with revolution pulses,
     temperature chamber, field generator, fixture, tilt table, vibration and shock tables,
-    voltmeter and ammeter (power), counter."""
-    sim = {"lab": "simulated"}
+    voltmeter and ammeter (power), counter; ``seed`` draws the instruments' fixed errors (another
+    seed, another instrument of the same certificate)."""
+    sim = {"lab": "simulated", "seed": int(seed)}
     return [
         LevelPlatform(id="SIM-PLATFORM", model="simulated levelled platform", levelness=Q_(2.0, "arcsec")),
         RateTable(id="SIM-RATE-TABLE", model="simulated rate table with revolution pulses",

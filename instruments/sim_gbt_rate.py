@@ -148,13 +148,13 @@ def sim_revolutions_mounting(station, step, index, *, bias_offset_deg_h, **_):
 # --------------------------------------------------------------------------------------------
 
 
-@functools.lru_cache(maxsize=1)
-def _rate_table():
-    """The station's rate-table model (its band error and ripple act on every rate step; the
-    models are frozen values, so one is kept)."""
+@functools.lru_cache(maxsize=16)
+def _rate_table(seed: int):
+    """The station's rate-table model for this device seed (its band error and ripple act on
+    every rate step; the models are frozen values, so they are kept)."""
     from .equipment import RateTable, gbt45570_equipment
 
-    return next((m for m in gbt45570_equipment() if isinstance(m, RateTable)), None)
+    return next((m for m in gbt45570_equipment(seed=seed) if isinstance(m, RateTable)), None)
 
 
 def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_s: float, projection: float,
@@ -166,7 +166,7 @@ def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_
     static = (EARTH_RATE_DEG_PER_H * math.sin(math.radians(station.latitude_deg)) * projection
               + t.bias_deg_h + bias_offset_deg_h)  # °/h
     white_sd = t.arw_deg_rt_h / math.sqrt(interval_s / 3600.0)
-    table = _rate_table()
+    table = _rate_table(t.seed)
     # the rate the table actually turns at: its fixed error at this set point and its ripple
     actual = (np.asarray(table.actual_rate(Q_(direction * rate, "deg/s"), n, rng).to("deg/s").magnitude)
               if table is not None else np.full(n, direction * rate))

@@ -218,7 +218,7 @@ class SimulatedStation:
     def equipment(self) -> list[Equipment]:
         from .equipment import equipment_list, gbt45570_equipment
 
-        return equipment_list(gbt45570_equipment())
+        return equipment_list(gbt45570_equipment(seed=self.truth.seed))
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""

@@ -353,3 +353,30 @@ def test_d3_auto_follows_the_device_output_when_both_sweeps_exist(pm):
     assert o.results[0].note.endswith("rate method")
     o = run_items(pm, "gbt45570", ["D.3"], campaign=camp, options={"Kn_limit": "20 ppm", "method": "angle"}).outcomes[0]
     assert o.results[0].note.endswith("angle method")
+
+
+def test_d21_f0_carries_the_table_error_at_each_set_point(pm):
+    """The table's fixed error at each set point moves F₀ by K·Σ c_F0,j·Ω_j·δ_j (an error common to
+    all set points cancels in the intercept). The row equals that sum worked by hand from the
+    campaign's rate bands, and over 40 seeds — each its own table, drawn within the same bands —
+    F₀ is within U in at least 37 (before the row: 88 % over 100 seeds)."""
+    from metro.plugins.gbt45570.rate_method import collect_rate_data, rate_band
+
+    camp = _camp(pm, ["D.2.1"])
+    o = run_items(pm, "gbt45570", ["D.2.1"], campaign=camp).outcomes[0]
+    K = o.result("K").value.magnitude
+    (row,) = [r for r in o.result("F0").budget.rows if "rate-table" in r.source]
+    data = collect_rate_data(ScaleFactorD21, camp, 11)
+    w = data.rates
+    # D.22 intercept of a least-squares line: c_F0,j = (Σx² − x_j·Σx)/(M·Σx² − (Σx)²)
+    M, sx, sxx = w.size, w.sum(), (w**2).sum()
+    ca = (sxx - w * sx) / (M * sxx - sx**2)
+    e = np.array([rate_band(camp, float(r))[0] for r in w])
+    assert row.contribution.to("LSB").magnitude == pytest.approx(abs(K) * math.sqrt(np.sum((ca * w * e) ** 2) / 3))
+    assert math.isclose(float(np.sum(ca * w)), 0.0, abs_tol=1e-9)  # a common error cancels
+    inside = 0
+    for seed in range(200, 240):
+        rec = run_items(pm, "gbt45570", ["D.2.1"], station_options={"seed": seed})
+        f0 = rec.outcomes[0].result("F0")
+        inside += abs(f0.value.magnitude - rec.campaign.expected["F0"].to("LSB").magnitude) <= f0.U.magnitude
+    assert inside >= 37

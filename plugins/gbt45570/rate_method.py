@@ -261,6 +261,26 @@ def _through_fit(rates: np.ndarray, u_rel: list[float]) -> float:
     return float(np.sqrt(np.sum((cb * rates * np.asarray(u_rel)) ** 2)))
 
 
+def _intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float) -> list[BudgetRow]:
+    """The table's error at each set point moves F₀ (D.22) by K·Σ c_F0,j·Ω_j·δ_j. A relative error
+    common to all set points cancels (Σ c_F0,j·Ω_j = 0 for a least-squares intercept); a fixed error
+    of its own at each set point (uniform within its band, else the calibration's U/k) does not.
+    Independent set points: u(F₀) = |K|·√Σ(c_F0,j·Ω_j·u_rel,j)²."""
+    ca, _ = F2.line_fit_sensitivities(rates)
+    rel = []
+    for r in rates:
+        x = rate_table_rel(campaign, float(r))
+        if x is None:
+            return []
+        rel.append(x[0])
+    c = float(np.sqrt(np.sum((ca * rates * np.asarray(rel)) ** 2)))
+    what = rate_table_rel(campaign, float(rates[np.argmax(np.abs(ca * rates * np.asarray(rel)))]))
+    return [BudgetRow.type_b(f"rate-table error at each set point, through D.22 ({what[1] if what else ''})",
+                             "u(F₀)", Q_(abs(K) * c, "LSB"), distribution="normal", k=1.0,
+                             note="a fixed error of its own at each Ω_ij, independent between set points; "
+                                  "an error common to all cancels in the intercept")]
+
+
 def _stability_row(campaign: Campaign, data: RateData) -> list[BudgetRow]:
     """Run-to-run change of K from the table: its ripple (rate stability, 速率平稳度 D.2.1.1 a))
     averaged over the n samples of each rate point, through the D.21 fit (a fixed error at a set
@@ -374,7 +394,8 @@ class ScaleFactorD21(Procedure):
                              int(data.n.min()) - 1),
             # F̄_r = (F̄_s + F̄_e)/2 enters F₀ with sensitivity −1: √(2·(1/2)²) on its two means
             _resolution_row(campaign, math.hypot(float(np.linalg.norm(ca)), math.sqrt(0.5)), "LSB",
-                            "D.22 and F̄_r")], coverage=COVERAGE)
+                            "D.22 and F̄_r"),
+            *_intercept_table_row(campaign, data.rates, K)], coverage=COVERAGE)
         res = [Result(self.metrics[0], Q_(K, LSB_PER_RATE), bK.combined, bK),
                Result(self.metrics[1], Q_(F0, "LSB"), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} LSB")]
         resid = data.Fk - (K * data.rates + F0)
