@@ -348,7 +348,8 @@ class Linearity72(Procedure):
     K_l = (max K_i − min K_i)/K, in %.
 
     Budget: the turntable positioning error of the two extreme rounds (type B; sensitivity
-    sqrt(1/θ_max-round² + 1/θ_min-round²)·100 %/″, θ in ″).
+    sqrt(1/θ_max-round² + 1/θ_min-round²)·100 %/″, θ in ″) and the rounding of their counts
+    (±0.5 count, uniform; sensitivity sqrt(1/θ_max² + 1/θ_min²)·100 %/K per count, θ in °).
     """
 
     standard = STANDARD
@@ -371,7 +372,14 @@ class Linearity72(Procedure):
         th = theta * F.ARCSEC_PER_DEG
         i_max, i_min = int(np.argmax(k_i)), int(np.argmin(k_i))
         sens = 100.0 * math.sqrt(th[i_max] ** -2 + th[i_min] ** -2)
-        rows = [attrs_evolve_sensitivity(positioning_row(campaign, warnings), Q_(sens, "percent/arcsec"))]
+        K = F.scale_factor_71(k_i)
+        rows = [attrs_evolve_sensitivity(positioning_row(campaign, warnings), Q_(sens, "percent/arcsec")),
+                # δK_i/K = δC_i/(θ_i·K): the rounding of the two extreme rounds' counts
+                BudgetRow.type_b("resolution of the counts C_i of the two extreme rounds (±0.5 count)", "u(C)",
+                                 Q_(0.5, "P"), distribution="uniform",
+                                 sensitivity=Q_(100.0 * math.sqrt(theta[i_max] ** -2 + theta[i_min] ** -2) / K,
+                                                "percent/P"),
+                                 note="one count is 1/K of a degree; independent roundings")]
         budget = UncertaintyBudget("K_l", "percent", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Kl, "percent"), budget.combined, budget,
                      note=f"max K_i at θ = {theta[i_max]:g}°, min at θ = {theta[i_min]:g}°")
