@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import re
 from importlib import resources
+from pathlib import Path
 from typing import Any, Iterable
 
 import pint
@@ -29,12 +30,38 @@ __all__ = [
 ]
 
 
+def _cache_folder() -> Path:
+    """Where pint keeps its parsed definitions for *this* installation of pint.
+
+    pint's own ``":auto:"`` folder is shared by every Python environment of the user, and the
+    entries record the absolute path of the definitions file they were parsed from; once the
+    environment that wrote them is deleted, every other environment with the same pint fails to
+    build a registry (``FileNotFoundError: …/default_en.txt/constants_en.txt``, pint issue
+    #1572).  A folder keyed by this pint's location and version keeps environments apart.
+    ``METRO_CACHE_DIR`` overrides the user cache folder."""
+    import hashlib
+    import os
+
+    root = os.environ.get("METRO_CACHE_DIR")
+    if root:
+        base = Path(root)
+    else:
+        import platformdirs
+
+        base = platformdirs.user_cache_path(appname="metro", appauthor=False)
+    key = hashlib.sha256(f"{Path(pint.__file__).resolve().parent}|{pint.__version__}".encode()).hexdigest()[:16]
+    return base / "pint" / key
+
+
 def _make_registry() -> pint.UnitRegistry:
-    reg = pint.UnitRegistry(
-        autoconvert_offset_to_baseunit=True,
-        non_int_type=float,
-        cache_folder=":auto:",
-    )
+    kw: dict[str, Any] = {"autoconvert_offset_to_baseunit": True, "non_int_type": float}
+    try:
+        reg = pint.UnitRegistry(**kw, cache_folder=_cache_folder())
+    except Exception as exc:  # noqa: BLE001 - a damaged or unwritable cache only costs time
+        import warnings
+
+        warnings.warn(f"pint's definitions cache could not be used ({exc!r}); parsing without it", stacklevel=2)
+        reg = pint.UnitRegistry(**kw)
     text = resources.files(__package__).joinpath("units.txt").read_text(encoding="utf-8")
     _load_lines(reg, text.splitlines())
     reg.formatter.default_format = "~P"

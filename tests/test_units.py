@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -62,3 +67,33 @@ def test_single_registry():
 def test_rate_round_trip(x):
     q = Q_(x, "deg/s").to("deg/h").to("deg/s")
     assert q.magnitude == pytest.approx(x, rel=1e-12, abs=1e-300)
+
+
+def _units_in_subprocess(env_extra: dict[str, str]) -> subprocess.CompletedProcess:
+    code = ("import warnings; warnings.simplefilter('always')\n"
+            "from metro.core.units import Q_, ureg\n"
+            "print(Q_(1, 'deg/h').to('arcsec/s').magnitude, ureg.cache_folder)\n")
+    env = dict(os.environ) | env_extra
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+
+
+def test_the_definitions_cache_is_per_installation_and_never_fatal(tmp_path):
+    """pint's shared ':auto:' cache remembers where another environment's definitions file was,
+    and breaks every environment once that one is deleted (pint #1572). metro's cache folder is
+    keyed by this pint's location and version; a folder that cannot be used costs time, not the run."""
+    import hashlib
+
+    import pint
+
+    key = hashlib.sha256(f"{Path(pint.__file__).resolve().parent}|{pint.__version__}".encode()).hexdigest()[:16]
+    good = _units_in_subprocess({"METRO_CACHE_DIR": str(tmp_path / "c")})
+    assert good.returncode == 0, good.stderr
+    value, folder = good.stdout.split()
+    assert float(value) == 1.0
+    assert Path(folder) == tmp_path / "c" / "pint" / key and any(Path(folder).iterdir())
+    # the cache folder's place is taken by a file: the registry is built without a cache
+    (tmp_path / "bad" / "pint").mkdir(parents=True)
+    (tmp_path / "bad" / "pint" / key).write_text("not a folder")
+    bad = _units_in_subprocess({"METRO_CACHE_DIR": str(tmp_path / "bad")})
+    assert bad.returncode == 0, bad.stderr
+    assert bad.stdout.split()[0] == "1.0" and "parsing without it" in bad.stderr
