@@ -315,8 +315,12 @@ def _decimal_round(x: Decimal, exponent: int, mode: str) -> Decimal:
     raise ValueError(f"unknown rounding mode {mode!r}")
 
 
+_SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
+
+
 def _fmt_decimal(d: Decimal, exponent: int) -> str:
-    """Plain text of ``d`` keeping digits down to 10**exponent, scientific for large/small."""
+    """Text of ``d`` keeping digits down to 10**exponent: plain, or ``1.4×10⁻⁶`` for large/small
+    numbers (the way certificates print them)."""
     if d == 0:
         return "0" if exponent >= 0 else f"{0:.{-exponent}f}"
     lead = d.adjusted()
@@ -327,7 +331,7 @@ def _fmt_decimal(d: Decimal, exponent: int) -> str:
     # scientific: mantissa with (lead - exponent) decimals
     ndec = max(lead - exponent, 0)
     mant = d.scaleb(-lead)
-    return f"{mant:.{ndec}f}e{lead:+d}"
+    return f"{mant:.{ndec}f}×10{str(lead).translate(_SUPERSCRIPT)}"
 
 
 def round_uncertainty(U: float, *, digits: int = 2, mode: str = "half-even", unit=None) -> Reported:

@@ -371,6 +371,13 @@ class Result:
         """(value text, U text) rounded as JJF 1059.1 asks, in the metric's unit."""
         v = float(self.value.to(self.metric.unit).magnitude)
         if self.U is None:
+            if self.u is not None and float(self.u.magnitude) > 0:
+                # no expanded U (no budget): the value still keeps the digits its u supports
+                try:
+                    u = float(self.u.to(difference_unit(self.metric.unit)).magnitude)
+                except pint.errors.PintError:
+                    u = float(self.u.to(self.metric.unit).magnitude)
+                return report_pair(v, u)[0].text, None
             return f"{v:.6g}", None
         mode = self.budget.round_mode if self.budget else "half-even"
         rv, rU = report_pair(v, float(self.U.magnitude), mode=mode)

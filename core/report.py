@@ -23,6 +23,7 @@ from __future__ import annotations
 import datetime as dt
 import math
 import os
+import re
 import tempfile
 from pathlib import Path
 from typing import Callable, TYPE_CHECKING, Any, Iterable, Mapping
@@ -92,11 +93,43 @@ def fmt_num(x: Any, sig: int = 4) -> str:
     return text
 
 
+_SCI = re.compile(r"(?<![\w./\-])(-?\d+(?:\.\d+)?)[eE]([+-]\d{1,3})\b")
+
+
+def pretty_powers(text: str) -> str:
+    """Numbers written with Python's ``g`` format in free text (budget sources, notes,
+    warnings) as a certificate prints them: ``±5e-06`` → ``±5×10⁻⁶``.
+
+    Only a number standing alone is changed: hex digests and report numbers carry no sign
+    after their ``e``, and a number glued to a name or path (``run-1e-5.csv``) is left as is.
+
+    >>> pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a")
+    'band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a'
+    """
+    return _SCI.sub(lambda m: f"{m.group(1)}×10{str(int(m.group(2))).translate(_SUPERSCRIPT)}", text)
+
+
+def _pretty_context(obj: Any) -> Any:
+    """:func:`pretty_powers` on every string of a report context (dicts, lists, tuples); other
+    objects (plot specs, images) are kept as they are."""
+    if isinstance(obj, str):
+        return pretty_powers(obj)
+    if isinstance(obj, dict):
+        return {k: _pretty_context(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_pretty_context(v) for v in obj]
+    if isinstance(obj, tuple):
+        return tuple(_pretty_context(v) for v in obj)
+    return obj
+
+
 def _fmt_dof(d: float | None) -> str:
     """Degrees of freedom: ``∞`` for none/infinite, whole numbers without decimals."""
     if d is None or (isinstance(d, float) and math.isinf(d)):
         return "∞"
     d = float(d)
+    if d >= 1e4:  # printed whole, 21776473 reads as precision it does not have
+        return fmt_num(d, 2)
     if abs(d - round(d)) < 1e-9 or d >= 100:
         return f"{d:.0f}"
     return f"{d:.3g}"
@@ -503,6 +536,7 @@ def write_report(
     ctx = report_context(record, designations=designations)
     if extend is not None:  # plugins' metro_extend_report_context
         extend(record, ctx)
+    ctx = _pretty_context(ctx)
     if template is None:
         source: Any = io.BytesIO(default_template().read_bytes())
         template_name = "metro/core/templates/report.docx"

@@ -102,11 +102,20 @@ def test_result_rounded_to_the_decimal_of_U():
 @given(st.floats(min_value=1e-12, max_value=1e12))
 def test_rounded_U_keeps_two_significant_digits_and_is_close(U):
     r = round_uncertainty(U)
-    digits = r.text.replace(".", "").replace("-", "").lstrip("0").split("e")[0]
+    digits = r.text.replace(".", "").replace("-", "").lstrip("0").split("×")[0]
     assert len(digits.rstrip("0") or "0") <= 2
     assert abs(r.value - U) <= 0.05 * U + 1e-300
     up = round_uncertainty(U, mode="up")
     assert up.value >= U * (1 - 1e-12)
+
+
+def test_small_and_large_numbers_print_with_powers_of_ten():
+    """Certificates print 1.4×10⁻⁶, not 1.4e-6; the value keeps the decimal place of its U."""
+    v, U = report_pair(0.79999987, 1.43e-6)
+    assert (v.text, U.text) == ("0.7999999", "1.4×10⁻⁶")
+    v, U = report_pair(2.01484e-6, 3.5e-7)
+    assert (v.text, U.text) == ("2.01×10⁻⁶", "3.5×10⁻⁷")
+    assert round_uncertainty(1.25e7).text == "1.2×10⁷"
 
 
 def test_round_to():

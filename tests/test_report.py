@@ -349,3 +349,47 @@ def test_generic_report_states_the_decision_rule_and_each_verdict(tmp_path):
     # without a specification the report says it makes no statement, rather than leaving a gap
     plain = docx_text(report.write_report(tmp_path / "plain.docx", record))
     assert "makes no statement of conformity" in plain and cf.GUARDED.statement not in plain
+
+
+def test_degrees_of_freedom_print_without_false_precision():
+    from metro.core.report import _fmt_dof
+
+    assert [_fmt_dof(x) for x in (None, float("inf"), 6.0, 34.27, 3308.4, 21776473.0)] == \
+        ["∞", "∞", "6", "34.3", "3308", "2.2×10⁷"]
+
+
+@pytest.mark.parametrize("standard, items, station_options", [
+    ("gbt45570", ["D.1.1", "D.5.1", "D.5.2"], {"duration_scale": 0.1}),
+    ("gbt45570", ["D.2.1"], {"duration_scale": 0.1}),
+    ("jjf2014", ["7.2.1", "7.2.13"], {"duration_scale": 0.1}),
+    ("jjf2003", ["7.2.1", "7.2.2"], {}),
+    ("ogam", ["7.1", "7.4"], {}),
+])
+def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, items, station_options):
+    """Each standard's own report or certificate, rendered from a simulated run, holds no Python
+    repr (a Jinja ``r.items`` on a dict once printed "<built-in method items of dict …>" in the
+    GB/T typical-indices table), no unrendered tag, no None/NaN and no 1e-06-style number."""
+    import re
+
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.report import write_report
+    from metro.core.runner import run_items
+
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, standard, items, station_options=station_options)
+    tpl = pm.template_for(standard)
+    path = write_report(tmp_path / "doc.docx", rec, template=tpl.path, extend=pm.extend_report_context)
+    text = docx_text(path)
+    for bad in ("object at 0x", "built-in method", "bound method", "{{", "}}", "{%", "%}", "Traceback"):
+        assert bad not in text, f"{standard}: {bad!r} in the document"
+    for word in (r"\bNone\b", r"\b[Nn]a[Nn]\b", r"\binf\b"):
+        assert not re.search(word, text), re.search(r".{40}" + word + r".{10}", text)
+    sci = r"(?<![0-9A-Za-z.])\d+(?:\.\d+)?[eE][+-]\d{1,3}\b"  # 1.4e-06 (hex digests carry no sign)
+    assert not re.search(sci, text), re.search(r".{40}" + sci + r".{10}", text)
+
+
+def test_pretty_powers_changes_free_standing_numbers_only():
+    from metro.core.report import pretty_powers
+
+    assert pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a; x=-3e-07") == \
+        "band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a; x=-3×10⁻⁷"

@@ -219,7 +219,7 @@ class ScaleFactorD11(Procedure):
         res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget),
                Result(self.metrics[1], Q_(W, "P/arcsec/(deg/s)"), Q_(uW, "P/arcsec/(deg/s)"))]
         model = K + W * rates
-        plot = PlotSpec("K_rate", "K_i against rate with the D.4 fit, and the residuals",
+        plot = PlotSpec("K_rate", "K_i against rate with the eq. (D.4) fit",
                         "Ω (°/s)", "K_i (P/″)",
                         [{"label": "K_i (D.2)", "x": rates.tolist(), "y": Ki.tolist(),
                           "yerr": [2 * p.u_K for p in pts], "style": "o"},

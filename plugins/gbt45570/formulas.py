@@ -249,7 +249,7 @@ def scale_factor_fit_d5_d6(K_i: Sequence[float], rates_deg_s: Sequence[float]) -
         raise ValueError("D.5/D.6 need at least 2 rate points and one K_i per rate")
     den = n * np.sum(w**2) - np.sum(w) ** 2
     if den == 0:
-        raise ValueError("all rate points are equal; the D.4 fit is singular")
+        raise ValueError("all rate points are equal; the eq. (D.4) fit is singular")
     K = (np.sum(k) * np.sum(w**2) - np.sum(k * w) * np.sum(w)) / den
     W = (n * np.sum(k * w) - np.sum(w) * np.sum(k)) / den
     return float(K), float(W)

@@ -7,7 +7,7 @@ and customer (manifest ``[campaign]`` keys ``lab``, ``lab_address``, ``customer`
 and the items ``--all``/series chose, the conformity verdicts with the decision rule and
 their reasons, the typical-limit table of the device (A.1 or B.1) row by row — "not
 performed" where no result exists, never a zero — the C.1 severities, a residual figure of
-K_i about the D.4 fit, and one SHA-256 over all data digests.
+K_i about the eq. (D.4) fit, and one SHA-256 over all data digests.
 """
 
 from __future__ import annotations
@@ -117,13 +117,13 @@ def limit_table(device, outcomes, assessment) -> dict[str, Any] | None:
         mine = [(o, r) for o, r in found if spec.applies_to(r.metric.key, o.item)]
         if not mine:
             out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en}", "limit": spec.text(),
-                        "items": " / ".join(row.items), "result": NOT_PERFORMED, "verdict": DASH})
+                        "method": " / ".join(row.items), "result": NOT_PERFORMED, "verdict": DASH})
             continue
         for o, r in mine:
             val, U, k = _result_cells(r)
             v = verdicts.get((o.item, r.metric.key, row.key))
             out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en} ({r.metric.symbol})",
-                        "limit": spec.text(), "items": o.item,
+                        "limit": spec.text(), "method": o.item,
                         "result": f"{val}, U = {U} (k = {k})" if U != DASH else val,
                         "verdict": STATUS_TEXT[v.status.value] if v is not None else DASH})
     table = rows[0].table
@@ -175,7 +175,7 @@ def residual_plot(spec: PlotSpec) -> PlotSpec | None:
     if pts.get("yerr") is not None:
         series[0]["yerr"] = (np.asarray(pts["yerr"], dtype=float) / model * 1e6).tolist()
     series.append({"x": [float(x.min()), float(x.max())], "y": [0.0, 0.0], "style": "--"})
-    return PlotSpec("K_residuals", "Residuals of K_i about the D.4 fit", spec.xlabel, "residual (ppm of K)",
+    return PlotSpec("K_residuals", "Residuals of K_i about the eq. (D.4) fit", spec.xlabel, "residual (ppm of K)",
                     series, logx=spec.logx)
 
 
@@ -184,6 +184,8 @@ def _add_residual_figures(context: dict) -> None:
     for o in context.get("outcomes", []):
         plots = []
         for p in o["plots"]:
+            # the template adds "(item)" after every caption: a title that already ends so keeps one
+            p["title"] = p["title"].removesuffix(f" ({o['item']})")
             plots.append(p)
             if p["name"] == "K_rate" and o["standard"] == STANDARD:
                 extra = residual_plot(p["spec"])

@@ -181,7 +181,7 @@ def build() -> bytes:
     doc.add_heading("7 典型指标 Typical indices", level=2)
     doc.add_paragraph("{{ gbt45570.limits.title }}")
     _grid(doc, ["序号 No.", "项目 Item", "指标 Limit", "方法 Method", "结果 Result", "判定 Verdict"],
-          ["{{ r.no }}", "{{ r.name }}", "{{ r.limit }}", "{{ r.items }}", "{{ r.result }}", "{{ r.verdict }}"],
+          ["{{ r.no }}", "{{ r.name }}", "{{ r.limit }}", "{{ r.method }}", "{{ r.result }}", "{{ r.verdict }}"],
           loop="r in gbt45570.limits.rows", widths=(12, 45, 25, 20, 45, 23))
     doc.add_paragraph("{%p endif %}")
     doc.add_paragraph("{%p if gbt45570.severities %}")
