@@ -386,6 +386,15 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
         assert not re.search(word, text), re.search(r".{40}" + word + r".{10}", text)
     sci = r"(?<![0-9A-Za-z.])\d+(?:\.\d+)?[eE][+-]\d{1,3}\b"  # 1.4e-06 (hex digests carry no sign)
     assert not re.search(sci, text), re.search(r".{40}" + sci + r".{10}", text)
+    if standard in ("gbt45570", "jjf2014"):  # documents that print the budgets print them whole
+        d = docx.Document(str(path))
+        budgets = [t for t in d.tables if "u_i(y)" in " ".join(c.text for c in t.rows[0].cells)]
+        assert budgets
+        for t in budgets:
+            head = " ".join(c.text for c in t.rows[0].cells)
+            for col in ("Type", "Distribution", "Value", "Divisor", "c_i", "ν"):
+                assert col in head, (standard, col)
+            assert all(r.cells[2].text in ("normal", "uniform", "triangular", "arcsine") for r in t.rows[1:])
 
 
 def test_pretty_powers_changes_free_standing_numbers_only():

@@ -144,9 +144,13 @@ def build() -> bytes:
     doc.add_heading("不确定度评定 Uncertainty budgets", level=2)
     doc.add_paragraph("{%p for o in outcomes %}")
     doc.add_paragraph("{%p for b in o.budgets %}")
-    doc.add_paragraph("{{ o.item }} {{ b.title }}: u_c = {{ b.u_c }}, k = {{ b.k }}, U = {{ b.U }}")
-    _table(doc, ["来源 Source", "类型 Type", "u_i(y)", "ν"],
-           ["{{ row.source }}", "{{ row.type }}", "{{ row.contribution }}", "{{ row.dof }}"], loop="row in b.rows")
+    doc.add_paragraph("{{ o.item }} {{ b.title }} [{{ b.unit }}]: u_c = {{ b.u_c }}, ν_eff = {{ b.nu_eff }}, "
+                      "k = {{ b.k }}, U = {{ b.U }}")
+    _table(doc, ["来源 Source", "类型 Type", "分布 Distribution", "值 Value", "除数 Divisor", "灵敏系数 c_i",
+                 "u_i(y)", "ν"],
+           ["{{ row.source }}", "{{ row.type }}", "{{ row.distribution }}", "{{ row.value }}", "{{ row.divisor }}",
+            "{{ row.sensitivity }}", "{{ row.contribution }}", "{{ row.dof }}"], loop="row in b.rows",
+           widths=(52, 11, 19, 22, 13, 22, 20, 11))
     doc.add_paragraph("{%p endfor %}")
     doc.add_paragraph("{%p endfor %}")
 
