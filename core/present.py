@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from .provenance import RunRecord
+from .report import fmt_dof, fmt_num, pretty_powers
 from .units import fmt_unit
 
 
@@ -127,7 +128,8 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
     for o in record.outcomes:
         for r in o.results:
             v, U = r.reported()
-            t.add_row(o.item, f"{r.metric.name} {r.metric.symbol}", v, U or (f"u={r.u.magnitude:.2g}" if r.u is not None else "-"),
+            t.add_row(o.item, f"{r.metric.name} {r.metric.symbol}", v,
+                      U or (f"u = {fmt_num(float(r.u.magnitude), 2)}" if r.u is not None else "-"),
                       f"{r.k:.2f}" if r.k else "-", fmt_unit(r.metric.unit), r.metric.reference)
     con.print(t)
     for o in record.outcomes:
@@ -140,11 +142,12 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
                 bt.add_column(col)
             for row in b["rows"]:
                 bt.add_row(row["source"], row["type"], row["distribution"],
-                           f"{row['standard_uncertainty']:.3g} {row['value_unit']}",
-                           f"{row['sensitivity']:.3g} {row['sensitivity_unit']}", f"{row['contribution']:.3g}",
-                           "∞" if row["dof"] is None else f"{row['dof']:.0f}")
-            nu = "∞" if b["nu_eff"] is None else f"{b['nu_eff']:.0f}"
-            bt.caption = f"u_c = {b['u_c']:.3g}, ν_eff = {nu}, k = {b['k']:.2f}, U = {b['U_reported']} {b['unit']}"
+                           _num_unit(row["standard_uncertainty"], row["value_unit"]),
+                           _num_unit(row["sensitivity"], row["sensitivity_unit"]), fmt_num(row["contribution"], 3),
+                           fmt_dof(row["dof"]))
+            unit_ = "" if b["unit"] == "1" else f" {b['unit']}"
+            bt.caption = (f"u_c = {fmt_num(b['u_c'], 3)}{unit_}, ν_eff = {fmt_dof(b['nu_eff'])}, k = {b['k']:.2f}, "
+                          f"U = {b['U_reported']}{unit_}")
             con.print(bt)
         for tab in o.tables:
             tt = Table(title=tab.title)
@@ -154,7 +157,7 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
                 tt.add_row(*map(str, row))
             con.print(tt)
         for w in o.warnings:
-            con.print(f"[yellow]warning ({o.item}):[/] {w}")
+            con.print(f"[yellow]warning ({o.item}):[/] {pretty_powers(w)}")
     checks = truth_checks(record)
     if record.simulated and not record.truth:
         con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated station "
@@ -164,8 +167,8 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
                   + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
         for ch in checks:
             mark = "[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]"
-            con.print(f"  {ch['item']} {ch['key']}: result {ch['value']:.5g} vs truth {ch['truth']:.5g} "
-                      f"{ch['unit']} (U = {ch['U']:.2g}) → {mark}")
+            con.print(f"  {ch['item']} {ch['key']}: result {fmt_num(ch['value'], 5)} vs truth "
+                      f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → {mark}")
     if record.conformity is not None:
         a = record.conformity
         ct = Table(title=f"Conformity — {a.rule.title}")
@@ -186,15 +189,23 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
     con.print(f"report number {record.report_number}" + (f"; Word report: {report_path}" if report_path else ""))
 
 
+def _num_unit(x: Any, unit_text: str, sig: int = 3) -> str:
+    """``1.03×10⁻⁷ P/″``; a dimensionless unit ("1") is not printed."""
+    num = fmt_num(x, sig) if isinstance(x, (int, float)) else str(x)
+    return num if unit_text in ("", "1") else f"{num} {unit_text}"
+
+
 def _fmt(v: Any) -> str:
     try:
         import pint
 
         if isinstance(v, pint.Quantity):
-            return f"{v.magnitude:g} {fmt_unit(v.units)}"
+            return _num_unit(v.magnitude, fmt_unit(v.units), 6)
     except ImportError:  # pragma: no cover
         pass
-    return str(v)
+    if isinstance(v, float):
+        return fmt_num(v, 6)
+    return pretty_powers(str(v))
 
 
 __all__ = ["progress", "as_json", "print_record", "truth_checks", "math"]

@@ -123,7 +123,7 @@ def _pretty_context(obj: Any) -> Any:
     return obj
 
 
-def _fmt_dof(d: float | None) -> str:
+def fmt_dof(d: float | None) -> str:
     """Degrees of freedom: ``∞`` for none/infinite, whole numbers without decimals."""
     if d is None or (isinstance(d, float) and math.isinf(d)):
         return "∞"
@@ -133,6 +133,9 @@ def _fmt_dof(d: float | None) -> str:
     if abs(d - round(d)) < 1e-9 or d >= 100:
         return f"{d:.0f}"
     return f"{d:.3g}"
+
+
+_fmt_dof = fmt_dof
 
 
 _ROOTS = ((math.sqrt(2.0), "√2"), (math.sqrt(3.0), "√3"), (math.sqrt(6.0), "√6"))
