@@ -169,7 +169,8 @@ def read_toml(path: str | Path, fmt: str, *, what: str, hint: str) -> tuple[str,
     if not p.is_file():
         raise DataError(src, None, f"{what} not found", hint=hint)
     try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8"))
+        # utf-8-sig: a byte-order mark (Windows Notepad, Excel exports) is not part of the TOML
+        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))
     except UnicodeDecodeError as exc:
         raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
     except tomllib.TOMLDecodeError as exc:

@@ -447,3 +447,30 @@ def test_import_is_cheap():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, env={**os.environ, "PYTHONWARNINGS": "ignore"})
     assert out.stdout.strip() == "False"
+
+
+def test_a_campaign_saved_with_a_byte_order_mark_and_crlf_reads_the_same(tmp_path):
+    """Windows editors and Excel save UTF-8 with a byte-order mark and CRLF line ends; the manifest
+    and its samples then read exactly as the plain files do (the BOM once made the manifest
+    'not valid TOML at line 1, column 1')."""
+    import shutil
+
+    from metro.core.campaign import load_manifest
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager(autoload=False)
+    src = Path(__file__).resolve().parent.parent / "docs" / "examples" / "campaign"
+    dst = tmp_path / "campaign"
+    shutil.copytree(src, dst)
+    for f in dst.iterdir():
+        text = f.read_text(encoding="utf-8")
+        f.write_bytes(b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode("utf-8"))
+    plain = load_manifest(src / "manifest.toml", pm.reader_for)
+    windows = load_manifest(dst / "manifest.toml", pm.reader_for)
+    assert plain.device.id == windows.device.id and len(plain.segments) == len(windows.segments)
+    for a, b in zip(plain.segments, windows.segments):
+        ca, cb = a.columns(), b.columns()
+        assert ca.keys() == cb.keys()
+        for k in ca:
+            assert ca[k][1] == cb[k][1]
+            np.testing.assert_array_equal(ca[k][0], cb[k][0])
