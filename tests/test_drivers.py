@@ -304,3 +304,26 @@ def test_binary_layout_matches_struct():
     assert f[:2] == b"\xaa\x55"
     n, rate, temp, status, cs = struct.unpack("<BihBB", f[2:])
     assert (n, rate, temp, status) == (5, 123456, -150, 0) and cs == sum(f[2:-1]) & 0xFF
+
+
+def test_dmm_device_clear_on_opening(monkeypatch):
+    """Opening sends a VISA device clear, so a reply left in the output buffer by an interrupted
+    session is not read as the answer to the first query; a backend without it (pyvisa-sim) is
+    noted, not an error."""
+    import pyvisa.resources
+
+    from metro.instruments.drivers.scpi_dmm import ScpiDmm
+
+    _fresh_sim()
+    d = ScpiDmm(DMM_ADDR, visa_library=f"{DMM_YAML}@sim")
+    assert d.device_cleared is False and d.identity.model  # pyvisa-sim has no viClear
+    d.close()
+    calls = []
+    monkeypatch.setattr(pyvisa.resources.Resource, "clear", lambda self: calls.append(self.resource_name))
+    _fresh_sim()
+    d = ScpiDmm(DMM_ADDR, visa_library=f"{DMM_YAML}@sim")
+    try:
+        assert d.device_cleared is True and len(calls) == 1
+    finally:
+        d.close()
+        _fresh_sim()

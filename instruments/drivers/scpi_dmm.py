@@ -69,6 +69,16 @@ class ScpiDmm(DmmDriver):
         self._inst.read_termination = read_termination
         self._inst.write_termination = write_termination
         self._closed = False
+        #: whether the VISA device clear on opening took effect: it drops a reply that an
+        #: interrupted earlier session left in the instrument's output buffer, which the first
+        #: query would otherwise read as its own answer.  Best effort: some backends (pyvisa-sim,
+        #: raw sockets) do not offer it, and ``*IDN?`` below still checks what answers.
+        self.device_cleared = False
+        try:
+            self._inst.clear()
+            self.device_cleared = True
+        except Exception:  # noqa: BLE001 - NotImplementedError, VI_ERROR_NSUP_OPER, …
+            pass
         try:
             #: what the instrument said it is when the driver opened (an absent one fails here)
             self.identity = self.identify()
