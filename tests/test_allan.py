@@ -353,3 +353,26 @@ def test_mdev_limit_and_block_errors():
         block_means_pyramid(np.ones(7), 4)
     with pytest.raises(ValueError, match="p must be"):
         oadev(np.arange(20.0), 1.0).ci(1.5)
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(min_value=0, max_value=2**32 - 1), st.integers(min_value=9, max_value=400),
+       st.floats(min_value=-1e3, max_value=1e3).filter(lambda a: abs(a) > 1e-3),
+       st.floats(min_value=-1e6, max_value=1e6))
+def test_deviations_follow_scale_and_ignore_offset(seed, n, a, b):
+    """For any record y: σ(a·y + b) = |a|·σ(y) (an Allan deviation sees differences of means, so
+    an offset drops out and a scale factor comes out), and at m = 1 the overlapping and the
+    non-overlapping estimators are the same sum (NIST SP 1065 eqs. (10), (14))."""
+    y = np.random.default_rng(seed).normal(size=n)
+    ms = [m for m in (1, 2, 3, n // 4) if 1 <= m <= (n - 1) // 2]
+    for fn in (adev, oadev, mdev):
+        ref = fn(y, 0.1, ms, engine="numpy").deviation
+        got = fn(a * y + b, 0.1, ms, engine="numpy").deviation
+        # a·y + b is itself rounded: about eps·|b| per sample against a spread of |a|
+        tol = 1e-9 + 1e-14 * abs(b) / abs(a)
+        np.testing.assert_allclose(got, abs(a) * ref, rtol=tol, err_msg=fn.__name__)
+    np.testing.assert_allclose(oadev(y, 0.1, [1]).deviation, adev(y, 0.1, [1]).deviation, rtol=1e-12)

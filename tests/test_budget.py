@@ -126,3 +126,54 @@ def test_round_to():
 def test_empty_budget_refused():
     with pytest.raises(ValueError, match="no rows"):
         UncertaintyBudget("x", "mV", [])
+
+
+_rows = st.lists(
+    st.tuples(st.floats(min_value=1e-9, max_value=1e6), st.one_of(st.none(), st.integers(min_value=1, max_value=500)),
+              st.floats(min_value=0.01, max_value=100.0), st.sampled_from(["normal", "uniform", "triangular"])),
+    min_size=1, max_size=8)
+
+
+def _budget(rows, p=0.9545):
+    built = []
+    for i, (u, dof, c, dist) in enumerate(rows):
+        if dof is None:
+            built.append(BudgetRow.type_b(f"b{i}", f"b{i}", Q_(u, "mV"), distribution=dist,
+                                          k=2.0 if dist == "normal" else None, sensitivity=Q_(c, "deg/s/mV")))
+        else:
+            built.append(BudgetRow.type_a(f"a{i}", f"a{i}", Q_(u * c, "deg/s"), dof=dof))
+    return UncertaintyBudget("y", "deg/s", built, coverage=Coverage.probability(p))
+
+
+@given(_rows)
+def test_budget_invariants(rows):
+    """Properties of any budget (JJF 1059.1 / GUM 5.1.2, G.4): u_c² = Σ(c_i·u_i)²; u_c is at least
+    the largest contribution and at most their sum; ν_eff lies between the smallest type A ν and
+    ∞, and is ∞ exactly when every row is type B; k ≥ the normal quantile and U = k·u_c; the
+    reported U keeps two significant digits and is within 5 % of U."""
+    b = _budget(rows)
+    contrib = [r.contribution.to("deg/s").magnitude for r in b.rows]
+    uc = b.combined.to("deg/s").magnitude
+    assert uc == pytest.approx(math.sqrt(sum(x * x for x in contrib)), rel=1e-12)
+    assert max(contrib) * (1 - 1e-12) <= uc <= sum(contrib) * (1 + 1e-12)
+    dofs = [r.dof for r in b.rows if r.dof is not None and math.isfinite(r.dof)]
+    nu = b.nu_eff
+    if dofs:
+        assert min(dofs) * (1 - 1e-9) <= nu
+    else:
+        assert nu is None or math.isinf(nu)
+    assert b.k >= 2.0 - 1e-9
+    assert b.expanded.to("deg/s").magnitude == pytest.approx(b.k * uc, rel=1e-12)
+    rep = b.expanded_reported()
+    assert abs(rep.value - b.expanded.magnitude) <= 0.05 * b.expanded.magnitude
+
+
+@given(_rows, st.floats(min_value=1e-3, max_value=1e3))
+def test_budget_scales_with_its_inputs(rows, s):
+    """Scaling every input uncertainty by s scales u_c and U by s and leaves ν_eff and k alone."""
+    a = _budget(rows)
+    b = _budget([(u * s, dof, c, dist) for u, dof, c, dist in rows])
+    assert b.combined.magnitude == pytest.approx(s * a.combined.magnitude, rel=1e-9)
+    if a.nu_eff is not None and math.isfinite(a.nu_eff):
+        assert b.nu_eff == pytest.approx(a.nu_eff, rel=1e-9)
+    assert b.k == pytest.approx(a.k, rel=1e-9)
