@@ -139,3 +139,24 @@ def test_run_takes_station_options_and_refuses_them_with_data(tmp_path, run_cli,
                                "--out", str(tmp_path / "o"), "--no-progress")
         assert code == 2 and extra[0] in err and "--data" in err
         assert not (tmp_path / "o").exists()
+
+
+def test_expired_equipment_is_named_on_the_terminal_and_in_json(tmp_path, run_cli):
+    """A piece of equipment whose calibration is past due on the day of the run: the terminal says
+    so (results that depend on it are not traceable) and --json marks it calibration_valid = false."""
+    import shutil
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parent.parent / "docs" / "examples" / "campaign"
+    shutil.copytree(src, tmp_path / "c")
+    m = tmp_path / "c" / "manifest.toml"
+    text = m.read_text(encoding="utf-8")
+    assert "due = 2027-08-15" in text
+    m.write_text(text.replace("due = 2027-08-15", "due = 2025-08-15"), encoding="utf-8")
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--no-report", "--no-progress")
+    assert code == 0, err
+    assert "CNT-1" in out and "EXPIRED on 2025-08-15" in out and "not traceable" in out
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--no-report", "--json",
+                             "--no-progress")
+    eq = {e["id"]: e for e in json.loads(out)["equipment"]}
+    assert eq["CNT-1"]["calibration_valid"] is False and eq["PLAT-1"]["calibration_valid"] is None
