@@ -248,7 +248,9 @@ def _cmd_plugins(args) -> int:
 def _cmd_items(args) -> int:
     pm = _pm(args)
     rows = []
-    for pid, info in sorted(pm.registry.procedures.items()):
+    from .plugins import item_sort_key
+
+    for pid, info in sorted(pm.registry.procedures.items(), key=lambda kv: item_sort_key(kv[0])):
         cls = info.cls
         if args.standard and cls.standard != args.standard:
             continue

@@ -241,6 +241,13 @@ class DriverRegistrar(_Registrar):
 # --------------------------------------------------------------------------------------
 
 
+def item_sort_key(item: str) -> tuple:
+    """Order item ids as the standards number them: 7.2.2 before 7.2.10, D.1.6 before D.2.1."""
+    import re
+
+    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.findall(r"\d+|[^\d.:]+", item))
+
+
 def _env_list(name: str) -> list[str]:
     return [x.strip() for x in os.environ.get(name, "").split(",") if x.strip()]
 
@@ -359,7 +366,8 @@ class MetroPluginManager:
             )
         pid = f"{standard}:{item}"
         if pid not in reg.procedures:
-            items = sorted(p.cls.item for p in reg.procedures.values() if p.cls.standard == standard)
+            items = sorted((p.cls.item for p in reg.procedures.values() if p.cls.standard == standard),
+                           key=item_sort_key)
             raise PluginError(f"standard {standard!r} has no item {item!r}; its items: {', '.join(items)}")
         return reg.procedures[pid].cls
 

@@ -201,3 +201,11 @@ def test_items_choose_their_default_station():
         run_items(pm, "gbt45570", ["D.5.1", "X.1"])
     with pytest.raises(PluginError, match="unknown station 'elsewhere'"):
         run_items(pm, "gbt45570", ["X.1"])
+
+
+def test_items_are_listed_in_the_standards_order():
+    from metro.core.plugins import item_sort_key
+
+    ids = ["7.2.10", "7.2.2", "D.2.1", "D.1.6", "7.2.1", "D.10", "6.2.7.8", "6.2.6"]
+    assert sorted(ids, key=item_sort_key) == ["6.2.6", "6.2.7.8", "7.2.1", "7.2.2", "7.2.10", "D.1.6", "D.2.1",
+                                              "D.10"]
