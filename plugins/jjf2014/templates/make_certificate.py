@@ -27,6 +27,7 @@ from docx.enum.text import WD_ALIGN_PARAGRAPH
 from docx.oxml import OxmlElement
 from docx.oxml.ns import qn
 from docx.shared import Mm, Pt
+from metro.core.budget import TEMPLATE_BUDGET_COLUMNS, TEMPLATE_BUDGET_HEADING
 
 OUT = Path(__file__).with_name("certificate.docx")
 
@@ -144,13 +145,9 @@ def build() -> bytes:
     doc.add_heading("不确定度评定 Uncertainty budgets", level=2)
     doc.add_paragraph("{%p for o in outcomes %}")
     doc.add_paragraph("{%p for b in o.budgets %}")
-    doc.add_paragraph("{{ o.item }} {{ b.title }} [{{ b.unit }}]: u_c = {{ b.u_c }}, ν_eff = {{ b.nu_eff }}, "
-                      "k = {{ b.k }}, U = {{ b.U }}")
-    _table(doc, ["来源 Source", "类型 Type", "分布 Distribution", "值 Value", "除数 Divisor", "灵敏系数 c_i",
-                 "u_i(y)", "ν"],
-           ["{{ row.source }}", "{{ row.type }}", "{{ row.distribution }}", "{{ row.value }}", "{{ row.divisor }}",
-            "{{ row.sensitivity }}", "{{ row.contribution }}", "{{ row.dof }}"], loop="row in b.rows",
-           widths=(52, 11, 19, 22, 13, 22, 20, 11))
+    doc.add_paragraph(TEMPLATE_BUDGET_HEADING)
+    _table(doc, [h for h, _, _ in TEMPLATE_BUDGET_COLUMNS], [c for _, c, _ in TEMPLATE_BUDGET_COLUMNS],
+           loop="row in b.rows", widths=tuple(w for _, _, w in TEMPLATE_BUDGET_COLUMNS))
     doc.add_paragraph("{%p endfor %}")
     doc.add_paragraph("{%p endfor %}")
 
