@@ -574,6 +574,19 @@ class VibratoryStation:
         )
 
 
+def _flag(name: str, v: Any) -> bool:
+    if isinstance(v, bool):
+        return v
+    text = str(v).strip().lower()
+    if text in ("1", "true", "yes", "on"):
+        return True
+    if text in ("0", "false", "no", "off"):
+        return False
+    from metro.core.errors import DataError
+
+    raise DataError(None, f"station option {name}", f"{v!r} is not true or false")
+
+
 def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
     latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors)."""
@@ -585,14 +598,14 @@ def station_factory(**options: Any) -> VibratoryStation:
         if k == "seed":
             return int(v)
         if k == "hard_dead_band":
-            return v if isinstance(v, bool) else str(v).lower() in ("1", "true", "yes", "on")
+            return _flag(k, v)
         return v
 
     truth_kw = {k: conv(k, v) for k, v in options.items() if k in fields}
     st_kw = {k: float(v) for k, v in options.items() if k in ("latitude_deg", "duration_scale", "nonlinearity_spec")}
     for k in ("instrument_errors", "table_errors"):
         if k in options:
-            st_kw[k] = options[k] if isinstance(options[k], bool) else str(options[k]).lower() in ("1", "true", "yes", "on")
+            st_kw[k] = _flag(k, options[k])
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 

@@ -160,3 +160,10 @@ def test_expired_equipment_is_named_on_the_terminal_and_in_json(tmp_path, run_cl
                              "--no-progress")
     eq = {e["id"]: e for e in json.loads(out)["equipment"]}
     assert eq["CNT-1"]["calibration_valid"] is False and eq["PLAT-1"]["calibration_valid"] is None
+
+
+def test_a_station_flag_that_is_neither_true_nor_false_is_refused(run_cli, tmp_path):
+    code, _, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--station-option", "table_errors=maybe",
+                           "--out", str(tmp_path / "o"), "--no-progress")
+    assert code == 2 and "table_errors" in err and "not true or false" in err
+    assert not (tmp_path / "o").exists()
