@@ -7,7 +7,9 @@ anything else is a bug and keeps its traceback.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import math
+from collections.abc import Iterable, Mapping
+from typing import Any
 
 
 class MetroError(Exception):
@@ -78,3 +80,79 @@ def check_options(owner: str, given: Iterable[str], accepted: Iterable[str], *, 
         raise DataError(None, f"{kind} {unknown[0]}",
                         f"{owner} does not take {', '.join(unknown)}",
                         hint=f"{owner} takes: {', '.join(accepted)}")
+
+
+def convert_options(owner: str, cls: type, options: Mapping[str, Any], *, kind: str = "station option") -> dict[str, Any]:
+    """The ``options`` that name fields of the attrs class ``cls``, each converted to the type of
+    the field's default — from the command line every value comes as text.
+
+    ``float``/``int`` fields take a (finite) number, ``bool`` fields true/false (1/0, yes/no,
+    on/off), tuples of numbers as many comma-separated numbers as the default has; a nested tuple
+    (a matrix) is set from Python.  A value that does not convert is a :class:`DataError` naming
+    the option, not a ``TypeError`` deep inside a simulation.  Options that are not fields are
+    left out (check them with :func:`check_options`)."""
+    import attrs
+
+    fields = attrs.fields_dict(cls)
+    out: dict[str, Any] = {}
+    for name, value in options.items():
+        if name not in fields:
+            continue
+        default = fields[name].default
+        if isinstance(default, attrs.Factory):  # type: ignore[arg-type]
+            default = default.factory()
+        out[name] = _convert_value(owner, f"{kind} {name}", value, default)
+    return out
+
+
+def _convert_value(owner: str, field: str, value: Any, default: Any) -> Any:
+    def bad(what: str) -> DataError:
+        example = ",".join(f"{x:g}" for x in default) if isinstance(default, tuple) else str(default).lower()
+        return DataError(None, field, f"{value!r} is not {what}",
+                         hint=f"{owner} takes it in the form of its default, {field.split()[-1]}={example}")
+
+    if isinstance(default, bool):
+        if isinstance(value, bool):
+            return value
+        text = str(value).strip().lower()
+        if text in ("1", "true", "yes", "on"):
+            return True
+        if text in ("0", "false", "no", "off"):
+            return False
+        raise bad("true or false")
+    if isinstance(default, int):
+        if isinstance(value, bool):
+            raise bad("a whole number")
+        try:
+            f = float(value)
+        except (TypeError, ValueError):
+            raise bad("a whole number") from None
+        if not math.isfinite(f) or f != int(f):
+            raise bad("a whole number")
+        return int(f)
+    if isinstance(default, float):
+        if isinstance(value, bool):
+            raise bad("a number")
+        try:
+            f = float(value)
+        except (TypeError, ValueError):
+            raise bad("a number") from None
+        if not math.isfinite(f):
+            raise bad("a finite number")
+        return f
+    if isinstance(default, tuple):
+        if isinstance(value, (tuple, list)):
+            return tuple(value)
+        if any(isinstance(x, (tuple, list)) for x in default):
+            raise DataError(None, field, "a matrix is set from Python (a station factory argument), not as text")
+        parts = [p for p in str(value).replace(";", ",").split(",") if p.strip()]
+        try:
+            nums = tuple(float(p) for p in parts)
+        except ValueError:
+            raise bad(f"{len(default)} comma-separated numbers") from None
+        if len(nums) != len(default) or not all(math.isfinite(x) for x in nums):
+            raise bad(f"{len(default)} comma-separated numbers")
+        return nums
+    if isinstance(default, str):
+        return str(value)
+    return value

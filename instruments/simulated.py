@@ -432,12 +432,13 @@ def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) ->
 
 def station_factory(**options: Any) -> SimulatedStation:
     """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale …)."""
-    from metro.core.errors import check_options
+    from metro.core.errors import check_options, convert_options
 
+    owner = "the simulated gyro station"
     st_names = ("latitude_deg", "duration_scale")
-    check_options("the simulated gyro station", options, [*attrs.fields_dict(GyroTruth), *st_names])
-    truth_kw = {k: v for k, v in options.items() if k in attrs.fields_dict(GyroTruth)}
-    st_kw = {k: v for k, v in options.items() if k in st_names}
+    check_options(owner, options, [*attrs.fields_dict(GyroTruth), *st_names])
+    truth_kw = convert_options(owner, GyroTruth, options)
+    st_kw = convert_options(owner, SimulatedStation, {k: v for k, v in options.items() if k in st_names})
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
 
 

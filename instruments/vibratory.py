@@ -45,7 +45,7 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.errors import check_options
+from metro.core.errors import check_options, convert_options
 from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
@@ -574,38 +574,14 @@ class VibratoryStation:
         )
 
 
-def _flag(name: str, v: Any) -> bool:
-    if isinstance(v, bool):
-        return v
-    text = str(v).strip().lower()
-    if text in ("1", "true", "yes", "on"):
-        return True
-    if text in ("0", "false", "no", "off"):
-        return False
-    from metro.core.errors import DataError
-
-    raise DataError(None, f"station option {name}", f"{v!r} is not true or false")
-
-
 def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
     latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors)."""
-    fields = attrs.fields_dict(VibratoryTruth)
-    check_options("simulated-jjf2014", options, [*fields, "latitude_deg", "duration_scale", "nonlinearity_spec",
-                                                 "instrument_errors", "table_errors"])
-
-    def conv(k, v):
-        if k == "seed":
-            return int(v)
-        if k == "hard_dead_band":
-            return _flag(k, v)
-        return v
-
-    truth_kw = {k: conv(k, v) for k, v in options.items() if k in fields}
-    st_kw = {k: float(v) for k, v in options.items() if k in ("latitude_deg", "duration_scale", "nonlinearity_spec")}
-    for k in ("instrument_errors", "table_errors"):
-        if k in options:
-            st_kw[k] = _flag(k, options[k])
+    owner = "simulated-jjf2014"
+    st_names = ("latitude_deg", "duration_scale", "nonlinearity_spec", "instrument_errors", "table_errors")
+    check_options(owner, options, [*attrs.fields_dict(VibratoryTruth), *st_names])
+    truth_kw = convert_options(owner, VibratoryTruth, options)
+    st_kw = convert_options(owner, VibratoryStation, {k: v for k, v in options.items() if k in st_names})
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 

@@ -167,3 +167,20 @@ def test_a_station_flag_that_is_neither_true_nor_false_is_refused(run_cli, tmp_p
                            "--out", str(tmp_path / "o"), "--no-progress")
     assert code == 2 and "table_errors" in err and "not true or false" in err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("std, item, option, says", [
+    ("gbt45570", "D.5.1", "arw_deg_rt_h=abc", "is not a number"),
+    ("ogam", "7.1", "tilt_deg=inf", "is not a finite number"),
+    ("jjf2003", "7.2.1", "bits=12.5", "is not a whole number"),
+    ("jjf2014", "7.2.13", "bias_accel_dps_per_g=0.001,0.002", "is not 3 comma-separated numbers"),
+    ("jjf2003", "7.2.1", "K_g=1", "a matrix is set from Python"),
+])
+def test_a_station_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, std, item, option, says):
+    """Values from the command line are text: each is converted to the type of the field it sets,
+    and one that does not convert names the option and its form — never a TypeError from inside
+    a simulation."""
+    code, _, err = run_cli("run", "-s", std, "-i", item, "--station-option", option, "--out", str(tmp_path / "o"),
+                           "--no-progress")
+    assert code == 2 and option.split("=")[0] in err and says in err and "Traceback" not in err
+    assert not (tmp_path / "o").exists()

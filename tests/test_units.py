@@ -97,3 +97,26 @@ def test_the_definitions_cache_is_per_installation_and_never_fatal(tmp_path):
     bad = _units_in_subprocess({"METRO_CACHE_DIR": str(tmp_path / "bad")})
     assert bad.returncode == 0, bad.stderr
     assert bad.stdout.split()[0] == "1.0" and "parsing without it" in bad.stderr
+
+
+def test_convert_options_gives_each_field_its_type():
+    import attrs
+
+    from metro.core.errors import DataError, convert_options
+
+    @attrs.frozen
+    class T:
+        x: float = 0.5
+        n: int = 3
+        on: bool = False
+        name: str = "a"
+        v: tuple = (1.0, 2.0, 3.0)
+        m: tuple = ((1.0, 0.0), (0.0, 1.0))
+
+    got = convert_options("T", T, {"x": "0.25", "n": "7", "on": "yes", "name": 5, "v": "4, 5,6", "m": [[2, 0], [0, 2]],
+                                   "other": "left out"})
+    assert got == {"x": 0.25, "n": 7, "on": True, "name": "5", "v": (4.0, 5.0, 6.0), "m": ([2, 0], [0, 2])}
+    assert isinstance(got["x"], float) and isinstance(got["n"], int)
+    for bad in ({"x": "nan"}, {"n": "2.5"}, {"on": "maybe"}, {"v": "1,2"}, {"m": "1,0,0,1"}, {"x": True}):
+        with pytest.raises(DataError):
+            convert_options("T", T, bad)
