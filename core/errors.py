@@ -101,11 +101,12 @@ def convert_options(owner: str, cls: type, options: Mapping[str, Any], *, kind: 
         default = fields[name].default
         if isinstance(default, attrs.Factory):  # type: ignore[arg-type]
             default = default.factory()
-        out[name] = _convert_value(owner, f"{kind} {name}", value, default)
+        out[name] = convert_value(owner, f"{kind} {name}", value, default)
     return out
 
 
-def _convert_value(owner: str, field: str, value: Any, default: Any) -> Any:
+def convert_value(owner: str, field: str, value: Any, default: Any) -> Any:
+    """``value`` converted to the type of ``default`` (see :func:`convert_options`); ``field`` names it in errors."""
     def bad(what: str) -> DataError:
         example = ",".join(f"{x:g}" for x in default) if isinstance(default, tuple) else str(default).lower()
         return DataError(None, field, f"{value!r} is not {what}",

@@ -491,6 +491,11 @@ class Option:
 
     def parse(self, value: Any) -> Any:
         if self.unit is None:
+            if isinstance(self.default, (bool, int, float)) and value is not self.default:
+                # a count or a flag given as text on the command line: its default's type, or a clear error
+                from .errors import convert_value
+
+                return convert_value("this item", f"option {self.name}", value, self.default)
             return value
         return parse_quantity(value, dimension=self.unit, field=f"option {self.name}")
 

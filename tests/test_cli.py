@@ -184,3 +184,16 @@ def test_a_station_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, 
                            "--no-progress")
     assert code == 2 and option.split("=")[0] in err and says in err and "Traceback" not in err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("std, item, option, says", [
+    ("gbt45570", "D.1.1", "turns=2.5", "is not a whole number"),
+    ("gbt45570", "D.1.4", "Q=seven", "is not a whole number"),
+    ("jjf2014", "7.2.13", "batches=many", "is not a whole number"),
+])
+def test_an_item_count_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, std, item, option, says):
+    """A unitless option whose default is a count takes a whole number (it once ended in a
+    ValueError traceback from int())."""
+    code, _, err = run_cli("run", "-s", std, "-i", item, "-o", option, "--out", str(tmp_path / "o"), "--no-progress")
+    assert code == 2 and option.split("=")[0] in err and says in err and "Traceback" not in err
+    assert not (tmp_path / "o").exists()
