@@ -488,6 +488,11 @@ class Option:
     default: Any
     unit: str | None
     description: str
+    #: the least value a count (an option whose default is a whole number) may take; 1 if not given
+    minimum: int | None = attrs.field(default=None, kw_only=True)
+    #: the largest; 10 000 if not given (a typo such as frequencies=1e9 must not try to allocate
+    #: a billion segments)
+    maximum: int | None = attrs.field(default=None, kw_only=True)
 
     def parse(self, value: Any) -> Any:
         if self.unit is None:
@@ -495,7 +500,13 @@ class Option:
                 # a count or a flag given as text on the command line: its default's type, or a clear error
                 from .errors import convert_value
 
-                return convert_value("this item", f"option {self.name}", value, self.default)
+                value = convert_value("this item", f"option {self.name}", value, self.default)
+            if isinstance(self.default, int) and not isinstance(self.default, bool):
+                least = 1 if self.minimum is None else self.minimum
+                most = 10_000 if self.maximum is None else self.maximum
+                if not least <= value <= most:
+                    raise DataError(None, f"option {self.name}", f"{value} is outside {least} … {most}",
+                                    hint=f"{self.description} (default {self.default})")
             return value
         return parse_quantity(value, dimension=self.unit, field=f"option {self.name}")
 

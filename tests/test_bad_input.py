@@ -102,3 +102,28 @@ def test_json_error_document(tmp_path, campaign_factory, run_cli):
     assert code == 2
     doc = json.loads(stdout)
     assert doc["field"] == "site.latitude" and doc["file"].endswith("manifest.toml")
+
+
+def test_every_item_option_refuses_a_bad_value_clearly():
+    """Every option of every built-in item, given text that is no number, a negative number, zero
+    or an absurd count, either runs or stops with a clear metro error — never a ValueError,
+    ZeroDivisionError, IndexError or MemoryError from inside a formula or a simulation (58 such
+    cases were found this way: turns=0, batches=0, rates=0, frequencies=1e9, …)."""
+    from metro.core.errors import MetroError
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import run_items
+
+    pm = get_plugin_manager(autoload=False)
+    failures = []
+    for std in ("gbt45570", "jjf2014", "jjf2003", "ogam"):
+        station = {"duration_scale": 0.05} if std in ("gbt45570", "jjf2014") else {}
+        for cls in pm.procedures_of(std):
+            for opt in cls.options:
+                for value in ("abc", "-1", "0", "1e9"):
+                    try:
+                        run_items(pm, std, [cls.item], options={opt.name: value}, station_options=station)
+                    except MetroError:
+                        pass
+                    except Exception as exc:  # noqa: BLE001 - what the test looks for
+                        failures.append(f"{std} {cls.item} -o {opt.name}={value}: {type(exc).__name__}: {exc}"[:160])
+    assert not failures, "\n".join(failures)

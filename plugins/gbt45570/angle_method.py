@@ -363,7 +363,7 @@ class ScaleFactorRepeatabilityD14(Procedure):
     equipment = _EQUIPMENT
     options = (Option("rate", REPEAT_RATE, "deg/s", "table rate of the repeats (D.1.4.2: 30 °/s)"),
                Option("turns", 5, None, "whole revolutions m each way"),
-               Option("Q", 7, None, "number of power-ons; D.11 is written for 7"))
+               Option("Q", 7, None, "number of power-ons; D.11 is written for 7", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         from metro.core.units import parse_quantity

@@ -214,7 +214,7 @@ class LowTemperatureOperationD61(_TemperatureOperation):
                                    columns={"output": OUTPUT_UNITS}),)
     options = (Option("temperature", "-55 °C", "degC", "the low temperature point (product spec; table C.1 row 1: "
                                                      "−45/−55/−20 °C, the default covers all three)"),
-               Option("batches", 20, None, "batch means for the bias's type A uncertainty"))
+               Option("batches", 20, None, "batch means for the bias's type A uncertainty", minimum=2))
 
 
 class HighTemperatureOperationD62(_TemperatureOperation):
@@ -232,7 +232,7 @@ class HighTemperatureOperationD62(_TemperatureOperation):
                                    columns={"output": OUTPUT_UNITS}),)
     options = (Option("temperature", "85 °C", "degC", "the high temperature point (product spec; table C.1 row 3: "
                                                     "+70/+85/+60 °C, the default covers all three)"),
-               Option("batches", 20, None, "batch means for the bias's type A uncertainty"))
+               Option("batches", 20, None, "batch means for the bias's type A uncertainty", minimum=2))
 
 
 # --------------------------------------------------------------------------------------------
@@ -317,7 +317,7 @@ class VibrationD63(Procedure):
         Option("performance_level", "6.6 g", "gn", "performance vibration level, g_rms (product spec; table C.1 row 8)"),
         Option("endurance_level", "9 g", "gn", "endurance vibration level, g_rms (product spec; table C.1 row 9)"),
         Option("vibration_time", "10 min", "s", "vibration time per axis (product spec)"),
-        Option("batches", 10, None, "batch means per segment for the type A uncertainty"),
+        Option("batches", 10, None, "batch means per segment for the type A uncertainty", minimum=2),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -418,7 +418,7 @@ class MechanicalShockD64(Procedure):
         Option("axes", "IRA, XRA, YRA", None, "axes along the shock (D.6.4.2 e))"),
         Option("level", "40 g", "gn", "peak acceleration (product spec; table C.1 row 10)"),
         Option("pulse", "20 ms", "ms", "pulse duration (product spec; table C.1 row 10)"),
-        Option("batches", 10, None, "batch means per segment for the type A uncertainty"),
+        Option("batches", 10, None, "batch means per segment for the type A uncertainty", minimum=2),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -600,7 +600,7 @@ class PowerConsumption6278(Procedure):
     options = (
         Option("supplies", "5 V, 15 V, -15 V", None, "nominal voltages of the gyro's supplies"),
         Option("record", "60 s", "s", "record per supply"),
-        Option("batches", 10, None, "batch means per supply for the type A uncertainty"),
+        Option("batches", 10, None, "batch means per supply for the type A uncertainty", minimum=2),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:

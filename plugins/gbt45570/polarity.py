@@ -72,7 +72,7 @@ class Polarity626(Procedure):
     options = (Option("rate", "10 deg/s", "deg/s", "the positive (counter-clockwise about +IA) turning rate"),
                Option("duration", "20 s", "s", "record length at rest and turning"),
                Option("interval", "0.1 s", "s", "sampling interval"),
-               Option("batches", 10, None, "batch means for the type A uncertainty of each mean"))
+               Option("batches", 10, None, "batch means for the type A uncertainty of each mean", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})

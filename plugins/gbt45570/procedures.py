@@ -144,7 +144,7 @@ class BiasD51(Procedure):
     equipment = _EQUIPMENT
     options = (
         Option("segment", None, None, "id of the static segment to use (default: the first)"),
-        Option("batches", 20, None, "number of batch means for the type A uncertainty"),
+        Option("batches", 20, None, "number of batch means for the type A uncertainty", minimum=2),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -323,8 +323,8 @@ class BiasRepeatabilityD53(Procedure):
                                    conditions={"orientation": "", "run": ""}, columns={"output": OUTPUT_UNITS},
                                    min_count=7),)
     equipment = _EQUIPMENT
-    options = (Option("Q", 7, None, "number of repeats (≥ 7) for the sequence"),
-               Option("batches", 20, None, "batch means per run for each bias's type A uncertainty"))
+    options = (Option("Q", 7, None, "number of repeats (≥ 7) for the sequence", minimum=2),
+               Option("batches", 20, None, "batch means per run for each bias's type A uncertainty", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         q = int(options.get("Q", 7))
@@ -387,7 +387,7 @@ class BiasTemperatureSensitivityD54(Procedure):
     options = (Option("temperatures", "-40 °C, 20 °C, 60 °C", None,
                       "temperature points for the sequence: both limits and room temperature (D.5.4.2 b))"),
                Option("room", "20 °C", "degC", "room temperature T0: the nearest point is the reference"),
-               Option("batches", 20, None, "batch means per point for each bias's type A uncertainty"))
+               Option("batches", 20, None, "batch means per point for each bias's type A uncertainty", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         temps = [t.strip() for t in str(options.get("temperatures", "-40 °C, 20 °C, 60 °C")).split(",")]
@@ -463,7 +463,7 @@ class BiasMagneticSensitivityD55(Procedure):
     equipment = _EQUIPMENT + (EquipmentRequirement("field_generator", "DC magnetic field generator, uniformity "
                                                    "better than 5 % over the gyro (D.5.5.1 b))"),)
     options = (Option("H_b", "1 mT", "mT", "field strength for the sequence"),
-               Option("batches", 20, None, "batch means per segment for each bias's type A uncertainty"))
+               Option("batches", 20, None, "batch means per segment for each bias's type A uncertainty", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         H = parse_quantity(options.get("H_b", "1 mT"), dimension="mT").to("mT").magnitude
@@ -554,7 +554,7 @@ class AngleRandomWalkD56(Procedure):
     equipment = _EQUIPMENT
     options = (
         Option("segment", None, None, "id of the static segment to use (default: the first)"),
-        Option("min_blocks", 10, None, "keep a τ level only while it has at least this many blocks"),
+        Option("min_blocks", 10, None, "keep a τ level only while it has at least this many blocks", minimum=2),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:

@@ -528,7 +528,7 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
     metrics = (Metric("Kr", "scale factor repeatability", "K_r", "ppm", "D.2.4.3", "D.28"),)
     requires = (attrs.evolve(RATE_OUTPUT, conditions={"rate": "deg/s", "run": ""}, min_count=154),
                 attrs.evolve(REST, conditions={"when": "", "run": ""}, min_count=14))
-    options = _OPTIONS + (Option("Q", 7, None, "number of power-ons; D.28 is written for 7"),)
+    options = _OPTIONS + (Option("Q", 7, None, "number of power-ons; D.28 is written for 7", minimum=2),)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         q = int(options.get("Q", 7))

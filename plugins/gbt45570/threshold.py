@@ -85,7 +85,7 @@ class ThresholdD4(Procedure):
         Option("levels", "0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.03, 0.05", None,
                "inputs Ω_e·cos Ψ_i of the tilt series in °/h, smallest first (the sequence's Ψ_i)"),
         Option("seconds", "600 s", "s", "record per position, τ = 1 s (D.4.2 d): n = 600)"),
-        Option("batches", 10, None, "batch means per position for the type A uncertainty"),
+        Option("batches", 10, None, "batch means per position for the type A uncertainty", minimum=2),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -228,9 +228,13 @@ def _levels(text: Any) -> list[float]:
         if not part:
             continue
         try:
-            out.append(float(part))
+            x = float(part)
         except ValueError as exc:
             raise DataError(None, "option levels", f"{part!r} is not a number of °/h") from exc
+        if not 0.0 < x < EARTH_RATE_DEG_PER_H:
+            # a tilt input Ω_e·cos Ψ (D.37) lies between 0 and the earth rate
+            raise DataError(None, "option levels", f"{part} °/h is not an input a tilt can give (0 … {EARTH_RATE_DEG_PER_H:.3f} °/h)")
+        out.append(x)
     return out
 
 

@@ -53,6 +53,9 @@ def _floats(text: Any, what: str) -> list[float]:
         raise ProcedureError(f"option {what}: {text!r} is not a comma-separated list of numbers") from exc
     if not vals:
         raise ProcedureError(f"option {what} is empty")
+    if what in ("rates", "levels", "increments") and not all(v > 0 and math.isfinite(v) for v in vals):
+        # magnitudes: each is applied in both directions (7.2.1.1 b), 7.2.9, 7.2.10)
+        raise ProcedureError(f"option {what}: every value must be a positive magnitude in °/s, got {text!r}")
     return vals
 
 
@@ -932,7 +935,7 @@ class Bias(_JJF):
     metrics = (Metric("B0", "bias", "B₀", "deg/h", "7.2.13.2", "28"),)
     requires = ScaleFactor.requires + (SegmentRequirement("static", STATIC_STEP_DESC, {"orientation": ""},
                                                           {"output": ("mV",)}, min_duration=Q_(1, "h")),)
-    options = RATE_OPTS + (EARTH_OPT, Option("batches", 20, None, "batch means for the type A uncertainty"))
+    options = RATE_OPTS + (EARTH_OPT, Option("batches", 20, None, "batch means for the type A uncertainty", minimum=2))
 
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [

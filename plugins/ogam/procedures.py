@@ -471,7 +471,11 @@ class PositionError74(_EBase):
         warnings: list[str] = []
         S, E, rounds, _R, R_i, rows, sim = self._reference(campaign, opts, warnings)
         rnums = [r for r, _ in rounds]
-        want = rnums[0] if opts["round"] is None else int(str(opts["round"]))
+        try:
+            want = rnums[0] if opts["round"] is None else int(str(opts["round"]))
+        except ValueError:
+            raise DataError(None, "option round", f"{opts['round']!r} is not a round number",
+                            hint=f"the rounds recorded: {', '.join(map(str, rnums))}") from None
         if want not in rnums:
             raise ProcedureError(f"7.4: no round {want} at 60 °/s axis up; rounds: {rnums}")
         e_i = E[rnums.index(want)]
