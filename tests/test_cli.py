@@ -197,3 +197,18 @@ def test_an_item_count_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_pa
     code, _, err = run_cli("run", "-s", std, "-i", item, "-o", option, "--out", str(tmp_path / "o"), "--no-progress")
     assert code == 2 and option.split("=")[0] in err and says in err and "Traceback" not in err
     assert not (tmp_path / "o").exists()
+
+
+def test_json_is_strict_json_even_with_infinite_degrees_of_freedom(run_cli):
+    """--json is read by other programs: no NaN or Infinity literals (invalid JSON), also where a
+    budget has ν_eff = ∞ (D.6.1's T_low row is type B only)."""
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.6.1,D.5.1", "--station-option", "duration_scale=0.5",
+                             "--json", "--no-report", "--no-progress")
+    assert code == 0, err
+
+    def refuse(name):
+        raise AssertionError(f"{name} in the JSON output")
+
+    doc = json.loads(out, parse_constant=refuse)
+    t_low = next(b for b in doc["budgets"] if b["measurand"] == "T_low")
+    assert t_low["nu_eff"] is None and t_low["rows"][0]["dof"] is None  # ∞ is written as null
