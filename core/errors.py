@@ -121,26 +121,22 @@ def convert_value(owner: str, field: str, value: Any, default: Any) -> Any:
         if text in ("0", "false", "no", "off"):
             return False
         raise bad("true or false")
-    if isinstance(default, int):
+    if isinstance(default, (int, float)):  # bool was handled above
+        whole = isinstance(default, int)
+        what = "a whole number" if whole else "a number"
         if isinstance(value, bool):
-            raise bad("a whole number")
+            raise bad(what)
         try:
             f = float(value)
         except (TypeError, ValueError):
-            raise bad("a whole number") from None
-        if not math.isfinite(f) or f != int(f):
-            raise bad("a whole number")
-        return int(f)
-    if isinstance(default, float):
-        if isinstance(value, bool):
-            raise bad("a number")
-        try:
-            f = float(value)
-        except (TypeError, ValueError):
-            raise bad("a number") from None
+            raise bad(what) from None
         if not math.isfinite(f):
-            raise bad("a finite number")
-        return f
+            raise bad(what if whole else "a finite number")
+        if not whole:
+            return f
+        if f != int(f):
+            raise bad(what)
+        return int(f)
     if isinstance(default, tuple):
         if isinstance(value, (tuple, list)):
             return tuple(value)
