@@ -77,7 +77,7 @@ class ScpiDmm(DmmDriver):
         try:
             self._inst.clear()
             self.device_cleared = True
-        except Exception:  # noqa: BLE001 - NotImplementedError, VI_ERROR_NSUP_OPER, …
+        except Exception:  # noqa: BLE001 - a backend without viClear (pyvisa-sim), VI_ERROR_NSUP_OPER, …
             pass
         try:
             #: what the instrument said it is when the driver opened (an absent one fails here)
