@@ -32,6 +32,7 @@ from typing import Literal
 import attrs
 import pint
 
+from .report import power_of_ten
 from .units import Q_, fmt_unit, ureg
 
 Distribution = Literal["normal", "uniform", "triangular", "arcsine", "t", "rectangular"]
@@ -315,9 +316,6 @@ def _decimal_round(x: Decimal, exponent: int, mode: str) -> Decimal:
     raise ValueError(f"unknown rounding mode {mode!r}")
 
 
-_SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
-
-
 def _fmt_decimal(d: Decimal, exponent: int) -> str:
     """Text of ``d`` keeping digits down to 10**exponent: plain, or ``1.4×10⁻⁶`` for large/small
     numbers (the way certificates print them)."""
@@ -331,7 +329,7 @@ def _fmt_decimal(d: Decimal, exponent: int) -> str:
     # scientific: mantissa with (lead - exponent) decimals
     ndec = max(lead - exponent, 0)
     mant = d.scaleb(-lead)
-    return f"{mant:.{ndec}f}×10{str(lead).translate(_SUPERSCRIPT)}"
+    return power_of_ten(f"{mant:.{ndec}f}", lead)
 
 
 def round_uncertainty(U: float, *, digits: int = 2, mode: str = "half-even", unit=None) -> Reported:

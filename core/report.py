@@ -57,6 +57,12 @@ _DASH = "—"
 _SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
 
 
+def power_of_ten(mantissa: str, exponent: int) -> str:
+    """``mantissa×10ⁿ`` as certificates print it: ``power_of_ten("1.4", -6)`` → ``1.4×10⁻⁶``
+    (the one place metro writes a power of ten; budget rounding and :func:`fmt_num` use it)."""
+    return f"{mantissa}×10{str(int(exponent)).translate(_SUPERSCRIPT)}"
+
+
 # --------------------------------------------------------------------------------------
 # Number and unit formatting
 # --------------------------------------------------------------------------------------
@@ -86,11 +92,7 @@ def fmt_num(x: Any, sig: int = 4) -> str:
         return "∞" if v > 0 else "-∞"
     if v == 0:
         return "0"
-    text = f"{v:.{sig}g}"
-    if "e" in text:
-        mant, exp = text.split("e")
-        return f"{mant}×10{str(int(exp)).translate(_SUPERSCRIPT)}"
-    return text
+    return pretty_powers(f"{v:.{sig}g}")
 
 
 _SCI = re.compile(r"(?<![\w./\-])(-?\d+(?:\.\d+)?)[eE]([+-]\d{1,3})\b")
@@ -106,7 +108,7 @@ def pretty_powers(text: str) -> str:
     >>> pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a")
     'band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a'
     """
-    return _SCI.sub(lambda m: f"{m.group(1)}×10{str(int(m.group(2))).translate(_SUPERSCRIPT)}", text)
+    return _SCI.sub(lambda m: power_of_ten(m.group(1), int(m.group(2))), text)
 
 
 def _pretty_context(obj: Any) -> Any:
@@ -134,8 +136,6 @@ def fmt_dof(d: float | None) -> str:
         return f"{d:.0f}"
     return f"{d:.3g}"
 
-
-_fmt_dof = fmt_dof
 
 
 _ROOTS = ((math.sqrt(2.0), "√2"), (math.sqrt(3.0), "√3"), (math.sqrt(6.0), "√6"))
@@ -276,7 +276,7 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
             "divisor": _fmt_divisor(row["divisor"]),
             "sensitivity": _with_unit(fmt_num(row["sensitivity"]), sens_unit),
             "contribution": fmt_num(row["contribution"]),
-            "dof": _fmt_dof(row["dof"]),
+            "dof": fmt_dof(row["dof"]),
         })
     m = r.metric
     k_text = fmt_num(d["k"], 3)
@@ -290,7 +290,7 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
         "relative": d["relative"],
         "rows": rows,
         "u_c": fmt_num(d["u_c"]),
-        "nu_eff": _fmt_dof(d["nu_eff"]),
+        "nu_eff": fmt_dof(d["nu_eff"]),
         "k": k_text,
         "coverage": d["coverage"],
         "U": d["U_reported"],

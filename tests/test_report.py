@@ -352,9 +352,9 @@ def test_generic_report_states_the_decision_rule_and_each_verdict(tmp_path):
 
 
 def test_degrees_of_freedom_print_without_false_precision():
-    from metro.core.report import _fmt_dof
+    from metro.core.report import fmt_dof
 
-    assert [_fmt_dof(x) for x in (None, float("inf"), 6.0, 34.27, 3308.4, 21776473.0)] == \
+    assert [fmt_dof(x) for x in (None, float("inf"), 6.0, 34.27, 3308.4, 21776473.0)] == \
         ["∞", "∞", "6", "34.3", "3308", "2.2×10⁷"]
 
 
