@@ -498,7 +498,7 @@ class Option:
         if self.unit is None:
             if isinstance(self.default, (bool, int, float)) and value is not self.default:
                 # a count or a flag given as text on the command line: its default's type, or a clear error
-                from .errors import convert_value
+                from .options import convert_value
 
                 value = convert_value("this item", f"option {self.name}", value, self.default)
             if isinstance(self.default, int) and not isinstance(self.default, bool):

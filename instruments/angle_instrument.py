@@ -35,7 +35,7 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.errors import check_options, convert_options
+from metro.core.options import station_options
 from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
@@ -241,10 +241,8 @@ class AngleInstrumentStation:
 
 def station_factory(**options: Any) -> AngleInstrumentStation:
     """Factory of the ``simulated-ogam`` station (options: seed, latitude_deg, and any truth field)."""
-    check_options("simulated-ogam", options, [*attrs.fields_dict(AngleInstrumentTruth), "latitude_deg"])
-    truth_kw = convert_options("simulated-ogam", AngleInstrumentTruth, options)
-    st_kw = convert_options("simulated-ogam", AngleInstrumentStation,
-                            {k: v for k, v in options.items() if k == "latitude_deg"})
+    truth_kw, st_kw = station_options("simulated-ogam", AngleInstrumentTruth, AngleInstrumentStation, options,
+                                      ("latitude_deg",))
     return AngleInstrumentStation(truth=AngleInstrumentTruth(**truth_kw), **st_kw)
 
 

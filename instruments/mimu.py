@@ -305,12 +305,10 @@ def _expected(station: MimuStation, camp: Campaign, realized: Mapping[str, tuple
 
 def station_factory(**options: Any) -> MimuStation:
     """Factory registered as ``simulated-mimu`` (options: seed, bits, latitude_deg, duration_scale, …)."""
-    from metro.core.errors import check_options, convert_options
+    from metro.core.options import station_options
 
-    st_names = ("latitude_deg", "duration_scale")
-    check_options("simulated-mimu", options, [*attrs.fields_dict(MimuTruth), *st_names])
-    truth_kw = convert_options("simulated-mimu", MimuTruth, options)
-    st_kw = convert_options("simulated-mimu", MimuStation, {k: v for k, v in options.items() if k in st_names})
+    truth_kw, st_kw = station_options("simulated-mimu", MimuTruth, MimuStation, options,
+                                      ("latitude_deg", "duration_scale"))
     return MimuStation(truth=MimuTruth(**truth_kw), **st_kw)
 
 

@@ -432,13 +432,10 @@ def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) ->
 
 def station_factory(**options: Any) -> SimulatedStation:
     """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale …)."""
-    from metro.core.errors import check_options, convert_options
+    from metro.core.options import station_options
 
-    owner = "the simulated gyro station"
-    st_names = ("latitude_deg", "duration_scale")
-    check_options(owner, options, [*attrs.fields_dict(GyroTruth), *st_names])
-    truth_kw = convert_options(owner, GyroTruth, options)
-    st_kw = convert_options(owner, SimulatedStation, {k: v for k, v in options.items() if k in st_names})
+    truth_kw, st_kw = station_options("the simulated gyro station", GyroTruth, SimulatedStation, options,
+                                      ("latitude_deg", "duration_scale"))
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
 
 

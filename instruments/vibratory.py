@@ -45,7 +45,7 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.errors import check_options, convert_options
+from metro.core.options import station_options
 from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
 from metro.core.units import Q_, parse_quantity
 
@@ -577,11 +577,9 @@ class VibratoryStation:
 def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
     latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors)."""
-    owner = "simulated-jjf2014"
-    st_names = ("latitude_deg", "duration_scale", "nonlinearity_spec", "instrument_errors", "table_errors")
-    check_options(owner, options, [*attrs.fields_dict(VibratoryTruth), *st_names])
-    truth_kw = convert_options(owner, VibratoryTruth, options)
-    st_kw = convert_options(owner, VibratoryStation, {k: v for k, v in options.items() if k in st_names})
+    truth_kw, st_kw = station_options("simulated-jjf2014", VibratoryTruth, VibratoryStation, options,
+                                      ("latitude_deg", "duration_scale", "nonlinearity_spec", "instrument_errors",
+                                       "table_errors"))
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 

@@ -102,7 +102,8 @@ def test_the_definitions_cache_is_per_installation_and_never_fatal(tmp_path):
 def test_convert_options_gives_each_field_its_type():
     import attrs
 
-    from metro.core.errors import DataError, convert_options
+    from metro.core.errors import DataError
+    from metro.core.options import convert_options
 
     @attrs.frozen
     class T:
