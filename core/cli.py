@@ -161,9 +161,7 @@ def _cmd_run(args) -> int:
 
         raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
     options = _options(args.option)
-    station_options = {k: _number(v) for k, v in _options(args.station_option).items()}
-    if args.seed is not None:
-        station_options["seed"] = args.seed
+    station_options = _station_options(args)
     if args.data is not None and (station_options or args.station):
         from .errors import MetroError
 
@@ -317,6 +315,14 @@ def _number(text: str) -> Any:
     return text
 
 
+def _station_options(args) -> dict[str, Any]:
+    """--station-option NAME=VALUE (numbers read as numbers) and --seed, for the station's factory."""
+    opts = {k: _number(v) for k, v in _options(args.station_option).items()}
+    if args.seed is not None:
+        opts["seed"] = args.seed
+    return opts
+
+
 def _cmd_acquire(args) -> int:
     from rich.console import Console
 
@@ -325,9 +331,7 @@ def _cmd_acquire(args) -> int:
     from . import present
 
     pm = _pm(args)
-    station_options = {k: _number(v) for k, v in _options(args.station_option).items()}
-    if args.seed is not None:
-        station_options["seed"] = args.seed
+    station_options = _station_options(args)
     with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
         manifest = acquire_campaign(pm, args.standard, _items(args.item), args.out, station=args.station,
                                     options=_options(args.option), station_options=station_options,

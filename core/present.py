@@ -94,9 +94,9 @@ def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
         "device": {"id": c.device.id, "model": c.device.model, "serial": c.device.serial},
         "environment": {k: _q(v) for k, v in c.environment.items()},
         "site": {k: _q(v) for k, v in c.site.items()},
-        "equipment": [{"id": e.id, "role": e.role, "status": e.status(_test_date(record)),
+        "equipment": [{"id": e.id, "role": e.role, "status": e.status(record.test_date),
                        "calibration_valid": None if e.calibration is None
-                       else e.calibration.is_valid(_test_date(record))} for e in c.equipment],
+                       else e.calibration.is_valid(record.test_date)} for e in c.equipment],
         "timings_s": dict(record.timings),
         "selection": [{"item": ch.item, "run": ch.run, "reason": ch.reason, "via": ch.via}
                       for ch in record.selection],
@@ -161,8 +161,8 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
         for w in o.warnings:
             con.print(f"[yellow]warning ({o.item}):[/] {pretty_powers(w)}")
     for e in c.equipment:
-        if e.calibration is not None and not e.calibration.is_valid(_test_date(record)):
-            con.print(f"[bold red]equipment {e.id}[/]: {e.status(_test_date(record))} — results that depend on it "
+        if e.calibration is not None and not e.calibration.is_valid(record.test_date):
+            con.print(f"[bold red]equipment {e.id}[/]: {e.status(record.test_date)} — results that depend on it "
                       "are not traceable; recalibrate it or use other equipment")
     checks = truth_checks(record)
     if record.simulated and not record.truth:
@@ -193,13 +193,6 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
     for f, h in record.data_files:
         con.print(f"data: {f}  sha256 {h}")
     con.print(f"report number {record.report_number}" + (f"; Word report: {report_path}" if report_path else ""))
-
-
-def _test_date(record: RunRecord):
-    """The day the run was made (calibration status is judged on it)."""
-    import datetime as dt
-
-    return record.created.date() if isinstance(record.created, dt.datetime) else record.created
 
 
 def _num_unit(x: Any, unit_text: str, sig: int = 3) -> str:

@@ -42,6 +42,11 @@ class RunRecord:
     def standard(self) -> str:
         return self.outcomes[0].standard if self.outcomes else ""
 
+    @property
+    def test_date(self) -> dt.date:
+        """The day of the run: equipment calibration status is judged on it."""
+        return self.created.date() if isinstance(self.created, dt.datetime) else self.created
+
 
 def software_versions() -> dict[str, str]:
     from importlib import metadata

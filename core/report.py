@@ -420,7 +420,7 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     camp = record.campaign
     dev = camp.device
     simulated = bool(record.simulated or camp.simulated)
-    on = record.created.date() if isinstance(record.created, dt.datetime) else record.created
+    on = record.test_date
 
     # standards and items, in the order the outcomes came
     standards: dict[str, list[str]] = {}
