@@ -254,11 +254,13 @@ def _rate_row(campaign: Campaign, what: str, value: float, unit: str, note: str,
                              distribution="normal", k=1.0, sensitivity=Q_(abs(value), unit), note=note)]
 
 
-def _through_fit(rates: np.ndarray, u_rel: list[float]) -> float:
-    """Relative standard uncertainty of the D.21 slope K from independent relative rate errors
-    u_rel[i] at each set point: δK/K = Σ c_K,i·Ω_i·δ_i."""
-    _, cb = F2.line_fit_sensitivities(rates)
-    return float(np.sqrt(np.sum((cb * rates * np.asarray(u_rel)) ** 2)))
+def _through_fit(rates: np.ndarray, u_rel: list[float], *, intercept: bool = False) -> float:
+    """What independent relative rate errors u_rel[i] at the set points do to the D.21/D.22 fit:
+    the relative standard uncertainty of the slope, δK/K = Σ c_K,i·Ω_i·δ_i, or (``intercept``)
+    the intercept's per unit K, δF₀/K = Σ c_F0,i·Ω_i·δ_i."""
+    ca, cb = F2.line_fit_sensitivities(rates)
+    c = ca if intercept else cb
+    return float(np.sqrt(np.sum((c * rates * np.asarray(u_rel)) ** 2)))
 
 
 def _intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float) -> list[BudgetRow]:
@@ -266,17 +268,13 @@ def _intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float) -> lis
     common to all set points cancels (Σ c_F0,j·Ω_j = 0 for a least-squares intercept); a fixed error
     of its own at each set point (uniform within its band, else the calibration's U/k) does not.
     Independent set points: u(F₀) = |K|·√Σ(c_F0,j·Ω_j·u_rel,j)²."""
-    ca, _ = F2.line_fit_sensitivities(rates)
-    rel = []
-    for r in rates:
-        x = rate_table_rel(campaign, float(r))
-        if x is None:
-            return []
-        rel.append(x[0])
-    c = float(np.sqrt(np.sum((ca * rates * np.asarray(rel)) ** 2)))
-    what = rate_table_rel(campaign, float(rates[np.argmax(np.abs(ca * rates * np.asarray(rel)))]))
-    return [BudgetRow.type_b(f"rate-table error at each set point, through D.22 ({what[1] if what else ''})",
-                             "u(F₀)", Q_(abs(K) * c, "LSB"), distribution="normal", k=1.0,
+    per_point = [rate_table_rel(campaign, float(r)) for r in rates]
+    if any(x is None for x in per_point):
+        return []
+    u = abs(K) * _through_fit(rates, [x[0] for x in per_point], intercept=True)
+    table = campaign.equipment_for("rate_table")
+    return [BudgetRow.type_b(f"rate-table error at each set point, within its band, through D.22 ({table.describe()})",
+                             "u(F₀)", Q_(u, "LSB"), distribution="normal", k=1.0,
                              note="a fixed error of its own at each Ω_ij, independent between set points; "
                                   "an error common to all cancels in the intercept")]
 

@@ -53,8 +53,14 @@ def _floats(text: Any, what: str) -> list[float]:
         raise ProcedureError(f"option {what}: {text!r} is not a comma-separated list of numbers") from exc
     if not vals:
         raise ProcedureError(f"option {what} is empty")
-    if what in ("rates", "levels", "increments") and not all(v > 0 and math.isfinite(v) for v in vals):
-        # magnitudes: each is applied in both directions (7.2.1.1 b), 7.2.9, 7.2.10)
+    return vals
+
+
+def _magnitudes(text: Any, what: str) -> list[float]:
+    """A list option of rate magnitudes (°/s), each applied in both directions (7.2.1.1 b),
+    7.2.9, 7.2.10): every value positive and finite."""
+    vals = _floats(text, what)
+    if not all(v > 0 and math.isfinite(v) for v in vals):
         raise ProcedureError(f"option {what}: every value must be a positive magnitude in °/s, got {text!r}")
     return vals
 
@@ -283,7 +289,7 @@ class ScaleFactor(_JJF):
     options = RATE_OPTS
 
     def sequence(self, options):
-        return _rate_steps("rate", _floats(options["rates"], "rates"))
+        return _rate_steps("rate", _magnitudes(options["rates"], "rates"))
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
@@ -409,7 +415,7 @@ class Repeatability(_JJF):
     def sequence(self, options):
         steps = []
         for q in range(1, _num(options, "runs", 2, integer=True) + 1):
-            steps += _rate_steps("rate-repeat", _floats(options["rates"], "rates"), {"run": str(q)}, tag=f"#{q}")
+            steps += _rate_steps("rate-repeat", _magnitudes(options["rates"], "rates"), {"run": str(q)}, tag=f"#{q}")
         return steps
 
     def evaluate(self, campaign, ctx):
@@ -490,7 +496,7 @@ class SFTemperature(_JJF):
     def sequence(self, options):
         steps = []
         for T in _floats(options["temperatures"], "temperatures"):
-            steps += _rate_steps("rate-temperature", _floats(options["rates"], "rates"),
+            steps += _rate_steps("rate-temperature", _magnitudes(options["rates"], "rates"),
                                  {"temperature": _q(T, "degC")}, tag=f"@{T:g}C")
         return steps
 
@@ -536,7 +542,7 @@ class SFAxialAcceleration(_JJF):
     def sequence(self, options):
         steps = []
         for o in ("IRA up", "IRA down"):
-            steps += _rate_steps("rate-accel", _floats(options["rates"], "rates"), {"orientation": o},
+            steps += _rate_steps("rate-accel", _magnitudes(options["rates"], "rates"), {"orientation": o},
                                  tag=f"[{o.split()[1]}]")
         return steps
 
@@ -568,7 +574,7 @@ class _SFChange(_JJF):
         steps = []
         for a in AXES:
             for p in ("before", "after"):
-                steps += _rate_steps(self.kind, _floats(options["rates"], "rates"), {"axis": a, "phase": p},
+                steps += _rate_steps(self.kind, _magnitudes(options["rates"], "rates"), {"axis": a, "phase": p},
                                      tag=f"[{a}-{p}]")
         return steps
 
@@ -669,7 +675,7 @@ class Threshold(_JJF):
         steps = ScaleFactor().sequence(options)
         steps.append(Step("threshold-0", "threshold", "table at rest (zero input)", Q_(n, "s"), Q_(1, "s"),
                           {"rate": "0 deg/s"}))
-        for r in _floats(options["levels"], "levels"):
+        for r in _magnitudes(options["levels"], "levels"):
             for sgn in (1, -1):
                 steps.append(Step(f"threshold{'+' if sgn > 0 else '-'}{r:g}", "threshold", f"table at {sgn * r:+g} °/s",
                                   Q_(n, "s"), Q_(1, "s"), {"rate": _q(sgn * r, "deg/s")}))
@@ -730,7 +736,7 @@ class Resolution(_JJF):
         for sgn, d in ((1, "+"), (-1, "-")):
             steps.append(Step(f"resolution{d}base", "resolution", f"base rate {sgn * base:+g} °/s", Q_(n, "s"),
                               Q_(1, "s"), {"base_rate": _q(sgn * base, "deg/s"), "increment": "0 deg/s"}))
-            for r in _floats(options["increments"], "increments"):
+            for r in _magnitudes(options["increments"], "increments"):
                 steps.append(Step(f"resolution{d}{r:g}", "resolution", f"base {sgn * base:+g} °/s + {sgn * r:+g} °/s",
                                   Q_(n, "s"), Q_(1, "s"),
                                   {"base_rate": _q(sgn * base, "deg/s"), "increment": _q(sgn * r, "deg/s")}))
