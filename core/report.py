@@ -317,10 +317,16 @@ def _table_block(t: "TableSpec") -> dict[str, Any]:
     }
 
 
+def plot_caption(title: str, item: str) -> str:
+    """A figure's caption: its title and the item it belongs to, ``(item)`` added once."""
+    return title if title.endswith(f"({item})") else f"{title} ({item})"
+
+
 def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: int) -> dict[str, Any]:
     results = list(o.results)
     plots = [
-        {"number": first_figure + i, "name": p.name, "title": p.title, "spec": p, "image": None}
+        {"number": first_figure + i, "name": p.name, "title": p.title, "caption": plot_caption(p.title, o.item),
+         "spec": p, "image": None}
         for i, p in enumerate(o.plots)
     ]
     return {
@@ -413,7 +419,8 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     measurand, result, unit, rows, u_c, nu_eff, k, coverage, U, U_unrounded, rounding,
     note}], each row {source, symbol, type, distribution, value, divisor, sensitivity,
     contribution, dof}), ``tables`` ([{name, title, header, rows}]), ``plots`` ([{number,
-    name, title, spec, image}]; ``image`` is filled in by :func:`write_report`) and
+    name, title, caption, spec, image}]; ``caption`` is the title with the item, ``image`` is filled in by
+    :func:`write_report`) and
     ``warnings``.
     """
     designations = dict(designations or {})

@@ -180,18 +180,18 @@ def residual_plot(spec: PlotSpec) -> PlotSpec | None:
 
 
 def _add_residual_figures(context: dict) -> None:
+    from metro.core.report import plot_caption
+
     n = 1
     for o in context.get("outcomes", []):
         plots = []
         for p in o["plots"]:
-            # the template adds "(item)" after every caption: a title that already ends so keeps one
-            p["title"] = p["title"].removesuffix(f" ({o['item']})")
             plots.append(p)
             if p["name"] == "K_rate" and o["standard"] == STANDARD:
                 extra = residual_plot(p["spec"])
                 if extra is not None:
-                    plots.append({"number": 0, "name": extra.name, "title": extra.title, "spec": extra,
-                                  "image": None})
+                    plots.append({"number": 0, "name": extra.name, "title": extra.title,
+                                  "caption": plot_caption(extra.title, o["item"]), "spec": extra, "image": None})
         for p in plots:
             p["number"] = n
             n += 1

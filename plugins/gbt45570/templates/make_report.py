@@ -205,7 +205,7 @@ def build() -> bytes:
     doc.add_paragraph("{%p for o in outcomes %}")
     doc.add_paragraph("{%p for p in o.plots %}")
     doc.add_paragraph("{{ p.image }}")
-    doc.add_paragraph("Figure {{ p.number }}: {{ p.title }} ({{ o.item }})")
+    doc.add_paragraph("Figure {{ p.number }}: {{ p.caption }}")
     doc.add_paragraph("{%p endfor %}")
     doc.add_paragraph("{%p endfor %}")
 
