@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from .provenance import RunRecord
-from .report import fmt_dof, fmt_num, pretty_powers
+from .report import fmt_dof, fmt_num, fmt_quantity, pretty_powers, with_unit
 from .units import fmt_unit
 
 
@@ -144,8 +144,9 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
                 bt.add_column(col)
             for row in b["rows"]:
                 bt.add_row(row["source"], row["type"], row["distribution"],
-                           _num_unit(row["standard_uncertainty"], row["value_unit"]),
-                           _num_unit(row["sensitivity"], row["sensitivity_unit"]), fmt_num(row["contribution"], 3),
+                           with_unit(fmt_num(row["standard_uncertainty"], 3), row["value_unit"]),
+                           with_unit(fmt_num(row["sensitivity"], 3), row["sensitivity_unit"]),
+                           fmt_num(row["contribution"], 3),
                            fmt_dof(row["dof"]))
             unit_ = "" if b["unit"] == "1" else f" {b['unit']}"
             bt.caption = (f"u_c = {fmt_num(b['u_c'], 3)}{unit_}, ν_eff = {fmt_dof(b['nu_eff'])}, k = {b['k']:.2f}, "
@@ -195,23 +196,9 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
     con.print(f"report number {record.report_number}" + (f"; Word report: {report_path}" if report_path else ""))
 
 
-def _num_unit(x: Any, unit_text: str, sig: int = 3) -> str:
-    """``1.03×10⁻⁷ P/″``; a dimensionless unit ("1") is not printed."""
-    num = fmt_num(x, sig) if isinstance(x, (int, float)) else str(x)
-    return num if unit_text in ("", "1") else f"{num} {unit_text}"
-
-
 def _fmt(v: Any) -> str:
-    try:
-        import pint
-
-        if isinstance(v, pint.Quantity):
-            return _num_unit(v.magnitude, fmt_unit(v.units), 6)
-    except ImportError:  # pragma: no cover
-        pass
-    if isinstance(v, float):
-        return fmt_num(v, 6)
-    return pretty_powers(str(v))
+    """A declared truth value on the terminal: a quantity with its unit, powers of ten as ×10ⁿ."""
+    return pretty_powers(fmt_quantity(v, 6))
 
 
 __all__ = ["progress", "as_json", "print_record", "truth_checks", "math"]

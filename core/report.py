@@ -156,8 +156,9 @@ def _unit_text(u: Any) -> str:
     return "" if text in ("1", "") else text
 
 
-def _with_unit(num: str, unit_text: str) -> str:
-    if not unit_text:
+def with_unit(num: str, unit_text: str) -> str:
+    """``num unit``; a dimensionless unit (empty or ``1``) is not printed."""
+    if unit_text in ("", "1"):
         return num
     return f"{num} {unit_text}"
 
@@ -168,7 +169,7 @@ def fmt_quantity(q: Any, sig: int = 4) -> str:
         mag = q.magnitude
         if getattr(mag, "ndim", 0):
             return f"[{', '.join(fmt_num(m, sig) for m in mag.ravel())}] {_unit_text(q.units)}".rstrip()
-        return _with_unit(fmt_num(mag, sig), _unit_text(q.units))
+        return with_unit(fmt_num(mag, sig), _unit_text(q.units))
     if isinstance(q, float):
         return fmt_num(q, sig)
     if q is None:
@@ -265,16 +266,14 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
     unit = d["unit"] if d["unit"] != "1" else ""
     rows = []
     for row in d["rows"]:
-        sens_unit = row["sensitivity_unit"] if row["sensitivity_unit"] != "1" else ""
-        value_unit = row["value_unit"] if row["value_unit"] != "1" else ""
         rows.append({
             "source": row["source"] + (f" ({row['note']})" if row["note"] else ""),
             "symbol": row["symbol"],
             "type": row["type"],
             "distribution": row["distribution"],
-            "value": _with_unit(fmt_num(row["value"]), value_unit),
+            "value": with_unit(fmt_num(row["value"]), row["value_unit"]),
             "divisor": _fmt_divisor(row["divisor"]),
-            "sensitivity": _with_unit(fmt_num(row["sensitivity"]), sens_unit),
+            "sensitivity": with_unit(fmt_num(row["sensitivity"]), row["sensitivity_unit"]),
             "contribution": fmt_num(row["contribution"]),
             "dof": fmt_dof(row["dof"]),
         })
