@@ -460,9 +460,6 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
 
 # ------------------------------------------------------------------------------ station
 
-#: segments whose input comes from other equipment than the rate table (the angular vibration
-#: table with its reference sensor) or from nothing that turns (static records)
-TABLE_KINDS_ELSEWHERE = frozenset({"angular-vibration"})
 
 
 @attrs.define
@@ -520,7 +517,8 @@ class VibratoryStation:
         """
         from .equipment import RateTable
 
-        if st.kind in TABLE_KINDS_ELSEWHERE or st.kind.startswith("static"):
+        # static records turn nothing; the angular vibration table has its own reference sensor
+        if st.kind == "angular-vibration" or st.kind.startswith("static"):
             return cols
         c = st.conditions
         names = ("base_rate", "increment") if st.kind == "resolution" else ("rate",)
