@@ -351,9 +351,19 @@ class Result:
     u: pint.Quantity | None = None
     budget: UncertaintyBudget | None = None
     note: str = ""
+    #: False when the data show the method's model does not hold (misfit, unresolved response,
+    #: quantization the budget cannot cover): the value is shown but not reported as a result.
+    reportable: bool = True
+    #: why the result is not reportable (required when ``reportable`` is False)
+    reason: str = ""
+    #: whether the earth's rate is contained in the value: "included", "removed", "not applicable"
+    #: or "" (not stated by the procedure)
+    earth_rate: str = ""
 
     def __attrs_post_init__(self) -> None:
         check_dimension(self.value, self.metric.unit, field=self.metric.key)
+        if not self.reportable and not self.reason.strip():
+            raise ProcedureError(f"{self.metric.key}: a result marked not reportable needs a reason")
         if not np.all(np.isfinite(np.asarray(self.value.magnitude, dtype=float))):
             raise ProcedureError(f"{self.metric.key}: result is not finite ({self.value})")
 
@@ -401,6 +411,9 @@ class Result:
             "nu_eff": None if self.budget is None or math.isinf(self.budget.nu_eff) else self.budget.nu_eff,
             "reported": {"value": vtext, "U": Utext},
             "note": self.note,
+            "reportable": self.reportable,
+            "reason": self.reason or None,
+            "earth_rate": self.earth_rate or None,
         }
 
 

@@ -1,6 +1,6 @@
 """Coverage of a standard's results over many seeds of its simulated station.
 
-Run:  .venv/bin/python benchmarks/coverage.py -s STANDARD (-i ITEMS | --all) [--seeds A:B]
+Run:  .venv/bin/python benchmarks/within_u.py -s STANDARD (-i ITEMS | --all) [--seeds A:B]
                                               [-o NAME=VALUE ...] [--station-option NAME=VALUE ...]
 
 For each seed the items run on their simulated station (as ``metro run`` without ``--data``, the
@@ -11,11 +11,11 @@ z = (result − expected)/(U/2), which is about 1 when U/2 is the right standard
 Not a test: a statistical statement needs hundreds of seeds.  The figures go to the standards'
 pages in docs/standards/ and to docs/interpretations.md.  Examples (the recorded runs):
 
-  benchmarks/coverage.py -s gbt45570 -i D.2.1,D.2.2,D.2.3,D.2.4,D.2.5,D.2.6 --seeds 1:301
-  benchmarks/coverage.py -s gbt45570 -i D.1.1,…,D.6.4,6.2.6,6.2.7.7,6.2.7.8 --seeds 1:201
-  benchmarks/coverage.py -s jjf2014 --all -o records=3 -o "sample_rate=2000 Hz" --seeds 1:31
-  benchmarks/coverage.py -s jjf2014 ... --station-option table_errors=false
-  benchmarks/coverage.py -s jjf2014 -i 7.2.20 --station-option rrw_deg_h_rt_h=5 --seeds 2000:2300
+  benchmarks/within_u.py -s gbt45570 -i D.2.1,D.2.2,D.2.3,D.2.4,D.2.5,D.2.6 --seeds 1:301
+  benchmarks/within_u.py -s gbt45570 -i D.1.1,…,D.6.4,6.2.6,6.2.7.7,6.2.7.8 --seeds 1:201
+  benchmarks/within_u.py -s jjf2014 --all -o records=3 -o "sample_rate=2000 Hz" --seeds 1:31
+  benchmarks/within_u.py -s jjf2014 ... --station-option table_errors=false
+  benchmarks/within_u.py -s jjf2014 -i 7.2.20 --station-option rrw_deg_h_rt_h=5 --seeds 2000:2300
 """
 
 from __future__ import annotations
