@@ -306,7 +306,25 @@ class Reported:
     unit: pint.Unit | None = None
 
 
+#: Digits of a float beyond this many significant ones are taken as binary artefacts of the
+#: arithmetic (0.1 + 0.2 = 0.30000000000000004), not as information: a relative 5×10⁻¹⁰ at most.
+ARTEFACT_DIGITS = 10
+
+
+def _without_artefact(x: Decimal, exponent: int) -> Decimal:
+    """``x`` with the float artefact beyond :data:`ARTEFACT_DIGITS` significant digits removed
+    (round half to even there), so that rounding *up* or a half-to-even tie at ``exponent``
+    only sees digits that carry information; left as it is when the kept digits reach that far."""
+    if x == 0:
+        return x
+    place = x.adjusted() - (ARTEFACT_DIGITS - 1)
+    if place < exponent:
+        return x.quantize(Decimal(1).scaleb(place), rounding=ROUND_HALF_EVEN)
+    return x
+
+
 def _decimal_round(x: Decimal, exponent: int, mode: str) -> Decimal:
+    x = _without_artefact(x, exponent)
     q = Decimal(1).scaleb(exponent)
     if mode == "half-even":
         return x.quantize(q, rounding=ROUND_HALF_EVEN)
