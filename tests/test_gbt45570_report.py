@@ -179,3 +179,23 @@ def test_fibre_gyro_takes_the_rate_method_and_table_b1():
     assert g["limits"]["table"] == "B.1" and g["method"].startswith("Scale-factor series by the rate method (D.2)")
     rows = {r["name"].split(" (")[0]: r for r in g["limits"]["rows"]}
     assert rows["零偏 bias"]["result"] == gbt_report.NOT_PERFORMED
+
+
+def test_clause5_rows_come_from_the_clause5_module(produced, monkeypatch):
+    """The clause-5 table's contract: ``metro.plugins.gbt45570.clause5.clause5_rows(record)`` gives
+    rows with clause, requirement, result, verdict (note optional); a row lacking one is an error."""
+    import sys
+    import types
+
+    rec = produced[0]
+    fake = types.ModuleType("metro.plugins.gbt45570.clause5")
+    fake.__spec__ = types.SimpleNamespace(name=fake.__name__)
+    fake.clause5_rows = lambda record: [{"clause": "5.2.1", "requirement": "scale factor",
+                                         "result": "1.0 ″/P", "verdict": "合格 conforms"}]
+    monkeypatch.setitem(sys.modules, fake.__name__, fake)
+    monkeypatch.setattr(sys.modules["metro.plugins.gbt45570"], "clause5", fake, raising=False)
+    assert gbt_report.clause5_rows(rec) == [{"clause": "5.2.1", "requirement": "scale factor",
+                                              "result": "1.0 ″/P", "verdict": "合格 conforms", "note": ""}]
+    fake.clause5_rows = lambda record: [{"clause": "5.2.1"}]
+    with pytest.raises(ValueError, match="requirement"):
+        gbt_report.clause5_rows(rec)

@@ -204,6 +204,31 @@ def data_digest(files: list[dict[str, str]]) -> str:
     return hashlib.sha256("".join(lines).encode("utf-8")).hexdigest() if lines else DASH
 
 
+#: Keys of one row of the clause-5 table (GB/T 45570—2025 clause 5 requirements), in column order.
+CLAUSE5_FIELDS = ("clause", "requirement", "result", "verdict", "note")
+
+
+def clause5_rows(record) -> list[dict[str, str]]:
+    """The clause-5 table: one row per clause-5 requirement, each a dict with the keys of
+    :data:`CLAUSE5_FIELDS` (all text; ``verdict`` e.g. "合格 conforms" or "未检测 (not performed)").
+
+    The rows come from ``metro.plugins.gbt45570.clause5.clause5_rows(record)`` when that module
+    exists (it is written by the clause-5 work); until then the table is empty and not printed."""
+    import importlib.util
+
+    if importlib.util.find_spec(f"{__package__}.clause5") is None:
+        return []
+    from . import clause5  # type: ignore[attr-defined]
+
+    rows = [dict(r) for r in clause5.clause5_rows(record)]
+    for r in rows:
+        missing = [k for k in CLAUSE5_FIELDS[:4] if k not in r]
+        if missing:
+            raise ValueError(f"clause-5 row {r!r} lacks {', '.join(missing)}")
+        r.setdefault("note", "")
+    return rows
+
+
 def extend_context(record, context: dict) -> None:
     """metro_extend_report_context for GB/T 45570: adds ``context["gbt45570"]``."""
     outs = [o for o in record.outcomes if o.standard == STANDARD]
@@ -247,4 +272,5 @@ def extend_context(record, context: dict) -> None:
         "severities": severity_rows(camp.device, outs),
         "data_digest": data_digest(context.get("provenance", {}).get("data_files", [])),
         "deviations": deviations or ["无 (none)"],
+        "clause5": clause5_rows(record),
     }
