@@ -27,6 +27,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="load only metro's built-in plugins (also METRO_DISABLE_PLUGIN_AUTOLOAD=1)")
     p.add_argument("--block-plugin", action="append", default=[], metavar="NAME",
                    help="do not load the plugin NAME (repeatable; also METRO_BLOCK_PLUGINS=a,b)")
+    from . import cli_register  # lab profile and report register commands (their own module)
+
+    cli_register.add_global_options(p)
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
 
     r = sub.add_parser("run", help="evaluate one or more items of a standard",
@@ -82,6 +85,7 @@ def _parser() -> argparse.ArgumentParser:
     aq.add_argument("--npy-rows", type=int, default=None, metavar="N",
                     help="segments of N rows or more are written as .npy (default 100000), shorter as CSV")
     aq.add_argument("--no-progress", action="store_true", help="no progress bar")
+    cli_register.add_commands(sub)
     return p
 
 
@@ -128,6 +132,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _cmd_plan(args)
         if args.command == "acquire":
             return _cmd_acquire(args)
+        from . import cli_register
+
+        if args.command in cli_register.COMMANDS:
+            return cli_register.dispatch(args)
     except MetroError as exc:
         if getattr(args, "json", False):
             print(json.dumps({"error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
