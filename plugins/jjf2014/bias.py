@@ -1,0 +1,364 @@
+"""JJF 2014—2022 7.2.13–7.2.19: bias, bias stability, repeatability, temperature and acceleration
+sensitivity, change after shock and vibration."""
+
+from __future__ import annotations
+
+import math
+
+from metro.core import allan
+from metro.core.budget import BudgetRow
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import (
+    Campaign,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    Result,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+)
+from metro.core.units import Q_
+
+from . import budgets as B
+from . import formulas as F
+from .common import (
+    _JJF,
+    AXES,
+    RATE_OPTS,
+    _axis,
+    _budget_row_a,
+    _by,
+    _cal,
+    _chamber_rows,
+    _flag,
+    _floats,
+    _need,
+    _num,
+    _output,
+    _phase,
+    _q,
+    _room_index,
+    _temperatures,
+    _updown,
+    _where,
+    scale_factor_for,
+)
+from .scale_factor import ScaleFactor
+
+# =============================================================================== 7.2.13 – 7.2.19
+
+
+STATIC_STEP_DESC = "IRA vertical on the base, warm-up ≤ 30 min, record (7.2.13.1)"
+EARTH_OPT = Option("earth_rate", "off", None,
+                   "on: subtract 15.041·sin(latitude) °/h for IRA up (add for down); the standard has no such term")
+
+
+def _static(campaign: Campaign, proc, warnings: list[str]) -> Segment:
+    """The 7.2.13.1 record: the one segment of kind "static" (several: the first, with a warning)."""
+    segs = _need(campaign, proc, "static")
+    if len(segs) > 1:
+        warnings.append(f"{len(segs)} segments of kind static; {proc.item} uses the first, {segs[0].id!r}")
+    return segs[0]
+
+
+def _earth_term(campaign, seg: Segment | None, on: str, orient: str | None = None) -> float:
+    """Earth-rate correction (°/h) to subtract; 0 unless the option is on (README reading note)."""
+    if not _flag({"earth_rate": on}, "earth_rate"):
+        return 0.0
+    lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+    o = orient or (str(seg.conditions.get("orientation", "IRA up")).lower() if seg is not None else "ira up")
+    sign = -1.0 if "down" in o else 1.0
+    return sign * F.EARTH_RATE_DEG_PER_H * math.sin(math.radians(lat))
+
+
+class BiasValue:
+    """B_0 of one static segment (eqs. (27), (28)) in °/h with its batch-means type A u."""
+
+    def __init__(self, seg: Segment, K: float, earth: float = 0.0, batches: int = 20):
+        x, dt = _output(seg)
+        if x.size < 2 * batches:
+            raise DataError(seg.file or seg.id, "output", f"{x.size} samples are too few for {batches} batch means")
+        self.seg, self.x, self.dt = seg, x, dt
+        self.Fbar = F.mean_output_eq2(x)
+        self.B0 = F.bias_eq27_28(x, K) * 3600.0 - earth  # °/h
+        sd, nb = allan.block_std(x, x.size // batches)
+        self.uA = sd / math.sqrt(nb) / abs(K) * 3600.0
+        self.dof = nb - 1
+
+
+class Bias(_JJF):
+    """JJF 2014—2022 7.2.13 零偏: B_0 = F̄/K, eqs. (27), (28); budget B.2 (plus the type A
+    scatter of F̄).  No earth-rate term unless option earth_rate = on."""
+
+    item = "7.2.13"
+    title = "Bias (零偏)"
+    clause = "7.2.13"
+    metrics = (Metric("B0", "bias", "B₀", "deg/h", "7.2.13.2", "28"),)
+    requires = ScaleFactor.requires + (SegmentRequirement("static", STATIC_STEP_DESC, {"orientation": ""},
+                                                          {"output": ("mV",)}, min_duration=Q_(1, "h")),)
+    options = RATE_OPTS + (EARTH_OPT, Option("batches", 20, None, "batch means for the type A uncertainty", minimum=2))
+
+    def sequence(self, options):
+        return ScaleFactor().sequence(options) + [
+            Step("static", "static", STATIC_STEP_DESC + ", 1 h at 0.1 s", Q_(1, "h"), Q_(0.1, "s"),
+                 {"orientation": "IRA up"})]
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        w: list[str] = []
+        K, uK, src = scale_factor_for(campaign, type(self))
+        seg = _static(campaign, type(self), w)
+        bv = BiasValue(seg, K, _earth_term(campaign, seg, opts["earth_rate"]), _num(opts, "batches", 2, integer=True))
+        dur = bv.x.size * bv.dt
+        if dur < 3600 * 0.999:
+            w.append(f"the record lasts {dur / 60:.3g} min; 7.2.13.1 c) asks for more than 1 h")
+        b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=_cal(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
+                          warnings=w)
+        return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
+                                     note=f"K from {src}; earth rate {'subtracted' if _flag(opts, 'earth_rate') else 'not subtracted'}")],
+                             warnings=w, segments=[seg.id], opts=opts)
+
+
+class BiasStability(_JJF):
+    """JJF 2014—2022 7.2.14 零偏稳定性: B_s = (1/K)·s(F̄_i over P), eq. (29)."""
+
+    item = "7.2.14"
+    title = "Bias stability (零偏稳定性)"
+    clause = "7.2.14"
+    metrics = (Metric("Bs", "bias stability", "B_s", "deg/h", "7.2.14.2", "29"),)
+    requires = Bias.requires
+    options = RATE_OPTS + (Option("P", "10 s", "s", "averaging period P"),)
+
+    def sequence(self, options):
+        return Bias().sequence(options)
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        w: list[str] = []
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        seg = _static(campaign, type(self), w)
+        x, dt = _output(seg)
+        p = float(opts["P"].to("s").magnitude) / dt
+        if abs(p - round(p)) > 1e-6 or round(p) < 1:
+            raise ProcedureError(f"7.2.14: P = {opts['P']} is not a whole number of sampling intervals ({dt:g} s)")
+        try:
+            bs, m = F.bias_stability_eq29(x, K, int(round(p)))
+        except ValueError as exc:
+            raise DataError(seg.file or seg.id, "output", str(exc)) from exc
+        bs *= 3600.0
+        u, dof = B.std_of_std(bs, m)
+        rows = [_budget_row_a("sampling of a standard deviation of N/P averages", "B_s/√(2(m−1))", u, "deg/h", dof),
+                BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
+                                 sensitivity=Q_(bs, "deg/h"))]
+        rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
+        b = B.type_a_budget("Bs", "deg/h", rows)
+        return self._outcome([Result(self.metrics[0], Q_(bs, "deg/h"), b.combined, b, note=f"{m} averages of P")],
+                             warnings=w, segments=[seg.id], opts=opts)
+
+
+class BiasRepeatability(_JJF):
+    """JJF 2014—2022 7.2.15 零偏重复性: Q biases by 7.2.13 (power off between), B_r eq. (30)."""
+
+    item = "7.2.15"
+    title = "Bias repeatability (零偏重复性)"
+    clause = "7.2.15"
+    metrics = (Metric("Br", "bias repeatability", "B_r", "deg/h", "7.2.15.2", "30"),)
+    requires = ScaleFactor.requires + (SegmentRequirement("static-repeat", "7.2.13 repeated Q times", {"run": ""},
+                                                          {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("runs", 6, None, "Q"),)
+
+    def sequence(self, options):
+        return ScaleFactor().sequence(options) + [
+            Step(f"static-repeat#{q}", "static-repeat", STATIC_STEP_DESC + f", run {q}, 1 h at 1 s", Q_(1, "h"),
+                 Q_(1, "s"), {"run": str(q), "orientation": "IRA up"}) for q in range(1, _num(options, "runs", 2, integer=True) + 1)]
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        runs = _by(_need(campaign, type(self), "static-repeat"), "run")
+        if len(runs) < 2:
+            raise DataError(campaign.source, "segments", f"7.2.15 needs Q ≥ 2 runs, got {len(runs)}")
+        for r, g in runs.items():
+            if len(g) > 1:
+                raise DataError(_where(g[1]), f"segments.{g[1].id}.conditions.run",
+                                f"7.2.15: run {r!r} has {len(g)} records; give one per run")
+        bvs = [BiasValue(g[0], K) for _, g in sorted(runs.items())]
+        br = F.std_bessel([b.B0 for b in bvs], "eq. (30)")
+        u, dof = B.std_of_std(br, len(bvs))
+        b = B.type_a_budget("Br", "deg/h", [
+            _budget_row_a("sampling of a standard deviation of Q values", "B_r/√(2(Q−1))", u, "deg/h", dof),
+            BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
+                             sensitivity=Q_(br, "deg/h"))])
+        tab = TableSpec("bias_runs", "B_0i per run", ["run", "B_0i (°/h)", "u_A (°/h)"],
+                        [[k, f"{x.B0:.5g}", f"{x.uA:.2g}"] for k, x in zip(sorted(runs), bvs)])
+        return self._outcome([Result(self.metrics[0], Q_(br, "deg/h"), b.combined, b)], tables=[tab],
+                             segments=[x.seg.id for x in bvs], opts=opts)
+
+
+class BiasTemperature(_JJF):
+    """JJF 2014—2022 7.2.16 零偏温度灵敏度: B_0i per temperature by 7.2.13, B_t eq. (31)."""
+
+    item = "7.2.16"
+    title = "Bias temperature sensitivity (零偏温度灵敏度)"
+    clause = "7.2.16"
+    metrics = (Metric("Bt", "bias temperature sensitivity", "B_t", "deg/h/delta_degC", "7.2.16.2", "31"),)
+    requires = ScaleFactor.requires + (SegmentRequirement("static-temperature", "7.2.13 at each chamber temperature",
+                                                          {"temperature": "degC"}, {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("temperatures", "-40, -10, 20, 40, 60", None, "chamber points (°C)"),
+                           Option("room_temperature", "20 °C", "degC", "T_m"))
+
+    def sequence(self, options):
+        return ScaleFactor().sequence(options) + [
+            Step(f"static-temperature@{T:g}C", "static-temperature", STATIC_STEP_DESC + f" at {T:g} °C, 1 h at 1 s",
+                 Q_(1, "h"), Q_(1, "s"), {"temperature": _q(T, "degC"), "orientation": "IRA up"})
+            for T in _floats(options["temperatures"], "temperatures")]
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        groups = _by(_need(campaign, type(self), "static-temperature"), "temperature")
+        T = _temperatures(groups, "7.2.16")
+        keys = sorted(groups, key=T.get)
+        if len(keys) < 2:
+            raise DataError(campaign.source, "segments", "7.2.16 needs at least 2 temperatures")
+        temps = [T[k] for k in keys]
+        for k in keys:
+            if len(groups[k]) > 1:
+                raise DataError(_where(groups[k][1]), f"segments.{groups[k][1].id}.conditions.temperature",
+                                f"7.2.16: {len(groups[k])} records at {k}; give one per temperature")
+        bvs = [BiasValue(groups[k][0], K) for k in keys]
+        m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.16")
+        bt, i = F.bias_temperature_eq31([b.B0 for b in bvs], temps, m)
+        dT = abs(temps[i] - temps[m])
+        rows = [_budget_row_a(f"B₀ at {temps[i]:g} °C (batch means)", "u(B_0i)/|ΔT|", bvs[i].uA / dT,
+                              "deg/h/delta_degC", bvs[i].dof),
+                _budget_row_a(f"B₀ at {temps[m]:g} °C (batch means)", "u(B_0m)/|ΔT|", bvs[m].uA / dT,
+                              "deg/h/delta_degC", bvs[m].dof),
+                BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
+                                 sensitivity=Q_(bt, "deg/h/delta_degC"))]
+        rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
+        b = B.type_a_budget("Bt", "deg/h/delta_degC", rows)
+        tab = TableSpec("bias_temperature", "B_0i per temperature", ["T_i (°C)", "B_0i (°/h)"],
+                        [[f"{t:g}", f"{x.B0:.5g}"] for t, x in zip(temps, bvs)])
+        return self._outcome([Result(self.metrics[0], Q_(bt, "deg/h/delta_degC"), b.combined, b,
+                                     note=f"maximum at {temps[i]:g} °C")], tables=[tab],
+                             segments=[x.seg.id for x in bvs], opts=opts)
+
+
+class BiasAcceleration(_JJF):
+    """JJF 2014—2022 7.2.17 零偏加速度灵敏度: per axis (B_up − B_down)/2 g, maximum |·| over
+    X, Y, Z (7.2.17.2).  Earth rate: option earth_rate = on corrects the pair whose axis is the
+    IRA (device.ira_axis, default Z) for ±15.041·sin φ."""
+
+    item = "7.2.17"
+    title = "Bias acceleration sensitivity (零偏加速度灵敏度)"
+    clause = "7.2.17"
+    metrics = (Metric("Bg", "bias acceleration sensitivity", "B_g", "deg/h/gn", "7.2.17.2", "prose, no eq. number"),)
+    requires = ScaleFactor.requires + (SegmentRequirement("static-accel", "X, Y, Z each up and down on the position "
+                                                          "table", {"axis": "", "orientation": ""},
+                                                          {"output": ("mV",)}),)
+    options = RATE_OPTS + (EARTH_OPT,)
+    equipment = _JJF.equipment + (EquipmentRequirement("position-table", "two-axis position table"),)
+
+    def sequence(self, options):
+        return ScaleFactor().sequence(options) + [
+            Step(f"static-accel[{a}-{o}]", "static-accel", f"{a} axis {o} on the position table, 30 min at 1 s",
+                 Q_(30, "min"), Q_(1, "s"), {"axis": a, "orientation": o}) for a in AXES for o in ("up", "down")]
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        ira = str(campaign.device.properties.get("ira_axis", "Z")).upper()
+        vals: dict[str, dict[str, BiasValue]] = {}
+        for s in _need(campaign, type(self), "static-accel"):
+            a, o = _axis(s), _updown(s)
+            earth = _earth_term(campaign, s, opts["earth_rate"], o) if a == ira else 0.0
+            if o in vals.get(a, {}):
+                raise DataError(_where(s), f"segments.{s.id}.conditions", f"7.2.17: two records for axis {a} {o}; give one")
+            vals.setdefault(a, {})[o] = BiasValue(s, K, earth)
+        per = {a: F.per_g_726(v["up"].B0, v["down"].B0) for a, v in vals.items() if {"up", "down"} <= set(v)}
+        if not per:
+            raise DataError(campaign.source, "segments", "7.2.17 needs at least one axis both up and down")
+        worst = max(per, key=lambda a: abs(per[a]))
+        bg = abs(per[worst])
+        v = vals[worst]
+        rows = [_budget_row_a(f"B₀ {worst} up (batch means)", "u/2g", v["up"].uA / 2, "deg/h/gn", v["up"].dof),
+                _budget_row_a(f"B₀ {worst} down (batch means)", "u/2g", v["down"].uA / 2, "deg/h/gn", v["down"].dof),
+                BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
+                                 sensitivity=Q_(bg, "deg/h/gn"))]
+        b = B.type_a_budget("Bg", "deg/h/gn", rows)
+        w = [] if len(per) == 3 else [f"only axes {', '.join(per)} tested"]
+        tab = TableSpec("bias_accel", "Per axis", ["axis", "B up (°/h)", "B down (°/h)", "(up−down)/2g (°/h/g)"],
+                        [[a, f"{vals[a]['up'].B0:.5g}", f"{vals[a]['down'].B0:.5g}", f"{per[a]:.4g}"] for a in per])
+        return self._outcome([Result(self.metrics[0], Q_(bg, "deg/h/gn"), b.combined, b,
+                                     note=f"largest on axis {worst}")], tables=[tab], warnings=w,
+                             segments=[x.seg.id for d in vals.values() for x in d.values()], opts=opts)
+
+
+class _BiasChange(_JJF):
+    kind = ""
+    what = ""
+
+    def sequence(self, options):
+        return ScaleFactor().sequence(options) + [
+            Step(f"{self.kind}[{a}-{p}]", self.kind, f"7.2.13 bias {p} {self.what} on {a}, 30 min at 1 s",
+                 Q_(30, "min"), Q_(1, "s"), {"axis": a, "phase": p, "orientation": "IRA up"})
+            for a in AXES for p in ("before", "after")]
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        vals: dict[tuple[str, str], BiasValue] = {}
+        for s in _need(campaign, type(self), self.kind):
+            key = (_axis(s), _phase(s))
+            if key in vals:
+                raise DataError(_where(s), f"segments.{s.id}.conditions",
+                                f"{self.item}: two records for axis {key[0]} {key[1]}; give one")
+            vals[key] = BiasValue(s, K)
+        before = {a: vals[(a, "before")].B0 for a in AXES if (a, "before") in vals}
+        after = {a: vals[(a, "after")].B0 for a in AXES if (a, "after") in vals}
+        try:
+            db, worst, per = F.max_change_eq12_13(before, after)
+        except ValueError as exc:
+            raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
+        v1, v2 = vals[(worst, "before")], vals[(worst, "after")]
+        b = B.type_a_budget(self.metrics[0].key, "deg/h", [
+            _budget_row_a(f"B₀ before ({worst})", "u(B₁)", v1.uA, "deg/h", v1.dof),
+            _budget_row_a(f"B₀ after ({worst})", "u(B₂)", v2.uA, "deg/h", v2.dof),
+            BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
+                             sensitivity=Q_(db, "deg/h"))])
+        w = [] if len(per) == 3 else [f"only the axes {', '.join(per)} were tested (the clause asks for 3)"]
+        tab = TableSpec("per_axis", f"B₀ before/after {self.what}", ["axis", "B₁ (°/h)", "B₂ (°/h)", "|ΔB| (°/h)"],
+                        [[a, f"{before[a]:.5g}", f"{after[a]:.5g}", f"{per[a]:.4g}"] for a in per])
+        return self._outcome([Result(self.metrics[0], Q_(db, "deg/h"), b.combined, b, note=f"largest on axis {worst}")],
+                             tables=[tab], warnings=w, segments=[x.seg.id for x in vals.values()], opts=opts)
+
+
+class BiasShock(_BiasChange):
+    """JJF 2014—2022 7.2.18 零偏冲击前后变化量: ΔB_i = |B_i2 − B_i1| eq. (32), max over 3 axes."""
+
+    item = "7.2.18"
+    title = "Bias change after shock (零偏冲击前后变化量)"
+    clause = "7.2.18"
+    kind = "static-shock"
+    what = "shock"
+    metrics = (Metric("dB_shock", "bias change after shock", "ΔB_i", "deg/h", "7.2.18.2", "32"),)
+    requires = ScaleFactor.requires + (SegmentRequirement("static-shock", "bias before/after shock per axis",
+                                                          {"axis": "", "phase": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS
+
+
+class BiasVibration(_BiasChange):
+    """JJF 2014—2022 7.2.19 零偏振动前后变化量: ΔB_v = |B_v2 − B_v1| eq. (33), max over 3 axes."""
+
+    item = "7.2.19"
+    title = "Bias change after vibration (零偏振动前后变化量)"
+    clause = "7.2.19"
+    kind = "static-vibration"
+    what = "vibration"
+    metrics = (Metric("dB_vib", "bias change after vibration", "ΔB_v", "deg/h", "7.2.19.2", "33"),)
+    requires = ScaleFactor.requires + (SegmentRequirement("static-vibration", "bias before/after vibration per axis",
+                                                          {"axis": "", "phase": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS

@@ -1,0 +1,295 @@
+"""JJF 2014—2022 clause 7.2: what every item shares — option parsing, segment access, the 7.2.1
+scale-factor set (eqs. (2)–(5)) and the K that items 7.2.9–7.2.23 divide by."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+import numpy as np
+from metro.core.budget import BudgetRow
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import Campaign, EquipmentRequirement, Option, Outcome, PlotSpec, Procedure, Segment, Step
+from metro.core.signals import device_scale_factor
+from metro.core.units import Q_, parse_quantity
+
+from . import budgets as B
+from . import formulas as F
+
+STANDARD = "jjf2014"
+STATION = "simulated-jjf2014"
+KU = "mV/(deg/s)"
+AXES = ("X", "Y", "Z")
+
+DEFAULT_RATES = "0.1, 0.25, 0.63, 1.6, 4, 10, 16, 25, 40, 63, 100"
+
+
+def _floats(text: Any, what: str) -> list[float]:
+    try:
+        vals = [float(x) for x in str(text).replace(";", ",").split(",") if x.strip()]
+    except ValueError as exc:
+        raise ProcedureError(f"option {what}: {text!r} is not a comma-separated list of numbers") from exc
+    if not vals:
+        raise ProcedureError(f"option {what} is empty")
+    return vals
+
+
+def _magnitudes(text: Any, what: str) -> list[float]:
+    """A list option of rate magnitudes (°/s), each applied in both directions (7.2.1.1 b),
+    7.2.9, 7.2.10): every value positive and finite."""
+    vals = _floats(text, what)
+    if not all(v > 0 and math.isfinite(v) for v in vals):
+        raise ProcedureError(f"option {what}: every value must be a positive magnitude in °/s, got {text!r}")
+    return vals
+
+
+def _q(v: float, unit: str) -> str:
+    return f"{v:g} {unit}"
+
+
+def _num(options: Mapping[str, Any], name: str, lo: float, *, integer: bool = False) -> float:
+    """A numeric option, checked: ≥ ``lo`` and (when ``integer``) whole."""
+    raw = options[name]
+    try:
+        v = float(raw)
+    except (TypeError, ValueError) as exc:
+        raise ProcedureError(f"option {name}: {raw!r} is not a number") from exc
+    if not math.isfinite(v) or v < lo or (integer and v != int(v)):
+        raise ProcedureError(f"option {name}: {raw!r} must be {'a whole number ' if integer else ''}≥ {lo:g}")
+    return int(v) if integer else v
+
+
+def _flag(options: Mapping[str, Any], name: str) -> bool:
+    """An on/off option."""
+    t = str(options[name]).strip().lower()
+    if t in ("on", "true", "yes", "1"):
+        return True
+    if t in ("off", "false", "no", "0", ""):
+        return False
+    raise ProcedureError(f"option {name} must be on or off, got {options[name]!r}")
+
+
+# ------------------------------------------------------------------------------- data access
+
+
+def _output(seg: Segment, column: str = "output", unit: str = "mV") -> tuple[np.ndarray, float]:
+    """The segment's column as floats in ``unit`` (checked finite) and its interval in s."""
+    s = seg.series(column, unit)
+    x = np.asarray(s.data.to(unit).magnitude, dtype=float)
+    ok = np.isfinite(x)
+    if not ok.all():
+        i = int(np.argmin(ok))
+        raise DataError(seg.file or f"segment {seg.id}", column, f"sample {i + 1} is {x[i]!r}")
+    if x.size < 2:
+        raise DataError(seg.file or f"segment {seg.id}", column, f"only {x.size} sample(s)")
+    return x, float(s.interval.to("s").magnitude)
+
+
+def _mean_u(seg: Segment) -> tuple[float, float, int]:
+    """F̄ (eq. (2)), its standard uncertainty s/√N, and N."""
+    x, _ = _output(seg)
+    return F.mean_output_eq2(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), x.size
+
+
+def _cond_q(seg: Segment, name: str, unit: str) -> float:
+    return float(seg.condition(name, unit).to(unit).magnitude)
+
+
+def _need(campaign: Campaign, proc: type[Procedure], kind: str, **conditions) -> list[Segment]:
+    segs = campaign.find_segments(kind, **conditions)
+    if not segs:
+        extra = ", ".join(f"{k} = {v!r}" for k, v in conditions.items())
+        raise DataError(campaign.source, "segments",
+                        f"{proc.qualified_id()} needs segments of kind {kind!r}{' with ' + extra if extra else ''}; "
+                        "none found",
+                        hint=f"`metro plan --standard jjf2014 --item {proc.item}` lists what to measure")
+    return segs
+
+
+def _cal(campaign: Campaign, role: str):
+    e = campaign.equipment_for(role)
+    return None if e is None else e.calibration
+
+
+def _by(segs: Iterable[Segment], name: str) -> dict[str, list[Segment]]:
+    out: dict[str, list[Segment]] = {}
+    for s in segs:
+        out.setdefault(str(s.condition(name)), []).append(s)
+    return out
+
+
+def _axis(seg: Segment) -> str:
+    a = str(seg.condition("axis")).strip().upper()
+    if a not in AXES:
+        raise DataError(seg.file or seg.id, f"segments.{seg.id}.conditions.axis", f"must be X, Y or Z, got {a!r}")
+    return a
+
+
+def _phase(seg: Segment) -> str:
+    p = str(seg.condition("phase")).strip().lower()
+    if p not in ("before", "after"):
+        raise DataError(seg.file or seg.id, f"segments.{seg.id}.conditions.phase",
+                        f"must be \"before\" or \"after\", got {p!r}")
+    return p
+
+
+def _updown(seg: Segment) -> str:
+    o = str(seg.condition("orientation")).lower()
+    if "up" in o:
+        return "up"
+    if "down" in o:
+        return "down"
+    raise DataError(seg.file or seg.id, f"segments.{seg.id}.conditions.orientation",
+                    f"must say up or down, got {o!r}")
+
+
+# ------------------------------------------------------------------------------- scale factor sets
+
+
+class SFSet:
+    """One 7.2.1 calibration: the mean output at each input rate and the eq. (4)/(5) fit."""
+
+    def __init__(self, segs: list[Segment]):
+        if len(segs) < 3:
+            raise DataError(segs[0].file if segs else None, "segments",
+                            f"a scale-factor calibration needs at least 3 input rates, got {len(segs)}")
+        rows = []
+        for s in segs:
+            om = _cond_q(s, "rate", "deg/s")
+            fbar, u, n = _mean_u(s)
+            rows.append((om, fbar, u, n, s.id))
+        rows.sort(key=lambda r: r[0])
+        self.omega = np.array([r[0] for r in rows])
+        if np.unique(self.omega).size != self.omega.size:
+            raise DataError(segs[0].file, "segments", "two segments of one calibration have the same input rate")
+        self.F = np.array([r[1] for r in rows])
+        self.uF = np.array([r[2] for r in rows])
+        self.n = [r[3] for r in rows]
+        self.ids = [r[4] for r in rows]
+        try:
+            self.fit = F.scale_factor_eq4_5(self.omega, self.F)
+        except ValueError as exc:
+            raise ProcedureError(f"7.2.1 fit: {exc}") from exc
+
+    @property
+    def K(self) -> float:
+        return self.fit.K
+
+    def budget(self, campaign: Campaign, warnings: list[str] | None = None):
+        return B.scale_factor_budget(Q_(self.K, KU), Q_(self.fit.u_K, KU), self.fit.dof,
+                                     rate_table=_cal(campaign, "rate-table"), dmm=_cal(campaign, "dmm"),
+                                     warnings=warnings, rep_source="repeatability: residual scatter of the eq. (3) fit")
+
+
+def _main_set(campaign: Campaign, proc) -> SFSet:
+    return SFSet(_need(campaign, proc, "rate"))
+
+
+def scale_factor_for(campaign: Campaign, proc) -> tuple[float, float, str]:
+    """K (mV/[(°)/s]) and its relative standard uncertainty for items that divide by K: from
+    the campaign's 7.2.1 segments (kind "rate") if any, else from ``device.scale_factor``."""
+    if campaign.find_segments("rate"):
+        s = SFSet(campaign.find_segments("rate"))
+        b = s.budget(campaign)
+        return s.K, float(b.combined.to(KU).magnitude) / abs(s.K), "7.2.1 segments of this campaign"
+    K, urel = device_scale_factor(campaign.device, campaign.source)
+    if K is None:
+        raise DataError(campaign.source, "device.scale_factor",
+                        f"{proc.qualified_id()} needs the scale factor K: give 7.2.1 segments (kind \"rate\") "
+                        "or device.scale_factor in mV/((°)/s)")
+    return float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel, "device.scale_factor"
+
+
+def _rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = None, tag: str = "",
+                seconds: float = 10.0) -> list[Step]:
+    steps = []
+    for r in rates:
+        for sgn in (1, -1):
+            c = {"rate": _q(sgn * r, "deg/s")} | dict(extra or {})
+            sid = f"{kind}{tag}{'+' if sgn > 0 else '-'}{r:g}"
+            steps.append(Step(sid, kind, f"table at {sgn * r:+g} °/s, record {seconds:g} samples at 1 s (7.2.1.1)",
+                              Q_(seconds, "s"), Q_(1, "s"), c))
+    return steps
+
+
+RATE_OPTS = (Option("rates", DEFAULT_RATES, None, "input rate magnitudes (°/s), both directions (7.2.1.1 b))"),)
+
+
+def _budget_row_a(source, symbol, u, unit, dof, note=""):
+    return BudgetRow.type_a(source, symbol, Q_(u, unit), dof, note=note)
+
+
+class _JJF(Procedure):
+    standard = STANDARD
+    station = STATION
+    equipment = (
+        EquipmentRequirement("rate-table", "rate table (table 2 no. 1); relative calibration U enters the budgets"),
+        EquipmentRequirement("dmm", "data acquisition, 6½-digit DMM; relative calibration U enters the budgets"),
+    )
+
+    def _outcome(self, results, *, plots=(), tables=(), warnings=(), segments=(), opts=None) -> Outcome:
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=list(plots),
+                       tables=list(tables), warnings=list(warnings), segments=list(segments),
+                       options={k: str(v) for k, v in (opts or {}).items()})
+
+
+def _sf_plots(s: SFSet) -> list[PlotSpec]:
+    """7.2.1 figures: the mean outputs with the eq. (6) line, and the eq. (3) residuals v_i on
+    their own axis (at the outputs' scale a residual of µV would be invisible)."""
+    fit = s.fit
+    return [PlotSpec("sf_fit", "Scale factor: mean outputs F̄_i (eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))",
+                     "input rate Ω (°/s)", "output (mV)",
+                     [{"label": "F̄_i (eq. (2))", "x": s.omega.tolist(), "y": s.F.tolist(), "style": "o"},
+                      {"label": f"F̂ = KΩ + F₀, K = {fit.K:.6g} mV/((°)/s), F₀ = {fit.F0:.4g} mV",
+                       "x": s.omega.tolist(), "y": fit.predict(s.omega).tolist(), "style": "-"}]),
+            PlotSpec("sf_residuals", "Scale factor: residuals v_i = F̄_i − (KΩ_i + F₀) of the eq. (3) fit",
+                     "input rate Ω (°/s)", "residual v_i (mV)",
+                     [{"label": "v_i", "x": s.omega.tolist(), "y": fit.residuals.tolist(), "style": "o",
+                       "yerr": s.uF.tolist()},
+                      {"label": "0", "x": [float(s.omega.min()), float(s.omega.max())], "y": [0.0, 0.0],
+                       "style": ":"}])]
+
+
+
+def _distinct(campaign: Campaign, values: np.ndarray, what: str) -> None:
+    """Levels applied in decreasing order must differ (two records of one level: which one?)."""
+    mags = np.abs(values)
+    if np.unique(mags).size != mags.size:
+        dup = sorted({float(v) for v in mags if np.sum(mags == v) > 1})
+        raise DataError(campaign.source, "segments", f"{what}: the level(s) {', '.join(f'{v:g}' for v in dup)} "
+                        "°/s appear more than once; give one record per level")
+
+
+def _temperatures(groups: Mapping[str, list[Segment]], what: str) -> dict[str, float]:
+    """The chamber temperature (°C) of each group, parsed from its first segment's condition;
+    two groups at the same temperature (e.g. "20 °C" and "20 degC") are an error."""
+    T = {k: _cond_q(g[0], "temperature", "degC") for k, g in groups.items()}
+    seen: dict[float, str] = {}
+    for k, t in T.items():
+        if t in seen:
+            raise DataError(_where(groups[k][0]), f"segments.{groups[k][0].id}.conditions.temperature",
+                            f"{what}: {k!r} and {seen[t]!r} are the same temperature; one calibration per point")
+        seen[t] = k
+    return T
+
+
+def _where(seg: Segment) -> str:
+    return seg.file or seg.id
+
+
+def _room_index(temps: list[float], Tm: float, what: str) -> int:
+    i = int(np.argmin([abs(t - Tm) for t in temps]))
+    if abs(temps[i] - Tm) > 2.0:
+        raise DataError(None, "segments.conditions.temperature",
+                        f"{what} needs a point at room temperature T_m = {Tm:g} °C (within 2 °C); "
+                        f"temperatures given: {', '.join(f'{t:g}' for t in temps)}")
+    return i
+
+
+def _chamber_rows(campaign, sens: float, unit: str) -> list[BudgetRow]:
+    cal = _cal(campaign, "chamber")
+    if cal is None or cal.uncertainty.dimensionless:
+        return []
+    return [BudgetRow.from_calibration("chamber temperature T_i (table 2 no. 2)", "u(T_i)", cal,
+                                       sensitivity=Q_(abs(sens), f"{unit}/delta_degC"))]

@@ -1,0 +1,400 @@
+"""JJF 2014—2022 7.2.20–7.2.23: angle random walk (Allan variance), bandwidth, output delay, start-up time."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from metro.core import allan
+from metro.core.budget import INF, BudgetRow
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import (
+    EquipmentRequirement,
+    Metric,
+    Option,
+    PlotSpec,
+    Result,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+)
+from metro.core.sinefit import fit_sine, wrap_phase
+from metro.core.units import Q_, parse_quantity
+
+from . import budgets as B
+from . import formulas as F
+from .bias import Bias, _static
+from .common import _JJF, RATE_OPTS, _budget_row_a, _cal, _cond_q, _flag, _need, _num, _output, _q, scale_factor_for
+from .scale_factor import ScaleFactor
+
+# =============================================================================== 7.2.20
+
+
+class AngleRandomWalk(_JJF):
+    """JJF 2014—2022 7.2.20 角度随机游走系数: Ω_j = F_j/K (34); overlapping Allan variance of
+    cluster averages τ = k·t₀ (the intent of eqs. (35)–(37), see interpretations.md); WLS fit
+    of eq. (38) σ²(τ) = Σ_{m=−2}^{2} A_m τ^m; ARW = √A_−1 (39).  Also reports the other four
+    IEEE 952 coefficients from A_−2, A_0, A_1, A_2."""
+
+    item = "7.2.20"
+    title = "Angle random walk (角度随机游走系数)"
+    clause = "7.2.20"
+    metrics = (Metric("ARW", "angle random walk", "ARW", "deg/hour**0.5", "7.2.20.2", "39"),
+               Metric("Q", "quantization noise", "Q", "arcsec", "7.2.20.2", "38: A₋₂ = 3Q²"),
+               Metric("BI", "bias instability", "B", "deg/h", "7.2.20.2", "38: A₀ = (2ln2/π)B²"),
+               Metric("RRW", "rate random walk", "K_rrw", "deg/h/hour**0.5", "7.2.20.2", "38: A₁ = K²/3"),
+               Metric("RR", "rate ramp", "R", "deg/h**2", "7.2.20.2", "38: A₂ = R²/2"))
+    requires = Bias.requires
+    options = RATE_OPTS + (Option("max_fraction", 0.25, None, "largest cluster length k as a fraction of n"),
+                           Option("nonnegative", "off", None, "on: remove negative eq. (38) terms and refit "
+                                  "(biases the others; see interpretations.md)"))
+
+    def sequence(self, options):
+        return Bias().sequence(options)
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        w: list[str] = []
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        seg = _static(campaign, type(self), w)
+        x, dt = _output(seg)
+        rate = x / K * 3600.0  # eq. (34), °/h
+        try:
+            ad = allan.oadev(rate, dt, allan.octave_m(rate.size, _num(opts, "max_fraction", 1e-6)))
+        except ValueError as exc:
+            raise DataError(seg.file or seg.id, "output", f"Allan variance: {exc}") from exc
+        tau_h = np.asarray(ad.tau) / 3600.0
+        sig = np.asarray(ad.deviation)
+        try:
+            fit = F.fit_allan_eq38(tau_h, sig, np.asarray(ad.edf),
+                                   nonnegative=_flag(opts, "nonnegative"))
+        except ValueError as exc:
+            raise ProcedureError(f"7.2.20: {exc}", hint="record longer (7.2.13.1: ≥ 1 h) or check the data") from exc
+        if not fit.A[1] > 0:
+            raise ProcedureError("7.2.20: the fitted A₋₁ is negative, so ARW = √A₋₁ (eq. (39)) is undefined",
+                                 hint="look at the Allan plot; the record may be dominated by other noise")
+        for i, (m, name) in enumerate(F.ALLAN_TERMS):
+            if not fit.active[i]:
+                how = ("the term was removed and the fit repeated" if fit.A[i] == 0 and fit.raw[i] != 0
+                       else "kept in the fitted curve")
+                sig_txt = "consistent with 0" if abs(fit.raw[i]) <= 2 * fit.u_A[i] else "significantly negative: the model does not describe the data"
+                w.append(f"A_{m} ({name}) came out negative in the eq. (38) fit ({fit.raw[i]:.3g} ± {fit.u_A[i]:.2g}, "
+                         f"{sig_txt}); {how}; reported as 0 (not resolved)")
+        if fit.birge > 1.5:
+            w.append(f"eq. (38) fits poorly (χ²/ν = {fit.birge ** 2:.2g}); the uncertainties were scaled up")
+        coefs = F.noise_coefficients(fit.A)
+        keys = ("Q", "ARW", "BI", "RRW", "RR")
+        units = ("deg", "deg/hour**0.5", "deg/h", "deg/h/hour**0.5", "deg/h**2")
+        cnames = ("Q", "N", "B", "K", "R")
+        results = []
+        for i, (key, unit_, cn, fac) in enumerate(zip(keys, units, cnames, F.NOISE_FACTORS)):
+            metric = self.metrics[[m.key for m in self.metrics].index(key)]
+            to_metric = float(Q_(1.0, unit_).to(metric.unit).magnitude)
+            val = coefs[cn] * to_metric
+            u_fit, how = F.coefficient_u(fit.A[i], fit.u_A[i], fac)
+            u_fit *= to_metric
+            rows = [_budget_row_a(f"eq. (38) GLS fit (edf per τ), A_{F.ALLAN_TERMS[i][0]}", "u(A)", u_fit, metric.unit,
+                                  max(fit.dof, 1), note=f"{tau_h.size} τ values, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}; "
+                                  + how),
+                    BudgetRow.type_b("scale factor K (eq. (34))", "u_rel(K)", Q_(uK, ""), distribution="normal",
+                                     k=1.0, sensitivity=Q_(val, metric.unit))]
+            b = B.type_a_budget(key, metric.unit, rows)
+            results.append(Result(metric, Q_(val, metric.unit), b.combined, b,
+                                  note="" if fit.active[i] else "term not resolved (fitted negative)"))
+        results.insert(0, results.pop(1))  # ARW first
+        model = fit.model(tau_h)
+        series = [{"label": "σ(τ) overlapping Allan deviation", "x": (tau_h * 3600).tolist(), "y": sig.tolist(),
+                   "yerr": (sig / np.sqrt(2 * np.asarray(ad.edf))).tolist(), "style": "o"},
+                  {"label": "eq. (38) fit", "x": (tau_h * 3600).tolist(), "y": np.sqrt(np.clip(model, 0, None)).tolist(),
+                   "style": "-"}]
+        for i, (m, name) in enumerate(F.ALLAN_TERMS):
+            if fit.A[i] > 0:
+                series.append({"label": f"{name} term", "x": (tau_h * 3600).tolist(),
+                               "y": np.sqrt(fit.A[i] * tau_h**m).tolist(), "style": "--"})
+        plot = PlotSpec("allan", "Allan deviation, eq. (38) fit and its terms", "τ (s)", "σ(τ) (°/h)", series,
+                        logx=True, logy=True)
+        tab = TableSpec("allan_coef", "Eq. (38) coefficients (τ in h, σ in °/h)", ["m", "term", "A_m", "u(A_m)", "kept"],
+                        [[m, name, f"{fit.A[i]:.4g}", f"{fit.u_A[i]:.2g}", "yes" if fit.active[i] else "no (negative: not resolved)"]
+                         for i, (m, name) in enumerate(F.ALLAN_TERMS)])
+        return self._outcome(results, plots=[plot], tables=[tab], warnings=w, segments=[seg.id], opts=opts)
+
+
+# =============================================================================== 7.2.21, 7.2.22
+
+
+class _Dynamic:
+    """Sine fits (eq. (40)) of every angular-vibration record, per frequency."""
+
+    def __init__(self, campaign, proc):
+        segs = _need(campaign, proc, "angular-vibration")
+        by_f: dict[float, list[Segment]] = {}
+        for s in segs:
+            by_f.setdefault(_cond_q(s, "frequency", "Hz"), []).append(s)
+        if len(by_f) < 3:
+            raise DataError(campaign.source, "segments", f"{proc.item} needs at least 3 frequencies (7.2.21.1 b): N ≥ 10)")
+        self.f = np.array(sorted(by_f))
+        self.E, self.A, self.phi, self.uS = [], [], [], []
+        self.n = []
+        self.fs = min(1.0 / float(s.interval.to("s").magnitude) for s in segs if s.interval is not None)
+        self.ids = [s.id for s in segs]
+        for f in self.f:
+            Es, As, ph = [], [], []
+            for s in by_f[f]:
+                y, dt = _output(s)
+                ref, _ = _output(s, "reference", "deg/s")
+                if f >= 0.5 / dt:
+                    raise DataError(s.file or s.id, "sample_interval", f"{1 / dt:g} Hz sampling cannot resolve {f:g} Hz")
+                t = np.arange(y.size) * dt
+                try:
+                    gy = fit_sine(t, y, f)
+                    gr = fit_sine(t, ref, f)
+                except ValueError as exc:
+                    raise DataError(s.file or s.id, "output", f"sine fit at {f:g} Hz: {exc}") from exc
+                Es.append(gy.amplitude)
+                As.append(gr.amplitude)
+                ph.append(float(wrap_phase(gy.phase - gr.phase)))
+            ratio = np.array(Es) / np.array(As)
+            self.E.append(float(np.mean(Es)))  # eq. (41)
+            self.A.append(float(np.mean(As)))
+            # eq. (44) on phases relative to the table's signal (P_i of eq. (45) per record)
+            self.phi.append(float(np.angle(np.mean(np.exp(1j * np.array(ph))))))
+            self.uS.append(float(np.std(ratio, ddof=1) / math.sqrt(ratio.size)) if ratio.size > 1 else 0.0)
+            self.n.append(len(Es))
+        self.S = np.array(self.E) / np.array(self.A)  # eq. (42)
+        self.P = np.unwrap(np.array(self.phi))  # eq. (45), continuous in f
+        self.uS = np.array(self.uS)
+
+
+class Bandwidth(_JJF):
+    """JJF 2014—2022 7.2.21 带宽: sine fits eq. (40), Ē_i (41), S_i = Ē_i/A (42), K_i = S_i/S_0
+    (43) with S_0 = K from 7.2.1; curve 1/K² = a + b f² through the N + 1 ratios, B_w at K = 0.707."""
+
+    item = "7.2.21"
+    title = "Bandwidth (带宽)"
+    clause = "7.2.21"
+    metrics = (Metric("Bw", "bandwidth", "B_w", "Hz", "7.2.21.2", "40–43"),)
+    requires = ScaleFactor.requires + (SegmentRequirement(
+        "angular-vibration", "angular vibration table, N ≥ 10 log-spaced frequencies 10 Hz … 2·B_w, n ≥ 10 records",
+        {"frequency": "Hz", "amplitude": "deg/s", "repeat": ""}, {"output": ("mV",), "reference": ("deg/s",)}),)
+    options = RATE_OPTS + (Option("bandwidth_estimate", "80 Hz", "Hz", "expected B_w (sets the top frequency 2·B_w)"),
+                           Option("frequencies", 12, None, "N"), Option("records", 10, None, "n per frequency"),
+                           Option("amplitude", "20 deg/s", "deg/s", "table amplitude (10–30 % of range)"),
+                           Option("sample_rate", "5000 Hz", "Hz", "> 20·B_w"))
+    equipment = _JJF.equipment + (EquipmentRequirement("angular-vibration", "angular vibration table and its "
+                                                       "reference sensor (relative U of amplitude; phase_U)"),)
+
+    def sequence(self, options):
+        bw = float(options["bandwidth_estimate"].to("Hz").magnitude)
+        fs = float(options["sample_rate"].to("Hz").magnitude)
+        A = float(options["amplitude"].to("deg/s").magnitude)
+        freqs = np.round(np.geomspace(10.0, 2 * bw, _num(options, "frequencies", 3, integer=True)), 1)
+        steps = ScaleFactor().sequence(options)
+        for f in freqs:
+            for j in range(1, _num(options, "records", 1, integer=True) + 1):
+                steps.append(Step(f"angvib-{f:g}Hz#{j}", "angular-vibration", f"{f:g} Hz, {A:g} °/s, record {j}",
+                                  Q_(1, "s"), Q_(1 / fs, "s"),
+                                  {"frequency": _q(f, "Hz"), "amplitude": _q(A, "deg/s"), "repeat": str(j)}))
+        return steps
+
+    @staticmethod
+    def _fc(dyn, S0, scale=1.0):
+        return F.bandwidth_fit_743(dyn.f, dyn.S * scale / S0)
+
+    @classmethod
+    def _analyse(cls, campaign, dyn, K, uK):
+        """(B_w, its budget, (a, b) of the curve, warnings)."""
+        try:
+            fc, ab, cov = cls._fc(dyn, K)
+        except ValueError as exc:
+            raise ProcedureError(f"7.2.21: {exc}",
+                                 hint="raise the top frequency (option bandwidth_estimate) past the 0.707 point") from exc
+        w = [] if dyn.f.size >= 10 else [f"7.2.21.1 b) asks for N ≥ 10 frequencies; got {dyn.f.size}"]
+        if min(dyn.n) < 10:
+            w.append(f"7.2.21.1 c) asks for n ≥ 10 records per frequency; the fewest is {min(dyn.n)}")
+        if dyn.fs < 20 * fc:
+            w.append(f"7.2.21.1 c) asks for a sampling rate above 20·B_w = {20 * fc:.4g} Hz; got {dyn.fs:g} Hz")
+        if fc > dyn.f.max():
+            w.append(f"B_w = {fc:.4g} Hz lies above the highest frequency {dyn.f.max():g} Hz (extrapolated)")
+        # sensitivities by numerical differentiation of the whole evaluation
+        eps = 1e-4
+        dfc_ds = (cls._fc(dyn, K, 1 + eps)[0] - fc) / eps  # ∂f_c/∂(relative scale of all S_i)
+        rows = []
+        # type A: scatter of the ratios E/A at each frequency, propagated by perturbing S_i
+        uA2 = 0.0
+        for i in range(dyn.f.size):
+            S = dyn.S.copy()
+            h = max(dyn.uS[i], 1e-12 * S[i])
+            S[i] += h
+            d = (F.bandwidth_fit_743(dyn.f, S / K)[0] - fc) / h
+            uA2 += (d * dyn.uS[i]) ** 2
+        nmin = min(dyn.n)
+        rows.append(_budget_row_a("sine-fit amplitudes (scatter of Ē_i/A_i over the n records)", "u_A",
+                                  math.sqrt(uA2), "Hz", max(nmin - 1, 1)))
+        cal = _cal(campaign, "angular-vibration")
+        rows += B.relative_calibration_row("reference sensor amplitude (scales every S_i)", "u_rel(A)", cal,
+                                           Q_(abs(dfc_ds), "Hz"), w)
+        rows.append(BudgetRow.type_b("S₀ = K from 7.2.1", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
+                                     sensitivity=Q_(abs(dfc_ds), "Hz")))
+        return fc, B.type_a_budget("Bw", "Hz", rows), ab, w
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        dyn = _Dynamic(campaign, type(self))
+        fc, b, ab, w = self._analyse(campaign, dyn, K, uK)
+        kr = dyn.S / K
+        fine = np.linspace(0, max(dyn.f.max(), fc) * 1.05, 200)
+        plot = PlotSpec("amplitude_ratio", "Amplitude ratio K_i = S_i/S₀ (eq. (43)), fit and the 0.707 point",
+                        "f (Hz)", "K_i",
+                        [{"label": "K_i", "x": [0.0] + dyn.f.tolist(), "y": [1.0] + kr.tolist(), "style": "o"},
+                         {"label": "fit 1/K² = a + b f²", "x": fine.tolist(),
+                          "y": (1 / np.sqrt(ab[0] + ab[1] * fine**2)).tolist(), "style": "-"},
+                         {"label": f"0.707 → B_w = {fc:.4g} Hz", "x": [0.0, fc, fc], "y": [0.707, 0.707, 0.0],
+                          "style": "--"}])
+        tab = TableSpec("dynamic", "Per frequency", ["f_i (Hz)", "Ē_i (mV)", "A (°/s)", "S_i (mV/((°)/s))", "K_i",
+                                                     "P_i (rad)"],
+                        [[f"{f:g}", f"{e:.5g}", f"{a:.5g}", f"{s:.6g}", f"{k:.5f}", f"{p:.5f}"]
+                         for f, e, a, s, k, p in zip(dyn.f, dyn.E, dyn.A, dyn.S, kr, dyn.P)])
+        return self._outcome([Result(self.metrics[0], Q_(fc, "Hz"), b.combined, b)], plots=[plot], tables=[tab],
+                             warnings=w, segments=dyn.ids, opts=opts)
+
+
+class OutputDelay(Bandwidth):
+    """JJF 2014—2022 7.2.22 输出延迟时间: φ̄_i (44), P_i = φ̄_i − φ₀ (45) (φ₀ from the reference
+    sensor's fit of the same record), model (46) with T = 1/(2πB_w) (47), T_d by (48)–(50)."""
+
+    item = "7.2.22"
+    title = "Output delay (输出延迟时间)"
+    clause = "7.2.22"
+    metrics = (Metric("Td", "output delay", "T_d", "s", "7.2.22.2", "48–50"),)
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        dyn = _Dynamic(campaign, type(self))
+        fc, bbw, _, _ = self._analyse(campaign, dyn, K, uK)
+        w_ = 2 * math.pi * dyn.f
+        T = 1.0 / (2 * math.pi * fc)  # eq. (47)
+        Td, u_fit, resid = F.delay_eq48_50(w_, dyn.P, T)
+        # u(B_w) from the 7.2.21 evaluation
+        u_bw = float(bbw.combined.to("Hz").magnitude)
+        d = 1e-3 * fc
+        Td2 = F.delay_eq48_50(w_, dyn.P, 1.0 / (2 * math.pi * (fc + d)))[0]
+        rows = [_budget_row_a("least squares of eq. (50) (phase residuals)", "u(T_d)", u_fit, "s", dyn.f.size - 1),
+                BudgetRow.type_b("bandwidth B_w via T = 1/(2πB_w) (eq. (47))", "u(B_w)", Q_(u_bw, "Hz"),
+                                 distribution="normal", k=1.0, sensitivity=Q_(abs((Td2 - Td) / d), "s/Hz"))]
+        eq = campaign.equipment_for("angular-vibration")
+        if eq is not None and "phase_U" in eq.properties:
+            pu = parse_quantity(eq.properties["phase_U"], dimension="deg").to("rad").magnitude
+            rows.append(BudgetRow.type_b("reference sensor phase", "u(φ₀)", Q_(pu, ""), distribution="normal", k=2.0,
+                                         sensitivity=Q_(1.0 / math.sqrt(float(w_ @ w_) / w_.size), "s"),
+                                         note="a common phase error φ acts as φ/ω on T_d (RMS ω)"))
+        b = B.type_a_budget("Td", "s", rows)
+        fine = np.linspace(dyn.f.min(), dyn.f.max(), 100)
+        wf = 2 * np.pi * fine
+        plot = PlotSpec("phase", "Phase delay P_i (eq. (45)) and the model −atan(ωT) − ωT_d (eq. (46))", "f (Hz)",
+                        "P (rad)",
+                        [{"label": "P_i", "x": dyn.f.tolist(), "y": dyn.P.tolist(), "style": "o"},
+                         {"label": f"model, T_d = {Td * 1e3:.4g} ms, B_w = {fc:.4g} Hz", "x": fine.tolist(),
+                          "y": (-np.arctan(wf * T) - wf * Td).tolist(), "style": "-"},
+                         {"label": "pure delay −ωT_d", "x": fine.tolist(), "y": (-wf * Td).tolist(), "style": ":"},
+                         {"label": f"B_w = {fc:.4g} Hz", "x": [fc, fc],
+                          "y": [float(np.min(dyn.P)), 0.0], "style": "--"}])
+        return self._outcome([Result(self.metrics[0], Q_(Td, "s"), b.combined, b, note=f"T = {T * 1e3:.4g} ms")],
+                             plots=[plot], segments=dyn.ids, opts=opts)
+
+
+# =============================================================================== 7.2.23
+
+
+class StartupTime(_JJF):
+    """JJF 2014—2022 7.2.23 启动时间: position trials (time until the output reaches the required
+    bias: stays within ± bias_tolerance of its settled value) and rate trials (calibrated output
+    within rate_tolerance of KΩ); the start-up time is the largest of all (7.2.23.2)."""
+
+    item = "7.2.23"
+    title = "Start-up time (启动时间)"
+    clause = "7.2.23"
+    metrics = (Metric("t_startup", "start-up time", "t_s", "s", "7.2.23.2", "prose, no eq. number"),)
+    requires = (SegmentRequirement("startup", "power-on records: trial = position (at rest) or rate (table at Ω)",
+                                   {"trial": "", "rate": "deg/s", "run": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("bias_tolerance", "0.05 deg/s", "deg/s", "required bias band (position trials)"),
+                           Option("rate_tolerance", "1 %", "", "rate error requirement, relative (rate trials)"),
+                           Option("window", "1 s", "s", "moving-average window applied before the test"),
+                           Option("full_scale", "100 deg/s", "deg/s", "full-scale rate for the rate trials"))
+    equipment = _JJF.equipment + (EquipmentRequirement("timer", "timer / time base"),)
+
+    def sequence(self, options):
+        fs = float(options["full_scale"].to("deg/s").magnitude)
+        steps = ScaleFactor().sequence(options)
+        for q in (1, 2, 3):
+            steps.append(Step(f"startup-position#{q}", "startup", f"power on at rest, run {q}, 60 s at 0.1 s",
+                              Q_(60, "s"), Q_(0.1, "s"), {"trial": "position", "rate": "0 deg/s", "run": str(q)}))
+        for frac in (1.0, 0.1, 0.01):
+            steps.append(Step(f"startup-rate{frac:g}FS", "startup", f"power on with the table at {frac * fs:g} °/s",
+                              Q_(60, "s"), Q_(0.1, "s"), {"trial": "rate", "rate": _q(frac * fs, "deg/s"), "run": "1"}))
+        return steps
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        segs = _need(campaign, type(self), "startup")
+        btol = float(opts["bias_tolerance"].to("deg/s").magnitude)
+        rtol = float(opts["rate_tolerance"].to("").magnitude)
+        win = float(opts["window"].to("s").magnitude)
+        for s in segs:
+            if str(s.condition("trial")).strip().lower() not in ("position", "rate"):
+                raise DataError(s.file or s.id, f"segments.{s.id}.conditions.trial",
+                                f"must be \"position\" or \"rate\" (7.2.23.1), got {s.condition('trial')!r}")
+        pos = [s for s in segs if str(s.condition("trial")).strip().lower() == "position"]
+        rat = [s for s in segs if str(s.condition("trial")).strip().lower() == "rate"]
+        if not pos:
+            raise DataError(campaign.source, "segments", "7.2.23 needs at least one position trial (trial = position)")
+        rows, times = [], []
+
+        def smooth(s):
+            x, dt = _output(s)
+            k = max(1, int(round(win / dt)))
+            if x.size < 4 * k:
+                raise DataError(s.file or s.id, "output", f"record too short for a {win:g} s window")
+            c = np.convolve(x, np.ones(k) / k, mode="valid")
+            t = (np.arange(c.size) + (k + 1) / 2.0) * dt  # centre of each window, from power-on
+            return t, c / K, dt, float(np.std(np.diff(x)) / math.sqrt(2 * k) / abs(K))
+
+        zero = []
+        for s in pos:
+            t, r, dt, sd = smooth(s)
+            settled = float(np.mean(r[int(0.75 * r.size):]))
+            zero.append(settled)
+            try:
+                ts = F.settle_time(t, r, settled, btol)
+            except ValueError as exc:
+                raise ProcedureError(f"7.2.23 position trial {s.id}: {exc}") from exc
+            times.append((ts, s, t, r, settled, btol, dt, sd))
+        z = float(np.mean(zero))
+        for s in rat:
+            om = _cond_q(s, "rate", "deg/s")
+            t, r, dt, sd = smooth(s)
+            tol = rtol * abs(om)
+            try:
+                ts = F.settle_time(t, r - z, om, tol)
+            except ValueError as exc:
+                raise ProcedureError(f"7.2.23 rate trial {s.id}: {exc}") from exc
+            times.append((ts, s, t, r - z, om, tol, dt, sd))
+        ts, s, t, r, target, tol, dt, sd = max(times, key=lambda x: x[0])
+        i = int(np.searchsorted(t, ts))
+        j0, j1 = max(i - 5, 0), min(i + 5, t.size - 1)
+        slope = abs((r[j1] - r[j0]) / (t[j1] - t[j0])) if j1 > j0 else 0.0
+        rows = [BudgetRow.type_b("sampling: the crossing lies within one interval", "Δt/2", Q_(dt / 2, "s"),
+                                 distribution="uniform")]
+        if slope > 0:
+            rows.append(_budget_row_a("output noise at the crossing / slope of the settling output", "σ/|dx/dt|",
+                                      sd / slope, "s", INF))
+        rows += B.relative_calibration_row("timer", "u_rel(t)", _cal(campaign, "timer"), Q_(ts, "s"))
+        b = B.type_a_budget("t_startup", "s", rows)
+        tab = TableSpec("startup", "Start-up time per trial", ["trial", "segment", "target", "tolerance", "t (s)"],
+                        [[str(x[1].condition("trial")), x[1].id, f"{x[4]:.4g} °/s", f"{x[5]:.3g} °/s", f"{x[0]:.2f}"]
+                         for x in times])
+        return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, note=f"largest in {s.id}")],
+                             tables=[tab], segments=[x.id for x in segs], opts=opts)

@@ -1,0 +1,287 @@
+"""JJF 2014—2022 7.2.9–7.2.12: threshold, resolution, input-axis misalignment and its repeatability."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from metro.core.budget import INF, BudgetRow
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, Step, TableSpec
+from metro.core.units import Q_
+
+from . import budgets as B
+from . import formulas as F
+from .common import (
+    _JJF,
+    RATE_OPTS,
+    _budget_row_a,
+    _by,
+    _cal,
+    _cond_q,
+    _distinct,
+    _magnitudes,
+    _mean_u,
+    _need,
+    _num,
+    _q,
+    scale_factor_for,
+)
+from .scale_factor import ScaleFactor
+
+# =============================================================================== 7.2.9, 7.2.10
+
+
+def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign, what: str):
+    """Result for a grid-searched quantity: the larger |candidate| of the two directions, as
+    7.2.9.1 f) / 7.2.10.1 g) report it.  The candidate meets eq. (17)/(18) and the next smaller
+    level does not, so the true value lies in (next level, candidate] (or (0, candidate] when
+    every level passed): the candidate errs by 0 … one step, always upward.  Its standard
+    uncertainty about the candidate is the RMS of that one-sided error, step/√3, written as a
+    uniform of half-width one step (interpretations.md, "7.2.9 / 7.2.10")."""
+    d = max(cands, key=lambda k: abs(cands[k][0]))
+    val, nxt = cands[d]
+    step = abs(val) - abs(nxt) if nxt is not None else abs(val)
+    rows = [BudgetRow.type_b(f"step of the {what} levels ({d}): true value in (next level, candidate]", "Δ",
+                             Q_(step, "deg/s"), distribution="uniform",
+                             note="one-sided: the candidate errs by 0 … Δ, u = Δ/√3")]
+    rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", _cal(campaign, "rate-table"),
+                                       Q_(abs(val), "deg/s"))
+    b = B.type_a_budget(metric.key, "deg/s", rows)
+    return Result(metric, Q_(abs(val), "deg/s"), b.combined, b, note=f"larger in the {d} direction")
+
+
+class Threshold(_JJF):
+    """JJF 2014—2022 7.2.9 阈值: decreasing rates in each direction; F̂_i = KΩ_i (16);
+    candidate = the last rate meeting |(F̂_i − F_i)/F̂_i| ≤ 50 % (17) with F_i the output minus
+    the zero-input mean; threshold = the larger |candidate| of the two directions (7.2.9.1 f))."""
+
+    item = "7.2.9"
+    title = "Threshold (阈值)"
+    clause = "7.2.9"
+    metrics = (Metric("threshold", "threshold", "Ω_th", "deg/s", "7.2.9.2", "16, 17"),)
+    requires = ScaleFactor.requires + (SegmentRequirement(
+        "threshold", "table at decreasing small rates Ω_i in each direction, and at rest (rate 0)",
+        {"rate": "deg/s"}, {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("levels", "0.1, 0.05, 0.03, 0.02, 0.015, 0.01, 0.007, 0.005, 0.003", None,
+                                  "small rates (°/s), largest first"),
+                           Option("seconds", 200, None, "record length per level (s at 1 s)"))
+
+    def sequence(self, options):
+        n = _num(options, "seconds", 2)
+        steps = ScaleFactor().sequence(options)
+        steps.append(Step("threshold-0", "threshold", "table at rest (zero input)", Q_(n, "s"), Q_(1, "s"),
+                          {"rate": "0 deg/s"}))
+        for r in _magnitudes(options["levels"], "levels"):
+            for sgn in (1, -1):
+                steps.append(Step(f"threshold{'+' if sgn > 0 else '-'}{r:g}", "threshold", f"table at {sgn * r:+g} °/s",
+                                  Q_(n, "s"), Q_(1, "s"), {"rate": _q(sgn * r, "deg/s")}))
+        return steps
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, _, _ = scale_factor_for(campaign, type(self))
+        segs = _need(campaign, type(self), "threshold")
+        zero = [s for s in segs if _cond_q(s, "rate", "deg/s") == 0.0]
+        if not zero:
+            raise DataError(campaign.source, "segments", "7.2.9 needs a zero-input segment (kind threshold, rate 0)")
+        f0 = np.mean([_mean_u(s)[0] for s in zero])
+        cands = {}
+        rows = []
+        for name, sgn in (("forward", 1), ("reverse", -1)):
+            d = sorted([s for s in segs if sgn * _cond_q(s, "rate", "deg/s") > 0],
+                       key=lambda s: -abs(_cond_q(s, "rate", "deg/s")))
+            if len(d) < 2:
+                raise DataError(campaign.source, "segments", f"7.2.9 needs at least 2 {name} levels")
+            om = np.array([_cond_q(s, "rate", "deg/s") for s in d])
+            _distinct(campaign, om, f"7.2.9 {name} levels (condition rate)")
+            fc = np.array([_mean_u(s)[0] - f0 for s in d])
+            c, i = F.threshold_eq16_17(om, fc, K)
+            if c is None:
+                raise ProcedureError(f"7.2.9: already the largest {name} level {om[0]:g} °/s fails eq. (17)",
+                                     hint="start the decreasing sequence at a larger rate (option levels)")
+            cands[name] = (c, float(om[i + 1]) if i + 1 < om.size else None)
+            rows += [[name, f"{o:g}", f"{K * o:.4g}", f"{x:.4g}", f"{abs((K * o - x) / (K * o)) * 100:.1f}"]
+                     for o, x in zip(om, fc)]
+        res = _grid_result(self.metrics[0], cands, campaign, "threshold")
+        tab = TableSpec("threshold", "Eq. (17) per level", ["direction", "Ω_i (°/s)", "F̂_i (mV)", "F_i (mV)",
+                                                             "|F̂−F|/F̂ (%)"], rows)
+        return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
+
+
+class Resolution(_JJF):
+    """JJF 2014—2022 7.2.10 分辨率: increments ΔΩ_i on a base rate 20–50× the threshold;
+    ΔF̂_i = KΔΩ_i by eq. (6); candidate = last increment meeting eq. (18); resolution = the
+    larger |candidate| of the two directions (7.2.10.1 g))."""
+
+    item = "7.2.10"
+    title = "Resolution (分辨率)"
+    clause = "7.2.10"
+    metrics = (Metric("resolution", "resolution", "Ω_res", "deg/s", "7.2.10.2", "18"),)
+    requires = ScaleFactor.requires + (SegmentRequirement(
+        "resolution", "base rate Ω_b and Ω_b + ΔΩ_i for decreasing increments, each direction",
+        {"base_rate": "deg/s", "increment": "deg/s"}, {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("base_rate", "0.3 deg/s", "deg/s", "base rate (20–50× the estimated threshold)"),
+                           Option("increments", "0.05, 0.02, 0.01, 0.007, 0.005, 0.003, 0.002, 0.001", None,
+                                  "increments (°/s), largest first"),
+                           Option("seconds", 200, None, "record length per level (s at 1 s)"))
+
+    def sequence(self, options):
+        n = _num(options, "seconds", 2)
+        base = float(options["base_rate"].to("deg/s").magnitude)
+        steps = ScaleFactor().sequence(options)
+        for sgn, d in ((1, "+"), (-1, "-")):
+            steps.append(Step(f"resolution{d}base", "resolution", f"base rate {sgn * base:+g} °/s", Q_(n, "s"),
+                              Q_(1, "s"), {"base_rate": _q(sgn * base, "deg/s"), "increment": "0 deg/s"}))
+            for r in _magnitudes(options["increments"], "increments"):
+                steps.append(Step(f"resolution{d}{r:g}", "resolution", f"base {sgn * base:+g} °/s + {sgn * r:+g} °/s",
+                                  Q_(n, "s"), Q_(1, "s"),
+                                  {"base_rate": _q(sgn * base, "deg/s"), "increment": _q(sgn * r, "deg/s")}))
+        return steps
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, _, _ = scale_factor_for(campaign, type(self))
+        segs = _need(campaign, type(self), "resolution")
+        cands, rows = {}, []
+        for name, sgn in (("forward", 1), ("reverse", -1)):
+            mine = [s for s in segs if sgn * _cond_q(s, "base_rate", "deg/s") > 0]
+            base = [s for s in mine if _cond_q(s, "increment", "deg/s") == 0.0]
+            inc = sorted([s for s in mine if _cond_q(s, "increment", "deg/s") != 0.0],
+                         key=lambda s: -abs(_cond_q(s, "increment", "deg/s")))
+            if not base or len(inc) < 2:
+                raise DataError(campaign.source, "segments",
+                                f"7.2.10 needs, in the {name} direction, a base segment (increment 0) and ≥ 2 increments")
+            fb = _mean_u(base[0])[0]
+            dom = np.array([_cond_q(s, "increment", "deg/s") for s in inc])
+            _distinct(campaign, dom, f"7.2.10 {name} increments (condition increment)")
+            if len(base) > 1:
+                raise DataError(campaign.source, "segments", f"7.2.10: {len(base)} {name} base segments (increment 0); "
+                                "give one")
+            dF = np.array([_mean_u(s)[0] - fb for s in inc])
+            c, i = F.resolution_eq18(dom, dF, K)
+            if c is None:
+                raise ProcedureError(f"7.2.10: already the largest {name} increment {dom[0]:g} °/s fails eq. (18)")
+            cands[name] = (c, float(dom[i + 1]) if i + 1 < dom.size else None)
+            rows += [[name, f"{o:g}", f"{K * o:.4g}", f"{x:.4g}"] for o, x in zip(dom, dF)]
+        res = _grid_result(self.metrics[0], cands, campaign, "increment")
+        tab = TableSpec("resolution", "Eq. (18) per increment", ["direction", "ΔΩ_i (°/s)", "ΔF̂_i (mV)", "ΔF_i (mV)"],
+                        rows)
+        return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
+
+
+# =============================================================================== 7.2.11, 7.2.12
+
+
+def _misalignment_run(campaign, proc, segs: list[Segment], K: float, uK_rel: float):
+    Fm: dict[tuple[int, str], float] = {}
+    uF: dict[tuple[int, str], float] = {}
+    omegas = set()
+    for s in segs:
+        ptxt = str(s.condition("position")).strip()
+        p = int(ptxt) if ptxt in ("1", "2", "3", "4") else 0
+        if not p:
+            raise DataError(s.file or s.id, f"segments.{s.id}.conditions.position",
+                            f"must be 1, 2, 3 or 4 (the four mountings of 7.2.11.1), got {ptxt!r}")
+        om = _cond_q(s, "rate", "deg/s")
+        if om == 0:
+            raise DataError(s.file or s.id, f"segments.{s.id}.conditions.rate", "must be ±Ω_(+), not 0")
+        key = (p, "+" if om > 0 else "-")
+        if key in Fm:
+            raise DataError(s.file or s.id, f"segments.{s.id}.conditions",
+                            f"two records of position {p} turning {'forward' if key[1] == '+' else 'reverse'} in one run")
+        Fm[key], uF[key], _ = _mean_u(s)
+        omegas.add(abs(om))
+    missing = [f"{p}{d}" for p in (1, 2, 3, 4) for d in "+-" if (p, d) not in Fm]
+    if missing:
+        raise DataError(campaign.source, "segments", f"7.2.11 needs all four positions in both directions; "
+                        f"missing {', '.join(missing)}")
+    if len(omegas) != 1:
+        raise DataError(campaign.source, "segments", "7.2.11: all records must use the same table rate Ω_(+)")
+    om = omegas.pop()
+    r = F.misalignment_eq19_25(Fm, om, K)
+    # u(α) from the four means of positions 1, 2: each δ has u = √(u²(F+) + u²(F−))/(2ΩK)
+    ud = {p: math.hypot(uF[(p, "+")], uF[(p, "-")]) / (2 * om * K) for p in (1, 2, 3, 4)}
+    ua, ub = math.hypot(ud[1], ud[2]) / 2, math.hypot(ud[3], ud[4]) / 2
+    g_rad = math.hypot(r["alpha"], r["beta"])
+    to_arcmin = 10800.0 / math.pi
+    u_noise = (math.hypot(r["alpha"] * ua, r["beta"] * ub) / g_rad if g_rad > 0 else math.hypot(ua, ub)) * to_arcmin
+    return r, u_noise, om
+
+
+class Misalignment(_JJF):
+    """JJF 2014—2022 7.2.11 输入轴失准角: four mountings, δ_p eqs. (19), (20), (22), (23),
+    α_m (21), β_m (24), γ_m = 10800√(α_m² + β_m²)/π in ′ (25)."""
+
+    item = "7.2.11"
+    title = "Input-axis misalignment (输入轴失准角)"
+    clause = "7.2.11"
+    metrics = (Metric("gamma", "input-axis misalignment", "γ_m", "arcmin", "7.2.11.2", "25"),)
+    requires = ScaleFactor.requires + (SegmentRequirement(
+        "misalignment", "positions 1–4 (OY up, +180° about IRA, OX up, +180°), table ±Ω for 1 min",
+        {"position": "", "rate": "deg/s", "run": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("table_rate", "360 deg/s", "deg/s", "Ω_(+) (7.2.11.1 b))"),)
+    runs_default = 1
+
+    def _steps(self, options, runs):
+        om = float(options["table_rate"].to("deg/s").magnitude)
+        steps = ScaleFactor().sequence(options)
+        for q in range(1, runs + 1):
+            for p in (1, 2, 3, 4):
+                for sgn in (1, -1):
+                    steps.append(Step(f"misalignment#{q}p{p}{'+' if sgn > 0 else '-'}", "misalignment",
+                                      f"run {q}, position {p}, table {sgn * om:+g} °/s, 1 min", Q_(60, "s"),
+                                      Q_(1, "s"), {"position": str(p), "rate": _q(sgn * om, "deg/s"), "run": str(q)}))
+        return steps
+
+    def sequence(self, options):
+        return self._steps(options, 1)
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        segs = _need(campaign, type(self), "misalignment")
+        runs = _by(segs, "run") if all("run" in s.conditions for s in segs) else {"1": segs}
+        first = sorted(runs)[0]
+        r, u_noise, om = _misalignment_run(campaign, type(self), runs[first], K, uK)
+        gamma = r["gamma"]
+        rows = [_budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF),
+                BudgetRow.type_b("scale factor K (γ ∝ 1/K)", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
+                                 sensitivity=Q_(gamma, "arcmin"))]
+        rows += B.relative_calibration_row("rate table Ω_(+) (γ ∝ 1/Ω)", "u_rel(Ω)", _cal(campaign, "rate-table"),
+                                           Q_(gamma, "arcmin"))
+        b = B.type_a_budget("gamma", "arcmin", rows)
+        note = (f"α_m = {r['alpha'] * 10800 / math.pi:.4g}′, β_m = {r['beta'] * 10800 / math.pi:.4g}′ "
+                f"(run {first}, Ω = {om:g} °/s)")
+        return self._outcome([Result(self.metrics[0], Q_(gamma, "arcmin"), b.combined, b, note=note)],
+                             segments=[s.id for s in runs[first]], opts=opts)
+
+
+class MisalignmentRepeatability(Misalignment):
+    """JJF 2014—2022 7.2.12 输入轴失准角重复性: 7.2.11 repeated Q ≥ 7 times, γ_mr eq. (26)."""
+
+    item = "7.2.12"
+    title = "Input-axis misalignment repeatability (输入轴失准角重复性)"
+    clause = "7.2.12"
+    metrics = (Metric("gamma_r", "input-axis misalignment repeatability", "γ_mr", "arcmin", "7.2.12.2", "26"),)
+    options = Misalignment.options + (Option("runs", 7, None, "Q (≥ 7)"),)
+
+    def sequence(self, options):
+        return self._steps(options, _num(options, "runs", 7, integer=True))
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        K, uK, _ = scale_factor_for(campaign, type(self))
+        runs = _by(_need(campaign, type(self), "misalignment"), "run")
+        if len(runs) < 7:
+            raise DataError(campaign.source, "segments",
+                            f"7.2.12 needs Q ≥ 7 repetitions of 7.2.11 (condition run); got {len(runs)}")
+        gam = [_misalignment_run(campaign, type(self), g, K, uK)[0]["gamma"] for _, g in sorted(runs.items())]
+        gr = F.std_bessel(gam, "eq. (26)", 7)
+        u, dof = B.std_of_std(gr, len(gam))
+        b = B.type_a_budget("gamma_r", "arcmin", [_budget_row_a("sampling of a standard deviation of Q values",
+                                                                "γ_mr/√(2(Q−1))", u, "arcmin", dof)])
+        tab = TableSpec("gamma_runs", "γ_mi per run", ["run", "γ_mi (′)"],
+                        [[k, f"{g:.4f}"] for k, g in zip(sorted(runs), gam)])
+        return self._outcome([Result(self.metrics[0], Q_(gr, "arcmin"), b.combined, b)], tables=[tab],
+                             segments=[s.id for g in runs.values() for s in g], opts=opts)

@@ -1,0 +1,355 @@
+"""JJF 2014—2022 7.2.1–7.2.8: scale factor, nonlinearity and range, asymmetry, repeatability,
+temperature and acceleration sensitivity, change after shock and vibration."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from metro.core.budget import INF, BudgetRow
+from metro.core.errors import DataError, ProcedureError
+from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, TableSpec
+from metro.core.units import Q_, parse_quantity
+
+from . import budgets as B
+from . import formulas as F
+from .common import (
+    _JJF,
+    AXES,
+    KU,
+    RATE_OPTS,
+    SFSet,
+    _axis,
+    _budget_row_a,
+    _by,
+    _cal,
+    _chamber_rows,
+    _floats,
+    _magnitudes,
+    _main_set,
+    _need,
+    _num,
+    _phase,
+    _q,
+    _rate_steps,
+    _room_index,
+    _sf_plots,
+    _temperatures,
+    _updown,
+)
+
+# =============================================================================== 7.2.1 – 7.2.4
+
+
+class ScaleFactor(_JJF):
+    """JJF 2014—2022 7.2.1 标度因数: K and F_0 by least squares, eqs. (2)–(5); budget B.1."""
+
+    item = "7.2.1"
+    title = "Scale factor (标度因数)"
+    clause = "7.2.1"
+    metrics = (Metric("K", "scale factor", "K", KU, "7.2.1.2", "4"),
+               Metric("F0", "fitted zero (拟合零位)", "F₀", "mV", "7.2.1.2", "5"))
+    requires = (SegmentRequirement("rate", "rate table at Ω_i, IRA ∥ table axis; ≥ 11 rates per direction incl. "
+                                   "the maximum, ≥ 10 samples at 1 s each (7.2.1.1)", {"rate": "deg/s"},
+                                   {"output": ("mV",)}, min_count=22),)
+    options = RATE_OPTS
+
+    def sequence(self, options):
+        return _rate_steps("rate", _magnitudes(options["rates"], "rates"))
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        w: list[str] = []
+        s = _main_set(campaign, type(self))
+        npos, nneg = int(np.sum(s.omega > 0)), int(np.sum(s.omega < 0))
+        if min(npos, nneg) < 11:
+            w.append(f"7.2.1.1 b) asks for at least 11 rates per direction; got {npos} forward, {nneg} reverse")
+        if min(s.n) < 10:
+            w.append(f"7.2.1.1 c) asks for at least 10 samples per rate; the shortest segment has {min(s.n)}")
+        bK = s.budget(campaign, w)
+        bF0 = B.type_a_budget("fitted zero F0", "mV", [
+            _budget_row_a("residual scatter of the eq. (3) fit", "u(F₀)", s.fit.u_F0, "mV", s.fit.dof),
+            *B.relative_calibration_row("data acquisition, 6½-digit DMM", "u_DMM", _cal(campaign, "dmm"),
+                                        Q_(s.fit.F0, "mV"))])
+        res = [Result(self.metrics[0], Q_(s.K, KU), bK.combined, bK),
+               Result(self.metrics[1], Q_(s.fit.F0, "mV"), bF0.combined, bF0)]
+        tab = TableSpec("sf_points", "Mean output per input rate (eq. (2)) and residuals",
+                        ["Ω_i (°/s)", "F̄_i (mV)", "u(F̄_i) (mV)", "v_i (mV)"],
+                        [[f"{o:g}", f"{f:.6f}", f"{u:.2g}", f"{v:.3g}"]
+                         for o, f, u, v in zip(s.omega, s.F, s.uF, s.fit.residuals)])
+        return self._outcome(res, plots=_sf_plots(s), tables=[tab], warnings=w, segments=s.ids, opts=opts)
+
+
+class NonlinearityRange(_JJF):
+    """JJF 2014—2022 7.2.2 标度因数非线性度和量程: a_i eq. (7), K_n eq. (8); the range is the
+    largest input rate whose span meets the nonlinearity requirement (7.2.2.2)."""
+
+    item = "7.2.2"
+    title = "Scale-factor nonlinearity and range (标度因数非线性度和量程)"
+    clause = "7.2.2"
+    metrics = (Metric("Kn", "scale-factor nonlinearity", "K_n", "", "7.2.2.2", "8"),
+               Metric("range", "range (量程)", "Ω_max", "deg/s", "7.2.2.2", "prose after eq. 8"))
+    requires = ScaleFactor.requires
+    options = RATE_OPTS + (Option("nonlinearity_limit", "", None,
+                                  "required K_n for the range (default: device.nonlinearity_spec)"),)
+
+    def sequence(self, options):
+        return ScaleFactor().sequence(options)
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        w: list[str] = []
+        s = _main_set(campaign, type(self))
+        try:
+            a, kn = F.nonlinearity_eq7_8(s.omega, s.F, s.fit)
+        except ValueError as exc:
+            raise ProcedureError(f"7.2.2: {exc}") from exc
+        span = abs(s.omega.max() - s.omega.min())
+        i = int(np.argmax(np.abs(a)))
+        # u(a_i): the scatter of F̄_i (and of the fit) over K·span; the rate table's error at Ω_i
+        u_pt = math.hypot(s.uF[i], s.fit.residuals.std(ddof=2) / math.sqrt(len(s.F))) / (s.K * span)
+        cal = _cal(campaign, "rate-table")
+        rows = [_budget_row_a("scatter of F̄_i at the worst point and of the fit", "u(a_i)", u_pt, "", s.fit.dof)]
+        if cal is not None and cal.uncertainty.dimensionless:
+            rows.append(BudgetRow.from_calibration("rate table error at Ω_i", "u_rel(Ω)", cal,
+                                                   sensitivity=Q_(abs(s.omega[i]) / span, "")))
+        bkn = B.type_a_budget("nonlinearity Kn", "", rows)
+        limit_txt = opts["nonlinearity_limit"] or campaign.device.properties.get("nonlinearity_spec")
+        results = [Result(self.metrics[0], Q_(kn, ""), bkn.combined, bkn)]
+        if limit_txt in (None, ""):
+            w.append("no nonlinearity requirement given (option nonlinearity_limit or device.nonlinearity_spec): "
+                     "the range is not determined")
+        else:
+            limit = float(parse_quantity(limit_txt, dimension="").to("").magnitude)
+            rng, kn_r = F.range_from_nonlinearity(s.omega, s.F, limit)
+            if rng is None:
+                w.append(f"no symmetric span meets K_n ≤ {limit:g}: the range is not determined")
+            else:
+                rr = B.relative_calibration_row("rate table (the range is a set table rate)", "u_rel(Ω)", cal,
+                                                Q_(rng, "deg/s"), w)
+                br = B.type_a_budget("range", "deg/s", rr) if rr else None
+                results.append(Result(self.metrics[1], Q_(rng, "deg/s"), br.combined if br else None, br,
+                                       note=f"K_n = {kn_r:.3g} ≤ {limit:g} over ±{rng:g} °/s"))
+        tab = TableSpec("nonlinearity", "Point nonlinearity a_i (eq. (7))", ["Ω_i (°/s)", "a_i"],
+                        [[f"{o:g}", f"{x:.3e}"] for o, x in zip(s.omega, a)])
+        return self._outcome(results, tables=[tab], warnings=w, segments=s.ids, opts=opts)
+
+
+class Asymmetry(_JJF):
+    """JJF 2014—2022 7.2.3 标度因数不对称度: K_+, K_− by eq. (4) on each direction, K_a eq. (9)."""
+
+    item = "7.2.3"
+    title = "Scale-factor asymmetry (标度因数不对称度)"
+    clause = "7.2.3"
+    metrics = (Metric("Ka", "scale-factor asymmetry", "K_a", "", "7.2.3.2", "9"),)
+    requires = ScaleFactor.requires
+    options = RATE_OPTS
+
+    def sequence(self, options):
+        return ScaleFactor().sequence(options)
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        s = _main_set(campaign, type(self))
+        pos, neg = s.omega > 0, s.omega < 0
+        if pos.sum() < 3 or neg.sum() < 3:
+            raise DataError(campaign.source, "segments", "7.2.3 needs at least 3 forward and 3 reverse rates")
+        fp = F.scale_factor_eq4_5(s.omega[pos], s.F[pos])
+        fm = F.scale_factor_eq4_5(s.omega[neg], s.F[neg])
+        ka = F.asymmetry_eq9(fp.K, fm.K, s.K)
+        u = math.hypot(fp.u_K, fm.u_K) / abs(s.K)
+        dof = u**4 / ((fp.u_K / s.K) ** 4 / fp.dof + (fm.u_K / s.K) ** 4 / fm.dof) if u > 0 else INF
+        b = B.type_a_budget("asymmetry Ka", "", [
+            _budget_row_a("fits of K₊ and K₋ (eq. (4) per direction)", "√(u²(K₊)+u²(K₋))/K", u, "", dof,
+                          note="the rate table and DMM errors are common to K₊, K₋ and K and cancel in eq. (9)")])
+        return self._outcome([Result(self.metrics[0], Q_(ka, ""), b.combined, b,
+                                     note=f"K₊ = {fp.K:.7g}, K₋ = {fm.K:.7g} mV/((°)/s)")],
+                             segments=s.ids, opts=opts)
+
+
+class Repeatability(_JJF):
+    """JJF 2014—2022 7.2.4 标度因数重复性: Q calibrations by 7.2.1, K_r eq. (10)."""
+
+    item = "7.2.4"
+    title = "Scale-factor repeatability (标度因数重复性)"
+    clause = "7.2.4"
+    metrics = (Metric("Kr", "scale-factor repeatability", "K_r", "", "7.2.4.2", "10"),)
+    requires = (SegmentRequirement("rate-repeat", "7.2.1 repeated Q times, power off between runs", {"rate": "deg/s",
+                                   "run": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("runs", 6, None, "number of calibrations Q"),)
+
+    def sequence(self, options):
+        steps = []
+        for q in range(1, _num(options, "runs", 2, integer=True) + 1):
+            steps += _rate_steps("rate-repeat", _magnitudes(options["rates"], "rates"), {"run": str(q)}, tag=f"#{q}")
+        return steps
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        runs = _by(_need(campaign, type(self), "rate-repeat"), "run")
+        if len(runs) < 2:
+            raise DataError(campaign.source, "segments", f"7.2.4 needs Q ≥ 2 runs (condition run), got {len(runs)}")
+        sets = {r: SFSet(g) for r, g in sorted(runs.items())}
+        Ks = [s.K for s in sets.values()]
+        kr = F.relative_repeatability_eq10(Ks)
+        u, dof = B.std_of_std(kr, len(Ks))
+        b = B.type_a_budget("repeatability Kr", "", [
+            _budget_row_a("sampling of a standard deviation of Q values", "K_r/√(2(Q−1))", u, "", dof)])
+        tab = TableSpec("sf_runs", "K_i per calibration", ["run", "K_i (mV/((°)/s))", "u(K_i) fit"],
+                        [[r, f"{s.K:.7g}", f"{s.fit.u_K:.2g}"] for r, s in sets.items()])
+        return self._outcome([Result(self.metrics[0], Q_(kr, ""), b.combined, b)], tables=[tab],
+                             segments=[i for s in sets.values() for i in s.ids], opts=opts)
+
+
+# =============================================================================== 7.2.5 – 7.2.8
+
+
+class SFTemperature(_JJF):
+    """JJF 2014—2022 7.2.5 标度因数温度灵敏度: K_i at each temperature by 7.2.1, K_t eq. (11)."""
+
+    item = "7.2.5"
+    title = "Scale-factor temperature sensitivity (标度因数温度灵敏度)"
+    clause = "7.2.5"
+    metrics = (Metric("Kt", "scale-factor temperature sensitivity", "K_t", "1/delta_degC", "7.2.5.2", "11"),)
+    requires = (SegmentRequirement("rate-temperature", "7.2.1 at each chamber temperature incl. room temperature",
+                                   {"rate": "deg/s", "temperature": "degC"}, {"output": ("mV",)}),)
+    options = RATE_OPTS + (Option("temperatures", "-40, -10, 20, 40, 60", None, "chamber points (°C), R5-like"),
+                           Option("room_temperature", "20 °C", "degC", "T_m"))
+
+    def sequence(self, options):
+        steps = []
+        for T in _floats(options["temperatures"], "temperatures"):
+            steps += _rate_steps("rate-temperature", _magnitudes(options["rates"], "rates"),
+                                 {"temperature": _q(T, "degC")}, tag=f"@{T:g}C")
+        return steps
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        groups = _by(_need(campaign, type(self), "rate-temperature"), "temperature")
+        T = _temperatures(groups, "7.2.5")
+        keys = sorted(groups, key=T.get)
+        temps = [T[k] for k in keys]
+        if len(keys) < 2:
+            raise DataError(campaign.source, "segments", "7.2.5 needs at least 2 temperatures")
+        sets = [SFSet(groups[k]) for k in keys]
+        m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.5")
+        Ks = [s.K for s in sets]
+        kt, i = F.sf_temperature_eq11(Ks, temps, m)
+        dT = temps[i] - temps[m]
+        # Kt = |K_i/K_m − 1|/|ΔT|: ∂/∂K_i = 1/(K_m|ΔT|), ∂/∂K_m ≈ K_i/(K_m²|ΔT|)
+        rows = [_budget_row_a(f"fit of K_i at {temps[i]:g} °C", "u(K_i)/(K_m|ΔT|)",
+                              sets[i].fit.u_K / (Ks[m] * abs(dT)), "1/delta_degC", sets[i].fit.dof),
+                _budget_row_a(f"fit of K_m at {temps[m]:g} °C", "K_i·u(K_m)/(K_m²|ΔT|)",
+                              Ks[i] * sets[m].fit.u_K / (Ks[m] ** 2 * abs(dT)), "1/delta_degC", sets[m].fit.dof)]
+        rows += _chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
+        b = B.type_a_budget("Kt", "1/delta_degC", rows)
+        tab = TableSpec("sf_temperature", "K_i per temperature", ["T_i (°C)", "K_i (mV/((°)/s))"],
+                        [[f"{t:g}", f"{k:.7g}"] for t, k in zip(temps, Ks)])
+        return self._outcome([Result(self.metrics[0], Q_(kt, "1/delta_degC"), b.combined, b,
+                                     note=f"maximum at T_i = {temps[i]:g} °C, T_m = {temps[m]:g} °C")],
+                             tables=[tab], segments=[x for s in sets for x in s.ids], opts=opts)
+
+
+class SFAxialAcceleration(_JJF):
+    """JJF 2014—2022 7.2.6 标度因数轴向加速度敏感度: K with the IRA up and down (±1 g along the
+    input axis), (K_up − K_down)/2 g (7.2.6.2)."""
+
+    item = "7.2.6"
+    title = "Scale-factor axial-acceleration sensitivity (标度因数轴向加速度敏感度)"
+    clause = "7.2.6"
+    metrics = (Metric("Kg", "scale-factor axial-acceleration sensitivity", "K_g", "mV/(deg/s)/gn", "7.2.6.2", "prose, no eq. number"),)
+    requires = (SegmentRequirement("rate-accel", "7.2.1 with the IRA pointing up and down", {"rate": "deg/s",
+                                   "orientation": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS
+
+    def sequence(self, options):
+        steps = []
+        for o in ("IRA up", "IRA down"):
+            steps += _rate_steps("rate-accel", _magnitudes(options["rates"], "rates"), {"orientation": o},
+                                 tag=f"[{o.split()[1]}]")
+        return steps
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        segs = _need(campaign, type(self), "rate-accel")
+        g: dict[str, list[Segment]] = {}
+        for s in segs:
+            g.setdefault(_updown(s), []).append(s)
+        if set(g) != {"up", "down"}:
+            raise DataError(campaign.source, "segments", "7.2.6 needs calibrations with the IRA up and with it down")
+        up, dn = SFSet(g["up"]), SFSet(g["down"])
+        kg = F.per_g_726(up.K, dn.K)
+        b = B.type_a_budget("Kg", "mV/(deg/s)/gn", [
+            _budget_row_a("fit of K (IRA up)", "u(K_up)/2g", up.fit.u_K / 2, "mV/(deg/s)/gn", up.fit.dof),
+            _budget_row_a("fit of K (IRA down)", "u(K_down)/2g", dn.fit.u_K / 2, "mV/(deg/s)/gn", dn.fit.dof),
+            *B.relative_calibration_row("rate table (common to both, acts on the difference)", "u_rel(Ω)",
+                                        _cal(campaign, "rate-table"), Q_(kg, "mV/(deg/s)/gn"))])
+        return self._outcome([Result(self.metrics[0], Q_(kg, "mV/(deg/s)/gn"), b.combined, b,
+                                     note=f"K_up = {up.K:.7g}, K_down = {dn.K:.7g} mV/((°)/s)")],
+                             segments=up.ids + dn.ids, opts=opts)
+
+
+class _SFChange(_JJF):
+    kind = ""
+    what = ""
+
+    def sequence(self, options):
+        steps = []
+        for a in AXES:
+            for p in ("before", "after"):
+                steps += _rate_steps(self.kind, _magnitudes(options["rates"], "rates"), {"axis": a, "phase": p},
+                                     tag=f"[{a}-{p}]")
+        return steps
+
+    def evaluate(self, campaign, ctx):
+        opts = self.option_values(ctx.options)
+        sets: dict[tuple[str, str], list[Segment]] = {}
+        for s in _need(campaign, type(self), self.kind):
+            sets.setdefault((_axis(s), _phase(s)), []).append(s)
+        fits = {k: SFSet(v) for k, v in sets.items()}
+        before = {a: fits[(a, "before")].K for a in AXES if (a, "before") in fits}
+        after = {a: fits[(a, "after")].K for a in AXES if (a, "after") in fits}
+        try:
+            dk, worst, per = F.max_change_eq12_13(before, after)
+        except ValueError as exc:
+            raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
+        w = [] if len(per) == 3 else [f"only the axes {', '.join(per)} were tested (the clause asks for X, Y, Z)"]
+        f1, f2 = fits[(worst, "before")].fit, fits[(worst, "after")].fit
+        b = B.type_a_budget(self.metrics[0].key, KU, [
+            _budget_row_a(f"fit of K before ({worst})", "u(K₁)", f1.u_K, KU, f1.dof),
+            _budget_row_a(f"fit of K after ({worst})", "u(K₂)", f2.u_K, KU, f2.dof),
+            *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
+                                        _cal(campaign, "rate-table"), Q_(dk, KU))])
+        tab = TableSpec("per_axis", f"K before/after {self.what} per axis",
+                        ["axis", "K₁ (mV/((°)/s))", "K₂ (mV/((°)/s))", "|ΔK|"],
+                        [[a, f"{before[a]:.7g}", f"{after[a]:.7g}", f"{per[a]:.3g}"] for a in per])
+        return self._outcome([Result(self.metrics[0], Q_(dk, KU), b.combined, b, note=f"largest on axis {worst}")],
+                             tables=[tab], warnings=w, segments=[i for s in fits.values() for i in s.ids], opts=opts)
+
+
+class SFShock(_SFChange):
+    """JJF 2014—2022 7.2.7 标度因数冲击前后变化量: ΔK_ij = |K_ij2 − K_ij1| eq. (12), max over X, Y, Z eq. (13)."""
+
+    item = "7.2.7"
+    title = "Scale-factor change after shock (标度因数冲击前后变化量)"
+    clause = "7.2.7"
+    kind = "rate-shock"
+    what = "shock"
+    metrics = (Metric("dK_shock", "scale-factor change after shock", "ΔK_i", KU, "7.2.7.2", "12, 13"),)
+    requires = (SegmentRequirement("rate-shock", "7.2.1 before and after a shock on each axis",
+                                   {"rate": "deg/s", "axis": "", "phase": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS
+
+
+class SFVibration(_SFChange):
+    """JJF 2014—2022 7.2.8 标度因数振动前后变化量: ΔK_vj eq. (14), max over X, Y, Z eq. (15)."""
+
+    item = "7.2.8"
+    title = "Scale-factor change after vibration (标度因数振动前后变化量)"
+    clause = "7.2.8"
+    kind = "rate-vibration"
+    what = "vibration"
+    metrics = (Metric("dK_vib", "scale-factor change after vibration", "ΔK_v", KU, "7.2.8.2", "14, 15"),)
+    requires = (SegmentRequirement("rate-vibration", "7.2.1 before and after vibration on each axis",
+                                   {"rate": "deg/s", "axis": "", "phase": ""}, {"output": ("mV",)}),)
+    options = RATE_OPTS
