@@ -41,3 +41,22 @@ def run_cli(capsys):
         return code, out.out, out.err
 
     return run
+
+
+@pytest.fixture(scope="session")
+def pg_server():
+    """A PostgreSQL server started for this test session (tests/pg.py), stopped at its end."""
+    pg = _load_local("pg")
+    if pg.SKIP_REASON:
+        pytest.skip(pg.SKIP_REASON)
+    server = pg.Server().start()
+    yield server
+    server.stop()
+
+
+@pytest.fixture(params=["sqlite", "postgresql"])
+def register_url(request, tmp_path):
+    """An empty register database: an SQLite file, then a fresh PostgreSQL database."""
+    if request.param == "sqlite":
+        return "sqlite:///" + str(tmp_path / "register.sqlite")
+    return request.getfixturevalue("pg_server").new_database()

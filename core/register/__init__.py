@@ -1,0 +1,435 @@
+"""The report register: every issued report, its numbers, status, results and audit trail.
+
+A register is an SQLAlchemy database: an SQLite file for one station, or one PostgreSQL
+database shared by several stations (``postgresql+psycopg://user@host:port/db``).  Opening it
+runs the Alembic migrations shipped in this package (an empty database gets the whole
+schema; a register written by an older metro is brought up to date).
+
+Numbers (:meth:`Register.issue`)
+    A number is allocated inside the transaction that inserts the report's row: the scope's
+    counter row is locked (SQLite: the transaction starts with ``BEGIN IMMEDIATE``, one writer at
+    a time; PostgreSQL: ``SELECT … FOR UPDATE`` on the counter row), incremented, and committed
+    with the row — so two processes never share a number, and a failed run rolls the counter
+    back (no gaps).
+
+File and row together
+    The report is written to a hidden temporary name beside its final path, the row inserted,
+    the file linked into place (never replacing a file), then the transaction committed; a
+    failure before the commit removes the temporary (or linked) file and rolls back.  So there
+    is no row without a file and no visible file without a row.
+
+The audit trail (table ``audit``) is append-only: database triggers refuse UPDATE and DELETE.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as dt
+import getpass
+import hashlib
+import math
+import os
+import secrets
+import socket
+from pathlib import Path
+from typing import Any, Callable, Iterator, Mapping, Sequence
+
+import attrs
+
+from ..errors import MetroError
+
+__all__ = ["open_register", "Register", "Draft", "Issued", "sha256_file", "who_am_i", "RegisterError"]
+
+
+class RegisterError(MetroError):
+    """The register cannot do what was asked (unknown number, wrong status, database unreachable)."""
+
+
+def sha256_file(path: str | os.PathLike[str]) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def who_am_i() -> str:
+    """``user@host`` for the audit trail (``METRO_USER`` overrides the user)."""
+    try:
+        user = os.environ.get("METRO_USER") or getpass.getuser()
+    except Exception:  # pragma: no cover - no user name in the environment
+        user = "unknown"
+    return f"{user}@{socket.gethostname()}"
+
+
+def json_safe(obj: Any) -> Any:
+    """Strict JSON values: non-finite floats become None (PostgreSQL's JSON has no NaN/∞)."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, Mapping):
+        return {str(k): json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_safe(v) for v in obj]
+    if obj is None or isinstance(obj, (str, int, bool)):
+        return obj
+    if isinstance(obj, (dt.date, dt.datetime)):
+        return obj.isoformat()
+    return str(obj)
+
+
+@attrs.frozen
+class Draft:
+    """What a report's row holds, and how to write its file, once its number is known.
+
+    ``fields`` are columns of :class:`~metro.core.register.models.Report` (standard, items,
+    device_*, customer, measurement_date, …); ``results`` are rows of ``results``;
+    ``write(tmp)`` writes the report file to the temporary path ``tmp``.
+    """
+
+    fields: Mapping[str, Any]
+    results: Sequence[Mapping[str, Any]]
+    write: Callable[[Path], None]
+
+
+@attrs.frozen
+class Issued:
+    number: str
+    path: Path
+    sha256: str
+    seq: int
+    scope: str
+    issued_at: dt.datetime
+
+
+def _engine(url: str):
+    from sqlalchemy import create_engine, event
+
+    if url.startswith("postgresql://") or url.startswith("postgres://"):
+        url = "postgresql+psycopg://" + url.split("://", 1)[1]
+    if url.startswith("sqlite"):
+        path = url.split("///", 1)[1] if "///" in url else ""
+        if path and path != ":memory:":
+            Path(path).parent.mkdir(parents=True, exist_ok=True)
+        engine = create_engine(url, connect_args={"timeout": 300})
+
+        @event.listens_for(engine, "connect")
+        def _connect(dbapi_connection, record):  # let SQLAlchemy, not sqlite3, open transactions
+            dbapi_connection.isolation_level = None
+
+        @event.listens_for(engine, "begin")
+        def _begin(conn):  # one writer at a time: the counter is read and written under this lock
+            conn.exec_driver_sql("BEGIN IMMEDIATE")
+
+        return engine
+    return create_engine(url, pool_pre_ping=True)
+
+
+def migrate(engine) -> None:
+    """Bring the database to the newest schema with the packaged Alembic migrations."""
+    from alembic import command
+    from alembic.config import Config
+
+    cfg = Config()
+    cfg.set_main_option("script_location", str(Path(__file__).parent / "migrations"))
+    with engine.begin() as conn:
+        if conn.dialect.name == "postgresql":  # stations opening an empty database at once
+            conn.exec_driver_sql("SELECT pg_advisory_xact_lock(7236005110)")
+        cfg.attributes["connection"] = conn
+        command.upgrade(cfg, "head")
+
+
+def open_register(url: str) -> "Register":
+    """Open (creating and migrating as needed) the register at the SQLAlchemy ``url``."""
+    from sqlalchemy.exc import SQLAlchemyError
+
+    from ..lab import redact_url
+
+    try:
+        engine = _engine(url)
+        migrate(engine)
+    except SQLAlchemyError as exc:
+        raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc.__class__.__name__}: "
+                            f"{str(exc).splitlines()[0]})",
+                            hint="check the lab profile's register (or METRO_REGISTER) and that the database "
+                            "server is reachable") from exc
+    except Exception as exc:  # alembic: a register written by a newer metro
+        if exc.__class__.__module__.startswith("alembic"):
+            raise RegisterError(f"register {redact_url(url)}: {exc}",
+                                hint="the register was written by a newer metro; upgrade metro") from exc
+        raise
+    return Register(url, engine)
+
+
+class Register:
+    def __init__(self, url: str, engine) -> None:
+        self.url = url
+        self.engine = engine
+
+    def close(self) -> None:
+        self.engine.dispose()
+
+    def __enter__(self) -> "Register":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # -- sessions ------------------------------------------------------------------------
+    @contextlib.contextmanager
+    def _session(self) -> Iterator[Any]:
+        from sqlalchemy.orm import Session
+
+        with Session(self.engine, expire_on_commit=False) as s:
+            with s.begin():
+                yield s
+
+    def _allocate(self, s, scope: str) -> int:
+        from sqlalchemy import select, update
+
+        from .models import Counter
+
+        if s.bind.dialect.name == "postgresql":
+            from sqlalchemy.dialects.postgresql import insert
+        else:
+            from sqlalchemy.dialects.sqlite import insert
+        s.execute(insert(Counter).values(scope=scope, last=0).on_conflict_do_nothing(index_elements=["scope"]))
+        last = s.execute(select(Counter.last).where(Counter.scope == scope).with_for_update()).scalar_one()
+        s.execute(update(Counter).where(Counter.scope == scope).values(last=last + 1))
+        return last + 1
+
+    def _report(self, s, number: str, *, lock: bool = False):
+        from sqlalchemy import select
+
+        from .models import Report
+
+        q = select(Report).where(Report.number == number)
+        if lock:
+            q = q.with_for_update()
+        rep = s.execute(q).scalar_one_or_none()
+        if rep is None:
+            raise RegisterError(f"report {number} is not in the register {self.display_url}",
+                                hint="`metro register list` shows the numbers in the register")
+        return rep
+
+    @property
+    def display_url(self) -> str:
+        from ..lab import redact_url
+
+        return redact_url(self.url)
+
+    def _audit(self, s, action: str, number: str, detail: str, who: str, at: dt.datetime) -> None:
+        from .models import AuditEntry
+
+        s.add(AuditEntry(at=at, who=who, action=action, number=number, detail=detail))
+
+    # -- issuing -------------------------------------------------------------------------
+    def issue(
+        self,
+        make: Callable[[str, dt.datetime], Draft],
+        *,
+        folder: str | os.PathLike[str],
+        scheme: Callable[[int, int], str],
+        per_year: bool,
+        timezone: str = "UTC",
+        supersedes: str | None = None,
+        reason: str = "",
+        who: str | None = None,
+        suffix: str = ".docx",
+        _before_commit: Callable[[Path], None] | None = None,
+    ) -> Issued:
+        """Allocate the next number, write the report and insert its row, all or nothing.
+
+        ``make(number, issued_at)`` returns the :class:`Draft`; ``scheme(seq, year)`` formats the
+        number; the file goes to ``folder/<number><suffix>``.  With ``supersedes`` the new report
+        replaces that (issued) report, which becomes ``superseded`` in the same transaction.
+        """
+        import zoneinfo
+
+        from .models import Report, ResultRow
+
+        who = who or who_am_i()
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        tmp: Path | None = None
+        final: Path | None = None
+        linked = False
+        try:
+            with self._session() as s:
+                issued_at = dt.datetime.now(dt.timezone.utc).replace(microsecond=0)
+                year = issued_at.astimezone(zoneinfo.ZoneInfo(timezone)).year
+                scope = str(year) if per_year else "all"
+                old = None
+                if supersedes is not None:
+                    old = self._report(s, supersedes, lock=True)
+                    if old.status != "issued":
+                        raise RegisterError(f"report {supersedes} is {old.status}"
+                                            + (f" by {old.superseded_by}" if old.superseded_by else "")
+                                            + "; only an issued report can be amended",
+                                            hint=f"amend {old.superseded_by}" if old.superseded_by else None)
+                seq = self._allocate(s, scope)
+                number = scheme(seq, year)
+                final = folder / f"{number}{suffix}"
+                if final.exists() or final.is_symlink():
+                    raise RegisterError(f"{final} exists already; a register never replaces a report file",
+                                        hint="move the file away or write reports to another --out folder")
+                draft = make(number, issued_at)
+                tmp = folder / f".{final.name}.tmp-{secrets.token_hex(4)}"
+                tmp.touch(exist_ok=False)
+                draft.write(tmp)
+                with open(tmp, "rb") as fh:
+                    os.fsync(fh.fileno())
+                digest = sha256_file(tmp)
+                rep = Report(number=number, scope=scope, seq=seq, status="issued", supersedes=supersedes,
+                             reason=reason, issued_at=issued_at, issued_by=who, report_path=str(final.resolve()),
+                             report_sha256=digest, **json_safe_fields(draft.fields))
+                rep.results = [ResultRow(**json_safe_fields(r)) for r in draft.results]
+                s.add(rep)
+                if old is not None:
+                    old.status = "superseded"
+                    old.superseded_by = number
+                    self._audit(s, "superseded", supersedes, f"superseded by {number}: {reason}", who, issued_at)
+                    self._audit(s, "amend", number, f"replaces {supersedes}: {reason}", who, issued_at)
+                else:
+                    self._audit(s, "issue", number, f"{rep.standard} {', '.join(rep.items)}; file {final} "
+                                f"sha256 {digest}", who, issued_at)
+                s.flush()  # a constraint failure happens here, before the file is visible
+                os.link(tmp, final)  # into place, never replacing a file
+                linked = True
+                tmp.unlink()
+                tmp = None
+                if _before_commit is not None:
+                    _before_commit(final)
+            # committed
+        except BaseException:
+            if tmp is not None:
+                with contextlib.suppress(OSError):
+                    tmp.unlink()
+            if linked and final is not None:
+                with contextlib.suppress(OSError):
+                    final.unlink()
+            raise
+        _fsync_dir(folder)
+        return Issued(number=number, path=final, sha256=digest, seq=seq, scope=scope, issued_at=issued_at)
+
+    # -- status changes ------------------------------------------------------------------
+    def withdraw(self, number: str, reason: str, *, who: str | None = None) -> None:
+        if not reason.strip():
+            raise RegisterError("a withdrawal needs a reason (--reason TEXT)")
+        who = who or who_am_i()
+        with self._session() as s:
+            rep = self._report(s, number, lock=True)
+            if rep.status != "issued":
+                raise RegisterError(f"report {number} is {rep.status}; only an issued report can be withdrawn")
+            rep.status = "withdrawn"
+            rep.reason = reason
+            self._audit(s, "withdraw", number, reason, who, dt.datetime.now(dt.timezone.utc).replace(microsecond=0))
+
+    # -- reading -------------------------------------------------------------------------
+    def get(self, number: str) -> dict[str, Any]:
+        with self._session() as s:
+            return report_dict(self._report(s, number), results=True, audit=self._audit_of(s, number))
+
+    def context(self, number: str) -> tuple[dict[str, Any], str]:
+        """The stored render context and template name of a report (for re-rendering)."""
+        with self._session() as s:
+            rep = self._report(s, number)
+            return rep.context, rep.template
+
+    def _audit_of(self, s, number: str | None) -> list[dict[str, Any]]:
+        from sqlalchemy import select
+
+        from .models import AuditEntry
+
+        q = select(AuditEntry).order_by(AuditEntry.id)
+        if number is not None:
+            q = q.where(AuditEntry.number == number)
+        return [{"at": _utc(a.at).isoformat(), "who": a.who, "action": a.action, "number": a.number,
+                 "detail": a.detail} for a in s.execute(q).scalars()]
+
+    def audit(self, number: str | None = None) -> list[dict[str, Any]]:
+        with self._session() as s:
+            return self._audit_of(s, number)
+
+    def list(self, *, device: str | None = None, standard: str | None = None,
+             since: dt.date | None = None, results: bool = False) -> list[dict[str, Any]]:
+        from sqlalchemy import select
+
+        from .models import Report
+
+        q = select(Report).order_by(Report.issued_at, Report.id)
+        if device:
+            q = q.where(Report.device_serial == device)
+        if standard:
+            q = q.where(Report.standard == standard)
+        if since:
+            q = q.where(Report.measurement_date >= since)
+        with self._session() as s:
+            return [report_dict(r, results=results) for r in s.execute(q).scalars()]
+
+    def verify(self) -> list[dict[str, Any]]:
+        """Every report file against its stored SHA-256: ``ok``, ``modified`` or ``missing``."""
+        out = []
+        for r in self.list():
+            p = Path(r["report_path"])
+            if not p.is_file():
+                state, found = "missing", None
+            else:
+                found = sha256_file(p)
+                state = "ok" if found == r["report_sha256"] else "modified"
+            out.append({"number": r["number"], "status": r["status"], "path": str(p), "check": state,
+                        "sha256_stored": r["report_sha256"], "sha256_found": found})
+        return out
+
+
+def _fsync_dir(directory: Path) -> None:
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:  # pragma: no cover - Windows
+        return
+    with contextlib.suppress(OSError):
+        os.fsync(fd)
+    os.close(fd)
+
+
+def json_safe_fields(d: Mapping[str, Any]) -> dict[str, Any]:
+    """Column values: JSON-shaped ones made strict JSON, dates and numbers kept as they are."""
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, (Mapping, list, tuple)):
+            out[k] = json_safe(v)
+        elif isinstance(v, float) and not math.isfinite(v):
+            out[k] = None
+        else:
+            out[k] = v
+    return out
+
+
+def _utc(t: dt.datetime) -> dt.datetime:
+    """SQLite hands datetimes back naive: they were stored in UTC."""
+    return t.replace(tzinfo=dt.timezone.utc) if t.tzinfo is None else t.astimezone(dt.timezone.utc)
+
+
+def report_dict(r, *, results: bool = False, audit: list | None = None) -> dict[str, Any]:
+    d = {
+        "number": r.number, "seq": r.seq, "scope": r.scope, "status": r.status, "supersedes": r.supersedes,
+        "superseded_by": r.superseded_by, "reason": r.reason, "standard": r.standard, "items": list(r.items),
+        "options": r.options,
+        "device": {"id": r.device_id, "manufacturer": r.device_manufacturer, "model": r.device_model,
+                   "serial": r.device_serial},
+        "customer": r.customer, "measurement_date": r.measurement_date.isoformat(),
+        "issued_at": _utc(r.issued_at).isoformat(), "issued_by": r.issued_by, "simulated": r.simulated,
+        "allow_expired": r.allow_expired, "lab": r.lab, "report_path": r.report_path,
+        "report_sha256": r.report_sha256, "manifest_sha256": r.manifest_sha256, "template": r.template,
+    }
+    if results:
+        d["results"] = [{"item": x.item, "key": x.key, "quantity": x.quantity, "symbol": x.symbol,
+                         "value": x.value, "u": x.u, "U": x.U, "k": x.k, "nu_eff": x.nu_eff, "unit": x.unit,
+                         "reported": {"value": x.value_text, "U": x.U_text}, "reportable": x.reportable,
+                         "reason": x.reason} for x in r.results]
+        d["verdicts"] = r.verdicts
+        d["budgets"] = r.budgets
+        d["equipment"] = r.equipment
+        d["provenance"] = r.provenance
+    if audit is not None:
+        d["audit"] = audit
+    return d
