@@ -8,6 +8,8 @@ the reason; nothing is evaluated until the whole manifest has been checked.
 from __future__ import annotations
 
 import datetime as dt
+import hashlib
+import math
 import tomllib
 from pathlib import Path
 from typing import Any, Mapping
@@ -15,6 +17,7 @@ from typing import Any, Mapping
 from .errors import DataError, UnitError
 from .model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
 from .units import parse_quantity
+from . import vocabulary as voc
 
 FORMAT = "metro-campaign/1"
 
@@ -41,9 +44,26 @@ def _str(t: Mapping, key: str, src: str, where: str, *, required: bool = True, d
         if required:
             raise DataError(src, f"{where}.{key}", "missing", hint=f"add {key} = \"…\" to [{where}]")
         return default
-    if not isinstance(v, (str, int)):
-        raise DataError(src, f"{where}.{key}", f"must be text, got {v!r}")
-    return str(v)
+    if isinstance(v, bool) or not isinstance(v, (str, int)):
+        raise DataError(src, f"{where}.{key}", f"must be text, got {_short(v)}")
+    return _bounded(str(v), src, f"{where}.{key}")
+
+
+def _short(v: Any) -> str:
+    text = repr(v)
+    return text if len(text) <= 60 else text[:57] + "…"
+
+
+def _bounded(text: str, src: str, field: str) -> str:
+    """Text no longer than :data:`metro.core.vocabulary.MAX_TEXT` characters (a report must stay
+    renderable) and without control characters other than a line break."""
+    if len(text) > voc.MAX_TEXT:
+        raise DataError(src, field, f"{len(text)} characters; at most {voc.MAX_TEXT} are taken",
+                        hint="shorten it; long descriptions belong in a separate document")
+    bad = next((c for c in text if ord(c) < 32 and c not in "\n\t" or ord(c) == 127), None)
+    if bad is not None:
+        raise DataError(src, field, f"contains the control character U+{ord(bad):04X}")
+    return text
 
 
 def _maybe_quantity(v: Any, src: str, field: str) -> Any:
@@ -86,9 +106,37 @@ def calibration_from_table(t: Mapping, src: str, where: str) -> Calibration:
     return _calibration(t, src, where)
 
 
-def device_from_table(dev_t: Mapping, src: str) -> DeviceUnderTest:
+def _typos(t: Mapping, src: str, where: str, known, what: str, warnings: list[str] | None) -> None:
+    """Warn about keys of an open table (whose other keys are kept as properties) that look like
+    a misspelling of a key metro reads (``temprature``)."""
+    if warnings is None:
+        return
+    known = list(known)
+    for key in t:
+        if key in known:
+            continue
+        guess = voc.did_you_mean(key, known, cutoff=0.8)
+        if guess is not None:
+            warnings.append(f"{src}: field '{where}.{key}': not a key metro reads (kept as a property) "
+                            f"— did you mean {guess!r}?")
+
+
+def _closed(t: Mapping, src: str, where: str, known, what: str, warnings: list[str] | None) -> None:
+    """Warn about every key of a closed table that is in no list (with a "did you mean")."""
+    if warnings is None:
+        return
+    known = list(known)
+    for key in t:
+        if key not in known:
+            warnings.append(voc.unknown_key_warning(src, f"{where}.{key}" if where else key, key, known, what))
+
+
+def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = None) -> DeviceUnderTest:
     """The manifest's ``[device]`` table as a :class:`DeviceUnderTest` (also used by bench files)."""
     dev_id = _str(dev_t, "id", src, "device")
+    if not dev_id.strip():
+        raise DataError(src, "device.id", "empty; the device needs an id (its serial number will do)")
+    _typos(dev_t, src, "device", voc.DEVICE_KEYS, "device", warnings)
     tech = _str(dev_t, "technology", src, "device", required=False).lower()
     if tech not in _TECH:
         raise DataError(src, "device.technology", f"unknown technology {tech!r}; use one of laser, fibre, mems, vibratory, other")
@@ -117,8 +165,9 @@ def device_from_table(dev_t: Mapping, src: str) -> DeviceUnderTest:
     )
 
 
-def environment_from_table(env_t: Mapping, src: str) -> dict[str, Any]:
+def environment_from_table(env_t: Mapping, src: str, warnings: list[str] | None = None) -> dict[str, Any]:
     """The ``[environment]`` table: temperature and humidity required, other keys kept."""
+    _typos(env_t, src, "environment", voc.ENVIRONMENT_KEYS, "environment", warnings)
     environment: dict[str, Any] = {}
     for key, dim in (("temperature", "degC"), ("humidity", "percent")):
         if key not in env_t:
@@ -130,8 +179,9 @@ def environment_from_table(env_t: Mapping, src: str) -> dict[str, Any]:
     return environment
 
 
-def site_from_table(site_t: Mapping, src: str) -> dict[str, Any]:
+def site_from_table(site_t: Mapping, src: str, warnings: list[str] | None = None) -> dict[str, Any]:
     """The ``[site]`` table: the latitude required (−90° … 90°), other keys kept."""
+    _typos(site_t, src, "site", voc.SITE_KEYS, "site", warnings)
     if "latitude" not in site_t:
         raise DataError(src, "site.latitude", "missing", hint="add latitude = \"39.98°\" under [site]")
     site: dict[str, Any] = {"latitude": parse_quantity(site_t["latitude"], dimension="deg", file=src, field="site.latitude")}
@@ -144,11 +194,31 @@ def site_from_table(site_t: Mapping, src: str) -> dict[str, Any]:
     return site
 
 
-def equipment_from_table(e: Mapping, src: str, where: str) -> Equipment:
-    """One ``[[equipment]]`` table (id, role, model, serial, manufacturer, properties, calibration)."""
+def equipment_from_table(e: Mapping, src: str, where: str, warnings: list[str] | None = None) -> Equipment:
+    """One ``[[equipment]]`` table (id, role, model, serial, manufacturer, properties, calibration).
+
+    The role is stored in its canonical spelling (:mod:`metro.core.vocabulary`); an old spelling
+    (``rate-table``) or a role no item looks for is reported in ``warnings``."""
     if not isinstance(e, dict):
         raise DataError(src, where, f"must be a table, got {type(e).__name__}")
     eid = _str(e, "id", src, where)
+    if not eid.strip():
+        raise DataError(src, f"{where}.id", "empty; every piece of equipment needs an id")
+    role = _str(e, "role", src, where)
+    if warnings is not None:
+        new = voc.role_alias(role)
+        if new is not None:
+            warnings.append(voc.deprecated_warning(src, f"{where}.role", role, new, "role"))
+        elif voc.canonical_role(role) not in voc.ROLES:
+            guess = voc.did_you_mean(voc.canonical_role(role), voc.ROLES)
+            warnings.append(f"{src}: field '{where}.role': no item looks for the role {role!r}"
+                            + (f" — did you mean {guess!r}?" if guess else
+                               f" (roles: {', '.join(sorted(voc.ROLES))})"))
+    _typos(e, src, where, voc.EQUIPMENT_KEYS, "equipment", warnings)
+    if "calibration" in e and not isinstance(e["calibration"], dict):
+        raise DataError(src, f"{where}.calibration", "must be a table ([equipment.calibration])")
+    if "calibration" in e:
+        _closed(e["calibration"], src, f"{where}.calibration", voc.CALIBRATION_KEYS, "calibration", warnings)
     cal = _calibration(e["calibration"], src, f"{where}.calibration") if "calibration" in e else None
     eprops = {k: _maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
               if k not in {"id", "role", "model", "serial", "manufacturer", "calibration"}}
@@ -164,33 +234,57 @@ def read_toml(path: str | Path, fmt: str, *, what: str, hint: str) -> tuple[str,
     """``(source text, document)`` of a metro TOML file (a manifest, a bench file) whose
     ``format`` key, if given, must be ``fmt``; a missing, undecodable or invalid file is a
     :class:`DataError` naming it (``what`` and ``hint`` say what was expected)."""
+    src, doc, _ = read_toml_digest(path, fmt, what=what, hint=hint)
+    return src, doc
+
+
+#: a manifest larger than this is not a manifest (samples belong in their own files)
+MAX_MANIFEST_BYTES = 16 * 1024 * 1024
+
+
+def read_toml_digest(path: str | Path, fmt: str, *, what: str, hint: str) -> tuple[str, dict[str, Any], str]:
+    """As :func:`read_toml`, with the SHA-256 of the bytes that were parsed."""
     p = Path(path)
     src = str(p)
     if not p.is_file():
         raise DataError(src, None, f"{what} not found", hint=hint)
     try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise DataError(src, None, f"cannot read the {what}: {exc.strerror or exc}") from exc
+    if len(raw) > MAX_MANIFEST_BYTES:
+        raise DataError(src, None, f"{len(raw)} bytes is too large for a {what} "
+                        f"(at most {MAX_MANIFEST_BYTES} bytes)")
+    digest = hashlib.sha256(raw).hexdigest()
+    try:
         # utf-8-sig: a byte-order mark (Windows Notepad, Excel exports) is not part of the TOML
-        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))
+        doc = tomllib.loads(raw.decode("utf-8-sig"))
     except UnicodeDecodeError as exc:
         raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
     except tomllib.TOMLDecodeError as exc:
         raise DataError(src, None, f"not valid TOML: {exc}") from exc
     found = doc.get("format", fmt)
     if found != fmt:
-        raise DataError(src, "format", f"unsupported format {found!r}; this metro reads {fmt!r}")
-    return src, doc
+        raise DataError(src, "format", f"unsupported format {_short(found)}; this metro reads {fmt!r}")
+    return src, doc, digest
 
 
 def load_manifest(path: str | Path, reader_for) -> Campaign:
     """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
-    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``)."""
-    path = Path(path)
-    src, doc = read_toml(path, FORMAT, what="manifest", hint="give the path of a manifest.toml (docs/data-format.md)")
+    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``).
 
-    camp = _table(doc, "campaign", src, required=False)
-    device = device_from_table(_table(doc, "device", src), src)
-    environment = environment_from_table(_table(doc, "environment", src), src)
-    site = site_from_table(_table(doc, "site", src), src)
+    What is read but not refused — a deprecated spelling, a key in no list — is in the
+    campaign's ``warnings``; the manifest's SHA-256 is its ``manifest_sha256``."""
+    path = Path(path)
+    src, doc, digest = read_toml_digest(path, FORMAT, what="manifest",
+                                        hint="give the path of a manifest.toml (docs/data-format.md)")
+    warnings: list[str] = []
+    _closed(doc, src, "", voc.SECTIONS, "top-level", warnings)
+
+    camp = campaign_meta(_table(doc, "campaign", src, required=False), src, warnings)
+    device = device_from_table(_table(doc, "device", src), src, warnings)
+    environment = environment_from_table(_table(doc, "environment", src), src, warnings)
+    site = site_from_table(_table(doc, "site", src), src, warnings)
 
     equipment = []
     seen: set[str] = set()
@@ -199,20 +293,29 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         raise DataError(src, "equipment", "must be an array of tables ([[equipment]])")
     for i, e in enumerate(eq_list):
         where = f"equipment[{i}]"
+        if not isinstance(e, dict):
+            raise DataError(src, where, f"must be a table, got {type(e).__name__}")
         eid = _str(e, "id", src, where)
         if eid in seen:
             raise DataError(src, f"{where}.id", f"duplicate equipment id {eid!r}")
         seen.add(eid)
-        equipment.append(equipment_from_table(e, src, where))
+        equipment.append(equipment_from_table(e, src, where, warnings))
 
     seg_list = doc.get("segments")
     if not seg_list:
         raise DataError(src, "segments", "no [[segments]] given; a campaign needs at least one measured segment")
+    if not isinstance(seg_list, list):
+        raise DataError(src, "segments", "must be an array of tables ([[segments]])")
     segments = []
     seen = set()
     for i, s in enumerate(seg_list):
         where = f"segments[{i}]"
+        if not isinstance(s, dict):
+            raise DataError(src, where, f"must be a table, got {type(s).__name__}")
+        _closed(s, src, where, voc.SEGMENT_KEYS, "segment", warnings)
         sid = _str(s, "id", src, where)
+        if not sid.strip():
+            raise DataError(src, f"{where}.id", "empty; every segment needs an id")
         if sid in seen:
             raise DataError(src, f"{where}.id", f"duplicate segment id {sid!r}")
         seen.add(sid)
@@ -224,8 +327,8 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         if "sample_interval" not in s:
             raise DataError(src, f"{where}.sample_interval", "missing", hint="add sample_interval = \"1 s\"")
         interval = parse_quantity(s["sample_interval"], dimension="s", file=src, field=f"{where}.sample_interval")
-        if not interval.magnitude > 0:
-            raise DataError(src, f"{where}.sample_interval", "must be positive")
+        if not interval.magnitude > 0 or not math.isfinite(interval.magnitude):
+            raise DataError(src, f"{where}.sample_interval", "must be a positive, finite time")
         conds = s.get("conditions", {})
         if not isinstance(conds, dict):
             raise DataError(src, f"{where}.conditions", "must be a table")
@@ -233,6 +336,14 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         declared = s.get("units", {})
         if not isinstance(declared, dict):
             raise DataError(src, f"{where}.units", "must be a table of column = \"unit\"")
+        for col, utext in declared.items():
+            if not isinstance(utext, str):
+                raise DataError(src, f"{where}.units.{col}", f"must be a unit as text, got {_short(utext)}")
+            try:
+                parse_quantity(f"1 {utext}", file=src, field=f"{where}.units.{col}")
+            except DataError as exc:
+                raise DataError(src, f"{where}.units.{col}", f"{utext!r} is not a unit metro knows",
+                                hint="write the unit as in the samples file's header, e.g. \"P\", \"LSB\", \"°/h\"") from exc
         reader = reader_for(fpath)
         interval_s = float(interval.to("s").magnitude)
         segments.append(Segment(
@@ -253,8 +364,43 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         device=device, equipment=equipment, environment=environment, site=site, segments=segments,
         source=src, simulated=simulated,
         meta={k: v for k, v in camp.items() if k != "id"},
-        specification=specification,
+        specification=specification, manifest_sha256=digest, warnings=warnings,
     )
+
+
+def campaign_meta(t: Mapping, src: str, warnings: list[str] | None = None) -> dict[str, Any]:
+    """The ``[campaign]`` table with canonical keys (:mod:`metro.core.vocabulary`): an old
+    spelling (``laboratory``, ``tested_by``, ``issuer``, ``date`` …) is read under its canonical
+    key with a deprecation warning; people, lab and customer must be text, dates dates."""
+    out: dict[str, Any] = {}
+    for key, val in t.items():
+        canon = voc.campaign_key(key)
+        field = f"campaign.{key}"
+        if canon != key:
+            if warnings is not None:
+                warnings.append(voc.deprecated_warning(src, field, key, canon))
+            if canon in t or canon in out:
+                raise DataError(src, field, f"given twice: as {key!r} and as {canon!r}",
+                                hint=f"keep {canon!r} only")
+        elif canon not in voc.CAMPAIGN_KEYS and warnings is not None:
+            warnings.append(voc.unknown_key_warning(src, field, key, voc.CAMPAIGN_KEYS, "[campaign]"))
+        if canon in voc.DATE_KEYS:
+            if isinstance(val, dt.datetime):
+                val = val.date()
+            elif not isinstance(val, dt.date):
+                try:
+                    val = dt.date.fromisoformat(str(val).strip())
+                except ValueError:
+                    raise DataError(src, field, f"not a date (YYYY-MM-DD): {_short(val)}") from None
+        elif canon in ("simulated",):
+            pass
+        elif isinstance(val, str):
+            val = _bounded(val, src, field)
+        elif canon in ("id", "customer", "customer_address", "lab", "lab_address", "location",
+                       *voc.PEOPLE_KEYS):
+            raise DataError(src, field, f"must be text, got {_short(val)}")
+        out[canon] = val
+    return out
 
 
 def _specification(t: Mapping, src: str) -> dict[str, str]:

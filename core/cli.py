@@ -184,6 +184,8 @@ def _cmd_run(args) -> int:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
                            station_options=station_options, progress=prog, run_all=args.run_all,
                            decision_rule=args.decision_rule)
+        for w in record.campaign.warnings:  # deprecated spellings, unknown keys (core.vocabulary)
+            print(f"metro: warning: {w}", file=sys.stderr)
         report_path = None
         if not args.no_report:
             from .report import write_report

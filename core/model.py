@@ -20,6 +20,7 @@ import pint
 from .budget import UncertaintyBudget, report_pair
 from .errors import DataError, ProcedureError
 from .units import Q_, check_dimension, difference_unit, fmt_unit, parse_quantity, unit
+from .vocabulary import Customer, Lab, People, canonical_role, customer_of, date_of, lab_of, people_of
 
 __all__ = [
     "Calibration",
@@ -142,7 +143,8 @@ class DeviceUnderTest(Instrument):
 class Equipment(Instrument):
     """A piece of the lab's equipment with its role in the test and its calibration data."""
 
-    role: str = ""
+    #: canonical spelling (metro.core.vocabulary.canonical_role: ``rate-table`` → ``rate_table``)
+    role: str = attrs.field(default="", converter=lambda r: canonical_role(r))
     calibration: Calibration | None = None
 
     @property
@@ -293,6 +295,34 @@ class Campaign:
     expected: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
     #: the manifest's ``[specification]`` table as written (limits as text; see core.conformity)
     specification: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+    #: SHA-256 of the manifest's bytes (empty for a campaign a station has just acquired)
+    manifest_sha256: str = ""
+    #: what reading the manifest noticed without refusing it (deprecated spellings, unknown keys)
+    warnings: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+
+    # the typed view of [campaign] (metro.core.vocabulary) that documents and the register read
+    @property
+    def people(self) -> People:
+        """Who measured (``operator``), checked and approved, from ``[campaign]``."""
+        return people_of(self.meta)
+
+    @property
+    def lab(self) -> Lab:
+        """The laboratory (``lab``, ``lab_address``, ``location``) from ``[campaign]``."""
+        return lab_of(self.meta)
+
+    @property
+    def customer(self) -> Customer:
+        return customer_of(self.meta)
+
+    @property
+    def measurement_date(self) -> dt.date | None:
+        """``[campaign] measurement_date`` (None when the manifest does not give it)."""
+        return date_of(self.meta, "measurement_date")
+
+    @property
+    def date_received(self) -> dt.date | None:
+        return date_of(self.meta, "date_received")
 
     def find_segments(self, kind: str | None = None, **conditions: Any) -> list[Segment]:
         out = []
@@ -304,6 +334,7 @@ class Campaign:
         return out
 
     def equipment_for(self, role: str) -> Equipment | None:
+        role = canonical_role(role)
         for e in self.equipment:
             if e.role == role:
                 return e
@@ -480,9 +511,18 @@ class SegmentRequirement:
 
 @attrs.frozen
 class EquipmentRequirement:
-    role: str
-    description: str
+    """Equipment an item uses, found by ``role`` (canonical spelling, metro.core.vocabulary).
+
+    ``required``: the item refuses a campaign that does not list it (an error naming the role);
+    an optional one that is absent is a note row in the item's budgets.  ``calibration``: the
+    kinds of unit its calibration U may be given in (``""`` relative, else a unit such as
+    ``"s"``, ``"arcsec"``); a U of another kind is an error naming the equipment and the role,
+    never a budget row dropped without a word.  Empty: any kind (the item does not use U)."""
+
+    role: str = attrs.field(converter=lambda r: canonical_role(r))
+    description: str = ""
     required: bool = False
+    calibration: tuple[str, ...] = attrs.field(default=(), converter=tuple)
 
 
 @attrs.frozen

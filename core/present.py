@@ -97,6 +97,7 @@ def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
         "equipment": [{"id": e.id, "role": e.role, "status": e.status(record.test_date),
                        "calibration_valid": None if e.calibration is None
                        else e.calibration.is_valid(record.test_date)} for e in c.equipment],
+        "manifest_warnings": list(c.warnings),
         "timings_s": dict(record.timings),
         "selection": [{"item": ch.item, "run": ch.run, "reason": ch.reason, "via": ch.via}
                       for ch in record.selection],
@@ -110,6 +111,7 @@ def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
         },
         "provenance": {"software": dict(record.software), "plugins": dict(record.plugins),
                        "data_files": [{"file": f, "sha256": h} for f, h in record.data_files],
+                       "manifest": {"file": c.source, "sha256": c.manifest_sha256} if c.manifest_sha256 else None,
                        "source": c.source, "created": record.created.isoformat()},
     }
 

@@ -382,8 +382,13 @@ def _unique(seq: Iterable[str]) -> list[str]:
 
 
 def _data_files(record: "RunRecord") -> list[dict[str, str]]:
+    """The manifest (first, when read from one) and every samples file, with their SHA-256: the
+    manifest's hash proves which K, latitude and equipment produced the report."""
     files = list(record.data_files) or list(record.campaign.data_files())
     out = [{"file": str(f), "sha256": str(h)} for f, h in files]
+    manifest = getattr(record.campaign, "manifest_sha256", "")
+    if manifest:
+        out.insert(0, {"file": f"{record.campaign.source} (manifest)", "sha256": manifest})
     if not out:  # a simulated campaign: its samples live in memory, still hashed
         out = [
             {"file": f"segment {s.id} ({'simulated, ' if record.campaign.simulated else ''}in memory)",
@@ -501,6 +506,8 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
             "software": [{"name": k, "version": str(v)} for k, v in software.items()],
             "plugins": [{"name": k, "version": str(v)} for k, v in dict(record.plugins).items()],
             "data_files": _data_files(record),
+            "manifest": {"file": record.campaign.source,
+                         "sha256": getattr(record.campaign, "manifest_sha256", "") or "—"},
         },
     })
 

@@ -190,7 +190,7 @@ def test_cli_acquire_on_the_bench_then_run(tmp_path, world, run_cli):
     meq = {e["id"]: e for e in mdoc["equipment"]}
     assert (meq["DMM-07"]["manufacturer"], meq["DMM-07"]["model"], meq["DMM-07"]["serial"]) == (
         "METRO-SIM", "DMM-6.5", "SN000123")  # what the DMM answered to *IDN?
-    assert (meq["RT-500"]["serial"], meq["RT-500"]["role"]) == ("RT500-0042", "rate-table")
+    assert (meq["RT-500"]["serial"], meq["RT-500"]["role"]) == ("RT500-0042", "rate_table")
     assert meq["RT-500"]["rate_band_3_error"] == "5e-06"  # the table's stated accuracy, from the driver
     camp = mdoc["campaign"]
     assert camp["station"] == "bench" and "simulated" not in camp

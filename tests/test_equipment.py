@@ -284,9 +284,9 @@ READ_BY_PROCEDURES = {
                   "field_generator": ["uniformity"], "counter": [], "fixture": ["reseat_tilt"],
                   "tilt_table": ["position_accuracy"], "vibration_table": [], "shock_table": ["duration_accuracy"],
                   "voltmeter": [], "ammeter": []},
-    "simulated-jjf2014": {"rate-table": [], "dmm": [], "chamber": [], "angular-vibration": ["phase_U"],
+    "simulated-jjf2014": {"rate_table": [], "dmm": [], "chamber": [], "angular_vibration_table": ["phase_U"],
                           "timer": []},
-    "simulated-mimu": {"table": ["position_accuracy"], "acquisition": ["bits"]},
+    "simulated-mimu": {"rate_table": ["position_accuracy"], "acquisition": ["bits"]},
     "simulated-ogam": {"turntable": ["parallelism"]},
 }
 

@@ -459,7 +459,7 @@ def test_budget_rows_come_from_the_campaign_equipment(default_run):
 
     camp, _ = default_run
     pm = get_plugin_manager(autoload=False)
-    table, daq = camp.equipment_for("table"), camp.equipment_for("acquisition")
+    table, daq = camp.equipment_for("rate_table"), camp.equipment_for("acquisition")
     table2 = attrs.evolve(table, calibration=Calibration("C-2", Q_(4e-4, ""), k=2.0),
                           properties=table.properties | {"position_accuracy": Q_(20, "arcsec")})
     daq2 = attrs.evolve(daq, properties=daq.properties | {"bits": 12})

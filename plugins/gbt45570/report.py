@@ -1,9 +1,9 @@
 """GB/T 45570—2025 test report data: ``context["gbt45570"]`` for ``templates/report.docx``.
 
 Adds to the generic report context (:func:`metro.core.report.report_context`): laboratory
-and customer (manifest ``[campaign]`` keys ``lab``, ``lab_address``, ``customer``,
-``customer_address``, ``tested_by``, ``checked_by``, ``approved_by``; a missing one prints
-"—"), the 6.1.1 test environment checked against its limits, the method choice of 6.2.7.1
+and customer (manifest ``[campaign]`` keys read through metro.core.vocabulary: ``lab``,
+``lab_address``, ``customer``, ``customer_address``, ``operator`` (the "tested by"),
+``checked_by``, ``approved_by``, ``measurement_date``; a missing one prints "—"), the 6.1.1 test environment checked against its limits, the method choice of 6.2.7.1
 and the items ``--all``/series chose, the conformity verdicts with the decision rule and
 their reasons, the typical-limit table of the device (A.1 or B.1) row by row — "not
 performed" where no result exists, never a zero — the C.1 severities, a residual figure of
@@ -235,11 +235,10 @@ def extend_context(record, context: dict) -> None:
     if not outs:
         return
     camp = record.campaign
-    meta = dict(camp.meta)
+    people, lab, customer = camp.people, camp.lab, camp.customer
 
-    def m(key: str) -> str:
-        v = meta.get(key)
-        return str(v) if v not in (None, "") else DASH
+    def m(v: str) -> str:
+        return v or DASH
 
     a = record.conformity
     deviations = [f"{o.item}: {w}" for o in outs for w in o.warnings]
@@ -251,9 +250,10 @@ def extend_context(record, context: dict) -> None:
     context["gbt45570"] = {
         "title": TITLE,
         "number": record.report_number,
-        "lab": m("lab"), "lab_address": m("lab_address"), "customer": m("customer"),
-        "customer_address": m("customer_address"), "tested_on": context.get("created", DASH),
-        "tested_by": m("tested_by"), "checked_by": m("checked_by"), "approved_by": m("approved_by"),
+        "lab": m(lab.name), "lab_address": m(lab.address), "customer": m(customer.name),
+        "customer_address": m(customer.address),
+        "tested_on": camp.measurement_date.isoformat() if camp.measurement_date else context.get("created", DASH),
+        "tested_by": m(people.operator), "checked_by": m(people.checked_by), "approved_by": m(people.approved_by),
         "device_application": (f"{camp.device.technology or DASH} gyro, application "
                                f"{camp.device.application or DASH}"),
         "environment": environment_rows(dict(camp.environment)),

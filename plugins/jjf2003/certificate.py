@@ -62,8 +62,7 @@ def _matrix(res, prefix: str, zero_diagonal: bool = False) -> dict[str, Any] | N
     return {"value_rows": values, "u_rows": uncs, "unit": unit or "1"}
 
 
-def _meta(camp, key: str) -> str:
-    v = camp.meta.get(key)
+def _text(v) -> str:
     return DASH if v in (None, "") else str(v)
 
 
@@ -87,15 +86,17 @@ def certificate_context(record) -> dict[str, Any]:
         })
     clause8 = {
         "title": "校准证书 Calibration certificate",
-        "lab_name": _meta(camp, "laboratory"), "lab_address": _meta(camp, "laboratory_address"),
+        "lab_name": _text(camp.lab.name), "lab_address": _text(camp.lab.address),
         "number": record.report_number,
-        "customer": _meta(camp, "customer"), "customer_address": _meta(camp, "customer_address"),
+        "customer": _text(camp.customer.name), "customer_address": _text(camp.customer.address),
         "device_name": "微惯性测量组合 (MIMU) " + (dev.model or ""), "manufacturer": dev.manufacturer or DASH,
         "model": dev.model or DASH, "serial": dev.serial or dev.id,
-        "received": _meta(camp, "received"), "calibrated": _meta(camp, "date") if "date" in camp.meta else created,
+        "received": _text(camp.date_received and camp.date_received.isoformat()),
+        "calibrated": camp.measurement_date.isoformat() if camp.measurement_date else created,
         "standards": standards, "environment": env or DASH,
-        "issuer": _meta(camp, "issuer"), "issuer_title": _meta(camp, "issuer_title"), "issued": created,
-        "operator": _meta(camp, "operator"), "checker": _meta(camp, "checker"),
+        "issuer": _text(camp.people.approved_by), "issuer_title": _text(camp.people.approved_by_title),
+        "issued": created,
+        "operator": _text(camp.people.operator), "checker": _text(camp.people.checked_by),
     }
     notes = [f"{o.item}: {w}" for o in record.outcomes if o.standard == "jjf2003" for w in o.warnings
              if "DEVIATION" in w or "as printed" in w]

@@ -74,7 +74,7 @@ POSITION_SEG = SegmentRequirement(
     min_duration=Q_(30, "s"), min_count=12,
 )
 EQUIPMENT = (
-    EquipmentRequirement("table", "three-axis position/rate table (table 1); its rate uncertainty (calibration, "
+    EquipmentRequirement("rate_table", "three-axis position/rate table (table 1); its rate uncertainty (calibration, "
                          "relative) and `position_accuracy` enter the budgets", required=False),
     EquipmentRequirement("acquisition", "data acquisition; its `bits` give the quantization term u₂ (A.3)"),
 )
@@ -306,7 +306,7 @@ def ideal_evaluation(campaign: Campaign, means: Means) -> dict[str, Any]:
 
 
 def _table_rate_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
-    eq = campaign.equipment_for("table")
+    eq = campaign.equipment_for("rate_table")
     if eq is None or eq.calibration is None or not eq.calibration.uncertainty.dimensionless:
         warnings.append("no three-axis table with a relative rate uncertainty (equipment role \"table\", "
                         "calibration U relative): u₁ (A.1.2.1) is missing from the budget")
@@ -316,7 +316,7 @@ def _table_rate_row(campaign: Campaign, sensitivity, note: str, warnings: list[s
 
 
 def _table_position_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
-    eq = campaign.equipment_for("table")
+    eq = campaign.equipment_for("rate_table")
     if eq is None or "position_accuracy" not in eq.properties:
         warnings.append("no `position_accuracy` of the three-axis table (equipment role \"table\"): "
                         "u₁ (A.2.2.1) is missing from the budget")

@@ -260,7 +260,7 @@ class BiasAcceleration(_JJF):
                                                           "table", {"axis": "", "orientation": ""},
                                                           {"output": ("mV",)}),)
     options = RATE_OPTS + (EARTH_OPT,)
-    equipment = _JJF.equipment + (EquipmentRequirement("position-table", "two-axis position table"),)
+    equipment = _JJF.equipment + (EquipmentRequirement("position_table", "two-axis position table"),)
 
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [

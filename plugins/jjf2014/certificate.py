@@ -3,8 +3,9 @@
 The 24 rows of appendix A map to the metrics of the items (table 3).  A row whose item was
 not run in this record says so ("未校准 / not performed") — never blank, never zero.
 Laboratory, customer and signatories come from the manifest's ``[campaign]`` table
-(keys ``lab``, ``lab_address``, ``location``, ``customer``, ``customer_address``,
-``received``, ``calibrated_by``, ``checked_by``, ``approved_by``); a missing one is shown as
+(read through the vocabulary, metro.core.vocabulary: ``lab``, ``lab_address``, ``location``,
+``customer``, ``customer_address``, ``date_received``, ``measurement_date``, ``operator`` (the
+"calibrated by"), ``checked_by``, ``approved_by``); a missing one is shown as
 "—" so a reviewer sees it is missing.
 """
 
@@ -91,11 +92,10 @@ def extend_context(record, context: dict) -> None:
     if not outs:
         return
     camp = record.campaign
-    meta = dict(camp.meta)
     env = dict(camp.environment)
+    people, lab, customer = camp.people, camp.lab, camp.customer
 
-    def m(key):
-        v = meta.get(key)
+    def m(v):
         return str(v) if v not in (None, "") else DASH
 
     def e(key):
@@ -117,18 +117,19 @@ def extend_context(record, context: dict) -> None:
     context["jjf2014"] = {
         "title": "校准证书 Calibration Certificate",
         "number": record.report_number,
-        "lab": m("lab"), "lab_address": m("lab_address"), "location": m("location"),
-        "customer": m("customer"), "customer_address": m("customer_address"),
-        "received": m("received"), "calibrated_on": context.get("created", DASH),
+        "lab": m(lab.name), "lab_address": m(lab.address), "location": m(lab.location),
+        "customer": m(customer.name), "customer_address": m(customer.address),
+        "received": m(camp.date_received and camp.date_received.isoformat()),
+        "calibrated_on": camp.measurement_date.isoformat() if camp.measurement_date else context.get("created", DASH),
         "specification": "JJF 2014—2022 金属振子式速率陀螺校准规范",
         "environment": {"temperature": e("temperature"), "humidity": e("humidity"),
-                        "location": m("location") if "location" not in env else str(env["location"]),
+                        "location": m(lab.location) if "location" not in env else str(env["location"]),
                         "other": e("other")},
         "rows": rows,
         "performed_count": str(sum(r["performed"] for r in rows)),
         "not_performed": [r["no"] for r in rows if not r["performed"]],
         "deviations": deviations or ["无 (none)"],
-        "calibrated_by": m("calibrated_by"), "checked_by": m("checked_by"), "approved_by": m("approved_by"),
+        "calibrated_by": m(people.operator), "checked_by": m(people.checked_by), "approved_by": m(people.approved_by),
         "statement_validity": STATEMENT_VALIDITY,
         "statement_copy": STATEMENT_COPY,
     }

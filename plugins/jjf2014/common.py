@@ -178,7 +178,7 @@ class SFSet:
 
     def budget(self, campaign: Campaign, warnings: list[str] | None = None):
         return B.scale_factor_budget(Q_(self.K, KU), Q_(self.fit.u_K, KU), self.fit.dof,
-                                     rate_table=_cal(campaign, "rate-table"), dmm=_cal(campaign, "dmm"),
+                                     rate_table=_cal(campaign, "rate_table"), dmm=_cal(campaign, "dmm"),
                                      warnings=warnings, rep_source="repeatability: residual scatter of the eq. (3) fit")
 
 
@@ -224,7 +224,7 @@ class _JJF(Procedure):
     standard = STANDARD
     station = STATION
     equipment = (
-        EquipmentRequirement("rate-table", "rate table (table 2 no. 1); relative calibration U enters the budgets"),
+        EquipmentRequirement("rate_table", "rate table (table 2 no. 1); relative calibration U enters the budgets"),
         EquipmentRequirement("dmm", "data acquisition, 6½-digit DMM; relative calibration U enters the budgets"),
     )
 

@@ -181,7 +181,7 @@ class Bandwidth(_JJF):
                            Option("frequencies", 12, None, "N"), Option("records", 10, None, "n per frequency"),
                            Option("amplitude", "20 deg/s", "deg/s", "table amplitude (10–30 % of range)"),
                            Option("sample_rate", "5000 Hz", "Hz", "> 20·B_w"))
-    equipment = _JJF.equipment + (EquipmentRequirement("angular-vibration", "angular vibration table and its "
+    equipment = _JJF.equipment + (EquipmentRequirement("angular_vibration_table", "angular vibration table and its "
                                                        "reference sensor (relative U of amplitude; phase_U)"),)
 
     def sequence(self, options):
@@ -231,7 +231,7 @@ class Bandwidth(_JJF):
         nmin = min(dyn.n)
         rows.append(_budget_row_a("sine-fit amplitudes (scatter of Ē_i/A_i over the n records)", "u_A",
                                   math.sqrt(uA2), "Hz", max(nmin - 1, 1)))
-        cal = _cal(campaign, "angular-vibration")
+        cal = _cal(campaign, "angular_vibration_table")
         rows += B.relative_calibration_row("reference sensor amplitude (scales every S_i)", "u_rel(A)", cal,
                                            Q_(abs(dfc_ds), "Hz"), w)
         rows.append(BudgetRow.type_b("S₀ = K from 7.2.1", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
@@ -284,7 +284,7 @@ class OutputDelay(Bandwidth):
         rows = [_budget_row_a("least squares of eq. (50) (phase residuals)", "u(T_d)", u_fit, "s", dyn.f.size - 1),
                 BudgetRow.type_b("bandwidth B_w via T = 1/(2πB_w) (eq. (47))", "u(B_w)", Q_(u_bw, "Hz"),
                                  distribution="normal", k=1.0, sensitivity=Q_(abs((Td2 - Td) / d), "s/Hz"))]
-        eq = campaign.equipment_for("angular-vibration")
+        eq = campaign.equipment_for("angular_vibration_table")
         if eq is not None and "phase_U" in eq.properties:
             pu = parse_quantity(eq.properties["phase_U"], dimension="deg").to("rad").magnitude
             rows.append(BudgetRow.type_b("reference sensor phase", "u(φ₀)", Q_(pu, ""), distribution="normal", k=2.0,

@@ -45,7 +45,7 @@ def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign,
     rows = [BudgetRow.type_b(f"step of the {what} levels ({d}): true value in (next level, candidate]", "Δ",
                              Q_(step, "deg/s"), distribution="uniform",
                              note="one-sided: the candidate errs by 0 … Δ, u = Δ/√3")]
-    rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", _cal(campaign, "rate-table"),
+    rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", _cal(campaign, "rate_table"),
                                        Q_(abs(val), "deg/s"))
     b = B.type_a_budget(metric.key, "deg/s", rows)
     return Result(metric, Q_(abs(val), "deg/s"), b.combined, b, note=f"larger in the {d} direction")
@@ -248,7 +248,7 @@ class Misalignment(_JJF):
         rows = [_budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF),
                 BudgetRow.type_b("scale factor K (γ ∝ 1/K)", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
                                  sensitivity=Q_(gamma, "arcmin"))]
-        rows += B.relative_calibration_row("rate table Ω_(+) (γ ∝ 1/Ω)", "u_rel(Ω)", _cal(campaign, "rate-table"),
+        rows += B.relative_calibration_row("rate table Ω_(+) (γ ∝ 1/Ω)", "u_rel(Ω)", _cal(campaign, "rate_table"),
                                            Q_(gamma, "arcmin"))
         b = B.type_a_budget("gamma", "arcmin", rows)
         note = (f"α_m = {r['alpha'] * 10800 / math.pi:.4g}′, β_m = {r['beta'] * 10800 / math.pi:.4g}′ "

@@ -108,7 +108,7 @@ class NonlinearityRange(_JJF):
         i = int(np.argmax(np.abs(a)))
         # u(a_i): the scatter of F̄_i (and of the fit) over K·span; the rate table's error at Ω_i
         u_pt = math.hypot(s.uF[i], s.fit.residuals.std(ddof=2) / math.sqrt(len(s.F))) / (s.K * span)
-        cal = _cal(campaign, "rate-table")
+        cal = _cal(campaign, "rate_table")
         rows = [_budget_row_a("scatter of F̄_i at the worst point and of the fit", "u(a_i)", u_pt, "", s.fit.dof)]
         if cal is not None and cal.uncertainty.dimensionless:
             rows.append(BudgetRow.from_calibration("rate table error at Ω_i", "u_rel(Ω)", cal,
@@ -283,7 +283,7 @@ class SFAxialAcceleration(_JJF):
             _budget_row_a("fit of K (IRA up)", "u(K_up)/2g", up.fit.u_K / 2, "mV/(deg/s)/gn", up.fit.dof),
             _budget_row_a("fit of K (IRA down)", "u(K_down)/2g", dn.fit.u_K / 2, "mV/(deg/s)/gn", dn.fit.dof),
             *B.relative_calibration_row("rate table (common to both, acts on the difference)", "u_rel(Ω)",
-                                        _cal(campaign, "rate-table"), Q_(kg, "mV/(deg/s)/gn"))])
+                                        _cal(campaign, "rate_table"), Q_(kg, "mV/(deg/s)/gn"))])
         return self._outcome([Result(self.metrics[0], Q_(kg, "mV/(deg/s)/gn"), b.combined, b,
                                      note=f"K_up = {up.K:.7g}, K_down = {dn.K:.7g} mV/((°)/s)")],
                              segments=up.ids + dn.ids, opts=opts)
@@ -319,7 +319,7 @@ class _SFChange(_JJF):
             _budget_row_a(f"fit of K before ({worst})", "u(K₁)", f1.u_K, KU, f1.dof),
             _budget_row_a(f"fit of K after ({worst})", "u(K₂)", f2.u_K, KU, f2.dof),
             *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
-                                        _cal(campaign, "rate-table"), Q_(dk, KU))])
+                                        _cal(campaign, "rate_table"), Q_(dk, KU))])
         tab = TableSpec("per_axis", f"K before/after {self.what} per axis",
                         ["axis", "K₁ (mV/((°)/s))", "K₂ (mV/((°)/s))", "|ΔK|"],
                         [[a, f"{before[a]:.7g}", f"{after[a]:.7g}", f"{per[a]:.3g}"] for a in per])
