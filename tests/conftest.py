@@ -3,6 +3,12 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import settings
+
+# Property tests check invariants, not speed: on a loaded 2-core CI machine hypothesis's default
+# 200 ms deadline per example fails tests that are right (seen: test_budget_invariants).
+settings.register_profile("metro", deadline=None)
+settings.load_profile("metro")
 
 
 @pytest.fixture
