@@ -36,6 +36,7 @@ from .simulated import (
     GyroTruth,
     SimulatedStation,
     register_expected,
+    output_unit,
     register_step_kind,
     simulate_static,
 )
@@ -60,7 +61,7 @@ def _static_segment(station: SimulatedStation, step, index: int, *, n: int, inte
     t = station.truth
     data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=latitude, orientation="up",
                            seed=t.seed + index, progress=progress, bias_offset_deg_h=offset)
-    unit = {"pulse": "P", "digital": "LSB", "rate": "deg/h"}[t.output]
+    unit = output_unit(t)
     return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
                    sha256=hashlib.sha256(data.tobytes()).hexdigest(), loader=(lambda d=data, u=unit: {"output": (d, u)}))
 
@@ -119,18 +120,11 @@ def transient_per_sample(truth: GyroTruth, n: int, interval_s: float) -> np.ndar
 @register_step_kind("power-on")
 def sim_power_on(station, step, index, *, interval_s, n, orientation, bias_offset_deg_h, progress=None, **_):
     t = station.truth
-    base = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=station.latitude_deg,
+    # the transient is part of the indicated rate, quantized with it
+    data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=station.latitude_deg,
                            orientation=orientation, seed=t.seed + index, progress=progress,
-                           bias_offset_deg_h=bias_offset_deg_h)
-    extra = transient_per_sample(t, n, interval_s)
-    rng = np.random.default_rng([t.seed, index, 7717])
-    if t.output == "pulse":
-        cum = np.cumsum(extra * interval_s * t.scale_factor_P_per_arcsec)
-        data, unit = base + np.diff(np.floor(cum + rng.random(n)), prepend=0.0), "P"
-    elif t.output == "digital":
-        data, unit = base + np.round(extra / 3600.0 * t.lsb_per_deg_s), "LSB"
-    else:
-        data, unit = base + extra, "deg/h"
+                           bias_offset_deg_h=bias_offset_deg_h, extra_deg_h=transient_per_sample(t, n, interval_s))
+    unit = output_unit(t)
     return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
                    sha256=hashlib.sha256(data.tobytes()).hexdigest(), loader=(lambda d=data, u=unit: {"output": (d, u)}))
 

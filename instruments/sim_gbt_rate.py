@@ -39,10 +39,15 @@ from metro.core.model import Segment
 from metro.core.units import Q_, parse_quantity
 
 from .simulated import (
+    DIGITAL_DEFAULTS,
     EARTH_RATE_DEG_PER_H,
     GyroTruth,
     SimulatedStation,
     register_expected,
+    mounting_key,
+    output_unit,
+    pulse_readout,
+    quantize_rate,
     register_step_kind,
     scale_factor_at,
     station_factory,
@@ -71,6 +76,9 @@ def scale_factor_multiplier(truth: GyroTruth, rate_deg_s: float, direction: int,
         f *= 1.0 + truth.sf_tc_per_C * (T - truth.temp_ref_C)
     if "run" in conditions:
         f *= 1.0 + turn_on_scale_factor(truth, conditions["run"])
+    if truth.sf_mount_sigma > 0 and mounting_key(conditions):
+        f *= 1.0 + float(np.random.default_rng([truth.seed, *mounting_key(conditions), 2281]).normal(
+            0.0, truth.sf_mount_sigma))
     return f
 
 
@@ -121,7 +129,7 @@ def _revolutions(station: SimulatedStation, step, index: int, projection: float,
     noise_sd = t.arw_deg_rt_h * math.sqrt(T / 3600.0) * 3600.0
     angle = direction * REV_ARCSEC * projection + drift * T
     cum = np.cumsum(K * (angle + rng.normal(0.0, noise_sd, size=turns)))
-    counts = np.diff(np.floor(cum + rng.random(turns)), prepend=0.0)
+    counts = np.diff(pulse_readout(t, cum, rng), prepend=0.0)
     dur = np.full(turns, T)
     return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(T, "s"),
                    sha256=hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest(),
@@ -172,13 +180,12 @@ def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_
               if table is not None else np.full(n, direction * rate))
     # indicated rate, °/h: the table's component along IA through the scale factor, plus the rest
     w = actual * 3600.0 * projection * f + static + rng.normal(0.0, white_sd, size=n)
-    if t.output == "digital":
-        out, unit = np.round(w / 3600.0 * t.lsb_per_deg_s), "LSB"
-    elif t.output == "pulse":
+    unit = output_unit(t)
+    if t.output == "pulse":
         cum = np.cumsum(w * interval_s * t.scale_factor_P_per_arcsec)
-        out, unit = np.diff(np.floor(cum + rng.random(n)), prepend=0.0), "P"
+        out = np.diff(pulse_readout(t, cum, rng), prepend=0.0)
     else:
-        out, unit = w, "deg/h"
+        out = quantize_rate(t, w, rng)
     return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
                    sha256=hashlib.sha256(out.tobytes()).hexdigest(), loader=(lambda d=out, u=unit: {"output": (d, u)}))
 
@@ -199,7 +206,7 @@ def sim_polarity(station, step, index, *, interval_s, n, orientation, bias_offse
     out = simulate_static(station.truth, n=n, interval_s=interval_s, latitude_deg=station.latitude_deg,
                           orientation=orientation, seed=station.truth.seed + 104729 * (index + 1),
                           progress=progress, bias_offset_deg_h=bias_offset_deg_h)
-    unit = {"pulse": "P", "digital": "LSB", "rate": "deg/h"}[station.truth.output]
+    unit = output_unit(station.truth)
     return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
                    sha256=hashlib.sha256(out.tobytes()).hexdigest(), loader=(lambda d=out, u=unit: {"output": (d, u)}))
 
@@ -339,7 +346,7 @@ def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
             key = (str(s.conditions["axis_up"]).upper(), str(s.conditions["turn"]))
             proj = mounting_projection(t, s.conditions)
             r = abs(_rate_of(s))
-            ang[key] = math.degrees(float(_ideal_Ki(t, [r], {}, lat, proj)[0]) / t.scale_factor_P_per_arcsec)
+            ang[key] = math.degrees(float(_ideal_Ki(t, [r], s.conditions, lat, proj)[0]) / t.scale_factor_P_per_arcsec)
         out |= _mounting_expected(ang)
     if "rate-output" in kinds:
         plain = [s for s in kinds["rate-output"] if "run" not in s.conditions and "temperature" not in s.conditions]
@@ -381,7 +388,7 @@ def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
         for (ax, turn), g in _pairs(kinds["rate-mounting"]).items():
             r = abs(_rate_of(g[0]))
             proj = mounting_projection(t, g[0].conditions)
-            fp, fm = _ideal_Fk(t, [r, -r], {}, proj)
+            fp, fm = _ideal_Fk(t, [r, -r], g[0].conditions, proj)
             ang[(ax, turn)] = math.degrees(math.asin((fp - fm) / (2 * t.lsb_per_deg_s * r)))
         out |= _mounting_expected(ang)
     return out
@@ -412,17 +419,12 @@ def _mounting_expected(ang: Mapping[tuple[str, str], float]) -> dict[str, Any]:
 # the digital-output station
 # --------------------------------------------------------------------------------------------
 
-#: a fibre-optic gyro with a digital output and a scale-factor nonlinearity above 5 × 10⁻⁶, which
-#: 6.2.7.1 sends to the rate method (D.2)
-DIGITAL_DEFAULTS: Mapping[str, Any] = {
-    "output": "digital", "sf_quadratic": 3e-5, "sf_slope_per_deg_s": 2e-8, "sf_asymmetry": 2e-5,
-    "sf_tc_per_C": 2e-6, "sf_turn_on_sigma": 5e-6,
-}
-
-
 def digital_station_factory(**options: Any) -> SimulatedStation:
     """Factory registered as ``simulated-digital``: the virtual gyro with LSB output (a fibre gyro
-    for the rate method); options as for ``simulated``, over :data:`DIGITAL_DEFAULTS`."""
+    for the rate method); options as for ``simulated``, over :data:`DIGITAL_DEFAULTS` (a
+    ``device_class`` replaces them with the class's own values)."""
+    if options.get("device_class"):
+        return station_factory(**options)
     return station_factory(**(dict(DIGITAL_DEFAULTS) | dict(options)))
 
 

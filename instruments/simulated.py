@@ -77,6 +77,23 @@ class GyroTruth:
     # --- end of the D.4 / D.6 / set-up / power block ---
     output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
     lsb_per_deg_s: float = 5000.0
+    # --- how the output is quantized (device classes, see DEVICE_CLASSES) ---
+    # pulse output: True reads the accumulated angle at a random phase each sample (a dithered ring
+    # laser gyro, white quantization error); False at a fixed phase, so the leftover fraction of a
+    # pulse drifts with the earth rate and the quantization error is a slow sawtooth
+    dither: bool = True
+    # LSB output: True adds a uniform ±½ LSB dither before the word is rounded (its mean is then
+    # unbiased whatever the noise); False rounds the rate as it is
+    lsb_dither: bool = False
+    # rate output: the unit of the output column and its resolution in that unit (0: unquantized)
+    rate_unit: str = attrs.field(default="deg/h", validator=attrs.validators.in_(("deg/h", "deg/s")))
+    rate_resolution: float = attrs.field(default=0.0, validator=attrs.validators.ge(0.0))
+    # relative scale-factor and bias changes between mountings (D.1.6/D.2.6 axis_up/turn and D.5
+    # orientations): drawn per mounting, seeded by (seed, mounting)
+    sf_mount_sigma: float = 0.0
+    bias_mount_sigma_deg_h: float = 0.0
+    # the device class this truth was made from ("" when set field by field)
+    device_class: str = ""
     # GB/T 45570 5.2.9 / 6.2.6: +1 when the output grows while the gyro turns counter-clockwise about
     # +IA (right-hand rule); −1 a reversed gyro (every output column is negated)
     polarity: int = attrs.field(default=1, validator=attrs.validators.in_((1, -1)))
@@ -102,6 +119,8 @@ class GyroTruth:
             "fixture tilt (XRA-up, YRA-up mountings)": ", ".join(f"{v:g}″" for v in self.fixture_tilt_arcsec),
             "seed": self.seed,
             "output": self.output,
+            "device class": self.device_class or "(fields as given)",
+            "quantization": quantization_text(self),
             "polarity (6.2.6)": "positive" if self.polarity > 0 else "negative",
         }
         if self.output == "pulse":
@@ -122,10 +141,12 @@ def simulate_static(
     chunk: int = 1 << 20,
     progress=None,
     bias_offset_deg_h: float = 0.0,
+    extra_deg_h: np.ndarray | None = None,
 ) -> np.ndarray:
     """Raw output of a gyro at rest for ``n`` samples of ``interval_s``.
 
-    ``bias_offset_deg_h`` adds to the bias (temperature, field, turn-on effects of the step).
+    ``bias_offset_deg_h`` adds to the bias (temperature, field, turn-on effects of the step);
+    ``extra_deg_h`` (n values, °/h) to each sample's rate before the output is quantized.
 
     Returns float64 samples in the output's raw unit (P per interval, LSB, or °/h).
     """
@@ -160,6 +181,8 @@ def simulate_static(
             b, _ = lfilter([1.0], [1.0, -gm_phi], e, zi=[gm_phi * gm])
             w += b
             gm = float(b[-1])
+        if extra_deg_h is not None:
+            w += np.asarray(extra_deg_h[start:stop], dtype=np.float64)
         if truth.rrw_deg_h_rt_h > 0:
             r = rrw + np.cumsum(rng.normal(0.0, rrw_sd, size=k))
             w += r
@@ -168,16 +191,14 @@ def simulate_static(
             # angle increment per sample in pulses: rate[°/h = ″/s] · τ[s] · K[P/″]
             inc = w * (interval_s * K)
             cum = np.cumsum(inc) + carry
-            whole = np.floor(cum + rng.random(k))  # random readout phase (dither)
+            whole = pulse_readout(truth, cum, rng)  # random readout phase when dithered
             out[start:stop] = np.diff(whole, prepend=emitted)
             emitted = float(whole[-1])
             # keep the running totals small: subtract the emitted whole pulses from both
             carry = float(cum[-1] - emitted)
             emitted = 0.0
-        elif truth.output == "digital":
-            out[start:stop] = np.round(w / 3600.0 * truth.lsb_per_deg_s)
         else:
-            out[start:stop] = w
+            out[start:stop] = quantize_rate(truth, w, rng)
         if progress is not None:
             progress(stop, n)
     return out
@@ -209,6 +230,8 @@ class SimulatedStation:
             props["scale_factor"] = Q_(t.lsb_per_deg_s, "LSB/(deg/s)")
             props["scale_factor_U"] = Q_(2e-5, "")
             props["scale_factor_k"] = 2.0
+        elif t.rate_resolution > 0:
+            props["resolution"] = Q_(t.rate_resolution, t.rate_unit)
         return DeviceUnderTest(
             id="SIM-OG-1", model="virtual optical gyro", serial=f"seed {t.seed}", manufacturer="metro simulator",
             properties=props, technology="fibre" if t.output == "digital" else "laser", application="aviation",
@@ -224,7 +247,7 @@ class SimulatedStation:
         """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""
         segments = []
         t = self.truth
-        unit = {"pulse": "P", "digital": "LSB", "rate": "deg/h"}[t.output]
+        unit = output_unit(t)
         for i, step in enumerate(steps):
             interval_s = float(step.interval.to("s").magnitude) if step.interval is not None else float(
                 self.interval.to("s").magnitude)
@@ -383,7 +406,7 @@ def simulate_revolutions(
     noise_sd = truth.arw_deg_rt_h * math.sqrt(t / 3600.0) * 3600.0  # ″ of angle random walk per turn
     inc = K * (angle + rng.normal(0.0, noise_sd, size=turns))
     cum = np.cumsum(inc)
-    whole = np.floor(cum + rng.random(turns))
+    whole = pulse_readout(truth, cum, rng)
     counts = np.diff(whole, prepend=0.0)
     return counts, np.full(turns, t)
 
@@ -408,7 +431,65 @@ def bias_offset(truth: GyroTruth, conditions) -> float:
     if "run" in conditions:
         r = np.random.default_rng([truth.seed, int(conditions["run"])])
         off += float(r.normal(0.0, truth.turn_on_sigma_deg_h))
+    if truth.bias_mount_sigma_deg_h > 0 and mounting_key(conditions):
+        r = np.random.default_rng([truth.seed, *mounting_key(conditions), 6047])
+        off += float(r.normal(0.0, truth.bias_mount_sigma_deg_h))
     return off
+
+
+def mounting_key(conditions) -> tuple[int, ...]:
+    """Integers naming a step's mounting (``axis_up`` and ``turn`` of D.1.6/D.2.6); () for the
+    ordinary IRA-up mounting, whose bias and scale factor are the truth's own."""
+    axis = str(conditions.get("axis_up", "")).upper().replace("+", "").strip()
+    if axis in ("", "IRA"):
+        return ()
+    turn = str(conditions.get("turn", "0")).split()[0]
+    try:
+        t = int(round(float(turn))) % 360
+    except ValueError:
+        t = 0
+    return (AXES.index(axis) if axis in AXES else 9, t)
+
+
+def output_unit(truth: GyroTruth) -> str:
+    """The unit of the virtual gyro's output column."""
+    return {"pulse": "P", "digital": "LSB", "rate": truth.rate_unit}[truth.output]
+
+
+def pulse_readout(truth: GyroTruth, cum: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Whole pulses emitted by the time each sample is read, of the accumulated angle ``cum``
+    (pulses): read at a random phase when ``dither`` (white quantization error, variance 1/6 P²
+    per difference), else at a fixed phase (the leftover fraction then drifts with the rate — a
+    sawtooth quantization error)."""
+    return np.floor(cum + (rng.random(cum.size) if truth.dither else 0.5))
+
+
+def quantize_rate(truth: GyroTruth, w_deg_h: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """LSB or rate output of indicated rates ``w_deg_h`` (°/h): the LSB word rounded (with a
+    uniform ±½ LSB dither first when ``lsb_dither``), or the rate in ``rate_unit`` rounded to
+    ``rate_resolution``."""
+    w = np.asarray(w_deg_h, dtype=np.float64)
+    if truth.output == "digital":
+        x = w / 3600.0 * truth.lsb_per_deg_s
+        if truth.lsb_dither:
+            x = x + rng.random(x.size) - 0.5
+        return np.round(x)
+    x = w if truth.rate_unit == "deg/h" else w / 3600.0
+    if truth.rate_resolution > 0:
+        x = np.round(x / truth.rate_resolution) * truth.rate_resolution
+    return x
+
+
+def quantization_text(truth: GyroTruth) -> str:
+    """One line on how the output is quantized (for the truth table)."""
+    if truth.output == "pulse":
+        w = 1.0 / truth.scale_factor_P_per_arcsec
+        return f"1 P = {w:.4g}″, " + ("dithered readout" if truth.dither else "undithered (fixed readout phase)")
+    if truth.output == "digital":
+        q = 3600.0 / truth.lsb_per_deg_s
+        return f"1 LSB = {q:.4g} °/h, " + ("±½ LSB dither" if truth.lsb_dither else "rounded, no dither")
+    res = f"{truth.rate_resolution:g} {truth.rate_unit}" if truth.rate_resolution > 0 else "unquantized"
+    return f"rate in {truth.rate_unit}, resolution {res}"
 
 
 def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) -> dict[str, float]:
@@ -430,12 +511,71 @@ def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) ->
             "Ka": float(abs(Kp - Km) / ((Kp + Km) / 2))}
 
 
+#: a fibre-optic gyro with a digital output and a scale-factor nonlinearity above 5 × 10⁻⁶, which
+#: 6.2.7.1 sends to the rate method (D.2) — the ``simulated-digital`` station's defaults
+DIGITAL_DEFAULTS: Mapping[str, Any] = {
+    "output": "digital", "sf_quadratic": 3e-5, "sf_slope_per_deg_s": 2e-8, "sf_asymmetry": 2e-5,
+    "sf_tc_per_C": 2e-6, "sf_turn_on_sigma": 5e-6,
+}
+
+_MOUNTING = {"sf_mount_sigma": 2e-6, "bias_mount_sigma_deg_h": 0.003}
+
+#: device classes: what real optical gyros vary — output kind, quantization coarse and fine,
+#: dither on and off — as station-option presets (``device_class=NAME``).  A class is a population:
+#: each seed draws one device of it (see :func:`draw_device`).  Options given with the class
+#: override its values.
+DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
+    # ring-laser gyro, 0.8 P/″ (1 P = 1.25″), dithered readout — the ``simulated`` default
+    "pulse-fine": {"output": "pulse"} | _MOUNTING,
+    # the same counted at a fixed phase: the leftover fraction drifts with the earth rate
+    "pulse-fine-undithered": {"output": "pulse", "dither": False} | _MOUNTING,
+    # 0.05 P/″ (1 P = 20″, about 2 s of earth rate), dithered / undithered
+    "pulse-coarse": {"output": "pulse", "scale_factor_P_per_arcsec": 0.05} | _MOUNTING,
+    "pulse-coarse-undithered": {"output": "pulse", "scale_factor_P_per_arcsec": 0.05, "dither": False} | _MOUNTING,
+    # fibre gyro, LSB word: 1 LSB = 0.0072 °/h (finer than the noise) and 0.72 °/h (coarser), rounded
+    "lsb-fine": dict(DIGITAL_DEFAULTS) | {"lsb_per_deg_s": 500000.0} | _MOUNTING,
+    "lsb-coarse": dict(DIGITAL_DEFAULTS) | _MOUNTING,
+    "lsb-coarse-dithered": dict(DIGITAL_DEFAULTS) | {"lsb_dither": True} | _MOUNTING,
+    # rate output in °/h (resolution 0.001 °/h) and in °/s (resolution 10⁻⁶ °/s = 0.0036 °/h)
+    "rate-dh": {"output": "rate", "rate_unit": "deg/h", "rate_resolution": 0.001} | _MOUNTING,
+    "rate-ds": {"output": "rate", "rate_unit": "deg/s", "rate_resolution": 1e-6} | _MOUNTING,
+}
+
+
+def draw_device(device_class: str, seed: int) -> dict[str, Any]:
+    """The truth fields of one device of ``device_class``, drawn with ``seed``: the class's values,
+    then a bias uniform in ±0.5 °/h, a scale factor within ±0.2 % of the class's and an angle random
+    walk 0.7 … 1.5 times the default's (so a sweep over seeds sees where the quantization falls)."""
+    if device_class not in DEVICE_CLASSES:
+        from metro.core.errors import DataError
+
+        raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
+                        hint="device classes: " + ", ".join(DEVICE_CLASSES))
+    kw = dict(DEVICE_CLASSES[device_class])
+    base = GyroTruth()
+    rng = np.random.default_rng([int(seed), 4099])
+    kw["bias_deg_h"] = float(rng.uniform(-0.5, 0.5))
+    sf = 1.0 + float(rng.uniform(-0.002, 0.002))
+    if kw.get("output") == "digital":
+        kw["lsb_per_deg_s"] = float(kw.get("lsb_per_deg_s", base.lsb_per_deg_s)) * sf
+    elif kw.get("output") == "pulse":
+        kw["scale_factor_P_per_arcsec"] = float(kw.get("scale_factor_P_per_arcsec", base.scale_factor_P_per_arcsec)) * sf
+    kw["arw_deg_rt_h"] = base.arw_deg_rt_h * float(rng.uniform(0.7, 1.5))
+    kw["device_class"] = device_class
+    return kw
+
+
 def station_factory(**options: Any) -> SimulatedStation:
-    """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale …)."""
+    """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale,
+    device_class …).  With ``device_class`` the device is drawn from that class by the seed
+    (:func:`draw_device`); other options given override it."""
     from metro.core.options import station_options
 
     truth_kw, st_kw = station_options("the simulated gyro station", GyroTruth, SimulatedStation, options,
                                       ("latitude_deg", "duration_scale"))
+    cls = truth_kw.pop("device_class", "")
+    if cls:
+        truth_kw = draw_device(cls, truth_kw.get("seed", GyroTruth().seed)) | truth_kw | {"device_class": cls}
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
 
 
@@ -452,4 +592,4 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "expected", "bias_offset", "AXES"]
+__all__ = ["register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "bias_offset", "AXES"]

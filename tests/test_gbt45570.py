@@ -148,10 +148,11 @@ def test_d56_too_short_record(pm):
         _run(pm, ["D.5.6"], GyroTruth(seed=1), scale=60 / 28800)
 
 
-def test_d56_negative_alpha1_is_a_clear_error(pm):
+def test_d56_negative_alpha1_is_not_reportable(pm):
     """A pulse output with no noise at all: a constant rate read with plain floor() gives a
     periodic (deterministic) quantization pattern; B_s² then bends below α0 + α2/τ² and the
-    fitted α1 comes out negative → a clear error that says what to look at."""
+    fitted α1 comes out negative → RWC is not reportable, the reason saying what to look at
+    (interpretations.md, "D.5.6 — when the D.45 model does not hold")."""
     from metro.core.model import Campaign, DeviceUnderTest, Segment
     from metro.core.units import Q_
 
@@ -161,9 +162,10 @@ def test_d56_negative_alpha1_is_a_clear_error(pm):
                   loader=lambda: {"output": (counts, "P")})
     dev = DeviceUnderTest("D", properties={"scale_factor": Q_(0.8, "P/arcsec")})
     camp = Campaign("C", dev, [], {}, {"latitude": Q_(40, "deg")}, [seg])
-    with pytest.raises(ProcedureError, match="α1") as exc:
-        run_items(pm, "gbt45570", ["D.5.6"], campaign=camp)
-    assert exc.value.hint
+    res = run_items(pm, "gbt45570", ["D.5.6"], campaign=camp).outcomes[0].results[0]
+    assert not res.reportable
+    assert "α1" in res.reason and "not positive" in res.reason and "B_s(τ) plot" in res.reason
+    assert res.earth_rate == "not applicable"
 
 
 def test_d52_option_t_must_be_multiple_of_tau(pm):

@@ -216,8 +216,8 @@ class ScaleFactorD11(Procedure):
                                  note=f"{len(pts)} rate points")]
         rows += _angle_row(campaign, K, "P/arcsec")
         budget = UncertaintyBudget("K", "P/arcsec", rows, coverage=COVERAGE)
-        res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget),
-               Result(self.metrics[1], Q_(W, "P/arcsec/(deg/s)"), Q_(uW, "P/arcsec/(deg/s)"))]
+        res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget, earth_rate="removed"),
+               Result(self.metrics[1], Q_(W, "P/arcsec/(deg/s)"), Q_(uW, "P/arcsec/(deg/s)"), earth_rate="removed")]
         model = K + W * rates
         plot = PlotSpec("K_rate", "K_i against rate with the eq. (D.4) fit",
                         "Ω (°/s)", "K_i (P/″)",
@@ -257,7 +257,7 @@ class NonlinearityD12(ScaleFactorD11):
         rows += _angle_row(campaign, Kn, "")
         budget = UncertaintyBudget("K_n", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Kn, ""), budget.combined, budget,
-                     note=f"largest |K_i − K| at {pts[i].rate:g} °/s")
+                     note=f"largest |K_i − K| at {pts[i].rate:g} °/s", earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res],
                        segments=[s for p in pts for s in p.segments], options={k: str(v) for k, v in opts.items()})
 
@@ -314,7 +314,7 @@ class AsymmetryD13(ScaleFactorD11):
                                  sensitivity=Q_(abs(c_n0), "s/P"), note="sensitivity by re-evaluation at N̄₀ ± u")]
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
-                     note=f"K₊ = {fp.coef[0]:.8f} P/″, K₋ = {fm.coef[0]:.8f} P/″, N̄₀ = {N0:.4f} P/s")
+                     note=f"K₊ = {fp.coef[0]:.8f} P/″, K₋ = {fm.coef[0]:.8f} P/″, N̄₀ = {N0:.4f} P/s", earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res],
                        segments=[z.id for z in zeros] + [s for p in pts for s in p.segments],
                        options={k: str(v) for k, v in opts.items()})
@@ -410,7 +410,7 @@ class ScaleFactorRepeatabilityD14(Procedure):
                               note=r.note + f"; over m = {m} revolutions") for r in _angle_row(campaign, 1.0, "")]
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))
-        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.8f} P/″, Q = {q}")
+        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.8f} P/″, Q = {q}", earth_rate="removed")
         table = TableSpec("K_runs", "K_j of each power-on (D.2)", ["run", "Ω (°/s)", "K_j (P/″)", "K_j − K̄ (ppm)"],
                           [[run, f"{p.rate:g}", f"{p.K:.8f}", f"{(p.K - mean) / mean * 1e6:.2f}"] for run, p in pts])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
@@ -526,7 +526,7 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
                                      sensitivity=Q_(Kt / abs(dT), "1/delta_degC/K"), note="∂K_t/∂ΔT = −K_t/ΔT"))
     budget = UncertaintyBudget("K_t", "ppm/delta_degC", rows, coverage=COVERAGE)
     res = Result(proc.metrics[0], Q_(Kt, "1/delta_degC"), budget.combined, budget,
-                 note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C")
+                 note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C", earth_rate="removed")
     plot = PlotSpec("K_temperature", f"Scale factor against temperature ({proc.item})", "T (°C)",
                     "(K − K₀₀)/K₀₀ (ppm)",
                     [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],
@@ -609,7 +609,7 @@ def misalignment_outcome(proc: Procedure, campaign: Campaign, opts, ang: Mapping
         rows += [attrs.evolve(r, sensitivity=Q_(abs(v), "deg")) for r in rel_rows]
         budget = UncertaintyBudget(sym, "deg", rows, coverage=COVERAGE)
         results.append(Result(metric, Q_(v, "deg"), budget.combined, budget,
-                              note=f"= {v * 3600:.2f}″"))
+                              note=f"= {v * 3600:.2f}″", earth_rate="removed"))
     table = TableSpec("mountings", f"Angle of each mounting ({proc.item})", ["mounting", "angle (°)", "angle (″)"],
                       [[f"{ax} up, turned {t}°", f"{ang[(ax, t)][0]:.6f}", f"{ang[(ax, t)][0] * 3600:.2f}"]
                        for ax, t in MOUNTINGS])

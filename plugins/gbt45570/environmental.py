@@ -113,7 +113,7 @@ def _condition_result(metric: Metric, value, equipment, campaign: Campaign, *, p
                                      distribution="uniform", note="uncertainty of the condition not evaluated"))
         warnings.append(f"{metric.name}: no calibration data for the {what}; its uncertainty is not evaluated")
     budget = UncertaintyBudget(metric.symbol, delta, rows, coverage=COVERAGE)
-    return Result(metric, Q_(mag, unit), budget.combined, budget), warnings
+    return Result(metric, Q_(mag, unit), budget.combined, budget, earth_rate="not applicable"), warnings
 
 
 # --------------------------------------------------------------------------------------------
@@ -159,7 +159,7 @@ class _TemperatureOperation(Procedure):
         warnings += w
         results.append(Result(m[1], Q_(est.B0, "deg/h"), est.budget.combined,
                               UncertaintyBudget(m[1].symbol, "deg/h", est.budget.rows, coverage=COVERAGE),
-                              note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation})"))
+                              note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation})", earth_rate="removed"))
         raw = np.asarray(est.series.data.magnitude, dtype=float)
         tau0 = float(est.series.interval.to("s").magnitude)
         conv = est.conv
@@ -179,7 +179,7 @@ class _TemperatureOperation(Procedure):
             rows += _scale_factor_row(conv, Bs, "deg/h")
             rows += _timebase_row(campaign, Bs, "deg/h", "B_s")
             budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-            results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {mm}"))
+            results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {mm}", earth_rate="not applicable"))
         dur = est.series.duration.to("h")
         if dur < Q_(1, "h") * 0.999:
             warnings.append(f"the record lasts {dur:~.3gP}; {self.clause}.2 b) asks for 1 h")
@@ -272,7 +272,7 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     rows += _scale_factor_row(a["conv"], value, "deg/h")
     rows += _timebase_row(campaign, value, "deg/h", metric.symbol)
     budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=f"eq. ({eq})")
+    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=f"eq. ({eq})", earth_rate="not applicable")
 
 
 def _vibration_metrics() -> tuple[Metric, ...]:
@@ -559,7 +559,7 @@ class SetupTime6277(Procedure):
             rows += _timebase_row(campaign, ts, "s", "t_s")
         budget = UncertaintyBudget("t_s", "s", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(ts, "s"), budget.combined, budget,
-                     note=f"settled bias {settled:.4g} °/h, band ±{tol:g} °/h, window {w * tau:g} s")
+                     note=f"settled bias {settled:.4g} °/h, band ±{tol:g} °/h, window {w * tau:g} s", earth_rate="not applicable")
         t_mm = (np.arange(mm.size) + w) * tau
         step = max(1, mm.size // 400)
         plot = PlotSpec("setup", "Window mean of the output after switch-on (6.2.7.7)", "t (s)", "ω̄ (°/h)",
@@ -660,7 +660,7 @@ class PowerConsumption6278(Procedure):
             table.append([s.id, str(s.conditions["supply"]), f"{np.mean(u):.4f}", f"{np.mean(i):.5f}", f"{p:.4f}"])
         tab = TableSpec("supplies", "Mean voltage, current and power per supply (6.2.7.8)",
                         ["segment", "supply", "U (V)", "I (A)", "U·I (W)"], table)
-        res = Result(self.metrics[0], Q_(P, "W"), budget.combined, budget, note=f"{len(segs)} supplies")
+        res = Result(self.metrics[0], Q_(P, "W"), budget.combined, budget, note=f"{len(segs)} supplies", earth_rate="not applicable")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[tab],
                        segments=[s.id for s in segs], options=_opts_text(opts))
 

@@ -275,3 +275,39 @@ def scale_factor_minus_d9(n_minus: float, n0_per_s: float, t_minus_s: float) -> 
 def asymmetry_d10(K_plus: float, K_minus: float) -> float:
     """K_a = |K_+ − K_−| / ((K_+ + K_−)/2), eq. (D.10)."""
     return abs(K_plus - K_minus) / ((K_plus + K_minus) / 2.0)
+
+
+# --------------------------------------------------------------------------------------------
+# Output quantization (not in the standard: the budget rows D.5.1, D.5.2 and D.5.6 need;
+# docs/interpretations.md, "D.5 — output quantization")
+# --------------------------------------------------------------------------------------------
+
+
+def rounding_mean_bound(q: float, sigma: float) -> float:
+    """Largest offset of the mean of round(x + n) from x, n ~ N(0, σ²), rounding step q.
+
+    The rounding error's mean is a periodic function of x whose Fourier series (Widrow's
+    quantization theorem for a Gaussian input) is Σ_k (−1)^k (q/(πk))·e^(−2π²k²σ²/q²)·sin(2πkx/q),
+    so |offset| ≤ Σ_k (q/(πk))·e^(−2π²k²σ²/q²) — and never more than q/2 (a plain rounding).
+    With σ ≥ q the bound is below 10⁻⁸·q: noise that large dithers the rounding."""
+    if q <= 0:
+        return 0.0
+    if sigma <= 0:
+        return q / 2.0
+    r = 2.0 * math.pi**2 * (sigma / q) ** 2
+    total = sum(q / (math.pi * k) * math.exp(-r * k * k) for k in range(1, 50))
+    return min(q / 2.0, total)
+
+
+def rounding_sigma(s_measured: float, q: float) -> float:
+    """σ of the noise before rounding from the measured standard deviation ``s`` of the rounded
+    samples, by Sheppard's correction σ² = s² − q²/12 (valid when the noise dithers the
+    rounding, σ ≳ q/2; 0 when s² < q²/12)."""
+    return math.sqrt(max(s_measured**2 - q * q / 12.0, 0.0))
+
+
+def alpha1_rounding_d45(q_deg_h: float, tau0_h: float) -> float:
+    """The part of D.45's α1 that rounding each rate sample to q adds when the noise dithers the
+    rounding: white rate noise of variance q²/12 per sample of τ0, i.e. α1 = q²·τ0/12
+    ((°/h)²·h; B_s²(τ) = α1/τ for white rate noise)."""
+    return q_deg_h * q_deg_h * tau0_h / 12.0

@@ -120,10 +120,10 @@ class Polarity626(Procedure):
         sign = 1 if r > 0 else -1
         words = "positive" if sign > 0 else "NEGATIVE"
         res_r = Result(self.metrics[0], Q_(r, ""), budget.combined, budget,
-                       note=f"Ω = {omega:g} °/s; ω̄_rest = {m0['rate']:.5g} °/h, ω̄_turn = {m1['rate']:.5g} °/h")
+                       note=f"Ω = {omega:g} °/s; ω̄_rest = {m0['rate']:.5g} °/h, ω̄_turn = {m1['rate']:.5g} °/h", earth_rate="removed")
         res_p = Result(self.metrics[1], Q_(float(sign), ""),
                        note=f"{words}: the output {'grows' if r * omega > 0 else 'falls'} while the gyro turns "
-                            f"{'counter-clockwise' if omega > 0 else 'clockwise'} about +IA; |r|/u(r) = {abs(r) / u:.0f}")
+                            f"{'counter-clockwise' if omega > 0 else 'clockwise'} about +IA; |r|/u(r) = {abs(r) / u:.0f}", earth_rate="not applicable")
         warnings = [] if sign > 0 else ["the polarity is negative; GB/T 45570 5.2.9 requires a positive polarity"]
         return Outcome(STANDARD, self.item, self.title, self.clause, [res_r, res_p], segments=[r0.id, r1.id],
                        warnings=warnings, options=_opts_text(opts))

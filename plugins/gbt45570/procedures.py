@@ -37,6 +37,10 @@ from metro.core.units import Q_, parse_quantity
 from . import formulas as F
 
 STANDARD = "gbt45570"
+#: χ²/ν of the D.45 fit beyond which its model is taken not to hold (interpretations.md,
+#: "D.5.6 — when the D.45 model does not hold"): on records the model describes, χ²/ν of the
+#: nested-level GLS fit is 0.4 … 11 (30 seeds of the simulated gyro, median 1.5)
+D45_MISFIT_LIMIT = 25.0
 COVERAGE = Coverage.probability(0.9545)
 
 STATIC = SegmentRequirement(
@@ -157,7 +161,7 @@ class BiasD51(Procedure):
         seg = _static_segment(type(self), campaign, opts)
         est = segment_bias(seg, campaign, int(opts["batches"]))
         res = Result(self.metrics[0], Q_(est.B0, "deg/h"), est.budget.combined, est.budget,
-                     note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation}, θ = {est.theta:g}°)")
+                     note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation}, θ = {est.theta:g}°)", earth_rate="removed")
         warnings = _duration_warnings(est.series, Q_(1, "h"), "D.5.1.2 c)")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
@@ -221,6 +225,7 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
                                      distribution="uniform", sensitivity=Q_(c_theta, "deg/h/rad"),
                                      note="horizontal earth rate Ω·cos θ·sin δ leaks into the IRA"))
     rows += _timebase_row(campaign, indicated, "deg/h", "indicated rate")
+    rows += quantization_rows_mean(campaign, conv, raw, "the mean of D.40")
     budget = UncertaintyBudget("B0", "deg/h", rows, coverage=COVERAGE)
     return BiasEstimate(B0, uA, nb - 1, budget, earth, orient, theta, conv, series)
 
@@ -279,11 +284,12 @@ class BiasStabilityD52(Procedure):
                                      Q_(Bs / math.sqrt(2 * (m - 1)), "deg/h"), m - 1)]
             rows += _scale_factor_row(conv, Bs, "deg/h")
             rows += _timebase_row(campaign, Bs, "deg/h", "B_s")
+            rows += quantization_rows_std(campaign, conv, raw, factor)
             label = f"{ts:g} s"
             metric = Metric(f"Bs_{ts:g}s", f"bias stability (t = {label})", f"B_s({label})", "deg/h",
                             "D.5.2.3", "D.41")
             budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-            results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {m}"))
+            results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {m}", earth_rate="not applicable"))
         warnings = _duration_warnings(series, Q_(1, "h"), "D.5.1.2 c)")
         return Outcome(STANDARD, self.item, self.title, self.clause, results, warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
@@ -345,7 +351,7 @@ class BiasRepeatabilityD53(Procedure):
                                  Q_(Br / math.sqrt(2 * (Q - 1)), "deg/h"), Q - 1)]
         rows += _scale_factor_row(ests[0].conv, Br, "deg/h")
         budget = UncertaintyBudget("B_r", "deg/h", rows, coverage=COVERAGE)
-        res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget, note=f"Q = {Q}")
+        res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget, note=f"Q = {Q}", earth_rate="not applicable")
         table = TableSpec("biases", "Bias of each power-on (D.40)", ["run", "segment", "B₀ (°/h)", "u_A (°/h)"],
                           [[s.conditions.get("run", i + 1), s.id, f"{e.B0:.5f}", f"{e.u_A:.2g}"]
                            for i, (s, e) in enumerate(zip(segs, ests))])
@@ -426,7 +432,7 @@ class BiasTemperatureSensitivityD54(Procedure):
         rows += _scale_factor_row(eA.conv, Bt, "deg/h/delta_degC")
         budget = UncertaintyBudget("B_t", "deg/h/delta_degC", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Bt, "deg/h/delta_degC"), budget.combined, budget,
-                     note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C")
+                     note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C", earth_rate="not applicable")
         order = np.argsort(temps)
         plot = PlotSpec("bias_temperature", "Bias against temperature (D.5.4)", "T (°C)", "B₀ (°/h)",
                         [{"label": "B₀(T) (D.40)", "x": [temps[i] for i in order], "y": [ests[i].B0 for i in order],
@@ -515,7 +521,7 @@ class BiasMagneticSensitivityD55(Procedure):
             warn = ""
             if abs(Hp - Hm) > 0.01 * Hb:
                 warn = f"forward {Hp:g} mT and reversed {Hm:g} mT differ; H_b = their mean"
-            results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=warn))
+            results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=warn, earth_rate="not applicable"))
             rows_table.append([ax, f"{Hb:g}", f"{ep.B0:.5f}", f"{em.B0:.5f}", f"{Bh:.4g}"])
             used += [sp.id, sm.id]
         table = TableSpec("field_biases", "Biases with the field forward and reversed (D.5.5)",
@@ -591,14 +597,33 @@ class AngleRandomWalkD56(Procedure):
             raise ProcedureError(f"D.5.6: {exc}") from exc
         a0, a1, a2 = (float(x) for x in fit.alpha)
         ua = fit.u_alpha
-        if not a1 > 0:
-            raise ProcedureError(
-                f"D.5.6: the fitted α1 = {a1:.3g} (°)²/h is not positive, so RWC = √α1 (D.46) is undefined; "
-                "the record is dominated by other noise or too short",
-                hint="look at the B_s(τ) plot (run with --report) and check the warm-up and the record length",
-            )
-        rwc = F.rwc_d46(a1)
         warnings = list(_duration_warnings(series, Q_(8, "h"), "D.5.6.2"))
+        not_reportable: list[str] = []
+        # rounded rate samples (LSB word, rate of finite resolution): white rate noise that D.45
+        # cannot tell from the sensor's ARW (interpretations.md, "D.5 — output quantization")
+        qz = quantization_of(campaign, conv, raw)
+        q_rows: list[BudgetRow] = []
+        a1_q = F.alpha1_rounding_d45(qz.q, tau0_s / 3600.0) if qz.q > 0 else 0.0
+        a1_sensor = a1
+        if a1_q > 0 and qz.dithered:
+            a1_sensor = a1 - a1_q  # Sheppard's correction: the rounding's q²/12 per sample removed
+        elif a1_q > 0 and 3.0 * a1_q > 0.01 * max(a1, 0.0):
+            not_reportable.append(
+                f"the output is rounded to q = {qz.q:.3g} °/h (step from {qz.source}), coarser than its noise "
+                f"(s = {qz.s:.3g} °/h per sample): the rounding error is not white noise of a known size and adds "
+                f"up to q²τ/4 = {3 * a1_q:.3g} (°)²/h to α1 = {a1:.3g}, so the sensor's RWC cannot be separated from "
+                "it (D.45 has no term for it)")
+        if fit.dof > 0 and fit.chi2 / fit.dof > D45_MISFIT_LIMIT:
+            not_reportable.append(
+                f"the D.45 model does not hold: χ²/ν = {fit.chi2 / fit.dof:.3g} > {D45_MISFIT_LIMIT:g} (B_s(τ) has a "
+                "shape D.45 cannot follow, e.g. the sawtooth quantization of an undithered counter or correlated "
+                "noise); the uncertainty scaled by √(χ²/ν) would not cover a systematic misfit")
+        if not a1_sensor > 0:
+            not_reportable.append(
+                f"the fitted α1 = {a1_sensor:.3g} (°)²/h is not positive, so RWC = √α1 (D.46) is undefined; the "
+                "record is dominated by other noise, quantization or too short (look at the B_s(τ) plot)")
+            a1_sensor = 0.0
+        rwc = math.sqrt(a1_sensor)
         for name, val in (("α0", a0), ("α2", a2)):
             if val < 0:
                 warnings.append(f"fitted {name} = {val:.3g} is negative (not physical); kept as the standard's "
@@ -606,18 +631,33 @@ class AngleRandomWalkD56(Procedure):
         if fit.birge > 1.5:
             warnings.append(f"the D.45 model fits poorly (χ²/ν = {fit.birge ** 2:.2g}); the uncertainty of α "
                             "was scaled up accordingly")
-        u_rwc_fit = ua[1] / (2.0 * rwc)
+        scale = max(rwc, math.sqrt(max(a1, 0.0)), math.sqrt(abs(float(ua[1]))), 1e-30)
+        u_rwc_fit = ua[1] / (2.0 * scale)
         rows = [BudgetRow.type_a("D.45 fit of B_s²(τ_k) (GLS, nested-level covariance)", "u(α₁)/(2√α₁)",
                                  Q_(u_rwc_fit, "deg/hour**0.5"), max(fit.dof, 1),
-                                 note=f"{tau_s.size} levels, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}")]
+                                 note=f"{tau_s.size} levels, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}"
+                                 + (f", u scaled by √(χ²/ν) = {fit.birge:.3g}" if fit.birge > 1 else ""))]
+        if a1_q > 0 and qz.dithered:
+            # the correction's own uncertainty: half of it, uniform (Sheppard's q²/12 holds to
+            # < 10⁻³ when s ≥ q; the rest covers noise that is not Gaussian)
+            q_rows.append(BudgetRow.type_b(
+                f"rounding of each sample to q = {qz.q:.3g} °/h: Sheppard's correction α1 − q²τ₀/12 "
+                f"({a1_q:.3g} (°)²/h) applied", "δα₁", Q_(a1_q / 2.0, "deg**2/hour"), distribution="uniform",
+                sensitivity=Q_(1.0 / (2.0 * scale), "hour**0.5/deg"),
+                note=f"noise s = {qz.s:.3g} °/h ≥ q dithers the rounding (step from {qz.source})"))
+        rows += q_rows
         rows += _scale_factor_row(conv, rwc, "deg/hour**0.5")
         rows += _timebase_row(campaign, rwc, "deg/hour**0.5", "RWC")
         budget = UncertaintyBudget("RWC", "deg/hour**0.5", rows, coverage=COVERAGE)
+        reason = "; ".join(not_reportable)
         results = [
-            Result(self.metrics[0], Q_(rwc, "deg/hour**0.5"), budget.combined, budget),
-            Result(self.metrics[1], Q_(a0, "deg**2/hour**2"), Q_(ua[0], "deg**2/hour**2")),
-            Result(self.metrics[2], Q_(a1, "deg**2/hour"), Q_(ua[1], "deg**2/hour")),
-            Result(self.metrics[3], Q_(a2, "deg**2"), Q_(ua[2], "deg**2")),
+            Result(self.metrics[0], Q_(rwc, "deg/hour**0.5"), budget.combined, budget,
+                   reportable=not not_reportable, reason=reason, earth_rate="not applicable",
+                   note=(f"RWC of the sensor: √(α₁ − q²τ₀/12), the output's rounding removed" if a1_q > 0 and
+                         qz.dithered else "")),
+            Result(self.metrics[1], Q_(a0, "deg**2/hour**2"), Q_(ua[0], "deg**2/hour**2"), earth_rate="not applicable"),
+            Result(self.metrics[2], Q_(a1, "deg**2/hour"), Q_(ua[1], "deg**2/hour"), earth_rate="not applicable"),
+            Result(self.metrics[3], Q_(a2, "deg**2"), Q_(ua[2], "deg**2"), earth_rate="not applicable"),
         ]
         model = fit.model(tau_h)
         plot = PlotSpec(
@@ -627,7 +667,7 @@ class AngleRandomWalkD56(Procedure):
                  "yerr": (bs / np.sqrt(2 * (m - 1))).tolist(), "style": "o"},
                 {"label": "D.45 fit", "x": tau_s.tolist(), "y": np.sqrt(np.clip(model, 0, None)).tolist(), "style": "-"},
                 {"label": f"ARW term √(α₁/τ), RWC = {rwc:.3g} °/√h", "x": tau_s.tolist(),
-                 "y": np.sqrt(a1 / tau_h).tolist(), "style": "--"},
+                 "y": np.sqrt(np.clip(a1_sensor / tau_h, 0, None)).tolist(), "style": "--"},
             ],
             logx=True, logy=True,
         )
@@ -650,3 +690,122 @@ def _duration_warnings(series, wanted, clause: str) -> list[str]:
 
 PROCEDURES = (BiasD51, BiasStabilityD52, BiasRepeatabilityD53, BiasTemperatureSensitivityD54,
               BiasMagneticSensitivityD55, AngleRandomWalkD56)
+
+
+# --------------------------------------------------------------------------------------------
+# Output quantization (docs/interpretations.md, "D.5 — output quantization")
+# --------------------------------------------------------------------------------------------
+
+
+@attrs.frozen
+class Quantization:
+    """How the static record's samples are quantized.
+
+    ``q`` is the rounding step of a rate sample in °/h (0 for pulse output, whose counts carry
+    their remainder: its quantization is white angle noise, the α2 term of D.45, or a sawtooth
+    the D.45 fit's χ² detects); ``s`` the measured standard deviation of one sample in °/h;
+    ``dithered`` whether the noise dithers the rounding (s ≥ q)."""
+
+    q: float
+    s: float
+    source: str
+
+    @property
+    def dithered(self) -> bool:
+        return self.q <= 0 or self.s >= self.q
+
+
+def output_quantum(campaign: Campaign, conv: RateConversion, raw: np.ndarray) -> tuple[float, str]:
+    """The rounding step of the output in raw units and where it comes from: the device's
+    ``resolution`` if it states one (LSB or the rate unit), else read from the data — the
+    greatest step all distinct values are whole multiples of (integers: 1) — else 0."""
+    dev = campaign.device
+    if "resolution" in dev.properties:
+        res = dev.properties["resolution"]
+        q = parse_quantity(res, file=campaign.source, field="device.resolution")
+        if q.check("[digital_count]"):
+            return float(q.to("LSB").magnitude), f"device resolution {res}"
+        if q.is_compatible_with("deg/h") and conv.magnitude:
+            return float(q.to("deg/h").magnitude) / conv.magnitude, f"device resolution {res}"
+        raise DataError(campaign.source, "device.resolution",
+                        f"{res!r} is not a resolution of a {conv.output_kind} output (LSB or a rate such as °/h)")
+    sample = np.asarray(raw[: 200_000], dtype=np.float64)
+    vals = np.unique(sample)
+    if vals.size < 2:
+        return 0.0, "the data (constant output)"
+    if np.all(vals == np.round(vals)):
+        step = float(np.min(np.diff(vals)))
+        return (1.0 if step >= 1 else 0.0), "the data (whole numbers)"
+    step = float(np.min(np.diff(vals)))
+    if step > 1e-9 * float(vals[-1] - vals[0]):
+        ratio = (vals - vals[0]) / step
+        if np.all(np.abs(ratio - np.round(ratio)) < 1e-6 * np.maximum(1.0, np.abs(ratio))):
+            return step, "the data (every value a whole number of this step)"
+    return 0.0, "the data (no common step)"
+
+
+def quantization_of(campaign: Campaign, conv: RateConversion, raw: np.ndarray) -> Quantization:
+    """:class:`Quantization` of a static record (rate samples rounded; pulse counts: q = 0)."""
+    s = float(np.std(raw, ddof=1)) * abs(conv.magnitude) if raw.size > 1 else 0.0
+    if conv.output_kind == "pulse":
+        return Quantization(0.0, s, "pulse counts (remainder carried)")
+    q_raw, source = output_quantum(campaign, conv, raw)
+    return Quantization(q_raw * abs(conv.magnitude), s, source)
+
+
+def _raw_unit(conv: RateConversion) -> str:
+    return {"digital": "LSB", "pulse": "P"}.get(conv.output_kind, "deg/h")
+
+
+def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.ndarray, what: str) -> list[BudgetRow]:
+    """The quantization row of a mean of the output (D.5.1, and through it D.5.3–D.5.5).
+
+    * pulse counts carry their remainder: the mean count is off by at most the readout error at
+      the two ends of the record, ±1 P over n samples;
+    * a rounded rate sample (LSB word, rate of finite resolution q): ±q/2 (the row of D.2.1,
+      :func:`.rate_method._resolution_row`) unless the noise dithers the rounding (s ≥ q), when
+      the offset of the mean is bounded by :func:`.formulas.rounding_mean_bound`."""
+    from .rate_method import _resolution_row
+
+    c = abs(conv.magnitude)
+    if conv.output_kind == "pulse":
+        return [_resolution_row(campaign, c, "deg/h", what, q=1.0, raw_unit="P", half_width=1.0 / raw.size,
+                                note=f"readout at the record's two ends: ±1 P over {raw.size} samples")]
+    qz = quantization_of(campaign, conv, raw)
+    if qz.q <= 0:
+        return []
+    if conv.output_kind == "rate":
+        c = 1.0  # the row in °/h, whatever rate unit the samples came in
+    q_raw = qz.q / c if c else 0.0
+    if qz.dithered:
+        hw = F.rounding_mean_bound(qz.q, F.rounding_sigma(qz.s, qz.q)) / c
+        note = (f"noise s = {qz.s:.3g} °/h ≥ q = {qz.q:.3g} °/h dithers the rounding: offset of the mean ≤ "
+                f"Σ(q/πk)e^(−2π²k²σ²/q²) (step from {qz.source})")
+    else:
+        hw = q_raw / 2.0
+        note = (f"noise s = {qz.s:.3g} °/h < q = {qz.q:.3g} °/h: the rounding does not average out, "
+                f"±q/2 on the mean (step from {qz.source})")
+    return [_resolution_row(campaign, c, "deg/h", what, q=q_raw, raw_unit=_raw_unit(conv), half_width=hw, note=note)]
+
+
+def quantization_rows_std(campaign: Campaign, conv: RateConversion, raw: np.ndarray, factor: int) -> list[BudgetRow]:
+    """The quantization row of a standard deviation of means of ``factor`` rounded rate samples
+    (D.5.2): |Δstd| ≤ std of the means' rounding errors — q/√(12·factor) when the noise dithers
+    the rounding (independent errors of variance q²/12), else up to q/2.  Pulse counts: none
+    (the carried remainder enters as white angle noise, part of what D.41 measures)."""
+    from .rate_method import _resolution_row
+
+    if conv.output_kind == "pulse":
+        return []
+    qz = quantization_of(campaign, conv, raw)
+    c = abs(conv.magnitude)
+    if qz.q <= 0 or not c:
+        return []
+    if conv.output_kind == "rate":
+        c = 1.0
+    q_raw = qz.q / c
+    hw = q_raw / math.sqrt(12.0 * factor) if qz.dithered else q_raw / 2.0
+    note = ("dithered by the noise: rounding errors independent, q/√(12·n) on each mean" if qz.dithered else
+            f"noise s = {qz.s:.3g} °/h < q = {qz.q:.3g} °/h: each mean's rounding error up to ±q/2")
+    return [_resolution_row(campaign, c, "deg/h", f"the D.41 means of {factor} samples", q=q_raw,
+                            raw_unit=_raw_unit(conv), half_width=hw, note=note)]

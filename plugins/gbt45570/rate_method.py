@@ -301,14 +301,20 @@ def resolution(campaign: Campaign) -> float:
     return 1.0
 
 
-def _resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str) -> BudgetRow:
+def _resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str, *, q: float | None = None,
+                    raw_unit: str = "LSB", half_width: float | None = None,
+                    note: str = "±half an LSB on each mean, independent") -> BudgetRow:
     """Rounding of the output word: each mean F̄ is off by up to ±resolution/2 when the noise is
     smaller than one LSB (it then does not average out); ``c_norm`` = √Σc² of the result's
-    sensitivities to the means, independent errors assumed."""
-    q = resolution(campaign)
-    return BudgetRow.type_b(f"output resolution {q:g} LSB, through {what}", "δF", Q_(q / 2.0, "LSB"),
-                            distribution="uniform", sensitivity=Q_(c_norm, f"({unit})/LSB" if unit else "1/LSB"),
-                            note="±half an LSB on each mean, independent")
+    sensitivities to the means, independent errors assumed.  ``q`` (default: :func:`resolution`),
+    its ``raw_unit`` and a smaller ``half_width`` (noise that dithers the rounding) serve the D.5
+    items' rows on LSB and rate outputs."""
+    q = resolution(campaign) if q is None else q
+    hw = q / 2.0 if half_width is None else half_width
+    return BudgetRow.type_b(f"output resolution {q:.4g} {raw_unit}, through {what}", "δF", Q_(hw, raw_unit),
+                            distribution="uniform",
+                            sensitivity=Q_(c_norm, f"({unit})/({raw_unit})" if unit else f"1/({raw_unit})"),
+                            note=note)
 
 
 @attrs.frozen
@@ -394,8 +400,8 @@ class ScaleFactorD21(Procedure):
             _resolution_row(campaign, math.hypot(float(np.linalg.norm(ca)), math.sqrt(0.5)), "LSB",
                             "D.22 and F̄_r"),
             *_intercept_table_row(campaign, data.rates, K)], coverage=COVERAGE)
-        res = [Result(self.metrics[0], Q_(K, LSB_PER_RATE), bK.combined, bK),
-               Result(self.metrics[1], Q_(F0, "LSB"), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} LSB")]
+        res = [Result(self.metrics[0], Q_(K, LSB_PER_RATE), bK.combined, bK, earth_rate="removed"),
+               Result(self.metrics[1], Q_(F0, "LSB"), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} LSB", earth_rate="removed")]
         resid = data.Fk - (K * data.rates + F0)
         plot = PlotSpec("F_rate", "F_kj against Ω with the D.20 fit: residuals", "Ω (°/s)", "F_kj − (KΩ + F₀) (LSB)",
                         [{"label": "residual", "x": data.rates.tolist(), "y": resid.tolist(),
@@ -440,7 +446,7 @@ class NonlinearityD22(ScaleFactorD21):
         budget = nonlinearity_budget(campaign, data, j, Fm, K)
         a = (F2.fitted_output_d23(K, F0, data.rates) - data.Fk) / Fm
         res = Result(self.metrics[0], Q_(Kn, ""), budget.combined, budget,
-                     note=f"largest |a_j| at {data.rates[j]:+g} °/s; |F_m| = {Fm:.1f} LSB")
+                     note=f"largest |a_j| at {data.rates[j]:+g} °/s; |F_m| = {Fm:.1f} LSB", earth_rate="removed")
         plot = PlotSpec("a_rate", "Point nonlinearity a_j (D.24)", "Ω (°/s)", "a_j (ppm)",
                         [{"label": "a_j", "x": data.rates.tolist(), "y": (a * 1e6).tolist(), "style": "o"}])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], segments=data.segments,
@@ -501,7 +507,7 @@ class AsymmetryD23(ScaleFactorD21):
                                          note="independent at each signed set point; a common error cancels"))
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
-                     note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} LSB/(°/s)")
+                     note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} LSB/(°/s)", earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], segments=data.segments,
                        options=_opts_text(opts))
 
@@ -557,7 +563,7 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
         rows += _stability_row(campaign, last)
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))
-        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.4f} LSB/(°/s), Q = {q}")
+        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.4f} LSB/(°/s), Q = {q}", earth_rate="removed")
         table = TableSpec("K_runs", "K_j of each power-on (D.21)", ["run", "K_j (LSB/(°/s))", "K_j − K̄ (ppm)"],
                           [[r, f"{k:.5f}", f"{(k - mean) / mean * 1e6:.2f}"] for r, k in zip(runs, Kj)])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], segments=used,
@@ -824,7 +830,7 @@ class MaxInputRateD3(Procedure):
         budget = UncertaintyBudget("Ω_max", "deg/s", rows, coverage=COVERAGE)
         kn_at = dict(curve)[om]
         res = Result(self.metrics[0], Q_(om, "deg/s"), budget.combined, budget,
-                     note=f"K_n up to {om:g} °/s = {kn_at * 1e6:.3g} ppm ≤ {limit * 1e6:g} ppm ({lim_src}); {method} method")
+                     note=f"K_n up to {om:g} °/s = {kn_at * 1e6:.3g} ppm ≤ {limit * 1e6:g} ppm ({lim_src}); {method} method", earth_rate="not applicable")
         plot = PlotSpec("Kn_range", "K_n of the range [−Ω, +Ω] against Ω (D.3)", "Ω (°/s)", "K_n (ppm)",
                         [{"label": "K_n up to Ω", "x": [r for r, _ in curve], "y": [k * 1e6 for _, k in curve],
                           "style": "o-"},

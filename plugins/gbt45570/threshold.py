@@ -176,7 +176,7 @@ class ThresholdD4(Procedure):
         rows += _scale_factor_row(conv, th, "deg/h")
         budget = UncertaintyBudget("Ω_i", "deg/h", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(th, "deg/h"), budget.combined, budget,
-                     note=f"Ψ_i = {psi:.6f}° (segment {seg.id}); N̄_0 from {refs[0].id}")
+                     note=f"Ψ_i = {psi:.6f}° (segment {seg.id}); N̄_0 from {refs[0].id}", earth_rate="not applicable")
         order = np.argsort(np.abs(inputs))
         plot = PlotSpec("threshold_ratio", "Response against the expected one (D.39)", "Ω_e cos Ψ_i (°/h)",
                         "|(N̄* − N̄₀)/N_i| (%)",

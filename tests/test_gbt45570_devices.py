@@ -1,0 +1,134 @@
+"""GB/T 45570 on devices unlike the default simulator's: device classes (output kind, coarse and
+fine quantization, dither on and off) and the budgets and reportability rules they need
+(interpretations.md, "D.5 — output quantization", "D.5.6 — when the D.45 model does not hold")."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from metro.core.errors import DataError
+from metro.core.runner import run_items
+from metro.instruments.simulated import DEVICE_CLASSES, station_factory
+from metro.plugins.gbt45570 import formulas as F
+
+
+def _run(pm, items, station="simulated", **so):
+    return run_items(pm, "gbt45570", items, station=station, station_options=so)
+
+
+def _result(rec, key):
+    for o in rec.outcomes:
+        for r in o.results:
+            if r.metric.key == key:
+                return r
+    raise KeyError(key)
+
+
+# ---------------------------------------------------------------------------- hand-worked
+
+
+def test_rounding_mean_bound_hand_worked():
+    q = 0.72
+    assert F.rounding_mean_bound(q, 0.0) == q / 2  # plain rounding: up to half a step
+    # σ = q/4: (q/π)·e^(−2π²/16) = 0.0928·q (first term; the next, e^(−2π²·4/16)/2, is 4×10⁻³ of it)
+    first = q / math.pi * math.exp(-2 * math.pi**2 / 16)
+    assert F.rounding_mean_bound(q, q / 4) == pytest.approx(first * (1 + 0.5 * math.exp(-2 * math.pi**2 * 3 / 16)),
+                                                            rel=1e-3)
+    assert F.rounding_mean_bound(q, q) < 1e-8 * q  # noise of one step dithers the rounding
+    # Sheppard: s² = σ² + q²/12
+    assert F.rounding_sigma(math.sqrt(0.04 + 1 / 12), 1.0) == pytest.approx(0.2, rel=1e-12)
+    # white rate noise q²/12 per sample of τ0: α1 = q²τ0/12 — 0.72 °/h, 1 s: 0.72²/3600/12
+    assert F.alpha1_rounding_d45(0.72, 1 / 3600) == pytest.approx(0.5184 / 43200, rel=1e-12)
+
+
+# ---------------------------------------------------------------------------- device classes
+
+
+def test_device_class_presets_and_overrides():
+    st = station_factory(device_class="lsb-coarse", seed=3)
+    assert st.truth.output == "digital" and st.truth.device_class == "lsb-coarse"
+    assert st.truth.lsb_per_deg_s == pytest.approx(5000, rel=0.0021)  # drawn within ±0.2 %
+    assert -0.5 <= st.truth.bias_deg_h <= 0.5
+    # the same seed draws the same device; another seed another one
+    assert station_factory(device_class="lsb-coarse", seed=3).truth == st.truth
+    assert station_factory(device_class="lsb-coarse", seed=4).truth.bias_deg_h != st.truth.bias_deg_h
+    # an option given with the class overrides it
+    assert station_factory(device_class="lsb-coarse", seed=3, lsb_per_deg_s="1000").truth.lsb_per_deg_s == 1000.0
+    assert station_factory(device_class="pulse-coarse-undithered", seed=1).truth.dither is False
+    with pytest.raises(DataError, match="device_class"):
+        station_factory(device_class="lsb-medium")
+
+
+@pytest.mark.parametrize("cls", sorted(DEVICE_CLASSES))
+def test_every_device_class_gives_d51_within_u(pm, cls):
+    """Each class: D.5.1 within its U (and its quantization row present where the output rounds)."""
+    rec = _run(pm, ["D.5.1"], device_class=cls, seed=11, duration_scale=0.25)
+    r = _result(rec, "B0")
+    truth = float(rec.campaign.expected["B0"].to("deg/h").magnitude)
+    assert abs(r.value.to("deg/h").magnitude - truth) <= r.U.magnitude, cls
+    assert r.earth_rate == "removed"
+    if cls.startswith(("lsb", "rate")):
+        assert any("output resolution" in row.source for row in r.budget.rows)
+
+
+def test_d51_coarse_lsb_the_issue_case(pm):
+    """simulated-digital, seed 1 (issue 13): 1 LSB = 0.72 °/h, coarser than the noise; B0 came out
+    0.245 °/h against 0.120 with U = 0.004.  The ±½ LSB row makes U cover it."""
+    rec = _run(pm, ["D.5.1"], station="simulated-digital", seed=1, duration_scale=0.25)
+    r = _result(rec, "B0")
+    truth = float(rec.campaign.expected["B0"].to("deg/h").magnitude)
+    row = next(row for row in r.budget.rows if "output resolution" in row.source)
+    assert row.value.to("LSB").magnitude == pytest.approx(0.5)  # ±½ LSB: the noise does not dither
+    assert abs(r.value.magnitude - truth) > 0.05  # the rounding bias is real …
+    assert abs(r.value.magnitude - truth) <= r.U.magnitude  # … and covered
+
+
+def test_d56_coarse_lsb_not_reportable(pm):
+    rec = _run(pm, ["D.5.6"], station="simulated-digital", seed=1, duration_scale=0.25)
+    r = _result(rec, "RWC")
+    assert not r.reportable
+    assert "rounded" in r.reason and "coarser than its noise" in r.reason
+
+
+def test_d56_fine_lsb_sheppard_correction(pm):
+    rec = _run(pm, ["D.5.6"], device_class="lsb-fine", seed=2, duration_scale=0.5)
+    r = _result(rec, "RWC")
+    assert r.reportable
+    assert any("Sheppard" in row.source for row in r.budget.rows)
+    truth = float(rec.campaign.expected["RWC"].magnitude)
+    assert abs(r.value.magnitude - truth) <= r.U.magnitude
+
+
+def test_d56_undithered_counter_not_reportable(pm):
+    """Undithered pulse counts: the counter's leftover fraction drifts with the earth rate, the
+    quantization error is a sawtooth and B_s(τ) departs from D.45 (χ²/ν in the hundreds)."""
+    rec = _run(pm, ["D.5.6"], device_class="pulse-fine-undithered", seed=1)
+    r = _result(rec, "RWC")
+    assert not r.reportable and "χ²/ν" in r.reason and "does not hold" in r.reason
+    # the same device dithered: reportable and within U
+    rec = _run(pm, ["D.5.6"], device_class="pulse-fine", seed=1)
+    r = _result(rec, "RWC")
+    assert r.reportable
+    assert abs(r.value.magnitude - rec.campaign.expected["RWC"].magnitude) <= r.U.magnitude
+
+
+def test_rate_output_in_deg_per_s(pm):
+    rec = _run(pm, ["D.5.1"], device_class="rate-ds", seed=5, duration_scale=0.25)
+    seg = rec.campaign.segments[0]
+    assert str(seg.columns()["output"][1]) == "deg/s"
+    r = _result(rec, "B0")
+    assert abs(r.value.magnitude - rec.campaign.expected["B0"].magnitude) <= r.U.magnitude
+
+
+@pytest.mark.parametrize("station", ["simulated", "simulated-digital"])
+def test_every_gbt_result_states_the_earth_rate(pm, station):
+    rec = run_items(pm, "gbt45570", [], station=station, station_options={"seed": 3, "duration_scale": 1.0},
+                    run_all=True)
+    seen = 0
+    for o in rec.outcomes:
+        for r in o.results:
+            assert r.earth_rate in ("included", "removed", "not applicable"), (o.item, r.metric.key)
+            seen += 1
+    assert seen > 20
