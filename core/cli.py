@@ -55,6 +55,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
                    help="station option when no --data is given, e.g. table_errors=false (as for `metro acquire`)")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
+    cli_register.add_run_options(r)
 
     pl = sub.add_parser("plugins", help="list loaded plugins and their versions, stations and drivers")
     pl.add_argument("--json", action="store_true")
@@ -154,7 +155,6 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _cmd_run(args) -> int:
-    from pathlib import Path
 
     from rich.console import Console
 
@@ -186,26 +186,20 @@ def _cmd_run(args) -> int:
                            decision_rule=args.decision_rule)
         for w in record.campaign.warnings:  # deprecated spellings, unknown keys (core.vocabulary)
             print(f"metro: warning: {w}", file=sys.stderr)
-        report_path = None
-        if not args.no_report:
-            from .report import write_report
+        report_path = registration = None
+        if not args.no_report:  # registered with a lab profile, else "not registered" (core/cli_register.py)
+            from .cli_register import write_run_report
 
-            target = Path(args.report) if args.report else Path(args.out) / f"{record.report_number}.docx"
-            target.parent.mkdir(parents=True, exist_ok=True)
-            template = pm.template_for(args.standard).path
-            prog("writing report", 0, 1) if prog else None
-            designations = {s.id: s.designation for s in pm.registry.standards.values()}
-            import time
-
-            t0 = time.perf_counter()
-            report_path = write_report(target, record, template=template, designations=designations,
-                                       extend=pm.extend_report_context)
-            record.timings["write report"] = time.perf_counter() - t0
-            pm.report_written(report_path, record.outcomes)
+            record, report_path, registration = write_run_report(args, pm, record, prog)
     if args.json:
-        print(json.dumps(present.as_json(record, report_path), ensure_ascii=False, indent=2))
+        doc = present.as_json(record, report_path)
+        doc["register"] = registration
+        print(json.dumps(doc, ensure_ascii=False, indent=2))
     else:
         present.print_record(record, report_path)
+        if registration is not None:
+            err.print(f"registered as {registration['number']}" if registration["registered"]
+                      else f"not registered ({registration['why']})")
     return 0
 
 

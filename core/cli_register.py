@@ -11,7 +11,7 @@ import json
 from typing import Any
 
 #: the top-level commands this module handles
-COMMANDS = ("lab",)
+COMMANDS = ("lab", "register", "report", "amend", "withdraw", "history")
 
 
 def add_global_options(p) -> None:
@@ -31,10 +31,337 @@ def add_commands(sub) -> None:
     ls.add_argument("--json", action="store_true")
 
 
+    rg = sub.add_parser("register", help="the report register: list, show, verify",
+                        description="Every registered report: number, status, results, provenance, audit trail "
+                        "(docs/register.md).")
+    rsub = rg.add_subparsers(dest="register_command", metavar="SUBCOMMAND", required=True)
+    rl = rsub.add_parser("list", help="list the registered reports")
+    rl.add_argument("--device", metavar="SERIAL", help="only this device's reports (its serial number)")
+    rl.add_argument("--standard", "-s", metavar="S", help="only reports of this standard")
+    rl.add_argument("--since", metavar="DATE", help="only reports measured on or after DATE (YYYY-MM-DD)")
+    rl.add_argument("--json", action="store_true")
+    rs = rsub.add_parser("show", help="one report's register entry: results, verdicts, provenance, audit trail")
+    rs.add_argument("number", metavar="NUMBER")
+    rs.add_argument("--json", action="store_true")
+    rv = rsub.add_parser("verify", help="check every report file against its stored SHA-256 (exit 1 if any differs)")
+    rv.add_argument("--json", action="store_true")
+
+    rp = sub.add_parser("report", help="write a registered report again from the register",
+                        description="Re-render report NUMBER from the register: the same numbers, the same content.")
+    rp.add_argument("number", metavar="NUMBER")
+    rp.add_argument("--out", default="metro-out", metavar="DIR", help="folder for NUMBER.docx (default: metro-out)")
+    rp.add_argument("--json", action="store_true")
+
+    am = sub.add_parser("amend", help="issue a report that replaces NUMBER (which becomes superseded)",
+                        description="Issue an amended report replacing NUMBER and saying why; NUMBER becomes "
+                        "superseded, never deleted. With --data the items are run again on that manifest; "
+                        "without it the stored content is issued again under a new number.")
+    am.add_argument("number", metavar="NUMBER")
+    am.add_argument("--reason", required=True, help="why the report is amended (printed in the new report)")
+    am.add_argument("--data", "-d", metavar="MANIFEST", help="run the report's items again on this campaign")
+    am.add_argument("--out", metavar="DIR", help="folder of the new report (default: the replaced report's)")
+    am.add_argument("--allow-expired", action="store_true",
+                    help="issue even if equipment was past its calibration due date (the report says so)")
+    am.add_argument("--json", action="store_true")
+
+    wd = sub.add_parser("withdraw", help="withdraw an issued report (kept in the register, marked withdrawn)")
+    wd.add_argument("number", metavar="NUMBER")
+    wd.add_argument("--reason", required=True)
+    wd.add_argument("--json", action="store_true")
+
+    hi = sub.add_parser("history", help="a device's calibrations over time, with drift flags and a plot",
+                        description="List a device's issued reports and plot each result over time with its U; "
+                        "a change between consecutive calibrations with |E_n| > 1 is flagged as drift.")
+    hi.add_argument("serial", metavar="SERIAL")
+    hi.add_argument("--key", action="append", default=[], help="only this result key (repeatable)")
+    hi.add_argument("--out", default="metro-out", metavar="DIR", help="folder for history-SERIAL.png")
+    hi.add_argument("--json", action="store_true")
+
+
+def add_run_options(r) -> None:
+    """Options of ``metro run`` about registration."""
+    r.add_argument("--register-simulated", action="store_true",
+                   help="register a simulated run too (needs a lab profile; by default simulated runs are not "
+                   "registered)")
+    r.add_argument("--allow-expired", action="store_true",
+                   help="with a lab profile: run even if equipment is past its calibration due date on the "
+                   "measurement date (the report says so)")
+
+
 def dispatch(args) -> int:
     if args.command == "lab":
         return _cmd_lab(args)
+    if args.command == "register":
+        return {"list": _cmd_list, "show": _cmd_show, "verify": _cmd_verify}[args.register_command](args)
+    if args.command == "report":
+        return _cmd_report(args)
+    if args.command == "amend":
+        return _cmd_amend(args)
+    if args.command == "withdraw":
+        return _cmd_withdraw(args)
+    if args.command == "history":
+        return _cmd_history(args)
     raise AssertionError(args.command)  # pragma: no cover
+
+
+# ----------------------------------------------------------------------------------------
+# metro run: writing (and registering) the report
+# ----------------------------------------------------------------------------------------
+
+
+def write_run_report(args, pm, record, prog=None):
+    """Write the run's report: registered (a lab profile, and not simulated unless
+    ``--register-simulated``) or with the "not registered" statement.  Returns (record with
+    its final number, report path, registration summary for --json)."""
+    import time
+    from pathlib import Path
+
+    from . import lab as labmod
+    from .errors import MetroError
+    from .registering import register_run, unregistered, with_lab
+
+    lab = labmod.lab_in_force(getattr(args, "lab", None))
+    if lab is not None:
+        record = with_lab(record, lab)
+    simulated = bool(record.simulated)
+    register_simulated = getattr(args, "register_simulated", False)
+    if register_simulated and lab is None:
+        raise MetroError("--register-simulated needs a lab profile (its register and numbering scheme)",
+                         hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a template")
+    registered = lab is not None and (not simulated or register_simulated)
+    t0 = time.perf_counter()
+    if prog:
+        prog("writing report", 0, 1)
+    if registered:
+        if args.report:
+            raise MetroError("a registered report is named by its register number; --report PATH cannot be used "
+                             "with a lab profile", hint="use --out DIR (the report is DIR/<number>.docx)")
+        issued, record = register_run(record, pm=pm, lab=lab, folder=Path(args.out),
+                                      allow_expired=getattr(args, "allow_expired", False),
+                                      options=_run_options(args))
+        record.timings["write report"] = time.perf_counter() - t0
+        return record, issued.path, {"registered": True, "number": issued.number, "register":
+                                     labmod.redact_url(lab.register_url()), "sha256": issued.sha256}
+    from .report import write_report
+
+    if lab is not None:
+        from .registering import check_equipment, measurement_date
+
+        check_equipment(record.campaign, measurement_date(record), allow_expired=getattr(args, "allow_expired", False))
+    why = "no lab profile" if lab is None else "simulated run; --register-simulated registers it"
+    target = Path(args.report) if args.report else Path(args.out) / f"{record.report_number}.docx"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    template = pm.template_for(record.standard).path
+    designations = {s.id: s.designation for s in pm.registry.standards.values()}
+    path = write_report(target, record, template=template, designations=designations,
+                        extend=pm.extend_report_context, register=unregistered(record, why))
+    record.timings["write report"] = time.perf_counter() - t0
+    pm.report_written(path, record.outcomes)
+    return record, path, {"registered": False, "number": record.report_number, "why": why}
+
+
+def _run_options(args) -> dict[str, Any]:
+    from .cli import _options
+
+    return _options(getattr(args, "option", []) or [])
+
+
+# ----------------------------------------------------------------------------------------
+# register commands
+# ----------------------------------------------------------------------------------------
+
+
+def _lab(args, required: bool = False):
+    from . import lab as labmod
+    from .errors import MetroError
+
+    lab = labmod.lab_in_force(getattr(args, "lab", None))
+    if lab is None and required:
+        raise MetroError(f"metro {args.command} needs a lab profile (its numbering scheme and register)",
+                         hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a template")
+    return lab
+
+
+def _open(args):
+    import os
+
+    from . import lab as labmod
+    from .register import open_register
+
+    lab = _lab(args)
+    url = lab.register_url() if lab is not None else (os.environ.get(labmod.ENV_REGISTER)
+                                                      or labmod.default_register_url())
+    return open_register(url)
+
+
+def _date(text: str | None, field: str):
+    import datetime as dt
+
+    from .errors import MetroError
+
+    if text is None:
+        return None
+    try:
+        return dt.date.fromisoformat(text)
+    except ValueError as exc:
+        raise MetroError(f"{field} {text!r} is not a date (YYYY-MM-DD)") from exc
+
+
+def _table(title: str, cols, rows) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    for i, c in enumerate(cols):
+        t.add_column(c, no_wrap=i == 0)  # a report number reads whole
+    for r in rows:
+        t.add_row(*[("—" if v in (None, "") else str(v)) for v in r])
+    Console().print(t)
+
+
+def _cmd_list(args) -> int:
+    with _open(args) as reg:
+        rows = reg.list(device=args.device, standard=args.standard, since=_date(args.since, "--since"))
+        if args.json:
+            _print_json({"register": reg.display_url, "reports": rows})
+            return 0
+        _table(f"register {reg.display_url}", ("number", "status", "standard", "items", "serial",
+                                                "measured", "issued", "replaces / replaced by"),
+               [(r["number"], r["status"], r["standard"], ", ".join(r["items"]), r["device"]["serial"], r["measurement_date"], r["issued_at"][:10],
+                 " / ".join(x or "—" for x in (r["supersedes"], r["superseded_by"]))
+                 if (r["supersedes"] or r["superseded_by"]) else "") for r in rows])
+    return 0
+
+
+def _cmd_show(args) -> int:
+    with _open(args) as reg:
+        d = reg.get(args.number)
+    if args.json:
+        _print_json(d)
+        return 0
+    from rich.console import Console
+
+    c = Console()
+    c.print(f"[bold]{d['number']}[/] — {d['status']}" + (f" (reason: {d['reason']})" if d["reason"] else ""))
+    for label, key in (("replaces", "supersedes"), ("replaced by", "superseded_by")):
+        if d[key]:
+            c.print(f"  {label}: {d[key]}")
+    dev = d["device"]
+    c.print(f"  {d['standard']} {', '.join(d['items'])}; device {dev['manufacturer']} {dev['model']} s/n "
+            f"{dev['serial']}; customer {d['customer'] or '—'}")
+    c.print(f"  measured {d['measurement_date']}, issued {d['issued_at']} by {d['issued_by']}"
+            + (" — SIMULATED" if d["simulated"] else "") + (" — issued with --allow-expired" if d["allow_expired"]
+                                                            else ""))
+    c.print(f"  file {d['report_path']} (sha256 {d['report_sha256']})")
+    _table("results", ("item", "quantity", "value", "U", "k", "ν_eff", "unit", "reportable"),
+           [(x["item"], f"{x['quantity']} {x['symbol']}", x["reported"]["value"], x["reported"]["U"],
+             x["k"] and f"{x['k']:.3g}", x["nu_eff"] and f"{x['nu_eff']:.3g}", x["unit"],
+             "yes" if x["reportable"] else f"no: {x['reason']}") for x in d["results"]])
+    _table("equipment (status on the measurement date)", ("id", "role", "certificate", "due", "status"),
+           [(e["id"], e["role"], e["certificate"], e["due"], e["status"]) for e in d["equipment"]])
+    _table("audit trail", ("when", "who", "what", "detail"),
+           [(a["at"], a["who"], a["action"], a["detail"]) for a in d["audit"]])
+    return 0
+
+
+def _cmd_verify(args) -> int:
+    with _open(args) as reg:
+        checks = reg.verify()
+        bad = [c for c in checks if c["check"] != "ok"]
+        if args.json:
+            _print_json({"register": reg.display_url, "ok": not bad, "reports": checks})
+        else:
+            _table(f"verify {reg.display_url}", ("number", "status", "check", "file"),
+                   [(c["number"], c["status"], c["check"], c["path"]) for c in checks])
+            import sys
+
+            print(f"{len(checks) - len(bad)} of {len(checks)} report files match their SHA-256"
+                  + (f"; {len(bad)} do not: " + ", ".join(f"{c['number']} {c['check']}" for c in bad) if bad else ""),
+                  file=sys.stderr)
+    return 1 if bad else 0
+
+
+def _cmd_report(args) -> int:
+    from .cli import _pm
+    from .registering import rerender
+
+    with _open(args) as reg:
+        path = rerender(reg, args.number, args.out, pm=_pm(args))
+    if args.json:
+        _print_json({"number": args.number, "report": str(path)})
+    else:
+        print(path)
+    return 0
+
+
+def _cmd_amend(args) -> int:
+    from .cli import _pm
+    from .registering import amend
+
+    lab = _lab(args, required=True)
+    pm = _pm(args)
+    with _open(args) as reg:
+        record = None
+        if args.data:
+            from .runner import run_items
+
+            old = reg.get(args.number)
+            given = old["options"].get("_given", {})
+            record = run_items(pm, old["standard"], old["items"], data=args.data, options=given)
+        issued = amend(reg, args.number, args.reason, pm=pm, lab=lab, folder=args.out, record=record,
+                       allow_expired=args.allow_expired)
+    if args.json:
+        _print_json({"number": issued.number, "supersedes": args.number, "reason": args.reason,
+                     "report": str(issued.path), "sha256": issued.sha256})
+    else:
+        print(f"{issued.number} issued ({issued.path}); {args.number} is superseded by it")
+    return 0
+
+
+def _cmd_withdraw(args) -> int:
+    with _open(args) as reg:
+        reg.withdraw(args.number, args.reason)
+    if args.json:
+        _print_json({"number": args.number, "status": "withdrawn", "reason": args.reason})
+    else:
+        print(f"{args.number} withdrawn: {args.reason}")
+    return 0
+
+
+def _cmd_history(args) -> int:
+    from pathlib import Path
+
+    from .registering import history, history_plot
+
+    with _open(args) as reg:
+        hist = history(reg, args.serial, keys=args.key or None)
+    from .errors import MetroError
+
+    if not hist["calibrations"]:
+        raise MetroError(f"no issued report of a device with serial {args.serial!r} in the register",
+                         hint="`metro register list` shows the devices' serial numbers")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    safe = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in args.serial)
+    png = history_plot(hist, out / f"history-{safe}.png")
+    hist["plot"] = str(png)
+    if args.json:
+        _print_json(hist)
+        return 0
+    _table(f"calibrations of {args.serial}", ("number", "standard", "items", "measured", "issued"),
+           [(c["number"], c["standard"], ", ".join(c["items"]), c["measurement_date"], c["issued_at"][:10])
+            for c in hist["calibrations"]])
+    rows = []
+    for res in hist["results"]:
+        for p in res["points"]:
+            en = p.get("E_n")
+            rows.append((f"{res['item']} {res['symbol'] or res['key']}", p["number"], p["date"],
+                         p["reported"]["value"], p["reported"]["U"], res["unit"],
+                         "—" if en is None else f"{en:.2f}", "DRIFT" if p.get("drift") else ""))
+    _table("results over time (E_n against the previous calibration)",
+           ("result", "report", "measured", "value", "U", "unit", "|E_n|", ""), rows)
+    print(f"plot: {png}")
+    return 0
 
 
 def _print_json(doc: Any) -> None:

@@ -37,6 +37,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "write_report",
+    "build_context",
+    "render_context",
     "report_context",
     "default_template",
     "fmt_num",
@@ -524,6 +526,27 @@ def default_template() -> Any:
     return resources.files("metro.core") / "templates" / "report.docx"
 
 
+def build_context(
+    record: "RunRecord",
+    *,
+    designations: Mapping[str, str] | None = None,
+    extend: Callable[["RunRecord", dict], None] | None = None,
+    register: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """The context :func:`render_context` renders: :func:`report_context`, then the plugins'
+    ``metro_extend_report_context`` (``extend``), numbers in free text as powers of ten.
+
+    ``register`` is the register statement: ``{"registered": bool, "notices": [text, …]}``
+    (:mod:`metro.core.registering`); each notice is printed at the top of the report.  The
+    result is plain JSON apart from each figure's ``spec`` (a PlotSpec), so the register can
+    keep it and write the same report again (``metro report NUMBER``)."""
+    ctx = report_context(record, designations=designations)
+    ctx["register"] = dict(register) if register is not None else {"registered": False, "notices": []}
+    if extend is not None:  # plugins' metro_extend_report_context
+        extend(record, ctx)
+    return _pretty_context(ctx)
+
+
 def write_report(
     path: str | os.PathLike[str],
     record: "RunRecord",
@@ -531,6 +554,7 @@ def write_report(
     template: str | os.PathLike[str] | None = None,
     designations: Mapping[str, str] | None = None,
     extend: Callable[["RunRecord", dict], None] | None = None,
+    register: Mapping[str, Any] | None = None,
 ) -> Path:
     """Render ``record`` into ``template`` (default: :func:`default_template`) and write the
     ``.docx`` to ``path`` atomically; return ``path``.
@@ -539,6 +563,29 @@ def write_report(
     error (a bad tag in a custom template) is raised as :class:`~metro.core.errors.MetroError`
     naming the template; any failure leaves no file (and no temporary file) behind.
     """
+    ctx = build_context(record, designations=designations, extend=extend, register=register)
+    return render_context(path, ctx, template=template)
+
+
+def _add_notices(document: Any, notices: Iterable[str]) -> None:
+    """The register statement (registered, replaces …, not registered, --allow-expired) as bold
+    paragraphs at the top of the document body, whatever the template."""
+    body = document.element.body
+    for i, text in enumerate(notices):
+        para = document.add_paragraph()
+        para.add_run(text).bold = True
+        body.remove(para._p)
+        body.insert(i, para._p)
+
+
+def render_context(
+    path: str | os.PathLike[str],
+    ctx: Mapping[str, Any],
+    *,
+    template: str | os.PathLike[str] | None = None,
+) -> Path:
+    """Render a context made by :func:`build_context` (or kept by the register) into
+    ``template`` and write the ``.docx`` to ``path`` atomically; return ``path``."""
     import io
 
     from docx.shared import Mm
@@ -549,10 +596,8 @@ def write_report(
     from .errors import MetroError
 
     path = Path(path)
-    ctx = report_context(record, designations=designations)
-    if extend is not None:  # plugins' metro_extend_report_context
-        extend(record, ctx)
-    ctx = _pretty_context(ctx)
+    ctx = dict(ctx)
+    ctx["outcomes"] = [dict(o, plots=[dict(p) for p in o["plots"]]) for o in ctx["outcomes"]]
     if template is None:
         source: Any = io.BytesIO(default_template().read_bytes())
         template_name = "metro/core/templates/report.docx"
@@ -577,15 +622,16 @@ def write_report(
                 f"report template {template_name}: {exc}{where}",
                 hint="check the template's {{ }} and {% %} tags against metro.core.report.report_context",
             ) from exc
+    _add_notices(tpl.docx, (ctx.get("register") or {}).get("notices") or ())
 
     props = tpl.docx.core_properties
     props.title = ctx["title"]
     props.subject = ctx["items_text"]
-    props.identifier = record.report_number
+    props.identifier = ctx["report_number"]
     props.author = ctx["generator"]
     props.last_modified_by = ctx["generator"]
     props.keywords = "SIMULATED" if ctx["simulated"] else ""
-    created = record.created
+    created = dt.datetime.fromisoformat(ctx["created_iso"]) if ctx.get("created_iso") else None
     if isinstance(created, dt.datetime):
         if created.tzinfo is not None:  # python-docx writes naive datetimes as UTC
             created = created.astimezone(dt.timezone.utc).replace(tzinfo=None)
