@@ -76,8 +76,7 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     assert show["device"] == {"id": "LG-0042", "manufacturer": "Acme Inertial", "model": "RLG-90", "serial": "0042"}
     import hashlib
 
-    # the manifest's SHA-256 (kept once the manifest reader states it)
-    assert show["manifest_sha256"] in (None, hashlib.sha256(manifest.read_bytes()).hexdigest())
+    assert show["manifest_sha256"] == hashlib.sha256(manifest.read_bytes()).hexdigest()
     assert show["simulated"] is False
     res = {r["key"]: r for r in show["results"]}
     run_res = {r["key"]: r for r in c["results"]}
