@@ -631,3 +631,121 @@ def test_bad_options_are_clear_errors(full_run, pm):
                              ("7.2.14", {"P": "0.15 s"}, "whole number of sampling intervals")):
         with pytest.raises((ProcedureError, DataError), match=match):
             run_items(pm, "jjf2014", [item], campaign=camp, options=opt)
+
+
+# ------------------------------------------------------------------------------ issue 13: budgets that hold
+
+
+def _with(camp, segs=None, **props):
+    """The campaign with other segments and/or extra device properties."""
+    import attrs
+
+    dev = attrs.evolve(camp.device, properties={**camp.device.properties, **props})
+    return Campaign(camp.id, dev, camp.equipment, camp.environment, camp.site,
+                    camp.segments if segs is None else segs, source=camp.source)
+
+
+def test_scale_factor_u3_is_the_repeatability_of_the_campaign(pm):
+    """Appendix B's u₃r (1.54×10⁻⁴) is a repeatability: with the campaign's 7.2.4 runs, u₃ of
+    7.2.1 is K_r·K with ν = Q − 1 (was the fit's standard error, 30× smaller here); without
+    them it falls back to device.scale_factor_repeatability (type B), else to the fit's standard
+    error with a warning."""
+    truth = VibratoryTruth(seed=31, sf_repeat_rel=5e-4)
+    camp = _campaign(pm, ["7.2.1", "7.2.4"], truth=truth)
+    outs = {o.item: o for o in run_items(pm, "jjf2014", ["7.2.1", "7.2.4"], campaign=camp).outcomes}
+    K, Kr = outs["7.2.1"].result("K"), outs["7.2.4"].result("Kr")
+    u3 = next(r for r in K.budget.rows if r.symbol == "u₃")
+    assert u3.standard_uncertainty.magnitude == pytest.approx(Kr.value.magnitude * K.value.magnitude, rel=1e-12)
+    assert u3.type == "A" and u3.dof == 5
+    # the rule of issue 13: no budget smaller than the spread the standard's own repeatability item measures
+    assert K.U.magnitude / K.value.magnitude >= Kr.value.magnitude
+    # the items that divide by K carry it (and its ν_eff)
+    b0 = run_items(pm, "jjf2014", ["7.2.21"], campaign=_campaign(pm, ["7.2.4", "7.2.21"], truth=truth,
+                                                                options=OPTS)).outcomes[0].result("Bw")
+    kb = next(r for r in b0.budget.rows if r.symbol == "u_rel(K)")
+    assert kb.standard_uncertainty.magnitude >= Kr.value.magnitude * 0.5 and math.isfinite(kb.dof)
+    # fallbacks
+    only = _with(camp, [s for s in camp.segments if s.kind == "rate"])
+    o = run_items(pm, "jjf2014", ["7.2.1"], campaign=only).outcomes[0]
+    assert any("rate-repeat" in w and "fit's standard error" in w for w in o.warnings)
+    assert o.result("K").U.magnitude < 0.2 * K.U.magnitude
+    stated = run_items(pm, "jjf2014", ["7.2.1"], campaign=_with(only, scale_factor_repeatability=Q_(3e-4, ""))
+                       ).outcomes[0].result("K")
+    u3s = next(r for r in stated.budget.rows if r.symbol == "u₃")
+    assert u3s.type == "B" and u3s.standard_uncertainty.magnitude == pytest.approx(3e-4 * stated.value.magnitude)
+
+
+def test_no_budget_smaller_than_the_campaigns_own_repeatability(full_run):
+    """Issue 13: U(K)/K ≥ K_r, U(γ_m) ≥ γ_mr, U(B₀) ≥ B_r, and each single K or B₀ in a
+    difference (K_t, K_g, ΔK, B_t, B_g, ΔB) carries at least the repeatability."""
+    _, outs, _ = full_run
+    r = {x.metric.key: x for o in outs.values() for x in o.results}
+    assert r["K"].U.magnitude / r["K"].value.magnitude >= r["Kr"].value.magnitude
+    assert r["gamma"].U.magnitude >= r["gamma_r"].value.magnitude
+    assert r["B0"].U.magnitude >= r["Br"].value.magnitude
+    K, Kr, Br = r["K"].value.magnitude, r["Kr"].value.magnitude, r["Br"].value.magnitude
+    for key, scale in (("dK_shock", 1.0), ("dK_vib", 1.0), ("Kg", 0.5)):
+        assert r[key].budget.combined.magnitude >= math.sqrt(2) * scale * Kr * K * (1 - 1e-3), key
+    for key, scale in (("dB_shock", 1.0), ("dB_vib", 1.0), ("Bg", 0.5)):
+        assert r[key].budget.combined.magnitude >= math.sqrt(2) * scale * Br * (1 - 1e-9), key
+    g = next(x for x in r["gamma"].budget.rows if x.symbol == "γ_mr")
+    assert g.standard_uncertainty.magnitude == pytest.approx(r["gamma_r"].value.magnitude) and g.dof == 6
+
+
+def test_coverage_factor_from_nu_eff(full_run):
+    """k = t_p(ν_eff), p = 95.45 % (interpretations.md "JJF 2014 — coverage factor"): K_r, B_r
+    (ν = Q − 1 = 5) get k = t(5) = 2.65, not 2; a budget of infinite ν gets 2.00."""
+    from scipy import stats
+
+    _, outs, _ = full_run
+    for key, item in (("Kr", "7.2.4"), ("Br", "7.2.15")):
+        b = outs[item].result(key).budget
+        assert b.nu_eff == pytest.approx(5.0, rel=1e-2)  # B_r also has the (small) row of K
+        assert b.k == pytest.approx(stats.t.ppf(0.97725, b.nu_eff), rel=1e-9) and b.k > 2.6
+    b = B.scale_factor_budget(Q_(1, ""), Q_(1.54e-4, ""), math.inf,
+                              rate_table=Calibration("T", Q_(1e-4, ""), k=2), dmm=Calibration("D", Q_(6e-5, ""), k=2))
+    assert b.k == pytest.approx(2.0, abs=1e-5)
+
+
+def test_output_delay_uses_the_minus_3_db_point(pm):
+    """7.2.22: T = 1/(2πB_w) (eq. (47)) is the corner of the eq. (46) model, where |G| = 1/√2.
+    On a noiseless first-order-plus-delay device T_d is exact; read at the literal 0.707 it was
+    0.5 µs long (+1.65 U on average over seeds)."""
+    from metro.core.runner import split_options
+
+    truth = VibratoryTruth(seed=5, arw_deg_rt_h=0.0, ref_noise_dps=0.0, cubic=0.0, asymmetry=0.0, threshold_dps=0.0)
+    proc = pm.procedure("jjf2014", "7.2.22")
+    steps = proc().sequence(proc.option_values(split_options([proc], OPTS)[0]))
+    camp = VibratoryStation(truth=truth, latitude_deg=LAT, table_errors=False).acquire(steps)
+    td = run_items(pm, "jjf2014", ["7.2.22"], campaign=camp, options=OPTS).outcomes[0].result("Td")
+    assert td.value.to("s").magnitude == pytest.approx(truth.delay_s, abs=2e-9)
+    # hand-worked: exact first-order data with f_c = 80 Hz, T_d = 2 ms
+    f = np.geomspace(10, 160, 12)
+    kr = 1 / np.sqrt(1 + (f / 80.0) ** 2)
+    w = 2 * math.pi * f
+    P = -np.arctan(w / (2 * math.pi * 80.0)) - w * 0.002
+    fc3, _, _ = F.bandwidth_fit_743(f, kr, 1 / math.sqrt(2))
+    assert fc3 == pytest.approx(80.0, rel=1e-12)
+    assert F.delay_eq48_50(w, P, 1 / (2 * math.pi * fc3))[0] == pytest.approx(0.002, rel=1e-10)
+    fc7 = F.bandwidth_fit_743(f, kr)[0]  # the literal 0.707: 80.033 Hz
+    assert F.delay_eq48_50(w, P, 1 / (2 * math.pi * fc7))[0] - 0.002 > 2e-7
+
+
+def test_every_result_discloses_the_earth_rate(full_run, pm):
+    """Issue 13: Result.earth_rate on every result; B₀, F₀ and the IRA pair of B_g hold
+    Ω_e·sin φ as the standard prints (B_g ≈ 20 °/h/g for a 10.8 °/h/g device here), and say so."""
+    _, outs, _ = full_run
+    for o in outs.values():
+        for r in o.results:
+            assert r.earth_rate in ("included", "removed", "not applicable"), r.metric.key
+    assert outs["7.2.13"].result("B0").earth_rate == "included"
+    assert outs["7.2.1"].result("F0").earth_rate == "included"
+    assert outs["7.2.1"].result("K").earth_rate == "not applicable"
+    bg = outs["7.2.17"].result("Bg")
+    assert bg.earth_rate == "included" and "earth rate included" in bg.note and "earth_rate = on" in bg.note
+    camp = _campaign(pm, ["7.2.17"], scale=0.25)
+    on = run_items(pm, "jjf2014", ["7.2.17"], campaign=camp, options={"earth_rate": "on"}).outcomes[0].result("Bg")
+    assert on.earth_rate in ("removed", "not applicable")
+    b0 = run_items(pm, "jjf2014", ["7.2.13"], campaign=_campaign(pm, ["7.2.13"], scale=0.25),
+                   options={"earth_rate": "on"}).outcomes[0].result("B0")
+    assert b0.earth_rate == "removed" and "earth rate removed" in b0.note

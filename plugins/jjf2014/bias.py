@@ -27,6 +27,7 @@ from .common import (
     _JJF,
     AXES,
     RATE_OPTS,
+    Spread,
     _axis,
     _budget_row_a,
     _by,
@@ -43,6 +44,7 @@ from .common import (
     _temperatures,
     _updown,
     _where,
+    bias_repeatability,
     scale_factor_for,
 )
 from .scale_factor import ScaleFactor
@@ -61,6 +63,20 @@ def _static(campaign: Campaign, proc, warnings: list[str]) -> Segment:
     if len(segs) > 1:
         warnings.append(f"{len(segs)} segments of kind static; {proc.item} uses the first, {segs[0].id!r}")
     return segs[0]
+
+
+def _earth_text(campaign, on: bool, per_g: bool = False) -> str:
+    """What the result says about the earth rate (issue 13: every result discloses it)."""
+    try:
+        lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+        v = F.EARTH_RATE_DEG_PER_H * math.sin(math.radians(lat))
+        amount = f"Ω_e·sin φ = {v:.4g} °/h{'' if not per_g else ' (→ ' + f'{v:.4g}' + ' °/h/g in (B_up − B_down)/2g)'} at φ = {lat:g}°"
+    except Exception:  # no latitude: say it without the number
+        amount = "Ω_e·sin φ"
+    if on:
+        return f"earth rate removed ({amount}; option earth_rate = on, not in the standard)"
+    return (f"earth rate included: the vertical input axis senses {amount}; the standard has no correction "
+            "(option earth_rate = on removes it)")
 
 
 def _earth_term(campaign, seg: Segment | None, on: str, orient: str | None = None) -> float:
@@ -88,6 +104,16 @@ class BiasValue:
         self.dof = nb - 1
 
 
+def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: str) -> BudgetRow:
+    """The row of one bias record taken as the device's bias at its condition, times ``scale``
+    (the sensitivity, e.g. 1/2g or 1/|ΔT|): the larger of the record's batch-means u_A and the
+    bias repeatability B_r, since two records are two power-ons or mountings and differ by B_r
+    even when each is precise (interpretations.md, "Repeatability in every budget")."""
+    if rep is not None and rep.value > bv.uA:
+        return rep.row(f"{what}: bias repeatability", "B_r·c", rep.value * scale, unit)
+    return _budget_row_a(f"{what} (batch means)", "u_A·c", bv.uA * scale, unit, bv.dof)
+
+
 class Bias(_JJF):
     """JJF 2014—2022 7.2.13 零偏: B_0 = F̄/K, eqs. (27), (28); budget B.2 (plus the type A
     scatter of F̄).  No earth-rate term unless option earth_rate = on."""
@@ -108,16 +134,22 @@ class Bias(_JJF):
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         w: list[str] = []
-        K, uK, src = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K, uK, src = kv
         seg = _static(campaign, type(self), w)
         bv = BiasValue(seg, K, _earth_term(campaign, seg, opts["earth_rate"]), _num(opts, "batches", 2, integer=True))
+        rep = bias_repeatability(campaign, K)
         dur = bv.x.size * bv.dt
         if dur < 3600 * 0.999:
             w.append(f"the record lasts {dur / 60:.3g} min; 7.2.13.1 c) asks for more than 1 h")
+        rep_row = rep.row("bias repeatability (another power-on gives another B₀)", "B_r", rep.value,
+                          "deg/h") if rep is not None and rep.value > bv.uA else None
         b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=_cal(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
-                          warnings=w)
+                          warnings=w, dof_K=kv.dof, rep_row=rep_row)
+        on = _flag(opts, "earth_rate")
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
-                                     note=f"K from {src}; earth rate {'subtracted' if _flag(opts, 'earth_rate') else 'not subtracted'}")],
+                                     note=f"K from {src}; {_earth_text(campaign, on)}",
+                                     earth_rate="removed" if on else "included")],
                              warnings=w, segments=[seg.id], opts=opts)
 
 
@@ -137,7 +169,8 @@ class BiasStability(_JJF):
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         w: list[str] = []
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         seg = _static(campaign, type(self), w)
         x, dt = _output(seg)
         p = float(opts["P"].to("s").magnitude) / dt
@@ -150,8 +183,7 @@ class BiasStability(_JJF):
         bs *= 3600.0
         u, dof = B.std_of_std(bs, m)
         rows = [_budget_row_a("sampling of a standard deviation of N/P averages", "B_s/√(2(m−1))", u, "deg/h", dof),
-                BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
-                                 sensitivity=Q_(bs, "deg/h"))]
+                kv.row(bs, "deg/h")]
         rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
         b = B.type_a_budget("Bs", "deg/h", rows)
         return self._outcome([Result(self.metrics[0], Q_(bs, "deg/h"), b.combined, b, note=f"{m} averages of P")],
@@ -176,7 +208,8 @@ class BiasRepeatability(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         runs = _by(_need(campaign, type(self), "static-repeat"), "run")
         if len(runs) < 2:
             raise DataError(campaign.source, "segments", f"7.2.15 needs Q ≥ 2 runs, got {len(runs)}")
@@ -189,8 +222,7 @@ class BiasRepeatability(_JJF):
         u, dof = B.std_of_std(br, len(bvs))
         b = B.type_a_budget("Br", "deg/h", [
             _budget_row_a("sampling of a standard deviation of Q values", "B_r/√(2(Q−1))", u, "deg/h", dof),
-            BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
-                             sensitivity=Q_(br, "deg/h"))])
+            kv.row(br, "deg/h")])
         tab = TableSpec("bias_runs", "B_0i per run", ["run", "B_0i (°/h)", "u_A (°/h)"],
                         [[k, f"{x.B0:.5g}", f"{x.uA:.2g}"] for k, x in zip(sorted(runs), bvs)])
         return self._outcome([Result(self.metrics[0], Q_(br, "deg/h"), b.combined, b)], tables=[tab],
@@ -217,7 +249,8 @@ class BiasTemperature(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         groups = _by(_need(campaign, type(self), "static-temperature"), "temperature")
         T = _temperatures(groups, "7.2.16")
         keys = sorted(groups, key=T.get)
@@ -232,12 +265,10 @@ class BiasTemperature(_JJF):
         m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.16")
         bt, i = F.bias_temperature_eq31([b.B0 for b in bvs], temps, m)
         dT = abs(temps[i] - temps[m])
-        rows = [_budget_row_a(f"B₀ at {temps[i]:g} °C (batch means)", "u(B_0i)/|ΔT|", bvs[i].uA / dT,
-                              "deg/h/delta_degC", bvs[i].dof),
-                _budget_row_a(f"B₀ at {temps[m]:g} °C (batch means)", "u(B_0m)/|ΔT|", bvs[m].uA / dT,
-                              "deg/h/delta_degC", bvs[m].dof),
-                BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
-                                 sensitivity=Q_(bt, "deg/h/delta_degC"))]
+        rep = bias_repeatability(campaign, K)
+        rows = [_single(bvs[i], rep, f"B₀ at {temps[i]:g} °C", 1 / dT, "deg/h/delta_degC"),
+                _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC"),
+                kv.row(bt, "deg/h/delta_degC")]
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
         b = B.type_a_budget("Bt", "deg/h/delta_degC", rows)
         tab = TableSpec("bias_temperature", "B_0i per temperature", ["T_i (°C)", "B_0i (°/h)"],
@@ -269,7 +300,8 @@ class BiasAcceleration(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         ira = str(campaign.device.properties.get("ira_axis", "Z")).upper()
         vals: dict[str, dict[str, BiasValue]] = {}
         for s in _need(campaign, type(self), "static-accel"):
@@ -284,16 +316,21 @@ class BiasAcceleration(_JJF):
         worst = max(per, key=lambda a: abs(per[a]))
         bg = abs(per[worst])
         v = vals[worst]
-        rows = [_budget_row_a(f"B₀ {worst} up (batch means)", "u/2g", v["up"].uA / 2, "deg/h/gn", v["up"].dof),
-                _budget_row_a(f"B₀ {worst} down (batch means)", "u/2g", v["down"].uA / 2, "deg/h/gn", v["down"].dof),
-                BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
-                                 sensitivity=Q_(bg, "deg/h/gn"))]
+        rep = bias_repeatability(campaign, K)
+        rows = [_single(v["up"], rep, f"B₀ {worst} up", 0.5, "deg/h/gn"),
+                _single(v["down"], rep, f"B₀ {worst} down", 0.5, "deg/h/gn"),
+                kv.row(bg, "deg/h/gn")]
         b = B.type_a_budget("Bg", "deg/h/gn", rows)
         w = [] if len(per) == 3 else [f"only axes {', '.join(per)} tested"]
         tab = TableSpec("bias_accel", "Per axis", ["axis", "B up (°/h)", "B down (°/h)", "(up−down)/2g (°/h/g)"],
                         [[a, f"{vals[a]['up'].B0:.5g}", f"{vals[a]['down'].B0:.5g}", f"{per[a]:.4g}"] for a in per])
+        on = _flag(opts, "earth_rate")
+        if worst == ira:
+            er, etxt = ("removed" if on else "included"), "; " + _earth_text(campaign, on, per_g=True)
+        else:
+            er, etxt = "not applicable", " (input axis horizontal, east–west: no earth-rate component)"
         return self._outcome([Result(self.metrics[0], Q_(bg, "deg/h/gn"), b.combined, b,
-                                     note=f"largest on axis {worst}")], tables=[tab], warnings=w,
+                                     note=f"largest on axis {worst}{etxt}", earth_rate=er)], tables=[tab], warnings=w,
                              segments=[x.seg.id for d in vals.values() for x in d.values()], opts=opts)
 
 
@@ -309,7 +346,8 @@ class _BiasChange(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         vals: dict[tuple[str, str], BiasValue] = {}
         for s in _need(campaign, type(self), self.kind):
             key = (_axis(s), _phase(s))
@@ -324,11 +362,11 @@ class _BiasChange(_JJF):
         except ValueError as exc:
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
         v1, v2 = vals[(worst, "before")], vals[(worst, "after")]
+        rep = bias_repeatability(campaign, K)
         b = B.type_a_budget(self.metrics[0].key, "deg/h", [
-            _budget_row_a(f"B₀ before ({worst})", "u(B₁)", v1.uA, "deg/h", v1.dof),
-            _budget_row_a(f"B₀ after ({worst})", "u(B₂)", v2.uA, "deg/h", v2.dof),
-            BudgetRow.type_b("scale factor K", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
-                             sensitivity=Q_(db, "deg/h"))])
+            _single(v1, rep, f"B₀ before ({worst})", 1.0, "deg/h"),
+            _single(v2, rep, f"B₀ after ({worst})", 1.0, "deg/h"),
+            kv.row(db, "deg/h")])
         w = [] if len(per) == 3 else [f"only the axes {', '.join(per)} were tested (the clause asks for 3)"]
         tab = TableSpec("per_axis", f"B₀ before/after {self.what}", ["axis", "B₁ (°/h)", "B₂ (°/h)", "|ΔB| (°/h)"],
                         [[a, f"{before[a]:.5g}", f"{after[a]:.5g}", f"{per[a]:.4g}"] for a in per])

@@ -22,7 +22,9 @@ from metro.core.budget import INF, BudgetRow, Coverage, UncertaintyBudget
 from metro.core.model import Calibration
 from metro.core.units import Q_
 
-COVERAGE = Coverage.fixed(2.0)  # appendix B: k = 2
+#: k = t_p(ν_eff) for p = 95.45 % (JJF 1059.1 5.3.4): 2.00 for the large ν_eff of appendix B's
+#: examples, larger where a repeatability of Q = 6 runs dominates (interpretations.md, "Coverage factor")
+COVERAGE = Coverage.probability(0.9545)
 
 
 def relative_calibration_row(source: str, symbol: str, cal: Calibration | None, value: pint.Quantity,
@@ -37,32 +39,37 @@ def relative_calibration_row(source: str, symbol: str, cal: Calibration | None, 
                                        note=note or f"certificate {cal.certificate}")]
 
 
-def scale_factor_budget(K: pint.Quantity, u_rep: pint.Quantity, dof: float, *,
+def scale_factor_budget(K: pint.Quantity, u_rep: pint.Quantity | None, dof: float, *,
                         rate_table: Calibration | None, dmm: Calibration | None,
                         warnings: list[str] | None = None, rep_source: str = "measurement repeatability",
-                        extra: Sequence[BudgetRow] = ()) -> UncertaintyBudget:
+                        extra: Sequence[BudgetRow] = (), rep_row: BudgetRow | None = None) -> UncertaintyBudget:
     """Appendix B.1 budget of K: u_c² = u_1² + u_2² + u_3² (B.2 with relative components).
 
     :param K: the scale factor (use ``Q_(1, "")`` for the relative budget of appendix B).
     :param u_rep: standard uncertainty from repeatability, in K's unit (B.1.2.2 3)).
     :param dof: its degrees of freedom (``math.inf`` when stated without).
+    :param rep_row: the u₃ row itself (instead of ``u_rep``/``dof``), e.g. a stated repeatability (type B).
     """
     rows = relative_calibration_row("rate table (B.1.2.2 1))", "u₁", rate_table, K, warnings)
     rows += relative_calibration_row("data acquisition, 6½-digit DMM (B.1.2.2 2))", "u₂", dmm, K, warnings)
-    rows.append(BudgetRow.type_a(rep_source + " (B.1.2.2 3))", "u₃", u_rep, dof))
+    rows.append(rep_row if rep_row is not None else BudgetRow.type_a(rep_source + " (B.1.2.2 3))", "u₃", u_rep, dof))
     rows += list(extra)
     return UncertaintyBudget("scale factor K", K.units, rows, coverage=COVERAGE)
 
 
 def bias_budget(B0: pint.Quantity, u_rel_K: float, *, dmm: Calibration | None, u_A: pint.Quantity | None = None,
                 dof_A: float = INF, warnings: list[str] | None = None,
-                extra: Sequence[BudgetRow] = ()) -> UncertaintyBudget:
+                extra: Sequence[BudgetRow] = (), dof_K: float = INF,
+                rep_row: BudgetRow | None = None) -> UncertaintyBudget:
     """Appendix B.2 budget of B_0 = F/K: data acquisition (relative, B.2.2.2 1)) and the scale
-    factor (relative u_c of K, B.2.2.2 2)); plus, when given, the type A scatter of F̄/K."""
+    factor (relative u_c of K with its ν_eff, B.2.2.2 2)); plus, when given, the type A scatter
+    of F̄/K, or ``rep_row`` in its place (the bias repeatability, which holds that scatter)."""
     rows = relative_calibration_row("data acquisition, 6½-digit DMM (B.2.2.2 1))", "u₁", dmm, B0, warnings)
     rows.append(BudgetRow.type_b("scale factor K (B.2.2.2 2))", "u₂", Q_(u_rel_K, ""), distribution="normal",
-                                 k=1.0, sensitivity=abs(B0), note="relative combined uncertainty of K (B.1.3)"))
-    if u_A is not None:
+                                 k=1.0, sensitivity=abs(B0), dof=dof_K, note="relative combined uncertainty of K (B.1.3)"))
+    if rep_row is not None:
+        rows.append(rep_row)
+    elif u_A is not None:
         rows.append(BudgetRow.type_a("scatter of the mean output (batch means)", "u_A", u_A, dof_A))
     rows += list(extra)
     return UncertaintyBudget("bias B0", B0.units, rows, coverage=COVERAGE)

@@ -7,10 +7,20 @@ import math
 from collections.abc import Iterable, Mapping
 from typing import Any
 
+import attrs
 import numpy as np
-from metro.core.budget import BudgetRow
+from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
-from metro.core.model import Campaign, EquipmentRequirement, Option, Outcome, PlotSpec, Procedure, Segment, Step
+from metro.core.model import (
+    Campaign,
+    EquipmentRequirement,
+    Option,
+    Outcome,
+    PlotSpec,
+    Procedure,
+    Segment,
+    Step,
+)
 from metro.core.signals import device_scale_factor
 from metro.core.units import Q_, parse_quantity
 
@@ -176,29 +186,131 @@ class SFSet:
     def K(self) -> float:
         return self.fit.K
 
-    def budget(self, campaign: Campaign, warnings: list[str] | None = None):
-        return B.scale_factor_budget(Q_(self.K, KU), Q_(self.fit.u_K, KU), self.fit.dof,
-                                     rate_table=_cal(campaign, "rate_table"), dmm=_cal(campaign, "dmm"),
-                                     warnings=warnings, rep_source="repeatability: residual scatter of the eq. (3) fit")
+    def budget(self, campaign: Campaign, warnings: list[str] | None = None, rep: "Spread | None | bool" = True):
+        """Appendix B.1 budget of this K.  u₃ (B.1.2.2 3)) is the *repeatability* of K, as the
+        appendix's 1.54×10⁻⁴ is: K_r·|K| from the campaign's own repeated calibrations (7.2.4,
+        kind ``rate-repeat``), else ``device.scale_factor_repeatability``; never less than the
+        eq. (3) fit's standard error, which alone is the fallback (with a warning) when neither
+        exists (interpretations.md, "7.2.1 — u₃ is a repeatability")."""
+        if rep is True:
+            rep = sf_repeatability(campaign)
+        u, dof, src, typ = self.u_single(rep)
+        if rep is None and warnings is not None:
+            warnings.append("no repeated calibrations (kind rate-repeat, 7.2.4) and no device.scale_factor_repeatability: "
+                            "u₃ of K is the eq. (3) fit's standard error, which leaves out the variation of K "
+                            "between power-ons")
+        row = (BudgetRow.type_a(src + " (B.1.2.2 3))", "u₃", Q_(u, KU), dof) if typ == "A" else
+               BudgetRow.type_b(src + " (B.1.2.2 3))", "u₃", Q_(u, KU), distribution="normal", k=1.0))
+        return B.scale_factor_budget(Q_(self.K, KU), None, 0, rate_table=_cal(campaign, "rate_table"),
+                                     dmm=_cal(campaign, "dmm"), warnings=warnings, rep_row=row)
+
+    def u_single(self, rep: "Spread | None") -> tuple[float, float, str, str]:
+        """Standard uncertainty of this one calibration's K as an estimate of the device's K:
+        (u in mV/((°)/s), ν, what it is, type "A"/"B").  The larger of the repeatability
+        K_r·|K| (which already holds the within-run scatter) and the fit's standard error."""
+        fit_u = self.fit.u_K
+        if rep is not None and rep.value * abs(self.K) >= fit_u:
+            return rep.value * abs(self.K), rep.dof, f"repeatability of K: K_r·K, {rep.source}", rep.type
+        if rep is not None:
+            return fit_u, self.fit.dof, ("residual scatter of the eq. (3) fit (larger than the repeatability K_r·K, "
+                                         f"{rep.source})"), "A"
+        return fit_u, self.fit.dof, "residual scatter of the eq. (3) fit (no repeatability of K available)", "A"
+
+
+@attrs.frozen
+class Spread:
+    """The 1σ spread of one determination of a quantity, as the standard's own repeatability
+    or reproducibility item measures it (K_r of 7.2.4, B_r of 7.2.15, γ_mr of 7.2.12) on this
+    campaign (type A, ν = Q − 1), or as the device's manifest states it (type B, ν = ∞).
+    ``value`` is relative for K and in the quantity's unit otherwise."""
+
+    value: float
+    dof: float
+    source: str
+    type: str = "A"
+
+    def row(self, source: str, symbol: str, u: float, unit: str, sensitivity: float = 1.0) -> BudgetRow:
+        """A budget row of standard uncertainty ``u`` (in ``unit``) that comes from this spread."""
+        if self.type == "A":
+            return BudgetRow.type_a(f"{source}, {self.source}", symbol, Q_(u, unit), self.dof,
+                                    sensitivity=Q_(sensitivity, ""))
+        return BudgetRow.type_b(f"{source}, {self.source}", symbol, Q_(u, unit), distribution="normal", k=1.0,
+                                sensitivity=Q_(sensitivity, ""))
+
+
+def _stated(campaign: Campaign, key: str, unit: str, what: str) -> Spread | None:
+    v = campaign.device.properties.get(key)
+    if v in (None, ""):
+        return None
+    q = parse_quantity(v, dimension=unit, file=campaign.source, field=f"device.{key}")
+    x = float(q.to(unit).magnitude)
+    if not (x >= 0 and math.isfinite(x)):
+        raise DataError(campaign.source, f"device.{key}", f"must be a non-negative {what}, got {v!r}")
+    return Spread(x, INF, f"stated as device.{key}", "B")
+
+
+def sf_repeatability(campaign: Campaign) -> Spread | None:
+    """K_r (relative, 1σ of one calibration's K, eq. (10)) from the campaign's 7.2.4 runs
+    (kind ``rate-repeat``, ≥ 2 runs), else ``device.scale_factor_repeatability``, else None."""
+    runs = _by(campaign.find_segments("rate-repeat"), "run")
+    if len(runs) >= 2:
+        Ks = [SFSet(g).K for _, g in sorted(runs.items())]
+        return Spread(F.relative_repeatability_eq10(Ks), len(Ks) - 1,
+                      f"K_r = {F.relative_repeatability_eq10(Ks):.3g} from this campaign's {len(Ks)} "
+                      "calibrations (7.2.4)")
+    return _stated(campaign, "scale_factor_repeatability", "", "relative repeatability of K")
+
+
+def bias_repeatability(campaign: Campaign, K: float) -> Spread | None:
+    """B_r (°/h, 1σ of one bias, eq. (30)) from the campaign's 7.2.15 runs (kind
+    ``static-repeat``, ≥ 2 runs of one record each), else ``device.bias_repeatability``."""
+    runs = _by(campaign.find_segments("static-repeat"), "run")
+    if len(runs) >= 2 and all(len(g) == 1 for g in runs.values()):
+        b0 = [F.bias_eq27_28(_output(g[0])[0], K) * 3600.0 for _, g in sorted(runs.items())]
+        br = F.std_bessel(b0, "eq. (30)")
+        return Spread(br, len(b0) - 1, f"B_r = {br:.3g} °/h from this campaign's {len(b0)} runs (7.2.15)")
+    return _stated(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")
 
 
 def _main_set(campaign: Campaign, proc) -> SFSet:
     return SFSet(_need(campaign, proc, "rate"))
 
 
-def scale_factor_for(campaign: Campaign, proc) -> tuple[float, float, str]:
+@attrs.frozen
+class KValue:
+    """K (mV/[(°)/s]) for the items that divide by it, its relative standard uncertainty and
+    ν_eff, and where it came from."""
+
+    K: float
+    u_rel: float
+    source: str
+    dof: float = INF
+
+    def __iter__(self):  # K, u_rel, source = scale_factor_for(...)
+        return iter((self.K, self.u_rel, self.source))
+
+    def row(self, sensitivity: float, unit: str, source: str = "scale factor K", symbol: str = "u_rel(K)") -> BudgetRow:
+        """The row of a result y ∝ 1/K (or ∝ K): relative u(K) times |y|, with K's ν_eff."""
+        return BudgetRow.type_b(source, symbol, Q_(self.u_rel, ""), distribution="normal", k=1.0,
+                                sensitivity=Q_(abs(sensitivity), unit), dof=self.dof,
+                                note=f"K from {self.source}")
+
+
+def scale_factor_for(campaign: Campaign, proc) -> KValue:
     """K (mV/[(°)/s]) and its relative standard uncertainty for items that divide by K: from
-    the campaign's 7.2.1 segments (kind "rate") if any, else from ``device.scale_factor``."""
+    the campaign's 7.2.1 segments (kind "rate") if any — with the 7.2.1 budget, whose u₃ is the
+    repeatability of K — else from ``device.scale_factor``."""
     if campaign.find_segments("rate"):
         s = SFSet(campaign.find_segments("rate"))
         b = s.budget(campaign)
-        return s.K, float(b.combined.to(KU).magnitude) / abs(s.K), "7.2.1 segments of this campaign"
+        return KValue(s.K, float(b.combined.to(KU).magnitude) / abs(s.K), "7.2.1 segments of this campaign",
+                      b.nu_eff)
     K, urel = device_scale_factor(campaign.device, campaign.source)
     if K is None:
         raise DataError(campaign.source, "device.scale_factor",
                         f"{proc.qualified_id()} needs the scale factor K: give 7.2.1 segments (kind \"rate\") "
                         "or device.scale_factor in mV/((°)/s)")
-    return float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel, "device.scale_factor"
+    return KValue(float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel, "device.scale_factor")
 
 
 def _rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = None, tag: str = "",
@@ -229,6 +341,9 @@ class _JJF(Procedure):
     )
 
     def _outcome(self, results, *, plots=(), tables=(), warnings=(), segments=(), opts=None) -> Outcome:
+        # a result that does not state the earth rate is one it cancels from (slopes, differences at
+        # one orientation, spreads, dynamics): "not applicable" (interpretations.md, "Earth rate disclosed")
+        results = [r if r.earth_rate else attrs.evolve(r, earth_rate="not applicable") for r in results]
         return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=list(plots),
                        tables=list(tables), warnings=list(warnings), segments=list(segments),
                        options={k: str(v) for k, v in (opts or {}).items()})

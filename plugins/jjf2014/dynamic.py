@@ -25,7 +25,19 @@ from metro.core.units import Q_, parse_quantity
 from . import budgets as B
 from . import formulas as F
 from .bias import Bias, _static
-from .common import _JJF, RATE_OPTS, _budget_row_a, _cal, _cond_q, _flag, _need, _num, _output, _q, scale_factor_for
+from .common import (
+    _JJF,
+    RATE_OPTS,
+    _budget_row_a,
+    _cal,
+    _cond_q,
+    _flag,
+    _need,
+    _num,
+    _output,
+    _q,
+    scale_factor_for,
+)
 from .scale_factor import ScaleFactor
 
 # =============================================================================== 7.2.20
@@ -56,7 +68,8 @@ class AngleRandomWalk(_JJF):
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         w: list[str] = []
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         seg = _static(campaign, type(self), w)
         x, dt = _output(seg)
         rate = x / K * 3600.0  # eq. (34), °/h
@@ -97,8 +110,7 @@ class AngleRandomWalk(_JJF):
             rows = [_budget_row_a(f"eq. (38) GLS fit (edf per τ), A_{F.ALLAN_TERMS[i][0]}", "u(A)", u_fit, metric.unit,
                                   max(fit.dof, 1), note=f"{tau_h.size} τ values, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}; "
                                   + how),
-                    BudgetRow.type_b("scale factor K (eq. (34))", "u_rel(K)", Q_(uK, ""), distribution="normal",
-                                     k=1.0, sensitivity=Q_(val, metric.unit))]
+                    kv.row(val, metric.unit, "scale factor K (eq. (34))")]
             b = B.type_a_budget(key, metric.unit, rows)
             results.append(Result(metric, Q_(val, metric.unit), b.combined, b,
                                   note="" if fit.active[i] else "term not resolved (fitted negative)"))
@@ -197,15 +209,19 @@ class Bandwidth(_JJF):
                                   {"frequency": _q(f, "Hz"), "amplitude": _q(A, "deg/s"), "repeat": str(j)}))
         return steps
 
+    #: 7.2.21.2 reads the curve at K_i = 0.707 as printed
+    LEVEL = 0.707
+
     @staticmethod
-    def _fc(dyn, S0, scale=1.0):
-        return F.bandwidth_fit_743(dyn.f, dyn.S * scale / S0)
+    def _fc(dyn, S0, scale=1.0, level=LEVEL):
+        return F.bandwidth_fit_743(dyn.f, dyn.S * scale / S0, level)
 
     @classmethod
-    def _analyse(cls, campaign, dyn, K, uK):
-        """(B_w, its budget, (a, b) of the curve, warnings)."""
+    def _analyse(cls, campaign, dyn, kv, level=LEVEL):
+        """(f at the ``level`` point, its budget, (a, b) of the curve, warnings)."""
+        K = kv.K
         try:
-            fc, ab, cov = cls._fc(dyn, K)
+            fc, ab, cov = cls._fc(dyn, K, level=level)
         except ValueError as exc:
             raise ProcedureError(f"7.2.21: {exc}",
                                  hint="raise the top frequency (option bandwidth_estimate) past the 0.707 point") from exc
@@ -218,7 +234,7 @@ class Bandwidth(_JJF):
             w.append(f"B_w = {fc:.4g} Hz lies above the highest frequency {dyn.f.max():g} Hz (extrapolated)")
         # sensitivities by numerical differentiation of the whole evaluation
         eps = 1e-4
-        dfc_ds = (cls._fc(dyn, K, 1 + eps)[0] - fc) / eps  # ∂f_c/∂(relative scale of all S_i)
+        dfc_ds = (cls._fc(dyn, K, 1 + eps, level)[0] - fc) / eps  # ∂f_c/∂(relative scale of all S_i)
         rows = []
         # type A: scatter of the ratios E/A at each frequency, propagated by perturbing S_i
         uA2 = 0.0
@@ -226,7 +242,7 @@ class Bandwidth(_JJF):
             S = dyn.S.copy()
             h = max(dyn.uS[i], 1e-12 * S[i])
             S[i] += h
-            d = (F.bandwidth_fit_743(dyn.f, S / K)[0] - fc) / h
+            d = (F.bandwidth_fit_743(dyn.f, S / K, level)[0] - fc) / h
             uA2 += (d * dyn.uS[i]) ** 2
         nmin = min(dyn.n)
         rows.append(_budget_row_a("sine-fit amplitudes (scatter of Ē_i/A_i over the n records)", "u_A",
@@ -234,15 +250,15 @@ class Bandwidth(_JJF):
         cal = _cal(campaign, "angular_vibration_table")
         rows += B.relative_calibration_row("reference sensor amplitude (scales every S_i)", "u_rel(A)", cal,
                                            Q_(abs(dfc_ds), "Hz"), w)
-        rows.append(BudgetRow.type_b("S₀ = K from 7.2.1", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
-                                     sensitivity=Q_(abs(dfc_ds), "Hz")))
+        rows.append(kv.row(dfc_ds, "Hz", "S₀ = K from 7.2.1"))
         return fc, B.type_a_budget("Bw", "Hz", rows), ab, w
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         dyn = _Dynamic(campaign, type(self))
-        fc, b, ab, w = self._analyse(campaign, dyn, K, uK)
+        fc, b, ab, w = self._analyse(campaign, dyn, kv)
         kr = dyn.S / K
         fine = np.linspace(0, max(dyn.f.max(), fc) * 1.05, 200)
         plot = PlotSpec("amplitude_ratio", "Amplitude ratio K_i = S_i/S₀ (eq. (43)), fit and the 0.707 point",
@@ -271,9 +287,12 @@ class OutputDelay(Bandwidth):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
         dyn = _Dynamic(campaign, type(self))
-        fc, bbw, _, _ = self._analyse(campaign, dyn, K, uK)
+        # eq. (47) T = 1/(2πB_w) is the first-order model's corner, where |G| = K_D/√2: read there,
+        # not at the literal 0.707 of 7.2.21 (which puts B_w 0.04 % high and biases T_d by +1.65 U
+        # on average; interpretations.md, "7.2.22 — B_w of eq. (47)")
+        fc, bbw, _, _ = self._analyse(campaign, dyn, kv, level=1 / math.sqrt(2))
         w_ = 2 * math.pi * dyn.f
         T = 1.0 / (2 * math.pi * fc)  # eq. (47)
         Td, u_fit, resid = F.delay_eq48_50(w_, dyn.P, T)
@@ -338,7 +357,8 @@ class StartupTime(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K = kv.K
         segs = _need(campaign, type(self), "startup")
         btol = float(opts["bias_tolerance"].to("deg/s").magnitude)
         rtol = float(opts["rate_tolerance"].to("").magnitude)

@@ -15,6 +15,7 @@ from . import formulas as F
 from .common import (
     _JJF,
     RATE_OPTS,
+    Spread,
     _budget_row_a,
     _by,
     _cal,
@@ -25,6 +26,7 @@ from .common import (
     _need,
     _num,
     _q,
+    _stated,
     scale_factor_for,
 )
 from .scale_factor import ScaleFactor
@@ -209,6 +211,16 @@ def _misalignment_run(campaign, proc, segs: list[Segment], K: float, uK_rel: flo
     return r, u_noise, om
 
 
+def misalignment_reproducibility(campaign, runs, K: float, uK: float) -> Spread | None:
+    """γ_mr (′, eq. (26)): the spread of γ_m over the campaign's repeated mountings (7.2.12,
+    ≥ 2 runs), else ``device.misalignment_repeatability``, else None."""
+    if len(runs) >= 2:
+        gam = [_misalignment_run(campaign, Misalignment, g, K, uK)[0]["gamma"] for _, g in sorted(runs.items())]
+        gr = F.std_bessel(gam, "eq. (26)")
+        return Spread(gr, len(gam) - 1, f"γ_mr = {gr:.3g}′ from this campaign's {len(gam)} mountings (7.2.12)")
+    return _stated(campaign, "misalignment_repeatability", "arcmin", "misalignment repeatability in ′")
+
+
 class Misalignment(_JJF):
     """JJF 2014—2022 7.2.11 输入轴失准角: four mountings, δ_p eqs. (19), (20), (22), (23),
     α_m (21), β_m (24), γ_m = 10800√(α_m² + β_m²)/π in ′ (25)."""
@@ -239,15 +251,21 @@ class Misalignment(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        K, uK, _ = scale_factor_for(campaign, type(self))
+        kv = scale_factor_for(campaign, type(self))
+        K, uK = kv.K, kv.u_rel
         segs = _need(campaign, type(self), "misalignment")
         runs = _by(segs, "run") if all("run" in s.conditions for s in segs) else {"1": segs}
         first = sorted(runs)[0]
         r, u_noise, om = _misalignment_run(campaign, type(self), runs[first], K, uK)
         gamma = r["gamma"]
-        rows = [_budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF),
-                BudgetRow.type_b("scale factor K (γ ∝ 1/K)", "u_rel(K)", Q_(uK, ""), distribution="normal", k=1.0,
-                                 sensitivity=Q_(gamma, "arcmin"))]
+        rep = misalignment_reproducibility(campaign, runs, K, uK)
+        if rep is not None and rep.value > u_noise:
+            # another mounting gives another γ (7.2.12): that spread holds the scatter of the means
+            rows = [rep.row("mounting reproducibility (another mounting gives another γ_m)", "γ_mr", rep.value,
+                            "arcmin")]
+        else:
+            rows = [_budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF)]
+        rows.append(kv.row(gamma, "arcmin", "scale factor K (γ ∝ 1/K)"))
         rows += B.relative_calibration_row("rate table Ω_(+) (γ ∝ 1/Ω)", "u_rel(Ω)", _cal(campaign, "rate_table"),
                                            Q_(gamma, "arcmin"))
         b = B.type_a_budget("gamma", "arcmin", rows)

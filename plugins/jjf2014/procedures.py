@@ -13,7 +13,15 @@ The classes live by clause group: :mod:`.common` (what every item shares, the 7.
 
 from __future__ import annotations
 
-from .bias import Bias, BiasAcceleration, BiasRepeatability, BiasShock, BiasStability, BiasTemperature, BiasVibration
+from .bias import (
+    Bias,
+    BiasAcceleration,
+    BiasRepeatability,
+    BiasShock,
+    BiasStability,
+    BiasTemperature,
+    BiasVibration,
+)
 from .common import STANDARD, STATION, SFSet, scale_factor_for
 from .dynamic import AngleRandomWalk, Bandwidth, OutputDelay, StartupTime
 from .low_rate import Misalignment, MisalignmentRepeatability, Resolution, Threshold

@@ -36,6 +36,7 @@ from .common import (
     _sf_plots,
     _temperatures,
     _updown,
+    sf_repeatability,
 )
 
 # =============================================================================== 7.2.1 – 7.2.4
@@ -72,7 +73,9 @@ class ScaleFactor(_JJF):
             *B.relative_calibration_row("data acquisition, 6½-digit DMM", "u_DMM", _cal(campaign, "dmm"),
                                         Q_(s.fit.F0, "mV"))])
         res = [Result(self.metrics[0], Q_(s.K, KU), bK.combined, bK),
-               Result(self.metrics[1], Q_(s.fit.F0, "mV"), bF0.combined, bF0)]
+               Result(self.metrics[1], Q_(s.fit.F0, "mV"), bF0.combined, bF0, earth_rate="included",
+                      note="F₀ holds K·Ω_e·sin φ, the earth rate along the vertical input axis (7.2.1 has no "
+                           "correction; it does not affect K)")]
         tab = TableSpec("sf_points", "Mean output per input rate (eq. (2)) and residuals",
                         ["Ω_i (°/s)", "F̄_i (mV)", "u(F̄_i) (mV)", "v_i (mV)"],
                         [[f"{o:g}", f"{f:.6f}", f"{u:.2g}", f"{v:.3g}"]
@@ -237,10 +240,11 @@ class SFTemperature(_JJF):
         kt, i = F.sf_temperature_eq11(Ks, temps, m)
         dT = temps[i] - temps[m]
         # Kt = |K_i/K_m − 1|/|ΔT|: ∂/∂K_i = 1/(K_m|ΔT|), ∂/∂K_m ≈ K_i/(K_m²|ΔT|)
-        rows = [_budget_row_a(f"fit of K_i at {temps[i]:g} °C", "u(K_i)/(K_m|ΔT|)",
-                              sets[i].fit.u_K / (Ks[m] * abs(dT)), "1/delta_degC", sets[i].fit.dof),
-                _budget_row_a(f"fit of K_m at {temps[m]:g} °C", "K_i·u(K_m)/(K_m²|ΔT|)",
-                              Ks[i] * sets[m].fit.u_K / (Ks[m] ** 2 * abs(dT)), "1/delta_degC", sets[m].fit.dof)]
+        rep = sf_repeatability(campaign)
+        rows = [_k_row(sets[i], rep, f"K_i at {temps[i]:g} °C", "u(K_i)/(K_m|ΔT|)", 1 / (Ks[m] * abs(dT)),
+                       "1/delta_degC"),
+                _k_row(sets[m], rep, f"K_m at {temps[m]:g} °C", "K_i·u(K_m)/(K_m²|ΔT|)", Ks[i] / (Ks[m] ** 2 * abs(dT)),
+                       "1/delta_degC")]
         rows += _chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
         b = B.type_a_budget("Kt", "1/delta_degC", rows)
         tab = TableSpec("sf_temperature", "K_i per temperature", ["T_i (°C)", "K_i (mV/((°)/s))"],
@@ -248,6 +252,16 @@ class SFTemperature(_JJF):
         return self._outcome([Result(self.metrics[0], Q_(kt, "1/delta_degC"), b.combined, b,
                                      note=f"maximum at T_i = {temps[i]:g} °C, T_m = {temps[m]:g} °C")],
                              tables=[tab], segments=[x for s in sets for x in s.ids], opts=opts)
+
+
+def _k_row(s: SFSet, rep, what: str, symbol: str, scale: float, unit: str) -> BudgetRow:
+    """One calibration's K taken as the device's K at its condition, times ``scale``: the larger
+    of the fit's standard error and the repeatability K_r·K (another calibration — power-on,
+    temperature, mounting — gives another K; interpretations.md, "Repeatability in every budget")."""
+    u, dof, src, typ = s.u_single(rep)
+    if typ == "A":
+        return _budget_row_a(f"{what}: {src}", symbol, u * scale, unit, dof)
+    return BudgetRow.type_b(f"{what}: {src}", symbol, Q_(u * scale, unit), distribution="normal", k=1.0)
 
 
 class SFAxialAcceleration(_JJF):
@@ -279,9 +293,10 @@ class SFAxialAcceleration(_JJF):
             raise DataError(campaign.source, "segments", "7.2.6 needs calibrations with the IRA up and with it down")
         up, dn = SFSet(g["up"]), SFSet(g["down"])
         kg = F.per_g_726(up.K, dn.K)
+        rep = sf_repeatability(campaign)
         b = B.type_a_budget("Kg", "mV/(deg/s)/gn", [
-            _budget_row_a("fit of K (IRA up)", "u(K_up)/2g", up.fit.u_K / 2, "mV/(deg/s)/gn", up.fit.dof),
-            _budget_row_a("fit of K (IRA down)", "u(K_down)/2g", dn.fit.u_K / 2, "mV/(deg/s)/gn", dn.fit.dof),
+            _k_row(up, rep, "K (IRA up)", "u(K_up)/2g", 0.5, "mV/(deg/s)/gn"),
+            _k_row(dn, rep, "K (IRA down)", "u(K_down)/2g", 0.5, "mV/(deg/s)/gn"),
             *B.relative_calibration_row("rate table (common to both, acts on the difference)", "u_rel(Ω)",
                                         _cal(campaign, "rate_table"), Q_(kg, "mV/(deg/s)/gn"))])
         return self._outcome([Result(self.metrics[0], Q_(kg, "mV/(deg/s)/gn"), b.combined, b,
@@ -314,10 +329,10 @@ class _SFChange(_JJF):
         except ValueError as exc:
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
         w = [] if len(per) == 3 else [f"only the axes {', '.join(per)} were tested (the clause asks for X, Y, Z)"]
-        f1, f2 = fits[(worst, "before")].fit, fits[(worst, "after")].fit
+        rep = sf_repeatability(campaign)
         b = B.type_a_budget(self.metrics[0].key, KU, [
-            _budget_row_a(f"fit of K before ({worst})", "u(K₁)", f1.u_K, KU, f1.dof),
-            _budget_row_a(f"fit of K after ({worst})", "u(K₂)", f2.u_K, KU, f2.dof),
+            _k_row(fits[(worst, "before")], rep, f"K before ({worst})", "u(K₁)", 1.0, KU),
+            _k_row(fits[(worst, "after")], rep, f"K after ({worst})", "u(K₂)", 1.0, KU),
             *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
                                         _cal(campaign, "rate_table"), Q_(dk, KU))])
         tab = TableSpec("per_axis", f"K before/after {self.what} per axis",
