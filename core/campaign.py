@@ -11,6 +11,8 @@ import datetime as dt
 import hashlib
 import math
 import tomllib
+
+import attrs
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -269,7 +271,7 @@ def read_toml_digest(path: str | Path, fmt: str, *, what: str, hint: str) -> tup
     return src, doc, digest
 
 
-def load_manifest(path: str | Path, reader_for) -> Campaign:
+def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, Equipment] | None = None) -> Campaign:
     """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
     (an object with ``read``) for a samples file (the plugin manager's ``reader_for``).
 
@@ -299,6 +301,21 @@ def load_manifest(path: str | Path, reader_for) -> Campaign:
         if eid in seen:
             raise DataError(src, f"{where}.id", f"duplicate equipment id {eid!r}")
         seen.add(eid)
+        if lab_equipment and eid in lab_equipment and "calibration" not in e:
+            # the lab profile's equipment named by id: its calibration, model, serial from the
+            # profile; a role given here replaces the profile's
+            known = lab_equipment[eid]
+            extra = sorted(set(e) - {"id", "role"})
+            if extra:
+                raise DataError(src, f"{where}.{extra[0]}", f"equipment {eid!r} is the lab profile's "
+                                f"({getattr(known, 'source', '') or 'lab profile'}); only its role may be given here",
+                                hint="change it in the lab profile, or give this entry another id")
+            role = _str(e, "role", src, where, required=False) or known.role
+            equipment.append(attrs.evolve(known, role=role))
+            continue
+        if "role" not in e and lab_equipment is not None:
+            raise DataError(src, f"{where}.role", f"missing, and the lab profile names no equipment {eid!r}",
+                            hint="the lab profile's equipment: " + (", ".join(sorted(lab_equipment)) or "none"))
         equipment.append(equipment_from_table(e, src, where, warnings))
 
     seg_list = doc.get("segments")

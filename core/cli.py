@@ -183,7 +183,7 @@ def _cmd_run(args) -> int:
     with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
                            station_options=station_options, progress=prog, run_all=args.run_all,
-                           decision_rule=args.decision_rule)
+                           decision_rule=args.decision_rule, **_lab_options(args))
         for w in record.campaign.warnings:  # deprecated spellings, unknown keys (core.vocabulary)
             print(f"metro: warning: {w}", file=sys.stderr)
         report_path = registration = None
@@ -201,6 +201,12 @@ def _cmd_run(args) -> int:
             err.print(f"registered as {registration['number']}" if registration["registered"]
                       else f"not registered ({registration['why']})")
     return 0
+
+
+def _lab_options(args) -> dict[str, Any]:
+    from .cli_register import run_lab_options  # the lab profile's equipment and due-date check
+
+    return run_lab_options(args)
 
 
 def _cmd_plugins(args) -> int:

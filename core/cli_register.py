@@ -160,6 +160,27 @@ def write_run_report(args, pm, record, prog=None):
     return record, path, {"registered": False, "number": record.report_number, "why": why}
 
 
+def run_lab_options(args) -> dict[str, Any]:
+    """Keyword arguments of :func:`metro.core.runner.run_items` from the lab profile in force:
+    its equipment by id (a manifest may name it by id alone) and the refusal of equipment past
+    its due date on the measurement date (unless ``--allow-expired``), before any evaluation."""
+    from . import lab as labmod
+
+    lab = labmod.lab_in_force(getattr(args, "lab", None))
+    if lab is None:
+        return {}
+
+    def check(campaign) -> None:
+        import datetime as dt
+
+        from .registering import check_equipment
+
+        on = getattr(campaign, "measurement_date", None) or dt.datetime.now(dt.timezone.utc).date()
+        check_equipment(campaign, on, allow_expired=getattr(args, "allow_expired", False))
+
+    return {"lab_equipment": lab.equipment_by_id(), "check_campaign": check}
+
+
 def _run_options(args) -> dict[str, Any]:
     from .cli import _options
 
@@ -307,7 +328,8 @@ def _cmd_amend(args) -> int:
 
             old = reg.get(args.number)
             given = old["options"].get("_given", {})
-            record = run_items(pm, old["standard"], old["items"], data=args.data, options=given)
+            record = run_items(pm, old["standard"], old["items"], data=args.data, options=given,
+                               **run_lab_options(args))
         issued = amend(reg, args.number, args.reason, pm=pm, lab=lab, folder=args.out, record=record,
                        allow_expired=args.allow_expired)
     if args.json:

@@ -177,9 +177,12 @@ def load_campaign(
     station: str | None = None,
     station_options: Mapping[str, Any] | None = None,
     progress: Progress | None = None,
+    lab_equipment: Mapping[str, Any] | None = None,
 ) -> Campaign:
+    """The campaign of a run: the manifest ``data`` (equipment named by id alone taken from
+    ``lab_equipment``, the lab profile's), or an acquisition on the items' stations."""
     if data is not None:
-        campaign = load_manifest(data, pm.reader_for)
+        campaign = load_manifest(data, pm.reader_for, lab_equipment=lab_equipment)
     else:
         # one acquisition per station the items need (all on --station when given)
         groups: dict[str, list[int]] = {}
@@ -208,6 +211,8 @@ def run_items(
     campaign: Campaign | None = None,
     run_all: bool = False,
     decision_rule: str | None = None,
+    lab_equipment: Mapping[str, Any] | None = None,
+    check_campaign: Callable[[Campaign], None] | None = None,
 ) -> RunRecord:
     """Evaluate ``items`` of ``standard`` on one campaign and return the run record.
 
@@ -215,6 +220,9 @@ def run_items(
     standard that applies to the device.  Results are judged against the specifications
     plugins and the manifest give, with ``decision_rule`` (``simple``/``guarded``; default:
     the manifest's ``decision_rule``, else :data:`metro.core.conformity.DEFAULT_RULE`).
+    ``lab_equipment`` (the lab profile's, by id) completes manifest equipment named by id
+    alone; ``check_campaign(campaign)`` runs before any item is evaluated (e.g. the lab's
+    refusal of equipment past its due date).
     """
     if not items and not run_all:
         raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, or --all")
@@ -223,7 +231,7 @@ def run_items(
     selection: list[ItemChoice] = []
     if run_all or any(pm.series(standard, i) is not None for i in items):
         if campaign is None and data is not None:
-            campaign = load_campaign(pm, [], [], data=data)
+            campaign = load_campaign(pm, [], [], data=data, lab_equipment=lab_equipment)
         if campaign is not None:
             items, selection = select_items(pm, standard, items, run_all=run_all, campaign=campaign)
         else:
@@ -234,7 +242,9 @@ def run_items(
     per_opts = split_options(procs, dict(options or {}))
     if campaign is None:
         campaign = load_campaign(pm, procs, per_opts, data=data, station=station,
-                                 station_options=station_options, progress=progress)
+                                 station_options=station_options, progress=progress, lab_equipment=lab_equipment)
+    if check_campaign is not None:
+        check_campaign(campaign)
     timings["campaign (manifest or simulation)"] = time.perf_counter() - t0
     outcomes: list[Outcome] = []
     for cls, opts in zip(procs, per_opts):

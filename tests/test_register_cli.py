@@ -203,3 +203,32 @@ def test_history_flags_drift(lab, tmp_path, capsys):
     assert main(["history", "S1", "--out", str(tmp_path / "h2")]) == 0
     assert "DRIFT" in capsys.readouterr().out
     assert main(["history", "NOPE", "--out", str(tmp_path / "h3")]) == 2
+
+
+def test_manifest_names_lab_equipment_by_id(lab, tmp_path, capsys, campaign_factory):
+    """CNT-1 given by id alone: its calibration comes from the lab profile; an id the profile does
+    not know, without a role, is an error naming the field."""
+    text = lab.read_text(encoding="utf-8").replace('id = "RT-01"', 'id = "CNT-9"').replace(
+        'role = "rate_table"', 'role = "counter"').replace('certificate = "CAL-2026-0001"', 'certificate = "LAB-CNT-9"')
+    lab.write_text(text, encoding="utf-8")
+
+    def by_id(t: str, ident: str) -> str:
+        start = t.index('[[equipment]]\nid = "CNT-1"')
+        end = t.index("[[segments]]")
+        return t[:start] + f'[[equipment]]\nid = "{ident}"\n\n' + t[end:]
+
+    manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.5, manifest_edit=lambda t: by_id(t, "CNT-9"))
+    code, doc = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out",
+                      str(tmp_path / "out"))
+    assert code == 0
+    show = _json(capsys, "register", "show", doc["report_number"])[1]
+    (cnt,) = [e for e in show["equipment"] if e["id"] == "CNT-9"]
+    assert (cnt["role"], cnt["certificate"], cnt["due"], cnt["valid"]) == ("counter", "LAB-CNT-9", "2027-06-30", True)
+    assert any("LAB-CNT-9" in t for t in _docx_text(doc["report"]))
+    bad = campaign_factory.write_campaign(tmp_path / "camp2", hours=0.5, manifest_edit=lambda t: by_id(t, "CNT-404"))
+    code, err = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(bad), "--out", str(tmp_path / "o2"))
+    assert code == 2 and err["field"] == "equipment[1].role" and "CNT-404" in err["message"]
+    # the profile's equipment past its due date refuses the run before anything is evaluated
+    lab.write_text(text.replace("due = 2027-06-30", "due = 2020-01-01"), encoding="utf-8")
+    assert main(["run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out", str(tmp_path / "o3")]) == 2
+    assert "LAB-CNT-9" in capsys.readouterr().err and not (tmp_path / "o3").exists()
