@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import zlib
 from typing import Any, Mapping
 
 import attrs
@@ -74,6 +75,13 @@ class MimuTruth:
     gyro_range_deg_s: float = 400.0
     accel_range_gn: float = 8.0
     bits: int = 16
+    #: relative 1σ of the gyro scale factors (K_g diagonal) between power-ons: each calibration
+    #: (the 7.2.1 sweeps, each ``rate-repeat`` run) is one power-on with its own draw; 0: none
+    sf_repeat_rel: float = 0.0
+    #: 1σ (°/s) of the gyro biases between power-ons, drawn like ``sf_repeat_rel`` (rate segments)
+    bias_repeat_deg_s: float = 0.0
+    #: the class this device was drawn from (``device_class`` station option; "" = fields as given)
+    device_class: str = ""
     seed: int = 20260301
 
     def arrays(self) -> dict[str, np.ndarray]:
@@ -97,8 +105,24 @@ class MimuTruth:
                     out[f"p_{r}{c}"] = Q_(a["p"][i, j], "gn/(rad/s)**2")
         out.update({"gyro noise (per sample)": Q_(self.gyro_noise_deg_s, "deg/s"),
                     "accelerometer noise (per sample)": Q_(self.accel_noise_gn, "gn"),
-                    "acquisition bits": self.bits, "seed": self.seed})
+                    "acquisition bits": self.bits, "seed": self.seed,
+                    "scale-factor variation between power-ons (1σ, relative)": self.sf_repeat_rel,
+                    "bias variation between power-ons (1σ)": Q_(self.bias_repeat_deg_s, "deg/s"),
+                    "device class": self.device_class or "(fields as given)"})
         return out
+
+    def powered_on(self, kind: str, conditions: Mapping[str, Any]) -> "MimuTruth":
+        """The device as it is after the power-on of a segment: calibrations (kind ``rate`` = run 0,
+        ``rate-repeat`` = its ``run``) each draw their own K_g diagonal and B_g (``sf_repeat_rel``,
+        ``bias_repeat_deg_s``); other segments and a device without variation are the device itself."""
+        if (self.sf_repeat_rel <= 0 and self.bias_repeat_deg_s <= 0) or kind not in ("rate", "rate-repeat"):
+            return self
+        run = "0" if kind == "rate" else str(conditions.get("run", "0"))
+        rng = np.random.default_rng([self.seed & 0xFFFFFFFF, 0x9E37, zlib.crc32(run.encode())])
+        K = np.array(self.K_g, float)
+        K[np.diag_indices(3)] *= 1.0 + self.sf_repeat_rel * rng.standard_normal(3)
+        B = np.array(self.B_g_deg_s, float) + self.bias_repeat_deg_s * rng.standard_normal(3)
+        return attrs.evolve(self, K_g=_m(K), B_g_deg_s=tuple(float(b) for b in B))
 
 
 def _unit(axis: str) -> np.ndarray:
@@ -257,8 +281,8 @@ class MimuStation:
             n = max(2, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
             tilt, rates, mean_rate = self.mounting(i, step, n)
             realized[step.segment] = (tilt, mean_rate)
-            cols = simulate_segment(t, step.conditions, self.latitude_deg, n, interval_s, t.seed + 7919 * (i + 1),
-                                    tilt_rad=tilt, rate_deg_s=rates)
+            cols = simulate_segment(t.powered_on(step.kind, step.conditions), step.conditions, self.latitude_deg, n,
+                                    interval_s, t.seed + 7919 * (i + 1), tilt_rad=tilt, rate_deg_s=rates)
             digest = hashlib.sha256(b"".join(cols[c].tobytes() for c in sorted(cols))).hexdigest()
             units = {c: ("deg/s" if c.startswith("g") else "gn") for c in cols}
             segments.append(Segment(

@@ -202,7 +202,10 @@ def test_budgets_follow_appendix_a_structure(default_run):
     camp, rec = default_run
     b = rec.outcomes[0].result("K_gxx").budget
     assert [r.symbol for r in b.rows] == ["u₁", "u₂", "u₃"]
-    assert b.round_mode == "up" and b.k == 2.0
+    # k = t_p(ν_eff) at 95.45 % (interpretations.md "Coverage factor (JJF 2003)"): ≈ 2 here (u₁, u₂ dominate)
+    from scipy import stats
+
+    assert b.round_mode == "up" and b.k == pytest.approx(stats.t.ppf(0.97725, b.nu_eff)) and 2.0 <= b.k < 2.01
     # u₁: table U = 2e-4, k = 2 → 1e-4 relative, times K
     assert b.rows[0].contribution.magnitude == pytest.approx(1e-4 * rec.outcomes[0].result("K_gxx").value.magnitude)
     for o in rec.outcomes[1:]:
@@ -523,3 +526,51 @@ def test_certificate_states_the_earth_rate_deviation(files, run_cli, tmp_path):
     text = "\n".join(p.text for p in docx.Document(str(out)).paragraphs)
     assert "Deviations and notes" in text and "DEVIATION from JJF 2003 7.2.2" in text
     assert "SIMULATED" not in text
+
+
+# ------------------------------------------------------------------------------ issue 13
+
+
+def _run_2003(items, truth=None, options=None):
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import run_items, split_options
+
+    pm = get_plugin_manager(autoload=False)
+    procs = [pm.procedure("jjf2003", i) for i in items]
+    per = split_options(procs, dict(options or {}))
+    steps = merge_steps([c().sequence(c.option_values(o)) for c, o in zip(procs, per)])
+    camp = MimuStation(truth=truth or MimuTruth(), duration_scale=1.0).acquire(steps)
+    return camp, run_items(pm, "jjf2003", items, campaign=camp, options=options or {})
+
+
+def test_scale_factor_u3_is_the_spread_of_repeated_calibrations():
+    """Appendix A.1.2.3: u₃ = 1.22×10⁻⁴ "from a large amount of experimental data" is a
+    repeatability of K. With repeated sweeps (option repeats) u₃ is the standard deviation of
+    K over the campaign's calibrations (ν = runs − 1), which covers the variation between
+    power-ons that the fit's standard error leaves out; without them the fallback is stated."""
+    truth = MimuTruth(seed=11, sf_repeat_rel=1e-3)
+    camp, rec = _run_2003(["7.2.1"], truth, {"repeats": "4"})
+    out = rec.outcomes[0]
+    for i, a in enumerate("xyz"):
+        r = out.result(f"K_g{a}{a}")
+        u3 = next(x for x in r.budget.rows if x.symbol == "u₃")
+        assert u3.dof == 4 and "5 calibrations" in u3.source
+        ks = [r.value.magnitude]
+        assert u3.standard_uncertainty.magnitude > 2e-4  # a 1e-3 relative spread, not the 1e-5 fit error
+        # the power-on draw puts this calibration's K off the device's by ~1e-3: U covers it
+        assert abs(r.value.magnitude - camp.truth[f"K_g{a}{a}"].magnitude) <= r.U.magnitude
+        assert r.earth_rate == "not applicable"
+    # without repeats: the fit's standard error and a warning
+    _, rec0 = _run_2003(["7.2.1"], truth)
+    assert any("rate-repeat" in w for w in rec0.outcomes[0].warnings)
+
+
+def test_every_result_discloses_the_earth_rate(default_run):
+    """Issue 13: earth_rate on every JJF 2003 result; the g diagonal holds K_g·Ω_e·sin φ as printed."""
+    camp, rec = default_run
+    for o in rec.outcomes:
+        for r in o.results:
+            assert r.earth_rate in ("included", "removed", "not applicable"), r.metric.key
+    g = {r.metric.key: r for o in rec.outcomes for r in o.results}
+    assert g["g_xx"].earth_rate == "included" and "earth_rate = yes" in g["g_xx"].note
+    assert g["g_xy"].earth_rate == "not applicable" and g["B_gx"].earth_rate == "not applicable"

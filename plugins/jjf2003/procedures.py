@@ -12,7 +12,8 @@ Data: ``rate`` segments (conditions ``axis`` = x|y|z pointing up along the table
 ``rate`` signed about +axis) and ``position`` segments (conditions ``up`` = ±x|±y|±z,
 ``heading`` = 0°|180°), with columns gx, gy, gz (angular rate) and ax, ay, az (acceleration).
 Budgets follow appendix A: u₁ three-axis table, u₂ acquisition quantization, u₃ repeatability
-from the data; k = 2; U rounded up to two significant digits.
+of K from the campaign's repeated sweeps (kind ``rate-repeat``); k = t_p(ν_eff) at 95.45 % (2 for
+appendix A's large ν_eff); U rounded up to two significant digits.
 """
 
 from __future__ import annotations
@@ -45,7 +46,9 @@ from . import formulas as F
 
 STANDARD = "jjf2003"
 STATION = "simulated-mimu"
-COVERAGE = Coverage.fixed(2.0)
+#: k = t_p(ν_eff), p = 95.45 % (JJF 1059.1 5.3.4): appendix A's "取 k = 2" with components stated
+#: without degrees of freedom is the large-ν_eff case (interpretations.md, "Coverage factor (JJF 2003)")
+COVERAGE = Coverage.probability(0.9545)
 ROUND = "up"
 AXES = ("x", "y", "z")
 GYRO = ("gx", "gy", "gz")
@@ -144,10 +147,11 @@ def _axis_of(seg: Segment, campaign: Campaign) -> str:
     return a
 
 
-def sweeps(campaign: Campaign, axes=AXES) -> dict[str, list[tuple[float, Segment]]]:
-    """Rate segments per axis, sorted by rate; checks 7–11 distinct rates (7.2.1.1 c))."""
+def sweeps(campaign: Campaign, axes=AXES, segments=None) -> dict[str, list[tuple[float, Segment]]]:
+    """Rate segments per axis, sorted by rate; checks 7–11 distinct rates (7.2.1.1 c)).
+    ``segments``: another set than the campaign's kind ``rate`` (one repeated sweep)."""
     out: dict[str, list[tuple[float, Segment]]] = {a: [] for a in axes}
-    for seg in campaign.find_segments("rate"):
+    for seg in (campaign.find_segments("rate") if segments is None else segments):
         a = _axis_of(seg, campaign)
         if a in out:
             out[a].append((_rate_of(seg, campaign), seg))
@@ -206,10 +210,10 @@ def positions(campaign: Campaign) -> dict[tuple[str, float], Segment]:
 # ------------------------------------------------------------------------------ computations
 
 
-def sweep_fits(campaign: Campaign, means: Means) -> dict[str, dict[str, Any]]:
+def sweep_fits(campaign: Campaign, means: Means, segments=None) -> dict[str, dict[str, Any]]:
     """Per swept axis j: eq. (5) fits of each gyro output i against the rate → K_g[i, j]."""
     out = {}
-    for j, pts in sweeps(campaign).items():
+    for j, pts in sweeps(campaign, segments=segments).items():
         X = np.array([r for r, _ in pts])
         U = np.array([means(s)[0] for _, s in pts])  # n × 3
         fits = []
@@ -388,6 +392,20 @@ def _sweep_steps(opts: Mapping[str, Any]) -> list[Step]:
                               f"MIMU {a} axis up along the table axis (7.2.1.1 a), e), f)); table at {r:g} °/s; "
                               "record ≥ 30 s after the rate is steady", Q_(30, "s"), Q_(0.01, "s"),
                               {"axis": a, "rate": Q_(r, "deg/s")}))
+    raw = str(opts.get("repeats", "0")).strip() or "0"
+    try:
+        q = int(raw)
+    except ValueError:
+        q = -1
+    if q < 0 or q == 1:
+        raise ProcedureError(f"option repeats: {raw!r} must be 0 or a whole number ≥ 2 (repeated calibrations)")
+    for run in range(1, q + 1):
+        for a in AXES:
+            for r in _rates_option(opts):
+                steps.append(Step(f"rate-repeat#{run}-{a}-{r:g}", "rate-repeat",
+                                  f"repeat {run}: power off, remount, then as 7.2.1.1 (MIMU {a} axis up), table at "
+                                  f"{r:g} °/s, ≥ 30 s", Q_(30, "s"), Q_(0.01, "s"),
+                                  {"axis": a, "rate": Q_(r, "deg/s"), "run": str(run)}))
     return steps
 
 
@@ -402,14 +420,60 @@ def _position_steps() -> list[Step]:
 
 
 _SWEEP_OPTIONS = (Option("rates", "-400, -200, -100, -50, 0, 50, 100, 200, 400", None,
-                         "rate points in °/s for each axis (7–11 including the maximum, 7.2.1.1 c))"),)
+                         "rate points in °/s for each axis (7–11 including the maximum, 7.2.1.1 c))"),
+                  Option("repeats", "0", None, "repeated calibrations (power off, remount) whose spread is u₃ of K "
+                         "(appendix A.1.2.3); 0: none (u₃ then from device.scale_factor_repeatability or the fit)"))
 
 
 def _opts_text(opts):
     return {k: str(v) for k, v in opts.items()}
 
 
-def _fit_results(proc, campaign, fits, pairs, warnings) -> list[Result]:
+def repeat_fits(campaign: Campaign, means: Means) -> list[dict[str, dict[str, Any]]]:
+    """The campaign's repeated 7.2.1 calibrations (kind ``rate-repeat``, condition ``run``; the
+    MIMU powered off and remounted between runs), each as :func:`sweep_fits`."""
+    runs: dict[str, list[Segment]] = {}
+    for seg in campaign.find_segments("rate-repeat"):
+        runs.setdefault(str(seg.condition("run")), []).append(seg)
+    return [sweep_fits(campaign, means, g) for _, g in sorted(runs.items())]
+
+
+def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
+    """Appendix A.1.2.3 u₃ of K_g[i, j]: a repeatability "from a large amount of experimental data"
+    (interpretations.md, "Appendix A — u₃ of K is a repeatability"): the standard deviation of
+    K_g[i, j] over the campaign's calibrations (the 7.2.1 sweep and its ``rate-repeat`` runs,
+    ν = runs − 1); else ``device.scale_factor_repeatability`` (relative, × |K_jj|, type B);
+    never less than the eq. (5) fit's standard error, which alone is the fallback (warned)."""
+    d = fits[AXES[j]]
+    fit = d["fits"][i]
+    se, dof = float(fit.stderr[0]), max(fit.dof, 1)
+    if repeats:
+        Ks = [float(d["fits"][i].coef[0])] + [float(r[AXES[j]]["fits"][i].coef[0]) for r in repeats]
+        sd = float(np.std(Ks, ddof=1))
+        if sd >= se:
+            return BudgetRow.type_a(f"repeatability: standard deviation of K over this campaign's {len(Ks)} "
+                                    "calibrations (A.1.2.3)", "u₃", Q_(sd, ""), len(Ks) - 1)
+        return BudgetRow.type_a("repeatability: least-squares scatter of eq. (5) (larger than the spread of "
+                                f"{len(Ks)} calibrations, A.1.2.3)", "u₃", Q_(se, ""), dof)
+    stated = campaign.device.properties.get("scale_factor_repeatability")
+    if stated not in (None, ""):
+        from metro.core.units import parse_quantity
+
+        rel = float(parse_quantity(stated, dimension="", file=campaign.source,
+                                   field="device.scale_factor_repeatability").to("").magnitude)
+        Kjj = abs(float(d["fits"][j].coef[0]))
+        if rel * Kjj >= se:
+            return BudgetRow.type_b("repeatability stated as device.scale_factor_repeatability (A.1.2.3)", "u₃",
+                                    Q_(rel, ""), distribution="normal", k=1.0, sensitivity=Q_(Kjj, ""))
+    else:
+        warnings.append("no repeated calibrations (kind rate-repeat, option repeats of 7.2.1) and no "
+                        "device.scale_factor_repeatability: u₃ of K is the eq. (5) fit's standard error, which "
+                        "leaves out the variation of K between power-ons and mountings")
+    return BudgetRow.type_a("repeatability: least-squares scatter of eq. (5)", "u₃", Q_(se, ""), dof,
+                            note=f"{len(d['X'])} rate points")
+
+
+def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Result]:
     results = []
     for (i, j) in pairs:
         d = fits[AXES[j]]
@@ -418,13 +482,11 @@ def _fit_results(proc, campaign, fits, pairs, warnings) -> list[Result]:
         Kjj = float(d["fits"][j].coef[0])
         rows = _table_rate_row(campaign, Q_(abs(Kjj), ""), "input rate error scales the slope (A.1.2.1)", warnings)
         rows += _relative_quant_row(campaign, Kjj, warnings)
-        rows.append(BudgetRow.type_a("repeatability: least-squares scatter of eq. (5)", "u₃",
-                                     Q_(float(fit.stderr[0]), ""), max(fit.dof, 1),
-                                     note=f"{len(d['X'])} rate points"))
+        rows.append(_repeatability_row(campaign, fits, repeats, i, j, warnings))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
         results.append(Result(metric, Q_(K, ""), budget.combined, budget,
-                              note=f"fitted bias b = {float(fit.coef[1]):.5g} °/s"))
+                              note=f"fitted bias b = {float(fit.coef[1]):.5g} °/s", earth_rate="not applicable"))
     return results
 
 
@@ -495,7 +557,8 @@ class GyroScaleFactor(Procedure):
         means, _ = data_means(campaign)
         fits = sweep_fits(campaign, means)
         warnings = _sweep_warnings(campaign, fits)
-        results = _fit_results(self, campaign, fits, [(i, i) for i in range(3)], warnings)
+        results = _fit_results(self, campaign, fits, [(i, i) for i in range(3)], warnings,
+                               repeat_fits(campaign, means))
         plot, table = _fit_plot_table(fits)
         segs = [s for d in fits.values() for s in d["segments"]]
         return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=[plot], tables=[table],
@@ -532,7 +595,8 @@ class GyroCrossCoupling(Procedure):
         means, _ = data_means(campaign)
         fits = sweep_fits(campaign, means)
         warnings = _sweep_warnings(campaign, fits)
-        results = _fit_results(self, campaign, fits, [(i, j) for i in range(3) for j in range(3)], warnings)
+        results = _fit_results(self, campaign, fits, [(i, j) for i in range(3) for j in range(3)], warnings,
+                               repeat_fits(campaign, means))
         K = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
         table = TableSpec("K_g", "K̄_g (rows: gyro x, y, z; columns: input about x, y, z)",
                           ["", "x", "y", "z"], [[AXES[i]] + [f"{K[i, j]:.6g}" for j in range(3)] for i in range(3)])
@@ -627,16 +691,27 @@ class GyroBiasGSensitivity(Procedure):
             rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT, "gyro_range", False)
             m = self.metrics[i]
             b = UncertaintyBudget(m.symbol, RATE_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-            results.append(Result(m, Q_(float(GB[i, 3]), RATE_UNIT), b.combined, b))
+            results.append(Result(m, Q_(float(GB[i, 3]), RATE_UNIT), b.combined, b, earth_rate="not applicable",
+                                  note="the vertical earth rate flips with the up axis and cancels in the mean of six"))
         for i, r in enumerate(AXES):
             for j, c in enumerate(AXES):
                 rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-                note = ""
-                if leak is not None and i == j:
-                    note = f"earth-rate leak {leak[i, j]:.3g} (°/s)/gn removed (deviation)"
-                results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note))
+                note, er = "", "not applicable"
+                if i == j:
+                    try:
+                        lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+                    except (DataError, KeyError, ValueError):
+                        lat = math.nan
+                    v = EARTH_RATE_DEG_S * math.sin(math.radians(lat))
+                    if leak is not None:
+                        note, er = f"earth-rate leak {leak[i, j]:.3g} (°/s)/gn removed (deviation)", "removed"
+                    else:
+                        note, er = (f"earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
+                                    f"(φ = {lat:g}°) into g_{r}{r}, as the standard prints; option earth_rate = yes "
+                                    "removes it"), "included"
+                results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note, earth_rate=er))
         table = TableSpec("six_positions", "Pair-averaged gyro outputs U_g (°/s), eq. (6)",
                           ["", *F.SIX_POSITIONS], [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
                                                    for i in range(3)])
@@ -681,14 +756,14 @@ class AccelSixPosition(Procedure):
                                     False)
             m = self.metrics[i]
             b = UncertaintyBudget(m.symbol, ACC_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-            results.append(Result(m, Q_(float(KB[i, 3]), ACC_UNIT), b.combined, b))
+            results.append(Result(m, Q_(float(KB[i, 3]), ACC_UNIT), b.combined, b, earth_rate="not applicable"))
         for i in range(3):
             for j in range(3):
                 rows = _six_budget_rows(campaign, u_means, segs, 1, j, i, KB[:, :3], warnings, ACC_UNIT,
                                         "accel_range", True)
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
-                results.append(Result(m, Q_(float(KB[i, j]), ""), b.combined, b))
+                results.append(Result(m, Q_(float(KB[i, j]), ""), b.combined, b, earth_rate="not applicable"))
         table = TableSpec("six_positions", "Pair-averaged accelerometer outputs U_a (gn), eq. (9)",
                           ["", *F.SIX_POSITIONS], [[f"a{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
                                                    for i in range(3)])
@@ -755,7 +830,8 @@ class AccelRateSensitivity(Procedure):
             rows += _abs_quant_row(campaign, "accel_range", ACC_UNIT, Q_(2 * c, "1/(rad/s)**2"), warnings)
             rows += _table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT), "c(ω) = −2p/ω (A.12)", warnings)
             b = UncertaintyBudget(m.symbol, P_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-            results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b))
+            results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b, earth_rate="not applicable",
+                                  note="the vertical earth rate adds a relative 2Ω_e·sin φ/ω to ω² (10⁻⁵ at 400 °/s): neglected"))
         table = TableSpec("p", "p (rows: accelerometer x, y, z; columns: rate about x, y, z), gn/(rad/s)²",
                           ["", "x", "y", "z"], [[AXES[i]] + [f"{p[i, j]:.5g}" for j in range(3)] for i in range(3)])
         segs = [s.id for pr in pairs.values() for s in pr]
