@@ -226,3 +226,51 @@ def test_d14_warns_when_the_runs_are_not_at_the_stated_rate(pm):
     assert any("repeats the test at 30 °/s" in w for w in o.warnings)
     o = run_items(pm, "gbt45570", ["D.1.4"], campaign=camp, options={"rate": "60 °/s"}).outcomes[0]
     assert not o.warnings
+
+
+def test_d13_sensitivity_to_n0_hand_worked():
+    """∂K_a/∂N̄₀ (issue 13): rates 10, 20, 30 °/s, t = 36, 18, 12 s: the line through (r, t) has
+    slope −240/200 = −1.2 s/(°/s) and intercept 22 + 1.2·20 = 46 s, so ∂K₊/∂N̄₀ = −46/R and
+    ∂K₋/∂N̄₀ = +46/R (R = 1 296 000″); at K₊ = K₋ = 0.8 P/″: |∂K_a/∂N̄₀| = 92/(R·0.8) s/P."""
+    R = 1_296_000.0
+    rates, t = [10.0, 20.0, 30.0], [36.0, 18.0, 12.0]
+    assert F.asymmetry_sensitivity_n0(rates, t, t, 0.8, 0.8) == pytest.approx(92 / (R * 0.8), rel=1e-9)
+    # away from the kink, with t₋ = t₊ + 1 s (intercept 47 s): D′ = −93/R, M′ = +0.5/R,
+    # D = 4.8×10⁻⁶ → ∂K_a/∂N̄₀ = −93/(R·M) − D·0.5/(R·M²)
+    kp, km = 0.8 + 4.8e-6, 0.8
+    M = (kp + km) / 2
+    want = abs(-93 / (R * M) - 4.8e-6 * 0.5 / (R * M * M))
+    assert F.asymmetry_sensitivity_n0(rates, t, [37.0, 19.0, 13.0], kp, km) == pytest.approx(want, rel=1e-9)
+
+
+def test_d13_u_ka_at_the_kink(pm):
+    """A gyro with K₊ = K₋ exactly: a central difference through |K₊ − K₋| gave ∂K_a/∂N̄₀ = 0 there
+    (U(K_a) without its N̄₀ row); the analytic slope gives U = k·|D′|/M·u(N̄₀) (hand-worked)."""
+    from metro.core.model import Campaign, DeviceUnderTest, Segment
+
+    R, K, N0 = 1_296_000.0, 0.8, 7.7
+    rates = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 150.0, 200.0, 300.0, 400.0]
+    segs = []
+    for r in rates:
+        t = 360.0 / r
+        for d in (1, -1):
+            c = np.full(5, d * K * R + N0 * t)
+            segs.append(Segment(f"rev{d:+d}-{r:g}", "rate-revolutions", {"rate": f"{d * r:g} deg/s", "turns": "5"},
+                                Q_(t, "s"), sha256="0" * 64,
+                                loader=lambda c=c, t=t: {"count": (c, "P"), "duration": (np.full(5, t), "s")}))
+    zero = N0 + np.tile([0.5, -0.5], 150)  # u(N̄₀) = s/√n, s = 0.5·√(300/299)
+    segs.append(Segment("zero", "static-zero", {}, Q_(1, "s"), sha256="0" * 64,
+                        loader=lambda: {"output": (zero, "P")}))
+    st = SimulatedStation()
+    dev = DeviceUnderTest("D", properties={"scale_factor": Q_(K, "P/arcsec")}, output="pulse")
+    camp = Campaign("C", dev, st.equipment(), {}, {"latitude": Q_(40, "deg")}, segs)
+    res = run_items(pm, "gbt45570", ["D.1.3"], campaign=camp).outcomes[0].results[0]
+    # independent least-squares intercept of t = 360/r against r
+    r, t = np.array(rates), 360.0 / np.array(rates)
+    slope = np.sum((r - r.mean()) * (t - t.mean())) / np.sum((r - r.mean()) ** 2)
+    icpt = t.mean() - slope * r.mean()
+    c = 2 * icpt / (R * K)
+    u_n0 = 0.5 * math.sqrt(300 / 299) / math.sqrt(300)
+    row = next(row for row in res.budget.rows if "N̄_0" in row.source)
+    assert row.sensitivity.to("s/P").magnitude == pytest.approx(c, rel=1e-6)
+    assert res.budget.combined.to("").magnitude == pytest.approx(c * u_n0, rel=1e-3)

@@ -268,8 +268,10 @@ def test_power_needs_voltage_and_current(pm):
 # --------------------------------------------------------------------------- interpretations
 
 
-def test_d4_response_opposite_to_the_input_counts_but_is_flagged(pm):
-    """D.39 compares |ratio| with 50 %: a response of −80 % meets it, with a warning."""
+def test_d4_response_opposite_to_the_input_does_not_count(pm):
+    """D.39 compares |ratio| with 50 %; a response of −80 % met it, with a warning only (issue 13).
+    Now a position counts only when its response is resolved at ≥ 50 % with the input's sign:
+    D.39's value is shown, not reportable, the reason and a warning saying why."""
     rng = np.random.default_rng(3)
     segs = []
     for sid, psi, mean in (("ref", "90 deg", 0.1), ("t1", "89.99 deg", 0.1 - 0.8 * E.tilt_input_d37(89.99))):
@@ -278,7 +280,9 @@ def test_d4_response_opposite_to_the_input_counts_but_is_flagged(pm):
                             loader=lambda d=data: {"output": (d, "deg/h")}))
     camp = Campaign("C", DeviceUnderTest("D", output="rate"), [], {}, {"latitude": Q_(40, "deg")}, segs)
     o = run_items(pm, "gbt45570", ["D.4"], campaign=camp).outcomes[0]
-    assert o.result("threshold").value.magnitude == pytest.approx(E.tilt_input_d37(89.99))
+    r = o.result("threshold")
+    assert r.value.magnitude == pytest.approx(E.tilt_input_d37(89.99))
+    assert not r.reportable and "right sign" in r.reason
     assert any("opposite in sign" in w for w in o.warnings)
 
 
@@ -296,3 +300,34 @@ def test_difference_unit_of_an_offset_unit():
 
     assert difference_unit("degC") == Q_(1, "delta_degC").units
     assert difference_unit("deg/h") == Q_(1, "deg/h").units
+
+
+def test_d4_noise_does_not_pass_a_level(pm):
+    """Issue 13: on the default gyro (ARW 0.0015 °/√h, 1 P = 1.25″) a 600 s position's response has
+    u ≈ 0.006 °/h, so 0.002 °/h passed D.39 by chance (20 of 20 seeds gave 0.002–0.004 °/h
+    against a true 0.008).  Now no seed gives a reportable threshold below the truth, and a
+    threshold reported is bracketed by a position resolved below 50 %."""
+    for seed in range(1, 7):
+        camp, rec = _run(pm, ["D.4"], GyroTruth(seed=seed))
+        r = rec.outcomes[0].result("threshold")
+        truth = camp.expected["threshold"].magnitude
+        if r.reportable:
+            assert abs(r.value.magnitude - truth) <= r.U.magnitude
+        else:
+            assert "resolved" in r.reason
+        assert not (r.reportable and r.value.magnitude < truth)
+
+
+def test_d4_resolved_hand_worked():
+    """d = 0.6·0.01 = 0.006 °/h against 50 % = 0.005 °/h; u = √(3² + 4²)×10⁻⁴ = 5×10⁻⁴ °/h, ν = ∞:
+    t₀.₉₅ = 1.645 → 0.006 − 0.00082 = 0.00518 ≥ 0.005: resolved; with u doubled it is not."""
+    from metro.plugins.gbt45570.threshold import _resolved
+
+    m = {"u": 3e-4, "uq": 0.0, "nu": 10**9}
+    ref = {"u": 4e-4, "uq": 0.0, "nu": 10**9}
+    assert _resolved(0.01, 0.6, m, ref, 0.95)[0] == "resolved ≥ 50 %"
+    assert _resolved(0.01, 0.6, m | {"u": 6e-4}, ref | {"u": 8e-4}, 0.95)[0] == "not resolved"
+    assert _resolved(0.01, 0.2, m, ref, 0.95)[0] == "resolved < 50 %"
+    assert _resolved(0.01, -0.8, m, ref, 0.95)[0] == "resolved < 50 %"  # opposite sign never counts
+    # one count of quantization on each mean counts like noise
+    assert _resolved(0.01, 0.6, m | {"uq": 5e-4}, ref | {"uq": 5e-4}, 0.95)[0] == "not resolved"

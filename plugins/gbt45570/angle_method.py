@@ -268,7 +268,8 @@ class AsymmetryD13(ScaleFactorD11):
     The zero-rate count N̄_0 (pulses per second, from the ``static-zero`` segments) times each
     revolution's time is removed from each direction's count; K_+ and K_− are the D.5
     intercepts of each direction; K_a = |K_+ − K_−| / ((K_+ + K_−)/2).  Type A: the two fits'
-    standard errors and u(N̄_0) (its effect found by re-evaluating with N̄_0 ± u).
+    standard errors and u(N̄_0) through the analytic ∂K_a/∂N̄_0
+    (:func:`.formulas.asymmetry_sensitivity_n0`).
     """
 
     item = "D.1.3"
@@ -308,10 +309,13 @@ class AsymmetryD13(ScaleFactorD11):
         Ka, fp, fm = ka(N0)
         Kbar = 0.5 * (float(fp.coef[0]) + float(fm.coef[0]))
         u_fit = math.hypot(float(fp.stderr[0]), float(fm.stderr[0])) / Kbar
-        c_n0 = (ka(N0 + uN0)[0] - ka(N0 - uN0)[0]) / (2 * uN0) if uN0 > 0 else 0.0
+        # analytic sensitivity: a central difference through |K₊ − K₋| fails at the kink (issue 13)
+        c_n0 = F.asymmetry_sensitivity_n0(rates, [p.t_plus for p in pts], [p.t_minus for p in pts],
+                                          float(fp.coef[0]), float(fm.coef[0]))
         rows = [BudgetRow.type_a("fits of K_+i and K_−i (D.4, D.5)", "√(u²(K₊)+u²(K₋))/K̄", Q_(u_fit, ""), fp.dof),
                 BudgetRow.type_a("zero-rate count N̄_0", "u(N̄₀)", Q_(uN0, "P/s"), allz.size - 1,
-                                 sensitivity=Q_(abs(c_n0), "s/P"), note="sensitivity by re-evaluation at N̄₀ ± u")]
+                                 sensitivity=Q_(abs(c_n0), "s/P"),
+                                 note="∂K_a/∂N̄₀ analytic through the D.5 intercepts (one-sided at K₊ = K₋)")]
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
                      note=f"K₊ = {fp.coef[0]:.8f} P/″, K₋ = {fm.coef[0]:.8f} P/″, N̄₀ = {N0:.4f} P/s", earth_rate="removed")

@@ -311,3 +311,30 @@ def alpha1_rounding_d45(q_deg_h: float, tau0_h: float) -> float:
     rounding: white rate noise of variance q²/12 per sample of τ0, i.e. α1 = q²·τ0/12
     ((°/h)²·h; B_s²(τ) = α1/τ for white rate noise)."""
     return q_deg_h * q_deg_h * tau0_h / 12.0
+
+
+def asymmetry_sensitivity_n0(rates_deg_s: Sequence[float], t_plus_s: Sequence[float], t_minus_s: Sequence[float],
+                             K_plus: float, K_minus: float) -> float:
+    """|∂K_a/∂N̄_0| of eqs. (D.8)–(D.10) (GB/T 45570 D.1.3.3), s/P, analytically.
+
+    K_± are the D.5 intercepts of the K_±i of (D.8)/(D.9), linear in N̄_0: the intercept of a line
+    fit is linear in the data, so ∂K_+/∂N̄_0 = −a(t_+)/R and ∂K_−/∂N̄_0 = +a(t_−)/R, with a(t) the
+    intercept of the same fit of the revolution times and R = 360 × 3 600″.  With D = K_+ − K_− and
+    M = (K_+ + K_−)/2, K_a = |D|/M and
+
+        ∂K_a/∂N̄_0 = sign(D)·D′/M − |D|·M′/M²
+
+    At the kink (D = 0) the two one-sided slopes are ±D′/M; their common magnitude is returned
+    (a central difference through |D| would give about 0 there, or K_a itself near it)."""
+    r = np.asarray(rates_deg_s, dtype=float)
+
+    def icpt(y) -> float:
+        return float(np.polyfit(r, np.asarray(y, dtype=float), 1)[1])
+
+    dKp = -icpt(t_plus_s) / REVOLUTION_ARCSEC
+    dKm = icpt(t_minus_s) / REVOLUTION_ARCSEC
+    D, M = K_plus - K_minus, 0.5 * (K_plus + K_minus)
+    dD, dM = dKp - dKm, 0.5 * (dKp + dKm)
+    if D == 0.0:
+        return abs(dD) / M
+    return abs(math.copysign(1.0, D) * dD / M - abs(D) * dM / M**2)

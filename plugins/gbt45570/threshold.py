@@ -86,6 +86,9 @@ class ThresholdD4(Procedure):
                "inputs Ω_e·cos Ψ_i of the tilt series in °/h, smallest first (the sequence's Ψ_i)"),
         Option("seconds", "600 s", "s", "record per position, τ = 1 s (D.4.2 d): n = 600)"),
         Option("batches", 10, None, "batch means per position for the type A uncertainty", minimum=2),
+        Option("confidence", 0.95, None, "one-sided confidence with which a position's response must be resolved "
+               "from noise and quantization to count (interpretations.md, \"D.4 — a response that counts\")",
+               minimum=0.5, maximum=0.9999),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -136,28 +139,70 @@ class ThresholdD4(Procedure):
             points.append((s, psi, m, Ni))
             rows_t.append([s.id, f"{psi:.7f}", f"{x:.5f}", f"{Ni:.5g}",
                            f"{m['raw_mean'] if pulse else m['rate']:.5g}", f"{ratio * 100:.1f}"])
-        th, i = E.threshold_d39(inputs, ratios)
-        if th is None:
+        conf = float(opts["confidence"])
+        # the family of positions at ``conf`` (Bonferroni): each position at 1 − (1 − conf)/L, so
+        # noise passes no position below the threshold with more than 1 − conf probability
+        conf_each = 1.0 - (1.0 - conf) / len(points)
+        verdicts = [_resolved(abs(x), r, p[2], ref, conf_each) for x, r, p in zip(inputs, ratios, points)]
+        for row, v in zip(rows_t, verdicts):
+            row.append(v[0])
+        raw_th, raw_i = E.threshold_d39(inputs, ratios)
+        passing = [j for j, v in enumerate(verdicts) if v[0] == "resolved ≥ 50 %"]
+        if raw_th is None and not passing:
             j = int(np.argmax(np.abs(inputs)))
             raise DataError(campaign.source, "segments",
                             f"the tilt series never reaches 50 % of the expected response (D.39): the largest input "
                             f"{abs(inputs[j]):.4g} °/h (segment {points[j][0].id}) gives "
                             f"{abs(ratios[j]) * 100:.1f} %, the best {max(abs(r) for r in ratios) * 100:.1f} %",
                             hint="continue the series to larger inputs (option levels)")
-        seg, psi, m, Ni = points[i]
         warnings = []
-        if ratios[i] < 0:
-            warnings.append(f"at {th:.4g} °/h the response is {ratios[i] * 100:.0f} % of the expected one: opposite "
-                            "in sign to the input (D.39 compares the absolute value; check the polarity)")
+        opposite = [abs(inputs[j]) for j, r in enumerate(ratios) if r <= -E.THRESHOLD_FRACTION]
+        if opposite:
+            warnings.append("response opposite in sign to the input at " + ", ".join(f"{x:.4g}" for x in opposite)
+                            + " °/h: such a position does not count (check the polarity)")
+        not_reportable: list[str] = []
+        cand_row: list[BudgetRow] = []
+        if passing:
+            hi = min(passing, key=lambda j: abs(inputs[j]))
+            H = abs(inputs[hi])
+            fails = [abs(inputs[j]) for j, v in enumerate(verdicts) if v[0] == "resolved < 50 %" and abs(inputs[j]) < H]
+            L = max(fails) if fails else 0.0
+            # the positions the threshold may be: every one above the last resolved failure up to
+            # the first resolved pass; D.39 (right sign) picks among them
+            cands = sorted((j for j in range(len(inputs)) if L < abs(inputs[j]) <= H), key=lambda j: abs(inputs[j]))
+            i = next((j for j in cands if ratios[j] >= E.THRESHOLD_FRACTION), hi)
+            th = abs(inputs[i])
+            lo_c, hi_c = abs(inputs[cands[0]]), abs(inputs[cands[-1]])
+            if len(cands) > 1:
+                if not fails:
+                    not_reportable.append(
+                        f"no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
+                        f"confidence (at {abs(inputs[cands[0]]):.4g} °/h: {verdicts[cands[0]][1]}), so the threshold "
+                        f"may lie anywhere below {H:.4g} °/h; record longer at each position (option seconds)")
+                cand_row.append(BudgetRow.type_b(
+                    "positions not resolved from the noise: the threshold may be any of them", "ΔΩ (unresolved)",
+                    Q_(max(th - lo_c, hi_c - th), "deg/h"), distribution="uniform",
+                    note=f"{len(cands)} positions {lo_c:.4g} … {hi_c:.4g} °/h between the last resolved failure "
+                         f"({L:.4g} °/h) and the first resolved pass"))
+        else:
+            i, th = raw_i, raw_th
+            not_reportable.append(
+                f"no position's response is resolved at ≥ 50 % with the right sign at {conf:.0%} confidence "
+                f"(D.39's |ratio| alone first reaches 50 % at {th:.4g} °/h: {verdicts[i][1]})")
+        seg, psi, m, Ni = points[i]
         smaller = [abs(x) for x in inputs if abs(x) < th]
         below = max(smaller) if smaller else 0.0
         uA = math.hypot(m["u"], ref["u"])
         nu = uA**4 / (m["u"] ** 4 / m["nu"] + ref["u"] ** 4 / ref["nu"]) if uA > 0 else math.inf
         rows = [BudgetRow.type_a("noise of the response N̄*_i − N̄_0 (batch means), as an input rate", "√(u²(N̄*)+u²(N̄₀))",
                                  Q_(uA, "deg/h"), nu, note=f"ratio {ratios[i] * 100:.1f} % against 50 %"),
+                BudgetRow.type_b("quantization of N̄*_i and N̄_0 (one count, or the rounding step, per mean)", "u_q",
+                                 Q_(math.hypot(m["uq"], ref["uq"]), "deg/h"), distribution="normal", k=1.0,
+                                 note="the resolution a response must clear as well as the noise"),
                 BudgetRow.type_b("step of the tilt series: the threshold lies between the next smaller input and Ω_i",
                                  "(Ω_i − Ω_i−1)/2", Q_((th - below) / 2.0, "deg/h"), distribution="uniform",
                                  note=f"next smaller input {below:.4g} °/h")]
+        rows += cand_row
         rows += _decision_row(inputs, ratios, [p[2]["u"] for p in points], ref["u"], i)
         c_psi = EARTH_RATE_DEG_PER_H * abs(math.sin(math.radians(psi)))
         table = campaign.equipment_for("tilt_table")
@@ -176,7 +221,10 @@ class ThresholdD4(Procedure):
         rows += _scale_factor_row(conv, th, "deg/h")
         budget = UncertaintyBudget("Ω_i", "deg/h", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(th, "deg/h"), budget.combined, budget,
-                     note=f"Ψ_i = {psi:.6f}° (segment {seg.id}); N̄_0 from {refs[0].id}", earth_rate="not applicable")
+                     note=f"Ψ_i = {psi:.6f}° (segment {seg.id}); N̄_0 from {refs[0].id}; each position counts only when "
+                     f"its response is resolved ({conf:.0%} confidence over the {len(points)} positions, "
+                     f"{conf_each:.4g} each)", earth_rate="not applicable",
+                     reportable=not not_reportable, reason="; ".join(not_reportable))
         order = np.argsort(np.abs(inputs))
         plot = PlotSpec("threshold_ratio", "Response against the expected one (D.39)", "Ω_e cos Ψ_i (°/h)",
                         "|(N̄* − N̄₀)/N_i| (%)",
@@ -186,7 +234,7 @@ class ThresholdD4(Procedure):
                         logx=True)
         tab = TableSpec("tilt_positions", "Tilt positions (D.37–D.39)",
                         ["segment", "Ψ_i (°)", "Ω_e cos Ψ_i (°/h)", "N_i (D.37)" + (" (P)" if pulse else " (°/h)"),
-                         "N̄*_i (D.38)" + (" (P)" if pulse else " (°/h)"), "ratio (%)"], rows_t)
+                         "N̄*_i (D.38)" + (" (P)" if pulse else " (°/h)"), "ratio (%)", "decision"], rows_t)
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[tab],
                        warnings=warnings, segments=[refs[0].id] + [p[0].id for p in points],
                        options={k: str(v) for k, v in opts.items()})
@@ -249,7 +297,50 @@ def _mean_response(seg: Segment, campaign: Campaign, batches: int) -> dict[str, 
     mean_raw = E.mean_counts_d38(raw)
     sd, nb = allan.block_std(raw, raw.size // batches)
     return {"raw_mean": mean_raw, "rate": mean_raw * conv.magnitude, "u": sd * conv.magnitude / math.sqrt(nb),
-            "nu": nb - 1, "conv": conv, "tau": float(series.interval.to("s").magnitude)}
+            "nu": nb - 1, "conv": conv, "tau": float(series.interval.to("s").magnitude),
+            "uq": _quantization_u(campaign, conv, raw)}
+
+
+def _quantization_u(campaign: Campaign, conv, raw: np.ndarray) -> float:
+    """Standard uncertainty (°/h) of one position's mean from the output's quantization: pulse
+    counts ±1 P over the record (the readout at its two ends), a rounded rate ±q/2 unless the
+    noise dithers the rounding (:func:`.procedures.quantization_rows_mean`'s rule); uniform."""
+    from .formulas import rounding_mean_bound, rounding_sigma
+    from .procedures import quantization_of
+
+    if conv.output_kind == "pulse":
+        h = abs(conv.magnitude) / raw.size
+    else:
+        qz = quantization_of(campaign, conv, raw)
+        if qz.q <= 0:
+            return 0.0
+        h = rounding_mean_bound(qz.q, rounding_sigma(qz.s, qz.q)) if qz.dithered else qz.q / 2.0
+    return h / math.sqrt(3.0)
+
+
+def _resolved(x: float, ratio: float, m: Mapping[str, Any], ref: Mapping[str, Any], conf: float) -> tuple[str, str]:
+    """Whether a position's response is resolved at ≥ 50 % of its input, resolved below it, or
+    neither (interpretations.md, "D.4 — a response that counts").
+
+    The response along the input, d = ratio·x (°/h, negative when opposite in sign), has the
+    standard uncertainty u = √(u²(N̄*) + u²(N̄₀) + u_q²) (batch-means noise of both means and their
+    quantization); with t the one-sided ``conf`` quantile of Student's t at the Welch–Satterthwaite
+    ν, the position counts when d − t·u ≥ 50 %·x, and surely fails when d + t·u < 50 %·x."""
+    from scipy.stats import t as student
+
+    ua = math.hypot(m["u"], ref["u"])
+    uq = math.hypot(m["uq"], ref["uq"])
+    u = math.hypot(ua, uq)
+    nu = u**4 / (m["u"] ** 4 / m["nu"] + ref["u"] ** 4 / ref["nu"]) if ua > 0 else math.inf
+    tq = float(student.ppf(conf, nu)) if math.isfinite(nu) else float(student.ppf(conf, 1e9))
+    d = ratio * x
+    need = E.THRESHOLD_FRACTION * x
+    text = f"response {d:.3g} ± {tq * u:.2g} °/h against 50 % = {need:.3g} °/h"
+    if d - tq * u >= need:
+        return "resolved ≥ 50 %", text
+    if d + tq * u < need:
+        return "resolved < 50 %", text
+    return "not resolved", text
 
 
 PROCEDURES = (ThresholdD4,)
