@@ -302,7 +302,9 @@ def test_acquire_then_run_all_seven_items_from_disk(run_cli, pm, tmp_path):
         unit = mem[key].metric.unit  # the JSON gives values in the metric's unit (shown as "%", "″", …)
         assert r["value"] == pytest.approx(mem[key].value.to(unit).magnitude, rel=1e-9), key
         assert r["U"] == pytest.approx(mem[key].U.to(unit).magnitude, rel=1e-9), key
-        assert r["k"] == 2.0
+        # k = 2 for E (appendix A 8, appendix B); k = t_p(ν_eff) at 95.45 % for the rest (interpretations.md)
+        assert r["k"] == (2.0 if key == "E" else pytest.approx(mem[key].budget.coverage.factor(mem[key].budget.nu_eff)))
+        assert r["k"] >= 2.0 - 1e-5 and mem[key].earth_rate == "removed"
     rows = [[c.text for c in row.cells] for row in docx.Document(str(cert)).tables[0].rows]
     assert [r[0] for r in rows[1:]] == ["1", "2", "3", "4", "5", "6", "7"]
     assert not any(r[2].startswith("—") for r in rows[1:]), rows
@@ -355,7 +357,14 @@ def test_reference_case_per_item(pm, cls, approx_quantity):
     rec, camp = _run(pm, [cls.item], **QUIET)
     (res,) = rec.outcomes[0].results
     assert res.metric.key == cls.metrics[0].key and res.budget is not None and res.U is not None
-    assert res.budget.k == 2.0
+    if res.metric.key == "E":
+        assert res.budget.k == 2.0  # fixed by appendix A 8 and the certificate of appendix B
+    else:  # t_p(ν_eff), p = 95.45 %
+        from scipy import stats
+
+        nu = res.budget.nu_eff
+        assert res.budget.k == pytest.approx(2.0000024 if math.isinf(nu) else stats.t.ppf(0.97725, nu), rel=1e-6)
+    assert res.earth_rate == "removed" and "compensation" in res.note
     exp = Q_(0.0, "arcsec") if cls is Repeatability75 else camp.expected[res.metric.key]
     assert approx_quantity(exp, rel=1e-9, abs=Q_(1e-9, exp.units)) == res.value
     # and the model's value is not trivial (the ratio items divide by a non-zero E)

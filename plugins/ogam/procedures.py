@@ -42,7 +42,21 @@ from . import formulas as F
 
 STANDARD = "ogam"
 STATION = "simulated-ogam"
-COVERAGE = Coverage.fixed(2.0)  # appendix A 8 and appendix B: k = 2
+#: E: appendix A 8 and the certificate format of appendix B fix "k = 2" (interpretations.md,
+#: "Coverage factor (ogam)")
+COVERAGE = Coverage.fixed(2.0)
+#: every other result (the draft fixes no k for them): k = t_p(ν_eff), p = 95.45 % (JJF 1059.1 5.3.4)
+COVERAGE_NU = Coverage.probability(0.9545)
+#: "校准开始前, 光学陀螺测角仪完成预热和地球自转(地速)补偿操作" (clause 7): the instrument removes the
+#: earth rate before every item; what its compensation leaves (η·Ω) is part of the zero drift
+EARTH_RATE = "removed"
+EARTH_NOTE = "earth rate removed by the instrument's own compensation before the item (clause 7)"
+
+
+def _disclosed(res: Result) -> Result:
+    """The result with its earth-rate statement (issue 13)."""
+    note = f"{res.note}; {EARTH_NOTE}" if res.note else EARTH_NOTE
+    return attrs.evolve(res, earth_rate=EARTH_RATE, note=note)
 REF_RATE = 60.0  # °/s, clauses 7.1, 7.4 and the reference of 7.6
 RATES = (1.0, 10.0, 60.0, 100.0, 150.0, 200.0, 250.0, 300.0)  # clause 7.6
 AXES = ("up", "north", "east")  # clause 7.7 (north may be south, east may be west)
@@ -330,11 +344,11 @@ class ScaleFactor71(Procedure):
                              sensitivity=Q_(math.sqrt(float(np.sum(theta ** -2.0))) / n, "1/deg"),
                              note="each K_i = C_i/θ_i, independent roundings"),
         ]
-        budget = UncertaintyBudget("K", "P/deg", rows, coverage=COVERAGE)
+        budget = UncertaintyBudget("K", "P/deg", rows, coverage=COVERAGE_NU)
         res = Result(self.metrics[0], Q_(K, "P/deg"), budget.combined, budget)
         table = TableSpec("k_rounds", "Scale factor per round (7.1)", ["round", "θ_i (°)", "C_i (P)", "K_i (P/°)"],
                           [[i + 1, f"{theta[i]:g}", f"{counts[i]:.0f}", f"{k_i[i]:.6f}"] for i in range(n)])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
+        return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], tables=[table], warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
 
 
@@ -380,10 +394,10 @@ class Linearity72(Procedure):
                                  sensitivity=Q_(100.0 * math.sqrt(theta[i_max] ** -2 + theta[i_min] ** -2) / K,
                                                 "percent/P"),
                                  note="one count is 1/K of a degree; independent roundings")]
-        budget = UncertaintyBudget("K_l", "percent", rows, coverage=COVERAGE)
+        budget = UncertaintyBudget("K_l", "percent", rows, coverage=COVERAGE_NU)
         res = Result(self.metrics[0], Q_(Kl, "percent"), budget.combined, budget,
                      note=f"max K_i at θ = {theta[i_max]:g}°, min at θ = {theta[i_min]:g}°")
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings, segments=[seg.id],
+        return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], warnings=warnings, segments=[seg.id],
                        options={k: str(v) for k, v in opts.items()})
 
 
@@ -437,7 +451,7 @@ class ZeroStability73(Procedure):
         n = m.size
         rows = [BudgetRow.type_a(f"sampling of the {'standard deviation' if stat == 'std' else 'range'} of {n} "
                                  "readings", "B_s/√(2(n−1))", Q_(Bs / math.sqrt(2 * (n - 1)), "deg/h"), n - 1)]
-        budget = UncertaintyBudget("B_s", "deg/h", rows, coverage=COVERAGE)
+        budget = UncertaintyBudget("B_s", "deg/h", rows, coverage=COVERAGE_NU)
         other = F.zero_stability_73(m, T_h, "range" if stat == "std" else "std")
         res = Result(self.metrics[0], Q_(Bs, "deg/h"), budget.combined, budget,
                      note=f"{n} readings over {T_h * 60:g} min; {'range' if stat == 'std' else 'std'} reading "
@@ -445,7 +459,7 @@ class ZeroStability73(Procedure):
         plot = PlotSpec("zero", "Readings at rest (7.3)", "t (min)", "M (″)",
                         [{"label": "M_n", "x": (np.arange(n) * T_h * 60 / (n - 1)).tolist(),
                           "y": (m * F.ARCSEC_PER_DEG).tolist(), "style": "o-"}])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], warnings=warnings,
+        return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot], warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
 
 
@@ -493,7 +507,7 @@ class PositionError74(_EBase):
                           "y": sim.error_arcsec[::40].tolist(), "style": "-"}])
         table = TableSpec("E_i", "E_i and R_i per calibration point", ["i", "S_i (°)", "E_i (″)", "R_i (″)"],
                           [[i + 1, f"{S[i]:g}", f"{e_i[i]:+.3f}", f"{R_i[i]:.3f}"] for i in range(S.size)])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot, tilt], tables=[table],
+        return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot, tilt], tables=[table],
                        warnings=warnings, segments=[s.id for _, s in rounds],
                        options={k: str(v) for k, v in opts.items()})
 
@@ -522,12 +536,12 @@ class Repeatability75(_EBase):
         n = E.shape[0]
         budget = UncertaintyBudget("R", "arcsec", [BudgetRow.type_a(
             f"sampling of a standard deviation of {n} rounds", "R/√(2(n−1))", Q_(R / math.sqrt(2 * (n - 1)), "arcsec"),
-            n - 1)], coverage=COVERAGE)
+            n - 1)], coverage=COVERAGE_NU)
         j = int(np.argmax(R_i))
         res = Result(self.metrics[0], Q_(R, "arcsec"), budget.combined, budget, note=f"largest at S = {S[j]:g}°")
         plot = PlotSpec("R_i", "Repeatability per position (7.5)", "S (°)", "R_i (″)",
                         [{"label": "R_i", "x": S.tolist(), "y": R_i.tolist(), "style": "o-"}])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], warnings=warnings,
+        return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot], warnings=warnings,
                        segments=[s.id for _, s in rounds], options={k: str(v) for k, v in opts.items()})
 
 
@@ -590,7 +604,7 @@ class RateConsistency76(_EBase):
         opts = self.option_values(ctx.options)
         C, rows, warnings, used, values, trows = _consistency(
             self, campaign, opts, [(v, "up") for v in RATES], (REF_RATE, "up"), lambda k: f"{k[0]:g} °/s")
-        budget = UncertaintyBudget("C_v", "percent", rows, coverage=COVERAGE)
+        budget = UncertaintyBudget("C_v", "percent", rows, coverage=COVERAGE_NU)
         rng = max(values.values()) - min(values.values())
         res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
                      note=f"max E_v − min E_v = {rng:.3f}″, E_60 = {values[(REF_RATE, 'up')]:.3f}″")
@@ -598,7 +612,7 @@ class RateConsistency76(_EBase):
         plot = PlotSpec("E_v", "Angle-position error against rate (7.6)", "v (°/s)", "E_v (″)",
                         [{"label": "E_v", "x": [k[0] for k in values], "y": list(values.values()), "style": "o-"}],
                         logx=True)
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[table],
+        return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot], tables=[table],
                        warnings=warnings, segments=used, options={k: str(v) for k, v in opts.items()})
 
 
@@ -623,12 +637,12 @@ class PointingConsistency77(_EBase):
         east = "east" if (REF_RATE, "east") in groups or (REF_RATE, "west") not in groups else "west"
         C, rows, warnings, used, values, trows = _consistency(
             self, campaign, opts, [(REF_RATE, a) for a in ("up", north, east)], (REF_RATE, "up"), lambda k: k[1])
-        budget = UncertaintyBudget("C_g", "percent", rows, coverage=COVERAGE)
+        budget = UncertaintyBudget("C_g", "percent", rows, coverage=COVERAGE_NU)
         rng = max(values.values()) - min(values.values())
         res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
                      note=f"max E_g − min E_g = {rng:.3f}″, E_up = {values[(REF_RATE, 'up')]:.3f}″")
         table = TableSpec("E_g", "Angle-position error per axis direction (7.7)", ["axis", "E_g (″)"], trows)
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
+        return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], tables=[table], warnings=warnings,
                        segments=used, options={k: str(v) for k, v in opts.items()})
 
 
