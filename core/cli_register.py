@@ -148,16 +148,19 @@ def write_run_report(args, pm, record, prog=None):
         from .registering import check_equipment, measurement_date
 
         check_equipment(record.campaign, measurement_date(record), allow_expired=getattr(args, "allow_expired", False))
-    why = "no lab profile" if lab is None else "simulated run; --register-simulated registers it"
+    why = "no lab profile" if lab is None else "simulated"
     target = Path(args.report) if args.report else Path(args.out) / f"{record.report_number}.docx"
     target.parent.mkdir(parents=True, exist_ok=True)
     template = pm.template_for(record.standard).path
     designations = {s.id: s.designation for s in pm.registry.standards.values()}
     path = write_report(target, record, template=template, designations=designations,
-                        extend=pm.extend_report_context, register=unregistered(record, why))
+                        extend=pm.extend_report_context,
+                        register=unregistered(record, why, lab.language if lab is not None else "zh+en"))
     record.timings["write report"] = time.perf_counter() - t0
     pm.report_written(path, record.outcomes)
-    return record, path, {"registered": False, "number": record.report_number, "why": why}
+    from .registering import NOT_REGISTERED
+
+    return record, path, {"registered": False, "number": record.report_number, "why": NOT_REGISTERED[why][1]}
 
 
 def run_lab_options(args) -> dict[str, Any]:

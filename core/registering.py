@@ -91,13 +91,50 @@ def check_equipment(campaign: Any, on: dt.date, *, allow_expired: bool) -> list[
     return expired
 
 
-def unregistered(record: "RunRecord", why: str) -> dict[str, Any]:
-    """The register statement of a report that is not registered."""
+def _say(language: str, zh: str, en: str) -> str:
+    """One statement in the lab's certificate language: ``zh``, ``en`` or both (``zh+en``)."""
+    if language == "zh":
+        return zh
+    if language == "en":
+        return en
+    return f"{zh} {en}"
+
+
+#: why a report is not registered: (中文, English)
+NOT_REGISTERED = {
+    "no lab profile": ("未配置实验室档案", "no lab profile"),
+    "simulated": ("仿真运行", "simulated run; --register-simulated registers it"),
+}
+
+
+def unregistered(record: "RunRecord", why: str, language: str = "zh+en") -> dict[str, Any]:
+    """The register statement of a report that is not registered (``why``: a key of
+    :data:`NOT_REGISTERED`)."""
+    zh, en = NOT_REGISTERED[why]
+    n = record.report_number
     return {
-        "registered": False, "number": record.report_number, "supersedes": None, "reason": "",
-        "notices": [f"Not registered ({why}): this report is in no lab register, and its number "
-                    f"{record.report_number} is not a register number."],
+        "registered": False, "number": n, "supersedes": None, "reason": "", "expired": [], "on": None,
+        "notices": [_say(language, f"未登记（{zh}）：本报告未列入实验室报告登记册，编号 {n} 不是登记编号。",
+                         f"Not registered ({en}): this report is in no lab register, and its number {n} is "
+                         "not a register number.")],
     }
+
+
+def notices_for(lab: "LabProfile", number: str, *, supersedes: str | None = None, reason: str = "",
+                expired: Sequence[str] = (), on: str | None = None) -> list[str]:
+    """The statements at the top of a registered report: its register number and lab, the report
+    it replaces and why, and equipment used past its due date (``--allow-expired``)."""
+    lang = lab.language
+    out = [_say(lang, f"登记报告 {number}，{lab.name_zh or lab.name_en}。",
+                f"Registered report {number} of {lab.name_en or lab.name_zh}.")]
+    if supersedes:
+        out.append(_say(lang, f"本报告替代报告 {supersedes}（该报告已被替代）。原因：{reason}",
+                        f"This report replaces report {supersedes}, which is superseded by it. Reason: {reason}"))
+    if expired:
+        out.append(_say(lang, f"按 --allow-expired 出具：下列设备在测量日期 {on} 已超过校准有效期：" + "；".join(expired) + "。",
+                        "Issued with --allow-expired: equipment past its calibration due date on the "
+                        f"measurement date {on}: " + "; ".join(expired) + "."))
+    return out
 
 
 # --------------------------------------------------------------------------------------
@@ -259,15 +296,10 @@ def register_run(
     def make(number: str, issued_at: dt.datetime) -> Draft:
         rec = attrs.evolve(record, report_number=number)
         numbered.append(rec)
-        notices = [f"Registered report {number} of {lab.name}."]
-        if supersedes:
-            notices.append(f"This report replaces report {supersedes}, which is superseded by it. "
-                           f"Reason: {reason}")
-        if expired:
-            notices.append("Issued with --allow-expired: equipment past its calibration due date on the "
-                           f"measurement date {on.isoformat()}: " + "; ".join(expired) + ".")
+        notices = notices_for(lab, number, supersedes=supersedes, reason=reason, expired=expired,
+                              on=on.isoformat())
         statement = {"registered": True, "number": number, "supersedes": supersedes, "reason": reason,
-                     "lab": lab.name, "notices": notices}
+                     "lab": lab.name, "expired": list(expired), "on": on.isoformat(), "notices": notices}
         ctx = build_context(rec, designations=designations, extend=pm.extend_report_context, register=statement)
         fields, results = draft_for(rec, ctx, lab=lab, template=template, allow_expired=allow_expired,
                                     options=options)
@@ -355,12 +387,11 @@ def amend(
     def make(new: str, issued_at: dt.datetime) -> Draft:
         old_number = doc["report_number"]
         ctx = decode_context(_replace_text(doc, old_number, new))
-        notices = [n for n in (ctx.get("register") or {}).get("notices", [])
-                   if not n.startswith(("Registered report", "This report replaces"))]
-        notices = [f"Registered report {new} of {lab.name}.",
-                   f"This report replaces report {number}, which is superseded by it. Reason: {reason}"] + notices
+        before = ctx.get("register") or {}
+        expired, on = before.get("expired") or [], before.get("on")
         ctx["register"] = {"registered": True, "number": new, "supersedes": number, "reason": reason,
-                           "lab": lab.name, "notices": notices}
+                           "lab": lab.name, "expired": expired, "on": on,
+                           "notices": notices_for(lab, new, supersedes=number, reason=reason, expired=expired, on=on)}
         fields = dict(keep, context=encode_context(ctx))
 
         def write(tmp: Path) -> None:

@@ -187,3 +187,23 @@ def test_concurrent_processes_get_distinct_consecutive_numbers(register_url, tmp
     assert sorted(p.name for p in out.iterdir()) == [f"{n}.docx" for n in sorted(numbers)]
     reg = open_register(register_url)
     assert sorted(r["number"] for r in reg.list()) == sorted(numbers)
+
+
+@pytest.mark.parametrize("url,reason", [
+    ("mysql://a@b/c", "unsupported database 'mysql'"),
+    ("sqlite:////proc/no-such-folder/r.sqlite", "cannot open the database"),
+    ("postgresql+psycopg://metro@127.0.0.1:1/x", "cannot open the database"),
+])
+def test_unusable_register_is_a_clear_error(url, reason):
+    with pytest.raises(RegisterError, match=reason):
+        open_register(url)
+
+
+def test_register_from_a_newer_metro_is_refused(tmp_path):
+    url = "sqlite:///" + str(tmp_path / "r.sqlite")
+    reg = open_register(url)
+    with reg.engine.begin() as c:
+        c.exec_driver_sql("UPDATE alembic_version SET version_num = '9999'")
+    reg.close()
+    with pytest.raises(RegisterError, match="newer metro"):
+        open_register(url)

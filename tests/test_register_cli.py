@@ -50,7 +50,8 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     code, doc = _json(capsys, *SIM_GBT, "--seed", "1", "--out", str(out))
     assert code == 0 and doc["register"]["registered"] is False and doc["report_number"].startswith("MTR-")
     text = _docx_text(doc["report"])
-    assert text[0].startswith("Not registered (simulated run") and doc["report_number"] in text[0]
+    assert text[0].startswith("未登记（仿真运行）") and "Not registered (simulated run" in text[0]
+    assert doc["report_number"] in text[0]
     # two standards on the simulator with --register-simulated, then a recorded campaign
     code, a = _json(capsys, *SIM_GBT, "--seed", "1", "--out", str(out), "--register-simulated")
     code2, b = _json(capsys, *SIM_JJF, "--seed", "2", "--out", str(out), "--register-simulated")
@@ -62,7 +63,9 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     assert all(x["register"]["registered"] for x in (a, b, c))
     assert Path(a["report"]).name == f"EML{year}-00001.docx"
     first = _docx_text(a["report"])
-    assert first[0] == f"Registered report EML{year}-00001 of Example Metrology Laboratory."
+    # the template's language is zh+en: the statement in both
+    assert first[0] == (f"登记报告 EML{year}-00001，示例计量实验室。 "
+                        f"Registered report EML{year}-00001 of Example Metrology Laboratory.")
     assert any("示例计量实验室 Example Metrology Laboratory" in t for t in first)  # lab identity from the profile
 
     code, lst = _json(capsys, "register", "list")
@@ -107,8 +110,9 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     assert statuses[am1["number"]] == ("superseded", numbers[2], am2["number"])
     assert statuses[am2["number"]] == ("issued", am1["number"], None)
     t5 = _docx_text(am2["report"])
-    assert t5[1] == (f"This report replaces report {am1['number']}, which is superseded by it. "
-                     "Reason: typo in the serial number")
+    assert t5[1].endswith(f"This report replaces report {am1['number']}, which is superseded by it. "
+                          "Reason: typo in the serial number")
+    assert t5[1].startswith(f"本报告替代报告 {am1['number']}（该报告已被替代）。原因：typo in the serial number")
     assert not any(am1["number"] in t for t in t5[2:])  # the old number printed nowhere else
     assert main(["amend", numbers[2], "--reason", "again"]) == 2  # a superseded report is not amended
     assert "superseded" in capsys.readouterr().err
@@ -138,7 +142,8 @@ def test_expired_equipment_refuses_unless_allowed(lab, tmp_path, capsys, campaig
     code, doc = _json(capsys, *args, "--allow-expired")
     assert code == 0 and doc["register"]["registered"]
     text = _docx_text(doc["report"])
-    assert text[1].startswith("Issued with --allow-expired") and "CNT-1" in text[1] and "2025-01-01" in text[1]
+    assert text[1].startswith("按 --allow-expired 出具") and "Issued with --allow-expired" in text[1]
+    assert "CNT-1" in text[1] and "2025-01-01" in text[1]
     show = _json(capsys, "register", "show", doc["report_number"])[1]
     assert show["allow_expired"] is True
     assert [e["valid"] for e in show["equipment"] if e["id"] == "CNT-1"] == [False]
@@ -232,3 +237,14 @@ def test_manifest_names_lab_equipment_by_id(lab, tmp_path, capsys, campaign_fact
     lab.write_text(text.replace("due = 2027-06-30", "due = 2020-01-01"), encoding="utf-8")
     assert main(["run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out", str(tmp_path / "o3")]) == 2
     assert "LAB-CNT-9" in capsys.readouterr().err and not (tmp_path / "o3").exists()
+
+
+def test_statement_follows_the_lab_language(lab, tmp_path, capsys):
+    lab.write_text(lab.read_text(encoding="utf-8").replace('language = "zh+en"', 'language = "en"'), encoding="utf-8")
+    year = dt.datetime.now(dt.timezone.utc).year
+    code, d = _json(capsys, *SIM_JJF, "--seed", "4", "--out", str(tmp_path / "o"), "--register-simulated")
+    assert _docx_text(d["report"])[0] == f"Registered report EML{year}-00001 of Example Metrology Laboratory."
+    code, a = _json(capsys, "amend", d["report_number"], "--reason", "re-issued")
+    assert _docx_text(a["report"])[:2] == [
+        f"Registered report EML{year}-00002 of Example Metrology Laboratory.",
+        f"This report replaces report EML{year}-00001, which is superseded by it. Reason: re-issued"]

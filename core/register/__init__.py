@@ -144,9 +144,18 @@ def open_register(url: str) -> "Register":
 
     from ..lab import redact_url
 
+    scheme = url.split(":", 1)[0]
+    if not (scheme.startswith("sqlite") or scheme.startswith("postgres")):
+        raise RegisterError(f"register {redact_url(url)}: unsupported database {scheme!r}",
+                            hint="an SQLite file (sqlite:////path/register.sqlite) or PostgreSQL "
+                            "(postgresql+psycopg://user@host:port/db)")
     try:
         engine = _engine(url)
         migrate(engine)
+    except (OSError, ImportError) as exc:
+        raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
+                            hint="check the lab profile's register (or METRO_REGISTER): its folder must be "
+                            "writable") from exc
     except SQLAlchemyError as exc:
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc.__class__.__name__}: "
                             f"{str(exc).splitlines()[0]})",
