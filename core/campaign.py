@@ -25,6 +25,9 @@ FORMAT = "metro-campaign/1"
 
 _DEVICE_KEYS = {"id", "manufacturer", "model", "serial", "technology", "application", "output"}
 _DEVICE_QUANTITIES = {"scale_factor": None, "scale_factor_U": None}
+#: the manifest's own top-level keys; every other table is a record section (Campaign.records)
+CORE_KEYS = frozenset({"format", "campaign", "device", "environment", "site", "equipment", "segments",
+                       "specification"})
 _TECH = {"laser", "fibre", "fiber", "mems", "vibratory", "other", ""}
 _OUTPUT = {"pulse", "digital", "analog", "rate", ""}
 
@@ -318,14 +321,16 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
                             hint="the lab profile's equipment: " + (", ".join(sorted(lab_equipment)) or "none"))
         equipment.append(equipment_from_table(e, src, where, warnings))
 
+    records = {k: v for k, v in doc.items() if k not in CORE_KEYS and isinstance(v, (dict, list))}
     seg_list = doc.get("segments")
-    if not seg_list:
-        raise DataError(src, "segments", "no [[segments]] given; a campaign needs at least one measured segment")
-    if not isinstance(seg_list, list):
+    if not seg_list and not records:
+        raise DataError(src, "segments", "no [[segments]] given; a campaign needs at least one measured segment "
+                        "(or record sections such as [inspection], docs/data-format.md)")
+    if seg_list is not None and not isinstance(seg_list, list):
         raise DataError(src, "segments", "must be an array of tables ([[segments]])")
     segments = []
     seen = set()
-    for i, s in enumerate(seg_list):
+    for i, s in enumerate(seg_list or []):
         where = f"segments[{i}]"
         if not isinstance(s, dict):
             raise DataError(src, where, f"must be a table, got {type(s).__name__}")
@@ -381,7 +386,7 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         device=device, equipment=equipment, environment=environment, site=site, segments=segments,
         source=src, simulated=simulated,
         meta={k: v for k, v in camp.items() if k != "id"},
-        specification=specification, manifest_sha256=digest, warnings=warnings,
+        specification=specification, manifest_sha256=digest, warnings=warnings, records=records,
     )
 
 

@@ -300,6 +300,11 @@ class Campaign:
     #: what reading the manifest noticed without refusing it (deprecated spellings, unknown keys)
     warnings: tuple[str, ...] = attrs.field(default=(), converter=tuple)
 
+    #: records that are not sampled signals — the manifest's further sections (``[inspection]``,
+    #: ``[[environmental_tests]]``, ``[reliability]`` …) as written (text with units, numbers,
+    #: tables), by section name; the plugin whose items read a section validates it
+    records: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
+
     # the typed view of [campaign] (metro.core.vocabulary) that documents and the register read
     @property
     def people(self) -> People:
@@ -564,9 +569,15 @@ class Option:
         return parse_quantity(value, dimension=self.unit, field=f"option {self.name}")
 
 
+#: a step whose kind starts with this produces records (:attr:`Campaign.records`), not a segment
+RECORD_KIND_PREFIX = "record:"
+
+
 @attrs.frozen
 class Step:
-    """One step of a test sequence: acquire a segment under these conditions."""
+    """One step of a test sequence: acquire a segment under these conditions (or, for a kind
+    ``record:<section>``, take down a record — an inspection, a test done elsewhere — in that
+    section of :attr:`Campaign.records`)."""
 
     segment: str
     kind: str
@@ -575,6 +586,11 @@ class Step:
     interval: pint.Quantity
     conditions: Mapping[str, Any] = attrs.field(factory=dict, converter=_frozen_map)
     warmup: pint.Quantity | None = None
+
+    @property
+    def is_record(self) -> bool:
+        """Whether the step takes down a record rather than acquiring a segment."""
+        return self.kind.startswith(RECORD_KIND_PREFIX)
 
 
 @attrs.define
@@ -608,6 +624,14 @@ class Procedure(abc.ABC):
     options: ClassVar[tuple[Option, ...]] = ()
     #: the registered station that runs this item when no data is given
     station: ClassVar[str] = "simulated"
+    #: the record sections (:attr:`Campaign.records`) the item reads
+    record_sections: ClassVar[tuple[str, ...]] = ()
+
+    @classmethod
+    def missing_records(cls, campaign: Campaign) -> str:
+        """What records the item needs and ``campaign`` lacks, in words ('' if none); items
+        reading part of a section override this to look deeper."""
+        return ", ".join(f"[{s}]" for s in cls.record_sections if s not in campaign.records)
 
     @classmethod
     def qualified_id(cls) -> str:

@@ -104,6 +104,10 @@ def select_items(
                 choices.append(ItemChoice(item, False, "no data: the campaign has no segment of kind "
                                           + ", ".join(f"'{r.kind}' ({r.description})" for r in missing), via))
                 return
+            lacking = cls.missing_records(campaign)
+            if lacking:
+                choices.append(ItemChoice(item, False, f"no record: the campaign has no {lacking}", via))
+                return
         choices.append(ItemChoice(item, a.applies, a.reason or ("applies" if a.applies else "does not apply"), via))
 
     for name in requested:
@@ -151,7 +155,9 @@ def _merge_campaigns(parts: Sequence[tuple[str, Campaign]]) -> Campaign:
     segments, seen, equipment, eq_ids = [], set(), [], set()
     truth: dict[str, Any] = {}
     expected: dict[str, Any] = {}
+    records: dict[str, Any] = {}
     for name, c in parts:
+        records.update(c.records)
         for seg in c.segments:
             segments.append(seg if seg.id not in seen else attrs.evolve(seg, id=f"{name}:{seg.id}"))
             seen.add(segments[-1].id)
@@ -164,7 +170,7 @@ def _merge_campaigns(parts: Sequence[tuple[str, Campaign]]) -> Campaign:
     return attrs.evolve(
         first, id="+".join(c.id for _, c in parts), equipment=equipment, segments=segments,
         source="; ".join(f"{c.source} ({n})" for n, c in parts), simulated=any(c.simulated for _, c in parts),
-        truth=truth, expected=expected,
+        truth=truth, expected=expected, records=records,
     )
 
 

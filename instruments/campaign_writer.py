@@ -157,7 +157,37 @@ def manifest_text(campaign: Campaign, files: Mapping[str, tuple[str, Mapping[str
         if seg.conditions:
             _table(lines, "[segments.conditions]", seg.conditions, f"segments.{seg.id}.conditions")
         _table(lines, "[segments.units]", units, f"segments.{seg.id}.units")
+    for name, value in campaign.records.items():
+        _record_lines(lines, str(name), value)
     return "\n".join(lines) + "\n"
+
+
+def _is_table_array(v: Any) -> bool:
+    return isinstance(v, (list, tuple)) and bool(v) and all(isinstance(x, Mapping) for x in v)
+
+
+def _record_lines(lines: list[str], path: str, value: Any) -> None:
+    """A record section (Campaign.records) as TOML: ``[path]`` for a table, ``[[path]]`` for an
+    array of tables, their sub-tables below them."""
+    if _is_table_array(value):
+        for item in value:
+            _record_table(lines, f"[[{path}]]", path, item)
+    elif isinstance(value, Mapping):
+        _record_table(lines, f"[{path}]", path, value)
+    else:
+        raise DataError(None, path, f"a record section must be a table or an array of tables, got {value!r}")
+
+
+def _record_table(lines: list[str], header: str, path: str, table: Mapping[str, Any]) -> None:
+    lines += ["", header]
+    nested = {}
+    for k, v in table.items():
+        if isinstance(v, Mapping) or _is_table_array(v):
+            nested[k] = v
+        elif v is not None:
+            lines.append(f"{_key(str(k))} = {_value(v, f'{path}.{k}')}")
+    for k, v in nested.items():
+        _record_lines(lines, f"{path}.{_key(str(k))}", v)
 
 
 # ------------------------------------------------------------------------------ samples
@@ -304,7 +334,7 @@ def acquire_campaign(
     if progress is not None:
         progress("acquiring", len(steps), len(steps))
     ids = {seg.id for seg in campaign.segments}
-    missing = [s.segment for s in steps if s.segment not in ids]
+    missing = [s.segment for s in steps if s.segment not in ids and not s.is_record]
     if missing:
         raise MetroError(f"station {station!r} returned no segment for step(s) {', '.join(missing)}")
     extra = {"station": station, "standard": standard, "items": ",".join(items),

@@ -747,7 +747,14 @@ def gbt45570_equipment(seed: int = 1) -> list[EquipmentModel]:
                           certificate="SIM-CAL-0008", U=Q_(2e-3, ""), **sim),
         Counter(id="SIM-COUNTER", model="simulated counter/time base", certificate="SIM-CAL-0001",
                 U=Q_(1e-7, ""), **sim),
-    ]
+    ] + _type_test_equipment(seed)
+
+
+def _type_test_equipment(seed: int) -> list[EquipmentModel]:
+    """Callipers, balance and megohmmeter of the GB/T 45570 clause-5 type test (instruments/sim_gbt_type.py)."""
+    from .sim_gbt_type import type_test_equipment
+
+    return type_test_equipment(seed)
 
 
 def jjf2014_equipment(seed: int = 1) -> list[EquipmentModel]:

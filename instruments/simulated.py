@@ -246,9 +246,16 @@ class SimulatedStation:
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""
         segments = []
+        records: dict[str, Any] = {}
         t = self.truth
         unit = output_unit(t)
         for i, step in enumerate(steps):
+            if step.is_record:
+                take_down = record_simulators().get(step.kind)
+                if take_down is None:
+                    raise ValueError(f"the simulated station has no record of kind {step.kind!r}")
+                merge_records(records, take_down(self, step, i))
+                continue
             interval_s = float(step.interval.to("s").magnitude) if step.interval is not None else float(
                 self.interval.to("s").magnitude)
             n = max(1, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
@@ -296,6 +303,8 @@ class SimulatedStation:
                     for k, v in expected_scale_factor(t, vals, self.latitude_deg).items()}
         for contribute in expected_contributors():
             exp |= contribute(self, segments)
+        for contribute in (_RECORD_EXPECTED if records else ()):
+            exp |= contribute(self, records)
         return Campaign(
             id="SIMULATED",
             device=self.device(),
@@ -307,6 +316,7 @@ class SimulatedStation:
             simulated=True,
             truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
             expected=exp,
+            records=records,
         )
 
 
@@ -327,7 +337,56 @@ def _reversed(seg: Segment) -> Segment:
 #: step kind -> simulator; see :func:`register_step_kind`
 _STEP_SIMULATORS: dict[str, Callable[..., Segment]] = {}
 #: modules that register further step kinds of the virtual gyro (imported on first use)
-STEP_MODULES: tuple[str, ...] = ("metro.instruments.sim_gbt_rate", "metro.instruments.sim_gbt_env")
+STEP_MODULES: tuple[str, ...] = ("metro.instruments.sim_gbt_rate", "metro.instruments.sim_gbt_env",
+                                  "metro.instruments.sim_gbt_type")
+#: record kind (``record:<section>…``) -> fn(station, step, index) -> {section: table}; see :func:`register_record_kind`
+_RECORD_SIMULATORS: dict[str, Callable[..., Mapping[str, Any]]] = {}
+#: functions ``fn(station, records) -> {metric key: quantity}`` adding expected values of record items
+_RECORD_EXPECTED: list[Callable[..., Mapping[str, Any]]] = []
+
+
+def register_record_kind(kind: str):
+    """Decorator: ``fn(station, step, index) -> {section: table}`` takes down the records of steps of
+    ``kind`` (which starts with ``record:``) on :class:`SimulatedStation` — an inspection, a test done
+    elsewhere — as a lab would write them in the manifest (text with units)."""
+    from metro.core.model import RECORD_KIND_PREFIX
+
+    if not kind.startswith(RECORD_KIND_PREFIX):
+        raise ValueError(f"a record kind starts with {RECORD_KIND_PREFIX!r}, got {kind!r}")
+
+    def deco(fn):
+        if kind in _RECORD_SIMULATORS and _RECORD_SIMULATORS[kind] is not fn:
+            raise ValueError(f"record kind {kind!r} is already simulated by {_RECORD_SIMULATORS[kind].__qualname__}")
+        _RECORD_SIMULATORS[kind] = fn
+        return fn
+
+    return deco
+
+
+def register_record_expected(fn: Callable[..., Mapping[str, Any]]) -> Callable[..., Mapping[str, Any]]:
+    """Decorator: ``fn(station, records)`` returns the values (quantities by metric key) an ideal
+    evaluation of the simulated records gives; merged into the campaign's ``expected``."""
+    if fn not in _RECORD_EXPECTED:
+        _RECORD_EXPECTED.append(fn)
+    return fn
+
+
+def record_simulators() -> Mapping[str, Callable[..., Mapping[str, Any]]]:
+    step_simulators()  # imports the step modules, which register their record kinds
+    return _RECORD_SIMULATORS
+
+
+def merge_records(into: dict[str, Any], more: Mapping[str, Any]) -> dict[str, Any]:
+    """Add ``more`` to ``into`` section by section: tables merge key by key, arrays of tables extend."""
+    for key, val in more.items():
+        old = into.get(key)
+        if isinstance(old, dict) and isinstance(val, Mapping):
+            merge_records(old, val)
+        elif isinstance(old, list) and isinstance(val, list):
+            old.extend(val)
+        else:
+            into[key] = dict(val) if isinstance(val, Mapping) else (list(val) if isinstance(val, list) else val)
+    return into
 
 
 def register_step_kind(kind: str) -> Callable[[Callable[..., Segment]], Callable[..., Segment]]:
@@ -592,4 +651,4 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "bias_offset", "AXES"]
+__all__ = ["register_record_kind", "register_record_expected", "record_simulators", "merge_records", "register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "bias_offset", "AXES"]

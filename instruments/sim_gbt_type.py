@@ -1,0 +1,299 @@
+"""The GB/T 45570 clause-5 type test on the simulated station: the records a lab would write for
+the inspection items (5.2.3–5.2.8), the 5.4 tests done elsewhere (GB/T 2423.x …) and the
+reliability evidence (5.5), plus the gyro's output before and after each of those tests.
+
+Registered record kinds (``record:<section>.<part>``, :func:`metro.instruments.simulated.register_record_kind`):
+``record:inspection.{appearance,dimensions,mass,supply,interfaces,insulation}``,
+``record:environmental_tests.<tag>`` (lts, hts, tsh, lp, acc, dh, mould, salt, tvac, rad, emc) and
+``record:reliability.{mtbf,life}``; step kind ``type-env`` — a static record (IRA up) before or
+after an environmental test, the bias shifted after it by :attr:`TypeTestTruth.env_shift_deg_h`.
+
+The truth is declared in :class:`TypeTestTruth` and seeded by the station's seed: the instruments
+(callipers, balance, megohmmeter: :func:`type_test_equipment`) read it with a fixed error drawn
+within their certificate's U and round to their resolution; repeated readings add noise.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import attrs
+import numpy as np
+import pint
+
+from metro.core.units import Q_
+
+from .equipment import EquipmentModel, _fixed_rng, _nonneg, _q
+from .simulated import (
+    SimulatedStation,
+    register_expected,
+    register_record_expected,
+    register_record_kind,
+    register_step_kind,
+)
+
+
+@attrs.frozen
+class TypeTestTruth:
+    """What the simulated type test finds (declared; the items must recover it within U)."""
+
+    #: (name, nominal mm, ± tolerance mm, true value mm)
+    dimensions: tuple[tuple[str, float, float, float], ...] = (
+        ("length", 80.0, 0.1, 80.031), ("width", 60.0, 0.1, 59.962), ("height", 45.0, 0.1, 45.018))
+    mass_g: float = 1234.6  # with the cable and the four mounting screws delivered with it
+    mass_limit: str = "<= 1300 g"
+    #: (terminal pair, true insulation resistance in MΩ); above the megohmmeter's 10 GΩ shows "> 10 GΩ"
+    insulation_Mohm: tuple[tuple[str, float], ...] = (
+        ("power+ to case", 2200.0), ("signal to case", 5400.0), ("power+ to signal", 3.0e4))
+    insulation_voltage_V: float = 500.0
+    #: bias change (°/h) after each 5.4 test done elsewhere, by the test's tag
+    env_shift_deg_h: tuple[tuple[str, float], ...] = (
+        ("lts", 0.004), ("hts", -0.006), ("tsh", 0.008), ("lp", 0.002), ("acc", -0.003), ("dh", 0.005),
+        ("mould", 0.001), ("salt", -0.002), ("tvac", 0.006), ("rad", 0.007), ("emc", -0.001))
+    operating_hours: float = 62_000.0  # accumulated by all units on the reliability test
+    failures: int = 3
+    plan: str = "time-terminated"
+    confidence: float = 0.9
+    working_life_h: float = 1500.0
+    calendar_life_a: float = 8.0
+
+    def shift(self, tag: str) -> float:
+        return dict(self.env_shift_deg_h).get(tag, 0.0)
+
+
+TRUTH = TypeTestTruth()
+
+
+@attrs.frozen(kw_only=True)
+class _Gauge(EquipmentModel):
+    """A gauge that reads a true value with a fixed error uniform within ±√3·U/2 (its certificate's
+    standard uncertainty), a relative ``noise`` per reading, rounded to ``resolution``."""
+
+    resolution: pint.Quantity = attrs.field(default=Q_(0.01, "mm"), converter=lambda v: v if isinstance(
+        v, pint.Quantity) else Q_(v), validator=_nonneg)
+    noise: float = 0.0
+
+    def properties(self) -> dict[str, Any]:
+        return {"resolution": self.resolution}
+
+    def read(self, true: pint.Quantity, n: int, rng: np.random.Generator, *tag: Any) -> list[pint.Quantity]:
+        u = self.resolution.units
+        x = float(true.to(u).magnitude)
+        U = self.U
+        if U is None:
+            half = 0.0
+        else:  # the fixed error: uniform with the certificate's standard uncertainty U/k
+            u_abs = float(U.to("").magnitude) * abs(x) if U.dimensionless else float(U.to(u).magnitude)
+            half = math.sqrt(3.0) * u_abs / self.k
+        err = float(_fixed_rng(self.seed, type(self).__name__, *tag).uniform(-half, half))
+        res = float(self.resolution.magnitude)
+        vals = x + err + rng.normal(0.0, self.noise * abs(x), size=n)
+        return [Q_(float(np.round(v / res) * res), u) for v in vals]
+
+
+@attrs.frozen(kw_only=True)
+class Calliper(_Gauge):
+    ROLE = "calliper"
+
+
+@attrs.frozen(kw_only=True)
+class Balance(_Gauge):
+    ROLE = "balance"
+
+
+@attrs.frozen(kw_only=True)
+class Megohmmeter(_Gauge):
+    """Insulation tester: range ``low`` … ``high``; beyond it the display shows ``< low`` / ``> high``."""
+
+    ROLE = "megohmmeter"
+    low: pint.Quantity = attrs.field(default=Q_(0.1, "Mohm"), converter=_q("ohm"))
+    high: pint.Quantity = attrs.field(default=Q_(10_000, "Mohm"), converter=_q("ohm"))
+
+    def properties(self) -> dict[str, Any]:
+        return {"resolution": self.resolution, "range_low": self.low, "range_high": self.high}
+
+
+def type_test_equipment(seed: int = 1) -> list[EquipmentModel]:
+    """Callipers, balance and megohmmeter of the simulated type test (certificates, U, resolution)."""
+    sim = {"lab": "simulated", "seed": int(seed)}
+    return [
+        Calliper(id="SIM-CALLIPER", model="simulated digital callipers 0–150 mm", certificate="SIM-CAL-0101",
+                 U=Q_(0.02, "mm"), resolution=Q_(0.01, "mm"), noise=1e-4, **sim),
+        Balance(id="SIM-BALANCE", model="simulated electronic balance 0–3 kg", certificate="SIM-CAL-0102",
+                U=Q_(0.2, "g"), resolution=Q_(0.1, "g"), noise=2e-5, **sim),
+        Megohmmeter(id="SIM-MEGOHM", model="simulated insulation tester 500 V", certificate="SIM-CAL-0103",
+                    U=Q_(0.05, ""), resolution=Q_(1, "Mohm"), noise=5e-3, **sim),
+    ]
+
+
+def _rng(station: SimulatedStation, *tag: Any) -> np.random.Generator:
+    import zlib
+
+    return np.random.default_rng([station.truth.seed] + [zlib.crc32(repr(t).encode()) for t in tag])
+
+
+def _eq(station: SimulatedStation, role: str):
+    return next(m for m in type_test_equipment(station.truth.seed) if m.ROLE == role)
+
+
+def _text(q: pint.Quantity, fmt: str = "g") -> str:
+    return f"{q.magnitude:{fmt}} {q.units:~P}"
+
+
+@register_record_kind("record:inspection.appearance")
+def rec_appearance(station, step, index) -> dict:
+    return {"inspection": {"appearance": {"a": True, "b": True, "c": True, "d": True,
+                                          "lighting": "normal lighting (≥ 500 lx)", "inspector": "simulated"}}}
+
+
+@register_record_kind("record:inspection.dimensions")
+def rec_dimensions(station, step, index) -> dict:
+    cal, rng, out = _eq(station, "calliper"), _rng(station, "dimensions"), []
+    for name, nominal, tol, true in TRUTH.dimensions:
+        vals = cal.read(Q_(true, "mm"), 3, rng, name)
+        out.append({"name": name, "nominal": f"{nominal:g} mm", "tolerance": f"± {tol:g} mm",
+                    "readings": [f"{v.magnitude:.2f} mm" for v in vals]})
+    return {"inspection": {"dimensions": out}}
+
+
+@register_record_kind("record:inspection.mass")
+def rec_mass(station, step, index) -> dict:
+    vals = _eq(station, "balance").read(Q_(TRUTH.mass_g, "g"), 3, _rng(station, "mass"), "mass")
+    parts = ["cable", "connector", "mounting screws"]
+    return {"inspection": {"mass": {"readings": [f"{v.magnitude:.1f} g" for v in vals], "includes": parts,
+                                    "delivered_with": parts, "limit": TRUTH.mass_limit}}}
+
+
+@register_record_kind("record:inspection.supply")
+def rec_supply(station, step, index) -> dict:
+    rng = _rng(station, "supply")
+    rails = []
+    for v, i in station.truth.power_supplies:
+        reads = v * (1 + rng.normal(0.0, 2e-4, size=2))
+        rails.append({"nominal": f"{v:g} V", "tolerance": "± 5 %", "current": f"{abs(i) * 1.5:.3g} A",
+                      "readings": [f"{x:.3f} V" for x in reads]})
+    total = sum(abs(v * i) for v, i in station.truth.power_supplies)
+    return {"inspection": {"supply": {"voltage_type": "DC", "power": f"{math.ceil(total * 1.5):g} W", "rails": rails}}}
+
+
+@register_record_kind("record:inspection.interfaces")
+def rec_interfaces(station, step, index) -> dict:
+    return {"inspection": {"interfaces": {
+        "mechanical_per_specification": True, "mounting_face_perpendicular": True,
+        "electrical_per_specification": True, "protocol_per_specification": True, "communication": "RS-422",
+        "output_content": ["rate", "voltage", "temperature", "status"]}}}
+
+
+@register_record_kind("record:inspection.insulation")
+def rec_insulation(station, step, index) -> dict:
+    meg, rng, out = _eq(station, "megohmmeter"), _rng(station, "insulation"), []
+    hi = float(meg.high.to("Mohm").magnitude)
+    for pair, R in TRUTH.insulation_Mohm:
+        vals = meg.read(Q_(R, "Mohm"), 2, rng, pair)
+        texts = [f"> {hi / 1000:g} GΩ" if v.to("Mohm").magnitude > hi else f"{v.to('Mohm').magnitude:.0f} MΩ"
+                 for v in vals]
+        out.append({"pair": pair, "voltage": f"{TRUTH.insulation_voltage_V:g} V", "state": "non-operating",
+                    "readings": texts})
+    return {"inspection": {"insulation": out}}
+
+
+def _severity(tag: str, application: str) -> dict[str, str]:
+    """Table C.1's severity of the application (aviation by default) where it states one, else a
+    product-specification-like severity for the test."""
+    from metro.plugins.gbt45570.type_env import TESTS
+
+    test = next(t for t in TESTS if t.tag == tag)
+    defaults = {"duration": {"lts": "16 h", "hts": "16 h", "lp": "2 h", "acc": "1 min", "dh": "48 h",
+                             "mould": "28 day", "salt": "48 h"}.get(tag, "1 h"),
+                "temperature": "40 degC", "humidity": "93 %", "pressure": "6.0e-3 Pa", "low_temperature": "-45 degC",
+                "high_temperature": "85 degC", "cycles": "3", "total_dose": "200 Gy", "acceleration": "18 gn",
+                "transfer_time": "2 min"}
+    out = {}
+    for p in test.params:
+        v = p.c1.get(application)
+        out[p.name] = f"{v:g} {p.unit}".strip() if v is not None else defaults[p.name]
+    return out
+
+
+def _env_record(tag: str):
+    def take_down(station, step, index) -> dict:
+        from metro.plugins.gbt45570.conformity import application_of
+        from metro.plugins.gbt45570.type_env import TESTS
+
+        test = next(t for t in TESTS if t.tag == tag)
+        app = application_of(station.device().application) or "aviation"
+        rec = {"test": test.key, "standard": test.method, "lab": "simulated environmental lab",
+               "report": f"SIM-ENV-{tag.upper()}", "severity": _severity(tag, app), "functional_check": True,
+               "before": f"env-{tag}-before", "after": f"env-{tag}-after",
+               "required": {"bias_change": "± 0.05 deg/h", "source": "simulated product specification"}}
+        if test.key == "emc":
+            rec["severity"] = {}
+            rec["notes"] = "CE102/RE102/CS101/RS103 per the technical agreement"
+        return {"environmental_tests": [rec]}
+
+    return take_down
+
+
+def _register_env() -> None:
+    from metro.plugins.gbt45570.type_env import TESTS
+
+    for t in TESTS:
+        register_record_kind(f"record:environmental_tests.{t.tag}")(_env_record(t.tag))
+
+
+@register_record_kind("record:reliability.mtbf")
+def rec_mtbf(station, step, index) -> dict:
+    return {"reliability": {"operating_hours": f"{TRUTH.operating_hours:g} h", "failures": TRUTH.failures,
+                            "plan": TRUTH.plan, "confidence": TRUTH.confidence,
+                            "source": "simulated reliability growth and demonstration records"}}
+
+
+@register_record_kind("record:reliability.life")
+def rec_life(station, step, index) -> dict:
+    return {"reliability": {"working_life": f"{TRUTH.working_life_h:g} h",
+                            "calendar_life": f"{TRUTH.calendar_life_a:g} a"}}
+
+
+@register_step_kind("type-env")
+def sim_type_env(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
+    from .sim_gbt_env import _static_segment
+
+    after = str(step.conditions.get("phase", "before")).lower() == "after"
+    off = bias_offset_deg_h + (TRUTH.shift(str(step.conditions.get("test", ""))) if after else 0.0)
+    return _static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
+                           offset=off, progress=progress)
+
+
+@register_expected
+def expected_type_env(station, segments) -> dict[str, Any]:
+    """ΔB₀ of every 5.4 test done elsewhere whose before/after records were simulated."""
+    tags = {str(s.conditions.get("test")) for s in segments if s.kind == "type-env"}
+    return {f"{t}_dB0": Q_(TRUTH.shift(t), "deg/h") for t in tags}
+
+
+@register_record_expected
+def expected_records(station, records) -> dict[str, Any]:
+    """The truth of the measured inspection items and the MTBF bound of the declared evidence."""
+    out: dict[str, Any] = {}
+    insp = records.get("inspection", {})
+    if "mass" in insp:
+        out["mass"] = Q_(TRUTH.mass_g, "g")
+    if "dimensions" in insp:
+        for name, _n, _t, true in TRUTH.dimensions:
+            out[f"dim_{name}"] = Q_(true, "mm")
+    if "insulation" in insp:
+        import re
+
+        for pair, R in TRUTH.insulation_Mohm:
+            if R <= 10_000:
+                out["R_ins_" + re.sub(r"[^0-9A-Za-z]+", "_", pair).strip("_")] = Q_(R, "Mohm")
+    if "operating_hours" in records.get("reliability", {}):
+        from metro.plugins.gbt45570.reliability import mtbf_lower_bound
+
+        out["mtbf_lower"] = Q_(mtbf_lower_bound(TRUTH.operating_hours, TRUTH.failures, TRUTH.confidence,
+                                                TRUTH.plan), "h")
+    return out
+
+
+_register_env()

@@ -1,0 +1,361 @@
+"""GB/T 45570—2025 5.4 environmental tests that clause 6.2.8 leaves to other standards and the
+product specification: 5.4 b) low-temperature storage (6.2.8.2, GB/T 2423.1), d) high-temperature
+storage (6.2.8.4, GB/T 2423.2), e) temperature shock (6.2.8.5, GB/T 2423.22), f) low pressure
+(6.2.8.6, GB/T 2423.21), g) acceleration (6.2.8.7, GB/T 2423.15), k) damp heat (6.2.8.10,
+GB/T 2423.3), l) mould (6.2.8.11, GB/T 2423.16), m) salt fog (6.2.8.12, GB/T 2423.17), n) thermal
+vacuum (6.2.8.13, GB/T 34522), o) radiation (6.2.8.14, GB/T 4937.18) and p) EMC (6.2.8.15).
+
+The test itself is done by a test lab to its standard; the campaign records, per test, one
+``[[environmental_tests]]`` table (docs/standards/gbt45570.md): the severity applied, the severity
+required by the product specification (optional: limits as text, ``">= 40 degC"``), the functional
+check after the test, and the ids of two static segments of the gyro's output recorded before and
+after it.  Each item reports
+
+* every severity parameter applied, judged against the product specification's requirement where
+  the record gives one, else against table C.1 for the device's application (5.1: the product
+  specification prevails; C.1 is the typical severity).  A severity weaker than the reference does
+  not conform: the test applied was too mild to show the requirement (interpretations.md);
+* the bias before and after by D.5.1 (eq. (D.40), :func:`.procedures.segment_bias`) and its change
+  ΔB₀ = B₀(after) − B₀(before), judged against the product specification's ``bias_change`` limit;
+* the functional check (0 = passed, 1 = failed), which must be 0.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Any, Mapping
+
+import attrs
+
+from metro.core.budget import BudgetRow, UncertaintyBudget
+from metro.core.conformity import Comparison, Specification, parse_limit
+from metro.core.errors import DataError
+from metro.core.model import (
+    Campaign,
+    Metric,
+    Option,
+    Outcome,
+    Procedure,
+    Result,
+    RunContext,
+    Step,
+    TableSpec,
+)
+from metro.core.units import Q_
+
+from . import records as R
+from .conformity import TABLE_C1, application_of
+from .procedures import COVERAGE, STANDARD, _scale_factor_row, segment_bias
+
+SECTION = "environmental_tests"
+SEGMENT_KIND = "type-env"
+LE, GE = Comparison.AT_MOST, Comparison.AT_LEAST
+
+
+@attrs.frozen
+class Param:
+    """One severity parameter: its name in the record, unit, the direction that is more severe
+    (``LE``: a lower temperature/pressure is more severe) and table C.1's value per application
+    (``None``: C.1 states none)."""
+
+    name: str
+    unit: str
+    comparison: Comparison
+    c1: Mapping[str, float | None] = attrs.field(factory=dict)
+    label: str = ""
+
+
+def _apps(a: float | None, b: float | None, c: float | None) -> dict[str, float | None]:
+    return {"aerospace": a, "aviation": b, "marine": c}
+
+
+@attrs.frozen
+class EnvTest:
+    key: str  # the record's ``test`` value
+    item: str  # the method clause, used as the item id
+    letter: str  # 5.4 letter
+    tag: str  # metric key prefix
+    name_cn: str
+    name_en: str
+    method: str  # the standard that gives the test method
+    c1_row: int
+    params: tuple[Param, ...]
+    unpowered: bool = False
+
+
+_T = "degC"
+TESTS = (
+    EnvTest("low-temperature storage", "6.2.8.2", "b", "lts", "低温贮存", "low-temperature storage", "GB/T 2423.1",
+            2, (Param("temperature", _T, LE, _apps(-55, -55, -20), "storage temperature"),
+                Param("duration", "h", GE, label="exposure time")), unpowered=True),
+    EnvTest("high-temperature storage", "6.2.8.4", "d", "hts", "高温贮存", "high-temperature storage", "GB/T 2423.2",
+            4, (Param("temperature", _T, GE, _apps(85, 85, 60), "storage temperature"),
+                Param("duration", "h", GE, label="exposure time")), unpowered=True),
+    EnvTest("temperature shock", "6.2.8.5", "e", "tsh", "温度冲击", "temperature shock", "GB/T 2423.22", 5,
+            (Param("low_temperature", _T, LE, _apps(-55, -55, -20), "low temperature"),
+             Param("high_temperature", _T, GE, _apps(85, 85, 60), "high temperature"),
+             Param("transfer_time", "min", LE, _apps(2, 2, 2), "transfer time"),
+             Param("cycles", "", GE, _apps(3, 3, 3), "cycles")), unpowered=True),
+    EnvTest("low pressure", "6.2.8.6", "f", "lp", "低气压(高度)", "low pressure (altitude)", "GB/T 2423.21", 6,
+            (Param("pressure", "Pa", LE, _apps(1.33e-3, 3500, None), "pressure"),
+             Param("duration", "h", GE, label="exposure time"))),
+    EnvTest("acceleration", "6.2.8.7", "g", "acc", "加速度", "acceleration", "GB/T 2423.15", 7,
+            (Param("acceleration", "gn", GE, _apps(18, 15, None), "steady-state acceleration"),
+             Param("duration", "min", GE, label="time per direction"))),
+    EnvTest("damp heat", "6.2.8.10", "k", "dh", "湿热", "damp heat", "GB/T 2423.3", 11,
+            (Param("temperature", _T, GE, label="temperature"), Param("humidity", "percent", GE, label="humidity"),
+             Param("duration", "h", GE, label="duration"))),
+    EnvTest("mould", "6.2.8.11", "l", "mould", "霉菌", "mould growth", "GB/T 2423.16", 12,
+            (Param("duration", "day", GE, label="incubation"),)),
+    EnvTest("salt fog", "6.2.8.12", "m", "salt", "盐雾", "salt fog", "GB/T 2423.17", 13,
+            (Param("duration", "h", GE, label="exposure time"),)),
+    EnvTest("thermal vacuum", "6.2.8.13", "n", "tvac", "热真空", "thermal vacuum", "GB/T 34522", 14,
+            (Param("pressure", "Pa", LE, _apps(6.65e-3, None, None), "test pressure"),
+             Param("low_temperature", _T, LE, _apps(-45, None, None), "low temperature"),
+             Param("high_temperature", _T, GE, _apps(85, None, None), "high temperature"),
+             Param("cycles", "", GE, _apps(3, None, None), "cycles"))),
+    EnvTest("radiation", "6.2.8.14", "o", "rad", "抗辐照", "radiation (total dose)", "GB/T 4937.18", 15,
+            (Param("total_dose", "Gy", GE, _apps(200.0, None, None), "total ionising dose (Si); 20 krad = 200 Gy"),)),
+    EnvTest("emc", "6.2.8.15", "p", "emc", "电磁兼容性", "electromagnetic compatibility", "product specification", 16,
+            ()),
+)
+BY_KEY = {t.key: t for t in TESTS}
+_ALIASES = {t.tag: t.key for t in TESTS} | {t.item: t.key for t in TESTS} | {
+    "electromagnetic compatibility": "emc", "thermal shock": "temperature shock", "salt mist": "salt fog",
+    "mold": "mould", "altitude": "low pressure"}
+
+
+def test_key(value: Any, file: str, field: str) -> str:
+    k = str(value or "").strip().lower()
+    k = _ALIASES.get(k, k)
+    if k not in BY_KEY:
+        raise DataError(file, field, f"unknown test {value!r}; use one of {', '.join(BY_KEY)}")
+    return k
+
+
+def records_of(campaign: Campaign, test: EnvTest) -> list[tuple[int, Mapping[str, Any]]]:
+    """The ``[[environmental_tests]]`` entries for ``test`` (index, table)."""
+    raw = campaign.records.get(SECTION)
+    if raw is None:
+        return []
+    seq = raw if isinstance(raw, list) else [raw]
+    out = []
+    for i, t in enumerate(seq):
+        if not isinstance(t, Mapping):
+            raise DataError(R.where_of(campaign), f"{SECTION}[{i}]", "must be a table ([[environmental_tests]])")
+        if test_key(t.get("test"), R.where_of(campaign), f"{SECTION}[{i}].test") == test.key:
+            out.append((i, t))
+    return out
+
+
+def c1_specification(test: EnvTest, p: Param, application: str | None) -> Specification | None:
+    """Table C.1's severity for ``p`` in the device's application, as a limit on the applied value."""
+    if application is None or p.c1.get(application) is None:
+        return None
+    row = next(r for r in TABLE_C1 if r.no == test.c1_row)
+    return Specification(f"{test.tag}_{p.name}", p.comparison, Q_(p.c1[application], p.unit),
+                         source=row.source(application), name=f"{test.name_en}: {p.label or p.name} (severity)",
+                         items=(test.item,))
+
+
+def required_specifications(campaign: Campaign, test: EnvTest) -> list[Specification]:
+    """The severity the record says the product specification requires (``[…required]``), else
+    table C.1's; and the product specification's ``bias_change`` limit."""
+    out: list[Specification] = []
+    src = R.where_of(campaign)
+    app = application_of(campaign.device.application)
+    for i, rec in records_of(campaign, test):
+        req = rec.get("required", {})
+        if not isinstance(req, Mapping):
+            raise DataError(src, f"{SECTION}[{i}].required", "must be a table of limits such as temperature = \"<= -55 degC\"")
+        source = str(req.get("source") or f"product specification (manifest {SECTION}[{i}].required)")
+        known = {p.name for p in test.params} | {"bias_change", "source"}
+        for key in req:
+            if key not in known:
+                raise DataError(src, f"{SECTION}[{i}].required.{key}",
+                                f"not a severity of {test.key} ({', '.join(sorted(known - {'source'}))})")
+        for p in test.params:
+            if p.name in req:
+                out.append(attrs.evolve(parse_limit(f"{test.tag}_{p.name}", req[p.name], source=source, file=src,
+                                                    field=f"{SECTION}[{i}].required.{p.name}"), items=(test.item,)))
+            else:
+                spec = c1_specification(test, p, app)
+                if spec is not None:
+                    out.append(spec)
+        if "bias_change" in req:
+            out.append(attrs.evolve(parse_limit(f"{test.tag}_dB0", req["bias_change"], source=source, file=src,
+                                                field=f"{SECTION}[{i}].required.bias_change"), items=(test.item,)))
+        break  # the first record of the test is the one evaluated
+    return out
+
+
+def specifications(campaign: Campaign) -> list[Specification]:
+    """Every environmental test's severity and bias-change limits, and the functional checks (= 0)."""
+    out = []
+    for t in TESTS:
+        if records_of(campaign, t):
+            out += required_specifications(campaign, t)
+            out.append(Specification(f"{t.tag}_function", LE, Q_(0, ""), source=f"GB/T 45570—2025 5.4 {t.letter}) "
+                                     "(functional check after the test)", name=f"{t.name_en}: functional check",
+                                     items=(t.item,)))
+    return out
+
+
+def _bias_change(metric: Metric, before, after) -> Result:
+    """ΔB₀ = B₀(after) − B₀(before) (both by D.40) with the two biases' batch scatter (A) and the
+    scale factor (B); the earth-rate, latitude and levelling terms are common and cancel."""
+    d = after.B0 - before.B0
+    uA = math.hypot(before.u_A, after.u_A)
+    nu = uA**4 / (before.u_A**4 / before.nu_A + after.u_A**4 / after.nu_A) if uA > 0 else math.inf
+    rows = [BudgetRow.type_a("scatter of the two biases (batch means)", "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
+                             note="earth rate, latitude and levelling are common to both records and cancel")]
+    rows += _scale_factor_row(before.conv, d, "deg/h")
+    b = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
+    return Result(metric, Q_(d, "deg/h"), b.combined, b, note=f"B₀ before {before.B0:.5f} °/h, after {after.B0:.5f} °/h "
+                  "(D.5.1, eq. (D.40))")
+
+
+def _severity_result(metric: Metric, q, rec: Mapping, p: Param, src: str, where: str) -> tuple[Result, str]:
+    """The applied severity with the uncertainty the test lab declares (``[…uncertainty]``, U at
+    k = 2), else none evaluated (a zero row, named in a warning, as for the D.6 conditions); a
+    count (cycles) is exact."""
+    unc = rec.get("uncertainty", {})
+    delta = "delta_degC" if p.unit == "degC" else p.unit
+    missing = ""
+    if isinstance(unc, Mapping) and p.name in unc:
+        U = R.quantity(unc[p.name], delta, src, f"{where}.uncertainty.{p.name}")
+        rows = [BudgetRow.type_b(f"{p.label or p.name}: test lab's declared U", f"u({metric.symbol})", U.to(delta),
+                                 distribution="normal", k=2.0)]
+    elif p.unit == "":
+        rows = [BudgetRow.type_b(f"{p.label or p.name}: a count (exact)", f"u({metric.symbol})", Q_(0.0, ""),
+                                 distribution="uniform")]
+    else:
+        rows = [BudgetRow.type_b(f"{p.label or p.name}: no uncertainty declared by the test lab", f"u({metric.symbol})",
+                                 Q_(0.0, delta), distribution="uniform", note="uncertainty of the severity not evaluated")]
+        missing = p.label or p.name
+    b = UncertaintyBudget(metric.symbol, delta, rows, coverage=COVERAGE)
+    return Result(metric, q.to(p.unit), b.combined, b, note=f"as applied ({where}.severity.{p.name})"), missing
+
+
+class _EnvironmentalTest(Procedure):
+    """Shared by the 5.4 tests done elsewhere: severity applied, bias before/after (D.5.1), the
+    functional check.  Subclasses set ``test``."""
+
+    standard = STANDARD
+    test: EnvTest
+    record_sections = (SECTION,)
+    options = (Option("batches", 20, None, "batch means for the biases' type A uncertainty", minimum=2),)
+
+    @classmethod
+    def missing_records(cls, campaign: Campaign) -> str:
+        try:
+            found = records_of(campaign, cls.test)
+        except DataError:
+            return ""  # evaluate reports the bad record by name
+        return "" if found else f"[[{SECTION}]] with test = \"{cls.test.key}\""
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        t = self.test
+        base = {"orientation": "IRA up", "test": t.tag}
+        return [
+            Step(f"env-{t.tag}-before", SEGMENT_KIND, f"before the {t.name_en} test: IRA up on the levelled platform, "
+                 "record 10 min at τ = 1 s (bias by D.5.1)", Q_(10, "min"), Q_(1, "s"), base | {"phase": "before"},
+                 warmup=Q_(10, "min")),
+            Step(f"env-{t.tag}-record", f"record:{SECTION}.{t.tag}",
+                 f"{t.name_en} ({t.name_cn}) by {t.method}{', gyro not operating' if t.unpowered else ''}, at the "
+                 f"product specification's severity (table C.1 row {t.c1_row}): record the severity applied, the "
+                 "functional check and the test report", Q_(0, "s"), Q_(0, "s"), {"test": t.tag}),
+            Step(f"env-{t.tag}-after", SEGMENT_KIND, f"after the {t.name_en} test and recovery: IRA up, record 10 min "
+                 "at τ = 1 s (bias by D.5.1); functional check", Q_(10, "min"), Q_(1, "s"), base | {"phase": "after"},
+                 warmup=Q_(10, "min")),
+        ]
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        t = self.test
+        src = R.where_of(campaign)
+        found = records_of(campaign, t)
+        if not found:
+            raise DataError(src, SECTION, f"GB/T 45570 {t.item} needs a [[{SECTION}]] table with test = \"{t.key}\"; "
+                            "none found", hint="docs/standards/gbt45570.md shows the record")
+        i, rec = found[0]
+        where = f"{SECTION}[{i}]"
+        warnings = [f"a second record of {t.key} ({SECTION}[{j}]) is not evaluated" for j, _ in found[1:]]
+        sev = rec.get("severity")
+        if not isinstance(sev, Mapping):
+            raise DataError(src, f"{where}.severity", "missing: the severity applied (a table such as temperature = "
+                            "\"-55 degC\")")
+        names = {p.name for p in t.params}
+        for key in sev:
+            if names and key not in names:
+                raise DataError(src, f"{where}.severity.{key}", f"not a severity of {t.key}; known: "
+                                f"{', '.join(sorted(names))}")
+        results: list[Result] = []
+        table, undeclared = [], []
+        for p in t.params:
+            if p.name not in sev:
+                if p.c1:
+                    raise DataError(src, f"{where}.severity.{p.name}", f"missing: table C.1 row {t.c1_row} states the "
+                                    f"{p.label or p.name} of {t.key}")
+                continue
+            q = R.quantity(sev[p.name], p.unit, src, f"{where}.severity.{p.name}")
+            m = Metric(f"{t.tag}_{p.name}", f"{t.name_en}: {p.label or p.name} applied", p.name, p.unit,
+                       f"5.4 {t.letter})", t.method)
+            r, missing = _severity_result(m, q, rec, p, src, where)
+            results.append(r)
+            if missing:
+                undeclared.append(missing)
+            table.append([p.label or p.name, f"{q:~P}"])
+        if undeclared:
+            warnings.append(f"the test lab declares no uncertainty of the applied {', '.join(undeclared)} "
+                            f"([{where}.uncertainty]): judged as stated")
+        if not t.params:
+            table.append(["severity", "; ".join(f"{k} = {v}" for k, v in sev.items()) or "—"])
+        func = R.answer(rec, "functional_check", src, where)
+        fm = Metric(f"{t.tag}_function", f"{t.name_en}: functional check after the test failed (1) or passed (0)",
+                    "F", "", f"5.4 {t.letter})")
+        fb = UncertaintyBudget("F", "", [BudgetRow.type_b("an observed pass/fail: exact", "u(F)", Q_(0.0, ""),
+                                                          distribution="uniform")], coverage=COVERAGE)
+        results.append(Result(fm, Q_(0.0 if func else 1.0, ""), fb.combined, fb,
+                              note="passed" if func else "FAILED"))
+        used: list[str] = []
+        if "before" in rec or "after" in rec:
+            ids = {}
+            for ph in ("before", "after"):
+                sid = R.text(rec, ph, src, where)
+                seg = next((s for s in campaign.segments if s.id == sid), None)
+                if seg is None:
+                    raise DataError(src, f"{where}.{ph}", f"no segment with id {sid!r} in the campaign")
+                ids[ph] = seg
+            est = {ph: segment_bias(seg, campaign, int(opts["batches"])) for ph, seg in ids.items()}
+            dm = Metric(f"{t.tag}_dB0", f"{t.name_en}: bias change after − before", "ΔB₀", "deg/h", "D.5.1.3", "D.40")
+            results.append(_bias_change(dm, est["before"], est["after"]))
+            used = [ids["before"].id, ids["after"].id]
+        else:
+            warnings.append(f"no before/after records of the gyro's output for {t.key}: the change of its "
+                            "performance is not evaluated")
+        meta = [["test method", str(rec.get("standard") or t.method)],
+                ["test lab / report", " / ".join(str(rec[k]) for k in ("lab", "report") if k in rec) or "—"]]
+        tab = TableSpec(f"{t.tag}_severity", f"{t.name_en} ({t.name_cn}): severity applied", ["parameter", "value"],
+                        meta + table)
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[tab], warnings=warnings,
+                       segments=used, options={k: str(v) for k, v in opts.items()})
+
+
+def _make(test: EnvTest) -> type[Procedure]:
+    doc = (f"GB/T 45570—2025 5.4 {test.letter}) {test.name_cn} ({test.name_en}), by {test.item}: {test.method} and "
+           f"the product specification's conditions; severity judged against the product specification or table "
+           f"C.1 row {test.c1_row}, bias before/after by D.5.1 (eq. (D.40)), functional check.")
+    words = "".join(w.capitalize() for w in re.sub(r"[^A-Za-z ]+", " ", test.name_en).split())
+    return type(f"{words}{test.item.replace('.', '')}", (_EnvironmentalTest,), {
+        "__doc__": doc, "__module__": __name__, "item": test.item, "clause": f"5.4 {test.letter})",
+        "title": f"{test.name_en.capitalize()} ({test.name_cn})", "test": test,
+        "metrics": tuple(Metric(f"{test.tag}_{p.name}", f"{test.name_en}: {p.label or p.name} applied", p.name,
+                                p.unit, f"5.4 {test.letter})") for p in test.params)
+        + (Metric(f"{test.tag}_function", f"{test.name_en}: functional check", "F", "", f"5.4 {test.letter})"),
+           Metric(f"{test.tag}_dB0", f"{test.name_en}: bias change", "ΔB₀", "deg/h", "D.5.1.3", "D.40")),
+    })
+
+
+PROCEDURES = tuple(_make(t) for t in TESTS)

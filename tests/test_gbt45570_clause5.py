@@ -1,0 +1,504 @@
+"""GB/T 45570—2025 clause 5 type test: inspection items 5.2.3–5.2.8, the 5.4 tests done elsewhere,
+5.5 reliability, the clause-5 rows of the report; hand-worked values, the simulated station's
+records, bad records."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from metro.core.campaign import load_manifest
+from metro.core.errors import DataError
+from metro.core.runner import run_items
+from metro.core.units import Q_
+from metro.plugins.gbt45570 import clause5, inspection, reliability
+
+HEAD = """\
+format = "metro-campaign/1"
+
+[campaign]
+id = "TYPE-001"
+
+[device]
+id = "FOG-7"
+technology = "fibre"
+application = "aviation"
+output = "rate"
+
+[environment]
+temperature = "21 °C"
+humidity = "40 %"
+
+[site]
+latitude = "30°"
+
+[[equipment]]
+id = "CAL-1"
+role = "calliper"
+resolution = "0.01 mm"
+[equipment.calibration]
+certificate = "C-1"
+U = "0.02 mm"
+k = 2
+
+[[equipment]]
+id = "BAL-1"
+role = "balance"
+resolution = "0.1 g"
+[equipment.calibration]
+certificate = "B-1"
+U = "0.2 g"
+k = 2
+
+[[equipment]]
+id = "MEG-1"
+role = "megohmmeter"
+resolution = "1 Mohm"
+[equipment.calibration]
+certificate = "M-1"
+U = "5 %"
+k = 2
+"""
+
+INSPECTION = """
+[inspection.appearance]
+a = true
+b = "yes"
+c = true
+d = true
+lighting = "normal"
+
+[[inspection.dimensions]]
+name = "length"
+nominal = "80 mm"
+tolerance = "± 0.1 mm"
+readings = ["80.02 mm", "80.04 mm", "80.03 mm"]
+
+[[inspection.dimensions]]
+name = "height"
+nominal = "45 mm"
+upper = "+0.2 mm"
+lower = "-0.2 mm"
+readings = ["45.01 mm"]
+
+[inspection.mass]
+readings = ["1234.5 g", "1234.7 g", "1234.6 g"]
+includes = ["cable", "screws"]
+delivered_with = ["cable", "screws"]
+limit = "<= 1.3 kg"
+
+[[inspection.insulation]]
+pair = "power+ to case"
+voltage = "500 V"
+state = "non-operating"
+readings = ["2000 MΩ", "2100 MΩ"]
+
+[[inspection.insulation]]
+pair = "signal to case"
+voltage = "500 V"
+state = "non-operating"
+readings = ["> 10 GΩ"]
+"""
+
+RELIABILITY = """
+[reliability]
+operating_hours = "62000 h"
+failures = 3
+plan = "time-terminated"
+confidence = 0.9
+working_life = "1500 h"
+calendar_life = "8 a"
+"""
+
+
+def _write(tmp: Path, text: str, files: dict[str, str] | None = None) -> Path:
+    tmp.mkdir(parents=True, exist_ok=True)
+    for name, body in (files or {}).items():
+        (tmp / name).write_text(body, encoding="utf-8")
+    p = tmp / "manifest.toml"
+    p.write_text(text, encoding="utf-8")
+    return p
+
+
+def _run(pm, path: Path, items: list[str]):
+    return run_items(pm, "gbt45570", items, data=path)
+
+
+def _result(record, key):
+    for o in record.outcomes:
+        for r in o.results:
+            if r.metric.key == key:
+                return r
+    raise KeyError(key)
+
+
+def _verdict(record, key):
+    return next(v for v in record.conformity.verdicts if v.key == key)
+
+
+# --------------------------------------------------------------------------------- inspection, hand-worked
+
+
+def test_mass_hand_worked(pm, tmp_path):
+    rec = _run(pm, _write(tmp_path, HEAD + INSPECTION), ["6.2.3"])
+    r = _result(rec, "mass")
+    # mean 1234.6 g; s = 0.1 g → s/√3 = 0.057735; balance U/k = 0.1 g; resolution 0.1 g → 0.05/√3
+    assert float(r.value.to("g").magnitude) == pytest.approx(1234.6, abs=1e-9)
+    uc = math.sqrt((0.1 / math.sqrt(3)) ** 2 + 0.1**2 + (0.05 / math.sqrt(3)) ** 2)
+    assert float(r.u.to("g").magnitude) == pytest.approx(uc, rel=1e-9)  # 0.119024 g
+    # ν_eff = u_c⁴ / (u_A⁴/2) = 36.1 (only the type A row has finite ν)
+    assert r.budget.nu_eff == pytest.approx(uc**4 / ((0.1 / math.sqrt(3)) ** 4 / 2), rel=1e-9)
+    v = _verdict(rec, "mass")
+    assert v.status.value == "pass" and "1300" in v.spec.text().replace(" ", "") or "1.3" in v.spec.text()
+
+
+def test_dimensions_hand_worked_and_it12(pm, tmp_path):
+    rec = _run(pm, _write(tmp_path, HEAD + INSPECTION), ["6.2.2"])
+    r = _result(rec, "dim_length")
+    assert float(r.value.to("mm").magnitude) == pytest.approx(80.03, abs=1e-9)
+    uc = math.sqrt((0.01 / math.sqrt(3)) ** 2 + 0.01**2 + (0.005 / math.sqrt(3)) ** 2)  # 0.0119024 mm
+    assert float(r.u.to("mm").magnitude) == pytest.approx(uc, rel=1e-9)
+    # IT12: 0.30 mm for 50 … 80 mm, 0.25 mm for 30 … 50 mm (GB/T 1800.1—2020 table 1)
+    assert float(_result(rec, "itgrade_length").value.magnitude) == pytest.approx(0.2 / 0.30)
+    assert float(_result(rec, "itgrade_height").value.magnitude) == pytest.approx(0.4 / 0.25)
+    assert _verdict(rec, "itgrade_length").status.value == "pass"
+    assert _verdict(rec, "itgrade_height").status.value == "fail"  # ± 0.2 mm at 45 mm is coarser than IT12
+    assert _verdict(rec, "dim_length").status.value == "pass"  # [80.006, 80.054] within 79.9 … 80.1
+    # one reading: no repeatability row, a note says so
+    assert "repeatability not evaluated" in _result(rec, "dim_height").note
+
+
+def test_it12_table_against_the_formula():
+    """IT12 = 160·i, i = 0.45·D^(1/3) + 0.001·D (µm, D the geometric mean of the range, GB/T 1800.1
+    annex): the tabulated values lie within 5 % of it above 3 mm (the table rounds to preferred values)."""
+    lower = 3
+    for upper, value in inspection.IT12_MM[1:13]:
+        D = math.sqrt(lower * upper)
+        formula_mm = 160 * (0.45 * D ** (1 / 3) + 0.001 * D) / 1000
+        assert value == pytest.approx(formula_mm, rel=0.05), upper
+        assert inspection.it12(upper) == value and inspection.it12(lower + 1e-9) == value
+        lower = upper
+    with pytest.raises(ValueError):
+        inspection.it12(1200)
+
+
+def test_insulation_hand_worked_and_over_range(pm, tmp_path):
+    rec = _run(pm, _write(tmp_path, HEAD + INSPECTION), ["6.2.5"])
+    r = _result(rec, "R_ins_power_to_case")
+    assert float(r.value.to("Mohm").magnitude) == pytest.approx(2050.0)
+    # s = 70.711 → 50 MΩ; 5 % (k = 2) of 2050 → 51.25 MΩ; resolution 1 MΩ → 0.5/√3
+    uc = math.sqrt(50.0**2 + 51.25**2 + (0.5 / math.sqrt(3)) ** 2)
+    assert float(r.u.to("Mohm").magnitude) == pytest.approx(uc, rel=1e-9)
+    over = _result(rec, "R_ins_signal_to_case")
+    assert not over.reportable and "over" in over.reason and float(over.value.to("Mohm").magnitude) == 10000
+    assert _verdict(rec, "R_ins_signal_to_case").status.value == "pass"
+    assert _verdict(rec, "R_ins_power_to_case").status.value == "pass"
+
+
+INTERFACES = """
+[inspection.interfaces]
+mechanical_per_specification = true
+mounting_face_perpendicular = false
+electrical_per_specification = true
+protocol_per_specification = true
+communication = "CAN"
+output_content = ["temperature", "status"]
+"""
+
+
+def test_appearance_and_interfaces_checklists(pm, tmp_path):
+    text = HEAD + INSPECTION.replace('d = true', 'd = "no"') + INTERFACES
+    rec = _run(pm, _write(tmp_path, text), ["6.2.1", "6.2.4"])
+    assert float(_result(rec, "appearance_nc").value.magnitude) == 1
+    assert _verdict(rec, "appearance_nc").status.value == "fail"
+    assert float(_result(rec, "mech_interface_nc").value.magnitude) == 0  # "宜" is a note, not a nonconformity
+    assert float(_result(rec, "elec_interface_nc").value.magnitude) == 1  # no angle/rate in the output
+    o = next(o for o in rec.outcomes if o.item == "6.2.4")
+    assert any("RS-422/RS-485" in w for w in o.warnings) and any("perpendicular" in w for w in o.warnings)
+
+
+SUPPLY = """
+[[equipment]]
+id = "DVM-1"
+role = "voltmeter"
+[equipment.calibration]
+certificate = "V-1"
+U = "1e-4"
+k = 2
+
+[inspection.supply]
+voltage_type = "DC"
+power = "5 W"
+[[inspection.supply.rails]]
+nominal = "5 V"
+tolerance = "± 5 %"
+current = "0.4 A"
+readings = ["5.01 V", "5.03 V"]
+[[inspection.supply.rails]]
+nominal = "-15 V"
+tolerance = "± 0.5 V"
+"""
+
+
+def test_supply_statements_and_measured_voltage(pm, tmp_path):
+    rec = _run(pm, _write(tmp_path, HEAD + SUPPLY), ["5.2.6"])
+    assert float(_result(rec, "supply_missing").value.magnitude) == 1  # the −15 V current is not stated
+    r = _result(rec, "supply_V_5V")
+    assert float(r.value.to("V").magnitude) == pytest.approx(5.02)
+    # s/√2 = 0.01 V; 1e-4 (k = 2) of 5.02 V = 2.51e-4 V
+    assert float(r.u.to("V").magnitude) == pytest.approx(math.hypot(0.01, 2.51e-4), rel=1e-9)
+    assert _verdict(rec, "supply_V_5V").status.value == "pass"  # within 4.75 … 5.25 V
+
+
+# --------------------------------------------------------------------------------- reliability
+
+
+#: NIST/SEMATECH e-Handbook of Statistical Methods, 1.3.6.7.4 "Critical values of the chi-square
+#: distribution", upper-tail probability α: χ²(1 − α; ν), printed to 3 decimals (tolerance ±0.0005)
+CHI2_TABLE = {(0.90, 2): 4.605, (0.90, 4): 7.779, (0.90, 6): 10.645, (0.90, 8): 13.362, (0.95, 6): 12.592}
+
+
+def test_mtbf_lower_bound_against_published_chi2_table():
+    from scipy.stats import chi2
+
+    for (c, nu), value in CHI2_TABLE.items():
+        assert chi2.ppf(c, nu) == pytest.approx(value, abs=5e-4)
+    T = 62000.0
+    # time-terminated, r = 3, 90 %: 2T/χ²(0.9; 8) = 124000/13.362 = 9280.1 h (table's ±0.0005 → ±0.35 h)
+    assert reliability.mtbf_lower_bound(T, 3, 0.9, "time-terminated") == pytest.approx(2 * T / 13.362, abs=0.4)
+    # failure-terminated, r = 3: 2T/χ²(0.9; 6) = 11648.7 h
+    assert reliability.mtbf_lower_bound(T, 3, 0.9, "failure-terminated") == pytest.approx(2 * T / 10.645, abs=0.6)
+    # no failure in 10 000 h: 20000/χ²(0.9; 2) = 4343.1 h, below 5 000 h
+    assert reliability.mtbf_lower_bound(10000.0, 0, 0.9, "time-terminated") == pytest.approx(20000 / 4.605, abs=0.5)
+    assert reliability.mtbf_point(T, 3) == pytest.approx(20666.667, abs=1e-3)
+    assert reliability.mtbf_point(T, 0) is None
+
+
+def test_reliability_items_and_verdicts(pm, tmp_path):
+    rec = _run(pm, _write(tmp_path, HEAD + RELIABILITY), ["6.2.9.1", "6.2.9.2"])
+    assert float(_result(rec, "mtbf_lower").value.to("h").magnitude) == pytest.approx(2 * 62000 / 13.362, abs=0.4)
+    assert _verdict(rec, "mtbf_lower").status.value == "pass"
+    assert _verdict(rec, "working_life").status.value == "pass"
+    assert _verdict(rec, "calendar_life").status.value == "pass"
+    zero = RELIABILITY.replace('operating_hours = "62000 h"', 'operating_hours = "10000 h"').replace(
+        "failures = 3", "failures = 0").replace('calendar_life = "8 a"', 'calendar_life = "4 a"')
+    rec = _run(pm, _write(tmp_path / "z", HEAD + zero), ["6.2.9.1", "6.2.9.2"])
+    assert _verdict(rec, "mtbf_lower").status.value == "fail"  # 4343 h < 5 000 h
+    assert _verdict(rec, "calendar_life").status.value == "fail"
+    with pytest.raises(KeyError):
+        _result(rec, "mtbf_point")  # no failure: no point estimate
+
+
+# --------------------------------------------------------------------------------- 5.4 tests done elsewhere
+
+
+def _segment_csv(level: float) -> str:
+    # rate output: ± 0.01 °/h about the level, 40 samples; mean exactly the level
+    vals = [level + (0.01 if i % 2 else -0.01) for i in range(40)]
+    return "output [deg/h]\n" + "\n".join(f"{v!r}" for v in vals) + "\n"
+
+
+ENV = """
+[[segments]]
+id = "lts-before"
+kind = "type-env"
+file = "before.csv"
+sample_interval = "1 s"
+[segments.conditions]
+orientation = "IRA up"
+
+[[segments]]
+id = "lts-after"
+kind = "type-env"
+file = "after.csv"
+sample_interval = "1 s"
+[segments.conditions]
+orientation = "IRA up"
+
+[[environmental_tests]]
+test = "low-temperature storage"
+functional_check = true
+before = "lts-before"
+after = "lts-after"
+[environmental_tests.severity]
+temperature = "{T}"
+duration = "16 h"
+[environmental_tests.required]
+bias_change = "± 0.05 deg/h"
+"""
+
+
+def test_storage_severity_and_bias_change_hand_worked(pm, tmp_path):
+    files = {"before.csv": _segment_csv(0.10), "after.csv": _segment_csv(0.13)}
+    rec = _run(pm, _write(tmp_path, HEAD + ENV.format(T="-55 degC"), files), ["6.2.8.2"])
+    d = _result(rec, "lts_dB0")
+    # B₀ = mean − 15.041·sin 30° for both; ΔB₀ = 0.13 − 0.10 = 0.03 °/h
+    assert float(d.value.to("deg/h").magnitude) == pytest.approx(0.03, abs=1e-12)
+    assert _verdict(rec, "lts_temperature").status.value == "pass"  # −55 °C ≤ −55 °C (C.1 row 2, aviation)
+    assert _verdict(rec, "lts_dB0").status.value in ("pass", "indeterminate")
+    assert _verdict(rec, "lts_function").status.value == "pass"
+
+
+def test_severity_weaker_than_table_c1_does_not_conform(pm, tmp_path):
+    files = {"before.csv": _segment_csv(0.10), "after.csv": _segment_csv(0.10)}
+    rec = _run(pm, _write(tmp_path, HEAD + ENV.format(T="-40 degC"), files), ["6.2.8.2"])
+    v = _verdict(rec, "lts_temperature")
+    assert v.status.value == "fail" and "C.1 row 2" in v.spec.source
+    rows = {r["clause"]: r for r in clause5.clause5_rows(rec)}
+    assert rows["5.4 b)"]["verdict"] == "does not conform"
+
+
+def test_product_specification_severity_replaces_table_c1(pm, tmp_path):
+    text = HEAD + ENV.format(T="-40 degC").replace('[environmental_tests.required]',
+                                                   '[environmental_tests.required]\ntemperature = "<= -40 degC"')
+    files = {"before.csv": _segment_csv(0.10), "after.csv": _segment_csv(0.10)}
+    rec = _run(pm, _write(tmp_path, text, files), ["6.2.8.2"])
+    assert _verdict(rec, "lts_temperature").status.value == "pass"
+
+
+@pytest.mark.parametrize("item, tag", [
+    ("6.2.8.2", "lts"), ("6.2.8.4", "hts"), ("6.2.8.5", "tsh"), ("6.2.8.6", "lp"), ("6.2.8.7", "acc"),
+    ("6.2.8.10", "dh"), ("6.2.8.11", "mould"), ("6.2.8.12", "salt"), ("6.2.8.13", "tvac"), ("6.2.8.14", "rad"),
+    ("6.2.8.15", "emc")])
+def test_each_54_test_on_the_simulated_station(pm, item, tag):
+    """Every 5.4 test done elsewhere: its record on the simulated station (aviation gyro: table C.1's
+    aviation column where it states one), the bias change against the declared truth within U, the
+    functional check, and the clause-5 row."""
+    from metro.instruments.sim_gbt_type import TRUTH
+
+    rec = run_items(pm, "gbt45570", [item], station_options={"duration_scale": 0.25})
+    d = _result(rec, f"{tag}_dB0")
+    assert abs(float(d.value.to("deg/h").magnitude) - TRUTH.shift(tag)) <= float(d.U.to("deg/h").magnitude)
+    assert float(_result(rec, f"{tag}_function").value.magnitude) == 0
+    statuses = {v.key: v.status.value for v in rec.conformity.verdicts}
+    assert statuses[f"{tag}_function"] == "pass" and "fail" not in statuses.values()
+    row = next(r for r in clause5.clause5_rows(rec) if item in r["method"].split(" / "))
+    assert row["status"] == "performed"
+
+
+# --------------------------------------------------------------------------------- bad records
+
+
+@pytest.mark.parametrize("edit, field, words", [
+    (lambda t: t.replace('"1234.5 g"', '"1234.5"'), "inspection.mass.readings[0]", "no unit"),
+    (lambda t: t.replace('"1234.5 g"', '1234.5'), "inspection.mass.readings[0]", "no unit"),
+    (lambda t: t.replace('includes = ["cable", "screws"]', 'includes = ["cable"]'), "inspection.mass.includes",
+     "screws"),
+])
+def test_bad_mass_records(pm, tmp_path, edit, field, words):
+    with pytest.raises(DataError) as e:
+        _run(pm, _write(tmp_path, edit(HEAD + INSPECTION)), ["6.2.3"])
+    assert e.value.field == field and words in e.value.detail and e.value.file.endswith("manifest.toml")
+
+
+def test_insulation_below_range(pm, tmp_path):
+    low = (HEAD + INSPECTION).replace('readings = ["2000 MΩ", "2100 MΩ"]', 'readings = ["< 1 MΩ"]')
+    rec = _run(pm, _write(tmp_path, low), ["6.2.5"])
+    r = _result(rec, "R_ins_power_to_case")
+    assert not r.reportable and "below" in r.reason
+    assert _verdict(rec, "R_ins_power_to_case").status.value == "fail"
+    # a range that starts above 50 MΩ says nothing: an error naming the field
+    worse = (HEAD + INSPECTION).replace('readings = ["2000 MΩ", "2100 MΩ"]', 'readings = ["< 100 MΩ"]')
+    with pytest.raises(DataError) as e:
+        _run(pm, _write(tmp_path / "b", worse), ["6.2.5"])
+    assert e.value.field == "inspection.insulation[0].readings" and "below the megohmmeter's range" in e.value.detail
+    over = (HEAD + INSPECTION).replace('readings = ["> 10 GΩ"]', 'readings = ["> 20 MΩ"]')
+    with pytest.raises(DataError, match="over the megohmmeter's range"):
+        _run(pm, _write(tmp_path / "c", over), ["6.2.5"])
+    operating = (HEAD + INSPECTION).replace('state = "non-operating"', 'state = "operating"', 1)
+    with pytest.raises(DataError, match="not operating"):
+        _run(pm, _write(tmp_path / "d", operating), ["6.2.5"])
+
+
+def test_measured_item_without_equipment(pm, tmp_path):
+    no_balance = (HEAD + INSPECTION).replace('role = "balance"', 'role = "scale-of-another-kind"')
+    with pytest.raises(DataError) as e:
+        _run(pm, _write(tmp_path, no_balance), ["6.2.3"])
+    assert e.value.field == "equipment" and "balance" in e.value.detail
+    no_cal = (HEAD + INSPECTION).replace('[equipment.calibration]\ncertificate = "M-1"\nU = "5 %"\nk = 2\n', "")
+    with pytest.raises(DataError, match="no calibration data"):
+        _run(pm, _write(tmp_path / "b", no_cal), ["6.2.5"])
+
+
+def test_bad_reliability_records(pm, tmp_path):
+    ft = RELIABILITY.replace("failures = 3", "failures = 0").replace("time-terminated", "failure-terminated")
+    with pytest.raises(DataError) as e:
+        _run(pm, _write(tmp_path, HEAD + ft), ["6.2.9.1"])
+    assert e.value.field == "reliability.failures"
+    with pytest.raises(DataError) as e:
+        _run(pm, _write(tmp_path / "b", HEAD + RELIABILITY.replace('"62000 h"', "62000")), ["6.2.9.1"])
+    assert e.value.field == "reliability.operating_hours" and "no unit" in e.value.detail
+
+
+def test_cli_bad_record_exit_2_and_nothing_written(run_cli, tmp_path):
+    p = _write(tmp_path, (HEAD + INSPECTION).replace('"1234.5 g"', '"1234.5"'))
+    out = tmp_path / "out"
+    code, _o, err = run_cli("run", "-s", "gbt45570", "-i", "6.2.3", "--data", str(p), "--out", str(out),
+                            "--no-progress")
+    assert code == 2 and "inspection.mass.readings[0]" in err and "Traceback" not in err
+    assert not out.exists()
+
+
+# --------------------------------------------------------------------------------- coverage of clause 5
+
+
+def test_every_clause5_requirement_has_a_row_and_an_item(pm):
+    clauses = [r.clause for r in clause5.REQUIREMENTS]
+    # 5.1, 5.2.1–5.2.9 (5.2.7 as .1 and .2), 5.3 a)–p), 5.4 a)–p), 5.5.1, 5.5.2 a), b)
+    expected = (["5.1", "5.2.1", "5.2.2", "5.2.3", "5.2.4", "5.2.5", "5.2.6", "5.2.7.1", "5.2.7.2", "5.2.8", "5.2.9"]
+                + [f"5.3 {c})" for c in "abcdefghijklmnop"] + [f"5.4 {c})" for c in "abcdefghijklmnop"]
+                + ["5.5.1", "5.5.2 a)", "5.5.2 b)"])
+    assert clauses == expected
+    registered = {cls.item for cls in pm.procedures_of("gbt45570")}
+    for r in clause5.REQUIREMENTS:
+        assert r.items or r.by_spec, r.clause
+        assert set(r.items) <= registered, r.clause
+    assert pm.series("gbt45570", "type-test").members == clause5.TYPE_TEST_ITEMS
+
+
+def test_simulated_station_records_cover_the_type_test(pm):
+    items = ["6.2.1", "6.2.2", "6.2.3", "5.2.6", "6.2.4", "6.2.5", "6.2.8.2", "6.2.8.15", "6.2.9.1", "6.2.9.2"]
+    rec = run_items(pm, "gbt45570", items, station_options={"duration_scale": 0.2})
+    assert rec.campaign.simulated and set(rec.campaign.records) == {"inspection", "environmental_tests", "reliability"}
+    exp = rec.campaign.expected
+    for key in ("mass", "dim_length", "R_ins_power_to_case", "mtbf_lower", "lts_dB0"):
+        r = _result(rec, key)
+        assert abs(float((r.value - exp[key]).to(r.metric.unit).magnitude)) <= float(r.U.to(r.metric.unit).magnitude), key
+    statuses = {v.key: v.status.value for v in rec.conformity.verdicts}
+    assert "fail" not in statuses.values()
+    # the records' own verdicts are definite; only a bias change on 2-min records may be indeterminate
+    assert {s for k, s in statuses.items() if not k.endswith("_dB0")} == {"pass"}
+    rows = clause5.clause5_rows(rec)
+    assert [r["clause"] for r in rows] == [r.clause for r in clause5.REQUIREMENTS]
+    by = {r["clause"]: r for r in rows}
+    assert by["5.2.5"]["status"] == "performed" and by["5.2.5"]["verdict"] == "conforms"
+    assert by["5.2.1"]["status"] == "by product specification"
+    assert by["5.3 i)"]["status"] == "not performed" and by["5.3 i)"]["reason"] == "not requested in this run"
+
+
+def test_acquire_writes_records_that_run_reads_back(pm, tmp_path):
+    from metro.instruments.campaign_writer import acquire_campaign
+
+    items = ["6.2.3", "6.2.5", "6.2.8.2", "6.2.9.1"]
+    manifest = acquire_campaign(pm, "gbt45570", items, tmp_path / "camp", station_options={"duration_scale": 0.2})
+    camp = load_manifest(manifest, pm.reader_for)
+    assert camp.records["inspection"]["mass"]["readings"]
+    direct = run_items(pm, "gbt45570", items, station_options={"duration_scale": 0.2})
+    again = run_items(pm, "gbt45570", items, data=manifest)
+    for key in ("mass", "R_ins_power_to_case", "mtbf_lower", "lts_temperature", "lts_dB0"):
+        a, b = _result(direct, key), _result(again, key)
+        assert float(b.value.to(a.metric.unit).magnitude) == pytest.approx(float(a.value.to(a.metric.unit).magnitude),
+                                                                           rel=1e-12), key
+
+
+def test_all_on_records_only_skips_items_without_records(pm, tmp_path):
+    rec = run_items(pm, "gbt45570", [], data=_write(tmp_path, HEAD + RELIABILITY), run_all=True)
+    ran = {o.item for o in rec.outcomes}
+    assert ran == {"6.2.9.1", "6.2.9.2"}
+    why = {c.item: c.reason for c in rec.selection}
+    assert "no record" in why["6.2.3"] and "[inspection.mass]" in why["6.2.3"]
+    rows = {r["clause"]: r for r in clause5.clause5_rows(rec)}
+    assert rows["5.2.5"]["status"] == "not performed" and "[inspection.mass]" in rows["5.2.5"]["reason"]
+    assert rows["5.5.1"]["verdict"] == "conforms"
