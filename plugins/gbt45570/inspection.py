@@ -66,7 +66,7 @@ def _exact(symbol: str, unit: str, what: str) -> UncertaintyBudget:
 
 def _count_result(metric: Metric, failed: list[str], what: str) -> Result:
     b = _exact(metric.symbol, "", f"{what}: observed answers, a count (exact)")
-    return Result(metric, Q_(float(len(failed)), ""), b.combined, b,
+    return R.na_result(metric, Q_(float(len(failed)), ""), b.combined, b,
                   note="not met: " + "; ".join(failed) if failed else "all met")
 
 
@@ -82,7 +82,7 @@ def measured_result(metric: Metric, readings: list, eq, campaign: Campaign, *, n
     rows += R.resolution_row(eq, f"δ({metric.symbol})", unit, R.where_of(campaign))
     b = UncertaintyBudget(metric.symbol, unit, rows, coverage=COVERAGE)
     extra = "" if nu > 0 else "; one reading: repeatability not evaluated"
-    return Result(metric, Q_(x, unit), b.combined, b, note=(note + extra).lstrip("; "))
+    return R.na_result(metric, Q_(x, unit), b.combined, b, note=(note + extra).lstrip("; "))
 
 
 def _key(name: str) -> str:
@@ -240,7 +240,7 @@ class Dimensions622(_Inspection):
             width = float((hi - lo).to("mm").magnitude)
             g = Metric(f"itgrade_{key}", f"tolerance zone of {d['name']} over IT12", "T/IT12", "", "5.2.4")
             b = _exact("T/IT12", "", "tolerance and IT12 are specification values (exact)")
-            results.append(Result(g, Q_(width / it, ""), b.combined, b,
+            results.append(R.na_result(g, Q_(width / it, ""), b.combined, b,
                                   note=f"T = {width:g} mm, IT12 = {it:g} mm at {nom:g} mm (GB/T 1800.1 table 1)"))
             table.append([str(d["name"]), f"{nominal:~P}", f"{lo:+~P} / {hi:+~P}", f"{it:g} mm",
                           ", ".join(f"{v.to('mm').magnitude:g}" for v in vals)])
@@ -540,7 +540,7 @@ class Insulation625(_Inspection):
                                     "upper end is below the 50 MΩ of 5.2.8: R may be on either side of the limit",
                                     hint="measure again on a higher range")
                 b = _exact("R", "Mohm", "a reading beyond the range: only the inequality is known")
-                results.append(Result(m, Q_(bound, "Mohm"), b.combined, b, reportable=False,
+                results.append(R.na_result(m, Q_(bound, "Mohm"), b.combined, b, reportable=False,
                                       reason=f"the megohmmeter shows {c.text} ({'below' if below else 'over'} its "
                                       f"range): R {'<' if below else '>'} {bound:g} MΩ, not a measured value",
                                       note=f"test voltage {V:~P}"))

@@ -18,7 +18,7 @@ import pint
 
 from metro.core.budget import BudgetRow
 from metro.core.errors import DataError, UnitError
-from metro.core.model import Campaign, Equipment
+from metro.core.model import Campaign, Equipment, Result
 from metro.core.units import Q_, parse_quantity, unit
 
 
@@ -174,3 +174,8 @@ def resolution_row(eq: Equipment, symbol: str, out_unit: str, file: str) -> list
 
 def as_unit(text_unit: str) -> pint.Unit:
     return unit(text_unit)
+
+
+def na_result(*args: Any, **kw: Any) -> Result:
+    """A Result about the device's build or records, in which the earth's rate has no part."""
+    return Result(*args, earth_rate="not applicable", **kw)

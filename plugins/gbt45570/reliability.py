@@ -124,7 +124,7 @@ class Mtbf6291(Procedure):
         m = self.metrics
         bl = _exact_budget("θ_L", "h", "declared operating hours and failures, taken as exact; the sampling of "
                            "failures is in the confidence level")
-        results = [Result(m[0], Q_(lower, "h"), bl.combined, bl,
+        results = [R.na_result(m[0], Q_(lower, "h"), bl.combined, bl,
                           note=f"{plan}, T = {T_h:g} h, r = {r}, C = {C:.0%} one-sided, χ²({C:g}; {nu})")]
         point = mtbf_point(T_h, r)
         warnings = []
@@ -132,7 +132,7 @@ class Mtbf6291(Procedure):
             b = UncertaintyBudget("θ̂", "h", [BudgetRow.type_b(
                 "sampling of r failures (exponential lifetimes)", "θ̂/√r", Q_(point / math.sqrt(r), "h"),
                 distribution="normal", k=1.0, note="for information; 5.5.1 is judged on θ_L")], coverage=COVERAGE)
-            results.append(Result(m[1], Q_(point, "h"), b.combined, b, note=f"T/r = {T_h:g} h / {r}"))
+            results.append(R.na_result(m[1], Q_(point, "h"), b.combined, b, note=f"T/r = {T_h:g} h / {r}"))
         else:
             warnings.append("no failure: the point estimate T/r does not exist; only θ_L is given")
         tab = TableSpec("reliability", "Declared reliability evidence (6.2.9.1)", ["quantity", "value"],
@@ -178,7 +178,7 @@ class Life6292(Procedure):
             if float(q.magnitude) < 0:
                 raise DataError(src, f"reliability.{key}", f"must not be negative, got {rec[key]!r}")
             b = _exact_budget(metric.symbol, dim, "declared from the records, taken as exact")
-            results.append(Result(metric, q.to(dim), b.combined, b, note="as declared in [reliability]"))
+            results.append(R.na_result(metric, q.to(dim), b.combined, b, note="as declared in [reliability]"))
         return Outcome(STANDARD, self.item, self.title, self.clause, results, warnings=warnings)
 
 

@@ -212,7 +212,7 @@ def _bias_change(metric: Metric, before, after) -> Result:
                              note="earth rate, latitude and levelling are common to both records and cancel")]
     rows += _scale_factor_row(before.conv, d, "deg/h")
     b = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-    return Result(metric, Q_(d, "deg/h"), b.combined, b, note=f"B₀ before {before.B0:.5f} °/h, after {after.B0:.5f} °/h "
+    return Result(metric, Q_(d, "deg/h"), b.combined, b, earth_rate="removed", note=f"B₀ before {before.B0:.5f} °/h, after {after.B0:.5f} °/h "
                   "(D.5.1, eq. (D.40))")
 
 
@@ -235,7 +235,7 @@ def _severity_result(metric: Metric, q, rec: Mapping, p: Param, src: str, where:
                                  Q_(0.0, delta), distribution="uniform", note="uncertainty of the severity not evaluated")]
         missing = p.label or p.name
     b = UncertaintyBudget(metric.symbol, delta, rows, coverage=COVERAGE)
-    return Result(metric, q.to(p.unit), b.combined, b, note=f"as applied ({where}.severity.{p.name})"), missing
+    return R.na_result(metric, q.to(p.unit), b.combined, b, note=f"as applied ({where}.severity.{p.name})"), missing
 
 
 class _EnvironmentalTest(Procedure):
@@ -317,7 +317,7 @@ class _EnvironmentalTest(Procedure):
                     "F", "", f"5.4 {t.letter})")
         fb = UncertaintyBudget("F", "", [BudgetRow.type_b("an observed pass/fail: exact", "u(F)", Q_(0.0, ""),
                                                           distribution="uniform")], coverage=COVERAGE)
-        results.append(Result(fm, Q_(0.0 if func else 1.0, ""), fb.combined, fb,
+        results.append(R.na_result(fm, Q_(0.0 if func else 1.0, ""), fb.combined, fb,
                               note="passed" if func else "FAILED"))
         used: list[str] = []
         if "before" in rec or "after" in rec:
