@@ -16,6 +16,14 @@ pages in docs/standards/ and to docs/interpretations.md.  Examples (the recorded
   benchmarks/within_u.py -s jjf2014 --all -o records=3 -o "sample_rate=2000 Hz" --seeds 1:31
   benchmarks/within_u.py -s jjf2014 ... --station-option table_errors=false
   benchmarks/within_u.py -s jjf2014 -i 7.2.20 --station-option rrw_deg_h_rt_h=5 --seeds 2000:2300
+
+GB/T 45570 device classes (instruments/simulated.py DEVICE_CLASSES; each seed draws one device of
+the class): ``--device-class NAME`` (or ``all``) runs every item that applies to the class's
+device, seed by seed, and prints per result the fraction within U — a result declared not
+reportable (with its reason) counts as covered — and the mean E_n = (result − truth)/U over the
+reportable ones:
+
+  nice -n 10 benchmarks/within_u.py -s gbt45570 --device-class all --seeds 1:201
 """
 
 from __future__ import annotations
@@ -46,7 +54,11 @@ def main() -> None:
     ap.add_argument("--seeds", default="1:101", help="first:stop")
     ap.add_argument("-o", "--option", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE")
+    ap.add_argument("--device-class", default="", help="GB/T 45570: a device class of the simulated station, or all")
     a = ap.parse_args()
+    if a.device_class:
+        gbt_device_classes_main(a)
+        return
 
     from metro.core.plugins import get_plugin_manager
     from metro.core.present import truth_checks
@@ -75,6 +87,103 @@ def main() -> None:
         z = np.array([z for _, z in v])
         print(f"{item:10s} {key:14s} {hit:5d}/{len(v):<4d} {100 * hit / len(v):5.1f} % "
               f"{math.sqrt(np.nanmean(z**2)):6.2f}")
+
+
+# --------------------------------------------------------------------------------------------
+# GB/T 45570 device classes
+# --------------------------------------------------------------------------------------------
+
+
+def gbt_class_items(pm, device_class: str, station_options: dict, options: dict) -> tuple[list[str], dict[str, str]]:
+    """The items that apply to the class's device, and those that fail on it (item → error):
+    each applicable item is tried once on seed 1."""
+    from metro.core.runner import run_items, select_items, station_device
+
+    so = station_options | {"seed": 1, "device_class": device_class}
+    items, _ = select_items(pm, "gbt45570", [], run_all=True, device=station_device(pm, "simulated", so))
+    ok, failed = [], {}
+    for item in items:
+        try:
+            run_items(pm, "gbt45570", [item], station="simulated", station_options=so, options=options)
+            ok.append(item)
+        except Exception as exc:  # noqa: BLE001 - reported in the table, not hidden
+            failed[item] = f"{type(exc).__name__}: {str(exc).splitlines()[0][:120]}"
+    return ok, failed
+
+
+def sweep_gbt_class(pm, device_class: str, items: list[str], seeds: range, station_options: dict,
+                    options: dict) -> tuple[dict, list[str]]:
+    """Per (item, result): a list of (reportable, within U, E_n) over ``seeds``; and the errors."""
+    from metro.core.runner import run_items
+
+    rows: dict[tuple[str, str], list[tuple[bool, bool, float]]] = {}
+    errors = []
+    for seed in seeds:
+        try:
+            rec = run_items(pm, "gbt45570", items, station="simulated", options=options,
+                            station_options=station_options | {"seed": seed, "device_class": device_class})
+        except Exception as exc:  # noqa: BLE001
+            errors.append(f"seed {seed}: {type(exc).__name__}: {str(exc).splitlines()[0][:120]}")
+            continue
+        exp = rec.campaign.expected
+        for o in rec.outcomes:
+            for r in o.results:
+                if r.metric.key not in exp or r.U is None:
+                    continue
+                unit = r.metric.unit
+                v = float(r.value.to(unit).magnitude)
+                t = float(exp[r.metric.key].to(unit).magnitude)
+                U = float(r.U.magnitude)
+                en = (v - t) / U if U > 0 else (0.0 if v == t else math.inf)
+                rows.setdefault((o.item, r.metric.key), []).append((bool(r.reportable), abs(en) <= 1.0, en))
+    return rows, errors
+
+
+def gbt_table(device_class: str, rows: dict) -> list[str]:
+    """Markdown rows: result, class, seeds, not reportable, within U (or not reportable), mean E_n, verdict."""
+    out = []
+    for (item, key), v in sorted(rows.items()):
+        n = len(v)
+        nr = sum(1 for rep, _, _ in v if not rep)
+        covered = sum(1 for rep, ok, _ in v if ok or not rep)
+        ens = [en for rep, _, en in v if rep and math.isfinite(en)]
+        # the mean E_n over the reportable seeds (when fewer than 10 are, it says little: n/a)
+        mean_en = float(np.mean(ens)) if len(ens) >= 10 else math.nan
+        good = covered / n >= 0.95 and (math.isnan(mean_en) or abs(mean_en) <= 0.3)
+        en_text = f"{mean_en:+.2f}" if not math.isnan(mean_en) else f"n/a ({len(ens)} reportable)"
+        out.append(f"| {item} {key} | {device_class} | {n} | {nr} | {100 * covered / n:.1f} % | "
+                   f"{en_text} | {'yes' if good else '**no**'} |")
+    return out
+
+
+def gbt_device_classes_main(a) -> None:
+    from metro.core.plugins import get_plugin_manager
+    from metro.instruments.simulated import DEVICE_CLASSES
+
+    pm = get_plugin_manager(autoload=False)
+    classes = list(DEVICE_CLASSES) if a.device_class == "all" else a.device_class.split(",")
+    first, stop = (int(x) for x in a.seeds.split(":"))
+    options = {k: str(v) for k, v in _pairs(a.option).items()}
+    so = _pairs(a.station_option)
+    print(f"gbt45570 device classes, seeds {first}–{stop - 1}, station options {so or 'none'}, "
+          f"item options {options or 'none'}")
+    print("| result | class | seeds | not reportable | within U or not reportable | mean E_n | ≥ 95 %, |E_n| ≤ 0.3 |")
+    print("|---|---|---|---|---|---|---|")
+    notes = []
+    for cls in classes:
+        t0 = time.perf_counter()
+        items = [x for x in a.item.split(",") if x]
+        failed = {}
+        if not items:
+            items, failed = gbt_class_items(pm, cls, so, options)
+        rows, errors = sweep_gbt_class(pm, cls, items, range(first, stop), so, options)
+        for line in gbt_table(cls, rows):
+            print(line, flush=True)
+        notes += [f"{cls}: {item} not run — {why}" for item, why in failed.items()]
+        notes += [f"{cls}: {e}" for e in errors]
+        notes.append(f"{cls}: {len(items)} items, {time.perf_counter() - t0:.0f} s")
+    for line in notes:
+        print("  " + line)
 
 
 if __name__ == "__main__":

@@ -84,8 +84,12 @@ def _mean_rate(seg: Segment, campaign: Campaign, batches: int) -> dict[str, Any]
         raise DataError(seg.file or f"segment {seg.id}", "output",
                         f"{raw.size} samples are too few for {batches} batch means")
     sd, nb = allan.block_std(raw, raw.size // batches)
+    from .procedures import quantization_rows_mean
+
+    q_rows = quantization_rows_mean(campaign, conv, raw, "the mean")
     return {"rate": float(np.mean(raw)) * conv.magnitude, "u": sd * conv.magnitude / math.sqrt(nb),
-            "nu": nb - 1, "conv": conv}
+            "nu": nb - 1, "conv": conv,
+            "u_q": float(q_rows[0].contribution.to("deg/h").magnitude) if q_rows else 0.0}
 
 
 def _condition_result(metric: Metric, value, equipment, campaign: Campaign, *, prop: str | None = None,
@@ -269,6 +273,11 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     nu = uA**4 / (a["u"] ** 4 / a["nu"] + b["u"] ** 4 / b["nu"]) if uA > 0 else math.inf
     rows = [BudgetRow.type_a("scatter of the two biases (batch means)", "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
                              note="the earth-rate term of D.40 is common to both and cancels")]
+    uq = math.hypot(a.get("u_q", 0.0), b.get("u_q", 0.0))
+    if uq > 0:
+        rows.append(BudgetRow.type_b("quantization of the two means (the D.5.1 rows)", "√(u_q²(B_a)+u_q²(B_b))",
+                                     Q_(uq, "deg/h"), distribution="normal", k=1.0,
+                                     note="±1 P over a record, or a rounded rate not dithered by the noise"))
     rows += _scale_factor_row(a["conv"], value, "deg/h")
     rows += _timebase_row(campaign, value, "deg/h", metric.symbol)
     budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)

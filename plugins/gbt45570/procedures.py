@@ -180,6 +180,8 @@ class BiasEstimate:
     theta: float
     conv: RateConversion
     series: Any
+    u_q: float = 0.0  # °/h, standard uncertainty of B0 from the output's quantization
+    hw_q: float = 0.0  # °/h, its half-width (uniform)
 
 
 def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEstimate:
@@ -225,9 +227,11 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
                                      distribution="uniform", sensitivity=Q_(c_theta, "deg/h/rad"),
                                      note="horizontal earth rate Ω·cos θ·sin δ leaks into the IRA"))
     rows += _timebase_row(campaign, indicated, "deg/h", "indicated rate")
-    rows += quantization_rows_mean(campaign, conv, raw, "the mean of D.40")
+    q_rows = quantization_rows_mean(campaign, conv, raw, "the mean of D.40")
+    rows += q_rows
     budget = UncertaintyBudget("B0", "deg/h", rows, coverage=COVERAGE)
-    return BiasEstimate(B0, uA, nb - 1, budget, earth, orient, theta, conv, series)
+    u_q = float(q_rows[0].contribution.to("deg/h").magnitude) if q_rows else 0.0
+    return BiasEstimate(B0, uA, nb - 1, budget, earth, orient, theta, conv, series, u_q, u_q * math.sqrt(3.0))
 
 
 # --------------------------------------------------------------------------------------------
@@ -349,9 +353,20 @@ class BiasRepeatabilityD53(Procedure):
             raise DataError(campaign.source, "segments", "all Q biases are identical; B_r = 0 cannot be right")
         rows = [BudgetRow.type_a(f"sampling of the standard deviation of Q = {Q} biases", "B_r/√(2(Q−1))",
                                  Q_(Br / math.sqrt(2 * (Q - 1)), "deg/h"), Q - 1)]
+        hw_q = max(e.hw_q for e in ests)
+        reason = ""
+        if hw_q > 0:
+            # |std(B + e) − std(B)| ≤ std(e) ≤ max|e|: each bias's rounding error moves B_r by at most it
+            rows.append(BudgetRow.type_b("quantization of each bias (the D.5.1 row), through the standard deviation",
+                                         "max|δB₀|", Q_(hw_q, "deg/h"), distribution="uniform",
+                                         note="|Δs| ≤ std of the biases' rounding errors ≤ their largest bound"))
+            if hw_q >= Br:
+                reason = (f"the output's quantization can move each bias by up to {hw_q:.3g} °/h, as much as the "
+                          f"measured spread B_r = {Br:.3g} °/h: the repeatability cannot be told from the rounding")
         rows += _scale_factor_row(ests[0].conv, Br, "deg/h")
         budget = UncertaintyBudget("B_r", "deg/h", rows, coverage=COVERAGE)
-        res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget, note=f"Q = {Q}", earth_rate="not applicable")
+        res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget, note=f"Q = {Q}", earth_rate="not applicable",
+                     reportable=not reason, reason=reason)
         table = TableSpec("biases", "Bias of each power-on (D.40)", ["run", "segment", "B₀ (°/h)", "u_A (°/h)"],
                           [[s.conditions.get("run", i + 1), s.id, f"{e.B0:.5f}", f"{e.u_A:.2g}"]
                            for i, (s, e) in enumerate(zip(segs, ests))])
@@ -423,6 +438,16 @@ class BiasTemperatureSensitivityD54(Procedure):
         nu = uA**4 / ((eA.u_A / dT) ** 4 / eA.nu_A + (e0.u_A / dT) ** 4 / e0.nu_A)
         rows = [BudgetRow.type_a("scatter of B_i and B_00 (batch means)", "√(u²(B_i)+u²(B_00))/|ΔT|",
                                  Q_(uA, "deg/h/delta_degC"), nu)]
+        if len(temps) > 2:
+            # D.43 takes the largest of several noisy |slopes|: when the sensitivity is the same at
+            # every point the maximum exceeds it by about 0.4–0.6 of a slope's u (interpretations.md)
+            rows.append(BudgetRow.type_b("selection of the largest |ΔB/ΔT| among noisy slopes (D.43 takes the "
+                                         "maximum)", "δ_max", Q_(uA, "deg/h/delta_degC"), distribution="uniform",
+                                         note=f"{len(temps) - 1} slopes against T0; half-width one slope's u"))
+        if eA.u_q > 0 or e0.u_q > 0:
+            rows.append(BudgetRow.type_b("quantization of B_i and B_00 (the D.5.1 rows)", "√(u_q²(B_i)+u_q²(B_00))/|ΔT|",
+                                         Q_(math.hypot(eA.u_q, e0.u_q) / abs(dT), "deg/h/delta_degC"),
+                                         distribution="normal", k=1.0))
         uT = _delta_temperature_u(campaign)
         if uT is not None:
             rows.append(BudgetRow.type_b(f"chamber temperature T_i and T_0 ({uT[1]})", "√2·u(T)",
@@ -510,6 +535,10 @@ class BiasMagneticSensitivityD55(Procedure):
             nu = uA**4 / ((ep.u_A / (2 * Hb)) ** 4 / ep.nu_A + (em.u_A / (2 * Hb)) ** 4 / em.nu_A)
             rows = [BudgetRow.type_a("scatter of B_0+ and B_0− (batch means)", "√(u²₊+u²₋)/(2H_b)",
                                      Q_(uA, "deg/h/mT"), nu)]
+            if ep.u_q > 0 or em.u_q > 0:
+                rows.append(BudgetRow.type_b("quantization of B_0+ and B_0− (the D.5.1 rows)", "√(u_q²₊+u_q²₋)/(2H_b)",
+                                             Q_(math.hypot(ep.u_q, em.u_q) / (2.0 * Hb), "deg/h/mT"),
+                                             distribution="normal", k=1.0))
             rows.append(BudgetRow.type_b("field uniformity over the gyro", "ΔH/H", Q_(uniformity, ""),
                                          distribution="uniform", sensitivity=Q_(Bh, "deg/h/mT"),
                                          note="D.5.5.1 b): better than 5 %"))
