@@ -51,6 +51,8 @@ class TypeTestTruth:
     env_shift_deg_h: tuple[tuple[str, float], ...] = (
         ("lts", 0.004), ("hts", -0.006), ("tsh", 0.008), ("lp", 0.002), ("acc", -0.003), ("dh", 0.005),
         ("mould", 0.001), ("salt", -0.002), ("tvac", 0.006), ("rad", 0.007), ("emc", -0.001))
+    #: relative scale-factor change (ppm) after each test, by tag (the others: none)
+    env_sf_shift_ppm: tuple[tuple[str, float], ...] = (("lts", 6.0), ("hts", -4.0), ("tsh", 9.0), ("acc", 3.0))
     operating_hours: float = 62_000.0  # accumulated by all units on the reliability test
     failures: int = 3
     plan: str = "time-terminated"
@@ -60,6 +62,10 @@ class TypeTestTruth:
 
     def shift(self, tag: str) -> float:
         return dict(self.env_shift_deg_h).get(tag, 0.0)
+
+    def sf_shift(self, tag: str) -> float:
+        """Relative scale-factor change after the test ``tag`` (a ratio, not ppm)."""
+        return dict(self.env_sf_shift_ppm).get(tag, 0.0) * 1e-6
 
 
 TRUTH = TypeTestTruth()
@@ -265,11 +271,59 @@ def sim_type_env(station, step, index, *, interval_s, n, bias_offset_deg_h, prog
                            offset=off, progress=progress)
 
 
+def _after_station(station: SimulatedStation, step) -> SimulatedStation:
+    """The station whose gyro has the scale factor it has after the test (before: unchanged)."""
+    if str(step.conditions.get("phase", "before")).lower() != "after":
+        return station
+    t = station.truth
+    f = 1.0 + TRUTH.sf_shift(str(step.conditions.get("test", "")))
+    return attrs.evolve(station, truth=attrs.evolve(t, scale_factor_P_per_arcsec=t.scale_factor_P_per_arcsec * f,
+                                                    lsb_per_deg_s=t.lsb_per_deg_s * f))
+
+
+@register_step_kind("type-env-revolutions")
+def sim_type_env_revolutions(station, step, index, *, bias_offset_deg_h, **_):
+    """Whole revolutions before/after a test (the angle method's record, D.1.1.2 g))."""
+    import hashlib
+
+    from metro.core.model import Segment
+    from metro.core.units import parse_quantity
+
+    from .simulated import simulate_revolutions
+
+    st = _after_station(station, step)
+    rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
+    counts, dur = simulate_revolutions(st.truth, rate_deg_s=abs(rate), direction=1 if rate > 0 else -1,
+                                       turns=int(step.conditions.get("turns", 3)), latitude_deg=st.latitude_deg,
+                                       seed=st.truth.seed + 7919 * (index + 1), bias_offset_deg_h=bias_offset_deg_h)
+    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(float(dur[0]), "s"),
+                   sha256=hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest(),
+                   loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}))
+
+
+@register_step_kind("type-env-rate-output")
+def sim_type_env_rate_output(station, step, index, *, interval_s, n, bias_offset_deg_h, **_):
+    """The output at a rate point before/after a test (the rate method's record, D.2.1.2 g))."""
+    from .sim_gbt_rate import _rate_samples
+
+    return _rate_samples(_after_station(station, step), step, index, n, interval_s, 1.0, bias_offset_deg_h)
+
+
+@register_step_kind("type-env-rate-static")
+def sim_type_env_rate_static(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
+    from .sim_gbt_env import _static_segment
+
+    return _static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
+                           offset=bias_offset_deg_h, progress=progress)
+
+
 @register_expected
 def expected_type_env(station, segments) -> dict[str, Any]:
-    """ΔB₀ of every 5.4 test done elsewhere whose before/after records were simulated."""
+    """ΔB₀ and ΔK/K of every 5.4 test done elsewhere whose before/after records were simulated."""
     tags = {str(s.conditions.get("test")) for s in segments if s.kind == "type-env"}
-    return {f"{t}_dB0": Q_(TRUTH.shift(t), "deg/h") for t in tags}
+    out = {f"{t}_dB0": Q_(TRUTH.shift(t), "deg/h") for t in tags}
+    sf = {str(s.conditions.get("test")) for s in segments if s.kind.startswith("type-env-r")}
+    return out | {f"{t}_dK": Q_(TRUTH.sf_shift(t) * 1e6, "ppm") for t in sf}
 
 
 @register_record_expected

@@ -378,6 +378,46 @@ def test_each_54_test_on_the_simulated_station(pm, item, tag):
     assert row["status"] == "performed"
 
 
+def test_scale_factor_change_hand_worked():
+    from metro.core.model import Metric
+    from metro.plugins.gbt45570.type_env import _scale_factor_change
+
+    m = Metric("lts_dK", "scale-factor change", "ΔK/K", "ppm", "D.1.1.3")
+    # K 1.0 → 1.00001 (u = 1e-6 each, ν = 10 and 20): ΔK/K = 10 ppm, u = √(1² + 1.00001²)·1e-6 → ppm
+    r = _scale_factor_change(m, (1.0, 1e-6, 10, "P/arcsec", "D.1.1"), (1.00001, 1e-6, 20, "P/arcsec", "D.1.1"))
+    assert float(r.value.to("ppm").magnitude) == pytest.approx(10.0, rel=1e-9)
+    u = math.hypot(1.0, 1.00001)
+    assert float(r.u.to("ppm").magnitude) == pytest.approx(u, rel=1e-9)
+    assert r.budget.nu_eff == pytest.approx(u**4 / (1.0**4 / 20 + 1.00001**4 / 10), rel=1e-9)
+
+
+@pytest.mark.parametrize("station, how", [("simulated", "angle"), ("simulated-digital", "rate")])
+def test_scale_factor_change_by_d11_and_d21(pm, station, how):
+    """ΔK/K before/after the temperature shock: whole revolutions by D.1.1 on the pulse gyro, the
+    output at rate points by D.2.1 on the LSB gyro; the declared 9 ppm within U."""
+    from metro.instruments.sim_gbt_type import TRUTH
+
+    rec = run_items(pm, "gbt45570", ["6.2.8.5"], station=station, options={"scale_factor": how},
+                    station_options={"duration_scale": 0.25})
+    r = _result(rec, "tsh_dK")
+    assert ("D.1.1" if how == "angle" else "D.2.1") in r.note
+    assert abs(float(r.value.to("ppm").magnitude) - TRUTH.sf_shift("tsh") * 1e6) <= float(r.U.to("ppm").magnitude)
+
+
+def test_scale_factor_records_on_one_side_only(pm):
+    import attrs
+
+    from metro.core.runner import load_campaign
+
+    cls = pm.procedure("gbt45570", "6.2.8.2")
+    camp = load_campaign(pm, [cls], [{}], data=None, station_options={"duration_scale": 0.2})
+    # drop the revolutions after the test: the before ones alone are an error naming what is missing
+    kept = [sg for sg in camp.segments
+            if not (sg.kind == "type-env-revolutions" and sg.conditions.get("phase") == "after")]
+    with pytest.raises(DataError, match="none after it"):
+        run_items(pm, "gbt45570", ["6.2.8.2"], campaign=attrs.evolve(camp, segments=kept))
+
+
 # --------------------------------------------------------------------------------- bad records
 
 

@@ -166,7 +166,8 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
     """One row per clause-5 requirement, in the standard's order: ``clause``, ``requirement``,
     ``method`` (the items), ``status`` (performed / not performed / by product specification),
     ``result`` (the results, at most ``limit`` listed), ``verdict`` (conforms / does not conform /
-    indeterminate / "no limit given" / "—") and ``reason``."""
+    indeterminate / "no limit given", or the status where nothing was judged) and ``reason`` (also
+    as ``note``)."""
     outs = [o for o in record.outcomes if o.standard == STANDARD]
     a = record.conformity
     verdicts = {} if a is None else {}
@@ -178,18 +179,18 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
     for req in REQUIREMENTS:
         row = {"clause": req.clause, "requirement": req.text, "method": " / ".join(req.items) or "—"}
         if not req.items:
-            rows.append(row | {"status": BY_SPEC, "result": "—", "verdict": "—", "reason": req.by_spec})
+            rows.append(row | {"status": BY_SPEC, "result": "—", "verdict": BY_SPEC, "reason": req.by_spec})
             continue
         mine = [(o, r) for o in outs if o.item in req.items for r in o.results if _matches(r.metric.key, req.keys)]
         ran = [o for o in outs if o.item in req.items]
         if not ran:
             reasons = [f"{i}: {choices[i].reason}" for i in req.items if i in choices]
-            rows.append(row | {"status": NOT_PERFORMED, "result": "—", "verdict": "—",
+            rows.append(row | {"status": NOT_PERFORMED, "result": "—", "verdict": NOT_PERFORMED,
                                "reason": "; ".join(reasons) or "not requested in this run"})
             continue
         if not mine:
             notes = [w for o in ran for w in o.warnings]
-            rows.append(row | {"status": NOT_PERFORMED, "result": "—", "verdict": "—",
+            rows.append(row | {"status": NOT_PERFORMED, "result": "—", "verdict": NOT_PERFORMED,
                                "reason": "; ".join(notes) or "the item gave no result for this requirement"})
             continue
         texts = [_result_text(r) for _, r in mine]
@@ -211,6 +212,8 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
         if warnings:
             reason += "; " + "; ".join(warnings[:2])
         rows.append(row | {"status": PERFORMED, "result": "; ".join(texts), "verdict": verdict, "reason": reason})
+    for r in rows:
+        r["note"] = r["reason"]  # the report's clause-5 table prints it as the row's note
     return rows
 
 

@@ -17,6 +17,10 @@ after it.  Each item reports
   not conform: the test applied was too mild to show the requirement (interpretations.md);
 * the bias before and after by D.5.1 (eq. (D.40), :func:`.procedures.segment_bias`) and its change
   ΔB₀ = B₀(after) − B₀(before), judged against the product specification's ``bias_change`` limit;
+* the scale factor before and after, where the campaign has the records: whole revolutions
+  (``type-env-revolutions``, pulse output) by D.1.1 (eqs. (D.1), (D.2), (D.4)) or the output at rate
+  points and at rest (``type-env-rate-output`` / ``type-env-rate-static``, LSB output) by D.2.1
+  (eqs. (D.17)–(D.22)), and its relative change ΔK/K, judged against ``scale_factor_change``;
 * the functional check (0 = passed, 1 = failed), which must be 0.
 """
 
@@ -27,6 +31,7 @@ import re
 from typing import Any, Mapping
 
 import attrs
+import numpy as np
 
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.conformity import Comparison, Specification, parse_limit
@@ -50,6 +55,10 @@ from .procedures import COVERAGE, STANDARD, _scale_factor_row, segment_bias
 
 SECTION = "environmental_tests"
 SEGMENT_KIND = "type-env"
+#: revolutions at a rate point before/after a test (pulse output, D.1.1 maths); conditions test, phase, rate, turns
+REVOLUTIONS_KIND = "type-env-revolutions"
+#: LSB output at a rate point / at rest before/after a test (D.2.1 maths); conditions test, phase, rate or when
+RATE_KINDS = {"type-env-rate-output": "rate-output", "type-env-rate-static": "rate-static"}
 LE, GE = Comparison.AT_MOST, Comparison.AT_LEAST
 
 
@@ -170,7 +179,7 @@ def required_specifications(campaign: Campaign, test: EnvTest) -> list[Specifica
         if not isinstance(req, Mapping):
             raise DataError(src, f"{SECTION}[{i}].required", "must be a table of limits such as temperature = \"<= -55 degC\"")
         source = str(req.get("source") or f"product specification (manifest {SECTION}[{i}].required)")
-        known = {p.name for p in test.params} | {"bias_change", "source"}
+        known = {p.name for p in test.params} | {"bias_change", "scale_factor_change", "source"}
         for key in req:
             if key not in known:
                 raise DataError(src, f"{SECTION}[{i}].required.{key}",
@@ -183,6 +192,10 @@ def required_specifications(campaign: Campaign, test: EnvTest) -> list[Specifica
                 spec = c1_specification(test, p, app)
                 if spec is not None:
                     out.append(spec)
+        if "scale_factor_change" in req:
+            out.append(attrs.evolve(parse_limit(f"{test.tag}_dK", req["scale_factor_change"], source=source, file=src,
+                                                field=f"{SECTION}[{i}].required.scale_factor_change"),
+                                    items=(test.item,)))
         if "bias_change" in req:
             out.append(attrs.evolve(parse_limit(f"{test.tag}_dB0", req["bias_change"], source=source, file=src,
                                                 field=f"{SECTION}[{i}].required.bias_change"), items=(test.item,)))
@@ -238,6 +251,62 @@ def _severity_result(metric: Metric, q, rec: Mapping, p: Param, src: str, where:
     return R.na_result(metric, q.to(p.unit), b.combined, b, note=f"as applied ({where}.severity.{p.name})"), missing
 
 
+def _phase_segments(campaign: Campaign, kinds, tag: str, phase: str) -> list:
+    return [sg for sg in campaign.segments if sg.kind in kinds and str(sg.conditions.get("test", "")) == tag
+            and str(sg.conditions.get("phase", "")).lower() == phase]
+
+
+def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, phase: str):
+    """(K, u(K), ν, unit, method) of the records before or after a test, or None without records:
+    D.1.1 on whole revolutions (one rate point: K_i of eq. (D.2); more: K of the eq. (D.4) fit), or
+    D.2.1 on the LSB output (K of eqs. (D.21)/(D.22) with its propagated type A)."""
+    from .angle_method import collect_rate_points
+    from .rate_method import collect_rate_data, fit_scale_factor
+    from metro.core.lsq import fit_line
+
+    what = f"{phase} the test {tag}"
+    revs = _phase_segments(campaign, (REVOLUTIONS_KIND,), tag, phase)
+    if revs:
+        pts = collect_rate_points(proc, campaign, 1, segments=revs, what=what)
+        if len(pts) == 1:
+            return pts[0].K, pts[0].u_K, math.inf, "P/arcsec", "D.1.1, eq. (D.2), one rate point"
+        rates = np.array([pt.rate for pt in pts])
+        Ki = np.array([pt.K for pt in pts])
+        if len(pts) == 2:  # a line through two points: no residual dof; u from the counts' scatter
+            w = (Ki[1] - Ki[0]) / (rates[1] - rates[0])
+            K = float(Ki[0] - w * rates[0])
+            uK = math.hypot(*(pt.u_K * abs(r_other) / abs(rates[1] - rates[0])
+                              for pt, r_other in zip(pts, rates[::-1])))
+            return K, uK, math.inf, "P/arcsec", "D.1.1, eq. (D.4) through two rate points"
+        fit = fit_line(rates, Ki)
+        return float(fit.coef[0]), float(fit.stderr[0]), fit.dof, "P/arcsec", "D.1.1, eq. (D.4) fit"
+    lsb = _phase_segments(campaign, tuple(RATE_KINDS), tag, phase)
+    if lsb:
+        view = attrs.evolve(campaign, segments=[attrs.evolve(sg, kind=RATE_KINDS[sg.kind]) for sg in lsb])
+        data = collect_rate_data(proc, view, 1, what=what)
+        fit = fit_scale_factor(data)
+        return fit.K, fit.uK, fit.nuK, "LSB/(deg/s)", "D.2.1, eqs. (D.21), (D.22)"
+    return None
+
+
+def _scale_factor_change(metric: Metric, before, after) -> Result:
+    """ΔK/K = (K_after − K_before)/K_before (ppm) with the two K's type A (relative, combined)."""
+    Kb, ub, nub, unit, how = before
+    Ka, ua, nua, unit_a, _ = after
+    if unit != unit_a:
+        raise DataError(None, metric.key, f"the scale factor before is in {unit}, after in {unit_a}: records of two methods")
+    d = (Ka - Kb) / Kb
+    u = math.hypot(ua / Kb, ub * Ka / Kb**2)
+    parts = [(ua / Kb, nua), (ub * Ka / Kb**2, nub)]
+    nu = u**4 / sum(x**4 / n for x, n in parts if x > 0 and math.isfinite(n)) if u > 0 and any(
+        x > 0 and math.isfinite(n) for x, n in parts) else math.inf
+    rows = [BudgetRow.type_a("scatter of the two scale factors", "u(ΔK/K)", Q_(u * 1e6, "ppm"), nu,
+                             note=f"{how}; the table's angle and time base are common to both and cancel")]
+    b = UncertaintyBudget(metric.symbol, "ppm", rows, coverage=COVERAGE)
+    return Result(metric, Q_(d * 1e6, "ppm"), b.combined, b, earth_rate="removed",
+                  note=f"K before {Kb:.8g}, after {Ka:.8g} {unit} ({how})")
+
+
 class _EnvironmentalTest(Procedure):
     """Shared by the 5.4 tests done elsewhere: severity applied, bias before/after (D.5.1), the
     functional check.  Subclasses set ``test``."""
@@ -245,7 +314,11 @@ class _EnvironmentalTest(Procedure):
     standard = STANDARD
     test: EnvTest
     record_sections = (SECTION,)
-    options = (Option("batches", 20, None, "batch means for the biases' type A uncertainty", minimum=2),)
+    options = (Option("batches", 20, None, "batch means for the biases' type A uncertainty", minimum=2),
+               Option("scale_factor", "angle", None, "scale factor before/after: angle (D.1.1 revolutions, pulse "
+                      "output), rate (D.2.1, LSB output) or none"),
+               Option("sf_rates", "10 deg/s, 100 deg/s", None, "rate points of the scale-factor check"),
+               Option("turns", 3, None, "whole revolutions per rate point and direction (angle method)"))
 
     @classmethod
     def missing_records(cls, campaign: Campaign) -> str:
@@ -256,9 +329,11 @@ class _EnvironmentalTest(Procedure):
         return "" if found else f"[[{SECTION}]] with test = \"{cls.test.key}\""
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})
         t = self.test
         base = {"orientation": "IRA up", "test": t.tag}
-        return [
+        sf = {ph: self._sf_steps(opts, ph) for ph in ("before", "after")}
+        return sf["before"] + [
             Step(f"env-{t.tag}-before", SEGMENT_KIND, f"before the {t.name_en} test: IRA up on the levelled platform, "
                  "record 10 min at τ = 1 s (bias by D.5.1)", Q_(10, "min"), Q_(1, "s"), base | {"phase": "before"},
                  warmup=Q_(10, "min")),
@@ -269,7 +344,38 @@ class _EnvironmentalTest(Procedure):
             Step(f"env-{t.tag}-after", SEGMENT_KIND, f"after the {t.name_en} test and recovery: IRA up, record 10 min "
                  "at τ = 1 s (bias by D.5.1); functional check", Q_(10, "min"), Q_(1, "s"), base | {"phase": "after"},
                  warmup=Q_(10, "min")),
-        ]
+        ] + sf["after"]
+
+    def _sf_steps(self, opts: Mapping[str, Any], phase: str) -> list[Step]:
+        t, how = self.test, str(opts["scale_factor"]).strip().lower()
+        if how not in ("angle", "rate", "none"):
+            raise DataError(None, "option scale_factor", f"must be angle, rate or none, got {how!r}")
+        if how == "none":
+            return []
+        from metro.core.units import parse_quantity
+
+        rates = [float(parse_quantity(x.strip(), dimension="deg/s", field="option sf_rates").to("deg/s").magnitude)
+                 for x in str(opts["sf_rates"]).split(",") if x.strip()]
+        base = {"test": t.tag, "phase": phase}
+        steps = []
+        if how == "rate":
+            for when in ("start", "end"):
+                steps.append(Step(f"env-{t.tag}-{phase}-rest-{when}", "type-env-rate-static",
+                                  f"{phase} the {t.name_en} test: table at rest ({when}), 100 s (D.2.1.2 h))",
+                                  Q_(100, "s"), Q_(1, "s"), base | {"when": when}))
+        for r in rates:
+            for sign in (1, -1):
+                if how == "angle":
+                    m = int(opts["turns"])
+                    steps.append(Step(f"env-{t.tag}-{phase}-rev{sign * r:+g}", REVOLUTIONS_KIND,
+                                      f"{phase} the {t.name_en} test: {m} whole revolutions at {sign * r:+g} °/s "
+                                      "(D.1.1.2 g))", Q_(m * 360.0 / r, "s"), Q_(360.0 / r, "s"),
+                                      base | {"rate": f"{sign * r:g} deg/s", "turns": m}))
+                else:
+                    steps.append(Step(f"env-{t.tag}-{phase}-rate{sign * r:+g}", "type-env-rate-output",
+                                      f"{phase} the {t.name_en} test: table at {sign * r:+g} °/s, 100 s (D.2.1.2 g))",
+                                      Q_(100, "s"), Q_(1, "s"), base | {"rate": f"{sign * r:g} deg/s"}))
+        return steps
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
@@ -334,7 +440,18 @@ class _EnvironmentalTest(Procedure):
             used = [ids["before"].id, ids["after"].id]
         else:
             warnings.append(f"no before/after records of the gyro's output for {t.key}: the change of its "
-                            "performance is not evaluated")
+                            "bias is not evaluated")
+        sf = {ph: scale_factor_at_phase(type(self), campaign, t.tag, ph) for ph in ("before", "after")}
+        if sf["before"] is not None and sf["after"] is not None:
+            km = Metric(f"{t.tag}_dK", f"{t.name_en}: relative scale-factor change after − before", "ΔK/K", "ppm",
+                        "D.1.1.3 / D.2.1.3")
+            results.append(_scale_factor_change(km, sf["before"], sf["after"]))
+            used += [sg.id for sg in campaign.segments if sg.kind in (REVOLUTIONS_KIND, *RATE_KINDS)
+                     and str(sg.conditions.get("test", "")) == t.tag]
+        elif sf["before"] is not None or sf["after"] is not None:
+            missing = "after" if sf["after"] is None else "before"
+            raise DataError(src, "segments", f"scale-factor records of {t.key} {'before' if missing == 'after' else 'after'} "
+                            f"the test but none {missing} it (test = \"{t.tag}\", phase = \"{missing}\")")
         meta = [["test method", str(rec.get("standard") or t.method)],
                 ["test lab / report", " / ".join(str(rec[k]) for k in ("lab", "report") if k in rec) or "—"]]
         tab = TableSpec(f"{t.tag}_severity", f"{t.name_en} ({t.name_cn}): severity applied", ["parameter", "value"],
@@ -354,7 +471,8 @@ def _make(test: EnvTest) -> type[Procedure]:
         "metrics": tuple(Metric(f"{test.tag}_{p.name}", f"{test.name_en}: {p.label or p.name} applied", p.name,
                                 p.unit, f"5.4 {test.letter})") for p in test.params)
         + (Metric(f"{test.tag}_function", f"{test.name_en}: functional check", "F", "", f"5.4 {test.letter})"),
-           Metric(f"{test.tag}_dB0", f"{test.name_en}: bias change", "ΔB₀", "deg/h", "D.5.1.3", "D.40")),
+           Metric(f"{test.tag}_dB0", f"{test.name_en}: bias change", "ΔB₀", "deg/h", "D.5.1.3", "D.40"),
+           Metric(f"{test.tag}_dK", f"{test.name_en}: scale-factor change", "ΔK/K", "ppm", "D.1.1.3 / D.2.1.3")),
     })
 
 
