@@ -567,6 +567,14 @@ def write_report(
     return render_context(path, ctx, template=template)
 
 
+def _core_property(text: str, limit: int = 255) -> str:
+    """A .docx core property holds at most 255 characters (python-docx refuses more): a longer
+    title or item list (a whole standard's items) is cut with an ellipsis; the report's pages keep
+    the full text."""
+    text = str(text)
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
 def _add_notices(document: Any, notices: Iterable[str]) -> None:
     """The register statement (registered, replaces …, not registered, --allow-expired) as bold
     paragraphs at the top of the document body, whatever the template."""
@@ -625,8 +633,8 @@ def render_context(
     _add_notices(tpl.docx, (ctx.get("register") or {}).get("notices") or ())
 
     props = tpl.docx.core_properties
-    props.title = ctx["title"]
-    props.subject = ctx["items_text"]
+    props.title = _core_property(ctx["title"])
+    props.subject = _core_property(ctx["items_text"])
     props.identifier = ctx["report_number"]
     props.author = ctx["generator"]
     props.last_modified_by = ctx["generator"]

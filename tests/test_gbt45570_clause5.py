@@ -542,3 +542,23 @@ def test_all_on_records_only_skips_items_without_records(pm, tmp_path):
     rows = {r["clause"]: r for r in clause5.clause5_rows(rec)}
     assert rows["5.2.5"]["status"] == "not performed" and "[inspection.mass]" in rows["5.2.5"]["reason"]
     assert rows["5.5.1"]["verdict"] == "conforms"
+
+
+def test_report_with_every_clause5_item_is_written(pm, tmp_path):
+    """A run of every type-test item writes the GB/T report: the .docx title property (≤ 255
+    characters, python-docx refuses more) is cut, the pages keep every item; the context has the
+    clause-5 rows."""
+    import docx
+    from metro.core.report import report_context, write_report
+
+    items = list(clause5.TYPE_TEST_ITEMS[:7]) + [i for i in clause5.TYPE_TEST_ITEMS if i.startswith(("6.2.8", "6.2.9"))]
+    rec = run_items(pm, "gbt45570", items, station_options={"duration_scale": 0.25}, options={"scale_factor": "none"})
+    long = {"gbt45570": "GB/T 45570—2025 光学陀螺仪通用技术要求 (optical gyroscopes — general technical requirements)"}
+    ctx = report_context(rec, designations=long)
+    pm.extend_report_context(rec, ctx)
+    assert [r["clause"] for r in ctx["gbt45570"]["clause5"]] == [r.clause for r in clause5.REQUIREMENTS]
+    assert len(ctx["title"]) > 255
+    path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("gbt45570").path, designations=long,
+                        extend=pm.extend_report_context)
+    doc = docx.Document(str(path))
+    assert len(doc.core_properties.title) == 255 and doc.core_properties.title.endswith("…")
