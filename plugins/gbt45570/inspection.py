@@ -543,7 +543,9 @@ class Insulation625(_Inspection):
                 results.append(R.na_result(m, Q_(bound, "Mohm"), b.combined, b, reportable=False,
                                       reason=f"the megohmmeter shows {c.text} ({'below' if below else 'over'} its "
                                       f"range): R {'<' if below else '>'} {bound:g} MΩ, not a measured value",
-                                      note=f"test voltage {V:~P}"))
+                                      note=f"the megohmmeter shows {c.text} ({'below' if below else 'over'} its "
+                                           f"range): R {'<' if below else '>'} {bound:g} MΩ, not a measured value; "
+                                           f"test voltage {V:~P}"))
                 cell = c.text
             else:
                 results.append(measured_result(m, vals, eq, campaign, note=f"test voltage {V:~P}"))
