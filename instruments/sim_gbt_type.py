@@ -153,6 +153,23 @@ def rec_appearance(station, step, index) -> dict:
                                           "lighting": "normal lighting (≥ 500 lx)", "inspector": "simulated"}}}
 
 
+@register_record_kind("record:inspection.materials")
+def rec_materials(station, step, index) -> dict:
+    if station.device().technology == "laser":
+        m = {"cavity": "glass-ceramic (微晶玻璃)", "mirrors": "glass-ceramic", "housing": "aluminium alloy 2A12"}
+    else:
+        m = {"fibre": "polarization-maintaining single-mode fibre", "potting": "organic silicone, modulus matched",
+             "housing": "aluminium alloy with permalloy shield"}
+    return {"inspection": {"materials": m}}
+
+
+@register_record_kind("record:inspection.function")
+def rec_function(station, step, index) -> dict:
+    return {"inspection": {"function": {"senses": True, "outputs": True,
+                                        "composition": ["optical sensor", "structural assembly",
+                                                        "control circuit with software"]}}}
+
+
 @register_record_kind("record:inspection.dimensions")
 def rec_dimensions(station, step, index) -> dict:
     cal, rng, out = _eq(station, "calliper"), _rng(station, "dimensions"), []

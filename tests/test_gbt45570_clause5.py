@@ -252,6 +252,32 @@ def test_supply_statements_and_measured_voltage(pm, tmp_path):
     assert _verdict(rec, "supply_V_5V").status.value == "pass"  # within 4.75 … 5.25 V
 
 
+DECLARED = """
+[inspection.materials]
+fibre = "single-mode fibre"
+potting = "epoxy"
+housing = "titanium"
+
+[inspection.function]
+senses = true
+outputs = false
+composition = ["optical sensor", "control circuit"]
+"""
+
+
+def test_materials_and_function_records(pm, tmp_path):
+    rec = _run(pm, _write(tmp_path, HEAD + DECLARED), ["5.2.1", "5.2.2"])
+    mat = next(o for o in rec.outcomes if o.item == "5.2.1")
+    assert not mat.results and any("titanium" in w and "by product specification" in w for w in mat.warnings)
+    assert float(_result(rec, "function_nc").value.magnitude) == 1  # "outputs" is a shall (应)
+    assert _verdict(rec, "function_nc").status.value == "fail"
+    fn = next(o for o in rec.outcomes if o.item == "5.2.2")
+    assert any("structure" in w for w in fn.warnings)  # composition: generally (一般), a note
+    rows = {r["clause"]: r for r in clause5.clause5_rows(rec)}
+    assert rows["5.2.1"]["status"] == "by product specification" and "titanium" in rows["5.2.1"]["result"]
+    assert rows["5.2.2"]["verdict"] == "does not conform"
+
+
 # --------------------------------------------------------------------------------- reliability
 
 
@@ -499,7 +525,8 @@ def test_every_clause5_requirement_has_a_row_and_an_item(pm):
 
 
 def test_simulated_station_records_cover_the_type_test(pm):
-    items = ["6.2.1", "6.2.2", "6.2.3", "5.2.6", "6.2.4", "6.2.5", "6.2.8.2", "6.2.8.15", "6.2.9.1", "6.2.9.2"]
+    items = ["5.2.1", "5.2.2", "6.2.1", "6.2.2", "6.2.3", "5.2.6", "6.2.4", "6.2.5", "6.2.8.2", "6.2.8.15", "6.2.9.1",
+             "6.2.9.2"]
     rec = run_items(pm, "gbt45570", items, station_options={"duration_scale": 0.2})
     assert rec.campaign.simulated and set(rec.campaign.records) == {"inspection", "environmental_tests", "reliability"}
     exp = rec.campaign.expected

@@ -57,10 +57,10 @@ def metro_register_standards(registrar) -> None:
 
     for cls in angle_method.PROCEDURES + rate_method.PROCEDURES + PROCEDURES + threshold.PROCEDURES + environmental.PROCEDURES + polarity.PROCEDURES:
         registrar.add_procedure(cls)
-    from . import inspection, reliability, type_env
+    from . import declarations, inspection, reliability, type_env
     from .clause5 import TYPE_TEST_ITEMS
 
-    for cls in inspection.PROCEDURES + type_env.PROCEDURES + reliability.PROCEDURES:
+    for cls in declarations.PROCEDURES + inspection.PROCEDURES + type_env.PROCEDURES + reliability.PROCEDURES:
         registrar.add_procedure(cls)
     registrar.add_series(STANDARD_ID, "type-test", TYPE_TEST_ITEMS,
                          "clause 5 type test: every item answering a requirement of 5.2–5.5 that applies")

@@ -51,12 +51,11 @@ REQUIREMENTS: tuple[Requirement, ...] = (
     _q("5.1", "通则", "general: this standard and the product specification; the product specification prevails",
        by_spec="a rule of precedence: the product specification's limits replace the typical ones (applied in "
                "every verdict below)"),
-    _q("5.2.1", "材料", "materials",
+    _q("5.2.1", "材料", "materials", ("5.2.1",),
        by_spec="5.2.1 names the usual materials (一般选取) and leaves the choice to the product specification; "
                "clause 6 gives no test method"),
-    _q("5.2.2", "功能与组成", "function and composition",
-       by_spec="the composition is the product specification's; sensing and output of rate or angle are shown by "
-               "the 5.3 items (D.1.1/D.2.1) and the polarity (6.2.6)"),
+    _q("5.2.2", "功能与组成", "function and composition (senses and outputs rate or angle)", ("5.2.2",),
+       ("function_nc",)),
     _q("5.2.3", "外观质量", "appearance a)–d)", ("6.2.1",), ("appearance_nc",)),
     _q("5.2.4", "外形尺寸", "dimensions per product specification, tolerance grade ≤ IT12", ("6.2.2",),
        ("dim", "itgrade")),
@@ -127,6 +126,10 @@ def specifications(campaign) -> list[Specification]:
         paths = {"appearance_nc": "appearance", "supply_missing": "supply", "mech_interface_nc": "interfaces",
                  "elec_interface_nc": "interfaces"}
         out += [s for s in inspection.COUNT_SPECS if R.has(campaign, f"inspection.{paths[s.symbol]}")]
+        if R.has(campaign, "inspection.function"):
+            from .declarations import FUNCTION_SPEC
+
+            out.append(FUNCTION_SPEC)
         if R.has(campaign, "inspection.insulation"):
             out.append(inspection.INSULATION_SPEC)
         out += (inspection.dimension_specifications(campaign) + inspection.mass_specifications(campaign)
@@ -178,11 +181,16 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
     rows = []
     for req in REQUIREMENTS:
         row = {"clause": req.clause, "requirement": req.text, "method": " / ".join(req.items) or "—"}
-        if not req.items:
+        if not req.items:  # 5.1
             rows.append(row | {"status": BY_SPEC, "result": "—", "verdict": BY_SPEC, "reason": req.by_spec})
             continue
         mine = [(o, r) for o in outs if o.item in req.items for r in o.results if _matches(r.metric.key, req.keys)]
         ran = [o for o in outs if o.item in req.items]
+        if req.by_spec and ran:  # reported, not judged (5.2.1): what the records declare
+            shown = [" / ".join(str(c) for c in row[:2]) for o in ran for t in o.tables for row in t.rows]
+            rows.append(row | {"status": BY_SPEC, "result": "; ".join(shown) or "—", "verdict": BY_SPEC,
+                               "reason": "; ".join([req.by_spec] + [w for o in ran for w in o.warnings])})
+            continue
         if not ran:
             reasons = [f"{i}: {choices[i].reason}" for i in req.items if i in choices]
             rows.append(row | {"status": NOT_PERFORMED, "result": "—", "verdict": NOT_PERFORMED,
