@@ -128,7 +128,11 @@ def sweep_gbt_class(pm, device_class: str, items: list[str], seeds: range, stati
         exp = rec.campaign.expected
         for o in rec.outcomes:
             for r in o.results:
-                if r.metric.key not in exp or r.U is None:
+                if r.metric.key not in exp:
+                    continue
+                if r.U is None:
+                    if not r.reportable:  # declared not reportable without a budget: covered
+                        rows.setdefault((o.item, r.metric.key), []).append((False, False, math.nan))
                     continue
                 unit = r.metric.unit
                 v = float(r.value.to(unit).magnitude)

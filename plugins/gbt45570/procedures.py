@@ -281,9 +281,11 @@ class BiasStabilityD52(Procedure):
                                 f"values of t = {ts:g} s; D.41 needs at least 3", hint="record longer (1 h)")
             sd, m = allan.block_std(raw, factor)
             Bs = sd * conv.magnitude
-            if not Bs > 0:
+            if not Bs > 0 and quantization_of(campaign, conv, raw).q <= 0:
                 raise DataError(seg.file, "output", "the output does not vary at all (zero variance); "
                                 "is the gyro powered and the counter connected?")
+            # a rounded output coarser than its noise may not vary at all: B_s = 0, and the rounding
+            # row (up to q/2) covers what it hides
             rows = [BudgetRow.type_a(f"sampling of the standard deviation of {m} values", "B_s/√(2(m−1))",
                                      Q_(Bs / math.sqrt(2 * (m - 1)), "deg/h"), m - 1)]
             rows += _scale_factor_row(conv, Bs, "deg/h")
@@ -349,8 +351,9 @@ class BiasRepeatabilityD53(Procedure):
         b = [e.B0 for e in ests]
         Q = len(b)
         Br = F.bias_repeatability_d42(b)
-        if not Br > 0:
+        if not Br > 0 and not max(e.hw_q for e in ests) > 0:
             raise DataError(campaign.source, "segments", "all Q biases are identical; B_r = 0 cannot be right")
+        # identical biases from a quantized output: the rounding hides the spread (not reportable below)
         rows = [BudgetRow.type_a(f"sampling of the standard deviation of Q = {Q} biases", "B_r/√(2(Q−1))",
                                  Q_(Br / math.sqrt(2 * (Q - 1)), "deg/h"), Q - 1)]
         hw_q = max(e.hw_q for e in ests)
@@ -435,7 +438,7 @@ class BiasTemperatureSensitivityD54(Procedure):
         dT = temps[imax] - temps[i0]
         eA, e0 = ests[imax], ests[i0]
         uA = math.hypot(eA.u_A, e0.u_A) / abs(dT)
-        nu = uA**4 / ((eA.u_A / dT) ** 4 / eA.nu_A + (e0.u_A / dT) ** 4 / e0.nu_A)
+        nu = uA**4 / ((eA.u_A / dT) ** 4 / eA.nu_A + (e0.u_A / dT) ** 4 / e0.nu_A) if uA > 0 else math.inf
         rows = [BudgetRow.type_a("scatter of B_i and B_00 (batch means)", "√(u²(B_i)+u²(B_00))/|ΔT|",
                                  Q_(uA, "deg/h/delta_degC"), nu)]
         if len(temps) > 2:
@@ -532,7 +535,8 @@ class BiasMagneticSensitivityD55(Procedure):
             em = segment_bias(sm, campaign, int(opts["batches"]))
             Bh = F.bias_magnetic_sensitivity_d44(ep.B0, em.B0, Hb)
             uA = math.hypot(ep.u_A, em.u_A) / (2.0 * Hb)
-            nu = uA**4 / ((ep.u_A / (2 * Hb)) ** 4 / ep.nu_A + (em.u_A / (2 * Hb)) ** 4 / em.nu_A)
+            nu = (uA**4 / ((ep.u_A / (2 * Hb)) ** 4 / ep.nu_A + (em.u_A / (2 * Hb)) ** 4 / em.nu_A)
+                  if uA > 0 else math.inf)
             rows = [BudgetRow.type_a("scatter of B_0+ and B_0− (batch means)", "√(u²₊+u²₋)/(2H_b)",
                                      Q_(uA, "deg/h/mT"), nu)]
             if ep.u_q > 0 or em.u_q > 0:
@@ -617,8 +621,16 @@ class AngleRandomWalkD56(Procedure):
                             hint="D.5.6.2 asks for 8 h")
         zero = np.flatnonzero(~(bs > 0))
         if zero.size:
-            raise DataError(seg.file, "output",
-                            f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: the output does not vary (zero variance)")
+            qz = quantization_of(campaign, conv, raw)
+            if qz.q <= 0:
+                raise DataError(seg.file, "output",
+                                f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: the output does not vary (zero variance)")
+            reason = (f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: the output, rounded to q = {qz.q:.3g} °/h (step from "
+                      f"{qz.source}), does not vary — its noise is hidden by the rounding, so there is no RWC to fit")
+            return Outcome(STANDARD, self.item, self.title, self.clause,
+                           [Result(self.metrics[0], Q_(0.0, "deg/hour**0.5"), reportable=False, reason=reason,
+                                   earth_rate="not applicable")],
+                           warnings=[reason], segments=[seg.id], options={k: str(v) for k, v in opts.items()})
         tau_h = tau_s / 3600.0
         try:
             fit = F.fit_d45(tau_h, bs, m)
@@ -760,6 +772,8 @@ def output_quantum(campaign: Campaign, conv: RateConversion, raw: np.ndarray) ->
                         f"{res!r} is not a resolution of a {conv.output_kind} output (LSB or a rate such as °/h)")
     sample = np.asarray(raw[: 200_000], dtype=np.float64)
     vals = np.unique(sample)
+    if conv.output_kind == "digital" and np.all(vals == np.round(vals)):
+        return 1.0, "the data (whole LSB)"
     if vals.size < 2:
         return 0.0, "the data (constant output)"
     if np.all(vals == np.round(vals)):

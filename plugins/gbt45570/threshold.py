@@ -148,8 +148,14 @@ class ThresholdD4(Procedure):
             row.append(v[0])
         raw_th, raw_i = E.threshold_d39(inputs, ratios)
         passing = [j for j, v in enumerate(verdicts) if v[0] == "resolved ≥ 50 %"]
+        hidden = None
         if raw_th is None and not passing:
             j = int(np.argmax(np.abs(inputs)))
+            if math.hypot(points[j][2]["uq"], ref["uq"]) * math.sqrt(3.0) >= E.THRESHOLD_FRACTION * abs(inputs[j]):
+                # the output's rounding is coarser than the response sought: not a data error, a
+                # device whose threshold this series cannot measure
+                hidden = j
+        if raw_th is None and not passing and hidden is None:
             raise DataError(campaign.source, "segments",
                             f"the tilt series never reaches 50 % of the expected response (D.39): the largest input "
                             f"{abs(inputs[j]):.4g} °/h (segment {points[j][0].id}) gives "
@@ -184,6 +190,13 @@ class ThresholdD4(Procedure):
                     Q_(max(th - lo_c, hi_c - th), "deg/h"), distribution="uniform",
                     note=f"{len(cands)} positions {lo_c:.4g} … {hi_c:.4g} °/h between the last resolved failure "
                          f"({L:.4g} °/h) and the first resolved pass"))
+        elif hidden is not None:
+            i, th = hidden, abs(inputs[hidden])
+            not_reportable.append(
+                f"no position reaches 50 % (D.39), and the output's quantization (up to "
+                f"±{math.hypot(points[i][2]['uq'], ref['uq']) * math.sqrt(3.0):.3g} °/h on a response) is as large as "
+                f"the inputs (at most {th:.4g} °/h): the threshold cannot be measured with this output; shown is the "
+                "largest input")
         else:
             i, th = raw_i, raw_th
             not_reportable.append(
