@@ -145,11 +145,10 @@ def _coverage(pm, cls, items, seeds, **so):
         exp = rec.campaign.expected
         for o in rec.outcomes:
             for r in o.results:
-                if r.metric.key not in exp or r.U is None:
+                if r.metric.key not in exp or (r.U is None and r.reportable):
                     continue
-                dev = abs((r.value - exp[r.metric.key]).to(r.metric.unit).magnitude)
                 c = out.setdefault(r.metric.key, [0, 0])
-                c[0] += (dev <= r.U.magnitude) or not r.reportable
+                c[0] += (not r.reportable) or abs((r.value - exp[r.metric.key]).to(r.metric.unit).magnitude) <= r.U.magnitude
                 c[1] += 1
                 if not r.reportable:
                     assert r.reason
