@@ -307,13 +307,20 @@ def _cmd_verify(args) -> int:
 
 def _cmd_report(args) -> int:
     from .cli import _pm
-    from .registering import rerender
+    from .registering import rerender, template_changed
 
+    pm = _pm(args)
     with _open(args) as reg:
-        path = rerender(reg, args.number, args.out, pm=_pm(args))
+        path = rerender(reg, args.number, args.out, pm=pm)
+        changed = template_changed(reg, args.number, pm)
     if args.json:
-        _print_json({"number": args.number, "report": str(path)})
+        _print_json({"number": args.number, "report": str(path), "template_changed": changed})
     else:
+        if changed:
+            import sys
+
+            print(f"metro: warning: the template of {args.number} changed since it was issued: same content, "
+                  "new layout", file=sys.stderr)
         print(path)
     return 0
 

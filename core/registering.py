@@ -346,6 +346,18 @@ def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *, pm: "
     return target
 
 
+def template_changed(reg: "Register", number: str, pm: "MetroPluginManager") -> bool | None:
+    """Whether the template report ``number`` was rendered with differs now (its SHA-256); None
+    when it was not recorded.  A re-rendered report then has the same content in a new layout."""
+    from .register import sha256_file
+
+    stored = (reg.get(number)["provenance"].get("template") or {})
+    tpl = pm.register_all().templates.get(stored.get("name") or "")
+    if not stored.get("sha256") or tpl is None or not Path(os.fspath(tpl.path)).is_file():
+        return None
+    return sha256_file(os.fspath(tpl.path)) != stored["sha256"]
+
+
 def amend(
     reg: "Register", number: str, reason: str, *, pm: "MetroPluginManager", lab: "LabProfile",
     folder: str | os.PathLike[str] | None = None, record: "RunRecord | None" = None,

@@ -96,6 +96,7 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     za, zb = zipfile.ZipFile(a["report"]), zipfile.ZipFile(rep["report"])
     assert za.namelist() == zb.namelist()
     assert [n for n in za.namelist() if za.read(n) != zb.read(n)] == []
+    assert rep["template_changed"] is False
     assert main(["report", numbers[0], "--out", str(tmp_path / "again")]) == 2  # never replaces
     capsys.readouterr()
 
