@@ -285,6 +285,7 @@ def register_run(
     from .register import Draft, open_register
     from .report import build_context, render_context
 
+    record = with_lab(record, lab)
     on = measurement_date(record)
     expired = check_equipment(record.campaign, on, allow_expired=allow_expired)
     template = _template(pm, record.standard)
@@ -386,7 +387,7 @@ def amend(
 
     from .register.models import Report
 
-    with reg._session() as s:
+    with reg._session(read=True) as s:
         row = s.execute(select(Report).where(Report.number == number)).scalar_one()
         keep = {c: getattr(row, c) for c in (
             "standard", "items", "options", "device_id", "device_manufacturer", "device_model", "device_serial",

@@ -15,6 +15,20 @@ from metro.core.register import Draft, RegisterError, open_register
 from metro.core.register.models import Base
 
 
+@pytest.fixture
+def opened():
+    """open_register, with every register closed when the test ends (no connection left open)."""
+    regs = []
+
+    def op(url):
+        regs.append(open_register(url))
+        return regs[-1]
+
+    yield op
+    for r in regs:
+        r.close()
+
+
 def _scheme(seq, year):
     return f"T{year}-{seq:04d}"
 
@@ -40,10 +54,10 @@ def _issue(reg, folder, **kw):
     return reg.issue(make, folder=folder, scheme=_scheme, per_year=True, **kw)
 
 
-def test_migrations_from_an_empty_database(register_url):
+def test_migrations_from_an_empty_database(opened, register_url):
     import sqlalchemy as sa
 
-    reg = open_register(register_url)
+    reg = opened(register_url)
     insp = sa.inspect(reg.engine)
     tables = set(insp.get_table_names())
     assert set(Base.metadata.tables) <= tables and "alembic_version" in tables
@@ -56,8 +70,8 @@ def test_migrations_from_an_empty_database(register_url):
     open_register(register_url).close()  # opening again migrates nothing and fails nothing
 
 
-def test_sequential_numbers_and_no_gap_after_failure(register_url, tmp_path):
-    reg = open_register(register_url)
+def test_sequential_numbers_and_no_gap_after_failure(opened, register_url, tmp_path):
+    reg = opened(register_url)
     year = dt.datetime.now(dt.timezone.utc).year
     a = _issue(reg, tmp_path / "out")
     with pytest.raises(RuntimeError, match="renderer failed"):
@@ -72,9 +86,9 @@ def test_sequential_numbers_and_no_gap_after_failure(register_url, tmp_path):
     assert got["audit"][0]["action"] == "issue"
 
 
-def test_failure_between_file_and_row_leaves_neither(register_url, tmp_path):
+def test_failure_between_file_and_row_leaves_neither(opened, register_url, tmp_path):
     """The file is linked into place, then the commit fails: the file is removed, no row stays."""
-    reg = open_register(register_url)
+    reg = opened(register_url)
     out = tmp_path / "out"
     seen = []
 
@@ -93,8 +107,8 @@ def test_failure_between_file_and_row_leaves_neither(register_url, tmp_path):
     assert _issue(reg, out).seq == 1  # and the counter was rolled back each time
 
 
-def test_existing_file_is_never_replaced(register_url, tmp_path):
-    reg = open_register(register_url)
+def test_existing_file_is_never_replaced(opened, register_url, tmp_path):
+    reg = opened(register_url)
     out = tmp_path / "out"
     out.mkdir()
     year = dt.datetime.now(dt.timezone.utc).year
@@ -105,8 +119,8 @@ def test_existing_file_is_never_replaced(register_url, tmp_path):
     assert reg.list() == []
 
 
-def test_amendment_chain_and_withdrawal(register_url, tmp_path):
-    reg = open_register(register_url)
+def test_amendment_chain_and_withdrawal(opened, register_url, tmp_path):
+    reg = opened(register_url)
     out = tmp_path / "out"
     a = _issue(reg, out)
     b = _issue(reg, out, supersedes=a.number, reason="wrong serial number")
@@ -130,10 +144,10 @@ def test_amendment_chain_and_withdrawal(register_url, tmp_path):
     assert all(Path(x.path).is_file() for x in (a, b, c))  # superseded reports are kept
 
 
-def test_audit_trail_is_append_only(register_url, tmp_path):
+def test_audit_trail_is_append_only(opened, register_url, tmp_path):
     import sqlalchemy as sa
 
-    reg = open_register(register_url)
+    reg = opened(register_url)
     _issue(reg, tmp_path / "out")
     for stmt in ("UPDATE audit SET who = 'mallory'", "DELETE FROM audit"):
         with pytest.raises(sa.exc.DBAPIError, match="append-only"):
@@ -142,8 +156,8 @@ def test_audit_trail_is_append_only(register_url, tmp_path):
     assert len(reg.audit()) == 1 and reg.audit()[0]["who"] != "mallory"
 
 
-def test_verify_catches_a_modified_and_a_missing_file(register_url, tmp_path):
-    reg = open_register(register_url)
+def test_verify_catches_a_modified_and_a_missing_file(opened, register_url, tmp_path):
+    reg = opened(register_url)
     a, b, c = (_issue(reg, tmp_path / "out", make=_draft(text=f"report {i}")) for i in range(3))
     assert {v["check"] for v in reg.verify()} == {"ok"}
     with open(b.path, "a", encoding="utf-8") as fh:
@@ -167,7 +181,7 @@ print(issued.number)
 """
 
 
-def test_concurrent_processes_get_distinct_consecutive_numbers(register_url, tmp_path):
+def test_concurrent_processes_get_distinct_consecutive_numbers(opened, register_url, tmp_path):
     import time
 
     open_register(register_url).close()  # migrated once; the workers race on numbers, not on DDL
@@ -185,7 +199,7 @@ def test_concurrent_processes_get_distinct_consecutive_numbers(register_url, tmp
     year = dt.datetime.now(dt.timezone.utc).year
     assert sorted(numbers) == [f"T{year}-{i:04d}" for i in range(1, 9)]
     assert sorted(p.name for p in out.iterdir()) == [f"{n}.docx" for n in sorted(numbers)]
-    reg = open_register(register_url)
+    reg = opened(register_url)
     assert sorted(r["number"] for r in reg.list()) == sorted(numbers)
 
 
@@ -207,3 +221,23 @@ def test_register_from_a_newer_metro_is_refused(tmp_path):
     reg.close()
     with pytest.raises(RegisterError, match="newer metro"):
         open_register(url)
+
+
+def test_readers_do_not_wait_for_a_writer(opened, register_url, tmp_path):
+    """While a report is being committed (the writer holds the lock), `register list` from another
+    connection answers at once with the reports committed before."""
+    import threading
+
+    reg, other = opened(register_url), opened(register_url)
+    first = _issue(reg, tmp_path / "out")
+    seen = []
+
+    def during_commit(final: Path) -> None:
+        t = threading.Thread(target=lambda: seen.append([r["number"] for r in other.list()]))
+        t.start()
+        t.join(timeout=20)
+        assert not t.is_alive(), "a reader waited for the writer"
+
+    _issue(reg, tmp_path / "out", _before_commit=during_commit)
+    assert seen == [[first.number]]
+    assert len(other.list()) == 2

@@ -118,7 +118,7 @@ def _engine(url: str):
 
         @event.listens_for(engine, "begin")
         def _begin(conn):  # one writer at a time: the counter is read and written under this lock
-            conn.exec_driver_sql("BEGIN IMMEDIATE")
+            conn.exec_driver_sql("BEGIN" if conn.get_execution_options().get("metro_read") else "BEGIN IMMEDIATE")
 
         return engine
     return create_engine(url, pool_pre_ping=True)
@@ -138,8 +138,22 @@ def migrate(engine) -> None:
         command.upgrade(cfg, "head")
 
 
+def _open(url: str) -> "Register":
+    """Engine and migrations; the engine disposed again if they fail (no connection left open)."""
+    engine = None
+    try:
+        engine = _engine(url)
+        migrate(engine)
+    except BaseException:
+        if engine is not None:
+            engine.dispose()
+        raise
+    return Register(url, engine)
+
+
 def open_register(url: str) -> "Register":
-    """Open (creating and migrating as needed) the register at the SQLAlchemy ``url``."""
+    """Open (creating and migrating as needed) the register at the SQLAlchemy ``url``; a database
+    metro cannot use is a :class:`RegisterError` saying why."""
     from sqlalchemy.exc import SQLAlchemyError
 
     from ..lab import redact_url
@@ -150,8 +164,7 @@ def open_register(url: str) -> "Register":
                             hint="an SQLite file (sqlite:////path/register.sqlite) or PostgreSQL "
                             "(postgresql+psycopg://user@host:port/db)")
     try:
-        engine = _engine(url)
-        migrate(engine)
+        return _open(url)
     except (OSError, ImportError) as exc:
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
                             hint="check the lab profile's register (or METRO_REGISTER): its folder must be "
@@ -166,7 +179,6 @@ def open_register(url: str) -> "Register":
             raise RegisterError(f"register {redact_url(url)}: {exc}",
                                 hint="the register was written by a newer metro; upgrade metro") from exc
         raise
-    return Register(url, engine)
 
 
 class Register:
@@ -185,10 +197,12 @@ class Register:
 
     # -- sessions ------------------------------------------------------------------------
     @contextlib.contextmanager
-    def _session(self) -> Iterator[Any]:
+    def _session(self, *, read: bool = False) -> Iterator[Any]:
+        """A transaction; ``read`` ones do not take SQLite's write lock (lists wait for no writer)."""
         from sqlalchemy.orm import Session
 
-        with Session(self.engine, expire_on_commit=False) as s:
+        bind = self.engine.execution_options(metro_read=True) if read else self.engine
+        with Session(bind, expire_on_commit=False) as s:
             with s.begin():
                 yield s
 
@@ -335,12 +349,12 @@ class Register:
 
     # -- reading -------------------------------------------------------------------------
     def get(self, number: str) -> dict[str, Any]:
-        with self._session() as s:
+        with self._session(read=True) as s:
             return report_dict(self._report(s, number), results=True, audit=self._audit_of(s, number))
 
     def context(self, number: str) -> tuple[dict[str, Any], str]:
         """The stored render context and template name of a report (for re-rendering)."""
-        with self._session() as s:
+        with self._session(read=True) as s:
             rep = self._report(s, number)
             return rep.context, rep.template
 
@@ -356,7 +370,7 @@ class Register:
                  "detail": a.detail} for a in s.execute(q).scalars()]
 
     def audit(self, number: str | None = None) -> list[dict[str, Any]]:
-        with self._session() as s:
+        with self._session(read=True) as s:
             return self._audit_of(s, number)
 
     def list(self, *, device: str | None = None, standard: str | None = None,
@@ -372,7 +386,7 @@ class Register:
             q = q.where(Report.standard == standard)
         if since:
             q = q.where(Report.measurement_date >= since)
-        with self._session() as s:
+        with self._session(read=True) as s:
             return [report_dict(r, results=results) for r in s.execute(q).scalars()]
 
     def verify(self) -> list[dict[str, Any]]:
