@@ -430,6 +430,13 @@ def test_scale_factor_change_by_d11_and_d21(pm, station, how):
     assert abs(float(r.value.to("ppm").magnitude) - TRUTH.sf_shift("tsh") * 1e6) <= float(r.U.to("ppm").magnitude)
 
 
+def test_revolutions_of_a_digital_gyro_are_not_read_as_pulses(pm):
+    rec = run_items(pm, "gbt45570", ["6.2.8.5"], station="simulated-digital", station_options={"duration_scale": 0.25})
+    with pytest.raises(KeyError):
+        _result(rec, "tsh_dK")
+    assert any("scale_factor = rate" in w for o in rec.outcomes for w in o.warnings)
+
+
 def test_scale_factor_records_on_one_side_only(pm):
     import attrs
 

@@ -266,6 +266,8 @@ def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, p
 
     what = f"{phase} the test {tag}"
     revs = _phase_segments(campaign, (REVOLUTIONS_KIND,), tag, phase)
+    if revs and campaign.device.output not in ("pulse", ""):
+        revs = []  # whole-revolution pulse counts are the angle method's (D.1.1): not for this output
     if revs:
         pts = collect_rate_points(proc, campaign, 1, segments=revs, what=what)
         if len(pts) == 1:
@@ -442,6 +444,11 @@ class _EnvironmentalTest(Procedure):
             warnings.append(f"no before/after records of the gyro's output for {t.key}: the change of its "
                             "bias is not evaluated")
         sf = {ph: scale_factor_at_phase(type(self), campaign, t.tag, ph) for ph in ("before", "after")}
+        if campaign.device.output not in ("pulse", "") and any(
+                sg.kind == REVOLUTIONS_KIND and str(sg.conditions.get("test", "")) == t.tag for sg in campaign.segments):
+            warnings.append(f"revolution counts of {t.key} ignored: the angle method (D.1.1) reads pulse output and "
+                            f"this gyro's output is {campaign.device.output}; record with option scale_factor = rate "
+                            "(D.2.1) to check its scale factor")
         if sf["before"] is not None and sf["after"] is not None:
             km = Metric(f"{t.tag}_dK", f"{t.name_en}: relative scale-factor change after − before", "ΔK/K", "ppm",
                         "D.1.1.3 / D.2.1.3")
