@@ -592,7 +592,8 @@ def test_report_with_every_clause5_item_is_written(pm, tmp_path):
     pm.extend_report_context(rec, ctx)
     assert [r["clause"] for r in ctx["gbt45570"]["clause5"]] == [r.clause for r in clause5.REQUIREMENTS]
     assert len(ctx["title"]) > 255
-    path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("gbt45570").path, designations=long,
-                        extend=pm.extend_report_context)
+    tpl = pm.template_for("gbt45570")
+    how = {"layout": tpl.layout} if getattr(tpl, "layout", None) else {"template": tpl.path}  # built or docxtpl
+    path = write_report(tmp_path / "r.docx", rec, designations=long, extend=pm.extend_report_context, **how)
     doc = docx.Document(str(path))
     assert len(doc.core_properties.title) == 255 and doc.core_properties.title.endswith("…")
