@@ -597,3 +597,22 @@ def test_report_with_every_clause5_item_is_written(pm, tmp_path):
     path = write_report(tmp_path / "r.docx", rec, designations=long, extend=pm.extend_report_context, **how)
     doc = docx.Document(str(path))
     assert len(doc.core_properties.title) == 255 and doc.core_properties.title.endswith("…")
+
+
+def test_plan_of_the_whole_standard_includes_the_type_test(pm):
+    """What `metro plan -s gbt45570 --all` prints: every clause-5 item's steps, the records to take
+    down (kind record:…) with the gyro's records before and after each 5.4 test."""
+    from metro.core.runner import merge_steps, select_items, station_device
+
+    items, _ = select_items(pm, "gbt45570", [], run_all=True, device=station_device(pm, "simulated", {}))
+    assert set(clause5.TYPE_TEST_ITEMS) - {"D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5", "D.2.6"} <= set(items)
+    procs = [pm.procedure("gbt45570", i) for i in items]
+    steps = merge_steps([c().sequence(c.option_values({})) for c in procs])
+    kinds = {s.kind for s in steps}
+    wanted = {f"record:inspection.{p}" for p in ("materials", "function", "appearance", "dimensions", "mass", "supply",
+                                                 "interfaces", "insulation")}
+    wanted |= {f"record:environmental_tests.{t}" for t in ("lts", "hts", "tsh", "lp", "acc", "dh", "mould", "salt",
+                                                           "tvac", "rad", "emc")}
+    wanted |= {"record:reliability.mtbf", "record:reliability.life", "type-env", "type-env-revolutions"}
+    assert wanted <= kinds
+    assert all(s.duration.magnitude == 0 for s in steps if s.is_record)
