@@ -90,6 +90,7 @@ def test_d56_coarse_lsb_not_reportable(pm):
     r = _result(rec, "RWC")
     assert not r.reportable
     assert "rounded" in r.reason and "coarser than its noise" in r.reason
+    assert any("NOT REPORTABLE" in w for w in rec.outcomes[0].warnings)  # the terminal says so too
 
 
 def test_d56_fine_lsb_sheppard_correction(pm):

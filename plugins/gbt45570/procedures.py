@@ -370,10 +370,11 @@ class BiasRepeatabilityD53(Procedure):
         budget = UncertaintyBudget("B_r", "deg/h", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget, note=f"Q = {Q}", earth_rate="not applicable",
                      reportable=not reason, reason=reason)
+        warnings = [f"B_r is NOT REPORTABLE: {reason}"] if reason else []
         table = TableSpec("biases", "Bias of each power-on (D.40)", ["run", "segment", "B₀ (°/h)", "u_A (°/h)"],
                           [[s.conditions.get("run", i + 1), s.id, f"{e.B0:.5f}", f"{e.u_A:.2g}"]
                            for i, (s, e) in enumerate(zip(segs, ests))])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table],
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
                        segments=[s.id for s in segs], options={k: str(v) for k, v in opts.items()})
 
 
@@ -691,6 +692,8 @@ class AngleRandomWalkD56(Procedure):
         rows += _timebase_row(campaign, rwc, "deg/hour**0.5", "RWC")
         budget = UncertaintyBudget("RWC", "deg/hour**0.5", rows, coverage=COVERAGE)
         reason = "; ".join(not_reportable)
+        if reason:
+            warnings.append(f"RWC is NOT REPORTABLE: {reason}")
         results = [
             Result(self.metrics[0], Q_(rwc, "deg/hour**0.5"), budget.combined, budget,
                    reportable=not not_reportable, reason=reason, earth_rate="not applicable",

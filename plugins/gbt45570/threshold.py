@@ -238,6 +238,8 @@ class ThresholdD4(Procedure):
                      f"its response is resolved ({conf:.0%} confidence over the {len(points)} positions, "
                      f"{conf_each:.4g} each)", earth_rate="not applicable",
                      reportable=not not_reportable, reason="; ".join(not_reportable))
+        if not_reportable:
+            warnings.append("the threshold is NOT REPORTABLE: " + "; ".join(not_reportable))
         order = np.argsort(np.abs(inputs))
         plot = PlotSpec("threshold_ratio", "Response against the expected one (D.39)", "Ω_e cos Ψ_i (°/h)",
                         "|(N̄* − N̄₀)/N_i| (%)",
