@@ -391,7 +391,7 @@ def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: Decisi
 # --------------------------------------------------------------------------------------
 
 _PER_CELSIUS = re.compile(r"/\s*(?:\(\s*)?(?:°C|℃|degC|degree_Celsius)(?:\s*\))?")
-_RANGE = re.compile(r"^(?P<lo>[^.…~]+?)\s*(?:\.\.|…|~|～)\s*(?P<hi>.+)$")
+_RANGE = re.compile(r"^(?P<lo>.+?)\s*(?:\.\.|…|~|～)\s*(?P<hi>.+)$")  # lo may have a decimal point
 
 
 def _quantity(text: str, file: str | None, field: str) -> pint.Quantity:

@@ -5,31 +5,73 @@ from __future__ import annotations
 import contextlib
 import math
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
 from .provenance import RunRecord
 from .report import fmt_dof, fmt_num, fmt_quantity, pretty_powers, with_unit
 from .units import fmt_unit
 
 
+#: progress events with these task names count towards the overall bar (core.runner, core.batch)
+OVERALL_TASKS = ("segments", "items", "campaigns")
+
+
 @contextlib.contextmanager
-def progress(enabled: bool = True) -> Iterator[Any]:
-    """A ``progress(task, done, total)`` callback backed by a rich progress bar on stderr."""
+def progress(enabled: bool = True, started: Callable[[], None] | None = None, console: Any = None) -> Iterator[Any]:
+    """A ``progress(task, done, total)`` callback for a terminal: two lines on stderr, no more —
+    one overall bar (the ``segments``/``items``/``campaigns`` events summed: done of total,
+    elapsed, remaining) and the current step (the latest other task, with its own fraction).
+    The display is removed at the end; ``console`` is rich's (default: stderr).  ``started`` is called at the first event (the banner
+    of a simulated run), also when the display is disabled.  Disabled: no output at all."""
+    first = [started]
+
+    def start() -> None:
+        if first[0] is not None:
+            first[0]()
+            first[0] = None
+
     if not enabled:
-        yield None
+        if started is None:
+            yield None
+            return
+
+        def quiet(task: str, done: float, total: float) -> None:
+            start()
+
+        yield quiet
         return
     from rich.console import Console
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+    from rich.table import Column
 
-    bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.percentage:>5.1f}%"),
-                   TimeElapsedColumn(), TimeRemainingColumn(), console=Console(stderr=True), transient=True)
-    tasks: dict[str, Any] = {}
+    console = console or Console(stderr=True)
+    width = max(20, console.width - 60)
+    bar = Progress(TextColumn("{task.description}", table_column=Column(no_wrap=True, width=width)),
+                   BarColumn(bar_width=20), TextColumn("{task.fields[count]}", table_column=Column(no_wrap=True)),
+                   TimeElapsedColumn(), TimeRemainingColumn(), console=console, transient=True)
+    counts: dict[str, list[float]] = {}
+    state: dict[str, Any] = {"overall": None, "step": None}
+
+    def clip(text: str) -> str:
+        return text if len(text) <= width else text[: width - 1] + "…"
 
     def update(task: str, done: float, total: float) -> None:
-        if task not in tasks:
-            tasks[task] = bar.add_task(task, total=total or 1)
-        bar.update(tasks[task], completed=done, total=total or 1)
+        start()
+        if task in OVERALL_TASKS:
+            counts[task] = [float(done), float(total)]
+            d = sum(c[0] for c in counts.values())
+            t = sum(c[1] for c in counts.values()) or 1
+            text = ", ".join(f"{int(c[0])}/{int(c[1])} {k}" for k, c in counts.items() if c[1])
+            if state["overall"] is None:
+                state["overall"] = bar.add_task("overall", total=t, count="")
+            bar.update(state["overall"], completed=d, total=t, description=clip("overall"), count=text)
+            return
+        if state["step"] is None:
+            state["step"] = bar.add_task("", total=1, count="")
+        frac = f"{100 * done / total:5.1f}%" if total else ""
+        bar.update(state["step"], description=clip(task), completed=done, total=total or 1, count=frac)
 
+    update.display = bar  # type: ignore[attr-defined]  # for tests: the rich Progress and its tasks
     with bar:
         yield update
 
@@ -116,51 +158,72 @@ def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
     }
 
 
-def print_record(record: RunRecord, report_path: Path | None) -> None:
+OVERALL_TEXT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}
+
+
+def verdict_line(assessment: Any) -> str:
+    """The overall statement with its counts: ``does not conform: 17 pass, 2 fail, 6 indeterminate``."""
+    if assessment is None or assessment.overall is None:
+        return "not judged: no specification applies to these results"
+    c = assessment.counts()
+    line = f"{OVERALL_TEXT[assessment.overall.value]}: " + ", ".join(
+        f"{c[k]} {k}" for k in ("pass", "fail", "indeterminate") if c.get(k))
+    if assessment.not_assessed:
+        line += f"; {len(assessment.not_assessed)} not assessed (items not run)"
+    return line + f" ({assessment.rule.name} rule)"
+
+
+def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool = False) -> None:
+    """The run on the terminal: one results table (with each result's verdict), warnings, the
+    overall verdict line and where the report went; ``verbose`` adds item selection, budgets,
+    tables, truth checks, the conformity reasons and the data files' SHA-256."""
     from rich.console import Console
     from rich.table import Table
 
-    con = Console()
+    con = Console(highlight=False)
     c = record.campaign
     con.print(f"[bold]{record.standard}[/] on {c.device.describe()} — campaign {c.id} ({c.source})")
-    for ch in record.selection:
-        mark = "[green]run[/]" if ch.run else "[dim]not run[/]"
-        con.print(f"  {ch.item} ({ch.via}): {mark} — {ch.reason}")
-    t = Table(title="Results")
-    for col in ("item", "quantity", "value", "U", "k", "unit", "clause"):
-        t.add_column(col, justify="right" if col in ("value", "U", "k") else "left")
+    if record.selection:
+        ran = sum(1 for ch in record.selection if ch.run)
+        if verbose:
+            for ch in record.selection:
+                mark = "[green]run[/]" if ch.run else "[dim]not run[/]"
+                con.print(f"  {ch.item} ({ch.via}): {mark} — {ch.reason}")
+        elif ran < len(record.selection):
+            con.print(f"{ran} of {len(record.selection)} candidate items run; not run: "
+                      + ", ".join(ch.item for ch in record.selection if not ch.run) + " (--verbose says why)")
+    colour = {"pass": "green", "fail": "red", "indeterminate": "yellow"}
+    verdicts: dict[tuple[str, str], Any] = {}
+    if record.conformity is not None:
+        for v in record.conformity.verdicts:
+            verdicts[(v.item, v.key)] = v
+    t = Table(title="Results", title_justify="left")
+    for col in ("item", "quantity", "value", "U (k)", "unit", "verdict / note"):
+        t.add_column(col, justify="right" if col in ("value", "U (k)") else "left",
+                     overflow="fold", no_wrap=col in ("value", "U (k)"))
     for o in record.outcomes:
         for r in o.results:
             v, U = r.reported()
-            t.add_row(o.item, f"{r.metric.name} {r.metric.symbol}", v,
-                      U or (f"u = {fmt_num(float(r.u.magnitude), 2)}" if r.u is not None else "-"),
-                      f"{r.k:.2f}" if r.k else "-", fmt_unit(r.metric.unit), r.metric.reference)
+            if U is not None:
+                u_text = f"{U} ({r.k:.2f})" if r.k else U
+            else:
+                u_text = f"u = {fmt_num(float(r.u.magnitude), 2)}" if r.u is not None else "-"
+            notes = []
+            ver = verdicts.get((o.item, r.metric.key))
+            if ver is not None:
+                st = ver.status.value
+                notes.append(f"[{colour[st]}]{st}[/]" + (f" ({ver.detail})" if ver.detail not in ("pass", "fail") else "")
+                             + f" vs {ver.spec.text()}")
+            if not r.reportable:
+                notes.append(f"[yellow]not reportable:[/] {r.reason}")
+            if r.earth_rate:
+                notes.append(f"earth rate {r.earth_rate}")
+            t.add_row(o.item, f"{r.metric.name} {r.metric.symbol}", v, u_text, fmt_unit(r.metric.unit),
+                      "; ".join(notes))
     con.print(t)
     for o in record.outcomes:
-        for r in o.results:
-            if r.budget is None:
-                continue
-            b = r.budget.as_dict()
-            bt = Table(title=f"Budget {o.item} {r.metric.symbol} [{b['unit']}]")
-            for col in ("source", "type", "dist.", "u(xᵢ)", "cᵢ", "uᵢ(y)", "ν"):
-                bt.add_column(col)
-            for row in b["rows"]:
-                bt.add_row(row["source"], row["type"], row["distribution"],
-                           with_unit(fmt_num(row["standard_uncertainty"], 3), row["value_unit"]),
-                           with_unit(fmt_num(row["sensitivity"], 3), row["sensitivity_unit"]),
-                           fmt_num(row["contribution"], 3),
-                           fmt_dof(row["dof"]))
-            unit_ = "" if b["unit"] == "1" else f" {b['unit']}"
-            bt.caption = (f"u_c = {fmt_num(b['u_c'], 3)}{unit_}, ν_eff = {fmt_dof(b['nu_eff'])}, k = {b['k']:.2f}, "
-                          f"U = {b['U_reported']}{unit_}")
-            con.print(bt)
-        for tab in o.tables:
-            tt = Table(title=tab.title)
-            for h in tab.header:
-                tt.add_column(h, justify="right")
-            for row in tab.rows:
-                tt.add_row(*map(str, row))
-            con.print(tt)
+        if verbose:
+            _print_budgets_and_tables(con, o)
         for w in o.warnings:
             con.print(f"[yellow]warning ({o.item}):[/] {pretty_powers(w)}")
     for e in c.equipment:
@@ -172,18 +235,21 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
         con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated station "
                   "(its manifest says simulated = true); the report carries the SIMULATED banner")
     elif record.simulated:
-        con.print("[bold yellow]SIMULATED station[/]: declared truth "
-                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
-        for ch in checks:
-            mark = "[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]"
-            con.print(f"  {ch['item']} {ch['key']}: result {fmt_num(ch['value'], 5)} vs truth "
-                      f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → {mark}")
-    if record.conformity is not None:
-        a = record.conformity
-        ct = Table(title=f"Conformity — {a.rule.title}")
+        inside = sum(1 for ch in checks if ch["within_U"])
+        con.print("[bold yellow]SIMULATED station[/]: " + (f"declared truth recovered within U by {inside} of "
+                  f"{len(checks)} results" if checks else "the station declared its truth")
+                  + ("" if verbose else " (--verbose shows them)"))
+        if verbose:
+            con.print("  declared truth " + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
+            for ch in checks:
+                mark = "[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]"
+                con.print(f"  {ch['item']} {ch['key']}: result {fmt_num(ch['value'], 5)} vs truth "
+                          f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → {mark}")
+    a = record.conformity
+    if a is not None and verbose:
+        ct = Table(title=f"Conformity — {a.rule.title}", title_justify="left")
         for col in ("item", "result", "limit", "source", "verdict", "why"):
             ct.add_column(col)
-        colour = {"pass": "green", "fail": "red", "indeterminate": "yellow"}
         for v in a.verdicts:
             st = v.status.value
             ct.add_row(v.item, v.key, v.spec.text(), v.spec.source,
@@ -193,9 +259,43 @@ def print_record(record: RunRecord, report_path: Path | None) -> None:
         if a.not_assessed:
             con.print("not assessed (item not performed): "
                       + ", ".join(f"{sp.symbol} {sp.text()}" for sp in a.not_assessed))
-    for f, h in record.data_files:
-        con.print(f"data: {f}  sha256 {h}")
-    con.print(f"report number {record.report_number}" + (f"; Word report: {report_path}" if report_path else ""))
+    if verbose:
+        for f, h in record.data_files:
+            con.print(f"data: {f}  sha256 {h}")
+    overall = a.overall.value if a is not None and a.overall is not None else None
+    style = colour.get(overall or "", "bold")
+    con.print(f"[bold {style}]{verdict_line(a)}[/]", soft_wrap=True)  # one line: scripts grep it
+    con.print(f"report number {record.report_number}: "
+              + (f"Word report {report_path}" if report_path else "no Word report written"), soft_wrap=True)
+
+
+def _print_budgets_and_tables(con: Any, o: Any) -> None:
+    from rich.table import Table
+
+    for r in o.results:
+        if r.budget is None:
+            continue
+        b = r.budget.as_dict()
+        bt = Table(title=f"Budget {o.item} {r.metric.symbol} [{b['unit']}]")
+        for col in ("source", "type", "dist.", "u(xᵢ)", "cᵢ", "uᵢ(y)", "ν"):
+            bt.add_column(col)
+        for row in b["rows"]:
+            bt.add_row(row["source"], row["type"], row["distribution"],
+                       with_unit(fmt_num(row["standard_uncertainty"], 3), row["value_unit"]),
+                       with_unit(fmt_num(row["sensitivity"], 3), row["sensitivity_unit"]),
+                       fmt_num(row["contribution"], 3),
+                       fmt_dof(row["dof"]))
+        unit_ = "" if b["unit"] == "1" else f" {b['unit']}"
+        bt.caption = (f"u_c = {fmt_num(b['u_c'], 3)}{unit_}, ν_eff = {fmt_dof(b['nu_eff'])}, k = {b['k']:.2f}, "
+                      f"U = {b['U_reported']}{unit_}")
+        con.print(bt)
+    for tab in o.tables:
+        tt = Table(title=tab.title)
+        for h in tab.header:
+            tt.add_column(h, justify="right")
+        for row in tab.rows:
+            tt.add_row(*map(str, row))
+        con.print(tt)
 
 
 def _fmt(v: Any) -> str:
@@ -203,4 +303,4 @@ def _fmt(v: Any) -> str:
     return pretty_powers(fmt_quantity(v, 6))
 
 
-__all__ = ["progress", "as_json", "print_record", "truth_checks", "math"]
+__all__ = ["progress", "as_json", "print_record", "truth_checks", "verdict_line", "math"]

@@ -47,9 +47,16 @@ def split_options(procs: Sequence[type[Procedure]], options: Mapping[str, Any]) 
         per.append(mine)
     unknown = sorted(set(options) - used)
     if unknown:
+        import difflib
+
+        taken = sorted({o.name for cls in procs for o in cls.options})
+        close = [f"{u}: did you mean {m[0]!r}?" for u in unknown
+                 if (m := difflib.get_close_matches(u, taken, n=1, cutoff=0.6))]
         raise ProcedureError(
             f"option(s) {', '.join(unknown)} are not taken by any of the items "
-            f"{', '.join(c.qualified_id() for c in procs)}",
+            f"{', '.join(c.qualified_id() for c in procs)}"
+            + (f" ({'; '.join(close)})" if close else "")
+            + f"; they take: {', '.join(taken) or 'no options'}",
             hint="`metro items --standard S` lists each item's options",
         )
     return per
@@ -174,6 +181,26 @@ def _merge_campaigns(parts: Sequence[tuple[str, Campaign]]) -> Campaign:
     )
 
 
+class _SegmentTracker:
+    """Passes a station's progress through and counts its finished segments for the overall
+    ``("segments", done, total)`` event: a station reporting ``(task, i, n_steps)`` counts
+    directly; one reporting each segment as its own task counts tasks that reached their total."""
+
+    def __init__(self, progress: Progress, before: int, total: int, n_steps: int) -> None:
+        self.progress, self.before, self.total, self.n = progress, before, total, n_steps
+        self.finished: set[str] = set()
+
+    def __call__(self, task: str, done: float, total: float) -> None:
+        self.progress(task, done, total)
+        if total == self.n and self.n > 1:
+            count = int(done)
+        else:
+            if total and done >= total:
+                self.finished.add(task)
+            count = len(self.finished)
+        self.progress("segments", self.before + min(count, self.n), self.total)
+
+
 def load_campaign(
     pm: MetroPluginManager,
     procs: Sequence[type[Procedure]],
@@ -194,11 +221,20 @@ def load_campaign(
         groups: dict[str, list[int]] = {}
         for i, cls in enumerate(procs):
             groups.setdefault(station or cls.station, []).append(i)
+        plans = [(name, merge_steps([procs[i]().sequence(procs[i].option_values(options[i])) for i in idx]))
+                 for name, idx in groups.items()]
+        total = sum(len(steps) for _, steps in plans)
+        done = 0
+        if progress is not None:
+            progress("segments", 0, total)
         parts = []
-        for name, idx in groups.items():
+        for name, steps in plans:
             st = pm.station(name).factory(**dict(station_options or {}))
-            steps = merge_steps([procs[i]().sequence(procs[i].option_values(options[i])) for i in idx])
-            parts.append((name, st.acquire(steps, progress=progress)))
+            tracker = _SegmentTracker(progress, done, total, len(steps)) if progress is not None else None
+            parts.append((name, st.acquire(steps, progress=tracker)))
+            done += len(steps)
+            if progress is not None:
+                progress("segments", done, total)
         campaign = _merge_campaigns(parts)
     pm.campaign_loaded(campaign)
     return campaign
@@ -246,6 +282,8 @@ def run_items(
             items, selection = select_items(pm, standard, items, run_all=run_all, device=device)
     procs = [pm.procedure(standard, item) for item in items]
     per_opts = split_options(procs, dict(options or {}))
+    if progress is not None:  # the overall display: items (and, below, segments) done of total
+        progress("items", 0, len(procs))
     if campaign is None:
         campaign = load_campaign(pm, procs, per_opts, data=data, station=station,
                                  station_options=station_options, progress=progress, lab_equipment=lab_equipment)
@@ -253,7 +291,10 @@ def run_items(
         check_campaign(campaign)
     timings["campaign (manifest or simulation)"] = time.perf_counter() - t0
     outcomes: list[Outcome] = []
-    for cls, opts in zip(procs, per_opts):
+    for n_done, (cls, opts) in enumerate(zip(procs, per_opts)):
+        if progress is not None:
+            progress("items", n_done, len(procs))
+            progress(f"{cls.item} {cls.title}", 0, 1)
         proc = cls()
         ctx = RunContext(options=dict(opts), progress=progress)
         pm.procedure_started(proc, campaign, ctx)
@@ -267,6 +308,8 @@ def run_items(
         timings[f"evaluate {cls.item}"] = dt_eval - read
         pm.procedure_finished(proc, outcome)
         outcomes.append(outcome)
+    if progress is not None:
+        progress("items", len(procs), len(procs))
     t1 = time.perf_counter()
     conformity = judge(pm, standard, campaign, outcomes, decision_rule)
     timings["conformity"] = time.perf_counter() - t1

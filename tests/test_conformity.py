@@ -371,3 +371,14 @@ def test_a_procedure_decides_its_own_applicability_when_no_plugin_answers():
     assert {c.item: c.reason for c in choices}["X.9"] == "for MEMS gyros only"
     items, _ = select_items(pm, "jjf2014", ["X.9"], device=DeviceUnderTest("V", technology="vibratory"))
     assert items == ["X.9"]  # named explicitly: it runs
+
+
+@pytest.mark.parametrize("text, lo, hi", [("-0.5 .. 0.5 °/h", -0.5, 0.5), ("0.1 .. 0.25 °/h", 0.1, 0.25),
+                                           ("0.1 °/h .. 0.2 °/h", 0.1, 0.2), ("-1 .. 1 °/h", -1, 1)])
+def test_a_range_with_decimal_limits_is_read(text, lo, hi):
+    """docs/data-format.md's own example "-0.5 .. 0.5 °/h" was refused: the low end could not
+    hold a decimal point."""
+    from metro.core import conformity as cf
+
+    (sp,) = cf.specifications_from_table({"B0": text}, file="manifest.toml")
+    assert sp.limit.to("deg/h").magnitude == pytest.approx(lo) and sp.upper.to("deg/h").magnitude == pytest.approx(hi)

@@ -117,7 +117,7 @@ def test_worked_example_campaign_runs(run_cli):
     manifest = ROOT / "docs" / "examples" / "campaign" / "manifest.toml"
     code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest), "--json",
                              "--no-report", "--no-progress")
-    assert code == 0, err
+    assert code in (0, 3, 4), err  # evaluated (0 conforms, 3 does not conform, 4 indeterminate)
     doc = json.loads(out)
     b0 = [r for r in doc["results"] if r["key"] == "B0"][0]
     # the example's simulated truth: B0 = 0.12 °/h (+ 0.00007·sin θ); within U

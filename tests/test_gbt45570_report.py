@@ -138,7 +138,7 @@ def test_simple_rule_and_no_specification_are_stated():
 def test_series_alias_reports_the_method_choice(run_cli):
     code, out, _ = run_cli("run", "-s", "gbt45570", "-i", "scale-factor", "--json", "--no-report",
                            "--no-progress", "--seed", "5")
-    assert code == 0
+    assert code in (0, 3, 4)  # evaluated (0 conforms, 3 does not conform, 4 indeterminate)
     doc = json.loads(out)
     sel = {c["item"]: c for c in doc["selection"]}
     assert sel["D.1.1"]["run"] and sel["D.1.1"]["via"] == "series scale-factor"

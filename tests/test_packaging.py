@@ -57,3 +57,13 @@ def test_help_is_fast_and_imports_nothing_heavy():
     out = subprocess.run([sys.executable, "-P", "-c", code], check=True, capture_output=True, text=True)
     assert out.stdout.strip() == "[]"
     assert time.perf_counter() - t0 < 2.0  # generous for CI; docs/performance.md has the measured figure
+
+
+def test_wheel_gives_python_dash_m_metro_and_keeps_the_namespace(wheel):
+    """`python -m metro`: the wheel has metro/__main__.py (from core/_metro/) and no
+    metro/__init__.py, so third-party metro.* packages still join the namespace."""
+    names = zipfile.ZipFile(wheel).namelist()
+    assert "metro/__main__.py" in names and "metro/__init__.py" not in names
+    assert not any(n.startswith("metro/core/_metro") for n in names)
+    text = zipfile.ZipFile(wheel).read("metro/__main__.py").decode()
+    assert "from metro.core.cli import main" in text
