@@ -130,21 +130,29 @@ def _check_lot(out: Path, summary: dict, single_runs: dict, lot: Path) -> None:
     assert "Lot summary — gbt45570" in text and "unit-broken" in text and "4 (3 evaluated, 1 failed)" in text
 
 
-def test_batch_on_a_local_cluster_of_processes(lot, single_runs, run_cli, tmp_path):
+def test_batch_on_a_local_cluster_of_processes(lot, single_runs, run_cli, tmp_path, monkeypatch):
     out = tmp_path / "out"
-    code, stdout, err = run_cli("batch", "-s", "gbt45570", "-i", ITEMS, "--data", str(lot / "*"), "--workers", "2",
-                                "--out", str(out), "--json")
+    lab = tmp_path / "lab.toml"  # a lab profile: each device registered as `metro run` registers it
+    monkeypatch.delenv("METRO_REGISTER", raising=False)
+    assert run_cli("lab", "init", str(lab))[0] == 0
+    code, stdout, err = run_cli("--lab", str(lab), "batch", "-s", "gbt45570", "-i", ITEMS, "--data", str(lot / "*"),
+                                "--workers", "2", "--out", str(out), "--json")
     assert code == 5, err  # a campaign failed: non-zero whatever the others' verdicts
     summary = json.loads(stdout)
     assert summary["counts"]["error"] == 1 and summary["counts"]["evaluated"] == 3
+    evaluated = [d for d in summary["devices"] if d["status"] == "evaluated"]
+    assert all(d["registered"] for d in evaluated)
+    code, listed, _ = run_cli("--lab", str(lab), "register", "list", "--json")
+    assert sorted(r["number"] for r in json.loads(listed)["reports"]) == sorted(d["report_number"] for d in evaluated)
+    assert all(Path(d["report"]).name == f"{d['report_number']}.docx" for d in evaluated)
     pids = {d["name"]: d for d in json.loads((out / "batch-state.json").read_text())["campaigns"].values()}
     assert all(p["worker_pid"] != os.getpid() for p in pids.values())  # evaluated in worker processes
     _check_lot(out, summary, single_runs, lot)
 
     # resumed: the evaluated campaigns (same manifest SHA-256) are skipped, the failed one retried
     reports = sorted(p.name for p in (out / "devices").rglob("*.docx"))
-    code, stdout, err = run_cli("batch", "-s", "gbt45570", "-i", ITEMS, "--data", str(lot / "*"), "--workers", "1",
-                                "--out", str(out), "--json")
+    code, stdout, err = run_cli("--lab", str(lab), "batch", "-s", "gbt45570", "-i", ITEMS, "--data", str(lot / "*"),
+                                "--workers", "1", "--out", str(out), "--json")
     assert code == 5
     again = {d["name"]: d for d in json.loads(stdout)["devices"]}
     assert all(again[f"unit-{s}"]["skipped"] for s in SEEDS) and not again["unit-broken"]["skipped"]

@@ -48,7 +48,8 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     out = tmp_path / "out"
     # a simulated run is not registered unless asked; its report says so
     code, doc = _json(capsys, *SIM_GBT, "--seed", "1", "--out", str(out))
-    assert code == 0 and doc["register"]["registered"] is False and doc["report_number"].startswith("MTR-")
+    # a run exits 0, 3 or 4 by its verdict (README "Exit codes")
+    assert code in (0, 3, 4) and doc["register"]["registered"] is False and doc["report_number"].startswith("MTR-")
     text = _docx_text(doc["report"])
     assert text[0].startswith("未登记（仿真运行）") and "Not registered (simulated run" in text[0]
     assert doc["report_number"] in text[0]
@@ -57,7 +58,7 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     code2, b = _json(capsys, *SIM_JJF, "--seed", "2", "--out", str(out), "--register-simulated")
     manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.5)
     code3, c = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out", str(out))
-    assert (code, code2, code3) == (0, 0, 0)
+    assert {code, code2, code3} <= {0, 3, 4}
     numbers = [x["report_number"] for x in (a, b, c)]
     assert numbers == [f"EML{year}-{i:05d}" for i in (1, 2, 3)]
     assert all(x["register"]["registered"] for x in (a, b, c))
@@ -141,7 +142,7 @@ def test_expired_equipment_refuses_unless_allowed(lab, tmp_path, capsys, campaig
     assert not out.exists() or list(out.iterdir()) == []
     assert _json(capsys, "register", "list")[1]["reports"] == []
     code, doc = _json(capsys, *args, "--allow-expired")
-    assert code == 0 and doc["register"]["registered"]
+    assert code in (0, 3, 4) and doc["register"]["registered"]
     text = _docx_text(doc["report"])
     assert text[1].startswith("按 --allow-expired 出具") and "Issued with --allow-expired" in text[1]
     assert "CNT-1" in text[1] and "2025-01-01" in text[1]
