@@ -229,8 +229,9 @@ def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = No
     if progress is not None:
         progress("campaigns", done, total)
     t0 = time.perf_counter()
+    timing: dict[str, float] = {"cluster_start_s": 0.0}
     if todo:
-        for res in _evaluate_on_dask(job, todo, scheduler=scheduler, workers=workers):
+        for res in _evaluate_on_dask(job, todo, scheduler=scheduler, workers=workers, timing=timing):
             outcomes[res["campaign"]] = res
             entry = {k: v for k, v in res.items() if k != "doc"}
             state["campaigns"][res["campaign"]] = entry
@@ -242,19 +243,22 @@ def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = No
     elapsed = time.perf_counter() - t0
     ordered = [outcomes[str(m)] for m in manifests]
     summary = write_lot_summary(job, ordered, out)
-    summary["timing"] = {"seconds": elapsed, "evaluated_now": len(todo), "skipped": total - len(todo),
-                         "workers": workers, "scheduler": scheduler or "local"}
+    summary["timing"] = {"seconds": elapsed, "cluster_start_s": timing["cluster_start_s"],
+                         "evaluated_now": len(todo), "skipped": total - len(todo), "workers": workers,
+                         "scheduler": scheduler or "local"}
     _write_json_atomically(out / "lot-summary.json", summary)
     return summary
 
 
 def _evaluate_on_dask(job: Job, todo: Sequence[tuple[str, str, str]], *, scheduler: str | None,
-                      workers: int | None):
-    """Yield each campaign's outcome as its worker finishes it."""
+                      workers: int | None, timing: dict[str, float]):
+    """Yield each campaign's outcome as its worker finishes it (``timing["cluster_start_s"]``: the
+    time to start or reach the cluster)."""
     import logging
 
     from distributed import Client, LocalCluster, as_completed
 
+    t0 = time.perf_counter()
     cluster = None
     if scheduler:
         try:
@@ -268,6 +272,8 @@ def _evaluate_on_dask(job: Job, todo: Sequence[tuple[str, str, str]], *, schedul
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                                silence_logs=logging.ERROR)
         client = Client(cluster)
+        client.wait_for_workers(n)
+    timing["cluster_start_s"] = time.perf_counter() - t0
     try:
         futures = {client.submit(evaluate_campaign, job, m, name, sha, pure=False, key=f"metro-{sha[:16]}-{name}"):
                    (m, name, sha) for m, name, sha in todo}

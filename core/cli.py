@@ -357,7 +357,11 @@ def _main(argv: Sequence[str] | None) -> int:
             print(f"  what to do: {exc.hint}", file=sys.stderr)
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
-        print("metro: interrupted; nothing was written", file=sys.stderr)
+        if args.command == "batch":
+            print(f"metro: interrupted; the campaigns finished so far are kept in {args.out} (the same command "
+                  "resumes the batch)", file=sys.stderr)
+        else:
+            print("metro: interrupted; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED
     raise AssertionError(f"command {args.command!r} has no handler")  # pragma: no cover
 

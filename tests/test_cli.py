@@ -483,3 +483,19 @@ def test_a_result_not_reportable_and_its_earth_rate_show_in_its_row(pm, capsys, 
     present.print_record(record, None)
     row = next(line for line in capsys.readouterr().out.splitlines() if "B₀" in line)
     assert "not reportable: misfit of the test model" in row and "earth rate removed" in row
+
+
+def test_readme_exit_code_table_is_what_metro_returns():
+    """The README's table and the codes in metro.core.cli are the same list."""
+    import re
+    from pathlib import Path
+
+    from metro.core import cli
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    table = text.split("### Exit codes", 1)[1]
+    documented = {int(c) for c in re.findall(r"^\| (\d+) \|", table, flags=re.M)}
+    assert documented == {cli.EXIT_OK, cli.EXIT_USER_ERROR, cli.EXIT_NONCONFORMING, cli.EXIT_INDETERMINATE,
+                          cli.EXIT_CAMPAIGN_FAILED, cli.EXIT_INTERRUPTED, cli.EXIT_BROKEN_PIPE}
+    assert (cli.exit_code_for("pass"), cli.exit_code_for(None), cli.exit_code_for("fail"),
+            cli.exit_code_for("indeterminate")) == (0, 0, 3, 4)
