@@ -148,8 +148,12 @@ def _matches(key: str, keys: tuple[str, ...]) -> bool:
 def _result_text(r) -> str:
     from metro.core.report import _unit_text
 
+    from metro.core.report import fmt_num
+
     v, U = r.reported()
     ut = _unit_text(r.metric.unit)
+    if r.U is None or float(r.U.magnitude) == 0:  # exact (a count, a declared value, a ratio of specs)
+        v = fmt_num(float(r.value.to(r.metric.unit).magnitude), 6)
     text = f"{r.metric.key} = {v}{(' ' + ut) if ut else ''}"
     if U is not None and float(r.U.magnitude) > 0:
         text += f" (U = {U}{(' ' + ut) if ut else ''}, k = {r.k:.2f})"
