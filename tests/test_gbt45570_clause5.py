@@ -616,3 +616,18 @@ def test_plan_of_the_whole_standard_includes_the_type_test(pm):
     wanted |= {"record:reliability.mtbf", "record:reliability.life", "type-env", "type-env-revolutions"}
     assert wanted <= kinds
     assert all(s.duration.magnitude == 0 for s in steps if s.is_record)
+
+
+def test_metro_items_lists_the_clause5_items_and_the_type_test_series(run_cli):
+    import json
+
+    code, out, _err = run_cli("items", "-s", "gbt45570", "--json")
+    assert code == 0
+    doc = json.loads(out)
+    by_item = {i["item"]: i for i in doc["items"]}
+    assert set(clause5.TYPE_TEST_ITEMS) <= set(by_item)
+    # the new items name the clause-5 requirement they answer
+    assert by_item["6.2.3"]["clause"] == "5.2.5" and by_item["6.2.8.2"]["clause"] == "5.4 b)"
+    assert by_item["6.2.9.1"]["clause"] == "5.5.1" and by_item["5.2.1"]["clause"] == "5.2.1"
+    series = {s["name"]: s for s in doc["series"]}
+    assert tuple(series["type-test"]["members"]) == clause5.TYPE_TEST_ITEMS
