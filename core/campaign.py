@@ -480,3 +480,83 @@ def _check_time_interval(fpath: Path, time_col, interval_s: float) -> None:
             f"the time column steps by {step:g} s but the manifest's sample_interval is {interval_s:g} s",
             hint="correct sample_interval in the manifest or the time column",
         )
+
+
+# -----------------------------------------------------------------------------------------
+# equipment requirements (EquipmentRequirement: required roles, kinds of calibration U)
+# -----------------------------------------------------------------------------------------
+
+
+def _kind_text(kinds) -> str:
+    return " or ".join("relative (a number such as \"2e-7\")" if k == "" else f"in {k} (or a unit of that kind)"
+                       for k in kinds)
+
+
+def check_equipment(campaign: Campaign, proc) -> list:
+    """Check ``proc``'s equipment requirements against ``campaign`` before it is evaluated.
+
+    A required role the campaign does not list, or a calibration U of a kind of unit the item
+    cannot use (a counter's U in °C), is a :class:`DataError` naming the equipment, the role and
+    what is accepted — never a budget row dropped without a word.  Returns the optional
+    requirements that are absent (the runner adds a note row for each to the item's budgets)."""
+    from .units import Q_
+
+    absent = []
+    src = campaign.source or "campaign"
+    for req in getattr(proc, "equipment", ()):
+        found = [(i, e) for i, e in enumerate(campaign.equipment) if e.role == req.role]
+        if not found:
+            if req.required:
+                near = voc.did_you_mean(req.role, [e.role for e in campaign.equipment if e.role])
+                hint = (f"equipment {[e.id for e in campaign.equipment if e.role == near][0]!r} has the role "
+                        f"{near!r}; did you mean {req.role!r}?" if near else
+                        f"add [[equipment]] with role = \"{req.role}\" and its [equipment.calibration]")
+                raise DataError(src, "equipment", f"{proc.qualified_id()} requires equipment with the role "
+                                f"{req.role!r} ({req.description}); the campaign lists none "
+                                f"(roles given: {', '.join(sorted({e.role for e in campaign.equipment})) or 'none'})",
+                                hint=hint)
+            absent.append(req)
+            continue
+        kinds = req.calibration or voc.ROLE_CALIBRATION.get(req.role, ())
+        if not kinds:
+            continue
+        for i, e in found:
+            cal = e.calibration
+            if cal is None:
+                continue
+            U = cal.uncertainty
+            ok = any(U.dimensionless if k == "" else U.dimensionality == Q_(1.0, k).dimensionality for k in kinds)
+            if not ok:
+                where = f"equipment[{i}].calibration.U" if campaign.source.endswith(".toml") else \
+                    f"equipment {e.id}.calibration.U"
+                raise DataError(src, where, f"the {req.role} {e.id!r} has U = {U:~P}, which {proc.qualified_id()} "
+                                f"cannot use: a {req.role}'s U must be {_kind_text(kinds)}",
+                                hint=f"give the calibration certificate's U {_kind_text(kinds)}")
+    return absent
+
+
+def note_absent_equipment(outcome, absent) -> Any:
+    """``outcome`` with one note row per absent optional role in each of its budgets (zero
+    contribution: the budget says what is not in it instead of leaving it out silently)."""
+    if not absent:
+        return outcome
+    import attrs as _attrs
+
+    from .budget import BudgetRow
+    from .units import Q_
+
+    results = []
+    for r in outcome.results:
+        b = r.budget
+        if b is None:
+            results.append(r)
+            continue
+        rows = list(b.rows)
+        for req in absent:
+            if any(req.role in row.source for row in rows):
+                continue
+            rows.append(BudgetRow.type_b(
+                f"{req.role}: not given in the campaign", "—", Q_(0.0, b.unit), distribution="uniform",
+                note=f"no equipment with role {req.role!r} ({req.description}): its uncertainty is not in this budget"))
+        results.append(_attrs.evolve(r, budget=_attrs.evolve(b, rows=rows)))
+    return _attrs.evolve(outcome, results=results)

@@ -14,7 +14,7 @@ import re
 
 import attrs
 
-from .campaign import load_manifest
+from .campaign import check_equipment, load_manifest, note_absent_equipment
 from .errors import MetroError, ProcedureError
 from .model import Campaign, DeviceUnderTest, Outcome, Procedure, RunContext, Step
 from .plugins import MetroPluginManager
@@ -291,7 +291,10 @@ def run_items(
         check_campaign(campaign)
     timings["campaign (manifest or simulation)"] = time.perf_counter() - t0
     outcomes: list[Outcome] = []
-    for n_done, (cls, opts) in enumerate(zip(procs, per_opts)):
+    # every item's equipment requirements before anything is evaluated (a required role missing
+    # or a calibration U of the wrong kind is an error; absent optional roles become note rows)
+    absent_by_item = [check_equipment(campaign, cls) for cls in procs]
+    for n_done, (cls, opts, absent) in enumerate(zip(procs, per_opts, absent_by_item)):
         if progress is not None:
             progress("items", n_done, len(procs))
             progress(f"{cls.item} {cls.title}", 0, 1)
@@ -300,7 +303,7 @@ def run_items(
         pm.procedure_started(proc, campaign, ctx)
         read_before = sum(s.load_seconds for s in campaign.segments)
         t1 = time.perf_counter()
-        outcome = proc.evaluate(campaign, ctx)
+        outcome = note_absent_equipment(proc.evaluate(campaign, ctx), absent)
         dt_eval = time.perf_counter() - t1
         read = sum(s.load_seconds for s in campaign.segments) - read_before
         if read > 0:

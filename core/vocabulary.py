@@ -109,6 +109,24 @@ ROLES: dict[str, str] = {
     "ammeter": "current measuring equipment",
 }
 
+#: the kinds of unit a role's calibration U is used in by the built-in items ("" relative, else
+#: a unit of the accepted kind); an item's EquipmentRequirement.calibration overrides it
+ROLE_CALIBRATION: dict[str, tuple[str, ...]] = {
+    "rate_table": ("",),
+    "position_table": ("arcsec",),
+    "turntable": ("arcsec",),
+    "counter": ("",),
+    "dmm": ("",),
+    "timer": ("", "s"),
+    "chamber": ("K",),
+    "field_generator": ("",),
+    "vibration_table": ("", "m/s^2"),
+    "angular_vibration_table": ("",),
+    "shock_table": ("", "m/s^2"),
+    "voltmeter": ("", "V"),
+    "ammeter": ("", "A"),
+}
+
 #: old or other spelling -> canonical role (read, with a deprecation warning)
 ROLE_ALIASES: dict[str, str] = {
     "table": "rate_table",
@@ -171,9 +189,13 @@ def register_campaign_key(name: str, description: str) -> None:
     CAMPAIGN_KEYS.setdefault(name, description)
 
 
-def register_role(name: str, description: str, aliases: Iterable[str] = ()) -> None:
-    """An equipment role a plugin's items look for, with other spellings it accepts."""
+def register_role(name: str, description: str, aliases: Iterable[str] = (),
+                  calibration: Iterable[str] | None = None) -> None:
+    """An equipment role a plugin's items look for, with other spellings it accepts and the
+    kinds of unit its calibration U may be in (``""`` relative)."""
     ROLES.setdefault(name, description)
+    if calibration is not None:
+        ROLE_CALIBRATION.setdefault(name, tuple(calibration))
     for a in aliases:
         ROLE_ALIASES.setdefault(_norm(a), name)
 

@@ -342,7 +342,7 @@ class StartupTime(_JJF):
                            Option("rate_tolerance", "1 %", "", "rate error requirement, relative (rate trials)"),
                            Option("window", "1 s", "s", "moving-average window applied before the test"),
                            Option("full_scale", "100 deg/s", "deg/s", "full-scale rate for the rate trials"))
-    equipment = _JJF.equipment + (EquipmentRequirement("timer", "timer / time base"),)
+    equipment = _JJF.equipment + (EquipmentRequirement("timer", "timer / time base", calibration=("",)),)
 
     def sequence(self, options):
         fs = float(options["full_scale"].to("deg/s").magnitude)
