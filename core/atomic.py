@@ -5,7 +5,9 @@ Everything is written to a temporary file in the target's own directory (named
 only when the writer has finished without an error is the temporary file flushed to disk
 and renamed onto the target with :func:`os.replace`, which is atomic on POSIX and Windows.
 On any exception, ``KeyboardInterrupt`` included, the temporary file is removed and a file
-that already existed at the target is left exactly as it was.
+that already existed at the target is left exactly as it was.  A process killed outright
+(SIGKILL, power loss) cannot clean up: the next atomic write into the same directory removes
+temporary files of that pattern older than :data:`STALE_AFTER_S` (:func:`sweep_stale`).
 
 >>> atomic_write_text(path, "hello\\n")                     # doctest: +SKIP
 >>> atomic_write(path, lambda tmp: figure.savefig(tmp, format="png"))  # doctest: +SKIP
@@ -17,17 +19,50 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import secrets
 import stat
 from pathlib import Path
 from typing import Callable, Iterator
 
-__all__ = ["atomic_path", "atomic_write", "atomic_write_text", "atomic_write_bytes", "TMP_MARKER"]
+__all__ = ["atomic_path", "atomic_write", "atomic_write_text", "atomic_write_bytes", "TMP_MARKER",
+           "sweep_stale", "STALE_AFTER_S"]
 
 #: Every temporary file's name contains this marker: ``.{name}{TMP_MARKER}{8 hex digits}``.
 TMP_MARKER = ".tmp-"
 
 _TRIES = 100
+
+#: a temporary file this old was left by a writer that was killed (a write takes seconds)
+STALE_AFTER_S = 15 * 60
+
+_TMP_NAME = re.compile(r"^\..+" + re.escape(TMP_MARKER) + r"[0-9a-f]{8}$")
+
+
+def sweep_stale(directory: str | os.PathLike[str], *, older_than_s: float = STALE_AFTER_S) -> list[Path]:
+    """Remove the temporary files (``.{name}.tmp-<8 hex digits>``) in ``directory`` that are older
+    than ``older_than_s`` — left behind by a writer killed between writing and renaming — and
+    return their paths.  Only regular files of exactly that pattern are touched."""
+    import time
+
+    removed: list[Path] = []
+    now = time.time()
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return removed
+    for entry in entries:
+        if not _TMP_NAME.match(entry.name):
+            continue
+        try:
+            st = entry.stat(follow_symlinks=False)
+            if not stat.S_ISREG(st.st_mode) or now - st.st_mtime < older_than_s:
+                continue
+            os.unlink(entry.path)
+        except OSError:
+            continue
+        removed.append(Path(entry.path))
+    return removed
 
 
 def _create_temp(final: Path) -> Path:
@@ -82,6 +117,7 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     directory = final.parent
     if not directory.is_dir():
         raise FileNotFoundError(f"cannot write {final}: directory {directory} does not exist")
+    sweep_stale(directory)
     tmp = _create_temp(final)
     try:
         yield tmp

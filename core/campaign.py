@@ -75,14 +75,37 @@ def _maybe_quantity(v: Any, src: str, field: str) -> Any:
     """Values written as text with a unit become quantities; plain text stays text."""
     if isinstance(v, str):
         try:
-            return parse_quantity(v, file=src, field=field)
+            q = parse_quantity(v, file=src, field=field)
         except UnitError:
-            return v
+            return _bounded(v, src, field)
+        _finite(q, src, field)
+        return q
     if isinstance(v, bool):
         return v
+    if isinstance(v, float) and not math.isfinite(v):
+        raise DataError(src, field, f"{v!r} is not a finite number")
     if isinstance(v, (int, float)):
         return v
     return v
+
+
+def _finite(q, src: str, field: str):
+    """A quantity whose magnitude is a finite number (``inf °C``, ``nan`` are refused)."""
+    import numpy as np
+
+    mag = np.asarray(q.magnitude, dtype=float)
+    if not np.all(np.isfinite(mag)):
+        raise DataError(src, field, f"{q.magnitude!r} is not a finite number")
+    return q
+
+
+def _in_range(q, unit: str, lo: float | None, hi: float | None, src: str, field: str, why: str):
+    """``q`` in ``unit`` within [lo, hi] (a :class:`DataError` saying ``why`` otherwise)."""
+    _finite(q, src, field)
+    v = float(q.to(unit).magnitude)
+    if (lo is not None and v < lo) or (hi is not None and v > hi):
+        raise DataError(src, field, f"{q:~P} is {why}")
+    return q
 
 
 def _calibration(t: Mapping, src: str, where: str) -> Calibration:
@@ -90,10 +113,15 @@ def _calibration(t: Mapping, src: str, where: str) -> Calibration:
     if "U" not in t:
         raise DataError(src, f"{where}.U", "missing expanded uncertainty",
                         hint="write U = \"0.5 arcsec\" (absolute) or U = \"1e-4\" (relative) with its k")
+    if isinstance(t["U"], bool) or not isinstance(t["U"], (str, int, float)):
+        raise DataError(src, f"{where}.U", f"must be a quantity such as \"2e-7\" or \"0.5 arcsec\", got {_short(t['U'])}")
     U = parse_quantity(t["U"] if not isinstance(t["U"], (int, float)) else str(t["U"]), file=src, field=f"{where}.U")
+    _finite(U, src, f"{where}.U")
+    if float(U.magnitude) < 0:
+        raise DataError(src, f"{where}.U", f"{U:~P} is negative; an expanded uncertainty is ≥ 0")
     k = t.get("k", 2.0)
-    if not isinstance(k, (int, float)) or k <= 0:
-        raise DataError(src, f"{where}.k", f"must be a positive number, got {k!r}")
+    if isinstance(k, bool) or not isinstance(k, (int, float)) or not 0 < k < 100:
+        raise DataError(src, f"{where}.k", f"must be a positive number (a coverage factor, e.g. 2), got {_short(k)}")
     due = t.get("due")
     if due is not None and not isinstance(due, dt.date):
         try:
@@ -145,6 +173,13 @@ def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = Non
     tech = _str(dev_t, "technology", src, "device", required=False).lower()
     if tech not in _TECH:
         raise DataError(src, "device.technology", f"unknown technology {tech!r}; use one of laser, fibre, mems, vibratory, other")
+    application = _str(dev_t, "application", src, "device", required=False).strip().lower()
+    if application not in voc.APPLICATIONS:
+        guess = voc.did_you_mean(application, [a for a in voc.APPLICATIONS if a])
+        raise DataError(src, "device.application", f"unknown application {application!r}"
+                        + (f" — did you mean {guess!r}?" if guess else ""),
+                        hint="use one of " + ", ".join(sorted(a for a in voc.APPLICATIONS if a))
+                        + " (or leave it out)")
     output = _str(dev_t, "output", src, "device", required=False).lower()
     if output not in _OUTPUT:
         raise DataError(src, "device.output", f"unknown output {output!r}; use pulse, digital, analog or rate")
@@ -153,12 +188,21 @@ def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = Non
         if key in _DEVICE_KEYS:
             continue
         if key == "scale_factor_k":
-            if not isinstance(val, (int, float)) or val <= 0:
+            if isinstance(val, bool) or not isinstance(val, (int, float)) or not 0 < val < 100:
                 raise DataError(src, "device.scale_factor_k", f"must be a positive number, got {val!r}")
             props[key] = float(val)
         elif key in _DEVICE_QUANTITIES:
-            props[key] = parse_quantity(val if not isinstance(val, (int, float)) else str(val), file=src,
-                                        field=f"device.{key}")
+            if isinstance(val, bool) or not isinstance(val, (str, int, float)):
+                raise DataError(src, f"device.{key}", f"must be a quantity with its unit, got {_short(val)}")
+            q = _finite(parse_quantity(val if not isinstance(val, (int, float)) else str(val), file=src,
+                                       field=f"device.{key}"), src, f"device.{key}")
+            if key == "scale_factor" and not float(q.magnitude) > 0:
+                raise DataError(src, "device.scale_factor", f"{q:~P}: a scale factor must be positive (zero "
+                                "would turn every output into an infinite rate)", hint="K is a magnitude; the sign of the "
+                                "output is the polarity item's (GB/T 45570 6.2.6)")
+            if key == "scale_factor_U" and float(q.magnitude) < 0:
+                raise DataError(src, "device.scale_factor_U", f"{q:~P} is negative; an expanded uncertainty is ≥ 0")
+            props[key] = q
         else:
             props[key] = _maybe_quantity(val, src, f"device.{key}")
     return DeviceUnderTest(
@@ -166,7 +210,7 @@ def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = Non
         serial=_str(dev_t, "serial", src, "device", required=False),
         manufacturer=_str(dev_t, "manufacturer", src, "device", required=False),
         properties=props, technology="fibre" if tech == "fiber" else tech,
-        application=_str(dev_t, "application", src, "device", required=False), output=output,
+        application=application, output=output,
     )
 
 
@@ -178,9 +222,19 @@ def environment_from_table(env_t: Mapping, src: str, warnings: list[str] | None 
         if key not in env_t:
             raise DataError(src, f"environment.{key}", "missing", hint=f"add {key} = \"…\" under [environment]")
         environment[key] = parse_quantity(env_t[key], dimension=dim, file=src, field=f"environment.{key}")
+    _in_range(environment["temperature"], "degC", *voc.TEMPERATURE_RANGE_C, src, "environment.temperature",
+              f"not a test environment's temperature ({voc.TEMPERATURE_RANGE_C[0]:g} °C … "
+              f"{voc.TEMPERATURE_RANGE_C[1]:g} °C; −273.15 °C is absolute zero)")
+    _in_range(environment["humidity"], "percent", 0.0, 100.0, src, "environment.humidity",
+              "not a relative humidity (0 % … 100 %)")
     for key, val in env_t.items():
         if key not in environment:
             environment[key] = _maybe_quantity(val, src, f"environment.{key}")
+    p = environment.get("pressure")
+    if p is not None and hasattr(p, "units"):
+        if p.dimensionality != parse_quantity("1 kPa").dimensionality:
+            raise DataError(src, "environment.pressure", f"{p:~P} is not a pressure", hint="write e.g. \"101.3 kPa\"")
+        _in_range(p, "kPa", 0.0, 1000.0, src, "environment.pressure", "not an air pressure (0 … 1000 kPa)")
     return environment
 
 
@@ -196,6 +250,13 @@ def site_from_table(site_t: Mapping, src: str, warnings: list[str] | None = None
     for key, val in site_t.items():
         if key not in site:
             site[key] = _maybe_quantity(val, src, f"site.{key}")
+    if "latitude_uncertainty" in site:
+        q = site["latitude_uncertainty"]
+        if not hasattr(q, "units"):
+            raise DataError(src, "site.latitude_uncertainty", f"must be an angle such as \"0.001°\", got {_short(q)}")
+        q = parse_quantity(f"{q.magnitude} {q.units}", dimension="deg", file=src, field="site.latitude_uncertainty")
+        _in_range(q, "deg", 0.0, 90.0, src, "site.latitude_uncertainty",
+                  "not a latitude uncertainty (a half-width, 0° … 90°)")
     return site
 
 
@@ -455,6 +516,7 @@ def _make_loader(read, fpath: Path, interval_s: float, declared: Mapping[str, st
         table = read(fpath)
         out = _Columns()
         for name, arr in table.columns.items():
+            _check_magnitudes(fpath, name, arr)
             out[name] = (arr, table.units[name])
         if "time" in out:
             _check_time_interval(fpath, out["time"], interval_s)
@@ -462,6 +524,30 @@ def _make_loader(read, fpath: Path, interval_s: float, declared: Mapping[str, st
         return out
 
     return load
+
+
+#: the largest sample magnitude taken: beyond 2⁵³ a float64 no longer holds whole counts
+#: exactly, and no gyro output (counts, LSB, mV, °/h) comes near it — such a value is a
+#: corrupt or mis-scaled record (1e20, ±1e308 would overflow the statistics)
+MAX_SAMPLE = float(2**53)
+
+
+def _check_magnitudes(fpath: Path, column: str, arr) -> None:
+    """Every sample finite and within ±:data:`MAX_SAMPLE` (one vectorised pass), else a
+    :class:`DataError` naming the file, the column and the first row."""
+    import numpy as np
+
+    a = np.asarray(arr)
+    if a.dtype.kind not in "fiu" or a.size == 0:
+        return
+    if a.dtype.kind in "iu" and a.dtype.itemsize < 8:
+        return
+    bad = ~(np.abs(a) <= MAX_SAMPLE) if a.dtype.kind == "f" else (np.abs(a.astype(np.float64)) > MAX_SAMPLE)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise DataError(str(fpath), column, f"row {i + 1}: {float(a[i]):g} is not a plausible sample "
+                        f"(|x| ≤ 2⁵³ ≈ {MAX_SAMPLE:.3g}, finite)",
+                        hint="check the record for corruption or a wrong scale")
 
 
 def _check_time_interval(fpath: Path, time_col, interval_s: float) -> None:

@@ -90,6 +90,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--out", default="metro-out", metavar="DIR", help="where the Word report goes (default: metro-out)")
     r.add_argument("--report", metavar="PATH", help="write the Word report to PATH instead")
     r.add_argument("--no-report", action="store_true", help="do not write a Word report")
+    r.add_argument("--force", action="store_true", help="replace an existing report file (never an input of "
+                   "the run, never a read-only file)")
     r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
     r.add_argument("--station", help="station to acquire on when no --data is given (default: the item's "
                    "simulated station)")
@@ -407,6 +409,10 @@ def _cmd_run(args) -> int:
                                           ("--station-option", bool(args.station_option))) if on)
         raise MetroError(f"{given} acts on a station, and --data {args.data} was recorded already",
                          hint="drop --data to run on a station, or drop the station arguments to evaluate the data")
+    if not args.no_report:  # checked before anything is evaluated (core.outputs)
+        from .outputs import manifest_inputs, plan_report
+
+        plan_report(args.report, args.out, force=args.force, inputs=manifest_inputs(args.data))
     banner = _Banner(SIMULATED_BANNER if args.data is None and not args.json and not args.quiet else None)
     with present.progress(enabled=_show_progress(args), started=banner) as prog:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,

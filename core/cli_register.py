@@ -149,13 +149,16 @@ def write_run_report(args, pm, record, prog=None):
 
         check_equipment(record.campaign, measurement_date(record), allow_expired=getattr(args, "allow_expired", False))
     why = "no lab profile" if lab is None else "simulated"
+    from .outputs import write_checked
+
     target = Path(args.report) if args.report else Path(args.out) / f"{record.report_number}.docx"
-    target.parent.mkdir(parents=True, exist_ok=True)
     template = pm.template_for(record.standard).path
     designations = {s.id: s.designation for s in pm.registry.standards.values()}
-    path = write_report(target, record, template=template, designations=designations,
-                        extend=pm.extend_report_context,
-                        register=unregistered(record, why, lab.language if lab is not None else "zh+en"))
+    # core.outputs: never onto an input, an existing file only with --force; nothing left on failure
+    path = write_checked(target, record.campaign, lambda p: write_report(
+        p, record, template=template, designations=designations, extend=pm.extend_report_context,
+        register=unregistered(record, why, lab.language if lab is not None else "zh+en")),
+        force=getattr(args, "force", False), option="--report" if args.report else "--out")
     record.timings["write report"] = time.perf_counter() - t0
     pm.report_written(path, record.outcomes)
     from .registering import NOT_REGISTERED

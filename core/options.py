@@ -112,4 +112,45 @@ def station_options(owner: str, truth_cls: type, station_cls: type, options: Map
     check_options(owner, options, [*attrs.fields_dict(truth_cls), *station_fields])
     truth = convert_options(owner, truth_cls, options)
     station = convert_options(owner, station_cls, {k: v for k, v in options.items() if k in station_fields})
+    for name, value in (*truth.items(), *station.items()):
+        check_range(owner, f"station option {name}", name, value)
+    validate_fields(owner, truth_cls, truth)
     return truth, station
+
+
+#: physical or practical ranges of option values a station takes, by option name:
+#: (lowest, highest, lowest excluded).  duration_scale multiplies every step's duration: 0 or
+#: less records nothing, and beyond 100 an hour's step becomes days of samples in memory.
+RANGES: dict[str, tuple[float, float, bool]] = {
+    "duration_scale": (0.0, 100.0, True),
+    "latitude_deg": (-90.0, 90.0, False),
+    "seed": (0.0, 2.0**63 - 1, False),
+}
+
+
+def check_range(owner: str, field: str, name: str, value: Any) -> None:
+    """Refuse a number outside :data:`RANGES` for ``name`` (a :class:`DataError` naming it)."""
+    if name not in RANGES or isinstance(value, bool) or not isinstance(value, (int, float)):
+        return
+    lo, hi, open_lo = RANGES[name]
+    if not math.isfinite(value) or value > hi or value < lo or (open_lo and value == lo):
+        raise DataError(None, field, f"{value!r} is out of range: {owner} takes "
+                        f"{lo:.10g} {'<' if open_lo else '≤'} {name} ≤ {hi:.10g}")
+
+
+def validate_fields(owner: str, cls: type, values: Mapping[str, Any], *, kind: str = "station option") -> None:
+    """Build ``cls(**values)`` once to run its attrs validators; a value a validator refuses
+    (``output=analog``, ``polarity=2``) is a :class:`DataError` naming the option and what it
+    takes, not a ``ValueError`` traceback from inside a station factory."""
+    try:
+        cls(**values)
+    except (ValueError, TypeError) as exc:
+        import attrs
+
+        args = exc.args
+        att = next((a for a in args if isinstance(a, attrs.Attribute)), None)
+        name = att.name if att is not None else next((k for k in values if k in str(exc)), None)
+        allowed = args[2] if len(args) >= 4 and att is not None else None
+        reason = (f"{values.get(name)!r} is not one of {', '.join(map(str, allowed))}" if allowed is not None
+                  else str(args[0]) if args else str(exc))
+        raise DataError(None, f"{kind} {name}" if name else kind, f"{owner}: {reason}") from None

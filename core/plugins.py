@@ -301,6 +301,8 @@ class MetroPluginManager:
                 mod = importlib.import_module(name)
             except ImportError as exc:
                 raise PluginError(f"plugin {name!r} named in METRO_PLUGINS cannot be imported: {exc}") from exc
+            if self.pm.is_registered(mod):  # an installed plugin named by its module: loaded already
+                continue
             self.add_plugin(mod, name)
         return self
 

@@ -5,6 +5,7 @@ No printing and no files here: the CLI presents, :mod:`metro.core.report` writes
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
 import time
 from pathlib import Path
@@ -15,7 +16,7 @@ import re
 import attrs
 
 from .campaign import check_equipment, load_manifest, note_absent_equipment
-from .errors import MetroError, ProcedureError
+from .errors import DataError, MetroError, ProcedureError
 from .model import Campaign, DeviceUnderTest, Outcome, Procedure, RunContext, Step
 from .plugins import MetroPluginManager
 from .provenance import RunRecord, new_report_number, software_versions
@@ -291,6 +292,7 @@ def run_items(
         check_campaign(campaign)
     timings["campaign (manifest or simulation)"] = time.perf_counter() - t0
     outcomes: list[Outcome] = []
+    check_specification_units(pm, standard, campaign)
     # every item's equipment requirements before anything is evaluated (a required role missing
     # or a calibration U of the wrong kind is an error; absent optional roles become note rows)
     absent_by_item = [check_equipment(campaign, cls) for cls in procs]
@@ -303,7 +305,8 @@ def run_items(
         pm.procedure_started(proc, campaign, ctx)
         read_before = sum(s.load_seconds for s in campaign.segments)
         t1 = time.perf_counter()
-        outcome = note_absent_equipment(proc.evaluate(campaign, ctx), absent)
+        with manifest_fields_named(campaign):
+            outcome = note_absent_equipment(proc.evaluate(campaign, ctx), absent)
         dt_eval = time.perf_counter() - t1
         read = sum(s.load_seconds for s in campaign.segments) - read_before
         if read > 0:
@@ -333,6 +336,47 @@ def run_items(
         selection=selection,
         conformity=conformity,
     )
+
+
+#: the fields that are the manifest's (not a samples file's): an error about one names the manifest
+_MANIFEST_FIELDS = ("segments.", "segments[", "device.", "site.", "environment.", "equipment", "specification",
+                    "campaign.")
+
+
+@contextlib.contextmanager
+def manifest_fields_named(campaign: Campaign):
+    """An error a procedure raises about a manifest field (a segment's condition, the device's
+    scale factor) against a samples file is re-raised naming the manifest, where the field is."""
+    try:
+        yield
+    except DataError as exc:
+        manifest = campaign.source if campaign.manifest_sha256 else None
+        if (manifest and exc.file and exc.file != manifest and exc.field
+                and str(exc.field).startswith(_MANIFEST_FIELDS)):
+            raise DataError(manifest, exc.field, exc.detail, hint=exc.hint) from exc
+        raise
+
+
+def check_specification_units(pm: MetroPluginManager, standard: str, campaign: Campaign) -> None:
+    """Before any evaluation: each ``[specification]`` limit of the manifest must be of the kind
+    of unit of the metrics it judges (``Kn = "<= 5 °/h"`` is refused naming ``specification.Kn``)."""
+    from . import conformity as cf
+    from .units import Q_, fmt_unit
+
+    given = {k: v for k, v in campaign.specification.items() if k not in ("decision_rule", "source")}
+    if not given:
+        return
+    metrics = [m for cls in pm.procedures_of(standard) for m in cls.metrics]
+    for spec in cf.specifications_from_table(dict(campaign.specification), file=campaign.source):
+        judged = [m for m in metrics if spec.applies_to(m.key)]
+        if not judged:
+            continue
+        if not any(cf._compatible(Q_(1.0, m.unit), spec.limit) for m in judged):
+            m = judged[0]
+            raise DataError(campaign.source, f"specification.{spec.symbol}",
+                            f"the limit is in {fmt_unit(spec.limit.units)} but {m.key} ({m.name}) is in "
+                            f"{fmt_unit(Q_(1.0, m.unit).units)}: different kinds of quantity",
+                            hint=f"state the limit in a unit of the kind of {fmt_unit(Q_(1.0, m.unit).units)}")
 
 
 def judge(pm: MetroPluginManager, standard: str, campaign: Campaign, outcomes: Sequence[Outcome],

@@ -165,6 +165,13 @@ DEVICE_KEYS: dict[str, str] = {
     "nonlinearity": "the scale-factor nonlinearity the device is specified for",
 }
 
+#: [device] application values (GB/T 45570 tables A.1/B.1); plugins may add theirs
+APPLICATIONS: set[str] = {"aerospace", "aviation", "marine", ""}
+
+#: the [environment] temperature metro takes as a test environment's (°C): well beyond any
+#: laboratory or chamber, but no longer a typing slip such as −300 °C (below absolute zero)
+TEMPERATURE_RANGE_C = (-100.0, 200.0)
+
 SEGMENT_KEYS = ("id", "kind", "file", "sample_interval", "conditions", "units")
 CALIBRATION_KEYS = ("certificate", "U", "k", "due", "lab", "distribution")
 #: [environment] and [site] keys metro reads (other keys are kept)
