@@ -174,3 +174,15 @@ def test_bias_family_and_threshold_coverage_per_device_class_slow(pm, cls):
     cov = _coverage(pm, cls, ["D.4", "D.5.1", "D.5.3", "D.5.4", "D.5.5", "D.5.6"], range(201, 221))
     for key, (ok, n) in cov.items():
         assert ok >= 18, (cls, key, ok, n)
+
+
+def test_d56_misfit_limit_catches_the_moderate_misfit(pm):
+    """Undithered counter, device 149, 4 h: χ²/ν = 11.4 and RWC 2.45 U above the truth — reportable
+    under a limit of 25, not under 10 (interpretations.md, "D.5.6 — when the D.45 model does not hold")."""
+    from metro.plugins.gbt45570.procedures import D45_MISFIT_LIMIT
+
+    rec = _run(pm, ["D.5.6"], device_class="pulse-fine-undithered", seed=149, duration_scale=0.5)
+    r = _result(rec, "RWC")
+    assert D45_MISFIT_LIMIT == 10.0
+    assert "χ²/ν = 11.4" in r.reason and not r.reportable
+    assert (r.value.magnitude - rec.campaign.expected["RWC"].magnitude) / r.U.magnitude > 2  # the misfit is real
