@@ -33,6 +33,10 @@ __all__ = ["register_run", "unregistered", "rerender", "amend", "check_equipment
            "expired_equipment", "encode_context", "decode_context"]
 
 
+#: the report number in a context made before the register gives the number (replaced in it then)
+PENDING = "METRO-REGISTER-NUMBER-PENDING"
+
+
 def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
     """``record`` whose campaign names the lab and its people from the profile: ``[campaign]``
     keys ``lab``, ``lab_address``, ``operator`` (calibrated by), ``checked_by``, ``approved_by``
@@ -293,21 +297,31 @@ def register_run(
     own = register is None
     reg = register or open_register(lab.register_url())
     numbered: list[Any] = []
+    # everything that does not depend on the number is made before the register's lock is taken:
+    # the context with a placeholder number, and the figures
+    import tempfile
+
+    from .report import render_figures
+
+    pending = attrs.evolve(record, report_number=PENDING)
+    statement = {"registered": True, "number": PENDING, "supersedes": supersedes, "reason": reason,
+                 "lab": lab.name, "expired": list(expired), "on": on.isoformat(),
+                 "notices": notices_for(lab, PENDING, supersedes=supersedes, reason=reason, expired=expired,
+                                        on=on.isoformat())}
+    ctx0 = build_context(pending, designations=designations, extend=pm.extend_report_context, register=statement)
+    tmpdir = tempfile.TemporaryDirectory(prefix="metro-figures-")
+    figures = render_figures(ctx0, tmpdir.name)
 
     def make(number: str, issued_at: dt.datetime) -> Draft:
         rec = attrs.evolve(record, report_number=number)
         numbered.append(rec)
-        notices = notices_for(lab, number, supersedes=supersedes, reason=reason, expired=expired,
-                              on=on.isoformat())
-        statement = {"registered": True, "number": number, "supersedes": supersedes, "reason": reason,
-                     "lab": lab.name, "expired": list(expired), "on": on.isoformat(), "notices": notices}
-        ctx = build_context(rec, designations=designations, extend=pm.extend_report_context, register=statement)
+        ctx = _replace_text(ctx0, PENDING, number)
         fields, results = draft_for(rec, ctx, lab=lab, template=template, allow_expired=allow_expired,
                                     options=options)
         fields["context"] = encode_context(ctx)
 
         def write(tmp: Path) -> None:
-            render_context(tmp, ctx, template=template.path)
+            render_context(tmp, ctx, template=template.path, figures=figures)
 
         return Draft(fields, results, write)
 
@@ -316,6 +330,7 @@ def register_run(
                            per_year=lab.per_year(), timezone=lab.timezone, supersedes=supersedes, reason=reason,
                            who=who)
     finally:
+        tmpdir.cleanup()
         if own:
             reg.close()
     pm.report_written(issued.path, record.outcomes)
@@ -425,6 +440,8 @@ def _replace_text(obj: Any, old: str, new: str) -> Any:
         return {k: _replace_text(v, old, new) for k, v in obj.items()}
     if isinstance(obj, list):
         return [_replace_text(v, old, new) for v in obj]
+    if isinstance(obj, tuple):
+        return tuple(_replace_text(v, old, new) for v in obj)
     return obj
 
 

@@ -586,14 +586,31 @@ def _add_notices(document: Any, notices: Iterable[str]) -> None:
         body.insert(i, para._p)
 
 
+def render_figures(ctx: Mapping[str, Any], folder: str | os.PathLike[str]) -> dict[int, Path]:
+    """Draw every figure of a context to ``folder/figure-N.png``; {figure number: PNG path}."""
+    from . import plots
+
+    out = {}
+    for o in ctx["outcomes"]:
+        for p in o["plots"]:
+            png = Path(folder) / f"figure-{p['number']}.png"
+            plots.render_png(p["spec"], png)
+            out[p["number"]] = png
+    return out
+
+
 def render_context(
     path: str | os.PathLike[str],
     ctx: Mapping[str, Any],
     *,
     template: str | os.PathLike[str] | None = None,
+    figures: Mapping[int, str | os.PathLike[str]] | None = None,
 ) -> Path:
     """Render a context made by :func:`build_context` (or kept by the register) into
-    ``template`` and write the ``.docx`` to ``path`` atomically; return ``path``."""
+    ``template`` and write the ``.docx`` to ``path`` atomically; return ``path``.
+
+    ``figures`` ({figure number: PNG}, from :func:`render_figures`) are used instead of drawing
+    the figures again (the register draws them before it takes its lock)."""
     import io
 
     from docx.shared import Mm
@@ -619,8 +636,11 @@ def render_context(
     with tempfile.TemporaryDirectory(prefix="metro-report-") as tmpdir:
         for o in ctx["outcomes"]:
             for p in o["plots"]:
-                png = Path(tmpdir) / f"figure-{p['number']}.png"
-                plots.render_png(p["spec"], png)
+                if figures is not None and p["number"] in figures:
+                    png = Path(figures[p["number"]])
+                else:
+                    png = Path(tmpdir) / f"figure-{p['number']}.png"
+                    plots.render_png(p["spec"], png)
                 p["image"] = InlineImage(tpl, str(png), width=Mm(IMAGE_WIDTH_MM))
         try:
             tpl.render(ctx, autoescape=True)

@@ -63,6 +63,11 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     assert numbers == [f"EML{year}-{i:05d}" for i in (1, 2, 3)]
     assert all(x["register"]["registered"] for x in (a, b, c))
     assert Path(a["report"]).name == f"EML{year}-00001.docx"
+    # the context is made before the number is known: no placeholder is left anywhere
+    from metro.core.registering import PENDING
+
+    for part in zipfile.ZipFile(a["report"]).namelist():
+        assert PENDING.encode() not in zipfile.ZipFile(a["report"]).read(part), part
     first = _docx_text(a["report"])
     # the template's language is zh+en: the statement in both
     assert first[0] == (f"登记报告 EML{year}-00001，示例计量实验室。 "
@@ -88,6 +93,13 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
         assert res[key]["value"] == pytest.approx(r["value"], rel=1e-12)
         assert res[key]["reported"] == r["reported"] and res[key]["k"] == r["k"]
     assert show["audit"][0]["action"] == "issue"
+    from metro.core.lab import load_lab
+    from metro.core.register import open_register
+
+    with open_register(load_lab(lab).register_url()) as reg:
+        for n in numbers:
+            ctx, _ = reg.context(n)
+            assert PENDING not in json.dumps(ctx, ensure_ascii=False) and ctx["report_number"] == n
     assert any(e["id"] == "CNT-1" and e["valid"] is True for e in show["equipment"])
     assert show["provenance"]["data_files"][0]["sha256"] == c["provenance"]["data_files"][0]["sha256"]
 
