@@ -172,8 +172,13 @@ def run_lab_options(args) -> dict[str, Any]:
     its due date on the measurement date (unless ``--allow-expired``), before any evaluation."""
     from . import lab as labmod
 
+    from .errors import MetroError
+
     lab = labmod.lab_in_force(getattr(args, "lab", None))
     if lab is None:
+        if getattr(args, "register_simulated", False):  # said before anything is evaluated
+            raise MetroError("--register-simulated needs a lab profile (its register and numbering scheme)",
+                             hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a template")
         return {}
 
     def check(campaign) -> None:
@@ -181,6 +186,11 @@ def run_lab_options(args) -> dict[str, Any]:
 
         from .registering import check_equipment
 
+        registered = not getattr(args, "no_report", False) and (
+            not campaign.simulated or getattr(args, "register_simulated", False))
+        if registered and getattr(args, "report", None):
+            raise MetroError("a registered report is named by its register number; --report PATH cannot be used "
+                             "with a lab profile", hint="use --out DIR (the report is DIR/<number>.docx)")
         on = getattr(campaign, "measurement_date", None) or dt.datetime.now(dt.timezone.utc).date()
         check_equipment(campaign, on, allow_expired=getattr(args, "allow_expired", False))
 

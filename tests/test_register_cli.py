@@ -262,3 +262,22 @@ def test_statement_follows_the_lab_language(lab, tmp_path, capsys):
     assert _docx_text(a["report"])[:2] == [
         f"Registered report EML{year}-00002 of Example Metrology Laboratory.",
         f"This report replaces report EML{year}-00001, which is superseded by it. Reason: re-issued"]
+
+
+def test_registration_problems_are_said_before_evaluating(lab, tmp_path, capsys, monkeypatch):
+    """--report PATH with a registered run, and --register-simulated without a profile, are refused
+    before any item is evaluated."""
+    import metro.core.runner as runner
+
+    calls = []
+    real = runner.judge
+    monkeypatch.setattr(runner, "judge", lambda *a, **k: calls.append(1) or real(*a, **k))
+    assert main([*SIM_JJF, "--register-simulated", "--report", str(tmp_path / "r.docx")]) == 2
+    assert "--report PATH cannot be used" in capsys.readouterr().err
+    monkeypatch.delenv("METRO_LAB")
+    import metro.core.lab as labmod
+
+    monkeypatch.setattr(labmod, "user_lab_path", lambda: tmp_path / "none" / "lab.toml")
+    assert main([*SIM_JJF, "--register-simulated", "--out", str(tmp_path / "o")]) == 2
+    assert "needs a lab profile" in capsys.readouterr().err
+    assert calls == [] and not (tmp_path / "r.docx").exists() and not (tmp_path / "o").exists()
