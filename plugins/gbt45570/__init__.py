@@ -33,9 +33,11 @@ def _register_vocabulary() -> None:
         ("reliability", "GB/T 45570 5.5 reliability evidence: operating hours, failures, test plan, life"),
     ):
         voc.register_section(name, text)
-    voc.register_role("calliper", "callipers / gauges for outline dimensions (GB/T 45570 6.2.2)", ("caliper", "calipers"))
-    voc.register_role("balance", "electronic balance (GB/T 45570 6.2.3)", ("scale",))
-    voc.register_role("megohmmeter", "insulation resistance tester (GB/T 45570 6.2.5)", ("insulation_tester",))
+    voc.register_role("calliper", "callipers / gauges for outline dimensions (GB/T 45570 6.2.2)", ("caliper", "calipers"),
+                      calibration=("", "mm"))
+    voc.register_role("balance", "electronic balance (GB/T 45570 6.2.3)", ("scale",), calibration=("", "g"))
+    voc.register_role("megohmmeter", "insulation resistance tester (GB/T 45570 6.2.5)", ("insulation_tester",),
+                      calibration=("", "ohm"))
 
 
 _register_vocabulary()

@@ -26,7 +26,17 @@ import numpy as np
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.conformity import Comparison, Specification, parse_limit
 from metro.core.errors import DataError
-from metro.core.model import Campaign, Metric, Outcome, Procedure, Result, RunContext, Step, TableSpec
+from metro.core.model import (
+    Campaign,
+    EquipmentRequirement,
+    Metric,
+    Outcome,
+    Procedure,
+    Result,
+    RunContext,
+    Step,
+    TableSpec,
+)
 from metro.core.units import Q_
 
 from . import records as R
@@ -215,6 +225,8 @@ class Dimensions622(_Inspection):
     clause = "5.2.4"
     title = "Dimensions (外形尺寸)"
     path = "dimensions"
+    equipment = (EquipmentRequirement("calliper", "callipers or other gauge (6.2.2); its calibration and resolution "
+                                      "enter each dimension's budget", required=True),)
     metrics = (Metric("dim", "dimension", "l", "mm", "5.2.4"),
                Metric("itgrade", "tolerance zone over IT12", "T/IT12", "", "5.2.4"))
 
@@ -276,6 +288,8 @@ class Mass623(_Inspection):
     clause = "5.2.5"
     title = "Mass (重量)"
     path = "mass"
+    equipment = (EquipmentRequirement("balance", "electronic balance (6.2.3); its calibration and resolution enter "
+                                      "the budget", required=True),)
     metrics = (Metric("mass", "mass as delivered", "m", "g", "5.2.5"),)
 
     def sequence(self, options):
@@ -487,6 +501,8 @@ class Insulation625(_Inspection):
     clause = "5.2.8"
     title = "Insulation resistance (绝缘电阻)"
     path = "insulation"
+    equipment = (EquipmentRequirement("megohmmeter", "megohmmeter of the relevant specification (6.2.5); its "
+                                      "calibration and resolution enter each pair's budget", required=True),)
     metrics = (Metric("R_ins", "insulation resistance", "R", "Mohm", "5.2.8"),)
 
     def sequence(self, options):
