@@ -631,3 +631,11 @@ def test_metro_items_lists_the_clause5_items_and_the_type_test_series(run_cli):
     assert by_item["6.2.9.1"]["clause"] == "5.5.1" and by_item["5.2.1"]["clause"] == "5.2.1"
     series = {s["name"]: s for s in doc["series"]}
     assert tuple(series["type-test"]["members"]) == clause5.TYPE_TEST_ITEMS
+
+
+def test_metro_plan_all_prints_the_records(run_cli):
+    code, out, _err = run_cli("plan", "-s", "gbt45570", "--all")
+    assert code == 0
+    for kind in ("record:inspection.mass", "record:inspection.insulation", "record:environmental_tests.lts",
+                 "record:environmental_tests.emc", "record:reliability.mtbf", "kind=type-env "):
+        assert kind in out, kind
