@@ -55,10 +55,14 @@ def main() -> None:
     ap.add_argument("-o", "--option", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--device-class", default="", help="GB/T 45570: a device class of the simulated station, or all")
+    ap.add_argument("--classes", default="", help="JJF 2014 / JJF 2003 / ogam: comma-separated device classes, "
+                    "each run over the seeds; prints a Markdown table (result, class, seeds, within U, mean E_n)")
     a = ap.parse_args()
     if a.device_class:
         gbt_device_classes_main(a)
         return
+    if a.classes:
+        return jjf_classes_main(a)
 
     from metro.core.plugins import get_plugin_manager
     from metro.core.present import truth_checks
@@ -188,6 +192,70 @@ def gbt_device_classes_main(a) -> None:
         notes.append(f"{cls}: {len(items)} items, {time.perf_counter() - t0:.0f} s")
     for line in notes:
         print("  " + line)
+
+# ------------------------------------------------------------------ device classes (JJF 2014, JJF 2003, ogam)
+
+
+def class_rows(standard: str, items: list[str], device_class: str, seeds: range, options: dict[str, str],
+               station_options: dict[str, object]) -> dict[tuple[str, str], list[tuple[bool, float]]]:
+    """Per (item, result): (within U, E_n = (result − truth)/U) for each seed, the station drawing one
+    device of ``device_class`` per seed.  A result marked not reportable counts as covered when it
+    says why (issue 13: "within U … or declared not reportable with a reason") and has E_n = nan."""
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.present import truth_checks
+    from metro.core.runner import run_items
+
+    pm = get_plugin_manager(autoload=False)
+    rows: dict[tuple[str, str], list[tuple[bool, float]]] = {}
+    for seed in seeds:
+        rec = run_items(pm, standard, items, options=options,
+                        station_options=station_options | {"seed": seed, "device_class": device_class})
+        flagged = {(o.item, r.metric.key): r for o in rec.outcomes for r in o.results if not r.reportable}
+        for c in truth_checks(rec):
+            if (c["item"], c["key"]) in flagged:
+                rows.setdefault((c["item"], c["key"] + " (not reportable)"), []).append((True, math.nan))
+                continue
+            en = (c["value"] - c["truth"]) / c["U"] if c["U"] else math.nan
+            rows.setdefault((c["item"], c["key"]), []).append((bool(c["within_U"]), en))
+    return rows
+
+
+def class_table(device_class: str, rows: dict[tuple[str, str], list[tuple[bool, float]]]) -> list[str]:
+    """Markdown rows: | item | result | class | seeds | within U | mean E_n | rms E_n |."""
+    out = []
+    for (item, key), v in rows.items():
+        hit = sum(h for h, _ in v)
+        en = np.array([e for _, e in v], dtype=float)
+        fin = en[np.isfinite(en)]
+        mean = f"{fin.mean():+.2f}" if fin.size else "—"
+        rms = f"{math.sqrt(np.mean(fin**2)):.2f}" if fin.size else "—"
+        out.append(f"| {item} | {key} | {device_class} | {len(v)} | {100 * hit / len(v):.1f} % | {mean} | {rms} |")
+    return out
+
+
+def jjf_classes_main(a) -> None:
+    items = [x for x in a.item.split(",") if x]
+    if a.all:
+        from metro.core.plugins import get_plugin_manager
+
+        items = [p.item for p in get_plugin_manager(autoload=False).procedures_of(a.standard)]
+    first, stop = (int(x) for x in a.seeds.split(":"))
+    options = {k: str(v) for k, v in _pairs(a.option).items()}
+    st = _pairs(a.station_option)
+    print(f"<!-- {a.standard}, items {','.join(items)}, seeds {first}–{stop - 1}, options {options or 'none'}, "
+          f"station options {st or 'none'} -->")
+    print("| item | result | class | seeds | within U | mean E_n | rms E_n |")
+    print("|---|---|---|---|---|---|---|")
+    for cls in a.classes.split(","):
+        t0 = time.perf_counter()
+        rows: dict[tuple[str, str], list[tuple[bool, float]]] = {}
+        for lo in range(first, stop, 50):  # a cumulative table every 50 seeds (a long run can be cut short)
+            for k, v in class_rows(a.standard, items, cls, range(lo, min(lo + 50, stop)), options, st).items():
+                rows.setdefault(k, []).extend(v)
+            print(f"<!-- {cls}: seeds {first}–{min(lo + 50, stop) - 1}, {time.perf_counter() - t0:.0f} s -->",
+                  flush=True)
+            for line in class_table(cls, rows):
+                print(line, flush=True)
 
 
 if __name__ == "__main__":

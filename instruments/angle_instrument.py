@@ -60,6 +60,8 @@ class AngleInstrumentTruth:
     reading_noise_arcsec: float = 0.02
     positioning_arcsec: float = 0.1
     resolution_arcsec: float = 0.01
+    #: the class this instrument was drawn from (station option ``device_class``; "" = fields as given)
+    device_class: str = ""
     seed: int = 20261122
 
     def quiet(self) -> AngleInstrumentTruth:
@@ -80,6 +82,8 @@ class AngleInstrumentTruth:
             "angle random walk": Q_(self.arw_deg_rt_h, "deg/hour**0.5"),
             "reading noise": Q_(self.reading_noise_arcsec, "arcsec"),
             "turntable positioning error (±)": Q_(self.positioning_arcsec, "arcsec"),
+            "reading resolution": Q_(self.resolution_arcsec, "arcsec"),
+            "device class": self.device_class or "(fields as given)",
             "seed": self.seed,
         }
 
@@ -239,14 +243,56 @@ class AngleInstrumentStation:
         return out
 
 
+#: device classes (station option ``device_class=NAME``): what real optical-gyro angle instruments
+#: vary, as presets.  A class is a population: each seed draws one instrument of it
+#: (:func:`draw_device`); options given with the class override its values.  The output is pulse
+#: counts (7.1) and an angle reading (7.3–7.7) in every class, resolved finely or coarsely.
+DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
+    # ring-laser instrument: 20 000 P/°, reading resolution 0.01″ (the default)
+    "rlg-fine": {},
+    # fibre instrument with a coarse count and reading: 2 000 P/° (1.8″ per count), reading to 0.1″
+    "fog-coarse": {"K_P_per_deg": 2000.0, "resolution_arcsec": 0.1},
+    # an instrument whose zero drifts ten times more and whose earth-rate compensation is 10× worse
+    "rlg-drifting": {"drift_deg_h": 1e-3, "earth_comp_error": 1e-4},
+}
+
+
+def draw_device(device_class: str, seed: int) -> dict[str, Any]:
+    """The truth fields of one instrument of ``device_class`` drawn with ``seed``: the class's values,
+    then K within ±1 % of the class's, harmonic errors a₁, a₂ uniform in 0 … 0.1″, a sensing-plane
+    tilt uniform in 0 … 0.1° and an angle random walk 0.7 … 1.5 times the default's."""
+    if device_class not in DEVICE_CLASSES:
+        from metro.core.errors import DataError
+
+        raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
+                        hint="device classes: " + ", ".join(DEVICE_CLASSES))
+    base = AngleInstrumentTruth()
+    rng = np.random.default_rng([int(seed), 7])
+    kw = dict(DEVICE_CLASSES[device_class])
+    kw["K_P_per_deg"] = float(kw.get("K_P_per_deg", base.K_P_per_deg)) * float(rng.uniform(0.99, 1.01))
+    kw["a1_arcsec"] = float(rng.uniform(0.0, 0.1))
+    kw["a2_arcsec"] = float(rng.uniform(0.0, 0.1))
+    kw["tilt_deg"] = float(rng.uniform(0.0, 0.1))
+    kw["arw_deg_rt_h"] = base.arw_deg_rt_h * float(rng.uniform(0.7, 1.5))
+    kw["device_class"] = device_class
+    return kw
+
+
 def station_factory(**options: Any) -> AngleInstrumentStation:
-    """Factory of the ``simulated-ogam`` station (options: seed, latitude_deg, and any truth field)."""
+    """Factory of the ``simulated-ogam`` station (options: seed, latitude_deg, any truth field, and
+    ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
     truth_kw, st_kw = station_options("simulated-ogam", AngleInstrumentTruth, AngleInstrumentStation, options,
                                       ("latitude_deg",))
+    cls = truth_kw.pop("device_class", "")
+    if cls:
+        truth_kw = (draw_device(cls, truth_kw.get("seed", AngleInstrumentTruth().seed)) | truth_kw
+                    | {"device_class": cls})
     return AngleInstrumentStation(truth=AngleInstrumentTruth(**truth_kw), **st_kw)
 
 
 __all__ = [
+    "DEVICE_CLASSES",
+    "draw_device",
     "AngleInstrumentStation",
     "AngleInstrumentTruth",
     "earth_rate_along",

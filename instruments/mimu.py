@@ -327,14 +327,55 @@ def _expected(station: MimuStation, camp: Campaign, realized: Mapping[str, tuple
         tilt_rad=realized[seg.id][0], rate_deg_s=realized[seg.id][1]))
 
 
+#: device classes (station option ``device_class=NAME``): what real MEMS IMUs vary, as presets.  A
+#: class is a population: each seed draws one device of it (:func:`draw_device`); options given with
+#: the class override its values.  The output is a rate (°/s) and a specific force (gn) in every class,
+#: digitised by the N-bit acquisition finely or coarsely.
+DEVICE_CLASSES: Mapping[str, Any] = {
+    # 16-bit acquisition: 1 LSB = 0.012 °/s, finer than the noise (the default device)
+    "mems-16bit": {},
+    # 12-bit acquisition (appendix A's N = 12): 1 LSB = 0.195 °/s, coarser than the 0.08 °/s noise
+    "mems-12bit": {"bits": 12},
+    # scale factors (1σ 5×10⁻⁴) and biases (1σ 0.005 °/s) change between power-ons (each calibration)
+    "mems-power-on": {"sf_repeat_rel": 5e-4, "bias_repeat_deg_s": 0.005},
+}
+
+
+def draw_device(device_class: str, seed: int) -> dict[str, Any]:
+    """The truth fields of one device of ``device_class`` drawn with ``seed``: the class's values,
+    then gyro biases uniform in ±0.1 °/s, the K_g diagonal within ±2 % of 1, and noise 0.7 … 1.5
+    times the default's."""
+    if device_class not in DEVICE_CLASSES:
+        from metro.core.errors import DataError
+
+        raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
+                        hint="device classes: " + ", ".join(DEVICE_CLASSES))
+    base = MimuTruth()
+    rng = np.random.default_rng([int(seed), 2003])
+    kw = dict(DEVICE_CLASSES[device_class])
+    K = np.array(base.K_g, float)
+    K[np.diag_indices(3)] = 1.0 + rng.uniform(-0.02, 0.02, 3)
+    kw["K_g"] = _m(K)
+    kw["B_g_deg_s"] = tuple(float(x) for x in rng.uniform(-0.1, 0.1, 3))
+    f = float(rng.uniform(0.7, 1.5))
+    kw["gyro_noise_deg_s"] = base.gyro_noise_deg_s * f
+    kw["accel_noise_gn"] = base.accel_noise_gn * f
+    kw["device_class"] = device_class
+    return kw
+
+
 def station_factory(**options: Any) -> MimuStation:
-    """Factory registered as ``simulated-mimu`` (options: seed, bits, latitude_deg, duration_scale, …)."""
+    """Factory registered as ``simulated-mimu`` (options: seed, bits, latitude_deg, duration_scale, …,
+    and ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
     from metro.core.options import station_options
 
     truth_kw, st_kw = station_options("simulated-mimu", MimuTruth, MimuStation, options,
                                       ("latitude_deg", "duration_scale"))
+    cls = truth_kw.pop("device_class", "")
+    if cls:
+        truth_kw = draw_device(cls, truth_kw.get("seed", MimuTruth().seed)) | truth_kw | {"device_class": cls}
     return MimuStation(truth=MimuTruth(**truth_kw), **st_kw)
 
 
-__all__ = ["MimuTruth", "MimuStation", "station_factory", "ideal_means", "simulate_segment",
+__all__ = ["DEVICE_CLASSES", "draw_device", "MimuTruth", "MimuStation", "station_factory", "ideal_means", "simulate_segment",
            "segment_kinematics", "model_outputs", "station_table", "EARTH_RATE_DEG_S", "EARTH_RATE_RAD_S", "UPS"]

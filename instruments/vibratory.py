@@ -89,6 +89,14 @@ class VibratoryTruth:
     startup_tau_s: float = 3.0
     startup_excursion_dps: float = 5.0
     ref_noise_dps: float = 0.01
+    #: every calibration and record is its own power-on (or mounting): K and the bias take their own
+    #: draws of ``sf_repeat_rel`` / ``bias_repeat_dps`` in every kind, not only in the repeat kinds
+    #: of 7.2.4 and 7.2.15 (what those items assume of a real device); off: only the repeats vary
+    power_on_variation: bool = False
+    #: the output as digitised by the acquisition, rounded to this quantum (mV); 0: not rounded
+    output_lsb_mV: float = 0.0
+    #: the class this device was drawn from (station option ``device_class``; "" = fields as given)
+    device_class: str = ""
     seed: int = 20221122
 
     def as_quantities(self) -> dict[str, Any]:
@@ -113,6 +121,10 @@ class VibratoryTruth:
             "bandwidth": Q_(self.bandwidth_hz, "Hz"),
             "delay": Q_(self.delay_s, "s"),
             "start-up time constant": Q_(self.startup_tau_s, "s"),
+            "variation between power-ons": ("every calibration and record" if self.power_on_variation
+                                           else "the 7.2.4 / 7.2.15 repeats only"),
+            "output quantum": Q_(self.output_lsb_mV, "mV"),
+            "device class": self.device_class or "(fields as given)",
             "seed": self.seed,
         }
 
@@ -169,6 +181,10 @@ def operating_point(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude
         rng = _run_rng(t, kind, run)
         K *= 1 + t.sf_repeat_rel * rng.standard_normal()
         b += t.bias_repeat_dps * rng.standard_normal()
+    elif t.power_on_variation and kind not in ("misalignment", "angular-vibration", "startup"):
+        rng = _run_rng(t, kind, power_on_key(kind, c))
+        K *= 1 + t.sf_repeat_rel * rng.standard_normal()
+        b += t.bias_repeat_dps * rng.standard_normal()
     axis = str(c.get("axis", "Z")).upper()
     orient = str(c.get("orientation", "up")).lower()
     sign = -1.0 if "down" in orient else 1.0
@@ -194,6 +210,13 @@ def operating_point(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude
     if ira_vertical and kind not in ("misalignment", "angular-vibration"):
         b += sign * EARTH_RATE_DEG_PER_H / 3600.0 * math.sin(math.radians(latitude_deg))
     return K, b
+
+
+def power_on_key(kind: str, c: Mapping[str, Any]) -> str:
+    """Which power-on a segment belongs to: one calibration or record is one power-on, so every
+    condition but the rate (and the resolution's increment) names it (7.2.5 one per temperature,
+    7.2.6 one per orientation, 7.2.7/7.2.8 one per axis and phase, …)."""
+    return ";".join(f"{k}={c[k]}" for k in sorted(c) if k not in ("rate", "increment", "base_rate"))
 
 
 def misalignment_angles(t: VibratoryTruth, run: Any) -> tuple[float, float]:
@@ -318,7 +341,11 @@ def _sets(steps, kind, key):
 
 
 def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlinearity_spec: float) -> dict[str, Any]:
-    """An ideal (noiseless) evaluation of the planned steps, by the standard's definitions."""
+    """An ideal (noiseless) evaluation of the planned steps, by the standard's definitions.  The
+    truth is the device's own K and bias: a power-on's draw (``power_on_variation``) is an error of
+    that calibration, not the device's value (the repeats of 7.2.4 / 7.2.15 keep their draws, whose
+    spread is what those items measure)."""
+    t = attrs.evolve(t, power_on_variation=False)
     ex: dict[str, Any] = {}
 
     def sf(group, kind):
@@ -553,6 +580,9 @@ class VibratoryStation:
                 cols = self._on_table(st, cols, n, np.random.default_rng([t.seed, i, 1]))
             if self.instrument_errors:
                 cols = self._through_dmm(cols)
+            if t.output_lsb_mV > 0:
+                arr, u = cols["output"]
+                cols = cols | {"output": (np.round(arr / t.output_lsb_mV) * t.output_lsb_mV, u)}
             h = hashlib.sha256()
             for name in sorted(cols):
                 h.update(cols[name][0].tobytes())
@@ -572,16 +602,57 @@ class VibratoryStation:
         )
 
 
+#: device classes (station option ``device_class=NAME``): what real vibratory gyros vary, as presets.
+#: A class is a population: each seed draws one device of it (:func:`draw_device`); options given
+#: with the class override its values.  The output is analog (mV) in every class — JJF 2014's
+#: items read a voltage — digitised finely or coarsely.
+DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
+    # the default device: only the 7.2.4 / 7.2.15 repeats vary between power-ons; output not rounded
+    "analog-fine": {},
+    # every calibration and record a power-on of its own: K (1σ 2×10⁻⁴) and the bias (1σ 3.6 °/h)
+    # differ between them, as the repeatability items 7.2.4 and 7.2.15 assume
+    "analog-power-on": {"power_on_variation": True, "sf_repeat_rel": 2e-4, "bias_repeat_dps": 1e-3},
+    # the output digitised to 0.02 mV (≈ 3.6 °/h at 20 mV/((°)/s)), about the noise of a 1 s sample
+    "analog-coarse": {"output_lsb_mV": 0.02},
+}
+
+
+def draw_device(device_class: str, seed: int) -> dict[str, Any]:
+    """The truth fields of one device of ``device_class`` drawn with ``seed``: the class's values,
+    then K uniform in 15 … 25 mV/((°)/s), a bias uniform in ±0.1 °/s and an angle random walk
+    0.7 … 1.5 times the default's."""
+    if device_class not in DEVICE_CLASSES:
+        from metro.core.errors import DataError
+
+        raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
+                        hint="device classes: " + ", ".join(DEVICE_CLASSES))
+    base = VibratoryTruth()
+    rng = np.random.default_rng([int(seed), 2014])
+    kw = dict(DEVICE_CLASSES[device_class])
+    kw["K_mV_per_dps"] = float(rng.uniform(15.0, 25.0))
+    kw["bias_dps"] = float(rng.uniform(-0.1, 0.1))
+    kw["arw_deg_rt_h"] = base.arw_deg_rt_h * float(rng.uniform(0.7, 1.5))
+    kw["device_class"] = device_class
+    return kw
+
+
 def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
-    latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors)."""
+    latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors, and
+    ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
     truth_kw, st_kw = station_options("simulated-jjf2014", VibratoryTruth, VibratoryStation, options,
                                       ("latitude_deg", "duration_scale", "nonlinearity_spec", "instrument_errors",
                                        "table_errors"))
+    cls = truth_kw.pop("device_class", "")
+    if cls:
+        truth_kw = draw_device(cls, truth_kw.get("seed", VibratoryTruth().seed)) | truth_kw | {"device_class": cls}
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 
 __all__ = [
+    "DEVICE_CLASSES",
+    "draw_device",
+    "power_on_key",
     "EARTH_RATE_DEG_PER_H",
     "VibratoryStation",
     "VibratoryTruth",

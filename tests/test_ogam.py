@@ -401,3 +401,21 @@ def test_72_linearity_budget_holds_the_count_rounding_and_covers_truth_over_seed
             assert row.sensitivity.to("percent/P").magnitude == pytest.approx(want)
             assert row.distribution == "uniform" and row.value.to("P").magnitude == 0.5
     assert inside >= 75
+
+
+@pytest.mark.parametrize("cls", ["rlg-fine", "fog-coarse", "rlg-drifting"])
+def test_device_class_truth_within_U(cls):
+    """One modest run per device class (issue 13; the 200-seed tables are on docs/standards/ogam.md):
+    every result of three instruments of the class within its U (one in eight outside at most)."""
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.present import truth_checks
+    from metro.instruments.angle_instrument import DEVICE_CLASSES, station_factory
+
+    assert cls in DEVICE_CLASSES and station_factory(device_class=cls, seed=1).truth.device_class == cls
+    pm = get_plugin_manager(autoload=False)
+    checks = []
+    for seed in (1, 2, 3):
+        rec = run_items(pm, "ogam", ALL, station_options={"seed": seed, "device_class": cls})
+        checks += truth_checks(rec)
+    bad = [c for c in checks if not c["within_U"]]
+    assert len(checks) >= 18 and len(bad) <= len(checks) // 8, bad

@@ -36,6 +36,7 @@ from .common import (
     _sf_plots,
     _temperatures,
     _updown,
+    bias_repeatability,
     sf_repeatability,
 )
 
@@ -68,8 +69,14 @@ class ScaleFactor(_JJF):
         if min(s.n) < 10:
             w.append(f"7.2.1.1 c) asks for at least 10 samples per rate; the shortest segment has {min(s.n)}")
         bK = s.budget(campaign, w)
+        # F₀ = K·(bias + earth rate) + …: another power-on gives another F₀, by K·B_r (7.2.15)
+        brep = bias_repeatability(campaign, s.K)
+        u_b = brep.value / 3600.0 * abs(s.K) if brep is not None else 0.0
+        f0_row = (brep.row("bias repeatability × K (another power-on gives another F₀)", "K·B_r", u_b, "mV")
+                  if brep is not None and u_b > s.fit.u_F0 else
+                  _budget_row_a("residual scatter of the eq. (3) fit", "u(F₀)", s.fit.u_F0, "mV", s.fit.dof))
         bF0 = B.type_a_budget("fitted zero F0", "mV", [
-            _budget_row_a("residual scatter of the eq. (3) fit", "u(F₀)", s.fit.u_F0, "mV", s.fit.dof),
+            f0_row,
             *B.relative_calibration_row("data acquisition, 6½-digit DMM", "u_DMM", _cal(campaign, "dmm"),
                                         Q_(s.fit.F0, "mV"))])
         res = [Result(self.metrics[0], Q_(s.K, KU), bK.combined, bK),
