@@ -92,6 +92,11 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--no-report", action="store_true", help="do not write a Word report")
     r.add_argument("--force", action="store_true", help="replace an existing report file (never an input of "
                    "the run, never a read-only file)")
+    r.add_argument("--pdf", action="store_true",
+                   help="also write the report as PDF (through LibreOffice); a --report path ending in .pdf "
+                   "writes the PDF only")
+    r.add_argument("--lang", choices=("zh", "en", "zh+en"),
+                   help="language of the report (default: the lab profile's, else zh+en)")
     r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
     r.add_argument("--station", help="station to acquire on when no --data is given (default: the item's "
                    "simulated station)")

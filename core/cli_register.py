@@ -138,7 +138,13 @@ def write_run_report(args, pm, record, prog=None):
                              "with a lab profile", hint="use --out DIR (the report is DIR/<number>.docx)")
         issued, record = register_run(record, pm=pm, lab=lab, folder=Path(args.out),
                                       allow_expired=getattr(args, "allow_expired", False),
-                                      options=_run_options(args))
+                                      options=_run_options(args), lang=getattr(args, "lang", None))
+        if getattr(args, "pdf", False):  # the registered .docx, as PDF beside it
+            from .atomic import atomic_path
+            from .document import to_pdf
+
+            with atomic_path(Path(issued.path).with_suffix(".pdf")) as tmp:
+                to_pdf(issued.path, Path(tmp))
         record.timings["write report"] = time.perf_counter() - t0
         return record, issued.path, {"registered": True, "number": issued.number, "register":
                                      labmod.redact_url(lab.register_url()), "sha256": issued.sha256}
@@ -152,12 +158,14 @@ def write_run_report(args, pm, record, prog=None):
     from .outputs import write_checked
 
     target = Path(args.report) if args.report else Path(args.out) / f"{record.report_number}.docx"
-    template = pm.template_for(record.standard).path
+    info = pm.template_for(record.standard)
     designations = {s.id: s.designation for s in pm.registry.standards.values()}
+    lang = getattr(args, "lang", None) or (lab.language if lab is not None else None)
     # core.outputs: never onto an input, an existing file only with --force; nothing left on failure
     path = write_checked(target, record.campaign, lambda p: write_report(
-        p, record, template=template, designations=designations, extend=pm.extend_report_context,
-        register=unregistered(record, why, lab.language if lab is not None else "zh+en")),
+        p, record, template=info.path, layout=info.layout, designations=designations,
+        extend=pm.extend_report_context, register=unregistered(record, why, lang or "zh+en"), lang=lang,
+        pdf=getattr(args, "pdf", False)),
         force=getattr(args, "force", False), option="--report" if args.report else "--out")
     record.timings["write report"] = time.perf_counter() - t0
     pm.report_written(path, record.outcomes)

@@ -105,11 +105,13 @@ def metro_register_stations(registrar: "StationRegistrar") -> None:
 
 @hookspec
 def metro_register_templates(registrar: "TemplateRegistrar") -> None:
-    """Register Word (docxtpl) report or certificate templates.
+    """Register report or certificate documents: a layout or a Word (docxtpl) template.
 
-    Call ``registrar.add_template(name, path, standard=None, kind="report")``.  A template
-    registered for a standard is used for that standard's reports; ``standard=None`` makes
-    it the generic fallback.  Names must be unique.
+    Call ``registrar.add_template(name, standard=None, kind="report", layout="pkg.mod:layout")``
+    for a layout built by :mod:`metro.core.document` (a function ``layout(doc, ctx)``), or
+    ``registrar.add_template(name, path, standard=None, kind="report")`` for a docxtpl ``.docx``.
+    A template registered for a standard is used for that standard's reports; ``standard=None``
+    makes it the generic fallback.  Names must be unique.
 
     :param registrar: validates and records the templates.
     :return: nothing.

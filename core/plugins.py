@@ -97,11 +97,15 @@ class DriverInfo:
 
 @attrs.frozen
 class TemplateInfo:
+    """A registered document: a docxtpl template (``path``) or a layout for
+    :class:`metro.core.document.DocumentBuilder` (``layout``: ``"module:function"`` or a callable)."""
+
     name: str
-    path: Path
+    path: Path | None
     standard: str | None
     kind: str
     plugin: str
+    layout: Any = None
 
 
 @attrs.frozen
@@ -202,13 +206,18 @@ class StationRegistrar(_Registrar):
 
 
 class TemplateRegistrar(_Registrar):
-    def add_template(self, name: str, path: Path | str, *, standard: str | None = None, kind: str = "report") -> None:
-        p = Path(path)
-        if not p.is_file():
+    def add_template(self, name: str, path: Path | str | None = None, *, standard: str | None = None,
+                     kind: str = "report", layout: Any = None) -> None:
+        """A docxtpl template file (``path``), or a document layout (``layout``: a function
+        ``layout(doc, ctx)`` or its ``"module:function"`` name) built by metro.core.document."""
+        if (path is None) == (layout is None):
+            raise PluginError(f"plugin {self.plugin!r}: template {name!r} needs a path or a layout (one of them)")
+        p = None if path is None else Path(path)
+        if p is not None and not p.is_file():
             raise PluginError(f"plugin {self.plugin!r}: template {name!r} not found at {p}")
         if name in self.registry.templates:
             raise self._dup("template", name, self.registry.templates[name].plugin)
-        self.registry.templates[name] = TemplateInfo(name, p, standard, kind, self.plugin)
+        self.registry.templates[name] = TemplateInfo(name, p, standard, kind, self.plugin, layout)
 
 
 class DriverRegistrar(_Registrar):

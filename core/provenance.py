@@ -44,8 +44,40 @@ class RunRecord:
 
     @property
     def test_date(self) -> dt.date:
-        """The day of the run: equipment calibration status is judged on it."""
+        """The day of the measurement: the campaign's ``measurement_date``, else the day its data were
+        acquired (``acquired``, written by ``metro acquire``), else the day of this run.
+        Equipment calibration status is judged on it (reports, terminal, ``--json``)."""
+        d = measurement_date(self.campaign)
+        if d is not None:
+            return d
         return self.created.date() if isinstance(self.created, dt.datetime) else self.created
+
+
+def _as_date(v: Any) -> dt.date | None:
+    """A TOML date/datetime or an ISO text as a date; None when absent or unreadable."""
+    if isinstance(v, dt.datetime):
+        return v.date()
+    if isinstance(v, dt.date):
+        return v
+    if isinstance(v, str) and v.strip():
+        text = v.strip()
+        try:
+            return dt.datetime.fromisoformat(text.replace("Z", "+00:00")).date()
+        except ValueError:
+            try:
+                return dt.date.fromisoformat(text[:10])
+            except ValueError:
+                return None
+    return None
+
+
+def measurement_date(campaign: Campaign) -> dt.date | None:
+    """The campaign's measurement date: ``[campaign] measurement_date`` (any spelling the
+    vocabulary reads), else the day it was ``acquired`` (None if neither)."""
+    given = getattr(campaign, "measurement_date", None)
+    if given is not None:
+        return given
+    return _as_date(campaign.meta.get("acquired"))
 
 
 def software_versions() -> dict[str, str]:

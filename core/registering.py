@@ -222,7 +222,6 @@ def draft_for(record: "RunRecord", ctx: Mapping[str, Any], *, lab: "LabProfile",
               allow_expired: bool, options: Mapping[str, Any] | None = None):
     """The register row of a run (:class:`~metro.core.register.Draft` without its writer)."""
     from . import present
-    from .register import sha256_file
 
     doc = present.as_json(record, None)
     camp = record.campaign
@@ -245,9 +244,9 @@ def draft_for(record: "RunRecord", ctx: Mapping[str, Any], *, lab: "LabProfile",
                   "status": e.status(on),
                   "valid": None if e.calibration is None else e.calibration.is_valid(on)}
                  for e in camp.equipment]
-    path = Path(os.fspath(template.path))
     provenance = dict(doc["provenance"])
-    provenance["template"] = {"name": template.name, "sha256": sha256_file(path) if path.is_file() else None}
+    provenance["template"] = {"name": template.name, "layout": template.layout if isinstance(template.layout, str)
+                              else None, "sha256": _template_sha256(template)}
     fields = {
         "standard": record.standard,
         "items": [o.item for o in record.outcomes],
@@ -282,6 +281,7 @@ def register_run(
     reason: str = "",
     options: Mapping[str, Any] | None = None,
     who: str | None = None,
+    lang: str | None = None,
 ) -> tuple["Issued", "RunRecord"]:
     """Issue ``record``'s report under the next register number in ``folder``; return the issued
     report and the record carrying its number.  Equipment past its due date on the measurement
@@ -308,7 +308,8 @@ def register_run(
                  "lab": lab.name, "expired": list(expired), "on": on.isoformat(),
                  "notices": notices_for(lab, PENDING, supersedes=supersedes, reason=reason, expired=expired,
                                         on=on.isoformat())}
-    ctx0 = build_context(pending, designations=designations, extend=pm.extend_report_context, register=statement)
+    ctx0 = build_context(pending, designations=designations, extend=pm.extend_report_context, register=statement,
+                         lang=lang or lab.language)
     tmpdir = tempfile.TemporaryDirectory(prefix="metro-figures-")
     figures = render_figures(ctx0, tmpdir.name)
 
@@ -321,7 +322,7 @@ def register_run(
         fields["context"] = encode_context(ctx)
 
         def write(tmp: Path) -> None:
-            render_context(tmp, ctx, template=template.path, figures=figures)
+            render_context(tmp, ctx, template=template.path, layout=template.layout, figures=figures)
 
         return Draft(fields, results, write)
 
@@ -356,7 +357,7 @@ def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *, pm: "
                          hint="give another --out folder")
     ctx = decode_context(doc)
     with atomic_path(target) as tmp:
-        render_context(tmp, ctx, template=tpl.path)
+        render_context(tmp, ctx, template=tpl.path, layout=tpl.layout)
         if target.exists():
             raise MetroError(f"{target} exists; metro report does not replace a file")
     return target
@@ -365,13 +366,25 @@ def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *, pm: "
 def template_changed(reg: "Register", number: str, pm: "MetroPluginManager") -> bool | None:
     """Whether the template report ``number`` was rendered with differs now (its SHA-256); None
     when it was not recorded.  A re-rendered report then has the same content in a new layout."""
-    from .register import sha256_file
-
     stored = (reg.get(number)["provenance"].get("template") or {})
     tpl = pm.register_all().templates.get(stored.get("name") or "")
-    if not stored.get("sha256") or tpl is None or not Path(os.fspath(tpl.path)).is_file():
+    now = _template_sha256(tpl) if tpl is not None else None
+    if not stored.get("sha256") or now is None:
         return None
-    return sha256_file(os.fspath(tpl.path)) != stored["sha256"]
+    return now != stored["sha256"]
+
+
+def _template_sha256(template: Any) -> str | None:
+    """The identity of a registered document: its docxtpl file's SHA-256, or for a layout
+    (metro.core.document) the SHA-256 of its code and message catalog."""
+    from .register import sha256_file
+
+    if template.path is not None:
+        path = Path(os.fspath(template.path))
+        return sha256_file(path) if path.is_file() else None
+    from .document import layout_digest
+
+    return layout_digest(template.layout)
 
 
 def amend(
@@ -423,7 +436,7 @@ def amend(
         fields = dict(keep, context=encode_context(ctx))
 
         def write(tmp: Path) -> None:
-            render_context(tmp, ctx, template=tpl.path)
+            render_context(tmp, ctx, template=tpl.path, layout=tpl.layout)
 
         return Draft(fields, results, write)
 

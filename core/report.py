@@ -1,19 +1,21 @@
-"""Render a :class:`~metro.core.provenance.RunRecord` as a Word test report.
+"""Render a :class:`~metro.core.provenance.RunRecord` as a Word (and PDF) report or certificate.
 
 Two steps, so the content can be checked without Word:
 
 1. :func:`report_context` turns the record into a plain dict of strings, lists and dicts
    (every number already formatted: results as :meth:`Result.reported` rounds them,
-   budget figures with four significant digits, units as :func:`fmt_unit` prints them);
-2. :func:`write_report` renders that dict into a docxtpl template (by default
-   ``metro/core/templates/report.docx``, built by ``templates/make_templates.py``), draws
-   the figures with :mod:`metro.core.plots` and writes the ``.docx`` atomically: a failure
-   at any point leaves no file at the target (and an earlier report there untouched).
+   budget figures with four significant digits, units as :func:`fmt_unit` prints them;
+   who, where and when in ``facts``: :func:`record_facts`);
+2. :func:`write_report` builds the document from that dict with
+   :class:`metro.core.document.DocumentBuilder` and the standard's layout (each plugin lays out
+   its own appendix), or renders a docxtpl template of a lab's own, draws the figures with
+   :mod:`metro.core.plots`, and writes the ``.docx`` (or ``.pdf``, through LibreOffice)
+   atomically: a failure at any point leaves no file at the target (and an earlier report
+   there untouched).
 
-docxtpl, python-docx, matplotlib and pint are imported inside the functions, so
+docx, docxtpl, matplotlib and pint are imported inside the functions, so
 ``import metro.core.report`` stays cheap.
 
-A custom template sees the same context; its keys are listed in :func:`report_context`.
 Dict keys are chosen not to clash with ``dict`` methods (Jinja looks attributes up first,
 so a key called ``items`` or ``values`` would be shadowed in ``{{ x.items }}``).
 """
@@ -224,9 +226,11 @@ def _equipment_row(e: "Equipment", on: dt.date) -> dict[str, Any]:
         else:
             U = f"{fmt_quantity(cal.uncertainty)} ({cal.distribution}, half-width)"
         expired = not cal.is_valid(on)
+        relative = not _unit_text(getattr(cal.uncertainty, "units", "")) if hasattr(cal.uncertainty, "units") else True
     else:
         U = _DASH
         expired = False
+        relative = False
     certificate = _DASH if cal is None else cal.certificate + (f" ({cal.lab})" if cal.lab else "")
     return {
         "id": e.id,
@@ -234,6 +238,7 @@ def _equipment_row(e: "Equipment", on: dt.date) -> dict[str, Any]:
         "role": _text(e.role),
         "certificate": certificate,
         "U": U,
+        "U_relative": relative,
         "due": _DASH if cal is None or cal.due is None else cal.due.isoformat(),
         "status": status,
         "expired": expired,
@@ -248,7 +253,13 @@ def _result_row(r: "Result") -> dict[str, Any]:
         u = float(r.u.to(m.unit).magnitude)
         Utext = f"u = {fmt_num(u, 2)}"  # a standard uncertainty without a budget: say so
     reference = m.clause + (f", {m.equation}" if m.equation else "")
+    unit = _unit_text(m.unit)
     return {
+        "reportable": bool(getattr(r, "reportable", True)),
+        "reason": str(getattr(r, "reason", "") or ""),
+        "earth_rate": str(getattr(r, "earth_rate", "") or ""),
+        "value_unit": with_unit(vtext, unit),
+        "U_unit": _DASH if Utext is None else (Utext if Utext.startswith("u = ") else with_unit(Utext, unit)),
         "key": m.key,
         "quantity": m.name,
         "symbol": m.symbol,
@@ -400,6 +411,50 @@ def _data_files(record: "RunRecord") -> list[dict[str, str]]:
     return out
 
 
+def _fact_text(v: Any) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, (dt.date, dt.datetime)):
+        return _date_text(v)
+    return str(v).strip()
+
+
+def record_facts(record: "RunRecord") -> dict[str, str]:
+    """Who, where and when, from the campaign through the manifest vocabulary
+    (:mod:`metro.core.vocabulary`; a lab profile in force has filled in what the manifest leaves
+    out, :func:`metro.core.registering.with_lab`): ``lab``, ``lab_address``, ``location``,
+    ``customer``, ``customer_address``, ``operator``, ``checker``, ``approver``,
+    ``approver_title``, ``received``, ``measured`` (the measurement date,
+    :attr:`RunRecord.test_date`; where it came from in ``measured_from``), ``issued`` (the
+    manifest's ``issued``, else the day the document is written) and ``processed`` (the time of
+    this run).  A missing fact is the empty string; documents print it as "—"."""
+    from .provenance import measurement_date
+
+    camp = record.campaign
+    meta = dict(camp.meta)
+    people, lab, customer = camp.people, camp.lab, camp.customer
+    received = camp.date_received
+    out = {
+        "lab": lab.name, "lab_address": lab.address, "location": lab.location,
+        "customer": customer.name, "customer_address": customer.address,
+        "operator": people.operator, "checker": people.checked_by, "approver": people.approved_by,
+        "approver_title": people.approved_by_title,
+        "received": received.isoformat() if received else "",
+        "issued": _fact_text(meta.get("issued")),
+    }
+    measured = measurement_date(camp)
+    if measured is not None:
+        out["measured"] = measured.isoformat()
+        out["measured_from"] = "campaign" if camp.measurement_date else "acquisition time"
+    else:
+        out["measured"] = record.test_date.isoformat()
+        out["measured_from"] = "processing time"
+    if not out["issued"]:
+        out["issued"] = dt.date.today().isoformat()
+    out["processed"] = _date_text(record.created)
+    return {k: str(v or "") for k, v in out.items()}
+
+
 def report_context(record: "RunRecord", *, designations: Mapping[str, str] | None = None) -> dict[str, Any]:
     """Everything the report shows, as plain Python (strings, lists, dicts).
 
@@ -470,6 +525,7 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     source = camp.source or ("simulated station" if simulated else _DASH)
 
     return _sanitize({
+        "facts": record_facts(record),
         "report_number": record.report_number,
         "created": _date_text(record.created),
         "created_iso": record.created.isoformat(),
@@ -520,7 +576,9 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
 
 
 def default_template() -> Any:
-    """The packaged template, ``metro/core/templates/report.docx`` (an importlib Traversable)."""
+    """The packaged docxtpl template, ``metro/core/templates/report.docx`` (an importlib
+    Traversable): a starting point for a lab's own template; metro's documents are built by
+    :mod:`metro.core.document`."""
     from importlib import resources
 
     return resources.files("metro.core") / "templates" / "report.docx"
@@ -532,16 +590,20 @@ def build_context(
     designations: Mapping[str, str] | None = None,
     extend: Callable[["RunRecord", dict], None] | None = None,
     register: Mapping[str, Any] | None = None,
+    lang: str | None = None,
 ) -> dict[str, Any]:
     """The context :func:`render_context` renders: :func:`report_context`, then the plugins'
     ``metro_extend_report_context`` (``extend``), numbers in free text as powers of ten.
 
     ``register`` is the register statement: ``{"registered": bool, "notices": [text, …]}``
-    (:mod:`metro.core.registering`); each notice is printed at the top of the report.  The
-    result is plain JSON apart from each figure's ``spec`` (a PlotSpec), so the register can
-    keep it and write the same report again (``metro report NUMBER``)."""
+    (:mod:`metro.core.registering`); each notice is printed at the top of the report.  ``lang``
+    (``zh``, ``en``, ``zh+en``) is kept in the context (``ctx["lang"]``) so the same document can
+    be written again.  The result is plain JSON apart from each figure's ``spec`` (a PlotSpec),
+    so the register can keep it and write the same report again (``metro report NUMBER``)."""
     ctx = report_context(record, designations=designations)
     ctx["register"] = dict(register) if register is not None else {"registered": False, "notices": []}
+    if lang is not None:
+        ctx["lang"] = lang
     if extend is not None:  # plugins' metro_extend_report_context
         extend(record, ctx)
     return _pretty_context(ctx)
@@ -555,16 +617,26 @@ def write_report(
     designations: Mapping[str, str] | None = None,
     extend: Callable[["RunRecord", dict], None] | None = None,
     register: Mapping[str, Any] | None = None,
+    layout: Any = None,
+    lang: str | None = None,
+    pdf: bool = False,
 ) -> Path:
-    """Render ``record`` into ``template`` (default: :func:`default_template`) and write the
-    ``.docx`` to ``path`` atomically; return ``path``.
+    """Write ``record`` as a Word document at ``path`` (atomically); return ``path``.
 
-    Figures are drawn to PNG in a temporary directory and inserted 15 cm wide.  A template
-    error (a bad tag in a custom template) is raised as :class:`~metro.core.errors.MetroError`
-    naming the template; any failure leaves no file (and no temporary file) behind.
+    Without ``template`` the document is built by :class:`metro.core.document.DocumentBuilder`
+    with ``layout`` (a callable ``layout(doc, ctx)``, ``"module:function"`` text, or None for
+    the generic report) in ``lang`` (``zh``, ``en`` or ``zh+en``; default ``zh+en``).  With
+    ``template`` (a docxtpl ``.docx`` of a lab's own) the template is rendered instead.
+    A ``path`` ending in ``.pdf`` writes the PDF only; ``pdf=True`` writes the ``.docx`` and a
+    ``.pdf`` beside it (LibreOffice, :func:`metro.core.document.to_pdf`).  Any failure leaves no
+    file (and no temporary file) behind.
     """
-    ctx = build_context(record, designations=designations, extend=extend, register=register)
-    return render_context(path, ctx, template=template)
+    if Path(path).suffix.lower() == ".pdf" or pdf:
+        from .document import soffice_path
+
+        soffice_path()  # a clear error before any work when LibreOffice is missing
+    ctx = build_context(record, designations=designations, extend=extend, register=register, lang=lang)
+    return render_context(path, ctx, template=template, layout=layout, pdf=pdf)
 
 
 def _core_property(text: str, limit: int = 255) -> str:
@@ -604,13 +676,111 @@ def render_context(
     ctx: Mapping[str, Any],
     *,
     template: str | os.PathLike[str] | None = None,
+    layout: Any = None,
+    lang: str | None = None,
+    pdf: bool = False,
     figures: Mapping[int, str | os.PathLike[str]] | None = None,
 ) -> Path:
-    """Render a context made by :func:`build_context` (or kept by the register) into
-    ``template`` and write the ``.docx`` to ``path`` atomically; return ``path``.
-
+    """Write a context made by :func:`build_context` (or kept by the register) as a document at
+    ``path`` atomically; return ``path``.  ``template`` (a docxtpl ``.docx``) renders it into that
+    template; else ``layout`` builds it (:func:`write_report`), in ``lang`` (default: the
+    context's ``lang``, else zh+en).  A ``.pdf`` path or ``pdf=True`` goes through LibreOffice.
     ``figures`` ({figure number: PNG}, from :func:`render_figures`) are used instead of drawing
     the figures again (the register draws them before it takes its lock)."""
+    path = Path(path)
+    pdf_only = path.suffix.lower() == ".pdf"
+    if pdf_only or pdf:
+        from .document import soffice_path
+
+        soffice_path()
+    ctx = dict(ctx)
+    ctx["outcomes"] = [dict(o, plots=[dict(p) for p in o["plots"]]) for o in ctx["outcomes"]]
+    with tempfile.TemporaryDirectory(prefix="metro-report-") as tmpdir:
+        docx_tmp = Path(tmpdir) / "document.docx"
+        if template is not None:
+            _render_template(docx_tmp, ctx, template, figures)
+        else:
+            figdir = Path(tmpdir) / "figures"
+            figdir.mkdir()
+            doc = build_document(ctx, figdir, layout=layout, lang=lang, figures=figures)
+            doc.save(docx_tmp)
+        if pdf_only or pdf:
+            from .document import to_pdf
+
+            target = path if pdf_only else path.with_suffix(".pdf")
+            with atomic_path(target) as tmp:
+                to_pdf(docx_tmp, Path(tmp))
+        if not pdf_only:
+            with atomic_path(path) as tmp:
+                Path(tmp).write_bytes(docx_tmp.read_bytes())
+    return path
+
+
+def _resolve_layout(layout: Any) -> Callable[..., None]:
+    """A layout callable from a callable, ``"module:function"`` text or None (the generic one)."""
+    from .document import generic_layout
+
+    if layout is None:
+        return generic_layout
+    if callable(layout):
+        return layout
+    import importlib
+
+    module, _, name = str(layout).partition(":")
+    return getattr(importlib.import_module(module), name)
+
+
+def _document_title(ctx: Mapping[str, Any], tr: Any) -> str:
+    return tr("Test report")
+
+
+def _set_properties(docx_doc: Any, ctx: Mapping[str, Any]) -> None:
+    props = docx_doc.core_properties
+    props.title = _core_property(ctx["title"])
+    props.subject = _core_property(ctx["items_text"])
+    props.identifier = ctx["report_number"]
+    props.author = ctx["generator"]
+    props.last_modified_by = ctx["generator"]
+    props.keywords = "SIMULATED" if ctx["simulated"] else ""
+    created = dt.datetime.fromisoformat(ctx["created_iso"]) if ctx.get("created_iso") else None
+    if isinstance(created, dt.datetime):
+        if created.tzinfo is not None:  # python-docx writes naive datetimes as UTC
+            created = created.astimezone(dt.timezone.utc).replace(tzinfo=None)
+        props.created = props.modified = created
+    props.revision = 1
+
+
+def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, lang: str | None = None,
+                   figures: Mapping[int, str | os.PathLike[str]] | None = None) -> Any:
+    """The document of a context built in memory (a :class:`~metro.core.document.DocumentBuilder`);
+    figures are drawn into ``figdir``; ``doc.tr.missing`` lists message ids the catalog lacked."""
+    from . import plots
+    from .document import DocumentBuilder
+    from .locale import translator
+
+    ctx = dict(ctx)
+    ctx["outcomes"] = [dict(o, plots=[dict(p) for p in o["plots"]]) for o in ctx["outcomes"]]
+    tr = translator(lang or ctx.get("lang"))
+    ctx["lang"] = tr.lang
+    ctx["doc_title"] = _document_title(ctx, tr)
+    doc = DocumentBuilder(number=ctx["report_number"], title=ctx["doc_title"], tr=tr,
+                          simulated=ctx["simulated"], footer=ctx["generator"])
+    for o in ctx["outcomes"]:
+        for p in o["plots"]:
+            if figures is not None and p["number"] in figures:
+                p["image"] = str(figures[p["number"]])
+            else:
+                png = Path(figdir) / f"figure-{p['number']}.png"
+                plots.render_png(p["spec"], png)
+                p["image"] = str(png)
+    _resolve_layout(layout)(doc, ctx)
+    _add_notices(doc.doc, (ctx.get("register") or {}).get("notices") or ())
+    _set_properties(doc.doc, ctx)
+    return doc
+
+
+def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
+                     figures: Mapping[int, str | os.PathLike[str]] | None = None) -> None:
     import io
 
     from docx.shared import Mm
@@ -620,19 +790,10 @@ def render_context(
     from . import plots
     from .errors import MetroError
 
-    path = Path(path)
-    ctx = dict(ctx)
-    ctx["outcomes"] = [dict(o, plots=[dict(p) for p in o["plots"]]) for o in ctx["outcomes"]]
-    if template is None:
-        source: Any = io.BytesIO(default_template().read_bytes())
-        template_name = "metro/core/templates/report.docx"
-    else:
-        template_name = os.fspath(template)
-        if not Path(template_name).is_file():
-            raise MetroError(f"report template {template_name} does not exist")
-        source = template_name
-    tpl = DocxTemplate(source)
-
+    template_name = os.fspath(template)
+    if not Path(template_name).is_file():
+        raise MetroError(f"report template {template_name} does not exist")
+    tpl = DocxTemplate(io.BytesIO(Path(template_name).read_bytes()))
     with tempfile.TemporaryDirectory(prefix="metro-report-") as tmpdir:
         for o in ctx["outcomes"]:
             for p in o["plots"]:
@@ -651,21 +812,5 @@ def render_context(
                 hint="check the template's {{ }} and {% %} tags against metro.core.report.report_context",
             ) from exc
     _add_notices(tpl.docx, (ctx.get("register") or {}).get("notices") or ())
-
-    props = tpl.docx.core_properties
-    props.title = _core_property(ctx["title"])
-    props.subject = _core_property(ctx["items_text"])
-    props.identifier = ctx["report_number"]
-    props.author = ctx["generator"]
-    props.last_modified_by = ctx["generator"]
-    props.keywords = "SIMULATED" if ctx["simulated"] else ""
-    created = dt.datetime.fromisoformat(ctx["created_iso"]) if ctx.get("created_iso") else None
-    if isinstance(created, dt.datetime):
-        if created.tzinfo is not None:  # python-docx writes naive datetimes as UTC
-            created = created.astimezone(dt.timezone.utc).replace(tzinfo=None)
-        props.created = props.modified = created
-    props.revision = 1
-
-    with atomic_path(path) as tmp:
-        tpl.save(tmp)
-    return path
+    _set_properties(tpl.docx, ctx)
+    tpl.save(str(target))

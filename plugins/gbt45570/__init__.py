@@ -13,7 +13,6 @@ clause-5 table of the report (:mod:`.clause5`).
 
 from __future__ import annotations
 
-from pathlib import Path
 
 from metro.core import hookimpl
 
@@ -41,7 +40,6 @@ def _register_vocabulary() -> None:
 
 
 _register_vocabulary()
-REPORT_TEMPLATE = Path(__file__).parent / "templates" / "report.docx"
 
 
 @hookimpl
@@ -92,8 +90,8 @@ def metro_conformity_specifications(standard, campaign):
 
 @hookimpl
 def metro_register_templates(registrar) -> None:
-    if REPORT_TEMPLATE.is_file():
-        registrar.add_template("gbt45570-report", REPORT_TEMPLATE, standard=STANDARD_ID, kind="report")
+    registrar.add_template("gbt45570-report", standard=STANDARD_ID, kind="report",
+                           layout="metro.plugins.gbt45570.report:layout")
 
 
 @hookimpl

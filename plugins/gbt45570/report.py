@@ -1,9 +1,7 @@
-"""GB/T 45570—2025 test report data: ``context["gbt45570"]`` for ``templates/report.docx``.
+"""GB/T 45570—2025 test report: ``context["gbt45570"]`` and the document :func:`layout`.
 
-Adds to the generic report context (:func:`metro.core.report.report_context`): laboratory
-and customer (manifest ``[campaign]`` keys read through metro.core.vocabulary: ``lab``,
-``lab_address``, ``customer``, ``customer_address``, ``operator`` (the "tested by"),
-``checked_by``, ``approved_by``, ``measurement_date``; a missing one prints "—"), the 6.1.1 test environment checked against its limits, the method choice of 6.2.7.1
+Adds to the generic report context (:func:`metro.core.report.report_context`, whose ``facts``
+carry laboratory, customer, people and dates): the 6.1.1 test environment checked against its limits, the method choice of 6.2.7.1
 and the items ``--all``/series chose, the conformity verdicts with the decision rule and
 their reasons, the typical-limit table of the device (A.1 or B.1) row by row — "not
 performed" where no result exists, never a zero — the C.1 severities, a residual figure of
@@ -27,21 +25,22 @@ from .method_rule import ANGLE_ITEMS, RATE_ITEMS, method_for
 
 STANDARD = "gbt45570"
 DASH = "—"
-NOT_PERFORMED = "未检测 (not performed)"
+NOT_PERFORMED = "not performed"
 TITLE = "试验报告 Test report — GB/T 45570—2025 光学陀螺仪通用技术要求"
 
-#: 6.1.1 试验环境: (environment key, label, specification)
+#: 6.1.1 试验环境: (environment key, label (a message id), clause, specification)
 ENVIRONMENT = (
-    ("temperature", "温度 Temperature (6.1.1 a)",
+    ("temperature", "Temperature", "6.1.1 a)",
      Specification("temperature", Comparison.RANGE, Q_(15, "degC"), Q_(35, "degC"), source="GB/T 45570—2025 6.1.1 a)")),
-    ("humidity", "相对湿度 Relative humidity (6.1.1 b)",
+    ("humidity", "Relative humidity", "6.1.1 b)",
      Specification("humidity", Comparison.RANGE, Q_(20, "percent"), Q_(80, "percent"),
                    source="GB/T 45570—2025 6.1.1 b)")),
-    ("magnetic_field", "磁场强度 Magnetic field (6.1.1 d)",
+    ("magnetic_field", "Magnetic field", "6.1.1 d)",
      Specification("magnetic_field", Comparison.AT_MOST, Q_(1e-4, "T"), source="GB/T 45570—2025 6.1.1 d)",
                    magnitude=True)),
 )
-STATUS_TEXT = {"pass": "合格 conforms", "fail": "不合格 does not conform", "indeterminate": "不确定 indeterminate"}
+#: verdicts as the catalog's message ids (translated by the layout)
+STATUS_TEXT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}
 
 
 def _fmt_q(q: Any) -> str:
@@ -54,17 +53,18 @@ def environment_rows(env: dict) -> list[dict[str, str]]:
     """6.1.1 a), b), d) checked (simple acceptance: the conditions are recorded values); c) is the
     site's pressure, reported as given."""
     rows = []
-    for key, label, spec in ENVIRONMENT:
+    for key, label, clause, spec in ENVIRONMENT:
         v = env.get(key)
         if v is None or not hasattr(v, "magnitude"):
-            rows.append({"name": label, "required": spec.text(), "measured": "not recorded", "verdict": DASH})
+            rows.append({"name": label, "clause": clause, "required": spec.text(), "measured": "not recorded",
+                         "verdict": ""})
             continue
         verdict = decide(spec, v, None, SIMPLE)
-        rows.append({"name": label, "required": spec.text(), "measured": _fmt_q(v),
+        rows.append({"name": label, "clause": clause, "required": spec.text(), "measured": _fmt_q(v),
                      "verdict": STATUS_TEXT[verdict.status.value]})
     p = env.get("pressure")
-    rows.insert(2, {"name": "大气压力 Pressure (6.1.1 c)", "required": "the site's pressure",
-                    "measured": _fmt_q(p) if p is not None else "not recorded", "verdict": DASH})
+    rows.insert(2, {"name": "Atmospheric pressure", "clause": "6.1.1 c)", "required": "the site's pressure",
+                    "measured": _fmt_q(p) if p is not None else "not recorded", "verdict": ""})
     return rows
 
 
@@ -116,19 +116,23 @@ def limit_table(device, outcomes, assessment) -> dict[str, Any] | None:
         spec = row.specification(app)
         mine = [(o, r) for o, r in found if spec.applies_to(r.metric.key, o.item)]
         if not mine:
-            out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en}", "limit": spec.text(),
-                        "method": " / ".join(row.items), "result": NOT_PERFORMED, "verdict": DASH})
+            out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en}", "name_cn": row.name_cn,
+                        "name_en": row.name_en, "symbol": "", "limit": spec.text(),
+                        "method": " / ".join(row.items), "result": NOT_PERFORMED, "verdict": "",
+                        "performed": False})
             continue
         for o, r in mine:
             val, U, k = _result_cells(r)
             v = verdicts.get((o.item, r.metric.key, row.key))
             out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en} ({r.metric.symbol})",
+                        "name_cn": row.name_cn, "name_en": row.name_en, "symbol": r.metric.symbol,
                         "limit": spec.text(), "method": o.item,
                         "result": f"{val}, U = {U} (k = {k})" if U != DASH else val,
-                        "verdict": STATUS_TEXT[v.status.value] if v is not None else DASH})
+                        "verdict": STATUS_TEXT[v.status.value] if v is not None else "", "performed": True})
     table = rows[0].table
     kind = "laser" if table == "A.1" else "fibre"
-    return {"table": table, "application": f"{APPLICATION_CN[app]} {app}",
+    return {"table": table, "application": f"{APPLICATION_CN[app]} {app}", "kind": kind, "app": app,
+            "app_cn": APPLICATION_CN[app],
             "title": f"Table {table} — typical {kind}-gyro indices, {APPLICATION_CN[app]} {app} "
                      "(GB/T 45570—2025, informative appendix)", "rows": out}
 
@@ -141,13 +145,14 @@ def severity_rows(device, outcomes) -> list[dict[str, str]]:
     rows = []
     for r in TABLE_C1:
         if not r.items:
-            status = "no test method in appendix D (product specification)"
+            status, which = "no test method in appendix D (product specification)", ""
         elif done & set(r.items):
-            status = "performed: " + ", ".join(sorted(done & set(r.items)))
+            status, which = "performed", ", ".join(sorted(done & set(r.items)))
         else:
-            status = NOT_PERFORMED
-        rows.append({"no": str(r.no), "name": f"{r.name_cn} {r.name_en}", "severity": r.text(app),
-                     "method": ", ".join(r.items) or DASH, "status": status})
+            status, which = NOT_PERFORMED, ""
+        rows.append({"no": str(r.no), "name": f"{r.name_cn} {r.name_en}", "name_cn": r.name_cn, "name_en": r.name_en,
+                     "severity": r.text(app), "method": ", ".join(r.items) or DASH, "status": status,
+                     "performed_items": which})
     return rows
 
 
@@ -157,7 +162,7 @@ def method_text(record) -> str:
     if not items & set(ANGLE_ITEMS + RATE_ITEMS):
         return ""
     method, why = method_for(record.campaign.device)
-    return f"Scale-factor series by the {method} method ({'D.1' if method == 'angle' else 'D.2'}): {why}."
+    return f"{'D.1' if method == 'angle' else 'D.2'}: {why}."
 
 
 def residual_plot(spec: PlotSpec) -> PlotSpec | None:
@@ -186,6 +191,8 @@ def _add_residual_figures(context: dict) -> None:
     for o in context.get("outcomes", []):
         plots = []
         for p in o["plots"]:
+            if p["name"] == "K_temperature" and o["standard"] == STANDARD:
+                p["spec"] = with_fit_line(p["spec"])
             plots.append(p)
             if p["name"] == "K_rate" and o["standard"] == STANDARD:
                 extra = residual_plot(p["spec"])
@@ -196,6 +203,23 @@ def _add_residual_figures(context: dict) -> None:
             p["number"] = n
             n += 1
         o["plots"] = plots
+
+
+def with_fit_line(spec: PlotSpec) -> PlotSpec:
+    """A K-against-temperature figure with the least-squares straight line through its points
+    (its slope, in ppm/°C, in the legend): the points alone do not show the trend K_t sums up."""
+    pts = next((s for s in spec.series if s.get("style") == "o"), None)
+    if pts is None or any(s.get("style") == "-" for s in spec.series):
+        return spec
+    x, y = np.asarray(pts["x"], dtype=float), np.asarray(pts["y"], dtype=float)
+    if x.size < 2 or np.ptp(x) == 0:
+        return spec
+    slope, icpt = np.polyfit(x, y, 1)
+    xs = [float(x.min()), float(x.max())]
+    line = {"label": f"least-squares line, slope {slope:.3g} ppm/°C", "x": xs,
+            "y": [float(icpt + slope * v) for v in xs], "style": "-"}
+    return PlotSpec(spec.name, spec.title, spec.xlabel, spec.ylabel, list(spec.series) + [line],
+                    logx=spec.logx, logy=spec.logy)
 
 
 def data_digest(files: list[dict[str, str]]) -> str:
@@ -242,11 +266,9 @@ def extend_context(record, context: dict) -> None:
 
     a = record.conformity
     deviations = [f"{o.item}: {w}" for o in outs for w in o.warnings]
-    if record.simulated or camp.simulated:
-        deviations.insert(0, "SIMULATED data (built-in simulated station): not a test of a real device.")
+
     _add_residual_figures(context)
-    selection = [{"item": c.item, "run": "run" if c.run else "not run", "reason": c.reason, "via": c.via}
-                 for c in record.selection]
+    selection = [{"item": c.item, "run": bool(c.run), "reason": c.reason} for c in record.selection]
     context["gbt45570"] = {
         "title": TITLE,
         "number": record.report_number,
@@ -264,13 +286,118 @@ def extend_context(record, context: dict) -> None:
                 {"name": DASH, "title": "no specification given", "statement":
                  "No specification applies (device technology or application not given, and no [specification] "
                  "in the manifest): no conformity statement is made."},
-        "overall": STATUS_TEXT[a.overall.value] if a is not None and a.overall is not None else DASH,
-        "counts": ", ".join(f"{n} {s}" for s, n in a.counts().items()) if a is not None else DASH,
+        "overall": STATUS_TEXT[a.overall.value] if a is not None and a.overall is not None else "",
+        "counts": dict(a.counts()) if a is not None else {},
         "verdicts": verdict_rows(a) if a is not None else [],
         "not_assessed": [f"{s.symbol} {s.text()} ({s.source})" for s in a.not_assessed] if a is not None else [],
         "limits": limit_table(camp.device, outs, a),
         "severities": severity_rows(camp.device, outs),
         "data_digest": data_digest(context.get("provenance", {}).get("data_files", [])),
-        "deviations": deviations or ["无 (none)"],
+        "deviations": deviations,
         "clause5": clause5_rows(record),
     }
+
+
+# ----------------------------------------------------------------------------------------
+# The document: GB/T 45570—2025 test report (clauses 5 and 6.1; appendices A/B, C, D)
+# ----------------------------------------------------------------------------------------
+
+
+def layout(doc, ctx: dict) -> None:
+    """The GB/T 45570 test report: page 1 identifies the device and gives the overall verdict
+    and every result; then clause 5, the 6.1 test conditions, method, conformity, the typical
+    limits (A.1/B.1), the C.1 severities, notes, deviations and signatures; budgets, data,
+    figures and provenance follow as annexes."""
+    from metro.core import document as D
+
+    g = ctx.get("gbt45570")
+    if g is None:
+        D.generic_layout(doc, ctx)
+        return
+    tr, f = doc.tr, ctx["facts"]
+    doc.title_block(tr("Test report"), "GB/T 45570—2025 " + tr.pick("光学陀螺仪通用技术要求",
+                                                                    "Optical gyroscopes — general technical requirements"))
+    dev = ctx["device"]
+    D.identification(doc, ctx, [
+        (tr("Technology and application"), f"{tr(dev['technology']) if dev['technology'] != DASH else DASH}, "
+                                           f"{tr(dev['application']) if dev['application'] != DASH else DASH}"),
+        (tr("Standard"), "GB/T 45570—2025, " + tr("appendix D")),
+        (tr("Items"), ", ".join(dict.fromkeys(o["item"] for o in ctx["outcomes"]))),
+    ])
+    verdicts = {(v["item"], v["key"]): tr(v["status_text"]) for v in g["verdicts"]}
+    if g["has_conformity"]:
+        counts = ", ".join(f"{n} {tr(STATUS_TEXT[k])}" for k, n in g["counts"].items() if n)
+        doc.para(f"{tr('Overall verdict')}: {tr(g['overall']) if g['overall'] else DASH} ({counts})",
+                 bold=True, size=10.5)
+    else:
+        doc.para(tr("No specification applies: no conformity statement is made."), bold=True)
+    doc.heading(tr("Results"), 1)
+    D.results_table(doc, ctx, verdicts=verdicts)
+
+    n = 1
+    if g["clause5"]:
+        doc.heading(f"{n} {tr('Technical requirements')} (5)", 1)
+        doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
+                  [[r["clause"], r["requirement"], r["result"], tr(r["verdict"]) if r["verdict"] else DASH,
+                    r.get("note", "")] for r in g["clause5"]])
+        n += 1
+    doc.heading(f"{n} {tr('Test conditions')} (6.1)", 1)
+    doc.heading(f"{tr('Test environment')} (6.1.1)", 2)
+    doc.table([tr("Condition"), tr("Required"), tr("Recorded"), tr("Verdict")],
+              [[f"{tr(r['name'])} ({r['clause']}", tr(r["required"]) if r["required"] == "the site's pressure" else r["required"],
+                tr(r["measured"]) if r["measured"] == "not recorded" else r["measured"],
+                tr(r["verdict"]) if r["verdict"] else DASH] for r in g["environment"]])
+    doc.heading(f"{tr('Test equipment and measuring instruments')} (6.1.2)", 2)
+    D.equipment_table(doc, ctx)
+    n += 1
+    doc.heading(f"{n} {tr('Method and items')}", 1)
+    if g["method"]:
+        doc.para(f"{tr('Scale-factor method')} (6.2.7.1): {g['method']}")
+    if g["selection"]:
+        doc.table([tr("Item"), tr("Run"), tr("Reason")],
+                  [[c["item"], tr("yes") if c["run"] else tr("no"), c["reason"]] for c in g["selection"]])
+    n += 1
+    doc.heading(f"{n} {tr('Conformity')}", 1)
+    doc.para(f"{tr('Decision rule')}: {g['rule']['title']}")
+    doc.para(g["rule"]["statement"], size=8.5)
+    if g["verdicts"]:
+        doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Value"), tr("U (k)"), tr("Verdict"), tr("Reason")],
+                  [[v["item"], D.quantity_for(ctx, v["item"], v["key"]), v["limit"], v["value"], f"{v['U']} (k = {v['k']})",
+                    tr(v["status_text"]), v["reason"]] for v in g["verdicts"]], font_pt=7.5)
+        sources = list(dict.fromkeys(v["source"] for v in g["verdicts"]))
+        doc.para(f"{tr('Sources of the limits')}: " + "; ".join(sources), size=8)
+    if g["not_assessed"] and not g["limits"]:  # else table A.1/B.1 shows them as not performed
+        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(g["not_assessed"]), size=8)
+    lim = g["limits"]
+    if lim:
+        n += 1
+        kind = tr("laser gyro") if lim["kind"] == "laser" else tr("fibre-optic gyro")
+        doc.heading(f"{n} {tr('Typical indices, table {table}', table=lim['table'])} — {kind}, "
+                    f"{tr.pick(lim['app_cn'], lim['app'])}", 1)
+        doc.table([tr("No."), tr("Index"), tr("Limit"), tr("Method"), tr("Result"), tr("Verdict")],
+                  [[r["no"], tr.pick(r["name_cn"], r["name_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
+                    r["limit"], r["method"], r["result"] if r["performed"] else tr(NOT_PERFORMED),
+                    tr(r["verdict"]) if r["verdict"] else DASH] for r in lim["rows"]], font_pt=7.5)
+    if g["severities"]:
+        n += 1
+        doc.heading(f"{n} {tr('Environmental severities')} (C.1)", 1)
+        doc.table([tr("No."), tr("Test"), tr("Severity"), tr("Method"), tr("Status")],
+                  [[r["no"], tr.pick(r["name_cn"], r["name_en"]), r["severity"], r["method"],
+                    tr(r["status"]) + (f": {r['performed_items']}" if r["performed_items"] else "")]
+                   for r in g["severities"]], font_pt=7.5)
+    n += 1
+    doc.heading(f"{n} {tr('Notes')}", 1)
+    D.notes_section(doc, ctx, include_warnings=False)
+    n += 1
+    doc.heading(f"{n} {tr('Deviations')}", 1)
+    if g["deviations"]:
+        doc.bullets(g["deviations"], size=8.5)
+    else:
+        doc.para(tr("none"))
+    n += 1
+    doc.heading(f"{n} {tr('Signatures')}", 1)
+    D.signatures(doc, [(tr("Tested by"), f["operator"]), (tr("Checked by"), f["checker"]),
+                       (tr("Approved by"), f["approver"], f["approver_title"])])
+    doc.para(tr("The results relate only to the device tested. This report shall not be reproduced "
+                "except in full without the written approval of the laboratory."), size=8.5)
+    D.annexes(doc, ctx)

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 
 from metro.core import hookimpl
 
 STANDARD_ID = "jjf2003"
-CERTIFICATE = Path(__file__).with_name("templates") / "certificate.docx"
 
 
 @hookimpl
@@ -34,7 +32,8 @@ def metro_register_stations(registrar) -> None:
 
 @hookimpl
 def metro_register_templates(registrar) -> None:
-    registrar.add_template("jjf2003-certificate", CERTIFICATE, standard=STANDARD_ID, kind="report")
+    registrar.add_template("jjf2003-certificate", standard=STANDARD_ID, kind="report",
+                           layout="metro.plugins.jjf2003.certificate:layout")
 
 
 @hookimpl

@@ -1,7 +1,7 @@
 """Certificate data for JJF 2003—2022 (appendix B inner page, clause 8 a)–l)).
 
 :func:`certificate_context` turns a run record into ``context["jjf2003"]`` for the template
-``templates/certificate.docx`` (built by ``templates/make_certificate.py``).  Values are
+the document :func:`layout`.  Values are
 rounded as :meth:`metro.core.model.Result.reported` rounds them (U to two significant digits,
 rounded up as appendix A does, k = 2).
 """
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from metro.core.report import fmt_quantity
 from metro.core.units import fmt_unit
 
 AXES = ("x", "y", "z")
@@ -32,10 +33,11 @@ def _unit(r) -> str:
     return "" if u in ("", "1", "dimensionless") else u
 
 
-def _row(r) -> dict[str, str]:
+def _row(r) -> dict[str, Any]:
     v, U = r.reported()
     return {"name": r.metric.name, "symbol": r.metric.symbol, "value": v, "U": U or DASH, "unit": _unit(r) or "1",
-            "k": "2" if r.k is None else f"{r.k:g}", "clause": r.metric.clause}
+            "k": "2" if r.k is None else f"{r.k:g}", "clause": r.metric.clause,
+            "reportable": bool(getattr(r, "reportable", True)), "reason": str(getattr(r, "reason", "") or "")}
 
 
 def _rows(res, keys) -> list[dict[str, str]]:
@@ -74,14 +76,14 @@ def certificate_context(record) -> dict[str, Any]:
     res = _results(record)
     dev = camp.device
     created = record.created.date().isoformat() if hasattr(record.created, "date") else str(record.created)
-    env = "; ".join(f"{k}: {v:~P}" if hasattr(v, "units") else f"{k}: {v}" for k, v in camp.environment.items())
+    env = "; ".join(f"{k}: {fmt_quantity(v)}" for k, v in camp.environment.items())
     standards = []
     for e in camp.equipment:
         cal = e.calibration
         standards.append({
             "name": e.describe(), "role": e.role or DASH, "serial": e.serial or e.id,
-            "accuracy": DASH if cal is None else (f"U = {cal.uncertainty:~P}, k = {cal.k:g}"
-                                                  if cal.distribution == "normal" else f"±{cal.uncertainty:~P}"),
+            "accuracy": DASH if cal is None else (f"U = {fmt_quantity(cal.uncertainty)} (k = {cal.k:g})"
+                                                  if cal.distribution == "normal" else f"±{fmt_quantity(cal.uncertainty)}"),
             "certificate": DASH if cal is None else cal.certificate,
         })
     clause8 = {
@@ -110,3 +112,83 @@ def certificate_context(record) -> dict[str, Any]:
         "g": _matrix(res, "g_"), "p": _matrix(res, "p_", zero_diagonal=True),
         "notes": notes,
     }
+
+
+#: appendix B groups: (no., Chinese title, English title, context key)
+GROUPS = (
+    ("1", "标度因数", "Scale factors", "scale_factors"),
+    ("2", "零偏", "Biases", "biases"),
+    ("3", "陀螺交叉耦合系数", "Gyroscope cross-coupling coefficients", "gyro_cross"),
+    ("4", "加速度计交叉耦合系数", "Accelerometer cross-coupling coefficients", "accel_cross"),
+)
+MATRICES = (
+    ("5", "陀螺加速度敏感系数", "Gyroscope acceleration sensitivity", "g", "g"),
+    ("6", "加速度计角速度灵敏系数", "Accelerometer angular-rate sensitivity", "p", "p"),
+)
+
+
+def layout(doc, ctx: dict) -> None:
+    """JJF 2003—2022 MIMU calibration certificate: clause 8 (title to signatures) and the
+    appendix B inner page (groups 1–6, each with its measurement uncertainty)."""
+    from metro.core import document as D
+
+    c = ctx.get("jjf2003")
+    if c is None:
+        D.generic_layout(doc, ctx)
+        return
+    tr, f, c8 = doc.tr, ctx["facts"], c["clause8"]
+    doc.title_block(tr("Calibration certificate"))
+    doc.kv([
+        (tr("Certificate No."), c8["number"]),
+        (tr("Laboratory name"), D.or_dash(f["lab"])),
+        (tr("Laboratory address"), D.or_dash(f["lab_address"])),
+        (tr("Seal of the calibrating laboratory"), tr("(affixed on the issued certificate)")),
+        (tr("Customer"), D.or_dash(f["customer"])),
+        (tr("Customer address"), D.or_dash(f["customer_address"])),
+        (tr("Instrument calibrated"), tr.pick("微惯性测量组合 (MIMU)", "micro inertial measurement unit (MIMU)")),
+        (tr("Manufacturer"), c8["manufacturer"]),
+        (tr("Model"), c8["model"]),
+        (tr("Serial number"), c8["serial"]),
+        (tr("Date received"), D.or_dash(f["received"])),
+        (tr("Date of calibration"), D.or_dash(f["measured"])),
+        (tr("Calibration specification"), tr.pick("JJF 2003—2022 微惯性测量组合(MIMU)校准规范",
+                                                  "JJF 2003—2022 Calibration Specification for MIMU")),
+        (tr("Environment"), "; ".join(f"{tr(n['name'].capitalize())} {n['value']}" for n in ctx["environment"])
+         or DASH),
+    ])
+    doc.heading(tr("Measurement standards used"), 2)
+    doc.table([tr("Name"), tr("Serial number"), tr("Accuracy"), tr("Certificate No."), tr("Status on the date of measurement")],
+              [[s["name"], s["serial"], s["accuracy"], s["certificate"], e["status"]]
+               for s, e in zip(c8["standards"], ctx["equipment"])])
+    doc.heading(tr("MIMU calibration results"), 1)
+    for no, cn, en, key in GROUPS:
+        rows = c[key]
+        doc.heading(f"{no}. {tr.pick(cn, en)}", 2)
+        if not rows:
+            doc.para(tr("not performed"))
+            continue
+        doc.table([tr("Quantity"), tr("Symbol"), tr("Calibration result"), tr("Expanded uncertainty")],
+                  [[r["name"], r["symbol"],
+                    D.with_unit_text(r["value"], r["unit"]) if r["reportable"] else
+                    tr("not reportable: {reason}", reason=r["reason"]),
+                    f"U = {D.with_unit_text(r['U'], r['unit'])} (k = {r['k']})" if r["U"] != DASH else tr("not evaluated")]
+                   for r in rows])
+    for no, cn, en, key, sym in MATRICES:
+        m = c[key]
+        doc.heading(f"{no}. {tr.pick(cn, en)} ({sym})", 2)
+        if m is None:
+            doc.para(tr("not performed"))
+            continue
+        unit = "" if m["unit"] == "1" else f" ({m['unit']})"
+        doc.para(f"{sym}{unit}:", keep_next=True)
+        doc.table(["", "x", "y", "z"], [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["value_rows"]], width_mm=110)
+        doc.para(f"{tr('Measurement uncertainty')} U (k = 2){unit}:", keep_next=True)
+        doc.table(["", "x", "y", "z"], [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["u_rows"]], width_mm=110)
+    doc.heading(tr("Notes on the results"), 2)
+    D.notes_section(doc, ctx)
+    doc.heading(tr("Signatures"), 2)
+    D.signatures(doc, [(tr("Calibrated by"), f["operator"]), (tr("Checked by"), f["checker"]),
+                       (tr("Issued by"), f["approver"], f["approver_title"] or DASH)])
+    doc.para(f"{tr('Date of issue')}: {D.or_dash(f['issued'])}")
+    doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")), size=8.5)
+    D.annexes(doc, ctx)

@@ -8,12 +8,10 @@ report-context extension (``context["jjf2014"]``).
 
 from __future__ import annotations
 
-from pathlib import Path
 
 from metro.core import hookimpl
 
 STANDARD_ID = "jjf2014"
-TEMPLATE = Path(__file__).parent / "templates" / "certificate.docx"
 
 
 @hookimpl
@@ -40,8 +38,8 @@ def metro_register_stations(registrar) -> None:
 
 @hookimpl
 def metro_register_templates(registrar) -> None:
-    if TEMPLATE.is_file():
-        registrar.add_template("jjf2014-certificate", TEMPLATE, standard=STANDARD_ID, kind="report")
+    registrar.add_template("jjf2014-certificate", standard=STANDARD_ID, kind="report",
+                           layout="metro.plugins.jjf2014.certificate:layout")
 
 
 @hookimpl

@@ -1,12 +1,11 @@
 """Certificate data for JJF 2014—2022 (clause 8 a)–p), appendix A inner page): ``context["jjf2014"]``.
 
 The 24 rows of appendix A map to the metrics of the items (table 3).  A row whose item was
-not run in this record says so ("未校准 / not performed") — never blank, never zero.
-Laboratory, customer and signatories come from the manifest's ``[campaign]`` table
-(read through the vocabulary, metro.core.vocabulary: ``lab``, ``lab_address``, ``location``,
-``customer``, ``customer_address``, ``date_received``, ``measurement_date``, ``operator`` (the
-"calibrated by"), ``checked_by``, ``approved_by``); a missing one is shown as
-"—" so a reviewer sees it is missing.
+not run in this record says so ("未检测 not performed") — never blank, never zero.
+Laboratory, customer, signatories and dates come from the report context's ``facts``
+(:func:`metro.core.report.record_facts`: the campaign, and the lab profile when one is given); a
+missing one is shown as "—" so a reviewer sees it is missing.  :func:`layout` lays out clause 8
+a)–p) (each field marked with its letter in the code) and the appendix A inner page.
 """
 
 from __future__ import annotations
@@ -41,32 +40,17 @@ ROWS = (
     (24, "启动时间", "start-up time", "7.2.23", "t_startup"),
 )
 
-NOT_PERFORMED = "未校准 (not performed)"
+NOT_PERFORMED = "not performed"
 DASH = "—"
-
-STATEMENT_VALIDITY = "本证书的校准结果仅对被校对象有效。The calibration results relate only to the item calibrated."
-STATEMENT_COPY = ("未经实验室书面批准，不得部分复制本证书。This certificate shall not be reproduced except in full "
-                  "without the written approval of the laboratory.")
-
-
-def _unit_text(u: str) -> str:
-    from metro.core.units import fmt_unit, unit
-
-    return fmt_unit(unit(u)) if u else ""
-
-
-def result_text(r) -> tuple[str, str]:
-    """(value with unit, 'U = … (k = …)') as reported (JJF 1059.1 rounding)."""
-    v, U = r.reported()
-    ut = _unit_text(r.metric.unit)
-    val = f"{v} {ut}".strip()
-    if U is None:
-        return val, "U not evaluated"
-    return val, f"U = {U} {ut} (k = {r.k:g})".replace("  ", " ")
+SPECIFICATION_CN = "JJF 2014—2022 金属振子式速率陀螺校准规范"
+SPECIFICATION_EN = "JJF 2014—2022 Calibration Specification for Metal-Shell Vibratory Rate Gyroscopes"
 
 
 def certificate_rows(outcomes) -> list[dict[str, Any]]:
-    """The 24 appendix-A rows, each {no, item_cn, item_en, clause, performed, value, U, note}."""
+    """The 24 appendix-A rows, each {no, item_cn, item_en, clause, performed, reportable, reason,
+    value, U, k, note, earth_rate, symbol}; value and U as :meth:`Result.reported` rounds them."""
+    from metro.core.document import result_fields
+
     found = {}
     for o in outcomes:
         if o.standard != "jjf2014":
@@ -76,13 +60,15 @@ def certificate_rows(outcomes) -> list[dict[str, Any]]:
     rows = []
     for no, cn, en, item, key in ROWS:
         r = found.get((item, key))
+        base = {"no": str(no), "item_cn": cn, "item_en": en, "clause": item}
         if r is None:
-            rows.append({"no": str(no), "item_cn": cn, "item_en": en, "clause": item, "performed": False,
-                         "value": NOT_PERFORMED, "U": "", "note": ""})
-        else:
-            v, U = result_text(r)
-            rows.append({"no": str(no), "item_cn": cn, "item_en": en, "clause": item, "performed": True,
-                         "value": v, "U": U, "note": r.note})
+            rows.append(base | {"performed": False, "reportable": True, "reason": "", "value": "", "U": "",
+                                "k": "", "note": "", "earth_rate": "", "symbol": ""})
+            continue
+        row = result_fields(r)
+        rows.append(base | {"performed": True, "reportable": row["reportable"], "reason": row["reason"],
+                            "value": row["value_unit"], "U": row["U_unit"], "k": row["k"], "note": r.note,
+                            "earth_rate": row["earth_rate"], "symbol": r.metric.symbol})
     return rows
 
 
@@ -91,45 +77,77 @@ def extend_context(record, context: dict) -> None:
     outs = [o for o in record.outcomes if o.standard == "jjf2014"]
     if not outs:
         return
-    camp = record.campaign
-    env = dict(camp.environment)
-    people, lab, customer = camp.people, camp.lab, camp.customer
-
-    def m(v):
-        return str(v) if v not in (None, "") else DASH
-
-    def e(key):
-        from metro.core.report import fmt_quantity
-
-        import pint
-
-        v = env.get(key)
-        if v is None:
-            return DASH
-        return fmt_quantity(v) if isinstance(v, pint.Quantity) else str(v)
-
-    deviations = []
-    for o in outs:
-        deviations += [f"{o.item}: {w}" for w in o.warnings]
-    if record.simulated or camp.simulated:
-        deviations.insert(0, "SIMULATED data (simulated-jjf2014 station): not a calibration of a real device.")
     rows = certificate_rows(outs)
     context["jjf2014"] = {
-        "title": "校准证书 Calibration Certificate",
         "number": record.report_number,
-        "lab": m(lab.name), "lab_address": m(lab.address), "location": m(lab.location),
-        "customer": m(customer.name), "customer_address": m(customer.address),
-        "received": m(camp.date_received and camp.date_received.isoformat()),
-        "calibrated_on": camp.measurement_date.isoformat() if camp.measurement_date else context.get("created", DASH),
-        "specification": "JJF 2014—2022 金属振子式速率陀螺校准规范",
-        "environment": {"temperature": e("temperature"), "humidity": e("humidity"),
-                        "location": m(lab.location) if "location" not in env else str(env["location"]),
-                        "other": e("other")},
         "rows": rows,
-        "performed_count": str(sum(r["performed"] for r in rows)),
-        "not_performed": [r["no"] for r in rows if not r["performed"]],
-        "deviations": deviations or ["无 (none)"],
-        "calibrated_by": m(people.operator), "checked_by": m(people.checked_by), "approved_by": m(people.approved_by),
-        "statement_validity": STATEMENT_VALIDITY,
-        "statement_copy": STATEMENT_COPY,
+        "performed_count": sum(r["performed"] for r in rows),
+        "deviations": list(dict.fromkeys(f"{o.item}: {w}" for o in outs for w in o.warnings)),
     }
+
+
+def _env(ctx: dict, name: str) -> str:
+    for n in ctx["environment"]:
+        if n["name"].lower() == name:
+            return n["value"]
+    return DASH
+
+
+def layout(doc, ctx: dict) -> None:
+    """JJF 2014—2022 calibration certificate: clause 8 a)–p) and the appendix A inner page."""
+    from metro.core import document as D
+
+    c = ctx.get("jjf2014")
+    if c is None:
+        D.generic_layout(doc, ctx)
+        return
+    tr, f, dev = doc.tr, ctx["facts"], ctx["device"]
+    doc.title_block(tr("Calibration certificate"))                                  # 8 a)
+    doc.kv([
+        (tr("Certificate No."), c["number"]),                                      # 8 d)
+        (tr("Laboratory"), D.or_dash(f["lab"])),                                  # 8 b)
+        (tr("Laboratory address"), D.or_dash(f["lab_address"])),
+        (tr("Place of calibration"), D.or_dash(f["location"] or f["lab_address"])),  # 8 c)
+        (tr("Customer"), D.or_dash(f["customer"])),                               # 8 e)
+        (tr("Customer address"), D.or_dash(f["customer_address"])),
+        (tr("Instrument calibrated"), f"{tr.pick('金属振子式速率陀螺', 'metal-shell vibratory rate gyroscope')}: "
+                                      f"{dev['description']} ({tr('id')} {dev['id']})"),  # 8 f)
+        (tr("Date of calibration"), D.or_dash(f["measured"])),                    # 8 g)
+        (tr("Date received"), D.or_dash(f["received"])),
+        (tr("Date of issue"), D.or_dash(f["issued"])),
+        (tr("Sampling"), tr("none: the item named above was calibrated")),          # 8 h)
+        (tr("Calibration specification"), tr.pick(SPECIFICATION_CN, SPECIFICATION_EN)),  # 8 i)
+    ])
+    # appendix A inner page: environment, then the 24 rows                           8 k), 8 l)
+    doc.heading(tr("Calibration results"), 1)
+    doc.kv([(tr("Temperature"), _env(ctx, "temperature")), (tr("Place"), D.or_dash(f["location"])),
+            (tr("Relative humidity"), _env(ctx, "humidity")), (tr("Other"), _env(ctx, "other"))])
+    rows = []
+    for r in c["rows"]:
+        if not r["performed"]:
+            value, U = tr(NOT_PERFORMED), DASH
+        elif not r["reportable"]:
+            value, U = tr("not reportable: {reason}", reason=r["reason"]), DASH
+        else:
+            value = r["value"]
+            U = f"U = {r['U']} (k = {r['k']})" if r["U"] not in ("", DASH) else tr("not evaluated")
+        rows.append([r["no"], tr.pick(r["item_cn"], r["item_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
+                     value, U])
+    doc.table([tr("No."), tr("Calibration item"), tr("Calibration result"), tr("Expanded uncertainty")], rows)
+    doc.heading(tr("Notes on the results"), 2)                                     # 8 l)
+    D.notes_section(doc, ctx, include_warnings=False)
+    doc.heading(tr("Measurement standards used and their traceability"), 2)         # 8 j)
+    D.equipment_table(doc, ctx)
+    doc.heading(tr("Deviations from the specification"), 2)                         # 8 m)
+    if c["deviations"]:
+        doc.bullets(c["deviations"], size=8.5)
+    else:
+        doc.para(tr("none"))
+    doc.heading(tr("Signatures"), 2)                                                # 8 n), appendix A
+    D.signatures(doc, [(tr("Calibrated by"), f["operator"]), (tr("Checked by"), f["checker"]),
+                       (tr("Issued by"), f["approver"], f["approver_title"] or DASH)])
+    doc.para(tr("The calibration results relate only to the item calibrated."), size=8.5)            # 8 o)
+    doc.para(tr("This certificate shall not be reproduced except in full without the written approval "
+                "of the laboratory."), size=8.5)                                                      # 8 p)
+    doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")), size=8.5)  # clause 9
+    D.annexes(doc, ctx)

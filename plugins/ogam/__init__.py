@@ -8,12 +8,10 @@ appendix B certificate template with its report-context entries.
 
 from __future__ import annotations
 
-from pathlib import Path
 
 from metro.core import hookimpl
 
 STANDARD_ID = "ogam"
-CERTIFICATE = Path(__file__).parent / "templates" / "certificate.docx"
 
 
 @hookimpl
@@ -40,7 +38,8 @@ def metro_register_stations(registrar) -> None:
 
 @hookimpl
 def metro_register_templates(registrar) -> None:
-    registrar.add_template("ogam-certificate", CERTIFICATE, standard=STANDARD_ID, kind="report")
+    registrar.add_template("ogam-certificate", standard=STANDARD_ID, kind="report",
+                           layout="metro.plugins.ogam.certificate:layout")
 
 
 @hookimpl

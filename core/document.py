@@ -1,0 +1,894 @@
+"""One document builder for every report and certificate metro writes.
+
+A plugin supplies only its appendix's content and order (a *layout*: a function
+``layout(doc, ctx)``); this module supplies the pieces every document shares:
+
+* A4 portrait, 20 mm margins; a header on every page with the title, the report number and
+  "page x of y" (Word fields), and the SIMULATED mark on every page when the data are simulated;
+* headings kept with what follows (``w:keepNext``);
+* tables whose header row repeats on every page (``w:tblHeader``), whose rows never split
+  across pages (``w:cantSplit``), and whose column widths are computed from their content: the
+  grid (``w:tblGrid``, which LibreOffice draws by) and every cell (``w:tcW``, which Word draws
+  by) carry the same widths, and no column is narrower than its longest unbreakable word, so a
+  number never breaks across lines (a number and its unit are joined by a no-break space);
+* symbols with real subscripts: ``K_l`` prints as K with a subscript l;
+* figures placed with their caption kept on the same page;
+* labels through the message catalog (:mod:`metro.core.locale`): ``--lang zh|en|zh+en``.
+
+Numbers are formatted before they get here, by :mod:`metro.core.report` (one notation,
+``×10ⁿ``).  python-docx is imported inside the functions.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+import unicodedata
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .locale import Translator
+
+__all__ = ["DocumentBuilder", "Layout", "subscript_runs", "glue", "column_widths", "TEXT_WIDTH_MM"]
+
+PAGE_W_MM, PAGE_H_MM, MARGIN_MM = 210.0, 297.0, 20.0
+TEXT_WIDTH_MM = PAGE_W_MM - 2 * MARGIN_MM
+BODY_PT = 9.5
+TABLE_PT = 8.5
+MIN_TABLE_PT = 6.5
+CELL_MARGIN_MM = 1.2
+HEAD_FILL = "D9E2EC"
+LABEL_FILL = "EEF2F6"
+LATIN_FONT = "Times New Roman"
+CJK_FONT = "SimSun"
+NBSP = "\u00a0"
+FIGURE_WIDTH_MM = 150.0
+
+#: a layout: fills the document from the report context
+Layout = Callable[["DocumentBuilder", dict], None]
+
+# ----------------------------------------------------------------------------------------
+# Text: subscripts, no-break spaces, width estimates
+# ----------------------------------------------------------------------------------------
+
+# a symbol with a subscript: one or two letters (Greek allowed, Δ prefix allowed), "_", then
+# 1–4 letters/digits or a braced group; not inside a longer word or a file name.
+_SUB = re.compile(r"(?<![\w./\\-])(Δ?[A-Za-zΑ-Ωα-ω][A-Za-zΑ-Ωα-ω]?)_(?:\{([^{}]{1,8})\}|([A-Za-z0-9]{1,4}))(?![\w.\\/-]*\.\w{2,4}\b)(?!\w)")
+
+
+def subscript_runs(text: str) -> list[tuple[str, bool]]:
+    """``text`` cut into (piece, is_subscript): ``"K_l = 3"`` → [("K", False), ("l", True), (" = 3", False)].
+
+    >>> subscript_runs("B_s and ΔB_V13; rate_table, t_startup, run_1.csv")
+    [('B', False), ('s', True), (' and ΔB', False), ('V13', True), ('; rate_table, t_startup, run_1.csv', False)]
+    """
+    out: list[tuple[str, bool]] = []
+    pos = 0
+    for m in _SUB.finditer(text):
+        out.append((text[pos:m.start()] + m.group(1), False))
+        out.append((m.group(2) or m.group(3), True))
+        pos = m.end()
+    out.append((text[pos:], False))
+    merged: list[tuple[str, bool]] = []
+    for piece, sub in out:
+        if not piece:
+            continue
+        if merged and merged[-1][1] == sub:
+            merged[-1] = (merged[-1][0] + piece, sub)
+        else:
+            merged.append((piece, sub))
+    return merged
+
+
+_NUM_UNIT = re.compile(r"(?<=[\d⁰¹²³⁴⁵⁶⁷⁸⁹%″′°∞]) (?=[^\s\d(=,;]{1,12}(?:[\s,;)]|$))")
+_EQ = re.compile(r"(?<=\b[A-Za-zνΔ]) = (?=[-−±\d(])|(?<=\b[A-Za-zνΔ]{2}) = (?=[-−±\d(])|(?<=[uUkK]) = ")
+
+
+_SMALL = re.compile(r"(?<![\w.\-/])(-?)0\.(000+)(\d+)(?![\w.])")
+_SUP = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def one_notation(text: str) -> str:
+    """Plain decimals below 0.001 as ×10ⁿ, so a value and its U print in one notation
+    (``0.0006021`` next to ``6.6×10⁻⁶`` → ``6.021×10⁻⁴``); every digit is kept.
+
+    >>> one_notation("0.0006021 and 6.6×10⁻⁶; 0.0012; run_0.0001.csv")
+    '6.021×10⁻⁴ and 6.6×10⁻⁶; 0.0012; run_0.0001.csv'
+    """
+    def sub(m: re.Match) -> str:
+        digits = m.group(3)
+        exp = -(len(m.group(2)) + 1)
+        mant = digits[0] + (f".{digits[1:]}" if len(digits) > 1 else "")
+        return f"{m.group(1)}{mant}×10{str(exp).translate(_SUP)}"
+
+    return _SMALL.sub(sub, text)
+
+
+def glue(text: str) -> str:
+    """No-break spaces where a line must not break: between a number and its unit
+    (``1.2 ppm``) and around ``=`` in ``k = 2`` / ``U = 0.4``.
+
+    >>> glue("U = 1.2 ppm (k = 2)") == "U\u00a0=\u00a01.2\u00a0ppm (k\u00a0=\u00a02)"
+    True
+    """
+    return _NUM_UNIT.sub(NBSP, _EQ.sub(f"{NBSP}={NBSP}", one_notation(text)))
+
+
+@functools.lru_cache(maxsize=2)
+def _metrics(bold: bool) -> Any:
+    """DejaVu Serif (matplotlib ships it; LibreOffice draws Times New Roman with it where Times is
+    not installed, and it is wider than Times, so widths measured with it fit either)."""
+    from pathlib import Path
+
+    import matplotlib
+    from matplotlib.ft2font import FT2Font
+
+    name = "DejaVuSerif-Bold.ttf" if bold else "DejaVuSerif.ttf"
+    font = FT2Font(str(Path(matplotlib.get_data_path()) / "fonts" / "ttf" / name))
+    font.set_size(100, 72)
+    return font
+
+
+@functools.lru_cache(maxsize=4096)
+def _char_em(c: str, bold: bool = False) -> float:
+    """Advance of one character in em: DejaVu Serif's, 1 em for CJK, 0.6 em for a glyph it lacks."""
+    if unicodedata.east_asian_width(c) in ("W", "F"):
+        return 1.0
+    font = _metrics(bold)
+    if not font.get_char_index(ord(c)):
+        return 0.6
+    glyph = font.load_char(ord(c))
+    return glyph.linearHoriAdvance / 65536 / 100
+
+
+def text_mm(text: str, pt: float, bold: bool = False) -> float:
+    """Width of ``text`` set at ``pt`` points, in millimetres (DejaVu Serif metrics)."""
+    return sum(_char_em(c, bold) for c in text) * pt * 25.4 / 72
+
+
+def _words(text: str) -> list[str]:
+    """The pieces a line may not break inside: split at ordinary spaces, line breaks and
+    between CJK characters (a no-break space joins)."""
+    out = []
+    for part in re.split(r"[ \n\t]+", text):
+        buf = ""
+        for c in part:
+            if unicodedata.east_asian_width(c) in ("W", "F") and c not in "（）":
+                if buf:
+                    out.append(buf)
+                out.append(c)
+                buf = ""
+            else:
+                buf += c
+        if buf:
+            out.append(buf)
+    return out
+
+
+def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
+                  bold_first: bool = True, bold_column: bool = False) -> list[float] | None:
+    """Column widths (mm) summing to ``total_mm`` for cells ``columns[j][i]`` at ``pt`` points,
+    or None when the longest unbreakable words alone do not fit.
+
+    Each column gets at least its longest word plus the cell margins; what is left is shared in
+    proportion to how much each column's longest cell still lacks, so short columns stay narrow
+    and text columns take the room."""
+    pad = 2 * CELL_MARGIN_MM + 0.8
+    mins, wants = [], []
+    for j, col in enumerate(columns):
+        bold = [bold_first and i == 0 or bold_column and j == 0 for i in range(len(col))]
+        mins.append(max((text_mm(w, pt, b) for cell, b in zip(col, bold) for w in _words(cell)), default=0.0)
+                    * 1.03 + pad)
+        wants.append(max((text_mm(cell, pt, b) for cell, b in zip(col, bold)), default=0.0) * 1.03 + pad)
+    if sum(mins) > total_mm:
+        return None
+    wants = [max(w, m) for w, m in zip(wants, mins)]
+    if sum(wants) <= total_mm:
+        spare = total_mm - sum(wants)
+        return [w + spare * w / sum(wants) for w in wants]
+    room = total_mm - sum(mins)
+    lack = [w - m for w, m in zip(wants, mins)]
+    # water-filling: columns that lack little get all they lack, the others share the rest
+    widths = list(mins)
+    open_ = [j for j in range(len(lack)) if lack[j] > 0]
+    while open_ and room > 1e-6:
+        share = room / len(open_)
+        done = [j for j in open_ if lack[j] <= share]
+        if not done:
+            for j in open_:
+                widths[j] += share
+            room = 0
+            break
+        for j in done:
+            widths[j] += lack[j]
+            room -= lack[j]
+            open_.remove(j)
+    return widths
+
+
+# ----------------------------------------------------------------------------------------
+# The builder
+# ----------------------------------------------------------------------------------------
+
+_TRPR_ORDER = ("w:cnfStyle", "w:divId", "w:gridBefore", "w:gridAfter", "w:wBefore", "w:wAfter",
+               "w:cantSplit", "w:trHeight", "w:tblHeader", "w:tblCellSpacing", "w:jc", "w:hidden")
+_TBLPR_ORDER = ("w:tblStyle", "w:tblpPr", "w:tblOverlap", "w:bidiVisual", "w:tblStyleRowBandSize",
+                "w:tblStyleColBandSize", "w:tblW", "w:jc", "w:tblCellSpacing", "w:tblInd", "w:tblBorders",
+                "w:shd", "w:tblLayout", "w:tblCellMar", "w:tblLook")
+_TCPR_ORDER = ("w:cnfStyle", "w:tcW", "w:gridSpan", "w:hMerge", "w:vMerge", "w:tcBorders",
+               "w:shd", "w:noWrap", "w:tcMar", "w:textDirection", "w:tcFitText", "w:vAlign")
+
+
+def _el(tag: str, **attrs: str):
+    from docx.oxml import OxmlElement
+    from docx.oxml.ns import qn
+
+    el = OxmlElement(tag)
+    for k, v in attrs.items():
+        el.set(qn(f"w:{k}"), v)
+    return el
+
+
+def _insert_ordered(parent, child, order: tuple[str, ...]) -> None:
+    from docx.oxml.ns import qn
+
+    tags = [qn(t) for t in order]
+    later = set(tags[tags.index(child.tag) + 1:])
+    for existing in parent:
+        if existing.tag == child.tag:
+            parent.replace(existing, child)
+            return
+    for existing in parent:
+        if existing.tag in later:
+            existing.addprevious(child)
+            return
+    parent.append(child)
+
+
+def _twips(mm: float) -> int:
+    return int(round(mm / 25.4 * 1440))
+
+
+class DocumentBuilder:
+    """A Word document laid out the one way metro's documents are.
+
+    :param number: the report or certificate number (from the run record), printed in every header.
+    :param title: the document title (header and first line).
+    :param tr: the translator (:func:`metro.core.locale.translator`).
+    :param simulated: put the SIMULATED mark in every page header.
+    :param footer: footer text (the software that wrote the document).
+    """
+
+    def __init__(self, *, number: str, title: str, tr: "Translator", simulated: bool = False,
+                 footer: str = ""):
+        import docx
+        from docx.oxml.ns import qn
+        from docx.shared import Mm, Pt
+
+        self.tr = tr
+        self.number = number
+        self.title = title
+        self.simulated = simulated
+        self.doc = docx.Document()
+        sec = self.doc.sections[0]
+        sec.page_width, sec.page_height = Mm(PAGE_W_MM), Mm(PAGE_H_MM)
+        for side in ("left_margin", "right_margin", "top_margin", "bottom_margin"):
+            setattr(sec, side, Mm(MARGIN_MM))
+        sec.header_distance = sec.footer_distance = Mm(10)
+        for name in ("Normal", "Heading 1", "Heading 2", "Heading 3", "Title"):
+            st = self.doc.styles[name]
+            st.font.name = LATIN_FONT
+            rpr = st.element.get_or_add_rPr()
+            fonts = rpr.find(qn("w:rFonts"))
+            if fonts is None:
+                fonts = _el("w:rFonts")
+                rpr.insert(0, fonts)
+            for attr in ("w:ascii", "w:hAnsi", "w:cs"):
+                fonts.set(qn(attr), LATIN_FONT)
+            fonts.set(qn("w:eastAsia"), CJK_FONT)
+            for attr in ("w:asciiTheme", "w:hAnsiTheme", "w:eastAsiaTheme", "w:cstheme"):
+                if fonts.get(qn(attr)) is not None:
+                    del fonts.attrib[qn(attr)]
+            st.font.color.rgb = None
+        self.doc.styles["Normal"].font.size = Pt(BODY_PT)
+        pf = self.doc.styles["Normal"].paragraph_format
+        pf.space_after = Pt(2)
+        pf.space_before = Pt(0)
+        pf.widow_control = True
+        for name, size in (("Heading 1", 12), ("Heading 2", 10.5), ("Heading 3", 9.5)):
+            st = self.doc.styles[name]
+            st.font.size = Pt(size)
+            st.font.bold = True
+            st.font.italic = False
+            st.paragraph_format.space_before = Pt(8 if name != "Heading 3" else 5)
+            st.paragraph_format.space_after = Pt(3)
+            st.paragraph_format.keep_with_next = True
+        self._header(footer)
+
+    # -- page furniture ------------------------------------------------------------------
+
+    def _field(self, paragraph, instr: str, shown: str) -> None:
+        fld = _el("w:fldSimple", instr=f" {instr} \\* MERGEFORMAT ")
+        r = _el("w:r")
+        t = _el("w:t")
+        t.text = shown
+        r.append(t)
+        fld.append(r)
+        paragraph._p.append(fld)
+
+    def _header(self, footer: str) -> None:
+        from docx.enum.text import WD_TAB_ALIGNMENT
+        from docx.shared import Mm, Pt, RGBColor
+
+        sec = self.doc.sections[0]
+        for name in ("Header", "Footer"):
+            self.doc.styles[name].paragraph_format.tab_stops.clear_all()
+        head = sec.header.paragraphs[0]
+        head.paragraph_format.tab_stops.add_tab_stop(Mm(TEXT_WIDTH_MM), WD_TAB_ALIGNMENT.RIGHT)
+        r = head.add_run(glue(f"{self.tr('Report No.')} {self.number}"))
+        r.font.size = Pt(8)
+        r = head.add_run("\t")
+        # "page x of y": the catalog's sentence, with the two numbers as PAGE and NUMPAGES fields
+        pattern = self.tr("Page {page} of {pages}")
+        for piece in re.split(r"(\{page\}|\{pages\})", pattern):
+            if piece == "{page}":
+                self._field(head, "PAGE", "1")
+            elif piece == "{pages}":
+                self._field(head, "NUMPAGES", "1")
+            elif piece:
+                head.add_run(piece.replace(" ", NBSP)).font.size = Pt(8)
+        if self.simulated:
+            p = sec.header.add_paragraph()
+            run = p.add_run(self.tr("SIMULATED — not a measurement of a real device"))
+            run.bold = True
+            run.font.size = Pt(8.5)
+            run.font.color.rgb = RGBColor(0xB0, 0x1C, 0x1C)
+        foot = sec.footer.paragraphs[0]
+        foot.paragraph_format.tab_stops.add_tab_stop(Mm(TEXT_WIDTH_MM), WD_TAB_ALIGNMENT.RIGHT)
+        run = foot.add_run(f"{self.number}\t{footer}")
+        run.font.size = Pt(7.5)
+
+    # -- text ------------------------------------------------------------------------------
+
+    def runs(self, paragraph, text: str, *, bold: bool = False, size: float | None = None,
+             italic: bool = False, color: str | None = None) -> None:
+        """Add ``text`` to ``paragraph`` with real subscripts and no-break spaces."""
+        from docx.shared import Pt, RGBColor
+
+        text = glue(str(text))
+        lines = text.split("\n")
+        for n, line in enumerate(lines):
+            for piece, sub in subscript_runs(line):
+                r = paragraph.add_run(piece)
+                if bold:
+                    r.bold = True
+                if italic:
+                    r.italic = True
+                if size:
+                    r.font.size = Pt(size)
+                if sub:
+                    r.font.subscript = True
+                if color:
+                    r.font.color.rgb = RGBColor.from_string(color)
+            if n < len(lines) - 1:
+                paragraph.add_run().add_break()
+
+    def heading(self, text: str, level: int = 1):
+        p = self.doc.add_heading(level=level)
+        self.runs(p, text)
+        p.paragraph_format.keep_with_next = True
+        return p
+
+    def title_block(self, title: str, subtitle: str = "") -> None:
+        from docx.enum.text import WD_ALIGN_PARAGRAPH
+
+        p = self.doc.add_paragraph()
+        p.alignment = WD_ALIGN_PARAGRAPH.CENTER
+        self.runs(p, title, bold=True, size=16)
+        p.paragraph_format.space_after = self._pt(4)
+        if subtitle:
+            p = self.doc.add_paragraph()
+            p.alignment = WD_ALIGN_PARAGRAPH.CENTER
+            self.runs(p, subtitle, size=10)
+
+    @staticmethod
+    def _pt(v: float):
+        from docx.shared import Pt
+
+        return Pt(v)
+
+    def para(self, text: str, *, bold: bool = False, size: float | None = None, keep_next: bool = False,
+             italic: bool = False, color: str | None = None, box: bool = False):
+        p = self.doc.add_paragraph()
+        self.runs(p, text, bold=bold, size=size, italic=italic, color=color)
+        if keep_next:
+            p.paragraph_format.keep_with_next = True
+        if box:
+            ppr = p._p.get_or_add_pPr()
+            bdr = _el("w:pBdr")
+            for side in ("top", "left", "bottom", "right"):
+                bdr.append(_el(f"w:{side}", val="single", sz="8", space="4", color="B01C1C"))
+            ppr.insert(0, bdr)
+        return p
+
+    def bullets(self, lines: Iterable[str], *, size: float | None = None) -> None:
+        for line in lines:
+            p = self.para("• " + line, size=size)
+            p.paragraph_format.left_indent = self._pt(10)
+            p.paragraph_format.first_line_indent = self._pt(-7)
+
+    def page_break(self) -> None:
+        from docx.enum.text import WD_BREAK
+
+        self.doc.add_paragraph().add_run().add_break(WD_BREAK.PAGE)
+
+    # -- tables ----------------------------------------------------------------------------
+
+    def table(self, header: Sequence[str] | None, rows: Sequence[Sequence[str]], *,
+              font_pt: float = TABLE_PT, label_column: bool = False, width_mm: float = TEXT_WIDTH_MM,
+              shade: Sequence[int] = ()):
+        """A bordered table: ``header`` (repeated on every page; None for a label/value table),
+        then ``rows`` (each row kept on one page).  ``label_column`` shades and bolds the first
+        column (label/value tables).  ``shade`` lists row indexes to shade (summary rows).
+        Column widths fit the content (:func:`column_widths`); the font shrinks (to 6.5 pt) only
+        when the longest words would not fit otherwise."""
+        from docx.enum.table import WD_TABLE_ALIGNMENT
+        from docx.oxml.ns import qn
+        from docx.shared import Pt
+
+        rows = [[glue(str(c)) for c in r] for r in rows]
+        head = [glue(str(h)) for h in header] if header else None
+        n = len(head) if head else max(len(r) for r in rows)
+        rows = [list(r) + [""] * (n - len(r)) for r in rows]
+        everything = ([head] if head else []) + rows
+        cols = [[r[j] for r in everything] for j in range(n)]
+        pt = font_pt
+        widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column)
+        while widths is None and pt > MIN_TABLE_PT:
+            pt = max(MIN_TABLE_PT, pt - 0.5)
+            widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column)
+        if widths is None:  # still too wide: equal shares (a word may then break)
+            widths = [width_mm / n] * n
+        t = self.doc.add_table(rows=len(everything), cols=n)
+        t.style = "Table Grid"
+        t.alignment = WD_TABLE_ALIGNMENT.CENTER
+        t.autofit = False
+        tbl = t._tbl
+        tblPr = tbl.tblPr
+        _insert_ordered(tblPr, _el("w:tblW", w=str(sum(_twips(w) for w in widths)), type="dxa"), _TBLPR_ORDER)
+        _insert_ordered(tblPr, _el("w:tblLayout", type="fixed"), _TBLPR_ORDER)
+        mar = _el("w:tblCellMar")
+        for side in ("left", "right"):
+            mar.append(_el(f"w:{side}", w=str(_twips(CELL_MARGIN_MM)), type="dxa"))
+        _insert_ordered(tblPr, mar, _TBLPR_ORDER)
+        grid = tbl.tblGrid
+        for gc, w in zip(grid.findall(qn("w:gridCol")), widths):
+            gc.set(qn("w:w"), str(_twips(w)))
+        for i, (row, values) in enumerate(zip(t.rows, everything)):
+            trPr = row._tr.get_or_add_trPr()
+            _insert_ordered(trPr, _el("w:cantSplit"), _TRPR_ORDER)
+            is_head = head is not None and i == 0
+            if is_head:
+                _insert_ordered(trPr, _el("w:tblHeader"), _TRPR_ORDER)
+            for j, (cell, value, w) in enumerate(zip(row.cells, values, widths)):
+                tcPr = cell._tc.get_or_add_tcPr()
+                _insert_ordered(tcPr, _el("w:tcW", w=str(_twips(w)), type="dxa"), _TCPR_ORDER)
+                bold = is_head or (label_column and j == 0)
+                fill = HEAD_FILL if is_head else (LABEL_FILL if (label_column and j == 0) or
+                                                  (i - (1 if head else 0)) in shade else None)
+                if fill:
+                    _insert_ordered(tcPr, _el("w:shd", val="clear", color="auto", fill=fill), _TCPR_ORDER)
+                p = cell.paragraphs[0]
+                p.paragraph_format.space_after = Pt(0)
+                if is_head or i < len(everything) - 1:
+                    p.paragraph_format.keep_with_next = is_head
+                self.runs(p, value, bold=bold, size=pt)
+        return t
+
+    def kv(self, pairs: Sequence[tuple[str, str]], *, font_pt: float = 9.0):
+        """A label/value table (identification, signatures)."""
+        return self.table(None, [(a, b) for a, b in pairs], font_pt=font_pt, label_column=True)
+
+    def caption(self, text: str):
+        from docx.enum.text import WD_ALIGN_PARAGRAPH
+
+        p = self.para(text, size=8.5, italic=True)
+        p.alignment = WD_ALIGN_PARAGRAPH.CENTER
+        return p
+
+    def figure(self, image_path: str, caption: str, *, width_mm: float = 150.0) -> None:
+        """A figure with its caption below, the two kept on one page."""
+        from docx.enum.text import WD_ALIGN_PARAGRAPH
+        from docx.shared import Mm
+
+        p = self.doc.add_paragraph()
+        p.alignment = WD_ALIGN_PARAGRAPH.CENTER
+        p.paragraph_format.keep_with_next = True
+        p.add_run().add_picture(str(image_path), width=Mm(width_mm))
+        self.caption(caption)
+
+    def save(self, path) -> None:
+        self.doc.save(str(path))
+
+
+def fit_check(widths: Sequence[float], total: float = TEXT_WIDTH_MM) -> bool:
+    return math.isclose(sum(widths), total, abs_tol=0.5)
+
+
+# ----------------------------------------------------------------------------------------
+# Sections every document may use (a layout picks them and adds its appendix's own)
+# ----------------------------------------------------------------------------------------
+
+DASH = "—"
+
+
+def or_dash(v: Any) -> str:
+    """Text, or "—" when empty (a missing fact shows as missing)."""
+    s = "" if v is None else str(v).strip()
+    return s or DASH
+
+
+def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
+    """(value with unit, "U = … (k = …)") of a result row of the report context; a result not
+    reportable says so, with its reason, in place of its value."""
+    tr = doc.tr
+    if not r.get("reportable", True):
+        return tr("not reportable: {reason}", reason=r.get("reason") or DASH), DASH
+    U = r.get("U_unit") or DASH
+    if U == DASH:
+        return r["value_unit"], tr("not evaluated")
+    if U.startswith("u = "):
+        return r["value_unit"], U
+    return r["value_unit"], f"U = {U} (k = {r['k']})"
+
+
+def result_fields(result: Any) -> dict:
+    """A :class:`~metro.core.model.Result` as the report context shows it: ``value_unit``,
+    ``U_unit`` (``—`` without a budget), ``k``, ``reportable``, ``reason``, ``earth_rate``,
+    ``note``, ``quantity``, ``symbol`` … (numbers rounded as :meth:`Result.reported` rounds them)."""
+    from .report import _result_row
+
+    return _result_row(result)
+
+
+def with_unit_text(num: str, unit: str) -> str:
+    """``num unit``; no unit for a dimensionless one (``1`` or empty)."""
+    return num if unit in ("", "1", DASH) else f"{num} {unit}"
+
+
+def quantity_name(r: dict) -> str:
+    """A result's name for a document: its quantity and symbol, never its code key."""
+    name, sym = r.get("quantity") or "", r.get("symbol") or ""
+    return f"{name} {sym}".strip() if sym and sym not in name else (name or sym or r.get("key", ""))
+
+
+def quantity_for(ctx: dict, item: str, key: str) -> str:
+    """The name and symbol of result ``key`` of ``item`` in the context (the key if not found)."""
+    for o in ctx["outcomes"]:
+        if o["item"] == item:
+            for r in o["results"]:
+                if r["key"] == key:
+                    return quantity_name(r)
+    return key
+
+
+def identification(doc: DocumentBuilder, ctx: dict, rows: Sequence[tuple[str, str]] = ()) -> None:
+    """Laboratory, customer, device, dates, then ``rows`` (the appendix's own)."""
+    tr, f, dev = doc.tr, ctx["facts"], ctx["device"]
+    pairs = [
+        (tr("Report No."), ctx["report_number"]),
+        (tr("Laboratory"), or_dash(f["lab"])),
+        (tr("Laboratory address"), or_dash(f["lab_address"])),
+        (tr("Customer"), or_dash(f["customer"])),
+        (tr("Customer address"), or_dash(f["customer_address"])),
+        (tr("Device"), f"{dev['description']} ({tr('id')} {dev['id']})"),
+        (tr("Date of measurement"), or_dash(f["measured"])),
+        (tr("Date received"), or_dash(f["received"])),
+        (tr("Date of issue"), or_dash(f["issued"])),
+    ]
+    doc.kv(pairs + list(rows))
+
+
+def results_table(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None,
+                  verdicts: dict | None = None) -> None:
+    """One table of every result: item, quantity, value, U (k) [, verdict]."""
+    tr = doc.tr
+    outcomes = ctx["outcomes"] if outcomes is None else outcomes
+    header = [tr("Item"), tr("Quantity"), tr("Result"), tr("Expanded uncertainty")]
+    if verdicts is not None:
+        header.append(tr("Verdict"))
+    rows = []
+    for o in outcomes:
+        for r in o["results"]:
+            v, U = result_cells(doc, r)
+            row = [o["item"], quantity_name(r), v, U]
+            if verdicts is not None:
+                row.append(verdicts.get((o["item"], r["key"]), DASH))
+            rows.append(row)
+    doc.table(header, rows)
+
+
+def environment_table(doc: DocumentBuilder, ctx: dict) -> None:
+    tr = doc.tr
+    rows = [(tr(n["name"].capitalize()) if n["name"].islower() else n["name"], n["value"])
+            for n in ctx["environment"]]
+    if rows:
+        doc.kv(rows)
+    else:
+        doc.para(tr("not recorded"))
+
+
+_STATUS_MSGS = ("no calibration data given", "no due date stated")
+
+
+def equipment_table(doc: DocumentBuilder, ctx: dict) -> None:
+    """The measurement standards used, their certificates, U with unit and status on the day
+    of measurement."""
+    tr = doc.tr
+    rows = [[f"{e['description']} ({e['id']})", or_dash(e["role"]), e["certificate"],
+             e["U"] + (f" ({tr('relative')})" if e.get("U_relative") else ""), e["due"],
+             tr(e["status"]) if e["status"] in _STATUS_MSGS else e["status"]] for e in ctx["equipment"]]
+    if not rows:
+        doc.para(tr("No equipment recorded."))
+        return
+    doc.table([tr("Equipment"), tr("Role"), tr("Certificate"), tr("Uncertainty"), tr("Due"),
+               tr("Status on the date of measurement")], rows)
+    for w in ctx["equipment_warnings"]:
+        doc.para(w, color="B01C1C")
+
+
+def notes_section(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None,
+                  include_warnings: bool = True) -> None:
+    """Result notes, earth-rate statements and warnings, each text once (naming where it applies)."""
+    tr = doc.tr
+    outcomes = ctx["outcomes"] if outcomes is None else outcomes
+    seen: dict[str, list[str]] = {}
+    for o in outcomes:
+        for r in o["results"]:
+            who = f"{o['item']} {r.get('symbol') or r.get('quantity')}".strip()
+            if r.get("note"):
+                seen.setdefault(r["note"], []).append(who)
+            er = r.get("earth_rate")
+            if er:
+                seen.setdefault(tr("Earth rate: {how}", how=tr.msg(er)), []).append(who)
+        for w in (o["warnings"] if include_warnings else ()):
+            seen.setdefault(w, []).append(o["item"])
+    lines = []
+    for text, where in seen.items():
+        where = list(dict.fromkeys(where))
+        lines.append(f"{', '.join(where)}: {text}" if len(where) <= 6 else
+                     f"{', '.join(where[:6])} {tr('and {n} more', n=len(where) - 6)}: {text}")
+    if lines:
+        doc.bullets(lines, size=8.5)
+    else:
+        doc.para(tr("none"))
+
+
+def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]]) -> None:
+    """Signature rows: (role, name) or (role, name, title — 职务); each row is tall enough to sign."""
+    from docx.shared import Mm
+
+    tr = doc.tr
+    titled = any(len(r) > 2 and r[2] for r in roles)
+    header = [tr("Role"), tr("Name")] + ([tr("Title")] if titled else []) + [tr("Signature"), tr("Date")]
+    rows = [[r[0], or_dash(r[1])] + ([or_dash(r[2] if len(r) > 2 else "")] if titled else [])
+            + ["\u2003" * 12, "\u2003" * 6] for r in roles]
+    t = doc.table(header, rows, font_pt=9)
+    for row in t.rows[1:]:
+        row.height = Mm(11)
+
+
+def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
+    """Every uncertainty budget: sources, type, distribution, value, divisor, cᵢ, contribution, ν;
+    then u_c, ν_eff, k and U."""
+    tr = doc.tr
+    outcomes = ctx["outcomes"] if outcomes is None else outcomes
+    for o in outcomes:
+        for b in o["budgets"]:
+            doc.heading(f"{o['item']} — {b['title']}", level=3)
+            unit = "" if b["unit"] == "1" else f" ({b['unit']})"
+            rows = [[x["source"], x["symbol"], x["type"], tr(x["distribution"]), x["value"], x["divisor"],
+                     x["sensitivity"], x["contribution"] + unit, x["dof"]] for x in b["rows"]]
+            n = len(rows)
+            rows.append([tr("combined standard uncertainty"), "u_c", "", "", "", "", "", b["u_c"] + unit, b["nu_eff"]])
+            rows.append([tr("expanded uncertainty"), "U", "", "", "", "", "", f"{b['U']}", f"k = {b['k']}"])
+            doc.table([tr("Source"), tr("Symbol"), tr("Type"), tr("Distribution"), tr("Value"), tr("Divisor"),
+                       "c_i", "u_i(y)", "ν_i"], rows, font_pt=7.5, shade=(n, n + 1))
+            if b.get("note"):
+                doc.para(b["note"], size=8)
+
+
+def tables_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
+    outcomes = ctx["outcomes"] if outcomes is None else outcomes
+    for o in outcomes:
+        for t in o["tables"]:
+            doc.para(f"{o['item']} — {t['title']}", bold=True, keep_next=True)
+            doc.table(t["header"], t["rows"], font_pt=7.5)
+
+
+def figures_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
+    tr = doc.tr
+    outcomes = ctx["outcomes"] if outcomes is None else outcomes
+    for o in outcomes:
+        for p in o["plots"]:
+            if p.get("image"):
+                doc.figure(p["image"], f"{tr('Figure')} {p['number']}: {p['caption']}", width_mm=FIGURE_WIDTH_MM)
+
+
+def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
+    """Software and plugin versions, then the data's SHA-256 in one compact table (full digests
+    for up to 24 files; beyond that the first 16 hex digits, three to a row, and one SHA-256 over
+    the sorted list, which the run record's --json output lists in full)."""
+    import hashlib
+
+    tr = doc.tr
+    prov = ctx["provenance"]
+    sw = ", ".join(f"{s['name']} {s['version']}" for s in prov["software"])
+    pl = ", ".join(f"{p['name']} {p['version']}" for p in prov["plugins"])
+    doc.kv([(tr("Software"), sw or DASH), (tr("Plugins"), pl or DASH),
+            (tr("Data source"), or_dash(prov["source"])), (tr("Campaign"), ctx["campaign"]["id"]),
+            (tr("Processed"), ctx["facts"]["processed"])], font_pt=8)
+    if ctx["truth"]:
+        doc.para(tr("Declared truth of the simulated device"), bold=True, keep_next=True)
+        doc.kv([(t["name"], t["value"]) for t in ctx["truth"]], font_pt=8)
+    files = [f for f in prov["data_files"] if f.get("sha256")]
+    if not files:
+        return
+    lines = sorted(f"{f['sha256']}  {f['file']}\n" for f in files)
+    digest = hashlib.sha256("".join(lines).encode("utf-8")).hexdigest()
+    doc.para(f"{tr('SHA-256 of the sorted list of data digests')}: {digest}", size=8, keep_next=True)
+    if len(files) <= 24:
+        doc.table([tr("Data"), "SHA-256"], [[f["file"], f["sha256"]] for f in files], font_pt=7)
+        return
+    cells = [f"{_short_name(f['file'])} {f['sha256'][:16]}" for f in files]
+    rows = [cells[i:i + 3] for i in range(0, len(cells), 3)]
+    doc.table([tr("Data (SHA-256, first 16 hex digits)")] * 3, rows, font_pt=6.5)
+
+
+def _short_name(name: str) -> str:
+    import os
+
+    return os.path.basename(name) if ("/" in name or "\\" in name) else name
+
+
+def generic_layout(doc: DocumentBuilder, ctx: dict) -> None:
+    """The report of a standard without a layout of its own."""
+    tr = doc.tr
+    doc.title_block(tr("Test report"), ctx["items_text"])
+    identification(doc, ctx, [(tr("Standard"), ctx["standards_text"])])
+    doc.heading(tr("Results"), 1)
+    results_table(doc, ctx)
+    doc.heading(tr("Notes"), 2)
+    notes_section(doc, ctx)
+    doc.heading(tr("Environment"), 2)
+    environment_table(doc, ctx)
+    doc.heading(tr("Equipment"), 2)
+    equipment_table(doc, ctx)
+    doc.heading(tr("Conformity"), 2)
+    conformity_section(doc, ctx)
+    doc.heading(tr("Signatures"), 2)
+    f = ctx["facts"]
+    signatures(doc, [(tr("Tested by"), f["operator"]), (tr("Checked by"), f["checker"]),
+                     (tr("Approved by"), f["approver"], f["approver_title"])])
+    doc.para(tr("The results relate only to the item tested. This report shall not be reproduced "
+                "except in full without the written approval of the laboratory."), size=8.5)
+    annexes(doc, ctx)
+
+
+def conformity_section(doc: DocumentBuilder, ctx: dict) -> None:
+    """The decision rule and every verdict with its reason (or: no statement is made)."""
+    tr = doc.tr
+    a = ctx["conformity"]
+    if a is None:
+        doc.para(tr("No specification was given: this report makes no statement of conformity."))
+        return
+    doc.para(f"{tr('Decision rule')}: {a['rule_title']}")
+    doc.para(a["statement"], size=8.5)
+    doc.para(f"{tr('Overall verdict')}: {tr(_VERDICT.get(a['overall'], a['overall']))}", bold=True)
+    doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Source"), tr("Verdict"), tr("Reason")],
+              [[v["item"], quantity_for(ctx, v["item"], v["key"]), v["limit"], v["source"],
+                tr(_VERDICT.get(v["status"], v["status"])),
+                v["reason"]] for v in a["verdicts"]], font_pt=8)
+    if a["not_assessed"]:
+        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(a["not_assessed"]), size=8.5)
+
+
+_VERDICT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}
+
+
+def annexes(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None,
+            first: str = "A") -> None:
+    """Budgets, data tables, figures and provenance as annexes A, B, C, D."""
+    tr = doc.tr
+    outcomes = ctx["outcomes"] if outcomes is None else outcomes
+    letter = ord(first)
+    parts = [("Uncertainty budgets", budgets_annex, any(o["budgets"] for o in outcomes)),
+             ("Data tables", tables_annex, any(o["tables"] for o in outcomes)),
+             ("Figures", figures_annex, any(o["plots"] for o in outcomes)),
+             ("Provenance", lambda d, c, _o: provenance_annex(d, c), True)]
+    for title, fn, present in parts:
+        if not present:
+            continue
+        doc.heading(f"{tr('Annex')} {chr(letter)} {tr(title)}", 1)
+        fn(doc, ctx, outcomes)
+        letter += 1
+
+
+# ----------------------------------------------------------------------------------------
+# PDF through LibreOffice
+# ----------------------------------------------------------------------------------------
+
+
+def soffice_path() -> str:
+    """The LibreOffice program (``soffice`` or ``libreoffice`` on PATH, or ``$METRO_SOFFICE``);
+    a clear error when there is none."""
+    import os
+    import shutil
+
+    from .errors import MetroError
+
+    given = os.environ.get("METRO_SOFFICE")
+    for cand in ([given] if given else []) + ["soffice", "libreoffice"]:
+        found = shutil.which(cand)
+        if found:
+            return found
+    raise MetroError("a PDF needs LibreOffice, and neither soffice nor libreoffice is on PATH",
+                     hint="install LibreOffice (e.g. apt-get install libreoffice-writer-nogui), set "
+                          "METRO_SOFFICE to its soffice, or write the .docx and convert it yourself")
+
+
+def to_pdf(docx_path, pdf_path, *, timeout: float = 300.0) -> None:
+    """Convert ``docx_path`` to PDF/A-2b at ``pdf_path`` with LibreOffice headless.
+
+    The conversion runs in a temporary directory with its own LibreOffice user profile
+    (``-env:UserInstallation``), so several conversions at once do not collide."""
+    import shutil
+    import subprocess
+    import tempfile
+    from pathlib import Path
+
+    from .errors import MetroError
+
+    exe = soffice_path()
+    with tempfile.TemporaryDirectory(prefix="metro-pdf-") as tmp:
+        tmp = Path(tmp)
+        src = tmp / "document.docx"
+        shutil.copyfile(docx_path, src)
+        profile = (tmp / "profile").as_uri()
+        # SelectPdfVersion 2 = PDF/A-2b (LibreOffice ≥ 7.4 reads the filter options as JSON)
+        target = 'pdf:writer_pdf_Export:{"SelectPdfVersion":{"type":"long","value":"2"}}'
+        cmd = [exe, f"-env:UserInstallation={profile}", "--headless", "--norestore", "--convert-to", target,
+               "--outdir", str(tmp / "out"), str(src)]
+        try:
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired as exc:
+            raise MetroError(f"LibreOffice did not convert {docx_path} to PDF within {timeout:g} s") from exc
+        out = tmp / "out" / "document.pdf"
+        if proc.returncode != 0 or not out.is_file():
+            raise MetroError(f"LibreOffice could not convert {docx_path} to PDF (exit {proc.returncode})",
+                             hint=(proc.stderr or proc.stdout).strip()[-300:] or None)
+        shutil.copyfile(out, pdf_path)
+
+
+def layout_digest(layout: Any) -> str:
+    """A SHA-256 that changes when a layout's document would: over the source of the layout's
+    module, this module and the message catalog (the register keeps it as the report's template
+    identity, as it keeps a docxtpl template's file hash)."""
+    import hashlib
+    import importlib
+    import inspect
+    from importlib import resources
+    from pathlib import Path
+
+    if layout is None:
+        module = __name__
+    elif callable(layout):
+        module = layout.__module__
+    else:
+        module = str(layout).partition(":")[0]
+    h = hashlib.sha256()
+    for mod in dict.fromkeys((module, __name__)):
+        h.update(Path(inspect.getfile(importlib.import_module(mod))).read_bytes())
+    h.update((resources.files("metro.core.locale") / "zh" / "LC_MESSAGES" / "metro.po").read_bytes())
+    return h.hexdigest()

@@ -1,0 +1,47 @@
+"""``python -m metro.core.locale [--update]``: the message ids the code passes to ``tr(…)``
+(Babel's Python extractor over metro.core and metro.plugins) that ``zh/LC_MESSAGES/metro.po``
+lacks; ``--update`` adds them to the catalog with an empty translation, to be filled in."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def used_messages() -> dict[str, list[str]]:
+    """{message id: [file:line, …]} of every ``tr("…")`` in metro's core and plugins."""
+    from babel.messages.extract import extract_from_dir
+
+    import metro.core
+    import metro.plugins
+
+    out: dict[str, list[str]] = {}
+    for sub, pkg in (("core", metro.core), ("plugins", metro.plugins)):
+        for fname, lineno, msg, _comments, _ctx in extract_from_dir(
+                str(Path(pkg.__file__).parent), method_map=[("**.py", "python")], keywords={"tr": None}):
+            if isinstance(msg, str):
+                out.setdefault(msg, []).append(f"{sub}/{fname}:{lineno}")
+    return out
+
+
+def main(argv: list[str]) -> int:
+    from babel.messages.pofile import read_po, write_po
+
+    po = Path(__file__).parent / "zh" / "LC_MESSAGES" / "metro.po"
+    with po.open("rb") as fh:
+        cat = read_po(fh, locale="zh")
+    used = used_messages()
+    missing = [m for m in used if m not in cat or not cat[m].string]
+    for m in missing:
+        print(f"{m!r}  ({', '.join(used[m][:2])})")
+    if "--update" in argv:
+        for m in missing:
+            if m not in cat:
+                cat.add(m, "")
+        with po.open("wb") as fh:
+            write_po(fh, cat, width=0, sort_output=True, omit_header=False)
+    return 1 if missing and "--update" not in argv else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
