@@ -25,6 +25,7 @@ import hashlib
 import json
 import math
 import os
+import threading
 import time
 import traceback
 from pathlib import Path
@@ -113,6 +114,10 @@ def sha256_of(path: Path) -> str:
 # -- on a worker ----------------------------------------------------------------------------
 
 _PMS: dict[tuple, Any] = {}
+#: one campaign at a time per worker process: matplotlib (report figures) and the plugin
+#: manager's hooks are not thread-safe, so a worker started with several threads still
+#: evaluates one campaign at a time (start workers with --nthreads 1 and more --nworkers)
+_ONE_AT_A_TIME = threading.Lock()
 
 
 def _worker_pm(autoload: bool | None, block: tuple[str, ...]):
@@ -129,6 +134,11 @@ def evaluate_campaign(job: Job, manifest: str, name: str, sha256: str) -> dict[s
     """Evaluate one campaign as ``metro run --data MANIFEST`` does and write its report and JSON
     document under ``OUT/devices/NAME/``.  Never raises: an error comes back as
     ``{"status": "error", …}`` with its type, message and hint (a traceback for a bug)."""
+    with _ONE_AT_A_TIME:
+        return _evaluate(job, manifest, name, sha256)
+
+
+def _evaluate(job: Job, manifest: str, name: str, sha256: str) -> dict[str, Any]:
     from types import SimpleNamespace
 
     from . import present
@@ -136,7 +146,7 @@ def evaluate_campaign(job: Job, manifest: str, name: str, sha256: str) -> dict[s
     from .cli_register import write_run_report
     from .runner import run_items
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     base = {"campaign": manifest, "name": name, "sha256": sha256, "worker_pid": os.getpid()}
     try:
         pm = _worker_pm(job.autoload, job.block)
@@ -156,7 +166,7 @@ def evaluate_campaign(job: Job, manifest: str, name: str, sha256: str) -> dict[s
         return base | {"status": "evaluated", "overall": overall, "exit_code": exit_code_for(overall),
                        "report": str(report), "json": str(doc_path), "report_number": record.report_number,
                        "registered": bool(registration and registration.get("registered")),
-                       "seconds": time.perf_counter() - t0, "doc": doc}
+                       "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0, "doc": doc}
     except MetroError as exc:
         return base | {"status": "error", "error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
                        "seconds": time.perf_counter() - t0}
@@ -269,7 +279,7 @@ def _evaluate_on_dask(job: Job, todo: Sequence[tuple[str, str, str]], *, schedul
                              "--scheduler for a local cluster") from exc
     else:
         n = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                                silence_logs=logging.ERROR)
         client = Client(cluster)
         client.wait_for_workers(n)
@@ -471,7 +481,7 @@ def write_lot_summary(job: Job, outcomes: Sequence[Mapping[str, Any]], out: Path
             counts[o.get("overall") or "not judged"] += 1
         devices.append({k: o.get(k) for k in ("name", "campaign", "sha256", "status", "overall", "report", "json",
                                               "report_number", "registered", "error", "message", "hint", "skipped",
-                                              "seconds")})
+                                              "seconds", "cpu_seconds")})
     summary = {"standard": job.standard, "items": list(job.items), "all": job.run_all, "campaigns": len(outcomes),
                "counts": counts, "devices": devices, "statistics": stats, "histograms": hists,
                "files": {name: str(out / name) for name in SUMMARY_FILES}}
