@@ -55,6 +55,19 @@ class Job:
     lab: str | None = None
     register_simulated: bool = False
     allow_expired: bool = False
+    #: the report's language (None: the lab profile's, else zh+en) and whether a PDF goes beside it
+    lang: str | None = None
+    pdf: bool = False
+
+    def run_args(self, folder: Path) -> Any:
+        """The arguments `metro run --data … --out FOLDER` would hold for this job (for the
+        register's ``run_lab_options`` and ``write_run_report``, the one way runs write reports)."""
+        from types import SimpleNamespace
+
+        return SimpleNamespace(command="batch", lab=self.lab, report=None, out=str(folder), no_report=False,
+                               force=False, register_simulated=self.register_simulated,
+                               allow_expired=self.allow_expired, lang=self.lang, pdf=self.pdf,
+                               option=[f"{k}={v}" for k, v in self.options.items()])
 
     def fingerprint(self) -> dict[str, Any]:
         """The part of the job a resumed batch must share with the first run (not where it runs)."""
@@ -139,24 +152,20 @@ def evaluate_campaign(job: Job, manifest: str, name: str, sha256: str) -> dict[s
 
 
 def _evaluate(job: Job, manifest: str, name: str, sha256: str) -> dict[str, Any]:
-    from types import SimpleNamespace
-
     from . import present
     from .cli import exit_code_for
-    from .cli_register import write_run_report
+    from .cli_register import run_lab_options, write_run_report
     from .runner import run_items
 
     t0, c0 = time.perf_counter(), time.process_time()
     base = {"campaign": manifest, "name": name, "sha256": sha256, "worker_pid": os.getpid()}
     try:
         pm = _worker_pm(job.autoload, job.block)
-        record = run_items(pm, job.standard, list(job.items), data=manifest, options=dict(job.options),
-                           run_all=job.run_all, decision_rule=job.decision_rule)
         folder = Path(job.out) / "devices" / name
-        # the report written, and registered with a lab profile, exactly as `metro run --out FOLDER` does
-        args = SimpleNamespace(command="batch", lab=job.lab, report=None, out=str(folder),
-                               register_simulated=job.register_simulated, allow_expired=job.allow_expired,
-                               option=[f"{k}={v}" for k, v in job.options.items()])
+        args = job.run_args(folder)
+        # evaluated, checked against the lab profile, reported and registered as `metro run --out FOLDER` does
+        record = run_items(pm, job.standard, list(job.items), data=manifest, options=dict(job.options),
+                           run_all=job.run_all, decision_rule=job.decision_rule, **run_lab_options(args))
         record, report, registration = write_run_report(args, pm, record)
         doc = present.as_json(record, report)
         doc["register"] = registration
@@ -534,7 +543,7 @@ def command(args) -> int:
               str(Path(args.out).resolve()), False if args.no_plugin_autoload else None, args.block_plugin,
               lab=None if lab is None else str(Path(lab).resolve()),
               register_simulated=getattr(args, "register_simulated", False),
-              allow_expired=getattr(args, "allow_expired", False))
+              allow_expired=getattr(args, "allow_expired", False), lang=args.lang, pdf=args.pdf)
     with present.progress(enabled=_show_progress(args)) as prog:
         summary = run_batch(job, manifests, scheduler=args.scheduler, workers=args.workers, progress=prog)
     code = exit_code(summary)

@@ -163,6 +163,9 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
     b.add_argument("--decision-rule", choices=("guarded", "simple"), help="conformity decision rule")
     b.add_argument("--json", action="store_true", help="print the lot summary as one JSON document on stdout")
+    b.add_argument("--pdf", action="store_true", help="also write each device's report as PDF (through LibreOffice)")
+    b.add_argument("--lang", choices=("zh", "en", "zh+en"),
+                   help="language of the reports (default: the lab profile's, else zh+en)")
     _output_args(b)
     cli_register.add_run_options(b)  # each device registered as `metro run` registers it (--lab)
     return p
