@@ -249,7 +249,8 @@ def _env_record(tag: str):
         rec = {"test": test.key, "standard": test.method, "lab": "simulated environmental lab",
                "report": f"SIM-ENV-{tag.upper()}", "severity": _severity(tag, app), "functional_check": True,
                "before": f"env-{tag}-before", "after": f"env-{tag}-after",
-               "required": {"bias_change": "± 0.05 deg/h", "source": "simulated product specification"}}
+               "required": {"bias_change": "± 0.05 deg/h", "scale_factor_change": "± 30 ppm",
+                            "source": "simulated product specification"}}
         if test.key == "emc":
             rec["severity"] = {}
             rec["notes"] = "CE102/RE102/CS101/RS103 per the technical agreement"

@@ -597,6 +597,12 @@ def test_report_with_every_clause5_item_is_written(pm, tmp_path):
     path = write_report(tmp_path / "r.docx", rec, designations=long, extend=pm.extend_report_context, **how)
     doc = docx.Document(str(path))
     assert len(doc.core_properties.title) == 255 and doc.core_properties.title.endswith("…")
+    # the clause-5 table: every requirement in a row of its own, in order
+    want = [q.clause for q in clause5.REQUIREMENTS]
+    tables = [[[c.text.replace("\xa0", " ").strip() for c in row.cells] for row in t.rows] for t in doc.tables]
+    table = next(rows for rows in tables if [r[0] for r in rows[1:]] == want)
+    mass = next(r for r in table if r[0] == "5.2.5")
+    assert any("mass = 1234" in c for c in mass) and any("conforms" in c or "合格" in c for c in mass)
 
 
 def test_plan_of_the_whole_standard_includes_the_type_test(pm):

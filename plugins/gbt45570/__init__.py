@@ -96,8 +96,6 @@ def metro_register_templates(registrar) -> None:
 
 @hookimpl
 def metro_extend_report_context(record, context) -> None:
-    from . import clause5
     from .report import extend_context
 
-    extend_context(record, context)
-    clause5.extend_context(record, context)
+    extend_context(record, context)  # its clause-5 table comes from clause5.clause5_rows

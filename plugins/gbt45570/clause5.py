@@ -228,10 +228,3 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
         r["note"] = r["reason"]  # the report's clause-5 table prints it as the row's note
     return rows
 
-
-def extend_context(record, context: dict) -> None:
-    """Adds ``context["gbt45570"]["clause5"]`` (the rows) to the GB/T report context."""
-    g = context.get("gbt45570")
-    if g is None:
-        return
-    g["clause5"] = clause5_rows(record)
