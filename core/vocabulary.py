@@ -137,6 +137,8 @@ ROLE_ALIASES: dict[str, str] = {
     "time_base": "timer",
     "temperature_chamber": "chamber",
     "shaker": "vibration_table",
+    "vibration": "vibration_table",
+    "shock": "shock_table",
 }
 
 # -----------------------------------------------------------------------------------------
@@ -163,6 +165,17 @@ DEVICE_KEYS: dict[str, str] = {
     "output": "pulse, digital, analog, rate",
     "scale_factor": "K", "scale_factor_U": "expanded uncertainty of K", "scale_factor_k": "its coverage factor",
     "nonlinearity": "the scale-factor nonlinearity the device is specified for",
+    # read by the built-in plugins
+    "nonlinearity_limit": "GB/T 45570 rate method: the nonlinearity limit the device is tested against",
+    "nonlinearity_spec": "JJF 2014 7.2.2: the specified nonlinearity",
+    "resolution": "output resolution (GB/T 45570 LSB outputs)",
+    "gyro_range": "full-scale gyro range (JJF 2003, JJF 2014)",
+    "accel_range": "full-scale accelerometer range (JJF 2003)",
+    "ira_axis": "the device's input axis (JJF 2014)",
+    "scale_factor_repeatability": "stated scale-factor repeatability (JJF 2003, JJF 2014)",
+    "bias_repeatability": "stated bias repeatability (JJF 2014)",
+    "misalignment_repeatability": "stated misalignment repeatability (JJF 2014)",
+    "zero_stability": "stated zero stability (ogam)",
 }
 
 #: [device] application values (GB/T 45570 tables A.1/B.1); plugins may add theirs

@@ -159,3 +159,23 @@ def test_manifest_sha256_in_json_and_report(tmp_path, campaign_factory, run_cli)
     assert "metro: warning:" in err and "tested_by" in err
     text = "\n".join(c.text for t in docx.Document(report).tables for r in t.rows for c in r.cells)
     assert digest in text
+
+
+def test_the_simulated_stations_speak_the_vocabulary():
+    """A campaign a built-in station writes reads back without a vocabulary warning: its
+    equipment roles are canonical roles and its device keys are not near-misses of known keys."""
+    from metro.core.campaign import _typos
+
+    pm = get_plugin_manager(autoload=False)
+    for name in sorted(pm.registry.stations):
+        if name == "bench":  # a live bench: its equipment comes from the bench file
+            continue
+        st = pm.station(name).factory()
+        for e in st.equipment():
+            assert e.role in voc.ROLES, f"{name}: role {e.role!r}"
+        dev = getattr(st, "device", None)
+        dev = dev() if callable(dev) else dev
+        if dev is not None:
+            warnings: list[str] = []
+            _typos(dict(dev.properties), "m.toml", "device", voc.DEVICE_KEYS, "device", warnings)
+            assert warnings == [], f"{name}: {warnings}"
