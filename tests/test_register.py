@@ -241,3 +241,30 @@ def test_readers_do_not_wait_for_a_writer(opened, register_url, tmp_path):
     _issue(reg, tmp_path / "out", _before_commit=during_commit)
     assert seen == [[first.number]]
     assert len(other.list()) == 2
+
+
+def test_year_of_a_number_is_the_labs_and_numbers_restart_each_year(opened, register_url, tmp_path, monkeypatch):
+    """31 December 16:30 UTC is 1 January 00:30 in Asia/Shanghai: numbered in the new year, from 1."""
+    import metro.core.register as regmod
+
+    reg = opened(register_url)
+    real = dt.datetime
+
+    class Clock(dt.datetime):
+        at = real(2026, 12, 31, 15, 0, tzinfo=dt.timezone.utc)
+
+        @classmethod
+        def now(cls, tz=None):
+            return cls.at.astimezone(tz) if tz else cls.at
+
+    class FakeDt:
+        datetime, timezone, date, timedelta = Clock, dt.timezone, dt.date, dt.timedelta
+
+    monkeypatch.setattr(regmod, "dt", FakeDt)
+    kw = dict(folder=tmp_path / "out", scheme=_scheme, per_year=True, timezone="Asia/Shanghai")
+    a = reg.issue(_draft(), **kw)  # 23:00 in Shanghai
+    b = reg.issue(_draft(), **kw)
+    Clock.at = real(2026, 12, 31, 16, 30, tzinfo=dt.timezone.utc)  # 00:30 on 1 January in Shanghai
+    c = reg.issue(_draft(), **kw)
+    d = reg.issue(_draft(), folder=tmp_path / "out2", scheme=_scheme, per_year=True, timezone="UTC")
+    assert [x.number for x in (a, b, c, d)] == ["T2026-0001", "T2026-0002", "T2027-0001", "T2026-0003"]
