@@ -661,6 +661,13 @@ class AngleRandomWalkD56(Procedure):
                 f"the D.45 model does not hold: χ²/ν = {fit.chi2 / fit.dof:.3g} > {D45_MISFIT_LIMIT:g} (B_s(τ) has a "
                 "shape D.45 cannot follow, e.g. the sawtooth quantization of an undithered counter or correlated "
                 "noise); the uncertainty scaled by √(χ²/ν) would not cover a systematic misfit")
+        if a1_sensor > 0 and a1_sensor - 2.0 * float(ua[1]) <= 0:
+            # α1 not resolved from zero (≈95 %): reporting √α1 only when noise happens to push it up
+            # would bias the reported RWC high (interpretations.md)
+            not_reportable.append(
+                f"α1 = {a1_sensor:.3g} ± {2.0 * float(ua[1]):.2g} (°)²/h (k = 2) is not resolved from zero: the "
+                "record's other terms (quantization α2, bias instability α0) dominate B_s(τ), so RWC = √α1 is not "
+                "determined; record longer or with a finer output")
         if not a1_sensor > 0:
             not_reportable.append(
                 f"the fitted α1 = {a1_sensor:.3g} (°)²/h is not positive, so RWC = √α1 (D.46) is undefined; the "
