@@ -186,3 +186,13 @@ def test_d56_misfit_limit_catches_the_moderate_misfit(pm):
     assert D45_MISFIT_LIMIT == 10.0
     assert "χ²/ν = 11.4" in r.reason and not r.reportable
     assert (r.value.magnitude - rec.campaign.expected["RWC"].magnitude) / r.U.magnitude > 2  # the misfit is real
+
+
+@pytest.mark.parametrize("seed", [72, 109])
+def test_d56_coarse_undithered_counts_not_a_data_error(pm, seed):
+    """Coarse undithered pulses at a steady rate: whole blocks hold the same count (B_s = 0 at long τ,
+    device 109) or B_s(τ) leaves D.45 undetermined (device 72) — not reportable, not an error."""
+    rec = run_items(pm, "gbt45570", ["D.4", "D.5.1", "D.5.6"], station="simulated",
+                    station_options={"seed": seed, "device_class": "pulse-coarse-undithered", "duration_scale": 0.5})
+    r = _result(rec, "RWC")
+    assert not r.reportable and ("not determined" in r.reason or "is zero" in r.reason)

@@ -624,11 +624,13 @@ class AngleRandomWalkD56(Procedure):
         zero = np.flatnonzero(~(bs > 0))
         if zero.size:
             qz = quantization_of(campaign, conv, raw)
-            if qz.q <= 0:
+            if qz.q <= 0 and not (conv.output_kind == "pulse" and zero[0] > 0):
                 raise DataError(seg.file, "output",
                                 f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: the output does not vary (zero variance)")
-            reason = (f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: the output, rounded to q = {qz.q:.3g} °/h (step from "
-                      f"{qz.source}), does not vary — its noise is hidden by the rounding, so there is no RWC to fit")
+            what = (f"the output, rounded to q = {qz.q:.3g} °/h (step from {qz.source}), does not vary" if qz.q > 0 else
+                    "every block holds the same whole number of pulses (an undithered counter at a steady rate)")
+            reason = (f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: {what} — its noise is hidden by the quantization, so "
+                      "there is no RWC to fit")
             return Outcome(STANDARD, self.item, self.title, self.clause,
                            [Result(self.metrics[0], Q_(0.0, "deg/hour**0.5"), reportable=False, reason=reason,
                                    earth_rate="not applicable")],
@@ -637,7 +639,15 @@ class AngleRandomWalkD56(Procedure):
         try:
             fit = F.fit_d45(tau_h, bs, m)
         except ValueError as exc:
-            raise ProcedureError(f"D.5.6: {exc}") from exc
+            if conv.output_kind != "pulse" and quantization_of(campaign, conv, raw).q <= 0:
+                raise ProcedureError(f"D.5.6: {exc}") from exc
+            # quantized counts whose B_s(τ) D.45 cannot even be fitted to: not a data error
+            reason = f"the D.45 fit is not determined ({exc}); the output's quantization dominates B_s(τ)"
+            return Outcome(STANDARD, self.item, self.title, self.clause,
+                           [Result(self.metrics[0], Q_(0.0, "deg/hour**0.5"), reportable=False, reason=reason,
+                                   earth_rate="not applicable")],
+                           warnings=[f"RWC is NOT REPORTABLE: {reason}"], segments=[seg.id],
+                           options={k: str(v) for k, v in opts.items()})
         a0, a1, a2 = (float(x) for x in fit.alpha)
         ua = fit.u_alpha
         warnings = list(_duration_warnings(series, Q_(8, "h"), "D.5.6.2"))
