@@ -12,6 +12,7 @@ campaign's records call for.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import attrs
@@ -159,7 +160,8 @@ def _result_text(r) -> str:
         text += f" (U = {U}{(' ' + ut) if ut else ''}, k = {r.k:.2f})"
     if not r.reportable:
         text += f" [not reportable: {r.reason}]"
-    return text
+    # a minus sign, not a hyphen: a line may break after a hyphen and split the number in two
+    return re.sub(r"(?<![\w.])-(?=\d)", "\u2212", text)
 
 
 def _combine(statuses: list[str]) -> str:
