@@ -34,7 +34,41 @@ def merge_steps(sequences: Sequence[Sequence[Step]]) -> list[Step]:
             key = (st.kind, tuple(sorted((k, str(v)) for k, v in st.conditions.items())), str(st.interval))
             if key not in merged or st.duration > merged[key].duration:
                 merged[key] = st
-    return list(merged.values())
+    return _unique_ids(list(merged.values()))
+
+
+def _unique_ids(steps: list[Step]) -> list[Step]:
+    """Segment ids unique by construction: two different measurements (kind, conditions or
+    interval differ) that their items named alike — ``rate+1`` of the angle method's whole
+    revolutions and of the rate method's sampled output — are both renamed ``<id>@<kind>``
+    (and, should that still clash, a short digest of their conditions is added), whatever the
+    order the items were listed in; a file per segment then never overwrites another."""
+    import hashlib
+
+    def rename(group: list[Step], fmt) -> list[Step]:
+        return [attrs.evolve(s, segment=fmt(s)) for s in group]
+
+    by_id: dict[str, list[int]] = {}
+    for i, s in enumerate(steps):
+        by_id.setdefault(s.segment, []).append(i)
+    out = list(steps)
+    for _sid, idx in by_id.items():
+        if len(idx) < 2:
+            continue
+        for i, new in zip(idx, rename([steps[i] for i in idx], lambda s: f"{s.segment}@{s.kind}")):
+            out[i] = new
+    again: dict[str, list[int]] = {}
+    for i, s in enumerate(out):
+        again.setdefault(s.segment, []).append(i)
+    for _sid, idx in again.items():
+        if len(idx) < 2:
+            continue
+        for i in idx:
+            s = out[i]
+            tag = hashlib.sha256(repr((sorted((k, str(v)) for k, v in s.conditions.items()),
+                                       str(s.interval))).encode()).hexdigest()[:6]
+            out[i] = attrs.evolve(s, segment=f"{s.segment}-{tag}")
+    return out
 
 
 def split_options(procs: Sequence[type[Procedure]], options: Mapping[str, Any]) -> list[dict[str, Any]]:

@@ -194,10 +194,23 @@ class AngleInstrumentStation:
             return {"time": (t / 60.0, "min"), "reading": (m, "arcsec")}
         raise ValueError(f"the simulated angle instrument cannot acquire steps of kind {step.kind!r}")
 
+    #: the step kinds of the draft's items this station simulates
+    KINDS = ("scale-factor", "positioning", "zero")
+
+    def check(self, steps, *, items=None) -> None:
+        """Refuse, before anything is simulated, a step kind this station does not simulate."""
+        from .stations import refuse_unknown_kinds
+
+        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items,
+                             hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
+        from .stations import step_seed
+
+        self.check(steps)
         segments = []
         for i, step in enumerate(steps):
-            data = self.segment_data(step, i)
+            data = self.segment_data(step, step_seed(step))
             digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a, _ in data.values())).hexdigest()
             segments.append(Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions),
                                     interval=step.interval, file=None, sha256=digest,
@@ -218,8 +231,10 @@ class AngleInstrumentStation:
         q = self.truth.quiet()
         out: dict[str, Any] = {}
         e_by: dict[tuple[float, str], float] = {}
-        for i, step in enumerate(steps):
-            d = self.segment_data(step, i, q)
+        from .stations import step_seed
+
+        for step in steps:
+            d = self.segment_data(step, step_seed(step), q)
             if step.kind == "scale-factor":
                 k_i = d["counts"][0] / d["angle"][0]
                 out["K"] = Q_(float(np.mean(k_i)), "P/deg")

@@ -208,6 +208,21 @@ def _file_names(segments: Sequence[Segment]) -> dict[str, str]:
     return out
 
 
+def _distinct_segments(campaign: Campaign) -> None:
+    """Refuse, before anything is written, two segments that would land in one file: the same id
+    (the manifest could not tell them apart and one record would replace the other)."""
+    seen: dict[str, Segment] = {}
+    for seg in campaign.segments:
+        other = seen.get(seg.id)
+        if other is not None:
+            raise DataError(campaign.source or None, f"segments.{seg.id}",
+                            f"two segments have the id {seg.id!r} (kinds {other.kind!r} and {seg.kind!r}); "
+                            "one record would replace the other, so nothing was written",
+                            hint="give every segment its own id (metro.core.runner.merge_steps does for "
+                            "merged sequences)")
+        seen[seg.id] = seg
+
+
 def _write_samples(folder: Path, stem: str, seg: Segment, npy_rows: int) -> tuple[str, dict[str, str]]:
     from .readers import write_samples_csv, write_samples_npy
 
@@ -259,6 +274,7 @@ def write_campaign(
     """
     out = Path(out).absolute()
     _fresh_target(out)
+    _distinct_segments(campaign)
     tmp = out.with_name(f".{out.name}{TMP_MARKER}{secrets.token_hex(4)}")
     tmp.mkdir()
     try:

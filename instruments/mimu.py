@@ -272,11 +272,25 @@ class MimuStation:
         mean = float(set_point.to("deg/s").magnitude) * (1.0 + table.systematic_error(set_point))
         return tilt, np.asarray(rates, float), mean
 
+    #: the JJF 2003 step kinds this station simulates (a position or a rate of the three-axis table)
+    KINDS = ("position", "rate")
+
+    def check(self, steps, *, items=None) -> None:
+        """Refuse, before anything is simulated, a step kind this station does not simulate."""
+        from .stations import refuse_unknown_kinds
+
+        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items,
+                             hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
+        from .stations import step_seed
+
+        self.check(steps)
         t = self.truth
         segments = []
         realized: dict[str, tuple[np.ndarray, float | None]] = {}
-        for i, step in enumerate(steps):
+        for k, step in enumerate(steps):
+            i = step_seed(step)  # the step's identity, not its place in the list, seeds its noise
             interval_s = float(step.interval.to("s").magnitude)
             n = max(2, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
             tilt, rates, mean_rate = self.mounting(i, step, n)
@@ -290,7 +304,7 @@ class MimuStation:
                 sha256=digest, loader=(lambda c=cols, u=units: {k: (v, u[k]) for k, v in c.items()}),
             ))
             if progress is not None:
-                progress("simulating MIMU", i + 1, len(steps))
+                progress("simulating MIMU", k + 1, len(steps))
         camp = Campaign(
             id="SIMULATED-MIMU", device=self.device(), equipment=self.equipment(),
             environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},

@@ -423,9 +423,11 @@ def digital_station_factory(**options: Any) -> SimulatedStation:
     """Factory registered as ``simulated-digital``: the virtual gyro with LSB output (a fibre gyro
     for the rate method); options as for ``simulated``, over :data:`DIGITAL_DEFAULTS` (a
     ``device_class`` replaces them with the class's own values)."""
+    import attrs
+
     if options.get("device_class"):
-        return station_factory(**options)
-    return station_factory(**(dict(DIGITAL_DEFAULTS) | dict(options)))
+        return attrs.evolve(station_factory(**options), name="simulated-digital")
+    return attrs.evolve(station_factory(**(dict(DIGITAL_DEFAULTS) | dict(options))), name="simulated-digital")
 
 
 __all__ = ["digital_station_factory", "expected_rate_items", "mounting_projection", "scale_factor_multiplier",

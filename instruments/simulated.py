@@ -35,6 +35,8 @@ from metro.core.units import Q_
 
 from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, physical (IERS)
 
+from .stations import step_seed
+
 
 @attrs.frozen
 class GyroTruth:
@@ -216,8 +218,8 @@ class SimulatedStation:
     latitude_deg: float = 39.98
     interval: Any = attrs.field(factory=lambda: Q_(1, "s"))
     duration_scale: float = 1.0  # <1 shortens every step (tests)
-
-    name = "simulated"
+    #: the registered name (in messages): simulated, simulated-digital
+    name: str = "simulated"
 
     def device(self) -> DeviceUnderTest:
         t = self.truth
@@ -243,13 +245,42 @@ class SimulatedStation:
 
         return equipment_list(gbt45570_equipment(seed=self.truth.seed))
 
+    def kinds(self) -> tuple[str, ...]:
+        """The step kinds this station simulates (:data:`STATIC_KINDS`, whole revolutions and the
+        kinds the step modules register); revolution counts only for a pulse output."""
+        kinds = set(STATIC_KINDS) | set(step_simulators()) | set(record_simulators()) | {"rate-revolutions"}
+        if self.truth.output != "pulse":
+            kinds -= set(PULSE_KINDS)
+        return tuple(sorted(kinds))
+
+    def check(self, steps, *, items=None) -> None:
+        """Refuse, before anything is simulated, a step kind this station cannot simulate — among
+        them whole-revolution pulse counts (angle method) when the virtual gyro's output is not a
+        pulse output: it has no pulses to count, and its LSB or °/h are not P."""
+        from .stations import StationError, refuse_unknown_kinds
+
+        if self.truth.output != "pulse":
+            for step in steps:
+                if step.kind in PULSE_KINDS:
+                    out = {"digital": "digital (LSB)", "rate": "rate (°/h)"}[self.truth.output]
+                    raise StationError(
+                        f"station {self.name!r} simulates a gyro with {out} output; steps of kind {step.kind!r} "
+                        f"(segment {step.segment}) count the pulses of whole revolutions (angle method, GB/T 45570 "
+                        "D.1), which only a pulse output gives; nothing was recorded",
+                        hint="acquire the angle method on station simulated (pulse output), or the rate method "
+                        "(D.2, D.3 with -o method=rate) on this one")
+        refuse_unknown_kinds(self.name, steps, self.kinds(), items=items,
+                             hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""
+        self.check(steps)
         segments = []
         records: dict[str, Any] = {}
         t = self.truth
         unit = output_unit(t)
-        for i, step in enumerate(steps):
+        for step in steps:
+            i = step_seed(step)  # the step's identity, not its place in the list, seeds its noise
             if step.is_record:
                 take_down = record_simulators().get(step.kind)
                 if take_down is None:
@@ -321,6 +352,13 @@ class SimulatedStation:
 
 
 AXES = ("IRA", "XRA", "YRA")
+
+#: step kinds the station records as the gyro at rest on its platform (conditions such as
+#: temperature, field, run and orientation act through :func:`bias_offset`)
+STATIC_KINDS = ("static", "static-zero", "rate-static", "static-repeat", "static-temperature", "static-field",
+                "low-temperature", "high-temperature")
+#: step kinds that count the pulses of whole table revolutions (GB/T 45570 D.1, D.3 angle method)
+PULSE_KINDS = ("rate-revolutions", "revolutions-repeat", "revolutions-temperature", "revolutions-mounting")
 
 #: the gyro's output columns, negated for a gyro of negative polarity
 OUTPUT_COLUMNS = ("output", "count")

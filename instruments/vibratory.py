@@ -566,10 +566,26 @@ class VibratoryStation:
         shifted = arr + (out(w_mean / om) - out(1.0)) + slope * (w - w_mean)
         return cols | {"output": (np.asarray(shifted, dtype=float), u)}
 
+    #: the JJF 2014 step kinds this station simulates
+    KINDS = ("rate", "rate-repeat", "rate-temperature", "rate-accel", "rate-shock", "rate-vibration", "threshold",
+             "resolution", "misalignment", "static", "static-repeat", "static-temperature", "static-accel",
+             "static-shock", "static-vibration", "angular-vibration", "startup")
+
+    def check(self, steps, *, items=None) -> None:
+        """Refuse, before anything is simulated, a step kind this station does not simulate."""
+        from .stations import refuse_unknown_kinds
+
+        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items,
+                             hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
+        from .stations import step_seed
+
+        self.check(steps)
         t = self.truth
         segs = []
-        for i, st in enumerate(steps):
+        for k, st in enumerate(steps):
+            i = step_seed(st)  # the step's identity, not its place in the list, seeds its noise
             dt_ = float(st.interval.to("s").magnitude)
             n_full = int(round(float(st.duration.to("s").magnitude) / dt_))
             scale = self.duration_scale if st.kind.startswith("static") else 1.0
@@ -590,7 +606,7 @@ class VibratoryStation:
                                 interval=Q_(dt_, "s"), sha256=h.hexdigest(),
                                 loader=(lambda c=cols: c)))
             if progress is not None:
-                progress("simulating", i + 1, len(steps))
+                progress("simulating", k + 1, len(steps))
         return Campaign(
             id="SIMULATED-JJF2014", device=self.device(), equipment=self.equipment(),
             environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent"),
