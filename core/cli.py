@@ -124,8 +124,11 @@ def _parser() -> argparse.ArgumentParser:
                         "(simulated or live) and write it as a campaign folder (manifest.toml + samples, "
                         "docs/data-format.md) that `metro run --data DIR/manifest.toml` evaluates.")
     aq.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
-    aq.add_argument("--item", "-i", action="append", required=True,
-                    help="item id (repeat or comma-separate for several; shared steps are measured once)")
+    aq.add_argument("--item", "-i", action="append", default=[],
+                    help="item id or series name, e.g. scale-factor (repeat or comma-separate for several; "
+                    "shared steps are measured once)")
+    aq.add_argument("--all", action="store_true", dest="run_all",
+                    help="acquire every item of the standard that applies to the station's device")
     aq.add_argument("--station", help="registered station (default: the items' simulated station)")
     aq.add_argument("--out", required=True, metavar="DIR", help="campaign folder to create (must not exist "
                     "or be empty)")
@@ -643,7 +646,7 @@ def _cmd_acquire(args) -> int:
     with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
         manifest = acquire_campaign(pm, args.standard, items, args.out, station=args.station,
                                     options=_options(args.option), station_options=station_options,
-                                    npy_rows=args.npy_rows or NPY_ROWS, progress=prog)
+                                    npy_rows=args.npy_rows or NPY_ROWS, progress=prog, run_all=args.run_all)
     Console(stderr=True).print(f"campaign written: {manifest}")
     print(manifest)
     return 0

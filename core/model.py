@@ -512,6 +512,9 @@ class SegmentRequirement:
     columns: Mapping[str, tuple[str, ...]] = attrs.field(factory=dict, converter=_frozen_map)  # name -> accepted units
     min_duration: pint.Quantity | None = None
     min_count: int = 1
+    #: requirements of one item that share a non-empty tag are alternatives: data for any one of
+    #: them suffice (GB/T 45570 D.3 takes the sweep of the angle method or of the rate method)
+    alternative: str = ""
 
 
 @attrs.frozen

@@ -17,7 +17,7 @@ import attrs
 
 from .campaign import check_equipment, load_manifest, note_absent_equipment
 from .errors import DataError, MetroError, ProcedureError
-from .model import Campaign, DeviceUnderTest, Outcome, Procedure, RunContext, Step
+from .model import Campaign, DeviceUnderTest, Outcome, Procedure, RunContext, Segment, SegmentRequirement, Step
 from .plugins import MetroPluginManager
 from .provenance import RunRecord, new_report_number, software_versions
 
@@ -97,6 +97,84 @@ def split_options(procs: Sequence[type[Procedure]], options: Mapping[str, Any]) 
     return per
 
 
+def item_sequence(cls: type[Procedure], options: Mapping[str, Any], device: DeviceUnderTest | None = None) -> list[Step]:
+    """``cls``'s test sequence; for a known ``device``, the procedure's ``sequence_for_device``
+    when it has one (an option such as D.3's ``method = auto`` resolved for the device)."""
+    proc = cls()
+    fn = getattr(proc, "sequence_for_device", None)
+    if device is not None and callable(fn):
+        return fn(options, device)
+    return proc.sequence(options)
+
+
+def requirement_groups(cls: type[Procedure]) -> list[list[SegmentRequirement]]:
+    """``cls.requires`` as a list of groups, each met when any one of its requirements is met:
+    requirements sharing a non-empty ``alternative`` tag form one group, every other one its own."""
+    groups: list[list[SegmentRequirement]] = []
+    tagged: dict[str, list[SegmentRequirement]] = {}
+    for req in cls.requires:
+        if req.alternative:
+            if req.alternative not in tagged:
+                tagged[req.alternative] = []
+                groups.append(tagged[req.alternative])
+            tagged[req.alternative].append(req)
+        else:
+            groups.append([req])
+    return groups
+
+
+def _column_problem(req: SegmentRequirement, seg: Segment) -> str | None:
+    """Why ``seg`` does not give the columns ``req`` asks for (missing, or a unit of another kind)."""
+    from .units import Q_, check_dimension, fmt_unit, unit
+
+    if not req.columns:
+        return None
+    cols = seg.columns()
+    for name, accepted in req.columns.items():
+        if name not in cols:
+            return f"segment {seg.id!r} has no column {name!r} (columns: {', '.join(cols) or 'none'})"
+        utext = cols[name][1]
+        try:
+            u = unit(utext)
+        except Exception:  # noqa: BLE001 - an unreadable unit is a mismatch, said as such
+            return f"column {name!r} of segment {seg.id!r} is in {utext!r}, which is not a unit"
+        ok = False
+        for dim in accepted:
+            try:
+                check_dimension(Q_(1.0, u), dim, field=name)
+                ok = True
+                break
+            except MetroError:
+                continue
+        if not ok:
+            return (f"column {name!r} is recorded in {fmt_unit(u)}, and the item accepts "
+                    f"{' or '.join(fmt_unit(d) for d in accepted)}")
+    return None
+
+
+def unmet_requirements(cls: type[Procedure], segments: Sequence[Segment], *, columns: bool = True) -> list[str]:
+    """What ``cls`` needs and ``segments`` do not give, in words (empty: every requirement group
+    is met).  A group is met when one of its alternatives has a segment of its kind (and, with
+    ``columns``, whose columns are there in a unit of an accepted kind — this reads the samples)."""
+    problems = []
+    for group in requirement_groups(cls):
+        why = []
+        for req in group:
+            segs = [s for s in segments if s.kind == req.kind]
+            if not segs:
+                why.append(f"no segment of kind {req.kind!r} ({req.description})")
+                continue
+            if not columns:
+                break
+            bad = [p for p in (_column_problem(req, s) for s in segs) if p]
+            if not bad:
+                break
+            why.append(f"segments of kind {req.kind!r}: {bad[0]}")
+        else:
+            problems.append(" — or ".join(why) if len(why) > 1 else why[0])
+    return problems
+
+
 @attrs.frozen
 class ItemChoice:
     """One candidate item of ``--all`` or a series: whether it runs, and why (printed and reported)."""
@@ -141,10 +219,9 @@ def select_items(
             return
         a = pm.item_applicability(cls, device)
         if a.applies and campaign is not None:  # recorded data: only items whose segments are there
-            missing = [req for req in cls.requires if not campaign.find_segments(req.kind)]
+            missing = unmet_requirements(cls, campaign.segments, columns=False)
             if missing:
-                choices.append(ItemChoice(item, False, "no data: the campaign has no segment of kind "
-                                          + ", ".join(f"'{r.kind}' ({r.description})" for r in missing), via))
+                choices.append(ItemChoice(item, False, "no data: " + "; ".join(missing), via))
                 return
             lacking = cls.missing_records(campaign)
             if lacking:
@@ -256,7 +333,15 @@ def load_campaign(
         groups: dict[str, list[int]] = {}
         for i, cls in enumerate(procs):
             groups.setdefault(station or cls.station, []).append(i)
-        plans = [(name, merge_steps([procs[i]().sequence(procs[i].option_values(options[i])) for i in idx]))
+        stations = {name: pm.station(name).factory(**dict(station_options or {})) for name in groups}
+
+        def device_of(st):
+            dev = getattr(st, "device", None)
+            dev = dev() if callable(dev) else dev
+            return dev if isinstance(dev, DeviceUnderTest) else None
+
+        plans = [(name, merge_steps([item_sequence(procs[i], procs[i].option_values(options[i]),
+                                                   device_of(stations[name])) for i in idx]))
                  for name, idx in groups.items()]
         total = sum(len(steps) for _, steps in plans)
         done = 0
@@ -264,7 +349,7 @@ def load_campaign(
             progress("segments", 0, total)
         parts = []
         for name, steps in plans:
-            st = pm.station(name).factory(**dict(station_options or {}))
+            st = stations[name]
             tracker = _SegmentTracker(progress, done, total, len(steps)) if progress is not None else None
             parts.append((name, st.acquire(steps, progress=tracker)))
             done += len(steps)

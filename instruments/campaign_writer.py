@@ -318,32 +318,64 @@ def acquire_campaign(
     station_options: Mapping[str, Any] | None = None,
     npy_rows: int = NPY_ROWS,
     progress: Progress | None = None,
+    run_all: bool = False,
+    evaluate: bool | None = None,
 ) -> Path:
     """Run the merged sequence of ``items`` on ``station`` (default: the items' own station) and
-    write the campaign to ``out``; return the manifest path.  ``pm`` is a loaded plugin manager."""
-    from metro.core.runner import merge_steps, split_options
+    write the campaign to ``out``; return the manifest path.  ``pm`` is a loaded plugin manager.
 
-    if not items:
-        raise MetroError("no item given", hint="use --item, e.g. --item D.5.1")
-    procs = [pm.procedure(standard, i) for i in items]
-    per_opts = split_options(procs, dict(options or {}))
+    ``items`` may name series; ``run_all`` adds every item of the standard that applies to the
+    station's device (as ``metro run`` selects them).  Every item is checked against the station
+    and its device before anything is recorded: the item applies to the device (GB/T 45570
+    6.2.7.1's method rule …) and the station simulates or runs every step kind.  After the
+    record, and before anything is written, every item's segment requirements (kinds,
+    alternatives, columns in an accepted unit) are checked against what was recorded, and a
+    simulated campaign is evaluated in memory (``evaluate``, default: when simulated) — so a
+    campaign that acquire writes is one that ``metro run --data`` evaluates.  A mismatch is a
+    :class:`~metro.core.errors.MetroError` naming the stations that would fit; nothing is written.
+    """
+    from metro.core.runner import item_sequence, merge_steps, select_items, split_options
+
+    if not items and not run_all:
+        raise MetroError("no item given", hint="use --item, e.g. --item D.5.1, a series name, or --all")
+    _fresh_target(Path(out).absolute())
     if station is None:
-        wanted = sorted({cls.station for cls in procs})
+        cands = pm.procedures_of(standard) if (run_all or not items) else []
+        named = [pm.procedure(standard, i) for i in items if pm.series(standard, i) is None]
+        if not named and items:  # a series: its members' station
+            ser = pm.series(standard, items[0])
+            named = [pm.procedure(standard, m) for m in ser.members]
+        wanted = sorted({cls.station for cls in (named or cands)})
         if len(wanted) > 1:
             raise MetroError(f"the items need different stations ({', '.join(wanted)}); acquire them separately",
                              hint="or name one with --station")
-        station = wanted[0]
-    _fresh_target(Path(out).absolute())
+        station = wanted[0] if wanted else "simulated"
     st = pm.station(station).factory(**dict(station_options or {}))
-    sequences = [cls().sequence(cls.option_values(o)) for cls, o in zip(procs, per_opts)]
+    device = _device_of(st)
+    if run_all or any(pm.series(standard, i) is not None for i in items):
+        items, _choices = select_items(pm, standard, items, run_all=run_all, device=device)
+    items = list(items)
+    procs = [pm.procedure(standard, i) for i in items]
+    per_opts = split_options(procs, dict(options or {}))
+    if device is not None:
+        for cls in procs:
+            a = pm.item_applicability(cls, device)
+            if not a.applies:
+                raise MetroError(
+                    f"{cls.qualified_id()} does not apply to the device of station {station!r} "
+                    f"({device.id}, {device.technology or 'technology not stated'}, {device.output or 'output not stated'} "
+                    f"output): {a.reason}; nothing was recorded",
+                    hint=_fits(pm, standard, cls, station))
+    sequences = [item_sequence(cls, cls.option_values(o), device) for cls, o in zip(procs, per_opts)]
     steps = merge_steps(sequences)
+    origin = _origin(procs, sequences, steps)
     check = getattr(st, "check", None)
-    if callable(check):  # a live station refuses what it cannot do before anything moves
-        origin: dict[str, list[str]] = {}
-        for cls, seq in zip(procs, sequences):
-            for s in seq:
-                origin.setdefault(s.segment, []).append(cls.qualified_id())
-        check(steps, items=origin)
+    if callable(check):  # a station refuses what it cannot do before anything moves
+        try:
+            check(steps, items=origin)
+        except MetroError as exc:
+            fits = _fits(pm, standard, procs[0], station) if len(procs) == 1 else ""
+            raise MetroError(exc.reason, hint="; ".join(x for x in (exc.hint, fits) if x)) from exc
     if progress is not None:
         progress("acquiring", 0, len(steps))
     campaign = st.acquire(steps, progress=progress)
@@ -353,6 +385,94 @@ def acquire_campaign(
     missing = [s.segment for s in steps if s.segment not in ids and not s.is_record]
     if missing:
         raise MetroError(f"station {station!r} returned no segment for step(s) {', '.join(missing)}")
+    _check_recorded(pm, standard, station, procs, campaign, origin)
+    if evaluate if evaluate is not None else campaign.simulated:
+        _check_evaluates(pm, standard, station, items, options, campaign)
     extra = {"station": station, "standard": standard, "items": ",".join(items),
              "acquired": dt.datetime.now(dt.timezone.utc).replace(microsecond=0).isoformat()}
     return write_campaign(campaign, out, npy_rows=npy_rows, extra=extra, progress=progress)
+
+
+def _device_of(st: Any):
+    from metro.core.model import DeviceUnderTest
+
+    dev = getattr(st, "device", None)
+    try:
+        dev = dev() if callable(dev) else dev
+    except MetroError:
+        return None
+    return dev if isinstance(dev, DeviceUnderTest) else None
+
+
+def _origin(procs, sequences, steps) -> dict[str, list[str]]:
+    """Merged segment id -> the items that asked for it (steps matched by kind, conditions, interval)."""
+    def key(s):
+        return (s.kind, tuple(sorted((k, str(v)) for k, v in s.conditions.items())), str(s.interval))
+
+    ids = {key(s): s.segment for s in steps}
+    origin: dict[str, list[str]] = {}
+    for cls, seq in zip(procs, sequences):
+        for s in seq:
+            sid = ids.get(key(s))
+            if sid is not None and cls.qualified_id() not in origin.setdefault(sid, []):
+                origin[sid].append(cls.qualified_id())
+    return origin
+
+
+def _check_recorded(pm, standard: str, station: str, procs, campaign: Campaign, origin) -> None:
+    """Every item's requirements met by the segments recorded for it (kinds, alternatives,
+    columns in a unit of an accepted kind), before anything is written."""
+    from metro.core.runner import unmet_requirements
+
+    for cls in procs:
+        mine = [s for s in campaign.segments if cls.qualified_id() in origin.get(s.id, ())]
+        problems = unmet_requirements(cls, mine)
+        if problems:
+            raise MetroError(
+                f"station {station!r} records what {cls.qualified_id()} cannot evaluate: {'; '.join(problems)}; "
+                "nothing was written", hint=_fits(pm, standard, cls, station))
+
+
+def _check_evaluates(pm, standard: str, station: str, items, options, campaign: Campaign) -> None:
+    """A simulated campaign is evaluated in memory before it is written: what run would refuse,
+    acquire refuses (nothing written), naming the item and the reason."""
+    from metro.core.runner import run_items
+
+    try:
+        run_items(pm, standard, list(items), options=options, campaign=campaign)
+    except MetroError as exc:
+        raise MetroError(f"the campaign recorded on station {station!r} would not evaluate: {exc.reason}; "
+                         "nothing was written",
+                         hint=exc.hint or "a longer record (duration_scale) or other item options may help") from exc
+
+
+def _fits(pm, standard: str, cls, refused: str) -> str:
+    """'stations that fit: …' — the registered simulated stations on which ``cls`` alone
+    applies to the device, every step kind is simulated and the recorded segments meet its
+    requirements (tried with a short record where the station takes ``duration_scale``)."""
+    from metro.core.runner import item_sequence, merge_steps, unmet_requirements
+
+    ok = []
+    for name in sorted(pm.registry.stations):
+        if name in (refused, "bench"):
+            continue
+        try:
+            try:
+                st = pm.station(name).factory(duration_scale=0.05)
+            except MetroError:
+                st = pm.station(name).factory()
+            dev = _device_of(st)
+            if dev is not None and not pm.item_applicability(cls, dev).applies:
+                continue
+            steps = merge_steps([item_sequence(cls, cls.option_values({}), dev)])
+            check = getattr(st, "check", None)
+            if callable(check):
+                check(steps)
+            camp = st.acquire(steps)
+            if not unmet_requirements(cls, camp.segments):
+                ok.append(name)
+        except Exception:  # noqa: BLE001 - a station that cannot serve the item does not fit
+            continue
+    if ok:
+        return f"stations that fit {cls.qualified_id()}: {', '.join(ok)} (--station NAME)"
+    return f"no registered simulated station serves {cls.qualified_id()}; record it and use `metro run --data`"

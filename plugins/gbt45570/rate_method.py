@@ -727,10 +727,10 @@ class MaxInputRateD3(Procedure):
     title = "Maximum input rate (最大输入角速率)"
     clause = "D.3"
     metrics = (Metric("Omega_max", "maximum input rate", "Ω_max", "deg/s", "D.3", "D.7, D.25"),)
-    requires = (attrs.evolve(RATE_OUTPUT, description="rate method: " + RATE_OUTPUT.description),
+    requires = (attrs.evolve(RATE_OUTPUT, description="rate method: " + RATE_OUTPUT.description, alternative="sweep"),
                 SegmentRequirement("rate-revolutions", "or, angle method: m whole revolutions at each rate point, each "
                                    "direction (D.1.1.2 g))", conditions={"rate": "deg/s", "turns": ""},
-                                   columns={"count": ("P",), "duration": ("s",)}, min_count=22))
+                                   columns={"count": ("P",), "duration": ("s",)}, min_count=22, alternative="sweep"))
     equipment = _EQUIPMENT
     options = (
         Option("Kn_limit", None, None, "nonlinearity limit, e.g. \"10 ppm\" (default: device.nonlinearity_limit, "
@@ -750,6 +750,17 @@ class MaxInputRateD3(Procedure):
         if str(options.get("method", "auto")).lower() == "rate":
             return rate_sequence(options)
         return _angle_sequence(options, zero=False)
+
+    def sequence_for_device(self, options: Mapping[str, Any], device: DeviceUnderTest | None) -> list[Step]:
+        """The sequence for a known device: ``method = auto`` becomes the sweep the device can give —
+        whole-revolution pulse counts (angle method) need a pulse output, so a digital or analog
+        output takes the rate method; a pulse output follows the 6.2.7.1 method rule."""
+        if device is None or str(options.get("method", "auto")).lower() != "auto":
+            return self.sequence(options)
+        from .method_rule import method_for
+
+        method = method_for(device)[0] if str(device.output).lower() == "pulse" else "rate"
+        return self.sequence(dict(options) | {"method": method})
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
