@@ -357,6 +357,17 @@ def acquire_campaign(
     items = list(items)
     procs = [pm.procedure(standard, i) for i in items]
     per_opts = split_options(procs, dict(options or {}))
+    sequences = [item_sequence(cls, cls.option_values(o), device) for cls, o in zip(procs, per_opts)]
+    steps = merge_steps(sequences)
+    origin = _origin(procs, sequences, steps)
+    check = getattr(st, "check", None)
+    if callable(check):  # a station refuses what it cannot do before anything moves
+        try:
+            check(steps, items=origin)
+        except MetroError as exc:  # the station's own error, with the stations that would fit
+            fits = _fits(pm, standard, procs[0], station) if len(procs) == 1 else ""
+            exc.hint = "; ".join(x for x in (exc.hint, fits) if x) or None
+            raise
     if device is not None:
         for cls in procs:
             a = pm.item_applicability(cls, device)
@@ -366,16 +377,6 @@ def acquire_campaign(
                     f"({device.id}, {device.technology or 'technology not stated'}, {device.output or 'output not stated'} "
                     f"output): {a.reason}; nothing was recorded",
                     hint=_fits(pm, standard, cls, station))
-    sequences = [item_sequence(cls, cls.option_values(o), device) for cls, o in zip(procs, per_opts)]
-    steps = merge_steps(sequences)
-    origin = _origin(procs, sequences, steps)
-    check = getattr(st, "check", None)
-    if callable(check):  # a station refuses what it cannot do before anything moves
-        try:
-            check(steps, items=origin)
-        except MetroError as exc:
-            fits = _fits(pm, standard, procs[0], station) if len(procs) == 1 else ""
-            raise MetroError(exc.reason, hint="; ".join(x for x in (exc.hint, fits) if x)) from exc
     if progress is not None:
         progress("acquiring", 0, len(steps))
     campaign = st.acquire(steps, progress=progress)
@@ -447,10 +448,9 @@ def _check_evaluates(pm, standard: str, station: str, items, options, campaign: 
 
 
 def _fits(pm, standard: str, cls, refused: str) -> str:
-    """'stations that fit: …' — the registered simulated stations on which ``cls`` alone
-    applies to the device, every step kind is simulated and the recorded segments meet its
-    requirements (tried with a short record where the station takes ``duration_scale``)."""
-    from metro.core.runner import item_sequence, merge_steps, unmet_requirements
+    """'stations that fit: …' — the registered simulated stations on whose device ``cls`` applies
+    and which simulate every step kind of its sequence (checked without recording anything)."""
+    from metro.core.runner import item_sequence, merge_steps
 
     ok = []
     for name in sorted(pm.registry.stations):
@@ -466,11 +466,10 @@ def _fits(pm, standard: str, cls, refused: str) -> str:
                 continue
             steps = merge_steps([item_sequence(cls, cls.option_values({}), dev)])
             check = getattr(st, "check", None)
-            if callable(check):
-                check(steps)
-            camp = st.acquire(steps)
-            if not unmet_requirements(cls, camp.segments):
-                ok.append(name)
+            if not callable(check):
+                continue
+            check(steps)
+            ok.append(name)
         except Exception:  # noqa: BLE001 - a station that cannot serve the item does not fit
             continue
     if ok:

@@ -159,6 +159,10 @@ def _tilted(e: np.ndarray, h1: np.ndarray, h2: np.ndarray, tilt_rad) -> tuple[np
 
 def _rate_of(conditions: Mapping[str, Any]) -> float:
     rate = conditions["rate"]
+    if isinstance(rate, str):
+        from metro.core.units import parse_quantity
+
+        rate = parse_quantity(rate, dimension="deg/s")
     return float(rate.to("deg/s").magnitude) if hasattr(rate, "to") else float(rate)
 
 
@@ -279,8 +283,22 @@ class MimuStation:
         """Refuse, before anything is simulated, a step kind this station does not simulate."""
         from .stations import refuse_unknown_kinds
 
+        from .stations import StationError
+
         refuse_unknown_kinds(self.name, steps, self.KINDS, items=items,
                              hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+        need = {"position": ("up", "heading"), "rate": ("axis", "rate")}
+        for step in steps:
+            missing = [c for c in need[step.kind] if c not in step.conditions]
+            axis = str(step.conditions.get("axis" if step.kind == "rate" else "up", "")).lower()
+            ok_axis = axis in (("x", "y", "z") if step.kind == "rate" else ("+x", "-x", "+y", "-y", "+z", "-z"))
+            if missing or not ok_axis:
+                raise StationError(
+                    f"station {self.name!r} cannot simulate step {step.segment!r} ({step.kind}): the three-axis "
+                    f"table needs the conditions {', '.join(need[step.kind])}"
+                    + (f" (missing {', '.join(missing)})" if missing else f" (axis {axis!r} is not an IMU axis)")
+                    + "; nothing was recorded",
+                    hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         from .stations import step_seed

@@ -76,12 +76,17 @@ def test_same_result_from_files_and_from_memory(tmp_path, campaign_factory, pm):
     from metro.core.runner import run_items
     from metro.instruments.simulated import GyroTruth, SimulatedStation
 
+    from metro.instruments.stations import step_seed
+
     truth = GyroTruth(seed=77)
-    manifest = campaign_factory.write_campaign(tmp_path / "c", hours=1.0, truth=truth)
+    steps = pm.procedure("gbt45570", "D.5.6")().sequence({})
+    # the station seeds a segment with seed + step_seed(its step) (the step's identity), the
+    # factory with its truth's seed: same samples
+    file_truth = GyroTruth(seed=77 + step_seed(steps[0]))
+    manifest = campaign_factory.write_campaign(tmp_path / "c", hours=1.0, truth=file_truth)
     rec_file = run_items(pm, "gbt45570", ["D.5.1"], campaign=load_manifest(manifest, pm.reader_for))
     st = SimulatedStation(truth=truth, duration_scale=1 / 8)
-    camp = st.acquire(pm.procedure("gbt45570", "D.5.6")().sequence({}))
-    # the station seeds segment i with seed + i, the factory with seed: same samples
+    camp = st.acquire(steps)
     rec_mem = run_items(pm, "gbt45570", ["D.5.1"], campaign=camp)
     a = rec_file.outcomes[0].result("B0").value.magnitude
     b = rec_mem.outcomes[0].result("B0").value.magnitude

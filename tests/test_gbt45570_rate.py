@@ -347,7 +347,19 @@ def test_d12_maximum_uncertainty_by_monte_carlo():
 def test_d3_auto_follows_the_device_output_when_both_sweeps_exist(pm):
     """interpretations.md "D.3 — which rate is the maximum input rate": with both sweeps in the
     data, auto picks the one matching the device's output."""
-    camp = _camp(pm, ["D.2.1", "D.3"], sf_quadratic=2e-4)
+    # a digital gyro gives no revolution counts (the station refuses them, issue 14): the angle
+    # sweep comes from the same virtual gyro with a pulse output, joined to the rate sweep
+    import attrs
+
+    from metro.instruments.sim_gbt_rate import DIGITAL_DEFAULTS
+    from metro.instruments.simulated import station_factory
+
+    camp = _camp(pm, ["D.2.1"], sf_quadratic=2e-4)
+    pulse = station_factory(**(dict(DIGITAL_DEFAULTS) | {"output": "pulse", "sf_quadratic": 2e-4}),
+                            duration_scale=FAST)
+    rev = [attrs.evolve(s, id=f"{s.id}@revolutions") for s in _camp(pm, ["D.3"], station=pulse).segments
+           if s.kind == "rate-revolutions"]
+    camp = attrs.evolve(camp, segments=list(camp.segments) + rev)
     assert camp.find_segments("rate-revolutions") and camp.find_segments("rate-output")
     o = run_items(pm, "gbt45570", ["D.3"], campaign=camp, options={"Kn_limit": "20 ppm"}).outcomes[0]
     assert o.results[0].note.endswith("rate method")

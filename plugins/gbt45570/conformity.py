@@ -233,7 +233,22 @@ def specifications(device) -> list[Specification]:
     if rows is None or app is None:
         return [POLARITY]
     severities = [r.specification(app) for r in TABLE_C1]
-    return [r.specification(app) for r in rows] + [s for s in severities if s is not None] + [POLARITY]
+    return [_by_method(r, r.specification(app)) for r in rows] + [s for s in severities if s is not None] + [POLARITY]
+
+
+def _by_method(row: LimitRow, spec: Specification) -> Specification:
+    """Row 1 (标度因数 K) is in P/″ in table A.1 and in LSB/[(°)/s] in table B.1: a limit judges the
+    scale factor of the method whose output kind it is written in — A.1's the angle method's
+    (D.1.1, pulses), B.1's the rate method's (D.2.1, LSB).  A fibre gyro with a pulse output sent to
+    the angle method by 6.2.7.1 gives K in P/″, which B.1's LSB limit does not apply to (there is no
+    conversion between pulses per arcsecond and LSB per °/s); the assessment lists that limit as
+    not judged instead of failing on the unit (docs/interpretations.md)."""
+    if row.key != "K":
+        return spec
+    item = "D.1.1" if row.unit == "P/arcsec" else "D.2.1"
+    other = "D.2.1" if item == "D.1.1" else "D.1.1"
+    return attrs.evolve(spec, items=(item,),
+                        source=f"{spec.source}; applies to {item} only (a K from {other} is in another output unit)")
 
 
 #: 5.2.9 极性: the polarity shall be positive — 6.2.6's response ratio r (output change over the
