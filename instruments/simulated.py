@@ -262,7 +262,7 @@ class SimulatedStation:
         if self.truth.output != "pulse":
             for step in steps:
                 if step.kind in PULSE_KINDS:
-                    out = {"digital": "digital (LSB)", "rate": "rate (°/h)"}[self.truth.output]
+                    out = "digital (LSB)" if self.truth.output == "digital" else f"rate ({self.truth.rate_unit})"
                     raise StationError(
                         f"station {self.name!r} simulates a gyro with {out} output; steps of kind {step.kind!r} "
                         f"(segment {step.segment}) count the pulses of whole revolutions (angle method, GB/T 45570 "
