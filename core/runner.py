@@ -498,6 +498,28 @@ def check_specification_units(pm: MetroPluginManager, standard: str, campaign: C
                             hint=f"state the limit in a unit of the kind of {fmt_unit(Q_(1.0, m.unit).units)}")
 
 
+def _for_the_outputs(specs, outcomes):
+    """A plugin's limit written for another kind of output does not apply to a result in this one
+    (GB/T 45570 table B.1's K in LSB/[(°)/s] against a K in Hz/[(°)/s] or P/″): such a limit is
+    kept from the results it cannot judge — it is listed as not assessed, its source saying why —
+    instead of stopping the run on the unit.  A limit the manifest gives is never filtered: a
+    ``[specification]`` in the wrong kind of unit stays an error."""
+    from .conformity import _compatible
+
+    out = []
+    for sp in specs:
+        clash = sorted({o.item for o in outcomes for r in o.results
+                        if sp.applies_to(r.metric.key, o.item) and not _compatible(r.value, sp.limit)})
+        if not clash:
+            out.append(sp)
+            continue
+        keep = tuple(i for i in (sp.items or {o.item for o in outcomes}) if i not in clash)
+        note = (f"{sp.source}; not applied to {', '.join(clash)}: that result is in another unit "
+                "(another kind of output) than this limit")
+        out.append(attrs.evolve(sp, items=keep or ("(none)",), source=note))
+    return out
+
+
 def judge(pm: MetroPluginManager, standard: str, campaign: Campaign, outcomes: Sequence[Outcome],
           decision_rule: str | None = None):
     """The conformity assessment of ``outcomes``: plugins' specifications for ``standard``, the
@@ -505,8 +527,8 @@ def judge(pm: MetroPluginManager, standard: str, campaign: Campaign, outcomes: S
     from . import conformity as cf
 
     given = dict(campaign.specification)
-    specs = cf.merge_specifications(pm.conformity_specifications(standard, campaign),
-                                    cf.specifications_from_table(given, file=campaign.source))
+    typical = _for_the_outputs(pm.conformity_specifications(standard, campaign), outcomes)
+    specs = cf.merge_specifications(typical, cf.specifications_from_table(given, file=campaign.source))
     if not specs:
         return None
     rule = cf.rule_named(decision_rule or given.get("decision_rule"))

@@ -354,7 +354,10 @@ def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
             signed = [_rate_of(s) for s in plain]
             Fk = _ideal_Fk(t, signed, {})
             K, F0 = _line(signed, Fk)
-            out["K"], out["F0"] = Q_(K, "LSB/(deg/s)"), Q_(F0, "LSB")
+            if t.output == "rate":  # a digital rate: K a ratio, F₀ in °/s (D.2 reads any angular rate as °/s)
+                out["K"], out["F0"] = Q_(K / t.lsb_per_deg_s, ""), Q_(F0 / t.lsb_per_deg_s, "deg/s")
+            else:
+                out["K"], out["F0"] = Q_(K, "LSB/(deg/s)"), Q_(F0, "LSB")
             out["Kn"] = Q_(_kn_rate(signed, Fk), "")
             pos = [(r, f) for r, f in zip(signed, Fk) if r > 0]
             neg = [(r, f) for r, f in zip(signed, Fk) if r < 0]

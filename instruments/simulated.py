@@ -236,7 +236,9 @@ class SimulatedStation:
             props["resolution"] = Q_(t.rate_resolution, t.rate_unit)
         return DeviceUnderTest(
             id="SIM-OG-1", model="virtual optical gyro", serial=f"seed {t.seed}", manufacturer="metro simulator",
-            properties=props, technology="fibre" if t.output == "digital" else "laser", application="aviation",
+            # a pulse output is a ring-laser gyro's; a digital word or a digital rate a fibre gyro's (6.2.7.1
+            # then sends it to the rate method D.2, which takes LSB, Hz and °/s outputs)
+            properties=props, technology="laser" if t.output == "pulse" else "fibre", application="aviation",
             output={"pulse": "pulse", "digital": "digital", "rate": "rate"}[t.output],
         )
 

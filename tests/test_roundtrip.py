@@ -23,8 +23,9 @@ from metro.core.cli import main
 from metro.core.plugins import get_plugin_manager
 
 STATIONS = ("simulated", "simulated-digital", "simulated-jjf2014", "simulated-mimu", "simulated-ogam")
-#: short records where a station takes them and the items still evaluate
-SCALE = {"simulated-jjf2014": 0.2}
+#: short records where a station takes them and the items still evaluate (a record too short for
+#: an item is refused by acquire: see test_too_short_a_record_is_refused_before_writing)
+SCALE = {"simulated-jjf2014": 0.2, "simulated": 0.25, "simulated-digital": 0.25}
 #: item options that keep the heaviest items short (as tests/test_jjf2014.py runs them)
 ITEM_OPTIONS = {("jjf2014", "7.2.21"): ["-o", "records=3", "-o", "sample_rate=2000 Hz"],
                 ("jjf2014", "7.2.22"): ["-o", "records=3", "-o", "sample_rate=2000 Hz"]}
@@ -51,10 +52,14 @@ def _items():
 ITEMS = _items()
 
 
+#: items whose records must keep their full length (a settled part of 60 s, 10 batches of a supply)
+FULL_LENGTH = {("gbt45570", "6.2.7.7"), ("gbt45570", "6.2.7.8")}
+
+
 def _acquire_argv(standard, items, station, out, *extra):
     argv = ["acquire", "-s", standard, "-i", items, "--station", station, "--out", str(out), "--seed", "11",
             "--no-progress", *extra]
-    if station in SCALE:
+    if station in SCALE and (standard, items) not in FULL_LENGTH:
         argv += ["--station-option", f"duration_scale={SCALE[station]}"]
     return argv
 
@@ -241,3 +246,54 @@ def test_fibre_pulse_gyro_on_the_angle_method_is_judged_without_a_unit_clash():
     assert rec.outcomes[0].result("K").value.units == Q_(1, "P/arcsec").units
     k_specs = [s for s in rec.conformity.not_assessed if s.symbol == "K"]
     assert k_specs and "D.2.1 only" in k_specs[0].source
+
+
+def _run_json(capsys, manifest, items="D.2.1"):
+    import json
+
+    capsys.readouterr()
+    assert main(["run", "-s", "gbt45570", "-i", items, "--data", str(manifest), "--no-report", "--json",
+                 "--no-progress"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _result(doc, key):
+    return next(r for r in doc["results"] if r["key"] == key)
+
+
+def test_d2_takes_an_output_in_deg_per_s_and_in_hz(tmp_path, capsys):
+    """D.2 takes a digital output in LSB, a frequency in Hz (D.23 names it) and a digital rate
+    in °/s; K is then in LSB/[(°)/s], Hz/[(°)/s] or a ratio."""
+    # °/s: the virtual fibre gyro with a digital rate output; its K is 1 within its scale-factor
+    # errors (sf_slope·Ω + sf_quadratic·(Ω/400)² ≤ 4×10⁻⁵ at 400 °/s, fitted over ±400 °/s)
+    out = tmp_path / "ds"
+    assert main(["acquire", "-s", "gbt45570", "-i", "D.2.1,D.2.2", "--station", "simulated-digital",
+                 "--station-option", "output=rate", "--station-option", "rate_unit=deg/s", "--station-option",
+                 "duration_scale=0.1", "--seed", "5", "--out", str(out), "--no-progress"]) == 0
+    doc = _run_json(capsys, out / "manifest.toml", "D.2.1,D.2.2")
+    k = _result(doc, "K")
+    assert k["unit"] == "1" and abs(k["value"] - 1.0) < 1e-4 and 0 < k["U"] < 1e-4
+    assert _result(doc, "F0")["unit"] == "°/s"
+    # Hz: an LSB campaign whose output is declared a frequency gives the same number in Hz/(°/s)
+    lsb = tmp_path / "lsb"
+    assert main(_acquire_argv("gbt45570", "D.2.1", "simulated-digital", lsb)) == 0
+    k_lsb = _result(_run_json(capsys, lsb / "manifest.toml"), "K")
+    for p in lsb.iterdir():
+        text = p.read_text(encoding="utf-8")
+        if p.suffix == ".csv":
+            p.write_text(text.replace("output [LSB]", "output [Hz]"), encoding="utf-8")
+        else:
+            p.write_text(text.replace('output = "LSB"', 'output = "Hz"'), encoding="utf-8")
+    k_hz = _result(_run_json(capsys, lsb / "manifest.toml"), "K")
+    assert k_lsb["unit"] == "LSB·s/°" and k_hz["unit"] == "Hz·s/°"
+    assert k_hz["value"] == pytest.approx(k_lsb["value"], rel=1e-12)
+
+
+def test_too_short_a_record_is_refused_before_writing(tmp_path, capsys):
+    """6.2.7.7 needs a settled part of 60 s after the switch-on: a quarter-length record cannot
+    give it, and acquire says so instead of writing what run would refuse."""
+    out = tmp_path / "c"
+    assert main(["acquire", "-s", "gbt45570", "-i", "6.2.7.7", "--station", "simulated", "--station-option",
+                 "duration_scale=0.25", "--out", str(out), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert "would not evaluate" in err and "too short" in err and not out.exists()

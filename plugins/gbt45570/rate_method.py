@@ -1,10 +1,11 @@
-"""GB/T 45570—2025 D.2 scale factor series by the rate method (digital LSB output):
+"""GB/T 45570—2025 D.2 scale factor series by the rate method (digital output in LSB, °/s or Hz):
 D.2.1 scale factor, D.2.2 nonlinearity, D.2.3 asymmetry, D.2.4 repeatability, D.2.5
 temperature sensitivity, D.2.6 input-axis misalignment — and D.3 maximum input rate, which
 works on the data of either method.
 
 Data: one segment of kind ``rate-output`` per rate point and direction (condition ``rate``,
-signed: + counter-clockwise), with an ``output`` column in LSB sampled once the table is
+signed: + counter-clockwise), with an ``output`` column — in LSB, as a frequency in Hz (D.23
+names it) or as a digital rate in °/s (any angular-rate unit) — sampled once the table is
 steady (D.2.1.2 f), g)); two segments of kind ``rate-static`` (condition ``when`` = ``start`` /
 ``end``), the table at rest at the start and end of the test (D.2.1.2 h)).  D.2.4 adds the
 condition ``run`` = 1 … 7 to both kinds, D.2.5 ``temperature``; D.2.1–D.2.3 and D.3 use the
@@ -59,13 +60,37 @@ from .angle_method import (
 from .procedures import COVERAGE, STANDARD
 
 LSB_PER_RATE = "LSB/(deg/s)"
+#: the output kinds D.2 takes: a digital word in LSB (D.17–D.22), a frequency in Hz (D.23 names it)
+#: or a digital rate in °/s (any angular-rate unit, converted to °/s); K is then in LSB/[(°)/s],
+#: Hz/[(°)/s] or (°/s)/(°/s) (a ratio)
+OUTPUT_UNITS = ("LSB", "Hz", "deg/s")
 
 RATE_OUTPUT = SegmentRequirement(
     "rate-output", "output sampled at each rate point once the table is steady, both directions (D.2.1.2 f), g))",
-    conditions={"rate": "deg/s"}, columns={"output": ("LSB",)}, min_count=22,
+    conditions={"rate": "deg/s"}, columns={"output": OUTPUT_UNITS}, min_count=22,
 )
 REST = SegmentRequirement("rate-static", "table at rest at the start and at the end of the test (D.2.1.2 h))",
-                          conditions={"when": ""}, columns={"output": ("LSB",)}, min_count=2)
+                          conditions={"when": ""}, columns={"output": OUTPUT_UNITS}, min_count=2)
+
+
+def per_rate(unit: str) -> str:
+    """The unit of K for an output in ``unit`` (LSB, Hz or deg/s): output per °/s."""
+    return "" if unit == "deg/s" else f"{unit}/(deg/s)"
+
+
+def unit_text(unit: str) -> str:
+    """``unit`` as the notes and tables print it."""
+    return {"LSB": "LSB", "Hz": "Hz", "deg/s": "°/s", "": "(°/s)/(°/s)"}.get(unit, unit)
+
+
+def k_text(unit: str) -> str:
+    """K's unit for an output in ``unit``, as printed: LSB/(°/s), Hz/(°/s), (°/s)/(°/s)."""
+    return "(°/s)/(°/s)" if unit == "deg/s" else f"{unit_text(unit)}/(°/s)"
+
+
+def metric_in(metric: Metric, unit: str) -> Metric:
+    """``metric`` declared in ``unit`` (K and F₀ follow the output's kind)."""
+    return metric if metric.unit == unit else attrs.evolve(metric, unit=unit)
 _EQUIPMENT = (
     EquipmentRequirement("rate_table", "rate table with rate output (D.2.1.1 a)); its rate accuracy enters the "
                          "budgets", required=True),
@@ -132,24 +157,40 @@ class RateData:
     """The D.17–D.19 reduction of one D.2.1 test (one group of segments)."""
 
     rates: np.ndarray  # Ω_ij, signed, °/s
-    Fk: np.ndarray  # F_kj, LSB
-    uF: np.ndarray  # standard uncertainty of each F̄_j (its samples' scatter), LSB
+    Fk: np.ndarray  # F_kj, in ``unit``
+    uF: np.ndarray  # standard uncertainty of each F̄_j (its samples' scatter), in ``unit``
     n: np.ndarray  # samples behind each F̄_j
     Fr: float
     uFr: float
     segments: tuple[str, ...]
+    unit: str = "LSB"  # the output's kind: LSB, Hz or deg/s
 
     @property
     def magnitudes(self) -> list[float]:
         return sorted({float(abs(r)) for r in self.rates})
 
 
-def _mean_output(seg: Segment, campaign: Campaign) -> tuple[float, float, int]:
-    x = np.asarray(seg.series("output", "LSB").data.magnitude, dtype=float)
+def output_series(seg: Segment) -> tuple[np.ndarray, str]:
+    """The ``output`` column in the kind D.2 takes (:data:`OUTPUT_UNITS`): LSB as recorded, a
+    frequency in Hz, an angular rate in °/s; and that unit."""
+    from metro.core.units import check_dimension
+
+    data = seg.series("output", OUTPUT_UNITS).data
+    for unit in OUTPUT_UNITS:  # metro's check: an angle is not a plain number (Hz is not °/s)
+        try:
+            check_dimension(Q_(1.0, data.units), unit)
+        except DataError:
+            continue
+        return np.asarray(data.to(unit).magnitude, dtype=float), unit
+    raise DataError(seg.file, "output", f"unit {data.units} is none of {', '.join(OUTPUT_UNITS)}")  # pragma: no cover
+
+
+def _mean_output(seg: Segment, campaign: Campaign) -> tuple[float, float, int, str]:
+    x, unit = output_series(seg)
     if x.size < 2 or not np.all(np.isfinite(x)):
         bad = "fewer than 2 samples" if x.size < 2 else f"sample {int(np.argmin(np.isfinite(x))) + 1} is not finite"
         raise DataError(seg.file or f"segment {seg.id}", "output", f"{bad}; D.17 needs a finite record")
-    return F2.mean_output_d17(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), int(x.size)
+    return F2.mean_output_d17(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), int(x.size), unit
 
 
 def _group_of(seg: Segment) -> tuple[str, str]:
@@ -165,7 +206,7 @@ def collect_rate_data(proc: type[Procedure], campaign: Campaign, min_points: int
     rest = [s for s in campaign.find_segments("rate-static") if _group_of(s) == group]
     if not segs:
         raise DataError(campaign.source, "segments",
-                        f"{proc.qualified_id()} needs segments of kind \"rate-output\"{where} (LSB output at each rate "
+                        f"{proc.qualified_id()} needs segments of kind \"rate-output\"{where} (output at each rate "
                         "point, D.2.1.2 g)); none found",
                         hint=f"`metro plan --standard gbt45570 --item {proc.item}` lists them")
     when = {str(s.condition("when")).strip().lower(): s for s in rest}
@@ -175,7 +216,8 @@ def collect_rate_data(proc: type[Procedure], campaign: Campaign, min_points: int
                         f"{proc.qualified_id()} needs the output with the table at rest at the start and the end "
                         f"(segments of kind \"rate-static\", when = start / end{where}, D.2.1.2 h)); missing: "
                         f"{', '.join(missing)}")
-    (Fs, us, _), (Fe, ue, _) = _mean_output(when["start"], campaign), _mean_output(when["end"], campaign)
+    (Fs, us, _, unit), (Fe, ue, _, unit_e) = _mean_output(when["start"], campaign), _mean_output(when["end"], campaign)
+    units = {unit, unit_e}
     Fr = F2.rest_output_d18(Fs, Fe)
     uFr = 0.5 * math.hypot(us, ue)
     by_rate: dict[float, dict[int, tuple]] = {}
@@ -187,7 +229,12 @@ def collect_rate_data(proc: type[Procedure], campaign: Campaign, min_points: int
         slot = by_rate.setdefault(round(abs(rate), 9), {})
         if d in slot:
             raise DataError(campaign.source, f"segments.{s.id}", f"two segments at {rate:+g} °/s{where}")
-        slot[d] = (s, rate) + _mean_output(s, campaign)
+        mean = _mean_output(s, campaign)
+        slot[d] = (s, rate) + mean[:3]
+        units.add(mean[3])
+    if len(units) > 1:
+        raise DataError(campaign.source, "segments", f"{proc.qualified_id()}{where}: the outputs are of different "
+                        f"kinds ({', '.join(sorted(units))}); one test records one output")
     rates, Fk, uF, n, ids = [], [], [], [], [s.id for s in rest]
     for mag, pair in sorted(by_rate.items()):
         if set(pair) != {1, -1}:
@@ -207,7 +254,7 @@ def collect_rate_data(proc: type[Procedure], campaign: Campaign, min_points: int
         raise DataError(campaign.source, "segments",
                         f"{proc.qualified_id()} needs at least {min_points} rate points (D.2.1.2 e)){where}; "
                         f"found {len(by_rate)}", hint="or lower the option min_points if agreed with the user")
-    return RateData(np.array(rates), np.array(Fk), np.array(uF), np.array(n), Fr, uFr, tuple(ids))
+    return RateData(np.array(rates), np.array(Fk), np.array(uF), np.array(n), Fr, uFr, tuple(ids), unit)
 
 
 def rate_band(campaign: Campaign, rate: float) -> tuple[float, float, str] | None:
@@ -263,7 +310,7 @@ def _through_fit(rates: np.ndarray, u_rel: list[float], *, intercept: bool = Fal
     return float(np.sqrt(np.sum((c * rates * np.asarray(u_rel)) ** 2)))
 
 
-def _intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float) -> list[BudgetRow]:
+def _intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float, unit: str = "LSB") -> list[BudgetRow]:
     """The table's error at each set point moves F₀ (D.22) by K·Σ c_F0,j·Ω_j·δ_j. A relative error
     common to all set points cancels (Σ c_F0,j·Ω_j = 0 for a least-squares intercept); a fixed error
     of its own at each set point (uniform within its band, else the calibration's U/k) does not.
@@ -274,7 +321,7 @@ def _intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float) -> lis
     u = abs(K) * _through_fit(rates, [x[0] for x in per_point], intercept=True)
     table = campaign.equipment_for("rate_table")
     return [BudgetRow.type_b(f"rate-table error at each set point, within its band, through D.22 ({table.describe()})",
-                             "u(F₀)", Q_(u, "LSB"), distribution="normal", k=1.0,
+                             "u(F₀)", Q_(u, unit), distribution="normal", k=1.0,
                              note="a fixed error of its own at each Ω_ij, independent between set points; "
                                   "an error common to all cancels in the intercept")]
 
@@ -294,11 +341,22 @@ def _stability_row(campaign: Campaign, data: RateData) -> list[BudgetRow]:
                              note="independent in each run; adds to the spread of the K_j")]
 
 
-def resolution(campaign: Campaign) -> float:
-    """The output's resolution in LSB: the device's ``resolution`` if stated, else 1 LSB."""
+def resolution(campaign: Campaign, unit: str = "LSB") -> float:
+    """The output's resolution in ``unit``: the device's ``resolution`` if stated, else 1 LSB for
+    an LSB output and 0 (none known) for a frequency or rate output."""
     if "resolution" in campaign.device.properties:
-        return float(campaign.device.prop("resolution", "LSB", source=campaign.source).to("LSB").magnitude)
-    return 1.0
+        return float(campaign.device.prop("resolution", unit, source=campaign.source).to(unit).magnitude)
+    return 1.0 if unit == "LSB" else 0.0
+
+
+def _out_resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str, out: str) -> BudgetRow:
+    """:func:`_resolution_row` for an output in ``out`` (LSB, Hz, deg/s)."""
+    if out == "LSB":
+        return _resolution_row(campaign, c_norm, unit, what)
+    q = resolution(campaign, out)
+    note = (f"±half the stated resolution on each mean, independent" if q > 0 else
+            f"the device states no resolution of its {unit_text(out)} output (device.resolution): none assumed")
+    return _resolution_row(campaign, c_norm, unit, what, q=q, raw_unit=out, note=note)
 
 
 def _resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str, *, q: float | None = None,
@@ -385,28 +443,30 @@ class ScaleFactorD21(Procedure):
         data = collect_rate_data(type(self), campaign, int(opts["min_points"]))
         fit = fit_scale_factor(data)
         K, F0 = fit.K, fit.F0
-        rows = [BudgetRow.type_a("mean outputs F̄_j through the D.21 fit", "√Σ(c_j·u(F̄_j))²", Q_(fit.uK, LSB_PER_RATE),
-                                 fit.nuK, note=f"M = {data.rates.size} rates; residual s = {fit.residual_sd:.3g} LSB "
+        out, ku, ot = data.unit, per_rate(data.unit), unit_text(data.unit)
+        rows = [BudgetRow.type_a("mean outputs F̄_j through the D.21 fit", "√Σ(c_j·u(F̄_j))²", Q_(fit.uK, ku),
+                                 fit.nuK, note=f"M = {data.rates.size} rates; residual s = {fit.residual_sd:.3g} {ot} "
                                  "(systematic nonlinearity, D.2.2)")]
         ca, cb = F2.line_fit_sensitivities(data.rates)
-        rows.append(_resolution_row(campaign, float(np.linalg.norm(cb)), LSB_PER_RATE, "D.21"))
-        rows += _rate_row(campaign, "on every Ω_ij", K, LSB_PER_RATE, "K ∝ 1/Ω")
-        bK = UncertaintyBudget("K", LSB_PER_RATE, rows, coverage=COVERAGE)
-        b0 = UncertaintyBudget("F₀", "LSB", [
-            BudgetRow.type_a("mean outputs F̄_j through the D.22 fit", "√Σ(c_j·u(F̄_j))²", Q_(fit.uF0, "LSB"), fit.nuF0),
-            BudgetRow.type_a("rest output F̄_r removed from every point (D.18)", "u(F̄_r)", Q_(data.uFr, "LSB"),
+        rows.append(_out_resolution_row(campaign, float(np.linalg.norm(cb)), ku, "D.21", out))
+        rows += _rate_row(campaign, "on every Ω_ij", K, ku, "K ∝ 1/Ω")
+        bK = UncertaintyBudget("K", ku, rows, coverage=COVERAGE)
+        b0 = UncertaintyBudget("F₀", out, [
+            BudgetRow.type_a("mean outputs F̄_j through the D.22 fit", "√Σ(c_j·u(F̄_j))²", Q_(fit.uF0, out), fit.nuF0),
+            BudgetRow.type_a("rest output F̄_r removed from every point (D.18)", "u(F̄_r)", Q_(data.uFr, out),
                              int(data.n.min()) - 1),
             # F̄_r = (F̄_s + F̄_e)/2 enters F₀ with sensitivity −1: √(2·(1/2)²) on its two means
-            _resolution_row(campaign, math.hypot(float(np.linalg.norm(ca)), math.sqrt(0.5)), "LSB",
-                            "D.22 and F̄_r"),
-            *_intercept_table_row(campaign, data.rates, K)], coverage=COVERAGE)
-        res = [Result(self.metrics[0], Q_(K, LSB_PER_RATE), bK.combined, bK, earth_rate="removed"),
-               Result(self.metrics[1], Q_(F0, "LSB"), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} LSB", earth_rate="removed")]
+            _out_resolution_row(campaign, math.hypot(float(np.linalg.norm(ca)), math.sqrt(0.5)), out,
+                                "D.22 and F̄_r", out),
+            *_intercept_table_row(campaign, data.rates, K, out)], coverage=COVERAGE)
+        res = [Result(metric_in(self.metrics[0], ku), Q_(K, ku), bK.combined, bK, earth_rate="removed"),
+               Result(metric_in(self.metrics[1], out), Q_(F0, out), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} {ot}",
+                      earth_rate="removed")]
         resid = data.Fk - (K * data.rates + F0)
-        plot = PlotSpec("F_rate", "F_kj against Ω with the D.20 fit: residuals", "Ω (°/s)", "F_kj − (KΩ + F₀) (LSB)",
+        plot = PlotSpec("F_rate", "F_kj against Ω with the D.20 fit: residuals", "Ω (°/s)", f"F_kj − (KΩ + F₀) ({ot})",
                         [{"label": "residual", "x": data.rates.tolist(), "y": resid.tolist(),
                           "yerr": (2 * data.uF).tolist(), "style": "o"}])
-        table = TableSpec("F_points", "F_kj per rate point (D.17–D.19)", ["Ω (°/s)", "F_kj (LSB)", "residual (LSB)"],
+        table = TableSpec("F_points", "F_kj per rate point (D.17–D.19)", ["Ω (°/s)", f"F_kj ({ot})", f"residual ({ot})"],
                           [[f"{r:+g}", f"{f:.3f}", f"{e:.3f}"] for r, f, e in zip(data.rates, data.Fk, resid)])
         return Outcome(STANDARD, self.item, self.title, self.clause, res, plots=[plot], tables=[table],
                        segments=data.segments, options=_opts_text(opts))
@@ -446,7 +506,8 @@ class NonlinearityD22(ScaleFactorD21):
         budget = nonlinearity_budget(campaign, data, j, Fm, K)
         a = (F2.fitted_output_d23(K, F0, data.rates) - data.Fk) / Fm
         res = Result(self.metrics[0], Q_(Kn, ""), budget.combined, budget,
-                     note=f"largest |a_j| at {data.rates[j]:+g} °/s; |F_m| = {Fm:.1f} LSB", earth_rate="removed")
+                     note=f"largest |a_j| at {data.rates[j]:+g} °/s; |F_m| = {Fm:.1f} {unit_text(data.unit)}",
+                     earth_rate="removed")
         plot = PlotSpec("a_rate", "Point nonlinearity a_j (D.24)", "Ω (°/s)", "a_j (ppm)",
                         [{"label": "a_j", "x": data.rates.tolist(), "y": (a * 1e6).tolist(), "style": "o"}])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], segments=data.segments,
@@ -466,7 +527,7 @@ def nonlinearity_budget(campaign: Campaign, data: RateData, j: int, Fm: float, K
     u, nu = F2.propagate(g / Fm, uF, n - 1)
     rows = [BudgetRow.type_a(f"mean outputs through F̂_j − F_kj at {w[j]:+g} °/s", "√Σ(g_i·u(F̄_i))²/|F_m|",
                              Q_(u, ""), nu),
-            _resolution_row(campaign, float(np.linalg.norm(g)) / Fm, "", "F̂_j − F_kj")]
+            _out_resolution_row(campaign, float(np.linalg.norm(g)) / Fm, "", "F̂_j − F_kj", data.unit)]
     rows += _rate_row(campaign, f"at {w[j]:+g} °/s", K * abs(w[j]) / Fm, "",
                       "an error not proportional to Ω shows as nonlinearity; bounded by the table's accuracy",
                       rate=float(w[j]))
@@ -507,7 +568,7 @@ class AsymmetryD23(ScaleFactorD21):
                                          note="independent at each signed set point; a common error cancels"))
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
-                     note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} LSB/(°/s)", earth_rate="removed")
+                     note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} {k_text(data.unit)}", earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], segments=data.segments,
                        options=_opts_text(opts))
 
@@ -563,8 +624,10 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
         rows += _stability_row(campaign, last)
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))
-        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.4f} LSB/(°/s), Q = {q}", earth_rate="removed")
-        table = TableSpec("K_runs", "K_j of each power-on (D.21)", ["run", "K_j (LSB/(°/s))", "K_j − K̄ (ppm)"],
+        kt = k_text(last.unit)
+        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.4f} {kt}, Q = {q}",
+                     earth_rate="removed")
+        table = TableSpec("K_runs", "K_j of each power-on (D.21)", ["run", f"K_j ({kt})", "K_j − K̄ (ppm)"],
                           [[r, f"{k:.5f}", f"{(k - mean) / mean * 1e6:.2f}"] for r, k in zip(runs, Kj)])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], segments=used,
                        options=_opts_text(opts))
@@ -620,7 +683,8 @@ class ScaleFactorTemperatureSensitivityD25(ScaleFactorD21):
             dofs.append(fit.nuK)
             used += list(data.segments)
         Kt, imax = F2.scale_factor_temperature_sensitivity_d29(Ks, temps, i0)
-        return _temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used, "LSB/(°/s)")
+        kt = k_text(data.unit)
+        return _temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used, kt)
 
 
 # --------------------------------------------------------------------------------------------
@@ -676,7 +740,12 @@ class InputAxisMisalignmentD26(Procedure):
                 d = 1 if rate > 0 else -1
                 if d in by_dir:
                     raise DataError(campaign.source, f"segments.{s.id}", f"{where}: two segments at {rate:+g} °/s")
-                by_dir[d] = (s, abs(rate)) + _mean_output(s, campaign)
+                mean = _mean_output(s, campaign)
+                if mean[3] != "LSB":  # D.30 divides by the device's K in LSB/[(°)/s]
+                    raise DataError(s.file or campaign.source, "output",
+                                    f"D.2.6 reads an LSB output (D.30 divides by the device's K in LSB/[(°)/s]); "
+                                    f"segment {s.id!r} is in {unit_text(mean[3])}")
+                by_dir[d] = (s, abs(rate)) + mean[:3]
             if set(by_dir) != {1, -1}:
                 only = next(iter(by_dir.values()))[0]
                 raise DataError(campaign.source, f"segments.{only.id}",
