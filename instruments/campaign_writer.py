@@ -340,12 +340,11 @@ def acquire_campaign(
         raise MetroError("no item given", hint="use --item, e.g. --item D.5.1, a series name, or --all")
     _fresh_target(Path(out).absolute())
     if station is None:
-        cands = pm.procedures_of(standard) if (run_all or not items) else []
         named = [pm.procedure(standard, i) for i in items if pm.series(standard, i) is None]
-        if not named and items:  # a series: its members' station
-            ser = pm.series(standard, items[0])
-            named = [pm.procedure(standard, m) for m in ser.members]
-        wanted = sorted({cls.station for cls in (named or cands)})
+        if run_all or len(named) < len(items):  # --all or a series: the station run would simulate
+            cands = pm.procedures_of(standard)
+            named += cands[:1]
+        wanted = sorted({cls.station for cls in named})
         if len(wanted) > 1:
             raise MetroError(f"the items need different stations ({', '.join(wanted)}); acquire them separately",
                              hint="or name one with --station")

@@ -277,7 +277,7 @@ class MimuStation:
         return tilt, np.asarray(rates, float), mean
 
     #: the JJF 2003 step kinds this station simulates (a position or a rate of the three-axis table)
-    KINDS = ("position", "rate")
+    KINDS = ("position", "rate", "rate-repeat")
 
     def check(self, steps, *, items=None) -> None:
         """Refuse, before anything is simulated, a step kind this station does not simulate."""
@@ -287,11 +287,11 @@ class MimuStation:
 
         refuse_unknown_kinds(self.name, steps, self.KINDS, items=items,
                              hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
-        need = {"position": ("up", "heading"), "rate": ("axis", "rate")}
+        need = {"position": ("up", "heading"), "rate": ("axis", "rate"), "rate-repeat": ("axis", "rate")}
         for step in steps:
             missing = [c for c in need[step.kind] if c not in step.conditions]
-            axis = str(step.conditions.get("axis" if step.kind == "rate" else "up", "")).lower()
-            ok_axis = axis in (("x", "y", "z") if step.kind == "rate" else ("+x", "-x", "+y", "-y", "+z", "-z"))
+            axis = str(step.conditions.get("up" if step.kind == "position" else "axis", "")).lower()
+            ok_axis = axis in (("x", "y", "z") if step.kind != "position" else ("+x", "-x", "+y", "-y", "+z", "-z"))
             if missing or not ok_axis:
                 raise StationError(
                     f"station {self.name!r} cannot simulate step {step.segment!r} ({step.kind}): the three-axis "

@@ -297,3 +297,15 @@ def test_too_short_a_record_is_refused_before_writing(tmp_path, capsys):
                  "duration_scale=0.25", "--out", str(out), "--no-progress"]) == 2
     err = capsys.readouterr().err
     assert "would not evaluate" in err and "too short" in err and not out.exists()
+
+
+def test_a_series_without_a_station_is_acquired_where_run_would_simulate_it(tmp_path):
+    """`run -i scale-factor` without --data simulates the standard's default station; acquire does
+    the same and takes the members the 6.2.7.1 rule gives for its laser gyro (D.1.1–D.1.5)."""
+    import tomllib
+
+    out = tmp_path / "c"
+    assert main(["acquire", "-s", "gbt45570", "-i", "scale-factor", "--out", str(out), "--no-progress",
+                 "--station-option", "duration_scale=0.25"]) == 0
+    camp = tomllib.loads((out / "manifest.toml").read_text(encoding="utf-8"))["campaign"]
+    assert camp["station"] == "simulated" and camp["items"] == "D.1.1,D.1.2,D.1.3,D.1.4,D.1.5"
