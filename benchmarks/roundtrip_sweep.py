@@ -4,7 +4,7 @@ simulated station (plus a few multi-item and series cases), through the real CLI
 
 Each case ends in one of:
 
-* ``ok``       — plan, acquire and run all exit 0;
+* ``ok``       — plan and acquire exit 0, run evaluates (exit 0, or 3/4: does not conform / indeterminate);
 * ``refused``  — acquire exits 2 with a message and writes nothing (a clean refusal);
 * ``broken``   — acquire wrote a campaign that run does not evaluate (exit ≠ 0);
 * ``leak``     — acquire refused but left something in --out;
@@ -71,7 +71,8 @@ def case(standard: str, items: str, station: str, root: Path, seed: int = 7) -> 
     rc, msg = _cli(["run", "-s", standard, "-i", items, "--data", str(out / "manifest.toml"), "--no-report",
                     "--json", "--no-progress"])
     rec["run"] = rc
-    if rc == "traceback" or rc not in (0, 2):
+    # run's exit codes for an evaluation: 0 (conforms / nothing judged), 3 (does not conform), 4 (indeterminate)
+    if rc == "traceback" or rc not in (0, 2, 3, 4):
         rec.update(result="crash", where="run", message=msg)
     elif rc == 2:
         rec.update(result="broken", message=msg)

@@ -177,14 +177,19 @@ def test_bias_family_and_threshold_coverage_per_device_class_slow(pm, cls):
 
 
 def test_d56_misfit_limit_catches_the_moderate_misfit(pm):
-    """Undithered counter, device 149, 4 h: χ²/ν = 11.4 and RWC 2.45 U above the truth — reportable
-    under a limit of 25, not under 10 (interpretations.md, "D.5.6 — when the D.45 model does not hold")."""
+    """Undithered counter, device 149, 4 h: a moderate misfit (χ²/ν between 10 and 25; 11.4 when
+    segments were seeded by position, 15 since they are seeded by their step's identity, issue 14)
+    and RWC more than 2 U above the truth — reportable under a limit of 25, not under 10
+    (interpretations.md, "D.5.6 — when the D.45 model does not hold")."""
+    import re
+
     from metro.plugins.gbt45570.procedures import D45_MISFIT_LIMIT
 
     rec = _run(pm, ["D.5.6"], device_class="pulse-fine-undithered", seed=149, duration_scale=0.5)
     r = _result(rec, "RWC")
     assert D45_MISFIT_LIMIT == 10.0
-    assert "χ²/ν = 11.4" in r.reason and not r.reportable
+    chi = re.search(r"χ²/ν = ([0-9.]+)", r.reason)
+    assert chi and 10.0 < float(chi.group(1)) <= 25.0 and not r.reportable
     assert (r.value.magnitude - rec.campaign.expected["RWC"].magnitude) / r.U.magnitude > 2  # the misfit is real
 
 

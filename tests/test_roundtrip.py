@@ -29,6 +29,8 @@ SCALE = {"simulated-jjf2014": 0.2, "simulated": 0.25, "simulated-digital": 0.25}
 #: item options that keep the heaviest items short (as tests/test_jjf2014.py runs them)
 ITEM_OPTIONS = {("jjf2014", "7.2.21"): ["-o", "records=3", "-o", "sample_rate=2000 Hz"],
                 ("jjf2014", "7.2.22"): ["-o", "records=3", "-o", "sample_rate=2000 Hz"]}
+#: run's exit codes for "evaluated": conforms or nothing to judge (0), does not conform (3), indeterminate (4)
+EVALUATED = (0, 3, 4)
 _ANGLE = {"D.1.1", "D.1.2", "D.1.3", "D.1.4", "D.1.5", "D.1.6"}
 _RATE = {"D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5", "D.2.6"}
 
@@ -79,7 +81,7 @@ def test_round_trip_on_every_station(standard, item, tmp_path, capsys):
             rc = main(["run", "-s", standard, "-i", item, "--data", str(out / "manifest.toml"), "--no-report",
                        "--json", "--no-progress", *opts])
             err = capsys.readouterr().err
-            assert rc == 0, f"{item} acquired on {station} but run refused it: {err}"
+            assert rc in EVALUATED, f"{item} acquired on {station} but run refused it: rc {rc} {err}"
         else:
             assert rc == 2, f"{item} on {station} should be refused: rc {rc} {err}"
             assert not out.exists(), f"{item} on {station}: refused but wrote {out}"
@@ -167,7 +169,7 @@ def test_acquire_all_and_series_select_as_run_does(tmp_path, capsys):
     assert main(_acquire_argv("gbt45570", "scale-factor", "simulated-digital", out)) == 0
     capsys.readouterr()
     assert main(["run", "-s", "gbt45570", "-i", "scale-factor", "--data", str(out / "manifest.toml"), "--no-report",
-                 "--json", "--no-progress"]) == 0
+                 "--json", "--no-progress"]) in EVALUATED
     import json
 
     doc = json.loads(capsys.readouterr().out)
@@ -178,7 +180,7 @@ def test_acquire_all_and_series_select_as_run_does(tmp_path, capsys):
                  "--no-progress", "--seed", "3"]) == 0
     capsys.readouterr()
     assert main(["run", "-s", "gbt45570", "--all", "--data", str(out2 / "manifest.toml"), "--no-report", "--json",
-                 "--no-progress"]) == 0
+                 "--no-progress"]) in EVALUATED
     doc = json.loads(capsys.readouterr().out)
     ran = {o["item"] for o in doc["items"]}
     # the rate-method campaign has no whole revolutions: D.3 is selected through its alternative
@@ -253,7 +255,7 @@ def _run_json(capsys, manifest, items="D.2.1"):
 
     capsys.readouterr()
     assert main(["run", "-s", "gbt45570", "-i", items, "--data", str(manifest), "--no-report", "--json",
-                 "--no-progress"]) == 0
+                 "--no-progress"]) in EVALUATED
     return json.loads(capsys.readouterr().out)
 
 
