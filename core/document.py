@@ -105,6 +105,9 @@ def one_notation(text: str) -> str:
     return _SMALL.sub(sub, text)
 
 
+_NEG = re.compile(r"(?<![\w.\-/\u2060])-(?=\d)")
+
+
 def glue(text: str) -> str:
     """No-break spaces where a line must not break: between a number and its unit
     (``1.2 ppm``) and around ``=`` in ``k = 2`` / ``U = 0.4``.
@@ -112,7 +115,10 @@ def glue(text: str) -> str:
     >>> glue("U = 1.2 ppm (k = 2)") == "U\u00a0=\u00a01.2\u00a0ppm (k\u00a0=\u00a02)"
     True
     """
-    return _NUM_UNIT.sub(NBSP, _EQ.sub(f"{NBSP}={NBSP}", one_notation(text)))
+    text = _NUM_UNIT.sub(NBSP, _EQ.sub(f"{NBSP}={NBSP}", one_notation(text)))
+    # a minus sign written as a hyphen: LibreOffice breaks after it ("alpha0 = -" / "2.3…"),
+    # a word joiner (U+2060, invisible) keeps it with its number
+    return _NEG.sub("-\u2060", text)
 
 
 @functools.lru_cache(maxsize=2)
@@ -167,7 +173,8 @@ def _words(text: str) -> list[str]:
 
 
 def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
-                  bold_first: bool = True, bold_column: bool = False) -> list[float] | None:
+                  bold_first: bool = True, bold_column: bool = False,
+                  prefer: int | None = None) -> list[float] | None:
     """Column widths (mm) summing to ``total_mm`` for cells ``columns[j][i]`` at ``pt`` points,
     or None when the longest unbreakable words alone do not fit.
 
@@ -189,8 +196,14 @@ def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
         return [w + spare * w / sum(wants) for w in wants]
     room = total_mm - sum(mins)
     lack = [w - m for w, m in zip(wants, mins)]
-    # water-filling: columns that lack little get all they lack, the others share the rest
+    # water-filling: columns that lack little get all they lack, the others share the rest;
+    # a preferred column (the text of a table, e.g. a budget's sources) first takes up to 60 %
     widths = list(mins)
+    if prefer is not None and lack[prefer] > 0:
+        take = min(lack[prefer], room * 0.6)
+        widths[prefer] += take
+        room -= take
+        lack[prefer] -= take
     open_ = [j for j in range(len(lack)) if lack[j] > 0]
     while open_ and room > 1e-6:
         share = room / len(open_)
@@ -427,7 +440,7 @@ class DocumentBuilder:
 
     def table(self, header: Sequence[str] | None, rows: Sequence[Sequence[str]], *,
               font_pt: float = TABLE_PT, label_column: bool = False, width_mm: float = TEXT_WIDTH_MM,
-              shade: Sequence[int] = ()):
+              shade: Sequence[int] = (), prefer: int | None = None):
         """A bordered table: ``header`` (repeated on every page; None for a label/value table),
         then ``rows`` (each row kept on one page).  ``label_column`` shades and bolds the first
         column (label/value tables).  ``shade`` lists row indexes to shade (summary rows).
@@ -444,10 +457,12 @@ class DocumentBuilder:
         everything = ([head] if head else []) + rows
         cols = [[r[j] for r in everything] for j in range(n)]
         pt = font_pt
-        widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column)
+        widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
+                               prefer=prefer)
         while widths is None and pt > MIN_TABLE_PT:
             pt = max(MIN_TABLE_PT, pt - 0.5)
-            widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column)
+            widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
+                               prefer=prefer)
         if widths is None:  # still too wide: equal shares (a word may then break)
             widths = [width_mm / n] * n
         t = self.doc.add_table(rows=len(everything), cols=n)
@@ -681,22 +696,25 @@ def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]]) -> None:
 
 def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
     """Every uncertainty budget: sources, type, distribution, value, divisor, cᵢ, contribution, ν;
-    then u_c, ν_eff, k and U."""
+    then one line with u_c, ν_eff, k and U.  A budget whose every contribution is zero (an exact
+    count, a quantity taken as declared) is one line."""
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
     for o in outcomes:
         for b in o["budgets"]:
-            doc.heading(f"{o['item']} — {b['title']}", level=3)
-            unit = "" if b["unit"] == "1" else f" ({b['unit']})"
+            unit = "" if b["unit"] == "1" else f" {b['unit']}"
+            summary = f"u_c = {b['u_c']}{unit}, ν_eff = {b['nu_eff']}, k = {b['k']}, U = {b['U']}{unit}"
+            title = f"{o['item']} — {b['title']}"
+            if all(x["contribution"] in ("0", "0.0") for x in b["rows"]):
+                doc.para(f"{title}: {tr('no uncertainty (exact)')}; " + "; ".join(x["source"] for x in b["rows"]),
+                         size=8)
+                continue
+            doc.para(title, bold=True, size=9, keep_next=True)
             rows = [[x["source"], x["symbol"], x["type"], tr(x["distribution"]), x["value"], x["divisor"],
                      x["sensitivity"], x["contribution"] + unit, x["dof"]] for x in b["rows"]]
-            n = len(rows)
-            rows.append([tr("combined standard uncertainty"), "u_c", "", "", "", "", "", b["u_c"] + unit, b["nu_eff"]])
-            rows.append([tr("expanded uncertainty"), "U", "", "", "", "", "", f"{b['U']}", f"k = {b['k']}"])
             doc.table([tr("Source"), tr("Symbol"), tr("Type"), tr("Distribution"), tr("Value"), tr("Divisor"),
-                       "c_i", "u_i(y)", "ν_i"], rows, font_pt=7.5, shade=(n, n + 1))
-            if b.get("note"):
-                doc.para(b["note"], size=8)
+                       "c_i", "u_i(y)", "ν_i"], rows, font_pt=7.5, prefer=0)
+            doc.para(summary + (f". {b['note']}" if b.get("note") else ""), size=8)
 
 
 def tables_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:

@@ -31,7 +31,7 @@ def produced(tmp_path_factory):
 
 
 def _norm(text: str) -> str:
-    return text.replace("\u00a0", " ")
+    return text.replace("\u00a0", " ").replace("\u2060", "")
 
 
 def _texts(doc) -> list[str]:
@@ -48,20 +48,29 @@ def _table_with(doc, header_word: str):
             yield t
 
 
-def test_verdict_table_lists_every_verdict_with_its_reason(produced):
+def test_verdict_table_lists_every_verdict_not_conforming_with_its_reason(produced):
+    """The conformity section lists each verdict that is not "conforms" with its reason; the
+    results table on page 1 gives every verdict; the count of the others is stated."""
     rec, doc, _ = produced
     verdicts = rec.conformity.verdicts
     assert rec.conformity.rule is GUARDED and verdicts
+    shown = [v for v in verdicts if v.status.value != "pass"]
+    assert shown  # the seed gives an indeterminate RWC
     (table,) = list(_table_with(doc, "理由 Reason"))
     rows = [_cells(r) for r in table.rows[1:]]
-    assert len(rows) == len(verdicts)
+    assert len(rows) == len(shown)
     status = {"pass": "合格 conforms", "fail": "不合格 does not conform", "indeterminate": "不确定 indeterminate"}
-    for row, v in zip(rows, verdicts):
+    for row, v in zip(rows, shown):
         assert row[0] == v.item and row[2] == v.spec.text()
         assert row[5] == status[v.status.value]
         assert row[6] == one_notation(v.reason)  # values below 0.001 as ×10ⁿ, every digit kept
         assert row[1] != v.key and len(row[1]) > len(v.key)  # a quantity name with its symbol, not a key
-    assert "bias B₀" in [r[1] for r in rows]  # quantity name and symbol
+    text = "\n".join(_texts(doc))
+    assert f"其余 {len(verdicts) - len(shown)} 个结果合格" in text
+    (results,) = [t for t in _table_with(doc, "扩展不确定度 Expanded uncertainty")][:1]
+    verdict_col = [_cells(r)[4] for r in results.rows[1:]]
+    assert verdict_col.count("合格 conforms") == len(verdicts) - len(shown)
+    assert "bias B₀" in [_cells(r)[1] for r in results.rows[1:]]  # quantity name and symbol
 
 
 def test_decision_rule_text_and_sources(produced):

@@ -360,10 +360,15 @@ def layout(doc, ctx: dict) -> None:
     doc.heading(f"{n} {tr('Conformity')}", 1)
     doc.para(f"{tr('Decision rule')}: {g['rule']['title']}")
     doc.para(g["rule"]["statement"], size=8.5)
-    if g["verdicts"]:
+    shown = [v for v in g["verdicts"] if v["status"] != "pass"]  # the results table gives every verdict
+    if shown:
         doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Value"), tr("U (k)"), tr("Verdict"), tr("Reason")],
-                  [[v["item"], D.quantity_for(ctx, v["item"], v["key"]), v["limit"], v["value"], f"{v['U']} (k = {v['k']})",
-                    tr(v["status_text"]), v["reason"]] for v in g["verdicts"]], font_pt=7.5)
+                  [[v["item"], D.quantity_for(ctx, v["item"], v["key"]), v["limit"], v["value"],
+                    f"{v['U']} (k = {v['k']})", tr(v["status_text"]), v["reason"]] for v in shown], font_pt=7.5,
+                  prefer=6)
+    if len(shown) < len(g["verdicts"]):
+        doc.para(tr("The other {n} results conform: each interval value ± U lies within its limit "
+                    "(results table above).", n=len(g["verdicts"]) - len(shown)), size=8.5)
         sources = list(dict.fromkeys(v["source"] for v in g["verdicts"]))
         doc.para(f"{tr('Sources of the limits')}: " + "; ".join(sources), size=8)
     if g["not_assessed"] and not g["limits"]:  # else table A.1/B.1 shows them as not performed

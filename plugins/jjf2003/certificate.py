@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from metro.core.report import fmt_quantity
+from metro.core.report import fmt_num, fmt_quantity
 from metro.core.units import fmt_unit
 
 AXES = ("x", "y", "z")
@@ -36,7 +36,7 @@ def _unit(r) -> str:
 def _row(r) -> dict[str, Any]:
     v, U = r.reported()
     return {"name": r.metric.name, "symbol": r.metric.symbol, "value": v, "U": U or DASH, "unit": _unit(r) or "1",
-            "k": "2" if r.k is None else f"{r.k:g}", "clause": r.metric.clause,
+            "k": "2" if r.k is None else fmt_num(r.k, 3), "clause": r.metric.clause,
             "reportable": bool(getattr(r, "reportable", True)), "reason": str(getattr(r, "reason", "") or "")}
 
 
