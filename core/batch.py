@@ -444,7 +444,7 @@ def _lot_report(path: Path, job: Job, summary: Mapping[str, Any], stats: Sequenc
     shown = [s for s in stats if s["judged"]] or list(stats)
     shown = shown[:28]  # one page; lot-statistics.csv has every quantity
     heads = ("item", "quantity", "unit", "n", "mean", "σ", "min", "max", "limit", "yield")
-    widths = (1.6, 3.4, 1.2, 0.8, 1.8, 1.8, 1.8, 1.8, 2.0, 1.8)  # cm, 18.0 in all
+    widths = (1.4, 3.2, 1.2, 0.8, 1.9, 1.9, 1.9, 1.9, 2.0, 1.6)  # cm, 17.8 in all
     t = doc.add_table(rows=1, cols=len(heads))
     t.style = "Light Grid Accent 1"
     t.autofit = False
@@ -457,8 +457,9 @@ def _lot_report(path: Path, job: Job, summary: Mapping[str, Any], stats: Sequenc
                 "–" if s["yield"] is None else f"{100 * s['yield']:.0f} % ({s['pass']}/{s['judged']})")
         for cell, v in zip(row, vals):
             cell.text = v
-    for row in t.rows:
-        for cell, w in zip(row.cells, widths):
+    for col, w in zip(t.columns, widths):  # the grid (LibreOffice reads it) and every cell (Word does)
+        col.width = Cm(w)
+        for cell in col.cells:
             cell.width = Cm(w)
     if len(shown) < len([s for s in stats if s["judged"]] or stats):
         doc.add_paragraph("… more quantities in lot-statistics.csv.")
