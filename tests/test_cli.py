@@ -504,3 +504,15 @@ def test_readme_exit_code_table_is_what_metro_returns():
                           cli.EXIT_CAMPAIGN_FAILED, cli.EXIT_INTERRUPTED, cli.EXIT_BROKEN_PIPE}
     assert (cli.exit_code_for("pass"), cli.exit_code_for(None), cli.exit_code_for("fail"),
             cli.exit_code_for("indeterminate")) == (0, 0, 3, 4)
+
+
+def test_simulated_run_exits_0_unless_strict(run_cli, tmp_path):
+    """The README's main job runs on the simulated station and must exit 0 once evaluated: a verdict
+    about the virtual device is printed, not returned; --strict returns it as for recorded data."""
+    # the default virtual gyro's ARW equals table B.1's aviation limit: not shown to conform
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--json", "--no-report")
+    assert code == 0, err
+    overall = json.loads(out)["conformity"]["overall"]
+    assert overall in ("fail", "indeterminate")
+    code_strict, _, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--json", "--no-report", "--strict")
+    assert code_strict == {"fail": 3, "indeterminate": 4}[overall]
