@@ -519,16 +519,10 @@ def exit_code(summary: Mapping[str, Any]) -> int:
 def command(args) -> int:
     """``metro batch`` (arguments parsed by metro.core.cli)."""
     from . import present
-    from .cli import _items, _options, _pm, _show_progress, resolve_items, resolve_standard
+    from .cli import _options, _pm, _show_progress, requested_items
 
     pm = _pm(args)
-    items: list[str] = []
-    if _items(args.item) or args.standard is None:
-        args.standard, items = resolve_items(pm, args.standard, _items(args.item))
-    else:
-        args.standard = resolve_standard(pm, args.standard)
-    if not items and not args.run_all:
-        raise MetroError("no item given", hint="use --item, e.g. --item D.5.1, a series name, or --all")
+    items = requested_items(pm, args)
     if args.workers is not None and args.workers < 1:
         raise MetroError(f"--workers {args.workers}: give at least 1")
     if args.scheduler and args.workers:

@@ -293,6 +293,17 @@ def resolve_items(pm, standard: str | None, names: Sequence[str]) -> tuple[str, 
     return std, out
 
 
+def requested_items(pm, args) -> list[str]:
+    """The item and series ids of ``--standard``/``--item`` (``resolve_items``, which also sets
+    ``args.standard``); none without ``--all`` is an error.  Shared by run, plan and batch."""
+    from .errors import MetroError
+
+    args.standard, items = resolve_items(pm, args.standard, _items(args.item))
+    if not items and not args.run_all:
+        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
+    return items
+
+
 class _Banner:
     """The SIMULATED-station banner on stderr, printed once, when work starts (so a usage error
     is never preceded by it) or, at the latest, before the results."""
@@ -406,15 +417,7 @@ def _cmd_run(args) -> int:
     from .runner import run_items
 
     pm = _pm(args)
-    items: list[str] = []
-    if _items(args.item) or args.standard is None:
-        args.standard, items = resolve_items(pm, args.standard, _items(args.item))
-    else:
-        args.standard = resolve_standard(pm, args.standard)
-    if not items and not args.run_all:
-        from .errors import MetroError
-
-        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
+    items = requested_items(pm, args)
     options = _options(args.option)
     station_options = _station_options(args)
     if args.data is not None and (station_options or args.station):
@@ -585,11 +588,7 @@ def _cmd_plan(args) -> int:
     from .runner import merge_steps, select_items, station_device
 
     pm = _pm(args)
-    args.standard, items = resolve_items(pm, args.standard, _items(args.item))
-    if not items and not args.run_all:
-        from .errors import MetroError
-
-        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
+    items = requested_items(pm, args)
     if args.run_all or any(pm.series(args.standard, i) is not None for i in items):
         # a series or --all: the members that apply to the station's device
         cands = pm.procedures_of(args.standard)
