@@ -298,7 +298,7 @@ def register_run(
     reg = register or open_register(lab.register_url())
     numbered: list[Any] = []
     # everything that does not depend on the number is made before the register's lock is taken:
-    # the context with a placeholder number, and the figures
+    # the context with a provisional number (replaced once allocated), and the figures
     import tempfile
 
     from .report import render_figures
