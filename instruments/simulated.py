@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Mapping, Sequence
 
 import attrs
 import numpy as np
@@ -281,6 +281,7 @@ class SimulatedStation:
         records: dict[str, Any] = {}
         t = self.truth
         unit = output_unit(t)
+        repeat_durations_s: list[float] = []
         for step in steps:
             i = step_seed(step)  # the step's identity, not its place in the list, seeds its noise
             if step.is_record:
@@ -292,6 +293,8 @@ class SimulatedStation:
             interval_s = float(step.interval.to("s").magnitude) if step.interval is not None else float(
                 self.interval.to("s").magnitude)
             n = max(1, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
+            if step.kind == "static-repeat":
+                repeat_durations_s.append(n * interval_s)
             orient = str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
             cb = (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot)) if progress else None
             offset = bias_offset(t, step.conditions)
@@ -327,6 +330,8 @@ class SimulatedStation:
         if t.polarity < 0:
             segments = [_reversed(seg) for seg in segments]
         exp = {k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()}
+        if repeat_durations_s:
+            exp["Br"] = Q_(expected_bias_repeatability(t, repeat_durations_s), "deg/h")
         rates = [s.conditions["rate"] for s in segments if s.kind == "rate-revolutions"]
         if rates:
             from metro.core.units import parse_quantity
@@ -678,6 +683,25 @@ def station_factory(**options: Any) -> SimulatedStation:
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
 
 
+def mean_noise_variance(truth: GyroTruth, duration_s: float) -> float:
+    """Variance ((°/h)²) of the mean rate over ``duration_s`` of the device's noise: white rate
+    noise (ARW²/T) and Gauss–Markov wander (2σ²τ/T·[1 − τ/T·(1 − e^(−T/τ))])."""
+    T_h = duration_s / 3600.0
+    var = truth.arw_deg_rt_h**2 / T_h
+    if truth.gm_sigma_deg_h > 0:
+        r = truth.gm_tau_s / duration_s
+        var += 2.0 * truth.gm_sigma_deg_h**2 * r * (1.0 - r * (1.0 - math.exp(-1.0 / r)))
+    return var
+
+
+def expected_bias_repeatability(truth: GyroTruth, durations_s: Sequence[float]) -> float:
+    """What D.42 measures in expectation (interpretations.md, D.5.3): the scatter of the D.40 biases
+    of the power-ons, each a mean over its record — the turn-on scatter and the within-run noise of
+    each mean, √(σ_on² + mean var(mean))."""
+    w = float(np.mean([mean_noise_variance(truth, d) for d in durations_s]))
+    return math.sqrt(truth.turn_on_sigma_deg_h**2 + w)
+
+
 def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     """What an ideal evaluation of the truth gives, per item (for tests and the CLI's comparison)."""
     out = {
@@ -691,4 +715,4 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["register_record_kind", "register_record_expected", "record_simulators", "merge_records", "register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "bias_offset", "AXES"]
+__all__ = ["register_record_kind", "register_record_expected", "record_simulators", "merge_records", "register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "expected_bias_repeatability", "mean_noise_variance", "bias_offset", "AXES"]

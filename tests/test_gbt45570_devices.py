@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from metro.core.errors import DataError
+from metro.core.present import truth_checks
 from metro.core.runner import run_items
 from metro.instruments.simulated import DEVICE_CLASSES, station_factory
 from metro.plugins.gbt45570 import formulas as F
@@ -201,3 +203,71 @@ def test_d56_coarse_undithered_counts_not_a_data_error(pm, seed):
                     station_options={"seed": seed, "device_class": "pulse-coarse-undithered", "duration_scale": 0.5})
     r = _result(rec, "RWC")
     assert not r.reportable and ("not determined" in r.reason or "is zero" in r.reason)
+
+
+# ------------------------------------------------------------------ issue 13, second round
+
+
+def test_d52_undithered_counts_equal_in_every_block_not_reportable(pm):
+    """Counts 0, 1, 0, 1 … (an undithered counter at half a pulse per sample): every 10 s block
+    holds 5 pulses, B_s(10 s) = 0 — the noise is below one pulse, not reportable, not an error;
+    and a counter that never counts is still a data error."""
+    from metro.core.errors import DataError
+    from metro.core.model import Campaign, DeviceUnderTest, Segment
+    from metro.core.units import Q_
+
+    def camp(counts):
+        seg = Segment("s", "static", {"orientation": "IRA up"}, Q_(1, "s"), sha256="0" * 64,
+                      loader=lambda: {"output": (counts, "P")})
+        dev = DeviceUnderTest("D", properties={"scale_factor": Q_(0.8, "P/arcsec")})
+        return Campaign("C", dev, [], {}, {"latitude": Q_(40, "deg")}, [seg])
+
+    counts = np.tile([0.0, 1.0], 1800)
+    res = run_items(pm, "gbt45570", ["D.5.2"], campaign=camp(counts), options={"t": "10 s"}).outcomes[0].results[0]
+    assert not res.reportable and "same whole number of pulses" in res.reason
+    with pytest.raises(DataError, match="does not vary"):
+        run_items(pm, "gbt45570", ["D.5.2"], campaign=camp(np.zeros(3600)), options={"t": "10 s"})
+
+
+@pytest.mark.parametrize("cls", ["rate-dh", "rate-ds"])
+def test_d26_on_a_rate_output(pm, cls):
+    """D.2.6 on a rate output (°/h, °/s): K = 1 (°/s)/(°/s), no [device] scale factor needed (it was a
+    data error asking for an LSB scale factor); α, β, γ within U of the truth."""
+    rec = run_items(pm, "gbt45570", ["D.2.6"], station="simulated", station_options={"seed": 3, "device_class": cls})
+    checks = {c["key"]: c for c in truth_checks(rec)}
+    assert {"alpha", "beta", "gamma"} <= set(checks) and all(checks[k]["within_U"] for k in ("alpha", "beta", "gamma"))
+
+
+def test_6277_coarse_pulses_cannot_resolve_the_band(pm):
+    """1 P = 20″: one pulse over the 1 s window is 20 °/h, coarser than half the ±5 °/h band — the
+    set-up time is not reportable (it was a data error 'still outside the band'); fine pulses are."""
+    rec = run_items(pm, "gbt45570", ["6.2.7.7"], station="simulated",
+                    station_options={"seed": 1, "device_class": "pulse-coarse"})
+    r = _result(rec, "setup_time")
+    assert not r.reportable and "20 °/h" in r.reason and "window" in r.reason
+    rec = run_items(pm, "gbt45570", ["6.2.7.7"], station="simulated",
+                    station_options={"seed": 1, "device_class": "pulse-fine"})
+    assert _result(rec, "setup_time").reportable
+
+
+def test_environmental_bias_change_has_the_quantization_rows(pm):
+    """6.2.8 ΔB₀ on a coarse LSB output (0.72 °/h): each bias's ±q/2 row enters the difference (it
+    was missing: 80–85 % within U at 20 seeds)."""
+    rec = run_items(pm, "gbt45570", ["6.2.8.4"], station="simulated",
+                    station_options={"seed": 2, "device_class": "lsb-coarse"})
+    r = _result(rec, "hts_dB0")
+    q = [row for row in r.budget.rows if "quantization" in row.source]
+    assert len(q) == 2 and all(row.distribution == "uniform" for row in q)
+
+
+def test_d53_expected_is_what_d42_measures(pm):
+    """D.42 is the scatter of the D.40 biases as measured, each a 1 h mean: the simulated truth is
+    √(σ_on² + ARW²/T) (interpretations.md, D.5.3), and the note states the turn-on share."""
+    from metro.instruments.simulated import GyroTruth, expected_bias_repeatability
+
+    t = GyroTruth(arw_deg_rt_h=0.002, turn_on_sigma_deg_h=0.002)
+    assert expected_bias_repeatability(t, [3600.0] * 7) == pytest.approx(math.sqrt(0.002**2 + 0.002**2), rel=1e-12)
+    assert expected_bias_repeatability(t, [4 * 3600.0] * 7) == pytest.approx(math.sqrt(0.002**2 + 0.001**2), rel=1e-12)
+    rec = run_items(pm, "gbt45570", ["D.5.3"], station="simulated", station_options={"seed": 4, "device_class": "pulse-fine"})
+    r = _result(rec, "Br")
+    assert "within-run noise" in r.note and "turn-on" in r.note

@@ -506,6 +506,22 @@ class ScaleFactorTemperatureSensitivityD15(Procedure):
         return _temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used, "P/″")
 
 
+def selection_rows(sel: "F2.MaxSelection", n_slopes: int, unit: str) -> list[BudgetRow]:
+    """The row of the selection-bias correction of a maximum of slopes (D.12, D.29, D.43): the
+    correction is uncertain by up to its own size (uniform, half-width |bias|)."""
+    if not sel.bias:
+        return []
+    return [BudgetRow.type_b(f"correction for taking the largest of {n_slopes} noisy slopes (Monte Carlo)",
+                             "δ_sel", Q_(abs(sel.bias), unit), distribution="uniform",
+                             note=f"{-sel.bias:+.3g} applied; " + (f"about a degree-{sel.degree} polynomial in T"
+                                                                     if sel.degree >= 0 else "about the points as measured"))]
+
+
+def selection_note(sel: "F2.MaxSelection", scale: float, unit: str) -> str:
+    return (f"as printed by the formula {sel.printed * scale:.4g} {unit}, selection bias {sel.bias * scale:+.2g} "
+            f"{unit} removed (interpretations.md)")
+
+
 def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, imax: int, i0: int, temps, Ks, uKs,
                          dofs, segments, k_unit: str) -> Outcome:
     """Result, budget, plot and table of D.1.5 / D.2.5 (the maximising point of D.12 / D.29)."""
@@ -518,11 +534,12 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     parts = [(ci * uKs[imax], dofs[imax]), (c0 * uKs[i0], dofs[i0])]
     den = sum(u**4 / max(d, 1) for u, d in parts)
     nu = uA**4 / den if den > 0 else math.inf
-    s_mc, bias = F2.max_ratio_monte_carlo(Ks, uKs, temps, i0)
-    rows = [BudgetRow.type_a("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo)",
-                             "s + |bias| of max_i |ΔK_i/(K₀₀ΔT_i)|", Q_(max(s_mc + abs(bias), uA), "1/delta_degC"),
-                             nu, note=f"the maximising point alone gives {uA:.3g}/°C; selecting the largest of "
-                             f"{len(Ks) - 1} noisy ratios adds a bias of about {bias:+.2g}/°C, added linearly")]
+    sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True)
+    rows = [BudgetRow.type_a("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "
+                             "smoothed K(T))", "s of max_i |ΔK_i/(K₀₀ΔT_i)|", Q_(max(sel.s, uA), "1/delta_degC"), nu,
+                             note=f"the maximising point alone gives {uA:.3g}/°C")]
+    rows += selection_rows(sel, len(Ks) - 1, "1/delta_degC")
+    Kt = max(sel.value, 0.0)
     uT = _delta_temperature_u(campaign)
     if uT is not None:
         rows.append(BudgetRow.type_b(f"chamber temperature T_i and T_0 ({uT[1]})", "√2·u(T)",
@@ -530,7 +547,8 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
                                      sensitivity=Q_(Kt / abs(dT), "1/delta_degC/K"), note="∂K_t/∂ΔT = −K_t/ΔT"))
     budget = UncertaintyBudget("K_t", "ppm/delta_degC", rows, coverage=COVERAGE)
     res = Result(proc.metrics[0], Q_(Kt, "1/delta_degC"), budget.combined, budget,
-                 note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C", earth_rate="removed")
+                 note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C; "
+                      f"{selection_note(sel, 1e6, 'ppm/°C')}", earth_rate="removed")
     plot = PlotSpec("K_temperature", f"Scale factor against temperature ({proc.item})", "T (°C)",
                     "(K − K₀₀)/K₀₀ (ppm)",
                     [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],

@@ -535,6 +535,28 @@ class SetupTime6277(Procedure):
             raise DataError(seg.file or f"segment {seg.id}", "output",
                             f"a record of {y.size} samples at {tau:g} s is too short for the settled part "
                             f"({opts['settled']:~P}) and windows of {opts['window']:~P} before it")
+        # what a window mean can resolve: one pulse over the window (a pulse count carries its
+        # remainder), or one step of a rounded output (it does not average out undithered)
+        from .procedures import output_quantum
+
+        if conv.output_kind == "pulse":
+            res = abs(conv.magnitude) / w
+        else:
+            res = output_quantum(campaign, conv, raw)[0] * abs(conv.magnitude)
+        reason, w_used = "", w
+        if res > tol / 2.0:
+            # the band cannot be told from the output's steps at this window: widen it until one
+            # step is within half the band, evaluate for information, and say so (not reportable)
+            w_used = w * int(math.ceil(res / (tol / 2.0)))
+            reason = (f"over the {w * tau:g} s window the output resolves only {res:.3g} °/h (one "
+                      f"{'pulse' if conv.output_kind == 'pulse' else 'output step'}), coarser than half the band "
+                      f"±{tol:g} °/h: the instant the gyro enters the band cannot be read; the value shown is from a "
+                      f"{w_used * tau:g} s window — use a finer output or agree a longer window (option window)")
+            if start < 2 * w_used:
+                raise DataError(seg.file or f"segment {seg.id}", "output",
+                                f"{reason}; the record is too short for it before the settled part",
+                                hint="record longer (option record)")
+            w = w_used
         try:
             ts, settled, t_in, t_out = E.setup_time_6277(y, tau, w, start, tol)
         except ValueError as exc:
@@ -567,8 +589,9 @@ class SetupTime6277(Procedure):
         else:
             rows += _timebase_row(campaign, ts, "s", "t_s")
         budget = UncertaintyBudget("t_s", "s", rows, coverage=COVERAGE)
-        res = Result(self.metrics[0], Q_(ts, "s"), budget.combined, budget,
-                     note=f"settled bias {settled:.4g} °/h, band ±{tol:g} °/h, window {w * tau:g} s", earth_rate="not applicable")
+        result = Result(self.metrics[0], Q_(ts, "s"), budget.combined, budget,
+                        note=f"settled bias {settled:.4g} °/h, band ±{tol:g} °/h, window {w * tau:g} s",
+                        earth_rate="not applicable", reportable=not reason, reason=reason)
         t_mm = (np.arange(mm.size) + w) * tau
         step = max(1, mm.size // 400)
         plot = PlotSpec("setup", "Window mean of the output after switch-on (6.2.7.7)", "t (s)", "ω̄ (°/h)",
@@ -579,8 +602,8 @@ class SetupTime6277(Procedure):
                          {"label": "", "x": [0.0, float(t_mm[-1])], "y": [settled - tol, settled - tol], "style": "--"},
                          {"label": f"t_s = {ts:g} s", "x": [ts, ts], "y": [settled - tol, settled + tol],
                           "style": "-"}])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], segments=[seg.id],
-                       options=_opts_text(opts))
+        return Outcome(STANDARD, self.item, self.title, self.clause, [result], plots=[plot], segments=[seg.id],
+                       options=_opts_text(opts), warnings=[f"t_s is NOT REPORTABLE: {reason}"] if reason else [])
 
 
 # --------------------------------------------------------------------------------------------

@@ -282,6 +282,18 @@ class BiasStabilityD52(Procedure):
                                 f"values of t = {ts:g} s; D.41 needs at least 3", hint="record longer (1 h)")
             sd, m = allan.block_std(raw, factor)
             Bs = sd * conv.magnitude
+            label = f"{ts:g} s"
+            metric = Metric(f"Bs_{ts:g}s", f"bias stability (t = {label})", f"B_s({label})", "deg/h",
+                            "D.5.2.3", "D.41")
+            if not Bs > 0 and conv.output_kind == "pulse" and np.ptp(raw) > 0:
+                # the counts vary sample to sample but every t-block holds the same whole number of
+                # pulses: an undithered counter at a steady rate hides the noise (as D.5.6)
+                reason = (f"every {label} block holds the same whole number of pulses (an undithered counter at a "
+                          f"steady rate): the bias noise over {label} is below one pulse, {conv.magnitude / factor:.3g} "
+                          "°/h, and cannot be measured")
+                results.append(Result(metric, Q_(0.0, "deg/h"), reportable=False, reason=reason,
+                                      earth_rate="not applicable"))
+                continue
             if not Bs > 0 and quantization_of(campaign, conv, raw).q <= 0:
                 raise DataError(seg.file, "output", "the output does not vary at all (zero variance); "
                                 "is the gyro powered and the counter connected?")
@@ -292,9 +304,6 @@ class BiasStabilityD52(Procedure):
             rows += _scale_factor_row(conv, Bs, "deg/h")
             rows += _timebase_row(campaign, Bs, "deg/h", "B_s")
             rows += quantization_rows_std(campaign, conv, raw, factor)
-            label = f"{ts:g} s"
-            metric = Metric(f"Bs_{ts:g}s", f"bias stability (t = {label})", f"B_s({label})", "deg/h",
-                            "D.5.2.3", "D.41")
             budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
             results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {m}", earth_rate="not applicable"))
         warnings = _duration_warnings(series, Q_(1, "h"), "D.5.1.2 c)")
@@ -369,8 +378,15 @@ class BiasRepeatabilityD53(Procedure):
                           f"measured spread B_r = {Br:.3g} °/h: the repeatability cannot be told from the rounding")
         rows += _scale_factor_row(ests[0].conv, Br, "deg/h")
         budget = UncertaintyBudget("B_r", "deg/h", rows, coverage=COVERAGE)
-        res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget, note=f"Q = {Q}", earth_rate="not applicable",
-                     reportable=not reason, reason=reason)
+        # D.42 measures the scatter of the D.40 biases as they are, each a mean over its own record:
+        # the within-run noise of each mean is part of it (interpretations.md, D.5.3).  Stated beside
+        # it: that share, and the turn-on scatter left when it is removed (one-way analysis of variance)
+        w = float(np.mean([e.u_A**2 for e in ests]))
+        turn_on = (f"turn-on scatter without it √(B_r² − mean u_A²) = {math.sqrt(Br**2 - w):.3g} °/h"
+                   if Br**2 > w else "the turn-on scatter is not resolved from it (B_r² ≤ mean u_A²)")
+        res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget,
+                     note=f"Q = {Q}; within-run noise of each bias √(mean u_A²) = {math.sqrt(w):.3g} °/h, part of "
+                          f"D.42; {turn_on}", earth_rate="not applicable", reportable=not reason, reason=reason)
         warnings = [f"B_r is NOT REPORTABLE: {reason}"] if reason else []
         table = TableSpec("biases", "Bias of each power-on (D.40)", ["run", "segment", "B₀ (°/h)", "u_A (°/h)"],
                           [[s.conditions.get("run", i + 1), s.id, f"{e.B0:.5f}", f"{e.u_A:.2g}"]
@@ -443,12 +459,19 @@ class BiasTemperatureSensitivityD54(Procedure):
         nu = uA**4 / ((eA.u_A / dT) ** 4 / eA.nu_A + (e0.u_A / dT) ** 4 / e0.nu_A) if uA > 0 else math.inf
         rows = [BudgetRow.type_a("scatter of B_i and B_00 (batch means)", "√(u²(B_i)+u²(B_00))/|ΔT|",
                                  Q_(uA, "deg/h/delta_degC"), nu)]
+        # D.43 takes the largest of several noisy |slopes|: corrected for the selection bias about a
+        # smoothed B(T) (interpretations.md, D.5.4); the spread of the maximum replaces one slope's u
+        from .angle_method import selection_note, selection_rows
+        from .formulas_rate import max_slope_selection
+
+        sel = max_slope_selection([e.B0 for e in ests], [e.u_A for e in ests], temps, i0, relative=False)
         if len(temps) > 2:
-            # D.43 takes the largest of several noisy |slopes|: when the sensitivity is the same at
-            # every point the maximum exceeds it by about 0.4–0.6 of a slope's u (interpretations.md)
-            rows.append(BudgetRow.type_b("selection of the largest |ΔB/ΔT| among noisy slopes (D.43 takes the "
-                                         "maximum)", "δ_max", Q_(uA, "deg/h/delta_degC"), distribution="uniform",
-                                         note=f"{len(temps) - 1} slopes against T0; half-width one slope's u"))
+            rows = [BudgetRow.type_a("B_i at every T_i and B_00 through the maximum of the slopes (Monte Carlo "
+                                     "about the smoothed B(T))", "s of max_i |ΔB_i/ΔT_i|",
+                                     Q_(max(sel.s, uA), "deg/h/delta_degC"), nu,
+                                     note=f"the maximising point alone gives {uA:.3g} (°/h)/°C")]
+            rows += selection_rows(sel, len(temps) - 1, "deg/h/delta_degC")
+            Bt = max(sel.value, 0.0)
         if eA.u_q > 0 or e0.u_q > 0:
             rows.append(BudgetRow.type_b("quantization of B_i and B_00 (the D.5.1 rows)", "√(u_q²(B_i)+u_q²(B_00))/|ΔT|",
                                          Q_(math.hypot(eA.u_q, e0.u_q) / abs(dT), "deg/h/delta_degC"),
@@ -462,7 +485,9 @@ class BiasTemperatureSensitivityD54(Procedure):
         rows += _scale_factor_row(eA.conv, Bt, "deg/h/delta_degC")
         budget = UncertaintyBudget("B_t", "deg/h/delta_degC", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Bt, "deg/h/delta_degC"), budget.combined, budget,
-                     note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C", earth_rate="not applicable")
+                     note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C"
+                          + (f"; {selection_note(sel, 1.0, '(°/h)/°C')}" if len(temps) > 2 else ""),
+                     earth_rate="not applicable")
         order = np.argsort(temps)
         plot = PlotSpec("bias_temperature", "Bias against temperature (D.5.4)", "T (°C)", "B₀ (°/h)",
                         [{"label": "B₀(T) (D.40)", "x": [temps[i] for i in order], "y": [ests[i].B0 for i in order],

@@ -727,8 +727,16 @@ class InputAxisMisalignmentD26(Procedure):
 
         opts = self.option_values(ctx.options)
         groups = mounting_groups(campaign, "rate-mounting", "D.2.6")
-        k, u_rel_K = required_scale_factor(campaign.device, LSB_PER_RATE, source=campaign.source,
-                                           needed_by="eq. (D.30) of D.2.6 (K from D.2.1)")
+        first = next(iter(groups.values()))[0]
+        out_unit = output_series(first)[1]
+        if out_unit == "deg/s":
+            # a rate output is its own K: (°/s)/(°/s) = 1; its scale error (ppm, D.2.1) moves δ by
+            # as many ppm of itself, negligible against the mean outputs' scatter
+            k, u_rel_K = 1.0, 0.0
+        else:
+            k_unit = LSB_PER_RATE if out_unit == "LSB" else "Hz/(deg/s)"
+            k, u_rel_K = required_scale_factor(campaign.device, k_unit, source=campaign.source,
+                                               needed_by="eq. (D.30) of D.2.6 (K from D.2.1)")
         ang, used = {}, []
         for (ax, turn), segs in groups.items():
             where = f"mounting {ax} up, turned {turn}°"
@@ -741,10 +749,11 @@ class InputAxisMisalignmentD26(Procedure):
                 if d in by_dir:
                     raise DataError(campaign.source, f"segments.{s.id}", f"{where}: two segments at {rate:+g} °/s")
                 mean = _mean_output(s, campaign)
-                if mean[3] != "LSB":  # D.30 divides by the device's K in LSB/[(°)/s]
+                if mean[3] != out_unit:  # D.30 divides by the device's K in the output's unit per °/s
                     raise DataError(s.file or campaign.source, "output",
-                                    f"D.2.6 reads an LSB output (D.30 divides by the device's K in LSB/[(°)/s]); "
-                                    f"segment {s.id!r} is in {unit_text(mean[3])}")
+                                    f"D.2.6 reads one kind of output in every mounting (D.30 divides by K in "
+                                    f"{unit_text(out_unit)}/(°/s)); segment {s.id!r} is in {unit_text(mean[3])}, "
+                                    f"segment {first.id!r} in {unit_text(out_unit)}")
                 by_dir[d] = (s, abs(rate)) + mean[:3]
             if set(by_dir) != {1, -1}:
                 only = next(iter(by_dir.values()))[0]
@@ -765,7 +774,7 @@ class InputAxisMisalignmentD26(Procedure):
         rel = []
         if u_rel_K > 0:
             rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
-                                        k=1.0, note=f"K = {k:g} LSB/[(°)/s]; δ ≈ (F₊ − F₋)/(2KΩ)"))
+                                        k=1.0, note=f"K = {k:g} {unit_text(out_unit)}/[(°)/s]; δ ≈ (F₊ − F₋)/(2KΩ)"))
         r = rate_table_rel(campaign)
         if r is not None:
             rel.append(BudgetRow.type_b(f"rate-table rate accuracy ({r[1]})", "u_rel(Ω)", Q_(r[0], ""),

@@ -223,6 +223,11 @@ def _bias_change(metric: Metric, before, after) -> Result:
     nu = uA**4 / (before.u_A**4 / before.nu_A + after.u_A**4 / after.nu_A) if uA > 0 else math.inf
     rows = [BudgetRow.type_a("scatter of the two biases (batch means)", "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
                              note="earth rate, latitude and levelling are common to both records and cancel")]
+    for phase, est in (("before", before), ("after", after)):
+        if est.hw_q > 0:  # the D.5.1 row of each bias: two roundings, independent (different true values)
+            rows.append(BudgetRow.type_b(f"quantization of the output: B₀ {phase} (the D.5.1 row)", "δB₀",
+                                         Q_(est.hw_q, "deg/h"), distribution="uniform",
+                                         note="the two biases' rounding errors do not cancel in the difference"))
     rows += _scale_factor_row(before.conv, d, "deg/h")
     b = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
     return Result(metric, Q_(d, "deg/h"), b.combined, b, earth_rate="removed", note=f"B₀ before {before.B0:.5f} °/h, after {after.B0:.5f} °/h "
