@@ -271,3 +271,23 @@ def test_d53_expected_is_what_d42_measures(pm):
     rec = run_items(pm, "gbt45570", ["D.5.3"], station="simulated", station_options={"seed": 4, "device_class": "pulse-fine"})
     r = _result(rec, "Br")
     assert "within-run noise" in r.note and "turn-on" in r.note
+
+
+@pytest.mark.parametrize("station,items,key,rep_key", [
+    ("simulated", ["D.1.1", "D.1.4"], "K", "Kr"),
+    ("simulated-digital", ["D.2.1", "D.2.4"], "K", "Kr"),
+    ("simulated", ["D.5.1", "D.5.3"], "B0", "Br"),
+])
+def test_no_budget_smaller_than_the_repeatability_item(pm, station, items, key, rep_key):
+    """Issue 13: K (D.1.1/D.2.1) and B₀ (D.5.1) of one power-on, stated as the device's, carry the
+    power-on scatter D.1.4/D.2.4/D.5.3 measure on the same campaign: U ≥ that spread. Without the
+    repeats, the result's note says the row is absent (no silent loss)."""
+    opts = {"seed": 5} | ({"device_class": "pulse-fine"} if station == "simulated" else {})
+    rec = run_items(pm, "gbt45570", items, station=station, station_options=opts)
+    r, rep = _result(rec, key), _result(rec, rep_key)
+    spread = (float(rep.value.to("").magnitude) * float(r.value.magnitude) if rep_key == "Kr"
+              else float(rep.value.to("deg/h").magnitude))
+    assert float(r.U.magnitude) >= spread
+    assert any("power-on repeatability" in row.source for row in r.budget.rows)
+    alone = run_items(pm, "gbt45570", items[:1], station=station, station_options=opts)
+    assert "power-on repeatability not in U" in _result(alone, key).note

@@ -215,8 +215,12 @@ class ScaleFactorD11(Procedure):
         rows = [BudgetRow.type_a("least-squares fit of K_i = K + W·Ω_i (D.4)", "s(K)", Q_(uK, "P/arcsec"), fit.dof,
                                  note=f"{len(pts)} rate points")]
         rows += _angle_row(campaign, K, "P/arcsec")
+        from .repeatability import scale_factor_angle_repeat_row
+
+        rep_rows, rep_note = scale_factor_angle_repeat_row(campaign, K, "P/arcsec")
+        rows += rep_rows
         budget = UncertaintyBudget("K", "P/arcsec", rows, coverage=COVERAGE)
-        res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget, earth_rate="removed"),
+        res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget, earth_rate="removed", note=rep_note),
                Result(self.metrics[1], Q_(W, "P/arcsec/(deg/s)"), Q_(uW, "P/arcsec/(deg/s)"), earth_rate="removed")]
         model = K + W * rates
         plot = PlotSpec("K_rate", "K_i against rate with the eq. (D.4) fit",

@@ -161,8 +161,13 @@ class BiasD51(Procedure):
         opts = self.option_values(ctx.options)
         seg = _static_segment(type(self), campaign, opts)
         est = segment_bias(seg, campaign, int(opts["batches"]))
-        res = Result(self.metrics[0], Q_(est.B0, "deg/h"), est.budget.combined, est.budget,
-                     note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation}, θ = {est.theta:g}°)", earth_rate="removed")
+        from .repeatability import bias_repeat_row
+
+        rep_rows, rep_note = bias_repeat_row(campaign, int(opts["batches"]), est.u_A)
+        budget = UncertaintyBudget("B0", "deg/h", list(est.budget.rows) + rep_rows, coverage=COVERAGE)
+        note = f"earth rate {est.earth:+.4f} °/h removed ({est.orientation}, θ = {est.theta:g}°)"
+        res = Result(self.metrics[0], Q_(est.B0, "deg/h"), budget.combined, budget,
+                     note=f"{note}; {rep_note}" if rep_note else note, earth_rate="removed")
         warnings = _duration_warnings(est.series, Q_(1, "h"), "D.5.1.2 c)")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})

@@ -450,6 +450,10 @@ class ScaleFactorD21(Procedure):
         ca, cb = F2.line_fit_sensitivities(data.rates)
         rows.append(_out_resolution_row(campaign, float(np.linalg.norm(cb)), ku, "D.21", out))
         rows += _rate_row(campaign, "on every Ω_ij", K, ku, "K ∝ 1/Ω")
+        from .repeatability import scale_factor_rate_repeat_row
+
+        rep_rows, rep_note = scale_factor_rate_repeat_row(campaign, K, ku, int(opts["min_points"]))
+        rows += rep_rows
         bK = UncertaintyBudget("K", ku, rows, coverage=COVERAGE)
         b0 = UncertaintyBudget("F₀", out, [
             BudgetRow.type_a("mean outputs F̄_j through the D.22 fit", "√Σ(c_j·u(F̄_j))²", Q_(fit.uF0, out), fit.nuF0),
@@ -459,7 +463,7 @@ class ScaleFactorD21(Procedure):
             _out_resolution_row(campaign, math.hypot(float(np.linalg.norm(ca)), math.sqrt(0.5)), out,
                                 "D.22 and F̄_r", out),
             *_intercept_table_row(campaign, data.rates, K, out)], coverage=COVERAGE)
-        res = [Result(metric_in(self.metrics[0], ku), Q_(K, ku), bK.combined, bK, earth_rate="removed"),
+        res = [Result(metric_in(self.metrics[0], ku), Q_(K, ku), bK.combined, bK, earth_rate="removed", note=rep_note),
                Result(metric_in(self.metrics[1], out), Q_(F0, out), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} {ot}",
                       earth_rate="removed")]
         resid = data.Fk - (K * data.rates + F0)

@@ -1,0 +1,85 @@
+"""Power-on repeatability carried into the single-power-on results (issue 13).
+
+D.1.1 / D.2.1 give K and D.5.1 gives B₀ of *one* power-on.  Stated as the device's K or B₀, the
+scatter between power-ons that D.1.4 / D.2.4 (K_r, eqs. D.11 / D.28) and D.5.3 (B_r, eq. D.42)
+measure belongs in their budgets: no budget may be smaller than the spread the standard's own
+repeatability item measures on the same campaign.  When the campaign holds those repeats, each
+function here returns the row; when it does not, a note that says the row is absent and why (no
+row is dropped silently).  interpretations.md, "D.1.1 / D.2.1 / D.5.1 — power-on repeatability".
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from metro.core.budget import BudgetRow
+from metro.core.errors import DataError
+from metro.core.model import Campaign
+from metro.core.units import Q_
+
+from . import formulas as F
+from . import formulas_rate as F2
+
+NO_REPEATS = ("power-on repeatability not in U: the campaign has no {item} repeats, so U is that of this "
+              "power-on (run {item} to state the device's {what})")
+
+
+def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tuple[list[BudgetRow], str]:
+    """K_r of D.1.4 (``revolutions-repeat`` runs, eq. D.11) as a row u = K_r·K on K of D.1.1."""
+    from .angle_method import ScaleFactorRepeatabilityD14, _grouped, collect_rate_points
+
+    runs = _grouped(campaign, "revolutions-repeat", "run")
+    if len(runs) < 2:
+        return [], NO_REPEATS.format(item="D.1.4", what="K")
+    try:
+        Kj = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0].K
+              for r, segs in sorted(runs.items())]
+    except (DataError, IndexError) as exc:  # D.1.4 itself reports what is wrong with its runs
+        return [], f"power-on repeatability not in U: the D.1.4 runs could not be evaluated ({exc})"
+    return [_row("K", "D.1.4, eq. (D.11)", F2.scale_factor_repeatability_d11(Kj), K, len(Kj), unit)], ""
+
+
+def scale_factor_rate_repeat_row(campaign: Campaign, K: float, unit: str, min_points: int) -> tuple[list[BudgetRow], str]:
+    """K_r of D.2.4 (``rate-output`` runs, eq. D.28) as a row u = K_r·K on K of D.2.1."""
+    from .rate_method import ScaleFactorRepeatabilityD24, _group_of, collect_rate_data, fit_scale_factor
+
+    runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
+                   and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+    if len(runs) < 2:
+        return [], NO_REPEATS.format(item="D.2.4", what="K")
+    try:
+        Kj = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
+                                                 f"in run {r}")).K for r in runs]
+    except DataError as exc:
+        return [], f"power-on repeatability not in U: the D.2.4 runs could not be evaluated ({exc})"
+    return [_row("K", "D.2.4, eq. (D.28)", F2.scale_factor_repeatability_d28(Kj), K, len(Kj), unit)], ""
+
+
+def _row(symbol: str, where: str, Kr: float, K: float, q: int, unit: str) -> BudgetRow:
+    return BudgetRow.type_a(f"power-on repeatability of {symbol} ({where} on this campaign, K_r = {Kr * 1e6:.3g} ppm): "
+                            f"{symbol} of one power-on stated as the device's", "K_r·K", Q_(abs(Kr * K), unit), q - 1,
+                            note=f"s of Q = {q} power-ons' K_j over their mean")
+
+
+def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float) -> tuple[list[BudgetRow], str]:
+    """The turn-on part of B_r of D.5.3 (``static-repeat`` runs, eq. D.42) as a row on B₀ of D.5.1:
+    √(B_r² − mean u_A²) — the within-run part is already B₀'s own type A — but never less than what
+    keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0))."""
+    from .procedures import segment_bias
+
+    segs = campaign.find_segments("static-repeat")
+    if len(segs) < 2:
+        return [], NO_REPEATS.format(item="D.5.3", what="B₀")
+    try:
+        ests = [segment_bias(s, campaign, batches) for s in segs]
+    except DataError as exc:
+        return [], f"power-on repeatability not in U: the D.5.3 runs could not be evaluated ({exc})"
+    Br = F.bias_repeatability_d42([e.B0 for e in ests])
+    w = float(np.mean([e.u_A**2 for e in ests]))
+    u = max(math.sqrt(max(Br**2 - w, 0.0)), math.sqrt(max(Br**2 / 4.0 - own_uA**2, 0.0)))
+    q = len(ests)
+    return [BudgetRow.type_a(f"power-on repeatability of B₀ (D.5.3, eq. (D.42) on this campaign, B_r = {Br:.3g} °/h, "
+                             "its within-run part removed): B₀ of one power-on stated as the device's", "σ_on",
+                             Q_(u, "deg/h"), q - 1, note=f"Q = {q} power-ons; mean within-run u_A = {math.sqrt(w):.3g} °/h")], ""
