@@ -59,6 +59,61 @@ def linearity_72(k_i: Sequence[float]) -> float:
     return float((k.max() - k.min()) / K)
 
 
+@attrs.frozen
+class RangeEstimate:
+    """K_l of clause 7.2 from noisy K_i (:func:`linearity_72_moment_matched`), all relative to K."""
+
+    printed: float  #: (max K_i − min K_i)/K as clause 7.2 prints it
+    estimate: float  #: the instrument's own range, the printed one less the inflation by the noise
+    spread: float  #: standard deviation of the range of the K_i as measured, over the noise draws
+    noise_only: float  #: mean range the noise alone gives (every K_i equal): the d₂(n)·σ of equal σ
+
+    @property
+    def inflation(self) -> float:
+        """printed − estimate: how much the noise of the K_i widened the printed range (≥ 0)."""
+        return self.printed - self.estimate
+
+
+def linearity_72_moment_matched(k_i: Sequence[float], noise: np.ndarray, *, iterations: int = 50) -> RangeEstimate:
+    """Clause 7.2's K_l = (max K_i − min K_i)/K corrected for the widening of a range by noise.
+
+    Not in the draft (interpretations.md, "7.2 — K_l is a range of noisy K_i").  The noise of the
+    K_i can only widen their range on average (a range is convex: E[range(d + e)] ≥ range(d)); for
+    n equal standard deviations σ and no true variation the expected range is d₂(n)·σ (d₂(6) = 2.534).
+    With d_i = K_i/K̄ − 1 and ``noise`` an (M × n) array of draws of the relative errors of the K_i
+    (GUM Supplement 1), f(λ) = mean over the draws of range(λ·d + e) grows with λ; the estimate is
+    λ̂·range(d) with f(λ̂) = range(d) (moment matching, bisection; common draws keep f monotone),
+    0 when the noise alone already gives the observed range on average (f(0) ≥ range(d)).
+
+    :param k_i: the rounds' scale factors K_i (any unit).
+    :param noise: relative errors of the K_i, one row per draw, one column per round.
+    """
+    k = _arr(k_i, "7.2 K_i", 2)
+    e = np.asarray(noise, dtype=float)
+    if e.ndim != 2 or e.shape[1] != k.size or e.shape[0] < 2:
+        raise ValueError("7.2: the noise draws must be an array of draws × rounds")
+    K = float(np.mean(k))
+    if K == 0:
+        raise ValueError("7.2: the mean scale factor is zero")
+    d = k / K - 1.0
+    R = float(d.max() - d.min())
+
+    def ranges(lam: float) -> np.ndarray:
+        x = lam * d + e
+        return x.max(axis=1) - x.min(axis=1)
+
+    m0 = float(np.mean(ranges(0.0)))
+    if m0 >= R:
+        lam = 0.0
+    else:
+        lo, hi = 0.0, 1.0
+        for _ in range(iterations):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if float(np.mean(ranges(mid))) < R else (lo, mid)
+        lam = 0.5 * (lo + hi)
+    return RangeEstimate(R, lam * R, float(np.std(ranges(1.0), ddof=1)), m0)
+
+
 # ------------------------------------------------------------------------------------ 7.3
 
 

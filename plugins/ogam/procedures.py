@@ -357,13 +357,60 @@ def attrs_evolve_sensitivity(row: BudgetRow, sensitivity) -> BudgetRow:
     return attrs.evolve(row, sensitivity=sensitivity)
 
 
+#: 7.2: Monte Carlo draws of the K_i's noise (GUM Supplement 1; a fixed seed keeps a run reproducible)
+KL_DRAWS = 4000
+KL_SEED = 72
+
+
+def _draw(row: BudgetRow, unit: str, size: tuple[int, int], rng: np.random.Generator) -> np.ndarray:
+    """Draws of the error a budget row describes, in ``unit``, by its distribution (a half-width
+    for uniform/triangular/arcsine, else normal with the row's standard uncertainty)."""
+    a = float(row.value.to(unit).magnitude)
+    if row.distribution in ("uniform", "rectangular"):
+        return rng.uniform(-a, a, size)
+    if row.distribution == "triangular":
+        return rng.triangular(-a, 0.0, a, size)
+    if row.distribution == "arcsine":
+        return a * np.sin(2.0 * math.pi * rng.uniform(0.0, 1.0, size))
+    return rng.normal(0.0, float(row.standard_uncertainty.to(unit).magnitude), size)
+
+
+def linearity_noise(campaign: Campaign, theta_deg: np.ndarray, K: float, warnings: list[str]
+                    ) -> tuple[np.ndarray, str]:
+    """Draws (KL_DRAWS × rounds) of the relative errors of the K_i = C_i/θ_i, and what they hold.
+
+    Each K_i errs by δφ_i/θ_i: the turntable positioning at the stop (its calibration), the count
+    rounding (±0.5 count = 0.5/K of a degree, uniform) and, when the campaign has the 7.5 rounds at
+    60 °/s with the axis up, the angle repeatability R of 7.5 in place of the positioning when larger
+    (R holds the positioning, the reading noise and the random walk of a stop)."""
+    rng = np.random.default_rng(KL_SEED)
+    size = (KL_DRAWS, theta_deg.size)
+    pos = positioning_row(campaign, warnings)
+    what = f"turntable positioning ({pos.distribution}, u = {pos.standard_uncertainty.to('arcsec').magnitude:.3g}″)"
+    ang = _draw(pos, "arcsec", size, rng)
+    rounds = positioning_groups(campaign).get((REF_RATE, "up"), [])
+    if len(rounds) >= 2:
+        R, _ = F.repeatability_75(error_matrix(rounds)[1])
+        if R > float(pos.standard_uncertainty.to("arcsec").magnitude):
+            ang = rng.normal(0.0, R, size)
+            what = f"angle repeatability R = {R:.3g}″ of 7.5 ({len(rounds)} rounds; holds the positioning)"
+    else:
+        what += "; no 7.5 rounds: the reading noise and random walk of a stop are not in it"
+    count = 0.5 / K * F.ARCSEC_PER_DEG
+    ang = ang + rng.uniform(-count, count, size)
+    return ang / (theta_deg * F.ARCSEC_PER_DEG), f"{what}; count rounding ±0.5 count = ±{count:.3g}″"
+
+
 class Linearity72(Procedure):
     """Draft JJF 光学陀螺测角仪 7.2 标度因数线性度 (scale-factor linearity):
-    K_l = (max K_i − min K_i)/K, in %.
+    K_l = (max K_i − min K_i)/K, in %, corrected for the widening of a range by the K_i's noise.
 
-    Budget: the turntable positioning error of the two extreme rounds (type B; sensitivity
-    sqrt(1/θ_max-round² + 1/θ_min-round²)·100 %/″, θ in ″) and the rounding of their counts
-    (±0.5 count, uniform; sensitivity sqrt(1/θ_max² + 1/θ_min²)·100 %/K per count, θ in °).
+    The printed range reads high: the noise of the six K_i (positioning, count rounding, the angle
+    repeatability of 7.5) can only widen it.  metro reports the instrument's own range, the printed
+    one less the expected widening found by moment matching over Monte Carlo draws of that noise
+    (:func:`.formulas.linearity_72_moment_matched`; interpretations.md, "7.2 — K_l is a range of
+    noisy K_i"); the printed value is in the note.  Budget: the spread of the range over the draws
+    and the correction, uncertain by its own size (both type B, normal).
     """
 
     standard = STANDARD
@@ -371,7 +418,8 @@ class Linearity72(Procedure):
     title = "Scale-factor linearity (标度因数线性度)"
     clause = "7.2"
     station = STATION
-    metrics = (Metric("Kl", "scale-factor linearity", "K_l", "percent", "7.2", "K_l = (max K_i − min K_i)/K"),)
+    metrics = (Metric("Kl", "scale-factor linearity", "K_l", "percent", "7.2",
+                      "K_l = (max K_i − min K_i)/K, less the widening by the K_i's noise"),)
     requires = (SCALE,)
     equipment = EQUIPMENT
 
@@ -381,22 +429,26 @@ class Linearity72(Procedure):
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
         seg, theta, _counts, k_i = _scale_factors(campaign, self.item)
-        Kl = F.linearity_72(k_i) * 100.0
         warnings: list[str] = []
-        th = theta * F.ARCSEC_PER_DEG
-        i_max, i_min = int(np.argmax(k_i)), int(np.argmin(k_i))
-        sens = 100.0 * math.sqrt(th[i_max] ** -2 + th[i_min] ** -2)
         K = F.scale_factor_71(k_i)
-        rows = [attrs_evolve_sensitivity(positioning_row(campaign, warnings), Q_(sens, "percent/arcsec")),
-                # δK_i/K = δC_i/(θ_i·K): the rounding of the two extreme rounds' counts
-                BudgetRow.type_b("resolution of the counts C_i of the two extreme rounds (±0.5 count)", "u(C)",
-                                 Q_(0.5, "P"), distribution="uniform",
-                                 sensitivity=Q_(100.0 * math.sqrt(theta[i_max] ** -2 + theta[i_min] ** -2) / K,
-                                                "percent/P"),
-                                 note="one count is 1/K of a degree; independent roundings")]
+        noise, what = linearity_noise(campaign, theta, K, warnings)
+        est = F.linearity_72_moment_matched(k_i, noise)
+        pct = 100.0
+        rows = [BudgetRow.type_b("noise of the K_i: spread of their range", "s(K_l)", Q_(est.spread * pct, "percent"),
+                                 distribution="normal", k=1.0,
+                                 note=f"Monte Carlo, {KL_DRAWS} draws of {what}"),
+                BudgetRow.type_b("correction for the widening of the range by that noise, uncertain by its own size",
+                                 "u(δ)", Q_(est.inflation * pct, "percent"), distribution="normal", k=1.0,
+                                 note=f"δ = {est.inflation * pct:.3g} % (moment matched; the noise alone gives "
+                                      f"{est.noise_only * pct:.3g} % on average)")]
         budget = UncertaintyBudget("K_l", "percent", rows, coverage=COVERAGE_NU)
-        res = Result(self.metrics[0], Q_(Kl, "percent"), budget.combined, budget,
-                     note=f"max K_i at θ = {theta[i_max]:g}°, min at θ = {theta[i_min]:g}°")
+        i_max, i_min = int(np.argmax(k_i)), int(np.argmin(k_i))
+        note = (f"as printed (max K_i − min K_i)/K = {est.printed * pct:.3g} % (max K_i at θ = {theta[i_max]:g}°, "
+                f"min at θ = {theta[i_min]:g}°), less its widening by the K_i's noise, {est.inflation * pct:.3g} %")
+        if est.estimate == 0.0:
+            note += (f"; not resolved from 0: the noise alone gives a range of {est.noise_only * pct:.3g} % on "
+                     "average, no less than the one observed")
+        res = Result(self.metrics[0], Q_(est.estimate * pct, "percent"), budget.combined, budget, note=note)
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], warnings=warnings, segments=[seg.id],
                        options={k: str(v) for k, v in opts.items()})
 
