@@ -385,8 +385,9 @@ def round_to(value: float, exponent: int, *, unit=None) -> Reported:
 def report_pair(value: float, U: float, *, digits: int = 2, mode: str = "half-even") -> tuple[Reported, Reported]:
     """Round U to ``digits`` significant digits and the value to the same decimal place."""
     rU = round_uncertainty(U, digits=digits, mode=mode)
-    if U == 0:
-        return Reported(value, repr(value), 0), rU
+    if U == 0:  # exact (a count, a value taken as declared): whole numbers whole, else 6 digits
+        text = f"{int(value)}" if float(value).is_integer() else f"{float(value):.6g}"
+        return Reported(value, text, 0), rU
     return round_to(value, rU.exponent), rU
 
 

@@ -172,9 +172,22 @@ def _words(text: str) -> list[str]:
     return out
 
 
+_ZH_EN = re.compile(r"(?<=[\u3400-\u9fff）])[ \u00a0](?=[A-Za-zΑ-Ωα-ωνΔ(])")
+
+
+def _two_lines(header: str) -> str:
+    """A bilingual header cell (``扩展不确定度 Expanded uncertainty``) as two lines, Chinese above
+    English, so a narrow column does not wrap it mid-phrase.
+
+    >>> _two_lines("扩展不确定度 Expanded uncertainty").split("\\n"), _two_lines("Source")
+    (['扩展不确定度', 'Expanded uncertainty'], 'Source')
+    """
+    return _ZH_EN.sub("\n", header, count=1)
+
+
 def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
                   bold_first: bool = True, bold_column: bool = False,
-                  prefer: int | None = None) -> list[float] | None:
+                  prefer: int | None = None, prefer_share: float = 0.6) -> list[float] | None:
     """Column widths (mm) summing to ``total_mm`` for cells ``columns[j][i]`` at ``pt`` points,
     or None when the longest unbreakable words alone do not fit.
 
@@ -197,10 +210,11 @@ def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
     room = total_mm - sum(mins)
     lack = [w - m for w, m in zip(wants, mins)]
     # water-filling: columns that lack little get all they lack, the others share the rest;
-    # a preferred column (the text of a table, e.g. a budget's sources) first takes up to 60 %
+    # a preferred column (the text of a table, e.g. a budget's sources) first takes up to
+    # ``prefer_share`` (60 %) of the room
     widths = list(mins)
     if prefer is not None and lack[prefer] > 0:
-        take = min(lack[prefer], room * 0.6)
+        take = min(lack[prefer], room * prefer_share)
         widths[prefer] += take
         room -= take
         lack[prefer] -= take
@@ -440,7 +454,7 @@ class DocumentBuilder:
 
     def table(self, header: Sequence[str] | None, rows: Sequence[Sequence[str]], *,
               font_pt: float = TABLE_PT, label_column: bool = False, width_mm: float = TEXT_WIDTH_MM,
-              shade: Sequence[int] = (), prefer: int | None = None):
+              shade: Sequence[int] = (), prefer: int | None = None, prefer_share: float = 0.6):
         """A bordered table: ``header`` (repeated on every page; None for a label/value table),
         then ``rows`` (each row kept on one page).  ``label_column`` shades and bolds the first
         column (label/value tables).  ``shade`` lists row indexes to shade (summary rows).
@@ -451,18 +465,18 @@ class DocumentBuilder:
         from docx.shared import Pt
 
         rows = [[glue(str(c)) for c in r] for r in rows]
-        head = [glue(str(h)) for h in header] if header else None
+        head = [_two_lines(glue(str(h))) for h in header] if header else None
         n = len(head) if head else max(len(r) for r in rows)
         rows = [list(r) + [""] * (n - len(r)) for r in rows]
         everything = ([head] if head else []) + rows
         cols = [[r[j] for r in everything] for j in range(n)]
         pt = font_pt
         widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
-                               prefer=prefer)
+                               prefer=prefer, prefer_share=prefer_share)
         while widths is None and pt > MIN_TABLE_PT:
             pt = max(MIN_TABLE_PT, pt - 0.5)
             widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
-                               prefer=prefer)
+                                   prefer=prefer, prefer_share=prefer_share)
         if widths is None:  # still too wide: equal shares (a word may then break)
             widths = [width_mm / n] * n
         t = self.doc.add_table(rows=len(everything), cols=n)
@@ -549,7 +563,9 @@ def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
     reportable says so, with its reason, in place of its value."""
     tr = doc.tr
     if not r.get("reportable", True):
-        return tr("not reportable: {reason}", reason=r.get("reason") or DASH), DASH
+        # the label in the document's language(s), the reason (data, one language) once
+        head = tr("not reportable: {reason}", reason="").rstrip()
+        return f"{head}{'' if head.endswith('：') else ' '}{r.get('reason') or DASH}", DASH
     U = r.get("U_unit") or DASH
     if U == DASH:
         return r["value_unit"], tr("not evaluated")
@@ -572,10 +588,56 @@ def with_unit_text(num: str, unit: str) -> str:
     return num if unit in ("", "1", DASH) else f"{num} {unit}"
 
 
+_SUBDIGITS = str.maketrans("₀₁₂₃₄₅₆₇₈₉", "0123456789")
+_CODE_KEY = re.compile(r"^[a-z][a-z0-9]*(?:_[a-z0-9]+)*$")
+
+
+def _plain(sym: str) -> str:
+    """A symbol as typed in plain text: ``α₀`` and ``α_0`` and ``α_{0}`` → ``α0``."""
+    return re.sub(r"[_{}]", "", sym.translate(_SUBDIGITS))
+
+
+def display_symbol(sym: str) -> str:
+    """The symbol a document prints: a code key given as a symbol (``low_temperature``,
+    ``duration``: lower-case words of three or more letters) is not a symbol and prints as
+    nothing (the quantity's name says it).
+
+    >>> display_symbol("ΔB_V13"), display_symbol("low_temperature"), display_symbol("n_nc"), display_symbol("ARW")
+    ('ΔB_V13', '', 'n_nc', 'ARW')
+    """
+    sym = (sym or "").strip()
+    if _CODE_KEY.match(sym) and max(len(p) for p in sym.split("_")) >= 4:
+        return ""
+    return sym
+
+
 def quantity_name(r: dict) -> str:
-    """A result's name for a document: its quantity and symbol, never its code key."""
-    name, sym = r.get("quantity") or "", r.get("symbol") or ""
-    return f"{name} {sym}".strip() if sym and sym not in name else (name or sym or r.get("key", ""))
+    """A result's name for a document: its quantity name and its symbol once, never its code key.
+
+    A name that already holds the symbol in plain text (``D.45 coefficient α0`` with symbol
+    ``α₀``) gets the symbol in its place, with its real subscript, not a second time:
+
+    >>> quantity_name({"quantity": "D.45 coefficient α0", "symbol": "α₀"})
+    'D.45 coefficient α₀'
+    >>> quantity_name({"quantity": "bias stability", "symbol": "B_s"})
+    'bias stability B_s'
+    >>> quantity_name({"quantity": "damp heat: duration applied", "symbol": "duration", "key": "dh_duration"})
+    'damp heat: duration applied'
+    """
+    name = (r.get("quantity") or "").strip()
+    sym = display_symbol(r.get("symbol") or "")
+    if not name:
+        return sym or r.get("key", "")
+    if not sym:
+        return name
+    plain = _plain(sym)
+    tokens = name.split(" ")
+    for i, tok in enumerate(tokens):
+        core = tok.strip(",;:()")
+        if core and (core == sym or _plain(core) == plain):
+            tokens[i] = tok.replace(core, sym)
+            return " ".join(tokens)
+    return f"{name} {sym}"
 
 
 def quantity_for(ctx: dict, item: str, key: str) -> str:
@@ -621,7 +683,7 @@ def results_table(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
             if verdicts is not None:
                 row.append(verdicts.get((o["item"], r["key"]), DASH))
             rows.append(row)
-    doc.table(header, rows)
+    doc.table(header, rows, prefer=1, prefer_share=0.8)
 
 
 def environment_table(doc: DocumentBuilder, ctx: dict) -> None:
@@ -655,27 +717,33 @@ def equipment_table(doc: DocumentBuilder, ctx: dict) -> None:
 
 def notes_section(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None,
                   include_warnings: bool = True) -> None:
-    """Result notes, earth-rate statements and warnings, each text once (naming where it applies)."""
+    """Result notes, earth-rate statements and warnings, each text once.
+
+    The earth-rate statement is one line per kind naming the items it applies to; the notes of
+    one item's results are one line (``D.6.3: ΔB_V12: eq. (D.47); ΔB_V13: eq. (D.48)``, a
+    repeated symbol-and-note pair once); items whose notes read the same share a line."""
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
-    seen: dict[str, list[str]] = {}
+    earth: dict[str, list[str]] = {}
+    per_item: dict[str, list[str]] = {}
     for o in outcomes:
         for r in o["results"]:
-            who = f"{o['item']} {r.get('symbol') or r.get('quantity')}".strip()
+            sym = display_symbol(r.get("symbol") or "") or r.get("quantity") or ""
             if r.get("note"):
-                seen.setdefault(r["note"], []).append(who)
+                per_item.setdefault(o["item"], []).append(f"{sym}: {r['note']}" if sym else r["note"])
             er = r.get("earth_rate")
             if er:
-                seen.setdefault(tr("Earth rate: {how}", how=tr.msg(er)), []).append(who)
+                earth.setdefault(er, []).append(o["item"])
         for w in (o["warnings"] if include_warnings else ()):
-            seen.setdefault(w, []).append(o["item"])
-    lines = []
-    for text, where in seen.items():
-        where = list(dict.fromkeys(where))
-        lines.append(f"{', '.join(where)}: {text}" if len(where) <= 6 else
-                     f"{', '.join(where[:6])} {tr('and {n} more', n=len(where) - 6)}: {text}")
+            per_item.setdefault(o["item"], []).append(w)
+    seen: dict[str, list[str]] = {}
+    for item, texts in per_item.items():
+        seen.setdefault("; ".join(dict.fromkeys(texts)), []).append(item)
+    lines = [f"{', '.join(dict.fromkeys(where))}: {text}" for text, where in seen.items()]
+    for how, items in earth.items():
+        lines.append(f"{tr('Earth rate: {how}', how=tr.msg(how))}: {', '.join(dict.fromkeys(items))}")
     if lines:
-        doc.bullets(lines, size=8.5)
+        doc.bullets(lines, size=8)
     else:
         doc.para(tr("none"))
 
@@ -695,26 +763,45 @@ def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]]) -> None:
 
 
 def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
-    """Every uncertainty budget: sources, type, distribution, value, divisor, cᵢ, contribution, ν;
-    then one line with u_c, ν_eff, k and U.  A budget whose every contribution is zero (an exact
-    count, a quantity taken as declared) is one line."""
+    """Every uncertainty budget: sources, symbol, type and distribution, value, divisor, cᵢ,
+    contribution (its unit in the header), ν; then one line with u_c, ν_eff, k and U.  A budget
+    whose every contribution is zero (an exact count, a quantity taken as declared) is one line;
+    consecutive ones share a paragraph."""
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
+    exact: list[str] = []
+
+    def flush() -> None:
+        if exact:
+            doc.para(f"{tr('no uncertainty (exact)')}: " + "; ".join(exact), size=7.5)
+            exact.clear()
+
     for o in outcomes:
         for b in o["budgets"]:
             unit = "" if b["unit"] == "1" else f" {b['unit']}"
             summary = f"u_c = {b['u_c']}{unit}, ν_eff = {b['nu_eff']}, k = {b['k']}, U = {b['U']}{unit}"
             title = f"{o['item']} — {b['title']}"
             if all(x["contribution"] in ("0", "0.0") for x in b["rows"]):
-                doc.para(f"{title}: {tr('no uncertainty (exact)')}; " + "; ".join(x["source"] for x in b["rows"]),
-                         size=8)
+                exact.append(f"{o['item']} {b['title']} ({', '.join(x['source'] for x in b['rows'])})")
                 continue
-            doc.para(title, bold=True, size=9, keep_next=True)
-            rows = [[x["source"], x["symbol"], x["type"], tr(x["distribution"]), x["value"], x["divisor"],
-                     x["sensitivity"], x["contribution"] + unit, x["dof"]] for x in b["rows"]]
-            doc.table([tr("Source"), tr("Symbol"), tr("Type"), tr("Distribution"), tr("Value"), tr("Divisor"),
-                       "c_i", "u_i(y)", "ν_i"], rows, font_pt=7.5, prefer=0)
-            doc.para(summary + (f". {b['note']}" if b.get("note") else ""), size=8)
+            flush()
+            doc.para(title, bold=True, size=8.5, keep_next=True)
+            rows = [[x["source"], x["symbol"], f"{x['type']}, {tr(x['distribution'])}", x["value"], x["divisor"],
+                     x["sensitivity"], x["contribution"], x["dof"]] for x in b["rows"]]
+            doc.table([tr("Source"), tr("Symbol"), _type_distribution_header(tr), tr("Value"), tr("Divisor"),
+                       "c_i", "u_i(y)" + (f"\n({b['unit']})" if unit else ""), "ν_i"], rows, font_pt=7,
+                      prefer=0, prefer_share=1.0)
+            doc.para(summary + (f". {b['note']}" if b.get("note") else ""), size=7.5)
+    flush()
+
+
+def _type_distribution_header(tr) -> str:
+    """One header for the type and distribution columns merged: ``类型，分布`` above ``Type, distribution``."""
+    if tr.lang == "zh+en":
+        return f"{tr.zh('Type')}，{tr.zh('Distribution')}\nType, distribution"
+    if tr.lang == "zh":
+        return f"{tr.zh('Type')}，{tr.zh('Distribution')}"
+    return "Type, distribution"
 
 
 def tables_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
@@ -736,7 +823,7 @@ def figures_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
 
 def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
     """Software and plugin versions, then the data's SHA-256 in one compact table (full digests
-    for up to 24 files; beyond that the first 16 hex digits, three to a row, and one SHA-256 over
+    for up to 24 files; beyond that the first 16 hex digits, four to a row, and one SHA-256 over
     the sorted list, which the run record's --json output lists in full)."""
     import hashlib
 
@@ -759,9 +846,34 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
     if len(files) <= 24:
         doc.table([tr("Data"), "SHA-256"], [[f["file"], f["sha256"]] for f in files], font_pt=7)
         return
-    cells = [f"{_short_name(f['file'])} {f['sha256'][:16]}" for f in files]
-    rows = [cells[i:i + 3] for i in range(0, len(cells), 3)]
-    doc.table([tr("Data (SHA-256, first 16 hex digits)")] * 3, rows, font_pt=6.5)
+    # many files (simulated segments): the name without what they all share, the first 16 hex
+    # digits, four to a row; the shared words said once above the table
+    names = [_short_name(f["file"]) for f in files]
+    prefix, suffix = _common_affixes(names)
+    if prefix or suffix:
+        doc.para(f"{tr('Data')}: {(prefix + '…' + suffix).strip()}", size=7.5, keep_next=True)
+    cells = [f"{n[len(prefix):len(n) - len(suffix)].strip()} {f['sha256'][:16]}" for n, f in zip(names, files)]
+    rows = [cells[i:i + 4] for i in range(0, len(cells), 4)]
+    doc.table([tr("Data (SHA-256, first 16 hex digits)")] + [""] * 3, rows, font_pt=6)
+
+
+def _common_affixes(names: Sequence[str]) -> tuple[str, str]:
+    """The word-aligned prefix and suffix every name shares (``segment `` … `` (simulated, in memory)``).
+
+    >>> _common_affixes(["segment a-1 (sim)", "segment b-22 (sim)"])
+    ('segment ', ' (sim)')
+    """
+    import os
+
+    if len(names) < 2:
+        return "", ""
+    pre = os.path.commonprefix(list(names))
+    pre = pre[:pre.rfind(" ") + 1] if " " in pre else ""
+    suf = os.path.commonprefix([n[::-1] for n in names])[::-1]
+    suf = suf[suf.find(" "):] if " " in suf else ""
+    if any(len(n) <= len(pre) + len(suf) for n in names):
+        return "", ""
+    return pre, suf
 
 
 def _short_name(name: str) -> str:

@@ -275,6 +275,8 @@ def _result_row(r: "Result") -> dict[str, Any]:
 
 
 def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
+    from .document import quantity_name
+
     d = budget.as_dict()
     unit = d["unit"] if d["unit"] != "1" else ""
     rows = []
@@ -295,7 +297,8 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
     if d["coverage"] != f"k = {d['k']:g}":  # k from t_p(ν_eff): say how it was chosen
         k_text += f" ({d['coverage'].removeprefix('k = ')})"
     return {
-        "title": f"{m.name} {m.symbol}".strip() + (f" ({d['measurand']})" if d["measurand"] not in (m.symbol, m.key, m.name) else ""),
+        "title": quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key})
+                 + (f" ({d['measurand']})" if d["measurand"] not in (m.symbol, m.key, m.name) else ""),
         "measurand": d["measurand"],
         "result": m.key,
         "unit": unit or "1",

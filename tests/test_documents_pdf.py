@@ -37,7 +37,7 @@ META = {
 
 # (standard, items, station options, page bound, fields of the appendix / clause 8 as printed in zh+en)
 CASES = [
-    ("gbt45570", ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"], {"duration_scale": 0.1, "seed": 3}, 12, [
+    ("gbt45570", ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"], {"duration_scale": 0.1, "seed": 3}, 8, [
         "试验报告 Test report", "报告编号 Report No.", "实验室 Laboratory", "委托方 Customer", "被试产品 Device",
         "测量日期 Date of measurement", "接收日期 Date received", "签发日期 Date of issue",
         "总体判定 Overall verdict", "试验条件 Test conditions (6.1)", "试验环境 Test environment (6.1.1)",
@@ -154,6 +154,33 @@ def test_no_number_is_split_across_lines(rendered):
     text = rendered["text"].replace("\u00a0", " ").replace("\u2060", "")
     broken = sorted(n for n in numbers if n not in text)
     assert not broken, f"{rendered['standard']}: split or missing in the PDF: {broken[:20]}"
+
+
+def test_pdf_is_pdf_a_2b(rendered):
+    """LibreOffice exports PDF/A-2b (writer_pdf_Export SelectPdfVersion 2): the XMP metadata says so."""
+    meta = subprocess.run(["pdfinfo", "-meta", str(rendered["pdf"])], capture_output=True, text=True,
+                          check=True).stdout
+    assert re.search(r"<pdfaid:part>2</pdfaid:part>", meta), meta[:400]
+    assert re.search(r"<pdfaid:conformance>B</pdfaid:conformance>", meta)
+
+
+def test_quantity_names_print_the_symbol_once(rendered):
+    """A result's name is its quantity name and its symbol once (``D.45 coefficient α₀``, not
+    ``D.45 coefficient α0 α₀``), read on the rendered text; no code key stands as a symbol."""
+    from metro.core.document import _plain, display_symbol, quantity_name
+
+    text = _squash(_plain(rendered["text"]))
+    for o in rendered["record"].outcomes:
+        for r in o.results:
+            sym = display_symbol(r.metric.symbol)
+            name = _squash(_plain(quantity_name({"quantity": r.metric.name, "symbol": r.metric.symbol,
+                                                 "key": r.metric.key})))
+            if sym:
+                plain = _squash(_plain(sym))
+                assert name.count(plain) == max(1, _squash(_plain(r.metric.name)).count(plain)), name
+                assert name + plain not in text, (r.metric.name, sym)  # not printed a second time
+    if rendered["standard"] == "gbt45570":
+        assert "D.45coefficientα0" in text and "coefficientα0α0" not in text
 
 
 def test_simulated_mark_on_every_page(rendered):

@@ -31,7 +31,7 @@ def produced(tmp_path_factory):
 
 
 def _norm(text: str) -> str:
-    return text.replace("\u00a0", " ").replace("\u2060", "")
+    return text.replace("\u00a0", " ").replace("\u2060", "").replace("\n", " ")  # a bilingual header: two lines
 
 
 def _texts(doc) -> list[str]:
@@ -78,7 +78,7 @@ def test_decision_rule_text_and_sources(produced):
     text = "\n".join(_texts(doc))
     assert "判定规则 Decision rule: guarded acceptance (guard band w = U)" in text
     assert GUARDED.statement in text
-    assert "GB/T 45570—2025 table A.1 row 2" in text  # the limit's source is cited
+    assert "GB/T 45570—2025 table A.1 rows 1, 2, 9, 12, 14" in text  # the limits' sources, each table once
 
 
 def test_report_number_on_every_page_and_in_the_properties(produced):
@@ -111,14 +111,45 @@ def test_data_digest_is_the_sha256_of_every_segment_digest(produced):
 
 
 def test_items_not_performed_are_marked_never_zero(produced):
+    """A report of chosen items lists the rows of table A.1 it performed, with their results, and
+    names the others as not performed (never a zero); the C.1 rows likewise."""
     rec, doc, _ = produced
     (table,) = [t for t in _table_with(doc, "指标 Index")]
     rows = {_cells(r)[1]: _cells(r)[4] for r in table.rows[1:]}
-    assert rows["标度因数重复性 scale factor repeatability"] == "未检测 not performed"
-    assert rows["零偏重复性 bias repeatability"] == "未检测 not performed"
+    assert [_cells(r)[0] for r in table.rows[1:]] == ["1", "2", "9", "12", "14"]
     assert any(k.startswith("零偏 bias B₀") and "U =" in v for k, v in rows.items())
     for value in rows.values():
-        assert value == "未检测 not performed" or not value.startswith("0 ")
+        assert "U =" in value and not value.startswith("0 ")
+    text = "\n".join(_texts(doc))
+    assert "表 A.1 中本次未检测的行：3, 4, 5, 6, 7, 8, 10, 11, 13, 15, 16" in text  # row 4: K_r, 11: B_r
+    assert "表 C.1 中本次未检测的行：1, 2, 3" in text
+
+
+def test_type_test_prints_clause_5_and_whole_tables(produced):
+    """A type test (--all) prints the clause-5 table and every row of A.1/B.1 and C.1; a report
+    of chosen items prints no clause-5 table (the ITEMS run here)."""
+    import attrs
+
+    from metro.core.report import build_context
+    from metro.core.runner import ItemChoice
+
+    rec, doc, _ = produced
+    assert not any("技术要求 Technical requirements" in t for t in _texts(doc))
+    pm = get_plugin_manager(autoload=False)
+    typ = attrs.evolve(rec, selection=[ItemChoice(i, True, "applies", "--all") for i in ITEMS])
+    ctx = build_context(typ, extend=pm.extend_report_context)
+    assert ctx["gbt45570"]["type_test"] and not build_context(rec, extend=pm.extend_report_context)["gbt45570"]["type_test"]
+    from metro.core.report import render_context
+
+    path = render_context(produced[2].with_name("type-test.docx"), ctx, layout=pm.template_for("gbt45570").layout)
+    d = docx.Document(str(path))
+    texts = _texts(d)
+    assert any(t.startswith("1 技术要求 Technical requirements (5)") for t in texts)
+    (table,) = [t for t in _table_with(d, "指标 Index")]
+    assert [_cells(r)[0] for r in table.rows[1:]] == [str(i) for i in range(1, 17)]  # each of A.1's 16 rows once
+    (c1,) = [t for t in _table_with(d, "严酷等级 Severity")]
+    assert len(c1.rows) == 1 + 16
+    assert not any("本次未检测的行" in t for t in texts)
 
 
 def test_environment_equipment_method_and_figures(produced):

@@ -11,7 +11,8 @@ K_i about the eq. (D.4) fit, and one SHA-256 over all data digests.
 from __future__ import annotations
 
 import hashlib
-from typing import Any
+import re
+from typing import Any, Iterable
 
 import numpy as np
 
@@ -295,7 +296,114 @@ def extend_context(record, context: dict) -> None:
         "data_digest": data_digest(context.get("provenance", {}).get("data_files", [])),
         "deviations": deviations,
         "clause5": clause5_rows(record),
+        # a type test (--all): the clause-5 table and the whole of tables A.1/B.1 and C.1 belong
+        # in it; a report of chosen items lists only what was performed
+        # (--all, or a run with items of clause 5 / 6.2 beyond appendix D's performance tests)
+        "type_test": any(getattr(c, "via", "") == "--all" for c in record.selection)
+        or any(not o.item.startswith("D.") for o in outs),
     }
+
+
+_TABLE_ROW = re.compile(r"^(?P<std>.*?) table (?P<table>[A-Z]\.\d+) row (?P<row>\d+) \([^()]*\)(?P<tail>.*)$")
+
+
+_CLAUSE_ITEM = re.compile(r"^(?P<std>.*?) (?P<clause>\d+(?:\.\d+)*) (?P<sub>[a-z]\)) \((?P<why>[^()]*)\)$")
+
+
+def limit_sources(sources: Iterable[str]) -> list[str]:
+    """The sources of the limits, each once, rows of one table merged: ``GB/T 45570—2025 table
+    A.1 rows 1–16, 航空 aviation`` for sixteen lines naming one row each (a row's own remark after
+    ``;`` is kept, naming the row).
+
+    >>> limit_sources(["S table A.1 row 1 (x), air; only D.1.1", "S table A.1 row 2 (y), air",
+    ...                "S table A.1 row 3 (z), air", "S 5.2.6", "S 5.2.6", "S 5.4 b) (check)", "S 5.4 d) (check)"])
+    ['S table A.1 rows 1–3, air (row 1: only D.1.1)', 'S 5.2.6', 'S 5.4 b), d) (check)']
+    >>> limit_sources(["GB/T 45570—2025 5.2.6", "GB/T 45570—2025 5.2.8 (≥ 50 MΩ)", "product specification (mass)"])
+    ['GB/T 45570—2025: 5.2.6; 5.2.8 (≥ 50 MΩ)', 'product specification (mass)']
+    """
+    groups: dict[tuple[str, str, str], list[tuple[int, str]]] = {}
+    merged: dict[tuple[str, str, str], list[str]] = {}
+    out: list[Any] = []
+    for src in dict.fromkeys(sources):
+        m = _TABLE_ROW.match(src)
+        if m is None:
+            out.append(src)
+            continue
+        tail, _, remark = m["tail"].partition(";")
+        key = (m["std"], m["table"], tail)
+        if key not in groups:
+            groups[key] = []
+            out.append(key)
+        groups[key].append((int(m["row"]), remark.strip()))
+    text = []
+    for entry in out:
+        if isinstance(entry, str):
+            m = _CLAUSE_ITEM.match(entry)
+            if m is not None:  # "S 5.4 b) (why)", "S 5.4 d) (why)" → "S 5.4 b), d) (why)"
+                key = (m["std"], m["clause"], m["why"])
+                if key in merged:
+                    merged[key].append(m["sub"])
+                    continue
+                merged[key] = [m["sub"]]
+                text.append(key)
+                continue
+            text.append(entry)
+            continue
+        std, table, tail = entry
+        rows = sorted(groups[entry])
+        nums = [r for r, _ in rows]
+        remarks = [f"row {r}: {rem}" for r, rem in rows if rem]
+        text.append(f"{std} table {table} {'row' if len(nums) == 1 else 'rows'} {_ranges(nums)}{tail}"
+                    + (f" ({'; '.join(remarks)})" if remarks else ""))
+    text = [f"{t[0]} {t[1]} {', '.join(merged[t])} ({t[2]})" if isinstance(t, tuple) else t for t in text]
+    # one standard named once: "GB/T 45570—2025 5.2.6; GB/T 45570—2025 5.2.8" → "GB/T 45570—2025: 5.2.6; 5.2.8"
+    by_std: dict[str, list[str]] = {}
+    order: list[str] = []
+    for t in text:
+        std, sep, rest = t.partition(" ")
+        head = t.split(" ", 2)
+        prefix = " ".join(head[:2]) if len(head) > 2 and head[0] in ("GB/T", "GB", "JJF", "JJG") else ""
+        if prefix:
+            if prefix not in by_std:
+                by_std[prefix] = []
+                order.append(prefix)
+            by_std[prefix].append(t[len(prefix) + 1:])
+        else:
+            order.append(t)
+    return [f"{o}: {'; '.join(by_std[o])}" if o in by_std and len(by_std[o]) > 1 else
+            (f"{o} {by_std[o][0]}" if o in by_std else o) for o in order]
+
+
+def _ranges(nums: list[int]) -> str:
+    """``[1, 2, 3, 5, 8, 9, 10]`` → ``1–3, 5, 8–10``."""
+    out, start = [], None
+    for i, v in enumerate(nums):
+        if start is None:
+            start = v
+        if i + 1 == len(nums) or nums[i + 1] != v + 1:
+            out.append(f"{start}" if start == v else f"{start}{'–' if v > start + 1 else ', '}{v}")
+            start = None
+    return ", ".join(out)
+
+
+def _symbolizer(ctx: dict):
+    """A function putting result symbols in place of the code keys in free text (``Bs_10s ± U``
+    → ``B_s(10 s) ± U``): keys with an underscore or a digit only, never plain words."""
+    from metro.core.document import display_symbol
+
+    found: dict[str, tuple[str, str]] = {}
+    for o in ctx["outcomes"]:
+        for r in o["results"]:
+            key, sym = r["key"], display_symbol(r.get("symbol") or "")
+            if key != sym and re.search(r"[_\d]", key):
+                found.setdefault(key, (sym, r.get("quantity") or ""))
+    shared = {s for s, _ in found.values() if sum(1 for t, _ in found.values() if t == s) > 1}
+    # a symbol several keys share (l for length, width and height) would not say which: the name
+    names = {k: (s if s and s not in shared else n) for k, (s, n) in found.items() if s or n}
+    if not names:
+        return lambda text: text
+    rx = re.compile(r"(?<![\w.])(" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + r")(?!\w)")
+    return lambda text: rx.sub(lambda m: names[m.group(1)], text)
 
 
 # ----------------------------------------------------------------------------------------
@@ -335,11 +443,17 @@ def layout(doc, ctx: dict) -> None:
     D.results_table(doc, ctx, verdicts=verdicts)
 
     n = 1
-    if g["clause5"]:
+    type_test = g.get("type_test", False)
+    symbols = _symbolizer(ctx)
+    if g["clause5"] and type_test:
         doc.heading(f"{n} {tr('Technical requirements')} (5)", 1)
+        # each requirement with its results (symbols, not code keys) and verdict; the why only
+        # where the verdict is not "conforms" (the interval inside the limit is the results table's)
         doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
-                  [[r["clause"], r["requirement"], r["result"], tr(r["verdict"]) if r["verdict"] else DASH,
-                    r.get("note", "")] for r in g["clause5"]])
+                  [[r["clause"], r["requirement"], symbols(r["result"]),
+                    tr(r["verdict"]) if r["verdict"] else DASH,
+                    "" if r["verdict"] == "conforms" else symbols(r.get("note", ""))] for r in g["clause5"]],
+                  font_pt=7.5)
         n += 1
     doc.heading(f"{n} {tr('Test conditions')} (6.1)", 1)
     doc.heading(f"{tr('Test environment')} (6.1.1)", 2)
@@ -349,13 +463,19 @@ def layout(doc, ctx: dict) -> None:
                 tr(r["verdict"]) if r["verdict"] else DASH] for r in g["environment"]])
     doc.heading(f"{tr('Test equipment and measuring instruments')} (6.1.2)", 2)
     D.equipment_table(doc, ctx)
-    n += 1
-    doc.heading(f"{n} {tr('Method and items')}", 1)
-    if g["method"]:
-        doc.para(f"{tr('Scale-factor method')} (6.2.7.1): {g['method']}")
-    if g["selection"]:
-        doc.table([tr("Item"), tr("Run"), tr("Reason")],
-                  [[c["item"], tr("yes") if c["run"] else tr("no"), c["reason"]] for c in g["selection"]])
+    if g["method"] or g["selection"]:
+        n += 1
+        doc.heading(f"{n} {tr('Method and items')}", 1)
+        if g["method"]:
+            doc.para(f"{tr('Scale-factor method')} (6.2.7.1): {g['method']}")
+        if g["selection"]:
+            groups: dict[tuple[bool, str], list[str]] = {}
+            for c in g["selection"]:
+                groups.setdefault((c["run"], c["reason"]), []).append(c["item"])
+            doc.table([tr("Run"), tr("Items"), tr("Reason")],
+                      [[tr("yes") if run else tr("no"), ", ".join(items), tr(reason) if reason == "applies" else reason]
+                       for (run, reason), items in sorted(groups.items(), key=lambda kv: not kv[0][0])],
+                      prefer=1)
     n += 1
     doc.heading(f"{n} {tr('Conformity')}", 1)
     doc.para(f"{tr('Decision rule')}: {g['rule']['title']}")
@@ -369,8 +489,9 @@ def layout(doc, ctx: dict) -> None:
     if len(shown) < len(g["verdicts"]):
         doc.para(tr("The other {n} results conform: each interval value ± U lies within its limit "
                     "(results table above).", n=len(g["verdicts"]) - len(shown)), size=8.5)
-        sources = list(dict.fromkeys(v["source"] for v in g["verdicts"]))
-        doc.para(f"{tr('Sources of the limits')}: " + "; ".join(sources), size=8)
+    if g["verdicts"]:
+        doc.para(f"{tr('Sources of the limits')}: " + "; ".join(limit_sources(v["source"] for v in g["verdicts"])),
+                 size=8)
     if g["not_assessed"] and not g["limits"]:  # else table A.1/B.1 shows them as not performed
         doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(g["not_assessed"]), size=8)
     lim = g["limits"]
@@ -379,17 +500,30 @@ def layout(doc, ctx: dict) -> None:
         kind = tr("laser gyro") if lim["kind"] == "laser" else tr("fibre-optic gyro")
         doc.heading(f"{n} {tr('Typical indices, table {table}', table=lim['table'])} — {kind}, "
                     f"{tr.pick(lim['app_cn'], lim['app'])}", 1)
-        doc.table([tr("No."), tr("Index"), tr("Limit"), tr("Method"), tr("Result"), tr("Verdict")],
-                  [[r["no"], tr.pick(r["name_cn"], r["name_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
-                    r["limit"], r["method"], r["result"] if r["performed"] else tr(NOT_PERFORMED),
-                    tr(r["verdict"]) if r["verdict"] else DASH] for r in lim["rows"]], font_pt=7.5)
+        rows = [r for r in lim["rows"] if type_test or r["performed"]]
+        if rows:
+            doc.table([tr("No."), tr("Index"), tr("Limit"), tr("Method"), tr("Result"), tr("Verdict")],
+                      [[r["no"], tr.pick(r["name_cn"], r["name_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
+                        r["limit"], r["method"], r["result"] if r["performed"] else tr(NOT_PERFORMED),
+                        tr(r["verdict"]) if r["verdict"] else DASH] for r in rows], font_pt=7.5)
+        idle = [r["no"] for r in lim["rows"] if not r["performed"]]
+        if idle and not type_test:
+            doc.para(tr("Rows of table {table} not performed in this run: {rows}", table=lim["table"],
+                        rows=", ".join(idle)), size=8.5)
     if g["severities"]:
         n += 1
         doc.heading(f"{n} {tr('Environmental severities')} (C.1)", 1)
-        doc.table([tr("No."), tr("Test"), tr("Severity"), tr("Method"), tr("Status")],
-                  [[r["no"], tr.pick(r["name_cn"], r["name_en"]), r["severity"], r["method"],
-                    tr(r["status"]) + (f": {r['performed_items']}" if r["performed_items"] else "")]
-                   for r in g["severities"]], font_pt=7.5)
+        rows = [r for r in g["severities"] if type_test or r["status"] == "performed"]
+        if rows:
+            doc.table([tr("No."), tr("Test"), tr("Severity"), tr("Method"), tr("Status")],
+                      [[r["no"], tr.pick(r["name_cn"], r["name_en"]), r["severity"], r["method"],
+                        tr(r["status"]) + (f": {r['performed_items']}" if r["performed_items"] else "")]
+                       for r in rows], font_pt=7.5)
+        if not type_test:
+            idle = [r["no"] for r in g["severities"] if r["status"] != "performed"]
+            if idle:
+                doc.para(tr("Rows of table {table} not performed in this run: {rows}", table="C.1",
+                            rows=", ".join(idle)), size=8.5)
     n += 1
     doc.heading(f"{n} {tr('Notes')}", 1)
     D.notes_section(doc, ctx, include_warnings=False)
