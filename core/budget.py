@@ -390,19 +390,3 @@ def report_pair(value: float, U: float, *, digits: int = 2, mode: str = "half-ev
         return Reported(value, text, 0), rU
     return round_to(value, rU.exponent), rU
 
-
-#: A budget in a Word template (docxtpl), as the built-in templates lay it out: the heading line
-#: of each budget ``b`` of an outcome ``o``, then a table with one ``row`` per component and every
-#: JJF 1059.1 column — (header, cell tag, width in mm) — from ``metro.core.report``'s context.
-TEMPLATE_BUDGET_HEADING = ("{{ o.item }} {{ b.title }} [{{ b.unit }}]: u_c = {{ b.u_c }}, ν_eff = {{ b.nu_eff }}, "
-                           "k = {{ b.k }}, U = {{ b.U }}")
-TEMPLATE_BUDGET_COLUMNS = (
-    ("来源 Source", "{{ row.source }}", 52),
-    ("类型 Type", "{{ row.type }}", 11),
-    ("分布 Distribution", "{{ row.distribution }}", 19),
-    ("值 Value", "{{ row.value }}", 22),
-    ("除数 Divisor", "{{ row.divisor }}", 13),
-    ("灵敏系数 c_i", "{{ row.sensitivity }}", 22),
-    ("u_i(y)", "{{ row.contribution }}", 20),
-    ("ν", "{{ row.dof }}", 11),
-)

@@ -407,8 +407,22 @@ class DocumentBuilder:
         p.paragraph_format.keep_with_next = True
         return p
 
+    #: the lab's logo (image bytes, from the lab profile), drawn above the title of page 1
+    logo: bytes | None = None
+    LOGO_HEIGHT_MM = 14.0
+
     def title_block(self, title: str, subtitle: str = "") -> None:
+        """The title (and subtitle) of page 1, under the lab's logo when the profile gives one."""
+        import io
+
         from docx.enum.text import WD_ALIGN_PARAGRAPH
+        from docx.shared import Mm
+
+        if self.logo:
+            p = self.doc.add_paragraph()
+            p.alignment = WD_ALIGN_PARAGRAPH.CENTER
+            p.paragraph_format.keep_with_next = True
+            p.add_run().add_picture(io.BytesIO(self.logo), height=Mm(self.LOGO_HEIGHT_MM))
 
         p = self.doc.add_paragraph()
         p.alignment = WD_ALIGN_PARAGRAPH.CENTER

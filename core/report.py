@@ -444,6 +444,7 @@ def record_facts(record: "RunRecord") -> dict[str, str]:
         "approver_title": people.approved_by_title,
         "received": received.isoformat() if received else "",
         "issued": _fact_text(meta.get("issued")),
+        "logo": _fact_text(meta.get("lab_logo")),
     }
     measured = measurement_date(camp)
     if measured is not None:
@@ -609,7 +610,26 @@ def build_context(
         ctx["lang"] = lang
     if extend is not None:  # plugins' metro_extend_report_context
         extend(record, ctx)
-    return _pretty_context(ctx)
+    ctx = _pretty_context(ctx)
+    ctx["logo"] = _logo(ctx["facts"].get("logo", ""))  # after the text clean-up: image bytes as base64
+    return ctx
+
+
+def _logo(path: str) -> dict[str, str] | None:
+    """The lab's logo (``facts["logo"]``, from the lab profile) as ``{"file", "base64"}``: kept in
+    the context itself so the register can write the same document again without the file."""
+    import base64
+
+    from .errors import DataError
+
+    if not path:
+        return None
+    p = Path(path)
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise DataError(str(p), "lab.logo", f"cannot read the logo image: {exc.strerror or exc}") from exc
+    return {"file": p.name, "base64": base64.b64encode(data).decode("ascii")}
 
 
 def write_report(
@@ -768,6 +788,10 @@ def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, 
     ctx["doc_title"] = _document_title(ctx, tr)
     doc = DocumentBuilder(number=ctx["report_number"], title=ctx["doc_title"], tr=tr,
                           simulated=ctx["simulated"], footer=ctx["generator"])
+    if ctx.get("logo"):
+        import base64
+
+        doc.logo = base64.b64decode(ctx["logo"]["base64"])
     for o in ctx["outcomes"]:
         for p in o["plots"]:
             if figures is not None and p["number"] in figures:

@@ -521,3 +521,60 @@ def test_not_reportable_result_says_so_in_its_row(tmp_path):
     text = docx_text(report.write_report(tmp_path / "r.docx", rec, lang="en"))
     assert "not reportable: the D.45 fit is ill-conditioned (χ²/ν = 31)" in text
     assert "0.00123" not in text
+
+
+def _png(width: int = 8, height: int = 4) -> bytes:
+    """A small valid PNG (red), written by hand: signature, IHDR, IDAT, IEND."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    raw = b"".join(b"\x00" + b"\xff\x00\x00" * width for _ in range(height))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
+    """A lab profile's ``logo`` is drawn above the title of page 1 (the image part is in the
+    .docx, byte for byte); the context keeps it, so the register writes the same document again
+    without the file; no profile, no logo."""
+    import zipfile
+
+    from metro.core import lab as labmod
+    from metro.core.cli import main
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.registering import with_lab
+    from metro.core.report import build_context, render_context, write_report
+    from metro.core.runner import run_items
+
+    profile = tmp_path / "lab.toml"
+    assert main(["lab", "init", str(profile)]) == 0
+    capsys.readouterr()
+    logo = _png()
+    (tmp_path / "logo.png").write_bytes(logo)
+    profile.write_text(profile.read_text(encoding="utf-8").replace('# logo = "logo.png"', 'logo = "logo.png"'),
+                       encoding="utf-8")
+    lab = labmod.load_lab(profile)
+    assert lab.logo == tmp_path / "logo.png"
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "jjf2014", ["7.2.13"], station_options={"duration_scale": 0.1})
+    layout = pm.template_for("jjf2014").layout
+
+    def drawn(path) -> list[bytes]:
+        d = docx.Document(str(path))
+        first = next(p for p in d.paragraphs if p.text.strip() or p._p.xpath(".//w:drawing"))
+        rids = first._p.xpath(".//a:blip/@r:embed")
+        return [d.part.related_parts[r].blob for r in rids]
+
+    with_logo = write_report(tmp_path / "a.docx", with_lab(rec, lab), layout=layout, extend=pm.extend_report_context)
+    assert drawn(with_logo) == [logo]
+    with zipfile.ZipFile(with_logo) as z:
+        assert any(z.read(n) == logo for n in z.namelist() if n.startswith("word/media/"))
+    ctx = build_context(with_lab(rec, lab), extend=pm.extend_report_context)
+    (tmp_path / "logo.png").unlink()  # written again from the context alone
+    again = render_context(tmp_path / "b.docx", ctx, layout=layout)
+    assert drawn(again) == [logo]
+    plain = write_report(tmp_path / "c.docx", rec, layout=layout, extend=pm.extend_report_context)
+    assert drawn(plain) == []

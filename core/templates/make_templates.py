@@ -360,7 +360,12 @@ def _page(doc) -> None:
     _field(hp, "PAGE", "1")
     hp.add_run(" of ")
     _field(hp, "NUMPAGES", "1")
-    _bottom_rule(hp)
+    # the SIMULATED mark on every page, as metro's own documents carry it (docxtpl fills headers too)
+    sp = sec.header.add_paragraph(style="Header")
+    run = sp.add_run("{% if simulated %}SIMULATED — not a measurement of a real device{% endif %}")
+    run.bold = True
+    run.font.color.rgb = RGBColor(0xB0, 0x1C, 0x1C)
+    _bottom_rule(sp)
 
     fp = sec.footer.paragraphs[0]
     fp.style = "Footer"
@@ -406,7 +411,13 @@ def build() -> "docx.document.Document":
     heading(doc, "1 Identification", 1)
     kv_table(doc, [
         ("Report number", "{{ report_number }}"),
-        ("Date of issue", "{{ created }}"),
+        ("Laboratory", "{{ facts.lab or '—' }}"),
+        ("Laboratory address", "{{ facts.lab_address or '—' }}"),
+        ("Customer", "{{ facts.customer or '—' }}"),
+        ("Customer address", "{{ facts.customer_address or '—' }}"),
+        ("Date of measurement", "{{ facts.measured or '—' }}"),
+        ("Date received", "{{ facts.received or '—' }}"),
+        ("Date of issue", "{{ facts.issued or '—' }}"),
         ("Standard", "{{ standards_text }}"),
         ("Items tested", "{{ items_text }}"),
         ("Campaign", "{{ campaign.id }}"),
@@ -444,7 +455,7 @@ def build() -> "docx.document.Document":
 
     # ---- 4 Equipment and traceability --------------------------------------------------
     heading(doc, "4 Equipment and traceability", 1)
-    para(doc, "Calibration status as of the date of issue of this report. U is the expanded "
+    para(doc, "Calibration status on the date of measurement ({{ facts.measured }}). U is the expanded "
               "uncertainty stated on the certificate, with its coverage factor k.")
     tag(doc, "{%p if equipment %}")
     loop_table(
@@ -484,7 +495,7 @@ def build() -> "docx.document.Document":
         ["Quantity", "Symbol", "Value", "U", "Unit", "k", "Clause / equation"],
         ["{{ r.quantity }}", "{{ r.symbol }}", "{{ r.value }}", "{{ r.U }}", "{{ r.unit }}", "{{ r.k }}",
          "{{ r.reference }}"],
-        [38, 18, 24, 20, 16, 10, 44],
+        [38, 18, 24, 20, 16, 12, 42],
         "r in o.results",
     )
     tag(doc, "{%p for n in o.notes %}")
@@ -493,12 +504,14 @@ def build() -> "docx.document.Document":
 
     tag(doc, "{%p for b in o.budgets %}")
     heading(doc, "Uncertainty budget: {{ b.title }}", 3)
-    widths = [35, 17, 12, 19, 20, 14, 22, 21, 10]
+    # type and distribution in one column (as metro's own documents print them), so no header
+    # word is cut ("Typ|e", "Distribut|ion" in columns of 12 and 19 mm)
+    widths = [32, 18, 26, 22, 16, 22, 24, 10]
     budget = loop_table(
         doc,
-        ["Source of uncertainty", "Symbol", "Type", "Distribution", "Value", "Divisor",
+        ["Source of uncertainty", "Symbol", "Type, distribution", "Value", "Divisor",
          "Sensitivity c_i", "u_i(y) / {{ b.unit }}", "ν_i"],
-        ["{{ r.source }}", "{{ r.symbol }}", "{{ r.type }}", "{{ r.distribution }}", "{{ r.value }}",
+        ["{{ r.source }}", "{{ r.symbol }}", "{{ r.type }}, {{ r.distribution }}", "{{ r.value }}",
          "{{ r.divisor }}", "{{ r.sensitivity }}", "{{ r.contribution }}", "{{ r.dof }}"],
         widths,
         "r in b.rows",
@@ -511,8 +524,8 @@ def build() -> "docx.document.Document":
     ):
         row = budget.add_row()
         _row_flag(row, "w:cantSplit")
-        left = row.cells[0].merge(row.cells[5])
-        right = row.cells[6].merge(row.cells[8])
+        left = row.cells[0].merge(row.cells[4])
+        right = row.cells[5].merge(row.cells[7])
         _set_text(left, label_text, bold=True)
         _set_text(right, value_text, bold=True)
         _shade_cell(left, SUM_FILL)
@@ -586,6 +599,16 @@ def build() -> "docx.document.Document":
     tag(doc, "{%p else %}")
     para(doc, "No raw data files were recorded.", italic=True)
     tag(doc, "{%p endif %}")
+
+    # ---- signatures --------------------------------------------------------------------
+    heading(doc, "Signatures", 1)
+    sig = kv_table(doc, [
+        ("Tested by", "{{ facts.operator or '—' }}"),
+        ("Checked by", "{{ facts.checker or '—' }}"),
+        ("Approved by", "{{ facts.approver or '—' }}{% if facts.approver_title %}, {{ facts.approver_title }}{% endif %}"),
+    ])
+    for row in sig.rows:
+        row.height = Mm(11)  # room to sign
 
     # ---- closing -----------------------------------------------------------------------
     heading(doc, "Statement", 1)
