@@ -115,7 +115,9 @@ def glue(text: str) -> str:
     >>> glue("U = 1.2 ppm (k = 2)") == "U\u00a0=\u00a01.2\u00a0ppm (k\u00a0=\u00a02)"
     True
     """
-    text = _NUM_UNIT.sub(NBSP, _EQ.sub(f"{NBSP}={NBSP}", one_notation(text)))
+    from .report import pretty_powers  # numbers a translated message formats with {x:g}
+
+    text = _NUM_UNIT.sub(NBSP, _EQ.sub(f"{NBSP}={NBSP}", one_notation(pretty_powers(text))))
     # a minus sign written as a hyphen: LibreOffice breaks after it ("alpha0 = -" / "2.3…"),
     # a word joiner (U+2060, invisible) keeps it with its number
     return _NEG.sub("-\u2060", text)
@@ -383,7 +385,7 @@ class DocumentBuilder:
         """Add ``text`` to ``paragraph`` with real subscripts and no-break spaces."""
         from docx.shared import Pt, RGBColor
 
-        text = glue(str(text))
+        text = glue(self.tr.text(text))
         lines = text.split("\n")
         for n, line in enumerate(lines):
             for piece, sub in subscript_runs(line):
@@ -478,8 +480,8 @@ class DocumentBuilder:
         from docx.oxml.ns import qn
         from docx.shared import Pt
 
-        rows = [[glue(str(c)) for c in r] for r in rows]
-        head = [_two_lines(glue(str(h))) for h in header] if header else None
+        rows = [[glue(self.tr.text(c)) for c in r] for r in rows]
+        head = [_two_lines(glue(self.tr.text(h))) for h in header] if header else None
         n = len(head) if head else max(len(r) for r in rows)
         rows = [list(r) + [""] * (n - len(r)) for r in rows]
         everything = ([head] if head else []) + rows
@@ -643,7 +645,7 @@ def quantity_name(r: dict) -> str:
     if not name:
         return sym or r.get("key", "")
     if not sym:
-        return name
+        return r.get("quantity")  # a Text stays one: the document writes the name in its language
     plain = _plain(sym)
     tokens = name.split(" ")
     for i, tok in enumerate(tokens):
@@ -651,7 +653,9 @@ def quantity_name(r: dict) -> str:
         if core and (core == sym or _plain(core) == plain):
             tokens[i] = tok.replace(core, sym)
             return " ".join(tokens)
-    return f"{name} {sym}"
+    from .locale import join
+
+    return join(" ", [r.get("quantity"), sym])  # each part in the document's language
 
 
 def quantity_for(ctx: dict, item: str, key: str) -> str:
@@ -673,7 +677,7 @@ def identification(doc: DocumentBuilder, ctx: dict, rows: Sequence[tuple[str, st
         (tr("Laboratory address"), or_dash(f["lab_address"])),
         (tr("Customer"), or_dash(f["customer"])),
         (tr("Customer address"), or_dash(f["customer_address"])),
-        (tr("Device"), f"{dev['description']} ({tr('id')} {dev['id']})"),
+        (tr("Device"), f"{tr.text(dev['description'])} ({tr('id')} {dev['id']})"),
         (tr("Date of measurement"), or_dash(f["measured"])),
         (tr("Date received"), or_dash(f["received"])),
         (tr("Date of issue"), or_dash(f["issued"])),
@@ -744,12 +748,13 @@ def notes_section(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
         for r in o["results"]:
             sym = display_symbol(r.get("symbol") or "") or r.get("quantity") or ""
             if r.get("note"):
-                per_item.setdefault(o["item"], []).append(f"{sym}: {r['note']}" if sym else r["note"])
+                note = tr.text(r["note"])
+                per_item.setdefault(o["item"], []).append(f"{tr.text(sym)}: {note}" if sym else note)
             er = r.get("earth_rate")
             if er:
                 earth.setdefault(er, []).append(o["item"])
         for w in (o["warnings"] if include_warnings else ()):
-            per_item.setdefault(o["item"], []).append(w)
+            per_item.setdefault(o["item"], []).append(tr.text(w))
     seen: dict[str, list[str]] = {}
     for item, texts in per_item.items():
         seen.setdefault("; ".join(dict.fromkeys(texts)), []).append(item)
@@ -794,9 +799,9 @@ def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
         for b in o["budgets"]:
             unit = "" if b["unit"] == "1" else f" {b['unit']}"
             summary = f"u_c = {b['u_c']}{unit}, ν_eff = {b['nu_eff']}, k = {b['k']}, U = {b['U']}{unit}"
-            title = f"{o['item']} — {b['title']}"
+            title = f"{o['item']} — {tr.text(b['title'])}"
             if all(x["contribution"] in ("0", "0.0") for x in b["rows"]):
-                exact.append(f"{o['item']} {b['title']} ({', '.join(x['source'] for x in b['rows'])})")
+                exact.append(f"{o['item']} {tr.text(b['title'])} ({', '.join(tr.text(x['source']) for x in b['rows'])})")
                 continue
             flush()
             doc.para(title, bold=True, size=8.5, keep_next=True)
@@ -805,7 +810,7 @@ def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
             doc.table([tr("Source"), tr("Symbol"), _type_distribution_header(tr), tr("Value"), tr("Divisor"),
                        "c_i", "u_i(y)" + (f"\n({b['unit']})" if unit else ""), "ν_i"], rows, font_pt=7,
                       prefer=0, prefer_share=1.0)
-            doc.para(summary + (f". {b['note']}" if b.get("note") else ""), size=7.5)
+            doc.para(summary + (f". {tr.text(b['note'])}" if b.get("note") else ""), size=7.5)
     flush()
 
 
@@ -822,7 +827,7 @@ def tables_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | Non
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
     for o in outcomes:
         for t in o["tables"]:
-            doc.para(f"{o['item']} — {t['title']}", bold=True, keep_next=True)
+            doc.para(f"{o['item']} — {doc.tr.text(t['title'])}", bold=True, keep_next=True)
             doc.table(t["header"], t["rows"], font_pt=7.5)
 
 
@@ -832,7 +837,8 @@ def figures_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
     for o in outcomes:
         for p in o["plots"]:
             if p.get("image"):
-                doc.figure(p["image"], f"{tr('Figure')} {p['number']}: {p['caption']}", width_mm=FIGURE_WIDTH_MM)
+                doc.figure(p["image"], f"{tr('Figure')} {p['number']}: {tr.text(p['caption'])}",
+                           width_mm=FIGURE_WIDTH_MM)
 
 
 def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
@@ -862,7 +868,7 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
         return
     # many files (simulated segments): the name without what they all share, the first 16 hex
     # digits, four to a row; the shared words said once above the table
-    names = [_short_name(f["file"]) for f in files]
+    names = [_short_name(tr.text(f["file"])) for f in files]
     prefix, suffix = _common_affixes(names)
     if prefix or suffix:
         doc.para(f"{tr('Data')}: {(prefix + '…' + suffix).strip()}", size=7.5, keep_next=True)
@@ -927,7 +933,7 @@ def conformity_section(doc: DocumentBuilder, ctx: dict) -> None:
     if a is None:
         doc.para(tr("No specification was given: this report makes no statement of conformity."))
         return
-    doc.para(f"{tr('Decision rule')}: {a['rule_title']}")
+    doc.para(f"{tr('Decision rule')}: {tr.text(a['rule_title'])}")
     doc.para(a["statement"], size=8.5)
     doc.para(f"{tr('Overall verdict')}: {tr(_VERDICT.get(a['overall'], a['overall']))}", bold=True)
     doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Source"), tr("Verdict"), tr("Reason")],
@@ -935,7 +941,8 @@ def conformity_section(doc: DocumentBuilder, ctx: dict) -> None:
                 tr(_VERDICT.get(v["status"], v["status"])),
                 v["reason"]] for v in a["verdicts"]], font_pt=8)
     if a["not_assessed"]:
-        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(a["not_assessed"]), size=8.5)
+        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(tr.text(x) for x in a["not_assessed"]),
+                 size=8.5)
 
 
 _VERDICT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}

@@ -114,10 +114,12 @@ class Instrument:
         return "instrument"
 
     def describe(self) -> str:
+        from .locale import join, msg
+
         parts = [p for p in (self.manufacturer, self.model) if p]
-        text = " ".join(parts) or self.id
-        if self.serial:
-            text += f" (s/n {self.serial})"
+        text = join(" ", parts) if parts else self.id
+        if self.serial:  # a message, so a document writes a simulated model name in its language
+            text = msg("{text} (s/n {serial})", text=text, serial=self.serial)
         return text
 
 

@@ -163,10 +163,13 @@ def _plain(v: Any) -> Any:
 
 def encode_context(ctx: Mapping[str, Any]) -> dict[str, Any]:
     """The context as plain JSON: each figure's PlotSpec as ``{"plotspec": {...}}`` (series as lists)."""
+    from .locale import Text
     from .model import PlotSpec
     from .register import json_safe
 
     def enc(obj: Any) -> Any:
+        if isinstance(obj, Text):  # a message keeps its id and fields: the document is written again in any language
+            return {"text": obj.encode()}
         if isinstance(obj, PlotSpec):
             return {"plotspec": {
                 "name": obj.name, "title": obj.title, "xlabel": obj.xlabel, "ylabel": obj.ylabel,
@@ -184,10 +187,13 @@ def encode_context(ctx: Mapping[str, Any]) -> dict[str, Any]:
 
 def decode_context(doc: Mapping[str, Any]) -> dict[str, Any]:
     """:func:`encode_context` undone: figures become PlotSpec again (images drawn when rendering)."""
+    from .locale import Text
     from .model import PlotSpec
 
     def dec(obj: Any) -> Any:
         if isinstance(obj, Mapping):
+            if set(obj) == {"text"} and isinstance(obj["text"], Mapping):
+                return Text.decode(obj["text"])
             if set(obj) == {"plotspec"}:
                 p = obj["plotspec"]
                 series = [{k: ([float("nan") if x is None else x for x in v] if isinstance(v, list) else v)

@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Callable, TYPE_CHECKING, Any, Iterable, Mapping
 
 from .atomic import atomic_path
+from .locale import Text, join, msg
 
 if TYPE_CHECKING:  # pragma: no cover
     from .budget import UncertaintyBudget
@@ -118,6 +119,8 @@ def pretty_powers(text: str) -> str:
 def _pretty_context(obj: Any) -> Any:
     """:func:`pretty_powers` on every string of a report context (dicts, lists, tuples); other
     objects (plot specs, images) are kept as they are."""
+    if isinstance(obj, Text):
+        return obj.map(pretty_powers)
     if isinstance(obj, str):
         return pretty_powers(obj)
     if isinstance(obj, dict):
@@ -221,10 +224,16 @@ def _equipment_row(e: "Equipment", on: dt.date) -> dict[str, Any]:
         prefix = f"certificate {cal.certificate}, "
         if status.startswith(prefix):
             status = status[len(prefix):]
+        if cal.due is not None:  # the same words as Calibration.status, as a message
+            status = (msg("EXPIRED on {date}", date=cal.due.isoformat()) if cal.due < on else
+                      msg("valid until {date}", date=cal.due.isoformat()))
+        elif status == "no due date stated":
+            status = msg("no due date stated")
         if cal.distribution == "normal":
             U = f"{fmt_quantity(cal.uncertainty)} (k = {fmt_num(cal.k, 3)})"
         else:
-            U = f"{fmt_quantity(cal.uncertainty)} ({cal.distribution}, half-width)"
+            U = msg("{U} ({distribution}, half-width)", U=fmt_quantity(cal.uncertainty),
+                    distribution=cal.distribution)
         expired = not cal.is_valid(on)
         relative = not _unit_text(getattr(cal.uncertainty, "units", "")) if hasattr(cal.uncertainty, "units") else True
     else:
@@ -256,7 +265,7 @@ def _result_row(r: "Result") -> dict[str, Any]:
     unit = _unit_text(m.unit)
     return {
         "reportable": bool(getattr(r, "reportable", True)),
-        "reason": str(getattr(r, "reason", "") or ""),
+        "reason": getattr(r, "reason", "") or "",
         "earth_rate": str(getattr(r, "earth_rate", "") or ""),
         "value_unit": with_unit(vtext, unit),
         "U_unit": _DASH if Utext is None else (Utext if Utext.startswith("u = ") else with_unit(Utext, unit)),
@@ -282,7 +291,8 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
     rows = []
     for row in d["rows"]:
         rows.append({
-            "source": row["source"] + (f" ({row['note']})" if row["note"] else ""),
+            "source": msg("{source} ({note})", source=row["source"], note=row["note"]) if row["note"]
+            else row["source"],
             "symbol": row["symbol"],
             "type": row["type"],
             "distribution": row["distribution"],
@@ -298,7 +308,9 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
         k_text += f" ({d['coverage'].removeprefix('k = ')})"
     return {
         "title": quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key})
-                 + (f" ({d['measurand']})" if d["measurand"] not in (m.symbol, m.key, m.name) else ""),
+        if d["measurand"] in (m.symbol, m.key, m.name) else
+        msg("{name} ({measurand})", name=quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key}),
+            measurand=d["measurand"]),
         "measurand": d["measurand"],
         "result": m.key,
         "unit": unit or "1",
@@ -327,14 +339,14 @@ def _table_block(t: "TableSpec") -> dict[str, Any]:
     return {
         "name": t.name,
         "title": t.title,
-        "header": [str(h) for h in t.header],
+        "header": [h if isinstance(h, str) else str(h) for h in t.header],
         "rows": [[_cell(c) for c in row] for row in t.rows],
     }
 
 
 def plot_caption(title: str, item: str) -> str:
     """A figure's caption: its title and the item it belongs to, ``(item)`` added once."""
-    return title if title.endswith(f"({item})") else f"{title} ({item})"
+    return title if title.endswith(f"({item})") else join(" ", [title, f"({item})"])
 
 
 def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: int) -> dict[str, Any]:
@@ -356,11 +368,11 @@ def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: in
         "options": _name_values(o.options, relabel=False),
         "options_text": "; ".join(f"{k} = {fmt_quantity(v)}" for k, v in o.options.items()),
         "results": [_result_row(r) for r in results],
-        "notes": [f"{r.metric.symbol or r.metric.name}: {r.note}" for r in results if r.note],
+        "notes": [join(": ", [r.metric.symbol or r.metric.name, r.note]) for r in results if r.note],
         "budgets": [_budget_block(r, r.budget) for r in results if r.budget is not None],
         "tables": [_table_block(t) for t in o.tables],
         "plots": plots,
-        "warnings": [str(w) for w in o.warnings],
+        "warnings": [w if isinstance(w, str) else str(w) for w in o.warnings],
     }
 
 
@@ -369,6 +381,8 @@ _XML_INVALID = dict.fromkeys(c for c in range(0x20) if c not in (0x09, 0x0A, 0x0
 
 def _sanitize(obj: Any) -> Any:
     """Drop the control characters XML 1.0 cannot hold from every string of the context."""
+    if isinstance(obj, Text):
+        return obj.map(lambda s: s.translate(_XML_INVALID))
     if isinstance(obj, str):
         return obj.translate(_XML_INVALID)
     if isinstance(obj, dict):
@@ -389,7 +403,8 @@ def _conformity_block(a: Any) -> dict[str, Any] | None:
         "overall": a.overall.value if a.overall is not None else _DASH,
         "verdicts": [{"item": v.item, "key": v.key, "limit": v.spec.text(), "source": v.spec.source,
                       "status": v.status.value, "detail": v.detail, "reason": v.reason} for v in a.verdicts],
-        "not_assessed": [f"{s.symbol} {s.text()} ({s.source})" for s in a.not_assessed],
+        "not_assessed": [msg("{symbol} {limit} ({source})", symbol=s.symbol, limit=s.text(), source=s.source)
+                         for s in a.not_assessed],
     }
 
 
@@ -401,7 +416,7 @@ def _data_files(record: "RunRecord") -> list[dict[str, str]]:
     """The manifest (first, when read from one) and every samples file, with their SHA-256: the
     manifest's hash proves which K, latitude and equipment produced the report."""
     files = list(record.data_files) or list(record.campaign.data_files())
-    out = [{"file": str(f), "sha256": str(h)} for f, h in files]
+    out = [{"file": f if isinstance(f, str) else str(f), "sha256": str(h)} for f, h in files]
     manifest = getattr(record.campaign, "manifest_sha256", "")
     if manifest:
         out.insert(0, {"file": f"{record.campaign.source} (manifest)", "sha256": manifest})
@@ -514,8 +529,8 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
 
     equipment = [_equipment_row(e, on) for e in camp.equipment]
     equipment_warnings = [
-        f"The calibration of {e['id']} ({e['certificate']}) is {e['status']}: results that depend "
-        "on it are not traceable until it is recalibrated."
+        msg("The calibration of {id} ({certificate}) is {status}: results that depend on it are not "
+            "traceable until it is recalibrated.", id=e["id"], certificate=e["certificate"], status=e["status"])
         for e in equipment if e["expired"]
     ]
 

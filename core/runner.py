@@ -17,6 +17,7 @@ import attrs
 
 from .campaign import check_equipment, load_manifest, note_absent_equipment
 from .errors import DataError, MetroError, ProcedureError
+from .locale import msg
 from .model import Campaign, DeviceUnderTest, Outcome, Procedure, RunContext, Segment, SegmentRequirement, Step
 from .plugins import MetroPluginManager
 from .provenance import RunRecord, new_report_number, software_versions
@@ -439,7 +440,7 @@ def run_items(
     conformity = judge(pm, standard, campaign, outcomes, decision_rule)
     timings["conformity"] = time.perf_counter() - t1
     used = {sid for o in outcomes for sid in o.segments}
-    files = [(s.file or f"simulated segment {s.id}", s.digest()) for s in campaign.segments
+    files = [(s.file or msg("simulated segment {id}", id=s.id), s.digest()) for s in campaign.segments
              if s.id in used and s.digest()]
     return RunRecord(
         report_number=new_report_number(),

@@ -8,15 +8,21 @@ that the catalog lacks.
 
 Languages: ``"zh"``, ``"en"`` and ``"zh+en"`` (both, Chinese first: ``报告编号 Report No.``).
 A message may hold ``{name}`` fields, filled by keyword arguments after translation.
+
+Text made far from the document (a result's note, a not-reportable reason, a warning, a budget
+component, a conformity reason, why a method was chosen) is a :class:`Text`, made by
+:func:`msg`: it *is* the English string (the terminal, ``--json``, comparisons and tests see
+plain English), and it keeps its message id and fields, so a document's :class:`Translator`
+writes it in the document's language (``tr.text(value)``, or ``tr(value)``).
 """
 
 from __future__ import annotations
 
 import functools
 from importlib import resources
-from typing import Any
+from typing import Any, Callable, Iterable
 
-__all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Translator", "translator", "catalog"]
+__all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "msg", "join", "Translator", "translator", "catalog"]
 
 LANGS = ("zh", "en", "zh+en")
 DEFAULT_LANG = "zh+en"
@@ -43,6 +49,96 @@ class Msg:
         self.id = msgid
 
 
+class Text(str):
+    """English text that remembers how it was made, to be written again in another language.
+
+    A message: ``msgid`` (English, with ``{name}`` places, looked up in the catalog) and
+    ``fields`` (values; a field that is itself a :class:`Text` is translated too).  A join:
+    ``parts`` (each a Text or plain text) joined by ``sep``.  The string value is the English
+    text, so every use of it as a ``str`` is unchanged; it pickles (dask) and goes into JSON as
+    that English text (:meth:`encode` / :meth:`decode` keep the message, e.g. in the register).
+    """
+
+    msgid: str | None
+    fields: dict[str, Any]
+    sep: str
+    parts: tuple
+
+    def __new__(cls, msgid: str | None = None, fields: dict[str, Any] | None = None, *,
+                sep: str = "", parts: tuple = (), english: str | None = None):
+        fields = dict(fields or {})
+        if english is not None:  # decoded from JSON, where a field may have lost its type
+            pass
+        elif msgid is None:
+            english = sep.join(str(p) for p in parts)
+        else:
+            english = msgid.format(**fields) if fields else msgid
+        self = super().__new__(cls, english)
+        self.msgid, self.fields, self.sep, self.parts = msgid, fields, sep, tuple(parts)
+        return self
+
+    def __reduce__(self):
+        return (_rebuild_text, (self.msgid, self.fields, self.sep, self.parts, str(self)))
+
+    def map(self, fn: Callable[[str], str]) -> "Text":
+        """The same message with ``fn`` applied to every plain-text field and part (recursively)."""
+        def one(v: Any) -> Any:
+            if isinstance(v, Text):
+                return v.map(fn)
+            if isinstance(v, str):
+                return fn(v)
+            return v
+
+        return Text(self.msgid, {k: one(v) for k, v in self.fields.items()}, sep=self.sep,
+                    parts=tuple(one(p) for p in self.parts))
+
+    def encode(self) -> dict[str, Any]:
+        """JSON for the register: ``{"msgid", "fields"}`` or ``{"sep", "parts"}``; fields that are
+        not JSON values (quantities, numpy numbers) as their English text."""
+        import numbers
+
+        def enc(v: Any) -> Any:
+            if isinstance(v, Text):
+                return {"text": v.encode()}
+            if isinstance(v, str) or v is None or isinstance(v, bool):
+                return str(v) if isinstance(v, str) else v
+            if isinstance(v, numbers.Integral):
+                return int(v)
+            if isinstance(v, numbers.Real):  # numpy numbers too: a {x:.3g} place keeps its number
+                return float(v)
+            return str(v)
+
+        if self.msgid is None:
+            return {"sep": self.sep, "parts": [enc(p) for p in self.parts], "en": str(self)}
+        return {"msgid": self.msgid, "fields": {k: enc(v) for k, v in self.fields.items()}, "en": str(self)}
+
+    @staticmethod
+    def decode(doc: dict[str, Any]) -> "Text":
+        def dec(v: Any) -> Any:
+            return Text.decode(v["text"]) if isinstance(v, dict) and set(v) == {"text"} else v
+
+        if "parts" in doc:
+            return Text(None, sep=doc["sep"], parts=tuple(dec(p) for p in doc["parts"]), english=doc.get("en"))
+        return Text(doc["msgid"], {k: dec(v) for k, v in doc["fields"].items()}, english=doc.get("en"))
+
+
+def _rebuild_text(msgid, fields, sep, parts, english=None) -> Text:
+    return Text(msgid, fields, sep=sep, parts=parts, english=english)
+
+
+def msg(msgid: str, /, **fields: Any) -> Text:
+    """A message made far from the document: ``msg("χ²/ν = {chi2:.1f} exceeds {limit}", chi2=…,
+    limit=…)`` is the English text, and a document writes it in its language.  ``msgid`` must be
+    a literal (``python -m metro.core.locale`` finds it in the code and checks the catalog)."""
+    return Text(msgid, fields)
+
+
+def join(sep: str, parts: Iterable[Any]) -> Text:
+    """``sep.join(parts)`` keeping each part's message: a document translates each part (a
+    :class:`Text`, or a fixed name the catalog holds)."""
+    return Text(None, sep=sep, parts=tuple(parts))
+
+
 class Translator:
     """``tr("Report No.")`` → ``报告编号 Report No.`` (zh+en); ``tr.missing`` collects ids the
     catalog lacks (they print in English)."""
@@ -67,8 +163,10 @@ class Translator:
         """The message in the document's language(s); ``fields`` fill its ``{name}`` places.
         A field given as :meth:`msg` is itself translated: in zh+en, the Chinese sentence gets
         the Chinese field and the English sentence the English one."""
-        zh_fields = {k: self.zh(v.id) if isinstance(v, Msg) else v for k, v in fields.items()}
-        en_fields = {k: v.id if isinstance(v, Msg) else v for k, v in fields.items()}
+        if isinstance(msgid, Text):
+            return self.text(msgid)
+        zh_fields = {k: self._field(v, "zh") for k, v in fields.items()}
+        en_fields = {k: self._field(v, "en") for k, v in fields.items()}
         if self.lang == "en":
             return msgid.format(**en_fields) if fields else msgid
         zh = self.zh(msgid)
@@ -77,6 +175,46 @@ class Translator:
             return zh_text
         en_text = msgid.format(**en_fields) if fields else msgid
         return en_text if zh_text == en_text else f"{zh_text} {en_text}"
+
+    def _field(self, v: Any, lang: str) -> Any:
+        if isinstance(v, Msg):
+            return self.zh(v.id) if lang == "zh" else v.id
+        if isinstance(v, str):  # a Text, or a fixed name the catalog may hold
+            return self.render(v, lang)
+        return v
+
+    def render(self, value: Any, lang: str) -> str:
+        """``value`` in one language (``zh`` or ``en``): a :class:`Text` looked up in the catalog
+        and formatted with its fields (each translated in turn); plain text is looked up as a
+        whole (a fixed name the catalog holds) and else kept as it is (data: names, files)."""
+        if isinstance(value, Text):
+            if value.msgid is None:
+                return value.sep.join(self.render(p, lang) for p in value.parts)
+            fields = {k: self._field(v, lang) for k, v in value.fields.items()}
+            pattern = value.msgid if lang == "en" else self.zh(value.msgid)
+            try:
+                return pattern.format(**fields) if value.fields else pattern
+            except (KeyError, IndexError, ValueError, TypeError):  # wrong places, a field that lost its type
+                if lang != "en":
+                    self.missing.add(value.msgid)
+                return str(value)
+        if value is None:
+            return ""
+        text = str(value)
+        if lang == "zh" and text:
+            return self._zh.get(text, text)
+        return text
+
+    def text(self, value: Any) -> str:
+        """``value`` (a :class:`Text` or plain text) in the document's language(s): in zh+en,
+        the Chinese then the English (once, when they are the same); a join in zh+en puts each
+        part's two languages together."""
+        if self.lang != "zh+en":
+            return self.render(value, self.lang)
+        if isinstance(value, Text) and value.msgid is None:
+            return value.sep.join(self.text(p) for p in value.parts)
+        zh, en = self.render(value, "zh"), self.render(value, "en")
+        return en if zh == en else f"{zh} {en}"
 
     @staticmethod
     def msg(msgid: str) -> "Msg":

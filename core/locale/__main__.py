@@ -1,6 +1,8 @@
-"""``python -m metro.core.locale [--update]``: the message ids the code passes to ``tr(…)``
-(Babel's Python extractor over metro.core and metro.plugins) that ``zh/LC_MESSAGES/metro.po``
-lacks; ``--update`` adds them to the catalog with an empty translation, to be filled in.
+"""``python -m metro.core.locale [--update]``: the message ids the code passes to ``tr(…)`` and
+``msg(…)`` (Babel's Python extractor over metro.core, metro.plugins and metro.instruments), and
+the quantity names and item titles every registered procedure declares, that
+``zh/LC_MESSAGES/metro.po`` lacks; ``--update`` adds them to the catalog with an empty
+translation, to be filled in.
 
 Babel's extractor does not look inside f-strings before Python 3.12, so this list can miss some;
 ``tests/test_report.py::test_every_document_string_is_in_the_catalog`` renders every standard's
@@ -13,23 +15,54 @@ from pathlib import Path
 
 
 def used_messages() -> dict[str, list[str]]:
-    """{message id: [file:line, …]} of every ``tr("…")`` in metro's core and plugins."""
+    """{message id: [file:line, …]} of every ``tr("…")`` and ``msg("…")`` in metro's core,
+    plugins and instruments, and of every metric name and item title the registered procedures
+    declare (``standard:item``)."""
     from babel.messages.extract import extract_from_dir
 
     import metro.core
+    import metro.instruments
     import metro.plugins
 
     out: dict[str, list[str]] = {}
-    for sub, pkg in (("core", metro.core), ("plugins", metro.plugins)):
+    for sub, pkg in (("core", metro.core), ("plugins", metro.plugins), ("instruments", metro.instruments)):
         for fname, lineno, msg, _comments, _ctx in extract_from_dir(
-                str(Path(pkg.__file__).parent), method_map=[("**.py", "python")], keywords={"tr": None}):
+                str(Path(pkg.__file__).parent), method_map=[("**.py", "python")],
+                keywords={"tr": None, "msg": None}):
             if not isinstance(msg, str):
                 continue
             line = (Path(pkg.__file__).parent / fname).read_text(encoding="utf-8").splitlines()[lineno - 1]
             if f'["{msg}"]' in line or f"['{msg}']" in line:  # tr(row["status"]): a key, not a message
                 continue
             out.setdefault(msg, []).append(f"{sub}/{fname}:{lineno}")
+    for msg, where in declared_names().items():
+        out.setdefault(msg, []).extend(where)
     return out
+
+
+def declared_names() -> dict[str, list[str]]:
+    """{text: [standard:item, …]} of the metric names and item titles of every procedure of the
+    built-in standards (a document prints them, looked up in the catalog as they are)."""
+    from metro.core.plugins import get_plugin_manager
+
+    pm = get_plugin_manager()
+    out: dict[str, list[str]] = {}
+    for std in ("gbt45570", "jjf2014", "jjf2003", "ogam"):
+        for proc in pm.procedures_of(std):
+            for text in [proc.title] + [m.name for m in proc.metrics]:
+                if text and not hasattr(text, "msgid"):
+                    out.setdefault(str(text), []).append(f"{std}:{proc.item}")
+    return out
+
+
+def missing_messages() -> dict[str, list[str]]:
+    """{message id: [where, …]} of the ids used that the catalog lacks (or leaves empty)."""
+    from babel.messages.pofile import read_po
+
+    po = Path(__file__).parent / "zh" / "LC_MESSAGES" / "metro.po"
+    with po.open("rb") as fh:
+        cat = read_po(fh, locale="zh")
+    return {m: w for m, w in used_messages().items() if m not in cat or not cat[m].string}
 
 
 def main(argv: list[str]) -> int:

@@ -18,6 +18,7 @@ import numpy as np
 
 from metro.core.budget import report_pair
 from metro.core.conformity import SIMPLE, Comparison, Specification, decide
+from metro.core.locale import join, msg
 from metro.core.model import PlotSpec
 from metro.core.units import Q_
 
@@ -163,7 +164,7 @@ def method_text(record) -> str:
     if not items & set(ANGLE_ITEMS + RATE_ITEMS):
         return ""
     method, why = method_for(record.campaign.device)
-    return f"{'D.1' if method == 'angle' else 'D.2'}: {why}."
+    return msg("{method}: {why}.", method="D.1" if method == "angle" else "D.2", why=why)
 
 
 def residual_plot(spec: PlotSpec) -> PlotSpec | None:
@@ -266,7 +267,7 @@ def extend_context(record, context: dict) -> None:
         return v or DASH
 
     a = record.conformity
-    deviations = [f"{o.item}: {w}" for o in outs for w in o.warnings]
+    deviations = [join(": ", [o.item, w]) for o in outs for w in o.warnings]
 
     _add_residual_figures(context)
     selection = [{"item": c.item, "run": bool(c.run), "reason": c.reason} for c in record.selection]
@@ -290,7 +291,8 @@ def extend_context(record, context: dict) -> None:
         "overall": STATUS_TEXT[a.overall.value] if a is not None and a.overall is not None else "",
         "counts": dict(a.counts()) if a is not None else {},
         "verdicts": verdict_rows(a) if a is not None else [],
-        "not_assessed": [f"{s.symbol} {s.text()} ({s.source})" for s in a.not_assessed] if a is not None else [],
+        "not_assessed": [msg("{symbol} {limit} ({source})", symbol=s.symbol, limit=s.text(), source=s.source)
+                         for s in a.not_assessed] if a is not None else [],
         "limits": limit_table(camp.device, outs, a),
         "severities": severity_rows(camp.device, outs),
         "data_digest": data_digest(context.get("provenance", {}).get("data_files", [])),
@@ -467,18 +469,18 @@ def layout(doc, ctx: dict) -> None:
         n += 1
         doc.heading(f"{n} {tr('Method and items')}", 1)
         if g["method"]:
-            doc.para(f"{tr('Scale-factor method')} (6.2.7.1): {g['method']}")
+            doc.para(f"{tr('Scale-factor method')} (6.2.7.1): {tr.text(g['method'])}")
         if g["selection"]:
             groups: dict[tuple[bool, str], list[str]] = {}
             for c in g["selection"]:
                 groups.setdefault((c["run"], c["reason"]), []).append(c["item"])
             doc.table([tr("Run"), tr("Items"), tr("Reason")],
-                      [[tr("yes") if run else tr("no"), ", ".join(items), tr(reason) if reason == "applies" else reason]
+                      [[tr("yes") if run else tr("no"), ", ".join(items), tr.text(reason)]
                        for (run, reason), items in sorted(groups.items(), key=lambda kv: not kv[0][0])],
                       prefer=1)
     n += 1
     doc.heading(f"{n} {tr('Conformity')}", 1)
-    doc.para(f"{tr('Decision rule')}: {g['rule']['title']}")
+    doc.para(f"{tr('Decision rule')}: {tr.text(g['rule']['title'])}")
     doc.para(g["rule"]["statement"], size=8.5)
     shown = [v for v in g["verdicts"] if v["status"] != "pass"]  # the results table gives every verdict
     if shown:
@@ -490,10 +492,11 @@ def layout(doc, ctx: dict) -> None:
         doc.para(tr("The other {n} results conform: each interval value ± U lies within its limit "
                     "(results table above).", n=len(g["verdicts"]) - len(shown)), size=8.5)
     if g["verdicts"]:
-        doc.para(f"{tr('Sources of the limits')}: " + "; ".join(limit_sources(v["source"] for v in g["verdicts"])),
+        doc.para(f"{tr('Sources of the limits')}: " + "; ".join(tr.text(x) for x in limit_sources(v["source"] for v in g["verdicts"])),
                  size=8)
     if g["not_assessed"] and not g["limits"]:  # else table A.1/B.1 shows them as not performed
-        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(g["not_assessed"]), size=8)
+        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(tr.text(x) for x in g["not_assessed"]),
+                 size=8)
     lim = g["limits"]
     if lim:
         n += 1

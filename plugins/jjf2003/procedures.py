@@ -25,6 +25,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -312,29 +313,29 @@ def ideal_evaluation(campaign: Campaign, means: Means) -> dict[str, Any]:
 def _table_rate_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
     eq = campaign.equipment_for("rate_table")
     if eq is None or eq.calibration is None or not eq.calibration.uncertainty.dimensionless:
-        warnings.append("no three-axis table with a relative rate uncertainty (equipment role \"table\", "
-                        "calibration U relative): u₁ (A.1.2.1) is missing from the budget")
+        warnings.append(msg("no three-axis table with a relative rate uncertainty (equipment role \"table\", "
+                            "calibration U relative): u₁ (A.1.2.1) is missing from the budget"))
         return []
-    return [BudgetRow.from_calibration(f"three-axis table rate ({eq.describe()})", "u₁", eq.calibration,
+    return [BudgetRow.from_calibration(msg("three-axis table rate ({equipment})", equipment=eq.describe()), "u₁", eq.calibration,
                                        sensitivity=sensitivity, note=note)]
 
 
 def _table_position_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
     eq = campaign.equipment_for("rate_table")
     if eq is None or "position_accuracy" not in eq.properties:
-        warnings.append("no `position_accuracy` of the three-axis table (equipment role \"table\"): "
-                        "u₁ (A.2.2.1) is missing from the budget")
+        warnings.append(msg("no `position_accuracy` of the three-axis table (equipment role \"table\"): "
+                            "u₁ (A.2.2.1) is missing from the budget"))
         return []
     acc = eq.prop("position_accuracy", "deg", source=campaign.source)
-    return [BudgetRow.type_b(f"three-axis table positioning ({eq.describe()})", "u₁", acc.to("rad"),
+    return [BudgetRow.type_b(msg("three-axis table positioning ({equipment})", equipment=eq.describe()), "u₁", acc.to("rad"),
                              distribution="uniform", sensitivity=sensitivity, note=note)]
 
 
 def _bits(campaign: Campaign, warnings: list[str]) -> int | None:
     eq = campaign.equipment_for("acquisition")
     if eq is None or "bits" not in eq.properties:
-        warnings.append("no acquisition `bits` (equipment role \"acquisition\"): u₂ (A.1.2.2) is missing "
-                        "from the budget")
+        warnings.append(msg("no acquisition `bits` (equipment role \"acquisition\"): u₂ (A.1.2.2) is missing "
+                            "from the budget"))
         return None
     return int(eq.properties["bits"])
 
@@ -344,9 +345,9 @@ def _relative_quant_row(campaign: Campaign, scale: float, warnings: list[str]) -
     n = _bits(campaign, warnings)
     if n is None:
         return []
-    return [BudgetRow.type_b(f"acquisition quantization, {n} bits (A.3)", "u₂", Q_(1.0 / 2**n, ""),
+    return [BudgetRow.type_b(msg("acquisition quantization, {n} bits (A.3)", n=n), "u₂", Q_(1.0 / 2**n, ""),
                              distribution="uniform", sensitivity=Q_(abs(scale), ""),
-                             note="δ = 1/2^N relative to full scale")]
+                             note=msg("δ = 1/2^N relative to full scale"))]
 
 
 def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warnings: list[str]) -> list[BudgetRow]:
@@ -358,13 +359,13 @@ def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warning
         return []
     dev = campaign.device
     if range_prop not in dev.properties:
-        warnings.append(f"no device `{range_prop}` (full scale): u₂ is missing from the budget")
+        warnings.append(msg("no device `{prop}` (full scale): u₂ is missing from the budget", prop=range_prop))
         return []
     fs = dev.prop(range_prop, unit, source=campaign.source).to(unit).magnitude
     half_width = float(fs) / 2**n  # δ·FS, δ = 1/2^N (A.3)
-    return [BudgetRow.type_b(f"acquisition quantization, {n} bits over ±{float(fs):g} (A.3)", "u₂",
+    return [BudgetRow.type_b(msg("acquisition quantization, {n} bits over ±{fs:g} (A.3)", n=n, fs=float(fs)), "u₂",
                              Q_(half_width, unit), distribution="uniform", sensitivity=csum,
-                             note="δ·FS = FS/2^N (half an LSB) in each mean, Σ|cᵢ|")]
+                             note=msg("δ·FS = FS/2^N (half an LSB) in each mean, Σ|cᵢ|"))]
 
 
 # ------------------------------------------------------------------------------ procedures
@@ -451,10 +452,10 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
         Ks = [float(d["fits"][i].coef[0])] + [float(r[AXES[j]]["fits"][i].coef[0]) for r in repeats]
         sd = float(np.std(Ks, ddof=1))
         if sd >= se:
-            return BudgetRow.type_a(f"repeatability: standard deviation of K over this campaign's {len(Ks)} "
-                                    "calibrations (A.1.2.3)", "u₃", Q_(sd, ""), len(Ks) - 1)
-        return BudgetRow.type_a("repeatability: least-squares scatter of eq. (5) (larger than the spread of "
-                                f"{len(Ks)} calibrations, A.1.2.3)", "u₃", Q_(se, ""), dof)
+            return BudgetRow.type_a(msg("repeatability: standard deviation of K over this campaign's {n} "
+                                        "calibrations (A.1.2.3)", n=len(Ks)), "u₃", Q_(sd, ""), len(Ks) - 1)
+        return BudgetRow.type_a(msg("repeatability: least-squares scatter of eq. (5) (larger than the spread of "
+                                    "{n} calibrations, A.1.2.3)", n=len(Ks)), "u₃", Q_(se, ""), dof)
     stated = campaign.device.properties.get("scale_factor_repeatability")
     if stated not in (None, ""):
         from metro.core.units import parse_quantity
@@ -463,14 +464,14 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
                                    field="device.scale_factor_repeatability").to("").magnitude)
         Kjj = abs(float(d["fits"][j].coef[0]))
         if rel * Kjj >= se:
-            return BudgetRow.type_b("repeatability stated as device.scale_factor_repeatability (A.1.2.3)", "u₃",
+            return BudgetRow.type_b(msg("repeatability stated as device.scale_factor_repeatability (A.1.2.3)"), "u₃",
                                     Q_(rel, ""), distribution="normal", k=1.0, sensitivity=Q_(Kjj, ""))
     else:
-        warnings.append("no repeated calibrations (kind rate-repeat, option repeats of 7.2.1) and no "
-                        "device.scale_factor_repeatability: u₃ of K is the eq. (5) fit's standard error, which "
-                        "leaves out the variation of K between power-ons and mountings")
-    return BudgetRow.type_a("repeatability: least-squares scatter of eq. (5)", "u₃", Q_(se, ""), dof,
-                            note=f"{len(d['X'])} rate points")
+        warnings.append(msg("no repeated calibrations (kind rate-repeat, option repeats of 7.2.1) and no "
+                            "device.scale_factor_repeatability: u₃ of K is the eq. (5) fit's standard error, which "
+                            "leaves out the variation of K between power-ons and mountings"))
+    return BudgetRow.type_a(msg("repeatability: least-squares scatter of eq. (5)"), "u₃", Q_(se, ""), dof,
+                            note=msg("{n} rate points", n=len(d['X'])))
 
 
 def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Result]:
@@ -480,21 +481,21 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         fit = d["fits"][i]
         K = float(fit.coef[0])
         Kjj = float(d["fits"][j].coef[0])
-        rows = _table_rate_row(campaign, Q_(abs(Kjj), ""), "input rate error scales the slope (A.1.2.1)", warnings)
+        rows = _table_rate_row(campaign, Q_(abs(Kjj), ""), msg("input rate error scales the slope (A.1.2.1)"), warnings)
         rows += _relative_quant_row(campaign, Kjj, warnings)
         rows.append(_repeatability_row(campaign, fits, repeats, i, j, warnings))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
         results.append(Result(metric, Q_(K, ""), budget.combined, budget,
-                              note=f"fitted bias b = {float(fit.coef[1]):.5g} °/s", earth_rate="not applicable"))
+                              note=msg("fitted bias b = {b:.5g} °/s", b=float(fit.coef[1])), earth_rate="not applicable"))
     return results
 
 
 def _kg_metric(i: int, j: int) -> Metric:
     r, c = AXES[i], AXES[j]
     if i == j:
-        return Metric(f"K_g{r}{c}", f"{r.upper()} gyro scale factor", f"K_g{r}{c}", "", "7.2.1.2", "eq. (5)")
-    return Metric(f"K_g{r}{c}", f"gyro cross-coupling ({c.upper()} input → {r.upper()} gyro)", f"K_g{r}{c}", "",
+        return Metric(f"K_g{r}{c}", msg("{axis} gyro scale factor", axis=r.upper()), f"K_g{r}{c}", "", "7.2.1.2", "eq. (5)")
+    return Metric(f"K_g{r}{c}", msg("gyro cross-coupling ({input} input → {gyro} gyro)", input=c.upper(), gyro=r.upper()), f"K_g{r}{c}", "",
                   "7.2.3.2", "K̄_g, eq. (5)")
 
 
@@ -503,13 +504,13 @@ def _fit_plot_table(fits) -> tuple[PlotSpec, TableSpec]:
     for j, d in fits.items():
         i = AXES.index(j)
         fit = d["fits"][i]
-        series.append({"label": f"{j} axis: residual of eq. (5)", "x": d["X"].tolist(),
+        series.append({"label": msg("{axis} axis: residual of eq. (5)", axis=j), "x": d["X"].tolist(),
                        "y": np.asarray(fit.residuals).tolist(), "style": "o-"})
         for X, U, sid in zip(d["X"], d["U"], d["segments"]):
             rows.append([j, f"{X:g}", f"{U[0]:.6g}", f"{U[1]:.6g}", f"{U[2]:.6g}", sid])
-    plot = PlotSpec("sf_residuals", "Residuals of the eq. (5) fits", "input rate (°/s)", "residual (°/s)", series)
-    table = TableSpec("rate_points", "Mean outputs at each rate point, eq. (3)",
-                      ["axis", "rate (°/s)", "gx (°/s)", "gy (°/s)", "gz (°/s)", "segment"], rows)
+    plot = PlotSpec("sf_residuals", msg("Residuals of the eq. (5) fits"), "input rate (°/s)", "residual (°/s)", series)
+    table = TableSpec("rate_points", msg("Mean outputs at each rate point, eq. (3)"),
+                      [msg("axis"), msg("rate (°/s)"), "gx (°/s)", "gy (°/s)", "gz (°/s)", msg("segment")], rows)
     return plot, table
 
 
@@ -598,7 +599,7 @@ class GyroCrossCoupling(Procedure):
         results = _fit_results(self, campaign, fits, [(i, j) for i in range(3) for j in range(3)], warnings,
                                repeat_fits(campaign, means))
         K = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
-        table = TableSpec("K_g", "K̄_g (rows: gyro x, y, z; columns: input about x, y, z)",
+        table = TableSpec("K_g", msg("K̄_g (rows: gyro x, y, z; columns: input about x, y, z)"),
                           ["", "x", "y", "z"], [[AXES[i]] + [f"{K[i, j]:.6g}" for j in range(3)] for i in range(3)])
         segs = [s for d in fits.values() for s in d["segments"]]
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
@@ -617,15 +618,15 @@ def _six_budget_rows(campaign, u_means, segs, which, col, i, M, warnings, unit, 
     out_unit = unit + ("/gn" if per_gn else "")
     csum = Q_(float(np.sum(np.abs(c))), "1/gn" if per_gn else "")
     uA = float(np.sum(np.abs(c) * np.array(u6)))
-    rows = [BudgetRow.type_a("repeatability of the position means, Σ|cᵢ|·u(Uᵢ) (A.2.2.3)", "u₃",
+    rows = [BudgetRow.type_a(msg("repeatability of the position means, Σ|cᵢ|·u(Uᵢ) (A.2.2.3)"), "u₃",
                              Q_(uA, out_unit), BATCHES - 1,
-                             note=f"{BATCHES} batch means per mounting; linear sum as appendix A")]
+                             note=msg("{n} batch means per mounting; linear sum as appendix A", n=BATCHES))]
     rows += _abs_quant_row(campaign, range_prop, unit, csum, warnings)
     off = [abs(M[i, k]) for k in range(3) if k != col] if col < 3 else [abs(M[i, k]) for k in range(3)]
     tilt = max(off) if off else 0.0
     if tilt > 0:
         sens = Q_(tilt, f"{out_unit}/rad") if per_gn else Q_(tilt, f"{unit}/rad")
-        rows += _table_position_row(campaign, sens, "a tilt δθ puts δθ·gn on the other axes", warnings)
+        rows += _table_position_row(campaign, sens, msg("a tilt δθ puts δθ·gn on the other axes"), warnings)
     return rows
 
 
@@ -647,9 +648,9 @@ class GyroBiasGSensitivity(Procedure):
     item = "7.2.2"
     title = "Gyro bias and g-sensitivity (陀螺零偏、零偏加速度敏感系数)"
     clause = "7.2.2"
-    metrics = tuple(Metric(f"B_g{r}", f"{r.upper()} gyro bias", f"B_g{r}", RATE_UNIT, "7.2.2.2", "eq. (8)")
+    metrics = tuple(Metric(f"B_g{r}", msg("{axis} gyro bias", axis=r.upper()), f"B_g{r}", RATE_UNIT, "7.2.2.2", "eq. (8)")
                     for r in AXES) + tuple(
-        Metric(f"g_{r}{c}", f"gyro g-sensitivity ({c.upper()} acceleration → {r.upper()} gyro)", f"g_{r}{c}",
+        Metric(f"g_{r}{c}", msg("gyro g-sensitivity ({input} acceleration → {gyro} gyro)", input=c.upper(), gyro=r.upper()), f"g_{r}{c}",
                G_UNIT, "7.2.2.2", "eq. (8)") for r in AXES for c in AXES)
     requires = (POSITION_SEG,)
     equipment = EQUIPMENT
@@ -677,22 +678,22 @@ class GyroBiasGSensitivity(Procedure):
             try:
                 fits = sweep_fits(campaign, means)
                 Kg = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
-                src = "K̄_g from the campaign's rate sweeps (7.2.3)"
+                src = msg("K̄_g from the campaign's rate sweeps (7.2.3)")
             except (DataError, ProcedureError):
                 Kg = np.eye(3)
-                src = "K̄_g taken as the identity (no complete rate sweeps in the campaign)"
+                src = msg("K̄_g taken as the identity (no complete rate sweeps in the campaign)")
             leak = F.earth_rate_leak(Kg, lat, EARTH_RATE_DEG_S)
             G = G - leak
-            warnings.append(f"DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = "
-                            f"{EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600:.4f} °/h at φ = {lat:g}°) "
-                            f"that eq. (7) puts into the g matrix was removed, using {src}")
+            warnings.append(msg("DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = {rate:.4f} °/h at "
+                                "φ = {lat:g}°) that eq. (7) puts into the g matrix was removed, using {src}",
+                                rate=EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600, lat=lat, src=src))
         results = []
         for i, r in enumerate(AXES):
             rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT, "gyro_range", False)
             m = self.metrics[i]
             b = UncertaintyBudget(m.symbol, RATE_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
             results.append(Result(m, Q_(float(GB[i, 3]), RATE_UNIT), b.combined, b, earth_rate="not applicable",
-                                  note="the vertical earth rate flips with the up axis and cancels in the mean of six"))
+                                  note=msg("the vertical earth rate flips with the up axis and cancels in the mean of six")))
         for i, r in enumerate(AXES):
             for j, c in enumerate(AXES):
                 rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
@@ -706,13 +707,13 @@ class GyroBiasGSensitivity(Procedure):
                         lat = math.nan
                     v = EARTH_RATE_DEG_S * math.sin(math.radians(lat))
                     if leak is not None:
-                        note, er = f"earth-rate leak {leak[i, j]:.3g} (°/s)/gn removed (deviation)", "removed"
+                        note, er = msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)", leak=leak[i, j]), "removed"
                     else:
-                        note, er = (f"earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
-                                    f"(φ = {lat:g}°) into g_{r}{r}, as the standard prints; option earth_rate = yes "
-                                    "removes it"), "included"
+                        note, er = msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
+                                       "(φ = {lat:g}°) into g_{r}{r}, as the standard prints; option earth_rate = yes "
+                                       "removes it", r=r, v=v, lat=lat), "included"
                 results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note, earth_rate=er))
-        table = TableSpec("six_positions", "Pair-averaged gyro outputs U_g (°/s), eq. (6)",
+        table = TableSpec("six_positions", msg("Pair-averaged gyro outputs U_g (°/s), eq. (6)"),
                           ["", *F.SIX_POSITIONS], [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
                                                    for i in range(3)])
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
@@ -731,10 +732,11 @@ class AccelSixPosition(Procedure):
     item = "7.2.4"
     title = "Accelerometer biases, scale factors and cross-coupling (加速度计偏值、标度因数、交叉耦合)"
     clause = "7.2.4"
-    metrics = tuple(Metric(f"B_a{r}", f"{r.upper()} accelerometer bias", f"B_a{r}", ACC_UNIT, "7.2.4.2", "eq. (11)")
+    metrics = tuple(Metric(f"B_a{r}", msg("{axis} accelerometer bias", axis=r.upper()), f"B_a{r}", ACC_UNIT, "7.2.4.2", "eq. (11)")
                     for r in AXES) + tuple(
-        Metric(f"K_a{r}{c}", (f"{r.upper()} accelerometer scale factor" if r == c else
-                              f"accelerometer cross-coupling ({c.upper()} input → {r.upper()} accelerometer)"),
+        Metric(f"K_a{r}{c}", (msg("{axis} accelerometer scale factor", axis=r.upper()) if r == c else
+                              msg("accelerometer cross-coupling ({input} input → {acc} accelerometer)", input=c.upper(),
+                                  acc=r.upper())),
                f"K_a{r}{c}", "", "7.2.4.2", "eq. (11)") for r in AXES for c in AXES)
     requires = (POSITION_SEG,)
     equipment = EQUIPMENT
@@ -764,7 +766,7 @@ class AccelSixPosition(Procedure):
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
                 results.append(Result(m, Q_(float(KB[i, j]), ""), b.combined, b, earth_rate="not applicable"))
-        table = TableSpec("six_positions", "Pair-averaged accelerometer outputs U_a (gn), eq. (9)",
+        table = TableSpec("six_positions", msg("Pair-averaged accelerometer outputs U_a (gn), eq. (9)"),
                           ["", *F.SIX_POSITIONS], [[f"a{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
                                                    for i in range(3)])
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
@@ -785,8 +787,8 @@ class AccelRateSensitivity(Procedure):
     item = "7.2.5"
     title = "Accelerometer angular-rate sensitivity (加速度计角速度灵敏系数)"
     clause = "7.2.5"
-    metrics = tuple(Metric(f"p_{r}{c}", f"accelerometer rate sensitivity ({c.upper()} rate → {r.upper()} "
-                           "accelerometer)", f"p_{r}{c}", P_UNIT, "7.2.5.2", "eq. (12)")
+    metrics = tuple(Metric(f"p_{r}{c}", msg("accelerometer rate sensitivity ({rate} rate → {acc} accelerometer)",
+                               rate=c.upper(), acc=r.upper()), f"p_{r}{c}", P_UNIT, "7.2.5.2", "eq. (12)")
                     for r in AXES for c in AXES if r != c)
     requires = (RATE_SEG,)
     equipment = EQUIPMENT
@@ -818,21 +820,21 @@ class AccelRateSensitivity(Procedure):
         p = p_matrix(campaign, means, w_deg, sign)
         warnings: list[str] = []
         if sign == "as-printed":
-            warnings.append("p computed with eq. (12) as printed, (U₇ − U₈)/ω²: opposite sign to the model of eq. (2)")
+            warnings.append(msg("p computed with eq. (12) as printed, (U₇ − U₈)/ω²: opposite sign to the model of eq. (2)"))
         results = []
         c = 1.0 / w**2
         for m in self.metrics:
             i, j = AXES.index(m.key[2]), AXES.index(m.key[3])
             rest, turning = pairs[AXES[j]]
             u7, u8 = u_means(rest)[1][i], u_means(turning)[1][i]
-            rows = [BudgetRow.type_a("repeatability of U₇ and U₈, |c|(u(U₇) + u(U₈)) (A.5.2.3)", "u₃",
+            rows = [BudgetRow.type_a(msg("repeatability of U₇ and U₈, |c|(u(U₇) + u(U₈)) (A.5.2.3)"), "u₃",
                                      Q_(c * (u7 + u8), P_UNIT), BATCHES - 1)]
             rows += _abs_quant_row(campaign, "accel_range", ACC_UNIT, Q_(2 * c, "1/(rad/s)**2"), warnings)
-            rows += _table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT), "c(ω) = −2p/ω (A.12)", warnings)
+            rows += _table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT), msg("c(ω) = −2p/ω (A.12)"), warnings)
             b = UncertaintyBudget(m.symbol, P_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
             results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b, earth_rate="not applicable",
-                                  note="the vertical earth rate adds a relative 2Ω_e·sin φ/ω to ω² (10⁻⁵ at 400 °/s): neglected"))
-        table = TableSpec("p", "p (rows: accelerometer x, y, z; columns: rate about x, y, z), gn/(rad/s)²",
+                                  note=msg("the vertical earth rate adds a relative 2Ω_e·sin φ/ω to ω² (10⁻⁵ at 400 °/s): neglected")))
+        table = TableSpec("p", msg("p (rows: accelerometer x, y, z; columns: rate about x, y, z), gn/(rad/s)²"),
                           ["", "x", "y", "z"], [[AXES[i]] + [f"{p[i, j]:.5g}" for j in range(3)] for i in range(3)])
         segs = [s.id for pr in pairs.values() for s in pr]
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],

@@ -111,7 +111,7 @@ def layout(doc, ctx: dict) -> None:
         (tr("Customer"), D.or_dash(f["customer"])),                               # 8 e)
         (tr("Customer address"), D.or_dash(f["customer_address"])),
         (tr("Instrument calibrated"), f"{tr.pick('金属振子式速率陀螺', 'metal-shell vibratory rate gyroscope')}: "
-                                      f"{dev['description']} ({tr('id')} {dev['id']})"),  # 8 f)
+                                      f"{tr.text(dev['description'])} ({tr('id')} {dev['id']})"),  # 8 f)
         (tr("Date of calibration"), D.or_dash(f["measured"])),                    # 8 g)
         (tr("Date received"), D.or_dash(f["received"])),
         (tr("Date of issue"), D.or_dash(f["issued"])),

@@ -70,7 +70,7 @@ def layout(doc, ctx: dict) -> None:
         (tr("Customer"), D.or_dash(f["customer"])),
         (tr("Customer address"), D.or_dash(f["customer_address"])),
         (tr("Instrument calibrated"), f"{tr.pick('光学陀螺测角仪', 'optical gyroscope angle measuring instrument')}: "
-                                      f"{dev['description']} ({tr('id')} {dev['id']})"),
+                                      f"{tr.text(dev['description'])} ({tr('id')} {dev['id']})"),
         (tr("Date of calibration"), D.or_dash(f["measured"])),
         (tr("Date received"), D.or_dash(f["received"])),
         (tr("Date of issue"), D.or_dash(f["issued"])),

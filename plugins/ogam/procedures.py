@@ -21,6 +21,7 @@ import attrs
 import numpy as np
 from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -50,12 +51,12 @@ COVERAGE_NU = Coverage.probability(0.9545)
 #: "校准开始前, 光学陀螺测角仪完成预热和地球自转(地速)补偿操作" (clause 7): the instrument removes the
 #: earth rate before every item; what its compensation leaves (η·Ω) is part of the zero drift
 EARTH_RATE = "removed"
-EARTH_NOTE = "earth rate removed by the instrument's own compensation before the item (clause 7)"
+EARTH_NOTE = msg("earth rate removed by the instrument's own compensation before the item (clause 7)")
 
 
 def _disclosed(res: Result) -> Result:
     """The result with its earth-rate statement (issue 13)."""
-    note = f"{res.note}; {EARTH_NOTE}" if res.note else EARTH_NOTE
+    note = join("; ", [res.note, EARTH_NOTE]) if res.note else EARTH_NOTE
     return attrs.evolve(res, earth_rate=EARTH_RATE, note=note)
 REF_RATE = 60.0  # °/s, clauses 7.1, 7.4 and the reference of 7.6
 RATES = (1.0, 10.0, 60.0, 100.0, 150.0, 200.0, 250.0, 300.0)  # clause 7.6
@@ -202,9 +203,9 @@ def positioning_row(campaign: Campaign, warnings: list[str]) -> BudgetRow:
     """Appendix A 4.1: the turntable's angle-positioning error (from its calibration, else table 1)."""
     tt = campaign.equipment_for("turntable")
     if tt is not None and tt.calibration is not None:
-        return BudgetRow.from_calibration(f"turntable angle positioning ({tt.describe()})", "u(P)", tt.calibration)
-    warnings.append("no turntable calibration given: the E budget uses table 1's ±0.1″ positioning error")
-    return BudgetRow.type_b("turntable angle positioning (table 1 requirement, ±0.1″)", "u(P)",
+        return BudgetRow.from_calibration(msg("turntable angle positioning ({equipment})", equipment=tt.describe()), "u(P)", tt.calibration)
+    warnings.append(msg("no turntable calibration given: the E budget uses table 1's ±0.1″ positioning error"))
+    return BudgetRow.type_b(msg("turntable angle positioning (table 1 requirement, ±0.1″)"), "u(P)",
                             TABLE1_POSITIONING, distribution="uniform")
 
 
@@ -212,22 +213,24 @@ def tilt_row(psi: Any) -> tuple[BudgetRow, F.TiltSimulation]:
     """Appendix A 4.2: simulate the tilt ψ over 0…360° (eqs. (2)–(5)); its extreme is a uniform half-width."""
     sim = F.tilt_error_simulation(float(psi.to("deg").magnitude))
     row = BudgetRow.type_b(
-        "sensing plane not parallel to the turntable plane", "u(θ_ψ)", Q_(sim.extreme_arcsec, "arcsec"),
+        msg("sensing plane not parallel to the turntable plane"), "u(θ_ψ)", Q_(sim.extreme_arcsec, "arcsec"),
         distribution="uniform",
-        note=f"ψ = {sim.psi_deg:g}°, simulated extreme {sim.extreme_arcsec:.4f}″ (appendix A 4.2)")
+        note=msg("ψ = {psi:g}°, simulated extreme {extreme:.4f}″ (appendix A 4.2)", psi=sim.psi_deg,
+                 extreme=sim.extreme_arcsec))
     return row, sim
 
 
 def drift_row(zero_stability: Any, time: Any) -> BudgetRow:
     """Appendix A 4.3: zero drift over the measurement time, a uniform half-width."""
     a = F.zero_drift_error(float(zero_stability.to("deg/h").magnitude), float(time.to("min").magnitude))
-    return BudgetRow.type_b("zero drift of the instrument", "u(δ)", Q_(a, "arcsec"), distribution="uniform",
-                            note=f"{zero_stability.to('deg/h').magnitude:g} °/h over {time.to('min').magnitude:g} min")
+    return BudgetRow.type_b(msg("zero drift of the instrument"), "u(δ)", Q_(a, "arcsec"), distribution="uniform",
+                            note=msg("{rate:g} °/h over {time:g} min", rate=zero_stability.to('deg/h').magnitude,
+                                     time=time.to('min').magnitude))
 
 
 def repeatability_row(R_arcsec: float, rounds: int) -> BudgetRow:
     """Appendix A 4.4: the 7.5 repeatability (largest R_i), type A with ν = rounds − 1."""
-    return BudgetRow.type_a("measurement repeatability (max R_i, 7.5)", "u(r)", Q_(R_arcsec, "arcsec"), rounds - 1,
+    return BudgetRow.type_a(msg("measurement repeatability (max R_i, 7.5)"), "u(r)", Q_(R_arcsec, "arcsec"), rounds - 1,
                             note=f"{rounds} rounds")
 
 
@@ -334,19 +337,19 @@ class ScaleFactor71(Procedure):
         warnings: list[str] = []
         n = k_i.size
         if n != 6:
-            warnings.append(f"{n} rounds; clause 7.1 asks for six (60°…360°)")
+            warnings.append(msg("{n} rounds; clause 7.1 asks for six (60°…360°)", n=n))
         sens = math.sqrt(float(np.sum((k_i / (theta * F.ARCSEC_PER_DEG)) ** 2))) / n
         rows = [
-            BudgetRow.type_a("scatter of the rounds' K_i", "s(K_i)/√n", Q_(float(np.std(k_i, ddof=1)) / math.sqrt(n),
-                             "P/deg"), n - 1, note=f"{n} rounds"),
+            BudgetRow.type_a(msg("scatter of the rounds' K_i"), "s(K_i)/√n", Q_(float(np.std(k_i, ddof=1)) / math.sqrt(n),
+                             "P/deg"), n - 1, note=msg("{n} rounds", n=n)),
             attrs_evolve_sensitivity(positioning_row(campaign, warnings), Q_(sens, "P/deg/arcsec")),
-            BudgetRow.type_b("resolution of the counts C_i (±0.5 count)", "u(C)", Q_(0.5, "P"), distribution="uniform",
+            BudgetRow.type_b(msg("resolution of the counts C_i (±0.5 count)"), "u(C)", Q_(0.5, "P"), distribution="uniform",
                              sensitivity=Q_(math.sqrt(float(np.sum(theta ** -2.0))) / n, "1/deg"),
-                             note="each K_i = C_i/θ_i, independent roundings"),
+                             note=msg("each K_i = C_i/θ_i, independent roundings")),
         ]
         budget = UncertaintyBudget("K", "P/deg", rows, coverage=COVERAGE_NU)
         res = Result(self.metrics[0], Q_(K, "P/deg"), budget.combined, budget)
-        table = TableSpec("k_rounds", "Scale factor per round (7.1)", ["round", "θ_i (°)", "C_i (P)", "K_i (P/°)"],
+        table = TableSpec("k_rounds", msg("Scale factor per round (7.1)"), [msg("round"), "θ_i (°)", "C_i (P)", "K_i (P/°)"],
                           [[i + 1, f"{theta[i]:g}", f"{counts[i]:.0f}", f"{k_i[i]:.6f}"] for i in range(n)])
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], tables=[table], warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
@@ -386,19 +389,20 @@ def linearity_noise(campaign: Campaign, theta_deg: np.ndarray, K: float, warning
     rng = np.random.default_rng(KL_SEED)
     size = (KL_DRAWS, theta_deg.size)
     pos = positioning_row(campaign, warnings)
-    what = f"turntable positioning ({pos.distribution}, u = {pos.standard_uncertainty.to('arcsec').magnitude:.3g}″)"
+    what = msg("turntable positioning ({distribution}, u = {u:.3g}″)", distribution=pos.distribution,
+               u=pos.standard_uncertainty.to('arcsec').magnitude)
     ang = _draw(pos, "arcsec", size, rng)
     rounds = positioning_groups(campaign).get((REF_RATE, "up"), [])
     if len(rounds) >= 2:
         R, _ = F.repeatability_75(error_matrix(rounds)[1])
         if R > float(pos.standard_uncertainty.to("arcsec").magnitude):
             ang = rng.normal(0.0, R, size)
-            what = f"angle repeatability R = {R:.3g}″ of 7.5 ({len(rounds)} rounds; holds the positioning)"
+            what = msg("angle repeatability R = {R:.3g}″ of 7.5 ({n} rounds; holds the positioning)", R=R, n=len(rounds))
     else:
-        what += "; no 7.5 rounds: the reading noise and random walk of a stop are not in it"
+        what = join("; ", [what, msg("no 7.5 rounds: the reading noise and random walk of a stop are not in it")])
     count = 0.5 / K * F.ARCSEC_PER_DEG
     ang = ang + rng.uniform(-count, count, size)
-    return ang / (theta_deg * F.ARCSEC_PER_DEG), f"{what}; count rounding ±0.5 count = ±{count:.3g}″"
+    return ang / (theta_deg * F.ARCSEC_PER_DEG), join("; ", [what, msg("count rounding ±0.5 count = ±{c:.3g}″", c=count)])
 
 
 class Linearity72(Procedure):
@@ -434,20 +438,21 @@ class Linearity72(Procedure):
         noise, what = linearity_noise(campaign, theta, K, warnings)
         est = F.linearity_72_moment_matched(k_i, noise)
         pct = 100.0
-        rows = [BudgetRow.type_b("noise of the K_i: spread of their range", "s(K_l)", Q_(est.spread * pct, "percent"),
+        rows = [BudgetRow.type_b(msg("noise of the K_i: spread of their range"), "s(K_l)", Q_(est.spread * pct, "percent"),
                                  distribution="normal", k=1.0,
-                                 note=f"Monte Carlo, {KL_DRAWS} draws of {what}"),
-                BudgetRow.type_b("correction for the widening of the range by that noise, uncertain by its own size",
+                                 note=msg("Monte Carlo, {n} draws of {what}", n=KL_DRAWS, what=what)),
+                BudgetRow.type_b(msg("correction for the widening of the range by that noise, uncertain by its own size"),
                                  "u(δ)", Q_(est.inflation * pct, "percent"), distribution="normal", k=1.0,
-                                 note=f"δ = {est.inflation * pct:.3g} % (moment matched; the noise alone gives "
-                                      f"{est.noise_only * pct:.3g} % on average)")]
+                                 note=msg("δ = {d:.3g} % (moment matched; the noise alone gives {n:.3g} % on average)",
+                                          d=est.inflation * pct, n=est.noise_only * pct))]
         budget = UncertaintyBudget("K_l", "percent", rows, coverage=COVERAGE_NU)
         i_max, i_min = int(np.argmax(k_i)), int(np.argmin(k_i))
-        note = (f"as printed (max K_i − min K_i)/K = {est.printed * pct:.3g} % (max K_i at θ = {theta[i_max]:g}°, "
-                f"min at θ = {theta[i_min]:g}°), less its widening by the K_i's noise, {est.inflation * pct:.3g} %")
+        note = msg("as printed (max K_i − min K_i)/K = {printed:.3g} % (max K_i at θ = {max:g}°, min at θ = {min:g}°), "
+                   "less its widening by the K_i's noise, {d:.3g} %", printed=est.printed * pct, max=theta[i_max],
+                   min=theta[i_min], d=est.inflation * pct)
         if est.estimate == 0.0:
-            note += (f"; not resolved from 0: the noise alone gives a range of {est.noise_only * pct:.3g} % on "
-                     "average, no less than the one observed")
+            note = join("; ", [note, msg("not resolved from 0: the noise alone gives a range of {n:.3g} % on average, "
+                                         "no less than the one observed", n=est.noise_only * pct)])
         res = Result(self.metrics[0], Q_(est.estimate * pct, "percent"), budget.combined, budget, note=note)
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], warnings=warnings, segments=[seg.id],
                        options={k: str(v) for k, v in opts.items()})
@@ -496,19 +501,21 @@ class ZeroStability73(Procedure):
         Bs = F.zero_stability_73(m, T_h, stat)
         warnings = []
         if abs(T_h - 1.0) > 1e-6:
-            warnings.append(f"the readings span {T_h * 60:g} min; clause 7.3 asks for 1 h")
+            warnings.append(msg("the readings span {minutes:g} min; clause 7.3 asks for 1 h", minutes=T_h * 60))
         if not Bs > 0:
             raise DataError(seg.file or f"segment {seg.id}", "reading", "the readings do not vary at all; "
                             "B_s would be zero (is the instrument running?)")
         n = m.size
-        rows = [BudgetRow.type_a(f"sampling of the {'standard deviation' if stat == 'std' else 'range'} of {n} "
-                                 "readings", "B_s/√(2(n−1))", Q_(Bs / math.sqrt(2 * (n - 1)), "deg/h"), n - 1)]
+        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of {n} readings", n=n) if stat == "std" else
+                                 msg("sampling of the range of {n} readings", n=n), "B_s/√(2(n−1))", Q_(Bs / math.sqrt(2 * (n - 1)), "deg/h"), n - 1)]
         budget = UncertaintyBudget("B_s", "deg/h", rows, coverage=COVERAGE_NU)
         other = F.zero_stability_73(m, T_h, "range" if stat == "std" else "std")
         res = Result(self.metrics[0], Q_(Bs, "deg/h"), budget.combined, budget,
-                     note=f"{n} readings over {T_h * 60:g} min; {'range' if stat == 'std' else 'std'} reading "
-                          f"{other:.3g} °/h")
-        plot = PlotSpec("zero", "Readings at rest (7.3)", "t (min)", "M (″)",
+                     note=msg("{n} readings over {minutes:g} min; range reading {other:.3g} °/h", n=n,
+                              minutes=T_h * 60, other=other) if stat == "std" else
+                     msg("{n} readings over {minutes:g} min; std reading {other:.3g} °/h", n=n, minutes=T_h * 60,
+                         other=other))
+        plot = PlotSpec("zero", msg("Readings at rest (7.3)"), "t (min)", "M (″)",
                         [{"label": "M_n", "x": (np.arange(n) * T_h * 60 / (n - 1)).tolist(),
                           "y": (m * F.ARCSEC_PER_DEG).tolist(), "style": "o-"}])
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot], warnings=warnings,
@@ -549,15 +556,15 @@ class PositionError74(_EBase):
         j = int(np.argmax(np.abs(e_i)))
         budget = e_budget(rows)
         res = Result(self.metrics[0], Q_(Emax, "arcsec"), budget.combined, budget,
-                     note=f"reported as ±{Emax:.3g}″; largest |E_i| at S = {S[j]:g}° (E_i = {e_i[j]:+.3f}″), "
-                          f"round {want}")
-        plot = PlotSpec("E_i", "Angle-position error per position (7.4)", "S (°)", "E_i (″)",
+                     note=msg("reported as ±{E:.3g}″; largest |E_i| at S = {S:g}° (E_i = {Ei:+.3f}″), round {round}",
+                              E=Emax, S=S[j], Ei=e_i[j], round=want))
+        plot = PlotSpec("E_i", msg("Angle-position error per position (7.4)"), "S (°)", "E_i (″)",
                         [{"label": f"round {r}", "x": S.tolist(), "y": E[k].tolist(),
                           "style": "o-" if r == want else ":"} for k, r in enumerate(rnums)])
-        tilt = PlotSpec("tilt", f"Simulated tilt error, ψ = {sim.psi_deg:g}° (appendix A 4.2)", "θ (°)", "Δ(θ) (″)",
+        tilt = PlotSpec("tilt", msg("Simulated tilt error, ψ = {psi:g}° (appendix A 4.2)", psi=sim.psi_deg), "θ (°)", "Δ(θ) (″)",
                         [{"label": "Δ(θ) = θ_ψ − θ", "x": sim.theta_deg[::40].tolist(),
                           "y": sim.error_arcsec[::40].tolist(), "style": "-"}])
-        table = TableSpec("E_i", "E_i and R_i per calibration point", ["i", "S_i (°)", "E_i (″)", "R_i (″)"],
+        table = TableSpec("E_i", msg("E_i and R_i per calibration point"), ["i", "S_i (°)", "E_i (″)", "R_i (″)"],
                           [[i + 1, f"{S[i]:g}", f"{e_i[i]:+.3f}", f"{R_i[i]:.3f}"] for i in range(S.size)])
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot, tilt], tables=[table],
                        warnings=warnings, segments=[s.id for _, s in rounds],
@@ -583,15 +590,15 @@ class Repeatability75(_EBase):
         if E.shape[0] < 2:
             raise DataError(campaign.source, "segments", f"7.5 needs the 7.4 test repeated; found {E.shape[0]} round")
         if E.shape[0] < ROUNDS:
-            warnings.append(f"{E.shape[0]} rounds; clause 7.5 asks for {ROUNDS}")
+            warnings.append(msg("{n} rounds; clause 7.5 asks for {rounds}", n=E.shape[0], rounds=ROUNDS))
         R, R_i = F.repeatability_75(E)
         n = E.shape[0]
         budget = UncertaintyBudget("R", "arcsec", [BudgetRow.type_a(
-            f"sampling of a standard deviation of {n} rounds", "R/√(2(n−1))", Q_(R / math.sqrt(2 * (n - 1)), "arcsec"),
+            msg("sampling of a standard deviation of {n} rounds", n=n), "R/√(2(n−1))", Q_(R / math.sqrt(2 * (n - 1)), "arcsec"),
             n - 1)], coverage=COVERAGE_NU)
         j = int(np.argmax(R_i))
-        res = Result(self.metrics[0], Q_(R, "arcsec"), budget.combined, budget, note=f"largest at S = {S[j]:g}°")
-        plot = PlotSpec("R_i", "Repeatability per position (7.5)", "S (°)", "R_i (″)",
+        res = Result(self.metrics[0], Q_(R, "arcsec"), budget.combined, budget, note=msg("largest at S = {S:g}°", S=S[j]))
+        plot = PlotSpec("R_i", msg("Repeatability per position (7.5)"), "S (°)", "R_i (″)",
                         [{"label": "R_i", "x": S.tolist(), "y": R_i.tolist(), "style": "o-"}])
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot], warnings=warnings,
                        segments=[s.id for _, s in rounds], options={k: str(v) for k, v in opts.items()})
@@ -632,8 +639,8 @@ def _consistency(proc: _EBase, campaign: Campaign, opts, groups_wanted: list[tup
     brows = [attrs_evolve_sensitivity(r, Q_(c, "percent/arcsec")) for r in (rows[0], rows[2], rows[3])]
     uE = math.sqrt(sum(float(r.standard_uncertainty.to("arcsec").magnitude) ** 2 for r in (rows[0], rows[2], rows[3])))
     if e_ref < 2 * uE:
-        warnings.append(f"the reference E = {e_ref:.3g}″ is below twice its uncertainty ({2 * uE:.2g}″): the ratio "
-                        "is ill-conditioned; see the range (max − min) in the note")
+        warnings.append(msg("the reference E = {E:.3g}″ is below twice its uncertainty ({twice_u:.2g}″): the ratio "
+                            "is ill-conditioned; see the range (max − min) in the note", E=e_ref, twice_u=2 * uE))
     return C, brows, warnings, used, values, table_rows
 
 
@@ -659,9 +666,10 @@ class RateConsistency76(_EBase):
         budget = UncertaintyBudget("C_v", "percent", rows, coverage=COVERAGE_NU)
         rng = max(values.values()) - min(values.values())
         res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
-                     note=f"max E_v − min E_v = {rng:.3f}″, E_60 = {values[(REF_RATE, 'up')]:.3f}″")
-        table = TableSpec("E_v", "Angle-position error per rate (7.6)", ["rate", "E_v (″)"], trows)
-        plot = PlotSpec("E_v", "Angle-position error against rate (7.6)", "v (°/s)", "E_v (″)",
+                     note=msg("max E_v − min E_v = {range:.3f}″, E_60 = {ref:.3f}″", range=rng,
+                              ref=values[(REF_RATE, 'up')]))
+        table = TableSpec("E_v", msg("Angle-position error per rate (7.6)"), [msg("rate"), "E_v (″)"], trows)
+        plot = PlotSpec("E_v", msg("Angle-position error against rate (7.6)"), "v (°/s)", "E_v (″)",
                         [{"label": "E_v", "x": [k[0] for k in values], "y": list(values.values()), "style": "o-"}],
                         logx=True)
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot], tables=[table],
@@ -692,8 +700,9 @@ class PointingConsistency77(_EBase):
         budget = UncertaintyBudget("C_g", "percent", rows, coverage=COVERAGE_NU)
         rng = max(values.values()) - min(values.values())
         res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
-                     note=f"max E_g − min E_g = {rng:.3f}″, E_up = {values[(REF_RATE, 'up')]:.3f}″")
-        table = TableSpec("E_g", "Angle-position error per axis direction (7.7)", ["axis", "E_g (″)"], trows)
+                     note=msg("max E_g − min E_g = {range:.3f}″, E_up = {ref:.3f}″", range=rng,
+                              ref=values[(REF_RATE, 'up')]))
+        table = TableSpec("E_g", msg("Angle-position error per axis direction (7.7)"), [msg("axis"), "E_g (″)"], trows)
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], tables=[table], warnings=warnings,
                        segments=used, options={k: str(v) for k, v in opts.items()})
 

@@ -1,0 +1,84 @@
+"""The message catalog and :class:`metro.core.locale.Text`: text made far from the document (notes,
+reasons, warnings, budget components) stays English everywhere but a document, which writes it
+in its language."""
+
+from __future__ import annotations
+
+import json
+import pickle
+import re
+import string
+
+import numpy as np
+import pytest
+
+from metro.core.locale import Text, catalog, join, msg, translator
+
+
+def test_a_message_is_its_english_text_everywhere_but_a_document():
+    t = msg("{n} rounds; clause 7.5 asks for {rounds}", n=np.int64(3), rounds=10)
+    assert t == "3 rounds; clause 7.5 asks for 10" and isinstance(t, str)
+    assert json.dumps({"note": t}) == '{"note": "3 rounds; clause 7.5 asks for 10"}'
+    assert f"{t}" == str(t) == "3 rounds; clause 7.5 asks for 10"
+    assert translator("en").text(t) == "3 rounds; clause 7.5 asks for 10"
+    assert translator("zh").text(t) == "3 轮；7.5 要求 10 轮"
+    assert translator("zh+en").text(t) == "3 轮；7.5 要求 10 轮 3 rounds; clause 7.5 asks for 10"
+
+
+def test_fields_that_are_messages_or_catalog_names_translate_too():
+    inner = msg("sampling of a standard deviation of {n} rounds", n=10)
+    t = msg("{source} ({note})", source=inner, note="round")  # a plain field the catalog holds
+    assert t == "sampling of a standard deviation of 10 rounds (round)"
+    assert translator("zh").text(t) == "10 轮标准偏差的抽样（轮次）"
+    # the translator's own messages take a Text field, each language getting its own
+    tr = translator("zh+en")
+    assert tr("not reportable: {reason}", reason=msg("{n} rounds", n=2)) == \
+        "不予报告：2 轮 not reportable: 2 rounds"
+    # data (a file name, a device id) stay as they are
+    assert translator("zh").text("run_1.csv") == "run_1.csv"
+
+
+def test_a_join_translates_each_part():
+    j = join("; ", [msg("{n} rounds", n=6), "SIM-TT-0001", "scale factor"])
+    assert j == "6 rounds; SIM-TT-0001; scale factor"
+    assert translator("zh").text(j) == "6 轮; SIM-TT-0001; 标度因数"
+    assert translator("zh+en").text(j) == "6 轮 6 rounds; SIM-TT-0001; 标度因数 scale factor"
+
+
+def test_a_message_pickles_and_survives_the_register_json():
+    from metro.core.registering import decode_context, encode_context
+
+    t = join("; ", [msg("fitted bias b = {b:.5g} °/s", b=np.float64(0.1017512)), "x"])
+    back = pickle.loads(pickle.dumps(t))
+    assert back == t and isinstance(back, Text) and back.parts[0].fields == {"b": 0.1017512}
+    doc = json.loads(json.dumps(encode_context({"outcomes": [], "note": t})))
+    again = decode_context(doc)["note"]
+    assert again == t and translator("zh").text(again) == "拟合零偏 b = 0.10175 °/s; x"
+
+
+def test_a_catalog_entry_with_wrong_places_falls_back_to_english_and_is_reported(monkeypatch):
+    tr = translator("zh")
+    monkeypatch.setitem(tr._zh, "{n} rounds", "{m} 轮")
+    assert tr.text(msg("{n} rounds", n=3)) == "3 rounds" and "{n} rounds" in tr.missing
+
+
+def _places(text: str) -> set[str]:
+    return {f for _, f, _, _ in string.Formatter().parse(text) if f is not None}
+
+
+def test_every_translation_has_the_places_of_its_message_id():
+    """A msgstr must fill the same {fields} as its msgid (else a document would fall back to English)."""
+    bad = {k: v for k, v in catalog("zh").items() if _places(k) != _places(v)}
+    assert not bad, bad
+
+
+def test_no_message_is_built_from_an_f_string():
+    """msg(f"…") cannot be found by the extractor, nor translated: the code has none."""
+    from pathlib import Path
+
+    import metro.core
+
+    root = Path(metro.core.__file__).resolve().parent.parent
+    bad = [f"{p.relative_to(root)}" for p in root.rglob("*.py") if ".venv" not in p.parts and "tests" not in p.parts
+           if re.search(r"\bmsg\(\s*f[\"']", p.read_text(encoding="utf-8"))]
+    assert not bad, bad
