@@ -37,7 +37,8 @@ META = {
 
 # (standard, items, station options, page bound, fields of the appendix / clause 8 as printed in zh+en)
 CASES = [
-    ("gbt45570", ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"], {"duration_scale": 0.1, "seed": 3}, 8, [
+    # 9 pages: quantity names, notes and budget sources print in both languages in zh+en (issue 16 point 5)
+    ("gbt45570", ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"], {"duration_scale": 0.1, "seed": 3}, 9, [
         "试验报告 Test report", "报告编号 Report No.", "实验室 Laboratory", "委托方 Customer", "被试产品 Device",
         "测量日期 Date of measurement", "接收日期 Date received", "签发日期 Date of issue",
         "总体判定 Overall verdict", "试验条件 Test conditions (6.1)", "试验环境 Test environment (6.1.1)",
