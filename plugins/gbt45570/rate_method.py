@@ -507,18 +507,25 @@ class NonlinearityD22(ScaleFactorD21):
         opts = self.option_values(ctx.options)
         data = collect_rate_data(type(self), campaign, int(opts["min_points"]))
         Kn, j, Fm, _, K, F0 = nonlinearity_of(data)
-        budget = nonlinearity_budget(campaign, data, j, Fm, K)
+        # K_n is the largest of 2M noisy |a_j|: corrected for the selection (interpretations.md, D.2.2)
+        from .angle_method import selection_note, selection_rows
+
+        sel = F2.nonlinearity_selection(data.rates, data.Fk, data.uF)
+        budget = nonlinearity_budget(campaign, data, j, Fm, K, spread=sel.s)
+        budget = UncertaintyBudget("K_n", "ppm", list(budget.rows) + selection_rows(sel, data.rates.size, ""),
+                                   coverage=COVERAGE)
         a = (F2.fitted_output_d23(K, F0, data.rates) - data.Fk) / Fm
-        res = Result(self.metrics[0], Q_(Kn, ""), budget.combined, budget,
-                     note=f"largest |a_j| at {data.rates[j]:+g} °/s; |F_m| = {Fm:.1f} {unit_text(data.unit)}",
-                     earth_rate="removed")
+        res = Result(self.metrics[0], Q_(max(sel.value, 0.0), ""), budget.combined, budget,
+                     note=f"largest |a_j| at {data.rates[j]:+g} °/s; |F_m| = {Fm:.1f} {unit_text(data.unit)}; "
+                          f"{selection_note(sel, 1e6, 'ppm')}", earth_rate="removed")
         plot = PlotSpec("a_rate", "Point nonlinearity a_j (D.24)", "Ω (°/s)", "a_j (ppm)",
                         [{"label": "a_j", "x": data.rates.tolist(), "y": (a * 1e6).tolist(), "style": "o"}])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], segments=data.segments,
                        options=_opts_text(opts))
 
 
-def nonlinearity_budget(campaign: Campaign, data: RateData, j: int, Fm: float, K: float, sel=None) -> UncertaintyBudget:
+def nonlinearity_budget(campaign: Campaign, data: RateData, j: int, Fm: float, K: float, sel=None,
+                        spread: float = 0.0) -> UncertaintyBudget:
     """Budget of K_n = |F̂_j − F_kj|/|F_m| at the maximising point j: F̂_j − F_kj is a linear
     combination of all the F̄_i of the fit (g_i = c_F0,i + c_K,i·Ω_j − δ_ij), so its type A
     uncertainty is propagated from each point's scatter, the correlation with F̂_j included."""
@@ -529,8 +536,10 @@ def nonlinearity_budget(campaign: Campaign, data: RateData, j: int, Fm: float, K
     g = ca + cb * w[j]
     g[j] -= 1.0
     u, nu = F2.propagate(g / Fm, uF, n - 1)
-    rows = [BudgetRow.type_a(f"mean outputs through F̂_j − F_kj at {w[j]:+g} °/s", "√Σ(g_i·u(F̄_i))²/|F_m|",
-                             Q_(u, ""), nu),
+    # with ``spread`` (the Monte Carlo spread of the maximum over all points) the larger of the two
+    rows = [BudgetRow.type_a(f"mean outputs through F̂_j − F_kj at {w[j]:+g} °/s" if spread <= u else
+                             "mean outputs through the largest |F̂_j − F_kj| (Monte Carlo over every point)",
+                             "√Σ(g_i·u(F̄_i))²/|F_m|" if spread <= u else "s of max_j |a_j|", Q_(max(u, spread), ""), nu),
             _out_resolution_row(campaign, float(np.linalg.norm(g)) / Fm, "", "F̂_j − F_kj", data.unit)]
     rows += _rate_row(campaign, f"at {w[j]:+g} °/s", K * abs(w[j]) / Fm, "",
                       "an error not proportional to Ω shows as nonlinearity; bounded by the table's accuracy",
