@@ -630,6 +630,10 @@ DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
     "analog-power-on": {"power_on_variation": True, "sf_repeat_rel": 2e-4, "bias_repeat_dps": 1e-3},
     # the output digitised to 0.02 mV (≈ 3.6 °/h at 20 mV/((°)/s)), about the noise of a 1 s sample
     "analog-coarse": {"output_lsb_mV": 0.02},
+    # the output digitised to 0.2 mV (≈ 36 °/h at 20 mV/((°)/s), a 14-bit word over ±2 V): coarser than the
+    # noise of a 1 s sample (0.02 … 0.05 mV), so the rounding of the 1 s records (7.2.1, 7.2.9, 7.2.10,
+    # 7.2.15 …) does not average out; about 0.4 … 0.8 of the noise of a 0.1 s sample (7.2.13, 7.2.20)
+    "analog-coarser": {"output_lsb_mV": 0.2},
 }
 
 

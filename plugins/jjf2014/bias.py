@@ -45,6 +45,7 @@ from .common import (
     _updown,
     _where,
     bias_repeatability,
+    rounding_row_mean,
     scale_factor_for,
 )
 from .scale_factor import ScaleFactor
@@ -145,7 +146,9 @@ class Bias(_JJF):
         rep_row = rep.row("bias repeatability (another power-on gives another B₀)", "B_r", rep.value,
                           "deg/h") if rep is not None and rep.value > bv.uA else None
         b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=_cal(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
-                          warnings=w, dof_K=kv.dof, rep_row=rep_row)
+                          warnings=w, dof_K=kv.dof, rep_row=rep_row,
+                          extra=rounding_row_mean(campaign, bv.x, "the mean output F̄ (eq. (27))",
+                                                  3600.0 / abs(K), "deg/h"))
         on = _flag(opts, "earth_rate")
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
                                      note=f"K from {src}; {_earth_text(campaign, on)}",

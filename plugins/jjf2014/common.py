@@ -102,6 +102,56 @@ def _mean_u(seg: Segment) -> tuple[float, float, int]:
     return F.mean_output_eq2(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), x.size
 
 
+def output_step(campaign: Campaign, arrays: Iterable[np.ndarray]) -> tuple[float, str]:
+    """The step q (mV) the analog output was digitised to, and where it comes from:
+    ``device.output_resolution`` if the manifest states it, else read from the data — the
+    smallest difference between two values of one record, when every value of every record is a
+    whole number of it — else 0 (a continuous reading: no rounding row)."""
+    v = campaign.device.properties.get("output_resolution")
+    if v not in (None, ""):
+        q = parse_quantity(v, dimension="mV", file=campaign.source, field="device.output_resolution")
+        x = float(q.to("mV").magnitude)
+        if not (x >= 0 and math.isfinite(x)):
+            raise DataError(campaign.source, "device.output_resolution", f"must be a non-negative voltage step, got {v!r}")
+        return x, f"device.output_resolution = {v}"
+    vals = [np.unique(np.asarray(a, dtype=float)[:200_000]) for a in arrays]
+    steps = [float(np.min(np.diff(u))) for u in vals if u.size > 1]
+    if not steps:
+        return 0.0, "the data (no record with two distinct values)"
+    q = min(steps)
+    allv = np.concatenate(vals)
+    if not q > 1e-9 * max(float(np.max(np.abs(allv))), 1e-300):
+        return 0.0, "the data (no common step)"
+    ratio = (allv - allv[0]) / q
+    # every value within a thousandth of a step of the grid (a continuous reading's smallest difference
+    # leaves the others at random fractions of it)
+    if np.max(np.abs(ratio)) < 1e9 and np.all(np.abs(ratio - np.round(ratio)) < 1e-3):
+        return q, "the data (every value a whole number of this step)"
+    return 0.0, "the data (no common step)"
+
+
+def rounding_note(q: float, s: float, hw: float, dithered: bool, source: str) -> str:
+    """What a rounding row says: the step, the noise and whether it dithers the rounding."""
+    if dithered:
+        return (f"noise s = {s:.3g} mV ≥ q/2 (q = {q:.3g} mV, {source}) dithers the rounding: offset of a mean "
+                f"≤ Σ(q/πk)e^(−2π²k²σ²/q²) = {hw:.3g} mV")
+    return (f"noise s = {s:.3g} mV < q/2 (q = {q:.3g} mV, {source}): the rounding does not average out, "
+            "±q/2 on a mean")
+
+
+def rounding_row_mean(campaign: Campaign, x: np.ndarray, what: str, scale: float, unit: str,
+                      q: tuple[float, str] | None = None) -> list[BudgetRow]:
+    """The rounding row of a result c·F̄ read from one record x of the digitised output
+    (``scale`` = |c| in ``unit`` per mV); nothing when the output has no step."""
+    qq, src = q if q is not None else output_step(campaign, [x])
+    if qq <= 0:
+        return []
+    sd = float(np.std(x, ddof=1))
+    hw, dith = F.rounding_half_width(qq, sd)
+    return [BudgetRow.type_b(f"output step {qq:.3g} mV: rounding of {what}", "δF_q", Q_(hw * abs(scale), unit),
+                             distribution="uniform", note=rounding_note(qq, sd, hw, dith, src))]
+
+
 def _cond_q(seg: Segment, name: str, unit: str) -> float:
     return float(seg.condition(name, unit).to(unit).magnitude)
 
@@ -167,9 +217,12 @@ class SFSet:
         rows = []
         for s in segs:
             om = _cond_q(s, "rate", "deg/s")
-            fbar, u, n = _mean_u(s)
-            rows.append((om, fbar, u, n, s.id))
+            x, _ = _output(s)
+            rows.append((om, F.mean_output_eq2(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), x.size, s.id,
+                         float(np.std(x, ddof=1)), np.unique(x[:200_000])))
         rows.sort(key=lambda r: r[0])
+        self.sd = np.array([r[5] for r in rows])
+        self._values = [r[6] for r in rows]
         self.omega = np.array([r[0] for r in rows])
         if np.unique(self.omega).size != self.omega.size:
             raise DataError(segs[0].file, "segments", "two segments of one calibration have the same input rate")
@@ -185,6 +238,29 @@ class SFSet:
     @property
     def K(self) -> float:
         return self.fit.K
+
+    def rounding_rows(self, campaign: Campaign) -> tuple[list[BudgetRow], list[BudgetRow]]:
+        """The rounding rows of K and of F₀ (interpretations.md, "JJF 2014 — output quantization"):
+        each F̄_i is off by up to its half-width (Widrow bound when the noise dithers the rounding,
+        else ±q/2), independently between input rates; K = Σc_iF̄_i and F₀ = Σd_iF̄_i (eqs. (4), (5),
+        c_i = (Ω_i − Ω̄)/Σ(Ω − Ω̄)², d_i = 1/n − Ω̄c_i), so the half-width of each is √Σ(c_i·a_i)²
+        (a uniform row with that standard uncertainty).  Nothing when the output has no step."""
+        q, src = output_step(campaign, self._values)
+        if q <= 0:
+            return [], []
+        hw = np.array([F.rounding_half_width(q, sd)[0] for sd in self.sd])
+        dith = [F.rounding_half_width(q, sd)[1] for sd in self.sd]
+        w = self.omega - self.omega.mean()
+        c = w / float(np.sum(w * w))
+        d = 1.0 / self.omega.size - self.omega.mean() * c
+        n_und = len(dith) - sum(dith)
+        note = (f"q = {q:.3g} mV ({src}); {n_und} of {len(dith)} means not dithered by their noise (±q/2), "
+                f"the others within the Widrow bound; noise s = {self.sd.min():.3g} … {self.sd.max():.3g} mV")
+        kr = BudgetRow.type_b(f"output step {q:.3g} mV: rounding of the F̄_i through eq. (4)", "u_q",
+                              Q_(float(np.sqrt(np.sum((c * hw) ** 2))), KU), distribution="uniform", note=note)
+        fr = BudgetRow.type_b(f"output step {q:.3g} mV: rounding of the F̄_i through eq. (5)", "u_q",
+                              Q_(float(np.sqrt(np.sum((d * hw) ** 2))), "mV"), distribution="uniform", note=note)
+        return [kr], [fr]
 
     def budget(self, campaign: Campaign, warnings: list[str] | None = None, rep: "Spread | None | bool" = True):
         """Appendix B.1 budget of this K.  u₃ (B.1.2.2 3)) is the *repeatability* of K, as the
@@ -202,7 +278,8 @@ class SFSet:
         row = (BudgetRow.type_a(src + " (B.1.2.2 3))", "u₃", Q_(u, KU), dof) if typ == "A" else
                BudgetRow.type_b(src + " (B.1.2.2 3))", "u₃", Q_(u, KU), distribution="normal", k=1.0))
         return B.scale_factor_budget(Q_(self.K, KU), None, 0, rate_table=_cal(campaign, "rate_table"),
-                                     dmm=_cal(campaign, "dmm"), warnings=warnings, rep_row=row)
+                                     dmm=_cal(campaign, "dmm"), warnings=warnings, rep_row=row,
+                                     extra=self.rounding_rows(campaign)[0])
 
     def u_single(self, rep: "Spread | None") -> tuple[float, float, str, str]:
         """Standard uncertainty of this one calibration's K as an estimate of the device's K:

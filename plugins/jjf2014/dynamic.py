@@ -36,11 +36,49 @@ from .common import (
     _num,
     _output,
     _q,
+    output_step,
     scale_factor_for,
 )
 from .scale_factor import ScaleFactor
 
 # =============================================================================== 7.2.20
+
+
+def _arw_rounding(campaign, x: np.ndarray, dt: float, K: float, A1: float, arw: float, to_metric: float):
+    """ARW when the output is digitised to a step q (interpretations.md, "JJF 2014 — output
+    quantization"): rounding each sample adds white rate noise of variance q²/12 when the noise
+    dithers it, i.e. q²τ₀/12 to A₋₁ (σ²(τ) = A₋₁/τ), which Sheppard's correction takes off (half the
+    correction is kept as a uniform row); when the noise does not dither it, the rounding adds up to
+    q²τ₀/4 with an unknown share and ARW is not reportable unless that is below 1 % of A₋₁.
+    Returns (ARW, rows, note, reason for not reportable or "")."""
+    q, src = output_step(campaign, [x])
+    if q <= 0:
+        return arw, [], "", ""
+    sd = float(np.std(x, ddof=1))
+    _hw, dithered = F.rounding_half_width(q, sd)
+    qh, tau0 = q / abs(K) * 3600.0, dt / 3600.0  # °/h, h
+    if dithered:
+        c = qh * qh * tau0 / 12.0
+        if not A1 - c > 0:
+            return arw, [], "", (f"the rounding of the output (q = {q:.3g} mV) accounts for all of A₋₁: q²τ₀/12 = "
+                                 f"{c:.3g} ≥ A₋₁ = {A1:.3g} (°/h)²·h; the sensor's ARW is not resolved")
+        arw_c = math.sqrt(A1 - c) * to_metric
+        row = BudgetRow.type_b(f"output step {q:.3g} mV: Sheppard's correction of A₋₁ (q²τ₀/12)", "δARW_q",
+                               Q_((arw - arw_c) / 2.0, "deg/hour**0.5"),
+                               distribution="uniform",
+                               note=f"noise s = {sd:.3g} mV ≥ q/2 ({src}) dithers the rounding: white rate noise of "
+                                    f"q²/12 per sample; half the correction kept")
+        return arw_c, [row], (f"A₋₁ less the rounding's q²τ₀/12 = {c:.3g} (°/h)²·h (Sheppard); as fitted "
+                              f"{arw:.4g}"), ""
+    bound = qh * qh * tau0 / 4.0
+    if bound >= 0.01 * A1:
+        return arw, [], "", (f"the output step q = {q:.3g} mV ({qh:.3g} °/h) is not dithered by the noise "
+                             f"(s = {sd:.3g} mV < q/2): the rounding adds up to q²τ₀/4 = {bound:.3g} (°/h)²·h to "
+                             f"A₋₁ = {A1:.3g}, an unknown share; ARW is not resolved from it (digitise more finely)")
+    row = BudgetRow.type_b(f"output step {q:.3g} mV, not dithered: up to q²τ₀/4 in A₋₁", "δARW_q",
+                           Q_(arw - math.sqrt(A1 - bound) * to_metric, "deg/hour**0.5"), distribution="uniform",
+                           note=f"noise s = {sd:.3g} mV < q/2 ({src})")
+    return arw, [row], "", ""
 
 
 class AngleRandomWalk(_JJF):
@@ -111,9 +149,22 @@ class AngleRandomWalk(_JJF):
                                   max(fit.dof, 1), note=f"{tau_h.size} τ values, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}; "
                                   + how),
                     kv.row(val, metric.unit, "scale factor K (eq. (34))")]
+            note = "" if fit.active[i] else "term not resolved (fitted negative)"
+            why = ""
+            if key == "ARW":
+                val, qrows, qnote, why = _arw_rounding(campaign, x, dt, K, float(fit.A[1]), val, to_metric)
+                rows += qrows
+                note = "; ".join(t for t in (note, qnote) if t)
+            elif fit.raw[i] - 3.0 * fit.u_A[i] <= 0.0:
+                # an extra of metro's (7.2.20 reports ARW only): a term not resolved from zero would be a
+                # non-negative estimate of what may be 0, biased up (interpretations.md, 7.2.20)
+                top = math.sqrt(fac * max(fit.raw[i] + 2.0 * fit.u_A[i], 0.0)) * to_metric
+                why = (f"A_{F.ALLAN_TERMS[i][0]} = {fit.raw[i]:.3g} ± {fit.u_A[i]:.2g} is not resolved from 0 "
+                       f"(A − 3u ≤ 0): the {F.ALLAN_TERMS[i][1]} coefficient is below {top:.3g} {metric.unit} "
+                       "(the record does not show this term)")
             b = B.type_a_budget(key, metric.unit, rows)
-            results.append(Result(metric, Q_(val, metric.unit), b.combined, b,
-                                  note="" if fit.active[i] else "term not resolved (fitted negative)"))
+            results.append(Result(metric, Q_(val, metric.unit), b.combined, b, note=note,
+                                  reportable=not why, reason=why))
         results.insert(0, results.pop(1))  # ARW first
         model = fit.model(tau_h)
         series = [{"label": "σ(τ) overlapping Allan deviation", "x": (tau_h * 3600).tolist(), "y": sig.tolist(),

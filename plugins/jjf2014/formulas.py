@@ -474,6 +474,38 @@ def settle_time(t: Sequence[float], x: Sequence[float], target: float, tol: floa
 # ------------------------------------------------------------------ appendix B
 
 
+# ------------------------------------------------------------------------------- output quantization
+# (not in the standard: the budget rows of the results read from a digitised output need them;
+# interpretations.md, "JJF 2014 — output quantization")
+
+
+def rounding_mean_bound(q: float, sigma: float) -> float:
+    """Largest offset of the mean of round(x + n) from x for n ~ N(0, σ²) and rounding step q.
+
+    The mean rounding error is periodic in x; its Fourier series for a Gaussian input (Widrow's
+    quantization theorem) is Σ_k (−1)^k (q/(πk))·e^(−2π²k²σ²/q²)·sin(2πkx/q), so
+    |offset| ≤ Σ_k (q/(πk))·e^(−2π²k²σ²/q²), and never more than q/2 (plain rounding).
+    σ = q/2 gives 0.0023·q, σ = q gives 10⁻⁹·q: noise that large dithers the rounding."""
+    if q <= 0:
+        return 0.0
+    if sigma <= 0:
+        return q / 2.0
+    r = 2.0 * math.pi**2 * (sigma / q) ** 2
+    return min(q / 2.0, sum(q / (math.pi * k) * math.exp(-r * k * k) for k in range(1, 50)))
+
+
+def rounding_half_width(q: float, s: float) -> tuple[float, bool]:
+    """Half-width of the rounding offset of a mean of samples rounded to q whose measured standard
+    deviation is s: (half-width, dithered).  The noise dithers the rounding when s ≥ q/2 (where
+    Sheppard's correction σ² = s² − q²/12 recovers the noise before rounding): the Widrow bound of
+    :func:`rounding_mean_bound` at that σ; otherwise ±q/2, the rounding of one sample."""
+    if q <= 0:
+        return 0.0, True
+    if s >= q / 2.0:
+        return rounding_mean_bound(q, math.sqrt(max(s * s - q * q / 12.0, 0.0))), True
+    return q / 2.0, False
+
+
 def appendix_b_presentation(u_c: float, k: float = 2.0) -> tuple[str, str]:
     """Appendix B's way of writing the result: u_c rounded to three significant digits and
     U = k × that rounded u_c, printed without trailing zeros (B.1.3/B.1.4: 1.65×10⁻⁴ → 3.3×10⁻⁴;

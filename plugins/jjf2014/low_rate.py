@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import attrs
 import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
@@ -26,7 +27,9 @@ from .common import (
     _need,
     _num,
     _q,
+    _output,
     _stated,
+    output_step,
     scale_factor_for,
 )
 from .scale_factor import ScaleFactor
@@ -51,6 +54,36 @@ def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign,
                                        Q_(abs(val), "deg/s"))
     b = B.type_a_budget(metric.key, "deg/s", rows)
     return Result(metric, Q_(abs(val), "deg/s"), b.combined, b, note=f"larger in the {d} direction")
+
+
+def _rounding_check(campaign, res: Result, pairs: list[tuple[str, Segment, Segment, float]], K: float,
+                    eq: str) -> Result:
+    """Issue 13: a level counts only if its response is resolved from the output's rounding.  Each
+    response is a difference of two means, F̄(level) − F̄(reference), each off by up to its rounding
+    half-width (Widrow bound when the noise dithers the rounding, else ±q/2); when that sum reaches
+    eq. (17)/(18)'s margin at a direction's candidate, 50 %·|K·level|, the pass may be rounding and the
+    result is not reportable (interpretations.md, "JJF 2014 — output quantization").
+    ``pairs``: (direction, candidate's segment, reference segment, candidate level) per direction."""
+    worst = None
+    for name, seg_c, seg_r, level in pairs:
+        xc, xr = _output(seg_c)[0], _output(seg_r)[0]
+        q, src = output_step(campaign, [xc, xr])
+        if q <= 0:
+            return res
+        (hc, dc), (hr, dr) = (F.rounding_half_width(q, float(np.std(x, ddof=1))) for x in (xc, xr))
+        e, margin = hc + hr, 0.5 * abs(K * level)
+        if worst is None or e / margin > worst[0]:
+            worst = (e / margin, name, e, margin, q, src, dc and dr)
+    _, name, e, margin, q, src, dith = worst
+    text = (f"output step q = {q:.3g} mV ({src}, {'dithered' if dith else 'not dithered'} by the noise): the "
+            f"{name} candidate's response may be off by up to ±{e:.3g} mV from rounding")
+    if e >= margin:
+        return attrs.evolve(res, reportable=False,
+                            reason=f"{text}, as large as {eq}'s 50 % margin ({margin:.3g} mV): the level may pass "
+                                   "or fail on rounding alone (digitise more finely"
+                                   + ("; a longer record does not average undithered rounding out)" if not dith
+                                      else ")"))
+    return attrs.evolve(res, note=f"{res.note}; {text}, below {eq}'s 50 % margin {margin:.3g} mV")
 
 
 class Threshold(_JJF):
@@ -90,6 +123,7 @@ class Threshold(_JJF):
         f0 = np.mean([_mean_u(s)[0] for s in zero])
         cands = {}
         rows = []
+        pairs = []
         for name, sgn in (("forward", 1), ("reverse", -1)):
             d = sorted([s for s in segs if sgn * _cond_q(s, "rate", "deg/s") > 0],
                        key=lambda s: -abs(_cond_q(s, "rate", "deg/s")))
@@ -103,9 +137,11 @@ class Threshold(_JJF):
                 raise ProcedureError(f"7.2.9: already the largest {name} level {om[0]:g} °/s fails eq. (17)",
                                      hint="start the decreasing sequence at a larger rate (option levels)")
             cands[name] = (c, float(om[i + 1]) if i + 1 < om.size else None)
+            pairs.append((name, d[i], zero[0], c))
             rows += [[name, f"{o:g}", f"{K * o:.4g}", f"{x:.4g}", f"{abs((K * o - x) / (K * o)) * 100:.1f}"]
                      for o, x in zip(om, fc)]
-        res = _grid_result(self.metrics[0], cands, campaign, "threshold")
+        res = _rounding_check(campaign, _grid_result(self.metrics[0], cands, campaign, "threshold"), pairs, K,
+                              "eq. (17)")
         tab = TableSpec("threshold", "Eq. (17) per level", ["direction", "Ω_i (°/s)", "F̂_i (mV)", "F_i (mV)",
                                                              "|F̂−F|/F̂ (%)"], rows)
         return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
@@ -145,7 +181,7 @@ class Resolution(_JJF):
         opts = self.option_values(ctx.options)
         K, _, _ = scale_factor_for(campaign, type(self))
         segs = _need(campaign, type(self), "resolution")
-        cands, rows = {}, []
+        cands, rows, pairs = {}, [], []
         for name, sgn in (("forward", 1), ("reverse", -1)):
             mine = [s for s in segs if sgn * _cond_q(s, "base_rate", "deg/s") > 0]
             base = [s for s in mine if _cond_q(s, "increment", "deg/s") == 0.0]
@@ -165,8 +201,10 @@ class Resolution(_JJF):
             if c is None:
                 raise ProcedureError(f"7.2.10: already the largest {name} increment {dom[0]:g} °/s fails eq. (18)")
             cands[name] = (c, float(dom[i + 1]) if i + 1 < dom.size else None)
+            pairs.append((name, inc[i], base[0], c))
             rows += [[name, f"{o:g}", f"{K * o:.4g}", f"{x:.4g}"] for o, x in zip(dom, dF)]
-        res = _grid_result(self.metrics[0], cands, campaign, "increment")
+        res = _rounding_check(campaign, _grid_result(self.metrics[0], cands, campaign, "increment"), pairs, K,
+                              "eq. (18)")
         tab = TableSpec("resolution", "Eq. (18) per increment", ["direction", "ΔΩ_i (°/s)", "ΔF̂_i (mV)", "ΔF_i (mV)"],
                         rows)
         return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)

@@ -78,7 +78,8 @@ class ScaleFactor(_JJF):
         bF0 = B.type_a_budget("fitted zero F0", "mV", [
             f0_row,
             *B.relative_calibration_row("data acquisition, 6½-digit DMM", "u_DMM", _cal(campaign, "dmm"),
-                                        Q_(s.fit.F0, "mV"))])
+                                        Q_(s.fit.F0, "mV")),
+            *s.rounding_rows(campaign)[1]])
         res = [Result(self.metrics[0], Q_(s.K, KU), bK.combined, bK),
                Result(self.metrics[1], Q_(s.fit.F0, "mV"), bF0.combined, bF0, earth_rate="included",
                       note="F₀ holds K·Ω_e·sin φ, the earth rate along the vertical input axis (7.2.1 has no "
