@@ -685,9 +685,9 @@ def station_factory(**options: Any) -> SimulatedStation:
 
 def mean_noise_variance(truth: GyroTruth, duration_s: float) -> float:
     """Variance ((°/h)²) of the mean rate over ``duration_s`` of the device's noise: white rate
-    noise (ARW²/T) and Gauss–Markov wander (2σ²τ/T·[1 − τ/T·(1 − e^(−T/τ))])."""
+    noise (ARW²/T), a rate random walk started at each power-on (q²T/3) and Gauss–Markov wander (2σ²τ/T·[1 − τ/T·(1 − e^(−T/τ))])."""
     T_h = duration_s / 3600.0
-    var = truth.arw_deg_rt_h**2 / T_h
+    var = truth.arw_deg_rt_h**2 / T_h + truth.rrw_deg_h_rt_h**2 * T_h / 3.0  # a walk from 0: mean var q²T/3
     if truth.gm_sigma_deg_h > 0:
         r = truth.gm_tau_s / duration_s
         var += 2.0 * truth.gm_sigma_deg_h**2 * r * (1.0 - r * (1.0 - math.exp(-1.0 / r)))

@@ -291,3 +291,16 @@ def test_no_budget_smaller_than_the_repeatability_item(pm, station, items, key, 
     assert any("power-on repeatability" in row.source for row in r.budget.rows)
     alone = run_items(pm, "gbt45570", items[:1], station=station, station_options=opts)
     assert "power-on repeatability not in U" in _result(alone, key).note
+
+
+def test_d51_correlated_noise_widens_the_type_a(pm):
+    """Bias instability (Gauss–Markov, τ = 600 s) makes the 20 batch means of a 1 h record alike: their
+    scatter understated u(B₀) (D.5.1 within U in 90 % of 30 such devices). Five long batches are
+    taken when they disagree beyond chance (F test); on white noise the 20 batches stay."""
+    def budget_note(**so):
+        rec = run_items(pm, "gbt45570", ["D.5.1"], station="simulated", station_options={"seed": 7} | so)
+        return next(r for r in _result(rec, "B0").budget.rows if "batch means" in r.source)
+
+    row = budget_note(gm_sigma_deg_h=0.01, gm_tau_s=900.0)
+    assert "correlated" in row.note and row.dof == 4
+    assert "correlated" not in budget_note().note

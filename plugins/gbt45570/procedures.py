@@ -217,8 +217,20 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
         B0 = indicated - earth
     sd_batch, nb = allan.block_std(raw, raw.size // b)
     uA = sd_batch * conv.magnitude / math.sqrt(nb)
-    rows = [BudgetRow.type_a("scatter of the output (batch means)", "s_b/√b", Q_(uA, "deg/h"), nb - 1,
-                             note=f"{nb} batches of {raw.size // b} samples")]
+    note = f"{nb} batches of {raw.size // b} samples"
+    if b > 5 and raw.size >= 10:
+        # correlated noise (bias instability, rate random walk) makes neighbouring batch means alike, and
+        # their scatter understates the mean's u: five long batches are checked against it and taken
+        # when they disagree beyond chance (F test, 95 %) (interpretations.md, D.5.1)
+        from scipy.stats import f as f_dist
+
+        sd5, n5 = allan.block_std(raw, raw.size // 5)
+        u5 = sd5 * conv.magnitude / math.sqrt(n5)
+        if uA > 0 and (u5 / uA) ** 2 > float(f_dist.ppf(0.95, n5 - 1, nb - 1)):
+            note = (f"{n5} batches of {raw.size // 5} samples: the {nb} batch means ({uA:.3g} °/h) are correlated "
+                    f"(bias instability or random walk), their scatter understates the mean's u")
+            uA, nb = u5, n5
+    rows = [BudgetRow.type_a("scatter of the output (batch means)", "s_b/√b", Q_(uA, "deg/h"), nb - 1, note=note)]
     rows += _scale_factor_row(conv, indicated, "deg/h")
     lat_u = campaign.site.get("latitude_uncertainty")
     c_theta = F.EARTH_RATE_DEG_PER_H * math.cos(math.radians(theta))
