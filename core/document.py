@@ -457,7 +457,7 @@ class DocumentBuilder:
 
     def bullets(self, lines: Iterable[str], *, size: float | None = None) -> None:
         for line in lines:
-            p = self.para("• " + line, size=size)
+            p = self.para("• " + self.tr.text(line), size=size)
             p.paragraph_format.left_indent = self._pt(10)
             p.paragraph_format.first_line_indent = self._pt(-7)
 
@@ -721,7 +721,7 @@ def equipment_table(doc: DocumentBuilder, ctx: dict) -> None:
     """The measurement standards used, their certificates, U with unit and status on the day
     of measurement."""
     tr = doc.tr
-    rows = [[f"{e['description']} ({e['id']})", or_dash(e["role"]), e["certificate"],
+    rows = [[f"{tr.text(e['description'])} ({e['id']})", or_dash(e["role"]), e["certificate"],
              e["U"] + (f" ({tr('relative')})" if e.get("U_relative") else ""), e["due"],
              tr(e["status"]) if e["status"] in _STATUS_MSGS else e["status"]] for e in ctx["equipment"]]
     if not rows:

@@ -8,6 +8,7 @@ import math
 from metro.core import allan
 from metro.core.budget import BudgetRow
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -62,7 +63,7 @@ def _static(campaign: Campaign, proc, warnings: list[str]) -> Segment:
     """The 7.2.13.1 record: the one segment of kind "static" (several: the first, with a warning)."""
     segs = _need(campaign, proc, "static")
     if len(segs) > 1:
-        warnings.append(f"{len(segs)} segments of kind static; {proc.item} uses the first, {segs[0].id!r}")
+        warnings.append(msg("{n} segments of kind static; {item} uses the first, {id!r}", n=len(segs), item=proc.item, id=segs[0].id))
     return segs[0]
 
 
@@ -71,13 +72,14 @@ def _earth_text(campaign, on: bool, per_g: bool = False) -> str:
     try:
         lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
         v = F.EARTH_RATE_DEG_PER_H * math.sin(math.radians(lat))
-        amount = f"Ω_e·sin φ = {v:.4g} °/h{'' if not per_g else ' (→ ' + f'{v:.4g}' + ' °/h/g in (B_up − B_down)/2g)'} at φ = {lat:g}°"
+        amount = (msg("Ω_e·sin φ = {v:.4g} °/h at φ = {lat:g}°", v=v, lat=lat) if not per_g else
+                  msg("Ω_e·sin φ = {v:.4g} °/h (→ {v:.4g} °/h/g in (B_up − B_down)/2g) at φ = {lat:g}°", v=v, lat=lat))
     except Exception:  # no latitude: say it without the number
         amount = "Ω_e·sin φ"
     if on:
-        return f"earth rate removed ({amount}; option earth_rate = on, not in the standard)"
-    return (f"earth rate included: the vertical input axis senses {amount}; the standard has no correction "
-            "(option earth_rate = on removes it)")
+        return msg("earth rate removed ({amount}; option earth_rate = on, not in the standard)", amount=amount)
+    return msg("earth rate included: the vertical input axis senses {amount}; the standard has no correction "
+               "(option earth_rate = on removes it)", amount=amount)
 
 
 def _earth_term(campaign, seg: Segment | None, on: str, orient: str | None = None) -> float:
@@ -111,8 +113,8 @@ def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: st
     bias repeatability B_r, since two records are two power-ons or mountings and differ by B_r
     even when each is precise (interpretations.md, "Repeatability in every budget")."""
     if rep is not None and rep.value > bv.uA:
-        return rep.row(f"{what}: bias repeatability", "B_r·c", rep.value * scale, unit)
-    return _budget_row_a(f"{what} (batch means)", "u_A·c", bv.uA * scale, unit, bv.dof)
+        return rep.row(msg("{what}: bias repeatability", what=what), "B_r·c", rep.value * scale, unit)
+    return _budget_row_a(msg("{what} (batch means)", what=what), "u_A·c", bv.uA * scale, unit, bv.dof)
 
 
 class Bias(_JJF):
@@ -142,7 +144,7 @@ class Bias(_JJF):
         rep = bias_repeatability(campaign, K)
         dur = bv.x.size * bv.dt
         if dur < 3600 * 0.999:
-            w.append(f"the record lasts {dur / 60:.3g} min; 7.2.13.1 c) asks for more than 1 h")
+            w.append(msg("the record lasts {minutes:.3g} min; 7.2.13.1 c) asks for more than 1 h", minutes=dur / 60))
         rep_row = rep.row("bias repeatability (another power-on gives another B₀)", "B_r", rep.value,
                           "deg/h") if rep is not None and rep.value > bv.uA else None
         b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=_cal(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
@@ -151,7 +153,7 @@ class Bias(_JJF):
                                                   3600.0 / abs(K), "deg/h"))
         on = _flag(opts, "earth_rate")
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
-                                     note=f"K from {src}; {_earth_text(campaign, on)}",
+                                     note=join("; ", [msg("K from {source}", source=src), _earth_text(campaign, on)]),
                                      earth_rate="removed" if on else "included")],
                              warnings=w, segments=[seg.id], opts=opts)
 
@@ -189,7 +191,7 @@ class BiasStability(_JJF):
                 kv.row(bs, "deg/h")]
         rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
         b = B.type_a_budget("Bs", "deg/h", rows)
-        return self._outcome([Result(self.metrics[0], Q_(bs, "deg/h"), b.combined, b, note=f"{m} averages of P")],
+        return self._outcome([Result(self.metrics[0], Q_(bs, "deg/h"), b.combined, b, note=msg("{m} averages of P", m=m))],
                              warnings=w, segments=[seg.id], opts=opts)
 
 
@@ -226,7 +228,7 @@ class BiasRepeatability(_JJF):
         b = B.type_a_budget("Br", "deg/h", [
             _budget_row_a("sampling of a standard deviation of Q values", "B_r/√(2(Q−1))", u, "deg/h", dof),
             kv.row(br, "deg/h")])
-        tab = TableSpec("bias_runs", "B_0i per run", ["run", "B_0i (°/h)", "u_A (°/h)"],
+        tab = TableSpec("bias_runs", msg("B_0i per run"), [msg("run"), "B_0i (°/h)", "u_A (°/h)"],
                         [[k, f"{x.B0:.5g}", f"{x.uA:.2g}"] for k, x in zip(sorted(runs), bvs)])
         return self._outcome([Result(self.metrics[0], Q_(br, "deg/h"), b.combined, b)], tables=[tab],
                              segments=[x.seg.id for x in bvs], opts=opts)
@@ -274,10 +276,10 @@ class BiasTemperature(_JJF):
                 kv.row(bt, "deg/h/delta_degC")]
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
         b = B.type_a_budget("Bt", "deg/h/delta_degC", rows)
-        tab = TableSpec("bias_temperature", "B_0i per temperature", ["T_i (°C)", "B_0i (°/h)"],
+        tab = TableSpec("bias_temperature", msg("B_0i per temperature"), ["T_i (°C)", "B_0i (°/h)"],
                         [[f"{t:g}", f"{x.B0:.5g}"] for t, x in zip(temps, bvs)])
         return self._outcome([Result(self.metrics[0], Q_(bt, "deg/h/delta_degC"), b.combined, b,
-                                     note=f"maximum at {temps[i]:g} °C")], tables=[tab],
+                                     note=msg("maximum at {T:g} °C", T=temps[i]))], tables=[tab],
                              segments=[x.seg.id for x in bvs], opts=opts)
 
 
@@ -320,20 +322,20 @@ class BiasAcceleration(_JJF):
         bg = abs(per[worst])
         v = vals[worst]
         rep = bias_repeatability(campaign, K)
-        rows = [_single(v["up"], rep, f"B₀ {worst} up", 0.5, "deg/h/gn"),
-                _single(v["down"], rep, f"B₀ {worst} down", 0.5, "deg/h/gn"),
+        rows = [_single(v["up"], rep, msg("B₀ {axis} up", axis=worst), 0.5, "deg/h/gn"),
+                _single(v["down"], rep, msg("B₀ {axis} down", axis=worst), 0.5, "deg/h/gn"),
                 kv.row(bg, "deg/h/gn")]
         b = B.type_a_budget("Bg", "deg/h/gn", rows)
-        w = [] if len(per) == 3 else [f"only axes {', '.join(per)} tested"]
-        tab = TableSpec("bias_accel", "Per axis", ["axis", "B up (°/h)", "B down (°/h)", "(up−down)/2g (°/h/g)"],
+        w = [] if len(per) == 3 else [msg("only axes {axes} tested", axes=", ".join(per))]
+        tab = TableSpec("bias_accel", msg("Per axis"), [msg("axis"), "B up (°/h)", "B down (°/h)", "(up−down)/2g (°/h/g)"],
                         [[a, f"{vals[a]['up'].B0:.5g}", f"{vals[a]['down'].B0:.5g}", f"{per[a]:.4g}"] for a in per])
         on = _flag(opts, "earth_rate")
         if worst == ira:
-            er, etxt = ("removed" if on else "included"), "; " + _earth_text(campaign, on, per_g=True)
+            er, etxt = ("removed" if on else "included"), _earth_text(campaign, on, per_g=True)
         else:
-            er, etxt = "not applicable", " (input axis horizontal, east–west: no earth-rate component)"
+            er, etxt = "not applicable", msg("input axis horizontal, east–west: no earth-rate component")
         return self._outcome([Result(self.metrics[0], Q_(bg, "deg/h/gn"), b.combined, b,
-                                     note=f"largest on axis {worst}{etxt}", earth_rate=er)], tables=[tab], warnings=w,
+                                     note=join("; ", [msg("largest on axis {axis}", axis=worst), etxt]), earth_rate=er)], tables=[tab], warnings=w,
                              segments=[x.seg.id for d in vals.values() for x in d.values()], opts=opts)
 
 
@@ -367,13 +369,14 @@ class _BiasChange(_JJF):
         v1, v2 = vals[(worst, "before")], vals[(worst, "after")]
         rep = bias_repeatability(campaign, K)
         b = B.type_a_budget(self.metrics[0].key, "deg/h", [
-            _single(v1, rep, f"B₀ before ({worst})", 1.0, "deg/h"),
-            _single(v2, rep, f"B₀ after ({worst})", 1.0, "deg/h"),
+            _single(v1, rep, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
+            _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
             kv.row(db, "deg/h")])
-        w = [] if len(per) == 3 else [f"only the axes {', '.join(per)} were tested (the clause asks for 3)"]
-        tab = TableSpec("per_axis", f"B₀ before/after {self.what}", ["axis", "B₁ (°/h)", "B₂ (°/h)", "|ΔB| (°/h)"],
+        w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for 3)", axes=", ".join(per))]
+        tab = TableSpec("per_axis", msg("B₀ before/after shock") if self.what == "shock" else msg("B₀ before/after vibration"),
+                        [msg("axis"), "B₁ (°/h)", "B₂ (°/h)", "|ΔB| (°/h)"],
                         [[a, f"{before[a]:.5g}", f"{after[a]:.5g}", f"{per[a]:.4g}"] for a in per])
-        return self._outcome([Result(self.metrics[0], Q_(db, "deg/h"), b.combined, b, note=f"largest on axis {worst}")],
+        return self._outcome([Result(self.metrics[0], Q_(db, "deg/h"), b.combined, b, note=msg("largest on axis {axis}", axis=worst))],
                              tables=[tab], warnings=w, segments=[x.seg.id for x in vals.values()], opts=opts)
 
 

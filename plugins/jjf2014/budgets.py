@@ -18,6 +18,8 @@ import math
 from collections.abc import Sequence
 
 import pint
+
+from metro.core.locale import join, msg
 from metro.core.budget import INF, BudgetRow, Coverage, UncertaintyBudget
 from metro.core.model import Calibration
 from metro.core.units import Q_
@@ -33,10 +35,10 @@ def relative_calibration_row(source: str, symbol: str, cal: Calibration | None, 
     Nothing (and a warning) when the equipment has no relative calibration data."""
     if cal is None or not cal.uncertainty.dimensionless:
         if warnings is not None:
-            warnings.append(f"{source}: no relative calibration uncertainty given, left out of the budget")
+            warnings.append(msg("{source}: no relative calibration uncertainty given, left out of the budget", source=source))
         return []
     return [BudgetRow.from_calibration(source, symbol, cal, sensitivity=abs(value),
-                                       note=note or f"certificate {cal.certificate}")]
+                                       note=note or msg("certificate {certificate}", certificate=cal.certificate))]
 
 
 def scale_factor_budget(K: pint.Quantity, u_rep: pint.Quantity | None, dof: float, *,
@@ -52,7 +54,7 @@ def scale_factor_budget(K: pint.Quantity, u_rep: pint.Quantity | None, dof: floa
     """
     rows = relative_calibration_row("rate table (B.1.2.2 1))", "u₁", rate_table, K, warnings)
     rows += relative_calibration_row("data acquisition, 6½-digit DMM (B.1.2.2 2))", "u₂", dmm, K, warnings)
-    rows.append(rep_row if rep_row is not None else BudgetRow.type_a(rep_source + " (B.1.2.2 3))", "u₃", u_rep, dof))
+    rows.append(rep_row if rep_row is not None else BudgetRow.type_a(join(" ", [rep_source, "(B.1.2.2 3))"]), "u₃", u_rep, dof))
     rows += list(extra)
     return UncertaintyBudget("scale factor K", K.units, rows, coverage=COVERAGE)
 
@@ -66,7 +68,7 @@ def bias_budget(B0: pint.Quantity, u_rel_K: float, *, dmm: Calibration | None, u
     of F̄/K, or ``rep_row`` in its place (the bias repeatability, which holds that scatter)."""
     rows = relative_calibration_row("data acquisition, 6½-digit DMM (B.2.2.2 1))", "u₁", dmm, B0, warnings)
     rows.append(BudgetRow.type_b("scale factor K (B.2.2.2 2))", "u₂", Q_(u_rel_K, ""), distribution="normal",
-                                 k=1.0, sensitivity=abs(B0), dof=dof_K, note="relative combined uncertainty of K (B.1.3)"))
+                                 k=1.0, sensitivity=abs(B0), dof=dof_K, note=msg("relative combined uncertainty of K (B.1.3)")))
     if rep_row is not None:
         rows.append(rep_row)
     elif u_A is not None:

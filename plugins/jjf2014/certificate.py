@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from metro.core.locale import join
+
 #: appendix A rows: (no., 校准项目, English, item, metric key)
 ROWS = (
     (1, "标度因数", "scale factor", "7.2.1", "K"),
@@ -82,7 +84,7 @@ def extend_context(record, context: dict) -> None:
         "number": record.report_number,
         "rows": rows,
         "performed_count": sum(r["performed"] for r in rows),
-        "deviations": list(dict.fromkeys(f"{o.item}: {w}" for o in outs for w in o.warnings)),
+        "deviations": list(dict.fromkeys(join(": ", [o.item, w]) for o in outs for w in o.warnings)),
     }
 
 

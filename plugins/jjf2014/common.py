@@ -11,6 +11,7 @@ import attrs
 import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -113,30 +114,30 @@ def output_step(campaign: Campaign, arrays: Iterable[np.ndarray]) -> tuple[float
         x = float(q.to("mV").magnitude)
         if not (x >= 0 and math.isfinite(x)):
             raise DataError(campaign.source, "device.output_resolution", f"must be a non-negative voltage step, got {v!r}")
-        return x, f"device.output_resolution = {v}"
+        return x, msg("device.output_resolution = {v}", v=v)
     vals = [np.unique(np.asarray(a, dtype=float)[:200_000]) for a in arrays]
     steps = [float(np.min(np.diff(u))) for u in vals if u.size > 1]
     if not steps:
-        return 0.0, "the data (no record with two distinct values)"
+        return 0.0, msg("the data (no record with two distinct values)")
     q = min(steps)
     allv = np.concatenate(vals)
     if not q > 1e-9 * max(float(np.max(np.abs(allv))), 1e-300):
-        return 0.0, "the data (no common step)"
+        return 0.0, msg("the data (no common step)")
     ratio = (allv - allv[0]) / q
     # every value within a thousandth of a step of the grid (a continuous reading's smallest difference
     # leaves the others at random fractions of it)
     if np.max(np.abs(ratio)) < 1e9 and np.all(np.abs(ratio - np.round(ratio)) < 1e-3):
-        return q, "the data (every value a whole number of this step)"
-    return 0.0, "the data (no common step)"
+        return q, msg("the data (every value a whole number of this step)")
+    return 0.0, msg("the data (no common step)")
 
 
 def rounding_note(q: float, s: float, hw: float, dithered: bool, source: str) -> str:
     """What a rounding row says: the step, the noise and whether it dithers the rounding."""
     if dithered:
-        return (f"noise s = {s:.3g} mV ≥ q/2 (q = {q:.3g} mV, {source}) dithers the rounding: offset of a mean "
-                f"≤ Σ(q/πk)e^(−2π²k²σ²/q²) = {hw:.3g} mV")
-    return (f"noise s = {s:.3g} mV < q/2 (q = {q:.3g} mV, {source}): the rounding does not average out, "
-            "±q/2 on a mean")
+        return msg("noise s = {s:.3g} mV ≥ q/2 (q = {q:.3g} mV, {source}) dithers the rounding: offset of a mean "
+                   "≤ Σ(q/πk)e^(−2π²k²σ²/q²) = {hw:.3g} mV", s=s, q=q, source=source, hw=hw)
+    return msg("noise s = {s:.3g} mV < q/2 (q = {q:.3g} mV, {source}): the rounding does not average out, "
+               "±q/2 on a mean", s=s, q=q, source=source)
 
 
 def rounding_row_mean(campaign: Campaign, x: np.ndarray, what: str, scale: float, unit: str,
@@ -148,7 +149,7 @@ def rounding_row_mean(campaign: Campaign, x: np.ndarray, what: str, scale: float
         return []
     sd = float(np.std(x, ddof=1))
     hw, dith = F.rounding_half_width(qq, sd)
-    return [BudgetRow.type_b(f"output step {qq:.3g} mV: rounding of {what}", "δF_q", Q_(hw * abs(scale), unit),
+    return [BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of {what}", q=qq, what=what), "δF_q", Q_(hw * abs(scale), unit),
                              distribution="uniform", note=rounding_note(qq, sd, hw, dith, src))]
 
 
@@ -254,11 +255,12 @@ class SFSet:
         c = w / float(np.sum(w * w))
         d = 1.0 / self.omega.size - self.omega.mean() * c
         n_und = len(dith) - sum(dith)
-        note = (f"q = {q:.3g} mV ({src}); {n_und} of {len(dith)} means not dithered by their noise (±q/2), "
-                f"the others within the Widrow bound; noise s = {self.sd.min():.3g} … {self.sd.max():.3g} mV")
-        kr = BudgetRow.type_b(f"output step {q:.3g} mV: rounding of the F̄_i through eq. (4)", "u_q",
+        note = msg("q = {q:.3g} mV ({src}); {n} of {total} means not dithered by their noise (±q/2), the others "
+                   "within the Widrow bound; noise s = {lo:.3g} … {hi:.3g} mV", q=q, src=src, n=n_und, total=len(dith),
+                   lo=self.sd.min(), hi=self.sd.max())
+        kr = BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of the F̄_i through eq. (4)", q=q), "u_q",
                               Q_(float(np.sqrt(np.sum((c * hw) ** 2))), KU), distribution="uniform", note=note)
-        fr = BudgetRow.type_b(f"output step {q:.3g} mV: rounding of the F̄_i through eq. (5)", "u_q",
+        fr = BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of the F̄_i through eq. (5)", q=q), "u_q",
                               Q_(float(np.sqrt(np.sum((d * hw) ** 2))), "mV"), distribution="uniform", note=note)
         return [kr], [fr]
 
@@ -272,11 +274,12 @@ class SFSet:
             rep = sf_repeatability(campaign)
         u, dof, src, typ = self.u_single(rep)
         if rep is None and warnings is not None:
-            warnings.append("no repeated calibrations (kind rate-repeat, 7.2.4) and no device.scale_factor_repeatability: "
-                            "u₃ of K is the eq. (3) fit's standard error, which leaves out the variation of K "
-                            "between power-ons")
-        row = (BudgetRow.type_a(src + " (B.1.2.2 3))", "u₃", Q_(u, KU), dof) if typ == "A" else
-               BudgetRow.type_b(src + " (B.1.2.2 3))", "u₃", Q_(u, KU), distribution="normal", k=1.0))
+            warnings.append(msg("no repeated calibrations (kind rate-repeat, 7.2.4) and no "
+                                "device.scale_factor_repeatability: u₃ of K is the eq. (3) fit's standard error, which "
+                                "leaves out the variation of K between power-ons"))
+        src = join(" ", [src, "(B.1.2.2 3))"])
+        row = (BudgetRow.type_a(src, "u₃", Q_(u, KU), dof) if typ == "A" else
+               BudgetRow.type_b(src, "u₃", Q_(u, KU), distribution="normal", k=1.0))
         return B.scale_factor_budget(Q_(self.K, KU), None, 0, rate_table=_cal(campaign, "rate_table"),
                                      dmm=_cal(campaign, "dmm"), warnings=warnings, rep_row=row,
                                      extra=self.rounding_rows(campaign)[0])
@@ -287,11 +290,11 @@ class SFSet:
         K_r·|K| (which already holds the within-run scatter) and the fit's standard error."""
         fit_u = self.fit.u_K
         if rep is not None and rep.value * abs(self.K) >= fit_u:
-            return rep.value * abs(self.K), rep.dof, f"repeatability of K: K_r·K, {rep.source}", rep.type
+            return rep.value * abs(self.K), rep.dof, msg("repeatability of K: K_r·K, {source}", source=rep.source), rep.type
         if rep is not None:
-            return fit_u, self.fit.dof, ("residual scatter of the eq. (3) fit (larger than the repeatability K_r·K, "
-                                         f"{rep.source})"), "A"
-        return fit_u, self.fit.dof, "residual scatter of the eq. (3) fit (no repeatability of K available)", "A"
+            return fit_u, self.fit.dof, msg("residual scatter of the eq. (3) fit (larger than the repeatability K_r·K, "
+                                            "{source})", source=rep.source), "A"
+        return fit_u, self.fit.dof, msg("residual scatter of the eq. (3) fit (no repeatability of K available)"), "A"
 
 
 @attrs.frozen
@@ -309,9 +312,9 @@ class Spread:
     def row(self, source: str, symbol: str, u: float, unit: str, sensitivity: float = 1.0) -> BudgetRow:
         """A budget row of standard uncertainty ``u`` (in ``unit``) that comes from this spread."""
         if self.type == "A":
-            return BudgetRow.type_a(f"{source}, {self.source}", symbol, Q_(u, unit), self.dof,
+            return BudgetRow.type_a(join(", ", [source, self.source]), symbol, Q_(u, unit), self.dof,
                                     sensitivity=Q_(sensitivity, ""))
-        return BudgetRow.type_b(f"{source}, {self.source}", symbol, Q_(u, unit), distribution="normal", k=1.0,
+        return BudgetRow.type_b(join(", ", [source, self.source]), symbol, Q_(u, unit), distribution="normal", k=1.0,
                                 sensitivity=Q_(sensitivity, ""))
 
 
@@ -323,7 +326,7 @@ def _stated(campaign: Campaign, key: str, unit: str, what: str) -> Spread | None
     x = float(q.to(unit).magnitude)
     if not (x >= 0 and math.isfinite(x)):
         raise DataError(campaign.source, f"device.{key}", f"must be a non-negative {what}, got {v!r}")
-    return Spread(x, INF, f"stated as device.{key}", "B")
+    return Spread(x, INF, msg("stated as device.{key}", key=key), "B")
 
 
 def sf_repeatability(campaign: Campaign) -> Spread | None:
@@ -333,8 +336,8 @@ def sf_repeatability(campaign: Campaign) -> Spread | None:
     if len(runs) >= 2:
         Ks = [SFSet(g).K for _, g in sorted(runs.items())]
         return Spread(F.relative_repeatability_eq10(Ks), len(Ks) - 1,
-                      f"K_r = {F.relative_repeatability_eq10(Ks):.3g} from this campaign's {len(Ks)} "
-                      "calibrations (7.2.4)")
+                      msg("K_r = {Kr:.3g} from this campaign's {n} calibrations (7.2.4)",
+                          Kr=F.relative_repeatability_eq10(Ks), n=len(Ks)))
     return _stated(campaign, "scale_factor_repeatability", "", "relative repeatability of K")
 
 
@@ -345,7 +348,7 @@ def bias_repeatability(campaign: Campaign, K: float) -> Spread | None:
     if len(runs) >= 2 and all(len(g) == 1 for g in runs.values()):
         b0 = [F.bias_eq27_28(_output(g[0])[0], K) * 3600.0 for _, g in sorted(runs.items())]
         br = F.std_bessel(b0, "eq. (30)")
-        return Spread(br, len(b0) - 1, f"B_r = {br:.3g} °/h from this campaign's {len(b0)} runs (7.2.15)")
+        return Spread(br, len(b0) - 1, msg("B_r = {Br:.3g} °/h from this campaign's {n} runs (7.2.15)", Br=br, n=len(b0)))
     return _stated(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")
 
 
@@ -370,7 +373,7 @@ class KValue:
         """The row of a result y ∝ 1/K (or ∝ K): relative u(K) times |y|, with K's ν_eff."""
         return BudgetRow.type_b(source, symbol, Q_(self.u_rel, ""), distribution="normal", k=1.0,
                                 sensitivity=Q_(abs(sensitivity), unit), dof=self.dof,
-                                note=f"K from {self.source}")
+                                note=msg("K from {source}", source=self.source))
 
 
 def scale_factor_for(campaign: Campaign, proc) -> KValue:
@@ -430,12 +433,12 @@ def _sf_plots(s: SFSet) -> list[PlotSpec]:
     """7.2.1 figures: the mean outputs with the eq. (6) line, and the eq. (3) residuals v_i on
     their own axis (at the outputs' scale a residual of µV would be invisible)."""
     fit = s.fit
-    return [PlotSpec("sf_fit", "Scale factor: mean outputs F̄_i (eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))",
+    return [PlotSpec("sf_fit", msg("Scale factor: mean outputs F̄_i (eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))"),
                      "input rate Ω (°/s)", "output (mV)",
                      [{"label": "F̄_i (eq. (2))", "x": s.omega.tolist(), "y": s.F.tolist(), "style": "o"},
                       {"label": f"F̂ = KΩ + F₀, K = {fit.K:.6g} mV/((°)/s), F₀ = {fit.F0:.4g} mV",
                        "x": s.omega.tolist(), "y": fit.predict(s.omega).tolist(), "style": "-"}]),
-            PlotSpec("sf_residuals", "Scale factor: residuals v_i = F̄_i − (KΩ_i + F₀) of the eq. (3) fit",
+            PlotSpec("sf_residuals", msg("Scale factor: residuals v_i = F̄_i − (KΩ_i + F₀) of the eq. (3) fit"),
                      "input rate Ω (°/s)", "residual v_i (mV)",
                      [{"label": "v_i", "x": s.omega.tolist(), "y": fit.residuals.tolist(), "style": "o",
                        "yerr": s.uF.tolist()},

@@ -8,6 +8,7 @@ import numpy as np
 from metro.core import allan
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import (
     EquipmentRequirement,
     Metric,
@@ -60,24 +61,25 @@ def _arw_rounding(campaign, x: np.ndarray, dt: float, K: float, A1: float, arw: 
     if dithered:
         c = qh * qh * tau0 / 12.0
         if not A1 - c > 0:
-            return arw, [], "", (f"the rounding of the output (q = {q:.3g} mV) accounts for all of A₋₁: q²τ₀/12 = "
-                                 f"{c:.3g} ≥ A₋₁ = {A1:.3g} (°/h)²·h; the sensor's ARW is not resolved")
+            return arw, [], "", msg("the rounding of the output (q = {q:.3g} mV) accounts for all of A₋₁: q²τ₀/12 = "
+                                    "{c:.3g} ≥ A₋₁ = {A1:.3g} (°/h)²·h; the sensor's ARW is not resolved", q=q, c=c, A1=A1)
         arw_c = math.sqrt(A1 - c) * to_metric
-        row = BudgetRow.type_b(f"output step {q:.3g} mV: Sheppard's correction of A₋₁ (q²τ₀/12)", "δARW_q",
+        row = BudgetRow.type_b(msg("output step {q:.3g} mV: Sheppard's correction of A₋₁ (q²τ₀/12)", q=q), "δARW_q",
                                Q_((arw - arw_c) / 2.0, "deg/hour**0.5"),
                                distribution="uniform",
-                               note=f"noise s = {sd:.3g} mV ≥ q/2 ({src}) dithers the rounding: white rate noise of "
-                                    f"q²/12 per sample; half the correction kept")
-        return arw_c, [row], (f"A₋₁ less the rounding's q²τ₀/12 = {c:.3g} (°/h)²·h (Sheppard); as fitted "
-                              f"{arw:.4g}"), ""
+                               note=msg("noise s = {s:.3g} mV ≥ q/2 ({src}) dithers the rounding: white rate noise of "
+                                        "q²/12 per sample; half the correction kept", s=sd, src=src))
+        return arw_c, [row], msg("A₋₁ less the rounding's q²τ₀/12 = {c:.3g} (°/h)²·h (Sheppard); as fitted {arw:.4g}",
+                                 c=c, arw=arw), ""
     bound = qh * qh * tau0 / 4.0
     if bound >= 0.01 * A1:
-        return arw, [], "", (f"the output step q = {q:.3g} mV ({qh:.3g} °/h) is not dithered by the noise "
-                             f"(s = {sd:.3g} mV < q/2): the rounding adds up to q²τ₀/4 = {bound:.3g} (°/h)²·h to "
-                             f"A₋₁ = {A1:.3g}, an unknown share; ARW is not resolved from it (digitise more finely)")
-    row = BudgetRow.type_b(f"output step {q:.3g} mV, not dithered: up to q²τ₀/4 in A₋₁", "δARW_q",
+        return arw, [], "", msg("the output step q = {q:.3g} mV ({qh:.3g} °/h) is not dithered by the noise "
+                                "(s = {s:.3g} mV < q/2): the rounding adds up to q²τ₀/4 = {bound:.3g} (°/h)²·h to "
+                                "A₋₁ = {A1:.3g}, an unknown share; ARW is not resolved from it (digitise more finely)",
+                                q=q, qh=qh, s=sd, bound=bound, A1=A1)
+    row = BudgetRow.type_b(msg("output step {q:.3g} mV, not dithered: up to q²τ₀/4 in A₋₁", q=q), "δARW_q",
                            Q_(arw - math.sqrt(A1 - bound) * to_metric, "deg/hour**0.5"), distribution="uniform",
-                           note=f"noise s = {sd:.3g} mV < q/2 ({src})")
+                           note=msg("noise s = {s:.3g} mV < q/2 ({src})", s=sd, src=src))
     return arw, [row], "", ""
 
 
@@ -127,13 +129,15 @@ class AngleRandomWalk(_JJF):
                                  hint="look at the Allan plot; the record may be dominated by other noise")
         for i, (m, name) in enumerate(F.ALLAN_TERMS):
             if not fit.active[i]:
-                how = ("the term was removed and the fit repeated" if fit.A[i] == 0 and fit.raw[i] != 0
-                       else "kept in the fitted curve")
-                sig_txt = "consistent with 0" if abs(fit.raw[i]) <= 2 * fit.u_A[i] else "significantly negative: the model does not describe the data"
-                w.append(f"A_{m} ({name}) came out negative in the eq. (38) fit ({fit.raw[i]:.3g} ± {fit.u_A[i]:.2g}, "
-                         f"{sig_txt}); {how}; reported as 0 (not resolved)")
+                how = (msg("the term was removed and the fit repeated") if fit.A[i] == 0 and fit.raw[i] != 0
+                       else msg("kept in the fitted curve"))
+                sig_txt = (msg("consistent with 0") if abs(fit.raw[i]) <= 2 * fit.u_A[i] else
+                           msg("significantly negative: the model does not describe the data"))
+                w.append(msg("A_{m} ({name}) came out negative in the eq. (38) fit ({raw:.3g} ± {u:.2g}, {sig}); {how}; "
+                             "reported as 0 (not resolved)", m=m, name=name, raw=fit.raw[i], u=fit.u_A[i], sig=sig_txt,
+                             how=how))
         if fit.birge > 1.5:
-            w.append(f"eq. (38) fits poorly (χ²/ν = {fit.birge ** 2:.2g}); the uncertainties were scaled up")
+            w.append(msg("eq. (38) fits poorly (χ²/ν = {chi2:.2g}); the uncertainties were scaled up", chi2=fit.birge ** 2))
         coefs = F.noise_coefficients(fit.A)
         keys = ("Q", "ARW", "BI", "RRW", "RR")
         units = ("deg", "deg/hour**0.5", "deg/h", "deg/h/hour**0.5", "deg/h**2")
@@ -145,23 +149,24 @@ class AngleRandomWalk(_JJF):
             val = coefs[cn] * to_metric
             u_fit, how = F.coefficient_u(fit.A[i], fit.u_A[i], fac)
             u_fit *= to_metric
-            rows = [_budget_row_a(f"eq. (38) GLS fit (edf per τ), A_{F.ALLAN_TERMS[i][0]}", "u(A)", u_fit, metric.unit,
-                                  max(fit.dof, 1), note=f"{tau_h.size} τ values, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}; "
-                                  + how),
+            rows = [_budget_row_a(msg("eq. (38) GLS fit (edf per τ), A_{m}", m=F.ALLAN_TERMS[i][0]), "u(A)", u_fit,
+                                  metric.unit, max(fit.dof, 1),
+                                  note=join("; ", [msg("{n} τ values, χ²/ν = {chi2:.3g}", n=tau_h.size,
+                                                       chi2=fit.chi2 / max(fit.dof, 1)), how])),
                     kv.row(val, metric.unit, "scale factor K (eq. (34))")]
-            note = "" if fit.active[i] else "term not resolved (fitted negative)"
+            note = "" if fit.active[i] else msg("term not resolved (fitted negative)")
             why = ""
             if key == "ARW":
                 val, qrows, qnote, why = _arw_rounding(campaign, x, dt, K, float(fit.A[1]), val, to_metric)
                 rows += qrows
-                note = "; ".join(t for t in (note, qnote) if t)
+                note = join("; ", [t for t in (note, qnote) if t]) if qnote else note
             elif fit.raw[i] - 3.0 * fit.u_A[i] <= 0.0:
                 # an extra of metro's (7.2.20 reports ARW only): a term not resolved from zero would be a
                 # non-negative estimate of what may be 0, biased up (interpretations.md, 7.2.20)
                 top = math.sqrt(fac * max(fit.raw[i] + 2.0 * fit.u_A[i], 0.0)) * to_metric
-                why = (f"A_{F.ALLAN_TERMS[i][0]} = {fit.raw[i]:.3g} ± {fit.u_A[i]:.2g} is not resolved from 0 "
-                       f"(A − 3u ≤ 0): the {F.ALLAN_TERMS[i][1]} coefficient is below {top:.3g} {metric.unit} "
-                       "(the record does not show this term)")
+                why = msg("A_{m} = {A:.3g} ± {u:.2g} is not resolved from 0 (A − 3u ≤ 0): the {name} coefficient is "
+                          "below {top:.3g} {unit} (the record does not show this term)", m=F.ALLAN_TERMS[i][0],
+                          A=fit.raw[i], u=fit.u_A[i], name=F.ALLAN_TERMS[i][1], top=top, unit=metric.unit)
             b = B.type_a_budget(key, metric.unit, rows)
             results.append(Result(metric, Q_(val, metric.unit), b.combined, b, note=note,
                                   reportable=not why, reason=why))
@@ -173,12 +178,12 @@ class AngleRandomWalk(_JJF):
                    "style": "-"}]
         for i, (m, name) in enumerate(F.ALLAN_TERMS):
             if fit.A[i] > 0:
-                series.append({"label": f"{name} term", "x": (tau_h * 3600).tolist(),
+                series.append({"label": msg("{name} term", name=name), "x": (tau_h * 3600).tolist(),
                                "y": np.sqrt(fit.A[i] * tau_h**m).tolist(), "style": "--"})
-        plot = PlotSpec("allan", "Allan deviation, eq. (38) fit and its terms", "τ (s)", "σ(τ) (°/h)", series,
+        plot = PlotSpec("allan", msg("Allan deviation, eq. (38) fit and its terms"), "τ (s)", "σ(τ) (°/h)", series,
                         logx=True, logy=True)
-        tab = TableSpec("allan_coef", "Eq. (38) coefficients (τ in h, σ in °/h)", ["m", "term", "A_m", "u(A_m)", "kept"],
-                        [[m, name, f"{fit.A[i]:.4g}", f"{fit.u_A[i]:.2g}", "yes" if fit.active[i] else "no (negative: not resolved)"]
+        tab = TableSpec("allan_coef", msg("Eq. (38) coefficients (τ in h, σ in °/h)"), ["m", msg("term"), "A_m", "u(A_m)", msg("kept")],
+                        [[m, name, f"{fit.A[i]:.4g}", f"{fit.u_A[i]:.2g}", msg("yes") if fit.active[i] else msg("no (negative: not resolved)")]
                          for i, (m, name) in enumerate(F.ALLAN_TERMS)])
         return self._outcome(results, plots=[plot], tables=[tab], warnings=w, segments=[seg.id], opts=opts)
 
@@ -276,13 +281,13 @@ class Bandwidth(_JJF):
         except ValueError as exc:
             raise ProcedureError(f"7.2.21: {exc}",
                                  hint="raise the top frequency (option bandwidth_estimate) past the 0.707 point") from exc
-        w = [] if dyn.f.size >= 10 else [f"7.2.21.1 b) asks for N ≥ 10 frequencies; got {dyn.f.size}"]
+        w = [] if dyn.f.size >= 10 else [msg("7.2.21.1 b) asks for N ≥ 10 frequencies; got {n}", n=dyn.f.size)]
         if min(dyn.n) < 10:
-            w.append(f"7.2.21.1 c) asks for n ≥ 10 records per frequency; the fewest is {min(dyn.n)}")
+            w.append(msg("7.2.21.1 c) asks for n ≥ 10 records per frequency; the fewest is {n}", n=min(dyn.n)))
         if dyn.fs < 20 * fc:
-            w.append(f"7.2.21.1 c) asks for a sampling rate above 20·B_w = {20 * fc:.4g} Hz; got {dyn.fs:g} Hz")
+            w.append(msg("7.2.21.1 c) asks for a sampling rate above 20·B_w = {f:.4g} Hz; got {fs:g} Hz", f=20 * fc, fs=dyn.fs))
         if fc > dyn.f.max():
-            w.append(f"B_w = {fc:.4g} Hz lies above the highest frequency {dyn.f.max():g} Hz (extrapolated)")
+            w.append(msg("B_w = {fc:.4g} Hz lies above the highest frequency {fmax:g} Hz (extrapolated)", fc=fc, fmax=dyn.f.max()))
         # sensitivities by numerical differentiation of the whole evaluation
         eps = 1e-4
         dfc_ds = (cls._fc(dyn, K, 1 + eps, level)[0] - fc) / eps  # ∂f_c/∂(relative scale of all S_i)
@@ -312,14 +317,14 @@ class Bandwidth(_JJF):
         fc, b, ab, w = self._analyse(campaign, dyn, kv)
         kr = dyn.S / K
         fine = np.linspace(0, max(dyn.f.max(), fc) * 1.05, 200)
-        plot = PlotSpec("amplitude_ratio", "Amplitude ratio K_i = S_i/S₀ (eq. (43)), fit and the 0.707 point",
+        plot = PlotSpec("amplitude_ratio", msg("Amplitude ratio K_i = S_i/S₀ (eq. (43)), fit and the 0.707 point"),
                         "f (Hz)", "K_i",
                         [{"label": "K_i", "x": [0.0] + dyn.f.tolist(), "y": [1.0] + kr.tolist(), "style": "o"},
                          {"label": "fit 1/K² = a + b f²", "x": fine.tolist(),
                           "y": (1 / np.sqrt(ab[0] + ab[1] * fine**2)).tolist(), "style": "-"},
                          {"label": f"0.707 → B_w = {fc:.4g} Hz", "x": [0.0, fc, fc], "y": [0.707, 0.707, 0.0],
                           "style": "--"}])
-        tab = TableSpec("dynamic", "Per frequency", ["f_i (Hz)", "Ē_i (mV)", "A (°/s)", "S_i (mV/((°)/s))", "K_i",
+        tab = TableSpec("dynamic", msg("Per frequency"), ["f_i (Hz)", "Ē_i (mV)", "A (°/s)", "S_i (mV/((°)/s))", "K_i",
                                                      "P_i (rad)"],
                         [[f"{f:g}", f"{e:.5g}", f"{a:.5g}", f"{s:.6g}", f"{k:.5f}", f"{p:.5f}"]
                          for f, e, a, s, k, p in zip(dyn.f, dyn.E, dyn.A, dyn.S, kr, dyn.P)])
@@ -359,11 +364,11 @@ class OutputDelay(Bandwidth):
             pu = parse_quantity(eq.properties["phase_U"], dimension="deg").to("rad").magnitude
             rows.append(BudgetRow.type_b("reference sensor phase", "u(φ₀)", Q_(pu, ""), distribution="normal", k=2.0,
                                          sensitivity=Q_(1.0 / math.sqrt(float(w_ @ w_) / w_.size), "s"),
-                                         note="a common phase error φ acts as φ/ω on T_d (RMS ω)"))
+                                         note=msg("a common phase error φ acts as φ/ω on T_d (RMS ω)")))
         b = B.type_a_budget("Td", "s", rows)
         fine = np.linspace(dyn.f.min(), dyn.f.max(), 100)
         wf = 2 * np.pi * fine
-        plot = PlotSpec("phase", "Phase delay P_i (eq. (45)) and the model −atan(ωT) − ωT_d (eq. (46))", "f (Hz)",
+        plot = PlotSpec("phase", msg("Phase delay P_i (eq. (45)) and the model −atan(ωT) − ωT_d (eq. (46))"), "f (Hz)",
                         "P (rad)",
                         [{"label": "P_i", "x": dyn.f.tolist(), "y": dyn.P.tolist(), "style": "o"},
                          {"label": f"model, T_d = {Td * 1e3:.4g} ms, B_w = {fc:.4g} Hz", "x": fine.tolist(),
@@ -464,8 +469,8 @@ class StartupTime(_JJF):
                                       sd / slope, "s", INF))
         rows += B.relative_calibration_row("timer", "u_rel(t)", _cal(campaign, "timer"), Q_(ts, "s"))
         b = B.type_a_budget("t_startup", "s", rows)
-        tab = TableSpec("startup", "Start-up time per trial", ["trial", "segment", "target", "tolerance", "t (s)"],
+        tab = TableSpec("startup", msg("Start-up time per trial"), [msg("trial"), msg("segment"), msg("target"), msg("tolerance"), "t (s)"],
                         [[str(x[1].condition("trial")), x[1].id, f"{x[4]:.4g} °/s", f"{x[5]:.3g} °/s", f"{x[0]:.2f}"]
                          for x in times])
-        return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, note=f"largest in {s.id}")],
+        return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, note=msg("largest in {id}", id=s.id))],
                              tables=[tab], segments=[x.id for x in segs], opts=opts)

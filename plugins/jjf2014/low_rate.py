@@ -8,6 +8,7 @@ import attrs
 import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, Step, TableSpec
 from metro.core.units import Q_
 
@@ -47,13 +48,14 @@ def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign,
     d = max(cands, key=lambda k: abs(cands[k][0]))
     val, nxt = cands[d]
     step = abs(val) - abs(nxt) if nxt is not None else abs(val)
-    rows = [BudgetRow.type_b(f"step of the {what} levels ({d}): true value in (next level, candidate]", "Δ",
+    rows = [BudgetRow.type_b(msg("step of the {what} levels ({direction}): true value in (next level, candidate]",
+                                 what=what, direction=d), "Δ",
                              Q_(step, "deg/s"), distribution="uniform",
-                             note="one-sided: the candidate errs by 0 … Δ, u = Δ/√3")]
+                             note=msg("one-sided: the candidate errs by 0 … Δ, u = Δ/√3"))]
     rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", _cal(campaign, "rate_table"),
                                        Q_(abs(val), "deg/s"))
     b = B.type_a_budget(metric.key, "deg/s", rows)
-    return Result(metric, Q_(abs(val), "deg/s"), b.combined, b, note=f"larger in the {d} direction")
+    return Result(metric, Q_(abs(val), "deg/s"), b.combined, b, note=msg("larger in the {direction} direction", direction=d))
 
 
 def _rounding_check(campaign, res: Result, pairs: list[tuple[str, Segment, Segment, float]], K: float,
@@ -75,15 +77,19 @@ def _rounding_check(campaign, res: Result, pairs: list[tuple[str, Segment, Segme
         if worst is None or e / margin > worst[0]:
             worst = (e / margin, name, e, margin, q, src, dc and dr)
     _, name, e, margin, q, src, dith = worst
-    text = (f"output step q = {q:.3g} mV ({src}, {'dithered' if dith else 'not dithered'} by the noise): the "
-            f"{name} candidate's response may be off by up to ±{e:.3g} mV from rounding")
+    text = (msg("output step q = {q:.3g} mV ({src}, dithered by the noise): the {name} candidate's response may be "
+                "off by up to ±{e:.3g} mV from rounding", q=q, src=src, name=name, e=e) if dith else
+            msg("output step q = {q:.3g} mV ({src}, not dithered by the noise): the {name} candidate's response may "
+                "be off by up to ±{e:.3g} mV from rounding", q=q, src=src, name=name, e=e))
     if e >= margin:
-        return attrs.evolve(res, reportable=False,
-                            reason=f"{text}, as large as {eq}'s 50 % margin ({margin:.3g} mV): the level may pass "
-                                   "or fail on rounding alone (digitise more finely"
-                                   + ("; a longer record does not average undithered rounding out)" if not dith
-                                      else ")"))
-    return attrs.evolve(res, note=f"{res.note}; {text}, below {eq}'s 50 % margin {margin:.3g} mV")
+        return attrs.evolve(res, reportable=False, reason=(
+            msg("{text}, as large as {eq}'s 50 % margin ({margin:.3g} mV): the level may pass or fail on rounding "
+                "alone (digitise more finely)", text=text, eq=eq, margin=margin) if dith else
+            msg("{text}, as large as {eq}'s 50 % margin ({margin:.3g} mV): the level may pass or fail on rounding "
+                "alone (digitise more finely; a longer record does not average undithered rounding out)", text=text,
+                eq=eq, margin=margin)))
+    return attrs.evolve(res, note=join("; ", [res.note, msg("{text}, below {eq}'s 50 % margin {margin:.3g} mV",
+                                                             text=text, eq=eq, margin=margin)]))
 
 
 class Threshold(_JJF):
@@ -142,7 +148,7 @@ class Threshold(_JJF):
                      for o, x in zip(om, fc)]
         res = _rounding_check(campaign, _grid_result(self.metrics[0], cands, campaign, "threshold"), pairs, K,
                               "eq. (17)")
-        tab = TableSpec("threshold", "Eq. (17) per level", ["direction", "Ω_i (°/s)", "F̂_i (mV)", "F_i (mV)",
+        tab = TableSpec("threshold", msg("Eq. (17) per level"), [msg("direction"), "Ω_i (°/s)", "F̂_i (mV)", "F_i (mV)",
                                                              "|F̂−F|/F̂ (%)"], rows)
         return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
 
@@ -205,7 +211,7 @@ class Resolution(_JJF):
             rows += [[name, f"{o:g}", f"{K * o:.4g}", f"{x:.4g}"] for o, x in zip(dom, dF)]
         res = _rounding_check(campaign, _grid_result(self.metrics[0], cands, campaign, "increment"), pairs, K,
                               "eq. (18)")
-        tab = TableSpec("resolution", "Eq. (18) per increment", ["direction", "ΔΩ_i (°/s)", "ΔF̂_i (mV)", "ΔF_i (mV)"],
+        tab = TableSpec("resolution", msg("Eq. (18) per increment"), [msg("direction"), "ΔΩ_i (°/s)", "ΔF̂_i (mV)", "ΔF_i (mV)"],
                         rows)
         return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
 
@@ -255,7 +261,7 @@ def misalignment_reproducibility(campaign, runs, K: float, uK: float) -> Spread 
     if len(runs) >= 2:
         gam = [_misalignment_run(campaign, Misalignment, g, K, uK)[0]["gamma"] for _, g in sorted(runs.items())]
         gr = F.std_bessel(gam, "eq. (26)")
-        return Spread(gr, len(gam) - 1, f"γ_mr = {gr:.3g}′ from this campaign's {len(gam)} mountings (7.2.12)")
+        return Spread(gr, len(gam) - 1, msg("γ_mr = {g:.3g}′ from this campaign's {n} mountings (7.2.12)", g=gr, n=len(gam)))
     return _stated(campaign, "misalignment_repeatability", "arcmin", "misalignment repeatability in ′")
 
 
@@ -307,8 +313,8 @@ class Misalignment(_JJF):
         rows += B.relative_calibration_row("rate table Ω_(+) (γ ∝ 1/Ω)", "u_rel(Ω)", _cal(campaign, "rate_table"),
                                            Q_(gamma, "arcmin"))
         b = B.type_a_budget("gamma", "arcmin", rows)
-        note = (f"α_m = {r['alpha'] * 10800 / math.pi:.4g}′, β_m = {r['beta'] * 10800 / math.pi:.4g}′ "
-                f"(run {first}, Ω = {om:g} °/s)")
+        note = msg("α_m = {a:.4g}′, β_m = {b:.4g}′ (run {run}, Ω = {om:g} °/s)", a=r['alpha'] * 10800 / math.pi,
+                   b=r['beta'] * 10800 / math.pi, run=first, om=om)
         return self._outcome([Result(self.metrics[0], Q_(gamma, "arcmin"), b.combined, b, note=note)],
                              segments=[s.id for s in runs[first]], opts=opts)
 
@@ -337,7 +343,7 @@ class MisalignmentRepeatability(Misalignment):
         u, dof = B.std_of_std(gr, len(gam))
         b = B.type_a_budget("gamma_r", "arcmin", [_budget_row_a("sampling of a standard deviation of Q values",
                                                                 "γ_mr/√(2(Q−1))", u, "arcmin", dof)])
-        tab = TableSpec("gamma_runs", "γ_mi per run", ["run", "γ_mi (′)"],
+        tab = TableSpec("gamma_runs", msg("γ_mi per run"), [msg("run"), "γ_mi (′)"],
                         [[k, f"{g:.4f}"] for k, g in zip(sorted(runs), gam)])
         return self._outcome([Result(self.metrics[0], Q_(gr, "arcmin"), b.combined, b)], tables=[tab],
                              segments=[s.id for g in runs.values() for s in g], opts=opts)

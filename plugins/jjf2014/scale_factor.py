@@ -8,6 +8,7 @@ import math
 import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, TableSpec
 from metro.core.units import Q_, parse_quantity
 
@@ -65,9 +66,9 @@ class ScaleFactor(_JJF):
         s = _main_set(campaign, type(self))
         npos, nneg = int(np.sum(s.omega > 0)), int(np.sum(s.omega < 0))
         if min(npos, nneg) < 11:
-            w.append(f"7.2.1.1 b) asks for at least 11 rates per direction; got {npos} forward, {nneg} reverse")
+            w.append(msg("7.2.1.1 b) asks for at least 11 rates per direction; got {pos} forward, {neg} reverse", pos=npos, neg=nneg))
         if min(s.n) < 10:
-            w.append(f"7.2.1.1 c) asks for at least 10 samples per rate; the shortest segment has {min(s.n)}")
+            w.append(msg("7.2.1.1 c) asks for at least 10 samples per rate; the shortest segment has {n}", n=min(s.n)))
         bK = s.budget(campaign, w)
         # F₀ = K·(bias + earth rate) + …: another power-on gives another F₀, by K·B_r (7.2.15)
         brep = bias_repeatability(campaign, s.K)
@@ -82,9 +83,9 @@ class ScaleFactor(_JJF):
             *s.rounding_rows(campaign)[1]])
         res = [Result(self.metrics[0], Q_(s.K, KU), bK.combined, bK),
                Result(self.metrics[1], Q_(s.fit.F0, "mV"), bF0.combined, bF0, earth_rate="included",
-                      note="F₀ holds K·Ω_e·sin φ, the earth rate along the vertical input axis (7.2.1 has no "
-                           "correction; it does not affect K)")]
-        tab = TableSpec("sf_points", "Mean output per input rate (eq. (2)) and residuals",
+                      note=msg("F₀ holds K·Ω_e·sin φ, the earth rate along the vertical input axis (7.2.1 has no "
+                               "correction; it does not affect K)"))]
+        tab = TableSpec("sf_points", msg("Mean output per input rate (eq. (2)) and residuals"),
                         ["Ω_i (°/s)", "F̄_i (mV)", "u(F̄_i) (mV)", "v_i (mV)"],
                         [[f"{o:g}", f"{f:.6f}", f"{u:.2g}", f"{v:.3g}"]
                          for o, f, u, v in zip(s.omega, s.F, s.uF, s.fit.residuals)])
@@ -128,20 +129,20 @@ class NonlinearityRange(_JJF):
         limit_txt = opts["nonlinearity_limit"] or campaign.device.properties.get("nonlinearity_spec")
         results = [Result(self.metrics[0], Q_(kn, ""), bkn.combined, bkn)]
         if limit_txt in (None, ""):
-            w.append("no nonlinearity requirement given (option nonlinearity_limit or device.nonlinearity_spec): "
-                     "the range is not determined")
+            w.append(msg("no nonlinearity requirement given (option nonlinearity_limit or device.nonlinearity_spec): "
+                         "the range is not determined"))
         else:
             limit = float(parse_quantity(limit_txt, dimension="").to("").magnitude)
             rng, kn_r = F.range_from_nonlinearity(s.omega, s.F, limit)
             if rng is None:
-                w.append(f"no symmetric span meets K_n ≤ {limit:g}: the range is not determined")
+                w.append(msg("no symmetric span meets K_n ≤ {limit:g}: the range is not determined", limit=limit))
             else:
                 rr = B.relative_calibration_row("rate table (the range is a set table rate)", "u_rel(Ω)", cal,
                                                 Q_(rng, "deg/s"), w)
                 br = B.type_a_budget("range", "deg/s", rr) if rr else None
                 results.append(Result(self.metrics[1], Q_(rng, "deg/s"), br.combined if br else None, br,
-                                       note=f"K_n = {kn_r:.3g} ≤ {limit:g} over ±{rng:g} °/s"))
-        tab = TableSpec("nonlinearity", "Point nonlinearity a_i (eq. (7))", ["Ω_i (°/s)", "a_i"],
+                                       note=msg("K_n = {Kn:.3g} ≤ {limit:g} over ±{range:g} °/s", Kn=kn_r, limit=limit, range=rng)))
+        tab = TableSpec("nonlinearity", msg("Point nonlinearity a_i (eq. (7))"), ["Ω_i (°/s)", "a_i"],
                         [[f"{o:g}", f"{x:.3e}"] for o, x in zip(s.omega, a)])
         return self._outcome(results, tables=[tab], warnings=w, segments=s.ids, opts=opts)
 
@@ -172,9 +173,9 @@ class Asymmetry(_JJF):
         dof = u**4 / ((fp.u_K / s.K) ** 4 / fp.dof + (fm.u_K / s.K) ** 4 / fm.dof) if u > 0 else INF
         b = B.type_a_budget("asymmetry Ka", "", [
             _budget_row_a("fits of K₊ and K₋ (eq. (4) per direction)", "√(u²(K₊)+u²(K₋))/K", u, "", dof,
-                          note="the rate table and DMM errors are common to K₊, K₋ and K and cancel in eq. (9)")])
+                          note=msg("the rate table and DMM errors are common to K₊, K₋ and K and cancel in eq. (9)"))])
         return self._outcome([Result(self.metrics[0], Q_(ka, ""), b.combined, b,
-                                     note=f"K₊ = {fp.K:.7g}, K₋ = {fm.K:.7g} mV/((°)/s)")],
+                                     note=msg("K₊ = {Kp:.7g}, K₋ = {Km:.7g} mV/((°)/s)", Kp=fp.K, Km=fm.K))],
                              segments=s.ids, opts=opts)
 
 
@@ -206,7 +207,7 @@ class Repeatability(_JJF):
         u, dof = B.std_of_std(kr, len(Ks))
         b = B.type_a_budget("repeatability Kr", "", [
             _budget_row_a("sampling of a standard deviation of Q values", "K_r/√(2(Q−1))", u, "", dof)])
-        tab = TableSpec("sf_runs", "K_i per calibration", ["run", "K_i (mV/((°)/s))", "u(K_i) fit"],
+        tab = TableSpec("sf_runs", msg("K_i per calibration"), [msg("run"), "K_i (mV/((°)/s))", "u(K_i) fit"],
                         [[r, f"{s.K:.7g}", f"{s.fit.u_K:.2g}"] for r, s in sets.items()])
         return self._outcome([Result(self.metrics[0], Q_(kr, ""), b.combined, b)], tables=[tab],
                              segments=[i for s in sets.values() for i in s.ids], opts=opts)
@@ -249,16 +250,16 @@ class SFTemperature(_JJF):
         dT = temps[i] - temps[m]
         # Kt = |K_i/K_m − 1|/|ΔT|: ∂/∂K_i = 1/(K_m|ΔT|), ∂/∂K_m ≈ K_i/(K_m²|ΔT|)
         rep = sf_repeatability(campaign)
-        rows = [_k_row(sets[i], rep, f"K_i at {temps[i]:g} °C", "u(K_i)/(K_m|ΔT|)", 1 / (Ks[m] * abs(dT)),
+        rows = [_k_row(sets[i], rep, msg("K_i at {T:g} °C", T=temps[i]), "u(K_i)/(K_m|ΔT|)", 1 / (Ks[m] * abs(dT)),
                        "1/delta_degC"),
-                _k_row(sets[m], rep, f"K_m at {temps[m]:g} °C", "K_i·u(K_m)/(K_m²|ΔT|)", Ks[i] / (Ks[m] ** 2 * abs(dT)),
+                _k_row(sets[m], rep, msg("K_m at {T:g} °C", T=temps[m]), "K_i·u(K_m)/(K_m²|ΔT|)", Ks[i] / (Ks[m] ** 2 * abs(dT)),
                        "1/delta_degC")]
         rows += _chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
         b = B.type_a_budget("Kt", "1/delta_degC", rows)
-        tab = TableSpec("sf_temperature", "K_i per temperature", ["T_i (°C)", "K_i (mV/((°)/s))"],
+        tab = TableSpec("sf_temperature", msg("K_i per temperature"), ["T_i (°C)", "K_i (mV/((°)/s))"],
                         [[f"{t:g}", f"{k:.7g}"] for t, k in zip(temps, Ks)])
         return self._outcome([Result(self.metrics[0], Q_(kt, "1/delta_degC"), b.combined, b,
-                                     note=f"maximum at T_i = {temps[i]:g} °C, T_m = {temps[m]:g} °C")],
+                                     note=msg("maximum at T_i = {Ti:g} °C, T_m = {Tm:g} °C", Ti=temps[i], Tm=temps[m]))],
                              tables=[tab], segments=[x for s in sets for x in s.ids], opts=opts)
 
 
@@ -268,8 +269,8 @@ def _k_row(s: SFSet, rep, what: str, symbol: str, scale: float, unit: str) -> Bu
     temperature, mounting — gives another K; interpretations.md, "Repeatability in every budget")."""
     u, dof, src, typ = s.u_single(rep)
     if typ == "A":
-        return _budget_row_a(f"{what}: {src}", symbol, u * scale, unit, dof)
-    return BudgetRow.type_b(f"{what}: {src}", symbol, Q_(u * scale, unit), distribution="normal", k=1.0)
+        return _budget_row_a(join(": ", [what, src]), symbol, u * scale, unit, dof)
+    return BudgetRow.type_b(join(": ", [what, src]), symbol, Q_(u * scale, unit), distribution="normal", k=1.0)
 
 
 class SFAxialAcceleration(_JJF):
@@ -308,7 +309,7 @@ class SFAxialAcceleration(_JJF):
             *B.relative_calibration_row("rate table (common to both, acts on the difference)", "u_rel(Ω)",
                                         _cal(campaign, "rate_table"), Q_(kg, "mV/(deg/s)/gn"))])
         return self._outcome([Result(self.metrics[0], Q_(kg, "mV/(deg/s)/gn"), b.combined, b,
-                                     note=f"K_up = {up.K:.7g}, K_down = {dn.K:.7g} mV/((°)/s)")],
+                                     note=msg("K_up = {up:.7g}, K_down = {down:.7g} mV/((°)/s)", up=up.K, down=dn.K))],
                              segments=up.ids + dn.ids, opts=opts)
 
 
@@ -336,17 +337,18 @@ class _SFChange(_JJF):
             dk, worst, per = F.max_change_eq12_13(before, after)
         except ValueError as exc:
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
-        w = [] if len(per) == 3 else [f"only the axes {', '.join(per)} were tested (the clause asks for X, Y, Z)"]
+        w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for X, Y, Z)", axes=", ".join(per))]
         rep = sf_repeatability(campaign)
         b = B.type_a_budget(self.metrics[0].key, KU, [
-            _k_row(fits[(worst, "before")], rep, f"K before ({worst})", "u(K₁)", 1.0, KU),
-            _k_row(fits[(worst, "after")], rep, f"K after ({worst})", "u(K₂)", 1.0, KU),
+            _k_row(fits[(worst, "before")], rep, msg("K before ({axis})", axis=worst), "u(K₁)", 1.0, KU),
+            _k_row(fits[(worst, "after")], rep, msg("K after ({axis})", axis=worst), "u(K₂)", 1.0, KU),
             *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
                                         _cal(campaign, "rate_table"), Q_(dk, KU))])
-        tab = TableSpec("per_axis", f"K before/after {self.what} per axis",
-                        ["axis", "K₁ (mV/((°)/s))", "K₂ (mV/((°)/s))", "|ΔK|"],
+        tab = TableSpec("per_axis", msg("K before/after shock per axis") if self.what == "shock" else
+                        msg("K before/after vibration per axis"),
+                        [msg("axis"), "K₁ (mV/((°)/s))", "K₂ (mV/((°)/s))", "|ΔK|"],
                         [[a, f"{before[a]:.7g}", f"{after[a]:.7g}", f"{per[a]:.3g}"] for a in per])
-        return self._outcome([Result(self.metrics[0], Q_(dk, KU), b.combined, b, note=f"largest on axis {worst}")],
+        return self._outcome([Result(self.metrics[0], Q_(dk, KU), b.combined, b, note=msg("largest on axis {axis}", axis=worst))],
                              tables=[tab], warnings=w, segments=[i for s in fits.values() for i in s.ids], opts=opts)
 
 
