@@ -305,3 +305,19 @@ def test_d51_correlated_noise_widens_the_type_a(pm):
     row = budget_note(gm_sigma_deg_h=0.05, gm_tau_s=1200.0)
     assert "correlated" in row.note and row.dof == 4
     assert "correlated" not in budget_note().note
+
+
+def test_d53_chi_square_row_covers_sigma():
+    """D.5.3's sampling row from the χ² bound: over many draws of Q = 7 normal biases, B_r ± U covers
+    σ in ≥ 95 % (the linear s/√(2(Q−1)) row with t(6) covered ≈ 92 %; hand check: P(χ²₆ ≥ 1.19) =
+    0.977). Checked on metro.plugins.gbt45570.formulas.std_upper_limit, 4000 draws."""
+    assert F.std_upper_limit(1.0, 7) == pytest.approx(2.243, abs=0.001)  # √(6/1.1926), χ²₀.₀₂₂₇₅(6) = 1.1926
+    rng = np.random.default_rng(11)
+    s = np.std(rng.normal(0.0, 1.0, (4000, 7)), axis=1, ddof=1)
+    upper = np.array([F.std_upper_limit(x, 7) for x in s])
+    U = 2.0 * (upper - s) / 2.0  # k = 2 with ν = ∞
+    assert np.mean(np.abs(s - 1.0) <= U) >= 0.95
+    from scipy.stats import t
+
+    U_lin = t.ppf(0.97725, 6) * s / math.sqrt(12)
+    assert np.mean(np.abs(s - 1.0) <= U_lin) < 0.94
