@@ -416,6 +416,8 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         if not isinstance(conds, dict):
             raise DataError(src, f"{where}.conditions", "must be a table")
         conditions = {k: _maybe_quantity(v, src, f"{where}.conditions.{k}") for k, v in conds.items()}
+        if "supply" not in conditions and "supply_voltage" in device.properties:
+            conditions["supply"] = device.properties["supply_voltage"]  # a ratiometric output's reference
         declared = s.get("units", {})
         if not isinstance(declared, dict):
             raise DataError(src, f"{where}.units", "must be a table of column = \"unit\"")

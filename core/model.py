@@ -215,15 +215,43 @@ class Segment:
         return v
 
     def columns(self) -> Mapping[str, tuple[np.ndarray, str]]:
+        """The columns as the loader gives them, except a ratiometric one (``mV/V``), which is
+        turned into mV with the segment's ``supply`` voltage at this boundary, so every procedure
+        reads a voltage (docs/data-format.md, "Ratiometric outputs")."""
         if "cols" not in self._cache:
+            self._cache["cols"] = self._ratiometric(self.recorded_columns())
+        return self._cache["cols"]
+
+    def recorded_columns(self) -> Mapping[str, tuple[np.ndarray, str]]:
+        """The columns exactly as recorded (a ratiometric column still in mV/V): what a writer of
+        the campaign's files keeps."""
+        if "raw" not in self._cache:
             if self.loader is None:
                 raise DataError(self.file, f"segments.{self.id}", "segment has no data")
             import time
 
             t0 = time.perf_counter()
-            self._cache["cols"] = self.loader()
+            self._cache["raw"] = self.loader()
             self._cache["load_seconds"] = time.perf_counter() - t0
-        return self._cache["cols"]
+        return self._cache["raw"]
+
+    def _ratiometric(self, cols: Mapping[str, tuple[np.ndarray, str]]) -> Mapping[str, tuple[np.ndarray, str]]:
+        from .units import is_voltage_ratio
+
+        out = dict(cols)
+        for name, (arr, utext) in cols.items():
+            if not is_voltage_ratio(utext):
+                continue
+            if "supply" not in self.conditions:
+                raise DataError(self.file, name, f"column {name!r} is ratiometric ({utext}); turning it into a "
+                                "voltage needs the supply voltage it is referred to",
+                                hint="add supply_voltage = \"5 V\" under [device], or supply = \"5 V\" to the "
+                                     f"conditions of segment {self.id!r}")
+            v = self.condition("supply", "V")
+            if not float(v.magnitude) > 0:
+                raise DataError(self.file, f"segments.{self.id}.conditions.supply", f"{v} is not a positive voltage")
+            out[name] = (np.asarray(arr, dtype=float) * float((Q_(1.0, utext) * v).to("mV").magnitude), "mV")
+        return out
 
     @property
     def load_seconds(self) -> float:
@@ -267,10 +295,11 @@ class Segment:
                 f"({', '.join(fmt_unit(d) for d in dims)})",
             )
         declared = self.declared_units.get(column)
-        if declared is not None and unit(declared) != u:
+        rec_text = self.recorded_columns()[column][1]  # the header as recorded (mV/V before its conversion)
+        if declared is not None and unit(declared) != unit(rec_text):
             raise DataError(
                 self.file, column,
-                f"the header says [{utext}] but the manifest declares [{declared}]; "
+                f"the header says [{rec_text}] but the manifest declares [{declared}]; "
                 "metro does not guess which is right",
                 hint="correct the header or the manifest's units table",
             )

@@ -249,6 +249,13 @@ _PRETTY = [
 ]
 
 
+def is_voltage_ratio(u: Any) -> bool:
+    """True for a ratiometric output's unit, a voltage over a voltage (``mV/V``, ``V/V``): pint
+    reduces it to a plain number (``V/V`` to nothing at all), so it is told by its written form."""
+    text = re.sub(r"\s+", "", str(u)).replace("volt", "V").replace("milli", "m").replace("micro", "µ")
+    return re.fullmatch(r"[mµuk]?V/V", text) is not None
+
+
 def fmt_unit(u: Any) -> str:
     """Short, readable unit text as the standards print it (``°/h``, ``″``, ``P/″``)."""
     if isinstance(u, pint.Quantity):

@@ -176,6 +176,7 @@ DEVICE_KEYS: dict[str, str] = {
     "bias_repeatability": "stated bias repeatability (JJF 2014)",
     "misalignment_repeatability": "stated misalignment repeatability (JJF 2014)",
     "zero_stability": "stated zero stability (ogam)",
+    "supply_voltage": "the supply a ratiometric (mV/V) output is referred to; default supply of every segment",
 }
 
 #: [device] application values (GB/T 45570 tables A.1/B.1); plugins may add theirs

@@ -226,7 +226,7 @@ def _distinct_segments(campaign: Campaign) -> None:
 def _write_samples(folder: Path, stem: str, seg: Segment, npy_rows: int) -> tuple[str, dict[str, str]]:
     from .readers import write_samples_csv, write_samples_npy
 
-    cols = seg.columns()
+    cols = seg.recorded_columns()  # as recorded: a ratiometric column stays in mV/V
     if not cols:
         raise DataError(None, f"segments.{seg.id}", "the segment has no columns to write")
     arrays = {name: np.asarray(a) for name, (a, _u) in cols.items()}

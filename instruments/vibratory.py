@@ -95,6 +95,10 @@ class VibratoryTruth:
     power_on_variation: bool = False
     #: the output as digitised by the acquisition, rounded to this quantum (mV); 0: not rounded
     output_lsb_mV: float = 0.0
+    #: a ratiometric output: recorded in mV/V against this supply voltage (V); 0: recorded in mV.
+    #: The device's voltage output scales with its supply, so the ratio is what stays put; metro
+    #: turns it back into mV with the declared supply (docs/data-format.md, "Ratiometric outputs")
+    ratiometric_supply_V: float = 0.0
     #: the class this device was drawn from (station option ``device_class``; "" = fields as given)
     device_class: str = ""
     seed: int = 20221122
@@ -518,7 +522,8 @@ class VibratoryStation:
             id="SIM-MVG-1", model="virtual metal-shell vibratory rate gyro", serial=f"seed {self.truth.seed}",
             manufacturer="metro simulator",
             properties={"full_scale": Q_(self.truth.full_scale_dps, "deg/s"),
-                        "nonlinearity_spec": Q_(self.nonlinearity_spec, "")},
+                        "nonlinearity_spec": Q_(self.nonlinearity_spec, "")}
+            | ({"supply_voltage": Q_(self.truth.ratiometric_supply_V, "V")} if self.truth.ratiometric_supply_V > 0 else {}),
             technology="vibratory", application="", output="analog",
         )
 
@@ -599,10 +604,15 @@ class VibratoryStation:
             if t.output_lsb_mV > 0:
                 arr, u = cols["output"]
                 cols = cols | {"output": (np.round(arr / t.output_lsb_mV) * t.output_lsb_mV, u)}
+            conditions = dict(st.conditions)
+            if t.ratiometric_supply_V > 0:
+                arr, u = cols["output"]
+                cols = cols | {"output": (np.asarray(Q_(arr, u).to("mV").magnitude) / t.ratiometric_supply_V, "mV/V")}
+                conditions["supply"] = f"{t.ratiometric_supply_V:g} V"
             h = hashlib.sha256()
             for name in sorted(cols):
                 h.update(cols[name][0].tobytes())
-            segs.append(Segment(id=st.segment, kind=st.kind, conditions=dict(st.conditions),
+            segs.append(Segment(id=st.segment, kind=st.kind, conditions=conditions,
                                 interval=Q_(dt_, "s"), sha256=h.hexdigest(),
                                 loader=(lambda c=cols: c)))
             if progress is not None:
@@ -620,8 +630,8 @@ class VibratoryStation:
 
 #: device classes (station option ``device_class=NAME``): what real vibratory gyros vary, as presets.
 #: A class is a population: each seed draws one device of it (:func:`draw_device`); options given
-#: with the class override its values.  The output is analog (mV) in every class — JJF 2014's
-#: items read a voltage — digitised finely or coarsely.
+#: with the class override its values.  The output is analog in every class — JJF 2014's items read a
+#: voltage — digitised finely or coarsely, or ratiometric (mV/V of the supply).
 DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
     # the default device: only the 7.2.4 / 7.2.15 repeats vary between power-ons; output not rounded
     "analog-fine": {},
@@ -634,6 +644,8 @@ DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
     # noise of a 1 s sample (0.02 … 0.05 mV), so the rounding of the 1 s records (7.2.1, 7.2.9, 7.2.10,
     # 7.2.15 …) does not average out; about 0.4 … 0.8 of the noise of a 0.1 s sample (7.2.13, 7.2.20)
     "analog-coarser": {"output_lsb_mV": 0.2},
+    # a ratiometric output, recorded in mV/V of a 5 V supply (read back into mV with the declared supply)
+    "analog-ratiometric": {"ratiometric_supply_V": 5.0},
 }
 
 

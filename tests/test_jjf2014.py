@@ -783,6 +783,7 @@ def test_device_classes_are_populations_and_refused_when_unknown():
     ("analog-fine", ["7.2.1", "7.2.4", "7.2.13", "7.2.15"]),
     ("analog-power-on", ["7.2.1", "7.2.4", "7.2.13", "7.2.15", "7.2.18"]),
     ("analog-coarse", ["7.2.1", "7.2.13", "7.2.14"]),
+    ("analog-ratiometric", ["7.2.1", "7.2.4", "7.2.13", "7.2.15"]),
 ])
 def test_device_class_truth_within_U(pm, cls, items):
     """One modest run per device class (issue 13; the ≥ 200-seed tables are on docs/standards/jjf2014.md):
@@ -817,3 +818,35 @@ def test_power_on_class_coverage_over_seeds(pm):
         by.setdefault(c["key"], []).append(bool(c["within_U"]))
     for key, v in by.items():
         assert sum(v) >= 0.8 * len(v), (key, sum(v), len(v))
+
+
+def test_ratiometric_output_round_trip_and_refusal(pm, tmp_path):
+    """A ratiometric (mV/V) output (docs/data-format.md "Ratiometric outputs"): in memory and after
+    acquire → run the same K to 1e-12; the written file keeps mV/V; a mV/V column without a supply
+    is a data error naming the column and where to give the supply."""
+    from metro.core.units import is_voltage_ratio
+    from metro.instruments.campaign_writer import write_campaign
+    from metro.core.campaign import load_manifest
+
+    assert is_voltage_ratio("mV/V") and is_voltage_ratio("V/V") and not is_voltage_ratio("mV")
+    assert not is_voltage_ratio("mA/V") and not is_voltage_ratio("dimensionless")
+    so = {"seed": 3, "device_class": "analog-ratiometric"}
+    rec = run_items(pm, "jjf2014", ["7.2.1"], station_options=so)
+    k_mem = rec.outcomes[0].results[0].value.magnitude
+    seg = rec.campaign.segments[0]
+    assert seg.recorded_columns()["output"][1] == "mV/V" and seg.columns()["output"][1] == "mV"
+    assert {c["key"]: c["within_U"] for c in __import__("metro.core.present", fromlist=["x"]).truth_checks(rec)}["K"]
+    out = tmp_path / "camp"
+    write_campaign(rec.campaign, out)
+    text = next(out.glob("*.csv")).read_text()
+    assert "[mV/V]" in text.splitlines()[1]
+    camp = load_manifest(out / "manifest.toml", pm.reader_for)
+    k_file = run_items(pm, "jjf2014", ["7.2.1"], campaign=camp).outcomes[0].results[0].value.magnitude
+    assert k_file == pytest.approx(k_mem, rel=1e-12)
+    manifest = (out / "manifest.toml").read_text()
+    (out / "manifest.toml").write_text("\n".join(l for l in manifest.splitlines()
+                                                 if not l.startswith(("supply_voltage", "supply ="))))
+    camp = load_manifest(out / "manifest.toml", pm.reader_for)
+    with pytest.raises(DataError, match="ratiometric") as exc:
+        run_items(pm, "jjf2014", ["7.2.1"], campaign=camp)
+    assert exc.value.field == "output" and "supply_voltage" in exc.value.hint
