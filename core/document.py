@@ -574,14 +574,31 @@ def or_dash(v: Any) -> str:
     return s or DASH
 
 
+def not_reportable(tr, reason: Any) -> str:
+    """"not reportable: reason" in the document's language(s).  A reason made as a message
+    (:class:`metro.core.locale.Text`) is written in each language; a plain one (data, in one
+    language) is printed once, not once per language."""
+    from .locale import Text
+
+    if tr.lang != "zh+en" or (isinstance(reason, Text) and tr.render(reason, "zh") != tr.render(reason, "en")):
+        return tr("not reportable: {reason}", reason=reason or DASH)
+    head = tr("not reportable: {reason}", reason="").rstrip()
+    return f"{head}{'' if head.endswith('：') else ' '}{reason or DASH}"
+
+
+def status_text(tr, status: Any) -> str:
+    """An equipment status on the date of measurement, translated where it is a message."""
+    from .locale import Text
+
+    return tr(status) if isinstance(status, Text) or status in _STATUS_MSGS else status
+
+
 def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
     """(value with unit, "U = … (k = …)") of a result row of the report context; a result not
     reportable says so, with its reason, in place of its value."""
     tr = doc.tr
     if not r.get("reportable", True):
-        # the label in the document's language(s), the reason (data, one language) once
-        head = tr("not reportable: {reason}", reason="").rstrip()
-        return f"{head}{'' if head.endswith('：') else ' '}{r.get('reason') or DASH}", DASH
+        return not_reportable(tr, r.get("reason") or ""), DASH
     U = r.get("U_unit") or DASH
     if U == DASH:
         return r["value_unit"], tr("not evaluated")
@@ -716,14 +733,34 @@ def environment_table(doc: DocumentBuilder, ctx: dict) -> None:
 
 _STATUS_MSGS = ("no calibration data given", "no due date stated")
 
+#: canonical equipment roles (metro.core.vocabulary) as a document names them (catalog ids)
+ROLE_LABELS = {
+    "rate_table": "rate table", "position_table": "position table", "tilt_table": "tilt table",
+    "turntable": "turntable", "platform": "stable platform", "counter": "counter", "dmm": "digital multimeter",
+    "acquisition": "data acquisition", "timer": "timer", "chamber": "temperature chamber",
+    "field_generator": "magnetic field generator", "fixture": "fixture", "vibration_table": "vibration table",
+    "angular_vibration_table": "angular vibration table", "shock_table": "shock table", "voltmeter": "voltmeter",
+    "ammeter": "ammeter", "calliper": "callipers", "balance": "balance", "megohmmeter": "megohmmeter",
+}
+
+
+def role_label(tr, role: str) -> str:
+    """An equipment role as words in the document's language(s) (``rate_table`` → ``速率转台 rate
+    table``), never the code key; a role metro does not know prints with spaces for underscores."""
+    role = (role or "").strip()
+    if not role or role == DASH:
+        return DASH
+    label = ROLE_LABELS.get(role)
+    return tr(label) if label else role.replace("_", " ")
+
 
 def equipment_table(doc: DocumentBuilder, ctx: dict) -> None:
     """The measurement standards used, their certificates, U with unit and status on the day
     of measurement."""
     tr = doc.tr
-    rows = [[f"{tr.text(e['description'])} ({e['id']})", or_dash(e["role"]), e["certificate"],
+    rows = [[f"{tr.text(e['description'])} ({e['id']})", role_label(tr, e["role"]), e["certificate"],
              e["U"] + (f" ({tr('relative')})" if e.get("U_relative") else ""), e["due"],
-             tr(e["status"]) if e["status"] in _STATUS_MSGS else e["status"]] for e in ctx["equipment"]]
+             status_text(tr, e["status"])] for e in ctx["equipment"]]
     if not rows:
         doc.para(tr("No equipment recorded."))
         return
@@ -841,10 +878,15 @@ def figures_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
                            width_mm=FIGURE_WIDTH_MM)
 
 
+#: beyond this many data files (segments), the document prints the digest of their sorted list only
+MAX_LISTED_DIGESTS = 240
+
+
 def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
     """Software and plugin versions, then the data's SHA-256 in one compact table (full digests
-    for up to 24 files; beyond that the first 16 hex digits, four to a row, and one SHA-256 over
-    the sorted list, which the run record's --json output lists in full)."""
+    for up to 24 files; beyond that the first 16 hex digits, three to a row; one SHA-256 over the
+    sorted list, which alone is printed beyond :data:`MAX_LISTED_DIGESTS` files — the run record's
+    --json output lists every digest in full)."""
     import hashlib
 
     tr = doc.tr
@@ -867,14 +909,23 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
         doc.table([tr("Data"), "SHA-256"], [[f["file"], f["sha256"]] for f in files], font_pt=7)
         return
     # many files (simulated segments): the name without what they all share, the first 16 hex
-    # digits, four to a row; the shared words said once above the table
+    # digits, three to a row (one line each at 6 pt); the shared words said once above the table
+    if len(files) > MAX_LISTED_DIGESTS:
+        # hundreds of segments (a JJF 2014 --all run has ~700): five pages of hex help no reader;
+        # the digest over the sorted list above fixes them all, and the record lists each
+        doc.para(tr("{n} data files or segments: the SHA-256 above is over the sorted list of their "
+                    "digests, which the run record lists in full (metro run --json: provenance.data_files; "
+                    "the register keeps it with the report).", n=len(files)), size=7.5)
+        return
     names = [_short_name(tr.text(f["file"])) for f in files]
     prefix, suffix = _common_affixes(names)
+    title = tr("Data (SHA-256, first 16 hex digits)")
     if prefix or suffix:
-        doc.para(f"{tr('Data')}: {(prefix + '…' + suffix).strip()}", size=7.5, keep_next=True)
+        title += f"; {tr('Data')}: {(prefix + '…' + suffix).strip()}"
+    doc.para(title, size=7.5, keep_next=True, bold=True)
     cells = [f"{n[len(prefix):len(n) - len(suffix)].strip()} {f['sha256'][:16]}" for n, f in zip(names, files)]
-    rows = [cells[i:i + 4] for i in range(0, len(cells), 4)]
-    doc.table([tr("Data (SHA-256, first 16 hex digits)")] + [""] * 3, rows, font_pt=6)
+    rows = [cells[i:i + 3] for i in range(0, len(cells), 3)]
+    doc.table(None, rows, font_pt=6)
 
 
 def _common_affixes(names: Sequence[str]) -> tuple[str, str]:

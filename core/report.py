@@ -283,9 +283,26 @@ def _result_row(r: "Result") -> dict[str, Any]:
     }
 
 
-def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
-    from .document import quantity_name
+def _budget_title(m: Any, measurand: str) -> str:
+    """A budget's title: the result's name and symbol, then its measurand in parentheses only
+    when the measurand says something the name does not (``scale factor K``, not ``scale factor K
+    (scale factor K)``; ``fitted zero F₀``, not ``… (fitted zero F0)``).
 
+    >>> from types import SimpleNamespace as N
+    >>> _budget_title(N(name="scale-factor nonlinearity", symbol="K_n", key="K_n"), "nonlinearity Kn")
+    'scale-factor nonlinearity K_n'
+    >>> _budget_title(N(name="bias", symbol="B₀", key="B0"), "mean of the static record")
+    'bias B₀ (mean of the static record)'
+    """
+    from .document import _plain, quantity_name
+
+    title = quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key})
+    words = set(re.split(r"[\s()\-]+", _plain(title).lower()))
+    said = all(w in words for w in re.split(r"[\s()\-]+", _plain(measurand or "").lower()) if w)
+    return title if not measurand or said else msg("{name} ({measurand})", name=title, measurand=measurand)
+
+
+def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
     d = budget.as_dict()
     unit = d["unit"] if d["unit"] != "1" else ""
     rows = []
@@ -307,10 +324,7 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
     if d["coverage"] != f"k = {d['k']:g}":  # k from t_p(ν_eff): say how it was chosen
         k_text += f" ({d['coverage'].removeprefix('k = ')})"
     return {
-        "title": quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key})
-        if d["measurand"] in (m.symbol, m.key, m.name) else
-        msg("{name} ({measurand})", name=quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key}),
-            measurand=d["measurand"]),
+        "title": _budget_title(m, d["measurand"]),
         "measurand": d["measurand"],
         "result": m.key,
         "unit": unit or "1",

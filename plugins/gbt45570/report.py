@@ -388,6 +388,20 @@ def _ranges(nums: list[int]) -> str:
     return ", ".join(out)
 
 
+def _first_results(tr, text: str, keep: int = 2) -> str:
+    """The first ``keep`` results of a clause-5 row (``a = 1; b = 2; c = 3``), then how many more
+    the results table holds: a 5.4 test's seven results are on page 1 already."""
+    parts = [p for p in re.split(r";\s+(?![^\[]*\])", text) if p]
+    more = 0
+    if parts and parts[-1].startswith("… and "):  # the clause-5 module's own cut
+        m = re.match(r"… and (\d+) more", parts.pop())
+        more = int(m.group(1)) if m else 0
+    if len(parts) <= keep and not more:
+        return text
+    more += max(0, len(parts) - keep)
+    return "; ".join(parts[:keep]) + f"; … {tr('and {n} more', n=more)}"
+
+
 def _symbolizer(ctx: dict):
     """A function putting result symbols in place of the code keys in free text (``Bs_10s ± U``
     → ``B_s(10 s) ± U``): keys with an underscore or a digit only, never plain words."""
@@ -452,7 +466,7 @@ def layout(doc, ctx: dict) -> None:
         # each requirement with its results (symbols, not code keys) and verdict; the why only
         # where the verdict is not "conforms" (the interval inside the limit is the results table's)
         doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
-                  [[r["clause"], r["requirement"], symbols(r["result"]),
+                  [[r["clause"], r["requirement"], _first_results(tr, symbols(r["result"])),
                     tr(r["verdict"]) if r["verdict"] else DASH,
                     "" if r["verdict"] == "conforms" else symbols(r.get("note", ""))] for r in g["clause5"]],
                   font_pt=7.5)
@@ -480,8 +494,8 @@ def layout(doc, ctx: dict) -> None:
                       prefer=1)
     n += 1
     doc.heading(f"{n} {tr('Conformity')}", 1)
-    doc.para(f"{tr('Decision rule')}: {tr.text(g['rule']['title'])}")
-    doc.para(g["rule"]["statement"], size=8.5)
+    doc.para(f"{tr('Decision rule')}: {tr.text(g['rule']['title'])}", keep_next=True)  # not alone at a page foot
+    doc.para(g["rule"]["statement"], size=8.5, keep_next=True)
     shown = [v for v in g["verdicts"] if v["status"] != "pass"]  # the results table gives every verdict
     if shown:
         doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Value"), tr("U (k)"), tr("Verdict"), tr("Reason")],

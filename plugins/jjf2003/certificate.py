@@ -158,7 +158,7 @@ def layout(doc, ctx: dict) -> None:
     ])
     doc.heading(tr("Measurement standards used"), 2)
     doc.table([tr("Name"), tr("Serial number"), tr("Accuracy"), tr("Certificate No."), tr("Status on the date of measurement")],
-              [[s["name"], s["serial"], s["accuracy"], s["certificate"], e["status"]]
+              [[s["name"], s["serial"], s["accuracy"], s["certificate"], D.status_text(tr, e["status"])]
                for s, e in zip(c8["standards"], ctx["equipment"])])
     doc.heading(tr("MIMU calibration results"), 1)
     for no, cn, en, key in GROUPS:
@@ -170,9 +170,9 @@ def layout(doc, ctx: dict) -> None:
         doc.table([tr("Quantity"), tr("Symbol"), tr("Calibration result"), tr("Expanded uncertainty")],
                   [[r["name"], r["symbol"],
                     D.with_unit_text(r["value"], r["unit"]) if r["reportable"] else
-                    tr("not reportable: {reason}", reason=r["reason"]),
+                    D.not_reportable(tr, r["reason"]),
                     f"U = {D.with_unit_text(r['U'], r['unit'])} (k = {r['k']})" if r["U"] != DASH else tr("not evaluated")]
-                   for r in rows])
+                   for r in rows], prefer=0)
     for no, cn, en, key, sym in MATRICES:
         m = c[key]
         doc.heading(f"{no}. {tr.pick(cn, en)} ({sym})", 2)

@@ -84,7 +84,7 @@ def layout(doc, ctx: dict) -> None:
         if not r["performed"]:
             value, U = tr("not performed"), DASH
         elif not r["reportable"]:
-            value, U = tr("not reportable: {reason}", reason=r["reason"]), DASH
+            value, U = D.not_reportable(tr, r["reason"]), DASH
         else:
             value = r["value"]
             U = f"U = {r['U']} (k = {r['k']})" if r["U"] != DASH else tr("not evaluated")
