@@ -70,7 +70,7 @@ def test_verdict_table_lists_every_verdict_not_conforming_with_its_reason(produc
     (results,) = [t for t in _table_with(doc, "扩展不确定度 Expanded uncertainty")][:1]
     verdict_col = [_cells(r)[4] for r in results.rows[1:]]
     assert verdict_col.count("合格 conforms") == len(verdicts) - len(shown)
-    assert "bias B₀" in [_cells(r)[1] for r in results.rows[1:]]  # quantity name and symbol
+    assert "零偏 bias B₀" in [_cells(r)[1] for r in results.rows[1:]]  # quantity name (zh+en) and symbol
 
 
 def test_decision_rule_text_and_sources(produced):
