@@ -37,6 +37,7 @@ import attrs
 import pint
 
 from .errors import DataError, UnitError
+from .locale import msg
 from .units import angle_power, fmt_unit, parse_quantity
 
 __all__ = [
@@ -311,13 +312,19 @@ def decide(
     if not rule.guarded:
         status = Status.PASS if inside else Status.FAIL
         detail = "pass" if inside else "fail"
-        reason = (f"{what} = {_fmt(x, ut)} {'is within' if inside else 'is outside'} {limit_text}"
-                  + (f" (U = {_fmt(Uv, ut)} not used by simple acceptance)" if Uv is not None else ""))
+        if Uv is not None:
+            reason = (msg("{what} = {x} is within {limit} (U = {U} not used by simple acceptance)", what=what,
+                          x=_fmt(x, ut), limit=limit_text, U=_fmt(Uv, ut)) if inside else
+                      msg("{what} = {x} is outside {limit} (U = {U} not used by simple acceptance)", what=what,
+                          x=_fmt(x, ut), limit=limit_text, U=_fmt(Uv, ut)))
+        else:
+            reason = (msg("{what} = {x} is within {limit}", what=what, x=_fmt(x, ut), limit=limit_text) if inside
+                      else msg("{what} = {x} is outside {limit}", what=what, x=_fmt(x, ut), limit=limit_text))
     elif Uv is None:
         status = Status.INDETERMINATE
         detail = "no U"
-        reason = (f"{what} = {_fmt(x, ut)} but no expanded uncertainty was evaluated, so guarded "
-                  "acceptance cannot decide")
+        reason = msg("{what} = {x} but no expanded uncertainty was evaluated, so guarded acceptance cannot decide",
+                     what=what, x=_fmt(x, ut))
     else:
         # the interval of the compared quantity; |x| cannot go below zero
         x_lo = max(0.0, x - Uv) if spec.magnitude else x - Uv
@@ -326,15 +333,19 @@ def decide(
         interval = f"[{_fmt(x_lo, '1', sig)}, {_fmt(x_hi, ut, sig)}]"
         if lo <= x_lo and x_hi <= hi:
             status, detail = Status.PASS, "pass"
-            reason = f"{what} ± U = {interval} lies wholly within {limit_text}"
+            reason = msg("{what} ± U = {interval} lies wholly within {limit}", what=what, interval=interval,
+                         limit=limit_text)
         elif x_hi < lo or x_lo > hi:
             status, detail = Status.FAIL, "fail"
-            reason = f"{what} ± U = {interval} lies wholly outside {limit_text}"
+            reason = msg("{what} ± U = {interval} lies wholly outside {limit}", what=what, interval=interval,
+                         limit=limit_text)
         else:
             status = Status.INDETERMINATE
             detail = "conditional pass" if inside else "conditional fail"
-            reason = (f"{what} = {_fmt(x, ut)} is {'within' if inside else 'outside'} {limit_text} but "
-                      f"{what} ± U = {interval} straddles a limit ({detail})")
+            reason = (msg("{what} = {x} is within {limit} but {what} ± U = {interval} straddles a limit (conditional "
+                          "pass)", what=what, x=_fmt(x, ut), limit=limit_text, interval=interval) if inside else
+                      msg("{what} = {x} is outside {limit} but {what} ± U = {interval} straddles a limit (conditional "
+                          "fail)", what=what, x=_fmt(x, ut), limit=limit_text, interval=interval))
     return Verdict(spec, rule, key or spec.symbol, item, value, U, k, status, detail, reason)
 
 

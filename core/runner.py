@@ -216,19 +216,19 @@ def select_items(
             return
         cls = registered.get(item)
         if cls is None:
-            choices.append(ItemChoice(item, False, "not available in this metro (no loaded plugin registers it)", via))
+            choices.append(ItemChoice(item, False, msg("not available in this metro (no loaded plugin registers it)"), via))
             return
         a = pm.item_applicability(cls, device)
         if a.applies and campaign is not None:  # recorded data: only items whose segments are there
             missing = unmet_requirements(cls, campaign.segments, columns=False)
             if missing:
-                choices.append(ItemChoice(item, False, "no data: " + "; ".join(missing), via))
+                choices.append(ItemChoice(item, False, msg("no data: {missing}", missing="; ".join(missing)), via))
                 return
             lacking = cls.missing_records(campaign)
             if lacking:
-                choices.append(ItemChoice(item, False, f"no record: the campaign has no {lacking}", via))
+                choices.append(ItemChoice(item, False, msg("no record: the campaign has no {lacking}", lacking=lacking), via))
                 return
-        choices.append(ItemChoice(item, a.applies, a.reason or ("applies" if a.applies else "does not apply"), via))
+        choices.append(ItemChoice(item, a.applies, a.reason or (msg("applies") if a.applies else msg("does not apply")), via))
 
     for name in requested:
         ser = pm.series(standard, name)
@@ -238,7 +238,7 @@ def select_items(
         else:
             pm.procedure(standard, name)  # an unknown item is an error naming the items
             choices[:] = [c for c in choices if c.item != name]  # named explicitly: it runs
-            choices.append(ItemChoice(name, True, "requested", "requested"))
+            choices.append(ItemChoice(name, True, msg("requested"), "requested"))
     if run_all:
         for item in sorted(registered, key=_item_order):
             consider(item, "--all")

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 
 import docx
 import pytest
 
 from metro.core.conformity import GUARDED, SIMPLE
 from metro.core.document import one_notation
+from metro.core.locale import translator
 from metro.core.plugins import get_plugin_manager
 from metro.core.report import write_report
 from metro.core.runner import run_items
@@ -63,7 +65,9 @@ def test_verdict_table_lists_every_verdict_not_conforming_with_its_reason(produc
     for row, v in zip(rows, shown):
         assert row[0] == v.item and row[2] == v.spec.text()
         assert row[5] == status[v.status.value]
-        assert row[6] == one_notation(v.reason)  # values below 0.001 as ×10ⁿ, every digit kept
+        # the reason in both languages (a message of the catalog); values below 0.001 as ×10ⁿ
+        assert row[6] == one_notation(translator("zh+en").text(v.reason))
+        assert one_notation(v.reason) in row[6] and re.search(r"[\u4e00-\u9fff]", row[6])
         assert row[1] != v.key and len(row[1]) > len(v.key)  # a quantity name with its symbol, not a key
     text = "\n".join(_texts(doc))
     assert f"其余 {len(verdicts) - len(shown)} 个结果合格" in text
@@ -76,8 +80,8 @@ def test_verdict_table_lists_every_verdict_not_conforming_with_its_reason(produc
 def test_decision_rule_text_and_sources(produced):
     _, doc, _ = produced
     text = "\n".join(_texts(doc))
-    assert "判定规则 Decision rule: guarded acceptance (guard band w = U)" in text
-    assert GUARDED.statement in text
+    assert "判定规则 Decision rule: 保护带接受（保护带 w = U） guarded acceptance (guard band w = U)" in text
+    assert GUARDED.statement in text and translator("zh").text(GUARDED.statement) in text  # both languages
     assert "GB/T 45570—2025 table A.1 rows 1, 2, 9, 12, 14" in text  # the limits' sources, each table once
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from metro.core.locale import msg
 from metro.core.model import Applicability, DeviceUnderTest
 from metro.core.units import Q_, check_dimension
 
@@ -49,26 +50,28 @@ def _declared_nonlinearity(device: DeviceUnderTest) -> Any:
 def method_for(device: DeviceUnderTest | None) -> tuple[str, str]:
     """("angle" or "rate", the reason in words) for ``device`` by clause 6.2.7.1."""
     if device is None:
-        return "angle", "device not known before acquisition; the angle method (D.1) is assumed"
+        return "angle", msg("device not known before acquisition; the angle method (D.1) is assumed")
     tech = (device.technology or "").lower()
     if tech == "laser":
-        return "angle", "laser gyro: clause 6.2.7.1 prescribes the angle method (D.1)"
-    who = "fibre gyro" if tech in ("fibre", "fiber") else f"{tech or 'unstated'}-technology gyro"
+        return "angle", msg("laser gyro: clause 6.2.7.1 prescribes the angle method (D.1)")
+    who = (msg("fibre gyro") if tech in ("fibre", "fiber") else
+           msg("{tech}-technology gyro", tech=tech) if tech else msg("unstated-technology gyro"))
     declared = _declared_nonlinearity(device)
     if declared is not None:
-        what = f"declared nonlinearity {declared.to('ppm').magnitude:g}×10⁻⁶"
+        what = msg("declared nonlinearity {kn:g}×10⁻⁶", kn=declared.to('ppm').magnitude)
         basis = declared
     else:
         app = application_of(device.application)
         if app is None:
-            return "rate", (f"{who} without a declared nonlinearity or a known application: "
-                            "clause 6.2.7.1 rate method (D.2), which does not presume K_n ≤ 5×10⁻⁶")
+            return "rate", msg("{who} without a declared nonlinearity or a known application: clause 6.2.7.1 rate "
+                               "method (D.2), which does not presume K_n ≤ 5×10⁻⁶", who=who)
         row = next(r for r in TABLE_B1 if r.key == "Kn")
         basis = Q_(row.limits[app], row.unit)
-        what = f"typical nonlinearity limit {basis.to('ppm').magnitude:g}×10⁻⁶ (table B.1, {app}; none declared)"
+        what = msg("typical nonlinearity limit {kn:g}×10⁻⁶ (table B.1, {app}; none declared)",
+                   kn=basis.to('ppm').magnitude, app=app)
     if basis.to("").magnitude <= THRESHOLD.magnitude:
-        return "angle", f"{who}, {what} ≤ 5×10⁻⁶: clause 6.2.7.1 angle method (D.1)"
-    return "rate", f"{who}, {what} > 5×10⁻⁶: clause 6.2.7.1 rate method (D.2)"
+        return "angle", msg("{who}, {what} ≤ 5×10⁻⁶: clause 6.2.7.1 angle method (D.1)", who=who, what=what)
+    return "rate", msg("{who}, {what} > 5×10⁻⁶: clause 6.2.7.1 rate method (D.2)", who=who, what=what)
 
 
 def applicability(procedure, device: DeviceUnderTest | None) -> Applicability | None:
@@ -83,9 +86,9 @@ def applicability(procedure, device: DeviceUnderTest | None) -> Applicability | 
     if item in MISALIGNMENT.values():
         tech = (device.technology if device is not None else "").lower()
         if tech == "laser":
-            method, why = "angle", "laser gyro: clause 6.2.7.2 prescribes D.1.6"
+            method, why = "angle", msg("laser gyro: clause 6.2.7.2 prescribes D.1.6")
         elif tech in ("fibre", "fiber"):
-            method, why = "rate", "fibre gyro: clause 6.2.7.2 prescribes D.2.6"
+            method, why = "rate", msg("fibre gyro: clause 6.2.7.2 prescribes D.2.6")
         else:
             method, why = method_for(device)
         return Applicability(MISALIGNMENT[method] == item, why)

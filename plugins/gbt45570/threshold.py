@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from metro.core import allan
 from metro.core.budget import BudgetRow, UncertaintyBudget
+from metro.core.locale import join, msg
 from metro.core.errors import DataError
 from metro.core.model import (
     Campaign,
@@ -164,8 +165,8 @@ class ThresholdD4(Procedure):
         warnings = []
         opposite = [abs(inputs[j]) for j, r in enumerate(ratios) if r <= -E.THRESHOLD_FRACTION]
         if opposite:
-            warnings.append("response opposite in sign to the input at " + ", ".join(f"{x:.4g}" for x in opposite)
-                            + " °/h: such a position does not count (check the polarity)")
+            warnings.append(msg("response opposite in sign to the input at {inputs} °/h: such a position does not count "
+                                "(check the polarity)", inputs=", ".join(f"{x:.4g}" for x in opposite)))
         not_reportable: list[str] = []
         cand_row: list[BudgetRow] = []
         if passing:
@@ -182,74 +183,79 @@ class ThresholdD4(Procedure):
             if len(cands) > 1:
                 if not fails:
                     not_reportable.append(
-                        f"no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
-                        f"confidence (at {abs(inputs[cands[0]]):.4g} °/h: {verdicts[cands[0]][1]}), so the threshold "
-                        f"may lie anywhere below {H:.4g} °/h; record longer at each position (option seconds)")
+                        msg("no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
+                            "confidence (at {x:.4g} °/h: {why}), so the threshold may lie anywhere below {H:.4g} °/h; "
+                            "record longer at each position (option seconds)", H=H, conf=conf,
+                            x=abs(inputs[cands[0]]), why=verdicts[cands[0]][1]))
                 cand_row.append(BudgetRow.type_b(
-                    "positions not resolved from the noise: the threshold may be any of them", "ΔΩ (unresolved)",
+                    msg("positions not resolved from the noise: the threshold may be any of them"), "ΔΩ (unresolved)",
                     Q_(max(th - lo_c, hi_c - th), "deg/h"), distribution="uniform",
-                    note=f"{len(cands)} positions {lo_c:.4g} … {hi_c:.4g} °/h between the last resolved failure "
-                         f"({L:.4g} °/h) and the first resolved pass"))
+                    note=msg("{n} positions {lo:.4g} … {hi:.4g} °/h between the last resolved failure ({L:.4g} °/h) "
+                             "and the first resolved pass", n=len(cands), lo=lo_c, hi=hi_c, L=L)))
         elif hidden is not None:
             i, th = hidden, abs(inputs[hidden])
             not_reportable.append(
-                f"no position reaches 50 % (D.39), and the output's quantization (up to "
-                f"±{math.hypot(points[i][2]['uq'], ref['uq']) * math.sqrt(3.0):.3g} °/h on a response) is as large as "
-                f"the inputs (at most {th:.4g} °/h): the threshold cannot be measured with this output; shown is the "
-                "largest input")
+                msg("no position reaches 50 % (D.39), and the output's quantization (up to ±{q:.3g} °/h on a "
+                    "response) is as large as the inputs (at most {th:.4g} °/h): the threshold cannot be measured "
+                    "with this output; shown is the largest input",
+                    q=math.hypot(points[i][2]['uq'], ref['uq']) * math.sqrt(3.0), th=th))
         else:
             i, th = raw_i, raw_th
             not_reportable.append(
-                f"no position's response is resolved at ≥ 50 % with the right sign at {conf:.0%} confidence "
-                f"(D.39's |ratio| alone first reaches 50 % at {th:.4g} °/h: {verdicts[i][1]})")
+                msg("no position's response is resolved at ≥ 50 % with the right sign at {conf:.0%} confidence "
+                    "(D.39's |ratio| alone first reaches 50 % at {th:.4g} °/h: {why})", conf=conf, th=th,
+                    why=verdicts[i][1]))
         seg, psi, m, Ni = points[i]
         smaller = [abs(x) for x in inputs if abs(x) < th]
         below = max(smaller) if smaller else 0.0
         uA = math.hypot(m["u"], ref["u"])
         nu = uA**4 / (m["u"] ** 4 / m["nu"] + ref["u"] ** 4 / ref["nu"]) if uA > 0 else math.inf
-        rows = [BudgetRow.type_a("noise of the response N̄*_i − N̄_0 (batch means), as an input rate", "√(u²(N̄*)+u²(N̄₀))",
-                                 Q_(uA, "deg/h"), nu, note=f"ratio {ratios[i] * 100:.1f} % against 50 %"),
-                BudgetRow.type_b("quantization of N̄*_i and N̄_0 (one count, or the rounding step, per mean)", "u_q",
+        rows = [BudgetRow.type_a(msg("noise of the response N̄*_i − N̄_0 (batch means), as an input rate"),
+                                 "√(u²(N̄*)+u²(N̄₀))", Q_(uA, "deg/h"), nu,
+                                 note=msg("ratio {r:.1f} % against 50 %", r=ratios[i] * 100)),
+                BudgetRow.type_b(msg("quantization of N̄*_i and N̄_0 (one count, or the rounding step, per mean)"), "u_q",
                                  Q_(math.hypot(m["uq"], ref["uq"]), "deg/h"), distribution="normal", k=1.0,
-                                 note="the resolution a response must clear as well as the noise"),
-                BudgetRow.type_b("step of the tilt series: the threshold lies between the next smaller input and Ω_i",
+                                 note=msg("the resolution a response must clear as well as the noise")),
+                BudgetRow.type_b(msg("step of the tilt series: the threshold lies between the next smaller input and Ω_i"),
                                  "(Ω_i − Ω_i−1)/2", Q_((th - below) / 2.0, "deg/h"), distribution="uniform",
-                                 note=f"next smaller input {below:.4g} °/h")]
+                                 note=msg("next smaller input {x:.4g} °/h", x=below))]
         rows += cand_row
         rows += _decision_row(inputs, ratios, [p[2]["u"] for p in points], ref["u"], i)
         c_psi = EARTH_RATE_DEG_PER_H * abs(math.sin(math.radians(psi)))
         table = campaign.equipment_for("tilt_table")
         if table is not None and "position_accuracy" in table.properties:
             acc = table.prop("position_accuracy", "arcsec", source=campaign.source)
-            rows.append(BudgetRow.type_b(f"tilt table position, Ψ_i and the reference ({table.describe()})", "δΨ",
+            rows.append(BudgetRow.type_b(msg("tilt table position, Ψ_i and the reference ({equipment})",
+                                             equipment=table.describe()), "δΨ",
                                          acc.to("rad"), distribution="uniform",
                                          sensitivity=Q_(math.hypot(c_psi, EARTH_RATE_DEG_PER_H), "deg/h/rad"),
-                                         note="∂(Ω_e cos Ψ)/∂Ψ = −Ω_e sin Ψ at Ψ_i and at Ψ = 90°"))
+                                         note=msg("∂(Ω_e cos Ψ)/∂Ψ = −Ω_e sin Ψ at Ψ_i and at Ψ = 90°")))
         lat_u = campaign.site.get("latitude_uncertainty")
         if lat_u is not None:
             lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
-            rows.append(BudgetRow.type_b("site latitude (sets the reference tilt)", "u(θ)", lu.to("rad"),
+            rows.append(BudgetRow.type_b(msg("site latitude (sets the reference tilt)"), "u(θ)", lu.to("rad"),
                                          distribution="uniform", sensitivity=Q_(c_psi, "deg/h/rad"),
-                                         note="a latitude error tilts every position by the same angle"))
+                                         note=msg("a latitude error tilts every position by the same angle")))
         rows += _scale_factor_row(conv, th, "deg/h")
         budget = UncertaintyBudget("Ω_i", "deg/h", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(th, "deg/h"), budget.combined, budget,
-                     note=f"Ψ_i = {psi:.6f}° (segment {seg.id}); N̄_0 from {refs[0].id}; each position counts only when "
-                     f"its response is resolved ({conf:.0%} confidence over the {len(points)} positions, "
-                     f"{conf_each:.4g} each)", earth_rate="not applicable",
-                     reportable=not not_reportable, reason="; ".join(not_reportable))
+                     note=msg("Ψ_i = {psi:.6f}° (segment {seg}); N̄_0 from {ref}; each position counts only when its "
+                              "response is resolved ({conf:.0%} confidence over the {n} positions, {each:.4g} each)",
+                              psi=psi, seg=seg.id, ref=refs[0].id, conf=conf, n=len(points), each=conf_each),
+                     earth_rate="not applicable",
+                     reportable=not not_reportable, reason=join("; ", not_reportable) if not_reportable else "")
         if not_reportable:
-            warnings.append("the threshold is NOT REPORTABLE: " + "; ".join(not_reportable))
+            warnings.append(msg("the threshold is NOT REPORTABLE: {reason}", reason=join("; ", not_reportable)))
         order = np.argsort(np.abs(inputs))
-        plot = PlotSpec("threshold_ratio", "Response against the expected one (D.39)", "Ω_e cos Ψ_i (°/h)",
+        plot = PlotSpec("threshold_ratio", msg("Response against the expected one (D.39)"), "Ω_e cos Ψ_i (°/h)",
                         "|(N̄* − N̄₀)/N_i| (%)",
                         [{"label": "D.39 ratio", "x": [abs(inputs[k]) for k in order],
                           "y": [abs(ratios[k]) * 100 for k in order], "style": "o-"},
                          {"label": "50 %", "x": [abs(inputs[k]) for k in order[[0, -1]]], "y": [50, 50], "style": "--"}],
                         logx=True)
-        tab = TableSpec("tilt_positions", "Tilt positions (D.37–D.39)",
-                        ["segment", "Ψ_i (°)", "Ω_e cos Ψ_i (°/h)", "N_i (D.37)" + (" (P)" if pulse else " (°/h)"),
-                         "N̄*_i (D.38)" + (" (P)" if pulse else " (°/h)"), "ratio (%)", "decision"], rows_t)
+        tab = TableSpec("tilt_positions", msg("Tilt positions (D.37–D.39)"),
+                        [msg("segment"), "Ψ_i (°)", "Ω_e cos Ψ_i (°/h)", "N_i (D.37)" + (" (P)" if pulse else " (°/h)"),
+                         "N̄*_i (D.38)" + (" (P)" if pulse else " (°/h)"), msg("ratio (%)"), msg("decision")], rows_t)
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[tab],
                        warnings=warnings, segments=[refs[0].id] + [p[0].id for p in points],
                        options={k: str(v) for k, v in opts.items()})
@@ -272,16 +278,16 @@ def _decision_row(inputs: list[float], ratios: list[float], u_pos: list[float], 
     half, why = 0.0, []
     if larger and doubtful(i):
         half = max(half, min(larger) - th)
-        why.append(f"Ω_i's ratio {abs(ratios[i]) * 100:.1f} % is within 2u of 50 %")
+        why.append(msg("Ω_i's ratio {r:.1f} % is within 2u of 50 %", r=abs(ratios[i]) * 100))
     if smaller:
         v, j = max(smaller)
         if doubtful(j):
             half = max(half, th - v)
-            why.append(f"the next smaller input's ratio {abs(ratios[j]) * 100:.1f} % is within 2u of 50 %")
+            why.append(msg("the next smaller input's ratio {r:.1f} % is within 2u of 50 %", r=abs(ratios[j]) * 100))
     if half == 0.0:
         return []
-    return [BudgetRow.type_b("50 % decision near the noise: the threshold may be the neighbouring position",
-                             "ΔΩ (neighbour)", Q_(half, "deg/h"), distribution="uniform", note="; ".join(why))]
+    return [BudgetRow.type_b(msg("50 % decision near the noise: the threshold may be the neighbouring position"),
+                             "ΔΩ (neighbour)", Q_(half, "deg/h"), distribution="uniform", note=join("; ", why))]
 
 
 def _levels(text: Any) -> list[float]:
@@ -350,7 +356,7 @@ def _resolved(x: float, ratio: float, m: Mapping[str, Any], ref: Mapping[str, An
     tq = float(student.ppf(conf, nu)) if math.isfinite(nu) else float(student.ppf(conf, 1e9))
     d = ratio * x
     need = E.THRESHOLD_FRACTION * x
-    text = f"response {d:.3g} ± {tq * u:.2g} °/h against 50 % = {need:.3g} °/h"
+    text = msg("response {d:.3g} ± {u:.2g} °/h against 50 % = {need:.3g} °/h", d=d, u=tq * u, need=need)
     if d - tq * u >= need:
         return "resolved ≥ 50 %", text
     if d + tq * u < need:
