@@ -321,3 +321,31 @@ def test_d53_chi_square_row_covers_sigma():
 
     U_lin = t.ppf(0.97725, 6) * s / math.sqrt(12)
     assert np.mean(np.abs(s - 1.0) <= U_lin) < 0.94
+
+
+@pytest.mark.parametrize("cls", sorted(DEVICE_CLASSES))
+def test_every_applicable_item_per_device_class(pm, cls):
+    """Issue 13, in the default run: three devices of each class through every item that applies to
+    the class's device (clause 6.2.7.1's method rule, `--all`), full-length records. Every result
+    with an expected value is within U or declared not reportable with a reason, one miss in eight
+    at most over the class (a 95 % interval misses one in twenty); no item ends in an error. The
+    200-device tables are on docs/standards/gbt45570.md."""
+    from metro.core.runner import select_items, station_device
+
+    so = {"device_class": cls}
+    items, _ = select_items(pm, "gbt45570", [], run_all=True, device=station_device(pm, "simulated", so | {"seed": 1}))
+    misses, n = [], 0
+    for seed in (1, 2, 3):
+        rec = run_items(pm, "gbt45570", items, station="simulated", station_options=so | {"seed": seed})
+        exp = rec.campaign.expected
+        for o in rec.outcomes:
+            for r in o.results:
+                if r.metric.key not in exp:
+                    continue
+                n += 1
+                if not r.reportable:
+                    assert r.reason, (o.item, r.metric.key)
+                    continue
+                if r.U is None or abs(float((r.value - exp[r.metric.key]).to(r.metric.unit).magnitude)) > float(r.U.magnitude):
+                    misses.append((seed, o.item, r.metric.key))
+    assert n >= 3 * 20 and len(misses) <= n // 8, misses
