@@ -39,23 +39,28 @@ from .scale_factor import ScaleFactor
 
 
 def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign, what: str):
-    """Result for a grid-searched quantity: the larger |candidate| of the two directions, as
-    7.2.9.1 f) / 7.2.10.1 g) report it.  The candidate meets eq. (17)/(18) and the next smaller
-    level does not, so the true value lies in (next level, candidate] (or (0, candidate] when
-    every level passed): the candidate errs by 0 … one step, always upward.  Its standard
-    uncertainty about the candidate is the RMS of that one-sided error, step/√3, written as a
-    uniform of half-width one step (interpretations.md, "7.2.9 / 7.2.10")."""
+    """Result for a grid-searched quantity, from the larger |candidate| of the two directions, as
+    7.2.9.1 f) / 7.2.10.1 g) pick it.  The candidate meets eq. (17)/(18) and the next smaller
+    level does not, so the true value lies in (next level, candidate] (or (0, candidate] when every
+    level passed): nothing more is known of where.  Reported as the middle of that interval with a
+    uniform half-width of half the step, u = step/√12 (JJF 1059.1's rectangular distribution); the
+    candidate, an upper bound, is in the note (interpretations.md, "7.2.9 / 7.2.10")."""
     d = max(cands, key=lambda k: abs(cands[k][0]))
     val, nxt = cands[d]
-    step = abs(val) - abs(nxt) if nxt is not None else abs(val)
-    rows = [BudgetRow.type_b(msg("step of the {what} levels ({direction}): true value in (next level, candidate]",
-                                 what=what, direction=d), "Δ",
-                             Q_(step, "deg/s"), distribution="uniform",
-                             note=msg("one-sided: the candidate errs by 0 … Δ, u = Δ/√3"))]
+    hi, lo = abs(val), (abs(nxt) if nxt is not None else 0.0)
+    mid, half = (hi + lo) / 2.0, (hi - lo) / 2.0
+    rows = [BudgetRow.type_b(msg("step of the {what} levels ({direction}): true value in ({lo:g}, {hi:g}] °/s",
+                                 what=what, direction=d, lo=lo, hi=hi), "Δ/2",
+                             Q_(half, "deg/s"), distribution="uniform",
+                             note=msg("the middle of the interval between the failing and the candidate level, "
+                                      "u = Δ/√12"))]
     rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", _cal(campaign, "rate_table"),
-                                       Q_(abs(val), "deg/s"))
+                                       Q_(mid, "deg/s"))
     b = B.type_a_budget(metric.key, "deg/s", rows)
-    return Result(metric, Q_(abs(val), "deg/s"), b.combined, b, note=msg("larger in the {direction} direction", direction=d))
+    return Result(metric, Q_(mid, "deg/s"), b.combined, b,
+                  note=msg("larger in the {direction} direction: the level that meets the criterion (the standard's "
+                           "value) is {hi:g} °/s, the next smaller one ({lo:g} °/s) does not; reported as the middle "
+                           "of ({lo:g}, {hi:g}]", direction=d, hi=hi, lo=lo))
 
 
 def _rounding_check(campaign, res: Result, pairs: list[tuple[str, Segment, Segment, float]], K: float,
