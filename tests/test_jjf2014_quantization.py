@@ -127,3 +127,21 @@ def test_device_class_analog_coarser_truth_within_U(pm, items):
         checks += [c for c in truth_checks(rec) if c["key"] not in flagged]
     bad = [c for c in checks if not c["within_U"]]
     assert len(bad) <= max(1, len(checks) // 8), bad
+
+
+def test_bias_family_on_a_coarse_output(pm):
+    """The biases of 7.2.15–7.2.19 are means of 1 s records, not dithered on a 0.2 mV output: each is
+    off by up to ±q/2/K ≈ 18 °/h against a repeatability of 1.8 °/h.  Before, B_r came out 0 or one
+    step (within U in 7 of 12 seeds, mean E_n −3.5) and B_t, ΔB_shock, ΔB_vib in 6–8 of 12.  Now B_r is
+    not reportable (the spread may be rounding alone) and the differences carry a rounding row per record
+    and are within U."""
+    rec = _run(pm, ["7.2.15", "7.2.16", "7.2.18"], 2)
+    br = _result(rec, "Br")
+    assert not br.reportable and "rounding alone" in br.reason
+    for key in ("Bt", "dB_shock"):
+        r = _result(rec, key)
+        q = [x for x in r.budget.rows if x.symbol == "δF_q"]
+        assert len(q) == 2 and all("not average out" in x.note for x in q)
+        assert abs(r.value - rec.campaign.expected[key]) <= r.U
+    fine = _run(pm, ["7.2.15"], 2, cls="analog-coarse")
+    assert _result(fine, "Br").reportable

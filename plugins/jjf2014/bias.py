@@ -99,12 +99,19 @@ class BiasValue:
         x, dt = _output(seg)
         if x.size < 2 * batches:
             raise DataError(seg.file or seg.id, "output", f"{x.size} samples are too few for {batches} batch means")
-        self.seg, self.x, self.dt = seg, x, dt
+        self.seg, self.x, self.dt, self.K = seg, x, dt, K
         self.Fbar = F.mean_output_eq2(x)
         self.B0 = F.bias_eq27_28(x, K) * 3600.0 - earth  # °/h
         sd, nb = allan.block_std(x, x.size // batches)
         self.uA = sd / math.sqrt(nb) / abs(K) * 3600.0
         self.dof = nb - 1
+
+
+def _rounded(campaign: Campaign, bv: BiasValue, what, scale: float, unit: str) -> list[BudgetRow]:
+    """The rounding row of one bias record on a digitised output, times ``scale`` (as :func:`_single`):
+    ±q/2 on F̄ when the noise does not dither the rounding, else the Widrow bound, over K
+    (interpretations.md, "JJF 2014 — output quantization")."""
+    return rounding_row_mean(campaign, bv.x, what, scale * 3600.0 / abs(bv.K), unit)
 
 
 def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: str) -> BudgetRow:
@@ -225,13 +232,23 @@ class BiasRepeatability(_JJF):
         bvs = [BiasValue(g[0], K) for _, g in sorted(runs.items())]
         br = F.std_bessel([b.B0 for b in bvs], "eq. (30)")
         u, dof = B.std_of_std(br, len(bvs))
+        # the rounding of each B_0i moves their standard deviation by at most the largest half-width; when
+        # that reaches B_r itself, the spread may be rounding alone (interpretations.md, output quantization)
+        qrows = max((_rounded(campaign, x, msg("each B_0i (the standard deviation moves by at most its "
+                                                "half-width)"), 1.0, "deg/h") for x in bvs),
+                    key=lambda r: r[0].value.magnitude if r else -1.0)
         b = B.type_a_budget("Br", "deg/h", [
             _budget_row_a("sampling of a standard deviation of Q values", "B_r/√(2(Q−1))", u, "deg/h", dof),
-            kv.row(br, "deg/h")])
+            kv.row(br, "deg/h"), *qrows])
+        why = ""
+        if qrows and qrows[0].value.to("deg/h").magnitude >= br:
+            why = msg("the rounding of the output moves each B_0i by up to ±{hw:.3g} °/h, no less than their "
+                      "spread B_r = {br:.3g} °/h: the spread may be rounding alone (digitise more finely)",
+                      hw=qrows[0].value.to("deg/h").magnitude, br=br)
         tab = TableSpec("bias_runs", msg("B_0i per run"), [msg("run"), "B_0i (°/h)", "u_A (°/h)"],
                         [[k, f"{x.B0:.5g}", f"{x.uA:.2g}"] for k, x in zip(sorted(runs), bvs)])
-        return self._outcome([Result(self.metrics[0], Q_(br, "deg/h"), b.combined, b)], tables=[tab],
-                             segments=[x.seg.id for x in bvs], opts=opts)
+        return self._outcome([Result(self.metrics[0], Q_(br, "deg/h"), b.combined, b, reportable=not why,
+                                     reason=why)], tables=[tab], segments=[x.seg.id for x in bvs], opts=opts)
 
 
 class BiasTemperature(_JJF):
@@ -273,6 +290,8 @@ class BiasTemperature(_JJF):
         rep = bias_repeatability(campaign, K)
         rows = [_single(bvs[i], rep, f"B₀ at {temps[i]:g} °C", 1 / dT, "deg/h/delta_degC"),
                 _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC"),
+                *_rounded(campaign, bvs[i], f"B₀ at {temps[i]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
+                *_rounded(campaign, bvs[m], f"B₀ at {temps[m]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 kv.row(bt, "deg/h/delta_degC")]
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
         b = B.type_a_budget("Bt", "deg/h/delta_degC", rows)
@@ -324,6 +343,8 @@ class BiasAcceleration(_JJF):
         rep = bias_repeatability(campaign, K)
         rows = [_single(v["up"], rep, msg("B₀ {axis} up", axis=worst), 0.5, "deg/h/gn"),
                 _single(v["down"], rep, msg("B₀ {axis} down", axis=worst), 0.5, "deg/h/gn"),
+                *_rounded(campaign, v["up"], msg("B₀ {axis} up", axis=worst), 0.5, "deg/h/gn"),
+                *_rounded(campaign, v["down"], msg("B₀ {axis} down", axis=worst), 0.5, "deg/h/gn"),
                 kv.row(bg, "deg/h/gn")]
         b = B.type_a_budget("Bg", "deg/h/gn", rows)
         w = [] if len(per) == 3 else [msg("only axes {axes} tested", axes=", ".join(per))]
@@ -371,6 +392,8 @@ class _BiasChange(_JJF):
         b = B.type_a_budget(self.metrics[0].key, "deg/h", [
             _single(v1, rep, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
             _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
+            *_rounded(campaign, v1, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
+            *_rounded(campaign, v2, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
             kv.row(db, "deg/h")])
         w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for 3)", axes=", ".join(per))]
         tab = TableSpec("per_axis", msg("B₀ before/after shock") if self.what == "shock" else msg("B₀ before/after vibration"),
