@@ -51,7 +51,7 @@ class ScaleFactor(_JJF):
     title = "Scale factor (标度因数)"
     clause = "7.2.1"
     metrics = (Metric("K", "scale factor", "K", KU, "7.2.1.2", "4"),
-               Metric("F0", "fitted zero (拟合零位)", "F₀", "mV", "7.2.1.2", "5"))
+               Metric("F0", "fitted zero", "F₀", "mV", "7.2.1.2", "5"))
     requires = (SegmentRequirement("rate", "rate table at Ω_i, IRA ∥ table axis; ≥ 11 rates per direction incl. "
                                    "the maximum, ≥ 10 samples at 1 s each (7.2.1.1)", {"rate": "deg/s"},
                                    {"output": ("mV",)}, min_count=22),)
@@ -100,7 +100,7 @@ class NonlinearityRange(_JJF):
     title = "Scale-factor nonlinearity and range (标度因数非线性度和量程)"
     clause = "7.2.2"
     metrics = (Metric("Kn", "scale-factor nonlinearity", "K_n", "", "7.2.2.2", "8"),
-               Metric("range", "range (量程)", "Ω_max", "deg/s", "7.2.2.2", "prose after eq. 8"))
+               Metric("range", "range", "Ω_max", "deg/s", "7.2.2.2", "prose after eq. 8"))
     requires = ScaleFactor.requires
     options = RATE_OPTS + (Option("nonlinearity_limit", "", None,
                                   "required K_n for the range (default: device.nonlinearity_spec)"),)

@@ -1,0 +1,134 @@
+"""Issue 16 point 5: every string a document prints comes through the message catalog.
+
+One full simulated run per standard (``--all``, as ``metro run -s S --all`` runs it; GB/T also a
+coarse pulse device whose threshold and repeatability are not reportable, so reasons appear) is
+rendered in zh, en and zh+en from the same context.  The zh document must hold no English prose:
+no run of three or more purely alphabetic ASCII words outside a short allowlist; the en document
+no Chinese; the zh+en document both.  The terminal's --json output stays English.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from metro.core import report
+from metro.core.plugins import get_plugin_manager
+from metro.core.runner import run_items
+
+CJK = re.compile(r"[\u3000-\u303f\u4e00-\u9fff\uff00-\uffef]")
+#: three or more alphabetic ASCII words in a row (spaces or no-break spaces between them), not
+#: part of a file name, a path, a code key or a hyphenated word
+PROSE = re.compile(r"(?<![\w./\\\-])[A-Za-z]+(?:[ \u00a0]+[A-Za-z]+){2,}(?![\w/\\\-])")
+#: what may stay in English in a Chinese document: names of software and the report's identity
+ALLOW = ("metro simulator",)
+
+CASES = {
+    "ogam": ("ogam", [], True, {}),
+    "jjf2003": ("jjf2003", [], True, {}),
+    "jjf2014": ("jjf2014", [], True, {}),
+}
+
+
+def _texts(doc) -> list[str]:
+    """Every paragraph of the body, the tables (nested too) and the headers and footers."""
+    out = []
+
+    def tables(ts):
+        for t in ts:
+            for row in t.rows:
+                seen = set()
+                for c in row.cells:
+                    if id(c._tc) in seen:
+                        continue
+                    seen.add(id(c._tc))
+                    out.extend(p.text for p in c.paragraphs)
+                    tables(c.tables)
+
+    out.extend(p.text for p in doc.paragraphs)
+    tables(doc.tables)
+    for s in doc.sections:
+        for part in (s.header, s.footer):
+            out.extend(p.text for p in part.paragraphs)
+            tables(part.tables)
+    return out
+
+
+def english_prose(texts: list[str]) -> list[str]:
+    found = []
+    for t in texts:
+        for m in PROSE.finditer(t):
+            if m.group().replace("\u00a0", " ") not in ALLOW:
+                found.append(f"{m.group()!r} in {t[:160]!r}")
+    return found
+
+
+@pytest.fixture(scope="module")
+def pm():
+    return get_plugin_manager()
+
+
+@pytest.fixture(scope="module", params=sorted(CASES))
+def rendered(request, pm, tmp_path_factory):
+    """One run per case; its context rendered in the three languages (figures drawn once)."""
+    standard, items, run_all, so = CASES[request.param]
+    rec = run_items(pm, standard, items, run_all=run_all, station_options=so)
+    ctx = report.build_context(rec, extend=pm.extend_report_context)
+    tmp = tmp_path_factory.mktemp(request.param)
+    figures = report.render_figures(ctx, tmp)
+    layout = pm.template_for(standard).layout
+    docs = {}
+    for lang in ("zh", "en", "zh+en"):
+        doc = report.build_document(ctx, tmp, layout=layout, lang=lang, figures=figures)
+        docs[lang] = (doc, _texts(doc.doc))
+    return request.param, rec, docs
+
+
+def test_a_chinese_document_has_no_english_prose(rendered):
+    case, _rec, docs = rendered
+    doc, texts = docs["zh"]
+    assert not doc.tr.missing, sorted(doc.tr.missing)
+    bad = english_prose(texts)
+    assert not bad, f"{case}: {len(bad)} English runs, e.g.\n" + "\n".join(bad[:15])
+
+
+def test_an_english_document_has_no_chinese(rendered):
+    case, _rec, docs = rendered
+    _doc, texts = docs["en"]
+    bad = [t for t in texts if CJK.search(t)]
+    assert not bad, f"{case}: {bad[:10]}"
+
+
+def test_a_bilingual_document_has_both_and_every_note_in_both(rendered):
+    case, rec, docs = rendered
+    _doc, texts = docs["zh+en"]
+    text = "\n".join(texts).replace("\u00a0", " ")
+    assert CJK.search(text) and english_prose(texts)
+    zh_text = "\n".join(docs["zh"][1]).replace("\u00a0", " ")
+    # a note of the run (a message): its Chinese in the zh document, its English in the zh+en one
+    from metro.core.document import glue, subscript_runs
+    from metro.core.locale import translator
+
+    def printed(s: str) -> str:  # as a document's text reads it: no-break spaces, real subscripts
+        s = glue(s).replace("\u00a0", " ").replace("\u2060", "")
+        return "\n".join("".join(p for p, _ in subscript_runs(line)) for line in s.split("\n"))
+
+    note = next(r.note for o in rec.outcomes for r in o.results if r.note and getattr(r.note, "msgid", None))
+    assert printed(translator("zh").text(note)) in zh_text.replace("\u2060", "")
+    assert printed(str(note)) in text.replace("\u2060", "")
+
+
+def test_terminal_json_stays_english(capsys):
+    """--lang changes the document only: the --json output (notes, reasons, budget sources) is English."""
+    from metro.core.cli import main
+
+    code = main(["run", "-s", "ogam", "-i", "7.1,7.2,7.4", "--lang", "zh", "--json", "-q", "--no-report"])
+    out = capsys.readouterr().out
+    assert code == 0, out[-2000:]
+    doc = json.loads(out)
+    notes = [r["note"] for r in doc["results"]]
+    sources = [row["source"] for b in doc["budgets"] for row in b["rows"]]
+    assert any("earth rate removed" in n for n in notes) and "scatter of the rounds' K_i" in sources
+    assert not any(CJK.search(t) for t in notes + sources)
