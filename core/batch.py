@@ -420,57 +420,44 @@ def _fmt(x: float | None) -> str:
 
 def _lot_report(path: Path, job: Job, summary: Mapping[str, Any], stats: Sequence[Mapping[str, Any]]) -> None:
     """A one-page Word lot report: what was evaluated, the lot's verdicts, the judged quantities'
-    statistics and yield, the campaigns that failed; the per-device reports hold the detail."""
+    statistics and yield, the campaigns that failed; the per-device reports hold the detail.
+    Laid out by :class:`metro.core.document.DocumentBuilder` as every metro document is (A4, the
+    header with "page x of y", columns that fit their numbers, symbols with subscripts); in
+    English (a lab's internal summary: the devices' reports carry the document language)."""
     import datetime as dt
 
-    from docx import Document
-    from docx.shared import Cm, Pt
-
     from . import __version__
+    from .document import DocumentBuilder, quantity_name
+    from .locale import translator
 
-    doc = Document()
-    sec = doc.sections[0]
-    sec.left_margin = sec.right_margin = Cm(1.5)
-    sec.top_margin = sec.bottom_margin = Cm(1.5)
-    style = doc.styles["Normal"]
-    style.font.size = Pt(9)
-    doc.add_heading(f"Lot summary — {job.standard}", level=1)
+    now = dt.datetime.now(dt.timezone.utc)
+    doc = DocumentBuilder(number=f"LOT-{job.standard}-{now:%Y%m%d-%H%M}", title="Lot summary",
+                          tr=translator("en"), footer=f"metro {__version__}")
+    doc.heading(f"Lot summary — {job.standard}", 1)
     c = summary["counts"]
     items = "every applicable item" if job.run_all else ", ".join(job.items)
-    doc.add_paragraph(f"Items: {items}. Campaigns: {summary['campaigns']} ({c['evaluated']} evaluated, "
-                      f"{c['error']} failed). Devices: {c['pass']} conform, {c['fail']} do not conform, "
-                      f"{c['indeterminate']} indeterminate, {c['not judged']} not judged. "
-                      f"Written {dt.datetime.now(dt.timezone.utc):%Y-%m-%d %H:%M} UTC by metro {__version__}.")
+    doc.para(f"Items: {items}. Campaigns: {summary['campaigns']} ({c['evaluated']} evaluated, "
+             f"{c['error']} failed). Devices: {c['pass']} conform, {c['fail']} do not conform, "
+             f"{c['indeterminate']} indeterminate, {c['not judged']} not judged. "
+             f"Written {now:%Y-%m-%d %H:%M} UTC by metro {__version__}.")
     shown = [s for s in stats if s["judged"]] or list(stats)
     shown = shown[:28]  # one page; lot-statistics.csv has every quantity
-    heads = ("item", "quantity", "unit", "n", "mean", "σ", "min", "max", "limit", "yield")
-    widths = (1.4, 3.2, 1.2, 0.8, 1.9, 1.9, 1.9, 1.9, 2.0, 1.6)  # cm, 17.8 in all
-    t = doc.add_table(rows=1, cols=len(heads))
-    t.style = "Light Grid Accent 1"
-    t.autofit = False
-    for cell, h in zip(t.rows[0].cells, heads):
-        cell.text = h
-    for s in shown:
-        row = t.add_row().cells
-        vals = (s["item"], f"{s['quantity']} {s['symbol']}", s["unit"], str(s["n"]), _fmt(s["mean"]), _fmt(s["std"]),
-                _fmt(s["min"]), _fmt(s["max"]), s["limit"] or "–",
-                "–" if s["yield"] is None else f"{100 * s['yield']:.0f} % ({s['pass']}/{s['judged']})")
-        for cell, v in zip(row, vals):
-            cell.text = v
-    for col, w in zip(t.columns, widths):  # the grid (LibreOffice reads it) and every cell (Word does)
-        col.width = Cm(w)
-        for cell in col.cells:
-            cell.width = Cm(w)
+    heads = ("Item", "Quantity", "Unit", "n", "Mean", "σ", "Min", "Max", "Limit", "Yield")
+    rows = [(s["item"], quantity_name({"quantity": s["quantity"], "symbol": s["symbol"], "key": s.get("key", "")}),
+             s["unit"], str(s["n"]), _fmt(s["mean"]), _fmt(s["std"]), _fmt(s["min"]), _fmt(s["max"]),
+             s["limit"] or "–", "–" if s["yield"] is None else f"{100 * s['yield']:.0f} % ({s['pass']}/{s['judged']})")
+            for s in shown]
+    if rows:
+        doc.table(heads, rows, font_pt=8, prefer=1)
     if len(shown) < len([s for s in stats if s["judged"]] or stats):
-        doc.add_paragraph("… more quantities in lot-statistics.csv.")
+        doc.para("… more quantities in lot-statistics.csv.")
     failed = [o for o in summary["devices"] if o["status"] == "error"]
     if failed:
-        doc.add_paragraph("Campaigns that could not be evaluated:")
-        for o in failed:
-            doc.add_paragraph(f"{o['name']} ({o['campaign']}): {o['error']}: {o['message']}", style="List Bullet")
-    doc.add_paragraph("Yield: devices whose verdict is pass, of those judged, per quantity. Each device's report "
-                      "(devices/<name>/) carries its results, budgets and verdicts; lot-results.csv/.parquet list "
-                      "every result; histograms/ plots the judged quantities.")
+        doc.para("Campaigns that could not be evaluated:", keep_next=True)
+        doc.bullets([f"{o['name']} ({o['campaign']}): {o['error']}: {o['message']}" for o in failed], size=8.5)
+    doc.para("Yield: devices whose verdict is pass, of those judged, per quantity. Each device's report "
+             "(devices/<name>/) carries its results, budgets and verdicts; lot-results.csv/.parquet list "
+             "every result; histograms/ plots the judged quantities.", size=8.5)
     doc.save(path)
 
 

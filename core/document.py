@@ -156,16 +156,28 @@ def text_mm(text: str, pt: float, bold: bool = False) -> float:
 
 
 def _words(text: str) -> list[str]:
-    """The pieces a line may not break inside: split at ordinary spaces, line breaks and
-    between CJK characters (a no-break space joins)."""
+    """The pieces a line may not break inside: split at ordinary spaces, line breaks, between
+    CJK characters, before a full-width ``（`` and after ``）`` (a no-break space joins).
+
+    >>> _words("chamber)（∂B/∂T）and 温箱 x")
+    ['chamber)', '（∂B/∂T）', 'and', '温', '箱', 'x']
+    """
     out = []
     for part in re.split(r"[ \n\t]+", text):
         buf = ""
         for c in part:
-            if unicodedata.east_asian_width(c) in ("W", "F") and c not in "（）":
+            if c == "（":  # a line may break before a full-width opening parenthesis ...
                 if buf:
                     out.append(buf)
-                out.append(c)
+                buf = c
+            elif c == "）":  # ... and after a closing one
+                out.append(buf + c)
+                buf = ""
+            elif unicodedata.east_asian_width(c) in ("W", "F"):
+                if buf and buf != "（":
+                    out.append(buf)
+                    buf = ""
+                out.append(buf + c)
                 buf = ""
             else:
                 buf += c
@@ -189,7 +201,7 @@ def _two_lines(header: str) -> str:
 
 def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
                   bold_first: bool = True, bold_column: bool = False,
-                  prefer: int | None = None, prefer_share: float = 0.6) -> list[float] | None:
+                  prefer: int | None = None, prefer_share: float = 0.6, squeeze: bool = False) -> list[float] | None:
     """Column widths (mm) summing to ``total_mm`` for cells ``columns[j][i]`` at ``pt`` points,
     or None when the longest unbreakable words alone do not fit.
 
@@ -204,7 +216,9 @@ def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
                     * 1.03 + pad)
         wants.append(max((text_mm(cell, pt, b) for cell, b in zip(col, bold)), default=0.0) * 1.03 + pad)
     if sum(mins) > total_mm:
-        return None
+        # the longest words alone do not fit: None, or (squeeze) widths in proportion to them,
+        # so the columns whose words are longest stay widest (a word may then break)
+        return [m * total_mm / sum(mins) for m in mins] if squeeze else None
     wants = [max(w, m) for w, m in zip(wants, mins)]
     if sum(wants) <= total_mm:
         spare = total_mm - sum(wants)
@@ -337,9 +351,15 @@ class DocumentBuilder:
 
     # -- page furniture ------------------------------------------------------------------
 
-    def _field(self, paragraph, instr: str, shown: str) -> None:
+    def _field(self, paragraph, instr: str, shown: str, half_points: int = 16) -> None:
+        """A Word field (PAGE, NUMPAGES) in the header's 8-point type (its number was drawn in the
+        body size, larger than the words around it)."""
         fld = _el("w:fldSimple", instr=f" {instr} \\* MERGEFORMAT ")
         r = _el("w:r")
+        rpr = _el("w:rPr")
+        rpr.append(_el("w:sz", val=str(half_points)))
+        rpr.append(_el("w:szCs", val=str(half_points)))
+        r.append(rpr)
         t = _el("w:t")
         t.text = shown
         r.append(t)
@@ -493,8 +513,9 @@ class DocumentBuilder:
             pt = max(MIN_TABLE_PT, pt - 0.5)
             widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
                                    prefer=prefer, prefer_share=prefer_share)
-        if widths is None:  # still too wide: equal shares (a word may then break)
-            widths = [width_mm / n] * n
+        if widths is None:  # still too wide: in proportion to the longest words (a word may then break)
+            widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
+                                   squeeze=True)
         t = self.doc.add_table(rows=len(everything), cols=n)
         t.style = "Table Grid"
         t.alignment = WD_TABLE_ALIGNMENT.CENTER

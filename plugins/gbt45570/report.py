@@ -388,8 +388,8 @@ def _ranges(nums: list[int]) -> str:
     return ", ".join(out)
 
 
-def _first_results(tr, text: str, keep: int = 2) -> str:
-    """The first ``keep`` results of a clause-5 row (``a = 1; b = 2; c = 3``), then how many more
+def _first_results(tr, text: str, keep: int = 1) -> str:
+    """The first ``keep`` result(s) of a clause-5 row (``a = 1; b = 2; c = 3``), then how many more
     the results table holds: a 5.4 test's seven results are on page 1 already."""
     parts = [p for p in re.split(r";\s+(?![^\[]*\])", text) if p]
     more = 0
