@@ -262,8 +262,9 @@ class Segment:
         """SHA-256 of the raw data: as given, or as computed by the reader while loading."""
         if self.sha256:
             return self.sha256
-        if "cols" in self._cache:
-            return getattr(self._cache["cols"], "sha256", None)
+        for key in ("raw", "cols"):  # the reader's columns carry it (a ratiometric conversion copies them)
+            if key in self._cache and getattr(self._cache[key], "sha256", None):
+                return self._cache[key].sha256
         return None
 
     def series(self, column: str, dimension: str | Sequence[str]) -> Series:
