@@ -430,7 +430,12 @@ def _cmd_run(args) -> int:
     if not args.no_report:  # checked before anything is evaluated (core.outputs)
         from .outputs import manifest_inputs, plan_report
 
-        plan_report(args.report, args.out, force=args.force, inputs=manifest_inputs(args.data))
+        plan_report(args.report, args.out, force=args.force, inputs=manifest_inputs(args.data),
+                    pdf=getattr(args, "pdf", False))
+        if getattr(args, "pdf", False) or str(args.report or "").lower().endswith(".pdf"):
+            from .document import soffice_path
+
+            soffice_path()  # no LibreOffice: said now, before anything is evaluated
     banner = _Banner(SIMULATED_BANNER if args.data is None and not args.json and not args.quiet else None)
     with present.progress(enabled=_show_progress(args), started=banner) as prog:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,

@@ -166,7 +166,8 @@ def write_run_report(args, pm, record, prog=None):
         p, record, template=info.path, layout=info.layout, designations=designations,
         extend=pm.extend_report_context, register=unregistered(record, why, lang or "zh+en"), lang=lang,
         pdf=getattr(args, "pdf", False)),
-        force=getattr(args, "force", False), option="--report" if args.report else "--out")
+        force=getattr(args, "force", False), option="--report" if args.report else "--out",
+        pdf=getattr(args, "pdf", False))
     record.timings["write report"] = time.perf_counter() - t0
     pm.report_written(path, record.outcomes)
     from .registering import NOT_REGISTERED

@@ -22,10 +22,9 @@ import attrs
 from .errors import DataError
 
 #: report formats metro writes, by suffix (lower case)
-REPORT_FORMATS: dict[str, str] = {".docx": "Word (OOXML)"}
+REPORT_FORMATS: dict[str, str] = {".docx": "Word (OOXML)", ".pdf": "PDF/A-2b through LibreOffice"}
 #: suffixes refused with a specific reason
 _NOT_YET: dict[str, str] = {
-    ".pdf": "metro writes the report as Word (.docx); convert it with `soffice --headless --convert-to pdf`",
     ".doc": "metro writes Word 2007+ (.docx), not the old .doc format",
 }
 
@@ -112,12 +111,17 @@ def check_report_path(path: Path, *, force: bool, inputs: Iterable[Path], option
     check_writable_folder(path.parent, option, path)
 
 
-def plan_report(report: str | None, out: str, *, force: bool, inputs: Iterable[Path]) -> ReportTarget:
-    """Check ``--report`` / ``--out`` before anything is evaluated; return where the report goes."""
+def plan_report(report: str | None, out: str, *, force: bool, inputs: Iterable[Path],
+                pdf: bool = False) -> ReportTarget:
+    """Check ``--report`` / ``--out`` before anything is evaluated; return where the report goes.
+    With ``pdf`` (``--pdf``) the ``.pdf`` beside a ``--report`` ``.docx`` is checked the same way
+    (never an input, an existing one only with ``--force``)."""
     inputs = list(inputs)
     if report is not None:
         p = Path(report)
         check_report_path(p, force=force, inputs=inputs)
+        if pdf and p.suffix.lower() != ".pdf":
+            check_report_path(p.with_suffix(".pdf"), force=force, inputs=inputs)
         return ReportTarget(p, p.parent, force)
     d = Path(out)
     if d.exists() and not d.is_dir():
@@ -127,7 +131,7 @@ def plan_report(report: str | None, out: str, *, force: bool, inputs: Iterable[P
     return ReportTarget(None, d, force)
 
 
-def write_checked(path: Path, campaign, writer, *, force: bool, option: str = "--report") -> Path:
+def write_checked(path: Path, campaign, writer, *, force: bool, option: str = "--report", pdf: bool = False) -> Path:
     """Write the report with ``writer(path)`` after checking ``path`` once more against the
     campaign as read (its manifest and every samples file are inputs); folders made for it are
     removed again if the write fails, and an ``OSError`` (a full or read-only file system) is a
@@ -137,6 +141,8 @@ def write_checked(path: Path, campaign, writer, *, force: bool, option: str = "-
     inputs = [Path(p) for p in (campaign.source if getattr(campaign, "manifest_sha256", "") else None,
                                 *(s.file for s in campaign.segments)) if p]
     check_report_path(path, force=force, inputs=inputs, option=option)
+    if pdf and path.suffix.lower() != ".pdf":  # --pdf: the PDF beside the .docx, checked the same way
+        check_report_path(path.with_suffix(".pdf"), force=force, inputs=inputs, option=option)
     made = [p for p in (path.parent, *path.parent.parents) if not p.exists()]
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -449,7 +449,6 @@ STATION_CASES = [
 ]
 
 OUTPUT_CASES = [
-    ("report-pdf", "r.pdf", (), "--report"),
     ("report-txt", "r.txt", (), "--report"),
     ("report-no-suffix", "report", (), "--report"),
     ("report-doc", "r.doc", (), "--report"),

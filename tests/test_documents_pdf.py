@@ -199,3 +199,18 @@ def test_pdf_path_writes_the_pdf_only(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["c.pdf"]
     text = subprocess.run(["pdftotext", str(out), "-"], capture_output=True, text=True, check=True).stdout
     assert "Calibration certificate" in text and "校准证书" not in text  # --lang en: English only
+
+
+def test_cli_report_path_ending_in_pdf_writes_pdf_a(tmp_path, run_cli):
+    """`metro run --report r.pdf` writes the PDF (PDF/A-2b) and nothing else; `--pdf` beside a
+    .docx never replaces an existing PDF without --force, and is refused before anything runs."""
+    out = tmp_path / "r.pdf"
+    code, _, err = run_cli("run", "-s", "ogam", "-i", "7.1", "--report", str(out), "-q")
+    assert code == 0, err
+    assert out.read_bytes()[:5] == b"%PDF-" and sorted(p.name for p in tmp_path.iterdir()) == ["r.pdf"]
+    meta = subprocess.run(["pdfinfo", "-meta", str(out)], capture_output=True, text=True, check=True).stdout
+    assert "<pdfaid:part>2</pdfaid:part>" in meta
+    (tmp_path / "s.pdf").write_bytes(b"an earlier PDF")
+    code, _, err = run_cli("run", "-s", "ogam", "-i", "7.1", "--report", str(tmp_path / "s.docx"), "--pdf", "-q")
+    assert code == 2 and "s.pdf" in err and "--force" in err
+    assert (tmp_path / "s.pdf").read_bytes() == b"an earlier PDF" and not (tmp_path / "s.docx").exists()
