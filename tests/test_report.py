@@ -578,3 +578,15 @@ def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
     assert drawn(again) == [logo]
     plain = write_report(tmp_path / "c.docx", rec, layout=layout, extend=pm.extend_report_context)
     assert drawn(plain) == []
+
+
+def test_zh_en_text_without_chinese_is_printed_once():
+    """In zh+en a message whose Chinese pattern only changes punctuation around English data
+    (``{source}（{note}）``) is the English sentence once, not twice; one with Chinese in it keeps
+    both languages."""
+    from metro.core.locale import msg, translator
+
+    tr = translator("zh+en")
+    text = tr.text(msg("{source} ({note})", source="scatter of the two biases", note="the terms cancel"))
+    assert text == "scatter of the two biases (the terms cancel)"
+    assert tr.text(msg("not performed")) == "未检测 not performed"

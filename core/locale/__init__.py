@@ -19,12 +19,14 @@ writes it in the document's language (``tr.text(value)``, or ``tr(value)``).
 from __future__ import annotations
 
 import functools
+import re
 from importlib import resources
 from typing import Any, Callable, Iterable
 
 __all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "msg", "join", "Translator", "translator", "catalog"]
 
 LANGS = ("zh", "en", "zh+en")
+_HAN = re.compile(r"[\u3400-\u9fff\uf900-\ufaff]")
 DEFAULT_LANG = "zh+en"
 
 
@@ -214,7 +216,9 @@ class Translator:
         if isinstance(value, Text) and value.msgid is None:
             return value.sep.join(self.text(p) for p in value.parts)
         zh, en = self.render(value, "zh"), self.render(value, "en")
-        return en if zh == en else f"{zh} {en}"
+        # a Chinese rendering with no Chinese in it (a pattern whose fields are English data, e.g.
+        # "{source}（{note}）") is the English sentence again with other punctuation: printed once
+        return en if zh == en or not _HAN.search(zh) else f"{zh} {en}"
 
     @staticmethod
     def msg(msgid: str) -> "Msg":

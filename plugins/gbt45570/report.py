@@ -402,16 +402,20 @@ def _first_results(tr, text: str, keep: int = 1) -> str:
     return "; ".join(parts[:keep]) + f"; … {tr('and {n} more', n=more)}"
 
 
+_GREEK = ("alpha", "beta", "gamma", "delta", "theta", "omega")
+
+
 def _symbolizer(ctx: dict):
     """A function putting result symbols in place of the code keys in free text (``Bs_10s ± U``
-    → ``B_s(10 s) ± U``): keys with an underscore or a digit only, never plain words."""
+    → ``B_s(10 s) ± U``, ``Kn`` → ``K_n``, ``alpha`` → ``α``): keys with an underscore, a digit or
+    a capital, and Greek letter names; never plain words (``mass``, ``threshold``)."""
     from metro.core.document import display_symbol
 
     found: dict[str, tuple[str, str]] = {}
     for o in ctx["outcomes"]:
         for r in o["results"]:
             key, sym = r["key"], display_symbol(r.get("symbol") or "")
-            if key != sym and re.search(r"[_\d]", key):
+            if key != sym and len(key) > 1 and (re.search(r"[_\dA-Z]", key) or key in _GREEK):
                 found.setdefault(key, (sym, r.get("quantity") or ""))
     shared = {s for s, _ in found.values() if sum(1 for t, _ in found.values() if t == s) > 1}
     # a symbol several keys share (l for length, width and height) would not say which: the name
