@@ -23,6 +23,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError
+from metro.core.locale import join, msg
 from metro.core.lsq import fit_line
 from metro.core.model import (
     Campaign,
@@ -173,9 +174,9 @@ def _angle_row(campaign: Campaign, value: float, unit: str) -> list[BudgetRow]:
         return []
     acc = table.prop("revolution_pulse_accuracy", "arcsec", source=campaign.source)
     rel = float(acc.to("arcsec").magnitude) / F.REVOLUTION_ARCSEC
-    return [BudgetRow.type_b(f"revolution pulse position ({table.describe()})", "δθ/360°", Q_(rel, ""),
-                             distribution="uniform", sensitivity=Q_(abs(value), unit),
-                             note=f"±{acc:~P} on 360° (D.1.1.1 d))")]
+    return [BudgetRow.type_b(msg("revolution pulse position ({equipment})", equipment=table.describe()), "δθ/360°",
+                             Q_(rel, ""), distribution="uniform", sensitivity=Q_(abs(value), unit),
+                             note=msg("±{acc} on 360° (D.1.1.1 d))", acc=f"{acc:~P}"))]
 
 
 class ScaleFactorD11(Procedure):
@@ -212,8 +213,8 @@ class ScaleFactorD11(Procedure):
         pts, rates, Ki, fit = self.fit(campaign, opts)
         K, W = (float(x) for x in fit.coef)
         uK, uW = (float(x) for x in fit.stderr)
-        rows = [BudgetRow.type_a("least-squares fit of K_i = K + W·Ω_i (D.4)", "s(K)", Q_(uK, "P/arcsec"), fit.dof,
-                                 note=f"{len(pts)} rate points")]
+        rows = [BudgetRow.type_a(msg("least-squares fit of K_i = K + W·Ω_i (D.4)"), "s(K)", Q_(uK, "P/arcsec"), fit.dof,
+                                 note=msg("{n} rate points", n=len(pts)))]
         rows += _angle_row(campaign, K, "P/arcsec")
         from .repeatability import scale_factor_angle_repeat_row
 
@@ -223,14 +224,14 @@ class ScaleFactorD11(Procedure):
         res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget, earth_rate="removed", note=rep_note),
                Result(self.metrics[1], Q_(W, "P/arcsec/(deg/s)"), Q_(uW, "P/arcsec/(deg/s)"), earth_rate="removed")]
         model = K + W * rates
-        plot = PlotSpec("K_rate", "K_i against rate with the eq. (D.4) fit",
+        plot = PlotSpec("K_rate", msg("K_i against rate with the eq. (D.4) fit"),
                         "Ω (°/s)", "K_i (P/″)",
                         [{"label": "K_i (D.2)", "x": rates.tolist(), "y": Ki.tolist(),
                           "yerr": [2 * p.u_K for p in pts], "style": "o"},
                          {"label": f"K + WΩ: K = {K:.7g} P/″", "x": rates.tolist(), "y": model.tolist(), "style": "-"}],
                         logx=True)
-        table = TableSpec("K_points", "K_i per rate point (D.1, D.2)",
-                          ["Ω (°/s)", "N₊ (P)", "N₋ (P)", "K_i (P/″)", "K_i − (K + WΩ_i) (ppm of K)"],
+        table = TableSpec("K_points", msg("K_i per rate point (D.1, D.2)"),
+                          ["Ω (°/s)", "N₊ (P)", "N₋ (P)", "K_i (P/″)", msg("K_i − (K + WΩ_i) (ppm of K)")],
                           [[f"{p.rate:g}", f"{p.n_plus:.1f}", f"{p.n_minus:.1f}", f"{p.K:.8f}",
                             f"{(p.K - K - W * p.rate) / K * 1e6:.2f}"] for p in pts])
         return Outcome(STANDARD, self.item, self.title, self.clause, res, plots=[plot], tables=[table],
@@ -256,12 +257,13 @@ class NonlinearityD12(ScaleFactorD11):
         K = float(fit.coef[0])
         Kn, i = F.nonlinearity_d7(Ki, K)
         u = math.hypot(pts[i].u_K, float(fit.stderr[0])) / K
-        rows = [BudgetRow.type_a(f"K_i at {pts[i].rate:g} °/s (revolution scatter) and the fitted K", "u(K_i − K)/K",
+        rows = [BudgetRow.type_a(msg("K_i at {rate:g} °/s (revolution scatter) and the fitted K", rate=pts[i].rate),
+                                 "u(K_i − K)/K",
                                  Q_(u, ""), max(min(pts[i].m_plus, pts[i].m_minus) - 1, 1))]
         rows += _angle_row(campaign, Kn, "")
         budget = UncertaintyBudget("K_n", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Kn, ""), budget.combined, budget,
-                     note=f"largest |K_i − K| at {pts[i].rate:g} °/s", earth_rate="removed")
+                     note=msg("largest |K_i − K| at {rate:g} °/s", rate=pts[i].rate), earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res],
                        segments=[s for p in pts for s in p.segments], options={k: str(v) for k, v in opts.items()})
 
@@ -316,13 +318,14 @@ class AsymmetryD13(ScaleFactorD11):
         # analytic sensitivity: a central difference through |K₊ − K₋| fails at the kink (issue 13)
         c_n0 = F.asymmetry_sensitivity_n0(rates, [p.t_plus for p in pts], [p.t_minus for p in pts],
                                           float(fp.coef[0]), float(fm.coef[0]))
-        rows = [BudgetRow.type_a("fits of K_+i and K_−i (D.4, D.5)", "√(u²(K₊)+u²(K₋))/K̄", Q_(u_fit, ""), fp.dof),
-                BudgetRow.type_a("zero-rate count N̄_0", "u(N̄₀)", Q_(uN0, "P/s"), allz.size - 1,
+        rows = [BudgetRow.type_a(msg("fits of K_+i and K_−i (D.4, D.5)"), "√(u²(K₊)+u²(K₋))/K̄", Q_(u_fit, ""), fp.dof),
+                BudgetRow.type_a(msg("zero-rate count N̄_0"), "u(N̄₀)", Q_(uN0, "P/s"), allz.size - 1,
                                  sensitivity=Q_(abs(c_n0), "s/P"),
-                                 note="∂K_a/∂N̄₀ analytic through the D.5 intercepts (one-sided at K₊ = K₋)")]
+                                 note=msg("∂K_a/∂N̄₀ analytic through the D.5 intercepts (one-sided at K₊ = K₋)"))]
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
-                     note=f"K₊ = {fp.coef[0]:.8f} P/″, K₋ = {fm.coef[0]:.8f} P/″, N̄₀ = {N0:.4f} P/s", earth_rate="removed")
+                     note=msg("K₊ = {Kp:.8f} P/″, K₋ = {Km:.8f} P/″, N̄₀ = {N0:.4f} P/s", Kp=fp.coef[0], Km=fm.coef[0], N0=N0),
+                     earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res],
                        segments=[z.id for z in zeros] + [s for p in pts for s in p.segments],
                        options={k: str(v) for k, v in opts.items()})
@@ -346,7 +349,7 @@ def _counter_row(pts: list[RatePoint], value: float, unit: str) -> BudgetRow:
     """±1 P of the counter on the pulses of m revolutions, as a relative half-width on K."""
     p = pts[0]
     rel = 1.0 / (min(p.m_plus, p.m_minus) * abs(p.n_plus - p.n_minus))
-    return BudgetRow.type_b("counter resolution (±1 P over m revolutions each way)", "δN/N", Q_(rel, ""),
+    return BudgetRow.type_b(msg("counter resolution (±1 P over m revolutions each way)"), "δN/N", Q_(rel, ""),
                             distribution="uniform", sensitivity=Q_(abs(value), unit))
 
 
@@ -406,20 +409,22 @@ class ScaleFactorRepeatabilityD14(Procedure):
         Kj = [p.K for _, p in pts]
         want = float(opts["rate"].to("deg/s").magnitude)
         off = sorted({f"{p.rate:g}" for _, p in pts if abs(p.rate - want) > 0.01 * want})
-        warnings = [f"runs at {', '.join(off)} °/s; D.1.4.2 repeats the test at {want:g} °/s (option rate)"] if off else []
+        warnings = [msg("runs at {off} °/s; D.1.4.2 repeats the test at {want:g} °/s (option rate)", off=", ".join(off),
+                        want=want)] if off else []
         Kr = F2.scale_factor_repeatability_d11(Kj)
         if not Kr > 0:
             raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
-        rows = [BudgetRow.type_a(f"sampling of the standard deviation of Q = {q} scale factors", "K_r/√(2(Q−1))",
+        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors", q=q), "K_r/√(2(Q−1))",
                                  Q_(Kr / math.sqrt(2 * (q - 1)), ""), q - 1),
                 _counter_row([p for _, p in pts], 1.0, "")]
         m = min(min(p.m_plus, p.m_minus) for _, p in pts)
-        rows += [attrs.evolve(r, source=r.source + ", run to run", sensitivity=Q_(1.0 / m, ""),
-                              note=r.note + f"; over m = {m} revolutions") for r in _angle_row(campaign, 1.0, "")]
+        rows += [attrs.evolve(r, source=msg("{source}, run to run", source=r.source), sensitivity=Q_(1.0 / m, ""),
+                              note=join("; ", [r.note, msg("over m = {m} revolutions", m=m)]))
+                 for r in _angle_row(campaign, 1.0, "")]
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))
-        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.8f} P/″, Q = {q}", earth_rate="removed")
-        table = TableSpec("K_runs", "K_j of each power-on (D.2)", ["run", "Ω (°/s)", "K_j (P/″)", "K_j − K̄ (ppm)"],
+        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=msg("K̄ = {mean:.8f} P/″, Q = {q}", mean=mean, q=q), earth_rate="removed")
+        table = TableSpec("K_runs", msg("K_j of each power-on (D.2)"), [msg("run"), "Ω (°/s)", "K_j (P/″)", "K_j − K̄ (ppm)"],
                           [[run, f"{p.rate:g}", f"{p.K:.8f}", f"{(p.K - mean) / mean * 1e6:.2f}"] for run, p in pts])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
                        segments=[s for _, p in pts for s in p.segments], options={k: str(v) for k, v in opts.items()})
@@ -515,15 +520,16 @@ def selection_rows(sel: "F2.MaxSelection", n_slopes: int, unit: str) -> list[Bud
     correction is uncertain by up to its own size (uniform, half-width |bias|)."""
     if not sel.bias:
         return []
-    return [BudgetRow.type_b(f"correction for taking the largest of {n_slopes} noisy slopes (Monte Carlo)",
+    return [BudgetRow.type_b(msg("correction for taking the largest of {n} noisy slopes (Monte Carlo)", n=n_slopes),
                              "δ_sel", Q_(abs(sel.bias), unit), distribution="uniform",
-                             note=f"{-sel.bias:+.3g} applied; " + (f"about a degree-{sel.degree} polynomial in T"
-                                                                     if sel.degree >= 0 else "about the points as measured"))]
+                             note=(msg("{c:+.3g} applied; about a degree-{d} polynomial in T", c=-sel.bias, d=sel.degree)
+                                   if sel.degree >= 0 else
+                                   msg("{c:+.3g} applied; about the points as measured", c=-sel.bias)))]
 
 
 def selection_note(sel: "F2.MaxSelection", scale: float, unit: str) -> str:
-    return (f"as printed by the formula {sel.printed * scale:.4g} {unit}, selection bias {sel.bias * scale:+.2g} "
-            f"{unit} removed (interpretations.md)")
+    return msg("as printed by the formula {printed:.4g} {unit}, selection bias {bias:+.2g} {unit} removed "
+               "(interpretations.md)", printed=sel.printed * scale, bias=sel.bias * scale, unit=unit)
 
 
 def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, imax: int, i0: int, temps, Ks, uKs,
@@ -539,27 +545,27 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     den = sum(u**4 / max(d, 1) for u, d in parts)
     nu = uA**4 / den if den > 0 else math.inf
     sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True)
-    rows = [BudgetRow.type_a("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "
-                             "smoothed K(T))", "s of max_i |ΔK_i/(K₀₀ΔT_i)|", Q_(max(sel.s, uA), "1/delta_degC"), nu,
-                             note=f"the maximising point alone gives {uA:.3g}/°C")]
+    rows = [BudgetRow.type_a(msg("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "
+                                 "smoothed K(T))"), "s of max_i |ΔK_i/(K₀₀ΔT_i)|", Q_(max(sel.s, uA), "1/delta_degC"), nu,
+                             note=msg("the maximising point alone gives {u:.3g}/°C", u=uA))]
     rows += selection_rows(sel, len(Ks) - 1, "1/delta_degC")
     Kt = max(sel.value, 0.0)
     uT = _delta_temperature_u(campaign)
     if uT is not None:
-        rows.append(BudgetRow.type_b(f"chamber temperature T_i and T_0 ({uT[1]})", "√2·u(T)",
+        rows.append(BudgetRow.type_b(msg("chamber temperature T_i and T_0 ({equipment})", equipment=uT[1]), "√2·u(T)",
                                      Q_(math.sqrt(2) * uT[0], "K"), distribution="normal", k=1.0,
                                      sensitivity=Q_(Kt / abs(dT), "1/delta_degC/K"), note="∂K_t/∂ΔT = −K_t/ΔT"))
     budget = UncertaintyBudget("K_t", "ppm/delta_degC", rows, coverage=COVERAGE)
     res = Result(proc.metrics[0], Q_(Kt, "1/delta_degC"), budget.combined, budget,
-                 note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C; "
-                      f"{selection_note(sel, 1e6, 'ppm/°C')}", earth_rate="removed")
-    plot = PlotSpec("K_temperature", f"Scale factor against temperature ({proc.item})", "T (°C)",
+                 note=join("; ", [msg("largest at T = {T:g} °C against T0 = {T0:g} °C", T=temps[imax], T0=temps[i0]),
+                                  selection_note(sel, 1e6, 'ppm/°C')]), earth_rate="removed")
+    plot = PlotSpec("K_temperature", msg("Scale factor against temperature ({item})", item=proc.item), "T (°C)",
                     "(K − K₀₀)/K₀₀ (ppm)",
                     [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],
                       "yerr": [2e6 * u / K0 for u in uKs], "style": "o"}])
-    table = TableSpec("K_temperatures", "K at each temperature point", ["T (°C)", f"K ({k_unit})",
+    table = TableSpec("K_temperatures", msg("K at each temperature point"), ["T (°C)", f"K ({k_unit})",
                                                                         "|(K − K₀₀)/(K₀₀ΔT)| (ppm/°C)"],
-                      [[f"{t:g}", f"{k:.8g}", "room (T0)" if i == i0 else f"{abs((k - K0) / (K0 * (t - temps[i0]))) * 1e6:.4g}"]
+                      [[f"{t:g}", f"{k:.8g}", msg("room (T0)") if i == i0 else f"{abs((k - K0) / (K0 * (t - temps[i0]))) * 1e6:.4g}"]
                        for i, (t, k) in enumerate(zip(temps, Ks))])
     return Outcome(STANDARD, proc.item, proc.title, proc.clause, [res], plots=[plot], tables=[table],
                    segments=list(segments), options={k: str(v) for k, v in opts.items()})
@@ -616,28 +622,30 @@ def misalignment_outcome(proc: Procedure, campaign: Campaign, opts, ang: Mapping
         sym = metric.symbol
         if sym in vals:
             v = vals[sym]
-            rows = [BudgetRow.type_a(f"{what}, the two {sym} mountings", f"u({sym})", Q_(us[sym], "deg"), nus[sym])]
+            rows = [BudgetRow.type_a(msg("{what}, the two {sym} mountings", what=what, sym=sym), f"u({sym})", Q_(us[sym], "deg"), nus[sym])]
             sens_reseat = 1.0 / math.sqrt(2.0)
         else:
             v = gamma
             ca = vals["α"] / gamma if gamma > 0 else 1.0
             cb = vals["β"] / gamma if gamma > 0 else 1.0
-            rows = [BudgetRow.type_a(f"{what}, α mountings", "u(α)", Q_(us["α"], "deg"), nus["α"],
+            rows = [BudgetRow.type_a(msg("{what}, α mountings", what=what), "u(α)", Q_(us["α"], "deg"), nus["α"],
                                      sensitivity=Q_(abs(ca), "")),
-                    BudgetRow.type_a(f"{what}, β mountings", "u(β)", Q_(us["β"], "deg"), nus["β"],
+                    BudgetRow.type_a(msg("{what}, β mountings", what=what), "u(β)", Q_(us["β"], "deg"), nus["β"],
                                      sensitivity=Q_(abs(cb), ""))]
             sens_reseat = math.hypot(ca, cb) / math.sqrt(2.0)
         if reseat is not None:
-            rows.append(BudgetRow.type_b(f"re-seating tilt of the gyro in the fixture ({reseat[1]})", "δ_fixture",
+            rows.append(BudgetRow.type_b(msg("re-seating tilt of the gyro in the fixture ({equipment})", equipment=reseat[1]),
+                                         "δ_fixture",
                                          reseat[0].to("deg"), distribution="uniform",
                                          sensitivity=Q_(sens_reseat, ""),
-                                         note="independent in the 0° and 180° mountings; (δ₁ − δ₂)/2"))
+                                         note=msg("independent in the 0° and 180° mountings; (δ₁ − δ₂)/2")))
         rows += [attrs.evolve(r, sensitivity=Q_(abs(v), "deg")) for r in rel_rows]
         budget = UncertaintyBudget(sym, "deg", rows, coverage=COVERAGE)
         results.append(Result(metric, Q_(v, "deg"), budget.combined, budget,
                               note=f"= {v * 3600:.2f}″", earth_rate="removed"))
-    table = TableSpec("mountings", f"Angle of each mounting ({proc.item})", ["mounting", "angle (°)", "angle (″)"],
-                      [[f"{ax} up, turned {t}°", f"{ang[(ax, t)][0]:.6f}", f"{ang[(ax, t)][0] * 3600:.2f}"]
+    table = TableSpec("mountings", msg("Angle of each mounting ({item})", item=proc.item),
+                      [msg("mounting"), msg("angle (°)"), msg("angle (″)")],
+                      [[msg("{axis} up, turned {turn}°", axis=ax, turn=t), f"{ang[(ax, t)][0]:.6f}", f"{ang[(ax, t)][0] * 3600:.2f}"]
                        for ax, t in MOUNTINGS])
     return Outcome(STANDARD, proc.item, proc.title, proc.clause, results, tables=[table], segments=segments,
                    options={k: str(v) for k, v in opts.items()})
@@ -718,7 +726,7 @@ class InputAxisMisalignmentD16(Procedure):
         rel = []
         if u_rel_K > 0:
             rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
-                                        k=1.0, note=f"K = {k:g} P/″; α ∝ 1/K"))
+                                        k=1.0, note=msg("K = {k:g} P/″; α ∝ 1/K", k=k)))
         rel += [attrs.evolve(r, sensitivity=Q_(1.0, "")) for r in _angle_row(campaign, 1.0, "")]
         return misalignment_outcome(self, campaign, opts, ang, rel, used, "revolution count scatter")
 

@@ -31,6 +31,7 @@ import numpy as np
 from metro.core import allan
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -104,18 +105,22 @@ def _condition_result(metric: Metric, value, equipment, campaign: Campaign, *, p
     if equipment is not None and equipment.calibration is not None:
         cal = equipment.calibration
         sens = Q_(abs(mag), delta) if cal.uncertainty.dimensionless else Q_(1.0, "")
-        rows.append(BudgetRow.from_calibration(f"{what} ({equipment.describe()})", f"u({metric.symbol})", cal,
+        rows.append(BudgetRow.from_calibration(msg("{what} ({equipment})", what=what, equipment=equipment.describe()),
+                                               f"u({metric.symbol})", cal,
                                                sensitivity=sens))
     if equipment is not None and prop and prop in equipment.properties:
         v = equipment.properties[prop]
         q = parse_quantity(v, file=campaign.source, field=f"equipment.{prop}") if isinstance(v, str) else v
         sens = Q_(abs(mag), delta) if q.dimensionless else Q_(1.0, "")
-        rows.append(BudgetRow.type_b(f"{prop.replace('_', ' ')} of the {equipment.role.replace('_', ' ')}",
+        rows.append(BudgetRow.type_b(msg("{prop} of the {role}", prop=prop.replace('_', ' '),
+                                         role=equipment.role.replace('_', ' ')),
                                      f"δ({metric.symbol})", q, distribution="uniform", sensitivity=sens))
     if not rows:
-        rows.append(BudgetRow.type_b(f"{what}: no calibration data given", f"u({metric.symbol})", Q_(0.0, delta),
-                                     distribution="uniform", note="uncertainty of the condition not evaluated"))
-        warnings.append(f"{metric.name}: no calibration data for the {what}; its uncertainty is not evaluated")
+        rows.append(BudgetRow.type_b(msg("{what}: no calibration data given", what=what), f"u({metric.symbol})",
+                                     Q_(0.0, delta), distribution="uniform",
+                                     note=msg("uncertainty of the condition not evaluated")))
+        warnings.append(msg("{name}: no calibration data for the {what}; its uncertainty is not evaluated",
+                            name=metric.name, what=what))
     budget = UncertaintyBudget(metric.symbol, delta, rows, coverage=COVERAGE)
     return Result(metric, Q_(mag, unit), budget.combined, budget, earth_rate="not applicable"), warnings
 
@@ -163,7 +168,8 @@ class _TemperatureOperation(Procedure):
         warnings += w
         results.append(Result(m[1], Q_(est.B0, "deg/h"), est.budget.combined,
                               UncertaintyBudget(m[1].symbol, "deg/h", est.budget.rows, coverage=COVERAGE),
-                              note=f"earth rate {est.earth:+.4f} °/h removed ({est.orientation})", earth_rate="removed"))
+                              note=msg("earth rate {earth:+.4f} °/h removed ({orientation})", earth=est.earth,
+                                       orientation=est.orientation), earth_rate="removed"))
         raw = np.asarray(est.series.data.magnitude, dtype=float)
         tau0 = float(est.series.interval.to("s").magnitude)
         conv = est.conv
@@ -178,7 +184,7 @@ class _TemperatureOperation(Procedure):
                                 hint=f"{self.clause}.2 b) asks for 1 h")
             sd, mm = allan.block_std(raw, int(round(factor)))
             Bs = sd * conv.magnitude
-            rows = [BudgetRow.type_a(f"sampling of the standard deviation of {mm} values", "B_s/√(2(m−1))",
+            rows = [BudgetRow.type_a(msg("sampling of the standard deviation of {m} values", m=mm), "B_s/√(2(m−1))",
                                      Q_(Bs / math.sqrt(2 * (mm - 1)), "deg/h"), mm - 1)]
             rows += _scale_factor_row(conv, Bs, "deg/h")
             rows += _timebase_row(campaign, Bs, "deg/h", "B_s")
@@ -186,7 +192,7 @@ class _TemperatureOperation(Procedure):
             results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {mm}", earth_rate="not applicable"))
         dur = est.series.duration.to("h")
         if dur < Q_(1, "h") * 0.999:
-            warnings.append(f"the record lasts {dur:~.3gP}; {self.clause}.2 b) asks for 1 h")
+            warnings.append(msg("the record lasts {dur}; {clause}.2 b) asks for 1 h", dur=f"{dur:~.3gP}", clause=self.clause))
         return Outcome(STANDARD, self.item, self.title, self.clause, results, warnings=warnings, segments=[seg.id],
                        options=_opts_text(opts))
 
@@ -271,17 +277,17 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     """|B_a − B_b| (D.47/D.48) with its budget: the two means' batch scatter (A), scale factor, time base."""
     uA = math.hypot(a["u"], b["u"])
     nu = uA**4 / (a["u"] ** 4 / a["nu"] + b["u"] ** 4 / b["nu"]) if uA > 0 else math.inf
-    rows = [BudgetRow.type_a("scatter of the two biases (batch means)", "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
-                             note="the earth-rate term of D.40 is common to both and cancels")]
+    rows = [BudgetRow.type_a(msg("scatter of the two biases (batch means)"), "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
+                             note=msg("the earth-rate term of D.40 is common to both and cancels"))]
     uq = math.hypot(a.get("u_q", 0.0), b.get("u_q", 0.0))
     if uq > 0:
-        rows.append(BudgetRow.type_b("quantization of the two means (the D.5.1 rows)", "√(u_q²(B_a)+u_q²(B_b))",
+        rows.append(BudgetRow.type_b(msg("quantization of the two means (the D.5.1 rows)"), "√(u_q²(B_a)+u_q²(B_b))",
                                      Q_(uq, "deg/h"), distribution="normal", k=1.0,
-                                     note="±1 P over a record, or a rounded rate not dithered by the noise"))
+                                     note=msg("±1 P over a record, or a rounded rate not dithered by the noise")))
     rows += _scale_factor_row(a["conv"], value, "deg/h")
     rows += _timebase_row(campaign, value, "deg/h", metric.symbol)
     budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=f"eq. ({eq})", earth_rate="not applicable")
+    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=msg("eq. ({eq})", eq=eq), earth_rate="not applicable")
 
 
 def _vibration_metrics() -> tuple[Metric, ...]:
@@ -364,8 +370,8 @@ class VibrationD63(Procedure):
                 phases = ("before", "during", "after") if test == "performance" else ("before", "after")
                 segs = _phase_segments(type(self), campaign, "vibration", ax, phases, test=test)
                 if test == "endurance" and "during" in segs:
-                    warnings.append(f"a \"during\" segment of endurance vibration along {ax} is ignored (D.6.3.2 c): "
-                                    "the gyro is not powered)")
+                    warnings.append(msg("a \"during\" segment of endurance vibration along {axis} is ignored (D.6.3.2 c): "
+                                        "the gyro is not powered)", axis=ax))
                 means = {p: _mean_rate(segs[p], campaign, b) for p in phases}
                 levels[test].append(float(segs["before"].condition("level", "gn").to("gn").magnitude))
                 used += [segs[p].id for p in phases]
@@ -389,8 +395,8 @@ class VibrationD63(Procedure):
                                      what="vibration level")
             results.insert(0 if test == "performance" else 1, r)
             warnings += w
-        tab = TableSpec("vibration_biases", "Mean indicated rate before, during and after vibration (°/h)",
-                        ["axis", "test", "before B₀₁", "during B₀₂", "after B₀₃"], table)
+        tab = TableSpec("vibration_biases", msg("Mean indicated rate before, during and after vibration (°/h)"),
+                        [msg("axis"), msg("test"), msg("before B₀₁"), msg("during B₀₂"), msg("after B₀₃")], table)
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[tab], warnings=warnings,
                        segments=used, options=_opts_text(opts))
 
@@ -462,8 +468,8 @@ class MechanicalShockD64(Procedure):
         r1, w1 = _condition_result(byk["shock_level"], Q_(min(lv), "gn"), eq, campaign, what="shock peak level")
         r2, w2 = _condition_result(byk["shock_duration"], Q_(min(pl), "ms"), None if eq is None else _no_cal(eq),
                                    campaign, prop="duration_accuracy", what="shock pulse duration")
-        tab = TableSpec("shock_biases", "Mean indicated rate before and after the shocks (°/h)",
-                        ["axis", "before B₀₁", "after B₀₃", "ΔB_V13"], table)
+        tab = TableSpec("shock_biases", msg("Mean indicated rate before and after the shocks (°/h)"),
+                        [msg("axis"), msg("before B₀₁"), msg("after B₀₃"), "ΔB_V13"], table)
         return Outcome(STANDARD, self.item, self.title, self.clause, [r1, r2] + results, tables=[tab],
                        warnings=warnings + w1 + w2, segments=used, options=_opts_text(opts))
 
@@ -548,10 +554,11 @@ class SetupTime6277(Procedure):
             # the band cannot be told from the output's steps at this window: widen it until one
             # step is within half the band, evaluate for information, and say so (not reportable)
             w_used = w * int(math.ceil(res / (tol / 2.0)))
-            reason = (f"over the {w * tau:g} s window the output resolves only {res:.3g} °/h (one "
-                      f"{'pulse' if conv.output_kind == 'pulse' else 'output step'}), coarser than half the band "
-                      f"±{tol:g} °/h: the instant the gyro enters the band cannot be read; the value shown is from a "
-                      f"{w_used * tau:g} s window — use a finer output or agree a longer window (option window)")
+            reason = msg("over the {w:g} s window the output resolves only {res:.3g} °/h (one {what}), coarser than half "
+                         "the band ±{tol:g} °/h: the instant the gyro enters the band cannot be read; the value shown is "
+                         "from a {used:g} s window — use a finer output or agree a longer window (option window)",
+                         w=w * tau, res=res, what=msg("pulse") if conv.output_kind == "pulse" else msg("output step"),
+                         tol=tol, used=w_used * tau)
             if start < 2 * w_used:
                 raise DataError(seg.file or f"segment {seg.id}", "output",
                                 f"{reason}; the record is too short for it before the settled part",
@@ -572,29 +579,31 @@ class SetupTime6277(Procedure):
         rows = []
         if t_out > w * tau:  # the output was outside the band at first: the crossing time carries noise
             eff = max(slope, 2.0 * slope_noise)
-            rows.append(BudgetRow.type_a("noise of the window mean at the crossing, over the output's slope",
+            rows.append(BudgetRow.type_a(msg("noise of the window mean at the crossing, over the output's slope"),
                                          "σ_w/|dȳ/dt|", Q_(s_w / eff if eff > 0 else 0.0, "s"), max(tail.size - 1, 1),
-                                         note=f"σ_w = {s_w:.3g} °/h, slope {slope:.3g} (°/h)/s"))
-        rows.append(BudgetRow.type_b("sampling: the window means step by τ, the crossing lies within ±τ of the "
-                                     "reported instant", "τ", Q_(tau, "s"), distribution="uniform"))
+                                         note=msg("σ_w = {s:.3g} °/h, slope {slope:.3g} (°/h)/s", s=s_w, slope=slope)))
+        rows.append(BudgetRow.type_b(msg("sampling: the window means step by τ, the crossing lies within ±τ of the "
+                                         "reported instant"), "τ", Q_(tau, "s"), distribution="uniform"))
         if t_out > t_in:  # noise took the output in and out of the band: the crossing is ambiguous
-            rows.append(BudgetRow.type_b("re-crossings of the band between the first entry and the final one",
+            rows.append(BudgetRow.type_b(msg("re-crossings of the band between the first entry and the final one"),
                                          "(t_out − t_in)/2", Q_((t_out - t_in) / 2.0, "s"), distribution="uniform",
-                                         note=f"first inside at {t_in:g} s, inside for good from {t_out:g} s"))
+                                         note=msg("first inside at {t_in:g} s, inside for good from {t_out:g} s", t_in=t_in,
+                                                  t_out=t_out)))
         timer = campaign.equipment_for("timer")
         if timer is not None and timer.calibration is not None:
             cal = timer.calibration
             sens = Q_(ts, "s") if cal.uncertainty.dimensionless else Q_(1.0, "")
-            rows.append(BudgetRow.from_calibration(f"timer ({timer.describe()})", "u(t)", cal, sensitivity=sens))
+            rows.append(BudgetRow.from_calibration(msg("timer ({equipment})", equipment=timer.describe()), "u(t)", cal,
+                                                   sensitivity=sens))
         else:
             rows += _timebase_row(campaign, ts, "s", "t_s")
         budget = UncertaintyBudget("t_s", "s", rows, coverage=COVERAGE)
         result = Result(self.metrics[0], Q_(ts, "s"), budget.combined, budget,
-                        note=f"settled bias {settled:.4g} °/h, band ±{tol:g} °/h, window {w * tau:g} s",
+                        note=msg("settled bias {b:.4g} °/h, band ±{tol:g} °/h, window {w:g} s", b=settled, tol=tol, w=w * tau),
                         earth_rate="not applicable", reportable=not reason, reason=reason)
         t_mm = (np.arange(mm.size) + w) * tau
         step = max(1, mm.size // 400)
-        plot = PlotSpec("setup", "Window mean of the output after switch-on (6.2.7.7)", "t (s)", "ω̄ (°/h)",
+        plot = PlotSpec("setup", msg("Window mean of the output after switch-on (6.2.7.7)"), "t (s)", "ω̄ (°/h)",
                         [{"label": f"{w * tau:g} s mean", "x": t_mm[::step].tolist(), "y": mm[::step].tolist(),
                           "style": "-"},
                          {"label": "band", "x": [0.0, float(t_mm[-1])], "y": [settled + tol, settled + tol],
@@ -670,7 +679,7 @@ class PowerConsumption6278(Procedure):
             Us.append(u)
             Is.append(i)
             sd, nb = allan.block_std(u * i, u.size // b)
-            rowsA.append(BudgetRow.type_a(f"scatter of U·I, supply {s.conditions['supply']} (batch means)",
+            rowsA.append(BudgetRow.type_a(msg("scatter of U·I, supply {supply} (batch means)", supply=s.conditions['supply']),
                                           "s_b/√b", Q_(sd / math.sqrt(nb), "W"), nb - 1))
         P, parts = E.power_6278(Us, Is)
         rows = list(rowsA)
@@ -685,14 +694,15 @@ class PowerConsumption6278(Procedure):
                 sens = Q_(P, "W")
             else:
                 sens = Q_(sum(other), "W") / Q_(1.0, "V" if role == "voltmeter" else "A")
-            rows.append(BudgetRow.from_calibration(f"{role} ({eq.describe()})", sym, cal, sensitivity=sens,
-                                                   note="same instrument on every supply: contributions add linearly"))
+            rows.append(BudgetRow.from_calibration(msg("{what} ({equipment})", what=role, equipment=eq.describe()), sym, cal,
+                                                   sensitivity=sens,
+                                                   note=msg("same instrument on every supply: contributions add linearly")))
         budget = UncertaintyBudget("P", "W", rows, coverage=COVERAGE)
         for s, u, i, p in zip(segs, Us, Is, parts):
             table.append([s.id, str(s.conditions["supply"]), f"{np.mean(u):.4f}", f"{np.mean(i):.5f}", f"{p:.4f}"])
-        tab = TableSpec("supplies", "Mean voltage, current and power per supply (6.2.7.8)",
-                        ["segment", "supply", "U (V)", "I (A)", "U·I (W)"], table)
-        res = Result(self.metrics[0], Q_(P, "W"), budget.combined, budget, note=f"{len(segs)} supplies", earth_rate="not applicable")
+        tab = TableSpec("supplies", msg("Mean voltage, current and power per supply (6.2.7.8)"),
+                        [msg("segment"), msg("supply"), "U (V)", "I (A)", "U·I (W)"], table)
+        res = Result(self.metrics[0], Q_(P, "W"), budget.combined, budget, note=msg("{n} supplies", n=len(segs)), earth_rate="not applicable")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[tab],
                        segments=[s.id for s in segs], options=_opts_text(opts))
 

@@ -26,6 +26,7 @@ import numpy as np
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.conformity import Comparison, Specification, parse_limit
 from metro.core.errors import DataError
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -75,9 +76,18 @@ def _exact(symbol: str, unit: str, what: str) -> UncertaintyBudget:
 
 
 def _count_result(metric: Metric, failed: list[str], what: str) -> Result:
-    b = _exact(metric.symbol, "", f"{what}: observed answers, a count (exact)")
+    b = _exact(metric.symbol, "", msg("{what}: observed answers, a count (exact)", what=what))
     return R.na_result(metric, Q_(float(len(failed)), ""), b.combined, b,
-                  note="not met: " + "; ".join(failed) if failed else "all met")
+                  note=msg("not met: {failed}", failed=join("; ", failed)) if failed else msg("all met"))
+
+
+def _beyond(shown: str, below: bool, bound: float):
+    """A megohmmeter reading beyond its range: only the inequality is known."""
+    if below:
+        return msg("the megohmmeter shows {shown} (below its range): R < {bound:g} MΩ, not a measured value",
+                   shown=shown, bound=bound)
+    return msg("the megohmmeter shows {shown} (over its range): R > {bound:g} MΩ, not a measured value",
+               shown=shown, bound=bound)
 
 
 def measured_result(metric: Metric, readings: list, eq, campaign: Campaign, *, note: str = "") -> Result:
@@ -87,12 +97,12 @@ def measured_result(metric: Metric, readings: list, eq, campaign: Campaign, *, n
     x, uA, nu = mean_and_type_a(vals)
     rows = []
     if nu > 0:
-        rows.append(BudgetRow.type_a(f"repeatability of {vals.size} readings", "s/√n", Q_(uA, unit), nu))
+        rows.append(BudgetRow.type_a(msg("repeatability of {n} readings", n=vals.size), "s/√n", Q_(uA, unit), nu))
     rows.append(R.calibration_row(eq, f"u_cal({metric.symbol})", Q_(x, unit), unit))
     rows += R.resolution_row(eq, f"δ({metric.symbol})", unit, R.where_of(campaign))
     b = UncertaintyBudget(metric.symbol, unit, rows, coverage=COVERAGE)
-    extra = "" if nu > 0 else "; one reading: repeatability not evaluated"
-    return R.na_result(metric, Q_(x, unit), b.combined, b, note=(note + extra).lstrip("; "))
+    parts = [p for p in (note, "" if nu > 0 else msg("one reading: repeatability not evaluated")) if p]
+    return R.na_result(metric, Q_(x, unit), b.combined, b, note=join("; ", parts) if parts else "")
 
 
 def _key(name: str) -> str:
@@ -243,17 +253,18 @@ class Dimensions622(_Inspection):
             nominal, lo, hi = tolerance_of(d, src, where)
             vals = R.readings(d, "readings", "mm", src, where)
             m = Metric(f"dim_{key}", f"dimension {d['name']}", "l", "mm", "5.2.4")
-            results.append(measured_result(m, vals, eq, campaign, note=f"nominal {nominal:~P} {lo:+~P}/{hi:+~P}"))
+            results.append(measured_result(m, vals, eq, campaign, note=msg("nominal {nominal} {tol}", nominal=f"{nominal:~P}", tol=f"{lo:+~P}/{hi:+~P}")))
             nom = float(nominal.to("mm").magnitude)
             try:
                 it = it12(nom)
             except ValueError as exc:
                 raise DataError(src, f"{where}.nominal", str(exc)) from exc
             width = float((hi - lo).to("mm").magnitude)
-            g = Metric(f"itgrade_{key}", f"tolerance zone of {d['name']} over IT12", "T/IT12", "", "5.2.4")
+            g = Metric(f"itgrade_{key}", msg("tolerance zone of {name} over IT12", name=d['name']), "T/IT12", "", "5.2.4")
             b = _exact("T/IT12", "", "tolerance and IT12 are specification values (exact)")
             results.append(R.na_result(g, Q_(width / it, ""), b.combined, b,
-                                  note=f"T = {width:g} mm, IT12 = {it:g} mm at {nom:g} mm (GB/T 1800.1 table 1)"))
+                                  note=msg("T = {T:g} mm, IT12 = {it:g} mm at {nom:g} mm (GB/T 1800.1 table 1)", T=width,
+                                           it=it, nom=nom)))
             table.append([str(d["name"]), f"{nominal:~P}", f"{lo:+~P} / {hi:+~P}", f"{it:g} mm",
                           ", ".join(f"{v.to('mm').magnitude:g}" for v in vals)])
         tab = TableSpec("dimensions", "Dimensions (5.2.4): specification and readings (mm)",
@@ -308,7 +319,7 @@ class Mass623(_Inspection):
                             f"the record leaves out {', '.join(left_out)}",
                             hint="weigh again with them, or correct delivered_with")
         eq = R.equipment(campaign, "balance", "5.2.5", "the mass")
-        note = "weighed with " + (", ".join(included) if included else "the gyro alone")
+        note = msg("weighed with {what}", what=join(", ", included)) if included else msg("weighed with the gyro alone")
         res = measured_result(self.metrics[0], vals, eq, campaign, note=note)
         warnings = [] if mass_specifications(campaign) or "mass" in campaign.specification else [
             "no mass limit given (record limit or [specification] mass): by product specification, not judged"]
@@ -385,7 +396,7 @@ class Supply526(_Inspection):
                 vals = R.readings(rail, "readings", "V", src, w)
                 key = _rail_key(nominal)
                 m = Metric(f"supply_V_{key}", f"voltage of the {nominal:~P} supply at the gyro", "U", "V", "5.2.6")
-                results.append(measured_result(m, vals, eq, campaign, note=f"nominal {nominal:~P} ± {tol:~P}"))
+                results.append(measured_result(m, vals, eq, campaign, note=msg("nominal {nominal} ± {tol}", nominal=f"{nominal:~P}", tol=f"{tol:~P}")))
                 cell = f"{results[-1].value:.4g~P}"
             table.append([f"{nominal:~P}", f"± {tol:~P}" if tol is not None else "not stated",
                           str(rail.get("current", "not stated")), cell])
@@ -535,7 +546,7 @@ class Insulation625(_Inspection):
             if key in seen:
                 raise DataError(src, f"{where}.pair", f"a second record of the pair {pair!r}")
             seen.add(key)
-            m = Metric(f"R_ins_{key}", f"insulation resistance {pair}", "R", "Mohm", "5.2.8")
+            m = Metric(f"R_ins_{key}", msg("insulation resistance {pair}", pair=pair), "R", "Mohm", "5.2.8")
             cens = [v for v in vals if isinstance(v, R.Censored)]
             if cens:
                 below = cens[0].below
@@ -557,14 +568,12 @@ class Insulation625(_Inspection):
                                     hint="measure again on a higher range")
                 b = _exact("R", "Mohm", "a reading beyond the range: only the inequality is known")
                 results.append(R.na_result(m, Q_(bound, "Mohm"), b.combined, b, reportable=False,
-                                      reason=f"the megohmmeter shows {c.text} ({'below' if below else 'over'} its "
-                                      f"range): R {'<' if below else '>'} {bound:g} MΩ, not a measured value",
-                                      note=f"the megohmmeter shows {c.text} ({'below' if below else 'over'} its "
-                                           f"range): R {'<' if below else '>'} {bound:g} MΩ, not a measured value; "
-                                           f"test voltage {V:~P}"))
+                                      reason=_beyond(c.text, below, bound),
+                                      note=join("; ", [_beyond(c.text, below, bound),
+                                                       msg("test voltage {V}", V=f"{V:~P}")])))
                 cell = c.text
             else:
-                results.append(measured_result(m, vals, eq, campaign, note=f"test voltage {V:~P}"))
+                results.append(measured_result(m, vals, eq, campaign, note=msg("test voltage {V}", V=f"{V:~P}")))
                 cell = f"{results[-1].value.to('Mohm').magnitude:.4g} MΩ"
             table.append([pair, f"{V:~P}", ", ".join(str(v) for v in seq), cell])
         tab = TableSpec("insulation", "Insulation resistance per terminal pair (5.2.8), gyro not operating",

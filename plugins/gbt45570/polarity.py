@@ -20,6 +20,7 @@ from typing import Any
 
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError
+from metro.core.locale import msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -102,9 +103,9 @@ class Polarity626(Procedure):
         r = response_ratio(m0["rate"], m1["rate"], omega)
         scale = 1.0 / (abs(omega) * 3600.0)
         rows = [
-            BudgetRow.type_a("mean indicated rate at rest (batch means)", "u(ω̄_rest)", Q_(m0["u"], "deg/h"),
+            BudgetRow.type_a(msg("mean indicated rate at rest (batch means)"), "u(ω̄_rest)", Q_(m0["u"], "deg/h"),
                              m0["nu"], sensitivity=Q_(scale, "h/deg")),
-            BudgetRow.type_a("mean indicated rate turning (batch means)", "u(ω̄_turn)", Q_(m1["u"], "deg/h"),
+            BudgetRow.type_a(msg("mean indicated rate turning (batch means)"), "u(ω̄_turn)", Q_(m1["u"], "deg/h"),
                              m1["nu"], sensitivity=Q_(scale, "h/deg")),
         ]
         rows += _scale_factor_row(m1["conv"], r, "")
@@ -120,11 +121,15 @@ class Polarity626(Procedure):
         sign = 1 if r > 0 else -1
         words = "positive" if sign > 0 else "NEGATIVE"
         res_r = Result(self.metrics[0], Q_(r, ""), budget.combined, budget,
-                       note=f"Ω = {omega:g} °/s; ω̄_rest = {m0['rate']:.5g} °/h, ω̄_turn = {m1['rate']:.5g} °/h", earth_rate="removed")
+                       note=msg("Ω = {omega:g} °/s; ω̄_rest = {rest:.5g} °/h, ω̄_turn = {turn:.5g} °/h", omega=omega,
+                                rest=m0['rate'], turn=m1['rate']), earth_rate="removed")
         res_p = Result(self.metrics[1], Q_(float(sign), ""),
-                       note=f"{words}: the output {'grows' if r * omega > 0 else 'falls'} while the gyro turns "
-                            f"{'counter-clockwise' if omega > 0 else 'clockwise'} about +IA; |r|/u(r) = {abs(r) / u:.0f}", earth_rate="not applicable")
-        warnings = [] if sign > 0 else ["the polarity is negative; GB/T 45570 5.2.9 requires a positive polarity"]
+                       note=msg("{words}: the output {how} while the gyro turns {dir} about +IA; |r|/u(r) = {ratio:.0f}",
+                                words=msg("positive") if sign > 0 else msg("NEGATIVE"),
+                                how=msg("grows") if r * omega > 0 else msg("falls"),
+                                dir=msg("counter-clockwise") if omega > 0 else msg("clockwise"), ratio=abs(r) / u),
+                       earth_rate="not applicable")
+        warnings = [] if sign > 0 else [msg("the polarity is negative; GB/T 45570 5.2.9 requires a positive polarity")]
         return Outcome(STANDARD, self.item, self.title, self.clause, [res_r, res_p], segments=[r0.id, r1.id],
                        warnings=warnings, options=_opts_text(opts))
 

@@ -16,6 +16,7 @@ import numpy as np
 from metro.core import allan
 from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -102,9 +103,9 @@ def _timebase_row(campaign: Campaign, measured: float, unit: str, what: str) -> 
     if not cal.uncertainty.dimensionless:
         return []
     return [BudgetRow.from_calibration(
-        f"time base of the counter ({eq.describe()})", "u_rel(τ)", cal,
+        msg("time base of the counter ({equipment})", equipment=eq.describe()), "u_rel(τ)", cal,
         sensitivity=Q_(abs(measured), unit),
-        note=f"{what} ∝ 1/τ; {cal.certificate}",
+        note=msg("{what} ∝ 1/τ; {certificate}", what=what, certificate=cal.certificate),
     )]
 
 
@@ -112,10 +113,10 @@ def _scale_factor_row(conv: RateConversion, measured: float, unit: str) -> list[
     if conv.output_kind == "rate" or conv.relative_u_scale_factor == 0.0:
         return []
     return [BudgetRow.type_b(
-        "scale factor K used to convert the output", "u_rel(K)",
+        msg("scale factor K used to convert the output"), "u_rel(K)",
         Q_(conv.relative_u_scale_factor, ""), distribution="normal", k=1.0,
         sensitivity=Q_(abs(measured), unit),
-        note=f"K = {conv.scale_factor:~P}; result ∝ 1/K",
+        note=msg("K = {K}; result ∝ 1/K", K=f"{conv.scale_factor:~P}"),
     )]
 
 
@@ -165,9 +166,10 @@ class BiasD51(Procedure):
 
         rep_rows, rep_note = bias_repeat_row(campaign, int(opts["batches"]), est.u_A)
         budget = UncertaintyBudget("B0", "deg/h", list(est.budget.rows) + rep_rows, coverage=COVERAGE)
-        note = f"earth rate {est.earth:+.4f} °/h removed ({est.orientation}, θ = {est.theta:g}°)"
+        note = msg("earth rate {earth:+.4f} °/h removed ({orientation}, θ = {theta:g}°)", earth=est.earth,
+                   orientation=est.orientation, theta=est.theta)
         res = Result(self.metrics[0], Q_(est.B0, "deg/h"), budget.combined, budget,
-                     note=f"{note}; {rep_note}" if rep_note else note, earth_rate="removed")
+                     note=join("; ", [note, rep_note]) if rep_note else note, earth_rate="removed")
         warnings = _duration_warnings(est.series, Q_(1, "h"), "D.5.1.2 c)")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
@@ -217,7 +219,7 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
         B0 = indicated - earth
     sd_batch, nb = allan.block_std(raw, raw.size // b)
     uA = sd_batch * conv.magnitude / math.sqrt(nb)
-    note = f"{nb} batches of {raw.size // b} samples"
+    note = msg("{nb} batches of {n} samples", nb=nb, n=raw.size // b)
     if b > 5 and raw.size >= 10:
         # correlated noise (bias instability, rate random walk) makes neighbouring batch means alike, and
         # their scatter understates the mean's u: five long batches are checked against it and taken
@@ -227,23 +229,24 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
         sd5, n5 = allan.block_std(raw, raw.size // 5)
         u5 = sd5 * conv.magnitude / math.sqrt(n5)
         if uA > 0 and (u5 / uA) ** 2 > float(f_dist.ppf(0.95, n5 - 1, nb - 1)):
-            note = (f"{n5} batches of {raw.size // 5} samples: the {nb} batch means ({uA:.3g} °/h) are correlated "
-                    f"(bias instability or random walk), their scatter understates the mean's u")
+            note = msg("{n5} batches of {n} samples: the {nb} batch means ({uA:.3g} °/h) are correlated (bias "
+                       "instability or random walk), their scatter understates the mean's u", n5=n5, n=raw.size // 5,
+                       nb=nb, uA=uA)
             uA, nb = u5, n5
-    rows = [BudgetRow.type_a("scatter of the output (batch means)", "s_b/√b", Q_(uA, "deg/h"), nb - 1, note=note)]
+    rows = [BudgetRow.type_a(msg("scatter of the output (batch means)"), "s_b/√b", Q_(uA, "deg/h"), nb - 1, note=note)]
     rows += _scale_factor_row(conv, indicated, "deg/h")
     lat_u = campaign.site.get("latitude_uncertainty")
     c_theta = F.EARTH_RATE_DEG_PER_H * math.cos(math.radians(theta))
     if lat_u is not None:
         lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
-        rows.append(BudgetRow.type_b("site latitude θ", "u(θ)", lu.to("rad"), distribution="uniform",
-                                     sensitivity=Q_(c_theta, "deg/h/rad"), note="∂B0/∂θ = −15.041·cos θ"))
+        rows.append(BudgetRow.type_b(msg("site latitude θ"), "u(θ)", lu.to("rad"), distribution="uniform",
+                                     sensitivity=Q_(c_theta, "deg/h/rad"), note=msg("∂B0/∂θ = −15.041·cos θ")))
     plat = campaign.equipment_for("platform")
     if plat is not None and "levelness" in plat.properties:
         lev = plat.prop("levelness", "arcsec", source=campaign.source)
-        rows.append(BudgetRow.type_b(f"levelling of the IRA ({plat.describe()})", "δ", lev.to("rad"),
-                                     distribution="uniform", sensitivity=Q_(c_theta, "deg/h/rad"),
-                                     note="horizontal earth rate Ω·cos θ·sin δ leaks into the IRA"))
+        rows.append(BudgetRow.type_b(msg("levelling of the IRA ({equipment})", equipment=plat.describe()), "δ",
+                                     lev.to("rad"), distribution="uniform", sensitivity=Q_(c_theta, "deg/h/rad"),
+                                     note=msg("horizontal earth rate Ω·cos θ·sin δ leaks into the IRA")))
     rows += _timebase_row(campaign, indicated, "deg/h", "indicated rate")
     q_rows = quantization_rows_mean(campaign, conv, raw, "the mean of D.40")
     rows += q_rows
@@ -300,14 +303,14 @@ class BiasStabilityD52(Procedure):
             sd, m = allan.block_std(raw, factor)
             Bs = sd * conv.magnitude
             label = f"{ts:g} s"
-            metric = Metric(f"Bs_{ts:g}s", f"bias stability (t = {label})", f"B_s({label})", "deg/h",
+            metric = Metric(f"Bs_{ts:g}s", msg("bias stability (t = {t})", t=label), f"B_s({label})", "deg/h",
                             "D.5.2.3", "D.41")
             if not Bs > 0 and conv.output_kind == "pulse" and np.ptp(raw) > 0:
                 # the counts vary sample to sample but every t-block holds the same whole number of
                 # pulses: an undithered counter at a steady rate hides the noise (as D.5.6)
-                reason = (f"every {label} block holds the same whole number of pulses (an undithered counter at a "
-                          f"steady rate): the bias noise over {label} is below one pulse, {conv.magnitude / factor:.3g} "
-                          "°/h, and cannot be measured")
+                reason = msg("every {t} block holds the same whole number of pulses (an undithered counter at a steady "
+                             "rate): the bias noise over {t} is below one pulse, {p:.3g} °/h, and cannot be measured",
+                             t=label, p=conv.magnitude / factor)
                 results.append(Result(metric, Q_(0.0, "deg/h"), reportable=False, reason=reason,
                                       earth_rate="not applicable"))
                 continue
@@ -316,13 +319,14 @@ class BiasStabilityD52(Procedure):
                                 "is the gyro powered and the counter connected?")
             # a rounded output coarser than its noise may not vary at all: B_s = 0, and the rounding
             # row (up to q/2) covers what it hides
-            rows = [BudgetRow.type_a(f"sampling of the standard deviation of {m} values", "B_s/√(2(m−1))",
+            rows = [BudgetRow.type_a(msg("sampling of the standard deviation of {m} values", m=m), "B_s/√(2(m−1))",
                                      Q_(Bs / math.sqrt(2 * (m - 1)), "deg/h"), m - 1)]
             rows += _scale_factor_row(conv, Bs, "deg/h")
             rows += _timebase_row(campaign, Bs, "deg/h", "B_s")
             rows += quantization_rows_std(campaign, conv, raw, factor)
             budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-            results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {m}", earth_rate="not applicable"))
+            results.append(Result(metric, Q_(Bs, "deg/h"), budget.combined, budget, note=f"m = {m}",
+                                  earth_rate="not applicable"))
         warnings = _duration_warnings(series, Q_(1, "h"), "D.5.1.2 c)")
         return Outcome(STANDARD, self.item, self.title, self.clause, results, warnings=warnings,
                        segments=[seg.id], options={k: str(v) for k, v in opts.items()})
@@ -388,33 +392,35 @@ class BiasRepeatabilityD53(Procedure):
         # devices). The row is set from the χ² bound instead: s + 2u is the 97.7 % upper confidence
         # limit s·√((Q−1)/χ²₀.₀₂₃(Q−1)), entered with ν = ∞ (its size already carries the coverage)
         upper = F.std_upper_limit(Br, Q)
-        rows = [BudgetRow.type_a(f"sampling of the standard deviation of Q = {Q} biases (χ² bound)",
+        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {Q} biases (χ² bound)", Q=Q),
                                  "(s_upper − B_r)/2", Q_((upper - Br) / 2.0, "deg/h"), math.inf,
-                                 note=f"97.7 % upper limit of σ from Q − 1 = {Q - 1} degrees of freedom: {upper:.3g} °/h; "
-                                      f"the linear s/√(2(Q−1)) = {Br / math.sqrt(2 * (Q - 1)):.3g} °/h")]
+                                 note=msg("97.7 % upper limit of σ from Q − 1 = {dof} degrees of freedom: {upper:.3g} °/h; "
+                                          "the linear s/√(2(Q−1)) = {lin:.3g} °/h", dof=Q - 1, upper=upper,
+                                          lin=Br / math.sqrt(2 * (Q - 1))))]
         hw_q = max(e.hw_q for e in ests)
         reason = ""
         if hw_q > 0:
             # |std(B + e) − std(B)| ≤ std(e) ≤ max|e|: each bias's rounding error moves B_r by at most it
-            rows.append(BudgetRow.type_b("quantization of each bias (the D.5.1 row), through the standard deviation",
+            rows.append(BudgetRow.type_b(msg("quantization of each bias (the D.5.1 row), through the standard deviation"),
                                          "max|δB₀|", Q_(hw_q, "deg/h"), distribution="uniform",
-                                         note="|Δs| ≤ std of the biases' rounding errors ≤ their largest bound"))
+                                         note=msg("|Δs| ≤ std of the biases' rounding errors ≤ their largest bound")))
             if hw_q >= Br:
-                reason = (f"the output's quantization can move each bias by up to {hw_q:.3g} °/h, as much as the "
-                          f"measured spread B_r = {Br:.3g} °/h: the repeatability cannot be told from the rounding")
+                reason = msg("the output's quantization can move each bias by up to {q:.3g} °/h, as much as the measured "
+                             "spread B_r = {Br:.3g} °/h: the repeatability cannot be told from the rounding", q=hw_q, Br=Br)
         rows += _scale_factor_row(ests[0].conv, Br, "deg/h")
         budget = UncertaintyBudget("B_r", "deg/h", rows, coverage=COVERAGE)
         # D.42 measures the scatter of the D.40 biases as they are, each a mean over its own record:
         # the within-run noise of each mean is part of it (interpretations.md, D.5.3).  Stated beside
         # it: that share, and the turn-on scatter left when it is removed (one-way analysis of variance)
         w = float(np.mean([e.u_A**2 for e in ests]))
-        turn_on = (f"turn-on scatter without it √(B_r² − mean u_A²) = {math.sqrt(Br**2 - w):.3g} °/h"
-                   if Br**2 > w else "the turn-on scatter is not resolved from it (B_r² ≤ mean u_A²)")
+        turn_on = (msg("turn-on scatter without it √(B_r² − mean u_A²) = {s:.3g} °/h", s=math.sqrt(Br**2 - w))
+                   if Br**2 > w else msg("the turn-on scatter is not resolved from it (B_r² ≤ mean u_A²)"))
         res = Result(self.metrics[0], Q_(Br, "deg/h"), budget.combined, budget,
-                     note=f"Q = {Q}; within-run noise of each bias √(mean u_A²) = {math.sqrt(w):.3g} °/h, part of "
-                          f"D.42; {turn_on}", earth_rate="not applicable", reportable=not reason, reason=reason)
-        warnings = [f"B_r is NOT REPORTABLE: {reason}"] if reason else []
-        table = TableSpec("biases", "Bias of each power-on (D.40)", ["run", "segment", "B₀ (°/h)", "u_A (°/h)"],
+                     note=msg("Q = {Q}; within-run noise of each bias √(mean u_A²) = {w:.3g} °/h, part of D.42; {turn_on}",
+                              Q=Q, w=math.sqrt(w), turn_on=turn_on), earth_rate="not applicable",
+                     reportable=not reason, reason=reason)
+        warnings = [msg("B_r is NOT REPORTABLE: {reason}", reason=reason)] if reason else []
+        table = TableSpec("biases", msg("Bias of each power-on (D.40)"), [msg("run"), msg("segment"), "B₀ (°/h)", "u_A (°/h)"],
                           [[s.conditions.get("run", i + 1), s.id, f"{e.B0:.5f}", f"{e.u_A:.2g}"]
                            for i, (s, e) in enumerate(zip(segs, ests))])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
@@ -483,7 +489,7 @@ class BiasTemperatureSensitivityD54(Procedure):
         eA, e0 = ests[imax], ests[i0]
         uA = math.hypot(eA.u_A, e0.u_A) / abs(dT)
         nu = uA**4 / ((eA.u_A / dT) ** 4 / eA.nu_A + (e0.u_A / dT) ** 4 / e0.nu_A) if uA > 0 else math.inf
-        rows = [BudgetRow.type_a("scatter of B_i and B_00 (batch means)", "√(u²(B_i)+u²(B_00))/|ΔT|",
+        rows = [BudgetRow.type_a(msg("scatter of B_i and B_00 (batch means)"), "√(u²(B_i)+u²(B_00))/|ΔT|",
                                  Q_(uA, "deg/h/delta_degC"), nu)]
         # D.43 takes the largest of several noisy |slopes|: corrected for the selection bias about a
         # smoothed B(T) (interpretations.md, D.5.4); the spread of the maximum replaces one slope's u
@@ -492,37 +498,37 @@ class BiasTemperatureSensitivityD54(Procedure):
 
         sel = max_slope_selection([e.B0 for e in ests], [e.u_A for e in ests], temps, i0, relative=False)
         if len(temps) > 2:
-            rows = [BudgetRow.type_a("B_i at every T_i and B_00 through the maximum of the slopes (Monte Carlo "
-                                     "about the smoothed B(T))", "s of max_i |ΔB_i/ΔT_i|",
+            rows = [BudgetRow.type_a(msg("B_i at every T_i and B_00 through the maximum of the slopes (Monte Carlo "
+                                         "about the smoothed B(T))"), "s of max_i |ΔB_i/ΔT_i|",
                                      Q_(max(sel.s, uA), "deg/h/delta_degC"), nu,
-                                     note=f"the maximising point alone gives {uA:.3g} (°/h)/°C")]
+                                     note=msg("the maximising point alone gives {u:.3g} (°/h)/°C", u=uA))]
             rows += selection_rows(sel, len(temps) - 1, "deg/h/delta_degC")
             Bt = max(sel.value, 0.0)
         if eA.u_q > 0 or e0.u_q > 0:
-            rows.append(BudgetRow.type_b("quantization of B_i and B_00 (the D.5.1 rows)", "√(u_q²(B_i)+u_q²(B_00))/|ΔT|",
+            rows.append(BudgetRow.type_b(msg("quantization of B_i and B_00 (the D.5.1 rows)"), "√(u_q²(B_i)+u_q²(B_00))/|ΔT|",
                                          Q_(math.hypot(eA.u_q, e0.u_q) / abs(dT), "deg/h/delta_degC"),
                                          distribution="normal", k=1.0))
         uT = _delta_temperature_u(campaign)
         if uT is not None:
-            rows.append(BudgetRow.type_b(f"chamber temperature T_i and T_0 ({uT[1]})", "√2·u(T)",
+            rows.append(BudgetRow.type_b(msg("chamber temperature T_i and T_0 ({equipment})", equipment=uT[1]), "√2·u(T)",
                                          Q_(math.sqrt(2) * uT[0], "K"), distribution="normal", k=1.0,
                                          sensitivity=Q_(Bt / abs(dT), "deg/h/delta_degC/K"),
-                                         note="∂B_t/∂ΔT = −B_t/ΔT"))
+                                         note=msg("∂B_t/∂ΔT = −B_t/ΔT")))
         rows += _scale_factor_row(eA.conv, Bt, "deg/h/delta_degC")
         budget = UncertaintyBudget("B_t", "deg/h/delta_degC", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Bt, "deg/h/delta_degC"), budget.combined, budget,
-                     note=f"largest at T = {temps[imax]:g} °C against T0 = {temps[i0]:g} °C"
-                          + (f"; {selection_note(sel, 1.0, '(°/h)/°C')}" if len(temps) > 2 else ""),
+                     note=join("; ", [msg("largest at T = {T:g} °C against T0 = {T0:g} °C", T=temps[imax], T0=temps[i0])]
+                               + ([selection_note(sel, 1.0, '(°/h)/°C')] if len(temps) > 2 else [])),
                      earth_rate="not applicable")
         order = np.argsort(temps)
-        plot = PlotSpec("bias_temperature", "Bias against temperature (D.5.4)", "T (°C)", "B₀ (°/h)",
+        plot = PlotSpec("bias_temperature", msg("Bias against temperature (D.5.4)"), "T (°C)", "B₀ (°/h)",
                         [{"label": "B₀(T) (D.40)", "x": [temps[i] for i in order], "y": [ests[i].B0 for i in order],
                           "yerr": [2 * ests[i].u_A for i in order], "style": "o"},
                          {"label": f"slope of the largest |ΔB/ΔT| = {Bt:.3g} °/h/°C",
                           "x": [temps[i0], temps[imax]], "y": [e0.B0, eA.B0], "style": "--"}])
-        table = TableSpec("bias_points", "Bias at each temperature point",
-                          ["segment", "T (°C)", "B₀ (°/h)", "|ΔB/ΔT| ((°/h)/°C)"],
-                          [[s.id, f"{t:g}", f"{e.B0:.5f}", "room (T0)" if i == i0 else
+        table = TableSpec("bias_points", msg("Bias at each temperature point"),
+                          [msg("segment"), "T (°C)", "B₀ (°/h)", "|ΔB/ΔT| ((°/h)/°C)"],
+                          [[s.id, f"{t:g}", f"{e.B0:.5f}", msg("room (T0)") if i == i0 else
                             f"{abs((e.B0 - e0.B0) / (t - temps[i0])):.3g}"]
                            for i, (s, t, e) in enumerate(zip(segs, temps, ests))])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[table],
@@ -590,28 +596,29 @@ class BiasMagneticSensitivityD55(Procedure):
             uA = math.hypot(ep.u_A, em.u_A) / (2.0 * Hb)
             nu = (uA**4 / ((ep.u_A / (2 * Hb)) ** 4 / ep.nu_A + (em.u_A / (2 * Hb)) ** 4 / em.nu_A)
                   if uA > 0 else math.inf)
-            rows = [BudgetRow.type_a("scatter of B_0+ and B_0− (batch means)", "√(u²₊+u²₋)/(2H_b)",
+            rows = [BudgetRow.type_a(msg("scatter of B_0+ and B_0− (batch means)"), "√(u²₊+u²₋)/(2H_b)",
                                      Q_(uA, "deg/h/mT"), nu)]
             if ep.u_q > 0 or em.u_q > 0:
-                rows.append(BudgetRow.type_b("quantization of B_0+ and B_0− (the D.5.1 rows)", "√(u_q²₊+u_q²₋)/(2H_b)",
+                rows.append(BudgetRow.type_b(msg("quantization of B_0+ and B_0− (the D.5.1 rows)"), "√(u_q²₊+u_q²₋)/(2H_b)",
                                              Q_(math.hypot(ep.u_q, em.u_q) / (2.0 * Hb), "deg/h/mT"),
                                              distribution="normal", k=1.0))
-            rows.append(BudgetRow.type_b("field uniformity over the gyro", "ΔH/H", Q_(uniformity, ""),
+            rows.append(BudgetRow.type_b(msg("field uniformity over the gyro"), "ΔH/H", Q_(uniformity, ""),
                                          distribution="uniform", sensitivity=Q_(Bh, "deg/h/mT"),
-                                         note="D.5.5.1 b): better than 5 %"))
+                                         note=msg("D.5.5.1 b): better than 5 %")))
             if gen is not None and gen.calibration is not None and gen.calibration.uncertainty.dimensionless:
-                rows.append(BudgetRow.from_calibration(f"field strength ({gen.describe()})", "u_rel(H_b)",
+                rows.append(BudgetRow.from_calibration(msg("field strength ({equipment})", equipment=gen.describe()),
+                                                       "u_rel(H_b)",
                                                        gen.calibration, sensitivity=Q_(Bh, "deg/h/mT")))
             rows += _scale_factor_row(ep.conv, Bh, "deg/h/mT")
             budget = UncertaintyBudget(metric.symbol, "deg/h/mT", rows, coverage=COVERAGE)
             warn = ""
             if abs(Hp - Hm) > 0.01 * Hb:
-                warn = f"forward {Hp:g} mT and reversed {Hm:g} mT differ; H_b = their mean"
+                warn = msg("forward {p:g} mT and reversed {m:g} mT differ; H_b = their mean", p=Hp, m=Hm)
             results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=warn, earth_rate="not applicable"))
             rows_table.append([ax, f"{Hb:g}", f"{ep.B0:.5f}", f"{em.B0:.5f}", f"{Bh:.4g}"])
             used += [sp.id, sm.id]
-        table = TableSpec("field_biases", "Biases with the field forward and reversed (D.5.5)",
-                          ["axis", "H_b (mT)", "B₀₊ (°/h)", "B₀₋ (°/h)", "B_h ((°/h)/mT)"], rows_table)
+        table = TableSpec("field_biases", msg("Biases with the field forward and reversed (D.5.5)"),
+                          [msg("axis"), "H_b (mT)", "B₀₊ (°/h)", "B₀₋ (°/h)", "B_h ((°/h)/mT)"], rows_table)
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table], segments=used,
                        options={k: str(v) for k, v in opts.items()})
 
@@ -678,10 +685,11 @@ class AngleRandomWalkD56(Procedure):
             if qz.q <= 0 and not (conv.output_kind == "pulse" and zero[0] > 0):
                 raise DataError(seg.file, "output",
                                 f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: the output does not vary (zero variance)")
-            what = (f"the output, rounded to q = {qz.q:.3g} °/h (step from {qz.source}), does not vary" if qz.q > 0 else
-                    "every block holds the same whole number of pulses (an undithered counter at a steady rate)")
-            reason = (f"B_s(τ = {tau_s[zero[0]]:g} s) is zero: {what} — its noise is hidden by the quantization, so "
-                      "there is no RWC to fit")
+            what = (msg("the output, rounded to q = {q:.3g} °/h (step from {source}), does not vary", q=qz.q,
+                        source=qz.source) if qz.q > 0 else
+                    msg("every block holds the same whole number of pulses (an undithered counter at a steady rate)"))
+            reason = msg("B_s(τ = {tau:g} s) is zero: {what} — its noise is hidden by the quantization, so there is no "
+                         "RWC to fit", tau=tau_s[zero[0]], what=what)
             return Outcome(STANDARD, self.item, self.title, self.clause,
                            [Result(self.metrics[0], Q_(0.0, "deg/hour**0.5"), reportable=False, reason=reason,
                                    earth_rate="not applicable")],
@@ -693,11 +701,11 @@ class AngleRandomWalkD56(Procedure):
             if conv.output_kind != "pulse" and quantization_of(campaign, conv, raw).q <= 0:
                 raise ProcedureError(f"D.5.6: {exc}") from exc
             # quantized counts whose B_s(τ) D.45 cannot even be fitted to: not a data error
-            reason = f"the D.45 fit is not determined ({exc}); the output's quantization dominates B_s(τ)"
+            reason = msg("the D.45 fit is not determined ({exc}); the output's quantization dominates B_s(τ)", exc=str(exc))
             return Outcome(STANDARD, self.item, self.title, self.clause,
                            [Result(self.metrics[0], Q_(0.0, "deg/hour**0.5"), reportable=False, reason=reason,
                                    earth_rate="not applicable")],
-                           warnings=[f"RWC is NOT REPORTABLE: {reason}"], segments=[seg.id],
+                           warnings=[msg("RWC is NOT REPORTABLE: {reason}", reason=reason)], segments=[seg.id],
                            options={k: str(v) for k, v in opts.items()})
         a0, a1, a2 = (float(x) for x in fit.alpha)
         ua = fit.u_alpha
@@ -713,60 +721,62 @@ class AngleRandomWalkD56(Procedure):
             a1_sensor = a1 - a1_q  # Sheppard's correction: the rounding's q²/12 per sample removed
         elif a1_q > 0 and 3.0 * a1_q > 0.01 * max(a1, 0.0):
             not_reportable.append(
-                f"the output is rounded to q = {qz.q:.3g} °/h (step from {qz.source}), coarser than its noise "
-                f"(s = {qz.s:.3g} °/h per sample): the rounding error is not white noise of a known size and adds "
-                f"up to q²τ/4 = {3 * a1_q:.3g} (°)²/h to α1 = {a1:.3g}, so the sensor's RWC cannot be separated from "
-                "it (D.45 has no term for it)")
+                msg("the output is rounded to q = {q:.3g} °/h (step from {source}), coarser than its noise (s = {s:.3g} "
+                    "°/h per sample): the rounding error is not white noise of a known size and adds up to q²τ/4 = "
+                    "{add:.3g} (°)²/h to α1 = {a1:.3g}, so the sensor's RWC cannot be separated from it (D.45 has no "
+                    "term for it)", q=qz.q, source=qz.source, s=qz.s, add=3 * a1_q, a1=a1))
         if fit.dof > 0 and fit.chi2 / fit.dof > D45_MISFIT_LIMIT:
             not_reportable.append(
-                f"the D.45 model does not hold: χ²/ν = {fit.chi2 / fit.dof:.3g} > {D45_MISFIT_LIMIT:g} (B_s(τ) has a "
-                "shape D.45 cannot follow, e.g. the sawtooth quantization of an undithered counter or correlated "
-                "noise); the uncertainty scaled by √(χ²/ν) would not cover a systematic misfit")
+                msg("the D.45 model does not hold: χ²/ν = {chi2:.3g} > {limit:g} (B_s(τ) has a shape D.45 cannot follow, "
+                    "e.g. the sawtooth quantization of an undithered counter or correlated noise); the uncertainty "
+                    "scaled by √(χ²/ν) would not cover a systematic misfit", chi2=fit.chi2 / fit.dof,
+                    limit=D45_MISFIT_LIMIT))
         if a1_sensor > 0 and a1_sensor - 2.0 * float(ua[1]) <= 0:
             # α1 not resolved from zero (≈95 %): reporting √α1 only when noise happens to push it up
             # would bias the reported RWC high (interpretations.md)
             not_reportable.append(
-                f"α1 = {a1_sensor:.3g} ± {2.0 * float(ua[1]):.2g} (°)²/h (k = 2) is not resolved from zero: the "
-                "record's other terms (quantization α2, bias instability α0) dominate B_s(τ), so RWC = √α1 is not "
-                "determined; record longer or with a finer output")
+                msg("α1 = {a1:.3g} ± {U:.2g} (°)²/h (k = 2) is not resolved from zero: the record's other terms "
+                    "(quantization α2, bias instability α0) dominate B_s(τ), so RWC = √α1 is not determined; record "
+                    "longer or with a finer output", a1=a1_sensor, U=2.0 * float(ua[1])))
         if not a1_sensor > 0:
             not_reportable.append(
-                f"the fitted α1 = {a1_sensor:.3g} (°)²/h is not positive, so RWC = √α1 (D.46) is undefined; the "
-                "record is dominated by other noise, quantization or too short (look at the B_s(τ) plot)")
+                msg("the fitted α1 = {a1:.3g} (°)²/h is not positive, so RWC = √α1 (D.46) is undefined; the record is "
+                    "dominated by other noise, quantization or too short (look at the B_s(τ) plot)", a1=a1_sensor))
             a1_sensor = 0.0
         rwc = math.sqrt(a1_sensor)
         for name, val in (("α0", a0), ("α2", a2)):
             if val < 0:
-                warnings.append(f"fitted {name} = {val:.3g} is negative (not physical); kept as the standard's "
-                                "unconstrained fit gives it — RWC uses α1 only")
+                warnings.append(msg("fitted {name} = {val:.3g} is negative (not physical); kept as the standard's "
+                                    "unconstrained fit gives it — RWC uses α1 only", name=name, val=val))
         if fit.birge > 1.5:
-            warnings.append(f"the D.45 model fits poorly (χ²/ν = {fit.birge ** 2:.2g}); the uncertainty of α "
-                            "was scaled up accordingly")
+            warnings.append(msg("the D.45 model fits poorly (χ²/ν = {chi2:.2g}); the uncertainty of α was scaled up "
+                                "accordingly", chi2=fit.birge ** 2))
         scale = max(rwc, math.sqrt(max(a1, 0.0)), math.sqrt(abs(float(ua[1]))), 1e-30)
         u_rwc_fit = ua[1] / (2.0 * scale)
-        rows = [BudgetRow.type_a("D.45 fit of B_s²(τ_k) (GLS, nested-level covariance)", "u(α₁)/(2√α₁)",
+        rows = [BudgetRow.type_a(msg("D.45 fit of B_s²(τ_k) (GLS, nested-level covariance)"), "u(α₁)/(2√α₁)",
                                  Q_(u_rwc_fit, "deg/hour**0.5"), max(fit.dof, 1),
-                                 note=f"{tau_s.size} levels, χ²/ν = {fit.chi2 / max(fit.dof, 1):.3g}"
-                                 + (f", u scaled by √(χ²/ν) = {fit.birge:.3g}" if fit.birge > 1 else ""))]
+                                 note=(msg("{n} levels, χ²/ν = {chi2:.3g}, u scaled by √(χ²/ν) = {b:.3g}", n=tau_s.size,
+                                           chi2=fit.chi2 / max(fit.dof, 1), b=fit.birge) if fit.birge > 1 else
+                                       msg("{n} levels, χ²/ν = {chi2:.3g}", n=tau_s.size, chi2=fit.chi2 / max(fit.dof, 1))))]
         if a1_q > 0 and qz.dithered:
             # the correction's own uncertainty: half of it, uniform (Sheppard's q²/12 holds to
             # < 10⁻³ when s ≥ q; the rest covers noise that is not Gaussian)
             q_rows.append(BudgetRow.type_b(
-                f"rounding of each sample to q = {qz.q:.3g} °/h: Sheppard's correction α1 − q²τ₀/12 "
-                f"({a1_q:.3g} (°)²/h) applied", "δα₁", Q_(a1_q / 2.0, "deg**2/hour"), distribution="uniform",
+                msg("rounding of each sample to q = {q:.3g} °/h: Sheppard's correction α1 − q²τ₀/12 ({c:.3g} (°)²/h) "
+                    "applied", q=qz.q, c=a1_q), "δα₁", Q_(a1_q / 2.0, "deg**2/hour"), distribution="uniform",
                 sensitivity=Q_(1.0 / (2.0 * scale), "hour**0.5/deg"),
-                note=f"noise s = {qz.s:.3g} °/h ≥ q dithers the rounding (step from {qz.source})"))
+                note=msg("noise s = {s:.3g} °/h ≥ q dithers the rounding (step from {source})", s=qz.s, source=qz.source)))
         rows += q_rows
         rows += _scale_factor_row(conv, rwc, "deg/hour**0.5")
         rows += _timebase_row(campaign, rwc, "deg/hour**0.5", "RWC")
         budget = UncertaintyBudget("RWC", "deg/hour**0.5", rows, coverage=COVERAGE)
-        reason = "; ".join(not_reportable)
+        reason = join("; ", not_reportable) if not_reportable else ""
         if reason:
-            warnings.append(f"RWC is NOT REPORTABLE: {reason}")
+            warnings.append(msg("RWC is NOT REPORTABLE: {reason}", reason=reason))
         results = [
             Result(self.metrics[0], Q_(rwc, "deg/hour**0.5"), budget.combined, budget,
                    reportable=not not_reportable, reason=reason, earth_rate="not applicable",
-                   note=(f"RWC of the sensor: √(α₁ − q²τ₀/12), the output's rounding removed" if a1_q > 0 and
+                   note=(msg("RWC of the sensor: √(α₁ − q²τ₀/12), the output's rounding removed") if a1_q > 0 and
                          qz.dithered else "")),
             Result(self.metrics[1], Q_(a0, "deg**2/hour**2"), Q_(ua[0], "deg**2/hour**2"), earth_rate="not applicable"),
             Result(self.metrics[2], Q_(a1, "deg**2/hour"), Q_(ua[1], "deg**2/hour"), earth_rate="not applicable"),
@@ -774,7 +784,7 @@ class AngleRandomWalkD56(Procedure):
         ]
         model = fit.model(tau_h)
         plot = PlotSpec(
-            "bs_tau", "B_s(τ_k) and the D.45 fit", "τ_k (s)", "B_s (°/h)",
+            "bs_tau", msg("B_s(τ_k) and the D.45 fit"), "τ_k (s)", "B_s (°/h)",
             [
                 {"label": "B_s(τ_k) (D.41)", "x": tau_s.tolist(), "y": bs.tolist(),
                  "yerr": (bs / np.sqrt(2 * (m - 1))).tolist(), "style": "o"},
@@ -797,7 +807,8 @@ class AngleRandomWalkD56(Procedure):
 def _duration_warnings(series, wanted, clause: str) -> list[str]:
     dur = series.duration.to("h")
     if dur < wanted * 0.999:
-        return [f"the record lasts {dur:~.3gP}; {clause} asks for {wanted:~P} (or the user's application time)"]
+        return [msg("the record lasts {dur}; {clause} asks for {wanted} (or the user's application time)",
+                    dur=f"{dur:~.3gP}", clause=clause, wanted=f"{wanted:~P}")]
     return []
 
 

@@ -18,6 +18,7 @@ import pint
 
 from metro.core.budget import BudgetRow
 from metro.core.errors import DataError, UnitError
+from metro.core.locale import msg
 from metro.core.model import Campaign, Equipment, Result
 from metro.core.units import Q_, parse_quantity, unit
 
@@ -159,7 +160,8 @@ def calibration_row(eq: Equipment, symbol: str, value: pint.Quantity, out_unit: 
     """The equipment's certificate U (absolute, or relative to ``value``) as a type B row."""
     cal = eq.calibration
     sens = Q_(abs(float(value.to(out_unit).magnitude)), out_unit) if cal.uncertainty.dimensionless else Q_(1.0, "")
-    return BudgetRow.from_calibration(f"calibration of the {eq.role} ({eq.describe()})", symbol, cal,
+    return BudgetRow.from_calibration(msg("calibration of the {role} ({equipment})", role=eq.role.replace("_", " "),
+                                          equipment=eq.describe()), symbol, cal,
                                       sensitivity=sens)
 
 
@@ -168,8 +170,9 @@ def resolution_row(eq: Equipment, symbol: str, out_unit: str, file: str) -> list
     if "resolution" not in eq.properties:
         return []
     d = quantity(eq.properties["resolution"], out_unit, file, f"equipment.{eq.id}.resolution")
-    return [BudgetRow.type_b(f"resolution of the {eq.role} (d = {d:~P})", symbol, (d / 2).to(out_unit),
-                             distribution="uniform", note="half-width d/2 (JJF 1059.1)")]
+    return [BudgetRow.type_b(msg("resolution of the {role} (d = {d})", role=eq.role.replace("_", " "), d=f"{d:~P}"),
+                             symbol, (d / 2).to(out_unit), distribution="uniform",
+                             note=msg("half-width d/2 (JJF 1059.1)"))]
 
 
 def as_unit(text_unit: str) -> pint.Unit:

@@ -16,14 +16,16 @@ import numpy as np
 
 from metro.core.budget import BudgetRow
 from metro.core.errors import DataError
+from metro.core.locale import msg
 from metro.core.model import Campaign
 from metro.core.units import Q_
 
 from . import formulas as F
 from . import formulas_rate as F2
 
-NO_REPEATS = ("power-on repeatability not in U: the campaign has no {item} repeats, so U is that of this "
-              "power-on (run {item} to state the device's {what})")
+def _no_repeats(item: str, what: str):
+    return msg("power-on repeatability not in U: the campaign has no {item} repeats, so U is that of this power-on "
+               "(run {item} to state the device's {what})", item=item, what=what)
 
 
 def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tuple[list[BudgetRow], str]:
@@ -32,12 +34,12 @@ def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tu
 
     runs = _grouped(campaign, "revolutions-repeat", "run")
     if len(runs) < 2:
-        return [], NO_REPEATS.format(item="D.1.4", what="K")
+        return [], _no_repeats("D.1.4", "K")
     try:
         Kj = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0].K
               for r, segs in sorted(runs.items())]
     except (DataError, IndexError) as exc:  # D.1.4 itself reports what is wrong with its runs
-        return [], f"power-on repeatability not in U: the D.1.4 runs could not be evaluated ({exc})"
+        return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated ({exc})", item="D.1.4", exc=str(exc))
     return [_row("K", "D.1.4, eq. (D.11)", F2.scale_factor_repeatability_d11(Kj), K, len(Kj), unit)], ""
 
 
@@ -48,19 +50,20 @@ def scale_factor_rate_repeat_row(campaign: Campaign, K: float, unit: str, min_po
     runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
                    and not _group_of(s)[1]}, key=lambda r: (len(r), r))
     if len(runs) < 2:
-        return [], NO_REPEATS.format(item="D.2.4", what="K")
+        return [], _no_repeats("D.2.4", "K")
     try:
         Kj = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
                                                  f"in run {r}")).K for r in runs]
     except DataError as exc:
-        return [], f"power-on repeatability not in U: the D.2.4 runs could not be evaluated ({exc})"
+        return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated ({exc})", item="D.2.4", exc=str(exc))
     return [_row("K", "D.2.4, eq. (D.28)", F2.scale_factor_repeatability_d28(Kj), K, len(Kj), unit)], ""
 
 
 def _row(symbol: str, where: str, Kr: float, K: float, q: int, unit: str) -> BudgetRow:
-    return BudgetRow.type_a(f"power-on repeatability of {symbol} ({where} on this campaign, K_r = {Kr * 1e6:.3g} ppm): "
-                            f"{symbol} of one power-on stated as the device's", "K_r·K", Q_(abs(Kr * K), unit), q - 1,
-                            note=f"s of Q = {q} power-ons' K_j over their mean")
+    return BudgetRow.type_a(msg("power-on repeatability of {symbol} ({where} on this campaign, K_r = {Kr:.3g} ppm): "
+                                "{symbol} of one power-on stated as the device's", symbol=symbol, where=where,
+                                Kr=Kr * 1e6), "K_r·K", Q_(abs(Kr * K), unit), q - 1,
+                            note=msg("s of Q = {q} power-ons' K_j over their mean", q=q))
 
 
 def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float) -> tuple[list[BudgetRow], str]:
@@ -71,15 +74,16 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float) -> tuple[li
 
     segs = campaign.find_segments("static-repeat")
     if len(segs) < 2:
-        return [], NO_REPEATS.format(item="D.5.3", what="B₀")
+        return [], _no_repeats("D.5.3", "B₀")
     try:
         ests = [segment_bias(s, campaign, batches) for s in segs]
     except DataError as exc:
-        return [], f"power-on repeatability not in U: the D.5.3 runs could not be evaluated ({exc})"
+        return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated ({exc})", item="D.5.3", exc=str(exc))
     Br = F.bias_repeatability_d42([e.B0 for e in ests])
     w = float(np.mean([e.u_A**2 for e in ests]))
     u = max(math.sqrt(max(Br**2 - w, 0.0)), math.sqrt(max(Br**2 / 4.0 - own_uA**2, 0.0)))
     q = len(ests)
-    return [BudgetRow.type_a(f"power-on repeatability of B₀ (D.5.3, eq. (D.42) on this campaign, B_r = {Br:.3g} °/h, "
-                             "its within-run part removed): B₀ of one power-on stated as the device's", "σ_on",
-                             Q_(u, "deg/h"), q - 1, note=f"Q = {q} power-ons; mean within-run u_A = {math.sqrt(w):.3g} °/h")], ""
+    return [BudgetRow.type_a(msg("power-on repeatability of B₀ (D.5.3, eq. (D.42) on this campaign, B_r = {Br:.3g} °/h, "
+                                 "its within-run part removed): B₀ of one power-on stated as the device's", Br=Br), "σ_on",
+                             Q_(u, "deg/h"), q - 1,
+                             note=msg("Q = {q} power-ons; mean within-run u_A = {w:.3g} °/h", q=q, w=math.sqrt(w)))], ""

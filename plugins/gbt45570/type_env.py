@@ -36,6 +36,7 @@ import numpy as np
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.conformity import Comparison, Specification, parse_limit
 from metro.core.errors import DataError
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     Metric,
@@ -209,8 +210,8 @@ def specifications(campaign: Campaign) -> list[Specification]:
     for t in TESTS:
         if records_of(campaign, t):
             out += required_specifications(campaign, t)
-            out.append(Specification(f"{t.tag}_function", LE, Q_(0, ""), source=f"GB/T 45570—2025 5.4 {t.letter}) "
-                                     "(functional check after the test)", name=f"{t.name_en}: functional check",
+            out.append(Specification(f"{t.tag}_function", LE, Q_(0, ""), source=msg("GB/T 45570—2025 5.4 {letter}) (functional check after the test)", letter=t.letter),
+                                     name=msg("{test}: functional check", test=t.name_en),
                                      items=(t.item,)))
     return out
 
@@ -221,17 +222,18 @@ def _bias_change(metric: Metric, before, after) -> Result:
     d = after.B0 - before.B0
     uA = math.hypot(before.u_A, after.u_A)
     nu = uA**4 / (before.u_A**4 / before.nu_A + after.u_A**4 / after.nu_A) if uA > 0 else math.inf
-    rows = [BudgetRow.type_a("scatter of the two biases (batch means)", "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
-                             note="earth rate, latitude and levelling are common to both records and cancel")]
+    rows = [BudgetRow.type_a(msg("scatter of the two biases (batch means)"), "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
+                             note=msg("earth rate, latitude and levelling are common to both records and cancel"))]
     for phase, est in (("before", before), ("after", after)):
         if est.hw_q > 0:  # the D.5.1 row of each bias: two roundings, independent (different true values)
-            rows.append(BudgetRow.type_b(f"quantization of the output: B₀ {phase} (the D.5.1 row)", "δB₀",
+            rows.append(BudgetRow.type_b(msg("quantization of the output: B₀ before (the D.5.1 row)") if phase == "before"
+                                         else msg("quantization of the output: B₀ after (the D.5.1 row)"), "δB₀",
                                          Q_(est.hw_q, "deg/h"), distribution="uniform",
-                                         note="the two biases' rounding errors do not cancel in the difference"))
+                                         note=msg("the two biases' rounding errors do not cancel in the difference")))
     rows += _scale_factor_row(before.conv, d, "deg/h")
     b = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-    return Result(metric, Q_(d, "deg/h"), b.combined, b, earth_rate="removed", note=f"B₀ before {before.B0:.5f} °/h, after {after.B0:.5f} °/h "
-                  "(D.5.1, eq. (D.40))")
+    return Result(metric, Q_(d, "deg/h"), b.combined, b, earth_rate="removed",
+                  note=msg("B₀ before {b:.5f} °/h, after {a:.5f} °/h (D.5.1, eq. (D.40))", b=before.B0, a=after.B0))
 
 
 def _severity_result(metric: Metric, q, rec: Mapping, p: Param, src: str, where: str) -> tuple[Result, str]:
@@ -243,17 +245,20 @@ def _severity_result(metric: Metric, q, rec: Mapping, p: Param, src: str, where:
     missing = ""
     if isinstance(unc, Mapping) and p.name in unc:
         U = R.quantity(unc[p.name], delta, src, f"{where}.uncertainty.{p.name}")
-        rows = [BudgetRow.type_b(f"{p.label or p.name}: test lab's declared U", f"u({metric.symbol})", U.to(delta),
+        rows = [BudgetRow.type_b(msg("{what}: test lab's declared U", what=p.label or p.name), f"u({metric.symbol})",
+                                 U.to(delta),
                                  distribution="normal", k=2.0)]
     elif p.unit == "":
-        rows = [BudgetRow.type_b(f"{p.label or p.name}: a count (exact)", f"u({metric.symbol})", Q_(0.0, ""),
+        rows = [BudgetRow.type_b(msg("{what}: a count (exact)", what=p.label or p.name), f"u({metric.symbol})", Q_(0.0, ""),
                                  distribution="uniform")]
     else:
-        rows = [BudgetRow.type_b(f"{p.label or p.name}: no uncertainty declared by the test lab", f"u({metric.symbol})",
-                                 Q_(0.0, delta), distribution="uniform", note="uncertainty of the severity not evaluated")]
+        rows = [BudgetRow.type_b(msg("{what}: no uncertainty declared by the test lab", what=p.label or p.name),
+                                 f"u({metric.symbol})", Q_(0.0, delta), distribution="uniform",
+                                 note=msg("uncertainty of the severity not evaluated"))]
         missing = p.label or p.name
     b = UncertaintyBudget(metric.symbol, delta, rows, coverage=COVERAGE)
-    return R.na_result(metric, q.to(p.unit), b.combined, b, note=f"as applied ({where}.severity.{p.name})"), missing
+    return R.na_result(metric, q.to(p.unit), b.combined, b,
+                       note=msg("as applied ({where}.severity.{name})", where=where, name=p.name)), missing
 
 
 def _phase_segments(campaign: Campaign, kinds, tag: str, phase: str) -> list:
@@ -307,11 +312,11 @@ def _scale_factor_change(metric: Metric, before, after) -> Result:
     parts = [(ua / Kb, nua), (ub * Ka / Kb**2, nub)]
     nu = u**4 / sum(x**4 / n for x, n in parts if x > 0 and math.isfinite(n)) if u > 0 and any(
         x > 0 and math.isfinite(n) for x, n in parts) else math.inf
-    rows = [BudgetRow.type_a("scatter of the two scale factors", "u(ΔK/K)", Q_(u * 1e6, "ppm"), nu,
-                             note=f"{how}; the table's angle and time base are common to both and cancel")]
+    rows = [BudgetRow.type_a(msg("scatter of the two scale factors"), "u(ΔK/K)", Q_(u * 1e6, "ppm"), nu,
+                             note=join("; ", [how, msg("the table's angle and time base are common to both and cancel")]))]
     b = UncertaintyBudget(metric.symbol, "ppm", rows, coverage=COVERAGE)
     return Result(metric, Q_(d * 1e6, "ppm"), b.combined, b, earth_rate="removed",
-                  note=f"K before {Kb:.8g}, after {Ka:.8g} {unit} ({how})")
+                  note=msg("K before {b:.8g}, after {a:.8g} {unit} ({how})", b=Kb, a=Ka, unit=unit, how=how))
 
 
 class _EnvironmentalTest(Procedure):
@@ -413,7 +418,7 @@ class _EnvironmentalTest(Procedure):
                                     f"{p.label or p.name} of {t.key}")
                 continue
             q = R.quantity(sev[p.name], p.unit, src, f"{where}.severity.{p.name}")
-            m = Metric(f"{t.tag}_{p.name}", f"{t.name_en}: {p.label or p.name} applied", p.name, p.unit,
+            m = Metric(f"{t.tag}_{p.name}", msg("{test}: {what} applied", test=t.name_en, what=p.label or p.name), p.name, p.unit,
                        f"5.4 {t.letter})", t.method)
             r, missing = _severity_result(m, q, rec, p, src, where)
             results.append(r)
@@ -421,17 +426,17 @@ class _EnvironmentalTest(Procedure):
                 undeclared.append(missing)
             table.append([p.label or p.name, f"{q:~P}"])
         if undeclared:
-            warnings.append(f"the test lab declares no uncertainty of the applied {', '.join(undeclared)} "
-                            f"([{where}.uncertainty]): judged as stated")
+            warnings.append(msg("the test lab declares no uncertainty of the applied {what} ([{where}.uncertainty]): "
+                                "judged as stated", what=join(", ", undeclared), where=where))
         if not t.params:
-            table.append(["severity", "; ".join(f"{k} = {v}" for k, v in sev.items()) or "—"])
+            table.append([msg("severity"), "; ".join(f"{k} = {v}" for k, v in sev.items()) or "—"])
         func = R.answer(rec, "functional_check", src, where)
-        fm = Metric(f"{t.tag}_function", f"{t.name_en}: functional check after the test failed (1) or passed (0)",
+        fm = Metric(f"{t.tag}_function", msg("{test}: functional check after the test failed (1) or passed (0)", test=t.name_en),
                     "F", "", f"5.4 {t.letter})")
-        fb = UncertaintyBudget("F", "", [BudgetRow.type_b("an observed pass/fail: exact", "u(F)", Q_(0.0, ""),
+        fb = UncertaintyBudget("F", "", [BudgetRow.type_b(msg("an observed pass/fail: exact"), "u(F)", Q_(0.0, ""),
                                                           distribution="uniform")], coverage=COVERAGE)
         results.append(R.na_result(fm, Q_(0.0 if func else 1.0, ""), fb.combined, fb,
-                              note="passed" if func else "FAILED"))
+                              note=msg("passed") if func else msg("FAILED")))
         used: list[str] = []
         if "before" in rec or "after" in rec:
             ids = {}
@@ -442,20 +447,20 @@ class _EnvironmentalTest(Procedure):
                     raise DataError(src, f"{where}.{ph}", f"no segment with id {sid!r} in the campaign")
                 ids[ph] = seg
             est = {ph: segment_bias(seg, campaign, int(opts["batches"])) for ph, seg in ids.items()}
-            dm = Metric(f"{t.tag}_dB0", f"{t.name_en}: bias change after − before", "ΔB₀", "deg/h", "D.5.1.3", "D.40")
+            dm = Metric(f"{t.tag}_dB0", msg("{test}: bias change after − before", test=t.name_en), "ΔB₀", "deg/h", "D.5.1.3", "D.40")
             results.append(_bias_change(dm, est["before"], est["after"]))
             used = [ids["before"].id, ids["after"].id]
         else:
-            warnings.append(f"no before/after records of the gyro's output for {t.key}: the change of its "
-                            "bias is not evaluated")
+            warnings.append(msg("no before/after records of the gyro's output for {test}: the change of its bias is not "
+                                "evaluated", test=t.key))
         sf = {ph: scale_factor_at_phase(type(self), campaign, t.tag, ph) for ph in ("before", "after")}
         if campaign.device.output not in ("pulse", "") and any(
                 sg.kind == REVOLUTIONS_KIND and str(sg.conditions.get("test", "")) == t.tag for sg in campaign.segments):
-            warnings.append(f"revolution counts of {t.key} ignored: the angle method (D.1.1) reads pulse output and "
-                            f"this gyro's output is {campaign.device.output}; record with option scale_factor = rate "
-                            "(D.2.1) to check its scale factor")
+            warnings.append(msg("revolution counts of {test} ignored: the angle method (D.1.1) reads pulse output and "
+                                "this gyro's output is {output}; record with option scale_factor = rate (D.2.1) to "
+                                "check its scale factor", test=t.key, output=campaign.device.output))
         if sf["before"] is not None and sf["after"] is not None:
-            km = Metric(f"{t.tag}_dK", f"{t.name_en}: relative scale-factor change after − before", "ΔK/K", "ppm",
+            km = Metric(f"{t.tag}_dK", msg("{test}: relative scale-factor change after − before", test=t.name_en), "ΔK/K", "ppm",
                         "D.1.1.3 / D.2.1.3")
             results.append(_scale_factor_change(km, sf["before"], sf["after"]))
             used += [sg.id for sg in campaign.segments if sg.kind in (REVOLUTIONS_KIND, *RATE_KINDS)
@@ -464,9 +469,9 @@ class _EnvironmentalTest(Procedure):
             missing = "after" if sf["after"] is None else "before"
             raise DataError(src, "segments", f"scale-factor records of {t.key} {'before' if missing == 'after' else 'after'} "
                             f"the test but none {missing} it (test = \"{t.tag}\", phase = \"{missing}\")")
-        meta = [["test method", str(rec.get("standard") or t.method)],
-                ["test lab / report", " / ".join(str(rec[k]) for k in ("lab", "report") if k in rec) or "—"]]
-        tab = TableSpec(f"{t.tag}_severity", f"{t.name_en} ({t.name_cn}): severity applied", ["parameter", "value"],
+        meta = [[msg("test method"), str(rec.get("standard") or t.method)],
+                [msg("test lab / report"), " / ".join(str(rec[k]) for k in ("lab", "report") if k in rec) or "—"]]
+        tab = TableSpec(f"{t.tag}_severity", msg("{test}: severity applied", test=t.name_en), [msg("parameter"), msg("value")],
                         meta + table)
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[tab], warnings=warnings,
                        segments=used, options={k: str(v) for k, v in opts.items()})
