@@ -582,6 +582,12 @@ class SetupTime6277(Procedure):
             rows.append(BudgetRow.type_a(msg("noise of the window mean at the crossing, over the output's slope"),
                                          "σ_w/|dȳ/dt|", Q_(s_w / eff if eff > 0 else 0.0, "s"), max(tail.size - 1, 1),
                                          note=msg("σ_w = {s:.3g} °/h, slope {slope:.3g} (°/h)/s", s=s_w, slope=slope)))
+            if res > 0 and eff > 0:
+                # a quantized window mean (an undithered counter's sawtooth, a rounded word) is not in σ_w
+                rows.append(BudgetRow.type_b(msg("resolution of the window mean at the crossing (half a step), over "
+                                                 "the output's slope"), "δ_q/|dȳ/dt|", Q_(res / 2.0 / eff, "s"),
+                                             distribution="uniform",
+                                             note=msg("one step of the window mean: {res:.3g} °/h", res=res)))
         rows.append(BudgetRow.type_b(msg("sampling: the window means step by τ, the crossing lies within ±τ of the "
                                          "reported instant"), "τ", Q_(tau, "s"), distribution="uniform"))
         if t_out > t_in:  # noise took the output in and out of the band: the crossing is ambiguous
