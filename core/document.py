@@ -926,8 +926,15 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
     lines = sorted(f"{f['sha256']}  {f['file']}\n" for f in files)
     digest = hashlib.sha256("".join(lines).encode("utf-8")).hexdigest()
     doc.para(f"{tr('SHA-256 of the sorted list of data digests')}: {digest}", size=8, keep_next=True)
+    # a file or segment name is an identifier: in one language (English in zh+en), not twice
+    one = "zh" if tr.lang == "zh" else "en"
     if len(files) <= 24:
-        doc.table([tr("Data"), "SHA-256"], [[f["file"], f["sha256"]] for f in files], font_pt=7)
+        names = [_short_name(tr.render(f["file"], one)) for f in files]
+        prefix, suffix = _common_affixes(names)
+        if prefix or suffix:
+            doc.para(f"{tr('Data')}: {(prefix + '…' + suffix).strip()}", size=7.5, keep_next=True)
+        doc.table([tr("Data"), "SHA-256"], [[n[len(prefix):len(n) - len(suffix)].strip(), f["sha256"]]
+                                            for n, f in zip(names, files)], font_pt=7)
         return
     # many files (simulated segments): the name without what they all share, the first 16 hex
     # digits, three to a row (one line each at 6 pt); the shared words said once above the table
@@ -938,7 +945,7 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
                     "digests, which the run record lists in full (metro run --json: provenance.data_files; "
                     "the register keeps it with the report).", n=len(files)), size=7.5)
         return
-    names = [_short_name(tr.text(f["file"])) for f in files]
+    names = [_short_name(tr.render(f["file"], one)) for f in files]
     prefix, suffix = _common_affixes(names)
     title = tr("Data (SHA-256, first 16 hex digits)")
     if prefix or suffix:
