@@ -32,6 +32,7 @@ from typing import Literal
 import attrs
 import pint
 
+from .locale import msg
 from .report import power_of_ten
 from .units import Q_, fmt_unit, ureg
 
@@ -148,7 +149,7 @@ class BudgetRow:
             distribution=dist,
             k=calibration.k if dist == "normal" else None,
             sensitivity=sensitivity,
-            note=note or f"certificate {calibration.certificate}",
+            note=note or msg("certificate {certificate}", certificate=calibration.certificate),
         )
 
 

@@ -231,7 +231,7 @@ def drift_row(zero_stability: Any, time: Any) -> BudgetRow:
 def repeatability_row(R_arcsec: float, rounds: int) -> BudgetRow:
     """Appendix A 4.4: the 7.5 repeatability (largest R_i), type A with ν = rounds − 1."""
     return BudgetRow.type_a(msg("measurement repeatability (max R_i, 7.5)"), "u(r)", Q_(R_arcsec, "arcsec"), rounds - 1,
-                            note=f"{rounds} rounds")
+                            note=msg("{n} rounds", n=rounds))
 
 
 def e_budget(rows: list[BudgetRow]) -> UncertaintyBudget:
