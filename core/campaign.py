@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from .errors import DataError, UnitError
+from .locale import msg
 from .model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
 from .units import parse_quantity
 from . import vocabulary as voc
@@ -644,7 +645,8 @@ def note_absent_equipment(outcome, absent) -> Any:
             if any(req.role in row.source for row in rows):
                 continue
             rows.append(BudgetRow.type_b(
-                f"{req.role}: not given in the campaign", "—", Q_(0.0, b.unit), distribution="uniform",
-                note=f"no equipment with role {req.role!r} ({req.description}): its uncertainty is not in this budget"))
+                msg("{role}: not given in the campaign", role=req.role), "—", Q_(0.0, b.unit), distribution="uniform",
+                note=msg("no equipment with role {role!r} ({description}): its uncertainty is not in this budget",
+                         role=req.role, description=req.description)))
         results.append(_attrs.evolve(r, budget=_attrs.evolve(b, rows=rows)))
     return _attrs.evolve(outcome, results=results)

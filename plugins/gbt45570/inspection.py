@@ -218,7 +218,7 @@ def dimension_specifications(campaign: Campaign) -> list[Specification]:
         nominal, lo, hi = tolerance_of(d, src, where)
         out.append(Specification(f"dim_{key}", RANGE, (nominal + lo).to("mm"), (nominal + hi).to("mm"),
                                  source=f"product specification ({where}: nominal {nominal:~P}, {lo:+~P}/{hi:+~P})",
-                                 name=f"dimension {d['name']}", items=("6.2.2",)))
+                                 name=msg("dimension {name}", name=d['name']), items=("6.2.2",)))
         out.append(Specification(f"itgrade_{key}", LE, Q_(1.0, ""), source="GB/T 45570—2025 5.2.4 (tolerance grade "
                                  "not above IT12, GB/T 1800.1—2020 table 1)", name=f"tolerance of {d['name']} / IT12",
                                  items=("6.2.2",)))
@@ -252,7 +252,7 @@ class Dimensions622(_Inspection):
         for key, d, where in recs:
             nominal, lo, hi = tolerance_of(d, src, where)
             vals = R.readings(d, "readings", "mm", src, where)
-            m = Metric(f"dim_{key}", f"dimension {d['name']}", "l", "mm", "5.2.4")
+            m = Metric(f"dim_{key}", msg("dimension {name}", name=d['name']), "l", "mm", "5.2.4")
             results.append(measured_result(m, vals, eq, campaign, note=msg("nominal {nominal} {tol}", nominal=f"{nominal:~P}", tol=f"{lo:+~P}/{hi:+~P}")))
             nom = float(nominal.to("mm").magnitude)
             try:
@@ -395,7 +395,8 @@ class Supply526(_Inspection):
                 eq = eq or R.equipment(campaign, "voltmeter", "5.2.6", "the supply voltages")
                 vals = R.readings(rail, "readings", "V", src, w)
                 key = _rail_key(nominal)
-                m = Metric(f"supply_V_{key}", f"voltage of the {nominal:~P} supply at the gyro", "U", "V", "5.2.6")
+                m = Metric(f"supply_V_{key}", msg("voltage of the {nominal} supply at the gyro", nominal=f"{nominal:~P}"), "U",
+                           "V", "5.2.6")
                 results.append(measured_result(m, vals, eq, campaign, note=msg("nominal {nominal} ± {tol}", nominal=f"{nominal:~P}", tol=f"{tol:~P}")))
                 cell = f"{results[-1].value:.4g~P}"
             table.append([f"{nominal:~P}", f"± {tol:~P}" if tol is not None else "not stated",

@@ -896,7 +896,7 @@ def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.nda
     c = abs(conv.magnitude)
     if conv.output_kind == "pulse":
         return [_resolution_row(campaign, c, "deg/h", what, q=1.0, raw_unit="P", half_width=1.0 / raw.size,
-                                note=f"readout at the record's two ends: ±1 P over {raw.size} samples")]
+                                note=msg("readout at the record's two ends: ±1 P over {n} samples", n=raw.size))]
     qz = quantization_of(campaign, conv, raw)
     if qz.q <= 0:
         return []

@@ -23,6 +23,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
+from metro.core.locale import join, msg
 from metro.core.lsq import fit_line
 from metro.core.model import (
     Campaign,
@@ -270,7 +271,8 @@ def rate_band(campaign: Campaign, rate: float) -> tuple[float, float, str] | Non
         if abs(rate) <= upper * (1 + 1e-12):
             err = tab.prop(f"rate_band_{i}_error", "", source=campaign.source)
             rip = tab.prop(f"rate_band_{i}_ripple", "", source=campaign.source)
-            return float(err.to("").magnitude), float(rip.to("").magnitude), f"{tab.describe()}, band ≤ {upper:g} °/s"
+            return float(err.to("").magnitude), float(rip.to("").magnitude), msg("{equipment}, band ≤ {upper:g} °/s", equipment=tab.describe(),
+                                                                                  upper=upper)
         i += 1
     return None
 
@@ -285,11 +287,11 @@ def rate_table_rel(campaign: Campaign, rate: float | None = None) -> tuple[float
     if rate is not None:
         b = rate_band(campaign, rate)
         if b is not None:
-            return b[0] / math.sqrt(3.0), f"{b[2]}: ±{b[0]:.2g} (uniform)"
+            return b[0] / math.sqrt(3.0), msg("{band}: ±{e:.2g} (uniform)", band=b[2], e=b[0])
     cal = tab.calibration
     if cal is None or not cal.uncertainty.dimensionless:
         return None
-    return float(cal.standard_uncertainty.to("").magnitude), f"{tab.describe()}, {cal.certificate}"
+    return float(cal.standard_uncertainty.to("").magnitude), join(", ", [tab.describe(), cal.certificate])
 
 
 def _rate_row(campaign: Campaign, what: str, value: float, unit: str, note: str,
@@ -297,8 +299,8 @@ def _rate_row(campaign: Campaign, what: str, value: float, unit: str, note: str,
     r = rate_table_rel(campaign, rate)
     if r is None:
         return []
-    return [BudgetRow.type_b(f"rate-table rate accuracy, {what} ({r[1]})", "u_rel(Ω)", Q_(r[0], ""),
-                             distribution="normal", k=1.0, sensitivity=Q_(abs(value), unit), note=note)]
+    return [BudgetRow.type_b(msg("rate-table rate accuracy, {what} ({table})", what=what, table=r[1]), "u_rel(Ω)",
+                             Q_(r[0], ""), distribution="normal", k=1.0, sensitivity=Q_(abs(value), unit), note=note)]
 
 
 def _through_fit(rates: np.ndarray, u_rel: list[float], *, intercept: bool = False) -> float:
@@ -337,7 +339,7 @@ def _stability_row(campaign: Campaign, data: RateData) -> list[BudgetRow]:
                          "bounds a table rate that differs between runs")
     u = _through_fit(data.rates, [b[1] / math.sqrt(m) for b, m in zip(bands, data.n)])
     return [BudgetRow.type_b(f"rate-table ripple averaged over each rate point, through D.21, run to run "
-                             f"({bands[0][2].split(',')[0]})", "u(δK/K)", Q_(u, ""), distribution="normal", k=1.0,
+                             f"({str(bands[0][2]).split(',')[0]})", "u(δK/K)", Q_(u, ""), distribution="normal", k=1.0,
                              note="independent in each run; adds to the spread of the K_j")]
 
 
@@ -369,7 +371,8 @@ def _resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str, *, 
     items' rows on LSB and rate outputs."""
     q = resolution(campaign) if q is None else q
     hw = q / 2.0 if half_width is None else half_width
-    return BudgetRow.type_b(f"output resolution {q:.4g} {raw_unit}, through {what}", "δF", Q_(hw, raw_unit),
+    return BudgetRow.type_b(msg("output resolution {q:.4g} {unit}, through {what}", q=q, unit=raw_unit, what=what), "δF",
+                            Q_(hw, raw_unit),
                             distribution="uniform",
                             sensitivity=Q_(c_norm, f"({unit})/({raw_unit})" if unit else f"1/({raw_unit})"),
                             note=note)
@@ -910,12 +913,13 @@ class MaxInputRateD3(Procedure):
                                  hint="test lower rates, or check the limit (option Kn_limit)")
         warnings = []
         if om == max(rates):
-            warnings.append(f"K_n meets the limit up to the largest rate tested ({om:g} °/s); the maximum input rate "
-                            "may be higher — test beyond it (option max_rate)")
+            warnings.append(msg("K_n meets the limit up to the largest rate tested ({om:g} °/s); the maximum input rate "
+                                "may be higher — test beyond it (option max_rate)", om=om))
         failing_below = [r for r, kn in curve if r < om and kn > limit]
         if failing_below:
-            warnings.append(f"ranges up to {', '.join(f'{r:g}' for r in failing_below)} °/s exceed the limit while the "
-                            f"range up to {om:g} °/s meets it (definition 3.13 judges the range up to Ω_max)")
+            warnings.append(msg("ranges up to {rates} °/s exceed the limit while the range up to {om:g} °/s meets it "
+                                "(definition 3.13 judges the range up to Ω_max)",
+                                rates=", ".join(f'{r:g}' for r in failing_below), om=om))
         # type A: the table rate at Ω_max as the gyro indicates it
         if method == "angle":
             p = next(p for p in pts if p.rate == om)
@@ -926,20 +930,22 @@ class MaxInputRateD3(Procedure):
             sel = np.abs(data.rates) == om
             u_rate = float(np.sqrt(np.mean(data.uF[sel] ** 2) / sel.sum())) / abs(K)
             nu = int(data.n[sel].min()) - 1
-        rows = [BudgetRow.type_a(f"rate realised at {om:g} °/s, as the gyro indicates it", "u(Ω)", Q_(u_rate, "deg/s"),
-                                 nu, note=f"{method} method")]
-        rows += _rate_row(campaign, f"at {om:g} °/s", om, "deg/s", "the table's setting of Ω_max", rate=om)
+        how = msg("angle method") if method == "angle" else msg("rate method")
+        rows = [BudgetRow.type_a(msg("rate realised at {om:g} °/s, as the gyro indicates it", om=om), "u(Ω)",
+                                 Q_(u_rate, "deg/s"), nu, note=how)]
+        rows += _rate_row(campaign, msg("at {om:g} °/s", om=om), om, "deg/s", msg("the table's setting of Ω_max"), rate=om)
         budget = UncertaintyBudget("Ω_max", "deg/s", rows, coverage=COVERAGE)
         kn_at = dict(curve)[om]
         res = Result(self.metrics[0], Q_(om, "deg/s"), budget.combined, budget,
-                     note=f"K_n up to {om:g} °/s = {kn_at * 1e6:.3g} ppm ≤ {limit * 1e6:g} ppm ({lim_src}); {method} method", earth_rate="not applicable")
-        plot = PlotSpec("Kn_range", "K_n of the range [−Ω, +Ω] against Ω (D.3)", "Ω (°/s)", "K_n (ppm)",
+                     note=join("; ", [msg("K_n up to {om:g} °/s = {kn:.3g} ppm ≤ {limit:g} ppm ({source})", om=om, kn=kn_at * 1e6,
+                                          limit=limit * 1e6, source=lim_src), how]), earth_rate="not applicable")
+        plot = PlotSpec("Kn_range", msg("K_n of the range [−Ω, +Ω] against Ω (D.3)"), "Ω (°/s)", "K_n (ppm)",
                         [{"label": "K_n up to Ω", "x": [r for r, _ in curve], "y": [k * 1e6 for _, k in curve],
                           "style": "o-"},
                          {"label": f"limit {limit * 1e6:g} ppm", "x": [curve[0][0], curve[-1][0]],
                           "y": [limit * 1e6] * 2, "style": "--"}], logx=True)
-        table = TableSpec("Kn_ranges", "K_n of each range (D.3)", ["up to Ω (°/s)", "K_n (ppm)", "meets the limit"],
-                          [[f"{r:g}", f"{k * 1e6:.3g}", "yes" if k <= limit else "no"] for r, k in curve])
+        table = TableSpec("Kn_ranges", msg("K_n of each range (D.3)"), [msg("up to Ω (°/s)"), "K_n (ppm)", msg("meets the limit")],
+                          [[f"{r:g}", f"{k * 1e6:.3g}", msg("yes") if k <= limit else msg("no")] for r, k in curve])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[table],
                        warnings=warnings, segments=segments, options=_opts_text(opts))
 

@@ -470,7 +470,8 @@ class _EnvironmentalTest(Procedure):
             raise DataError(src, "segments", f"scale-factor records of {t.key} {'before' if missing == 'after' else 'after'} "
                             f"the test but none {missing} it (test = \"{t.tag}\", phase = \"{missing}\")")
         meta = [[msg("test method"), str(rec.get("standard") or t.method)],
-                [msg("test lab / report"), " / ".join(str(rec[k]) for k in ("lab", "report") if k in rec) or "—"]]
+                [msg("test lab / report"), join(" / ", [rec[k] for k in ("lab", "report") if k in rec]) if any(
+                    k in rec for k in ("lab", "report")) else "—"]]
         tab = TableSpec(f"{t.tag}_severity", msg("{test}: severity applied", test=t.name_en), [msg("parameter"), msg("value")],
                         meta + table)
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[tab], warnings=warnings,
