@@ -48,7 +48,7 @@ CASES = [
         "判定规则 Decision rule", "典型指标", "环境适应性严酷等级 Environmental severities (C.1)",
         "偏离 Deviations", "签名 Signatures", "试验 Tested by", "批准 Approved by",
     ]),
-    ("jjf2014", ["7.2.1", "7.2.13", "7.2.14"], {"duration_scale": 0.1, "seed": 3}, 10, [
+    ("jjf2014", ["7.2.1", "7.2.13", "7.2.14"], {"duration_scale": 0.1, "seed": 3}, 7, [
         "校准证书 Calibration certificate",                                      # 8 a)
         "实验室 Laboratory", "实验室地址 Laboratory address",                      # 8 b)
         "校准地点 Place of calibration",                                          # 8 c)
@@ -68,7 +68,7 @@ CASES = [
         "未经实验室书面批准，不得部分复制本证书。",                                    # 8 p)
         "校准员 Calibrated by", "核验员 Checked by",                               # appendix A
     ]),
-    ("jjf2003", ["7.2.1", "7.2.2", "7.2.3"], {}, 25, [
+    ("jjf2003", ["7.2.1", "7.2.2", "7.2.3"], {}, 11, [
         "校准证书 Calibration certificate", "实验室名称 Laboratory name", "实验室地址 Laboratory address",
         "证书编号 Certificate No.", "校准单位校准专用章 Seal of the calibrating laboratory",
         "委托方 Customer", "委托方地址 Customer address", "制造厂 Manufacturer", "型号规格 Model",
@@ -214,3 +214,27 @@ def test_cli_report_path_ending_in_pdf_writes_pdf_a(tmp_path, run_cli):
     code, _, err = run_cli("run", "-s", "ogam", "-i", "7.1", "--report", str(tmp_path / "s.docx"), "--pdf", "-q")
     assert code == 2 and "s.pdf" in err and "--force" in err
     assert (tmp_path / "s.pdf").read_bytes() == b"an earlier PDF" and not (tmp_path / "s.docx").exists()
+
+
+#: GB/T 45570 type test (--all) on the simulated station, zh+en: 47 pages measured (2026-11-23;
+#: 46 before the layout work, when the content was smaller and printed in one language)
+GBT_ALL_PAGES = 49
+
+
+def test_gbt45570_type_test_report_length_and_order(tmp_path):
+    """`--all` for one device: within the page bound; page 1 carries the overall verdict and the
+    results table; the budgets, data, figures and provenance are annexes after the signatures."""
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "gbt45570", [], run_all=True, station_options={"seed": 3})
+    out = write_report(tmp_path / "all.pdf", rec, layout=pm.template_for("gbt45570").layout,
+                       extend=pm.extend_report_context)
+    info = subprocess.run(["pdfinfo", str(out)], capture_output=True, text=True, check=True).stdout
+    pages = int(re.search(r"Pages:\s+(\d+)", info).group(1))
+    assert pages <= GBT_ALL_PAGES, pages
+    text = subprocess.run(["pdftotext", "-enc", "UTF-8", str(out), "-"], capture_output=True, text=True,
+                          check=True).stdout.split("\f")
+    assert "Overall verdict" in text[0] and "Results" in text[0]
+    first = {name: next(i for i, t in enumerate(text) if name in t)
+             for name in ("Signatures", "Annex A", "Annex B", "Annex C", "Annex D")}
+    assert 0 < first["Signatures"] <= first["Annex A"] < first["Annex B"] < first["Annex C"] <= first["Annex D"]
+    assert "Technical requirements (5)" in "".join(text[:first["Signatures"]])  # a type test: the clause-5 table
