@@ -701,13 +701,18 @@ def _core_property(text: str, limit: int = 255) -> str:
 
 def _add_notices(document: Any, notices: Iterable[str]) -> None:
     """The register statement (registered, replaces …, not registered, --allow-expired) as bold
-    paragraphs at the top of the document body, whatever the template."""
+    paragraphs at the top of the document body, whatever the template — under the lab's logo
+    when the document opens with it."""
+    from docx.oxml.ns import qn
+
     body = document.element.body
+    first = body[0] if len(body) else None
+    start = 1 if first is not None and first.tag == qn("w:p") and first.findall(".//" + qn("w:drawing")) else 0
     for i, text in enumerate(notices):
         para = document.add_paragraph()
         para.add_run(text).bold = True
         body.remove(para._p)
-        body.insert(i, para._p)
+        body.insert(start + i, para._p)
 
 
 def render_figures(ctx: Mapping[str, Any], folder: str | os.PathLike[str]) -> dict[int, Path]:

@@ -578,6 +578,10 @@ def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
     assert drawn(again) == [logo]
     plain = write_report(tmp_path / "c.docx", rec, layout=layout, extend=pm.extend_report_context)
     assert drawn(plain) == []
+    # the register's statement goes under the logo, the logo stays at the top of page 1
+    ctx["register"] = {"registered": False, "notices": ["NOT REGISTERED notice"]}
+    d = docx.Document(str(render_context(tmp_path / "d.docx", ctx, layout=layout)))
+    assert d.paragraphs[0]._p.xpath(".//w:drawing") and d.paragraphs[1].text == "NOT REGISTERED notice"
 
 
 def test_zh_en_text_without_chinese_is_printed_once():
