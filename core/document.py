@@ -625,6 +625,8 @@ def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
         return r["value_unit"], tr("not evaluated")
     if U.startswith("u = "):
         return r["value_unit"], U
+    if r.get("U") in ("0", "0.0"):  # a count or a value taken as declared: no k to state
+        return r["value_unit"], tr("no uncertainty (exact)")
     return r["value_unit"], f"U = {U} (k = {r['k']})"
 
 

@@ -594,3 +594,15 @@ def test_zh_en_text_without_chinese_is_printed_once():
     text = tr.text(msg("{source} ({note})", source="scatter of the two biases", note="the terms cancel"))
     assert text == "scatter of the two biases (the terms cancel)"
     assert tr.text(msg("not performed")) == "未检测 not performed"
+
+
+def test_an_exact_result_says_so_instead_of_u_zero_with_a_k():
+    """A count or a declared value (U = 0) prints 'no uncertainty (exact)', not 'U = 0 °C (k = 2)'."""
+    from metro.core.document import DocumentBuilder, result_cells
+    from metro.core.locale import translator
+
+    doc = DocumentBuilder(number="N", title="T", tr=translator("en"))
+    exact = {"value_unit": "-55 °C", "U_unit": "0 °C", "U": "0", "k": "2", "reportable": True}
+    assert result_cells(doc, exact) == ("-55 °C", "no uncertainty (exact)")
+    measured = dict(exact, U_unit="0.30 °C", U="0.30")
+    assert result_cells(doc, measured) == ("-55 °C", "U = 0.30 °C (k = 2)")
