@@ -72,6 +72,17 @@ def test_every_translation_has_the_places_of_its_message_id():
     assert not bad, bad
 
 
+def test_the_catalog_lacks_no_message_id_the_code_uses():
+    """``python -m metro.core.locale`` finds every tr("…") and msg("…") in core, plugins and
+    instruments, and every metric name and item title the procedures declare."""
+    from metro.core.locale.__main__ import missing_messages, used_messages
+
+    used = used_messages()
+    assert "{n} rounds; clause 7.5 asks for {rounds}" in used  # a msg(…) of a plugin
+    assert "scale factor" in used  # a metric name
+    assert not missing_messages(), sorted(missing_messages())[:40]
+
+
 def test_no_message_is_built_from_an_f_string():
     """msg(f"…") cannot be found by the extractor, nor translated: the code has none."""
     from pathlib import Path
