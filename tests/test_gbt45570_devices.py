@@ -359,3 +359,13 @@ def test_6277_window_resolution_row(pm):
                     station_options={"seed": 2, "device_class": "pulse-fine-undithered"})
     rows = [r for r in _result(rec, "setup_time").budget.rows if "resolution of the window mean" in r.source]
     assert len(rows) == 1 and rows[0].distribution == "uniform" and float(rows[0].value.magnitude) > 0
+
+
+def test_d14_identical_counts_not_reportable(pm):
+    """Device 129 of `pulse-coarse-undithered` (1 P = 20″, counted at a fixed phase): the seven power-ons
+    give the same whole counts, K_r = 0 — not reportable with the count resolution in the reason (it
+    was a data error, 'K_r = 0 cannot be right', that stopped the whole run)."""
+    rec = run_items(pm, "gbt45570", ["D.1.4"], station="simulated",
+                    station_options={"seed": 129, "device_class": "pulse-coarse-undithered"})
+    r = _result(rec, "Kr")
+    assert not r.reportable and "identical" in r.reason and "ppm of K" in r.reason

@@ -413,7 +413,17 @@ class ScaleFactorRepeatabilityD14(Procedure):
                         want=want)] if off else []
         Kr = F2.scale_factor_repeatability_d11(Kj)
         if not Kr > 0:
-            raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
+            # identical whole counts: one pulse in m revolutions is coarser than the power-on scatter
+            # (a coarse undithered counter), not a data error — K_r cannot be measured
+            p0 = pts[0][1]
+            res_ppm = 1e6 / (min(p0.m_plus, p0.m_minus) * abs(p0.n_plus - p0.n_minus))
+            reason = msg("the {q} scale factors K_j are identical: one count over the m revolutions ({res:.3g} ppm of "
+                         "K) is coarser than the power-on scatter, which cannot be measured — use more revolutions",
+                         q=q, res=res_ppm)
+            res = Result(self.metrics[0], Q_(0.0, ""), reportable=False, reason=reason, earth_rate="removed")
+            return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings + [reason],
+                           segments=[s for _, p in pts for s in p.segments],
+                           options={k: str(v) for k, v in opts.items()})
         rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors", q=q), "K_r/√(2(Q−1))",
                                  Q_(Kr / math.sqrt(2 * (q - 1)), ""), q - 1),
                 _counter_row([p for _, p in pts], 1.0, "")]
