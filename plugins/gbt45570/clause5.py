@@ -186,7 +186,8 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
     choices = {c.item: c for c in getattr(record, "selection", ())}
     rows = []
     for req in REQUIREMENTS:
-        row = {"clause": req.clause, "requirement": req.text, "method": " / ".join(req.items) or "—"}
+        row = {"clause": req.clause, "requirement": req.text, "requirement_cn": req.text_cn,
+               "requirement_en": req.text_en, "method": " / ".join(req.items) or "—"}
         if not req.items:  # 5.1
             rows.append(row | {"status": BY_SPEC, "result": "—", "verdict": BY_SPEC, "reason": req.by_spec})
             continue

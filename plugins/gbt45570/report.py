@@ -470,7 +470,8 @@ def layout(doc, ctx: dict) -> None:
         # each requirement with its results (symbols, not code keys) and verdict; the why only
         # where the verdict is not "conforms" (the interval inside the limit is the results table's)
         doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
-                  [[r["clause"], r["requirement"], _first_results(tr, symbols(r["result"])),
+                  [[r["clause"], tr.pick(r["requirement_cn"], r["requirement_en"]) if r.get("requirement_cn")
+                    else r["requirement"], _first_results(tr, symbols(r["result"])),
                     tr(r["verdict"]) if r["verdict"] else DASH,
                     "" if r["verdict"] == "conforms" else symbols(r.get("note", ""))] for r in g["clause5"]],
                   font_pt=7.5)
