@@ -18,6 +18,7 @@ from typing import Any
 import attrs
 
 from metro.core.conformity import Comparison, Specification
+from metro.core.locale import join, msg
 from metro.core.units import Q_
 
 from . import records as R
@@ -217,15 +218,15 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
         if status:
             verdict = VERDICT_TEXT[status]
             worst = [v for v in judged if v.status.value == status]
-            reason = "; ".join(v.reason for v in worst[:2])
+            parts = [v.reason for v in worst[:2]]
             if unjudged:
-                reason += f"; no limit for {', '.join(unjudged[:3])}{' …' if len(unjudged) > 3 else ''}"
+                parts.append(msg("no limit for {keys}", keys=", ".join(unjudged[:3]) + (" …" if len(unjudged) > 3 else "")))
         else:
             verdict = "no limit given"
-            reason = f"{BY_SPEC}: give the limit (manifest [specification] or the record) to judge it"
+            parts = [msg("by product specification: give the limit (manifest [specification] or the record) to judge it")]
         warnings = [w for o in ran for w in o.warnings]
-        if warnings:
-            reason += "; " + "; ".join(warnings[:2])
+        # each part keeps its message, so the document writes the reason in its language
+        reason = join("; ", parts + warnings[:2])
         rows.append(row | {"status": PERFORMED, "result": "; ".join(texts), "verdict": verdict, "reason": reason})
     for r in rows:
         r["note"] = r["reason"]  # the report's clause-5 table prints it as the row's note

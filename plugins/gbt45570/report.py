@@ -473,7 +473,7 @@ def layout(doc, ctx: dict) -> None:
                   [[r["clause"], tr.pick(r["requirement_cn"], r["requirement_en"]) if r.get("requirement_cn")
                     else r["requirement"], _first_results(tr, symbols(r["result"])),
                     tr(r["verdict"]) if r["verdict"] else DASH,
-                    "" if r["verdict"] == "conforms" else symbols(r.get("note", ""))] for r in g["clause5"]],
+                    "" if r["verdict"] == "conforms" else symbols(tr.text(r.get("note", "")))] for r in g["clause5"]],
                   font_pt=7.5)
         n += 1
     doc.heading(f"{n} {tr('Test conditions')} (6.1)", 1)
