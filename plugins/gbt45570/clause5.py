@@ -159,8 +159,8 @@ def _result_text(r) -> str:
     text = f"{r.metric.key} = {v}{(' ' + ut) if ut else ''}"
     if U is not None and float(r.U.magnitude) > 0:
         text += f" (U = {U}{(' ' + ut) if ut else ''}, k = {r.k:.2f})"
-    if not r.reportable:
-        text += f" [not reportable: {r.reason}]"
+    if not r.reportable:  # the reason is the row's note (the item's warning); the document translates the mark
+        text += " [not reportable]"
     # a minus sign, not a hyphen: a line may break after a hyphen and split the number in two
     return re.sub(r"(?<![\w.])-(?=\d)", "\u2212", text)
 

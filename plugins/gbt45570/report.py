@@ -405,7 +405,7 @@ def _first_results(tr, text: str, keep: int = 1) -> str:
 _GREEK = ("alpha", "beta", "gamma", "delta", "theta", "omega")
 
 
-def _symbolizer(ctx: dict):
+def _symbolizer(ctx: dict, tr=None):
     """A function putting result symbols in place of the code keys in free text (``Bs_10s ± U``
     → ``B_s(10 s) ± U``, ``Kn`` → ``K_n``, ``alpha`` → ``α``): keys with an underscore, a digit or
     a capital, and Greek letter names; never plain words (``mass``, ``threshold``)."""
@@ -419,7 +419,9 @@ def _symbolizer(ctx: dict):
                 found.setdefault(key, (sym, r.get("quantity") or ""))
     shared = {s for s, _ in found.values() if sum(1 for t, _ in found.values() if t == s) > 1}
     # a symbol several keys share (l for length, width and height) would not say which: the name
-    names = {k: (s if s and s not in shared else n) for k, (s, n) in found.items() if s or n}
+    # (a name in the document's language when a translator is given)
+    names = {k: (s if s and s not in shared else (tr.text(n) if tr is not None else n))
+             for k, (s, n) in found.items() if s or n}
     if not names:
         return lambda text: text
     rx = re.compile(r"(?<![\w.])(" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + r")(?!\w)")
@@ -464,14 +466,15 @@ def layout(doc, ctx: dict) -> None:
 
     n = 1
     type_test = g.get("type_test", False)
-    symbols = _symbolizer(ctx)
+    symbols = _symbolizer(ctx, tr)
     if g["clause5"] and type_test:
         doc.heading(f"{n} {tr('Technical requirements')} (5)", 1)
         # each requirement with its results (symbols, not code keys) and verdict; the why only
         # where the verdict is not "conforms" (the interval inside the limit is the results table's)
         doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
                   [[r["clause"], tr.pick(r["requirement_cn"], r["requirement_en"]) if r.get("requirement_cn")
-                    else r["requirement"], _first_results(tr, symbols(r["result"])),
+                    else r["requirement"],
+                    _first_results(tr, symbols(r["result"])).replace("[not reportable]", f"[{tr('not reportable')}]"),
                     tr(r["verdict"]) if r["verdict"] else DASH,
                     "" if r["verdict"] == "conforms" else symbols(tr.text(r.get("note", "")))] for r in g["clause5"]],
                   font_pt=7.5)
