@@ -856,3 +856,21 @@ def test_ratiometric_output_round_trip_and_refusal(pm, tmp_path):
     with pytest.raises(DataError, match="ratiometric") as exc:
         run_items(pm, "jjf2014", ["7.2.1"], campaign=camp)
     assert exc.value.field == "output" and "supply_voltage" in exc.value.hint
+
+
+def test_one_estimate_counts_its_degrees_of_freedom_once():
+    """Two rows from one B_r estimate of six runs (ν = 5), the two members of a difference: with ν
+    apportioned (interpretations.md, "JJF 2014 — one estimate, one ν") the budget's ν_eff is 5 and
+    k = t(5) at 95.45 % = 2.65; counted twice it was ≈ 10 and k ≈ 2.28."""
+    from metro.core.budget import BudgetRow, UncertaintyBudget
+    from metro.core.units import Q_
+    from metro.plugins.jjf2014 import budgets as B
+    from metro.plugins.jjf2014.common import Spread, one_estimate
+
+    rep = Spread(0.5, 5.0, "7.2.15 runs of this campaign", "A")
+    rows = [rep.row("B₀ before", "B_r", 0.5, "deg/h"), rep.row("B₀ after", "B_r", 0.5, "deg/h"),
+            BudgetRow.type_a("other", "u", Q_(1e-6, "deg/h"), 19)]
+    twice = UncertaintyBudget("dB", "deg/h", rows, coverage=B.COVERAGE)
+    once = UncertaintyBudget("dB", "deg/h", one_estimate(rows, rep), coverage=B.COVERAGE)
+    assert twice.nu_eff == pytest.approx(10.0, rel=1e-3) and once.nu_eff == pytest.approx(5.0, rel=1e-3)
+    assert once.k == pytest.approx(2.649, abs=0.01) and once.combined == twice.combined

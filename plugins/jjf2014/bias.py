@@ -26,6 +26,7 @@ from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
+    one_estimate,
     AXES,
     RATE_OPTS,
     Spread,
@@ -294,7 +295,7 @@ class BiasTemperature(_JJF):
                 *_rounded(campaign, bvs[m], f"B₀ at {temps[m]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 kv.row(bt, "deg/h/delta_degC")]
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
-        b = B.type_a_budget("Bt", "deg/h/delta_degC", rows)
+        b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep))
         tab = TableSpec("bias_temperature", msg("B_0i per temperature"), ["T_i (°C)", "B_0i (°/h)"],
                         [[f"{t:g}", f"{x.B0:.5g}"] for t, x in zip(temps, bvs)])
         return self._outcome([Result(self.metrics[0], Q_(bt, "deg/h/delta_degC"), b.combined, b,
@@ -346,7 +347,7 @@ class BiasAcceleration(_JJF):
                 *_rounded(campaign, v["up"], msg("B₀ {axis} up", axis=worst), 0.5, "deg/h/gn"),
                 *_rounded(campaign, v["down"], msg("B₀ {axis} down", axis=worst), 0.5, "deg/h/gn"),
                 kv.row(bg, "deg/h/gn")]
-        b = B.type_a_budget("Bg", "deg/h/gn", rows)
+        b = B.type_a_budget("Bg", "deg/h/gn", one_estimate(rows, rep))
         w = [] if len(per) == 3 else [msg("only axes {axes} tested", axes=", ".join(per))]
         tab = TableSpec("bias_accel", msg("Per axis"), [msg("axis"), "B up (°/h)", "B down (°/h)", "(up−down)/2g (°/h/g)"],
                         [[a, f"{vals[a]['up'].B0:.5g}", f"{vals[a]['down'].B0:.5g}", f"{per[a]:.4g}"] for a in per])
@@ -389,12 +390,12 @@ class _BiasChange(_JJF):
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
         v1, v2 = vals[(worst, "before")], vals[(worst, "after")]
         rep = bias_repeatability(campaign, K)
-        b = B.type_a_budget(self.metrics[0].key, "deg/h", [
+        b = B.type_a_budget(self.metrics[0].key, "deg/h", one_estimate([
             _single(v1, rep, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
             _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
             *_rounded(campaign, v1, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
             *_rounded(campaign, v2, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
-            kv.row(db, "deg/h")])
+            kv.row(db, "deg/h")], rep))
         w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for 3)", axes=", ".join(per))]
         tab = TableSpec("per_axis", msg("B₀ before/after shock") if self.what == "shock" else msg("B₀ before/after vibration"),
                         [msg("axis"), "B₁ (°/h)", "B₂ (°/h)", "|ΔB| (°/h)"],

@@ -488,3 +488,25 @@ def _chamber_rows(campaign, sens: float, unit: str) -> list[BudgetRow]:
         return []
     return [BudgetRow.from_calibration("chamber temperature T_i (table 2 no. 2)", "u(T_i)", cal,
                                        sensitivity=Q_(abs(sens), f"{unit}/delta_degC"))]
+
+
+def one_estimate(rows: Iterable[BudgetRow], spread: Spread | None) -> list[BudgetRow]:
+    """Rows drawn from one repeatability estimate (K_r or B_r of the same runs: the two members of a
+    difference or of a ratio) share its degrees of freedom: ν is apportioned among them,
+    ν_i = ν·u_i²/Σu_j², so that Welch–Satterthwaite counts the estimate once (Σu_i⁴/ν_i = (Σu_i²)²/ν).
+    Two rows of ν = 5 each gave ν_eff ≈ 10 and k ≈ 2.28 where t(5) = 2.65 is due
+    (interpretations.md, "JJF 2014 — one estimate, one ν")."""
+    out = list(rows)
+    if spread is None or not math.isfinite(spread.dof):
+        return out
+    tag = str(spread.source)
+    idx = [i for i, r in enumerate(out) if r.type == "A" and r.dof == spread.dof and str(r.source).endswith(tag)]
+    if len(idx) < 2:
+        return out
+    c2 = [float(out[i].contribution.magnitude) ** 2 for i in idx]
+    total = sum(c2)
+    for i, c in zip(idx, c2):
+        out[i] = attrs.evolve(out[i], dof=spread.dof * c / total if total > 0 else spread.dof,
+                              note=join("; ", [out[i].note, msg("one estimate shared with {n} rows: ν = {nu:g} apportioned",
+                                                                n=len(idx), nu=spread.dof)]))
+    return out

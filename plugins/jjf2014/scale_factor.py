@@ -16,6 +16,7 @@ from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
+    one_estimate,
     AXES,
     KU,
     RATE_OPTS,
@@ -255,7 +256,7 @@ class SFTemperature(_JJF):
                 _k_row(sets[m], rep, msg("K_m at {T:g} °C", T=temps[m]), "K_i·u(K_m)/(K_m²|ΔT|)", Ks[i] / (Ks[m] ** 2 * abs(dT)),
                        "1/delta_degC")]
         rows += _chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
-        b = B.type_a_budget("Kt", "1/delta_degC", rows)
+        b = B.type_a_budget("Kt", "1/delta_degC", one_estimate(rows, rep))
         tab = TableSpec("sf_temperature", msg("K_i per temperature"), ["T_i (°C)", "K_i (mV/((°)/s))"],
                         [[f"{t:g}", f"{k:.7g}"] for t, k in zip(temps, Ks)])
         return self._outcome([Result(self.metrics[0], Q_(kt, "1/delta_degC"), b.combined, b,
@@ -303,11 +304,11 @@ class SFAxialAcceleration(_JJF):
         up, dn = SFSet(g["up"]), SFSet(g["down"])
         kg = F.per_g_726(up.K, dn.K)
         rep = sf_repeatability(campaign)
-        b = B.type_a_budget("Kg", "mV/(deg/s)/gn", [
+        b = B.type_a_budget("Kg", "mV/(deg/s)/gn", one_estimate([
             _k_row(up, rep, "K (IRA up)", "u(K_up)/2g", 0.5, "mV/(deg/s)/gn"),
             _k_row(dn, rep, "K (IRA down)", "u(K_down)/2g", 0.5, "mV/(deg/s)/gn"),
             *B.relative_calibration_row("rate table (common to both, acts on the difference)", "u_rel(Ω)",
-                                        _cal(campaign, "rate_table"), Q_(kg, "mV/(deg/s)/gn"))])
+                                        _cal(campaign, "rate_table"), Q_(kg, "mV/(deg/s)/gn"))], rep))
         return self._outcome([Result(self.metrics[0], Q_(kg, "mV/(deg/s)/gn"), b.combined, b,
                                      note=msg("K_up = {up:.7g}, K_down = {down:.7g} mV/((°)/s)", up=up.K, down=dn.K))],
                              segments=up.ids + dn.ids, opts=opts)
@@ -339,11 +340,11 @@ class _SFChange(_JJF):
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
         w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for X, Y, Z)", axes=", ".join(per))]
         rep = sf_repeatability(campaign)
-        b = B.type_a_budget(self.metrics[0].key, KU, [
+        b = B.type_a_budget(self.metrics[0].key, KU, one_estimate([
             _k_row(fits[(worst, "before")], rep, msg("K before ({axis})", axis=worst), "u(K₁)", 1.0, KU),
             _k_row(fits[(worst, "after")], rep, msg("K after ({axis})", axis=worst), "u(K₂)", 1.0, KU),
             *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
-                                        _cal(campaign, "rate_table"), Q_(dk, KU))])
+                                        _cal(campaign, "rate_table"), Q_(dk, KU))], rep))
         tab = TableSpec("per_axis", msg("K before/after shock per axis") if self.what == "shock" else
                         msg("K before/after vibration per axis"),
                         [msg("axis"), "K₁ (mV/((°)/s))", "K₂ (mV/((°)/s))", "|ΔK|"],
