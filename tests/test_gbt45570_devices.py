@@ -238,6 +238,19 @@ def test_d26_on_a_rate_output(pm, cls):
     assert {"alpha", "beta", "gamma"} <= set(checks) and all(checks[k]["within_U"] for k in ("alpha", "beta", "gamma"))
 
 
+def test_d26_rate_output_acquire_then_run(pm, tmp_path):
+    """acquire accepts D.2.6 on a rate-output device (its requirement took LSB only and acquire refused
+    it, 'the item accepts LSB', while run in memory evaluated it): the recorded campaign gives the same α."""
+    from metro.core.campaign import load_manifest
+    from metro.instruments.campaign_writer import acquire_campaign
+
+    so = {"seed": 4, "device_class": "rate-dh"}
+    manifest = acquire_campaign(pm, "gbt45570", ["D.2.6"], tmp_path / "c", station="simulated", station_options=so)
+    recorded = run_items(pm, "gbt45570", ["D.2.6"], campaign=load_manifest(manifest, pm.reader_for))
+    direct = run_items(pm, "gbt45570", ["D.2.6"], station="simulated", station_options=so)
+    assert _result(recorded, "alpha").value.magnitude == pytest.approx(_result(direct, "alpha").value.magnitude, rel=1e-9)
+
+
 def test_6277_coarse_pulses_cannot_resolve_the_band(pm):
     """1 P = 20″: one pulse over the 1 s window is 20 °/h, coarser than half the ±5 °/h band — the
     set-up time is not reportable (it was a data error 'still outside the band'); fine pulses are."""

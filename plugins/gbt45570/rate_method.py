@@ -726,7 +726,7 @@ class InputAxisMisalignmentD26(Procedure):
     requires = (SegmentRequirement("rate-mounting", "output at ±Ω with XRA, then YRA, along the table axis, each "
                                    "before and after a 180° turn about IRA (D.2.6.3)",
                                    conditions={"axis_up": "", "turn": "deg", "rate": "deg/s"},
-                                   columns={"output": ("LSB",)}, min_count=8),)
+                                   columns={"output": OUTPUT_UNITS}, min_count=8),)
     equipment = _EQUIPMENT + (EquipmentRequirement("fixture", "fixture holding XRA/YRA along the table axis, "
                                                    "turnable 180° about IRA; its re-seating tilt enters the budget"),)
     options = (Option("rate", REPEAT_RATE, "deg/s", "table rate Ω (D.2.6.3 d): \"a given rate\")"),
