@@ -1,9 +1,9 @@
 """The largest of several noisy slopes: its selection bias by Monte Carlo (GUM Supplement 1).
 
 Standards define temperature sensitivities as the largest |slope| against room temperature over
-the points (GB/T 45570 eqs. (D.12), (D.29), (D.43); JJF 2014 eqs. (11), (31)).  With a sensitivity
-that is the same at every point, the largest of N noisy slopes overstates it; this module
-estimates by how much, shared by every plugin that reports such a maximum
+the points (GB/T 45570 eqs. (D.12), (D.29), (D.43); JJF 2014's eqs. (11) and (31) have the same
+form but do not use this yet).  With a sensitivity that is the same at every point, the largest of
+N noisy slopes overstates it; this module estimates by how much
 (interpretations.md, "D.1.5 / D.2.5 / D.5.4 — the largest of several noisy slopes").
 """
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 import math
 from typing import Callable, Sequence
 
-import attrs
 import numpy as np
+from metro.core.selection import MaxSelection, max_slope_selection  # D.12, D.29, D.43: the maximum's selection bias
 
 from .formulas import REVOLUTION_ARCSEC
 
@@ -247,9 +247,6 @@ def propagate(c: Sequence[float], u: Sequence[float], dof: Sequence[float]) -> t
     d = np.asarray(dof, dtype=float)
     den = float(np.sum(parts**4 / d))
     return uc, (uc**4 / den if den > 0 else math.inf)
-
-
-from metro.core.selection import MaxSelection, max_slope_selection  # noqa: E402  (shared with JJF 2014)
 
 
 def nonlinearity_selection(rates: Sequence[float], Fk: Sequence[float], uF: Sequence[float], *,
