@@ -136,15 +136,23 @@ def test_terminal_json_stays_english(capsys):
 
 def test_gbt45570_type_test_report_in_chinese(pm, tmp_path):
     """GB/T 45570 `--all` (the type test: clause-5 table, 5.4 severities, not-reportable threshold)
-    in zh: every English run left is in the one line that merges the limit sources (table rows and
-    their remarks are parsed from English text there; known, issue 16); the catalog lacks nothing.
-    Before the clause-5 table rendered its requirements, results and notes through the catalog the
-    report had 58 such runs all over the clause-5 table."""
+    in zh holds no English prose, the merged line of the limits' sources included (its table rows,
+    clauses and remarks are messages merged by their fields, no longer English text parsed: it was
+    the one English line left, 'table A.1 rows 1–16, 航空 aviation (row 1: applies to D.1.1 only …)');
+    the en document has no Chinese in that line ('航空', '绝缘电阻', '极性应为正' were there); the
+    catalog lacks nothing.  Before the clause-5 table rendered its requirements, results and notes
+    through the catalog the report had 58 English runs all over the clause-5 table."""
     rec = run_items(pm, "gbt45570", [], run_all=True)
     ctx = report.build_context(rec, extend=pm.extend_report_context)
     figures = report.render_figures(ctx, tmp_path)
-    doc = report.build_document(ctx, tmp_path, layout=pm.template_for("gbt45570").layout, lang="zh", figures=figures)
+    layout = pm.template_for("gbt45570").layout
+    doc = report.build_document(ctx, tmp_path, layout=layout, lang="zh", figures=figures)
     assert not doc.tr.missing, sorted(doc.tr.missing)
     texts = _texts(doc.doc)
-    bad = [t for t in texts if english_prose([t]) and not t.startswith("限值来源")]
+    bad = english_prose(texts)
     assert not bad, bad[:10]
+    line = next(t for t in texts if t.startswith("限值来源")).replace("\u00a0", " ")
+    assert "表 A.1 第 1–16 行，航空（第 1 行：仅适用于 D.1.1" in line and "5.2.8（绝缘电阻 ≥ 50 MΩ）" in line, line
+    en = report.build_document(ctx, tmp_path, layout=layout, lang="en", figures=figures)
+    line = next(t for t in _texts(en.doc) if t.startswith("Sources of the limits")).replace("\u00a0", " ")
+    assert not CJK.search(line) and "table A.1 rows 1–16, aviation (row 1: applies to D.1.1 only" in line, line

@@ -22,6 +22,7 @@ from metro.core.locale import join, msg
 from metro.core.units import Q_
 
 from . import records as R
+from .conformity import clause_source
 
 STANDARD = "gbt45570"
 NOT_PERFORMED = "not performed"
@@ -110,11 +111,11 @@ REQUIREMENTS: tuple[Requirement, ...] = (
 TYPE_TEST_ITEMS: tuple[str, ...] = tuple(dict.fromkeys(i for r in REQUIREMENTS for i in r.items))
 
 RELIABILITY_SPECS = (
-    Specification("mtbf_lower", Comparison.AT_LEAST, Q_(5000, "h"), source="GB/T 45570—2025 5.5.1 (MTBF ≥ 5 000 h)",
+    Specification("mtbf_lower", Comparison.AT_LEAST, Q_(5000, "h"), source=clause_source("5.5.1", "MTBF ≥ 5 000 h"),
                   name="MTBF, lower confidence bound", items=("6.2.9.1",)),
-    Specification("working_life", Comparison.AT_LEAST, Q_(1000, "h"), source="GB/T 45570—2025 5.5.2 a)",
+    Specification("working_life", Comparison.AT_LEAST, Q_(1000, "h"), source=clause_source("5.5.2 a)"),
                   name="working life", items=("6.2.9.2",)),
-    Specification("calendar_life", Comparison.AT_LEAST, Q_(5, "year"), source="GB/T 45570—2025 5.5.2 b)",
+    Specification("calendar_life", Comparison.AT_LEAST, Q_(5, "year"), source=clause_source("5.5.2 b)"),
                   name="calendar life", items=("6.2.9.2",)),
 )
 

@@ -21,6 +21,7 @@ from typing import Any, Mapping
 import attrs
 
 from metro.core.conformity import Comparison, Specification, parse_limit
+from metro.core.locale import Text, msg
 from metro.core.units import Q_
 
 STANDARD = "gbt45570"
@@ -37,6 +38,40 @@ _APPLICATION_WORDS = {
 def application_of(text: str | None) -> str | None:
     """The table column (aerospace/aviation/marine) a device's ``application`` names, or None."""
     return _APPLICATION_WORDS.get(str(text or "").strip().lower())
+
+
+# Where a limit comes from (Specification.source), as messages, not English to be parsed: the
+# report merges them by their fields (report.limit_sources) and prints them in its language.
+#: message ids of the sources (each written once more, literally, in the function that makes it)
+ROW_SOURCE = "GB/T 45570—2025 table {table} row {row} ({name}), {application}"
+CLAUSE_SOURCE = "GB/T 45570—2025 {clause}"
+CLAUSE_WHY_SOURCE = "GB/T 45570—2025 {clause} ({why})"
+REMARK_SOURCE = "{source}; {remark}"
+PRODUCT_SOURCE = "product specification ({where})"
+
+
+def row_source(table: str, no: int, name_en: str, application: str) -> Text:
+    """``GB/T 45570—2025 table A.1 row 4 (scale factor repeatability), aviation`` (the row name
+    and the application are in the catalog, so a document prints them in its language)."""
+    return msg("GB/T 45570—2025 table {table} row {row} ({name}), {application}", table=table, row=no,
+               name=name_en, application=application)
+
+
+def clause_source(clause: str, why: Any = None) -> Text:
+    """``GB/T 45570—2025 5.2.8 (insulation resistance ≥ 50 MΩ)``; ``why`` a message, or None."""
+    if why is None:
+        return msg("GB/T 45570—2025 {clause}", clause=clause)
+    return msg("GB/T 45570—2025 {clause} ({why})", clause=clause, why=why)
+
+
+def product_source(where: Any) -> Text:
+    """``product specification (inspection.mass.limit)``: the manifest field holding the limit."""
+    return msg("product specification ({where})", where=where)
+
+
+def with_remark(source: Any, remark: Any) -> Text:
+    """A source and a remark on how it applies (``…; applies to D.1.1 only (…)``)."""
+    return msg("{source}; {remark}", source=source, remark=remark)
 
 
 @attrs.frozen
@@ -64,9 +99,8 @@ class LimitRow:
         if set(self.limits) != set(APPLICATIONS):
             raise ValueError(f"table {self.table} row {self.no}: limits for {sorted(self.limits)}")
 
-    def source(self, application: str) -> str:
-        return (f"GB/T 45570—2025 table {self.table} row {self.no} ({self.name_cn} {self.name_en}), "
-                f"{APPLICATION_CN[application]} {application}")
+    def source(self, application: str) -> Text:
+        return row_source(self.table, self.no, self.name_en, application)
 
     def specification(self, application: str) -> Specification:
         v = self.limits[application]
@@ -155,9 +189,8 @@ class SeverityRow:
 
     table = "C.1"
 
-    def source(self, application: str) -> str:
-        return (f"GB/T 45570—2025 table C.1 row {self.no} ({self.name_cn} {self.name_en}), "
-                f"{APPLICATION_CN[application]} {application}")
+    def source(self, application: str) -> Text:
+        return row_source("C.1", self.no, self.name_en, application)
 
     def specification(self, application: str) -> Specification | None:
         v = self.severity[application]
@@ -247,13 +280,13 @@ def _by_method(row: LimitRow, spec: Specification) -> Specification:
         return spec
     item = "D.1.1" if row.unit == "P/arcsec" else "D.2.1"
     other = "D.2.1" if item == "D.1.1" else "D.1.1"
-    return attrs.evolve(spec, items=(item,),
-                        source=f"{spec.source}; applies to {item} only (a K from {other} is in another output unit)")
+    return attrs.evolve(spec, items=(item,), source=with_remark(
+        spec.source, msg("applies to {item} only (a K from {other} is in another output unit)", item=item, other=other)))
 
 
 #: 5.2.9 极性: the polarity shall be positive — 6.2.6's response ratio r (output change over the
 #: applied counter-clockwise rate) must be above zero, whatever the device's technology
-POLARITY = parse_limit("polarity_ratio", ">= 0", source="GB/T 45570—2025 5.2.9 (极性应为正 polarity positive)")
+POLARITY = parse_limit("polarity_ratio", ">= 0", source=clause_source("5.2.9", msg("the polarity shall be positive")))
 
 
 @attrs.frozen

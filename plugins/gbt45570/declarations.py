@@ -20,6 +20,7 @@ from metro.core.model import Campaign, Metric, Outcome, Procedure, RunContext, S
 from metro.core.units import Q_
 
 from . import records as R
+from .conformity import clause_source
 from .procedures import COVERAGE, STANDARD
 
 SECTION = "inspection"
@@ -140,6 +141,6 @@ class Function522(Procedure):
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[tab], warnings=warnings)
 
 
-FUNCTION_SPEC = Specification("function_nc", Comparison.AT_MOST, Q_(0, ""), source="GB/T 45570—2025 5.2.2",
+FUNCTION_SPEC = Specification("function_nc", Comparison.AT_MOST, Q_(0, ""), source=clause_source("5.2.2"),
                               name="function (senses and outputs rate or angle)", items=("5.2.2",))
 PROCEDURES = (Materials521, Function522)

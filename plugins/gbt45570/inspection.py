@@ -41,6 +41,7 @@ from metro.core.model import (
 from metro.core.units import Q_
 
 from . import records as R
+from .conformity import clause_source, product_source
 from .procedures import COVERAGE, STANDARD
 
 SECTION = "inspection"
@@ -217,10 +218,11 @@ def dimension_specifications(campaign: Campaign) -> list[Specification]:
     for key, d, where in dimension_records(campaign):
         nominal, lo, hi = tolerance_of(d, src, where)
         out.append(Specification(f"dim_{key}", RANGE, (nominal + lo).to("mm"), (nominal + hi).to("mm"),
-                                 source=f"product specification ({where}: nominal {nominal:~P}, {lo:+~P}/{hi:+~P})",
+                                 source=product_source(msg("{where}: nominal {nominal}, {lo}/{hi}", where=where, nominal=f"{nominal:~P}",
+                                                                    lo=f"{lo:+~P}", hi=f"{hi:+~P}")),
                                  name=msg("dimension {name}", name=d['name']), items=("6.2.2",)))
-        out.append(Specification(f"itgrade_{key}", LE, Q_(1.0, ""), source="GB/T 45570—2025 5.2.4 (tolerance grade "
-                                 "not above IT12, GB/T 1800.1—2020 table 1)", name=f"tolerance of {d['name']} / IT12",
+        out.append(Specification(f"itgrade_{key}", LE, Q_(1.0, ""), source=clause_source(
+                                     "5.2.4", msg("tolerance grade not above IT12, GB/T 1800.1—2020 table 1")), name=f"tolerance of {d['name']} / IT12",
                                  items=("6.2.2",)))
     return out
 
@@ -282,7 +284,7 @@ def mass_specifications(campaign: Campaign) -> list[Specification]:
     rec = R.section(campaign, f"{SECTION}.mass", "5.2.5")
     if "limit" not in rec:
         return []
-    spec = parse_limit("mass", str(rec["limit"]), source=f"product specification ({SECTION}.mass.limit)",
+    spec = parse_limit("mass", str(rec["limit"]), source=product_source(f"{SECTION}.mass.limit"),
                        file=R.where_of(campaign), field=f"{SECTION}.mass.limit")
     from metro.core.units import check_dimension
 
@@ -424,7 +426,7 @@ def supply_specifications(campaign: Campaign) -> list[Specification]:
         tol = abs(nominal) * tol.to("") if tol.dimensionless else tol.to("V")
         key = _rail_key(nominal)
         lo, hi = sorted([(nominal - tol).to("V"), (nominal + tol).to("V")], key=lambda q: q.magnitude)
-        out.append(Specification(f"supply_V_{key}", RANGE, lo, hi, source=f"product specification ({w})",
+        out.append(Specification(f"supply_V_{key}", RANGE, lo, hi, source=product_source(w),
                                  name=f"{nominal:~P} supply", items=("5.2.6",)))
     return out
 
@@ -582,9 +584,9 @@ class Insulation625(_Inspection):
         return self._outcome(results, tables=[tab], warnings=warnings)
 
 
-INSULATION_SPEC = Specification("R_ins", GE, INSULATION_MIN, source="GB/T 45570—2025 5.2.8 (绝缘电阻 ≥ 50 MΩ)",
+INSULATION_SPEC = Specification("R_ins", GE, INSULATION_MIN, source=clause_source("5.2.8", msg("insulation resistance ≥ 50 MΩ")),
                                 name="insulation resistance", items=("6.2.5",))
-COUNT_SPECS = tuple(Specification(key, LE, Q_(0, ""), source=f"GB/T 45570—2025 {clause}", name=name, items=(item,))
+COUNT_SPECS = tuple(Specification(key, LE, Q_(0, ""), source=clause_source(clause), name=name, items=(item,))
                     for key, clause, name, item in (
                         ("appearance_nc", "5.2.3 a)–d)", "appearance checklist", "6.2.1"),
                         ("supply_missing", "5.2.6", "supply requirements stated", "5.2.6"),

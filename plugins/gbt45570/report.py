@@ -18,11 +18,12 @@ import numpy as np
 
 from metro.core.budget import report_pair
 from metro.core.conformity import SIMPLE, Comparison, Specification, decide
-from metro.core.locale import join, msg
+from metro.core.locale import Text, join, msg
 from metro.core.model import PlotSpec
 from metro.core.units import Q_
 
-from .conformity import APPLICATION_CN, TABLE_C1, application_of, table_for
+from .conformity import (APPLICATION_CN, CLAUSE_SOURCE, CLAUSE_WHY_SOURCE, PRODUCT_SOURCE, REMARK_SOURCE, ROW_SOURCE,
+                         TABLE_C1, application_of, table_for)
 from .method_rule import ANGLE_ITEMS, RATE_ITEMS, method_for
 
 STANDARD = "gbt45570"
@@ -306,74 +307,84 @@ def extend_context(record, context: dict) -> None:
     }
 
 
-_TABLE_ROW = re.compile(r"^(?P<std>.*?) table (?P<table>[A-Z]\.\d+) row (?P<row>\d+) \([^()]*\)(?P<tail>.*)$")
+def _is(src: Any, msgid: str) -> bool:
+    return isinstance(src, Text) and src.msgid == msgid
 
 
-_CLAUSE_ITEM = re.compile(r"^(?P<std>.*?) (?P<clause>\d+(?:\.\d+)*) (?P<sub>[a-z]\)) \((?P<why>[^()]*)\)$")
+def _semi(parts: list[Any]) -> Any:
+    """``a; b; c`` as one message (``a；b；c`` in Chinese): each part keeps its own message."""
+    out = parts[0]
+    for p in parts[1:]:
+        out = msg("{a}; {b}", a=out, b=p)
+    return out
 
 
-def limit_sources(sources: Iterable[str]) -> list[str]:
-    """The sources of the limits, each once, rows of one table merged: ``GB/T 45570—2025 table
-    A.1 rows 1–16, 航空 aviation`` for sixteen lines naming one row each (a row's own remark after
-    ``;`` is kept, naming the row).
+def limit_sources(sources: Iterable[Any]) -> Any:
+    """The sources of the limits (``Specification.source``, messages made by
+    :func:`~metro.plugins.gbt45570.conformity.row_source`, ``clause_source``, ``product_source``,
+    ``with_remark``), each once, merged by their fields, as one message a document prints in its
+    language: the rows of one table and application as ``table A.1 rows 1–16, aviation`` (a row's
+    remark kept, naming the row), the lettered items of one clause with one reason as
+    ``5.4 b), d) (functional check after the test)``, GB/T 45570 named once before its parts, the
+    product specification's fields in one parenthesis.  A source made otherwise (a manifest's own
+    text) is printed as it is.
 
-    >>> limit_sources(["S table A.1 row 1 (x), air; only D.1.1", "S table A.1 row 2 (y), air",
-    ...                "S table A.1 row 3 (z), air", "S 5.2.6", "S 5.2.6", "S 5.4 b) (check)", "S 5.4 d) (check)"])
-    ['S table A.1 rows 1–3, air (row 1: only D.1.1)', 'S 5.2.6', 'S 5.4 b), d) (check)']
-    >>> limit_sources(["GB/T 45570—2025 5.2.6", "GB/T 45570—2025 5.2.8 (≥ 50 MΩ)", "product specification (mass)"])
-    ['GB/T 45570—2025: 5.2.6; 5.2.8 (≥ 50 MΩ)', 'product specification (mass)']
+    ``[row_source("A.1", 1, "scale factor", "aviation"), row_source("A.1", 2, "scale factor
+    nonlinearity", "aviation"), clause_source("5.2.6"), product_source("inspection.mass.limit")]`` →
+    ``GB/T 45570—2025: table A.1 rows 1, 2, aviation; 5.2.6; product specification (inspection.mass.limit)``.
     """
-    groups: dict[tuple[str, str, str], list[tuple[int, str]]] = {}
-    merged: dict[tuple[str, str, str], list[str]] = {}
-    out: list[Any] = []
+    gb: dict[tuple, Any] = {}
+    products: list[Any] = []
+    order: list[Any] = []
     for src in dict.fromkeys(sources):
-        m = _TABLE_ROW.match(src)
-        if m is None:
-            out.append(src)
+        s, remark = src, None
+        if _is(s, REMARK_SOURCE):
+            s, remark = s.fields["source"], s.fields["remark"]
+        if _is(s, ROW_SOURCE):
+            key = ("row", str(s.fields["table"]), str(s.fields["application"]))
+            gb.setdefault(key, []).append((int(s.fields["row"]), remark))
+            order.append("GB")
             continue
-        tail, _, remark = m["tail"].partition(";")
-        key = (m["std"], m["table"], tail)
-        if key not in groups:
-            groups[key] = []
-            out.append(key)
-        groups[key].append((int(m["row"]), remark.strip()))
-    text = []
-    for entry in out:
-        if isinstance(entry, str):
-            m = _CLAUSE_ITEM.match(entry)
-            if m is not None:  # "S 5.4 b) (why)", "S 5.4 d) (why)" → "S 5.4 b), d) (why)"
-                key = (m["std"], m["clause"], m["why"])
-                if key in merged:
-                    merged[key].append(m["sub"])
-                    continue
-                merged[key] = [m["sub"]]
-                text.append(key)
-                continue
-            text.append(entry)
+        if remark is None and (_is(s, CLAUSE_SOURCE) or _is(s, CLAUSE_WHY_SOURCE)):
+            clause, why = str(s.fields["clause"]), s.fields.get("why")
+            m = re.fullmatch(r"(\d+(?:\.\d+)*) ([a-z]\))", clause)
+            if m is not None and why is not None:  # "5.4 b) (why)", "5.4 d) (why)" -> "5.4 b), d) (why)"
+                key = ("sub", m[1], str(why))
+                gb.setdefault(key, [why]).append(m[2])
+            else:
+                gb.setdefault(("clause", clause, str(why)), [why])
+            order.append("GB")
             continue
-        std, table, tail = entry
-        rows = sorted(groups[entry])
-        nums = [r for r, _ in rows]
-        remarks = [f"row {r}: {rem}" for r, rem in rows if rem]
-        text.append(f"{std} table {table} {'row' if len(nums) == 1 else 'rows'} {_ranges(nums)}{tail}"
-                    + (f" ({'; '.join(remarks)})" if remarks else ""))
-    text = [f"{t[0]} {t[1]} {', '.join(merged[t])} ({t[2]})" if isinstance(t, tuple) else t for t in text]
-    # one standard named once: "GB/T 45570—2025 5.2.6; GB/T 45570—2025 5.2.8" → "GB/T 45570—2025: 5.2.6; 5.2.8"
-    by_std: dict[str, list[str]] = {}
-    order: list[str] = []
-    for t in text:
-        std, sep, rest = t.partition(" ")
-        head = t.split(" ", 2)
-        prefix = " ".join(head[:2]) if len(head) > 2 and head[0] in ("GB/T", "GB", "JJF", "JJG") else ""
-        if prefix:
-            if prefix not in by_std:
-                by_std[prefix] = []
-                order.append(prefix)
-            by_std[prefix].append(t[len(prefix) + 1:])
+        if remark is None and _is(s, PRODUCT_SOURCE):
+            products.append(s.fields["where"])
+            order.append("PS")
+            continue
+        order.append(src)
+    parts: list[Any] = []
+    for key, val in gb.items():
+        if key[0] == "row":
+            rows = sorted(val, key=lambda rv: rv[0])
+            nums = [r for r, _ in rows]
+            text = (msg("table {table} row {row}, {application}", table=key[1], row=nums[0], application=key[2])
+                    if len(nums) == 1 else
+                    msg("table {table} rows {rows}, {application}", table=key[1], rows=_ranges(nums),
+                        application=key[2]))
+            remarks = [msg("row {row}: {remark}", row=r, remark=rem) for r, rem in rows if rem is not None]
+            parts.append(msg("{text} ({remarks})", text=text, remarks=_semi(remarks)) if remarks else text)
+        elif key[0] == "sub":
+            parts.append(msg("{clause} {items} ({why})", clause=key[1], items=", ".join(val[1:]), why=val[0]))
         else:
-            order.append(t)
-    return [f"{o}: {'; '.join(by_std[o])}" if o in by_std and len(by_std[o]) > 1 else
-            (f"{o} {by_std[o][0]}" if o in by_std else o) for o in order]
+            parts.append(key[1] if val[0] is None else msg("{clause} ({why})", clause=key[1], why=val[0]))
+    out: list[Any] = []
+    for o in dict.fromkeys(order):
+        if o == "GB":
+            out.append(msg("GB/T 45570—2025 {clause}", clause=parts[0]) if len(parts) == 1 else
+                       msg("GB/T 45570—2025: {parts}", parts=_semi(parts)))
+        elif o == "PS":
+            out.append(msg("product specification ({where})", where=_semi(products)))
+        else:
+            out.append(o)
+    return _semi(out) if out else ""
 
 
 def _ranges(nums: list[int]) -> str:
@@ -514,7 +525,7 @@ def layout(doc, ctx: dict) -> None:
         doc.para(tr("The other {n} results conform: each interval value ± U lies within its limit "
                     "(results table above).", n=len(g["verdicts"]) - len(shown)), size=8.5)
     if g["verdicts"]:
-        doc.para(f"{tr('Sources of the limits')}: " + "; ".join(tr.text(x) for x in limit_sources(v["source"] for v in g["verdicts"])),
+        doc.para(f"{tr('Sources of the limits')}: " + tr.text(limit_sources(v["source"] for v in g["verdicts"])),
                  size=8)
     if g["not_assessed"] and not g["limits"]:  # else table A.1/B.1 shows them as not performed
         doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(tr.text(x) for x in g["not_assessed"]),

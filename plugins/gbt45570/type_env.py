@@ -51,7 +51,7 @@ from metro.core.model import (
 from metro.core.units import Q_
 
 from . import records as R
-from .conformity import TABLE_C1, application_of
+from .conformity import TABLE_C1, application_of, clause_source, product_source
 from .procedures import COVERAGE, STANDARD, _scale_factor_row, segment_bias
 
 SECTION = "environmental_tests"
@@ -179,7 +179,7 @@ def required_specifications(campaign: Campaign, test: EnvTest) -> list[Specifica
         req = rec.get("required", {})
         if not isinstance(req, Mapping):
             raise DataError(src, f"{SECTION}[{i}].required", "must be a table of limits such as temperature = \"<= -55 degC\"")
-        source = str(req.get("source") or f"product specification (manifest {SECTION}[{i}].required)")
+        source = str(req.get("source") or "") or product_source(f"manifest {SECTION}[{i}].required")
         known = {p.name for p in test.params} | {"bias_change", "scale_factor_change", "source"}
         for key in req:
             if key not in known:
@@ -210,7 +210,7 @@ def specifications(campaign: Campaign) -> list[Specification]:
     for t in TESTS:
         if records_of(campaign, t):
             out += required_specifications(campaign, t)
-            out.append(Specification(f"{t.tag}_function", LE, Q_(0, ""), source=msg("GB/T 45570—2025 5.4 {letter}) (functional check after the test)", letter=t.letter),
+            out.append(Specification(f"{t.tag}_function", LE, Q_(0, ""), source=clause_source(f"5.4 {t.letter})", msg("functional check after the test")),
                                      name=msg("{test}: functional check", test=t.name_en),
                                      items=(t.item,)))
     return out
