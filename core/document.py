@@ -155,32 +155,63 @@ def text_mm(text: str, pt: float, bold: bool = False) -> float:
     return sum(_char_em(c, bold) for c in text) * pt * 25.4 / 72
 
 
-def _words(text: str) -> list[str]:
-    """The pieces a line may not break inside: split at ordinary spaces, line breaks, between
-    CJK characters, before a full-width ``（`` and after ``）`` (a no-break space joins).
+#: a run of Chinese up to this many characters (a term: 正态, 类型，分布, 标度因数) is kept on one
+#: line; a longer run may break, but a column holding one is at least CJK_CHUNK characters wide
+CJK_WORD, CJK_CHUNK = 6, 4
 
-    >>> _words("chamber)（∂B/∂T）and 温箱 x")
-    ['chamber)', '（∂B/∂T）', 'and', '温', '箱', 'x']
+
+def _words(text: str) -> list[str]:
+    """The pieces a line may not break inside (for column widths): split at ordinary spaces, line
+    breaks, before a full-width ``（`` and after ``）`` (a no-break space joins).  Chinese may
+    break between any two characters, but a column one character wide prints a term one
+    character per line (类/型/，/分/布): a run of Chinese up to :data:`CJK_WORD` characters
+    counts as one piece, a longer run splits after full-width punctuation, and a longer
+    stretch still in pieces of :data:`CJK_CHUNK`.
+
+    >>> _words("chamber)（∂B/∂T）and 温箱 x B, 正态 类型，分布 标度因数非线性度 低温贮存：施加的贮存温度")
+    ['chamber)', '（∂B/∂T）', 'and', '温箱', 'x', 'B,', '正态', '类型，分布', '标度因数', '非线性度', '低温贮存：', '施加的贮', '存温度']
     """
-    out = []
+    out: list[str] = []
+
+    def run(r: str) -> None:
+        if len(r) <= CJK_WORD:
+            out.append(r)
+            return
+        for seg in re.findall(r"[^，。；：、！？]*[，。；：、！？]*", r):
+            if len(seg) <= CJK_WORD:
+                out.append(seg) if seg else None
+            else:
+                out.extend(seg[i:i + CJK_CHUNK] for i in range(0, len(seg), CJK_CHUNK))
+
     for part in re.split(r"[ \n\t]+", text):
-        buf = ""
+        buf, cjk = "", ""
         for c in part:
             if c == "（":  # a line may break before a full-width opening parenthesis ...
                 if buf:
                     out.append(buf)
-                buf = c
+                if cjk:
+                    run(cjk)
+                buf, cjk = c, ""
             elif c == "）":  # ... and after a closing one
-                out.append(buf + c)
-                buf = ""
+                if cjk:
+                    run(cjk + c)
+                    cjk = ""
+                else:
+                    out.append(buf + c)
+                    buf = ""
             elif unicodedata.east_asian_width(c) in ("W", "F"):
                 if buf and buf != "（":
                     out.append(buf)
                     buf = ""
-                out.append(buf + c)
+                cjk += buf + c
                 buf = ""
             else:
+                if cjk:
+                    run(cjk)
+                    cjk = ""
                 buf += c
+        if cjk:
+            run(cjk)
         if buf:
             out.append(buf)
     return out

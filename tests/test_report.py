@@ -442,6 +442,23 @@ def test_column_widths_fit_the_longest_word_and_the_page():
     assert column_widths([["x" * 400]], TEXT_WIDTH_MM, 8.5) is None  # cannot fit: the caller shrinks the font
 
 
+def test_a_chinese_term_is_not_broken_one_character_per_line():
+    """A zh budget table: the source column takes all the room it wants (prefer, share 1), and the
+    "类型，分布" column kept only its widest single character (Chinese may break anywhere), so
+    LibreOffice printed 类/型/，/分/布 one character per line.  A run of Chinese up to six characters
+    now counts as one word; a longer run gives the column at least four characters."""
+    from metro.core.document import CELL_MARGIN_MM, TEXT_WIDTH_MM, column_widths, text_mm
+
+    source = "两个零偏的分散性（分组平均值）（地球自转角速度、纬度和调平对两次记录相同，相互抵消）" * 3
+    cols = [["来源", source, source], ["类型，分布", "A, 正态", "B, 均匀"], ["量值", "0.008388 °/h", "2×10⁻⁶"]]
+    w = column_widths(cols, TEXT_WIDTH_MM, 7, prefer=0, prefer_share=1.0)
+    assert w[1] >= text_mm("类型，分布", 7, bold=True) + 2 * CELL_MARGIN_MM, w
+    assert w[1] >= text_mm("B, 均匀", 7) + 2 * CELL_MARGIN_MM, w
+    # a long Chinese name may wrap, but not narrower than four characters
+    w = column_widths([["名称", "标度因数非线性度标度因数不对称度"], ["值", "some words " * 40]], TEXT_WIDTH_MM, 7)
+    assert w[0] >= text_mm("标度因数", 7) + 2 * CELL_MARGIN_MM, w
+
+
 def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_docx):
     """LibreOffice draws by w:tblGrid, Word by w:tcW: they must agree; the header row repeats on
     each page, no row splits across pages, headings keep with what follows."""
