@@ -156,3 +156,56 @@ def test_gbt45570_type_test_report_in_chinese(pm, tmp_path):
     en = report.build_document(ctx, tmp_path, layout=layout, lang="en", figures=figures)
     line = next(t for t in _texts(en.doc) if t.startswith("Sources of the limits")).replace("\u00a0", " ")
     assert not CJK.search(line) and "table A.1 rows 1–16, aviation (row 1: applies to D.1.1 only" in line, line
+
+
+#: two English words in a row (a sentence or phrase, not a symbol or a unit)
+WORDY = re.compile(r"[A-Za-z]{2,}[ ,;:()]+[A-Za-z]{2,}")
+
+
+def _bypassing(rec) -> list[str]:
+    """The texts of a run a document prints that would stay English in a zh document: a plain
+    string with English words the catalog does not hold, or a message whose id it lacks (the
+    fields of a message are data: equipment names, file names)."""
+    from metro.core.locale import Text, translator
+
+    tr = translator("zh")
+    texts = []
+    for o in rec.outcomes:
+        texts += [(o.id, "warning", w) for w in o.warnings]
+        texts += [(o.id, "table", t.title) for t in o.tables] + [(o.id, "plot", p.title) for p in o.plots]
+        for r in o.results:
+            texts += [(o.id, "note", r.note), (o.id, "reason", r.reason)]
+            if r.budget is not None:
+                texts += [(o.id, "budget note", r.budget.note)]
+                texts += [(o.id, "source", row.source) for row in r.budget.rows]
+                texts += [(o.id, "row note", row.note) for row in r.budget.rows]
+    bad = []
+    for item, what, t in texts:
+        if not t:
+            continue
+        before = set(tr.missing)
+        tr.text(t)
+        if tr.missing - before or (not isinstance(t, Text) and WORDY.search(str(t)) and str(t) not in tr._zh):
+            bad.append(f"{item} {what}: {str(t)[:120]}")
+    return bad
+
+
+def test_rate_method_and_quantization_texts_go_through_the_catalog(pm):
+    """GB/T D.2 (rate method) on the rate-output station and the D.5 items on its rounded LSB
+    output: every budget source and note, result note, warning and table title is a message the
+    catalog translates.  Before, D.2's budget sources and notes were plain English literals and
+    f-strings ('mean outputs F̄_j through the D.21 fit', 'rate-table ripple averaged over each rate
+    point …', 'the D.41 means of 10 samples', 'noise s = … the rounding does not average out …'),
+    printed in English in a Chinese report."""
+    rec = run_items(pm, "gbt45570", ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.6", "D.3", "D.5.1", "D.5.2"],
+                    station="simulated-digital")
+    bad = _bypassing(rec)
+    assert not bad, "\n".join(bad[:20])
+
+
+def test_every_standards_texts_go_through_the_catalog(pm):
+    """ogam, JJF 2003, JJF 2014 and the GB/T type test (--all): warnings ('not measured: …', 'n rounds
+    at 60 °/s …'), the 5.2.x declarations' warnings and budget sources ('observed answers, a count
+    (exact)', JJF 2014 7.2.11's 'rate table Ω_(+) (γ ∝ 1/Ω)') are messages."""
+    bad = [b for s in ("ogam", "jjf2003", "jjf2014", "gbt45570") for b in _bypassing(run_items(pm, s, [], run_all=True))]
+    assert not bad, "\n".join(bad[:20])

@@ -738,7 +738,7 @@ class InputAxisMisalignmentD16(Procedure):
             rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
                                         k=1.0, note=msg("K = {k:g} P/″; α ∝ 1/K", k=k)))
         rel += [attrs.evolve(r, sensitivity=Q_(1.0, "")) for r in _angle_row(campaign, 1.0, "")]
-        return misalignment_outcome(self, campaign, opts, ang, rel, used, "revolution count scatter")
+        return misalignment_outcome(self, campaign, opts, ang, rel, used, msg("revolution count scatter"))
 
 
 PROCEDURES = (ScaleFactorD11, NonlinearityD12, AsymmetryD13, ScaleFactorRepeatabilityD14,

@@ -16,6 +16,7 @@ from typing import Any, Mapping
 
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.conformity import Comparison, Specification
+from metro.core.locale import msg
 from metro.core.model import Campaign, Metric, Outcome, Procedure, RunContext, Step, TableSpec
 from metro.core.units import Q_
 
@@ -78,18 +79,20 @@ class Materials521(Procedure):
         for key, (what, typical, words) in usual.items():
             declared = R.text(rec, key, src, where, required=False, default="")
             if not declared:
-                warnings.append(f"5.2.1: the {what} material is not declared (usually {typical})")
+                warnings.append(msg("5.2.1: the {what} material is not declared (usually {typical})", what=what, typical=typical))
                 rows.append([what, "not declared", typical, "—"])
                 continue
             same = any(w in declared.lower() for w in words)
             if not same:
-                warnings.append(f"5.2.1: {what} of {declared!r}, not the usual {typical}: by product specification")
+                warnings.append(msg("5.2.1: {what} of {declared}, not the usual {typical}: by product specification", what=what,
+                                    declared=repr(declared), typical=typical))
             rows.append([what, declared, typical, "usual" if same else "per product specification"])
         for key in rec:
             if key not in usual:
                 rows.append([key, str(rec[key]), "—", "per product specification"])
         if not usual:
-            warnings.append(f"5.2.1 names usual materials for laser and fibre gyros only, not {tech or 'unstated'}")
+            warnings.append(msg("5.2.1 names usual materials for laser and fibre gyros only, not {tech}",
+                                tech=tech or msg("unstated")))
         tab = TableSpec("materials", "Materials (5.2.1): declared and usual", ["part", "declared", "usual (一般选取)",
                                                                                 "status"], rows)
         return Outcome(STANDARD, self.item, self.title, self.clause, [], tables=[tab], warnings=warnings)
@@ -131,9 +134,9 @@ class Function522(Procedure):
             raise DataError(src, f"{where}.composition", f"must be a list of parts, got {parts!r}")
         low = [p.lower() for p in parts]
         lacking = [name for name, words in COMPOSITION.items() if not any(w in p for p in low for w in words)]
-        warnings = [f"5.2.2: the composition lists no {', '.join(lacking)} (generally part of a gyro, 一般)"] if lacking \
+        warnings = [msg("5.2.2: the composition lists no {parts} (generally part of a gyro, 一般)", parts=", ".join(lacking))] if lacking \
             else []
-        b = UncertaintyBudget("n_f", "", [BudgetRow.type_b("observed answers, a count (exact)", "u(n_f)", Q_(0.0, ""),
+        b = UncertaintyBudget("n_f", "", [BudgetRow.type_b(msg("observed answers, a count (exact)"), "u(n_f)", Q_(0.0, ""),
                                                            distribution="uniform")], coverage=COVERAGE)
         res = R.na_result(self.metrics[0], Q_(float(len(failed)), ""), b.combined, b,
                           note="not met: " + "; ".join(failed) if failed else "senses and outputs")

@@ -405,8 +405,10 @@ class Supply526(_Inspection):
                           str(rail.get("current", "not stated")), cell])
         m0 = self.metrics[0]
         results.insert(0, _count_result(m0, missing, "statements of the product specification"))
-        tab = TableSpec("supply", f"Supply requirements (5.2.6): {rec.get('voltage_type', 'kind not stated')}, "
-                        f"power {rec.get('power', 'not stated')}", ["nominal", "accuracy", "current", "measured"], table)
+        tab = TableSpec("supply", msg("Supply requirements (5.2.6): {kind}, power {power}",
+                                      kind=rec.get("voltage_type") or msg("kind not stated"),
+                                      power=rec.get("power") or msg("not stated")),
+                        ["nominal", "accuracy", "current", "measured"], table)
         return self._outcome(results, tables=[tab])
 
 
@@ -469,14 +471,15 @@ class Interfaces624(_Inspection):
         if not R.answer(rec, "mechanical_per_specification", src, where):
             mech.append("mechanical interface not as the product specification")
         if "mounting_face_perpendicular" in rec and not R.answer(rec, "mounting_face_perpendicular", src, where):
-            warnings.append("5.2.7.1: the mounting face is not perpendicular to the input axis (recommended, 宜)")
+            warnings.append(msg("5.2.7.1: the mounting face is not perpendicular to the input axis (recommended, 宜)"))
         if not R.answer(rec, "electrical_per_specification", src, where):
             elec.append("electrical interface not as the product specification")
         if not R.answer(rec, "protocol_per_specification", src, where):
             elec.append("communication protocol not as the product specification")
         comm = R.text(rec, "communication", src, where).strip()
         if comm.upper().replace(" ", "") not in ("RS-422", "RS422", "RS-485", "RS485"):
-            warnings.append(f"5.2.7.2: communication interface {comm!r}; the standard names RS-422/RS-485 as usual (一般)")
+            warnings.append(msg("5.2.7.2: communication interface {comm}; the standard names RS-422/RS-485 as usual (一般)",
+                                comm=repr(comm)))
         content = _names(rec, "output_content", src, where)
         if not content:
             raise DataError(src, f"{where}.output_content", "missing: list what the output frame carries "

@@ -247,8 +247,8 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
         rows.append(BudgetRow.type_b(msg("levelling of the IRA ({equipment})", equipment=plat.describe()), "δ",
                                      lev.to("rad"), distribution="uniform", sensitivity=Q_(c_theta, "deg/h/rad"),
                                      note=msg("horizontal earth rate Ω·cos θ·sin δ leaks into the IRA")))
-    rows += _timebase_row(campaign, indicated, "deg/h", "indicated rate")
-    q_rows = quantization_rows_mean(campaign, conv, raw, "the mean of D.40")
+    rows += _timebase_row(campaign, indicated, "deg/h", msg("indicated rate"))
+    q_rows = quantization_rows_mean(campaign, conv, raw, msg("the mean of D.40"))
     rows += q_rows
     budget = UncertaintyBudget("B0", "deg/h", rows, coverage=COVERAGE)
     u_q = float(q_rows[0].contribution.to("deg/h").magnitude) if q_rows else 0.0
@@ -795,7 +795,7 @@ class AngleRandomWalkD56(Procedure):
             logx=True, logy=True,
         )
         table = TableSpec(
-            "bs_levels", "B_s(τ_k) per level (D.5.6.2)",
+            "bs_levels", msg("B_s(τ_k) per level (D.5.6.2)"),
             ["k", "τ_k (s)", "m (blocks)", "B_s (°/h)", "fit (°/h)"],
             [[i + 1, f"{tau_s[i]:g}", int(m[i]), f"{bs[i]:.5g}", f"{math.sqrt(max(model[i], 0)):.5g}"]
              for i in range(tau_s.size)],
@@ -848,33 +848,33 @@ def output_quantum(campaign: Campaign, conv: RateConversion, raw: np.ndarray) ->
         res = dev.properties["resolution"]
         q = parse_quantity(res, file=campaign.source, field="device.resolution")
         if q.check("[digital_count]"):
-            return float(q.to("LSB").magnitude), f"device resolution {res}"
+            return float(q.to("LSB").magnitude), msg("device resolution {res}", res=res)
         if q.is_compatible_with("deg/h") and conv.magnitude:
-            return float(q.to("deg/h").magnitude) / conv.magnitude, f"device resolution {res}"
+            return float(q.to("deg/h").magnitude) / conv.magnitude, msg("device resolution {res}", res=res)
         raise DataError(campaign.source, "device.resolution",
                         f"{res!r} is not a resolution of a {conv.output_kind} output (LSB or a rate such as °/h)")
     sample = np.asarray(raw[: 200_000], dtype=np.float64)
     vals = np.unique(sample)
     if conv.output_kind == "digital" and np.all(vals == np.round(vals)):
-        return 1.0, "the data (whole LSB)"
+        return 1.0, msg("the data (whole LSB)")
     if vals.size < 2:
-        return 0.0, "the data (constant output)"
+        return 0.0, msg("the data (constant output)")
     if np.all(vals == np.round(vals)):
         step = float(np.min(np.diff(vals)))
-        return (1.0 if step >= 1 else 0.0), "the data (whole numbers)"
+        return (1.0 if step >= 1 else 0.0), msg("the data (whole numbers)")
     step = float(np.min(np.diff(vals)))
     if step > 1e-9 * float(vals[-1] - vals[0]):
         ratio = (vals - vals[0]) / step
         if np.all(np.abs(ratio - np.round(ratio)) < 1e-6 * np.maximum(1.0, np.abs(ratio))):
-            return step, "the data (every value a whole number of this step)"
-    return 0.0, "the data (no common step)"
+            return step, msg("the data (every value a whole number of this step)")
+    return 0.0, msg("the data (no common step)")
 
 
 def quantization_of(campaign: Campaign, conv: RateConversion, raw: np.ndarray) -> Quantization:
     """:class:`Quantization` of a static record (rate samples rounded; pulse counts: q = 0)."""
     s = float(np.std(raw, ddof=1)) * abs(conv.magnitude) if raw.size > 1 else 0.0
     if conv.output_kind == "pulse":
-        return Quantization(0.0, s, "pulse counts (remainder carried)")
+        return Quantization(0.0, s, msg("pulse counts (remainder carried)"))
     q_raw, source = output_quantum(campaign, conv, raw)
     return Quantization(q_raw * abs(conv.magnitude), s, source)
 
@@ -905,12 +905,12 @@ def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.nda
     q_raw = qz.q / c if c else 0.0
     if qz.dithered:
         hw = F.rounding_mean_bound(qz.q, F.rounding_sigma(qz.s, qz.q)) / c
-        note = (f"noise s = {qz.s:.3g} °/h ≥ q = {qz.q:.3g} °/h dithers the rounding: offset of the mean ≤ "
-                f"Σ(q/πk)e^(−2π²k²σ²/q²) (step from {qz.source})")
+        note = msg("noise s = {s:.3g} °/h ≥ q = {q:.3g} °/h dithers the rounding: offset of the mean ≤ "
+                   "Σ(q/πk)e^(−2π²k²σ²/q²) (step from {source})", s=qz.s, q=qz.q, source=qz.source)
     else:
         hw = q_raw / 2.0
-        note = (f"noise s = {qz.s:.3g} °/h < q = {qz.q:.3g} °/h: the rounding does not average out, "
-                f"±q/2 on the mean (step from {qz.source})")
+        note = msg("noise s = {s:.3g} °/h < q = {q:.3g} °/h: the rounding does not average out, "
+                   "±q/2 on the mean (step from {source})", s=qz.s, q=qz.q, source=qz.source)
     return [_resolution_row(campaign, c, "deg/h", what, q=q_raw, raw_unit=_raw_unit(conv), half_width=hw, note=note)]
 
 
@@ -931,7 +931,7 @@ def quantization_rows_std(campaign: Campaign, conv: RateConversion, raw: np.ndar
         c = 1.0
     q_raw = qz.q / c
     hw = q_raw / math.sqrt(12.0 * factor) if qz.dithered else q_raw / 2.0
-    note = ("dithered by the noise: rounding errors independent, q/√(12·n) on each mean" if qz.dithered else
-            f"noise s = {qz.s:.3g} °/h < q = {qz.q:.3g} °/h: each mean's rounding error up to ±q/2")
-    return [_resolution_row(campaign, c, "deg/h", f"the D.41 means of {factor} samples", q=q_raw,
+    note = (msg("dithered by the noise: rounding errors independent, q/√(12·n) on each mean") if qz.dithered else
+            msg("noise s = {s:.3g} °/h < q = {q:.3g} °/h: each mean's rounding error up to ±q/2", s=qz.s, q=qz.q))
+    return [_resolution_row(campaign, c, "deg/h", msg("the D.41 means of {n} samples", n=factor), q=q_raw,
                             raw_unit=_raw_unit(conv), half_width=hw, note=note)]

@@ -121,7 +121,7 @@ def default_nonlinearity_limit(device: DeviceUnderTest, source: str | None = Non
     given, else the typical value of table A.1 (laser) or B.1 (fibre) for its application."""
     if "nonlinearity_limit" in device.properties:
         q = device.prop("nonlinearity_limit", "", source=source)
-        return Q_(float(q.to("").magnitude), ""), "device specification (device.nonlinearity_limit)"
+        return Q_(float(q.to("").magnitude), ""), msg("device specification (device.nonlinearity_limit)")
     tech = _TECHNOLOGY.get(str(device.technology).strip().lower())
     app = _APPLICATION.get(str(device.application).strip().lower())
     if tech is None or app is None:
@@ -130,7 +130,8 @@ def default_nonlinearity_limit(device: DeviceUnderTest, source: str | None = Non
                         f"{device.application!r} (tables A.1/B.1 know laser/fibre × aerospace/aviation/marine)",
                         hint="give the option Kn_limit (e.g. \"10 ppm\") or device.nonlinearity_limit")
     table = "A.1" if tech == "laser" else "B.1"
-    return Q_(NONLINEARITY_LIMITS_PPM[tech][app] * 1e-6, ""), f"table {table} ({tech}, {app})"
+    return Q_(NONLINEARITY_LIMITS_PPM[tech][app] * 1e-6, ""), msg("table {table} ({technology}, {application})",
+                                                                   table=table, technology=tech, application=app)
 
 
 def rate_sequence(options: Mapping[str, Any], extra: Mapping[str, Any] | None = None, prefix: str = "",
@@ -322,10 +323,11 @@ def _intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float, unit: 
         return []
     u = abs(K) * _through_fit(rates, [x[0] for x in per_point], intercept=True)
     table = campaign.equipment_for("rate_table")
-    return [BudgetRow.type_b(f"rate-table error at each set point, within its band, through D.22 ({table.describe()})",
+    return [BudgetRow.type_b(msg("rate-table error at each set point, within its band, through D.22 ({table})",
+                                 table=table.describe()),
                              "u(F₀)", Q_(u, unit), distribution="normal", k=1.0,
-                             note="a fixed error of its own at each Ω_ij, independent between set points; "
-                                  "an error common to all cancels in the intercept")]
+                             note=msg("a fixed error of its own at each Ω_ij, independent between set points; "
+                                      "an error common to all cancels in the intercept"))]
 
 
 def _stability_row(campaign: Campaign, data: RateData) -> list[BudgetRow]:
@@ -335,12 +337,13 @@ def _stability_row(campaign: Campaign, data: RateData) -> list[BudgetRow]:
     bounds it."""
     bands = [rate_band(campaign, float(r)) for r in data.rates]
     if any(b is None for b in bands):
-        return _rate_row(campaign, "run to run (no rate bands stated: its calibration bounds it)", 1.0, "",
-                         "bounds a table rate that differs between runs")
+        return _rate_row(campaign, msg("run to run (no rate bands stated: its calibration bounds it)"), 1.0, "",
+                         msg("bounds a table rate that differs between runs"))
     u = _through_fit(data.rates, [b[1] / math.sqrt(m) for b, m in zip(bands, data.n)])
-    return [BudgetRow.type_b(f"rate-table ripple averaged over each rate point, through D.21, run to run "
-                             f"({str(bands[0][2]).split(',')[0]})", "u(δK/K)", Q_(u, ""), distribution="normal", k=1.0,
-                             note="independent in each run; adds to the spread of the K_j")]
+    return [BudgetRow.type_b(msg("rate-table ripple averaged over each rate point, through D.21, run to run "
+                                 "({equipment})", equipment=bands[0][2].fields["equipment"]), "u(δK/K)", Q_(u, ""),
+                             distribution="normal", k=1.0,
+                             note=msg("independent in each run; adds to the spread of the K_j"))]
 
 
 def resolution(campaign: Campaign, unit: str = "LSB") -> float:
@@ -356,14 +359,15 @@ def _out_resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str,
     if out == "LSB":
         return _resolution_row(campaign, c_norm, unit, what)
     q = resolution(campaign, out)
-    note = (f"±half the stated resolution on each mean, independent" if q > 0 else
-            f"the device states no resolution of its {unit_text(out)} output (device.resolution): none assumed")
+    note = (msg("±half the stated resolution on each mean, independent") if q > 0 else
+            msg("the device states no resolution of its {unit} output (device.resolution): none assumed",
+                unit=unit_text(out)))
     return _resolution_row(campaign, c_norm, unit, what, q=q, raw_unit=out, note=note)
 
 
 def _resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str, *, q: float | None = None,
                     raw_unit: str = "LSB", half_width: float | None = None,
-                    note: str = "±half an LSB on each mean, independent") -> BudgetRow:
+                    note: str = msg("±half an LSB on each mean, independent")) -> BudgetRow:
     """Rounding of the output word: each mean F̄ is off by up to ±resolution/2 when the noise is
     smaller than one LSB (it then does not average out); ``c_norm`` = √Σc² of the result's
     sensitivities to the means, independent errors assumed.  ``q`` (default: :func:`resolution`),
@@ -447,20 +451,22 @@ class ScaleFactorD21(Procedure):
         fit = fit_scale_factor(data)
         K, F0 = fit.K, fit.F0
         out, ku, ot = data.unit, per_rate(data.unit), unit_text(data.unit)
-        rows = [BudgetRow.type_a("mean outputs F̄_j through the D.21 fit", "√Σ(c_j·u(F̄_j))²", Q_(fit.uK, ku),
-                                 fit.nuK, note=f"M = {data.rates.size} rates; residual s = {fit.residual_sd:.3g} {ot} "
-                                 "(systematic nonlinearity, D.2.2)")]
+        rows = [BudgetRow.type_a(msg("mean outputs F̄_j through the D.21 fit"), "√Σ(c_j·u(F̄_j))²", Q_(fit.uK, ku),
+                                 fit.nuK, note=msg("M = {m} rates; residual s = {s:.3g} {unit} (systematic "
+                                                   "nonlinearity, D.2.2)", m=data.rates.size, s=fit.residual_sd,
+                                                   unit=ot))]
         ca, cb = F2.line_fit_sensitivities(data.rates)
         rows.append(_out_resolution_row(campaign, float(np.linalg.norm(cb)), ku, "D.21", out))
-        rows += _rate_row(campaign, "on every Ω_ij", K, ku, "K ∝ 1/Ω")
+        rows += _rate_row(campaign, msg("on every Ω_ij"), K, ku, "K ∝ 1/Ω")
         from .repeatability import scale_factor_rate_repeat_row
 
         rep_rows, rep_note = scale_factor_rate_repeat_row(campaign, K, ku, int(opts["min_points"]))
         rows += rep_rows
         bK = UncertaintyBudget("K", ku, rows, coverage=COVERAGE)
         b0 = UncertaintyBudget("F₀", out, [
-            BudgetRow.type_a("mean outputs F̄_j through the D.22 fit", "√Σ(c_j·u(F̄_j))²", Q_(fit.uF0, out), fit.nuF0),
-            BudgetRow.type_a("rest output F̄_r removed from every point (D.18)", "u(F̄_r)", Q_(data.uFr, out),
+            BudgetRow.type_a(msg("mean outputs F̄_j through the D.22 fit"), "√Σ(c_j·u(F̄_j))²", Q_(fit.uF0, out),
+                             fit.nuF0),
+            BudgetRow.type_a(msg("rest output F̄_r removed from every point (D.18)"), "u(F̄_r)", Q_(data.uFr, out),
                              int(data.n.min()) - 1),
             # F̄_r = (F̄_s + F̄_e)/2 enters F₀ with sensitivity −1: √(2·(1/2)²) on its two means
             _out_resolution_row(campaign, math.hypot(float(np.linalg.norm(ca)), math.sqrt(0.5)), out,
@@ -470,10 +476,11 @@ class ScaleFactorD21(Procedure):
                Result(metric_in(self.metrics[1], out), Q_(F0, out), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} {ot}",
                       earth_rate="removed")]
         resid = data.Fk - (K * data.rates + F0)
-        plot = PlotSpec("F_rate", "F_kj against Ω with the D.20 fit: residuals", "Ω (°/s)", f"F_kj − (KΩ + F₀) ({ot})",
+        plot = PlotSpec("F_rate", msg("F_kj against Ω with the D.20 fit: residuals"), "Ω (°/s)", f"F_kj − (KΩ + F₀) ({ot})",
                         [{"label": "residual", "x": data.rates.tolist(), "y": resid.tolist(),
                           "yerr": (2 * data.uF).tolist(), "style": "o"}])
-        table = TableSpec("F_points", "F_kj per rate point (D.17–D.19)", ["Ω (°/s)", f"F_kj ({ot})", f"residual ({ot})"],
+        table = TableSpec("F_points", msg("F_kj per rate point (D.17–D.19)"),
+                          ["Ω (°/s)", f"F_kj ({ot})", msg("residual ({unit})", unit=ot)],
                           [[f"{r:+g}", f"{f:.3f}", f"{e:.3f}"] for r, f, e in zip(data.rates, data.Fk, resid)])
         return Outcome(STANDARD, self.item, self.title, self.clause, res, plots=[plot], tables=[table],
                        segments=data.segments, options=_opts_text(opts))
@@ -519,9 +526,10 @@ class NonlinearityD22(ScaleFactorD21):
                                    coverage=COVERAGE)
         a = (F2.fitted_output_d23(K, F0, data.rates) - data.Fk) / Fm
         res = Result(self.metrics[0], Q_(max(sel.value, 0.0), ""), budget.combined, budget,
-                     note=f"largest |a_j| at {data.rates[j]:+g} °/s; |F_m| = {Fm:.1f} {unit_text(data.unit)}; "
-                          f"{selection_note(sel, 1e6, 'ppm')}", earth_rate="removed")
-        plot = PlotSpec("a_rate", "Point nonlinearity a_j (D.24)", "Ω (°/s)", "a_j (ppm)",
+                     note=join("; ", [msg("largest |a_j| at {rate:+g} °/s", rate=data.rates[j]),
+                                      f"|F_m| = {Fm:.1f} {unit_text(data.unit)}", selection_note(sel, 1e6, 'ppm')]),
+                     earth_rate="removed")
+        plot = PlotSpec("a_rate", msg("Point nonlinearity a_j (D.24)"), "Ω (°/s)", "a_j (ppm)",
                         [{"label": "a_j", "x": data.rates.tolist(), "y": (a * 1e6).tolist(), "style": "o"}])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], segments=data.segments,
                        options=_opts_text(opts))
@@ -540,12 +548,12 @@ def nonlinearity_budget(campaign: Campaign, data: RateData, j: int, Fm: float, K
     g[j] -= 1.0
     u, nu = F2.propagate(g / Fm, uF, n - 1)
     # with ``spread`` (the Monte Carlo spread of the maximum over all points) the larger of the two
-    rows = [BudgetRow.type_a(f"mean outputs through F̂_j − F_kj at {w[j]:+g} °/s" if spread <= u else
-                             "mean outputs through the largest |F̂_j − F_kj| (Monte Carlo over every point)",
+    rows = [BudgetRow.type_a(msg("mean outputs through F̂_j − F_kj at {rate:+g} °/s", rate=w[j]) if spread <= u else
+                             msg("mean outputs through the largest |F̂_j − F_kj| (Monte Carlo over every point)"),
                              "√Σ(g_i·u(F̄_i))²/|F_m|" if spread <= u else "s of max_j |a_j|", Q_(max(u, spread), ""), nu),
             _out_resolution_row(campaign, float(np.linalg.norm(g)) / Fm, "", "F̂_j − F_kj", data.unit)]
-    rows += _rate_row(campaign, f"at {w[j]:+g} °/s", K * abs(w[j]) / Fm, "",
-                      "an error not proportional to Ω shows as nonlinearity; bounded by the table's accuracy",
+    rows += _rate_row(campaign, msg("at {rate:+g} °/s", rate=w[j]), K * abs(w[j]) / Fm, "",
+                      msg("an error not proportional to Ω shows as nonlinearity; bounded by the table's accuracy"),
                       rate=float(w[j]))
     return UncertaintyBudget("K_n", "ppm", rows, coverage=COVERAGE)
 
@@ -571,17 +579,17 @@ class AsymmetryD23(ScaleFactorD21):
         Kp, Km = fp.K, fm.K
         Ka = F2.asymmetry_d26_d27(Kp, Km)
         Kbar = 0.5 * (Kp + Km)
-        rows = [BudgetRow.type_a("K_(+): D.21 on the + rates", "u(K₊)/K̄", Q_(fp.uK / Kbar, ""), fp.nuK),
-                BudgetRow.type_a("K_(−): D.21 on the − rates", "u(K₋)/K̄", Q_(fm.uK / Kbar, ""), fm.nuK)]
+        rows = [BudgetRow.type_a(msg("K_(+): D.21 on the + rates"), "u(K₊)/K̄", Q_(fp.uK / Kbar, ""), fp.nuK),
+                BudgetRow.type_a(msg("K_(−): D.21 on the − rates"), "u(K₋)/K̄", Q_(fm.uK / Kbar, ""), fm.nuK)]
         per_point = [rate_table_rel(campaign, float(r)) for r in data.rates]
         if all(p is not None for p in per_point):
             u_rel = np.array([p[0] for p in per_point])
             u_dir = math.hypot(_through_fit(data.rates[pos], list(u_rel[pos])),
                                _through_fit(data.rates[neg], list(u_rel[neg])))
-            rows.append(BudgetRow.type_b(f"rate-table rate error at each set point, through K(+) and K(−) "
-                                         f"({per_point[-1][1]})", "u(δK₊/K ⊖ δK₋/K)", Q_(u_dir, ""),
+            rows.append(BudgetRow.type_b(msg("rate-table rate error at each set point, through K(+) and K(−) "
+                                             "({table})", table=per_point[-1][1]), "u(δK₊/K ⊖ δK₋/K)", Q_(u_dir, ""),
                                          distribution="normal", k=1.0,
-                                         note="independent at each signed set point; a common error cancels"))
+                                         note=msg("independent at each signed set point; a common error cancels")))
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
                      note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} {k_text(data.unit)}", earth_rate="removed")
@@ -635,7 +643,7 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
         Kr = F2.scale_factor_repeatability_d28(Kj)
         if not Kr > 0:
             raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
-        rows = [BudgetRow.type_a(f"sampling of the standard deviation of Q = {q} scale factors", "K_r/√(2(Q−1))",
+        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors", q=q), "K_r/√(2(Q−1))",
                                  Q_(Kr / math.sqrt(2 * (q - 1)), ""), q - 1)]
         rows += _stability_row(campaign, last)
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
@@ -643,7 +651,7 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
         kt = k_text(last.unit)
         res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.4f} {kt}, Q = {q}",
                      earth_rate="removed")
-        table = TableSpec("K_runs", "K_j of each power-on (D.21)", ["run", f"K_j ({kt})", "K_j − K̄ (ppm)"],
+        table = TableSpec("K_runs", msg("K_j of each power-on (D.21)"), [msg("run"), f"K_j ({kt})", "K_j − K̄ (ppm)"],
                           [[r, f"{k:.5f}", f"{(k - mean) / mean * 1e6:.2f}"] for r, k in zip(runs, Kj)])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], segments=used,
                        options=_opts_text(opts))
@@ -789,13 +797,13 @@ class InputAxisMisalignmentD26(Procedure):
             used += [sp.id, sm.id]
         rel = []
         if u_rel_K > 0:
-            rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
+            rel.append(BudgetRow.type_b(msg("scale factor K (device)"), "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
                                         k=1.0, note=f"K = {k:g} {unit_text(out_unit)}/[(°)/s]; δ ≈ (F₊ − F₋)/(2KΩ)"))
         r = rate_table_rel(campaign)
         if r is not None:
-            rel.append(BudgetRow.type_b(f"rate-table rate accuracy ({r[1]})", "u_rel(Ω)", Q_(r[0], ""),
+            rel.append(BudgetRow.type_b(msg("rate-table rate accuracy ({table})", table=r[1]), "u_rel(Ω)", Q_(r[0], ""),
                                         distribution="normal", k=1.0, note="δ ∝ 1/Ω"))
-        return misalignment_outcome(self, campaign, opts, ang, rel, used, "scatter of the mean outputs")
+        return misalignment_outcome(self, campaign, opts, ang, rel, used, msg("scatter of the mean outputs"))
 
 
 # --------------------------------------------------------------------------------------------

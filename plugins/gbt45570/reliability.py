@@ -25,6 +25,7 @@ from typing import Any, Mapping
 
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError
+from metro.core.locale import msg
 from metro.core.model import Campaign, Metric, Option, Outcome, Procedure, Result, RunContext, Step, TableSpec
 from metro.core.units import Q_
 
@@ -134,7 +135,7 @@ class Mtbf6291(Procedure):
                 distribution="normal", k=1.0, note="for information; 5.5.1 is judged on θ_L")], coverage=COVERAGE)
             results.append(R.na_result(m[1], Q_(point, "h"), b.combined, b, note=f"T/r = {T_h:g} h / {r}"))
         else:
-            warnings.append("no failure: the point estimate T/r does not exist; only θ_L is given")
+            warnings.append(msg("no failure: the point estimate T/r does not exist; only θ_L is given"))
         tab = TableSpec("reliability", "Declared reliability evidence (6.2.9.1)", ["quantity", "value"],
                         [["accumulated operating hours T", f"{T_h:g} h"], ["relevant failures r", str(r)],
                          ["test plan", plan], ["one-sided confidence C", f"{C:g}"],
@@ -172,7 +173,7 @@ class Life6292(Procedure):
         results, warnings = [], []
         for metric, key, dim in ((self.metrics[0], "working_life", "h"), (self.metrics[1], "calendar_life", "year")):
             if key not in rec:
-                warnings.append(f"{key} not declared in [reliability]: not judged")
+                warnings.append(msg("{key} not declared in [reliability]: not judged", key=key))
                 continue
             q = R.quantity(rec[key], dim, src, f"reliability.{key}")
             if float(q.magnitude) < 0:

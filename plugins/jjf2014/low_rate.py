@@ -315,7 +315,7 @@ class Misalignment(_JJF):
         else:
             rows = [_budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF)]
         rows.append(kv.row(gamma, "arcmin", "scale factor K (γ ∝ 1/K)"))
-        rows += B.relative_calibration_row("rate table Ω_(+) (γ ∝ 1/Ω)", "u_rel(Ω)", _cal(campaign, "rate_table"),
+        rows += B.relative_calibration_row(msg("rate table Ω_(+) (γ ∝ 1/Ω)"), "u_rel(Ω)", _cal(campaign, "rate_table"),
                                            Q_(gamma, "arcmin"))
         b = B.type_a_budget("gamma", "arcmin", rows)
         note = msg("α_m = {a:.4g}′, β_m = {b:.4g}′ (run {run}, Ω = {om:g} °/s)", a=r['alpha'] * 10800 / math.pi,

@@ -275,7 +275,7 @@ class _EBase(Procedure):
                             "the E budget (appendix A 4.4) need the 7.4 test repeated (10 rounds)",
                             hint="record rounds 1…10 as segments with conditions round = 1 … 10")
         if E.shape[0] < ROUNDS:
-            warnings.append(f"{E.shape[0]} rounds at 60 °/s; clause 7.5 asks for {ROUNDS}")
+            warnings.append(msg("{n} rounds at 60 °/s; clause 7.5 asks for {asked}", n=E.shape[0], asked=ROUNDS))
         R, R_i = F.repeatability_75(E)
         psi = _opt_q(opts, "tilt", "deg")
         if psi is None:
@@ -628,7 +628,7 @@ def _consistency(proc: _EBase, campaign: Campaign, opts, groups_wanted: list[tup
                         f"two {('rates' if proc.item == '7.6' else 'axis directions')}; missing: {', '.join(missing)}",
                         hint=f"`metro plan -s ogam -i {proc.item}` lists what to measure")
     if missing:
-        warnings.append(f"not measured: {', '.join(missing)}")
+        warnings.append(msg("not measured: {what}", what=", ".join(missing)))
     e_ref = values[ref]
     if e_ref == 0:
         raise ProcedureError(f"{proc.item}: the reference angle-position error is zero, so the ratio is undefined")
