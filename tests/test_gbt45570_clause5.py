@@ -417,6 +417,46 @@ def test_scale_factor_change_hand_worked():
     assert r.budget.nu_eff == pytest.approx(u**4 / (1.0**4 / 20 + 1.00001**4 / 10), rel=1e-9)
 
 
+def test_scale_factor_change_from_revolutions_has_the_degrees_of_freedom_of_its_counts(pm):
+    """ΔK/K by D.1.1 on 3 revolutions per direction at 10 °/s and 100 °/s: each direction's mean count
+    is s/√3 with ν = 2, so ν_eff of ΔK/K is a few and k = t_95.45(ν_eff), not 2 (it was ν = ∞).
+    Hand-worked from the campaign's own counts: K = K_10·100/90 − K_100·10/90 per phase."""
+    from scipy.stats import t as student
+
+    from metro.core.runner import load_campaign
+
+    cls = pm.procedure("gbt45570", "6.2.8.5")
+    so = {"device_class": "pulse-fine-undithered", "seed": 3, "arw_deg_rt_h": 0.005}
+    camp = load_campaign(pm, [cls], [{}], data=None, station_options=so)
+    R2 = 2 * 1296000.0
+    parts, K = [], {}
+    for phase in ("before", "after"):
+        ks = {}
+        for rate, c in ((10.0, 100 / 90), (100.0, -10 / 90)):
+            n = {}
+            for sign in (1, -1):
+                sg = next(s for s in camp.segments if s.kind == "type-env-revolutions" and s.conditions["phase"] == phase
+                          and float(s.conditions["rate"].split()[0]) == sign * rate)
+                cnt = np.asarray(sg.series("count", "P").data.magnitude, dtype=float)
+                assert cnt.size == 3
+                n[sign] = cnt.mean()
+                parts.append((phase, abs(c) * np.std(cnt, ddof=1) / math.sqrt(3) / R2, 2))
+            ks[rate] = (n[1] - n[-1]) / R2
+        K[phase] = ks[10.0] * 100 / 90 - ks[100.0] * 10 / 90
+    # ΔK/K = K_a/K_b − 1: c = 1/K_b on the after parts, K_a/K_b² on the before parts
+    u = [(p / K["before"] if ph == "after" else p * K["after"] / K["before"] ** 2) * 1e6 for ph, p, _ in parts]
+    uc = math.sqrt(sum(x * x for x in u))
+    nu = uc**4 / sum(x**4 / 2 for x in u)
+    rec = run_items(pm, "gbt45570", ["6.2.8.5"], campaign=camp)
+    r = _result(rec, "tsh_dK")
+    assert float(r.value.to("ppm").magnitude) == pytest.approx((K["after"] / K["before"] - 1) * 1e6, rel=1e-6)
+    assert float(r.u.to("ppm").magnitude) == pytest.approx(uc, rel=1e-9)
+    assert r.budget.nu_eff == pytest.approx(nu, rel=1e-9)
+    assert 2 <= nu < 8  # a handful of revolutions: far from ∞
+    assert r.budget.k == pytest.approx(float(student.ppf(0.97725, nu)), rel=1e-6)
+    assert r.budget.k > 2.2
+
+
 @pytest.mark.parametrize("station, how", [("simulated", "angle"), ("simulated-digital", "rate")])
 def test_scale_factor_change_by_d11_and_d21(pm, station, how):
     """ΔK/K before/after the temperature shock: whole revolutions by D.1.1 on the pulse gyro, the

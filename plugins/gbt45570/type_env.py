@@ -50,6 +50,7 @@ from metro.core.model import (
 )
 from metro.core.units import Q_
 
+from . import formulas as F
 from . import records as R
 from .conformity import TABLE_C1, application_of, clause_source, product_source
 from .procedures import COVERAGE, STANDARD, _scale_factor_row, segment_bias
@@ -266,6 +267,22 @@ def _phase_segments(campaign: Campaign, kinds, tag: str, phase: str) -> list:
             and str(sg.conditions.get("phase", "")).lower() == phase]
 
 
+def _counts_type_a(pts, c) -> tuple[float, float]:
+    """u and ν of Σ c_j·K_j, each K_j of eq. (D.2) from the mean counts of the + and − revolutions:
+    each direction's mean is a type A, s/√m of its m revolution counts with ν = m − 1 (one
+    revolution: ±½ P, ν = ∞); their Welch–Satterthwaite ν (JJF 1059.1 eq. (34)).  Three revolutions
+    per direction give ν = 2 each, so ν of K is a few, not ∞ (interpretations.md, 6.2.8 ΔK/K)."""
+    from .formulas_rate import propagate
+
+    cs, us, nus = [], [], []
+    for pt, cj in zip(pts, c):
+        for s, m in ((pt.s_plus, pt.m_plus), (pt.s_minus, pt.m_minus)):
+            cs.append(cj / (2 * F.REVOLUTION_ARCSEC))
+            us.append(s / math.sqrt(m) if m > 1 else 0.5)
+            nus.append(m - 1 if m > 1 else math.inf)
+    return propagate(cs, us, nus)
+
+
 def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, phase: str):
     """(K, u(K), ν, unit, method) of the records before or after a test, or None without records:
     D.1.1 on whole revolutions (one rate point: K_i of eq. (D.2); more: K of the eq. (D.4) fit), or
@@ -281,15 +298,16 @@ def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, p
     if revs:
         pts = collect_rate_points(proc, campaign, 1, segments=revs, what=what)
         if len(pts) == 1:
-            return pts[0].K, pts[0].u_K, math.inf, "P/arcsec", "D.1.1, eq. (D.2), one rate point"
+            uK, nuK = _counts_type_a(pts, [1.0])
+            return pts[0].K, uK, nuK, "P/arcsec", "D.1.1, eq. (D.2), one rate point"
         rates = np.array([pt.rate for pt in pts])
         Ki = np.array([pt.K for pt in pts])
         if len(pts) == 2:  # a line through two points: no residual dof; u from the counts' scatter
             w = (Ki[1] - Ki[0]) / (rates[1] - rates[0])
             K = float(Ki[0] - w * rates[0])
-            uK = math.hypot(*(pt.u_K * abs(r_other) / abs(rates[1] - rates[0])
-                              for pt, r_other in zip(pts, rates[::-1])))
-            return K, uK, math.inf, "P/arcsec", "D.1.1, eq. (D.4) through two rate points"
+            # K = K_1·Ω_2/(Ω_2 − Ω_1) − K_2·Ω_1/(Ω_2 − Ω_1)
+            uK, nuK = _counts_type_a(pts, [abs(r_other) / abs(rates[1] - rates[0]) for r_other in rates[::-1]])
+            return K, uK, nuK, "P/arcsec", "D.1.1, eq. (D.4) through two rate points"
         fit = fit_line(rates, Ki)
         return float(fit.coef[0]), float(fit.stderr[0]), fit.dof, "P/arcsec", "D.1.1, eq. (D.4) fit"
     lsb = _phase_segments(campaign, tuple(RATE_KINDS), tag, phase)
