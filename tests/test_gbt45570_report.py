@@ -278,3 +278,24 @@ def test_clause5_rows_come_from_the_clause5_module(produced, monkeypatch):
     fake.clause5_rows = lambda record: [{"clause": "5.2.1"}]
     with pytest.raises(ValueError, match="requirement"):
         gbt_report.clause5_rows(rec)
+
+
+def test_environmental_notes_name_the_test_not_the_manifest_field(tmp_path):
+    """6.2.8 results: a severity's note said where it sat in the manifest ('as applied
+    (environmental_tests[0].severity.temperature)'), and the warning on undeclared uncertainties
+    '([environmental_tests[0].uncertainty])': a certificate names the test, not a place in the lab's
+    files (the manifest and its digest are in the provenance annex).  Rendered in zh and en, the
+    document holds no 'environmental_tests'; the warning names the test."""
+    pm = get_plugin_manager()
+    rec = run_items(pm, "gbt45570", ["6.2.8.2", "6.2.8.5"])
+    texts = [str(r.note) for o in rec.outcomes for r in o.results] + [str(w) for o in rec.outcomes for w in o.warnings]
+    assert not [t for t in texts if "environmental_tests" in t], texts
+    assert any(str(w).startswith("low-temperature storage: the test lab declares no uncertainty") for o in rec.outcomes
+               for w in o.warnings), texts
+    tpl = pm.template_for("gbt45570")
+    for lang in ("zh", "en"):
+        out = write_report(tmp_path / f"r_{lang}.docx", rec, layout=tpl.layout, extend=pm.extend_report_context,
+                           lang=lang)
+        d = docx.Document(str(out))
+        body = "\n".join(_texts(d) + [c for t in d.tables for row in t.rows for c in _cells(row)])
+        assert "environmental_tests" not in body, lang

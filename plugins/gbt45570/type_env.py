@@ -259,7 +259,7 @@ def _severity_result(metric: Metric, q, rec: Mapping, p: Param, src: str, where:
         missing = p.label or p.name
     b = UncertaintyBudget(metric.symbol, delta, rows, coverage=COVERAGE)
     return R.na_result(metric, q.to(p.unit), b.combined, b,
-                       note=msg("as applied ({where}.severity.{name})", where=where, name=p.name)), missing
+                       note=msg("as applied, as the test lab records it")), missing
 
 
 def _phase_segments(campaign: Campaign, kinds, tag: str, phase: str) -> list:
@@ -417,7 +417,8 @@ class _EnvironmentalTest(Procedure):
                             "none found", hint="docs/standards/gbt45570.md shows the record")
         i, rec = found[0]
         where = f"{SECTION}[{i}]"
-        warnings = [f"a second record of {t.key} ({SECTION}[{j}]) is not evaluated" for j, _ in found[1:]]
+        warnings = [msg("{test}: a second record of the test is not evaluated (the first is)", test=t.name_en)
+                    for _ in found[1:]]
         sev = rec.get("severity")
         if not isinstance(sev, Mapping):
             raise DataError(src, f"{where}.severity", "missing: the severity applied (a table such as temperature = "
@@ -444,8 +445,8 @@ class _EnvironmentalTest(Procedure):
                 undeclared.append(missing)
             table.append([p.label or p.name, f"{q:~P}"])
         if undeclared:
-            warnings.append(msg("the test lab declares no uncertainty of the applied {what} ([{where}.uncertainty]): "
-                                "judged as stated", what=join(", ", undeclared), where=where))
+            warnings.append(msg("{test}: the test lab declares no uncertainty of the applied {what}: judged as stated",
+                                test=t.name_en, what=join(", ", undeclared)))
         if not t.params:
             table.append([msg("severity"), "; ".join(f"{k} = {v}" for k, v in sev.items()) or "—"])
         func = R.answer(rec, "functional_check", src, where)
