@@ -1,10 +1,12 @@
 """The largest of several noisy slopes: its selection bias by Monte Carlo (GUM Supplement 1).
 
 Standards define temperature sensitivities as the largest |slope| against room temperature over
-the points (GB/T 45570 eqs. (D.12), (D.29), (D.43); JJF 2014's eqs. (11) and (31) have the same
-form but do not use this yet).  With a sensitivity that is the same at every point, the largest of
-N noisy slopes overstates it; this module estimates by how much
-(interpretations.md, "D.1.5 / D.2.5 / D.5.4 — the largest of several noisy slopes").
+the points (GB/T 45570 eqs. (D.12), (D.29), (D.43); JJF 2014 eqs. (11) and (31)), and changes or
+sensitivities as the largest |difference| over the axes (JJF 2014 eqs. (13), (15), 7.2.17.2,
+7.2.18.2, 7.2.19.2).  The largest of several noisy values overstates the device's largest; this
+module estimates by how much, and gives the budget rows and note of the correction
+(interpretations.md, "D.1.5 / D.2.5 / D.5.4 — the largest of several noisy slopes" and
+"JJF 2014 — the largest of noisy slopes and changes").
 """
 
 from __future__ import annotations
@@ -14,7 +16,12 @@ from typing import Sequence
 import attrs
 import numpy as np
 
-__all__ = ["MaxSelection", "max_slope_selection"]
+from .budget import BudgetRow
+from .locale import msg
+from .units import Q_
+
+__all__ = ["MaxSelection", "max_slope_selection", "max_abs_selection", "selection_rows",
+           "selection_note", "spread_rows", "upper_sigma"]
 
 
 @attrs.frozen
@@ -25,11 +32,24 @@ class MaxSelection:
     value: float  # corrected for the selection bias: printed − bias
     s: float  # standard deviation of the maximum over the Monte Carlo draws
     bias: float  # mean of the simulated maxima minus the maximum of the smoothed points
-    degree: int  # degree of the polynomial the points were smoothed with (−1: not smoothed, χ² rejected it)
+    degree: int  # degree of the polynomial the points were smoothed with (−1: not smoothed, χ² rejected it;
+    #              −2: each value's size shrunk by its own noise, :func:`max_abs_selection`)
+    #: the points' observed scatter, where it was smaller than their stated u and the draws used it
+    #: instead (``observed=True``); None when the stated u were used
+    scatter: float | None = None
+
+
+def upper_sigma(s: float, dof: float, p: float = 0.95) -> float:
+    """The one-sided ``p`` upper confidence limit of σ from a standard deviation ``s`` of ``dof``
+    degrees of freedom: s·√(ν/χ²_{1−p}(ν)) (normal samples; ν = 2: 4.41·s, ν = 5: 2.09·s)."""
+    from scipy.stats import chi2
+
+    return float(s * np.sqrt(dof / chi2.ppf(1.0 - p, dof)))
 
 
 def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Sequence[float], i0: int, *,
-                        relative: bool, draws: int = 4000, seed: int = 45570) -> MaxSelection:
+                        relative: bool, draws: int = 4000, seed: int = 45570,
+                        observed: bool = False) -> MaxSelection:
     """Selection bias of max_i |(y_i − y_0)/(d·(T_i − T_0))| (d = y_0 when ``relative``, D.12/D.29;
     d = 1, D.43), by Monte Carlo (GUM Supplement 1) about a smoothed K(T) or B(T).
 
@@ -43,6 +63,14 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     independent), and
 
         bias = mean(max*) − max(smoothed),   s = std(max*),   value = printed − bias.
+
+    ``observed``: ``u`` may hold a scatter between calibrations that these points do not have (JJF
+    2014's budgets put the repeatability K_r·K or B_r in every point, while the chamber's points
+    may be one power-on).  With ``observed`` (n ≥ 4), each point is drawn with at most the 95 %
+    upper confidence limit of σ from the points' rms scatter s_r about a straight line in T
+    (n − 2 degrees of freedom, s_r·√((n − 2)/χ²₀.₀₅(n − 2))): a stated u far above what the points
+    show would correct for a noise they do not have, while a scatter small by chance does not
+    take away the correction of a noise they do have.
 
     Hand-checked: five equal slopes of u = 1 give bias ≈ +1.1 (the mean maximum of five |N(0,1)|
     deviates about a common slope of 10 is 10 + 1.16; the shared y_0 correlates them, which lowers
@@ -60,12 +88,19 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
         return np.max(np.abs((Y[..., others] - Y[..., [i0]]) / (d * (T[others] - T[i0]))), axis=-1)
 
     printed = float(stat(y))
+    scatter = None
+    if observed and y.size >= 4:
+        tc0 = T - T.mean()
+        r = y - np.polyval(np.polyfit(tc0, y, 1), tc0)
+        cap = upper_sigma(float(np.sqrt(np.sum(r * r) / (y.size - 2))), y.size - 2)
+        if np.any(cap < uu):
+            uu, scatter = np.minimum(uu, cap), cap
     deg = 1
     w = 1.0 / np.where(uu > 0, uu, np.min(uu[uu > 0]) if np.any(uu > 0) else 1.0)
     tc = T - T.mean()
     smooth = np.polyval(np.polyfit(tc, y, deg, w=w), tc)
     if not np.any(uu > 0):
-        return MaxSelection(printed, printed, 0.0, 0.0, deg)
+        return MaxSelection(printed, printed, 0.0, 0.0, deg, scatter)
     from scipy.stats import chi2
 
     dof = y.size - deg - 1
@@ -74,6 +109,84 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     sample = np.random.default_rng(seed).normal(smooth, uu, size=(int(draws), y.size))
     mx = stat(sample)
     bias = float(mx.mean() - stat(smooth))
-    return MaxSelection(printed, printed - bias, float(mx.std(ddof=1)), bias, deg)
+    return MaxSelection(printed, printed - bias, float(mx.std(ddof=1)), bias, deg, scatter)
+
+
+def max_abs_selection(values: Sequence[float], u: Sequence[float], *, draws: int = 4000, seed: int = 2014,
+                      same: Sequence[float] | None = None) -> MaxSelection:
+    """Selection bias of max_j |d_j| over independent noisy values d_j ~ N(δ_j, u_j²) (the largest
+    change over the axes, JJF 2014 eqs. (13), (15), 7.2.18.2, 7.2.19.2; the largest sensitivity,
+    7.2.17.2), by Monte Carlo (GUM Supplement 1).
+
+    |d_j| overstates |δ_j| (E d_j² = δ_j² + u_j²) and the maximum over the axes picks the one whose
+    noise pushed it up.  Each size is first shrunk by its own noise, moment-matched,
+    δ̂_j = sign(d_j)·√max(0, d_j² − u_j²); the d_j are drawn about δ̂_j with their u_j, and
+
+        bias = mean(max_j |d_j*|) − max_j |δ̂_j|,   s = std(max_j |d_j*|),   value = printed − bias.
+
+    ``same``: when ``u`` may hold a scatter between calibrations that these do not have (JJF 2014's
+    budgets put K_r·K or B_r in every calibration), values that estimate one quantity with the same
+    kind of calibration (the K or bias before the test, on every axis): each d_j, a difference of
+    two calibrations, is drawn with at most √2 times the 95 % upper confidence limit of σ from
+    their standard deviation (as ``observed`` of :func:`max_slope_selection`).
+
+    Hand-checked over 1000 draws each (u = 1, three axes): true changes (−0.53, 0.88, 0.35)·u read
+    +0.34·U high as printed and +0.10·U corrected; one change of 5u alone: no bias either way; all
+    three zero: +0.67 → +0.36 (the value is kept ≥ 0), the case where a maximum of pure noise is
+    reported — see interpretations.md.
+    """
+    d = np.asarray(values, dtype=float)
+    uu = np.asarray(u, dtype=float)
+    if d.size != uu.size or d.size < 1:
+        raise ValueError("one u per value, at least one value")
+    printed = float(np.max(np.abs(d)))
+    scatter = None
+    if same is not None and len(same) >= 2:
+        cap = float(np.sqrt(2.0)) * upper_sigma(float(np.std(np.asarray(same, dtype=float), ddof=1)), len(same) - 1)
+        if np.any(cap < uu):
+            uu, scatter = np.minimum(uu, cap), cap
+    if not np.any(uu > 0):
+        return MaxSelection(printed, printed, 0.0, 0.0, -2, scatter)
+    shrunk = np.sign(d) * np.sqrt(np.maximum(0.0, d * d - uu * uu))
+    sample = np.random.default_rng(seed).normal(shrunk, uu, size=(int(draws), d.size))
+    mx = np.max(np.abs(sample), axis=-1)
+    bias = float(mx.mean() - np.max(np.abs(shrunk)))
+    return MaxSelection(printed, printed - bias, float(mx.std(ddof=1)), bias, -2, scatter)
+
+
+def selection_rows(sel: MaxSelection, n: int, unit: str, *, slopes: bool = True) -> list[BudgetRow]:
+    """The row of the selection-bias correction of a maximum (D.12, D.29, D.43; JJF 2014 eqs. (11),
+    (13), (15), (31)): the correction is uncertain by up to its own size (uniform, half-width |bias|)."""
+    if not sel.bias:
+        return []
+    what = (msg("correction for taking the largest of {n} noisy slopes (Monte Carlo)", n=n) if slopes else
+            msg("correction for taking the largest of {n} noisy changes (Monte Carlo)", n=n))
+    if sel.degree >= 0:
+        how = msg("{c:+.3g} applied; about a degree-{d} polynomial in T", c=-sel.bias, d=sel.degree)
+    elif sel.degree == -2:
+        how = msg("{c:+.3g} applied; about each value shrunk by its own noise", c=-sel.bias)
+    else:
+        how = msg("{c:+.3g} applied; about the points as measured", c=-sel.bias)
+    if sel.scatter is not None:
+        how = msg("{how}; drawn with at most {s:.3g}, the 95 % upper limit of the points' own scatter",
+                  how=how, s=sel.scatter)
+    return [BudgetRow.type_b(what, "δ_sel", Q_(abs(sel.bias), unit), distribution="uniform", note=how)]
+
+
+def spread_rows(sel: MaxSelection, u_point: float, unit: str) -> list[BudgetRow]:
+    """What the maximum's spread over the Monte Carlo draws adds to the maximising point's own
+    u (``u_point``, the budget's rows for that point): √(s² − u_point²) when s is larger (another
+    point could have given the maximum), normal, else nothing."""
+    if not sel.s > u_point:
+        return []
+    return [BudgetRow.type_b(msg("spread of the maximum over the Monte Carlo draws beyond the maximising point's own u"),
+                             "√(s² − u_i²)", Q_(float(np.sqrt(sel.s ** 2 - u_point ** 2)), unit), distribution="normal",
+                             k=1.0, note=msg("s = {s:.3g}, the maximising point alone {u:.3g}", s=sel.s, u=u_point))]
+
+
+def selection_note(sel: MaxSelection, scale: float, unit: str) -> str:
+    """The note of a corrected maximum: the value as the standard's formula prints it, and the bias removed."""
+    return msg("as printed by the formula {printed:.4g} {unit}, selection bias {bias:+.2g} {unit} removed "
+               "(interpretations.md)", printed=sel.printed * scale, bias=sel.bias * scale, unit=unit)
 
 

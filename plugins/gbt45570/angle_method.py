@@ -25,6 +25,7 @@ from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError
 from metro.core.locale import join, msg
 from metro.core.lsq import fit_line
+from metro.core.selection import selection_note, selection_rows
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -523,23 +524,6 @@ class ScaleFactorTemperatureSensitivityD15(Procedure):
             used += [s for p in pts for s in p.segments]
         Kt, imax = F2.scale_factor_temperature_sensitivity_d12(Ks, temps, i0)
         return _temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used, "P/″")
-
-
-def selection_rows(sel: "F2.MaxSelection", n_slopes: int, unit: str) -> list[BudgetRow]:
-    """The row of the selection-bias correction of a maximum of slopes (D.12, D.29, D.43): the
-    correction is uncertain by up to its own size (uniform, half-width |bias|)."""
-    if not sel.bias:
-        return []
-    return [BudgetRow.type_b(msg("correction for taking the largest of {n} noisy slopes (Monte Carlo)", n=n_slopes),
-                             "δ_sel", Q_(abs(sel.bias), unit), distribution="uniform",
-                             note=(msg("{c:+.3g} applied; about a degree-{d} polynomial in T", c=-sel.bias, d=sel.degree)
-                                   if sel.degree >= 0 else
-                                   msg("{c:+.3g} applied; about the points as measured", c=-sel.bias)))]
-
-
-def selection_note(sel: "F2.MaxSelection", scale: float, unit: str) -> str:
-    return msg("as printed by the formula {printed:.4g} {unit}, selection bias {bias:+.2g} {unit} removed "
-               "(interpretations.md)", printed=sel.printed * scale, bias=sel.bias * scale, unit=unit)
 
 
 def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, imax: int, i0: int, temps, Ks, uKs,

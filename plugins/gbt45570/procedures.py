@@ -493,7 +493,7 @@ class BiasTemperatureSensitivityD54(Procedure):
                                  Q_(uA, "deg/h/delta_degC"), nu)]
         # D.43 takes the largest of several noisy |slopes|: corrected for the selection bias about a
         # smoothed B(T) (interpretations.md, D.5.4); the spread of the maximum replaces one slope's u
-        from .angle_method import selection_note, selection_rows
+        from metro.core.selection import selection_note, selection_rows
         from .formulas_rate import max_slope_selection
 
         sel = max_slope_selection([e.B0 for e in ests], [e.u_A for e in ests], temps, i0, relative=False)

@@ -518,7 +518,7 @@ class NonlinearityD22(ScaleFactorD21):
         data = collect_rate_data(type(self), campaign, int(opts["min_points"]))
         Kn, j, Fm, _, K, F0 = nonlinearity_of(data)
         # K_n is the largest of 2M noisy |a_j|: corrected for the selection (interpretations.md, D.2.2)
-        from .angle_method import selection_note, selection_rows
+        from metro.core.selection import selection_note, selection_rows
 
         sel = F2.nonlinearity_selection(data.rates, data.Fk, data.uF)
         budget = nonlinearity_budget(campaign, data, j, Fm, K, spread=sel.s)

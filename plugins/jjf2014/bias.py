@@ -4,6 +4,7 @@ sensitivity, change after shock and vibration."""
 from __future__ import annotations
 
 import math
+import statistics
 
 from metro.core import allan
 from metro.core.budget import BudgetRow
@@ -20,13 +21,16 @@ from metro.core.model import (
     Step,
     TableSpec,
 )
+from metro.core.selection import max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_
 
 from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
+    line_scatter,
     one_estimate,
+    with_scatter,
     AXES,
     RATE_OPTS,
     Spread,
@@ -113,6 +117,11 @@ def _rounded(campaign: Campaign, bv: BiasValue, what, scale: float, unit: str) -
     ±q/2 on F̄ when the noise does not dither the rounding, else the Widrow bound, over K
     (interpretations.md, "JJF 2014 — output quantization")."""
     return rounding_row_mean(campaign, bv.x, what, scale * 3600.0 / abs(bv.K), unit)
+
+
+def _u_single(bv: BiasValue, rep: Spread | None) -> float:
+    """u (°/h) of one bias record as the device's bias at its condition: as :func:`_single`."""
+    return rep.value if rep is not None and rep.value > bv.uA else bv.uA
 
 
 def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: str) -> BudgetRow:
@@ -288,18 +297,29 @@ class BiasTemperature(_JJF):
         m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.16")
         bt, i = F.bias_temperature_eq31([b.B0 for b in bvs], temps, m)
         dT = abs(temps[i] - temps[m])
-        rep = bias_repeatability(campaign, K)
+        rep = with_scatter(bias_repeatability(campaign, K), *line_scatter([b.B0 for b in bvs], temps),
+                           msg("the B_0i about a straight line in T"))
+        # the largest of N − 1 noisy slopes: its selection bias removed (interpretations.md, "JJF 2014 —
+        # the largest of noisy slopes and changes"); drawn with B_r, or the points' scatter about a
+        # line in T where it is smaller
+        sel = max_slope_selection([b.B0 for b in bvs], [_u_single(b, rep) for b in bvs], temps, m, relative=False,
+                                  observed=True)
+        bt = max(sel.value, 0.0)
         rows = [_single(bvs[i], rep, f"B₀ at {temps[i]:g} °C", 1 / dT, "deg/h/delta_degC"),
-                _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC"),
-                *_rounded(campaign, bvs[i], f"B₀ at {temps[i]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
+                _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC")]
+        u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
+        rows += spread_rows(sel, u_point, "deg/h/delta_degC") + selection_rows(sel, len(bvs) - 1, "deg/h/delta_degC")
+        rows += [*_rounded(campaign, bvs[i], f"B₀ at {temps[i]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 *_rounded(campaign, bvs[m], f"B₀ at {temps[m]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 kv.row(bt, "deg/h/delta_degC")]
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
         b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep))
         tab = TableSpec("bias_temperature", msg("B_0i per temperature"), ["T_i (°C)", "B_0i (°/h)"],
                         [[f"{t:g}", f"{x.B0:.5g}"] for t, x in zip(temps, bvs)])
-        return self._outcome([Result(self.metrics[0], Q_(bt, "deg/h/delta_degC"), b.combined, b,
-                                     note=msg("maximum at {T:g} °C", T=temps[i]))], tables=[tab],
+        note = msg("maximum at {T:g} °C", T=temps[i])
+        if sel.bias:
+            note = join("; ", [note, selection_note(sel, 1.0, "(°/h)/°C")])
+        return self._outcome([Result(self.metrics[0], Q_(bt, "deg/h/delta_degC"), b.combined, b, note=note)], tables=[tab],
                              segments=[x.seg.id for x in bvs], opts=opts)
 
 
@@ -385,14 +405,27 @@ class _BiasChange(_JJF):
         before = {a: vals[(a, "before")].B0 for a in AXES if (a, "before") in vals}
         after = {a: vals[(a, "after")].B0 for a in AXES if (a, "after") in vals}
         try:
-            db, worst, per = F.max_change_eq12_13(before, after)
+            printed, worst, per = F.max_change_eq12_13(before, after)
         except ValueError as exc:
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
         v1, v2 = vals[(worst, "before")], vals[(worst, "after")]
-        rep = bias_repeatability(campaign, K)
+        ax = list(per)
+        rep = with_scatter(bias_repeatability(campaign, K), statistics.stdev([before[a] for a in ax]) if len(ax) > 1
+                           else 0.0, len(ax) - 1, msg("B₀ before the test over the axes"))
+        # the largest of the axes' |ΔB|: its selection bias removed (interpretations.md, "JJF 2014 — the
+        # largest of noisy slopes and changes"), drawn with the scatter of the biases before the test
+        # over the axes where it is smaller than B_r
+        sel = max_abs_selection([after[a] - before[a] for a in ax],
+                                [math.hypot(_u_single(vals[(a, "before")], rep), _u_single(vals[(a, "after")], rep))
+                                 for a in ax],
+                                same=[before[a] for a in ax])
+        db = max(sel.value, 0.0)
+        rows = [_single(v1, rep, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
+                _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h")]
+        u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
+        rows += spread_rows(sel, u_point, "deg/h") + selection_rows(sel, len(ax), "deg/h", slopes=False)
         b = B.type_a_budget(self.metrics[0].key, "deg/h", one_estimate([
-            _single(v1, rep, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
-            _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
+            *rows,
             *_rounded(campaign, v1, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
             *_rounded(campaign, v2, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
             kv.row(db, "deg/h")], rep))
@@ -400,7 +433,10 @@ class _BiasChange(_JJF):
         tab = TableSpec("per_axis", msg("B₀ before/after shock") if self.what == "shock" else msg("B₀ before/after vibration"),
                         [msg("axis"), "B₁ (°/h)", "B₂ (°/h)", "|ΔB| (°/h)"],
                         [[a, f"{before[a]:.5g}", f"{after[a]:.5g}", f"{per[a]:.4g}"] for a in per])
-        return self._outcome([Result(self.metrics[0], Q_(db, "deg/h"), b.combined, b, note=msg("largest on axis {axis}", axis=worst))],
+        note = msg("largest on axis {axis}", axis=worst)
+        if sel.bias:
+            note = join("; ", [note, selection_note(sel, 1.0, "°/h")])
+        return self._outcome([Result(self.metrics[0], Q_(db, "deg/h"), b.combined, b, note=note)],
                              tables=[tab], warnings=w, segments=[x.seg.id for x in vals.values()], opts=opts)
 
 

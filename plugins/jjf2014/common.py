@@ -352,6 +352,39 @@ def bias_repeatability(campaign: Campaign, K: float) -> Spread | None:
     return _stated(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")
 
 
+def with_scatter(rep: Spread | None, s: float, dof: float, what: str) -> Spread | None:
+    """The repeatability of one calibration (``rep``: K_r of 7.2.4, B_r of 7.2.15, or stated) where
+    the item's own calibrations show more: ``s`` is their observed 1σ scatter (the same unit as
+    ``rep.value``: relative for K) with ``dof`` degrees of freedom — the K or biases before a
+    shock or vibration over the axes (one device, separate power-ons), the temperature points'
+    scatter about a straight line.  When s exceeds the repeatability, the two are pooled,
+    √((ν_r·K_r² + ν·s²)/(ν_r + ν)) with ν_r + ν degrees of freedom (a stated repeatability: s
+    alone); never smaller than the repeatability item's own spread (interpretations.md,
+    "JJF 2014 — the largest of noisy slopes and changes")."""
+    if not (dof >= 1 and math.isfinite(s) and s > 0):
+        return rep
+    if rep is None or rep.type != "A" or not math.isfinite(rep.dof):
+        if rep is not None and s <= rep.value:
+            return rep
+        return Spread(s, float(dof), msg("scatter {s:.3g} of {what} (ν = {nu:g})", s=s, what=what, nu=dof))
+    if s <= rep.value:
+        return rep
+    v = math.sqrt((rep.dof * rep.value ** 2 + dof * s * s) / (rep.dof + dof))
+    return Spread(v, rep.dof + dof, msg("{src}, pooled with the larger scatter {s:.3g} of {what} (ν = {nu:g}): {v:.3g}",
+                                        src=rep.source, s=s, what=what, nu=dof, v=v))
+
+
+def line_scatter(y, x) -> tuple[float, int]:
+    """The rms scatter of ``y`` about an unweighted straight line in ``x`` and its n − 2 degrees of
+    freedom (0, 0 with fewer than four points)."""
+    y = np.asarray(y, dtype=float)
+    if y.size < 4:
+        return 0.0, 0
+    xc = np.asarray(x, dtype=float) - np.mean(x)
+    r = y - np.polyval(np.polyfit(xc, y, 1), xc)
+    return float(np.sqrt(np.sum(r * r) / (y.size - 2))), y.size - 2
+
+
 def _main_set(campaign: Campaign, proc) -> SFSet:
     return SFSet(_need(campaign, proc, "rate"))
 

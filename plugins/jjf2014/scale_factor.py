@@ -10,13 +10,16 @@ from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
 from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, TableSpec
+from metro.core.selection import max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_, parse_quantity
 
 from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
+    line_scatter,
     one_estimate,
+    with_scatter,
     AXES,
     KU,
     RATE_OPTS,
@@ -249,18 +252,27 @@ class SFTemperature(_JJF):
         Ks = [s.K for s in sets]
         kt, i = F.sf_temperature_eq11(Ks, temps, m)
         dT = temps[i] - temps[m]
+        rep = with_scatter(sf_repeatability(campaign), *line_scatter(np.asarray(Ks) / np.mean(Ks), temps),
+                           msg("the K_i about a straight line in T"))
+        # the largest of N − 1 noisy slopes: its selection bias removed (interpretations.md, "JJF 2014 —
+        # the largest of noisy slopes and changes"); the points drawn with K_r·K, or their scatter about
+        # a line in T where it is smaller (one power-on through the chamber)
+        sel = max_slope_selection(Ks, [s.u_single(rep)[0] for s in sets], temps, m, relative=True, observed=True)
+        kt = max(sel.value, 0.0)
         # Kt = |K_i/K_m − 1|/|ΔT|: ∂/∂K_i = 1/(K_m|ΔT|), ∂/∂K_m ≈ K_i/(K_m²|ΔT|)
-        rep = sf_repeatability(campaign)
-        rows = [_k_row(sets[i], rep, msg("K_i at {T:g} °C", T=temps[i]), "u(K_i)/(K_m|ΔT|)", 1 / (Ks[m] * abs(dT)),
-                       "1/delta_degC"),
-                _k_row(sets[m], rep, msg("K_m at {T:g} °C", T=temps[m]), "K_i·u(K_m)/(K_m²|ΔT|)", Ks[i] / (Ks[m] ** 2 * abs(dT)),
-                       "1/delta_degC")]
+        ci, cm = 1 / (Ks[m] * abs(dT)), Ks[i] / (Ks[m] ** 2 * abs(dT))
+        rows = [_k_row(sets[i], rep, msg("K_i at {T:g} °C", T=temps[i]), "u(K_i)/(K_m|ΔT|)", ci, "1/delta_degC"),
+                _k_row(sets[m], rep, msg("K_m at {T:g} °C", T=temps[m]), "K_i·u(K_m)/(K_m²|ΔT|)", cm, "1/delta_degC")]
+        u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
+        rows += spread_rows(sel, u_point, "1/delta_degC") + selection_rows(sel, len(Ks) - 1, "1/delta_degC")
         rows += _chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
         b = B.type_a_budget("Kt", "1/delta_degC", one_estimate(rows, rep))
         tab = TableSpec("sf_temperature", msg("K_i per temperature"), ["T_i (°C)", "K_i (mV/((°)/s))"],
                         [[f"{t:g}", f"{k:.7g}"] for t, k in zip(temps, Ks)])
-        return self._outcome([Result(self.metrics[0], Q_(kt, "1/delta_degC"), b.combined, b,
-                                     note=msg("maximum at T_i = {Ti:g} °C, T_m = {Tm:g} °C", Ti=temps[i], Tm=temps[m]))],
+        note = msg("maximum at T_i = {Ti:g} °C, T_m = {Tm:g} °C", Ti=temps[i], Tm=temps[m])
+        if sel.bias:
+            note = join("; ", [note, selection_note(sel, 1e6, "ppm/°C")])
+        return self._outcome([Result(self.metrics[0], Q_(kt, "1/delta_degC"), b.combined, b, note=note)],
                              tables=[tab], segments=[x for s in sets for x in s.ids], opts=opts)
 
 
@@ -335,21 +347,37 @@ class _SFChange(_JJF):
         before = {a: fits[(a, "before")].K for a in AXES if (a, "before") in fits}
         after = {a: fits[(a, "after")].K for a in AXES if (a, "after") in fits}
         try:
-            dk, worst, per = F.max_change_eq12_13(before, after)
+            printed, worst, per = F.max_change_eq12_13(before, after)
         except ValueError as exc:
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
         w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for X, Y, Z)", axes=", ".join(per))]
-        rep = sf_repeatability(campaign)
+        ax = list(per)
+        rep = with_scatter(sf_repeatability(campaign), float(np.std([before[a] for a in ax], ddof=1) / np.mean(
+            [before[a] for a in ax])) if len(ax) > 1 else 0.0, len(ax) - 1, msg("K before the test over the axes"))
+        # the largest of the axes' |ΔK|: its selection bias removed (interpretations.md, "JJF 2014 — the
+        # largest of noisy slopes and changes"), drawn with the scatter of the K before the test over the
+        # axes where it is smaller than K_r·K
+        u_of = {k: f.u_single(rep)[0] for k, f in fits.items()}
+        sel = max_abs_selection([after[a] - before[a] for a in ax],
+                                [math.hypot(u_of[(a, "before")], u_of[(a, "after")]) for a in ax],
+                                same=[before[a] for a in ax])
+        dk = max(sel.value, 0.0)
+        rows = [_k_row(fits[(worst, "before")], rep, msg("K before ({axis})", axis=worst), "u(K₁)", 1.0, KU),
+                _k_row(fits[(worst, "after")], rep, msg("K after ({axis})", axis=worst), "u(K₂)", 1.0, KU)]
+        u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
+        rows += spread_rows(sel, u_point, KU) + selection_rows(sel, len(ax), KU, slopes=False)
         b = B.type_a_budget(self.metrics[0].key, KU, one_estimate([
-            _k_row(fits[(worst, "before")], rep, msg("K before ({axis})", axis=worst), "u(K₁)", 1.0, KU),
-            _k_row(fits[(worst, "after")], rep, msg("K after ({axis})", axis=worst), "u(K₂)", 1.0, KU),
+            *rows,
             *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
                                         _cal(campaign, "rate_table"), Q_(dk, KU))], rep))
         tab = TableSpec("per_axis", msg("K before/after shock per axis") if self.what == "shock" else
                         msg("K before/after vibration per axis"),
                         [msg("axis"), "K₁ (mV/((°)/s))", "K₂ (mV/((°)/s))", "|ΔK|"],
                         [[a, f"{before[a]:.7g}", f"{after[a]:.7g}", f"{per[a]:.3g}"] for a in per])
-        return self._outcome([Result(self.metrics[0], Q_(dk, KU), b.combined, b, note=msg("largest on axis {axis}", axis=worst))],
+        note = msg("largest on axis {axis}", axis=worst)
+        if sel.bias:
+            note = join("; ", [note, selection_note(sel, 1.0, "mV/((°)/s)")])
+        return self._outcome([Result(self.metrics[0], Q_(dk, KU), b.combined, b, note=note)],
                              tables=[tab], warnings=w, segments=[i for s in fits.values() for i in s.ids], opts=opts)
 
 
