@@ -105,6 +105,19 @@ def one_notation(text: str) -> str:
     return _SMALL.sub(sub, text)
 
 
+#: a number and its unit as :func:`glue` joins them (a no-break space between)
+_NUM_NBSP_UNIT = re.compile(r"^([^\s\u00a0]*[\d⁰¹²³⁴⁵⁶⁷⁸⁹])\u00a0([^\s\d=]\S*)$")
+
+
+def _unit_may_wrap(cell: str) -> str:
+    """``4.946×10⁻⁸ °/°C/h`` with an ordinary space before the unit (it may go under the number)
+    and word joiners inside the unit (LibreOffice would break it at a slash)."""
+    m = _NUM_NBSP_UNIT.match(cell)
+    if m is None:
+        return cell
+    return f"{m.group(1)} " + "\u2060".join(m.group(2))
+
+
 _NEG = re.compile(r"(?<![\w.\-/\u2060])-(?=\d)")
 
 
@@ -521,22 +534,31 @@ class DocumentBuilder:
 
     def table(self, header: Sequence[str] | None, rows: Sequence[Sequence[str]], *,
               font_pt: float = TABLE_PT, label_column: bool = False, width_mm: float = TEXT_WIDTH_MM,
-              shade: Sequence[int] = (), prefer: int | None = None, prefer_share: float = 0.6):
+              shade: Sequence[int] = (), prefer: int | None = None, prefer_share: float = 0.6,
+              spans: Sequence[int] = (), bold_rows: Sequence[int] = (), unit_break: Sequence[int] = ()):
         """A bordered table: ``header`` (repeated on every page; None for a label/value table),
         then ``rows`` (each row kept on one page).  ``label_column`` shades and bolds the first
         column (label/value tables).  ``shade`` lists row indexes to shade (summary rows).
-        Column widths fit the content (:func:`column_widths`); the font shrinks (to 6.5 pt) only
-        when the longest words would not fit otherwise."""
+        ``spans`` lists rows (indexes into ``rows``, each a one-cell row) whose text spans every
+        column (a title or a summary inside a long table; kept with the row below when it is in
+        ``bold_rows`` too, which prints it bold).  In the columns ``unit_break`` a unit may go to
+        the next line under its number (``4.946×10⁻⁸`` / ``°/°C/h``; the number stays whole).
+        Column widths fit the content (:func:`column_widths`, spanning rows left out); the font
+        shrinks (to 6.5 pt) only when the longest words would not fit otherwise."""
         from docx.enum.table import WD_TABLE_ALIGNMENT
         from docx.oxml.ns import qn
         from docx.shared import Pt
 
         rows = [[glue(self.tr.text(c)) for c in r] for r in rows]
+        if unit_break:
+            rows = [[_unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r in rows]
         head = [_two_lines(glue(self.tr.text(h))) for h in header] if header else None
-        n = len(head) if head else max(len(r) for r in rows)
+        spans = set(spans)
+        n = len(head) if head else max(len(r) for i, r in enumerate(rows) if i not in spans)
         rows = [list(r) + [""] * (n - len(r)) for r in rows]
         everything = ([head] if head else []) + rows
-        cols = [[r[j] for r in everything] for j in range(n)]
+        first = 1 if head else 0
+        cols = [[r[j] for i, r in enumerate(everything) if i - first not in spans] for j in range(n)]
         pt = font_pt
         widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
                                prefer=prefer, prefer_share=prefer_share)
@@ -568,6 +590,17 @@ class DocumentBuilder:
             is_head = head is not None and i == 0
             if is_head:
                 _insert_ordered(trPr, _el("w:tblHeader"), _TRPR_ORDER)
+            if i - first in spans:
+                cell = row.cells[0].merge(row.cells[n - 1]) if n > 1 else row.cells[0]
+                tcPr = cell._tc.get_or_add_tcPr()
+                _insert_ordered(tcPr, _el("w:tcW", w=str(sum(_twips(w) for w in widths)), type="dxa"), _TCPR_ORDER)
+                if i - first in shade:
+                    _insert_ordered(tcPr, _el("w:shd", val="clear", color="auto", fill=LABEL_FILL), _TCPR_ORDER)
+                p = cell.paragraphs[0]
+                p.paragraph_format.space_after = Pt(0)
+                p.paragraph_format.keep_with_next = i - first in bold_rows
+                self.runs(p, values[0], bold=i - first in bold_rows, size=pt)
+                continue
             for j, (cell, value, w) in enumerate(zip(row.cells, values, widths)):
                 tcPr = cell._tc.get_or_add_tcPr()
                 _insert_ordered(tcPr, _el("w:tcW", w=str(_twips(w)), type="dxa"), _TCPR_ORDER)
@@ -873,36 +906,102 @@ def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]]) -> None:
 
 
 def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
-    """Every uncertainty budget: sources, symbol, type and distribution, value, divisor, cᵢ,
-    contribution (its unit in the header), ν; then one line with u_c, ν_eff, k and U.  A budget
-    whose every contribution is zero (an exact count, a quantity taken as declared) is one line;
-    consecutive ones share a paragraph."""
+    """Every uncertainty budget, in one table whose header (source, symbol, type and
+    distribution, value, divisor, cᵢ, uᵢ(y), νᵢ) repeats on each page: per budget a title row
+    (item, quantity, the unit of its uᵢ(y)), its rows, and a row with u_c, ν_eff, k and U.  A
+    budget whose every contribution is zero (an exact count, a value taken as declared) is not a
+    table: such budgets are listed first, those sharing one reason under it once.  In zh+en a
+    row's distribution is printed in Chinese (the names in both languages once, above the table)."""
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
-    exact: list[str] = []
-
-    def flush() -> None:
-        if exact:
-            doc.para(f"{tr('no uncertainty (exact)')}: " + "; ".join(exact), size=7.5)
-            exact.clear()
-
+    exact: dict[tuple, tuple[list, list[str]]] = {}
+    tables: list[tuple[list, list[int], list[int]]] = []
+    dists: dict[str, None] = {}
+    # a row's note that several rows share is printed once, numbered, above the tables
+    seen: dict[str, int] = {}
     for o in outcomes:
         for b in o["budgets"]:
-            unit = "" if b["unit"] == "1" else f" {b['unit']}"
-            summary = f"u_c = {b['u_c']}{unit}, ν_eff = {b['nu_eff']}, k = {b['k']}, U = {b['U']}{unit}"
-            title = f"{o['item']} — {tr.text(b['title'])}"
+            for x in b["rows"]:
+                if x.get("note") and len(str(x["note"])) > 40:
+                    seen[str(x["note"])] = seen.get(str(x["note"]), 0) + 1
+    numbered = {n: None for n, c in seen.items() if c > 1}
+    notes: dict[str, tuple[int, Any]] = {}
+
+    def source_of(x: dict) -> Any:
+        if x.get("note") and str(x["note"]) in numbered:
+            k = notes.setdefault(str(x["note"]), (len(notes) + 1, x["note"]))[0]
+            return f"{tr.text(x['source_only'])} [{k}]"
+        return x["source"]
+
+    for o in outcomes:
+        rows: list[list[str]] = []
+        spans: list[int] = []
+        titles: list[int] = []
+        for b in o["budgets"]:
+            name = f"{o['item']} {tr.text(b['title'])}"
             if all(x["contribution"] in ("0", "0.0") for x in b["rows"]):
-                exact.append(f"{o['item']} {tr.text(b['title'])} ({', '.join(tr.text(x['source']) for x in b['rows'])})")
+                key = tuple(str(_generic(x["source"])) for x in b["rows"])
+                exact.setdefault(key, ([x["source"] for x in b["rows"]], []))[1].append(name)
                 continue
-            flush()
-            doc.para(title, bold=True, size=8.5, keep_next=True)
-            rows = [[x["source"], x["symbol"], f"{x['type']}, {tr(x['distribution'])}", x["value"], x["divisor"],
-                     x["sensitivity"], x["contribution"], x["dof"]] for x in b["rows"]]
-            doc.table([tr("Source"), tr("Symbol"), _type_distribution_header(tr), tr("Value"), tr("Divisor"),
-                       "c_i", "u_i(y)" + (f"\n({b['unit']})" if unit else ""), "ν_i"], rows, font_pt=7,
-                      prefer=0, prefer_share=1.0)
-            doc.para(summary + (f". {tr.text(b['note'])}" if b.get("note") else ""), size=7.5)
-    flush()
+            unit = "" if b["unit"] == "1" else b["unit"]
+            spans.append(len(rows))
+            titles.append(len(rows))
+            rows.append([f"{o['item']} — {tr.text(b['title'])}" + (f"   [u_i(y): {unit}]" if unit else "")])
+            for x in b["rows"]:
+                dists[x["distribution"]] = None
+                dist = tr.zh(x["distribution"]) if tr.lang == "zh+en" else tr(x["distribution"])
+                rows.append([source_of(x), x["symbol"], f"{x['type']}, {dist}", x["value"], x["divisor"],
+                             x["sensitivity"], x["contribution"], x["dof"]])
+            unit = f" {unit}" if unit else ""
+            spans.append(len(rows))
+            rows.append([f"u_c = {b['u_c']}{unit}, ν_eff = {b['nu_eff']}, k = {b['k']}, U = {b['U']}{unit}"
+                         + (f". {tr.text(b['note'])}" if b.get("note") else "")])
+        if rows:
+            tables.append((rows, spans, titles))
+    if exact:
+        doc.para(f"{tr('no uncertainty (exact)')}:", size=7.5, keep_next=True)
+        lines = []
+        for sources, names in exact.values():
+            why = "; ".join(tr.text(_generic(x) if len(names) > 1 else x) for x in sources)
+            lines.append(f"{why}: {'; '.join(names)}")
+        doc.bullets(lines, size=7.5)
+    if notes:
+        doc.para(f"{tr('Notes to several rows')}:", size=7.5, keep_next=True)
+        for k, note in notes.values():
+            p = doc.para(f"[{k}] {tr.text(note)}", size=7.5)
+            p.paragraph_format.space_after = doc._pt(0)
+    if tables and tr.lang == "zh+en":
+        doc.para(f"{tr('Distribution')}: " + ", ".join(tr(d) for d in dists), size=7.5, keep_next=True)
+    for i, (rows, spans, titles) in enumerate(tables):  # one table per item: its widths fit its own budgets
+        if i:  # two tables with nothing between them are one table to LibreOffice and Word
+            doc.para("", size=2)
+        doc.table([tr("Source"), tr("Symbol"), _type_distribution_header(tr), tr("Value"), tr("Divisor"),
+                   "c_i", "u_i(y)", "ν_i"], rows, font_pt=7, prefer=0, prefer_share=1.0, spans=spans,
+                  bold_rows=titles, shade=titles, unit_break=(3, 5, 6))
+
+
+def _generic(text: Any) -> Any:
+    """A message with its data fields (a quantity's name, a count) left out as "…", to say once
+    what several exact budgets share ("…: no uncertainty declared by the test lab"); a field with
+    a number format keeps the message whole."""
+    import string
+
+    from .locale import Text
+
+    if not isinstance(text, Text):
+        return text
+    if text.msgid is None:
+        return Text(None, sep=text.sep, parts=tuple(_generic(p) for p in text.parts))
+    formatted = {f for _, f, spec, conv in string.Formatter().parse(text.msgid) if f and (spec or conv)}
+    fields = {}
+    for k, v in text.fields.items():
+        if isinstance(v, Text):
+            fields[k] = _generic(v)
+        elif k in formatted:
+            return text
+        else:
+            fields[k] = "…"
+    return Text(text.msgid, fields)
 
 
 def _type_distribution_header(tr) -> str:

@@ -310,6 +310,7 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
         rows.append({
             "source": msg("{source} ({note})", source=row["source"], note=row["note"]) if row["note"]
             else row["source"],
+            "source_only": row["source"], "note": row["note"],  # apart, for a document to number repeated notes
             "symbol": row["symbol"],
             "type": row["type"],
             "distribution": row["distribution"],

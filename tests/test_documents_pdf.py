@@ -216,9 +216,11 @@ def test_cli_report_path_ending_in_pdf_writes_pdf_a(tmp_path, run_cli):
     assert (tmp_path / "s.pdf").read_bytes() == b"an earlier PDF" and not (tmp_path / "s.docx").exists()
 
 
-#: GB/T 45570 type test (--all) on the simulated station, zh+en: 47 pages measured (2026-11-23;
-#: 46 before the layout work, when the content was smaller and printed in one language)
-GBT_ALL_PAGES = 49
+#: GB/T 45570 type test (--all) on the simulated station, zh+en: 41 pages measured (2026-11-24;
+#: 47–48 before the budgets annex became one table per item with repeated notes numbered once, exact
+#: budgets grouped by reason and Chinese terms kept whole in narrow columns; 46 before the layout
+#: work, when the content was smaller and printed in one language)
+GBT_ALL_PAGES = 43
 
 
 def test_gbt45570_type_test_report_length_and_order(tmp_path):

@@ -400,8 +400,14 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
             for col in ("Type", "distribution", "Value", "Divisor", "ci", "νi"):
                 assert any(col in h for h in head), (standard, col)
             dist = next(i for i, h in enumerate(head) if "distribution" in h)  # type and distribution merged
-            assert all(re.fullmatch(r"[AB], (正态 normal|均匀 uniform|三角 triangular|反正弦 arcsine)",
-                                    r.cells[dist].text) for r in t.rows[1:]), [r.cells[dist].text for r in t.rows[1:]]
+            # a budget's title and its u_c … U line span the table; the rows between give the
+            # distribution in Chinese (zh+en: the names in both languages once, above the tables)
+            rows = [r for r in t.rows[1:] if len({id(c._tc) for c in r.cells}) > 1]
+            assert rows and all(re.fullmatch(r"[AB], (正态|均匀|三角|反正弦)", r.cells[dist].text) for r in rows), \
+                [r.cells[dist].text for r in rows]
+            spans = [r.cells[0].text.replace("\xa0", " ") for r in t.rows[1:] if len({id(c._tc) for c in r.cells}) == 1]
+            assert spans and all("U = " in x or " — " in x for x in spans), spans
+        assert re.search(r"分布 Distribution: 正态 normal", text), "the distributions' names in both languages"
 
 
 def test_pretty_powers_changes_free_standing_numbers_only():
@@ -470,8 +476,14 @@ def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_do
         grid = [int(g.get(qn("w:w"))) for g in t._tbl.tblGrid.findall(qn("w:gridCol"))]
         assert sum(grid) <= 170 / 25.4 * 1440 + 5
         for i, row in enumerate(t.rows):
-            cells = [int(tc.tcPr.find(qn("w:tcW")).get(qn("w:w"))) for tc in row._tr.tc_lst]
-            assert cells == grid
+            cells, want, pos = [], [], 0
+            for tc in row._tr.tc_lst:  # a cell spanning columns (a budget's title) is as wide as they are
+                span = tc.tcPr.find(qn("w:gridSpan"))
+                n = 1 if span is None else int(span.get(qn("w:val")))
+                cells.append(int(tc.tcPr.find(qn("w:tcW")).get(qn("w:w"))))
+                want.append(sum(grid[pos:pos + n]))
+                pos += n
+            assert cells == want and pos == len(grid)
             assert row._tr.trPr.find(qn("w:cantSplit")) is not None
         if t.rows[0]._tr.trPr.find(qn("w:tblHeader")) is None:  # only label/value tables lack a header
             assert len(t.columns) == 2
@@ -623,3 +635,38 @@ def test_an_exact_result_says_so_instead_of_u_zero_with_a_k():
     assert result_cells(doc, exact) == ("-55 °C", "no uncertainty (exact)")
     measured = dict(exact, U_unit="0.30 °C", U="0.30")
     assert result_cells(doc, measured) == ("-55 °C", "U = 0.30 °C (k = 2)")
+
+
+def test_budgets_annex_says_a_shared_note_once_and_groups_exact_budgets(tmp_path):
+    """GB/T type test (--all), zh+en: a row note several budget rows share ("the two biases'
+    rounding errors do not cancel in the difference", in each environmental test's ΔB₀ budget)
+    is printed once, numbered, and the rows cite its number; the exact budgets sharing one reason
+    ("no uncertainty declared by the test lab") say it once; one table per item, each budget a
+    title row, its rows and its u_c … U row (before: a table, a header and a paragraph per budget,
+    the notes in full in every row)."""
+    import re
+
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.report import write_report
+    from metro.core.runner import run_items
+
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "gbt45570", [], run_all=True)
+    path = write_report(tmp_path / "all.docx", rec, layout=pm.template_for("gbt45570").layout,
+                        extend=pm.extend_report_context)
+    d = docx.Document(str(path))
+    cells = [c.text for t in d.tables for row in t.rows for c in {id(c._tc): c for c in row.cells}.values()]
+    paras = [p.text for p in d.paragraphs]
+    note = "the two biases' rounding errors do not cancel in the difference"
+    rows_with = [c for c in cells if "quantization of the output" in c]
+    assert len(rows_with) > 4 and not [c for c in rows_with if note in c], rows_with[:3]
+    (listed,) = [p for p in paras if note in p]
+    k = re.match(r"\[(\d+)\]", listed).group(1)
+    assert all(f"[{k}]" in c for c in rows_with if "B₀ before" in c or "B₀ after" in c)
+    said = [p for p in paras if "no uncertainty declared by the test lab" in p]
+    assert len(said) == 1 and said[0].count("no uncertainty declared by the test lab") == 1, said
+    budgets = sum(1 for o in rec.outcomes for r in o.results if r.budget is not None and r.budget.combined.magnitude > 0)
+    tables = [t for t in d.tables if any("Divisor" in c.text for c in t.rows[0].cells)]
+    assert len(tables) == len({o.item for o in rec.outcomes
+                               if any(r.budget is not None and r.budget.combined.magnitude > 0 for r in o.results)})
+    assert len(tables) < budgets
