@@ -601,9 +601,11 @@ def _cmd_plan(args) -> int:
         items, _ = select_items(pm, args.standard, items, device=device, run_all=args.run_all)
     procs = [pm.procedure(args.standard, i) for i in items]
     steps = merge_steps([cls().sequence(cls.option_values({})) for cls in procs])
+    columns = _plan_columns(procs)
     rows = [{"segment": s.segment, "kind": s.kind, "duration": f"{s.duration:~P}", "interval": f"{s.interval:~P}",
              "warmup": f"{s.warmup:~P}" if s.warmup is not None else None,
-             "conditions": {k: str(v) for k, v in s.conditions.items()}, "description": s.description}
+             "conditions": {k: str(v) for k, v in s.conditions.items()}, "columns": columns.get(s.kind, {}),
+             "description": s.description}
             for s in steps]
     record_s = sum(float(s.duration.to("s").magnitude) for s in steps)
     warmup_s = sum(float(s.warmup.to("s").magnitude) for s in steps if s.warmup is not None)
@@ -616,11 +618,34 @@ def _cmd_plan(args) -> int:
         print(f"{i}. [{r['segment']}] {r['description']}")
         print(f"   kind={r['kind']} duration={r['duration']} interval={r['interval']}"
               + (f" warm-up≥{r['warmup']}" if r["warmup"] else "")
-              + "".join(f" {k}={v}" for k, v in r["conditions"].items()))
+              + "".join(f" {k}={v}" for k, v in r["conditions"].items())
+              + ("; columns: " + ", ".join(f"{c} [{' or '.join(u)}]" for c, u in r["columns"].items())
+                 if r["columns"] else ""))
     print(f"total: {len(steps)} steps for {len(items)} item(s): {_duration(record_s)} of recording"
           + (f" + {_duration(warmup_s)} of warm-up = {_duration(record_s + warmup_s)}" if warmup_s else "")
           + " (set-up time between steps not included)")
     return 0
+
+
+def _plan_columns(procs) -> dict[str, dict[str, list[str]]]:
+    """Per segment kind, the samples-file columns the items read and the units each accepts
+    (any unit of the same kind is read): the units every item reading that kind accepts, or all of
+    them when the items differ (data-format.md: `metro plan` says what each segment needs)."""
+    from .units import fmt_unit, unit
+
+    out: dict[str, dict[str, list[str]]] = {}
+    for cls in procs:
+        for req in cls.requires:
+            per = out.setdefault(req.kind, {})
+            for name, accepted in req.columns.items():
+                acc = [fmt_unit(unit(a)) for a in accepted]
+                have = per.get(name)
+                if have is None:
+                    per[name] = acc
+                else:
+                    both = [a for a in have if a in acc]
+                    per[name] = both or have + [a for a in acc if a not in have]
+    return out
 
 
 def _duration(seconds: float) -> str:
