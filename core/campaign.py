@@ -392,6 +392,7 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         raise DataError(src, "segments", "must be an array of tables ([[segments]])")
     segments = []
     seen = set()
+    read_by: dict[tuple[Path, str], str] = {}  # (samples file, kind) -> the segment reading it
     for i, s in enumerate(seg_list or []):
         where = f"segments[{i}]"
         if not isinstance(s, dict):
@@ -408,6 +409,14 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         fpath = (path.parent / fname).resolve()
         if not fpath.is_file():
             raise DataError(src, f"{where}.file", f"samples file {fname!r} not found (looked in {fpath.parent})")
+        other = read_by.get((fpath, kind))
+        if other is not None:  # one record cannot be two measurements of one kind (two rates, two runs)
+            raise DataError(src, f"{where}.file",
+                            f"segment {sid!r} reads {fname!r}, the samples file of segment {other!r} of the same "
+                            f"kind {kind!r}: each measurement has its own record",
+                            hint="give each segment the file it was recorded in (a file-name typo, or a name cut "
+                                 "at a dot such as 'rate+0.25' -> 'rate+0.csv'?)")
+        read_by[(fpath, kind)] = sid
         if "sample_interval" not in s:
             raise DataError(src, f"{where}.sample_interval", "missing", hint="add sample_interval = \"1 s\"")
         interval = parse_quantity(s["sample_interval"], dimension="s", file=src, field=f"{where}.sample_interval")

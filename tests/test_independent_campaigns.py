@@ -113,3 +113,36 @@ def test_plan_lists_the_columns_a_campaign_writer_needs(run_cli, harness, tmp_pa
     assert code in (0, 3, 4), err
     (row,) = harness.score(truth, doc)
     assert row["status"] == "ok" and abs(row["En"]) <= 1, row
+
+
+def test_two_segments_of_one_kind_cannot_read_one_file(run_cli, harness, tmp_path):
+    """The harness's first version cut file names at the dot ('rate+0.25' -> 'rate+0.csv'): the
+    JJF 7.2.1 points at 0.1, 0.25 and 0.63 °/s all read the 0.63 °/s record and metro evaluated it
+    (K within its U, the misfit absorbed).  One record cannot be two measurements of one kind: an
+    error naming the manifest, the segment's file field and both segments (exit 2).  Different
+    kinds may share a record (a D.5.1 static hour that is also the first D.5.3 power-on)."""
+    folder = tmp_path / "jjf"
+    folder.mkdir()
+    harness.build_jjf(folder, np.random.default_rng(5), dt_static=0.01, dt_rate=1.0, fmt="csv", kind="mV",
+                      flick=0.0, wander=0.0, q=0.0, asym=0.0, neg=False, static_s=300, quick=True)
+    manifest = folder / "manifest.toml"
+    text = manifest.read_text(encoding="utf-8")
+    assert text.count('file = "rate+0.25.csv"') == 1
+    manifest.write_text(text.replace('file = "rate+0.25.csv"', 'file = "rate+0.1.csv"'), encoding="utf-8")
+    code, out, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--data", str(manifest), "--no-report", "--json")
+    assert code == 2, err
+    doc = json.loads(out)
+    assert doc["field"].startswith("segments[") and doc["field"].endswith("].file"), doc
+    assert "'rate+0.25'" in doc["message"] and "'rate+0.1'" in doc["message"] and "rate+0.1.csv" in doc["message"]
+    assert "Traceback" not in err
+
+    bias = tmp_path / "bias"
+    bias.mkdir()
+    harness.build_gbt_bias(bias, np.random.default_rng(6), kind="pulse", dt=1.0, fmt="csv", flick=0.0, wander=0.0,
+                           lsb_deg_h=0, q_deg_h=0, quick=True)
+    manifest = bias / "manifest.toml"
+    text = manifest.read_text(encoding="utf-8")
+    manifest.write_text(text.replace('file = "repeat-1.csv"', 'file = "static-1h.csv"'), encoding="utf-8")
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.3", "--data", str(manifest), "--no-report",
+                             "--json")
+    assert code in (0, 3, 4), err
