@@ -52,9 +52,11 @@ Layout = Callable[["DocumentBuilder", dict], None]
 # Text: subscripts, no-break spaces, width estimates
 # ----------------------------------------------------------------------------------------
 
-# a symbol with a subscript: one or two letters (Greek allowed, Δ prefix allowed), "_", then
-# 1–4 letters/digits or a braced group; not inside a longer word or a file name.
-_SUB = re.compile(r"(?<![\w./\\-])(Δ?[A-Za-zΑ-Ωα-ω][A-Za-zΑ-Ωα-ω]?)_(?:\{([^{}]{1,8})\}|([A-Za-z0-9]{1,4}))(?![\w.\\/-]*\.\w{2,4}\b)(?!\w)")
+# a symbol with a subscript: one or two letters (Greek allowed, Δ prefix allowed), or max/min with a
+# one-character subscript, "_",
+# then 1–4 letters/digits or a braced group (s_{upper}); not inside a longer word or a file name (a Chinese
+# character or a subscript digit before it is no word: 计数N_0, K₀₀ΔT_i).
+_SUB = re.compile(r"(?<![A-Za-z0-9_./\\-])((?:max|min)(?=_[A-Za-z0-9](?!\w))|Δ?[A-Za-zΑ-Ωα-ω][A-Za-zΑ-Ωα-ω]?)_(?:\{([^{}]{1,8})\}|([A-Za-z0-9]{1,4}))(?![\w.\\/-]*\.\w{2,4}\b)(?!\w)")
 
 
 def subscript_runs(text: str) -> list[tuple[str, bool]]:

@@ -293,13 +293,17 @@ def _budget_title(m: Any, measurand: str) -> str:
     'scale-factor nonlinearity K_n'
     >>> _budget_title(N(name="bias", symbol="B₀", key="B0"), "mean of the static record")
     'bias B₀ (mean of the static record)'
+    >>> _budget_title(N(name="start-up time", symbol="t_s", key="t_startup"), "t_startup")
+    'start-up time t_s'
     """
     from .document import _plain, quantity_name
 
     title = quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key})
     words = set(re.split(r"[\s()\-]+", _plain(title).lower()))
     said = all(w in words for w in re.split(r"[\s()\-]+", _plain(measurand or "").lower()) if w)
-    return title if not measurand or said else msg("{name} ({measurand})", name=title, measurand=measurand)
+    # a measurand that is the result's code key (dB_shock, gamma_r, t_startup) says nothing a reader reads
+    key = measurand in (m.key, m.symbol) or re.fullmatch(r"[A-Za-z]+(?:_[A-Za-z0-9]+)+", measurand or "")
+    return title if not measurand or said or key else msg("{name} ({measurand})", name=title, measurand=measurand)
 
 
 def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:

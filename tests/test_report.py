@@ -428,8 +428,15 @@ def test_symbols_get_real_subscripts_and_numbers_stay_whole():
     assert subscript_runs("K_l = 3, B_{s} and K_gxx") == [
         ("K", False), ("l", True), (" = 3, B", False), ("s", True), (" and K", False), ("gxx", True)]
     # names, options and files keep their underscores
-    for text in ("rate_table", "t_startup", "min_blocks", "run_1.csv"):
+    for text in ("rate_table", "t_startup", "min_blocks", "run_1.csv", "option max_rate", "earth_rate", "dB_shock"):
         assert subscript_runs(text) == [(text, False)], text
+    # after a Chinese character or a subscript digit, max/min with one letter, a braced subscript
+    # (the rendered zh budgets printed 计数N_0, K₀₀ΔT_i, max_i and s_upper with their underscores)
+    assert subscript_runs("计数N_0") == [("计数N", False), ("0", True)]
+    assert subscript_runs("max_i |ΔK_i/(K₀₀ΔT_i)|") == [("max", False), ("i", True), (" |ΔK", False), ("i", True),
+                                                         ("/(K₀₀ΔT", False), ("i", True), (")|", False)]
+    assert subscript_runs("(s_{upper} − B_r)/2") == [("(s", False), ("upper", True), (" − B", False), ("r", True),
+                                                     (")/2", False)]
     assert glue("U = 1.2 ppm (k = 2)") == f"U{NBSP}={NBSP}1.2{NBSP}ppm (k{NBSP}={NBSP}2)"
     # one notation: a value below 0.001 as ×10ⁿ like its U, every digit kept
     assert one_notation("0.0006021 ± 6.6×10⁻⁶; 0.00010; 0.0012; -0.000305") == \
@@ -670,3 +677,17 @@ def test_budgets_annex_says_a_shared_note_once_and_groups_exact_budgets(tmp_path
     assert len(tables) == len({o.item for o in rec.outcomes
                                if any(r.budget is not None and r.budget.combined.magnitude > 0 for r in o.results)})
     assert len(tables) < budgets
+
+
+def test_a_budget_title_leaves_out_a_code_key_measurand():
+    """JJF 2014's budgets were titled 'start-up time t_s (t_startup)', 'bias change after shock ΔB_i
+    (dB_shock)': the measurand was the result's code key."""
+    from types import SimpleNamespace as N
+
+    from metro.core.report import _budget_title
+
+    assert str(_budget_title(N(name="start-up time", symbol="t_s", key="t_startup"), "t_startup")) == "start-up time t_s"
+    assert "dB_shock" not in str(_budget_title(N(name="bias change after shock", symbol="ΔB_i", key="dB_shock"),
+                                               "dB_shock"))
+    assert str(_budget_title(N(name="bias", symbol="B₀", key="B0"), "mean of the static record")) == \
+        "bias B₀ (mean of the static record)"

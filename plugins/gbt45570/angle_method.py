@@ -540,7 +540,7 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     nu = uA**4 / den if den > 0 else math.inf
     sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True)
     rows = [BudgetRow.type_a(msg("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "
-                                 "smoothed K(T))"), "s of max_i |ΔK_i/(K₀₀ΔT_i)|", Q_(max(sel.s, uA), "1/delta_degC"), nu,
+                                 "smoothed K(T))"), "s(max_i |ΔK_i/(K₀₀ΔT_i)|)", Q_(max(sel.s, uA), "1/delta_degC"), nu,
                              note=msg("the maximising point alone gives {u:.3g}/°C", u=uA))]
     rows += selection_rows(sel, len(Ks) - 1, "1/delta_degC")
     Kt = max(sel.value, 0.0)

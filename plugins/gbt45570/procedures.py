@@ -393,7 +393,7 @@ class BiasRepeatabilityD53(Procedure):
         # limit s·√((Q−1)/χ²₀.₀₂₃(Q−1)), entered with ν = ∞ (its size already carries the coverage)
         upper = F.std_upper_limit(Br, Q)
         rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {Q} biases (χ² bound)", Q=Q),
-                                 "(s_upper − B_r)/2", Q_((upper - Br) / 2.0, "deg/h"), math.inf,
+                                 "(s_{upper} − B_r)/2", Q_((upper - Br) / 2.0, "deg/h"), math.inf,
                                  note=msg("97.7 % upper limit of σ from Q − 1 = {dof} degrees of freedom: {upper:.3g} °/h; "
                                           "the linear s/√(2(Q−1)) = {lin:.3g} °/h", dof=Q - 1, upper=upper,
                                           lin=Br / math.sqrt(2 * (Q - 1))))]
@@ -499,7 +499,7 @@ class BiasTemperatureSensitivityD54(Procedure):
         sel = max_slope_selection([e.B0 for e in ests], [e.u_A for e in ests], temps, i0, relative=False)
         if len(temps) > 2:
             rows = [BudgetRow.type_a(msg("B_i at every T_i and B_00 through the maximum of the slopes (Monte Carlo "
-                                         "about the smoothed B(T))"), "s of max_i |ΔB_i/ΔT_i|",
+                                         "about the smoothed B(T))"), "s(max_i |ΔB_i/ΔT_i|)",
                                      Q_(max(sel.s, uA), "deg/h/delta_degC"), nu,
                                      note=msg("the maximising point alone gives {u:.3g} (°/h)/°C", u=uA))]
             rows += selection_rows(sel, len(temps) - 1, "deg/h/delta_degC")

@@ -550,7 +550,7 @@ def nonlinearity_budget(campaign: Campaign, data: RateData, j: int, Fm: float, K
     # with ``spread`` (the Monte Carlo spread of the maximum over all points) the larger of the two
     rows = [BudgetRow.type_a(msg("mean outputs through F̂_j − F_kj at {rate:+g} °/s", rate=w[j]) if spread <= u else
                              msg("mean outputs through the largest |F̂_j − F_kj| (Monte Carlo over every point)"),
-                             "√Σ(g_i·u(F̄_i))²/|F_m|" if spread <= u else "s of max_j |a_j|", Q_(max(u, spread), ""), nu),
+                             "√Σ(g_i·u(F̄_i))²/|F_m|" if spread <= u else "s(max_j |a_j|)", Q_(max(u, spread), ""), nu),
             _out_resolution_row(campaign, float(np.linalg.norm(g)) / Fm, "", "F̂_j − F_kj", data.unit)]
     rows += _rate_row(campaign, msg("at {rate:+g} °/s", rate=w[j]), K * abs(w[j]) / Fm, "",
                       msg("an error not proportional to Ω shows as nonlinearity; bounded by the table's accuracy"),

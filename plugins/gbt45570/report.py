@@ -488,7 +488,7 @@ def layout(doc, ctx: dict) -> None:
                     _first_results(tr, symbols(r["result"])).replace("[not reportable]", f"[{tr('not reportable')}]"),
                     tr(r["verdict"]) if r["verdict"] else DASH,
                     "" if r["verdict"] == "conforms" else symbols(tr.text(r.get("note", "")))] for r in g["clause5"]],
-                  font_pt=7.5)
+                  font_pt=7.5, prefer=4, prefer_share=0.5)  # the why of a verdict not "conforms" is long
         n += 1
     doc.heading(f"{n} {tr('Test conditions')} (6.1)", 1)
     doc.heading(f"{tr('Test environment')} (6.1.1)", 2)
@@ -519,7 +519,8 @@ def layout(doc, ctx: dict) -> None:
     if shown:
         doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Value"), tr("U (k)"), tr("Verdict"), tr("Reason")],
                   [[v["item"], D.quantity_for(ctx, v["item"], v["key"]), v["limit"], v["value"],
-                    f"{v['U']} (k = {v['k']})", tr(v["status_text"]), v["reason"]] for v in shown], font_pt=7.5,
+                    f"{v['U']} (k = {v['k']})", tr(v["status_text"]), symbols(tr.text(v["reason"]))] for v in shown],
+                  font_pt=7.5,
                   prefer=6)
     if len(shown) < len(g["verdicts"]):
         doc.para(tr("The other {n} results conform: each interval value ± U lies within its limit "
