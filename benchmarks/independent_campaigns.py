@@ -492,6 +492,11 @@ VARIANTS = {
         "flicker plateau ≈ 0.004 °/h, 1 h records, latitude −65°…70°",
         lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.004,
                                              wander=0.0, lsb_deg_h=0, q_deg_h=0, quick=quick)),
+    "gbt-pulse-1Hz-strong-flicker": Variant(
+        "gbt-pulse-1Hz-strong-flicker", "gbt45570", "D.5.1,D.5.3",
+        "as gbt-pulse-1Hz-flicker with a flicker plateau ≈ 0.02 °/h (5–20 × the white noise's 1 h mean)",
+        lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.02,
+                                             wander=0.0, lsb_deg_h=0, q_deg_h=0, quick=quick)),
     "gbt-lsb-10Hz-coarse-thermal": Variant(
         "gbt-lsb-10Hz-coarse-thermal", "gbt45570", "D.5.1,D.5.3",
         "LSB output, 1 LSB ≈ 1 °/h (coarser than the 10 Hz noise), 10 Hz, .npy, sinusoidal "
@@ -521,6 +526,13 @@ VARIANTS = {
         "at 100 Hz (.npy), flicker plateau ≈ 3 °/h, no quantization",
         lambda f, rng, quick: build_jjf(f, rng, dt_static=0.01, dt_rate=1.0, fmt="npy", kind="mV",
                                         flick=3.0, wander=0.0, q=0.0, asym=0.0, neg=True,
+                                        static_s=3600 if not quick else 300, quick=quick)),
+    "jjf-mV-10Hz-white-negK": Variant(
+        "jjf-mV-10Hz-white-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
+        "mV output, K ±(5–60) mV/(°/s) (either sign), white noise and a thermal wander of 5 °/h only "
+        "(no flicker), rate points at 1 s, static 1 h at 10 Hz (CSV)",
+        lambda f, rng, quick: build_jjf(f, rng, dt_static=0.1, dt_rate=1.0, fmt="csv", kind="mV",
+                                        flick=0.0, wander=5.0, q=0.0, asym=0.0, neg=True,
                                         static_s=3600 if not quick else 300, quick=quick)),
     "jjf-mVV-400Hz-thermal-coarse": Variant(
         "jjf-mVV-400Hz-thermal-coarse", "jjf2014", "7.2.1,7.2.4,7.2.13",
@@ -685,6 +697,22 @@ def summarise(rows: list[dict]) -> list[dict]:
     return res
 
 
+def markdown(rows: list[dict]) -> str:
+    """The table of docs/independent-campaigns.md from the rows of one or more sweeps."""
+    out = ["| variant | item | result | devices | not reportable | within U (or not reportable) | "
+           "mean E_n | rms E_n | max abs E_n | flicker mean as bias: within U, mean E_n |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
+    for s in summarise(rows):
+        def f(x, fmt):
+            return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
+        alt = (f"{100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f}" if s["within_alt"] is not None else "—")
+        other = f" ({'; '.join(s['other'])})" if s["other"] else ""
+        out.append(f"| {s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | {s['not_reportable']} | "
+                   f"{100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} | {f(s['rms_En'], '.2f')} | "
+                   f"{f(s['max_abs_En'], '.2f')} | {alt} |")
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--devices", type=int, default=30)
@@ -694,7 +722,12 @@ def main(argv=None) -> int:
     ap.add_argument("--subprocess", action="store_true", help="run the metro command, not cli.main in-process")
     ap.add_argument("--quick", action="store_true", help="short records (a smoke run, not the measurand)")
     ap.add_argument("--json", type=Path, default=None, help="write every row to this file")
+    ap.add_argument("--markdown", nargs="+", type=Path, default=None,
+                    help="print the table of these --json files and exit")
     args = ap.parse_args(argv)
+    if args.markdown:
+        print(markdown([r for p in args.markdown for r in json.loads(p.read_text())]))
+        return 0
     names = [v.strip() for v in args.variants.split(",") if v.strip()]
     unknown = [n for n in names if n not in VARIANTS]
     if unknown:
