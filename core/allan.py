@@ -60,13 +60,15 @@ from __future__ import annotations
 import math
 import os
 from types import ModuleType
-from typing import Literal
+from typing import Literal, NamedTuple
 
 import attrs
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
+    "BatchMeanU",
+    "mean_u_batches",
     "AllanResult",
     "BlockDoublingResult",
     "adev",
@@ -800,6 +802,41 @@ def block_std(y: ArrayLike, factor: int) -> tuple[float, int]:
         s2 += float(np.sum(np.square(v, out=v)))
     var = max(0.0, (s2 - s1 * s1 / M) / (M - 1))
     return math.sqrt(var), M
+
+
+class BatchMeanU(NamedTuple):
+    """What :func:`mean_u_batches` found: the u of the mean taken, its number of batches, whether the
+    short batches were found correlated, and the short batches' own u and number."""
+
+    u: float
+    batches: int
+    correlated: bool
+    u_short: float
+    batches_short: int
+
+
+def mean_u_batches(y: ArrayLike, batches: int = 20, few: int = 5, p: float = 0.95) -> BatchMeanU:
+    """Standard uncertainty of the mean of ``y`` from the scatter of its batch means, s_b/√b, with a
+    check for correlated noise.
+
+    With correlated noise (flicker / bias instability, random walk, slow wander) neighbouring batch
+    means are alike and the scatter of ``batches`` short ones understates the mean's u.  ``few`` long
+    batches are compared with them; when (u_few/u)² exceeds the ``p`` point of F(few − 1, b − 1), the
+    long batches' u is taken (``correlated``).  Used by GB/T 45570 D.5.1 (eq. D.40) and JJF 2014
+    7.2.13 (eqs. (27), (28)); interpretations.md, "D.5.1 — correlated noise".  Needs ≥ 2·batches
+    samples.
+    """
+    from scipy.stats import f as f_dist
+
+    arr = np.asarray(y)
+    sd, nb = block_std(arr, arr.size // batches)
+    u = float(sd / np.sqrt(nb))
+    if batches > few >= 2 and arr.size >= 2 * few:
+        sd5, n5 = block_std(arr, arr.size // few)
+        u5 = float(sd5 / np.sqrt(n5))
+        if u > 0 and (u5 / u) ** 2 > float(f_dist.ppf(p, n5 - 1, nb - 1)):
+            return BatchMeanU(u5, int(n5), True, u, int(nb))
+    return BatchMeanU(u, int(nb), False, u, int(nb))
 
 
 def block_means_pyramid(y: ArrayLike, levels: int) -> list[FloatArray]:

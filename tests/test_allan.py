@@ -376,3 +376,18 @@ def test_deviations_follow_scale_and_ignore_offset(seed, n, a, b):
         tol = 1e-9 + 1e-14 * abs(b) / abs(a)
         np.testing.assert_allclose(got, abs(a) * ref, rtol=tol, err_msg=fn.__name__)
     np.testing.assert_allclose(oadev(y, 0.1, [1]).deviation, adev(y, 0.1, [1]).deviation, rtol=1e-12)
+
+
+def test_mean_u_batches_checks_for_correlated_batch_means():
+    """metro.core.allan.mean_u_batches: white noise keeps the 20 batch means (u = s_b/√20); a random
+    walk makes them alike and the F test (95 %) takes 5 long batches, whose u is larger."""
+    from metro.core.allan import block_std, mean_u_batches
+
+    rng = np.random.default_rng(7)
+    w = rng.normal(0.0, 1.0, 20000)
+    r = mean_u_batches(w)
+    sd, nb = block_std(w, 1000)
+    assert not r.correlated and r.batches == 20 and r.u == pytest.approx(sd / np.sqrt(nb), rel=1e-12)
+    walk = w + 0.05 * np.cumsum(rng.normal(0.0, 1.0, 20000))
+    c = mean_u_batches(walk)
+    assert c.correlated and c.batches == 5 and c.batches_short == 20 and c.u > 2 * c.u_short

@@ -200,3 +200,17 @@ def test_budget_scales_with_its_inputs(rows, s):
     if a.nu_eff is not None and math.isfinite(a.nu_eff):
         assert b.nu_eff == pytest.approx(a.nu_eff, rel=1e-9)
     assert b.k == pytest.approx(a.k, rel=1e-9)
+
+
+def test_sampling_of_a_standard_deviation_chi_square_bound():
+    """metro.core.budget.std_sampling_u: (σ_upper − s)/2 with σ_upper = s·√(ν/χ²₀.₀₂₂₇₅(ν)); χ² lower
+    points from the printed table (NIST/SEMATECH e-Handbook 1.3.6.7.4, 3 digits): ν = 5 → 0.797,
+    ν = 6 → 1.19; for large n it tends to the linear s/√(2(n − 1))."""
+    import math
+
+    from metro.core.budget import std_sampling_u, std_upper_limit
+
+    assert std_upper_limit(1.0, 6) == pytest.approx(math.sqrt(5 / 0.797), rel=1e-3)
+    assert std_upper_limit(2.0, 7) == pytest.approx(2 * math.sqrt(6 / 1.19), rel=2e-3)
+    assert std_sampling_u(1.0, 6) == pytest.approx((math.sqrt(5 / 0.797) - 1) / 2, rel=2e-3)
+    assert std_sampling_u(1.0, 2001) == pytest.approx(1 / math.sqrt(2 * 2000), rel=0.05)

@@ -702,15 +702,24 @@ def test_no_budget_smaller_than_the_campaigns_own_repeatability(full_run):
 
 
 def test_coverage_factor_from_nu_eff(full_run):
-    """k = t_p(ν_eff), p = 95.45 % (interpretations.md "JJF 2014 — coverage factor"): K_r, B_r
-    (ν = Q − 1 = 5) get k = t(5) = 2.65, not 2; a budget of infinite ν gets 2.00."""
+    """k = t_p(ν_eff), p = 95.45 % (interpretations.md "JJF 2014 — coverage factor"): K of 7.2.1,
+    whose u₃ = K_r·K has ν = Q − 1 = 5, gets k = t(ν_eff) > 2.2, not 2; a budget of infinite ν gets 2.00.
+    K_r and B_r themselves: the χ² bound (interpretations.md "Repeatabilities: the χ² bound"), ν = ∞,
+    k = 2 and s + U = s·√(5/χ²₀.₀₂₂₇₅(5)) = 2.505·s, the 97.7 % upper limit of σ."""
     from scipy import stats
 
+    from metro.core.budget import std_upper_limit
+
     _, outs, _ = full_run
+    b = outs["7.2.1"].result("K").budget
+    assert math.isfinite(b.nu_eff) and b.k == pytest.approx(stats.t.ppf(0.97725, b.nu_eff), rel=1e-9) and b.k > 2.2
     for key, item in (("Kr", "7.2.4"), ("Br", "7.2.15")):
-        b = outs[item].result(key).budget
-        assert b.nu_eff == pytest.approx(5.0, rel=1e-2)  # B_r also has the (small) row of K
-        assert b.k == pytest.approx(stats.t.ppf(0.97725, b.nu_eff), rel=1e-9) and b.k > 2.6
+        r = outs[item].result(key)
+        row = r.budget.rows[0]
+        assert "χ² bound" in row.source and row.dof == math.inf
+        s = r.value.magnitude
+        assert row.standard_uncertainty.magnitude == pytest.approx((std_upper_limit(s, 6) - s) / 2, rel=1e-9)
+        assert std_upper_limit(1.0, 6) == pytest.approx(2.505, abs=1e-3)
     b = B.scale_factor_budget(Q_(1, ""), Q_(1.54e-4, ""), math.inf,
                               rate_table=Calibration("T", Q_(1e-4, ""), k=2), dmm=Calibration("D", Q_(6e-5, ""), k=2))
     assert b.k == pytest.approx(2.0, abs=1e-5)
@@ -925,3 +934,32 @@ def test_one_estimate_counts_its_degrees_of_freedom_once():
     once = UncertaintyBudget("dB", "deg/h", one_estimate(rows, rep), coverage=B.COVERAGE)
     assert twice.nu_eff == pytest.approx(10.0, rel=1e-3) and once.nu_eff == pytest.approx(5.0, rel=1e-3)
     assert once.k == pytest.approx(2.649, abs=0.01) and once.combined == twice.combined
+
+
+def test_repeatability_of_a_negative_scale_factor_is_a_magnitude():
+    """Eq. (10) K_r = s/|K̄|: a device whose output falls with the rate (K < 0) has the same K_r as its
+    mirror image (docs/independent-campaigns.md: K_r < 0 on every negative-K device, 0 of 103 within U)."""
+    Ks = [20.0, 20.004, 19.997, 20.001, 19.999, 20.003]
+    assert F.relative_repeatability_eq10([-k for k in Ks]) == pytest.approx(F.relative_repeatability_eq10(Ks), rel=1e-12)
+    assert F.relative_repeatability_eq10([-k for k in Ks]) > 0
+
+
+def test_bias_under_correlated_noise_takes_the_long_batches():
+    """7.2.13 B₀ (eqs. (27), (28)) of a record whose noise is mostly a slow wander (a random walk of
+    the output, as flicker does within one record): the 20 short batch means are alike and their
+    scatter understates u(F̄); the F test takes 5 long batches (u several times larger, ν = 4), and says
+    so in the budget.  White noise alone keeps the 20 (docs/independent-campaigns.md: B₀ within U on
+    43–67 % of the flicker devices before)."""
+    from metro.plugins.jjf2014.bias import BiasValue
+
+    rng = np.random.default_rng(2014)
+    n = 36000
+    white = rng.normal(0.0, 1.0, n)
+    walk = 0.05 * np.cumsum(rng.normal(0.0, 1.0, n))
+    K = -20.0  # mV/((°)/s); either sign
+    bw = BiasValue(_seg("static", "static", {"orientation": "IRA up"}, white, "mV", 0.1), K)
+    bc = BiasValue(_seg("static", "static", {"orientation": "IRA up"}, white + walk, "mV", 0.1), K)
+    assert not bw.correlated and bw.dof == 19
+    assert bc.correlated and bc.dof == 4
+    short = float(np.std((white + walk).reshape(20, -1).mean(axis=1), ddof=1) / math.sqrt(20)) / abs(K) * 3600.0
+    assert bc.uA > 2.0 * short  # the 20 batch means would have said this

@@ -21,7 +21,7 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 
-from metro.core.budget import BudgetRow, UncertaintyBudget
+from metro.core.budget import BudgetRow, UncertaintyBudget, std_sampling_u
 from metro.core.errors import DataError
 from metro.core.locale import join, msg
 from metro.core.lsq import fit_line
@@ -425,8 +425,8 @@ class ScaleFactorRepeatabilityD14(Procedure):
             return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings + [reason],
                            segments=[s for _, p in pts for s in p.segments],
                            options={k: str(v) for k, v in opts.items()})
-        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors", q=q), "K_r/√(2(Q−1))",
-                                 Q_(Kr / math.sqrt(2 * (q - 1)), ""), q - 1),
+        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors (χ² bound)", q=q),
+                                 "(s_upper − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf),
                 _counter_row([p for _, p in pts], 1.0, "")]
         m = min(min(p.m_plus, p.m_minus) for _, p in pts)
         rows += [attrs.evolve(r, source=msg("{source}, run to run", source=r.source), sensitivity=Q_(1.0 / m, ""),

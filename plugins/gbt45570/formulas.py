@@ -342,15 +342,8 @@ def asymmetry_sensitivity_n0(rates_deg_s: Sequence[float], t_plus_s: Sequence[fl
 
 def std_upper_limit(s: float, n_values: int, p: float = 0.02275) -> float:
     """Upper confidence limit of σ from a Bessel standard deviation ``s`` of ``n_values`` normal
-    values (χ² with ν = n − 1)::
+    values, s·√(ν/χ²_p(ν)), ν = n − 1 (:func:`metro.core.budget.std_upper_limit`).  Used for the
+    sampling row of D.42 (interpretations.md, D.5.3): at Q = 7, σ_upper = 2.243·s."""
+    from metro.core.budget import std_upper_limit as upper
 
-        σ_upper = s·√(ν / χ²_p(ν)),   p = 0.02275 (the one-sided 97.7 %, k = 2 of a normal)
-
-    Used for the sampling row of D.42 (interpretations.md, D.5.3): at Q = 7, σ_upper = 2.243·s.
-    """
-    from scipy.stats import chi2
-
-    nu = int(n_values) - 1
-    if nu < 1:
-        raise ValueError("a standard deviation needs at least two values")
-    return float(s) * math.sqrt(nu / float(chi2.ppf(p, nu)))
+    return upper(s, n_values, p)

@@ -217,22 +217,16 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
             B0 += 2 * F.earth_rate_vertical(theta)
     else:
         B0 = indicated - earth
-    sd_batch, nb = allan.block_std(raw, raw.size // b)
-    uA = sd_batch * conv.magnitude / math.sqrt(nb)
+    # correlated noise (bias instability, rate random walk) makes neighbouring batch means alike, and
+    # their scatter understates the mean's u: five long batches are checked against it and taken
+    # when they disagree beyond chance (F test, 95 %) (interpretations.md, D.5.1)
+    bm = allan.mean_u_batches(raw, b)
+    uA, nb = bm.u * conv.magnitude, bm.batches
     note = msg("{nb} batches of {n} samples", nb=nb, n=raw.size // b)
-    if b > 5 and raw.size >= 10:
-        # correlated noise (bias instability, rate random walk) makes neighbouring batch means alike, and
-        # their scatter understates the mean's u: five long batches are checked against it and taken
-        # when they disagree beyond chance (F test, 95 %) (interpretations.md, D.5.1)
-        from scipy.stats import f as f_dist
-
-        sd5, n5 = allan.block_std(raw, raw.size // 5)
-        u5 = sd5 * conv.magnitude / math.sqrt(n5)
-        if uA > 0 and (u5 / uA) ** 2 > float(f_dist.ppf(0.95, n5 - 1, nb - 1)):
-            note = msg("{n5} batches of {n} samples: the {nb} batch means ({uA:.3g} °/h) are correlated (bias "
-                       "instability or random walk), their scatter understates the mean's u", n5=n5, n=raw.size // 5,
-                       nb=nb, uA=uA)
-            uA, nb = u5, n5
+    if bm.correlated:
+        note = msg("{n5} batches of {n} samples: the {nb} batch means ({uA:.3g} °/h) are correlated (bias "
+                   "instability or random walk), their scatter understates the mean's u", n5=nb, n=raw.size // nb,
+                   nb=bm.batches_short, uA=bm.u_short * conv.magnitude)
     rows = [BudgetRow.type_a(msg("scatter of the output (batch means)"), "s_b/√b", Q_(uA, "deg/h"), nb - 1, note=note)]
     rows += _scale_factor_row(conv, indicated, "deg/h")
     lat_u = campaign.site.get("latitude_uncertainty")

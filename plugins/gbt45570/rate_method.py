@@ -21,7 +21,7 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 
-from metro.core.budget import BudgetRow, UncertaintyBudget
+from metro.core.budget import BudgetRow, UncertaintyBudget, std_sampling_u
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
 from metro.core.lsq import fit_line
@@ -643,8 +643,8 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
         Kr = F2.scale_factor_repeatability_d28(Kj)
         if not Kr > 0:
             raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
-        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors", q=q), "K_r/√(2(Q−1))",
-                                 Q_(Kr / math.sqrt(2 * (q - 1)), ""), q - 1)]
+        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors (χ² bound)", q=q),
+                                 "(s_upper − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf)]
         rows += _stability_row(campaign, last)
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))

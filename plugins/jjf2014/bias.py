@@ -107,9 +107,13 @@ class BiasValue:
         self.seg, self.x, self.dt, self.K = seg, x, dt, K
         self.Fbar = F.mean_output_eq2(x)
         self.B0 = F.bias_eq27_28(x, K) * 3600.0 - earth  # °/h
-        sd, nb = allan.block_std(x, x.size // batches)
-        self.uA = sd / math.sqrt(nb) / abs(K) * 3600.0
-        self.dof = nb - 1
+        # 20 batch means, or 5 long ones when an F test shows the short ones correlated (flicker, wander):
+        # their scatter then understates the mean's u (metro.core.allan.mean_u_batches; interpretations.md,
+        # "D.5.1 — correlated noise": B₀ was within U on 43–67 % of the independent harness's flicker devices)
+        bm = allan.mean_u_batches(x, batches)
+        self.correlated = bm.correlated
+        self.uA = bm.u / abs(K) * 3600.0
+        self.dof = bm.batches - 1
 
 
 def _rounded(campaign: Campaign, bv: BiasValue, what, scale: float, unit: str) -> list[BudgetRow]:
@@ -131,6 +135,9 @@ def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: st
     even when each is precise (interpretations.md, "Repeatability in every budget")."""
     if rep is not None and rep.value > bv.uA:
         return rep.row(msg("{what}: bias repeatability", what=what), "B_r·c", rep.value * scale, unit)
+    if bv.correlated:
+        return _budget_row_a(msg("{what} ({n} long batch means: the short ones are correlated)", what=what, n=bv.dof + 1),
+                             "u_A·c", bv.uA * scale, unit, bv.dof)
     return _budget_row_a(msg("{what} (batch means)", what=what), "u_A·c", bv.uA * scale, unit, bv.dof)
 
 
@@ -166,6 +173,8 @@ class Bias(_JJF):
                           "deg/h") if rep is not None and rep.value > bv.uA else None
         b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=_cal(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
                           warnings=w, dof_K=kv.dof, rep_row=rep_row,
+                          note_A=msg("{n} long batch means: the short ones are correlated (F test, 95 %), their "
+                                     "scatter understates the mean's u", n=bv.dof + 1) if bv.correlated else "",
                           extra=rounding_row_mean(campaign, bv.x, "the mean output F̄ (eq. (27))",
                                                   3600.0 / abs(K), "deg/h"))
         on = _flag(opts, "earth_rate")
@@ -204,7 +213,7 @@ class BiasStability(_JJF):
             raise DataError(seg.file or seg.id, "output", str(exc)) from exc
         bs *= 3600.0
         u, dof = B.std_of_std(bs, m)
-        rows = [_budget_row_a("sampling of a standard deviation of N/P averages", "B_s/√(2(m−1))", u, "deg/h", dof),
+        rows = [_budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_upper − B_s)/2", u, "deg/h", dof),
                 kv.row(bs, "deg/h")]
         rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
         b = B.type_a_budget("Bs", "deg/h", rows)
@@ -248,7 +257,7 @@ class BiasRepeatability(_JJF):
                                                 "half-width)"), 1.0, "deg/h") for x in bvs),
                     key=lambda r: r[0].value.magnitude if r else -1.0)
         b = B.type_a_budget("Br", "deg/h", [
-            _budget_row_a("sampling of a standard deviation of Q values", "B_r/√(2(Q−1))", u, "deg/h", dof),
+            _budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_upper − B_r)/2", u, "deg/h", dof),
             kv.row(br, "deg/h"), *qrows])
         why = ""
         if qrows and qrows[0].value.to("deg/h").magnitude >= br:

@@ -119,11 +119,12 @@ def asymmetry_eq9(K_plus: float, K_minus: float, K: float) -> float:
 
 
 def relative_repeatability_eq10(K: Sequence[float]) -> float:
-    """K_r = s(K_i)/K̄ (Bessel), eq. (10)."""
+    """K_r = s(K_i)/|K̄| (Bessel), eq. (10): a repeatability is a magnitude, whatever the sign of K
+    (a device whose output falls with the rate has K < 0; docs/independent-campaigns.md)."""
     k = np.asarray(K, dtype=float)
     if k.size < 2:
         raise ValueError(f"eq. (10) needs Q ≥ 2 calibrations, got {k.size}")
-    return float(np.std(k, ddof=1) / np.mean(k))
+    return float(np.std(k, ddof=1) / abs(np.mean(k)))
 
 
 # ------------------------------------------------------------------ 7.2.5 – 7.2.8, 7.2.16 – 7.2.19

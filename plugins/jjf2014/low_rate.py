@@ -346,8 +346,8 @@ class MisalignmentRepeatability(Misalignment):
         gam = [_misalignment_run(campaign, type(self), g, K, uK)[0]["gamma"] for _, g in sorted(runs.items())]
         gr = F.std_bessel(gam, "eq. (26)", 7)
         u, dof = B.std_of_std(gr, len(gam))
-        b = B.type_a_budget("gamma_r", "arcmin", [_budget_row_a("sampling of a standard deviation of Q values",
-                                                                "γ_mr/√(2(Q−1))", u, "arcmin", dof)])
+        b = B.type_a_budget("gamma_r", "arcmin", [_budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"),
+                                                                "(s_upper − γ_mr)/2", u, "arcmin", dof)])
         tab = TableSpec("gamma_runs", msg("γ_mi per run"), [msg("run"), "γ_mi (′)"],
                         [[k, f"{g:.4f}"] for k, g in zip(sorted(runs), gam)])
         return self._outcome([Result(self.metrics[0], Q_(gr, "arcmin"), b.combined, b)], tables=[tab],

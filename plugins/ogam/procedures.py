@@ -19,7 +19,7 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
+from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget, std_sampling_u
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
 from metro.core.model import (
@@ -594,8 +594,8 @@ class Repeatability75(_EBase):
         R, R_i = F.repeatability_75(E)
         n = E.shape[0]
         budget = UncertaintyBudget("R", "arcsec", [BudgetRow.type_a(
-            msg("sampling of a standard deviation of {n} rounds", n=n), "R/√(2(n−1))", Q_(R / math.sqrt(2 * (n - 1)), "arcsec"),
-            n - 1)], coverage=COVERAGE_NU)
+            msg("sampling of a standard deviation of {n} rounds (χ² bound)", n=n), "(s_upper − R)/2",
+            Q_(std_sampling_u(R, n), "arcsec"), math.inf)], coverage=COVERAGE_NU)
         j = int(np.argmax(R_i))
         res = Result(self.metrics[0], Q_(R, "arcsec"), budget.combined, budget, note=msg("largest at S = {S:g}°", S=S[j]))
         plot = PlotSpec("R_i", msg("Repeatability per position (7.5)"), "S (°)", "R_i (″)",
