@@ -251,11 +251,11 @@ class Variant:
 
 def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: float,
                    wander: float, lsb_deg_h: float, q_deg_h: float, quick: bool = False,
-                   Q: int = 7) -> dict:
+                   Q: int = 7, orientation: str = "IRA up") -> dict:
     """GB/T 45570 D.5.1 + D.5.3 on one device: a 1 h `static` record and Q `static-repeat`
     power-ons (D.5.3.2), IRA up, at ``dt``."""
     lat = float(rng.uniform(-65, 70))
-    earth = OMEGA_E_DEG_H * math.sin(math.radians(lat))
+    earth = OMEGA_E_DEG_H * math.sin(math.radians(lat)) * (-1.0 if "down" in orientation.lower() else 1.0)
     arw = float(rng.uniform(0.001, 0.004))                      # °/√h
     noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)),
                   wander_amp=wander * float(rng.uniform(0.5, 1.5)),
@@ -284,12 +284,12 @@ def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: 
         vals = out.record(rate, dt, rng=rng)
         truth_b0 = b_on + float(w.mean())
         if idx == 0:
-            camp.add("static-1h", "static", vals, dt, {"orientation": "IRA up", "warmup": "30 min"})
+            camp.add("static-1h", "static", vals, dt, {"orientation": orientation, "warmup": "30 min"})
             b0_truth = truth_b0
             b0_alt = truth_b0 + float(fl.mean())
         else:
             camp.add(f"repeat-{idx}", "static-repeat", vals, dt,
-                     {"orientation": "IRA up", "run": idx, "warmup": "30 min"})
+                     {"orientation": orientation, "run": idx, "warmup": "30 min"})
             biases.append(truth_b0)
     camp.write_manifest()
     # what D.42 measures: turn-on scatter, the wander's record-mean scatter (random phase per
@@ -314,7 +314,7 @@ def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: 
 
 
 def build_gbt_rate(folder: Path, rng, *, dt: float, fmt: str, lsb_deg_h: float, asym: float,
-                   flick: float, wander: float, quick: bool = False) -> dict:
+                   flick: float, wander: float, quick: bool = False, rates=R5_GBT) -> dict:
     """GB/T 45570 D.2.1 (rate method), LSB output: rest at start and end, then each rate of the R5
     series counter-clockwise (+) and clockwise (−), 100 s each (D.2.1.2)."""
     lat = float(rng.uniform(-65, 70))
@@ -331,7 +331,7 @@ def build_gbt_rate(folder: Path, rng, *, dt: float, fmt: str, lsb_deg_h: float, 
     camp = Campaign(folder, device, lat, [RATE_TABLE, COUNTER], fmt=fmt, output=out)
     n = int(round(100 / dt))
     # fixed table error per set point, uniform within ±√3·U/k (the table errs as its certificate says)
-    terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * 0.5e-4 for r in R5_GBT}
+    terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * 0.5e-4 for r in rates}
     phase = float(rng.uniform(0, 2 * math.pi))
     t0 = 0.0
 
@@ -344,7 +344,7 @@ def build_gbt_rate(folder: Path, rng, *, dt: float, fmt: str, lsb_deg_h: float, 
         return out.record(sensed, dt, rng=rng)
 
     camp.add("rest-start", "rate-static", seg(0.0), dt, {"when": "start"})
-    for r in R5_GBT:
+    for r in rates:
         for sgn, tag in ((1, "+"), (-1, "-")):
             actual = sgn * r * (1 + terr[r])
             camp.add(f"rate{tag}{r}", "rate-output", seg(actual), dt, {"rate": f"{sgn * r!r} deg/s"})
@@ -397,10 +397,10 @@ def build_gbt_angle(folder: Path, rng, *, asym: float, columns: str = "count", q
 
 
 def _jjf_noise_mc_K_rel(noise: Noise, dt: float, n_per_rate: int, K: float, out: Output, rng,
-                        draws: int, asym_scale) -> float:
+                        draws: int, asym_scale, rate_set=R5_JJF) -> float:
     """Relative standard deviation of eq. (4)'s slope from noise alone (this generator's noise,
     record layout and quantization), by Monte Carlo."""
-    rates = np.array([s * r for r in R5_JJF for s in (1, -1)])
+    rates = np.array([s * r for r in rate_set for s in (1, -1)])
     ks = []
     for _ in range(draws):
         F = []
@@ -420,7 +420,7 @@ def _jjf_noise_mc_K_rel(noise: Noise, dt: float, n_per_rate: int, K: float, out:
 
 def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, kind: str,
               flick: float, wander: float, q: float, asym: float, neg: bool, static_s: float,
-              quick: bool = False, runs: int = 6) -> dict:
+              quick: bool = False, runs: int = 6, rates=R5_JJF, orientation: str = "IRA up") -> dict:
     """JJF 2014 7.2.1, 7.2.4, 7.2.13: ±11 R5 rates (7.2.1.1), `runs` repeats of them (7.2.4.1,
     each a power-on of its own), and a static record IRA up (7.2.13.1), analog output."""
     lat = float(rng.uniform(-65, 70))
@@ -441,7 +441,7 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
     if kind == "mV/V":
         device["supply_voltage"] = f"{supply!r} V"
     camp = Campaign(folder, device, lat, [RATE_TABLE, DMM], fmt=fmt, output=out)
-    terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * 0.5e-4 for r in R5_JJF}
+    terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * 0.5e-4 for r in rates}
     n_rate = int(round(10 / dt_rate))
 
     def asym_scale(r):
@@ -450,7 +450,7 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
     def calibration(prefix: str, kind_: str, run: int | None) -> float:
         k_rel = 1 + sigma_K * rng.standard_normal()
         b_on = b_mean + sigma_b * rng.standard_normal()
-        for r in R5_JJF:
+        for r in rates:
             for sgn, tag in ((1, "+"), (-1, "-")):
                 actual = sgn * r * (1 + terr[r]) * 3600.0              # °/h
                 e, w = noise.draw(n_rate, dt_rate, rng)
@@ -469,20 +469,21 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
     b_on = b_mean + sigma_b * rng.standard_normal()
     k_rel = 1 + sigma_K * rng.standard_normal()
     wh, fl, w = noise.draw3(n_static, dt_static, rng)
-    vals = out.record(b_on + earth + w + wh + fl, dt_static, K_scale=k_rel, rng=rng)
-    camp.add("static", "static", vals, dt_static, {"orientation": "IRA up"})
+    e_sign = -1.0 if "down" in orientation.lower() else 1.0          # the IRA's vertical earth-rate component
+    vals = out.record(b_on + e_sign * earth + w + wh + fl, dt_static, K_scale=k_rel, rng=rng)
+    camp.add("static", "static", vals, dt_static, {"orientation": orientation})
     camp.write_manifest()
     b0 = b_on + float(w.mean())
     # B₀ = F̄/K with the K of 7.2.1 (another power-on): F̄ = K·k_rel·(b + earth) → the static
     # power-on's own K differs from K0 by its turn-on scatter, which is the device's K_r; the
     # measurand is the static record's rate, so truth divides by that power-on's K, as a lab that
     # knew it would.
-    kr_noise = _jjf_noise_mc_K_rel(noise, dt_rate, n_rate, K, out, rng, 30 if quick else 80, asym_scale)
+    kr_noise = _jjf_noise_mc_K_rel(noise, dt_rate, n_rate, K, out, rng, 30 if quick else 80, asym_scale, rates)
     kr_truth = math.sqrt(sigma_K ** 2 + kr_noise ** 2)
     unitK = "mV/(°/s)"
     return {("7.2.1", "K"): (K0, unitK, ""),
             ("7.2.4", "Kr"): (kr_truth, "", ""),
-            ("7.2.13", "B0"): (b0, "°/h", ("earth", earth), b0 + float(fl.mean()))}
+            ("7.2.13", "B0"): (b0, "°/h", ("earth", e_sign * earth), b0 + float(fl.mean()))}
 
 
 VARIANTS = {
@@ -497,6 +498,13 @@ VARIANTS = {
         "as gbt-pulse-1Hz-flicker with a flicker plateau ≈ 0.02 °/h (5–20 × the white noise's 1 h mean)",
         lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.02,
                                              wander=0.0, lsb_deg_h=0, q_deg_h=0, quick=quick)),
+    "gbt-pulse-10Hz-IRAdown-Q10": Variant(
+        "gbt-pulse-10Hz-IRAdown-Q10", "gbt45570", "D.5.1,D.5.3",
+        "pulse output at 10 Hz (a few pulses per sample: the counter's ±1 P matters), IRA down (the "
+        "earth rate's sign flips), Q = 10 power-ons, thermal wander 0.005 °/h, no flicker",
+        lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=0.1, fmt="npy", flick=0.0,
+                                             wander=0.005, lsb_deg_h=0, q_deg_h=0, quick=quick, Q=10,
+                                             orientation="IRA down")),
     "gbt-lsb-10Hz-coarse-thermal": Variant(
         "gbt-lsb-10Hz-coarse-thermal", "gbt45570", "D.5.1,D.5.3",
         "LSB output, 1 LSB ≈ 1 °/h (coarser than the 10 Hz noise), 10 Hz, .npy, sinusoidal "
@@ -520,6 +528,15 @@ VARIANTS = {
         "D.1.1 angle method, pulse output (K 0.3–3 P/″), 5 whole revolutions each way at 14 R5 rates "
         "(1–400 °/s), revolution pulse within ±2″, K asymmetry up to ±20 ppm, count/duration CSV",
         lambda f, rng, quick: build_gbt_angle(f, rng, asym=2e-5, quick=quick)),
+    "jjf-mV-1Hz-IRAdown-17rates": Variant(
+        "jjf-mV-1Hz-IRAdown-17rates", "jjf2014", "7.2.1,7.2.4,7.2.13",
+        "mV output, either sign, 17 R5 rates 0.16 … 250 °/s (not metro's default set), 8 repeat "
+        "calibrations, static 1 h at 1 Hz IRA down, white noise only (CSV)",
+        lambda f, rng, quick: build_jjf(f, rng, dt_static=1.0, dt_rate=1.0, fmt="csv", kind="mV",
+                                        flick=0.0, wander=0.0, q=0.0, asym=0.0, neg=True,
+                                        static_s=3600 if not quick else 300, quick=quick, runs=8,
+                                        rates=(0.16, 0.25, 0.4, 0.63, 1, 1.6, 2.5, 4, 6.3, 10, 16, 25,
+                                               40, 63, 100, 160, 250), orientation="IRA down")),
     "jjf-mV-100Hz-flicker-negK": Variant(
         "jjf-mV-100Hz-flicker-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
         "mV output, K ±(5–60) mV/(°/s) (either sign), rate points at 1 s (10 samples), static 1 h "
