@@ -687,3 +687,27 @@ def test_metro_plan_all_prints_the_records(run_cli):
     for kind in ("record:inspection.mass", "record:inspection.insulation", "record:environmental_tests.lts",
                  "record:environmental_tests.emc", "record:reliability.mtbf", "kind=type-env "):
         assert kind in out, kind
+
+
+def test_before_and_after_a_54_test_carry_two_power_ons(pm):
+    """interpretations.md "6.2.8 — before and after are two power-ons": with D.5.3 and D.1.4 repeats in
+    the campaign, ΔB₀ and ΔK/K of a 5.4 test carry √2 × one power-on's turn-on scatter (σ_on of D.5.3
+    with its within-run part removed; K_r of D.1.4 in ppm); without them, the note says the row is absent."""
+    import math
+
+    from metro.plugins.gbt45570.repeatability import bias_repeat_row, scale_factor_angle_repeat_row
+
+    alone = run_items(pm, "gbt45570", ["6.2.8.2"], station_options={"duration_scale": 0.25})
+    assert "no D.1.4 repeats" in str(_result(alone, "lts_dK").note)
+    assert "no D.5.3 repeats" in str(_result(alone, "lts_dB0").note)
+    rec = run_items(pm, "gbt45570", ["D.5.3", "D.1.4", "6.2.8.2"], station_options={"duration_scale": 0.25})
+    dk = _result(rec, "lts_dK")
+    row = next(r for r in dk.budget.rows if r.symbol == "√2·σ_on")
+    Kb = float(str(dk.note).split("K before ")[1].split(",")[0])
+    one = scale_factor_angle_repeat_row(rec.campaign, Kb, "")[0][0]
+    assert row.contribution.m_as("ppm") == pytest.approx(math.sqrt(2) * one.contribution.magnitude / Kb * 1e6, rel=1e-9)
+    assert dk.budget.combined.m_as("ppm") > row.contribution.m_as("ppm") > 1.0
+    db = _result(rec, "lts_dB0")
+    brow = next(r for r in db.budget.rows if r.symbol == "√2·σ_on")
+    sigma_on = bias_repeat_row(rec.campaign, 20, math.inf)[0][0]
+    assert brow.contribution.m_as("deg/h") == pytest.approx(math.sqrt(2) * sigma_on.contribution.m_as("deg/h"), rel=1e-9)

@@ -217,9 +217,24 @@ def specifications(campaign: Campaign) -> list[Specification]:
     return out
 
 
-def _bias_change(metric: Metric, before, after) -> Result:
+def turn_on_rows(rows: list[BudgetRow], absent: str, what: str, unit: str, scale: float) -> tuple[list[BudgetRow], str]:
+    """The before and after records of a 5.4 test are two power-ons (a storage test is unpowered): each
+    carries the turn-on scatter that the campaign's repeatability item measures (D.5.3's σ_on, D.1.4 /
+    D.2.4's K_r), √2 of it on their difference.  ``rows`` / ``absent`` are what
+    :mod:`.repeatability` found (the row of one power-on, or why there is none); ``scale`` turns the
+    row's u into ``unit`` (interpretations.md, "6.2.8 — before and after are two power-ons")."""
+    if not rows:
+        return [], absent
+    r = rows[0]
+    u = math.sqrt(2.0) * float(r.contribution.magnitude) * scale
+    return [BudgetRow.type_a(msg("power-on repeatability of {what} in each of the two records: √2 × one power-on's",
+                                 what=what), "√2·σ_on", Q_(u, unit), r.dof, note=r.source)], ""
+
+
+def _bias_change(metric: Metric, before, after, turn_on: tuple[list[BudgetRow], str] = ([], "")) -> Result:
     """ΔB₀ = B₀(after) − B₀(before) (both by D.40) with the two biases' batch scatter (A) and the
-    scale factor (B); the earth-rate, latitude and levelling terms are common and cancel."""
+    scale factor (B); the earth-rate, latitude and levelling terms are common and cancel; the two
+    power-ons' turn-on scatter (``turn_on``: :func:`turn_on_rows`)."""
     d = after.B0 - before.B0
     uA = math.hypot(before.u_A, after.u_A)
     nu = uA**4 / (before.u_A**4 / before.nu_A + after.u_A**4 / after.nu_A) if uA > 0 else math.inf
@@ -231,10 +246,12 @@ def _bias_change(metric: Metric, before, after) -> Result:
                                          else msg("quantization of the output: B₀ after (the D.5.1 row)"), "δB₀",
                                          Q_(est.hw_q, "deg/h"), distribution="uniform",
                                          note=msg("the two biases' rounding errors do not cancel in the difference")))
+    rows += turn_on[0]
     rows += _scale_factor_row(before.conv, d, "deg/h")
     b = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
     return Result(metric, Q_(d, "deg/h"), b.combined, b, earth_rate="removed",
-                  note=msg("B₀ before {b:.5f} °/h, after {a:.5f} °/h (D.5.1, eq. (D.40))", b=before.B0, a=after.B0))
+                  note=join("; ", [msg("B₀ before {b:.5f} °/h, after {a:.5f} °/h (D.5.1, eq. (D.40))", b=before.B0,
+                                       a=after.B0), *([turn_on[1]] if turn_on[1] else [])]))
 
 
 def _severity_result(metric: Metric, q, rec: Mapping, p: Param, src: str, where: str) -> tuple[Result, str]:
@@ -319,8 +336,9 @@ def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, p
     return None
 
 
-def _scale_factor_change(metric: Metric, before, after) -> Result:
-    """ΔK/K = (K_after − K_before)/K_before (ppm) with the two K's type A (relative, combined)."""
+def _scale_factor_change(metric: Metric, before, after, turn_on: tuple[list[BudgetRow], str] = ([], "")) -> Result:
+    """ΔK/K = (K_after − K_before)/K_before (ppm) with the two K's type A (relative, combined) and the
+    two power-ons' turn-on scatter (``turn_on``: :func:`turn_on_rows`, in ppm)."""
     Kb, ub, nub, unit, how = before
     Ka, ua, nua, unit_a, _ = after
     if unit != unit_a:
@@ -332,9 +350,11 @@ def _scale_factor_change(metric: Metric, before, after) -> Result:
         x > 0 and math.isfinite(n) for x, n in parts) else math.inf
     rows = [BudgetRow.type_a(msg("scatter of the two scale factors"), "u(ΔK/K)", Q_(u * 1e6, "ppm"), nu,
                              note=join("; ", [how, msg("the table's angle and time base are common to both and cancel")]))]
+    rows += turn_on[0]
     b = UncertaintyBudget(metric.symbol, "ppm", rows, coverage=COVERAGE)
     return Result(metric, Q_(d * 1e6, "ppm"), b.combined, b, earth_rate="removed",
-                  note=msg("K before {b:.8g}, after {a:.8g} {unit} ({how})", b=Kb, a=Ka, unit=unit, how=how))
+                  note=join("; ", [msg("K before {b:.8g}, after {a:.8g} {unit} ({how})", b=Kb, a=Ka, unit=unit, how=how),
+                                   *([turn_on[1]] if turn_on[1] else [])]))
 
 
 class _EnvironmentalTest(Procedure):
@@ -467,7 +487,11 @@ class _EnvironmentalTest(Procedure):
                 ids[ph] = seg
             est = {ph: segment_bias(seg, campaign, int(opts["batches"])) for ph, seg in ids.items()}
             dm = Metric(f"{t.tag}_dB0", msg("{test}: bias change after − before", test=t.name_en), "ΔB₀", "deg/h", "D.5.1.3", "D.40")
-            results.append(_bias_change(dm, est["before"], est["after"]))
+            from .repeatability import bias_repeat_row
+
+            # σ_on alone: own_uA = ∞ leaves the U ≥ B_r floor of a single B₀ out
+            on = turn_on_rows(*bias_repeat_row(campaign, int(opts["batches"]), math.inf), "B₀", "deg/h", 1.0)
+            results.append(_bias_change(dm, est["before"], est["after"], on))
             used = [ids["before"].id, ids["after"].id]
         else:
             warnings.append(msg("no before/after records of the gyro's output for {test}: the change of its bias is not "
@@ -481,7 +505,13 @@ class _EnvironmentalTest(Procedure):
         if sf["before"] is not None and sf["after"] is not None:
             km = Metric(f"{t.tag}_dK", msg("{test}: relative scale-factor change after − before", test=t.name_en), "ΔK/K", "ppm",
                         "D.1.1.3 / D.2.1.3")
-            results.append(_scale_factor_change(km, sf["before"], sf["after"]))
+            from .repeatability import scale_factor_angle_repeat_row, scale_factor_rate_repeat_row
+
+            Kb = sf["before"][0]
+            found = (scale_factor_angle_repeat_row(campaign, Kb, "") if sf["before"][3] == "P/arcsec" else
+                     scale_factor_rate_repeat_row(campaign, Kb, "", 1))
+            on = turn_on_rows(*found, "K", "ppm", 1e6 / abs(Kb))
+            results.append(_scale_factor_change(km, sf["before"], sf["after"], on))
             used += [sg.id for sg in campaign.segments if sg.kind in (REVOLUTIONS_KIND, *RATE_KINDS)
                      and str(sg.conditions.get("test", "")) == t.tag]
         elif sf["before"] is not None or sf["after"] is not None:
