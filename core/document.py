@@ -905,6 +905,10 @@ def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]]) -> None:
     t = doc.table(header, rows, font_pt=9)
     for row in t.rows[1:]:
         row.height = Mm(11)
+    for row in t.rows[:-1]:  # the table on one page (Word and LibreOffice keep a row with the next)
+        for cell in row.cells:
+            for p in cell.paragraphs:
+                p.paragraph_format.keep_with_next = True
 
 
 def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:

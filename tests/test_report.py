@@ -691,3 +691,16 @@ def test_a_budget_title_leaves_out_a_code_key_measurand():
                                                "dB_shock"))
     assert str(_budget_title(N(name="bias", symbol="B₀", key="B0"), "mean of the static record")) == \
         "bias B₀ (mean of the static record)"
+
+
+def test_the_signature_table_stays_on_one_page():
+    """A rendered JJF 2003 certificate had 'Calibrated by' at a page foot and 'Checked by', 'Issued
+    by' on the next page: every row but the last keeps with the next (LibreOffice and Word)."""
+    from metro.core.document import DocumentBuilder, signatures
+    from metro.core.locale import translator
+
+    doc = DocumentBuilder(number="N-1", title="T", tr=translator("en"))
+    signatures(doc, [("Calibrated by", "A"), ("Checked by", "B"), ("Issued by", "C", "Manager")])
+    t = doc.doc.tables[-1]
+    keep = [all(p.paragraph_format.keep_with_next for c in row.cells for p in c.paragraphs) for row in t.rows]
+    assert keep == [True, True, True, False]
