@@ -154,7 +154,7 @@ def max_abs_selection(values: Sequence[float], u: Sequence[float], *, draws: int
     return MaxSelection(printed, printed - bias, float(mx.std(ddof=1)), bias, -2, scatter)
 
 
-def selection_rows(sel: MaxSelection, n: int, unit: str, *, slopes: bool = True) -> list[BudgetRow]:
+def selection_rows(sel: MaxSelection, n: int, unit: str, *, slopes: bool = True, point_unit: str = "") -> list[BudgetRow]:
     """The row of the selection-bias correction of a maximum (D.12, D.29, D.43; JJF 2014 eqs. (11),
     (13), (15), (31)): the correction is uncertain by up to its own size (uniform, half-width |bias|)."""
     if not sel.bias:
@@ -168,8 +168,8 @@ def selection_rows(sel: MaxSelection, n: int, unit: str, *, slopes: bool = True)
     else:
         how = msg("{c:+.3g} applied; about the points as measured", c=-sel.bias)
     if sel.scatter is not None:
-        how = msg("{how}; drawn with at most {s:.3g}, the 95 % upper limit of the points' own scatter",
-                  how=how, s=sel.scatter)
+        how = msg("{how}; drawn with at most {s:.3g} {unit}, the 95 % upper limit of the points' own scatter",
+                  how=how, s=sel.scatter, unit=point_unit)
     return [BudgetRow.type_b(what, "δ_sel", Q_(abs(sel.bias), unit), distribution="uniform", note=how)]
 
 

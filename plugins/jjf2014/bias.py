@@ -317,7 +317,7 @@ class BiasTemperature(_JJF):
         rows = [_single(bvs[i], rep, f"B₀ at {temps[i]:g} °C", 1 / dT, "deg/h/delta_degC"),
                 _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC")]
         u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
-        rows += spread_rows(sel, u_point, "deg/h/delta_degC") + selection_rows(sel, len(bvs) - 1, "deg/h/delta_degC")
+        rows += spread_rows(sel, u_point, "deg/h/delta_degC") + selection_rows(sel, len(bvs) - 1, "deg/h/delta_degC", point_unit="°/h")
         rows += [*_rounded(campaign, bvs[i], f"B₀ at {temps[i]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 *_rounded(campaign, bvs[m], f"B₀ at {temps[m]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 kv.row(bt, "deg/h/delta_degC")]
@@ -432,7 +432,7 @@ class _BiasChange(_JJF):
         rows = [_single(v1, rep, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
                 _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h")]
         u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
-        rows += spread_rows(sel, u_point, "deg/h") + selection_rows(sel, len(ax), "deg/h", slopes=False)
+        rows += spread_rows(sel, u_point, "deg/h") + selection_rows(sel, len(ax), "deg/h", slopes=False, point_unit="°/h")
         b = B.type_a_budget(self.metrics[0].key, "deg/h", one_estimate([
             *rows,
             *_rounded(campaign, v1, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),

@@ -264,7 +264,7 @@ class SFTemperature(_JJF):
         rows = [_k_row(sets[i], rep, msg("K_i at {T:g} °C", T=temps[i]), "u(K_i)/(K_m|ΔT|)", ci, "1/delta_degC"),
                 _k_row(sets[m], rep, msg("K_m at {T:g} °C", T=temps[m]), "K_i·u(K_m)/(K_m²|ΔT|)", cm, "1/delta_degC")]
         u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
-        rows += spread_rows(sel, u_point, "1/delta_degC") + selection_rows(sel, len(Ks) - 1, "1/delta_degC")
+        rows += spread_rows(sel, u_point, "1/delta_degC") + selection_rows(sel, len(Ks) - 1, "1/delta_degC", point_unit="mV/((°)/s)")
         rows += _chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
         b = B.type_a_budget("Kt", "1/delta_degC", one_estimate(rows, rep))
         tab = TableSpec("sf_temperature", msg("K_i per temperature"), ["T_i (°C)", "K_i (mV/((°)/s))"],
@@ -365,7 +365,7 @@ class _SFChange(_JJF):
         rows = [_k_row(fits[(worst, "before")], rep, msg("K before ({axis})", axis=worst), "u(K₁)", 1.0, KU),
                 _k_row(fits[(worst, "after")], rep, msg("K after ({axis})", axis=worst), "u(K₂)", 1.0, KU)]
         u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
-        rows += spread_rows(sel, u_point, KU) + selection_rows(sel, len(ax), KU, slopes=False)
+        rows += spread_rows(sel, u_point, KU) + selection_rows(sel, len(ax), KU, slopes=False, point_unit="mV/((°)/s)")
         b = B.type_a_budget(self.metrics[0].key, KU, one_estimate([
             *rows,
             *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
