@@ -90,6 +90,19 @@ def _draw_series(ax, s: Mapping[str, Any], index: int) -> bool:
 _SUBSCRIPT = re.compile(r"(?<![\w$\\])([A-Za-zΔΩα-ω])_(\{[^{}$]{1,12}\}|[A-Za-z0-9]{1,4})(?![\w])")
 
 
+def localized(spec: "PlotSpec", tr: Any) -> "PlotSpec":
+    """The figure's own words — its title, axis labels and legend entries — in the document's
+    language (``tr``: a :class:`metro.core.locale.Translator`); a plain text the catalog lacks stays
+    as it is.  The caption under the figure is the document's; this is the text drawn inside it."""
+    import attrs
+
+    def t(x: Any) -> str:
+        return tr.text(x) if x not in (None, "") else x
+
+    series = tuple(dict(s, label=t(s["label"])) if s.get("label") else s for s in spec.series)
+    return attrs.evolve(spec, title=t(spec.title), xlabel=t(spec.xlabel), ylabel=t(spec.ylabel), series=series)
+
+
 def plot_text(text: str) -> str:
     """Figure text with real subscripts: ``K_i`` → mathtext ``$\\mathregular{K_{i}}$`` (drawn
     in the text's own font), other text unchanged; ``$`` already present is left alone.
@@ -158,7 +171,9 @@ def render_png(spec: "PlotSpec", path: str | os.PathLike[str], *, dpi: int = DPI
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    with matplotlib.rc_context({"font.family": "sans-serif", "font.sans-serif": _font_families()}):
+    # the families as font.family itself: matplotlib falls back glyph by glyph only along that list
+    # (with the generic "sans-serif" a Chinese title drew as empty boxes)
+    with matplotlib.rc_context({"font.family": _font_families()}):
         fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, layout="constrained")
         FigureCanvasAgg(fig)  # Agg canvas: no GUI backend, nothing registered with pyplot
         _draw(fig, spec)

@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Callable, TYPE_CHECKING, Any, Iterable, Mapping
 
 from .atomic import atomic_path
-from .locale import Text, join, msg
+from .locale import Text, join, msg, translator
 
 if TYPE_CHECKING:  # pragma: no cover
     from .budget import UncertaintyBudget
@@ -728,7 +728,7 @@ def render_figures(ctx: Mapping[str, Any], folder: str | os.PathLike[str]) -> di
     for o in ctx["outcomes"]:
         for p in o["plots"]:
             png = Path(folder) / f"figure-{p['number']}.png"
-            plots.render_png(p["spec"], png)
+            plots.render_png(plots.localized(p["spec"], translator(ctx.get("lang"))), png)
             out[p["number"]] = png
     return out
 
@@ -818,7 +818,6 @@ def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, 
     figures are drawn into ``figdir``; ``doc.tr.missing`` lists message ids the catalog lacked."""
     from . import plots
     from .document import DocumentBuilder
-    from .locale import translator
 
     ctx = dict(ctx)
     ctx["outcomes"] = [dict(o, plots=[dict(p) for p in o["plots"]]) for o in ctx["outcomes"]]
@@ -837,7 +836,7 @@ def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, 
                 p["image"] = str(figures[p["number"]])
             else:
                 png = Path(figdir) / f"figure-{p['number']}.png"
-                plots.render_png(p["spec"], png)
+                plots.render_png(plots.localized(p["spec"], tr), png)
                 p["image"] = str(png)
     _resolve_layout(layout)(doc, ctx)
     _add_notices(doc.doc, (ctx.get("register") or {}).get("notices") or ())
@@ -867,7 +866,7 @@ def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
                     png = Path(figures[p["number"]])
                 else:
                     png = Path(tmpdir) / f"figure-{p['number']}.png"
-                    plots.render_png(p["spec"], png)
+                    plots.render_png(plots.localized(p["spec"], translator(ctx.get("lang"))), png)
                 p["image"] = InlineImage(tpl, str(png), width=Mm(IMAGE_WIDTH_MM))
         try:
             tpl.render(ctx, autoescape=True)

@@ -209,3 +209,27 @@ def test_every_standards_texts_go_through_the_catalog(pm):
     (exact)', JJF 2014 7.2.11's 'rate table Ω_(+) (γ ∝ 1/Ω)') are messages."""
     bad = [b for s in ("ogam", "jjf2003", "jjf2014", "gbt45570") for b in _bypassing(run_items(pm, s, [], run_all=True))]
     assert not bad, "\n".join(bad[:20])
+
+
+def test_figure_text_in_the_document_language(pm, tmp_path, monkeypatch):
+    """The words drawn inside a figure — title, axis labels, legend — are the document's language
+    (issue 16: 'every string on the document'); the zh document drew English titles before."""
+    from metro.core import plots
+    from metro.core.locale import catalog
+
+    rec = run_items(pm, "gbt45570", ["D.5.4"], station_options={"duration_scale": 0.1})
+    ctx = report.build_context(rec, extend=pm.extend_report_context, lang="zh")
+    titles = [p["spec"].title for o in ctx["outcomes"] for p in o["plots"]]
+    assert titles and all(getattr(t, "msgid", None) in catalog("zh") for t in titles)
+    drawn: list[str] = []
+    real = plots.render_png
+    monkeypatch.setattr(plots, "render_png", lambda spec, path, **kw: (drawn.append(spec.title), real(spec, path, **kw))[1])
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        report.build_document(ctx, tmp_path, layout=pm.template_for("gbt45570").layout, lang="zh")
+    if len(plots._font_families()) > 1:  # a CJK font is installed (CI installs fonts-noto-cjk): no empty boxes
+        assert not [w for w in caught if "missing from font" in str(w.message)], caught[:3]
+    assert drawn and all(re.search(r"[\u4e00-\u9fff]", t) and not re.search(r"[A-Za-z]{4,}", t) for t in drawn), drawn
+    assert plots.localized(ctx["outcomes"][0]["plots"][0]["spec"], report.translator("en")).title == str(titles[0])
