@@ -420,7 +420,8 @@ def _jjf_noise_mc_K_rel(noise: Noise, dt: float, n_per_rate: int, K: float, out:
 
 def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, kind: str,
               flick: float, wander: float, q: float, asym: float, neg: bool, static_s: float,
-              quick: bool = False, runs: int = 6, rates=R5_JJF, orientation: str = "IRA up") -> dict:
+              quick: bool = False, runs: int = 6, rates=R5_JJF, orientation: str = "IRA up",
+              sigma_K_range: tuple[float, float] = (5e-5, 4e-4)) -> dict:
     """JJF 2014 7.2.1, 7.2.4, 7.2.13: ±11 R5 rates (7.2.1.1), `runs` repeats of them (7.2.4.1,
     each a power-on of its own), and a static record IRA up (7.2.13.1), analog output."""
     lat = float(rng.uniform(-65, 70))
@@ -429,7 +430,7 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
     K = -Kmag if neg and rng.uniform() < 0.5 else Kmag
     a = asym * float(rng.uniform(-1, 1))
     Kp, Km = 1 + a / 2, 1 - a / 2
-    sigma_K = float(rng.uniform(5e-5, 4e-4))                           # 1σ relative, power-on
+    sigma_K = float(rng.uniform(*sigma_K_range))                       # 1σ relative, power-on
     arw = float(rng.uniform(0.05, 0.3))                                # °/√h
     noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)), wander_amp=wander,
                   wander_period=float(rng.uniform(900, 3600)))
