@@ -725,10 +725,11 @@ def render_figures(ctx: Mapping[str, Any], folder: str | os.PathLike[str]) -> di
     from . import plots
 
     out = {}
+    tr = translator(ctx.get("lang"))
     for o in ctx["outcomes"]:
         for p in o["plots"]:
             png = Path(folder) / f"figure-{p['number']}.png"
-            plots.render_png(plots.localized(p["spec"], translator(ctx.get("lang"))), png)
+            plots.render_png(plots.localized(p["spec"], tr), png)
             out[p["number"]] = png
     return out
 
@@ -859,6 +860,7 @@ def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
     if not Path(template_name).is_file():
         raise MetroError(f"report template {template_name} does not exist")
     tpl = DocxTemplate(io.BytesIO(Path(template_name).read_bytes()))
+    tr = translator(ctx.get("lang"))
     with tempfile.TemporaryDirectory(prefix="metro-report-") as tmpdir:
         for o in ctx["outcomes"]:
             for p in o["plots"]:
@@ -866,7 +868,7 @@ def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
                     png = Path(figures[p["number"]])
                 else:
                     png = Path(tmpdir) / f"figure-{p['number']}.png"
-                    plots.render_png(plots.localized(p["spec"], translator(ctx.get("lang"))), png)
+                    plots.render_png(plots.localized(p["spec"], tr), png)
                 p["image"] = InlineImage(tpl, str(png), width=Mm(IMAGE_WIDTH_MM))
         try:
             tpl.render(ctx, autoescape=True)

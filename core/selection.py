@@ -16,12 +16,13 @@ from typing import Sequence
 import attrs
 import numpy as np
 
-from .budget import BudgetRow
+from .budget import BudgetRow, std_upper_limit
+from .lsq import fit_line
 from .locale import msg
 from .units import Q_
 
 __all__ = ["MaxSelection", "max_slope_selection", "max_abs_selection", "selection_rows",
-           "selection_note", "spread_rows", "upper_sigma"]
+           "selection_note", "spread_rows", "upper_sigma", "line_scatter"]
 
 
 @attrs.frozen
@@ -39,12 +40,21 @@ class MaxSelection:
     scatter: float | None = None
 
 
-def upper_sigma(s: float, dof: float, p: float = 0.95) -> float:
+def upper_sigma(s: float, dof: int, p: float = 0.95) -> float:
     """The one-sided ``p`` upper confidence limit of σ from a standard deviation ``s`` of ``dof``
-    degrees of freedom: s·√(ν/χ²_{1−p}(ν)) (normal samples; ν = 2: 4.41·s, ν = 5: 2.09·s)."""
-    from scipy.stats import chi2
+    degrees of freedom, s·√(ν/χ²_{1−p}(ν)) (:func:`metro.core.budget.std_upper_limit`; ν = 2: 4.41·s,
+    ν = 5: 2.09·s)."""
+    return std_upper_limit(s, int(dof) + 1, 1.0 - p)
 
-    return float(s * np.sqrt(dof / chi2.ppf(1.0 - p, dof)))
+
+def line_scatter(y: Sequence[float], x: Sequence[float]) -> tuple[float, int]:
+    """The residual standard deviation of ``y`` about a least-squares straight line in ``x``
+    (:func:`metro.core.lsq.fit_line`) and its n − 2 degrees of freedom; (0, 0) with fewer than four
+    points (a line through three leaves one degree of freedom: no estimate of a scatter)."""
+    if len(y) < 4:
+        return 0.0, 0
+    fit = fit_line(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+    return float(fit.residual_sd), int(fit.dof)
 
 
 def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Sequence[float], i0: int, *,
@@ -89,10 +99,9 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
 
     printed = float(stat(y))
     scatter = None
-    if observed and y.size >= 4:
-        tc0 = T - T.mean()
-        r = y - np.polyval(np.polyfit(tc0, y, 1), tc0)
-        cap = upper_sigma(float(np.sqrt(np.sum(r * r) / (y.size - 2))), y.size - 2)
+    sr, nu = line_scatter(y, T) if observed else (0.0, 0)
+    if nu:
+        cap = upper_sigma(sr, nu)
         if np.any(cap < uu):
             uu, scatter = np.minimum(uu, cap), cap
     deg = 1

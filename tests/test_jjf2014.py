@@ -839,7 +839,8 @@ def test_repeatability_pooled_with_a_larger_scatter_of_the_items_own_calibration
     """interpretations.md "JJF 2014 — the largest of noisy slopes and changes": the K before a test on
     three axes (ν = 2) that scatter more than K_r (ν = 5) are pooled with it; less: K_r stays (never
     below the repeatability item's spread); no K_r: the scatter alone."""
-    from metro.plugins.jjf2014.common import Spread, line_scatter, with_scatter
+    from metro.core.selection import line_scatter
+    from metro.plugins.jjf2014.common import Spread, with_scatter
 
     rep = Spread(1e-4, 5.0, "K_r")
     p = with_scatter(rep, 3e-4, 2, "K before")

@@ -66,10 +66,11 @@ def _row(symbol: str, where: str, Kr: float, K: float, q: int, unit: str) -> Bud
                             note=msg("s of Q = {q} power-ons' K_j over their mean", q=q))
 
 
-def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float) -> tuple[list[BudgetRow], str]:
+def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> tuple[list[BudgetRow], str]:
     """The turn-on part of B_r of D.5.3 (``static-repeat`` runs, eq. D.42) as a row on B₀ of D.5.1:
     √(B_r² − mean u_A²) — the within-run part is already B₀'s own type A — but never less than what
-    keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0))."""
+    keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0)) (``own_uA`` = u_A(B₀); None: the turn-on part
+    alone, as 6.2.8 takes it for each of its two records)."""
     from .procedures import segment_bias
 
     segs = campaign.find_segments("static-repeat")
@@ -81,7 +82,9 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float) -> tuple[li
         return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated ({exc})", item="D.5.3", exc=str(exc))
     Br = F.bias_repeatability_d42([e.B0 for e in ests])
     w = float(np.mean([e.u_A**2 for e in ests]))
-    u = max(math.sqrt(max(Br**2 - w, 0.0)), math.sqrt(max(Br**2 / 4.0 - own_uA**2, 0.0)))
+    u = math.sqrt(max(Br**2 - w, 0.0))
+    if own_uA is not None:
+        u = max(u, math.sqrt(max(Br**2 / 4.0 - own_uA**2, 0.0)))
     q = len(ests)
     return [BudgetRow.type_a(msg("power-on repeatability of B₀ (D.5.3, eq. (D.42) on this campaign, B_r = {Br:.3g} °/h, "
                                  "its within-run part removed): B₀ of one power-on stated as the device's", Br=Br), "σ_on",

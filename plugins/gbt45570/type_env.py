@@ -489,8 +489,7 @@ class _EnvironmentalTest(Procedure):
             dm = Metric(f"{t.tag}_dB0", msg("{test}: bias change after − before", test=t.name_en), "ΔB₀", "deg/h", "D.5.1.3", "D.40")
             from .repeatability import bias_repeat_row
 
-            # σ_on alone: own_uA = ∞ leaves the U ≥ B_r floor of a single B₀ out
-            on = turn_on_rows(*bias_repeat_row(campaign, int(opts["batches"]), math.inf), "B₀", "deg/h", 1.0)
+            on = turn_on_rows(*bias_repeat_row(campaign, int(opts["batches"]), None), "B₀", "deg/h", 1.0)
             results.append(_bias_change(dm, est["before"], est["after"], on))
             used = [ids["before"].id, ids["after"].id]
         else:

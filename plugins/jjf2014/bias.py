@@ -21,14 +21,13 @@ from metro.core.model import (
     Step,
     TableSpec,
 )
-from metro.core.selection import max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
+from metro.core.selection import line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_
 
 from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
-    line_scatter,
     one_estimate,
     with_scatter,
     AXES,
@@ -133,7 +132,7 @@ def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: st
     (the sensitivity, e.g. 1/2g or 1/|ΔT|): the larger of the record's batch-means u_A and the
     bias repeatability B_r, since two records are two power-ons or mountings and differ by B_r
     even when each is precise (interpretations.md, "Repeatability in every budget")."""
-    if rep is not None and rep.value > bv.uA:
+    if _u_single(bv, rep) > bv.uA:
         return rep.row(msg("{what}: bias repeatability", what=what), "B_r·c", rep.value * scale, unit)
     if bv.correlated:
         return _budget_row_a(msg("{what} ({n} long batch means: the short ones are correlated)", what=what, n=bv.dof + 1),

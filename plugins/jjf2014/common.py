@@ -374,17 +374,6 @@ def with_scatter(rep: Spread | None, s: float, dof: float, what: str) -> Spread 
                                         src=rep.source, s=s, what=what, nu=dof, v=v))
 
 
-def line_scatter(y, x) -> tuple[float, int]:
-    """The rms scatter of ``y`` about an unweighted straight line in ``x`` and its n − 2 degrees of
-    freedom (0, 0 with fewer than four points)."""
-    y = np.asarray(y, dtype=float)
-    if y.size < 4:
-        return 0.0, 0
-    xc = np.asarray(x, dtype=float) - np.mean(x)
-    r = y - np.polyval(np.polyfit(xc, y, 1), xc)
-    return float(np.sqrt(np.sum(r * r) / (y.size - 2))), y.size - 2
-
-
 def _main_set(campaign: Campaign, proc) -> SFSet:
     return SFSet(_need(campaign, proc, "rate"))
 

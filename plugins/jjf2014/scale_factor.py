@@ -10,14 +10,13 @@ from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
 from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, TableSpec
-from metro.core.selection import max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
+from metro.core.selection import line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_, parse_quantity
 
 from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
-    line_scatter,
     one_estimate,
     with_scatter,
     AXES,
