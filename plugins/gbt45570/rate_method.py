@@ -950,7 +950,7 @@ class MaxInputRateD3(Procedure):
         plot = PlotSpec("Kn_range", msg("K_n of the range [−Ω, +Ω] against Ω (D.3)"), "Ω (°/s)", "K_n (ppm)",
                         [{"label": "K_n up to Ω", "x": [r for r, _ in curve], "y": [k * 1e6 for _, k in curve],
                           "style": "o-"},
-                         {"label": f"limit {limit * 1e6:g} ppm", "x": [curve[0][0], curve[-1][0]],
+                         {"label": msg("limit {v:g} ppm", v=limit * 1e6), "x": [curve[0][0], curve[-1][0]],
                           "y": [limit * 1e6] * 2, "style": "--"}], logx=True)
         table = TableSpec("Kn_ranges", msg("K_n of each range (D.3)"), [msg("up to Ω (°/s)"), "K_n (ppm)", msg("meets the limit")],
                           [[f"{r:g}", f"{k * 1e6:.3g}", msg("yes") if k <= limit else msg("no")] for r, k in curve])

@@ -183,7 +183,7 @@ def residual_plot(spec: PlotSpec) -> PlotSpec | None:
     if pts.get("yerr") is not None:
         series[0]["yerr"] = (np.asarray(pts["yerr"], dtype=float) / model * 1e6).tolist()
     series.append({"x": [float(x.min()), float(x.max())], "y": [0.0, 0.0], "style": "--"})
-    return PlotSpec("K_residuals", "Residuals of K_i about the eq. (D.4) fit", spec.xlabel, "residual (ppm of K)",
+    return PlotSpec("K_residuals", msg("Residuals of K_i about the eq. (D.4) fit"), spec.xlabel, msg("residual (ppm of K)"),
                     series, logx=spec.logx)
 
 

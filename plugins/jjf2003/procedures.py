@@ -508,7 +508,7 @@ def _fit_plot_table(fits) -> tuple[PlotSpec, TableSpec]:
                        "y": np.asarray(fit.residuals).tolist(), "style": "o-"})
         for X, U, sid in zip(d["X"], d["U"], d["segments"]):
             rows.append([j, f"{X:g}", f"{U[0]:.6g}", f"{U[1]:.6g}", f"{U[2]:.6g}", sid])
-    plot = PlotSpec("sf_residuals", msg("Residuals of the eq. (5) fits"), "input rate (°/s)", "residual (°/s)", series)
+    plot = PlotSpec("sf_residuals", msg("Residuals of the eq. (5) fits"), msg("input rate (°/s)"), msg("residual (°/s)"), series)
     table = TableSpec("rate_points", msg("Mean outputs at each rate point, eq. (3)"),
                       [msg("axis"), msg("rate (°/s)"), "gx (°/s)", "gy (°/s)", "gz (°/s)", msg("segment")], rows)
     return plot, table

@@ -456,12 +456,12 @@ def _sf_plots(s: SFSet) -> list[PlotSpec]:
     their own axis (at the outputs' scale a residual of µV would be invisible)."""
     fit = s.fit
     return [PlotSpec("sf_fit", msg("Scale factor: mean outputs F̄_i (eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))"),
-                     "input rate Ω (°/s)", "output (mV)",
+                     msg("input rate Ω (°/s)"), msg("output (mV)"),
                      [{"label": "F̄_i (eq. (2))", "x": s.omega.tolist(), "y": s.F.tolist(), "style": "o"},
                       {"label": f"F̂ = KΩ + F₀, K = {fit.K:.6g} mV/((°)/s), F₀ = {fit.F0:.4g} mV",
                        "x": s.omega.tolist(), "y": fit.predict(s.omega).tolist(), "style": "-"}]),
             PlotSpec("sf_residuals", msg("Scale factor: residuals v_i = F̄_i − (KΩ_i + F₀) of the eq. (3) fit"),
-                     "input rate Ω (°/s)", "residual v_i (mV)",
+                     msg("input rate Ω (°/s)"), msg("residual v_i (mV)"),
                      [{"label": "v_i", "x": s.omega.tolist(), "y": fit.residuals.tolist(), "style": "o",
                        "yerr": s.uF.tolist()},
                       {"label": "0", "x": [float(s.omega.min()), float(s.omega.max())], "y": [0.0, 0.0],

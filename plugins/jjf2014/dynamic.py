@@ -320,7 +320,7 @@ class Bandwidth(_JJF):
         plot = PlotSpec("amplitude_ratio", msg("Amplitude ratio K_i = S_i/S₀ (eq. (43)), fit and the 0.707 point"),
                         "f (Hz)", "K_i",
                         [{"label": "K_i", "x": [0.0] + dyn.f.tolist(), "y": [1.0] + kr.tolist(), "style": "o"},
-                         {"label": "fit 1/K² = a + b f²", "x": fine.tolist(),
+                         {"label": msg("fit 1/K² = a + b f²"), "x": fine.tolist(),
                           "y": (1 / np.sqrt(ab[0] + ab[1] * fine**2)).tolist(), "style": "-"},
                          {"label": f"0.707 → B_w = {fc:.4g} Hz", "x": [0.0, fc, fc], "y": [0.707, 0.707, 0.0],
                           "style": "--"}])
@@ -371,7 +371,7 @@ class OutputDelay(Bandwidth):
         plot = PlotSpec("phase", msg("Phase delay P_i (eq. (45)) and the model −atan(ωT) − ωT_d (eq. (46))"), "f (Hz)",
                         "P (rad)",
                         [{"label": "P_i", "x": dyn.f.tolist(), "y": dyn.P.tolist(), "style": "o"},
-                         {"label": f"model, T_d = {Td * 1e3:.4g} ms, B_w = {fc:.4g} Hz", "x": fine.tolist(),
+                         {"label": msg("model, T_d = {td:.4g} ms, B_w = {bw:.4g} Hz", td=Td * 1e3, bw=fc), "x": fine.tolist(),
                           "y": (-np.arctan(wf * T) - wf * Td).tolist(), "style": "-"},
                          {"label": "pure delay −ωT_d", "x": fine.tolist(), "y": (-wf * Td).tolist(), "style": ":"},
                          {"label": f"B_w = {fc:.4g} Hz", "x": [fc, fc],

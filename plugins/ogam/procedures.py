@@ -559,7 +559,7 @@ class PositionError74(_EBase):
                      note=msg("reported as ±{E:.3g}″; largest |E_i| at S = {S:g}° (E_i = {Ei:+.3f}″), round {round}",
                               E=Emax, S=S[j], Ei=e_i[j], round=want))
         plot = PlotSpec("E_i", msg("Angle-position error per position (7.4)"), "S (°)", "E_i (″)",
-                        [{"label": f"round {r}", "x": S.tolist(), "y": E[k].tolist(),
+                        [{"label": msg("round {r}", r=r), "x": S.tolist(), "y": E[k].tolist(),
                           "style": "o-" if r == want else ":"} for k, r in enumerate(rnums)])
         tilt = PlotSpec("tilt", msg("Simulated tilt error, ψ = {psi:g}° (appendix A 4.2)", psi=sim.psi_deg), "θ (°)", "Δ(θ) (″)",
                         [{"label": "Δ(θ) = θ_ψ − θ", "x": sim.theta_deg[::40].tolist(),
