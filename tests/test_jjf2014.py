@@ -964,3 +964,30 @@ def test_bias_under_correlated_noise_takes_the_long_batches():
     assert bc.correlated and bc.dof == 4
     short = float(np.std((white + walk).reshape(20, -1).mean(axis=1), ddof=1) / math.sqrt(20)) / abs(K) * 3600.0
     assert bc.uA > 2.0 * short  # the 20 batch means would have said this
+
+
+def test_static_record_is_another_power_on_its_k_in_the_b0_budget(pm):
+    """interpretations.md "7.2.13 — the static record is another power-on": B₀ = F̄/K divides the static
+    record by the K of the 7.2.1 calibration, another power-on; its own K differs by K_r, so without a
+    bias repeatability (7.2.15, whose runs hold that variation) the budget carries |B₀|·K_r, one estimate
+    with u₃ = K_r·K of u(K) (ν = (Q − 1)/3, so that Welch–Satterthwaite counts it once).  On the
+    independent harness's 1 Hz white-noise devices (|B| to 360 °/h, K power-on σ to 4×10⁻⁴) B₀ was within
+    U on 90.7 % / 84.6 % of the devices where |B|·σ_K is 0.5–1 / > 1 times the record's noise
+    (docs/independent-campaigns.md)."""
+    so = {"seed": 1, "device_class": "analog-power-on", "duration_scale": 0.1}
+    rec = run_items(pm, "jjf2014", ["7.2.1", "7.2.4", "7.2.13"], station_options=so)
+    r = {x.metric.key: x for o in rec.outcomes for x in o.results}
+    b0, kr = r["B0"], r["Kr"].value.magnitude
+    row = [x for x in b0.budget.rows if x.symbol == "K_r·B·c"]
+    assert len(row) == 1 and "K_r" in row[0].source
+    assert row[0].contribution.to("deg/h").magnitude == pytest.approx(abs(b0.value.magnitude) * kr, rel=1e-9)
+    assert row[0].dof == pytest.approx(5 / 3)
+    # with 7.2.15's runs in the campaign B_r holds it: no second row
+    rec = run_items(pm, "jjf2014", ["7.2.1", "7.2.4", "7.2.13", "7.2.15"], station_options=so)
+    b0 = next(x for o in rec.outcomes for x in o.results if x.metric.key == "B0")
+    assert not [x for x in b0.budget.rows if x.symbol == "K_r·B·c"] and [x for x in b0.budget.rows if x.symbol == "B_r"]
+    # neither K_r nor B_r: no row, and the budget says what is missing
+    rec = run_items(pm, "jjf2014", ["7.2.1", "7.2.13"], station_options=so)
+    b0 = next(x for o in rec.outcomes for x in o.results if x.metric.key == "B0")
+    assert not [x for x in b0.budget.rows if x.symbol == "K_r·B·c"]
+    assert "variation of K between power-ons is not in this budget" in b0.budget.note

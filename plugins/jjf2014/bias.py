@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 import statistics
 
+import attrs
+
 from metro.core import allan
 from metro.core.budget import BudgetRow
 from metro.core.errors import DataError, ProcedureError
@@ -49,6 +51,7 @@ from .common import (
     _temperatures,
     _updown,
     _where,
+    KValue,
     bias_repeatability,
     rounding_row_mean,
     scale_factor_for,
@@ -122,9 +125,27 @@ def _rounded(campaign: Campaign, bv: BiasValue, what, scale: float, unit: str) -
     return rounding_row_mean(campaign, bv.x, what, scale * 3600.0 / abs(bv.K), unit)
 
 
-def _u_single(bv: BiasValue, rep: Spread | None) -> float:
-    """u (°/h) of one bias record as the device's bias at its condition: as :func:`_single`."""
-    return rep.value if rep is not None and rep.value > bv.uA else bv.uA
+def _u_single(bv: BiasValue, rep: Spread | None, kv: "KValue | None" = None) -> float:
+    """u (°/h) of one bias record as the device's bias at its condition: as :func:`_single` and,
+    without a bias repeatability, with :func:`_power_on` (its power-on's K)."""
+    if rep is not None and rep.value > bv.uA:
+        return rep.value
+    return math.hypot(bv.uA, kv.power_on_u(bv.B0) if (kv is not None and rep is None) else 0.0)
+
+
+def _power_on(bv: BiasValue, rep: Spread | None, kv: "KValue", what: str, scale: float, unit: str) -> list[BudgetRow]:
+    """Without a bias repeatability B_r (which holds it: each of its runs is a power-on divided by the
+    same K), the record's own power-on K differs from the 7.2.1 calibration's by K_r: |B₀|·K_r·scale
+    (:meth:`KValue.power_on_rows`; interpretations.md, "7.2.13 — the static record is another power-on")."""
+    return kv.power_on_rows(bv.B0, scale, unit, what) if rep is None else []
+
+
+def _power_on_note(rep: Spread | None, kv: "KValue") -> str:
+    """The budget's note when neither B_r nor K_r is known: the power-on's K is not in the budget."""
+    if rep is None and kv.kr is None:
+        return msg("no bias repeatability (7.2.15) and no K_r (7.2.4): the variation of K between power-ons "
+                   "is not in this budget (give rate-repeat runs or device.scale_factor_repeatability)")
+    return ""
 
 
 def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: str) -> BudgetRow:
@@ -174,8 +195,12 @@ class Bias(_JJF):
                           warnings=w, dof_K=kv.dof, rep_row=rep_row,
                           note_A=msg("{n} long batch means: the short ones are correlated (F test, 95 %), their "
                                      "scatter understates the mean's u", n=bv.dof + 1) if bv.correlated else "",
-                          extra=rounding_row_mean(campaign, bv.x, "the mean output F̄ (eq. (27))",
-                                                  3600.0 / abs(K), "deg/h"))
+                          extra=[*rounding_row_mean(campaign, bv.x, "the mean output F̄ (eq. (27))",
+                                                    3600.0 / abs(K), "deg/h"),
+                                 *(kv.power_on_rows(bv.B0, 1.0, "deg/h", msg("the static record (7.2.13.1)"))
+                                   if rep_row is None else [])])
+        if rep_row is None and kv.kr is None:
+            b = attrs.evolve(b, note=join("; ", [b.note, _power_on_note(None, kv)]))
         on = _flag(opts, "earth_rate")
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
                                      note=join("; ", [msg("K from {source}", source=src), _earth_text(campaign, on)]),
@@ -310,18 +335,20 @@ class BiasTemperature(_JJF):
         # the largest of N − 1 noisy slopes: its selection bias removed (interpretations.md, "JJF 2014 —
         # the largest of noisy slopes and changes"); drawn with B_r, or the points' scatter about a
         # line in T where it is smaller
-        sel = max_slope_selection([b.B0 for b in bvs], [_u_single(b, rep) for b in bvs], temps, m, relative=False,
+        sel = max_slope_selection([b.B0 for b in bvs], [_u_single(b, rep, kv) for b in bvs], temps, m, relative=False,
                                   observed=True)
         bt = max(sel.value, 0.0)
         rows = [_single(bvs[i], rep, f"B₀ at {temps[i]:g} °C", 1 / dT, "deg/h/delta_degC"),
-                _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC")]
+                _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC"),
+                *_power_on(bvs[i], rep, kv, f"B₀ at {temps[i]:g} °C", 1 / dT, "deg/h/delta_degC"),
+                *_power_on(bvs[m], rep, kv, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC")]
         u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
         rows += spread_rows(sel, u_point, "deg/h/delta_degC") + selection_rows(sel, len(bvs) - 1, "deg/h/delta_degC", point_unit="°/h")
         rows += [*_rounded(campaign, bvs[i], f"B₀ at {temps[i]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 *_rounded(campaign, bvs[m], f"B₀ at {temps[m]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 kv.row(bt, "deg/h/delta_degC")]
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
-        b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep))
+        b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep), note=_power_on_note(rep, kv))
         tab = TableSpec("bias_temperature", msg("B_0i per temperature"), ["T_i (°C)", "B_0i (°/h)"],
                         [[f"{t:g}", f"{x.B0:.5g}"] for t, x in zip(temps, bvs)])
         note = msg("maximum at {T:g} °C", T=temps[i])
@@ -372,10 +399,12 @@ class BiasAcceleration(_JJF):
         rep = bias_repeatability(campaign, K)
         rows = [_single(v["up"], rep, msg("B₀ {axis} up", axis=worst), 0.5, "deg/h/gn"),
                 _single(v["down"], rep, msg("B₀ {axis} down", axis=worst), 0.5, "deg/h/gn"),
+                *_power_on(v["up"], rep, kv, msg("B₀ {axis} up", axis=worst), 0.5, "deg/h/gn"),
+                *_power_on(v["down"], rep, kv, msg("B₀ {axis} down", axis=worst), 0.5, "deg/h/gn"),
                 *_rounded(campaign, v["up"], msg("B₀ {axis} up", axis=worst), 0.5, "deg/h/gn"),
                 *_rounded(campaign, v["down"], msg("B₀ {axis} down", axis=worst), 0.5, "deg/h/gn"),
                 kv.row(bg, "deg/h/gn")]
-        b = B.type_a_budget("Bg", "deg/h/gn", one_estimate(rows, rep))
+        b = B.type_a_budget("Bg", "deg/h/gn", one_estimate(rows, rep), note=_power_on_note(rep, kv))
         w = [] if len(per) == 3 else [msg("only axes {axes} tested", axes=", ".join(per))]
         tab = TableSpec("bias_accel", msg("Per axis"), [msg("axis"), "B up (°/h)", "B down (°/h)", "(up−down)/2g (°/h/g)"],
                         [[a, f"{vals[a]['up'].B0:.5g}", f"{vals[a]['down'].B0:.5g}", f"{per[a]:.4g}"] for a in per])
@@ -424,19 +453,21 @@ class _BiasChange(_JJF):
         # largest of noisy slopes and changes"), drawn with the scatter of the biases before the test
         # over the axes where it is smaller than B_r
         sel = max_abs_selection([after[a] - before[a] for a in ax],
-                                [math.hypot(_u_single(vals[(a, "before")], rep), _u_single(vals[(a, "after")], rep))
+                                [math.hypot(_u_single(vals[(a, "before")], rep, kv), _u_single(vals[(a, "after")], rep, kv))
                                  for a in ax],
                                 same=[before[a] for a in ax])
         db = max(sel.value, 0.0)
         rows = [_single(v1, rep, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
-                _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h")]
+                _single(v2, rep, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
+                *_power_on(v1, rep, kv, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
+                *_power_on(v2, rep, kv, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h")]
         u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
         rows += spread_rows(sel, u_point, "deg/h") + selection_rows(sel, len(ax), "deg/h", slopes=False, point_unit="°/h")
         b = B.type_a_budget(self.metrics[0].key, "deg/h", one_estimate([
             *rows,
             *_rounded(campaign, v1, msg("B₀ before ({axis})", axis=worst), 1.0, "deg/h"),
             *_rounded(campaign, v2, msg("B₀ after ({axis})", axis=worst), 1.0, "deg/h"),
-            kv.row(db, "deg/h")], rep))
+            kv.row(db, "deg/h")], rep), note=_power_on_note(rep, kv))
         w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for 3)", axes=", ".join(per))]
         tab = TableSpec("per_axis", msg("B₀ before/after shock") if self.what == "shock" else msg("B₀ before/after vibration"),
                         [msg("axis"), "B₁ (°/h)", "B₂ (°/h)", "|ΔB| (°/h)"],

@@ -77,8 +77,8 @@ def bias_budget(B0: pint.Quantity, u_rel_K: float, *, dmm: Calibration | None, u
     return UncertaintyBudget("bias B0", B0.units, rows, coverage=COVERAGE)
 
 
-def type_a_budget(measurand: str, unit: str, rows: Sequence[BudgetRow]) -> UncertaintyBudget:
-    return UncertaintyBudget(measurand, unit, list(rows), coverage=COVERAGE)
+def type_a_budget(measurand: str, unit: str, rows: Sequence[BudgetRow], note: str = "") -> UncertaintyBudget:
+    return UncertaintyBudget(measurand, unit, list(rows), coverage=COVERAGE, note=note)
 
 
 def std_of_std(s: float, q: int) -> tuple[float, float]:

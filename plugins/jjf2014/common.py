@@ -387,9 +387,36 @@ class KValue:
     u_rel: float
     source: str
     dof: float = INF
+    #: K_r (7.2.4 of this campaign, or stated): how far another power-on's K lies from this one
+    kr: "Spread | None" = None
+    #: whether u_rel already holds that K_r (as u₃ of the 7.2.1 budget): one estimate, one ν
+    kr_in_u: bool = False
 
     def __iter__(self):  # K, u_rel, source = scale_factor_for(...)
         return iter((self.K, self.u_rel, self.source))
+
+    def power_on_u(self, value: float) -> float:
+        """u (the unit of ``value``) of ``value`` = F̄/K for a record made at another power-on than the
+        7.2.1 calibration: its own K differs from the calibrated one by K_r, so |value|·K_r (0 without K_r)."""
+        return abs(value) * self.kr.value if self.kr is not None else 0.0
+
+    def power_on_rows(self, value: float, scale: float, unit: str, what: str) -> list[BudgetRow]:
+        """The row of :meth:`power_on_u`, times ``scale`` (a result's sensitivity to this record's B₀):
+        the record is its own power-on, whose K differs from the 7.2.1 calibration's by the power-on
+        repeatability K_r (7.2.4).  When u_rel(K) already holds K_r (u₃ of the 7.2.1 budget) the row
+        shares that one estimate: ν_r/3 makes Welch–Satterthwaite count it once ((2c²)²/ν_r =
+        c⁴/ν_r + c⁴/(ν_r/3)).  Without K_r, nothing (the caller notes it) (interpretations.md,
+        "7.2.13 — the static record is another power-on")."""
+        if self.kr is None:
+            return []
+        dof = self.kr.dof / 3.0 if (self.kr_in_u and self.kr.type == "A" and math.isfinite(self.kr.dof)) else self.kr.dof
+        src = join(", ", [msg("{what}: its power-on's K differs from the calibration's by K_r", what=what), self.kr.source])
+        if self.kr.type == "A":
+            return [BudgetRow.type_a(src, "K_r·B·c", Q_(self.kr.value * abs(value) * abs(scale), unit), dof,
+                                     note=msg("one estimate with u(K)'s K_r: ν = {nu:g} of {nr:g}", nu=dof, nr=self.kr.dof)
+                                     if self.kr_in_u else "")]
+        return [BudgetRow.type_b(src, "K_r·B·c", Q_(self.kr.value * abs(value) * abs(scale), unit),
+                                 distribution="normal", k=1.0)]
 
     def row(self, sensitivity: float, unit: str, source: str = "scale factor K", symbol: str = "u_rel(K)") -> BudgetRow:
         """The row of a result y ∝ 1/K (or ∝ K): relative u(K) times |y|, with K's ν_eff."""
@@ -402,17 +429,18 @@ def scale_factor_for(campaign: Campaign, proc) -> KValue:
     """K (mV/[(°)/s]) and its relative standard uncertainty for items that divide by K: from
     the campaign's 7.2.1 segments (kind "rate") if any — with the 7.2.1 budget, whose u₃ is the
     repeatability of K — else from ``device.scale_factor``."""
+    kr = sf_repeatability(campaign)
     if campaign.find_segments("rate"):
         s = SFSet(campaign.find_segments("rate"))
-        b = s.budget(campaign)
+        b = s.budget(campaign, rep=kr)
         return KValue(s.K, float(b.combined.to(KU).magnitude) / abs(s.K), "7.2.1 segments of this campaign",
-                      b.nu_eff)
+                      b.nu_eff, kr, kr is not None and kr.value * abs(s.K) >= s.fit.u_K)
     K, urel = device_scale_factor(campaign.device, campaign.source)
     if K is None:
         raise DataError(campaign.source, "device.scale_factor",
                         f"{proc.qualified_id()} needs the scale factor K: give 7.2.1 segments (kind \"rate\") "
                         "or device.scale_factor in mV/((°)/s)")
-    return KValue(float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel, "device.scale_factor")
+    return KValue(float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel, "device.scale_factor", INF, kr)
 
 
 def _rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = None, tag: str = "",
