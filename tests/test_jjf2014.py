@@ -760,7 +760,7 @@ def test_every_result_discloses_the_earth_rate(full_run, pm):
     assert outs["7.2.1"].result("F0").earth_rate == "included"
     assert outs["7.2.1"].result("K").earth_rate == "not applicable"
     bg = outs["7.2.17"].result("Bg")
-    assert bg.earth_rate == "included" and "earth rate included" in bg.note and "earth_rate = on" in bg.note
+    assert bg.earth_rate == "included" and "earth rate included" in bg.note and "-o earth_rate=on" in bg.note
     camp = _campaign(pm, ["7.2.17"], scale=0.25)
     on = run_items(pm, "jjf2014", ["7.2.17"], campaign=camp, options={"earth_rate": "on"}).outcomes[0].result("Bg")
     assert on.earth_rate in ("removed", "not applicable")

@@ -922,7 +922,7 @@ class MaxInputRateD3(Procedure):
         warnings = []
         if om == max(rates):
             warnings.append(msg("K_n meets the limit up to the largest rate tested ({om:g} °/s); the maximum input rate "
-                                "may be higher — test beyond it (option max_rate)", om=om))
+                                "may be higher — test beyond it (plan with -o max_rate=…)", om=om))
         failing_below = [r for r, kn in curve if r < om and kn > limit]
         if failing_below:
             warnings.append(msg("ranges up to {rates} °/s exceed the limit while the range up to {om:g} °/s meets it "

@@ -84,9 +84,9 @@ def _earth_text(campaign, on: bool, per_g: bool = False) -> str:
     except Exception:  # no latitude: say it without the number
         amount = "Ω_e·sin φ"
     if on:
-        return msg("earth rate removed ({amount}; option earth_rate = on, not in the standard)", amount=amount)
+        return msg("earth rate removed ({amount}; -o earth_rate=on, not in the standard)", amount=amount)
     return msg("earth rate included: the vertical input axis senses {amount}; the standard has no correction "
-               "(option earth_rate = on removes it)", amount=amount)
+               "(-o earth_rate=on removes it)", amount=amount)
 
 
 def _earth_term(campaign, seg: Segment | None, on: str, orient: str | None = None) -> float:
