@@ -9,7 +9,7 @@ import statistics
 import attrs
 
 from metro.core import allan
-from metro.core.budget import BudgetRow
+from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
 from metro.core.model import (
@@ -52,6 +52,7 @@ from .common import (
     _updown,
     _where,
     KValue,
+    SFSet,
     bias_repeatability,
     rounding_row_mean,
     scale_factor_for,
@@ -294,6 +295,35 @@ class BiasRepeatability(_JJF):
                                      reason=why)], tables=[tab], segments=[x.seg.id for x in bvs], opts=opts)
 
 
+def _k_ratio_at(campaign: Campaign, temps: list[float], m: int) -> tuple[list[tuple[float, float, float]] | None, str]:
+    """K_i/K_m at each chamber point of 7.2.16 from the 7.2.5 calibrations (kind "rate-temperature") of
+    this campaign: [(ratio, its relative u from the two fits, ν)], or None and the budget's note when
+    they are not there for every point (the B_0i are then over the room-temperature K, and the error
+    |B_0i|·|K_i/K_m − 1| is not in the budget)."""
+    segs = campaign.find_segments("rate-temperature")
+    missing = msg("K at each chamber point is the room-temperature K of 7.2.1: B₀ at T_i errs by "
+                  "|B₀ᵢ|·|K_i/K_m − 1|, not in this budget (give the 7.2.5 calibrations at the same points)")
+    if not segs:
+        return None, missing
+    groups = _by(segs, "temperature")
+    T5 = _temperatures(groups, "7.2.5")
+    fits = {}
+    for key, t in T5.items():
+        fits[round(t, 3)] = SFSet(groups[key])
+    if any(round(t, 3) not in fits for t in temps):
+        return None, missing
+    fm = fits[round(temps[m], 3)]
+    out = []
+    for t in temps:
+        fi = fits[round(t, 3)]
+        if fi is fm:
+            out.append((1.0, 0.0, INF))
+            continue
+        u = math.hypot(fi.fit.u_K / fi.K, fm.fit.u_K / fm.K)
+        out.append((fi.K / fm.K, u, float(min(fi.fit.dof, fm.fit.dof))))
+    return out, ""
+
+
 class BiasTemperature(_JJF):
     """JJF 2014—2022 7.2.16 零偏温度灵敏度: B_0i per temperature by 7.2.13, B_t eq. (31)."""
 
@@ -326,8 +356,12 @@ class BiasTemperature(_JJF):
             if len(groups[k]) > 1:
                 raise DataError(_where(groups[k][1]), f"segments.{groups[k][1].id}.conditions.temperature",
                                 f"7.2.16: {len(groups[k])} records at {k}; give one per temperature")
-        bvs = [BiasValue(groups[k][0], K) for k in keys]
         m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.16")
+        # each B_0i is an equivalent input rate at T_i: F̄_i over the K the device has at T_i, K·K_i/K_m
+        # with the 7.2.5 calibrations of this campaign at the same chamber points (interpretations.md,
+        # "7.2.16 — the bias at T_i is over the K at T_i")
+        kt_ratio, kt_note = _k_ratio_at(campaign, temps, m)
+        bvs = [BiasValue(groups[k][0], K * (kt_ratio[j][0] if kt_ratio else 1.0)) for j, k in enumerate(keys)]
         bt, i = F.bias_temperature_eq31([b.B0 for b in bvs], temps, m)
         dT = abs(temps[i] - temps[m])
         rep = with_scatter(bias_repeatability(campaign, K), *line_scatter([b.B0 for b in bvs], temps),
@@ -347,8 +381,13 @@ class BiasTemperature(_JJF):
         rows += [*_rounded(campaign, bvs[i], f"B₀ at {temps[i]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 *_rounded(campaign, bvs[m], f"B₀ at {temps[m]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 kv.row(bt, "deg/h/delta_degC")]
+        if kt_ratio and kt_ratio[i][1] > 0:
+            rows.append(_budget_row_a(msg("K_i/K_m at {T:g} °C (7.2.5 fits) that B₀ at T_i is divided by",
+                                          T=temps[i]), "|B₀ᵢ|·u(K_i/K_m)/|ΔT|",
+                                      abs(bvs[i].B0) * kt_ratio[i][1] / dT, "deg/h/delta_degC", kt_ratio[i][2]))
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
-        b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep), note=_power_on_note(rep, kv))
+        b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep),
+                            note=join("; ", [_power_on_note(rep, kv), kt_note]))
         tab = TableSpec("bias_temperature", msg("B_0i per temperature"), ["T_i (°C)", "B_0i (°/h)"],
                         [[f"{t:g}", f"{x.B0:.5g}"] for t, x in zip(temps, bvs)])
         note = msg("maximum at {T:g} °C", T=temps[i])

@@ -119,16 +119,8 @@ class NonlinearityRange(_JJF):
             a, kn = F.nonlinearity_eq7_8(s.omega, s.F, s.fit)
         except ValueError as exc:
             raise ProcedureError(f"7.2.2: {exc}") from exc
-        span = abs(s.omega.max() - s.omega.min())
-        i = int(np.argmax(np.abs(a)))
-        # u(a_i): the scatter of F̄_i (and of the fit) over K·span; the rate table's error at Ω_i
-        u_pt = math.hypot(s.uF[i], s.fit.residuals.std(ddof=2) / math.sqrt(len(s.F))) / (s.K * span)
         cal = _cal(campaign, "rate_table")
-        rows = [_budget_row_a("scatter of F̄_i at the worst point and of the fit", "u(a_i)", u_pt, "", s.fit.dof)]
-        if cal is not None and cal.uncertainty.dimensionless:
-            rows.append(BudgetRow.from_calibration("rate table error at Ω_i", "u_rel(Ω)", cal,
-                                                   sensitivity=Q_(abs(s.omega[i]) / span, "")))
-        bkn = B.type_a_budget("nonlinearity Kn", "", rows)
+        kn, bkn = _kn_budget(s, np.ones(s.omega.size, dtype=bool), cal)
         limit_txt = opts["nonlinearity_limit"] or campaign.device.properties.get("nonlinearity_spec")
         results = [Result(self.metrics[0], Q_(kn, ""), bkn.combined, bkn)]
         if limit_txt in (None, ""):
@@ -136,18 +128,76 @@ class NonlinearityRange(_JJF):
                          "the range is not determined"))
         else:
             limit = float(parse_quantity(limit_txt, dimension="").to("").magnitude)
-            rng, kn_r = F.range_from_nonlinearity(s.omega, s.F, limit)
-            if rng is None:
+            res = _range_decision(s, limit, cal)
+            if res is None:
                 w.append(msg("no symmetric span meets K_n ≤ {limit:g}: the range is not determined", limit=limit))
             else:
+                rng, kn_r, why = res
                 rr = B.relative_calibration_row("rate table (the range is a set table rate)", "u_rel(Ω)", cal,
                                                 Q_(rng, "deg/s"), w)
                 br = B.type_a_budget("range", "deg/s", rr) if rr else None
                 results.append(Result(self.metrics[1], Q_(rng, "deg/s"), br.combined if br else None, br,
-                                       note=msg("K_n = {Kn:.3g} ≤ {limit:g} over ±{range:g} °/s", Kn=kn_r, limit=limit, range=rng)))
+                                      reportable=not why, reason=why,
+                                      note=msg("K_n = {Kn:.3g} ≤ {limit:g} over ±{range:g} °/s", Kn=kn_r, limit=limit, range=rng)))
         tab = TableSpec("nonlinearity", msg("Point nonlinearity a_i (eq. (7))"), ["Ω_i (°/s)", "a_i"],
                         [[f"{o:g}", f"{x:.3e}"] for o, x in zip(s.omega, a)])
         return self._outcome(results, tables=[tab], warnings=w, segments=s.ids, opts=opts)
+
+
+def _kn_budget(s: SFSet, sel: np.ndarray, cal) -> tuple[float, "B.UncertaintyBudget"]:
+    """K_n (eqs. (6)–(8)) of the points ``sel`` of ``s`` (a symmetric span) and its budget: the
+    scatter of F̄_i at the worst point and of the fit, over K·span; the rate table's error at Ω_i."""
+    om, f, uf = s.omega[sel], s.F[sel], s.uF[sel]
+    fit = F.scale_factor_eq4_5(om, f)
+    try:
+        a, kn = F.nonlinearity_eq7_8(om, f, fit)
+    except ValueError as exc:
+        raise ProcedureError(f"7.2.2: {exc}") from exc
+    span = abs(om.max() - om.min())
+    i = int(np.argmax(np.abs(a)))
+    u_pt = math.hypot(uf[i], fit.residuals.std(ddof=2) / math.sqrt(len(f))) / (abs(fit.K) * span)
+    rows = [_budget_row_a("scatter of F̄_i at the worst point and of the fit", "u(a_i)", u_pt, "", fit.dof)]
+    if cal is not None and cal.uncertainty.dimensionless:
+        rows.append(BudgetRow.from_calibration("rate table error at Ω_i", "u_rel(Ω)", cal,
+                                               sensitivity=Q_(abs(om[i]) / span, "")))
+    return kn, B.type_a_budget("nonlinearity Kn", "", rows)
+
+
+def _range_decision(s: SFSet, limit: float, cal) -> tuple[float, float, str] | None:
+    """The range of 7.2.2.2's last sentence — the largest set rate Ω_m whose span ±Ω_m meets the
+    nonlinearity requirement — and whether the data decide it (interpretations.md, "7.2.2 — the range
+    is a decision").  Each span's K_n carries its U; the range is reportable when its own K_n + U
+    meets the limit and every larger span's K_n − U exceeds it.  Returns (Ω_m, its K_n, reason not
+    reportable or ""), or None when every span's K_n − U exceeds the limit (no range)."""
+    tops = np.unique(np.abs(s.omega))[::-1]
+    spans = []
+    for top in tops:
+        sel = np.abs(s.omega) <= top
+        if sel.sum() < 3 or not (np.any(s.omega[sel] > 0) and np.any(s.omega[sel] < 0)):
+            break
+        kn, b = _kn_budget(s, sel, cal)
+        spans.append((float(top), kn, float(b.expanded.magnitude)))
+    meets = [x for x in spans if x[1] <= limit]
+    if meets:
+        top, kn, U = meets[0]
+        larger = [x for x in spans if x[0] > top]
+        undecided = [x for x in larger if x[1] - x[2] <= limit]
+        if kn + U > limit:
+            why = msg("K_n = {kn:.3g} over ±{top:g} °/s meets {limit:g} by less than its U = {U:.2g}: noise may "
+                      "decide the range", kn=kn, top=top, limit=limit, U=U)
+        elif undecided:
+            x = undecided[0]
+            why = msg("K_n = {kn:.3g} over the larger span ±{top:g} °/s exceeds {limit:g} by less than its "
+                      "U = {U:.2g}: noise may decide the range", kn=x[1], top=x[0], limit=limit, U=x[2])
+        else:
+            why = ""
+        return top, kn, why
+    near = [x for x in spans if x[1] - x[2] <= limit]
+    if near:
+        top, kn, U = near[0]
+        return top, kn, msg("no span meets K_n ≤ {limit:g}, but K_n = {kn:.3g} over ±{top:g} °/s is within its "
+                            "U = {U:.2g} of it: noise may decide the range", limit=limit, kn=kn, top=top, U=U)
+    return None
 
 
 class Asymmetry(_JJF):

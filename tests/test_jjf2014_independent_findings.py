@@ -1,0 +1,145 @@
+"""JJF 2014 faults the independent harness found (benchmarks/independent_jjf2014_more.py,
+docs/independent-campaigns.md "JJF 2014: the other items"), each on a small campaign written here
+by hand in the documented format (numpy, CSV), evaluated through the command line.
+
+* a chamber's calibration U written in °C (as docs/data-format.md lists the chamber's U) was a
+  temperature, not a difference: every 7.2.5 / 7.2.16 run with it ended in a traceback;
+* 7.2.16 divided every B_0i by the room-temperature K: a device with |B| = 300 °/h and a K
+  temperature coefficient of 3×10⁻⁴/°C read B_t 0.09 °/h/°C high, U ≈ 0.01;
+* 7.2.2's range is a decision between set rates: with the requirement between two spans'
+  K_n by less than their U, noise decides it, and U (the table's 10⁻⁴ of the rate) did not say so.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from metro.core.campaign import calibration_from_table
+from metro.core.cli import main
+
+R5 = (0.1, 0.25, 0.63, 1.6, 4, 10, 16, 25, 40, 63, 100)  # °/s, 7.2.1.1 b)
+
+
+class _Writer:
+    def __init__(self, folder: Path):
+        self.folder, self.segs = folder, []
+
+    def add(self, sid: str, kind: str, values: np.ndarray, cond: dict, dt: float = 1.0) -> None:
+        name = sid.replace("+", "p").replace("-", "m").replace(".", "_").replace("@", "at") + ".csv"
+        t = dt * np.arange(1, values.size + 1)
+        rows = "\n".join(f"{a!r},{b!r}" for a, b in zip(t.tolist(), values.tolist()))
+        (self.folder / name).write_text(f"time [s],output [mV]\n{rows}\n", encoding="utf-8")
+        self.segs.append((sid, kind, name, dt, cond))
+
+    def manifest(self, device: dict, chamber_U: str = "0.5 °C") -> Path:
+        lines = ['format = "metro-campaign/1"', "[campaign]", 'id = "hand"', "[device]"]
+        lines += [f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in device.items()]
+        lines += ["[environment]", 'temperature = "20 °C"', 'humidity = "40 %"', "[site]", 'latitude = "30°"']
+        for eid, role, U in (("RT", "rate_table", "1e-4"), ("DMM", "dmm", "2e-5"), ("CH", "chamber", chamber_U)):
+            lines += ["[[equipment]]", f'id = "{eid}"', f'role = "{role}"', "[equipment.calibration]",
+                      f'certificate = "C-{eid}"', f'U = "{U}"', "k = 2"]
+        for sid, kind, name, dt, cond in self.segs:
+            lines += ["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{name}"',
+                      f'sample_interval = "{dt!r} s"', "[segments.conditions]"]
+            lines += [f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in cond.items()]
+        path = self.folder / "manifest.toml"
+        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        return path
+
+
+def _run(manifest: Path, items: str) -> dict:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(["run", "-s", "jjf2014", "-i", items, "--data", str(manifest), "--json", "--no-report", "--quiet"])
+    assert code in (0, 3, 4), err.getvalue()[-2000:]
+    return {r["key"]: r for r in json.loads(out.getvalue())["results"]}
+
+
+def _cal(w: _Writer, rng, K: float, kind: str, prefix: str, cond: dict, *, bias: float = 0.0, c3: float = 0.0,
+         sd: float = 1e-4, n: int = 10, rates=R5) -> None:
+    """One 7.2.1.1 calibration: K·(Ω + c₃Ω³/Ω_m² + B/3600) mV plus white noise ``sd`` (mV)."""
+    om_m = max(rates)
+    for r in rates:
+        for s in (1, -1):
+            om = s * r
+            f = K * (om + c3 * om ** 3 / om_m ** 2 + bias / 3600.0)
+            w.add(f"{prefix}{'+' if s > 0 else '-'}{r}", kind, f + sd * rng.standard_normal(n),
+                  {"rate": f"{om!r} deg/s", **cond})
+
+
+def test_a_chamber_U_in_degrees_celsius_is_a_temperature_difference():
+    """docs/data-format.md: the chamber's U is in °C.  "0.5 °C" is read as 0.5 K (a difference):
+    as the temperature 0.5 °C it could not be divided by k, and 7.2.5 / 7.2.16 ended in a traceback."""
+    cal = calibration_from_table({"certificate": "C", "U": "0.5 °C", "k": 2}, "m.toml", "equipment[0].calibration")
+    assert cal.uncertainty.to("delta_degC").magnitude == 0.5
+    assert (cal.uncertainty / 2).to("K").magnitude == 0.25
+    cal_f = calibration_from_table({"certificate": "C", "U": "0.9 degF"}, "m.toml", "equipment[0].calibration")
+    assert math.isclose(cal_f.uncertainty.to("delta_degC").magnitude, 0.5)
+
+
+def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(tmp_path):
+    """7.2.16: B_0i is an equivalent input rate at T_i, F̄_i over the K the device has at T_i.  Device
+    (hand-made): K = 20 mV/((°)/s) × (1 + 3×10⁻⁴·(T − 20 °C)), bias 300 + 0.1·(T − 20) °/h, so B_t =
+    0.1 °/h/°C exactly; over the room K every B_0i errs by 300·3×10⁻⁴·ΔT, and B_t read 0.19 with U ≈ 0.01.
+    With the 7.2.5 calibrations at the same points metro divides by K·K_i/K_m (tolerance: U)."""
+    rng = np.random.default_rng(7)
+    w = _Writer(tmp_path)
+    K0, kt, b0, bt = 20.0, 3e-4, 300.0, 0.1
+    _cal(w, rng, K0, "rate", "rate", {}, bias=b0)
+    temps = (-40.0, 20.0, 60.0)
+    for T in temps:
+        k = K0 * (1 + kt * (T - 20))
+        _cal(w, rng, k, "rate-temperature", f"rt@{T:g}", {"temperature": f"{T!r} degC"}, bias=b0 + bt * (T - 20))
+        f = k * (b0 + bt * (T - 20)) / 3600.0
+        w.add(f"st@{T:g}", "static-temperature", f + 2e-4 * rng.standard_normal(3600),
+              {"temperature": f"{T!r} degC", "orientation": "IRA up"})
+    res = _run(w.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}), "7.2.5,7.2.16")
+    assert math.isclose(res["Kt"]["value"], kt, rel_tol=0.05)
+    r = res["Bt"]
+    assert r["U"] < 0.03, r["U"]
+    assert abs(r["value"] - bt) <= r["U"], (r["value"], r["U"])
+    # without the 7.2.5 calibrations the budget says the K's temperature variation is not in it
+    w2 = _Writer(tmp_path / "no725")
+    (tmp_path / "no725").mkdir()
+    w2.segs = [s for s in w.segs if s[1] != "rate-temperature"]
+    for sid, kind, name, dt, cond in w2.segs:
+        (w2.folder / name).write_bytes((tmp_path / name).read_bytes())
+    r2 = _run(w2.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}), "7.2.16")["Bt"]
+    assert "K_i/K_m" in r2["budget"]["note"], r2["budget"]["note"]
+
+
+def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
+    """7.2.2.2, last sentence: the range is the largest set rate whose span meets the nonlinearity
+    requirement.  A cubic device (c₃ = 2×10⁻³ of full scale) whose ±100 °/s span's K_n lies between the
+    requirement and the requirement + its U: the range (a set point, U = 10⁻⁴ of it) depended on the
+    noise draw; now it is not reportable, and with a requirement far from every span's K_n it is
+    reported (the noise-free answer)."""
+    rng = np.random.default_rng(3)
+    w = _Writer(tmp_path)
+    K0, c3 = 15.0, 2e-3
+    _cal(w, rng, K0, "rate", "rate", {}, c3=c3, sd=0.005)
+    om = np.array([s * r for r in R5 for s in (1, -1)])
+    f = K0 * (om + c3 * om ** 3 / 100.0 ** 2)
+
+    def kn(top):
+        sel = np.abs(om) <= top
+        K, F0 = np.polyfit(om[sel], f[sel], 1)
+        return float(np.max(np.abs((K * om[sel] + F0 - f[sel]) / (K * 2 * top))))
+
+    dev = {"id": "NL", "technology": "vibratory", "output": "analog"}
+    manifest = w.manifest(dev | {"nonlinearity_spec": repr(kn(100) * 1.0001)})
+    r = _run(manifest, "7.2.2")
+    U_kn = r["Kn"]["U"]
+    assert U_kn > 1e-4 * kn(100)  # the requirement is within U of the full span's K_n
+    assert r["range"]["reportable"] is False and "noise may decide" in r["range"]["reason"], r["range"]
+    # a requirement far from every span's K_n: the noise-free range (63 °/s), reportable
+    limit = math.sqrt(kn(100) * kn(63))
+    assert kn(100) - U_kn > limit > kn(63)
+    r = _run(w.manifest(dev | {"nonlinearity_spec": repr(limit)}), "7.2.2")
+    assert r["range"]["reportable"] is True and r["range"]["value"] == 63.0, r["range"]
