@@ -481,6 +481,72 @@ def build_allan(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, 
             ("7.2.20", "Q"): (0.0, "″", "")}
 
 
+# --------------------------------------------------------------------------------------------
+# 7.2.11, 7.2.12: input-axis misalignment and its repeatability
+# --------------------------------------------------------------------------------------------
+
+ARCMIN = math.pi / 10800.0
+
+
+def _gamma_eq25(F: dict, om: float, K: float) -> float:
+    """eqs. (19)–(25) on the eight mean outputs F[(p, '+'/'-')] (mV), Ω(+) in °/s: γ_m in ′."""
+    d = {p: (F[(p, "+")] - F[(p, "-")]) / (2 * om * K) for p in (1, 2, 3, 4)}
+    return 10800.0 / math.pi * math.hypot((d[1] - d[2]) / 2, (d[3] - d[4]) / 2)
+
+
+def build_misalignment(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, runs: int,
+                       quick: bool = False, fixture: bool = False) -> dict:
+    """7.2.1 and 7.2.11 (four mountings, table ±Ω(+) for 1 min each), ``runs`` times (7.2.12, each
+    mounting re-seated).  The device's input axis leans α (in yoz) and β (in xoz), 0–30′ in any
+    direction; the fixture errs by ε (common to the 180° pair, cancelled by eqs. (21)/(24)) and each
+    re-seating by η (1σ 0.2–3′): the position's δ_p = ±α + ε + η_p.  The table turns at Ω(+) 100–400 °/s,
+    so the earth rate's horizontal component averages out over the minute.  ``fixture``: on half the
+    devices the manifest gives a `fixture` with its `reseat_tilt` (docs/data-format.md's role)."""
+    dev = Device(rng, kind=kind, q=q, shapes=("none", "cubic"), asym=2e-4)
+    rates = R5_SETS[100]
+    eta_sd = float(rng.uniform(0.2, 3.0)) * ARCMIN
+    equipment = [RATE_TABLE, DMM]
+    if fixture and rng.uniform() < 0.5:  # the fixture's re-seating, stated as a half-width: √3·σ
+        equipment.append({"id": "FX-X", "role": "fixture", "reseat_tilt": f"{math.sqrt(3) * eta_sd / ARCMIN!r}′"})
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, equipment, fmt=fmt, output=dev.out)
+    e = dev.earth
+    k_cal = 1 + dev.sigma_K * float(rng.standard_normal())
+    b_cal = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    _rate_cal(camp, dev, rates, _table_errors(rng, rates), prefix="rate", kind="rate", n=10, dt=1.0,
+              k_on=k_cal, b_on=b_cal, earth=e)
+    mag = float(rng.uniform(0.0, 30.0)) * ARCMIN
+    phi = float(rng.uniform(0, 2 * math.pi))
+    alpha, beta = mag * math.cos(phi), mag * math.sin(phi)
+    eps = {1: float(rng.normal(0, 5)) * ARCMIN, 3: float(rng.normal(0, 5)) * ARCMIN}
+    om = float(rng.choice([100.0, 200.0, 360.0, 400.0]))
+    n = int(round((60.0 if not quick else 20.0) / dt))
+    for run in range(1, runs + 1):
+        k_on = 1 + dev.sigma_K * float(rng.standard_normal())         # each run a power-on of its own
+        b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+        for p in (1, 2, 3, 4):
+            lean = (alpha if p in (1, 2) else beta) * (1 if p in (1, 3) else -1)
+            delta = lean + eps[1 if p in (1, 2) else 3] + eta_sd * float(rng.standard_normal())
+            for sgn, tag in ((1, "+"), (-1, "-")):
+                wh, fl, w = dev.noise.draw3(n, dt, rng)
+                sensed = sgn * om * 3600.0 * math.sin(delta) + b_on + wh + fl + w     # °/h along the IA
+                vals = dev.out.record(sensed, dt, K_scale=k_on, rng=rng)
+                camp.add(f"misalignment#{run}p{p}{tag}", "misalignment", vals, dt,
+                         {"position": str(p), "rate": f"{sgn * om!r} deg/s", "run": str(run)})
+    camp.write_manifest()
+    gamma = 10800.0 / math.pi * math.hypot(alpha, beta)
+    # what eq. (26) measures: Var of one run's γ̂ under re-seating and the minute means' noise (Monte Carlo)
+    sd_mean = dev.noise.arw * 60.0 / math.sqrt(n * dt) / (om * 3600.0)            # rad, one minute's mean
+    draws = 4000
+    z = rng.standard_normal((draws, 4))
+    a_hat = alpha + (eta_sd * (z[:, 0] - z[:, 1]) + sd_mean * rng.standard_normal(draws)) / 2
+    b_hat = beta + (eta_sd * (z[:, 2] - z[:, 3]) + sd_mean * rng.standard_normal(draws)) / 2
+    g_hat = 10800.0 / math.pi * np.hypot(a_hat, b_hat)
+    truth = {("7.2.11", "gamma"): (gamma, "′", "")}
+    if runs >= 7:
+        truth[("7.2.12", "gamma_r")] = (float(np.std(g_hat, ddof=1)), "′", "")
+    return truth
+
+
 UNIT_ALIASES.setdefault("°/h/√h", {"°/h/√h", "degree / hour / hour ** 0.5", "deg/h/hour**0.5", "°/h¹⋅⁵"})
 UNIT_ALIASES.setdefault("°/h²", {"°/h²", "degree / hour ** 2", "deg/h**2"})
 UNIT_ALIASES.setdefault("″", {"″", "arcsec", "arcsecond"})
@@ -553,6 +619,17 @@ VARIANTS = {
         "as jjf-allan-terms-mV-10Hz, mV/V rounded to 0.0002 mV/V, 1 h at 400 Hz (.npy)",
         lambda f, rng, quick: build_allan(f, rng, kind="mV/V", q=0.0002, dt=0.0025, fmt="npy", static_s=3600.0,
                                           quick=quick)),
+    "jjf-misalignment-mV-Q7": Variant(
+        "jjf-misalignment-mV-Q7", "jjf2014", "7.2.1,7.2.11,7.2.12",
+        "mV, either sign; input axis leaning 0–30′ in any direction, fixture error 5′ (1σ), each re-seating "
+        "0.2–3′ (1σ); table Ω(+) 100/200/360/400 °/s; Q = 7 runs, each a power-on; 1 Hz CSV",
+        lambda f, rng, quick: build_misalignment(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv", runs=7, quick=quick)),
+    "jjf-misalignment-mVV-50Hz-one-run": Variant(
+        "jjf-misalignment-mVV-50Hz-one-run", "jjf2014", "7.2.1,7.2.11",
+        "as jjf-misalignment-mV-Q7 with one run only (7.2.11 alone), mV/V at 50 Hz (.npy); on half the "
+        "devices a fixture with its reseat_tilt (√3 × the re-seating σ)",
+        lambda f, rng, quick: build_misalignment(f, rng, kind="mV/V", q=0.0, dt=0.02, fmt="npy", runs=1,
+                                                 quick=quick, fixture=True)),
 }
 
 

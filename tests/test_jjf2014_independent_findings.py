@@ -143,3 +143,42 @@ def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
     assert kn(100) - U_kn > limit > kn(63)
     r = _run(w.manifest(dev | {"nonlinearity_spec": repr(limit)}), "7.2.2")
     assert r["range"]["reportable"] is True and r["range"]["value"] == 63.0, r["range"]
+
+
+def _misalignment_campaign(tmp_path, fixture: str | None) -> Path:
+    """7.2.1 and one set of the four mountings (7.2.11.1) of a device whose input axis leans α = 6′,
+    β = −8′ (γ = 10′); the fixture errs by 4′ and each seating by η = (2.5, −1.5, 2, 1)′ — the
+    re-seating a second set would show, which eqs. (21)/(24) do not cancel: α̂ = 8′, β̂ = −7.5′, γ̂ = 10.97′."""
+    rng = np.random.default_rng(11)
+    w = _Writer(tmp_path)
+    K0 = 12.0
+    _cal(w, rng, K0, "rate", "rate", {}, bias=50.0)
+    am = math.pi / 10800
+    alpha, beta, eps, eta = 6 * am, -8 * am, 4 * am, (2.5 * am, -1.5 * am, 2 * am, 1 * am)
+    for p in (1, 2, 3, 4):
+        delta = (alpha if p < 3 else beta) * (1 if p in (1, 3) else -1) + eps + eta[p - 1]
+        for s in (1, -1):
+            f = K0 * (s * 360.0 * math.sin(delta) + 50.0 / 3600.0)
+            w.add(f"mis-p{p}{'+' if s > 0 else '-'}", "misalignment", f + 1e-3 * rng.standard_normal(60),
+                  {"position": str(p), "rate": f"{s * 360.0!r} deg/s", "run": "1"})
+    m = w.manifest({"id": "MIS", "technology": "vibratory", "output": "analog"})
+    if fixture is not None:
+        m.write_text(m.read_text(encoding="utf-8") + f'[[equipment]]\nid = "FX"\nrole = "fixture"\n'
+                     f'reseat_tilt = "{fixture}"\n', encoding="utf-8")
+    return m
+
+
+def test_one_set_of_mountings_does_not_know_the_reseating(tmp_path):
+    """7.2.11 alone: the eight means' scatter (U ≈ 0.002′, issue 13's example) left out how far another
+    seating puts the input axis — 0.97′ here.  Without 7.2.12 runs, device.misalignment_repeatability or the
+    fixture's reseat_tilt, γ_m is not reportable (the reason says what to give); with the fixture's
+    reseat_tilt (a half-width per mounting, as GB/T D.1) its row is in the budget and U covers the
+    truth 10′."""
+    r = _run(_misalignment_campaign(tmp_path, None), "7.2.11")["gamma"]
+    assert abs(r["value"] - 10.966) < 0.05
+    assert r["reportable"] is False and "reseat_tilt" in r["reason"], r
+    (tmp_path / "fx").mkdir()
+    r = _run(_misalignment_campaign(tmp_path / "fx", "4′"), "7.2.11")["gamma"]
+    assert r["reportable"] is True
+    assert any("re-seating" in row["source"] for row in r["budget"]["rows"])
+    assert abs(r["value"] - 10.0) <= r["U"] < 6.0, (r["value"], r["U"])

@@ -270,6 +270,24 @@ def misalignment_reproducibility(campaign, runs, K: float, uK: float) -> Spread 
     return _stated(campaign, "misalignment_repeatability", "arcmin", "misalignment repeatability in ′")
 
 
+def _reseating(campaign, rows: list, u_noise: float) -> tuple[list, str]:
+    """γ_m of one set of mountings with no 7.2.12 runs and no stated γ_mr: each of the four mountings
+    seats the device anew, δ_p = ±α + ε + η_p, and eqs. (21)/(24) cancel the fixture's ε, not the η_p
+    (interpretations.md, "7.2.11 — one set of mountings").  The fixture's ``reseat_tilt`` (a half-width
+    per mounting, as GB/T D.1's fixture) gives a uniform row of half-width reseat_tilt/√2 (α = (δ₁ − δ₂)/2
+    holds two seatings: √2/2 of one); without it the result is not reportable: the eight means' scatter
+    alone leaves the re-seating out."""
+    fx = campaign.equipment_for("fixture")
+    if fx is not None and "reseat_tilt" in fx.properties:
+        seat = float(Q_(fx.prop("reseat_tilt", "arcmin", source=campaign.source)).to("arcmin").magnitude)
+        return rows + [BudgetRow.type_b(msg("re-seating of the device in the fixture {fx} at each of the four "
+                                            "mountings (α = (δ₁ − δ₂)/2: 1/√2 of one seating)", fx=fx.id),
+                                        "η/√2", Q_(seat / math.sqrt(2), "arcmin"), distribution="uniform")], ""
+    return rows, msg("one set of the four mountings and no 7.2.12 runs: how far another seating puts the input "
+                     "axis is not known, and the scatter of the eight means ({u:.2g}′) leaves it out (give 7.2.12 "
+                     "runs, device.misalignment_repeatability or the fixture's reseat_tilt)", u=u_noise)
+
+
 class Misalignment(_JJF):
     """JJF 2014—2022 7.2.11 输入轴失准角: four mountings, δ_p eqs. (19), (20), (22), (23),
     α_m (21), β_m (24), γ_m = 10800√(α_m² + β_m²)/π in ′ (25)."""
@@ -308,19 +326,23 @@ class Misalignment(_JJF):
         r, u_noise, om = _misalignment_run(campaign, type(self), runs[first], K, uK)
         gamma = r["gamma"]
         rep = misalignment_reproducibility(campaign, runs, K, uK)
+        why = ""
         if rep is not None and rep.value > u_noise:
             # another mounting gives another γ (7.2.12): that spread holds the scatter of the means
             rows = [rep.row("mounting reproducibility (another mounting gives another γ_m)", "γ_mr", rep.value,
                             "arcmin")]
         else:
             rows = [_budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF)]
+            if rep is None:
+                rows, why = _reseating(campaign, rows, u_noise)
         rows.append(kv.row(gamma, "arcmin", "scale factor K (γ ∝ 1/K)"))
         rows += B.relative_calibration_row(msg("rate table Ω_(+) (γ ∝ 1/Ω)"), "u_rel(Ω)", _cal(campaign, "rate_table"),
                                            Q_(gamma, "arcmin"))
         b = B.type_a_budget("gamma", "arcmin", rows)
         note = msg("α_m = {a:.4g}′, β_m = {b:.4g}′ (run {run}, Ω = {om:g} °/s)", a=r['alpha'] * 10800 / math.pi,
                    b=r['beta'] * 10800 / math.pi, run=first, om=om)
-        return self._outcome([Result(self.metrics[0], Q_(gamma, "arcmin"), b.combined, b, note=note)],
+        return self._outcome([Result(self.metrics[0], Q_(gamma, "arcmin"), b.combined, b, note=note,
+                                     reportable=not why, reason=why)],
                              segments=[s.id for s in runs[first]], opts=opts)
 
 
