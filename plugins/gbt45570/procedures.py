@@ -485,17 +485,43 @@ class BiasTemperatureSensitivityD54(Procedure):
         nu = uA**4 / ((eA.u_A / dT) ** 4 / eA.nu_A + (e0.u_A / dT) ** 4 / e0.nu_A) if uA > 0 else math.inf
         rows = [BudgetRow.type_a(msg("scatter of B_i and B_00 (batch means)"), "√(u²(B_i)+u²(B_00))/|ΔT|",
                                  Q_(uA, "deg/h/delta_degC"), nu)]
+        # D.5.4.2 c): off between points, so every B_i is a power-on of its own and differs from
+        # B(T_i) by the turn-on scatter σ_on that D.5.3 measures (interpretations.md, D.5.4)
+        from .repeatability import bias_repeat_row
+
+        rep_rows, rep_note = bias_repeat_row(campaign, int(opts["batches"]), None)
+        if not rep_rows and len(campaign.find_segments("static-repeat")) < 2:
+            rep_note = msg("turn-on scatter not in U: each temperature point is a power-on of its own (D.5.4.2 c)), but "
+                           "the campaign has no D.5.3 repeats (static-repeat) to measure it")
+        s_on = float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude) if rep_rows else 0.0
+        nu_on = math.inf
+        if s_on > 0:
+            # σ_on² = B_r² − mean u_A² is a difference of variance estimates: its Satterthwaite
+            # degrees of freedom are (Q − 1)·(σ_on²/B_r²)², far fewer than Q − 1 when the
+            # within-run part is a large share of B_r (interpretations.md, D.5.4)
+            reps = campaign.find_segments("static-repeat")
+            b_r = F.bias_repeatability_d42([segment_bias(r, campaign, int(opts["batches"])).B0 for r in reps])
+            nu_on = max((len(reps) - 1) * (s_on**2 / b_r**2) ** 2, 1.0)
+        u_on = math.sqrt(2.0) * s_on / abs(dT)
+        u_tot = math.hypot(uA, u_on)
+        nu_tot = (u_tot**4 / ((uA**4 / nu if uA > 0 else 0.0) + (u_on**4 / nu_on if u_on > 0 else 0.0))
+                  if u_tot > 0 else math.inf)
         # D.43 takes the largest of several noisy |slopes|: corrected for the selection bias about a
         # smoothed B(T) (interpretations.md, D.5.4); the spread of the maximum replaces one slope's u
         from metro.core.selection import selection_note, selection_rows
         from .formulas_rate import max_slope_selection
 
-        sel = max_slope_selection([e.B0 for e in ests], [e.u_A for e in ests], temps, i0, relative=False)
+        sel = max_slope_selection([e.B0 for e in ests], [math.hypot(e.u_A, s_on) for e in ests], temps, i0,
+                                  relative=False)
         if len(temps) > 2:
             rows = [BudgetRow.type_a(msg("B_i at every T_i and B_00 through the maximum of the slopes (Monte Carlo "
                                          "about the smoothed B(T))"), "s(max_i |ΔB_i/ΔT_i|)",
-                                     Q_(max(sel.s, uA), "deg/h/delta_degC"), nu,
-                                     note=msg("the maximising point alone gives {u:.3g} (°/h)/°C", u=uA))]
+                                     Q_(max(sel.s, u_tot), "deg/h/delta_degC"), nu_tot,
+                                     note=join("; ", [msg("the maximising point alone gives {u:.3g} (°/h)/°C", u=u_tot)]
+                                               + ([msg("each B_i a power-on of its own (D.5.4.2 c)): with the turn-on "
+                                                       "scatter σ_on = {s:.4g} °/h of D.5.3 on this campaign (ν = "
+                                                       "{nu:.3g}), √2·σ_on/|ΔT| = {u:.3g} (°/h)/°C at the maximising "
+                                                       "point", s=s_on, nu=nu_on, u=u_on)] if rep_rows else [])))]
             rows += selection_rows(sel, len(temps) - 1, "deg/h/delta_degC")
             Bt = max(sel.value, 0.0)
         if eA.u_q > 0 or e0.u_q > 0:
@@ -512,7 +538,8 @@ class BiasTemperatureSensitivityD54(Procedure):
         budget = UncertaintyBudget("B_t", "deg/h/delta_degC", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Bt, "deg/h/delta_degC"), budget.combined, budget,
                      note=join("; ", [msg("largest at T = {T:g} °C against T0 = {T0:g} °C", T=temps[imax], T0=temps[i0])]
-                               + ([selection_note(sel, 1.0, '(°/h)/°C')] if len(temps) > 2 else [])),
+                               + ([selection_note(sel, 1.0, '(°/h)/°C')] if len(temps) > 2 else [])
+                               + ([rep_note] if rep_note else [])),
                      earth_rate="not applicable")
         order = np.argsort(temps)
         plot = PlotSpec("bias_temperature", msg("Bias against temperature (D.5.4)"), "T (°C)", "B₀ (°/h)",

@@ -1,0 +1,113 @@
+"""GB/T 45570 D.5.4: every temperature point is a power-on of its own.
+
+D.5.4.2 c) powers the gyro off while the chamber moves to the next temperature, so each B_i of
+eq. (D.43) carries the device's turn-on scatter σ_on, which D.5.3 (eq. D.42) measures on the same
+campaign.  The independent harness (benchmarks/independent_gbt_more.py, variant bt-bh-pulse-1Hz)
+found B_t within U on 63 % of 200 devices with U built from each record's batch means alone; with
+the turn-on row (and the Satterthwaite degrees of freedom of σ_on² = B_r² − mean u_A²) 96 % and
+96.5 % on two sets of 200.  Here devices are written with numpy in the documented format (rate
+output in °/h, no rounding): a bias linear in T, a turn-on scatter five times the record noise.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+OMEGA_E = 15.041  # °/h, eq. (D.40)
+
+
+def _campaign(folder: Path, rng, *, sigma_on: float, arw: float, slope: float, repeats: bool,
+              seconds: int = 600) -> float:
+    """Three temperature points (−40, 20, 60 °C), optionally D.5.3's 7 repeats at 20 °C; returns
+    the true B_t = |slope| (a bias linear in T: D.43's every slope is the same)."""
+    lat = 30.0
+    earth = OMEGA_E * math.sin(math.radians(lat))
+    segs = []
+
+    def record(name, bias):
+        x = bias + earth + rng.standard_normal(seconds) * arw * 60.0
+        t = np.arange(1, seconds + 1)
+        (folder / f"{name}.csv").write_text("time [s],output [°/h]\n" + "\n".join(
+            f"{a},{b!r}" for a, b in zip(t.tolist(), x.tolist())) + "\n", encoding="utf-8")
+        return f"{name}.csv"
+
+    b0 = 0.3
+    for i, T in enumerate((-40.0, 20.0, 60.0)):
+        f = record(f"temperature-{i + 1}", b0 + slope * (T - 20.0) + sigma_on * rng.standard_normal())
+        segs.append(f'[[segments]]\nid = "temperature-{i + 1}"\nkind = "static-temperature"\nfile = "{f}"\n'
+                    f'sample_interval = "1 s"\n[segments.conditions]\norientation = "IRA up"\n'
+                    f'temperature = "{T:g} °C"\n')
+    if repeats:
+        for j in range(1, 8):
+            f = record(f"repeat-{j}", b0 + sigma_on * rng.standard_normal())
+            segs.append(f'[[segments]]\nid = "repeat-{j}"\nkind = "static-repeat"\nfile = "{f}"\n'
+                        f'sample_interval = "1 s"\n[segments.conditions]\norientation = "IRA up"\nrun = {j}\n')
+    (folder / "manifest.toml").write_text(
+        '[device]\nid = "BT-1"\noutput = "rate"\n\n[environment]\ntemperature = "20 °C"\nhumidity = "40 %"\n\n'
+        f'[site]\nlatitude = "{lat}°"\n\n[[equipment]]\nid = "CH-1"\nrole = "chamber"\n'
+        '[equipment.calibration]\ncertificate = "CH-CERT"\nU = "0.5 K"\nk = 2\n\n' + "\n".join(segs),
+        encoding="utf-8")
+    return abs(slope)
+
+
+def _run(run_cli, folder: Path, items: str = "D.5.4") -> dict:
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", items, "--data", str(folder / "manifest.toml"),
+                             "--json", "--no-report", "--quiet")
+    assert code in (0, 3, 4), err
+    return {r["key"]: r for r in json.loads(out)["results"]}
+
+
+def _bt(run_cli, folder: Path) -> dict:
+    return _run(run_cli, folder)["Bt"]
+
+
+def test_d54_budget_has_the_turn_on_scatter_of_d53(run_cli, tmp_path):
+    """Each point's u holds σ_on = √(B_r² − mean u_A²) of the D.5.3 repeats on the same campaign
+    (as D.5.3's own note states it), so U is at least k·√2·σ_on/|ΔT| at the maximising point, with
+    the Satterthwaite ν of a variance difference, (Q − 1)·(σ_on²/B_r²)²."""
+    rng = np.random.default_rng(7)
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    _campaign(folder, rng, sigma_on=0.01, arw=0.002, slope=1e-4, repeats=True)
+    res = _run(run_cli, folder, "D.5.3,D.5.4")
+    br, bt = res["Br"], res["Bt"]
+    s_d53 = float(br["note"].split("√(B_r² − mean u_A²) = ")[1].split(" ")[0])
+    assert 0.003 < s_d53 < 0.03  # the device's 0.01 °/h, estimated from 7 power-ons
+    (row,) = [r for r in bt["budget"]["rows"] if "σ_on = " in r["note"]]
+    s_on = float(row["note"].split("σ_on = ")[1].split(" ")[0])
+    assert s_on == pytest.approx(s_d53, rel=2e-3)  # one estimate, rounded to 3 and 4 digits
+    T = float(bt["note"].split("largest at T = ")[1].split(" ")[0])
+    dT = abs(T - 20.0)  # the maximising point against room temperature
+    assert row["standard_uncertainty"] >= math.sqrt(2) * s_on / dT * (1 - 1e-3)
+    nu = float(row["note"].split("(ν = ")[1].split(")")[0])
+    assert nu == pytest.approx(6 * (s_on**2 / br["value"]**2) ** 2, rel=0.02)
+    assert bt["U"] >= 2 * math.sqrt(2) * s_on / dT
+
+
+def test_d54_without_d53_repeats_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_path):
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    _campaign(folder, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=False)
+    res = _bt(run_cli, folder)
+    assert "turn-on scatter not in U" in res["note"] and "D.5.3" in res["note"]
+    assert not [r for r in res["budget"]["rows"] if "σ_on = " in r["note"]]
+
+
+def test_d54_covers_the_turn_on_scatter_over_devices(run_cli, tmp_path):
+    """σ_on = 0.01 °/h against a 10 min record's 0.002 °/h: without σ_on in each point's u, U
+    covered B_t on 22 of these 30 devices (measured before the fix); with it, at least 27."""
+    within = 0
+    for seed in range(30):
+        rng = np.random.default_rng([54, seed])
+        folder = tmp_path / f"dev{seed}"
+        folder.mkdir()
+        truth = _campaign(folder, rng, sigma_on=0.01, arw=0.002, slope=float(rng.uniform(-3e-4, 3e-4)),
+                          repeats=True)
+        res = _bt(run_cli, folder)
+        within += abs(res["value"] - truth) <= res["U"]
+    assert within >= 27, within
