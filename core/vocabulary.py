@@ -190,7 +190,7 @@ SEGMENT_KEYS = ("id", "kind", "file", "sample_interval", "conditions", "units")
 CALIBRATION_KEYS = ("certificate", "U", "k", "due", "lab", "distribution")
 #: [environment] and [site] keys metro reads (other keys are kept)
 ENVIRONMENT_KEYS = ("temperature", "humidity", "pressure", "magnetic_field", "location", "other")
-SITE_KEYS = ("latitude", "latitude_uncertainty", "altitude", "gravity", "name")
+SITE_KEYS = ("latitude", "latitude_uncertainty", "altitude", "gravity", "gravity_uncertainty", "name")
 EQUIPMENT_KEYS = ("id", "role", "model", "serial", "manufacturer", "calibration")
 
 

@@ -326,7 +326,10 @@ class MimuStation:
         camp = Campaign(
             id="SIMULATED-MIMU", device=self.device(), equipment=self.equipment(),
             environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
-            site={"latitude": Q_(self.latitude_deg, "deg")}, segments=segments, source="simulated station",
+            # the simulated specific force at rest is 1 g_n (segment_kinematics): the site says so, as a
+            # real site gives its local gravity (JJF 2003 7.2.2/7.2.4 read it for Ā)
+            site={"latitude": Q_(self.latitude_deg, "deg"), "gravity": Q_(9.80665, "m/s**2")},
+            segments=segments, source="simulated station",
             simulated=True, truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
         )
         return attrs.evolve(camp, expected=_expected(self, camp, realized))

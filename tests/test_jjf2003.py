@@ -468,9 +468,10 @@ def test_budget_rows_come_from_the_campaign_equipment(default_run):
     assert rows["u₁"].standard_uncertainty.to("rad").magnitude == pytest.approx(
         math.radians(20 / 3600) / math.sqrt(3))
     bare = run_items(pm, "jjf2003", ["7.2.1", "7.2.4"], campaign=attrs.evolve(camp, equipment=[]))
-    for o, key in ((bare.outcomes[0], "K_gxx"), (bare.outcomes[1], "K_axy")):
+    # without equipment: u₃, and for K_a the site's gravity and the fixture at 6.2's 10″ (not equipment rows)
+    for o, key, kept in ((bare.outcomes[0], "K_gxx", ["u₃"]), (bare.outcomes[1], "K_axy", ["u₃", "u_g", "u_f"])):
         rows = o.result(key).budget.rows
-        assert [r.symbol for r in rows if r.symbol != "—"] == ["u₃"]
+        assert [r.symbol for r in rows if r.symbol != "—"] == kept
         # the absent equipment is a zero note row, not a silent gap (core.campaign.note_absent_equipment)
         assert sorted(r.source.split(":")[0] for r in rows if r.symbol == "—") == ["acquisition", "rate_table"]
         assert all(r.contribution.magnitude == 0 for r in rows if r.symbol == "—")

@@ -44,6 +44,7 @@ from metro.core.model import (
 from metro.core.units import Q_
 
 from . import formulas as F
+from . import mounting
 
 STANDARD = "jjf2003"
 STATION = "simulated-mimu"
@@ -239,6 +240,10 @@ def six_position(campaign: Campaign, means: Means, which: int) -> tuple[np.ndarr
         GB = F.six_position_eq7(U)
     except ValueError as exc:
         raise ProcedureError(f"six-position method: {exc}") from exc
+    # Ā's ±1 are the local gravity in g_n (interpretations, "Local gravity in Ā"): a term per g_n
+    # of input is the eq. (7) column over g/g_n; the biases (the row of ones) are unchanged
+    ratio, _, _ = mounting.local_gravity(campaign)
+    GB[:, :3] = GB[:, :3] / ratio
     return U, GB, [s.id for s in segs.values()]
 
 
@@ -484,6 +489,8 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         rows = _table_rate_row(campaign, Q_(abs(Kjj), ""), msg("input rate error scales the slope (A.1.2.1)"), warnings)
         rows += _relative_quant_row(campaign, Kjj, warnings)
         rows.append(_repeatability_row(campaign, fits, repeats, i, j, warnings))
+        if i != j:  # the swept axis off the MIMU's axis j puts K_ii·δ into K_g[i, j] (interpretations)
+            rows += mounting.swept_axis_rows(campaign, float(fits[AXES[i]]["fits"][i].coef[0]))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
         results.append(Result(metric, Q_(K, ""), budget.combined, budget,
@@ -622,6 +629,10 @@ def _six_budget_rows(campaign, u_means, segs, which, col, i, M, warnings, unit, 
                              Q_(uA, out_unit), BATCHES - 1,
                              note=msg("{n} batch means per mounting; linear sum as appendix A", n=BATCHES))]
     rows += _abs_quant_row(campaign, range_prop, unit, csum, warnings)
+    if col < 3:  # a matrix term: per g_n of the local gravity (Ā), and the fixture's misalignment
+        rows.append(mounting.gravity_row(campaign, float(M[i, col]), out_unit))
+        if col != i:
+            rows.append(mounting.fixture_row(campaign, float(M[i, i]), out_unit))
     off = [abs(M[i, k]) for k in range(3) if k != col] if col < 3 else [abs(M[i, k]) for k in range(3)]
     tilt = max(off) if off else 0.0
     if tilt > 0:
@@ -682,7 +693,7 @@ class GyroBiasGSensitivity(Procedure):
             except (DataError, ProcedureError):
                 Kg = np.eye(3)
                 src = msg("K̄_g taken as the identity (no complete rate sweeps in the campaign)")
-            leak = F.earth_rate_leak(Kg, lat, EARTH_RATE_DEG_S)
+            leak = F.earth_rate_leak(Kg, lat, EARTH_RATE_DEG_S) / mounting.local_gravity(campaign)[0]
             G = G - leak
             warnings.append(msg("DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = {rate:.4f} °/h at "
                                 "φ = {lat:g}°) that eq. (7) puts into the g matrix was removed, using {src}",
@@ -773,6 +784,13 @@ class AccelSixPosition(Procedure):
                        warnings=_unique(warnings), segments=seg_ids, options=_opts_text(opts))
 
 
+def _accel_scale(campaign: Campaign, means: Means, pairs, i: int) -> float:
+    """|K_ii|·g of accelerometer i in g_n, the sensitivity of its reading to a tilt: its reading at
+    rest with axis i up (U₇ of axis i's sweep), bias included (a few per cent of the row at most)."""
+    rest = pairs[AXES[i]][0]
+    return abs(float(means(rest)[1][i]))
+
+
 class AccelRateSensitivity(Procedure):
     """JJF 2003—2022 7.2.5 加速度计角速度灵敏系数: the six off-diagonal p terms, eq. (12), (13).
 
@@ -831,6 +849,7 @@ class AccelRateSensitivity(Procedure):
                                      Q_(c * (u7 + u8), P_UNIT), BATCHES - 1)]
             rows += _abs_quant_row(campaign, "accel_range", ACC_UNIT, Q_(2 * c, "1/(rad/s)**2"), warnings)
             rows += _table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT), msg("c(ω) = −2p/ω (A.12)"), warnings)
+            rows.append(mounting.rest_tilt_row(campaign, _accel_scale(campaign, means, pairs, i), w, P_UNIT))
             b = UncertaintyBudget(m.symbol, P_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
             results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b, earth_rate="not applicable",
                                   note=msg("the vertical earth rate adds a relative 2Ω_e·sin φ/ω to ω² (10⁻⁵ at 400 °/s): neglected")))
