@@ -598,6 +598,12 @@ class Repeatability75(_EBase):
             Q_(std_sampling_u(R, n), "arcsec"), math.inf)], coverage=COVERAGE_NU)
         j = int(np.argmax(R_i))
         res = Result(self.metrics[0], Q_(R, "arcsec"), budget.combined, budget, note=msg("largest at S = {S:g}°", S=S[j]))
+        if R == 0.0:
+            # every round read the same at every stop: the spread is below the reading's resolution, and
+            # a standard deviation of 0 with U = 0 would be a confident wrong number (issue 13)
+            res = attrs.evolve(res, reportable=False, reason=msg(
+                "every round read the same at every stop: the repeatability is below the reading resolution "
+                "and is not resolved by {n} rounds", n=n))
         plot = PlotSpec("R_i", msg("Repeatability per position (7.5)"), "S (°)", "R_i (″)",
                         [{"label": "R_i", "x": S.tolist(), "y": R_i.tolist(), "style": "o-"}])
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], plots=[plot], warnings=warnings,
@@ -644,6 +650,17 @@ def _consistency(proc: _EBase, campaign: Campaign, opts, groups_wanted: list[tup
     return C, brows, warnings, used, values, table_rows
 
 
+def rate_points_76(campaign: Campaign) -> list[tuple[float, str]]:
+    """The rate points 7.6 compares: every rate recorded with the axis up, 60 °/s among them.
+
+    Clause 7.6 asks for 8 rate points in (1–300) °/s and prints 1, 10, 60, 100, 150, 200, 250 and
+    300 °/s as reference values (参考值), so a campaign may use others; those are the ones measured
+    (interpretations.md, "7.6 — the rate points are the campaign's").  Without rounds at other rates
+    the clause's reference values are listed as missing."""
+    rates = sorted({r for r, a in positioning_groups(campaign) if a == "up"} | {REF_RATE})
+    return [(v, "up") for v in (rates if len(rates) > 1 else RATES)]
+
+
 class RateConsistency76(_EBase):
     """Draft JJF 光学陀螺测角仪 7.6 速率一致性 (rate consistency), definition 3.4:
     C_v = (max E_v − min E_v)/E_60°/s in %, E_v the 7.4 result (max|E_i|, first round) at each of
@@ -662,7 +679,9 @@ class RateConsistency76(_EBase):
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
         C, rows, warnings, used, values, trows = _consistency(
-            self, campaign, opts, [(v, "up") for v in RATES], (REF_RATE, "up"), lambda k: f"{k[0]:g} °/s")
+            self, campaign, opts, rate_points_76(campaign), (REF_RATE, "up"), lambda k: f"{k[0]:g} °/s")
+        if len(values) != len(RATES):
+            warnings.append(msg("{n} rate points; clause 7.6 asks for {asked}", n=len(values), asked=len(RATES)))
         budget = UncertaintyBudget("C_v", "percent", rows, coverage=COVERAGE_NU)
         rng = max(values.values()) - min(values.values())
         res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
