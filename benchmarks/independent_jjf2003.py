@@ -30,8 +30,8 @@ Truth (the standard's measurand of the constructed device; see docs/independent-
 "JJF 2003: MIMU matrices"): K_g[i, j], G[i, j], K_a[i, j], p[i, j] as built (the device's matrices in
 its own reference frame, per g_n of specific force); B_g the mean of the gyro bias over the
 twelve position records (a slow thermal wander is bias); B_a as built.  Where metro says a g term
-has the earth rate ``included`` (eq. (7) as printed), its truth is G[i, j] + K_g[i, j]·Ω_e·sin φ, the
-rate eq. (7) cannot separate from g-sensitivity.  No truth depends on noise, so none needs Monte
+has the earth rate ``included`` (eq. (7) as printed), its truth is G[i, j] + K_g[i, j]·Ω_e·sin φ·g_n/g,
+the rate eq. (7) cannot separate from g-sensitivity (the whole column j, not the diagonal alone).  No truth depends on noise, so none needs Monte
 Carlo.
 """
 
@@ -227,6 +227,7 @@ class Lab:
     position_accuracy: float = 10.0  # ″ (table 1: ±10″)
     fixture: float = 10.0            # ″, 6.2 (the MIMU seated in it, per mounting)
     axis_perp: float = 10.0          # ″, table 1 轴线垂直度 (axis of a sweep against the MIMU axis)
+    state_axis_perp: bool = False    # the table's axis_perpendicularity written in the manifest
 
 
 @dataclass
@@ -262,7 +263,8 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
                wander: float = 0.0, lab: Lab = Lab(), lat_range=(-70.0, 70.0), altitude: tuple = (0.0, 0.0),
                anomaly_mgal: float = 30.0, write_gravity: bool = False, gyro_unit="deg/s", acc_unit="gn",
                with_time: bool = True, quick: bool = False, flip: float = 0.3,
-               items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5") -> dict:
+               items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0, sigma_K: float = 0.0,
+               sigma_B: float = 0.0) -> dict:
     """One MIMU written as a campaign of the 27 (3 axes × the rate set) rate segments and the twelve
     positions; returns the truth {(item, key): (value, unit, earth)} and ``options``."""
     lat = float(rng.uniform(*lat_range))
@@ -281,6 +283,9 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     table = {"id": "TBL-X", "role": "rate_table", "model": "three-axis position/rate table",
              "position_accuracy": f"{lab.position_accuracy!r}″",
              "calibration": {"certificate": "IND-TBL-1", "U": f"{lab.table_U!r}", "k": 2}}
+    if lab.state_axis_perp:
+        table = {k: v for k, v in table.items() if k != "calibration"} | {
+            "axis_perpendicularity": f"{lab.axis_perp!r}″", "calibration": table["calibration"]}
     daq = {"id": "DAQ-X", "role": "acquisition", "bits": bits}
     fixture = {"id": "FIX-X", "role": "fixture", "perpendicularity": f"{lab.fixture!r}″"}
     camp = MimuCampaign(folder, device, site, [table, daq, fixture])
@@ -330,6 +335,25 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
             C0 = T @ up_nominal("+" + a) @ perp @ mount
             record(f"rate-{a}-{r:g}", "rate", C0, T @ np.array([0.0, 0.0, 1.0]), r * (1 + eps),
                    {"axis": a, "rate": f"{r:g} °/s"})
+    # repeated calibrations (kind rate-repeat, condition run; docs/standards/jjf2003.md, option
+    # repeats): power off, remount — a new seat in the fixture, another power-on's K_g diagonal
+    # (relative σ_K) and B_g (σ_B).  The truth stays the first calibration's power-on.
+    Kg0, Bg0 = dev.Kg.copy(), dev.Bg.copy()
+    for run in range(1, repeats + 1):
+        mount = small_rotation(rng.uniform(-1, 1, 3) * lab.fixture * ARCSEC)
+        dev.Kg = Kg0.copy()
+        dev.Kg[np.diag_indices(3)] *= 1 + sigma_K * rng.standard_normal(3)
+        dev.Bg = Bg0 + sigma_B * rng.standard_normal(3)
+        for j, a in enumerate(AXES):
+            T = tilt()
+            perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) @ small_rotation(
+                rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
+            for r in rates:
+                eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
+                C0 = T @ up_nominal("+" + a) @ perp @ mount
+                record(f"rate-repeat#{run}-{a}-{r:g}", "rate-repeat", C0, T @ np.array([0.0, 0.0, 1.0]),
+                       r * (1 + eps), {"axis": a, "rate": f"{r:g} °/s", "run": str(run)})
+    dev.Kg, dev.Bg = Kg0, Bg0
     camp.write_manifest()
 
     # truth
@@ -349,7 +373,7 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
             if "7.2.3" in want:
                 truth[("7.2.3", f"K_g{r}{c}")] = (float(dev.Kg[i, j]), "", "")
             if "7.2.2" in want:
-                leak = float(dev.Kg[i, j]) * OMEGA_E_DEG_S * sin_lat
+                leak = float(dev.Kg[i, j]) * OMEGA_E_DEG_S * sin_lat / f_up  # per g_n of specific force
                 truth[("7.2.2", f"g_{r}{c}")] = (float(dev.G[i, j]), "(°/s)/gn", ("earth", leak))
             if "7.2.4" in want:
                 truth[("7.2.4", f"K_a{r}{c}")] = (float(dev.Ka[i, j]), "", "")
@@ -417,6 +441,21 @@ VARIANTS = {
                                          lat_range=(60.0, 89.0) if rng.uniform() < 0.5 else (-89.0, -60.0),
                                          quick=quick),
         options=("omega=1000 deg/s",)),
+    "mimu-24bit-quiet-skewed-repeats": MimuVariant(
+        "mimu-24bit-quiet-skewed-repeats",
+        "a quiet MIMU (0.0003–0.001 °/s/√Hz, 10–30 µg/√Hz), 24-bit at 50 Hz .npy, 60 s records, large "
+        "cross terms (±2×10⁻², non-orthogonal axes) at latitude ±(50–85)°; three repeated calibrations "
+        "(rate-repeat, remounted in the fixture, K_g diagonal σ 2×10⁻⁴ and B_g σ 0.01 °/s per power-on); "
+        "table U 5×10⁻⁵, ±5″, fixture 5″, axis perpendicularity 5″ stated",
+        lambda f, rng, quick: build_mimu(f, rng, dt=0.02, seconds=60.0, fmt="npy", bits=24, fs_g=500.0,
+                                         fs_a=10.0, rates=(-500, -250, -100, -20, 0, 20, 100, 250, 500),
+                                         xc_g=2e-2, xc_a=2e-2, g_sens=0.01, p_mag=2e-4, arw=(3e-4, 1e-3),
+                                         vrw=(1e-5, 3e-5),
+                                         lab=Lab(table_U=5e-5, position_accuracy=5.0, fixture=5.0, axis_perp=5.0,
+                                                 state_axis_perp=True),
+                                         lat_range=(50.0, 85.0) if rng.uniform() < 0.5 else (-85.0, -50.0),
+                                         repeats=3, sigma_K=2e-4, sigma_B=0.01, quick=quick),
+        options=("omega=500 deg/s",)),
 }
 
 

@@ -28,7 +28,7 @@ P = np.array([[0, 2e-4, -1e-4], [1e-4, 0, 3e-4], [-2e-4, 1e-4, 0]])
 UP = {"+x": (0, 1), "-x": (0, -1), "+y": (1, 1), "-y": (1, -1), "+z": (2, 1), "-z": (2, -1)}
 
 
-def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_tilt=0.0, extra_table=()):
+def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_tilt=0.0, extra_table=(), lat=0.0):
     """A noise-free MIMU (eq. (1), (2); G = 0, no earth rate) at latitude 0: positions feel ±g_loc
     along the up axis; the sweep about j turns about e_j tilted by ``sweep_misalign`` (rad) towards
     the next axis; at rest the table axis leans by ``rest_tilt`` (rad) towards the next axis."""
@@ -36,7 +36,7 @@ def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_
     f = g_loc / GN
     lines = ['format = "metro-campaign/1"', "[device]", 'id = "M"', 'output = "rate"', 'gyro_range = "400 °/s"',
              'accel_range = "8 gn"', "[environment]", 'temperature = "20 °C"', 'humidity = "40 %"', "[site]",
-             'latitude = "0°"', *site, "[[equipment]]", 'id = "T"', 'role = "rate_table"', 'position_accuracy = "10″"',
+             f'latitude = "{lat!r}°"', *site, "[[equipment]]", 'id = "T"', 'role = "rate_table"', 'position_accuracy = "10″"',
              *extra_table, "[equipment.calibration]", 'certificate = "C"', f'U = "{table_U}"', "k = 2",
              "[[equipment]]", 'id = "D"', 'role = "acquisition"', "bits = 24", ""]
     wiggle = 1e-9 * np.where(np.arange(40) % 2, 1.0, -1.0)
@@ -50,11 +50,13 @@ def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_
                       'sample_interval = "1 s"', "[segments.conditions]",
                       *(f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in cond.items()), ""])
 
+    wv = math.degrees(7.2921150e-5) * math.sin(math.radians(lat))  # vertical earth rate, °/s
     for up, (j, s) in UP.items():
         force = np.zeros(3)
         force[j] = s * f
         for h in (0, 180):
-            seg(f"pos{up}-h{h}", "position", KG @ np.zeros(3) + BG, KA @ force + BA, {"up": up, "heading": f"{h}°"})
+            seg(f"pos{up}-h{h}", "position", KG @ (force / f * wv) + BG, KA @ force + BA,
+                {"up": up, "heading": f"{h}°"})
     for j, a in enumerate("xyz"):
         axis = np.zeros(3)
         axis[j] = 1.0
@@ -158,3 +160,25 @@ def test_p_budget_covers_the_table_axis_leaning_at_rest(run_cli, tmp_path):
         assert r["value"] - P[i, j] == pytest.approx(-KA[i, i] * d / w2, rel=1e-3)
         assert abs(r["value"] - P[i, j]) < r["U"]
         assert any(x["symbol"] == "u_t" for x in r["budget"]["rows"])
+
+
+def test_earth_rate_is_in_every_g_term_of_its_column(run_cli, tmp_path):
+    """With axis j up the vertical earth rate lies along +j and flips with it, so eq. (7) puts
+    K_g[:, j]·Ω_e·sin φ into the whole column j of the g matrix: the cross terms hold the
+    cross-coupling times it (8×10⁻⁵ (°/s)/gn for 2 % at 80°, 0.75 U on a quiet MIMU), and were labelled
+    earth rate "not applicable".  Here G = 0: every g term is the leak."""
+    lat = 60.0
+    wv = math.degrees(7.2921150e-5) * math.sin(math.radians(lat))
+    manifest = _write(tmp_path / "e", lat=lat, site=['gravity = "9.80665 m/s²"'])
+    res, _ = _run(run_cli, manifest, "7.2.2")
+    for i, r in enumerate("xyz"):
+        for j, c in enumerate("xyz"):
+            g = res[("7.2.2", f"g_{r}{c}")]
+            assert g["value"] == pytest.approx(KG[i, j] * wv, abs=1e-12)
+            assert g["earth_rate"] == "included", (r, c, g["earth_rate"])
+    code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data", str(manifest), "--json", "--no-report",
+                             "-o", "earth_rate=yes")
+    assert code in (0, 3, 4), err
+    for x in json.loads(out)["results"]:
+        if x["key"].startswith("g_"):
+            assert x["earth_rate"] == "removed" and abs(x["value"]) < 1e-12, x

@@ -710,19 +710,24 @@ class GyroBiasGSensitivity(Procedure):
                 rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-                note, er = "", "not applicable"
-                if i == j:
-                    try:
-                        lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
-                    except (DataError, KeyError, ValueError):
-                        lat = math.nan
-                    v = EARTH_RATE_DEG_S * math.sin(math.radians(lat))
-                    if leak is not None:
-                        note, er = msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)", leak=leak[i, j]), "removed"
-                    else:
-                        note, er = msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
-                                       "(φ = {lat:g}°) into g_{r}{r}, as the standard prints; option earth_rate = yes "
-                                       "removes it", r=r, v=v, lat=lat), "included"
+                # the vertical earth rate is along +j with axis j up and flips with it: eq. (7) puts
+                # K_g[:, j]·Ω_e·sin φ into the whole column j — the diagonal mostly, the cross terms by
+                # the cross-coupling (interpretations, "Earth rate disclosed (JJF 2003)")
+                try:
+                    lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+                except (DataError, KeyError, ValueError):
+                    lat = math.nan
+                v = EARTH_RATE_DEG_S * math.sin(math.radians(lat)) / mounting.local_gravity(campaign)[0]
+                if leak is not None:
+                    note, er = msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)", leak=leak[i, j]), "removed"
+                elif i == j:
+                    note, er = msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
+                                   "(φ = {lat:g}°) into g_{r}{r}, as the standard prints; option earth_rate = yes "
+                                   "removes it", r=r, v=v, lat=lat), "included"
+                else:
+                    note, er = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
+                                   "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}; option earth_rate = yes "
+                                   "removes it", r=r, c=c, v=v, lat=lat), "included"
                 results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note, earth_rate=er))
         table = TableSpec("six_positions", msg("Pair-averaged gyro outputs U_g (°/s), eq. (6)"),
                           ["", *F.SIX_POSITIONS], [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
