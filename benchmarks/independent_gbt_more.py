@@ -100,16 +100,22 @@ def line(x, y):
 # --------------------------------------------------------------------------------------------
 
 def revolution_counts(rng, *, sign: int, rate: float, m: int, scale: float, K: float, bias: float,
-                      noise: Noise, table_err: float, edge: float) -> tuple[np.ndarray, np.ndarray]:
+                      noise: Noise, table_err: float, edge: float, clock: list | None = None,
+                      phase: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """m whole revolutions at ``sign``·``rate`` °/s: the pulses counted between revolution pulses
     (an undithered counter: floor of the cumulative angle × K, random start phase) and each
     revolution's duration.  ``scale`` the device's relative scale factor in this direction and at
     this rate, ``bias`` (°/h = ″/s) bias + earth rate, ``table_err`` the table's relative rate
-    error, ``edge`` the revolution pulse's position error (uniform ±edge ″)."""
+    error, ``edge`` the revolution pulse's position error (uniform ±edge ″); ``clock`` = [t] the
+    campaign's time (s), advanced by the revolutions, and ``phase`` the power-on's wander phase,
+    so a thermal wander runs on through the whole sweep."""
     T = 360.0 / (rate * (1 + table_err))
     k = max(4, int(math.ceil(T)))
     dt = T / k
-    e, w = noise.draw(m * k, dt, rng)
+    t0 = clock[0] if clock is not None else 0.0
+    e, w = noise.draw(m * k, dt, rng, t0=t0, phase=phase)
+    if clock is not None:
+        clock[0] = t0 + m * T + 60.0  # a minute to reverse or change the rate
     noise_angle = ((e + w) * dt).reshape(m, k).sum(axis=1)            # ″ per revolution
     edges = rng.uniform(-edge, edge, m + 1)
     table_angle = REV + np.diff(edges)
@@ -126,7 +132,7 @@ def write_revolutions(camp: Campaign, sid: str, kind: str, counts, durations, T:
 
 
 def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), asym=2e-5,
-                sigma_K_range=(1e-6, 2e-5), flick=0.0, quick=False) -> dict:
+                sigma_K_range=(1e-6, 2e-5), flick=0.0, wander=0.0, quick=False) -> dict:
     """A laser gyro (pulse output) on the angle method: the D.1.1 sweep (R5 up to a maximum of
     100 … 500 °/s, m whole revolutions each way), the zero-rate counts of D.1.3.2 a) at the start
     and the end (300 s at τ = 1 s), and 7 power-ons at 30 °/s (D.1.4.2)."""
@@ -144,7 +150,8 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
     a = asym * float(rng.uniform(-1, 1))                                 # (K+ − K−)/K
     sigma_K = float(rng.uniform(*sigma_K_range))
     arw = float(rng.uniform(0.001, 0.005))
-    noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)))
+    noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)), wander_amp=wander * float(rng.uniform(0.5, 1.5)),
+                  wander_period=float(rng.uniform(3600, 3 * 3600)))
     b_mean = float(rng.uniform(-1, 1))
     U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
     table = {"id": "RT-X", "role": "rate_table", "revolution_pulse_accuracy": "2″",
@@ -161,19 +168,23 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
     eps0 = sigma_K * float(rng.standard_normal())
     b0 = b_mean + 0.005 * float(rng.standard_normal())
     zero_out = Output("pulse", K=K)
-    for tag in ("start",):
-        e, w = noise.draw(300 if not quick else 100, 1.0, rng)
+    clock, phase = [0.0], float(rng.uniform(0, 2 * math.pi))
+    n_zero = 300 if not quick else 100
+
+    def zero(tag):
+        e, w = noise.draw(n_zero, 1.0, rng, t0=clock[0], phase=phase)
+        clock[0] += n_zero + 60.0
         camp.add(f"zero-{tag}", "static-zero", zero_out.record(b0 + earth + e + w, 1.0, rng=rng), 1.0,
                  {"orientation": "IRA up"})
+
+    zero("start")
     for r in rates:
         for sgn, tag in ((1, "+"), (-1, "-")):
             cnt, dur = revolution_counts(rng, sign=sgn, rate=r, m=m, scale=scale(sgn, r, eps0), K=K, bias=b0 + earth,
-                                         noise=noise, table_err=terr[r], edge=2.0)
+                                         noise=noise, table_err=terr[r], edge=2.0, clock=clock, phase=phase)
             write_revolutions(camp, f"rate{tag}{r:g}", "rate-revolutions", cnt, dur, 360.0 / r,
                               {"rate": f"{sgn * r!r} deg/s", "turns": m})
-    e, w = noise.draw(300 if not quick else 100, 1.0, rng)
-    camp.add("zero-end", "static-zero", zero_out.record(b0 + earth + e + w, 1.0, rng=rng), 1.0,
-             {"orientation": "IRA up"})
+    zero("end")
     # D.1.4: seven power-ons at 30 °/s, each with its own K and bias
     for j in range(1, 8):
         eps = sigma_K * float(rng.standard_normal())
@@ -501,6 +512,11 @@ VARIANTS = {
         "5–50 ppm, asymmetry ±50 ppm, K power-on σ 2–40 ppm",
         lambda f, rng, quick: build_angle(f, rng, K_range=(0.05, 0.2), c_range=(5e-6, 5e-5), asym=5e-5,
                                           sigma_K_range=(2e-6, 4e-5), flick=0.01, quick=quick)),
+    "angle-pulse-drift": Variant(
+        "angle-pulse-drift", "gbt45570", ANGLE_ITEMS,
+        "as angle-pulse-fine with a slow thermal bias wander of 0.005–0.045 °/h amplitude (period 1–3 h) running "
+        "through the whole sweep, the zero-rate counts at its start and end",
+        lambda f, rng, quick: build_angle(f, rng, wander=0.03, quick=quick)),
     "rate-lsb-10Hz": Variant(
         "rate-lsb-10Hz", "gbt45570", RATE_ITEMS,
         "fibre gyro, LSB word 1 LSB ≈ 0.05 °/h (finer than the noise), 10 Hz, 100 s per point, .npy; "
@@ -544,6 +560,10 @@ VARIANTS = {
         "points with limits −55…70 °C, turn-on σ 0.002–0.01 °/h per power-on, D.5.3's 7 repeats in the campaign; "
         "field ±0.5–2 mT, S up to 0.01 °/h/mT per axis, the six field biases in one power-on",
         lambda f, rng, quick: build_bias_env(f, rng, kind="pulse", dt=1.0, fmt="csv", quick=quick)),
+    "bt-bh-lsb-10Hz-flicker": Variant(
+        "bt-bh-lsb-10Hz-flicker", "gbt45570", "D.5.4,D.5.5",
+        "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, D.5.3's repeats, the six field biases in one power-on",
+        lambda f, rng, quick: build_bias_env(f, rng, kind="LSB", dt=0.1, q=0.05, flick=0.003, quick=quick)),
     "bt-bh-lsb-10Hz-flicker-no-repeats": Variant(
         "bt-bh-lsb-10Hz-flicker-no-repeats", "gbt45570", "D.5.4,D.5.5",
         "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, no D.5.3 repeats, each field bias its own power-on",
