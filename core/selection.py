@@ -11,6 +11,7 @@ module estimates by how much, and gives the budget rows and note of the correcti
 
 from __future__ import annotations
 
+import math
 from typing import Sequence
 
 import attrs
@@ -57,9 +58,24 @@ def line_scatter(y: Sequence[float], x: Sequence[float]) -> tuple[float, int]:
     return float(fit.residual_sd), int(fit.dof)
 
 
+def curve_scatter(y: Sequence[float], x: Sequence[float], degree: int = 1) -> tuple[float, int]:
+    """The residual standard deviation of ``y`` about a least-squares polynomial of ``degree`` in
+    ``x`` and its n − degree − 1 degrees of freedom; :func:`line_scatter` for degree 1, and (0, 0)
+    with fewer than degree + 3 points (no estimate of a scatter from one degree of freedom)."""
+    if degree <= 1:
+        return line_scatter(y, x)
+    yy, xx = np.asarray(y, dtype=float), np.asarray(x, dtype=float)
+    if yy.size < degree + 3:
+        return 0.0, 0
+    xc = xx - xx.mean()
+    r = yy - np.polyval(np.polyfit(xc, yy, degree), xc)
+    dof = yy.size - degree - 1
+    return float(math.sqrt(float(np.sum(r * r)) / dof)), int(dof)
+
+
 def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Sequence[float], i0: int, *,
                         relative: bool, draws: int = 4000, seed: int = 45570,
-                        observed: bool = False) -> MaxSelection:
+                        observed: bool = False, cap_degree: int = 1) -> MaxSelection:
     """Selection bias of max_i |(y_i − y_0)/(d·(T_i − T_0))| (d = y_0 when ``relative``, D.12/D.29;
     d = 1, D.43), by Monte Carlo (GUM Supplement 1) about a smoothed K(T) or B(T).
 
@@ -80,7 +96,10 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     upper confidence limit of σ from the points' rms scatter s_r about a straight line in T
     (n − 2 degrees of freedom, s_r·√((n − 2)/χ²₀.₀₅(n − 2))): a stated u far above what the points
     show would correct for a noise they do not have, while a scatter small by chance does not
-    take away the correction of a noise they do have.
+    take away the correction of a noise they do have.  ``cap_degree`` 2: where there are ≥ 5 points,
+    the smaller of that limit and the one from the scatter about a quadratic in T (n − 3 degrees of
+    freedom) — a curved K(T) is a real difference between the slopes, not scatter (JJF 2014,
+    interpretations.md "7.2.5 / 7.2.16 — a curved K(T) is not noise").
 
     Hand-checked: five equal slopes of u = 1 give bias ≈ +1.1 (the mean maximum of five |N(0,1)|
     deviates about a common slope of 10 is 10 + 1.16; the shared y_0 correlates them, which lowers
@@ -102,6 +121,9 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     sr, nu = line_scatter(y, T) if observed else (0.0, 0)
     if nu:
         cap = upper_sigma(sr, nu)
+        sq, nq = curve_scatter(y, T, cap_degree) if cap_degree > 1 else (0.0, 0)
+        if nq:
+            cap = min(cap, upper_sigma(sq, nq))
         if np.any(cap < uu):
             uu, scatter = np.minimum(uu, cap), cap
     deg = 1

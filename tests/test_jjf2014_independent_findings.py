@@ -182,3 +182,29 @@ def test_one_set_of_mountings_does_not_know_the_reseating(tmp_path):
     assert r["reportable"] is True
     assert any("re-seating" in row["source"] for row in r["budget"]["rows"])
     assert abs(r["value"] - 10.0) <= r["U"] < 6.0, (r["value"], r["U"])
+
+
+def test_a_curved_k_of_t_is_not_noise(tmp_path):
+    """7.2.5 is one power-on through the chamber (7.2.5.1 d)).  Without a K_r in the campaign the K_i
+    were drawn, for the selection correction of the largest slope, with their scatter about a straight
+    line in T — which on a curved K(T) is the curvature: the independent harness's devices read K_t with
+    mean E_n −0.38 (100 devices) and U ≈ 1.7 × the value.  Hand device: K = 20·(1 + 2×10⁻⁴ΔT +
+    2×10⁻⁶ΔT²) mV/((°)/s), noise 10⁻⁴ mV per sample; truth by eq. (11): max over T_i of
+    |K_i/K_m − 1|/|ΔT| = 2×10⁻⁴ + 2×10⁻⁶·50 = 3.0×10⁻⁴ /°C at 70 °C.  Now the points carry their fits'
+    u: K_t within 0.2 U of the truth and U under a tenth of it."""
+    rng = np.random.default_rng(5)
+    w = _Writer(tmp_path)
+    K0 = 20.0
+    _cal(w, rng, K0, "rate", "rate", {}, bias=100.0)
+    temps = (-20.0, 0.0, 20.0, 45.0, 70.0)
+    kt = {}
+    for T in temps:
+        dT = T - 20.0
+        k = K0 * (1 + 2e-4 * dT + 2e-6 * dT * dT)
+        kt[T] = abs(k / K0 - 1) / abs(dT) if dT else 0.0
+        _cal(w, rng, k, "rate-temperature", f"rt@{T:g}", {"temperature": f"{T!r} degC"}, bias=100.0)
+    truth = max(kt.values())
+    assert math.isclose(truth, 3.0e-4)
+    r = _run(w.manifest({"id": "KT2", "technology": "vibratory", "output": "analog"}), "7.2.5")["Kt"]
+    assert abs(r["value"] - truth) <= 0.2 * r["U"], (r["value"], truth, r["U"])
+    assert r["U"] < 0.1 * truth, r["U"]

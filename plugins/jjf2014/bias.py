@@ -23,7 +23,7 @@ from metro.core.model import (
     Step,
     TableSpec,
 )
-from metro.core.selection import line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
+from metro.core.selection import curve_scatter, line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_
 
 from . import budgets as B
@@ -364,13 +364,19 @@ class BiasTemperature(_JJF):
         bvs = [BiasValue(groups[k][0], K * (kt_ratio[j][0] if kt_ratio else 1.0)) for j, k in enumerate(keys)]
         bt, i = F.bias_temperature_eq31([b.B0 for b in bvs], temps, m)
         dT = abs(temps[i] - temps[m])
-        rep = with_scatter(bias_repeatability(campaign, K), *line_scatter([b.B0 for b in bvs], temps),
-                           msg("the B_0i about a straight line in T"))
+        # one power-on through the chamber (7.2.16.1 c)): without a B_r the points carry their own u, not
+        # their scatter about a line in T, which holds B(T)'s curvature (interpretations.md, "7.2.5 /
+        # 7.2.16 — a curved K(T) is not noise")
+        base = bias_repeatability(campaign, K)
+        deg = 2 if len(bvs) >= 5 else 1
+        rep = base if base is None else with_scatter(base, *curve_scatter([b.B0 for b in bvs], temps, deg),
+                                                     msg("the B_0i about a straight line in T") if deg == 1 else
+                                                     msg("the B_0i about a quadratic in T"))
         # the largest of N − 1 noisy slopes: its selection bias removed (interpretations.md, "JJF 2014 —
         # the largest of noisy slopes and changes"); drawn with B_r, or the points' scatter about a
         # line in T where it is smaller
         sel = max_slope_selection([b.B0 for b in bvs], [_u_single(b, rep, kv) for b in bvs], temps, m, relative=False,
-                                  observed=True)
+                                  observed=True, cap_degree=2)
         bt = max(sel.value, 0.0)
         rows = [_single(bvs[i], rep, f"B₀ at {temps[i]:g} °C", 1 / dT, "deg/h/delta_degC"),
                 _single(bvs[m], rep, f"B₀ at {temps[m]:g} °C", 1 / dT, "deg/h/delta_degC"),

@@ -10,7 +10,7 @@ from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
 from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, TableSpec
-from metro.core.selection import line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
+from metro.core.selection import curve_scatter, line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_, parse_quantity
 
 from . import budgets as B
@@ -301,12 +301,19 @@ class SFTemperature(_JJF):
         Ks = [s.K for s in sets]
         kt, i = F.sf_temperature_eq11(Ks, temps, m)
         dT = temps[i] - temps[m]
-        rep = with_scatter(sf_repeatability(campaign), *line_scatter(np.asarray(Ks) / np.mean(Ks), temps),
-                           msg("the K_i about a straight line in T"))
+        # one power-on through the chamber (7.2.5.1 d)): without a K_r the points carry their own fits' u,
+        # not their scatter about a line in T — that holds K(T)'s curvature, a real slope difference
+        # (interpretations.md, "7.2.5 / 7.2.16 — a curved K(T) is not noise")
+        base = sf_repeatability(campaign)
+        deg = 2 if len(Ks) >= 5 else 1
+        rep = base if base is None else with_scatter(base, *curve_scatter(np.asarray(Ks) / np.mean(Ks), temps, deg),
+                                                     msg("the K_i about a straight line in T") if deg == 1 else
+                                                     msg("the K_i about a quadratic in T"))
         # the largest of N − 1 noisy slopes: its selection bias removed (interpretations.md, "JJF 2014 —
         # the largest of noisy slopes and changes"); the points drawn with K_r·K, or their scatter about
         # a line in T where it is smaller (one power-on through the chamber)
-        sel = max_slope_selection(Ks, [s.u_single(rep)[0] for s in sets], temps, m, relative=True, observed=True)
+        sel = max_slope_selection(Ks, [s.u_single(rep)[0] for s in sets], temps, m, relative=True, observed=True,
+                                  cap_degree=2)
         kt = max(sel.value, 0.0)
         # Kt = |K_i/K_m − 1|/|ΔT|: ∂/∂K_i = 1/(K_m|ΔT|), ∂/∂K_m ≈ K_i/(K_m²|ΔT|)
         ci, cm = 1 / (Ks[m] * abs(dT)), Ks[i] / (Ks[m] ** 2 * abs(dT))
