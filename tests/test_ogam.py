@@ -134,7 +134,7 @@ def test_quiet_instrument_matches_the_model_exactly(pm):
         assert _as_printed(got[key]).to(exp.units).magnitude == pytest.approx(exp.magnitude, rel=1e-9, abs=1e-12), key
     assert got["R"].value.magnitude == pytest.approx(0.0, abs=1e-9)
     # K_l: the plugin does not know the counts are unrounded here, so it still takes off the widening
-    # that ±0.5 count would give; the model's value stays within U
+    # that ±1 count (triangular) would give; the model's value stays within U
     kl = got["Kl"]
     assert abs(kl.value - camp.expected["Kl"]) <= kl.U
 
@@ -178,7 +178,7 @@ def test_noisy_instrument_e_within_U_of_truth_over_seeds(pm):
         r = rec.outcomes[0].results[0]
         inside += abs(r.value.to("arcsec").magnitude - camp.expected["E"].to("arcsec").magnitude) <= r.U.magnitude
         b = r.budget.as_dict()
-        assert [row["symbol"] for row in b["rows"]] == ["u(P)", "u(θ_ψ)", "u(δ)", "u(r)"]
+        assert [row["symbol"] for row in b["rows"]] == ["u(P)", "u(θ_ψ)", "u(δ)", "u(r)", "u(q)"]
         assert b["k"] == 2.0
     assert inside >= 7
 
@@ -453,7 +453,7 @@ def test_72_linearity_budget_and_mean_en_over_coarse_instruments(pm):
             # value + correction = the printed range
             assert r.value.magnitude + r.budget.rows[1].value.to("percent").magnitude == pytest.approx(printed)
             K = float(np.mean(k_i))
-            assert f"count rounding ±0.5 count = ±{1800.0 / K:.3g}″" in r.budget.rows[0].note  # 0.5/K of a degree
+            assert f"counting ±1 count (triangular) = ±{3600.0 / K:.3g}″" in r.budget.rows[0].note  # 1/K of a degree
     assert abs(np.mean(ens)) <= 0.3 and inside >= 55, (np.mean(ens), inside)
 
 

@@ -168,6 +168,32 @@ def repeatability_75(errors_by_round: np.ndarray) -> tuple[float, np.ndarray]:
     return float(r_i.max()), r_i
 
 
+def reading_step(errors_arcsec: np.ndarray, *, tol: float = 1e-6) -> float:
+    """The step of the readings, inferred from the data (not in the draft; interpretations.md,
+    "7.4 — the reading's resolution"), ″.
+
+    Readings rounded to a resolution q differ by whole multiples of q: the smallest non-zero difference
+    between the rounds' E_ij at one stop (columns: stops), over the stops; when every round reads the same at
+    every stop, the smallest non-zero difference between any two E_ij (the standard angles, whole multiples of
+    30°, keep a decimal q's grid).  Unrounded readings give a step far below their noise.  0 when all values
+    are equal.
+
+    :param errors_arcsec: E_ij, ″, rounds × stops.
+    :param tol: differences below this (″) are float noise of the unit conversion, not a step.
+    """
+    e = np.atleast_2d(np.asarray(errors_arcsec, dtype=float))
+
+    def smallest(v: np.ndarray) -> float:
+        d = np.diff(np.unique(v))
+        d = d[d > tol]
+        return float(d.min()) if d.size else math.inf
+
+    q = min((smallest(e[:, j]) for j in range(e.shape[1])), default=math.inf)
+    if not math.isfinite(q):
+        q = smallest(e.ravel())
+    return q if math.isfinite(q) else 0.0
+
+
 # ------------------------------------------------------------------------------ 7.6 / 7.7
 
 

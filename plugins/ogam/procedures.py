@@ -234,8 +234,36 @@ def repeatability_row(R_arcsec: float, rounds: int) -> BudgetRow:
                             note=msg("{n} rounds", n=rounds))
 
 
+def reading_step_of(campaign: Campaign, E: np.ndarray) -> tuple[float, str]:
+    """(q in ″, where it was seen): the step of the positioning readings, else of the 7.3 readings at rest
+    (the same display; over an hour at rest the reading moves by whole steps), else 0."""
+    q = F.reading_step(E)
+    if q > 0.0:
+        return q, "positioning"
+    for seg in campaign.find_segments("zero"):
+        qz = F.reading_step(_column(seg, "reading", "arcsec")[:, None].T)
+        if qz > 0.0:
+            return qz, "zero"
+    return 0.0, ""
+
+
+def resolution_row(E: np.ndarray, campaign: Campaign | None = None) -> BudgetRow:
+    """The reading's resolution, ±q/2 uniform, q the step the readings show (:func:`.formulas.reading_step`;
+    interpretations.md, "7.4 — the reading's resolution"): a reading rounded coarser than the
+    instrument's noise errs by a fixed amount at each stop that the repeatability of 7.5 does not see."""
+    q, where = reading_step_of(campaign, E) if campaign is not None else (F.reading_step(E), "positioning")
+    if q == 0.0:  # 7.4 then reports E as not reportable
+        return BudgetRow.type_b(msg("resolution of the reading (every E_ij equal: the step is unknown)"), "u(q)",
+                                Q_(0.0, "arcsec"), distribution="uniform")
+    return BudgetRow.type_b(msg("resolution of the reading (±q/2)"), "u(q)", Q_(q / 2.0, "arcsec"), distribution="uniform",
+                            note=msg("q = {q:.3g}″, the smallest step between the readings", q=q) if where == "positioning"
+                            else msg("q = {q:.3g}″, the smallest step between the 7.3 readings at rest (the positioning "
+                                     "readings all read the same)", q=q))
+
+
 def e_budget(rows: list[BudgetRow]) -> UncertaintyBudget:
-    """Appendix A 7–8: u_c = sqrt(u(P)² + u(θ_ψ)² + u(δ)² + u(r)²), U = 2·u_c."""
+    """Appendix A 7–8: u_c = sqrt(u(P)² + u(θ_ψ)² + u(δ)² + u(r)²), U = 2·u_c, with the reading's
+    resolution u(q) added (not in appendix A, whose instrument reads far finer than its noise)."""
     return UncertaintyBudget("E", "arcsec", rows, coverage=COVERAGE)
 
 
@@ -284,7 +312,7 @@ class _EBase(Procedure):
         trow, sim = tilt_row(psi)
         time = parse_quantity(opts["drift_time"], dimension="min", field="option drift_time")
         rows = [positioning_row(campaign, warnings), trow, drift_row(_zero_stability(campaign, opts), time),
-                repeatability_row(R, E.shape[0])]
+                repeatability_row(R, E.shape[0]), resolution_row(E, campaign)]
         return S, E, rounds, R, R_i, rows, sim
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -315,7 +343,9 @@ class ScaleFactor71(Procedure):
 
     Budget: scatter of the K_i (type A, s/√n, ν = n − 1), the turntable positioning error,
     which changes each θ_i (type B; sensitivity of the mean, sqrt(Σ(K_i/θ_i)²)/n per ″), and
-    the resolution of the counts (±0.5 count, uniform; sensitivity sqrt(Σθ_i⁻²)/n).
+    the counting of the C_i: ±1 count, triangular — the counter is zeroed and read at arbitrary phases of
+    the pulse train, two independent ±0.5 count roundings (interpretations.md, "7.1 / 7.2 — a count is
+    ±1 count"); sensitivity sqrt(Σθ_i⁻²)/n.
     """
 
     standard = STANDARD
@@ -343,7 +373,8 @@ class ScaleFactor71(Procedure):
             BudgetRow.type_a(msg("scatter of the rounds' K_i"), "s(K_i)/√n", Q_(float(np.std(k_i, ddof=1)) / math.sqrt(n),
                              "P/deg"), n - 1, note=msg("{n} rounds", n=n)),
             attrs_evolve_sensitivity(positioning_row(campaign, warnings), Q_(sens, "P/deg/arcsec")),
-            BudgetRow.type_b(msg("resolution of the counts C_i (±0.5 count)"), "u(C)", Q_(0.5, "P"), distribution="uniform",
+            BudgetRow.type_b(msg("counting of the C_i (±1 count, triangular: a counter zeroed and read at any phase of the pulses)"),
+                             "u(C)", Q_(1.0, "P"), distribution="triangular",
                              sensitivity=Q_(math.sqrt(float(np.sum(theta ** -2.0))) / n, "1/deg"),
                              note=msg("each K_i = C_i/θ_i, independent roundings")),
         ]
@@ -383,7 +414,7 @@ def linearity_noise(campaign: Campaign, theta_deg: np.ndarray, K: float, warning
     """Draws (KL_DRAWS × rounds) of the relative errors of the K_i = C_i/θ_i, and what they hold.
 
     Each K_i errs by δφ_i/θ_i: the turntable positioning at the stop (its calibration), the count
-    rounding (±0.5 count = 0.5/K of a degree, uniform) and, when the campaign has the 7.5 rounds at
+    counting (±1 count = 1/K of a degree, triangular: zeroed and read at any phase) and, when the campaign has the 7.5 rounds at
     60 °/s with the axis up, the angle repeatability R of 7.5 in place of the positioning when larger
     (R holds the positioning, the reading noise and the random walk of a stop)."""
     rng = np.random.default_rng(KL_SEED)
@@ -400,9 +431,9 @@ def linearity_noise(campaign: Campaign, theta_deg: np.ndarray, K: float, warning
             what = msg("angle repeatability R = {R:.3g}″ of 7.5 ({n} rounds; holds the positioning)", R=R, n=len(rounds))
     else:
         what = join("; ", [what, msg("no 7.5 rounds: the reading noise and random walk of a stop are not in it")])
-    count = 0.5 / K * F.ARCSEC_PER_DEG
-    ang = ang + rng.uniform(-count, count, size)
-    return ang / (theta_deg * F.ARCSEC_PER_DEG), join("; ", [what, msg("count rounding ±0.5 count = ±{c:.3g}″", c=count)])
+    count = 1.0 / K * F.ARCSEC_PER_DEG
+    ang = ang + rng.triangular(-count, 0.0, count, size)
+    return ang / (theta_deg * F.ARCSEC_PER_DEG), join("; ", [what, msg("counting ±1 count (triangular) = ±{c:.3g}″", c=count)])
 
 
 class Linearity72(Procedure):
@@ -515,6 +546,10 @@ class ZeroStability73(Procedure):
                               minutes=T_h * 60, other=other) if stat == "std" else
                      msg("{n} readings over {minutes:g} min; std reading {other:.3g} °/h", n=n, minutes=T_h * 60,
                          other=other))
+        # interpretations.md, "7.3 — B_s is this hour's": what U covers, said where the number is
+        res = attrs.evolve(res, note=join("; ", [res.note, msg(
+            "this hour's zero stability: U holds the readout and the sampling of the readings, not the spread "
+            "from one hour to another of an instrument whose rate wanders")]))
         plot = PlotSpec("zero", msg("Readings at rest (7.3)"), "t (min)", "M (″)",
                         [{"label": "M_n", "x": (np.arange(n) * T_h * 60 / (n - 1)).tolist(),
                           "y": (m * F.ARCSEC_PER_DEG).tolist(), "style": "o-"}])
@@ -558,6 +593,10 @@ class PositionError74(_EBase):
         res = Result(self.metrics[0], Q_(Emax, "arcsec"), budget.combined, budget,
                      note=msg("reported as ±{E:.3g}″; largest |E_i| at S = {S:g}° (E_i = {Ei:+.3f}″), round {round}",
                               E=Emax, S=S[j], Ei=e_i[j], round=want))
+        if reading_step_of(campaign, E)[0] == 0.0:
+            res = attrs.evolve(res, reportable=False, reason=msg(
+                "every reading of every round is the same E_ij: the reading's resolution, which bounds the error, "
+                "cannot be seen in the data"))  # nor in a 7.3 record (reading_step_of)
         plot = PlotSpec("E_i", msg("Angle-position error per position (7.4)"), "S (°)", "E_i (″)",
                         [{"label": msg("round {r}", r=r), "x": S.tolist(), "y": E[k].tolist(),
                           "style": "o-" if r == want else ":"} for k, r in enumerate(rnums)])
@@ -637,17 +676,31 @@ def _consistency(proc: _EBase, campaign: Campaign, opts, groups_wanted: list[tup
         warnings.append(msg("not measured: {what}", what=", ".join(missing)))
     e_ref = values[ref]
     if e_ref == 0:
-        raise ProcedureError(f"{proc.item}: the reference angle-position error is zero, so the ratio is undefined")
+        # every stop of the reference round read the standard exactly (a reading rounded coarser than the
+        # instrument's errors): the ratio is undefined, and only this result is lost (not the run)
+        return None, [], warnings, used, values, table_rows
     C = F.consistency_ratio(list(values.values()), e_ref) * 100.0
     # the extreme and the reference E each carry the non-common part of the E budget
     # (positioning, drift, repeatability); the tilt error is common to all and cancels
     c = 100.0 * math.sqrt(2.0 + (C / 100.0) ** 2) / e_ref
-    brows = [attrs_evolve_sensitivity(r, Q_(c, "percent/arcsec")) for r in (rows[0], rows[2], rows[3])]
-    uE = math.sqrt(sum(float(r.standard_uncertainty.to("arcsec").magnitude) ** 2 for r in (rows[0], rows[2], rows[3])))
+    noncommon = (rows[0], rows[2], rows[3], rows[4])
+    brows = [attrs_evolve_sensitivity(r, Q_(c, "percent/arcsec")) for r in noncommon]
+    uE = math.sqrt(sum(float(r.standard_uncertainty.to("arcsec").magnitude) ** 2 for r in noncommon))
     if e_ref < 2 * uE:
         warnings.append(msg("the reference E = {E:.3g}″ is below twice its uncertainty ({twice_u:.2g}″): the ratio "
                             "is ill-conditioned; see the range (max − min) in the note", E=e_ref, twice_u=2 * uE))
     return C, brows, warnings, used, values, table_rows
+
+
+def _ratio_result(metric: Metric, C: float | None, rows: list[BudgetRow], name: str, note) -> Result:
+    """The C_v / C_g result; not reportable when the reference E is 0 (interpretations.md, "7.6 / 7.7 —
+    E_ref = 0")."""
+    if C is None:
+        return Result(metric, Q_(0.0, "percent"), reportable=False, note=note, reason=msg(
+            "the reference E is 0 (every stop read the standard angle at the reading's resolution): the ratio "
+            "(max E − min E)/E_ref is undefined"))
+    budget = UncertaintyBudget(name, "percent", rows, coverage=COVERAGE_NU)
+    return Result(metric, Q_(C, "percent"), budget.combined, budget, note=note)
 
 
 def rate_points_76(campaign: Campaign) -> list[tuple[float, str]]:
@@ -682,11 +735,9 @@ class RateConsistency76(_EBase):
             self, campaign, opts, rate_points_76(campaign), (REF_RATE, "up"), lambda k: f"{k[0]:g} °/s")
         if len(values) != len(RATES):
             warnings.append(msg("{n} rate points; clause 7.6 asks for {asked}", n=len(values), asked=len(RATES)))
-        budget = UncertaintyBudget("C_v", "percent", rows, coverage=COVERAGE_NU)
         rng = max(values.values()) - min(values.values())
-        res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
-                     note=msg("max E_v − min E_v = {range:.3f}″, E_60 = {ref:.3f}″", range=rng,
-                              ref=values[(REF_RATE, 'up')]))
+        res = _ratio_result(self.metrics[0], C, rows, "C_v", msg("max E_v − min E_v = {range:.3f}″, E_60 = {ref:.3f}″",
+                                                                  range=rng, ref=values[(REF_RATE, 'up')]))
         table = TableSpec("E_v", msg("Angle-position error per rate (7.6)"), [msg("rate"), "E_v (″)"], trows)
         plot = PlotSpec("E_v", msg("Angle-position error against rate (7.6)"), "v (°/s)", "E_v (″)",
                         [{"label": "E_v", "x": [k[0] for k in values], "y": list(values.values()), "style": "o-"}],
@@ -716,11 +767,9 @@ class PointingConsistency77(_EBase):
         east = "east" if (REF_RATE, "east") in groups or (REF_RATE, "west") not in groups else "west"
         C, rows, warnings, used, values, trows = _consistency(
             self, campaign, opts, [(REF_RATE, a) for a in ("up", north, east)], (REF_RATE, "up"), lambda k: k[1])
-        budget = UncertaintyBudget("C_g", "percent", rows, coverage=COVERAGE_NU)
         rng = max(values.values()) - min(values.values())
-        res = Result(self.metrics[0], Q_(C, "percent"), budget.combined, budget,
-                     note=msg("max E_g − min E_g = {range:.3f}″, E_up = {ref:.3f}″", range=rng,
-                              ref=values[(REF_RATE, 'up')]))
+        res = _ratio_result(self.metrics[0], C, rows, "C_g", msg("max E_g − min E_g = {range:.3f}″, E_up = {ref:.3f}″",
+                                                                  range=rng, ref=values[(REF_RATE, 'up')]))
         table = TableSpec("E_g", msg("Angle-position error per axis direction (7.7)"), [msg("axis"), "E_g (″)"], trows)
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], tables=[table], warnings=warnings,
                        segments=used, options={k: str(v) for k, v in opts.items()})
