@@ -170,7 +170,7 @@ class Mimu:
 
 def draw_mimu(rng, *, xc_g: float, xc_a: float, g_sens: float, p_mag: float, arw: tuple, vrw: tuple,
               wander: float, bits: int, fs_g: float, fs_a: float, flip: float = 0.3,
-              gyro_unit="deg/s", acc_unit="gn") -> Mimu:
+              gyro_unit="deg/s", acc_unit="gn", ramp: bool = False) -> Mimu:
     """Matrices of eq. (1), (2): scale factors 0.9–1.1 (or 0.95–1.05), an axis read inverted with
     probability ``flip`` per axis, cross terms uniform within ±xc (non-orthogonal sensitive axes and
     electrical cross-coupling of either sign), g-sensitivity within ±g_sens, p within ±p_mag."""
@@ -184,8 +184,10 @@ def draw_mimu(rng, *, xc_g: float, xc_a: float, g_sens: float, p_mag: float, arw
     return Mimu(Kg=mat(0.9, 1.1, xc_g), Bg=rng.uniform(-0.5, 0.5, 3), G=rng.uniform(-g_sens, g_sens, (3, 3)),
                 Ka=mat(0.95, 1.05, xc_a), Ba=rng.uniform(-0.03, 0.03, 3), p=p,
                 arw=rng.uniform(*arw, 3), vrw=rng.uniform(*vrw, 3),
-                wander=wander * rng.uniform(0.5, 1.5, 3), wander_period=float(rng.uniform(600, 3600)),
-                wander_phase=rng.uniform(0, 2 * math.pi, 3), fs_g=fs_g, fs_a=fs_a, bits=bits,
+                wander=wander * rng.uniform(0.5, 1.5, 3) * (rng.choice([-1.0, 1.0], 3) if ramp else 1.0),
+                wander_period=float(rng.uniform(600, 3600)) if not ramp else 4 * 3600.0,
+                # ramp: a warm-up drift — the sinusoid's steepest part (a quarter period is 1 h)
+                wander_phase=rng.uniform(0, 2 * math.pi, 3) if not ramp else np.zeros(3), fs_g=fs_g, fs_a=fs_a, bits=bits,
                 gyro_unit=gyro_unit, acc_unit=acc_unit)
 
 
@@ -264,7 +266,7 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
                anomaly_mgal: float = 30.0, write_gravity: bool = False, gyro_unit="deg/s", acc_unit="gn",
                with_time: bool = True, quick: bool = False, flip: float = 0.3,
                items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0, sigma_K: float = 0.0,
-               sigma_B: float = 0.0) -> dict:
+               sigma_B: float = 0.0, ramp: bool = False) -> dict:
     """One MIMU written as a campaign of the 27 (3 axes × the rate set) rate segments and the twelve
     positions; returns the truth {(item, key): (value, unit, earth)} and ``options``."""
     lat = float(rng.uniform(*lat_range))
@@ -272,7 +274,7 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     g_loc = normal_gravity(lat, alt) + rng.uniform(-1, 1) * anomaly_mgal * 1e-5
     f_up = g_loc / G_N                                                   # specific force at rest, gn
     dev = draw_mimu(rng, xc_g=xc_g, xc_a=xc_a, g_sens=g_sens, p_mag=p_mag, arw=arw, vrw=vrw, wander=wander,
-                    bits=bits, fs_g=fs_g, fs_a=fs_a, flip=flip, gyro_unit=gyro_unit, acc_unit=acc_unit)
+                    bits=bits, fs_g=fs_g, fs_a=fs_a, flip=flip, gyro_unit=gyro_unit, acc_unit=acc_unit, ramp=ramp)
     device = {"id": folder.name, "manufacturer": "independent", "technology": "mems", "output": "rate",
               "gyro_range": f"{fs_g!r} °/s", "accel_range": f"{fs_a!r} gn"}
     site = {"latitude": lat}
@@ -456,6 +458,18 @@ VARIANTS = {
                                          lat_range=(50.0, 85.0) if rng.uniform() < 0.5 else (-85.0, -50.0),
                                          repeats=3, sigma_K=2e-4, sigma_B=0.01, quick=quick),
         options=("omega=500 deg/s",)),
+    "mimu-24bit-warmup-ramp": MimuVariant(
+        "mimu-24bit-warmup-ramp",
+        "a MIMU still warming up: each gyro bias ramps by 0.1–0.3 °/s per hour of either sign (the "
+        "campaign's 33 min, recorded in the plan's order: positions, then each sweep from −125 to +125 °/s); "
+        "24 bits over ±125 °/s at 100 Hz .npy, 30 s records, 7 rates; table U 2×10⁻⁵, ±5″; g stated",
+        lambda f, rng, quick: build_mimu(f, rng, dt=0.01, seconds=30.0, fmt="npy", bits=24, fs_g=125.0, fs_a=8.0,
+                                         rates=(-125, -60, -20, 0, 20, 60, 125), xc_g=5e-3, xc_a=5e-3,
+                                         g_sens=0.02, p_mag=2e-4, arw=(0.002, 0.005), vrw=(2e-5, 5e-5),
+                                         wander=0.2 * 4 / (2 * math.pi),  # A: slope A·2π/4 h = 0.2 °/s/h at t = 0
+                                         lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0, axis_perp=10.0),
+                                         write_gravity=True, ramp=True, quick=quick),
+        options=("omega=125 deg/s",)),
 }
 
 
