@@ -199,3 +199,17 @@ def test_74_reading_step_from_the_zero_record_when_every_stop_reads_the_standard
     (row,) = [r for r in res.budget.rows if r.symbol == "u(q)"]
     assert res.reportable and row.value.to("arcsec").magnitude == pytest.approx(0.5) and "7.3" in row.note
     assert abs(0.0 - 0.3) <= res.U.to("arcsec").magnitude
+
+
+def test_73_readings_that_do_not_move_are_not_reportable_and_keep_the_run(pm, tmp_path):
+    """A coarse (1″) display at rest whose drift over the hour stays below half a step: all 13 readings
+    are 0.  This raised a data error that ended the whole `--all` run (1 of 200 of the harness's
+    coarse-reading campaigns, seeds 1001–1200); now B_s alone is not reportable, with the reason."""
+    rng = np.random.default_rng(730)
+    (tmp_path / "z.csv").write_text("reading [″]\n" + "0.0\n" * 13, encoding="utf-8")
+    segs = _coarse_rounds(tmp_path, 0.8 * np.sin(np.radians(S)), 1.0, rng)
+    segs += ["[[segments]]", 'id = "z"', 'kind = "zero"', 'file = "z.csv"', 'sample_interval = "5 min"']
+    rec = run_items(pm, "ogam", ["7.3", "7.4"], data=_manifest(tmp_path, segs))
+    got = {o.item: o.results[0] for o in rec.outcomes}
+    assert not got["7.3"].reportable and "do not vary" in got["7.3"].reason
+    assert got["7.4"].reportable and got["7.4"].value.to("arcsec").magnitude == pytest.approx(1.0)

@@ -533,10 +533,16 @@ class ZeroStability73(Procedure):
         warnings = []
         if abs(T_h - 1.0) > 1e-6:
             warnings.append(msg("the readings span {minutes:g} min; clause 7.3 asks for 1 h", minutes=T_h * 60))
-        if not Bs > 0:
-            raise DataError(seg.file or f"segment {seg.id}", "reading", "the readings do not vary at all; "
-                            "B_s would be zero (is the instrument running?)")
         n = m.size
+        if not Bs > 0:
+            # every reading the same: the hour's drift is below the reading's resolution (or the instrument is
+            # not running); only this result is lost, not the run (interpretations.md, "7.3 — readings that do
+            # not move")
+            res = Result(self.metrics[0], Q_(0.0, "deg/h"), reportable=False, reason=msg(
+                "the {n} readings do not vary at all: the drift over the hour is below the reading's resolution "
+                "(or the instrument is not running), so B_s is not measured", n=n))
+            return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], warnings=warnings,
+                           segments=[seg.id], options={k: str(v) for k, v in opts.items()})
         rows = [BudgetRow.type_a(msg("sampling of the standard deviation of {n} readings", n=n) if stat == "std" else
                                  msg("sampling of the range of {n} readings", n=n), "B_s/√(2(n−1))", Q_(Bs / math.sqrt(2 * (n - 1)), "deg/h"), n - 1)]
         budget = UncertaintyBudget("B_s", "deg/h", rows, coverage=COVERAGE_NU)
