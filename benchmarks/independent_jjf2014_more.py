@@ -551,6 +551,56 @@ def build_misalignment(folder: Path, rng, *, kind: str, q: float, dt: float, fmt
     return truth
 
 
+# --------------------------------------------------------------------------------------------
+# 7.2.9, 7.2.10: threshold and resolution
+# --------------------------------------------------------------------------------------------
+
+TH_LEVELS = (0.1, 0.05, 0.03, 0.02, 0.015, 0.01, 0.007, 0.005, 0.003)          # °/s, `metro plan`'s
+RES_INCREMENTS = (0.05, 0.02, 0.01, 0.007, 0.005, 0.003, 0.002, 0.001)          # °/s, `metro plan`'s
+
+
+def build_threshold(folder: Path, rng, *, kind: str, q: float, fmt: str, dt: float = 1.0, flick: float = 0.0,
+                    quick: bool = False) -> dict:
+    """7.2.1, 7.2.9 and 7.2.10 (the levels `metro plan` lists, 200 s each).  The device's response to a
+    small rate is soft: K·Ω³/(Ω² + Ω_th²) near zero, Ω_th drawn per direction (0.004–0.06 °/s), so eq. (17)
+    holds exactly from Ω_th up; an increment ΔΩ on the base rate gives K·ΔΩ³/(ΔΩ² + r²), r per direction
+    (0.0015–0.03 °/s).  Truth: max over the directions of Ω_th (7.2.9.1 f)) and of r (7.2.10.1 g))."""
+    dev = Device(rng, kind=kind, q=q, flick=flick, shapes=("none",), asym=2e-4, arw=(0.05, 0.3))
+    rates = R5_SETS[100]
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt, output=dev.out)
+    e = dev.earth
+    th = {1: float(rng.uniform(0.004, 0.06)), -1: float(rng.uniform(0.004, 0.06))}
+    rr = {1: float(rng.uniform(0.0015, 0.03)), -1: float(rng.uniform(0.0015, 0.03))}
+    k_on = 1 + dev.sigma_K * float(rng.standard_normal())
+    b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    _rate_cal(camp, dev, rates, _table_errors(rng, rates), prefix="rate", kind="rate", n=10, dt=1.0,
+              k_on=k_on, b_on=b_on, earth=e)
+    n = int(round((200.0 if not quick else 60.0) / dt))
+
+    def rec(sensed_dps: float):
+        wh, fl, w = dev.noise.draw3(n, dt, rng)
+        return dev.out.record(sensed_dps * 3600.0 + b_on + e + wh + fl + w, dt, K_scale=k_on, rng=rng)
+
+    camp.add("threshold-0", "threshold", rec(0.0), dt, {"rate": "0 deg/s"})
+    for r in TH_LEVELS:
+        for sgn in (1, -1):
+            om = sgn * r
+            camp.add(f"threshold{'+' if sgn > 0 else '-'}{r:g}", "threshold",
+                     rec(om ** 3 / (om ** 2 + th[sgn] ** 2)), dt, {"rate": f"{om!r} deg/s"})
+    base = 0.3
+    for sgn in (1, -1):
+        camp.add(f"resolution{'+' if sgn > 0 else '-'}base", "resolution", rec(sgn * base), dt,
+                 {"base_rate": f"{sgn * base!r} deg/s", "increment": "0 deg/s"})
+        for d in RES_INCREMENTS:
+            x = sgn * d
+            camp.add(f"resolution{'+' if sgn > 0 else '-'}{d:g}", "resolution",
+                     rec(sgn * base + x ** 3 / (x ** 2 + rr[sgn] ** 2)), dt,
+                     {"base_rate": f"{sgn * base!r} deg/s", "increment": f"{x!r} deg/s"})
+    camp.write_manifest()
+    return {("7.2.9", "threshold"): (max(th.values()), "°/s", ""),
+            ("7.2.10", "resolution"): (max(rr.values()), "°/s", "")}
+
+
 UNIT_ALIASES.setdefault("°/h/√h", {"°/h/√h", "degree / hour / hour ** 0.5", "deg/h/hour**0.5", "°/h¹⋅⁵"})
 UNIT_ALIASES.setdefault("°/h²", {"°/h²", "degree / hour ** 2", "deg/h**2"})
 UNIT_ALIASES.setdefault("″", {"″", "arcsec", "arcsecond"})
@@ -634,6 +684,17 @@ VARIANTS = {
         "devices a fixture with its reseat_tilt (√3 × the re-seating σ)",
         lambda f, rng, quick: build_misalignment(f, rng, kind="mV/V", q=0.0, dt=0.02, fmt="npy", runs=1,
                                                  quick=quick, fixture=True)),
+    "jjf-threshold-mV-1Hz": Variant(
+        "jjf-threshold-mV-1Hz", "jjf2014", "7.2.1,7.2.9,7.2.10",
+        "mV, either sign; soft threshold Ω_th 0.004–0.06 °/s and resolution r 0.0015–0.03 °/s per direction; "
+        "the levels and increments `metro plan` lists, 200 s at 1 s (CSV), white noise",
+        lambda f, rng, quick: build_threshold(f, rng, kind="mV", q=0.0, fmt="csv", quick=quick)),
+    "jjf-threshold-mVV-10Hz-flicker": Variant(
+        "jjf-threshold-mVV-10Hz-flicker", "jjf2014", "7.2.1,7.2.9,7.2.10",
+        "as jjf-threshold-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker plateau ≈ 3 °/h "
+        "(the bias moves between the zero record and the levels)",
+        lambda f, rng, quick: build_threshold(f, rng, kind="mV/V", q=0.0005, fmt="npy", dt=0.1, flick=3.0,
+                                              quick=quick)),
 }
 
 

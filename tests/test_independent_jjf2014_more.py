@@ -52,6 +52,8 @@ DEVICES = {
     "temp-g-mV": ("jjf-temp-g-mV-1Hz", 3),
     "repeat-allan-mVV": ("jjf-repeat-allan-mVV-100Hz-flicker-q", 4),
     "allan-terms-mV": ("jjf-allan-terms-mV-10Hz", 5),
+    "misalignment-Q7": ("jjf-misalignment-mV-Q7", 6),
+    "threshold-mV": ("jjf-threshold-mV-1Hz", 7),
 }
 
 
