@@ -669,7 +669,7 @@ def run_variant(variant: Variant, devices: int, seed0: int, workdir: Path, use_s
         t2 = time.perf_counter()
         if code not in (0, 3, 4) or not doc.get("results"):
             out.append({"variant": variant.name, "seed": seed, "status": f"exit {code}",
-                        "error": (doc.get("message") or err.strip().splitlines()[-1:] or [""])[0][:400]})
+                        "error": (doc.get("message") or (err.strip().splitlines() or [""])[-1])[:400]})
         else:
             for row in score(truth, doc):
                 out.append({"variant": variant.name, "seed": seed, **row, "t_gen": t1 - t0, "t_run": t2 - t1})
