@@ -731,45 +731,59 @@ def markdown(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def cli(argv, variants: dict, description: str, *, run=None, summary=None, table=None, prefix: str = "indep-",
+        alt_label: str = "flicker mean as bias", quick_help: str = "short records (a smoke run, not the measurand)",
+        add_arguments=None) -> int:
+    """The command line every harness module shares: ``--devices --seed --variants --keep --subprocess --quick
+    --json --markdown`` (and the module's own ``add_arguments(ap)``).  ``run(variant, args, work)`` evaluates
+    one variant's devices (default :func:`run_variant`), ``summary(rows, args)`` gives the printed lines'
+    dicts (default :func:`summarise`), ``table(rows, args)`` the ``--markdown`` table (default :func:`markdown`)."""
+    ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--devices", type=int, default=30)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--variants", default=",".join(VARIANTS))
+    ap.add_argument("--variants", default=",".join(variants))
     ap.add_argument("--keep", type=Path, default=None, help="keep the campaigns under this folder")
     ap.add_argument("--subprocess", action="store_true", help="run the metro command, not cli.main in-process")
-    ap.add_argument("--quick", action="store_true", help="short records (a smoke run, not the measurand)")
+    ap.add_argument("--quick", action="store_true", help=quick_help)
     ap.add_argument("--json", type=Path, default=None, help="write every row to this file")
     ap.add_argument("--markdown", nargs="+", type=Path, default=None,
                     help="print the table of these --json files and exit")
+    if add_arguments is not None:
+        add_arguments(ap)
     args = ap.parse_args(argv)
+    run = run or (lambda v, a, work: run_variant(v, a.devices, a.seed, work, a.subprocess, quick=a.quick,
+                                                 keep=a.keep is not None))
+    summary = summary or (lambda rows, a: summarise(rows))
+    table = table or (lambda rows, a: markdown(rows))
     if args.markdown:
-        print(markdown([r for p in args.markdown for r in json.loads(p.read_text())]))
+        print(table([r for p in args.markdown for r in json.loads(p.read_text())], args))
         return 0
     names = [v.strip() for v in args.variants.split(",") if v.strip()]
-    unknown = [n for n in names if n not in VARIANTS]
+    unknown = [n for n in names if n not in variants]
     if unknown:
-        ap.error(f"unknown variants {unknown}; known: {list(VARIANTS)}")
+        ap.error(f"unknown variants {unknown}; known: {list(variants)}")
     all_rows = []
-    with tempfile.TemporaryDirectory(prefix="indep-") as tmp:
+    with tempfile.TemporaryDirectory(prefix=prefix) as tmp:
         work = args.keep or Path(tmp)
         for name in names:
             t0 = time.perf_counter()
-            rows = run_variant(VARIANTS[name], args.devices, args.seed, work, args.subprocess,
-                               quick=args.quick, keep=args.keep is not None)
+            rows = run(variants[name], args, work)
             all_rows += rows
-            dt = time.perf_counter() - t0
-            print(f"# {name}: {args.devices} devices in {dt:.0f} s", file=sys.stderr)
-            for s in summarise(rows):
-                print(f"{s['variant']:32s} {s['item']:7s} {s['key']:4s} n={s['devices']:3d} "
+            print(f"# {name}: {args.devices} devices in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+            for s in summary(rows, args):
+                print(f"{s['variant']:36s} {s['item']:7s} {s['key']:17s} n={s['devices']:4d} "
                       f"nr={s['not_reportable']:3d} within={100 * s['within']:5.1f} % "
                       f"mean_En={s['mean_En']:+.2f} rms={s['rms_En']:.2f} max|En|={s['max_abs_En']:.2f} "
-                      + (f"[flicker mean as bias: within={100 * s['within_alt']:.1f} % "
-                         f"mean_En={s['mean_En_alt']:+.2f}] " if s["within_alt"] is not None else "")
+                      + (f"[{alt_label}: within={100 * s['within_alt']:.1f} % mean_En={s['mean_En_alt']:+.2f}] "
+                         if s.get("within_alt") is not None else "")
                       + f"{'; '.join(s['other'])[:300]}", flush=True)
-    if args.json:
-        args.json.write_text(json.dumps(all_rows, indent=1, default=float))
+            if args.json:  # after each variant: a long sweep keeps what it has
+                args.json.write_text(json.dumps(all_rows, indent=1, default=float))
     return 0
+
+
+def main(argv=None) -> int:
+    return cli(argv, VARIANTS, __doc__.split("\n\n")[0])
 
 
 if __name__ == "__main__":

@@ -37,7 +37,6 @@ Carlo.
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import importlib.util
 import io
@@ -45,7 +44,6 @@ import json
 import math
 import shutil
 import sys
-import tempfile
 import time
 import zlib
 from dataclasses import dataclass, field
@@ -563,43 +561,12 @@ def markdown(rows: list[dict]) -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--devices", type=int, default=30)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--variants", default=",".join(VARIANTS))
-    ap.add_argument("--keep", type=Path, default=None, help="keep the campaigns under this folder")
-    ap.add_argument("--quick", action="store_true", help="30 s records (a smoke run)")
-    ap.add_argument("--json", type=Path, default=None, help="write every row to this file")
-    ap.add_argument("--markdown", nargs="+", type=Path, default=None,
-                    help="print the table of these --json files and exit")
-    ap.add_argument("--per-result", action="store_true", help="print every result, not the groups")
-    args = ap.parse_args(argv)
-    if args.markdown:
-        rows = [r for p in args.markdown for r in json.loads(p.read_text())]
-        print(ic.markdown(rows) if args.per_result else markdown(rows))
-        return 0
-    names = [v.strip() for v in args.variants.split(",") if v.strip()]
-    unknown = [n for n in names if n not in VARIANTS]
-    if unknown:
-        ap.error(f"unknown variants {unknown}; known: {list(VARIANTS)}")
-    all_rows = []
-    with tempfile.TemporaryDirectory(prefix="indep-mimu-") as tmp:
-        work = args.keep or Path(tmp)
-        for name in names:
-            t0 = time.perf_counter()
-            rows = run_variant(VARIANTS[name], args.devices, args.seed, work, quick=args.quick,
-                               keep=args.keep is not None)
-            all_rows += rows
-            print(f"# {name}: {args.devices} devices in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
-            for s in (summarise(rows) if args.per_result else grouped(rows)):
-                print(f"{s['variant']:36s} {s['item']:6s} {s['key']:17s} n={s['devices']:4d} "
-                      f"nr={s['not_reportable']:3d} within={100 * s['within']:5.1f} % "
-                      f"mean_En={s['mean_En']:+.2f} rms={s['rms_En']:.2f} max|En|={s['max_abs_En']:.2f} "
-                      + f"{'; '.join(s['other'])[:300]}", flush=True)
-    if args.json:
-        args.json.write_text(json.dumps(all_rows, indent=1, default=float))
-    return 0
-
+    return ic.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-mimu-", quick_help="30 s records (a smoke run)",
+                  run=lambda v, a, work: run_variant(v, a.devices, a.seed, work, quick=a.quick, keep=a.keep is not None),
+                  summary=lambda rows, a: summarise(rows) if a.per_result else grouped(rows),
+                  table=lambda rows, a: ic.markdown(rows) if a.per_result else markdown(rows),
+                  add_arguments=lambda ap: ap.add_argument("--per-result", action="store_true",
+                                                           help="print every result, not the groups"))
 
 if __name__ == "__main__":
     sys.exit(main())

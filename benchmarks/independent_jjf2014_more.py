@@ -50,11 +50,8 @@ Scored as in independent_campaigns.py: E_n = (result − truth)/U; not reportabl
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
-import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +61,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from independent_campaigns import (  # noqa: E402  (the shared pieces of the harness)
     DMM,
     OMEGA_E_DEG_H,
-    PLATFORM,
     RATE_TABLE,
     UNIT_ALIASES,
     Campaign,
@@ -72,10 +68,8 @@ from independent_campaigns import (  # noqa: E402  (the shared pieces of the har
     Output,
     Variant,
     flicker,
-    markdown,
     run_variant,
     score,
-    summarise,
 )
 
 # the units of the items scored here, as metro may spell them
@@ -712,48 +706,11 @@ def run_more(variant: Variant, devices: int, seed0: int, workdir: Path, use_subp
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--devices", type=int, default=30)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--variants", default=",".join(VARIANTS))
-    ap.add_argument("--keep", type=Path, default=None, help="keep the campaigns under this folder")
-    ap.add_argument("--subprocess", action="store_true", help="run the metro command, not cli.main in-process")
-    ap.add_argument("--quick", action="store_true", help="short records (a smoke run, not the measurand)")
-    ap.add_argument("--json", type=Path, default=None, help="write every row to this file")
-    ap.add_argument("--markdown", nargs="+", type=Path, default=None,
-                    help="print the table of these --json files and exit")
-    args = ap.parse_args(argv)
-    if args.markdown:
-        import json
+    from independent_campaigns import cli
 
-        print(markdown([r for p in args.markdown for r in json.loads(p.read_text())]))
-        return 0
-    names = [v.strip() for v in args.variants.split(",") if v.strip()]
-    unknown = [n for n in names if n not in VARIANTS]
-    if unknown:
-        ap.error(f"unknown variants {unknown}; known: {list(VARIANTS)}")
-    all_rows = []
-    with tempfile.TemporaryDirectory(prefix="indep-jjf-") as tmp:
-        work = args.keep or Path(tmp)
-        for name in names:
-            t0 = time.perf_counter()
-            rows = run_more(VARIANTS[name], args.devices, args.seed, work, args.subprocess, quick=args.quick,
-                            keep=args.keep is not None)
-            all_rows += rows
-            print(f"# {name}: {args.devices} devices in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
-            for s in summarise(rows):
-                print(f"{s['variant']:36s} {s['item']:7s} {s['key']:6s} n={s['devices']:3d} "
-                      f"nr={s['not_reportable']:3d} within={100 * s['within']:5.1f} % "
-                      f"mean_En={s['mean_En']:+.2f} rms={s['rms_En']:.2f} max|En|={s['max_abs_En']:.2f} "
-                      + (f"[alt: within={100 * s['within_alt']:.1f} % mean_En={s['mean_En_alt']:+.2f}] "
-                         if s["within_alt"] is not None else "")
-                      + f"{'; '.join(s['other'])[:300]}", flush=True)
-            if args.json:
-                import json
-
-                args.json.write_text(json.dumps(all_rows, indent=1, default=float))
-    return 0
-
+    return cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-jjf-", alt_label="alt",
+               run=lambda v, a, work: run_more(v, a.devices, a.seed, work, a.subprocess, quick=a.quick,
+                                               keep=a.keep is not None))
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -52,13 +52,9 @@ Truth (docs/independent-campaigns.md, "ogam: the angle-measuring instrument"):
 
 from __future__ import annotations
 
-import argparse
 import functools
-import json
 import math
 import sys
-import tempfile
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -66,7 +62,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import independent_campaigns as IC  # noqa: E402
-from independent_campaigns import Campaign, Variant, run_variant, summarise  # noqa: E402
+from independent_campaigns import Campaign, Variant, summarise  # noqa: E402
 
 OMEGA_E_DEG_H = 15.041  # °/h
 RATES = (1.0, 10.0, 60.0, 100.0, 150.0, 200.0, 250.0, 300.0)  # clause 7.6's reference values
@@ -428,45 +424,11 @@ def markdown(rows: list[dict], label: str = "") -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--devices", type=int, default=30)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--variants", default=",".join(VARIANTS))
-    ap.add_argument("--keep", type=Path, default=None, help="keep the campaigns under this folder")
-    ap.add_argument("--subprocess", action="store_true", help="run the metro command, not cli.main in-process")
-    ap.add_argument("--quick", action="store_true", help="fewer Monte Carlo draws for the noise truths")
-    ap.add_argument("--json", type=Path, default=None, help="write every row to this file")
-    ap.add_argument("--markdown", nargs="+", type=Path, default=None,
-                    help="print the table of these --json files and exit")
-    ap.add_argument("--label", default="", help="with --markdown: a prefix for the variant column")
-    args = ap.parse_args(argv)
-    if args.markdown:
-        print(markdown([r for p in args.markdown for r in json.loads(p.read_text())], args.label))
-        return 0
-    names = [v.strip() for v in args.variants.split(",") if v.strip()]
-    unknown = [n for n in names if n not in VARIANTS]
-    if unknown:
-        ap.error(f"unknown variants {unknown}; known: {list(VARIANTS)}")
-    all_rows = []
-    with tempfile.TemporaryDirectory(prefix="indep-ogam-") as tmp:
-        work = args.keep or Path(tmp)
-        for name in names:
-            t0 = time.perf_counter()
-            rows = run_variant(VARIANTS[name], args.devices, args.seed, work, args.subprocess,
-                               quick=args.quick, keep=args.keep is not None)
-            all_rows += rows
-            print(f"# {name}: {args.devices} devices in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
-            for s in summarise(rows):
-                print(f"{s['variant']:26s} {s['item']:4s} {s['key']:3s} n={s['devices']:3d} "
-                      f"nr={s['not_reportable']:3d} within={100 * s['within']:5.1f} % "
-                      f"mean_En={s['mean_En']:+.2f} rms={s['rms_En']:.2f} max|En|={s['max_abs_En']:.2f} "
-                      + (f"[this hour's own: within={100 * s['within_alt']:.1f} % mean_En={s['mean_En_alt']:+.2f}] "
-                         if s["within_alt"] is not None else "")
-                      + f"{'; '.join(s['other'])[:300]}", flush=True)
-            if args.json:
-                args.json.write_text(json.dumps(all_rows, indent=1, default=float))
-    return 0
-
+    return IC.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-ogam-", alt_label="this hour's own",
+                  quick_help="fewer Monte Carlo draws for the noise truths",
+                  table=lambda rows, a: markdown(rows, a.label),
+                  add_arguments=lambda ap: ap.add_argument("--label", default="",
+                                                           help="with --markdown: a prefix for the variant column"))
 
 if __name__ == "__main__":
     sys.exit(main())
