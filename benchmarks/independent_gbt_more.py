@@ -341,6 +341,66 @@ def build_rate(folder: Path, rng, *, kind: str, dt: float, seconds: float, q: fl
             ("D.2.4", "Kr"): (Kr, "", "")}
 
 
+def build_kt(folder: Path, rng, *, dt: float = 1.0, seconds: float = 100.0, q: float = 0.05,
+             sigma_K_range=(5e-6, 1e-4), repeats: bool = True, quick=False) -> dict:
+    """D.2.5 (and D.2.4) on a fibre gyro, LSB output: the D.2.1 sweep at 5 or 6 temperatures
+    (D.2.5.2 b), R5 points evenly spread, room temperature among them), each a power-on of its own
+    (D.2.5.2 c): off while the chamber changes), K(T) = K·(1 + k₁(T − 20) + k₂(T − 20)²), k₁ up to
+    ±5×10⁻⁵/°C of either sign, K's power-on scatter σ_K; ``repeats``: D.2.4's 7 power-ons at room
+    temperature in the campaign.  Truth: D.29 on the noise-free K(T_i) (the D.21 slope of the
+    noise-free F_kj of each point's sweep, without the power-on scatter)."""
+    lat = float(rng.uniform(-65, 70))
+    earth = OMEGA_E_DEG_H * math.sin(math.radians(lat))
+    max_rate = float(rng.choice([100.0, 200.0, 300.0]))
+    rates = r5_points(max_rate)[-11:] if quick else r5_points(max_rate)
+    sigma_K = float(rng.uniform(*sigma_K_range))
+    k1 = float(rng.uniform(-1, 1)) * float(rng.choice([1e-6, 1e-5, 5e-5]))
+    k2 = float(rng.uniform(-1, 1)) * 2e-7
+    noise = Noise(float(rng.uniform(0.002, 0.02)))
+    U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
+    table = {"id": "RT-X", "role": "rate_table", "calibration": {"certificate": "IND-RT-3", "U": repr(U_table), "k": 2}}
+    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2}}
+    Kout = 3600.0 / q * float(rng.uniform(0.8, 1.25))
+    out = Output("LSB", K=Kout)
+    device = {"id": folder.name, "technology": "fibre", "application": "marine", "nonlinearity": "100 ppm",
+              "output": "digital", "scale_factor": f"{Kout!r} LSB/(°/s)", "scale_factor_U": "50 ppm"}
+    camp = Campaign(folder, device, lat, [table, COUNTER, chamber], fmt="npy", output=out)
+    terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * U_table / 2 for r in rates}
+    n = int(round((seconds if not quick else 20.0) / dt))
+    room = float(rng.uniform(18, 25))
+    temps = [-40.0, -20.0, 0.0, room, 40.0, 60.0] if rng.uniform() < 0.5 else [-40.0, -10.0, room, 40.0, 70.0]
+
+    def kT(T):
+        return 1 + k1 * (T - 20) + k2 * (T - 20) ** 2
+
+    def sweep(prefix, rel, cond):
+        b_on = float(rng.uniform(-2, 2))
+        def seg(true_rate):
+            e, _w = noise.draw(n, dt, rng)
+            return out.record(true_rate * 3600.0 * rel + b_on + earth + e, dt, rng=rng)
+        camp.add(f"{prefix}rest-start", "rate-static", seg(0.0), dt, {"when": "start", **cond})
+        for r in rates:
+            for sgn, tag in ((1, "+"), (-1, "-")):
+                camp.add(f"{prefix}rate{tag}{r:g}", "rate-output", seg(sgn * r * (1 + terr[r])), dt,
+                         {"rate": f"{sgn * r!r} deg/s", **cond})
+        camp.add(f"{prefix}rest-end", "rate-static", seg(0.0), dt, {"when": "end", **cond})
+
+    actual = {}
+    for i, T in enumerate(temps):
+        Ta = T + 0.25 * float(rng.standard_normal())
+        actual[T] = Ta
+        sweep(f"T{i + 1}-", kT(Ta) * (1 + sigma_K * float(rng.standard_normal())), {"temperature": f"{T!r} °C"})
+    if repeats:
+        for j in range(1, 8):
+            sweep(f"run{j}-", kT(room) * (1 + sigma_K * float(rng.standard_normal())), {"run": j})
+    camp.write_manifest()
+    i0 = int(np.argmin([abs(T - 20.0) for T in temps]))
+    T0 = actual[temps[i0]]
+    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T in enumerate(temps) if i != i0)
+    (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2, "temps": temps}))
+    return {("D.2.5", "Kt"): (Kt * 1e6, "ppm/°C", "")}
+
+
 class _RateSeconds(Output):
     """A rate output in °/s rounded to ``q`` °/s (the device's sensed rate arrives in °/h)."""
 
@@ -536,6 +596,11 @@ VARIANTS = {
         "rate output in °/s rounded to 1e-5 °/s (0.036 °/h), 1 Hz, 60 s per point, CSV",
         lambda f, rng, quick: build_rate(f, rng, kind="deg/s", dt=1.0, seconds=60.0, q=1e-5, fmt="csv",
                                          quick=quick)),
+    "kt-rate-lsb-1Hz": Variant(
+        "kt-rate-lsb-1Hz", "gbt45570", "D.2.5",
+        "fibre gyro, LSB 0.05 °/h, 1 Hz, 100 s per point; D.2.1 sweeps at 5 or 6 temperatures −40 … 70 °C, each a "
+        "power-on with K's scatter σ_K 5–100 ppm; K(T) slope up to ±50 ppm/°C with a curvature; D.2.4's 7 runs",
+        lambda f, rng, quick: build_kt(f, rng, quick=quick)),
     "arw-pulse-dithered-1Hz": Variant(
         "arw-pulse-dithered-1Hz", "gbt45570", "D.5.6",
         "pulse 0.5–3 P/″ read at a random phase (dithered), 8 h at 1 Hz, ARW 0.001–0.005 °/√h, white only",
@@ -579,6 +644,7 @@ VARIANTS = {
 _PPM_KEYS = ("Kn", "Ka", "Kr")
 _UNITS = {"°/√h": {"°/√h", "deg/h⁰⋅⁵", "deg/hour**0.5", "degree / hour ** 0.5", "°/h⁰⋅⁵", "(°)/√h"},
           "°/h/°C": {"°/h/°C", "°/°C/h", "deg/h/delta_degC", "deg/h/Δ°C", "deg/hour/delta_degC", "degree / hour / delta_degree_Celsius"},
+          "ppm/°C": {"ppm/°C", "ppm/Δ°C", "ppm/delta_degC", "1e-06/delta_degC"},
           "°/h/mT": {"°/h/mT", "deg/h/mT", "deg/hour/mT", "degree / hour / millitesla"}}
 
 

@@ -111,3 +111,57 @@ def test_d54_covers_the_turn_on_scatter_over_devices(run_cli, tmp_path):
         res = _bt(run_cli, folder)
         within += abs(res["value"] - truth) <= res["U"]
     assert within >= 27, within
+
+
+# --------------------------------------------------------------------------------------------
+# D.1.5 / D.2.5: every temperature point is a power-on of its own, so each K_i carries K's turn-on
+# scatter, which D.1.4 / D.2.4 measure on the same campaign
+# --------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def harness():
+    import importlib.util
+    import sys
+
+    d = Path(__file__).resolve().parents[1] / "benchmarks"
+    sys.path.insert(0, str(d))
+    try:
+        spec = importlib.util.spec_from_file_location("independent_gbt_more", d / "independent_gbt_more.py")
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[spec.name] = mod
+        spec.loader.exec_module(mod)
+        yield mod
+    finally:
+        sys.path.remove(str(d))
+
+
+def _kt(run_cli, folder: Path) -> dict:
+    return _run(run_cli, folder, "D.2.5")["Kt"]
+
+
+def test_d25_covers_the_turn_on_scatter_of_k_over_devices(run_cli, tmp_path, harness):
+    """The independent harness's rate-method gyro (benchmarks/independent_gbt_more.py,
+    kt-rate-lsb-1Hz): 5 or 6 temperature points, each a power-on with K's scatter σ_K 5–100 ppm,
+    D.2.4's 7 runs in the campaign.  Before, U held the fits' noise alone (≈ 1 ppm of K): K_t within
+    U on 15 of 100 devices, mean E_n +3.1, up to 45; with σ_K from D.2.4 in each K_i's u, 97 of 100.
+    Here 12 short devices (20 s per rate point; 10 of 12 within U after the fix)."""
+    within = 0
+    for seed in range(12):
+        folder = tmp_path / f"kt{seed}"
+        folder.mkdir()
+        truth = harness.build_kt(folder, np.random.default_rng([25, seed]), quick=True)
+        res = _kt(run_cli, folder)
+        t = truth[("D.2.5", "Kt")][0]
+        assert res["unit"] in ("ppm/°C", "ppm/Δ°C"), res["unit"]
+        within += abs(res["value"] - t) <= res["U"]
+        (row,) = [r for r in res["budget"]["rows"] if r["symbol"] == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
+        assert "turn-on scatter of K" in row["note"], row["note"]
+    assert within >= 10, within
+
+
+def test_d25_without_d24_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_path, harness):
+    folder = tmp_path / "kt"
+    folder.mkdir()
+    harness.build_kt(folder, np.random.default_rng([25, 99]), quick=True, repeats=False)
+    res = _kt(run_cli, folder)
+    assert "turn-on scatter of K not in U" in res["note"] and "D.2.4" in res["note"], res["note"]

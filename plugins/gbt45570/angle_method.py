@@ -531,17 +531,33 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     """Result, budget, plot and table of D.1.5 / D.2.5 (the maximising point of D.12 / D.29)."""
     from .procedures import _delta_temperature_u
 
+    from .repeatability import scale_factor_turn_on
+
     dT = temps[imax] - temps[i0]
     K0 = Ks[i0]
     ci, c0 = 1.0 / (K0 * abs(dT)), abs(Ks[imax]) / (K0 * K0 * abs(dT))
-    uA = math.hypot(ci * uKs[imax], c0 * uKs[i0])
-    parts = [(ci * uKs[imax], dofs[imax]), (c0 * uKs[i0], dofs[i0])]
+    # D.2.5.2 c): off while the chamber changes temperature, so each K_i is a power-on of its own and
+    # carries K's turn-on scatter (D.2.4 on this campaign; interpretations.md "D.2.5 — every
+    # temperature point is a power-on"; D.1.5 is not changed yet, see there)
+    s_on, nu_on, on_note = (scale_factor_turn_on(campaign, int(opts.get("min_points", 11)))
+                            if proc.item == "D.2.5" else (0.0, math.inf, ""))
+    u_on = [s_on * abs(k) for k in Ks]
+    sel_observed = s_on > 0 and len(Ks) >= 4  # the points may share a power-on after all: at most what they show
+    uKs = [math.hypot(u, v) for u, v in zip(uKs, u_on)]
+    parts = [(ci * math.sqrt(max(uKs[imax] ** 2 - u_on[imax] ** 2, 0.0)), dofs[imax]),
+             (c0 * math.sqrt(max(uKs[i0] ** 2 - u_on[i0] ** 2, 0.0)), dofs[i0]),
+             (ci * u_on[imax], nu_on), (c0 * u_on[i0], nu_on)]
+    uA = math.sqrt(sum(u * u for u, _ in parts))
     den = sum(u**4 / max(d, 1) for u, d in parts)
     nu = uA**4 / den if den > 0 else math.inf
-    sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True)
+    sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True, observed=sel_observed)
+    notes = [msg("the maximising point alone gives {u:.3g}/°C", u=uA)]
+    if s_on > 0:
+        notes.append(msg("each K_i a power-on of its own: with the turn-on scatter of K, {s:.3g} ppm (ν = {nu:.3g}) "
+                         "from the repeatability runs on this campaign", s=s_on * 1e6, nu=nu_on))
     rows = [BudgetRow.type_a(msg("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "
                                  "smoothed K(T))"), "s(max_i |ΔK_i/(K₀₀ΔT_i)|)", Q_(max(sel.s, uA), "1/delta_degC"), nu,
-                             note=msg("the maximising point alone gives {u:.3g}/°C", u=uA))]
+                             note=join("; ", notes))]
     rows += selection_rows(sel, len(Ks) - 1, "1/delta_degC")
     Kt = max(sel.value, 0.0)
     uT = _delta_temperature_u(campaign)
@@ -552,7 +568,8 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     budget = UncertaintyBudget("K_t", "ppm/delta_degC", rows, coverage=COVERAGE)
     res = Result(proc.metrics[0], Q_(Kt, "1/delta_degC"), budget.combined, budget,
                  note=join("; ", [msg("largest at T = {T:g} °C against T0 = {T0:g} °C", T=temps[imax], T0=temps[i0]),
-                                  selection_note(sel, 1e6, 'ppm/°C')]), earth_rate="removed")
+                                  selection_note(sel, 1e6, 'ppm/°C')] + ([on_note] if on_note else [])),
+                 earth_rate="removed")
     plot = PlotSpec("K_temperature", msg("Scale factor against temperature ({item})", item=proc.item), "T (°C)",
                     "(K − K₀₀)/K₀₀ (ppm)",
                     [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],

@@ -90,3 +90,31 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> t
                                  "its within-run part removed): B₀ of one power-on stated as the device's", Br=Br), "σ_on",
                              Q_(u, "deg/h"), q - 1,
                              note=msg("Q = {q} power-ons; mean within-run u_A = {w:.3g} °/h", q=q, w=math.sqrt(w)))], ""
+
+
+def scale_factor_turn_on(campaign: Campaign, min_points: int) -> tuple[float, float, str]:
+    """The turn-on part of K's scatter between power-ons, relative, for results whose points are
+    power-ons of their own (D.2.5.2 c): off while the chamber changes temperature):
+    σ_K = √(max(K_r² − mean (u(K_j)/K_j)², 0)) from the campaign's D.2.4 runs, with the
+    Satterthwaite degrees of freedom of a variance difference, (Q − 1)·(σ_K²/K_r²)² (at least 1).
+    Returns (σ_K, ν, note); σ_K = 0 with a note saying why when the campaign has no such runs."""
+    from .rate_method import ScaleFactorRepeatabilityD24, _group_of, collect_rate_data, fit_scale_factor
+
+    item = "D.2.4"
+    runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
+                   and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+    try:
+        fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
+                                                   f"in run {r}")) for r in runs] if len(runs) >= 2 else []
+    except DataError as exc:
+        return 0.0, math.inf, msg("turn-on scatter of K not in U: the {item} runs could not be evaluated ({exc})",
+                                  item=item, exc=str(exc))
+    Kj = [f.K for f in fits]
+    rel_u = [f.uK / abs(f.K) for f in fits]
+    if len(Kj) < 2:
+        return 0.0, math.inf, msg("turn-on scatter of K not in U: each temperature point is a power-on of its own, "
+                                  "but the campaign has no {item} runs to measure it", item=item)
+    Kr = F2.scale_factor_repeatability_d28(Kj)
+    s2 = max(Kr**2 - float(np.mean(np.square(rel_u))), 0.0)
+    nu = max((len(Kj) - 1) * (s2 / Kr**2) ** 2, 1.0) if Kr > 0 else math.inf
+    return math.sqrt(s2), nu, ""
