@@ -35,20 +35,16 @@ sample intervals 5 ms … 1 s, rate tables of U = 1×10⁻⁵ … 1×10⁻⁴.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
-import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from independent_campaigns import (  # noqa: E402  (the sibling module: shared writers and scoring)
-    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, markdown, run_variant, score,
-    summarise)
+    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, score)
 
 REV = 1296000.0  # ″ in one revolution (D.2: 360 × 3 600)
 
@@ -669,44 +665,11 @@ def score_more(truth: dict, doc: dict) -> list[dict]:
 
 
 def main(argv=None) -> int:
+    """The shared command line (``independent_campaigns.cli``), scoring through :func:`score_more`."""
     import independent_campaigns as ic
 
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--devices", type=int, default=30)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--variants", default=",".join(VARIANTS))
-    ap.add_argument("--keep", type=Path, default=None, help="keep the campaigns under this folder")
-    ap.add_argument("--subprocess", action="store_true", help="run the metro command, not cli.main in-process")
-    ap.add_argument("--quick", action="store_true", help="short records (a smoke run, not the measurand)")
-    ap.add_argument("--json", type=Path, default=None, help="write every row to this file")
-    ap.add_argument("--markdown", nargs="+", type=Path, default=None,
-                    help="print the table of these --json files and exit")
-    args = ap.parse_args(argv)
-    if args.markdown:
-        print(markdown([r for p in args.markdown for r in json.loads(p.read_text())]))
-        return 0
-    names = [v.strip() for v in args.variants.split(",") if v.strip()]
-    unknown = [n for n in names if n not in VARIANTS]
-    if unknown:
-        ap.error(f"unknown variants {unknown}; known: {list(VARIANTS)}")
-    all_rows = []
-    ic.score = score_more  # run_variant scores through the module's name
-    with tempfile.TemporaryDirectory(prefix="indep-more-") as tmp:
-        work = args.keep or Path(tmp)
-        for name in names:
-            t0 = time.perf_counter()
-            rows = run_variant(VARIANTS[name], args.devices, args.seed, work, args.subprocess,
-                               quick=args.quick, keep=args.keep is not None)
-            all_rows += rows
-            print(f"# {name}: {args.devices} devices in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
-            for s in summarise(rows):
-                print(f"{s['variant']:28s} {s['item']:7s} {s['key']:4s} n={s['devices']:3d} "
-                      f"nr={s['not_reportable']:3d} within={100 * s['within']:5.1f} % "
-                      f"mean_En={s['mean_En']:+.2f} rms={s['rms_En']:.2f} max|En|={s['max_abs_En']:.2f} "
-                      f"{'; '.join(s['other'])[:300]}", flush=True)
-            if args.json:
-                args.json.write_text(json.dumps(all_rows, indent=1, default=float))
-    return 0
+    ic.score = score_more  # run_variant scores through the sibling module's name
+    return ic.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-more-")
 
 
 if __name__ == "__main__":
