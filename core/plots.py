@@ -87,6 +87,9 @@ def _draw_series(ax, s: Mapping[str, Any], index: int) -> bool:
     return label is not None
 
 
+_CJK = re.compile(r"[\u3000-\u303f\u3400-\u9fff\uff00-\uffef]")
+#: the subscript characters Unicode has (digits, and the letters below)
+_UNI_SUB = dict(zip("0123456789aehijklmnoprstuvx+-=()", "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ₊₋₌₍₎"))
 _SUBSCRIPT = re.compile(r"(?<![\w$\\])([A-Za-zΔΩα-ω])_(\{[^{}$]{1,12}\}|[A-Za-z0-9]{1,4})(?![\w])")
 
 
@@ -109,9 +112,19 @@ def plot_text(text: str) -> str:
 
     >>> plot_text("K_i against rate"), plot_text("rate_table"), plot_text("cost $5")
     ('$\\mathregular{K_{i}}$ against rate', 'rate_table', 'cost $5')
+    >>> plot_text("残差 v_i（mV）"), plot_text("温度 T_{ref}")
+    ('残差 vᵢ（mV）', '温度 T_{ref}')
     """
     if "$" in text:
         return text
+    if _CJK.search(text):
+        # mathtext draws the whole string in its own font, which has no CJK glyphs (the zh title of JJF 2014's
+        # residual figure printed as boxes): Unicode subscripts where every character has one, else as written
+        def uni(m):
+            sub = m.group(2).strip("{}")
+            return m.group(1) + "".join(_UNI_SUB[c] for c in sub) if all(c in _UNI_SUB for c in sub) else m.group(0)
+
+        return _SUBSCRIPT.sub(uni, text)
     return _SUBSCRIPT.sub(lambda m: "$\\mathregular{" + m.group(1) + "_{" + m.group(2).strip("{}") + "}}$", text)
 
 

@@ -309,6 +309,24 @@ def test_render_png_with_unicode_labels(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["fig.png"]
 
 
+def test_cjk_figure_text_with_subscripts_keeps_its_glyphs(tmp_path, caplog):
+    """A subscript in a Chinese figure text (JJF 2014 7.2.1's "残差 v_i（mV）") was turned into mathtext,
+    which draws the whole string in its own font: every Chinese character printed as a box (seen on the
+    rendered zh+en certificate, page 5).  With CJK in the text the subscript is a Unicode one where it
+    exists, else the text stays as written; English keeps mathtext."""
+    import logging
+
+    assert plots.plot_text("残差 v_i（mV）") == "残差 vᵢ（mV）"
+    assert plots.plot_text("温度 T_{ref}") == "温度 T_{ref}"  # no Unicode subscript for every letter: as written
+    assert plots.plot_text("residual v_i (mV)") == "residual $\\mathregular{v_{i}}$ (mV)"
+    spec = PlotSpec("r", "标度因数：式（3）拟合的残差 v_i", "输入角速率 Ω (°/s)", "残差 v_i（mV）",
+                    [{"label": "v_i", "x": [1.0, 2.0], "y": [0.1, -0.1], "style": "o"}])
+    with caplog.at_level(logging.WARNING, logger="matplotlib"):
+        plots.render_png(spec, tmp_path / "zh.png", dpi=50)
+    if len(plots._font_families()) > 1:  # a CJK font is installed (CI installs fonts-noto-cjk)
+        assert not [r for r in caplog.records if "does not have a glyph" in r.getMessage()], caplog.records[:2]
+
+
 def test_render_png_rejects_mismatched_series(tmp_path):
     spec = PlotSpec("bad", "", "x", "y", [{"x": [1, 2], "y": [1, 2, 3]}])
     with pytest.raises(ValueError, match="series 0"):
