@@ -249,9 +249,13 @@ def test_simulated_threshold_resolution_stability_startup(full_run):
     t = VibratoryTruth()
     # threshold: gain Ω²/(Ω²+Ω_th²) ≥ 0.5 first fails at 0.007 °/s, so the last passing level is 0.01; the
     # result is the middle of (0.007, 0.01] (resolution: of (0.003, 0.005]), the level itself in the note
+    # — or of a wider interval where the pass of the candidate or the fail of the next level is within the
+    # responses' noise (interpretations.md, "7.2.9 / 7.2.10 — a level decided by noise"): on this device the
+    # forward 0.003 °/s increment fails by less than 2u, so the resolution's interval is (0.002, 0.005]
     th, res = outs["7.2.9"].result("threshold"), outs["7.2.10"].result("resolution")
     assert th.value.magnitude == pytest.approx(0.0085) and "is 0.01 °/s" in th.note
-    assert res.value.magnitude == pytest.approx(0.004) and "is 0.005 °/s" in res.note
+    assert "is 0.005 °/s" in res.note and "widened to (0.002, 0.005] °/s" in res.note
+    assert res.value.magnitude == pytest.approx(0.0035)
     assert camp.expected["threshold_grid"].magnitude == pytest.approx(0.01)
     assert camp.expected["resolution_grid"].magnitude == pytest.approx(0.005)
     # the device's own threshold / resolution (50 % response) is within U of the reported level
@@ -463,7 +467,8 @@ def test_threshold_resolution_budget_is_the_one_sided_level_step(full_run):
     u = step/√12.  (As the candidate with u = step/√3 the result was always above the device's value:
     mean E_n +0.58 and +0.43 over every device class, a fixed truth between two levels.)"""
     _, outs, _ = full_run
-    for item, key, hi, lo in (("7.2.9", "threshold", 0.01, 0.007), ("7.2.10", "resolution", 0.005, 0.003)):
+    # (the resolution's interval is wider on this device: its 0.003 °/s fail is within the noise, below)
+    for item, key, hi, lo in (("7.2.9", "threshold", 0.01, 0.007), ("7.2.10", "resolution", 0.005, 0.002)):
         r = outs[item].result(key)
         assert r.value.to("deg/s").magnitude == pytest.approx((hi + lo) / 2, rel=1e-12)
         row = r.budget.rows[0]
@@ -991,3 +996,23 @@ def test_static_record_is_another_power_on_its_k_in_the_b0_budget(pm):
     b0 = next(x for o in rec.outcomes for x in o.results if x.metric.key == "B0")
     assert not [x for x in b0.budget.rows if x.symbol == "K_r·B·c"]
     assert "variation of K between power-ons is not in this budget" in b0.budget.note
+
+
+def test_threshold_level_counts_only_where_its_response_is_resolved_from_noise():
+    """interpretations.md "7.2.9 / 7.2.10 — a level decided by noise" (issue 13 item 3): d_i = |F̂_i − F_i| −
+    50 %·|F̂_i|; the candidate's pass and the next level's fail count where |d| ≥ 2u, else the interval widens
+    to the resolved levels; none resolved: None.  Hand-worked, K = 20 mV/((°)/s): at 0.01 °/s F̂ = 0.2 mV and
+    F = 0.11 (45 %: d = −0.01), at 0.007 F̂ = 0.14, F = 0.067 (52 %: d = +0.0028)."""
+    om = [0.1, 0.05, 0.02, 0.01, 0.007, 0.005]
+    F_ = [2.0, 0.99, 0.38, 0.11, 0.067, 0.02]
+    assert F.threshold_eq16_17(om, F_, 20.0) == (0.01, 3)
+    assert F.resolved_bracket(om, F_, 20.0, [1e-4] * 6) == (3, 4, 3)          # both decisions resolved
+    assert F.resolved_bracket(om, F_, 20.0, [0.002] * 6) == (3, 5, 3)         # 0.007's fail is not: (0.005, 0.01]
+    assert F.resolved_bracket(om, F_, 20.0, [0.006] * 6) == (2, 5, 3)         # nor 0.01's pass: (0.005, 0.02]
+    assert F.resolved_bracket(om, F_, 20.0, [5.0] * 6) is None                # no pass is resolved
+    # the between-record scatter from the ±pairs: an odd response cancels, the drift between records does not
+    from metro.plugins.jjf2014.low_rate import _pair_scatter
+
+    o = np.array(om)
+    s, n = _pair_scatter({"forward": (o, np.array(F_)), "reverse": (-o, -np.array(F_) + np.array([0.01, -0.01] * 3))})
+    assert n == 6 and s == pytest.approx(0.01 / math.sqrt(2), rel=1e-12)

@@ -198,6 +198,31 @@ def resolution_eq18(increments_desc: Sequence[float], dF: Sequence[float], K: fl
     return threshold_eq16_17(increments_desc, dF, K)
 
 
+def resolved_bracket(omega_desc: Sequence[float], F_cal: Sequence[float], K: float, u: Sequence[float],
+                     k: float = 2.0) -> tuple[int, int | None, int] | None:
+    """Where the threshold (eq. (17)) or resolution (eq. (18)) lies when each response F_i has a standard
+    uncertainty u_i (issue 13: a level counts only if its pass is resolved from the noise).
+
+    d_i = |F̂_i − F_i| − 50 %·|F̂_i| (F̂_i = K·Ω_i) passes at d_i ≤ 0; the pass is *resolved* at d_i ≤ −k·u_i, a
+    fail at d_i ≥ k·u_i.  The standard's candidate is the last level i of the unbroken run of passes
+    (:func:`threshold_eq16_17`).  The true value is at most the smallest level h ≤ i whose pass is resolved,
+    and above the largest level below h whose fail is resolved (0 when none is): (Ω_lo, Ω_h].
+    Returns (h, lo index or None, i), or None when no level of the run passes resolved."""
+    om = np.asarray(omega_desc, dtype=float)
+    f = np.asarray(F_cal, dtype=float)
+    uu = np.asarray(u, dtype=float)
+    c, i = threshold_eq16_17(om, f, K)
+    if c is None:
+        return None
+    d = np.abs(K * om - f) - 0.5 * np.abs(K * om)
+    passed = [j for j in range(i + 1) if d[j] <= -k * uu[j]]
+    if not passed:
+        return None
+    h = max(passed)
+    lo = next((j for j in range(h + 1, om.size) if d[j] >= k * uu[j]), None)
+    return h, lo, i
+
+
 # ------------------------------------------------------------------ 7.2.11, 7.2.12
 
 

@@ -63,6 +63,44 @@ def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign,
                            "of ({lo:g}, {hi:g}]", direction=d, hi=hi, lo=lo))
 
 
+def _pair_scatter(levels: dict[str, tuple[np.ndarray, np.ndarray]]) -> tuple[float, int]:
+    """The scatter of one response between records, from the two directions: at each |Ω| both
+    directions were applied, F₊ + F₋ ≈ 0 for an odd response (the dead zone, K and its small-rate
+    nonlinearity cancel), so √(mean (F₊ + F₋)²/2) estimates the standard deviation of one F_i — its
+    own record's noise, the reference record's and the bias's drift between records, which the
+    records' own s/√N cannot see (flicker, wander).  Returns (scatter, number of pairs)."""
+    if set(levels) != {"forward", "reverse"}:
+        return 0.0, 0
+    (om1, f1), (om2, f2) = levels["forward"], levels["reverse"]
+    by = {round(abs(o), 12): x for o, x in zip(om2, f2)}
+    sums = [x + by[round(abs(o), 12)] for o, x in zip(om1, f1) if round(abs(o), 12) in by]
+    if len(sums) < 3:
+        return 0.0, len(sums)
+    return float(np.sqrt(np.mean(np.square(sums)) / 2.0)), len(sums)
+
+
+def _resolved(brackets: dict, cands: dict, scatter: tuple[float, int], what: str) -> tuple[dict, str, str]:
+    """Each direction's (candidate, next level) widened to the levels whose pass / fail is resolved from
+    the noise at k = 2 (:func:`.formulas.resolved_bracket`); returns (cands, note, reason for not
+    reportable or "")."""
+    out, notes, why = dict(cands), [], ""
+    s, n = scatter
+    for name, (om, br) in brackets.items():
+        if br is None:
+            why = msg("the {direction} {what} levels' passes are not resolved from the noise of the responses (k = 2, "
+                      "between-record scatter {s:.3g} mV from {n} ±pairs): record longer or at larger levels",
+                      direction=name, what=what, s=s, n=n)
+            continue
+        h, lo, i = br
+        if h != i or lo != i + 1:
+            out[name] = (float(om[h]), float(om[lo]) if lo is not None else None)
+            notes.append(msg("{direction}: the pass of {cand:g} °/s or the fail of the next level is within the "
+                             "noise of the responses (k = 2, between-record scatter {s:.3g} mV from {n} ±pairs): "
+                             "interval widened to ({lo:g}, {hi:g}] °/s", direction=name, cand=abs(float(om[i])), s=s, n=n,
+                             lo=abs(float(om[lo])) if lo is not None else 0.0, hi=abs(float(om[h]))))
+    return out, join("; ", notes), why
+
+
 def _rounding_check(campaign, res: Result, pairs: list[tuple[str, Segment, Segment, float]], K: float,
                     eq: str) -> Result:
     """Issue 13: a level counts only if its response is resolved from the output's rounding.  Each
@@ -95,6 +133,26 @@ def _rounding_check(campaign, res: Result, pairs: list[tuple[str, Segment, Segme
                 eq=eq, margin=margin)))
     return attrs.evolve(res, note=join("; ", [res.note, msg("{text}, below {eq}'s 50 % margin {margin:.3g} mV",
                                                              text=text, eq=eq, margin=margin)]))
+
+
+def _decided(metric, campaign, cands: dict, levels: dict, uw: dict, K: float, what: str, pairs: list, eq: str) -> Result:
+    """The grid result of 7.2.9 / 7.2.10 with each level decided only where its response is resolved from
+    the noise (issue 13): u of each F_i is the larger of its two records' s/√N and the between-record
+    scatter of the ±pairs (:func:`_pair_scatter`); the candidate's interval is widened to the resolved
+    levels, or the result is not reportable (interpretations.md, "7.2.9 / 7.2.10 — a level decided by
+    noise"); then the output-rounding check."""
+    sc = _pair_scatter(levels)
+    brackets = {}
+    for name, (om, f) in levels.items():
+        u = np.maximum(uw[name], sc[0])
+        brackets[name] = (om, F.resolved_bracket(om, f, K, u))
+    widened, note, why = _resolved(brackets, cands, sc, what)
+    res = _grid_result(metric, widened, campaign, what)
+    if note:
+        res = attrs.evolve(res, note=join("; ", [res.note, note]))
+    if why:
+        return attrs.evolve(res, reportable=False, reason=why)
+    return _rounding_check(campaign, res, pairs, K, eq)
 
 
 class Threshold(_JJF):
@@ -132,9 +190,11 @@ class Threshold(_JJF):
         if not zero:
             raise DataError(campaign.source, "segments", "7.2.9 needs a zero-input segment (kind threshold, rate 0)")
         f0 = np.mean([_mean_u(s)[0] for s in zero])
+        u0 = math.sqrt(sum(_mean_u(s)[1] ** 2 for s in zero)) / len(zero)
         cands = {}
         rows = []
         pairs = []
+        levels, uw = {}, {}
         for name, sgn in (("forward", 1), ("reverse", -1)):
             d = sorted([s for s in segs if sgn * _cond_q(s, "rate", "deg/s") > 0],
                        key=lambda s: -abs(_cond_q(s, "rate", "deg/s")))
@@ -143,6 +203,7 @@ class Threshold(_JJF):
             om = np.array([_cond_q(s, "rate", "deg/s") for s in d])
             _distinct(campaign, om, f"7.2.9 {name} levels (condition rate)")
             fc = np.array([_mean_u(s)[0] - f0 for s in d])
+            levels[name], uw[name] = (om, fc), np.array([math.hypot(_mean_u(s)[1], u0) for s in d])
             c, i = F.threshold_eq16_17(om, fc, K)
             if c is None:
                 raise ProcedureError(f"7.2.9: already the largest {name} level {om[0]:g} °/s fails eq. (17)",
@@ -151,8 +212,7 @@ class Threshold(_JJF):
             pairs.append((name, d[i], zero[0], c))
             rows += [[name, f"{o:g}", f"{K * o:.4g}", f"{x:.4g}", f"{abs((K * o - x) / (K * o)) * 100:.1f}"]
                      for o, x in zip(om, fc)]
-        res = _rounding_check(campaign, _grid_result(self.metrics[0], cands, campaign, "threshold"), pairs, K,
-                              "eq. (17)")
+        res = _decided(self.metrics[0], campaign, cands, levels, uw, K, "threshold", pairs, "eq. (17)")
         tab = TableSpec("threshold", msg("Eq. (17) per level"), [msg("direction"), "Ω_i (°/s)", "F̂_i (mV)", "F_i (mV)",
                                                              "|F̂−F|/F̂ (%)"], rows)
         return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
@@ -193,6 +253,7 @@ class Resolution(_JJF):
         K, _, _ = scale_factor_for(campaign, type(self))
         segs = _need(campaign, type(self), "resolution")
         cands, rows, pairs = {}, [], []
+        levels, uw = {}, {}
         for name, sgn in (("forward", 1), ("reverse", -1)):
             mine = [s for s in segs if sgn * _cond_q(s, "base_rate", "deg/s") > 0]
             base = [s for s in mine if _cond_q(s, "increment", "deg/s") == 0.0]
@@ -208,14 +269,15 @@ class Resolution(_JJF):
                 raise DataError(campaign.source, "segments", f"7.2.10: {len(base)} {name} base segments (increment 0); "
                                 "give one")
             dF = np.array([_mean_u(s)[0] - fb for s in inc])
+            levels[name] = (dom, dF)
+            uw[name] = np.array([math.hypot(_mean_u(s)[1], _mean_u(base[0])[1]) for s in inc])
             c, i = F.resolution_eq18(dom, dF, K)
             if c is None:
                 raise ProcedureError(f"7.2.10: already the largest {name} increment {dom[0]:g} °/s fails eq. (18)")
             cands[name] = (c, float(dom[i + 1]) if i + 1 < dom.size else None)
             pairs.append((name, inc[i], base[0], c))
             rows += [[name, f"{o:g}", f"{K * o:.4g}", f"{x:.4g}"] for o, x in zip(dom, dF)]
-        res = _rounding_check(campaign, _grid_result(self.metrics[0], cands, campaign, "increment"), pairs, K,
-                              "eq. (18)")
+        res = _decided(self.metrics[0], campaign, cands, levels, uw, K, "increment", pairs, "eq. (18)")
         tab = TableSpec("resolution", msg("Eq. (18) per increment"), [msg("direction"), "ΔΩ_i (°/s)", "ΔF̂_i (mV)", "ΔF_i (mV)"],
                         rows)
         return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
