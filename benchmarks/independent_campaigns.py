@@ -654,8 +654,14 @@ def score(truth: dict, doc: dict) -> list[dict]:
     return rows
 
 
-def run_variant(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool,
-                quick: bool = False, keep: bool = False) -> list[dict]:
+def run_variant(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool = False,
+                quick: bool = False, keep: bool = False, metro=None, scorer=None) -> list[dict]:
+    """Build and evaluate ``devices`` campaigns of ``variant`` (seeds seed0, seed0 + 1, …) and score them:
+    one row per result, or one ``exit N`` row with metro's message.  ``metro(manifest)`` runs metro
+    (default :func:`run_metro` with the variant's standard and items), ``scorer(truth, doc)`` scores
+    (default :func:`score`) — a harness module passes its own."""
+    metro = metro or (lambda m: run_metro(m, variant.standard, variant.items, use_subprocess))
+    scorer = scorer or score
     out = []
     for i in range(devices):
         seed = seed0 + i
@@ -665,13 +671,13 @@ def run_variant(variant: Variant, devices: int, seed0: int, workdir: Path, use_s
         t0 = time.perf_counter()
         truth = variant.build(folder, rng, quick)
         t1 = time.perf_counter()
-        code, doc, err = run_metro(folder / "manifest.toml", variant.standard, variant.items, use_subprocess)
+        code, doc, err = metro(folder / "manifest.toml")
         t2 = time.perf_counter()
         if code not in (0, 3, 4) or not doc.get("results"):
             out.append({"variant": variant.name, "seed": seed, "status": f"exit {code}",
                         "error": (doc.get("message") or (err.strip().splitlines() or [""])[-1])[:400]})
         else:
-            for row in score(truth, doc):
+            for row in scorer(truth, doc):
                 out.append({"variant": variant.name, "seed": seed, **row, "t_gen": t1 - t0, "t_run": t2 - t1})
         if not keep:
             import shutil

@@ -668,8 +668,9 @@ def main(argv=None) -> int:
     """The shared command line (``independent_campaigns.cli``), scoring through :func:`score_more`."""
     import independent_campaigns as ic
 
-    ic.score = score_more  # run_variant scores through the sibling module's name
-    return ic.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-more-")
+    return ic.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-more-",
+                  run=lambda v, a, work: ic.run_variant(v, a.devices, a.seed, work, a.subprocess, quick=a.quick,
+                                                        keep=a.keep is not None, scorer=score_more))
 
 
 if __name__ == "__main__":

@@ -42,10 +42,7 @@ import importlib.util
 import io
 import json
 import math
-import shutil
 import sys
-import time
-import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -499,26 +496,9 @@ def run_metro(manifest: Path, standard: str, items: str, options=()) -> tuple[in
 
 def run_variant(variant: MimuVariant, devices: int, seed0: int, workdir: Path, quick: bool = False,
                 keep: bool = False) -> list[dict]:
-    out = []
-    for i in range(devices):
-        seed = seed0 + i
-        rng = np.random.default_rng([seed, zlib.crc32(variant.name.encode())])
-        folder = workdir / f"{variant.name}-{seed}"
-        folder.mkdir(parents=True)
-        t0 = time.perf_counter()
-        truth = variant.build(folder, rng, quick)
-        t1 = time.perf_counter()
-        code, doc, err = run_metro(folder / "manifest.toml", variant.standard, variant.items, variant.options)
-        t2 = time.perf_counter()
-        if code not in (0, 3, 4) or not doc.get("results"):
-            out.append({"variant": variant.name, "seed": seed, "status": f"exit {code}",
-                        "error": (doc.get("message") or err.strip().splitlines()[-1:] or [""])[0][:400]})
-        else:
-            for row in score(truth, doc):
-                out.append({"variant": variant.name, "seed": seed, **row, "t_gen": t1 - t0, "t_run": t2 - t1})
-        if not keep:
-            shutil.rmtree(folder, ignore_errors=True)
-    return out
+    """:func:`independent_campaigns.run_variant` with the variant's item options on metro's command line."""
+    return ic.run_variant(variant, devices, seed0, workdir, quick=quick, keep=keep,
+                          metro=lambda m: run_metro(m, variant.standard, variant.items, variant.options))
 
 
 GROUPS = (("7.2.1", "K_g diagonal", lambda k: k[3] == k[4]),

@@ -695,14 +695,7 @@ VARIANTS = {
 def run_more(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool = False,
              quick: bool = False, keep: bool = False) -> list[dict]:
     """run_variant with the earth-rate-aware scoring of this module."""
-    import independent_campaigns as ic
-
-    old = ic.score
-    ic.score = score_more
-    try:
-        return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep)
-    finally:
-        ic.score = old
+    return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep, scorer=score_more)
 
 
 def main(argv=None) -> int:
