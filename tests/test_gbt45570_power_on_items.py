@@ -165,3 +165,54 @@ def test_d25_without_d24_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_
     harness.build_kt(folder, np.random.default_rng([25, 99]), quick=True, repeats=False)
     res = _kt(run_cli, folder)
     assert "turn-on scatter of K not in U" in res["note"] and "D.2.4" in res["note"], res["note"]
+
+
+def _field_campaign(folder: Path, rng, *, sigma_on: float, repeats: bool, seconds: int = 600) -> None:
+    """D.5.5: ±1 mT along IRA, XRA, YRA, each record a power-on of its own (turn-on scatter σ_on), no
+    magnetic sensitivity; optionally D.5.3's 7 repeats."""
+    lat, arw = 30.0, 0.002
+    earth = OMEGA_E * math.sin(math.radians(lat))
+    segs = []
+
+    def record(name, bias):
+        x = bias + earth + rng.standard_normal(seconds) * arw * 60.0
+        (folder / f"{name}.csv").write_text("time [s],output [°/h]\n" + "\n".join(
+            f"{a},{b!r}" for a, b in zip(range(1, seconds + 1), x.tolist())) + "\n", encoding="utf-8")
+        return f"{name}.csv"
+
+    for ax in ("IRA", "XRA", "YRA"):
+        for h in (1, -1):
+            sid = f"field-{ax}-{'plus' if h > 0 else 'minus'}"
+            f = record(sid, 0.3 + sigma_on * rng.standard_normal())
+            segs.append(f'[[segments]]\nid = "{sid}"\nkind = "static-field"\nfile = "{f}"\nsample_interval = "1 s"\n'
+                        f'[segments.conditions]\norientation = "IRA up"\nfield_axis = "{ax}"\nfield = "{h} mT"\n')
+    if repeats:
+        for j in range(1, 8):
+            f = record(f"repeat-{j}", 0.3 + sigma_on * rng.standard_normal())
+            segs.append(f'[[segments]]\nid = "repeat-{j}"\nkind = "static-repeat"\nfile = "{f}"\n'
+                        f'sample_interval = "1 s"\n[segments.conditions]\norientation = "IRA up"\nrun = {j}\n')
+    (folder / "manifest.toml").write_text(
+        '[device]\nid = "BH-1"\noutput = "rate"\n\n[environment]\ntemperature = "20 °C"\nhumidity = "40 %"\n\n'
+        f'[site]\nlatitude = "{lat}°"\n\n[[equipment]]\nid = "FG-1"\nrole = "field_generator"\nuniformity = "3 %"\n\n'
+        + "\n".join(segs), encoding="utf-8")
+
+
+def test_d55_field_records_carry_the_turn_on_scatter_of_d53(run_cli, tmp_path):
+    """interpretations.md "D.5.5 — each field record a power-on": B_0+ and B_0− are taken "by D.5.1.2", each a
+    power-on of its own, so B_h's budget carries √2·σ_on/(2H_b) with D.5.3's σ_on; without D.5.3 repeats the
+    result says the turn-on scatter is not in U.  (Independent harness, bt-bh-lsb-10Hz-flicker: B_h within U
+    88–95 % → 98–100 % of 100.)"""
+    a, b = tmp_path / "a", tmp_path / "b"
+    a.mkdir()
+    b.mkdir()
+    _field_campaign(a, np.random.default_rng(5), sigma_on=0.02, repeats=True)
+    bh = _run(run_cli, a, "D.5.3,D.5.5")["Bh_IRA"]
+    row = [x for x in bh["budget"]["rows"] if x["symbol"] == "√2·σ_on/(2H_b)"]
+    assert len(row) == 1 and "D.5.3" in row[0]["source"]
+    s_on = float(row[0]["source"].split("σ_on = ")[1].split(" ")[0])
+    assert row[0]["contribution"] == pytest.approx(math.sqrt(2) * s_on / 2.0, rel=1e-3)
+    assert 0.005 < s_on < 0.05  # the drawn σ_on = 0.02 °/h, from 7 repeats
+    _field_campaign(b, np.random.default_rng(5), sigma_on=0.02, repeats=False)
+    bh = _run(run_cli, b, "D.5.5")["Bh_IRA"]
+    assert not [x for x in bh["budget"]["rows"] if x["symbol"] == "√2·σ_on/(2H_b)"]
+    assert "turn-on scatter not in U" in bh["note"]

@@ -487,21 +487,9 @@ class BiasTemperatureSensitivityD54(Procedure):
                                  Q_(uA, "deg/h/delta_degC"), nu)]
         # D.5.4.2 c): off between points, so every B_i is a power-on of its own and differs from
         # B(T_i) by the turn-on scatter σ_on that D.5.3 measures (interpretations.md, D.5.4)
-        from .repeatability import bias_repeat_row
-
-        rep_rows, rep_note = bias_repeat_row(campaign, int(opts["batches"]), None)
-        if not rep_rows and len(campaign.find_segments("static-repeat")) < 2:
-            rep_note = msg("turn-on scatter not in U: each temperature point is a power-on of its own (D.5.4.2 c)), but "
-                           "the campaign has no D.5.3 repeats (static-repeat) to measure it")
-        s_on = float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude) if rep_rows else 0.0
-        nu_on = math.inf
-        if s_on > 0:
-            # σ_on² = B_r² − mean u_A² is a difference of variance estimates: its Satterthwaite
-            # degrees of freedom are (Q − 1)·(σ_on²/B_r²)², far fewer than Q − 1 when the
-            # within-run part is a large share of B_r (interpretations.md, D.5.4)
-            reps = campaign.find_segments("static-repeat")
-            b_r = F.bias_repeatability_d42([segment_bias(r, campaign, int(opts["batches"])).B0 for r in reps])
-            nu_on = max((len(reps) - 1) * (s_on**2 / b_r**2) ** 2, 1.0)
+        s_on, nu_on, rep_rows, rep_note = _turn_on(campaign, int(opts["batches"]), msg(
+            "turn-on scatter not in U: each temperature point is a power-on of its own (D.5.4.2 c)), but "
+            "the campaign has no D.5.3 repeats (static-repeat) to measure it"))
         u_on = math.sqrt(2.0) * s_on / abs(dT)
         u_tot = math.hypot(uA, u_on)
         nu_tot = (u_tot**4 / ((uA**4 / nu if uA > 0 else 0.0) + (u_on**4 / nu_on if u_on > 0 else 0.0))
@@ -556,6 +544,26 @@ class BiasTemperatureSensitivityD54(Procedure):
                        segments=[s.id for s in segs], options={k: str(v) for k, v in opts.items()})
 
 
+def _turn_on(campaign: Campaign, batches: int, missing: str) -> tuple[float, float, list, str]:
+    """The turn-on scatter σ_on of one power-on's bias that D.5.3 measures on this campaign, for items
+    whose records are power-ons of their own (D.5.4, D.5.5): (σ_on °/h, its ν, the D.5.3 rows, note —
+    ``missing`` when the campaign has no repeats).  σ_on² = B_r² − mean u_A² is a difference of variance
+    estimates: its Satterthwaite ν is (Q − 1)·(σ_on²/B_r²)², far fewer than Q − 1 when the within-run
+    part is a large share of B_r (interpretations.md, D.5.4)."""
+    from .repeatability import bias_repeat_row
+
+    rep_rows, rep_note = bias_repeat_row(campaign, batches, None)
+    if not rep_rows and len(campaign.find_segments("static-repeat")) < 2:
+        rep_note = missing
+    s_on = float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude) if rep_rows else 0.0
+    nu_on = math.inf
+    if s_on > 0:
+        reps = campaign.find_segments("static-repeat")
+        b_r = F.bias_repeatability_d42([segment_bias(r, campaign, batches).B0 for r in reps])
+        nu_on = max((len(reps) - 1) * (s_on**2 / b_r**2) ** 2, 1.0)
+    return s_on, nu_on, rep_rows, rep_note
+
+
 class BiasMagneticSensitivityD55(Procedure):
     """GB/T 45570—2025 D.5.5 零偏磁场灵敏度 (bias magnetic sensitivity), eq. (D.44).
 
@@ -598,6 +606,11 @@ class BiasMagneticSensitivityD55(Procedure):
         if gen is not None and "uniformity" in gen.properties:
             uniformity = float(gen.prop("uniformity", "percent", source=campaign.source).to("").magnitude)
         results, rows_table, used = [], [], []
+        # each field record is taken "by D.5.1.2" — a power-on of its own: the two biases differ by
+        # √2·σ_on besides their noise (interpretations.md, "D.5.5 — each field record a power-on")
+        s_on, nu_on, _, on_note = _turn_on(campaign, int(opts["batches"]), msg(
+            "turn-on scatter not in U: each field record is a power-on of its own (by D.5.1.2), but the campaign has "
+            "no D.5.3 repeats (static-repeat) to measure it"))
         for metric, ax in zip(self.metrics, ("IRA", "XRA", "YRA")):
             mine = [s for s in segs if str(s.condition("field_axis")).upper() == ax]
             fields = [float(s.condition("field", "mT").to("mT").magnitude) for s in mine]
@@ -619,6 +632,10 @@ class BiasMagneticSensitivityD55(Procedure):
                   if uA > 0 else math.inf)
             rows = [BudgetRow.type_a(msg("scatter of B_0+ and B_0− (batch means)"), "√(u²₊+u²₋)/(2H_b)",
                                      Q_(uA, "deg/h/mT"), nu)]
+            if s_on > 0:
+                rows.append(BudgetRow.type_a(msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by "
+                                                 "D.5.1.2\"): σ_on = {s:.4g} °/h of D.5.3 on this campaign", s=s_on),
+                                             "√2·σ_on/(2H_b)", Q_(math.sqrt(2.0) * s_on / (2.0 * Hb), "deg/h/mT"), nu_on))
             if ep.u_q > 0 or em.u_q > 0:
                 rows.append(BudgetRow.type_b(msg("quantization of B_0+ and B_0− (the D.5.1 rows)"), "√(u_q²₊+u_q²₋)/(2H_b)",
                                              Q_(math.hypot(ep.u_q, em.u_q) / (2.0 * Hb), "deg/h/mT"),
@@ -635,7 +652,8 @@ class BiasMagneticSensitivityD55(Procedure):
             warn = ""
             if abs(Hp - Hm) > 0.01 * Hb:
                 warn = msg("forward {p:g} mT and reversed {m:g} mT differ; H_b = their mean", p=Hp, m=Hm)
-            results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=warn, earth_rate="not applicable"))
+            results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=join("; ", [x for x in (warn, on_note) if x]),
+                                  earth_rate="not applicable"))
             rows_table.append([ax, f"{Hb:g}", f"{ep.B0:.5f}", f"{em.B0:.5f}", f"{Bh:.4g}"])
             used += [sp.id, sm.id]
         table = TableSpec("field_biases", msg("Biases with the field forward and reversed (D.5.5)"),

@@ -201,7 +201,7 @@ class Bias(_JJF):
                                  *(kv.power_on_rows(bv.B0, 1.0, "deg/h", msg("the static record (7.2.13.1)"))
                                    if rep_row is None else [])])
         if rep_row is None and kv.kr is None:
-            b = attrs.evolve(b, note=join("; ", [b.note, _power_on_note(None, kv)]))
+            b = attrs.evolve(b, note=join("; ", [x for x in (b.note, _power_on_note(None, kv)) if x]))
         on = _flag(opts, "earth_rate")
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
                                      note=join("; ", [msg("K from {source}", source=src), _earth_text(campaign, on)]),
@@ -393,7 +393,7 @@ class BiasTemperature(_JJF):
                                       abs(bvs[i].B0) * kt_ratio[i][1] / dT, "deg/h/delta_degC", kt_ratio[i][2]))
         rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
         b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep),
-                            note=join("; ", [_power_on_note(rep, kv), kt_note]))
+                            note=join("; ", [x for x in (_power_on_note(rep, kv), kt_note) if x]))
         tab = TableSpec("bias_temperature", msg("B_0i per temperature"), ["T_i (°C)", "B_0i (°/h)"],
                         [[f"{t:g}", f"{x.B0:.5g}"] for t, x in zip(temps, bvs)])
         note = msg("maximum at {T:g} °C", T=temps[i])
