@@ -121,11 +121,9 @@ def _calibration(t: Mapping, src: str, where: str) -> Calibration:
     # an uncertainty is a difference: "0.5 °C" (a chamber's U, as docs/data-format.md lists it) is
     # 0.5 K, not the temperature 0.5 °C, on which no budget row can be multiplied (pint refuses an
     # offset unit: a traceback on the independent harness's JJF 2014 7.2.5/7.2.16 campaigns)
-    from .units import Q_
+    from .units import Q_, difference_unit
 
-    for offset, delta in (("degC", "delta_degC"), ("degF", "delta_degF")):
-        if U.units == Q_(1.0, offset).units:
-            U = Q_(float(U.magnitude), delta)
+    U = Q_(float(U.magnitude), difference_unit(U.units))
     if float(U.magnitude) < 0:
         raise DataError(src, f"{where}.U", f"{U:~P} is negative; an expanded uncertainty is ≥ 0")
     k = t.get("k", 2.0)
