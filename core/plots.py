@@ -106,6 +106,30 @@ def localized(spec: "PlotSpec", tr: Any) -> "PlotSpec":
     return attrs.evolve(spec, title=t(spec.title), xlabel=t(spec.xlabel), ylabel=t(spec.ylabel), series=series)
 
 
+def display_width(text: str) -> int:
+    """Columns a text takes in the figure's font: a CJK character is as wide as two Latin ones."""
+    return len(text) + len(_CJK.findall(text))
+
+
+def title_lines(title: str, width: int = 70) -> list[str]:
+    """The title wrapped to ``width`` columns of :func:`display_width` (a zh+en title wrapped by
+    characters ran past the figure's edge and was clipped: "Scale factor: m")."""
+    import textwrap
+
+    lines: list[str] = []
+    for line in textwrap.wrap(title, width):
+        while display_width(line) > width:
+            cut = len(line)
+            while cut > 1 and display_width(line[:cut]) > width:
+                cut -= 1
+            sp = line.rfind(" ", 0, cut)
+            cut = sp if sp > 0 else cut
+            lines.append(line[:cut].rstrip())
+            line = line[cut:].lstrip()
+        lines.append(line)
+    return lines
+
+
 def plot_text(text: str) -> str:
     """Figure text with real subscripts: ``K_i`` → mathtext ``$\\mathregular{K_{i}}$`` (drawn
     in the text's own font), other text unchanged; ``$`` already present is left alone.
@@ -146,8 +170,6 @@ def _axis_formatters(ax, spec: "PlotSpec") -> None:
 
 def _draw(fig, spec: "PlotSpec") -> None:
     """Draw ``spec`` on an empty figure."""
-    import textwrap
-
     ax = fig.add_subplot()
     labelled = False
     for i, s in enumerate(spec.series):
@@ -162,7 +184,7 @@ def _draw(fig, spec: "PlotSpec") -> None:
     ax.set_xlabel(plot_text(spec.xlabel))
     ax.set_ylabel(plot_text(spec.ylabel))
     if spec.title:
-        ax.set_title(plot_text("\n".join(textwrap.wrap(spec.title, 70))), fontsize="medium")
+        ax.set_title(plot_text("\n".join(title_lines(spec.title))), fontsize="medium")
     ax.grid(True, which="major", linewidth=0.6, alpha=0.5)
     if spec.logx or spec.logy:
         ax.grid(True, which="minor", linewidth=0.4, alpha=0.25)

@@ -722,3 +722,14 @@ def test_the_signature_table_stays_on_one_page():
     t = doc.doc.tables[-1]
     keep = [all(p.paragraph_format.keep_with_next for c in row.cells for p in c.paragraphs) for row in t.rows]
     assert keep == [True, True, True, False]
+
+
+def test_zh_en_figure_title_wraps_by_display_width():
+    """A zh+en title wrapped at 70 characters ran past the figure's edge (a CJK character is two columns
+    wide) and was clipped — JJF 2014 7.2.1's first figure read "Scale factor: m" on the rendered page."""
+    t = ("标度因数：平均输出 F̄_i（式（2））及拟合直线 F̂ = KΩ + F₀（式（6）） Scale factor: mean outputs F̄_i "
+         "(eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))")
+    lines = plots.title_lines(t)
+    assert all(plots.display_width(x) <= 70 for x in lines), lines
+    assert " ".join(lines).split() == t.split()  # nothing lost
+    assert plots.title_lines("K against rate") == ["K against rate"]
