@@ -142,11 +142,16 @@ def _power_on(bv: BiasValue, rep: Spread | None, kv: "KValue", what: str, scale:
 
 
 def _power_on_note(rep: Spread | None, kv: "KValue") -> str:
-    """The budget's note when neither B_r nor K_r is known: the power-on's K is not in the budget."""
-    if rep is None and kv.kr is None:
+    """The budget's note when B_r is not known: a record that is a power-on of its own differs from
+    another by the turn-on scatter of the bias, which only 7.2.15's runs (or a stated B_r) measure — and,
+    without K_r either, by the variation of K between power-ons."""
+    if rep is not None:
+        return ""
+    if kv.kr is None:
         return msg("no bias repeatability (7.2.15) and no K_r (7.2.4): the variation of K between power-ons "
                    "is not in this budget (give rate-repeat runs or device.scale_factor_repeatability)")
-    return ""
+    return msg("no bias repeatability (7.2.15): where the records are power-ons of their own, the turn-on scatter "
+               "of the bias between them is not in this budget (give static-repeat runs or device.bias_repeatability)")
 
 
 def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: str) -> BudgetRow:
@@ -199,8 +204,8 @@ class Bias(_JJF):
                           extra=[*rounding_row_mean(campaign, bv.x, "the mean output F̄ (eq. (27))",
                                                     3600.0 / abs(K), "deg/h"),
                                  *(kv.power_on_rows(bv.B0, 1.0, "deg/h", msg("the static record (7.2.13.1)"))
-                                   if rep_row is None else [])])
-        if rep_row is None and kv.kr is None:
+                                   if rep is None else [])])
+        if rep is None:
             b = attrs.evolve(b, note=join("; ", [x for x in (b.note, _power_on_note(None, kv)) if x]))
         on = _flag(opts, "earth_rate")
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
