@@ -72,6 +72,29 @@ def _bounded(text: str, src: str, field: str) -> str:
     return text
 
 
+def _condition_value(v: Any, src: str, field: str) -> Any:
+    """A segment condition: as :func:`_maybe_quantity`, except that a text without a digit stays text.
+
+    A condition is a quantity only when written with its number (``"10 deg/s"``, ``"-55 °C"``); a
+    word such as a test's tag (``test = "acc"``, ``"dh"``, ``"rad"`` of GB/T 45570 6.2.8) is a name
+    even when pint knows it as a unit (attocubic centimetre, decihour, radian) — read as ``1 acc`` it
+    matched no tag and the records were silently unused.  A condition read with a dimension
+    (``Segment.condition(name, unit)``) is parsed there as before; ``"inf °C"`` and ``"nan"`` are still
+    refused."""
+    if isinstance(v, str) and not any(ch.isdigit() for ch in v):
+        try:
+            q = parse_quantity(v, file=src, field=field)
+        except UnitError:
+            return _bounded(v, src, field)
+        try:
+            finite = math.isfinite(float(q.magnitude))
+        except (TypeError, ValueError):
+            finite = False
+        if finite:
+            return _bounded(v, src, field)
+    return _maybe_quantity(v, src, field)
+
+
 def _maybe_quantity(v: Any, src: str, field: str) -> Any:
     """Values written as text with a unit become quantities; plain text stays text."""
     if isinstance(v, str):
@@ -431,7 +454,7 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         conds = s.get("conditions", {})
         if not isinstance(conds, dict):
             raise DataError(src, f"{where}.conditions", "must be a table")
-        conditions = {k: _maybe_quantity(v, src, f"{where}.conditions.{k}") for k, v in conds.items()}
+        conditions = {k: _condition_value(v, src, f"{where}.conditions.{k}") for k, v in conds.items()}
         if "supply" not in conditions and "supply_voltage" in device.properties:
             conditions["supply"] = device.properties["supply_voltage"]  # a ratiometric output's reference
         declared = s.get("units", {})

@@ -711,3 +711,24 @@ def test_before_and_after_a_54_test_carry_two_power_ons(pm):
     brow = next(r for r in db.budget.rows if r.symbol == "√2·σ_on")
     sigma_on = bias_repeat_row(rec.campaign, 20, None)[0][0]
     assert brow.contribution.m_as("deg/h") == pytest.approx(math.sqrt(2) * sigma_on.contribution.m_as("deg/h"), rel=1e-9)
+
+
+@pytest.mark.parametrize("item, tag", [("6.2.8.7", "acc"), ("6.2.8.10", "dh"), ("6.2.8.14", "rad")])
+def test_scale_factor_records_whose_tag_is_also_a_unit_survive_the_manifest(pm, tmp_path, item, tag):
+    """The tags acc, dh and rad are units to pint (attocubic centimetre, decihour, radian): a manifest's
+    ``test = "acc"`` was read as the quantity 1 acc, matched no test, and ΔK/K of 6.2.8.7, 6.2.8.10 and
+    6.2.8.14 vanished without a word on every written campaign (``metro acquire`` then ``run --data``;
+    found by benchmarks/independent_gbt_env.py).  A condition without a digit stays text."""
+    from metro.core.cli import main
+
+    out = tmp_path / "camp"
+    assert main(["acquire", "-s", "gbt45570", "-i", item, "--out", str(out), "--station-option",
+                 "duration_scale=0.25"]) == 0
+    camp = load_manifest(out / "manifest.toml", pm.reader_for)
+    revs = [s for s in camp.segments if s.kind == "type-env-revolutions"]
+    assert revs and all(s.conditions["test"] == tag for s in revs)
+    rec = _run(pm, out / "manifest.toml", [item])
+    r = _result(rec, f"{tag}_dK")
+    assert math.isfinite(float(r.value.to("ppm").magnitude)) and float(r.U.to("ppm").magnitude) > 0
+    # a quantity condition is still read with its unit, and a bare non-finite one still refused
+    assert float(next(s for s in revs).condition("rate", "deg/s").to("deg/s").magnitude) != 0

@@ -1,0 +1,88 @@
+"""GB/T 45570 environment, polarity, set-up, power, D.3, D.4 and D.6 items on devices from the independent harness.
+
+benchmarks/independent_gbt_env.py writes campaigns from the documented format with its own numpy generators
+(pulse counters dithered and not, fine and coarse, LSB words, °/h outputs; turn-on scatter of bias and K between
+power-ons; environmental shifts of known size; dead bands; settling transients; supplies with a pulsed load)
+and scores the results against the truth it knows by construction.  Here a few devices at short record
+lengths: metro must read them, give each result in the standard's unit, and land within U of the truth or
+say why it cannot report it.  The sweeps and their table are at the end of docs/independent-campaigns.md.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_DIR = Path(__file__).resolve().parents[1] / "benchmarks"
+_PATH = _DIR / "independent_gbt_env.py"
+
+
+@pytest.fixture(scope="module")
+def env():
+    sys.path.insert(0, str(_DIR))
+    try:
+        spec = importlib.util.spec_from_file_location("independent_gbt_env", _PATH)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[spec.name] = mod  # its dataclasses look their module up
+        spec.loader.exec_module(mod)
+        yield mod
+    finally:
+        sys.path.remove(str(_DIR))
+
+
+def test_module_does_not_use_metro_generators():
+    """Independence: the generators import no part of metro (the campaigns are evaluated through the sibling
+    module's `metro run`), and take nothing but writers and scoring from it."""
+    text = _PATH.read_text(encoding="utf-8")
+    imports = [ln for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+    assert imports, "no imports found"
+    assert not [ln for ln in imports if "metro" in ln or "simulated" in ln or "instruments" in ln], imports
+    assert not [ln for ln in imports if "independent_gbt_more" in ln], imports
+
+
+def test_threshold_truth_is_the_first_level_at_half_the_input(env, tmp_path):
+    """The D.4 truth on a hand-worked dead band: response x/(1 + (d/x)⁴) is 50 % at x = d, so with d = 0.009 °/h
+    the first of metro plan's levels at ≥ 50 % is 0.01 °/h (0.008 gives 1/(1 + 1.6) = 38 %)."""
+    assert 0.008 / (1 + (0.009 / 0.008) ** 4) / 0.008 == pytest.approx(1 / (1 + (9 / 8) ** 4))
+    rng = np.random.default_rng(5)
+    t = env.build_threshold(tmp_path, rng, kind="pulse-fine", dead=(0.0085, 0.0095), quick=True)
+    value, unit, _, d = t[("D.4", "threshold")]
+    assert 0.0085 <= d <= 0.0095 and value == 0.01 and unit == "°/h"
+
+
+DEVICES = [
+    ("6.2.6", 41, lambda m, f, rng: m.build_polarity(f, rng, kind="pulse", p_negative=1.0, quick=True)),
+    ("6.2.7.7", 42, lambda m, f, rng: m.build_setup(f, rng, kind="rate", q=0.01, quick=True)),
+    ("6.2.7.8", 43, lambda m, f, rng: m.build_power(f, rng, supplies=(28.0, -15.0), pulsed=True, quick=True)),
+    ("D.6.1,D.6.2", 44, lambda m, f, rng: m.build_temperature(f, rng, kind="pulse", quick=True)),
+    ("D.6.3,D.6.4", 45, lambda m, f, rng: m.build_vibration_shock(f, rng, kind="LSB", quick=True)),
+    ("6.2.8.2,6.2.8.7", 46, lambda m, f, rng: m.build_type_env(f, rng, kind="pulse", method="angle", quick=True)),
+]
+
+
+@pytest.mark.parametrize("items,seed,build", DEVICES,
+                         ids=["polarity-negative", "setup", "power", "temperature", "vibration-shock", "type-env"])
+def test_independent_device_evaluates_within_U(env, tmp_path, items, seed, build):
+    import independent_campaigns as ic
+
+    folder = tmp_path / f"dev-{seed}"
+    folder.mkdir()
+    rng = np.random.default_rng([seed, zlib.crc32(items.encode())])
+    truth = build(env, folder, rng)
+    truth = {k: v for k, v in truth.items() if k[0] in items.split(",")}
+    code, doc, err = ic.run_metro(folder / "manifest.toml", "gbt45570", items)
+    assert code in (0, 3, 4), err
+    assert not doc.get("manifest_warnings"), doc.get("manifest_warnings")
+    rows = env.score_env(truth, doc)
+    assert {(r["item"], r["key"]) for r in rows} == set(truth)
+    for r in rows:
+        if r["status"] == "not reportable":
+            assert r["reason"], r
+            continue
+        assert r["status"] == "ok", r  # a missing result or a wrong unit fails here
+        assert abs(r["En"]) <= 1, r
