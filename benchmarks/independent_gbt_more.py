@@ -220,6 +220,76 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
             ("D.1.4", "Kr"): (Kr, "", "")}
 
 
+def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bool = True, quick=False) -> dict:
+    """D.1.5 (and D.1.4) on a laser gyro, pulse output (undithered counter): the D.1.1 sweep (R5 up to
+    100 … 400 °/s, m whole revolutions each way) at 3 points (both limits and room temperature,
+    D.1.5.2 b)) or 5, each a power-on of its own (D.1.5.2 c): off while the chamber changes), with
+    its own K (power-on scatter σ_K 1–20 ppm) and bias; K(T) = K·(1 + k₁(T − 20) + k₂(T − 20)²), k₁
+    up to ±5×10⁻⁶/°C of either sign; ``repeats``: D.1.4's 7 power-ons at 30 °/s at room temperature.
+    Truth: D.12 on the noise-free K(T_i) at the temperatures the chamber held (± 0.25 °C), the D.5
+    intercept of each point's noise-free K_i (the nonlinearity does not change with T, so K(T_i)/K(T₀)
+    is kT(T_i)/kT(T₀)); the power-on scatter, noise and counter are error."""
+    lat = float(rng.uniform(-65, 70))
+    earth = OMEGA_E_DEG_H * math.sin(math.radians(lat))
+    K = float(rng.uniform(0.3, 3.0))
+    max_rate = float(rng.choice([100.0, 250.0, 400.0]))
+    rates = r5_points(max_rate)[-11:] if quick else r5_points(max_rate)
+    m = 3 if quick else int(rng.choice([3, 5]))
+    shape = str(rng.choice(SHAPES))
+    g = nonlinearity(shape, float(rng.uniform(1e-6, 2e-5)) * (1 if rng.uniform() < 0.5 else -1), max_rate,
+                     float(rng.uniform(2, 10)))
+    a = 2e-5 * float(rng.uniform(-1, 1))
+    sigma_K = float(rng.uniform(*sigma_K_range))
+    k1 = float(rng.uniform(-1, 1)) * float(rng.choice([2e-7, 1e-6, 5e-6]))
+    k2 = float(rng.uniform(-1, 1)) * 1e-8
+    noise = Noise(float(rng.uniform(0.001, 0.005)))
+    U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
+    table = {"id": "RT-X", "role": "rate_table", "revolution_pulse_accuracy": "2″",
+             "calibration": {"certificate": "IND-RT-2", "U": repr(U_table), "k": 2}}
+    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2}}
+    device = {"id": folder.name, "technology": "laser", "application": "aviation", "output": "pulse",
+              "scale_factor": f"{K!r} P/″", "scale_factor_U": "10 ppm"}
+    camp = Campaign(folder, device, lat, [table, COUNTER, chamber], fmt="csv", output=Output("pulse", K=K))
+    terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * U_table / 2 for r in rates + [30.0]}
+    room = float(rng.uniform(18, 25))
+    temps = [-40.0, room, 60.0] if rng.uniform() < 0.5 else [-40.0, -10.0, room, 40.0, 70.0]
+
+    def kT(T):
+        return 1 + k1 * (T - 20) + k2 * (T - 20) ** 2
+
+    def scale(sign, r, rel):
+        return rel * (1 + sign * a / 2) * (1 + float(g(sign * r)))
+
+    actual = {}
+    for i, T in enumerate(temps):
+        Ta = T + 0.25 * float(rng.standard_normal())
+        actual[T] = Ta
+        rel = kT(Ta) * (1 + sigma_K * float(rng.standard_normal()))      # this power-on's K
+        b_on = float(rng.uniform(-1, 1)) + earth
+        for r in rates:
+            for sgn, tag in ((1, "+"), (-1, "-")):
+                cnt, dur = revolution_counts(rng, sign=sgn, rate=r, m=m, scale=scale(sgn, r, rel), K=K, bias=b_on,
+                                             noise=noise, table_err=terr[r], edge=2.0)
+                write_revolutions(camp, f"T{i + 1}-rate{tag}{r:g}", "revolutions-temperature", cnt, dur, 360.0 / r,
+                                  {"rate": f"{sgn * r!r} deg/s", "turns": m, "temperature": f"{T!r} °C"})
+    if repeats:
+        for j in range(1, 8):
+            rel = kT(room) * (1 + sigma_K * float(rng.standard_normal()))
+            b_on = float(rng.uniform(-1, 1)) + earth
+            for sgn, tag in ((1, "+"), (-1, "-")):
+                cnt, dur = revolution_counts(rng, sign=sgn, rate=30.0, m=m, scale=scale(sgn, 30.0, rel), K=K,
+                                             bias=b_on, noise=noise, table_err=terr[30.0], edge=2.0)
+                write_revolutions(camp, f"run{j}-rate{tag}30", "revolutions-repeat", cnt, dur, 12.0,
+                                  {"rate": f"{sgn * 30.0!r} deg/s", "turns": m, "run": j})
+    camp.write_manifest()
+    i0 = int(np.argmin([abs(T - 20.0) for T in temps]))
+    T0 = actual[temps[i0]]
+    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T in enumerate(temps) if i != i0)
+    (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2, "temps": temps,
+                                                   "m": m, "shape": shape}))
+    return {("D.1.5", "Kt"): (Kt * 1e6, "ppm/°C", "")}
+
+
 # --------------------------------------------------------------------------------------------
 # rate method: D.2.1 – D.2.4
 # --------------------------------------------------------------------------------------------
@@ -597,6 +667,12 @@ VARIANTS = {
         "fibre gyro, LSB 0.05 °/h, 1 Hz, 100 s per point; D.2.1 sweeps at 5 or 6 temperatures −40 … 70 °C, each a "
         "power-on with K's scatter σ_K 5–100 ppm; K(T) slope up to ±50 ppm/°C with a curvature; D.2.4's 7 runs",
         lambda f, rng, quick: build_kt(f, rng, quick=quick)),
+    "kt-angle-pulse": Variant(
+        "kt-angle-pulse", "gbt45570", "D.1.5",
+        "laser gyro, pulse 0.3–3 P/″ (undithered counter); the D.1.1 sweep at 3 or 5 temperatures −40 … 70 °C (room "
+        "18–25 °C), each a power-on with K's scatter σ_K 1–20 ppm (D.1.5.2 c)); K(T) slope up to ±5 ppm/°C with a "
+        "curvature; D.1.4's 7 runs at 30 °/s",
+        lambda f, rng, quick: build_kt_angle(f, rng, quick=quick)),
     "arw-pulse-dithered-1Hz": Variant(
         "arw-pulse-dithered-1Hz", "gbt45570", "D.5.6",
         "pulse 0.5–3 P/″ read at a random phase (dithered), 8 h at 1 Hz, ARW 0.001–0.005 °/√h, white only",

@@ -3,7 +3,8 @@
 Registered step kinds (see :func:`metro.instruments.simulated.register_step_kind`):
 
 * ``revolutions-repeat`` / ``revolutions-temperature`` — whole table revolutions, IRA up, as
-  ``rate-revolutions`` but on a power-on ``run`` (D.1.4) or at a chamber ``temperature`` (D.1.5);
+  ``rate-revolutions`` but on a power-on ``run`` (D.1.4) or at a chamber ``temperature`` (D.1.5,
+  each point a power-on of its own: D.1.5.2 c) switches the gyro off between points);
   columns ``count`` (P per revolution) and ``duration`` (s);
 * ``revolutions-mounting`` — the same with XRA or YRA along the table axis (condition
   ``axis_up``), the gyro turned 0° or 180° about its IRA in the fixture (condition ``turn``)
@@ -20,7 +21,9 @@ error at each set point and its ripple, the errors the procedures' type B rows m
 The truth (fields of :class:`~metro.instruments.simulated.GyroTruth`): the scale factor at
 rate |Ω| and direction s is K·(1 + sf_slope·|Ω| + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
 (as in the angle method), times (1 + sf_tc·(T − T_ref)) in the chamber and times (1 + δ_run)
-after power-on ``run`` (δ_run ~ N(0, sf_turn_on_sigma), seeded by (seed, run)).  The input
+after power-on ``run`` (δ_run ~ N(0, sf_turn_on_sigma), seeded by (seed, run)); a D.1.5
+temperature point's power-on draws its own δ (and turn-on bias), seeded by (seed, temperature),
+which the expected K_t leaves out (it is measurement error).  The input
 axis IA leans from IRA by α towards XRA and β towards YRA; a mounting's fixture leans the
 reference axis by ε (``fixture_tilt_arcsec``) towards IRA, the same before and after the 180°
 turn, so D.15/D.32 cancel it.  The horizontal earth rate turns with the table and averages out
@@ -117,11 +120,23 @@ def _signed_rate(step) -> tuple[float, int]:
 # --------------------------------------------------------------------------------------------
 
 
-def _revolutions(station: SimulatedStation, step, index: int, projection: float, bias_offset_deg_h: float) -> Segment:
+def temperature_power_on(truth: GyroTruth, conditions: Mapping[str, Any]) -> tuple[float, float]:
+    """(δK/K, δB in °/h) of the power-on at a D.1.5 temperature point: D.1.5.2 c) switches the gyro
+    off while the chamber changes temperature and on again for the D.1.1.2 sweep, so every point
+    has a turn-on draw of its own, K from N(0, sf_turn_on_sigma) and the bias from
+    N(0, turn_on_sigma_deg_h), seeded by (seed, temperature).  Measurement error, not truth: the
+    expected K_t is D.12 on the noise-free K(T)."""
+    T = float(parse_quantity(conditions["temperature"], dimension="degC").to("degC").magnitude)
+    rng = np.random.default_rng([truth.seed, 1951, int(round((T + 300.0) * 1000.0))])
+    return float(rng.normal(0.0, truth.sf_turn_on_sigma)), float(rng.normal(0.0, truth.turn_on_sigma_deg_h))
+
+
+def _revolutions(station: SimulatedStation, step, index: int, projection: float, bias_offset_deg_h: float,
+                 k_factor: float = 1.0) -> Segment:
     t = station.truth
     rate, direction = _signed_rate(step)
     turns = int(step.conditions.get("turns", 5))
-    K = t.scale_factor_P_per_arcsec * scale_factor_multiplier(t, rate, direction, step.conditions)
+    K = t.scale_factor_P_per_arcsec * scale_factor_multiplier(t, rate, direction, step.conditions) * k_factor
     T = 360.0 / rate
     drift = (EARTH_RATE_DEG_PER_H * math.sin(math.radians(station.latitude_deg)) * projection
              + t.bias_deg_h + bias_offset_deg_h)  # ″/s along IA
@@ -143,7 +158,8 @@ def sim_revolutions_repeat(station, step, index, *, bias_offset_deg_h, **_):
 
 @register_step_kind("revolutions-temperature")
 def sim_revolutions_temperature(station, step, index, *, bias_offset_deg_h, **_):
-    return _revolutions(station, step, index, 1.0, bias_offset_deg_h)
+    dk, db = temperature_power_on(station.truth, step.conditions)  # a power-on at each point (D.1.5.2 c))
+    return _revolutions(station, step, index, 1.0, bias_offset_deg_h + db, k_factor=1.0 + dk)
 
 
 @register_step_kind("revolutions-mounting")
@@ -434,4 +450,4 @@ def digital_station_factory(**options: Any) -> SimulatedStation:
 
 
 __all__ = ["digital_station_factory", "expected_rate_items", "mounting_projection", "scale_factor_multiplier",
-           "turn_on_scale_factor", "input_axis", "DIGITAL_DEFAULTS"]
+           "turn_on_scale_factor", "temperature_power_on", "input_axis", "DIGITAL_DEFAULTS"]

@@ -59,7 +59,7 @@ class GyroTruth:
     sf_asymmetry: float = 4e-6
     # --- scale-factor repeatability, temperature sensitivity and input-axis misalignment
     # (GB/T 45570 D.1.4–D.1.6, D.2.4–D.2.6; motions in instruments/sim_gbt_rate.py) ---
-    sf_turn_on_sigma: float = 3e-6  # relative scatter of K between power-ons (drawn per `run`)
+    sf_turn_on_sigma: float = 3e-6  # relative scatter of K between power-ons (per `run`, per D.1.5 point)
     sf_tc_per_C: float = 3e-7  # relative change of K per °C about temp_ref_C (linear)
     misalign_alpha_arcsec: float = 40.0  # IA tilted from IRA towards XRA (α of fig. D.1)
     misalign_beta_arcsec: float = -25.0  # IA tilted from IRA towards YRA (β)

@@ -163,7 +163,41 @@ def test_d14_d15_d16_recover_simulated_truth(pm):
     # the truth itself: the 300″/200″ fixture errors cancel in D.15
     assert o.result("alpha").value.to("arcsec").magnitude == pytest.approx(-55.0, abs=o.result("alpha").U.to("arcsec").magnitude)
     assert o.result("beta").value.to("arcsec").magnitude == pytest.approx(35.0, abs=o.result("beta").U.to("arcsec").magnitude)
-    assert rec.outcomes[1].result("Kt").value.to("ppm/delta_degC").magnitude == pytest.approx(0.4, rel=0.05)
+    # K_t: the simulator's truth is D.12 on the noise-free K(T) = K·(1 + 4×10⁻⁷·(T − 20)), exactly
+    # 0.4 ppm/°C; each temperature point is a power-on of its own (D.1.5.2 c)), so the measured K_t
+    # is off by the turn-on draws (σ 10 ppm over ΔT = 40 … 60 °C) and U holds D.1.4's K_r for them
+    kt = rec.outcomes[1].result("Kt")
+    assert camp.expected["Kt"].to("ppm/delta_degC").magnitude == pytest.approx(0.4, rel=1e-9)
+    assert abs(kt.value.to("ppm/delta_degC").magnitude - 0.4) <= kt.U.to("ppm/delta_degC").magnitude
+    kr = rec.outcomes[0].result("Kr").value.to("ppm").magnitude
+    (row,) = [r for r in kt.budget.rows if r.symbol == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
+    s_on = float(str(row.note).split("turn-on scatter of K, ")[1].split(" ppm")[0])
+    assert s_on == pytest.approx(kr, rel=2e-3)  # D.1.4's K_r of this campaign, to 3 digits
+
+
+def test_simulated_d15_temperature_points_are_power_ons():
+    """D.1.5.2 c): the gyro is off while the chamber changes temperature, so the simulated station
+    gives every D.1.5 point a turn-on draw of K of its own (``temperature_power_on``): with no noise,
+    K_i of each point's sweep is K(T)·(1 + δ_T), not K(T).  (Before, the sweep ran in one power-on.)"""
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import merge_steps
+    from metro.instruments.sim_gbt_rate import scale_factor_multiplier, temperature_power_on
+
+    truth = GyroTruth(seed=5, sf_turn_on_sigma=2e-5, arw_deg_rt_h=1e-9, scale_factor_P_per_arcsec=50.0)
+    steps = get_plugin_manager(autoload=False).procedure("gbt45570", "D.1.5")().sequence({"max_rate": "100 °/s"})
+    camp = SimulatedStation(truth=truth).acquire(merge_steps([steps]))
+    segs = {s.id: s for s in camp.segments}
+    deltas = []
+    for i, T in enumerate(("-40 °C", "20 °C", "60 °C"), start=1):
+        n_p, n_m = (float(np.mean(segs[f"T{i}-rate{d}100"].series("count", "P").data.magnitude)) for d in "+-")
+        k_meas = F.scale_factor_d2(n_p, n_m)
+        k_plus = truth.scale_factor_P_per_arcsec * scale_factor_multiplier(truth, 100.0, 1, {"temperature": T})
+        k_minus = truth.scale_factor_P_per_arcsec * scale_factor_multiplier(truth, 100.0, -1, {"temperature": T})
+        dk, _ = temperature_power_on(truth, {"temperature": T})
+        # the noise-free D.2 with the power-on's K; rounding of 50 P/″ counts: ≤ 1 P in 6.5×10⁷
+        assert k_meas == pytest.approx((k_plus + k_minus) / 2 * (1 + dk), rel=3e-8)
+        deltas.append(dk)
+    assert len(set(deltas)) == 3 and max(abs(d) for d in deltas) > 5e-6
 
 
 def test_d14_six_repeats_instead_of_seven(pm):

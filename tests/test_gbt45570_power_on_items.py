@@ -167,6 +167,34 @@ def test_d25_without_d24_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_
     assert "turn-on scatter of K not in U" in res["note"] and "D.2.4" in res["note"], res["note"]
 
 
+def test_d15_covers_the_turn_on_scatter_of_k_over_devices(run_cli, tmp_path, harness):
+    """The harness's angle-method laser gyro (benchmarks/independent_gbt_more.py, kt-angle-pulse): 3
+    or 5 temperature points, each a power-on with K's scatter σ_K 1–20 ppm (D.1.5.2 c)), D.1.4's 7
+    runs in the campaign.  With U from the sweeps' fits alone K_t was within U on 0 of 4 such
+    devices (mean E_n −8); with D.1.4's K_r in each K_i's u 95–97 % of 100.  Here 12 short devices
+    (11 rate points, m = 3; 12 of 12 within U after the fix, 4 of 12 before)."""
+    within = 0
+    for seed in range(12):
+        folder = tmp_path / f"kta{seed}"
+        folder.mkdir()
+        truth = harness.build_kt_angle(folder, np.random.default_rng([15, seed]), quick=True)
+        res = _run(run_cli, folder, "D.1.5")["Kt"]
+        t = truth[("D.1.5", "Kt")][0]
+        assert res["unit"] in ("ppm/°C", "ppm/Δ°C"), res["unit"]
+        within += abs(res["value"] - t) <= res["U"]
+        (row,) = [r for r in res["budget"]["rows"] if r["symbol"] == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
+        assert "turn-on scatter of K" in row["note"], row["note"]
+    assert within >= 10, within
+
+
+def test_d15_without_d14_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_path, harness):
+    folder = tmp_path / "kta"
+    folder.mkdir()
+    harness.build_kt_angle(folder, np.random.default_rng([15, 99]), quick=True, repeats=False)
+    res = _run(run_cli, folder, "D.1.5")["Kt"]
+    assert "turn-on scatter of K not in U" in res["note"] and "D.1.4" in res["note"], res["note"]
+
+
 def _field_campaign(folder: Path, rng, *, sigma_on: float, repeats: bool, seconds: int = 600) -> None:
     """D.5.5: ±1 mT along IRA, XRA, YRA, each record a power-on of its own (turn-on scatter σ_on), no
     magnetic sensitivity; optionally D.5.3's 7 repeats."""

@@ -536,11 +536,11 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     dT = temps[imax] - temps[i0]
     K0 = Ks[i0]
     ci, c0 = 1.0 / (K0 * abs(dT)), abs(Ks[imax]) / (K0 * K0 * abs(dT))
-    # D.2.5.2 c): off while the chamber changes temperature, so each K_i is a power-on of its own and
-    # carries K's turn-on scatter (D.2.4 on this campaign; interpretations.md "D.2.5 — every
-    # temperature point is a power-on"; D.1.5 is not changed yet, see there)
-    s_on, nu_on, on_note = (scale_factor_turn_on(campaign, int(opts.get("min_points", 11)))
-                            if proc.item == "D.2.5" else (0.0, math.inf, ""))
+    # D.1.5.2 c) / D.2.5.2 c): off while the chamber changes temperature, so each K_i is a power-on of
+    # its own and carries K's turn-on scatter (D.1.4 / D.2.4 on this campaign; interpretations.md
+    # "D.2.5 — every temperature point is a power-on" and "D.1.5 — …")
+    s_on, nu_on, on_note = scale_factor_turn_on(campaign, int(opts.get("min_points", 11)),
+                                                "angle" if proc.item == "D.1.5" else "rate")
     u_on = [s_on * abs(k) for k in Ks]
     sel_observed = s_on > 0 and len(Ks) >= 4  # the points may share a power-on after all: at most what they show
     uKs = [math.hypot(u, v) for u, v in zip(uKs, u_on)]

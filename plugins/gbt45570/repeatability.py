@@ -92,29 +92,54 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> t
                              note=msg("Q = {q} power-ons; mean within-run u_A = {w:.3g} °/h", q=q, w=math.sqrt(w)))], ""
 
 
-def scale_factor_turn_on(campaign: Campaign, min_points: int) -> tuple[float, float, str]:
+def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rate") -> tuple[float, float, str]:
     """The turn-on part of K's scatter between power-ons, relative, for results whose points are
-    power-ons of their own (D.2.5.2 c): off while the chamber changes temperature):
-    σ_K = √(max(K_r² − mean (u(K_j)/K_j)², 0)) from the campaign's D.2.4 runs, with the
-    Satterthwaite degrees of freedom of a variance difference, (Q − 1)·(σ_K²/K_r²)² (at least 1).
+    power-ons of their own (D.1.5.2 c) / D.2.5.2 c): off while the chamber changes temperature):
+    σ_K = √(max(K_r² − mean (u(K_j)/K_j)², 0)) from the campaign's repeatability runs — D.2.4
+    (``rate-output`` with ``run``, ``method="rate"``) or D.1.4 (``revolutions-repeat``, K_j of eq. (D.2)
+    with the revolutions' scatter as u(K_j), ``method="angle"``) — with the Satterthwaite degrees of
+    freedom of a variance difference, (Q − 1)·(σ_K²/K_r²)² (at least 1).
     Returns (σ_K, ν, note); σ_K = 0 with a note saying why when the campaign has no such runs."""
-    from .rate_method import ScaleFactorRepeatabilityD24, _group_of, collect_rate_data, fit_scale_factor
+    if method == "angle":
+        from .angle_method import ScaleFactorRepeatabilityD14, _grouped, collect_rate_points
 
-    item = "D.2.4"
-    runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
-                   and not _group_of(s)[1]}, key=lambda r: (len(r), r))
-    try:
-        fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
-                                                   f"in run {r}")) for r in runs] if len(runs) >= 2 else []
-    except DataError as exc:
-        return 0.0, math.inf, msg("turn-on scatter of K not in U: the {item} runs could not be evaluated ({exc})",
-                                  item=item, exc=str(exc))
-    Kj = [f.K for f in fits]
-    rel_u = [f.uK / abs(f.K) for f in fits]
+        item = "D.1.4"
+        runs = _grouped(campaign, "revolutions-repeat", "run")
+        try:
+            pts = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0]
+                   for r, segs in sorted(runs.items())] if len(runs) >= 2 else []
+        except (DataError, IndexError) as exc:
+            return 0.0, math.inf, msg("turn-on scatter of K not in U: the {item} runs could not be evaluated ({exc})",
+                                      item=item, exc=str(exc))
+        Kj = [p.K for p in pts]
+        rel_u = [p.u_K / abs(p.K) for p in pts]
+        repeatability = F2.scale_factor_repeatability_d11
+    else:
+        from .rate_method import ScaleFactorRepeatabilityD24, _group_of, collect_rate_data, fit_scale_factor
+
+        item = "D.2.4"
+        runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
+                       and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+        try:
+            fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
+                                                       f"in run {r}")) for r in runs] if len(runs) >= 2 else []
+        except DataError as exc:
+            return 0.0, math.inf, msg("turn-on scatter of K not in U: the {item} runs could not be evaluated ({exc})",
+                                      item=item, exc=str(exc))
+        Kj = [f.K for f in fits]
+        rel_u = [f.uK / abs(f.K) for f in fits]
+        repeatability = F2.scale_factor_repeatability_d28
     if len(Kj) < 2:
         return 0.0, math.inf, msg("turn-on scatter of K not in U: each temperature point is a power-on of its own, "
                                   "but the campaign has no {item} runs to measure it", item=item)
-    Kr = F2.scale_factor_repeatability_d28(Kj)
-    s2 = max(Kr**2 - float(np.mean(np.square(rel_u))), 0.0)
+    Kr = repeatability(Kj)
+    if not Kr > 0:
+        return 0.0, math.inf, msg("turn-on scatter of K not in U: the {q} scale factors of the {item} runs are identical "
+                                  "(their resolution is coarser than the scatter, which they cannot measure)",
+                                  q=len(Kj), item=item)
+    # D.1.4: the revolutions' scatter overstates a K_j's own noise where the counter's rounding
+    # dominates (consecutive revolutions are read off one accumulating count, so their rounding
+    # cancels in the sum), and the difference would remove turn-on scatter that is there: K_r whole
+    s2 = Kr**2 if method == "angle" else max(Kr**2 - float(np.mean(np.square(rel_u))), 0.0)
     nu = max((len(Kj) - 1) * (s2 / Kr**2) ** 2, 1.0) if Kr > 0 else math.inf
     return math.sqrt(s2), nu, ""
