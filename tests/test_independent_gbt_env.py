@@ -86,3 +86,65 @@ def test_independent_device_evaluates_within_U(env, tmp_path, items, seed, build
             continue
         assert r["status"] == "ok", r  # a missing result or a wrong unit fails here
         assert abs(r["En"]) <= 1, r
+
+
+def _variant_device(env, tmp_path, name: str, seed: int, quick: bool = False):
+    """The harness's device ``seed`` of variant ``name`` (the same draw as ``--seed`` in a sweep), evaluated."""
+    import independent_campaigns as ic
+
+    v = env.VARIANTS[name]
+    folder = tmp_path / f"{name}-{seed}"
+    folder.mkdir()
+    truth = v.build(folder, np.random.default_rng([seed, zlib.crc32(name.encode())]), quick)
+    code, doc, err = ic.run_metro(folder / "manifest.toml", v.standard, v.items)
+    assert code in (0, 3, 4), err
+    return truth, doc, env.score_env(truth, doc)
+
+
+def test_d3_a_range_near_the_limit_widens_omega_max_to_its_neighbour(env, tmp_path):
+    """D.3 picks a tested rate by comparing each range's K_n with the limit.  On harness device 9 of
+    maxrate-lsb-10Hz the range up to 63 °/s truly has K_n = 48.0 ppm against a 50 ppm limit; the table's
+    error at the set points (within its 1e-5…3e-5 certificate) and the noise put the measured K_n over it,
+    so Ω_max read 40 °/s with U = 0.0012 °/s (E_n −19 150).  A range within 2u of the limit now adds a
+    uniform row over the distance to the neighbouring rate (interpretations.md, "D.3 — a range near the
+    limit")."""
+    truth, doc, rows = _variant_device(env, tmp_path, "maxrate-lsb-10Hz", 9)
+    assert truth[("D.3", "Omega_max")][0] == 63
+    r = next(r for r in rows if r["key"] == "Omega_max")
+    assert r["status"] == "ok" and abs(r["En"]) <= 1, r
+    res = next(x for x in doc["results"] if x["key"] == "Omega_max")
+    assert any("decision" in row["source"] for row in res["budget"]["rows"])
+
+
+def test_d64_shock_and_endurance_carry_the_turn_on_scatter_of_two_power_ons(env, tmp_path):
+    """D.6.4.2 c) and D.6.3.2 c) (endurance): the gyro is unpowered in between, so before and after are two
+    power-ons and their difference carries √2·σ_on, which D.5.3's repeats on the campaign measure.  A device
+    whose turn-on scatter (0.02–0.03 °/h) is several times its 10 min noise: without the row ΔB_shock and
+    ΔB_V13 (endurance) read within U on few axes."""
+    import independent_campaigns as ic
+
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    truth = env.build_vibration_shock(folder, np.random.default_rng(7), kind="rate", q=0.001,
+                                      sigma_on_range=(0.02, 0.03))
+    code, doc, err = ic.run_metro(folder / "manifest.toml", "gbt45570", "D.6.3,D.6.4")
+    assert code in (0, 3, 4), err
+    rows = {r["key"]: r for r in env.score_env(truth, doc)}
+    keys = [f"dBshock_{ax}" for ax in ("IRA", "XRA", "YRA")] + [f"dBV13end_{ax}" for ax in ("IRA", "XRA", "YRA")]
+    assert all(rows[k]["status"] == "ok" and abs(rows[k]["En"]) <= 1 for k in keys), [rows[k] for k in keys]
+    res = {x["key"]: x for x in doc["results"]}
+    assert all(any(row["symbol"] == "√2·σ_on" for row in res[k]["budget"]["rows"]) for k in keys)
+    # performance vibration is one power-on: no such row
+    assert not any(row["symbol"] == "√2·σ_on" for row in res["dBV13_IRA"]["budget"]["rows"])
+
+
+def test_d64_without_repeats_says_the_turn_on_scatter_is_not_in_U(env, tmp_path):
+    import independent_campaigns as ic
+
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    env.build_vibration_shock(folder, np.random.default_rng(8), kind="LSB", repeats=False, quick=True)
+    code, doc, err = ic.run_metro(folder / "manifest.toml", "gbt45570", "D.6.4")
+    assert code in (0, 3, 4), err
+    r = next(x for x in doc["results"] if x["key"] == "dBshock_IRA")
+    assert "turn-on scatter not in U" in r["note"] and "D.5.3" in r["note"]

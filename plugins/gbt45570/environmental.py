@@ -273,8 +273,25 @@ def _phase_segments(proc: type[Procedure], campaign: Campaign, kind: str, axis: 
     return found
 
 
-def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign, value: float) -> Result:
-    """|B_a − B_b| (D.47/D.48) with its budget: the two means' batch scatter (A), scale factor, time base."""
+def _two_power_ons(campaign: Campaign, why: str) -> tuple[list[BudgetRow], str]:
+    """The turn-on scatter of a bias difference whose two records are power-ons of their own (D.6.3.2 c)
+    endurance vibration and D.6.4.2 c) shock: the gyro is unpowered in between, and D.6.3.2 b) / D.6.4.2 b)
+    power it on before): √2 × D.5.3's σ_on of the campaign, or a note saying it is not in U
+    (interpretations.md, "D.6.3 / D.6.4 — unpowered tests: before and after are two power-ons")."""
+    from .repeatability import bias_repeat_row
+    from .type_env import turn_on_rows
+
+    rows, note = turn_on_rows(*bias_repeat_row(campaign, 20, None), "B₀", "deg/h", 1.0)
+    if not rows and len(campaign.find_segments("static-repeat")) < 2:
+        note = msg("turn-on scatter not in U: before and after are two power-ons ({why}), and the campaign has no "
+                   "D.5.3 repeats (static-repeat) to measure it", why=why)
+    return rows, note
+
+
+def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign, value: float,
+                  turn_on: tuple[list[BudgetRow], str] = ([], "")) -> Result:
+    """|B_a − B_b| (D.47/D.48) with its budget: the two means' batch scatter (A), scale factor, time base,
+    and for records that are two power-ons, the turn-on scatter (``turn_on``: :func:`_two_power_ons`)."""
     uA = math.hypot(a["u"], b["u"])
     nu = uA**4 / (a["u"] ** 4 / a["nu"] + b["u"] ** 4 / b["nu"]) if uA > 0 else math.inf
     rows = [BudgetRow.type_a(msg("scatter of the two biases (batch means)"), "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
@@ -284,10 +301,13 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
         rows.append(BudgetRow.type_b(msg("quantization of the two means (the D.5.1 rows)"), "√(u_q²(B_a)+u_q²(B_b))",
                                      Q_(uq, "deg/h"), distribution="normal", k=1.0,
                                      note=msg("±1 P over a record, or a rounded rate not dithered by the noise")))
+    rows += turn_on[0]
     rows += _scale_factor_row(a["conv"], value, "deg/h")
     rows += _timebase_row(campaign, value, "deg/h", metric.symbol)
     budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=msg("eq. ({eq})", eq=eq), earth_rate="not applicable")
+    return Result(metric, Q_(value, "deg/h"), budget.combined, budget,
+                  note=join("; ", [msg("eq. ({eq})", eq=eq), *([turn_on[1]] if turn_on[1] else [])]),
+                  earth_rate="not applicable")
 
 
 def _vibration_metrics() -> tuple[Metric, ...]:
@@ -365,6 +385,7 @@ class VibrationD63(Procedure):
         byk = {m.key: m for m in self.metrics}
         results, warnings, used, table = [], [], [], []
         levels: dict[str, list[float]] = {t: [] for t in tests}
+        on_end = None
         for ax in axes:
             for test in tests:
                 phases = ("before", "during", "after") if test == "performance" else ("before", "after")
@@ -384,8 +405,10 @@ class VibrationD63(Procedure):
                                                  campaign, v13))
                 else:
                     v13 = E.bias_change_d48(means["after"]["rate"], means["before"]["rate"])
+                    if on_end is None:
+                        on_end = _two_power_ons(campaign, msg("unpowered during endurance vibration, D.6.3.2 c)"))
                     results.append(_delta_result(byk[f"dBV13end_{ax}"], "D.48", means["after"], means["before"],
-                                                 campaign, v13))
+                                                 campaign, v13, on_end))
                 table.append([ax, test] + [f"{means[p]['rate']:.5f}" if p in means else "—"
                                            for p in ("before", "during", "after")])
         table_eq = campaign.equipment_for("vibration_table")
@@ -455,13 +478,14 @@ class MechanicalShockD64(Procedure):
         b = int(opts["batches"])
         byk = {m.key: m for m in self.metrics}
         results, warnings, used, table, lv, pl = [], [], [], [], [], []
+        on = _two_power_ons(campaign, msg("unpowered during the shocks, D.6.4.2 c)"))
         for ax in _names(opts["axes"], AXES, "axes"):
             segs = _phase_segments(type(self), campaign, "shock", ax, ("before", "after"))
             means = {p: _mean_rate(segs[p], campaign, b) for p in ("before", "after")}
             lv.append(float(segs["after"].condition("level", "gn").to("gn").magnitude))
             pl.append(float(segs["after"].condition("pulse", "ms").to("ms").magnitude))
             v = E.bias_change_d48(means["after"]["rate"], means["before"]["rate"])
-            results.append(_delta_result(byk[f"dBshock_{ax}"], "D.48", means["after"], means["before"], campaign, v))
+            results.append(_delta_result(byk[f"dBshock_{ax}"], "D.48", means["after"], means["before"], campaign, v, on))
             used += [segs["before"].id, segs["after"].id]
             table.append([ax, f"{means['before']['rate']:.5f}", f"{means['after']['rate']:.5f}", f"{v:.5f}"])
         eq = campaign.equipment_for("shock_table")

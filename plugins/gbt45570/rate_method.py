@@ -901,6 +901,18 @@ class MaxInputRateD3(Procedure):
                 fit = fit_line(np.array([p.rate for p in sub]), np.array([p.K for p in sub]))
                 return F.nonlinearity_d7([p.K for p in sub], float(fit.coef[0]))[0]
 
+            def kn_u(upto: float) -> float:
+                # D.7's |K_j − K|/K with K the D.5 intercept: K_j − K = Σ g_i·K_i, g = δ_ij − c_a,i
+                sub = [p for p in pts if p.rate <= upto * (1 + 1e-12)]
+                w = np.array([p.rate for p in sub])
+                Ki = np.array([p.K for p in sub])
+                K0 = float(fit_line(w, Ki).coef[0])
+                j = F.nonlinearity_d7(Ki, K0)[1]
+                ca, _cb = F2.line_fit_sensitivities(w)
+                g = -ca
+                g[j] += 1.0
+                return F2.propagate(g / K0, [p.u_K for p in sub], [max(min(p.m_plus, p.m_minus) - 1, 1) for p in sub])[0]
+
             rates = [p.rate for p in pts]
             segments = [s for p in pts for s in p.segments]
         else:
@@ -908,6 +920,12 @@ class MaxInputRateD3(Procedure):
 
             def kn_of(upto: float) -> float:
                 return nonlinearity_of(data, upto)[0]
+
+            def kn_u(upto: float) -> float:
+                # D.2.2's budget of the range's K_n: its outputs' scatter, resolution, the table's rate error
+                _kn, j, Fm, sel, K, _F0 = nonlinearity_of(data, upto)
+                b = nonlinearity_budget(campaign, data, j, Fm, K, sel=sel)
+                return float(b.combined.to("").magnitude)
 
             rates = data.magnitudes
             segments = list(data.segments)
@@ -942,6 +960,7 @@ class MaxInputRateD3(Procedure):
         rows = [BudgetRow.type_a(msg("rate realised at {om:g} °/s, as the gyro indicates it", om=om), "u(Ω)",
                                  Q_(u_rate, "deg/s"), nu, note=how)]
         rows += _rate_row(campaign, msg("at {om:g} °/s", om=om), om, "deg/s", msg("the table's setting of Ω_max"), rate=om)
+        rows += _decision_rows(curve, kn_u, limit, om)
         budget = UncertaintyBudget("Ω_max", "deg/s", rows, coverage=COVERAGE)
         kn_at = dict(curve)[om]
         res = Result(self.metrics[0], Q_(om, "deg/s"), budget.combined, budget,
@@ -956,6 +975,31 @@ class MaxInputRateD3(Procedure):
                           [[f"{r:g}", f"{k * 1e6:.3g}", msg("yes") if k <= limit else msg("no")] for r, k in curve])
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[table],
                        warnings=warnings, segments=segments, options=_opts_text(opts))
+
+
+def _decision_rows(curve: list[tuple[float, float]], kn_u, limit: float, om: float) -> list[BudgetRow]:
+    """D.3's decision near the limit (interpretations.md, "D.3 — a range near the limit"): Ω_max is a tested
+    rate picked by comparing each range's K_n with the limit, so a K_n within 2u of the limit may have
+    been judged either way by the noise and the table's error.  The candidates are Ω_max, every larger
+    range whose K_n is within 2u of the limit (it may truly meet it), and, when Ω_max's own K_n is within
+    2u, the next smaller range; the row is uniform over the whole distance to the farthest candidate (as
+    D.4's 50 % decision)."""
+    rates = [r for r, _ in curve]
+    kn = dict(curve)
+    doubtful = {r for r in rates if abs(kn[r] - limit) < 2.0 * kn_u(r)}
+    cands = [r for r in rates if r > om and r in doubtful]
+    if om in doubtful:
+        smaller = [r for r in rates if r < om]
+        if smaller:
+            cands.append(max(smaller))
+    if not cands:
+        return []
+    half = max(abs(c - om) for c in cands)
+    why = join("; ", [msg("K_n up to {r:g} °/s = {kn:.3g} ± {u:.2g} ppm (2u) against {limit:g} ppm", r=r, kn=kn[r] * 1e6,
+                          u=2e6 * kn_u(r), limit=limit * 1e6) for r in sorted(doubtful)])
+    return [BudgetRow.type_b(msg("decision near the limit: a range whose K_n is within 2u of the limit may be judged "
+                                 "either way, so Ω_max may be the neighbouring rate"), "ΔΩ (decision)",
+                             Q_(half, "deg/s"), distribution="uniform", note=why)]
 
 
 PROCEDURES = (ScaleFactorD21, NonlinearityD22, AsymmetryD23, ScaleFactorRepeatabilityD24,
