@@ -412,9 +412,12 @@ def test_temperature_needs_room_point(pm):
 
 
 def test_startup_never_settles(pm):
+    """An output still outside its band at the end of the record has no start-up time within it: the
+    result is not reportable with that reason (it was a ProcedureError that stopped every other item of
+    the run too; docs/independent-campaigns.md, "JJF 2014: shock, vibration, stability and dynamic items")."""
     camp = _campaign(pm, ["7.2.23"], truth=VibratoryTruth(startup_tau_s=200.0))
-    with pytest.raises(ProcedureError, match="still outside"):
-        run_items(pm, "jjf2014", ["7.2.23"], campaign=camp)
+    r = run_items(pm, "jjf2014", ["7.2.23"], campaign=camp).outcomes[0].result("t_startup")
+    assert not r.reportable and "at the end of the record" in r.reason
 
 
 def test_procedure_classes_are_registered(pm):

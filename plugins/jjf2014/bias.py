@@ -242,8 +242,10 @@ class BiasStability(_JJF):
         except ValueError as exc:
             raise DataError(seg.file or seg.id, "output", str(exc)) from exc
         bs *= 3600.0
-        u, dof = B.std_of_std(bs, m)
-        rows = [_budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_upper − B_s)/2", u, "deg/h", dof),
+        P_ = int(round(p))
+        u, dof, cnote = B.std_of_std_correlated(bs, x[: m * P_].reshape(m, P_).mean(axis=1))
+        rows = [_budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_upper − B_s)/2", u,
+                              "deg/h", dof, note=cnote),
                 kv.row(bs, "deg/h")]
         rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
         b = B.type_a_budget("Bs", "deg/h", rows)

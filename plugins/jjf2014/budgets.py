@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+import numpy as np
 import pint
 
 from metro.core.locale import join, msg
@@ -89,3 +90,31 @@ def std_of_std(s: float, q: int) -> tuple[float, float]:
     from metro.core.budget import std_sampling_u
 
     return std_sampling_u(s, q), math.inf
+
+
+def std_of_std_correlated(s: float, means) -> tuple[float, float, str]:
+    """Standard uncertainty of eq. (29)'s B_s, a Bessel standard deviation ``s`` of the m averages
+    ``means``, when the averages may be correlated (flicker, wander, a ramp: neighbouring averages
+    alike): the χ² bound of :func:`std_of_std` on the effective number of degrees of freedom
+    ν_eff = (m − 1)/(1 + 2Σρ_k²) (Bartlett's variance of a sample variance of a correlated
+    series; ρ_k the averages' sample autocorrelation over lags 1 … m/4, each ρ̂_k² less the 1/m that
+    sampling noise alone puts into it).  Independent averages give ν_eff ≈ m − 1 and the χ² bound of m values.  Returns
+    (u, ν = ∞ as the χ² bound is entered, a note naming ν_eff when it is below m − 1)
+    (interpretations.md, "7.2.14 — B_s of correlated averages")."""
+    from scipy.stats import chi2
+
+    x = np.asarray(means, dtype=float)
+    m = x.size
+    x = x - x.mean()
+    c0 = float(x @ x) / m
+    acc = 0.0
+    if c0 > 0 and m >= 8:
+        L = m // 4
+        r = np.array([float(x[:-k] @ x[k:]) for k in range(1, L + 1)]) / m / c0
+        acc = max(0.0, float(np.sum(r * r)) - L / m)  # each ρ̂_k² carries ≈ 1/m of sampling noise
+    nu = (m - 1) / (1.0 + 2.0 * acc)
+    upper = float(s) * math.sqrt(nu / float(chi2.ppf(0.02275, nu)))
+    note = ("" if acc * 2 < 0.05 else
+            msg("the {m} averages are correlated (Σρ_k² = {acc:.3g}): χ² bound on ν_eff = {nu:.3g}", m=m, acc=acc, nu=nu))
+    return (upper - float(s)) / 2.0, math.inf, note
+

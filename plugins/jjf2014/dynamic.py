@@ -192,9 +192,12 @@ class AngleRandomWalk(_JJF):
 
 
 class _Dynamic:
-    """Sine fits (eq. (40)) of every angular-vibration record, per frequency."""
+    """Sine fits (eq. (40)) of every angular-vibration record, per frequency.  ``K`` is the 7.2.1
+    scale factor: a negative K turns the output over, which is a polarity, not half a period of lag
+    (the output is read times sign(K); interpretations.md, "7.2.21 / 7.2.22 — a negative K")."""
 
-    def __init__(self, campaign, proc):
+    def __init__(self, campaign, proc, K: float = 1.0):
+        sign = -1.0 if K < 0 else 1.0
         segs = _need(campaign, proc, "angular-vibration")
         by_f: dict[float, list[Segment]] = {}
         for s in segs:
@@ -210,6 +213,7 @@ class _Dynamic:
             Es, As, ph = [], [], []
             for s in by_f[f]:
                 y, dt = _output(s)
+                y = sign * y
                 ref, _ = _output(s, "reference", "deg/s")
                 if f >= 0.5 / dt:
                     raise DataError(s.file or s.id, "sample_interval", f"{1 / dt:g} Hz sampling cannot resolve {f:g} Hz")
@@ -232,6 +236,41 @@ class _Dynamic:
         self.S = np.array(self.E) / np.array(self.A)  # eq. (42)
         self.P = np.unwrap(np.array(self.phi))  # eq. (45), continuous in f
         self.uS = np.array(self.uS)
+
+
+def _nested_better(x: np.ndarray, y: np.ndarray, p: int) -> float:
+    """p-value of the F test that a polynomial in ``x`` of ``p`` + 1 terms fits ``y`` better than one of ``p``
+    terms (ordinary least squares, as the curve of 7.2.21 is fitted); 1.0 when there are too few points."""
+    from scipy.stats import f as f_dist
+
+    nu = x.size - (p + 1)
+    if nu < 2:
+        return 1.0
+    rss = []
+    for m in (p, p + 1):
+        A = np.column_stack([x ** j for j in range(m)])
+        coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+        r = y - A @ coef
+        rss.append(float(r @ r))
+    if not rss[1] > 0:
+        return 0.0 if rss[0] > 0 else 1.0
+    return float(f_dist.sf((rss[0] - rss[1]) / (rss[1] / nu), 1, nu))
+
+
+def curve_model(f: np.ndarray, kr: np.ndarray) -> tuple[bool, str, bool]:
+    """Which curve 7.2.21.2's fit through the N + 1 ratios uses (interpretations.md, "7.2.21 — a response
+    that is not first order"): 1/K² = a + b f² (eq. (46)'s first order) unless the F test (1 %) says a
+    + b f² + c f⁴ (a second order) fits better.  Returns (quartic, note, misfit): ``misfit`` when even
+    the chosen curve leaves a significant next term (the caller widens the type A by the Birge ratio)."""
+    x = np.concatenate([[0.0], np.asarray(f, dtype=float) ** 2])
+    y = np.concatenate([[1.0], 1.0 / np.asarray(kr, dtype=float) ** 2])
+    s = max(float(np.max(x)), 1e-300)
+    p2 = _nested_better(x / s, y, 2)
+    if p2 >= 0.01:
+        return False, "", False
+    note = msg("the ratios do not follow the first-order curve 1/K² = a + b f² (F test p = {p:.2g}): fitted as "
+               "1/K² = a + b f² + c f⁴ (a second-order response)", p=p2)
+    return True, note, _nested_better(x / s, y, 3) < 0.01
 
 
 class Bandwidth(_JJF):
@@ -269,15 +308,16 @@ class Bandwidth(_JJF):
     LEVEL = 0.707
 
     @staticmethod
-    def _fc(dyn, S0, scale=1.0, level=LEVEL):
-        return F.bandwidth_fit_743(dyn.f, dyn.S * scale / S0, level)
+    def _fc(dyn, S0, scale=1.0, level=LEVEL, quartic=False):
+        return F.bandwidth_fit_743(dyn.f, dyn.S * scale / S0, level, quartic)
 
     @classmethod
     def _analyse(cls, campaign, dyn, kv, level=LEVEL):
-        """(f at the ``level`` point, its budget, (a, b) of the curve, warnings)."""
-        K = kv.K
+        """(f at the ``level`` point, its budget, the curve's coefficients, warnings, note)."""
+        K = abs(kv.K)  # S₀: the amplitude ratio of eq. (43) is a magnitude
+        quartic, note, misfit = curve_model(dyn.f, dyn.S / K)
         try:
-            fc, ab, cov = cls._fc(dyn, K, level=level)
+            fc, ab, cov = cls._fc(dyn, K, level=level, quartic=quartic)
         except ValueError as exc:
             raise ProcedureError(f"7.2.21: {exc}",
                                  hint="raise the top frequency (option bandwidth_estimate) past the 0.707 point") from exc
@@ -290,7 +330,7 @@ class Bandwidth(_JJF):
             w.append(msg("B_w = {fc:.4g} Hz lies above the highest frequency {fmax:g} Hz (extrapolated)", fc=fc, fmax=dyn.f.max()))
         # sensitivities by numerical differentiation of the whole evaluation
         eps = 1e-4
-        dfc_ds = (cls._fc(dyn, K, 1 + eps, level)[0] - fc) / eps  # ∂f_c/∂(relative scale of all S_i)
+        dfc_ds = (cls._fc(dyn, K, 1 + eps, level, quartic)[0] - fc) / eps  # ∂f_c/∂(relative scale of all S_i)
         rows = []
         # type A: scatter of the ratios E/A at each frequency, propagated by perturbing S_i
         uA2 = 0.0
@@ -298,37 +338,57 @@ class Bandwidth(_JJF):
             S = dyn.S.copy()
             h = max(dyn.uS[i], 1e-12 * S[i])
             S[i] += h
-            d = (F.bandwidth_fit_743(dyn.f, S / K, level)[0] - fc) / h
+            d = (F.bandwidth_fit_743(dyn.f, S / K, level, quartic)[0] - fc) / h
             uA2 += (d * dyn.uS[i]) ** 2
         nmin = min(dyn.n)
+        uA, noteA = math.sqrt(uA2), ""
+        if misfit and nmin >= 2:
+            # the chosen curve leaves a significant next term: its misfit, measured against the ratios' own
+            # scatter, widens the type A (Birge ratio; interpretations.md, "7.2.21 — a response that is not
+            # first order")
+            kk = dyn.S / K
+            x = dyn.f ** 2
+            yv = 1.0 / kk ** 2
+            uy = 2.0 * (dyn.uS / K) / kk ** 3
+            model = np.polyval(np.asarray(ab)[::-1], x)
+            nu = dyn.f.size + 1 - np.asarray(ab).size
+            if nu >= 1 and np.all(uy > 0):
+                birge = math.sqrt(float(np.sum(((yv - model) / uy) ** 2)) / nu)
+                if birge > 1.0:
+                    uA *= birge
+                    noteA = msg("the fitted curve leaves a significant misfit (χ²/ν = {c:.3g} against the ratios' "
+                                "scatter): scaled by the Birge ratio {b:.3g}", c=birge ** 2, b=birge)
+                    note = join("; ", [x for x in (note, noteA) if x])
         rows.append(_budget_row_a("sine-fit amplitudes (scatter of Ē_i/A_i over the n records)", "u_A",
-                                  math.sqrt(uA2), "Hz", max(nmin - 1, 1)))
+                                  uA, "Hz", max(nmin - 1, 1), note=noteA))
         cal = _cal(campaign, "angular_vibration_table")
         rows += B.relative_calibration_row("reference sensor amplitude (scales every S_i)", "u_rel(A)", cal,
                                            Q_(abs(dfc_ds), "Hz"), w)
         rows.append(kv.row(dfc_ds, "Hz", "S₀ = K from 7.2.1"))
-        return fc, B.type_a_budget("Bw", "Hz", rows), ab, w
+        return fc, B.type_a_budget("Bw", "Hz", rows, note=note), ab, w, note
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         kv = scale_factor_for(campaign, type(self))
-        K = kv.K
-        dyn = _Dynamic(campaign, type(self))
-        fc, b, ab, w = self._analyse(campaign, dyn, kv)
+        K = abs(kv.K)
+        dyn = _Dynamic(campaign, type(self), kv.K)
+        fc, b, ab, w, note = self._analyse(campaign, dyn, kv)
         kr = dyn.S / K
         fine = np.linspace(0, max(dyn.f.max(), fc) * 1.05, 200)
         plot = PlotSpec("amplitude_ratio", msg("Amplitude ratio K_i = S_i/S₀ (eq. (43)), fit and the 0.707 point"),
                         "f (Hz)", "K_i",
                         [{"label": "K_i", "x": [0.0] + dyn.f.tolist(), "y": [1.0] + kr.tolist(), "style": "o"},
-                         {"label": msg("fit 1/K² = a + b f²"), "x": fine.tolist(),
-                          "y": (1 / np.sqrt(ab[0] + ab[1] * fine**2)).tolist(), "style": "-"},
+                         {"label": msg("fit 1/K² = a + b f² + c f⁴") if ab.size > 2 else msg("fit 1/K² = a + b f²"),
+                          "x": fine.tolist(),
+                          "y": (1 / np.sqrt(np.clip(np.polyval(ab[::-1], fine**2), 1e-12, None))).tolist(),
+                          "style": "-"},
                          {"label": f"0.707 → B_w = {fc:.4g} Hz", "x": [0.0, fc, fc], "y": [0.707, 0.707, 0.0],
                           "style": "--"}])
         tab = TableSpec("dynamic", msg("Per frequency"), ["f_i (Hz)", "Ē_i (mV)", "A (°/s)", "S_i (mV/((°)/s))", "K_i",
                                                      "P_i (rad)"],
                         [[f"{f:g}", f"{e:.5g}", f"{a:.5g}", f"{s:.6g}", f"{k:.5f}", f"{p:.5f}"]
                          for f, e, a, s, k, p in zip(dyn.f, dyn.E, dyn.A, dyn.S, kr, dyn.P)])
-        return self._outcome([Result(self.metrics[0], Q_(fc, "Hz"), b.combined, b)], plots=[plot], tables=[tab],
+        return self._outcome([Result(self.metrics[0], Q_(fc, "Hz"), b.combined, b, note=note)], plots=[plot], tables=[tab],
                              warnings=w, segments=dyn.ids, opts=opts)
 
 
@@ -344,11 +404,11 @@ class OutputDelay(Bandwidth):
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         kv = scale_factor_for(campaign, type(self))
-        dyn = _Dynamic(campaign, type(self))
+        dyn = _Dynamic(campaign, type(self), kv.K)
         # eq. (47) T = 1/(2πB_w) is the first-order model's corner, where |G| = K_D/√2: read there,
         # not at the literal 0.707 of 7.2.21 (which puts B_w 0.04 % high and biases T_d by +1.65 U
         # on average; interpretations.md, "7.2.22 — B_w of eq. (47)")
-        fc, bbw, _, _ = self._analyse(campaign, dyn, kv, level=1 / math.sqrt(2))
+        fc, bbw, _, _, bw_note = self._analyse(campaign, dyn, kv, level=1 / math.sqrt(2))
         w_ = 2 * math.pi * dyn.f
         T = 1.0 / (2 * math.pi * fc)  # eq. (47)
         Td, u_fit, resid = F.delay_eq48_50(w_, dyn.P, T)
@@ -376,7 +436,8 @@ class OutputDelay(Bandwidth):
                          {"label": "pure delay −ωT_d", "x": fine.tolist(), "y": (-wf * Td).tolist(), "style": ":"},
                          {"label": f"B_w = {fc:.4g} Hz", "x": [fc, fc],
                           "y": [float(np.min(dyn.P)), 0.0], "style": "--"}])
-        return self._outcome([Result(self.metrics[0], Q_(Td, "s"), b.combined, b, note=f"T = {T * 1e3:.4g} ms")],
+        return self._outcome([Result(self.metrics[0], Q_(Td, "s"), b.combined, b,
+                                     note=join("; ", [x for x in (f"T = {T * 1e3:.4g} ms", bw_note) if x]))],
                              plots=[plot], segments=dyn.ids, opts=opts)
 
 
@@ -427,7 +488,6 @@ class StartupTime(_JJF):
         rat = [s for s in segs if str(s.condition("trial")).strip().lower() == "rate"]
         if not pos:
             raise DataError(campaign.source, "segments", "7.2.23 needs at least one position trial (trial = position)")
-        rows, times = [], []
 
         def smooth(s):
             x, dt = _output(s)
@@ -436,41 +496,85 @@ class StartupTime(_JJF):
                 raise DataError(s.file or s.id, "output", f"record too short for a {win:g} s window")
             c = np.convolve(x, np.ones(k) / k, mode="valid")
             t = (np.arange(c.size) + (k + 1) / 2.0) * dt  # centre of each window, from power-on
-            return t, c / K, dt, float(np.std(np.diff(x)) / math.sqrt(2 * k) / abs(K))
+            d = np.diff(x)
+            # the noise of one window mean, °/s, from the sample-to-sample differences (robust: the median
+            # absolute deviation, which the transient's few large steps do not move)
+            sd = float(1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(2 * k) / abs(K))
+            return t, c / K, dt, sd, k
 
-        zero = []
+        trials = []  # (segment, t, r, target, tol, dt, sd, u(target))
+        zero, uzero = [], []
         for s in pos:
-            t, r, dt, sd = smooth(s)
-            settled = float(np.mean(r[int(0.75 * r.size):]))
+            t, r, dt, sd, k = smooth(s)
+            last = r[int(0.75 * r.size):]
+            settled = float(np.mean(last))
+            u_set = sd * math.sqrt(k / max(last.size, 1))  # the last quarter's mean: ≈ last.size/k window means
             zero.append(settled)
-            try:
-                ts = F.settle_time(t, r, settled, btol)
-            except ValueError as exc:
-                raise ProcedureError(f"7.2.23 position trial {s.id}: {exc}") from exc
-            times.append((ts, s, t, r, settled, btol, dt, sd))
+            uzero.append(u_set)
+            trials.append((s, t, r, settled, btol, dt, sd, u_set))
         z = float(np.mean(zero))
+        uz = math.sqrt(sum(u * u for u in uzero)) / len(uzero)
         for s in rat:
             om = _cond_q(s, "rate", "deg/s")
-            t, r, dt, sd = smooth(s)
-            tol = rtol * abs(om)
+            t, r, dt, sd, _ = smooth(s)
+            trials.append((s, t, r - z, om, rtol * abs(om), dt, sd, uz))
+        # 7.2.23.2's time per trial, decided where the noise lets it be (interpretations.md, "7.2.23 — a
+        # settling decided by noise"): a window mean counts as outside the band only when it is outside by
+        # more than 2u (u: its noise and the target's), as inside only when inside by more than 2u; the
+        # start-up time lies between the first sample after the last clearly-outside one and the first
+        # after the last not-clearly-inside one
+        why: list[str] = []
+        table = []
+        lo_hi = []
+        for s, t, r, target, tol, dt, sd, ut in trials:
+            m = 2.0 * math.hypot(sd, ut)
+            dev = np.abs(r - target)
             try:
-                ts = F.settle_time(t, r - z, om, tol)
-            except ValueError as exc:
-                raise ProcedureError(f"7.2.23 rate trial {s.id}: {exc}") from exc
-            times.append((ts, s, t, r - z, om, tol, dt, sd))
-        ts, s, t, r, target, tol, dt, sd = max(times, key=lambda x: x[0])
-        i = int(np.searchsorted(t, ts))
-        j0, j1 = max(i - 5, 0), min(i + 5, t.size - 1)
-        slope = abs((r[j1] - r[j0]) / (t[j1] - t[j0])) if j1 > j0 else 0.0
+                plain = F.settle_time(t, r, target, tol)
+            except ValueError:
+                plain = math.nan
+            if not tol - m > 0:
+                why.append(msg("{id}: the output's noise (2u = {m:.3g} °/s over the {w:g} s window) is as large as "
+                               "the tolerance ±{tol:.3g} °/s, so whether it is inside cannot be decided",
+                               id=s.id, m=m, w=win, tol=tol))
+                table.append((s, target, tol, plain, math.nan, math.nan))
+                continue
+            out = np.flatnonzero(dev > tol + m)
+            notin = np.flatnonzero(dev >= tol - m)
+            if notin.size and notin[-1] == t.size - 1:
+                why.append(msg("{id}: the output is not inside ±{tol:.3g} °/s of {target:.4g} °/s (less 2u = {m:.3g} "
+                               "°/s of noise) at the end of the record ({end:.3g} s): it has not settled, or not "
+                               "resolvably", id=s.id, tol=tol, target=target, m=m, end=float(t[-1])))
+                table.append((s, target, tol, plain, math.nan, math.nan))
+                continue
+            lo = float(t[out[-1] + 1]) if out.size else float(t[0])
+            hi = float(t[notin[-1] + 1]) if notin.size else float(t[0])
+            lo_hi.append((lo, hi, s, dt))
+            table.append((s, target, tol, plain, lo, hi))
+        tab = TableSpec("startup", msg("Start-up time per trial"),
+                        [msg("trial"), msg("segment"), msg("target"), msg("tolerance"), "t (s)", msg("decided within (s)")],
+                        [[str(x[0].condition("trial")), x[0].id, f"{x[1]:.4g} °/s", f"{x[2]:.3g} °/s", f"{x[3]:.2f}",
+                          f"{x[4]:.2f} … {x[5]:.2f}"] for x in table])
+        if why:
+            plains = [x[3] for x in table if math.isfinite(x[3])]
+            ts = max(plains) if plains else float(max(x[1][-1] for x in trials))
+            rows = [BudgetRow.type_b("sampling: the crossing lies within one interval", "Δt/2",
+                                     Q_(max(x[5] for x in trials) / 2, "s"), distribution="uniform")]
+            b = B.type_a_budget("t_startup", "s", rows)
+            return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, reportable=False,
+                                         reason=join("; ", why))],
+                                 tables=[tab], segments=[x.id for x in segs], opts=opts)
+        lo = max(x[0] for x in lo_hi)
+        hi = max(x[1] for x in lo_hi)
+        s, dt = max(lo_hi, key=lambda x: x[1])[2:]
+        ts = (lo + hi) / 2.0
         rows = [BudgetRow.type_b("sampling: the crossing lies within one interval", "Δt/2", Q_(dt / 2, "s"),
                                  distribution="uniform")]
-        if slope > 0:
-            rows.append(_budget_row_a("output noise at the crossing / slope of the settling output", "σ/|dx/dt|",
-                                      sd / slope, "s", INF))
+        if hi > lo:
+            rows.append(BudgetRow.type_b(msg("the settling decided at 2u of the output's noise: between {lo:.3g} s and "
+                                             "{hi:.3g} s", lo=lo, hi=hi), "Δt_noise/2", Q_((hi - lo) / 2, "s"),
+                                         distribution="uniform"))
         rows += B.relative_calibration_row("timer", "u_rel(t)", _cal(campaign, "timer"), Q_(ts, "s"))
         b = B.type_a_budget("t_startup", "s", rows)
-        tab = TableSpec("startup", msg("Start-up time per trial"), [msg("trial"), msg("segment"), msg("target"), msg("tolerance"), "t (s)"],
-                        [[str(x[1].condition("trial")), x[1].id, f"{x[4]:.4g} °/s", f"{x[5]:.3g} °/s", f"{x[0]:.2f}"]
-                         for x in times])
         return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, note=msg("largest in {id}", id=s.id))],
                              tables=[tab], segments=[x.id for x in segs], opts=opts)

@@ -437,27 +437,44 @@ def arw_eq39(A_minus1: float) -> float:
 # ------------------------------------------------------------------ 7.2.21, 7.2.22
 
 
-def bandwidth_fit_743(f: Sequence[float], Kr: Sequence[float], level: float = 0.707) -> tuple[float, np.ndarray, np.ndarray]:
+def bandwidth_fit_743(f: Sequence[float], Kr: Sequence[float], level: float = 0.707,
+                      quartic: bool = False) -> tuple[float, np.ndarray, np.ndarray]:
     """Curve fit of the N + 1 sensitivity ratios (7.2.21.2, after eq. (43)) and its 0.707 point.
 
     The curve is the amplitude response of the first-order model of eq. (46),
     K(f) = 1/√(a + b f²), fitted as the straight line 1/K_i² = a + b·f_i² through the N
     measured ratios and the zero-frequency point (0, 1).  f_c solves K(f_c) = ``level``:
-    f_c = √((1/level² − a)/b).  Returns (f_c, (a, b), cov(a, b))."""
+    f_c = √((1/level² − a)/b).  With ``quartic`` the curve is 1/K² = a + b f² + c f⁴, which a
+    second-order response |H|⁻² = 1 + (4ζ² − 2)(f/f_n)² + (f/f_n)⁴ (times any pure delay) follows
+    exactly (interpretations.md, "7.2.21 — a response that is not first order"); f_c is then the
+    lowest f² > 0 where the curve reaches 1/level².  Returns (f_c, coefficients (a, b[, c]), their
+    covariance)."""
     ff = np.asarray(f, dtype=float)
     k = np.asarray(Kr, dtype=float)
     if np.any(~(k > 0)):
         raise ValueError("sensitivity ratios must be positive")
     x = np.concatenate([[0.0], ff**2])
     y = np.concatenate([[1.0], 1.0 / k**2])
-    fit = fit_linear(np.column_stack([np.ones_like(x), x]), y)
-    a, b = (float(c) for c in fit.coef)
-    if not b > 0:
-        raise ValueError("the fitted amplitude curve does not fall with frequency (b ≤ 0): no 0.707 point")
-    q = (1.0 / level**2 - a) / b
-    if not q > 0:
+    cols = [np.ones_like(x), x] + ([x * x] if quartic else [])
+    fit = fit_linear(np.column_stack(cols), y)
+    coef = np.asarray(fit.coef, dtype=float)
+    target = 1.0 / level**2
+    if not quartic:
+        a, b = (float(c) for c in coef)
+        if not b > 0:
+            raise ValueError("the fitted amplitude curve does not fall with frequency (b ≤ 0): no 0.707 point")
+        q = (target - a) / b
+        if not q > 0:
+            raise ValueError("the fitted curve is below 0.707 already at 0 Hz")
+        return math.sqrt(q), coef, np.asarray(fit.cov)
+    a, b, c = (float(v) for v in coef)
+    if not a < target:
         raise ValueError("the fitted curve is below 0.707 already at 0 Hz")
-    return math.sqrt(q), np.array([a, b]), np.asarray(fit.cov)
+    roots = np.roots([c, b, a - target]) if c != 0 else np.array([(target - a) / b]) if b != 0 else np.array([])
+    pos = sorted(float(r.real) for r in np.atleast_1d(roots) if abs(r.imag) < 1e-12 * max(1.0, abs(r.real)) and r.real > 0)
+    if not pos:
+        raise ValueError("the fitted amplitude curve never falls to 0.707")
+    return math.sqrt(pos[0]), coef, np.asarray(fit.cov)
 
 
 def delay_eq48_50(omega: Sequence[float], P: Sequence[float], T: float) -> tuple[float, float, np.ndarray]:

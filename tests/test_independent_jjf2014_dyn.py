@@ -1,0 +1,85 @@
+"""JJF 2014 campaigns from the independent harness's dynamic module (benchmarks/independent_jjf2014_dyn.py)
+read and evaluate within U.
+
+The module writes devices metro's simulators do not make — K of either sign shifted by shocks and
+vibrations on no, one or every axis, biases that shift, power-ons between records or not, flicker and a
+wander, mV and ratiometric mV/V outputs, first- and second-order frequency responses with a delay,
+start-up transients of several shapes — from the documented format only, and scores 7.2.7, 7.2.8, 7.2.14,
+7.2.18, 7.2.19, 7.2.21, 7.2.22 and 7.2.23 against the truth it knows by construction.  Here one short
+device of each kind: every result in the standard's unit, within U of the truth or not reportable with a
+reason.  The sweeps and their tables: docs/independent-campaigns.md, "JJF 2014: shock, vibration,
+stability and dynamic items".
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_DIR = Path(__file__).resolve().parents[1] / "benchmarks"
+_PATH = _DIR / "independent_jjf2014_dyn.py"
+
+
+@pytest.fixture(scope="module")
+def dyn():
+    sys.path.insert(0, str(_DIR))
+    try:
+        spec = importlib.util.spec_from_file_location("independent_jjf2014_dyn", _PATH)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[spec.name] = mod
+        spec.loader.exec_module(mod)
+        yield mod
+    finally:
+        sys.path.remove(str(_DIR))
+
+
+def test_the_module_does_not_use_metro_generators():
+    """Independence: the module's generators import no part of metro (it reaches metro only through
+    the shared harness's command line)."""
+    text = _PATH.read_text(encoding="utf-8")
+    imports = [ln.strip() for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+    assert imports
+    assert not [ln for ln in imports if "metro" in ln or "simulat" in ln or "instruments" in ln], imports
+    assert "from independent_campaigns import (  # noqa: E402  (the shared pieces of the harness)" in imports
+
+
+DEVICES = {
+    "dK-mV": ("jjf-dK-shock-vib-mV-1Hz", 2),
+    "dB-mVV-flicker": ("jjf-dB-shock-vib-mVV-10Hz-flicker-q-repeats", 3),
+    "Bs-flicker": ("jjf-Bs-mVV-10Hz-flicker-wander-q", 4),
+    "Bw-Td-first": ("jjf-Bw-Td-first-order-mV", 5),
+    "Bw-Td-second": ("jjf-Bw-Td-second-order-mVV-q", 7),
+    "startup-quiet": ("jjf-startup-mVV-10Hz-quiet-q", 8),
+}
+
+
+@pytest.mark.parametrize("name", list(DEVICES))
+def test_independent_jjf2014_dynamic_device_within_U(dyn, tmp_path, name):
+    variant, seed = DEVICES[name]
+    v = dyn.VARIANTS[variant]
+    rows = dyn.run_dyn(v, 1, seed, tmp_path, quick=True)
+    assert rows and all("item" in r for r in rows), rows
+    assert {r["item"] for r in rows} == set(v.items.split(",")) - {"7.2.1", "7.2.4", "7.2.15"}
+    for r in rows:
+        assert r["status"] in ("ok", "not reportable"), r
+        if r["status"] == "ok":
+            assert abs(r["En"]) <= 1.0, r
+        else:
+            assert r["reason"], r
+
+
+def test_truth_of_the_dynamic_items(dyn):
+    """The harness's own truths on hand cases: a first-order response's 0.707 point is f_c·√(1/0.707² − 1) and
+    its −3 dB point f_c; eq. (50) on its exact phases with T = 1/(2πf_c) returns its delay."""
+    r = dyn.Response(1, 80.0, 1.5e-3)
+    assert r.level_point(0.707) == pytest.approx(80.0 * math.sqrt(1 / 0.707 ** 2 - 1), rel=1e-9)
+    assert r.level_point(1 / math.sqrt(2)) == pytest.approx(80.0, rel=1e-9)
+    f = np.geomspace(10, 160, 12)
+    assert dyn.td_eq50(f, np.unwrap(np.angle(r(f))), 80.0) == pytest.approx(1.5e-3, rel=1e-9)
+    # a second-order response with ζ = 1/√2 has its −3 dB point at f_n
+    assert dyn.Response(2, 100.0, 0.0, zeta=1 / math.sqrt(2)).level_point(1 / math.sqrt(2)) == pytest.approx(100.0, rel=1e-9)
