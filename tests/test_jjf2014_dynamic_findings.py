@@ -10,6 +10,7 @@ or on the budget function itself:
   U ≈ 0.3 % (mean E_n −136 over 10 devices);
 * 7.2.23 reported the last noise excursion of a trial whose tolerance is the size of its noise (52–59 s
   of a 60 s record, U ≈ 1 s, truth 3–24 s), and a trial that never settled stopped the whole run;
+* 7.2.7 / 7.2.8 left the scatter of K before the test over the axes out of a negative-K device's budget;
 * 7.2.14's U was the χ² bound of m independent averages: under flicker and a wander the N/P
   averages are correlated and B_s was within U on 65 % of 20 devices.
 """
@@ -195,3 +196,36 @@ def test_bias_stability_u_counts_correlated_averages():
     y = draw(0.0)
     s = float(np.std(y, ddof=1))
     assert B.std_of_std_correlated(s, y)[0] == pytest.approx(B.std_of_std(s, m)[0], rel=0.1)
+
+
+def test_a_k_change_of_a_negative_k_device_has_the_same_budget(tmp_path):
+    """7.2.7: the scatter of K before the test over the axes (relative, pooled into the repeatability when larger)
+    was s/mean(K) — negative for a negative K, and then silently left out: a device and its mirror image got
+    U = 0.0102 and 0.000067 mV/((°)/s).  Three axes, K before/after, each calibration a power-on of its own (K
+    2×10⁻⁴ apart), no 7.2.4 (on the harness: the shock's own change outside U on 21 of 22 such negative-K
+    devices, 1 of 18 positive)."""
+    rng = np.random.default_rng(11)
+    k_on = 1 + 2e-4 * rng.standard_normal(6)
+    shift = {"X": 0.0, "Y": 1.5e-3, "Z": 0.0}
+    noise = rng.standard_normal((6, len(RATES), 2, 10))
+    U = {}
+    for K in (10.0, -10.0):
+        folder = tmp_path / f"K{K:+g}"
+        folder.mkdir()
+        c = _Camp(folder)
+        i = 0
+        for a in "XYZ":
+            for phase in ("before", "after"):
+                k = K * k_on[i] * (1 + (shift[a] if phase == "after" else 0.0))
+                for j, r in enumerate(RATES):
+                    for jj, sgn in enumerate((1, -1)):
+                        c.add(f"rs[{a}-{phase}]{'+' if sgn > 0 else '-'}{r:g}", "rate-shock",
+                              {"output [mV]": k * (sgn * r + 0.01) + 1e-3 * K * noise[i, j, jj]}, 1.0,
+                              {"rate": f"{sgn * r:g} deg/s", "axis": a, "phase": phase})
+                i += 1
+        U[K] = _run(c.manifest(), "7.2.7")["dK_shock"]
+    srcs = {K: " ".join(r["source"] for r in v["budget"]["rows"]) for K, v in U.items()}
+    assert "K before the test over the axes" in srcs[10.0] and "K before the test over the axes" in srcs[-10.0], srcs
+    # the same up to the selection correction's Monte Carlo (drawn about ±d with one seed)
+    assert U[10.0]["U"] == pytest.approx(U[-10.0]["U"], rel=0.05)
+    assert U[10.0]["value"] == pytest.approx(U[-10.0]["value"], abs=0.2 * U[10.0]["U"])

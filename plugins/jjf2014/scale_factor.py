@@ -408,8 +408,8 @@ class _SFChange(_JJF):
             raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
         w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for X, Y, Z)", axes=", ".join(per))]
         ax = list(per)
-        rep = with_scatter(sf_repeatability(campaign), float(np.std([before[a] for a in ax], ddof=1) / np.mean(
-            [before[a] for a in ax])) if len(ax) > 1 else 0.0, len(ax) - 1, msg("K before the test over the axes"))
+        rep = with_scatter(sf_repeatability(campaign), float(np.std([before[a] for a in ax], ddof=1) / abs(np.mean(
+            [before[a] for a in ax]))) if len(ax) > 1 else 0.0, len(ax) - 1, msg("K before the test over the axes"))
         # the largest of the axes' |ΔK|: its selection bias removed (interpretations.md, "JJF 2014 — the
         # largest of noisy slopes and changes"), drawn with the scatter of the K before the test over the
         # axes where it is smaller than K_r·K
