@@ -94,6 +94,25 @@ def _sequence(options: Mapping[str, Any], zero: bool) -> list[Step]:
     return steps
 
 
+def revolution_trend(c_plus: np.ndarray, c_minus: np.ndarray) -> tuple[float, float, int]:
+    """The common slope β (P per revolution) of the per-revolution counts of a rate point's + and
+    − runs against each revolution's place in its run, each run with its own mean (the counts
+    differ by ≈ 2·K·360·3 600 between the runs), its standard uncertainty from the residuals and
+    ν = m₊ + m₋ − 3.  A bias changing at ḃ (″/s²) through the point adds K·ḃ·T² per revolution
+    of T seconds to both runs' counts, so β = K·ḃ·T².  Not a formula of the standard: metro's
+    bound on the bias drift between the + and − runs of D.1.1.2 g) (interpretations.md, "D.1.2 /
+    D.1.3 — the bias drifting through the sweep").  Returns (0, inf, 0) below two revolutions a run."""
+    cp, cm = np.asarray(c_plus, dtype=float), np.asarray(c_minus, dtype=float)
+    if cp.size < 2 or cm.size < 2 or cp.size + cm.size < 5:
+        return 0.0, math.inf, 0
+    jp, jm = np.arange(cp.size) - (cp.size - 1) / 2.0, np.arange(cm.size) - (cm.size - 1) / 2.0
+    sxx = float(jp @ jp + jm @ jm)
+    beta = float((jp @ (cp - cp.mean()) + jm @ (cm - cm.mean())) / sxx)
+    res = np.concatenate([cp - cp.mean() - beta * jp, cm - cm.mean() - beta * jm])
+    dof = cp.size + cm.size - 3
+    return beta, math.sqrt(float(res @ res) / dof / sxx), dof
+
+
 @attrs.frozen
 class RatePoint:
     rate: float  # |Ω|, °/s
@@ -106,6 +125,11 @@ class RatePoint:
     t_plus: float  # mean revolution time, s
     t_minus: float
     segments: tuple[str, str]
+    #: common slope of the two runs' per-revolution counts against the revolution's place in its run
+    #: (P per revolution; the bias drifting through the point), its standard uncertainty and ν
+    trend: float = 0.0
+    u_trend: float = math.inf
+    dof_trend: int = 0
 
     @property
     def K(self) -> float:
@@ -117,6 +141,51 @@ class RatePoint:
         up = self.s_plus / math.sqrt(self.m_plus) if self.m_plus > 1 else 0.5
         um = self.s_minus / math.sqrt(self.m_minus) if self.m_minus > 1 else 0.5
         return math.hypot(up, um) / (2 * F.REVOLUTION_ARCSEC)
+
+
+@attrs.frozen
+class SweepDrift:
+    """The bias's rate of change through a sweep, from the revolutions' own counts: the rms ḃ
+    (″/s², i.e. (°/h)/s) of the rate points' trends (:func:`revolution_trend`), weighted by their
+    inverse variance, their own noise removed (√(max(Σw(ḃ_i² − u_i²)/Σw, 0))), and its degrees of
+    freedom, the effective number of points (Σw)²/Σw²."""
+
+    rms: float
+    dof: float
+    points: int
+
+
+def sweep_drift(pts: list["RatePoint"]) -> SweepDrift:
+    """:class:`SweepDrift` of the rate points ``pts`` (interpretations.md, "D.1.2 / D.1.3 — the bias
+    drifting through the sweep")."""
+    num = den = den2 = 0.0
+    n = 0
+    for p in pts:
+        T = 0.5 * (p.t_plus + p.t_minus)
+        if not (p.dof_trend > 0 and math.isfinite(p.u_trend) and p.u_trend > 0):
+            continue
+        scale = abs(p.K) * T * T  # β = K·ḃ·T²
+        b, v = p.trend / scale, (p.u_trend / scale) ** 2
+        w = 1.0 / v
+        num += w * (b * b - v)
+        den += w
+        den2 += w * w
+        n += 1
+    if n == 0 or den <= 0:
+        return SweepDrift(0.0, math.inf, 0)
+    return SweepDrift(math.sqrt(max(num / den, 0.0)), max(den * den / den2, 1.0), n)
+
+
+def point_drift(p: "RatePoint") -> float:
+    """Relative standard uncertainty of K_i (D.2) from the bias drifting between the + and − runs of
+    D.1.1.2 g) at this point, from its own revolutions' trend β (:func:`revolution_trend`): the
+    difference N₊ − N₋ keeps −β·Δ, Δ the runs' centres apart in revolutions ((m₊ + m₋)/2), which is
+    not corrected, so u = Δ·√(β² + u²(β))/(2·360·3 600″·K_i) — the drift the counts show and the
+    drift they cannot exclude."""
+    if not (p.dof_trend > 0 and math.isfinite(p.u_trend)):
+        return 0.0
+    dt = 0.5 * (p.m_plus * p.t_plus + p.m_minus * p.t_minus) / (0.5 * (p.t_plus + p.t_minus))
+    return dt * math.hypot(p.trend, p.u_trend) / (2.0 * F.REVOLUTION_ARCSEC * abs(p.K))
 
 
 def collect_rate_points(proc: type[Procedure], campaign: Campaign, min_points: int,
@@ -158,9 +227,9 @@ def collect_rate_points(proc: type[Procedure], campaign: Campaign, min_points: i
                                 f"revolutions last {np.mean(t):.4g} s on average, but 360° at {rate:g} °/s takes "
                                 f"{expect_t:.4g} s; is the rate or the duration unit wrong?")
             stats[d] = (F.mean_counts_d1(c), float(np.std(c, ddof=1)) if c.size > 1 else 0.0, c.size,
-                        float(np.mean(t)), s.id)
-        (np_, sp, mp, tp, idp), (nm, sm, mm, tm, idm) = stats[1], stats[-1]
-        points.append(RatePoint(rate, np_, nm, sp, sm, mp, mm, tp, tm, (idp, idm)))
+                        float(np.mean(t)), s.id, c)
+        (np_, sp, mp, tp, idp, cp), (nm, sm, mm, tm, idm, cm) = stats[1], stats[-1]
+        points.append(RatePoint(rate, np_, nm, sp, sm, mp, mm, tp, tm, (idp, idm), *revolution_trend(cp, cm)))
     if len(points) < min_points:
         raise DataError(campaign.source, "segments",
                         f"{proc.qualified_id()} needs at least {min_points} rate points (D.1.1.2 e))"
@@ -261,6 +330,12 @@ class NonlinearityD12(ScaleFactorD11):
         rows = [BudgetRow.type_a(msg("K_i at {rate:g} °/s (revolution scatter) and the fitted K", rate=pts[i].rate),
                                  "u(K_i − K)/K",
                                  Q_(u, ""), max(min(pts[i].m_plus, pts[i].m_minus) - 1, 1))]
+        u_dr = point_drift(pts[i])
+        if u_dr > 0:
+            rows.append(BudgetRow.type_a(
+                msg("bias drift between the + and − runs at {rate:g} °/s (D.1.1.2 g)), from the trend of the point's "
+                    "revolutions", rate=pts[i].rate), "Δ·√(β² + u²(β))/(2·360·3600″·K_i)", Q_(u_dr, ""), pts[i].dof_trend,
+                note=msg("β = {b:.3g} ± {u:.2g} P per revolution", b=pts[i].trend, u=pts[i].u_trend)))
         rows += _angle_row(campaign, Kn, "")
         budget = UncertaintyBudget("K_n", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Kn, ""), budget.combined, budget,
@@ -323,6 +398,20 @@ class AsymmetryD13(ScaleFactorD11):
                 BudgetRow.type_a(msg("zero-rate count N̄_0"), "u(N̄₀)", Q_(uN0, "P/s"), allz.size - 1,
                                  sensitivity=Q_(abs(c_n0), "s/P"),
                                  note=msg("∂K_a/∂N̄₀ analytic through the D.5 intercepts (one-sided at K₊ = K₋)"))]
+        drift = sweep_drift(pts)
+        if drift.rms > 0:
+            # N̄₀ is the bias at the start and the end (D.1.3.2 a)); at a rate point between them the bias
+            # is off their mean by at most ḃ·S/2, S the time the test spans (zero records and runs)
+            span = sum(float(np.asarray(z.series("output", "P").data.magnitude).size)
+                       * float(z.series("output", "P").interval.to("s").magnitude) for z in zeros)
+            span += sum(p.m_plus * p.t_plus + p.m_minus * p.t_minus for p in pts)
+            Kbar_p_s = abs(Kbar)  # P/″ = (P/s)/(″/s)
+            rows.append(BudgetRow.type_a(
+                msg("bias drift during the sweep: the bias at each rate point against N̄₀ of the start and the end"),
+                "ḃ·S/(2√3)", Q_(Kbar_p_s * drift.rms * span / (2.0 * math.sqrt(3.0)), "P/s"), drift.dof,
+                sensitivity=Q_(abs(c_n0), "s/P"),
+                note=msg("ḃ_rms = {b:.3g} (°/h)/h from the trends of {n} rate points' revolutions, over S = {S:.3g} h "
+                         "(uniform within ±ḃ·S/2)", b=drift.rms * 3600.0, n=drift.points, S=span / 3600.0)))
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
                      note=msg("K₊ = {Kp:.8f} P/″, K₋ = {Km:.8f} P/″, N̄₀ = {N0:.4f} P/s", Kp=fp.coef[0], Km=fm.coef[0], N0=N0),
