@@ -297,7 +297,7 @@ class SimulatedStation:
                 repeat_durations_s.append(n * interval_s)
             orient = str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
             cb = (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot)) if progress else None
-            offset = bias_offset(t, step.conditions)
+            offset = bias_offset(t, step.conditions) + own_power_on_bias(t, step)
             custom = step_simulators().get(step.kind)
             if custom is not None:
                 segments.append(custom(self, step, i, interval_s=interval_s, n=n, orientation=orient,
@@ -539,6 +539,23 @@ def bias_offset(truth: GyroTruth, conditions) -> float:
         r = np.random.default_rng([truth.seed, *mounting_key(conditions), 6047])
         off += float(r.normal(0.0, truth.bias_mount_sigma_deg_h))
     return off
+
+
+#: record kinds whose clause switches the gyro on for each record: D.5.4.2 c) powers off between the
+#: temperature points, D.5.5.2 takes each field record "by D.5.1.2"
+OWN_POWER_ON_KINDS = ("static-temperature", "static-field")
+
+
+def own_power_on_bias(truth: GyroTruth, step) -> float:
+    """The turn-on bias (°/h) of a record that is a power-on of its own (:data:`OWN_POWER_ON_KINDS`):
+    N(0, turn_on_sigma), seeded by the device and the record's kind and conditions — so the station
+    makes what D.5.4 / D.5.5 meet on a real gyro (their results carry σ_on of D.5.3; truth stays the
+    device's B_t, B_h).  Records with a ``run`` condition draw theirs in :func:`bias_offset`."""
+    if step.kind not in OWN_POWER_ON_KINDS or "run" in step.conditions or truth.turn_on_sigma_deg_h <= 0:
+        return 0.0
+    key = step.kind + ";" + ";".join(f"{k}={step.conditions[k]}" for k in sorted(step.conditions))
+    digest = int.from_bytes(hashlib.sha256(key.encode()).digest()[:4], "little")
+    return float(np.random.default_rng([truth.seed, digest, 4099]).normal(0.0, truth.turn_on_sigma_deg_h))
 
 
 def mounting_key(conditions) -> tuple[int, ...]:

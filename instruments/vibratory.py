@@ -216,11 +216,20 @@ def operating_point(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude
     return K, b
 
 
+#: conditions that do not start a new power-on, by kind: the chamber's points of 7.2.5 / 7.2.16 (their
+#: c): "在校准过程中，陀螺始终处于工作状态", the gyro works throughout) and the flips of 7.2.6 / 7.2.17
+#: (b) powers on once, c) turns the table) share one power-on
+SAME_POWER_ON = {"rate-temperature": ("temperature",), "static-temperature": ("temperature",),
+                 "rate-accel": ("orientation", "axis"), "static-accel": ("orientation", "axis")}
+
+
 def power_on_key(kind: str, c: Mapping[str, Any]) -> str:
     """Which power-on a segment belongs to: one calibration or record is one power-on, so every
-    condition but the rate (and the resolution's increment) names it (7.2.5 one per temperature,
-    7.2.6 one per orientation, 7.2.7/7.2.8 one per axis and phase, …)."""
-    return ";".join(f"{k}={c[k]}" for k in sorted(c) if k not in ("rate", "increment", "base_rate"))
+    condition but the rate (and the resolution's increment) names it (7.2.7/7.2.8 one per axis and
+    phase, …) — except where the clause keeps the gyro on across them (:data:`SAME_POWER_ON`: 7.2.5 and
+    7.2.16 one power-on through the chamber, 7.2.6 and 7.2.17 one for all the flips)."""
+    same = ("rate", "increment", "base_rate") + SAME_POWER_ON.get(kind, ())
+    return ";".join(f"{k}={c[k]}" for k in sorted(c) if k not in same)
 
 
 def misalignment_angles(t: VibratoryTruth, run: Any) -> tuple[float, float]:
@@ -348,8 +357,9 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
     """An ideal (noiseless) evaluation of the planned steps, by the standard's definitions.  The
     truth is the device's own K and bias: a power-on's draw (``power_on_variation``) is an error of
     that calibration, not the device's value (the repeats of 7.2.4 / 7.2.15 keep their draws, whose
-    spread is what those items measure)."""
-    t = attrs.evolve(t, power_on_variation=False)
+    spread is what those items measure) — except the bias B₀ of 7.2.13, which is the static record's
+    own power-on's."""
+    t0, t = t, attrs.evolve(t, power_on_variation=False)
     ex: dict[str, Any] = {}
 
     def sf(group, kind):
@@ -407,7 +417,11 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
     Kn = float(ex["K"].magnitude) if "K" in ex else t.K_mV_per_dps
     static = [s for s in steps if s.kind == "static"]
     if static:
-        ex["B0"] = Q_(mean_output(t, "static", static[0].conditions, lat) / Kn * 3600.0, "deg/h")
+        # B₀ of 7.2.13 is the bias of this record's power-on (interpretations.md, "7.2.13"): its turn-on
+        # draw is part of the truth (the record's K differs from 7.2.1's: that is error, K_r's row)
+        own = operating_point(t0, "static", static[0].conditions, lat)[1] - operating_point(
+            t, "static", static[0].conditions, lat)[1]
+        ex["B0"] = Q_((mean_output(t, "static", static[0].conditions, lat) / Kn + own) * 3600.0, "deg/h")
         ex["ARW"] = Q_(t.arw_deg_rt_h, "deg/hour**0.5")
         ex["Q"] = Q_(t.quantization_arcsec, "arcsec")
         ex["RRW"] = Q_(t.rrw_deg_h_rt_h, "deg/h/hour**0.5")

@@ -22,7 +22,7 @@ OMEGA_E = 15.041  # °/h, eq. (D.40)
 
 
 def _campaign(folder: Path, rng, *, sigma_on: float, arw: float, slope: float, repeats: bool,
-              seconds: int = 600) -> float:
+              seconds: int = 600, stated: str = "") -> float:
     """Three temperature points (−40, 20, 60 °C), optionally D.5.3's 7 repeats at 20 °C; returns
     the true B_t = |slope| (a bias linear in T: D.43's every slope is the same)."""
     lat = 30.0
@@ -48,7 +48,8 @@ def _campaign(folder: Path, rng, *, sigma_on: float, arw: float, slope: float, r
             segs.append(f'[[segments]]\nid = "repeat-{j}"\nkind = "static-repeat"\nfile = "{f}"\n'
                         f'sample_interval = "1 s"\n[segments.conditions]\norientation = "IRA up"\nrun = {j}\n')
     (folder / "manifest.toml").write_text(
-        '[device]\nid = "BT-1"\noutput = "rate"\n\n[environment]\ntemperature = "20 °C"\nhumidity = "40 %"\n\n'
+        '[device]\nid = "BT-1"\noutput = "rate"\n' + (f'bias_repeatability = "{stated}"\n' if stated else "")
+        + '\n[environment]\ntemperature = "20 °C"\nhumidity = "40 %"\n\n'
         f'[site]\nlatitude = "{lat}°"\n\n[[equipment]]\nid = "CH-1"\nrole = "chamber"\n'
         '[equipment.calibration]\ncertificate = "CH-CERT"\nU = "0.5 K"\nk = 2\n\n' + "\n".join(segs),
         encoding="utf-8")
@@ -89,13 +90,50 @@ def test_d54_budget_has_the_turn_on_scatter_of_d53(run_cli, tmp_path):
     assert bt["U"] >= 2 * math.sqrt(2) * s_on / dT
 
 
-def test_d54_without_d53_repeats_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_path):
+def test_d54_without_the_turn_on_scatter_is_not_reportable(run_cli, tmp_path):
+    """interpretations.md "D.5.4 / D.5.5 — without the turn-on scatter": no D.5.3 repeats and no
+    stated device.bias_repeatability leave the difference of two power-ons unbounded (the independent
+    harness's bt-bh devices without repeats: B_t within U on 52 %, B_h 87–89 %, reported with a note):
+    not reportable, saying what to record or state."""
     folder = tmp_path / "dev"
     folder.mkdir()
     _campaign(folder, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=False)
     res = _bt(run_cli, folder)
-    assert "turn-on scatter not in U" in res["note"] and "D.5.3" in res["note"]
+    assert res["reportable"] is False
+    assert "D.5.3" in res["reason"] and "bias_repeatability" in res["reason"] and "static-repeat" in res["reason"]
     assert not [r for r in res["budget"]["rows"] if "σ_on = " in r["note"]]
+
+
+def test_d54_takes_a_stated_bias_repeatability(run_cli, tmp_path):
+    """Without repeats, [device] bias_repeatability (a B_r measured before) stands for σ_on as a type B
+    row: reportable, U holds k·√2·σ_on/|ΔT|; a bad value is refused naming the field."""
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    _campaign(folder, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=False,
+              stated="0.012 °/h")
+    res = _bt(run_cli, folder)
+    assert res["reportable"] is True and not res["reason"]
+    T = float(res["note"].split("largest at T = ")[1].split(" ")[0])
+    (row,) = [r for r in res["budget"]["rows"] if "device.bias_repeatability" in r["note"]]
+    assert row["standard_uncertainty"] >= math.sqrt(2) * 0.012 / abs(T - 20.0) * (1 - 1e-9)
+    assert res["U"] >= 2 * math.sqrt(2) * 0.012 / abs(T - 20.0)
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    _campaign(bad, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=False, stated="-1 °/h")
+    before = (bad / "manifest.toml").read_bytes()
+    from metro.core.cli import main
+
+    code = main(["run", "-s", "gbt45570", "-i", "D.5.4", "--data", str(bad / "manifest.toml"), "--no-report", "--quiet"])
+    assert code == 2 and (bad / "manifest.toml").read_bytes() == before
+
+
+def test_d54_d55_plan_the_d53_power_ons(run_cli):
+    """metro plan lists D.5.3's power-ons with D.5.4 / D.5.5 (measured once when D.5.3 runs too)."""
+    for items, n in (("D.5.4", 3 + 7), ("D.5.5", 6 + 7), ("D.5.3,D.5.4,D.5.5", 3 + 6 + 7)):
+        code, out, err = run_cli("plan", "-s", "gbt45570", "-i", items, "--json")
+        assert code == 0, err
+        steps = json.loads(out)["steps"]
+        assert len(steps) == n and sum(s["kind"] == "static-repeat" for s in steps) == 7
 
 
 def test_d54_covers_the_turn_on_scatter_over_devices(run_cli, tmp_path):
@@ -243,4 +281,4 @@ def test_d55_field_records_carry_the_turn_on_scatter_of_d53(run_cli, tmp_path):
     _field_campaign(b, np.random.default_rng(5), sigma_on=0.02, repeats=False)
     bh = _run(run_cli, b, "D.5.5")["Bh_IRA"]
     assert not [x for x in bh["budget"]["rows"] if x["symbol"] == "√2·σ_on/(2H_b)"]
-    assert "turn-on scatter not in U" in bh["note"]
+    assert bh["reportable"] is False and "D.5.3" in bh["reason"] and "bias_repeatability" in bh["reason"]

@@ -864,30 +864,37 @@ def test_repeatability_pooled_with_a_larger_scatter_of_the_items_own_calibration
 
 
 def test_largest_slope_and_change_corrected_on_power_on_devices(pm):
-    """K_t (eq. 11) and ΔK_v (eqs. 14, 15) are maxima of noisy values: on analog-power-on devices (each
-    calibration its own power-on, K 1σ 2×10⁻⁴) the formula's value reads high; the corrected value is
-    nearer the device's (seeds 1–8; the 200-device table is on docs/standards/jjf2014.md).  On
-    analog-fine (one power-on through the chamber) the correction is a small part of U."""
+    """K_t (eq. 11) and ΔK (eqs. 12–15) are maxima of noisy values: on analog-power-on devices (each
+    calibration before and after a shock or vibration its own power-on, K 1σ 2×10⁻⁴) the formula's ΔK
+    reads high; the corrected value is nearer the device's (seeds 1–8; the 200-device table is on
+    docs/standards/jjf2014.md).  K_t's points share one power-on through the chamber (7.2.5.1 d), as the
+    station now keeps them): their maximum is not biased there.  On analog-fine the correction is a small
+    part of U."""
     import re
 
-    printed_err, value_err = [], []
+    printed_err, value_err, kt_err = [], [], []
     for seed in range(1, 9):
-        rec = run_items(pm, "jjf2014", ["7.2.4", "7.2.5", "7.2.8"],
+        rec = run_items(pm, "jjf2014", ["7.2.4", "7.2.5", "7.2.7", "7.2.8"],
                         station_options={"seed": seed, "device_class": "analog-power-on", "duration_scale": 0.1})
         from metro.core.present import truth_checks
 
         truth = {c["key"]: c["truth"] for c in truth_checks(rec)}
         for o in rec.outcomes:
             for r in o.results:
-                if r.metric.key in ("Kt", "dK_vib"):
+                if r.metric.key in ("Kt", "dK_vib", "dK_shock"):
                     m = re.search(r"as printed by the formula ([-0-9.e+]+)", str(r.note))
                     assert m, r.note
                     scale = 1e6 if r.metric.key == "Kt" else 1.0  # the note prints K_t in ppm/°C
                     U = r.budget.expanded.magnitude
+                    if r.metric.key == "Kt":
+                        kt_err.append((float(m.group(1)) / scale - truth[r.metric.key]) / U)
+                        continue
                     printed_err.append((float(m.group(1)) / scale - truth[r.metric.key]) / U)
                     value_err.append((r.value.magnitude - truth[r.metric.key]) / U)
-    assert len(printed_err) == 16
-    assert np.mean(printed_err) > 0.25 and np.mean(value_err) < np.mean(printed_err) - 0.15
+    assert len(printed_err) == 16 and len(kt_err) == 8
+    # measured: ΔK printed +0.39, corrected +0.23; K_t printed +0.01
+    assert np.mean(printed_err) > 0.25 and np.mean(value_err) < np.mean(printed_err) - 0.1
+    assert abs(np.mean(kt_err)) < 0.15
     rec = run_items(pm, "jjf2014", ["7.2.4", "7.2.5"], station_options={"seed": 1, "device_class": "analog-fine",
                                                                          "duration_scale": 0.1})
     kt = rec.outcomes[1].results[0]

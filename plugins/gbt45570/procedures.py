@@ -433,6 +433,10 @@ def _delta_temperature_u(campaign: Campaign) -> tuple[float, str] | None:
     return mag / div, ch.describe()
 
 
+REPEATS_OPTION = Option("repeats", 7, None, "D.5.3 power-ons planned with this item to measure the turn-on "
+                        "scatter of the bias (0: none; then give device.bias_repeatability)", minimum=0)
+
+
 class BiasTemperatureSensitivityD54(Procedure):
     """GB/T 45570—2025 D.5.4 零偏温度灵敏度 (bias temperature sensitivity), eq. (D.43).
 
@@ -455,13 +459,14 @@ class BiasTemperatureSensitivityD54(Procedure):
     options = (Option("temperatures", "-40 °C, 20 °C, 60 °C", None,
                       "temperature points for the sequence: both limits and room temperature (D.5.4.2 b))"),
                Option("room", "20 °C", "degC", "room temperature T0: the nearest point is the reference"),
-               Option("batches", 20, None, "batch means per point for each bias's type A uncertainty", minimum=2))
+               Option("batches", 20, None, "batch means per point for each bias's type A uncertainty", minimum=2),
+               REPEATS_OPTION)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         temps = [t.strip() for t in str(options.get("temperatures", "-40 °C, 20 °C, 60 °C")).split(",")]
         return [Step(f"temperature-{i + 1}", "static-temperature", f"power off, soak ≥ 2 h at {t}, then as D.5.1.2 "
                      "record 1 h (D.5.4.2 c))", Q_(1, "h"), Q_(1, "s"), {"orientation": "IRA up", "temperature": t},
-                     warmup=Q_(2, "h")) for i, t in enumerate(temps)]
+                     warmup=Q_(2, "h")) for i, t in enumerate(temps)] + _repeat_steps(options)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
@@ -487,9 +492,12 @@ class BiasTemperatureSensitivityD54(Procedure):
                                  Q_(uA, "deg/h/delta_degC"), nu)]
         # D.5.4.2 c): off between points, so every B_i is a power-on of its own and differs from
         # B(T_i) by the turn-on scatter σ_on that D.5.3 measures (interpretations.md, D.5.4)
-        s_on, nu_on, rep_rows, rep_note = _turn_on(campaign, int(opts["batches"]), msg(
-            "turn-on scatter not in U: each temperature point is a power-on of its own (D.5.4.2 c)), but "
-            "the campaign has no D.5.3 repeats (static-repeat) to measure it"))
+        on = _turn_on(campaign, int(opts["batches"]), msg(
+            "each temperature point is a power-on of its own (D.5.4.2 c)), so B_i and B_00 also differ by the "
+            "turn-on scatter of the bias, which this campaign does not measure: record D.5.3's power-ons with it "
+            "(static-repeat runs, as metro plan -s gbt45570 -i D.5.4 lists them) or give [device] "
+            "bias_repeatability from an earlier D.5.3"))
+        s_on, nu_on, rep_note = on.sigma, on.nu, on.note
         u_on = math.sqrt(2.0) * s_on / abs(dT)
         u_tot = math.hypot(uA, u_on)
         nu_tot = (u_tot**4 / ((uA**4 / nu if uA > 0 else 0.0) + (u_on**4 / nu_on if u_on > 0 else 0.0))
@@ -506,10 +514,7 @@ class BiasTemperatureSensitivityD54(Procedure):
                                          "about the smoothed B(T))"), "s(max_i |ΔB_i/ΔT_i|)",
                                      Q_(max(sel.s, u_tot), "deg/h/delta_degC"), nu_tot,
                                      note=join("; ", [msg("the maximising point alone gives {u:.3g} (°/h)/°C", u=u_tot)]
-                                               + ([msg("each B_i a power-on of its own (D.5.4.2 c)): with the turn-on "
-                                                       "scatter σ_on = {s:.4g} °/h of D.5.3 on this campaign (ν = "
-                                                       "{nu:.3g}), √2·σ_on/|ΔT| = {u:.3g} (°/h)/°C at the maximising "
-                                                       "point", s=s_on, nu=nu_on, u=u_on)] if rep_rows else [])))]
+                                               + ([on.describe(u_on, "(°/h)/°C")] if on.known and s_on > 0 else [])))]
             rows += selection_rows(sel, len(temps) - 1, "deg/h/delta_degC")
             Bt = max(sel.value, 0.0)
         if eA.u_q > 0 or e0.u_q > 0:
@@ -526,9 +531,8 @@ class BiasTemperatureSensitivityD54(Procedure):
         budget = UncertaintyBudget("B_t", "deg/h/delta_degC", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Bt, "deg/h/delta_degC"), budget.combined, budget,
                      note=join("; ", [msg("largest at T = {T:g} °C against T0 = {T0:g} °C", T=temps[imax], T0=temps[i0])]
-                               + ([selection_note(sel, 1.0, '(°/h)/°C')] if len(temps) > 2 else [])
-                               + ([rep_note] if rep_note else [])),
-                     earth_rate="not applicable")
+                               + ([selection_note(sel, 1.0, '(°/h)/°C')] if len(temps) > 2 else [])),
+                     earth_rate="not applicable", reportable=on.known, reason=rep_note)
         order = np.argsort(temps)
         plot = PlotSpec("bias_temperature", msg("Bias against temperature (D.5.4)"), "T (°C)", "B₀ (°/h)",
                         [{"label": "B₀(T) (D.40)", "x": [temps[i] for i in order], "y": [ests[i].B0 for i in order],
@@ -544,24 +548,83 @@ class BiasTemperatureSensitivityD54(Procedure):
                        segments=[s.id for s in segs], options={k: str(v) for k, v in opts.items()})
 
 
-def _turn_on(campaign: Campaign, batches: int, missing: str) -> tuple[float, float, list, str]:
-    """The turn-on scatter σ_on of one power-on's bias that D.5.3 measures on this campaign, for items
-    whose records are power-ons of their own (D.5.4, D.5.5): (σ_on °/h, its ν, the D.5.3 rows, note —
-    ``missing`` when the campaign has no repeats).  σ_on² = B_r² − mean u_A² is a difference of variance
-    estimates: its Satterthwaite ν is (Q − 1)·(σ_on²/B_r²)², far fewer than Q − 1 when the within-run
-    part is a large share of B_r (interpretations.md, D.5.4)."""
+@attrs.frozen
+class TurnOn:
+    """The turn-on scatter of one power-on's bias as an item uses it (:func:`_turn_on`)."""
+
+    sigma: float  #: σ_on, °/h (0 when not known)
+    nu: float  #: its degrees of freedom
+    known: bool  #: measured on this campaign (D.5.3) or stated (device.bias_repeatability)
+    stated: bool  #: from device.bias_repeatability
+    note: str  #: why it is not known ("" when known)
+
+    def describe(self, u: float, unit: str) -> str:
+        """The budget note on the row √2·σ_on/… of a difference of two power-ons."""
+        if self.stated:
+            return msg("each record a power-on of its own: with the turn-on scatter σ_on = {s:.4g} °/h stated as "
+                       "device.bias_repeatability, {u:.3g} {unit} at the maximising point", s=self.sigma, u=u, unit=unit)
+        return msg("each B_i a power-on of its own (D.5.4.2 c)): with the turn-on scatter σ_on = {s:.4g} °/h of D.5.3 "
+                   "on this campaign (ν = {nu:.3g}), √2·σ_on/|ΔT| = {u:.3g} (°/h)/°C at the maximising point",
+                   s=self.sigma, nu=self.nu, u=u)
+
+    def source(self) -> str:
+        """The row's source text for D.5.5's √2·σ_on/(2H_b)."""
+        if self.stated:
+            return msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by D.5.1.2\"): σ_on = {s:.4g} °/h "
+                       "stated as device.bias_repeatability", s=self.sigma)
+        return msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by D.5.1.2\"): σ_on = {s:.4g} °/h of "
+                   "D.5.3 on this campaign", s=self.sigma)
+
+
+def _turn_on(campaign: Campaign, batches: int, missing: str) -> TurnOn:
+    """The turn-on scatter σ_on of one power-on's bias, for items whose records are power-ons of their
+    own (D.5.4, D.5.5).
+
+    From D.5.3's repeats on this campaign: σ_on² = B_r² − mean u_A², a difference of variance
+    estimates, whose Satterthwaite ν is (Q − 1)·(σ_on²/B_r²)², far fewer than Q − 1 when the within-run
+    part is a large share of B_r (interpretations.md, D.5.4).  Else from ``device.bias_repeatability``
+    (°/h, a B_r measured before, e.g. an earlier D.5.3; type B, ν = ∞; as a whole B_r it also holds its
+    runs' within-run noise, so it errs on the safe side).  Else not known, with ``missing`` as the note
+    (the items then declare their result not reportable: interpretations.md, "D.5.4 / D.5.5 — without
+    the turn-on scatter")."""
     from .repeatability import bias_repeat_row
 
     rep_rows, rep_note = bias_repeat_row(campaign, batches, None)
-    if not rep_rows and len(campaign.find_segments("static-repeat")) < 2:
-        rep_note = missing
-    s_on = float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude) if rep_rows else 0.0
-    nu_on = math.inf
-    if s_on > 0:
-        reps = campaign.find_segments("static-repeat")
-        b_r = F.bias_repeatability_d42([segment_bias(r, campaign, batches).B0 for r in reps])
-        nu_on = max((len(reps) - 1) * (s_on**2 / b_r**2) ** 2, 1.0)
-    return s_on, nu_on, rep_rows, rep_note
+    if rep_rows:
+        s_on = float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude)
+        nu_on = math.inf
+        if s_on > 0:
+            reps = campaign.find_segments("static-repeat")
+            b_r = F.bias_repeatability_d42([segment_bias(r, campaign, batches).B0 for r in reps])
+            nu_on = max((len(reps) - 1) * (s_on**2 / b_r**2) ** 2, 1.0)
+        return TurnOn(s_on, nu_on, True, False, "")
+    stated = stated_bias_repeatability(campaign)
+    if stated is not None:
+        return TurnOn(stated, math.inf, True, True, "")
+    if len(campaign.find_segments("static-repeat")) >= 2 and rep_note:
+        missing = join("; ", [missing, rep_note])
+    return TurnOn(0.0, math.inf, False, False, missing)
+
+
+def stated_bias_repeatability(campaign: Campaign) -> float | None:
+    """``[device] bias_repeatability`` (°/h, 1σ of one power-on's bias), or None when not given."""
+    v = campaign.device.properties.get("bias_repeatability")
+    if v in (None, ""):
+        return None
+    x = float(parse_quantity(v, dimension="deg/h", file=campaign.source,
+                             field="device.bias_repeatability").to("deg/h").magnitude)
+    if not (x >= 0 and math.isfinite(x)):
+        raise DataError(campaign.source, "device.bias_repeatability",
+                        f"must be a non-negative bias repeatability in °/h, got {v!r}")
+    return x
+
+
+def _repeat_steps(options: Mapping[str, Any]) -> list[Step]:
+    """D.5.3's power-ons, planned with D.5.4 / D.5.5 so that their turn-on scatter is measured on the
+    same campaign (``repeats`` = Q; 0: none — then give ``device.bias_repeatability``).  Shared with
+    D.5.3's own steps when both items run (the same kind and conditions are measured once)."""
+    q = int(options.get("repeats", 7))
+    return BiasRepeatabilityD53().sequence({"Q": q}) if q > 0 else []
 
 
 class BiasMagneticSensitivityD55(Procedure):
@@ -585,7 +648,8 @@ class BiasMagneticSensitivityD55(Procedure):
     equipment = _EQUIPMENT + (EquipmentRequirement("field_generator", "DC magnetic field generator, uniformity "
                                                    "better than 5 % over the gyro (D.5.5.1 b))"),)
     options = (Option("H_b", "1 mT", "mT", "field strength for the sequence"),
-               Option("batches", 20, None, "batch means per segment for each bias's type A uncertainty", minimum=2))
+               Option("batches", 20, None, "batch means per segment for each bias's type A uncertainty", minimum=2),
+               REPEATS_OPTION)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         H = parse_quantity(options.get("H_b", "1 mT"), dimension="mT").to("mT").magnitude
@@ -596,7 +660,7 @@ class BiasMagneticSensitivityD55(Procedure):
                                   f"{word} field of {H:g} mT along {ax}; bias as D.5.1.2 for 10 min (D.5.5.2)",
                                   Q_(10, "min"), Q_(1, "s"),
                                   {"orientation": "IRA up", "field_axis": ax, "field": f"{sign * H:g} mT"}))
-        return steps
+        return steps + _repeat_steps(options)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
@@ -608,9 +672,12 @@ class BiasMagneticSensitivityD55(Procedure):
         results, rows_table, used = [], [], []
         # each field record is taken "by D.5.1.2" — a power-on of its own: the two biases differ by
         # √2·σ_on besides their noise (interpretations.md, "D.5.5 — each field record a power-on")
-        s_on, nu_on, _, on_note = _turn_on(campaign, int(opts["batches"]), msg(
-            "turn-on scatter not in U: each field record is a power-on of its own (by D.5.1.2), but the campaign has "
-            "no D.5.3 repeats (static-repeat) to measure it"))
+        on = _turn_on(campaign, int(opts["batches"]), msg(
+            "each field record is a power-on of its own (\"by D.5.1.2\"), so B_0+ and B_0− also differ by the turn-on "
+            "scatter of the bias, which this campaign does not measure: record D.5.3's power-ons with it (static-repeat "
+            "runs, as metro plan -s gbt45570 -i D.5.5 lists them) or give [device] bias_repeatability from an earlier "
+            "D.5.3"))
+        s_on, nu_on = on.sigma, on.nu
         for metric, ax in zip(self.metrics, ("IRA", "XRA", "YRA")):
             mine = [s for s in segs if str(s.condition("field_axis")).upper() == ax]
             fields = [float(s.condition("field", "mT").to("mT").magnitude) for s in mine]
@@ -633,9 +700,9 @@ class BiasMagneticSensitivityD55(Procedure):
             rows = [BudgetRow.type_a(msg("scatter of B_0+ and B_0− (batch means)"), "√(u²₊+u²₋)/(2H_b)",
                                      Q_(uA, "deg/h/mT"), nu)]
             if s_on > 0:
-                rows.append(BudgetRow.type_a(msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by "
-                                                 "D.5.1.2\"): σ_on = {s:.4g} °/h of D.5.3 on this campaign", s=s_on),
-                                             "√2·σ_on/(2H_b)", Q_(math.sqrt(2.0) * s_on / (2.0 * Hb), "deg/h/mT"), nu_on))
+                u_on = Q_(math.sqrt(2.0) * s_on / (2.0 * Hb), "deg/h/mT")
+                rows.append(BudgetRow.type_b(on.source(), "√2·σ_on/(2H_b)", u_on, distribution="normal", k=1.0)
+                            if on.stated else BudgetRow.type_a(on.source(), "√2·σ_on/(2H_b)", u_on, nu_on))
             if ep.u_q > 0 or em.u_q > 0:
                 rows.append(BudgetRow.type_b(msg("quantization of B_0+ and B_0− (the D.5.1 rows)"), "√(u_q²₊+u_q²₋)/(2H_b)",
                                              Q_(math.hypot(ep.u_q, em.u_q) / (2.0 * Hb), "deg/h/mT"),
@@ -652,8 +719,8 @@ class BiasMagneticSensitivityD55(Procedure):
             warn = ""
             if abs(Hp - Hm) > 0.01 * Hb:
                 warn = msg("forward {p:g} mT and reversed {m:g} mT differ; H_b = their mean", p=Hp, m=Hm)
-            results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=join("; ", [x for x in (warn, on_note) if x]),
-                                  earth_rate="not applicable"))
+            results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=warn,
+                                  earth_rate="not applicable", reportable=on.known, reason=on.note))
             rows_table.append([ax, f"{Hb:g}", f"{ep.B0:.5f}", f"{em.B0:.5f}", f"{Bh:.4g}"])
             used += [sp.id, sm.id]
         table = TableSpec("field_biases", msg("Biases with the field forward and reversed (D.5.5)"),
