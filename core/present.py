@@ -180,15 +180,17 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
     from rich.console import Console
     from rich.table import Table
 
+    from rich.markup import escape as esc  # messages and file names are text, not markup: "[device] key" stays
+
     con = Console(highlight=False)
     c = record.campaign
-    con.print(f"[bold]{record.standard}[/] on {c.device.describe()} — campaign {c.id} ({c.source})")
+    con.print(f"[bold]{record.standard}[/] on {esc(c.device.describe())} — campaign {esc(str(c.id))} ({esc(str(c.source))})")
     if record.selection:
         ran = sum(1 for ch in record.selection if ch.run)
         if verbose:
             for ch in record.selection:
                 mark = "[green]run[/]" if ch.run else "[dim]not run[/]"
-                con.print(f"  {ch.item} ({ch.via}): {mark} — {ch.reason}")
+                con.print(f"  {ch.item} ({esc(str(ch.via))}): {mark} — {esc(str(ch.reason))}")
         elif ran < len(record.selection):
             con.print(f"{ran} of {len(record.selection)} candidate items run; not run: "
                       + ", ".join(ch.item for ch in record.selection if not ch.run) + " (--verbose says why)")
@@ -212,23 +214,23 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
             ver = verdicts.get((o.item, r.metric.key))
             if ver is not None:
                 st = ver.status.value
-                notes.append(f"[{colour[st]}]{st}[/]" + (f" ({ver.detail})" if ver.detail not in ("pass", "fail") else "")
-                             + f" vs {ver.spec.text()}")
+                notes.append(f"[{colour[st]}]{st}[/]" + (f" ({esc(ver.detail)})" if ver.detail not in ("pass", "fail") else "")
+                             + f" vs {esc(ver.spec.text())}")
             if not r.reportable:
-                notes.append(f"[yellow]not reportable:[/] {r.reason}")
+                notes.append(f"[yellow]not reportable:[/] {esc(r.reason)}")
             if r.earth_rate:
                 notes.append(f"earth rate {r.earth_rate}")
-            t.add_row(o.item, f"{r.metric.name} {r.metric.symbol}", v, u_text, fmt_unit(r.metric.unit),
-                      "; ".join(notes))
+            t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)), esc(str(u_text)),
+                      esc(fmt_unit(r.metric.unit)), "; ".join(notes))
     con.print(t)
     for o in record.outcomes:
         if verbose:
             _print_budgets_and_tables(con, o)
         for w in o.warnings:
-            con.print(f"[yellow]warning ({o.item}):[/] {pretty_powers(w)}")
+            con.print(f"[yellow]warning ({o.item}):[/] {esc(pretty_powers(w))}")
     for e in c.equipment:
         if e.calibration is not None and not e.calibration.is_valid(record.test_date):
-            con.print(f"[bold red]equipment {e.id}[/]: {e.status(record.test_date)} — results that depend on it "
+            con.print(f"[bold red]equipment {esc(str(e.id))}[/]: {esc(e.status(record.test_date))} — results that depend on it "
                       "are not traceable; recalibrate it or use other equipment")
     checks = truth_checks(record)
     if record.simulated and not record.truth:
@@ -252,35 +254,36 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
             ct.add_column(col)
         for v in a.verdicts:
             st = v.status.value
-            ct.add_row(v.item, v.key, v.spec.text(), v.spec.source,
-                       f"[{colour[st]}]{st}[/]" + (f" ({v.detail})" if v.detail not in ("pass", "fail") else ""),
-                       v.reason)
+            ct.add_row(v.item, v.key, esc(v.spec.text()), esc(v.spec.source),
+                       f"[{colour[st]}]{st}[/]" + (f" ({esc(v.detail)})" if v.detail not in ("pass", "fail") else ""),
+                       esc(v.reason))
         con.print(ct)
         if a.not_assessed:
             con.print("not assessed (item not performed): "
                       + ", ".join(f"{sp.symbol} {sp.text()}" for sp in a.not_assessed))
     if verbose:
         for f, h in record.data_files:
-            con.print(f"data: {f}  sha256 {h}")
+            con.print(f"data: {esc(str(f))}  sha256 {h}")
     overall = a.overall.value if a is not None and a.overall is not None else None
     style = colour.get(overall or "", "bold")
-    con.print(f"[bold {style}]{verdict_line(a)}[/]", soft_wrap=True)  # one line: scripts grep it
+    con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)  # one line: scripts grep it
     con.print(f"report number {record.report_number}: "
-              + (f"Word report {report_path}" if report_path else "no Word report written"), soft_wrap=True)
+              + (f"Word report {esc(str(report_path))}" if report_path else "no Word report written"), soft_wrap=True)
 
 
 def _print_budgets_and_tables(con: Any, o: Any) -> None:
+    from rich.markup import escape as esc
     from rich.table import Table
 
     for r in o.results:
         if r.budget is None:
             continue
         b = r.budget.as_dict()
-        bt = Table(title=f"Budget {o.item} {r.metric.symbol} [{b['unit']}]")
+        bt = Table(title=esc(f"Budget {o.item} {r.metric.symbol} [{b['unit']}]"))
         for col in ("source", "type", "dist.", "u(xᵢ)", "cᵢ", "uᵢ(y)", "ν"):
             bt.add_column(col)
         for row in b["rows"]:
-            bt.add_row(row["source"], row["type"], row["distribution"],
+            bt.add_row(esc(row["source"]), row["type"], row["distribution"],
                        with_unit(fmt_num(row["standard_uncertainty"], 3), row["value_unit"]),
                        with_unit(fmt_num(row["sensitivity"], 3), row["sensitivity_unit"]),
                        fmt_num(row["contribution"], 3),
@@ -290,11 +293,11 @@ def _print_budgets_and_tables(con: Any, o: Any) -> None:
                       f"U = {b['U_reported']}{unit_}")
         con.print(bt)
     for tab in o.tables:
-        tt = Table(title=tab.title)
+        tt = Table(title=esc(str(tab.title)))
         for h in tab.header:
-            tt.add_column(h, justify="right")
+            tt.add_column(esc(str(h)), justify="right")
         for row in tab.rows:
-            tt.add_row(*map(str, row))
+            tt.add_row(*(esc(str(x)) for x in row))
         con.print(tt)
 
 

@@ -282,3 +282,15 @@ def test_d55_field_records_carry_the_turn_on_scatter_of_d53(run_cli, tmp_path):
     bh = _run(run_cli, b, "D.5.5")["Bh_IRA"]
     assert not [x for x in bh["budget"]["rows"] if x["symbol"] == "√2·σ_on/(2H_b)"]
     assert bh["reportable"] is False and "D.5.3" in bh["reason"] and "bias_repeatability" in bh["reason"]
+
+
+def test_terminal_keeps_bracketed_text_of_messages(run_cli, tmp_path):
+    """The not-reportable reason names "[device] bias_repeatability": the terminal table prints it as text
+    (rich read "[device]" as a markup tag and dropped it before)."""
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    _campaign(folder, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=False)
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.4", "--data", str(folder / "manifest.toml"),
+                             "--no-report", "--quiet", "--verbose")
+    assert code == 0, err
+    assert "[device]" in out and "not reportable" in out
