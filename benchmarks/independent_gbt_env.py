@@ -560,6 +560,44 @@ def build_maxrate(folder: Path, rng, *, kind: str, dt: float, seconds: float, q:
     return {("D.3", "Omega_max"): (om, "°/s", "")}
 
 
+def build_maxrate_angle(folder: Path, rng, *, quick=False) -> dict:
+    """D.3 by the angle method: the D.1.1 sweep (5 whole revolutions each way at R5 rates to 400 °/s,
+    ``rate-revolutions``) of a laser gyro whose scale factor compresses at high rate, K·(1 − c(|Ω|/Ω_s)⁴)
+    (Ω_s 100 … 600 °/s, c 2×10⁻⁶ … 5×10⁻⁵), limit ``[device] nonlinearity_limit`` 2/5/10 ppm.  Truth: the
+    largest tested rate whose range meets the limit by D.7 on the noise-free K_i (D.2) and the D.5 intercept."""
+    lat = float(rng.uniform(-65, 70))
+    earth = earth_up(lat)
+    device, out = make_output(rng, "pulse", folder)
+    limit = float(rng.choice([2e-6, 5e-6, 10e-6]))
+    device |= {"nonlinearity_limit": f"{limit * 1e6:g} ppm"}
+    table = {"id": "RT-X", "role": "rate_table", "revolution_pulse_accuracy": "2″",
+             "calibration": {"certificate": "IND-RT-A", "U": "1e-5", "k": 2}}
+    camp = Campaign(folder, device, lat, [table, COUNTER], fmt="csv", output=out)
+    rates = list(R5_GBT) if not quick else list(R5_GBT[-11:])
+    Om_s, c = float(rng.uniform(100, 600)), float(rng.uniform(2e-6, 5e-5))
+    noise = Noise(float(rng.uniform(0.001, 0.005)))
+    b = float(rng.uniform(-1, 1))
+    m = 5 if not quick else 3
+
+    def g(w):
+        return 1 - c * (abs(w) / Om_s) ** 4
+
+    for r in rates:
+        for sgn, tag in ((1, "+"), (-1, "-")):
+            cnt, dur = revolutions(rng, sign=sgn, rate=r, m=m, K=out.K, scale=g(r), bias=b + earth, noise=noise)
+            write_revolutions(camp, f"rate{tag}{r:g}", "rate-revolutions", cnt, dur, 360.0 / r,
+                              {"rate": f"{sgn * r!r} deg/s", "turns": m})
+    camp.write_manifest()
+    Ki = np.array([g(r) for r in rates])
+    curve = []
+    for j in range(2, len(rates)):
+        K0, _ = line(rates[:j + 1], Ki[:j + 1])
+        curve.append((rates[j], float(np.max(np.abs(Ki[:j + 1] - K0)) / K0)))
+    passing = [r for r, kn in curve if kn <= limit]
+    (folder / "truth.json").write_text(json.dumps({"curve": curve, "limit": limit}))
+    return {("D.3", "Omega_max"): (max(passing) if passing else float("nan"), "°/s", "")}
+
+
 # --------------------------------------------------------------------------------------------
 # D.4 threshold
 # --------------------------------------------------------------------------------------------
@@ -675,6 +713,29 @@ VARIANTS = {
                           "rate output °/h rounded to 0.01 °/h at 1 Hz, 100 s per point (CSV)",
                           lambda f, rng, quick: build_maxrate(f, rng, kind="rate", dt=1.0, seconds=100.0, q=0.01,
                                                               fmt="csv", quick=quick)),
+    "maxrate-angle-pulse": V("maxrate-angle-pulse", "gbt45570", "D.3",
+                             "laser gyro, undithered pulse 0.3–3 P/″, 5 revolutions each way at R5 rates 1–400 °/s, "
+                             "K compressing at high rate, limit 2/5/10 ppm",
+                             lambda f, rng, quick: build_maxrate_angle(f, rng, quick=quick)),
+    "setup-pulse-coarse": V("setup-pulse-coarse", "gbt45570", "6.2.7.7",
+                            "coarse undithered pulse 0.05–0.2 P/″ (1 P over 1 s ≥ 5 °/h: the band cannot be read)",
+                            lambda f, rng, quick: build_setup(f, rng, kind="pulse-coarse", quick=quick)),
+    "temp-rate-coarse": V("temp-rate-coarse", "gbt45570", "D.6.1,D.6.2",
+                          "°/h output rounded to 0.5 °/h (coarser than the 1 s noise), 1 h at 1 s",
+                          lambda f, rng, quick: build_temperature(f, rng, kind="rate", q=0.5, quick=quick)),
+    "vibshock-lsb-coarse": V("vibshock-lsb-coarse", "gbt45570", "D.6.3,D.6.4",
+                             "LSB ≈ 1 °/h (coarser than the 1 s noise), D.5.3's repeats",
+                             lambda f, rng, quick: build_vibration_shock(f, rng, kind="LSB", q=1.0, quick=quick)),
+    "env-rate-lsb-coarse": V("env-rate-lsb-coarse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
+                             "as env-rate-lsb with 1 LSB ≈ 1 °/h", lambda f, rng, quick: build_type_env(
+                                 f, rng, kind="LSB", method="rate", q=1.0, quick=quick)),
+    "env-angle-pulse-coarse": V("env-angle-pulse-coarse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
+                                "as env-angle-pulse with coarse pulses 0.05–0.2 P/″",
+                                lambda f, rng, quick: build_type_env(f, rng, kind="pulse-coarse", method="angle",
+                                                                     quick=quick)),
+    "thr-lsb-coarse": V("thr-lsb-coarse", "gbt45570", "D.4", "LSB 0.05 °/h, rounded, ARW 0.0002–0.0006 °/√h (the "
+                        "rounding coarser than the inputs)", lambda f, rng, quick: build_threshold(
+                            f, rng, kind="LSB", q=0.05, quick=quick)),
     "thr-pulse-quiet": V("thr-pulse-quiet", "gbt45570", "D.4",
                          "dithered pulse 2–10 P/″, ARW 0.0002–0.0006 °/√h, dead band 0.003–0.03 °/h, 600 s per position",
                          lambda f, rng, quick: build_threshold(f, rng, kind="pulse-fine", quick=quick)),
