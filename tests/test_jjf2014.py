@@ -417,7 +417,8 @@ def test_startup_never_settles(pm):
     the run too; docs/independent-campaigns.md, "JJF 2014: shock, vibration, stability and dynamic items")."""
     camp = _campaign(pm, ["7.2.23"], truth=VibratoryTruth(startup_tau_s=200.0))
     r = run_items(pm, "jjf2014", ["7.2.23"], campaign=camp).outcomes[0].result("t_startup")
-    assert not r.reportable and "at the end of the record" in r.reason
+    # its last quarter still drifts, so the settled value itself is not known to the band's width
+    assert not r.reportable and ("at the end of the record" in r.reason or "cannot be decided" in r.reason), r.reason
 
 
 def test_procedure_classes_are_registered(pm):

@@ -229,3 +229,24 @@ def test_a_k_change_of_a_negative_k_device_has_the_same_budget(tmp_path):
     # the same up to the selection correction's Monte Carlo (drawn about ±d with one seed)
     assert U[10.0]["U"] == pytest.approx(U[-10.0]["U"], rel=0.05)
     assert U[10.0]["value"] == pytest.approx(U[-10.0]["value"], abs=0.2 * U[10.0]["U"])
+
+
+def test_a_start_up_ringing_faster_than_the_window_is_seen(tmp_path):
+    """A start-up that rings at 1 Hz (2 °/s·e^(−t/3)·cos 2πt): the 1 s window means are flat from ≈ 1 s on, while
+    the samples leave the ±0.05 °/s band until ≈ 11 s.  The samples (outside by more than 4.5u of one
+    sample's noise) now decide: the truth is within U (before: 8.75 s early, U 0.06 s)."""
+    rng = np.random.default_rng(5)
+    c = _Camp(tmp_path)
+    K = 10.0
+    _calibration(c, K, rng)
+    dt, n = 0.1, 600
+    t = dt * np.arange(1, n + 1)
+    ring = 2.0 * np.exp(-t / 3.0) * np.cos(2 * math.pi * t)
+    sigma = 0.01 * 60.0 / math.sqrt(dt) / 3600.0  # ARW 0.01 °/√h
+    for run in (1, 2, 3):
+        c.add(f"startup#{run}", "startup", {"output [mV]": K * (0.02 + ring + sigma * rng.standard_normal(n))}, dt,
+              {"trial": "position", "rate": "0 deg/s", "run": str(run)})
+    m = c.manifest([("TMR", "timer", "1e-5", {})])
+    truth = float(t[np.flatnonzero(np.abs(ring) > 0.05)[-1] + 1])
+    r = _run(m, "7.2.1,7.2.23")["t_startup"]
+    assert r["reportable"] is not False and abs(r["value"] - truth) <= r["U"], (r["value"], truth, r["U"])
