@@ -138,13 +138,38 @@ def test_d64_shock_and_endurance_carry_the_turn_on_scatter_of_two_power_ons(env,
     assert not any(row["symbol"] == "√2·σ_on" for row in res["dBV13_IRA"]["budget"]["rows"])
 
 
-def test_d64_without_repeats_says_the_turn_on_scatter_is_not_in_U(env, tmp_path):
+def test_d64_without_the_turn_on_scatter_is_not_reportable(env, tmp_path):
+    """Without D.5.3's repeats and without device.bias_repeatability the turn-on scatter of the two power-ons is
+    unknown: dBshock and dBV13end are not reportable, the reason saying what to record (as D.5.4 / D.5.5);
+    performance vibration, one power-on, stays reportable."""
     import independent_campaigns as ic
 
     folder = tmp_path / "dev"
     folder.mkdir()
     env.build_vibration_shock(folder, np.random.default_rng(8), kind="LSB", repeats=False, quick=True)
-    code, doc, err = ic.run_metro(folder / "manifest.toml", "gbt45570", "D.6.4")
+    code, doc, err = ic.run_metro(folder / "manifest.toml", "gbt45570", "D.6.3,D.6.4")
+    assert code in (0, 3, 4), err
+    res = {x["key"]: x for x in doc["results"]}
+    for k in ("dBshock_IRA", "dBshock_YRA", "dBV13end_XRA"):
+        assert res[k]["reportable"] is False
+        assert "static-repeat" in res[k]["reason"] and "device.bias_repeatability" in res[k]["reason"]
+    assert res["dBV13_IRA"]["reportable"] is True and res["dBV12_IRA"]["reportable"] is True
+
+
+def test_d64_takes_a_stated_bias_repeatability(env, tmp_path):
+    """``[device] bias_repeatability`` (an earlier D.5.3 of the same gyro) stands in for the repeats: a type B row
+    √2·B_r, and the result is reportable."""
+    import independent_campaigns as ic
+
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    env.build_vibration_shock(folder, np.random.default_rng(8), kind="LSB", repeats=False, quick=True)
+    man = folder / "manifest.toml"
+    man.write_text(man.read_text(encoding="utf-8").replace("[device]\n", '[device]\nbias_repeatability = "0.01 °/h"\n', 1),
+                   encoding="utf-8")
+    code, doc, err = ic.run_metro(man, "gbt45570", "D.6.4")
     assert code in (0, 3, 4), err
     r = next(x for x in doc["results"] if x["key"] == "dBshock_IRA")
-    assert "turn-on scatter not in U" in r["note"] and "D.5.3" in r["note"]
+    assert r["reportable"] is True
+    row = next(row for row in r["budget"]["rows"] if row["symbol"] == "√2·σ_on")
+    assert row["type"] == "B" and row["standard_uncertainty"] == pytest.approx(2 ** 0.5 * 0.01, rel=1e-9)

@@ -53,7 +53,9 @@ from metro.core.units import Q_, parse_quantity
 from . import env_formulas as E
 from .procedures import (
     COVERAGE,
+    REPEATS_OPTION,
     STANDARD,
+    _repeat_steps,
     _check_finite,
     _scale_factor_row,
     _timebase_row,
@@ -273,23 +275,32 @@ def _phase_segments(proc: type[Procedure], campaign: Campaign, kind: str, axis: 
     return found
 
 
-def _two_power_ons(campaign: Campaign, why: str) -> tuple[list[BudgetRow], str]:
+def _two_power_ons(campaign: Campaign, why: str) -> tuple[list[BudgetRow], str, bool]:
     """The turn-on scatter of a bias difference whose two records are power-ons of their own (D.6.3.2 c)
     endurance vibration and D.6.4.2 c) shock: the gyro is unpowered in between, and D.6.3.2 b) / D.6.4.2 b)
-    power it on before): √2 × D.5.3's σ_on of the campaign, or a note saying it is not in U
-    (interpretations.md, "D.6.3 / D.6.4 — unpowered tests: before and after are two power-ons")."""
-    from .repeatability import bias_repeat_row
-    from .type_env import turn_on_rows
+    power it on before): √2 × σ_on from the campaign's D.5.3 repeats (type A, the Satterthwaite ν of a
+    variance difference) or from ``device.bias_repeatability`` (type B), as D.5.4 / D.5.5 take it
+    (:func:`.procedures._turn_on`); with neither the result is not reportable (interpretations.md,
+    "D.6.3 / D.6.4 — unpowered tests: before and after are two power-ons").  Returns (rows, reason, known)."""
+    from .procedures import _turn_on
 
-    rows, note = turn_on_rows(*bias_repeat_row(campaign, 20, None), "B₀", "deg/h", 1.0)
-    if not rows and len(campaign.find_segments("static-repeat")) < 2:
-        note = msg("turn-on scatter not in U: before and after are two power-ons ({why}), and the campaign has no "
-                   "D.5.3 repeats (static-repeat) to measure it", why=why)
-    return rows, note
+    on = _turn_on(campaign, 20, msg("the turn-on scatter is not known: before and after are two power-ons ({why}); "
+                                    "record D.5.3's power-ons (static-repeat) in the campaign or state "
+                                    "device.bias_repeatability", why=why))
+    if not on.known:
+        return [], on.note, False
+    u = math.sqrt(2.0) * on.sigma
+    if on.stated:
+        return [BudgetRow.type_b(msg("turn-on scatter of the two power-ons: √2 × σ_on stated as device.bias_repeatability"),
+                                 "√2·σ_on", Q_(u, "deg/h"), distribution="normal", k=1.0)], "", True
+    return [BudgetRow.type_a(msg("power-on repeatability of {what} in each of the two records: √2 × one power-on's", what="B₀"),
+                             "√2·σ_on", Q_(u, "deg/h"), on.nu,
+                             note=msg("σ_on = {s:.4g} °/h of D.5.3 on this campaign (ν = {nu:.3g})", s=on.sigma,
+                                      nu=on.nu))], "", True
 
 
 def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign, value: float,
-                  turn_on: tuple[list[BudgetRow], str] = ([], "")) -> Result:
+                  turn_on: tuple[list[BudgetRow], str, bool] = ([], "", True)) -> Result:
     """|B_a − B_b| (D.47/D.48) with its budget: the two means' batch scatter (A), scale factor, time base,
     and for records that are two power-ons, the turn-on scatter (``turn_on``: :func:`_two_power_ons`)."""
     uA = math.hypot(a["u"], b["u"])
@@ -305,9 +316,8 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     rows += _scale_factor_row(a["conv"], value, "deg/h")
     rows += _timebase_row(campaign, value, "deg/h", metric.symbol)
     budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-    return Result(metric, Q_(value, "deg/h"), budget.combined, budget,
-                  note=join("; ", [msg("eq. ({eq})", eq=eq), *([turn_on[1]] if turn_on[1] else [])]),
-                  earth_rate="not applicable")
+    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=msg("eq. ({eq})", eq=eq),
+                  earth_rate="not applicable", reportable=turn_on[2], reason=turn_on[1])
 
 
 def _vibration_metrics() -> tuple[Metric, ...]:
@@ -353,6 +363,7 @@ class VibrationD63(Procedure):
         Option("endurance_level", "9 g", "gn", "endurance vibration level, g_rms (product spec; table C.1 row 9)"),
         Option("vibration_time", "10 min", "s", "vibration time per axis (product spec)"),
         Option("batches", 10, None, "batch means per segment for the type A uncertainty", minimum=2),
+        REPEATS_OPTION,
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -375,6 +386,9 @@ class VibrationD63(Procedure):
                 steps.append(Step(f"vib-{test[:4]}-{ax}-after", "vibration",
                                   f"after {test} vibration ({lvl:g} g_rms{', unpowered' if test == 'endurance' else ''}):"
                                   " record 10 min (D.6.3.2 d))", Q_(10, "min"), Q_(1, "s"), base | {"phase": "after"}))
+        # endurance vibration is unpowered: its before/after are two power-ons, whose turn-on scatter D.5.3 measures
+        if "endurance" in _names(opts["tests"], ("performance", "endurance"), "tests"):
+            steps += _repeat_steps(options)
         return steps
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
@@ -457,6 +471,7 @@ class MechanicalShockD64(Procedure):
         Option("level", "40 g", "gn", "peak acceleration (product spec; table C.1 row 10)"),
         Option("pulse", "20 ms", "ms", "pulse duration (product spec; table C.1 row 10)"),
         Option("batches", 10, None, "batch means per segment for the type A uncertainty", minimum=2),
+        REPEATS_OPTION,
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -471,7 +486,8 @@ class MechanicalShockD64(Procedure):
                               "(D.6.4.2 b))", Q_(10, "min"), Q_(1, "s"), base | {"phase": "before"}, warmup=Q_(10, "min")))
             steps.append(Step(f"shock-{ax}-after", "shock", f"unpowered shocks of {lvl:g} g, {dur:g} ms along {ax}; "
                               "then record 10 min (D.6.4.2 c), d))", Q_(10, "min"), Q_(1, "s"), base | {"phase": "after"}))
-        return steps
+        # unpowered shocks: before/after are two power-ons, whose turn-on scatter D.5.3 measures
+        return steps + _repeat_steps(options)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
