@@ -700,6 +700,11 @@ def test_before_and_after_a_54_test_carry_two_power_ons(pm):
     alone = run_items(pm, "gbt45570", ["6.2.8.2"], station_options={"duration_scale": 0.25})
     assert "no D.1.4 repeats" in str(_result(alone, "lts_dK").note)
     assert "no D.5.3 repeats" in str(_result(alone, "lts_dB0").note)
+    # interpretations.md "GB/T 45570 — a difference of power-ons needs their turn-on scatter": neither
+    # measured nor stated, the two changes are not reportable, saying what to record or state
+    for key, item, field in (("lts_dK", "D.1.4", "scale_factor_repeatability"), ("lts_dB0", "D.5.3", "bias_repeatability")):
+        r = _result(alone, key)
+        assert r.reportable is False and item in r.reason and f"[device] {field}" in r.reason, r.reason
     rec = run_items(pm, "gbt45570", ["D.5.3", "D.1.4", "6.2.8.2"], station_options={"duration_scale": 0.25})
     dk = _result(rec, "lts_dK")
     row = next(r for r in dk.budget.rows if r.symbol == "√2·σ_on")
@@ -711,6 +716,28 @@ def test_before_and_after_a_54_test_carry_two_power_ons(pm):
     brow = next(r for r in db.budget.rows if r.symbol == "√2·σ_on")
     sigma_on = bias_repeat_row(rec.campaign, 20, None)[0][0]
     assert brow.contribution.m_as("deg/h") == pytest.approx(math.sqrt(2) * sigma_on.contribution.m_as("deg/h"), rel=1e-9)
+
+
+def test_54_changes_take_a_stated_repeatability(pm, tmp_path):
+    """Without repeats, [device] bias_repeatability and scale_factor_repeatability (measured before) stand
+    for the turn-on scatter: ΔB₀ and ΔK/K are reportable, with type B rows √2 × the stated σ."""
+    from metro.core.cli import main
+
+    out = tmp_path / "camp"
+    assert main(["acquire", "-s", "gbt45570", "-i", "6.2.8.2", "--out", str(out), "--station-option",
+                 "duration_scale=0.25"]) == 0
+    m = out / "manifest.toml"
+    text = m.read_text(encoding="utf-8")
+    assert "\n[device]\n" in text
+    m.write_text(text.replace("\n[device]\n", '\n[device]\nbias_repeatability = "0.003 °/h"\n'
+                              'scale_factor_repeatability = "4e-6"\n', 1), encoding="utf-8")
+    rec = _run(pm, m, ["6.2.8.2"])
+    dk, db = _result(rec, "lts_dK"), _result(rec, "lts_dB0")
+    assert dk.reportable and db.reportable, (dk.reason, db.reason)
+    (rk,) = [r for r in dk.budget.rows if r.symbol == "√2·σ_on"]
+    (rb,) = [r for r in db.budget.rows if r.symbol == "√2·σ_on"]
+    assert rk.type == "B" and rk.contribution.m_as("ppm") == pytest.approx(math.sqrt(2) * 4.0, rel=1e-9)
+    assert rb.type == "B" and rb.contribution.m_as("deg/h") == pytest.approx(math.sqrt(2) * 0.003, rel=1e-9)
 
 
 @pytest.mark.parametrize("item, tag", [("6.2.8.7", "acc"), ("6.2.8.10", "dh"), ("6.2.8.14", "rad")])

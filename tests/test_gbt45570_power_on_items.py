@@ -203,6 +203,8 @@ def test_d25_without_d24_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_
     harness.build_kt(folder, np.random.default_rng([25, 99]), quick=True, repeats=False)
     res = _kt(run_cli, folder)
     assert "turn-on scatter of K not in U" in res["note"] and "D.2.4" in res["note"], res["note"]
+    # interpretations.md "GB/T 45570 — a difference of power-ons needs their turn-on scatter"
+    assert res["reportable"] is False and "D.2.4" in res["reason"] and "scale_factor_repeatability" in res["reason"]
 
 
 def test_d15_covers_the_turn_on_scatter_of_k_over_devices(run_cli, tmp_path, harness):
@@ -231,6 +233,7 @@ def test_d15_without_d14_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_
     harness.build_kt_angle(folder, np.random.default_rng([15, 99]), quick=True, repeats=False)
     res = _run(run_cli, folder, "D.1.5")["Kt"]
     assert "turn-on scatter of K not in U" in res["note"] and "D.1.4" in res["note"], res["note"]
+    assert res["reportable"] is False and "D.1.4" in res["reason"] and "scale_factor_repeatability" in res["reason"]
 
 
 def _field_campaign(folder: Path, rng, *, sigma_on: float, repeats: bool, seconds: int = 600) -> None:

@@ -590,6 +590,8 @@ def _turn_on(campaign: Campaign, batches: int, missing: str) -> TurnOn:
     from .repeatability import bias_repeat_row
 
     rep_rows, rep_note = bias_repeat_row(campaign, batches, None)
+    if rep_rows and rep_rows[0].type == "B":  # device.bias_repeatability: no repeats on this campaign
+        return TurnOn(float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude), math.inf, True, True, "")
     if rep_rows:
         s_on = float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude)
         nu_on = math.inf
@@ -598,25 +600,9 @@ def _turn_on(campaign: Campaign, batches: int, missing: str) -> TurnOn:
             b_r = F.bias_repeatability_d42([segment_bias(r, campaign, batches).B0 for r in reps])
             nu_on = max((len(reps) - 1) * (s_on**2 / b_r**2) ** 2, 1.0)
         return TurnOn(s_on, nu_on, True, False, "")
-    stated = stated_bias_repeatability(campaign)
-    if stated is not None:
-        return TurnOn(stated, math.inf, True, True, "")
     if len(campaign.find_segments("static-repeat")) >= 2 and rep_note:
         missing = join("; ", [missing, rep_note])
     return TurnOn(0.0, math.inf, False, False, missing)
-
-
-def stated_bias_repeatability(campaign: Campaign) -> float | None:
-    """``[device] bias_repeatability`` (°/h, 1σ of one power-on's bias), or None when not given."""
-    v = campaign.device.properties.get("bias_repeatability")
-    if v in (None, ""):
-        return None
-    x = float(parse_quantity(v, dimension="deg/h", file=campaign.source,
-                             field="device.bias_repeatability").to("deg/h").magnitude)
-    if not (x >= 0 and math.isfinite(x)):
-        raise DataError(campaign.source, "device.bias_repeatability",
-                        f"must be a non-negative bias repeatability in °/h, got {v!r}")
-    return x
 
 
 def _repeat_steps(options: Mapping[str, Any]) -> list[Step]:

@@ -23,6 +23,55 @@ from metro.core.units import Q_
 from . import formulas as F
 from . import formulas_rate as F2
 
+def stated_repeatability(campaign: Campaign, key: str) -> float | None:
+    """``[device] bias_repeatability`` (°/h) or ``[device] scale_factor_repeatability`` (relative): 1σ of one
+    power-on's bias or K measured before (an earlier D.5.3 / D.1.4 / D.2.4 of the same gyro), for campaigns
+    without repeats of their own; None when not given.  A bad value is a DataError naming the field."""
+    from metro.core.units import parse_quantity
+
+    v = campaign.device.properties.get(key)
+    if v in (None, ""):
+        return None
+    unit, what = {"bias_repeatability": ("deg/h", "bias repeatability in °/h"),
+                  "scale_factor_repeatability": ("", "relative repeatability of K")}[key]
+    x = float(parse_quantity(v, dimension=unit, file=campaign.source, field=f"device.{key}").to(unit).magnitude)
+    if not (x >= 0 and math.isfinite(x)):
+        raise DataError(campaign.source, f"device.{key}", f"must be a non-negative {what}, got {v!r}")
+    return x
+
+
+def _stated_row(campaign: Campaign, key: str, symbol: str, u: float, unit: str) -> BudgetRow:
+    return BudgetRow.type_b(msg("power-on repeatability of {symbol} stated as device.{key} (not measured on this "
+                                "campaign)", symbol=symbol, key=key), "σ_on" if symbol == "B₀" else "K_r·K",
+                            Q_(u, unit), distribution="normal", k=1.0)
+
+
+def turn_on_known(campaign: Campaign, what: str, method: str = "") -> bool:
+    """Whether this campaign can state the turn-on scatter of ``what`` ("B₀" or "K"): the repeatability
+    item's runs are in it (D.5.3's ``static-repeat``; D.1.4's ``revolutions-repeat`` or D.2.4's
+    ``rate-output`` runs) or the device states it.  A difference of two power-ons without it is not
+    reportable (interpretations.md, "GB/T 45570 — a difference of power-ons needs their turn-on scatter")."""
+    key = "bias_repeatability" if what == "B₀" else "scale_factor_repeatability"
+    return _runs_present(campaign, what, method) or stated_repeatability(campaign, key) is not None
+
+
+def _runs_present(campaign: Campaign, what: str, method: str = "") -> bool:
+    if what == "B₀":
+        return len(campaign.find_segments("static-repeat")) >= 2
+    angle = len({str(s.conditions.get("run")) for s in campaign.find_segments("revolutions-repeat")}) >= 2
+    rate = len({str(s.conditions.get("run")) for s in campaign.find_segments("rate-output")
+                if s.conditions.get("run") not in (None, "") and not s.conditions.get("temperature")}) >= 2
+    return {"angle": angle, "rate": rate}.get(method, angle or rate)
+
+
+def missing_turn_on(what: str, item: str, why: str) -> str:
+    """The reason a difference of two power-ons is not reportable without their turn-on scatter."""
+    key = "bias_repeatability" if what == "B₀" else "scale_factor_repeatability"
+    return msg("{why}: the turn-on scatter of {what} between them is not measured on this campaign and not stated — "
+               "record {item}'s power-ons with it or give [device] {key} from an earlier {item}",
+               why=why, what=what, item=item, key=key)
+
+
 def _no_repeats(item: str, what: str):
     return msg("power-on repeatability not in U: the campaign has no {item} repeats, so U is that of this power-on "
                "(run {item} to state the device's {what})", item=item, what=what)
@@ -34,6 +83,9 @@ def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tu
 
     runs = _grouped(campaign, "revolutions-repeat", "run")
     if len(runs) < 2:
+        st = stated_repeatability(campaign, "scale_factor_repeatability")
+        if st is not None:
+            return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
         return [], _no_repeats("D.1.4", "K")
     try:
         Kj = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0].K
@@ -50,6 +102,9 @@ def scale_factor_rate_repeat_row(campaign: Campaign, K: float, unit: str, min_po
     runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
                    and not _group_of(s)[1]}, key=lambda r: (len(r), r))
     if len(runs) < 2:
+        st = stated_repeatability(campaign, "scale_factor_repeatability")
+        if st is not None:
+            return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
         return [], _no_repeats("D.2.4", "K")
     try:
         Kj = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
@@ -75,6 +130,9 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> t
 
     segs = campaign.find_segments("static-repeat")
     if len(segs) < 2:
+        st = stated_repeatability(campaign, "bias_repeatability")
+        if st is not None:
+            return [_stated_row(campaign, "bias_repeatability", "B₀", st, "deg/h")], ""
         return [], _no_repeats("D.5.3", "B₀")
     try:
         ests = [segment_bias(s, campaign, batches) for s in segs]
@@ -99,7 +157,11 @@ def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rat
     (``rate-output`` with ``run``, ``method="rate"``) or D.1.4 (``revolutions-repeat``, K_j of eq. (D.2)
     with the revolutions' scatter as u(K_j), ``method="angle"``) — with the Satterthwaite degrees of
     freedom of a variance difference, (Q − 1)·(σ_K²/K_r²)² (at least 1).
-    Returns (σ_K, ν, note); σ_K = 0 with a note saying why when the campaign has no such runs."""
+    Returns (σ_K, ν, note); σ_K = 0 with a note saying why when the campaign has no such runs; without
+    runs, ``device.scale_factor_repeatability`` stands for σ_K (ν = ∞)."""
+    st = stated_repeatability(campaign, "scale_factor_repeatability")
+    if st is not None and not _runs_present(campaign, "K", method):
+        return st, math.inf, ""
     if method == "angle":
         from .angle_method import ScaleFactorRepeatabilityD14, _grouped, collect_rate_points
 

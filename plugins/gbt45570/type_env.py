@@ -227,8 +227,20 @@ def turn_on_rows(rows: list[BudgetRow], absent: str, what: str, unit: str, scale
         return [], absent
     r = rows[0]
     u = math.sqrt(2.0) * float(r.contribution.magnitude) * scale
-    return [BudgetRow.type_a(msg("power-on repeatability of {what} in each of the two records: √2 × one power-on's",
-                                 what=what), "√2·σ_on", Q_(u, unit), r.dof, note=r.source)], ""
+    src = msg("power-on repeatability of {what} in each of the two records: √2 × one power-on's", what=what)
+    if r.type == "B":  # stated as a device property, not measured here
+        return [BudgetRow.type_b(src, "√2·σ_on", Q_(u, unit), distribution="normal", k=1.0, note=r.source)], ""
+    return [BudgetRow.type_a(src, "√2·σ_on", Q_(u, unit), r.dof, note=r.source)], ""
+
+
+def not_without_turn_on(result: Result, campaign: Campaign, what: str, item: str, why: str, method: str = "") -> Result:
+    """A difference of two power-ons whose turn-on scatter the campaign neither measures nor states is not
+    reportable (interpretations.md, "GB/T 45570 — a difference of power-ons needs their turn-on scatter")."""
+    from .repeatability import missing_turn_on, turn_on_known
+
+    if turn_on_known(campaign, what, method):
+        return result
+    return attrs.evolve(result, reportable=False, reason=missing_turn_on(what, item, why))
 
 
 def _bias_change(metric: Metric, before, after, turn_on: tuple[list[BudgetRow], str] = ([], "")) -> Result:
@@ -490,7 +502,8 @@ class _EnvironmentalTest(Procedure):
             from .repeatability import bias_repeat_row
 
             on = turn_on_rows(*bias_repeat_row(campaign, int(opts["batches"]), None), "B₀", "deg/h", 1.0)
-            results.append(_bias_change(dm, est["before"], est["after"], on))
+            results.append(not_without_turn_on(_bias_change(dm, est["before"], est["after"], on), campaign, "B₀", "D.5.3",
+                                               msg("before and after {test} are two power-ons", test=t.key)))
             used = [ids["before"].id, ids["after"].id]
         else:
             warnings.append(msg("no before/after records of the gyro's output for {test}: the change of its bias is not "
@@ -510,7 +523,11 @@ class _EnvironmentalTest(Procedure):
             found = (scale_factor_angle_repeat_row(campaign, Kb, "") if sf["before"][3] == "P/arcsec" else
                      scale_factor_rate_repeat_row(campaign, Kb, "", 1))
             on = turn_on_rows(*found, "K", "ppm", 1e6 / abs(Kb))
-            results.append(_scale_factor_change(km, sf["before"], sf["after"], on))
+            angle = sf["before"][3] == "P/arcsec"
+            results.append(not_without_turn_on(_scale_factor_change(km, sf["before"], sf["after"], on), campaign, "K",
+                                               "D.1.4" if angle else "D.2.4",
+                                               msg("before and after {test} are two power-ons", test=t.key),
+                                               "angle" if angle else "rate"))
             used += [sg.id for sg in campaign.segments if sg.kind in (REVOLUTIONS_KIND, *RATE_KINDS)
                      and str(sg.conditions.get("test", "")) == t.tag]
         elif sf["before"] is not None or sf["after"] is not None:
