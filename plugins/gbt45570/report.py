@@ -468,8 +468,8 @@ def layout(doc, ctx: dict) -> None:
     verdicts = {(v["item"], v["key"]): tr(v["status_text"]) for v in g["verdicts"]}
     if g["has_conformity"]:
         counts = ", ".join(f"{n} {tr(STATUS_TEXT[k])}" for k, n in g["counts"].items() if n)
-        doc.para(f"{tr('Overall verdict')}: {tr(g['overall']) if g['overall'] else DASH} ({counts})",
-                 bold=True, size=10.5)
+        doc.para(f"{tr('Overall verdict')}: {tr(g['overall']) if g['overall'] else DASH} "
+                 f"({counts or tr('no result judged against a limit')})", bold=True, size=10.5)
     else:
         doc.para(tr("No specification applies: no conformity statement is made."), bold=True)
     doc.heading(tr("Results"), 1)
