@@ -302,7 +302,9 @@ def _two_power_ons(campaign: Campaign, why: str) -> tuple[list[BudgetRow], str, 
 def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign, value: float,
                   turn_on: tuple[list[BudgetRow], str, bool] = ([], "", True)) -> Result:
     """|B_a − B_b| (D.47/D.48) with its budget: the two means' batch scatter (A), scale factor, time base,
-    and for records that are two power-ons, the turn-on scatter (``turn_on``: :func:`_two_power_ons`)."""
+    and for records that are two power-ons, the turn-on scatter (``turn_on``: :func:`_two_power_ons`).
+    ``value`` (the formula's |B_a − B_b|) is corrected for the bias of an absolute value of a noisy
+    difference (:func:`metro.core.selection.abs_change`, with the noise of those rows), ≥ 0."""
     uA = math.hypot(a["u"], b["u"])
     nu = uA**4 / (a["u"] ** 4 / a["nu"] + b["u"] ** 4 / b["nu"]) if uA > 0 else math.inf
     rows = [BudgetRow.type_a(msg("scatter of the two biases (batch means)"), "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
@@ -313,10 +315,20 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
                                      Q_(uq, "deg/h"), distribution="normal", k=1.0,
                                      note=msg("±1 P over a record, or a rounded rate not dithered by the noise")))
     rows += turn_on[0]
+    # D.47/D.48 take |B_a − B_b|: the absolute value of a noisy difference reads high where the change is
+    # near zero (a folded normal); corrected in closed form, the printed value kept in the note
+    # (interpretations.md, "D.5.5 / D.6.3 / D.6.4 — the absolute value of one noisy difference")
+    from metro.core.selection import abs_change, abs_change_note, abs_change_rows
+
+    u_noise = math.sqrt(uA**2 + uq**2 + sum(r.standard_uncertainty.to("deg/h").magnitude ** 2 for r in turn_on[0]))
+    sel = abs_change(a["rate"] - b["rate"], u_noise)
+    rows += abs_change_rows(sel, "deg/h", u_noise)
+    value = max(sel.value, 0.0)
     rows += _scale_factor_row(a["conv"], value, "deg/h")
     rows += _timebase_row(campaign, value, "deg/h", metric.symbol)
     budget = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
-    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=msg("eq. ({eq})", eq=eq),
+    note = join("; ", [msg("eq. ({eq})", eq=eq)] + ([abs_change_note(sel, 1.0, "°/h")] if sel.bias else []))
+    return Result(metric, Q_(value, "deg/h"), budget.combined, budget, note=note,
                   earth_rate="not applicable", reportable=turn_on[2], reason=turn_on[1])
 
 

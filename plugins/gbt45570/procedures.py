@@ -664,6 +664,8 @@ class BiasMagneticSensitivityD55(Procedure):
             "runs, as metro plan -s gbt45570 -i D.5.5 lists them) or give [device] bias_repeatability from an earlier "
             "D.5.3"))
         s_on, nu_on = on.sigma, on.nu
+        from metro.core.selection import abs_change, abs_change_note, abs_change_rows
+
         for metric, ax in zip(self.metrics, ("IRA", "XRA", "YRA")):
             mine = [s for s in segs if str(s.condition("field_axis")).upper() == ax]
             fields = [float(s.condition("field", "mT").to("mT").magnitude) for s in mine]
@@ -685,14 +687,24 @@ class BiasMagneticSensitivityD55(Procedure):
                   if uA > 0 else math.inf)
             rows = [BudgetRow.type_a(msg("scatter of B_0+ and B_0− (batch means)"), "√(u²₊+u²₋)/(2H_b)",
                                      Q_(uA, "deg/h/mT"), nu)]
+            u_noise2 = uA**2
             if s_on > 0:
                 u_on = Q_(math.sqrt(2.0) * s_on / (2.0 * Hb), "deg/h/mT")
+                u_noise2 += u_on.magnitude**2
                 rows.append(BudgetRow.type_b(on.source(), "√2·σ_on/(2H_b)", u_on, distribution="normal", k=1.0)
                             if on.stated else BudgetRow.type_a(on.source(), "√2·σ_on/(2H_b)", u_on, nu_on))
             if ep.u_q > 0 or em.u_q > 0:
+                u_noise2 += (math.hypot(ep.u_q, em.u_q) / (2.0 * Hb)) ** 2
                 rows.append(BudgetRow.type_b(msg("quantization of B_0+ and B_0− (the D.5.1 rows)"), "√(u_q²₊+u_q²₋)/(2H_b)",
                                              Q_(math.hypot(ep.u_q, em.u_q) / (2.0 * Hb), "deg/h/mT"),
                                              distribution="normal", k=1.0))
+            # D.44 takes |B_0+ − B_0−|: the absolute value of a noisy difference reads high where the field
+            # changes the bias by less than the noise (a folded normal); corrected in closed form, the printed
+            # value kept in the note (interpretations.md, "D.5.5 / D.6.3 / D.6.4 — the absolute value of one
+            # noisy difference")
+            sel = abs_change((ep.B0 - em.B0) / (2.0 * Hb), math.sqrt(u_noise2))
+            rows += abs_change_rows(sel, "deg/h/mT", math.sqrt(u_noise2))
+            Bh = max(sel.value, 0.0)
             rows.append(BudgetRow.type_b(msg("field uniformity over the gyro"), "ΔH/H", Q_(uniformity, ""),
                                          distribution="uniform", sensitivity=Q_(Bh, "deg/h/mT"),
                                          note=msg("D.5.5.1 b): better than 5 %")))
@@ -705,9 +717,10 @@ class BiasMagneticSensitivityD55(Procedure):
             warn = ""
             if abs(Hp - Hm) > 0.01 * Hb:
                 warn = msg("forward {p:g} mT and reversed {m:g} mT differ; H_b = their mean", p=Hp, m=Hm)
+            warn = join("; ", ([warn] if warn else []) + ([abs_change_note(sel, 1.0, "(°/h)/mT")] if sel.bias else []))
             results.append(Result(metric, Q_(Bh, "deg/h/mT"), budget.combined, budget, note=warn,
                                   earth_rate="not applicable", reportable=on.known, reason=on.note))
-            rows_table.append([ax, f"{Hb:g}", f"{ep.B0:.5f}", f"{em.B0:.5f}", f"{Bh:.4g}"])
+            rows_table.append([ax, f"{Hb:g}", f"{ep.B0:.5f}", f"{em.B0:.5f}", f"{sel.printed:.4g}"])
             used += [sp.id, sm.id]
         table = TableSpec("field_biases", msg("Biases with the field forward and reversed (D.5.5)"),
                           [msg("axis"), "H_b (mT)", "B₀₊ (°/h)", "B₀₋ (°/h)", "B_h ((°/h)/mT)"], rows_table)
