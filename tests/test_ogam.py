@@ -142,6 +142,11 @@ def test_quiet_instrument_matches_the_model_exactly(pm):
 def _as_printed(res):
     """A result's value as the draft prints its formula: K_l (7.2) is reported less the widening of
     a range by noise (interpretations.md), the budget's correction row u(δ) holds that widening."""
+    if res.metric.key in ("Cv", "Cg"):  # 7.6 / 7.7: the range less its widening, λ·printed with 0 ≤ λ ≤ 1
+        corr = [r for r in res.budget.rows if r.symbol == "u(δ_R)"]
+        if not corr:
+            return res.value
+        return res.value + math.copysign(1.0, res.value.magnitude) * corr[0].value.to(res.value.units)
     if res.metric.key != "Kl":
         return res.value
     (corr,) = [r for r in res.budget.rows if r.symbol == "u(δ)"]

@@ -95,7 +95,24 @@ def linearity_72_moment_matched(k_i: Sequence[float], noise: np.ndarray, *, iter
     K = float(np.mean(k))
     if K == 0:
         raise ValueError("7.2: the mean scale factor is zero")
-    d = k / K - 1.0
+    return _range_matched(k / K - 1.0, e, iterations)
+
+
+def range_moment_matched(values: Sequence[float], noise: np.ndarray, *, iterations: int = 50) -> RangeEstimate:
+    """The range max x_i − min x_i of noisy values less its expected widening by their noise, as
+    :func:`linearity_72_moment_matched` does for K_l, in the values' own unit: for clause 7.6's C_v and
+    7.7's C_g, whose numerator is the range of eight (three) noisy E (interpretations.md, "7.6 / 7.7 — the
+    range of noisy E").  With d_i = x_i − mean(x) and ``noise`` an (M × n) array of draws of the errors of
+    the x_i, f(λ) = mean range(λ·d + e); the estimate is λ̂·range(d) with f(λ̂) = range(d), 0 when the
+    noise alone already gives the observed range on average."""
+    x = _arr(values, "range values", 2)
+    e = np.asarray(noise, dtype=float)
+    if e.ndim != 2 or e.shape[1] != x.size or e.shape[0] < 2:
+        raise ValueError("the noise draws must be an array of draws × values")
+    return _range_matched(x - float(np.mean(x)), e, iterations)
+
+
+def _range_matched(d: np.ndarray, e: np.ndarray, iterations: int) -> RangeEstimate:
     R = float(d.max() - d.min())
 
     def ranges(lam: float) -> np.ndarray:
