@@ -688,7 +688,7 @@ def _consistency(proc: _EBase, campaign: Campaign, opts, groups_wanted: list[tup
     if e_ref == 0:
         # every stop of the reference round read the standard exactly (a reading rounded coarser than the
         # instrument's errors): the ratio is undefined, and only this result is lost (not the run)
-        return None, [], warnings, used, values, table_rows, None
+        return None, [], warnings, used, values, table_rows, ""
     C = F.consistency_ratio(list(values.values()), e_ref) * 100.0
     # the extreme and the reference E each carry the non-common part of the E budget
     # (positioning, drift, repeatability); the tilt error is common to all and cancels
@@ -718,7 +718,11 @@ def _consistency(proc: _EBase, campaign: Campaign, opts, groups_wanted: list[tup
             Q_(abs(printed - C), "percent"), distribution="normal", k=1.0,
             note=msg("δ = {d:.3g} % (moment matched, {n} draws of one round's random error u = {u:.3g}″, the R_i of 7.5 pooled; the noise "
                      "alone gives a range of {m:.3g}″ on average)", d=printed - C, n=KL_DRAWS, u=u_rand, m=est.noise_only)))
-    return C, brows, warnings, used, values, table_rows, printed
+    note = _printed_note(printed, C)
+    if printed != 0 and C == 0.0:
+        note = join("; ", [x for x in (note,) if x] + [msg("not resolved from 0: the noise alone gives a range of {n:.3g}″ on average, no less "
+                                     "than the one observed", n=est.noise_only)])
+    return C, brows, warnings, used, values, table_rows, note
 
 
 def _printed_note(printed: float | None, C: float | None) -> str:
@@ -767,14 +771,13 @@ class RateConsistency76(_EBase):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        C, rows, warnings, used, values, trows, printed = _consistency(
+        C, rows, warnings, used, values, trows, cnote = _consistency(
             self, campaign, opts, rate_points_76(campaign), (REF_RATE, "up"), lambda k: f"{k[0]:g} °/s")
         if len(values) != len(RATES):
             warnings.append(msg("{n} rate points; clause 7.6 asks for {asked}", n=len(values), asked=len(RATES)))
         rng = max(values.values()) - min(values.values())
-        res = _ratio_result(self.metrics[0], C, rows, "C_v", join("; ", [
-            msg("max E_v − min E_v = {range:.3f}″, E_60 = {ref:.3f}″", range=rng, ref=values[(REF_RATE, 'up')]),
-            _printed_note(printed, C)]))
+        res = _ratio_result(self.metrics[0], C, rows, "C_v", join("; ", [x for x in (
+            msg("max E_v − min E_v = {range:.3f}″, E_60 = {ref:.3f}″", range=rng, ref=values[(REF_RATE, 'up')]), cnote) if x]))
         table = TableSpec("E_v", msg("Angle-position error per rate (7.6)"), [msg("rate"), "E_v (″)"], trows)
         plot = PlotSpec("E_v", msg("Angle-position error against rate (7.6)"), "v (°/s)", "E_v (″)",
                         [{"label": "E_v", "x": [k[0] for k in values], "y": list(values.values()), "style": "o-"}],
@@ -802,12 +805,11 @@ class PointingConsistency77(_EBase):
         groups = positioning_groups(campaign)
         north = "north" if (REF_RATE, "north") in groups or (REF_RATE, "south") not in groups else "south"
         east = "east" if (REF_RATE, "east") in groups or (REF_RATE, "west") not in groups else "west"
-        C, rows, warnings, used, values, trows, printed = _consistency(
+        C, rows, warnings, used, values, trows, cnote = _consistency(
             self, campaign, opts, [(REF_RATE, a) for a in ("up", north, east)], (REF_RATE, "up"), lambda k: k[1])
         rng = max(values.values()) - min(values.values())
-        res = _ratio_result(self.metrics[0], C, rows, "C_g", join("; ", [
-            msg("max E_g − min E_g = {range:.3f}″, E_up = {ref:.3f}″", range=rng, ref=values[(REF_RATE, 'up')]),
-            _printed_note(printed, C)]))
+        res = _ratio_result(self.metrics[0], C, rows, "C_g", join("; ", [x for x in (
+            msg("max E_g − min E_g = {range:.3f}″, E_up = {ref:.3f}″", range=rng, ref=values[(REF_RATE, 'up')]), cnote) if x]))
         table = TableSpec("E_g", msg("Angle-position error per axis direction (7.7)"), [msg("axis"), "E_g (″)"], trows)
         return Outcome(STANDARD, self.item, self.title, self.clause, [_disclosed(res)], tables=[table], warnings=warnings,
                        segments=used, options={k: str(v) for k, v in opts.items()})
