@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import pytest
 from hypothesis import settings
 
@@ -28,6 +30,40 @@ def _load_local(name: str):
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
+
+
+@contextlib.contextmanager
+def _benchmark(name: str):
+    """A harness module of benchmarks/ (scripts, not a package), with benchmarks/ on sys.path while it is
+    in use (the harness modules import their shared pieces as siblings) and registered in sys.modules
+    (their dataclasses look their module up)."""
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    d = Path(__file__).resolve().parents[1] / "benchmarks"
+    sys.path.insert(0, str(d))
+    try:
+        spec = importlib.util.spec_from_file_location(name, d / f"{name}.py")
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[spec.name] = mod
+        spec.loader.exec_module(mod)
+        yield mod
+    finally:
+        sys.path.remove(str(d))
+
+
+@pytest.fixture(scope="session")
+def load_benchmark():
+    """``with load_benchmark("independent_gbt_env") as mod: …`` (:func:`_benchmark`)."""
+    return _benchmark
+
+
+@pytest.fixture(scope="module")
+def gbt_more_harness():
+    """benchmarks/independent_gbt_more.py, the GB/T harness whose device builders several tests use."""
+    with _benchmark("independent_gbt_more") as mod:
+        yield mod
 
 
 @pytest.fixture(scope="session")

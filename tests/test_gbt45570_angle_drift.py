@@ -64,20 +64,8 @@ def test_point_drift_is_the_error_a_drift_leaves_in_k_i():
 
 
 @pytest.fixture(scope="module")
-def harness():
-    import importlib.util
-    import sys
-
-    d = Path(__file__).resolve().parents[1] / "benchmarks"
-    sys.path.insert(0, str(d))
-    try:
-        spec = importlib.util.spec_from_file_location("independent_gbt_more", d / "independent_gbt_more.py")
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod
-        spec.loader.exec_module(mod)
-        yield mod
-    finally:
-        sys.path.remove(str(d))
+def harness(gbt_more_harness):
+    return gbt_more_harness
 
 
 def _drift_device(harness, folder: Path, seed: int) -> dict:

@@ -157,20 +157,8 @@ def test_d54_covers_the_turn_on_scatter_over_devices(run_cli, tmp_path):
 # --------------------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def harness():
-    import importlib.util
-    import sys
-
-    d = Path(__file__).resolve().parents[1] / "benchmarks"
-    sys.path.insert(0, str(d))
-    try:
-        spec = importlib.util.spec_from_file_location("independent_gbt_more", d / "independent_gbt_more.py")
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod
-        spec.loader.exec_module(mod)
-        yield mod
-    finally:
-        sys.path.remove(str(d))
+def harness(gbt_more_harness):
+    return gbt_more_harness
 
 
 def _kt(run_cli, folder: Path) -> dict:

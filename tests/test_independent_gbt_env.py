@@ -10,8 +10,6 @@ say why it cannot report it.  The sweeps and their table are at the end of docs/
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 import zlib
 from pathlib import Path
 
@@ -23,16 +21,9 @@ _PATH = _DIR / "independent_gbt_env.py"
 
 
 @pytest.fixture(scope="module")
-def env():
-    sys.path.insert(0, str(_DIR))
-    try:
-        spec = importlib.util.spec_from_file_location("independent_gbt_env", _PATH)
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod  # its dataclasses look their module up
-        spec.loader.exec_module(mod)
+def env(load_benchmark):
+    with load_benchmark("independent_gbt_env") as mod:
         yield mod
-    finally:
-        sys.path.remove(str(_DIR))
 
 
 def test_module_does_not_use_metro_generators():

@@ -11,8 +11,6 @@ docs/independent-campaigns.md.
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 import zlib
 from pathlib import Path
 
@@ -24,16 +22,9 @@ _PATH = _DIR / "independent_gbt_more.py"
 
 
 @pytest.fixture(scope="module")
-def more():
-    sys.path.insert(0, str(_DIR))
-    try:
-        spec = importlib.util.spec_from_file_location("independent_gbt_more", _PATH)
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod  # its dataclasses look their module up
-        spec.loader.exec_module(mod)
+def more(load_benchmark):
+    with load_benchmark("independent_gbt_more") as mod:
         yield mod
-    finally:
-        sys.path.remove(str(_DIR))
 
 
 def test_module_does_not_use_metro_generators():

@@ -13,9 +13,7 @@ stability and dynamic items".
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -26,16 +24,9 @@ _PATH = _DIR / "independent_jjf2014_dyn.py"
 
 
 @pytest.fixture(scope="module")
-def dyn():
-    sys.path.insert(0, str(_DIR))
-    try:
-        spec = importlib.util.spec_from_file_location("independent_jjf2014_dyn", _PATH)
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod
-        spec.loader.exec_module(mod)
+def dyn(load_benchmark):
+    with load_benchmark("independent_jjf2014_dyn") as mod:
         yield mod
-    finally:
-        sys.path.remove(str(_DIR))
 
 
 def test_the_module_does_not_use_metro_generators():

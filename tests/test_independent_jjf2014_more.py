@@ -12,8 +12,6 @@ with a reason.  The sweeps and their tables: docs/independent-campaigns.md, "JJF
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 import zlib
 from pathlib import Path
 
@@ -25,16 +23,9 @@ _PATH = _DIR / "independent_jjf2014_more.py"
 
 
 @pytest.fixture(scope="module")
-def more():
-    sys.path.insert(0, str(_DIR))
-    try:
-        spec = importlib.util.spec_from_file_location("independent_jjf2014_more", _PATH)
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod
-        spec.loader.exec_module(mod)
+def more(load_benchmark):
+    with load_benchmark("independent_jjf2014_more") as mod:
         yield mod
-    finally:
-        sys.path.remove(str(_DIR))
 
 
 def test_the_module_does_not_use_metro_generators():
