@@ -331,3 +331,17 @@ def test_d55_absolute_value_of_a_noisy_difference_is_corrected(run_cli, tmp_path
             en.append(r["value"] / r["U"])
             en_printed.append(printed / r["U"])
     assert np.mean(en) <= 0.25 and np.mean(en_printed) - np.mean(en) > 0.1, (np.mean(en), np.mean(en_printed))
+
+
+def test_a_bad_stated_repeatability_is_an_error_even_with_repeats(tmp_path):
+    """[device] bias_repeatability = "abc" is refused (exit 2, the field named, the manifest untouched) even when
+    the campaign's own D.5.3 repeats make it unused — before, it was silently ignored."""
+    from metro.core.cli import main
+
+    folder = tmp_path / "dev"
+    folder.mkdir()
+    _campaign(folder, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=True, stated="abc")
+    before = (folder / "manifest.toml").read_bytes()
+    code = main(["run", "-s", "gbt45570", "-i", "D.5.3,D.5.4", "--data", str(folder / "manifest.toml"), "--no-report",
+                 "--quiet"])
+    assert code == 2 and (folder / "manifest.toml").read_bytes() == before

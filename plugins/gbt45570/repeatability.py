@@ -82,8 +82,8 @@ def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tu
     from .angle_method import ScaleFactorRepeatabilityD14, _grouped, collect_rate_points
 
     runs = _grouped(campaign, "revolutions-repeat", "run")
+    st = stated_repeatability(campaign, "scale_factor_repeatability")  # a bad value is an error even when unused
     if len(runs) < 2:
-        st = stated_repeatability(campaign, "scale_factor_repeatability")
         if st is not None:
             return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
         return [], _no_repeats("D.1.4", "K")
@@ -101,8 +101,8 @@ def scale_factor_rate_repeat_row(campaign: Campaign, K: float, unit: str, min_po
 
     runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
                    and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+    st = stated_repeatability(campaign, "scale_factor_repeatability")  # a bad value is an error even when unused
     if len(runs) < 2:
-        st = stated_repeatability(campaign, "scale_factor_repeatability")
         if st is not None:
             return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
         return [], _no_repeats("D.2.4", "K")
@@ -129,8 +129,8 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> t
     from .procedures import segment_bias
 
     segs = campaign.find_segments("static-repeat")
+    st = stated_repeatability(campaign, "bias_repeatability")  # a bad value is an error even when unused
     if len(segs) < 2:
-        st = stated_repeatability(campaign, "bias_repeatability")
         if st is not None:
             return [_stated_row(campaign, "bias_repeatability", "B₀", st, "deg/h")], ""
         return [], _no_repeats("D.5.3", "B₀")

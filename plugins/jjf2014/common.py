@@ -333,23 +333,25 @@ def sf_repeatability(campaign: Campaign) -> Spread | None:
     """K_r (relative, 1σ of one calibration's K, eq. (10)) from the campaign's 7.2.4 runs
     (kind ``rate-repeat``, ≥ 2 runs), else ``device.scale_factor_repeatability``, else None."""
     runs = _by(campaign.find_segments("rate-repeat"), "run")
+    stated = _stated(campaign, "scale_factor_repeatability", "", "relative repeatability of K")  # checked even if unused
     if len(runs) >= 2:
         Ks = [SFSet(g).K for _, g in sorted(runs.items())]
         return Spread(F.relative_repeatability_eq10(Ks), len(Ks) - 1,
                       msg("K_r = {Kr:.3g} from this campaign's {n} calibrations (7.2.4)",
                           Kr=F.relative_repeatability_eq10(Ks), n=len(Ks)))
-    return _stated(campaign, "scale_factor_repeatability", "", "relative repeatability of K")
+    return stated
 
 
 def bias_repeatability(campaign: Campaign, K: float) -> Spread | None:
     """B_r (°/h, 1σ of one bias, eq. (30)) from the campaign's 7.2.15 runs (kind
     ``static-repeat``, ≥ 2 runs of one record each), else ``device.bias_repeatability``."""
     runs = _by(campaign.find_segments("static-repeat"), "run")
+    stated = _stated(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")  # checked even if unused
     if len(runs) >= 2 and all(len(g) == 1 for g in runs.values()):
         b0 = [F.bias_eq27_28(_output(g[0])[0], K) * 3600.0 for _, g in sorted(runs.items())]
         br = F.std_bessel(b0, "eq. (30)")
         return Spread(br, len(b0) - 1, msg("B_r = {Br:.3g} °/h from this campaign's {n} runs (7.2.15)", Br=br, n=len(b0)))
-    return _stated(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")
+    return stated
 
 
 def with_scatter(rep: Spread | None, s: float, dof: float, what: str) -> Spread | None:
