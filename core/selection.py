@@ -236,7 +236,8 @@ def abs_change(d: float, u: float) -> MaxSelection:
         bias = E|N(δ̂, u²)| − δ̂,   s = √(δ̂² + u² − (E|N(δ̂, u²)|)²),   value = |d| − bias
 
     (``degree`` −3: one value, in closed form — the one-value case of :func:`max_abs_selection`
-    without its Monte Carlo).  The caller keeps the value ≥ 0.  Hand-checked: d = 0, u = 1 gives
+    without its Monte Carlo).  A bias under 0.001 u (δ̂ beyond ≈ 3 u) is taken as none: no row, no
+    note.  The caller keeps the value ≥ 0.  Hand-checked: d = 0, u = 1 gives
     bias √(2/π) = 0.798 (value −0.798, reported as 0); d = 3, u = 1: δ̂ = √8 = 2.828, E|N(δ̂, 1)| =
     2.8298, bias 0.0014; d = 1.2, u = 1: δ̂ = 0.663, bias 0.304 (Monte Carlo of
     :func:`max_abs_selection` over 400 000 draws: 0.798, 0.0011, 0.303).  Over noise draws the printed |d|
@@ -250,6 +251,8 @@ def abs_change(d: float, u: float) -> MaxSelection:
     m = math.sqrt(max(0.0, d * d - u * u))
     mean = u * math.sqrt(2.0 / math.pi) * math.exp(-0.5 * (m / u) ** 2) + m * math.erf(m / (u * math.sqrt(2.0)))
     bias = max(0.0, mean - m)  # ≥ 0: E|X| ≥ |E X|; rounding can take it a hair below
+    if bias < 1e-3 * u:  # δ̂ beyond ≈ 3 u: nothing worth a row or a note (it was 1e-16 … 1e-7 of the value)
+        bias = 0.0
     s = math.sqrt(max(0.0, m * m + u * u - mean * mean))
     return MaxSelection(printed, printed - bias, s, bias, -3)
 

@@ -85,12 +85,15 @@ def test_absolute_value_of_one_difference_in_closed_form():
     for d, u in ((0.0, 1.0), (0.5, 1.0), (-1.2, 1.0), (3.0, 1.0), (-0.04, 0.01), (7.0, 1.0)):
         sel = abs_change(d, u)
         m = math.sqrt(max(0.0, d * d - u * u))
-        assert sel.bias == pytest.approx(foldnorm.mean(m / u, scale=u) - m, rel=1e-9, abs=1e-12)
+        expected = foldnorm.mean(m / u, scale=u) - m
+        assert sel.bias == (pytest.approx(expected, rel=1e-9) if expected >= 1e-3 * u else 0.0)
         assert sel.s == pytest.approx(foldnorm.std(m / u, scale=u), rel=1e-6, abs=1e-12)
         assert sel.printed == abs(d) and sel.value == pytest.approx(abs(d) - sel.bias) and sel.degree == -3
         mc = max_abs_selection([d], [u], draws=400_000, seed=3)
         assert sel.bias == pytest.approx(mc.bias, abs=0.003 * u)
     assert abs_change(0.3, 0.0).bias == 0.0 and abs_change(0.3, 0.0).value == 0.3
+    # a change of 5 u: the bias (1.8e-7 u) is no correction — value, row and note as the formula's
+    assert abs_change(5.0, 1.0).bias == 0.0 and abs_change(5.0, 1.0).value == 5.0
 
 
 def test_absolute_value_of_one_difference_reads_high_and_is_corrected():
