@@ -269,13 +269,12 @@ def abs_change_rows(sel: MaxSelection, unit: str, u: float) -> list[BudgetRow]:
     if not sel.bias > 0:
         return []
     uc = math.sqrt(abs(float(u)) * sel.bias + 0.25 * sel.bias**2)
-    return [BudgetRow.type_b(msg("correction for the absolute value of one noisy difference (folded normal)"),
-                             "δ_abs", Q_(uc, unit), distribution="normal", k=1.0,
-                             note=msg("{c:+.3g} applied; E|N(δ̂, u²)| − δ̂ about δ̂ = √max(0, d² − u²)", c=-sel.bias))]
+    return [BudgetRow.type_b(msg("folded-normal correction of |d| (the amount: the result's note)"),
+                             "δ_abs", Q_(uc, unit), distribution="normal", k=1.0)]
 
 
 def abs_change_note(sel: MaxSelection, scale: float, unit: str) -> str:
     """The note of a corrected absolute difference: the value as the standard's formula prints it, and the bias
     removed."""
-    return msg("as printed by the formula {printed:.4g} {unit}, bias of the absolute value {bias:+.2g} {unit} "
-               "removed (interpretations.md)", printed=sel.printed * scale, bias=sel.bias * scale, unit=unit)
+    return msg("as printed by the formula {printed:.4g} {unit}, less {bias:.2g} {unit} (folded normal)",
+               printed=sel.printed * scale, bias=sel.bias * scale, unit=unit)
