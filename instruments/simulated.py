@@ -615,8 +615,11 @@ def quantization_text(truth: GyroTruth) -> str:
 
 def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) -> dict[str, float]:
     """What D.1.1–D.1.3 give on noise-free revolutions of the virtual gyro at these rate points:
-    the truth the angle-method items must recover (K, W, K_n, K_a)."""
+    the truth the angle-method items must recover (K, W, K_n, K_a).  Fewer than two distinct rates
+    define no straight line (D.1.1's least squares needs two): no truth, rather than a degenerate fit."""
     rates = np.asarray(sorted(set(abs(float(r)) for r in rates_deg_s)), dtype=float)
+    if rates.size < 2:
+        return {}
     d = EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h  # ″/s
     rev = 360.0 * 3600.0
     t = 360.0 / rates

@@ -382,3 +382,23 @@ def test_d14_identical_counts_not_reportable(pm):
                     station_options={"seed": 129, "device_class": "pulse-coarse-undithered"})
     r = _result(rec, "Kr")
     assert not r.reportable and "identical" in r.reason and "ppm of K" in r.reason
+
+
+def test_expected_scale_factor_needs_two_rates():
+    """D.1.1 fits a straight line through the rate points: one rate defines none, so the station
+    states no K/W/K_n/K_a truth for it (before: numpy's rank warning and a degenerate fit); two
+    rates on a linear, symmetric device give K back to rounding (hand-worked: K_i = K at each rate)."""
+    import warnings
+
+    import attrs
+
+    from metro.instruments.simulated import GyroTruth, expected_scale_factor
+
+    truth = GyroTruth()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert expected_scale_factor(truth, [1.0, -1.0], 40.0) == {}
+        linear = attrs.evolve(truth, sf_quadratic=0.0, sf_slope_per_deg_s=0.0, sf_asymmetry=0.0)
+        got = expected_scale_factor(linear, [1.0, 10.0], 40.0)
+    assert got["K"] == pytest.approx(linear.scale_factor_P_per_arcsec, rel=1e-9)
+    assert got["Kn"] == pytest.approx(0.0, abs=1e-12)
