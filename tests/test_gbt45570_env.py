@@ -70,6 +70,29 @@ def test_setup_time_noise_crossing_takes_the_midpoint():
     assert E.setup_time_6277(y, 1.0, 1, 5, 0.5) == (pytest.approx(4.0), pytest.approx(1.0), 3.0, 5.0)
 
 
+def test_setup_time_last_real_excursion_hand_worked():
+    """A ringing output (5, 0, −3, 0, 2, 0, −1, 0, 0 against a settled 0, band ±1, window 1 sample of 1 s,
+    σ_w = 0.3): the lobes beyond the band are 5 and −3 (certain) and 2 (Φ(1/0.3) ≥ 1 − Φ(−3): certain), the last
+    lobe's top 1.0 is on the band's edge (p = Φ(0) = ½; three samples, no parabola).  The exit of the 2 lobe is
+    6 s (window ending at sample 5 is the first inside), the edge lobe's vertex ends at 7 s: t_s = ½·6 + ½·7 =
+    6.5 s, u_sel = 0.5 s.  The rule of first entry and final exit gives (2 + 6)/2 = 4 s, half the ringing early."""
+    y = [5, 0, -3, 0, 2, 0, -1.0, 0, 0, 0, 0, 0]
+    st = E.setup_time_excursions_6277(y, 1.0, 1, 9, 1.0, 0.3)
+    assert st["settled"] == pytest.approx(0.0)
+    assert st["exits"] == pytest.approx([6.0, 7.0])
+    assert st["probabilities"] == pytest.approx([0.5, 0.5])
+    assert st["t_s"] == pytest.approx(6.5) and st["u_selection"] == pytest.approx(0.5)
+    assert E.setup_time_6277(y, 1.0, 1, 9, 1.0)[0] == pytest.approx(4.0)
+    # a quiet record (σ_w tiny) whose last lobe tops at 0.9: certainly inside, the 2 lobe is the last
+    st = E.setup_time_excursions_6277([5, 0, -3, 0, 2, 0, -0.9, 0, 0, 0, 0, 0], 1.0, 1, 9, 1.0, 1e-6)
+    assert st["t_s"] == pytest.approx(6.0) and st["u_selection"] == 0.0
+    # noise about zero after the output settled does not cut a lobe: one certain lobe, its exit midpoint
+    st = E.setup_time_excursions_6277([9, 6, 4, 2, 0.5, -0.4, 0.3, -0.2, 0.1, 0, 0, 0], 1.0, 1, 9, 3.0, 0.3)
+    assert st["exits"] == pytest.approx([4.0]) and st["t_s"] == pytest.approx(4.0)  # 2 (sample 3) is inside
+    with pytest.raises(ValueError, match="has not reached"):
+        E.setup_time_excursions_6277([10, 10, 10, 10, 10, 1, 1], 1.0, 1, 5, 0.5, 0.1)
+
+
 def test_power_hand_worked():
     # +5 V × 0.3 A = 1.5 W; a negative rail, −15 V × −0.02 A = 0.3 W; sum 1.8 W
     P, parts = E.power_6278([[5.0, 5.0], [-15.0]], [[0.3, 0.3], [-0.02]])

@@ -616,37 +616,54 @@ class SetupTime6277(Procedure):
                                 f"{reason}; the record is too short for it before the settled part",
                                 hint="record longer (option record)")
             w = w_used
+        tail = y[start: start + (n_set // w) * w].reshape(-1, w).mean(axis=1)
+        s_w = float(np.std(tail, ddof=1)) if tail.size > 1 else 0.0
         try:
-            ts, settled, t_in, t_out = E.setup_time_6277(y, tau, w, start, tol)
+            st = E.setup_time_excursions_6277(y, tau, w, start, tol, s_w)
         except ValueError as exc:
             raise DataError(seg.file or f"segment {seg.id}", "output", str(exc),
                             hint="record longer, or check the option tolerance against the product spec") from exc
-        tail = y[start: start + (n_set // w) * w].reshape(-1, w).mean(axis=1)
-        s_w = float(np.std(tail, ddof=1)) if tail.size > 1 else 0.0
+        ts, settled = st["t_s"], st["settled"]
         mm = E.moving_mean(y[:start], w)
-        j = int(round(ts / tau)) - w  # index of the crossing window in mm
-        lo, hi = max(j - w, 0), min(j + w, mm.size - 1)
-        slope = abs(mm[hi] - mm[lo]) / ((hi - lo) * tau) if hi > lo else 0.0
-        slope_noise = s_w * math.sqrt(2.0) / ((hi - lo) * tau) if hi > lo else math.inf
-        rows = []
-        if t_out > w * tau:  # the output was outside the band at first: the crossing time carries noise
+        P = st["probabilities"]
+        u_noise2 = u_res2 = 0.0
+        slopes = []
+        for prob, jx in zip(P, st["exit_index"]):
+            if jx <= 0:  # inside from the first window: no crossing
+                continue
+            lo, hi = max(jx - w, 0), min(jx + w, mm.size - 1)
+            slope = abs(mm[hi] - mm[lo]) / ((hi - lo) * tau) if hi > lo else 0.0
+            slope_noise = s_w * math.sqrt(2.0) / ((hi - lo) * tau) if hi > lo else math.inf
             eff = max(slope, 2.0 * slope_noise)
+            slopes.append((prob, slope))
+            if eff > 0:
+                u_noise2 += prob * (s_w / eff) ** 2
+                u_res2 += prob * (res / 2.0 / eff) ** 2
+        rows = []
+        if slopes:  # the output was outside the band at first: the crossing time carries noise
+            slope = max(slopes)[1]
             rows.append(BudgetRow.type_a(msg("noise of the window mean at the crossing, over the output's slope"),
-                                         "σ_w/|dȳ/dt|", Q_(s_w / eff if eff > 0 else 0.0, "s"), max(tail.size - 1, 1),
+                                         "σ_w/|dȳ/dt|", Q_(math.sqrt(u_noise2), "s"), max(tail.size - 1, 1),
                                          note=msg("σ_w = {s:.3g} °/h, slope {slope:.3g} (°/h)/s", s=s_w, slope=slope)))
-            if res > 0 and eff > 0:
+            if u_res2 > 0:
                 # a quantized window mean (an undithered counter's sawtooth, a rounded word) is not in σ_w
                 rows.append(BudgetRow.type_b(msg("resolution of the window mean at the crossing (half a step), over "
-                                                 "the output's slope"), "δ_q/|dȳ/dt|", Q_(res / 2.0 / eff, "s"),
+                                                 "the output's slope"), "δ_q/|dȳ/dt|", Q_(math.sqrt(3.0 * u_res2), "s"),
                                              distribution="uniform",
                                              note=msg("one step of the window mean: {res:.3g} °/h", res=res)))
         rows.append(BudgetRow.type_b(msg("sampling: the window means step by τ, the crossing lies within ±τ of the "
                                          "reported instant"), "τ", Q_(tau, "s"), distribution="uniform"))
-        if t_out > t_in:  # noise took the output in and out of the band: the crossing is ambiguous
+        if st["u_span"] > 0:  # noise took the output in and out of the band: the crossing is ambiguous
             rows.append(BudgetRow.type_b(msg("re-crossings of the band between the first entry and the final one"),
-                                         "(t_out − t_in)/2", Q_((t_out - t_in) / 2.0, "s"), distribution="uniform",
-                                         note=msg("first inside at {t_in:g} s, inside for good from {t_out:g} s", t_in=t_in,
-                                                  t_out=t_out)))
+                                         "(t_out − t_in)/2", Q_(math.sqrt(3.0) * st["u_span"], "s"),
+                                         distribution="uniform"))
+        if st["u_selection"] > 0:  # which excursion beyond the band was the last real one
+            rows.append(BudgetRow.type_b(
+                msg("which excursion beyond the band is the last real one (spread of the candidates' exits)"),
+                "u_sel", Q_(st["u_selection"], "s"), distribution="normal", k=1.0,
+                note=msg("exits {exits} s with probabilities {probs}",
+                         exits=", ".join(f"{e:.4g}" for e in st["exits"]),
+                         probs=", ".join(f"{p:.2f}" for p in P))))
         timer = campaign.equipment_for("timer")
         if timer is not None and timer.calibration is not None:
             cal = timer.calibration
