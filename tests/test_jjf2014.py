@@ -421,6 +421,20 @@ def test_startup_never_settles(pm):
     assert not r.reportable and ("at the end of the record" in r.reason or "cannot be decided" in r.reason), r.reason
 
 
+def test_startup_of_a_coarsely_digitised_output(pm):
+    """analog-coarser (output rounded to 0.2 mV ≈ 0.01 °/s, coarser than one sample's noise): the samples'
+    noise from their differences' MAD is ≈ 0, so single rounded samples counted as outside the band "by more
+    than 4.5u" to the record's end — 60.0 s with U 0.06 s against τ·ln(d₀/0.01) = 18.6 s (seeds 26 and 34 of
+    the class: E_n +716 and +38).  The rounding's half-width now widens the margins; a result is within U or
+    not reportable (interpretations.md, "7.2.23 — where in the interval")."""
+    t = VibratoryTruth()
+    truth = t.startup_tau_s * math.log(t.startup_excursion_dps / 0.01)
+    for seed in (26, 34):
+        rec = run_items(pm, "jjf2014", ["7.2.23"], station_options={"seed": seed, "device_class": "analog-coarser"})
+        r = rec.outcomes[0].result("t_startup")
+        assert not r.reportable or abs(r.value.magnitude - truth) <= r.U.magnitude, (seed, r.value, r.U)
+
+
 def test_procedure_classes_are_registered(pm):
     from metro.plugins.jjf2014.procedures import (
         AngleRandomWalk,
