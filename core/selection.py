@@ -76,7 +76,7 @@ def curve_scatter(y: Sequence[float], x: Sequence[float], degree: int = 1) -> tu
 
 def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Sequence[float], i0: int, *,
                         relative: bool, draws: int = 4000, seed: int = 45570,
-                        observed: bool = False, cap_degree: int = 1) -> MaxSelection:
+                        observed: bool = False, cap_degree: int = 1, u_dof: float = math.inf) -> MaxSelection:
     """Selection bias of max_i |(y_i − y_0)/(d·(T_i − T_0))| (d = y_0 when ``relative``, D.12/D.29;
     d = 1, D.43), by Monte Carlo (GUM Supplement 1) about a smoothed K(T) or B(T).
 
@@ -101,6 +101,12 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     the smaller of that limit and the one from the scatter about a quadratic in T (n − 3 degrees of
     freedom) — a curved K(T) is a real difference between the slopes, not scatter (JJF 2014,
     interpretations.md "7.2.5 / 7.2.16 — a curved K(T) is not noise").
+
+    ``u_dof``: the degrees of freedom of the u_i themselves where they are one estimate of few degrees of
+    freedom (GB/T D.1.5 / D.2.5: K's turn-on scatter from seven repeatability runs).  The straight line is
+    then rejected when Σ((y − line)/u)²/(n − 2) exceeds the 95 % point of F(n − 2, u_dof) rather than of
+    χ²(n − 2)/(n − 2): a u small by chance must not reject the line (interpretations.md "D.2.5 — the line
+    test with an estimated scatter").
 
     Hand-checked: five equal slopes of u = 1 give bias ≈ +1.1 (the mean maximum of five |N(0,1)|
     deviates about a common slope of 10 is 10 + 1.16; the shared y_0 correlates them, which lowers
@@ -136,7 +142,13 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     from scipy.stats import chi2
 
     dof = y.size - deg - 1
-    if dof >= 1 and float(np.sum(((y - smooth) * w) ** 2)) > float(chi2.ppf(0.95, dof)):
+    if math.isfinite(u_dof) and u_dof > 0:
+        from scipy.stats import f as f_dist
+
+        limit = dof * float(f_dist.ppf(0.95, dof, u_dof)) if dof >= 1 else math.inf
+    else:
+        limit = float(chi2.ppf(0.95, dof)) if dof >= 1 else math.inf
+    if dof >= 1 and float(np.sum(((y - smooth) * w) ** 2)) > limit:
         smooth, deg = y, -1  # the points depart from a smooth curve beyond their u: take them as they are
     sample = np.random.default_rng(seed).normal(smooth, uu, size=(int(draws), y.size))
     mx = stat(sample)

@@ -21,7 +21,7 @@ error at each set point and its ripple, the errors the procedures' type B rows m
 The truth (fields of :class:`~metro.instruments.simulated.GyroTruth`): the scale factor at
 rate |Ω| and direction s is K·(1 + sf_slope·|Ω| + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
 (as in the angle method), times (1 + sf_tc·(T − T_ref)) in the chamber and times (1 + δ_run)
-after power-on ``run`` (δ_run ~ N(0, sf_turn_on_sigma), seeded by (seed, run)); a D.1.5
+after power-on ``run`` (δ_run ~ N(0, sf_turn_on_sigma), seeded by (seed, run)); a D.1.5 or D.2.5
 temperature point's power-on draws its own δ (and turn-on bias), seeded by (seed, temperature),
 which the expected K_t leaves out (it is measurement error).  The input
 axis IA leans from IRA by α towards XRA and β towards YRA; a mounting's fixture leans the
@@ -120,14 +120,14 @@ def _signed_rate(step) -> tuple[float, int]:
 # --------------------------------------------------------------------------------------------
 
 
-def temperature_power_on(truth: GyroTruth, conditions: Mapping[str, Any]) -> tuple[float, float]:
-    """(δK/K, δB in °/h) of the power-on at a D.1.5 temperature point: D.1.5.2 c) switches the gyro
-    off while the chamber changes temperature and on again for the D.1.1.2 sweep, so every point
-    has a turn-on draw of its own, K from N(0, sf_turn_on_sigma) and the bias from
-    N(0, turn_on_sigma_deg_h), seeded by (seed, temperature).  Measurement error, not truth: the
-    expected K_t is D.12 on the noise-free K(T)."""
+def temperature_power_on(truth: GyroTruth, conditions: Mapping[str, Any], salt: int = 1951) -> tuple[float, float]:
+    """(δK/K, δB in °/h) of the power-on at a D.1.5 (or, ``salt`` 2953, D.2.5) temperature point:
+    D.1.5.2 c) / D.2.5.2 c) switch the gyro off while the chamber changes temperature and on again for
+    the point's sweep, so every point has a turn-on draw of its own, K from N(0, sf_turn_on_sigma) and
+    the bias from N(0, turn_on_sigma_deg_h), seeded by (seed, salt, temperature).  Measurement error,
+    not truth: the expected K_t is D.12 / D.29 on the noise-free K(T)."""
     T = float(parse_quantity(conditions["temperature"], dimension="degC").to("degC").magnitude)
-    rng = np.random.default_rng([truth.seed, 1951, int(round((T + 300.0) * 1000.0))])
+    rng = np.random.default_rng([truth.seed, salt, int(round((T + 300.0) * 1000.0))])
     return float(rng.normal(0.0, truth.sf_turn_on_sigma)), float(rng.normal(0.0, truth.turn_on_sigma_deg_h))
 
 
@@ -186,6 +186,11 @@ def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_
     t = station.truth
     rate, direction = _signed_rate(step)
     f = scale_factor_multiplier(t, rate, direction, step.conditions)
+    if "temperature" in step.conditions and "run" not in step.conditions:
+        # a D.2.5 temperature point is a power-on of its own (D.2.5.2 c)): its own K and bias draw
+        dk, db = temperature_power_on(t, step.conditions, salt=2953)
+        f *= 1.0 + dk
+        bias_offset_deg_h += db
     rng = np.random.default_rng([t.seed, index, 5309])
     static = (EARTH_RATE_DEG_PER_H * math.sin(math.radians(station.latitude_deg)) * projection
               + t.bias_deg_h + bias_offset_deg_h)  # °/h

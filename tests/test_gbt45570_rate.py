@@ -176,6 +176,42 @@ def test_d25_temperature_sensitivity(pm):
     assert any(row.type == "B" and "chamber" in row.source for row in r.budget.rows)
 
 
+def test_simulated_d25_temperature_points_are_power_ons(pm):
+    """D.2.5.2 c): off while the chamber changes temperature, so the digital station gives every D.2.5
+    point a turn-on draw of K (``temperature_power_on``, its own stream beside D.1.5's): the same device
+    with and without the scatter, nearly noise-free, differs at each point by that draw."""
+    from metro.instruments.sim_gbt_rate import temperature_power_on
+
+    common = dict(seed=5, arw_deg_rt_h=1e-9)
+    Ks = []
+    for sigma in (0.0, 2e-5):
+        camp = _camp(pm, ["D.2.5"], sf_turn_on_sigma=sigma, **common)
+        rec = run_items(pm, "gbt45570", ["D.2.5"], campaign=camp)
+        Ks.append({row[0]: float(row[1]) for row in rec.outcomes[0].tables[0].rows})
+    truth = digital_station_factory(duration_scale=FAST, sf_turn_on_sigma=2e-5, **common).truth
+    for T, k0 in Ks[0].items():
+        dk, _ = temperature_power_on(truth, {"temperature": f"{T} degC"}, salt=2953)
+        assert Ks[1][T] / k0 - 1.0 == pytest.approx(dk, abs=2e-7), T
+        assert dk != temperature_power_on(truth, {"temperature": f"{T} degC"})[0]
+
+
+def test_d25_power_cycled_points_pool_their_scatter_with_the_runs(pm):
+    """lsb-fine device 14 with D.2.4's runs and D.2.5 at power-cycled points: the seven runs happened to give
+    K_r = 1.2 ppm against the device's 5 ppm turn-on scatter, the six temperature points scatter about
+    a smooth K(T) far beyond that, the line test rejected the smoothing and the maximum went uncorrected
+    with U = 0.2 ppm/°C: K_t 2.23 against 2.00 ppm/°C (E_n +1.17). The points' own scatter about a
+    quadratic in T is pooled with the runs' (interpretations.md "D.2.5 — the line test with an estimated
+    scatter"): within U."""
+    rec = run_items(pm, "gbt45570", ["D.2.4", "D.2.5"], station="simulated",
+                    station_options={"seed": 14, "device_class": "lsb-fine"})
+    kt = rec.outcomes[1].results[0]
+    assert rec.outcomes[1].item == "D.2.5" and kt.reportable
+    exp = rec.campaign.expected["Kt"].to("ppm/delta_degC").magnitude
+    got, U = kt.value.to("ppm/delta_degC").magnitude, kt.U.to("ppm/delta_degC").magnitude
+    assert abs(got - exp) <= U, (got, exp, U)
+    assert "pooled" in kt.budget.rows[0].note
+
+
 def test_d26_misalignment_cancels_the_fixture(pm):
     assert pm.procedure("gbt45570", "D.2.6") is InputAxisMisalignmentD26
     camp = _camp(pm, ["D.2.6"], misalign_alpha_arcsec=70.0, misalign_beta_arcsec=-30.0,

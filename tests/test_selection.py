@@ -127,3 +127,22 @@ def test_absolute_value_of_one_difference_reads_high_and_is_corrected():
     assert len(rows) == 1 and rows[0].distribution == "normal"
     assert rows[0].standard_uncertainty.to("deg/h").magnitude == pytest.approx(math.sqrt(b + b * b / 4))
     assert abs_change_rows(abs_change(0.3, 0.0), "deg/h", 0.0) == []
+
+
+def test_line_test_against_u_of_few_degrees_of_freedom():
+    """Six points whose residuals about the line give Σ(r/u)² = 12: beyond χ²₀.₉₅(4) = 9.49, so with u taken as
+    exact the line is rejected and the points are drawn as they are (degree −1); with u an estimate of ν = 6
+    (σ_K from seven repeatability runs) the limit is 4·F₀.₉₅(4, 6) = 18.1 and the line stands (degree 1)."""
+    from scipy.stats import chi2, f
+
+    assert chi2.ppf(0.95, 4) == pytest.approx(9.488, abs=1e-3)
+    assert 4 * f.ppf(0.95, 4, 6) == pytest.approx(18.13, abs=0.01)
+    T = np.array([-40.0, -20.0, 0.0, 20.0, 40.0, 60.0])
+    tc = T - T.mean()
+    r = tc**2 - np.mean(tc**2)
+    r -= tc * (r @ tc) / (tc @ tc)
+    r *= math.sqrt(12.0) / math.sqrt(r @ r)
+    K = 1.0 + 2e-6 * (T - 20.0) + 1e-6 * r
+    exact = max_slope_selection(K, [1e-6] * 6, T, 3, relative=True)
+    estimated = max_slope_selection(K, [1e-6] * 6, T, 3, relative=True, u_dof=6)
+    assert exact.degree == -1 and estimated.degree == 1

@@ -620,7 +620,7 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     """Result, budget, plot and table of D.1.5 / D.2.5 (the maximising point of D.12 / D.29)."""
     from .procedures import _delta_temperature_u
 
-    from .repeatability import scale_factor_turn_on
+    from .repeatability import points_dof, pool_turn_on, scale_factor_turn_on
 
     dT = temps[imax] - temps[i0]
     K0 = Ks[i0]
@@ -630,20 +630,29 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     # "D.2.5 — every temperature point is a power-on" and "D.1.5 — …")
     s_on, nu_on, on_note = scale_factor_turn_on(campaign, int(opts.get("min_points", 11)),
                                                 "angle" if proc.item == "D.1.5" else "rate")
+    s_on, nu_on, pooled_note = pool_turn_on(Ks, uKs, temps, s_on, nu_on)
     u_on = [s_on * abs(k) for k in Ks]
     sel_observed = s_on > 0 and len(Ks) >= 4  # the points may share a power-on after all: at most what they show
     uKs = [math.hypot(u, v) for u, v in zip(uKs, u_on)]
+    # the two turn-on parts are one estimate (σ_K of the same runs): one ν between them, not two
+    # (interpretations.md "D.2.5 — the line test with an estimated scatter")
+    u_on_both = math.hypot(ci * u_on[imax], c0 * u_on[i0])
     parts = [(ci * math.sqrt(max(uKs[imax] ** 2 - u_on[imax] ** 2, 0.0)), dofs[imax]),
              (c0 * math.sqrt(max(uKs[i0] ** 2 - u_on[i0] ** 2, 0.0)), dofs[i0]),
-             (ci * u_on[imax], nu_on), (c0 * u_on[i0], nu_on)]
+             (u_on_both, nu_on)]
     uA = math.sqrt(sum(u * u for u, _ in parts))
     den = sum(u**4 / max(d, 1) for u, d in parts)
     nu = uA**4 / den if den > 0 else math.inf
-    sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True, observed=sel_observed)
+    # the line test of the selection Monte Carlo against u's that hold an estimate of ν_on degrees of
+    # freedom: F(n − 2, ν_eff of the points' u) rather than χ²
+    sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True, observed=sel_observed,
+                                 u_dof=points_dof(uKs, u_on, dofs, nu_on))
     notes = [msg("the maximising point alone gives {u:.3g}/°C", u=uA)]
     if s_on > 0:
         notes.append(msg("each K_i a power-on of its own: with the turn-on scatter of K, {s:.3g} ppm (ν = {nu:.3g}) "
                          "from the repeatability runs on this campaign", s=s_on * 1e6, nu=nu_on))
+    if pooled_note:
+        notes.append(pooled_note)
     rows = [BudgetRow.type_a(msg("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "
                                  "smoothed K(T))"), "s(max_i |ΔK_i/(K₀₀ΔT_i)|)", Q_(max(sel.s, uA), "1/delta_degC"), nu,
                              note=join("; ", notes))]

@@ -205,3 +205,44 @@ def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rat
     s2 = Kr**2 if method == "angle" else max(Kr**2 - float(np.mean(np.square(rel_u))), 0.0)
     nu = max((len(Kj) - 1) * (s2 / Kr**2) ** 2, 1.0) if Kr > 0 else math.inf
     return math.sqrt(s2), nu, ""
+
+
+def pool_turn_on(Ks, uKs, temps, s_on: float, nu_on: float) -> tuple[float, float, str]:
+    """K's turn-on scatter σ_K pooled with what the temperature points themselves show.
+
+    Each temperature point is a power-on (D.1.5.2 c) / D.2.5.2 c)), so the K_i's scatter about a smooth
+    K(T) (a quadratic in T, n − 3 degrees of freedom, less the points' own noise) is a second estimate of
+    σ_K beside the repeatability runs' (ν_on).  Where the pooled value, √((ν_on·σ_K² + (n − 3)·s_T²)/(ν_on +
+    n − 3)), is larger, it is taken with ν_on + n − 3 degrees of freedom; it never lowers σ_K below what the
+    repeatability item measured (interpretations.md "D.2.5 — the line test with an estimated scatter").
+    Needs ≥ 5 points and a σ_K from runs (finite ν_on); otherwise (σ_K, ν_on, "") unchanged."""
+    n = len(Ks)
+    if not (s_on > 0 and math.isfinite(nu_on) and n >= 5):
+        return s_on, nu_on, ""
+    K = np.asarray(Ks, dtype=float)
+    T = np.asarray(temps, dtype=float)
+    rel = K / float(np.mean(K)) - 1.0
+    tc = T - T.mean()
+    r = rel - np.polyval(np.polyfit(tc, rel, 2), tc)
+    dof = n - 3
+    own = float(np.mean(np.square(np.asarray(uKs, dtype=float) / np.abs(K))))
+    s_T2 = max(float(np.sum(r * r)) / dof - own, 0.0)
+    pooled = math.sqrt((nu_on * s_on**2 + dof * s_T2) / (nu_on + dof))
+    if pooled <= s_on:
+        return s_on, nu_on, ""
+    return pooled, nu_on + dof, msg("the temperature points scatter about a quadratic in T by {s:.3g} ppm beyond their "
+                                    "own noise ({d} degrees of freedom): pooled with the runs' {r:.3g} ppm",
+                                    s=math.sqrt(s_T2) * 1e6, d=dof, r=s_on * 1e6)
+
+
+def points_dof(u_points, u_on, dofs, nu_on: float) -> float:
+    """The Welch–Satterthwaite degrees of freedom of the temperature points' u (each √(own² + turn-on²),
+    the own part with its ν, the turn-on part with ν_on), over the points together: (mean u²)² /
+    mean(own⁴/ν + on⁴/ν_on); ∞ without a turn-on part of finite ν.  The line test of D.12/D.29's
+    selection Monte Carlo uses it (interpretations.md "D.2.5 — the line test with an estimated scatter")."""
+    if not (math.isfinite(nu_on) and any(b > 0 for b in u_on)):
+        return math.inf
+    own = [math.sqrt(max(a * a - b * b, 0.0)) for a, b in zip(u_points, u_on)]
+    num = float(np.mean(np.square(u_points))) ** 2
+    den = float(np.mean([o**4 / max(d, 1) + b**4 / nu_on for o, b, d in zip(own, u_on, dofs)]))
+    return num / den if den > 0 else math.inf
