@@ -242,3 +242,40 @@ def test_gbt45570_type_test_report_length_and_order(tmp_path):
              for name in ("Signatures", "Annex A", "Annex B", "Annex C", "Annex D")}
     assert 0 < first["Signatures"] <= first["Annex A"] < first["Annex B"] < first["Annex C"] <= first["Annex D"]
     assert "Technical requirements (5)" in "".join(text[:first["Signatures"]])  # a type test: the clause-5 table
+
+
+def test_a_budget_split_at_a_page_foot_keeps_every_row(load_benchmark, tmp_path):
+    """A 6.2.7.7 report (the independent harness's exponential set-up, device 1) puts its budget's title
+    row at the foot of page 4.  With that title row kept with the row below, LibreOffice printed the
+    first component and dropped every later row and the u_c … U line (the .docx held all of them):
+    a certificate silently short of its budget.  Every row of the result's budget (its source's
+    first words) and the u_c line must be in the PDF."""
+    import contextlib
+    import io
+    import json
+    import zlib
+
+    import numpy as np
+
+    from metro.core.cli import main
+
+    folder = tmp_path / "setup-rate-exp-1"  # the campaign's id is its folder's name, printed on page 1
+    folder.mkdir()
+    with load_benchmark("independent_gbt_env") as env:
+        env.VARIANTS["setup-rate-exp"].build(folder, np.random.default_rng([1, zlib.crc32(b"setup-rate-exp")]), False)
+    pdf = tmp_path / "out" / "report.pdf"
+    pdf.parent.mkdir()
+    so = io.StringIO()
+    with contextlib.redirect_stdout(so), contextlib.redirect_stderr(io.StringIO()):
+        code = main(["run", "-s", "gbt45570", "-i", "6.2.7.7", "--data", str(folder / "manifest.toml"),
+                     "--json", "--report", str(pdf)])
+    assert code in (0, 3, 4)
+    (result,) = json.loads(so.getvalue())["results"]
+    rows = result["budget"]["rows"]
+    assert len(rows) >= 4
+    text = " ".join(subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True,
+                                   check=True).stdout.split())
+    for row in rows:
+        head = " ".join(str(row["source"]).split()[:3])
+        assert head in text, (head, "budget row missing from the PDF")
+    assert re.search(r"u\s*c\s*=\s*[0-9.]+ s", text), "the u_c … U line is missing from the PDF"
