@@ -110,7 +110,20 @@ def std_of_std_correlated(s: float, means) -> tuple[float, float, str]:
     acc = 0.0
     if c0 > 0 and m >= 8:
         L = m // 4
-        r = np.array([float(x[:-k] @ x[k:]) for k in range(1, L + 1)]) / m / c0
+        c = np.array([c0] + [float(x[:-k] @ x[k:]) / m for k in range(1, L + 1)])
+        # the autocovariances about the record's own mean are low by Var(x̄), the variance of that mean
+        # (E[ĉ_k] ≈ γ_k − Var(x̄)); where the averages are correlated over a good part of the record this
+        # is much of γ_k, and ν_eff came out too large.  Var(x̄) = γ₀/m·(1 + 2Σ(1 − k/m)ρ_k) from the
+        # corrected ρ, by fixed point (interpretations.md, "7.2.14 — B_s of correlated averages")
+        lag = np.arange(1, L + 1)
+        v = 0.0
+        for _ in range(50):
+            g = c + v
+            v_new = max(0.0, float(g[0] / m * (1.0 + 2.0 * np.sum((1.0 - lag / m) * g[1:] / g[0]))))
+            if abs(v_new - v) <= 1e-9 * g[0]:
+                break
+            v = v_new
+        r = (c[1:] + v) / (c[0] + v)
         acc = max(0.0, float(np.sum(r * r)) - L / m)  # each ρ̂_k² carries ≈ 1/m of sampling noise
     nu = (m - 1) / (1.0 + 2.0 * acc)
     upper = float(s) * math.sqrt(nu / float(chi2.ppf(0.02275, nu)))
