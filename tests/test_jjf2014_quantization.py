@@ -145,3 +145,13 @@ def test_bias_family_on_a_coarse_output(pm):
         assert abs(r.value - rec.campaign.expected[key]) <= r.U
     fine = _run(pm, ["7.2.15"], 2, cls="analog-coarse")
     assert _result(fine, "Br").reportable
+
+
+@pytest.mark.parametrize("seed", [124, 133])
+def test_bias_repeatability_from_constant_records_is_not_reportable(pm, seed):
+    """analog-coarser devices 124 and 133 (full length): every 7.2.15 record is one value, so no record shows
+    the output's step (no rounding row) and the seven B_0i are equal: B_r was reported as 6×10⁻¹⁴ ± 9×10⁻¹⁴
+    and 0 ± 0 °/h against the draws' 1.86 and 2.82 °/h (E_n −2×10¹³; the 200-device sweep, 2026-11-24)."""
+    rec = run_items(pm, "jjf2014", ["7.2.15"], station_options={"seed": seed, "device_class": "analog-coarser"})
+    br = _result(rec, "Br")
+    assert not br.reportable and "one constant value" in br.reason, (br.value, br.U, br.reason)

@@ -7,6 +7,7 @@ import math
 import statistics
 
 import attrs
+import numpy as np
 
 from metro.core import allan
 from metro.core.budget import INF, BudgetRow
@@ -296,6 +297,12 @@ class BiasRepeatability(_JJF):
             why = msg("the rounding of the output moves each B_0i by up to ±{hw:.3g} °/h, no less than their "
                       "spread B_r = {br:.3g} °/h: the spread may be rounding alone (digitise more finely)",
                       hw=qrows[0].value.to("deg/h").magnitude, br=br)
+        elif not qrows and all(float(np.ptp(x.x)) == 0.0 for x in bvs):
+            # every record one value: a step coarser than the noise, which no record shows (no rounding row),
+            # and B_r with U = 0 from identical means (analog-coarser: B_r = 0 ± 0 against 2.8 °/h)
+            why = msg("every run's record is one constant value: the output's step is coarser than its noise and "
+                      "the data do not show it, so B_r = {br:.3g} °/h may be rounding alone (state "
+                      "device.output_resolution, or digitise more finely)", br=br)
         tab = TableSpec("bias_runs", msg("B_0i per run"), [msg("run"), "B_0i (°/h)", "u_A (°/h)"],
                         [[k, f"{x.B0:.5g}", f"{x.uA:.2g}"] for k, x in zip(sorted(runs), bvs)])
         return self._outcome([Result(self.metrics[0], Q_(br, "deg/h"), b.combined, b, reportable=not why,
