@@ -759,3 +759,30 @@ def test_scale_factor_records_whose_tag_is_also_a_unit_survive_the_manifest(pm, 
     assert math.isfinite(float(r.value.to("ppm").magnitude)) and float(r.U.to("ppm").magnitude) > 0
     # a quantity condition is still read with its unit, and a bare non-finite one still refused
     assert float(next(s for s in revs).condition("rate", "deg/s").to("deg/s").magnitude) != 0
+
+
+def test_54_bias_change_turn_on_row_has_the_satterthwaite_dof_of_a_variance_difference(pm):
+    """interpretations.md "6.2.8 ΔB₀ — the degrees of freedom of σ_on": σ_on² = B_r² − mean u_A² of D.5.3's
+    Q power-ons is a difference of variance estimates, so the √2·σ_on row of ΔB₀ takes the Satterthwaite
+    ν = (Q − 1)·(σ_on²/B_r²)² (at least 1) that D.5.4, D.5.5, D.6.3 and D.6.4 give it, not Q − 1 (which
+    made k too small where the within-run part is a large share of B_r; independent harness
+    env-rate-lsb / env-angle-pulse)."""
+    import math
+
+    from metro.plugins.gbt45570 import formulas as F
+    from metro.plugins.gbt45570.procedures import segment_bias
+
+    # a turn-on σ (0.015 °/h) comparable with the shortened runs' within-run noise (≈ 0.005 °/h)
+    rec = run_items(pm, "gbt45570", ["D.5.3", "6.2.8.2"],
+                    station_options={"duration_scale": 0.25, "turn_on_sigma_deg_h": 0.015})
+    db = _result(rec, "lts_dB0")
+    (row,) = [r for r in db.budget.rows if r.symbol == "√2·σ_on"]
+    ests = [segment_bias(s, rec.campaign, 20) for s in rec.campaign.find_segments("static-repeat")]
+    q = len(ests)
+    br = F.bias_repeatability_d42([e.B0 for e in ests])
+    s_on2 = br**2 - sum(e.u_A**2 for e in ests) / q
+    assert s_on2 > 0  # the row is there; its ν by hand from the D.5.3 runs (JJF 1059.1 eq. (34) on a variance difference)
+    nu = max((q - 1) * (s_on2 / br**2) ** 2, 1.0)
+    assert row.contribution.m_as("deg/h") == pytest.approx(math.sqrt(2 * s_on2), rel=1e-9)
+    assert nu < q - 1 - 0.5  # the within-run part is a visible share of B_r on this campaign
+    assert row.dof == pytest.approx(nu, rel=1e-9)
