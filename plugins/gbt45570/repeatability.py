@@ -18,6 +18,7 @@ from metro.core.budget import BudgetRow
 from metro.core.errors import DataError
 from metro.core.locale import msg
 from metro.core.model import Campaign
+from metro.core.selection import curve_scatter
 from metro.core.units import Q_
 
 from . import formulas as F
@@ -211,7 +212,8 @@ def pool_turn_on(Ks, uKs, temps, s_on: float, nu_on: float) -> tuple[float, floa
     """K's turn-on scatter σ_K pooled with what the temperature points themselves show.
 
     Each temperature point is a power-on (D.1.5.2 c) / D.2.5.2 c)), so the K_i's scatter about a smooth
-    K(T) (a quadratic in T, n − 3 degrees of freedom, less the points' own noise) is a second estimate of
+    K(T) (a quadratic in T, :func:`metro.core.selection.curve_scatter`, n − 3 degrees of freedom, less the
+    points' own noise) is a second estimate of
     σ_K beside the repeatability runs' (ν_on).  Where the pooled value, √((ν_on·σ_K² + (n − 3)·s_T²)/(ν_on +
     n − 3)), is larger, it is taken with ν_on + n − 3 degrees of freedom; it never lowers σ_K below what the
     repeatability item measured (interpretations.md "D.2.5 — the line test with an estimated scatter").
@@ -220,13 +222,9 @@ def pool_turn_on(Ks, uKs, temps, s_on: float, nu_on: float) -> tuple[float, floa
     if not (s_on > 0 and math.isfinite(nu_on) and n >= 5):
         return s_on, nu_on, ""
     K = np.asarray(Ks, dtype=float)
-    T = np.asarray(temps, dtype=float)
-    rel = K / float(np.mean(K)) - 1.0
-    tc = T - T.mean()
-    r = rel - np.polyval(np.polyfit(tc, rel, 2), tc)
-    dof = n - 3
+    s_T, dof = curve_scatter(K / float(np.mean(K)), temps, 2)
     own = float(np.mean(np.square(np.asarray(uKs, dtype=float) / np.abs(K))))
-    s_T2 = max(float(np.sum(r * r)) / dof - own, 0.0)
+    s_T2 = max(s_T * s_T - own, 0.0)
     pooled = math.sqrt((nu_on * s_on**2 + dof * s_T2) / (nu_on + dof))
     if pooled <= s_on:
         return s_on, nu_on, ""
