@@ -54,6 +54,19 @@ def _benchmark(name: str):
 
 
 @pytest.fixture(scope="session")
+def benchmark_imports():
+    """``text, imports = benchmark_imports("independent_gbt_env")``: a harness module's source and its
+    ``import`` / ``from`` lines (stripped), for the tests that keep its generators independent of metro."""
+    from pathlib import Path
+
+    def read(name: str) -> tuple[str, list[str]]:
+        text = (Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.py").read_text(encoding="utf-8")
+        return text, [ln.strip() for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+
+    return read
+
+
+@pytest.fixture(scope="session")
 def load_benchmark():
     """``with load_benchmark("independent_gbt_env") as mod: …`` (:func:`_benchmark`)."""
     return _benchmark

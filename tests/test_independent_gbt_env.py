@@ -11,13 +11,9 @@ say why it cannot report it.  The sweeps and their table are at the end of docs/
 from __future__ import annotations
 
 import zlib
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-_DIR = Path(__file__).resolve().parents[1] / "benchmarks"
-_PATH = _DIR / "independent_gbt_env.py"
 
 
 @pytest.fixture(scope="module")
@@ -26,11 +22,10 @@ def env(load_benchmark):
         yield mod
 
 
-def test_module_does_not_use_metro_generators():
+def test_module_does_not_use_metro_generators(benchmark_imports):
     """Independence: the generators import no part of metro (the campaigns are evaluated through the sibling
     module's `metro run`), and take nothing but writers and scoring from it."""
-    text = _PATH.read_text(encoding="utf-8")
-    imports = [ln for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+    text, imports = benchmark_imports("independent_gbt_env")
     assert imports, "no imports found"
     assert not [ln for ln in imports if "metro" in ln or "simulated" in ln or "instruments" in ln], imports
     assert not [ln for ln in imports if "independent_gbt_more" in ln], imports

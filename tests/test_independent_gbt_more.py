@@ -12,13 +12,9 @@ docs/independent-campaigns.md.
 from __future__ import annotations
 
 import zlib
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-_DIR = Path(__file__).resolve().parents[1] / "benchmarks"
-_PATH = _DIR / "independent_gbt_more.py"
 
 
 @pytest.fixture(scope="module")
@@ -27,11 +23,10 @@ def more(load_benchmark):
         yield mod
 
 
-def test_module_does_not_use_metro_generators():
+def test_module_does_not_use_metro_generators(benchmark_imports):
     """Independence: the generators import no part of metro (the campaigns are evaluated through
     the sibling module's `metro run`), and take nothing but writers and scoring from it."""
-    text = _PATH.read_text(encoding="utf-8")
-    imports = [ln for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+    text, imports = benchmark_imports("independent_gbt_more")
     assert imports, "no imports found"
     assert not [ln for ln in imports if "metro" in ln or "simulated" in ln or "instruments" in ln], imports
 

@@ -14,13 +14,9 @@ stability and dynamic items".
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-_DIR = Path(__file__).resolve().parents[1] / "benchmarks"
-_PATH = _DIR / "independent_jjf2014_dyn.py"
 
 
 @pytest.fixture(scope="module")
@@ -29,11 +25,10 @@ def dyn(load_benchmark):
         yield mod
 
 
-def test_the_module_does_not_use_metro_generators():
+def test_the_module_does_not_use_metro_generators(benchmark_imports):
     """Independence: the module's generators import no part of metro (it reaches metro only through
     the shared harness's command line)."""
-    text = _PATH.read_text(encoding="utf-8")
-    imports = [ln.strip() for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+    text, imports = benchmark_imports("independent_jjf2014_dyn")
     assert imports
     assert not [ln for ln in imports if "metro" in ln or "simulat" in ln or "instruments" in ln], imports
     assert "from independent_campaigns import (  # noqa: E402  (the shared pieces of the harness)" in imports

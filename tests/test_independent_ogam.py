@@ -21,7 +21,6 @@ import numpy as np
 import pytest
 
 _DIR = Path(__file__).resolve().parents[1] / "benchmarks"
-_PATH = _DIR / "independent_ogam.py"
 
 
 @pytest.fixture(scope="module")
@@ -35,11 +34,10 @@ def harness():
     return mod
 
 
-def test_harness_does_not_use_metro_generators():
+def test_harness_does_not_use_metro_generators(benchmark_imports):
     """Independence: the ogam generators import nothing of metro (its one metro import, the command
     line, is in the shared independent_campaigns.py, which its own test keeps so)."""
-    text = _PATH.read_text(encoding="utf-8")
-    imports = [ln.strip() for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+    text, imports = benchmark_imports("independent_ogam")
     assert any("independent_campaigns" in ln for ln in imports), imports
     assert not [ln for ln in imports if "metro" in ln], imports
     assert "angle_instrument" not in text
