@@ -38,6 +38,7 @@ Carlo.
 from __future__ import annotations
 
 import contextlib
+import datetime
 import importlib.util
 import io
 import json
@@ -233,7 +234,7 @@ class MimuCampaign:
     device: dict
     site: dict
     equipment: list
-    segments: list = field(default_factory=list)  # (id, kind, file, dt, conditions)
+    segments: list = field(default_factory=list)  # (id, kind, file, dt, conditions, started or None)
 
     def write_manifest(self) -> Path:
         # the head (device, environment, site, equipment) as the shared harness writes it, then
@@ -245,9 +246,12 @@ class MimuCampaign:
         text = text.replace(f'latitude = "{float(self.site["latitude"])!r}°"\n',
                             f'latitude = "{float(self.site["latitude"])!r}°"\n' + extra)
         lines = [text.rstrip("\n"), ""]
-        for sid, kind, fname, dt, cond in self.segments:
+        for sid, kind, fname, dt, cond, started in self.segments:
             lines += ["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{fname}"',
-                      f'sample_interval = "{dt!r} s"', "[segments.conditions]"]
+                      f'sample_interval = "{dt!r} s"']
+            if started is not None:   # data-format.md: the first sample's time, with its UTC offset
+                lines.append(f"started = {started.isoformat()}")
+            lines.append("[segments.conditions]")
             lines += [f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in cond.items()]
             lines.append("")
         path = self.folder / "manifest.toml"
@@ -261,7 +265,7 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
                anomaly_mgal: float = 30.0, write_gravity: bool = False, gyro_unit="deg/s", acc_unit="gn",
                with_time: bool = True, quick: bool = False, flip: float = 0.3,
                items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0, sigma_K: float = 0.0,
-               sigma_B: float = 0.0, ramp: bool = False) -> dict:
+               sigma_B: float = 0.0, ramp: bool = False, started: bool = False) -> dict:
     """One MIMU written as a campaign of the 27 (3 axes × the rate set) rate segments and the twelve
     positions; returns the truth {(item, key): (value, unit, earth)} and ``options``."""
     lat = float(rng.uniform(*lat_range))
@@ -291,6 +295,10 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     F_L = np.array([0.0, 0.0, f_up])
     mount = small_rotation(rng.uniform(-1, 1, 3) * lab.fixture * ARCSEC)   # body → fixture, one mounting
     clock = [0.0]
+    # the acquisition's clock: the campaign begins some morning in a UTC+8 lab (times to the ms)
+    # (drawn only when written, so that the other variants' devices stay those of their seeds)
+    t_begin = datetime.datetime(2026, 11, 24, 8, 0, tzinfo=datetime.timezone(datetime.timedelta(hours=8))) + \
+        datetime.timedelta(seconds=float(rng.uniform(0, 4 * 3600))) if started else None
 
     def tilt():
         a = rng.uniform(-1, 1, 2) * lab.position_accuracy * ARCSEC
@@ -307,7 +315,8 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
         w_b = W_b + rate * (C0.T @ axis_L)[None, :]
         g, a = dev.outputs(t, w_b, F_b, dt, rng)
         fname = write_six(folder / sid, g, a, dt, fmt, gyro_unit, acc_unit, with_time)
-        camp.segments.append((sid, kind, fname, dt, cond))
+        when = (t_begin + datetime.timedelta(milliseconds=round(1000 * (t[0] - 0.5 * dt)))) if started else None
+        camp.segments.append((sid, kind, fname, dt, cond, when))
         return t
 
     # the twelve positions (7.2.2.1 a), appendix C): each mounting tilted within ±position_accuracy
@@ -453,19 +462,26 @@ VARIANTS = {
                                          lat_range=(50.0, 85.0) if rng.uniform() < 0.5 else (-85.0, -50.0),
                                          repeats=3, sigma_K=2e-4, sigma_B=0.01, quick=quick),
         options=("omega=500 deg/s",)),
-    "mimu-24bit-warmup-ramp": MimuVariant(
-        "mimu-24bit-warmup-ramp",
-        "a MIMU still warming up: each gyro bias ramps by 0.1–0.3 °/s per hour of either sign (the "
-        "campaign's 33 min, recorded in the plan's order: positions, then each sweep from −125 to +125 °/s); "
-        "24 bits over ±125 °/s at 100 Hz .npy, 30 s records, 7 rates; table U 2×10⁻⁵, ±5″; g stated",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.01, seconds=30.0, fmt="npy", bits=24, fs_g=125.0, fs_a=8.0,
-                                         rates=(-125, -60, -20, 0, 20, 60, 125), xc_g=5e-3, xc_a=5e-3,
-                                         g_sens=0.02, p_mag=2e-4, arw=(0.002, 0.005), vrw=(2e-5, 5e-5),
-                                         wander=0.2 * 4 / (2 * math.pi),  # A: slope A·2π/4 h = 0.2 °/s/h at t = 0
-                                         lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0, axis_perp=10.0),
-                                         write_gravity=True, ramp=True, quick=quick),
-        options=("omega=125 deg/s",)),
 }
+
+
+def _warmup(started: bool):
+    return lambda f, rng, quick: build_mimu(
+        f, rng, dt=0.01, seconds=30.0, fmt="npy", bits=24, fs_g=125.0, fs_a=8.0,
+        rates=(-125, -60, -20, 0, 20, 60, 125), xc_g=5e-3, xc_a=5e-3, g_sens=0.02, p_mag=2e-4,
+        arw=(0.002, 0.005), vrw=(2e-5, 5e-5), wander=0.2 * 4 / (2 * math.pi),  # slope A·2π/4 h = 0.2 °/s/h at t = 0
+        lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0, axis_perp=10.0), write_gravity=True, ramp=True,
+        started=started, quick=quick)
+
+
+_WARMUP = ("a MIMU still warming up: each gyro bias ramps by 0.1–0.3 °/s per hour of either sign (the "
+           "campaign's 33 min, recorded in the plan's order: positions, then each sweep from −125 to +125 °/s); "
+           "24 bits over ±125 °/s at 100 Hz .npy, 30 s records, 7 rates; table U 2×10⁻⁵, ±5″; g stated")
+VARIANTS["mimu-24bit-warmup-ramp"] = MimuVariant(
+    "mimu-24bit-warmup-ramp", _WARMUP + "; no recording times", _warmup(False), options=("omega=125 deg/s",))
+VARIANTS["mimu-24bit-warmup-ramp-started"] = MimuVariant(
+    "mimu-24bit-warmup-ramp-started", _WARMUP + "; each segment's `started` (the acquisition's clock, UTC+8)",
+    _warmup(True), options=("omega=125 deg/s",))
 
 
 # --------------------------------------------------------------------------------------------

@@ -451,6 +451,7 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         interval = parse_quantity(s["sample_interval"], dimension="s", file=src, field=f"{where}.sample_interval")
         if not interval.magnitude > 0 or not math.isfinite(interval.magnitude):
             raise DataError(src, f"{where}.sample_interval", "must be a positive, finite time")
+        started = _started(s.get("started"), src, f"{where}.started")
         conds = s.get("conditions", {})
         if not isinstance(conds, dict):
             raise DataError(src, f"{where}.conditions", "must be a table")
@@ -473,7 +474,7 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         segments.append(Segment(
             id=sid, kind=kind, conditions=conditions, interval=interval, file=str(fpath),
             sha256=None, declared_units={k: str(v) for k, v in declared.items()},
-            loader=_make_loader(reader.read, fpath, interval_s, declared),
+            loader=_make_loader(reader.read, fpath, interval_s, declared), started=started,
         ))
 
     spec_t = _table(doc, "specification", src, required=False)
@@ -490,6 +491,33 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
         meta={k: v for k, v in camp.items() if k != "id"},
         specification=specification, manifest_sha256=digest, warnings=warnings, records=records,
     )
+
+
+def _started(v: Any, src: str, field: str) -> dt.datetime | None:
+    """A segment's optional ``started``: when its first sample was taken, an RFC 3339 date-time with
+    its UTC offset (a TOML offset date-time or the same as text), e.g. 2026-11-24T10:15:00+08:00."""
+    if v is None:
+        return None
+    hint = 'write the time the record began with its UTC offset, e.g. started = "2026-11-24T10:15:00+08:00"'
+    if isinstance(v, dt.datetime):
+        t = v
+    elif isinstance(v, str):
+        text = v.strip()
+        if text.endswith(("Z", "z")):
+            text = text[:-1] + "+00:00"
+        try:
+            t = dt.datetime.fromisoformat(text)
+        except ValueError:
+            raise DataError(src, field, f"not a date and time: {_short(v)}", hint=hint) from None
+        if "T" not in text.upper() and " " not in text:
+            raise DataError(src, field, f"{_short(v)} is a date without the time of day", hint=hint)
+    else:
+        what = "a date without the time of day" if isinstance(v, dt.date) else f"not a date and time: {_short(v)}"
+        raise DataError(src, field, what, hint=hint)
+    if t.utcoffset() is None:
+        raise DataError(src, field, f"{t.isoformat()} has no UTC offset; a recording time must say its time zone",
+                        hint=hint)
+    return t
 
 
 def campaign_meta(t: Mapping, src: str, warnings: list[str] | None = None) -> dict[str, Any]:

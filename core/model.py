@@ -203,7 +203,17 @@ class Segment:
     sha256: str | None = None
     declared_units: Mapping[str, str] = attrs.field(factory=dict, converter=_frozen_map)
     loader: Callable[[], Mapping[str, tuple[np.ndarray, str]]] | None = None
+    #: when the record's first sample was taken (time-zone aware), or None: the manifest's optional
+    #: ``started`` (docs/data-format.md); a procedure that differences records uses it for drift
+    started: dt.datetime | None = attrs.field(default=None, validator=attrs.validators.optional(
+        attrs.validators.instance_of(dt.datetime)))
     _cache: dict = attrs.field(factory=dict, init=False, repr=False)
+
+    @started.validator
+    def _started_aware(self, attribute, value) -> None:
+        if value is not None and value.utcoffset() is None:
+            raise DataError(self.file, f"segments.{self.id}.started",
+                            f"{value.isoformat()} has no UTC offset; the recording time must say its time zone")
 
     def condition(self, name: str, dimension: str | None = None) -> Any:
         if name not in self.conditions:

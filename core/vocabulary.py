@@ -186,7 +186,7 @@ APPLICATIONS: set[str] = {"aerospace", "aviation", "marine", ""}
 #: laboratory or chamber, but no longer a typing slip such as −300 °C (below absolute zero)
 TEMPERATURE_RANGE_C = (-100.0, 200.0)
 
-SEGMENT_KEYS = ("id", "kind", "file", "sample_interval", "conditions", "units")
+SEGMENT_KEYS = ("id", "kind", "file", "sample_interval", "started", "conditions", "units")
 CALIBRATION_KEYS = ("certificate", "U", "k", "due", "lab", "distribution")
 #: [environment] and [site] keys metro reads (other keys are kept)
 ENVIRONMENT_KEYS = ("temperature", "humidity", "pressure", "magnetic_field", "location", "other")

@@ -152,8 +152,8 @@ def manifest_text(campaign: Campaign, files: Mapping[str, tuple[str, Mapping[str
             raise DataError(campaign.source, f"segments.{seg.id}.sample_interval",
                             "the segment has no sample interval; the data format requires one")
         lines += ["", "[[segments]]"]
-        _table(lines, None, {"id": seg.id, "kind": seg.kind, "file": fname, "sample_interval": seg.interval},
-               f"segments.{seg.id}")
+        _table(lines, None, {"id": seg.id, "kind": seg.kind, "file": fname, "sample_interval": seg.interval,
+                             "started": seg.started}, f"segments.{seg.id}")
         if seg.conditions:
             _table(lines, "[segments.conditions]", seg.conditions, f"segments.{seg.id}.conditions")
         _table(lines, "[segments.units]", units, f"segments.{seg.id}.units")

@@ -35,6 +35,7 @@ mean of each output for a segment, from which the station computes ``expected``.
 
 from __future__ import annotations
 
+import datetime as dt
 import hashlib
 import math
 import zlib
@@ -80,6 +81,12 @@ class MimuTruth:
     sf_repeat_rel: float = 0.0
     #: 1σ (°/s) of the gyro biases between power-ons, drawn like ``sf_repeat_rel`` (rate segments)
     bias_repeat_deg_s: float = 0.0
+    #: a MIMU still warming up (station option ``warmup_deg_s_per_h``): the gyro biases ramp during the
+    #: campaign by this many °/s per hour times (1, −0.6, 0.8) for gyros x, y, z, linearly in the
+    #: recording time (JJF 2003 7.2.1.1 b) waits only for the supply current); B_g is the bias at the
+    #: middle of the twelve position records, what their mean measures; 0: a steady bias
+    warmup_deg_s_per_h: float = attrs.field(default=0.0, validator=attrs.validators.and_(
+        attrs.validators.ge(-10.0), attrs.validators.le(10.0)))
     #: the class this device was drawn from (``device_class`` station option; "" = fields as given)
     device_class: str = ""
     seed: int = 20260301
@@ -108,6 +115,7 @@ class MimuTruth:
                     "acquisition bits": self.bits, "seed": self.seed,
                     "scale-factor variation between power-ons (1σ, relative)": self.sf_repeat_rel,
                     "bias variation between power-ons (1σ)": Q_(self.bias_repeat_deg_s, "deg/s"),
+                    "gyro bias warm-up ramp (gyro x; y, z × −0.6, 0.8)": Q_(self.warmup_deg_s_per_h, "deg/s/hour"),
                     "device class": self.device_class or "(fields as given)"})
         return out
 
@@ -215,13 +223,25 @@ def ideal_means(truth: MimuTruth, conditions: Mapping[str, Any], latitude_deg: f
     return g.mean(axis=0), acc.mean(axis=0)
 
 
+#: the gyros' share of the warm-up ramp (``MimuTruth.warmup_deg_s_per_h``)
+WARMUP_PATTERN = np.array([1.0, -0.6, 0.8])
+#: the table's time between two records (turning to the next position or rate and settling), s
+RECORD_GAP_S = 20.0
+#: the simulated acquisition's clock at the first record (the segments' ``started``)
+CAMPAIGN_START = dt.datetime(2026, 3, 1, 9, 0, tzinfo=dt.timezone(dt.timedelta(hours=8)))
+
+
 def simulate_segment(truth: MimuTruth, conditions: Mapping[str, Any], latitude_deg: float, n: int,
                      interval_s: float, seed: int, *, tilt_rad=None,
-                     rate_deg_s: np.ndarray | None = None) -> dict[str, np.ndarray]:
+                     rate_deg_s: np.ndarray | None = None, t0_s: float = 0.0) -> dict[str, np.ndarray]:
+    """Samples of one record; ``t0_s``: its first sample's time from the warm-up ramp's zero (s)."""
     rng = np.random.default_rng(seed)
     omega, force = segment_kinematics(conditions, latitude_deg, n, interval_s, tilt_rad=tilt_rad,
                                       rate_deg_s=rate_deg_s)
     gyro, accel = model_outputs(truth, omega, force)
+    if truth.warmup_deg_s_per_h:
+        t = t0_s + interval_s * np.arange(n)
+        gyro = gyro + (truth.warmup_deg_s_per_h / 3600.0) * t[:, None] * WARMUP_PATTERN[None, :]
     gyro = gyro + rng.normal(0.0, truth.gyro_noise_deg_s, size=gyro.shape)
     accel = accel + rng.normal(0.0, truth.accel_noise_gn, size=accel.shape)
     qg = 2 * truth.gyro_range_deg_s / 2**truth.bits
@@ -307,19 +327,31 @@ class MimuStation:
         t = self.truth
         segments = []
         realized: dict[str, tuple[np.ndarray, float | None]] = {}
-        for k, step in enumerate(steps):
-            i = step_seed(step)  # the step's identity, not its place in the list, seeds its noise
+        # the records are taken one after the other, RECORD_GAP_S apart; the warm-up ramp is zero at
+        # the middle of the position records (B_g is their mean)
+        sizes, starts, clock = [], [], 0.0
+        for step in steps:
             interval_s = float(step.interval.to("s").magnitude)
             n = max(2, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
+            sizes.append((n, interval_s))
+            starts.append(clock)
+            clock += n * interval_s + RECORD_GAP_S
+        mids = [s0 + 0.5 * (n - 1) * dt_s for s0, (n, dt_s), st in zip(starts, sizes, steps) if st.kind == "position"]
+        zero = float(np.mean(mids)) if mids else 0.0
+        for k, step in enumerate(steps):
+            i = step_seed(step)  # the step's identity, not its place in the list, seeds its noise
+            n, interval_s = sizes[k]
             tilt, rates, mean_rate = self.mounting(i, step, n)
             realized[step.segment] = (tilt, mean_rate)
             cols = simulate_segment(t.powered_on(step.kind, step.conditions), step.conditions, self.latitude_deg, n,
-                                    interval_s, t.seed + 7919 * (i + 1), tilt_rad=tilt, rate_deg_s=rates)
+                                    interval_s, t.seed + 7919 * (i + 1), tilt_rad=tilt, rate_deg_s=rates,
+                                    t0_s=starts[k] - zero)
             digest = hashlib.sha256(b"".join(cols[c].tobytes() for c in sorted(cols))).hexdigest()
             units = {c: ("deg/s" if c.startswith("g") else "gn") for c in cols}
             segments.append(Segment(
                 id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
                 sha256=digest, loader=(lambda c=cols, u=units: {k: (v, u[k]) for k, v in c.items()}),
+                started=CAMPAIGN_START + dt.timedelta(seconds=starts[k]),
             ))
             if progress is not None:
                 progress("simulating MIMU", k + 1, len(steps))
@@ -373,6 +405,10 @@ DEVICE_CLASSES: Mapping[str, Any] = {
     "mems-12bit": {"bits": 12},
     # scale factors (1σ 5×10⁻⁴) and biases (1σ 0.005 °/s) change between power-ons (each calibration)
     "mems-power-on": {"sf_repeat_rel": 5e-4, "bias_repeat_deg_s": 0.005},
+    # still warming up: the gyro biases ramp by 1, −0.6, 0.8 °/s per hour during the campaign (a MEMS
+    # gyro minutes after power-on; JJF 2003 7.2.1.1 b) waits for the supply current only), enough to
+    # move the g terms by 2 U; the records carry `started`
+    "mems-warmup": {"warmup_deg_s_per_h": 1.0},
 }
 
 

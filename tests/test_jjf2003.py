@@ -201,7 +201,8 @@ def test_p_sign_follows_model_by_default(default_run):
 def test_budgets_follow_appendix_a_structure(default_run):
     camp, rec = default_run
     b = rec.outcomes[0].result("K_gxx").budget
-    assert [r.symbol for r in b.rows] == ["u₁", "u₂", "u₃"]
+    # appendix A's three, then the bias drift between the sweep's records (the station writes `started`)
+    assert [r.symbol for r in b.rows] == ["u₁", "u₂", "u₃", "u_d"]
     # k = t_p(ν_eff) at 95.45 % (interpretations.md "Coverage factor (JJF 2003)"): ≈ 2 here (u₁, u₂ dominate)
     from scipy import stats
 
@@ -468,8 +469,8 @@ def test_budget_rows_come_from_the_campaign_equipment(default_run):
     assert rows["u₁"].standard_uncertainty.to("rad").magnitude == pytest.approx(
         math.radians(20 / 3600) / math.sqrt(3))
     bare = run_items(pm, "jjf2003", ["7.2.1", "7.2.4"], campaign=attrs.evolve(camp, equipment=[]))
-    # without equipment: u₃, and for K_a the site's gravity and the fixture at 6.2's 10″ (not equipment rows)
-    for o, key, kept in ((bare.outcomes[0], "K_gxx", ["u₃"]), (bare.outcomes[1], "K_axy", ["u₃", "u_g", "u_f"])):
+    # without equipment: u₃, and for K_a the site's gravity and the fixture at 6.2's 10″ (not equipment rows); u_d, the gyro bias drift between the sweep's records, from the data and their times
+    for o, key, kept in ((bare.outcomes[0], "K_gxx", ["u₃", "u_d"]), (bare.outcomes[1], "K_axy", ["u₃", "u_g", "u_f"])):
         rows = o.result(key).budget.rows
         assert [r.symbol for r in rows if r.symbol != "—"] == kept
         # the absent equipment is a zero note row, not a silent gap (core.campaign.note_absent_equipment)

@@ -43,6 +43,7 @@ from metro.core.model import (
 )
 from metro.core.units import Q_
 
+from . import drift as D
 from . import formulas as F
 from . import mounting
 
@@ -481,6 +482,8 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
 
 def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Result]:
     results = []
+    drift = D.campaign_drift(campaign)
+    warnings.extend(D.drift_warning(drift))
     for (i, j) in pairs:
         d = fits[AXES[j]]
         fit = d["fits"][i]
@@ -491,10 +494,19 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         rows.append(_repeatability_row(campaign, fits, repeats, i, j, warnings))
         if i != j:  # the swept axis off the MIMU's axis j puts K_ii·δ into K_g[i, j] (interpretations)
             rows += mounting.swept_axis_rows(campaign, float(fits[AXES[i]]["fits"][i].coef[0]))
+        # a gyro bias drifting while the sweep is recorded adds d·τ to the slope (drift.py)
+        if drift.mid_times is not None:
+            tau = D.sweep_factor(d["X"], [drift.mid_times[sid] for sid in d["segments"]])
+            rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j])))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
+        reason = None
+        if drift.mid_times is None:
+            tau = D.plan_sweep_factor(d["X"], [drift.durations[sid] for sid in d["segments"]])
+            reason = D.not_reportable_reason(drift, i, tau, float(budget.expanded.to("").magnitude), "")
         results.append(Result(metric, Q_(K, ""), budget.combined, budget,
-                              note=msg("fitted bias b = {b:.5g} °/s", b=float(fit.coef[1])), earth_rate="not applicable"))
+                              note=msg("fitted bias b = {b:.5g} °/s", b=float(fit.coef[1])), earth_rate="not applicable",
+                              reportable=reason is None, reason=reason or ""))
     return results
 
 
@@ -699,6 +711,14 @@ class GyroBiasGSensitivity(Procedure):
                                 "φ = {lat:g}°) that eq. (7) puts into the g matrix was removed, using {src}",
                                 rate=EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600, lat=lat, src=src))
         results = []
+        drift = D.campaign_drift(campaign)
+        warnings.extend(D.drift_warning(drift))
+        ratio = mounting.local_gravity(campaign)[0]
+        if drift.mid_times is not None:  # the ±j differences of eq. (7) turn a drift into g terms (drift.py)
+            tau = D.six_position_factors([0.5 * (drift.mid_times[segs[(up, 0.0)].id] + drift.mid_times[segs[(up, 180.0)].id])
+                                          for up in F.SIX_POSITIONS], ratio)
+        else:
+            tau = D.plan_six_factors({k: drift.durations[sg.id] for k, sg in segs.items()}, ratio)
         for i, r in enumerate(AXES):
             rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT, "gyro_range", False)
             m = self.metrics[i]
@@ -708,8 +728,12 @@ class GyroBiasGSensitivity(Procedure):
         for i, r in enumerate(AXES):
             for j, c in enumerate(AXES):
                 rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
+                if drift.mid_times is not None:
+                    rows.append(D.drift_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c)))
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
+                reason = None if drift.mid_times is not None else D.not_reportable_reason(
+                    drift, i, float(tau[j]), float(b.expanded.to(G_UNIT).magnitude), "(°/s)/gn")
                 # the vertical earth rate is along +j with axis j up and flips with it: eq. (7) puts
                 # K_g[:, j]·Ω_e·sin φ into the whole column j — the diagonal mostly, the cross terms by
                 # the cross-coupling (interpretations, "Earth rate disclosed (JJF 2003)")
@@ -728,7 +752,8 @@ class GyroBiasGSensitivity(Procedure):
                     note, er = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
                                    "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}; option earth_rate = yes "
                                    "removes it", r=r, c=c, v=v, lat=lat), "included"
-                results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note, earth_rate=er))
+                results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note, earth_rate=er,
+                                      reportable=reason is None, reason=reason or ""))
         table = TableSpec("six_positions", msg("Pair-averaged gyro outputs U_g (°/s), eq. (6)"),
                           ["", *F.SIX_POSITIONS], [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
                                                    for i in range(3)])

@@ -1,0 +1,235 @@
+"""JJF 2003: a gyro bias that drifts during the campaign (plugins/jjf2003/drift.py, segments' `started`).
+
+Found by the independent harness (docs/independent-campaigns.md, "JJF 2003: MIMU matrices", item 7):
+a warm-up ramp of 0.1–0.3 °/s per hour is confounded with a sweep recorded in rate order (K_g's
+diagonal 0 of 90 within U) and with the ±j differences of eq. (7) (g terms 1–2 %), and metro printed
+confident numbers.  Each test writes a MIMU whose drift and recording times are known, so the error
+the drift makes is known by hand.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import json
+import math
+
+import numpy as np
+import pytest
+
+GN = 9.80665
+RATES = (-400, -200, -100, -50, 0, 50, 100, 200, 400)
+KG = np.array([[1.02, 0.003, -0.002], [0.001, -0.98, 0.004], [-0.003, 0.002, 1.05]])
+KA = np.array([[1.01, 0.002, -0.001], [-0.002, 0.99, 0.003], [0.001, -0.002, -1.03]])
+BG, BA = np.array([0.1, -0.2, 0.05]), np.array([0.01, -0.02, 0.005])
+UP = {"+x": (0, 1), "-x": (0, -1), "+y": (1, 1), "-y": (1, -1), "+z": (2, 1), "-z": (2, -1)}
+N, STEP = 40, 50.0          # 40 samples at 1 s per record, a record begins every 50 s
+#: a warm-up drift of 0.36, −0.25 and 0.18 °/s per hour (°/s per s)
+DRIFT = np.array([0.36, -0.25, 0.18]) / 3600.0
+T0 = dt.datetime(2026, 11, 24, 10, 15, tzinfo=dt.timezone(dt.timedelta(hours=8)))
+#: eq. (5) turns a drift d into d·β: β = least-squares slope of the records' times on their rates;
+#: by hand with records 50 s apart in rate order: 50·Σ(k − 4)·r_k / Σ r_k² = 50·4900/425000 s per °/s
+BETA = 50 * 4900 / 425000
+#: eq. (7): g[:, x] = (U(+x) − U(−x))/2 of the pair means; the −x pair is recorded 100 s after +x
+TAU_G = -50.0
+
+
+def _write(root, *, drift=DRIFT, started=True, noise=1e-4, seed=7, times=None):
+    """A MIMU (eq. (1), (2), G = 0, no earth rate, local g = g_n) recorded in the plan's order (the
+    twelve positions, then each sweep from −400 to +400 °/s), each record 40 s, one every 50 s; the
+    gyro outputs drift by ``drift``·t and carry white noise ``noise`` (°/s per sample)."""
+    root.mkdir()
+    rng = np.random.default_rng(seed)
+    lines = ['format = "metro-campaign/1"', "[device]", 'id = "M"', 'output = "rate"', 'gyro_range = "400 °/s"',
+             'accel_range = "8 gn"', "[environment]", 'temperature = "20 °C"', 'humidity = "40 %"', "[site]",
+             'latitude = "0.0°"', 'gravity = "9.80665 m/s²"', "[[equipment]]", 'id = "T"', 'role = "rate_table"',
+             'position_accuracy = "10″"', "[equipment.calibration]", 'certificate = "C"', 'U = "2e-5"', "k = 2",
+             "[[equipment]]", 'id = "D"', 'role = "acquisition"', "bits = 24", ""]
+    k = [0]
+
+    def seg(sid, kind, w, a, cond):
+        t = k[0] * STEP + np.arange(N)
+        g = w[None, :] + drift[None, :] * t[:, None] + noise * rng.standard_normal((N, 3))
+        data = np.column_stack([g, np.tile(a, (N, 1))])
+        head = "gx [°/s],gy [°/s],gz [°/s],ax [gn],ay [gn],az [gn]"
+        (root / f"{sid}.csv").write_text(head + "\n" + "\n".join(",".join(repr(float(x)) for x in r) for r in data)
+                                         + "\n", encoding="utf-8")
+        lines.extend(["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{sid}.csv"',
+                      'sample_interval = "1 s"'])
+        if started:
+            when = (times or {}).get(sid, (T0 + dt.timedelta(seconds=k[0] * STEP)).isoformat())
+            if when is not None:
+                lines.append(f"started = {when}")
+        lines.extend(["[segments.conditions]", *(f"{c} = {json.dumps(v, ensure_ascii=False)}" for c, v in cond.items()),
+                      ""])
+        k[0] += 1
+
+    for up, (j, s) in UP.items():
+        force = np.zeros(3)
+        force[j] = s
+        for h in (0, 180):
+            seg(f"pos{up}-h{h}", "position", BG.copy(), KA @ force + BA, {"up": up, "heading": f"{h}°"})
+    for j, a in enumerate("xyz"):
+        axis = np.zeros(3)
+        axis[j] = 1.0
+        for r in RATES:
+            seg(f"rate-{a}-{r}", "rate", KG @ (r * axis) + BG, KA @ axis + BA, {"axis": a, "rate": f"{r} °/s"})
+    (root / "manifest.toml").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return root / "manifest.toml"
+
+
+def _run(run_cli, manifest, items="7.2.1,7.2.2,7.2.3,7.2.4"):
+    code, out, err = run_cli("run", "-s", "jjf2003", "-i", items, "--data", str(manifest), "--json", "--no-report")
+    assert code in (0, 3, 4), err
+    doc = json.loads(out)
+    return {(r["item"], r["key"]): r for r in doc["results"]}, doc
+
+
+def test_pooled_within_record_trend_finds_the_drift(tmp_path):
+    """Each record's own trend, pooled: the drift of every gyro to its standard error (white noise
+    1×10⁻⁴ °/s over 40 s: 1.4×10⁻⁶ °/s per s a record), from positions, rests and the gyros across
+    a turning table (27 + 6·2 records per gyro; 7 of each sweep's 9 turn at least once in 40 s)."""
+    from metro.core.campaign import load_manifest
+    from metro.core.plugins import get_plugin_manager
+    from metro.plugins.jjf2003 import drift as D
+
+    camp = load_manifest(_write(tmp_path / "d"), get_plugin_manager().reader_for)
+    d = D.campaign_drift(camp)
+    for i in range(3):
+        assert d.d[i] == pytest.approx(DRIFT[i], abs=4 * d.u[i])
+        assert d.u[i] < 1e-6 and d.significant(i)
+        assert d.records[i] == 12 + 3 + 2 * 8  # positions, rests, the two sweeps across it (±50 °/s: 2000°)
+    assert d.mid_times["pos+x-h0"] == pytest.approx(19.5) and d.mid_times["rate-z-400"] == pytest.approx(38 * STEP + 19.5)
+
+    # a steady MIMU (seed 1: z = 1.3, 0.5, 0.5; over seeds 1–40 of this writer the z of the 120 gyros
+    # have rms 1.00 and one exceeds Z_CRIT = 2.5, as a normal z does 1.2 % of the time)
+    steady = load_manifest(_write(tmp_path / "s", drift=np.zeros(3), started=False, seed=1), get_plugin_manager().reader_for)
+    s = D.campaign_drift(steady)
+    assert s.mid_times is None and not any(s.significant(i) for i in range(3))
+
+
+def test_drift_row_covers_the_sweep_and_the_six_positions(run_cli, tmp_path):
+    """With `started`, K_g[i, j] is off by d_i·β (β by hand, 0.5765 s per °/s) and g[i, x] by
+    d_i·(−50 s): 1.8×10⁻⁵ … 5.8×10⁻⁵ of K against a table of 2×10⁻⁵ — outside U without the row u_d."""
+    res, doc = _run(run_cli, _write(tmp_path / "t"))
+    for i, r in enumerate("xyz"):
+        for j, c in enumerate("xyz"):
+            k = res[("7.2.3", f"K_g{r}{c}")]
+            assert k["value"] - KG[i, j] == pytest.approx(DRIFT[i] * BETA, rel=0.02, abs=2e-7)
+            row = next(x for x in k["budget"]["rows"] if x["symbol"] == "u_d")
+            assert abs(row["contribution"]) == pytest.approx(abs(DRIFT[i]) * BETA, rel=0.02)
+            assert abs(k["value"] - KG[i, j]) < k["U"] and k["reportable"]
+        g = res[("7.2.2", f"g_{r}x")]
+        assert g["value"] == pytest.approx(DRIFT[i] * TAU_G, rel=0.02)
+        row = next(x for x in g["budget"]["rows"] if x["symbol"] == "u_d")
+        assert abs(row["contribution"]) == pytest.approx(abs(DRIFT[i] * TAU_G), rel=0.02)
+        assert abs(g["value"]) < g["U"] and g["reportable"]
+        # the biases and the accelerometers do not difference records: no drift row
+        for key in (("7.2.2", f"B_g{r}"), ("7.2.4", f"K_a{r}{r}")):
+            assert not any(x["symbol"] == "u_d" for x in res[key]["budget"]["rows"]) and res[key]["reportable"]
+    warnings = [w for it in doc["items"] for w in it["warnings"]]
+    assert any("gyro x's bias drifts by 0.36" in w and "budget row" in w for w in warnings)
+
+
+def test_without_recording_times_a_significant_drift_is_not_reportable(run_cli, tmp_path):
+    res, _ = _run(run_cli, _write(tmp_path / "n", started=False))
+    for i, r in enumerate("xyz"):
+        for key in [("7.2.1", f"K_g{r}{r}"), ("7.2.3", f"K_g{r}{r}"), ("7.2.2", f"g_{r}z")]:
+            assert res[key]["reportable"] is False, key
+            assert "`started`" in res[key]["reason"] and "warm up" in res[key]["reason"]
+        # a cross term whose U (alignment rows) is large against what the drift does in the plan's
+        # order, 40-s records back to back (β = 40·4900/425000), stays reportable
+        for c in "xyz":
+            k = res[("7.2.3", f"K_g{r}{c}")]
+            assert k["reportable"] is bool(abs(DRIFT[i]) * 40 * 4900 / 425000 < 0.5 * k["U"]), (r, c)
+        for key in (("7.2.2", f"B_g{r}"), ("7.2.4", f"K_a{r}{r}"), ("7.2.4", f"B_a{r}")):
+            assert res[key]["reportable"] is True, key
+    # a steady MIMU with the same noise, no times: every result reportable, no drift row
+    res, _ = _run(run_cli, _write(tmp_path / "s", drift=np.zeros(3), started=False, seed=1))
+    assert all(r["reportable"] for r in res.values())
+    assert not any(x["symbol"] == "u_d" for r in res.values() for x in r["budget"]["rows"])
+
+
+def test_times_on_some_records_only_are_not_used(run_cli, tmp_path):
+    res, doc = _run(run_cli, _write(tmp_path / "p", times={"rate-y-0": None}), "7.2.1")
+    warnings = [w for it in doc["items"] for w in it["warnings"]]
+    assert any("`started` is given on 38 of the 39 records only" in w for w in warnings)
+    assert all(not r["reportable"] and not any(x["symbol"] == "u_d" for x in r["budget"]["rows"])
+               for r in res.values())
+
+
+@pytest.mark.parametrize("value, message", [
+    ('"24.11.2026 10:15"', "not a date and time"),
+    ("2026-11-24T10:15:00", "no UTC offset"),
+    ('"2026-11-24T10:15:00"', "no UTC offset"),
+    ("2026-11-24", "without the time of day"),
+    ("42", "not a date and time"),
+])
+def test_bad_started_is_refused(run_cli, tmp_path, value, message):
+    manifest = _write(tmp_path / "b", times={"pos+y-h0": value})
+    out = tmp_path / "cert.docx"
+    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.1", "--data", str(manifest), "--report", str(out),
+                                "--no-progress")
+    assert code == 2 and "Traceback" not in err
+    assert "segments[4].started" in err and message in err and "manifest.toml" in err
+    assert not out.exists()
+
+
+def test_overlapping_records_are_refused(run_cli, tmp_path):
+    """Record 3 (pos-x-h0) said to begin 30 s after record 2, which lasts 40 s."""
+    manifest = _write(tmp_path / "o", times={"pos-x-h0": (T0 + dt.timedelta(seconds=STEP + 30)).isoformat()})
+    code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data", str(manifest), "--json", "--no-report")
+    assert code == 2 and "Traceback" not in err
+    doc = json.loads(out)
+    assert doc["field"] == "segments.pos-x-h0.started" and "cannot overlap" in doc["message"]
+
+
+def test_started_is_written_back_by_the_campaign_writer(tmp_path):
+    from metro.core.campaign import load_manifest
+    from metro.core.plugins import get_plugin_manager
+    from metro.instruments.campaign_writer import manifest_text
+
+    camp = load_manifest(_write(tmp_path / "w"), get_plugin_manager().reader_for)
+    text = manifest_text(camp, {s.id: (f"{s.id}.csv", {}) for s in camp.segments})
+    assert "started = 2026-11-24T10:15:50+08:00" in text
+    assert camp.segments[1].started == T0 + dt.timedelta(seconds=STEP)
+    assert not math.isnan(camp.segments[1].started.timestamp())
+
+
+def test_simulated_station_warm_up_is_budgeted_from_its_recording_times(tmp_path, run_cli):
+    """plan → acquire → run on the simulated MIMU still warming up (class mems-warmup: 1, −0.6,
+    0.8 °/s per hour): the station writes `started`, the drift row covers K_g and g (the g terms
+    moved by 2 U); the same records without their times make the g terms not reportable, while
+    K_g, whose U holds the table's 2×10⁻⁴, stays reportable (the drift moves it by 0.6×10⁻⁴)."""
+    import attrs
+
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.present import truth_checks
+    from metro.core.runner import merge_steps, run_items
+    from metro.instruments.mimu import station_factory
+
+    code, _, err = run_cli("acquire", "-s", "jjf2003", "-i", "7.2.1,7.2.2", "--out", str(tmp_path / "c"), "--seed", "3",
+                           "--station-option", "device_class=mems-warmup", "--no-progress")
+    assert code == 0, err
+    text = (tmp_path / "c" / "manifest.toml").read_text(encoding="utf-8")
+    assert text.count("started = 2026-03-01T09:00:00+08:00") == 1 and text.count("started = ") == 27 + 12
+    pm = get_plugin_manager(autoload=False)
+    procs = [pm.procedure("jjf2003", i) for i in ("7.2.1", "7.2.2")]
+    steps = merge_steps([c().sequence(c.option_values({})) for c in procs])
+    camp = station_factory(seed=3, device_class="mems-warmup").acquire(steps)
+    rec = run_items(pm, "jjf2003", ["7.2.1", "7.2.2"], campaign=camp)
+    checks = {c["key"]: c for c in truth_checks(rec)}
+    for r in "xyz":
+        assert checks[f"K_g{r}{r}"]["within_U"] and checks[f"g_{r}{r}"]["within_U"], r
+    kxx = rec.outcomes[0].result("K_gxx")
+    u_d = next(x for x in kxx.budget.rows if x.symbol == "u_d")
+    # by hand: 1 °/s/h over a ±400 °/s sweep in rate order, 30 s records every 50 s: β = 50·4900/425000
+    assert u_d.contribution.magnitude == pytest.approx(1.0 / 3600 * 50 * 4900 / 425000, rel=0.15)
+    g = rec.outcomes[1].result("g_xx")
+    c_d = next(x for x in g.budget.rows if x.symbol == "u_d").contribution.magnitude
+    U_without = g.budget.k * math.sqrt(g.budget.combined.magnitude ** 2 - c_d ** 2)
+    assert abs(g.value.magnitude - checks["g_xx"]["truth"]) > U_without  # the row is what covers it
+    bare = attrs.evolve(camp, segments=[attrs.evolve(s, started=None) for s in camp.segments])
+    rec2 = run_items(pm, "jjf2003", ["7.2.1", "7.2.2"], campaign=bare)
+    out = {r.metric.key: r for o in rec2.outcomes for r in o.results}
+    assert out["K_gxx"].reportable and not any(x.symbol == "u_d" for x in out["K_gxx"].budget.rows)
+    assert not out["g_xx"].reportable and "`started`" in out["g_xx"].reason and out["B_gx"].reportable
