@@ -43,6 +43,7 @@ from metro.core.model import Campaign, Segment
 from metro.core.units import Q_
 
 from . import formulas as F
+from .data import _axis_of, _columns, _rate_of
 
 AXES = ("x", "y", "z")
 GYRO = ("gx", "gy", "gz")
@@ -162,8 +163,6 @@ def campaign_drift(campaign: Campaign) -> GyroDrift:
         return _CACHE[campaign]
     except (KeyError, TypeError):
         pass
-    from .procedures import _axis_of, _columns, _rate_of
-
     segs = _segments(campaign)
     lsb = _lsb(campaign)
     per: list[tuple[list[float], list[float]]] = [([], []) for _ in AXES]
