@@ -53,6 +53,7 @@ __all__ = [
     "Verdict",
     "Assessment",
     "decide",
+    "not_reportable",
     "assess",
     "parse_limit",
     "specifications_from_table",
@@ -375,11 +376,29 @@ class Assessment:
         return out
 
 
+def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAULT_RULE, *, item: str = "") -> Verdict:
+    """The verdict on a result its procedure declared **not reportable**: no statement of conformity.
+
+    A value the procedure cannot stand behind (its reason says why: a rounding coarser than the noise, a
+    model the data contradict) is not compared with the limit under either rule: a pass or a fail read
+    from it would be a conformity statement on a number the report does not issue (ILAC-G8:09/2019 §4:
+    a statement needs the measured value *and* its uncertainty).  It is ``indeterminate``, detail
+    ``not reportable``, with the procedure's reason, and so counts as neither a pass nor a fail.
+    """
+    key = result.metric.key
+    what = f"|{key}|" if spec.magnitude else key
+    reason = msg("{what} is not reportable ({reason}), so no statement of conformity with {limit} is made",
+                 what=what, reason=getattr(result, "reason", "") or "", limit=spec.text())
+    return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),
+                   Status.INDETERMINATE, "not reportable", reason)
+
+
 def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: DecisionRule = DEFAULT_RULE) -> Assessment:
     """Judge every result of ``outcomes`` that a specification applies to.
 
     Where several apply to one result the most specific wins (the longest symbol: a limit on
-    ``B0_low`` judges ``B0_low``, not the limit on ``B0``).  Verdicts come in the order of ``specs``.
+    ``B0_low`` judges ``B0_low``, not the limit on ``B0``).  Verdicts come in the order of ``specs``.  A result declared
+    not reportable gets :func:`not_reportable`'s verdict (indeterminate, no statement), never a pass or fail.
     """
     outcomes = list(outcomes)
     judged: dict[int, list[tuple[Any, Any]]] = {}
@@ -393,6 +412,7 @@ def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: Decisi
                 if len(specs[i].symbol) == longest:
                     judged.setdefault(i, []).append((o, r))
     verdicts = [decide(specs[i], r.value, r.U, rule, key=r.metric.key, item=o.item, k=r.k)
+                if getattr(r, "reportable", True) else not_reportable(specs[i], r, rule, item=o.item)
                 for i in sorted(judged) for o, r in judged[i]]
     return Assessment(rule, verdicts, [sp for i, sp in enumerate(specs) if i not in judged])
 

@@ -102,7 +102,8 @@ def truth_checks(record: RunRecord) -> list[dict[str, Any]]:
             t = float(exp[r.metric.key].to(unit).magnitude)
             U = float(r.U.magnitude)
             out.append({"item": o.item, "key": r.metric.key, "truth": t, "value": v, "U": U,
-                        "within_U": abs(v - t) <= U, "unit": fmt_unit(unit)})
+                        "within_U": abs(v - t) <= U, "reportable": bool(getattr(r, "reportable", True)),
+                        "unit": fmt_unit(unit)})
     return out
 
 
@@ -237,14 +238,18 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
         con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated station "
                   "(its manifest says simulated = true); the report carries the SIMULATED banner")
     elif record.simulated:
-        inside = sum(1 for ch in checks if ch["within_U"])
+        judged = [ch for ch in checks if ch["reportable"]]
+        inside = sum(1 for ch in judged if ch["within_U"])
+        withheld = len(checks) - len(judged)
         con.print("[bold yellow]SIMULATED station[/]: " + (f"declared truth recovered within U by {inside} of "
-                  f"{len(checks)} results" if checks else "the station declared its truth")
+                  f"{len(judged)} reportable results" if checks else "the station declared its truth")
+                  + (f" ({withheld} not reportable)" if withheld else "")
                   + ("" if verbose else " (--verbose shows them)"))
         if verbose:
             con.print("  declared truth " + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
             for ch in checks:
-                mark = "[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]"
+                mark = ("[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]") + (
+                    "" if ch["reportable"] else " [yellow](not reportable)[/]")
                 con.print(f"  {ch['item']} {ch['key']}: result {fmt_num(ch['value'], 5)} vs truth "
                           f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → {mark}")
     a = record.conformity

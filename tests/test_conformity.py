@@ -108,6 +108,42 @@ def test_assess_matches_keyed_variants_and_lists_unmet_limits():
     assert {s.symbol: s.source for s in merged} == {"Bh": "product spec", "RWC": ""}
 
 
+def test_a_result_declared_not_reportable_gets_no_statement_of_conformity():
+    """A value its procedure will not stand behind is neither a pass nor a fail under either rule.
+
+    Seen on `metro run -s gbt45570 -i D.5.1,D.5.6 --station simulated-digital --seed 1`: RWC 0.0051 °/√h,
+    not reportable (rounding coarser than the noise), was judged "fail vs ≤ 0.0015 °/√h" and made the
+    run "does not conform"; the station's truth is 0.0015.
+    """
+    import attrs
+
+    from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
+    from metro.core.model import Metric, Outcome, Result
+
+    def res(key, unit, value, U):  # a budget of one normal row, k = 2: U as given
+        row = BudgetRow.type_b("hand-worked", key, Q_(U, unit), distribution="normal", k=2)
+        budget = UncertaintyBudget(key, unit, [row], coverage=Coverage.fixed(2))
+        return Result(Metric(key, key, key, unit, "X"), Q_(value, unit), budget=budget)
+
+    ok = res("B0", "deg/h", 0.2, 0.4)
+    bad = attrs.evolve(res("RWC", "deg/hour**0.5", 0.0051, 0.0001),
+                       reportable=False, reason="the output is rounded coarser than its noise")
+    out = Outcome("s", "D.5.6", "t", "c", [ok, bad])
+    specs = [parse_limit("B0", "|x| <= 1 deg/h"), parse_limit("RWC", "<= 0.0015 deg/hour**0.5")]
+    for rule in (GUARDED, SIMPLE):
+        a = cf.assess([out], specs, rule)
+        v = {x.key: x for x in a.verdicts}
+        assert v["B0"].status is Status.PASS
+        assert v["RWC"].status is Status.INDETERMINATE and v["RWC"].detail == "not reportable"
+        assert "not reportable (the output is rounded coarser than its noise)" in v["RWC"].reason
+        assert "no statement of conformity" in v["RWC"].reason
+        assert a.overall is Status.INDETERMINATE and a.counts() == {"pass": 1, "fail": 0, "indeterminate": 1}
+        assert v["RWC"].as_dict()["status"] == "indeterminate"
+    # the same value, reportable, fails: the verdict above is the declaration's doing
+    a = cf.assess([Outcome("s", "D.5.6", "t", "c", [attrs.evolve(bad, reportable=True, reason="")])], specs, GUARDED)
+    assert a.verdicts[0].status is Status.FAIL
+
+
 def test_rule_names():
     assert cf.rule_named(None) is cf.DEFAULT_RULE is GUARDED
     assert cf.rule_named("Simple") is SIMPLE
