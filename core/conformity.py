@@ -377,16 +377,45 @@ class Assessment:
 
 
 def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAULT_RULE, *, item: str = "") -> Verdict:
-    """The verdict on a result its procedure declared **not reportable**: no statement of conformity.
+    """The verdict on a result its procedure declared **not reportable**.
 
     A value the procedure cannot stand behind (its reason says why: a rounding coarser than the noise, a
     model the data contradict) is not compared with the limit under either rule: a pass or a fail read
     from it would be a conformity statement on a number the report does not issue (ILAC-G8:09/2019 §4:
     a statement needs the measured value *and* its uncertainty).  It is ``indeterminate``, detail
     ``not reportable``, with the procedure's reason, and so counts as neither a pass nor a fail.
+
+    The one exception is a result that *bounds* the quantity (``result.bound``: a megohmmeter over its
+    range shows R > 10 GΩ): the true value lies in [value − U, ∞) for a lower bound, (−∞, value + U] for
+    an upper one ([0, …] for a magnitude).  When that whole half-line lies within the limit it conforms,
+    when it lies wholly outside it does not; otherwise no statement is made, as above.
     """
     key = result.metric.key
     what = f"|{key}|" if spec.magnitude else key
+    bound = getattr(result, "bound", "")
+    if bound:
+        v = _in_unit(result.value, spec.limit, "value", spec.symbol)
+        Uv = 0.0 if result.U is None else _difference_in_unit(result.U, spec.limit, "expanded uncertainty U",
+                                                               spec.symbol)
+        lo, hi = spec.bounds
+        if spec.magnitude:
+            v = abs(v)
+        x_lo, x_hi = (v - Uv, math.inf) if bound == "lower" else (-math.inf, v + Uv)
+        if spec.magnitude:
+            x_lo = max(0.0, x_lo)
+        ut = fmt_unit(spec.limit.units)
+        sign = ">" if bound == "lower" else "<"
+        edge = x_lo if bound == "lower" else x_hi
+        if lo <= x_lo and x_hi <= hi:
+            return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),
+                           Status.PASS, "pass", msg("{what} {sign} {x} (a bound: {reason}) lies wholly within {limit}",
+                                                    what=what, sign=sign, x=_fmt(edge, ut), reason=result.reason,
+                                                    limit=spec.text()))
+        if x_hi < lo or x_lo > hi:
+            return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),
+                           Status.FAIL, "fail", msg("{what} {sign} {x} (a bound: {reason}) lies wholly outside {limit}",
+                                                    what=what, sign=sign, x=_fmt(edge, ut), reason=result.reason,
+                                                    limit=spec.text()))
     reason = msg("{what} is not reportable ({reason}), so no statement of conformity with {limit} is made",
                  what=what, reason=getattr(result, "reason", "") or "", limit=spec.text())
     return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),

@@ -437,6 +437,9 @@ class Result:
     #: whether the earth's rate is contained in the value: "included", "removed", "not applicable"
     #: or "" (not stated by the procedure)
     earth_rate: str = ""
+    #: for a result that is not reportable as a value but bounds the quantity (a reading beyond the
+    #: instrument's range): "lower" — the true value is above ``value``; "upper" — below it; "" — no bound
+    bound: str = attrs.field(default="", validator=attrs.validators.in_(("", "lower", "upper")))
 
     def __attrs_post_init__(self) -> None:
         check_dimension(self.value, self.metric.unit, field=self.metric.key)
@@ -492,6 +495,7 @@ class Result:
             "reportable": self.reportable,
             "reason": self.reason or None,
             "earth_rate": self.earth_rate or None,
+            "bound": self.bound or None,
         }
 
 

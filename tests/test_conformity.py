@@ -144,6 +144,37 @@ def test_a_result_declared_not_reportable_gets_no_statement_of_conformity():
     assert a.verdicts[0].status is Status.FAIL
 
 
+def test_a_bound_beyond_an_instruments_range_is_judged_as_a_half_line():
+    """R > 10 000 MΩ (a megohmmeter over its range) conforms to R ≥ 50 MΩ; hand-worked half-lines."""
+    import attrs
+
+    from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
+    from metro.core.model import Metric, Outcome, Result
+
+    def bounded(value, bound, U=0.0):
+        row = BudgetRow.type_b("reading beyond the range", "R", Q_(U, "Mohm"), distribution="normal", k=2)
+        b = UncertaintyBudget("R", "Mohm", [row], coverage=Coverage.fixed(2))
+        r = Result(Metric("R_ins", "R", "insulation resistance", "Mohm", "5.2.8"), Q_(value, "Mohm"), budget=b)
+        return attrs.evolve(r, reportable=False, reason="beyond the meter's range", bound=bound)
+
+    def judged(result, limit):
+        return cf.assess([Outcome("s", "6.2.5", "t", "c", [result])], [parse_limit("R_ins", limit)], GUARDED).verdicts[0]
+
+    v = judged(bounded(10000, "lower"), ">= 50 Mohm")
+    assert v.status is Status.PASS and "R_ins > 1×10⁴ MΩ" in v.reason and "a bound" in v.reason
+    assert judged(bounded(10000, "lower"), "<= 5000 Mohm").status is Status.FAIL   # R > 10 000 is over 5 000
+    assert judged(bounded(20, "upper"), ">= 50 Mohm").status is Status.FAIL        # R < 20 is under 50
+    assert judged(bounded(20, "upper"), "<= 50 Mohm").status is Status.PASS
+    # a bound that does not decide: no statement
+    v = judged(bounded(30, "lower"), ">= 50 Mohm")
+    assert v.status is Status.INDETERMINATE and v.detail == "not reportable"
+    # its U widens the half-line: R > 52 ± 4 does not show R ≥ 50
+    assert judged(bounded(52, "lower", U=4), ">= 50 Mohm").status is Status.INDETERMINATE
+    assert judged(bounded(52, "lower", U=1), ">= 50 Mohm").status is Status.PASS
+    with pytest.raises(ValueError):
+        attrs.evolve(bounded(1, "lower"), bound="above")
+
+
 def test_rule_names():
     assert cf.rule_named(None) is cf.DEFAULT_RULE is GUARDED
     assert cf.rule_named("Simple") is SIMPLE

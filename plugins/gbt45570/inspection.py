@@ -574,7 +574,7 @@ class Insulation625(_Inspection):
                                     hint="measure again on a higher range")
                 b = _exact("R", "Mohm", "a reading beyond the range: only the inequality is known")
                 results.append(R.na_result(m, Q_(bound, "Mohm"), b.combined, b, reportable=False,
-                                      reason=_beyond(c.text, below, bound),
+                                      bound="upper" if below else "lower", reason=_beyond(c.text, below, bound),
                                       note=join("; ", [_beyond(c.text, below, bound),
                                                        msg("test voltage {V}", V=f"{V:~P}")])))
                 cell = c.text
