@@ -416,8 +416,9 @@ def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAUL
                            Status.FAIL, "fail", msg("{what} {sign} {x} (a bound: {reason}) lies wholly outside {limit}",
                                                     what=what, sign=sign, x=_fmt(edge, ut), reason=result.reason,
                                                     limit=spec.text()))
-    reason = msg("{what} is not reportable ({reason}), so no statement of conformity with {limit} is made",
-                 what=what, reason=getattr(result, "reason", "") or "", limit=spec.text())
+    # the why is the result's own reason, printed with it (results table, --json, the terminal's note)
+    reason = msg("{what} is not reportable (the result gives the reason), so no statement of conformity with "
+                 "{limit} is made", what=what, limit=spec.text())
     return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),
                    Status.INDETERMINATE, "not reportable", reason)
 

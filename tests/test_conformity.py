@@ -135,7 +135,7 @@ def test_a_result_declared_not_reportable_gets_no_statement_of_conformity():
         v = {x.key: x for x in a.verdicts}
         assert v["B0"].status is Status.PASS
         assert v["RWC"].status is Status.INDETERMINATE and v["RWC"].detail == "not reportable"
-        assert "not reportable (the output is rounded coarser than its noise)" in v["RWC"].reason
+        assert "RWC is not reportable (the result gives the reason)" in v["RWC"].reason
         assert "no statement of conformity" in v["RWC"].reason
         assert a.overall is Status.INDETERMINATE and a.counts() == {"pass": 1, "fail": 0, "indeterminate": 1}
         assert v["RWC"].as_dict()["status"] == "indeterminate"

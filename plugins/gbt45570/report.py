@@ -44,6 +44,13 @@ ENVIRONMENT = (
 )
 #: verdicts as the catalog's message ids (translated by the layout)
 STATUS_TEXT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}
+#: the verdict on a result that is not reportable: no statement is made (core.conformity.not_reportable)
+NO_STATEMENT = "no statement (not reportable)"
+
+
+def verdict_text(v) -> str:
+    """A verdict's words: ``STATUS_TEXT``, or ``NO_STATEMENT`` for a result that is not reportable."""
+    return NO_STATEMENT if v.detail == "not reportable" else STATUS_TEXT[v.status.value]
 
 
 def _fmt_q(q: Any) -> str:
@@ -90,7 +97,9 @@ def verdict_rows(assessment) -> list[dict[str, str]]:
         ut = fmt_unit(v.spec.limit.units)
         ut = "" if ut == "1" else f" {ut}"
         value, U = v.in_limit_unit()
-        if U is not None and U > 0:  # rounded as the results are (JJF 1059.1: U to 2 digits)
+        if v.detail == "not reportable":  # the value is not issued: the results table says why
+            vtext, Utext = "not reportable", DASH
+        elif U is not None and U > 0:  # rounded as the results are (JJF 1059.1: U to 2 digits)
             rv, rU = report_pair(value, U)
             vtext, Utext = rv.text + ut, rU.text + ut
         else:
@@ -100,7 +109,7 @@ def verdict_rows(assessment) -> list[dict[str, str]]:
             "value": vtext,
             "U": Utext,
             "k": DASH if v.k is None else f"{v.k:.2f}",
-            "status": v.status.value, "status_text": STATUS_TEXT[v.status.value],
+            "status": v.status.value, "status_text": verdict_text(v),
             "detail": v.detail, "reason": v.reason,
         })
     return rows
@@ -127,11 +136,14 @@ def limit_table(device, outcomes, assessment) -> dict[str, Any] | None:
         for o, r in mine:
             val, U, k = _result_cells(r)
             v = verdicts.get((o.item, r.metric.key, row.key))
+            if not getattr(r, "reportable", True):
+                result = "not reportable"  # the results table gives the value and why it is not issued
+            else:
+                result = f"{val}, U = {U} (k = {k})" if U != DASH else val
             out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en} ({r.metric.symbol})",
                         "name_cn": row.name_cn, "name_en": row.name_en, "symbol": r.metric.symbol,
-                        "limit": spec.text(), "method": o.item,
-                        "result": f"{val}, U = {U} (k = {k})" if U != DASH else val,
-                        "verdict": STATUS_TEXT[v.status.value] if v is not None else "", "performed": True})
+                        "limit": spec.text(), "method": o.item, "result": result,
+                        "verdict": verdict_text(v) if v is not None else "", "performed": True})
     table = rows[0].table
     kind = "laser" if table == "A.1" else "fibre"
     return {"table": table, "application": f"{APPLICATION_CN[app]} {app}", "kind": kind, "app": app,
@@ -518,8 +530,10 @@ def layout(doc, ctx: dict) -> None:
     shown = [v for v in g["verdicts"] if v["status"] != "pass"]  # the results table gives every verdict
     if shown:
         doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Value"), tr("U (k)"), tr("Verdict"), tr("Reason")],
-                  [[v["item"], D.quantity_for(ctx, v["item"], v["key"]), v["limit"], v["value"],
-                    f"{v['U']} (k = {v['k']})", tr(v["status_text"]), symbols(tr.text(v["reason"]))] for v in shown],
+                  [[v["item"], D.quantity_for(ctx, v["item"], v["key"]), v["limit"],
+                    tr(v["value"]) if v["detail"] == "not reportable" else v["value"],
+                    DASH if v["detail"] == "not reportable" else f"{v['U']} (k = {v['k']})",
+                    tr(v["status_text"]), symbols(tr.text(v["reason"]))] for v in shown],
                   font_pt=7.5,
                   prefer=6)
     if len(shown) < len(g["verdicts"]):
@@ -541,7 +555,9 @@ def layout(doc, ctx: dict) -> None:
         if rows:
             doc.table([tr("No."), tr("Index"), tr("Limit"), tr("Method"), tr("Result"), tr("Verdict")],
                       [[r["no"], tr.pick(r["name_cn"], r["name_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
-                        r["limit"], r["method"], r["result"] if r["performed"] else tr(NOT_PERFORMED),
+                        r["limit"], r["method"],
+                        (tr(r["result"]) if r["result"] == "not reportable" else r["result"]) if r["performed"]
+                        else tr(NOT_PERFORMED),
                         tr(r["verdict"]) if r["verdict"] else DASH] for r in rows], font_pt=7.5)
         idle = [r["no"] for r in lim["rows"] if not r["performed"]]
         if idle and not type_test:
