@@ -74,23 +74,32 @@ def main() -> None:
         items = [p.item for p in pm.procedures_of(a.standard)]
     first, stop = (int(x) for x in a.seeds.split(":"))
     options = {k: str(v) for k, v in _pairs(a.option).items()}
-    rows: dict[tuple[str, str], list[tuple[bool, float]]] = {}
+    rows: dict[tuple[str, str], list[tuple[bool, float, bool]]] = {}
     t0 = time.perf_counter()
     for seed in range(first, stop):
         rec = run_items(pm, a.standard, items, options=options,
                         station_options=_pairs(a.station_option) | {"seed": seed})
+        flagged = {(o.item, r.metric.key) for o in rec.outcomes for r in o.results if not r.reportable}
         for c in truth_checks(rec):
             z = (c["value"] - c["truth"]) / (c["U"] / 2) if c["U"] else math.nan
-            rows.setdefault((c["item"], c["key"]), []).append((bool(c["within_U"]), z))
+            rows.setdefault((c["item"], c["key"]), []).append(
+                (bool(c["within_U"]), z, (c["item"], c["key"]) in flagged))
     n = stop - first
     print(f"{a.standard}: {len(items)} items, seeds {first}–{stop - 1} ({n}), "
           f"station options {_pairs(a.station_option) or 'none'}, {time.perf_counter() - t0:.0f} s")
-    print(f"{'item':10s} {'result':14s} {'within U':>16s} {'rms z':>6s}")
+    # within U: every seed's value against its U; not rep.: seeds declared not reportable; covered: within U
+    # or not reportable (issue 13); mean E_n = mean z/2 over the reportable seeds
+    print(f"{'item':10s} {'result':14s} {'within U':>16s} {'rms z':>6s} {'not rep.':>8s} {'covered':>8s} "
+          f"{'mean E_n':>8s}")
     for (item, key), v in rows.items():
-        hit = sum(h for h, _ in v)
-        z = np.array([z for _, z in v])
+        hit = sum(h for h, _, _ in v)
+        z = np.array([z for _, z, _ in v])
+        nr = sum(f for _, _, f in v)
+        cov = sum(h or f for h, _, f in v)
+        zr = np.array([z for _, z, f in v if not f])
+        en = f"{np.nanmean(zr) / 2:+8.2f}" if zr.size and np.isfinite(zr).any() else f"{'—':>8s}"
         print(f"{item:10s} {key:14s} {hit:5d}/{len(v):<4d} {100 * hit / len(v):5.1f} % "
-              f"{math.sqrt(np.nanmean(z**2)):6.2f}")
+              f"{math.sqrt(np.nanmean(z**2)):6.2f} {nr:8d} {100 * cov / len(v):6.1f} % {en}")
 
 
 # --------------------------------------------------------------------------------------------

@@ -120,8 +120,8 @@ class AngleRandomWalk(_JJF):
         tau_h = np.asarray(ad.tau) / 3600.0
         sig = np.asarray(ad.deviation)
         try:
-            fit = F.fit_allan_eq38(tau_h, sig, np.asarray(ad.edf),
-                                   nonnegative=_flag(opts, "nonnegative"))
+            fit = F.fit_allan_eq38(tau_h, sig, np.asarray(ad.edf), n_samples=int(ad.n_samples),
+                                   tau0_h=dt / 3600.0, nonnegative=_flag(opts, "nonnegative"))
         except ValueError as exc:
             raise ProcedureError(f"7.2.20: {exc}", hint="record longer (7.2.13.1: ≥ 1 h) or check the data") from exc
         if not fit.A[1] > 0:

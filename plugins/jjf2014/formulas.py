@@ -12,6 +12,7 @@ from collections.abc import Mapping, Sequence
 
 import attrs
 import numpy as np
+from metro.core import allan
 from metro.core.lsq import fit_linear
 
 #: Earth rotation rate in °/h, as GB/T 45570 D.40 prints it (JJF 2014 has no earth term).
@@ -298,24 +299,43 @@ class AllanFit:
         return sum(self.A[i] * t ** m for i, (m, _) in enumerate(ALLAN_TERMS))
 
 
-def allan_covariance(model_s2: np.ndarray, edf: np.ndarray, tau: np.ndarray | None = None) -> np.ndarray:
-    """Covariance of the σ̂²(τ_k) used as the fit's weights.
+def allan_covariance(A: Sequence[float], tau_h: np.ndarray, n_samples: int, tau0_h: float) -> np.ndarray:
+    """Covariance of the σ̂²(τ_k) (overlapping Allan variance, 7.2.20) used as the eq. (38) fit's
+    weights, for the noise the fitted model says is there.
 
-    var(σ̂²_k) = 2σ_k⁴/edf_k (χ² law).  Between levels the correlation is taken as
-    √(τ_fine/τ_coarse) — 0.71 between adjacent octaves, 0.5 two apart — which lies between
-    what simulation shows for white rate noise (≈ 0.5 adjacent) and flicker (≈ 0.66) / rate
-    random walk (≈ 0.88) noise.  Without ``tau`` the older nested-average proxy
-    √(edf_coarse/edf_fine) is used; it gives 0.93 between τ₀ and 2τ₀ (the edf formula's
-    first level), which made u(A₋₂) about half what repeated records show.  Capped at 0.95."""
+    Eq. (38)'s terms are independent noises — A₋₂τ⁻² quantization (white angle), A₋₁τ⁻¹ angle random
+    walk, A₀ bias instability (flicker rate), A₁τ rate random walk — and a rate ramp A₂τ²;
+    :func:`metro.core.allan.oadev_covariance` gives the exact Gaussian covariance of the estimates for
+    that mix (generalized autocovariances, C. A. Greenhall, TMO Progress Report 42-137, 1999), with
+    A_m ≥ 0 (a negative term counts as 0).  So the correlation between octave levels follows the
+    noise that dominates there: ≈ 0.5 (adjacent) where white rate noise does, ≈ 0.69 for flicker,
+    ≈ 0.89 for rate random walk, ≈ 0.40 (and 0.51 two apart) for quantization — what repeated records
+    show (tests/test_allan_covariance.py, interpretations.md "7.2.20 — weighting").
+
+    :param A: A₋₂ … A₂ (τ in h, σ in °/h).
+    :param tau_h: the cluster times τ_k = m_k·τ₀ in h.
+    :param n_samples: number of samples of the record.
+    :param tau0_h: sample interval τ₀ in h."""
+    t = np.asarray(tau_h, dtype=float)
+    m = np.rint(t / tau0_h).astype(np.int64)
+    if np.any(np.abs(m * tau0_h - t) > 1e-6 * t):
+        raise ValueError("τ values must be whole multiples of the sample interval τ₀")
+    a = np.asarray(A, dtype=float) * tau0_h ** np.array([mm for mm, _ in ALLAN_TERMS], dtype=float)
+    return allan.oadev_covariance(int(n_samples), m, a)
+
+
+def allan_covariance_approx(model_s2: np.ndarray, edf: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """Approximate covariance of the σ̂²(τ_k): the first weights of the eq. (38) fit, before its
+    coefficients are known, and the weights when the record length is not given.
+
+    var(σ̂²_k) = 2σ_k⁴/edf_k (χ² law, white-rate-noise edf); between levels the correlation
+    √(τ_fine/τ_coarse) — 0.71 between adjacent octaves, 0.5 two apart — between what white rate
+    noise (≈ 0.5 adjacent) and rate random walk (≈ 0.89) give.  Capped at 0.95."""
     s2 = np.asarray(model_s2, dtype=float)
     e = np.asarray(edf, dtype=float)
     d = np.sqrt(2.0 / e) * s2
-    if tau is None:
-        R = np.sqrt(np.minimum.outer(e, e) / np.maximum.outer(e, e))
-    else:
-        t = np.asarray(tau, dtype=float)
-        R = np.sqrt(np.minimum.outer(t, t) / np.maximum.outer(t, t))
-    R = np.minimum(R, 0.95)
+    t = np.asarray(tau, dtype=float)
+    R = np.minimum(np.sqrt(np.minimum.outer(t, t) / np.maximum.outer(t, t)), 0.95)
     np.fill_diagonal(R, 1.0)
     return R * np.outer(d, d)
 
@@ -327,12 +347,14 @@ def _allan_wls(tau_h, s2, cov, active):
 
 
 def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence[float], *,
+                   n_samples: int | None = None, tau0_h: float | None = None,
                    iterations: int = 4, nonnegative: bool = False) -> AllanFit:
     """Generalised least-squares fit of eq. (38), σ²(τ) = Σ_{m=−2}^{2} A_m τ^m.
 
-    Weights: the covariance of :func:`allan_covariance` — var(σ̂²(τ)) = 2 σ⁴(τ)/edf(τ) (χ² law
-    of a variance with edf equivalent degrees of freedom) and the nested-level correlation —
-    with σ²(τ) taken from the model and iterated (start: the observations).
+    Weights: with the record's ``n_samples`` and ``tau0_h``, the covariance of the σ̂²(τ) for the
+    noise mix of the fitted model (:func:`allan_covariance`), iterated with the fit (start: the
+    approximate :func:`allan_covariance_approx` on the observations); without them, the
+    approximate covariance (2σ⁴/edf, correlation √(τ ratio)) with σ² from the model, iterated.
     Covariance of A = (AᵀC⁻¹A)⁻¹, scaled by χ²/ν when that exceeds 1 (Birge ratio).
     A coefficient that comes out negative is not physical.  Default (``nonnegative=False``):
     all five estimates are kept as fitted (unbiased; ``active`` flags the non-negative ones)
@@ -345,7 +367,9 @@ def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence
 
     :param tau_h: cluster times τ in hours (≥ 6 values).
     :param sigma: Allan deviations σ(τ) in °/h.
-    :param edf: equivalent degrees of freedom of each σ²(τ).
+    :param edf: equivalent degrees of freedom of each σ²(τ) (the start of the iteration).
+    :param n_samples: samples in the record (with ``tau0_h``: exact covariance for the model's noise).
+    :param tau0_h: sample interval in h.
     """
     t = np.asarray(tau_h, dtype=float)
     s = np.asarray(sigma, dtype=float)
@@ -360,12 +384,26 @@ def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence
     active = np.ones(5, dtype=bool)
     raw = None
     raw_u = None
+    exact = n_samples is not None and tau0_h is not None
+
+    def weights(model, coef):
+        if exact:
+            full = np.zeros(5)
+            full[active] = coef
+            if np.all(sum(max(full[i], 0.0) * t**mm for i, (mm, _) in enumerate(ALLAN_TERMS)) > 0):
+                return allan_covariance(full, t, n_samples, tau0_h)
+        return allan_covariance_approx(model, e, t)
+
     for _ in range(5):
         model = s2.copy()
-        for _ in range(max(1, iterations)):
-            fit, A = _allan_wls(t, s2, allan_covariance(model, e, t), active)
+        cov = allan_covariance_approx(model, e, t)
+        for it in range(max(1, iterations)):
+            fit, A = _allan_wls(t, s2, cov, active)
+            if it == max(1, iterations) - 1:
+                break
             pred = A @ fit.coef
             model = np.where(pred > 0, pred, s2)
+            cov = weights(model, np.asarray(fit.coef, dtype=float))
         if raw is None:
             raw, raw_u = np.asarray(fit.coef, dtype=float), np.sqrt(np.diag(fit.cov))
         coef = np.zeros(5)
@@ -378,7 +416,7 @@ def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence
         if not active.any():
             raise ValueError("every coefficient of eq. (38) came out negative")
     r = s2 - A @ fit.coef
-    chi2 = float(r @ np.linalg.solve(allan_covariance(model, e, t), r))
+    chi2 = float(r @ np.linalg.solve(cov, r))
     dof = t.size - int(active.sum())
     birge = math.sqrt(chi2 / dof) if dof > 0 and chi2 > dof else 1.0
     u = np.zeros(5)
