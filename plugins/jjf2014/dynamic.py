@@ -163,7 +163,7 @@ class AngleRandomWalk(_JJF):
             elif fit.raw[i] - 3.0 * fit.u_A[i] <= 0.0:
                 # an extra of metro's (7.2.20 reports ARW only): a term not resolved from zero would be a
                 # non-negative estimate of what may be 0, biased up (interpretations.md, 7.2.20)
-                top = math.sqrt(fac * max(fit.raw[i] + 2.0 * fit.u_A[i], 0.0)) * to_metric
+                top = F.not_resolved_bound(fit.raw[i], fit.u_A[i], fac) * to_metric
                 why = msg("A_{m} = {A:.3g} ± {u:.2g} is not resolved from 0 (A − 3u ≤ 0): the {name} coefficient is "
                           "below {top:.3g} {unit} (the record does not show this term)", m=F.ALLAN_TERMS[i][0],
                           A=fit.raw[i], u=fit.u_A[i], name=F.ALLAN_TERMS[i][1], top=top, unit=metric.unit)
