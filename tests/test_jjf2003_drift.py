@@ -233,3 +233,17 @@ def test_simulated_station_warm_up_is_budgeted_from_its_recording_times(tmp_path
     out = {r.metric.key: r for o in rec2.outcomes for r in o.results}
     assert out["K_gxx"].reportable and not any(x.symbol == "u_d" for x in out["K_gxx"].budget.rows)
     assert not out["g_xx"].reportable and "`started`" in out["g_xx"].reason and out["B_gx"].reportable
+
+
+def test_certificate_gives_the_reason_in_its_language(run_cli, tmp_path):
+    """The JJF 2003 certificate wrote a not-reportable result's reason as plain English text in a
+    Chinese certificate (the message was turned into a str before the document translated it)."""
+    import docx
+
+    out = tmp_path / "cert.docx"
+    code, _, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.1", "--data", str(_write(tmp_path / "c", started=False)),
+                           "--report", str(out), "--lang", "zh", "--no-progress")
+    assert code in (0, 3, 4), err
+    doc = docx.Document(str(out))
+    text = "\n".join(c.text for t in doc.tables for row in t.rows for c in row.cells)
+    assert "陀螺 x 的零偏在本批次测量中漂移 0.36" in text and "gyro x's bias drifts" not in text

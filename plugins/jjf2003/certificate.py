@@ -37,7 +37,8 @@ def _row(r) -> dict[str, Any]:
     v, U = r.reported()
     return {"name": r.metric.name, "symbol": r.metric.symbol, "value": v, "U": U or DASH, "unit": _unit(r) or "1",
             "k": "2" if r.k is None else fmt_num(r.k, 3), "clause": r.metric.clause,
-            "reportable": bool(getattr(r, "reportable", True)), "reason": str(getattr(r, "reason", "") or "")}
+            # the reason stays a message, so the document writes it in its language
+            "reportable": bool(getattr(r, "reportable", True)), "reason": getattr(r, "reason", "") or ""}
 
 
 def _rows(res, keys) -> list[dict[str, str]]:

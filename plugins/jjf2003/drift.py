@@ -260,7 +260,7 @@ def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, u
                "this result by {effect:.2g} {unit} ({ratio:.1f} × its U), and the manifest gives no recording times "
                "(`started` on the segments) to budget it. Give `started` on every segment, or let the MIMU warm up "
                "until its bias is steady (7.2.1.1 b)) and recalibrate", gyro=AXES[i], d=drift.d[i] * 3600.0,
-               n=drift.records[i], z=drift.z(i), effect=effect, unit=unit or "1", ratio=effect / U)
+               n=drift.records[i], z=drift.z(i), effect=effect, unit=unit, ratio=effect / U)
 
 
 def drift_warning(drift: GyroDrift) -> list[Any]:
