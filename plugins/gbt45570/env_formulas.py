@@ -12,6 +12,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from metro.core.settling import excursion_lobes, last_exit
+
 from .formulas import EARTH_RATE_DEG_PER_H
 
 #: D.39: the response must reach at least this fraction of the expected output
@@ -163,35 +165,6 @@ def power_6278(voltages_V: Sequence[Sequence[float]], currents_A: Sequence[Seque
 # 6.2.7.7 set-up time on a noisy record: which excursion beyond the band is the last real one
 # --------------------------------------------------------------------------------------------
 
-#: an excursion whose probability of being real is below this ends the search (the output has
-#: come clearly inside the band), one above 1 − this is taken as certain
-SETUP_CERTAIN = 0.00135  # Φ(−3)
-
-
-def _quadratic_peak(t: np.ndarray, z: np.ndarray, k: int, h: int, window: int,
-                    sigma_w: float) -> tuple[float, float, float]:
-    """The top of one lobe of the window mean, fitted by a parabola over z[k − h … k + h]: (the
-    value at the vertex, its standard deviation, the vertex time).  The fitted value is a linear
-    combination g·z of window means; a window mean averages ``window`` raw samples, which are taken
-    as white with the variance window·σ_w² that makes one window mean's σ equal to ``sigma_w``, so
-    σ² = window·σ_w²·Σ(g ∗ box_window/window)².  Falls back to the largest window mean (σ = σ_w)
-    where the segment is too short or not concave."""
-    a, b = max(k - h, 0), min(k + h + 1, z.size)
-    if b - a < 5:
-        return float(z[k]), sigma_w, float(t[k])
-    tt = t[a:b] - t[k]
-    X = np.column_stack([np.ones_like(tt), tt, tt * tt])
-    beta, *_ = np.linalg.lstsq(X, z[a:b], rcond=None)
-    if beta[2] >= 0:
-        return float(z[k]), sigma_w, float(t[k])
-    tv = float(np.clip(-beta[1] / (2.0 * beta[2]), tt[0], tt[-1]))
-    x = np.array([1.0, tv, tv * tv])
-    g = X @ np.linalg.solve(X.T @ X, x)
-    spread = np.convolve(g, np.full(window, 1.0 / window))
-    sd = sigma_w * math.sqrt(window * float(np.sum(spread * spread)))
-    return float(x @ beta), sd, tv + float(t[k])
-
-
 def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, window: int, settled_from: int,
                                tolerance_deg_h: float, sigma_w: float) -> dict:
     """Set-up time by 6.2.7.7 on a noisy record: the expected instant the window mean of the output
@@ -204,8 +177,8 @@ def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, w
     probability that the noise-free window mean left the band in that lobe.  Its exit e_i is the
     midpoint of the first window inside the band after the top and the end of the last window
     outside it in the lobe (noise re-crossings; half their span is the lobe's own spread), or the
-    vertex where no window mean was outside.  The last certain lobe (p ≥ 1 − SETUP_CERTAIN) and the
-    lobes after it up to the first with p < SETUP_CERTAIN (the output is then clearly inside: a
+    vertex where no window mean was outside.  The last certain lobe (p ≥ 1 − SETTLE_CERTAIN) and the
+    lobes after it up to the first with p < SETTLE_CERTAIN (the output is then clearly inside: a
     later lobe is noise) are the candidates; the last real one is lobe i with probability
     P_i = p_i·Π_{j>i}(1 − p_j), and
 
@@ -213,88 +186,23 @@ def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, w
 
     Where no lobe is certain the output may have been inside from the first window, whose end then
     takes the remaining probability.  Times are window ends from the switch-on (the first sample
-    starts at t = 0).
+    starts at t = 0).  The lobes and their candidates: :mod:`metro.core.settling` (shared with JJF 2014
+    7.2.23).
 
     :return: a dict with ``t_s``, ``settled`` (°/h), ``u_selection``, ``u_span`` (s), ``exits`` (the
         candidates' e_i, s), ``probabilities`` (P_i), ``p_real`` (p_i) and ``exit_index`` (each
         candidate's exit as an index into the window means).
     """
-    from scipy.stats import norm
-
     y = np.asarray(rate_deg_h, dtype=float)
     if not 0 < settled_from < y.size - 1:
         raise ValueError(f"the settled part must start inside the record (sample {settled_from} of {y.size})")
     settled = float(np.mean(y[settled_from:]))
     mm = moving_mean(y[:settled_from], window)
     d = mm - settled
-    out = np.abs(d) > tolerance_deg_h
-    if out.size and out[-1]:
+    if d.size and abs(d[-1]) > tolerance_deg_h:
         raise ValueError(f"the output is still outside ±{tolerance_deg_h:g} °/h of the settled bias when the "
                          "settled part begins: the gyro has not reached the required performance in the record")
     t = (np.arange(mm.size) + window) * interval_s
-    sigma = max(sigma_w, 1e-12)
-    # lobes: the sign of the deviation with a hysteresis of 2σ (or half the band), so that noise about
-    # zero does not cut a lobe of the output's own swing into slivers; a lobe starts where the
-    # deviation last left zero before it passed the other side's threshold
-    hyst = min(2.0 * sigma, 0.5 * tolerance_deg_h)
-    cuts, state, zero = [], 0, 0
-    for i, v in enumerate(d):
-        s_i = 1 if v >= 0 else -1
-        if i and s_i != (1 if d[i - 1] >= 0 else -1):
-            zero = i
-        if state == 0 and abs(v) > hyst:
-            state = s_i
-        elif state and s_i != state and abs(v) > hyst:
-            cuts.append(zero)
-            state = s_i
-    bounds = np.concatenate(([0], cuts, [mm.size])).astype(int)
-    lobes = []  # (p_i, e_i, half span_i, exit index)
-    for a, b in zip(bounds[:-1], bounds[1:]):
-        z = np.abs(d[a:b])
-        k = int(np.argmax(z))
-        margin = float(z[k]) - tolerance_deg_h
-        if margin > 6.0 * sigma:
-            p = 1.0
-        elif margin < -6.0 * sigma:
-            p = 0.0
-        else:
-            h = max(window // 2, (b - a) // 4, 2)
-            top, sd, _ = _quadratic_peak(t[a:b], z, k, h, window, sigma)
-            p = float(norm.cdf((top - tolerance_deg_h) / max(sd, 1e-12)))
-        outs = np.flatnonzero(out[a:b])
-        if outs.size and outs[-1] >= k:
-            last_out = a + int(outs[-1])
-            after = np.flatnonzero(~out[a + k:b])
-            first_in = a + k + int(after[0]) if after.size else b
-            e_out = t[last_out + 1] if last_out + 1 < mm.size else t[last_out] + interval_s
-            e_in = t[first_in] if first_in < mm.size else t[-1] + interval_s
-            lo, hi = min(e_in, e_out), max(e_in, e_out)
-            lobes.append((p, 0.5 * (lo + hi), 0.5 * (hi - lo), int(min(last_out + 1, mm.size - 1))))
-        else:
-            lobes.append((p, float(t[a + k]), 0.0, int(a + k)))
-    certain = [i for i, lb in enumerate(lobes) if lb[0] >= 1.0 - SETUP_CERTAIN]
-    first = certain[-1] if certain else 0
-    cand = []
-    for i in range(first, len(lobes)):
-        if i > first and lobes[i][0] < SETUP_CERTAIN:
-            break
-        cand.append((1.0, *lobes[i][1:]) if certain and i == first else lobes[i])
-    probs, rest = [], 1.0
-    for p, *_ in reversed(cand):
-        probs.append(p * rest)
-        rest *= 1.0 - p
-    probs.reverse()
-    exits = [c[1] for c in cand]
-    spans = [c[2] for c in cand]
-    index = [c[3] for c in cand]
-    if rest > 0.0:  # no lobe certain: inside from the first window with the probability left
-        probs.append(rest)
-        exits.append(float(t[0]))
-        spans.append(0.0)
-        index.append(0)
-    P = np.asarray(probs) / float(np.sum(probs))
-    e = np.asarray(exits)
-    ts = float(P @ e)
-    return {"t_s": ts, "settled": settled, "u_selection": float(math.sqrt(max(P @ (e - ts) ** 2, 0.0))),
-            "u_span": float(math.sqrt(P @ (np.asarray(spans) ** 2) / 3.0)), "exits": e.tolist(),
-            "probabilities": P.tolist(), "p_real": [c[0] for c in cand], "exit_index": index}
+    st = last_exit(excursion_lobes(d, t, interval_s, window, tolerance_deg_h, tolerance_deg_h, sigma_w), float(t[0]))
+    return {"settled": settled, **{k: st[k] for k in ("t_s", "u_selection", "u_span", "exits", "probabilities",
+                                                      "p_real", "exit_index")}}

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 from metro.core import allan
+from metro.core import settling as S
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
@@ -502,8 +503,14 @@ class StartupTime(_JJF):
             s1 = float(1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(2))
             # a rounded output's differences are mostly 0 or ±q, and their MAD can collapse to 0: the differences'
             # standard deviation over the settled last quarter (rounding included) is then the larger
-            s1 = max(s1, float(np.std(d[-max(d.size // 4, 2):], ddof=1)) / math.sqrt(2))
+            s_q = float(np.std(d[-max(d.size // 4, 2):], ddof=1)) / math.sqrt(2)
+            s1 = max(s1, s_q)
             sd = s1 / math.sqrt(k) / abs(K)
+            # one sample's noise where the samples decide (a ringing output): the MAD of the record's second half —
+            # over the whole record an output ringing at 0.2–2 Hz for a third of it puts its own steps into the
+            # median (up to 4× the noise, and a last swing beyond the band within that was not seen)
+            dh = d[d.size // 2:]
+            one_sample[s.id] = max(float(1.4826 * np.median(np.abs(dh - np.median(dh))) / math.sqrt(2)), s_q) / abs(K)
             # an output digitised to a step q: a window mean is off by up to the rounding's half-width (±q/2
             # where the noise does not dither it — the differences' MAD then sees little or none of it), one
             # sample by up to q/2: both are added to the margins below
@@ -513,6 +520,7 @@ class StartupTime(_JJF):
             return t, c / K, dt, sd, k, x / K
 
         rounding: dict[str, tuple[float, float]] = {}  # per segment: rounding bound of a window mean, of a sample (°/s)
+        one_sample: dict[str, float] = {}  # per segment: one sample's noise (°/s)
         trials = []  # (segment, t, r, target, tol, dt, sd, u(target), samples, sd of one sample)
         zero, uzero = [], []
         for s in pos:
@@ -531,13 +539,13 @@ class StartupTime(_JJF):
                     u_set = math.hypot(u_set, abs(slope) * (tl[-1] - tl[0]) / 2.0)
             zero.append(settled)
             uzero.append(u_set)
-            trials.append((s, t, r, settled, btol, dt, sd, u_set, raw, sd * math.sqrt(k)))
+            trials.append((s, t, r, settled, btol, dt, sd, u_set, raw, one_sample[s.id]))
         z = float(np.mean(zero))
         uz = math.sqrt(sum(u * u for u in uzero)) / len(uzero)
         for s in rat:
             om = _cond_q(s, "rate", "deg/s")
             t, r, dt, sd, k, raw = smooth(s)
-            trials.append((s, t, r - z, om, rtol * abs(om), dt, sd, uz, raw - z, sd * math.sqrt(k)))
+            trials.append((s, t, r - z, om, rtol * abs(om), dt, sd, uz, raw - z, one_sample[s.id]))
         # 7.2.23.2's time per trial, decided where the noise lets it be (interpretations.md, "7.2.23 — a
         # settling decided by noise"): a window mean counts as outside the band only when it is outside by
         # more than 2u (u: its noise and the target's), as inside only when inside by more than 2u; the
@@ -609,22 +617,44 @@ class StartupTime(_JJF):
                 if above.size and lo > float(t[above[-1] + 1]):
                     tau = lo - float(t[above[-1] + 1])
                     est = min(max(lo + tau * math.log((g + m) / g), lo), hi)
+            # an output ringing faster than the window: the window means average its swings away, the samples
+            # show them (interpretations.md, "7.2.23 — a ringing output decided by its samples").  Their lobes
+            # about the settled value (metro.core.settling, as GB/T 6.2.7.7's): each has the probability that
+            # the noise-free output left the band in it, and the start-up is the expected last real exit
             m1 = 4.5 * math.hypot(sd1, ut) + q1
             ts = dt * np.arange(1, raw.size + 1)  # sample j at (j + 1)·dt from power-on
             rdev = np.abs(raw - target)
-            rout = np.flatnonzero((rdev > tol + m1) & (ts >= lo))
-            if rout.size:
-                rnot = np.flatnonzero(rdev >= tol - m1)
-                if not tol - m1 > 0 or rnot[-1] == raw.size - 1:
+            # the band about the settled value (its edges differ where a rate trial settles off Ω); a rounding
+            # that the noise does not dither is common to a lobe's samples (uniform ±q/2)
+            s_common = math.hypot(ut, q1 / math.sqrt(3.0) if sd1 < q1 else 0.0)
+            s_p = math.hypot(sd1, s_common)
+            lobes = S.excursion_lobes(raw - target - settled, ts, dt, 1, tol - settled, tol + settled, sd1, s_common,
+                                      half_lobe_fit=True)
+            i_lo = int(np.searchsorted(ts, lo))
+            z_ring = float(norm.isf(0.025 / max(raw.size - i_lo, 1)))
+            # ringing: a sample clearly outside after the window means settle, or — where one sample's noise lets the
+            # samples decide at all — a swing past the settled value to the other side than the one the output
+            # approached from, beyond the tail's family-wise noise
+            side = next((lb.sign for lb in lobes if lb.start <= i_lo < lb.end), 0)
+            ringing = (np.any((rdev > tol + m1) & (ts >= lo))
+                       or (tol - m1 > 0 and any(lb.start >= i_lo and lb.sign != side and lb.top > z_ring * s_p
+                                                for lb in lobes)))
+            decided = None
+            if ringing:
+                st = F.startup_sample_exits(raw - target - settled, ts, dt, tol - settled, tol + settled, s_p, lobes,
+                                            S.last_exit(lobes, float(ts[0])))
+                late = [e for e, pr in zip(st["lobe_exits"], st["lobe_probabilities"])
+                        if pr > 0.01 and e > ts[int(0.75 * ts.size)]]
+                if not tol - m1 > 0 or late:
                     why.append(msg("{id}: the output rings faster than the {w:g} s window (samples outside ±{tol:.3g} °/s "
                                    "after the window means settle) and one sample's noise (4.5u = {m:.3g} °/s) does not "
                                    "let the samples decide", id=s.id, w=win, tol=tol, m=m1))
                     table.append((s, target, tol, plain, math.nan, math.nan))
                     continue
-                lo = max(lo, float(ts[rout[-1] + 1]))
-                hi = max(hi, float(ts[rnot[-1] + 1]))
-                est = (lo + hi) / 2.0
-            lo_hi.append((lo, hi, s, dt, est))
+                est = st["t"]
+                lo, hi = est - st["d95"], est + st["d95"]
+                decided = st
+            lo_hi.append((lo, hi, s, dt, est, decided))
             table.append((s, target, tol, plain, lo, hi))
         tab = TableSpec("startup", msg("Start-up time per trial"),
                         [msg("trial"), msg("segment"), msg("target"), msg("tolerance"), "t (s)", msg("decided within (s)")],
@@ -641,9 +671,12 @@ class StartupTime(_JJF):
                                  tables=[tab], segments=[x.id for x in segs], opts=opts)
         # the start-up time is the largest trial's: between the largest lo and the largest hi, at the largest
         # trial's crossing
+        best = max(lo_hi, key=lambda x: x[4])
+        if best[5] is not None:
+            return self._ringing_outcome(campaign, best, [x for x in lo_hi if x is not best], tab, segs, opts)
         lo = max(x[0] for x in lo_hi)
         hi = max(x[1] for x in lo_hi)
-        s, dt, est = max(lo_hi, key=lambda x: x[4])[2:]
+        s, dt, est = best[2:5]
         ts = min(max(est, lo), hi)
         rows = [BudgetRow.type_b("sampling: the crossing lies within one interval", "Δt/2", Q_(dt / 2, "s"),
                                  distribution="uniform")]
@@ -662,4 +695,29 @@ class StartupTime(_JJF):
         rows += B.relative_calibration_row("timer", "u_rel(t)", _cal(campaign, "timer"), Q_(ts, "s"))
         b = B.type_a_budget("t_startup", "s", rows)
         return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, note=msg("largest in {id}", id=s.id))],
+                             tables=[tab], segments=[x.id for x in segs], opts=opts)
+
+    def _ringing_outcome(self, campaign, best, others, tab, segs, opts):
+        """The start-up time where the largest trial's samples decided it (an output ringing faster than the
+        window): the expected last real exit with the spread of the candidates' exits (normal), their noise
+        re-crossings (uniform) and, where another trial's interval reaches later, the rest of that interval."""
+        _lo, _hi, s, dt, ts, st = best
+        rows = [BudgetRow.type_b("sampling: the crossing lies within one interval", "Δt/2", Q_(dt / 2, "s"),
+                                 distribution="uniform")]
+        u_sel = max(st["u_selection"], st["d95"] / 2.0)  # U reaches the candidates holding 95 % of the probability
+        if u_sel > 0:
+            rows.append(BudgetRow.type_b(
+                msg("which excursion beyond the band is the last real one (spread of the candidates' exits)"),
+                "u_sel", Q_(u_sel, "s"), distribution="normal", k=1.0,
+                note=msg("exits {exits} s with probabilities {probs}",
+                         exits=", ".join(f"{e:.4g}" for e in st["lobe_exits"]),
+                         probs=", ".join(f"{p:.2f}" for p in st["lobe_probabilities"]))))
+        hi_other = max((x[1] for x in others), default=-math.inf)
+        if hi_other > ts:
+            rows.append(BudgetRow.type_b(msg("another trial's settling is decided up to {hi:.3g} s", hi=hi_other),
+                                         "Δt_other/2", Q_((hi_other - ts) / 2, "s"), distribution="uniform"))
+        rows += B.relative_calibration_row("timer", "u_rel(t)", _cal(campaign, "timer"), Q_(ts, "s"))
+        b = B.type_a_budget("t_startup", "s", rows)
+        note = msg("largest in {id}, decided by its samples: the output rings faster than the window", id=s.id)
+        return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, note=note)],
                              tables=[tab], segments=[x.id for x in segs], opts=opts)

@@ -563,6 +563,54 @@ def settle_time(t: Sequence[float], x: Sequence[float], target: float, tol: floa
     return float(tt[int(np.flatnonzero(out)[-1]) + 1])
 
 
+def startup_sample_exits(d: Sequence[float], t: Sequence[float], dt: float, upper: float, lower: float, sigma: float,
+                         lobes: Sequence, chain: Mapping) -> dict:
+    """7.2.23.2 on the samples of an output that rings: the distribution of the start-up time (the first sample
+    after the last one outside the band) over the candidate lobes of :func:`metro.core.settling.last_exit`
+    (``chain``; its ``lobes`` index ``lobes``, its ``probabilities`` P_i are those of lobe i being the last real
+    one).  Within lobe i the noise-free output falls from its top (sample k) back into the band once: the last
+    sample outside is sample j ≥ k with probability ∝ Π_{k≤i≤j} q_i·Π_{i>j}(1 − q_i) (a change point),
+    q_i = Φ((s·d_i − edge)/σ) (the noise-free sample i outside its edge, s the lobe's sign, edge ``upper`` or
+    ``lower``); its exit is the next sample, t_j + dt (interpretations.md, "7.2.23 — a ringing output decided
+    by its samples").  Over all candidates:
+
+        t = Σ W_m·x_m,   u_sel = √(Σ W_m·(x_m − t)²),   d_95: the distance from t within which Σ W_m ≥ 95 %.
+
+    :return: ``t``, ``u_selection``, ``d95`` (s), and per candidate lobe its total probability and mean exit
+        (``lobe_probabilities``, ``lobe_exits``).
+    """
+    from scipy.special import ndtr
+
+    d = np.asarray(d, dtype=float)
+    t = np.asarray(t, dtype=float)
+    xs, ws, lobe_p, lobe_x = [], [], [], []
+    n_lobes = len(chain["lobes"])
+    for m, P in enumerate(chain["probabilities"]):
+        if m >= n_lobes:  # no lobe certain: inside from the first sample with the probability left
+            xs.append(chain["exits"][m]), ws.append(P), lobe_p.append(P), lobe_x.append(chain["exits"][m])
+            continue
+        lb = lobes[chain["lobes"][m]]
+        edge = upper if lb.sign > 0 else lower
+        k = lb.start + int(np.argmax(lb.sign * d[lb.start:lb.end]))
+        q = np.clip(ndtr((lb.sign * d[k:lb.end] - edge) / max(sigma, 1e-12)), 1e-300, 1.0 - 1e-16)
+        # log of Π_{i≤j} q_i · Π_{i>j} (1 − q_i) for j = k … end − 1
+        logw = np.cumsum(np.log(q)) + np.concatenate((np.cumsum(np.log1p(-q)[::-1])[::-1][1:], [0.0]))
+        w = np.exp(logw - float(np.max(logw)))
+        w = w / float(w.sum())
+        j = np.arange(k, lb.end)
+        x = np.where(j + 1 < t.size, t[np.minimum(j + 1, t.size - 1)], t[-1] + dt)
+        xs.extend(x.tolist()), ws.extend((P * w).tolist())
+        lobe_p.append(P), lobe_x.append(float(w @ x))
+    x, w = np.asarray(xs), np.asarray(ws)
+    w = w / float(w.sum())
+    ts = float(w @ x)
+    order = np.argsort(np.abs(x - ts), kind="stable")
+    cum = np.cumsum(w[order])
+    d95 = float(np.abs(x - ts)[order][min(int(np.searchsorted(cum, 0.95 - 1e-12)), x.size - 1)])
+    return {"t": ts, "u_selection": float(math.sqrt(max(float(w @ (x - ts) ** 2), 0.0))), "d95": d95,
+            "lobe_probabilities": lobe_p, "lobe_exits": lobe_x}
+
+
 # ------------------------------------------------------------------ appendix B
 
 
