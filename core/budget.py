@@ -375,6 +375,42 @@ def std_sampling_u(s: float, n_values: int) -> float:
     return (std_upper_limit(s, n_values) - float(s)) / 2.0
 
 
+def between_variance(s2: float, within: float, dof: int) -> float:
+    """The between-group variance σ_b² of a one-way random-effects analysis, as an uncertainty input:
+    its posterior mean given the data, never 0 while ``within`` > 0.
+
+    ``s2`` is the variance of the group values (ν = ``dof`` = Q − 1; e.g. B_r² of GB/T 45570 eq. (D.42)
+    over Q power-ons), ``within`` the part of it that each value's own noise explains (mean u_A², taken
+    as known: it rests on far more degrees of freedom than ``s2``).  τ = σ_b² + within is what ``s2``
+    estimates, ν·s2/τ ~ χ²(ν).  With the reference prior p(τ) ∝ 1/τ restricted to τ ≥ within (Box &
+    Tiao, *Bayesian Inference in Statistical Analysis*, 1973, §5.2: the one-way random-effect model),
+    τ = ν·s2/X with X ~ χ²(ν) truncated to X ≤ c = ν·s2/within, and::
+
+        E[σ_b² | data] = ν·s2·F_{ν−2}(c) / ((ν − 2)·F_ν(c)) − within        (F_m: the χ²(m) cdf)
+
+    Well resolved (c → ∞) it is ν/(ν − 2)·s2 − within — the (n − 1)/(n − 3) of JCGM 101 6.4.9 for a
+    variance from n values; unresolved (s2 → 0) 2·within/(ν − 2).  The moment estimate max(s2 − within, 0)
+    (ISO 5725-2's s_L², set to 0 when negative) is 0 whenever s2 ≤ within, where the data only bound σ_b.
+    E[σ_b²] is the variance of the predictive distribution of a further group's offset, so it enters a
+    budget with ν = ∞ (interpretations.md, "σ_on — a variance component the data only bound").
+    Needs ν ≥ 3 (the posterior mean is infinite with fewer): ValueError."""
+    from scipy.stats import chi2
+
+    nu = int(dof)
+    if nu < 3:
+        raise ValueError(f"the posterior mean of a variance component needs at least 3 degrees of freedom, got {nu}")
+    s2, within = float(s2), float(within)
+    if not (s2 >= 0 and within >= 0 and math.isfinite(s2) and math.isfinite(within)):
+        raise ValueError(f"variances must be finite and non-negative, got s2 = {s2!r}, within = {within!r}")
+    if within == 0.0:
+        return nu * s2 / (nu - 2)
+    if s2 == 0.0:
+        return 2.0 * within / (nu - 2)
+    c = nu * s2 / within
+    tau = nu * s2 / (nu - 2) * math.exp(float(chi2.logcdf(c, nu - 2)) - float(chi2.logcdf(c, nu)))
+    return max(tau - within, 0.0)
+
+
 def round_uncertainty(U: float, *, digits: int = 2, mode: str = "half-even", unit=None) -> Reported:
     """Round an (expanded) uncertainty to ``digits`` significant digits (1 or 2).
 

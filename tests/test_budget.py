@@ -214,3 +214,37 @@ def test_sampling_of_a_standard_deviation_chi_square_bound():
     assert std_upper_limit(2.0, 7) == pytest.approx(2 * math.sqrt(6 / 1.19), rel=2e-3)
     assert std_sampling_u(1.0, 6) == pytest.approx((math.sqrt(5 / 0.797) - 1) / 2, rel=2e-3)
     assert std_sampling_u(1.0, 2001) == pytest.approx(1 / math.sqrt(2 * 2000), rel=0.05)
+
+
+def test_between_variance_is_the_posterior_mean_of_a_variance_component():
+    """metro.core.budget.between_variance (interpretations.md, "σ_on — a variance component the data only
+    bound"): E[τ − w | τ ≥ w] for τ = ν·s²/X, X ~ χ²(ν) (reference prior 1/τ, Box & Tiao 1973 §5.2).
+    Worked by hand for ν = 6 at s² = w = 1 (where the moment estimate s² − w is 0): c = 6,
+    F₄(6) = 1 − 4e⁻³, F₆(6) = 1 − 8.5e⁻³, E[τ] = 6·F₄/(4·F₆) = 2.082623; checked against a direct
+    quadrature of the truncated posterior, and the two limits."""
+    from scipy import integrate
+
+    from metro.core.budget import between_variance
+
+    e3 = math.exp(-3.0)
+    assert between_variance(1.0, 1.0, 6) == pytest.approx(6 * (1 - 4 * e3) / (4 * (1 - 8.5 * e3)) - 1, rel=1e-12)
+    assert between_variance(1.0, 1.0, 6) == pytest.approx(1.0826230, rel=1e-6)
+
+    def by_quadrature(s2, w, nu):
+        dens = lambda t: t ** (-nu / 2 - 1) * math.exp(-nu * s2 / (2 * t))  # noqa: E731
+        z = integrate.quad(dens, w, math.inf)[0]
+        return integrate.quad(lambda t: t * dens(t), w, math.inf)[0] / z - w
+
+    for s2, w, nu in ((0.3, 1.0, 6), (4.0, 1.0, 6), (2.0, 1.0, 9), (1.0, 3.0, 4)):
+        assert between_variance(s2, w, nu) == pytest.approx(by_quadrature(s2, w, nu), rel=1e-6)
+    assert between_variance(2.0e-6, 1.0e-6, 9) == pytest.approx(1e-6 * between_variance(2.0, 1.0, 9), rel=1e-12)
+    # never 0 while the runs have noise: s² → 0 gives 2w/(ν − 2); no within-run part gives ν/(ν − 2)·s²
+    assert between_variance(0.0, 1.0, 6) == pytest.approx(0.5)
+    assert between_variance(1e-9, 1.0, 6) == pytest.approx(0.5, rel=1e-6)
+    assert between_variance(1.0, 0.0, 6) == pytest.approx(1.5)
+    # resolved: close to the t-inflated moment estimate ν/(ν − 2)·s² − w
+    assert between_variance(50.0, 1.0, 6) == pytest.approx(1.5 * 50 - 1, rel=1e-6)
+    with pytest.raises(ValueError, match="at least 3 degrees of freedom"):
+        between_variance(1.0, 1.0, 2)
+    with pytest.raises(ValueError, match="non-negative"):
+        between_variance(-1.0, 1.0, 6)

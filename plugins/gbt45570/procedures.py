@@ -500,8 +500,8 @@ class BiasTemperatureSensitivityD54(Procedure):
         s_on, nu_on, rep_note = on.sigma, on.nu, on.note
         u_on = math.sqrt(2.0) * s_on / abs(dT)
         u_tot = math.hypot(uA, u_on)
-        nu_tot = (u_tot**4 / ((uA**4 / nu if uA > 0 else 0.0) + (u_on**4 / nu_on if u_on > 0 else 0.0))
-                  if u_tot > 0 else math.inf)
+        den = (uA**4 / nu if uA > 0 else 0.0) + (u_on**4 / nu_on if u_on > 0 else 0.0)
+        nu_tot = u_tot**4 / den if den > 0 else math.inf  # σ_on of D.5.3 has ν = ∞
         # D.43 takes the largest of several noisy |slopes|: corrected for the selection bias about a
         # smoothed B(T) (interpretations.md, D.5.4); the spread of the maximum replaces one slope's u
         from metro.core.selection import selection_note, selection_rows
@@ -578,11 +578,12 @@ class TurnOn:
 
 def _turn_on(campaign: Campaign, batches: int, missing: str) -> TurnOn:
     """The turn-on scatter σ_on of one power-on's bias, for items whose records are power-ons of their
-    own (D.5.4, D.5.5).
+    own (D.5.4, D.5.5, D.6.3 / D.6.4, the 6.2.8 changes).
 
-    From D.5.3's repeats on this campaign: σ_on² = B_r² − mean u_A², a difference of variance
-    estimates, whose Satterthwaite ν is (Q − 1)·(σ_on²/B_r²)², far fewer than Q − 1 when the within-run
-    part is a large share of B_r (interpretations.md, D.5.4).  Else from ``device.bias_repeatability``
+    From D.5.3's repeats on this campaign (:func:`.repeatability.bias_repeat_row`, the one place it is
+    computed): σ_on² = B_r² − mean u_A² is a variance component estimated as a difference, entered as its
+    posterior mean given the runs, with ν = ∞ — never 0 where the runs only bound it (interpretations.md,
+    "σ_on — a variance component the data only bound").  Else from ``device.bias_repeatability``
     (°/h, a B_r measured before, e.g. an earlier D.5.3; type B, ν = ∞; as a whole B_r it also holds its
     runs' within-run noise, so it errs on the safe side).  Else not known, with ``missing`` as the note
     (the items then declare their result not reportable: interpretations.md, "D.5.4 / D.5.5 — without
@@ -590,16 +591,11 @@ def _turn_on(campaign: Campaign, batches: int, missing: str) -> TurnOn:
     from .repeatability import bias_repeat_row
 
     rep_rows, rep_note = bias_repeat_row(campaign, batches, None)
-    if rep_rows and rep_rows[0].type == "B":  # device.bias_repeatability: no repeats on this campaign
-        return TurnOn(float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude), math.inf, True, True, "")
     if rep_rows:
-        s_on = float(rep_rows[0].standard_uncertainty.to("deg/h").magnitude)
-        nu_on = math.inf
-        if s_on > 0:
-            reps = campaign.find_segments("static-repeat")
-            b_r = F.bias_repeatability_d42([segment_bias(r, campaign, batches).B0 for r in reps])
-            nu_on = max((len(reps) - 1) * (s_on**2 / b_r**2) ** 2, 1.0)
-        return TurnOn(s_on, nu_on, True, False, "")
+        r = rep_rows[0]
+        stated = r.type == "B"  # device.bias_repeatability: no repeats on this campaign
+        return TurnOn(float(r.standard_uncertainty.to("deg/h").magnitude), math.inf if stated else r.dof, True,
+                      stated, "")
     if len(campaign.find_segments("static-repeat")) >= 2 and rep_note:
         missing = join("; ", [missing, rep_note])
     return TurnOn(0.0, math.inf, False, False, missing)

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from metro.core.budget import BudgetRow
+from metro.core.budget import BudgetRow, between_variance
 from metro.core.errors import DataError
 from metro.core.locale import msg
 from metro.core.model import Campaign
@@ -23,6 +23,10 @@ from metro.core.units import Q_
 
 from . import formulas as F
 from . import formulas_rate as F2
+
+#: D.5.3 power-ons needed to bound σ_on: the posterior mean of a variance from Q values is finite for Q ≥ 4
+MIN_BIAS_RUNS = 4
+
 
 def stated_repeatability(campaign: Campaign, key: str) -> float | None:
     """``[device] bias_repeatability`` (°/h) or ``[device] scale_factor_repeatability`` (relative): 1σ of one
@@ -58,7 +62,7 @@ def turn_on_known(campaign: Campaign, what: str, method: str = "") -> bool:
 
 def _runs_present(campaign: Campaign, what: str, method: str = "") -> bool:
     if what == "B₀":
-        return len(campaign.find_segments("static-repeat")) >= 2
+        return len(campaign.find_segments("static-repeat")) >= MIN_BIAS_RUNS
     angle = len({str(s.conditions.get("run")) for s in campaign.find_segments("revolutions-repeat")}) >= 2
     rate = len({str(s.conditions.get("run")) for s in campaign.find_segments("rate-output")
                 if s.conditions.get("run") not in (None, "") and not s.conditions.get("temperature")}) >= 2
@@ -124,31 +128,43 @@ def _row(symbol: str, where: str, Kr: float, K: float, q: int, unit: str) -> Bud
 
 def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> tuple[list[BudgetRow], str]:
     """The turn-on part of B_r of D.5.3 (``static-repeat`` runs, eq. D.42) as a row on B₀ of D.5.1:
-    √(B_r² − mean u_A²) — the within-run part is already B₀'s own type A — but never less than what
-    keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0)) (``own_uA`` = u_A(B₀); None: the turn-on part
-    alone, as 6.2.8 takes it for each of its two records)."""
+    σ_on² = B_r² less the runs' within-run part (mean u_A², already B₀'s own type A), taken as the
+    posterior mean of that variance component given the runs (:func:`metro.core.budget.between_variance`,
+    ν = ∞): never 0 where the runs do not resolve σ_on from their noise, only bound it
+    (interpretations.md, "σ_on — a variance component the data only bound"); but never less than
+    what keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0)) (``own_uA`` = u_A(B₀); None: the turn-on part
+    alone, as 6.2.8, D.5.4, D.5.5 and D.6.3 / D.6.4 take it through :func:`.procedures._turn_on`).
+    Fewer than 4 runs cannot bound σ_on: no row, with a note."""
     from .procedures import segment_bias
 
     segs = campaign.find_segments("static-repeat")
     st = stated_repeatability(campaign, "bias_repeatability")  # a bad value is an error even when unused
-    if len(segs) < 2:
+    if len(segs) < MIN_BIAS_RUNS:
         if st is not None:
             return [_stated_row(campaign, "bias_repeatability", "B₀", st, "deg/h")], ""
-        return [], _no_repeats("D.5.3", "B₀")
+        if len(segs) < 2:
+            return [], _no_repeats("D.5.3", "B₀")
+        return [], msg("power-on repeatability not in U: {q} D.5.3 power-ons cannot bound the turn-on scatter "
+                       "(at least {m}; D.5.3 records 7)", q=len(segs), m=MIN_BIAS_RUNS)
     try:
         ests = [segment_bias(s, campaign, batches) for s in segs]
     except DataError as exc:
         return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated ({exc})", item="D.5.3", exc=str(exc))
     Br = F.bias_repeatability_d42([e.B0 for e in ests])
     w = float(np.mean([e.u_A**2 for e in ests]))
-    u = math.sqrt(max(Br**2 - w, 0.0))
+    q = len(ests)
+    u = math.sqrt(between_variance(Br**2, w, q - 1))
     if own_uA is not None:
         u = max(u, math.sqrt(max(Br**2 / 4.0 - own_uA**2, 0.0)))
-    q = len(ests)
+    moment = Br**2 - w
     return [BudgetRow.type_a(msg("power-on repeatability of B₀ (D.5.3, eq. (D.42) on this campaign, B_r = {Br:.3g} °/h, "
                                  "its within-run part removed): B₀ of one power-on stated as the device's", Br=Br), "σ_on",
-                             Q_(u, "deg/h"), q - 1,
-                             note=msg("Q = {q} power-ons; mean within-run u_A = {w:.3g} °/h", q=q, w=math.sqrt(w)))], ""
+                             Q_(u, "deg/h"), math.inf,
+                             note=msg("Q = {q} power-ons; mean within-run u_A = {w:.3g} °/h; σ_on² is the posterior mean "
+                                      "of the turn-on variance given them ({moment}), ν = ∞", q=q, w=math.sqrt(w),
+                                      moment=msg("√(B_r² − u_A²) = {s:.3g} °/h", s=math.sqrt(moment)) if moment > 0
+                                      else msg("B_r² − u_A² ≤ 0: not resolved from the within-run noise, only bounded"))
+                             )], ""
 
 
 def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rate") -> tuple[float, float, str]:

@@ -217,15 +217,14 @@ def specifications(campaign: Campaign) -> list[Specification]:
     return out
 
 
-def turn_on_rows(rows: list[BudgetRow], absent: str, what: str, unit: str, scale: float,
-                 nu: float | None = None) -> tuple[list[BudgetRow], str]:
+def turn_on_rows(rows: list[BudgetRow], absent: str, what: str, unit: str, scale: float) -> tuple[list[BudgetRow], str]:
     """The before and after records of a 5.4 test are two power-ons (a storage test is unpowered): each
     carries the turn-on scatter that the campaign's repeatability item measures (D.5.3's σ_on, D.1.4 /
     D.2.4's K_r), √2 of it on their difference.  ``rows`` / ``absent`` are what
     :mod:`.repeatability` found (the row of one power-on, or why there is none); ``scale`` turns the
-    row's u into ``unit``; ``nu`` replaces the row's degrees of freedom (σ_on of D.5.3 is a difference
-    of variance estimates: its Satterthwaite ν, :func:`.procedures._turn_on`) (interpretations.md,
-    "6.2.8 — before and after are two power-ons", "6.2.8 ΔB₀ — the degrees of freedom of σ_on")."""
+    row's u into ``unit``; the row keeps its degrees of freedom (σ_on of D.5.3 is the posterior mean of a
+    variance component, ν = ∞; K_r of D.1.4 / D.2.4, Q − 1) (interpretations.md, "6.2.8 — before and after
+    are two power-ons", "σ_on — a variance component the data only bound")."""
     if not rows:
         return [], absent
     r = rows[0]
@@ -233,7 +232,8 @@ def turn_on_rows(rows: list[BudgetRow], absent: str, what: str, unit: str, scale
     src = msg("power-on repeatability of {what} in each of the two records: √2 × one power-on's", what=what)
     if r.type == "B":  # stated as a device property, not measured here
         return [BudgetRow.type_b(src, "√2·σ_on", Q_(u, unit), distribution="normal", k=1.0, note=r.source)], ""
-    return [BudgetRow.type_a(src, "√2·σ_on", Q_(u, unit), r.dof if nu is None else nu, note=r.source)], ""
+    return [BudgetRow.type_a(src, "√2·σ_on", Q_(u, unit), r.dof, note=join("; ", [r.source, r.note]) if r.note
+                             else r.source)], ""
 
 
 def not_without_turn_on(result: Result, campaign: Campaign, what: str, item: str, why: str, method: str = "") -> Result:
@@ -502,12 +502,10 @@ class _EnvironmentalTest(Procedure):
                 ids[ph] = seg
             est = {ph: segment_bias(seg, campaign, int(opts["batches"])) for ph, seg in ids.items()}
             dm = Metric(f"{t.tag}_dB0", msg("{test}: bias change after − before", test=t.name_en), "ΔB₀", "deg/h", "D.5.1.3", "D.40")
-            from .procedures import _turn_on
             from .repeatability import bias_repeat_row
 
-            found_on = bias_repeat_row(campaign, int(opts["batches"]), None)
-            nu_on = _turn_on(campaign, int(opts["batches"]), "").nu if found_on[0] and found_on[0][0].type == "A" else None
-            on = turn_on_rows(*found_on, "B₀", "deg/h", 1.0, nu_on)
+            # σ_on of D.5.3 as D.5.4 / D.5.5 / D.6.3 / D.6.4 take it (its posterior mean, ν = ∞: the row's own)
+            on = turn_on_rows(*bias_repeat_row(campaign, int(opts["batches"]), None), "B₀", "deg/h", 1.0)
             results.append(not_without_turn_on(_bias_change(dm, est["before"], est["after"], on), campaign, "B₀", "D.5.3",
                                                msg("before and after {test} are two power-ons", test=t.key)))
             used = [ids["before"].id, ids["after"].id]
