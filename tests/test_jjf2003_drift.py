@@ -117,11 +117,13 @@ def test_drift_row_covers_the_sweep_and_the_six_positions(run_cli, tmp_path):
             assert k["value"] - KG[i, j] == pytest.approx(DRIFT[i] * BETA, rel=0.02, abs=2e-7)
             row = next(x for x in k["budget"]["rows"] if x["symbol"] == "u_d")
             assert abs(row["contribution"]) == pytest.approx(abs(DRIFT[i]) * BETA, rel=0.02)
+            assert f"τ = {BETA:.4g} s/(°/s)" in row["note"]
             assert abs(k["value"] - KG[i, j]) < k["U"] and k["reportable"]
         g = res[("7.2.2", f"g_{r}x")]
         assert g["value"] == pytest.approx(DRIFT[i] * TAU_G, rel=0.02)
         row = next(x for x in g["budget"]["rows"] if x["symbol"] == "u_d")
         assert abs(row["contribution"]) == pytest.approx(abs(DRIFT[i] * TAU_G), rel=0.02)
+        assert "τ = -50 s/gn" in row["note"]
         assert abs(g["value"]) < g["U"] and g["reportable"]
         # the biases and the accelerometers do not difference records: no drift row
         for key in (("7.2.2", f"B_g{r}"), ("7.2.4", f"K_a{r}{r}")):

@@ -236,15 +236,16 @@ def plan_six_factors(durations_by_position: Mapping[tuple[str, float], float], r
 # ------------------------------------------------------------------------------ budget and verdict
 
 
-def drift_row(drift: GyroDrift, i: int, tau: float, unit: str, what) -> BudgetRow:
-    """u = √(d̂² + u(d̂)²)·|τ| for gyro i's drift over the records a result combines."""
+def drift_row(drift: GyroDrift, i: int, tau: float, unit: str, what, tau_unit: str) -> BudgetRow:
+    """u = √(d̂² + u(d̂)²)·|τ| for gyro i's drift over the records a result combines (τ in
+    ``tau_unit``: s per °/s for eq. (5), s per g_n for eq. (7))."""
     d, u = drift.d[i], drift.u[i]
     return BudgetRow.type_a(
         msg("gyro bias drift between the records ({what})", what=what), "u_d",
         Q_(math.hypot(d, u) * abs(tau), unit), max(drift.dof[i], 1),
         note=msg("pooled within-record trend of gyro {gyro}: {d:.3g} ± {u:.2g} °/s per hour over {n} records "
-                 "× τ = {tau:.4g}; √(d̂² + u²)·|τ| (drift not corrected)", gyro=AXES[i], d=d * 3600.0,
-                 u=u * 3600.0, n=drift.records[i], tau=tau))
+                 "× τ = {tau:.4g} {tau_unit}; √(d̂² + u²)·|τ| (drift not corrected)", gyro=AXES[i], d=d * 3600.0,
+                 u=u * 3600.0, n=drift.records[i], tau=tau, tau_unit=tau_unit))
 
 
 def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, unit: str):

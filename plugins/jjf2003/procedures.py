@@ -265,7 +265,7 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         # a gyro bias drifting while the sweep is recorded adds d·τ to the slope (drift.py)
         if drift.mid_times is not None:
             tau = D.sweep_factor(d["X"], [drift.mid_times[sid] for sid in d["segments"]])
-            rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j])))
+            rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)"))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
         reason = None
@@ -497,7 +497,8 @@ class GyroBiasGSensitivity(Procedure):
             for j, c in enumerate(AXES):
                 rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
                 if drift.mid_times is not None:
-                    rows.append(D.drift_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c)))
+                    rows.append(D.drift_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c),
+                                            "s/gn"))
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
                 reason = None if drift.mid_times is not None else D.not_reportable_reason(
