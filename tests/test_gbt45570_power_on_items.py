@@ -21,10 +21,10 @@ import pytest
 OMEGA_E = 15.041  # °/h, eq. (D.40)
 
 
-def _campaign(folder: Path, rng, *, sigma_on: float, arw: float, slope: float, repeats: bool,
+def _campaign(folder: Path, rng, *, sigma_on: float, arw: float, slope: float, repeats: bool | int,
               seconds: int = 600, stated: str = "") -> float:
-    """Three temperature points (−40, 20, 60 °C), optionally D.5.3's 7 repeats at 20 °C; returns
-    the true B_t = |slope| (a bias linear in T: D.43's every slope is the same)."""
+    """Three temperature points (−40, 20, 60 °C), optionally D.5.3's repeats at 20 °C (True: 7, or that
+    many); returns the true B_t = |slope| (a bias linear in T: D.43's every slope is the same)."""
     lat = 30.0
     earth = OMEGA_E * math.sin(math.radians(lat))
     segs = []
@@ -43,7 +43,7 @@ def _campaign(folder: Path, rng, *, sigma_on: float, arw: float, slope: float, r
                     f'sample_interval = "1 s"\n[segments.conditions]\norientation = "IRA up"\n'
                     f'temperature = "{T:g} °C"\n')
     if repeats:
-        for j in range(1, 8):
+        for j in range(1, (7 if repeats is True else int(repeats)) + 1):
             f = record(f"repeat-{j}", b0 + sigma_on * rng.standard_normal())
             segs.append(f'[[segments]]\nid = "repeat-{j}"\nkind = "static-repeat"\nfile = "{f}"\n'
                         f'sample_interval = "1 s"\n[segments.conditions]\norientation = "IRA up"\nrun = {j}\n')
@@ -96,6 +96,25 @@ def test_d54_budget_has_the_turn_on_scatter_of_d53(run_cli, tmp_path):
     assert row["standard_uncertainty"] >= math.sqrt(2) * s_on / dT * (1 - 1e-3)
     assert "(ν = inf)" in row["note"]
     assert bt["U"] >= 2 * math.sqrt(2) * s_on / dT
+
+
+def test_d54_three_power_ons_cannot_bound_the_turn_on_scatter(run_cli, tmp_path):
+    """interpretations.md "σ_on — a variance component the data only bound": the posterior mean of σ_on² from
+    Q power-ons is infinite for Q < 4, so three static-repeat runs leave the difference of two power-ons
+    unbounded: not reportable, the reason saying so (before, σ_on came from any two runs); a stated
+    device.bias_repeatability still stands for it."""
+    folder = tmp_path / "three"
+    folder.mkdir()
+    _campaign(folder, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=3)
+    res = _bt(run_cli, folder)
+    assert res["reportable"] is False
+    assert "3 D.5.3 power-ons cannot bound the turn-on scatter" in res["reason"], res["reason"]
+    stated = tmp_path / "three-stated"
+    stated.mkdir()
+    _campaign(stated, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=3, stated="0.01 °/h")
+    res = _bt(run_cli, stated)
+    assert res["reportable"] is True
+    assert [r for r in res["budget"]["rows"] if "stated as device.bias_repeatability" in r["note"]]
 
 
 def test_d54_without_the_turn_on_scatter_is_not_reportable(run_cli, tmp_path):
@@ -252,7 +271,7 @@ def _field_campaign(folder: Path, rng, *, sigma_on: float, repeats: bool, second
             segs.append(f'[[segments]]\nid = "{sid}"\nkind = "static-field"\nfile = "{f}"\nsample_interval = "1 s"\n'
                         f'[segments.conditions]\norientation = "IRA up"\nfield_axis = "{ax}"\nfield = "{h} mT"\n')
     if repeats:
-        for j in range(1, 8):
+        for j in range(1, (7 if repeats is True else int(repeats)) + 1):
             f = record(f"repeat-{j}", 0.3 + sigma_on * rng.standard_normal())
             segs.append(f'[[segments]]\nid = "repeat-{j}"\nkind = "static-repeat"\nfile = "{f}"\n'
                         f'sample_interval = "1 s"\n[segments.conditions]\norientation = "IRA up"\nrun = {j}\n')
