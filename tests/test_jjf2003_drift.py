@@ -250,3 +250,26 @@ def test_certificate_gives_the_reason_in_its_language(run_cli, tmp_path):
     doc = docx.Document(str(out))
     text = "\n".join(c.text for t in doc.tables for row in t.rows for c in row.cells)
     assert "陀螺 x 的零偏在本批次测量中漂移 0.36" in text and "gyro x's bias drifts" not in text
+
+
+def test_certificate_matrix_withholds_the_cells_that_are_not_reportable(run_cli, tmp_path):
+    """The g matrix printed every g_ij with its U although the drift had made them not reportable
+    (seen on a rendered mems-warmup certificate without `started`): each such cell now reads "not
+    reportable", its U "—", and the reason follows the matrix."""
+    import docx
+
+    out = tmp_path / "cert.docx"
+    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data",
+                                str(_write(tmp_path / "c", started=False)), "--report", str(out), "--lang", "en",
+                                "--no-progress", "--json")
+    assert code in (0, 3, 4), err
+    results = {r["key"]: r for r in json.loads(stdout)["results"]}
+    withheld = sorted(k for k, r in results.items() if k.startswith("g_") and not r["reportable"])
+    assert withheld, "the drift should make some g terms not reportable"
+    doc = docx.Document(str(out))
+    cells = [c.text for t in doc.tables for row in t.rows for c in row.cells]
+    assert cells.count("not reportable") == len(withheld)
+    for k in withheld:  # no withheld value is printed as a result
+        assert results[k]["reported"]["value"] not in cells, k
+    paras = "\n".join(p.text for p in doc.paragraphs)
+    assert "not reportable: gyro" in paras and "drifts" in paras

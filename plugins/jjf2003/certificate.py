@@ -45,24 +45,34 @@ def _rows(res, keys) -> list[dict[str, str]]:
     return [_row(res[k]) for k in keys if k in res]
 
 
+#: a matrix cell whose result is not reportable (translated by the layout; the reasons follow the matrix)
+NOT_REPORTABLE = "not reportable"
+
+
 def _matrix(res, prefix: str, zero_diagonal: bool = False) -> dict[str, Any] | None:
     keys = [f"{prefix}{r}{c}" for r in AXES for c in AXES]
     if not all(k in res for k in keys if not (zero_diagonal and k[-1] == k[-2])):
         return None
     values, uncs = [], []
     unit = ""
+    withheld: list[tuple[str, Any]] = []  # (symbol, reason) of the cells not reportable
     for r in AXES:
         vrow, urow = {"axis": r}, {"axis": r}
         for n, c in enumerate(AXES, start=1):
             if zero_diagonal and r == c:
                 vrow[f"c{n}"], urow[f"c{n}"] = "0", DASH
                 continue
-            v, U = res[f"{prefix}{r}{c}"].reported()
-            unit = _unit(res[f"{prefix}{r}{c}"])
+            result = res[f"{prefix}{r}{c}"]
+            v, U = result.reported()
+            unit = _unit(result)
+            if not getattr(result, "reportable", True):  # the value is not issued: the cell says so
+                vrow[f"c{n}"], urow[f"c{n}"] = NOT_REPORTABLE, DASH
+                withheld.append((result.metric.symbol, getattr(result, "reason", "") or ""))
+                continue
             vrow[f"c{n}"], urow[f"c{n}"] = v, U or DASH
         values.append(vrow)
         uncs.append(urow)
-    return {"value_rows": values, "u_rows": uncs, "unit": unit or "1"}
+    return {"value_rows": values, "u_rows": uncs, "unit": unit or "1", "not_reportable": withheld}
 
 
 def _text(v) -> str:
@@ -181,10 +191,19 @@ def layout(doc, ctx: dict) -> None:
             doc.para(tr("not performed"))
             continue
         unit = "" if m["unit"] == "1" else f" ({m['unit']})"
+        def cell(x: str) -> str:
+            return tr(x) if x == NOT_REPORTABLE else x
+
         doc.para(f"{sym}{unit}:", keep_next=True)
-        doc.table(["", "x", "y", "z"], [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["value_rows"]], width_mm=110)
+        doc.table(["", "x", "y", "z"], [[r["axis"], *(cell(r[f"c{n}"]) for n in (1, 2, 3))] for r in m["value_rows"]],
+                  width_mm=110)
         doc.para(f"{tr('Measurement uncertainty')} U (k = 2){unit}:", keep_next=True)
         doc.table(["", "x", "y", "z"], [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["u_rows"]], width_mm=110)
+        by_reason: dict[str, tuple[list[str], Any]] = {}
+        for symbol, reason in m.get("not_reportable", ()):
+            by_reason.setdefault(str(reason), ([], reason))[0].append(symbol)
+        for symbols, reason in by_reason.values():  # why each withheld cell is withheld
+            doc.para(f"{', '.join(symbols)}: {D.not_reportable(tr, reason)}", size=8.5)
     doc.heading(tr("Notes on the results"), 2)
     D.notes_section(doc, ctx)
     doc.heading(tr("Signatures"), 2)
