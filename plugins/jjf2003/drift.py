@@ -39,6 +39,7 @@ import numpy as np
 from metro.core.budget import BudgetRow
 from metro.core.errors import DataError
 from metro.core.locale import msg
+from metro.core.lsq import fit_linear
 from metro.core.model import Campaign, Segment
 from metro.core.units import Q_
 
@@ -104,18 +105,16 @@ def record_trend(y: np.ndarray, dt_s: float, rate_deg_s: float, lsb: float | Non
 
 
 def pooled(b: np.ndarray, se: np.ndarray) -> tuple[float, float, int]:
-    """Inverse-variance mean of the record trends b with standard errors se; its standard error
-    scaled by the Birge ratio √(χ²/(n − 1)) where that exceeds 1; ν = n − 1."""
+    """Inverse-variance mean of the record trends b with standard errors se (core.lsq's weighted fit of a
+    constant, absolute weights); its standard error scaled by the Birge ratio √(χ²/(n − 1)) where that
+    exceeds 1; ν = n − 1."""
     ok = se > 0
     b, se = b[ok], se[ok]
     n = int(b.size)
     if n < 2:
         return 0.0, math.inf, 0
-    w = 1.0 / se**2
-    d = float(np.sum(w * b) / np.sum(w))
-    u = 1.0 / math.sqrt(float(np.sum(w)))
-    birge = math.sqrt(float(np.sum(w * (b - d) ** 2)) / (n - 1))
-    return d, u * max(1.0, birge), n - 1
+    fit = fit_linear(np.ones(n), b, weights=1.0 / se**2, scale_cov=False)
+    return float(fit.coef[0]), math.sqrt(float(fit.cov[0, 0])) * max(1.0, fit.residual_sd), n - 1
 
 
 _CACHE: "weakref.WeakKeyDictionary[Campaign, GyroDrift]" = weakref.WeakKeyDictionary()
