@@ -172,7 +172,9 @@ def test_d14_d15_d16_recover_simulated_truth(pm):
     kr = rec.outcomes[0].result("Kr").value.to("ppm").magnitude
     (row,) = [r for r in kt.budget.rows if r.symbol == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
     s_on = float(str(row.note).split("turn-on scatter of K, ")[1].split(" ppm")[0])
-    assert s_on == pytest.approx(kr, rel=2e-3)  # D.1.4's K_r of this campaign, to 3 digits
+    # D.1.4's K_r of this campaign taken whole (own part 0), as the posterior mean of the turn-on variance given
+    # its Q − 1 = 6 degrees of freedom: (Q − 1)/(Q − 3)·K_r² (interpretations.md "σ_K — …"), to 3 digits
+    assert s_on == pytest.approx(kr * math.sqrt(6 / 4), rel=2e-3)
 
 
 def test_simulated_d15_temperature_points_are_power_ons():

@@ -372,3 +372,109 @@ def test_a_bad_stated_repeatability_is_an_error_even_with_repeats(tmp_path):
     code = main(["run", "-s", "gbt45570", "-i", "D.5.3,D.5.4", "--data", str(folder / "manifest.toml"), "--no-report",
                  "--quiet"])
     assert code == 2 and (folder / "manifest.toml").read_bytes() == before
+
+
+# --------------------------------------------------------------------------------------------
+# σ_K of D.1.5 / D.2.5: the posterior mean of the turn-on variance, never 0 where the runs only bound it
+# (interpretations.md "σ_K — K's turn-on scatter, a variance component the runs only bound")
+# --------------------------------------------------------------------------------------------
+
+def _d25_station(pm, seed: int):
+    from metro.core.runner import run_items
+
+    # no turn-on scatter of K on the station: D.2.4's K_r is the runs' own noise, and at seed 2 below it
+    return run_items(pm, "gbt45570", ["D.2.4", "D.2.5"], station="simulated",
+                     station_options={"seed": seed, "device_class": "lsb-fine", "sf_turn_on_sigma": 0.0,
+                                      "duration_scale": 0.25})
+
+
+def test_d25_turn_on_scatter_of_k_is_never_zero_where_d24_only_bounds_it(pm):
+    """D.2.4's seven runs scatter less than their own fits' noise (K_r² = 0.48·mean (u(K_j)/K_j)²): the
+    moment estimate √max(K_r² − mean (u(K_j)/K_j)², 0) was 0 and D.2.5's points carried no turn-on part at
+    all.  Now σ_K² is the posterior mean of the variance component given the runs, worked here by hand for
+    Q = 7 from the closed χ²(4) and χ²(6) cdfs (as σ_on of D.5.3), with ν = ∞."""
+    from metro.plugins.gbt45570 import formulas_rate as F2
+    from metro.plugins.gbt45570.rate_method import (
+        ScaleFactorRepeatabilityD24,
+        _group_of,
+        collect_rate_data,
+        fit_scale_factor,
+    )
+    from metro.plugins.gbt45570.repeatability import scale_factor_turn_on
+
+    rec = _d25_station(pm, 2)
+    runs = sorted({_group_of(s)[0] for s in rec.campaign.find_segments("rate-output") if _group_of(s)[0]
+                   and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+    assert len(runs) == 7
+    fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, rec.campaign, 11, (r, ""), "")) for r in runs]
+    b2 = F2.scale_factor_repeatability_d28([f.K for f in fits]) ** 2
+    w = sum((f.uK / f.K) ** 2 for f in fits) / 7
+    assert b2 < 0.6 * w  # the precondition: the moment estimate is 0 here (no turn-on part before this change)
+    c = 6 * b2 / w
+    F4 = 1 - math.exp(-c / 2) * (1 + c / 2)
+    F6 = 1 - math.exp(-c / 2) * (1 + c / 2 + c * c / 8)
+    s2 = 6 * b2 * F4 / (4 * F6) - w
+    assert 0.5 * w < s2 < 1.1 * w  # between 2w/(ν − 2) (K_r → 0) and 1.08·w (K_r² = w)
+    on = scale_factor_turn_on(rec.campaign, 11, "rate")
+    assert on.sigma == pytest.approx(math.sqrt(s2), rel=1e-9) and on.nu == math.inf and on.known and on.dof == 6
+    kt = rec.outcomes[1].results[0]
+    assert rec.outcomes[1].item == "D.2.5" and kt.reportable
+    note = kt.budget.rows[0].note
+    assert "not resolved from the runs' own noise" in note, note
+    assert float(note.split("turn-on scatter of K, ")[1].split(" ppm")[0]) == pytest.approx(math.sqrt(s2) * 1e6, rel=5e-3)
+
+
+def test_d25_three_d24_power_ons_cannot_bound_the_turn_on_scatter_of_k(pm):
+    """As σ_on of D.5.3 (MIN_BIAS_RUNS): the posterior mean of a variance from Q values needs Q ≥ 4, so
+    D.2.5 with three D.2.4 runs is not reportable, saying why (before: σ_K from the 3 runs with ν ≥ 1);
+    with [device] scale_factor_repeatability it is reportable, the stated value standing for σ_K."""
+    import attrs
+
+    from metro.core.runner import run_items
+
+    rec = _d25_station(pm, 2)
+    keep = {"1", "2", "3"}
+    camp = attrs.evolve(rec.campaign, segments=[s for s in rec.campaign.segments if s.kind != "rate-output"
+                                                or str(s.conditions.get("run", "")) in ("", *keep)
+                                                or s.conditions.get("temperature")])
+    kt = run_items(pm, "gbt45570", ["D.2.5"], campaign=camp).outcomes[0].results[0]
+    assert not kt.reportable
+    assert "3 D.2.4 power-ons cannot bound it" in kt.reason and "scale_factor_repeatability" in kt.reason, kt.reason
+    dev = attrs.evolve(camp.device, properties=dict(camp.device.properties) | {"scale_factor_repeatability": "5e-6"})
+    kt = run_items(pm, "gbt45570", ["D.2.5"], campaign=attrs.evolve(camp, device=dev)).outcomes[0].results[0]
+    assert kt.reportable, kt.reason
+    assert "5 ppm stated as device.scale_factor_repeatability" in kt.budget.rows[0].note, kt.budget.rows[0].note
+
+
+def test_turn_on_sigma_covers_a_difference_of_power_ons_where_the_runs_only_bound_it():
+    """A small Monte Carlo of what D.1.5 / D.2.5 (and 6.2.8, D.5.4 with σ_on) do with a turn-on scatter: devices
+    whose true σ_K is 0.5 … 1.5 times the runs' own u(K_j) (so 7 runs often scatter less than their noise),
+    two power-ons measured with half that noise, their difference against U = 2·√(2σ̂_K² + 2u²).  The moment
+    estimate with its Satterthwaite ν (k = t(ν_eff), the rule before) covers it on 92.1 %, and on 70.7 % of the 819
+    devices where it came out 0; the posterior mean with ν = ∞ (repeatability.turn_on_sigma) on 98.3 % and 96.3 %
+    (4 000 devices; 40 000 gave 91.4 / 69.2 % and 97.9 / 95.5 %)."""
+    from scipy.stats import t as student
+
+    from metro.plugins.gbt45570.repeatability import turn_on_sigma
+
+    rng = np.random.default_rng(45570)
+    u, up, q = 1e-6, 0.5e-6, 7
+    old = new = old0 = new0 = zero = 0
+    n = 4000
+    for _ in range(n):
+        sig = rng.uniform(0.5, 1.5) * u
+        Kj = 1.0 + sig * rng.standard_normal(q) + u * rng.standard_normal(q)
+        d = sig * (rng.standard_normal() - rng.standard_normal()) + up * (rng.standard_normal() - rng.standard_normal())
+        s_new, s2, w, dof = turn_on_sigma(list(Kj), [u / k for k in Kj])
+        m = max(s2 - w, 0.0)
+        nu_on = max(dof * (m / s2) ** 2, 1.0)
+        u2 = 2 * m + 2 * up * up
+        k = student.ppf(0.97725, u2**2 / ((2 * m) ** 2 / nu_on)) if m > 0 else 2.0
+        hit_old = abs(d) <= k * math.sqrt(u2)
+        hit_new = abs(d) <= 2.0 * math.sqrt(2 * s_new**2 + 2 * up * up)
+        old, new = old + hit_old, new + hit_new
+        if m == 0:
+            zero, old0, new0 = zero + 1, old0 + hit_old, new0 + hit_new
+    assert zero > 0.15 * n  # the runs only bound σ_K on a fifth of these devices
+    assert old / n < 0.93 and old0 / zero < 0.80  # the rule before: short, and shortest where the estimate is 0
+    assert new / n > 0.96 and new0 / zero > 0.93

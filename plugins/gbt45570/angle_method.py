@@ -628,9 +628,10 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     # D.1.5.2 c) / D.2.5.2 c): off while the chamber changes temperature, so each K_i is a power-on of
     # its own and carries K's turn-on scatter (D.1.4 / D.2.4 on this campaign; interpretations.md
     # "D.2.5 — every temperature point is a power-on" and "D.1.5 — …")
-    s_on, nu_on, on_note = scale_factor_turn_on(campaign, int(opts.get("min_points", 11)),
-                                                "angle" if proc.item == "D.1.5" else "rate")
-    s_on, nu_on, pooled_note = pool_turn_on(Ks, uKs, temps, s_on, nu_on)
+    # (σ_K² the posterior mean of the turn-on variance given the runs, ν = ∞: interpretations.md "σ_K — …")
+    on = scale_factor_turn_on(campaign, int(opts.get("min_points", 11)), "angle" if proc.item == "D.1.5" else "rate")
+    on, pooled_note = pool_turn_on(Ks, uKs, temps, on)
+    s_on, nu_on, on_note = on.sigma, on.nu, on.note
     u_on = [s_on * abs(k) for k in Ks]
     sel_observed = s_on > 0 and len(Ks) >= 4  # the points may share a power-on after all: at most what they show
     uKs = [math.hypot(u, v) for u, v in zip(uKs, u_on)]
@@ -643,14 +644,20 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     uA = math.sqrt(sum(u * u for u, _ in parts))
     den = sum(u**4 / max(d, 1) for u, d in parts)
     nu = uA**4 / den if den > 0 else math.inf
-    # the line test of the selection Monte Carlo against u's that hold an estimate of ν_on degrees of
-    # freedom: F(n − 2, ν_eff of the points' u) rather than χ²
+    # the line test of the selection Monte Carlo against u's whose turn-on part rests on an estimate of
+    # on.dof degrees of freedom (the runs', pooled): F(n − 2, ν_eff of the points' u) rather than χ²
     sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True, observed=sel_observed,
-                                 u_dof=points_dof(uKs, u_on, dofs, nu_on))
+                                 u_dof=points_dof(uKs, u_on, dofs, on.dof if on.dof > 0 else math.inf))
     notes = [msg("the maximising point alone gives {u:.3g}/°C", u=uA)]
-    if s_on > 0:
-        notes.append(msg("each K_i a power-on of its own: with the turn-on scatter of K, {s:.3g} ppm (ν = {nu:.3g}) "
-                         "from the repeatability runs on this campaign", s=s_on * 1e6, nu=nu_on))
+    if s_on > 0 and on.dof > 0:
+        notes.append(msg("each K_i a power-on of its own: with the turn-on scatter of K, {s:.3g} ppm (the posterior "
+                         "mean of its variance given {d:.3g} degrees of freedom of the repeatability runs on this "
+                         "campaign{resolved}; ν = ∞)", s=s_on * 1e6, d=on.dof,
+                         resolved=msg(", K_r² − mean u²(K_j)/K_j² ≤ 0: not resolved from the runs' own noise, only "
+                                      "bounded") if on.s2 <= on.within else ""))
+    elif s_on > 0:
+        notes.append(msg("each K_i a power-on of its own: with the turn-on scatter of K, {s:.3g} ppm stated as "
+                         "device.scale_factor_repeatability", s=s_on * 1e6))
     if pooled_note:
         notes.append(pooled_note)
     rows = [BudgetRow.type_a(msg("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "
@@ -676,6 +683,12 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     res = not_without_turn_on(res, campaign, "K", "D.1.4" if angle else "D.2.4",
                               msg("each temperature point is a power-on of its own ({clause}.2 c))", clause=proc.item),
                               "angle" if angle else "rate")
+    if res.reportable and not on.known:  # runs there but too few (< 4) or not evaluable: σ_K not bounded
+        from .repeatability import missing_turn_on
+
+        res = attrs.evolve(res, reportable=False, reason=join("; ", [missing_turn_on(
+            "K", "D.1.4" if angle else "D.2.4", msg("each temperature point is a power-on of its own ({clause}.2 c))",
+                                                    clause=proc.item)), on_note]))
     plot = PlotSpec("K_temperature", msg("Scale factor against temperature ({item})", item=proc.item), "T (°C)",
                     "(K − K₀₀)/K₀₀ (ppm)",
                     [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],

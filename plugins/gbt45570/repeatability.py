@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+import attrs
 import numpy as np
 
 from metro.core.budget import BudgetRow, between_variance
@@ -26,6 +27,8 @@ from . import formulas_rate as F2
 
 #: D.5.3 power-ons needed to bound σ_on: the posterior mean of a variance from Q values is finite for Q ≥ 4
 MIN_BIAS_RUNS = 4
+#: D.1.4 / D.2.4 runs needed to bound K's turn-on scatter σ_K, for the same reason
+MIN_TURN_ON_RUNS = 4
 
 
 def stated_repeatability(campaign: Campaign, key: str) -> float | None:
@@ -167,86 +170,121 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> t
                              )], ""
 
 
-def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rate") -> tuple[float, float, str]:
+@attrs.frozen
+class ScaleTurnOn:
+    """K's turn-on scatter as D.1.5 / D.2.5 take it (:func:`scale_factor_turn_on`, :func:`pool_turn_on`)."""
+
+    sigma: float  #: σ_K, relative: √ of the posterior mean of the turn-on variance (or the stated value)
+    nu: float  #: the row's degrees of freedom: ∞ (a posterior mean, or stated)
+    known: bool  #: measured on this campaign from ≥ 4 runs, or stated (device.scale_factor_repeatability)
+    note: str  #: why it is not in U, or how the runs show it ("" when nothing to say)
+    s2: float = 0.0  #: K_r² of the runs (relative)
+    within: float = 0.0  #: the part of K_r² each K_j's own noise explains, mean (u(K_j)/K_j)² (0: taken whole)
+    dof: float = 0.0  #: the degrees of freedom the estimate rests on (Q − 1, + n − 3 when pooled; 0 stated or none)
+
+
+def turn_on_sigma(Kj, rel_u=None) -> tuple[float, float, float, int]:
+    """σ_K of the Q scale factors K_j of D.1.4 / D.2.4's runs: (σ_K, K_r², own part, Q − 1).
+
+    K_r of eqs. (D.11) / (D.28) (the same form); the own part w = mean (u(K_j)/K_j)² (``rel_u`` the K_j's
+    relative u; None: K_r taken whole, w = 0); σ_K² = the posterior mean of the turn-on variance given
+    the runs, :func:`metro.core.budget.between_variance`(K_r², w, Q − 1) — Box & Tiao §5.2's one-way
+    random-effect model with the reference prior, ν = ∞ (interpretations.md "σ_K — …").  Needs Q ≥ 4."""
+    Kr = F2.scale_factor_repeatability_d11(Kj)
+    w = 0.0 if rel_u is None else float(np.mean(np.square(np.asarray(rel_u, dtype=float))))
+    q = len(Kj)
+    return math.sqrt(between_variance(Kr * Kr, w, q - 1)), Kr * Kr, w, q - 1
+
+
+def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rate") -> ScaleTurnOn:
     """The turn-on part of K's scatter between power-ons, relative, for results whose points are
-    power-ons of their own (D.1.5.2 c) / D.2.5.2 c): off while the chamber changes temperature):
-    σ_K = √(max(K_r² − mean (u(K_j)/K_j)², 0)) from the campaign's repeatability runs — D.2.4
-    (``rate-output`` with ``run``, ``method="rate"``) or D.1.4 (``revolutions-repeat``, K_j of eq. (D.2)
-    with the revolutions' scatter as u(K_j), ``method="angle"``) — with the Satterthwaite degrees of
-    freedom of a variance difference, (Q − 1)·(σ_K²/K_r²)² (at least 1).
-    Returns (σ_K, ν, note); σ_K = 0 with a note saying why when the campaign has no such runs; without
-    runs, ``device.scale_factor_repeatability`` stands for σ_K (ν = ∞)."""
+    power-ons of their own (D.1.5.2 c) / D.2.5.2 c): off while the chamber changes temperature), from
+    the campaign's repeatability runs — D.2.4 (``rate-output`` with ``run``, ``method="rate"``) or D.1.4
+    (``revolutions-repeat``, K_j of eq. (D.2), ``method="angle"``).
+
+    σ_K² = K_r² less the runs' own part, mean (u(K_j)/K_j)², is a variance component estimated as a
+    difference; it enters as its posterior mean given the runs
+    (:func:`metro.core.budget.between_variance`, ν = ∞), never 0 where the runs only bound it, as σ_on of
+    D.5.3 does (interpretations.md, "σ_on — a variance component the data only bound", "σ_K — …").
+    D.1.4's K_j take K_r whole (own part 0: the revolutions' scatter overstates a K_j's noise where the
+    counter's rounding dominates; interpretations.md "D.1.5 — every temperature point is a power-on"),
+    so there it is (Q − 1)/(Q − 3)·K_r².  Fewer than 4 runs cannot bound σ_K (the posterior mean is
+    infinite): not known, with a note.  Without runs, ``device.scale_factor_repeatability`` stands for
+    σ_K (ν = ∞), as it does with too few runs."""
     st = stated_repeatability(campaign, "scale_factor_repeatability")
-    if st is not None and not _runs_present(campaign, "K", method):
-        return st, math.inf, ""
+    item = "D.1.4" if method == "angle" else "D.2.4"
     if method == "angle":
-        from .angle_method import ScaleFactorRepeatabilityD14, _grouped, collect_rate_points
+        from .angle_method import _grouped
 
-        item = "D.1.4"
-        runs = _grouped(campaign, "revolutions-repeat", "run")
-        try:
-            pts = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0]
-                   for r, segs in sorted(runs.items())] if len(runs) >= 2 else []
-        except (DataError, IndexError) as exc:
-            return 0.0, math.inf, msg("turn-on scatter of K not in U: the {item} runs could not be evaluated ({exc})",
-                                      item=item, exc=str(exc))
-        Kj = [p.K for p in pts]
-        rel_u = [p.u_K / abs(p.K) for p in pts]
-        repeatability = F2.scale_factor_repeatability_d11
+        runs = sorted(_grouped(campaign, "revolutions-repeat", "run").items())
     else:
-        from .rate_method import ScaleFactorRepeatabilityD24, _group_of, collect_rate_data, fit_scale_factor
+        from .rate_method import _group_of
 
-        item = "D.2.4"
         runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
                        and not _group_of(s)[1]}, key=lambda r: (len(r), r))
-        try:
+    if len(runs) < MIN_TURN_ON_RUNS:
+        if st is not None:
+            return ScaleTurnOn(st, math.inf, True, "")
+        if len(runs) < 2:
+            return ScaleTurnOn(0.0, math.inf, False, msg(
+                "turn-on scatter of K not in U: each temperature point is a power-on of its own, but the campaign has "
+                "no {item} runs to measure it", item=item))
+        return ScaleTurnOn(0.0, math.inf, False, msg(
+            "turn-on scatter of K not in U: {q} {item} power-ons cannot bound it (at least {m}; {item} records 7)",
+            q=len(runs), item=item, m=MIN_TURN_ON_RUNS))
+    try:
+        if method == "angle":
+            from .angle_method import ScaleFactorRepeatabilityD14, collect_rate_points
+
+            pts = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0]
+                   for r, segs in runs]
+            # D.1.4: consecutive revolutions are read off one accumulating count, so their rounding
+            # cancels in the sum and s/√m overstates a K_j's own noise; taken away, it would remove
+            # turn-on scatter that is there: K_r whole (own part 0)
+            sigma, s2, within, dof = turn_on_sigma([p.K for p in pts])
+        else:
+            from .rate_method import ScaleFactorRepeatabilityD24, collect_rate_data, fit_scale_factor
+
             fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
-                                                       f"in run {r}")) for r in runs] if len(runs) >= 2 else []
-        except DataError as exc:
-            return 0.0, math.inf, msg("turn-on scatter of K not in U: the {item} runs could not be evaluated ({exc})",
-                                      item=item, exc=str(exc))
-        Kj = [f.K for f in fits]
-        rel_u = [f.uK / abs(f.K) for f in fits]
-        repeatability = F2.scale_factor_repeatability_d28
-    if len(Kj) < 2:
-        return 0.0, math.inf, msg("turn-on scatter of K not in U: each temperature point is a power-on of its own, "
-                                  "but the campaign has no {item} runs to measure it", item=item)
-    Kr = repeatability(Kj)
-    if not Kr > 0:
-        return 0.0, math.inf, msg("turn-on scatter of K not in U: the {q} scale factors of the {item} runs are identical "
-                                  "(their resolution is coarser than the scatter, which they cannot measure)",
-                                  q=len(Kj), item=item)
-    # D.1.4: the revolutions' scatter overstates a K_j's own noise where the counter's rounding
-    # dominates (consecutive revolutions are read off one accumulating count, so their rounding
-    # cancels in the sum), and the difference would remove turn-on scatter that is there: K_r whole
-    s2 = Kr**2 if method == "angle" else max(Kr**2 - float(np.mean(np.square(rel_u))), 0.0)
-    nu = max((len(Kj) - 1) * (s2 / Kr**2) ** 2, 1.0) if Kr > 0 else math.inf
-    return math.sqrt(s2), nu, ""
+                                                       f"in run {r}")) for r in runs]
+            sigma, s2, within, dof = turn_on_sigma([f.K for f in fits], [f.uK / f.K for f in fits])
+    except (DataError, IndexError) as exc:  # D.1.4 / D.2.4 themselves report what is wrong with their runs
+        return ScaleTurnOn(0.0, math.inf, False, msg("turn-on scatter of K not in U: the {item} runs could not be "
+                                                     "evaluated ({exc})", item=item, exc=str(exc)))
+    note = ""
+    if sigma == 0.0:  # K_r = 0 with the own part taken as 0: identical K_j of a counter coarser than the scatter
+        note = msg("turn-on scatter of K not in U: the {q} scale factors of the {item} runs are identical "
+                   "(their resolution is coarser than the scatter, which they cannot measure)", q=dof + 1, item=item)
+    return ScaleTurnOn(sigma, math.inf, True, note, s2, within, dof)
 
 
-def pool_turn_on(Ks, uKs, temps, s_on: float, nu_on: float) -> tuple[float, float, str]:
+def pool_turn_on(Ks, uKs, temps, on: ScaleTurnOn) -> tuple[ScaleTurnOn, str]:
     """K's turn-on scatter σ_K pooled with what the temperature points themselves show.
 
-    Each temperature point is a power-on (D.1.5.2 c) / D.2.5.2 c)), so the K_i's scatter about a smooth
-    K(T) (a quadratic in T, :func:`metro.core.selection.curve_scatter`, n − 3 degrees of freedom, less the
-    points' own noise) is a second estimate of
-    σ_K beside the repeatability runs' (ν_on).  Where the pooled value, √((ν_on·σ_K² + (n − 3)·s_T²)/(ν_on +
-    n − 3)), is larger, it is taken with ν_on + n − 3 degrees of freedom; it never lowers σ_K below what the
-    repeatability item measured (interpretations.md "D.2.5 — the line test with an estimated scatter").
-    Needs ≥ 5 points and a σ_K from runs (finite ν_on); otherwise (σ_K, ν_on, "") unchanged."""
+    Each temperature point is a power-on (D.1.5.2 c)) / D.2.5.2 c)), so the K_i's mean square about a
+    smooth K(T) (a quadratic in T, :func:`metro.core.selection.curve_scatter`, n − 3 degrees of freedom,
+    its own part mean (u(K_i)/K_i)²) is a second estimate of the same variance beside the runs' (K_r², Q − 1).
+    Pooled — mean squares and own parts each weighted by their degrees of freedom — the posterior mean of the
+    variance component (:func:`metro.core.budget.between_variance`, Q − 1 + n − 3 degrees of freedom) is
+    taken where it is larger than the runs' alone; it never lowers σ_K below what the repeatability item
+    measured (interpretations.md "D.2.5 — the line test with an estimated scatter").  Needs ≥ 5 points and
+    a σ_K from runs; otherwise ``on`` unchanged, with ""."""
     n = len(Ks)
-    if not (s_on > 0 and math.isfinite(nu_on) and n >= 5):
-        return s_on, nu_on, ""
+    if not (on.known and on.dof > 0 and n >= 5):
+        return on, ""
     K = np.asarray(Ks, dtype=float)
-    s_T, dof = curve_scatter(K / float(np.mean(K)), temps, 2)
+    s_T, d = curve_scatter(K / float(np.mean(K)), temps, 2)
     own = float(np.mean(np.square(np.asarray(uKs, dtype=float) / np.abs(K))))
-    s_T2 = max(s_T * s_T - own, 0.0)
-    pooled = math.sqrt((nu_on * s_on**2 + dof * s_T2) / (nu_on + dof))
-    if pooled <= s_on:
-        return s_on, nu_on, ""
-    return pooled, nu_on + dof, msg("the temperature points scatter about a quadratic in T by {s:.3g} ppm beyond their "
-                                    "own noise ({d} degrees of freedom): pooled with the runs' {r:.3g} ppm",
-                                    s=math.sqrt(s_T2) * 1e6, d=dof, r=s_on * 1e6)
+    dof = on.dof + d
+    s2 = (on.dof * on.s2 + d * s_T * s_T) / dof
+    within = (on.dof * on.within + d * own) / dof
+    pooled = math.sqrt(between_variance(s2, within, int(round(dof))))
+    if pooled <= on.sigma:
+        return on, ""
+    return (attrs.evolve(on, sigma=pooled, s2=s2, within=within, dof=dof),
+            msg("pooled with the temperature points' scatter about a quadratic in T ({s:.3g} ppm; their own noise "
+                "{o:.3g} ppm; {d} degrees of freedom): σ_K {r:.3g} → {p:.3g} ppm", s=s_T * 1e6, o=math.sqrt(own) * 1e6,
+                d=d, r=on.sigma * 1e6, p=pooled * 1e6))
 
 
 def points_dof(u_points, u_on, dofs, nu_on: float) -> float:
