@@ -77,6 +77,7 @@ __all__ = [
     "block_means_pyramid",
     "block_std",
     "block_variance_doubling",
+    "block_variance_dof",
     "edf_white_fm",
     "log_m",
     "oadev_covariance",
@@ -984,6 +985,78 @@ def block_std(y: ArrayLike, factor: int) -> tuple[float, int]:
         s2 += float(np.sum(np.square(v, out=v)))
     var = max(0.0, (s2 - s1 * s1 / M) / (M - 1))
     return math.sqrt(var), M
+
+
+def _toeplitz_times(gamma: FloatArray, v: FloatArray) -> FloatArray:
+    """S v for the symmetric Toeplitz S_ij = gamma[|i - j|] (gamma of length M)."""
+    from scipy.signal import fftconvolve
+
+    full = np.concatenate([gamma[:0:-1], gamma])
+    return fftconvolve(full, v, mode="valid") if v.size > 256 else np.convolve(full, v, mode="valid")
+
+
+def block_variance_dof(n_blocks: int, factor: int, coefficients: ArrayLike) -> tuple[float, float]:
+    """Effective degrees of freedom and expectation of the Bessel sample variance s^2 of M block
+    means of ``factor`` samples each (the statistic of :func:`block_std`, JJF 2014 eq. (29)), for
+    Gaussian noise with the Allan-variance power law of :func:`oadev_covariance`,
+
+        sigma^2(m tau0) = sum_{k=-2}^{2} a_k m^k        (a_k in the unit of y^2, tau in samples):
+
+    white PM (k = -2), white FM (-1), flicker FM (0) and random-walk FM (1) as independent noises,
+    and a deterministic rate ramp (2) of slope sqrt(2 a_2) per sample.
+
+    The block mean is a phase difference, ybar_i = (x_{(i+1)f} - x_{if}) / f, so the block means'
+    covariance at lag j follows from the generalized autocovariance R of the phase (the same
+    R as in :func:`oadev_covariance`; C. A. Greenhall, TMO Progress Report 42-137, 1999):
+
+        gamma_j = [2 R(j f) - R((j - 1) f) - R((j + 1) f)] / f^2.
+
+    For flicker and random-walk FM this S is defined only up to terms u 1' + 1 u', which the
+    centring C = I - 11'/M removes; s^2 = y' C y / (M - 1) is such a contrast, so
+
+        E[(M - 1) s^2]   = tr(C S) + mu' C mu,
+        Var[(M - 1) s^2] = 2 tr((C S)^2) + 4 mu' C S C mu      (Gaussian quadratic form),
+
+    with mu the ramp's block means.  nu = 2 E^2 / Var is Satterthwaite's effective number of degrees
+    of freedom of s^2 (F. E. Satterthwaite, Biometrics Bulletin 2, 1946): M - 1 for white noise,
+    fewer where the block means are correlated — M. S. Bartlett's (J. R. Stat. Soc. Suppl. 8, 1946)
+    nu = (M - 1)/(1 + 2 sum rho_k^2) is its large-M form with a known autocorrelation; here the
+    autocorrelation is the noise model's, including the centring of a nonstationary flicker or
+    random walk (the bias of s^2 under them is the "B1" bias function of J. A. Barnes, NBS Technical
+    Note 375, 1969: E[s^2] below the Allan variance at the record length).  The sums use the
+    Toeplitz structure: O(M log M).
+
+    Returns (nu, E[s^2]); nu = inf when s^2 is certain (no noise).  Coefficients below 0 count as 0.
+    """
+    M = _as_int(n_blocks, "n_blocks")
+    f = _factor(factor)
+    a = np.clip(np.asarray(coefficients, dtype=np.float64), 0.0, None)
+    if a.shape != (5,):
+        raise ValueError(f"coefficients must be the 5 values a_-2 .. a_2, got shape {a.shape}")
+    if M < 2:
+        raise ValueError(f"s^2 needs at least 2 block means, got {M}")
+    j = np.arange(M, dtype=np.float64)
+    gamma = np.zeros(M)
+    gamma[0] += (2.0 / 3.0) * a[0] / f**2 + a[1] / f           # white PM: phase white, variance a_-2/3
+    if M > 1:
+        gamma[1] -= (1.0 / 3.0) * a[0] / f**2
+    for k, c in ((0, a[2]), (1, a[3] * f)):                    # flicker FM, random-walk FM in block units
+        if c > 0.0:
+            gamma += c * (2.0 * _gacv(k, j) - _gacv(k, j - 1.0) - _gacv(k, j + 1.0))
+    row = _toeplitz_times(gamma, np.ones(M))                   # S 1
+    tot = float(row.sum())                                     # 1' S 1
+    weights = M - j
+    weights[1:] *= 2.0
+    tr_cs = M * float(gamma[0]) - tot / M
+    tr_cs2 = float(np.sum(weights * gamma * gamma)) - 2.0 * float(row @ row) / M + tot * tot / M**2
+    mu = math.sqrt(2.0 * a[4]) * f * (j - j.mean())           # the ramp's centred block means
+    smu = _toeplitz_times(gamma, mu)
+    smu -= smu.mean()                                          # C S C mu (C mu = mu)
+    e = tr_cs + float(mu @ mu)
+    v = 2.0 * tr_cs2 + 4.0 * float(mu @ smu)
+    if not v > 0.0:
+        return math.inf, max(e, 0.0) / (M - 1)
+    return 2.0 * e * e / v, e / (M - 1)
 
 
 class BatchMeanU(NamedTuple):

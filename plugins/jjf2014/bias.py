@@ -244,7 +244,7 @@ class BiasStability(_JJF):
             raise DataError(seg.file or seg.id, "output", str(exc)) from exc
         bs *= 3600.0
         P_ = int(round(p))
-        u, dof, cnote = B.std_of_std_correlated(bs, x[: m * P_].reshape(m, P_).mean(axis=1))
+        u, dof, cnote = B.std_of_std_correlated(bs, x[: m * P_].reshape(m, P_).mean(axis=1), x[: m * P_], P_, dt)
         rows = [_budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_upper − B_s)/2", u,
                               "deg/h", dof, note=cnote),
                 kv.row(bs, "deg/h")]

@@ -92,19 +92,66 @@ def std_of_std(s: float, q: int) -> tuple[float, float]:
     return std_sampling_u(s, q), math.inf
 
 
-def std_of_std_correlated(s: float, means) -> tuple[float, float, str]:
+def averages_dof_model(x, P: int, dt: float) -> tuple[float, float] | None:
+    """Effective degrees of freedom of eq. (29)'s s² of the N/P averages, from the record's own noise model:
+    7.2.20's eq. (38) fit σ²(τ) = Σ A_m τ^m to the overlapping Allan variance of the samples ``x`` (octave τ up
+    to N/4, GLS with the exact covariance, negative terms removed: :func:`formulas.fit_allan_eq38`), then
+    :func:`metro.core.allan.block_variance_dof` — the averages' covariance under that white / flicker / random-
+    walk model with its rate ramp as a fixed trend, and ν = 2E[s²]²/Var(s²) of the Bessel variance of the
+    centred averages.  The model's flicker and random walk are read off the whole range of τ (many clusters
+    each), not off the few slow excursions one record happens to hold, which is what fooled ν from the record's
+    own autocorrelation (docs/interpretations.md, "7.2.14 — B_s of correlated averages").  None when the
+    record is too short for the fit (fewer than 6 octave τ values) or has no noise; (ν, E[s²]) otherwise."""
+    from metro.core import allan
+
+    from .formulas import ALLAN_TERMS, fit_allan_eq38
+
+    y = np.asarray(x, dtype=float)
+    m = y.size // P
+    try:
+        ms = allan.octave_m(y.size, 0.25)
+        if ms.size < 6 or m < 2:
+            return None
+        ad = allan.oadev(y, dt, ms)
+        tau0_h = dt / 3600.0
+        fit = fit_allan_eq38(np.asarray(ad.tau) / 3600.0, np.asarray(ad.deviation), np.asarray(ad.edf),
+                             n_samples=int(ad.n_samples), tau0_h=tau0_h, nonnegative=True)
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+    a = np.asarray(fit.A, dtype=float) * tau0_h ** np.array([k for k, _ in ALLAN_TERMS], dtype=float)
+    nu, e = allan.block_variance_dof(m, P, a)
+    return (nu, e) if math.isfinite(e) and e > 0 else None
+
+
+def std_of_std_correlated(s: float, means, samples=None, P: int | None = None,
+                          dt: float | None = None) -> tuple[float, float, str]:
     """Standard uncertainty of eq. (29)'s B_s, a Bessel standard deviation ``s`` of the m averages
     ``means``, when the averages may be correlated (flicker, wander, a ramp: neighbouring averages
-    alike): the χ² bound of :func:`std_of_std` on the effective number of degrees of freedom
-    ν_eff = (m − 1)/(1 + 2Σρ_k²) (Bartlett's variance of a sample variance of a correlated
-    series; ρ_k the averages' sample autocorrelation over lags 1 … m/4, each ρ̂_k² less the 1/m that
-    sampling noise alone puts into it).  Independent averages give ν_eff ≈ m − 1 and the χ² bound of m values.  Returns
-    (u, ν = ∞ as the χ² bound is entered, a note naming ν_eff when it is below m − 1)
-    (interpretations.md, "7.2.14 — B_s of correlated averages")."""
+    alike): the χ² bound of :func:`std_of_std` on an effective number of degrees of freedom ν_eff.
+
+    With the record's ``samples`` (and ``P`` samples per average, interval ``dt``) ν_eff is the noise
+    model's (:func:`averages_dof_model`: Satterthwaite's ν of s² for the eq. (38) fit's white, flicker,
+    random walk and ramp).  Without them, or when the record is too short for that fit, Bartlett's
+    ν_eff = (m − 1)/(1 + 2Σρ_k²) (M. S. Bartlett, J. R. Stat. Soc. Suppl. 8, 1946: the variance of a
+    sample variance of a correlated series; ρ_k the averages' sample autocorrelation over lags 1 … m/4,
+    corrected for the record's own mean, each ρ̂_k² less the 1/m that sampling noise alone puts into it).
+    Bartlett's ν from one record is too large exactly when the record happened to show little of its slow
+    noise — and then s is low too — so it left B_s outside U on 6 % of the independent harness's flicker and
+    wander devices; the model's ν is read off the whole Allan curve (interpretations.md, "7.2.14 — B_s of
+    correlated averages").  Independent averages give ν_eff ≈ m − 1 and the χ² bound of m values.  Returns
+    (u, ν = ∞ as the χ² bound is entered, a note naming ν_eff when it is below m − 1)."""
     from scipy.stats import chi2
 
     x = np.asarray(means, dtype=float)
     m = x.size
+    model = averages_dof_model(samples, int(P), float(dt)) if samples is not None and P and dt else None
+    if model is not None:
+        nu = min(float(m - 1), max(1.0, model[0]))
+        upper = float(s) * math.sqrt(nu / float(chi2.ppf(0.02275, nu)))
+        note = ("" if nu >= 0.95 * (m - 1) else
+                msg("ν_eff = {nu:.3g} of the {m} averages from the record's noise model (eq. (38) fit: white, flicker, "
+                    "random walk, ramp): χ² bound on it", nu=nu, m=m))
+        return (upper - float(s)) / 2.0, math.inf, note
     x = x - x.mean()
     c0 = float(x @ x) / m
     acc = 0.0
