@@ -44,6 +44,7 @@ import io
 import json
 import math
 import sys
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -265,7 +266,7 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
                anomaly_mgal: float = 30.0, write_gravity: bool = False, gyro_unit="deg/s", acc_unit="gn",
                with_time: bool = True, quick: bool = False, flip: float = 0.3,
                items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0, sigma_K: float = 0.0,
-               sigma_B: float = 0.0, ramp: bool = False, started: bool = False) -> dict:
+               sigma_B: float = 0.0, ramp: bool = False, started: bool = False, shuffle: bool = False) -> dict:
     """One MIMU written as a campaign of the 27 (3 axes × the rate set) rate segments and the twelve
     positions; returns the truth {(item, key): (value, unit, earth)} and ``options``."""
     lat = float(rng.uniform(*lat_range))
@@ -360,6 +361,10 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
                 record(f"rate-repeat#{run}-{a}-{r:g}", "rate-repeat", C0, T @ np.array([0.0, 0.0, 1.0]),
                        r * (1 + eps), {"axis": a, "rate": f"{r:g} °/s", "run": str(run)})
     dev.Kg, dev.Bg = Kg0, Bg0
+    if shuffle:  # the manifest lists the records in an order of its own, not the recording order (its
+        # own generator: the devices stay those of their seeds)
+        order = np.random.default_rng(zlib.crc32(folder.name.encode())).permutation(len(camp.segments))
+        camp.segments = [camp.segments[k] for k in order]
     camp.write_manifest()
 
     # truth
@@ -465,13 +470,13 @@ VARIANTS = {
 }
 
 
-def _warmup(started: bool):
+def _warmup(started: bool, shuffle: bool = False):
     return lambda f, rng, quick: build_mimu(
         f, rng, dt=0.01, seconds=30.0, fmt="npy", bits=24, fs_g=125.0, fs_a=8.0,
         rates=(-125, -60, -20, 0, 20, 60, 125), xc_g=5e-3, xc_a=5e-3, g_sens=0.02, p_mag=2e-4,
         arw=(0.002, 0.005), vrw=(2e-5, 5e-5), wander=0.2 * 4 / (2 * math.pi),  # slope A·2π/4 h = 0.2 °/s/h at t = 0
         lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0, axis_perp=10.0), write_gravity=True, ramp=True,
-        started=started, quick=quick)
+        started=started, shuffle=shuffle, quick=quick)
 
 
 _WARMUP = ("a MIMU still warming up: each gyro bias ramps by 0.1–0.3 °/s per hour of either sign (the "
@@ -482,6 +487,9 @@ VARIANTS["mimu-24bit-warmup-ramp"] = MimuVariant(
 VARIANTS["mimu-24bit-warmup-ramp-started"] = MimuVariant(
     "mimu-24bit-warmup-ramp-started", _WARMUP + "; each segment's `started` (the acquisition's clock, UTC+8)",
     _warmup(True), options=("omega=125 deg/s",))
+VARIANTS["mimu-24bit-warmup-ramp-shuffled"] = MimuVariant(
+    "mimu-24bit-warmup-ramp-shuffled", _WARMUP + "; no recording times, and the manifest lists the segments in a "
+    "random order (recorded in the plan's)", _warmup(False, shuffle=True), options=("omega=125 deg/s",))
 
 
 # --------------------------------------------------------------------------------------------

@@ -15,12 +15,16 @@ touched.
   out: the table's rate ripple is in it), pooled over the campaign's records by inverse variance,
   its standard error scaled up by the Birge ratio where the records disagree more than their
   noise says.
-* **Cover** (``started`` on the segments, docs/data-format.md): the drift d moves a result
-  that combines records recorded at times t by d·τ, τ = ∂(result)/∂(output) · t summed over the
-  records — for eq. (5) τ is the least-squares slope of the records' mid-times on their rates
-  (:func:`sweep_factor`), for eq. (7) Σ t_k·∂G/∂U_k (:func:`six_position_factors`).  The budget row
-  is u = √(d̂² + u(d̂)²)·|τ| (GUM F.2.4.5: a known effect left uncorrected), the printed value
-  stays the standard's.
+* **Correct** (``started`` on the segments, docs/data-format.md): the drift moves a result that
+  combines records by Σ w_k·β̄_k, w_k the result's weights of the record means (eq. (5): the
+  least-squares slope weights; eq. (7): ∂G/∂U of the pair means) and β̄_k the bias change over
+  record k.  Each gyro's drift rate is fitted to the record trends at their mid-times as a line in
+  time (:class:`RateModel`: a warm-up that settles slows down, which the line follows to first
+  order), the result is corrected by −Σ w_k·β̄_k (GUM 3.2.3, 3.2.4: a recognised systematic
+  effect is corrected) and carries the correction's uncertainty u_d = √(gᵀ·Cov·g); where the line
+  does not fit the trends (χ² beyond its 99 % quantile) also the model's error u_dm, the trends'
+  residuals from the line integrated over time and carried through the same weights.  A gyro with
+  fewer than three timed records keeps the uncorrected row u = √(d̂² + u(d̂)²)·|τ| (GUM F.2.4.5).
 * **Without times** the drift cannot be budgeted: where it is significant (|d̂|/u(d̂) ≥
   :data:`Z_CRIT`) and would move a result by :data:`MATERIAL` of its U or more were the records
   taken back to back in the plan's order (:func:`plan_sweep_factor`, :func:`plan_six_factors`),
@@ -54,6 +58,18 @@ Z_CRIT = 2.5
 #: … and, without recording times, material where the plan's order would move a result by this
 #: fraction of its U
 MATERIAL = 0.5
+#: with recording times a result is corrected for the drift only where its effect Δ on the result is
+#: "significant" (|Δ| ≥ Z_CRIT·u(Δ); an effect the data do not resolve is budgeted uncorrected,
+#: √(Δ² + u²)), or "always" — measured both ways (docs/interpretations.md, "gyro bias drift during
+#: the campaign"): "always" is unbiased but puts the estimate's noise into every steady device's
+#: K_g and g (rms E_n × 3–10)
+CORRECT = "significant"
+#: without recording times: "verdict" (a significant, material drift makes the result not reportable)
+#: or "order" (also a row √(d̂² + u²)·|τ| with τ from the manifest's order, records back to back)
+NO_TIMES = "verdict"
+#: the line in time fits the record trends unless χ² exceeds its 99 % quantile (the drift model's error
+#: then enters the budget, :func:`correction`)
+P_FIT = 0.01
 #: a turning record's trend is fitted with the table-rate sinusoid only over at least one revolution
 MIN_TURNS = 1.0
 #: kinds whose records the gyro items read
@@ -61,10 +77,64 @@ KINDS = ("position", "rate", "rate-repeat")
 
 
 @attrs.frozen
+class RateModel:
+    """The drift rate of one gyro as a straight line in time, d(t) = a + c·(t − t_ref) (°/s per s),
+    fitted by weighted least squares to the records' own trends at their mid-times (absolute
+    weights, covariance scaled by the Birge ratio² where it exceeds 1): the bias then changes by
+    β(t) = a·(t − t_ref) + c·(t − t_ref)²/2 — a warm-up that settles (exponentially, as a MEMS gyro
+    does) slows down during the campaign, which c follows to first order."""
+
+    a: float
+    c: float
+    cov: tuple[tuple[float, float], tuple[float, float]]
+    dof: int
+    t_ref: float
+    birge: float
+    #: the records' mid-times (sorted) and the integral of the trends' residuals from the line up to
+    #: each (°/s): the bias change the line does not follow
+    knots: tuple[float, ...] = ()
+    left: tuple[float, ...] = ()
+    #: χ² of the trends about the line (absolute weights) and its upper-tail probability
+    chi2: float = 0.0
+    p_fit: float = 1.0
+    #: the rate changes in time (c fitted) or is constant (c = 0: the fitted c was below Z_CRIT
+    #: standard errors); c_seen: the fitted c and its standard error either way
+    line: bool = True
+    c_seen: tuple[float, float] = (0.0, 0.0)
+    records: int = 0
+
+    @property
+    def misfit(self) -> bool:
+        """The line does not fit the trends: χ² beyond its (1 − :data:`P_FIT`) quantile."""
+        return self.p_fit < P_FIT
+
+    def leftover(self, t: float) -> float:
+        """The bias change at time t that the line leaves out: the trapezoid integral of the
+        record trends' residuals over the records' mid-times, linearly interpolated."""
+        if len(self.knots) < 2:
+            return 0.0
+        return float(np.interp(t, self.knots, self.left))
+
+    def basis(self, mid: float, duration: float, interval: float) -> np.ndarray:
+        """[mean of (t − t_ref), mean of (t − t_ref)²/2] over a record's samples (mid-time ``mid``,
+        ``duration`` = samples × ``interval``)."""
+        x = mid - self.t_ref
+        spread = max(duration**2 - interval**2, 0.0) / 12.0  # variance of the sample times about mid
+        return np.array([x, 0.5 * (x * x + spread)])
+
+    def effect(self, grad: np.ndarray) -> tuple[float, float]:
+        """The change Σ w_k·β̄_k of a result whose record weights w give ``grad`` = Σ w_k·basis_k,
+        and its standard uncertainty √(gᵀ·Cov·g)."""
+        g = np.asarray(grad, float)
+        cov = np.asarray(self.cov, float)
+        return float(g @ np.array([self.a, self.c])), math.sqrt(max(float(g @ cov @ g), 0.0))
+
+
+@attrs.frozen
 class GyroDrift:
     """The pooled within-record trend of each gyro (°/s per s): estimate, standard error, ν, the
     number of records, and each record's mid-time in s from the first record's start (None where
-    the manifest gives no ``started``)."""
+    the manifest gives no ``started``); with the times, each gyro's :class:`RateModel`."""
 
     d: tuple[float, float, float]
     u: tuple[float, float, float]
@@ -74,12 +144,29 @@ class GyroDrift:
     durations: Mapping[str, float]
     #: records with ``started`` when not all have it (their times are then not used)
     timed: int = 0
+    #: each gyro's drift rate as a line in time (None without times or with fewer than three records)
+    models: tuple[RateModel | None, RateModel | None, RateModel | None] = (None, None, None)
+    intervals: Mapping[str, float] = attrs.field(factory=dict)
+    #: mid-times (s) were the records taken back to back, with their own durations, in the
+    #: manifest's order (used without recording times where :data:`NO_TIMES` is "order")
+    order_mids: Mapping[str, float] = attrs.field(factory=dict)
 
     def z(self, i: int) -> float:
         return abs(self.d[i]) / self.u[i] if self.u[i] > 0 else 0.0
 
     def significant(self, i: int) -> bool:
         return self.z(i) >= Z_CRIT
+
+    def corrects(self, i: int) -> bool:
+        """The results of gyro i are evaluated with its :class:`RateModel` (:func:`correction`:
+        corrected where the drift's effect on them is resolved): recording times and ≥ 3 records."""
+        return self.models[i] is not None
+
+    def basis(self, i: int, sid: str) -> np.ndarray:
+        """:meth:`RateModel.basis` of record ``sid`` for gyro i's model, and the bias change the
+        model leaves out at its mid-time (:meth:`RateModel.leftover`)."""
+        m, t = self.models[i], self.mid_times[sid]
+        return np.append(m.basis(t, self.durations[sid], self.intervals[sid]), m.leftover(t))
 
 
 def record_trend(y: np.ndarray, dt_s: float, rate_deg_s: float, lsb: float | None) -> tuple[np.ndarray, np.ndarray]:
@@ -115,6 +202,43 @@ def pooled(b: np.ndarray, se: np.ndarray) -> tuple[float, float, int]:
         return 0.0, math.inf, 0
     fit = fit_linear(np.ones(n), b, weights=1.0 / se**2, scale_cov=False)
     return float(fit.coef[0]), math.sqrt(float(fit.cov[0, 0])) * max(1.0, fit.residual_sd), n - 1
+
+
+def rate_model(b: np.ndarray, se: np.ndarray, mid: np.ndarray) -> RateModel | None:
+    """The record trends b (standard errors se, at mid-times ``mid``) fitted by a drift rate that is a
+    straight line in time (:class:`RateModel`; core.lsq's weighted fit, absolute weights, its
+    covariance scaled by the Birge ratio² where that exceeds 1; t_ref the weighted mean time, so
+    that a is the pooled trend of :func:`pooled`); where its change in time c is below
+    :data:`Z_CRIT` standard errors the rate is taken constant (c = 0, the pooled trend: a slope
+    that the data do not show would only add its noise to the correction).  None with fewer than
+    three records."""
+    from scipy.stats import chi2 as _chi2
+
+    ok = se > 0
+    b, se, mid = b[ok], se[ok], mid[ok]
+    if b.size < 3 or np.ptp(mid) <= 0:
+        return None
+    w = 1.0 / se**2
+    t_ref = float(np.sum(w * mid) / np.sum(w))
+    fit = fit_linear(np.column_stack([np.ones(b.size), mid - t_ref]), b, weights=w, scale_cov=False)
+    birge = max(1.0, float(fit.residual_sd))
+    cov = np.asarray(fit.cov, float) * birge**2
+    c_seen = (float(fit.coef[1]), math.sqrt(float(cov[1, 1])))
+    line = abs(c_seen[0]) >= Z_CRIT * c_seen[1]
+    if not line:
+        fit = fit_linear(np.ones(b.size), b, weights=w, scale_cov=False)
+        birge = max(1.0, float(fit.residual_sd))
+        cov = np.array([[float(fit.cov[0, 0]) * birge**2, 0.0], [0.0, 0.0]])
+    nu = int(b.size - (2 if line else 1))
+    order = np.argsort(mid)
+    tk, rk = mid[order], np.asarray(fit.residuals, float)[order]
+    left = np.concatenate([[0.0], np.cumsum(0.5 * (rk[1:] + rk[:-1]) * np.diff(tk))])
+    x2 = float(fit.residual_sd) ** 2 * nu
+    return RateModel(a=float(fit.coef[0]), c=float(fit.coef[1]) if line else 0.0, chi2=x2,
+                     p_fit=float(_chi2.sf(x2, nu)),
+                     cov=((float(cov[0, 0]), float(cov[0, 1])), (float(cov[1, 0]), float(cov[1, 1]))),
+                     dof=nu, t_ref=t_ref, birge=birge, knots=tuple(float(x) for x in tk),
+                     left=tuple(float(x) for x in left), line=line, c_seen=c_seen, records=int(b.size))
 
 
 _CACHE: "weakref.WeakKeyDictionary[Campaign, GyroDrift]" = weakref.WeakKeyDictionary()
@@ -165,6 +289,7 @@ def campaign_drift(campaign: Campaign) -> GyroDrift:
     segs = _segments(campaign)
     lsb = _lsb(campaign)
     per: list[tuple[list[float], list[float]]] = [([], []) for _ in AXES]
+    ids: list[list[str]] = [[] for _ in AXES]
     durations, intervals = {}, {}
     for seg in segs:
         y = _columns(seg, GYRO, "deg/s").T  # n × 3, °/s
@@ -181,11 +306,20 @@ def campaign_drift(campaign: Campaign) -> GyroDrift:
                 continue  # the rate ripple of the table is in the gyro along its axis
             per[i][0].append(float(b[i]))
             per[i][1].append(float(se[i]))
+            ids[i].append(seg.id)
     est = [pooled(np.array(b), np.array(s)) for b, s in per]
     times = _times(campaign, segs, durations, intervals)
+    clock, order_mids = 0.0, {}
+    for seg in campaign.segments:
+        if seg.id in durations:
+            order_mids[seg.id] = clock + 0.5 * (durations[seg.id] - intervals[seg.id])
+            clock += durations[seg.id]
+    models = tuple(rate_model(np.array(b), np.array(s), np.array([times[k] for k in sid]))
+                   if times is not None else None for (b, s), sid in zip(per, ids))
     out = GyroDrift(d=tuple(e[0] for e in est), u=tuple(e[1] for e in est), dof=tuple(e[2] for e in est),
                     records=tuple(len(b) for b, _ in per), mid_times=times, durations=durations,
-                    timed=0 if times is not None else sum(s.started is not None for s in segs))
+                    timed=0 if times is not None else sum(s.started is not None for s in segs),
+                    models=models, intervals=intervals, order_mids=order_mids)
     try:
         _CACHE[campaign] = out
     except TypeError:
@@ -207,6 +341,23 @@ def six_position_factors(pair_times, ratio: float) -> np.ndarray:
     positions (t_k the mean mid-time of the pair), per g_n of the local gravity (÷ g/g_n)."""
     S = F.six_position_sensitivities()
     return np.asarray(pair_times, float) @ S[:, :3] / ratio
+
+
+def sweep_gradient(drift: GyroDrift, i: int, rates, sids) -> np.ndarray:
+    """Σ w_k·basis_k of eq. (5)'s slope (w_k its least-squares weights of the record means) for gyro
+    i's :class:`RateModel`: [τ, τ₂], τ as :func:`sweep_factor`, τ₂ the same slope of the records'
+    mean (t − t_ref)²/2."""
+    B = np.array([drift.basis(i, sid) for sid in sids])
+    return np.array([sweep_factor(rates, B[:, k]) for k in range(B.shape[1])])
+
+
+def six_gradient(drift: GyroDrift, i: int, pairs, j: int, ratio: float) -> np.ndarray:
+    """Σ w_k·basis_k of column j of eq. (7) (per g_n of the local gravity, ÷ ``ratio``) for gyro i's
+    :class:`RateModel`: each position's basis is the mean of its two mountings' (``pairs``: per
+    position of F.SIX_POSITIONS the two segment ids)."""
+    S = F.six_position_sensitivities()
+    B = np.array([0.5 * (drift.basis(i, a) + drift.basis(i, b)) for a, b in pairs])
+    return S[:, j] @ B / ratio
 
 
 def plan_sweep_factor(rates, durations) -> float:
@@ -235,9 +386,70 @@ def plan_six_factors(durations_by_position: Mapping[tuple[str, float], float], r
 # ------------------------------------------------------------------------------ budget and verdict
 
 
+def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_unit: str,
+               shown: str = "") -> tuple[float, list[BudgetRow]]:
+    """The drift of gyro i over the records a result combines, Δ = a·τ + c·τ₂ (its
+    :class:`RateModel`; ``grad`` = [τ, τ₂, e]: τ in ``tau_unit``, τ₂ in ``tau_unit``·s, e the bias
+    change the line leaves out carried through the result, in ``unit``), to be subtracted from the
+    result where it is resolved (|Δ| ≥ :data:`Z_CRIT`·u(Δ), or :data:`CORRECT` "always"; else 0),
+    and its rows: u_d, the correction's uncertainty u(Δ) = √(gᵀ·Cov(a, c)·g) (type A, ν = records
+    − 2; GUM 3.2.3, 3.2.4: a recognised significant systematic effect is corrected, the correction's
+    uncertainty budgeted), or for an unresolved effect left in √(Δ² + u(Δ)²) (GUM F.2.4.5); u_dc
+    for the unresolved change of a rate taken constant, √(ĉ² + u(ĉ)²)·|τ₂|; and where the model
+    does not fit the trends (:attr:`RateModel.misfit`) u_dm = |e|."""
+    m = drift.models[i]
+    delta, u = m.effect(grad[:2])
+    shape = (msg("as a line in time: {a:.3g} ± {ua:.2g} °/s per hour, changing by {c:.2g} ± {uc:.2g} °/s per hour "
+                 "per hour", a=m.a * 3600.0, ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c * 3600.0**2,
+                 uc=math.sqrt(m.cov[1][1]) * 3600.0**2) if m.line else
+             msg("as a constant: {a:.3g} ± {ua:.2g} °/s per hour (a change in time of {c:.2g} ± {uc:.2g} °/s per hour "
+                 "per hour, below {z:g} standard errors, is not fitted)", a=m.a * 3600.0,
+                 ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c_seen[0] * 3600.0**2, uc=m.c_seen[1] * 3600.0**2, z=Z_CRIT))
+    applied = CORRECT == "always" or abs(delta) >= Z_CRIT * u
+    if applied:
+        rows = [BudgetRow.type_a(
+            msg("correction for the gyro bias drift between the records ({what})", what=what), "u_d",
+            Q_(u, unit), max(m.dof, 1),
+            note=msg("gyro {gyro}'s drift rate fitted to the within-record trends of {n} records {shape} (Birge "
+                     "ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} {tau_unit}; the result is corrected "
+                     "by {delta:.3g}{unit}", gyro=AXES[i], n=m.records, shape=shape, birge=m.birge, chi2=m.chi2,
+                     nu=m.dof, tau=float(grad[0]), tau_unit=tau_unit, delta=-delta, unit=shown))]
+    else:  # an effect the data do not resolve: left in, budgeted (GUM F.2.4.5)
+        rows = [BudgetRow.type_a(
+            msg("gyro bias drift between the records ({what})", what=what), "u_d",
+            Q_(math.hypot(delta, u), unit), max(m.dof, 1),
+            note=msg("gyro {gyro}'s drift rate fitted to the within-record trends of {n} records {shape} (Birge "
+                     "ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} {tau_unit}; its effect on this "
+                     "result, {delta:.3g} ± {ud:.2g}{unit}, is below {z:g} standard errors: not corrected, "
+                     "√(Δ² + u²)", gyro=AXES[i], n=m.records, shape=shape, birge=m.birge, chi2=m.chi2, nu=m.dof,
+                     tau=float(grad[0]), tau_unit=tau_unit, delta=delta, ud=u, unit=shown, z=Z_CRIT))]
+    if not m.line:  # the change of the rate in time that the data do not resolve: budgeted, not corrected
+        rows.append(BudgetRow.type_a(
+            msg("change of the drift rate in time, not corrected ({what})", what=what), "u_dc",
+            Q_(math.hypot(*m.c_seen) * abs(float(grad[1])), unit), max(m.records - 2, 1),
+            note=msg("√(ĉ² + u(ĉ)²)·|τ₂|, ĉ the fitted change of gyro {gyro}'s drift rate in time, τ₂ = "
+                     "{tau2:.4g} {tau_unit}·s (GUM F.2.4.5)", gyro=AXES[i], tau2=float(grad[1]),
+                     tau_unit=tau_unit)))
+    if m.misfit:
+        rows.append(BudgetRow.type_a(
+            msg("drift model error: the bias change a line in time leaves out ({what})", what=what), "u_dm",
+            Q_(abs(float(grad[2])), unit), max(m.dof, 1),
+            note=msg("the trends do not lie on a line in time (χ² = {chi2:.1f}, ν = {nu}, p = {p:.2g}): their "
+                     "residuals, integrated over the records' times and carried through the result's formula",
+                     chi2=m.chi2, nu=m.dof, p=m.p_fit)))
+    return (delta if applied else 0.0), rows
+
+
+def corrected_note(delta: float, unit: str):
+    """The result note of a value corrected for the drift."""
+    return msg("corrected for the gyro bias drift during the campaign by {delta:.3g}{unit} (from the recording "
+               "times)", delta=-delta, unit=unit)
+
+
 def drift_row(drift: GyroDrift, i: int, tau: float, unit: str, what, tau_unit: str) -> BudgetRow:
     """u = √(d̂² + u(d̂)²)·|τ| for gyro i's drift over the records a result combines (τ in
-    ``tau_unit``: s per °/s for eq. (5), s per g_n for eq. (7))."""
+    ``tau_unit``: s per °/s for eq. (5), s per g_n for eq. (7)); the drift left uncorrected (a gyro
+    with fewer than three timed records, where no :class:`RateModel` is fitted)."""
     d, u = drift.d[i], drift.u[i]
     return BudgetRow.type_a(
         msg("gyro bias drift between the records ({what})", what=what), "u_d",
@@ -250,10 +462,15 @@ def drift_row(drift: GyroDrift, i: int, tau: float, unit: str, what, tau_unit: s
 def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, unit: str):
     """The reason a result of gyro i cannot be reported without recording times, or None: the
     drift is significant and, in the plan's order, would move the result by ≥ MATERIAL·U."""
-    if not drift.significant(i) or not U > 0:
+    if not U > 0:
+        return None
+    if NO_TIMES == "bound":  # candidate measured for issue 13: the drift's upper bound, significant or not
+        if (abs(drift.d[i]) + 2.0 * drift.u[i]) * abs(tau_plan) < MATERIAL * U:
+            return None
+    elif not drift.significant(i):
         return None
     effect = abs(drift.d[i] * tau_plan)
-    if effect < MATERIAL * U:
+    if effect < MATERIAL * U and NO_TIMES != "bound":
         return None
     return msg("gyro {gyro}'s bias drifts by {d:.3g} °/s per hour during the campaign (pooled trend of its {n} "
                "records, {z:.1f} standard errors); recorded back to back in the plan's order the drift would move "
@@ -275,6 +492,9 @@ def drift_warning(drift: GyroDrift) -> list[Any]:
                            "within-record trend of {n} records): JJF 2003 takes B_g as constant; the results that "
                            "difference records {how}", gyro=AXES[i], d=drift.d[i] * 3600.0, u=drift.u[i] * 3600.0,
                            n=drift.records[i],
-                           how=(msg("carry it as a budget row (recording times given)") if drift.mid_times is not None
+                           how=(msg("are corrected for it where its effect on them is resolved, with the correction's "
+                                    "uncertainty in the budget, and carry it as a budget row where not (recording times "
+                                    "given)") if drift.corrects(i)
+                                else msg("carry it as a budget row (recording times given)") if drift.mid_times is not None
                                 else msg("are checked against it (no recording times)"))))
     return out

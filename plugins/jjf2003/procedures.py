@@ -25,7 +25,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import msg
+from metro.core.locale import join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -262,9 +262,21 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         rows.append(_repeatability_row(campaign, fits, repeats, i, j, warnings))
         if i != j:  # the swept axis off the MIMU's axis j puts K_ii·δ into K_g[i, j] (interpretations)
             rows += mounting.swept_axis_rows(campaign, float(fits[AXES[i]]["fits"][i].coef[0]))
-        # a gyro bias drifting while the sweep is recorded adds d·τ to the slope (drift.py)
-        if drift.mid_times is not None:
+        # a gyro bias drifting while the sweep is recorded adds its change to the slope (drift.py):
+        # corrected with the recording times, its correction's uncertainty budgeted
+        note = msg("fitted bias b = {b:.5g} °/s", b=float(fit.coef[1]))
+        if drift.corrects(i):
+            delta, drows = D.correction(drift, i, D.sweep_gradient(drift, i, d["X"], d["segments"]), "",
+                                        msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)")
+            K -= delta
+            rows += drows
+            if delta:
+                note = join("; ", [note, D.corrected_note(delta, "")])
+        elif drift.mid_times is not None:
             tau = D.sweep_factor(d["X"], [drift.mid_times[sid] for sid in d["segments"]])
+            rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)"))
+        if drift.mid_times is None and D.NO_TIMES == "order":
+            tau = D.sweep_factor(d["X"], [drift.order_mids[sid] for sid in d["segments"]])
             rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)"))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
@@ -272,8 +284,7 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         if drift.mid_times is None:
             tau = D.plan_sweep_factor(d["X"], [drift.durations[sid] for sid in d["segments"]])
             reason = D.not_reportable_reason(drift, i, tau, float(budget.expanded.to("").magnitude), "")
-        results.append(Result(metric, Q_(K, ""), budget.combined, budget,
-                              note=msg("fitted bias b = {b:.5g} °/s", b=float(fit.coef[1])), earth_rate="not applicable",
+        results.append(Result(metric, Q_(K, ""), budget.combined, budget, note=note, earth_rate="not applicable",
                               reportable=reason is None, reason=reason or ""))
     return results
 
@@ -482,6 +493,7 @@ class GyroBiasGSensitivity(Procedure):
         drift = D.campaign_drift(campaign)
         warnings.extend(D.drift_warning(drift))
         ratio = mounting.local_gravity(campaign)[0]
+        pairs = [(segs[(up, 0.0)].id, segs[(up, 180.0)].id) for up in F.SIX_POSITIONS]
         if drift.mid_times is not None:  # the ±j differences of eq. (7) turn a drift into g terms (drift.py)
             tau = D.six_position_factors([0.5 * (drift.mid_times[segs[(up, 0.0)].id] + drift.mid_times[segs[(up, 180.0)].id])
                                           for up in F.SIX_POSITIONS], ratio)
@@ -496,8 +508,18 @@ class GyroBiasGSensitivity(Procedure):
         for i, r in enumerate(AXES):
             for j, c in enumerate(AXES):
                 rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
-                if drift.mid_times is not None:
+                delta = 0.0
+                if drift.corrects(i):
+                    delta, drows = D.correction(drift, i, D.six_gradient(drift, i, pairs, j, ratio), G_UNIT,
+                                                msg("the ±{axis} mountings", axis=c), "s/gn", " (°/s)/gn")
+                    rows += drows
+                elif drift.mid_times is not None:
                     rows.append(D.drift_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c),
+                                            "s/gn"))
+                elif D.NO_TIMES == "order":
+                    tau_o = D.six_position_factors([0.5 * (drift.order_mids[a] + drift.order_mids[b_])
+                                                    for a, b_ in pairs], ratio)
+                    rows.append(D.drift_row(drift, i, float(tau_o[j]), G_UNIT, msg("the ±{axis} mountings", axis=c),
                                             "s/gn"))
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
@@ -521,7 +543,9 @@ class GyroBiasGSensitivity(Procedure):
                     note, er = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
                                    "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}; option earth_rate = yes "
                                    "removes it", r=r, c=c, v=v, lat=lat), "included"
-                results.append(Result(m, Q_(float(G[i, j]), G_UNIT), b.combined, b, note=note, earth_rate=er,
+                if delta:
+                    note = join("; ", [note, D.corrected_note(delta, " (°/s)/gn")])
+                results.append(Result(m, Q_(float(G[i, j]) - delta, G_UNIT), b.combined, b, note=note, earth_rate=er,
                                       reportable=reason is None, reason=reason or ""))
         table = TableSpec("six_positions", msg("Pair-averaged gyro outputs U_g (°/s), eq. (6)"),
                           ["", *F.SIX_POSITIONS], [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
