@@ -68,7 +68,9 @@ CASES = [
         "未经实验室书面批准，不得部分复制本证书。",                                    # 8 p)
         "校准员 Calibrated by", "核验员 Checked by",                               # appendix A
     ]),
-    ("jjf2003", ["7.2.1", "7.2.2", "7.2.3"], {}, 11, [
+    # 12: the 21 K_g and g budgets of a gyro whose drift is not resolved carry u_dc, the unresolved change of
+    # its rate in time, with its own note (plugins/jjf2003/drift.py; 11 pages before)
+    ("jjf2003", ["7.2.1", "7.2.2", "7.2.3"], {}, 12, [
         "校准证书 Calibration certificate", "实验室名称 Laboratory name", "实验室地址 Laboratory address",
         "证书编号 Certificate No.", "校准单位校准专用章 Seal of the calibrating laboratory",
         "委托方 Customer", "委托方地址 Customer address", "制造厂 Manufacturer", "型号规格 Model",
