@@ -93,3 +93,15 @@ def test_no_message_is_built_from_an_f_string():
     bad = [f"{p.relative_to(root)}" for p in root.rglob("*.py") if ".venv" not in p.parts and "tests" not in p.parts
            if re.search(r"\bmsg\(\s*f[\"']", p.read_text(encoding="utf-8"))]
     assert not bad, bad
+
+
+def test_no_catalog_entry_claims_percent_formatting():
+    """metro's messages are ``str.format`` templates ({fields}); an entry flagged ``python-format`` makes
+    ``msgfmt --check`` read "50 % 判定" as a broken %-directive and refuse the catalog — three such
+    flags had crept in with hand-appended entries."""
+    from importlib import resources
+
+    path = resources.files("metro.core.locale") / "zh" / "LC_MESSAGES" / "metro.po"
+    lines = path.read_text(encoding="utf-8").splitlines()
+    flagged = [n for n, line in enumerate(lines, 1) if line.startswith("#,") and "python-format" in line]
+    assert not flagged, f"metro.po lines {flagged}: drop the python-format flag"
