@@ -866,28 +866,29 @@ def notes_section(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
                   include_warnings: bool = True) -> None:
     """Result notes, earth-rate statements and warnings, each text once.
 
-    The earth-rate statement is one line per kind naming the items it applies to; the notes of
-    one item's results are one line (``D.6.3: ΔB_V12: eq. (D.47); ΔB_V13: eq. (D.48)``, a
-    repeated symbol-and-note pair once); items whose notes read the same share a line."""
+    Each note or warning text is one line naming the results and items it applies to
+    (:func:`metro.core.notes.group_notes`: ``K_gxx, K_gyy (7.2.1): …``, ``7.2.1, 7.2.2, 7.2.3: …``),
+    in the order the texts first appear; a part several results share (of a note joined with
+    ``"; "``) is its own line, and a sentence that differs between results only in its indices is
+    stated once in index form (``g_ij``).  The earth-rate statement is one line per kind naming
+    the items it applies to."""
+    from .notes import group_notes
+
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
     earth: dict[str, list[str]] = {}
-    per_item: dict[str, list[str]] = {}
+    entries: list[tuple[str, str, Any]] = []
     for o in outcomes:
         for r in o["results"]:
             sym = display_symbol(r.get("symbol") or "") or r.get("quantity") or ""
             if r.get("note"):
-                note = tr.text(r["note"])
-                per_item.setdefault(o["item"], []).append(f"{tr.text(sym)}: {note}" if sym else note)
+                entries.append((o["item"], tr.text(sym) if sym else "", r["note"]))
             er = r.get("earth_rate")
             if er:
                 earth.setdefault(er, []).append(o["item"])
         for w in (o["warnings"] if include_warnings else ()):
-            per_item.setdefault(o["item"], []).append(tr.text(w))
-    seen: dict[str, list[str]] = {}
-    for item, texts in per_item.items():
-        seen.setdefault("; ".join(dict.fromkeys(texts)), []).append(item)
-    lines = [f"{', '.join(dict.fromkeys(where))}: {text}" for text, where in seen.items()]
+            entries.append((o["item"], "", w))
+    lines = [f"{where}: {tr.text(text)}" for where, text in group_notes(entries, key=tr.text)]
     for how, items in earth.items():
         lines.append(f"{tr('Earth rate: {how}', how=tr.msg(how))}: {', '.join(dict.fromkeys(items))}")
     if lines:

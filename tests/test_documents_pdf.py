@@ -69,7 +69,8 @@ CASES = [
         "校准员 Calibrated by", "核验员 Checked by",                               # appendix A
     ]),
     # 12: the 21 K_g and g budgets of a gyro whose drift is not resolved carry u_dc, the unresolved change of
-    # its rate in time, with its own note (plugins/jjf2003/drift.py; 11 pages before)
+    # its rate in time, with its own note (plugins/jjf2003/drift.py; 11 pages before). Still 12 with each note
+    # text stated once (metro.core.notes; the notes block 53 -> 26 text lines, the annexes fill the last page)
     ("jjf2003", ["7.2.1", "7.2.2", "7.2.3"], {}, 12, [
         "校准证书 Calibration certificate", "实验室名称 Laboratory name", "实验室地址 Laboratory address",
         "证书编号 Certificate No.", "校准单位校准专用章 Seal of the calibrating laboratory",
@@ -216,6 +217,31 @@ def test_cli_report_path_ending_in_pdf_writes_pdf_a(tmp_path, run_cli):
     code, _, err = run_cli("run", "-s", "ogam", "-i", "7.1", "--report", str(tmp_path / "s.docx"), "--pdf", "-q")
     assert code == 2 and "s.pdf" in err and "--force" in err
     assert (tmp_path / "s.pdf").read_bytes() == b"an earlier PDF" and not (tmp_path / "s.docx").exists()
+
+
+def test_jjf2003_notes_of_a_drifting_mimu_state_each_text_once(tmp_path):
+    """Issue 13 follow-up: the zh+en certificate of 7.2.1–7.2.3 on a MIMU still warming up (class
+    mems-warmup, seed 3) printed its notes over 2⅓ pages (pages 2–4 of 13): each item repeated the
+    three gyros' drift paragraphs, each g_ij its earth-rate sentence, each result of a gyro its drift
+    correction.  Each text once now (metro.core.notes): the notes on pages 2–3, 12 pages in all
+    (measured 2026-11-24, every page looked at)."""
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "jjf2003", ["7.2.1", "7.2.2", "7.2.3"],
+                    station_options={"device_class": "mems-warmup", "seed": 3})
+    out = write_report(tmp_path / "cert.pdf", rec, layout=pm.template_for("jjf2003").layout,
+                       extend=pm.extend_report_context)
+    pages = subprocess.run(["pdftotext", "-enc", "UTF-8", str(out), "-"], capture_output=True, text=True,
+                           check=True).stdout.split("\f")
+    first = next(i for i, t in enumerate(pages) if "Notes on the results" in t)
+    last = next(i for i, t in enumerate(pages) if "签名 Signatures" in t)
+    assert last - first <= 1, (first, last)  # 2 before: the block ran over three pages
+    text = "".join(pages[first:last + 1])
+    block = _squash(text[text.index("Notes on the results"):text.index("签名 Signatures")])
+    for gyro in "xyz":  # once each, in both languages (3 times before: once per item)
+        assert block.count(_squash(f"gyro {gyro}'s bias drifts by")) == 1
+        assert block.count(_squash(f"陀螺 {gyro} 的零偏在本批次测量中漂移")) == 1
+    assert block.count("7.2.1,7.2.2,7.2.3:") == 3
+    assert block.count("earthrateincluded:") == 2 and block.count("含地球自转角速度") == 2  # 9 before
 
 
 #: GB/T 45570 type test (--all) on the simulated station, zh+en: 45 pages measured (2026-11-24, fifth

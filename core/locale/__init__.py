@@ -23,7 +23,8 @@ import re
 from importlib import resources
 from typing import Any, Callable, Iterable
 
-__all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "msg", "join", "Translator", "translator", "catalog"]
+__all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "Index", "msg", "join", "index", "Translator", "translator",
+           "catalog"]
 
 LANGS = ("zh", "en", "zh+en")
 _HAN = re.compile(r"[\u3400-\u9fff\uf900-\ufaff]")
@@ -49,6 +50,22 @@ class Msg:
 
     def __init__(self, msgid: str):
         self.id = msgid
+
+
+class Index(str):
+    """A message field that is an index (an axis letter, ``K_g{r}{c}``): where several results'
+    notes differ only in such fields, a document states the sentence once in index form
+    (``K_gij``; :func:`metro.core.notes.group_notes`).  Everywhere else it is the plain string."""
+
+    __slots__ = ()
+
+    def __reduce__(self):
+        return (Index, (str(self),))
+
+
+def index(value: Any) -> Index:
+    """``msg("… into g_{r}{c}", r=index("x"), c=index("y"))``: the fields are indices."""
+    return Index(str(value))
 
 
 class Text(str):
@@ -87,6 +104,8 @@ class Text(str):
         def one(v: Any) -> Any:
             if isinstance(v, Text):
                 return v.map(fn)
+            if isinstance(v, Index):
+                return Index(fn(v))
             if isinstance(v, str):
                 return fn(v)
             return v
@@ -102,6 +121,8 @@ class Text(str):
         def enc(v: Any) -> Any:
             if isinstance(v, Text):
                 return {"text": v.encode()}
+            if isinstance(v, Index):
+                return {"index": str(v)}
             if isinstance(v, str) or v is None or isinstance(v, bool):
                 return str(v) if isinstance(v, str) else v
             if isinstance(v, numbers.Integral):
@@ -117,6 +138,8 @@ class Text(str):
     @staticmethod
     def decode(doc: dict[str, Any]) -> "Text":
         def dec(v: Any) -> Any:
+            if isinstance(v, dict) and set(v) == {"index"}:
+                return Index(v["index"])
             return Text.decode(v["text"]) if isinstance(v, dict) and set(v) == {"text"} else v
 
         if "parts" in doc:

@@ -20,6 +20,7 @@ from metro.core.budget import report_pair
 from metro.core.conformity import SIMPLE, Comparison, Specification, decide
 from metro.core.locale import Text, join, msg
 from metro.core.model import PlotSpec
+from metro.core.notes import group_notes
 from metro.core.units import Q_
 
 from .conformity import (APPLICATION_CN, CLAUSE_SOURCE, CLAUSE_WHY_SOURCE, PRODUCT_SOURCE, REMARK_SOURCE, ROW_SOURCE,
@@ -280,7 +281,8 @@ def extend_context(record, context: dict) -> None:
         return v or DASH
 
     a = record.conformity
-    deviations = [join(": ", [o.item, w]) for o in outs for w in o.warnings]
+    # a warning several items share once, naming them (metro.core.notes)
+    deviations = [join(": ", [where, w]) for where, w in group_notes((o.item, "", w) for o in outs for w in o.warnings)]
 
     _add_residual_figures(context)
     selection = [{"item": c.item, "run": bool(c.run), "reason": c.reason} for c in record.selection]

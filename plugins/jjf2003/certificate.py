@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from metro.core.locale import join
+from metro.core.notes import group_notes
 from metro.core.report import fmt_num, fmt_quantity
 from metro.core.units import fmt_unit
 
@@ -111,8 +113,10 @@ def certificate_context(record) -> dict[str, Any]:
         "issued": created,
         "operator": _text(camp.people.operator), "checker": _text(camp.people.checked_by),
     }
-    notes = [f"{o.item}: {w}" for o in record.outcomes if o.standard == "jjf2003" for w in o.warnings
-             if "DEVIATION" in w or "as printed" in w]
+    # each deviation once, naming the items it applies to (7.2.2 and 7.2.3 share some)
+    notes = [join(": ", [where, w]) for where, w in group_notes(
+        (o.item, "", w) for o in record.outcomes if o.standard == "jjf2003" for w in o.warnings
+        if "DEVIATION" in w or "as printed" in w)]
     return {
         "clause8": clause8,
         "scale_factors": _rows(res, [f"K_g{a}{a}" for a in AXES] + [f"K_a{a}{a}" for a in AXES]),

@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import Any
 
 from metro.core.locale import join
+from metro.core.notes import group_notes
 
 #: appendix A rows: (no., 校准项目, English, item, metric key)
 ROWS = (
@@ -84,7 +85,9 @@ def extend_context(record, context: dict) -> None:
         "number": record.report_number,
         "rows": rows,
         "performed_count": sum(r["performed"] for r in rows),
-        "deviations": list(dict.fromkeys(join(": ", [o.item, w]) for o in outs for w in o.warnings)),
+        # a warning several items share (the same missing repeat data) once, naming them
+        "deviations": [join(": ", [where, w]) for where, w in group_notes((o.item, "", w) for o in outs
+                                                                          for w in o.warnings)],
     }
 
 
