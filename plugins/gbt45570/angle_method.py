@@ -675,20 +675,14 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
                  note=join("; ", [msg("largest at T = {T:g} °C against T0 = {T0:g} °C", T=temps[imax], T0=temps[i0]),
                                   selection_note(sel, 1e6, 'ppm/°C')] + ([on_note] if on_note else [])),
                  earth_rate="removed")
-    # each point a power-on of its own (D.1.5.2 c) / D.2.5.2 c)): without K's turn-on scatter, measured
-    # (D.1.4 / D.2.4 runs) or stated (device.scale_factor_repeatability), not reportable
-    from .type_env import not_without_turn_on
-
-    angle = proc.item == "D.1.5"
-    res = not_without_turn_on(res, campaign, "K", "D.1.4" if angle else "D.2.4",
-                              msg("each temperature point is a power-on of its own ({clause}.2 c))", clause=proc.item),
-                              "angle" if angle else "rate")
-    if res.reportable and not on.known:  # runs there but too few (< 4) or not evaluable: σ_K not bounded
+    # each point a power-on of its own (D.1.5.2 c) / D.2.5.2 c)): without K's turn-on scatter bounded by
+    # ≥ MIN_TURN_ON_RUNS D.1.4 / D.2.4 runs or stated (device.scale_factor_repeatability), not reportable
+    if not on.known:
         from .repeatability import missing_turn_on
 
+        why = msg("each temperature point is a power-on of its own ({clause}.2 c))", clause=proc.item)
         res = attrs.evolve(res, reportable=False, reason=join("; ", [missing_turn_on(
-            "K", "D.1.4" if angle else "D.2.4", msg("each temperature point is a power-on of its own ({clause}.2 c))",
-                                                    clause=proc.item)), on_note]))
+            "K", "D.1.4" if proc.item == "D.1.5" else "D.2.4", why), on_note]))
     plot = PlotSpec("K_temperature", msg("Scale factor against temperature ({item})", item=proc.item), "T (°C)",
                     "(K − K₀₀)/K₀₀ (ppm)",
                     [{"label": "K(T)", "x": list(temps), "y": [(k - K0) / K0 * 1e6 for k in Ks],
