@@ -1,19 +1,22 @@
 """Run a benchmark with JJF 2003's drift rules switched to an alternative that issue 13 measured.
 
 Run:  nice -n 10 .venv/bin/python benchmarks/jjf2003_drift_modes.py [--correct always|significant|never]
-          [--no-times verdict|bound|order] SCRIPT [its arguments …]
+          [--no-times budget|verdict|bound] SCRIPT [its arguments …]
 
 ``--correct`` (with recording times): ``significant`` (metro's rule: a result is corrected where the
-drift's effect on it is resolved), ``always`` (every result corrected), ``never`` (the uncorrected
-row √(d̂² + u²)·|τ| of 03df5ef and before).  ``--no-times`` (without them): ``verdict`` (metro's rule:
-not reportable where the drift is significant and material in the plan's order), ``bound`` (not
-reportable where (|d̂| + 2u(d̂))·|τ| in the plan's order reaches half of U, significant or not),
-``order`` (also a row √(d̂² + u²)·|τ| with τ from the manifest's order, the records back to back).
-The figures are in docs/interpretations.md and docs/standards/jjf2003.md, "Gyro bias drift during
-the campaign".  Example:
+drift's effect on it is resolved, |Δ| ≥ Z_CORRECT·u(Δ)), ``always`` (every result corrected:
+Z_CORRECT = 0), ``never`` (the uncorrected row √(d̂² + u²)·|τ| of 03df5ef and before).
+``--no-times`` (without them): ``budget`` (metro's rule: each K_g and g carries u_b = (|d̂| +
+2u(d̂))·|τ_plan| and is not reportable where the drift is significant and material in the plan's
+order), ``verdict`` (the rule before: the verdict alone, no u_b), ``bound`` (no u_b; not reportable
+wherever (|d̂| + 2u(d̂))·|τ_plan| reaches half of U, significant or not).  A fourth rule measured in
+the eighth round, ``order`` (a row √(d̂² + u²)·|τ| with τ from the manifest's order), needed code in
+the procedures and is only in this script's history (71d6f49).  The figures are in
+docs/interpretations.md and docs/standards/jjf2003.md, "Gyro bias drift during the campaign".
+Example:
 
-  benchmarks/jjf2003_drift_modes.py --no-times order benchmarks/independent_jjf2003.py --devices 200 \\
-      --seed 1001 --variants mimu-24bit-warmup-ramp,mimu-24bit-warmup-ramp-shuffled --json order.json
+  benchmarks/jjf2003_drift_modes.py --no-times verdict benchmarks/independent_jjf2003.py --devices 200 \\
+      --seed 1001 --variants mimu-24bit-warmup-ramp --json verdict.json
 """
 
 from __future__ import annotations
@@ -23,10 +26,24 @@ import runpy
 import sys
 
 
+def _bound_reason(D):
+    """Not reportable wherever the drift the trends cannot exclude could move the result by half of U."""
+
+    def reason(drift, i, tau_plan, U, unit):
+        if not U > 0:
+            return None
+        reach = D.drift_bound(drift, i) * abs(tau_plan)
+        if reach < D.MATERIAL * U:
+            return None
+        return f"bound: (|d̂| + 2u)·|τ| = {reach:.3g}{unit} ≥ {D.MATERIAL} U"
+
+    return reason
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--correct", choices=("significant", "always", "never"), default="significant")
-    ap.add_argument("--no-times", choices=("verdict", "bound", "order"), default="verdict")
+    ap.add_argument("--no-times", choices=("budget", "verdict", "bound"), default="budget")
     ap.add_argument("script")
     ap.add_argument("args", nargs=argparse.REMAINDER)
     a = ap.parse_args()
@@ -34,9 +51,12 @@ def main() -> None:
 
     if a.correct == "never":
         D.GyroDrift.corrects = lambda self, i: False  # the pooled row, uncorrected
-    else:
-        D.CORRECT = a.correct
-    D.NO_TIMES = a.no_times
+    elif a.correct == "always":
+        D.Z_CORRECT = 0.0
+    if a.no_times != "budget":
+        D.bound_row = lambda *args, **kw: None
+    if a.no_times == "bound":
+        D.not_reportable_reason = _bound_reason(D)
     sys.argv = [a.script, *a.args]
     runpy.run_path(a.script, run_name="__main__")
 

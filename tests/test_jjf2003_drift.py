@@ -166,6 +166,17 @@ def test_a_settling_warm_up_is_covered_by_the_model_error_row(run_cli, tmp_path,
     assert worst < 1.0
 
 
+def _u_b(result):
+    return [x for x in result["budget"]["rows"] if x["symbol"] == "u_b"]
+
+
+def _U_without_u_b(result):
+    """U of a result without its u_b row (the same k): what the material test compares with."""
+    rows = result["budget"]["rows"]
+    u0 = math.sqrt(sum(x["contribution"] ** 2 for x in rows if x["symbol"] != "u_b"))
+    return result["U"] * u0 / result["u"]
+
+
 def test_without_recording_times_a_significant_drift_is_not_reportable(run_cli, tmp_path):
     res, _ = _run(run_cli, _write(tmp_path / "n", started=False))
     for i, r in enumerate("xyz"):
@@ -173,16 +184,44 @@ def test_without_recording_times_a_significant_drift_is_not_reportable(run_cli, 
             assert res[key]["reportable"] is False, key
             assert "`started`" in res[key]["reason"] and "warm up" in res[key]["reason"]
         # a cross term whose U (alignment rows) is large against what the drift does in the plan's
-        # order, 40-s records back to back (β = 40·4900/425000), stays reportable
+        # order, 40-s records back to back (β = 40·4900/425000), stays reportable — with the drift
+        # row u_b = (|d̂| + 2u(d̂))·β (d̂ + 2u(d̂) within 2 % of the true drift)
         for c in "xyz":
             k = res[("7.2.3", f"K_g{r}{c}")]
-            assert k["reportable"] is bool(abs(DRIFT[i]) * 40 * 4900 / 425000 < 0.5 * k["U"]), (r, c)
+            effect = abs(DRIFT[i]) * 40 * 4900 / 425000
+            assert abs(effect - 0.5 * _U_without_u_b(k)) > 0.05 * effect, (r, c)  # no case on the edge
+            assert k["reportable"] is bool(effect < 0.5 * _U_without_u_b(k)), (r, c)
+            assert _u_b(k)[0]["contribution"] == pytest.approx(effect, rel=0.02), (r, c)
         for key in (("7.2.2", f"B_g{r}"), ("7.2.4", f"K_a{r}{r}"), ("7.2.4", f"B_a{r}")):
             assert res[key]["reportable"] is True, key
-    # a steady MIMU with the same noise, no times: every result reportable, no drift row
-    res, _ = _run(run_cli, _write(tmp_path / "s", drift=np.zeros(3), started=False, seed=1))
+            assert not _u_b(res[key]), key
+
+
+def test_without_recording_times_the_drift_the_trends_cannot_exclude_is_budgeted(run_cli, tmp_path):
+    """A steady MIMU, no times: every result reportable; each K_g and g carries u_b = (|d̂| + 2u(d̂))·|τ|,
+    d̂ and u(d̂) the pooled within-record trend (drift.campaign_drift) and τ by hand for 40-s records
+    back to back in the plan's order: eq. (5) 40·4900/425000 s per °/s; eq. (7) column x: the +x pair's
+    mid-time 40 s, the −x pair's 120 s, (40 − 120)/2 = −40 s per g_n."""
+    from metro.core.campaign import load_manifest
+    from metro.core.plugins import get_plugin_manager
+    from metro.plugins.jjf2003 import drift as D
+
+    manifest = _write(tmp_path / "s", drift=np.zeros(3), started=False, seed=1)
+    res, _ = _run(run_cli, manifest)
     assert all(r["reportable"] for r in res.values())
-    assert not any(x["symbol"] == "u_d" for r in res.values() for x in r["budget"]["rows"])
+    est = D.campaign_drift(load_manifest(manifest, get_plugin_manager().reader_for))
+    for i, r in enumerate("xyz"):
+        bound = abs(est.d[i]) + 2 * est.u[i]
+        assert 0 < abs(est.d[i]) < D.Z_CRIT * est.u[i]  # not seen
+        for c in "xyz":
+            (k,) = _u_b(res[("7.2.3", f"K_g{r}{c}")])
+            assert k["contribution"] == pytest.approx(bound * 40 * 4900 / 425000, rel=1e-9), (r, c)
+            assert k["type"] == "B" and k["dof"] == est.dof[i]
+        (g,) = _u_b(res[("7.2.2", f"g_{r}x")])
+        assert g["contribution"] == pytest.approx(bound * 40.0, rel=1e-9), r
+    # a gyro of the same MIMU given its recording times has no u_b (the drift is evaluated instead)
+    res, _ = _run(run_cli, _write(tmp_path / "t", drift=np.zeros(3), seed=1))
+    assert not any(_u_b(r) for r in res.values())
 
 
 def test_times_on_some_records_only_are_not_used(run_cli, tmp_path):

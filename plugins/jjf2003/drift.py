@@ -25,10 +25,12 @@ touched.
   does not fit the trends (χ² beyond its 99 % quantile) also the model's error u_dm, the trends'
   residuals from the line integrated over time and carried through the same weights.  A gyro with
   fewer than three timed records keeps the uncorrected row u = √(d̂² + u(d̂)²)·|τ| (GUM F.2.4.5).
-* **Without times** the drift cannot be budgeted: where it is significant (|d̂|/u(d̂) ≥
-  :data:`Z_CRIT`) and would move a result by :data:`MATERIAL` of its U or more were the records
-  taken back to back in the plan's order (:func:`plan_sweep_factor`, :func:`plan_six_factors`),
-  the result is not reportable, with the reason.
+* **Without times** the records' lever arm is not known; the least it can be is the plan's order
+  with the records back to back (:func:`plan_sweep_factor`, :func:`plan_six_factors`: gaps between
+  records only lengthen it).  Each result carries the drift its records' trends cannot exclude,
+  u_b = (|d̂| + 2u(d̂))·|τ_plan| (:func:`bound_row`); where the drift is significant (|d̂|/u(d̂) ≥
+  :data:`Z_CRIT`) and would move the result by :data:`MATERIAL` of its U without that row or more,
+  the result is not reportable, with the reason (:func:`not_reportable_reason`).
 """
 
 from __future__ import annotations
@@ -56,17 +58,13 @@ GYRO = ("gx", "gy", "gz")
 #: steady device; measured false rates in docs/standards/jjf2003.md)
 Z_CRIT = 2.5
 #: … and, without recording times, material where the plan's order would move a result by this
-#: fraction of its U
+#: fraction of its U (the U without the drift bound's row u_b)
 MATERIAL = 0.5
-#: with recording times a result is corrected for the drift only where its effect Δ on the result is
-#: "significant" (|Δ| ≥ Z_CRIT·u(Δ); an effect the data do not resolve is budgeted uncorrected,
-#: √(Δ² + u²)), or "always" — measured both ways (docs/interpretations.md, "gyro bias drift during
-#: the campaign"): "always" is unbiased but puts the estimate's noise into every steady device's
-#: K_g and g (rms E_n × 3–10)
-CORRECT = "significant"
-#: without recording times: "verdict" (a significant, material drift makes the result not reportable)
-#: or "order" (also a row √(d̂² + u²)·|τ| with τ from the manifest's order, records back to back)
-NO_TIMES = "verdict"
+#: with recording times a result is corrected for the drift where its effect Δ on it is resolved, |Δ| ≥
+#: Z_CORRECT·u(Δ) (GUM 3.2.4's "significant"; an effect the data do not resolve is budgeted uncorrected,
+#: √(Δ² + u²)).  Correcting always (Z_CORRECT = 0, measured with benchmarks/jjf2003_drift_modes.py) is
+#: unbiased but puts the estimate's noise into every steady device's K_g and g (rms E_n × 3–10)
+Z_CORRECT = Z_CRIT
 #: the line in time fits the record trends unless χ² exceeds its 99 % quantile (the drift model's error
 #: then enters the budget, :func:`correction`)
 P_FIT = 0.01
@@ -147,9 +145,6 @@ class GyroDrift:
     #: each gyro's drift rate as a line in time (None without times or with fewer than three records)
     models: tuple[RateModel | None, RateModel | None, RateModel | None] = (None, None, None)
     intervals: Mapping[str, float] = attrs.field(factory=dict)
-    #: mid-times (s) were the records taken back to back, with their own durations, in the
-    #: manifest's order (used without recording times where :data:`NO_TIMES` is "order")
-    order_mids: Mapping[str, float] = attrs.field(factory=dict)
 
     def z(self, i: int) -> float:
         return abs(self.d[i]) / self.u[i] if self.u[i] > 0 else 0.0
@@ -309,17 +304,12 @@ def campaign_drift(campaign: Campaign) -> GyroDrift:
             ids[i].append(seg.id)
     est = [pooled(np.array(b), np.array(s)) for b, s in per]
     times = _times(campaign, segs, durations, intervals)
-    clock, order_mids = 0.0, {}
-    for seg in campaign.segments:
-        if seg.id in durations:
-            order_mids[seg.id] = clock + 0.5 * (durations[seg.id] - intervals[seg.id])
-            clock += durations[seg.id]
     models = tuple(rate_model(np.array(b), np.array(s), np.array([times[k] for k in sid]))
                    if times is not None else None for (b, s), sid in zip(per, ids))
     out = GyroDrift(d=tuple(e[0] for e in est), u=tuple(e[1] for e in est), dof=tuple(e[2] for e in est),
                     records=tuple(len(b) for b, _ in per), mid_times=times, durations=durations,
                     timed=0 if times is not None else sum(s.started is not None for s in segs),
-                    models=models, intervals=intervals, order_mids=order_mids)
+                    models=models, intervals=intervals)
     try:
         _CACHE[campaign] = out
     except TypeError:
@@ -391,7 +381,7 @@ def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_
     """The drift of gyro i over the records a result combines, Δ = a·τ + c·τ₂ (its
     :class:`RateModel`; ``grad`` = [τ, τ₂, e]: τ in ``tau_unit``, τ₂ in ``tau_unit``·s, e the bias
     change the line leaves out carried through the result, in ``unit``), to be subtracted from the
-    result where it is resolved (|Δ| ≥ :data:`Z_CRIT`·u(Δ), or :data:`CORRECT` "always"; else 0),
+    result where it is resolved (|Δ| ≥ :data:`Z_CORRECT`·u(Δ); else 0),
     and its rows: u_d, the correction's uncertainty u(Δ) = √(gᵀ·Cov(a, c)·g) (type A, ν = records
     − 2; GUM 3.2.3, 3.2.4: a recognised significant systematic effect is corrected, the correction's
     uncertainty budgeted), or for an unresolved effect left in √(Δ² + u(Δ)²) (GUM F.2.4.5); u_dc
@@ -405,7 +395,7 @@ def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_
              msg("as a constant: {a:.3g} ± {ua:.2g} °/s per hour (a change in time of {c:.2g} ± {uc:.2g} °/s per hour "
                  "per hour, below {z:g} standard errors, is not fitted)", a=m.a * 3600.0,
                  ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c_seen[0] * 3600.0**2, uc=m.c_seen[1] * 3600.0**2, z=Z_CRIT))
-    applied = CORRECT == "always" or abs(delta) >= Z_CRIT * u
+    applied = abs(delta) >= Z_CORRECT * u
     if applied:
         rows = [BudgetRow.type_a(
             msg("correction for the gyro bias drift between the records ({what})", what=what), "u_d",
@@ -422,7 +412,7 @@ def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_
                      "ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} {tau_unit}; its effect on this "
                      "result, {delta:.3g} ± {ud:.2g}{unit}, is below {z:g} standard errors: not corrected, "
                      "√(Δ² + u²)", gyro=AXES[i], n=m.records, shape=shape, birge=m.birge, chi2=m.chi2, nu=m.dof,
-                     tau=float(grad[0]), tau_unit=tau_unit, delta=delta, ud=u, unit=shown, z=Z_CRIT))]
+                     tau=float(grad[0]), tau_unit=tau_unit, delta=delta, ud=u, unit=shown, z=Z_CORRECT))]
     if not m.line:  # the change of the rate in time that the data do not resolve: budgeted, not corrected
         rows.append(BudgetRow.type_a(
             msg("change of the drift rate in time, not corrected ({what})", what=what), "u_dc",
@@ -459,23 +449,50 @@ def drift_row(drift: GyroDrift, i: int, tau: float, unit: str, what, tau_unit: s
                  u=u * 3600.0, n=drift.records[i], tau=tau, tau_unit=tau_unit))
 
 
-def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, unit: str):
-    """The reason a result of gyro i cannot be reported without recording times, or None: the
-    drift is significant and, in the plan's order, would move the result by ≥ MATERIAL·U."""
-    if not U > 0:
+def drift_bound(drift: GyroDrift, i: int) -> float:
+    """The largest drift rate of gyro i that its records' pooled trend cannot exclude, |d̂| + 2u(d̂)
+    (°/s per s; two Birge-scaled standard errors)."""
+    return abs(drift.d[i]) + 2.0 * drift.u[i]
+
+
+def bound_row(drift: GyroDrift, i: int, tau_plan: float, unit: str, what, tau_unit: str) -> BudgetRow | None:
+    """Without recording times: the drift of gyro i that its records' trends cannot exclude, carried
+    through a result with the least lever arm its records can have had (τ_plan: back to back in the
+    plan's order), u_b = (|d̂| + 2u(d̂))·|τ_plan| as a standard uncertainty (type B, ν of the trends)
+    — not the bound ÷ √3: gaps between the records, which no manifest without times states, lengthen
+    the lever arm (measured, docs/interpretations.md: ÷ √3 covered the harness's warm-up device's
+    results 86.7–95.8 %, the bound itself 98.3–100 %).  None where fewer than two records give the
+    gyro a trend (:func:`not_reportable_reason` then withholds the result)."""
+    if not math.isfinite(drift.u[i]):
         return None
-    if NO_TIMES == "bound":  # candidate measured for issue 13: the drift's upper bound, significant or not
-        if (abs(drift.d[i]) + 2.0 * drift.u[i]) * abs(tau_plan) < MATERIAL * U:
-            return None
-    elif not drift.significant(i):
+    return BudgetRow.type_b(
+        msg("gyro bias drift the records cannot exclude, no recording times ({what})", what=what), "u_b",
+        Q_(drift_bound(drift, i) * abs(tau_plan), unit), distribution="normal", k=1.0, dof=max(drift.dof[i], 1),
+        note=msg("(|d̂| + 2u(d̂))·|τ|: gyro {gyro}'s pooled within-record trend {d:.3g} ± {u:.2g} °/s per hour over {n} "
+                 "records, τ = {tau:.4g} {tau_unit} with the records back to back in the plan's order (the least "
+                 "lever arm they can have had); give `started` on the segments to evaluate the drift instead",
+                 gyro=AXES[i], d=drift.d[i] * 3600.0, u=drift.u[i] * 3600.0, n=drift.records[i], tau=tau_plan,
+                 tau_unit=tau_unit))
+
+
+def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, unit: str):
+    """The reason a result of gyro i cannot be reported without recording times, or None: the drift
+    is significant and, in the plan's order, would move the result by ≥ MATERIAL·U (``U`` without
+    :func:`bound_row`'s row); or no record gives the gyro a within-record trend."""
+    if not math.isfinite(drift.u[i]):
+        return msg("fewer than two of the records give gyro {gyro} a within-record trend, so a bias drift during the "
+                   "campaign can be neither seen nor bounded, and the manifest gives no recording times (`started` "
+                   "on the segments). Give `started` on every segment, or record each position and rate over at "
+                   "least one table revolution", gyro=AXES[i])
+    if not U > 0 or not drift.significant(i):
         return None
     effect = abs(drift.d[i] * tau_plan)
-    if effect < MATERIAL * U and NO_TIMES != "bound":
+    if effect < MATERIAL * U:
         return None
     return msg("gyro {gyro}'s bias drifts by {d:.3g} °/s per hour during the campaign (pooled trend of its {n} "
                "records, {z:.1f} standard errors); recorded back to back in the plan's order the drift would move "
-               "this result by {effect:.2g} {unit} ({ratio:.1f} × its U), and the manifest gives no recording times "
-               "(`started` on the segments) to budget it. Give `started` on every segment, or let the MIMU warm up "
+               "this result by {effect:.2g}{unit} ({ratio:.1f} × its U without the drift), and the manifest gives no "
+               "recording times (`started` on the segments) to budget it. Give `started` on every segment, or let the MIMU warm up "
                "until its bias is steady (7.2.1.1 b)) and recalibrate", gyro=AXES[i], d=drift.d[i] * 3600.0,
                n=drift.records[i], z=drift.z(i), effect=effect, unit=unit, ratio=effect / U)
 
@@ -496,5 +513,6 @@ def drift_warning(drift: GyroDrift) -> list[Any]:
                                     "uncertainty in the budget, and carry it as a budget row where not (recording times "
                                     "given)") if drift.corrects(i)
                                 else msg("carry it as a budget row (recording times given)") if drift.mid_times is not None
-                                else msg("are checked against it (no recording times)"))))
+                                else msg("carry the drift their records cannot exclude as a budget row, and are not reportable where it is "
+                                        "material (no recording times)"))))
     return out

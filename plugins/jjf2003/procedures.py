@@ -275,15 +275,15 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         elif drift.mid_times is not None:
             tau = D.sweep_factor(d["X"], [drift.mid_times[sid] for sid in d["segments"]])
             rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)"))
-        if drift.mid_times is None and D.NO_TIMES == "order":
-            tau = D.sweep_factor(d["X"], [drift.order_mids[sid] for sid in d["segments"]])
-            rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)"))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
         reason = None
-        if drift.mid_times is None:
+        if drift.mid_times is None:  # no recording times: the drift the trends cannot exclude (drift.py)
             tau = D.plan_sweep_factor(d["X"], [drift.durations[sid] for sid in d["segments"]])
             reason = D.not_reportable_reason(drift, i, tau, float(budget.expanded.to("").magnitude), "")
+            row = D.bound_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)")
+            if row is not None:
+                budget = UncertaintyBudget(metric.symbol, "", rows + [row], coverage=COVERAGE, round_mode=ROUND)
         results.append(Result(metric, Q_(K, ""), budget.combined, budget, note=note, earth_rate="not applicable",
                               reportable=reason is None, reason=reason or ""))
     return results
@@ -516,15 +516,15 @@ class GyroBiasGSensitivity(Procedure):
                 elif drift.mid_times is not None:
                     rows.append(D.drift_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c),
                                             "s/gn"))
-                elif D.NO_TIMES == "order":
-                    tau_o = D.six_position_factors([0.5 * (drift.order_mids[a] + drift.order_mids[b_])
-                                                    for a, b_ in pairs], ratio)
-                    rows.append(D.drift_row(drift, i, float(tau_o[j]), G_UNIT, msg("the ±{axis} mountings", axis=c),
-                                            "s/gn"))
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-                reason = None if drift.mid_times is not None else D.not_reportable_reason(
-                    drift, i, float(tau[j]), float(b.expanded.to(G_UNIT).magnitude), "(°/s)/gn")
+                reason = None
+                if drift.mid_times is None:  # no recording times: the drift the trends cannot exclude
+                    reason = D.not_reportable_reason(drift, i, float(tau[j]), float(b.expanded.to(G_UNIT).magnitude),
+                                                     " (°/s)/gn")
+                    row = D.bound_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c), "s/gn")
+                    if row is not None:
+                        b = UncertaintyBudget(m.symbol, G_UNIT, rows + [row], coverage=COVERAGE, round_mode=ROUND)
                 # the vertical earth rate is along +j with axis j up and flips with it: eq. (7) puts
                 # K_g[:, j]·Ω_e·sin φ into the whole column j — the diagonal mostly, the cross terms by
                 # the cross-coupling (interpretations, "Earth rate disclosed (JJF 2003)")
