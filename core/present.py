@@ -224,11 +224,19 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
             t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)), esc(str(u_text)),
                       esc(fmt_unit(r.metric.unit)), "; ".join(notes))
     con.print(t)
-    for o in record.outcomes:
-        if verbose:
+    if verbose:
+        for o in record.outcomes:
             _print_budgets_and_tables(con, o)
+    # a warning several items give (a campaign's drift seen by 7.2.1, 7.2.2 and 7.2.3) is printed once,
+    # naming them, where its first item's warnings are
+    said: dict[str, list[str]] = {}
+    for o in record.outcomes:
         for w in o.warnings:
-            con.print(f"[yellow]warning ({o.item}):[/] {esc(pretty_powers(w))}")
+            items = said.setdefault(str(w), [])
+            if o.item not in items:
+                items.append(o.item)
+    for text, items in said.items():
+        con.print(f"[yellow]warning ({', '.join(items)}):[/] {esc(pretty_powers(text))}")
     for e in c.equipment:
         if e.calibration is not None and not e.calibration.is_valid(record.test_date):
             con.print(f"[bold red]equipment {esc(str(e.id))}[/]: {esc(e.status(record.test_date))} — results that depend on it "

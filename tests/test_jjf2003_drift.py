@@ -349,3 +349,15 @@ def test_certificate_matrix_withholds_the_cells_that_are_not_reportable(run_cli,
         assert results[k]["reported"]["value"] not in cells, k
     paras = "\n".join(p.text for p in doc.paragraphs)
     assert "not reportable: gyro" in paras and "drifts" in paras
+
+
+def test_terminal_states_a_drift_warning_once_for_the_items_that_give_it(run_cli, tmp_path):
+    """7.2.1, 7.2.2 and 7.2.3 each see the campaign's drift; the terminal says so once per gyro, naming
+    the three items (core.present), not nine times."""
+    code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.1,7.2.2,7.2.3", "--data",
+                             str(_write(tmp_path / "w", started=False)), "--no-report", "--no-progress")
+    assert code in (0, 3, 4), err
+    flat = " ".join(out.split())
+    assert flat.count("warning (7.2.1, 7.2.2, 7.2.3): gyro x's bias drifts") == 1, flat[-3000:]
+    assert flat.count("gyro x's bias drifts by 0.36") == 1
+    assert "warning (7.2.1): gyro" not in flat
