@@ -62,6 +62,8 @@ def where_label(pairs: Sequence[tuple[str, str]]) -> str:
     'K_gxx (7.2.1, 7.2.3); K_gxy, K_gxz (7.2.3)'
     >>> where_label([("7.2.1", ""), ("7.2.2", ""), ("7.2.3", "")])
     '7.2.1, 7.2.2, 7.2.3'
+    >>> where_label([("", "g_xx"), ("", "g_xy")])  # results of no named item (one matrix's cells)
+    'g_xx, g_xy'
     """
     items_of: dict[str, list[str]] = {}
     for item, sym in pairs:
@@ -78,7 +80,7 @@ def where_label(pairs: Sequence[tuple[str, str]]) -> str:
             out.append(where)
         named = [s for s in syms if s]
         if named:
-            out.append(f"{', '.join(named)} ({where})")
+            out.append(f"{', '.join(named)} ({where})" if where else ", ".join(named))
     return "; ".join(out)
 
 

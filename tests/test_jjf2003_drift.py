@@ -349,6 +349,16 @@ def test_certificate_matrix_withholds_the_cells_that_are_not_reportable(run_cli,
         assert results[k]["reported"]["value"] not in cells, k
     paras = "\n".join(p.text for p in doc.paragraphs)
     assert "not reportable: gyro" in paras and "drifts" in paras
+    # the reasons' shared parts once: what each gyro does, named with its withheld cells, and what to
+    # do, once for all of them (core.notes.group_notes); what the drift does to each cell stays per cell
+    assert paras.count("the manifest gives no recording times") == 1, paras
+    for r in "xyz":
+        cells_r = [k for k in withheld if k[2] == r]
+        if cells_r:
+            assert paras.count(f"not reportable: gyro {r}'s bias drifts by") == 1, paras
+            shown = ", ".join(k.replace("_", "") for k in cells_r)  # the document sets g_xx as g with subscript xx
+            assert f"{shown}: not reportable: gyro {r}'s bias drifts by" in paras, paras
+    assert paras.count("recorded back to back in the plan's order the drift would move this result by") < len(withheld)
 
 
 def test_terminal_states_a_drift_warning_once_for_the_items_that_give_it(run_cli, tmp_path):

@@ -203,11 +203,12 @@ def layout(doc, ctx: dict) -> None:
                   width_mm=110)
         doc.para(f"{tr('Measurement uncertainty')} U (k = 2){unit}:", keep_next=True)
         doc.table(["", "x", "y", "z"], [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["u_rows"]], width_mm=110)
-        by_reason: dict[str, tuple[list[str], Any]] = {}
-        for symbol, reason in m.get("not_reportable", ()):
-            by_reason.setdefault(str(reason), ([], reason))[0].append(symbol)
-        for symbols, reason in by_reason.values():  # why each withheld cell is withheld
-            doc.para(f"{', '.join(symbols)}: {D.not_reportable(tr, reason)}", size=8.5)
+        # why each withheld cell is withheld: a reason (or a part of one, e.g. what a drifting gyro does)
+        # several cells share is stated once, naming them (core.notes.group_notes)
+        from metro.core.notes import group_notes
+
+        for where, reason in group_notes([("", s, r) for s, r in m.get("not_reportable", ())], key=tr.text):
+            doc.para(f"{where}: {D.not_reportable(tr, reason)}" if where else D.not_reportable(tr, reason), size=8.5)
     doc.heading(tr("Notes on the results"), 2)
     D.notes_section(doc, ctx)
     doc.heading(tr("Signatures"), 2)

@@ -44,7 +44,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow
 from metro.core.errors import DataError
-from metro.core.locale import msg
+from metro.core.locale import join, msg
 from metro.core.lsq import fit_linear
 from metro.core.model import Campaign, Segment
 from metro.core.units import Q_
@@ -489,12 +489,15 @@ def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, u
     effect = abs(drift.d[i] * tau_plan)
     if effect < MATERIAL * U:
         return None
-    return msg("gyro {gyro}'s bias drifts by {d:.3g} °/s per hour during the campaign (pooled trend of its {n} "
-               "records, {z:.1f} standard errors); recorded back to back in the plan's order the drift would move "
-               "this result by {effect:.2g}{unit} ({ratio:.1f} × its U without the drift), and the manifest gives no "
-               "recording times (`started` on the segments) to budget it. Give `started` on every segment, or let the MIMU warm up "
-               "until its bias is steady (7.2.1.1 b)) and recalibrate", gyro=AXES[i], d=drift.d[i] * 3600.0,
-               n=drift.records[i], z=drift.z(i), effect=effect, unit=unit, ratio=effect / U)
+    # three parts ("; "): what the gyro does (shared by its results), what it does to this result, and what
+    # to do (shared by all) — a certificate states a shared part once (core.notes.group_notes)
+    return join("; ", [
+        msg("gyro {gyro}'s bias drifts by {d:.3g} °/s per hour during the campaign (pooled trend of its {n} records, "
+            "{z:.1f} standard errors)", gyro=AXES[i], d=drift.d[i] * 3600.0, n=drift.records[i], z=drift.z(i)),
+        msg("recorded back to back in the plan's order the drift would move this result by {effect:.2g}{unit} "
+            "({ratio:.1f} × its U without the drift)", effect=effect, unit=unit, ratio=effect / U),
+        msg("the manifest gives no recording times (`started` on the segments) to budget the drift: give `started` on "
+            "every segment, or let the MIMU warm up until its bias is steady (7.2.1.1 b)) and recalibrate")])
 
 
 def drift_warning(drift: GyroDrift) -> list[Any]:
