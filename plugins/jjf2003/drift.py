@@ -29,8 +29,8 @@ touched.
   with the records back to back (:func:`plan_sweep_factor`, :func:`plan_six_factors`: gaps between
   records only lengthen it).  Each result carries the drift its records' trends cannot exclude,
   u_b = (|d̂| + 2u(d̂))·|τ_plan| (:func:`bound_row`); where the drift is significant (|d̂|/u(d̂) ≥
-  :data:`Z_CRIT`) and would move the result by :data:`MATERIAL` of its U without that row or more,
-  the result is not reportable, with the reason (:func:`not_reportable_reason`).
+  :data:`Z_CRIT`), seen but not placed in time, the result is not reportable, with the reason
+  (:func:`not_reportable_reason`).
 """
 
 from __future__ import annotations
@@ -57,9 +57,6 @@ GYRO = ("gx", "gy", "gz")
 #: the pooled drift of one gyro is significant at |d̂|/u(d̂) ≥ Z_CRIT (two-sided 1.2 % per gyro for a
 #: steady device; measured false rates in docs/standards/jjf2003.md)
 Z_CRIT = 2.5
-#: … and, without recording times, material where the plan's order would move a result by this
-#: fraction of its U (the U without the drift bound's row u_b)
-MATERIAL = 0.5
 #: with recording times a result is corrected for the drift where its effect Δ on it is resolved, |Δ| ≥
 #: Z_CORRECT·u(Δ) (GUM 3.2.4's "significant"; an effect the data do not resolve is budgeted uncorrected,
 #: √(Δ² + u²)).  Correcting always (Z_CORRECT = 0, measured with benchmarks/jjf2003_drift_modes.py) is
@@ -477,8 +474,10 @@ def bound_row(drift: GyroDrift, i: int, tau_plan: float, unit: str, what, tau_un
 
 def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, unit: str):
     """The reason a result of gyro i cannot be reported without recording times, or None: the drift
-    is significant and, in the plan's order, would move the result by ≥ MATERIAL·U (``U`` without
-    :func:`bound_row`'s row); or no record gives the gyro a within-record trend."""
+    is significant (|d̂|/u(d̂) ≥ :data:`Z_CRIT`) — seen, and of a size the result's records cannot
+    place in time: back to back in the plan's order it moves the result by |d̂|·|τ_plan| (stated
+    against ``U``, the U without :func:`bound_row`'s row), gaps between the records by more, and no
+    manifest without times states them — or no record gives the gyro a within-record trend."""
     if not math.isfinite(drift.u[i]):
         return msg("fewer than two of the records give gyro {gyro} a within-record trend, so a bias drift during the "
                    "campaign can be neither seen nor bounded, and the manifest gives no recording times (`started` "
@@ -487,15 +486,14 @@ def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, u
     if not U > 0 or not drift.significant(i):
         return None
     effect = abs(drift.d[i] * tau_plan)
-    if effect < MATERIAL * U:
-        return None
     # three parts ("; "): what the gyro does (shared by its results), what it does to this result, and what
     # to do (shared by all) — a certificate states a shared part once (core.notes.group_notes)
     return join("; ", [
         msg("gyro {gyro}'s bias drifts by {d:.3g} °/s per hour during the campaign (pooled trend of its {n} records, "
             "{z:.1f} standard errors)", gyro=AXES[i], d=drift.d[i] * 3600.0, n=drift.records[i], z=drift.z(i)),
-        msg("recorded back to back in the plan's order the drift would move this result by {effect:.2g}{unit} "
-            "({ratio:.1f} × its U without the drift)", effect=effect, unit=unit, ratio=effect / U),
+        msg("it moves this result by {effect:.2g}{unit} ({ratio:.2g} × its U without the drift) were the records taken "
+            "back to back in the plan's order, by more with gaps between them", effect=effect, unit=unit,
+            ratio=effect / U),
         msg("the manifest gives no recording times (`started` on the segments) to budget the drift: give `started` on "
             "every segment, or let the MIMU warm up until its bias is steady (7.2.1.1 b)) and recalibrate")])
 
