@@ -6,7 +6,7 @@ For each seed the station acquires the 7.2.1 and 7.2.2 plan (and 7.2.3 from the 
 device of the class; the items run twice: on the records as written (with each segment's
 ``started``: the drift corrected where resolved) and on the same records without their times (the
 row u_b of the drift the trends cannot exclude; not reportable where the pooled drift is
-significant and material).  Printed per class: the fraction of gyros whose pooled drift is
+significant).  Printed per class: the fraction of gyros whose pooled drift is
 significant, the fraction of K_g / g results not reportable without times, and per result group
 the fraction within U of the station's ``expected`` (the device without the drift) with times, and
 the mean and rms E_n; then without times the fraction within U or not reportable, the mean E_n of

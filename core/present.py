@@ -201,6 +201,10 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
         for v in record.conformity.verdicts:
             verdicts[(v.item, v.key)] = v
     t = Table(title="Results", title_justify="left")
+    # (item, symbol, reason) of the results not reportable: one says why in its row; several, below the
+    # table, a reason (or a part of one) they share stated once (core.notes.group_notes)
+    withheld: list[tuple[str, str, Any]] = [(o.item, r.metric.symbol, r.reason) for o in record.outcomes
+                                            for r in o.results if not r.reportable]
     for col in ("item", "quantity", "value", "U (k)", "unit", "verdict / note"):
         t.add_column(col, justify="right" if col in ("value", "U (k)") else "left",
                      overflow="fold", no_wrap=col in ("value", "U (k)"))
@@ -218,12 +222,17 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
                 notes.append(f"[{colour[st]}]{st}[/]" + (f" ({esc(ver.detail)})" if ver.detail not in ("pass", "fail") else "")
                              + f" vs {esc(ver.spec.text())}")
             if not r.reportable:
-                notes.append(f"[yellow]not reportable:[/] {esc(r.reason)}")
+                notes.append(f"[yellow]not reportable:[/] {esc(r.reason)}" if len(withheld) == 1 else
+                             "[yellow]not reportable[/] (why: below)")
             if r.earth_rate:
                 notes.append(f"earth rate {r.earth_rate}")
             t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)), esc(str(u_text)),
                       esc(fmt_unit(r.metric.unit)), "; ".join(notes))
     con.print(t)
+    from .notes import group_notes
+
+    for where, reason in (group_notes(withheld) if len(withheld) > 1 else ()):
+        con.print(f"[yellow]not reportable ({esc(where)}):[/] {esc(pretty_powers(str(reason)))}")
     if verbose:
         for o in record.outcomes:
             _print_budgets_and_tables(con, o)

@@ -514,6 +514,5 @@ def drift_warning(drift: GyroDrift) -> list[Any]:
                                     "uncertainty in the budget, and carry it as a budget row where not (recording times "
                                     "given)") if drift.corrects(i)
                                 else msg("carry it as a budget row (recording times given)") if drift.mid_times is not None
-                                else msg("carry the drift their records cannot exclude as a budget row, and are not reportable where it is "
-                                        "material (no recording times)"))))
+                                else msg("are not reportable: its effect on them cannot be placed without recording times"))))
     return out
