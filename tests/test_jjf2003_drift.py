@@ -200,6 +200,25 @@ def test_without_recording_times_a_significant_drift_is_not_reportable(run_cli, 
             assert not _u_b(res[key]), key
 
 
+def test_without_recording_times_a_seen_drift_that_barely_moves_a_result_leaves_it_reportable(run_cli, tmp_path):
+    """A drift of 0.018 °/s per hour (20 standard errors) moves g by several U, but a cross term of K_g,
+    whose U holds the alignment rows, by 1–3 % of it with the records back to back: gaps would have to
+    lengthen the lever arm tenfold before that mattered (drift.MATERIAL), and u_b carries it."""
+    from metro.plugins.jjf2003 import drift as D
+
+    res, _ = _run(run_cli, _write(tmp_path / "w", drift=DRIFT * 0.05, started=False, seed=3), "7.2.2,7.2.3")
+    for i, r in enumerate("xyz"):
+        for c in "xyz":
+            g = res[("7.2.2", f"g_{r}{c}")]
+            assert g["reportable"] is False and "gaps between them" in g["reason"], (r, c)
+            if r == c:
+                continue
+            k = res[("7.2.3", f"K_g{r}{c}")]
+            effect = abs(DRIFT[i] * 0.05) * 40 * 4900 / 425000
+            assert effect < 0.05 * _U_without_u_b(k) < D.MATERIAL * _U_without_u_b(k), (r, c)
+            assert k["reportable"] is True and _u_b(k), (r, c)
+
+
 def test_without_recording_times_the_drift_the_trends_cannot_exclude_is_budgeted(run_cli, tmp_path):
     """A steady MIMU, no times: every result reportable; each K_g and g carries u_b = (|d̂| + 2u(d̂))·|τ|,
     d̂ and u(d̂) the pooled within-record trend (drift.campaign_drift) and τ by hand for 40-s records
@@ -328,7 +347,10 @@ def test_certificate_gives_the_reason_in_its_language(run_cli, tmp_path):
                            "--report", str(out), "--lang", "zh", "--no-progress")
     assert code in (0, 3, 4), err
     doc = docx.Document(str(out))
-    text = "\n".join(c.text for t in doc.tables for row in t.rows for c in row.cells)
+    cells = "\n".join(c.text for t in doc.tables for row in t.rows for c in row.cells)
+    text = "\n".join(p.text for p in doc.paragraphs)
+    # the result's cell says it is withheld; why follows the table, in the certificate's language
+    assert "不予报告" in cells and "漂移 0.36" not in cells
     assert "陀螺 x 的零偏在本批次测量中漂移 0.36" in text and "gyro x's bias drifts" not in text
 
 

@@ -53,6 +53,10 @@ from . import formulas as F
 from .data import _axis_of, _columns, _rate_of
 
 AXES = ("x", "y", "z")
+#: without recording times, a significant drift withholds a result it moves by this share of U or more
+#: with the records back to back in the plan's order — the least lever arm they can have had; below it,
+#: gaps would have to lengthen that lever arm tenfold to move the result by U (the drift is in u_b too)
+MATERIAL = 0.1
 GYRO = ("gx", "gy", "gz")
 #: the pooled drift of one gyro is significant at |d̂|/u(d̂) ≥ Z_CRIT (two-sided 1.2 % per gyro for a
 #: steady device; measured false rates in docs/standards/jjf2003.md)
@@ -474,10 +478,10 @@ def bound_row(drift: GyroDrift, i: int, tau_plan: float, unit: str, what, tau_un
 
 def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, unit: str):
     """The reason a result of gyro i cannot be reported without recording times, or None: the drift
-    is significant (|d̂|/u(d̂) ≥ :data:`Z_CRIT`) — seen, and of a size the result's records cannot
-    place in time: back to back in the plan's order it moves the result by |d̂|·|τ_plan| (stated
-    against ``U``, the U without :func:`bound_row`'s row), gaps between the records by more, and no
-    manifest without times states them — or no record gives the gyro a within-record trend."""
+    is significant (|d̂|/u(d̂) ≥ :data:`Z_CRIT`) — seen, but not placed in time — and moves the result
+    by |d̂|·|τ_plan| ≥ :data:`MATERIAL`·U with the records back to back in the plan's order (``U``
+    without :func:`bound_row`'s row), the least it can do: gaps between the records, which no
+    manifest without times states, make it more; or no record gives the gyro a within-record trend."""
     if not math.isfinite(drift.u[i]):
         return msg("fewer than two of the records give gyro {gyro} a within-record trend, so a bias drift during the "
                    "campaign can be neither seen nor bounded, and the manifest gives no recording times (`started` "
@@ -486,6 +490,8 @@ def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, u
     if not U > 0 or not drift.significant(i):
         return None
     effect = abs(drift.d[i] * tau_plan)
+    if effect < MATERIAL * U:  # stays below U even with a lever arm 1/MATERIAL times the plan's
+        return None
     # three parts ("; "): what the gyro does (shared by its results), what it does to this result, and what
     # to do (shared by all) — a certificate states a shared part once (core.notes.group_notes)
     return join("; ", [
