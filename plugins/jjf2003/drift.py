@@ -29,7 +29,8 @@ touched.
   with the records back to back (:func:`plan_sweep_factor`, :func:`plan_six_factors`: gaps between
   records only lengthen it).  Each result carries the drift its records' trends cannot exclude,
   u_b = (|d̂| + 2u(d̂))·|τ_plan| (:func:`bound_row`); where the drift is significant (|d̂|/u(d̂) ≥
-  :data:`Z_CRIT`), seen but not placed in time, the result is not reportable, with the reason
+  :data:`Z_CRIT`), seen but not placed in time, and moves the result by :data:`MATERIAL` of its U
+  or more over that least lever arm, the result is not reportable, with the reason
   (:func:`not_reportable_reason`).
 """
 
