@@ -403,3 +403,27 @@ def test_terminal_states_a_drift_warning_once_for_the_items_that_give_it(run_cli
     assert flat.count("the manifest gives no recording times (`started` on the segments) to budget the drift") == 1
     assert flat.count("not reportable (K_gxx (7.2.1, 7.2.3); g_xx, g_xy, g_xz (7.2.2); K_gxy, K_gxz (7.2.3)): "
                       "gyro x's bias drifts by 0.36") == 1, flat
+
+
+def test_without_times_a_gyro_no_record_gives_a_trend_is_withheld():
+    """Fewer than two records give a gyro a within-record trend (a 7.2.1 sweep alone whose turning
+    records cover less than one revolution each): its drift can be neither seen nor bounded, so
+    without recording times no u_b can be formed and its results are withheld, saying why."""
+    from metro.plugins.jjf2003 import drift as D
+
+    d = D.GyroDrift(d=(0.0, 1e-6, 0.0), u=(math.inf, 1e-6, 1e-7), dof=(0, 10, 10), records=(1, 12, 12),
+                    mid_times=None, durations={})
+    assert D.bound_row(d, 0, 5.0, "", "sweep", "s/(°/s)") is None
+    reason = str(D.not_reportable_reason(d, 0, 5.0, 1e-4, ""))
+    assert "fewer than two of the records give gyro x a within-record trend" in reason and "`started`" in reason
+    # gyro z: not significant (z = 0), so reportable; its u_b by hand: (0 + 2·1e-7)·5 s/(°/s)
+    assert D.not_reportable_reason(d, 2, 5.0, 1e-4, "") is None
+    assert D.bound_row(d, 2, -5.0, "", "sweep", "s/(°/s)").contribution.magnitude == pytest.approx(1e-6, rel=1e-12)
+    # gyro y: 1 standard error is not seen: reportable, u_b = (1e-6 + 2·1e-6)·5
+    assert D.not_reportable_reason(d, 1, 5.0, 1e-4, "") is None
+    assert D.bound_row(d, 1, 5.0, "", "sweep", "s/(°/s)").contribution.magnitude == pytest.approx(1.5e-5, rel=1e-12)
+    # a seen drift (z = 10) moving the result by 5e-5 against U = 1e-4 (half of U, ≥ MATERIAL): withheld
+    d2 = D.GyroDrift(d=(1e-5, 0.0, 0.0), u=(1e-6, 1e-6, 1e-6), dof=(10, 10, 10), records=(12, 12, 12),
+                     mid_times=None, durations={})
+    assert "by more with gaps between them" in str(D.not_reportable_reason(d2, 0, 5.0, 1e-4, ""))
+    assert D.not_reportable_reason(d2, 0, 5.0, 1e-3, "") is None  # 5e-5 against 1e-3: below a tenth of U
