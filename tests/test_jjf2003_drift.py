@@ -427,3 +427,29 @@ def test_without_times_a_gyro_no_record_gives_a_trend_is_withheld():
                      mid_times=None, durations={})
     assert "by more with gaps between them" in str(D.not_reportable_reason(d2, 0, 5.0, 1e-4, ""))
     assert D.not_reportable_reason(d2, 0, 5.0, 1e-3, "") is None  # 5e-5 against 1e-3: below a tenth of U
+
+
+def test_a_drift_effect_is_corrected_beyond_the_t_quantile_of_its_model(monkeypatch):
+    """The correction threshold follows the drift model's ν (drift.correct_threshold): the two-sided t
+    quantile at the false rate Z_CORRECT has for a normal variable.  Reference: Student's t table,
+    t(0.975; 10) = 2.228 and t(0.975; 30) = 2.042 for the normal 1.960; and an effect at 2.8 u(Δ) is
+    corrected with ν = 1000 but not with ν = 10 (threshold 3.04: twelve six-position records alone)."""
+    from metro.plugins.jjf2003 import drift as D
+
+    assert D.correct_threshold(math.inf) == pytest.approx(2.5, abs=1e-9)
+    monkeypatch.setattr(D, "Z_CORRECT", 1.959964)
+    assert D.correct_threshold(10) == pytest.approx(2.228, abs=1e-3)
+    assert D.correct_threshold(30) == pytest.approx(2.042, abs=1e-3)
+    monkeypatch.undo()
+    assert D.correct_threshold(10) == pytest.approx(3.04, abs=0.01)
+
+    def model(dof):
+        return D.RateModel(a=2.8e-6, c=0.0, cov=((1e-12, 0.0), (0.0, 0.0)), dof=dof, t_ref=0.0, birge=1.0,
+                           line=False, records=dof + 1)
+
+    for dof, corrected in ((1000, True), (10, False)):
+        drift = D.GyroDrift(d=(2.8e-6, 0.0, 0.0), u=(1e-6, 1.0, 1.0), dof=(dof, 1, 1), records=(dof + 1, 2, 2),
+                            mid_times={}, durations={}, models=(model(dof), None, None))
+        delta, rows = D.correction(drift, 0, np.array([1.0, 0.0, 0.0]), "", "test", "s")
+        assert (delta != 0.0) is corrected, dof
+        assert delta == pytest.approx(2.8e-6 if corrected else 0.0)

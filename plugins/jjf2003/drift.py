@@ -62,11 +62,25 @@ GYRO = ("gx", "gy", "gz")
 #: the pooled drift of one gyro is significant at |d̂|/u(d̂) ≥ Z_CRIT (two-sided 1.2 % per gyro for a
 #: steady device; measured false rates in docs/standards/jjf2003.md)
 Z_CRIT = 2.5
-#: with recording times a result is corrected for the drift where its effect Δ on it is resolved, |Δ| ≥
-#: Z_CORRECT·u(Δ) (GUM 3.2.4's "significant"; an effect the data do not resolve is budgeted uncorrected,
-#: √(Δ² + u²)).  Correcting always (Z_CORRECT = 0, measured with benchmarks/jjf2003_drift_modes.py) is
-#: unbiased but puts the estimate's noise into every steady device's K_g and g (rms E_n × 3–10)
+#: with recording times a result is corrected for the drift where its effect Δ on it is resolved: |Δ|/u(Δ)
+#: beyond the two-sided quantile of Student's t with the drift model's ν at the false rate Z_CORRECT standard
+#: errors have for a normal variable (1.24 %; :func:`correct_threshold`: 3.1 at ν = 10, the twelve
+#: six-position records of 7.2.2 alone — 2.5 flat corrected 3 % of steady gyros there by chance).  GUM
+#: 3.2.4's "significant"; an effect the data do not resolve is budgeted uncorrected, √(Δ² + u²).
+#: Correcting always (Z_CORRECT = 0, measured with benchmarks/jjf2003_drift_modes.py) is unbiased but puts
+#: the estimate's noise into every steady device's K_g and g (rms E_n × 3–10)
 Z_CORRECT = Z_CRIT
+
+
+def correct_threshold(nu: float) -> float:
+    """|Δ|/u(Δ) from which a drift's effect is corrected: the two-sided t quantile with ν degrees of
+    freedom at the rate a normal variable exceeds :data:`Z_CORRECT` (Z_CORRECT itself at ν = ∞; 0
+    when Z_CORRECT is 0)."""
+    if Z_CORRECT <= 0:
+        return 0.0
+    from scipy.stats import norm, t
+
+    return float(t.isf(norm.sf(Z_CORRECT), max(nu, 1)))
 #: the line in time fits the record trends unless χ² exceeds its 99 % quantile (the drift model's error
 #: then enters the budget, :func:`correction`)
 P_FIT = 0.01
@@ -383,7 +397,7 @@ def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_
     """The drift of gyro i over the records a result combines, Δ = a·τ + c·τ₂ (its
     :class:`RateModel`; ``grad`` = [τ, τ₂, e]: τ in ``tau_unit``, τ₂ in ``tau_unit``·s, e the bias
     change the line leaves out carried through the result, in ``unit``), to be subtracted from the
-    result where it is resolved (|Δ| ≥ :data:`Z_CORRECT`·u(Δ); else 0),
+    result where it is resolved (|Δ| ≥ :func:`correct_threshold`(ν)·u(Δ); else 0),
     and its rows: u_d, the correction's uncertainty u(Δ) = √(gᵀ·Cov(a, c)·g) (type A, ν = records
     − 2; GUM 3.2.3, 3.2.4: a recognised significant systematic effect is corrected, the correction's
     uncertainty budgeted), or for an unresolved effect left in √(Δ² + u(Δ)²) (GUM F.2.4.5); u_dc
@@ -397,7 +411,8 @@ def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_
              msg("as a constant: {a:.3g} ± {ua:.2g} °/s per hour (a change in time of {c:.2g} ± {uc:.2g} °/s per hour "
                  "per hour, below {z:g} standard errors, is not fitted)", a=m.a * 3600.0,
                  ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c_seen[0] * 3600.0**2, uc=m.c_seen[1] * 3600.0**2, z=Z_CRIT))
-    applied = abs(delta) >= Z_CORRECT * u
+    z_cut = correct_threshold(m.dof)
+    applied = abs(delta) >= z_cut * u
     if applied:
         rows = [BudgetRow.type_a(
             msg("correction for the gyro bias drift between the records ({what})", what=what), "u_d",
@@ -414,7 +429,7 @@ def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_
                      "ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} {tau_unit}; its effect on this "
                      "result, {delta:.3g} ± {ud:.2g}{unit}, is below {z:g} standard errors: not corrected, "
                      "√(Δ² + u²)", gyro=AXES[i], n=m.records, shape=shape, birge=m.birge, chi2=m.chi2, nu=m.dof,
-                     tau=float(grad[0]), tau_unit=tau_unit, delta=delta, ud=u, unit=shown, z=Z_CORRECT))]
+                     tau=float(grad[0]), tau_unit=tau_unit, delta=delta, ud=u, unit=shown, z=round(z_cut, 2)))]
     if not m.line:  # the change of the rate in time that the data do not resolve: budgeted, not corrected
         rows.append(BudgetRow.type_a(
             msg("change of the drift rate in time, not corrected ({what})", what=what), "u_dc",
