@@ -351,28 +351,30 @@ def _fmt_decimal(d: Decimal, exponent: int) -> str:
     return power_of_ten(f"{mant:.{ndec}f}", lead)
 
 
-def std_upper_limit(s: float, n_values: int, p: float = 0.02275) -> float:
+def std_upper_limit(s: float, n_values: int | None = None, p: float = 0.02275, *, dof: float | None = None) -> float:
     """Upper confidence limit of σ from a Bessel standard deviation ``s`` of ``n_values`` normal
-    values (χ² with ν = n − 1)::
+    values (χ² with ν = n − 1), or with an effective ``dof`` ν instead (a Satterthwaite or Bartlett ν of
+    correlated values, not an integer)::
 
         σ_upper = s·√(ν / χ²_p(ν)),   p = 0.02275 (the one-sided 97.7 %, k = 2 of a normal)
 
     At n = 7: 2.243·s; n = 6: 2.505·s (χ²₀.₀₂₂₇₅(5) = 0.797)."""
     from scipy.stats import chi2
 
-    nu = int(n_values) - 1
-    if nu < 1:
-        raise ValueError("a standard deviation needs at least two values")
+    nu = float(dof) if dof is not None else int(n_values) - 1
+    if not nu > 0:
+        raise ValueError("a standard deviation needs at least two values (ν > 0)")
     return float(s) * math.sqrt(nu / float(chi2.ppf(p, nu)))
 
 
-def std_sampling_u(s: float, n_values: int) -> float:
-    """Standard uncertainty of a repeatability s (a Bessel standard deviation of n values) as an
-    estimate of σ, from the χ² bound: (σ_upper − s)/2, entered with ν = ∞ — s + 2u is the 97.7 %
-    upper confidence limit.  The linear s/√(2(n − 1)) with ν = n − 1 covers σ in only ≈ 92 % of
-    cases at n = 6 or 7 (its U is small exactly when s came out small); for large n the two agree
-    (interpretations.md, "D.5.3 — what D.42 measures" and "Repeatabilities: the χ² bound")."""
-    return (std_upper_limit(s, n_values) - float(s)) / 2.0
+def std_sampling_u(s: float, n_values: int | None = None, *, dof: float | None = None) -> float:
+    """Standard uncertainty of a repeatability s (a Bessel standard deviation of n values, or of
+    effective ``dof`` ν) as an estimate of σ, from the χ² bound: (σ_upper − s)/2, entered with ν = ∞
+    — s + 2u is the 97.7 % upper confidence limit.  The linear s/√(2(n − 1)) with ν = n − 1 covers σ
+    in only ≈ 92 % of cases at n = 6 or 7 (its U is small exactly when s came out small); for large n
+    the two agree (interpretations.md, "D.5.3 — what D.42 measures" and "Repeatabilities: the χ²
+    bound")."""
+    return (std_upper_limit(s, n_values, dof=dof) - float(s)) / 2.0
 
 
 def between_variance(s2: float, within: float, dof: int) -> float:

@@ -140,18 +140,17 @@ def std_of_std_correlated(s: float, means, samples=None, P: int | None = None,
     wander devices; the model's ν is read off the whole Allan curve (interpretations.md, "7.2.14 — B_s of
     correlated averages").  Independent averages give ν_eff ≈ m − 1 and the χ² bound of m values.  Returns
     (u, ν = ∞ as the χ² bound is entered, a note naming ν_eff when it is below m − 1)."""
-    from scipy.stats import chi2
+    from metro.core.budget import std_sampling_u
 
     x = np.asarray(means, dtype=float)
     m = x.size
     model = averages_dof_model(samples, int(P), float(dt)) if samples is not None and P and dt else None
     if model is not None:
         nu = min(float(m - 1), max(1.0, model[0]))
-        upper = float(s) * math.sqrt(nu / float(chi2.ppf(0.02275, nu)))
         note = ("" if nu >= 0.95 * (m - 1) else
                 msg("ν_eff = {nu:.3g} of the {m} averages from the record's noise model (eq. (38) fit: white, flicker, "
                     "random walk, ramp): χ² bound on it", nu=nu, m=m))
-        return (upper - float(s)) / 2.0, math.inf, note
+        return std_sampling_u(s, dof=nu), math.inf, note
     x = x - x.mean()
     c0 = float(x @ x) / m
     acc = 0.0
@@ -173,8 +172,7 @@ def std_of_std_correlated(s: float, means, samples=None, P: int | None = None,
         r = (c[1:] + v) / (c[0] + v)
         acc = max(0.0, float(np.sum(r * r)) - L / m)  # each ρ̂_k² carries ≈ 1/m of sampling noise
     nu = (m - 1) / (1.0 + 2.0 * acc)
-    upper = float(s) * math.sqrt(nu / float(chi2.ppf(0.02275, nu)))
     note = ("" if acc * 2 < 0.05 else
             msg("the {m} averages are correlated (Σρ_k² = {acc:.3g}): χ² bound on ν_eff = {nu:.3g}", m=m, acc=acc, nu=nu))
-    return (upper - float(s)) / 2.0, math.inf, note
+    return std_sampling_u(s, dof=nu), math.inf, note
 
