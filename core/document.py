@@ -676,6 +676,18 @@ def not_reportable(tr, reason: Any) -> str:
     return f"{head}{'' if head.endswith('：') else ' '}{reason or DASH}"
 
 
+def withheld_reasons(doc: DocumentBuilder, withheld: Sequence[tuple[str, Any]], size: float = 8.5) -> None:
+    """Why the results of a table or matrix whose cells say "not reportable" are withheld, after it:
+    ``withheld`` = (symbol, reason).  A reason, or a part of one (a "; " join: what a drifting gyro
+    does, what to do), that several share is stated once naming them; the parts only one result
+    has, on one line (:func:`metro.core.notes.group_notes`)."""
+    from .notes import group_notes
+
+    tr = doc.tr
+    for where, reason in group_notes([("", sym, r) for sym, r in withheld], key=tr.text):
+        doc.para(f"{where}: {not_reportable(tr, reason)}" if where else not_reportable(tr, reason), size=size)
+
+
 def status_text(tr, status: Any) -> str:
     """An equipment status on the date of measurement, translated where it is a message."""
     from .locale import Text

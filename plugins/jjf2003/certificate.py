@@ -187,7 +187,7 @@ def layout(doc, ctx: dict) -> None:
                   [[r["name"], r["symbol"], D.with_unit_text(r["value"], r["unit"]), f"U = {D.with_unit_text(r['U'], r['unit'])} "
                     f"(k = {r['k']})" if r["U"] != DASH else tr("not evaluated")] if r["reportable"] else
                    [r["name"], r["symbol"], tr(NOT_REPORTABLE), DASH] for r in rows], prefer=0)
-        _withheld_reasons(doc, [(r["symbol"], r["reason"]) for r in rows if not r["reportable"]])
+        D.withheld_reasons(doc, [(r["symbol"], r["reason"]) for r in rows if not r["reportable"]])
     for no, cn, en, key, sym in MATRICES:
         m = c[key]
         doc.heading(f"{no}. {tr.pick(cn, en)} ({sym})", 2)
@@ -203,7 +203,7 @@ def layout(doc, ctx: dict) -> None:
                   width_mm=110)
         doc.para(f"{tr('Measurement uncertainty')} U (k = 2){unit}:", keep_next=True)
         doc.table(["", "x", "y", "z"], [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["u_rows"]], width_mm=110)
-        _withheld_reasons(doc, m.get("not_reportable", ()))
+        D.withheld_reasons(doc, m.get("not_reportable", ()))
     doc.heading(tr("Notes on the results"), 2)
     D.notes_section(doc, ctx)
     doc.heading(tr("Signatures"), 2)
@@ -212,14 +212,3 @@ def layout(doc, ctx: dict) -> None:
     doc.para(f"{tr('Date of issue')}: {D.or_dash(f['issued'])}")
     doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")), size=8.5)
     D.annexes(doc, ctx)
-
-
-def _withheld_reasons(doc, withheld) -> None:
-    """Why each withheld result (``(symbol, reason)``) of a table or matrix is withheld: a reason, or a
-    part of one (what a drifting gyro does, what to do), that several share is stated once, naming
-    them (core.notes.group_notes); the parts only one has, on one line."""
-    from metro.core import document as D
-
-    tr = doc.tr
-    for where, reason in group_notes([("", s, r) for s, r in withheld], key=tr.text):
-        doc.para(f"{where}: {D.not_reportable(tr, reason)}" if where else D.not_reportable(tr, reason), size=8.5)
