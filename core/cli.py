@@ -20,15 +20,20 @@ EXIT_USER_ERROR = 2  # usage or data error: nothing was evaluated, nothing parti
 EXIT_NONCONFORMING = 3  # done; the overall statement is "does not conform" (a verdict fails)
 EXIT_INDETERMINATE = 4  # done; nothing fails but a verdict is indeterminate (conformity not shown)
 EXIT_CAMPAIGN_FAILED = 5  # `metro batch`: at least one campaign could not be evaluated (listed)
+EXIT_CHECK_FAILED = 6  # a check found a problem: `register verify` (a report file differs or is missing),
+# `doctor` (a required check fails)
 EXIT_INTERRUPTED = 130  # Ctrl-C (128 + SIGINT)
 EXIT_BROKEN_PIPE = 141  # the reader of stdout went away (128 + SIGPIPE), e.g. `metro plan … | head`
 
 EXIT_CODES_TEXT = (
     "exit codes: 0 done, conforming or nothing to judge; 2 usage or data error; 3 does not conform; "
     "4 indeterminate (nothing fails, some verdict is indeterminate); 5 batch: a campaign failed; "
-    "130 interrupted; 1 is an internal error (a bug: please report the traceback).  A run on the "
-    "simulated station judges a virtual device: it exits 0 once evaluated unless --strict"
+    "6 a check found a problem (register verify, doctor); 130 interrupted; 1 is an internal error "
+    "(a bug: please report the traceback)."
 )
+#: `metro run` only: what its --strict changes
+SIMULATED_EXIT_TEXT = ("  A run on the simulated station judges a virtual device: it exits 0 once evaluated "
+                       "unless --strict")
 
 
 def exit_code_for(overall: str | None) -> int:
@@ -59,7 +64,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Calibrate and test inertial sensors to published standards "
         "(GB/T 45570, JJF 2014, JJF 2003 …). Standards are plugins.",
         epilog="Example: metro run --standard gbt45570 --item D.5.6   "
-        "(no --data: runs on the built-in simulated test station).  " + EXIT_CODES_TEXT,
+        "(no --data: runs on the built-in simulated test station).  " + EXIT_CODES_TEXT + SIMULATED_EXIT_TEXT,
     )
     p.add_argument("--version", action="store_true", help="print metro's version and the loaded plugins' versions")
     p.add_argument("--no-plugin-autoload", action="store_true",
@@ -74,7 +79,8 @@ def _parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="evaluate one or more items of a standard",
                        description="Evaluate items of a standard on a campaign (--data) or, without --data, "
                        "on the built-in simulated test station.",
-                       epilog='Example: metro run -s gbt45570 -i D.5.6 -o min_blocks=20   ' + EXIT_CODES_TEXT)
+                       epilog='Example: metro run -s gbt45570 -i D.5.6 -o min_blocks=20   ' + EXIT_CODES_TEXT
+                       + SIMULATED_EXIT_TEXT)
     r.add_argument("--standard", "-s", help="standard id, e.g. gbt45570 (case does not matter; may be left out "
                    "when every item is written std:item, as `metro items` prints them)")
     r.add_argument("--item", "-i", action="append", default=[],
@@ -142,7 +148,7 @@ def _parser() -> argparse.ArgumentParser:
                     help="station option, e.g. duration_scale=0.1 (numbers are read as numbers)")
     aq.add_argument("--npy-rows", type=int, default=None, metavar="N",
                     help="segments of N rows or more are written as .npy (default 100000), shorter as CSV")
-    aq.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _progress_args(aq)
     cli_register.add_commands(sub)
 
     b = sub.add_parser("batch", help="evaluate many device campaigns (a production lot) on a Dask cluster",
@@ -175,12 +181,52 @@ def _parser() -> argparse.ArgumentParser:
                    help="language of the reports (default: the lab profile's, else zh+en)")
     _output_args(b)
     cli_register.add_run_options(b)  # each device registered as `metro run` registers it (--lab)
+    from . import doctor
+
+    doctor.add_command(sub)
+    _share_global_options(p)
     return p
 
 
-def _output_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress display (and no banner on stderr)")
+#: the global options a command's own parser accepts too, after the command
+#: (``metro register list --lab lab.toml``, as git and pytest users write them)
+_SHARED_GLOBALS = ("--lab", "--no-plugin-autoload", "--block-plugin")
+
+
+def _share_global_options(parser: argparse.ArgumentParser) -> None:
+    """Every command's parser (and a command's subcommands) gets the global options with no
+    default of its own (``SUPPRESS``), so a value given before the command is kept and one given
+    after it is read; ``--block-plugin`` given after goes to ``block_plugin_after`` (added to the
+    ones before it by :func:`_main`)."""
+    top = {o: a for a in parser._actions for o in a.option_strings if o in _SHARED_GLOBALS}
+    stack = [parser]
+    while stack:
+        for action in stack.pop()._actions:
+            if not isinstance(action, argparse._SubParsersAction):
+                continue
+            for sub in dict.fromkeys(action.choices.values()):  # each parser once (aliases)
+                group = sub.add_argument_group("global options (also accepted before the command)")
+                for opt, a in top.items():
+                    kw: dict[str, Any] = {"default": argparse.SUPPRESS, "help": a.help}
+                    if isinstance(a, argparse._AppendAction):
+                        kw.update(action="append", dest=a.dest + "_after", metavar=a.metavar)
+                    elif isinstance(a, argparse._StoreTrueAction):
+                        kw.update(action="store_true")
+                    else:
+                        kw.update(metavar=a.metavar)
+                    group.add_argument(opt, **kw)
+                stack.append(sub)
+
+
+def _progress_args(p: argparse.ArgumentParser) -> None:
+    """--quiet and --no-progress, the same on every command that shows progress (run, batch, acquire)."""
+    p.add_argument("--quiet", "-q", action="store_true",
+                   help="no progress display and no messages on stderr (errors and warnings still)")
     p.add_argument("--no-progress", action="store_true", help="no progress display")
+
+
+def _output_args(p: argparse.ArgumentParser) -> None:
+    _progress_args(p)
     p.add_argument("--verbose", "-v", action="store_true",
                    help="also print budgets, tables, item selection, truth checks and data file hashes")
 
@@ -352,6 +398,7 @@ def _main(argv: Sequence[str] | None) -> int:
     args, extra = parser.parse_known_args(argv)
     if extra:
         _unknown_arguments(parser, args.command, extra)
+    args.block_plugin = [*args.block_plugin, *getattr(args, "block_plugin_after", [])]
     from .errors import MetroError
 
     try:
@@ -372,6 +419,10 @@ def _main(argv: Sequence[str] | None) -> int:
             return _cmd_acquire(args)
         if args.command == "batch":
             return _cmd_batch(args)
+        if args.command == "doctor":
+            from .doctor import command
+
+            return command(args)
         from . import cli_register
 
         if args.command in cli_register.COMMANDS:
@@ -455,7 +506,7 @@ def _cmd_run(args) -> int:
         print(json.dumps(doc, ensure_ascii=False, indent=2))
     else:
         present.print_record(record, report_path, verbose=args.verbose)
-        if registration is not None:
+        if registration is not None and not args.quiet:
             from rich.console import Console
 
             Console(stderr=True).print(f"registered as {registration['number']}" if registration["registered"]
@@ -684,11 +735,12 @@ def _cmd_acquire(args) -> int:
     pm = _pm(args)
     args.standard, items = resolve_items(pm, args.standard, _items(args.item))
     station_options = _station_options(args)
-    with present.progress(enabled=not args.no_progress and sys.stderr.isatty()) as prog:
+    with present.progress(enabled=_show_progress(args)) as prog:
         manifest = acquire_campaign(pm, args.standard, items, args.out, station=args.station,
                                     options=_options(args.option), station_options=station_options,
                                     npy_rows=args.npy_rows or NPY_ROWS, progress=prog, run_all=args.run_all)
-    Console(stderr=True).print(f"campaign written: {manifest}")
+    if not args.quiet:
+        Console(stderr=True).print(f"campaign written: {manifest}")
     print(manifest)
     return 0
 

@@ -43,7 +43,7 @@ def add_commands(sub) -> None:
     rs = rsub.add_parser("show", help="one report's register entry: results, verdicts, provenance, audit trail")
     rs.add_argument("number", metavar="NUMBER")
     rs.add_argument("--json", action="store_true")
-    rv = rsub.add_parser("verify", help="check every report file against its stored SHA-256 (exit 1 if any differs)")
+    rv = rsub.add_parser("verify", help="check every report file against its stored SHA-256 (exit 6 if any differs or is missing)")
     rv.add_argument("--json", action="store_true")
 
     rp = sub.add_parser("report", help="write a registered report again from the register",
@@ -228,16 +228,24 @@ def _lab(args, required: bool = False):
     return lab
 
 
-def _open(args):
+def register_url(args) -> str:
+    """The register in force: the lab profile's (``METRO_REGISTER`` first), else the default one in
+    the user data folder.  Only the profile's identity is read (its equipment needs pint)."""
     import os
 
     from . import lab as labmod
+
+    lab = labmod.lab_in_force(getattr(args, "lab", None), equipment=False)
+    return lab.register_url() if lab is not None else (os.environ.get(labmod.ENV_REGISTER)
+                                                       or labmod.default_register_url())
+
+
+def _open(args):
+    """The register in force, which must exist: these commands read it or change a report's
+    status, and never create one (only a registered run does)."""
     from .register import open_register
 
-    lab = _lab(args)
-    url = lab.register_url() if lab is not None else (os.environ.get(labmod.ENV_REGISTER)
-                                                      or labmod.default_register_url())
-    return open_register(url)
+    return open_register(register_url(args), create=False)
 
 
 def _date(text: str | None, field: str):
@@ -253,16 +261,39 @@ def _date(text: str | None, field: str):
         raise MetroError(f"{field} {text!r} is not a date (YYYY-MM-DD)") from exc
 
 
+def _is_terminal() -> bool:
+    import sys
+
+    return sys.stdout.isatty()
+
+
 def _table(title: str, cols, rows) -> None:
+    """A table of the register: on a terminal a rich table whose cells wrap (an identifier is folded,
+    never cut to "stand…"); piped or redirected, plain rows for scripts: a ``# title`` line, the
+    header, then one line per row, cells separated by a tab, nothing padded, every value whole."""
+    cells = [[("—" if v in (None, "") else str(v)) for v in r] for r in rows]
+    if not _is_terminal():
+        import sys
+
+        def line(values) -> str:
+            return "\t".join(" ".join(v.split()) for v in values)  # one line per row, no tab inside a cell
+
+        sys.stdout.write("\n".join([f"# {title}", line(cols), *(line(r) for r in cells)]) + "\n")
+        return
     from rich.console import Console
     from rich.table import Table
 
+    console = Console()
+    # short identifiers (a report number, a date: up to 13 characters) are kept on one line when the
+    # terminal is wide enough for all of them; else a cell folds onto the next line, never cut to "stand…"
+    short = [min(13, max([len(c)] + [len(r[i]) for r in cells])) for i, c in enumerate(cols)]
+    keep = sum(short) + 3 * len(cols) + 1 <= console.width
     t = Table(title=title)
     for i, c in enumerate(cols):
-        t.add_column(c, no_wrap=i == 0)  # a report number reads whole
-    for r in rows:
-        t.add_row(*[("—" if v in (None, "") else str(v)) for v in r])
-    Console().print(t)
+        t.add_column(c, overflow="fold", no_wrap=False, min_width=short[i] if keep else None)
+    for r in cells:
+        t.add_row(*r)
+    console.print(t)
 
 
 def _cmd_list(args) -> int:
@@ -324,7 +355,9 @@ def _cmd_verify(args) -> int:
             print(f"{len(checks) - len(bad)} of {len(checks)} report files match their SHA-256"
                   + (f"; {len(bad)} do not: " + ", ".join(f"{c['number']} {c['check']}" for c in bad) if bad else ""),
                   file=sys.stderr)
-    return 1 if bad else 0
+    from .cli import EXIT_CHECK_FAILED, EXIT_OK
+
+    return EXIT_CHECK_FAILED if bad else EXIT_OK
 
 
 def _cmd_report(args) -> int:

@@ -207,10 +207,10 @@ def find_lab_path(cli_path: str | os.PathLike[str] | None = None) -> Path | None
     return p if p.is_file() else None
 
 
-def lab_in_force(cli_path: str | os.PathLike[str] | None = None) -> LabProfile | None:
+def lab_in_force(cli_path: str | os.PathLike[str] | None = None, *, equipment: bool = True) -> LabProfile | None:
     """:func:`load_lab` of :func:`find_lab_path`, or ``None`` without a profile."""
     p = find_lab_path(cli_path)
-    return None if p is None else load_lab(p)
+    return None if p is None else load_lab(p, equipment=equipment)
 
 
 # --------------------------------------------------------------------------------------
@@ -242,8 +242,10 @@ def _register(value: str, base: Path, src: str) -> str:
     return "sqlite:///" + str(p.resolve())
 
 
-def load_lab(path: str | os.PathLike[str]) -> LabProfile:
-    """Read and check a lab profile; a problem is a DataError naming the file, the field and why."""
+def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProfile:
+    """Read and check a lab profile; a problem is a DataError naming the file, the field and why.
+    ``equipment=False`` leaves the ``[[equipment]]`` tables unread (no pint): what the commands
+    that only read the register need (its URL and the lab's identity)."""
     p = Path(path)
     src = str(p)
     if not p.is_file():
@@ -330,8 +332,8 @@ def load_lab(path: str | os.PathLike[str]) -> LabProfile:
     eq_list = doc.get("equipment", [])
     if not isinstance(eq_list, list):
         raise DataError(src, "equipment", "must be an array of tables ([[equipment]])")
-    equipment = []
-    if eq_list:
+    read_equipment, equipment = equipment, []
+    if eq_list and read_equipment:
         from .campaign import equipment_from_table
 
         seen: set[str] = set()

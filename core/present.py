@@ -289,8 +289,11 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
     overall = a.overall.value if a is not None and a.overall is not None else None
     style = colour.get(overall or "", "bold")
     con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)  # one line: scripts grep it
-    con.print(f"report number {record.report_number}: "
-              + (f"Word report {esc(str(report_path))}" if report_path else "no Word report written"), soft_wrap=True)
+    if report_path:  # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
+        kind = "PDF report" if str(report_path).lower().endswith(".pdf") else "Word report"
+        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}", soft_wrap=True)
+    else:  # --no-report: no document, so no number either
+        con.print("no report written", soft_wrap=True)
 
 
 def _print_budgets_and_tables(con: Any, o: Any) -> None:

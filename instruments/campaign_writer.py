@@ -20,6 +20,7 @@ writes the result; it is what ``metro acquire`` calls.
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
 import json
 import math
@@ -253,8 +254,26 @@ def _fresh_target(out: Path) -> None:
     if out.is_dir() and any(out.iterdir()):
         raise DataError(str(out), None, "the folder exists and is not empty; metro never overwrites a campaign",
                         hint="choose a new --out folder or remove the old one")
-    if not out.parent.is_dir():
-        raise DataError(str(out), None, f"the parent folder {out.parent} does not exist")
+    for parent in out.parents:  # missing parents are made (as mkdir -p does); a file in the way is not
+        if parent.exists() and not parent.is_dir():
+            raise DataError(str(out), None, f"{parent} is not a folder", hint="choose another --out")
+
+
+def _make_parents(out: Path) -> list[Path]:
+    """The missing parent folders of ``out`` made, as ``mkdir -p`` makes them (never replacing
+    anything); return them, outermost first, so that a failure can remove them again."""
+    made: list[Path] = []
+    try:
+        for parent in reversed(out.parents):
+            if not parent.exists():
+                parent.mkdir()
+                made.append(parent)
+    except OSError as exc:
+        for parent in reversed(made):
+            with contextlib.suppress(OSError):
+                parent.rmdir()
+        raise DataError(str(out), None, f"cannot make its parent folders ({exc.strerror or exc})") from exc
+    return made
 
 
 def write_campaign(
@@ -276,8 +295,9 @@ def write_campaign(
     _fresh_target(out)
     _distinct_segments(campaign)
     tmp = out.with_name(f".{out.name}{TMP_MARKER}{secrets.token_hex(4)}")
-    tmp.mkdir()
+    made = _make_parents(out)
     try:
+        tmp.mkdir()
         stems = _file_names(campaign.segments)
         files: dict[str, tuple[str, dict[str, str]]] = {}
         total = len(campaign.segments)
@@ -292,6 +312,9 @@ def write_campaign(
         os.rename(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
+        for parent in reversed(made):  # the folders made for it, innermost first (empty again)
+            with contextlib.suppress(OSError):
+                parent.rmdir()
         raise
     try:
         fd = os.open(out.parent, os.O_RDONLY)

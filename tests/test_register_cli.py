@@ -139,7 +139,7 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     with open(a["report"], "ab") as fh:
         fh.write(b"\0")
     code, ver = _json(capsys, "register", "verify")
-    assert code == 1 and ver["ok"] is False
+    assert code == 6 and ver["ok"] is False  # README "Exit codes": 6, a check found a problem
     assert {r["number"]: r["check"] for r in ver["reports"]}[numbers[0]] == "modified"
 
 
@@ -152,7 +152,8 @@ def test_expired_equipment_refuses_unless_allowed(lab, tmp_path, capsys, campaig
     err = capsys.readouterr().err
     assert "CNT-1" in err and "2025-01-01" in err and "--allow-expired" in err
     assert not out.exists() or list(out.iterdir()) == []
-    assert _json(capsys, "register", "list")[1]["reports"] == []
+    code, listed = _json(capsys, "register", "list")  # nothing registered: not even the register was made
+    assert code == 2 and listed["message"].startswith("no register at") and not (tmp_path / "register.sqlite").exists()
     code, doc = _json(capsys, *args, "--allow-expired")
     assert code in (0, 3, 4) and doc["register"]["registered"]
     text = _docx_text(doc["report"])

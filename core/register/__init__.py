@@ -38,7 +38,12 @@ import attrs
 
 from ..errors import MetroError
 
-__all__ = ["open_register", "Register", "Draft", "Issued", "sha256_file", "who_am_i", "RegisterError"]
+__all__ = ["open_register", "register_state", "Register", "Draft", "Issued", "sha256_file", "who_am_i",
+           "RegisterError", "SCHEMA_HEAD"]
+
+#: the newest migration's revision (``migrations/versions``); a register at it is opened without
+#: loading Alembic (tests/test_register_readonly.py checks it against Alembic's own head)
+SCHEMA_HEAD = "0001"
 
 
 class RegisterError(MetroError):
@@ -101,15 +106,23 @@ class Issued:
     issued_at: dt.datetime
 
 
-def _engine(url: str):
+def sqlite_path(url: str) -> Path | None:
+    """The file of an SQLite URL (None for PostgreSQL or an in-memory database)."""
+    if not url.startswith("sqlite"):
+        return None
+    path = url.split("///", 1)[1] if "///" in url else ""
+    return Path(path) if path and path != ":memory:" else None
+
+
+def _engine(url: str, create: bool = True):
     from sqlalchemy import create_engine, event
 
     if url.startswith("postgresql://") or url.startswith("postgres://"):
         url = "postgresql+psycopg://" + url.split("://", 1)[1]
     if url.startswith("sqlite"):
-        path = url.split("///", 1)[1] if "///" in url else ""
-        if path and path != ":memory:":
-            Path(path).parent.mkdir(parents=True, exist_ok=True)
+        path = sqlite_path(url)
+        if path is not None and create:
+            path.parent.mkdir(parents=True, exist_ok=True)
         engine = create_engine(url, connect_args={"timeout": 300})
 
         @event.listens_for(engine, "connect")
@@ -121,6 +134,10 @@ def _engine(url: str):
             conn.exec_driver_sql("BEGIN" if conn.get_execution_options().get("metro_read") else "BEGIN IMMEDIATE")
 
         return engine
+    if url.startswith("postgresql+psycopg"):
+        from ..extras import require
+
+        require("psycopg", f"the register at {url.split('@')[-1]} (PostgreSQL)")
     return create_engine(url, pool_pre_ping=True)
 
 
@@ -138,12 +155,44 @@ def migrate(engine) -> None:
         command.upgrade(cfg, "head")
 
 
-def _open(url: str) -> "Register":
-    """Engine and migrations; the engine disposed again if they fail (no connection left open)."""
+def schema_revision(engine) -> str | None:
+    """The register's schema revision (Alembic's ``alembic_version``), None when the database has
+    no register tables yet; reads only."""
+    from sqlalchemy import inspect, text
+
+    with engine.connect() as conn:
+        if not inspect(conn).has_table("alembic_version"):
+            return None
+        return conn.execute(text("SELECT version_num FROM alembic_version")).scalar()
+
+
+#: what to do when there is no register yet (read-only commands create none)
+NO_REGISTER_HINT = ("a register is made by the first registered run: write a lab profile with `metro lab init "
+                    "lab.toml` (its `register` names the database), then `metro --lab lab.toml run … --data "
+                    "MANIFEST`; or point --lab / METRO_LAB / METRO_REGISTER at an existing register")
+
+
+def _no_register(url: str, why: str) -> "RegisterError":
+    from ..lab import redact_url
+
+    return RegisterError(f"no register at {redact_url(url)} ({why})", hint=NO_REGISTER_HINT)
+
+
+def _open(url: str, create: bool) -> "Register":
+    """Engine and, when the schema is not the newest, migrations; the engine disposed again if
+    they fail (no connection left open).  Without ``create`` an absent register is an error and
+    nothing is made (no file, no folder, no table)."""
+    path = sqlite_path(url)
+    if not create and path is not None and not path.is_file():
+        raise _no_register(url, "the file does not exist")
     engine = None
     try:
-        engine = _engine(url)
-        migrate(engine)
+        engine = _engine(url, create)
+        revision = schema_revision(engine)
+        if revision is None and not create:
+            raise _no_register(url, "the database has no register tables")
+        if revision != SCHEMA_HEAD:  # a new register, or one written by an older metro (Alembic only then)
+            migrate(engine)
     except BaseException:
         if engine is not None:
             engine.dispose()
@@ -151,11 +200,7 @@ def _open(url: str) -> "Register":
     return Register(url, engine)
 
 
-def open_register(url: str) -> "Register":
-    """Open (creating and migrating as needed) the register at the SQLAlchemy ``url``; a database
-    metro cannot use is a :class:`RegisterError` saying why."""
-    from sqlalchemy.exc import SQLAlchemyError
-
+def _check_scheme(url: str) -> None:
     from ..lab import redact_url
 
     scheme = url.split(":", 1)[0]
@@ -163,8 +208,52 @@ def open_register(url: str) -> "Register":
         raise RegisterError(f"register {redact_url(url)}: unsupported database {scheme!r}",
                             hint="an SQLite file (sqlite:////path/register.sqlite) or PostgreSQL "
                             "(postgresql+psycopg://user@host:port/db)")
+
+
+def register_state(url: str) -> dict[str, Any]:
+    """What is at ``url``, read only (``metro doctor``): ``exists``, its schema ``revision``, the
+    newest one (``head``), ``migrated`` (at the newest) and the number of ``reports``; an
+    unreachable database is a :class:`RegisterError`.  Creates nothing and migrates nothing."""
+    from sqlalchemy import text
+    from sqlalchemy.exc import SQLAlchemyError
+
+    from ..lab import redact_url
+
+    _check_scheme(url)
+    state: dict[str, Any] = {"url": redact_url(url), "exists": False, "revision": None, "head": SCHEMA_HEAD,
+                             "migrated": False, "reports": None}
+    path = sqlite_path(url)
+    if path is not None and not path.is_file():
+        return state
+    engine = None
     try:
-        return _open(url)
+        engine = _engine(url, create=False)
+        revision = schema_revision(engine)
+        state.update(exists=revision is not None, revision=revision, migrated=revision == SCHEMA_HEAD)
+        if revision is not None:
+            with engine.connect() as conn:
+                state["reports"] = conn.execute(text("SELECT count(*) FROM reports")).scalar()
+    except (SQLAlchemyError, OSError, ImportError) as exc:
+        raise RegisterError(f"register {redact_url(url)}: cannot read the database ({exc.__class__.__name__}: "
+                            f"{str(exc).splitlines()[0] if str(exc) else ''})") from exc
+    finally:
+        if engine is not None:
+            engine.dispose()
+    return state
+
+
+def open_register(url: str, *, create: bool = True) -> "Register":
+    """Open the register at the SQLAlchemy ``url``, migrating it to the newest schema when it is
+    older; with ``create`` (a registered run) an absent register is made, without it (every
+    command that only reads, amends or withdraws) it is a :class:`RegisterError` and nothing is
+    made.  A database metro cannot use is a :class:`RegisterError` saying why."""
+    from sqlalchemy.exc import SQLAlchemyError
+
+    from ..lab import redact_url
+
+    _check_scheme(url)
+    try:
+        return _open(url, create)
     except (OSError, ImportError) as exc:
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
                             hint="check the lab profile's register (or METRO_REGISTER): its folder must be "
