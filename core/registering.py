@@ -453,11 +453,21 @@ def amend(
 
 
 def _replace_text(obj: Any, old: str, new: str) -> Any:
-    """``old`` replaced by ``new`` in every string of a JSON document (the report number wherever
-    a template or plugin context printed it)."""
+    """``old`` replaced by ``new`` in every string of a context (the report number wherever a
+    template or plugin context printed it).  A translatable text stays one: a :class:`Text` is
+    mapped field by field (:meth:`Text.map`), and its JSON form (``{"text": {...}}``, as the
+    register keeps it) has its fields, parts and English replaced, never its message id, so the
+    document still writes it in every language of the certificate."""
+    from .locale import Text
+
+    if isinstance(obj, Text):
+        return obj.map(lambda s: s.replace(old, new)) if old in obj else obj
     if isinstance(obj, str):
         return obj.replace(old, new)
     if isinstance(obj, Mapping):
+        if set(obj) == {"text"} and isinstance(obj["text"], Mapping):
+            return {"text": {k: (v if k in ("msgid", "sep") else _replace_text(v, old, new))
+                             for k, v in obj["text"].items()}}
         return {k: _replace_text(v, old, new) for k, v in obj.items()}
     if isinstance(obj, list):
         return [_replace_text(v, old, new) for v in obj]
