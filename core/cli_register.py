@@ -446,7 +446,7 @@ def _cmd_history(args) -> int:
                          p["reported"]["value"], p["reported"]["U"], res["unit"],
                          "—" if en is None else f"{en:.2f}", "DRIFT" if p.get("drift") else ""))
     _table("results over time (E_n against the previous calibration)",
-           ("result", "report", "measured", "value", "U", "unit", "|E_n|", ""), rows)
+           ("result", "report", "measured", "value", "U", "unit", "|E_n|", "drift"), rows)
     print(f"plot: {png}")
     return 0
 
