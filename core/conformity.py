@@ -138,6 +138,9 @@ class Specification:
     magnitude: bool = False
     #: when given, only results of these items are judged (a table row names its test methods)
     items: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    #: the decision rule this limit is always judged by ("simple" for a test condition the lab sets,
+    #: such as a test severity); "" (default) the run's rule
+    rule: str = attrs.field(default="", validator=attrs.validators.in_(("", "simple", "guarded")))
 
     def __attrs_post_init__(self) -> None:
         if not self.symbol:
@@ -427,7 +430,8 @@ def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: Decisi
     """Judge every result of ``outcomes`` that a specification applies to.
 
     Where several apply to one result the most specific wins (the longest symbol: a limit on
-    ``B0_low`` judges ``B0_low``, not the limit on ``B0``).  Verdicts come in the order of ``specs``.  A result declared
+    ``B0_low`` judges ``B0_low``, not the limit on ``B0``).  A limit with its own ``rule`` (a test
+    condition: simple acceptance) is judged by it whatever ``rule`` is.  Verdicts come in the order of ``specs``.  A result declared
     not reportable gets :func:`not_reportable`'s verdict (indeterminate, no statement), never a pass or fail.
     """
     outcomes = list(outcomes)
@@ -441,8 +445,11 @@ def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: Decisi
             for i in fits:
                 if len(specs[i].symbol) == longest:
                     judged.setdefault(i, []).append((o, r))
-    verdicts = [decide(specs[i], r.value, r.U, rule, key=r.metric.key, item=o.item, k=r.k)
-                if getattr(r, "reportable", True) else not_reportable(specs[i], r, rule, item=o.item)
+    def rule_of(sp: Specification) -> DecisionRule:
+        return RULES[sp.rule] if sp.rule else rule
+
+    verdicts = [decide(specs[i], r.value, r.U, rule_of(specs[i]), key=r.metric.key, item=o.item, k=r.k)
+                if getattr(r, "reportable", True) else not_reportable(specs[i], r, rule_of(specs[i]), item=o.item)
                 for i in sorted(judged) for o, r in judged[i]]
     return Assessment(rule, verdicts, [sp for i, sp in enumerate(specs) if i not in judged])
 

@@ -38,17 +38,27 @@ from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, 
 from .stations import step_seed
 
 
+#: the grades of device the station simulates (station option ``grade``; values in :data:`GRADES`)
+GRADE_NAMES = ("typical", "marginal", "failing")
+
+
 @attrs.frozen
 class GyroTruth:
-    """The simulated gyro's declared truth (magnitudes in the units in their names)."""
+    """The simulated gyro's declared truth (magnitudes in the units in their names).
 
-    scale_factor_P_per_arcsec: float = 0.8
+    The defaults are the ``typical`` grade: a typical aviation-grade ring-laser gyro that conforms
+    to GB/T 45570 table A.1 (aviation column) with margin — every A.1 quantity its items measure lies
+    within the row's limit by more than the result's U on ordinary seeds (docs/standards/gbt45570.md,
+    "The simulated device").  :data:`GRADES` holds the ``marginal`` and ``failing`` units.
+    """
+
+    scale_factor_P_per_arcsec: float = 2.0
     bias_deg_h: float = 0.12
-    arw_deg_rt_h: float = 0.0015
+    arw_deg_rt_h: float = 0.0004
     gm_sigma_deg_h: float = 0.0
     gm_tau_s: float = 600.0
     rrw_deg_h_rt_h: float = 0.0
-    bias_tc_deg_h_per_C: float = 0.0006
+    bias_tc_deg_h_per_C: float = 0.0004
     temp_ref_C: float = 20.0
     mag_sens_deg_h_per_mT: tuple[float, float, float] = (0.04, 0.015, 0.025)  # field along IRA, XRA, YRA
     turn_on_sigma_deg_h: float = 0.002
@@ -56,11 +66,11 @@ class GyroTruth:
     # K_s(Ω) = K · (1 + sf_slope·Ω + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
     sf_slope_per_deg_s: float = 2e-9
     sf_quadratic: float = 3e-6
-    sf_asymmetry: float = 4e-6
+    sf_asymmetry: float = 2e-6
     # --- scale-factor repeatability, temperature sensitivity and input-axis misalignment
     # (GB/T 45570 D.1.4–D.1.6, D.2.4–D.2.6; motions in instruments/sim_gbt_rate.py) ---
-    sf_turn_on_sigma: float = 3e-6  # relative scatter of K between power-ons (per `run`, per D.1.5 point)
-    sf_tc_per_C: float = 3e-7  # relative change of K per °C about temp_ref_C (linear)
+    sf_turn_on_sigma: float = 1e-6  # relative scatter of K between power-ons (per `run`, per D.1.5 point)
+    sf_tc_per_C: float = 1e-7  # relative change of K per °C about temp_ref_C (linear)
     misalign_alpha_arcsec: float = 40.0  # IA tilted from IRA towards XRA (α of fig. D.1)
     misalign_beta_arcsec: float = -25.0  # IA tilted from IRA towards YRA (β)
     fixture_tilt_arcsec: tuple[float, float] = (90.0, -60.0)  # XRA-up, YRA-up fixture errors (cancelled by 180°)
@@ -99,6 +109,11 @@ class GyroTruth:
     # GB/T 45570 5.2.9 / 6.2.6: +1 when the output grows while the gyro turns counter-clockwise about
     # +IA (right-hand rule); −1 a reversed gyro (every output column is negated)
     polarity: int = attrs.field(default=1, validator=attrs.validators.in_((1, -1)))
+    #: which unit this is (:data:`GRADE_NAMES`; the station option ``grade`` takes its values from :data:`GRADES`)
+    grade: str = attrs.field(default="typical", validator=attrs.validators.in_(GRADE_NAMES))
+    #: the device's data sheet states its turn-on scatter (bias and K repeatability, 1σ, as from an earlier
+    #: D.5.3 / D.1.4): ``[device] bias_repeatability`` / ``scale_factor_repeatability``
+    states_repeatability: bool = True
     seed: int = 20251122
 
     def as_quantities(self) -> dict[str, Any]:
@@ -124,6 +139,7 @@ class GyroTruth:
             "device class": self.device_class or "(fields as given)",
             "quantization": quantization_text(self),
             "polarity (6.2.6)": "positive" if self.polarity > 0 else "negative",
+            "grade": device_description(self),
         }
         if self.output == "pulse":
             out["scale factor K"] = Q_(self.scale_factor_P_per_arcsec, "P/arcsec")
@@ -234,8 +250,11 @@ class SimulatedStation:
             props["scale_factor_k"] = 2.0
         elif t.rate_resolution > 0:
             props["resolution"] = Q_(t.rate_resolution, t.rate_unit)
+        if t.states_repeatability:  # the data sheet's turn-on scatter, as from an earlier D.5.3 / D.1.4 (1σ)
+            props["bias_repeatability"] = Q_(t.turn_on_sigma_deg_h, "deg/h")
+            props["scale_factor_repeatability"] = Q_(t.sf_turn_on_sigma, "")
         return DeviceUnderTest(
-            id="SIM-OG-1", model="virtual optical gyro", serial=f"seed {t.seed}", manufacturer="metro simulator",
+            id="SIM-OG-1", model=device_description(t), serial=f"seed {t.seed}", manufacturer="metro simulator",
             # a pulse output is a ring-laser gyro's; a digital word or a digital rate a fibre gyro's (6.2.7.1
             # then sends it to the rate method D.2, which takes LSB, Hz and °/s outputs)
             properties=props, technology="laser" if t.output == "pulse" else "fibre", application="aviation",
@@ -635,6 +654,36 @@ def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) ->
             "Ka": float(abs(Kp - Km) / ((Kp + Km) / 2))}
 
 
+#: the units the station simulates by ``grade`` (fields that differ from :class:`GyroTruth`'s defaults, which
+#: are the ``typical`` unit).  ``marginal`` is the station's default unit before issue 29 (an angle random walk
+#: on table A.1's aviation limit, 1 P = 1.25″: B_s(100 s) ≈ 0.011 (°)/h fails row 10, RWC = 0.0015 (°)/h^½ is
+#: indeterminate by design); the device classes (:data:`DEVICE_CLASSES`) vary it.  ``failing`` fails rows 5,
+#: 10, 12 and 14 of the aviation column outright.
+GRADES: Mapping[str, Mapping[str, Any]] = {
+    "typical": {"grade": "typical"},
+    "marginal": {"grade": "marginal", "scale_factor_P_per_arcsec": 0.8, "arw_deg_rt_h": 0.0015,
+                 "bias_tc_deg_h_per_C": 0.0006, "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 3e-7,
+                 "states_repeatability": False},
+    "failing": {"grade": "failing", "scale_factor_P_per_arcsec": 0.8, "arw_deg_rt_h": 0.004,
+                "bias_tc_deg_h_per_C": 0.002, "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 1.5e-6},
+}
+
+#: what each grade is, in the device's model name and the truth table
+GRADE_TEXT: Mapping[str, str] = {
+    "typical": "typical aviation-grade unit, conforms to table {table}",
+    "marginal": "marginal unit: angle random walk on the limit of table {table}, bias stability beyond it",
+    "failing": "failing unit: does not conform to table {table}",
+}
+
+
+def device_description(truth: GyroTruth) -> str:
+    """The simulated device's model name: what it is and how it stands against GB/T 45570's table of its
+    technology (A.1 for the pulse-output ring-laser gyro, B.1 for a fibre gyro's LSB or rate output)."""
+    laser = truth.output == "pulse"
+    what = "virtual ring-laser gyro" if laser else "virtual fibre-optic gyro"
+    return f"{what} ({GRADE_TEXT[truth.grade].format(table='A.1' if laser else 'B.1')})"
+
+
 #: a fibre-optic gyro with a digital output and a scale-factor nonlinearity above 5 × 10⁻⁶, which
 #: 6.2.7.1 sends to the rate method (D.2) — the ``simulated-digital`` station's defaults
 DIGITAL_DEFAULTS: Mapping[str, Any] = {
@@ -649,7 +698,7 @@ _MOUNTING = {"sf_mount_sigma": 2e-6, "bias_mount_sigma_deg_h": 0.003}
 #: each seed draws one device of it (see :func:`draw_device`).  Options given with the class
 #: override its values.
 DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
-    # ring-laser gyro, 0.8 P/″ (1 P = 1.25″), dithered readout — the ``simulated`` default
+    # ring-laser gyro, 0.8 P/″ (1 P = 1.25″), dithered readout — the ``marginal`` grade
     "pulse-fine": {"output": "pulse"} | _MOUNTING,
     # the same counted at a fixed phase: the leftover fraction drifts with the earth rate
     "pulse-fine-undithered": {"output": "pulse", "dither": False} | _MOUNTING,
@@ -669,14 +718,15 @@ DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
 def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     """The truth fields of one device of ``device_class``, drawn with ``seed``: the class's values,
     then a bias uniform in ±0.5 °/h, a scale factor within ±0.2 % of the class's and an angle random
-    walk 0.7 … 1.5 times the default's (so a sweep over seeds sees where the quantization falls)."""
+    walk 0.7 … 1.5 times the marginal unit's (so a sweep over seeds sees where the quantization falls);
+    the other fields are the ``marginal`` grade's (:data:`GRADES`), the unit the classes were built on."""
     if device_class not in DEVICE_CLASSES:
         from metro.core.errors import DataError
 
         raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
                         hint="device classes: " + ", ".join(DEVICE_CLASSES))
-    kw = dict(DEVICE_CLASSES[device_class])
-    base = GyroTruth()
+    kw = dict(GRADES["marginal"]) | dict(DEVICE_CLASSES[device_class])
+    base = GyroTruth(**GRADES["marginal"])
     rng = np.random.default_rng([int(seed), 4099])
     kw["bias_deg_h"] = float(rng.uniform(-0.5, 0.5))
     sf = 1.0 + float(rng.uniform(-0.002, 0.002))
@@ -691,15 +741,18 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
 
 def station_factory(**options: Any) -> SimulatedStation:
     """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale,
-    device_class …).  With ``device_class`` the device is drawn from that class by the seed
-    (:func:`draw_device`); other options given override it."""
+    grade, device_class …).  ``grade`` (typical, marginal, failing; :data:`GRADES`) picks the unit;
+    with ``device_class`` the device is drawn from that class by the seed (:func:`draw_device`); other
+    options given override both."""
     from metro.core.options import station_options
 
     truth_kw, st_kw = station_options("the simulated gyro station", GyroTruth, SimulatedStation, options,
                                       ("latitude_deg", "duration_scale"))
     cls = truth_kw.pop("device_class", "")
-    if cls:
+    if cls:  # a class is drawn about the marginal unit (draw_device)
         truth_kw = draw_device(cls, truth_kw.get("seed", GyroTruth().seed)) | truth_kw | {"device_class": cls}
+    else:
+        truth_kw = dict(GRADES[truth_kw.get("grade", "typical")]) | truth_kw
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
 
 
@@ -735,4 +788,4 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["register_record_kind", "register_record_expected", "record_simulators", "merge_records", "register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "expected_bias_repeatability", "mean_noise_variance", "bias_offset", "AXES"]
+__all__ = ["register_record_kind", "register_record_expected", "record_simulators", "merge_records", "register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "GRADES", "GRADE_NAMES", "device_description", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "expected_bias_repeatability", "mean_noise_variance", "bias_offset", "AXES"]

@@ -63,8 +63,8 @@ def test_vendor_item_joins_the_gbt45570_family(acme, metro_pm_factory, simulated
         pm.procedure("gbt45570", "ACME.BS10")().sequence({})))
     bs10 = rec.outcomes[0].results[0].value.to("deg/h").magnitude
     d52 = rec.outcomes[1].results[0].value.to("deg/h").magnitude  # D.41 at t = 10 s
-    # white rate noise: both estimate arw/√(10 s) = 0.0015/√(10/3600) °/h
-    assert bs10 == pytest.approx(0.0015 / np.sqrt(10 / 3600), rel=0.1)
+    # white rate noise: both estimate arw/√(10 s) (°/h) of the station's device
+    assert bs10 == pytest.approx(st.truth.arw_deg_rt_h / np.sqrt(10 / 3600), rel=0.1)
     assert bs10 == pytest.approx(d52, rel=0.1)
 
 

@@ -85,7 +85,7 @@ def metro_conformity_specifications(standard, campaign):
     from .clause5 import specifications as type_test_specifications
     from .conformity import specifications
 
-    return specifications(campaign.device) + type_test_specifications(campaign)
+    return specifications(campaign.device, campaign.specification) + type_test_specifications(campaign)
 
 
 @hookimpl

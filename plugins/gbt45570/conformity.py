@@ -196,8 +196,10 @@ class SeverityRow:
         v = self.severity[application]
         if not self.key or self.comparison is None or not hasattr(v, "magnitude"):
             return None
+        # a severity is a condition the lab sets, not a result of the device: the level as set is compared
+        # with the row (simple acceptance; its U is reported) — docs/interpretations.md, "Conformity — test levels"
         return Specification(self.key, self.comparison, v, source=self.source(application),
-                             name=f"{self.name_en} (test severity)", items=self.items)
+                             name=f"{self.name_en} (test severity)", items=self.items, rule="simple")
 
     def text(self, application: str) -> str:
         v = self.severity[application]
@@ -258,15 +260,40 @@ def table_for(technology: str | None) -> tuple[LimitRow, ...] | None:
     return TABLES.get("fibre" if tech == "fiber" else tech)
 
 
-def specifications(device) -> list[Specification]:
+def specifications(device, given: Mapping[str, Any] | None = None) -> list[Specification]:
     """The typical limits of the device's technology and application (table A.1 or B.1) and the
-    C.1 severities of its application that a D.6 item reports; empty if either is unknown."""
+    C.1 severities of its application that a D.6 item reports; empty if either is unknown.
+
+    ``given`` is the campaign's own ``[specification]`` table: where it limits the bias stability
+    (``Bs`` or ``Bs_<t>``) the product specification states its smoothing time, and row 10 is left out
+    (:func:`_bias_stability_at`)."""
     rows = table_for(device.technology)
     app = application_of(device.application)
     if rows is None or app is None:
         return [POLARITY]
+    own_bs = any(k == "Bs" or str(k).startswith("Bs_") for k in (given or {}))
     severities = [r.specification(app) for r in TABLE_C1]
-    return [_by_method(r, r.specification(app)) for r in rows] + [s for s in severities if s is not None] + [POLARITY]
+    typical = [_bias_stability_at(r, _by_method(r, r.specification(app))) for r in rows
+               if not (own_bs and r.key == "Bs")]
+    return typical + [s for s in severities if s is not None] + [POLARITY]
+
+
+#: the smoothing time t of D.5.2.2 that row 10 (零偏稳定性) of tables A.1 and B.1 is judged at
+#: (docs/interpretations.md, "D.5.2 — which smoothing time the table's limit applies to")
+TABLE_SMOOTHING_S = 100
+
+
+def _bias_stability_at(row: LimitRow, spec: Specification) -> Specification:
+    """Row 10 states no smoothing time, and D.5.2.2 gives two (t = 100 s or t = 10 s).  The limit is
+    judged at t = 100 s — the time the clause names first, and the one at which the same table's
+    angle random walk (row 14) is nearly consistent with it: for white rate noise B_s(t) = RWC·60/√t
+    (t in s), so row 14's aviation 0.0015 (°)/h^½ gives 0.009 (°)/h at 100 s but 0.028 (°)/h at 10 s,
+    against row 10's 0.007 (°)/h.  B_s at any other t is reported without a verdict (informative)."""
+    if row.key != "Bs":
+        return spec
+    t = f"{TABLE_SMOOTHING_S} s"
+    return attrs.evolve(spec, symbol=f"Bs_{TABLE_SMOOTHING_S}s", source=with_remark(spec.source, msg(
+        "judged at t = {t} of D.5.2.2; B_s at another t is informative", t=t)))
 
 
 def _by_method(row: LimitRow, spec: Specification) -> Specification:
@@ -276,6 +303,10 @@ def _by_method(row: LimitRow, spec: Specification) -> Specification:
     the angle method by 6.2.7.1 gives K in P/″, which B.1's LSB limit does not apply to (there is no
     conversion between pulses per arcsecond and LSB per °/s); the assessment lists that limit as
     not judged instead of failing on the unit (docs/interpretations.md)."""
+    if row.key == "Omega_max":
+        # D.3's Ω_max is the largest rate the lab set whose range meets K_n: a test level, judged as set
+        # (docs/interpretations.md, "Conformity — test levels")
+        return attrs.evolve(spec, rule="simple")
     if row.key != "K":
         return spec
     item = "D.1.1" if row.unit == "P/arcsec" else "D.2.1"

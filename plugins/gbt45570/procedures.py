@@ -254,6 +254,19 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
 # --------------------------------------------------------------------------------------------
 
 
+def smoothing_times(text: Any) -> list[Any]:
+    """The smoothing times t of option ``t`` (D.5.2.2: the τ samples are accumulated over t), each a
+    time > 0; a t that is zero or negative is refused before anything else is said about it."""
+    out = []
+    for part in str(text).split(","):
+        t = parse_quantity(part.strip(), dimension="s", field="option t")
+        if not float(t.to("s").magnitude) > 0:
+            raise DataError(None, "option t", f"t = {t:~P}: the smoothing time t must be > 0 (D.5.2.2 accumulates the "
+                            "samples over t)", hint='e.g. -o t="10 s, 100 s"')
+        out.append(t)
+    return out
+
+
 class BiasStabilityD52(Procedure):
     """GB/T 45570—2025 D.5.2 零偏稳定性 (bias stability), eq. (D.41).
 
@@ -275,16 +288,16 @@ class BiasStabilityD52(Procedure):
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        smoothing_times(options.get("t", self.options[1].default))  # refuse a bad t before acquiring
         return BiasD51().sequence(options)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
+        times = smoothing_times(opts["t"])
         seg, series, conv, raw = _static_input(type(self), campaign, opts)
         tau0 = float(series.interval.to("s").magnitude)
-        from metro.core.units import parse_quantity
         results = []
-        for text in str(opts["t"]).split(","):
-            t = parse_quantity(text.strip(), dimension="s", field="option t")
+        for t in times:
             ts = float(t.to("s").magnitude)
             factor = ts / tau0
             if abs(factor - round(factor)) > 1e-9 or round(factor) < 1:

@@ -136,7 +136,8 @@ def limit_table(device, outcomes, assessment) -> dict[str, Any] | None:
             continue
         for o, r in mine:
             val, U, k = _result_cells(r)
-            v = verdicts.get((o.item, r.metric.key, row.key))
+            # judged by the row (``Bs``) or by a limit on this result's own key (row 10 at t = 100 s: ``Bs_100s``)
+            v = verdicts.get((o.item, r.metric.key, row.key)) or verdicts.get((o.item, r.metric.key, r.metric.key))
             if not getattr(r, "reportable", True):
                 result = "not reportable"  # the results table gives the value and why it is not issued
             else:
