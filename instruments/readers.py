@@ -80,6 +80,7 @@ import os
 import re
 import threading
 from collections.abc import Iterable, Iterator, Mapping, Sequence
+from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -88,6 +89,7 @@ import numpy as np
 
 from metro.core.atomic import atomic_path
 from metro.core.errors import DataError, UnitError
+from metro.core import extras
 
 __all__ = [
     "FORMATS",
@@ -699,110 +701,250 @@ def _text_where(layout: _TextLayout):
     return where
 
 
-def _diagnose_text(
-    layout: _TextLayout, names: list[str], wanted: list[str], exc: Exception
-) -> DataError:
-    """Find the first bad row after pyarrow's fast parse failed (slow path)."""
+# --------------------------------------------------------------------------- numpy text parser
+#
+# The reader without pyarrow (``pip install metro-inertial`` leaves it out; the ``fast`` extra
+# brings it), and the diagnosis of a file pyarrow refused.  The text is cut into chunks ending at a
+# line end; a chunk's fields are found from the delimiter and newline bytes, and every field of a
+# column is read at once, one character position at a time, by a finite automaton over character
+# classes (sign, digits, point, exponent, spaces and quotes).  The digits accumulate into an integer
+# mantissa m and a power of ten e, and m * 10**e (or m / 10**-e) is one correctly rounded float64
+# operation when m < 2**53 and |e| <= 22 (both factors are exact).  Other fields (17 significant
+# digits, far exponents, nan/inf) go through Python's float(), which rounds correctly too, so the
+# values equal pyarrow's bit for bit.  No thread is started: nothing is left running at exit.
+
+_SP, _SG, _DG, _DOT, _EXP, _NUL, _OTHER = range(7)
+_CLASS = np.full(256, _OTHER, dtype=np.uint8)
+_CLASS[[ord(c) for c in " \t\r\""]] = _SP  # spaces, the CR of CRLF and the quotes around a cell
+_CLASS[[ord("+"), ord("-")]] = _SG
+_CLASS[ord("0") : ord("9") + 1] = _DG
+_CLASS[ord(".")] = _DOT
+_CLASS[[ord("e"), ord("E")]] = _EXP
+# states: 0 start, 1 sign, 2 integer digits, 3 point before any digit, 4 fraction, 5 exponent
+# mark, 6 exponent sign, 7 exponent digits, 8 trailing spaces, 9 error
+_STEP = np.full((10, 7), 9, dtype=np.uint8)
+_STEP[0, [_SP, _SG, _DG, _DOT, _NUL]] = [0, 1, 2, 3, 0]
+_STEP[1, [_DG, _DOT]] = [2, 3]
+_STEP[2, [_DG, _DOT, _EXP, _SP, _NUL]] = [2, 4, 5, 8, 8]
+_STEP[3, _DG] = 4
+_STEP[4, [_DG, _EXP, _SP, _NUL]] = [4, 5, 8, 8]
+_STEP[5, [_SG, _DG]] = [6, 7]
+_STEP[6, _DG] = 7
+_STEP[7, [_DG, _SP, _NUL]] = [7, 8, 8]
+_STEP[8, [_SP, _NUL]] = [8, 8]
+_STEP_FLAT = _STEP.ravel()
+_ACCEPT = np.zeros(10, dtype=bool)
+_ACCEPT[[2, 4, 7, 8]] = True
+_POW10 = 10.0 ** np.arange(23)  # exact in float64
+_TEXT_CHUNK = 4 << 20
+
+
+def _parse_fields(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Values of the fields ``buf[starts[i]:starts[i]+lens[i]]`` and a mask of the fields that
+    need float() (not plain decimal numbers of at most 15-16 digits, or not numbers at all)."""
+    n = len(starts)
+    state = np.zeros(n, dtype=np.uint8)
+    mant = np.zeros(n, dtype=np.int64)
+    nsig = np.zeros(n, dtype=np.int16)
+    nfrac = np.zeros(n, dtype=np.int32)
+    expo = np.zeros(n, dtype=np.int64)
+    neg = np.zeros(n, dtype=bool)
+    eneg = np.zeros(n, dtype=bool)
+    last = len(buf) - 1
+    for j in range(int(lens.max()) if n else 0):
+        c = buf.take(np.minimum(starts + j, last))
+        cls = _CLASS.take(c)
+        cls[lens <= j] = _NUL  # past the end of the field
+        digit = c - np.uint8(48)
+        is_digit = cls == _DG
+        in_mant = is_digit & (state < 5)
+        if in_mant.any():
+            nsig += in_mant & ((mant > 0) | (digit > 0))
+            np.copyto(mant, mant * 10 + digit, where=in_mant & (nsig <= 18))
+            nfrac += in_mant & ((state == 3) | (state == 4))
+        in_exp = is_digit & (state >= 5)
+        if in_exp.any():
+            np.copyto(expo, np.minimum(expo * 10 + digit, 1 << 20), where=in_exp)
+        sign = (cls == _SG) & (c == ord("-"))
+        if sign.any():
+            neg |= sign & (state == 0)
+            eneg |= sign & (state == 5)
+        state = _STEP_FLAT.take(state * np.uint8(7) + cls)
+    e10 = np.where(eneg, -expo, expo) - nfrac
+    fast = _ACCEPT.take(state) & (nsig <= 18) & (mant < (1 << 53)) & (np.abs(e10) <= 22)
+    scale = _POW10.take(np.minimum(np.abs(e10), 22))
+    mf = mant.astype(np.float64)
+    values = np.where(e10 >= 0, mf * scale, mf / scale)
+    np.negative(values, out=values, where=neg)
+    return values, ~fast
+
+
+def _text_chunks(path: Path, offset: int) -> Iterator[bytes]:
+    """The data after ``offset`` in pieces of about 4 MB that end with a line end (the last piece
+    gets one if the file has none)."""
+    carry = b""
+    with open(path, "rb") as f:
+        f.seek(offset)
+        while block := f.read(_TEXT_CHUNK):
+            data = carry + block
+            cut = data.rfind(b"\n") + 1
+            carry = data[cut:]
+            if cut:
+                yield data[:cut]
+    if carry:
+        yield carry + b"\n"
+
+
+def _shape_error(layout: _TextLayout, row: int, text: str, cells: int) -> DataError:
+    """A data row with the wrong number of cells (``row`` counts data rows from 1)."""
+    expected = len(layout.cells)
+    line = _line_of_row(layout, row)
+    at = f" (line {line})" if line is not None else ""
+    if text.lstrip().startswith("#"):
+        note = "; comment lines must come before the header"
+        hint = "move the comment above the header line or delete it"
+    elif cells < expected:
+        last = line is not None and _line_of_row(layout, row + 1) is None
+        note = " -- the file looks truncated" if last else ""
+        hint = ("a short last row means the file was cut off: copy or record it again" if last
+                else "fill in the missing cells or remove the row")
+    else:
+        note = ""
+        hint = "remove the extra cells; check the delimiter and that the decimal separator is '.'"
+    return DataError(layout.path, f"row {row}",
+                     f"row {row}{at} has {cells} cell(s) but the header has {expected}: {_show(text)}{note}",
+                     hint=hint)
+
+
+def _value_error(layout: _TextLayout, cell: str, row: int, text: str) -> DataError:
+    line = _line_of_row(layout, row)
+    at = f" (line {line})" if line is not None else ""
+    if not text.strip().strip('"').strip():
+        what = "an empty cell"
+        hint = "fill the cell or remove the row; metro does not fill gaps"
+    else:
+        what = f"{_show(text)}, which is not a number"
+        hint = "cells must be plain decimal numbers such as -1.25e-3"
+    return DataError(layout.path, _cell_field(cell, row), f"row {row}{at} has {what} in column '{cell}'",
+                     hint=hint)
+
+
+def _slow_values(chunk: bytes, starts: np.ndarray, lens: np.ndarray, values: np.ndarray,
+                 slow: np.ndarray) -> int | None:
+    """Fill ``values`` at ``slow`` with float(); the index of the first field that is no number."""
+    for i in np.flatnonzero(slow):
+        s = int(starts[i])
+        text = chunk[s : s + int(lens[i])].strip(b' \t\r"')
+        try:
+            if b"_" in text:  # float() takes 1_000; a data file does not
+                raise ValueError
+            values[i] = float(text)
+        except ValueError:
+            return int(i)
+    return None
+
+
+def _chunk_rows(b: np.ndarray, delim: int, ncols: int) -> tuple[np.ndarray, np.ndarray, int | None, int]:
+    """Field starts and lengths (rows x ncols) of the lines of one chunk, blank lines left out, up to
+    the first line with the wrong number of cells: (starts, lens, the byte offset of that line or
+    None, its number of cells)."""
+    ends = np.flatnonzero((b == delim) | (b == 10))
+    starts = np.empty_like(ends)
+    starts[:1] = 0
+    starts[1:] = ends[:-1] + 1
+    lens = ends - starts
+    line_end = np.flatnonzero(b.take(ends) == 10)  # index of each line's last field
+    per_line = np.diff(line_end, prepend=-1)
+    first = line_end - per_line + 1
+    span = ends.take(line_end) - starts.take(first)
+    blank = (per_line == 1) & ((span == 0) | ((span == 1) & (b.take(starts.take(first)) == 13)))
+    wrong = np.flatnonzero((per_line != ncols) & ~blank)
+    bad_field, bad_cells = None, 0
+    if wrong.size:
+        k = int(wrong[0])
+        cut, bad_cells = int(first[k]), int(per_line[k])
+        bad_field = int(starts[cut])
+        blank, per_line = blank[:k], per_line[:k]
+        starts, lens = starts[:cut], lens[:cut]
+    if blank.any():
+        keep = np.repeat(~blank, per_line)
+        starts, lens = starts[keep], lens[keep]
+    return starts.reshape(-1, ncols), lens.reshape(-1, ncols), bad_field, bad_cells
+
+
+def _parse_text_numpy(layout: _TextLayout, names: list[str], wanted: list[str],
+                      cells: Mapping[str, str]) -> tuple[dict[str, list[np.ndarray]], int]:
+    """Read the wanted columns of a text file without pyarrow: ({name: float64 parts}, rows).
+
+    Raises the DataError of the first bad row (wrong number of cells, a cell that is no number)."""
+    ncols = len(names)
+    index = {n: names.index(n) for n in wanted}
+    parts: dict[str, list[np.ndarray]] = {n: [] for n in wanted}
+    delim = ord(layout.delimiter)
+    rows = 0
+    for chunk in _text_chunks(layout.path, layout.data_offset):
+        b = np.frombuffer(chunk, dtype=np.uint8)
+        starts, lens, bad_at, bad_cells = _chunk_rows(b, delim, ncols)
+        first_bad: tuple[int, str, str] | None = None  # (row in chunk, column, text)
+        for name in wanted:
+            s, n = np.ascontiguousarray(starts[:, index[name]]), np.ascontiguousarray(lens[:, index[name]])
+            values, slow = _parse_fields(b, s, n)
+            i = _slow_values(chunk, s, n, values, slow) if slow.any() else None
+            if i is not None and (first_bad is None or i < first_bad[0]):
+                first_bad = (i, name, chunk[int(s[i]) : int(s[i] + n[i])].decode("utf-8", "replace"))
+            parts[name].append(values)
+        if first_bad is not None:
+            i, name, text = first_bad
+            raise _value_error(layout, cells[name], rows + i + 1, text)
+        rows += len(starts)
+        if bad_at is not None:
+            line = chunk[bad_at:].split(b"\n", 1)[0].rstrip(b"\r")
+            raise _shape_error(layout, rows + 1, line.decode("utf-8", "replace"), bad_cells)
+    return parts, rows
+
+
+def _diagnose_text(layout: _TextLayout, names: list[str], wanted: list[str], cells: Mapping[str, str],
+                   exc: Exception) -> DataError:
+    """Find the first bad row after pyarrow's fast parse failed (with the numpy parser: no Python
+    callback runs on an arrow thread, which could still be running when the interpreter exits)."""
+    try:
+        _parse_text_numpy(layout, names, wanted, cells)
+    except DataError as err:  # the first bad row
+        return err
+    return DataError(layout.path, None, f"cannot parse the data: {exc}")
+
+
+def _arrow() -> bool:
+    """Parse with pyarrow (the ``fast`` extra) when it is installed and METRO_NO_PYARROW is unset."""
+    return os.environ.get("METRO_NO_PYARROW", "") in ("", "0") and extras.available("pyarrow")
+
+
+def _read_text_arrow(layout: _TextLayout, names: list[str], wanted: list[str],
+                     cells: Mapping[str, str]) -> tuple[int, dict[str, Iterator[np.ndarray]]]:
+    """pyarrow's multi-threaded parse: (rows, {name: float64 chunks, released as they are used})."""
     import pyarrow as pa
-    import pyarrow.compute as pc
     import pyarrow.csv as pcsv
 
-    path = layout.path
-    invalid: list[Any] = []
-
-    def on_invalid(row: Any) -> str:
-        invalid.append(row)
-        return "error"
-
-    def castable(values: Any) -> bool:
-        try:
-            pc.cast(pc.utf8_trim_whitespace(values), pa.float64())
-        except pa.ArrowInvalid:
-            return False
-        return True
-
-    cell_of = {n: c for n, c in zip(names, layout.cells)}
-    rows_before = 0
-    with pa.OSFile(str(path)) as f:
-        f.seek(layout.data_offset)
-        try:
-            reader = pcsv.open_csv(
-                f,
-                read_options=pcsv.ReadOptions(
-                    column_names=names, use_threads=False, block_size=1 << 20
-                ),
-                parse_options=pcsv.ParseOptions(
-                    delimiter=layout.delimiter, invalid_row_handler=on_invalid
-                ),
-                convert_options=pcsv.ConvertOptions(
-                    column_types={n: pa.string() for n in wanted},
-                    include_columns=wanted,
-                    null_values=[],
-                    strings_can_be_null=False,
-                    quoted_strings_can_be_null=False,
-                    check_utf8=False,
-                ),
-            )
-            for batch in reader:
-                for name in wanted:
-                    values = batch.column(name)
-                    if castable(values):
-                        continue
-                    lo, hi = 0, len(values)  # values[lo:hi] holds the first bad cell
-                    while hi - lo > 1:
-                        mid = (lo + hi) // 2
-                        if castable(values.slice(lo, mid - lo)):
-                            lo = mid
-                        else:
-                            hi = mid
-                    row = rows_before + lo + 1
-                    raw = values[lo].as_buffer()
-                    text = raw.to_pybytes().decode("utf-8", "replace") if raw else ""
-                    line = _line_of_row(layout, row)
-                    at = f" (line {line})" if line is not None else ""
-                    if not text.strip():
-                        what = "an empty cell"
-                        hint = "fill the cell or remove the row; metro does not fill gaps"
-                    else:
-                        what = f"{_show(text)}, which is not a number"
-                        hint = "cells must be plain decimal numbers such as -1.25e-3"
-                    return DataError(
-                        path,
-                        _cell_field(cell_of[name], row),
-                        f"row {row}{at} has {what} in column '{cell_of[name]}'",
-                        hint=hint,
-                    )
-                rows_before += batch.num_rows
-        except pa.ArrowInvalid as err:
-            if invalid:
-                bad = invalid[0]
-                row = bad.number if bad.number is not None else rows_before + 1
-                line = _line_of_row(layout, row)
-                at = f" (line {line})" if line is not None else ""
-                text = bad.text
-                if text.lstrip().startswith("#"):
-                    note = "; comment lines must come before the header"
-                    hint = "move the comment above the header line or delete it"
-                elif bad.actual_columns < bad.expected_columns:
-                    last = line is not None and _line_of_row(layout, row + 1) is None
-                    note = " -- the file looks truncated" if last else ""
-                    hint = (
-                        "a short last row means the file was cut off: copy or record it "
-                        "again" if last else "fill in the missing cells or remove the row"
-                    )
-                else:
-                    note = ""
-                    hint = "remove the extra cells; check the delimiter and that the " \
-                        "decimal separator is '.'"
-                return DataError(
-                    path,
-                    f"row {row}",
-                    f"row {row}{at} has {bad.actual_columns} cell(s) but the header has "
-                    f"{bad.expected_columns}: {_show(text)}{note}",
-                    hint=hint,
-                )
-            exc = err
-    return DataError(path, None, f"cannot parse the data: {exc}")
+    read_options = pcsv.ReadOptions(column_names=names, use_threads=True, block_size=_BLOCK_BYTES)
+    parse_options = pcsv.ParseOptions(delimiter=layout.delimiter)
+    convert_options = pcsv.ConvertOptions(
+        column_types={n: pa.float64() for n in wanted},
+        include_columns=wanted,
+        null_values=[],
+        strings_can_be_null=False,
+        quoted_strings_can_be_null=False,
+    )
+    try:
+        with pa.OSFile(str(layout.path)) as f:
+            f.seek(layout.data_offset)
+            table = pcsv.read_csv(f, read_options=read_options, parse_options=parse_options,
+                                  convert_options=convert_options)
+    except pa.ArrowInvalid as exc:
+        raise _diagnose_text(layout, names, wanted, cells, exc) from None
+    n = table.num_rows
+    chunked = {name: table.column(name) for name in wanted}
+    del table
+    return n, {name: _drain(chunked.pop(name)) for name in wanted}
 
 
 def _read_text(
@@ -845,39 +987,16 @@ def _read_text(
             "require_final_newline=False",
         )
 
-    import pyarrow as pa
-    import pyarrow.csv as pcsv
-
-    read_options = pcsv.ReadOptions(
-        column_names=names, use_threads=True, block_size=_BLOCK_BYTES
-    )
-    parse_options = pcsv.ParseOptions(delimiter=layout.delimiter)
-    convert_options = pcsv.ConvertOptions(
-        column_types={n: pa.float64() for n in wanted},
-        include_columns=wanted,
-        null_values=[],
-        strings_can_be_null=False,
-        quoted_strings_can_be_null=False,
-    )
-    try:
-        with pa.OSFile(str(path)) as f:
-            f.seek(layout.data_offset)
-            table = pcsv.read_csv(
-                f,
-                read_options=read_options,
-                parse_options=parse_options,
-                convert_options=convert_options,
-            )
-    except pa.ArrowInvalid as exc:
-        raise _diagnose_text(layout, names, wanted, exc) from None
+    if _arrow():
+        n, sources = _read_text_arrow(layout, names, wanted, cells)
+    else:
+        parts, n = _parse_text_numpy(layout, names, wanted, cells)
+        sources = {name: iter(parts.pop(name)) for name in wanted}
     parsed()
-    n = table.num_rows
-    chunked = {name: table.column(name) for name in wanted}
-    del table
     arrays: dict[str, np.ndarray] = {}
     first_bad: tuple[int, str] | None = None
     for name in wanted:
-        out, bad = _assemble(_drain(chunked.pop(name)), n)
+        out, bad = _assemble(sources.pop(name), n)
         arrays[name] = out
         if bad is not None and (first_bad is None or bad < first_bad[0]):
             first_bad = (bad, name)
@@ -1008,6 +1127,7 @@ def _index_where(index: int) -> str:
 
 
 def _read_parquet(path: Path, columns: list[tuple[str, str | None]] | None, parsed=lambda: None):
+    extras.require("pyarrow", f"reading the Parquet file {path}")
     import pyarrow as pa
     import pyarrow.compute as pc
     import pyarrow.parquet as pq
@@ -1257,8 +1377,6 @@ def write_samples_csv(
     before the header.  The file appears complete or not at all: it is written to a
     temporary file in the same directory, flushed to disk and renamed over ``path``.
     """
-    import pyarrow as pa
-    import pyarrow.csv as pcsv
     from concurrent.futures import ThreadPoolExecutor
 
     p = Path(path)
@@ -1271,28 +1389,68 @@ def write_samples_csv(
     n = len(arrays[0])
     head = "".join(f"# {c}\n" for line in comments for c in str(line).splitlines() or [""])
     head += delimiter.join(cells) + "\n"
-    options = pcsv.WriteOptions(include_header=False, delimiter=delimiter, quoting_style="none")
-    col_names = [f"c{i}" for i in range(len(arrays))]
-
-    def render(start: int) -> Any:
-        stop = min(start + _WRITE_ROWS, n)
-        table = pa.table([pa.array(a[start:stop]) for a in arrays], names=col_names)
-        sink = pa.BufferOutputStream()
-        pcsv.write_csv(table, sink, options)  # C++ formatting, releases the GIL
-        return sink.getvalue()
-
-    workers = max(1, min(os.cpu_count() or 1, 8))
+    render = _arrow_renderer(arrays, delimiter) if _arrow() else _numpy_renderer(arrays, delimiter)
+    workers = max(1, min(os.cpu_count() or 1, 8)) if _arrow() else 1
     with atomic_path(p) as tmp, open(tmp, "wb") as f:
         f.write(head.encode("utf-8"))
         with ThreadPoolExecutor(workers) as pool:
             pending = []
             for start in range(0, n, _WRITE_ROWS):
-                pending.append(pool.submit(render, start))
+                pending.append(pool.submit(render, start, min(start + _WRITE_ROWS, n)))
                 if len(pending) > 2 * workers:
                     f.write(pending.pop(0).result())
             for fut in pending:
                 f.write(fut.result())
     return p
+
+
+def _arrow_renderer(arrays: Sequence[np.ndarray], delimiter: str):
+    """Rows start:stop as CSV bytes, formatted by pyarrow (C++, releases the GIL)."""
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+
+    options = pcsv.WriteOptions(include_header=False, delimiter=delimiter, quoting_style="none")
+    col_names = [f"c{i}" for i in range(len(arrays))]
+
+    def render(start: int, stop: int) -> Any:
+        table = pa.table([pa.array(a[start:stop]) for a in arrays], names=col_names)
+        sink = pa.BufferOutputStream()
+        pcsv.write_csv(table, sink, options)
+        return sink.getvalue()
+
+    return render
+
+
+def _float_text(s: str) -> str:
+    """Python's shortest float text (``repr``) in the layout pyarrow writes, so a file is the same
+    byte for byte with or without pyarrow: positional for exponents -6 to 9 without a trailing
+    ".0" (1, -0, 0.00001, 1500000000), otherwise d.ddde±N (1e-7, 1.23456789015e+10)."""
+    if "e" not in s:
+        if s.endswith(".0"):
+            s = s[:-2]
+        if len(s.lstrip("-").split(".")[0]) <= 10:
+            return s
+    d = Decimal(s)
+    e = d.adjusted()
+    if -6 <= e <= 9:
+        return format(d, "f")
+    digits = "".join(map(str, d.as_tuple().digits)).rstrip("0") or "0"
+    mant = digits[0] + ("." + digits[1:] if len(digits) > 1 else "")
+    return f"{'-' if d.is_signed() else ''}{mant}e{e:+d}"
+
+
+def _numpy_renderer(arrays: Sequence[np.ndarray], delimiter: str):
+    """Rows start:stop as CSV bytes without pyarrow, in the text pyarrow writes."""
+
+    def render(start: int, stop: int) -> bytes:
+        cols = []
+        for a in arrays:
+            text = a[start:stop].astype(str).tolist()
+            cols.append(list(map(_float_text, text)) if a.dtype.kind == "f" else text)
+        rows = cols[0] if len(cols) == 1 else map(delimiter.join, zip(*cols))
+        return ("\n".join(rows) + "\n").encode("ascii") if stop > start else b""
+
+    return render
 
 
 def write_samples_npy(
