@@ -507,7 +507,10 @@ def command(args) -> int:
     """``metro batch`` (arguments parsed by metro.core.cli)."""
     from . import present
     from .cli import _options, _pm, _show_progress, requested_items
+    from .extras import require
 
+    require("distributed", "metro batch")  # before any work: the lot needs a Dask cluster
+    require("pyarrow.parquet", "metro batch", extra="batch")  # lot-results.parquet
     pm = _pm(args)
     items = requested_items(pm, args)
     if args.workers is not None and args.workers < 1:
