@@ -11,10 +11,12 @@ from importlib import metadata as _md
 
 import pluggy as _pluggy
 
+from .extras import DISTRIBUTION as _DISTRIBUTION  # the name on the package index
+
 hookimpl = _pluggy.HookimplMarker("metro")
 
 try:
-    __version__ = _md.version("metro")
+    __version__ = _md.version(_DISTRIBUTION)
 except _md.PackageNotFoundError:  # pragma: no cover - running from a bare checkout
     __version__ = "0+unknown"
 

@@ -24,6 +24,7 @@ import pluggy
 
 from . import hookspec
 from .errors import PluginError
+from .extras import DISTRIBUTION
 from .model import Campaign, Outcome, Procedure, RunContext
 from .units import add_definitions
 
@@ -32,7 +33,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .model import Applicability
 
 ENTRY_POINT_GROUP = "metro"
-BUILTIN_DIST = "metro"
+BUILTIN_DIST = DISTRIBUTION  # metro's own plugins come from metro's distribution
 
 # --------------------------------------------------------------------------------------
 # Registered things
@@ -288,7 +289,7 @@ class MetroPluginManager:
             self.pm.set_blocked(name)
         for ep in metadata.entry_points(group=ENTRY_POINT_GROUP):
             dist = ep.dist.metadata["Name"] if ep.dist is not None else None
-            builtin = dist is not None and dist.lower() == BUILTIN_DIST
+            builtin = dist is not None and dist.lower().replace("_", "-") == BUILTIN_DIST
             if ep.name in blocked or self.pm.is_blocked(ep.name) or ep.name in self.plugins:
                 continue
             if not (autoload or builtin or ep.name in wanted):

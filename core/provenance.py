@@ -84,9 +84,12 @@ def software_versions() -> dict[str, str]:
     from importlib import metadata
 
     out = {"python": sys.version.split()[0], "platform": platform.platform(terse=True)}
-    for dist in ("metro", "numpy", "scipy", "pint", "pluggy", "attrs", "uncertainties", "docxtpl", "numba"):
+    from .extras import DISTRIBUTION
+
+    for key, dist in (("metro", DISTRIBUTION), *((d, d) for d in ("numpy", "scipy", "pint", "pluggy", "attrs",
+                                                                    "docxtpl", "numba", "pyarrow"))):
         try:
-            out[dist] = metadata.version(dist)
+            out[key] = metadata.version(dist)
         except metadata.PackageNotFoundError:
             pass
     return out

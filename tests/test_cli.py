@@ -97,7 +97,7 @@ def test_plugins_and_items_and_plan(run_cli):
     code, out, _ = run_cli("plugins", "--json")
     doc = json.loads(out)
     names = {p["name"]: p for p in doc["plugins"]}
-    assert names["gbt45570"]["version"] and names["gbt45570"]["distribution"] == "metro"
+    assert names["gbt45570"]["version"] and names["gbt45570"]["distribution"] == "metro-inertial"
     code, out, _ = run_cli("items", "--json", "-s", "gbt45570")
     assert {i["item"] for i in json.loads(out)["items"]} >= {"D.5.1", "D.5.2", "D.5.6"}
     code, out, _ = run_cli("plan", "-s", "gbt45570", "-i", "D.5.1,D.5.6")
@@ -262,9 +262,9 @@ def test_version_names_metro_and_each_loaded_plugin(run_cli):
     code, out, _ = run_cli("--version")
     assert code == 0
     lines = out.splitlines()
-    assert lines[0] == f"metro {version('metro')}"
+    assert lines[0] == f"metro {version('metro-inertial')}"
     for name in ("gbt45570", "jjf2014", "jjf2003", "ogam", "instruments"):
-        assert any(line.strip().startswith(f"plugin {name}: metro {version('metro')}") for line in lines), name
+        assert any(line.strip().startswith(f"plugin {name}: metro-inertial {version('metro-inertial')}") for line in lines), name
     code, out, _ = run_cli("--block-plugin", "ogam", "--version")
     assert "plugin ogam" not in out and "plugin gbt45570" in out
 

@@ -1,4 +1,4 @@
-"""Drivers for live instruments (optional extra ``drivers``: ``pip install 'metro[drivers]'``).
+"""Drivers for live instruments (optional extra ``drivers``: ``pip install 'metro-inertial[drivers]'``).
 
 * :mod:`.base` — the interfaces (:class:`~.base.DmmDriver`, :class:`~.base.GyroOutputDriver`,
   :class:`~.base.RateTableDriver`) a driver implements;

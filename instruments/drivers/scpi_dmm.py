@@ -41,7 +41,7 @@ def _visa():
         import pyvisa
     except ImportError as exc:  # pragma: no cover - the test extra installs it
         raise DriverError(None, None, "PyVISA is not installed",
-                          hint="pip install 'metro[drivers]' (pyvisa, pyvisa-sim, pyserial)") from exc
+                          hint="pip install 'metro-inertial[drivers]' (pyvisa, pyvisa-sim, pyserial)") from exc
     return pyvisa
 
 

@@ -404,7 +404,7 @@ class SerialGyro(GyroOutputDriver):
         try:
             import serial
         except ImportError as exc:  # pragma: no cover - the test extra installs it
-            raise DriverError(port, None, "pyserial is not installed", hint="pip install 'metro[drivers]'") from exc
+            raise DriverError(port, None, "pyserial is not installed", hint="pip install 'metro-inertial[drivers]'") from exc
         self._serial_mod = serial
         try:
             self._port = serial.Serial(port, baudrate=baudrate, timeout=self._timeout_s, parity=parity,
