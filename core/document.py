@@ -339,6 +339,79 @@ def _twips(mm: float) -> int:
     return int(round(mm / 25.4 * 1440))
 
 
+# Runs and table rows are written as lxml elements directly (one SubElement call per element),
+# not through python-docx's per-run and per-cell proxies, which parse a snippet of XML for every
+# element they add and search the children for its place: a GB/T --all report has ~5 000 cells,
+# and building them the python-docx way took most of the time of writing the report.  The XML is
+# the same element for element (tests/test_document_speed.py builds both ways and compares).
+_W = "{http://schemas.openxmlformats.org/wordprocessingml/2006/main}"
+_XML_SPACE = "{http://www.w3.org/XML/1998/namespace}space"
+_RUN_BREAKS = re.compile(r"([\t\r\n])")
+
+
+@functools.lru_cache(maxsize=64)
+def _half_points(size: float) -> str:
+    """``w:sz`` of a size in points, as python-docx writes it (half-points, truncated)."""
+    from docx.shared import Emu, Pt
+
+    return str(int(Emu(Pt(size)).pt * 2))
+
+
+@functools.lru_cache(maxsize=16)
+def _rgb(color: str) -> str:
+    from docx.shared import RGBColor
+
+    return str(RGBColor.from_string(color))
+
+
+def _run_text(r, text: str) -> None:
+    """The content of run ``r`` for ``text``: ``w:t`` (``xml:space="preserve"`` when it starts or
+    ends with white space), a tab as ``w:tab``, a carriage return or line feed as ``w:br``."""
+    from lxml.etree import SubElement
+
+    for chunk in _RUN_BREAKS.split(text) if ("\t" in text or "\r" in text or "\n" in text) else (text,):
+        if chunk == "\t":
+            SubElement(r, _W + "tab")
+        elif chunk in ("\r", "\n"):
+            SubElement(r, _W + "br")
+        elif chunk:
+            t = SubElement(r, _W + "t")
+            t.text = chunk
+            if len(chunk.strip()) < len(chunk):
+                t.set(_XML_SPACE, "preserve")
+
+
+def append_runs(p, text: str, *, bold: bool = False, size: float | None = None, italic: bool = False,
+                color: str | None = None) -> None:
+    """Append ``text`` to the paragraph element ``p`` (``w:p``) as runs: a subscript (``K_l``) as
+    its own run, a line break (``\\n``) as a run holding ``w:br``; every run formatted alike
+    (bold, italic, colour ``RRGGBB``, size in points).  The text is used as given (see
+    :meth:`DocumentBuilder.runs` for the translated, glued form)."""
+    from lxml.etree import SubElement
+
+    sz = _half_points(size) if size else None
+    rgb = _rgb(color) if color else None
+    lines = text.split("\n")
+    for n, line in enumerate(lines):
+        for piece, sub in subscript_runs(line):
+            r = SubElement(p, _W + "r")
+            if bold or italic or rgb or sz or sub:
+                rpr = SubElement(r, _W + "rPr")
+                if bold:
+                    SubElement(rpr, _W + "b")
+                if italic:
+                    SubElement(rpr, _W + "i")
+                if rgb:
+                    SubElement(rpr, _W + "color", {_W + "val": rgb})
+                if sz:
+                    SubElement(rpr, _W + "sz", {_W + "val": sz})
+                if sub:
+                    SubElement(rpr, _W + "vertAlign", {_W + "val": "subscript"})
+            _run_text(r, piece)
+        if n < len(lines) - 1:
+            SubElement(SubElement(p, _W + "r"), _W + "br")
+
+
 class DocumentBuilder:
     """A Word document laid out the one way metro's documents are.
 
@@ -449,25 +522,7 @@ class DocumentBuilder:
     def runs(self, paragraph, text: str, *, bold: bool = False, size: float | None = None,
              italic: bool = False, color: str | None = None) -> None:
         """Add ``text`` to ``paragraph`` with real subscripts and no-break spaces."""
-        from docx.shared import Pt, RGBColor
-
-        text = glue(self.tr.text(text))
-        lines = text.split("\n")
-        for n, line in enumerate(lines):
-            for piece, sub in subscript_runs(line):
-                r = paragraph.add_run(piece)
-                if bold:
-                    r.bold = True
-                if italic:
-                    r.italic = True
-                if size:
-                    r.font.size = Pt(size)
-                if sub:
-                    r.font.subscript = True
-                if color:
-                    r.font.color.rgb = RGBColor.from_string(color)
-            if n < len(lines) - 1:
-                paragraph.add_run().add_break()
+        append_runs(paragraph._p, glue(self.tr.text(text)), bold=bold, size=size, italic=italic, color=color)
 
     def heading(self, text: str, level: int = 1):
         p = self.doc.add_heading(level=level)
@@ -549,7 +604,7 @@ class DocumentBuilder:
         shrinks (to 6.5 pt) only when the longest words would not fit otherwise."""
         from docx.enum.table import WD_TABLE_ALIGNMENT
         from docx.oxml.ns import qn
-        from docx.shared import Pt
+        from docx.shared import Mm
 
         rows = [[glue(self.tr.text(c)) for c in r] for r in rows]
         if unit_break:
@@ -571,12 +626,14 @@ class DocumentBuilder:
         if widths is None:  # still too wide: in proportion to the longest words (a word may then break)
             widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
                                    squeeze=True)
-        t = self.doc.add_table(rows=len(everything), cols=n)
-        t.style = "Table Grid"
-        t.alignment = WD_TABLE_ALIGNMENT.CENTER
-        t.autofit = False
+        # the table without rows (they come below, as XML), in the body as Document.add_table puts it,
+        # without its search of the whole body for the section's width: the grid gets its own widths
+        t = self.doc._body.add_table(0, n, Mm(width_mm))
         tbl = t._tbl
         tblPr = tbl.tblPr
+        tblPr.style = self._table_style_id()
+        t.alignment = WD_TABLE_ALIGNMENT.CENTER
+        t.autofit = False
         _insert_ordered(tblPr, _el("w:tblW", w=str(sum(_twips(w) for w in widths)), type="dxa"), _TBLPR_ORDER)
         _insert_ordered(tblPr, _el("w:tblLayout", type="fixed"), _TBLPR_ORDER)
         mar = _el("w:tblCellMar")
@@ -586,40 +643,64 @@ class DocumentBuilder:
         grid = tbl.tblGrid
         for gc, w in zip(grid.findall(qn("w:gridCol")), widths):
             gc.set(qn("w:w"), str(_twips(w)))
-        for i, (row, values) in enumerate(zip(t.rows, everything)):
-            trPr = row._tr.get_or_add_trPr()
-            _insert_ordered(trPr, _el("w:cantSplit"), _TRPR_ORDER)
+        twips = [str(_twips(w)) for w in widths]
+        for i, values in enumerate(everything):
             is_head = head is not None and i == 0
-            if is_head:
-                _insert_ordered(trPr, _el("w:tblHeader"), _TRPR_ORDER)
             if i - first in spans:
-                cell = row.cells[0].merge(row.cells[n - 1]) if n > 1 else row.cells[0]
-                tcPr = cell._tc.get_or_add_tcPr()
-                _insert_ordered(tcPr, _el("w:tcW", w=str(sum(_twips(w) for w in widths)), type="dxa"), _TCPR_ORDER)
-                if i - first in shade:
-                    _insert_ordered(tcPr, _el("w:shd", val="clear", color="auto", fill=LABEL_FILL), _TCPR_ORDER)
-                p = cell.paragraphs[0]
-                p.paragraph_format.space_after = Pt(0)
                 # not kept with the row below: LibreOffice (7.x) lost every later row of a budget whose
                 # kept title row fell at a page foot (a 6.2.7.7 report printed 1 of 6 rows and no U);
                 # a title alone at a page foot is the lesser harm
-                p.paragraph_format.keep_with_next = False
-                self.runs(p, values[0], bold=i - first in bold_rows, size=pt)
+                self._table_row(tbl, [values[0]], [str(sum(_twips(w) for w in widths))], span=n,
+                                fills=[LABEL_FILL if i - first in shade else None], keep=False,
+                                bold=[i - first in bold_rows], pt=pt)
                 continue
-            for j, (cell, value, w) in enumerate(zip(row.cells, values, widths)):
-                tcPr = cell._tc.get_or_add_tcPr()
-                _insert_ordered(tcPr, _el("w:tcW", w=str(_twips(w)), type="dxa"), _TCPR_ORDER)
-                bold = is_head or (label_column and j == 0)
-                fill = HEAD_FILL if is_head else (LABEL_FILL if (label_column and j == 0) or
-                                                  (i - (1 if head else 0)) in shade else None)
-                if fill:
-                    _insert_ordered(tcPr, _el("w:shd", val="clear", color="auto", fill=fill), _TCPR_ORDER)
-                p = cell.paragraphs[0]
-                p.paragraph_format.space_after = Pt(0)
-                if is_head or i < len(everything) - 1:
-                    p.paragraph_format.keep_with_next = is_head
-                self.runs(p, value, bold=bold, size=pt)
+            row_fill = LABEL_FILL if (i - first) in shade else None
+            fills = [HEAD_FILL if is_head else (LABEL_FILL if label_column and j == 0 else row_fill)
+                     for j in range(n)]
+            # the header row is kept with the next; a body row says it is not, the last says nothing
+            keep = is_head if (is_head or i < len(everything) - 1) else None
+            self._table_row(tbl, values, twips, header=is_head, fills=fills, keep=keep,
+                            bold=[is_head or (label_column and j == 0) for j in range(n)], pt=pt)
         return t
+
+    def _table_style_id(self) -> str:
+        """The style id of "Table Grid" (looked up in the styles part once per document)."""
+        if self._grid_style is None:
+            from docx.enum.style import WD_STYLE_TYPE
+
+            self._grid_style = self.doc.part.get_style_id("Table Grid", WD_STYLE_TYPE.TABLE)
+        return self._grid_style
+
+    _grid_style: str | None = None
+
+    def _table_row(self, tbl, values: Sequence[str], twips: Sequence[str], *, span: int = 1,
+                   header: bool = False, fills: Sequence[str | None], keep: bool | None,
+                   bold: Sequence[bool], pt: float) -> None:
+        """Append one ``w:tr`` to ``tbl``: never split across pages, repeated on each page when it is
+        the ``header``; per cell its width (twips), fill, and one paragraph with no space after, kept
+        with the next row or not (``keep``; None says nothing), its text through :meth:`runs`.  With
+        ``span`` > 1 its one cell spans that many grid columns."""
+        from lxml.etree import SubElement
+
+        tr = SubElement(tbl, _W + "tr")
+        trPr = SubElement(tr, _W + "trPr")
+        SubElement(trPr, _W + "cantSplit")
+        if header:
+            SubElement(trPr, _W + "tblHeader")
+        for value, w, fill, b in zip(values, twips, fills, bold):
+            tc = SubElement(tr, _W + "tc")
+            tcPr = SubElement(tc, _W + "tcPr")
+            SubElement(tcPr, _W + "tcW", {_W + "w": w, _W + "type": "dxa"})
+            if span > 1:
+                SubElement(tcPr, _W + "gridSpan", {_W + "val": str(span)})
+            if fill:
+                SubElement(tcPr, _W + "shd", {_W + "val": "clear", _W + "color": "auto", _W + "fill": fill})
+            p = SubElement(tc, _W + "p")
+            pPr = SubElement(p, _W + "pPr")
+            if keep is not None:
+                SubElement(pPr, _W + "keepNext", {} if keep else {_W + "val": "0"})
+            SubElement(pPr, _W + "spacing", {_W + "after": "0"})
+            append_runs(p, glue(self.tr.text(value)), bold=b, size=pt)
 
     def kv(self, pairs: Sequence[tuple[str, str]], *, font_pt: float = 9.0):
         """A label/value table (identification, signatures)."""
