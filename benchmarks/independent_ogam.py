@@ -217,7 +217,11 @@ def write_table(path: Path, columns: list[tuple[str, np.ndarray]], fmt: str = "c
         arr = np.zeros(columns[0][1].size, dtype=[(c, "f8") for c, _ in columns])
         for c, v in columns:
             arr[c] = v
-        np.save(name, arr)
+        # a field name such as "reading [″]" is not Latin-1: the header needs .npy format 3.0, asked for
+        # by name (np.save guesses it and warns "Stored array in format 3.0")
+        latin1 = all(ord(ch) < 256 for c, _ in columns for ch in c)
+        with open(name, "wb") as fh:
+            np.lib.format.write_array(fh, arr, version=None if latin1 else (3, 0), allow_pickle=False)
         return name.name
     name = path.parent / (path.name + ".csv")
     with open(name, "w", encoding="utf-8", newline="\n") as fh:

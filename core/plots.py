@@ -17,13 +17,21 @@ A series is a mapping with the keys
 
 Labels may use any character of DejaVu Sans (matplotlib's default font), which covers the
 field's symbols: ° √ τ α ν σ χ ₀…₉ ² ″.  Chinese text needs a CJK font on the machine
-(one of :data:`FALLBACK_FONTS`); without one matplotlib warns and draws boxes.
+(one of :data:`FALLBACK_FONTS`).  matplotlib knows the fonts its shared cache
+(``fontlist-*.json`` in its cache folder) listed when it was built, so fonts installed after
+the first use of matplotlib stay invisible to it: :func:`register_cjk_fonts` adds the CJK font
+files found on the machine to the running process, whatever that cache says.  Without any CJK
+font, Chinese draws as boxes and metro says so once (``metro doctor`` tells what to install),
+never as matplotlib's warning per glyph.
 """
 
 from __future__ import annotations
 
+import functools
+import logging
 import os
 import re
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
@@ -32,7 +40,8 @@ from .atomic import atomic_write
 if TYPE_CHECKING:  # pragma: no cover
     from .model import PlotSpec
 
-__all__ = ["render_png", "FIGSIZE_IN", "FALLBACK_FONTS"]
+__all__ = ["render_png", "FIGSIZE_IN", "FALLBACK_FONTS", "register_cjk_fonts", "font_families", "cjk_font_files", "CJK_FONT_FILE",
+           "MissingGlyphs"]
 
 #: Figure size in inches (about 16 cm × 10 cm: printed at 15 cm wide in reports).
 FIGSIZE_IN = (6.3, 3.9)
@@ -44,12 +53,89 @@ FALLBACK_FONTS = ("Noto Sans CJK SC", "Noto Sans SC", "Source Han Sans SC", "Wen
                   "WenQuanYi Micro Hei", "SimHei", "Microsoft YaHei", "PingFang SC")
 
 
-def _font_families() -> list[str]:
-    """DejaVu Sans first, then the installed fallback fonts (matplotlib ≥ 3.6 falls back per glyph)."""
+#: file names of the fallback fonts' files (Noto Sans/Serif CJK, Source Han Sans, WenQuanYi, SimHei,
+#: Microsoft YaHei, PingFang): the files :func:`register_cjk_fonts` adds
+CJK_FONT_FILE = re.compile(r"(?i)(noto(sans|serif)cjk|notosans-?sc|sourcehansans|wqy-?(zenhei|microhei)|simhei|msyh"
+                       r"|pingfang)[^/\\]*\.(ttc|otf|ttf)$")
+
+
+@functools.lru_cache(maxsize=1)
+def register_cjk_fonts() -> tuple[str, ...]:
+    """Make the CJK fonts on this machine known to matplotlib in this process; return the font
+    files added (none when matplotlib already knows one of :data:`FALLBACK_FONTS`).
+
+    matplotlib reads its font list from a cache built once (``fontlist-*.json`` in
+    ``matplotlib.get_cachedir()``): a font installed after that cache was built is not in it,
+    and Chinese then draws as empty boxes.  The machine's font files (fontconfig and the system
+    font folders, :func:`matplotlib.font_manager.findSystemFonts`) whose names are those of the
+    fallback fonts are added with ``fontManager.addfont``; the shared cache is not written."""
     from matplotlib import font_manager
 
+    fm = font_manager.fontManager
+    if any(f.name in FALLBACK_FONTS and os.path.isfile(f.fname) for f in fm.ttflist):
+        return ()
+    known = {os.path.realpath(f.fname) for f in fm.ttflist}
+    added = []
+    for path in cjk_font_files():
+        if os.path.realpath(path) not in known:
+            try:
+                fm.addfont(path)
+            except (OSError, RuntimeError, ValueError):  # an unreadable font file: skip it
+                continue
+            added.append(path)
+    return tuple(added)
+
+
+def cjk_font_files() -> list[str]:
+    """The machine's font files that hold one of :data:`FALLBACK_FONTS` (by file name), found
+    through fontconfig and the system font folders, not through matplotlib's cache."""
+    from matplotlib import font_manager
+
+    return sorted(p for p in font_manager.findSystemFonts() if CJK_FONT_FILE.search(p))
+
+
+def font_families() -> list[str]:
+    """DejaVu Sans first, then the installed fallback fonts (matplotlib ≥ 3.6 falls back per glyph),
+    after :func:`register_cjk_fonts`."""
+    from matplotlib import font_manager
+
+    register_cjk_fonts()
     installed = {f.name for f in font_manager.fontManager.ttflist}
     return ["DejaVu Sans"] + [f for f in FALLBACK_FONTS if f in installed]
+
+
+_log = logging.getLogger("metro")
+
+
+@functools.lru_cache(maxsize=1)
+def _say_no_cjk_font() -> None:
+    """Once per process: figures with Chinese have no font to draw it."""
+    _log.warning("figures: no CJK font found, Chinese text in figures is drawn as empty boxes; install one of "
+                 "%s (e.g. apt-get install fonts-noto-cjk) — `metro doctor` checks it", ", ".join(FALLBACK_FONTS[:2]))
+
+
+class MissingGlyphs(warnings.catch_warnings):
+    """Inside: matplotlib's "Glyph … missing from font(s)" warnings are kept, not printed (one per
+    glyph per figure); on leaving, one statement of metro's when there were any (no CJK font)."""
+
+    def __init__(self) -> None:
+        super().__init__(record=True)
+
+    def __enter__(self):
+        self._seen = super().__enter__()
+        warnings.simplefilter("always")
+        return self._seen
+
+    def __exit__(self, *exc):
+        super().__exit__(*exc)
+        missing = [w for w in self._seen if issubclass(w.category, UserWarning)
+                   and re.match(r"Glyph \d+ .* missing from font", str(w.message))]
+        for w in self._seen:  # anything else is shown as it would have been
+            if w not in missing:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        if missing:
+            _say_no_cjk_font()
+        return False
 
 
 def _values(v: Any) -> Any:
@@ -208,7 +294,7 @@ def render_png(spec: "PlotSpec", path: str | os.PathLike[str], *, dpi: int = DPI
 
     # the families as font.family itself: matplotlib falls back glyph by glyph only along that list
     # (with the generic "sans-serif" a Chinese title drew as empty boxes)
-    with matplotlib.rc_context({"font.family": _font_families()}):
+    with matplotlib.rc_context({"font.family": font_families()}), MissingGlyphs():
         fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, layout="constrained")
         FigureCanvasAgg(fig)  # Agg canvas: no GUI backend, nothing registered with pyplot
         _draw(fig, spec)

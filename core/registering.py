@@ -521,11 +521,11 @@ def history_plot(hist: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
     from matplotlib.figure import Figure
 
     from .atomic import atomic_path
-    from .plots import _font_families
+    from .plots import MissingGlyphs, font_families
 
     results = hist["results"]
     n = max(1, len(results))
-    with matplotlib.rc_context({"font.family": _font_families()}):
+    with matplotlib.rc_context({"font.family": font_families()}), MissingGlyphs():
         fig = Figure(figsize=(7.0, 2.4 * n), layout="constrained")
         FigureCanvasAgg(fig)
         axes = fig.subplots(n, 1, squeeze=False)[:, 0]

@@ -323,7 +323,7 @@ def test_cjk_figure_text_with_subscripts_keeps_its_glyphs(tmp_path, caplog):
                     [{"label": "v_i", "x": [1.0, 2.0], "y": [0.1, -0.1], "style": "o"}])
     with caplog.at_level(logging.WARNING, logger="matplotlib"):
         plots.render_png(spec, tmp_path / "zh.png", dpi=50)
-    if len(plots._font_families()) > 1:  # a CJK font is installed (CI installs fonts-noto-cjk)
+    if len(plots.font_families()) > 1:  # a CJK font is installed (CI installs fonts-noto-cjk)
         assert not [r for r in caplog.records if "does not have a glyph" in r.getMessage()], caplog.records[:2]
 
 
