@@ -25,7 +25,7 @@ import functools
 import math
 import re
 import unicodedata
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping, Sequence
 
 if TYPE_CHECKING:  # pragma: no cover
     from .locale import Translator
@@ -990,12 +990,25 @@ def notes_section(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
         doc.para(tr("none"))
 
 
-def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]]) -> None:
-    """Signature rows: (role, name) or (role, name, title — 职务); each row is tall enough to sign."""
+def signatory_rows(facts: Mapping[str, Any], labels: Sequence[str]) -> list[tuple[str, str, str]]:
+    """(role, name, title) of the three signatories in a context's ``facts``: who performed the
+    measurement (``operator``), who checked it and who approved (issued) the document, each with
+    the title the campaign or the lab profile gives (``operator_title``, ``checker_title``,
+    ``approver_title``; a context kept by the register before titles were kept has none)."""
+    keys = (("operator", "operator_title"), ("checker", "checker_title"), ("approver", "approver_title"))
+    return [(label, str(facts.get(name) or ""), str(facts.get(title) or ""))
+            for label, (name, title) in zip(labels, keys)]
+
+
+def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]], *, titled: bool | None = None) -> None:
+    """Signature rows: (role, name) or (role, name, title — 职务); each row is tall enough to sign.
+    The title column is there when a row has a title, or always with ``titled=True`` (a
+    certificate's clause 8 n) asks for the issuer's title); a missing title prints "—"."""
     from docx.shared import Mm
 
     tr = doc.tr
-    titled = any(len(r) > 2 and r[2] for r in roles)
+    if titled is None:
+        titled = any(len(r) > 2 and r[2] for r in roles)
     header = [tr("Role"), tr("Name")] + ([tr("Title")] if titled else []) + [tr("Signature"), tr("Date")]
     rows = [[r[0], or_dash(r[1])] + ([or_dash(r[2] if len(r) > 2 else "")] if titled else [])
             + ["\u2003" * 12, "\u2003" * 6] for r in roles]
@@ -1233,8 +1246,7 @@ def generic_layout(doc: DocumentBuilder, ctx: dict) -> None:
     conformity_section(doc, ctx)
     doc.heading(tr("Signatures"), 2)
     f = ctx["facts"]
-    signatures(doc, [(tr("Tested by"), f["operator"]), (tr("Checked by"), f["checker"]),
-                     (tr("Approved by"), f["approver"], f["approver_title"])])
+    signatures(doc, signatory_rows(f, [tr("Tested by"), tr("Checked by"), tr("Approved by")]))
     doc.para(tr("The results relate only to the item tested. This report shall not be reproduced "
                 "except in full without the written approval of the laboratory."), size=8.5)
     annexes(doc, ctx)

@@ -40,8 +40,9 @@ PENDING = "METRO-REGISTER-NUMBER-PENDING"
 def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
     """``record`` whose campaign names the lab and its people from the profile: ``[campaign]``
     keys ``lab``, ``lab_address``, ``operator`` (calibrated by), ``checked_by``, ``approved_by``
-    and ``approved_by_title`` are filled in where the manifest gives none (under any spelling
-    metro reads): campaign values override the profile per run.  ``lab_logo`` carries the
+    and each one's title (``operator_title``, ``checked_by_title``, ``approved_by_title``) are
+    filled in where the manifest gives none (under any spelling metro reads): campaign values
+    override the profile per run, and a person the manifest names gets no title from the profile.  ``lab_logo`` carries the
     profile's logo image (its path), which the documents draw above the title."""
     try:
         from .vocabulary import CAMPAIGN_ALIASES
@@ -58,11 +59,13 @@ def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
     values = {"lab": lab.name_zh + (f" {lab.name_en}" if lab.name_zh and lab.name_en else lab.name_en),
               "lab_address": lab.address, "operator": cal.name if cal else "",
               "checked_by": chk.name if chk else "", "approved_by": app.name if app else "",
+              "operator_title": cal.title if cal else "", "checked_by_title": chk.title if chk else "",
               "approved_by_title": app.title if app else "",
               "lab_logo": str(lab.logo) if lab.logo else ""}
     added = {k: v for k, v in values.items() if v and not given(k)}
-    if "approved_by" in meta and "approved_by_title" in added:  # the title goes with the person
-        added.pop("approved_by_title")
+    for person in ("operator", "checked_by", "approved_by"):  # the title goes with the person
+        if given(person):
+            added.pop(f"{person}_title", None)
     if not added:
         return record
     return attrs.evolve(record, campaign=attrs.evolve(camp, meta={**meta, **added}))

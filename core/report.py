@@ -460,8 +460,8 @@ def record_facts(record: "RunRecord") -> dict[str, str]:
     """Who, where and when, from the campaign through the manifest vocabulary
     (:mod:`metro.core.vocabulary`; a lab profile in force has filled in what the manifest leaves
     out, :func:`metro.core.registering.with_lab`): ``lab``, ``lab_address``, ``location``,
-    ``customer``, ``customer_address``, ``operator``, ``checker``, ``approver``,
-    ``approver_title``, ``received``, ``measured`` (the measurement date,
+    ``customer``, ``customer_address``, ``operator``, ``checker``, ``approver`` and their titles
+    ``operator_title``, ``checker_title``, ``approver_title``, ``received``, ``measured`` (the measurement date,
     :attr:`RunRecord.test_date`; where it came from in ``measured_from``), ``issued`` (the
     manifest's ``issued``, else the day the document is written) and ``processed`` (the time of
     this run).  A missing fact is the empty string; documents print it as "—"."""
@@ -475,7 +475,8 @@ def record_facts(record: "RunRecord") -> dict[str, str]:
         "lab": lab.name, "lab_address": lab.address, "location": lab.location,
         "customer": customer.name, "customer_address": customer.address,
         "operator": people.operator, "checker": people.checked_by, "approver": people.approved_by,
-        "approver_title": people.approved_by_title,
+        "approver_title": people.approved_by_title, "operator_title": people.operator_title,
+        "checker_title": people.checked_by_title,
         "received": received.isoformat() if received else "",
         "issued": _fact_text(meta.get("issued")),
         "logo": _fact_text(meta.get("lab_logo")),

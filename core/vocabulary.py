@@ -50,6 +50,8 @@ CAMPAIGN_KEYS: dict[str, str] = {
     "checked_by": "who checked the results",
     "approved_by": "who approved (issued) the report or certificate",
     "approved_by_title": "the approver's title, e.g. head of laboratory",
+    "operator_title": "the operator's title, e.g. calibration engineer",
+    "checked_by_title": "the checker's title",
     "measurement_date": "the day of the measurement (YYYY-MM-DD); reports print it as the test date",
     "date_received": "the day the device was received (YYYY-MM-DD)",
     "notes": "free text kept with the campaign",
@@ -80,7 +82,7 @@ CAMPAIGN_ALIASES: dict[str, str] = {
 }
 
 #: the [campaign] keys that name a person
-PEOPLE_KEYS = ("operator", "checked_by", "approved_by", "approved_by_title")
+PEOPLE_KEYS = ("operator", "checked_by", "approved_by", "approved_by_title", "operator_title", "checked_by_title")
 #: the [campaign] keys that are dates
 DATE_KEYS = ("measurement_date", "date_received")
 
@@ -295,6 +297,8 @@ class People:
     checked_by: str = ""
     approved_by: str = ""
     approved_by_title: str = ""
+    operator_title: str = ""
+    checked_by_title: str = ""
 
 
 @attrs.frozen

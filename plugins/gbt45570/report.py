@@ -591,8 +591,7 @@ def layout(doc, ctx: dict) -> None:
         doc.para(tr("none"))
     n += 1
     doc.heading(f"{n} {tr('Signatures')}", 1)
-    D.signatures(doc, [(tr("Tested by"), f["operator"]), (tr("Checked by"), f["checker"]),
-                       (tr("Approved by"), f["approver"], f["approver_title"])])
+    D.signatures(doc, D.signatory_rows(f, [tr("Tested by"), tr("Checked by"), tr("Approved by")]))
     doc.para(tr("The results relate only to the device tested. This report shall not be reproduced "
                 "except in full without the written approval of the laboratory."), size=8.5)
     D.annexes(doc, ctx)

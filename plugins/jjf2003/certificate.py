@@ -207,8 +207,7 @@ def layout(doc, ctx: dict) -> None:
     doc.heading(tr("Notes on the results"), 2)
     D.notes_section(doc, ctx)
     doc.heading(tr("Signatures"), 2)
-    D.signatures(doc, [(tr("Calibrated by"), f["operator"]), (tr("Checked by"), f["checker"]),
-                       (tr("Issued by"), f["approver"], f["approver_title"] or DASH)])
+    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]), titled=True)
     doc.para(f"{tr('Date of issue')}: {D.or_dash(f['issued'])}")
     doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")), size=8.5)
     D.annexes(doc, ctx)

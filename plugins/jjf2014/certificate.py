@@ -149,8 +149,7 @@ def layout(doc, ctx: dict) -> None:
     else:
         doc.para(tr("none"))
     doc.heading(tr("Signatures"), 2)                                                # 8 n), appendix A
-    D.signatures(doc, [(tr("Calibrated by"), f["operator"]), (tr("Checked by"), f["checker"]),
-                       (tr("Issued by"), f["approver"], f["approver_title"] or DASH)])
+    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]), titled=True)
     doc.para(tr("The calibration results relate only to the item calibrated."), size=8.5)            # 8 o)
     doc.para(tr("This certificate shall not be reproduced except in full without the written approval "
                 "of the laboratory."), size=8.5)                                                      # 8 p)

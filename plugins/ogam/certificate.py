@@ -97,8 +97,7 @@ def layout(doc, ctx: dict) -> None:
     doc.heading(tr("Measurement standards used and their traceability"), 2)
     D.equipment_table(doc, ctx)
     doc.heading(tr("Signatures"), 2)
-    D.signatures(doc, [(tr("Calibrated by"), f["operator"]), (tr("Checked by"), f["checker"]),
-                       (tr("Issued by"), f["approver"], f["approver_title"] or DASH)])
+    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]), titled=True)
     doc.para(tr("The calibration results relate only to the item calibrated."), size=8.5)
     doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("at most 12 months")), size=8.5)
     D.annexes(doc, ctx)
