@@ -24,7 +24,7 @@ from importlib import resources
 from typing import Any, Callable, Iterable
 
 __all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "Index", "msg", "join", "index", "Translator", "translator",
-           "catalog"]
+           "catalog", "read_catalog"]
 
 LANGS = ("zh", "en", "zh+en")
 _HAN = re.compile(r"[\u3400-\u9fff\uf900-\ufaff]")
@@ -35,12 +35,51 @@ DEFAULT_LANG = "zh+en"
 def catalog(locale: str = "zh") -> dict[str, str]:
     """{English message id: translation} from ``<locale>/LC_MESSAGES/metro.po`` (fuzzy and
     empty entries left out)."""
-    from babel.messages.pofile import read_po
-
     path = resources.files(__package__) / locale / "LC_MESSAGES" / "metro.po"
-    with path.open("rb") as fh:
-        cat = read_po(fh, locale=locale)
-    return {m.id: m.string for m in cat if m.id and m.string and not m.fuzzy and isinstance(m.id, str)}
+    return read_catalog(path.read_text(encoding="utf-8"))
+
+
+_PO_ESCAPES = {"n": "\n", "t": "\t", "r": "\r", '"': '"', "\\": "\\"}
+
+
+def _po_string(line: str) -> str:
+    """The text of one quoted .po string (``"..."``), escapes resolved."""
+    body = line.strip()[1:-1]
+    return re.sub(r"\\(.)", lambda m: _PO_ESCAPES.get(m.group(1), m.group(1)), body)
+
+
+def read_catalog(text: str) -> dict[str, str]:
+    """{msgid: msgstr} of a gettext .po file's text: what Babel's ``read_po`` gives for metro.po
+    (the header, fuzzy, empty, plural, context-bound and obsolete entries left out), without
+    Babel and its 36 MB of locale data in the core install (the catalog tool,
+    ``python -m metro.core.locale``, still uses Babel)."""
+    out: dict[str, str] = {}
+    entry: dict[str, str] = {}
+    flags = ""
+    key = None
+
+    def close() -> None:
+        if entry.get("msgid") and entry.get("msgstr") and "fuzzy" not in flags and len(entry) == 2:
+            out[entry["msgid"]] = entry["msgstr"]
+
+    for line in text.splitlines() + [""]:
+        line = line.strip()
+        if line.startswith('"') and key is not None:
+            entry[key] += _po_string(line)
+            continue
+        if not line or (line.startswith("#") and entry):  # an entry ends
+            if entry:
+                close()
+            entry, flags, key = {}, "", None
+        if line.startswith("#,"):
+            flags += line[2:]
+        elif line and not line.startswith("#"):
+            key, _, rest = line.partition(" ")
+            if key in ("msgctxt", "msgid") and any(k.startswith("msgstr") for k in entry):
+                close()  # the next entry, with no blank line before it
+                entry, flags = {}, ""
+            entry[key] = _po_string(rest)
+    return out
 
 
 class Msg:

@@ -66,6 +66,9 @@ def missing_messages() -> dict[str, list[str]]:
 
 
 def main(argv: list[str]) -> int:
+    from metro.core.extras import require
+
+    require("babel", "python -m metro.core.locale", extra="test")
     from babel.messages.pofile import read_po, write_po
 
     po = Path(__file__).parent / "zh" / "LC_MESSAGES" / "metro.po"
