@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import contextlib
 import datetime as dt
-import json
 import math
 import os
 import re
@@ -47,7 +46,6 @@ MANIFEST = "manifest.toml"
 
 Progress = Callable[[str, float, float], None]
 
-_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 _SAFE_FILE = re.compile(r"[^A-Za-z0-9._+-]+")
 
 
@@ -70,40 +68,31 @@ def quantity_text(q: pint.Quantity, *, field: str = "") -> str:
     return f"{mag!r} {units}"
 
 
-def _key(k: str) -> str:
-    return k if _BARE_KEY.match(k) else json.dumps(k, ensure_ascii=False)
-
-
-def _value(v: Any, field: str) -> str:
-    """One TOML value: text, quantity (as text), number, boolean or date."""
+def _value(v: Any, field: str) -> Any:
+    """One manifest value as tomli-w writes it: text, quantity (as text), number, boolean, date or
+    a list of these."""
     if isinstance(v, pint.Quantity):
-        return json.dumps(quantity_text(v, field=field), ensure_ascii=False)
-    if isinstance(v, bool):
-        return "true" if v else "false"
+        return quantity_text(v, field=field)
+    if isinstance(v, (bool, np.bool_)):
+        return bool(v)
     if isinstance(v, (int, np.integer)):
-        return str(int(v))
+        return int(v)
     if isinstance(v, (float, np.floating)):
         f = float(v)
         if not math.isfinite(f):
             raise DataError(None, field, f"cannot write the non-finite value {f!r}")
-        return repr(f)
-    if isinstance(v, (dt.date, dt.datetime)):
-        return v.isoformat()
-    if isinstance(v, str):
-        return json.dumps(v, ensure_ascii=False)
+        return f
+    if isinstance(v, (str, dt.date, dt.datetime)):
+        return v
     if isinstance(v, (tuple, list)):
-        return "[" + ", ".join(_value(x, f"{field}[{i}]") for i, x in enumerate(v)) + "]"
+        return [_value(x, f"{field}[{i}]") for i, x in enumerate(v)]
     raise DataError(None, field, f"cannot write a {type(v).__name__} ({v!r}) into the manifest",
                     hint="give properties and conditions as text, numbers or quantities")
 
 
-def _table(lines: list[str], header: str | None, items: Mapping[str, Any], where: str) -> None:
-    if header is not None:
-        lines.append(header)
-    for k, v in items.items():
-        if v is None:
-            continue
-        lines.append(f"{_key(str(k))} = {_value(v, f'{where}.{k}')}")
+def _table(items: Mapping[str, Any], where: str) -> dict[str, Any]:
+    """A table of plain values (None left out)."""
+    return {str(k): _value(v, f"{where}.{k}") for k, v in items.items() if v is not None}
 
 
 def _calibration_items(cal: Calibration) -> dict[str, Any]:
@@ -116,8 +105,7 @@ def _calibration_items(cal: Calibration) -> dict[str, Any]:
     return out
 
 
-def _equipment_lines(lines: list[str], e: Equipment, i: int) -> None:
-    lines += ["", "[[equipment]]"]
+def _equipment_table(e: Equipment, i: int) -> dict[str, Any]:
     head = {"id": e.id, "role": e.role, "manufacturer": e.manufacturer or None, "model": e.model or None,
             "serial": e.serial or None}
     reserved = set(head) | {"calibration"}
@@ -125,70 +113,73 @@ def _equipment_lines(lines: list[str], e: Equipment, i: int) -> None:
     if clash:
         raise DataError(None, f"equipment[{i}]", f"property name(s) {', '.join(clash)} clash with the "
                         "manifest's own keys")
-    _table(lines, None, head | dict(e.properties), f"equipment[{i}]")
+    out = _table(head | dict(e.properties), f"equipment[{i}]")
     if e.calibration is not None:
-        _table(lines, "[equipment.calibration]", _calibration_items(e.calibration), f"equipment[{i}].calibration")
+        out["calibration"] = _table(_calibration_items(e.calibration), f"equipment[{i}].calibration")
+    return out
+
+
+def _segment_table(campaign: Campaign, seg: Segment, fname: str, units: Mapping[str, str]) -> dict[str, Any]:
+    if seg.interval is None:
+        raise DataError(campaign.source, f"segments.{seg.id}.sample_interval",
+                        "the segment has no sample interval; the data format requires one")
+    out = _table({"id": seg.id, "kind": seg.kind, "file": fname, "sample_interval": seg.interval,
+                  "started": seg.started}, f"segments.{seg.id}")
+    if seg.conditions:
+        out["conditions"] = _table(seg.conditions, f"segments.{seg.id}.conditions")
+    out["units"] = _table(units, f"segments.{seg.id}.units")
+    return out
 
 
 def manifest_text(campaign: Campaign, files: Mapping[str, tuple[str, Mapping[str, str]]],
                   extra: Mapping[str, Any] | None = None) -> str:
-    """The manifest of ``campaign``; ``files`` maps each segment id to (file name, {column: unit})."""
-    lines = [f"# metro campaign written by metro.instruments.campaign_writer ({campaign.source or 'campaign'})",
-             f"format = {json.dumps(FORMAT)}", ""]
+    """The manifest of ``campaign`` (TOML written by tomli-w); ``files`` maps each segment id to
+    (file name, {column: unit})."""
+    import tomli_w
+
     camp = {"id": campaign.id} | dict(campaign.meta) | dict(extra or {})
     if campaign.simulated:
         camp.setdefault("simulated", True)
-    _table(lines, "[campaign]", camp, "campaign")
     d = campaign.device
     dev = {"id": d.id, "manufacturer": d.manufacturer or None, "model": d.model or None, "serial": d.serial or None,
            "technology": d.technology or None, "application": d.application or None, "output": d.output or None}
-    _table(lines, "\n[device]", dev | dict(d.properties), "device")
-    _table(lines, "\n[environment]", campaign.environment, "environment")
-    _table(lines, "\n[site]", campaign.site, "site")
-    for i, e in enumerate(campaign.equipment):
-        _equipment_lines(lines, e, i)
-    for seg in campaign.segments:
-        fname, units = files[seg.id]
-        if seg.interval is None:
-            raise DataError(campaign.source, f"segments.{seg.id}.sample_interval",
-                            "the segment has no sample interval; the data format requires one")
-        lines += ["", "[[segments]]"]
-        _table(lines, None, {"id": seg.id, "kind": seg.kind, "file": fname, "sample_interval": seg.interval,
-                             "started": seg.started}, f"segments.{seg.id}")
-        if seg.conditions:
-            _table(lines, "[segments.conditions]", seg.conditions, f"segments.{seg.id}.conditions")
-        _table(lines, "[segments.units]", units, f"segments.{seg.id}.units")
+    doc: dict[str, Any] = {"format": FORMAT, "campaign": _table(camp, "campaign"),
+                           "device": _table(dev | dict(d.properties), "device"),
+                           "environment": _table(campaign.environment, "environment"),
+                           "site": _table(campaign.site, "site")}
+    if campaign.equipment:
+        doc["equipment"] = [_equipment_table(e, i) for i, e in enumerate(campaign.equipment)]
+    if campaign.segments:
+        doc["segments"] = [_segment_table(campaign, seg, *files[seg.id]) for seg in campaign.segments]
     for name, value in campaign.records.items():
-        _record_lines(lines, str(name), value)
-    return "\n".join(lines) + "\n"
+        if str(name) in doc:
+            raise DataError(None, str(name), f"the record section '{name}' clashes with the manifest's own keys")
+        doc[str(name)] = _record(str(name), value)
+    source = " ".join(str(campaign.source or "campaign").split())
+    return f"# metro campaign written by metro.instruments.campaign_writer ({source})\n" + tomli_w.dumps(doc)
 
 
 def _is_table_array(v: Any) -> bool:
     return isinstance(v, (list, tuple)) and bool(v) and all(isinstance(x, Mapping) for x in v)
 
 
-def _record_lines(lines: list[str], path: str, value: Any) -> None:
-    """A record section (Campaign.records) as TOML: ``[path]`` for a table, ``[[path]]`` for an
-    array of tables, their sub-tables below them."""
+def _record(path: str, value: Any) -> Any:
+    """A record section (Campaign.records): a table or an array of tables, with sub-tables."""
     if _is_table_array(value):
-        for item in value:
-            _record_table(lines, f"[[{path}]]", path, item)
-    elif isinstance(value, Mapping):
-        _record_table(lines, f"[{path}]", path, value)
-    else:
-        raise DataError(None, path, f"a record section must be a table or an array of tables, got {value!r}")
+        return [_record_table(path, item) for item in value]
+    if isinstance(value, Mapping):
+        return _record_table(path, value)
+    raise DataError(None, path, f"a record section must be a table or an array of tables, got {value!r}")
 
 
-def _record_table(lines: list[str], header: str, path: str, table: Mapping[str, Any]) -> None:
-    lines += ["", header]
-    nested = {}
+def _record_table(path: str, table: Mapping[str, Any]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
     for k, v in table.items():
         if isinstance(v, Mapping) or _is_table_array(v):
-            nested[k] = v
+            out[str(k)] = _record(f"{path}.{k}", v)
         elif v is not None:
-            lines.append(f"{_key(str(k))} = {_value(v, f'{path}.{k}')}")
-    for k, v in nested.items():
-        _record_lines(lines, f"{path}.{_key(str(k))}", v)
+            out[str(k)] = _value(v, f"{path}.{k}")
+    return out
 
 
 # ------------------------------------------------------------------------------ samples
