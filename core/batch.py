@@ -143,6 +143,10 @@ def _worker_pm(autoload: bool | None, block: tuple[str, ...]):
     return _PMS[key]
 
 
+#: records evaluated on this worker whose report waits for its turn (``evaluate_only``), by campaign
+_EVALUATED: dict[str, tuple[Any, float, float]] = {}
+
+
 def evaluate_campaign(job: Job, manifest: str, name: str, sha256: str) -> dict[str, Any]:
     """Evaluate one campaign as ``metro run --data MANIFEST`` does and write its report and JSON
     document under ``OUT/devices/NAME/``.  Never raises: an error comes back as
@@ -151,7 +155,29 @@ def evaluate_campaign(job: Job, manifest: str, name: str, sha256: str) -> dict[s
         return _evaluate(job, manifest, name, sha256)
 
 
-def _evaluate(job: Job, manifest: str, name: str, sha256: str) -> dict[str, Any]:
+def evaluate_only(job: Job, manifest: str, name: str, sha256: str) -> dict[str, Any]:
+    """The first half of :func:`evaluate_campaign` when reports are numbered by a register: the
+    campaign evaluated, its record kept on this worker (``{"status": "pending", "worker": …}``)
+    until :func:`report_evaluated` writes and registers its report in the lot's order."""
+    with _ONE_AT_A_TIME:
+        return _evaluate(job, manifest, name, sha256, report=False)
+
+
+def report_evaluated(job: Job, manifest: str, name: str, sha256: str) -> dict[str, Any]:
+    """The second half: the report of a campaign :func:`evaluate_only` evaluated on this worker
+    (evaluated again here when it ran on another worker, e.g. one that has gone)."""
+    with _ONE_AT_A_TIME:
+        return _evaluate(job, manifest, name, sha256, kept=_EVALUATED.pop(_campaign_key(manifest, sha256), None))
+
+
+def _campaign_key(manifest: str, sha256: str) -> str:
+    return f"{sha256}:{manifest}"
+
+
+def _evaluate(job: Job, manifest: str, name: str, sha256: str, *, report: bool = True,
+              kept: tuple[Any, float, float] | None = None) -> dict[str, Any]:
+    """Evaluate (or take the ``kept`` record, with the seconds its evaluation took) and, with
+    ``report``, write the report; without, keep the record for :func:`report_evaluated`."""
     from . import present
     from .cli import exit_code_for
     from .cli_register import run_lab_options, write_run_report
@@ -163,9 +189,19 @@ def _evaluate(job: Job, manifest: str, name: str, sha256: str) -> dict[str, Any]
         pm = _worker_pm(job.autoload, job.block)
         folder = Path(job.out) / "devices" / name
         args = job.run_args(folder)
-        # evaluated, checked against the lab profile, reported and registered as `metro run --out FOLDER` does
-        record = run_items(pm, job.standard, list(job.items), data=manifest, options=dict(job.options),
-                           run_all=job.run_all, decision_rule=job.decision_rule, **run_lab_options(args))
+        if kept is not None:
+            record, seconds, cpu = kept
+            t0, c0 = t0 - seconds, c0 - cpu
+        else:  # evaluated and checked against the lab profile as `metro run --out FOLDER` does
+            record = run_items(pm, job.standard, list(job.items), data=manifest, options=dict(job.options),
+                               run_all=job.run_all, decision_rule=job.decision_rule, **run_lab_options(args))
+        if not report:
+            from distributed import get_worker
+
+            _EVALUATED[_campaign_key(manifest, sha256)] = (record, time.perf_counter() - t0,
+                                                           time.process_time() - c0)
+            return base | {"status": "pending", "worker": get_worker().address}
+        # reported and registered as `metro run --out FOLDER` does
         record, report, registration = write_run_report(args, pm, record)
         doc = present.as_json(record, report)
         doc["register"] = registration
@@ -271,11 +307,12 @@ def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = No
 
 def _evaluate_on_dask(job: Job, todo: Sequence[tuple[str, str, str]], *, scheduler: str | None,
                       workers: int | None, timing: dict[str, float]):
-    """Yield each campaign's outcome as its worker finishes it (``timing["cluster_start_s"]``: the
-    time to start or reach the cluster)."""
+    """Yield each campaign's outcome as its worker finishes it, or, with a lab profile (a register
+    numbers the reports), in the lot's order (``timing["cluster_start_s"]``: the time to start or
+    reach the cluster)."""
     import logging
 
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import Client, LocalCluster
 
     t0 = time.perf_counter()
     cluster = None
@@ -294,19 +331,50 @@ def _evaluate_on_dask(job: Job, todo: Sequence[tuple[str, str, str]], *, schedul
         client.wait_for_workers(n)
     timing["cluster_start_s"] = time.perf_counter() - t0
     try:
-        futures = {client.submit(evaluate_campaign, job, m, name, sha, pure=False, key=f"metro-{sha[:16]}-{name}"):
-                   (m, name, sha) for m, name, sha in todo}
-        for fut in as_completed(futures):
-            m, name, sha = futures[fut]
-            try:
-                yield fut.result()
-            except Exception as exc:  # the worker died (KilledWorker, lost connection): listed, lot goes on
-                yield {"campaign": m, "name": name, "sha256": sha, "status": "error", "error": type(exc).__name__,
-                       "message": str(exc) or repr(exc), "hint": "the Dask worker failed while evaluating it"}
+        if job.lab is None:  # no register numbers: each device reported as soon as it is evaluated
+            yield from _as_finished(client, job, todo)
+        else:
+            yield from _in_lot_order(client, job, todo)
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _outcome(fut, campaign: tuple[str, str, str]) -> dict[str, Any]:
+    """A task's result; a worker that died (KilledWorker, lost connection) gives the campaign's error."""
+    m, name, sha = campaign
+    try:
+        return fut.result()
+    except Exception as exc:  # listed, the lot goes on
+        return {"campaign": m, "name": name, "sha256": sha, "status": "error", "error": type(exc).__name__,
+                "message": str(exc) or repr(exc), "hint": "the Dask worker failed while evaluating it"}
+
+
+def _as_finished(client, job: Job, todo: Sequence[tuple[str, str, str]]):
+    from distributed import as_completed
+
+    futures = {client.submit(evaluate_campaign, job, m, name, sha, pure=False, key=f"metro-{sha[:16]}-{name}"):
+               (m, name, sha) for m, name, sha in todo}
+    for fut in as_completed(futures):
+        yield _outcome(fut, futures[fut])
+
+
+def _in_lot_order(client, job: Job, todo: Sequence[tuple[str, str, str]]):
+    """Every campaign evaluated at once on the workers; the reports written, and numbered by the
+    register, one after the other in the lot's order (the order of --data, then of the paths a
+    glob finds), each on the worker that holds its record.  Issuing was one at a time already (the
+    register's lock is held while a report is written), so the lot loses no parallel work."""
+    evaluations = [client.submit(evaluate_only, job, m, name, sha, pure=False, key=f"metro-eval-{sha[:16]}-{name}")
+                   for m, name, sha in todo]
+    for campaign, fut in zip(todo, evaluations):
+        res = _outcome(fut, campaign)
+        if res.get("status") == "pending":
+            m, name, sha = campaign
+            written = client.submit(report_evaluated, job, m, name, sha, pure=False, key=f"metro-report-{sha[:16]}-{name}",
+                                workers=[res["worker"]], allow_other_workers=True, priority=10)
+            res = _outcome(written, campaign)
+        yield res
 
 
 # -- the lot summary ------------------------------------------------------------------------

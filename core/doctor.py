@@ -9,8 +9,9 @@ Checks
     ``cjk-fonts`` (required)   a CJK font matplotlib draws Chinese with, as metro's figures use it
     ``soffice`` (optional)     LibreOffice, for ``--pdf`` and ``--report x.pdf``
     ``pdftotext`` (optional)   poppler, to read a PDF report as text (the document tests use it)
-    ``extra:NAME`` (optional)  the optional Python packages: dask (``metro batch``), psycopg
-                               (a PostgreSQL register), numba and pyarrow (speed)
+    ``extra:NAME`` (optional)  the optional Python packages (:mod:`metro.core.extras`): dask
+                               (``metro batch``), psycopg (a PostgreSQL register), numba and
+                               pyarrow (speed)
     ``lab-profile``            the lab profile in force is valid (required when one is in force)
     ``register``               the register is reachable and at the newest schema (required when
                                it exists; none yet is fine: the first registered run makes it)
@@ -22,12 +23,13 @@ import json
 import sys
 from typing import Any
 
-#: optional packages: (import name, what it enables, the install extra)
+#: optional packages: (import name, what it enables); the extra that installs each is
+#: :data:`metro.core.extras.EXTRA_OF`'s
 EXTRAS = (
-    ("distributed", "metro batch (a production lot on a Dask cluster)", "batch"),
-    ("psycopg", "a register on PostgreSQL shared by several stations", "postgres"),
-    ("numba", "compiled Allan and block statistics (a numpy fallback runs without it)", "fast"),
-    ("pyarrow", "fast CSV reading and the lot results as Parquet (metro batch)", "fast"),
+    ("distributed", "metro batch (a production lot on a Dask cluster)"),
+    ("psycopg", "a register on PostgreSQL shared by several stations"),
+    ("numba", "compiled Allan and block statistics (a numpy fallback runs without it)"),
+    ("pyarrow", "the multi-threaded CSV reader and Parquet files (a numpy reader runs without it)"),
 )
 
 #: a character every CJK font of the figures must draw
@@ -56,9 +58,7 @@ def check_fonts() -> dict[str, Any]:
 
     from . import plots
 
-    register = getattr(plots, "register_cjk_fonts", None)  # metro's own font registration, when there is one
-    if callable(register):
-        register()
+    plots.register_cjk_fonts()  # as the figures find them: not only through matplotlib's font cache
     found = []
     for family in plots.FALLBACK_FONTS:
         for f in font_manager.fontManager.ttflist:
@@ -101,30 +101,15 @@ def check_programs() -> list[dict[str, Any]]:
     return out
 
 
-def _distribution() -> str:
-    """The name metro is installed under (for the install line of an extra)."""
-    from importlib import metadata
-
-    try:
-        names = metadata.packages_distributions().get("metro") or []
-    except Exception:  # pragma: no cover - broken metadata
-        names = []
-    return names[0] if names else "metro"
-
-
 def check_extras() -> list[dict[str, Any]]:
-    import importlib.util
+    from .extras import EXTRA_OF, available, install_line
 
-    dist = _distribution()
     out = []
-    for module, enables, extra in EXTRAS:
-        try:
-            there = importlib.util.find_spec(module) is not None
-        except (ImportError, ValueError):
-            there = False
+    for module, enables in EXTRAS:
+        there = available(module)
         out.append(_check(f"extra:{module}", there, f"{module} installed: {enables}" if there
                           else f"{module} not installed: {enables} unavailable", required=False,
-                          fix=f"pip install '{dist}[{extra}]'"))
+                          fix=install_line(EXTRA_OF[module])))
     return out
 
 

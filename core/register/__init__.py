@@ -178,12 +178,47 @@ def _no_register(url: str, why: str) -> "RegisterError":
     return RegisterError(f"no register at {redact_url(url)} ({why})", hint=NO_REGISTER_HINT)
 
 
+@contextlib.contextmanager
+def _reading(url: str):
+    """A :class:`~metro.core.register.reading.Reader` of the register at ``url`` (which must exist);
+    a database that cannot be read is a :class:`RegisterError` saying why."""
+    from ..lab import redact_url
+    from .reading import reading
+
+    try:
+        with reading(url, sqlite_path(url)) as reader:
+            yield reader
+    except ImportError as exc:  # no PostgreSQL driver
+        raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
+                            hint="a PostgreSQL register needs psycopg: pip install 'metro-inertial[postgres]'") from exc
+    except Exception as exc:
+        if not exc.__class__.__module__.startswith(("sqlite3", "psycopg")):
+            raise
+        raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc.__class__.__name__}: "
+                            f"{str(exc).splitlines()[0] if str(exc) else ''})",
+                            hint="check the lab profile's register (or METRO_REGISTER) and that the database "
+                            "server is reachable") from exc
+
+
+def _revision(url: str) -> str | None:
+    """The schema revision of an existing database, read with its own driver (no SQLAlchemy)."""
+    with _reading(url) as reader:
+        return reader.revision()
+
+
 def _open(url: str, create: bool) -> "Register":
-    """Engine and, when the schema is not the newest, migrations; the engine disposed again if
-    they fail (no connection left open).  Without ``create`` an absent register is an error and
-    nothing is made (no file, no folder, no table)."""
+    """A register at the newest schema is opened as it is (no SQLAlchemy until it writes);
+    otherwise engine and migrations, the engine disposed again if they fail (no connection left
+    open).  Without ``create`` an absent register is an error and nothing is made (no file, no
+    folder, no table)."""
     path = sqlite_path(url)
-    if not create and path is not None and not path.is_file():
+    if path is None or path.is_file():
+        revision = _revision(url)
+        if revision == SCHEMA_HEAD:
+            return Register(url)
+        if revision is None and not create:
+            raise _no_register(url, "the database has no register tables")
+    elif not create:
         raise _no_register(url, "the file does not exist")
     engine = None
     try:
@@ -214,9 +249,6 @@ def register_state(url: str) -> dict[str, Any]:
     """What is at ``url``, read only (``metro doctor``): ``exists``, its schema ``revision``, the
     newest one (``head``), ``migrated`` (at the newest) and the number of ``reports``; an
     unreachable database is a :class:`RegisterError`.  Creates nothing and migrates nothing."""
-    from sqlalchemy import text
-    from sqlalchemy.exc import SQLAlchemyError
-
     from ..lab import redact_url
 
     _check_scheme(url)
@@ -225,20 +257,11 @@ def register_state(url: str) -> dict[str, Any]:
     path = sqlite_path(url)
     if path is not None and not path.is_file():
         return state
-    engine = None
-    try:
-        engine = _engine(url, create=False)
-        revision = schema_revision(engine)
+    with _reading(url) as reader:
+        revision = reader.revision()
         state.update(exists=revision is not None, revision=revision, migrated=revision == SCHEMA_HEAD)
         if revision is not None:
-            with engine.connect() as conn:
-                state["reports"] = conn.execute(text("SELECT count(*) FROM reports")).scalar()
-    except (SQLAlchemyError, OSError, ImportError) as exc:
-        raise RegisterError(f"register {redact_url(url)}: cannot read the database ({exc.__class__.__name__}: "
-                            f"{str(exc).splitlines()[0] if str(exc) else ''})") from exc
-    finally:
-        if engine is not None:
-            engine.dispose()
+            state["reports"] = reader.rows("SELECT count(*) FROM reports")[0][0]
     return state
 
 
@@ -247,8 +270,6 @@ def open_register(url: str, *, create: bool = True) -> "Register":
     older; with ``create`` (a registered run) an absent register is made, without it (every
     command that only reads, amends or withdraws) it is a :class:`RegisterError` and nothing is
     made.  A database metro cannot use is a :class:`RegisterError` saying why."""
-    from sqlalchemy.exc import SQLAlchemyError
-
     from ..lab import redact_url
 
     _check_scheme(url)
@@ -258,25 +279,50 @@ def open_register(url: str, *, create: bool = True) -> "Register":
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
                             hint="check the lab profile's register (or METRO_REGISTER): its folder must be "
                             "writable") from exc
-    except SQLAlchemyError as exc:
+    except Exception as exc:
+        if not exc.__class__.__module__.startswith("sqlalchemy"):
+            raise _alembic_error(url, exc)
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc.__class__.__name__}: "
                             f"{str(exc).splitlines()[0]})",
                             hint="check the lab profile's register (or METRO_REGISTER) and that the database "
                             "server is reachable") from exc
-    except Exception as exc:  # alembic: a register written by a newer metro
-        if exc.__class__.__module__.startswith("alembic"):
-            raise RegisterError(f"register {redact_url(url)}: {exc}",
-                                hint="the register was written by a newer metro; upgrade metro") from exc
-        raise
+
+
+def _alembic_error(url: str, exc: Exception) -> Exception:
+    """Alembic's error about a register written by a newer metro, said as such; any other as it is."""
+    from ..lab import redact_url
+
+    if exc.__class__.__module__.startswith("alembic"):
+        err = RegisterError(f"register {redact_url(url)}: {exc}",
+                            hint="the register was written by a newer metro; upgrade metro")
+        err.__cause__ = exc
+        return err
+    return exc
 
 
 class Register:
-    def __init__(self, url: str, engine) -> None:
+    """An open register.  Reading goes through the database's own driver
+    (:mod:`metro.core.register.reading`, no SQLAlchemy); the SQLAlchemy engine that writes is made
+    on first use."""
+
+    def __init__(self, url: str, engine=None) -> None:
         self.url = url
-        self.engine = engine
+        self._engine = engine
+
+    @property
+    def engine(self):
+        if self._engine is None:
+            self._engine = _engine(self.url, create=False)  # the register exists: opened before
+        return self._engine
 
     def close(self) -> None:
-        self.engine.dispose()
+        if self._engine is not None:
+            self._engine.dispose()
+
+    @contextlib.contextmanager
+    def _reader(self):
+        with _reading(self.url) as reader:
+            yield reader
 
     def __enter__(self) -> "Register":
         return self
@@ -436,47 +482,44 @@ class Register:
             rep.reason = reason
             self._audit(s, "withdraw", number, reason, who, dt.datetime.now(dt.timezone.utc).replace(microsecond=0))
 
-    # -- reading -------------------------------------------------------------------------
+    # -- reading (the database's own driver: metro.core.register.reading) ------------------
+    def _unknown(self, number: str) -> RegisterError:
+        return RegisterError(f"report {number} is not in the register {self.display_url}",
+                             hint="`metro register list` shows the numbers in the register")
+
     def get(self, number: str) -> dict[str, Any]:
-        with self._session(read=True) as s:
-            return report_dict(self._report(s, number), results=True, audit=self._audit_of(s, number))
+        with self._reader() as r:
+            found = r.reports("WHERE number = ?", [number], results=True)
+            if not found:
+                raise self._unknown(number)
+            return report_dict(found[0], results=True, audit=_audit_dicts(r.audit(number)))
 
     def context(self, number: str) -> tuple[dict[str, Any], str]:
         """The stored render context and template name of a report (for re-rendering)."""
-        with self._session(read=True) as s:
-            rep = self._report(s, number)
-            return rep.context, rep.template
-
-    def _audit_of(self, s, number: str | None) -> list[dict[str, Any]]:
-        from sqlalchemy import select
-
-        from .models import AuditEntry
-
-        q = select(AuditEntry).order_by(AuditEntry.id)
-        if number is not None:
-            q = q.where(AuditEntry.number == number)
-        return [{"at": _utc(a.at).isoformat(), "who": a.who, "action": a.action, "number": a.number,
-                 "detail": a.detail} for a in s.execute(q).scalars()]
+        with self._reader() as r:
+            found = r.records(("context", "template"), "SELECT context, template FROM reports WHERE number = ?",
+                              [number])
+        if not found:
+            raise self._unknown(number)
+        return found[0].context, found[0].template
 
     def audit(self, number: str | None = None) -> list[dict[str, Any]]:
-        with self._session(read=True) as s:
-            return self._audit_of(s, number)
+        with self._reader() as r:
+            return _audit_dicts(r.audit(number))
 
     def list(self, *, device: str | None = None, standard: str | None = None,
              since: dt.date | None = None, results: bool = False) -> list[dict[str, Any]]:
-        from sqlalchemy import select
-
-        from .models import Report
-
-        q = select(Report).order_by(Report.issued_at, Report.id)
-        if device:
-            q = q.where(Report.device_serial == device)
-        if standard:
-            q = q.where(Report.standard == standard)
-        if since:
-            q = q.where(Report.measurement_date >= since)
-        with self._session(read=True) as s:
-            return [report_dict(r, results=results) for r in s.execute(q).scalars()]
+        conditions, params = [], []
+        for cond, value in (("device_serial = ?", device), ("standard = ?", standard),
+                            ("measurement_date >= ?", since)):
+            if value:
+                conditions.append(cond)
+                params.append(value)
+        with self._reader() as r:
+            if since and r.sqlite:  # SQLite keeps dates as ISO text, which sorts as the dates do
+                params[-1] = since.isoformat()
+            where = ("WHERE " + " AND ".join(conditions)) if conditions else ""
+            return [report_dict(x, results=results) for x in r.reports(where, params, results=results)]
 
     def verify(self) -> list[dict[str, Any]]:
         """Every report file against its stored SHA-256: ``ok``, ``modified`` or ``missing``."""
@@ -491,6 +534,11 @@ class Register:
             out.append({"number": r["number"], "status": r["status"], "path": str(p), "check": state,
                         "sha256_stored": r["report_sha256"], "sha256_found": found})
         return out
+
+
+def _audit_dicts(entries) -> list[dict[str, Any]]:
+    return [{"at": _utc(a.at).isoformat(), "who": a.who, "action": a.action, "number": a.number,
+             "detail": a.detail} for a in entries]
 
 
 def _fsync_dir(directory: Path) -> None:
