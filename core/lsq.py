@@ -39,7 +39,6 @@ import math
 import attrs
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import linalg as _sla
 
 __all__ = [
     "LinearFit",
@@ -202,6 +201,8 @@ def fit_linear(
     Golub & Van Loan, *Matrix Computations* (2013), sec. 5.3; Bjorck, *Numerical Methods
     for Least Squares Problems* (1996), sec. 4.1 (GLS by whitening).
     """
+    from scipy import linalg as sla  # here, not at import: loading the plugins needs no scipy
+
     A_arr = _as_finite("A", np.reshape(A, (-1, 1)) if np.ndim(A) == 1 else A, 2)
     y_arr = _as_finite("y", y, 1)
     n, p = A_arr.shape
@@ -236,11 +237,11 @@ def fit_linear(
         if not np.allclose(V, V.T, rtol=1e-12, atol=1e-14 * scale):
             raise ValueError("cov_y must be symmetric")
         try:
-            chol = _sla.cholesky(V, lower=True, check_finite=False)
+            chol = sla.cholesky(V, lower=True, check_finite=False)
         except np.linalg.LinAlgError:
             raise ValueError("cov_y is not positive definite") from None
-        Aw = _sla.solve_triangular(chol, A_arr, lower=True, check_finite=False)
-        yw = _sla.solve_triangular(chol, y_arr, lower=True, check_finite=False)
+        Aw = sla.solve_triangular(chol, A_arr, lower=True, check_finite=False)
+        yw = sla.solve_triangular(chol, y_arr, lower=True, check_finite=False)
     else:
         Aw = A_arr
         yw = y_arr
@@ -260,7 +261,7 @@ def fit_linear(
             f"singular design matrix: rank {rank} < {p} columns (columns are linearly "
             f"dependent; condition number of the column-scaled design ~ {cond:.3g})"
         )
-    z = _sla.solve_triangular(R, Q.T @ yw, lower=False, check_finite=False)
+    z = sla.solve_triangular(R, Q.T @ yw, lower=False, check_finite=False)
     coef = z / norms
 
     resid_w = yw - As @ z
@@ -268,7 +269,7 @@ def fit_linear(
     dof = n - p
     s2 = ssr / dof
 
-    Rinv = _sla.solve_triangular(R, np.eye(p), lower=False, check_finite=False)
+    Rinv = sla.solve_triangular(R, np.eye(p), lower=False, check_finite=False)
     cov = (Rinv @ Rinv.T) / np.outer(norms, norms)
     if scale_cov:
         cov = cov * s2
@@ -282,7 +283,7 @@ def fit_linear(
             ybar = float(np.sum(w * y_arr) / np.sum(w))
             sst = float(np.sum(w * (y_arr - ybar) ** 2))
         elif chol is not None:
-            ow = _sla.solve_triangular(chol, np.ones(n), lower=True, check_finite=False)
+            ow = sla.solve_triangular(chol, np.ones(n), lower=True, check_finite=False)
             ybar = float(ow @ yw / (ow @ ow))
             dev = yw - ybar * ow
             sst = float(dev @ dev)
