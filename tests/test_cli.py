@@ -501,7 +501,7 @@ def test_readme_exit_code_table_is_what_metro_returns():
     table = text.split("### Exit codes", 1)[1]
     documented = {int(c) for c in re.findall(r"^\| (\d+) \|", table, flags=re.M)}
     assert documented == {cli.EXIT_OK, cli.EXIT_USER_ERROR, cli.EXIT_NONCONFORMING, cli.EXIT_INDETERMINATE,
-                          cli.EXIT_CAMPAIGN_FAILED, cli.EXIT_INTERRUPTED, cli.EXIT_BROKEN_PIPE}
+                          cli.EXIT_CAMPAIGN_FAILED, cli.EXIT_CHECK_FAILED, cli.EXIT_INTERRUPTED, cli.EXIT_BROKEN_PIPE}
     assert (cli.exit_code_for("pass"), cli.exit_code_for(None), cli.exit_code_for("fail"),
             cli.exit_code_for("indeterminate")) == (0, 0, 3, 4)
 
