@@ -449,7 +449,11 @@ def _cmd_version(args) -> int:
     from . import __version__
 
     print(f"metro {__version__}")
-    pm = _pm(args)
+    from .plugins import MetroPluginManager
+
+    # the plugins loaded as every command loads them, without their registration (their items'
+    # modules): the versions are the distributions'
+    pm = MetroPluginManager().load(autoload=False if args.no_plugin_autoload else None, block=args.block_plugin)
     for name, info in sorted(pm.plugins.items()):
         where = info.distribution or info.module
         print(f"  plugin {name}: {where} {info.version or ''}".rstrip())
