@@ -318,7 +318,7 @@ def _cmd_show(args) -> int:
         return 0
     from rich.console import Console
 
-    c = Console()
+    c = Console(soft_wrap=not _is_terminal())  # piped: each line whole (no wrapping at 80 columns)
     c.print(f"[bold]{d['number']}[/] — {d['status']}" + (f" (reason: {d['reason']})" if d["reason"] else ""))
     for label, key in (("replaces", "supersedes"), ("replaced by", "superseded_by")):
         if d[key]:

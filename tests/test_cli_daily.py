@@ -319,3 +319,12 @@ def test_doctor_names_the_extra_of_a_missing_package(home, run_cli, monkeypatch)
     assert numba["fix"] == "pip install 'metro-inertial[fast]'" and "numpy fallback" in numba["detail"]
     code, stdout, _ = run_cli("doctor")
     assert "missing" in stdout and "metro-inertial[fast]" in stdout
+
+
+def test_register_show_piped_keeps_each_line_whole(lab, run_cli, tmp_path):
+    (number,) = _issue(lab, tmp_path / "a-folder-with-a-rather-long-name-for-its-reports")
+    code, stdout, _ = run_cli("--lab", str(lab), "register", "show", number)
+    assert code == 0
+    line = next(ln for ln in stdout.splitlines() if ln.startswith("  file "))
+    assert line.endswith(")") and "sha256 " in line and len(line) > 80  # one line, not wrapped at 80
+    assert "# results" in stdout and "# audit trail" in stdout and "…" not in stdout
