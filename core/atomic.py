@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Callable, Iterator
 
 __all__ = ["atomic_path", "atomic_write", "atomic_write_text", "atomic_write_bytes", "TMP_MARKER",
-           "sweep_stale", "STALE_AFTER_S"]
+           "sweep_stale", "STALE_AFTER_S", "write_failure"]
 
 #: Every temporary file's name contains this marker: ``.{name}{TMP_MARKER}{8 hex digits}``.
 TMP_MARKER = ".tmp-"
@@ -37,6 +37,24 @@ _TRIES = 100
 STALE_AFTER_S = 15 * 60
 
 _TMP_NAME = re.compile(r"^\..+" + re.escape(TMP_MARKER) + r"[0-9a-f]{8}$")
+
+
+def write_failure(exc: OSError) -> tuple[str, str]:
+    """(reason, what to do) for an ``OSError`` met while writing, in words a user acts on: a full
+    disk (ENOSPC) says so, as do a used-up quota, a read-only file system and a refused permission."""
+    import errno
+
+    code = exc.errno
+    if code == errno.ENOSPC:
+        return ("the disk is full (no space left on the file system)",
+                "free some space on that disk, or write to another folder")
+    if code == getattr(errno, "EDQUOT", None):
+        return "your disk quota is used up", "free some space in your quota, or write to another folder"
+    if code == errno.EROFS:
+        return "the file system is read-only", "write to another folder"
+    if code in (errno.EACCES, errno.EPERM):
+        return "permission denied", "write to a folder you may write in, or ask for write access"
+    return (exc.strerror or str(exc)), "check the disk and the folder, or write to another folder"
 
 
 def sweep_stale(directory: str | os.PathLike[str], *, older_than_s: float = STALE_AFTER_S) -> list[Path]:

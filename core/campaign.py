@@ -359,6 +359,7 @@ def read_toml_digest(path: str | Path, fmt: str, *, what: str, hint: str) -> tup
         raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
     except tomllib.TOMLDecodeError as exc:
         raise DataError(src, None, f"not valid TOML: {exc}") from exc
+    voc.check_characters(doc, src)
     found = doc.get("format", fmt)
     if found != fmt:
         raise DataError(src, "format", f"unsupported format {_short(found)}; this metro reads {fmt!r}")

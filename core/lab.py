@@ -257,6 +257,9 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
         raise DataError(src, None, f"not UTF-8 text ({exc})") from exc
     except tomllib.TOMLDecodeError as exc:
         raise DataError(src, None, f"not valid TOML: {exc}") from exc
+    from .vocabulary import check_characters
+
+    check_characters(doc, src)  # every text must be one a report can hold
     fmt = doc.get("format", FORMAT)
     if fmt != FORMAT:
         raise DataError(src, "format", f"unsupported format {fmt!r}; this metro reads {FORMAT!r}")

@@ -12,6 +12,7 @@ Nothing is created here: folders are made when the report is written.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tomllib
 from pathlib import Path
@@ -144,10 +145,16 @@ def write_checked(path: Path, campaign, writer, *, force: bool, option: str = "-
     if pdf and path.suffix.lower() != ".pdf":  # --pdf: the PDF beside the .docx, checked the same way
         check_report_path(path.with_suffix(".pdf"), force=force, inputs=inputs, option=option)
     made = [p for p in (path.parent, *path.parent.parents) if not p.exists()]
+    # the files this write makes (the .docx and, with --pdf, the PDF beside it, written one after
+    # the other): on a failure the ones that were not there before go again, then their folders
+    new = [p for p in dict.fromkeys((path, path.with_suffix(".pdf"))) if not p.exists()]
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         return writer(path)
-    except BaseException as exc:  # the atomic write left no file: remove the folders made for it
+    except BaseException as exc:
+        for p in new:
+            with contextlib.suppress(OSError):
+                p.unlink()
         for p in made:
             try:
                 p.rmdir()
@@ -155,5 +162,8 @@ def write_checked(path: Path, campaign, writer, *, force: bool, option: str = "-
                 break
         if not isinstance(exc, OSError):
             raise
-        raise MetroError(f"cannot write the report {path}: {exc.strerror or exc}; nothing was written",
-                         hint="free space or choose another --out / --report") from exc
+        from .atomic import write_failure
+
+        reason, hint = write_failure(exc)
+        raise MetroError(f"cannot write the report {path}: {reason}; nothing was written",
+                         hint=f"{hint} (--out / --report)") from exc

@@ -18,13 +18,16 @@ from __future__ import annotations
 
 import datetime as dt
 import difflib
+import re
 from typing import Any, Iterable, Mapping
 
 import attrs
 
+from .errors import DataError
+
 __all__ = [
     "CAMPAIGN_KEYS", "CAMPAIGN_ALIASES", "ROLES", "ROLE_ALIASES", "SECTIONS", "DEVICE_KEYS",
-    "MAX_TEXT", "People", "Lab", "Customer",
+    "MAX_TEXT", "check_characters", "People", "Lab", "Customer",
     "canonical_role", "role_alias", "campaign_key", "did_you_mean", "unknown_key_warning",
     "register_section", "register_device_property", "register_role", "register_campaign_key",
     "people_of", "lab_of", "customer_of", "date_of",
@@ -356,3 +359,41 @@ def date_of(meta: Mapping[str, Any], key: str) -> dt.date | None:
         return dt.date.fromisoformat(str(v).strip()[:10])
     except ValueError:
         return None
+
+
+# ------------------------------------------------------------------------------ characters
+
+#: characters XML 1.0 does not allow (a Word report is XML): C0 controls other than tab, line feed
+#: and carriage return, lone surrogates, U+FFFE and U+FFFF
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
+def _character_error(src: str | None, field: str, text: str, what: str) -> DataError | None:
+    m = _NOT_XML.search(text)
+    if m is None:
+        return None
+    cp = ord(m.group())
+    kind = ("the control character" if cp < 32 else "a lone surrogate" if 0xD800 <= cp <= 0xDFFF
+            else "the non-character")
+    return DataError(src, field, f"{what} contains {kind} U+{cp:04X} at position {m.start() + 1}, which a "
+                     "report cannot hold (XML allows no such character)",
+                     hint="delete it or retype the text; it is often left by a copy from another program")
+
+
+def check_characters(doc: Any, src: str | None, field: str = "") -> None:
+    """Every text of a TOML document (keys and values, at any depth) must be one a report can hold:
+    a :class:`DataError` names the file, the field and the character (``U+FFFE at position 5``)."""
+    err = None
+    if isinstance(doc, str):
+        err = _character_error(src, field, doc, "the text")
+    elif isinstance(doc, dict):
+        for k, v in doc.items():
+            err = _character_error(src, field or "(top level)", str(k), f"the key {str(k)!r}")
+            if err is not None:
+                break
+            check_characters(v, src, f"{field}.{k}" if field else str(k))
+    elif isinstance(doc, list):
+        for i, v in enumerate(doc):
+            check_characters(v, src, f"{field}[{i}]")
+    if err is not None:
+        raise err

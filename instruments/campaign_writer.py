@@ -33,7 +33,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import pint
 
-from metro.core.atomic import TMP_MARKER, atomic_write_text
+from metro.core.atomic import TMP_MARKER, atomic_write_text, write_failure
 from metro.core.campaign import FORMAT
 from metro.core.errors import DataError, MetroError
 from metro.core.model import Calibration, Campaign, Equipment, Segment
@@ -301,11 +301,15 @@ def write_campaign(
         if out.is_dir():
             out.rmdir()  # empty: checked above
         os.rename(tmp, out)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         for parent in reversed(made):  # the folders made for it, innermost first (empty again)
             with contextlib.suppress(OSError):
                 parent.rmdir()
+        if isinstance(exc, OSError):  # a full disk, a read-only file system: said, not a traceback
+            reason, hint = write_failure(exc)
+            raise DataError(str(out), None, f"cannot write the campaign: {reason}; nothing was written",
+                            hint=hint) from exc
         raise
     try:
         fd = os.open(out.parent, os.O_RDONLY)

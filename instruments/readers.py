@@ -715,7 +715,7 @@ def _text_where(layout: _TextLayout):
 
 _SP, _SG, _DG, _DOT, _EXP, _NUL, _OTHER = range(7)
 _CLASS = np.full(256, _OTHER, dtype=np.uint8)
-_CLASS[[ord(c) for c in " \t\r\""]] = _SP  # spaces, the CR of CRLF and the quotes around a cell
+_CLASS[[ord(c) for c in " \t\r"]] = _SP  # spaces and the CR of CRLF (a quoted cell goes to float())
 _CLASS[[ord("+"), ord("-")]] = _SG
 _CLASS[ord("0") : ord("9") + 1] = _DG
 _CLASS[ord(".")] = _DOT
@@ -829,16 +829,29 @@ def _value_error(layout: _TextLayout, cell: str, row: int, text: str) -> DataErr
                      hint=hint)
 
 
+def _cell_value(cell: bytes) -> float:
+    """One cell as pyarrow's CSV reader reads it: a double-quoted cell is unquoted (what follows the
+    closing quote is kept, as pyarrow keeps it), spaces around the number are dropped, nan and
+    inf(inity) are taken; anything else that is not a decimal number raises ValueError."""
+    if cell.startswith(b'"'):
+        end = cell.find(b'"', 1)
+        if end < 0:
+            raise ValueError
+        cell = cell[1:end] + cell[end + 1 :]
+    text = cell.strip(b" \t\r")
+    if not text or b'"' in text or b"_" in text or any(c <= 32 for c in text):  # float() takes 1_000
+        raise ValueError
+    return float(text)
+
+
 def _slow_values(chunk: bytes, starts: np.ndarray, lens: np.ndarray, values: np.ndarray,
                  slow: np.ndarray) -> int | None:
-    """Fill ``values`` at ``slow`` with float(); the index of the first field that is no number."""
+    """Fill ``values`` at ``slow`` with :func:`_cell_value`; the index of the first field that is
+    no number."""
     for i in np.flatnonzero(slow):
         s = int(starts[i])
-        text = chunk[s : s + int(lens[i])].strip(b' \t\r"')
         try:
-            if b"_" in text:  # float() takes 1_000; a data file does not
-                raise ValueError
-            values[i] = float(text)
+            values[i] = _cell_value(chunk[s : s + int(lens[i])])
         except ValueError:
             return int(i)
     return None
