@@ -1190,8 +1190,8 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
         # hundreds of segments (a JJF 2014 --all run has ~700): five pages of hex help no reader;
         # the digest over the sorted list above fixes them all, and the record lists each
         doc.para(tr("{n} data files or segments: the SHA-256 above is over the sorted list of their "
-                    "digests, which the run record lists in full (metro run --json: provenance.data_files; "
-                    "the register keeps it with the report).", n=len(files)), size=7.5)
+                    "digests, which the record of the run lists in full (the register keeps it with the "
+                    "report).", n=len(files)), size=7.5)
         return
     names = [_short_name(tr.render(f["file"], one)) for f in files]
     prefix, suffix = _common_affixes(names)

@@ -14,6 +14,10 @@ component, a conformity reason, why a method was chosen) is a :class:`Text`, mad
 :func:`msg`: it *is* the English string (the terminal, ``--json``, comparisons and tests see
 plain English), and it keeps its message id and fields, so a document's :class:`Translator`
 writes it in the document's language (``tr.text(value)``, or ``tr(value)``).
+
+A field made by :func:`hint` is for the terminal only: advice about the software (a command, an
+option, a manifest key) that the terminal and ``--json`` print and a document leaves out — a
+certificate speaks to its reader, not to metro's user.
 """
 
 from __future__ import annotations
@@ -23,8 +27,8 @@ import re
 from importlib import resources
 from typing import Any, Callable, Iterable
 
-__all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "Index", "msg", "join", "index", "Translator", "translator",
-           "catalog", "read_catalog"]
+__all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "Index", "Hint", "msg", "join", "index", "hint", "Translator",
+           "translator", "catalog", "read_catalog"]
 
 LANGS = ("zh", "en", "zh+en")
 _HAN = re.compile(r"[\u3400-\u9fff\uf900-\ufaff]")
@@ -107,6 +111,23 @@ def index(value: Any) -> Index:
     return Index(str(value))
 
 
+class Hint(str):
+    """A message field for the terminal only (see :func:`hint`): its text in English wherever the
+    message is a plain string (the terminal, ``--json``), nothing in a document."""
+
+    __slots__ = ()
+
+    def __reduce__(self):
+        return (Hint, (str(self),))
+
+
+def hint(value: Any) -> Hint:
+    """``msg("… may be higher — test beyond it{hint}", hint=hint(" (plan with -o max_rate=…)"))``:
+    advice about the software that the terminal prints and a document leaves out (the catalog's
+    translation keeps the ``{hint}`` place, where a document puts nothing)."""
+    return Hint(str(value))
+
+
 class Text(str):
     """English text that remembers how it was made, to be written again in another language.
 
@@ -145,6 +166,8 @@ class Text(str):
                 return v.map(fn)
             if isinstance(v, Index):
                 return Index(fn(v))
+            if isinstance(v, Hint):
+                return Hint(fn(v))
             if isinstance(v, str):
                 return fn(v)
             return v
@@ -162,6 +185,8 @@ class Text(str):
                 return {"text": v.encode()}
             if isinstance(v, Index):
                 return {"index": str(v)}
+            if isinstance(v, Hint):
+                return {"hint": str(v)}
             if isinstance(v, str) or v is None or isinstance(v, bool):
                 return str(v) if isinstance(v, str) else v
             if isinstance(v, numbers.Integral):
@@ -179,6 +204,8 @@ class Text(str):
         def dec(v: Any) -> Any:
             if isinstance(v, dict) and set(v) == {"index"}:
                 return Index(v["index"])
+            if isinstance(v, dict) and set(v) == {"hint"}:
+                return Hint(v["hint"])
             return Text.decode(v["text"]) if isinstance(v, dict) and set(v) == {"text"} else v
 
         if "parts" in doc:
@@ -251,6 +278,8 @@ class Translator:
         """``value`` in one language (``zh`` or ``en``): a :class:`Text` looked up in the catalog
         and formatted with its fields (each translated in turn); plain text is looked up as a
         whole (a fixed name the catalog holds) and else kept as it is (data: names, files)."""
+        if isinstance(value, Hint):  # for the terminal only
+            return ""
         if isinstance(value, Text):
             if value.msgid is None:
                 return value.sep.join(self.render(p, lang) for p in value.parts)

@@ -515,7 +515,7 @@ class ScaleFactorRepeatabilityD14(Procedure):
                            segments=[s for _, p in pts for s in p.segments],
                            options={k: str(v) for k, v in opts.items()})
         rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors (χ² bound)", q=q),
-                                 "(s_upper − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf),
+                                 "(s_{upper} − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf),
                 _counter_row([p for _, p in pts], 1.0, "")]
         m = min(min(p.m_plus, p.m_minus) for _, p in pts)
         rows += [attrs.evolve(r, source=msg("{source}, run to run", source=r.source), sensitivity=Q_(1.0 / m, ""),
@@ -759,7 +759,7 @@ def misalignment_outcome(proc: Procedure, campaign: Campaign, opts, ang: Mapping
             sens_reseat = math.hypot(ca, cb) / math.sqrt(2.0)
         if reseat is not None:
             rows.append(BudgetRow.type_b(msg("re-seating tilt of the gyro in the fixture ({equipment})", equipment=reseat[1]),
-                                         "δ_fixture",
+                                         "δ_{fixture}",
                                          reseat[0].to("deg"), distribution="uniform",
                                          sensitivity=Q_(sens_reseat, ""),
                                          note=msg("independent in the 0° and 180° mountings; (δ₁ − δ₂)/2")))

@@ -16,7 +16,7 @@ import numpy as np
 from metro.core import allan
 from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -508,8 +508,9 @@ class BiasTemperatureSensitivityD54(Procedure):
         on = _turn_on(campaign, int(opts["batches"]), msg(
             "each temperature point is a power-on of its own (D.5.4.2 c)), so B_i and B_00 also differ by the "
             "turn-on scatter of the bias, which this campaign does not measure: record D.5.3's power-ons with it "
-            "(static-repeat runs, as metro plan -s gbt45570 -i D.5.4 lists them) or give [device] "
-            "bias_repeatability from an earlier D.5.3"))
+            "or state the bias repeatability of an earlier D.5.3{hint}",
+            hint=hint(" (static-repeat runs, as metro plan -s gbt45570 -i D.5.4 lists them, or [device] "
+                      "bias_repeatability)")))
         s_on, nu_on, rep_note = on.sigma, on.nu, on.note
         u_on = math.sqrt(2.0) * s_on / abs(dT)
         u_tot = math.hypot(uA, u_on)
@@ -669,9 +670,10 @@ class BiasMagneticSensitivityD55(Procedure):
         # √2·σ_on besides their noise (interpretations.md, "D.5.5 — each field record a power-on")
         on = _turn_on(campaign, int(opts["batches"]), msg(
             "each field record is a power-on of its own (\"by D.5.1.2\"), so B_0+ and B_0− also differ by the turn-on "
-            "scatter of the bias, which this campaign does not measure: record D.5.3's power-ons with it (static-repeat "
-            "runs, as metro plan -s gbt45570 -i D.5.5 lists them) or give [device] bias_repeatability from an earlier "
-            "D.5.3"))
+            "scatter of the bias, which this campaign does not measure: record D.5.3's power-ons with it or state the "
+            "bias repeatability of an earlier D.5.3{hint}",
+            hint=hint(" (static-repeat runs, as metro plan -s gbt45570 -i D.5.5 lists them, or [device] "
+                      "bias_repeatability)")))
         s_on, nu_on = on.sigma, on.nu
         from metro.core.selection import abs_change, abs_change_note, abs_change_rows
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, UncertaintyBudget, std_sampling_u
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.lsq import fit_line
 from metro.core.model import (
     Campaign,
@@ -644,7 +644,7 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
         if not Kr > 0:
             raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
         rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors (χ² bound)", q=q),
-                                 "(s_upper − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf)]
+                                 "(s_{upper} − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf)]
         rows += _stability_row(campaign, last)
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))
@@ -940,7 +940,7 @@ class MaxInputRateD3(Procedure):
         warnings = []
         if om == max(rates):
             warnings.append(msg("K_n meets the limit up to the largest rate tested ({om:g} °/s); the maximum input rate "
-                                "may be higher — test beyond it (plan with -o max_rate=…)", om=om))
+                                "may be higher — test beyond it{hint}", om=om, hint=hint(" (plan with -o max_rate=…)")))
         failing_below = [r for r, kn in curve if r < om and kn > limit]
         if failing_below:
             warnings.append(msg("ranges up to {rates} °/s exceed the limit while the range up to {om:g} °/s meets it "

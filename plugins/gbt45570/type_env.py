@@ -36,7 +36,7 @@ import numpy as np
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.conformity import Comparison, Specification, parse_limit
 from metro.core.errors import DataError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.model import (
     Campaign,
     Metric,
@@ -516,8 +516,9 @@ class _EnvironmentalTest(Procedure):
         if campaign.device.output not in ("pulse", "") and any(
                 sg.kind == REVOLUTIONS_KIND and str(sg.conditions.get("test", "")) == t.tag for sg in campaign.segments):
             warnings.append(msg("revolution counts of {test} ignored: the angle method (D.1.1) reads pulse output and "
-                                "this gyro's output is {output}; record with option scale_factor = rate (D.2.1) to "
-                                "check its scale factor", test=t.key, output=campaign.device.output))
+                                "this gyro's output is {output}; record it with the rate method (D.2.1) to check its "
+                                "scale factor{hint}", test=t.key, output=campaign.device.output,
+                                hint=hint(" (option scale_factor = rate)")))
         if sf["before"] is not None and sf["after"] is not None:
             km = Metric(f"{t.tag}_dK", msg("{test}: relative scale-factor change after − before", test=t.name_en), "ΔK/K", "ppm",
                         "D.1.1.3 / D.2.1.3")

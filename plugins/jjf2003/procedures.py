@@ -25,7 +25,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import index, join, msg
+from metro.core.locale import hint, index, join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -537,12 +537,12 @@ class GyroBiasGSensitivity(Procedure):
                     note, er = msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)", leak=leak[i, j]), "removed"
                 elif i == j:
                     note, er = msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
-                                   "(φ = {lat:g}°) into g_{r}{r}, as the standard prints; option earth_rate = yes "
-                                   "removes it", r=index(r), v=v, lat=lat), "included"
+                                   "(φ = {lat:g}°) into g_{r}{r}, as the standard prints{hint}", r=index(r), v=v, lat=lat,
+                                   hint=hint("; option earth_rate = yes removes it")), "included"
                 else:
                     note, er = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
-                                   "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}; option earth_rate = yes "
-                                   "removes it", r=index(r), c=index(c), v=v, lat=lat), "included"
+                                   "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}{hint}", r=index(r), c=index(c), v=v,
+                                   lat=lat, hint=hint("; option earth_rate = yes removes it")), "included"
                 if delta:
                     note = join("; ", [note, D.corrected_note(delta, " (°/s)/gn")])
                 results.append(Result(m, Q_(float(G[i, j]) - delta, G_UNIT), b.combined, b, note=note, earth_rate=er,

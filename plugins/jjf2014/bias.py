@@ -12,7 +12,7 @@ import numpy as np
 from metro.core import allan
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -86,9 +86,10 @@ def _earth_text(campaign, on: bool, per_g: bool = False) -> str:
     except Exception:  # no latitude: say it without the number
         amount = "Ω_e·sin φ"
     if on:
-        return msg("earth rate removed ({amount}; -o earth_rate=on, not in the standard)", amount=amount)
-    return msg("earth rate included: the vertical input axis senses {amount}; the standard has no correction "
-               "(-o earth_rate=on removes it)", amount=amount)
+        return msg("earth rate removed ({amount}; not in the standard){hint}", amount=amount,
+                   hint=hint(" (-o earth_rate=on)"))
+    return msg("earth rate included: the vertical input axis senses {amount}; the standard has no correction{hint}",
+               amount=amount, hint=hint(" (-o earth_rate=on removes it)"))
 
 
 def _earth_term(campaign, seg: Segment | None, on: str, orient: str | None = None) -> float:
@@ -245,7 +246,7 @@ class BiasStability(_JJF):
         bs *= 3600.0
         P_ = int(round(p))
         u, dof, cnote = B.std_of_std_correlated(bs, x[: m * P_].reshape(m, P_).mean(axis=1), x[: m * P_], P_, dt)
-        rows = [_budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_upper − B_s)/2", u,
+        rows = [_budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_{upper} − B_s)/2", u,
                               "deg/h", dof, note=cnote),
                 kv.row(bs, "deg/h")]
         rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
@@ -290,7 +291,7 @@ class BiasRepeatability(_JJF):
                                                 "half-width)"), 1.0, "deg/h") for x in bvs),
                     key=lambda r: r[0].value.magnitude if r else -1.0)
         b = B.type_a_budget("Br", "deg/h", [
-            _budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_upper − B_r)/2", u, "deg/h", dof),
+            _budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_{upper} − B_r)/2", u, "deg/h", dof),
             kv.row(br, "deg/h"), *qrows])
         why = ""
         if qrows and qrows[0].value.to("deg/h").magnitude >= br:

@@ -683,7 +683,7 @@ class StartupTime(_JJF):
         if hi > lo:
             rows.append(BudgetRow.type_b(msg("the settling decided from the output's noise (outside at 2u, inside at "
                                              "the window means' family-wise 95 %): between {lo:.3g} s and {hi:.3g} s",
-                                             lo=lo, hi=hi), "Δt_noise/2", Q_((hi - lo) / 2, "s"),
+                                             lo=lo, hi=hi), "Δt_{noise}/2", Q_((hi - lo) / 2, "s"),
                                          distribution="uniform"))
             off = abs(ts - (lo + hi) / 2.0)
             if off > 1e-3 * (hi - lo):

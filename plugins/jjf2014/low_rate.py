@@ -431,7 +431,7 @@ class MisalignmentRepeatability(Misalignment):
         gr = F.std_bessel(gam, "eq. (26)", 7)
         u, dof = B.std_of_std(gr, len(gam))
         b = B.type_a_budget("gamma_r", "arcmin", [_budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"),
-                                                                "(s_upper − γ_mr)/2", u, "arcmin", dof)])
+                                                                "(s_{upper} − γ_mr)/2", u, "arcmin", dof)])
         tab = TableSpec("gamma_runs", msg("γ_mi per run"), [msg("run"), "γ_mi (′)"],
                         [[k, f"{g:.4f}"] for k, g in zip(sorted(runs), gam)])
         return self._outcome([Result(self.metrics[0], Q_(gr, "arcmin"), b.combined, b)], tables=[tab],

@@ -259,7 +259,7 @@ class Repeatability(_JJF):
         kr = F.relative_repeatability_eq10(Ks)
         u, dof = B.std_of_std(kr, len(Ks))
         b = B.type_a_budget("repeatability Kr", "", [
-            _budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_upper − K_r)/2", u, "", dof)])
+            _budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_{upper} − K_r)/2", u, "", dof)])
         tab = TableSpec("sf_runs", msg("K_i per calibration"), [msg("run"), "K_i (mV/((°)/s))", "u(K_i) fit"],
                         [[r, f"{s.K:.7g}", f"{s.fit.u_K:.2g}"] for r, s in sets.items()])
         return self._outcome([Result(self.metrics[0], Q_(kr, ""), b.combined, b)], tables=[tab],

@@ -639,7 +639,7 @@ class Repeatability75(_EBase):
         R, R_i = F.repeatability_75(E)
         n = E.shape[0]
         budget = UncertaintyBudget("R", "arcsec", [BudgetRow.type_a(
-            msg("sampling of a standard deviation of {n} rounds (χ² bound)", n=n), "(s_upper − R)/2",
+            msg("sampling of a standard deviation of {n} rounds (χ² bound)", n=n), "(s_{upper} − R)/2",
             Q_(std_sampling_u(R, n), "arcsec"), math.inf)], coverage=COVERAGE_NU)
         j = int(np.argmax(R_i))
         res = Result(self.metrics[0], Q_(R, "arcsec"), budget.combined, budget, note=msg("largest at S = {S:g}°", S=S[j]))
