@@ -451,8 +451,16 @@ def digital_station_factory(**options: Any) -> SimulatedStation:
 
     if options.get("device_class"):
         return attrs.evolve(station_factory(**options), name="simulated-digital")
-    return attrs.evolve(station_factory(**(dict(DIGITAL_DEFAULTS) | dict(options))), name="simulated-digital")
+    base = dict(DIGITAL_DEFAULTS) | (dict(DIGITAL_TYPICAL) if str(options.get("grade", "typical")) == "typical" else {})
+    return attrs.evolve(station_factory(**(base | dict(options))), name="simulated-digital")
+
+
+#: the ``typical`` grade of the ``simulated-digital`` station over :data:`DIGITAL_DEFAULTS`: a typical aviation-grade
+#: fibre gyro that conforms to GB/T 45570 table B.1 — its LSB (0.0072 °/h) finer than its noise, K_t 0.5 ppm/°C
+#: (B.1: ≤ 3), K turn-on scatter 1 ppm (≤ 10).  ``grade=marginal`` (or ``failing``) keeps DIGITAL_DEFAULTS as they
+#: were: 1 LSB = 0.72 °/h, coarser than the noise, K_t 2 ppm/°C
+DIGITAL_TYPICAL = {"lsb_per_deg_s": 500000.0, "sf_tc_per_C": 5e-7, "sf_turn_on_sigma": 1e-6}
 
 
 __all__ = ["digital_station_factory", "expected_rate_items", "mounting_projection", "scale_factor_multiplier",
-           "turn_on_scale_factor", "temperature_power_on", "input_axis", "DIGITAL_DEFAULTS"]
+           "turn_on_scale_factor", "temperature_power_on", "input_axis", "DIGITAL_DEFAULTS", "DIGITAL_TYPICAL"]

@@ -52,16 +52,16 @@ class GyroTruth:
     "The simulated device").  :data:`GRADES` holds the ``marginal`` and ``failing`` units.
     """
 
-    scale_factor_P_per_arcsec: float = 2.0
+    scale_factor_P_per_arcsec: float = 5.0
     bias_deg_h: float = 0.12
-    arw_deg_rt_h: float = 0.0004
+    arw_deg_rt_h: float = 0.0003
     gm_sigma_deg_h: float = 0.0
     gm_tau_s: float = 600.0
     rrw_deg_h_rt_h: float = 0.0
     bias_tc_deg_h_per_C: float = 0.0004
     temp_ref_C: float = 20.0
     mag_sens_deg_h_per_mT: tuple[float, float, float] = (0.04, 0.015, 0.025)  # field along IRA, XRA, YRA
-    turn_on_sigma_deg_h: float = 0.002
+    turn_on_sigma_deg_h: float = 0.0015
     # scale factor of the pulse output against rate Ω (°/s) and direction s = ±1:
     # K_s(Ω) = K · (1 + sf_slope·Ω + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
     sf_slope_per_deg_s: float = 2e-9
@@ -77,7 +77,7 @@ class GyroTruth:
     # --- end of the D.1.4–D.1.6 / D.2 block ---
     # --- threshold, environmental response, set-up and power (GB/T 45570 D.4, D.6.1–D.6.4,
     # 6.2.7.7, 6.2.7.8; motions in instruments/sim_gbt_env.py) ---
-    dead_band_deg_h: float = 0.0035  # response r = sign(Ω)·max(|Ω| − d, 0): threshold (50 %) at 2d
+    dead_band_deg_h: float = 0.0005  # response r = sign(Ω)·max(|Ω| − d, 0): threshold (50 %) at 2d
     vib_shift_during_deg_h: tuple[float, float, float] = (0.02, 0.012, 0.015)  # while vibrating along IRA, XRA, YRA
     vib_shift_after_deg_h: tuple[float, float, float] = (0.006, 0.004, 0.005)  # after performance vibration
     vib_endurance_shift_deg_h: tuple[float, float, float] = (0.01, 0.007, 0.008)  # after endurance vibration
@@ -662,10 +662,11 @@ def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) ->
 GRADES: Mapping[str, Mapping[str, Any]] = {
     "typical": {"grade": "typical"},
     "marginal": {"grade": "marginal", "scale_factor_P_per_arcsec": 0.8, "arw_deg_rt_h": 0.0015,
-                 "bias_tc_deg_h_per_C": 0.0006, "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 3e-7,
-                 "states_repeatability": False},
+                 "dead_band_deg_h": 0.0035, "turn_on_sigma_deg_h": 0.002, "bias_tc_deg_h_per_C": 0.0006,
+                 "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 3e-7, "states_repeatability": False},
     "failing": {"grade": "failing", "scale_factor_P_per_arcsec": 0.8, "arw_deg_rt_h": 0.004,
-                "bias_tc_deg_h_per_C": 0.002, "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 1.5e-6},
+                "dead_band_deg_h": 0.0035, "turn_on_sigma_deg_h": 0.002, "bias_tc_deg_h_per_C": 0.002,
+                "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 1.5e-6},
 }
 
 #: what each grade is, in the device's model name and the truth table

@@ -123,3 +123,42 @@ def test_an_unknown_grade_is_refused(run_cli):
     code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "grade=superb",
                              "--no-report", "-q")
     assert code == 2 and "grade" in err and "Traceback" not in err
+
+
+def test_d4_unresolved_positions_bound_the_threshold(pm):
+    """interpretations.md "D.4 — an upper bound when nothing below is resolved": with nothing resolved
+    below the first resolved pass H, the threshold is reported as ≤ H (a bound, U of the input at H) and
+    judged as (−∞, H + U]; before, it was not reportable and indeterminate on every such device."""
+    from metro.plugins.gbt45570.threshold import _levels
+
+    levels = _levels("0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.03, 0.05")
+    rec = run_items(pm, "gbt45570", ["D.4"], station_options={"seed": 1})
+    (r,) = rec.outcomes[0].results
+    assert r.bound == "upper" and not r.reportable and "anywhere below" in r.reason
+    H = float(r.value.to("deg/h").magnitude)
+    assert min(abs(H - x) for x in levels) < 1e-6 and H < 0.02  # a tested input (Ψ_i as set)
+    assert {row.symbol for row in r.budget.rows} <= {"δΨ", "u(θ)", "u_rel(K)"}  # the input realised at H, no noise
+    (v,) = rec.conformity.verdicts
+    assert v.status is Status.PASS and "bound" in str(v.reason)
+    # the marginal unit's noise resolves no position below the limit: no statement
+    worse = run_items(pm, "gbt45570", ["D.4"], station_options={"seed": 1, "grade": "marginal"})
+    assert worse.conformity.verdicts[0].status is Status.INDETERMINATE
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_acquired_campaign_of_the_default_device_conforms(run_cli, tmp_path, seed):
+    """`metro acquire --standard gbt45570 --all --out DIR` then `metro run --standard gbt45570 --all
+    --data DIR/manifest.toml`: recorded data (exit codes are not relaxed as on the station) conform —
+    every verdict passes (before issue 29: D.5.2 failed, D.1.3, D.1.5, D.3, D.4, D.5.6, D.6.1–D.6.3
+    indeterminate)."""
+    out = tmp_path / "camp"
+    code, _, err = run_cli("acquire", "--standard", "gbt45570", "--all", "--out", str(out), "--seed", str(seed), "-q")
+    assert code == 0, err
+    code, text, err = run_cli("run", "--standard", "gbt45570", "--all", "--data", str(out / "manifest.toml"),
+                              "--json", "--no-report", "-q")
+    assert code == 0, err
+    doc = json.loads(text)
+    verdicts = doc["conformity"]["verdicts"]
+    assert len(verdicts) > 80 and doc["conformity"]["overall"] == "pass"
+    assert not [v for v in verdicts if v["status"] != "pass"]

@@ -14,7 +14,7 @@ from metro.core.errors import DataError, ProcedureError
 from metro.core.lsq import fit_line
 from metro.core.runner import merge_steps, run_items
 from metro.core.units import Q_
-from metro.instruments.sim_gbt_rate import DIGITAL_DEFAULTS, digital_station_factory
+from metro.instruments.sim_gbt_rate import digital_station_factory
 from metro.instruments.simulated import station_factory
 from metro.plugins.gbt45570 import formulas_rate as F2
 from metro.plugins.gbt45570.rate_method import (
@@ -129,6 +129,11 @@ def _camp(pm, items, station=None, drop=(), options=None, **truth):
     return st_.acquire(steps)
 
 
+def camp_truth_sf_tc(camp) -> float:
+    """The simulated device's K temperature coefficient (relative per °C), from the campaign's truth."""
+    return float(camp.truth["scale-factor temperature coefficient"].to("1/delta_degC").magnitude)
+
+
 def _check_truth(rec, camp, keys):
     checked = set()
     for o in rec.outcomes:
@@ -171,7 +176,7 @@ def test_d25_temperature_sensitivity(pm):
     rec = run_items(pm, "gbt45570", ["D.2.5"], campaign=camp)
     _check_truth(rec, camp, {"Kt"})
     r = rec.outcomes[0].results[0]
-    assert r.value.to("ppm/delta_degC").magnitude == pytest.approx(DIGITAL_DEFAULTS["sf_tc_per_C"] * 1e6,
+    assert r.value.to("ppm/delta_degC").magnitude == pytest.approx(camp_truth_sf_tc(camp) * 1e6,
                                                                    abs=r.U.to("ppm/delta_degC").magnitude)
     assert any(row.type == "B" and "chamber" in row.source for row in r.budget.rows)
 

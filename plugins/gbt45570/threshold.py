@@ -169,6 +169,7 @@ class ThresholdD4(Procedure):
                                 "(check the polarity)", inputs=", ".join(f"{x:.4g}" for x in opposite)))
         not_reportable: list[str] = []
         cand_row: list[BudgetRow] = []
+        bound = ""
         if passing:
             hi = min(passing, key=lambda j: abs(inputs[j]))
             H = abs(inputs[hi])
@@ -180,13 +181,16 @@ class ThresholdD4(Procedure):
             i = next((j for j in cands if ratios[j] >= E.THRESHOLD_FRACTION), hi)
             th = abs(inputs[i])
             lo_c, hi_c = abs(inputs[cands[0]]), abs(inputs[cands[-1]])
-            if len(cands) > 1:
-                if not fails:
-                    not_reportable.append(
-                        msg("no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
-                            "confidence (at {x:.4g} °/h: {why}), so the threshold may lie anywhere below {H:.4g} °/h; "
-                            "record longer at each position (option seconds)", H=H, conf=conf,
-                            x=abs(inputs[cands[0]]), why=verdicts[cands[0]][1]))
+            if len(cands) > 1 and not fails:
+                not_reportable.append(
+                    msg("no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
+                        "confidence (at {x:.4g} °/h: {why}), so the threshold may lie anywhere below {H:.4g} °/h; "
+                        "record longer at each position (option seconds)", H=H, conf=conf,
+                        x=abs(inputs[cands[0]]), why=verdicts[cands[0]][1]))
+                # the first resolved pass bounds the threshold from above: ≤ H, judged as (−∞, H + U]
+                # (interpretations.md, "D.4 — an upper bound when nothing below is resolved")
+                i, th, bound = hi, H, "upper"
+            elif len(cands) > 1:
                 cand_row.append(BudgetRow.type_b(
                     msg("positions not resolved from the noise: the threshold may be any of them"), "ΔΩ (unresolved)",
                     Q_(max(th - lo_c, hi_c - th), "deg/h"), distribution="uniform",
@@ -221,6 +225,10 @@ class ThresholdD4(Procedure):
                                  note=msg("next smaller input {x:.4g} °/h", x=below))]
         rows += cand_row
         rows += _decision_row(inputs, ratios, [p[2]["u"] for p in points], ref["u"], i)
+        if bound:
+            # "threshold ≤ H" rests on H's resolved response (its noise is in that decision, at the
+            # family's confidence); its U is that of the input realised at H: tilt, latitude, K
+            rows = []
         c_psi = EARTH_RATE_DEG_PER_H * abs(math.sin(math.radians(psi)))
         table = campaign.equipment_for("tilt_table")
         if table is not None and "position_accuracy" in table.properties:
@@ -243,7 +251,8 @@ class ThresholdD4(Procedure):
                               "response is resolved ({conf:.0%} confidence over the {n} positions, {each:.4g} each)",
                               psi=psi, seg=seg.id, ref=refs[0].id, conf=conf, n=len(points), each=conf_each),
                      earth_rate="not applicable",
-                     reportable=not not_reportable, reason=join("; ", not_reportable) if not_reportable else "")
+                     reportable=not not_reportable, reason=join("; ", not_reportable) if not_reportable else "",
+                     bound=bound)
         if not_reportable:
             warnings.append(msg("the threshold is NOT REPORTABLE: {reason}", reason=join("; ", not_reportable)))
         order = np.argsort(np.abs(inputs))
