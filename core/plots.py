@@ -40,8 +40,8 @@ from .atomic import atomic_write
 if TYPE_CHECKING:  # pragma: no cover
     from .model import PlotSpec
 
-__all__ = ["render_png", "FIGSIZE_IN", "FALLBACK_FONTS", "register_cjk_fonts", "font_families", "cjk_font_files", "CJK_FONT_FILE",
-           "MissingGlyphs"]
+__all__ = ["render_png", "png_bytes", "FIGSIZE_IN", "FALLBACK_FONTS", "register_cjk_fonts", "font_families",
+           "cjk_font_files", "CJK_FONT_FILE", "MissingGlyphs"]
 
 #: Figure size in inches (about 16 cm × 10 cm: printed at 15 cm wide in reports).
 FIGSIZE_IN = (6.3, 3.9)
@@ -288,14 +288,30 @@ def render_png(spec: "PlotSpec", path: str | os.PathLike[str], *, dpi: int = DPI
     Log axes as ``spec.logx`` / ``spec.logy`` ask (non-positive values are not drawn on a
     log axis), a grid, the axis labels, the title and a legend when a series has a label.
     """
+    data = png_bytes(spec, dpi=dpi)
+    return atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
+
+
+def png_bytes(spec: "PlotSpec", *, dpi: int = DPI) -> bytes:
+    """The PNG :func:`render_png` writes, as bytes (a document's figures go into its own temporary
+    folder, where an atomic, synced write buys nothing)."""
+    import io
+
     import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.image import imsave
 
     # the families as font.family itself: matplotlib falls back glyph by glyph only along that list
     # (with the generic "sans-serif" a Chinese title drew as empty boxes)
     with matplotlib.rc_context({"font.family": font_families()}), MissingGlyphs():
         fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, layout="constrained")
-        FigureCanvasAgg(fig)  # Agg canvas: no GUI backend, nothing registered with pyplot
+        canvas = FigureCanvasAgg(fig)  # Agg canvas: no GUI backend, nothing registered with pyplot
         _draw(fig, spec)
-        return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))
+        # drawn once, then written as savefig writes a PNG (FigureCanvasAgg.print_png: imsave of the
+        # canvas's buffer): savefig with a layout engine lays the figure out and draws it twice, for
+        # the same pixels (the same bytes: tests/test_figure_cache.py)
+        canvas.draw()
+        out = io.BytesIO()
+        imsave(out, canvas.buffer_rgba(), format="png", origin="upper", dpi=fig.dpi)
+        return out.getvalue()

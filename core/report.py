@@ -723,16 +723,24 @@ def _add_notices(document: Any, notices: Iterable[str]) -> None:
 
 def render_figures(ctx: Mapping[str, Any], folder: str | os.PathLike[str]) -> dict[int, Path]:
     """Draw every figure of a context to ``folder/figure-N.png``; {figure number: PNG path}."""
-    from . import plots
-
     out = {}
     tr = translator(ctx.get("lang"))
     for o in ctx["outcomes"]:
         for p in o["plots"]:
-            png = Path(folder) / f"figure-{p['number']}.png"
-            plots.render_png(plots.localized(p["spec"], tr), png)
-            out[p["number"]] = png
+            out[p["number"]] = draw_figure(p["spec"], tr, Path(folder) / f"figure-{p['number']}.png")
     return out
+
+
+def draw_figure(spec: Any, tr: Any, png: Path) -> Path:
+    """Draw a figure of a context in the document's language (``tr``) as the PNG ``png``, in a
+    folder of the document's own (a plain write: the folder is temporary).  A figure drawn before
+    with the same inputs comes from :mod:`metro.core.figure_cache` (a document written again from
+    the register draws nothing twice)."""
+    from . import plots
+    from .figure_cache import cached_png
+
+    png.write_bytes(cached_png(plots.localized(spec, tr)))
+    return png
 
 
 def render_context(
@@ -818,7 +826,6 @@ def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, 
                    figures: Mapping[int, str | os.PathLike[str]] | None = None) -> Any:
     """The document of a context built in memory (a :class:`~metro.core.document.DocumentBuilder`);
     figures are drawn into ``figdir``; ``doc.tr.missing`` lists message ids the catalog lacked."""
-    from . import plots
     from .document import DocumentBuilder
 
     ctx = dict(ctx)
@@ -837,9 +844,7 @@ def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, 
             if figures is not None and p["number"] in figures:
                 p["image"] = str(figures[p["number"]])
             else:
-                png = Path(figdir) / f"figure-{p['number']}.png"
-                plots.render_png(plots.localized(p["spec"], tr), png)
-                p["image"] = str(png)
+                p["image"] = str(draw_figure(p["spec"], tr, Path(figdir) / f"figure-{p['number']}.png"))
     _resolve_layout(layout)(doc, ctx)
     _add_notices(doc.doc, (ctx.get("register") or {}).get("notices") or ())
     _set_properties(doc.doc, ctx)
@@ -854,7 +859,6 @@ def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
     from docxtpl import DocxTemplate, InlineImage
     from jinja2 import TemplateError
 
-    from . import plots
     from .errors import MetroError
 
     template_name = os.fspath(template)
@@ -868,8 +872,7 @@ def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
                 if figures is not None and p["number"] in figures:
                     png = Path(figures[p["number"]])
                 else:
-                    png = Path(tmpdir) / f"figure-{p['number']}.png"
-                    plots.render_png(plots.localized(p["spec"], tr), png)
+                    png = draw_figure(p["spec"], tr, Path(tmpdir) / f"figure-{p['number']}.png")
                 p["image"] = InlineImage(tpl, str(png), width=Mm(IMAGE_WIDTH_MM))
         try:
             tpl.render(ctx, autoescape=True)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import os
 
 import pytest
 from hypothesis import settings
@@ -11,6 +12,10 @@ from hypothesis import settings
 # 200 ms deadline per example fails tests that are right (seen: test_budget_invariants).
 settings.register_profile("metro", deadline=None)
 settings.load_profile("metro")
+
+# Tests draw every figure (metro.core.figure_cache off): a figure kept in the user's cache by an
+# earlier run would hide a drawing under test; tests/test_figure_cache.py turns it on in a tmp folder.
+os.environ["METRO_FIGURE_CACHE"] = "off"
 
 
 @pytest.fixture

@@ -222,8 +222,8 @@ def test_figure_text_in_the_document_language(pm, tmp_path, monkeypatch):
     titles = [p["spec"].title for o in ctx["outcomes"] for p in o["plots"]]
     assert titles and all(getattr(t, "msgid", None) in catalog("zh") for t in titles)
     drawn: list[str] = []
-    real = plots.render_png
-    monkeypatch.setattr(plots, "render_png", lambda spec, path, **kw: (drawn.append(spec.title), real(spec, path, **kw))[1])
+    real = plots.png_bytes
+    monkeypatch.setattr(plots, "png_bytes", lambda spec, **kw: (drawn.append(spec.title), real(spec, **kw))[1])
     import warnings
 
     with warnings.catch_warnings(record=True) as caught:

@@ -246,7 +246,7 @@ def test_failure_while_rendering_leaves_nothing(tmp_path, monkeypatch):
     def broken(*a, **kw):
         raise RuntimeError("renderer broke")
 
-    monkeypatch.setattr(plots, "render_png", broken)
+    monkeypatch.setattr(plots, "png_bytes", broken)
     target = tmp_path / "report.docx"
     with pytest.raises(RuntimeError, match="renderer broke"):
         report.write_report(target, make_record())
