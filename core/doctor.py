@@ -162,9 +162,9 @@ def check_register(args, profile) -> dict[str, Any]:
     if st["migrated"]:
         return _check("register", True, f"{shown}: {st['reports']} report(s), schema {st['revision']} (newest)",
                       required=True)
-    from .register import SCHEMA_HEAD
+    from .register import SCHEMA_HEAD, SCHEMA_REVISIONS
 
-    newer = str(st["revision"]) > SCHEMA_HEAD
+    newer = st["revision"] not in SCHEMA_REVISIONS  # a revision this metro does not know
     return _check("register", False, f"{shown}: schema {st['revision']}, this metro's newest is {SCHEMA_HEAD}",
                   required=newer, fix="upgrade metro (the register was written by a newer one)" if newer
                   else "the next command that opens the register migrates it (a registered run, or "

@@ -111,7 +111,9 @@ def test_schema_head_is_the_newest_migration():
 
     cfg = Config()
     cfg.set_main_option("script_location", str(Path(register.__file__).parent / "migrations"))
-    assert ScriptDirectory.from_config(cfg).get_current_head() == register.SCHEMA_HEAD
+    scripts = ScriptDirectory.from_config(cfg)
+    assert scripts.get_current_head() == register.SCHEMA_HEAD
+    assert tuple(reversed([r.revision for r in scripts.walk_revisions()])) == register.SCHEMA_REVISIONS
 
 
 # -- 2. register verify has its own exit code ------------------------------------------------

@@ -39,11 +39,12 @@ import attrs
 from ..errors import MetroError
 
 __all__ = ["open_register", "register_state", "Register", "Draft", "Issued", "sha256_file", "who_am_i",
-           "RegisterError", "SCHEMA_HEAD"]
+           "RegisterError", "SCHEMA_HEAD", "SCHEMA_REVISIONS"]
 
-#: the newest migration's revision (``migrations/versions``); a register at it is opened without
-#: loading Alembic (tests/test_register_readonly.py checks it against Alembic's own head)
-SCHEMA_HEAD = "0001"
+#: the migrations' revisions, oldest first (``migrations/versions``; tests/test_cli_daily.py checks
+#: them against Alembic's own list); a register at the newest is opened without loading Alembic
+SCHEMA_REVISIONS = ("0001",)
+SCHEMA_HEAD = SCHEMA_REVISIONS[-1]
 
 
 class RegisterError(MetroError):
