@@ -145,7 +145,6 @@ def test_d4_unresolved_positions_bound_the_threshold(pm):
     assert worse.conformity.verdicts[0].status is Status.INDETERMINATE
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_acquired_campaign_of_the_default_device_conforms(run_cli, tmp_path, seed):
     """`metro acquire --standard gbt45570 --all --out DIR` then `metro run --standard gbt45570 --all
