@@ -365,14 +365,15 @@ def _in_lot_order(client, job: Job, todo: Sequence[tuple[str, str, str]]):
     register, one after the other in the lot's order (the order of --data, then of the paths a
     glob finds), each on the worker that holds its record.  Issuing was one at a time already (the
     register's lock is held while a report is written), so the lot loses no parallel work."""
-    evaluations = [client.submit(evaluate_only, job, m, name, sha, pure=False, key=f"metro-eval-{sha[:16]}-{name}")
-                   for m, name, sha in todo]
+    evaluations = [client.submit(evaluate_only, job, m, name, sha, pure=False,
+                                 key=f"metro-eval-{sha[:16]}-{name}") for m, name, sha in todo]
     for campaign, fut in zip(todo, evaluations):
         res = _outcome(fut, campaign)
         if res.get("status") == "pending":
             m, name, sha = campaign
-            written = client.submit(report_evaluated, job, m, name, sha, pure=False, key=f"metro-report-{sha[:16]}-{name}",
-                                workers=[res["worker"]], allow_other_workers=True, priority=10)
+            written = client.submit(report_evaluated, job, m, name, sha, pure=False,
+                                    key=f"metro-report-{sha[:16]}-{name}", workers=[res["worker"]],
+                                    allow_other_workers=True, priority=10)
             res = _outcome(written, campaign)
         yield res
 

@@ -43,7 +43,8 @@ def add_commands(sub) -> None:
     rs = rsub.add_parser("show", help="one report's register entry: results, verdicts, provenance, audit trail")
     rs.add_argument("number", metavar="NUMBER")
     rs.add_argument("--json", action="store_true")
-    rv = rsub.add_parser("verify", help="check every report file against its stored SHA-256 (exit 6 if any differs or is missing)")
+    rv = rsub.add_parser("verify", help="check every report file against its stored SHA-256 (exit 6 if any "
+                         "differs or is missing)")
     rv.add_argument("--json", action="store_true")
 
     rp = sub.add_parser("report", help="write a registered report again from the register",
