@@ -61,7 +61,9 @@ def _environment(dpi: int) -> bytes:
 
     families = plots.font_families()
     fonts = sorted({(f.fname, _stat(f.fname)) for f in font_manager.fontManager.ttflist if f.name in families})
-    rc = sorted((k, repr(v)) for k, v in matplotlib.rcParams.items())
+    # the settings as stored (dict.items): reading rcParams["backend"] through the mapping would
+    # resolve the backend, importing pyplot (1 s)
+    rc = sorted((k, repr(v)) for k, v in dict.items(matplotlib.rcParams) if k != "backend")
     parts = [FORMAT, str(dpi), repr(plots.FIGSIZE_IN), matplotlib.__version__, PIL.__version__,
              repr(families), repr(fonts), repr(rc), _source_digest()]
     return "\x00".join(parts).encode("utf-8")
