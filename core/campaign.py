@@ -14,7 +14,7 @@ import tomllib
 
 import attrs
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 from .errors import DataError, UnitError
 from .locale import msg
@@ -689,6 +689,16 @@ def check_equipment(campaign: Campaign, proc) -> list:
                                 f"cannot use: a {req.role}'s U must be {_kind_text(kinds)}",
                                 hint=f"give the calibration certificate's U {_kind_text(kinds)}")
     return absent
+
+
+def used_equipment(campaign: Campaign, procs: Iterable[Any]) -> Campaign:
+    """``campaign`` with only the equipment the items ``procs`` use — the roles their
+    :attr:`~metro.core.model.Procedure.equipment` requirements name — in the campaign's order.
+    A report lists the equipment its items used (GB/T 45570 6.1.2, JJF 2014 8 j)), not every
+    instrument of the station or every line of the manifest; ``metro acquire`` writes the same."""
+    roles = {req.role for cls in procs for req in getattr(cls, "equipment", ())}
+    kept = [e for e in campaign.equipment if e.role in roles]
+    return campaign if len(kept) == len(campaign.equipment) else attrs.evolve(campaign, equipment=kept)
 
 
 def note_absent_equipment(outcome, absent) -> Any:

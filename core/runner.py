@@ -15,7 +15,7 @@ import re
 
 import attrs
 
-from .campaign import check_equipment, load_manifest, note_absent_equipment
+from .campaign import check_equipment, load_manifest, note_absent_equipment, used_equipment
 from .errors import DataError, MetroError, ProcedureError
 from .locale import msg
 from .model import Campaign, DeviceUnderTest, Outcome, Procedure, RunContext, Segment, SegmentRequirement, Step
@@ -445,7 +445,7 @@ def run_items(
     return RunRecord(
         report_number=new_report_number(),
         created=dt.datetime.now(dt.timezone.utc),
-        campaign=campaign,
+        campaign=used_equipment(campaign, procs),  # the report lists the equipment its items used
         outcomes=outcomes,
         software=software_versions(),
         plugins=pm.versions(),

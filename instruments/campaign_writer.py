@@ -399,6 +399,9 @@ def acquire_campaign(
     campaign = st.acquire(steps, progress=progress)
     if progress is not None:
         progress("acquiring", len(steps), len(steps))
+    from metro.core.campaign import used_equipment
+
+    campaign = used_equipment(campaign, procs)  # the equipment these items use, not the whole station's
     ids = {seg.id for seg in campaign.segments}
     missing = [s.segment for s in steps if s.segment not in ids and not s.is_record]
     if missing:

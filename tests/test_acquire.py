@@ -11,6 +11,7 @@ import pytest
 from metro.core.cli import main
 from metro.core.errors import DataError
 from metro.core.plugins import get_plugin_manager
+from metro.core.campaign import used_equipment
 from metro.core.runner import load_campaign, run_items
 from metro.instruments import campaign_writer as W
 
@@ -82,7 +83,10 @@ def test_manifest_records_device_equipment_calibration_site_and_conditions(pm, t
     assert seg["conditions"] and seg["units"]["output"] == "mV"
     # and the loader reads them back as the same objects
     back = run_items(pm, "jjf2014", ["7.2.1"], data=manifest).campaign
-    assert [e.calibration for e in back.equipment] == [e.calibration for e in camp.equipment]
+    # (a run keeps the equipment its items use: metro.core.campaign.used_equipment)
+    used = used_equipment(camp, [pm.procedure("jjf2014", "7.2.1")]).equipment
+    assert len(used) < len(camp.equipment)
+    assert [e.calibration for e in back.equipment] == [e.calibration for e in used]
     assert back.device.properties == camp.device.properties
 
 

@@ -2,7 +2,7 @@
 
 Budget sources printed literal underscores (``(s_upper − R)/2``, ``Δt_noise/2``); notes named
 command options and JSON paths (``(plan with -o max_rate=…)``, ``-o earth_rate=on``, ``metro run
---json: provenance.data_files``, ``metro plan -s gbt45570 -i D.5.4``).  Symbols are now typeset as
+--json: provenance.data_files``, ``metro plan -s gbt45570 -i D.5.4``, ``device.bias_repeatability``).  Symbols are now typeset as
 the others (``s_{upper}`` prints s with a subscript), and advice about the software is a
 terminal-only field of its message (:func:`metro.core.locale.hint`): the terminal and ``--json``
 keep it, a document leaves it out.  Each document is rendered by LibreOffice and read with
@@ -29,7 +29,7 @@ needs_office = pytest.mark.skipif(
 
 #: what program text looks like; none of it may reach a document
 SOFTWARE = re.compile(r"_upper|_noise|_fixture|metro (run|plan|acquire)|(^|[\s(])-o\s|\s--[a-z]|provenance\.|"
-                      r"option (earth_rate|scale_factor)|\[device\]")
+                      r"option (earth_rate|scale_factor)|\[device\]|device\.[a-z]+_[a-z_]+")
 
 # (standard, items, station options, item options, what the terminal says that the document must not):
 # the items whose budgets or notes had such text

@@ -114,7 +114,7 @@ def test_d54_three_power_ons_cannot_bound_the_turn_on_scatter(run_cli, tmp_path)
     _campaign(stated, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=3, stated="0.01 °/h")
     res = _bt(run_cli, stated)
     assert res["reportable"] is True
-    assert [r for r in res["budget"]["rows"] if "stated as device.bias_repeatability" in r["note"]]
+    assert [r for r in res["budget"]["rows"] if "stated for the device (device.bias_repeatability)" in r["note"]]
 
 
 def test_d54_without_the_turn_on_scatter_is_not_reportable(run_cli, tmp_path):
@@ -443,7 +443,7 @@ def test_d25_three_d24_power_ons_cannot_bound_the_turn_on_scatter_of_k(pm):
     dev = attrs.evolve(camp.device, properties=dict(camp.device.properties) | {"scale_factor_repeatability": "5e-6"})
     kt = run_items(pm, "gbt45570", ["D.2.5"], campaign=attrs.evolve(camp, device=dev)).outcomes[0].results[0]
     assert kt.reportable, kt.reason
-    assert "5 ppm stated as device.scale_factor_repeatability" in kt.budget.rows[0].note, kt.budget.rows[0].note
+    assert "5 ppm stated for the device (device.scale_factor_repeatability)" in kt.budget.rows[0].note, kt.budget.rows[0].note
 
 
 def test_turn_on_sigma_covers_a_difference_of_power_ons_where_the_runs_only_bound_it():

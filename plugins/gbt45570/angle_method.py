@@ -23,7 +23,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, UncertaintyBudget, std_sampling_u
 from metro.core.errors import DataError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.lsq import fit_line
 from metro.core.selection import selection_note, selection_rows
 from metro.core.model import (
@@ -656,8 +656,8 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
                          resolved=msg(", K_r² − mean u²(K_j)/K_j² ≤ 0: not resolved from the runs' own noise, only "
                                       "bounded") if on.s2 <= on.within else ""))
     elif s_on > 0:
-        notes.append(msg("each K_i a power-on of its own: with the turn-on scatter of K, {s:.3g} ppm stated as "
-                         "device.scale_factor_repeatability", s=s_on * 1e6))
+        notes.append(msg("each K_i a power-on of its own: with the turn-on scatter of K, {s:.3g} ppm stated for the "
+                         "device{hint}", s=s_on * 1e6, hint=hint(" (device.scale_factor_repeatability)")))
     if pooled_note:
         notes.append(pooled_note)
     rows = [BudgetRow.type_a(msg("K at every T_i and T_0 through the maximum of the ratios (Monte Carlo about the "

@@ -31,7 +31,7 @@ import numpy as np
 from metro.core import allan
 from metro.core.budget import BudgetRow, UncertaintyBudget
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -64,6 +64,8 @@ from .procedures import (
 
 AXES = ("IRA", "XRA", "YRA")
 _COUNTER = EquipmentRequirement("counter", "gyro test system / counter; its time-base uncertainty enters the budgets")
+#: the biases before/after and at the temperature points are D.5.1's: the platform's levelness enters their budgets
+_PLATFORM = EquipmentRequirement("platform", "levelled stable platform (D.5.1.1 a)); its levelness enters the bias budget")
 
 
 def _opts_text(opts: Mapping[str, Any]) -> dict[str, str]:
@@ -141,7 +143,7 @@ class _TemperatureOperation(Procedure):
     word: str
     tag: str
     equipment = (EquipmentRequirement("chamber", "high/low temperature chamber (D.6.1.1 b)); its calibration and "
-                                      "property uniformity enter the temperature's budget"), _COUNTER)
+                                      "property uniformity enter the temperature's budget"), _COUNTER, _PLATFORM)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         T = parse_quantity(options.get("temperature", self.options[0].default), dimension="degC")
@@ -291,7 +293,8 @@ def _two_power_ons(campaign: Campaign, why: str) -> tuple[list[BudgetRow], str, 
         return [], on.note, False
     u = math.sqrt(2.0) * on.sigma
     if on.stated:
-        return [BudgetRow.type_b(msg("turn-on scatter of the two power-ons: √2 × σ_on stated as device.bias_repeatability"),
+        return [BudgetRow.type_b(msg("turn-on scatter of the two power-ons: √2 × σ_on stated for the device{hint}",
+                                     hint=hint(" (device.bias_repeatability)")),
                                  "√2·σ_on", Q_(u, "deg/h"), distribution="normal", k=1.0)], "", True
     return [BudgetRow.type_a(msg("power-on repeatability of {what} in each of the two records: √2 × one power-on's", what="B₀"),
                              "√2·σ_on", Q_(u, "deg/h"), on.nu,
@@ -367,7 +370,7 @@ class VibrationD63(Procedure):
                                                                             "level": "gn"},
                                    columns={"output": OUTPUT_UNITS}, min_count=15),)
     equipment = (EquipmentRequirement("vibration_table", "vibration table (D.6.3.1 b)); its calibration (level) "
-                                      "enters the level's budget"), _COUNTER)
+                                      "enters the level's budget"), _COUNTER, _PLATFORM)
     options = (
         Option("tests", "performance, endurance", None, "which vibration tests: performance, endurance"),
         Option("axes", "IRA, XRA, YRA", None, "axes along the vibration (D.6.3.2 e))"),
@@ -477,7 +480,7 @@ class MechanicalShockD64(Procedure):
                                    conditions={"axis": "", "phase": "", "level": "gn", "pulse": "ms"},
                                    columns={"output": OUTPUT_UNITS}, min_count=6),)
     equipment = (EquipmentRequirement("shock_table", "shock table (D.6.4.1 b)); its calibration (peak level) and "
-                                      "property duration_accuracy enter the budgets"), _COUNTER)
+                                      "property duration_accuracy enter the budgets"), _COUNTER, _PLATFORM)
     options = (
         Option("axes", "IRA, XRA, YRA", None, "axes along the shock (D.6.4.2 e))"),
         Option("level", "40 g", "gn", "peak acceleration (product spec; table C.1 row 10)"),

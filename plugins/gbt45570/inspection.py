@@ -351,6 +351,8 @@ class Supply526(_Inspection):
     clause = "5.2.6"
     title = "Supply requirements (供电要求)"
     path = "supply"
+    equipment = (EquipmentRequirement("voltmeter", "voltage measuring equipment for the voltages measured at the gyro "
+                                      "(5.2.6); its calibration enters their budget"),)
     metrics = (Metric("supply_missing", "supply requirements the specification does not state", "n", "", "5.2.6"),
                Metric("supply_V", "supply voltage at the gyro", "U", "V", "5.2.6"))
 

@@ -575,8 +575,9 @@ class TurnOn:
     def describe(self, u: float, unit: str) -> str:
         """The budget note on the row √2·σ_on/… of a difference of two power-ons."""
         if self.stated:
-            return msg("each record a power-on of its own: with the turn-on scatter σ_on = {s:.4g} °/h stated as "
-                       "device.bias_repeatability, {u:.3g} {unit} at the maximising point", s=self.sigma, u=u, unit=unit)
+            return msg("each record a power-on of its own: with the turn-on scatter σ_on = {s:.4g} °/h stated for the "
+                       "device{hint}, {u:.3g} {unit} at the maximising point", s=self.sigma, u=u, unit=unit,
+                       hint=hint(" (device.bias_repeatability)"))
         return msg("each B_i a power-on of its own (D.5.4.2 c)): with the turn-on scatter σ_on = {s:.4g} °/h of D.5.3 "
                    "on this campaign (ν = {nu:.3g}), √2·σ_on/|ΔT| = {u:.3g} (°/h)/°C at the maximising point",
                    s=self.sigma, nu=self.nu, u=u)
@@ -585,7 +586,7 @@ class TurnOn:
         """The row's source text for D.5.5's √2·σ_on/(2H_b)."""
         if self.stated:
             return msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by D.5.1.2\"): σ_on = {s:.4g} °/h "
-                       "stated as device.bias_repeatability", s=self.sigma)
+                       "stated for the device{hint}", s=self.sigma, hint=hint(" (device.bias_repeatability)"))
         return msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by D.5.1.2\"): σ_on = {s:.4g} °/h of "
                    "D.5.3 on this campaign", s=self.sigma)
 

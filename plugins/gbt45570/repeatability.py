@@ -17,7 +17,7 @@ import numpy as np
 
 from metro.core.budget import BudgetRow, between_variance
 from metro.core.errors import DataError
-from metro.core.locale import msg
+from metro.core.locale import hint, msg
 from metro.core.model import Campaign
 from metro.core.selection import curve_scatter
 from metro.core.units import Q_
@@ -49,8 +49,8 @@ def stated_repeatability(campaign: Campaign, key: str) -> float | None:
 
 
 def _stated_row(campaign: Campaign, key: str, symbol: str, u: float, unit: str) -> BudgetRow:
-    return BudgetRow.type_b(msg("power-on repeatability of {symbol} stated as device.{key} (not measured on this "
-                                "campaign)", symbol=symbol, key=key), "σ_on" if symbol == "B₀" else "K_r·K",
+    return BudgetRow.type_b(msg("power-on repeatability of {symbol} stated for the device{hint} (not measured on this "
+                                "campaign)", symbol=symbol, hint=hint(f" (device.{key})")), "σ_on" if symbol == "B₀" else "K_r·K",
                             Q_(u, unit), distribution="normal", k=1.0)
 
 

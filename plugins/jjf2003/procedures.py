@@ -80,6 +80,11 @@ EQUIPMENT = (
                          "relative) and `position_accuracy` enter the budgets", required=False),
     EquipmentRequirement("acquisition", "data acquisition; its `bits` give the quantization term u₂ (A.3)"),
 )
+#: the items whose budgets hold the fixture's perpendicularity (6.2; the standard's bound when not stated)
+EQUIPMENT_FIXTURE = EQUIPMENT + (
+    EquipmentRequirement("fixture", "fixture holding the MIMU on the table; its `perpendicularity` enters the "
+                         "budgets (6.2: the standard's bound when not stated)"),
+)
 
 # ------------------------------------------------------------------------------ budget rows
 
@@ -238,12 +243,14 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
                                    field="device.scale_factor_repeatability").to("").magnitude)
         Kjj = abs(float(d["fits"][j].coef[0]))
         if rel * Kjj >= se:
-            return BudgetRow.type_b(msg("repeatability stated as device.scale_factor_repeatability (A.1.2.3)"), "u₃",
+            return BudgetRow.type_b(msg("repeatability stated for the device (A.1.2.3){hint}",
+                                        hint=hint(" (device.scale_factor_repeatability)")), "u₃",
                                     Q_(rel, ""), distribution="normal", k=1.0, sensitivity=Q_(Kjj, ""))
     else:
-        warnings.append(msg("no repeated calibrations (kind rate-repeat, option repeats of 7.2.1) and no "
-                            "device.scale_factor_repeatability: u₃ of K is the eq. (5) fit's standard error, which "
-                            "leaves out the variation of K between power-ons and mountings"))
+        warnings.append(msg("no repeated calibrations (7.2.1) and no stated repeatability of K: u₃ of K is the eq. (5) "
+                            "fit's standard error, which leaves out the variation of K between power-ons and "
+                            "mountings{hint}", hint=hint(" (rate-repeat runs, option repeats of 7.2.1, or "
+                                                         "device.scale_factor_repeatability)")))
     return BudgetRow.type_a(msg("repeatability: least-squares scatter of eq. (5)"), "u₃", Q_(se, ""), dof,
                             note=msg("{n} rate points", n=len(d['X'])))
 
@@ -378,7 +385,7 @@ class GyroCrossCoupling(Procedure):
     clause = "7.2.3"
     metrics = tuple(_kg_metric(i, j) for i in range(3) for j in range(3))
     requires = (RATE_SEG,)
-    equipment = EQUIPMENT
+    equipment = EQUIPMENT_FIXTURE
     options = _SWEEP_OPTIONS
     station = STATION
 
@@ -455,7 +462,7 @@ class GyroBiasGSensitivity(Procedure):
         Metric(f"g_{r}{c}", msg("gyro g-sensitivity ({input} acceleration → {gyro} gyro)", input=c.upper(), gyro=r.upper()), f"g_{r}{c}",
                G_UNIT, "7.2.2.2", "eq. (8)") for r in AXES for c in AXES)
     requires = (POSITION_SEG,)
-    equipment = EQUIPMENT
+    equipment = EQUIPMENT_FIXTURE
     options = (Option("earth_rate", "no", None, "yes: remove the earth-rate leak from the g diagonal "
                       "(a deviation from 7.2.2; needs site.latitude)"),)
     station = STATION
@@ -573,7 +580,7 @@ class AccelSixPosition(Procedure):
                                   acc=r.upper())),
                f"K_a{r}{c}", "", "7.2.4.2", "eq. (11)") for r in AXES for c in AXES)
     requires = (POSITION_SEG,)
-    equipment = EQUIPMENT
+    equipment = EQUIPMENT_FIXTURE
     options = ()
     station = STATION
 

@@ -151,9 +151,11 @@ def _power_on_note(rep: Spread | None, kv: "KValue") -> str:
         return ""
     if kv.kr is None:
         return msg("no bias repeatability (7.2.15) and no K_r (7.2.4): the variation of K between power-ons "
-                   "is not in this budget (give rate-repeat runs or device.scale_factor_repeatability)")
+                   "is not in this budget{hint}",
+                   hint=hint(" (give rate-repeat runs or device.scale_factor_repeatability)"))
     return msg("no bias repeatability (7.2.15): where the records are power-ons of their own, the turn-on scatter "
-               "of the bias between them is not in this budget (give static-repeat runs or device.bias_repeatability)")
+               "of the bias between them is not in this budget{hint}",
+               hint=hint(" (give static-repeat runs or device.bias_repeatability)"))
 
 
 def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: str) -> BudgetRow:
@@ -302,8 +304,8 @@ class BiasRepeatability(_JJF):
             # every record one value: a step coarser than the noise, which no record shows (no rounding row),
             # and B_r with U = 0 from identical means (analog-coarser: B_r = 0 ± 0 against 2.8 °/h)
             why = msg("every run's record is one constant value: the output's step is coarser than its noise and "
-                      "the data do not show it, so B_r = {br:.3g} °/h may be rounding alone (state "
-                      "device.output_resolution, or digitise more finely)", br=br)
+                      "the data do not show it, so B_r = {br:.3g} °/h may be rounding alone (state the output's "
+                      "resolution, or digitise more finely){hint}", br=br, hint=hint(" (device.output_resolution)"))
         tab = TableSpec("bias_runs", msg("B_0i per run"), [msg("run"), "B_0i (°/h)", "u_A (°/h)"],
                         [[k, f"{x.B0:.5g}", f"{x.uA:.2g}"] for k, x in zip(sorted(runs), bvs)])
         return self._outcome([Result(self.metrics[0], Q_(br, "deg/h"), b.combined, b, reportable=not why,
@@ -346,6 +348,8 @@ class BiasTemperature(_JJF):
     title = "Bias temperature sensitivity (零偏温度灵敏度)"
     clause = "7.2.16"
     metrics = (Metric("Bt", "bias temperature sensitivity", "B_t", "deg/h/delta_degC", "7.2.16.2", "31"),)
+    equipment = _JJF.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 no. 2); its "
+                                                       "calibration U (in K) enters the budget"),)
     requires = ScaleFactor.requires + (SegmentRequirement("static-temperature", "7.2.13 at each chamber temperature",
                                                           {"temperature": "degC"}, {"output": ("mV",)}),)
     options = RATE_OPTS + (Option("temperatures", "-40, -10, 20, 40, 60", None, "chamber points (°C)"),

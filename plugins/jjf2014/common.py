@@ -11,7 +11,7 @@ import attrs
 import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.model import (
     Campaign,
     EquipmentRequirement,
@@ -274,9 +274,10 @@ class SFSet:
             rep = sf_repeatability(campaign)
         u, dof, src, typ = self.u_single(rep)
         if rep is None and warnings is not None:
-            warnings.append(msg("no repeated calibrations (kind rate-repeat, 7.2.4) and no "
-                                "device.scale_factor_repeatability: u₃ of K is the eq. (3) fit's standard error, which "
-                                "leaves out the variation of K between power-ons"))
+            warnings.append(msg("no repeated calibrations (7.2.4) and no stated repeatability of K: u₃ of K is the "
+                                "eq. (3) fit's standard error, which leaves out the variation of K between "
+                                "power-ons{hint}",
+                                hint=hint(" (rate-repeat runs or device.scale_factor_repeatability)")))
         src = join(" ", [src, "(B.1.2.2 3))"])
         row = (BudgetRow.type_a(src, "u₃", Q_(u, KU), dof) if typ == "A" else
                BudgetRow.type_b(src, "u₃", Q_(u, KU), distribution="normal", k=1.0))
@@ -326,7 +327,7 @@ def _stated(campaign: Campaign, key: str, unit: str, what: str) -> Spread | None
     x = float(q.to(unit).magnitude)
     if not (x >= 0 and math.isfinite(x)):
         raise DataError(campaign.source, f"device.{key}", f"must be a non-negative {what}, got {v!r}")
-    return Spread(x, INF, msg("stated as device.{key}", key=key), "B")
+    return Spread(x, INF, msg("stated for the device{hint}", hint=hint(f" (device.{key})")), "B")
 
 
 def sf_repeatability(campaign: Campaign) -> Spread | None:

@@ -9,7 +9,7 @@ import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
-from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, Step, TableSpec
+from metro.core.model import EquipmentRequirement, Metric, Option, Result, Segment, SegmentRequirement, Step, TableSpec
 from metro.core.units import Q_
 
 from . import budgets as B
@@ -358,6 +358,8 @@ class Misalignment(_JJF):
     title = "Input-axis misalignment (输入轴失准角)"
     clause = "7.2.11"
     metrics = (Metric("gamma", "input-axis misalignment", "γ_m", "arcmin", "7.2.11.2", "25"),)
+    equipment = _JJF.equipment + (EquipmentRequirement("fixture", "fixture seating the device at positions 1–4; its "
+                                                       "`reseat_tilt` enters the budget"),)
     requires = ScaleFactor.requires + (SegmentRequirement(
         "misalignment", "positions 1–4 (OY up, +180° about IRA, OX up, +180°), table ±Ω for 1 min",
         {"position": "", "rate": "deg/s", "run": ""}, {"output": ("mV",)}),)

@@ -9,7 +9,7 @@ import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
-from metro.core.model import Metric, Option, Result, Segment, SegmentRequirement, TableSpec
+from metro.core.model import EquipmentRequirement, Metric, Option, Result, Segment, SegmentRequirement, TableSpec
 from metro.core.selection import curve_scatter, line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_, parse_quantity
 
@@ -276,6 +276,8 @@ class SFTemperature(_JJF):
     title = "Scale-factor temperature sensitivity (标度因数温度灵敏度)"
     clause = "7.2.5"
     metrics = (Metric("Kt", "scale-factor temperature sensitivity", "K_t", "1/delta_degC", "7.2.5.2", "11"),)
+    equipment = _JJF.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 no. 2); its "
+                                                       "calibration U (in K) enters the budget"),)
     requires = (SegmentRequirement("rate-temperature", "7.2.1 at each chamber temperature incl. room temperature",
                                    {"rate": "deg/s", "temperature": "degC"}, {"output": ("mV",)}),)
     options = RATE_OPTS + (Option("temperatures", "-40, -10, 20, 40, 60", None, "chamber points (°C), R5-like"),
