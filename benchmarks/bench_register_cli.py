@@ -10,7 +10,8 @@ Both trees run with this interpreter and its installed packages; each tree is pu
 D.5.6, four devices with five calibrations each) is written once, by the base tree when one is
 given (so that both read a register the older code wrote), then every command runs as a fresh
 process, base and head one after the other, ``--runs`` times; the table gives the median wall time
-and the median CPU time (user + system of the process), which a busy machine inflates less.
+and the median CPU time (user + system of the process), which a busy machine inflates less; one
+untimed run of each command per tree comes first (byte code compiled, files cached).
 ``amend`` works on a fresh copy of the 20-report register at each run (``METRO_REGISTER``).
 """
 
@@ -45,8 +46,7 @@ def shim(tree: Path, where: Path) -> Path:
 
 
 def environment(path: Path, lab: Path, extra: dict[str, str] | None = None) -> dict[str, str]:
-    env = dict(os.environ, PYTHONPATH=str(path), METRO_LAB=str(lab), PYTHONDONTWRITEBYTECODE="1",
-               COLUMNS="120")
+    env = dict(os.environ, PYTHONPATH=str(path), METRO_LAB=str(lab), COLUMNS="120")
     env.pop("METRO_REGISTER", None)
     env.update(extra or {})
     return env
@@ -98,6 +98,7 @@ def commands(reports: list[dict], work: Path, run: int, version: str) -> dict[st
     serial = reports[0]["device"]["serial"]
     fresh = work / f"{version}-{run}"
     issued = [r["number"] for r in reports if r["status"] == "issued"]
+    run = run % len(issued)  # the warm-up (-1) amends the last one
     register = work / "register.sqlite"
     copy = fresh / "register.sqlite"
     return {
@@ -106,14 +107,16 @@ def commands(reports: list[dict], work: Path, run: int, version: str) -> dict[st
         "register show": (["register", "show", number], {}),
         "history": (["history", serial, "--out", str(fresh / "history")], {}),
         "report N": (["report", number, "--out", str(fresh / "report")], {}),
-        "amend": (["amend", issued[run % len(issued)], "--reason", "benchmark", "--out", str(fresh / "amend")],
+        "amend": (["amend", issued[run], "--reason", "benchmark", "--out", str(fresh / "amend")],
                   {"METRO_REGISTER": "sqlite:///" + str(copy), "_copy": (register, copy)}),
     }
 
 
 def bench(trees: dict[str, Path], reports: list[dict], lab: Path, work: Path, runs: int) -> dict[str, dict]:
+    """Each command once untimed per tree (byte-code compiled and cached, files in the page cache),
+    then ``runs`` timed runs, the trees taking turns."""
     figures: dict[str, dict] = {}
-    for run in range(runs):
+    for run in range(-1, runs):
         for version, path in trees.items():
             for name, (argv, extra) in commands(reports, work, run, version).items():
                 extra = dict(extra)
@@ -124,6 +127,8 @@ def bench(trees: dict[str, Path], reports: list[dict], lab: Path, work: Path, ru
                 wall, cpu, code, last = timed(argv, environment(path, lab, extra))
                 if code != 0:
                     raise SystemExit(f"{version}: metro {' '.join(argv)} exited {code}: {last}")
+                if run < 0:  # the warm-up
+                    continue
                 slot = figures.setdefault(name, {}).setdefault(version, {"wall": [], "cpu": []})
                 slot["wall"].append(wall)
                 slot["cpu"].append(cpu)
