@@ -288,8 +288,8 @@ def _table(title: str, cols, rows) -> None:
     # short identifiers (a report number, a date: up to 13 characters) are kept on one line when the
     # terminal is wide enough for all of them; else a cell folds onto the next line, never cut to "stand…"
     short = [min(13, max([len(c)] + [len(r[i]) for r in cells])) for i, c in enumerate(cols)]
-    keep = sum(short) + 3 * len(cols) + 1 <= console.width
-    t = Table(title=title)
+    keep = sum(short) + 3 * len(cols) - 1 <= console.width  # cells, their padding, the lines between them
+    t = Table(title=title, show_edge=False)  # no outer frame: two more columns for the cells
     for i, c in enumerate(cols):
         t.add_column(c, overflow="fold", no_wrap=False, min_width=short[i] if keep else None)
     for r in cells:
