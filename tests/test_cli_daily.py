@@ -332,3 +332,10 @@ def test_register_show_piped_keeps_each_line_whole(lab, run_cli, tmp_path):
     line = next(ln for ln in stdout.splitlines() if ln.startswith("  file "))
     assert line.endswith(")") and "sha256 " in line and len(line) > 80  # one line, not wrapped at 80
     assert "# results" in stdout and "# audit trail" in stdout and "…" not in stdout
+
+
+def test_a_postgresql_register_without_its_driver_names_the_extra(home, run_cli, monkeypatch):
+    monkeypatch.setitem(__import__("sys").modules, "psycopg", None)  # as if the 'postgres' extra were missing
+    monkeypatch.setenv("METRO_REGISTER", "postgresql+psycopg://metro@127.0.0.1:5/x")
+    code, _, err = run_cli("register", "list")
+    assert code == 2 and "pip install 'metro-inertial[postgres]'" in err and "Traceback" not in err

@@ -190,8 +190,10 @@ def _reading(url: str):
         with reading(url, sqlite_path(url)) as reader:
             yield reader
     except ImportError as exc:  # no PostgreSQL driver
+        from ..extras import install_line
+
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
-                            hint="a PostgreSQL register needs psycopg: pip install 'metro-inertial[postgres]'") from exc
+                            hint=f"a PostgreSQL register needs the 'postgres' extra: {install_line('postgres')}") from exc
     except Exception as exc:
         if not exc.__class__.__module__.startswith(("sqlite3", "psycopg")):
             raise
