@@ -672,7 +672,7 @@ GRADES: Mapping[str, Mapping[str, Any]] = {
 #: what each grade is, in the device's model name and the truth table
 GRADE_TEXT: Mapping[str, str] = {
     "typical": "typical aviation-grade unit, conforms to table {table}",
-    "marginal": "marginal unit: angle random walk on the limit of table {table}, bias stability beyond it",
+    "marginal": "marginal unit: near or beyond the limits of table {table}",
     "failing": "failing unit: does not conform to table {table}",
 }
 
