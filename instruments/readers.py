@@ -74,6 +74,7 @@ files atomically, so a file being rewritten by them never shows a half-written s
 from __future__ import annotations
 
 import csv
+import functools
 import hashlib
 import math
 import os
@@ -707,76 +708,151 @@ def _text_where(layout: _TextLayout):
 # brings it), and the diagnosis of a file pyarrow refused.  The text is cut into chunks ending at a
 # line end; a chunk's fields are found from the delimiter and newline bytes, and every field of a
 # column is read at once, one character position at a time, by a finite automaton over character
-# classes (sign, digits, point, exponent, spaces and quotes).  The digits accumulate into an integer
+# classes (sign, digits, point, exponent, spaces, the field's end).  The digits accumulate into an integer
 # mantissa m and a power of ten e, and m * 10**e (or m / 10**-e) is one correctly rounded float64
 # operation when m < 2**53 and |e| <= 22 (both factors are exact).  Other fields (17 significant
 # digits, far exponents, nan/inf) go through Python's float(), which rounds correctly too, so the
 # values equal pyarrow's bit for bit.  No thread is started: nothing is left running at exit.
 
-_SP, _SG, _DG, _DOT, _EXP, _NUL, _OTHER = range(7)
+_SP, _PLUS, _MINUS, _DG, _DOT, _EXP, _END, _OTHER = range(8)  # character classes
 _CLASS = np.full(256, _OTHER, dtype=np.uint8)
 _CLASS[[ord(c) for c in " \t\r"]] = _SP  # spaces and the CR of CRLF (a quoted cell goes to float())
-_CLASS[[ord("+"), ord("-")]] = _SG
+_CLASS[ord("+")] = _PLUS
+_CLASS[ord("-")] = _MINUS
 _CLASS[ord("0") : ord("9") + 1] = _DG
 _CLASS[ord(".")] = _DOT
 _CLASS[[ord("e"), ord("E")]] = _EXP
-# states: 0 start, 1 sign, 2 integer digits, 3 point before any digit, 4 fraction, 5 exponent
-# mark, 6 exponent sign, 7 exponent digits, 8 trailing spaces, 9 error
-_STEP = np.full((10, 7), 9, dtype=np.uint8)
-_STEP[0, [_SP, _SG, _DG, _DOT, _NUL]] = [0, 1, 2, 3, 0]
+_CLASS[ord("\n")] = _END  # and the delimiter: the end of a field
+# states: 0 start, 1 sign, 2 integer digits, 3 point before any digit, 4 fraction, 5 exponent mark,
+# 6 exponent sign, 7 exponent digits, 8 trailing spaces, 9 error, 10 done (the field was a number);
+# 9 and 10 keep their state whatever follows (the next fields' characters)
+_STEP = np.full((11, 8), 9, dtype=np.uint8)
+_STEP[0, [_SP, _PLUS, _MINUS, _DG, _DOT]] = [0, 1, 1, 2, 3]
 _STEP[1, [_DG, _DOT]] = [2, 3]
-_STEP[2, [_DG, _DOT, _EXP, _SP, _NUL]] = [2, 4, 5, 8, 8]
+_STEP[2, [_DG, _DOT, _EXP, _SP, _END]] = [2, 4, 5, 8, 10]
 _STEP[3, _DG] = 4
-_STEP[4, [_DG, _EXP, _SP, _NUL]] = [4, 5, 8, 8]
-_STEP[5, [_SG, _DG]] = [6, 7]
+_STEP[4, [_DG, _EXP, _SP, _END]] = [4, 5, 8, 10]
+_STEP[5, [_PLUS, _MINUS, _DG]] = [6, 6, 7]
 _STEP[6, _DG] = 7
-_STEP[7, [_DG, _SP, _NUL]] = [7, 8, 8]
-_STEP[8, [_SP, _NUL]] = [8, 8]
-_STEP_FLAT = _STEP.ravel()
-_ACCEPT = np.zeros(10, dtype=bool)
-_ACCEPT[[2, 4, 7, 8]] = True
+_STEP[7, [_DG, _SP, _END]] = [7, 8, 10]
+_STEP[8, [_SP, _END]] = [8, 10]
+_STEP[10, :] = 10
+# what a character does in a state: 1 a mantissa digit, 2 a fraction digit, 4 an exponent digit,
+# 8 the mantissa's minus, 16 the exponent's minus
+_ACTION = np.zeros((11, 8), dtype=np.uint8)
+_ACTION[[0, 1, 2], _DG] = 1
+_ACTION[[3, 4], _DG] = 1 | 2
+_ACTION[[5, 6, 7], _DG] = 4
+_ACTION[0, _MINUS] = 8
+_ACTION[5, _MINUS] = 16
+_STEP_FLAT, _ACTION_FLAT = _STEP.ravel(), _ACTION.ravel()
 _POW10 = 10.0 ** np.arange(23)  # exact in float64
-_TEXT_CHUNK = 4 << 20
+_TEXT_CHUNK = 1 << 20
 
 
-def _parse_fields(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Values of the fields ``buf[starts[i]:starts[i]+lens[i]]`` and a mask of the fields that
-    need float() (not plain decimal numbers of at most 15-16 digits, or not numbers at all)."""
+@functools.lru_cache(maxsize=8)
+def _byte_steps(delimiter: int) -> np.ndarray:
+    """The automaton over (state, byte): index state * 256 + byte, value the next state * 256."""
+    classes = _CLASS.copy()
+    classes[delimiter] = _END
+    return (_STEP[:, classes].astype(np.uint16) * 256).ravel()
+
+
+def _parse_fields(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, delimiter: int, *,
+                  exponents: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Values of the fields ``buf[starts[i]:starts[i]+lens[i]]`` (each followed by the delimiter or
+    a line end, and ``buf`` by line ends as long as the longest field) and a mask of the fields that
+    are not plain decimal numbers (quoted, nan, inf, or not numbers at all), left to
+    :func:`_cell_value`.  ``exponents=False``: ``buf`` holds no 'e' or 'E'."""
     n = len(starts)
-    state = np.zeros(n, dtype=np.uint8)
+    width = int(lens.max()) + 1 if n else 0
+    if n > 4096:  # some long fields (12.345000000000001 among 12.345): read them apart if it pays
+        short = np.cumsum(np.bincount(lens))  # fields of at most k characters
+        cost = short * (np.arange(len(short)) + 1) + (n - short) * width
+        cut = int(np.argmin(cost))
+        if cost[cut] < 0.75 * n * width:
+            values, other = np.empty(n), np.empty(n, dtype=bool)
+            for part in (np.flatnonzero(lens <= cut), np.flatnonzero(lens > cut)):
+                values[part], other[part] = _parse_fields(buf, starts[part], lens[part], delimiter,
+                                                          exponents=exponents)
+            return values, other
+    step = _byte_steps(delimiter)
+    state = np.zeros(n, dtype=np.uint16)  # the state times 256, plus the byte: the table's index
     mant = np.zeros(n, dtype=np.int64)
-    nsig = np.zeros(n, dtype=np.int16)
-    nfrac = np.zeros(n, dtype=np.int32)
+    ndig = np.zeros(n, dtype=np.uint8)
+    nfrac = np.zeros(n, dtype=np.int16)
     expo = np.zeros(n, dtype=np.int64)
     neg = np.zeros(n, dtype=bool)
     eneg = np.zeros(n, dtype=bool)
-    last = len(buf) - 1
-    for j in range(int(lens.max()) if n else 0):
-        c = buf.take(np.minimum(starts + j, last))
-        cls = _CLASS.take(c)
-        cls[lens <= j] = _NUL  # past the end of the field
+    at = starts.astype(np.intp, copy=True)
+    starting = True  # some field has not met its first non-space character yet
+    for _ in range(width):  # the field's characters and the byte after it
+        c = buf.take(at)
+        at += 1
         digit = c - np.uint8(48)
-        is_digit = cls == _DG
-        in_mant = is_digit & (state < 5)
-        if in_mant.any():
-            nsig += in_mant & ((mant > 0) | (digit > 0))
-            np.copyto(mant, mant * 10 + digit, where=in_mant & (nsig <= 18))
-            nfrac += in_mant & ((state == 3) | (state == 4))
-        in_exp = is_digit & (state >= 5)
-        if in_exp.any():
+        in_mant = (digit < 10) & (state < 5 * 256)
+        mant *= in_mant * np.uint8(9) + np.uint8(1)  # past 18 digits it wraps; such a field goes below
+        mant += digit * in_mant
+        ndig += in_mant
+        nfrac += in_mant & (state >= 3 * 256)  # states 3, 4: after the point
+        if starting:
+            at_start = state == 0
+            neg |= (c == ord("-")) & at_start
+            starting = bool(at_start.any())
+        if exponents:
+            in_exp = (digit < 10) & (state >= 5 * 256) & (state < 8 * 256)
             np.copyto(expo, np.minimum(expo * 10 + digit, 1 << 20), where=in_exp)
-        sign = (cls == _SG) & (c == ord("-"))
-        if sign.any():
-            neg |= sign & (state == 0)
-            eneg |= sign & (state == 5)
-        state = _STEP_FLAT.take(state * np.uint8(7) + cls)
+            eneg |= (c == ord("-")) & (state == 5 * 256)
+        state = step.take(state + c)
+    state >>= 8
     e10 = np.where(eneg, -expo, expo) - nfrac
-    fast = _ACCEPT.take(state) & (nsig <= 18) & (mant < (1 << 53)) & (np.abs(e10) <= 22)
+    number = state == 10
+    fast = number & (ndig <= 18) & (mant < (1 << 53)) & (np.abs(e10) <= 22)
     scale = _POW10.take(np.minimum(np.abs(e10), 22))
     mf = mant.astype(np.float64)
     values = np.where(e10 >= 0, mf * scale, mf / scale)
     np.negative(values, out=values, where=neg)
-    return values, ~fast
+    exact = np.flatnonzero(number & ~fast)
+    if exact.size:  # 16-18 digits, far exponents
+        values[exact] = _exact_values(buf, starts[exact], lens[exact], mant[exact], e10[exact], neg[exact],
+                                      ndig[exact])
+    return values, ~number
+
+
+_WIDE = np.finfo(np.longdouble).nmant >= 63  # x87 extended (or quad): a 64-bit mantissa is exact
+_POW10_WIDE = np.cumprod(np.r_[1, np.full(27, 10)].astype(np.longdouble))  # 10**0..10**27, exact
+
+
+def _exact_values(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, mant: np.ndarray, e10: np.ndarray,
+                  neg: np.ndarray, ndig: np.ndarray) -> np.ndarray:
+    """Correctly rounded values of decimal fields the float64 fast path cannot take.  Up to 18
+    digits and |e| <= 27, m and 10**|e| are exact in long double, so m * 10**e or m / 10**-e is one
+    rounding to 64 bits; rounding that to float64 is right unless it fell exactly halfway between
+    two doubles (double rounding), and those, with the rest, go through numpy's conversion of the
+    text (correctly rounded, as float() is)."""
+    out = np.empty(len(starts))
+    rest = np.ones(len(starts), dtype=bool)
+    if _WIDE:
+        ok = (ndig <= 18) & (np.abs(e10) <= 27)
+        m = mant.astype(np.longdouble)
+        scale = _POW10_WIDE.take(np.minimum(np.abs(e10), 27))
+        q = np.where(e10 >= 0, m * scale, m / scale)
+        r = q.astype(np.float64)
+        tie = np.abs(q - r.astype(np.longdouble)) == np.spacing(np.abs(r)).astype(np.longdouble) / 2
+        rest = ~ok | tie
+        out[:] = np.where(neg, -r, r)
+    if rest.any():
+        out[rest] = _field_texts(buf, starts[rest], lens[rest]).astype(np.float64)
+    return out
+
+
+def _field_texts(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray) -> np.ndarray:
+    """The fields as a fixed-width bytes array (NUL-padded)."""
+    width = int(lens.max())
+    out = np.zeros((len(starts), width), dtype=np.uint8)
+    for j in range(width):
+        out[:, j] = np.where(lens > j, buf.take(starts + j), 0)
+    return out.view(f"S{width}").ravel()
 
 
 def _text_chunks(path: Path, offset: int) -> Iterator[bytes]:
@@ -829,6 +905,9 @@ def _value_error(layout: _TextLayout, cell: str, row: int, text: str) -> DataErr
                      hint=hint)
 
 
+_NUMBER = re.compile(rb"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(nan|inf|infinity)", re.IGNORECASE)
+
+
 def _cell_value(cell: bytes) -> float:
     """One cell as pyarrow's CSV reader reads it: a double-quoted cell is unquoted (what follows the
     closing quote is kept, as pyarrow keeps it), spaces around the number are dropped, nan and
@@ -839,7 +918,7 @@ def _cell_value(cell: bytes) -> float:
             raise ValueError
         cell = cell[1:end] + cell[end + 1 :]
     text = cell.strip(b" \t\r")
-    if not text or b'"' in text or b"_" in text or any(c <= 32 for c in text):  # float() takes 1_000
+    if not _NUMBER.fullmatch(text):  # float() takes more: 1_000, other white space
         raise ValueError
     return float(text)
 
@@ -885,34 +964,62 @@ def _chunk_rows(b: np.ndarray, delim: int, ncols: int) -> tuple[np.ndarray, np.n
     return starts.reshape(-1, ncols), lens.reshape(-1, ncols), bad_field, bad_cells
 
 
+def _parse_chunk(chunk: bytes, delim: int, ncols: int, columns: list[int]):
+    """One chunk's rows: (rows, [values of each wanted column], the first cell that is no number as
+    (row in chunk, column position in ``columns``, text) or None, the first line with the wrong
+    number of cells as (its text, cells) or None)."""
+    b = np.frombuffer(chunk, dtype=np.uint8)
+    starts, lens, bad_at, bad_cells = _chunk_rows(b, delim, ncols)
+    padded = np.concatenate((b, np.full(int(lens.max(initial=0)) + 1, 10, dtype=np.uint8)))
+    exponents = chunk.find(b"e") >= 0 or chunk.find(b"E") >= 0
+    out, first_bad = [], None
+    for k, j in enumerate(columns):
+        s, n = np.ascontiguousarray(starts[:, j]), np.ascontiguousarray(lens[:, j])
+        values, slow = _parse_fields(padded, s, n, delim, exponents=exponents)
+        i = _slow_values(chunk, s, n, values, slow) if slow.any() else None
+        if i is not None and (first_bad is None or i < first_bad[0]):
+            first_bad = (i, k, chunk[int(s[i]) : int(s[i] + n[i])].decode("utf-8", "replace"))
+        out.append(values)
+    shape = None
+    if bad_at is not None:
+        shape = (chunk[bad_at:].split(b"\n", 1)[0].rstrip(b"\r").decode("utf-8", "replace"), bad_cells)
+    return len(starts), out, first_bad, shape
+
+
 def _parse_text_numpy(layout: _TextLayout, names: list[str], wanted: list[str],
                       cells: Mapping[str, str]) -> tuple[dict[str, list[np.ndarray]], int]:
     """Read the wanted columns of a text file without pyarrow: ({name: float64 parts}, rows).
 
-    Raises the DataError of the first bad row (wrong number of cells, a cell that is no number)."""
-    ncols = len(names)
-    index = {n: names.index(n) for n in wanted}
+    Chunks are parsed on up to two threads (numpy releases the GIL; the pool is joined before this
+    returns or raises), their results taken in file order.  Raises the DataError of the first bad
+    row (wrong number of cells, a cell that is no number)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    columns = [names.index(n) for n in wanted]
     parts: dict[str, list[np.ndarray]] = {n: [] for n in wanted}
-    delim = ord(layout.delimiter)
+    args = (ord(layout.delimiter), len(names), columns)
+    workers = max(1, min(os.cpu_count() or 1, 2))
     rows = 0
-    for chunk in _text_chunks(layout.path, layout.data_offset):
-        b = np.frombuffer(chunk, dtype=np.uint8)
-        starts, lens, bad_at, bad_cells = _chunk_rows(b, delim, ncols)
-        first_bad: tuple[int, str, str] | None = None  # (row in chunk, column, text)
-        for name in wanted:
-            s, n = np.ascontiguousarray(starts[:, index[name]]), np.ascontiguousarray(lens[:, index[name]])
-            values, slow = _parse_fields(b, s, n)
-            i = _slow_values(chunk, s, n, values, slow) if slow.any() else None
-            if i is not None and (first_bad is None or i < first_bad[0]):
-                first_bad = (i, name, chunk[int(s[i]) : int(s[i] + n[i])].decode("utf-8", "replace"))
-            parts[name].append(values)
-        if first_bad is not None:
-            i, name, text = first_bad
-            raise _value_error(layout, cells[name], rows + i + 1, text)
-        rows += len(starts)
-        if bad_at is not None:
-            line = chunk[bad_at:].split(b"\n", 1)[0].rstrip(b"\r")
-            raise _shape_error(layout, rows + 1, line.decode("utf-8", "replace"), bad_cells)
+    with ThreadPoolExecutor(workers) as pool:
+        pending = []
+        chunks = _text_chunks(layout.path, layout.data_offset)
+        while True:
+            while len(pending) < 2 * workers and (chunk := next(chunks, None)) is not None:
+                pending.append(pool.submit(_parse_chunk, chunk, *args))
+            if not pending:
+                break
+            n, values, first_bad, shape = pending.pop(0).result()
+            if first_bad is not None or shape is not None:
+                for fut in pending:
+                    fut.cancel()
+            if first_bad is not None:
+                i, k, text = first_bad
+                raise _value_error(layout, cells[wanted[k]], rows + i + 1, text)
+            for name, v in zip(wanted, values):
+                parts[name].append(v)
+            rows += n
+            if shape is not None:
+                raise _shape_error(layout, rows + 1, *shape)
     return parts, rows
 
 

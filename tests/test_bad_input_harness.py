@@ -277,9 +277,10 @@ def test_numpy_reader_values_equal_pyarrow_bit_for_bit(tmp_path, monkeypatch):
     rng = np.random.default_rng(29)
     n = 60_000
     cols = {"time": np.arange(n) * 0.001, "wide": rng.normal(size=n) * 10.0 ** rng.integers(-40, 40, n),
-            "round": np.round(rng.normal(size=n), 3), "count": rng.integers(-2**53, 2**53, n)}
+            "round": np.round(rng.normal(size=n), 3), "count": rng.integers(-2**53, 2**53, n),
+            "mid": rng.random(n) * 10.0 ** rng.integers(-25, 25, n)}  # 17 digits: the long-double path
     cols["wide"][:6] = [0.0, -0.0, 5e-324, 1.7976931348623157e308, 1e22, 1e23]
-    units = {"time": "s", "wide": "P", "round": "P", "count": "1"}
+    units = {"time": "s", "wide": "P", "round": "P", "count": "1", "mid": "P"}
     texts = {}
     for mode in ("", "1"):
         monkeypatch.setenv("METRO_NO_PYARROW", mode)
