@@ -20,7 +20,7 @@ def wheel(tmp_path_factory) -> Path:
         [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(out), str(ROOT)],
         check=True, capture_output=True, text=True,
     )
-    (whl,) = out.glob("metro-*.whl")
+    (whl,) = out.glob("metro_inertial-*.whl")  # the distribution metro-inertial
     return whl
 
 
@@ -28,6 +28,7 @@ def test_wheel_contains_only_the_metro_namespace(wheel):
     names = zipfile.ZipFile(wheel).namelist()
     top = {n.split("/")[0] for n in names}
     assert {t for t in top if not t.endswith(".dist-info")} == {"metro"}
+    assert [t.split("-")[0] for t in top if t.endswith(".dist-info")] == ["metro_inertial"]
     for needed in (
         "metro/core/hookspec.py", "metro/core/units.txt", "metro/core/templates/report.docx",
         "metro/core/locale/zh/LC_MESSAGES/metro.po", "metro/core/locale/__init__.py",
