@@ -31,7 +31,7 @@ def test_builtins_load_through_the_entry_point_group(pm):
     names = set(pm.plugins)
     assert {"core", "instruments", "gbt45570"} <= names
     for n in ("core", "instruments", "gbt45570"):
-        assert pm.plugins[n].distribution == "metro" and pm.plugins[n].builtin
+        assert pm.plugins[n].distribution == "metro-inertial" and pm.plugins[n].builtin
         assert pm.plugins[n].version
     assert {"gbt45570:D.5.1", "gbt45570:D.5.2", "gbt45570:D.5.6"} <= set(pm.registry.procedures)
     assert pm.registry.procedures["gbt45570:D.5.6"].plugin == "gbt45570"
