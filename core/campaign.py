@@ -654,7 +654,8 @@ def check_equipment(campaign: Campaign, proc) -> list:
     A required role the campaign does not list, or a calibration U of a kind of unit the item
     cannot use (a counter's U in °C), is a :class:`DataError` naming the equipment, the role and
     what is accepted — never a budget row dropped without a word.  Returns the optional
-    requirements that are absent (the runner adds a note row for each to the item's budgets)."""
+    requirements that are absent and ``noted`` (the runner adds a note row for each to the item's
+    budgets)."""
     from .units import Q_
 
     absent = []
@@ -671,7 +672,8 @@ def check_equipment(campaign: Campaign, proc) -> list:
                                 f"{req.role!r} ({req.description}); the campaign lists none "
                                 f"(roles given: {', '.join(sorted({e.role for e in campaign.equipment})) or 'none'})",
                                 hint=hint)
-            absent.append(req)
+            if req.noted:
+                absent.append(req)
             continue
         kinds = req.calibration or voc.ROLE_CALIBRATION.get(req.role, ())
         if not kinds:

@@ -571,12 +571,16 @@ class EquipmentRequirement:
     an optional one that is absent is a note row in the item's budgets.  ``calibration``: the
     kinds of unit its calibration U may be given in (``""`` relative, else a unit such as
     ``"s"``, ``"arcsec"``); a U of another kind is an error naming the equipment and the role,
-    never a budget row dropped without a word.  Empty: any kind (the item does not use U)."""
+    never a budget row dropped without a word.  Empty: any kind (the item does not use U).
+    ``noted``: False where the item itself covers an absent optional role (a bound the standard
+    states enters the budget instead), so no note row says its uncertainty is missing.  Every
+    role an item looks up is declared: the declared roles are the equipment a report lists."""
 
     role: str = attrs.field(converter=lambda r: canonical_role(r))
     description: str = ""
     required: bool = False
     calibration: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    noted: bool = True
 
 
 @attrs.frozen

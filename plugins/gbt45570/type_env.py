@@ -382,9 +382,9 @@ class _EnvironmentalTest(Procedure):
     record_sections = (SECTION,)
     # the biases before/after are D.5.1's (segment_bias): the counter's time base and the platform's levelness
     equipment = (EquipmentRequirement("counter", "gyro test system / counter; its time-base uncertainty enters the "
-                                      "bias budgets"),
+                                      "budgets"),
                  EquipmentRequirement("platform", "levelled stable platform (D.5.1.1 a)); its levelness enters the "
-                                      "bias budgets"))
+                                      "bias budget"))
     options = (Option("batches", 20, None, "batch means for the biases' type A uncertainty", minimum=2),
                Option("scale_factor", "angle", None, "scale factor before/after: angle (D.1.1 revolutions, pulse "
                       "output), rate (D.2.1, LSB output) or none"),

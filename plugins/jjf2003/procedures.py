@@ -82,8 +82,8 @@ EQUIPMENT = (
 )
 #: the items whose budgets hold the fixture's perpendicularity (6.2; the standard's bound when not stated)
 EQUIPMENT_FIXTURE = EQUIPMENT + (
-    EquipmentRequirement("fixture", "fixture holding the MIMU on the table; its `perpendicularity` enters the "
-                         "budgets (6.2: the standard's bound when not stated)"),
+    EquipmentRequirement("fixture", "fixture holding the MIMU on the table; its perpendicularity enters the "
+                         "cross-coupling budgets (6.2: the standard's bound when not stated)", noted=False),
 )
 
 # ------------------------------------------------------------------------------ budget rows

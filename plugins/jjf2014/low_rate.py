@@ -359,7 +359,7 @@ class Misalignment(_JJF):
     clause = "7.2.11"
     metrics = (Metric("gamma", "input-axis misalignment", "γ_m", "arcmin", "7.2.11.2", "25"),)
     equipment = _JJF.equipment + (EquipmentRequirement("fixture", "fixture seating the device at positions 1–4; its "
-                                                       "`reseat_tilt` enters the budget"),)
+                                                       "re-seating tilt enters the budget"),)
     requires = ScaleFactor.requires + (SegmentRequirement(
         "misalignment", "positions 1–4 (OY up, +180° about IRA, OX up, +180°), table ±Ω for 1 min",
         {"position": "", "rate": "deg/s", "run": ""}, {"output": ("mV",)}),)
