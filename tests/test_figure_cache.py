@@ -51,6 +51,17 @@ def test_one_draw_writes_the_bytes_savefig_wrote(spec, tmp_path):
     assert plots.render_png(spec, tmp_path / "f.png").read_bytes() == _savefig_png(spec)
 
 
+def test_figures_drawn_one_after_another_on_the_kept_renderer(tmp_path):
+    """The renderer kept between figures (its text measurements and parsed mathtext) draws each
+    figure as a renderer of its own did: a figure drawn after others is the figure drawn alone."""
+    a, b = _spec(), PlotSpec("lin", "温度 T_{ref}", "T (°C)", "K_i (P/″)", [{"x": [-40, 20, 60], "y": [0.5, 0.6, 0.7],
+                                                                              "style": "o", "yerr": 0.01}])
+    drawn = [plots.png_bytes(x) for x in (a, b, a, b)]
+    assert drawn[0] == drawn[2] == _savefig_png(a)
+    assert drawn[1] == drawn[3] == _savefig_png(b)
+    assert plots.png_bytes(b, dpi=60) != drawn[1]  # another size: a renderer of its own
+
+
 def test_a_figure_drawn_before_is_not_drawn_again(cache, monkeypatch):
     first = figure_cache.cached_png(_spec())
     assert first == plots.png_bytes(_spec())
