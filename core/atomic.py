@@ -44,17 +44,16 @@ def write_failure(exc: OSError) -> tuple[str, str]:
     disk (ENOSPC) says so, as do a used-up quota, a read-only file system and a refused permission."""
     import errno
 
-    code = exc.errno
+    code, said = exc.errno, exc.strerror or str(exc)
     if code == errno.ENOSPC:
-        return ("the disk is full (no space left on the file system)",
-                "free some space on that disk, or write to another folder")
+        return f"the disk is full ({said})", "free some space on that disk, or write to another folder"
     if code == getattr(errno, "EDQUOT", None):
-        return "your disk quota is used up", "free some space in your quota, or write to another folder"
+        return f"your disk quota is used up ({said})", "free some space in your quota, or write to another folder"
     if code == errno.EROFS:
-        return "the file system is read-only", "write to another folder"
+        return f"the file system is read-only ({said})", "write to another folder"
     if code in (errno.EACCES, errno.EPERM):
-        return "permission denied", "write to a folder you may write in, or ask for write access"
-    return (exc.strerror or str(exc)), "check the disk and the folder, or write to another folder"
+        return f"permission denied ({said})", "write to a folder you may write in, or ask for write access"
+    return said, "check the disk and the folder, or write to another folder"
 
 
 def sweep_stale(directory: str | os.PathLike[str], *, older_than_s: float = STALE_AFTER_S) -> list[Path]:
