@@ -708,11 +708,14 @@ def _text_where(layout: _TextLayout):
 # brings it), and the diagnosis of a file pyarrow refused.  The text is cut into chunks ending at a
 # line end; a chunk's fields are found from the delimiter and newline bytes, and every field of a
 # column is read at once, one character position at a time, by a finite automaton over character
-# classes (sign, digits, point, exponent, spaces, the field's end).  The digits accumulate into an integer
-# mantissa m and a power of ten e, and m * 10**e (or m / 10**-e) is one correctly rounded float64
-# operation when m < 2**53 and |e| <= 22 (both factors are exact).  Other fields (17 significant
-# digits, far exponents, nan/inf) go through Python's float(), which rounds correctly too, so the
-# values equal pyarrow's bit for bit.  No thread is started: nothing is left running at exit.
+# classes (sign, digits, point, exponent, spaces, the field's end).  The digits accumulate into an
+# integer mantissa m and a power of ten e, and m * 10**e (or m / 10**-e) is one correctly rounded
+# float64 operation when m < 2**53 and |e| <= 22 (both factors are exact).  Other fields (17
+# significant digits, far exponents) are rounded once in long double or by numpy's text
+# conversion, nan, inf and quoted cells by float() with pyarrow's rules, so the values equal
+# pyarrow's bit for bit.
+# Chunks are parsed on a pool of Python threads that is joined before the reader returns or raises:
+# nothing is left running at exit, and no Python code runs on a thread pyarrow owns.
 
 _SP, _PLUS, _MINUS, _DG, _DOT, _EXP, _END, _OTHER = range(8)  # character classes
 _CLASS = np.full(256, _OTHER, dtype=np.uint8)
@@ -791,7 +794,7 @@ def _parse_fields(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, delimit
         at += 1
         digit = c - np.uint8(48)
         in_mant = (digit < 10) & (state < 5 * 256)
-        mant *= in_mant * np.uint8(9) + np.uint8(1)  # past 18 digits it wraps; such a field goes below
+        mant *= in_mant * np.uint8(9) + np.uint8(1)  # wraps past 18 digits: see _exact_values
         mant += digit * in_mant
         ndig += in_mant
         nfrac += in_mant & (state >= 3 * 256)  # states 3, 4: after the point
@@ -814,8 +817,8 @@ def _parse_fields(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, delimit
     np.negative(values, out=values, where=neg)
     exact = np.flatnonzero(number & ~fast)
     if exact.size:  # 16-18 digits, far exponents
-        values[exact] = _exact_values(buf, starts[exact], lens[exact], mant[exact], e10[exact], neg[exact],
-                                      ndig[exact])
+        values[exact] = _exact_values(buf, starts[exact], lens[exact], mant[exact], e10[exact],
+                                      neg[exact], ndig[exact])
     return values, ~number
 
 
@@ -823,8 +826,8 @@ _WIDE = np.finfo(np.longdouble).nmant >= 63  # x87 extended (or quad): a 64-bit 
 _POW10_WIDE = np.cumprod(np.r_[1, np.full(27, 10)].astype(np.longdouble))  # 10**0..10**27, exact
 
 
-def _exact_values(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, mant: np.ndarray, e10: np.ndarray,
-                  neg: np.ndarray, ndig: np.ndarray) -> np.ndarray:
+def _exact_values(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, mant: np.ndarray,
+                  e10: np.ndarray, neg: np.ndarray, ndig: np.ndarray) -> np.ndarray:
     """Correctly rounded values of decimal fields the float64 fast path cannot take.  Up to 18
     digits and |e| <= 27, m and 10**|e| are exact in long double, so m * 10**e or m / 10**-e is one
     rounding to 64 bits; rounding that to float64 is right unless it fell exactly halfway between
@@ -888,7 +891,8 @@ def _shape_error(layout: _TextLayout, row: int, text: str, cells: int) -> DataEr
         note = ""
         hint = "remove the extra cells; check the delimiter and that the decimal separator is '.'"
     return DataError(layout.path, f"row {row}",
-                     f"row {row}{at} has {cells} cell(s) but the header has {expected}: {_show(text)}{note}",
+                     f"row {row}{at} has {cells} cell(s) but the header has {expected}: "
+                     f"{_show(text)}{note}",
                      hint=hint)
 
 
@@ -901,11 +905,12 @@ def _value_error(layout: _TextLayout, cell: str, row: int, text: str) -> DataErr
     else:
         what = f"{_show(text)}, which is not a number"
         hint = "cells must be plain decimal numbers such as -1.25e-3"
-    return DataError(layout.path, _cell_field(cell, row), f"row {row}{at} has {what} in column '{cell}'",
-                     hint=hint)
+    return DataError(layout.path, _cell_field(cell, row),
+                     f"row {row}{at} has {what} in column '{cell}'", hint=hint)
 
 
-_NUMBER = re.compile(rb"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(nan|inf|infinity)", re.IGNORECASE)
+_NUMBER = re.compile(rb"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(nan|inf|infinity)",
+                     re.IGNORECASE)
 
 
 def _cell_value(cell: bytes) -> float:
@@ -936,9 +941,10 @@ def _slow_values(chunk: bytes, starts: np.ndarray, lens: np.ndarray, values: np.
     return None
 
 
-def _chunk_rows(b: np.ndarray, delim: int, ncols: int) -> tuple[np.ndarray, np.ndarray, int | None, int]:
-    """Field starts and lengths (rows x ncols) of the lines of one chunk, blank lines left out, up to
-    the first line with the wrong number of cells: (starts, lens, the byte offset of that line or
+def _chunk_rows(b: np.ndarray, delim: int,
+                ncols: int) -> tuple[np.ndarray, np.ndarray, int | None, int]:
+    """Field starts and lengths (rows x ncols) of the lines of one chunk, blank lines left out, up
+    to the first line with the wrong number of cells: (starts, lens, the byte offset of that line or
     None, its number of cells)."""
     ends = np.flatnonzero((b == delim) | (b == 10))
     starts = np.empty_like(ends)
@@ -982,7 +988,8 @@ def _parse_chunk(chunk: bytes, delim: int, ncols: int, columns: list[int]):
         out.append(values)
     shape = None
     if bad_at is not None:
-        shape = (chunk[bad_at:].split(b"\n", 1)[0].rstrip(b"\r").decode("utf-8", "replace"), bad_cells)
+        line = chunk[bad_at:].split(b"\n", 1)[0].rstrip(b"\r")
+        shape = (line.decode("utf-8", "replace"), bad_cells)
     return len(starts), out, first_bad, shape
 
 
@@ -1023,8 +1030,8 @@ def _parse_text_numpy(layout: _TextLayout, names: list[str], wanted: list[str],
     return parts, rows
 
 
-def _diagnose_text(layout: _TextLayout, names: list[str], wanted: list[str], cells: Mapping[str, str],
-                   exc: Exception) -> DataError:
+def _diagnose_text(layout: _TextLayout, names: list[str], wanted: list[str],
+                   cells: Mapping[str, str], exc: Exception) -> DataError:
     """Find the first bad row after pyarrow's fast parse failed (with the numpy parser: no Python
     callback runs on an arrow thread, which could still be running when the interpreter exits)."""
     try:
@@ -1035,7 +1042,7 @@ def _diagnose_text(layout: _TextLayout, names: list[str], wanted: list[str], cel
 
 
 def _arrow() -> bool:
-    """Parse with pyarrow (the ``fast`` extra) when it is installed and METRO_NO_PYARROW is unset."""
+    """Parse with pyarrow (the ``fast`` extra) if it is installed and METRO_NO_PYARROW unset."""
     return os.environ.get("METRO_NO_PYARROW", "") in ("", "0") and extras.available("pyarrow")
 
 
