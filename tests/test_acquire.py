@@ -102,7 +102,7 @@ def test_nothing_is_left_when_writing_fails(pm, tmp_path, monkeypatch):
         return real(folder, stem, seg, npy_rows)
 
     monkeypatch.setattr(W, "_write_samples", flaky)
-    with pytest.raises(OSError, match="disk full"):
+    with pytest.raises(DataError, match="cannot write the campaign: disk full"):  # said, not a traceback
         W.write_campaign(camp, tmp_path / "c")
     assert list(tmp_path.iterdir()) == []  # no target, no hidden temporary folder
 

@@ -3,9 +3,13 @@ and nothing written (the report directory stays empty)."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
+
+#: the factory's pulse scale factor, whatever the simulated device's value (``scale_factor = "5 P/″"``)
+_SCALE = re.compile(r'^scale_factor = "[^"]* P/″"\n', re.M)
 
 CASES = {
     # name: (manifest_edit, data_edit, extra CLI args, [fragments expected in the message])
@@ -41,9 +45,9 @@ CASES = {
     "missing condition (orientation)": (lambda m: m.replace('orientation = "IRA up"\n', ""), None, (),
                                         ["orientation"]),
     "pulse output without scale factor": (
-        lambda m: m.replace('scale_factor = "0.8 P/″"\n', "").replace('scale_factor_U = "4 ppm"\n', ""), None, (),
+        lambda m: _SCALE.sub("", m, count=1).replace('scale_factor_U = "4 ppm"\n', ""), None, (),
         ["device.scale_factor"]),
-    "scale factor of the wrong kind": (lambda m: m.replace('scale_factor = "0.8 P/″"', 'scale_factor = "5000 LSB/(°/s)"'),
+    "scale factor of the wrong kind": (lambda m: _SCALE.sub('scale_factor = "5000 LSB/(°/s)"\n', m, count=1),
                                        None, (), ["device.scale_factor"]),
     "calibration without U": (lambda m: m.replace('U = "2e-7"\n', ""), None, (), ["calibration.U"]),
     "duplicate segment id": (lambda m: m + '\n[[segments]]\nid = "static-1"\nkind = "static"\nfile = "static.csv"\n'

@@ -105,3 +105,38 @@ def test_no_catalog_entry_claims_percent_formatting():
     lines = path.read_text(encoding="utf-8").splitlines()
     flagged = [n for n, line in enumerate(lines, 1) if line.startswith("#,") and "python-format" in line]
     assert not flagged, f"metro.po lines {flagged}: drop the python-format flag"
+
+
+def test_catalog_reader_gives_what_babel_gives():
+    """The core install reads metro.po without Babel (core.locale.read_catalog); Babel's own
+    reader (in the test extra) must give the same {msgid: msgstr} on the shipped catalog and on
+    entries that test the edges: fuzzy, empty, plural, context, obsolete, continued and escaped
+    strings."""
+    import io
+    from importlib import resources
+
+    from babel.messages.pofile import read_po
+
+    from metro.core.locale import read_catalog
+
+    def babel_map(text: str) -> dict[str, str]:
+        cat = read_po(io.StringIO(text))
+        return {m.id: m.string for m in cat if m.id and isinstance(m.id, str) and m.string
+                and not m.fuzzy and not m.context}
+
+    shipped = (resources.files("metro.core.locale") / "zh" / "LC_MESSAGES" / "metro.po").read_text(encoding="utf-8")
+    assert read_catalog(shipped) == babel_map(shipped)
+    assert len(read_catalog(shipped)) > 1000
+    edges = "\n".join([
+        'msgid ""', 'msgstr ""', '"Content-Type: text/plain; charset=UTF-8\\n"', "",
+        'msgid "plain"', 'msgstr "平"', "",
+        "#, fuzzy", 'msgid "fuzzy one"', 'msgstr "模糊"', "",
+        'msgid "empty"', 'msgstr ""', "",
+        'msgid "continued "', '"over lines"', 'msgstr "续"', '"行"', "",
+        'msgid "say \\"q\\"\\n\\ttab"', 'msgstr "引\\"号\\"\\n"', "",
+        'msgctxt "ctx"', 'msgid "in context"', 'msgstr "上下文"', "",
+        'msgid "one"', 'msgid_plural "many"', 'msgstr[0] "一"', "",
+        '#~ msgid "obsolete"', '#~ msgstr "废"', "",
+        "# a translator's comment", "#: core/x.py:1", 'msgid "after comments"', 'msgstr "注释后"', ""])
+    assert read_catalog(edges) == babel_map(edges) == {
+        "plain": "平", "continued over lines": "续行", 'say "q"\n\ttab': '引"号"\n', "after comments": "注释后"}
