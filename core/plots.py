@@ -1,10 +1,11 @@
 """Render a :class:`~metro.core.model.PlotSpec` to a PNG file with matplotlib.
 
 Procedures only *describe* figures (a :class:`PlotSpec`: title, axis labels, series);
-this module draws them.  matplotlib is imported inside :func:`render_png`, so importing
-this module costs nothing.  Drawing uses matplotlib's object interface with the Agg
-canvas: no GUI backend, no display, and no change to the global pyplot state of a
-program (or notebook) that imported metro — nothing is left open after a call.
+this module draws them.  matplotlib is imported inside :func:`png_bytes` (which
+:func:`render_png` calls), so importing this module costs nothing.  Drawing uses matplotlib's
+object interface with the Agg canvas: no GUI backend, no display, and no change to the global
+pyplot state of a program (or notebook) that imported metro — nothing is left open after a call
+(an Agg renderer per figure size is kept for the next figure, see :func:`_canvas_class`).
 
 A series is a mapping with the keys
 
