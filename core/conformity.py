@@ -38,6 +38,7 @@ import pint
 
 from .errors import DataError, UnitError
 from .locale import msg
+from .model import BOUND_SIGNS
 from .units import angle_power, fmt_unit, parse_quantity
 
 __all__ = [
@@ -407,7 +408,7 @@ def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAUL
         if spec.magnitude:
             x_lo = max(0.0, x_lo)
         ut = fmt_unit(spec.limit.units)
-        sign = ">" if bound == "lower" else "<"
+        sign = BOUND_SIGNS[bound]
         edge = x_lo if bound == "lower" else x_hi
         if lo <= x_lo and x_hi <= hi:
             return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),

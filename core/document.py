@@ -778,18 +778,26 @@ def status_text(tr, status: Any) -> str:
 
 def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
     """(value with unit, "U = … (k = …)") of a result row of the report context; a result not
-    reportable says so, with its reason, in place of its value."""
+    reportable says so, with its reason, in place of its value; one that bounds the quantity (D.4's
+    threshold ≤ H, a megohmmeter over its range) states the bound, with its U and why it is one."""
+    from .model import BOUND_SIGNS
+
     tr = doc.tr
-    if not r.get("reportable", True):
+    bound = "" if r.get("reportable", True) else r.get("bound") or ""
+    if not r.get("reportable", True) and not bound:
         return not_reportable(tr, r.get("reason") or ""), DASH
+    value = r["value_unit"]
+    if bound:
+        value = tr("{sign} {value} (a bound: {reason})", sign=BOUND_SIGNS[bound], value=value,
+                   reason=r.get("reason") or DASH)
     U = r.get("U_unit") or DASH
     if U == DASH:
-        return r["value_unit"], tr("not evaluated")
+        return value, tr("not evaluated")
     if U.startswith("u = "):
-        return r["value_unit"], U
+        return value, U
     if r.get("U") in ("0", "0.0"):  # a count or a value taken as declared: no k to state
-        return r["value_unit"], tr("no uncertainty (exact)")
-    return r["value_unit"], f"U = {U} (k = {r['k']})"
+        return value, tr("no uncertainty (exact)")
+    return value, f"U = {U} (k = {r['k']})"
 
 
 def result_fields(result: Any) -> dict:

@@ -420,6 +420,11 @@ class Metric:
         return f"{self.clause} ({self.equation})" if self.equation else self.clause
 
 
+#: a bound as the terminal, the documents and the verdicts state it (:attr:`Result.bound`): the true
+#: value is at least (``lower``) or at most (``upper``) the value shown
+BOUND_SIGNS = {"lower": "≥", "upper": "≤"}
+
+
 @attrs.frozen
 class Result:
     """A metric's value with its standard uncertainty and budget."""
@@ -438,8 +443,18 @@ class Result:
     #: or "" (not stated by the procedure)
     earth_rate: str = ""
     #: for a result that is not reportable as a value but bounds the quantity (a reading beyond the
-    #: instrument's range): "lower" — the true value is above ``value``; "upper" — below it; "" — no bound
+    #: instrument's range): "lower" — the true value is at least ``value``; "upper" — at most; "" — no
+    #: bound (stated with :data:`BOUND_SIGNS`)
     bound: str = attrs.field(default="", validator=attrs.validators.in_(("", "lower", "upper")))
+
+    @property
+    def bound_sign(self) -> str:
+        """How a bound is stated beside its value: ``≥`` (lower), ``≤`` (upper), ``""`` (a value).
+
+        >>> BOUND_SIGNS["upper"], BOUND_SIGNS.get("", "")
+        ('≤', '')
+        """
+        return BOUND_SIGNS.get(self.bound, "")
 
     def __attrs_post_init__(self) -> None:
         check_dimension(self.value, self.metric.unit, field=self.metric.key)

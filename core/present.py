@@ -203,8 +203,9 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
     t = Table(title="Results", title_justify="left")
     # (item, symbol, reason) of the results not reportable: one says why in its row; several, below the
     # table, a reason (or a part of one) they share stated once (core.notes.group_notes)
+    # (a result that states a bound says why in its own row: it is issued as the bound)
     withheld: list[tuple[str, str, Any]] = [(o.item, r.metric.symbol, r.reason) for o in record.outcomes
-                                            for r in o.results if not r.reportable]
+                                            for r in o.results if not r.reportable and not r.bound]
     for col in ("item", "quantity", "value", "U (k)", "unit", "verdict / note"):
         t.add_column(col, justify="right" if col in ("value", "U (k)") else "left",
                      overflow="fold", no_wrap=col in ("value", "U (k)"))
@@ -221,7 +222,10 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
                 st = ver.status.value
                 notes.append(f"[{colour[st]}]{st}[/]" + (f" ({esc(ver.detail)})" if ver.detail not in ("pass", "fail") else "")
                              + f" vs {esc(ver.spec.text())}")
-            if not r.reportable:
+            if r.bound:
+                v = f"{r.bound_sign} {v}"
+                notes.append(f"a bound: {esc(r.reason)}")
+            elif not r.reportable:
                 notes.append(f"[yellow]not reportable:[/] {esc(r.reason)}" if len(withheld) == 1 else
                              "[yellow]not reportable[/] (why: below)")
             if r.earth_rate:

@@ -266,6 +266,7 @@ def _result_row(r: "Result") -> dict[str, Any]:
     return {
         "reportable": bool(getattr(r, "reportable", True)),
         "reason": getattr(r, "reason", "") or "",
+        "bound": getattr(r, "bound", "") or "",
         "earth_rate": str(getattr(r, "earth_rate", "") or ""),
         "value_unit": with_unit(vtext, unit),
         "U_unit": _DASH if Utext is None else (Utext if Utext.startswith("u = ") else with_unit(Utext, unit)),

@@ -161,7 +161,7 @@ def test_a_bound_beyond_an_instruments_range_is_judged_as_a_half_line():
         return cf.assess([Outcome("s", "6.2.5", "t", "c", [result])], [parse_limit("R_ins", limit)], GUARDED).verdicts[0]
 
     v = judged(bounded(10000, "lower"), ">= 50 Mohm")
-    assert v.status is Status.PASS and "R_ins > 1×10⁴ MΩ" in v.reason and "a bound" in v.reason
+    assert v.status is Status.PASS and "R_ins ≥ 1×10⁴ MΩ" in v.reason and "a bound" in v.reason
     assert judged(bounded(10000, "lower"), "<= 5000 Mohm").status is Status.FAIL   # R > 10 000 is over 5 000
     assert judged(bounded(20, "upper"), ">= 50 Mohm").status is Status.FAIL        # R < 20 is under 50
     assert judged(bounded(20, "upper"), "<= 50 Mohm").status is Status.PASS

@@ -134,7 +134,7 @@ def test_d4_unresolved_positions_bound_the_threshold(pm):
     levels = _levels("0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.03, 0.05")
     rec = run_items(pm, "gbt45570", ["D.4"], station_options={"seed": 1})
     (r,) = rec.outcomes[0].results
-    assert r.bound == "upper" and not r.reportable and "anywhere below" in r.reason
+    assert r.bound == "upper" and not r.reportable and "stated as at most" in r.reason
     H = float(r.value.to("deg/h").magnitude)
     assert min(abs(H - x) for x in levels) < 1e-6 and H < 0.02  # a tested input (Ψ_i as set)
     assert {row.symbol for row in r.budget.rows} <= {"δΨ", "u(θ)", "u_rel(K)"}  # the input realised at H, no noise

@@ -499,8 +499,8 @@ class ScaleFactorRepeatabilityD14(Procedure):
         Kj = [p.K for _, p in pts]
         want = float(opts["rate"].to("deg/s").magnitude)
         off = sorted({f"{p.rate:g}" for _, p in pts if abs(p.rate - want) > 0.01 * want})
-        warnings = [msg("runs at {off} °/s; D.1.4.2 repeats the test at {want:g} °/s (option rate)", off=", ".join(off),
-                        want=want)] if off else []
+        warnings = [msg("runs at {off} °/s; D.1.4.2 repeats the test at {want:g} °/s{hint}", off=", ".join(off),
+                        want=want, hint=hint(" (option rate)"))] if off else []
         Kr = F2.scale_factor_repeatability_d11(Kj)
         if not Kr > 0:
             # identical whole counts: one pulse in m revolutions is coarser than the power-on scatter

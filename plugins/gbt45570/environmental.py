@@ -611,7 +611,7 @@ class SetupTime6277(Procedure):
             w_used = w * int(math.ceil(res / (tol / 2.0)))
             reason = msg("over the {w:g} s window the output resolves only {res:.3g} °/h (one {what}), coarser than half "
                          "the band ±{tol:g} °/h: the instant the gyro enters the band cannot be read; the value shown is "
-                         "from a {used:g} s window — use a finer output or agree a longer window (option window)",
+                         "from a {used:g} s window — use a finer output or agree a longer window{hint}", hint=hint(" (option window)"),
                          w=w * tau, res=res, what=msg("pulse") if conv.output_kind == "pulse" else msg("output step"),
                          tol=tol, used=w_used * tau)
             if start < 2 * w_used:

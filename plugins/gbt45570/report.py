@@ -138,7 +138,9 @@ def limit_table(device, outcomes, assessment) -> dict[str, Any] | None:
             val, U, k = _result_cells(r)
             # judged by the row (``Bs``) or by a limit on this result's own key (row 10 at t = 100 s: ``Bs_100s``)
             v = verdicts.get((o.item, r.metric.key, row.key)) or verdicts.get((o.item, r.metric.key, r.metric.key))
-            if not getattr(r, "reportable", True):
+            if getattr(r, "bound", ""):  # the bound is what is issued (D.4: threshold ≤ H); the results table says why
+                result = f"{r.bound_sign} {val}, U = {U} (k = {k})" if U != DASH else f"{r.bound_sign} {val}"
+            elif not getattr(r, "reportable", True):
                 result = "not reportable"  # the results table gives the value and why it is not issued
             else:
                 result = f"{val}, U = {U} (k = {k})" if U != DASH else val

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from metro.core import allan
 from metro.core.budget import BudgetRow, UncertaintyBudget
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.errors import DataError
 from metro.core.model import (
     Campaign,
@@ -184,9 +184,9 @@ class ThresholdD4(Procedure):
             if len(cands) > 1 and not fails:
                 not_reportable.append(
                     msg("no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
-                        "confidence (at {x:.4g} °/h: {why}), so the threshold may lie anywhere below {H:.4g} °/h; "
-                        "record longer at each position (option seconds)", H=H, conf=conf,
-                        x=abs(inputs[cands[0]]), why=verdicts[cands[0]][1]))
+                        "confidence (at {x:.4g} °/h: {why}), so the threshold is stated as at most {H:.4g} °/h{hint}",
+                        H=H, conf=conf, x=abs(inputs[cands[0]]), why=verdicts[cands[0]][1],
+                        hint=hint("; record longer at each position (option seconds) to resolve it")))
                 # the first resolved pass bounds the threshold from above: ≤ H, judged as (−∞, H + U]
                 # (interpretations.md, "D.4 — an upper bound when nothing below is resolved")
                 i, th, bound = hi, H, "upper"
@@ -253,7 +253,7 @@ class ThresholdD4(Procedure):
                      earth_rate="not applicable",
                      reportable=not not_reportable, reason=join("; ", not_reportable) if not_reportable else "",
                      bound=bound)
-        if not_reportable:
+        if not_reportable and not bound:  # a bound is issued as such, its reason beside it
             warnings.append(msg("the threshold is NOT REPORTABLE: {reason}", reason=join("; ", not_reportable)))
         order = np.argsort(np.abs(inputs))
         plot = PlotSpec("threshold_ratio", msg("Response against the expected one (D.39)"), "Ω_e cos Ψ_i (°/h)",

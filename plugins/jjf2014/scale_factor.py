@@ -8,7 +8,7 @@ import math
 import numpy as np
 from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
+from metro.core.locale import hint, join, msg
 from metro.core.model import EquipmentRequirement, Metric, Option, Result, Segment, SegmentRequirement, TableSpec
 from metro.core.selection import curve_scatter, line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_, parse_quantity
@@ -124,8 +124,8 @@ class NonlinearityRange(_JJF):
         limit_txt = opts["nonlinearity_limit"] or campaign.device.properties.get("nonlinearity_spec")
         results = [Result(self.metrics[0], Q_(kn, ""), bkn.combined, bkn)]
         if limit_txt in (None, ""):
-            w.append(msg("no nonlinearity requirement given (option nonlinearity_limit or device.nonlinearity_spec): "
-                         "the range is not determined"))
+            w.append(msg("no nonlinearity requirement given{hint}: the range is not determined",
+                         hint=hint(" (option nonlinearity_limit or device.nonlinearity_spec)")))
         else:
             limit = float(parse_quantity(limit_txt, dimension="").to("").magnitude)
             res = _range_decision(s, limit, cal)
