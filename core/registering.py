@@ -152,62 +152,65 @@ def notices_for(lab: "LabProfile", number: str, *, supersedes: str | None = None
 
 
 def _plain(v: Any) -> Any:
+    """A figure's numbers as JSON values: a pint quantity's magnitude, an array as a list (a
+    non-finite value as None), a numpy number as a float; anything else as it is."""
     import numpy as np
 
     v = getattr(v, "magnitude", v)
     if isinstance(v, np.ndarray):
         return [None if not np.isfinite(x) else float(x) for x in v.ravel()]
-    if isinstance(v, (list, tuple)):
-        return [_plain(x) for x in v]
     if isinstance(v, (np.floating, np.integer)):
         return float(v)
     return v
 
 
 def encode_context(ctx: Mapping[str, Any]) -> dict[str, Any]:
-    """The context as plain JSON: each figure's PlotSpec as ``{"plotspec": {...}}`` (series as lists)."""
+    """The context as plain JSON: each figure's PlotSpec as ``{"plotspec": {field: value}}`` (every
+    field of the class, series as lists of numbers) and every translatable text, wherever it is —
+    in the context, a figure's title and labels, a series' legend entry or any value nested in
+    them — as ``{"text": {...}}``, so that a document written again from the register draws its
+    figures in every language of the certificate, as the first one did (issue 29)."""
     from .locale import Text
     from .model import PlotSpec
     from .register import json_safe
 
-    def enc(obj: Any) -> Any:
+    def enc(obj: Any, figure: bool) -> Any:
         if isinstance(obj, Text):  # a message keeps its id and fields: the document is written again in any language
             return {"text": obj.encode()}
         if isinstance(obj, PlotSpec):
-            return {"plotspec": {
-                "name": obj.name, "title": obj.title, "xlabel": obj.xlabel, "ylabel": obj.ylabel,
-                "logx": obj.logx, "logy": obj.logy,
-                "series": [{k: _plain(v) for k, v in s.items()} for s in obj.series],
-            }}
+            return {"plotspec": {f.name: enc(getattr(obj, f.name), True) for f in attrs.fields(PlotSpec)}}
+        if figure:
+            obj = _plain(obj)
         if isinstance(obj, Mapping):
-            return {str(k): enc(v) for k, v in obj.items() if k != "image"}
+            return {str(k): enc(v, figure) for k, v in obj.items() if figure or k != "image"}
         if isinstance(obj, (list, tuple)):
-            return [enc(v) for v in obj]
+            return [enc(v, figure) for v in obj]
         return obj
 
-    return json_safe(enc(ctx))
+    return json_safe(enc(ctx, False))
 
 
 def decode_context(doc: Mapping[str, Any]) -> dict[str, Any]:
-    """:func:`encode_context` undone: figures become PlotSpec again (images drawn when rendering)."""
+    """:func:`encode_context` undone: figures become PlotSpec again (images drawn when rendering),
+    translatable texts :class:`Text` again wherever they are; a figure's missing numbers (None in
+    a list) are NaN again.  A context stored before figures kept their texts reads as it was."""
     from .locale import Text
     from .model import PlotSpec
 
-    def dec(obj: Any) -> Any:
+    fields = {f.name for f in attrs.fields(PlotSpec)}
+
+    def dec(obj: Any, figure: bool) -> Any:
         if isinstance(obj, Mapping):
             if set(obj) == {"text"} and isinstance(obj["text"], Mapping):
                 return Text.decode(obj["text"])
             if set(obj) == {"plotspec"}:
-                p = obj["plotspec"]
-                series = [{k: ([float("nan") if x is None else x for x in v] if isinstance(v, list) else v)
-                           for k, v in s.items()} for s in p["series"]]
-                return PlotSpec(p["name"], p["title"], p["xlabel"], p["ylabel"], series, p["logx"], p["logy"])
-            return {k: dec(v) for k, v in obj.items()}
+                return PlotSpec(**{k: dec(v, True) for k, v in obj["plotspec"].items() if k in fields})
+            return {k: dec(v, figure) for k, v in obj.items()}
         if isinstance(obj, list):
-            return [dec(v) for v in obj]
+            return [float("nan") if figure and v is None else dec(v, figure) for v in obj]
         return obj
 
-    ctx = dec(doc)
+    ctx = dec(doc, False)
     for o in ctx.get("outcomes", []):
         for p in o.get("plots", []):
             p.setdefault("image", None)
@@ -460,13 +463,18 @@ def _replace_text(obj: Any, old: str, new: str) -> Any:
     template or plugin context printed it).  A translatable text stays one: a :class:`Text` is
     mapped field by field (:meth:`Text.map`), and its JSON form (``{"text": {...}}``, as the
     register keeps it) has its fields, parts and English replaced, never its message id, so the
-    document still writes it in every language of the certificate."""
+    document still writes it in every language of the certificate.  A figure's PlotSpec (in a
+    context made by :func:`~metro.core.report.build_context`) has every field mapped the same way."""
     from .locale import Text
+    from .model import PlotSpec
 
     if isinstance(obj, Text):
         return obj.map(lambda s: s.replace(old, new)) if old in obj else obj
     if isinstance(obj, str):
         return obj.replace(old, new)
+    if isinstance(obj, PlotSpec):
+        return attrs.evolve(obj, **{f.name: _replace_text(getattr(obj, f.name), old, new)
+                                    for f in attrs.fields(PlotSpec)})
     if isinstance(obj, Mapping):
         if set(obj) == {"text"} and isinstance(obj["text"], Mapping):
             return {"text": {k: (v if k in ("msgid", "sep") else _replace_text(v, old, new))

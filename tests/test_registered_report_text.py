@@ -24,7 +24,7 @@ import pytest
 
 from metro.core.cli import main
 
-pytestmark = pytest.mark.skipif(
+needs_pdf = pytest.mark.skipif(
     not (shutil.which("soffice") or shutil.which("libreoffice")) or not shutil.which("pdftotext"),
     reason="LibreOffice (soffice) and poppler (pdftotext) are needed to render and read the PDF",
 )
@@ -84,6 +84,7 @@ def lab(tmp_path, monkeypatch, capsys):
     return path
 
 
+@needs_pdf
 def test_registered_and_amended_reports_keep_both_languages(lab, tmp_path, capsys):
     from metro.core.document import to_pdf
     from metro.core.lab import load_lab
@@ -119,3 +120,93 @@ def test_registered_and_amended_reports_keep_both_languages(lab, tmp_path, capsy
     only_plain, only_amended = _difference(plain, amended)
     assert han(only_amended) == han(only_plain), "amended report lost or gained Chinese"
     assert only_amended == only_plain
+
+
+# --------------------------------------------------------------------------------------
+# Figures: the texts drawn inside them (pdftotext does not read a figure's pixels)
+# --------------------------------------------------------------------------------------
+
+#: GB/T D.1.5 (title: a message with the item as a field) and D.3 (legend "limit {x} ppm"), and
+#: ogam 7.4 (legend "round {r}", title "Simulated tilt error, ψ = {psi:g}° …")
+FIGURE_RUNS = {
+    "gbt45570": ["-s", "gbt45570", "-i", "D.1.5,D.3", "--station-option", "duration_scale=0.05"],
+    "ogam": ["-s", "ogam", "-i", "7.4"],
+}
+
+
+def _drawn(spec, lang: str) -> tuple:
+    """What a figure draws in ``lang``: its title, axis labels, and each series' legend entry and
+    points (:func:`metro.core.plots.localized`, the spec the figure is drawn from)."""
+    import numpy as np
+
+    from metro.core import plots
+    from metro.core.locale import translator
+
+    s = plots.localized(spec, translator(lang))
+    series = tuple((str(x.get("label") or ""), str(x.get("style") or ""),
+                    tuple(np.round(np.asarray(getattr(x["x"], "magnitude", x["x"]), dtype=float), 9)),
+                    tuple(np.round(np.asarray(getattr(x["y"], "magnitude", x["y"]), dtype=float), 9)))
+                   for x in s.series)
+    return s.name, str(s.title), str(s.xlabel), str(s.ylabel), series, s.logx, s.logy
+
+
+@pytest.fixture
+def figures_drawn(monkeypatch):
+    """Every figure a document draws, as (language, spec) — the spec before translation."""
+    from metro.core import report
+
+    drawn: list[tuple[str, object]] = []
+    draw = report.draw_figure
+
+    def spy(spec, tr, png):
+        drawn.append((tr.lang, spec))
+        return draw(spec, tr, png)
+
+    monkeypatch.setattr(report, "draw_figure", spy)
+    return drawn
+
+
+@pytest.mark.parametrize("standard", sorted(FIGURE_RUNS))
+def test_figures_from_the_register_draw_the_texts_of_the_unregistered_report(standard, lab, tmp_path, capsys,
+                                                                           figures_drawn):
+    """Issue 29: the register's stored context (:func:`encode_context` / :func:`decode_context`)
+    kept a figure's title and legend entries as English strings, so a report written again from
+    the register (``metro report N``) or amended drew "Scale factor against temperature (D.1.5)"
+    and "limit 10 ppm" where the unregistered report drew "标度因数随温度的变化（D.1.5） Scale
+    factor against temperature (D.1.5)" and "限值 10 ppm limit 10 ppm"."""
+    from metro.core.lab import load_lab
+    from metro.core.register import open_register
+    from metro.core.registering import decode_context
+
+    run = ["run", *FIGURE_RUNS[standard], "--seed", "1", "--no-progress", "-q"]
+    assert main([*run, "--out", str(tmp_path / "plain")]) in (0, 3, 4)
+    plain = [spec for _, spec in figures_drawn]
+    assert plain and {lang for lang, _ in figures_drawn} == {"zh+en"}
+    zh_en = [_drawn(s, "zh+en") for s in plain]
+    # the figures do say something in Chinese that only a message with fields carries
+    wanted = {"gbt45570": ["标度因数随温度的变化（D.1.5）", "限值 10 ppm limit 10 ppm"],
+              "ogam": ["倾斜误差仿真，ψ =", "第 1 轮 round 1"]}[standard]
+    for w in wanted:
+        assert w in repr(zh_en), (w, zh_en)
+
+    assert main([*run, "--out", str(tmp_path / "reg"), "--register-simulated"]) in (0, 3, 4)
+    _, reg_no = _report_docx(tmp_path / "reg")
+    # the context the register keeps, decoded: the same figures in every language
+    with open_register(load_lab(lab).register_url()) as reg:
+        doc, _ = reg.context(reg_no)
+    stored = [p["spec"] for o in decode_context(doc)["outcomes"] for p in o["plots"]]
+    for lang in ("zh+en", "zh", "en"):
+        assert [_drawn(s, lang) for s in stored] == [_drawn(s, lang) for s in plain], lang
+
+    # the documents written from the register draw them so: `metro report N` and an amendment
+    for command in (["report", reg_no, "--out", str(tmp_path / "again")],
+                    ["amend", reg_no, "--reason", "the customer's name corrected", "--out", str(tmp_path / "amend")]):
+        figures_drawn.clear()
+        assert main(command) == 0
+        assert [_drawn(s, lang) for lang, s in figures_drawn] == zh_en, command[0]
+    capsys.readouterr()
+
+
+def _report_docx(folder: Path) -> tuple[Path, str]:
+    docx = next(folder.glob("*.docx"))
+    return docx, docx.stem
