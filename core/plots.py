@@ -61,16 +61,31 @@ CJK_FONT_FILE = re.compile(r"(?i)(noto(sans|serif)cjk|notosans-?sc|sourcehansans
                        r"|pingfang)[^/\\]*\.(ttc|otf|ttf)$")
 
 
-@functools.lru_cache(maxsize=1)
+#: held while the machine is searched for CJK fonts: figures drawn from threads (``metro batch``)
+#: search once between them
+_FONT_SEARCH = threading.Lock()
+
+
 def register_cjk_fonts() -> tuple[str, ...]:
     """Make the CJK fonts on this machine known to matplotlib in this process; return the font
     files added (none when matplotlib already knows one of :data:`FALLBACK_FONTS`).
+
+    The machine is searched once per process, whatever it finds (no CJK font too: the search runs
+    fontconfig's ``fc-list``, far too slow to repeat for every figure), and once between threads;
+    ``register_cjk_fonts.cache_clear()`` forgets the result (fonts installed since).
 
     matplotlib reads its font list from a cache built once (``fontlist-*.json`` in
     ``matplotlib.get_cachedir()``): a font installed after that cache was built is not in it,
     and Chinese then draws as empty boxes.  The machine's font files (fontconfig and the system
     font folders, :func:`matplotlib.font_manager.findSystemFonts`) whose names are those of the
     fallback fonts are added with ``fontManager.addfont``; the shared cache is not written."""
+    with _FONT_SEARCH:
+        return _cjk_fonts_added()
+
+
+@functools.lru_cache(maxsize=1)
+def _cjk_fonts_added() -> tuple[str, ...]:
+    """:func:`register_cjk_fonts`' search, its result kept (an empty one too)."""
     from matplotlib import font_manager
 
     fm = font_manager.fontManager
@@ -86,6 +101,9 @@ def register_cjk_fonts() -> tuple[str, ...]:
                 continue
             added.append(path)
     return tuple(added)
+
+
+register_cjk_fonts.cache_clear = _cjk_fonts_added.cache_clear  # type: ignore[attr-defined]
 
 
 def cjk_font_files() -> list[str]:

@@ -106,3 +106,64 @@ def test_no_cjk_font_at_all_is_one_statement_not_a_warning_per_glyph(stale_cache
     assert "Warning" not in proc.stderr and "missing from font" not in proc.stderr, proc.stderr
     assert proc.stderr.count("no CJK font found") == 1, proc.stderr
     assert len(list(tmp_path.glob("*.png"))) == 3
+
+
+@pytest.fixture
+def no_cjk_font_known(monkeypatch):
+    """matplotlib's font list without CJK fonts, the machine's fonts found through a counting finder,
+    and register_cjk_fonts' result forgotten before and after (other tests find the real fonts)."""
+    from matplotlib import font_manager
+
+    fm = font_manager.fontManager
+    monkeypatch.setattr(fm, "ttflist", [f for f in fm.ttflist if not plots.CJK_FONT_FILE.search(f.fname)])
+    searches = []
+    plots.register_cjk_fonts.cache_clear()
+    yield monkeypatch, searches
+    plots.register_cjk_fonts.cache_clear()
+
+
+def _counting_finder(monkeypatch, searches, found, delay=0.0):
+    import time
+
+    from matplotlib import font_manager
+
+    def find(*a, **k):
+        searches.append(1)
+        time.sleep(delay)
+        return list(found)
+
+    monkeypatch.setattr(font_manager, "findSystemFonts", find)
+
+
+@pytest.mark.parametrize("found", ["none", "cjk"])
+def test_the_machine_is_searched_for_cjk_fonts_once_per_process(no_cjk_font_known, found):
+    """Issue 29: with no CJK font known the search of the machine's fonts (fontconfig's fc-list and
+    the font folders) must not run again for every figure — nor when it found none."""
+    monkeypatch, searches = no_cjk_font_known
+    files = _CJK_FILES[:1] if found == "cjk" else []
+    if found == "cjk" and not files:
+        pytest.skip("no CJK font file on this machine (fonts-noto-cjk)")
+    _counting_finder(monkeypatch, searches, files)
+    first = plots.register_cjk_fonts()
+    assert first == tuple(files) and len(searches) == 1
+    for _ in range(3):
+        assert plots.register_cjk_fonts() == first
+        plots.font_families()
+    assert len(searches) == 1
+
+
+def test_figures_drawn_at_once_from_threads_search_once(no_cjk_font_known):
+    """`metro batch` writes documents from threads: their first figures, at the same moment, still
+    search the machine once."""
+    import threading
+
+    monkeypatch, searches = no_cjk_font_known
+    _counting_finder(monkeypatch, searches, _CJK_FILES[:1], delay=0.2)
+    results = []
+    threads = [threading.Thread(target=lambda: results.append(plots.register_cjk_fonts())) for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(searches) == 1
+    assert results == [tuple(_CJK_FILES[:1])] * 4  # each font file added by one thread
