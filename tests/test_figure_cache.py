@@ -1,5 +1,5 @@
 """Figures are drawn once per figure (not laid out twice by savefig) and a document written again
-takes them from metro.core.figure_cache: the same bytes either way, never a stale image."""
+takes them from metro.core.figure_cache: the same pixels as savefig's, never a stale image."""
 
 from __future__ import annotations
 
@@ -46,9 +46,38 @@ def _savefig_png(spec: PlotSpec) -> bytes:
 
 @pytest.mark.parametrize("spec", [_spec(), PlotSpec("lin", "Scale factor against temperature", "T (°C)", "K (P/″)",
                                                     [{"x": [-40, 20, 60], "y": [0.800001, 0.800002, 0.8000031]}])])
-def test_one_draw_writes_the_bytes_savefig_wrote(spec, tmp_path):
-    assert plots.png_bytes(spec) == _savefig_png(spec)
-    assert plots.render_png(spec, tmp_path / "f.png").read_bytes() == _savefig_png(spec)
+def test_one_draw_writes_the_pixels_savefig_wrote(spec, tmp_path):
+    assert _same_image(plots.png_bytes(spec), _savefig_png(spec))
+    assert _same_image(plots.render_png(spec, tmp_path / "f.png").read_bytes(), _savefig_png(spec))
+
+
+def _same_image(a: bytes, b: bytes) -> bool:
+    """The same pixels (mode, size, every value), resolution and text chunks."""
+    from PIL import Image
+
+    ia, ib = Image.open(io.BytesIO(a)), Image.open(io.BytesIO(b))
+    return (ia.mode, ia.size, ia.info) == (ib.mode, ib.size, ib.info) and np.array_equal(np.asarray(ia), np.asarray(ib))
+
+
+def test_png_encode_keeps_every_pixel():
+    """png_encode is lossless whatever the pixels: noise, transparency, a single row or column."""
+    from PIL import Image
+
+    rng = np.random.default_rng(29)
+    for shape in ((37, 53, 4), (1, 9, 4), (9, 1, 4), (300, 200, 4)):
+        rgba = rng.integers(0, 256, size=shape, dtype=np.uint8)
+        rgba[: shape[0] // 2, : shape[1] // 2] = (255, 255, 255, 255)  # runs, as a figure's white space
+        im = Image.open(io.BytesIO(plots.png_encode(rgba, dpi=300, text={"Software": "metro"})))
+        assert im.mode == "RGBA" and im.size == (shape[1], shape[0])
+        assert np.array_equal(np.asarray(im), rgba)
+        assert im.info["Software"] == "metro" and round(im.info["dpi"][0]) == 300
+    with pytest.raises(ValueError, match="RGBA"):
+        plots.png_encode(np.zeros((4, 4, 3), dtype=np.uint8), dpi=300)
+
+
+def test_png_encode_smaller_than_pillow_on_a_figure():
+    """Filter "Up" and zlib level 6 on a drawn figure: no larger than Pillow's PNG of it."""
+    assert len(plots.png_bytes(_spec())) <= len(_savefig_png(_spec()))
 
 
 def test_figures_drawn_one_after_another_on_the_kept_renderer(tmp_path):
@@ -57,8 +86,8 @@ def test_figures_drawn_one_after_another_on_the_kept_renderer(tmp_path):
     a, b = _spec(), PlotSpec("lin", "温度 T_{ref}", "T (°C)", "K_i (P/″)", [{"x": [-40, 20, 60], "y": [0.5, 0.6, 0.7],
                                                                               "style": "o", "yerr": 0.01}])
     drawn = [plots.png_bytes(x) for x in (a, b, a, b)]
-    assert drawn[0] == drawn[2] == _savefig_png(a)
-    assert drawn[1] == drawn[3] == _savefig_png(b)
+    assert drawn[0] == drawn[2] and _same_image(drawn[0], _savefig_png(a))
+    assert drawn[1] == drawn[3] and _same_image(drawn[1], _savefig_png(b))
     assert plots.png_bytes(b, dpi=60) != drawn[1]  # another size: a renderer of its own
 
 
