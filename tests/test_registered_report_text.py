@@ -9,6 +9,9 @@ read with pdftotext.  Apart from the report number and the registration statemen
 three say the same: the lines only one of two documents has (those around the number and the
 statements, which break where the number's length puts them) hold the same characters once the
 statements are taken out — in particular the same Chinese.
+
+pdftotext does not read a figure's pixels: the figures are compared by the texts they draw (title,
+axis labels, legend entries, in zh+en, zh and en) from the specs the documents are drawn from.
 """
 
 from __future__ import annotations
