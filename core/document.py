@@ -123,6 +123,7 @@ def _unit_may_wrap(cell: str) -> str:
 _NEG = re.compile(r"(?<![\w.\-/\u2060])-(?=\d)")
 
 
+@functools.lru_cache(maxsize=8192)  # a report glues ~9 000 cell texts, most of them more than once
 def glue(text: str) -> str:
     """No-break spaces where a line must not break: between a number and its unit
     (``1.2 ppm``) and around ``=`` in ``k = 2`` / ``U = 0.4``.
@@ -167,7 +168,13 @@ def _char_em(c: str, bold: bool = False) -> float:
 
 def text_mm(text: str, pt: float, bold: bool = False) -> float:
     """Width of ``text`` set at ``pt`` points, in millimetres (DejaVu Serif metrics)."""
-    return sum(_char_em(c, bold) for c in text) * pt * 25.4 / 72
+    return _text_em(text, bold) * pt * 25.4 / 72
+
+
+@functools.lru_cache(maxsize=16384)
+def _text_em(text: str, bold: bool) -> float:
+    """Width of ``text`` in em (a table's column widths are measured again at each smaller size)."""
+    return sum(_char_em(c, bold) for c in text)
 
 
 #: a run of Chinese up to this many characters (a term: 正态, 类型，分布, 标度因数) is kept on one
@@ -232,6 +239,12 @@ def _words(text: str) -> list[str]:
     return out
 
 
+@functools.lru_cache(maxsize=8192)
+def _words_of(text: str) -> tuple[str, ...]:
+    """:func:`_words` of a cell, kept (a column's cells are split again at each smaller size)."""
+    return tuple(_words(text))
+
+
 _ZH_EN = re.compile(r"(?<=[\u3400-\u9fff）])[ \u00a0](?=[A-Za-zΑ-Ωα-ωνΔ(])")
 
 
@@ -258,7 +271,7 @@ def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
     mins, wants = [], []
     for j, col in enumerate(columns):
         bold = [bold_first and i == 0 or bold_column and j == 0 for i in range(len(col))]
-        mins.append(max((text_mm(w, pt, b) for cell, b in zip(col, bold) for w in _words(cell)), default=0.0)
+        mins.append(max((text_mm(w, pt, b) for cell, b in zip(col, bold) for w in _words_of(cell)), default=0.0)
                     * 1.03 + pad)
         wants.append(max((text_mm(cell, pt, b) for cell, b in zip(col, bold)), default=0.0) * 1.03 + pad)
     if sum(mins) > total_mm:
