@@ -94,6 +94,22 @@ def test_a_chinese_document_has_no_english_prose(rendered):
     assert not bad, f"{case}: {len(bad)} English runs, e.g.\n" + "\n".join(bad[:15])
 
 
+def test_the_figures_of_a_chinese_document_draw_no_english_prose(rendered):
+    """The words drawn inside the figures (title, axis labels, legend entries) are the document's
+    language too: a legend made as plain English text ("pure delay −ωT_d", "least-squares line,
+    slope …", "1 s mean", "band") was drawn in English in every language."""
+    from metro.core import plots
+    from metro.core.locale import translator
+
+    case, rec, _docs = rendered
+    tr = translator("zh")
+    specs = [plots.localized(p, tr) for o in rec.outcomes for p in o.plots]
+    assert specs, case
+    drawn = [str(t) for s in specs for t in (s.title, s.xlabel, s.ylabel, *(x.get("label") or "" for x in s.series))]
+    bad = english_prose(drawn)
+    assert not bad, f"{case}: {len(bad)} English runs in figures, e.g.\n" + "\n".join(bad[:15])
+
+
 def test_an_english_document_has_no_chinese(rendered):
     case, _rec, docs = rendered
     _doc, texts = docs["en"]
@@ -153,6 +169,13 @@ def test_gbt45570_type_test_report_in_chinese(pm, tmp_path):
     assert not bad, bad[:10]
     line = next(t for t in texts if t.startswith("限值来源")).replace("\u00a0", " ")
     assert "表 A.1 第 1–16 行，航空（第 1 行：仅适用于 D.1.1" in line and "5.2.8（绝缘电阻 ≥ 50 MΩ）" in line, line
+    # the figures' own words too (D.1.5's fit line, 6.2.7.7's window mean and band are added to the specs)
+    from metro.core import plots
+    from metro.core.locale import translator
+
+    specs = [plots.localized(p["spec"], translator("zh")) for o in ctx["outcomes"] for p in o["plots"]]
+    drawn = [str(t) for sp in specs for t in (sp.title, sp.xlabel, sp.ylabel, *(x.get("label") or "" for x in sp.series))]
+    assert len(specs) >= 8 and not english_prose(drawn), english_prose(drawn)[:10]
     en = report.build_document(ctx, tmp_path, layout=layout, lang="en", figures=figures)
     line = next(t for t in _texts(en.doc) if t.startswith("Sources of the limits")).replace("\u00a0", " ")
     assert not CJK.search(line) and "table A.1 rows 1–16, aviation (row 1: applies to D.1.1 only" in line, line

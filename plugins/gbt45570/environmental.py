@@ -682,9 +682,9 @@ class SetupTime6277(Procedure):
         t_mm = (np.arange(mm.size) + w) * tau
         step = max(1, mm.size // 400)
         plot = PlotSpec("setup", msg("Window mean of the output after switch-on (6.2.7.7)"), "t (s)", "ω̄ (°/h)",
-                        [{"label": f"{w * tau:g} s mean", "x": t_mm[::step].tolist(), "y": mm[::step].tolist(),
+                        [{"label": msg("{w:g} s mean", w=w * tau), "x": t_mm[::step].tolist(), "y": mm[::step].tolist(),
                           "style": "-"},
-                         {"label": "band", "x": [0.0, float(t_mm[-1])], "y": [settled + tol, settled + tol],
+                         {"label": msg("band"), "x": [0.0, float(t_mm[-1])], "y": [settled + tol, settled + tol],
                           "style": "--"},
                          {"label": "", "x": [0.0, float(t_mm[-1])], "y": [settled - tol, settled - tol], "style": "--"},
                          {"label": f"t_s = {ts:g} s", "x": [ts, ts], "y": [settled - tol, settled + tol],

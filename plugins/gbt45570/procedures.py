@@ -551,7 +551,7 @@ class BiasTemperatureSensitivityD54(Procedure):
         plot = PlotSpec("bias_temperature", msg("Bias against temperature (D.5.4)"), "T (°C)", "B₀ (°/h)",
                         [{"label": "B₀(T) (D.40)", "x": [temps[i] for i in order], "y": [ests[i].B0 for i in order],
                           "yerr": [2 * ests[i].u_A for i in order], "style": "o"},
-                         {"label": f"slope of the largest |ΔB/ΔT| = {Bt:.3g} °/h/°C",
+                         {"label": msg("slope of the largest |ΔB/ΔT| = {Bt:.3g} °/h/°C", Bt=Bt),
                           "x": [temps[i0], temps[imax]], "y": [e0.B0, eA.B0], "style": "--"}])
         table = TableSpec("bias_points", msg("Bias at each temperature point"),
                           [msg("segment"), "T (°C)", "B₀ (°/h)", "|ΔB/ΔT| ((°/h)/°C)"],

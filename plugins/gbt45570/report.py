@@ -235,7 +235,7 @@ def with_fit_line(spec: PlotSpec) -> PlotSpec:
         return spec
     slope, icpt = np.polyfit(x, y, 1)
     xs = [float(x.min()), float(x.max())]
-    line = {"label": f"least-squares line, slope {slope:.3g} ppm/°C", "x": xs,
+    line = {"label": msg("least-squares line, slope {slope:.3g} ppm/°C", slope=slope), "x": xs,
             "y": [float(icpt + slope * v) for v in xs], "style": "-"}
     return PlotSpec(spec.name, spec.title, spec.xlabel, spec.ylabel, list(spec.series) + [line],
                     logx=spec.logx, logy=spec.logy)

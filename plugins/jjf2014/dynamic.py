@@ -173,7 +173,7 @@ class AngleRandomWalk(_JJF):
                                   reportable=not why, reason=why))
         results.insert(0, results.pop(1))  # ARW first
         model = fit.model(tau_h)
-        series = [{"label": "σ(τ) overlapping Allan deviation", "x": (tau_h * 3600).tolist(), "y": sig.tolist(),
+        series = [{"label": msg("σ(τ) overlapping Allan deviation"), "x": (tau_h * 3600).tolist(), "y": sig.tolist(),
                    "yerr": (sig / np.sqrt(2 * np.asarray(ad.edf))).tolist(), "style": "o"},
                   {"label": "eq. (38) fit", "x": (tau_h * 3600).tolist(), "y": np.sqrt(np.clip(model, 0, None)).tolist(),
                    "style": "-"}]
@@ -383,7 +383,7 @@ class Bandwidth(_JJF):
                           "x": fine.tolist(),
                           "y": (1 / np.sqrt(np.clip(np.polyval(ab[::-1], fine**2), 1e-12, None))).tolist(),
                           "style": "-"},
-                         {"label": f"0.707 → B_w = {fc:.4g} Hz", "x": [0.0, fc, fc], "y": [0.707, 0.707, 0.0],
+                         {"label": msg("0.707 → B_w = {fc:.4g} Hz", fc=fc), "x": [0.0, fc, fc], "y": [0.707, 0.707, 0.0],
                           "style": "--"}])
         tab = TableSpec("dynamic", msg("Per frequency"), ["f_i (Hz)", "Ē_i (mV)", "A (°/s)", "S_i (mV/((°)/s))", "K_i",
                                                      "P_i (rad)"],
@@ -434,7 +434,7 @@ class OutputDelay(Bandwidth):
                         [{"label": "P_i", "x": dyn.f.tolist(), "y": dyn.P.tolist(), "style": "o"},
                          {"label": msg("model, T_d = {td:.4g} ms, B_w = {bw:.4g} Hz", td=Td * 1e3, bw=fc), "x": fine.tolist(),
                           "y": (-np.arctan(wf * T) - wf * Td).tolist(), "style": "-"},
-                         {"label": "pure delay −ωT_d", "x": fine.tolist(), "y": (-wf * Td).tolist(), "style": ":"},
+                         {"label": msg("pure delay −ωT_d"), "x": fine.tolist(), "y": (-wf * Td).tolist(), "style": ":"},
                          {"label": f"B_w = {fc:.4g} Hz", "x": [fc, fc],
                           "y": [float(np.min(dyn.P)), 0.0], "style": "--"}])
         return self._outcome([Result(self.metrics[0], Q_(Td, "s"), b.combined, b,
