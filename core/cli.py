@@ -509,7 +509,12 @@ def _cmd_run(args) -> int:
         doc["register"] = registration
         print(json.dumps(doc, ensure_ascii=False, indent=2))
     else:
-        present.print_record(record, report_path, verbose=args.verbose)
+        from pathlib import Path
+
+        pdf_path = None  # --pdf: the PDF goes beside the Word report, under the same name
+        if report_path is not None and getattr(args, "pdf", False) and Path(report_path).suffix.lower() == ".docx":
+            pdf_path = Path(report_path).with_suffix(".pdf")
+        present.print_record(record, report_path, verbose=args.verbose, pdf_path=pdf_path)
         if registration is not None and not args.quiet:
             from rich.console import Console
 

@@ -174,10 +174,12 @@ def verdict_line(assessment: Any) -> str:
     return line + f" ({assessment.rule.name} rule)"
 
 
-def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool = False) -> None:
+def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool = False,
+                 pdf_path: Path | None = None) -> None:
     """The run on the terminal: one results table (with each result's verdict), warnings, the
-    overall verdict line and where the report went; ``verbose`` adds item selection, budgets,
-    tables, truth checks, the conformity reasons and the data files' SHA-256."""
+    overall verdict line and where the report went (``pdf_path``: the PDF written beside a Word
+    report, ``--pdf``); ``verbose`` adds item selection, budgets, tables, truth checks, the
+    conformity reasons and the data files' SHA-256."""
     from rich.console import Console
     from rich.table import Table
 
@@ -295,7 +297,8 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
     con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)  # one line: scripts grep it
     if report_path:  # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
         kind = "PDF report" if str(report_path).lower().endswith(".pdf") else "Word report"
-        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}", soft_wrap=True)
+        also = f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind == "Word report" else ""
+        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}{also}", soft_wrap=True)
     else:  # --no-report: no document, so no number either
         con.print("no report written", soft_wrap=True)
 

@@ -255,6 +255,13 @@ def test_a_pdf_report_is_called_one_and_no_report_has_no_number(run_cli, tmp_pat
     assert code == 0, err
     assert f"PDF report {pdf}" in stdout.replace("\n", "") and "Word report" not in stdout
     assert pdf.read_bytes()[:5] == b"%PDF-"
+    # --pdf: the Word report and the PDF beside it, both named
+    out = tmp_path / "both"
+    code, stdout, err = run_cli(*SIM_JJF, "--no-progress", "--out", str(out), "--pdf")
+    assert code == 0, err
+    (docx,) = out.glob("*.docx")
+    assert f"Word report {docx} and PDF {docx.with_suffix('.pdf')}" in stdout.replace("\n", "")
+    assert docx.with_suffix(".pdf").read_bytes()[:5] == b"%PDF-"
 
 
 # -- 10. metro doctor -----------------------------------------------------------------------------
