@@ -103,6 +103,20 @@ def run_cli(capsys):
     return run
 
 
+@pytest.fixture
+def lab(tmp_path, monkeypatch, capsys):
+    """A lab profile (``metro lab init``) in force through ``METRO_LAB``, its register not yet
+    made (a test module may define its own ``lab``)."""
+    from metro.core.cli import main
+
+    path = tmp_path / "lab.toml"
+    assert main(["lab", "init", str(path)]) == 0
+    capsys.readouterr()
+    monkeypatch.setenv("METRO_LAB", str(path))
+    monkeypatch.delenv("METRO_REGISTER", raising=False)
+    return path
+
+
 @pytest.fixture(scope="session")
 def pg_server():
     """A PostgreSQL server started for this test session (tests/pg.py), stopped at its end."""

@@ -33,16 +33,6 @@ def _json(capsys, *argv) -> tuple[int, dict]:
     return code, (json.loads(out) if out.strip() else {})
 
 
-@pytest.fixture
-def lab(tmp_path, monkeypatch, capsys):
-    path = tmp_path / "lab.toml"
-    assert main(["lab", "init", str(path)]) == 0
-    capsys.readouterr()
-    monkeypatch.setenv("METRO_LAB", str(path))
-    monkeypatch.delenv("METRO_REGISTER", raising=False)
-    return path
-
-
 def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campaign_factory):
     year = dt.datetime.now(dt.timezone.utc).year
     out = tmp_path / "out"

@@ -77,16 +77,6 @@ def _report(folder: Path) -> tuple[Path, str]:
     return pdf, pdf.stem
 
 
-@pytest.fixture
-def lab(tmp_path, monkeypatch, capsys):
-    path = tmp_path / "lab.toml"
-    assert main(["lab", "init", str(path)]) == 0
-    capsys.readouterr()
-    monkeypatch.setenv("METRO_LAB", str(path))
-    monkeypatch.delenv("METRO_REGISTER", raising=False)
-    return path
-
-
 @needs_pdf
 def test_registered_and_amended_reports_keep_both_languages(lab, tmp_path, capsys):
     from metro.core.document import to_pdf
