@@ -12,7 +12,6 @@ import pytest
 from metro.core.campaign import load_manifest
 from metro.core.errors import DataError
 from metro.core.runner import run_items
-from metro.core.units import Q_
 from metro.plugins.gbt45570 import clause5, inspection, reliability
 
 HEAD = """\

@@ -10,7 +10,6 @@ import re
 import string
 
 import numpy as np
-import pytest
 
 from metro.core.locale import Text, catalog, join, msg, translator
 

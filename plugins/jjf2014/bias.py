@@ -24,7 +24,7 @@ from metro.core.model import (
     Step,
     TableSpec,
 )
-from metro.core.selection import curve_scatter, line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
+from metro.core.selection import curve_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_
 
 from . import budgets as B

@@ -7,7 +7,7 @@ import math
 import numpy as np
 from metro.core import allan
 from metro.core import settling as S
-from metro.core.budget import INF, BudgetRow
+from metro.core.budget import BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import join, msg
 from metro.core.model import (

@@ -10,7 +10,7 @@ from metro.core.budget import INF, BudgetRow
 from metro.core.errors import DataError, ProcedureError
 from metro.core.locale import hint, join, msg
 from metro.core.model import EquipmentRequirement, Metric, Option, Result, Segment, SegmentRequirement, TableSpec
-from metro.core.selection import curve_scatter, line_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
+from metro.core.selection import curve_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
 from metro.core.units import Q_, parse_quantity
 
 from . import budgets as B
