@@ -87,17 +87,23 @@ LOOKUPS = [
 ]
 
 
-@pytest.mark.parametrize("standard, items", LOOKUPS, ids=[c[0] for c in LOOKUPS])
-def test_every_role_an_item_looks_up_is_one_it_declares(monkeypatch, standard, items):
-    pm = get_plugin_manager(autoload=False)
-    looked_up: list[str] = []
+@pytest.fixture
+def looked_up(monkeypatch) -> list[str]:
+    """The roles items look up (``Campaign.equipment_for``), in order, as they run."""
+    roles: list[str] = []
     real = Campaign.equipment_for
 
     def spy(self, role):
-        looked_up.append(role)
+        roles.append(role)
         return real(self, role)
 
     monkeypatch.setattr(Campaign, "equipment_for", spy)
+    return roles
+
+
+@pytest.mark.parametrize("standard, items", LOOKUPS, ids=[c[0] for c in LOOKUPS])
+def test_every_role_an_item_looks_up_is_one_it_declares(looked_up, standard, items):
+    pm = get_plugin_manager(autoload=False)
     for item in items:
         looked_up.clear()
         run_items(pm, standard, [item])
@@ -108,17 +114,9 @@ def test_every_role_an_item_looks_up_is_one_it_declares(monkeypatch, standard, i
 
 @pytest.mark.slow
 @pytest.mark.parametrize("standard", ["gbt45570", "jjf2003", "jjf2014", "ogam"])
-def test_every_item_declares_every_role_it_looks_up(monkeypatch, standard):
+def test_every_item_declares_every_role_it_looks_up(looked_up, standard):
     """Each item of each built-in standard alone on its simulated station (2 min for the four)."""
     pm = get_plugin_manager(autoload=False)
-    looked_up: list[str] = []
-    real = Campaign.equipment_for
-
-    def spy(self, role):
-        looked_up.append(role)
-        return real(self, role)
-
-    monkeypatch.setattr(Campaign, "equipment_for", spy)
     undeclared = {}
     for cls in pm.procedures_of(standard):
         looked_up.clear()
