@@ -396,15 +396,17 @@ def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: in
     }
 
 
-_XML_INVALID = dict.fromkeys(c for c in range(0x20) if c not in (0x09, 0x0A, 0x0D))
-
-
 def _sanitize(obj: Any) -> Any:
-    """Drop the control characters XML 1.0 cannot hold from every string of the context."""
+    """Drop the characters XML 1.0 cannot hold (:data:`metro.core.vocabulary.NOT_XML`: C0 controls,
+    lone surrogates, U+FFFE/U+FFFF) from every string of the context.  Manifests, bench files and
+    lab profiles are refused with such a character at load; this keeps any other text (a sample
+    file's header, a plugin's note) from stopping the document."""
+    from .vocabulary import NOT_XML
+
     if isinstance(obj, Text):
-        return obj.map(lambda s: s.translate(_XML_INVALID))
+        return obj.map(lambda s: NOT_XML.sub("", s))
     if isinstance(obj, str):
-        return obj.translate(_XML_INVALID)
+        return NOT_XML.sub("", obj)
     if isinstance(obj, dict):
         return {k: _sanitize(v) for k, v in obj.items()}
     if isinstance(obj, list):

@@ -27,7 +27,7 @@ from .errors import DataError
 
 __all__ = [
     "CAMPAIGN_KEYS", "CAMPAIGN_ALIASES", "ROLES", "ROLE_ALIASES", "SECTIONS", "DEVICE_KEYS",
-    "MAX_TEXT", "check_characters", "People", "Lab", "Customer",
+    "MAX_TEXT", "NOT_XML", "check_characters", "People", "Lab", "Customer",
     "canonical_role", "role_alias", "campaign_key", "did_you_mean", "unknown_key_warning",
     "register_section", "register_device_property", "register_role", "register_campaign_key",
     "people_of", "lab_of", "customer_of", "date_of",
@@ -365,11 +365,11 @@ def date_of(meta: Mapping[str, Any], key: str) -> dt.date | None:
 
 #: characters XML 1.0 does not allow (a Word report is XML): C0 controls other than tab, line feed
 #: and carriage return, lone surrogates, U+FFFE and U+FFFF
-_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
 
 def _character_error(src: str | None, field: str, text: str, what: str) -> DataError | None:
-    m = _NOT_XML.search(text)
+    m = NOT_XML.search(text)
     if m is None:
         return None
     cp = ord(m.group())

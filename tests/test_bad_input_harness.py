@@ -292,3 +292,18 @@ def test_numpy_reader_values_equal_pyarrow_bit_for_bit(tmp_path, monkeypatch):
             for k, v in cols.items():
                 assert t.columns[k].tobytes() == np.asarray(v, dtype=np.float64).tobytes(), (mode, read_mode, k)
     assert texts[""] == texts["1"]  # the same file with or without pyarrow
+
+
+def test_a_document_drops_what_xml_cannot_hold_from_any_text():
+    """Texts that do not come from a manifest (a sample file's header, a plugin's note) are cleaned
+    of every character XML 1.0 refuses — the same set manifests are refused for
+    (core.vocabulary.NOT_XML) — before python-docx sees them; a translatable text stays one."""
+    from metro.core.locale import Text, msg
+    from metro.core.report import _sanitize
+    from metro.core.vocabulary import NOT_XML
+
+    bad = "a\x01b\ufffec\uffffd\ud800e"
+    assert NOT_XML.findall(bad) == ["\x01", "\ufffe", "\uffff", "\ud800"]
+    out = _sanitize({"note": bad, "rows": [bad], "text": msg("device {d}", d=bad)})
+    assert out["note"] == out["rows"][0] == "abcde"
+    assert isinstance(out["text"], Text) and str(out["text"]) == "device abcde"
