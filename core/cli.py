@@ -492,7 +492,9 @@ def _cmd_run(args) -> int:
 
             soffice_path()  # no LibreOffice: said now, before anything is evaluated
     banner = _Banner(SIMULATED_BANNER if args.data is None and not args.json and not args.quiet else None)
-    with present.progress(enabled=_show_progress(args), started=banner) as prog:
+    from .cli_register import drawing_ahead
+
+    with drawing_ahead(args, pm, len(items)), present.progress(enabled=_show_progress(args), started=banner) as prog:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
                            station_options=station_options, progress=prog, run_all=args.run_all,
                            decision_rule=args.decision_rule, **_lab_options(args))

@@ -10,6 +10,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from .hookspec import hookimpl
+
 #: the top-level commands this module handles
 COMMANDS = ("lab", "register", "report", "amend", "withdraw", "history")
 
@@ -174,6 +176,51 @@ def write_run_report(args, pm, record, prog=None):
     from .registering import NOT_REGISTERED
 
     return record, path, {"registered": False, "number": record.report_number, "why": NOT_REGISTERED[why][1]}
+
+
+class FiguresAhead:
+    """A run's figures drawn ahead (:class:`metro.core.figure_cache.DrawingAhead`): each item's
+    figures, in the report's language, go to the drawing process as soon as the item is
+    evaluated (the ``metro_procedure_finished`` hook), while the next items are evaluated."""
+
+    def __init__(self, ahead: Any, lang: str | None) -> None:
+        from .locale import translator
+
+        self.ahead = ahead
+        self.tr = translator(lang)
+
+    @hookimpl
+    def metro_procedure_finished(self, procedure: Any, outcome: Any) -> None:
+        """Hand the item's figures to the drawing process."""
+        from . import plots
+
+        for spec in outcome.plots:
+            self.ahead.submit(plots.localized(spec, self.tr))
+
+
+def drawing_ahead(args, pm, n_items: int):
+    """A context manager for ``metro run``: the figures drawn in a second process while the items
+    are evaluated, when a report will be written and there are several items (a single item's
+    evaluation is too short to hide the drawing process's start), else nothing."""
+    import contextlib
+
+    from .figure_cache import DrawingAhead
+
+    if args.no_report or not (args.run_all or n_items >= 3):
+        return contextlib.nullcontext()
+    try:
+        from . import lab as labmod
+
+        lab = labmod.lab_in_force(getattr(args, "lab", None))
+    except Exception:  # noqa: BLE001 — a bad lab profile is reported where the report is written
+        return contextlib.nullcontext()
+    lang = getattr(args, "lang", None) or (lab.language if lab is not None else None)
+    figures = FiguresAhead(DrawingAhead(), lang)
+    stack = contextlib.ExitStack()
+    stack.enter_context(figures.ahead)
+    name = pm.pm.register(figures, name="metro-figures-ahead")
+    stack.callback(pm.pm.unregister, name=name)
+    return stack
 
 
 def run_lab_options(args) -> dict[str, Any]:
