@@ -27,7 +27,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _measure import MiB, format_table, measure
-from metro.core import allan
+from metro.core.stats import allan
 
 HEADER = [
     "what",
@@ -57,7 +57,7 @@ def first_call_latency(n: int = 1 << 17) -> tuple[float, float]:
     code = (
         "import time; t = time.perf_counter()\n"
         "import numpy as np\n"
-        "from metro.core.allan import oadev\n"
+        "from metro.core.stats.allan import oadev\n"
         f"y = np.random.default_rng(0).normal(size={n})\n"
         "oadev(y, 1e-3, engine='numba')\n"
         "print(time.perf_counter() - t)\n"

@@ -33,8 +33,8 @@ ITEMS = "D.5.1,D.5.2"
 
 
 def acquire_lot(n: int) -> Path:
-    from metro.core.plugins import get_plugin_manager
-    from metro.instruments.campaign_writer import acquire_campaign
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.manifest_writer import acquire_campaign
 
     lot = ROOT / "benchmarks" / "data" / f"lot-{n}"
     pm = get_plugin_manager()

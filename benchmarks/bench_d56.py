@@ -29,11 +29,11 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _measure import MiB, format_table, measure  # noqa: E402
 
-from metro.core import allan  # noqa: E402
-from metro.core.model import Campaign, DeviceUnderTest, Segment  # noqa: E402
-from metro.core.plugins import get_plugin_manager  # noqa: E402
-from metro.core.runner import run_items  # noqa: E402
-from metro.core.units import Q_  # noqa: E402
+from metro.core.stats import allan  # noqa: E402
+from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment  # noqa: E402
+from metro.core.run.plugin_manager import get_plugin_manager  # noqa: E402
+from metro.core.run.runner import run_items  # noqa: E402
+from metro.core.base.units import Q_  # noqa: E402
 from metro.instruments.readers import write_samples_csv, write_samples_npy  # noqa: E402
 from metro.instruments.simulated import GyroTruth, simulate_static  # noqa: E402
 

@@ -54,7 +54,10 @@ def environment(path: Path, lab: Path, extra: dict[str, str] | None = None) -> d
 
 BUILD = """
 import sys
-from metro.core.cli import main
+try:
+    from metro.core.cli.app import main
+except ImportError:  # the flat layout before the architecture change
+    from metro.core.cli import main
 out = sys.argv[1]
 for i in range({n}):
     seed = str(1 + i % 4)  # four devices ("seed 1" … "seed 4"), five calibrations each

@@ -63,24 +63,33 @@ class Tree(importlib.abc.MetaPathFinder):
 sys.meta_path.insert(0, Tree())
 """
 
-CLI = BOOT + """
-from metro.core.cli import main
+#: the module paths of the tree's layout (core by layer since the architecture change; flat before)
+LAYOUT = """
+try:
+    from metro.core.cli.app import main
+    from metro.core.documents import report
+    from metro.core.record.registering import decode_context, encode_context, unregistered
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
+except ImportError:
+    from metro.core.cli import main
+    from metro.core import report
+    from metro.core.registering import decode_context, encode_context, unregistered
+    from metro.core.plugins import get_plugin_manager
+    from metro.core.runner import run_items
+"""
+
+CLI = BOOT + LAYOUT + """
 
 sys.exit(main(sys.argv[1:]))
 """
 
 #: ``prepare MANIFEST JSON DOCX``: run --all, keep the context as the register does, write it once;
 #: ``write JSON DOCX``: write it again from the kept context, print the seconds it took
-REWRITE = BOOT + """
+REWRITE = BOOT + LAYOUT + """
 import json, time
 
-from metro.core import report
-from metro.core.registering import decode_context, encode_context, unregistered
-
 if sys.argv[1] == "prepare":
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import run_items
-
     pm = get_plugin_manager()
     record = run_items(pm, "gbt45570", [], data=sys.argv[2], run_all=True)
     ctx = report.build_context(record, designations={s.id: s.designation for s in pm.registry.standards.values()},
@@ -170,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--runs", type=int, default=5, help="runs of each tree (default 5)")
     ap.add_argument("--data", type=Path, help="a recorded campaign's manifest (default: acquired now by --base)")
     args = ap.parse_args(argv)
-    if not (args.base / "core" / "cli.py").is_file():
+    if not (args.base / "core" / "cli.py").is_file() and not (args.base / "core" / "cli" / "app.py").is_file():
         raise SystemExit(f"{args.base} is not a metro checkout: git worktree add {args.base} 3dea654")
     trees = {"base": args.base, "this tree": ROOT}
     tag = {"base": "base", "this tree": "this"}

@@ -11,7 +11,7 @@ standards' clauses (/work/shared/standards/); they import neither ``metro.instru
 of metro's simulators, and use numpy alone to make the samples.  Each device is written as a
 complete campaign (``manifest.toml`` plus one samples file per segment, CSV or a structured
 ``.npy``), evaluated by ``metro run --data <campaign> --json`` (in-process through
-``metro.core.cli.main``, or ``--subprocess``), and every result is scored against the truth the
+``metro.core.cli.app.main``, or ``--subprocess``), and every result is scored against the truth the
 generator knows by construction: E_n = (result − truth)/U.
 
 What the truth is (the standard's measurand over the records actually written):
@@ -580,7 +580,7 @@ def run_metro(manifest: Path, standard: str, items: str, use_subprocess: bool = 
         proc = subprocess.run([str(exe), *argv], capture_output=True, text=True)
         out, err, code = proc.stdout, proc.stderr, proc.returncode
     else:
-        from metro.core.cli import main
+        from metro.core.cli.app import main
 
         so, se = io.StringIO(), io.StringIO()
         with contextlib.redirect_stdout(so), contextlib.redirect_stderr(se):

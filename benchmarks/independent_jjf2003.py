@@ -500,7 +500,7 @@ def run_metro(manifest: Path, standard: str, items: str, options=()) -> tuple[in
     argv = ["run", "-s", standard, "-i", items, "--data", str(manifest), "--json", "--no-report", "--quiet"]
     for o in options:
         argv += ["-o", o]
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     so, se = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(so), contextlib.redirect_stderr(se):

@@ -34,8 +34,8 @@ def main() -> None:
     ap.add_argument("--classes", default="mems-16bit,mems-12bit,mems-power-on,mems-warmup")
     ap.add_argument("--seeds", default="1:101")
     a = ap.parse_args()
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import merge_steps, run_items, split_options
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import merge_steps, run_items, split_options
     from metro.instruments.mimu import station_factory
     from metro.plugins.jjf2003 import drift as D
 

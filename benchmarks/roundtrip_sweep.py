@@ -1,6 +1,6 @@
 """Sweep of plan → acquire → run round trips: every item of every loaded standard on every
 simulated station (plus a few multi-item and series cases), through the real CLI entry
-(``metro.core.cli.main``, in-process).
+(``metro.core.cli.app.main``, in-process).
 
 Each case ends in one of:
 
@@ -33,7 +33,7 @@ SCALE: float | None = None
 
 
 def _cli(argv: list[str]) -> tuple[int | str, str]:
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     err = io.StringIO()
     out = io.StringIO()
@@ -83,7 +83,7 @@ def case(standard: str, items: str, station: str, root: Path, seed: int = 7) -> 
 
 
 def cases(only: str | None) -> list[tuple[str, str, str]]:
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     out = []

@@ -64,9 +64,9 @@ def main() -> None:
     if a.classes:
         return jjf_classes_main(a)
 
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.present import truth_checks
-    from metro.core.runner import run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.cli.present import truth_checks
+    from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
     items = [x for x in a.item.split(",") if x]
@@ -110,7 +110,7 @@ def main() -> None:
 def gbt_class_items(pm, device_class: str, station_options: dict, options: dict) -> tuple[list[str], dict[str, str]]:
     """The items that apply to the class's device, and those that fail on it (item → error):
     each applicable item is tried once on seed 1."""
-    from metro.core.runner import run_items, select_items, station_device
+    from metro.core.run.runner import run_items, select_items, station_device
 
     so = station_options | {"seed": 1, "device_class": device_class}
     items, _ = select_items(pm, "gbt45570", [], run_all=True, device=station_device(pm, "simulated", so))
@@ -127,7 +127,7 @@ def gbt_class_items(pm, device_class: str, station_options: dict, options: dict)
 def sweep_gbt_class(pm, device_class: str, items: list[str], seeds: range, station_options: dict,
                     options: dict) -> tuple[dict, list[str]]:
     """Per (item, result): a list of (reportable, within U, E_n) over ``seeds``; and the errors."""
-    from metro.core.runner import run_items
+    from metro.core.run.runner import run_items
 
     rows: dict[tuple[str, str], list[tuple[bool, bool, float]]] = {}
     errors = []
@@ -174,7 +174,7 @@ def gbt_table(device_class: str, rows: dict) -> list[str]:
 
 
 def gbt_device_classes_main(a) -> None:
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
     from metro.instruments.simulated import DEVICE_CLASSES
 
     pm = get_plugin_manager(autoload=False)
@@ -210,9 +210,9 @@ def class_rows(standard: str, items: list[str], device_class: str, seeds: range,
     """Per (item, result): (within U, E_n = (result − truth)/U) for each seed, the station drawing one
     device of ``device_class`` per seed.  A result marked not reportable counts as covered when it
     says why (issue 13: "within U … or declared not reportable with a reason") and has E_n = nan."""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.present import truth_checks
-    from metro.core.runner import run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.cli.present import truth_checks
+    from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
     rows: dict[tuple[str, str], list[tuple[bool, float]]] = {}
@@ -245,7 +245,7 @@ def class_table(device_class: str, rows: dict[tuple[str, str], list[tuple[bool, 
 def jjf_classes_main(a) -> None:
     items = [x for x in a.item.split(",") if x]
     if a.all:
-        from metro.core.plugins import get_plugin_manager
+        from metro.core.run.plugin_manager import get_plugin_manager
 
         items = [p.item for p in get_plugin_manager(autoload=False).procedures_of(a.standard)]
     first, stop = (int(x) for x in a.seeds.split(":"))

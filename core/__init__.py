@@ -1,6 +1,6 @@
 """metro core: units, plugin system, abstractions, budgets and shared maths.
 
-Import the pieces from their modules (``metro.core.budget``, ``metro.core.model``, …);
+Import the pieces from their modules (``metro.core.uncertainty.budget``, ``metro.core.model``, …);
 this package only exposes the hook markers and the version, so ``import metro.core`` stays
 cheap.
 """
@@ -11,7 +11,7 @@ from importlib import metadata as _md
 
 import pluggy as _pluggy
 
-from .extras import DISTRIBUTION as _DISTRIBUTION  # the name on the package index
+from .base.extras import DISTRIBUTION as _DISTRIBUTION  # the name on the package index
 
 hookimpl = _pluggy.HookimplMarker("metro")
 

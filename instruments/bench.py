@@ -38,9 +38,10 @@ import attrs
 import numpy as np
 import pint
 
-from metro.core.errors import DataError, DriverError, MetroError
-from metro.core.model import Calibration, Campaign, DeviceUnderTest, Equipment, Segment, Step
-from metro.core.units import parse_quantity, unit
+from metro.core.base.errors import DataError, DriverError, MetroError
+from metro.core.model.campaign import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
+from metro.core.model.procedure import Step
+from metro.core.base.units import parse_quantity, unit
 
 __all__ = [
     "BENCH_FORMAT",
@@ -299,7 +300,7 @@ def _driver(t: Mapping[str, Any], where: str, kinds: Sequence[str], drivers: Map
 
 def _equipment_of(t: Mapping[str, Any], where: str, default_role: str, src: str, *,
                   required: bool) -> Equipment | None:
-    from metro.core.campaign import calibration_from_table
+    from metro.core.run.manifest import calibration_from_table
 
     if "id" not in t:
         if required:
@@ -317,7 +318,7 @@ def _equipment_of(t: Mapping[str, Any], where: str, default_role: str, src: str,
     props_t = t.get("properties", {})
     if not isinstance(props_t, dict):
         raise DataError(src, f"{where}.properties", "must be a table of name = \"value unit\"")
-    from metro.core.campaign import _maybe_quantity
+    from metro.core.run.manifest import _maybe_quantity
 
     props = {k: _maybe_quantity(v, src, f"{where}.properties.{k}") for k, v in props_t.items()}
     return Equipment(id=eid, role=_text(t, "role", src, where, default_role),
@@ -371,10 +372,16 @@ def _output(t: Mapping[str, Any], drivers: Mapping[str, Any], src: str) -> Outpu
 
 def load_bench(path: str | Path, drivers: Mapping[str, Any]) -> BenchConfig:
     """Read and check a bench file; ``drivers`` maps registered driver names to their
-    :class:`~metro.core.plugins.DriverInfo`.  Every problem is a :class:`DataError` naming the
+    :class:`~metro.core.run.plugin_manager.DriverInfo`.  Every problem is a :class:`DataError` naming the
     file, the field and the reason; nothing is opened or moved here."""
-    from metro.core.campaign import (calibration_from_table, device_from_table, environment_from_table,
-                                     equipment_from_table, read_toml, site_from_table)
+    from metro.core.run.manifest import (
+        calibration_from_table,
+        device_from_table,
+        environment_from_table,
+        equipment_from_table,
+        read_toml,
+        site_from_table,
+    )
 
     p = Path(path)
     src, doc = read_toml(p, BENCH_FORMAT, what="bench file",

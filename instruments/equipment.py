@@ -4,9 +4,9 @@ Every model is an ``attrs.frozen`` value holding its accuracy parameters as pint
 (checked against their dimension when the model is made) and its calibration data.  A model
 does two things:
 
-* :meth:`~EquipmentModel.equipment` gives the :class:`~metro.core.model.Equipment` a campaign
+* :meth:`~EquipmentModel.equipment` gives the :class:`~metro.core.model.campaign.Equipment` a campaign
   carries — its ``role``, its accuracy parameters as properties and a
-  :class:`~metro.core.model.Calibration` (certificate id, U, k, due date) — which the procedures
+  :class:`~metro.core.model.campaign.Calibration` (certificate id, U, k, due date) — which the procedures
   read as type B components of their budgets (``campaign.equipment_for(role)``);
 * its *act* methods reproduce, in simulation, the errors it states: a rate table turns at the set
   rate with its band's systematic error and ripple, a DMM adds its reading error and rounds to
@@ -38,9 +38,9 @@ import attrs
 import numpy as np
 import pint
 
-from metro.core.errors import DataError
-from metro.core.model import Calibration, Equipment
-from metro.core.units import Q_, parse_quantity
+from metro.core.base.errors import DataError
+from metro.core.model.campaign import Calibration, Equipment
+from metro.core.base.units import Q_, parse_quantity
 
 __all__ = [
     "EquipmentModel",

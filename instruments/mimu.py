@@ -44,10 +44,11 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 
-from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
-from metro.core.units import Q_
+from metro.core.model.campaign import Campaign, DeviceUnderTest, Equipment, Segment
+from metro.core.model.procedure import Step
+from metro.core.base.units import Q_
 
-from metro.core.earth import EARTH_RATE_DEG_S, EARTH_RATE_RAD_S  # noqa: E402
+from metro.core.stats.earth import EARTH_RATE_DEG_S, EARTH_RATE_RAD_S  # noqa: E402
 
 AXES = ("x", "y", "z")
 GYRO_COLUMNS = ("gx", "gy", "gz")
@@ -168,7 +169,7 @@ def _tilted(e: np.ndarray, h1: np.ndarray, h2: np.ndarray, tilt_rad) -> tuple[np
 def _rate_of(conditions: Mapping[str, Any]) -> float:
     rate = conditions["rate"]
     if isinstance(rate, str):
-        from metro.core.units import parse_quantity
+        from metro.core.base.units import parse_quantity
 
         rate = parse_quantity(rate, dimension="deg/s")
     return float(rate.to("deg/s").magnitude) if hasattr(rate, "to") else float(rate)
@@ -417,7 +418,7 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     then gyro biases uniform in ±0.1 °/s, the K_g diagonal within ±2 % of 1, and noise 0.7 … 1.5
     times the default's."""
     if device_class not in DEVICE_CLASSES:
-        from metro.core.errors import DataError
+        from metro.core.base.errors import DataError
 
         raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
                         hint="device classes: " + ", ".join(DEVICE_CLASSES))
@@ -438,7 +439,7 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
 def station_factory(**options: Any) -> MimuStation:
     """Factory registered as ``simulated-mimu`` (options: seed, bits, latitude_deg, duration_scale, …,
     and ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
-    from metro.core.options import station_options
+    from metro.core.base.options import station_options
 
     truth_kw, st_kw = station_options("simulated-mimu", MimuTruth, MimuStation, options,
                                       ("latitude_deg", "duration_scale"))

@@ -4,7 +4,7 @@ A segment is a table of samples: one column per recorded quantity, one row per s
 instant.  :func:`read_samples` returns a :class:`SampleTable` whose columns are 1-D
 ``float64`` arrays and whose units are the unit texts exactly as written in the file
 (the caller parses them with pint).  Any defect in the file raises
-:class:`metro.core.errors.DataError` naming the file, the field (column or row) and the
+:class:`metro.core.base.errors.DataError` naming the file, the field (column or row) and the
 reason, with a hint where one is known.
 
 File formats (chosen by the file suffix)
@@ -88,9 +88,9 @@ from typing import Any
 import attrs
 import numpy as np
 
-from metro.core.atomic import atomic_path
-from metro.core.errors import DataError, UnitError
-from metro.core import extras
+from metro.core.base.atomic import atomic_path
+from metro.core.base.errors import DataError, UnitError
+from metro.core.base import extras
 
 __all__ = [
     "FORMATS",

@@ -38,8 +38,8 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-from metro.core.model import Segment
-from metro.core.units import Q_, parse_quantity
+from metro.core.model.campaign import Segment
+from metro.core.base.units import Q_, parse_quantity
 
 from .simulated import (
     DIGITAL_DEFAULTS,

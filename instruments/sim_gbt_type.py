@@ -22,7 +22,7 @@ import attrs
 import numpy as np
 import pint
 
-from metro.core.units import Q_
+from metro.core.base.units import Q_
 
 from .equipment import EquipmentModel, _fixed_rng, _nonneg, _q
 from .simulated import (
@@ -304,8 +304,8 @@ def sim_type_env_revolutions(station, step, index, *, bias_offset_deg_h, **_):
     """Whole revolutions before/after a test (the angle method's record, D.1.1.2 g))."""
     import hashlib
 
-    from metro.core.model import Segment
-    from metro.core.units import parse_quantity
+    from metro.core.model.campaign import Segment
+    from metro.core.base.units import parse_quantity
 
     from .simulated import simulate_revolutions
 

@@ -30,10 +30,11 @@ from typing import Any, Callable, Mapping, Sequence
 import attrs
 import numpy as np
 
-from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
-from metro.core.units import Q_
+from metro.core.model.campaign import Campaign, DeviceUnderTest, Equipment, Segment
+from metro.core.model.procedure import Step
+from metro.core.base.units import Q_
 
-from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, physical (IERS)
+from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, physical (IERS)
 
 from .stations import step_seed
 
@@ -323,7 +324,7 @@ class SimulatedStation:
                                        bias_offset_deg_h=offset, progress=cb))
                 continue
             if step.kind == "rate-revolutions":
-                from metro.core.units import parse_quantity
+                from metro.core.base.units import parse_quantity
 
                 rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
                 direction = 1 if rate > 0 else -1
@@ -353,7 +354,7 @@ class SimulatedStation:
             exp["Br"] = Q_(expected_bias_repeatability(t, repeat_durations_s), "deg/h")
         rates = [s.conditions["rate"] for s in segments if s.kind == "rate-revolutions"]
         if rates:
-            from metro.core.units import parse_quantity
+            from metro.core.base.units import parse_quantity
 
             vals = [parse_quantity(r, dimension="deg/s").to("deg/s").magnitude for r in rates]
             exp |= {k: Q_(v, _EXPECTED_UNITS[k])
@@ -413,7 +414,7 @@ def register_record_kind(kind: str):
     """Decorator: ``fn(station, step, index) -> {section: table}`` takes down the records of steps of
     ``kind`` (which starts with ``record:``) on :class:`SimulatedStation` — an inspection, a test done
     elsewhere — as a lab would write them in the manifest (text with units)."""
-    from metro.core.model import RECORD_KIND_PREFIX
+    from metro.core.model.procedure import RECORD_KIND_PREFIX
 
     if not kind.startswith(RECORD_KIND_PREFIX):
         raise ValueError(f"a record kind starts with {RECORD_KIND_PREFIX!r}, got {kind!r}")
@@ -542,7 +543,7 @@ def bias_offset(truth: GyroTruth, conditions) -> float:
     * ``run`` = i: a turn-on bias drawn from N(0, σ) seeded by (seed, i) — each power-on
       of D.5.3 gives its own bias; segments without ``run`` get none.
     """
-    from metro.core.units import parse_quantity
+    from metro.core.base.units import parse_quantity
 
     off = 0.0
     if "temperature" in conditions:
@@ -722,7 +723,7 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     walk 0.7 … 1.5 times the marginal unit's (so a sweep over seeds sees where the quantization falls);
     the other fields are the ``marginal`` grade's (:data:`GRADES`), the unit the classes were built on."""
     if device_class not in DEVICE_CLASSES:
-        from metro.core.errors import DataError
+        from metro.core.base.errors import DataError
 
         raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
                         hint="device classes: " + ", ".join(DEVICE_CLASSES))
@@ -745,7 +746,7 @@ def station_factory(**options: Any) -> SimulatedStation:
     grade, device_class …).  ``grade`` (typical, marginal, failing; :data:`GRADES`) picks the unit;
     with ``device_class`` the device is drawn from that class by the seed (:func:`draw_device`); other
     options given override both."""
-    from metro.core.options import station_options
+    from metro.core.base.options import station_options
 
     truth_kw, st_kw = station_options("the simulated gyro station", GyroTruth, SimulatedStation, options,
                                       ("latitude_deg", "duration_scale"))

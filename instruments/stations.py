@@ -2,7 +2,7 @@
 step kinds a station cannot simulate.
 
 * :func:`step_seed` — a segment's random stream is drawn from a stable hash of the step's
-  identity (its kind, conditions and sample interval: what :func:`metro.core.runner.merge_steps`
+  identity (its kind, conditions and sample interval: what :func:`metro.core.run.runner.merge_steps`
   treats as "the same measurement") together with the station's seed, never from the step's
   position in the merged sequence; so the same seed gives the same data for a segment whatever
   order the items are listed in and whichever other items are acquired with it.
@@ -16,8 +16,8 @@ from __future__ import annotations
 import hashlib
 from typing import Iterable, Mapping, Sequence
 
-from metro.core.errors import MetroError
-from metro.core.model import Step
+from metro.core.base.errors import MetroError
+from metro.core.model.procedure import Step
 
 __all__ = ["step_identity", "step_seed", "refuse_unknown_kinds", "StationError"]
 

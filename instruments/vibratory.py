@@ -5,7 +5,7 @@ shock machine, a linear vibration table, an angular vibration table with its ref
 sensor, a 6½-digit DMM (the data acquisition) and a timer.  The virtual gyro's declared,
 seeded truth is :class:`VibratoryTruth`; every segment is generated from it by
 :func:`simulate_segment` from the segment's *kind* and *conditions*, which are exactly what
-the ``jjf2014`` procedures put in their :class:`~metro.core.model.Step` lists.
+the ``jjf2014`` procedures put in their :class:`~metro.core.model.procedure.Step` lists.
 
 The gyro's steady output for an input rate Ω (°/s) along its input axis is::
 
@@ -45,11 +45,12 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.options import station_options
-from metro.core.model import Campaign, DeviceUnderTest, Equipment, Segment, Step
-from metro.core.units import Q_, parse_quantity
+from metro.core.base.options import station_options
+from metro.core.model.campaign import Campaign, DeviceUnderTest, Equipment, Segment
+from metro.core.model.procedure import Step
+from metro.core.base.units import Q_, parse_quantity
 
-from metro.core.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  physical, 15.04107 °/h
+from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  physical, 15.04107 °/h
 AXES = ("X", "Y", "Z")
 
 
@@ -668,7 +669,7 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     then K uniform in 15 … 25 mV/((°)/s), a bias uniform in ±0.1 °/s and an angle random walk
     0.7 … 1.5 times the default's."""
     if device_class not in DEVICE_CLASSES:
-        from metro.core.errors import DataError
+        from metro.core.base.errors import DataError
 
         raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
                         hint="device classes: " + ", ".join(DEVICE_CLASSES))

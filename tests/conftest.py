@@ -13,7 +13,7 @@ from hypothesis import settings
 settings.register_profile("metro", deadline=None)
 settings.load_profile("metro")
 
-# Tests draw every figure (metro.core.figure_cache off): a figure kept in the user's cache by an
+# Tests draw every figure (metro.core.documents.figure_cache off): a figure kept in the user's cache by an
 # earlier run would hide a drawing under test; tests/test_figure_cache.py turns it on in a tmp folder.
 os.environ["METRO_FIGURE_CACHE"] = "off"
 
@@ -21,7 +21,7 @@ os.environ["METRO_FIGURE_CACHE"] = "off"
 @pytest.fixture
 def pm():
     """metro's plugin manager with only the built-in plugins (no third-party autoload)."""
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     return get_plugin_manager(autoload=False)
 
@@ -93,7 +93,7 @@ def campaign_factory():
 @pytest.fixture
 def run_cli(capsys):
     """Run ``metro`` in-process; return (exit code, stdout, stderr)."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     def run(*args: str):
         code = main(list(args))
@@ -107,7 +107,7 @@ def run_cli(capsys):
 def lab(tmp_path, monkeypatch, capsys):
     """A lab profile (``metro lab init``) in force through ``METRO_LAB``, its register not yet
     made (a test module may define its own ``lab``)."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     path = tmp_path / "lab.toml"
     assert main(["lab", "init", str(path)]) == 0

@@ -8,12 +8,12 @@ import tomllib
 import numpy as np
 import pytest
 
-from metro.core.cli import main
-from metro.core.errors import DataError
-from metro.core.plugins import get_plugin_manager
-from metro.core.campaign import used_equipment
-from metro.core.runner import load_campaign, run_items
-from metro.instruments import campaign_writer as W
+from metro.core.cli.app import main
+from metro.core.base.errors import DataError
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.run.manifest import used_equipment
+from metro.core.run.runner import load_campaign, run_items
+from metro.core.run import manifest_writer as W
 
 
 @pytest.fixture(scope="module")
@@ -83,7 +83,7 @@ def test_manifest_records_device_equipment_calibration_site_and_conditions(pm, t
     assert seg["conditions"] and seg["units"]["output"] == "mV"
     # and the loader reads them back as the same objects
     back = run_items(pm, "jjf2014", ["7.2.1"], data=manifest).campaign
-    # (a run keeps the equipment its items use: metro.core.campaign.used_equipment)
+    # (a run keeps the equipment its items use: metro.core.run.manifest.used_equipment)
     used = used_equipment(camp, [pm.procedure("jjf2014", "7.2.1")]).equipment
     assert len(used) < len(camp.equipment)
     assert [e.calibration for e in back.equipment] == [e.calibration for e in used]
@@ -120,7 +120,7 @@ def test_refuses_a_folder_that_is_not_empty(pm, tmp_path):
 
 
 def test_quantity_text_round_trips():
-    from metro.core.units import Q_, parse_quantity
+    from metro.core.base.units import Q_, parse_quantity
 
     for q in (Q_(20.0, "degC"), Q_(-40, "degC"), Q_(0.5, "delta_degC"), Q_(45.0, "percent"), Q_(4e-6, ""),
               Q_(0.8, "P/arcsec"), Q_(5000.0, "LSB/(deg/s)"), Q_(1 / 3, "s"), Q_(0.0015, "deg/hour**0.5")):

@@ -1,4 +1,4 @@
-"""Tests for metro.core.allan.
+"""Tests for metro.core.stats.allan.
 
 Reference values: the "NBS14" test data of NBS Monograph 140, Annex 8.E, as tabulated by
 W. J. Riley ("The calculation of time domain frequency stability", and NIST SP 1065);
@@ -13,8 +13,8 @@ import sys
 
 import numpy as np
 import pytest
-from metro.core import allan
-from metro.core.allan import (
+from metro.core.stats import allan
+from metro.core.stats.allan import (
     AllanResult,
     adev,
     block_means,
@@ -126,7 +126,7 @@ def test_env_var_forces_numpy(monkeypatch):
 
 
 def test_import_does_not_load_numba():
-    code = "import sys, metro.core.allan; assert 'numba' not in sys.modules, 'numba imported'"
+    code = "import sys, metro.core.stats.allan; assert 'numba' not in sys.modules, 'numba imported'"
     subprocess.run([sys.executable, "-c", code], check=True)
 
 
@@ -379,9 +379,9 @@ def test_deviations_follow_scale_and_ignore_offset(seed, n, a, b):
 
 
 def test_mean_u_batches_checks_for_correlated_batch_means():
-    """metro.core.allan.mean_u_batches: white noise keeps the 20 batch means (u = s_b/√20); a random
+    """metro.core.stats.allan.mean_u_batches: white noise keeps the 20 batch means (u = s_b/√20); a random
     walk makes them alike and the F test (95 %) takes 5 long batches, whose u is larger."""
-    from metro.core.allan import block_std, mean_u_batches
+    from metro.core.stats.allan import block_std, mean_u_batches
 
     rng = np.random.default_rng(7)
     w = rng.normal(0.0, 1.0, 20000)

@@ -1,4 +1,4 @@
-"""Covariance of overlapping Allan variance estimates at several τ (metro.core.allan.oadev_covariance)
+"""Covariance of overlapping Allan variance estimates at several τ (metro.core.stats.allan.oadev_covariance)
 and its use as the weights of the JJF 2014 7.2.20 eq. (38) fit (plugins/jjf2014/formulas.allan_covariance).
 
 References: white FM and white PM — an independent exact computation, the covariance of two Gaussian
@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from metro.core import allan
+from metro.core.stats import allan
 from metro.instruments.vibratory import VibratoryTruth, static_noise
 from metro.plugins.jjf2014 import formulas as F
 

@@ -1,4 +1,4 @@
-"""metro.core.atomic: a file is written completely or not at all."""
+"""metro.core.base.atomic: a file is written completely or not at all."""
 
 from __future__ import annotations
 
@@ -8,7 +8,13 @@ import sys
 
 import pytest
 
-from metro.core.atomic import TMP_MARKER, atomic_path, atomic_write, atomic_write_bytes, atomic_write_text
+from metro.core.base.atomic import (
+    TMP_MARKER,
+    atomic_path,
+    atomic_write,
+    atomic_write_bytes,
+    atomic_write_text,
+)
 
 
 def _leftovers(directory):

@@ -115,9 +115,9 @@ def test_every_item_option_refuses_a_bad_value_clearly():
     or an absurd count, either runs or stops with a clear metro error — never a ValueError,
     ZeroDivisionError, IndexError or MemoryError from inside a formula or a simulation (58 such
     cases were found this way: turns=0, batches=0, rates=0, frequencies=1e9, …)."""
-    from metro.core.errors import MetroError
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import run_items
+    from metro.core.base.errors import MetroError
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
     failures = []
@@ -179,9 +179,9 @@ def test_removing_any_key_of_the_worked_example_is_a_clear_error_or_a_run(tmp_pa
     import copy
     import tomllib
 
-    from metro.core.errors import MetroError
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import run_items
+    from metro.core.base.errors import MetroError
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
 
     src = Path(__file__).resolve().parent.parent / "docs" / "examples" / "campaign"
     doc = tomllib.loads((src / "manifest.toml").read_text(encoding="utf-8"))

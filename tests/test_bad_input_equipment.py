@@ -16,7 +16,7 @@ import pytest
 @pytest.fixture(scope="module")
 def d21(tmp_path_factory):
     """A D.2.1 campaign acquired on the simulated digital station (short records)."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     root = tmp_path_factory.mktemp("d21")
     assert main(["acquire", "-s", "gbt45570", "-i", "D.2.1", "--station", "simulated-digital",
@@ -114,9 +114,10 @@ def test_an_optional_role_absent_is_a_note_row(tmp_path, campaign_factory, run_c
 
 def test_the_requirement_reads_required():
     """EquipmentRequirement.required is read: an item marked required refuses the campaign."""
-    from metro.core.campaign import check_equipment
-    from metro.core.errors import DataError
-    from metro.core.model import Campaign, DeviceUnderTest, EquipmentRequirement
+    from metro.core.run.manifest import check_equipment
+    from metro.core.base.errors import DataError
+    from metro.core.model.campaign import Campaign, DeviceUnderTest
+    from metro.core.model.procedure import EquipmentRequirement
 
     class P:
         equipment = (EquipmentRequirement("Rate-Table", "a table", required=True),)

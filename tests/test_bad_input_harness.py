@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from metro.core.errors import DataError
+from metro.core.base.errors import DataError
 from metro.instruments.readers import read_samples
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "campaign"
@@ -57,7 +57,7 @@ def test_a_key_and_a_record_section_are_checked_too(tmp_path, run_cli):
 
 
 def test_lab_profile_text_is_checked(tmp_path):
-    from metro.core.lab import load_lab
+    from metro.core.record.lab import load_lab
 
     lab = tmp_path / "lab.toml"
     lab.write_text('format = "metro-lab/1"\n[lab]\nname = "计量\\uFFFE实验室"\n', encoding="utf-8")
@@ -67,7 +67,7 @@ def test_lab_profile_text_is_checked(tmp_path):
 
 
 def test_a_lone_surrogate_is_named():
-    from metro.core.vocabulary import check_characters
+    from metro.core.base.vocabulary import check_characters
 
     with pytest.raises(DataError, match=r"lone surrogate U\+D800 at position 2"):
         check_characters({"device": {"model": ["ok", "a\ud800"]}}, "m.toml")
@@ -112,7 +112,7 @@ def test_acquire_onto_a_full_disk(full_disk, tmp_path):
 
 
 def test_acquire_disk_full_in_process(tmp_path, run_cli, monkeypatch):
-    from metro.instruments import campaign_writer
+    from metro.core.run import manifest_writer as campaign_writer
 
     def full(path, text):
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
@@ -126,7 +126,7 @@ def test_acquire_disk_full_in_process(tmp_path, run_cli, monkeypatch):
 
 def test_run_out_leaves_nothing_when_the_disk_fills(tmp_path, run_cli, monkeypatch):
     """The PDF written, then the .docx meets a full disk: the PDF and the folder made go again."""
-    import metro.core.report as report
+    import metro.core.documents.report as report
 
     def writer(path, *args, **kw):
         Path(path).with_suffix(".pdf").write_bytes(b"%PDF-1.4\n")
@@ -164,7 +164,7 @@ def _bad_csv(folder: Path) -> Path:
 
 _READ = textwrap.dedent("""
     import sys
-    from metro.core.errors import DataError
+    from metro.core.base.errors import DataError
     from metro.instruments.readers import read_samples
     try:
         read_samples(sys.argv[1])
@@ -298,9 +298,9 @@ def test_a_document_drops_what_xml_cannot_hold_from_any_text():
     """Texts that do not come from a manifest (a sample file's header, a plugin's note) are cleaned
     of every character XML 1.0 refuses — the same set manifests are refused for
     (core.vocabulary.NOT_XML) — before python-docx sees them; a translatable text stays one."""
-    from metro.core.locale import Text, msg
-    from metro.core.report import _sanitize
-    from metro.core.vocabulary import NOT_XML
+    from metro.core.base.locale import Text, msg
+    from metro.core.documents.report import _sanitize
+    from metro.core.base.vocabulary import NOT_XML
 
     bad = "a\x01b\ufffec\uffffd\ud800e"
     assert NOT_XML.findall(bad) == ["\x01", "\ufffe", "\uffff", "\ud800"]

@@ -94,7 +94,7 @@ def test_a_folder_is_not_a_report_path(tmp_path, camp, run_cli):
 
 
 def test_out_under_a_file_is_refused_before_evaluation(tmp_path, camp, run_cli, monkeypatch):
-    import metro.core.runner as runner
+    import metro.core.run.runner as runner
 
     f = tmp_path / "afile"
     f.write_text("x")
@@ -110,7 +110,7 @@ def test_out_under_a_file_is_refused_before_evaluation(tmp_path, camp, run_cli, 
 
 def test_an_unwritable_folder_is_refused_before_evaluation(tmp_path, camp, run_cli, monkeypatch):
     """A read-only folder (as root, os.access is the kernel's answer; here it is made to say no)."""
-    import metro.core.outputs as outputs
+    import metro.core.run.outputs as outputs
 
     ro = tmp_path / "ro"
     ro.mkdir()
@@ -121,7 +121,7 @@ def test_an_unwritable_folder_is_refused_before_evaluation(tmp_path, camp, run_c
 
 
 def test_a_full_file_system_leaves_nothing(tmp_path, camp, run_cli, monkeypatch):
-    import metro.core.report as report
+    import metro.core.documents.report as report
 
     def full(path, *a, **k):
         raise OSError(errno.ENOSPC, "No space left on device")

@@ -3,7 +3,7 @@
 Every case: exit code 2, a message naming the right file and field, no traceback, and nothing
 written — the folder holding the campaign and the output folder are compared byte for byte
 before and after.  Cases cover the manifest, samples in CSV, .npy and Parquet, item options,
-station options, output paths and plugins.  Most run in-process (``metro.core.cli.main``); a few
+station options, output paths and plugins.  Most run in-process (``metro.core.cli.app.main``); a few
 run ``metro`` as a real subprocess.
 
 Each case is (id, edit, expected file, expected field, extra CLI arguments):
@@ -520,7 +520,7 @@ def test_bad_option(case, base, run_cli):
     before = _snapshot(root)
     argv = ("run", *ITEM, "--data", str(camp / "manifest.toml"), "--out", str(out), "--no-progress", *extra)
     if name == "decision-rule-cli":  # argparse's own refusal: exit 2, no traceback
-        from metro.core.cli import main
+        from metro.core.cli.app import main
 
         try:
             code = main(list(argv))
@@ -592,7 +592,7 @@ def test_bad_command_line(args, field, base, run_cli):
 def _metro(*args, env_extra=None, cwd=None):
     env = dict(os.environ)
     env.update(env_extra or {})
-    return subprocess.run([sys.executable, "-m", "metro.core.cli", *args], capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "metro.core.cli.app", *args], capture_output=True, text=True,
                           env=env, cwd=cwd, timeout=300)
 
 
@@ -620,7 +620,7 @@ def test_blocked_plugin_standard_is_a_clean_error(tmp_path, run_cli):
 def test_a_closed_stdout_ends_quietly(monkeypatch):
     """`metro plan … | head`: the reader has gone, the next write raises BrokenPipeError; metro
     ends with 141 (as a shell reports SIGPIPE) instead of a traceback."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     r, w = os.pipe()
 
@@ -644,7 +644,7 @@ def test_a_closed_stdout_ends_quietly(monkeypatch):
 
 def test_plan_into_a_closed_pipe_is_quiet(tmp_path):
     """The same through a real pipe: `metro items --json | head -c 1`."""
-    cmd = f"{sys.executable} -m metro.core.cli items --json | head -c 1 > /dev/null"
+    cmd = f"{sys.executable} -m metro.core.cli.app items --json | head -c 1 > /dev/null"
     r = subprocess.run(["bash", "-c", cmd], capture_output=True, text=True, timeout=300)
     assert "Traceback" not in r.stderr and "BrokenPipe" not in r.stderr, r.stderr
 

@@ -1,4 +1,4 @@
-"""One manifest vocabulary (metro.core.vocabulary): canonical keys, old spellings read with a
+"""One manifest vocabulary (metro.core.base.vocabulary): canonical keys, old spellings read with a
 deprecation warning, unknown keys reported with a "did you mean", the typed [campaign] view
 documents and the register read, and the manifest's SHA-256 in --json and the report."""
 
@@ -10,10 +10,10 @@ import json
 
 import pytest
 
-from metro.core import vocabulary as voc
-from metro.core.campaign import load_manifest
-from metro.core.errors import DataError
-from metro.core.plugins import get_plugin_manager
+from metro.core.base import vocabulary as voc
+from metro.core.run.manifest import load_manifest
+from metro.core.base.errors import DataError
+from metro.core.run.plugin_manager import get_plugin_manager
 
 
 def _load(path):
@@ -164,7 +164,7 @@ def test_manifest_sha256_in_json_and_report(tmp_path, campaign_factory, run_cli)
 def test_the_simulated_stations_speak_the_vocabulary():
     """A campaign a built-in station writes reads back without a vocabulary warning: its
     equipment roles are canonical roles and its device keys are not near-misses of known keys."""
-    from metro.core.campaign import _typos
+    from metro.core.run.manifest import _typos
 
     pm = get_plugin_manager(autoload=False)
     for name in sorted(pm.registry.stations):

@@ -58,7 +58,7 @@ def single_runs(lot):
     import contextlib
     import io
 
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     docs = {}
     for seed in SEEDS:
@@ -221,7 +221,7 @@ def test_batch_through_a_scheduler_address(lot, single_runs, run_cli, tmp_path, 
 
 
 def test_batch_exit_code_is_the_worst_verdict_when_every_campaign_ran(lot, single_runs):
-    from metro.core.batch import exit_code
+    from metro.core.cli.batch import exit_code
 
     def summary(**c):
         return {"counts": {"error": 0, "fail": 0, "indeterminate": 0, **c}}

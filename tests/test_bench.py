@@ -14,11 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from metro.core.errors import DataError, DriverError, MetroError
-from metro.core.plugins import MetroPluginManager
-from metro.core.units import Q_
+from metro.core.base.errors import DataError, DriverError, MetroError
+from metro.core.run.plugin_manager import MetroPluginManager
+from metro.core.base.units import Q_
 from metro.instruments import bench as B
-from metro.instruments import campaign_writer as W
+from metro.core.run import manifest_writer as W
 from metro.instruments.equipment import RateTable
 
 HERE = Path(__file__).parent
@@ -123,7 +123,7 @@ def _fresh_dmm() -> None:
 
 @pytest.fixture
 def pm(vendor):
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     m = get_plugin_manager(autoload=False)  # the built-ins and METRO_PLUGINS=bench_vendor
     assert m.driver("acme-rt500").plugin == "bench_vendor"
@@ -319,7 +319,7 @@ def test_operator_is_asked_with_the_table_at_rest_and_between_power_cycles(tmp_p
 
 
 def test_terminal_operator_waits_for_enter(monkeypatch, capsys):
-    from metro.core.model import Step
+    from metro.core.model.procedure import Step
 
     step = Step("s", "static", "", Q_(1, "s"), Q_(1, "s"), {"orientation": "IRA down"})
     monkeypatch.setattr(B, "_interactive", lambda: True)
@@ -522,7 +522,7 @@ def gyro_stream():
 def test_serial_gyro_bench_records_frames_into_samples(tmp_path, world, pm, gyro_stream):
     bench = _bench(tmp_path, GYRO_BENCH.format(port=gyro_stream["port"], extra=""))
     manifest = _acquire(pm, "gbt45570", ["D.5.1"], tmp_path / "camp", config=str(bench))
-    from metro.core.runner import run_items
+    from metro.core.run.runner import run_items
 
     rec = run_items(pm, "gbt45570", ["D.5.1"], data=manifest)
     assert not rec.campaign.simulated
@@ -548,7 +548,7 @@ def test_serial_gyro_record_that_is_not_clean_is_refused_unless_allowed(tmp_path
     _table_at_rest_and_closed(world)
     # allowed: kept, and nothing is silent — the issues are in the segment, each sample says its frames
     manifest = _acquire(pm, "gbt45570", ["D.5.1"], tmp_path / "camp", config=str(bench), allow_unclean="true")
-    from metro.core.campaign import load_manifest
+    from metro.core.run.manifest import load_manifest
 
     camp = load_manifest(manifest, pm.reader_for)
     seg = camp.segments[0]
@@ -603,7 +603,7 @@ def test_clock_and_operator_come_from_python_only(tmp_path, pm, world):
 
 
 def test_warm_up_is_waited_on_the_clock_from_the_start_and_after_a_power_cycle(tmp_path, pm, world):
-    from metro.core.model import Step
+    from metro.core.model.procedure import Step
 
     warm = Q_(30, "min")
     steps = [Step("rest-1", "rate-static", "", Q_(10, "s"), Q_(1, "s"), {"run": "1"}, warmup=warm),

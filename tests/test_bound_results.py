@@ -10,7 +10,7 @@ import subprocess
 
 import pytest
 
-from metro.core.model import BOUND_SIGNS
+from metro.core.model.results import BOUND_SIGNS
 
 
 def test_signs():

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from metro.core.budget import (
+from metro.core.uncertainty.budget import (
     BudgetRow,
     Coverage,
     UncertaintyBudget,
@@ -16,8 +16,8 @@ from metro.core.budget import (
     round_to,
     round_uncertainty,
 )
-from metro.core.model import Calibration
-from metro.core.units import Q_
+from metro.core.model.campaign import Calibration
+from metro.core.base.units import Q_
 
 
 def test_jjf2014_appendix_b1_scale_factor_budget():
@@ -203,12 +203,12 @@ def test_budget_scales_with_its_inputs(rows, s):
 
 
 def test_sampling_of_a_standard_deviation_chi_square_bound():
-    """metro.core.budget.std_sampling_u: (σ_upper − s)/2 with σ_upper = s·√(ν/χ²₀.₀₂₂₇₅(ν)); χ² lower
+    """metro.core.uncertainty.budget.std_sampling_u: (σ_upper − s)/2 with σ_upper = s·√(ν/χ²₀.₀₂₂₇₅(ν)); χ² lower
     points from the printed table (NIST/SEMATECH e-Handbook 1.3.6.7.4, 3 digits): ν = 5 → 0.797,
     ν = 6 → 1.19; for large n it tends to the linear s/√(2(n − 1))."""
     import math
 
-    from metro.core.budget import std_sampling_u, std_upper_limit
+    from metro.core.uncertainty.budget import std_sampling_u, std_upper_limit
 
     assert std_upper_limit(1.0, 6) == pytest.approx(math.sqrt(5 / 0.797), rel=1e-3)
     assert std_upper_limit(2.0, 7) == pytest.approx(2 * math.sqrt(6 / 1.19), rel=2e-3)
@@ -217,14 +217,14 @@ def test_sampling_of_a_standard_deviation_chi_square_bound():
 
 
 def test_between_variance_is_the_posterior_mean_of_a_variance_component():
-    """metro.core.budget.between_variance (interpretations.md, "σ_on — a variance component the data only
+    """metro.core.uncertainty.budget.between_variance (interpretations.md, "σ_on — a variance component the data only
     bound"): E[τ − w | τ ≥ w] for τ = ν·s²/X, X ~ χ²(ν) (reference prior 1/τ, Box & Tiao 1973 §5.2).
     Worked by hand for ν = 6 at s² = w = 1 (where the moment estimate s² − w is 0): c = 6,
     F₄(6) = 1 − 4e⁻³, F₆(6) = 1 − 8.5e⁻³, E[τ] = 6·F₄/(4·F₆) = 2.082623; checked against a direct
     quadrature of the truncated posterior, and the two limits."""
     from scipy import integrate
 
-    from metro.core.budget import between_variance
+    from metro.core.uncertainty.budget import between_variance
 
     e3 = math.exp(-3.0)
     assert between_variance(1.0, 1.0, 6) == pytest.approx(6 * (1 - 4 * e3) / (4 * (1 - 8.5 * e3)) - 1, rel=1e-12)

@@ -1,4 +1,4 @@
-"""The manifest `metro acquire` writes (instruments/campaign_writer.py, TOML by tomli-w) reads back
+"""The manifest `metro acquire` writes (core/run/manifest_writer.py, TOML by tomli-w) reads back
 to the same campaign, Chinese text and characters TOML must escape included."""
 
 from __future__ import annotations
@@ -8,10 +8,10 @@ from pathlib import Path
 
 import attrs
 
-from metro.core.plugins import get_plugin_manager
-from metro.core.runner import load_campaign
-from metro.core.units import Q_
-from metro.instruments.campaign_writer import write_campaign
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.run.runner import load_campaign
+from metro.core.base.units import Q_
+from metro.core.run.manifest_writer import write_campaign
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "campaign" / "manifest.toml"
 
@@ -67,6 +67,6 @@ def test_manifest_round_trip_keeps_chinese_and_special_characters(tmp_path):
 def test_writer_uses_tomli_w():
     import inspect
 
-    from metro.instruments import campaign_writer
+    from metro.core.run import manifest_writer as campaign_writer
 
     assert "tomli_w" in inspect.getsource(campaign_writer.manifest_text)

@@ -4,7 +4,7 @@ Budget sources printed literal underscores (``(s_upper − R)/2``, ``Δt_noise/2
 command options and JSON paths (``(plan with -o max_rate=…)``, ``-o earth_rate=on``, ``metro run
 --json: provenance.data_files``, ``metro plan -s gbt45570 -i D.5.4``, ``device.bias_repeatability``).  Symbols are now typeset as
 the others (``s_{upper}`` prints s with a subscript), and advice about the software is a
-terminal-only field of its message (:func:`metro.core.locale.hint`): the terminal and ``--json``
+terminal-only field of its message (:func:`metro.core.base.locale.hint`): the terminal and ``--json``
 keep it, a document leaves it out.  Each document is rendered by LibreOffice and read with
 pdftotext.
 """
@@ -17,10 +17,10 @@ import subprocess
 
 import pytest
 
-from metro.core.locale import Text, hint, msg, translator
-from metro.core.plugins import get_plugin_manager
-from metro.core.report import write_report
-from metro.core.runner import run_items
+from metro.core.base.locale import Text, hint, msg, translator
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.documents.report import write_report
+from metro.core.run.runner import run_items
 
 needs_office = pytest.mark.skipif(
     not (shutil.which("soffice") or shutil.which("libreoffice")) or not shutil.which("pdftotext"),

@@ -72,8 +72,8 @@ def test_time_column_in_milliseconds(tmp_path, campaign_factory, run_cli):
 
 def test_same_result_from_files_and_from_memory(tmp_path, campaign_factory, pm):
     """The reader path and the in-memory simulated path agree exactly on the same samples."""
-    from metro.core.campaign import load_manifest
-    from metro.core.runner import run_items
+    from metro.core.run.manifest import load_manifest
+    from metro.core.run.runner import run_items
     from metro.instruments.simulated import GyroTruth, SimulatedStation
 
     from metro.instruments.stations import step_seed
@@ -251,7 +251,7 @@ def test_exit_code_0_when_nothing_is_judged_and_130_when_interrupted(run_cli, mo
     def interrupted(*a, **k):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("metro.core.runner.run_items", interrupted)
+    monkeypatch.setattr("metro.core.run.runner.run_items", interrupted)
     code, _, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--no-report")
     assert code == 130 and "interrupted" in err
 
@@ -398,8 +398,8 @@ def test_progress_is_one_overall_bar_and_the_current_step(pm):
 
     from rich.console import Console
 
-    from metro.core import present
-    from metro.core.runner import run_items
+    from metro.core.cli.app import present
+    from metro.core.run.runner import run_items
 
     con = Console(file=io.StringIO(), force_terminal=True, width=100, height=10)
     seen = []
@@ -424,7 +424,7 @@ def test_no_progress_on_a_non_terminal_and_quiet_silences_it(run_cli, monkeypatc
                              "--no-report")
     assert "%" not in err and "━" not in err  # stderr is not a terminal here
     flags = []
-    import metro.core.present as present
+    import metro.core.cli.present as present
 
     real = present.progress
 
@@ -461,9 +461,9 @@ def test_the_overall_verdict_line_counts_each_status(pm, tmp_path, campaign_fact
     """The line the issue asks for: 'does not conform: 17 pass, 2 fail, 6 indeterminate'."""
     import attrs
 
-    from metro.core import conformity as cf
-    from metro.core.present import verdict_line
-    from metro.core.runner import run_items
+    from metro.core.uncertainty import conformity as cf
+    from metro.core.cli.present import verdict_line
+    from metro.core.run.runner import run_items
 
     record = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1})
     (v,) = [v for v in record.conformity.verdicts if v.key == "B0"]
@@ -477,8 +477,8 @@ def test_the_overall_verdict_line_counts_each_status(pm, tmp_path, campaign_fact
 def test_a_result_not_reportable_and_its_earth_rate_show_in_its_row(pm, capsys, monkeypatch):
     import attrs
 
-    from metro.core import present
-    from metro.core.runner import run_items
+    from metro.core.cli.app import present
+    from metro.core.run.runner import run_items
 
     monkeypatch.setenv("COLUMNS", "200")
     record = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1})
@@ -491,11 +491,11 @@ def test_a_result_not_reportable_and_its_earth_rate_show_in_its_row(pm, capsys, 
 
 
 def test_readme_exit_code_table_is_what_metro_returns():
-    """The README's table and the codes in metro.core.cli are the same list."""
+    """The README's table and the codes in metro.core.cli.app are the same list."""
     import re
     from pathlib import Path
 
-    from metro.core import cli
+    from metro.core.cli.app import app as cli
 
     text = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
     table = text.split("### Exit codes", 1)[1]

@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from metro.core.cli import main
+from metro.core.cli.app import main
 
 
 @pytest.fixture
@@ -31,8 +31,8 @@ def test_reports_are_numbered_in_lot_order_when_the_first_finishes_last(lab, tmp
     evaluation can be held from here."""
     from distributed import LocalCluster
 
-    import metro.core.batch as batch
-    import metro.core.runner as runner
+    import metro.core.cli.batch as batch
+    import metro.core.run.runner as runner
     from metro.instruments.simulated import GyroTruth
 
     manifests = [campaign_factory.write_campaign(tmp_path / "lot" / name, hours=0.3, truth=GyroTruth(seed=seed))

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from metro.core.cli import main
+from metro.core.cli.app import main
 
 SIM_JJF = ["run", "-s", "jjf2014", "-i", "7.2.3", "--seed", "3"]
 LONG_SERIAL = "SN-2026-ABCDEFGHIJKLMNOPQRSTUVWXYZ-0001"
@@ -41,8 +41,8 @@ def lab(home, capsys):
 def _issue(lab_path: Path, out: Path, *, serial: str = LONG_SERIAL, standard: str = LONG_STANDARD,
            n: int = 1) -> list[str]:
     """``n`` reports in the register of the profile (through the register's API: no evaluation)."""
-    from metro.core.lab import load_lab
-    from metro.core.register import Draft, open_register
+    from metro.core.record.lab import load_lab
+    from metro.core.record.register import Draft, open_register
 
     profile = load_lab(lab_path)
     numbers = []
@@ -107,7 +107,7 @@ def test_schema_head_is_the_newest_migration():
     from alembic.config import Config
     from alembic.script import ScriptDirectory
 
-    import metro.core.register as register
+    import metro.core.record.register as register
 
     cfg = Config()
     cfg.set_main_option("script_location", str(Path(register.__file__).parent / "migrations"))
@@ -154,7 +154,7 @@ def test_register_list_and_history_print_whole_rows_when_piped(lab, run_cli, tmp
 
 
 def test_register_list_on_a_terminal_folds_identifiers(lab, run_cli, tmp_path, monkeypatch):
-    import metro.core.cli_register as cr
+    import metro.core.cli.register_commands as cr
 
     _issue(lab, tmp_path / "reports", n=2)
     monkeypatch.setattr(cr, "_is_terminal", lambda: True)
@@ -229,8 +229,8 @@ def test_acquire_makes_missing_parent_folders(run_cli, tmp_path):
 
 
 def test_acquire_removes_the_parents_it_made_when_it_fails(tmp_path, monkeypatch, run_cli):
-    import metro.instruments.campaign_writer as cw
-    from metro.core.errors import DataError
+    import metro.core.run.manifest_writer as cw
+    from metro.core.base.errors import DataError
 
     def full(path, *a, **k):  # the manifest cannot be written (the samples were)
         raise DataError(str(path), None, "no space left on device")
@@ -312,7 +312,7 @@ def test_doctor_fails_on_a_broken_profile_and_says_what_to_do(home, run_cli, cap
 
 
 def test_doctor_fails_without_a_cjk_font(home, run_cli, monkeypatch):
-    import metro.core.plots as plots
+    import metro.core.documents.plots as plots
 
     monkeypatch.setattr(plots, "FALLBACK_FONTS", ("No Such CJK Font",))
     code, doc, checks = _doctor(run_cli)
@@ -320,7 +320,7 @@ def test_doctor_fails_without_a_cjk_font(home, run_cli, monkeypatch):
 
 
 def test_doctor_names_the_extra_of_a_missing_package(home, run_cli, monkeypatch):
-    import metro.core.extras as extras
+    import metro.core.base.extras as extras
 
     real = extras.available
     monkeypatch.setattr(extras, "available", lambda module: module != "numba" and real(module))

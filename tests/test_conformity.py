@@ -9,11 +9,19 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from metro.core import conformity as cf
-from metro.core.conformity import GUARDED, SIMPLE, Comparison, Specification, Status, decide, parse_limit
-from metro.core.errors import DataError, UnitError
-from metro.core.model import DeviceUnderTest
-from metro.core.units import Q_
+from metro.core.uncertainty import conformity as cf
+from metro.core.uncertainty.conformity import (
+    GUARDED,
+    SIMPLE,
+    Comparison,
+    Specification,
+    Status,
+    decide,
+    parse_limit,
+)
+from metro.core.base.errors import DataError, UnitError
+from metro.core.model.campaign import DeviceUnderTest
+from metro.core.base.units import Q_
 
 # ---------------------------------------------------------------------------------------------
 # Specifications and decisions, by hand
@@ -87,7 +95,7 @@ def test_incompatible_units_are_a_clear_error():
 
 
 def test_assess_matches_keyed_variants_and_lists_unmet_limits():
-    from metro.core.model import Metric, Outcome, Result
+    from metro.core.model.results import Metric, Outcome, Result
 
     def res(key, value, unit):
         return Result(Metric(key, key, key, unit, "X"), Q_(value, unit))
@@ -117,8 +125,8 @@ def test_a_result_declared_not_reportable_gets_no_statement_of_conformity():
     """
     import attrs
 
-    from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
-    from metro.core.model import Metric, Outcome, Result
+    from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
+    from metro.core.model.results import Metric, Outcome, Result
 
     def res(key, unit, value, U):  # a budget of one normal row, k = 2: U as given
         row = BudgetRow.type_b("hand-worked", key, Q_(U, unit), distribution="normal", k=2)
@@ -148,8 +156,8 @@ def test_a_bound_beyond_an_instruments_range_is_judged_as_a_half_line():
     """R > 10 000 MΩ (a megohmmeter over its range) conforms to R ≥ 50 MΩ; hand-worked half-lines."""
     import attrs
 
-    from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
-    from metro.core.model import Metric, Outcome, Result
+    from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
+    from metro.core.model.results import Metric, Outcome, Result
 
     def bounded(value, bound, U=0.0):
         row = BudgetRow.type_b("reading beyond the range", "R", Q_(U, "Mohm"), distribution="normal", k=2)
@@ -250,7 +258,7 @@ def test_verdict_does_not_depend_on_the_unit_the_value_is_in(spec, value, U):
 
 
 def test_specifications_hook_collects_plugin_limits(pm):
-    from metro.core.model import Campaign
+    from metro.core.model.campaign import Campaign
 
     laser = DeviceUnderTest("G", technology="laser", application="aviation")
     camp = Campaign("c", laser, [], {}, {}, [])
@@ -324,7 +332,7 @@ def test_method_rule_6271():
 
 
 def test_applicability_hook_and_series(pm):
-    from metro.core.runner import select_items
+    from metro.core.run.runner import select_items
 
     laser = DeviceUnderTest("L", technology="laser", application="aviation")
     fibre = DeviceUnderTest("F", technology="fibre", application="aviation")
@@ -343,15 +351,15 @@ def test_applicability_hook_and_series(pm):
     assert "D.2.1" in both and "D.1.1" in both  # an item named explicitly runs whatever the rule says
     all_items, _ = select_items(pm, "gbt45570", [], run_all=True, device=laser)
     assert {"D.1.1", "D.5.1", "D.5.6"} <= set(all_items)
-    from metro.core.errors import PluginError
+    from metro.core.base.errors import PluginError
 
     with pytest.raises(PluginError, match="no item 'D.9'"):
         select_items(pm, "gbt45570", ["D.9"], device=laser)
 
 
 def test_manifest_specification_table(tmp_path):
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
 
     src = (__import__("pathlib").Path(__file__).parents[1] / "docs" / "examples" / "campaign")
     text = (src / "manifest.toml").read_text(encoding="utf-8")
@@ -373,9 +381,9 @@ def test_manifest_specification_table(tmp_path):
 def test_items_on_two_stations_are_acquired_separately_and_merged():
     """Without --data each station the items need acquires its own campaign; campaigns of the same
     device are merged into one report, different devices are a clear error."""
-    from metro.core.errors import ProcedureError
-    from metro.core.plugins import ProcedureInfo, StationInfo, get_plugin_manager
-    from metro.core.runner import run_items
+    from metro.core.base.errors import ProcedureError
+    from metro.core.run.plugin_manager import ProcedureInfo, StationInfo, get_plugin_manager
+    from metro.core.run.runner import run_items
     from metro.instruments.simulated import SimulatedStation, station_factory
 
     pm = get_plugin_manager(autoload=False)
@@ -405,8 +413,8 @@ def test_items_on_two_stations_are_acquired_separately_and_merged():
 def test_all_on_recorded_data_runs_the_items_the_campaign_has_data_for():
     from pathlib import Path
 
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
 
     manifest = Path(__file__).parents[1] / "docs" / "examples" / "campaign" / "manifest.toml"
     pm = get_plugin_manager(autoload=False)
@@ -420,9 +428,9 @@ def test_all_on_recorded_data_runs_the_items_the_campaign_has_data_for():
 
 
 def test_a_procedure_decides_its_own_applicability_when_no_plugin_answers():
-    from metro.core.model import Applicability
-    from metro.core.plugins import ProcedureInfo, get_plugin_manager
-    from metro.core.runner import select_items
+    from metro.core.model.procedure import Applicability
+    from metro.core.run.plugin_manager import ProcedureInfo, get_plugin_manager
+    from metro.core.run.runner import select_items
 
     pm = get_plugin_manager(autoload=False)
 
@@ -447,7 +455,7 @@ def test_a_procedure_decides_its_own_applicability_when_no_plugin_answers():
 def test_a_range_with_decimal_limits_is_read(text, lo, hi):
     """docs/data-format.md's own example "-0.5 .. 0.5 °/h" was refused: the low end could not
     hold a decimal point."""
-    from metro.core import conformity as cf
+    from metro.core.uncertainty import conformity as cf
 
     (sp,) = cf.specifications_from_table({"B0": text}, file="manifest.toml")
     assert sp.limit.to("deg/h").magnitude == pytest.approx(lo) and sp.upper.to("deg/h").magnitude == pytest.approx(hi)

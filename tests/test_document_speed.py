@@ -1,4 +1,4 @@
-"""The fast document writing (metro.core.document builds table rows and runs as lxml elements)
+"""The fast document writing (metro.core.documents.document builds table rows and runs as lxml elements)
 writes the same XML as python-docx's own per-run and per-cell calls did: the reference path
 below is the former implementation, kept here to hold the fast one to it.  Not timed (the times
 are in benchmarks/bench_report_write.py and docs/performance.md)."""
@@ -11,8 +11,8 @@ import zipfile
 import pytest
 from lxml import etree
 
-from metro.core import document as D
-from metro.core.locale import translator
+from metro.core.documents import document as D
+from metro.core.base.locale import translator
 
 
 # ------------------------------------------------------------------------------------------------

@@ -3,7 +3,7 @@ the uncached functions give."""
 
 from __future__ import annotations
 
-from metro.core import document
+from metro.core.documents import document
 
 
 TEXTS = ["U = 1.2 ppm (k = 2)", "0.0006021 °/h", "α = -2.3", "扩展不确定度 Expanded uncertainty",

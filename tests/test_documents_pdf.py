@@ -17,9 +17,9 @@ import attrs
 import docx
 import pytest
 
-from metro.core.plugins import get_plugin_manager
-from metro.core.report import write_report
-from metro.core.runner import run_items
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.documents.report import write_report
+from metro.core.run.runner import run_items
 
 pytestmark = pytest.mark.skipif(
     not (shutil.which("soffice") or shutil.which("libreoffice")) or not shutil.which("pdftotext"),
@@ -70,7 +70,7 @@ CASES = [
     ]),
     # 12: the 21 K_g and g budgets of a gyro whose drift is not resolved carry u_dc, the unresolved change of
     # its rate in time, with its own note (plugins/jjf2003/drift.py; 11 pages before). Still 12 with each note
-    # text stated once (metro.core.notes; the notes block 53 -> 26 text lines, the annexes fill the last page)
+    # text stated once (metro.core.documents.notes; the notes block 53 -> 26 text lines, the annexes fill the last page)
     ("jjf2003", ["7.2.1", "7.2.2", "7.2.3"], {}, 12, [
         "校准证书 Calibration certificate", "实验室名称 Laboratory name", "实验室地址 Laboratory address",
         "证书编号 Certificate No.", "校准单位校准专用章 Seal of the calibrating laboratory",
@@ -171,7 +171,7 @@ def test_pdf_is_pdf_a_2b(rendered):
 def test_quantity_names_print_the_symbol_once(rendered):
     """A result's name is its quantity name and its symbol once (``D.45 coefficient α₀``, not
     ``D.45 coefficient α0 α₀``), read on the rendered text; no code key stands as a symbol."""
-    from metro.core.document import _plain, display_symbol, quantity_name
+    from metro.core.documents.document import _plain, display_symbol, quantity_name
 
     text = _squash(_plain(rendered["text"]))
     for o in rendered["record"].outcomes:
@@ -223,7 +223,7 @@ def test_jjf2003_notes_of_a_drifting_mimu_state_each_text_once(tmp_path):
     """Issue 13 follow-up: the zh+en certificate of 7.2.1–7.2.3 on a MIMU still warming up (class
     mems-warmup, seed 3) printed its notes over 2⅓ pages (pages 2–4 of 13): each item repeated the
     three gyros' drift paragraphs, each g_ij its earth-rate sentence, each result of a gyro its drift
-    correction.  Each text once now (metro.core.notes): the notes on pages 2–3, 12 pages in all
+    correction.  Each text once now (metro.core.documents.notes): the notes on pages 2–3, 12 pages in all
     (measured 2026-11-24, every page looked at)."""
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "jjf2003", ["7.2.1", "7.2.2", "7.2.3"],
@@ -288,7 +288,7 @@ def test_a_budget_split_at_a_page_foot_keeps_every_row(load_benchmark, tmp_path)
 
     import numpy as np
 
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     folder = tmp_path / "setup-rate-exp-1"  # the campaign's id is its folder's name, printed on page 1
     folder.mkdir()

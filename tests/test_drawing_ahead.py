@@ -1,5 +1,5 @@
 """A run's figures drawn in a second process while its items are evaluated
-(metro.core.figure_cache.DrawingAhead): the same PNG bytes as drawn in-process, taken by the
+(metro.core.documents.figure_cache.DrawingAhead): the same PNG bytes as drawn in-process, taken by the
 document when it asks for the same figure, drawn in-process whenever the worker cannot help, and
 a caller's unguarded script is never run a second time by the worker."""
 
@@ -13,8 +13,8 @@ import time
 
 import numpy as np
 import pytest
-from metro.core import figure_cache, plots
-from metro.core.model import PlotSpec
+from metro.core.documents import figure_cache, plots
+from metro.core.model.results import PlotSpec
 
 
 def _spec(k: float, title: str = "零偏稳定性 bias stability") -> PlotSpec:

@@ -16,8 +16,8 @@ from hypothesis import strategies as st
 
 from pint.errors import UndefinedUnitError
 
-from metro.core.errors import DriverError, UnitError
-from metro.core.units import Q_
+from metro.core.base.errors import DriverError, UnitError
+from metro.core.base.units import Q_
 from metro.instruments.drivers import base
 from metro.instruments.drivers.serial_gyro import (FrameField, FrameLayout, FrameParser, SerialGyro, checksum)
 

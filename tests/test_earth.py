@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from metro.core import earth
-from metro.core.units import Q_
+from metro.core.stats import earth
+from metro.core.base.units import Q_
 
 
 def test_earth_rate_in_degrees_per_hour():

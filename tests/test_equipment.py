@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from metro.core import allan
-from metro.core.errors import DataError, UnitError
-from metro.core.units import Q_
+from metro.core.stats import allan
+from metro.core.base.errors import DataError, UnitError
+from metro.core.base.units import Q_
 from metro.instruments import equipment as E
 from metro.instruments.simulated import EARTH_RATE_DEG_PER_H, GyroTruth, simulate_static
 
@@ -293,7 +293,7 @@ READ_BY_PROCEDURES = {
 
 @pytest.mark.parametrize("station", sorted(READ_BY_PROCEDURES))
 def test_station_equipment_keeps_the_roles_and_properties_procedures_read(station):
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     st_ = pm.station(station).factory()
@@ -308,8 +308,8 @@ def test_a_simulated_station_reads_its_output_through_its_dmm_model():
     """simulated-jjf2014 with instrument_errors: the mV record is what the station's DMM reads —
     within the DMM's stated error of the gyro's output, on its 6½-digit grid — and the item still
     recovers the truth within U."""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import load_campaign, run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import load_campaign, run_items
 
     pm = get_plugin_manager(autoload=False)
     proc = pm.procedure("jjf2014", "7.2.1")
@@ -336,7 +336,7 @@ def test_the_simulated_jjf2014_rate_table_errs_as_its_certificate_says():
     a fixed error per set point uniform within ±√3 × U/k (U_rel = 1×10⁻⁴, k = 2, appendix B.1) —
     drawn afresh for each seed; the device's noise is the same draw with or without it, so the
     difference of the two records is the table's doing alone."""
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
     from metro.instruments.vibratory import VibratoryStation, VibratoryTruth, mean_output
 
     pm = get_plugin_manager(autoload=False)

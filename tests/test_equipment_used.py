@@ -3,8 +3,8 @@
 A D.5.1/D.5.2/D.5.6 report listed the vibration table, shock table, callipers, balance and
 megohmmeter: ``metro acquire`` wrote every instrument of the simulated station into the manifest,
 and the report printed every line of the manifest.  The equipment an item uses is the roles of its
-``equipment`` requirements (:class:`metro.core.model.EquipmentRequirement`); ``acquire`` writes
-those and a run keeps those (:func:`metro.core.campaign.used_equipment`), so a manifest with more
+``equipment`` requirements (:class:`metro.core.model.procedure.EquipmentRequirement`); ``acquire`` writes
+those and a run keeps those (:func:`metro.core.run.manifest.used_equipment`), so a manifest with more
 equipment still gets a table of what was used, while a required role that is missing stays an error.
 The declarations are complete: every role an item looks up while it evaluates is one it declares.
 """
@@ -17,11 +17,11 @@ import tomllib
 
 import pytest
 
-from metro.core.errors import DataError
-from metro.core.model import Campaign
-from metro.core.plugins import get_plugin_manager
-from metro.core.report import write_report
-from metro.core.runner import run_items
+from metro.core.base.errors import DataError
+from metro.core.model.campaign import Campaign
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.documents.report import write_report
+from metro.core.run.runner import run_items
 
 EXTRA = """
 [[equipment]]
@@ -44,7 +44,7 @@ model = "M-500"
 
 
 def test_acquire_writes_the_equipment_of_the_items_only(tmp_path):
-    from metro.instruments.campaign_writer import acquire_campaign
+    from metro.core.run.manifest_writer import acquire_campaign
 
     pm = get_plugin_manager(autoload=False)
     manifest = acquire_campaign(pm, "gbt45570", ["D.5.1", "D.5.2", "D.5.6"], tmp_path / "camp",

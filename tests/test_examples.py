@@ -50,7 +50,7 @@ def test_smoothed_std_hand_worked(acme):
 
 
 def test_vendor_item_joins_the_gbt45570_family(acme, metro_pm_factory, simulated_station):
-    from metro.core.runner import run_items
+    from metro.core.run.runner import run_items
 
     _, proc = _modules()
     pm = metro_pm_factory(acme)
@@ -69,7 +69,7 @@ def test_vendor_item_joins_the_gbt45570_family(acme, metro_pm_factory, simulated
 
 
 def test_acme_reader_round_trip_and_bad_files(acme, tmp_path):
-    from metro.core.errors import DataError
+    from metro.core.base.errors import DataError
 
     f, _ = _modules()
     p = f.write_acme(tmp_path / "x.acme", [1, -2, 3], 0.5)
@@ -117,8 +117,8 @@ orientation = "IRA up"
 
 def test_vendor_certificate_on_recorded_binary_data(acme, metro_pm_factory, tmp_path):
     import docx
-    from metro.core.report import write_report
-    from metro.core.runner import run_items
+    from metro.core.documents.report import write_report
+    from metro.core.run.runner import run_items
 
     f, _ = _modules()
     pm = metro_pm_factory(acme)
@@ -256,9 +256,9 @@ def test_writing_tutorial_runs(tmp_path):
     assert "4 passed" in out.stdout
     # and through the CLI, loaded by METRO_PLUGINS without installing it
     env["METRO_PLUGINS"] = "demo_metro.plugin"
-    out = subprocess.run([sys.executable, "-m", "metro.core.cli", "run", "-s", "demo", "-i", "4.1", "--json",
+    out = subprocess.run([sys.executable, "-m", "metro.core.cli.app", "run", "-s", "demo", "-i", "4.1", "--json",
                           "--no-report", "--no-progress"], capture_output=True, text=True, env=env, cwd=tmp_path)
-    if out.returncode != 0 and "No module named metro.core.cli.__main__" in out.stderr:  # pragma: no cover
-        pytest.skip("metro.core.cli is not runnable with -m")
+    if out.returncode != 0 and "No module named metro.core.cli.app.__main__" in out.stderr:  # pragma: no cover
+        pytest.skip("metro.core.cli.app is not runnable with -m")
     assert out.returncode == 0, out.stderr
     assert json.loads(out.stdout)["results"][0]["key"] == "D"

@@ -1,5 +1,5 @@
 """Figures are drawn once per figure (not laid out twice by savefig) and a document written again
-takes them from metro.core.figure_cache: the same pixels as savefig's, never a stale image."""
+takes them from metro.core.documents.figure_cache: the same pixels as savefig's, never a stale image."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import attrs
 import numpy as np
 import pytest
 
-from metro.core import figure_cache, plots
-from metro.core.model import PlotSpec
+from metro.core.documents import figure_cache, plots
+from metro.core.model.results import PlotSpec
 
 
 def _spec(y_last: float = 3.0, title: str = "B_s(τ_k) 及 D.45 拟合 B_s(τ_k) and the D.45 fit") -> PlotSpec:
@@ -130,7 +130,7 @@ def test_key_follows_dpi_settings_and_drawing_code(cache, monkeypatch):
 def test_stored_context_finds_the_figure_drawn_at_issue(cache):
     """A figure of a registered report, written again from its stored context (series as JSON
     lists, NaN as null), has the key the run's figure had."""
-    from metro.core.registering import decode_context, encode_context
+    from metro.core.record.registering import decode_context, encode_context
 
     spec = _spec()
     spec = PlotSpec(spec.name, spec.title, spec.xlabel, spec.ylabel,

@@ -4,7 +4,7 @@ matplotlib lists the machine's fonts once, in a cache file (``fontlist-*.json`` 
 cache folder); a lab that installs its CJK fonts after the first use of matplotlib has a cache
 without them, and before issue 29 every figure drew its Chinese as empty boxes with one
 ``UserWarning: Glyph … missing from font(s) DejaVu Sans`` per glyph.  metro now adds the CJK font
-files it finds to the running process (:func:`metro.core.plots.register_cjk_fonts`), and a machine
+files it finds to the running process (:func:`metro.core.documents.plots.register_cjk_fonts`), and a machine
 with no CJK font at all gets one statement of metro's, never matplotlib's warnings.
 
 Each case runs in a subprocess whose ``MPLCONFIGDIR`` holds a font cache built without the CJK
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from metro.core import plots
+from metro.core.documents import plots
 
 _CJK_FILES = plots.cjk_font_files()
 needs_cjk = pytest.mark.skipif(not _CJK_FILES, reason="no CJK font file on this machine (fonts-noto-cjk)")
@@ -82,7 +82,7 @@ def test_a_stale_font_cache_still_draws_chinese_with_a_cjk_font(stale_cache, tmp
 @needs_cjk
 def test_a_run_with_a_stale_font_cache_prints_no_python_warning(stale_cache, tmp_path):
     """``metro run`` of an item with figures, zh+en: stderr holds no Python warning."""
-    code = "import sys; from metro.core.cli import main; sys.exit(main(sys.argv[1:]))"
+    code = "import sys; from metro.core.cli.app import main; sys.exit(main(sys.argv[1:]))"
     proc = _run(code, stale_cache, "run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_scale=0.05",
                 "--out", str(tmp_path), "--no-progress", "-q")
     assert proc.returncode in (0, 3, 4), proc.stderr

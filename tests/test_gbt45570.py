@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from metro.core.errors import DataError, ProcedureError
-from metro.core.runner import run_items
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.run.runner import run_items
 from metro.instruments.simulated import EARTH_RATE_DEG_PER_H, GRADES, GyroTruth, SimulatedStation, expected
 from metro.plugins.gbt45570 import formulas as F
 
@@ -53,7 +53,7 @@ def test_d45_fit_recovers_exact_model(a0, a1, a2):
 def test_d45_covariance_matches_monte_carlo_for_white_noise():
     """The nested-level covariance (formulas.d45_covariance) against 4000 simulated white
     series of 1024 samples: adjacent-level correlation of the sample variances ≈ 1/√2."""
-    from metro.core import allan
+    from metro.core.stats import allan
 
     rng = np.random.default_rng(7)
     reps = 4000
@@ -78,7 +78,7 @@ def test_d45_covariance_matches_monte_carlo_for_white_noise():
 
 def _run(pm, items, truth, lat=39.98, scale=1.0, **opts):
     st_ = SimulatedStation(truth=truth, latitude_deg=lat, duration_scale=scale)
-    from metro.core.runner import merge_steps
+    from metro.core.run.runner import merge_steps
 
     procs = [pm.procedure("gbt45570", i) for i in items]
     camp = st_.acquire(merge_steps([c().sequence({}) for c in procs]))
@@ -155,8 +155,8 @@ def test_d56_negative_alpha1_is_not_reportable(pm):
     periodic (deterministic) quantization pattern; B_s² then bends below α0 + α2/τ² and the
     fitted α1 comes out negative → RWC is not reportable, the reason saying what to look at
     (interpretations.md, "D.5.6 — when the D.45 model does not hold")."""
-    from metro.core.model import Campaign, DeviceUnderTest, Segment
-    from metro.core.units import Q_
+    from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
+    from metro.core.base.units import Q_
 
     n = 8 * 3600
     counts = np.diff(np.floor(9.6321 * np.arange(n + 1)))  # α1 ≈ −1.2e-7 (°)²/h

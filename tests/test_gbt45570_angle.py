@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from metro.core.errors import DataError, UnitError
-from metro.core.lsq import fit_line
-from metro.core.runner import run_items
-from metro.core.units import Q_
+from metro.core.base.errors import DataError, UnitError
+from metro.core.stats.lsq import fit_line
+from metro.core.run.runner import run_items
+from metro.core.base.units import Q_
 from metro.instruments.simulated import GyroTruth, SimulatedStation
 from metro.plugins.gbt45570 import formulas as F
 from metro.plugins.gbt45570.angle_method import AsymmetryD13, NonlinearityD12, ScaleFactorD11, rate_points
@@ -62,7 +62,7 @@ def test_r5_rate_points_include_the_maximum():
 
 def _camp(pm, items, seed=9, drop=None, edit=None):
     st_ = SimulatedStation(truth=GyroTruth(seed=seed))
-    from metro.core.runner import merge_steps
+    from metro.core.run.runner import merge_steps
 
     steps = merge_steps([pm.procedure("gbt45570", i)().sequence({}) for i in items])
     if drop:
@@ -147,7 +147,7 @@ def test_d14_d15_d16_recover_simulated_truth(pm):
     st_ = SimulatedStation(truth=GyroTruth(seed=11, sf_turn_on_sigma=1e-5, sf_tc_per_C=4e-7,
                                            misalign_alpha_arcsec=-55.0, misalign_beta_arcsec=35.0,
                                            fixture_tilt_arcsec=(300.0, 200.0)))
-    from metro.core.runner import merge_steps
+    from metro.core.run.runner import merge_steps
 
     camp = st_.acquire(merge_steps([pm.procedure("gbt45570", i)().sequence({}) for i in items]))
     rec = run_items(pm, "gbt45570", items, campaign=camp)
@@ -181,8 +181,8 @@ def test_simulated_d15_temperature_points_are_power_ons():
     """D.1.5.2 c): the gyro is off while the chamber changes temperature, so the simulated station
     gives every D.1.5 point a turn-on draw of K of its own (``temperature_power_on``): with no noise,
     K_i of each point's sweep is K(T)·(1 + δ_T), not K(T).  (Before, the sweep ran in one power-on.)"""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import merge_steps
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import merge_steps
     from metro.instruments.sim_gbt_rate import scale_factor_multiplier, temperature_power_on
 
     truth = GyroTruth(seed=5, sf_turn_on_sigma=2e-5, arw_deg_rt_h=1e-9, scale_factor_P_per_arcsec=50.0)
@@ -216,7 +216,7 @@ def test_d14_missing_direction_names_the_run(pm):
 
 
 def test_d15_temperatures_without_room_temperature(pm):
-    from metro.core.runner import merge_steps
+    from metro.core.run.runner import merge_steps
 
     st_ = SimulatedStation(truth=GyroTruth(seed=3))
     steps = pm.procedure("gbt45570", "D.1.5")().sequence({"temperatures": "-40 °C, 0 °C, 60 °C"})
@@ -254,7 +254,7 @@ def test_d16_needs_the_device_scale_factor(pm):
 
 
 def test_d14_warns_when_the_runs_are_not_at_the_stated_rate(pm):
-    from metro.core.runner import merge_steps
+    from metro.core.run.runner import merge_steps
 
     st_ = SimulatedStation(truth=GyroTruth(seed=5))
     camp = st_.acquire(merge_steps([pm.procedure("gbt45570", "D.1.4")().sequence({"rate": "60 °/s"})]))
@@ -282,7 +282,7 @@ def test_d13_sensitivity_to_n0_hand_worked():
 def test_d13_u_ka_at_the_kink(pm):
     """A gyro with K₊ = K₋ exactly: a central difference through |K₊ − K₋| gave ∂K_a/∂N̄₀ = 0 there
     (U(K_a) without its N̄₀ row); the analytic slope gives U = k·|D′|/M·u(N̄₀) (hand-worked)."""
-    from metro.core.model import Campaign, DeviceUnderTest, Segment
+    from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
 
     R, K, N0 = 1_296_000.0, 0.8, 7.7
     rates = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 150.0, 200.0, 300.0, 400.0]

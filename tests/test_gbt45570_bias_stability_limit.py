@@ -13,11 +13,11 @@ from types import SimpleNamespace
 import attrs
 import pytest
 
-from metro.core.conformity import Status, assess
-from metro.core.model import DeviceUnderTest
-from metro.core.plugins import get_plugin_manager
-from metro.core.runner import judge, run_items
-from metro.core.units import Q_
+from metro.core.uncertainty.conformity import Status, assess
+from metro.core.model.campaign import DeviceUnderTest
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.run.runner import judge, run_items
+from metro.core.base.units import Q_
 from metro.plugins.gbt45570.conformity import specifications
 
 AVIATION_LASER = DeviceUnderTest(id="G1", technology="laser", application="aviation", output="pulse")

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from metro.core.campaign import load_manifest
-from metro.core.errors import DataError
-from metro.core.runner import run_items
+from metro.core.run.manifest import load_manifest
+from metro.core.base.errors import DataError
+from metro.core.run.runner import run_items
 from metro.plugins.gbt45570 import clause5, inspection, reliability
 
 HEAD = """\
@@ -404,7 +404,7 @@ def test_each_54_test_on_the_simulated_station(pm, item, tag):
 
 
 def test_scale_factor_change_hand_worked():
-    from metro.core.model import Metric
+    from metro.core.model.results import Metric
     from metro.plugins.gbt45570.type_env import _scale_factor_change
 
     m = Metric("lts_dK", "scale-factor change", "ΔK/K", "ppm", "D.1.1.3")
@@ -422,7 +422,7 @@ def test_scale_factor_change_from_revolutions_has_the_degrees_of_freedom_of_its_
     Hand-worked from the campaign's own counts: K = K_10·100/90 − K_100·10/90 per phase."""
     from scipy.stats import t as student
 
-    from metro.core.runner import load_campaign
+    from metro.core.run.runner import load_campaign
 
     cls = pm.procedure("gbt45570", "6.2.8.5")
     so = {"device_class": "pulse-fine-undithered", "seed": 3, "arw_deg_rt_h": 0.005}
@@ -481,7 +481,7 @@ def test_revolutions_of_a_digital_gyro_are_not_read_as_pulses(pm):
 def test_scale_factor_records_on_one_side_only(pm):
     import attrs
 
-    from metro.core.runner import load_campaign
+    from metro.core.run.runner import load_campaign
 
     cls = pm.procedure("gbt45570", "6.2.8.2")
     camp = load_campaign(pm, [cls], [{}], data=None, station_options={"duration_scale": 0.2})
@@ -599,7 +599,7 @@ def test_simulated_station_records_cover_the_type_test(pm):
 
 
 def test_acquire_writes_records_that_run_reads_back(pm, tmp_path):
-    from metro.instruments.campaign_writer import acquire_campaign
+    from metro.core.run.manifest_writer import acquire_campaign
 
     items = ["6.2.3", "6.2.5", "6.2.8.2", "6.2.9.1"]
     manifest = acquire_campaign(pm, "gbt45570", items, tmp_path / "camp", station_options={"duration_scale": 0.2})
@@ -629,7 +629,7 @@ def test_report_with_every_clause5_item_is_written(pm, tmp_path):
     characters, python-docx refuses more) is cut, the pages keep every item; the context has the
     clause-5 rows."""
     import docx
-    from metro.core.report import report_context, write_report
+    from metro.core.documents.report import report_context, write_report
 
     items = list(clause5.TYPE_TEST_ITEMS[:7]) + [i for i in clause5.TYPE_TEST_ITEMS if i.startswith(("6.2.8", "6.2.9"))]
     rec = run_items(pm, "gbt45570", items, station_options={"duration_scale": 0.25}, options={"scale_factor": "none"})
@@ -654,7 +654,7 @@ def test_report_with_every_clause5_item_is_written(pm, tmp_path):
 def test_plan_of_the_whole_standard_includes_the_type_test(pm):
     """What `metro plan -s gbt45570 --all` prints: every clause-5 item's steps, the records to take
     down (kind record:…) with the gyro's records before and after each 5.4 test."""
-    from metro.core.runner import merge_steps, select_items, station_device
+    from metro.core.run.runner import merge_steps, select_items, station_device
 
     items, _ = select_items(pm, "gbt45570", [], run_all=True, device=station_device(pm, "simulated", {}))
     assert set(clause5.TYPE_TEST_ITEMS) - {"D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5", "D.2.6"} <= set(items)
@@ -725,7 +725,7 @@ def test_before_and_after_a_54_test_carry_two_power_ons(pm):
 def test_54_changes_take_a_stated_repeatability(pm, tmp_path):
     """Without repeats, [device] bias_repeatability and scale_factor_repeatability (measured before) stand
     for the turn-on scatter: ΔB₀ and ΔK/K are reportable, with type B rows √2 × the stated σ."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     out = tmp_path / "camp"
     assert main(["acquire", "-s", "gbt45570", "-i", "6.2.8.2", "--out", str(out), "--station-option",
@@ -750,7 +750,7 @@ def test_scale_factor_records_whose_tag_is_also_a_unit_survive_the_manifest(pm, 
     ``test = "acc"`` was read as the quantity 1 acc, matched no test, and ΔK/K of 6.2.8.7, 6.2.8.10 and
     6.2.8.14 vanished without a word on every written campaign (``metro acquire`` then ``run --data``;
     found by benchmarks/independent_gbt_env.py).  A condition without a digit stays text."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     out = tmp_path / "camp"
     assert main(["acquire", "-s", "gbt45570", "-i", item, "--out", str(out), "--station-option",

@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from metro.core.errors import DataError
-from metro.core.present import truth_checks
-from metro.core.runner import run_items
+from metro.core.base.errors import DataError
+from metro.core.cli.present import truth_checks
+from metro.core.run.runner import run_items
 from metro.instruments.simulated import DEVICE_CLASSES, station_factory
 from metro.plugins.gbt45570 import formulas as F
 
@@ -212,9 +212,9 @@ def test_d52_undithered_counts_equal_in_every_block_not_reportable(pm):
     """Counts 0, 1, 0, 1 … (an undithered counter at half a pulse per sample): every 10 s block
     holds 5 pulses, B_s(10 s) = 0 — the noise is below one pulse, not reportable, not an error;
     and a counter that never counts is still a data error."""
-    from metro.core.errors import DataError
-    from metro.core.model import Campaign, DeviceUnderTest, Segment
-    from metro.core.units import Q_
+    from metro.core.base.errors import DataError
+    from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
+    from metro.core.base.units import Q_
 
     def camp(counts):
         seg = Segment("s", "static", {"orientation": "IRA up"}, Q_(1, "s"), sha256="0" * 64,
@@ -241,8 +241,8 @@ def test_d26_on_a_rate_output(pm, cls):
 def test_d26_rate_output_acquire_then_run(pm, tmp_path):
     """acquire accepts D.2.6 on a rate-output device (its requirement took LSB only and acquire refused
     it, 'the item accepts LSB', while run in memory evaluated it): the recorded campaign gives the same α."""
-    from metro.core.campaign import load_manifest
-    from metro.instruments.campaign_writer import acquire_campaign
+    from metro.core.run.manifest import load_manifest
+    from metro.core.run.manifest_writer import acquire_campaign
 
     so = {"seed": 4, "device_class": "rate-dh"}
     manifest = acquire_campaign(pm, "gbt45570", ["D.2.6"], tmp_path / "c", station="simulated", station_options=so)
@@ -344,7 +344,7 @@ def test_every_applicable_item_per_device_class(pm, cls):
     with an expected value is within U or declared not reportable with a reason, one miss in eight
     at most over the class (a 95 % interval misses one in twenty); no item ends in an error. The
     200-device tables are on docs/standards/gbt45570.md."""
-    from metro.core.runner import select_items, station_device
+    from metro.core.run.runner import select_items, station_device
 
     so = {"device_class": cls}
     items, _ = select_items(pm, "gbt45570", [], run_all=True, device=station_device(pm, "simulated", so | {"seed": 1}))

@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 import pytest
-from metro.core.errors import DataError
-from metro.core.model import Campaign, DeviceUnderTest, Segment
-from metro.core.runner import merge_steps, run_items
-from metro.core.units import Q_
+from metro.core.base.errors import DataError
+from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
+from metro.core.run.runner import merge_steps, run_items
+from metro.core.base.units import Q_
 from metro.instruments.simulated import GRADES, GyroTruth, SimulatedStation
 from metro.plugins.gbt45570 import env_formulas as E
 from metro.plugins.gbt45570.environmental import (
@@ -322,7 +322,7 @@ def test_d63_earth_rate_cancels_in_the_bias_change(pm):
 
 
 def test_difference_unit_of_an_offset_unit():
-    from metro.core.units import difference_unit
+    from metro.core.base.units import difference_unit
 
     assert difference_unit("degC") == Q_(1, "delta_degC").units
     assert difference_unit("deg/h") == Q_(1, "deg/h").units

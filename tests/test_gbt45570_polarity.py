@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import attrs
 import pytest
-from metro.core.conformity import Status
-from metro.core.errors import DataError
-from metro.core.runner import merge_steps, run_items
+from metro.core.uncertainty.conformity import Status
+from metro.core.base.errors import DataError
+from metro.core.run.runner import merge_steps, run_items
 from metro.instruments.simulated import GyroTruth, SimulatedStation
 from metro.plugins.gbt45570.polarity import Polarity626, response_ratio
 

@@ -148,7 +148,7 @@ def test_d54_takes_a_stated_bias_repeatability(run_cli, tmp_path):
     bad.mkdir()
     _campaign(bad, np.random.default_rng(8), sigma_on=0.01, arw=0.002, slope=1e-4, repeats=False, stated="-1 °/h")
     before = (bad / "manifest.toml").read_bytes()
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     code = main(["run", "-s", "gbt45570", "-i", "D.5.4", "--data", str(bad / "manifest.toml"), "--no-report", "--quiet"])
     assert code == 2 and (bad / "manifest.toml").read_bytes() == before
@@ -363,7 +363,7 @@ def test_d55_absolute_value_of_a_noisy_difference_is_corrected(run_cli, tmp_path
 def test_a_bad_stated_repeatability_is_an_error_even_with_repeats(tmp_path):
     """[device] bias_repeatability = "abc" is refused (exit 2, the field named, the manifest untouched) even when
     the campaign's own D.5.3 repeats make it unused — before, it was silently ignored."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     folder = tmp_path / "dev"
     folder.mkdir()
@@ -380,7 +380,7 @@ def test_a_bad_stated_repeatability_is_an_error_even_with_repeats(tmp_path):
 # --------------------------------------------------------------------------------------------
 
 def _d25_station(pm, seed: int):
-    from metro.core.runner import run_items
+    from metro.core.run.runner import run_items
 
     # no turn-on scatter of K on the station: D.2.4's K_r is the runs' own noise, and at seed 2 below it
     return run_items(pm, "gbt45570", ["D.2.4", "D.2.5"], station="simulated",
@@ -430,7 +430,7 @@ def test_d25_three_d24_power_ons_cannot_bound_the_turn_on_scatter_of_k(pm):
     with [device] scale_factor_repeatability it is reportable, the stated value standing for σ_K."""
     import attrs
 
-    from metro.core.runner import run_items
+    from metro.core.run.runner import run_items
 
     rec = _d25_station(pm, 2)
     keep = {"1", "2", "3"}

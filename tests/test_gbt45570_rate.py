@@ -10,10 +10,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from metro.core.errors import DataError, ProcedureError
-from metro.core.lsq import fit_line
-from metro.core.runner import merge_steps, run_items
-from metro.core.units import Q_
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.stats.lsq import fit_line
+from metro.core.run.runner import merge_steps, run_items
+from metro.core.base.units import Q_
 from metro.instruments.sim_gbt_rate import digital_station_factory
 from metro.instruments.simulated import station_factory
 from metro.plugins.gbt45570 import formulas_rate as F2

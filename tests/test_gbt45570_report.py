@@ -8,12 +8,12 @@ import re
 import docx
 import pytest
 
-from metro.core.conformity import GUARDED, SIMPLE
-from metro.core.document import one_notation
-from metro.core.locale import translator
-from metro.core.plugins import get_plugin_manager
-from metro.core.report import write_report
-from metro.core.runner import run_items
+from metro.core.uncertainty.conformity import GUARDED, SIMPLE
+from metro.core.documents.document import one_notation
+from metro.core.base.locale import translator
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.documents.report import write_report
+from metro.core.run.runner import run_items
 from metro.plugins.gbt45570 import report as gbt_report
 
 ITEMS = ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"]
@@ -138,8 +138,8 @@ def test_type_test_prints_clause_5_and_whole_tables(produced):
     of chosen items prints no clause-5 table (the ITEMS run here)."""
     import attrs
 
-    from metro.core.report import build_context
-    from metro.core.runner import ItemChoice
+    from metro.core.documents.report import build_context
+    from metro.core.run.runner import ItemChoice
 
     rec, doc, _ = produced
     assert not any("技术要求 Technical requirements" in t for t in _texts(doc))
@@ -147,7 +147,7 @@ def test_type_test_prints_clause_5_and_whole_tables(produced):
     typ = attrs.evolve(rec, selection=[ItemChoice(i, True, "applies", "--all") for i in ITEMS])
     ctx = build_context(typ, extend=pm.extend_report_context)
     assert ctx["gbt45570"]["type_test"] and not build_context(rec, extend=pm.extend_report_context)["gbt45570"]["type_test"]
-    from metro.core.report import render_context
+    from metro.core.documents.report import render_context
 
     path = render_context(produced[2].with_name("type-test.docx"), ctx, layout=pm.template_for("gbt45570").layout)
     d = docx.Document(str(path))
@@ -194,8 +194,8 @@ def test_page_one_has_the_device_the_overall_verdict_and_the_results(produced):
 
 
 def test_simple_rule_and_no_specification_are_stated():
-    from metro.core.model import DeviceUnderTest
-    from metro.core.report import report_context
+    from metro.core.model.campaign import DeviceUnderTest
+    from metro.core.documents.report import report_context
 
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1}, decision_rule="simple")
@@ -238,9 +238,9 @@ def test_series_alias_reports_the_method_choice(run_cli):
 def test_fibre_gyro_takes_the_rate_method_and_table_b1():
     """The digital-output (fibre) simulated gyro: 6.2.7.1 picks D.2 (no declared nonlinearity; B.1
     aviation limit 50×10⁻⁶ > 5×10⁻⁶) and the verdicts cite table B.1."""
-    from metro.core.report import report_context
+    from metro.core.documents.report import report_context
 
-    from metro.core.runner import select_items, station_device
+    from metro.core.run.runner import select_items, station_device
 
     pm = get_plugin_manager(autoload=False)
     device = station_device(pm, "simulated-digital", {})

@@ -41,7 +41,7 @@ def test_harness_does_not_use_metro_generators():
     for ln in imports:
         assert "metro.instruments" not in ln and "simulated" not in ln, ln
     metro_imports = [ln.strip() for ln in imports if "metro" in ln]
-    assert metro_imports == ["from metro.core.cli import main"], metro_imports
+    assert metro_imports == ["from metro.core.cli.app import main"], metro_imports
 
 
 def test_pulse_counter_keeps_every_pulse(harness):

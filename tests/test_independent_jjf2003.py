@@ -39,7 +39,7 @@ def test_harness_does_not_use_metro_generators():
     assert imports, "no imports found"
     for ln in imports:
         assert "metro.instruments" not in ln and "simulat" not in ln, ln
-    assert [ln for ln in imports if "metro" in ln] == ["from metro.core.cli import main"]
+    assert [ln for ln in imports if "metro" in ln] == ["from metro.core.cli.app import main"]
     assert "independent_campaigns.py" in text  # the shared pieces come from the sibling harness
 
 

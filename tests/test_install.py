@@ -42,7 +42,7 @@ def test_core_dependencies_leave_the_heavy_and_unused_packages_to_extras():
 
 def test_distribution_name_and_version():
     from metro.core import __version__
-    from metro.core.extras import DISTRIBUTION
+    from metro.core.base.extras import DISTRIBUTION
 
     assert _project()["name"] == DISTRIBUTION == "metro-inertial"
     assert __version__ == version(DISTRIBUTION) != "0+unknown"
@@ -63,8 +63,8 @@ def test_readme_commands_and_ci():
 
 
 def test_require_names_the_extra():
-    from metro.core.errors import MetroError
-    from metro.core.extras import available, require
+    from metro.core.base.errors import MetroError
+    from metro.core.base.extras import available, require
 
     with pytest.raises(MetroError) as info:
         require("metro_no_such_module_29", "metro frobnicate", extra="batch")
@@ -80,7 +80,7 @@ BLOCK = textwrap.dedent("""
     BLOCKED = sys.argv[1].split(",")
     for name in BLOCKED:  # "not installed": import fails, importlib.util.find_spec gives None
         sys.modules[name] = None
-    from metro.core.cli import main
+    from metro.core.cli.app import main
     code = main(sys.argv[2:])
     loaded = sorted(m for m, mod in sys.modules.items() if mod is not None and m.split(".")[0] in BLOCKED)
     assert not loaded, loaded
@@ -125,13 +125,13 @@ def test_parquet_without_pyarrow_names_the_extra(tmp_path):
     data = tmp_path / "x.parquet"
     data.write_bytes(b"PAR1")
     code = textwrap.dedent(f"""
-        from metro.core.errors import MetroError
+        from metro.core.base.errors import MetroError
         from metro.instruments.readers import read_samples
         try:
             read_samples({str(data)!r})
         except MetroError as exc:
             print(exc.reason)
     """)
-    block = BLOCK.split("from metro.core.cli")[0]
+    block = BLOCK.split("from metro.core.cli.app")[0]
     p = subprocess.run([sys.executable, "-c", block + code, ",".join(OPTIONAL)], capture_output=True, text=True)
     assert "needs the 'fast' extra: pip install 'metro-inertial[fast]'" in p.stdout, p.stderr

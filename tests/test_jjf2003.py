@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from metro.core.errors import DataError, ProcedureError
-from metro.core.runner import merge_steps, run_items
-from metro.core.units import Q_
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.run.runner import merge_steps, run_items
+from metro.core.base.units import Q_
 from metro.instruments.mimu import EARTH_RATE_DEG_S, MimuStation, MimuTruth
 from metro.plugins.jjf2003 import formulas as F
 from metro.plugins.jjf2003.procedures import (
@@ -109,7 +109,7 @@ def test_singular_designs_are_refused():
 
 
 def _campaign(truth=None, lat=39.98, items=ALL):
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     procs = [pm.procedure("jjf2003", i) for i in items]
@@ -163,7 +163,7 @@ def test_scale_factor_coverage_over_seeds():
 
 def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run):
     camp, rec = default_run
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     plain = rec.outcomes[1]
@@ -187,7 +187,7 @@ def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run):
 
 def test_p_sign_follows_model_by_default(default_run):
     camp, rec = default_run
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     p_model = rec.outcomes[4]
@@ -245,7 +245,7 @@ def _without(camp, drop):
 
 def test_missing_position_is_a_clear_error(default_run):
     camp, _ = default_run
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     bad = _without(camp, lambda s: s.id == "pos-y-h180")
@@ -256,7 +256,7 @@ def test_missing_position_is_a_clear_error(default_run):
 
 def test_axis_with_too_few_rates(default_run):
     camp, _ = default_run
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     bad = _without(camp, lambda s: s.id in ("rate-z-50", "rate-z--50", "rate-z-100"))
@@ -265,7 +265,7 @@ def test_axis_with_too_few_rates(default_run):
 
 
 def test_position_held_under_30_s():
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     st = MimuStation(duration_scale=0.5)
@@ -382,7 +382,7 @@ def test_singular_six_position_design_is_a_procedure_error(default_run, monkeypa
     """A design that does not span the axes (here: the Z positions zeroed) is refused with a
     clear error, not a numpy exception."""
     camp, _ = default_run
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     degenerate = F.six_position_design()
@@ -399,7 +399,7 @@ def test_truth_within_U_over_seeds_for_every_item():
     """All 42 results of the five items against the declared truth, over 4 seeds, on a table that
     errs as much as its certificate says: every one within U (g after the earth-rate correction,
     the standard's g carrying the leak)."""
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     worst = 0.0
@@ -421,7 +421,7 @@ def test_table_errors_are_simulated(monkeypatch):
     size (U = 2e-4, k = 2, uniform within ±√3·1e-4) and tilts each mounting within ±10″: the
     scale factors miss the truth far more than on a perfect table, and still within U."""
     from metro.instruments import mimu
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
     from metro.instruments.equipment import RateBand, ThreeAxisTable
 
     pm = get_plugin_manager(autoload=False)
@@ -454,8 +454,8 @@ def test_budget_rows_come_from_the_campaign_equipment(default_run):
     piece drops its row with a warning naming it."""
     import attrs
 
-    from metro.core.model import Calibration
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.model.campaign import Calibration
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     camp, _ = default_run
     pm = get_plugin_manager(autoload=False)
@@ -533,8 +533,8 @@ def test_certificate_states_the_earth_rate_deviation(files, run_cli, tmp_path):
 
 
 def _run_2003(items, truth=None, options=None):
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import run_items, split_options
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items, split_options
 
     pm = get_plugin_manager(autoload=False)
     procs = [pm.procedure("jjf2003", i) for i in items]
@@ -585,8 +585,8 @@ def test_device_class_truth_within_U(cls, opts):
     """One modest run per device class (issue 13; the ≥ 200-seed tables are on docs/standards/jjf2003.md):
     the 7.2.1 scale factors and the 7.2.2 biases of two devices of the class within their U (one
     in eight outside at most: a 95 % interval misses one in twenty)."""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.present import truth_checks
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.cli.present import truth_checks
     from metro.instruments.mimu import DEVICE_CLASSES, station_factory
 
     assert cls in DEVICE_CLASSES and station_factory(device_class=cls, seed=1).truth.device_class == cls
@@ -603,8 +603,8 @@ def test_device_class_truth_within_U(cls, opts):
 @pytest.mark.slow
 def test_power_on_class_scale_factor_coverage_over_seeds():
     """12 devices of class mems-power-on with 3 repeats: K_g diagonal within U in ≥ 85 %."""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.present import truth_checks
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.cli.present import truth_checks
 
     pm = get_plugin_manager(autoload=False)
     hits = []

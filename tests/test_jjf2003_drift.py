@@ -91,8 +91,8 @@ def test_pooled_within_record_trend_finds_the_drift(tmp_path):
     """Each record's own trend, pooled: the drift of every gyro to its standard error (white noise
     1×10⁻⁴ °/s over 40 s: 1.4×10⁻⁶ °/s per s a record), from positions, rests and the gyros across
     a turning table (27 + 6·2 records per gyro; 7 of each sweep's 9 turn at least once in 40 s)."""
-    from metro.core.campaign import load_manifest
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.manifest import load_manifest
+    from metro.core.run.plugin_manager import get_plugin_manager
     from metro.plugins.jjf2003 import drift as D
 
     camp = load_manifest(_write(tmp_path / "d"), get_plugin_manager().reader_for)
@@ -224,8 +224,8 @@ def test_without_recording_times_the_drift_the_trends_cannot_exclude_is_budgeted
     d̂ and u(d̂) the pooled within-record trend (drift.campaign_drift) and τ by hand for 40-s records
     back to back in the plan's order: eq. (5) 40·4900/425000 s per °/s; eq. (7) column x: the +x pair's
     mid-time 40 s, the −x pair's 120 s, (40 − 120)/2 = −40 s per g_n."""
-    from metro.core.campaign import load_manifest
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.manifest import load_manifest
+    from metro.core.run.plugin_manager import get_plugin_manager
     from metro.plugins.jjf2003 import drift as D
 
     manifest = _write(tmp_path / "s", drift=np.zeros(3), started=False, seed=1)
@@ -281,9 +281,9 @@ def test_overlapping_records_are_refused(run_cli, tmp_path):
 
 
 def test_started_is_written_back_by_the_campaign_writer(tmp_path):
-    from metro.core.campaign import load_manifest
-    from metro.core.plugins import get_plugin_manager
-    from metro.instruments.campaign_writer import manifest_text
+    from metro.core.run.manifest import load_manifest
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.manifest_writer import manifest_text
 
     camp = load_manifest(_write(tmp_path / "w"), get_plugin_manager().reader_for)
     text = manifest_text(camp, {s.id: (f"{s.id}.csv", {}) for s in camp.segments})
@@ -304,9 +304,9 @@ def test_simulated_station_warm_up_is_corrected_from_its_recording_times(tmp_pat
     (the drift is seen, its lever arm not known), B_g stays reportable."""
     import attrs
 
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.present import truth_checks
-    from metro.core.runner import merge_steps, run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.cli.present import truth_checks
+    from metro.core.run.runner import merge_steps, run_items
     from metro.instruments.mimu import station_factory
 
     code, _, err = run_cli("acquire", "-s", "jjf2003", "-i", "7.2.1,7.2.2", "--out", str(tmp_path / "c"), "--seed", "3",

@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from metro.core.earth import normal_gravity
+from metro.core.stats.earth import normal_gravity
 
 GN = 9.80665
 ARCSEC = math.pi / 180 / 3600

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import docx
 import pytest
-from metro.core.runner import merge_steps, run_items
+from metro.core.run.runner import merge_steps, run_items
 from metro.instruments.vibratory import VibratoryStation
 from metro.plugins.jjf2014 import certificate as C
 
@@ -19,11 +19,11 @@ OPTS = {"records": 2, "frequencies": 10, "sample_rate": "2000 Hz"}
 
 @pytest.fixture(scope="module")
 def record():
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     procs = [pm.procedure("jjf2014", i) for i in ITEMS]
-    from metro.core.runner import split_options
+    from metro.core.run.runner import split_options
 
     per = split_options(procs, OPTS)
     camp = VibratoryStation(duration_scale=0.25).acquire(
@@ -46,7 +46,7 @@ def test_rows_mark_items_not_performed(record):
 
 def test_certificate_written_with_the_registered_layout(record, tmp_path):
     pm, rec = record
-    from metro.core.report import write_report
+    from metro.core.documents.report import write_report
 
     tpl = pm.template_for("jjf2014")
     assert tpl.name == "jjf2014-certificate" and tpl.path is None
@@ -146,7 +146,7 @@ ACQ_OPTS = ["-o", "records=2", "-o", "frequencies=10", "-o", "sample_rate=2000 H
 @pytest.fixture(scope="module")
 def acquired(tmp_path_factory):
     """`metro acquire` of all 23 items on the simulated station → a campaign folder on disk."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     root = tmp_path_factory.mktemp("acq") / "c"
     code = main(["acquire", "-s", "jjf2014", "-i", ",".join(ALL), "--out", str(root), "--seed", "11",
@@ -158,8 +158,8 @@ def acquired(tmp_path_factory):
 def test_acquire_then_one_command_evaluates_the_campaign_and_writes_the_certificate(acquired, run_cli, tmp_path):
     """acquire → `metro run --all --data` (recorded data): the same values and U as the in-memory
     run on the same station, all 24 appendix-A rows filled, the five figures, page x of y."""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import split_options
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import split_options
 
     out = tmp_path / "cert.docx"
     code, stdout, err = run_cli("run", "-s", "jjf2014", "--all", "--data", str(acquired), "--report", str(out),

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from metro.core.cli import main
+from metro.core.cli.app import main
 from metro.plugins.jjf2014 import budgets as B
 
 RATES = (1.0, 10.0, 100.0)  # °/s: a 7.2.1 calibration of three rates each way is enough for S₀ = K
@@ -356,7 +356,7 @@ def test_a_start_up_ringing_within_the_noise_of_the_band_edge_is_read_from_its_s
     """The 1 s window means of a 0.5 Hz ringing keep 64 % of it and leave the band at ≈ 18.3 s; the samples leave
     it until 20.2 s, by less than 4.5u of one sample's noise after the window means settle, so they did not
     decide: 18.35 s with U 0.13 s on each of these seeds (E_n −14.3; the independent harness's quiet device
-    319: −15.9).  Now the samples' lobes about the settled value decide (metro.core.settling, as GB/T 6.2.7.7):
+    319: −15.9).  Now the samples' lobes about the settled value decide (metro.core.stats.settling, as GB/T 6.2.7.7):
     within U (interpretations.md, "7.2.23 — a ringing output decided by its samples")."""
     for seed in (1, 2, 3):
         folder = tmp_path / f"s{seed}"
@@ -372,7 +372,7 @@ def test_start_up_sample_exits_hand_worked():
     lobe (top 2, Φ(1/0.3) ≥ 1 − Φ(−3): certain) falls back through the band's edge at sample 5 (1.0, q = ½); the
     last sample outside is sample 4 or 5 with probability ½ each (the change point, the others' q ≈ 0): exits
     6 s and 7 s, t = 6.5 s, u_sel = 0.5 s, d_95 = 0.5 s."""
-    from metro.core import settling as S
+    from metro.core.stats import settling as S
     from metro.plugins.jjf2014 import formulas as F
 
     d = np.array([5, 0, -3, 0, 2, 1.0, 0, 0, 0, 0, 0, 0])

@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from metro.core.campaign import calibration_from_table
-from metro.core.cli import main
+from metro.core.run.manifest import calibration_from_table
+from metro.core.cli.app import main
 
 R5 = (0.1, 0.25, 0.63, 1.6, 4, 10, 16, 25, 40, 63, 100)  # °/s, 7.2.1.1 b)
 

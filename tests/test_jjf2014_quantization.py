@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from metro.core.runner import run_items
+from metro.core.run.runner import run_items
 from metro.plugins.jjf2014 import formulas as F
 
 
@@ -118,7 +118,7 @@ def test_threshold_and_resolution_not_reportable_when_rounding_can_pass_a_level(
 def test_device_class_analog_coarser_truth_within_U(pm, items):
     """One modest run of the class (issue 13; the 200-seed table is on docs/standards/jjf2014.md): every
     reportable result of 3 devices within U, one in eight outside at most."""
-    from metro.core.present import truth_checks
+    from metro.core.cli.present import truth_checks
 
     checks = []
     for seed in (1, 2, 3):

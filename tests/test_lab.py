@@ -6,9 +6,9 @@ import json
 
 import pytest
 
-from metro.core import lab as labmod
-from metro.core.cli import main
-from metro.core.errors import DataError
+from metro.core.record import lab as labmod
+from metro.core.cli.app import main
+from metro.core.base.errors import DataError
 
 
 def _init(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""The message catalog and :class:`metro.core.locale.Text`: text made far from the document (notes,
+"""The message catalog and :class:`metro.core.base.locale.Text`: text made far from the document (notes,
 reasons, warnings, budget components) stays English everywhere but a document, which writes it
 in its language."""
 
@@ -11,7 +11,7 @@ import string
 
 import numpy as np
 
-from metro.core.locale import Text, catalog, join, msg, translator
+from metro.core.base.locale import Text, catalog, join, msg, translator
 
 
 def test_a_message_is_its_english_text_everywhere_but_a_document():
@@ -45,7 +45,7 @@ def test_a_join_translates_each_part():
 
 
 def test_a_message_pickles_and_survives_the_register_json():
-    from metro.core.registering import decode_context, encode_context
+    from metro.core.record.registering import decode_context, encode_context
 
     t = join("; ", [msg("fitted bias b = {b:.5g} °/s", b=np.float64(0.1017512)), "x"])
     back = pickle.loads(pickle.dumps(t))
@@ -72,9 +72,9 @@ def test_every_translation_has_the_places_of_its_message_id():
 
 
 def test_the_catalog_lacks_no_message_id_the_code_uses():
-    """``python -m metro.core.locale`` finds every tr("…") and msg("…") in core, plugins and
+    """``python -m metro.core.base.locale`` finds every tr("…") and msg("…") in core, plugins and
     instruments, and every metric name and item title the procedures declare."""
-    from metro.core.locale.__main__ import missing_messages, used_messages
+    from metro.core.base.locale.__main__ import missing_messages, used_messages
 
     used = used_messages()
     assert "{n} rounds; clause 7.5 asks for {rounds}" in used  # a msg(…) of a plugin
@@ -100,7 +100,7 @@ def test_no_catalog_entry_claims_percent_formatting():
     flags had crept in with hand-appended entries."""
     from importlib import resources
 
-    path = resources.files("metro.core.locale") / "zh" / "LC_MESSAGES" / "metro.po"
+    path = resources.files("metro.core.base.locale") / "zh" / "LC_MESSAGES" / "metro.po"
     lines = path.read_text(encoding="utf-8").splitlines()
     flagged = [n for n, line in enumerate(lines, 1) if line.startswith("#,") and "python-format" in line]
     assert not flagged, f"metro.po lines {flagged}: drop the python-format flag"
@@ -116,14 +116,14 @@ def test_catalog_reader_gives_what_babel_gives():
 
     from babel.messages.pofile import read_po
 
-    from metro.core.locale import read_catalog
+    from metro.core.base.locale import read_catalog
 
     def babel_map(text: str) -> dict[str, str]:
         cat = read_po(io.StringIO(text))
         return {m.id: m.string for m in cat if m.id and isinstance(m.id, str) and m.string
                 and not m.fuzzy and not m.context}
 
-    shipped = (resources.files("metro.core.locale") / "zh" / "LC_MESSAGES" / "metro.po").read_text(encoding="utf-8")
+    shipped = (resources.files("metro.core.base.locale") / "zh" / "LC_MESSAGES" / "metro.po").read_text(encoding="utf-8")
     assert read_catalog(shipped) == babel_map(shipped)
     assert len(read_catalog(shipped)) > 1000
     edges = "\n".join([

@@ -14,9 +14,9 @@ import re
 
 import pytest
 
-from metro.core import report
-from metro.core.plugins import get_plugin_manager
-from metro.core.runner import run_items
+from metro.core.documents import report
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.run.runner import run_items
 
 CJK = re.compile(r"[\u3000-\u303f\u4e00-\u9fff\uff00-\uffef]")
 #: three or more alphabetic ASCII words in a row (spaces or no-break spaces between them), not
@@ -98,8 +98,8 @@ def test_the_figures_of_a_chinese_document_draw_no_english_prose(rendered):
     """The words drawn inside the figures (title, axis labels, legend entries) are the document's
     language too: a legend made as plain English text ("pure delay −ωT_d", "least-squares line,
     slope …", "1 s mean", "band") was drawn in English in every language."""
-    from metro.core import plots
-    from metro.core.locale import translator
+    from metro.core.documents import plots
+    from metro.core.base.locale import translator
 
     case, rec, _docs = rendered
     tr = translator("zh")
@@ -124,8 +124,8 @@ def test_a_bilingual_document_has_both_and_every_note_in_both(rendered):
     assert CJK.search(text) and english_prose(texts)
     zh_text = "\n".join(docs["zh"][1]).replace("\u00a0", " ")
     # a note of the run (a message): its Chinese in the zh document, its English in the zh+en one
-    from metro.core.document import glue, subscript_runs
-    from metro.core.locale import translator
+    from metro.core.documents.document import glue, subscript_runs
+    from metro.core.base.locale import translator
 
     def printed(s: str) -> str:  # as a document's text reads it: no-break spaces, real subscripts
         s = glue(s).replace("\u00a0", " ").replace("\u2060", "")
@@ -138,7 +138,7 @@ def test_a_bilingual_document_has_both_and_every_note_in_both(rendered):
 
 def test_terminal_json_stays_english(capsys):
     """--lang changes the document only: the --json output (notes, reasons, budget sources) is English."""
-    from metro.core.cli import main
+    from metro.core.cli.app import main
 
     code = main(["run", "-s", "ogam", "-i", "7.1,7.2,7.4", "--lang", "zh", "--json", "-q", "--no-report"])
     out = capsys.readouterr().out
@@ -170,8 +170,8 @@ def test_gbt45570_type_test_report_in_chinese(pm, tmp_path):
     line = next(t for t in texts if t.startswith("限值来源")).replace("\u00a0", " ")
     assert "表 A.1 第 1–16 行，航空（第 1 行：仅适用于 D.1.1" in line and "5.2.8（绝缘电阻 ≥ 50 MΩ）" in line, line
     # the figures' own words too (D.1.5's fit line, 6.2.7.7's window mean and band are added to the specs)
-    from metro.core import plots
-    from metro.core.locale import translator
+    from metro.core.documents import plots
+    from metro.core.base.locale import translator
 
     specs = [plots.localized(p["spec"], translator("zh")) for o in ctx["outcomes"] for p in o["plots"]]
     drawn = [str(t) for sp in specs for t in (sp.title, sp.xlabel, sp.ylabel, *(x.get("label") or "" for x in sp.series))]
@@ -189,7 +189,7 @@ def _bypassing(rec) -> list[str]:
     """The texts of a run a document prints that would stay English in a zh document: a plain
     string with English words the catalog does not hold, or a message whose id it lacks (the
     fields of a message are data: equipment names, file names)."""
-    from metro.core.locale import Text, translator
+    from metro.core.base.locale import Text, translator
 
     tr = translator("zh")
     texts = []
@@ -237,8 +237,8 @@ def test_every_standards_texts_go_through_the_catalog(pm):
 def test_figure_text_in_the_document_language(pm, tmp_path, monkeypatch):
     """The words drawn inside a figure — title, axis labels, legend — are the document's language
     (issue 16: 'every string on the document'); the zh document drew English titles before."""
-    from metro.core import plots
-    from metro.core.locale import catalog
+    from metro.core.documents import plots
+    from metro.core.base.locale import catalog
 
     rec = run_items(pm, "gbt45570", ["D.5.4"], station_options={"duration_scale": 0.1})
     ctx = report.build_context(rec, extend=pm.extend_report_context, lang="zh")

@@ -1,4 +1,4 @@
-"""Tests for metro.core.lsq against NIST StRD certified values and independent computations.
+"""Tests for metro.core.stats.lsq against NIST StRD certified values and independent computations.
 
 Reference data: NIST Statistical Reference Datasets (public domain), copied verbatim into
 tests/data/nist/ so a clean clone has them.
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from metro.core.lsq import LinearFit, fit_line, fit_linear, fit_polynomial, polynomial_design
+from metro.core.stats.lsq import LinearFit, fit_line, fit_linear, fit_polynomial, polynomial_design
 
 NIST = Path(__file__).resolve().parent / "data" / "nist"
 

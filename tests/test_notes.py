@@ -1,4 +1,4 @@
-"""Notes and warnings stated once, naming where they apply (metro.core.notes, issue 13 follow-up).
+"""Notes and warnings stated once, naming where they apply (metro.core.documents.notes, issue 13 follow-up).
 
 A JJF 2003 certificate of 7.2.1–7.2.3 on a drifting MIMU (simulated class mems-warmup, seed 3)
 printed its notes block over 2⅓ pages (13 pages in all, zh+en): each item repeated the three
@@ -14,8 +14,8 @@ import re
 
 import pytest
 
-from metro.core.locale import Index, Text, hint, index, join, msg, translator
-from metro.core.notes import group_notes, parts_of, where_label
+from metro.core.base.locale import Index, Text, hint, index, join, msg, translator
+from metro.core.documents.notes import group_notes, parts_of, where_label
 
 
 def test_a_warning_several_items_share_is_stated_once_naming_them():
@@ -110,10 +110,10 @@ class _Lines:
 
 @pytest.fixture(scope="module")
 def warmup():
-    from metro.core.document import notes_section
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.report import build_context
-    from metro.core.runner import run_items
+    from metro.core.documents.document import notes_section
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.documents.report import build_context
+    from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "jjf2003", ["7.2.1", "7.2.2", "7.2.3"],

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from metro.core.budget import BudgetRow
-from metro.core.errors import DataError, ProcedureError
-from metro.core.runner import run_items
-from metro.core.units import Q_
+from metro.core.uncertainty.budget import BudgetRow
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.run.runner import run_items
+from metro.core.base.units import Q_
 from metro.instruments.angle_instrument import AngleInstrumentStation, AngleInstrumentTruth
 from metro.plugins.ogam import formulas as F
 from metro.plugins.ogam import procedures as P
@@ -111,7 +111,7 @@ def test_consistency_ratio_hand_worked():
 def _run(pm, items, **truth):
     st = AngleInstrumentStation(truth=AngleInstrumentTruth(**truth))
     procs = [pm.procedure("ogam", i) for i in items]
-    from metro.core.runner import merge_steps
+    from metro.core.run.runner import merge_steps
 
     camp = st.acquire(merge_steps([c().sequence(c.option_values({})) for c in procs]))
     return run_items(pm, "ogam", items, campaign=camp), camp
@@ -301,7 +301,7 @@ def test_acquire_then_run_all_seven_items_from_disk(run_cli, pm, tmp_path):
     import json
 
     import docx
-    from metro.core.runner import load_campaign
+    from metro.core.run.runner import load_campaign
 
     camp_dir = tmp_path / "camp"
     code, out, err = run_cli("--no-plugin-autoload", "acquire", "-s", "ogam", "-i", ",".join(ALL), "--out",
@@ -341,7 +341,7 @@ def test_acquire_then_run_all_seven_items_from_disk(run_cli, pm, tmp_path):
 
 def test_certificate_appendix_b(pm, tmp_path):
     import docx
-    from metro.core.report import write_report
+    from metro.core.documents.report import write_report
 
     rec, _ = _run(pm, ["7.1", "7.4", "7.5"])
     path = write_report(tmp_path / "c.docx", rec, layout=pm.template_for("ogam").layout,
@@ -466,8 +466,8 @@ def test_72_linearity_budget_and_mean_en_over_coarse_instruments(pm):
 def test_device_class_truth_within_U(cls):
     """One modest run per device class (issue 13; the 200-seed tables are on docs/standards/ogam.md):
     every result of three instruments of the class within its U (one in eight outside at most)."""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.present import truth_checks
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.cli.present import truth_checks
     from metro.instruments.angle_instrument import DEVICE_CLASSES, station_factory
 
     assert cls in DEVICE_CLASSES and station_factory(device_class=cls, seed=1).truth.device_class == cls

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from metro.core.runner import run_items
+from metro.core.run.runner import run_items
 
 S = 30.0 * np.arange(1, 13)  # the twelve stops of 7.4, °
 

@@ -1,4 +1,4 @@
-"""Packaging: one `metro` namespace in the wheel, entry points, no top-level core/plugins/instruments."""
+"""Packaging: one `metro` namespace in the wheel, entry points, no top-level core/run/plugin_manager/instruments."""
 
 from __future__ import annotations
 
@@ -42,13 +42,13 @@ def test_wheel_entry_points(wheel):
     z = zipfile.ZipFile(wheel)
     (ep,) = [n for n in z.namelist() if n.endswith("entry_points.txt")]
     text = z.read(ep).decode()
-    assert "metro = metro.core.cli:main" in text
+    assert "metro = metro.core.cli.app:main" in text
     assert "gbt45570 = metro.plugins.gbt45570" in text
     assert "instruments = metro.instruments.plugin" in text
 
 
 def test_help_is_fast_and_imports_nothing_heavy():
-    code = ("import sys, time; t=time.perf_counter(); from metro.core.cli import main; "
+    code = ("import sys, time; t=time.perf_counter(); from metro.core.cli.app import main; "
             "import contextlib, io\n"
             "with contextlib.redirect_stdout(io.StringIO()):\n"
             "    try: main(['--help'])\n"
@@ -68,4 +68,4 @@ def test_wheel_gives_python_dash_m_metro_and_keeps_the_namespace(wheel):
     assert "metro/__main__.py" in names and "metro/__init__.py" not in names
     assert not any(n.startswith("metro/core/_metro") for n in names)
     text = zipfile.ZipFile(wheel).read("metro/__main__.py").decode()
-    assert "from metro.core.cli import main" in text
+    assert "from metro.core.cli.app import main" in text

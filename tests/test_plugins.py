@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from metro.core import hookspec
-from metro.core.errors import PluginError
-from metro.core.plugins import MetroPluginManager, get_plugin_manager
+from metro.core.model import hookspec
+from metro.core.base.errors import PluginError
+from metro.core.run.plugin_manager import MetroPluginManager, get_plugin_manager
 
 
 def _pm_with(*modules):
@@ -63,7 +63,7 @@ def test_duplicate_item_names_both_plugins():
 
 
 def test_registrar_validates_input():
-    from metro.core.plugins import Registry, StandardRegistrar
+    from metro.core.run.plugin_manager import Registry, StandardRegistrar
 
     reg = StandardRegistrar(Registry(), "p")
     with pytest.raises(PluginError, match="not a metro Procedure"):
@@ -74,7 +74,7 @@ def test_registrar_validates_input():
 
 def test_driver_registrar_validates_input():
     """metro_register_drivers: kind, interface, completeness and duplicates are checked."""
-    from metro.core.plugins import DriverRegistrar, Registry
+    from metro.core.run.plugin_manager import DriverRegistrar, Registry
     from metro.instruments.drivers.base import RateTableDriver
 
     reg = Registry()
@@ -102,10 +102,10 @@ def test_driver_registrar_validates_input():
 
 def test_every_hook_of_a_third_party_plugin(tmp_path):
     """One sample plugin implements every hook; each one is exercised here."""
-    from metro.core.errors import ProcedureError
-    from metro.core.model import Campaign, DeviceUnderTest, Segment
-    from metro.core.runner import run_items
-    from metro.core.units import Q_
+    from metro.core.base.errors import ProcedureError
+    from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
+    from metro.core.run.runner import run_items
+    from metro.core.base.units import Q_
     import numpy as np
 
     mod = _load_sample("sample_vendor")
@@ -151,11 +151,11 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     assert [o.item for o in rec.outcomes] == ["V.1"]
     assert {c.item: c.run for c in rec.selection} == {"V.1": True, "V.2": False}
     assert "not available" in rec.selection[1].reason
-    from metro.core.runner import select_items
+    from metro.core.run.runner import select_items
 
     with pytest.raises(ProcedureError, match="V.1: V.1 needs a rate-output device"):
         select_items(pm, "vendorx", [], run_all=True, device=DeviceUnderTest("P", output="pulse"))
-    from metro.core.report import write_report
+    from metro.core.documents.report import write_report
 
     path = write_report(tmp_path / "r.docx", rec, template=pm.template_for("vendorx").path,
                         extend=pm.extend_report_context)
@@ -183,7 +183,7 @@ def test_hookspecs_are_documented_typed_stubs():
 
 def test_items_choose_their_default_station():
     """Procedure.station names the station used without data; mixing stations is an error."""
-    from metro.core.runner import run_items
+    from metro.core.run.runner import run_items
 
     mod = _load_sample("sample_vendor")
     pm = _pm_with()
@@ -204,7 +204,7 @@ def test_items_choose_their_default_station():
 
 
 def test_items_are_listed_in_the_standards_order():
-    from metro.core.plugins import item_sort_key
+    from metro.core.run.plugin_manager import item_sort_key
 
     ids = ["7.2.10", "7.2.2", "D.2.1", "D.1.6", "7.2.1", "D.10", "6.2.7.8", "6.2.6"]
     assert sorted(ids, key=item_sort_key) == ["6.2.6", "6.2.7.8", "7.2.1", "7.2.2", "7.2.10", "D.1.6", "D.2.1",

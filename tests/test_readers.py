@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from metro.core.errors import DataError, UnitError
+from metro.core.base.errors import DataError, UnitError
 from metro.instruments import readers
 from metro.instruments.readers import (
     SampleTable,
@@ -455,8 +455,8 @@ def test_a_campaign_saved_with_a_byte_order_mark_and_crlf_reads_the_same(tmp_pat
     'not valid TOML at line 1, column 1')."""
     import shutil
 
-    from metro.core.campaign import load_manifest
-    from metro.core.plugins import get_plugin_manager
+    from metro.core.run.manifest import load_manifest
+    from metro.core.run.plugin_manager import get_plugin_manager
 
     pm = get_plugin_manager(autoload=False)
     src = Path(__file__).resolve().parent.parent / "docs" / "examples" / "campaign"

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from metro.core.register import Draft, RegisterError, open_register
-from metro.core.register.models import Base
+from metro.core.record.register import Draft, RegisterError, open_register
+from metro.core.record.register.models import Base
 
 
 @pytest.fixture
@@ -172,7 +172,7 @@ import sys, time
 from pathlib import Path
 sys.path.insert(0, {tests!r})
 import test_register as t
-from metro.core.register import open_register
+from metro.core.record.register import open_register
 reg = open_register(sys.argv[1])
 while time.time() < float(sys.argv[3]):
     time.sleep(0.005)
@@ -245,7 +245,7 @@ def test_readers_do_not_wait_for_a_writer(opened, register_url, tmp_path):
 
 def test_year_of_a_number_is_the_labs_and_numbers_restart_each_year(opened, register_url, tmp_path, monkeypatch):
     """31 December 16:30 UTC is 1 January 00:30 in Asia/Shanghai: numbered in the new year, from 1."""
-    import metro.core.register as regmod
+    import metro.core.record.register as regmod
 
     reg = opened(register_url)
     real = dt.datetime

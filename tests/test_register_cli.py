@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from metro.core.cli import main
+from metro.core.cli.app import main
 
 SIM_GBT = ["run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_scale=0.05", "--no-progress"]
 SIM_JJF = ["run", "-s", "jjf2014", "-i", "7.2.3", "--no-progress"]
@@ -54,7 +54,7 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     assert all(x["register"]["registered"] for x in (a, b, c))
     assert Path(a["report"]).name == f"EML{year}-00001.docx"
     # the context is made before the number is known: no placeholder is left anywhere
-    from metro.core.registering import PENDING
+    from metro.core.record.registering import PENDING
 
     for part in zipfile.ZipFile(a["report"]).namelist():
         assert PENDING.encode() not in zipfile.ZipFile(a["report"]).read(part), part
@@ -83,8 +83,8 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
         assert res[key]["value"] == pytest.approx(r["value"], rel=1e-12)
         assert res[key]["reported"] == r["reported"] and res[key]["k"] == r["k"]
     assert show["audit"][0]["action"] == "issue"
-    from metro.core.lab import load_lab
-    from metro.core.register import open_register
+    from metro.core.record.lab import load_lab
+    from metro.core.record.register import open_register
 
     with open_register(load_lab(lab).register_url()) as reg:
         for n in numbers:
@@ -156,7 +156,7 @@ def test_expired_equipment_refuses_unless_allowed(lab, tmp_path, capsys, campaig
 
 def test_register_simulated_needs_a_lab(tmp_path, capsys, monkeypatch):
     monkeypatch.delenv("METRO_LAB", raising=False)
-    import metro.core.lab as labmod
+    import metro.core.record.lab as labmod
 
     monkeypatch.setattr(labmod, "user_lab_path", lambda: tmp_path / "none" / "lab.toml")
     assert main([*SIM_JJF, "--out", str(tmp_path / "o"), "--register-simulated"]) == 2
@@ -184,8 +184,8 @@ def test_cli_on_postgresql(lab, tmp_path, capsys, monkeypatch, pg_server):
 def test_history_flags_drift(lab, tmp_path, capsys):
     """Three calibrations of S1: 1.0 ± 0.2, 1.1 ± 0.2, 2.0 ± 0.3 (U, k = 2).  E_n (hand-worked):
     |1.1 − 1.0| / √(0.2² + 0.2²) = 0.354 (no drift), |2.0 − 1.1| / √(0.2² + 0.3²) = 2.496 (drift)."""
-    from metro.core.lab import load_lab
-    from metro.core.register import Draft, open_register
+    from metro.core.record.lab import load_lab
+    from metro.core.record.register import Draft, open_register
 
     profile = load_lab(lab)
     reg = open_register(profile.register_url())
@@ -258,7 +258,7 @@ def test_statement_follows_the_lab_language(lab, tmp_path, capsys):
 def test_registration_problems_are_said_before_evaluating(lab, tmp_path, capsys, monkeypatch):
     """--report PATH with a registered run, and --register-simulated without a profile, are refused
     before any item is evaluated."""
-    import metro.core.runner as runner
+    import metro.core.run.runner as runner
 
     calls = []
     real = runner.judge
@@ -266,7 +266,7 @@ def test_registration_problems_are_said_before_evaluating(lab, tmp_path, capsys,
     assert main([*SIM_JJF, "--register-simulated", "--report", str(tmp_path / "r.docx")]) == 2
     assert "--report PATH cannot be used" in capsys.readouterr().err
     monkeypatch.delenv("METRO_LAB")
-    import metro.core.lab as labmod
+    import metro.core.record.lab as labmod
 
     monkeypatch.setattr(labmod, "user_lab_path", lambda: tmp_path / "none" / "lab.toml")
     assert main([*SIM_JJF, "--register-simulated", "--out", str(tmp_path / "o")]) == 2

@@ -1,4 +1,4 @@
-"""The register's read path (metro.core.register.reading: plain SELECTs through sqlite3 / psycopg)
+"""The register's read path (metro.core.record.register.reading: plain SELECTs through sqlite3 / psycopg)
 against the SQLAlchemy models that write it: the same columns, and the same values for every
 column of every row, on SQLite and on a real PostgreSQL server.  A column added to a model and
 forgotten in the reader, or a type the reader converts differently (JSON, dates, booleans, the
@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from metro.core.register import Draft, open_register, sqlite_path
-from metro.core.register.models import AuditEntry, Report, ResultRow
-from metro.core.register.reading import REPORT_COLUMNS, RESULT_COLUMNS, reading
+from metro.core.record.register import Draft, open_register, sqlite_path
+from metro.core.record.register.models import AuditEntry, Report, ResultRow
+from metro.core.record.register.reading import REPORT_COLUMNS, RESULT_COLUMNS, reading
 
 
 def test_reader_columns_are_the_models_columns():

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from metro.core.cli import main
+from metro.core.cli.app import main
 
 #: what reading the register needs none of
 HEAVY = {"sqlalchemy", "alembic", "pint", "numpy", "scipy", "matplotlib", "docx", "dask", "distributed", "numba",
@@ -21,7 +21,7 @@ HEAVY = {"sqlalchemy", "alembic", "pint", "numpy", "scipy", "matplotlib", "docx"
 
 PROBE = """
 import json, sys
-from metro.core.cli import main
+from metro.core.cli.app import main
 code = main(sys.argv[2:])
 with open(sys.argv[1], "w") as fh:
     json.dump({"code": code, "modules": sorted({m.split(".")[0] for m in sys.modules})}, fh)
@@ -39,8 +39,8 @@ def _loaded(tmp_path: Path, *argv: str, env: dict[str, str]) -> tuple[int, set[s
 @pytest.fixture
 def register(tmp_path, capsys):
     """A lab profile (with equipment: reading it needs pint) and a register of two reports."""
-    from metro.core.lab import load_lab
-    from metro.core.register import Draft, open_register
+    from metro.core.record.lab import load_lab
+    from metro.core.record.register import Draft, open_register
 
     lab = tmp_path / "lab.toml"
     assert main(["lab", "init", str(lab)]) == 0
@@ -78,7 +78,7 @@ def test_reading_the_register_loads_nothing_heavy(register, tmp_path, argv):
 def test_loading_the_plugins_imports_no_scipy(tmp_path):
     """core.lsq imports scipy.linalg where it fits, not when GB/T 45570's angle method is imported."""
     out = tmp_path / "m.json"
-    code = ("import json, sys\nfrom metro.core.plugins import get_plugin_manager\n"
+    code = ("import json, sys\nfrom metro.core.run.plugin_manager import get_plugin_manager\n"
             "get_plugin_manager(autoload=False).register_all()\n"
             f"json.dump(sorted(sys.modules), open({str(out)!r}, 'w'))")
     subprocess.run([sys.executable, "-c", code], check=True)
@@ -88,7 +88,7 @@ def test_loading_the_plugins_imports_no_scipy(tmp_path):
 
 def test_version_registers_no_items(tmp_path):
     out = tmp_path / "m.json"
-    subprocess.run([sys.executable, "-c", "import json, sys\nfrom metro.core.cli import main\nmain(['--version'])\n"
+    subprocess.run([sys.executable, "-c", "import json, sys\nfrom metro.core.cli.app import main\nmain(['--version'])\n"
                     f"json.dump(sorted(sys.modules), open({str(out)!r}, 'w'))"], check=True,
                    stdout=subprocess.DEVNULL)
     assert not any(m.startswith("metro.plugins.gbt45570.angle_method") for m in json.loads(out.read_text()))

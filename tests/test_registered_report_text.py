@@ -2,7 +2,7 @@
 
 Issue 29: in zh+en the registered report printed English-only quantity names, notes and budget
 rows, because the report number was substituted through the context as plain strings, which
-dropped every translatable text's Chinese (core/registering.py).  Here the same simulated campaign
+dropped every translatable text's Chinese (core/record/registering.py).  Here the same simulated campaign
 (same seed) is written unregistered (a lab profile, simulated run) and registered
 (``--register-simulated``), and then amended from the register; each PDF that LibreOffice renders is
 read with pdftotext.  Apart from the report number and the registration statements at the top, the
@@ -25,7 +25,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from metro.core.cli import main
+from metro.core.cli.app import main
 
 needs_pdf = pytest.mark.skipif(
     not (shutil.which("soffice") or shutil.which("libreoffice")) or not shutil.which("pdftotext"),
@@ -79,9 +79,9 @@ def _report(folder: Path) -> tuple[Path, str]:
 
 @needs_pdf
 def test_registered_and_amended_reports_keep_both_languages(lab, tmp_path, capsys):
-    from metro.core.document import to_pdf
-    from metro.core.lab import load_lab
-    from metro.core.registering import notices_for, unregistered
+    from metro.core.documents.document import to_pdf
+    from metro.core.record.lab import load_lab
+    from metro.core.record.registering import notices_for, unregistered
 
     profile = load_lab(lab)
     assert profile.language == "zh+en"
@@ -129,11 +129,11 @@ FIGURE_RUNS = {
 
 def _drawn(spec, lang: str) -> tuple:
     """What a figure draws in ``lang``: its title, axis labels, and each series' legend entry and
-    points (:func:`metro.core.plots.localized`, the spec the figure is drawn from)."""
+    points (:func:`metro.core.documents.plots.localized`, the spec the figure is drawn from)."""
     import numpy as np
 
-    from metro.core import plots
-    from metro.core.locale import translator
+    from metro.core.documents import plots
+    from metro.core.base.locale import translator
 
     s = plots.localized(spec, translator(lang))
     series = tuple((str(x.get("label") or ""), str(x.get("style") or ""),
@@ -146,7 +146,7 @@ def _drawn(spec, lang: str) -> tuple:
 @pytest.fixture
 def figures_drawn(monkeypatch):
     """Every figure a document draws, as (language, spec) — the spec before translation."""
-    from metro.core import report
+    from metro.core.documents import report
 
     drawn: list[tuple[str, object]] = []
     draw = report.draw_figure
@@ -167,9 +167,9 @@ def test_figures_from_the_register_draw_the_texts_of_the_unregistered_report(sta
     the register (``metro report N``) or amended drew "Scale factor against temperature (D.1.5)"
     and "limit 10 ppm" where the unregistered report drew "标度因数随温度的变化（D.1.5） Scale
     factor against temperature (D.1.5)" and "限值 10 ppm limit 10 ppm"."""
-    from metro.core.lab import load_lab
-    from metro.core.register import open_register
-    from metro.core.registering import decode_context
+    from metro.core.record.lab import load_lab
+    from metro.core.record.register import open_register
+    from metro.core.record.registering import decode_context
 
     run = ["run", *FIGURE_RUNS[standard], "--seed", "1", "--no-progress", "-q"]
     assert main([*run, "--out", str(tmp_path / "plain")]) in (0, 3, 4)

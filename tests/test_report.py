@@ -1,4 +1,4 @@
-"""metro.core.report (context + Word rendering), metro.core.plots and the template generator."""
+"""metro.core.documents.report (context + Word rendering), metro.core.documents.plots and the template generator."""
 
 from __future__ import annotations
 
@@ -13,22 +13,13 @@ from pathlib import Path
 import docx
 import pytest
 
-from metro.core import plots, report
-from metro.core.atomic import TMP_MARKER
-from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
-from metro.core.model import (
-    Calibration,
-    Campaign,
-    DeviceUnderTest,
-    Equipment,
-    Metric,
-    Outcome,
-    PlotSpec,
-    Result,
-    TableSpec,
-)
-from metro.core.provenance import RunRecord
-from metro.core.units import Q_
+from metro.core.documents import plots, report
+from metro.core.base.atomic import TMP_MARKER
+from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
+from metro.core.model.campaign import Calibration, Campaign, DeviceUnderTest, Equipment
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.model.provenance import RunRecord
+from metro.core.base.units import Q_
 
 REPORT_NO = "MTR-20250301-101500-0A1B2C"
 SHA = "3f" * 32
@@ -254,7 +245,7 @@ def test_failure_while_rendering_leaves_nothing(tmp_path, monkeypatch):
 
 
 def test_failure_while_saving_keeps_the_previous_report(tmp_path, monkeypatch):
-    from metro.core.document import DocumentBuilder
+    from metro.core.documents.document import DocumentBuilder
 
     target = tmp_path / "report.docx"
     target.write_bytes(b"previous report")
@@ -271,7 +262,7 @@ def test_failure_while_saving_keeps_the_previous_report(tmp_path, monkeypatch):
 
 
 def test_bad_custom_template_is_a_metro_error(tmp_path):
-    from metro.core.errors import MetroError
+    from metro.core.base.errors import MetroError
 
     bad = docx.Document()
     bad.add_paragraph("{{ report_number ")  # unterminated tag
@@ -284,7 +275,7 @@ def test_bad_custom_template_is_a_metro_error(tmp_path):
 
 def test_import_is_cheap():
     code = (
-        "import sys, metro.core.report, metro.core.plots; "
+        "import sys, metro.core.documents.report, metro.core.documents.plots; "
         "print(sorted(m for m in ('docxtpl', 'docx', 'matplotlib', 'pint') if m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -336,8 +327,8 @@ def test_render_png_rejects_mismatched_series(tmp_path):
 
 def test_committed_template_is_what_the_generator_builds():
     """The docxtpl template a lab may start a custom template from (``--template``-style use of
-    write_report(template=…)); metro's own documents are built by metro.core.document."""
-    from metro.core.templates import make_templates
+    write_report(template=…)); metro's own documents are built by metro.core.documents.document."""
+    from metro.core.documents.templates import make_templates
 
     buf = io.BytesIO()
     make_templates.build().save(buf)
@@ -356,7 +347,7 @@ def test_metric_reference_names_the_equation_only_when_there_is_one():
 def test_generic_report_states_the_decision_rule_and_each_verdict(tmp_path):
     import attrs
 
-    from metro.core import conformity as cf
+    from metro.core.uncertainty import conformity as cf
 
     record = make_record(with_plot=False)
     specs = [cf.parse_limit("RWC", "<= 0.002 deg/hour**0.5", source="product spec FOG-300 rev B"),
@@ -375,7 +366,7 @@ def test_generic_report_states_the_decision_rule_and_each_verdict(tmp_path):
 
 
 def test_degrees_of_freedom_print_without_false_precision():
-    from metro.core.report import fmt_dof
+    from metro.core.documents.report import fmt_dof
 
     assert [fmt_dof(x) for x in (None, float("inf"), 6.0, 34.27, 3308.4, 21776473.0)] == \
         ["∞", "∞", "6", "34.3", "3308", "2.2×10⁷"]
@@ -394,9 +385,9 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
     GB/T typical-indices table), no unrendered tag, no None/NaN and no 1e-06-style number."""
     import re
 
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.report import write_report
-    from metro.core.runner import run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.documents.report import write_report
+    from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, standard, items, station_options=station_options)
@@ -429,19 +420,19 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
 
 
 def test_pretty_powers_changes_free_standing_numbers_only():
-    from metro.core.report import pretty_powers
+    from metro.core.documents.report import pretty_powers
 
     assert pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a; x=-3e-07") == \
         "band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a; x=-3×10⁻⁷"
 
 
 # --------------------------------------------------------------------------------------
-# metro.core.document: the one builder
+# metro.core.documents.document: the one builder
 # --------------------------------------------------------------------------------------
 
 
 def test_symbols_get_real_subscripts_and_numbers_stay_whole():
-    from metro.core.document import NBSP, glue, one_notation, subscript_runs
+    from metro.core.documents.document import NBSP, glue, one_notation, subscript_runs
 
     assert subscript_runs("K_l = 3, B_{s} and K_gxx") == [
         ("K", False), ("l", True), (" = 3, B", False), ("s", True), (" and K", False), ("gxx", True)]
@@ -462,7 +453,7 @@ def test_symbols_get_real_subscripts_and_numbers_stay_whole():
 
 
 def test_column_widths_fit_the_longest_word_and_the_page():
-    from metro.core.document import TEXT_WIDTH_MM, column_widths, text_mm
+    from metro.core.documents.document import TEXT_WIDTH_MM, column_widths, text_mm
 
     cols = [["Item", "D.1.1", "D.5.6"], ["Quantity", "scale factor nonlinearity Kn", "angle random walk"],
             ["Result", "3.292×10⁻⁵ °/h", "0.8000000 P/″"]]
@@ -478,7 +469,7 @@ def test_a_chinese_term_is_not_broken_one_character_per_line():
     "类型，分布" column kept only its widest single character (Chinese may break anywhere), so
     LibreOffice printed 类/型/，/分/布 one character per line.  A run of Chinese up to six characters
     now counts as one word; a longer run gives the column at least four characters."""
-    from metro.core.document import CELL_MARGIN_MM, TEXT_WIDTH_MM, column_widths, text_mm
+    from metro.core.documents.document import CELL_MARGIN_MM, TEXT_WIDTH_MM, column_widths, text_mm
 
     source = "两个零偏的分散性（分组平均值）（地球自转角速度、纬度和调平对两次记录相同，相互抵消）" * 3
     cols = [["来源", source, source], ["类型，分布", "A, 正态", "B, 均匀"], ["量值", "0.008388 °/h", "2×10⁻⁶"]]
@@ -520,8 +511,8 @@ def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_do
 
 def test_every_document_string_is_in_the_catalog(tmp_path):
     """In zh, no label of any standard's document falls back to English: the catalog has them all."""
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.runner import run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
     cases = [("gbt45570", ["D.1.1", "D.5.1"], {"duration_scale": 0.1}), ("jjf2014", ["7.2.13"], {"duration_scale": 0.1}),
@@ -538,8 +529,8 @@ def test_every_document_string_is_in_the_catalog(tmp_path):
 
 
 def test_languages_and_an_unknown_one():
-    from metro.core.errors import MetroError
-    from metro.core.locale import translator
+    from metro.core.base.errors import MetroError
+    from metro.core.base.locale import translator
 
     assert translator("zh")("Report No.") == "报告编号"
     assert translator("en")("Report No.") == "Report No."
@@ -554,7 +545,7 @@ def test_languages_and_an_unknown_one():
 def test_pdf_without_libreoffice_is_a_clear_error_and_writes_nothing(tmp_path, monkeypatch):
     import shutil as sh
 
-    from metro.core.errors import MetroError
+    from metro.core.base.errors import MetroError
 
     monkeypatch.delenv("METRO_SOFFICE", raising=False)
     monkeypatch.setattr(sh, "which", lambda name: None)
@@ -596,12 +587,12 @@ def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
     without the file; no profile, no logo."""
     import zipfile
 
-    from metro.core import lab as labmod
-    from metro.core.cli import main
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.registering import with_lab
-    from metro.core.report import build_context, render_context, write_report
-    from metro.core.runner import run_items
+    from metro.core.record import lab as labmod
+    from metro.core.cli.app import main
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.record.registering import with_lab
+    from metro.core.documents.report import build_context, render_context, write_report
+    from metro.core.run.runner import run_items
 
     profile = tmp_path / "lab.toml"
     assert main(["lab", "init", str(profile)]) == 0
@@ -642,7 +633,7 @@ def test_zh_en_text_without_chinese_is_printed_once():
     """In zh+en a message whose Chinese pattern only changes punctuation around English data
     (``{source}（{note}）``) is the English sentence once, not twice; one with Chinese in it keeps
     both languages."""
-    from metro.core.locale import msg, translator
+    from metro.core.base.locale import msg, translator
 
     tr = translator("zh+en")
     text = tr.text(msg("{source} ({note})", source="scatter of the two biases", note="the terms cancel"))
@@ -652,8 +643,8 @@ def test_zh_en_text_without_chinese_is_printed_once():
 
 def test_an_exact_result_says_so_instead_of_u_zero_with_a_k():
     """A count or a declared value (U = 0) prints 'no uncertainty (exact)', not 'U = 0 °C (k = 2)'."""
-    from metro.core.document import DocumentBuilder, result_cells
-    from metro.core.locale import translator
+    from metro.core.documents.document import DocumentBuilder, result_cells
+    from metro.core.base.locale import translator
 
     doc = DocumentBuilder(number="N", title="T", tr=translator("en"))
     exact = {"value_unit": "-55 °C", "U_unit": "0 °C", "U": "0", "k": "2", "reportable": True}
@@ -671,9 +662,9 @@ def test_budgets_annex_says_a_shared_note_once_and_groups_exact_budgets(tmp_path
     the notes in full in every row)."""
     import re
 
-    from metro.core.plugins import get_plugin_manager
-    from metro.core.report import write_report
-    from metro.core.runner import run_items
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.documents.report import write_report
+    from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "gbt45570", [], run_all=True)
@@ -702,7 +693,7 @@ def test_a_budget_title_leaves_out_a_code_key_measurand():
     (dB_shock)': the measurand was the result's code key."""
     from types import SimpleNamespace as N
 
-    from metro.core.report import _budget_title
+    from metro.core.documents.report import _budget_title
 
     assert str(_budget_title(N(name="start-up time", symbol="t_s", key="t_startup"), "t_startup")) == "start-up time t_s"
     assert "dB_shock" not in str(_budget_title(N(name="bias change after shock", symbol="ΔB_i", key="dB_shock"),
@@ -714,8 +705,8 @@ def test_a_budget_title_leaves_out_a_code_key_measurand():
 def test_the_signature_table_stays_on_one_page():
     """A rendered JJF 2003 certificate had 'Calibrated by' at a page foot and 'Checked by', 'Issued
     by' on the next page: every row but the last keeps with the next (LibreOffice and Word)."""
-    from metro.core.document import DocumentBuilder, signatures
-    from metro.core.locale import translator
+    from metro.core.documents.document import DocumentBuilder, signatures
+    from metro.core.base.locale import translator
 
     doc = DocumentBuilder(number="N-1", title="T", tr=translator("en"))
     signatures(doc, [("Calibrated by", "A"), ("Checked by", "B"), ("Issued by", "C", "Manager")])

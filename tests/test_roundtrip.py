@@ -19,8 +19,8 @@ from pathlib import Path
 
 import pytest
 
-from metro.core.cli import main
-from metro.core.plugins import get_plugin_manager
+from metro.core.cli.app import main
+from metro.core.run.plugin_manager import get_plugin_manager
 
 STATIONS = ("simulated", "simulated-digital", "simulated-jjf2014", "simulated-mimu", "simulated-ogam")
 #: short records where a station takes them and the items still evaluate (a record too short for
@@ -103,7 +103,7 @@ def test_refusal_names_the_station_that_fits(tmp_path, capsys):
 def test_angle_and_rate_items_together_keep_every_record(tmp_path, capsys):
     """`-i D.1.1,D.3 -o method=rate`-like merges gave two `rate+1` segments whose files overwrote
     each other; merged ids are now distinct and every manifest entry has its own file."""
-    from metro.core.runner import merge_steps
+    from metro.core.run.runner import merge_steps
 
     pm = get_plugin_manager(autoload=False)
     seqs = [pm.procedure("gbt45570", i)().sequence(pm.procedure("gbt45570", i).option_values({}))
@@ -126,9 +126,9 @@ def test_angle_and_rate_items_together_keep_every_record(tmp_path, capsys):
 def test_writer_refuses_two_segments_with_one_id(tmp_path):
     import attrs
 
-    from metro.core.errors import DataError
-    from metro.core.runner import load_campaign
-    from metro.instruments.campaign_writer import write_campaign
+    from metro.core.base.errors import DataError
+    from metro.core.run.runner import load_campaign
+    from metro.core.run.manifest_writer import write_campaign
 
     pm = get_plugin_manager(autoload=False)
     camp = load_campaign(pm, [pm.procedure("gbt45570", "D.2.1")], [{}], data=None, station="simulated-digital",
@@ -188,13 +188,13 @@ def test_acquire_all_and_series_select_as_run_does(tmp_path, capsys):
 
 
 def test_alternative_requirements_are_alternatives():
-    from metro.core.runner import requirement_groups, select_items, unmet_requirements
+    from metro.core.run.runner import requirement_groups, select_items, unmet_requirements
 
     pm = get_plugin_manager(autoload=False)
     d3 = pm.procedure("gbt45570", "D.3")
     groups = requirement_groups(d3)
     assert len(groups) == 1 and {r.kind for r in groups[0]} == {"rate-output", "rate-revolutions"}
-    from metro.core.runner import load_campaign
+    from metro.core.run.runner import load_campaign
 
     camp = load_campaign(pm, [d3], [{"method": "rate"}], data=None, station="simulated-digital",
                          station_options={"duration_scale": 0.05})
@@ -206,8 +206,8 @@ def test_alternative_requirements_are_alternatives():
 
 @pytest.mark.parametrize("station", STATIONS)
 def test_stations_refuse_step_kinds_they_cannot_simulate(station):
-    from metro.core.model import Step
-    from metro.core.units import Q_
+    from metro.core.model.procedure import Step
+    from metro.core.base.units import Q_
     from metro.instruments.stations import StationError
 
     pm = get_plugin_manager(autoload=False)
@@ -218,8 +218,8 @@ def test_stations_refuse_step_kinds_they_cannot_simulate(station):
 
 
 def test_digital_and_rate_gyros_give_no_revolution_counts():
-    from metro.core.model import Step
-    from metro.core.units import Q_
+    from metro.core.model.procedure import Step
+    from metro.core.base.units import Q_
     from metro.instruments.stations import StationError
 
     pm = get_plugin_manager(autoload=False)
@@ -236,8 +236,8 @@ def test_fibre_pulse_gyro_on_the_angle_method_is_judged_without_a_unit_clash():
     table B.1's K limit (LSB/[(°)/s]) does not apply to it — the run completes and says so."""
     import attrs
 
-    from metro.core.runner import load_campaign, run_items
-    from metro.core.units import Q_
+    from metro.core.run.runner import load_campaign, run_items
+    from metro.core.base.units import Q_
 
     pm = get_plugin_manager(autoload=False)
     d11 = pm.procedure("gbt45570", "D.1.1")

@@ -1,4 +1,4 @@
-"""metro.core.selection: the largest of noisy slopes and changes (interpretations.md, "D.1.5 / D.2.5 /
+"""metro.core.uncertainty.selection: the largest of noisy slopes and changes (interpretations.md, "D.1.5 / D.2.5 /
 D.5.4 — the largest of several noisy slopes" and "JJF 2014 — the largest of noisy slopes and changes")."""
 
 from __future__ import annotations
@@ -8,7 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from metro.core.selection import max_abs_selection, max_slope_selection, selection_rows, spread_rows, upper_sigma
+from metro.core.uncertainty.selection import (
+    max_abs_selection,
+    max_slope_selection,
+    selection_rows,
+    spread_rows,
+    upper_sigma,
+)
 
 
 def test_upper_sigma_against_chi_square_table():
@@ -79,7 +85,7 @@ def test_absolute_value_of_one_difference_in_closed_form():
     the draws' mean ≈ 0.003 u), and by hand at d = 0: bias = u·√(2/π)."""
     from scipy.stats import foldnorm
 
-    from metro.core.selection import abs_change
+    from metro.core.uncertainty.selection import abs_change
 
     assert abs_change(0.0, 2.0).bias == pytest.approx(2.0 * math.sqrt(2.0 / math.pi), rel=1e-12)
     for d, u in ((0.0, 1.0), (0.5, 1.0), (-1.2, 1.0), (3.0, 1.0), (-0.04, 0.01), (7.0, 1.0)):
@@ -103,7 +109,7 @@ def test_absolute_value_of_one_difference_reads_high_and_is_corrected():
     held δ, the corrected value's U holds it too (its interval contains the formula's)."""
     from scipy.stats import foldnorm
 
-    from metro.core.selection import abs_change, abs_change_rows
+    from metro.core.uncertainty.selection import abs_change, abs_change_rows
 
     rng = np.random.default_rng(45570)
     for delta in (0.0, 0.5, 1.0, 2.0, 2.5, 3.0, 4.0):

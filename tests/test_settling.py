@@ -1,4 +1,4 @@
-"""metro.core.settling: the lobes of a settling record and the expected last real exit from a band (shared by
+"""metro.core.stats.settling: the lobes of a settling record and the expected last real exit from a band (shared by
 GB/T 45570 6.2.7.7 and JJF 2014 7.2.23; the symmetric case is also tested through
 tests/test_gbt45570_env.py::test_setup_time_last_real_excursion_hand_worked)."""
 
@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from metro.core import settling as S
+from metro.core.stats import settling as S
 
 
 def test_an_off_centre_band_is_searched_past_a_lobe_inside_its_far_edge():

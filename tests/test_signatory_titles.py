@@ -14,12 +14,12 @@ import subprocess
 import attrs
 import pytest
 
-from metro.core.cli import main
-from metro.core.lab import load_lab
-from metro.core.plugins import get_plugin_manager
-from metro.core.registering import with_lab
-from metro.core.report import write_report
-from metro.core.runner import run_items
+from metro.core.cli.app import main
+from metro.core.record.lab import load_lab
+from metro.core.run.plugin_manager import get_plugin_manager
+from metro.core.record.registering import with_lab
+from metro.core.documents.report import write_report
+from metro.core.run.runner import run_items
 
 pytestmark = pytest.mark.skipif(
     not (shutil.which("soffice") or shutil.which("libreoffice")) or not shutil.which("pdftotext"),

@@ -1,4 +1,4 @@
-"""metro.core.sinefit: hand-worked values, exact ("certified") data, Monte Carlo covariance, bad input."""
+"""metro.core.stats.sinefit: hand-worked values, exact ("certified") data, Monte Carlo covariance, bad input."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from metro.core.sinefit import fit_sine, wrap_phase
+from metro.core.stats.sinefit import fit_sine, wrap_phase
 
 
 def test_hand_worked_eight_points_per_period():

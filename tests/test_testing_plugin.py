@@ -1,4 +1,4 @@
-"""metro's pytest plugin (metro.core.testing) provides its fixtures to any test session."""
+"""metro's pytest plugin (metro.core.run.testing) provides its fixtures to any test session."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import pytest
 
 
 def test_fixtures(metro_pm, metro_pm_factory, simulated_station, approx_quantity):
-    from metro.core.units import Q_
+    from metro.core.base.units import Q_
 
     assert "gbt45570" in metro_pm.registry.standards
     pm = metro_pm_factory()
@@ -42,7 +42,7 @@ def test_metro_pm_leaves_installed_third_party_plugins_out(request, monkeypatch,
     "metro" group (simulated here) is not loaded, while normal loading picks it up."""
     from importlib import metadata
 
-    import metro.core.plugins as mp
+    import metro.core.run.plugin_manager as mp
 
     (tmp_path / "tp_plugin.py").write_text(_THIRD_PARTY, encoding="utf-8")
     monkeypatch.syspath_prepend(str(tmp_path))
@@ -65,7 +65,7 @@ def test_metro_pm_leaves_installed_third_party_plugins_out(request, monkeypatch,
 
 
 def test_approx_quantity_tolerances(approx_quantity):
-    from metro.core.units import Q_
+    from metro.core.base.units import Q_
 
     # abs as a quantity in another unit: 1″ = 1/3600°
     assert approx_quantity(Q_(10.0, "deg"), abs=Q_(2, "arcsec")) == Q_(10.0 + 1 / 3600, "deg")

@@ -11,8 +11,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from metro.core.errors import UnitError
-from metro.core.units import Q_, angle_power, check_dimension, fmt_unit, parse_quantity, unit, ureg
+from metro.core.base.errors import UnitError
+from metro.core.base.units import Q_, angle_power, check_dimension, fmt_unit, parse_quantity, unit, ureg
 
 
 @pytest.mark.parametrize(
@@ -71,7 +71,7 @@ def test_rate_round_trip(x):
 
 def _units_in_subprocess(env_extra: dict[str, str]) -> subprocess.CompletedProcess:
     code = ("import warnings; warnings.simplefilter('always')\n"
-            "from metro.core.units import Q_, ureg\n"
+            "from metro.core.base.units import Q_, ureg\n"
             "print(Q_(1, 'deg/h').to('arcsec/s').magnitude, ureg.cache_folder)\n")
     env = dict(os.environ) | env_extra
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
@@ -102,8 +102,8 @@ def test_the_definitions_cache_is_per_installation_and_never_fatal(tmp_path):
 def test_convert_options_gives_each_field_its_type():
     import attrs
 
-    from metro.core.errors import DataError
-    from metro.core.options import convert_options
+    from metro.core.base.errors import DataError
+    from metro.core.base.options import convert_options
 
     @attrs.frozen
     class T:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 
 def render() -> str:
-    from metro.core import hookspec
+    from metro.core.model import hookspec
 
     src = inspect.getsource(hookspec)
     names = [n for n in dir(hookspec) if n.startswith("metro_")]
@@ -19,7 +19,7 @@ def render() -> str:
     lines = [
         "# Hook reference",
         "",
-        "Generated from `core/hookspec.py` by `tools/gen_hook_docs.py`; do not edit by hand.",
+        "Generated from `core/model/hookspec.py` by `tools/gen_hook_docs.py`; do not edit by hand.",
         "",
         inspect.getdoc(hookspec) or "",
         "",

@@ -3,6 +3,6 @@ namespace itself, so the namespace gets a ``__main__`` without becoming a regula
 
 import sys
 
-from metro.core.cli import main
+from metro.core.cli.app import main
 
 sys.exit(main())

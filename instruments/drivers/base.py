@@ -2,7 +2,7 @@
 
 A driver talks to one instrument and speaks pint quantities to metro: set points go in as
 quantities, readings come back as quantities, and every failure is a
-:class:`~metro.core.errors.DriverError` naming the resource, what was being done and why.
+:class:`~metro.core.base.errors.DriverError` naming the resource, what was being done and why.
 Drivers are registered by plugins with the ``metro_register_drivers`` hook
 (``registrar.add_driver(name, kind, cls, description)``); the registrar checks that ``cls``
 subclasses the interface of ``kind`` and implements all of it.
@@ -24,7 +24,7 @@ from typing import Any, Mapping
 import attrs
 import pint
 
-from metro.core.model import Equipment
+from metro.core.model.campaign import Equipment
 
 __all__ = ["Identity", "Driver", "DmmDriver", "GyroOutputDriver", "RateTableDriver", "DRIVER_KINDS"]
 

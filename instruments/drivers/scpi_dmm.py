@@ -11,7 +11,7 @@ The commands are the common SCPI subset 6½-digit DMMs understand::
     SYST:ERR?                 next error: '+0,"No error"' when the queue is empty
 
 After every configuration command the error queue is read; an instrument error is a
-:class:`~metro.core.errors.DriverError` naming the resource, the command and the instrument's
+:class:`~metro.core.base.errors.DriverError` naming the resource, the command and the instrument's
 message.  An overload reading (SCPI's 9.9E37) is an error too, never a number.
 
 PyVISA is imported when the driver opens (optional extra ``drivers``).  For tests and
@@ -25,8 +25,8 @@ from typing import Any
 
 import pint
 
-from metro.core.errors import DriverError
-from metro.core.units import Q_, parse_quantity
+from metro.core.base.errors import DriverError
+from metro.core.base.units import Q_, parse_quantity
 
 from .base import DmmDriver, Identity
 

@@ -18,7 +18,7 @@ word that is not 0.  Nothing is dropped silently: :class:`GyroRecord` carries th
 the data, its ``warnings`` say what happened, and its ``time`` column is built from the frame
 counter, so a gap stays a gap (metro's readers refuse a time column with a gap).  Streams that
 cannot be frames at all — no header within a few frame lengths (wrong layout or baud rate), a
-stream that ends mid-frame, a port that goes away — raise :class:`~metro.core.errors.DriverError`.
+stream that ends mid-frame, a port that goes away — raise :class:`~metro.core.base.errors.DriverError`.
 
 :class:`SerialGyro` reads frames from a serial port with pyserial (imported when it opens).
 """
@@ -32,8 +32,8 @@ import attrs
 import numpy as np
 import pint
 
-from metro.core.errors import DriverError
-from metro.core.units import Q_, parse_quantity, unit
+from metro.core.base.errors import DriverError
+from metro.core.base.units import Q_, parse_quantity, unit
 
 from .base import GyroOutputDriver, Identity
 

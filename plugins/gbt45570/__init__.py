@@ -22,7 +22,7 @@ STANDARD_ID = "gbt45570"
 def _register_vocabulary() -> None:
     """The record sections and equipment roles of the clause-5 type test (so the manifest's
     unknown-key check knows them); light: core.vocabulary imports neither numpy nor pint."""
-    from metro.core import vocabulary as voc
+    from metro.core.base import vocabulary as voc
 
     for name, text in (
         ("inspection", "GB/T 45570 5.2.1–5.2.8 inspection records (appearance, dimensions, mass, supply, "

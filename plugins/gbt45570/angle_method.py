@@ -21,26 +21,22 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 
-from metro.core.budget import BudgetRow, UncertaintyBudget, std_sampling_u
-from metro.core.errors import DataError
-from metro.core.locale import hint, join, msg
-from metro.core.lsq import fit_line
-from metro.core.selection import selection_note, selection_rows
-from metro.core.model import (
-    Campaign,
+from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget, std_sampling_u
+from metro.core.base.errors import DataError
+from metro.core.base.locale import hint, join, msg
+from metro.core.stats.lsq import fit_line
+from metro.core.uncertainty.selection import selection_note, selection_rows
+from metro.core.model.campaign import Campaign
+from metro.core.model.procedure import (
     EquipmentRequirement,
-    Metric,
     Option,
-    Outcome,
-    PlotSpec,
     Procedure,
-    Result,
     RunContext,
     SegmentRequirement,
     Step,
-    TableSpec,
 )
-from metro.core.units import Q_
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.base.units import Q_
 
 from . import formulas as F
 from . import formulas_rate as F2
@@ -74,7 +70,7 @@ def rate_points(max_rate_deg_s: float) -> list[float]:
 
 
 def _sequence(options: Mapping[str, Any], zero: bool) -> list[Step]:
-    from metro.core.units import parse_quantity
+    from metro.core.base.units import parse_quantity
 
     rmax = float(parse_quantity(options.get("max_rate", "400 °/s"), dimension="deg/s").to("deg/s").magnitude)
     m = int(options.get("turns", 5))
@@ -467,7 +463,7 @@ class ScaleFactorRepeatabilityD14(Procedure):
                Option("Q", 7, None, "number of power-ons; D.11 is written for 7", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        from metro.core.units import parse_quantity
+        from metro.core.base.units import parse_quantity
 
         r = float(parse_quantity(options.get("rate", REPEAT_RATE), dimension="deg/s").to("deg/s").magnitude)
         m, q = int(options.get("turns", 5)), int(options.get("Q", 7))
@@ -703,7 +699,7 @@ def mounting_groups(campaign: Campaign, kind: str, clause: str) -> dict[tuple[st
     """Segments of each of the four mountings (conditions ``axis_up`` XRA/YRA and ``turn`` 0°/180°);
     a missing mounting is an error that names it."""
     groups: dict[tuple[str, int], list] = {}
-    from metro.core.units import parse_quantity
+    from metro.core.base.units import parse_quantity
 
     for s in campaign.find_segments(kind):
         ax = str(s.condition("axis_up")).upper().replace("+", "").strip()
@@ -822,13 +818,13 @@ class InputAxisMisalignmentD16(Procedure):
                Option("turns", 5, None, "whole revolutions m each way"))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        from metro.core.units import parse_quantity
+        from metro.core.base.units import parse_quantity
 
         r = float(parse_quantity(options.get("rate", REPEAT_RATE), dimension="deg/s").to("deg/s").magnitude)
         return mounting_steps("revolutions-mounting", r, options, revolutions=True)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        from metro.core.signals import required_scale_factor
+        from metro.core.stats.signals import required_scale_factor
 
         opts = self.option_values(ctx.options)
         groups = mounting_groups(campaign, "revolutions-mounting", "D.1.6")

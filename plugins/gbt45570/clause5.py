@@ -17,9 +17,9 @@ from typing import Any
 
 import attrs
 
-from metro.core.conformity import Comparison, Specification
-from metro.core.locale import join, msg
-from metro.core.units import Q_
+from metro.core.uncertainty.conformity import Comparison, Specification
+from metro.core.base.locale import join, msg
+from metro.core.base.units import Q_
 
 from . import records as R
 from .conformity import clause_source
@@ -149,9 +149,9 @@ def _matches(key: str, keys: tuple[str, ...]) -> bool:
 
 
 def _result_text(r) -> str:
-    from metro.core.report import _unit_text
+    from metro.core.documents.report import _unit_text
 
-    from metro.core.report import fmt_num
+    from metro.core.documents.report import fmt_num
 
     v, U = r.reported()
     ut = _unit_text(r.metric.unit)

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from metro.core.settling import excursion_lobes, last_exit
+from metro.core.stats.settling import excursion_lobes, last_exit
 
 from .formulas import EARTH_RATE_DEG_PER_H
 
@@ -186,7 +186,7 @@ def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, w
 
     Where no lobe is certain the output may have been inside from the first window, whose end then
     takes the remaining probability.  Times are window ends from the switch-on (the first sample
-    starts at t = 0).  The lobes and their candidates: :mod:`metro.core.settling` (shared with JJF 2014
+    starts at t = 0).  The lobes and their candidates: :mod:`metro.core.stats.settling` (shared with JJF 2014
     7.2.23).
 
     :return: a dict with ``t_s``, ``settled`` (°/h), ``u_selection``, ``u_span`` (s), ``exits`` (the

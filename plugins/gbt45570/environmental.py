@@ -28,27 +28,22 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.core import allan
-from metro.core.budget import BudgetRow, UncertaintyBudget
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import hint, join, msg
-from metro.core.model import (
-    Campaign,
+from metro.core.stats import allan
+from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import hint, join, msg
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.model.procedure import (
     EquipmentRequirement,
-    Metric,
     Option,
-    Outcome,
-    PlotSpec,
     Procedure,
-    Result,
     RunContext,
-    Segment,
     SegmentRequirement,
     Step,
-    TableSpec,
 )
-from metro.core.signals import OUTPUT_UNITS, gyro_output
-from metro.core.units import Q_, parse_quantity
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.stats.signals import OUTPUT_UNITS, gyro_output
+from metro.core.base.units import Q_, parse_quantity
 
 from . import env_formulas as E
 from .procedures import (
@@ -307,7 +302,7 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     """|B_a − B_b| (D.47/D.48) with its budget: the two means' batch scatter (A), scale factor, time base,
     and for records that are two power-ons, the turn-on scatter (``turn_on``: :func:`_two_power_ons`).
     ``value`` (the formula's |B_a − B_b|) is corrected for the bias of an absolute value of a noisy
-    difference (:func:`metro.core.selection.abs_change`, with the noise of those rows), ≥ 0."""
+    difference (:func:`metro.core.uncertainty.selection.abs_change`, with the noise of those rows), ≥ 0."""
     uA = math.hypot(a["u"], b["u"])
     nu = uA**4 / (a["u"] ** 4 / a["nu"] + b["u"] ** 4 / b["nu"]) if uA > 0 else math.inf
     rows = [BudgetRow.type_a(msg("scatter of the two biases (batch means)"), "√(u²(B_a)+u²(B_b))", Q_(uA, "deg/h"), nu,
@@ -321,7 +316,7 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     # D.47/D.48 take |B_a − B_b|: the absolute value of a noisy difference reads high where the change is
     # near zero (a folded normal); corrected in closed form, the printed value kept in the note
     # (interpretations.md, "D.5.5 / D.6.3 / D.6.4 — the absolute value of one noisy difference")
-    from metro.core.selection import abs_change, abs_change_note, abs_change_rows
+    from metro.core.uncertainty.selection import abs_change, abs_change_note, abs_change_rows
 
     u_noise = math.sqrt(uA**2 + uq**2 + sum(r.standard_uncertainty.to("deg/h").magnitude ** 2 for r in turn_on[0]))
     sel = abs_change(a["rate"] - b["rate"], u_noise)

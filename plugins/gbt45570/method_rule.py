@@ -17,9 +17,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from metro.core.locale import msg
-from metro.core.model import Applicability, DeviceUnderTest
-from metro.core.units import Q_, check_dimension
+from metro.core.base.locale import msg
+from metro.core.model.procedure import Applicability
+from metro.core.model.campaign import DeviceUnderTest
+from metro.core.base.units import Q_, check_dimension
 
 from .conformity import TABLE_B1, application_of
 

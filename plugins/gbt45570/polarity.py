@@ -18,23 +18,21 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from metro.core.budget import BudgetRow, UncertaintyBudget
-from metro.core.errors import DataError
-from metro.core.locale import msg
-from metro.core.model import (
-    Campaign,
+from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
+from metro.core.base.errors import DataError
+from metro.core.base.locale import msg
+from metro.core.model.campaign import Campaign
+from metro.core.model.procedure import (
     EquipmentRequirement,
-    Metric,
     Option,
-    Outcome,
     Procedure,
-    Result,
     RunContext,
     SegmentRequirement,
     Step,
 )
-from metro.core.signals import OUTPUT_UNITS
-from metro.core.units import Q_
+from metro.core.model.results import Metric, Outcome, Result
+from metro.core.stats.signals import OUTPUT_UNITS
+from metro.core.base.units import Q_
 
 from .environmental import _COUNTER, _mean_rate, _opts_text
 from .procedures import COVERAGE, STANDARD, _scale_factor_row

@@ -21,27 +21,21 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 
-from metro.core.budget import BudgetRow, UncertaintyBudget, std_sampling_u
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import hint, join, msg
-from metro.core.lsq import fit_line
-from metro.core.model import (
-    Campaign,
-    DeviceUnderTest,
+from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget, std_sampling_u
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import hint, join, msg
+from metro.core.stats.lsq import fit_line
+from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
+from metro.core.model.procedure import (
     EquipmentRequirement,
-    Metric,
     Option,
-    Outcome,
-    PlotSpec,
     Procedure,
-    Result,
     RunContext,
-    Segment,
     SegmentRequirement,
     Step,
-    TableSpec,
 )
-from metro.core.units import Q_, parse_quantity
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.base.units import Q_, parse_quantity
 
 from . import formulas as F
 from . import formulas_rate as F2
@@ -175,7 +169,7 @@ class RateData:
 def output_series(seg: Segment) -> tuple[np.ndarray, str]:
     """The ``output`` column in the kind D.2 takes (:data:`OUTPUT_UNITS`): LSB as recorded, a
     frequency in Hz, an angular rate in °/s; and that unit."""
-    from metro.core.units import check_dimension
+    from metro.core.base.units import check_dimension
 
     data = seg.series("output", OUTPUT_UNITS).data
     for unit in OUTPUT_UNITS:  # metro's check: an angle is not a plain number (Hz is not °/s)
@@ -518,7 +512,7 @@ class NonlinearityD22(ScaleFactorD21):
         data = collect_rate_data(type(self), campaign, int(opts["min_points"]))
         Kn, j, Fm, _, K, F0 = nonlinearity_of(data)
         # K_n is the largest of 2M noisy |a_j|: corrected for the selection (interpretations.md, D.2.2)
-        from metro.core.selection import selection_note, selection_rows
+        from metro.core.uncertainty.selection import selection_note, selection_rows
 
         sel = F2.nonlinearity_selection(data.rates, data.Fk, data.uF)
         budget = nonlinearity_budget(campaign, data, j, Fm, K, spread=sel.s)
@@ -747,7 +741,7 @@ class InputAxisMisalignmentD26(Procedure):
         return mounting_steps("rate-mounting", r, options, revolutions=False)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        from metro.core.signals import required_scale_factor
+        from metro.core.stats.signals import required_scale_factor
 
         opts = self.option_values(ctx.options)
         groups = mounting_groups(campaign, "rate-mounting", "D.2.6")

@@ -16,11 +16,12 @@ from typing import Any, Mapping
 import attrs
 import pint
 
-from metro.core.budget import BudgetRow
-from metro.core.errors import DataError, UnitError
-from metro.core.locale import msg
-from metro.core.model import Campaign, Equipment, Result
-from metro.core.units import Q_, parse_quantity, unit
+from metro.core.uncertainty.budget import BudgetRow
+from metro.core.base.errors import DataError, UnitError
+from metro.core.base.locale import msg
+from metro.core.model.campaign import Campaign, Equipment
+from metro.core.model.results import Result
+from metro.core.base.units import Q_, parse_quantity, unit
 
 
 

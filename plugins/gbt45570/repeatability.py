@@ -15,12 +15,12 @@ import math
 import attrs
 import numpy as np
 
-from metro.core.budget import BudgetRow, between_variance
-from metro.core.errors import DataError
-from metro.core.locale import hint, msg
-from metro.core.model import Campaign
-from metro.core.selection import curve_scatter
-from metro.core.units import Q_
+from metro.core.uncertainty.budget import BudgetRow, between_variance
+from metro.core.base.errors import DataError
+from metro.core.base.locale import hint, msg
+from metro.core.model.campaign import Campaign
+from metro.core.uncertainty.selection import curve_scatter
+from metro.core.base.units import Q_
 
 from . import formulas as F
 from . import formulas_rate as F2
@@ -35,7 +35,7 @@ def stated_repeatability(campaign: Campaign, key: str) -> float | None:
     """``[device] bias_repeatability`` (°/h) or ``[device] scale_factor_repeatability`` (relative): 1σ of one
     power-on's bias or K measured before (an earlier D.5.3 / D.1.4 / D.2.4 of the same gyro), for campaigns
     without repeats of their own; None when not given.  A bad value is a DataError naming the field."""
-    from metro.core.units import parse_quantity
+    from metro.core.base.units import parse_quantity
 
     v = campaign.device.properties.get(key)
     if v in (None, ""):
@@ -132,7 +132,7 @@ def _row(symbol: str, where: str, Kr: float, K: float, q: int, unit: str) -> Bud
 def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> tuple[list[BudgetRow], str]:
     """The turn-on part of B_r of D.5.3 (``static-repeat`` runs, eq. D.42) as a row on B₀ of D.5.1:
     σ_on² = B_r² less the runs' within-run part (mean u_A², already B₀'s own type A), taken as the
-    posterior mean of that variance component given the runs (:func:`metro.core.budget.between_variance`,
+    posterior mean of that variance component given the runs (:func:`metro.core.uncertainty.budget.between_variance`,
     ν = ∞): never 0 where the runs do not resolve σ_on from their noise, only bound it
     (interpretations.md, "σ_on — a variance component the data only bound"); but never less than
     what keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0)) (``own_uA`` = u_A(B₀); None: the turn-on part
@@ -188,7 +188,7 @@ def turn_on_sigma(Kj, rel_u=None) -> tuple[float, float, float, int]:
 
     K_r of eqs. (D.11) / (D.28) (the same form); the own part w = mean (u(K_j)/K_j)² (``rel_u`` the K_j's
     relative u; None: K_r taken whole, w = 0); σ_K² = the posterior mean of the turn-on variance given
-    the runs, :func:`metro.core.budget.between_variance`(K_r², w, Q − 1) — Box & Tiao §5.2's one-way
+    the runs, :func:`metro.core.uncertainty.budget.between_variance`(K_r², w, Q − 1) — Box & Tiao §5.2's one-way
     random-effect model with the reference prior, ν = ∞ (interpretations.md "σ_K — …").  Needs Q ≥ 4."""
     Kr = F2.scale_factor_repeatability_d11(Kj)
     w = 0.0 if rel_u is None else float(np.mean(np.square(np.asarray(rel_u, dtype=float))))
@@ -204,7 +204,7 @@ def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rat
 
     σ_K² = K_r² less the runs' own part, mean (u(K_j)/K_j)², is a variance component estimated as a
     difference; it enters as its posterior mean given the runs
-    (:func:`metro.core.budget.between_variance`, ν = ∞), never 0 where the runs only bound it, as σ_on of
+    (:func:`metro.core.uncertainty.budget.between_variance`, ν = ∞), never 0 where the runs only bound it, as σ_on of
     D.5.3 does (interpretations.md, "σ_on — a variance component the data only bound", "σ_K — …").
     D.1.4's K_j take K_r whole (own part 0: the revolutions' scatter overstates a K_j's noise where the
     counter's rounding dominates; interpretations.md "D.1.5 — every temperature point is a power-on"),
@@ -262,10 +262,10 @@ def pool_turn_on(Ks, uKs, temps, on: ScaleTurnOn) -> tuple[ScaleTurnOn, str]:
     """K's turn-on scatter σ_K pooled with what the temperature points themselves show.
 
     Each temperature point is a power-on (D.1.5.2 c)) / D.2.5.2 c)), so the K_i's mean square about a
-    smooth K(T) (a quadratic in T, :func:`metro.core.selection.curve_scatter`, n − 3 degrees of freedom,
+    smooth K(T) (a quadratic in T, :func:`metro.core.uncertainty.selection.curve_scatter`, n − 3 degrees of freedom,
     its own part mean (u(K_i)/K_i)²) is a second estimate of the same variance beside the runs' (K_r², Q − 1).
     Pooled — mean squares and own parts each weighted by their degrees of freedom — the posterior mean of the
-    variance component (:func:`metro.core.budget.between_variance`, Q − 1 + n − 3 degrees of freedom) is
+    variance component (:func:`metro.core.uncertainty.budget.between_variance`, Q − 1 + n − 3 degrees of freedom) is
     taken where it is larger than the runs' alone; it never lowers σ_K below what the repeatability item
     measured (interpretations.md "D.2.5 — the line test with an estimated scatter").  Needs ≥ 5 points and
     a σ_K from runs; otherwise ``on`` unchanged, with ""."""

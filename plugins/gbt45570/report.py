@@ -1,6 +1,6 @@
 """GB/T 45570—2025 test report: ``context["gbt45570"]`` and the document :func:`layout`.
 
-Adds to the generic report context (:func:`metro.core.report.report_context`, whose ``facts``
+Adds to the generic report context (:func:`metro.core.documents.report.report_context`, whose ``facts``
 carry laboratory, customer, people and dates): the 6.1.1 test environment checked against its limits, the method choice of 6.2.7.1
 and the items ``--all``/series chose, the conformity verdicts with the decision rule and
 their reasons, the typical-limit table of the device (A.1 or B.1) row by row — "not
@@ -16,12 +16,12 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from metro.core.budget import report_pair
-from metro.core.conformity import SIMPLE, Comparison, Specification, decide
-from metro.core.locale import Text, join, msg
-from metro.core.model import PlotSpec
-from metro.core.notes import group_notes
-from metro.core.units import Q_
+from metro.core.uncertainty.budget import report_pair
+from metro.core.uncertainty.conformity import SIMPLE, Comparison, Specification, decide
+from metro.core.base.locale import Text, join, msg
+from metro.core.model.results import PlotSpec
+from metro.core.documents.notes import group_notes
+from metro.core.base.units import Q_
 
 from .conformity import (APPLICATION_CN, CLAUSE_SOURCE, CLAUSE_WHY_SOURCE, PRODUCT_SOURCE, REMARK_SOURCE, ROW_SOURCE,
                          TABLE_C1, application_of, table_for)
@@ -55,7 +55,7 @@ def verdict_text(v) -> str:
 
 
 def _fmt_q(q: Any) -> str:
-    from metro.core.report import fmt_quantity
+    from metro.core.documents.report import fmt_quantity
 
     return fmt_quantity(q)
 
@@ -80,7 +80,7 @@ def environment_rows(env: dict) -> list[dict[str, str]]:
 
 
 def _result_cells(r) -> tuple[str, str, str]:
-    from metro.core.report import _unit_text
+    from metro.core.documents.report import _unit_text
 
     v, U = r.reported()
     ut = _unit_text(r.metric.unit)
@@ -89,9 +89,9 @@ def _result_cells(r) -> tuple[str, str, str]:
 
 
 def verdict_rows(assessment) -> list[dict[str, str]]:
-    from metro.core.report import fmt_num
+    from metro.core.documents.report import fmt_num
 
-    from metro.core.units import fmt_unit
+    from metro.core.base.units import fmt_unit
 
     rows = []
     for v in assessment.verdicts:
@@ -204,7 +204,7 @@ def residual_plot(spec: PlotSpec) -> PlotSpec | None:
 
 
 def _add_residual_figures(context: dict) -> None:
-    from metro.core.report import plot_caption
+    from metro.core.documents.report import plot_caption
 
     n = 1
     for o in context.get("outcomes", []):
@@ -284,7 +284,7 @@ def extend_context(record, context: dict) -> None:
         return v or DASH
 
     a = record.conformity
-    # a warning several items share once, naming them (metro.core.notes)
+    # a warning several items share once, naming them (metro.core.documents.notes)
     deviations = [join(": ", [where, w]) for where, w in group_notes((o.item, "", w) for o in outs for w in o.warnings)]
 
     _add_residual_figures(context)
@@ -437,7 +437,7 @@ def _symbolizer(ctx: dict, tr=None):
     """A function putting result symbols in place of the code keys in free text (``Bs_10s ± U``
     → ``B_s(10 s) ± U``, ``Kn`` → ``K_n``, ``alpha`` → ``α``): keys with an underscore, a digit or
     a capital, and Greek letter names; never plain words (``mass``, ``threshold``)."""
-    from metro.core.document import display_symbol
+    from metro.core.documents.document import display_symbol
 
     found: dict[str, tuple[str, str]] = {}
     for o in ctx["outcomes"]:
@@ -466,7 +466,7 @@ def layout(doc, ctx: dict) -> None:
     and every result; then clause 5, the 6.1 test conditions, method, conformity, the typical
     limits (A.1/B.1), the C.1 severities, notes, deviations and signatures; budgets, data,
     figures and provenance follow as annexes."""
-    from metro.core import document as D
+    from metro.core.documents import document as D
 
     g = ctx.get("gbt45570")
     if g is None:

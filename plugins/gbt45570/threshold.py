@@ -14,27 +14,22 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.core import allan
-from metro.core.budget import BudgetRow, UncertaintyBudget
-from metro.core.locale import hint, join, msg
-from metro.core.errors import DataError
-from metro.core.model import (
-    Campaign,
+from metro.core.stats import allan
+from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
+from metro.core.base.locale import hint, join, msg
+from metro.core.base.errors import DataError
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.model.procedure import (
     EquipmentRequirement,
-    Metric,
     Option,
-    Outcome,
-    PlotSpec,
     Procedure,
-    Result,
     RunContext,
-    Segment,
     SegmentRequirement,
     Step,
-    TableSpec,
 )
-from metro.core.signals import OUTPUT_UNITS, gyro_output
-from metro.core.units import Q_, parse_quantity
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.stats.signals import OUTPUT_UNITS, gyro_output
+from metro.core.base.units import Q_, parse_quantity
 
 from . import env_formulas as E
 from .formulas import EARTH_RATE_DEG_PER_H

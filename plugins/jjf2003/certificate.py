@@ -2,7 +2,7 @@
 
 :func:`certificate_context` turns a run record into ``context["jjf2003"]`` for the template
 the document :func:`layout`.  Values are
-rounded as :meth:`metro.core.model.Result.reported` rounds them (U to two significant digits,
+rounded as :meth:`metro.core.model.results.Result.reported` rounds them (U to two significant digits,
 rounded up as appendix A does, k = 2).
 """
 
@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from metro.core.locale import join
-from metro.core.notes import group_notes
-from metro.core.report import fmt_num, fmt_quantity
-from metro.core.units import fmt_unit
+from metro.core.base.locale import join
+from metro.core.documents.notes import group_notes
+from metro.core.documents.report import fmt_num, fmt_quantity
+from metro.core.base.units import fmt_unit
 
 AXES = ("x", "y", "z")
 DASH = "—"
@@ -145,7 +145,7 @@ MATRICES = (
 def layout(doc, ctx: dict) -> None:
     """JJF 2003—2022 MIMU calibration certificate: clause 8 (title to signatures) and the
     appendix B inner page (groups 1–6, each with its measurement uncertainty)."""
-    from metro.core import document as D
+    from metro.core.documents import document as D
 
     c = ctx.get("jjf2003")
     if c is None:

@@ -13,9 +13,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from metro.core.errors import DataError, ProcedureError
-from metro.core.model import Campaign, Segment
-from metro.core.units import Q_
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.base.units import Q_
 
 from . import formulas as F
 from . import mounting

@@ -43,12 +43,12 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 
-from metro.core.budget import BudgetRow
-from metro.core.errors import DataError
-from metro.core.locale import join, msg
-from metro.core.lsq import fit_linear
-from metro.core.model import Campaign, Segment
-from metro.core.units import Q_
+from metro.core.uncertainty.budget import BudgetRow
+from metro.core.base.errors import DataError
+from metro.core.base.locale import join, msg
+from metro.core.stats.lsq import fit_linear
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.base.units import Q_
 
 from . import formulas as F
 from .data import _axis_of, _columns, _rate_of

@@ -2,7 +2,7 @@
 
 Units are whatever the caller passes consistently (the procedures use °/s for gyro
 outputs, gn for accelerometer outputs and rad/s for ω in eq. (12)).  Least squares is
-:func:`metro.core.lsq.fit_linear`.
+:func:`metro.core.stats.lsq.fit_linear`.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from typing import Sequence
 
 import numpy as np
 
-from metro.core.budget import round_uncertainty
-from metro.core.lsq import LinearFit, fit_linear
+from metro.core.uncertainty.budget import round_uncertainty
+from metro.core.stats.lsq import LinearFit, fit_linear
 
 #: Order of the six positions in the columns of Ā (7.2.2.2 and 7.2.4.2): X up, X down,
 #: Y up, Y down, Z up, Z down.

@@ -7,7 +7,7 @@ appendix A's three components (docs/interpretations.md, JJF 2003 "Local gravity 
 * **Local gravity** (7.2.2.2, 7.2.4.2): the accelerometers at rest feel the local gravity g, not
   g_n; Ā's ±1 are ±g/g_n when the outputs are in g_n.  g is ``[site] gravity`` (with
   ``gravity_uncertainty``, a half-width) or the GRS 80 normal gravity at the site's latitude and
-  ``altitude`` (:func:`metro.core.earth.normal_gravity`), the anomaly a uniform ±3×10⁻⁴.
+  ``altitude`` (:func:`metro.core.stats.earth.normal_gravity`), the anomaly a uniform ±3×10⁻⁴.
 * **Alignment of a swept axis** (7.2.1.1 a), 7.2.3): a table axis that is off the MIMU's axis by
   δ puts K_ii·δ into K_g[i, j] — the table's positioning (``position_accuracy``, table 1 ±10″), its
   axis perpendicularity (``axis_perpendicularity``, table 1 ±10″) and the fixture
@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import math
 
-from metro.core.budget import BudgetRow
-from metro.core.earth import STANDARD_GRAVITY_M_S2, normal_gravity
-from metro.core.errors import DataError
-from metro.core.locale import msg
-from metro.core.model import Campaign
-from metro.core.units import Q_, parse_quantity
+from metro.core.uncertainty.budget import BudgetRow
+from metro.core.stats.earth import STANDARD_GRAVITY_M_S2, normal_gravity
+from metro.core.base.errors import DataError
+from metro.core.base.locale import msg
+from metro.core.model.campaign import Campaign
+from metro.core.base.units import Q_, parse_quantity
 
 #: half-width of the gravity anomaly about normal gravity (±300 mGal), relative
 GRAVITY_ANOMALY_REL = 3e-4

@@ -23,25 +23,20 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import hint, index, join, msg
-from metro.core.model import (
-    Campaign,
+from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import hint, index, join, msg
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.model.procedure import (
     EquipmentRequirement,
-    Metric,
     Option,
-    Outcome,
-    PlotSpec,
     Procedure,
-    Result,
     RunContext,
-    Segment,
     SegmentRequirement,
     Step,
-    TableSpec,
 )
-from metro.core.units import Q_
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.base.units import Q_
 
 from . import drift as D
 from . import formulas as F
@@ -59,7 +54,7 @@ STATION = "simulated-mimu"
 #: without degrees of freedom is the large-ν_eff case (interpretations.md, "Coverage factor (JJF 2003)")
 COVERAGE = Coverage.probability(0.9545)
 ROUND = "up"
-from metro.core.earth import EARTH_RATE_DEG_S  # noqa: E402
+from metro.core.stats.earth import EARTH_RATE_DEG_S  # noqa: E402
 
 RATE_SEG = SegmentRequirement(
     kind="rate",
@@ -151,7 +146,7 @@ def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warning
 
 
 def _rates_option(opts: Mapping[str, Any]) -> list[float]:
-    from metro.core.units import parse_quantity
+    from metro.core.base.units import parse_quantity
 
     out = []
     for t in str(opts["rates"]).split(","):
@@ -237,7 +232,7 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
                                     "{n} calibrations, A.1.2.3)", n=len(Ks)), "u₃", Q_(se, ""), dof)
     stated = campaign.device.properties.get("scale_factor_repeatability")
     if stated not in (None, ""):
-        from metro.core.units import parse_quantity
+        from metro.core.base.units import parse_quantity
 
         rel = float(parse_quantity(stated, dimension="", file=campaign.source,
                                    field="device.scale_factor_repeatability").to("").magnitude)

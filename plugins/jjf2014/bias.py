@@ -9,23 +9,22 @@ import statistics
 import attrs
 import numpy as np
 
-from metro.core import allan
-from metro.core.budget import INF, BudgetRow
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import hint, join, msg
-from metro.core.model import (
-    Campaign,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Result,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
+from metro.core.stats import allan
+from metro.core.uncertainty.budget import INF, BudgetRow
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import hint, join, msg
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement, Step
+from metro.core.model.results import Metric, Result, TableSpec
+from metro.core.uncertainty.selection import (
+    curve_scatter,
+    max_abs_selection,
+    max_slope_selection,
+    selection_note,
+    selection_rows,
+    spread_rows,
 )
-from metro.core.selection import curve_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
-from metro.core.units import Q_
+from metro.core.base.units import Q_
 
 from . import budgets as B
 from . import formulas as F
@@ -113,7 +112,7 @@ class BiasValue:
         self.Fbar = F.mean_output_eq2(x)
         self.B0 = F.bias_eq27_28(x, K) * 3600.0 - earth  # °/h
         # 20 batch means, or 5 long ones when an F test shows the short ones correlated (flicker, wander):
-        # their scatter then understates the mean's u (metro.core.allan.mean_u_batches; interpretations.md,
+        # their scatter then understates the mean's u (metro.core.stats.allan.mean_u_batches; interpretations.md,
         # "D.5.1 — correlated noise": B₀ was within U on 43–67 % of the independent harness's flicker devices)
         bm = allan.mean_u_batches(x, batches)
         self.correlated = bm.correlated

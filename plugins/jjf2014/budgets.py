@@ -20,10 +20,10 @@ from collections.abc import Sequence
 import numpy as np
 import pint
 
-from metro.core.locale import join, msg
-from metro.core.budget import INF, BudgetRow, Coverage, UncertaintyBudget
-from metro.core.model import Calibration
-from metro.core.units import Q_
+from metro.core.base.locale import join, msg
+from metro.core.uncertainty.budget import INF, BudgetRow, Coverage, UncertaintyBudget
+from metro.core.model.campaign import Calibration
+from metro.core.base.units import Q_
 
 #: k = t_p(ν_eff) for p = 95.45 % (JJF 1059.1 5.3.4): 2.00 for the large ν_eff of appendix B's
 #: examples, larger where a repeatability of Q = 6 runs dominates (interpretations.md, "Coverage factor")
@@ -84,10 +84,10 @@ def type_a_budget(measurand: str, unit: str, rows: Sequence[BudgetRow], note: st
 
 def std_of_std(s: float, q: int) -> tuple[float, float]:
     """Standard uncertainty of a Bessel standard deviation of q values as an estimate of σ, and its ν:
-    the χ² bound (σ_upper − s)/2 with ν = ∞ (:func:`metro.core.budget.std_sampling_u`; s + 2u is the
+    the χ² bound (σ_upper − s)/2 with ν = ∞ (:func:`metro.core.uncertainty.budget.std_sampling_u`; s + 2u is the
     97.7 % upper confidence limit).  The linear s/√(2(q − 1)) with ν = q − 1 covered K_r in 91 % of the
     independent harness's devices at q = 6 (docs/independent-campaigns.md)."""
-    from metro.core.budget import std_sampling_u
+    from metro.core.uncertainty.budget import std_sampling_u
 
     return std_sampling_u(s, q), math.inf
 
@@ -96,13 +96,13 @@ def averages_dof_model(x, P: int, dt: float) -> tuple[float, float] | None:
     """Effective degrees of freedom of eq. (29)'s s² of the N/P averages, from the record's own noise model:
     7.2.20's eq. (38) fit σ²(τ) = Σ A_m τ^m to the overlapping Allan variance of the samples ``x`` (octave τ up
     to N/4, GLS with the exact covariance, negative terms removed: :func:`formulas.fit_allan_eq38`), then
-    :func:`metro.core.allan.block_variance_dof` — the averages' covariance under that white / flicker / random-
+    :func:`metro.core.stats.allan.block_variance_dof` — the averages' covariance under that white / flicker / random-
     walk model with its rate ramp as a fixed trend, and ν = 2E[s²]²/Var(s²) of the Bessel variance of the
     centred averages.  The model's flicker and random walk are read off the whole range of τ (many clusters
     each), not off the few slow excursions one record happens to hold, which is what fooled ν from the record's
     own autocorrelation (docs/interpretations.md, "7.2.14 — B_s of correlated averages").  None when the
     record is too short for the fit (fewer than 6 octave τ values) or has no noise; (ν, E[s²]) otherwise."""
-    from metro.core import allan
+    from metro.core.stats import allan
 
     from .formulas import ALLAN_TERMS, fit_allan_eq38
 
@@ -140,7 +140,7 @@ def std_of_std_correlated(s: float, means, samples=None, P: int | None = None,
     wander devices; the model's ν is read off the whole Allan curve (interpretations.md, "7.2.14 — B_s of
     correlated averages").  Independent averages give ν_eff ≈ m − 1 and the χ² bound of m values.  Returns
     (u, ν = ∞ as the χ² bound is entered, a note naming ν_eff when it is below m − 1)."""
-    from metro.core.budget import std_sampling_u
+    from metro.core.uncertainty.budget import std_sampling_u
 
     x = np.asarray(means, dtype=float)
     m = x.size

@@ -3,7 +3,7 @@
 The 24 rows of appendix A map to the metrics of the items (table 3).  A row whose item was
 not run in this record says so ("未检测 not performed") — never blank, never zero.
 Laboratory, customer, signatories and dates come from the report context's ``facts``
-(:func:`metro.core.report.record_facts`: the campaign, and the lab profile when one is given); a
+(:func:`metro.core.documents.report.record_facts`: the campaign, and the lab profile when one is given); a
 missing one is shown as "—" so a reviewer sees it is missing.  :func:`layout` lays out clause 8
 a)–p) (each field marked with its letter in the code) and the appendix A inner page.
 """
@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from metro.core.locale import join
-from metro.core.notes import group_notes
+from metro.core.base.locale import join
+from metro.core.documents.notes import group_notes
 
 #: appendix A rows: (no., 校准项目, English, item, metric key)
 ROWS = (
@@ -52,7 +52,7 @@ SPECIFICATION_EN = "JJF 2014—2022 Calibration Specification for Metal-Shell Vi
 def certificate_rows(outcomes) -> list[dict[str, Any]]:
     """The 24 appendix-A rows, each {no, item_cn, item_en, clause, performed, reportable, reason,
     value, U, k, note, earth_rate, symbol}; value and U as :meth:`Result.reported` rounds them."""
-    from metro.core.document import result_fields
+    from metro.core.documents.document import result_fields
 
     found = {}
     for o in outcomes:
@@ -100,7 +100,7 @@ def _env(ctx: dict, name: str) -> str:
 
 def layout(doc, ctx: dict) -> None:
     """JJF 2014—2022 calibration certificate: clause 8 a)–p) and the appendix A inner page."""
-    from metro.core import document as D
+    from metro.core.documents import document as D
 
     c = ctx.get("jjf2014")
     if c is None:

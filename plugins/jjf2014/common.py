@@ -9,21 +9,14 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.budget import INF, BudgetRow
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import hint, join, msg
-from metro.core.model import (
-    Campaign,
-    EquipmentRequirement,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    Segment,
-    Step,
-)
-from metro.core.signals import device_scale_factor
-from metro.core.units import Q_, parse_quantity
+from metro.core.uncertainty.budget import INF, BudgetRow
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import hint, join, msg
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.model.procedure import EquipmentRequirement, Option, Procedure, Step
+from metro.core.model.results import Outcome, PlotSpec
+from metro.core.stats.signals import device_scale_factor
+from metro.core.base.units import Q_, parse_quantity
 
 from . import budgets as B
 from . import formulas as F

@@ -5,24 +5,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from metro.core import allan
-from metro.core import settling as S
-from metro.core.budget import BudgetRow
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
-from metro.core.model import (
-    EquipmentRequirement,
-    Metric,
-    Option,
-    PlotSpec,
-    Result,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-)
-from metro.core.sinefit import fit_sine, wrap_phase
-from metro.core.units import Q_, parse_quantity
+from metro.core.stats import allan
+from metro.core.stats import settling as S
+from metro.core.uncertainty.budget import BudgetRow
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import join, msg
+from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement, Step
+from metro.core.model.results import Metric, PlotSpec, Result, TableSpec
+from metro.core.model.campaign import Segment
+from metro.core.stats.sinefit import fit_sine, wrap_phase
+from metro.core.base.units import Q_, parse_quantity
 
 from . import budgets as B
 from . import formulas as F
@@ -619,7 +611,7 @@ class StartupTime(_JJF):
                     est = min(max(lo + tau * math.log((g + m) / g), lo), hi)
             # an output ringing faster than the window: the window means average its swings away, the samples
             # show them (interpretations.md, "7.2.23 — a ringing output decided by its samples").  Their lobes
-            # about the settled value (metro.core.settling, as GB/T 6.2.7.7's): each has the probability that
+            # about the settled value (metro.core.stats.settling, as GB/T 6.2.7.7's): each has the probability that
             # the noise-free output left the band in it, and the start-up is the expected last real exit
             m1 = 4.5 * math.hypot(sd1, ut) + q1
             ts = dt * np.arange(1, raw.size + 1)  # sample j at (j + 1)·dt from power-on

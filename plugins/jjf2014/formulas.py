@@ -12,8 +12,8 @@ from collections.abc import Mapping, Sequence
 
 import attrs
 import numpy as np
-from metro.core import allan
-from metro.core.lsq import fit_linear
+from metro.core.stats import allan
+from metro.core.stats.lsq import fit_linear
 
 #: Earth rotation rate in °/h, as GB/T 45570 D.40 prints it (JJF 2014 has no earth term).
 EARTH_RATE_DEG_PER_H = 15.041
@@ -305,7 +305,7 @@ def allan_covariance(A: Sequence[float], tau_h: np.ndarray, n_samples: int, tau0
 
     Eq. (38)'s terms are independent noises — A₋₂τ⁻² quantization (white angle), A₋₁τ⁻¹ angle random
     walk, A₀ bias instability (flicker rate), A₁τ rate random walk — and a rate ramp A₂τ²;
-    :func:`metro.core.allan.oadev_covariance` gives the exact Gaussian covariance of the estimates for
+    :func:`metro.core.stats.allan.oadev_covariance` gives the exact Gaussian covariance of the estimates for
     that mix (generalized autocovariances, C. A. Greenhall, TMO Progress Report 42-137, 1999), with
     A_m ≥ 0 (a negative term counts as 0).  So the correlation between octave levels follows the
     noise that dominates there: ≈ 0.5 (adjacent) where white rate noise does, ≈ 0.69 for flicker,
@@ -566,7 +566,7 @@ def settle_time(t: Sequence[float], x: Sequence[float], target: float, tol: floa
 def startup_sample_exits(d: Sequence[float], t: Sequence[float], dt: float, upper: float, lower: float, sigma: float,
                          lobes: Sequence, chain: Mapping) -> dict:
     """7.2.23.2 on the samples of an output that rings: the distribution of the start-up time (the first sample
-    after the last one outside the band) over the candidate lobes of :func:`metro.core.settling.last_exit`
+    after the last one outside the band) over the candidate lobes of :func:`metro.core.stats.settling.last_exit`
     (``chain``; its ``lobes`` index ``lobes``, its ``probabilities`` P_i are those of lobe i being the last real
     one).  Within lobe i the noise-free output falls from its top (sample k) back into the band once: the last
     sample outside is sample j ≥ k with probability ∝ Π_{k≤i≤j} q_i·Π_{i>j}(1 − q_i) (a change point),

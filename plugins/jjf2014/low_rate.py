@@ -6,11 +6,13 @@ import math
 
 import attrs
 import numpy as np
-from metro.core.budget import INF, BudgetRow
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
-from metro.core.model import EquipmentRequirement, Metric, Option, Result, Segment, SegmentRequirement, Step, TableSpec
-from metro.core.units import Q_
+from metro.core.uncertainty.budget import INF, BudgetRow
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import join, msg
+from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement, Step
+from metro.core.model.results import Metric, Result, TableSpec
+from metro.core.model.campaign import Segment
+from metro.core.base.units import Q_
 
 from . import budgets as B
 from . import formulas as F

@@ -6,12 +6,21 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from metro.core.budget import INF, BudgetRow
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import hint, join, msg
-from metro.core.model import EquipmentRequirement, Metric, Option, Result, Segment, SegmentRequirement, TableSpec
-from metro.core.selection import curve_scatter, max_abs_selection, max_slope_selection, selection_note, selection_rows, spread_rows
-from metro.core.units import Q_, parse_quantity
+from metro.core.uncertainty.budget import INF, BudgetRow
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import hint, join, msg
+from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement
+from metro.core.model.results import Metric, Result, TableSpec
+from metro.core.model.campaign import Segment
+from metro.core.uncertainty.selection import (
+    curve_scatter,
+    max_abs_selection,
+    max_slope_selection,
+    selection_note,
+    selection_rows,
+    spread_rows,
+)
+from metro.core.base.units import Q_, parse_quantity
 
 from . import budgets as B
 from . import formulas as F

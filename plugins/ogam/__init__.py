@@ -1,6 +1,6 @@
 """Draft JJF 光学陀螺测角仪校准规范 (optical-gyro angle measuring instruments) — plugin `ogam`.
 
-Written only against metro's public plugin API (the hooks of :mod:`metro.core.hookspec`):
+Written only against metro's public plugin API (the hooks of :mod:`metro.core.model.hookspec`):
 the standard and its seven items 7.1–7.7, the ``simulated-ogam`` station (the virtual angle
 instrument on a low-speed turntable, :mod:`metro.instruments.angle_instrument`), and the
 appendix B certificate template with its report-context entries.

@@ -2,7 +2,7 @@
 document layout.
 
 Every item carries its own expanded uncertainty (clause 8: "给出校准项目和校准结果以及相应的测量
-不确定度"), as :meth:`metro.core.model.Result.reported` rounds it; appendix B's line for E
+不确定度"), as :meth:`metro.core.model.results.Result.reported` rounds it; appendix B's line for E
 ("角位置测量偏差的测量不确定度: U = …, k = 2") is printed under the table as the draft asks.
 Clause 9: the recalibration interval is stated (at most 12 months, as the draft recommends).
 """
@@ -28,7 +28,7 @@ DASH = "—"
 
 def certificate_context(record) -> dict[str, Any]:
     """{rows [{no, item_cn, item_en, symbol, performed, reportable, reason, value, U, k}], U_E, k_E}."""
-    from metro.core.document import result_fields
+    from metro.core.documents.document import result_fields
 
     results = {(o.item, r.metric.key): r for o in record.outcomes if o.standard == "ogam" for r in o.results}
     rows = []
@@ -55,7 +55,7 @@ def layout(doc, ctx: dict) -> None:
     """The certificate: laboratory, customer, instrument, dates, specification, standards and
     environment; appendix B's seven rows each with U; notes; signatures; clause 9 interval;
     figures and budgets as annexes."""
-    from metro.core import document as D
+    from metro.core.documents import document as D
 
     c = ctx.get("ogam")
     if c is None:

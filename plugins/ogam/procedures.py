@@ -19,25 +19,20 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget, std_sampling_u
-from metro.core.errors import DataError, ProcedureError
-from metro.core.locale import join, msg
-from metro.core.model import (
-    Campaign,
+from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget, std_sampling_u
+from metro.core.base.errors import DataError, ProcedureError
+from metro.core.base.locale import join, msg
+from metro.core.model.campaign import Campaign, Segment
+from metro.core.model.procedure import (
     EquipmentRequirement,
-    Metric,
     Option,
-    Outcome,
-    PlotSpec,
     Procedure,
-    Result,
     RunContext,
-    Segment,
     SegmentRequirement,
     Step,
-    TableSpec,
 )
-from metro.core.units import Q_, parse_quantity
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.base.units import Q_, parse_quantity
 
 from . import formulas as F
 

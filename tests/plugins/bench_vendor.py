@@ -22,8 +22,8 @@ import attrs
 import numpy as np
 
 from metro.core import hookimpl
-from metro.core.errors import DriverError
-from metro.core.units import Q_, parse_quantity
+from metro.core.base.errors import DriverError
+from metro.core.base.units import Q_, parse_quantity
 from metro.instruments.drivers.base import Identity, RateTableDriver
 from metro.instruments.equipment import RateTable
 

@@ -13,10 +13,11 @@ from typing import Any, Mapping
 import numpy as np
 
 from metro.core import hookimpl
-from metro.core.budget import BudgetRow, UncertaintyBudget
-from metro.core.model import Metric, Outcome, Procedure, Result, SegmentRequirement, Step
-from metro.core.errors import DriverError
-from metro.core.units import Q_, parse_quantity
+from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
+from metro.core.model.results import Metric, Outcome, Result
+from metro.core.model.procedure import Procedure, SegmentRequirement, Step
+from metro.core.base.errors import DriverError
+from metro.core.base.units import Q_, parse_quantity
 from metro.instruments.drivers.base import Identity, RateTableDriver
 from metro.instruments.equipment import RateTable
 
@@ -162,7 +163,7 @@ def metro_register_templates(registrar):
 def metro_item_applicability(procedure, device):
     if procedure.standard != "vendorx":
         return None
-    from metro.core.model import Applicability
+    from metro.core.model.procedure import Applicability
 
     EVENTS.append(("metro_item_applicability", procedure.qualified_id()))
     rate = device is None or device.output in ("", "rate")
@@ -173,7 +174,7 @@ def metro_item_applicability(procedure, device):
 def metro_conformity_specifications(standard, campaign):
     if standard != "vendorx":
         return None
-    from metro.core.conformity import parse_limit
+    from metro.core.uncertainty.conformity import parse_limit
 
     EVENTS.append(("metro_conformity_specifications", campaign.id))
     return [parse_limit("mean", "<= 2 deg/h", source="VX-001 limit table")]

@@ -10,7 +10,7 @@
 
 ``read_acme`` returns what metro's manifest loader needs from a reader (``columns``,
 ``units``, ``sha256``) with columns ``time`` [s] and ``output`` [unit]; every problem is a
-:class:`metro.core.errors.DataError` naming the file, the field and the reason.
+:class:`metro.core.base.errors.DataError` naming the file, the field and the reason.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import struct
 from pathlib import Path
 
 import numpy as np
-from metro.core.errors import DataError
+from metro.core.base.errors import DataError
 
 MAGIC = b"ACME1\0"
 HEADER = struct.Struct("<6sHdI16s")

@@ -3,7 +3,7 @@
 ACME test specification AT-7 clause 3.2: the rate output is smoothed with a 10 s moving
 average (every window, overlapping) and the bias stability is the Bessel standard deviation
 of the smoothed series, °/h.  For comparison the note gives the GB/T 45570 D.41 value with
-non-overlapping 10 s means (``metro.core.allan.block_std``).
+non-overlapping 10 s means (``metro.core.stats.allan.block_std``).
 """
 
 from __future__ import annotations
@@ -13,12 +13,13 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.core import allan
-from metro.core.budget import BudgetRow, Coverage, UncertaintyBudget
-from metro.core.errors import DataError
-from metro.core.model import Metric, Option, Outcome, Procedure, Result, SegmentRequirement, Step
-from metro.core.signals import OUTPUT_UNITS, gyro_output
-from metro.core.units import Q_
+from metro.core.stats import allan
+from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
+from metro.core.base.errors import DataError
+from metro.core.model.results import Metric, Outcome, Result
+from metro.core.model.procedure import Option, Procedure, SegmentRequirement, Step
+from metro.core.stats.signals import OUTPUT_UNITS, gyro_output
+from metro.core.base.units import Q_
 from metro.plugins.gbt45570 import procedures as gbt
 
 

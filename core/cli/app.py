@@ -1,0 +1,766 @@
+"""The ``metro`` command line.
+
+Start-up is kept fast: only argparse is imported here at module level; numpy, pint,
+scipy, docxtpl and the plugins load when a command needs them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from typing import Any, Sequence
+
+#: Exit codes (README "Exit codes"; scripts may rely on them):
+EXIT_OK = 0  # done; the results conform, or there was nothing to judge (no specification)
+# 1 is left to Python: an uncaught exception (a bug in metro or a plugin) exits 1 with a traceback,
+# so a crash can never be read as a verdict
+EXIT_USER_ERROR = 2  # usage or data error: nothing was evaluated, nothing partial written
+EXIT_NONCONFORMING = 3  # done; the overall statement is "does not conform" (a verdict fails)
+EXIT_INDETERMINATE = 4  # done; nothing fails but a verdict is indeterminate (conformity not shown)
+EXIT_CAMPAIGN_FAILED = 5  # `metro batch`: at least one campaign could not be evaluated (listed)
+EXIT_CHECK_FAILED = 6  # a check found a problem: `register verify` (a report file differs or is missing),
+# `doctor` (a required check fails)
+EXIT_INTERRUPTED = 130  # Ctrl-C (128 + SIGINT)
+EXIT_BROKEN_PIPE = 141  # the reader of stdout went away (128 + SIGPIPE), e.g. `metro plan … | head`
+
+EXIT_CODES_TEXT = (
+    "exit codes: 0 done, conforming or nothing to judge; 2 usage or data error; 3 does not conform; "
+    "4 indeterminate (nothing fails, some verdict is indeterminate); 5 batch: a campaign failed; "
+    "6 a check found a problem (register verify, doctor); 130 interrupted; 1 is an internal error "
+    "(a bug: please report the traceback)."
+)
+#: `metro run` only: what its --strict changes
+SIMULATED_EXIT_TEXT = ("  A run on the simulated station judges a virtual device: it exits 0 once evaluated "
+                       "unless --strict")
+
+
+def exit_code_for(overall: str | None) -> int:
+    """The exit code of a finished evaluation from its overall conformity status
+    (``pass``/``fail``/``indeterminate``, None when nothing was judged)."""
+    return {"fail": EXIT_NONCONFORMING, "indeterminate": EXIT_INDETERMINATE}.get(overall or "", EXIT_OK)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with "did you mean" for a mistyped command or choice."""
+
+    def error(self, message: str):  # type: ignore[override]
+        import difflib
+        import re
+
+        m = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
+        if m:
+            choices = re.findall(r"'([^']*)'", m.group(2))
+            close = difflib.get_close_matches(m.group(1), choices, n=1, cutoff=0.5)
+            if close:
+                message += f"; did you mean {close[0]!r}?"
+        super().error(message)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(
+        prog="metro",
+        description="Calibrate and test inertial sensors to published standards "
+        "(GB/T 45570, JJF 2014, JJF 2003 …). Standards are plugins.",
+        epilog="Example: metro run --standard gbt45570 --item D.5.6   "
+        "(no --data: runs on the built-in simulated test station).  " + EXIT_CODES_TEXT + SIMULATED_EXIT_TEXT,
+    )
+    p.add_argument("--version", action="store_true", help="print metro's version and the loaded plugins' versions")
+    p.add_argument("--no-plugin-autoload", action="store_true",
+                   help="load only metro's built-in plugins (also METRO_DISABLE_PLUGIN_AUTOLOAD=1)")
+    p.add_argument("--block-plugin", action="append", default=[], metavar="NAME",
+                   help="do not load the plugin NAME (repeatable; also METRO_BLOCK_PLUGINS=a,b)")
+    from . import register_commands as cli_register  # lab profile and report register commands (their own module)
+
+    cli_register.add_global_options(p)
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    r = sub.add_parser("run", help="evaluate one or more items of a standard",
+                       description="Evaluate items of a standard on a campaign (--data) or, without --data, "
+                       "on the built-in simulated test station.",
+                       epilog='Example: metro run -s gbt45570 -i D.5.6 -o min_blocks=20   ' + EXIT_CODES_TEXT
+                       + SIMULATED_EXIT_TEXT)
+    r.add_argument("--standard", "-s", help="standard id, e.g. gbt45570 (case does not matter; may be left out "
+                   "when every item is written std:item, as `metro items` prints them)")
+    r.add_argument("--item", "-i", action="append", default=[],
+                   help="item id, e.g. D.5.6 or gbt45570:D.5.6, or a series name, e.g. scale-factor "
+                   "(repeat or comma-separate)")
+    r.add_argument("--all", action="store_true", dest="run_all",
+                   help="run every item of the standard that applies to the device")
+    r.add_argument("--decision-rule", choices=("guarded", "simple"),
+                   help="conformity decision rule (default: the manifest's, else guarded: w = U)")
+    r.add_argument("--data", "-d", metavar="MANIFEST", help="campaign manifest (TOML); see docs/data-format.md")
+    r.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE",
+                   help="item option, e.g. -o min_blocks=20 (D.5.6) or -o t=\"10 s, 100 s\" (D.5.2); `metro items` lists them")
+    r.add_argument("--json", action="store_true", help="print one JSON document on stdout")
+    r.add_argument("--out", default="metro-out", metavar="DIR", help="where the Word report goes (default: metro-out)")
+    r.add_argument("--report", metavar="PATH", help="write the Word report to PATH instead")
+    r.add_argument("--no-report", action="store_true", help="do not write a Word report")
+    r.add_argument("--force", action="store_true", help="replace an existing report file (never an input of "
+                   "the run, never a read-only file)")
+    r.add_argument("--pdf", action="store_true",
+                   help="also write the report as PDF (through LibreOffice); a --report path ending in .pdf "
+                   "writes the PDF only")
+    r.add_argument("--lang", choices=("zh", "en", "zh+en"),
+                   help="language of the report (default: the lab profile's, else zh+en)")
+    r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
+    r.add_argument("--strict", action="store_true",
+                   help="on the simulated station too, exit 3/4 when the virtual device does not conform "
+                   "or is indeterminate (recorded data always do)")
+    r.add_argument("--station", help="station to acquire on when no --data is given (default: the item's "
+                   "simulated station)")
+    r.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
+                   help="station option when no --data is given, e.g. table_errors=false (as for `metro acquire`)")
+    _output_args(r)
+    cli_register.add_run_options(r)
+
+    pl = sub.add_parser("plugins", help="list loaded plugins and their versions, stations and drivers")
+    pl.add_argument("--json", action="store_true")
+
+    it = sub.add_parser("items", help="list the items of the loaded standards")
+    it.add_argument("--standard", "-s", help="only this standard's items")
+    it.add_argument("--json", action="store_true")
+
+    pn = sub.add_parser("plan", help="print items' test sequence (what to measure) and its total duration")
+    pn.add_argument("--standard", "-s", help="standard id (may be left out with std:item ids)")
+    pn.add_argument("--item", "-i", action="append", default=[], help="item ids or a series name")
+    pn.add_argument("--all", action="store_true", dest="run_all",
+                    help="every item of the standard that applies to the simulated station's device")
+    pn.add_argument("--json", action="store_true")
+
+    aq = sub.add_parser("acquire", help="run items' test sequence on a station and write the campaign",
+                        description="Acquire the merged test sequence of one or more items on a station "
+                        "(simulated or live) and write it as a campaign folder (manifest.toml + samples, "
+                        "docs/data-format.md) that `metro run --data DIR/manifest.toml` evaluates.")
+    aq.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
+    aq.add_argument("--item", "-i", action="append", default=[],
+                    help="item id or series name, e.g. scale-factor (repeat or comma-separate for several; "
+                    "shared steps are measured once)")
+    aq.add_argument("--all", action="store_true", dest="run_all",
+                    help="acquire every item of the standard that applies to the station's device")
+    aq.add_argument("--station", help="registered station (default: the items' simulated station)")
+    aq.add_argument("--out", required=True, metavar="DIR", help="campaign folder to create (must not exist "
+                    "or be empty)")
+    aq.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
+    aq.add_argument("--seed", type=int, help="seed of a simulated station")
+    aq.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
+                    help="station option, e.g. duration_scale=0.1 (numbers are read as numbers)")
+    aq.add_argument("--npy-rows", type=int, default=None, metavar="N",
+                    help="segments of N rows or more are written as .npy (default 100000), shorter as CSV")
+    _progress_args(aq)
+    cli_register.add_commands(sub)
+
+    b = sub.add_parser("batch", help="evaluate many device campaigns (a production lot) on a Dask cluster",
+                       description="Evaluate the same items on many recorded campaigns, one per device, on a "
+                       "dask.distributed cluster: a local cluster of processes by default, or an existing one "
+                       "(--scheduler). Each device gets its own report exactly as `metro run --data` would "
+                       "write it; a campaign that fails is listed with its error and the others go on; a "
+                       "batch run again with the same --out skips the campaigns already evaluated (same "
+                       "manifest SHA-256). The lot summary (all results as CSV and Parquet, statistics and "
+                       "yield per quantity, histograms, a one-page lot report) goes to --out.",
+                       epilog="Example: metro batch -s gbt45570 -i D.5.1,D.5.2 --data 'lot-7/*/manifest.toml' "
+                       "--workers 2 --out lot-7-out   " + EXIT_CODES_TEXT)
+    b.add_argument("--standard", "-s", help="standard id (may be left out with std:item ids)")
+    b.add_argument("--item", "-i", action="append", default=[], help="item ids or series (repeat or comma-separate)")
+    b.add_argument("--all", action="store_true", dest="run_all", help="every item that applies to each device")
+    b.add_argument("--data", "-d", action="append", default=[], required=True, metavar="GLOB_OR_LIST",
+                   help="campaigns: manifest files or campaign folders, a glob (quote it), or a comma-separated "
+                   "list; repeatable")
+    b.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786 "
+                   "(workers must see --data and --out at the same paths); default: a local cluster")
+    b.add_argument("--workers", type=int, metavar="N", help="worker processes of the local cluster "
+                   "(default: the number of CPUs)")
+    b.add_argument("--out", default="metro-batch", metavar="DIR", help="reports, lot summary and the resume "
+                   "state (default: metro-batch)")
+    b.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
+    b.add_argument("--decision-rule", choices=("guarded", "simple"), help="conformity decision rule")
+    b.add_argument("--json", action="store_true", help="print the lot summary as one JSON document on stdout")
+    b.add_argument("--pdf", action="store_true", help="also write each device's report as PDF (through LibreOffice)")
+    b.add_argument("--lang", choices=("zh", "en", "zh+en"),
+                   help="language of the reports (default: the lab profile's, else zh+en)")
+    _output_args(b)
+    cli_register.add_run_options(b)  # each device registered as `metro run` registers it (--lab)
+    from . import doctor
+
+    doctor.add_command(sub)
+    _share_global_options(p)
+    return p
+
+
+#: the global options a command's own parser accepts too, after the command
+#: (``metro register list --lab lab.toml``, as git and pytest users write them)
+_SHARED_GLOBALS = ("--lab", "--no-plugin-autoload", "--block-plugin")
+
+
+def _share_global_options(parser: argparse.ArgumentParser) -> None:
+    """Every command's parser (and a command's subcommands) gets the global options with no
+    default of its own (``SUPPRESS``), so a value given before the command is kept and one given
+    after it is read; ``--block-plugin`` given after goes to ``block_plugin_after`` (added to the
+    ones before it by :func:`_main`)."""
+    top = {o: a for a in parser._actions for o in a.option_strings if o in _SHARED_GLOBALS}
+    stack = [parser]
+    while stack:
+        for action in stack.pop()._actions:
+            if not isinstance(action, argparse._SubParsersAction):
+                continue
+            for sub in dict.fromkeys(action.choices.values()):  # each parser once (aliases)
+                group = sub.add_argument_group("global options (also accepted before the command)")
+                for opt, a in top.items():
+                    kw: dict[str, Any] = {"default": argparse.SUPPRESS, "help": a.help}
+                    if isinstance(a, argparse._AppendAction):
+                        kw.update(action="append", dest=a.dest + "_after", metavar=a.metavar)
+                    elif isinstance(a, argparse._StoreTrueAction):
+                        kw.update(action="store_true")
+                    else:
+                        kw.update(metavar=a.metavar)
+                    group.add_argument(opt, **kw)
+                stack.append(sub)
+
+
+def _progress_args(p: argparse.ArgumentParser) -> None:
+    """--quiet and --no-progress, the same on every command that shows progress (run, batch, acquire)."""
+    p.add_argument("--quiet", "-q", action="store_true",
+                   help="no progress display and no messages on stderr (errors and warnings still)")
+    p.add_argument("--no-progress", action="store_true", help="no progress display")
+
+
+def _output_args(p: argparse.ArgumentParser) -> None:
+    _progress_args(p)
+    p.add_argument("--verbose", "-v", action="store_true",
+                   help="also print budgets, tables, item selection, truth checks and data file hashes")
+
+
+def _items(values: Sequence[str]) -> list[str]:
+    out: list[str] = []
+    for v in values:
+        out.extend(x.strip() for x in v.split(",") if x.strip())
+    return out
+
+
+def _options(values: Sequence[str]) -> dict[str, Any]:
+    from ..base.errors import MetroError
+
+    out: dict[str, Any] = {}
+    for v in values:
+        if "=" not in v:
+            raise MetroError(f"option {v!r} is not NAME=VALUE")
+        k, val = v.split("=", 1)
+        out[k.strip()] = val.strip()
+    return out
+
+
+def _pm(args):
+    from ..run.plugin_manager import get_plugin_manager
+
+    return get_plugin_manager(autoload=False if args.no_plugin_autoload else None, block=args.block_plugin)
+
+
+def _did_you_mean(word: str, choices: Sequence[str]) -> str:
+    """ "; did you mean 'X'?" for the closest of ``choices`` (case-insensitive), else ""."""
+    import difflib
+
+    low = {c.lower(): c for c in choices}
+    close = difflib.get_close_matches(word.lower(), list(low), n=1, cutoff=0.6)
+    return f"; did you mean {low[close[0]]!r}?" if close else ""
+
+
+def _unknown_arguments(parser: argparse.ArgumentParser, command: str | None, extra: Sequence[str]) -> None:
+    """argparse's "unrecognized arguments" from the command's own parser, with suggestions."""
+    target = parser
+    for a in parser._actions:
+        if isinstance(a, argparse._SubParsersAction) and command in a.choices:
+            target = a.choices[command]
+    names = [o for a in target._actions for o in a.option_strings if o.startswith("--")]
+    msg = "unrecognized arguments: " + " ".join(extra)
+    for word in extra:
+        if word.startswith("-"):
+            word = word.split("=", 1)[0]
+            msg += _did_you_mean(word, names).replace("; did you mean", f"; {word}: did you mean")
+    target.error(msg)
+
+
+def resolve_standard(pm, name: str) -> str:
+    """A standard id as registered, from any case or with its punctuation (``GBT45570``,
+    ``gb/t 45570``); an unknown one is an error that suggests the closest loaded standard."""
+    import re
+
+    from ..base.errors import PluginError
+
+    stds = sorted(pm.register_all().standards)
+    if name in stds:
+        return name
+
+    def key(x: str) -> str:
+        return re.sub(r"[^0-9a-z]", "", x.lower())
+
+    for s in stds:
+        if key(s) == key(name):
+            return s
+    raise PluginError(f"unknown standard {name!r}{_did_you_mean(name, stds)}; loaded: {', '.join(stds) or 'none'}",
+                      hint="`metro plugins` lists the loaded plugins; `metro items` lists every item")
+
+
+def resolve_items(pm, standard: str | None, names: Sequence[str]) -> tuple[str, list[str]]:
+    """(standard, item and series ids as registered) from what the user typed: ids in any case,
+    ``std:item`` as `metro items` prints them (the standard then may be left out).  An unknown
+    one is an error with the closest id and the list of the standard's items."""
+    from ..base.errors import MetroError, PluginError
+    from ..run.plugin_manager import item_sort_key
+
+    std = resolve_standard(pm, standard) if standard else None
+    plain: list[str] = []
+    for n in names:
+        if ":" in n:
+            pre, n = n.split(":", 1)
+            s2 = resolve_standard(pm, pre)
+            if std is not None and s2 != std:
+                raise MetroError(f"item {pre}:{n} belongs to {s2}, not to --standard {std}",
+                                 hint="give items of one standard per run")
+            std = s2
+        plain.append(n)
+    if std is None:
+        raise MetroError("no --standard given", hint="e.g. --standard gbt45570, or write items as gbt45570:D.5.6 "
+                         "(`metro items` lists them)")
+    reg = pm.register_all()
+    items = sorted((c.item for c in pm.procedures_of(std)), key=item_sort_key)
+    series = sorted(ser.name for ser in reg.series.values() if ser.standard == std)
+    known = {x.lower(): x for x in items + series}
+    out = []
+    for n in plain:
+        if n in items or n in series:
+            out.append(n)
+        elif n.lower() in known:
+            out.append(known[n.lower()])
+        else:
+            raise PluginError(f"standard {std!r} has no item {n!r}{_did_you_mean(n, items + series)}; "
+                              f"its items: {', '.join(items)}" + (f"; its series: {', '.join(series)}" if series else ""),
+                              hint="`metro items --standard " + std + "` lists the items with their options")
+    return std, out
+
+
+def requested_items(pm, args) -> list[str]:
+    """The item and series ids of ``--standard``/``--item`` (``resolve_items``, which also sets
+    ``args.standard``); none without ``--all`` is an error.  Shared by run, plan and batch."""
+    from ..base.errors import MetroError
+
+    args.standard, items = resolve_items(pm, args.standard, _items(args.item))
+    if not items and not args.run_all:
+        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
+    return items
+
+
+class _Banner:
+    """The SIMULATED-station banner on stderr, printed once, when work starts (so a usage error
+    is never preceded by it) or, at the latest, before the results."""
+
+    def __init__(self, text: str | None) -> None:
+        self.text = text
+
+    def __call__(self) -> None:
+        if self.text:
+            from rich.console import Console
+
+            Console(stderr=True).print(self.text)
+            self.text = None
+
+
+def _show_progress(args) -> bool:
+    return not (getattr(args, "no_progress", False) or getattr(args, "quiet", False)) and sys.stderr.isatty()
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        code = _main(argv)
+        sys.stdout.flush()  # a closed pipe is found here, not at interpreter exit
+        return code
+    except BrokenPipeError:
+        # `metro plan … | head`: the reader stopped; no traceback, no "Exception ignored" at exit
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
+    except SystemExit as exc:  # argparse: --help (0) and usage errors (2)
+        if exc.code == 1 and _stdout_is_devnull():  # rich's own broken-pipe exit (Console.on_broken_pipe)
+            return EXIT_BROKEN_PIPE
+        return exc.code if isinstance(exc.code, int) else EXIT_USER_ERROR
+
+
+def _stdout_is_devnull() -> bool:
+    try:
+        a, b = os.fstat(sys.stdout.fileno()), os.stat(os.devnull)
+    except (OSError, ValueError, AttributeError):
+        return False
+    return (a.st_dev, a.st_ino) == (b.st_dev, b.st_ino)
+
+
+def _main(argv: Sequence[str] | None) -> int:
+    parser = _parser()
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        _unknown_arguments(parser, args.command, extra)
+    args.block_plugin = [*args.block_plugin, *getattr(args, "block_plugin_after", [])]
+    from ..base.errors import MetroError
+
+    try:
+        if args.version:
+            return _cmd_version(args)
+        if args.command is None:
+            parser.print_help()
+            return 0
+        if args.command == "run":
+            return _cmd_run(args)
+        if args.command == "plugins":
+            return _cmd_plugins(args)
+        if args.command == "items":
+            return _cmd_items(args)
+        if args.command == "plan":
+            return _cmd_plan(args)
+        if args.command == "acquire":
+            return _cmd_acquire(args)
+        if args.command == "batch":
+            return _cmd_batch(args)
+        if args.command == "doctor":
+            from .doctor import command
+
+            return command(args)
+        from . import register_commands as cli_register
+
+        if args.command in cli_register.COMMANDS:
+            return cli_register.dispatch(args)
+    except MetroError as exc:
+        if getattr(args, "json", False):
+            print(json.dumps({"error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
+                              "file": getattr(exc, "file", None), "field": getattr(exc, "field", None)}))
+        print(f"metro: error: {exc.reason}", file=sys.stderr)
+        if exc.hint:
+            print(f"  what to do: {exc.hint}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except KeyboardInterrupt:
+        if args.command == "batch":
+            print(f"metro: interrupted; the campaigns finished so far are kept in {args.out} (the same command "
+                  "resumes the batch)", file=sys.stderr)
+        else:
+            print("metro: interrupted; nothing was written", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    raise AssertionError(f"command {args.command!r} has no handler")  # pragma: no cover
+
+
+def _cmd_version(args) -> int:
+    from .. import __version__
+
+    print(f"metro {__version__}")
+    from ..run.plugin_manager import MetroPluginManager
+
+    # the plugins loaded as every command loads them, without their registration (their items'
+    # modules): the versions are the distributions'
+    pm = MetroPluginManager().load(autoload=False if args.no_plugin_autoload else None, block=args.block_plugin)
+    for name, info in sorted(pm.plugins.items()):
+        where = info.distribution or info.module
+        print(f"  plugin {name}: {where} {info.version or ''}".rstrip())
+    return 0
+
+
+# ----------------------------------------------------------------------------------------
+
+
+SIMULATED_BANNER = ("[bold yellow]No --data given: running on the built-in SIMULATED test station "
+                    "(a virtual device with declared, seeded truth).[/]")
+
+
+def _cmd_run(args) -> int:
+    from . import present
+    from ..run.runner import run_items
+
+    pm = _pm(args)
+    items = requested_items(pm, args)
+    options = _options(args.option)
+    station_options = _station_options(args)
+    if args.data is not None and (station_options or args.station):
+        from ..base.errors import MetroError
+
+        given = ", ".join(x for x, on in (("--station", args.station), ("--seed", args.seed is not None),
+                                          ("--station-option", bool(args.station_option))) if on)
+        raise MetroError(f"{given} acts on a station, and --data {args.data} was recorded already",
+                         hint="drop --data to run on a station, or drop the station arguments to evaluate the data")
+    if not args.no_report:  # checked before anything is evaluated (core.outputs)
+        from ..run.outputs import manifest_inputs, plan_report
+
+        plan_report(args.report, args.out, force=args.force, inputs=manifest_inputs(args.data),
+                    pdf=getattr(args, "pdf", False))
+        if getattr(args, "pdf", False) or str(args.report or "").lower().endswith(".pdf"):
+            from ..documents.document import soffice_path
+
+            soffice_path()  # no LibreOffice: said now, before anything is evaluated
+    banner = _Banner(SIMULATED_BANNER if args.data is None and not args.json and not args.quiet else None)
+    from .register_commands import drawing_ahead
+
+    with drawing_ahead(args, pm, len(items)), present.progress(enabled=_show_progress(args), started=banner) as prog:
+        record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
+                           station_options=station_options, progress=prog, run_all=args.run_all,
+                           decision_rule=args.decision_rule, **_lab_options(args))
+        for w in record.campaign.warnings:  # deprecated spellings, unknown keys (core.vocabulary)
+            print(f"metro: warning: {w}", file=sys.stderr)
+        report_path = registration = None
+        if not args.no_report:  # registered with a lab profile, else "not registered" (core/cli/register_commands.py)
+            from .register_commands import write_run_report
+
+            record, report_path, registration = write_run_report(args, pm, record, prog)
+    banner()
+    if args.json:
+        doc = present.as_json(record, report_path)
+        doc["register"] = registration
+        print(json.dumps(doc, ensure_ascii=False, indent=2))
+    else:
+        from pathlib import Path
+
+        pdf_path = None  # --pdf: the PDF goes beside the Word report, under the same name
+        if report_path is not None and getattr(args, "pdf", False) and Path(report_path).suffix.lower() == ".docx":
+            pdf_path = Path(report_path).with_suffix(".pdf")
+        present.print_record(record, report_path, verbose=args.verbose, pdf_path=pdf_path)
+        if registration is not None and not args.quiet:
+            from rich.console import Console
+
+            Console(stderr=True).print(f"registered as {registration['number']}" if registration["registered"]
+                                       else f"not registered ({registration['why']})")
+    a = record.conformity
+    code = exit_code_for(a.overall.value if a is not None and a.overall is not None else None)
+    if code != EXIT_OK and args.data is None and not args.strict:
+        # the verdict is about the simulated station's virtual device, not a device under test: the
+        # evaluation itself succeeded (the statement is printed, in --json and in the report)
+        if not args.json and not args.quiet:
+            print(f"metro: the verdict is about the simulated station's virtual device; exit code 0 "
+                  f"(--strict gives {code})", file=sys.stderr)
+        return EXIT_OK
+    return code
+
+
+def _lab_options(args) -> dict[str, Any]:
+    from .register_commands import run_lab_options  # the lab profile's equipment and due-date check
+
+    return run_lab_options(args)
+
+
+def _cmd_plugins(args) -> int:
+    pm = _pm(args)
+    reg = pm.registry
+    rows = []
+    for name, info in sorted(pm.plugins.items()):
+        stds = sorted(s.id for s in reg.standards.values() if s.plugin == name)
+        n_items = sum(1 for p in reg.procedures.values() if p.plugin == name)
+        rows.append({"name": name, "distribution": info.distribution, "version": info.version,
+                     "builtin": info.builtin, "module": info.module, "standards": stds, "items": n_items})
+    stations = [{"name": st.name, "plugin": st.plugin, "description": st.description}
+                for _, st in sorted(reg.stations.items())]
+    drivers = [{"name": d.name, "kind": d.kind, "plugin": d.plugin, "description": d.description,
+                "class": f"{d.cls.__module__}.{d.cls.__qualname__}"} for _, d in sorted(reg.drivers.items())]
+    if args.json:
+        print(json.dumps({"plugins": rows, "stations": stations, "drivers": drivers,
+                          "autoload": not (args.no_plugin_autoload or os.environ.get("METRO_DISABLE_PLUGIN_AUTOLOAD"))},
+                         indent=2, ensure_ascii=False))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title="metro plugins")
+    for col in ("plugin", "distribution", "version", "built-in", "standards", "items"):
+        t.add_column(col)
+    for r in rows:
+        t.add_row(r["name"], r["distribution"] or "-", r["version"] or "-", "yes" if r["builtin"] else "no",
+                  ", ".join(r["standards"]) or "-", str(r["items"]))
+    console = Console()
+    console.print(t)
+    ts = Table(title="stations (metro acquire --station NAME)")
+    for col in ("station", "plugin", "description"):
+        ts.add_column(col)
+    for st in stations:
+        ts.add_row(st["name"], st["plugin"], st["description"] or "-")
+    console.print(ts)
+    td = Table(title="drivers (live instruments; a bench file names them)")
+    for col in ("driver", "kind", "plugin", "description"):
+        td.add_column(col)
+    for d in drivers:
+        td.add_row(d["name"], d["kind"], d["plugin"], d["description"] or "-")
+    console.print(td)
+    return 0
+
+
+def _option_text(name: str, o: dict) -> str:
+    """``name = default`` for `metro items` (just ``name`` when there is no default); a number
+    gets the option's unit, a text default carries its own."""
+    d = o["default"]
+    if d is None or d == "":
+        return name
+    unit = f" {o['unit']}" if o["unit"] and isinstance(d, (int, float)) and not isinstance(d, bool) else ""
+    return f"{name} = {d}{unit}"
+
+
+def _cmd_items(args) -> int:
+    pm = _pm(args)
+    rows = []
+    from ..run.plugin_manager import item_sort_key
+
+    std = resolve_standard(pm, args.standard) if args.standard else None
+    for pid, info in sorted(pm.registry.procedures.items(), key=lambda kv: item_sort_key(kv[0])):
+        cls = info.cls
+        if std and cls.standard != std:
+            continue
+        rows.append({"id": pid, "standard": cls.standard, "item": cls.item, "title": cls.title,
+                     "clause": cls.clause, "plugin": info.plugin,
+                     "options": {o.name: {"default": o.default, "unit": o.unit, "description": o.description}
+                                 for o in cls.options}})
+    series = [{"id": key, "standard": ser.standard, "name": ser.name, "members": list(ser.members),
+               "description": ser.description, "plugin": ser.plugin}
+              for key, ser in sorted(pm.registry.series.items())
+              if not std or ser.standard == std]
+    if args.json:
+        print(json.dumps({"items": rows, "series": series}, ensure_ascii=False, indent=2))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    con = Console(highlight=False)
+    standards = pm.registry.standards
+    for sid in sorted({r["standard"] for r in rows}):
+        info = standards[sid]
+        con.print(f"[bold]{sid}[/] — {info.designation or info.title}"
+                  + (f": {info.title}" if info.designation and info.title else ""))
+        con.print(f"[dim]run as: metro run -s {sid} -i ITEM (or -i {sid}:ITEM)[/]")
+        grid = Table.grid(padding=(0, 2))
+        grid.add_column(no_wrap=True)
+        grid.add_column(overflow="fold")
+        for r in rows:
+            if r["standard"] != sid:
+                continue
+            text = r["title"] + (f" (clause {r['clause']})" if r["clause"] != r["item"] else "")
+            if r["options"]:
+                text += "\n[dim]options:[/] " + ", ".join(_option_text(k, o) for k, o in r["options"].items())
+            grid.add_row(r["item"], text)
+        con.print(grid)
+        mine = [ser for ser in series if ser["standard"] == sid]
+        if mine:  # `metro run -s S -i NAME` runs the members that apply to the device
+            con.print("[dim]series (-i NAME runs the members that apply to the device):[/]")
+            sg = Table.grid(padding=(0, 2))
+            sg.add_column(no_wrap=True)
+            sg.add_column(overflow="fold")
+            for ser in mine:
+                sg.add_row(ser["name"], ", ".join(ser["members"])
+                           + (f" — {ser['description']}" if ser["description"] else ""))
+            con.print(sg)
+        con.print()
+    con.print("[dim]`metro items --json` gives each option's unit and description[/]")
+    return 0
+
+
+def _cmd_plan(args) -> int:
+    from ..run.runner import merge_steps, select_items, station_device
+
+    pm = _pm(args)
+    items = requested_items(pm, args)
+    if args.run_all or any(pm.series(args.standard, i) is not None for i in items):
+        # a series or --all: the members that apply to the station's device
+        cands = pm.procedures_of(args.standard)
+        device = station_device(pm, cands[0].station if cands else "simulated", {})
+        items, _ = select_items(pm, args.standard, items, device=device, run_all=args.run_all)
+    procs = [pm.procedure(args.standard, i) for i in items]
+    steps = merge_steps([cls().sequence(cls.option_values({})) for cls in procs])
+    columns = _plan_columns(procs)
+    rows = [{"segment": s.segment, "kind": s.kind, "duration": f"{s.duration:~P}", "interval": f"{s.interval:~P}",
+             "warmup": f"{s.warmup:~P}" if s.warmup is not None else None,
+             "conditions": {k: str(v) for k, v in s.conditions.items()}, "columns": columns.get(s.kind, {}),
+             "description": s.description}
+            for s in steps]
+    record_s = sum(float(s.duration.to("s").magnitude) for s in steps)
+    warmup_s = sum(float(s.warmup.to("s").magnitude) for s in steps if s.warmup is not None)
+    total = {"steps": len(steps), "items": list(items), "recording_s": record_s, "warmup_s": warmup_s,
+             "total_s": record_s + warmup_s}
+    if args.json:
+        print(json.dumps({"steps": rows, "total": total}, ensure_ascii=False, indent=2))
+        return 0
+    for i, r in enumerate(rows, 1):
+        print(f"{i}. [{r['segment']}] {r['description']}")
+        print(f"   kind={r['kind']} duration={r['duration']} interval={r['interval']}"
+              + (f" warm-up≥{r['warmup']}" if r["warmup"] else "")
+              + "".join(f" {k}={v}" for k, v in r["conditions"].items())
+              + ("; columns: " + ", ".join(f"{c} [{' or '.join(u)}]" for c, u in r["columns"].items())
+                 if r["columns"] else ""))
+    print(f"total: {len(steps)} steps for {len(items)} item(s): {_duration(record_s)} of recording"
+          + (f" + {_duration(warmup_s)} of warm-up = {_duration(record_s + warmup_s)}" if warmup_s else "")
+          + " (set-up time between steps not included)")
+    return 0
+
+
+def _plan_columns(procs) -> dict[str, dict[str, list[str]]]:
+    """Per segment kind, the samples-file columns the items read and the units each accepts
+    (any unit of the same kind is read): the units every item reading that kind accepts, or all of
+    them when the items differ (data-format.md: `metro plan` says what each segment needs)."""
+    from ..base.units import fmt_unit, unit
+
+    out: dict[str, dict[str, list[str]]] = {}
+    for cls in procs:
+        for req in cls.requires:
+            per = out.setdefault(req.kind, {})
+            for name, accepted in req.columns.items():
+                acc = [fmt_unit(unit(a)) for a in accepted]
+                have = per.get(name)
+                if have is None:
+                    per[name] = acc
+                else:
+                    both = [a for a in have if a in acc]
+                    per[name] = both or have + [a for a in acc if a not in have]
+    return out
+
+
+def _duration(seconds: float) -> str:
+    """``36 h 20 min`` / ``12 min 30 s`` / ``45 s``."""
+    s = int(round(seconds))
+    h, rem = divmod(s, 3600)
+    m, sec = divmod(rem, 60)
+    parts = [f"{h} h" if h else "", f"{m} min" if m else "", f"{sec} s" if sec and not h else ""]
+    return " ".join(p for p in parts if p) or "0 s"
+
+
+def _number(text: str) -> Any:
+    for conv in (int, float):
+        try:
+            return conv(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _station_options(args) -> dict[str, Any]:
+    """--station-option NAME=VALUE (numbers read as numbers) and --seed, for the station's factory."""
+    opts = {k: _number(v) for k, v in _options(args.station_option).items()}
+    if args.seed is not None:
+        opts["seed"] = args.seed
+    return opts
+
+
+def _cmd_acquire(args) -> int:
+    from rich.console import Console
+
+    from metro.core.run.manifest_writer import NPY_ROWS, acquire_campaign
+
+    from . import present
+
+    pm = _pm(args)
+    args.standard, items = resolve_items(pm, args.standard, _items(args.item))
+    station_options = _station_options(args)
+    with present.progress(enabled=_show_progress(args)) as prog:
+        manifest = acquire_campaign(pm, args.standard, items, args.out, station=args.station,
+                                    options=_options(args.option), station_options=station_options,
+                                    npy_rows=args.npy_rows or NPY_ROWS, progress=prog, run_all=args.run_all)
+    if not args.quiet:
+        Console(stderr=True).print(f"campaign written: {manifest}")
+    print(manifest)
+    return 0
+
+
+def _cmd_batch(args) -> int:
+    from .batch import command
+
+    return command(args)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,341 @@
+"""Terminal and JSON presentation of a run record (rich tables, progress bars)."""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from pathlib import Path
+from typing import Any, Callable, Iterator
+
+from ..model.provenance import RunRecord
+from ..documents.report import fmt_dof, fmt_num, fmt_quantity, pretty_powers, with_unit
+from ..base.units import fmt_unit
+
+
+#: progress events with these task names count towards the overall bar (core.runner, core.batch)
+OVERALL_TASKS = ("segments", "items", "campaigns")
+
+
+@contextlib.contextmanager
+def progress(enabled: bool = True, started: Callable[[], None] | None = None, console: Any = None) -> Iterator[Any]:
+    """A ``progress(task, done, total)`` callback for a terminal: two lines on stderr, no more —
+    one overall bar (the ``segments``/``items``/``campaigns`` events summed: done of total,
+    elapsed, remaining) and the current step (the latest other task, with its own fraction).
+    The display is removed at the end; ``console`` is rich's (default: stderr).  ``started`` is called at the first event (the banner
+    of a simulated run), also when the display is disabled.  Disabled: no output at all."""
+    first = [started]
+
+    def start() -> None:
+        if first[0] is not None:
+            first[0]()
+            first[0] = None
+
+    if not enabled:
+        if started is None:
+            yield None
+            return
+
+        def quiet(task: str, done: float, total: float) -> None:
+            start()
+
+        yield quiet
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+    from rich.table import Column
+
+    console = console or Console(stderr=True)
+    width = max(20, console.width - 60)
+    bar = Progress(TextColumn("{task.description}", table_column=Column(no_wrap=True, width=width)),
+                   BarColumn(bar_width=20), TextColumn("{task.fields[count]}", table_column=Column(no_wrap=True)),
+                   TimeElapsedColumn(), TimeRemainingColumn(), console=console, transient=True)
+    counts: dict[str, list[float]] = {}
+    state: dict[str, Any] = {"overall": None, "step": None}
+
+    def clip(text: str) -> str:
+        return text if len(text) <= width else text[: width - 1] + "…"
+
+    def update(task: str, done: float, total: float) -> None:
+        start()
+        if task in OVERALL_TASKS:
+            counts[task] = [float(done), float(total)]
+            d = sum(c[0] for c in counts.values())
+            t = sum(c[1] for c in counts.values()) or 1
+            text = ", ".join(f"{int(c[0])}/{int(c[1])} {k}" for k, c in counts.items() if c[1])
+            if state["overall"] is None:
+                state["overall"] = bar.add_task("overall", total=t, count="")
+            bar.update(state["overall"], completed=d, total=t, description=clip("overall"), count=text)
+            return
+        if state["step"] is None:
+            state["step"] = bar.add_task("", total=1, count="")
+        frac = f"{100 * done / total:5.1f}%" if total else ""
+        bar.update(state["step"], description=clip(task), completed=done, total=total or 1, count=frac)
+
+    update.display = bar  # type: ignore[attr-defined]  # for tests: the rich Progress and its tasks
+    with bar:
+        yield update
+
+
+def _q(v: Any) -> Any:
+    try:
+        import pint
+
+        if isinstance(v, pint.Quantity):
+            return {"value": float(v.magnitude), "unit": fmt_unit(v.units)}
+    except ImportError:  # pragma: no cover
+        pass
+    return v if isinstance(v, (int, float, str, bool)) or v is None else str(v)
+
+
+def truth_checks(record: RunRecord) -> list[dict[str, Any]]:
+    """On a simulated run, compare each result with the station's expected value (by metric key)."""
+    if not record.simulated:
+        return []
+    exp = record.campaign.expected
+    out = []
+    for o in record.outcomes:
+        for r in o.results:
+            if r.metric.key not in exp or r.U is None:
+                continue
+            unit = r.metric.unit
+            v = float(r.value.to(unit).magnitude)
+            t = float(exp[r.metric.key].to(unit).magnitude)
+            U = float(r.U.magnitude)
+            out.append({"item": o.item, "key": r.metric.key, "truth": t, "value": v, "U": U,
+                        "within_U": abs(v - t) <= U, "reportable": bool(getattr(r, "reportable", True)),
+                        "unit": fmt_unit(unit)})
+    return out
+
+
+def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
+    results = []
+    budgets = []
+    for o in record.outcomes:
+        for r in o.results:
+            d = r.as_dict()
+            d["item"] = o.item
+            d["budget"] = r.budget.as_dict() if r.budget is not None else None
+            if r.budget is not None:
+                budgets.append(d["budget"] | {"item": o.item})
+            results.append(d)
+    c = record.campaign
+    return {
+        "standard": record.standard,
+        "item": ",".join(o.item for o in record.outcomes),
+        "items": [{"item": o.item, "title": o.title, "clause": o.clause, "warnings": list(o.warnings),
+                   "tables": [{"name": t.name, "title": t.title, "header": list(t.header),
+                               "rows": [list(map(str, r)) for r in t.rows]} for t in o.tables]}
+                  for o in record.outcomes],
+        "results": results,
+        "budget": budgets[0] if budgets else None,
+        "budgets": budgets,
+        "report": str(report_path) if report_path else None,
+        "report_number": record.report_number,
+        "simulated": record.simulated,
+        "truth": {k: _q(v) for k, v in record.truth.items()},
+        "truth_checks": truth_checks(record),
+        "device": {"id": c.device.id, "model": c.device.model, "serial": c.device.serial},
+        "environment": {k: _q(v) for k, v in c.environment.items()},
+        "site": {k: _q(v) for k, v in c.site.items()},
+        "equipment": [{"id": e.id, "role": e.role, "status": e.status(record.test_date),
+                       "calibration_valid": None if e.calibration is None
+                       else e.calibration.is_valid(record.test_date)} for e in c.equipment],
+        "manifest_warnings": list(c.warnings),
+        "timings_s": dict(record.timings),
+        "selection": [{"item": ch.item, "run": ch.run, "reason": ch.reason, "via": ch.via}
+                      for ch in record.selection],
+        "conformity": None if record.conformity is None else {
+            "rule": record.conformity.rule.name,
+            "statement": record.conformity.rule.statement,
+            "overall": record.conformity.overall.value if record.conformity.overall else None,
+            "verdicts": [v.as_dict() for v in record.conformity.verdicts],
+            "not_assessed": [{"symbol": sp.symbol, "limit": sp.text(), "source": sp.source}
+                             for sp in record.conformity.not_assessed],
+        },
+        "provenance": {"software": dict(record.software), "plugins": dict(record.plugins),
+                       "data_files": [{"file": f, "sha256": h} for f, h in record.data_files],
+                       "manifest": {"file": c.source, "sha256": c.manifest_sha256} if c.manifest_sha256 else None,
+                       "source": c.source, "created": record.created.isoformat()},
+    }
+
+
+OVERALL_TEXT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}
+
+
+def verdict_line(assessment: Any) -> str:
+    """The overall statement with its counts: ``does not conform: 17 pass, 2 fail, 6 indeterminate``."""
+    if assessment is None or assessment.overall is None:
+        return "not judged: no specification applies to these results"
+    c = assessment.counts()
+    line = f"{OVERALL_TEXT[assessment.overall.value]}: " + ", ".join(
+        f"{c[k]} {k}" for k in ("pass", "fail", "indeterminate") if c.get(k))
+    if assessment.not_assessed:
+        line += f"; {len(assessment.not_assessed)} not assessed (items not run)"
+    return line + f" ({assessment.rule.name} rule)"
+
+
+def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool = False,
+                 pdf_path: Path | None = None) -> None:
+    """The run on the terminal: one results table (with each result's verdict), warnings, the
+    overall verdict line and where the report went (``pdf_path``: the PDF written beside a Word
+    report, ``--pdf``); ``verbose`` adds item selection, budgets, tables, truth checks, the
+    conformity reasons and the data files' SHA-256."""
+    from rich.console import Console
+    from rich.table import Table
+
+    from rich.markup import escape as esc  # messages and file names are text, not markup: "[device] key" stays
+
+    con = Console(highlight=False)
+    c = record.campaign
+    con.print(f"[bold]{record.standard}[/] on {esc(c.device.describe())} — campaign {esc(str(c.id))} ({esc(str(c.source))})")
+    if record.selection:
+        ran = sum(1 for ch in record.selection if ch.run)
+        if verbose:
+            for ch in record.selection:
+                mark = "[green]run[/]" if ch.run else "[dim]not run[/]"
+                con.print(f"  {ch.item} ({esc(str(ch.via))}): {mark} — {esc(str(ch.reason))}")
+        elif ran < len(record.selection):
+            con.print(f"{ran} of {len(record.selection)} candidate items run; not run: "
+                      + ", ".join(ch.item for ch in record.selection if not ch.run) + " (--verbose says why)")
+    colour = {"pass": "green", "fail": "red", "indeterminate": "yellow"}
+    verdicts: dict[tuple[str, str], Any] = {}
+    if record.conformity is not None:
+        for v in record.conformity.verdicts:
+            verdicts[(v.item, v.key)] = v
+    t = Table(title="Results", title_justify="left")
+    # (item, symbol, reason) of the results not reportable: one says why in its row; several, below the
+    # table, a reason (or a part of one) they share stated once (core.notes.group_notes)
+    # (a result that states a bound says why in its own row: it is issued as the bound)
+    withheld: list[tuple[str, str, Any]] = [(o.item, r.metric.symbol, r.reason) for o in record.outcomes
+                                            for r in o.results if not r.reportable and not r.bound]
+    for col in ("item", "quantity", "value", "U (k)", "unit", "verdict / note"):
+        t.add_column(col, justify="right" if col in ("value", "U (k)") else "left",
+                     overflow="fold", no_wrap=col in ("value", "U (k)"))
+    for o in record.outcomes:
+        for r in o.results:
+            v, U = r.reported()
+            if U is not None:
+                u_text = f"{U} ({r.k:.2f})" if r.k else U
+            else:
+                u_text = f"u = {fmt_num(float(r.u.magnitude), 2)}" if r.u is not None else "-"
+            notes = []
+            ver = verdicts.get((o.item, r.metric.key))
+            if ver is not None:
+                st = ver.status.value
+                notes.append(f"[{colour[st]}]{st}[/]" + (f" ({esc(ver.detail)})" if ver.detail not in ("pass", "fail") else "")
+                             + f" vs {esc(ver.spec.text())}")
+            if r.bound:
+                v = f"{r.bound_sign} {v}"
+                notes.append(f"a bound: {esc(r.reason)}")
+            elif not r.reportable:
+                notes.append(f"[yellow]not reportable:[/] {esc(r.reason)}" if len(withheld) == 1 else
+                             "[yellow]not reportable[/] (why: below)")
+            if r.earth_rate:
+                notes.append(f"earth rate {r.earth_rate}")
+            t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)), esc(str(u_text)),
+                      esc(fmt_unit(r.metric.unit)), "; ".join(notes))
+    con.print(t)
+    from ..documents.notes import group_notes
+
+    for where, reason in (group_notes(withheld) if len(withheld) > 1 else ()):
+        con.print(f"[yellow]not reportable ({esc(where)}):[/] {esc(pretty_powers(str(reason)))}")
+    if verbose:
+        for o in record.outcomes:
+            _print_budgets_and_tables(con, o)
+    # a warning several items give (a campaign's drift seen by 7.2.1, 7.2.2 and 7.2.3) is printed once,
+    # naming them, where its first item's warnings are
+    said: dict[str, list[str]] = {}
+    for o in record.outcomes:
+        for w in o.warnings:
+            items = said.setdefault(str(w), [])
+            if o.item not in items:
+                items.append(o.item)
+    for text, items in said.items():
+        con.print(f"[yellow]warning ({', '.join(items)}):[/] {esc(pretty_powers(text))}")
+    for e in c.equipment:
+        if e.calibration is not None and not e.calibration.is_valid(record.test_date):
+            con.print(f"[bold red]equipment {esc(str(e.id))}[/]: {esc(e.status(record.test_date))} — results that depend on it "
+                      "are not traceable; recalibrate it or use other equipment")
+    checks = truth_checks(record)
+    if record.simulated and not record.truth:
+        con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated station "
+                  "(its manifest says simulated = true); the report carries the SIMULATED banner")
+    elif record.simulated:
+        judged = [ch for ch in checks if ch["reportable"]]
+        inside = sum(1 for ch in judged if ch["within_U"])
+        withheld = len(checks) - len(judged)
+        con.print("[bold yellow]SIMULATED station[/]: " + (f"declared truth recovered within U by {inside} of "
+                  f"{len(judged)} reportable results" if checks else "the station declared its truth")
+                  + (f" ({withheld} not reportable)" if withheld else "")
+                  + ("" if verbose else " (--verbose shows them)"))
+        if verbose:
+            con.print("  declared truth " + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
+            for ch in checks:
+                mark = ("[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]") + (
+                    "" if ch["reportable"] else " [yellow](not reportable)[/]")
+                con.print(f"  {ch['item']} {ch['key']}: result {fmt_num(ch['value'], 5)} vs truth "
+                          f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → {mark}")
+    a = record.conformity
+    if a is not None and verbose:
+        ct = Table(title=f"Conformity — {a.rule.title}", title_justify="left")
+        for col in ("item", "result", "limit", "source", "verdict", "why"):
+            ct.add_column(col)
+        for v in a.verdicts:
+            st = v.status.value
+            ct.add_row(v.item, v.key, esc(v.spec.text()), esc(v.spec.source),
+                       f"[{colour[st]}]{st}[/]" + (f" ({esc(v.detail)})" if v.detail not in ("pass", "fail") else ""),
+                       esc(v.reason))
+        con.print(ct)
+        if a.not_assessed:
+            con.print("not assessed (item not performed): "
+                      + ", ".join(f"{sp.symbol} {sp.text()}" for sp in a.not_assessed))
+    if verbose:
+        for f, h in record.data_files:
+            con.print(f"data: {esc(str(f))}  sha256 {h}")
+    overall = a.overall.value if a is not None and a.overall is not None else None
+    style = colour.get(overall or "", "bold")
+    con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)  # one line: scripts grep it
+    if report_path:  # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
+        kind = "PDF report" if str(report_path).lower().endswith(".pdf") else "Word report"
+        also = f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind == "Word report" else ""
+        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}{also}", soft_wrap=True)
+    else:  # --no-report: no document, so no number either
+        con.print("no report written", soft_wrap=True)
+
+
+def _print_budgets_and_tables(con: Any, o: Any) -> None:
+    from rich.markup import escape as esc
+    from rich.table import Table
+
+    for r in o.results:
+        if r.budget is None:
+            continue
+        b = r.budget.as_dict()
+        bt = Table(title=esc(f"Budget {o.item} {r.metric.symbol} [{b['unit']}]"))
+        for col in ("source", "type", "dist.", "u(xᵢ)", "cᵢ", "uᵢ(y)", "ν"):
+            bt.add_column(col)
+        for row in b["rows"]:
+            bt.add_row(esc(row["source"]), row["type"], row["distribution"],
+                       with_unit(fmt_num(row["standard_uncertainty"], 3), row["value_unit"]),
+                       with_unit(fmt_num(row["sensitivity"], 3), row["sensitivity_unit"]),
+                       fmt_num(row["contribution"], 3),
+                       fmt_dof(row["dof"]))
+        unit_ = "" if b["unit"] == "1" else f" {b['unit']}"
+        bt.caption = (f"u_c = {fmt_num(b['u_c'], 3)}{unit_}, ν_eff = {fmt_dof(b['nu_eff'])}, k = {b['k']:.2f}, "
+                      f"U = {b['U_reported']}{unit_}")
+        con.print(bt)
+    for tab in o.tables:
+        tt = Table(title=esc(str(tab.title)))
+        for h in tab.header:
+            tt.add_column(esc(str(h)), justify="right")
+        for row in tab.rows:
+            tt.add_row(*(esc(str(x)) for x in row))
+        con.print(tt)
+
+
+def _fmt(v: Any) -> str:
+    """A declared truth value on the terminal: a quantity with its unit, powers of ten as ×10ⁿ."""
+    return pretty_powers(fmt_quantity(v, 6))
+
+
+__all__ = ["progress", "as_json", "print_record", "truth_checks", "verdict_line", "math"]

@@ -1,0 +1,493 @@
+"""A typed wrapper around pluggy's plugin manager, and the registrars plugins talk to.
+
+The core never calls ``pm.hook.…`` directly: it calls the typed methods of
+:class:`MetroPluginManager`.  Registration hooks are called once per plugin with a
+registrar bound to that plugin's name, so every registered thing knows where it came from
+and duplicates are reported with both names.
+
+Loading: plugins come from the ``metro`` entry-point group — metro's own built-ins
+included.  ``METRO_DISABLE_PLUGIN_AUTOLOAD=1`` (or ``--no-plugin-autoload``) loads only the
+built-ins of the ``metro`` distribution, plus any named in ``METRO_PLUGINS``;
+``METRO_BLOCK_PLUGINS=a,b`` (or ``--block-plugin a``) blocks plugins by name.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from importlib import metadata
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
+
+import attrs
+import pluggy
+
+from ..model import hookspec
+from ..base.errors import PluginError
+from ..base.extras import DISTRIBUTION
+from ..model.campaign import Campaign
+from ..model.results import Outcome
+from ..model.procedure import Procedure, RunContext
+from ..base.units import add_definitions
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..uncertainty.conformity import Specification
+    from ..model.procedure import Applicability
+
+ENTRY_POINT_GROUP = "metro"
+BUILTIN_DIST = DISTRIBUTION  # metro's own plugins come from metro's distribution
+
+# --------------------------------------------------------------------------------------
+# Registered things
+# --------------------------------------------------------------------------------------
+
+
+@attrs.frozen
+class StandardInfo:
+    id: str
+    title: str
+    designation: str
+    plugin: str
+    description: str = ""
+
+
+@attrs.frozen
+class ProcedureInfo:
+    cls: type[Procedure]
+    plugin: str
+
+    @property
+    def id(self) -> str:
+        return self.cls.qualified_id()
+
+
+@attrs.frozen
+class SeriesInfo:
+    """A named group of items of one standard (e.g. GB/T 45570 ``scale-factor``): running
+    the series runs those of its members that apply to the device."""
+
+    standard: str
+    name: str
+    members: tuple[str, ...]
+    description: str
+    plugin: str
+
+
+@attrs.frozen
+class ReaderInfo:
+    suffixes: tuple[str, ...]
+    read: Callable[..., Any]
+    description: str
+    plugin: str
+
+
+@attrs.frozen
+class StationInfo:
+    name: str
+    factory: Callable[..., Any]
+    description: str
+    plugin: str
+
+
+@attrs.frozen
+class DriverInfo:
+    name: str
+    kind: str
+    cls: type
+    description: str
+    plugin: str
+
+
+@attrs.frozen
+class TemplateInfo:
+    """A registered document: a docxtpl template (``path``) or a layout for
+    :class:`metro.core.documents.document.DocumentBuilder` (``layout``: ``"module:function"`` or a callable)."""
+
+    name: str
+    path: Path | None
+    standard: str | None
+    kind: str
+    plugin: str
+    layout: Any = None
+
+
+@attrs.frozen
+class PluginInfo:
+    name: str
+    module: str
+    distribution: str | None
+    version: str | None
+    builtin: bool
+
+
+@attrs.define
+class Registry:
+    """What all plugins registered."""
+
+    standards: dict[str, StandardInfo] = attrs.field(factory=dict)
+    procedures: dict[str, ProcedureInfo] = attrs.field(factory=dict)
+    series: dict[str, SeriesInfo] = attrs.field(factory=dict)
+    readers: dict[str, ReaderInfo] = attrs.field(factory=dict)
+    stations: dict[str, StationInfo] = attrs.field(factory=dict)
+    templates: dict[str, TemplateInfo] = attrs.field(factory=dict)
+    drivers: dict[str, DriverInfo] = attrs.field(factory=dict)
+
+
+# --------------------------------------------------------------------------------------
+# Registrars (one per plugin per hook call)
+# --------------------------------------------------------------------------------------
+
+
+@attrs.define
+class _Registrar:
+    registry: Registry
+    plugin: str
+
+    def _dup(self, what: str, key: str, other: str) -> PluginError:
+        return PluginError(
+            f"{what} {key!r} is registered twice: by plugin {other!r} and by plugin {self.plugin!r}",
+            hint=f"block one of them (METRO_BLOCK_PLUGINS={self.plugin}) or rename the {what}",
+        )
+
+
+class StandardRegistrar(_Registrar):
+    """Validates and records standards and procedures for one plugin."""
+
+    def add_standard(self, id: str, title: str, designation: str = "", description: str = "") -> None:
+        if not id or not id.replace("_", "").isalnum() or id != id.lower():
+            raise PluginError(f"plugin {self.plugin!r}: standard id {id!r} must be lower-case letters/digits")
+        if id in self.registry.standards:
+            raise self._dup("standard", id, self.registry.standards[id].plugin)
+        self.registry.standards[id] = StandardInfo(id, title, designation, self.plugin, description)
+
+    def add_procedure(self, cls: type[Procedure]) -> None:
+        if not (isinstance(cls, type) and issubclass(cls, Procedure)):
+            raise PluginError(f"plugin {self.plugin!r}: {cls!r} is not a metro Procedure subclass")
+        for attr in ("standard", "item", "title", "clause"):
+            if not getattr(cls, attr, None):
+                raise PluginError(f"plugin {self.plugin!r}: procedure {cls.__name__} has no {attr!r}")
+        if getattr(cls, "__abstractmethods__", None):
+            raise PluginError(
+                f"plugin {self.plugin!r}: procedure {cls.__name__} does not implement "
+                f"{', '.join(sorted(cls.__abstractmethods__))}"
+            )
+        pid = cls.qualified_id()
+        if pid in self.registry.procedures:
+            raise self._dup("item", pid, self.registry.procedures[pid].plugin)
+        self.registry.procedures[pid] = ProcedureInfo(cls, self.plugin)
+
+    def add_series(self, standard: str, name: str, members: Sequence[str], description: str = "") -> None:
+        """A series alias: ``metro run -s standard -i name`` runs those ``members`` (item ids) that
+        are registered and apply to the device (``metro_item_applicability``), and says which
+        it chose and why.  A name may not be an item id; members need not all be registered yet."""
+        if not name or not members:
+            raise PluginError(f"plugin {self.plugin!r}: series needs a name and at least one member item")
+        key = f"{standard}:{name}"
+        if key in self.registry.series:
+            raise self._dup("series", key, self.registry.series[key].plugin)
+        self.registry.series[key] = SeriesInfo(standard, name, tuple(members), description, self.plugin)
+
+
+class ReaderRegistrar(_Registrar):
+    def add_reader(self, suffixes: Sequence[str], read: Callable[..., Any], description: str = "") -> None:
+        if not callable(read):
+            raise PluginError(f"plugin {self.plugin!r}: reader for {suffixes} is not callable")
+        sfx = tuple(s.lower() if s.startswith(".") else "." + s.lower() for s in suffixes)
+        for s in sfx:
+            if s in self.registry.readers:
+                raise self._dup("reader for suffix", s, self.registry.readers[s].plugin)
+        info = ReaderInfo(sfx, read, description, self.plugin)
+        for s in sfx:
+            self.registry.readers[s] = info
+
+
+class StationRegistrar(_Registrar):
+    def add_station(self, name: str, factory: Callable[..., Any], description: str = "") -> None:
+        if name in self.registry.stations:
+            raise self._dup("station", name, self.registry.stations[name].plugin)
+        self.registry.stations[name] = StationInfo(name, factory, description, self.plugin)
+
+
+class TemplateRegistrar(_Registrar):
+    def add_template(self, name: str, path: Path | str | None = None, *, standard: str | None = None,
+                     kind: str = "report", layout: Any = None) -> None:
+        """A docxtpl template file (``path``), or a document layout (``layout``: a function
+        ``layout(doc, ctx)`` or its ``"module:function"`` name) built by metro.core.documents.document."""
+        if (path is None) == (layout is None):
+            raise PluginError(f"plugin {self.plugin!r}: template {name!r} needs a path or a layout (one of them)")
+        p = None if path is None else Path(path)
+        if p is not None and not p.is_file():
+            raise PluginError(f"plugin {self.plugin!r}: template {name!r} not found at {p}")
+        if name in self.registry.templates:
+            raise self._dup("template", name, self.registry.templates[name].plugin)
+        self.registry.templates[name] = TemplateInfo(name, p, standard, kind, self.plugin, layout)
+
+
+class DriverRegistrar(_Registrar):
+    """Validates and records live-instrument drivers for one plugin."""
+
+    def add_driver(self, name: str, kind: str, cls: type, description: str = "") -> None:
+        from metro.instruments.drivers.base import DRIVER_KINDS
+
+        if not isinstance(name, str) or not name or name != name.strip() or any(c.isspace() for c in name):
+            raise PluginError(f"plugin {self.plugin!r}: driver name {name!r} must be a non-empty word")
+        if kind not in DRIVER_KINDS:
+            raise PluginError(f"plugin {self.plugin!r}: driver {name!r} has unknown kind {kind!r}; "
+                              f"kinds: {', '.join(sorted(DRIVER_KINDS))}")
+        iface = DRIVER_KINDS[kind]
+        if not (isinstance(cls, type) and issubclass(cls, iface)):
+            raise PluginError(f"plugin {self.plugin!r}: driver {name!r} ({cls!r}) does not subclass "
+                              f"{iface.__module__}.{iface.__name__}",
+                              hint=f"derive the driver class from {iface.__name__} and implement its methods")
+        missing = sorted(getattr(cls, "__abstractmethods__", ()) or ())
+        if missing:
+            raise PluginError(f"plugin {self.plugin!r}: driver {name!r} ({cls.__name__}) does not implement "
+                              f"{', '.join(missing)}")
+        if name in self.registry.drivers:
+            raise self._dup("driver", name, self.registry.drivers[name].plugin)
+        self.registry.drivers[name] = DriverInfo(name, kind, cls, description, self.plugin)
+
+
+# --------------------------------------------------------------------------------------
+# The manager
+# --------------------------------------------------------------------------------------
+
+
+def item_sort_key(item: str) -> tuple:
+    """Order item ids as the standards number them: 7.2.2 before 7.2.10, D.1.6 before D.2.1."""
+    import re
+
+    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.findall(r"\d+|[^\d.:]+", item))
+
+
+def _env_list(name: str) -> list[str]:
+    return [x.strip() for x in os.environ.get(name, "").split(",") if x.strip()]
+
+
+class MetroPluginManager:
+    """metro's plugin manager: loads plugins, runs registration, exposes typed hook calls."""
+
+    def __init__(self) -> None:
+        self.pm = pluggy.PluginManager(hookspec.PROJECT)
+        self.pm.add_hookspecs(hookspec)
+        self.registry = Registry()
+        self.plugins: dict[str, PluginInfo] = {}
+        self._registered = False
+
+    # -- loading ------------------------------------------------------------------------
+    def load(
+        self,
+        *,
+        autoload: bool | None = None,
+        block: Iterable[str] = (),
+        extra: Iterable[str] = (),
+    ) -> "MetroPluginManager":
+        """Load plugins from the entry-point group, honouring autoload/block settings."""
+        if autoload is None:
+            autoload = os.environ.get("METRO_DISABLE_PLUGIN_AUTOLOAD", "") in ("", "0")
+        blocked = set(block) | set(_env_list("METRO_BLOCK_PLUGINS"))
+        wanted = set(extra) | set(_env_list("METRO_PLUGINS"))
+        for name in blocked:
+            self.pm.set_blocked(name)
+        for ep in metadata.entry_points(group=ENTRY_POINT_GROUP):
+            dist = ep.dist.metadata["Name"] if ep.dist is not None else None
+            builtin = dist is not None and dist.lower().replace("_", "-") == BUILTIN_DIST
+            if ep.name in blocked or self.pm.is_blocked(ep.name) or ep.name in self.plugins:
+                continue
+            if not (autoload or builtin or ep.name in wanted):
+                continue
+            try:
+                obj = ep.load()
+            except Exception as exc:  # a broken third-party plugin must say who it is
+                raise PluginError(
+                    f"plugin {ep.name!r} (entry point {ep.value}, distribution {dist}) failed to load: {exc}",
+                    hint=f"block it with METRO_BLOCK_PLUGINS={ep.name} or fix/uninstall {dist}",
+                ) from exc
+            version = ep.dist.version if ep.dist is not None else None
+            self.add_plugin(obj, ep.name, distribution=dist, version=version, builtin=builtin)
+        for name in wanted - set(self.plugins):
+            if name in blocked:
+                continue
+            # METRO_PLUGINS may also name an importable module directly
+            try:
+                mod = importlib.import_module(name)
+            except ImportError as exc:
+                raise PluginError(f"plugin {name!r} named in METRO_PLUGINS cannot be imported: {exc}") from exc
+            if self.pm.is_registered(mod):  # an installed plugin named by its module: loaded already
+                continue
+            self.add_plugin(mod, name)
+        return self
+
+    def add_plugin(
+        self,
+        obj: Any,
+        name: str,
+        *,
+        distribution: str | None = None,
+        version: str | None = None,
+        builtin: bool = False,
+    ) -> None:
+        """Register a plugin object (module or instance) under ``name``."""
+        if self._registered:
+            raise PluginError(f"plugin {name!r} added after registration ran; add plugins first")
+        if name in self.plugins:
+            raise PluginError(f"two plugins are called {name!r}")
+        if self.pm.is_blocked(name):
+            return
+        self.pm.register(obj, name=name)
+        self.plugins[name] = PluginInfo(name, getattr(obj, "__name__", type(obj).__name__), distribution, version, builtin)
+
+    # -- registration ---------------------------------------------------------------------
+    def _call_each(self, hook_name: str, registrar_cls: type[_Registrar]) -> None:
+        caller = getattr(self.pm.hook, hook_name)
+        # call each implementation separately so the registrar knows who is registering;
+        # sorted by plugin name so the outcome never depends on registration order
+        for impl in sorted(caller.get_hookimpls(), key=lambda i: i.plugin_name):
+            reg = registrar_cls(self.registry, impl.plugin_name)
+            impl.function(registrar=reg)
+
+    def register_all(self) -> Registry:
+        """Run the set-up and registration phases once; return the registry."""
+        if self._registered:
+            return self.registry
+        for impl in sorted(self.pm.hook.metro_unit_definitions.get_hookimpls(), key=lambda i: i.plugin_name):
+            lines = impl.function() or ()
+            add_definitions(lines, source=f"plugin {impl.plugin_name}")
+        self._call_each("metro_register_standards", StandardRegistrar)
+        self._call_each("metro_register_readers", ReaderRegistrar)
+        self._call_each("metro_register_stations", StationRegistrar)
+        self._call_each("metro_register_templates", TemplateRegistrar)
+        self._call_each("metro_register_drivers", DriverRegistrar)
+        for key, ser in self.registry.series.items():
+            if key in self.registry.procedures:
+                raise PluginError(f"plugin {ser.plugin!r}: series {key!r} has the id of an item")
+        for pid, info in self.registry.procedures.items():
+            if info.cls.standard not in self.registry.standards:
+                raise PluginError(
+                    f"plugin {info.plugin!r} registered item {pid!r} of standard "
+                    f"{info.cls.standard!r}, which no loaded plugin registers"
+                )
+        self._registered = True
+        return self.registry
+
+    # -- typed lookups ----------------------------------------------------------------------
+    def procedure(self, standard: str, item: str) -> type[Procedure]:
+        reg = self.register_all()
+        if standard not in reg.standards:
+            raise PluginError(
+                f"unknown standard {standard!r}; loaded: {', '.join(sorted(reg.standards)) or 'none'}",
+                hint="`metro plugins` lists loaded plugins; `metro items` lists every item",
+            )
+        pid = f"{standard}:{item}"
+        if pid not in reg.procedures:
+            items = sorted((p.cls.item for p in reg.procedures.values() if p.cls.standard == standard),
+                           key=item_sort_key)
+            raise PluginError(f"standard {standard!r} has no item {item!r}; its items: {', '.join(items)}")
+        return reg.procedures[pid].cls
+
+    def procedures_of(self, standard: str) -> list[type[Procedure]]:
+        reg = self.register_all()
+        return [p.cls for p in reg.procedures.values() if p.cls.standard == standard]
+
+    def series(self, standard: str, name: str) -> SeriesInfo | None:
+        """The series ``name`` of ``standard``, or ``None`` if there is none by that name."""
+        return self.register_all().series.get(f"{standard}:{name}")
+
+    def item_applicability(self, procedure: type[Procedure], device: Any) -> "Applicability":
+        """Whether ``procedure`` applies to ``device``: the first plugin that answers
+        ``metro_item_applicability``, else the procedure's own ``applies_to``."""
+        from ..model.procedure import Applicability
+
+        ans = self.pm.hook.metro_item_applicability(procedure=procedure, device=device)
+        if ans is None:
+            ans = procedure.applies_to(device)
+        if not isinstance(ans, Applicability):
+            raise PluginError(f"applicability of {procedure.qualified_id()} is {ans!r}, not an Applicability")
+        return ans
+
+    def conformity_specifications(self, standard: str, campaign: Campaign) -> list["Specification"]:
+        """Every plugin's specifications for ``standard`` (checked, in plugin-name order)."""
+        from ..uncertainty.conformity import Specification
+
+        out: list[Specification] = []
+        caller = self.pm.hook.metro_conformity_specifications
+        for impl in sorted(caller.get_hookimpls(), key=lambda i: i.plugin_name):
+            given = {"standard": standard, "campaign": campaign}
+            specs = impl.function(**{k: v for k, v in given.items() if k in impl.argnames})
+            for s in specs or ():
+                if not isinstance(s, Specification):
+                    raise PluginError(f"plugin {impl.plugin_name!r} returned {s!r} as a specification; "
+                                      "return metro.core.uncertainty.conformity.Specification values")
+                out.append(s)
+        return out
+
+    def reader_for(self, path: Path) -> ReaderInfo:
+        reg = self.register_all()
+        sfx = path.suffix.lower()
+        if sfx not in reg.readers:
+            from ..base.errors import DataError
+
+            raise DataError(
+                str(path), None,
+                f"no reader for files ending in {sfx!r}; readers exist for {', '.join(sorted(reg.readers))}",
+            )
+        return reg.readers[sfx]
+
+    def station(self, name: str) -> StationInfo:
+        reg = self.register_all()
+        if name not in reg.stations:
+            raise PluginError(f"unknown station {name!r}; available: {', '.join(sorted(reg.stations))}")
+        return reg.stations[name]
+
+    def driver(self, name: str) -> DriverInfo:
+        reg = self.register_all()
+        if name not in reg.drivers:
+            raise PluginError(f"unknown driver {name!r}; available: {', '.join(sorted(reg.drivers)) or 'none'}",
+                              hint="`metro plugins` lists the loaded plugins; drivers come from metro_register_drivers")
+        return reg.drivers[name]
+
+    def drivers_of(self, kind: str) -> list[DriverInfo]:
+        """Registered drivers of one kind (``rate-table``, ``dmm``, ``gyro-output``), by name."""
+        reg = self.register_all()
+        return [d for _, d in sorted(reg.drivers.items()) if d.kind == kind]
+
+    def template_for(self, standard: str | None, kind: str = "report") -> TemplateInfo:
+        reg = self.register_all()
+        for t in sorted(reg.templates.values(), key=lambda t: t.name):
+            if t.standard == standard and t.kind == kind:
+                return t
+        for t in sorted(reg.templates.values(), key=lambda t: t.name):
+            if t.standard is None and t.kind == kind:
+                return t
+        raise PluginError(f"no {kind} template registered for {standard!r} and no generic one")
+
+    def versions(self) -> dict[str, str]:
+        """{plugin name: 'distribution version'} for provenance."""
+        return {
+            n: f"{p.distribution or p.module} {p.version or ''}".strip() for n, p in sorted(self.plugins.items())
+        }
+
+    # -- lifecycle events -------------------------------------------------------------------
+    def campaign_loaded(self, campaign: Campaign) -> None:
+        self.pm.hook.metro_campaign_loaded(campaign=campaign)
+
+    def procedure_started(self, procedure: Procedure, campaign: Campaign, ctx: RunContext) -> None:
+        self.pm.hook.metro_procedure_started(procedure=procedure, campaign=campaign, ctx=ctx)
+
+    def procedure_finished(self, procedure: Procedure, outcome: Outcome) -> None:
+        self.pm.hook.metro_procedure_finished(procedure=procedure, outcome=outcome)
+
+    def extend_report_context(self, record: Any, context: dict) -> None:
+        self.pm.hook.metro_extend_report_context(record=record, context=context)
+
+    def report_written(self, path: Path, outcomes: Sequence[Outcome]) -> None:
+        self.pm.hook.metro_report_written(path=path, outcomes=list(outcomes))
+
+
+def get_plugin_manager(
+    *, autoload: bool | None = None, block: Iterable[str] = (), extra: Iterable[str] = ()
+) -> MetroPluginManager:
+    """A loaded, registered plugin manager (the usual way in)."""
+    pm = MetroPluginManager().load(autoload=autoload, block=block, extra=extra)
+    pm.register_all()
+    return pm
