@@ -13,8 +13,7 @@ clause-5 table of the report (:mod:`.clause5`).
 
 from __future__ import annotations
 
-
-from metro.core import hookimpl
+from metro.api import hookimpl
 
 STANDARD_ID = "gbt45570"
 
@@ -22,7 +21,7 @@ STANDARD_ID = "gbt45570"
 def _register_vocabulary() -> None:
     """The record sections and equipment roles of the clause-5 type test (so the manifest's
     unknown-key check knows them); light: core.vocabulary imports neither numpy nor pint."""
-    from metro.core.base import vocabulary as voc
+    from metro.api import vocabulary as voc
 
     for name, text in (
         ("inspection", "GB/T 45570 5.2.1–5.2.8 inspection records (appearance, dimensions, mass, supply, "

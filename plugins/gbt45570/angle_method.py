@@ -20,23 +20,31 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget, std_sampling_u
-from metro.core.base.errors import DataError
-from metro.core.base.locale import hint, join, msg
-from metro.core.stats.lsq import fit_line
-from metro.core.uncertainty.selection import selection_note, selection_rows
-from metro.core.model.campaign import Campaign
-from metro.core.model.procedure import (
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
+    PlotSpec,
     Procedure,
+    Result,
     RunContext,
     SegmentRequirement,
     Step,
+    TableSpec,
+    UncertaintyBudget,
+    fit_line,
+    hint,
+    join,
+    msg,
+    selection_note,
+    selection_rows,
+    std_sampling_u,
 )
-from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
-from metro.core.base.units import Q_
 
 from . import formulas as F
 from . import formulas_rate as F2
@@ -70,7 +78,7 @@ def rate_points(max_rate_deg_s: float) -> list[float]:
 
 
 def _sequence(options: Mapping[str, Any], zero: bool) -> list[Step]:
-    from metro.core.base.units import parse_quantity
+    from metro.api import parse_quantity
 
     rmax = float(parse_quantity(options.get("max_rate", "400 °/s"), dimension="deg/s").to("deg/s").magnitude)
     m = int(options.get("turns", 5))
@@ -463,7 +471,7 @@ class ScaleFactorRepeatabilityD14(Procedure):
                Option("Q", 7, None, "number of power-ons; D.11 is written for 7", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        from metro.core.base.units import parse_quantity
+        from metro.api import parse_quantity
 
         r = float(parse_quantity(options.get("rate", REPEAT_RATE), dimension="deg/s").to("deg/s").magnitude)
         m, q = int(options.get("turns", 5)), int(options.get("Q", 7))
@@ -615,7 +623,6 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
                          dofs, segments, k_unit: str) -> Outcome:
     """Result, budget, plot and table of D.1.5 / D.2.5 (the maximising point of D.12 / D.29)."""
     from .procedures import _delta_temperature_u
-
     from .repeatability import points_dof, pool_turn_on, scale_factor_turn_on
 
     dT = temps[imax] - temps[i0]
@@ -699,7 +706,7 @@ def mounting_groups(campaign: Campaign, kind: str, clause: str) -> dict[tuple[st
     """Segments of each of the four mountings (conditions ``axis_up`` XRA/YRA and ``turn`` 0°/180°);
     a missing mounting is an error that names it."""
     groups: dict[tuple[str, int], list] = {}
-    from metro.core.base.units import parse_quantity
+    from metro.api import parse_quantity
 
     for s in campaign.find_segments(kind):
         ax = str(s.condition("axis_up")).upper().replace("+", "").strip()
@@ -818,13 +825,13 @@ class InputAxisMisalignmentD16(Procedure):
                Option("turns", 5, None, "whole revolutions m each way"))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        from metro.core.base.units import parse_quantity
+        from metro.api import parse_quantity
 
         r = float(parse_quantity(options.get("rate", REPEAT_RATE), dimension="deg/s").to("deg/s").magnitude)
         return mounting_steps("revolutions-mounting", r, options, revolutions=True)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        from metro.core.stats.signals import required_scale_factor
+        from metro.api import required_scale_factor
 
         opts = self.option_values(ctx.options)
         groups = mounting_groups(campaign, "revolutions-mounting", "D.1.6")

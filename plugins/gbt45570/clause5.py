@@ -13,13 +13,9 @@ campaign's records call for.
 from __future__ import annotations
 
 import re
-from typing import Any
 
 import attrs
-
-from metro.core.uncertainty.conformity import Comparison, Specification
-from metro.core.base.locale import join, msg
-from metro.core.base.units import Q_
+from metro.api import Q_, Comparison, Specification, join, msg
 
 from . import records as R
 from .conformity import clause_source
@@ -149,12 +145,10 @@ def _matches(key: str, keys: tuple[str, ...]) -> bool:
 
 
 def _result_text(r) -> str:
-    from metro.core.documents.report import _unit_text
-
-    from metro.core.documents.report import fmt_num
+    from metro.api import fmt_num, unit_text
 
     v, U = r.reported()
-    ut = _unit_text(r.metric.unit)
+    ut = unit_text(r.metric.unit)
     if r.U is None or float(r.U.magnitude) == 0:  # exact (a count, a declared value, a ratio of specs)
         v = fmt_num(float(r.value.to(r.metric.unit).magnitude), 6)
     text = f"{r.metric.key} = {v}{(' ' + ut) if ut else ''}"

@@ -19,10 +19,7 @@ from __future__ import annotations
 from typing import Any, Mapping
 
 import attrs
-
-from metro.core.uncertainty.conformity import Comparison, Specification, parse_limit
-from metro.core.base.locale import Text, msg
-from metro.core.base.units import Q_
+from metro.api import Q_, Comparison, Specification, Text, msg, parse_limit
 
 STANDARD = "gbt45570"
 APPLICATIONS = ("aerospace", "aviation", "marine")
@@ -209,7 +206,7 @@ class SeverityRow:
         if spec is not None:
             text = spec.text()
         else:
-            from metro.core.documents.report import fmt_quantity
+            from metro.api import fmt_quantity
 
             text = fmt_quantity(v) if hasattr(v, "magnitude") else str(v)
         extra = self.extra.get(application)

@@ -14,13 +14,21 @@ from __future__ import annotations
 
 from typing import Any, Mapping
 
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
-from metro.core.uncertainty.conformity import Comparison, Specification
-from metro.core.base.locale import msg
-from metro.core.model.campaign import Campaign
-from metro.core.model.results import Metric, Outcome, TableSpec
-from metro.core.model.procedure import Procedure, RunContext, Step
-from metro.core.base.units import Q_
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    Comparison,
+    Metric,
+    Outcome,
+    Procedure,
+    RunContext,
+    Specification,
+    Step,
+    TableSpec,
+    UncertaintyBudget,
+    msg,
+)
 
 from . import records as R
 from .conformity import clause_source
@@ -131,7 +139,7 @@ class Function522(Procedure):
         if isinstance(parts, str):
             parts = [parts]
         if not isinstance(parts, list) or not all(isinstance(p, str) for p in parts):
-            from metro.core.base.errors import DataError
+            from metro.api import DataError
 
             raise DataError(src, f"{where}.composition", f"must be a list of parts, got {parts!r}")
         low = [p.lower() for p in parts]

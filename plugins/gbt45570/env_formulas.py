@@ -11,8 +11,7 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
-
-from metro.core.stats.settling import excursion_lobes, last_exit
+from metro.api import excursion_lobes, last_exit
 
 from .formulas import EARTH_RATE_DEG_PER_H
 

@@ -28,30 +28,41 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.core.stats import allan
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import hint, join, msg
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.model.procedure import (
+from metro.api import (
+    OUTPUT_UNITS,
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
+    PlotSpec,
     Procedure,
+    ProcedureError,
+    Result,
     RunContext,
+    Segment,
     SegmentRequirement,
     Step,
+    TableSpec,
+    UncertaintyBudget,
+    allan,
+    gyro_output,
+    hint,
+    join,
+    msg,
+    parse_quantity,
 )
-from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
-from metro.core.stats.signals import OUTPUT_UNITS, gyro_output
-from metro.core.base.units import Q_, parse_quantity
 
 from . import env_formulas as E
 from .procedures import (
     COVERAGE,
     REPEATS_OPTION,
     STANDARD,
-    _repeat_steps,
     _check_finite,
+    _repeat_steps,
     _scale_factor_row,
     _timebase_row,
     segment_bias,
@@ -316,7 +327,7 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     # D.47/D.48 take |B_a − B_b|: the absolute value of a noisy difference reads high where the change is
     # near zero (a folded normal); corrected in closed form, the printed value kept in the note
     # (interpretations.md, "D.5.5 / D.6.3 / D.6.4 — the absolute value of one noisy difference")
-    from metro.core.uncertainty.selection import abs_change, abs_change_note, abs_change_rows
+    from metro.api import abs_change, abs_change_note, abs_change_rows
 
     u_noise = math.sqrt(uA**2 + uq**2 + sum(r.standard_uncertainty.to("deg/h").magnitude ** 2 for r in turn_on[0]))
     sel = abs_change(a["rate"] - b["rate"], u_noise)

@@ -12,8 +12,7 @@ from typing import Sequence
 
 import attrs
 import numpy as np
-
-from metro.core.stats.lsq import fit_linear
+from metro.api import fit_linear
 
 #: Earth rotation rate as printed in D.40, °/h.
 EARTH_RATE_DEG_PER_H = 15.041
@@ -344,6 +343,6 @@ def std_upper_limit(s: float, n_values: int, p: float = 0.02275) -> float:
     """Upper confidence limit of σ from a Bessel standard deviation ``s`` of ``n_values`` normal
     values, s·√(ν/χ²_p(ν)), ν = n − 1 (:func:`metro.core.uncertainty.budget.std_upper_limit`).  Used for the
     sampling row of D.42 (interpretations.md, D.5.3): at Q = 7, σ_upper = 2.243·s."""
-    from metro.core.uncertainty.budget import std_upper_limit as upper
+    from metro.api import std_upper_limit as upper
 
     return upper(s, n_values, p)

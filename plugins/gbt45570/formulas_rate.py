@@ -11,7 +11,9 @@ import math
 from typing import Callable, Sequence
 
 import numpy as np
-from metro.core.uncertainty.selection import MaxSelection, max_slope_selection  # D.12, D.29, D.43: the maximum's selection bias
+from metro.api import (  # D.12, D.29, D.43: the maximum's selection bias
+    MaxSelection,
+)
 
 from .formulas import REVOLUTION_ARCSEC
 

@@ -22,15 +22,26 @@ import re
 from typing import Mapping
 
 import numpy as np
-
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
-from metro.core.uncertainty.conformity import Comparison, Specification, parse_limit
-from metro.core.base.errors import DataError
-from metro.core.base.locale import join, msg
-from metro.core.model.campaign import Campaign
-from metro.core.model.procedure import EquipmentRequirement, Procedure, RunContext, Step
-from metro.core.model.results import Metric, Outcome, Result, TableSpec
-from metro.core.base.units import Q_
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    Comparison,
+    DataError,
+    EquipmentRequirement,
+    Metric,
+    Outcome,
+    Procedure,
+    Result,
+    RunContext,
+    Specification,
+    Step,
+    TableSpec,
+    UncertaintyBudget,
+    join,
+    msg,
+    parse_limit,
+)
 
 from . import records as R
 from .conformity import clause_source, product_source
@@ -278,7 +289,7 @@ def mass_specifications(campaign: Campaign) -> list[Specification]:
         return []
     spec = parse_limit("mass", str(rec["limit"]), source=product_source(f"{SECTION}.mass.limit"),
                        file=R.where_of(campaign), field=f"{SECTION}.mass.limit")
-    from metro.core.base.units import check_dimension
+    from metro.api import check_dimension
 
     check_dimension(spec.limit, "kg", file=R.where_of(campaign), field=f"{SECTION}.mass.limit")
     return [spec]

@@ -17,10 +17,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from metro.core.base.locale import msg
-from metro.core.model.procedure import Applicability
-from metro.core.model.campaign import DeviceUnderTest
-from metro.core.base.units import Q_, check_dimension
+from metro.api import Q_, Applicability, DeviceUnderTest, check_dimension, msg
 
 from .conformity import TABLE_B1, application_of
 

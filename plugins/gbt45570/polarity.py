@@ -18,21 +18,24 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
-from metro.core.base.errors import DataError
-from metro.core.base.locale import msg
-from metro.core.model.campaign import Campaign
-from metro.core.model.procedure import (
+from metro.api import (
+    OUTPUT_UNITS,
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
     Procedure,
+    Result,
     RunContext,
     SegmentRequirement,
     Step,
+    UncertaintyBudget,
+    msg,
 )
-from metro.core.model.results import Metric, Outcome, Result
-from metro.core.stats.signals import OUTPUT_UNITS
-from metro.core.base.units import Q_
 
 from .environmental import _COUNTER, _mean_rate, _opts_text
 from .procedures import COVERAGE, STANDARD, _scale_factor_row

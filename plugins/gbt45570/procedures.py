@@ -12,23 +12,35 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-
-from metro.core.stats import allan
-from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import hint, join, msg
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.model.procedure import (
+from metro.api import (
+    OUTPUT_UNITS,
+    Q_,
+    BudgetRow,
+    Campaign,
+    Coverage,
+    DataError,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
+    PlotSpec,
     Procedure,
+    ProcedureError,
+    RateConversion,
+    Result,
     RunContext,
+    Segment,
     SegmentRequirement,
     Step,
+    TableSpec,
+    UncertaintyBudget,
+    allan,
+    gyro_output,
+    hint,
+    join,
+    msg,
+    parse_quantity,
 )
-from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
-from metro.core.stats.signals import OUTPUT_UNITS, RateConversion, gyro_output
-from metro.core.base.units import Q_, parse_quantity
 
 from . import formulas as F
 
@@ -513,7 +525,8 @@ class BiasTemperatureSensitivityD54(Procedure):
         nu_tot = u_tot**4 / den if den > 0 else math.inf  # σ_on of D.5.3 has ν = ∞
         # D.43 takes the largest of several noisy |slopes|: corrected for the selection bias about a
         # smoothed B(T) (interpretations.md, D.5.4); the spread of the maximum replaces one slope's u
-        from metro.core.uncertainty.selection import selection_note, selection_rows
+        from metro.api import selection_note, selection_rows
+
         from .formulas_rate import max_slope_selection
 
         sel = max_slope_selection([e.B0 for e in ests], [math.hypot(e.u_A, s_on) for e in ests], temps, i0,
@@ -671,7 +684,7 @@ class BiasMagneticSensitivityD55(Procedure):
             hint=hint(" (static-repeat runs, as metro plan -s gbt45570 -i D.5.5 lists them, or [device] "
                       "bias_repeatability)")))
         s_on, nu_on = on.sigma, on.nu
-        from metro.core.uncertainty.selection import abs_change, abs_change_note, abs_change_rows
+        from metro.api import abs_change, abs_change_note, abs_change_rows
 
         for metric, ax in zip(self.metrics, ("IRA", "XRA", "YRA")):
             mine = [s for s in segs if str(s.condition("field_axis")).upper() == ax]

@@ -20,29 +20,39 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget, std_sampling_u
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import hint, join, msg
-from metro.core.stats.lsq import fit_line
-from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
-from metro.core.model.procedure import (
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
+    DeviceUnderTest,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
+    PlotSpec,
     Procedure,
+    ProcedureError,
+    Result,
     RunContext,
+    Segment,
     SegmentRequirement,
     Step,
+    TableSpec,
+    UncertaintyBudget,
+    fit_line,
+    hint,
+    join,
+    msg,
+    parse_quantity,
+    std_sampling_u,
 )
-from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
-from metro.core.base.units import Q_, parse_quantity
 
 from . import formulas as F
 from . import formulas_rate as F2
 from .angle_method import (
     MOUNTINGS,
     REPEAT_RATE,
-    _sequence as _angle_sequence,
     _temperature_outcome,
     collect_rate_points,
     misalignment_metrics,
@@ -51,6 +61,9 @@ from .angle_method import (
     mounting_steps,
     rate_points,
     room_index,
+)
+from .angle_method import (
+    _sequence as _angle_sequence,
 )
 from .procedures import COVERAGE, STANDARD
 
@@ -169,7 +182,7 @@ class RateData:
 def output_series(seg: Segment) -> tuple[np.ndarray, str]:
     """The ``output`` column in the kind D.2 takes (:data:`OUTPUT_UNITS`): LSB as recorded, a
     frequency in Hz, an angular rate in °/s; and that unit."""
-    from metro.core.base.units import check_dimension
+    from metro.api import check_dimension
 
     data = seg.series("output", OUTPUT_UNITS).data
     for unit in OUTPUT_UNITS:  # metro's check: an angle is not a plain number (Hz is not °/s)
@@ -512,7 +525,7 @@ class NonlinearityD22(ScaleFactorD21):
         data = collect_rate_data(type(self), campaign, int(opts["min_points"]))
         Kn, j, Fm, _, K, F0 = nonlinearity_of(data)
         # K_n is the largest of 2M noisy |a_j|: corrected for the selection (interpretations.md, D.2.2)
-        from metro.core.uncertainty.selection import selection_note, selection_rows
+        from metro.api import selection_note, selection_rows
 
         sel = F2.nonlinearity_selection(data.rates, data.Fk, data.uF)
         budget = nonlinearity_budget(campaign, data, j, Fm, K, spread=sel.s)
@@ -741,7 +754,7 @@ class InputAxisMisalignmentD26(Procedure):
         return mounting_steps("rate-mounting", r, options, revolutions=False)
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        from metro.core.stats.signals import required_scale_factor
+        from metro.api import required_scale_factor
 
         opts = self.option_values(ctx.options)
         groups = mounting_groups(campaign, "rate-mounting", "D.2.6")

@@ -15,14 +15,18 @@ from typing import Any, Mapping
 
 import attrs
 import pint
-
-from metro.core.uncertainty.budget import BudgetRow
-from metro.core.base.errors import DataError, UnitError
-from metro.core.base.locale import msg
-from metro.core.model.campaign import Campaign, Equipment
-from metro.core.model.results import Result
-from metro.core.base.units import Q_, parse_quantity, unit
-
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
+    Equipment,
+    Result,
+    UnitError,
+    msg,
+    parse_quantity,
+    unit,
+)
 
 
 def where_of(campaign: Campaign) -> str:

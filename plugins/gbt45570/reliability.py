@@ -23,13 +23,21 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
-from metro.core.base.errors import DataError
-from metro.core.base.locale import msg
-from metro.core.model.campaign import Campaign
-from metro.core.model.results import Metric, Outcome, Result, TableSpec
-from metro.core.model.procedure import Option, Procedure, RunContext, Step
-from metro.core.base.units import Q_
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
+    Metric,
+    Option,
+    Outcome,
+    Procedure,
+    RunContext,
+    Step,
+    TableSpec,
+    UncertaintyBudget,
+    msg,
+)
 
 from . import records as R
 from .procedures import COVERAGE, STANDARD

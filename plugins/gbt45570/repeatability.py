@@ -14,13 +14,7 @@ import math
 
 import attrs
 import numpy as np
-
-from metro.core.uncertainty.budget import BudgetRow, between_variance
-from metro.core.base.errors import DataError
-from metro.core.base.locale import hint, msg
-from metro.core.model.campaign import Campaign
-from metro.core.uncertainty.selection import curve_scatter
-from metro.core.base.units import Q_
+from metro.api import Q_, BudgetRow, Campaign, DataError, between_variance, curve_scatter, hint, msg
 
 from . import formulas as F
 from . import formulas_rate as F2
@@ -35,7 +29,7 @@ def stated_repeatability(campaign: Campaign, key: str) -> float | None:
     """``[device] bias_repeatability`` (°/h) or ``[device] scale_factor_repeatability`` (relative): 1σ of one
     power-on's bias or K measured before (an earlier D.5.3 / D.1.4 / D.2.4 of the same gyro), for campaigns
     without repeats of their own; None when not given.  A bad value is a DataError naming the field."""
-    from metro.core.base.units import parse_quantity
+    from metro.api import parse_quantity
 
     v = campaign.device.properties.get(key)
     if v in (None, ""):
@@ -105,7 +99,12 @@ def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tu
 
 def scale_factor_rate_repeat_row(campaign: Campaign, K: float, unit: str, min_points: int) -> tuple[list[BudgetRow], str]:
     """K_r of D.2.4 (``rate-output`` runs, eq. D.28) as a row u = K_r·K on K of D.2.1."""
-    from .rate_method import ScaleFactorRepeatabilityD24, _group_of, collect_rate_data, fit_scale_factor
+    from .rate_method import (
+        ScaleFactorRepeatabilityD24,
+        _group_of,
+        collect_rate_data,
+        fit_scale_factor,
+    )
 
     runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
                    and not _group_of(s)[1]}, key=lambda r: (len(r), r))
@@ -243,7 +242,11 @@ def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rat
             # turn-on scatter that is there: K_r whole (own part 0)
             sigma, s2, within, dof = turn_on_sigma([p.K for p in pts])
         else:
-            from .rate_method import ScaleFactorRepeatabilityD24, collect_rate_data, fit_scale_factor
+            from .rate_method import (
+                ScaleFactorRepeatabilityD24,
+                collect_rate_data,
+                fit_scale_factor,
+            )
 
             fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
                                                        f"in run {r}")) for r in runs]

@@ -15,16 +15,31 @@ import re
 from typing import Any, Iterable
 
 import numpy as np
+from metro.api import (
+    Q_,
+    SIMPLE,
+    Comparison,
+    PlotSpec,
+    Specification,
+    Text,
+    decide,
+    group_notes,
+    join,
+    msg,
+    report_pair,
+)
 
-from metro.core.uncertainty.budget import report_pair
-from metro.core.uncertainty.conformity import SIMPLE, Comparison, Specification, decide
-from metro.core.base.locale import Text, join, msg
-from metro.core.model.results import PlotSpec
-from metro.core.documents.notes import group_notes
-from metro.core.base.units import Q_
-
-from .conformity import (APPLICATION_CN, CLAUSE_SOURCE, CLAUSE_WHY_SOURCE, PRODUCT_SOURCE, REMARK_SOURCE, ROW_SOURCE,
-                         TABLE_C1, application_of, table_for)
+from .conformity import (
+    APPLICATION_CN,
+    CLAUSE_SOURCE,
+    CLAUSE_WHY_SOURCE,
+    PRODUCT_SOURCE,
+    REMARK_SOURCE,
+    ROW_SOURCE,
+    TABLE_C1,
+    application_of,
+    table_for,
+)
 from .method_rule import ANGLE_ITEMS, RATE_ITEMS, method_for
 
 STANDARD = "gbt45570"
@@ -55,7 +70,7 @@ def verdict_text(v) -> str:
 
 
 def _fmt_q(q: Any) -> str:
-    from metro.core.documents.report import fmt_quantity
+    from metro.api import fmt_quantity
 
     return fmt_quantity(q)
 
@@ -80,18 +95,16 @@ def environment_rows(env: dict) -> list[dict[str, str]]:
 
 
 def _result_cells(r) -> tuple[str, str, str]:
-    from metro.core.documents.report import _unit_text
+    from metro.api import unit_text
 
     v, U = r.reported()
-    ut = _unit_text(r.metric.unit)
+    ut = unit_text(r.metric.unit)
     k = DASH if r.k is None else f"{r.k:.2f}"
     return f"{v} {ut}".strip(), (f"{U} {ut}".strip() if U is not None else DASH), k
 
 
 def verdict_rows(assessment) -> list[dict[str, str]]:
-    from metro.core.documents.report import fmt_num
-
-    from metro.core.base.units import fmt_unit
+    from metro.api import fmt_num, fmt_unit
 
     rows = []
     for v in assessment.verdicts:
@@ -204,7 +217,7 @@ def residual_plot(spec: PlotSpec) -> PlotSpec | None:
 
 
 def _add_residual_figures(context: dict) -> None:
-    from metro.core.documents.report import plot_caption
+    from metro.api import plot_caption
 
     n = 1
     for o in context.get("outcomes", []):
@@ -437,7 +450,7 @@ def _symbolizer(ctx: dict, tr=None):
     """A function putting result symbols in place of the code keys in free text (``Bs_10s ± U``
     → ``B_s(10 s) ± U``, ``Kn`` → ``K_n``, ``alpha`` → ``α``): keys with an underscore, a digit or
     a capital, and Greek letter names; never plain words (``mass``, ``threshold``)."""
-    from metro.core.documents.document import display_symbol
+    from metro.api import display_symbol
 
     found: dict[str, tuple[str, str]] = {}
     for o in ctx["outcomes"]:
@@ -466,7 +479,7 @@ def layout(doc, ctx: dict) -> None:
     and every result; then clause 5, the 6.1 test conditions, method, conformity, the typical
     limits (A.1/B.1), the C.1 severities, notes, deviations and signatures; budgets, data,
     figures and provenance follow as annexes."""
-    from metro.core.documents import document as D
+    from metro.api import document as D
 
     g = ctx.get("gbt45570")
     if g is None:

@@ -14,22 +14,32 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.core.stats import allan
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
-from metro.core.base.locale import hint, join, msg
-from metro.core.base.errors import DataError
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.model.procedure import (
+from metro.api import (
+    OUTPUT_UNITS,
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
+    PlotSpec,
     Procedure,
+    Result,
     RunContext,
+    Segment,
     SegmentRequirement,
     Step,
+    TableSpec,
+    UncertaintyBudget,
+    allan,
+    gyro_output,
+    hint,
+    join,
+    msg,
+    parse_quantity,
 )
-from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
-from metro.core.stats.signals import OUTPUT_UNITS, gyro_output
-from metro.core.base.units import Q_, parse_quantity
 
 from . import env_formulas as E
 from .formulas import EARTH_RATE_DEG_PER_H

@@ -32,15 +32,28 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-
-from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
-from metro.core.uncertainty.conformity import Comparison, Specification, parse_limit
-from metro.core.base.errors import DataError
-from metro.core.base.locale import hint, join, msg
-from metro.core.model.campaign import Campaign
-from metro.core.model.procedure import EquipmentRequirement, Option, Procedure, RunContext, Step
-from metro.core.model.results import Metric, Outcome, Result, TableSpec
-from metro.core.base.units import Q_
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    Comparison,
+    DataError,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    Outcome,
+    Procedure,
+    Result,
+    RunContext,
+    Specification,
+    Step,
+    TableSpec,
+    UncertaintyBudget,
+    hint,
+    join,
+    msg,
+    parse_limit,
+)
 
 from . import formulas as F
 from . import records as R
@@ -311,9 +324,10 @@ def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, p
     """(K, u(K), ν, unit, method) of the records before or after a test, or None without records:
     D.1.1 on whole revolutions (one rate point: K_i of eq. (D.2); more: K of the eq. (D.4) fit), or
     D.2.1 on the LSB output (K of eqs. (D.21)/(D.22) with its propagated type A)."""
+    from metro.api import fit_line
+
     from .angle_method import collect_rate_points
     from .rate_method import collect_rate_data, fit_scale_factor
-    from metro.core.stats.lsq import fit_line
 
     what = f"{phase} the test {tag}"
     revs = _phase_segments(campaign, (REVOLUTIONS_KIND,), tag, phase)
@@ -414,7 +428,7 @@ class _EnvironmentalTest(Procedure):
             raise DataError(None, "option scale_factor", f"must be angle, rate or none, got {how!r}")
         if how == "none":
             return []
-        from metro.core.base.units import parse_quantity
+        from metro.api import parse_quantity
 
         rates = [float(parse_quantity(x.strip(), dimension="deg/s", field="option sf_rates").to("deg/s").magnitude)
                  for x in str(opts["sf_rates"]).split(",") if x.strip()]

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-
-from metro.core import hookimpl
+from metro.api import hookimpl
 
 STANDARD_ID = "jjf2003"
 

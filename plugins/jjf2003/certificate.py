@@ -10,10 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from metro.core.base.locale import join
-from metro.core.documents.notes import group_notes
-from metro.core.documents.report import fmt_num, fmt_quantity
-from metro.core.base.units import fmt_unit
+from metro.api import fmt_num, fmt_quantity, fmt_unit, group_notes, join
 
 AXES = ("x", "y", "z")
 DASH = "—"
@@ -145,7 +142,7 @@ MATRICES = (
 def layout(doc, ctx: dict) -> None:
     """JJF 2003—2022 MIMU calibration certificate: clause 8 (title to signatures) and the
     appendix B inner page (groups 1–6, each with its measurement uncertainty)."""
-    from metro.core.documents import document as D
+    from metro.api import document as D
 
     c = ctx.get("jjf2003")
     if c is None:

@@ -12,10 +12,7 @@ import math
 from typing import Any, Callable
 
 import numpy as np
-
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.base.units import Q_
+from metro.api import Q_, Campaign, DataError, ProcedureError, Segment
 
 from . import formulas as F
 from . import mounting

@@ -42,13 +42,7 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-
-from metro.core.uncertainty.budget import BudgetRow
-from metro.core.base.errors import DataError
-from metro.core.base.locale import join, msg
-from metro.core.stats.lsq import fit_linear
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.base.units import Q_
+from metro.api import Q_, BudgetRow, Campaign, DataError, Segment, fit_linear, join, msg
 
 from . import formulas as F
 from .data import _axis_of, _columns, _rate_of

@@ -12,9 +12,7 @@ from decimal import Decimal
 from typing import Sequence
 
 import numpy as np
-
-from metro.core.uncertainty.budget import round_uncertainty
-from metro.core.stats.lsq import LinearFit, fit_linear
+from metro.api import LinearFit, fit_linear, round_uncertainty
 
 #: Order of the six positions in the columns of Ā (7.2.2.2 and 7.2.4.2): X up, X down,
 #: Y up, Y down, Z up, Z down.

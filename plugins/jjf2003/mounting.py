@@ -22,12 +22,16 @@ from __future__ import annotations
 
 import math
 
-from metro.core.uncertainty.budget import BudgetRow
-from metro.core.stats.earth import STANDARD_GRAVITY_M_S2, normal_gravity
-from metro.core.base.errors import DataError
-from metro.core.base.locale import msg
-from metro.core.model.campaign import Campaign
-from metro.core.base.units import Q_, parse_quantity
+from metro.api import (
+    Q_,
+    STANDARD_GRAVITY_M_S2,
+    BudgetRow,
+    Campaign,
+    DataError,
+    msg,
+    normal_gravity,
+    parse_quantity,
+)
 
 #: half-width of the gravity anomaly about normal gravity (±300 mGal), relative
 GRAVITY_ANOMALY_REL = 3e-4

@@ -22,30 +22,61 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-
-from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import hint, index, join, msg
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.model.procedure import (
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    Coverage,
+    DataError,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
+    PlotSpec,
     Procedure,
+    ProcedureError,
+    Result,
     RunContext,
+    Segment,
     SegmentRequirement,
     Step,
+    TableSpec,
+    UncertaintyBudget,
+    hint,
+    index,
+    join,
+    msg,
 )
-from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
-from metro.core.base.units import Q_
 
 from . import drift as D
 from . import formulas as F
 from . import mounting
 from .data import (  # noqa: F401 - re-exported: the segment layout and the shared computations
-    AXES, GYRO, ACCEL, RATE_UNIT, ACC_UNIT, P_UNIT, G_UNIT, MIN_SECONDS,
-    HEADINGS, BATCHES, Means, _duration_ok, _columns, _batch_u, data_means, _rate_of,
-    _axis_of, sweeps, _heading_of, positions, sweep_fits, six_position, rate_pairs, p_matrix,
+    ACC_UNIT,
+    ACCEL,
+    AXES,
+    BATCHES,
+    G_UNIT,
+    GYRO,
+    HEADINGS,
+    MIN_SECONDS,
+    P_UNIT,
+    RATE_UNIT,
+    Means,
+    _axis_of,
+    _batch_u,
+    _columns,
+    _duration_ok,
+    _heading_of,
+    _rate_of,
+    data_means,
     ideal_evaluation,
+    p_matrix,
+    positions,
+    rate_pairs,
+    six_position,
+    sweep_fits,
+    sweeps,
 )
 
 STANDARD = "jjf2003"
@@ -54,7 +85,7 @@ STATION = "simulated-mimu"
 #: without degrees of freedom is the large-ν_eff case (interpretations.md, "Coverage factor (JJF 2003)")
 COVERAGE = Coverage.probability(0.9545)
 ROUND = "up"
-from metro.core.stats.earth import EARTH_RATE_DEG_S  # noqa: E402
+from metro.api import EARTH_RATE_DEG_S  # noqa: E402
 
 RATE_SEG = SegmentRequirement(
     kind="rate",
@@ -146,7 +177,7 @@ def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warning
 
 
 def _rates_option(opts: Mapping[str, Any]) -> list[float]:
-    from metro.core.base.units import parse_quantity
+    from metro.api import parse_quantity
 
     out = []
     for t in str(opts["rates"]).split(","):
@@ -232,7 +263,7 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
                                     "{n} calibrations, A.1.2.3)", n=len(Ks)), "u₃", Q_(se, ""), dof)
     stated = campaign.device.properties.get("scale_factor_repeatability")
     if stated not in (None, ""):
-        from metro.core.base.units import parse_quantity
+        from metro.api import parse_quantity
 
         rel = float(parse_quantity(stated, dimension="", file=campaign.source,
                                    field="device.scale_factor_repeatability").to("").magnitude)

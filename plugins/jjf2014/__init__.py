@@ -8,8 +8,7 @@ report-context extension (``context["jjf2014"]``).
 
 from __future__ import annotations
 
-
-from metro.core import hookimpl
+from metro.api import hookimpl
 
 STANDARD_ID = "jjf2014"
 

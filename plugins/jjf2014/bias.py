@@ -8,32 +8,41 @@ import statistics
 
 import attrs
 import numpy as np
-
-from metro.core.stats import allan
-from metro.core.uncertainty.budget import INF, BudgetRow
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import hint, join, msg
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement, Step
-from metro.core.model.results import Metric, Result, TableSpec
-from metro.core.uncertainty.selection import (
+from metro.api import (
+    INF,
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    ProcedureError,
+    Result,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+    allan,
     curve_scatter,
+    hint,
+    join,
     max_abs_selection,
     max_slope_selection,
+    msg,
     selection_note,
     selection_rows,
     spread_rows,
 )
-from metro.core.base.units import Q_
 
 from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
-    one_estimate,
-    with_scatter,
     AXES,
     RATE_OPTS,
+    KValue,
+    SFSet,
     Spread,
     _axis,
     _budget_row_a,
@@ -51,11 +60,11 @@ from .common import (
     _temperatures,
     _updown,
     _where,
-    KValue,
-    SFSet,
     bias_repeatability,
+    one_estimate,
     rounding_row_mean,
     scale_factor_for,
+    with_scatter,
 )
 from .scale_factor import ScaleFactor
 

@@ -19,11 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import pint
-
-from metro.core.base.locale import join, msg
-from metro.core.uncertainty.budget import INF, BudgetRow, Coverage, UncertaintyBudget
-from metro.core.model.campaign import Calibration
-from metro.core.base.units import Q_
+from metro.api import INF, Q_, BudgetRow, Calibration, Coverage, UncertaintyBudget, join, msg
 
 #: k = t_p(ν_eff) for p = 95.45 % (JJF 1059.1 5.3.4): 2.00 for the large ν_eff of appendix B's
 #: examples, larger where a repeatability of Q = 6 runs dominates (interpretations.md, "Coverage factor")
@@ -87,7 +83,7 @@ def std_of_std(s: float, q: int) -> tuple[float, float]:
     the χ² bound (σ_upper − s)/2 with ν = ∞ (:func:`metro.core.uncertainty.budget.std_sampling_u`; s + 2u is the
     97.7 % upper confidence limit).  The linear s/√(2(q − 1)) with ν = q − 1 covered K_r in 91 % of the
     independent harness's devices at q = 6 (docs/independent-campaigns.md)."""
-    from metro.core.uncertainty.budget import std_sampling_u
+    from metro.api import std_sampling_u
 
     return std_sampling_u(s, q), math.inf
 
@@ -102,7 +98,7 @@ def averages_dof_model(x, P: int, dt: float) -> tuple[float, float] | None:
     each), not off the few slow excursions one record happens to hold, which is what fooled ν from the record's
     own autocorrelation (docs/interpretations.md, "7.2.14 — B_s of correlated averages").  None when the
     record is too short for the fit (fewer than 6 octave τ values) or has no noise; (ν, E[s²]) otherwise."""
-    from metro.core.stats import allan
+    from metro.api import allan
 
     from .formulas import ALLAN_TERMS, fit_allan_eq38
 
@@ -140,7 +136,7 @@ def std_of_std_correlated(s: float, means, samples=None, P: int | None = None,
     wander devices; the model's ν is read off the whole Allan curve (interpretations.md, "7.2.14 — B_s of
     correlated averages").  Independent averages give ν_eff ≈ m − 1 and the χ² bound of m values.  Returns
     (u, ν = ∞ as the χ² bound is entered, a note naming ν_eff when it is below m − 1)."""
-    from metro.core.uncertainty.budget import std_sampling_u
+    from metro.api import std_sampling_u
 
     x = np.asarray(means, dtype=float)
     m = x.size

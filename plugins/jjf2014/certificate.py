@@ -12,8 +12,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from metro.core.base.locale import join
-from metro.core.documents.notes import group_notes
+from metro.api import group_notes, join
 
 #: appendix A rows: (no., 校准项目, English, item, metric key)
 ROWS = (
@@ -52,7 +51,7 @@ SPECIFICATION_EN = "JJF 2014—2022 Calibration Specification for Metal-Shell Vi
 def certificate_rows(outcomes) -> list[dict[str, Any]]:
     """The 24 appendix-A rows, each {no, item_cn, item_en, clause, performed, reportable, reason,
     value, U, k, note, earth_rate, symbol}; value and U as :meth:`Result.reported` rounds them."""
-    from metro.core.documents.document import result_fields
+    from metro.api import result_fields
 
     found = {}
     for o in outcomes:
@@ -100,7 +99,7 @@ def _env(ctx: dict, name: str) -> str:
 
 def layout(doc, ctx: dict) -> None:
     """JJF 2014—2022 calibration certificate: clause 8 a)–p) and the appendix A inner page."""
-    from metro.core.documents import document as D
+    from metro.api import document as D
 
     c = ctx.get("jjf2014")
     if c is None:

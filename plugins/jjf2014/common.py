@@ -9,14 +9,26 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.uncertainty.budget import INF, BudgetRow
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import hint, join, msg
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.model.procedure import EquipmentRequirement, Option, Procedure, Step
-from metro.core.model.results import Outcome, PlotSpec
-from metro.core.stats.signals import device_scale_factor
-from metro.core.base.units import Q_, parse_quantity
+from metro.api import (
+    INF,
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
+    EquipmentRequirement,
+    Option,
+    Outcome,
+    PlotSpec,
+    Procedure,
+    ProcedureError,
+    Segment,
+    Step,
+    device_scale_factor,
+    hint,
+    join,
+    msg,
+    parse_quantity,
+)
 
 from . import budgets as B
 from . import formulas as F

@@ -5,16 +5,28 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from metro.core.stats import allan
-from metro.core.stats import settling as S
-from metro.core.uncertainty.budget import BudgetRow
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import join, msg
-from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement, Step
-from metro.core.model.results import Metric, PlotSpec, Result, TableSpec
-from metro.core.model.campaign import Segment
-from metro.core.stats.sinefit import fit_sine, wrap_phase
-from metro.core.base.units import Q_, parse_quantity
+from metro.api import (
+    Q_,
+    BudgetRow,
+    DataError,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    PlotSpec,
+    ProcedureError,
+    Result,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+    allan,
+    fit_sine,
+    join,
+    msg,
+    parse_quantity,
+    wrap_phase,
+)
+from metro.api import settling as S
 
 from . import budgets as B
 from . import formulas as F

@@ -12,8 +12,7 @@ from collections.abc import Mapping, Sequence
 
 import attrs
 import numpy as np
-from metro.core.stats import allan
-from metro.core.stats.lsq import fit_linear
+from metro.api import allan, fit_linear
 
 #: Earth rotation rate in °/h, as GB/T 45570 D.40 prints it (JJF 2014 has no earth term).
 EARTH_RATE_DEG_PER_H = 15.041

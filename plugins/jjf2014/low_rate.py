@@ -6,13 +6,23 @@ import math
 
 import attrs
 import numpy as np
-from metro.core.uncertainty.budget import INF, BudgetRow
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import join, msg
-from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement, Step
-from metro.core.model.results import Metric, Result, TableSpec
-from metro.core.model.campaign import Segment
-from metro.core.base.units import Q_
+from metro.api import (
+    INF,
+    Q_,
+    BudgetRow,
+    DataError,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    ProcedureError,
+    Result,
+    Segment,
+    SegmentRequirement,
+    Step,
+    TableSpec,
+    join,
+    msg,
+)
 
 from . import budgets as B
 from . import formulas as F
@@ -29,8 +39,8 @@ from .common import (
     _mean_u,
     _need,
     _num,
-    _q,
     _output,
+    _q,
     _stated,
     output_step,
     scale_factor_for,

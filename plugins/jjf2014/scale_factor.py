@@ -6,28 +6,35 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from metro.core.uncertainty.budget import INF, BudgetRow
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import hint, join, msg
-from metro.core.model.procedure import EquipmentRequirement, Option, SegmentRequirement
-from metro.core.model.results import Metric, Result, TableSpec
-from metro.core.model.campaign import Segment
-from metro.core.uncertainty.selection import (
+from metro.api import (
+    INF,
+    Q_,
+    BudgetRow,
+    DataError,
+    EquipmentRequirement,
+    Metric,
+    Option,
+    ProcedureError,
+    Result,
+    Segment,
+    SegmentRequirement,
+    TableSpec,
     curve_scatter,
+    hint,
+    join,
     max_abs_selection,
     max_slope_selection,
+    msg,
+    parse_quantity,
     selection_note,
     selection_rows,
     spread_rows,
 )
-from metro.core.base.units import Q_, parse_quantity
 
 from . import budgets as B
 from . import formulas as F
 from .common import (
     _JJF,
-    one_estimate,
-    with_scatter,
     AXES,
     KU,
     RATE_OPTS,
@@ -50,7 +57,9 @@ from .common import (
     _temperatures,
     _updown,
     bias_repeatability,
+    one_estimate,
     sf_repeatability,
+    with_scatter,
 )
 
 # =============================================================================== 7.2.1 – 7.2.4

@@ -8,8 +8,7 @@ appendix B certificate template with its report-context entries.
 
 from __future__ import annotations
 
-
-from metro.core import hookimpl
+from metro.api import hookimpl
 
 STANDARD_ID = "ogam"
 

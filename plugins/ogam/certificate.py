@@ -28,7 +28,7 @@ DASH = "—"
 
 def certificate_context(record) -> dict[str, Any]:
     """{rows [{no, item_cn, item_en, symbol, performed, reportable, reason, value, U, k}], U_E, k_E}."""
-    from metro.core.documents.document import result_fields
+    from metro.api import result_fields
 
     results = {(o.item, r.metric.key): r for o in record.outcomes if o.standard == "ogam" for r in o.results}
     rows = []
@@ -55,7 +55,7 @@ def layout(doc, ctx: dict) -> None:
     """The certificate: laboratory, customer, instrument, dates, specification, standards and
     environment; appendix B's seven rows each with U; notes; signatures; clause 9 interval;
     figures and budgets as annexes."""
-    from metro.core.documents import document as D
+    from metro.api import document as D
 
     c = ctx.get("ogam")
     if c is None:

@@ -19,20 +19,31 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget, std_sampling_u
-from metro.core.base.errors import DataError, ProcedureError
-from metro.core.base.locale import join, msg
-from metro.core.model.campaign import Campaign, Segment
-from metro.core.model.procedure import (
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    Coverage,
+    DataError,
     EquipmentRequirement,
+    Metric,
     Option,
+    Outcome,
+    PlotSpec,
     Procedure,
+    ProcedureError,
+    Result,
     RunContext,
+    Segment,
     SegmentRequirement,
     Step,
+    TableSpec,
+    UncertaintyBudget,
+    join,
+    msg,
+    parse_quantity,
+    std_sampling_u,
 )
-from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
-from metro.core.base.units import Q_, parse_quantity
 
 from . import formulas as F
 

@@ -1,0 +1,106 @@
+"""metro's public plugin API: everything a standard plugin, a station or a reader builds or reads.
+
+A plugin imports from here and from nowhere else in metro (the import contracts in
+``.importlinter`` check it), so what is listed in ``__all__`` is the contract: it keeps its
+meaning between minor versions, and anything not listed may change.  docs/api.md is generated
+from the docstrings of these names and lists every field of every class.
+
+The names, by what they are for:
+
+* hooks: :data:`hookimpl` marks a plugin's hook implementations (docs/hooks.md lists the hooks);
+* the domain (:mod:`metro.core.model`): :class:`Procedure` and what it declares
+  (:class:`Step`, :class:`SegmentRequirement`, :class:`EquipmentRequirement`, :class:`Option`,
+  :class:`Applicability`), what it reads (:class:`Campaign`, :class:`Segment`,
+  :class:`DeviceUnderTest`, :class:`Equipment`, :class:`Calibration`, :class:`RunContext`) and
+  what it returns (:class:`Outcome` of :class:`Result` for each :class:`Metric`, with
+  :class:`PlotSpec` figures and :class:`TableSpec` tables);
+* uncertainty (:mod:`metro.core.uncertainty`): :class:`UncertaintyBudget` of :class:`BudgetRow`,
+  conformity :class:`Specification` and :func:`decide`, range selection helpers;
+* formulas (:mod:`metro.core.stats`): :mod:`allan`, :mod:`settling`, least squares, sine fits,
+  the earth's rate and gravity, rate conversions;
+* units, messages and errors (:mod:`metro.core.base`): :data:`Q_`, :func:`unit`, :func:`msg`
+  (a translatable text), :class:`DataError`, …;
+* documents: helpers a plugin's report layout uses (:mod:`document`, :func:`group_notes`, …).
+
+>>> from metro.api import Q_
+>>> f"{Q_(3600, 'deg/h').to('deg/s').magnitude:g}"
+'1'
+"""
+
+from __future__ import annotations
+
+from metro.core import hookimpl
+from metro.core.base import vocabulary
+from metro.core.base.errors import DataError, ProcedureError, UnitError
+from metro.core.base.locale import Text, hint, index, join, msg
+from metro.core.base.units import Q_, check_dimension, fmt_unit, parse_quantity, unit
+from metro.core.documents import document
+from metro.core.documents.document import display_symbol, result_fields
+from metro.core.documents.notes import group_notes
+from metro.core.documents.report import _unit_text as unit_text
+from metro.core.documents.report import fmt_num, fmt_quantity, plot_caption
+from metro.core.model.campaign import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
+from metro.core.model.procedure import (
+    Applicability,
+    EquipmentRequirement,
+    Option,
+    Procedure,
+    RunContext,
+    SegmentRequirement,
+    Step,
+)
+from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.stats import allan, settling
+from metro.core.stats.earth import EARTH_RATE_DEG_S, STANDARD_GRAVITY_M_S2, normal_gravity
+from metro.core.stats.lsq import LinearFit, fit_line, fit_linear
+from metro.core.stats.settling import excursion_lobes, last_exit
+from metro.core.stats.signals import (
+    OUTPUT_UNITS,
+    RateConversion,
+    device_scale_factor,
+    gyro_output,
+    required_scale_factor,
+)
+from metro.core.stats.sinefit import fit_sine, wrap_phase
+from metro.core.uncertainty.budget import (
+    INF,
+    BudgetRow,
+    Coverage,
+    UncertaintyBudget,
+    between_variance,
+    report_pair,
+    round_uncertainty,
+    std_sampling_u,
+    std_upper_limit,
+)
+from metro.core.uncertainty.conformity import SIMPLE, Comparison, Specification, decide, parse_limit
+from metro.core.uncertainty.selection import (
+    MaxSelection,
+    abs_change,
+    abs_change_note,
+    abs_change_rows,
+    curve_scatter,
+    max_abs_selection,
+    max_slope_selection,
+    selection_note,
+    selection_rows,
+    spread_rows,
+)
+
+__all__ = [
+    "EARTH_RATE_DEG_S", "INF", "OUTPUT_UNITS", "SIMPLE", "STANDARD_GRAVITY_M_S2",
+    "Applicability", "BudgetRow", "Calibration", "Campaign", "Comparison", "Coverage", "DataError",
+    "DeviceUnderTest", "Equipment", "EquipmentRequirement", "LinearFit", "MaxSelection", "Metric",
+    "Option", "Outcome", "PlotSpec", "Procedure", "ProcedureError", "Q_", "RateConversion",
+    "Result", "RunContext", "Segment", "SegmentRequirement", "Specification", "Step", "TableSpec",
+    "Text", "UncertaintyBudget", "UnitError",
+    "abs_change", "abs_change_note", "abs_change_rows", "allan", "between_variance",
+    "check_dimension", "curve_scatter", "decide", "device_scale_factor", "display_symbol",
+    "document", "excursion_lobes", "fit_line", "fit_linear", "fit_sine", "fmt_num",
+    "fmt_quantity", "fmt_unit", "group_notes", "gyro_output", "hint", "hookimpl", "index", "join",
+    "last_exit", "max_abs_selection", "max_slope_selection", "msg", "normal_gravity",
+    "parse_limit", "parse_quantity", "plot_caption", "report_pair", "required_scale_factor",
+    "result_fields", "round_uncertainty", "selection_note", "selection_rows", "settling",
+    "spread_rows", "std_sampling_u", "std_upper_limit", "unit", "unit_text", "vocabulary",
+    "wrap_phase",
+]
