@@ -1,0 +1,111 @@
+"""The architecture as contracts: layers and imports (.importlinter, run with lint-imports), no
+private name crossing a module, the size limits, and docs/architecture.md drawing the same
+layers as the contracts file."""
+
+from __future__ import annotations
+
+import ast
+import configparser
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = {"core": "metro.core", "instruments": "metro.instruments", "plugins": "metro.plugins"}
+MAX_FUNCTION_LINES = 100
+MAX_MODULE_LINES = 800
+
+
+def _modules() -> dict[str, Path]:
+    """Every module of the three packages (and metro.api), by dotted name."""
+    out = {}
+    for folder, package in PACKAGES.items():
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            rel = path.relative_to(ROOT / folder).with_suffix("")
+            if "_metro" in rel.parts or "migrations" in rel.parts:
+                continue
+            parts = [package, *rel.parts]
+            if parts[-1] == "__init__":
+                parts.pop()
+            out[".".join(parts)] = path
+    out["metro.api"] = ROOT / "core" / "_metro" / "api.py"
+    return out
+
+
+MODULES = _modules()
+
+
+def _absolute(importer: str, path: Path, node: ast.ImportFrom) -> str:
+    """The module an ``ImportFrom`` names, made absolute."""
+    if not node.level:
+        return node.module or ""
+    package = importer if path.name == "__init__.py" else importer.rsplit(".", 1)[0]
+    base = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def test_the_import_contracts_hold():
+    """lint-imports on .importlinter: layers, core alone, plugins through metro.api, no cycles."""
+    lint = pytest.importorskip("importlinter.cli", reason="import-linter is in the [test] extra")
+    assert lint.lint_imports(config_filename=str(ROOT / ".importlinter")) == 0
+
+
+def test_the_contracts_ignore_nothing():
+    text = (ROOT / ".importlinter").read_text(encoding="utf-8")
+    assert "ignore_imports" not in text
+
+
+def test_architecture_md_draws_the_contract_layers():
+    cfg = configparser.ConfigParser()
+    cfg.read(ROOT / ".importlinter", encoding="utf-8")
+    layers = [x.strip() for x in cfg["importlinter:contract:core-layers"]["layers"].split("\n") if x.strip()]
+    doc = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    block = re.search(r"<!-- layers -->\s*```text\n(.*?)```", doc, re.S)
+    assert block, "docs/architecture.md lost its layers block"
+    assert [x.strip() for x in block.group(1).splitlines() if x.strip()] == layers
+    for layer in layers:
+        for name in layer.split("|"):
+            assert (ROOT / "core" / name.strip() / "__init__.py").is_file(), name
+
+
+def _private_imports() -> list[str]:
+    found = []
+    for name, path in MODULES.items():
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            target = _absolute(name, path, node)
+            if not target.startswith("metro"):
+                continue
+            for alias in node.names:
+                sub = f"{target}.{alias.name}"
+                if alias.name.startswith("_") and sub not in MODULES and target != name:
+                    found.append(f"{name}: from {target} import {alias.name}")
+    return found
+
+
+def test_no_module_imports_another_modules_private_name():
+    assert _private_imports() == []
+
+
+def _long_functions() -> list[str]:
+    found = []
+    for name, path in MODULES.items():
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                n = node.end_lineno - node.lineno + 1
+                if n > MAX_FUNCTION_LINES:
+                    found.append(f"{name}.{node.name}: {n} lines")
+    return found
+
+
+def test_no_function_is_over_100_lines():
+    assert _long_functions() == []
+
+
+def test_no_module_is_over_800_lines():
+    long = {n: len(p.read_text(encoding="utf-8").splitlines()) for n, p in MODULES.items()}
+    assert {n: k for n, k in long.items() if k > MAX_MODULE_LINES} == {}
