@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 from metro.core.base.errors import DataError, ProcedureError
 from metro.core.stats.lsq import fit_line
+from metro.core.uncertainty.selection import max_slope_selection
 from metro.core.run.runner import merge_steps, run_items
 from metro.core.base.units import Q_
 from metro.instruments.sim_gbt_rate import digital_station_factory
@@ -382,7 +383,7 @@ def test_d12_maximum_selection_bias_corrected():
     which the correction removes — on average over noise draws, the corrected value recovers the
     true slope while the printed one does not (hand-worked: E[max of 5 N(0,1)] = 1.163)."""
     K, T = [1.0, 1.0 + 20e-6, 1.0 + 80e-6], [20.0, 40.0, 60.0]
-    sel = F2.max_slope_selection(K, [1e-7] * 3, T, 0, relative=True)
+    sel = max_slope_selection(K, [1e-7] * 3, T, 0, relative=True)
     assert sel.degree == -1 and sel.s == pytest.approx(math.hypot(1e-7, 1e-7) / 40.0, rel=0.05)
     assert abs(sel.bias) < 1e-8 and sel.printed == pytest.approx(2e-6, rel=1e-9)
     T = [-40.0, -20.0, 0.0, 20.0, 40.0, 60.0]
@@ -390,14 +391,14 @@ def test_d12_maximum_selection_bias_corrected():
     printed, corrected = [], []
     for _ in range(300):
         y = [2.0 * (t - 20.0) for t in T] + rng.normal(0.0, 1.0, 6)  # slope 2, u = 1 per point
-        sel = F2.max_slope_selection(y, [1.0] * 6, T, 3, relative=False, draws=1000)
+        sel = max_slope_selection(y, [1.0] * 6, T, 3, relative=False, draws=1000)
         printed.append(sel.printed)
         corrected.append(sel.value)
     se = np.std(printed) / math.sqrt(len(printed))
     assert np.mean(printed) - 2.0 > 5 * se  # the formula's maximum reads high …
     assert abs(np.mean(corrected) - 2.0) < 3 * np.std(corrected) / math.sqrt(len(corrected))  # … corrected: not
     # a clearly curved K(T): the largest slope is real (at 60 °C, 2.8), the points are kept as they are
-    corrected = [F2.max_slope_selection([2.0 * (t - 20.0) + 0.02 * (t - 20.0) ** 2 for t in T] + rng.normal(0.0, 1.0, 6),
+    corrected = [max_slope_selection([2.0 * (t - 20.0) + 0.02 * (t - 20.0) ** 2 for t in T] + rng.normal(0.0, 1.0, 6),
                                         [1.0] * 6, T, 3, relative=False, draws=1000).value for _ in range(200)]
     assert abs(np.mean(corrected) - 2.8) < 3 * np.std(corrected) / math.sqrt(len(corrected))
 

@@ -40,6 +40,7 @@ from metro.api import (
     fit_line,
     hint,
     join,
+    max_slope_selection,
     msg,
     selection_note,
     selection_rows,
@@ -649,7 +650,7 @@ def _temperature_outcome(proc: Procedure, campaign: Campaign, opts, Kt: float, i
     nu = uA**4 / den if den > 0 else math.inf
     # the line test of the selection Monte Carlo against u's whose turn-on part rests on an estimate of
     # on.dof degrees of freedom (the runs', pooled): F(n − 2, ν_eff of the points' u) rather than χ²
-    sel = F2.max_slope_selection(Ks, uKs, temps, i0, relative=True, observed=sel_observed,
+    sel = max_slope_selection(Ks, uKs, temps, i0, relative=True, observed=sel_observed,
                                  u_dof=points_dof(uKs, u_on, dofs, on.dof if on.dof > 0 else math.inf))
     notes = [msg("the maximising point alone gives {u:.3g}/°C", u=uA)]
     if s_on > 0 and on.dof > 0:

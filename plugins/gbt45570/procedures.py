@@ -525,9 +525,7 @@ class BiasTemperatureSensitivityD54(Procedure):
         nu_tot = u_tot**4 / den if den > 0 else math.inf  # σ_on of D.5.3 has ν = ∞
         # D.43 takes the largest of several noisy |slopes|: corrected for the selection bias about a
         # smoothed B(T) (interpretations.md, D.5.4); the spread of the maximum replaces one slope's u
-        from metro.api import selection_note, selection_rows
-
-        from .formulas_rate import max_slope_selection
+        from metro.api import max_slope_selection, selection_note, selection_rows
 
         sel = max_slope_selection([e.B0 for e in ests], [math.hypot(e.u_A, s_on) for e in ests], temps, i0,
                                   relative=False)
