@@ -209,3 +209,57 @@ def test_items_are_listed_in_the_standards_order():
     ids = ["7.2.10", "7.2.2", "D.2.1", "D.1.6", "7.2.1", "D.10", "6.2.7.8", "6.2.6"]
     assert sorted(ids, key=item_sort_key) == ["6.2.6", "6.2.7.8", "7.2.1", "7.2.2", "7.2.10", "D.1.6", "D.2.1",
                                               "D.10"]
+
+
+class _OwnStation:
+    """A plugin's station, made by the factory registered below (not a built-in one)."""
+
+    def __init__(self, seed: int = 0) -> None:
+        self.seed = seed
+
+
+class _StationPlugin:
+    __name__ = "own_station_plugin"
+
+    @staticmethod
+    @hookspec.hookimpl
+    def metro_register_stations(registrar):
+        registrar.add_station("own-sim", _OwnStation, "a plugin's own simulated station")
+
+
+def test_metro_station_fixture_makes_a_plugins_own_station(metro_station):
+    """metro_station reaches a station a plugin registers, given the plugin object, and still
+    the built-in ones; an unknown name lists what is registered."""
+    st = metro_station("own-sim", _StationPlugin(), seed=7)
+    assert type(st) is _OwnStation and st.seed == 7
+    assert metro_station("simulated-ogam", seed=4).truth.seed == 4
+    with pytest.raises(PluginError, match="unknown station 'own-sim'.*simulated-ogam"):
+        metro_station("own-sim")  # not registered without the plugin
+
+
+def test_metro_station_fixture_finds_an_installed_plugins_station(metro_station, monkeypatch):
+    """A plugin installed through the "metro" entry points (METRO_PLUGINS here) needs no
+    argument: the fixture falls back to the plugins metro loads."""
+    import sys
+    import types
+
+    mod = types.ModuleType("metro_test_own_station")
+    mod.metro_register_stations = _StationPlugin.metro_register_stations
+    monkeypatch.setitem(sys.modules, mod.__name__, mod)
+    monkeypatch.setenv("METRO_PLUGINS", mod.__name__)
+    monkeypatch.delenv("METRO_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    assert metro_station("own-sim", seed=2).seed == 2
+
+
+def test_the_pytest_plugin_reaches_stations_through_the_registry():
+    """core/run/testing.py never imports metro.instruments (core does not import instruments):
+    the simulated station comes from the plugin manager's registry."""
+    import ast
+    from pathlib import Path
+
+    import metro.core.run.testing as testing
+
+    tree = ast.parse(Path(testing.__file__).read_text(encoding="utf-8"))
+    imported = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+    imported += [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+    assert not [m for m in imported if m and m.startswith("metro.instruments")]

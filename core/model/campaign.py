@@ -40,15 +40,24 @@ class Calibration:
     half-width) is known, in which case ``k`` is ignored.
     """
 
+    #: the calibration certificate's number
     certificate: str
+    #: the expanded uncertainty U the certificate states: absolute (a quantity in the
+    #: equipment's unit) or relative (dimensionless, ``1e-4`` or ``100 ppm``)
     uncertainty: pint.Quantity
+    #: the coverage factor of ``uncertainty`` (ignored for a ``uniform`` distribution)
     k: float = 2.0
+    #: the date the calibration is due again, or None (not stated); past it, a run says the
+    #: results that depend on it are not traceable
     due: dt.date | None = None
+    #: the laboratory that issued the certificate
     lab: str = ""
+    #: ``"normal"`` (a certificate's U with its k) or ``"uniform"`` (a maximum permissible error)
     distribution: str = "normal"
 
     @property
     def standard_uncertainty(self) -> pint.Quantity:
+        """The standard uncertainty: U/k (normal) or the half-width/√3 (uniform)."""
         if self.distribution == "normal":
             return self.uncertainty / self.k
         return self.uncertainty / math.sqrt(3.0)
@@ -63,6 +72,7 @@ class Calibration:
         return f"certificate {self.certificate}, valid until {self.due.isoformat()}"
 
     def is_valid(self, on: dt.date | None = None) -> bool:
+        """Whether the calibration is not past its due date on ``on`` (today by default)."""
         return self.due is None or self.due >= (on or dt.date.today())
 
 
@@ -70,10 +80,16 @@ class Calibration:
 class Instrument:
     """A device under test or a piece of the lab's equipment (identification + properties)."""
 
+    #: the identifier the manifest gives it (``[device] id``, ``[[equipment]] id``)
     id: str
+    #: the model designation
     model: str = ""
+    #: the serial number
     serial: str = ""
+    #: the manufacturer
     manufacturer: str = ""
+    #: further properties by name, as the manifest gives them (quantities for values with a
+    #: unit: a device's ``scale_factor``, ``resolution`` …); read them with :meth:`prop`
     properties: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
 
     def prop(self, name: str, dimension: str | None = None, *, source: str | None = None) -> Any:
@@ -87,9 +103,11 @@ class Instrument:
 
     @property
     def kind(self) -> str:
+        """``"device"`` or ``"equipment"``: the manifest section, in messages."""
         return "instrument"
 
     def describe(self) -> str:
+        """Manufacturer and model (else the id), with the serial number: a text for documents."""
         from ..base.locale import join, msg
 
         parts = [p for p in (self.manufacturer, self.model) if p]
@@ -108,8 +126,12 @@ class DeviceUnderTest(Instrument):
     conformity in the plugins.
     """
 
+    #: the sensing technology (``"laser"``, ``"fibre"``, ``"mems"``, ``"vibratory"`` …)
     technology: str = ""
+    #: the application class the standard's limits depend on (``"aviation"``, ``"aerospace"``)
     application: str = ""
+    #: the kind of output (``"pulse"``, ``"digital"``, ``"analog"``, ``"rate"``): how
+    #: ``gyro_output`` turns the recorded column into a rate
     output: str = ""
 
     @property
@@ -123,13 +145,16 @@ class Equipment(Instrument):
 
     #: canonical spelling (metro.core.base.vocabulary.canonical_role: ``rate-table`` → ``rate_table``)
     role: str = attrs.field(default="", converter=lambda r: canonical_role(r))
+    #: its calibration data, or None (an item that needs its U then says so)
     calibration: Calibration | None = None
 
     @property
     def kind(self) -> str:
+        """``"equipment"``."""
         return "equipment"
 
     def status(self, on: dt.date | None = None) -> str:
+        """The calibration's :meth:`Calibration.status`, or that no calibration data were given."""
         if self.calibration is None:
             return "no calibration data given"
         return self.calibration.status(on)
@@ -145,21 +170,28 @@ class Series:
     """A uniformly sampled column: ``data`` (a pint quantity wrapping a 1-D array, not copied)
     sampled every ``interval``, from ``source`` (file and column)."""
 
+    #: the samples: a pint quantity wrapping a 1-D numpy array, in the column's recorded unit
     data: pint.Quantity
+    #: the sample interval (a time quantity)
     interval: pint.Quantity
+    #: where the samples come from: the file, or ``"segment <id>"`` for a station's segment
     source: str = ""
+    #: the column's name
     column: str = ""
 
     @property
     def n(self) -> int:
+        """The number of samples."""
         return int(np.shape(self.data.magnitude)[0])
 
     @property
     def duration(self) -> pint.Quantity:
+        """The record's duration, ``n`` × ``interval``."""
         return self.interval * self.n
 
     @property
     def unit(self) -> pint.Unit:
+        """The samples' unit."""
         return self.data.units
 
 
@@ -168,16 +200,28 @@ class Segment:
     """One measurement segment of a campaign: its conditions and its samples.
 
     ``loader`` returns ``{column: (array, unit_text)}`` when called; it is supplied by a
-    reader (files) or by a station (simulation) and is called at most once per run.
+    reader (files) or by a station (simulation) and is called at most once per run.  A
+    procedure reads a column with :meth:`series`, which checks its unit.
     """
 
+    #: the segment's id, unique in the campaign: the ``segment`` of the step that recorded it
     id: str
+    #: what was recorded (``"static"``, ``"rate-revolutions"`` …): the step's ``kind``, which
+    #: procedures find segments by (``Campaign.find_segments(kind, …)``)
     kind: str
+    #: the conditions it was recorded under, by name (``orientation``, ``rate``,
+    #: ``temperature`` …; text such as ``"10 deg/s"`` or quantities); read with :meth:`condition`
     conditions: Mapping[str, Any] = attrs.field(converter=frozen_map)
+    #: the sample interval (a time quantity), or None when the segment has no fixed interval
     interval: pint.Quantity | None
+    #: the samples file (as the manifest names it), or None for a station's segment in memory
     file: str | None = None
+    #: the SHA-256 of the raw data (hex), or None: the reader computes it while loading
     sha256: str | None = None
+    #: units the manifest declares per column (checked against the file's header), by column
     declared_units: Mapping[str, str] = attrs.field(factory=dict, converter=frozen_map)
+    #: a function of no argument returning ``{column: (1-D numpy array, unit text)}`` — e.g.
+    #: ``lambda: {"output": (samples, "deg/h")}``; None for a segment without data
     loader: Callable[[], Mapping[str, tuple[np.ndarray, str]]] | None = None
     #: when the record's first sample was taken (time-zone aware), or None: the manifest's optional
     #: ``started`` (docs/data-format.md); a procedure that differences records uses it for drift
@@ -192,6 +236,8 @@ class Segment:
                             f"{value.isoformat()} has no UTC offset; the recording time must say its time zone")
 
     def condition(self, name: str, dimension: str | None = None) -> Any:
+        """The condition ``name`` as recorded, or parsed as a quantity checked against
+        ``dimension`` when given; a :class:`DataError` naming the segment when it is missing."""
         if name not in self.conditions:
             raise DataError(self.file, f"segments.{self.id}.conditions.{name}", "missing condition",
                             hint=f"add '{name} = \"…\"' under [segments.conditions] of segment {self.id!r}")
@@ -297,19 +343,42 @@ class Segment:
 
 @attrs.frozen(eq=False)
 class Campaign:
-    """Everything measured in one test campaign on one device."""
+    """Everything measured in one test campaign on one device.
 
+    A manifest (``metro run --data``) or a station's ``acquire`` (docs/tutorial-station.md)
+    makes one; procedures read it.  A simulated station fills ``truth`` and ``expected``: after
+    a run metro compares each result whose metric key is in ``expected`` with that value
+    (``truth_checks`` in ``--json``, "declared truth recovered within U" in the terminal).
+    """
+
+    #: the campaign's id (``[campaign] id``; ``"SIMULATED"`` for the built-in stations)
     id: str
+    #: the device under test
     device: DeviceUnderTest
+    #: the lab's equipment used, each with its role and calibration (see ``equipment_for``)
     equipment: tuple[Equipment, ...] = attrs.field(converter=tuple)
+    #: the ambient conditions by name (``temperature``, ``humidity`` …; quantities or text)
     environment: Mapping[str, Any] = attrs.field(converter=frozen_map)
+    #: the test site by name (``latitude``, ``latitude_uncertainty``, ``gravity`` …); read with
+    #: :meth:`site_value`, which checks the dimension
     site: Mapping[str, Any] = attrs.field(converter=frozen_map)
+    #: the recorded segments (each step of a sequence gives one)
     segments: tuple[Segment, ...] = attrs.field(converter=tuple)
-    source: str = ""  # manifest path, or "simulated station"
+    #: where the campaign comes from: the manifest's path, or a station's name in words
+    #: (``"simulated station"``); :class:`DataError` messages name it
+    source: str = ""
+    #: whether the data are simulated: documents then carry the SIMULATED banner on every page
     simulated: bool = False
+    #: a simulated station's declared truth — the parameters it simulated the device with
+    #: (``"bias B0"``: ``Q_(0.12, "deg/h")`` …), by name in words; printed by
+    #: ``metro run --verbose`` and in the report; empty for measured data
     truth: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
+    #: the manifest's ``[campaign]`` table as written (people, lab, customer, dates: read them
+    #: through :attr:`people`, :attr:`lab`, :attr:`customer`, :attr:`measurement_date`)
     meta: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
-    #: on a simulated campaign: what an ideal evaluation gives, by metric key (a quantity)
+    #: on a simulated campaign: what a faultless evaluation of the recorded samples gives, by
+    #: metric key (``Metric.key``) — a quantity of the metric's dimension; metro checks each
+    #: result against it within the result's U.  Empty for measured data
     expected: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
     #: the manifest's ``[specification]`` table as written (limits as text; see core.conformity)
     specification: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
@@ -336,6 +405,7 @@ class Campaign:
 
     @property
     def customer(self) -> Customer:
+        """The customer (``customer``, ``customer_address``) from ``[campaign]``."""
         return customer_of(self.meta)
 
     @property
@@ -345,9 +415,12 @@ class Campaign:
 
     @property
     def date_received(self) -> dt.date | None:
+        """``[campaign] date_received`` (None when the manifest does not give it)."""
         return date_of(self.meta, "date_received")
 
     def find_segments(self, kind: str | None = None, **conditions: Any) -> list[Segment]:
+        """The segments of ``kind`` (any kind when None) whose conditions equal ``conditions``
+        (compared as text: ``orientation="IRA up"``), in campaign order."""
         out = []
         for s in self.segments:
             if kind is not None and s.kind != kind:
@@ -357,6 +430,8 @@ class Campaign:
         return out
 
     def equipment_for(self, role: str) -> Equipment | None:
+        """The equipment with ``role`` (any spelling :func:`canonical_role` accepts), or None;
+        declare the role in the procedure's ``equipment``."""
         role = canonical_role(role)
         for e in self.equipment:
             if e.role == role:
@@ -364,6 +439,8 @@ class Campaign:
         return None
 
     def site_value(self, name: str, dimension: str) -> pint.Quantity:
+        """The site's ``name`` as a quantity checked against ``dimension``; a :class:`DataError`
+        naming ``[site]`` when it is missing."""
         if name not in self.site:
             raise DataError(self.source, f"site.{name}", "missing", hint=f"add '{name} = \"…\"' under [site]")
         return parse_quantity(self.site[name], dimension=dimension, file=self.source, field=f"site.{name}")

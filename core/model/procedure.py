@@ -25,11 +25,18 @@ __all__ = ['SegmentRequirement', 'EquipmentRequirement', 'Applicability', 'Optio
 class SegmentRequirement:
     """What data a procedure needs: segments of ``kind`` with these conditions and columns."""
 
+    #: the segment kind needed (``Segment.kind``, the ``kind`` of the item's steps)
     kind: str
+    #: what the segment is, in words (printed when the campaign has none)
     description: str
-    conditions: Mapping[str, str] = attrs.field(factory=dict, converter=frozen_map)  # name -> unit
-    columns: Mapping[str, tuple[str, ...]] = attrs.field(factory=dict, converter=frozen_map)  # name -> accepted units
+    #: the conditions such a segment states, name → the unit they are in (``""``: text)
+    conditions: Mapping[str, str] = attrs.field(factory=dict, converter=frozen_map)
+    #: the columns it must have, name → the accepted units (any unit of one of these kinds,
+    #: e.g. ``OUTPUT_UNITS``): a campaign without them is refused before evaluation
+    columns: Mapping[str, tuple[str, ...]] = attrs.field(factory=dict, converter=frozen_map)
+    #: the least record length the method needs, or None (documentation: the item checks it)
     min_duration: pint.Quantity | None = None
+    #: how many such segments the method needs (documentation: the item checks it)
     min_count: int = 1
     #: requirements of one item that share a non-empty tag are alternatives: data for any one of
     #: them suffice (GB/T 45570 D.3 takes the sweep of the angle method or of the rate method)
@@ -49,10 +56,16 @@ class EquipmentRequirement:
     states enters the budget instead), so no note row says its uncertainty is missing.  Every
     role an item looks up is declared: the declared roles are the equipment a report lists."""
 
+    #: the equipment's role (``"rate_table"``, ``"dmm"``; any spelling canonical_role accepts)
     role: str = attrs.field(converter=lambda r: canonical_role(r))
+    #: what the item uses it for, in words (in messages and note rows)
     description: str = ""
+    #: the item refuses a campaign without it (else: a note row in the item's budgets)
     required: bool = False
+    #: the kinds of unit its calibration U may be given in (``""`` relative, ``"arcsec"`` …);
+    #: empty: any kind
     calibration: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    #: False when the item covers an absent optional role itself (no "missing" note row)
     noted: bool = True
 
 
@@ -60,17 +73,28 @@ class EquipmentRequirement:
 class Applicability:
     """Whether an item applies to a device (``metro run --all``, series), and why in words."""
 
+    #: whether the item runs for the device
     applies: bool
+    #: why, in words (printed and reported; a :func:`msg` is translated)
     reason: str = ""
 
 
 @attrs.frozen
 class Option:
-    """An item option (the standard's '除另有规定外' values), with its unit and default."""
+    """An item option (the standard's '除另有规定外' values), with its unit and default.
 
+    Given on the command line as ``-o name=value``; ``Procedure.option_values`` parses it.
+    """
+
+    #: the option's name (``-o name=value``)
     name: str
+    #: the value when none is given: text with a unit (``"5 min"``) for an option with a unit,
+    #: else a number, a whole number (a count), a bool or a text
     default: Any
+    #: the unit (kind) a value must have (``"s"``): values are parsed to quantities and
+    #: checked; None for a unitless option (its value takes the default's type)
     unit: str | None
+    #: what the option sets, in words (``metro items`` prints it)
     description: str
     #: the least value a count (an option whose default is a whole number) may take; 1 if not given
     minimum: int | None = attrs.field(default=None, kw_only=True)
@@ -79,6 +103,8 @@ class Option:
     maximum: int | None = attrs.field(default=None, kw_only=True)
 
     def parse(self, value: Any) -> Any:
+        """``value`` (text or a value) as the option's value: a quantity of :attr:`unit`, else
+        of the default's type; a :class:`DataError` naming the option when it is not."""
         if self.unit is None:
             if isinstance(self.default, (bool, int, float)) and value is not self.default:
                 # a count or a flag given as text on the command line: its default's type, or a clear error
@@ -105,12 +131,23 @@ class Step:
     ``record:<section>``, take down a record — an inspection, a test done elsewhere — in that
     section of :attr:`Campaign.records`)."""
 
+    #: the id of the segment to record (the station's segment carries it); unique per item —
+    #: steps of several items with the same kind, conditions and interval are acquired once,
+    #: for the longest duration
     segment: str
+    #: what to record (``"static"``, ``"rate-revolutions"``, ``"record:<section>"`` …): a kind
+    #: the station knows how to acquire, and the ``kind`` of the item's requirement
     kind: str
+    #: the instruction for the operator, in words (``metro plan`` prints it)
     description: str
+    #: how long to record (a time quantity)
     duration: pint.Quantity
+    #: the sample interval (a time quantity)
     interval: pint.Quantity
+    #: the conditions to record under, by name (``orientation = "IRA up"``, ``rate =
+    #: "10 deg/s"``): the station sets them and copies them into the segment
     conditions: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
+    #: a time to wait, powered, before recording (a live station waits; ``metro plan`` adds it)
     warmup: pint.Quantity | None = None
 
     @property
@@ -123,11 +160,17 @@ class Step:
 class RunContext:
     """State of one run: options, the progress reporter, lifecycle hooks, the clock."""
 
+    #: the options given for this item (``-o``), as given: read them with
+    #: ``self.option_values(ctx.options)`` (defaults filled in, parsed and checked)
     options: dict[str, Any] = attrs.field(factory=dict)
+    #: ``progress(task, done, total)`` for long evaluations, or None: call
+    #: :meth:`report_progress`
     progress: Callable[[str, float, float], None] | None = None
+    #: the date of the run (calibration due dates are judged against it)
     today: dt.date = attrs.field(factory=dt.date.today)
 
     def report_progress(self, task: str, done: float, total: float) -> None:
+        """Report progress of a long evaluation (nothing happens without a reporter)."""
         if self.progress is not None:
             self.progress(task, done, total)
 
@@ -140,13 +183,21 @@ class Procedure(abc.ABC):
     :meth:`sequence` (what to measure) and :meth:`evaluate` (formulas → results + budgets).
     """
 
+    #: the standard's id (``"gbt45570"``), registered with ``registrar.add_standard``
     standard: ClassVar[str]
+    #: the item's id within the standard (``"D.5.1"``; ``-i`` on the command line)
     item: ClassVar[str]
+    #: the item's title, in words
     title: ClassVar[str]
+    #: the clause of the standard the item implements
     clause: ClassVar[str]
+    #: the metrics the item produces (one :class:`Result` each)
     metrics: ClassVar[tuple[Metric, ...]] = ()
+    #: the segments it needs (checked before evaluation)
     requires: ClassVar[tuple[SegmentRequirement, ...]] = ()
+    #: the equipment it uses, by role (the report lists these)
     equipment: ClassVar[tuple[EquipmentRequirement, ...]] = ()
+    #: its options (``-o name=value``)
     options: ClassVar[tuple[Option, ...]] = ()
     #: the registered station that runs this item when no data is given
     station: ClassVar[str] = "simulated"
@@ -161,6 +212,7 @@ class Procedure(abc.ABC):
 
     @classmethod
     def qualified_id(cls) -> str:
+        """``standard:item`` (``"gbt45570:D.5.1"``)."""
         return f"{cls.standard}:{cls.item}"
 
     @classmethod

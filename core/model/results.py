@@ -22,14 +22,31 @@ __all__ = ['Metric', 'BOUND_SIGNS', 'Result', 'PlotSpec', 'TableSpec', 'Outcome'
 
 @attrs.frozen
 class Metric:
-    """A declared output of a procedure: what it is, its unit, and where its formula is."""
+    """A declared output of a procedure: what it is, its unit, and where its formula is.
 
+    A procedure lists its metrics in ``Procedure.metrics`` and builds one :class:`Result` per
+    metric it evaluates.
+
+    >>> Metric("D", "warm-up drift", "D", "deg/h", "4.1", "(1)").reference
+    '4.1 ((1))'
+    """
+
+    #: the metric's identifier within its standard (``"B0"``, ``"K_gxx"``): the key of
+    #: ``--json`` results, of ``Campaign.expected``, of a ``Specification`` limit and of
+    #: ``Outcome.result(key)``; an ``_`` starts a subscript when it is displayed
     key: str
+    #: the quantity's name in words (``"bias"``), printed in tables (a :func:`msg` is translated)
     name: str
+    #: the symbol the standard uses (``"B₀"``, ``"K_gxx"``), shown beside the value
     symbol: str
+    #: the unit results are reported in, as pint parses it (``"deg/h"``, ``"P/arcsec"``, ``""``
+    #: for a ratio); a result of another dimension is refused
     unit: str
+    #: the clause of the standard that defines the quantity (``"D.5.1"``)
     clause: str
+    #: the equation number in the standard (``"(D.40)"``), or ``""``
     equation: str = ""
+    #: a longer description of the quantity, or ``""`` (documentation only)
     description: str = ""
 
     @property
@@ -45,12 +62,22 @@ BOUND_SIGNS = {"lower": "≥", "upper": "≤"}
 
 @attrs.frozen
 class Result:
-    """A metric's value with its standard uncertainty and budget."""
+    """A metric's value with its standard uncertainty and budget.
 
+    The value must have the metric's dimension and be finite; the expanded uncertainty
+    :attr:`U` and its coverage factor :attr:`k` come from the budget.
+    """
+
+    #: the metric this is a value of (one of the procedure's ``metrics``)
     metric: Metric
+    #: the value, a pint quantity of the metric's dimension (any compatible unit)
     value: pint.Quantity
+    #: the combined standard uncertainty u_c (a quantity; of a temperature: a difference), or
+    #: None; with a budget, ``budget.combined``
     u: pint.Quantity | None = None
+    #: the uncertainty budget (rows, u_c, ν_eff, k, U) the report prints, or None (no U stated)
     budget: UncertaintyBudget | None = None
+    #: a note printed with the result (a :func:`msg` is translated in documents), or ``""``
     note: str = ""
     #: False when the data show the method's model does not hold (misfit, unresolved response,
     #: quantization the budget cannot cover): the value is shown but not reported as a result.
@@ -83,10 +110,13 @@ class Result:
 
     @property
     def k(self) -> float | None:
+        """The coverage factor of :attr:`U` (the budget's), or None without a budget."""
         return self.budget.k if self.budget is not None else None
 
     @property
     def U(self) -> pint.Quantity | None:
+        """The expanded uncertainty U = k·u_c in the metric's unit (Δ°C for a temperature), or
+        None without a budget."""
         if self.budget is not None:
             return self.budget.expanded.to(difference_unit(self.metric.unit))  # °C: U in Δ°C
         return None
@@ -108,6 +138,7 @@ class Result:
         return rv.text, rU.text
 
     def as_dict(self) -> dict:
+        """The result as ``--json`` writes it (key, quantity, value, unit, u, U, k, …)."""
         unit_ = self.metric.unit
         val = self.value.to(unit_).magnitude
         vtext, Utext = self.reported()
@@ -134,47 +165,97 @@ class Result:
 
 @attrs.frozen
 class PlotSpec:
-    """Data for one figure; reports render it (matplotlib), procedures only describe it."""
+    """Data for one figure; reports render it (matplotlib), procedures only describe it.
 
+    Each entry of ``series`` is a mapping read with these keys (any other key is ignored):
+
+    * ``"x"``, ``"y"`` (required) — sequences of numbers of the same length, or pint
+      quantities (their magnitudes are drawn: convert to the unit the axis label states);
+    * ``"label"`` — the legend text (a :func:`msg` is translated); no legend entry when absent
+      or ``""``; ``K_i`` is drawn with a subscript;
+    * ``"style"`` — ``"o"``, ``"s"``, ``"^"``, ``"v"``, ``"D"``, ``"x"``, ``"+"`` or ``"."``
+      markers (with error bars when ``yerr`` is given), ``"-"`` a solid line (the default),
+      ``"--"`` a dashed line, or any other matplotlib format string;
+    * ``"yerr"`` — symmetric error bars for a marker style: one value per point, or one for
+      all (numbers or a quantity); ignored for lines.
+
+    >>> spec = PlotSpec("drift", "Warm-up", "t (s)", "ω (°/h)", [{"x": [0, 1], "y": [2, 3]}])
+    >>> spec.series[0]["y"]
+    [2, 3]
+    """
+
+    #: the figure's identifier within the item (``"adev"``; ``name`` in a Word template's context)
     name: str
+    #: the title drawn above the figure and used in its caption (a :func:`msg` is translated)
     title: str
+    #: the x-axis label, with its unit (``"τ (s)"``)
     xlabel: str
+    #: the y-axis label, with its unit
     ylabel: str
-    series: tuple[Mapping[str, Any], ...] = attrs.field(converter=tuple)  # {label, x, y, style, yerr}
+    #: the curves: mappings with the keys ``x``, ``y``, ``label``, ``style``, ``yerr`` (above)
+    series: tuple[Mapping[str, Any], ...] = attrs.field(converter=tuple)
+    #: a logarithmic x axis (non-positive values are not drawn)
     logx: bool = False
+    #: a logarithmic y axis (non-positive values are not drawn)
     logy: bool = False
 
 
 @attrs.frozen
 class TableSpec:
-    """A supplementary table (e.g. B_s(τ_k) per level)."""
+    """A supplementary table (e.g. B_s(τ_k) per level).
 
+    >>> TableSpec("levels", "Levels", ["τ (s)", "B (°/h)"], [[1, "0.02"]]).rows
+    ((1, '0.02'),)
+    """
+
+    #: the table's identifier within the item (``"levels"``; ``name`` in a Word template's context)
     name: str
+    #: the title printed above the table (a :func:`msg` is translated)
     title: str
+    #: the column headings, units included (``"τ (s)"``)
     header: tuple[str, ...] = attrs.field(converter=tuple)
-    rows: tuple[tuple[Any, ...], ...] = attrs.field(converter=lambda rs: tuple(tuple(r) for r in rs))
+    #: the rows, each a sequence of cells as long as ``header``; a cell is printed as ``str(cell)``
+    #: (format numbers yourself, e.g. with :func:`fmt_num`)
+    rows: tuple[tuple[Any, ...], ...] = attrs.field(
+        converter=lambda rs: tuple(tuple(r) for r in rs))
 
 
 @attrs.frozen
 class Outcome:
-    """What one procedure produced from one campaign."""
+    """What one procedure produced from one campaign: ``Procedure.evaluate`` returns it.
 
+    Build it as ``Outcome(self.standard, self.item, self.title, self.clause, results, …)``.
+    """
+
+    #: the standard's id (``"gbt45570"``): the procedure's ``standard``
     standard: str
+    #: the item's id within the standard (``"D.5.1"``): the procedure's ``item``
     item: str
+    #: the item's title: the procedure's ``title``
     title: str
+    #: the clause the item implements: the procedure's ``clause``
     clause: str
+    #: one :class:`Result` per metric evaluated, in the order to report them
     results: tuple[Result, ...] = attrs.field(converter=tuple)
+    #: the figures the report draws for the item
     plots: tuple[PlotSpec, ...] = attrs.field(default=(), converter=tuple)
+    #: the supplementary tables the report prints for the item
     tables: tuple[TableSpec, ...] = attrs.field(default=(), converter=tuple)
+    #: deviations and cautions about this evaluation (texts or :func:`msg`), printed in the
+    #: terminal, ``--json`` and the report's notes
     warnings: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    #: the ids of the campaign segments the item used (reported as its data)
     segments: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    #: the option values the item ran with, by option name (reported; quantities as text read best)
     options: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
 
     @property
     def id(self) -> str:
+        """The qualified item id, ``standard:item`` (``"gbt45570:D.5.1"``)."""
         return f"{self.standard}:{self.item}"
 
     def result(self, key: str) -> Result:
+        """The result of the metric ``key``; a ``KeyError`` when the item did not produce it."""
         for r in self.results:
             if r.metric.key == key:
                 return r
