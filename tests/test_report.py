@@ -14,6 +14,7 @@ import docx
 import pytest
 
 from metro.core.documents import plots, report
+from metro.core.base import formatting
 from metro.core.base.atomic import TMP_MARKER
 from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
 from metro.core.model.campaign import Calibration, Campaign, DeviceUnderTest, Equipment
@@ -143,7 +144,7 @@ def test_context_numbers_follow_the_model():
     assert [row["divisor"] for row in b["rows"]] == ["1", "2", "√3"]
     assert [row["dof"] for row in b["rows"]] == ["12", "∞", "∞"]
     assert b["rows"][2]["value"] == "2 ″"
-    assert b["u_c"] == report.fmt_num(d["u_c"])
+    assert b["u_c"] == formatting.fmt_num(d["u_c"])
     assert o["tables"][0]["header"] == ["k", "τ_k (s)", "B_s (°/h)"]
     assert o["tables"][0]["rows"][0] == ["1", "10", "0.031"]
     assert o["plots"][0]["number"] == 1 and o["plots"][0]["image"] is None
@@ -177,13 +178,13 @@ def test_context_strips_characters_xml_cannot_hold():
 
 
 def test_fmt_num():
-    assert report.fmt_num(0.000012345) == "1.234×10⁻⁵"
-    assert report.fmt_num(123456.0) == "1.235×10⁵"
-    assert report.fmt_num(0.5) == "0.5"
-    assert report.fmt_num(3) == "3"
-    assert report.fmt_num(None) == "—"
-    assert report.fmt_num(float("inf")) == "∞"
-    assert report.fmt_quantity(Q_(45.0, "percent")) == "45 %"
+    assert formatting.fmt_num(0.000012345) == "1.234×10⁻⁵"
+    assert formatting.fmt_num(123456.0) == "1.235×10⁵"
+    assert formatting.fmt_num(0.5) == "0.5"
+    assert formatting.fmt_num(3) == "3"
+    assert formatting.fmt_num(None) == "—"
+    assert formatting.fmt_num(float("inf")) == "∞"
+    assert formatting.fmt_quantity(Q_(45.0, "percent")) == "45 %"
 
 
 # --------------------------------------------------------------------------------------
@@ -366,7 +367,7 @@ def test_generic_report_states_the_decision_rule_and_each_verdict(tmp_path):
 
 
 def test_degrees_of_freedom_print_without_false_precision():
-    from metro.core.documents.report import fmt_dof
+    from metro.core.base.formatting import fmt_dof
 
     assert [fmt_dof(x) for x in (None, float("inf"), 6.0, 34.27, 3308.4, 21776473.0)] == \
         ["∞", "∞", "6", "34.3", "3308", "2.2×10⁷"]
@@ -420,7 +421,7 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
 
 
 def test_pretty_powers_changes_free_standing_numbers_only():
-    from metro.core.documents.report import pretty_powers
+    from metro.core.base.formatting import pretty_powers
 
     assert pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a; x=-3e-07") == \
         "band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a; x=-3×10⁻⁷"

@@ -37,8 +37,8 @@ from metro.core.base.units import Q_, check_dimension, fmt_unit, parse_quantity,
 from metro.core.documents import document
 from metro.core.documents.document import display_symbol, result_fields
 from metro.core.documents.notes import group_notes
-from metro.core.documents.report import _unit_text as unit_text
-from metro.core.documents.report import fmt_num, fmt_quantity, plot_caption
+from metro.core.base.formatting import fmt_num, fmt_quantity, unit_text
+from metro.core.documents.report import plot_caption
 from metro.core.model.campaign import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
 from metro.core.model.procedure import (
     Applicability,

@@ -482,7 +482,7 @@ def _histograms(stats: Sequence[Mapping[str, Any]], rows: Sequence[Mapping[str, 
 
 
 def _fmt(x: float | None) -> str:
-    from ..documents.report import fmt_num
+    from ..base.formatting import fmt_num
 
     return "–" if x is None else fmt_num(x, 4)
 

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from ..model.provenance import RunRecord
-from ..documents.report import fmt_dof, fmt_num, fmt_quantity, pretty_powers, with_unit
+from ..base.formatting import fmt_dof, fmt_num, fmt_quantity, pretty_powers, with_unit
 from ..base.units import fmt_unit
 
 

@@ -27,10 +27,13 @@ import re
 import unicodedata
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping, Sequence
 
+from ..base.formatting import DASH, or_dash, pretty_powers, with_unit
+
 if TYPE_CHECKING:  # pragma: no cover
     from ..base.locale import Translator
 
-__all__ = ["DocumentBuilder", "Layout", "subscript_runs", "glue", "column_widths", "TEXT_WIDTH_MM"]
+__all__ = ["DocumentBuilder", "Layout", "subscript_runs", "glue", "column_widths", "TEXT_WIDTH_MM",
+           "DASH", "or_dash", "with_unit"]
 
 PAGE_W_MM, PAGE_H_MM, MARGIN_MM = 210.0, 297.0, 20.0
 TEXT_WIDTH_MM = PAGE_W_MM - 2 * MARGIN_MM
@@ -131,8 +134,6 @@ def glue(text: str) -> str:
     >>> glue("U = 1.2 ppm (k = 2)") == "U\u00a0=\u00a01.2\u00a0ppm (k\u00a0=\u00a02)"
     True
     """
-    from .report import pretty_powers  # numbers a translated message formats with {x:g}
-
     text = _NUM_UNIT.sub(NBSP, _EQ.sub(f"{NBSP}={NBSP}", one_notation(pretty_powers(text))))
     # a minus sign written as a hyphen: LibreOffice breaks after it ("alpha0 = -" / "2.3…"),
     # a word joiner (U+2060, invisible) keeps it with its number
@@ -749,15 +750,6 @@ def fit_check(widths: Sequence[float], total: float = TEXT_WIDTH_MM) -> bool:
 # Sections every document may use (a layout picks them and adds its appendix's own)
 # ----------------------------------------------------------------------------------------
 
-DASH = "—"
-
-
-def or_dash(v: Any) -> str:
-    """Text, or "—" when empty (a missing fact shows as missing)."""
-    s = "" if v is None else str(v).strip()
-    return s or DASH
-
-
 def not_reportable(tr, reason: Any) -> str:
     """"not reportable: reason" in the document's language(s).  A reason made as a message
     (:class:`metro.core.base.locale.Text`) is written in each language; a plain one (data, in one
@@ -820,11 +812,6 @@ def result_fields(result: Any) -> dict:
     from .report import _result_row
 
     return _result_row(result)
-
-
-def with_unit_text(num: str, unit: str) -> str:
-    """``num unit``; no unit for a dimensionless one (``1`` or empty)."""
-    return num if unit in ("", "1", DASH) else f"{num} {unit}"
 
 
 _SUBDIGITS = str.maketrans("₀₁₂₃₄₅₆₇₈₉", "0123456789")

@@ -23,7 +23,6 @@ so a key called ``items`` or ``values`` would be shadowed in ``{{ x.items }}``).
 from __future__ import annotations
 
 import datetime as dt
-import math
 import os
 import re
 import tempfile
@@ -31,6 +30,9 @@ from pathlib import Path
 from typing import Callable, TYPE_CHECKING, Any, Iterable, Mapping
 
 from ..base.atomic import atomic_path
+from ..base.formatting import (
+    DASH, fmt_divisor, fmt_dof, fmt_num, fmt_quantity, or_dash, pretty_powers, unit_text, with_unit,
+)
 from ..base.locale import Text, join, msg, translator
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -45,8 +47,6 @@ __all__ = [
     "render_context",
     "report_context",
     "default_template",
-    "fmt_num",
-    "fmt_quantity",
     "SIMULATED_BANNER",
     "IMAGE_WIDTH_MM",
 ]
@@ -58,64 +58,6 @@ SIMULATED_BANNER = (
 
 #: Width of a figure in the report.
 IMAGE_WIDTH_MM = 150
-
-_DASH = "—"
-_SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
-
-
-def power_of_ten(mantissa: str, exponent: int) -> str:
-    """``mantissa×10ⁿ`` as certificates print it: ``power_of_ten("1.4", -6)`` → ``1.4×10⁻⁶``
-    (the one place metro writes a power of ten; budget rounding and :func:`fmt_num` use it)."""
-    return f"{mantissa}×10{str(int(exponent)).translate(_SUPERSCRIPT)}"
-
-
-# --------------------------------------------------------------------------------------
-# Number and unit formatting
-# --------------------------------------------------------------------------------------
-
-
-def fmt_num(x: Any, sig: int = 4) -> str:
-    """A number with ``sig`` significant digits, powers of ten as ``1.23×10⁻⁵``.
-
-    ``None`` prints as a dash, infinity as ``∞``; integers print in full.
-
-    >>> fmt_num(0.000012345), fmt_num(1234.5), fmt_num(2.0), fmt_num(None), fmt_num(float("inf"))
-    ('1.234×10⁻⁵', '1234', '2', '—', '∞')
-    """
-    if x is None:
-        return _DASH
-    if isinstance(x, bool):
-        return str(x)
-    if isinstance(x, int):
-        return str(x)
-    try:
-        v = float(x)
-    except (TypeError, ValueError):
-        return str(x)
-    if math.isnan(v):
-        return "NaN"
-    if math.isinf(v):
-        return "∞" if v > 0 else "-∞"
-    if v == 0:
-        return "0"
-    return pretty_powers(f"{v:.{sig}g}")
-
-
-_SCI = re.compile(r"(?<![\w./\-])(-?\d+(?:\.\d+)?)[eE]([+-]\d{1,3})\b")
-
-
-def pretty_powers(text: str) -> str:
-    """Numbers written with Python's ``g`` format in free text (budget sources, notes,
-    warnings) as a certificate prints them: ``±5e-06`` → ``±5×10⁻⁶``.
-
-    Only a number standing alone is changed: hex digests and report numbers carry no sign
-    after their ``e``, and a number glued to a name or path (``run-1e-5.csv``) is left as is.
-
-    >>> pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a")
-    'band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a'
-    """
-    return _SCI.sub(lambda m: power_of_ten(m.group(1), int(m.group(2))), text)
-
 
 def _pretty_context(obj: Any) -> Any:
     """:func:`pretty_powers` on every string of a report context (dicts, lists, tuples); other
@@ -131,66 +73,6 @@ def _pretty_context(obj: Any) -> Any:
     if isinstance(obj, tuple):
         return tuple(_pretty_context(v) for v in obj)
     return obj
-
-
-def fmt_dof(d: float | None) -> str:
-    """Degrees of freedom: ``∞`` for none/infinite, whole numbers without decimals."""
-    if d is None or (isinstance(d, float) and math.isinf(d)):
-        return "∞"
-    d = float(d)
-    if d >= 1e4:  # printed whole, 21776473 reads as precision it does not have
-        return fmt_num(d, 2)
-    if abs(d - round(d)) < 1e-9 or d >= 100:
-        return f"{d:.0f}"
-    return f"{d:.3g}"
-
-
-
-_ROOTS = ((math.sqrt(2.0), "√2"), (math.sqrt(3.0), "√3"), (math.sqrt(6.0), "√6"))
-
-
-def _fmt_divisor(d: float) -> str:
-    for value, text in _ROOTS:
-        if math.isclose(d, value, rel_tol=1e-9):
-            return text
-    return fmt_num(d)
-
-
-def _unit_text(u: Any) -> str:
-    """``fmt_unit`` text, empty for a dimensionless unit."""
-    from ..base.units import fmt_unit
-
-    text = fmt_unit(u)
-    return "" if text in ("1", "") else text
-
-
-def with_unit(num: str, unit_text: str) -> str:
-    """``num unit``; a dimensionless unit (empty or ``1``) is not printed."""
-    if unit_text in ("", "1"):
-        return num
-    return f"{num} {unit_text}"
-
-
-def fmt_quantity(q: Any, sig: int = 4) -> str:
-    """A pint quantity (or anything else) as report text: ``20 ℃``, ``0.0012 °/√h``, ``1×10⁻⁷``."""
-    if hasattr(q, "magnitude") and hasattr(q, "units"):
-        mag = q.magnitude
-        if getattr(mag, "ndim", 0):
-            return f"[{', '.join(fmt_num(m, sig) for m in mag.ravel())}] {_unit_text(q.units)}".rstrip()
-        return with_unit(fmt_num(mag, sig), _unit_text(q.units))
-    if isinstance(q, float):
-        return fmt_num(q, sig)
-    if q is None:
-        return _DASH
-    return str(q)
-
-
-def _text(v: Any) -> str:
-    """A free-text field: empty or missing prints as a dash."""
-    if v is None:
-        return _DASH
-    s = str(v).strip()
-    return s or _DASH
 
 
 def _label(key: str) -> str:
@@ -236,20 +118,20 @@ def _equipment_row(e: "Equipment", on: dt.date) -> dict[str, Any]:
             U = msg("{U} ({distribution}, half-width)", U=fmt_quantity(cal.uncertainty),
                     distribution=cal.distribution)
         expired = not cal.is_valid(on)
-        relative = not _unit_text(getattr(cal.uncertainty, "units", "")) if hasattr(cal.uncertainty, "units") else True
+        relative = not unit_text(getattr(cal.uncertainty, "units", "")) if hasattr(cal.uncertainty, "units") else True
     else:
-        U = _DASH
+        U = DASH
         expired = False
         relative = False
-    certificate = _DASH if cal is None else cal.certificate + (f" ({cal.lab})" if cal.lab else "")
+    certificate = DASH if cal is None else cal.certificate + (f" ({cal.lab})" if cal.lab else "")
     return {
         "id": e.id,
         "description": e.describe(),
-        "role": _text(e.role),
+        "role": or_dash(e.role),
         "certificate": certificate,
         "U": U,
         "U_relative": relative,
-        "due": _DASH if cal is None or cal.due is None else cal.due.isoformat(),
+        "due": DASH if cal is None or cal.due is None else cal.due.isoformat(),
         "status": status,
         "expired": expired,
         "valid": cal is not None and not expired,
@@ -263,24 +145,24 @@ def _result_row(r: "Result") -> dict[str, Any]:
         u = float(r.u.to(m.unit).magnitude)
         Utext = f"u = {fmt_num(u, 2)}"  # a standard uncertainty without a budget: say so
     reference = m.clause + (f", {m.equation}" if m.equation else "")
-    unit = _unit_text(m.unit)
+    unit = unit_text(m.unit)
     return {
         "reportable": bool(getattr(r, "reportable", True)),
         "reason": getattr(r, "reason", "") or "",
         "bound": getattr(r, "bound", "") or "",
         "earth_rate": str(getattr(r, "earth_rate", "") or ""),
         "value_unit": with_unit(vtext, unit),
-        "U_unit": _DASH if Utext is None else (Utext if Utext.startswith("u = ") else with_unit(Utext, unit)),
+        "U_unit": DASH if Utext is None else (Utext if Utext.startswith("u = ") else with_unit(Utext, unit)),
         "key": m.key,
         "quantity": m.name,
         "symbol": m.symbol,
         "value": vtext,
-        "U": Utext if Utext is not None else _DASH,
-        "unit": _unit_text(m.unit) or "1",
-        "k": _DASH if r.k is None else fmt_num(r.k, 3),
+        "U": Utext if Utext is not None else DASH,
+        "unit": unit_text(m.unit) or "1",
+        "k": DASH if r.k is None else fmt_num(r.k, 3),
         "clause": m.clause,
         "equation": m.equation,
-        "reference": reference or _DASH,
+        "reference": reference or DASH,
         "note": r.note,
     }
 
@@ -321,7 +203,7 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
             "type": row["type"],
             "distribution": row["distribution"],
             "value": with_unit(fmt_num(row["value"]), row["value_unit"]),
-            "divisor": _fmt_divisor(row["divisor"]),
+            "divisor": fmt_divisor(row["divisor"]),
             "sensitivity": with_unit(fmt_num(row["sensitivity"]), row["sensitivity_unit"]),
             "contribution": fmt_num(row["contribution"]),
             "dof": fmt_dof(row["dof"]),
@@ -385,7 +267,7 @@ def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: in
         "item": o.item,
         "title": o.title,
         "clause": o.clause,
-        "segments_text": ", ".join(o.segments) or _DASH,
+        "segments_text": ", ".join(o.segments) or DASH,
         "options": _name_values(o.options, relabel=False),
         "options_text": "; ".join(f"{k} = {fmt_quantity(v)}" for k, v in o.options.items()),
         "results": [_result_row(r) for r in results],
@@ -423,7 +305,7 @@ def _conformity_block(a: Any) -> dict[str, Any] | None:
         "rule": a.rule.name,
         "rule_title": a.rule.title,
         "statement": a.rule.statement,
-        "overall": a.overall.value if a.overall is not None else _DASH,
+        "overall": a.overall.value if a.overall is not None else DASH,
         "verdicts": [{"item": v.item, "key": v.key, "limit": v.spec.text(), "source": v.spec.source,
                       "status": v.status.value, "detail": v.detail, "reason": v.reason} for v in a.verdicts],
         "not_assessed": [msg("{symbol} {limit} ({source})", symbol=s.symbol, limit=s.text(), source=s.source)
@@ -565,7 +447,7 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
 
     software = dict(record.software)
     generator = f"metro {software['metro']}" if "metro" in software else "metro"
-    source = camp.source or ("simulated station" if simulated else _DASH)
+    source = camp.source or ("simulated station" if simulated else DASH)
 
     return _sanitize({
         "facts": record_facts(record),
@@ -576,20 +458,20 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
         "footer": f"{title} · {record.report_number}",
         "generator": generator,
         "standards": std_list,
-        "standards_text": ", ".join(s["designation"] for s in std_list) or _DASH,
-        "items_text": items_text or _DASH,
+        "standards_text": ", ".join(s["designation"] for s in std_list) or DASH,
+        "items_text": items_text or DASH,
         "simulated": simulated,
         "simulated_banner": SIMULATED_BANNER if simulated else "",
         "truth": _name_values(truth, relabel=False) if simulated else [],
         "campaign": {"id": camp.id, "source": source},
         "device": {
             "id": dev.id,
-            "manufacturer": _text(dev.manufacturer),
-            "model": _text(dev.model),
-            "serial": _text(dev.serial),
-            "technology": _text(dev.technology),
-            "application": _text(dev.application),
-            "output": _text(dev.output),
+            "manufacturer": or_dash(dev.manufacturer),
+            "model": or_dash(dev.model),
+            "serial": or_dash(dev.serial),
+            "technology": or_dash(dev.technology),
+            "application": or_dash(dev.application),
+            "output": or_dash(dev.output),
             "description": dev.describe(),
             "properties": _name_values(dev.properties),
         },
@@ -619,12 +501,12 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
 
 
 def default_template() -> Any:
-    """The packaged docxtpl template, ``metro/core/templates/report.docx`` (an importlib
+    """The packaged docxtpl template, ``metro/core/documents/templates/report.docx`` (an importlib
     Traversable): a starting point for a lab's own template; metro's documents are built by
     :mod:`metro.core.documents.document`."""
     from importlib import resources
 
-    return resources.files("metro.core") / "templates" / "report.docx"
+    return resources.files("metro.core.documents") / "templates" / "report.docx"
 
 
 def build_context(

@@ -34,7 +34,7 @@ import attrs
 import pint
 
 from ..base.locale import msg
-from ..documents.report import power_of_ten
+from ..base.formatting import power_of_ten
 from ..base.units import Q_, fmt_unit, ureg
 
 Distribution = Literal["normal", "uniform", "triangular", "arcsine", "t", "rectangular"]

@@ -175,7 +175,7 @@ class Specification:
 
     def text(self) -> str:
         """The limit as a report prints it: ``≤ 10 ppm``, ``−1 … 1 °/h``, ``|x| ≤ 0.1 (°/h)/mT``."""
-        from ..documents.report import fmt_num
+        from ..base.formatting import fmt_num
 
         u = fmt_unit(self.limit.units)
         u = "" if u == "1" else f" {u}"
@@ -278,7 +278,7 @@ class Verdict:
 
 
 def _fmt(x: float, unit_text: str, sig: int = 4) -> str:
-    from ..documents.report import fmt_num
+    from ..base.formatting import fmt_num
 
     return (fmt_num(x, sig) + ("" if unit_text == "1" else f" {unit_text}")).replace("-", "−")
 

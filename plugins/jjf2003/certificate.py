@@ -181,7 +181,7 @@ def layout(doc, ctx: dict) -> None:
             continue
         # a result not reportable: the cell says so, its U is not issued, the reason follows the table
         doc.table([tr("Quantity"), tr("Symbol"), tr("Calibration result"), tr("Expanded uncertainty")],
-                  [[r["name"], r["symbol"], D.with_unit_text(r["value"], r["unit"]), f"U = {D.with_unit_text(r['U'], r['unit'])} "
+                  [[r["name"], r["symbol"], D.with_unit(r["value"], r["unit"]), f"U = {D.with_unit(r['U'], r['unit'])} "
                     f"(k = {r['k']})" if r["U"] != DASH else tr("not evaluated")] if r["reportable"] else
                    [r["name"], r["symbol"], tr(NOT_REPORTABLE), DASH] for r in rows], prefer=0)
         D.withheld_reasons(doc, [(r["symbol"], r["reason"]) for r in rows if not r["reportable"]])
