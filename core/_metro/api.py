@@ -11,9 +11,12 @@ The names, by what they are for:
 * the domain (:mod:`metro.core.model`): :class:`Procedure` and what it declares
   (:class:`Step`, :class:`SegmentRequirement`, :class:`EquipmentRequirement`, :class:`Option`,
   :class:`Applicability`), what it reads (:class:`Campaign`, :class:`Segment`,
-  :class:`DeviceUnderTest`, :class:`Equipment`, :class:`Calibration`, :class:`RunContext`) and
+  :class:`DeviceUnderTest`, :class:`Equipment`, :class:`Calibration`, :class:`Series`,
+  :class:`RunContext`) and
   what it returns (:class:`Outcome` of :class:`Result` for each :class:`Metric`, with
   :class:`PlotSpec` figures and :class:`TableSpec` tables);
+* stations: a station factory returns a :class:`Station` (:class:`CheckingStation` when it can
+  refuse a sequence before acquiring); docs/tutorial-station.md builds a simulated one;
 * uncertainty (:mod:`metro.core.uncertainty`): :class:`UncertaintyBudget` of :class:`BudgetRow`,
   conformity :class:`Specification` and :func:`decide`, range selection helpers;
 * formulas (:mod:`metro.core.stats`): :mod:`allan`, :mod:`settling`, least squares, sine fits,
@@ -39,7 +42,14 @@ from metro.core.documents.document import display_symbol, result_fields
 from metro.core.documents.notes import group_notes
 from metro.core.base.formatting import fmt_num, fmt_quantity, unit_text
 from metro.core.documents.report import plot_caption
-from metro.core.model.campaign import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
+from metro.core.model.campaign import (
+    Calibration,
+    Campaign,
+    DeviceUnderTest,
+    Equipment,
+    Segment,
+    Series,
+)
 from metro.core.model.procedure import (
     Applicability,
     EquipmentRequirement,
@@ -50,6 +60,7 @@ from metro.core.model.procedure import (
     Step,
 )
 from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
+from metro.core.model.station import CheckingStation, Station
 from metro.core.stats import allan, settling
 from metro.core.stats.earth import EARTH_RATE_DEG_S, STANDARD_GRAVITY_M_S2, normal_gravity
 from metro.core.stats.lsq import LinearFit, fit_line, fit_linear
@@ -87,13 +98,28 @@ from metro.core.uncertainty.selection import (
     spread_rows,
 )
 
+# The names below are objects metro does not document where they are defined (a marker, plain
+# numbers); docs/api.md takes their documentation from these comments (tools/gen_api_docs.py).
+#: hookimpl — the marker of a plugin's hook implementations (pluggy's, for the project "metro"):
+#: decorate each ``metro_*`` function of the plugin module with ``@hookimpl``; docs/hooks.md
+#: lists the hooks, their arguments and what they return.
+#: EARTH_RATE_DEG_S — the earth's rotation rate Ω_e in °/s: 7.2921150×10⁻⁵ rad/s (IERS
+#: conventions, the sidereal rate) ≈ 4.178×10⁻³ °/s ≈ 15.04107 °/h.  The standards' rounded
+#: 15.041 °/h stays in their plugins, next to the equation that prints it.
+#: STANDARD_GRAVITY_M_S2 — standard gravity g_n = 9.80665 m/s² (CGPM 1901); the local gravity
+#: at a latitude is :func:`normal_gravity`.
+#: INF — infinite degrees of freedom (``math.inf``): the ``dof`` of a type B
+#: :class:`BudgetRow` whose value is known exactly.
+#: SIMPLE — the simple-acceptance decision rule (guard band w = 0), a
+#: ``DecisionRule``: :func:`decide` compares the value with the limit and U does not enter.
+
 __all__ = [
     "EARTH_RATE_DEG_S", "INF", "OUTPUT_UNITS", "SIMPLE", "STANDARD_GRAVITY_M_S2",
-    "Applicability", "BudgetRow", "Calibration", "Campaign", "Comparison", "Coverage", "DataError",
-    "DeviceUnderTest", "Equipment", "EquipmentRequirement", "LinearFit", "MaxSelection", "Metric",
-    "Option", "Outcome", "PlotSpec", "Procedure", "ProcedureError", "Q_", "RateConversion",
-    "Result", "RunContext", "Segment", "SegmentRequirement", "Specification", "Step", "TableSpec",
-    "Text", "UncertaintyBudget", "UnitError",
+    "Applicability", "BudgetRow", "Calibration", "Campaign", "CheckingStation", "Comparison",
+    "Coverage", "DataError", "DeviceUnderTest", "Equipment", "EquipmentRequirement", "LinearFit",
+    "MaxSelection", "Metric", "Option", "Outcome", "PlotSpec", "Procedure", "ProcedureError", "Q_",
+    "RateConversion", "Result", "RunContext", "Segment", "SegmentRequirement", "Series",
+    "Specification", "Station", "Step", "TableSpec", "Text", "UncertaintyBudget", "UnitError",
     "abs_change", "abs_change_note", "abs_change_rows", "allan", "between_variance",
     "check_dimension", "curve_scatter", "decide", "device_scale_factor", "display_symbol",
     "document", "excursion_lobes", "fit_line", "fit_linear", "fit_sine", "fmt_num",

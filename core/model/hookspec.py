@@ -103,8 +103,14 @@ def metro_register_stations(registrar: "StationRegistrar") -> None:
     """Register test stations (simulated or live) that can acquire a campaign.
 
     Call ``registrar.add_station(name, factory, description=...)``; ``factory(**options)``
-    returns an object with ``acquire(procedure, steps, ctx) -> Campaign``.  The built-in
-    ``simulated`` station is registered this way by ``metro.instruments``.
+    (the ``--station-option`` and ``--seed`` values) returns a :class:`metro.api.Station`:
+    ``acquire(steps, *, progress=None) -> Campaign`` acquires the merged test sequence of the
+    items that run on it, and ``device() -> DeviceUnderTest | None`` (optional) names the device
+    it measures before acquiring, so ``--all`` and series choose the items that apply.  An
+    optional ``check(steps, *, items=None)`` refuses, before anything moves, a step it cannot
+    do.  A procedure runs on the station its ``station`` attribute names (default
+    ``simulated``, registered this way by ``metro.instruments``) unless ``--station`` is
+    given.  docs/tutorial-station.md builds one.
 
     :param registrar: validates and records the stations.
     :return: nothing.
