@@ -383,8 +383,12 @@ def test_plan_all_gives_the_total_duration(run_cli):
     assert code == 0
     doc = json.loads(out)
     ureg = pint.UnitRegistry()
-    rec = sum(ureg.Quantity(s["duration"]).to("s").magnitude for s in doc["steps"])
-    warm = sum(ureg.Quantity(s["warmup"]).to("s").magnitude for s in doc["steps"] if s["warmup"])
+
+    def seconds(q):  # a quantity is {"value", "unit"} (docs/json.md)
+        return ureg.Quantity(q["value"], q["unit"]).to("s").magnitude
+
+    rec = sum(seconds(s["duration"]) for s in doc["steps"])
+    warm = sum(seconds(s["warmup"]) for s in doc["steps"] if s["warmup"])
     assert doc["total"]["recording_s"] == pytest.approx(rec) and doc["total"]["warmup_s"] == pytest.approx(warm)
     assert len(doc["total"]["items"]) > 15 and doc["total"]["steps"] == len(doc["steps"])
     code, out, _ = run_cli("plan", "-s", "gbt45570", "-i", "D.5.1,D.5.6")

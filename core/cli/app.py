@@ -7,7 +7,6 @@ scipy, docxtpl and the plugins load when a command needs them.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 from typing import Any, Sequence
@@ -58,7 +57,8 @@ class _Parser(argparse.ArgumentParser):
         super().error(message)
 
 
-def _parser() -> argparse.ArgumentParser:
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of the whole `metro` command line (every command and its options)."""
     p = _Parser(
         prog="metro",
         description="Calibrate and test inertial sensors to published standards "
@@ -394,7 +394,7 @@ def _stdout_is_devnull() -> bool:
 
 
 def _main(argv: Sequence[str] | None) -> int:
-    parser = _parser()
+    parser = build_parser()
     args, extra = parser.parse_known_args(argv)
     if extra:
         _unknown_arguments(parser, args.command, extra)
@@ -428,9 +428,12 @@ def _main(argv: Sequence[str] | None) -> int:
         if args.command in cli_register.COMMANDS:
             return cli_register.dispatch(args)
     except MetroError as exc:
-        if getattr(args, "json", False):
-            print(json.dumps({"error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
-                              "file": getattr(exc, "file", None), "field": getattr(exc, "field", None)}))
+        if getattr(args, "json", False):  # one line (core/cli/schemas/error.schema.json)
+            from .schemas import print_json
+
+            print_json({"error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
+                        "file": getattr(exc, "file", None), "field": getattr(exc, "field", None)},
+                       indent=None)
         print(f"metro: error: {exc.reason}", file=sys.stderr)
         if exc.hint:
             print(f"  what to do: {exc.hint}", file=sys.stderr)
@@ -463,8 +466,30 @@ def _cmd_version(args) -> int:
 # ----------------------------------------------------------------------------------------
 
 
-SIMULATED_BANNER = ("[bold yellow]No --data given: running on the built-in SIMULATED test station "
-                    "(a virtual device with declared, seeded truth).[/]")
+SIMULATED_BANNER = ("[bold yellow]No --data given: running on {stations}; a SIMULATED station's "
+                    "device is virtual, with declared, seeded truth.[/]")
+
+
+def station_banner(pm, args, items: Sequence[str]) -> str:
+    """:data:`SIMULATED_BANNER` naming the station(s) a run without ``--data`` uses: ``--station``,
+    else the ``station`` of each item (of a series' members; of every item for ``--all``), each
+    with the plugin that registered it and its description."""
+    from rich.markup import escape
+
+    names = {args.station} if args.station else set()
+    if not names:
+        procs = []
+        for i in items:
+            ser = pm.series(args.standard, i)
+            procs += [pm.procedure(args.standard, m) for m in ser.members] if ser else [
+                pm.procedure(args.standard, i)]
+        if args.run_all:
+            procs += pm.procedures_of(args.standard)
+        names = {cls.station for cls in procs} or {"simulated"}
+    infos = [pm.station(n) for n in sorted(names)]
+    what = "; ".join(f"station {i.name!r} of plugin {i.plugin}"
+                     + (f" ({i.description})" if i.description else "") for i in infos)
+    return SIMULATED_BANNER.format(stations=escape(what))
 
 
 def _cmd_run(args) -> int:
@@ -491,7 +516,8 @@ def _cmd_run(args) -> int:
             from ..documents.document import soffice_path
 
             soffice_path()  # no LibreOffice: said now, before anything is evaluated
-    banner = _Banner(SIMULATED_BANNER if args.data is None and not args.json and not args.quiet else None)
+    banner = _Banner(station_banner(pm, args, items)
+                     if args.data is None and not args.json and not args.quiet else None)
     from .register_commands import drawing_ahead
 
     with drawing_ahead(args, pm, len(items)), present.progress(enabled=_show_progress(args), started=banner) as prog:
@@ -507,9 +533,11 @@ def _cmd_run(args) -> int:
             record, report_path, registration = write_run_report(args, pm, record, prog)
     banner()
     if args.json:
+        from .schemas import print_json
+
         doc = present.as_json(record, report_path)
         doc["register"] = registration
-        print(json.dumps(doc, ensure_ascii=False, indent=2))
+        print_json(doc)
     else:
         from pathlib import Path
 
@@ -554,9 +582,11 @@ def _cmd_plugins(args) -> int:
     drivers = [{"name": d.name, "kind": d.kind, "plugin": d.plugin, "description": d.description,
                 "class": f"{d.cls.__module__}.{d.cls.__qualname__}"} for _, d in sorted(reg.drivers.items())]
     if args.json:
-        print(json.dumps({"plugins": rows, "stations": stations, "drivers": drivers,
-                          "autoload": not (args.no_plugin_autoload or os.environ.get("METRO_DISABLE_PLUGIN_AUTOLOAD"))},
-                         indent=2, ensure_ascii=False))
+        from .schemas import print_json
+
+        print_json({"plugins": rows, "stations": stations, "drivers": drivers,
+                    "autoload": not (args.no_plugin_autoload
+                                     or os.environ.get("METRO_DISABLE_PLUGIN_AUTOLOAD"))})
         return 0
     from rich.console import Console
     from rich.table import Table
@@ -612,8 +642,10 @@ def _cmd_items(args) -> int:
                "description": ser.description, "plugin": ser.plugin}
               for key, ser in sorted(pm.registry.series.items())
               if not std or ser.standard == std]
-    if args.json:
-        print(json.dumps({"items": rows, "series": series}, ensure_ascii=False, indent=2))
+    if args.json:  # option defaults as JSON values: None is null, a quantity {"value", "unit"}
+        from .schemas import print_json
+
+        print_json({"items": rows, "series": series})
         return 0
     from rich.console import Console
     from rich.table import Table
@@ -673,8 +705,12 @@ def _cmd_plan(args) -> int:
     warmup_s = sum(float(s.warmup.to("s").magnitude) for s in steps if s.warmup is not None)
     total = {"steps": len(steps), "items": list(items), "recording_s": record_s, "warmup_s": warmup_s,
              "total_s": record_s + warmup_s}
-    if args.json:
-        print(json.dumps({"steps": rows, "total": total}, ensure_ascii=False, indent=2))
+    if args.json:  # durations as {"value", "unit"}, conditions as JSON values (docs/json.md)
+        from .schemas import print_json
+
+        print_json({"steps": [r | {"duration": s.duration, "interval": s.interval,
+                                   "warmup": s.warmup, "conditions": dict(s.conditions)}
+                              for r, s in zip(rows, steps)], "total": total})
         return 0
     for i, r in enumerate(rows, 1):
         print(f"{i}. [{r['segment']}] {r['description']}")

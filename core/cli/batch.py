@@ -180,6 +180,7 @@ def _evaluate(job: Job, manifest: str, name: str, sha256: str, *, report: bool =
     ``report``, write the report; without, keep the record for :func:`report_evaluated`."""
     from . import present
     from .app import exit_code_for
+    from .schemas import document, dumps
     from .register_commands import run_lab_options, write_run_report
     from ..run.runner import run_items
 
@@ -203,10 +204,9 @@ def _evaluate(job: Job, manifest: str, name: str, sha256: str, *, report: bool =
             return base | {"status": "pending", "worker": get_worker().address}
         # reported and registered as `metro run --out FOLDER` does
         record, report, registration = write_run_report(args, pm, record)
-        doc = present.as_json(record, report)
-        doc["register"] = registration
+        doc = document(present.as_json(record, report) | {"register": registration})
         doc_path = folder / "result.json"
-        doc_path.write_text(json.dumps(doc, ensure_ascii=False, indent=2), encoding="utf-8")
+        doc_path.write_text(dumps(doc), encoding="utf-8")  # as `metro run --json` prints it
         overall = (doc["conformity"] or {}).get("overall")
         return base | {"status": "evaluated", "overall": overall, "exit_code": exit_code_for(overall),
                        "report": str(report), "json": str(doc_path), "report_number": record.report_number,
@@ -301,7 +301,9 @@ def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = No
     summary["timing"] = {"seconds": elapsed, "cluster_start_s": timing["cluster_start_s"],
                          "evaluated_now": len(todo), "skipped": total - len(todo), "workers": workers,
                          "scheduler": scheduler or "local"}
-    _write_json_atomically(out / "lot-summary.json", summary)
+    from .schemas import document
+
+    _write_json_atomically(out / "lot-summary.json", document(summary))
     return summary
 
 
@@ -603,7 +605,9 @@ def command(args) -> int:
     code = exit_code(summary)
     summary["exit_code"] = code
     if args.json:
-        print(json.dumps(summary, ensure_ascii=False, indent=2))
+        from .schemas import print_json
+
+        print_json(summary)
     else:
         print_summary(summary, Path(job.out), verbose=args.verbose)
     return code

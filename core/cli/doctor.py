@@ -19,7 +19,6 @@ Checks
 
 from __future__ import annotations
 
-import json
 import sys
 from typing import Any
 
@@ -191,7 +190,9 @@ def command(args) -> int:
     checks = run_checks(args)
     failed = [c for c in checks if c["required"] and not c["ok"]]
     if args.json:
-        print(json.dumps({"ok": not failed, "checks": checks}, ensure_ascii=False, indent=2))
+        from .schemas import print_json
+
+        print_json({"ok": not failed, "checks": checks})
     else:
         width = max(len(c["check"]) for c in checks)
         for c in checks:

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from ..model.provenance import RunRecord
+from ..model.record_json import record_document as as_json, truth_checks
 from ..base.formatting import fmt_dof, fmt_num, fmt_quantity, pretty_powers, with_unit
 from ..base.units import fmt_unit
 
@@ -74,89 +75,6 @@ def progress(enabled: bool = True, started: Callable[[], None] | None = None, co
     update.display = bar  # type: ignore[attr-defined]  # for tests: the rich Progress and its tasks
     with bar:
         yield update
-
-
-def _q(v: Any) -> Any:
-    try:
-        import pint
-
-        if isinstance(v, pint.Quantity):
-            return {"value": float(v.magnitude), "unit": fmt_unit(v.units)}
-    except ImportError:  # pragma: no cover
-        pass
-    return v if isinstance(v, (int, float, str, bool)) or v is None else str(v)
-
-
-def truth_checks(record: RunRecord) -> list[dict[str, Any]]:
-    """On a simulated run, compare each result with the station's expected value (by metric key)."""
-    if not record.simulated:
-        return []
-    exp = record.campaign.expected
-    out = []
-    for o in record.outcomes:
-        for r in o.results:
-            if r.metric.key not in exp or r.U is None:
-                continue
-            unit = r.metric.unit
-            v = float(r.value.to(unit).magnitude)
-            t = float(exp[r.metric.key].to(unit).magnitude)
-            U = float(r.U.magnitude)
-            out.append({"item": o.item, "key": r.metric.key, "truth": t, "value": v, "U": U,
-                        "within_U": abs(v - t) <= U, "reportable": bool(getattr(r, "reportable", True)),
-                        "unit": fmt_unit(unit)})
-    return out
-
-
-def as_json(record: RunRecord, report_path: Path | None) -> dict[str, Any]:
-    results = []
-    budgets = []
-    for o in record.outcomes:
-        for r in o.results:
-            d = r.as_dict()
-            d["item"] = o.item
-            d["budget"] = r.budget.as_dict() if r.budget is not None else None
-            if r.budget is not None:
-                budgets.append(d["budget"] | {"item": o.item})
-            results.append(d)
-    c = record.campaign
-    return {
-        "standard": record.standard,
-        "item": ",".join(o.item for o in record.outcomes),
-        "items": [{"item": o.item, "title": o.title, "clause": o.clause, "warnings": list(o.warnings),
-                   "tables": [{"name": t.name, "title": t.title, "header": list(t.header),
-                               "rows": [list(map(str, r)) for r in t.rows]} for t in o.tables]}
-                  for o in record.outcomes],
-        "results": results,
-        "budget": budgets[0] if budgets else None,
-        "budgets": budgets,
-        "report": str(report_path) if report_path else None,
-        "report_number": record.report_number,
-        "simulated": record.simulated,
-        "truth": {k: _q(v) for k, v in record.truth.items()},
-        "truth_checks": truth_checks(record),
-        "device": {"id": c.device.id, "model": c.device.model, "serial": c.device.serial},
-        "environment": {k: _q(v) for k, v in c.environment.items()},
-        "site": {k: _q(v) for k, v in c.site.items()},
-        "equipment": [{"id": e.id, "role": e.role, "status": e.status(record.test_date),
-                       "calibration_valid": None if e.calibration is None
-                       else e.calibration.is_valid(record.test_date)} for e in c.equipment],
-        "manifest_warnings": list(c.warnings),
-        "timings_s": dict(record.timings),
-        "selection": [{"item": ch.item, "run": ch.run, "reason": ch.reason, "via": ch.via}
-                      for ch in record.selection],
-        "conformity": None if record.conformity is None else {
-            "rule": record.conformity.rule.name,
-            "statement": record.conformity.rule.statement,
-            "overall": record.conformity.overall.value if record.conformity.overall else None,
-            "verdicts": [v.as_dict() for v in record.conformity.verdicts],
-            "not_assessed": [{"symbol": sp.symbol, "limit": sp.text(), "source": sp.source}
-                             for sp in record.conformity.not_assessed],
-        },
-        "provenance": {"software": dict(record.software), "plugins": dict(record.plugins),
-                       "data_files": [{"file": f, "sha256": h} for f, h in record.data_files],
-                       "manifest": {"file": c.source, "sha256": c.manifest_sha256} if c.manifest_sha256 else None,
-                       "source": c.source, "created": record.created.isoformat()},
-    }
 
 
 OVERALL_TEXT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}

@@ -7,7 +7,6 @@ imported at module level, so ``metro --help`` stays fast.
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 from ..model.hookspec import hookimpl
@@ -500,7 +499,9 @@ def _cmd_history(args) -> int:
 
 
 def _print_json(doc: Any) -> None:
-    print(json.dumps(doc, ensure_ascii=False, indent=2))
+    from .schemas import print_json
+
+    print_json(doc)
 
 
 def _cmd_lab(args) -> int:
@@ -521,8 +522,10 @@ def _cmd_lab(args) -> int:
                          f"{labmod.user_lab_path().parent}; `metro lab init PATH` writes a template")
     profile = labmod.load_lab(where)
     doc = profile.as_dict()
-    if args.json:
-        _print_json(doc)
+    if args.json:  # each certificate's U as {"value", "unit"} (docs/json.md), not as its text
+        _print_json(doc | {"equipment": [
+            e | {"U": None if eq.calibration is None else eq.calibration.uncertainty}
+            for e, eq in zip(doc["equipment"], profile.equipment)]})
         return 0
     from rich.console import Console
     from rich.table import Table

@@ -235,9 +235,9 @@ def _lab_identity(lab: "LabProfile") -> dict[str, Any]:
 def draft_for(record: "RunRecord", ctx: Mapping[str, Any], *, lab: "LabProfile", template: Any,
               allow_expired: bool, options: Mapping[str, Any] | None = None):
     """The register row of a run (:class:`~metro.core.record.register.Draft` without its writer)."""
-    from ..cli import present
+    from ..model.record_json import options_json, record_document
 
-    doc = present.as_json(record, None)
+    doc = record_document(record, None)
     camp = record.campaign
     dev = camp.device
     on = measurement_date(record)
@@ -264,8 +264,8 @@ def draft_for(record: "RunRecord", ctx: Mapping[str, Any], *, lab: "LabProfile",
     fields = {
         "standard": record.standard,
         "items": [o.item for o in record.outcomes],
-        "options": {o.item: {k: str(v) for k, v in o.options.items()} for o in record.outcomes}
-        | ({"_given": {k: str(v) for k, v in options.items()}} if options else {}),
+        "options": {o.item: options_json(o.options) for o in record.outcomes}
+        | ({"_given": options_json(options)} if options else {}),
         "device_id": dev.id, "device_manufacturer": dev.manufacturer, "device_model": dev.model,
         "device_serial": dev.serial or dev.id,
         "customer": str(customer or ""),
