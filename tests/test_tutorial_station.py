@@ -105,7 +105,7 @@ def test_metro_run_uses_the_plugins_station_and_names_it(tutorial):
     """The tutorial's commands: ``metro plugins`` lists the station; ``metro run`` acquires on
     it, the banner names it (not the built-in simulated station), and the declared truth is
     recovered within U."""
-    plugins, verbose, as_json = _commands()
+    plugins, verbose, as_json, _acquire, _run_data = _commands()
     out = _run(tutorial, plugins)
     assert out.returncode == 0, out.stderr
     assert "quiet-gyro" in out.stdout
@@ -122,6 +122,19 @@ def test_metro_run_uses_the_plugins_station_and_names_it(tutorial):
     (check,) = doc["truth_checks"]
     assert check["key"] == "B" and check["truth"] == pytest.approx(2.5) and check["within_U"]
     assert abs(doc["results"][0]["value"] - 2.5) < 0.02  # 600 samples of σ = 0.05 °/h
+
+
+def test_metro_acquire_writes_a_campaign_that_metro_run_evaluates(tutorial):
+    """The station's campaign written as a manifest (``metro acquire``) and read back."""
+    acquire, run_data = _commands()[3:]
+    out = _run(tutorial, acquire)
+    assert out.returncode == 0, out.stderr
+    manifest = tomllib.loads((tutorial / "campaign" / "manifest.toml").read_text(encoding="utf-8"))
+    assert manifest["campaign"]["station"] == "quiet-gyro" and manifest["campaign"]["simulated"]
+    assert [s["id"] for s in manifest["segments"]] == ["rest"]
+    out = _run(tutorial, run_data)
+    assert out.returncode == 0, out.stderr
+    assert "bias" in out.stdout and "SIMULATED data" in " ".join(out.stdout.split())
 
 
 def test_metro_run_writes_the_report_of_the_plugins_station(tutorial, tmp_path):
