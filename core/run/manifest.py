@@ -556,23 +556,24 @@ def campaign_meta(t: Mapping, src: str, warnings: list[str] | None = None) -> di
     return out
 
 
-def _specification(t: Mapping, src: str) -> dict[str, str]:
-    """The ``[specification]`` table: ``symbol = "limit"`` lines (checked now, so a bad limit is
-    reported before anything is evaluated), ``decision_rule`` and ``source``."""
-    from ..uncertainty.conformity import rule_named, specifications_from_table
+def _specification(t: Mapping, src: str) -> dict[str, Any]:
+    """The ``[specification]`` table as written: flat ``symbol = "limit"`` lines (the old form),
+    ``[specification.<standard>]`` tables and ``"<standard>:<key>"`` lines, ``decision_rule`` and
+    ``source``; every limit and rule is checked now, so a bad one is reported before anything is
+    evaluated (which lines judge which standard is the runner's: ``conformity.limits_for``)."""
+    from ..uncertainty.conformity import rule_named, specifications_from_table, split_table
 
-    out: dict[str, str] = {}
-    for key, val in t.items():
-        if not isinstance(val, str):
-            raise DataError(src, f"specification.{key}", f"must be text such as \"<= 10 ppm\", got {val!r}")
-        out[key] = val
-    if "decision_rule" in out:
-        try:
-            rule_named(out["decision_rule"])
-        except DataError as exc:
-            raise DataError(src, "specification.decision_rule", exc.detail) from exc
-    specifications_from_table(out, file=src)
-    return out
+    flat, by_std = split_table(t, file=src)
+    for lines in [flat, *by_std.values()]:
+        if "decision_rule" in lines:
+            field, text = lines["decision_rule"]
+            try:
+                rule_named(text)
+            except DataError as exc:
+                raise DataError(src, field, exc.detail) from exc
+        specifications_from_table({k: v for k, (_, v) in lines.items()}, file=src,
+                                  fields={k: f for k, (f, _) in lines.items()})
+    return {k: dict(v) if isinstance(v, Mapping) else v for k, v in t.items()}
 
 
 class _Columns(dict):

@@ -415,6 +415,8 @@ def run_items(
     timings["campaign (manifest or simulation)"] = time.perf_counter() - t0
     outcomes: list[Outcome] = []
     check_specification_units(pm, standard, campaign)
+    as_given = campaign  # judged below from its whole [specification]
+    campaign = specification_for(pm, standard, campaign)  # the items see the lines for them
     # every item's equipment requirements before anything is evaluated (a required role missing
     # or a calibration U of the wrong kind is an error; absent optional roles become note rows)
     absent_by_item = [check_equipment(campaign, cls) for cls in procs]
@@ -439,7 +441,7 @@ def run_items(
     if progress is not None:
         progress("items", len(procs), len(procs))
     t1 = time.perf_counter()
-    conformity = judge(pm, standard, campaign, outcomes, decision_rule)
+    conformity = judge(pm, standard, as_given, outcomes, decision_rule)
     timings["conformity"] = time.perf_counter() - t1
     used = {sid for o in outcomes for sid in o.segments}
     files = [(s.file or msg("simulated segment {id}", id=s.id), s.digest()) for s in campaign.segments
@@ -479,26 +481,52 @@ def manifest_fields_named(campaign: Campaign):
         raise
 
 
+def metric_keys(pm: MetroPluginManager) -> dict[str, set[str]]:
+    """{standard: the keys of the metrics its items declare} for every loaded standard."""
+    return {std: {m.key for cls in pm.procedures_of(std) for m in cls.metrics}
+            for std in sorted(pm.register_all().standards)}
+
+
+def specification_for(pm: MetroPluginManager, standard: str, campaign: Campaign) -> Campaign:
+    """The campaign as ``standard``'s items and plugins see it: its ``[specification]`` reduced
+    to the flat table of the lines that judge ``standard`` (:func:`~metro.core.uncertainty.
+    conformity.limits_for`), with a warning in ``campaign.warnings`` for a flat line more than
+    one loaded standard has.  The same campaign when it gives no specification."""
+    from ..uncertainty import conformity as cf
+
+    if not campaign.specification:
+        return campaign
+    limits = cf.limits_for(campaign.specification, standard, metric_keys(pm), file=campaign.source)
+    if dict(limits.table) == dict(campaign.specification) and not limits.warnings:
+        return campaign
+    new = [w for w in limits.warnings if w not in campaign.warnings]
+    return attrs.evolve(campaign, specification=limits.table, warnings=(*campaign.warnings, *new))
+
+
 def check_specification_units(pm: MetroPluginManager, standard: str, campaign: Campaign) -> None:
-    """Before any evaluation: each ``[specification]`` limit of the manifest must be of the kind
-    of unit of the metrics it judges (``Kn = "<= 5 °/h"`` is refused naming ``specification.Kn``)."""
+    """Before any evaluation: each ``[specification]`` limit that judges ``standard`` must be of
+    the kind of unit of the metrics it judges (``Kn = "<= 5 °/h"`` is refused naming
+    ``specification.Kn``; a line of ``[specification.gbt45570]`` as
+    ``specification.gbt45570.Kn``)."""
     from ..uncertainty import conformity as cf
     from ..base.units import Q_, fmt_unit
 
-    given = {k: v for k, v in campaign.specification.items() if k not in ("decision_rule", "source")}
-    if not given:
+    limits = cf.limits_for(campaign.specification, standard, metric_keys(pm), file=campaign.source)
+    if not [k for k in limits.table if k not in cf.SETTINGS]:
         return
     metrics = [m for cls in pm.procedures_of(standard) for m in cls.metrics]
-    for spec in cf.specifications_from_table(dict(campaign.specification), file=campaign.source):
+    for spec in limits.specifications(campaign.source):
         judged = [m for m in metrics if spec.applies_to(m.key)]
         if not judged:
             continue
         if not any(cf._compatible(Q_(1.0, m.unit), spec.limit) for m in judged):
             m = judged[0]
-            raise DataError(campaign.source, f"specification.{spec.symbol}",
-                            f"the limit is in {fmt_unit(spec.limit.units)} but {m.key} ({m.name}) is in "
-                            f"{fmt_unit(Q_(1.0, m.unit).units)}: different kinds of quantity",
-                            hint=f"state the limit in a unit of the kind of {fmt_unit(Q_(1.0, m.unit).units)}")
+            field = limits.fields.get(spec.symbol, f"specification.{spec.symbol}")
+            unit = fmt_unit(Q_(1.0, m.unit).units)
+            raise DataError(campaign.source, field,
+                            f"the limit is in {fmt_unit(spec.limit.units)} but {m.key} ({m.name}) "
+                            f"is in {unit}: different kinds of quantity",
+                            hint=f"state the limit in a unit of the kind of {unit}")
 
 
 def _for_the_outputs(specs, outcomes):
@@ -526,9 +554,11 @@ def _for_the_outputs(specs, outcomes):
 def judge(pm: MetroPluginManager, standard: str, campaign: Campaign, outcomes: Sequence[Outcome],
           decision_rule: str | None = None):
     """The conformity assessment of ``outcomes``: plugins' specifications for ``standard``, the
-    manifest's ``[specification]`` replacing them metric by metric; ``None`` when there is none."""
+    manifest's ``[specification]`` lines for ``standard`` (:func:`specification_for`) replacing
+    them metric by metric; ``None`` when there is none."""
     from ..uncertainty import conformity as cf
 
+    campaign = specification_for(pm, standard, campaign)  # the lines that judge this standard
     given = dict(campaign.specification)
     typical = _for_the_outputs(pm.conformity_specifications(standard, campaign), outcomes)
     specs = cf.merge_specifications(typical, cf.specifications_from_table(given, file=campaign.source))

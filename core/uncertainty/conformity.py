@@ -38,6 +38,7 @@ import pint
 
 from ..base.errors import DataError, UnitError
 from ..base.locale import msg
+from ..base.vocabulary import did_you_mean
 from ..model.results import BOUND_SIGNS
 from ..base.units import angle_power, fmt_unit, parse_quantity
 
@@ -58,6 +59,10 @@ __all__ = [
     "assess",
     "parse_limit",
     "specifications_from_table",
+    "split_table",
+    "StandardLimits",
+    "owners_of",
+    "limits_for",
     "merge_specifications",
 ]
 
@@ -509,15 +514,133 @@ def parse_limit(symbol: str, text: str, *, source: str = "", file: str | None = 
 SETTINGS = ("decision_rule", "source")
 
 
-def specifications_from_table(table: Mapping[str, Any], *, file: str | None = None) -> list[Specification]:
-    """The limits of a manifest's ``[specification]`` table (``symbol = "limit"`` lines)."""
+def specifications_from_table(table: Mapping[str, Any], *, file: str | None = None,
+                              fields: Mapping[str, str] | None = None) -> list[Specification]:
+    """The limits of a flat ``[specification]`` table (``symbol = "limit"`` lines); ``fields``
+    names the manifest field of a line where it is not ``specification.<symbol>`` (a line of a
+    ``[specification.<standard>]`` table)."""
     source = str(table.get("source") or "product specification (campaign manifest)")
+    where = fields or {}
     out = []
     for key, val in table.items():
         if key in SETTINGS:
             continue
-        out.append(parse_limit(key, val, source=source, file=file, field=f"specification.{key}"))
+        field = where.get(key, f"specification.{key}")
+        out.append(parse_limit(key, val, source=source, file=file, field=field))
     return out
+
+
+# --------------------------------------------------------------------------------------
+# Limits by standard: [specification.<standard>], "<standard>:<key>", and the flat form
+# --------------------------------------------------------------------------------------
+
+#: one line of a [specification] table: (its manifest field, its text)
+Line = tuple[str, str]
+
+
+def split_table(table: Mapping[str, Any], *, file: str | None = None
+                ) -> tuple[dict[str, Line], dict[str, dict[str, Line]]]:
+    """A manifest's ``[specification]`` table as (flat lines, lines by standard).
+
+    A sub-table ``[specification.<standard>]`` and a key ``"<standard>:<key>"`` give lines of
+    that standard; every other line is flat (the old form; :func:`limits_for` says which
+    standard it belongs to).  Each line is ``(field, text)``.  A value that is not text, a
+    sub-table inside a standard's table, or one line given in both forms is a
+    :class:`~metro.core.base.errors.DataError` naming its field.
+    """
+    flat: dict[str, Line] = {}
+    by_std: dict[str, dict[str, Line]] = {}
+
+    def text(field: str, val: Any) -> str:
+        if not isinstance(val, str):
+            raise DataError(file, field, f"must be text such as \"<= 10 ppm\", got {val!r}",
+                            hint="a standard's own limits go in [specification.<standard>]"
+                            if isinstance(val, dict) else None)
+        return val
+
+    def add(std: str, key: str, field: str, val: Any) -> None:
+        if not std or not key:
+            raise DataError(file, field, "a line of a standard is written \"<standard>:<key>\"",
+                            hint='e.g. "gbt45570:K" = ">= 0.5 P/″", '
+                                 'or K = "…" under [specification.gbt45570]')
+        mine = by_std.setdefault(std, {})
+        if key in mine:
+            raise DataError(file, field,
+                            f"{key!r} of {std!r} is given twice: as {mine[key][0]} too",
+                            hint=f"keep one: [specification.{std}] {key} = \"…\"")
+        mine[key] = (field, text(field, val))
+
+    for key, val in table.items():
+        if isinstance(val, Mapping):
+            for k, v in val.items():
+                add(key, k, f"specification.{key}.{k}", v)
+        elif ":" in key:
+            std, _, k = key.partition(":")
+            add(std.strip(), k.strip(), f"specification.{key}", val)
+        else:
+            flat[key] = (f"specification.{key}", text(f"specification.{key}", val))
+    return flat, by_std
+
+
+@attrs.frozen
+class StandardLimits:
+    """The ``[specification]`` lines that apply to one standard's results (:func:`limits_for`).
+
+    ``table`` is the flat table a standard's plugin reads (settings and ``symbol = "limit"``),
+    ``fields`` the manifest field of each line, ``warnings`` what the manifest should say
+    otherwise (a flat line more than one standard has, a table naming no loaded standard).
+    """
+
+    table: Mapping[str, str] = attrs.field(factory=dict)
+    fields: Mapping[str, str] = attrs.field(factory=dict)
+    warnings: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+
+    def specifications(self, file: str | None = None) -> list[Specification]:
+        """The limits, parsed; an error names the manifest field of the line."""
+        return specifications_from_table(self.table, file=file, fields=self.fields)
+
+
+def owners_of(key: str, metric_keys: Mapping[str, Iterable[str]]) -> list[str]:
+    """The standards (sorted) having a metric a flat limit keyed ``key`` judges (``B0`` judges
+    ``B0`` and ``B0_low``): ``metric_keys`` gives each loaded standard's metric keys."""
+    return sorted(std for std, keys in metric_keys.items()
+                  if any(k == key or k.startswith(key + "_") for k in keys))
+
+
+def limits_for(table: Mapping[str, Any], standard: str, metric_keys: Mapping[str, Iterable[str]],
+               *, file: str | None = None) -> StandardLimits:
+    """The lines of a manifest's ``[specification]`` that judge ``standard``'s results.
+
+    ``[specification.<standard>]`` (or ``"<standard>:<key>"``) lines are that standard's; a
+    flat line belongs to the standards having a metric of its key (:func:`owners_of`, over
+    ``metric_keys``, every loaded standard's metric keys).  A flat line is used when
+    ``standard`` has the key, or when no loaded standard has it (read as before); a flat line
+    that more than one standard has is applied to ``standard`` with a warning — unless
+    ``standard``'s own table gives the key, whose line replaces it.  Settings (``source``,
+    ``decision_rule``) are read flat and from the standard's table, which prevails.
+    """
+    flat, by_std = split_table(table, file=file)
+    own = by_std.get(standard, {})
+    lines: dict[str, Line] = {}
+    warnings = []
+    for key, line in flat.items():
+        owners = [] if key in SETTINGS else owners_of(key, metric_keys)
+        if owners and standard not in owners:
+            continue  # another standard's key
+        if len(owners) > 1 and key not in own:
+            warnings.append(
+                f"{file}: field '{line[0]}': {', '.join(owners)} all have a metric {key!r}; "
+                f"this line is applied to {standard}, the standard being run — write it under "
+                f"[specification.{standard}] (docs/data-format.md)")
+        lines[key] = line
+    lines.update(own)
+    for std in sorted(set(by_std) - set(metric_keys)):
+        guess = did_you_mean(std, metric_keys)
+        warnings.append(f"{file}: field 'specification.{std}': no loaded standard is called "
+                        f"{std!r}; its lines are not applied"
+                        + (f" — did you mean {guess!r}?" if guess else ""))
+    return StandardLimits({k: t for k, (_, t) in lines.items()},
+                          {k: f for k, (f, _) in lines.items()}, warnings)
 
 
 def merge_specifications(*groups: Sequence[Specification]) -> list[Specification]:
