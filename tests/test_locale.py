@@ -72,11 +72,22 @@ def test_every_translation_has_the_places_of_its_message_id():
 
 
 def test_the_catalog_lacks_no_message_id_the_code_uses():
-    """``python -m metro.core.base.locale`` finds every tr("…") and msg("…") in core, plugins and
-    instruments, and every metric name and item title the procedures declare."""
-    from metro.core.base.locale.__main__ import missing_messages, used_messages
+    """``tools/catalog.py`` finds every tr("…") and msg("…") in core and the loaded plugins'
+    packages (plugins and instruments), and every metric name and item title the procedures
+    declare."""
+    import importlib.util
+    from pathlib import Path
 
-    used = used_messages()
+    path = Path(__file__).parents[1] / "tools" / "catalog.py"
+    spec = importlib.util.spec_from_file_location("metro_catalog_tool", path)
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    missing_messages, used_messages = tool.missing_messages, tool.used_messages
+
+    pm = tool.plugin_manager()  # the packages scanned are found through the plugin manager
+    scanned = set(tool.scanned_packages(pm))
+    assert {"metro.core", "metro.instruments", "metro.plugins.gbt45570"} <= scanned
+    used = used_messages(pm)
     assert "{n} rounds; clause 7.5 asks for {rounds}" in used  # a msg(…) of a plugin
     assert "scale factor" in used  # a metric name
     assert not missing_messages(), sorted(missing_messages())[:40]

@@ -15,6 +15,9 @@ from __future__ import annotations
 
 import importlib
 import os
+import sys
+import types
+from importlib import resources
 from importlib import metadata
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
@@ -24,6 +27,7 @@ import pluggy
 
 from ..model import hookspec
 from ..base.errors import PluginError
+from ..base.locale import add_catalogs
 from ..base.extras import DISTRIBUTION
 from ..model.campaign import Campaign
 from ..model.results import Outcome
@@ -368,6 +372,8 @@ class MetroPluginManager:
                     f"{info.cls.standard!r}, which no loaded plugin registers"
                 )
         self._registered = True
+        for folder in self.catalog_folders().values():  # plugins' own translations
+            add_catalogs(folder)
         return self.registry
 
     # -- typed lookups ----------------------------------------------------------------------
@@ -460,6 +466,31 @@ class MetroPluginManager:
             if t.standard is None and t.kind == kind:
                 return t
         raise PluginError(f"no {kind} template registered for {standard!r} and no generic one")
+
+    def plugin_packages(self) -> dict[str, str]:
+        """{plugin name: the package its module belongs to} (``metro.plugins.gbt45570``; a
+        plugin that is a module of a package, or an object, gives that module's package)."""
+        out = {}
+        for name, obj in sorted(self.pm.list_name_plugin(), key=lambda p: p[0]):
+            mod = obj if isinstance(obj, types.ModuleType) else sys.modules.get(type(obj).__module__)
+            if mod is not None:
+                package = mod.__package__ or mod.__name__
+                out[name] = mod.__name__ if hasattr(mod, "__path__") else package
+        return out
+
+    def catalog_folders(self) -> dict[str, Any]:
+        """{plugin name: its package's ``locale`` folder} for the plugins that ship their own
+        message catalogs (``locale/zh/LC_MESSAGES/<name>.po`` next to the package's
+        ``__init__.py``; :func:`metro.core.base.locale.add_catalogs`)."""
+        out = {}
+        for name, package in self.plugin_packages().items():
+            try:
+                folder = resources.files(package) / "locale"
+            except (ModuleNotFoundError, TypeError):  # not a package on disk
+                continue
+            if folder.is_dir():
+                out[name] = folder
+        return out
 
     def versions(self) -> dict[str, str]:
         """{plugin name: 'distribution version'} for provenance."""

@@ -2,9 +2,13 @@
 certificate prints goes through :func:`translator`.
 
 Message ids are English; ``zh/LC_MESSAGES/metro.po`` holds the Chinese.  The catalog is read
-at run time with :func:`babel.messages.pofile.read_po` (no compile step, so an editable install
-or a wheel works as it is); ``python -m metro.core.base.locale`` lists message ids used in the code
-that the catalog lacks.
+at run time by :func:`read_catalog` (no compile step, so an editable install or a wheel works as
+it is); ``python -P tools/catalog.py`` lists message ids used in the code that the catalogs lack.
+
+A plugin ships its own catalog in its package: ``locale/zh/LC_MESSAGES/<name>.po`` next to its
+``__init__.py``.  The plugin manager finds it when the plugins are loaded and adds it with
+:func:`add_catalogs`; a document's :class:`Translator` reads metro's catalog, then each plugin's
+for the message ids metro's lacks (:func:`translations`).
 
 Languages: ``"zh"``, ``"en"`` and ``"zh+en"`` (both, Chinese first: ``报告编号 Report No.``).
 A message may hold ``{name}`` fields, filled by keyword arguments after translation.
@@ -24,23 +28,79 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Callable, Iterable
 from importlib import resources
-from typing import Any, Callable, Iterable
+from typing import Any
 
-__all__ = ["LANGS", "DEFAULT_LANG", "Msg", "Text", "Index", "Hint", "msg", "join", "index", "hint", "Translator",
-           "translator", "catalog", "read_catalog"]
+__all__ = [
+    "DEFAULT_LANG",
+    "LANGS",
+    "Hint",
+    "Index",
+    "Msg",
+    "Text",
+    "Translator",
+    "add_catalogs",
+    "catalog",
+    "catalog_folders",
+    "hint",
+    "index",
+    "join",
+    "msg",
+    "read_catalog",
+    "translations",
+    "translator",
+]
 
 LANGS = ("zh", "en", "zh+en")
 _HAN = re.compile(r"[\u3400-\u9fff\uf900-\ufaff]")
 DEFAULT_LANG = "zh+en"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def catalog(locale: str = "zh") -> dict[str, str]:
     """{English message id: translation} from ``<locale>/LC_MESSAGES/metro.po`` (fuzzy and
     empty entries left out)."""
     path = resources.files(__package__) / locale / "LC_MESSAGES" / "metro.po"
     return read_catalog(path.read_text(encoding="utf-8"))
+
+
+#: the ``locale`` folders of the plugins' own catalogs, in the order they were added
+_FOLDERS: list[Any] = []
+
+
+def add_catalogs(folder: Any) -> None:
+    """Add a plugin's message catalogs: ``folder`` (a path or :mod:`importlib.resources`
+    traversable) holds ``<locale>/LC_MESSAGES/*.po``.  Adding a folder twice changes nothing."""
+    if str(folder) not in {str(f) for f in _FOLDERS}:
+        _FOLDERS.append(folder)
+
+
+def catalog_folders() -> list[Any]:
+    """The plugins' ``locale`` folders added so far (:func:`add_catalogs`), in order."""
+    return list(_FOLDERS)
+
+
+def translations(locale: str = "zh") -> dict[str, str]:
+    """{message id: translation} of metro's catalog and every plugin's (:func:`add_catalogs`):
+    metro's translation of an id is kept; a plugin's adds the ids metro's catalog lacks (the
+    first plugin catalog to give an id, in the order added, and ``*.po`` files by name).  The
+    mapping is shared by every translator: read it, never change it."""
+    return _merged(locale, tuple(str(f) for f in _FOLDERS))
+
+
+@functools.cache
+def _merged(locale: str, folders: tuple[str, ...]) -> dict[str, str]:
+    out = dict(catalog(locale))
+    by_name = {str(f): f for f in _FOLDERS}
+    for name in folders:
+        lc = by_name[name] / locale / "LC_MESSAGES"
+        if not lc.is_dir():
+            continue
+        for po in sorted((p for p in lc.iterdir() if p.name.endswith(".po")), key=lambda p: p.name):
+            for msgid, text in read_catalog(po.read_text(encoding="utf-8")).items():
+                out.setdefault(msgid, text)
+    return out
 
 
 _PO_ESCAPES = {"n": "\n", "t": "\t", "r": "\r", '"': '"', "\\": "\\"}
@@ -56,7 +116,7 @@ def read_catalog(text: str) -> dict[str, str]:
     """{msgid: msgstr} of a gettext .po file's text: what Babel's ``read_po`` gives for metro.po
     (the header, fuzzy, empty, plural, context-bound and obsolete entries left out), without
     Babel and its 36 MB of locale data in the core install (the catalog tool,
-    ``python -m metro.core.base.locale``, still uses Babel)."""
+    ``tools/catalog.py``, still uses Babel)."""
     out: dict[str, str] = {}
     entry: dict[str, str] = {}
     flags = ""
@@ -159,7 +219,7 @@ class Text(str):
     def __reduce__(self):
         return (_rebuild_text, (self.msgid, self.fields, self.sep, self.parts, str(self)))
 
-    def map(self, fn: Callable[[str], str]) -> "Text":
+    def map(self, fn: Callable[[str], str]) -> Text:
         """The same message with ``fn`` applied to every plain-text field and part (recursively)."""
         def one(v: Any) -> Any:
             if isinstance(v, Text):
@@ -200,7 +260,7 @@ class Text(str):
         return {"msgid": self.msgid, "fields": {k: enc(v) for k, v in self.fields.items()}, "en": str(self)}
 
     @staticmethod
-    def decode(doc: dict[str, Any]) -> "Text":
+    def decode(doc: dict[str, Any]) -> Text:
         def dec(v: Any) -> Any:
             if isinstance(v, dict) and set(v) == {"index"}:
                 return Index(v["index"])
@@ -220,7 +280,7 @@ def _rebuild_text(msgid, fields, sep, parts, english=None) -> Text:
 def msg(msgid: str, /, **fields: Any) -> Text:
     """A message made far from the document: ``msg("χ²/ν = {chi2:.1f} exceeds {limit}", chi2=…,
     limit=…)`` is the English text, and a document writes it in its language.  ``msgid`` must be
-    a literal (``python -m metro.core.base.locale`` finds it in the code and checks the catalog)."""
+    a literal (``tools/catalog.py`` finds it in the code and checks the catalogs)."""
     return Text(msgid, fields)
 
 
@@ -241,7 +301,7 @@ class Translator:
             raise MetroError(f"unknown document language {lang!r}", hint=f"use one of {', '.join(LANGS)}")
         self.lang = lang
         self.missing: set[str] = set()
-        self._zh = catalog("zh") if lang != "en" else {}
+        self._zh = translations("zh") if lang != "en" else {}
 
     def zh(self, msgid: str) -> str:
         text = self._zh.get(msgid)
@@ -312,7 +372,7 @@ class Translator:
         return en if zh == en or not _HAN.search(zh) else f"{zh} {en}"
 
     @staticmethod
-    def msg(msgid: str) -> "Msg":
+    def msg(msgid: str) -> Msg:
         """A message to be translated where it is placed (a field of another message)."""
         return Msg(msgid)
 
