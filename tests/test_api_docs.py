@@ -12,8 +12,7 @@ from pathlib import Path
 
 import attrs
 import pytest
-
-import metro.api as api
+from metro import api
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
