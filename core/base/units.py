@@ -15,6 +15,7 @@ Note 1 ″/s = 1 °/h exactly, which the GB/T 45570 pulse formulas rely on.
 
 from __future__ import annotations
 
+import functools
 import re
 from importlib import resources
 from pathlib import Path
@@ -26,7 +27,7 @@ from .errors import UnitError
 
 __all__ = [
     "ureg", "Q_", "Quantity", "unit", "parse_quantity", "check_dimension", "add_definitions",
-    "fmt_unit", "normalise_unit_text", "angle_power", "difference_unit",
+    "fmt_unit", "normalise_unit_text", "angle_power", "difference_unit", "UnitTextError",
 ]
 
 
@@ -49,7 +50,8 @@ def _cache_folder() -> Path:
         import platformdirs
 
         base = platformdirs.user_cache_path(appname="metro", appauthor=False)
-    key = hashlib.sha256(f"{Path(pint.__file__).resolve().parent}|{pint.__version__}".encode()).hexdigest()[:16]
+    where = f"{Path(pint.__file__).resolve().parent}|{pint.__version__}"
+    key = hashlib.sha256(where.encode()).hexdigest()[:16]
     return base / "pint" / key
 
 
@@ -60,7 +62,8 @@ def _make_registry() -> pint.UnitRegistry:
     except Exception as exc:  # noqa: BLE001 - a damaged or unwritable cache only costs time
         import warnings
 
-        warnings.warn(f"pint's definitions cache could not be used ({exc!r}); parsing without it", stacklevel=2)
+        warnings.warn(f"pint's definitions cache could not be used ({exc!r}); parsing without it",
+                      stacklevel=2)
         reg = pint.UnitRegistry(**kw)
     text = resources.files(__package__).joinpath("units.txt").read_text(encoding="utf-8")
     _load_lines(reg, text.splitlines())
@@ -107,22 +110,6 @@ def add_definitions(lines: Iterable[str], *, source: str = "plugin") -> None:
         _added.add(key)
 
 
-_SYMBOLS = [
-    ("℃", " degC"),
-    ("°C", " degC"),
-    ("°/√h", " deg/hour**0.5"),
-    ("√h", "hour**0.5"),
-    ("√s", "second**0.5"),
-    ("°", " deg"),
-    ("″", " arcsec"),
-    ("′", " arcmin"),
-    ("²", "**2"),
-    ("³", "**3"),
-    ("·", "*"),
-    ("×", "*"),
-    ("−", "-"),
-]
-
 # Names (pint's canonical ones) of the units that measure a plane angle.  pint makes the
 # radian dimensionless, so without this check "deg/h" and "Hz" (or "arcsec" and "ppm")
 # would convert silently into each other.
@@ -132,23 +119,173 @@ _ANGLE_UNITS = frozenset(
 )
 
 
-_G_AS_GRAVITY = re.compile(r"(?<![A-Za-z_])g(?![A-Za-z_0-9])")
+# --------------------------------------------------------------------------------------
+# Reading unit text: the standards' symbols into pint syntax, strictly
+# --------------------------------------------------------------------------------------
+
+# Typographic symbols, longest first; each becomes a pint name.  "°C" before "°".
+_SYMBOLS = (
+    ("Δ°C", " delta_degC"),
+    ("Δ℃", " delta_degC"),
+    ("℃", " degC"),
+    ("°C", " degC"),
+    ("°", " deg"),
+    ("″", " arcsec"),
+    ("′", " arcmin"),
+    ("gₙ", " gn"),
+    ("g₀", " gn"),
+    ("−", "-"),
+)
+_SUP_DIGITS = "⁰¹²³⁴⁵⁶⁷⁸⁹"
+_SUP_ASCII = str.maketrans(_SUP_DIGITS + "⁻⁺⋅·.", "0123456789-+...")
+# A superscript exponent: digits, with a decimal point written as pint prints it (⋅, U+22C5),
+# as a middle dot (·) or as a full stop, between superscript digits only.
+_SUP_EXP = re.compile(f"[⁻⁺]?[{_SUP_DIGITS}]+(?:[⋅·.][{_SUP_DIGITS}]+)?")
+_PRODUCT_SIGNS = str.maketrans({"·": "*", "⋅": "*", "∙": "*", "×": "*"})
+_TOKEN = re.compile(
+    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)"
+    r"|(?P<name>[^\W\d]\w*|%|‰)"
+    r"|(?P<op>\*\*|\*|/|\^|\(|\)|\+|-))"
+)
+_BINARY = {"**", "*", "/", "^"}
 
 
-def normalise_unit_text(text: str) -> str:
-    """Rewrite the standards' typographic unit symbols into pint syntax.
+class UnitTextError(UnitError, ValueError):
+    """A text that is not a unit, or is ambiguous: a :class:`UnitError` naming the text, and a
+    ``ValueError`` as pint's own parsing errors were, for callers that catch those."""
 
-    ``"(°)/h"`` -> ``"( deg)/h"``, ``"°/√h"`` -> ``"deg/hour**0.5"``, ``"P/″"`` -> ``"P/ arcsec"``.
-    """
+
+def _bad(text: str, why: str, file: str | None, field: str | None) -> UnitError:
+    hint = "write units as metro prints them (°/h, °/√h, °/h¹⋅⁵, P/″, LSB·s/°) or in pint syntax " \
+           "(deg/h, deg/hour**0.5, deg/h**1.5); see docs/data-format.md, Unit syntax"
+    return UnitTextError(file, field, f"cannot read the unit {text!r}: {why}", hint=hint)
+
+
+def _sqrt(text: str, original: str, file: str | None, field: str | None) -> str:
+    """``√h`` → ``((h)**0.5)``, ``√(Hz·s)`` → ``((Hz·s)**0.5)``: the root of the factor after it."""
+    while "√" in text:
+        i = text.index("√")
+        j = i + 1
+        while j < len(text) and text[j].isspace():
+            j += 1
+        if j < len(text) and text[j] == "(":
+            depth, k = 0, j
+            while k < len(text):
+                depth += {"(": 1, ")": -1}.get(text[k], 0)
+                if depth == 0:
+                    break
+                k += 1
+            if depth:
+                raise _bad(original, "unbalanced parentheses after √", file, field)
+            end = k + 1
+        else:
+            m = re.compile(r"[^\W\d]\w*").match(text, j)
+            if m is None:
+                raise _bad(original, "√ must be followed by a unit or a parenthesised unit",
+                           file, field)
+            end = m.end()
+        exp = re.compile(r"\*\*\((?:[^()]*)\)").match(text, end)  # √h³ = √(h³): root of the power
+        if exp is not None:
+            end = exp.end()
+        text = f"{text[:i]}(({text[j:end]})**0.5){text[end:]}"
+    return text
+
+
+def _tokens(text: str, original: str, file: str | None, field: str | None) -> list[tuple[str, str]]:
+    """``text`` (pint syntax) as (kind, token) pairs; any other character is an error."""
+    out: list[tuple[str, str]] = []
+    pos = 0
+    while pos < len(text):
+        if text[pos:].isspace():
+            break
+        m = _TOKEN.match(text, pos)
+        if m is None or m.end() == pos:
+            bad = text[pos:].lstrip()[:1]
+            raise _bad(original, f"unexpected character {bad!r}", file, field)
+        kind = m.lastgroup or ""
+        out.append((kind, m.group(kind)))
+        pos = m.end()
+    return out
+
+
+def _check_tokens(toks: list[tuple[str, str]], original: str, file: str | None,
+                  field: str | None) -> None:
+    """Refuse what pint would read silently as something else: ``deg//h``, a trailing or doubled
+    operator, empty parentheses, and the ambiguous ``a/b·c`` (ISO 80000-1: a solidus is not
+    followed by a product without parentheses; metro prints ``a·c/b``)."""
+    depth = 0
+    after_slash = [False]  # per parenthesis level: the last operator at this level was "/"
+    prev = ("", "")
+    for kind, tok in toks:
+        if kind == "op" and tok in _BINARY and (prev[1] in _BINARY or prev == ("", "")):
+            raise _bad(original, f"operator {tok!r} where a unit is expected", file, field)
+        if tok == "(":
+            depth += 1
+            after_slash.append(False)
+        elif tok == ")":
+            if prev[1] == "(":
+                raise _bad(original, "empty parentheses", file, field)
+            if prev[1] in _BINARY or depth == 0:
+                raise _bad(original, "unbalanced parentheses", file, field)
+            depth -= 1
+            after_slash.pop()
+        elif tok == "/":
+            after_slash[-1] = True
+        elif after_slash[-1] and (tok == "*" or (tok == "(" and prev[1] == ")")
+                                  or (kind in ("name", "num") and prev[0] in ("name", "num"))):
+            raise _bad(original, "ambiguous: a product after a solidus; write a·c/b or a/(b·c)",
+                       file, field)
+        prev = (kind, tok)
+    if depth:
+        raise _bad(original, "unbalanced parentheses", file, field)
+    if prev[1] in _BINARY or prev[1] in ("+", "-"):
+        raise _bad(original, f"it ends with the operator {prev[1]!r}", file, field)
+
+
+def _pint_syntax(text: str, *, gravity: bool = False, file: str | None = None,
+                 field: str | None = None) -> str:
+    """``text`` in pint syntax, or :class:`UnitError` naming it (:func:`normalise_unit_text`)."""
     out = text
     for sym, rep in _SYMBOLS:
         out = out.replace(sym, rep)
-    return out.strip()
+    out = _SUP_EXP.sub(lambda m: f"**({m.group(0).translate(_SUP_ASCII)})", out)
+    out = _sqrt(out, text, file, field)
+    toks = _tokens(out.translate(_PRODUCT_SIGNS), text, file, field)
+    _check_tokens(toks, text, file, field)
+    names = {tok for kind, tok in toks if kind == "name"}
+    if "g" in names and (gravity or len(names) > 1):
+        # "g" with other units (°/h/g, mV·s/°/g) is standard gravity in the inertial field;
+        # alone it is the gram, unless an acceleration is expected (parse_quantity).
+        toks = [(k, "gn" if (k, t) == ("name", "g") else t) for k, t in toks]
+    return " ".join(t for _, t in toks)
+
+
+@functools.lru_cache(maxsize=4096)
+def _cached_syntax(text: str) -> str:
+    return _pint_syntax(text)
+
+
+def normalise_unit_text(text: str) -> str:
+    """Rewrite the standards' unit symbols into pint syntax; :class:`UnitError` for text that is
+    not a unit or is ambiguous (never a silent simplification).
+
+    ``"°/√h"`` -> ``"deg / ( ( h ) ** 0.5 )"``, ``"°/h¹⋅⁵"`` -> ``"deg / h ** ( 1.5 )"``,
+    ``"P/″"`` -> ``"P / arcsec"``, ``"°/h/g"`` -> ``"deg / h / gn"``.  Accepted: the symbols
+    °, ′, ″, ℃ (°C), Δ°C; superscript exponents with a decimal point written ⋅ (as pint prints
+    it), · or .; √ of the factor after it; products ·, ⋅, ∙, ×, * or a space; quotients /;
+    powers ** or ^; parentheses.  A bare ``g`` is the gram alone and standard gravity with other
+    units; ``gn``, ``gₙ``, ``g_0`` are always standard gravity.  See docs/data-format.md, "Unit
+    syntax".
+    """
+    return _cached_syntax(text)
 
 
 def angle_power(unit: Any) -> float:
     """Exponent of plane angle in ``unit`` (1 for deg/h, 0 for Hz, -1 for P/″)."""
-    u = unit.units if isinstance(unit, pint.Quantity) else (unit if isinstance(unit, pint.Unit) else ureg.Unit(unit))
+    if isinstance(unit, pint.Quantity):
+        u = unit.units
+    else:
+        u = unit if isinstance(unit, pint.Unit) else ureg.Unit(unit)
     total = 0.0
     for name, exp in u._units.items():
         if name in _ANGLE_UNITS:
@@ -165,9 +302,76 @@ def difference_unit(u: Any) -> pint.Unit:
     return ureg.Unit(" * ".join(f"delta_{name} ** {exp:g}" for name, exp in uu._units.items()))
 
 
-def unit(text: str) -> pint.Unit:
-    """Parse a unit text (the standards' symbols allowed) into a registry unit."""
-    return ureg.Unit(normalise_unit_text(text))
+def _syntax(text: str, gravity: bool, file: str | None, field: str | None) -> str:
+    try:
+        if gravity:
+            return _pint_syntax(text, gravity=True, file=file, field=field)
+        return _cached_syntax(text)
+    except UnitError as exc:
+        raise UnitTextError(file, field, exc.detail, hint=exc.hint) from None
+
+
+def _wants_gravity(like: str | pint.Unit | None) -> bool:
+    """Whether a lone ``g`` is standard gravity where a quantity like ``like`` is expected."""
+    if like is None:
+        return False
+    want = like if isinstance(like, pint.Unit) else unit(like)
+    return "[length]" in want.dimensionality and "[mass]" not in want.dimensionality
+
+
+def unit(text: str | pint.Unit, *, like: str | pint.Unit | None = None, file: str | None = None,
+         field: str | None = None) -> pint.Unit:
+    """Parse a unit text (as metro prints it, the standards' symbols, or pint syntax) into a
+    registry unit; :class:`UnitError` naming ``text`` (and ``file``, ``field``) for text that
+    is not a unit or is ambiguous.  Every text :func:`fmt_unit` prints reads back to its unit.
+
+    ``like`` is the unit expected there: where it is an acceleration, a lone ``g`` is standard
+    gravity rather than the gram.
+
+    >>> unit("°/h¹⋅⁵") == ureg.Unit("deg/hour**1.5"), unit("°/√h") == ureg.Unit("deg/hour**0.5")
+    (True, True)
+    """
+    if isinstance(text, pint.Unit):
+        return text
+    if not isinstance(text, str):
+        raise UnitError(file, field, f"a unit is text such as \"deg/h\", got {text!r}")
+    syntax = _syntax(text, _wants_gravity(like), file, field)
+    try:
+        return ureg.Unit(syntax)
+    except Exception as exc:  # pint raises several types for bad text
+        raise _bad(text, str(exc) or type(exc).__name__, file, field) from exc
+
+
+def _split_number(syntax: str) -> tuple[float, str] | None:
+    """``"1.5 deg / h"`` → ``(1.5, "deg / h")``; ``"1 * 10 ** ( - 6 ) deg"`` (1×10⁻⁶ °) → ``(1e-06,
+    "deg")``; None when the text does not start with a number.  The unit is read apart from the
+    number: pint, evaluating ``0.05 deg/h/degC`` as one expression, converts the °C (an offset
+    unit) to 274.15 K instead of reading a temperature difference."""
+    toks = syntax.split()
+    i = 1 if toks[:1] in (["-"], ["+"]) else 0
+    if i >= len(toks) or not re.fullmatch(r"[\d.]+(?:[eE][-+]?\d+)?", toks[i]):
+        return None
+    mantissa = "".join(toks[:i + 1])
+    i += 1
+    exponent = "0"
+    if toks[i:i + 2] == ["*", "10"] and toks[i + 2:i + 3] in (["**"], ["^"]):  # 1×10⁻⁶, 1×10^-6
+        j = i + 3
+        paren = toks[j:j + 1] == ["("]
+        j += paren
+        k = j + (toks[j:j + 1] in (["-"], ["+"]))
+        if k < len(toks) and toks[k].isdigit() and (not paren or toks[k + 1:k + 2] == [")"]):
+            exponent = "".join(toks[j:k + 1])
+            i = k + 1 + paren
+    rest = toks[i:]
+    if rest[:1] == ["*"]:
+        rest = rest[1:]
+    elif rest[:1] == ["/"]:
+        rest = ["1", *rest]
+    if exponent == "0":
+        return float(mantissa), " ".join(rest)
+    if "e" in mantissa.lower():
+        return float(mantissa) * 10.0 ** int(exponent), " ".join(rest)
+    return float(f"{mantissa}e{exponent}"), " ".join(rest)
 
 
 def parse_quantity(
@@ -185,8 +389,10 @@ def parse_quantity(
     if isinstance(value, pint.Quantity):
         q = value if value._REGISTRY is ureg else Q_(value.magnitude, str(value.units))
     elif isinstance(value, str):
+        syntax = _syntax(value, _wants_gravity(dimension), file, field)
+        split = _split_number(syntax)
         try:
-            q = ureg.Quantity(normalise_unit_text(value))
+            q = ureg.Quantity(split[0], ureg.Unit(split[1])) if split else ureg.Quantity(syntax)
             if not isinstance(q, pint.Quantity):
                 q = ureg.Quantity(float(q), "")
         except Exception as exc:  # pint raises several types for bad strings
@@ -198,25 +404,20 @@ def parse_quantity(
             raise UnitError(
                 file,
                 field,
-                f"the number {value!r} has no unit; write it with its unit, e.g. \"{value} {dimension}\"",
+                f"the number {value!r} has no unit; write it with its unit, "
+                f"e.g. \"{value} {dimension}\"",
             )
         q = Q_(float(value), "")
     else:
-        raise UnitError(file, field, f"expected a quantity such as \"1.5 {dimension or 'unit'}\", got {value!r}")
-    if dimension is not None and isinstance(value, str) and _G_AS_GRAVITY.search(value):
-        # The inertial-test field writes standard gravity as "g"; pint reads "g" as gram.
-        # Where the expected quantity involves acceleration, read it as the field does.
-        want = unit(dimension).dimensionality
-        if q.dimensionality != want:
-            alt = ureg.Quantity(normalise_unit_text(_G_AS_GRAVITY.sub("gn", value)))
-            if alt.dimensionality == want:
-                q = alt
+        raise UnitError(file, field,
+                        f"expected a quantity such as \"1.5 {dimension or 'unit'}\", got {value!r}")
     if dimension is not None:
         check_dimension(q, dimension, file=file, field=field)
     return q
 
 
-def check_dimension(q: pint.Quantity, dimension: str, *, file: str | None = None, field: str | None = None) -> None:
+def check_dimension(q: pint.Quantity, dimension: str, *, file: str | None = None,
+                    field: str | None = None) -> None:
     """Raise :class:`UnitError` unless ``q`` has the dimensionality of the unit ``dimension``."""
     want = unit(dimension) if dimension else ureg.Unit("")
     if (
@@ -229,40 +430,56 @@ def check_dimension(q: pint.Quantity, dimension: str, *, file: str | None = None
             file,
             field,
             f"unit {fmt_unit(got)!s} is not compatible with {fmt_unit(want)} "
-            f"(expected a quantity like {fmt_unit(want)}; metro never rescales between different kinds)",
+            f"(expected a quantity like {fmt_unit(want)}; "
+            "metro never rescales between different kinds)",
         )
-
-
-_PRETTY = [
-    ("deg/h⁰⋅⁵", "°/√h"),
-    ("h⁰⋅⁵", "√h"),
-    ("s⁰⋅⁵", "√s"),
-    ("arcsec", "″"),
-    ("arcmin", "′"),
-    ("delta_degC", "°C"),
-    ("Δ°C", "°C"),
-    ("degC", "°C"),
-    ("deg", "°"),
-    ("pulse", "P"),
-    ("g_0", "g"),
-    ("hr", "h"),
-]
 
 
 def is_voltage_ratio(u: Any) -> bool:
     """True for a ratiometric output's unit, a voltage over a voltage (``mV/V``, ``V/V``): pint
     reduces it to a plain number (``V/V`` to nothing at all), so it is told by its written form."""
-    text = re.sub(r"\s+", "", str(u)).replace("volt", "V").replace("milli", "m").replace("micro", "µ")
+    text = re.sub(r"\s+", "", str(u))
+    text = text.replace("volt", "V").replace("milli", "m").replace("micro", "µ")
     return re.fullmatch(r"[mµuk]?V/V", text) is not None
 
 
+# pint's short symbol of a unit -> the symbol the standards print
+_PRETTY = {
+    "deg": "°", "arcsec": "″", "arcmin": "′", "delta_degC": "°C", "Δ°C": "°C", "degC": "°C",
+    "pulse": "P", "g_0": "g", "hr": "h",
+}
+_ROOTED = ("h", "s")  # printed √h, √s at the power 0.5
+_FACTOR = re.compile(f"(?P<name>.*?)(?P<exp>⁻?[{_SUP_DIGITS}]+(?:⋅[{_SUP_DIGITS}]+)?)?")
+
+
+def _pretty_factor(factor: str, names: set[str]) -> str:
+    m = _FACTOR.fullmatch(factor)
+    name, exp = (m["name"], m["exp"] or "") if m else (factor, "")
+    if name == "g_0" and names == {"g_0"}:
+        return "gn" + exp  # alone, "g" would read as the gram: standard gravity prints gn
+    if name == "g" and len(names) > 1:
+        return "gram" + exp  # with other units a bare "g" reads as standard gravity
+    name = _PRETTY.get(name, name)
+    if name in _ROOTED and exp == "⁰⋅⁵":
+        return f"√{name}"
+    return name + exp
+
+
 def fmt_unit(u: Any) -> str:
-    """Short, readable unit text as the standards print it (``°/h``, ``″``, ``P/″``)."""
+    """Short, readable unit text as the standards print it (``°/h``, ``″``, ``P/″``, ``°/√h``,
+    ``°/h¹⋅⁵``, ``°/h/g``); :func:`unit` reads every text it prints back to the same unit.
+
+    Each factor of pint's short form is renamed whole (a prefixed ``mdeg`` is not touched).
+    The one symbol the field writes for two units, ``g``, prints as the gram alone and as
+    standard gravity with other units (``°/h/g``); standard gravity alone prints ``gn``.
+    """
     if isinstance(u, pint.Quantity):
         u = u.units
     if not isinstance(u, pint.Unit):
         u = unit(str(u))
     text = f"{u:~P}"
-    for a, b in _PRETTY:
-        text = text.replace(a, b)
+    parts = re.split(r"([·/])", text)
+    names = {p for p in (_FACTOR.fullmatch(f)["name"] for f in parts[::2] if _FACTOR.fullmatch(f))
+             if p and p != "1"}
+    text = "".join(p if i % 2 else _pretty_factor(p, names) for i, p in enumerate(parts))
     return text or "1"
