@@ -46,8 +46,9 @@ def _squash(text: str) -> str:
     return re.sub(r"[\s\-\u00ad]", "", text)
 
 
-#: the page numbers (a longer statement at the top may add a page)
-_PAGE = re.compile(r"第\s*\d+\s*页\s*共\s*\d+\s*页|Page\s+\d+\s+of\s+\d+")
+#: the page numbers (a longer statement at the top may add a page), and the clock times of the
+#: two runs (the report's issue time: a slow machine may run them in different minutes)
+_PAGE = re.compile(r"第\s*\d+\s*页\s*共\s*\d+\s*页|Page\s+\d+\s+of\s+\d+|\b\d{1,2}:\d{2}(?::\d{2})?\b")
 
 
 def _lines(text: str, number: str) -> set[str]:
@@ -79,7 +80,7 @@ def _report(folder: Path) -> tuple[Path, str]:
 
 @needs_pdf
 def test_registered_and_amended_reports_keep_both_languages(lab, tmp_path, capsys):
-    from metro.core.documents.document import to_pdf
+    from metro.core.documents.pdf import to_pdf
     from metro.core.record.lab import load_lab
     from metro.core.record.registering import notices_for, unregistered
 
