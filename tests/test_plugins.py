@@ -237,18 +237,31 @@ def test_metro_station_fixture_makes_a_plugins_own_station(metro_station):
         metro_station("own-sim")  # not registered without the plugin
 
 
-def test_metro_station_fixture_finds_an_installed_plugins_station(metro_station, monkeypatch):
-    """A plugin installed through the "metro" entry points (METRO_PLUGINS here) needs no
-    argument: the fixture falls back to the plugins metro loads."""
-    import sys
-    import types
+_OWN_STATION_MODULE = '''
+from metro.api import hookimpl
 
-    mod = types.ModuleType("metro_test_own_station")
-    mod.metro_register_stations = _StationPlugin.metro_register_stations
-    monkeypatch.setitem(sys.modules, mod.__name__, mod)
-    monkeypatch.setenv("METRO_PLUGINS", mod.__name__)
+
+class OwnStation:
+    def __init__(self, seed=0):
+        self.seed = seed
+
+
+@hookimpl
+def metro_register_stations(registrar):
+    registrar.add_station("own-sim", OwnStation, "a plugin's own simulated station")
+'''
+
+
+def test_metro_station_fixture_finds_an_installed_plugins_station(metro_station, monkeypatch,
+                                                                   tmp_path):
+    """A plugin metro loads by itself (an installed entry point; METRO_PLUGINS here) needs no
+    argument: the fixture falls back to the plugins metro loads."""
+    (tmp_path / "metro_test_own_station.py").write_text(_OWN_STATION_MODULE, encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("METRO_PLUGINS", "metro_test_own_station")
     monkeypatch.delenv("METRO_DISABLE_PLUGIN_AUTOLOAD", raising=False)
-    assert metro_station("own-sim", seed=2).seed == 2
+    st = metro_station("own-sim", seed=2)
+    assert type(st).__name__ == "OwnStation" and st.seed == 2
 
 
 def test_the_pytest_plugin_reaches_stations_through_the_registry():
