@@ -299,7 +299,7 @@ def test_a_document_drops_what_xml_cannot_hold_from_any_text():
     of every character XML 1.0 refuses — the same set manifests are refused for
     (core.vocabulary.NOT_XML) — before python-docx sees them; a translatable text stays one."""
     from metro.core.base.locale import Text, msg
-    from metro.core.documents.report import _sanitize
+    from metro.core.documents.context import sanitize as _sanitize
     from metro.core.base.vocabulary import NOT_XML
 
     bad = "a\x01b\ufffec\uffffd\ud800e"

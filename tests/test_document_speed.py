@@ -11,7 +11,7 @@ import zipfile
 import pytest
 from lxml import etree
 
-from metro.core.documents import document as D
+from metro.core.documents import builder as B, document as D, text as T
 from metro.core.base.locale import translator
 
 
@@ -23,10 +23,10 @@ from metro.core.base.locale import translator
 def _reference_runs(doc, paragraph, text, *, bold=False, size=None, italic=False, color=None):
     from docx.shared import Pt, RGBColor
 
-    text = D.glue(doc.tr.text(text))
+    text = T.glue(doc.tr.text(text))
     lines = text.split("\n")
     for n, line in enumerate(lines):
-        for piece, sub in D.subscript_runs(line):
+        for piece, sub in T.subscript_runs(line):
             r = paragraph.add_run(piece)
             if bold:
                 r.bold = True
@@ -42,50 +42,50 @@ def _reference_runs(doc, paragraph, text, *, bold=False, size=None, italic=False
             paragraph.add_run().add_break()
 
 
-def _reference_table(doc, header, rows, *, font_pt=D.TABLE_PT, label_column=False, shade=(), spans=(),
+def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=False, shade=(), spans=(),
                      bold_rows=(), unit_break=()):
     from docx.enum.table import WD_TABLE_ALIGNMENT
     from docx.oxml.ns import qn
     from docx.shared import Pt
 
-    E, O = D._el, D._insert_ordered
-    rows = [[D.glue(doc.tr.text(c)) for c in r] for r in rows]
+    E, O = B.oxml_element, B.insert_ordered
+    rows = [[T.glue(doc.tr.text(c)) for c in r] for r in rows]
     if unit_break:
-        rows = [[D._unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r in rows]
-    head = [D._two_lines(D.glue(doc.tr.text(h))) for h in header] if header else None
+        rows = [[T.unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r in rows]
+    head = [T.two_lines(T.glue(doc.tr.text(h))) for h in header] if header else None
     spans = set(spans)
     n = len(head) if head else max(len(r) for i, r in enumerate(rows) if i not in spans)
     rows = [list(r) + [""] * (n - len(r)) for r in rows]
     everything = ([head] if head else []) + rows
     first = 1 if head else 0
     cols = [[r[j] for i, r in enumerate(everything) if i - first not in spans] for j in range(n)]
-    widths = D.column_widths(cols, D.TEXT_WIDTH_MM, font_pt, bold_first=bool(head), bold_column=label_column)
+    widths = T.column_widths(cols, T.TEXT_WIDTH_MM, font_pt, bold_first=bool(head), bold_column=label_column)
     pt = font_pt
     t = doc.doc.add_table(rows=len(everything), cols=n)
     t.style = "Table Grid"
     t.alignment = WD_TABLE_ALIGNMENT.CENTER
     t.autofit = False
     tblPr = t._tbl.tblPr
-    O(tblPr, E("w:tblW", w=str(sum(D._twips(w) for w in widths)), type="dxa"), D._TBLPR_ORDER)
-    O(tblPr, E("w:tblLayout", type="fixed"), D._TBLPR_ORDER)
+    O(tblPr, E("w:tblW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"), B.TBLPR_ORDER)
+    O(tblPr, E("w:tblLayout", type="fixed"), B.TBLPR_ORDER)
     mar = E("w:tblCellMar")
     for side in ("left", "right"):
-        mar.append(E(f"w:{side}", w=str(D._twips(D.CELL_MARGIN_MM)), type="dxa"))
-    O(tblPr, mar, D._TBLPR_ORDER)
+        mar.append(E(f"w:{side}", w=str(B.mm_to_twips(T.CELL_MARGIN_MM)), type="dxa"))
+    O(tblPr, mar, B.TBLPR_ORDER)
     for gc, w in zip(t._tbl.tblGrid.findall(qn("w:gridCol")), widths):
-        gc.set(qn("w:w"), str(D._twips(w)))
+        gc.set(qn("w:w"), str(B.mm_to_twips(w)))
     for i, (row, values) in enumerate(zip(t.rows, everything)):
         trPr = row._tr.get_or_add_trPr()
-        O(trPr, E("w:cantSplit"), D._TRPR_ORDER)
+        O(trPr, E("w:cantSplit"), B.TRPR_ORDER)
         is_head = head is not None and i == 0
         if is_head:
-            O(trPr, E("w:tblHeader"), D._TRPR_ORDER)
+            O(trPr, E("w:tblHeader"), B.TRPR_ORDER)
         if i - first in spans:
             cell = row.cells[0].merge(row.cells[n - 1]) if n > 1 else row.cells[0]
             tcPr = cell._tc.get_or_add_tcPr()
-            O(tcPr, E("w:tcW", w=str(sum(D._twips(w) for w in widths)), type="dxa"), D._TCPR_ORDER)
+            O(tcPr, E("w:tcW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"), B.TCPR_ORDER)
             if i - first in shade:
-                O(tcPr, E("w:shd", val="clear", color="auto", fill=D.LABEL_FILL), D._TCPR_ORDER)
+                O(tcPr, E("w:shd", val="clear", color="auto", fill=T.LABEL_FILL), B.TCPR_ORDER)
             p = cell.paragraphs[0]
             p.paragraph_format.space_after = Pt(0)
             p.paragraph_format.keep_with_next = False
@@ -93,12 +93,12 @@ def _reference_table(doc, header, rows, *, font_pt=D.TABLE_PT, label_column=Fals
             continue
         for j, (cell, value, w) in enumerate(zip(row.cells, values, widths)):
             tcPr = cell._tc.get_or_add_tcPr()
-            O(tcPr, E("w:tcW", w=str(D._twips(w)), type="dxa"), D._TCPR_ORDER)
+            O(tcPr, E("w:tcW", w=str(B.mm_to_twips(w)), type="dxa"), B.TCPR_ORDER)
             bold = is_head or (label_column and j == 0)
-            fill = D.HEAD_FILL if is_head else (D.LABEL_FILL if (label_column and j == 0) or
+            fill = T.HEAD_FILL if is_head else (T.LABEL_FILL if (label_column and j == 0) or
                                                 (i - (1 if head else 0)) in shade else None)
             if fill:
-                O(tcPr, E("w:shd", val="clear", color="auto", fill=fill), D._TCPR_ORDER)
+                O(tcPr, E("w:shd", val="clear", color="auto", fill=fill), B.TCPR_ORDER)
             p = cell.paragraphs[0]
             p.paragraph_format.space_after = Pt(0)
             if is_head or i < len(everything) - 1:

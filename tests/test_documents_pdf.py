@@ -171,7 +171,7 @@ def test_pdf_is_pdf_a_2b(rendered):
 def test_quantity_names_print_the_symbol_once(rendered):
     """A result's name is its quantity name and its symbol once (``D.45 coefficient α₀``, not
     ``D.45 coefficient α0 α₀``), read on the rendered text; no code key stands as a symbol."""
-    from metro.core.documents.document import _plain, display_symbol, quantity_name
+    from metro.core.documents.text import display_symbol, plain_symbol as _plain, quantity_name
 
     text = _squash(_plain(rendered["text"]))
     for o in rendered["record"].outcomes:

@@ -629,7 +629,8 @@ def test_report_with_every_clause5_item_is_written(pm, tmp_path):
     characters, python-docx refuses more) is cut, the pages keep every item; the context has the
     clause-5 rows."""
     import docx
-    from metro.core.documents.report import report_context, write_report
+    from metro.core.documents.context import report_context
+    from metro.core.documents.report import write_report
 
     items = list(clause5.TYPE_TEST_ITEMS[:7]) + [i for i in clause5.TYPE_TEST_ITEMS if i.startswith(("6.2.8", "6.2.9"))]
     rec = run_items(pm, "gbt45570", items, station_options={"duration_scale": 0.25}, options={"scale_factor": "none"})

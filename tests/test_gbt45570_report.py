@@ -9,7 +9,7 @@ import docx
 import pytest
 
 from metro.core.uncertainty.conformity import GUARDED, SIMPLE
-from metro.core.documents.document import one_notation
+from metro.core.documents.text import one_notation
 from metro.core.base.locale import translator
 from metro.core.run.plugin_manager import get_plugin_manager
 from metro.core.documents.report import write_report
@@ -195,7 +195,7 @@ def test_page_one_has_the_device_the_overall_verdict_and_the_results(produced):
 
 def test_simple_rule_and_no_specification_are_stated():
     from metro.core.model.campaign import DeviceUnderTest
-    from metro.core.documents.report import report_context
+    from metro.core.documents.context import report_context
 
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1}, decision_rule="simple")
@@ -238,7 +238,7 @@ def test_series_alias_reports_the_method_choice(run_cli):
 def test_fibre_gyro_takes_the_rate_method_and_table_b1():
     """The digital-output (fibre) simulated gyro: 6.2.7.1 picks D.2 (no declared nonlinearity; B.1
     aviation limit 50×10⁻⁶ > 5×10⁻⁶) and the verdicts cite table B.1."""
-    from metro.core.documents.report import report_context
+    from metro.core.documents.context import report_context
 
     from metro.core.run.runner import select_items, station_device
 

@@ -124,7 +124,7 @@ def test_a_bilingual_document_has_both_and_every_note_in_both(rendered):
     assert CJK.search(text) and english_prose(texts)
     zh_text = "\n".join(docs["zh"][1]).replace("\u00a0", " ")
     # a note of the run (a message): its Chinese in the zh document, its English in the zh+en one
-    from metro.core.documents.document import glue, subscript_runs
+    from metro.core.documents.text import glue, subscript_runs
     from metro.core.base.locale import translator
 
     def printed(s: str) -> str:  # as a document's text reads it: no-break spaces, real subscripts

@@ -13,7 +13,7 @@ from pathlib import Path
 import docx
 import pytest
 
-from metro.core.documents import plots, report
+from metro.core.documents import context, plots, report
 from metro.core.base import formatting
 from metro.core.base.atomic import TMP_MARKER
 from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
@@ -104,7 +104,7 @@ def docx_text(path: Path, raw: bool = False) -> str:
 
 
 def test_context_has_every_section():
-    ctx = report.report_context(make_record(), designations=DESIGNATIONS)
+    ctx = context.report_context(make_record(), designations=DESIGNATIONS)
     for key in ("report_number", "created", "title", "device", "environment", "site", "equipment",
                 "outcomes", "provenance", "simulated", "truth"):
         assert key in ctx
@@ -123,14 +123,14 @@ def test_context_has_every_section():
 
 
 def test_context_without_designations_uses_the_standard_id():
-    ctx = report.report_context(make_record())
+    ctx = context.report_context(make_record())
     assert ctx["title"] == "Test report — gbt45570 D.5.6"
 
 
 def test_context_numbers_follow_the_model():
     rec = make_record()
     res = rec.outcomes[0].results[0]
-    ctx = report.report_context(rec)
+    ctx = context.report_context(rec)
     (o,) = ctx["outcomes"]
     assert o["number"] == "5.1" and o["clause"] == "D.5.6"
     (r,) = o["results"]
@@ -152,7 +152,7 @@ def test_context_numbers_follow_the_model():
 
 
 def test_context_equipment_status():
-    eq = {e["id"]: e for e in report.report_context(make_record())["equipment"]}
+    eq = {e["id"]: e for e in context.report_context(make_record())["equipment"]}
     assert eq["CNT-1"]["certificate"] == "CERT-2023-0117"
     assert eq["CNT-1"]["expired"] is True
     assert eq["CNT-1"]["status"].startswith("EXPIRED")
@@ -162,7 +162,7 @@ def test_context_equipment_status():
 
 
 def test_context_simulated_has_banner_and_truth():
-    ctx = report.report_context(make_record(simulated=True))
+    ctx = context.report_context(make_record(simulated=True))
     assert ctx["simulated"] is True
     assert "built-in simulated test station" in ctx["simulated_banner"]
     assert {"name": "angle random walk", "value": "0.0012 °/√h"} in ctx["truth"]
@@ -173,7 +173,7 @@ def test_context_strips_characters_xml_cannot_hold():
     bad = Outcome("gbt45570", "D.5.6", "Angle\x0b random walk", "D.5.6", rec.outcomes[0].results,
                   warnings=["bell\x07 rang"])
     rec = RunRecord(REPORT_NO, rec.created, rec.campaign, [bad])
-    (o,) = report.report_context(rec)["outcomes"]
+    (o,) = context.report_context(rec)["outcomes"]
     assert o["title"] == "Angle random walk" and o["warnings"] == ["bell rang"]
 
 
@@ -433,7 +433,7 @@ def test_pretty_powers_changes_free_standing_numbers_only():
 
 
 def test_symbols_get_real_subscripts_and_numbers_stay_whole():
-    from metro.core.documents.document import NBSP, glue, one_notation, subscript_runs
+    from metro.core.documents.text import NBSP, glue, one_notation, subscript_runs
 
     assert subscript_runs("K_l = 3, B_{s} and K_gxx") == [
         ("K", False), ("l", True), (" = 3, B", False), ("s", True), (" and K", False), ("gxx", True)]
@@ -454,7 +454,7 @@ def test_symbols_get_real_subscripts_and_numbers_stay_whole():
 
 
 def test_column_widths_fit_the_longest_word_and_the_page():
-    from metro.core.documents.document import TEXT_WIDTH_MM, column_widths, text_mm
+    from metro.core.documents.text import TEXT_WIDTH_MM, column_widths, text_mm
 
     cols = [["Item", "D.1.1", "D.5.6"], ["Quantity", "scale factor nonlinearity Kn", "angle random walk"],
             ["Result", "3.292×10⁻⁵ °/h", "0.8000000 P/″"]]
@@ -470,7 +470,7 @@ def test_a_chinese_term_is_not_broken_one_character_per_line():
     "类型，分布" column kept only its widest single character (Chinese may break anywhere), so
     LibreOffice printed 类/型/，/分/布 one character per line.  A run of Chinese up to six characters
     now counts as one word; a longer run gives the column at least four characters."""
-    from metro.core.documents.document import CELL_MARGIN_MM, TEXT_WIDTH_MM, column_widths, text_mm
+    from metro.core.documents.text import CELL_MARGIN_MM, TEXT_WIDTH_MM, column_widths, text_mm
 
     source = "两个零偏的分散性（分组平均值）（地球自转角速度、纬度和调平对两次记录相同，相互抵消）" * 3
     cols = [["来源", source, source], ["类型，分布", "A, 正态", "B, 均匀"], ["量值", "0.008388 °/h", "2×10⁻⁶"]]
@@ -694,7 +694,7 @@ def test_a_budget_title_leaves_out_a_code_key_measurand():
     (dB_shock)': the measurand was the result's code key."""
     from types import SimpleNamespace as N
 
-    from metro.core.documents.report import _budget_title
+    from metro.core.documents.context import budget_title as _budget_title
 
     assert str(_budget_title(N(name="start-up time", symbol="t_s", key="t_startup"), "t_startup")) == "start-up time t_s"
     assert "dB_shock" not in str(_budget_title(N(name="bias change after shock", symbol="ΔB_i", key="dB_shock"),

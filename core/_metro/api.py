@@ -38,10 +38,11 @@ from metro.core.base.errors import DataError, ProcedureError, UnitError
 from metro.core.base.locale import Text, hint, index, join, msg
 from metro.core.base.units import Q_, check_dimension, fmt_unit, parse_quantity, unit
 from metro.core.documents import document
-from metro.core.documents.document import display_symbol, result_fields
+from metro.core.documents.document import result_fields
+from metro.core.documents.text import display_symbol
 from metro.core.documents.notes import group_notes
 from metro.core.base.formatting import fmt_num, fmt_quantity, unit_text
-from metro.core.documents.report import plot_caption
+from metro.core.documents.context import plot_caption
 from metro.core.model.campaign import (
     Calibration,
     Campaign,

@@ -513,7 +513,7 @@ def _cmd_run(args) -> int:
         plan_report(args.report, args.out, force=args.force, inputs=manifest_inputs(args.data),
                     pdf=getattr(args, "pdf", False))
         if getattr(args, "pdf", False) or str(args.report or "").lower().endswith(".pdf"):
-            from ..documents.document import soffice_path
+            from ..documents.pdf import soffice_path
 
             soffice_path()  # no LibreOffice: said now, before anything is evaluated
     banner = _Banner(station_banner(pm, args, items)

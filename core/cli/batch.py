@@ -498,7 +498,8 @@ def _lot_report(path: Path, job: Job, summary: Mapping[str, Any], stats: Sequenc
     import datetime as dt
 
     from .. import __version__
-    from ..documents.document import DocumentBuilder, quantity_name
+    from ..documents.builder import DocumentBuilder
+    from ..documents.text import quantity_name
     from ..base.locale import translator
 
     now = dt.datetime.now(dt.timezone.utc)

@@ -83,7 +83,7 @@ def check_programs() -> list[dict[str, Any]]:
 
     out = []
     try:
-        from ..documents.document import soffice_path
+        from ..documents.pdf import soffice_path
 
         exe: str | None = soffice_path()
     except MetroError:

@@ -143,7 +143,7 @@ def write_run_report(args, pm, record, prog=None):
                                       options=_run_options(args), lang=getattr(args, "lang", None))
         if getattr(args, "pdf", False):  # the registered .docx, as PDF beside it
             from ..base.atomic import atomic_path
-            from ..documents.document import to_pdf
+            from ..documents.pdf import to_pdf
 
             with atomic_path(Path(issued.path).with_suffix(".pdf")) as tmp:
                 to_pdf(issued.path, Path(tmp))

@@ -9,7 +9,7 @@ Run it after changing the layout (the output is committed)::
     python core/documents/templates/make_templates.py OUT.docx   # writes elsewhere
 
 The document is built with python-docx and carries docxtpl (Jinja2) tags that
-:func:`metro.core.documents.report.write_report` fills from :func:`metro.core.documents.report.report_context`:
+:func:`metro.core.documents.report.write_report` fills from :func:`metro.core.documents.context.report_context`:
 
 * ``{{ name }}`` — a text value (always a string prepared by ``report_context``);
 * ``{%p if … %}`` / ``{%p for … %}`` … ``{%p endif %}`` / ``{%p endfor %}`` — a paragraph
