@@ -1037,8 +1037,8 @@ def test_threshold_level_counts_only_where_its_response_is_resolved_from_noise()
     assert F.resolved_bracket(om, F_, 20.0, [0.006] * 6) == (2, 5, 3)         # nor 0.01's pass: (0.005, 0.02]
     assert F.resolved_bracket(om, F_, 20.0, [5.0] * 6) is None                # no pass is resolved
     # the between-record scatter from the ±pairs: an odd response cancels, the drift between records does not
-    from metro.plugins.jjf2014.low_rate import _pair_scatter
+    from metro.plugins.jjf2014.low_rate import pair_scatter
 
     o = np.array(om)
-    s, n = _pair_scatter({"forward": (o, np.array(F_)), "reverse": (-o, -np.array(F_) + np.array([0.01, -0.01] * 3))})
+    s, n = pair_scatter({"forward": (o, np.array(F_)), "reverse": (-o, -np.array(F_) + np.array([0.01, -0.01] * 3))})
     assert n == 6 and s == pytest.approx(0.01 / math.sqrt(2), rel=1e-12)

@@ -38,32 +38,32 @@ from metro.api import (
 from . import budgets as B
 from . import formulas as F
 from .common import (
-    _JJF,
     AXES,
     RATE_OPTS,
+    JJFItem,
     KValue,
     SFSet,
     Spread,
-    _axis,
-    _budget_row_a,
-    _by,
-    _cal,
-    _chamber_rows,
-    _flag,
-    _floats,
-    _need,
-    _num,
-    _output,
-    _phase,
-    _q,
-    _room_index,
-    _temperatures,
-    _updown,
-    _where,
+    axis_of,
     bias_repeatability,
+    budget_row_a,
+    calibration_of,
+    chamber_rows,
+    chamber_temperatures,
+    flag_option,
+    group_by,
+    need_segments,
+    num_option,
     one_estimate,
+    parse_floats,
+    phase_of,
+    quantity_text,
+    read_output,
+    room_index,
     rounding_row_mean,
     scale_factor_for,
+    up_or_down,
+    where_of,
     with_scatter,
 )
 from .scale_factor import ScaleFactor
@@ -76,9 +76,9 @@ EARTH_OPT = Option("earth_rate", "off", None,
                    "on: subtract 15.041·sin(latitude) °/h for IRA up (add for down); the standard has no such term")
 
 
-def _static(campaign: Campaign, proc, warnings: list[str]) -> Segment:
+def static_segment(campaign: Campaign, proc, warnings: list[str]) -> Segment:
     """The 7.2.13.1 record: the one segment of kind "static" (several: the first, with a warning)."""
-    segs = _need(campaign, proc, "static")
+    segs = need_segments(campaign, proc, "static")
     if len(segs) > 1:
         warnings.append(msg("{n} segments of kind static; {item} uses the first, {id!r}", n=len(segs), item=proc.item, id=segs[0].id))
     return segs[0]
@@ -102,7 +102,7 @@ def _earth_text(campaign, on: bool, per_g: bool = False) -> str:
 
 def _earth_term(campaign, seg: Segment | None, on: str, orient: str | None = None) -> float:
     """Earth-rate correction (°/h) to subtract; 0 unless the option is on (README reading note)."""
-    if not _flag({"earth_rate": on}, "earth_rate"):
+    if not flag_option({"earth_rate": on}, "earth_rate"):
         return 0.0
     lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
     o = orient or (str(seg.conditions.get("orientation", "IRA up")).lower() if seg is not None else "ira up")
@@ -114,7 +114,7 @@ class BiasValue:
     """B_0 of one static segment (eqs. (27), (28)) in °/h with its batch-means type A u."""
 
     def __init__(self, seg: Segment, K: float, earth: float = 0.0, batches: int = 20):
-        x, dt = _output(seg)
+        x, dt = read_output(seg)
         if x.size < 2 * batches:
             raise DataError(seg.file or seg.id, "output", f"{x.size} samples are too few for {batches} batch means")
         self.seg, self.x, self.dt, self.K = seg, x, dt, K
@@ -174,12 +174,12 @@ def _single(bv: BiasValue, rep: Spread | None, what: str, scale: float, unit: st
     if _u_single(bv, rep) > bv.uA:
         return rep.row(msg("{what}: bias repeatability", what=what), "B_r·c", rep.value * scale, unit)
     if bv.correlated:
-        return _budget_row_a(msg("{what} ({n} long batch means: the short ones are correlated)", what=what, n=bv.dof + 1),
+        return budget_row_a(msg("{what} ({n} long batch means: the short ones are correlated)", what=what, n=bv.dof + 1),
                              "u_A·c", bv.uA * scale, unit, bv.dof)
-    return _budget_row_a(msg("{what} (batch means)", what=what), "u_A·c", bv.uA * scale, unit, bv.dof)
+    return budget_row_a(msg("{what} (batch means)", what=what), "u_A·c", bv.uA * scale, unit, bv.dof)
 
 
-class Bias(_JJF):
+class Bias(JJFItem):
     """JJF 2014—2022 7.2.13 零偏: B_0 = F̄/K, eqs. (27), (28); budget B.2 (plus the type A
     scatter of F̄).  No earth-rate term unless option earth_rate = on."""
 
@@ -201,15 +201,15 @@ class Bias(_JJF):
         w: list[str] = []
         kv = scale_factor_for(campaign, type(self))
         K, uK, src = kv
-        seg = _static(campaign, type(self), w)
-        bv = BiasValue(seg, K, _earth_term(campaign, seg, opts["earth_rate"]), _num(opts, "batches", 2, integer=True))
+        seg = static_segment(campaign, type(self), w)
+        bv = BiasValue(seg, K, _earth_term(campaign, seg, opts["earth_rate"]), num_option(opts, "batches", 2, integer=True))
         rep = bias_repeatability(campaign, K)
         dur = bv.x.size * bv.dt
         if dur < 3600 * 0.999:
             w.append(msg("the record lasts {minutes:.3g} min; 7.2.13.1 c) asks for more than 1 h", minutes=dur / 60))
         rep_row = rep.row("bias repeatability (another power-on gives another B₀)", "B_r", rep.value,
                           "deg/h") if rep is not None and rep.value > bv.uA else None
-        b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=_cal(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
+        b = B.bias_budget(Q_(bv.B0, "deg/h"), uK, dmm=calibration_of(campaign, "dmm"), u_A=Q_(bv.uA, "deg/h"), dof_A=bv.dof,
                           warnings=w, dof_K=kv.dof, rep_row=rep_row,
                           note_A=msg("{n} long batch means: the short ones are correlated (F test, 95 %), their "
                                      "scatter understates the mean's u", n=bv.dof + 1) if bv.correlated else "",
@@ -219,14 +219,14 @@ class Bias(_JJF):
                                    if rep is None else [])])
         if rep is None:
             b = attrs.evolve(b, note=join("; ", [x for x in (b.note, _power_on_note(None, kv)) if x]))
-        on = _flag(opts, "earth_rate")
+        on = flag_option(opts, "earth_rate")
         return self._outcome([Result(self.metrics[0], Q_(bv.B0, "deg/h"), b.combined, b,
                                      note=join("; ", [msg("K from {source}", source=src), _earth_text(campaign, on)]),
                                      earth_rate="removed" if on else "included")],
                              warnings=w, segments=[seg.id], opts=opts)
 
 
-class BiasStability(_JJF):
+class BiasStability(JJFItem):
     """JJF 2014—2022 7.2.14 零偏稳定性: B_s = (1/K)·s(F̄_i over P), eq. (29)."""
 
     item = "7.2.14"
@@ -244,8 +244,8 @@ class BiasStability(_JJF):
         w: list[str] = []
         kv = scale_factor_for(campaign, type(self))
         K = kv.K
-        seg = _static(campaign, type(self), w)
-        x, dt = _output(seg)
+        seg = static_segment(campaign, type(self), w)
+        x, dt = read_output(seg)
         p = float(opts["P"].to("s").magnitude) / dt
         if abs(p - round(p)) > 1e-6 or round(p) < 1:
             raise ProcedureError(f"7.2.14: P = {opts['P']} is not a whole number of sampling intervals ({dt:g} s)")
@@ -256,16 +256,16 @@ class BiasStability(_JJF):
         bs *= 3600.0
         P_ = int(round(p))
         u, dof, cnote = B.std_of_std_correlated(bs, x[: m * P_].reshape(m, P_).mean(axis=1), x[: m * P_], P_, dt)
-        rows = [_budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_{upper} − B_s)/2", u,
+        rows = [budget_row_a(msg("sampling of a standard deviation of N/P averages (χ² bound)"), "(s_{upper} − B_s)/2", u,
                               "deg/h", dof, note=cnote),
                 kv.row(bs, "deg/h")]
-        rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", _cal(campaign, "dmm"), Q_(bs, "deg/h"))
+        rows += B.relative_calibration_row("data acquisition, DMM", "u_rel", calibration_of(campaign, "dmm"), Q_(bs, "deg/h"))
         b = B.type_a_budget("Bs", "deg/h", rows)
         return self._outcome([Result(self.metrics[0], Q_(bs, "deg/h"), b.combined, b, note=msg("{m} averages of P", m=m))],
                              warnings=w, segments=[seg.id], opts=opts)
 
 
-class BiasRepeatability(_JJF):
+class BiasRepeatability(JJFItem):
     """JJF 2014—2022 7.2.15 零偏重复性: Q biases by 7.2.13 (power off between), B_r eq. (30)."""
 
     item = "7.2.15"
@@ -279,18 +279,18 @@ class BiasRepeatability(_JJF):
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
             Step(f"static-repeat#{q}", "static-repeat", STATIC_STEP_DESC + f", run {q}, 1 h at 1 s", Q_(1, "h"),
-                 Q_(1, "s"), {"run": str(q), "orientation": "IRA up"}) for q in range(1, _num(options, "runs", 2, integer=True) + 1)]
+                 Q_(1, "s"), {"run": str(q), "orientation": "IRA up"}) for q in range(1, num_option(options, "runs", 2, integer=True) + 1)]
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         kv = scale_factor_for(campaign, type(self))
         K = kv.K
-        runs = _by(_need(campaign, type(self), "static-repeat"), "run")
+        runs = group_by(need_segments(campaign, type(self), "static-repeat"), "run")
         if len(runs) < 2:
             raise DataError(campaign.source, "segments", f"7.2.15 needs Q ≥ 2 runs, got {len(runs)}")
         for r, g in runs.items():
             if len(g) > 1:
-                raise DataError(_where(g[1]), f"segments.{g[1].id}.conditions.run",
+                raise DataError(where_of(g[1]), f"segments.{g[1].id}.conditions.run",
                                 f"7.2.15: run {r!r} has {len(g)} records; give one per run")
         bvs = [BiasValue(g[0], K) for _, g in sorted(runs.items())]
         br = F.std_bessel([b.B0 for b in bvs], "eq. (30)")
@@ -301,7 +301,7 @@ class BiasRepeatability(_JJF):
                                                 "half-width)"), 1.0, "deg/h") for x in bvs),
                     key=lambda r: r[0].value.magnitude if r else -1.0)
         b = B.type_a_budget("Br", "deg/h", [
-            _budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_{upper} − B_r)/2", u, "deg/h", dof),
+            budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_{upper} − B_r)/2", u, "deg/h", dof),
             kv.row(br, "deg/h"), *qrows])
         why = ""
         if qrows and qrows[0].value.to("deg/h").magnitude >= br:
@@ -330,8 +330,8 @@ def _k_ratio_at(campaign: Campaign, temps: list[float], m: int) -> tuple[list[tu
                   "|B₀ᵢ|·|K_i/K_m − 1|, not in this budget (give the 7.2.5 calibrations at the same points)")
     if not segs:
         return None, missing
-    groups = _by(segs, "temperature")
-    T5 = _temperatures(groups, "7.2.5")
+    groups = group_by(segs, "temperature")
+    T5 = chamber_temperatures(groups, "7.2.5")
     fits = {}
     for key, t in T5.items():
         fits[round(t, 3)] = SFSet(groups[key])
@@ -349,14 +349,14 @@ def _k_ratio_at(campaign: Campaign, temps: list[float], m: int) -> tuple[list[tu
     return out, ""
 
 
-class BiasTemperature(_JJF):
+class BiasTemperature(JJFItem):
     """JJF 2014—2022 7.2.16 零偏温度灵敏度: B_0i per temperature by 7.2.13, B_t eq. (31)."""
 
     item = "7.2.16"
     title = "Bias temperature sensitivity (零偏温度灵敏度)"
     clause = "7.2.16"
     metrics = (Metric("Bt", "bias temperature sensitivity", "B_t", "deg/h/delta_degC", "7.2.16.2", "31"),)
-    equipment = _JJF.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 no. 2); its "
+    equipment = JJFItem.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 no. 2); its "
                                                        "calibration U (in K) enters the budget"),)
     requires = ScaleFactor.requires + (SegmentRequirement("static-temperature", "7.2.13 at each chamber temperature",
                                                           {"temperature": "degC"}, {"output": ("mV",)}),)
@@ -366,24 +366,24 @@ class BiasTemperature(_JJF):
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
             Step(f"static-temperature@{T:g}C", "static-temperature", STATIC_STEP_DESC + f" at {T:g} °C, 1 h at 1 s",
-                 Q_(1, "h"), Q_(1, "s"), {"temperature": _q(T, "degC"), "orientation": "IRA up"})
-            for T in _floats(options["temperatures"], "temperatures")]
+                 Q_(1, "h"), Q_(1, "s"), {"temperature": quantity_text(T, "degC"), "orientation": "IRA up"})
+            for T in parse_floats(options["temperatures"], "temperatures")]
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         kv = scale_factor_for(campaign, type(self))
         K = kv.K
-        groups = _by(_need(campaign, type(self), "static-temperature"), "temperature")
-        T = _temperatures(groups, "7.2.16")
+        groups = group_by(need_segments(campaign, type(self), "static-temperature"), "temperature")
+        T = chamber_temperatures(groups, "7.2.16")
         keys = sorted(groups, key=T.get)
         if len(keys) < 2:
             raise DataError(campaign.source, "segments", "7.2.16 needs at least 2 temperatures")
         temps = [T[k] for k in keys]
         for k in keys:
             if len(groups[k]) > 1:
-                raise DataError(_where(groups[k][1]), f"segments.{groups[k][1].id}.conditions.temperature",
+                raise DataError(where_of(groups[k][1]), f"segments.{groups[k][1].id}.conditions.temperature",
                                 f"7.2.16: {len(groups[k])} records at {k}; give one per temperature")
-        m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.16")
+        m = room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.16")
         # each B_0i is an equivalent input rate at T_i: F̄_i over the K the device has at T_i, K·K_i/K_m
         # with the 7.2.5 calibrations of this campaign at the same chamber points (interpretations.md,
         # "7.2.16 — the bias at T_i is over the K at T_i")
@@ -415,10 +415,10 @@ class BiasTemperature(_JJF):
                 *_rounded(campaign, bvs[m], f"B₀ at {temps[m]:g} °C", 1 / abs(dT), "deg/h/delta_degC"),
                 kv.row(bt, "deg/h/delta_degC")]
         if kt_ratio and kt_ratio[i][1] > 0:
-            rows.append(_budget_row_a(msg("K_i/K_m at {T:g} °C (7.2.5 fits) that B₀ at T_i is divided by",
+            rows.append(budget_row_a(msg("K_i/K_m at {T:g} °C (7.2.5 fits) that B₀ at T_i is divided by",
                                           T=temps[i]), "|B₀ᵢ|·u(K_i/K_m)/|ΔT|",
                                       abs(bvs[i].B0) * kt_ratio[i][1] / dT, "deg/h/delta_degC", kt_ratio[i][2]))
-        rows += _chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
+        rows += chamber_rows(campaign, bt / dT * math.sqrt(2), "deg/h/delta_degC")
         b = B.type_a_budget("Bt", "deg/h/delta_degC", one_estimate(rows, rep),
                             note=join("; ", [x for x in (_power_on_note(rep, kv), kt_note) if x]))
         tab = TableSpec("bias_temperature", msg("B_0i per temperature"), ["T_i (°C)", "B_0i (°/h)"],
@@ -430,7 +430,7 @@ class BiasTemperature(_JJF):
                              segments=[x.seg.id for x in bvs], opts=opts)
 
 
-class BiasAcceleration(_JJF):
+class BiasAcceleration(JJFItem):
     """JJF 2014—2022 7.2.17 零偏加速度灵敏度: per axis (B_up − B_down)/2 g, maximum |·| over
     X, Y, Z (7.2.17.2).  Earth rate: option earth_rate = on corrects the pair whose axis is the
     IRA (device.ira_axis, default Z) for ±15.041·sin φ."""
@@ -443,7 +443,7 @@ class BiasAcceleration(_JJF):
                                                           "table", {"axis": "", "orientation": ""},
                                                           {"output": ("mV",)}),)
     options = RATE_OPTS + (EARTH_OPT,)
-    equipment = _JJF.equipment + (EquipmentRequirement("position_table", "two-axis position table"),)
+    equipment = JJFItem.equipment + (EquipmentRequirement("position_table", "two-axis position table"),)
 
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
@@ -456,11 +456,11 @@ class BiasAcceleration(_JJF):
         K = kv.K
         ira = str(campaign.device.properties.get("ira_axis", "Z")).upper()
         vals: dict[str, dict[str, BiasValue]] = {}
-        for s in _need(campaign, type(self), "static-accel"):
-            a, o = _axis(s), _updown(s)
+        for s in need_segments(campaign, type(self), "static-accel"):
+            a, o = axis_of(s), up_or_down(s)
             earth = _earth_term(campaign, s, opts["earth_rate"], o) if a == ira else 0.0
             if o in vals.get(a, {}):
-                raise DataError(_where(s), f"segments.{s.id}.conditions", f"7.2.17: two records for axis {a} {o}; give one")
+                raise DataError(where_of(s), f"segments.{s.id}.conditions", f"7.2.17: two records for axis {a} {o}; give one")
             vals.setdefault(a, {})[o] = BiasValue(s, K, earth)
         per = {a: F.per_g_726(v["up"].B0, v["down"].B0) for a, v in vals.items() if {"up", "down"} <= set(v)}
         if not per:
@@ -480,7 +480,7 @@ class BiasAcceleration(_JJF):
         w = [] if len(per) == 3 else [msg("only axes {axes} tested", axes=", ".join(per))]
         tab = TableSpec("bias_accel", msg("Per axis"), [msg("axis"), "B up (°/h)", "B down (°/h)", "(up−down)/2g (°/h/g)"],
                         [[a, f"{vals[a]['up'].B0:.5g}", f"{vals[a]['down'].B0:.5g}", f"{per[a]:.4g}"] for a in per])
-        on = _flag(opts, "earth_rate")
+        on = flag_option(opts, "earth_rate")
         if worst == ira:
             er, etxt = ("removed" if on else "included"), _earth_text(campaign, on, per_g=True)
         else:
@@ -490,7 +490,7 @@ class BiasAcceleration(_JJF):
                              segments=[x.seg.id for d in vals.values() for x in d.values()], opts=opts)
 
 
-class _BiasChange(_JJF):
+class _BiasChange(JJFItem):
     kind = ""
     what = ""
 
@@ -505,10 +505,10 @@ class _BiasChange(_JJF):
         kv = scale_factor_for(campaign, type(self))
         K = kv.K
         vals: dict[tuple[str, str], BiasValue] = {}
-        for s in _need(campaign, type(self), self.kind):
-            key = (_axis(s), _phase(s))
+        for s in need_segments(campaign, type(self), self.kind):
+            key = (axis_of(s), phase_of(s))
             if key in vals:
-                raise DataError(_where(s), f"segments.{s.id}.conditions",
+                raise DataError(where_of(s), f"segments.{s.id}.conditions",
                                 f"{self.item}: two records for axis {key[0]} {key[1]}; give one")
             vals[key] = BiasValue(s, K)
         before = {a: vals[(a, "before")].B0 for a in AXES if (a, "before") in vals}

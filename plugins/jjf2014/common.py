@@ -41,7 +41,7 @@ AXES = ("X", "Y", "Z")
 DEFAULT_RATES = "0.1, 0.25, 0.63, 1.6, 4, 10, 16, 25, 40, 63, 100"
 
 
-def _floats(text: Any, what: str) -> list[float]:
+def parse_floats(text: Any, what: str) -> list[float]:
     try:
         vals = [float(x) for x in str(text).replace(";", ",").split(",") if x.strip()]
     except ValueError as exc:
@@ -51,20 +51,20 @@ def _floats(text: Any, what: str) -> list[float]:
     return vals
 
 
-def _magnitudes(text: Any, what: str) -> list[float]:
+def parse_magnitudes(text: Any, what: str) -> list[float]:
     """A list option of rate magnitudes (°/s), each applied in both directions (7.2.1.1 b),
     7.2.9, 7.2.10): every value positive and finite."""
-    vals = _floats(text, what)
+    vals = parse_floats(text, what)
     if not all(v > 0 and math.isfinite(v) for v in vals):
         raise ProcedureError(f"option {what}: every value must be a positive magnitude in °/s, got {text!r}")
     return vals
 
 
-def _q(v: float, unit: str) -> str:
+def quantity_text(v: float, unit: str) -> str:
     return f"{v:g} {unit}"
 
 
-def _num(options: Mapping[str, Any], name: str, lo: float, *, integer: bool = False) -> float:
+def num_option(options: Mapping[str, Any], name: str, lo: float, *, integer: bool = False) -> float:
     """A numeric option, checked: ≥ ``lo`` and (when ``integer``) whole."""
     raw = options[name]
     try:
@@ -76,7 +76,7 @@ def _num(options: Mapping[str, Any], name: str, lo: float, *, integer: bool = Fa
     return int(v) if integer else v
 
 
-def _flag(options: Mapping[str, Any], name: str) -> bool:
+def flag_option(options: Mapping[str, Any], name: str) -> bool:
     """An on/off option."""
     t = str(options[name]).strip().lower()
     if t in ("on", "true", "yes", "1"):
@@ -89,7 +89,7 @@ def _flag(options: Mapping[str, Any], name: str) -> bool:
 # ------------------------------------------------------------------------------- data access
 
 
-def _output(seg: Segment, column: str = "output", unit: str = "mV") -> tuple[np.ndarray, float]:
+def read_output(seg: Segment, column: str = "output", unit: str = "mV") -> tuple[np.ndarray, float]:
     """The segment's column as floats in ``unit`` (checked finite) and its interval in s."""
     s = seg.series(column, unit)
     x = np.asarray(s.data.to(unit).magnitude, dtype=float)
@@ -102,9 +102,9 @@ def _output(seg: Segment, column: str = "output", unit: str = "mV") -> tuple[np.
     return x, float(s.interval.to("s").magnitude)
 
 
-def _mean_u(seg: Segment) -> tuple[float, float, int]:
+def mean_and_u(seg: Segment) -> tuple[float, float, int]:
     """F̄ (eq. (2)), its standard uncertainty s/√N, and N."""
-    x, _ = _output(seg)
+    x, _ = read_output(seg)
     return F.mean_output_eq2(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), x.size
 
 
@@ -158,11 +158,11 @@ def rounding_row_mean(campaign: Campaign, x: np.ndarray, what: str, scale: float
                              distribution="uniform", note=rounding_note(qq, sd, hw, dith, src))]
 
 
-def _cond_q(seg: Segment, name: str, unit: str) -> float:
+def condition_in(seg: Segment, name: str, unit: str) -> float:
     return float(seg.condition(name, unit).to(unit).magnitude)
 
 
-def _need(campaign: Campaign, proc: type[Procedure], kind: str, **conditions) -> list[Segment]:
+def need_segments(campaign: Campaign, proc: type[Procedure], kind: str, **conditions) -> list[Segment]:
     segs = campaign.find_segments(kind, **conditions)
     if not segs:
         extra = ", ".join(f"{k} = {v!r}" for k, v in conditions.items())
@@ -173,26 +173,26 @@ def _need(campaign: Campaign, proc: type[Procedure], kind: str, **conditions) ->
     return segs
 
 
-def _cal(campaign: Campaign, role: str):
+def calibration_of(campaign: Campaign, role: str):
     e = campaign.equipment_for(role)
     return None if e is None else e.calibration
 
 
-def _by(segs: Iterable[Segment], name: str) -> dict[str, list[Segment]]:
+def group_by(segs: Iterable[Segment], name: str) -> dict[str, list[Segment]]:
     out: dict[str, list[Segment]] = {}
     for s in segs:
         out.setdefault(str(s.condition(name)), []).append(s)
     return out
 
 
-def _axis(seg: Segment) -> str:
+def axis_of(seg: Segment) -> str:
     a = str(seg.condition("axis")).strip().upper()
     if a not in AXES:
         raise DataError(seg.file or seg.id, f"segments.{seg.id}.conditions.axis", f"must be X, Y or Z, got {a!r}")
     return a
 
 
-def _phase(seg: Segment) -> str:
+def phase_of(seg: Segment) -> str:
     p = str(seg.condition("phase")).strip().lower()
     if p not in ("before", "after"):
         raise DataError(seg.file or seg.id, f"segments.{seg.id}.conditions.phase",
@@ -200,7 +200,7 @@ def _phase(seg: Segment) -> str:
     return p
 
 
-def _updown(seg: Segment) -> str:
+def up_or_down(seg: Segment) -> str:
     o = str(seg.condition("orientation")).lower()
     if "up" in o:
         return "up"
@@ -222,8 +222,8 @@ class SFSet:
                             f"a scale-factor calibration needs at least 3 input rates, got {len(segs)}")
         rows = []
         for s in segs:
-            om = _cond_q(s, "rate", "deg/s")
-            x, _ = _output(s)
+            om = condition_in(s, "rate", "deg/s")
+            x, _ = read_output(s)
             rows.append((om, F.mean_output_eq2(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), x.size, s.id,
                          float(np.std(x, ddof=1)), np.unique(x[:200_000])))
         rows.sort(key=lambda r: r[0])
@@ -286,8 +286,8 @@ class SFSet:
         src = join(" ", [src, "(B.1.2.2 3))"])
         row = (BudgetRow.type_a(src, "u₃", Q_(u, KU), dof) if typ == "A" else
                BudgetRow.type_b(src, "u₃", Q_(u, KU), distribution="normal", k=1.0))
-        return B.scale_factor_budget(Q_(self.K, KU), None, 0, rate_table=_cal(campaign, "rate_table"),
-                                     dmm=_cal(campaign, "dmm"), warnings=warnings, rep_row=row,
+        return B.scale_factor_budget(Q_(self.K, KU), None, 0, rate_table=calibration_of(campaign, "rate_table"),
+                                     dmm=calibration_of(campaign, "dmm"), warnings=warnings, rep_row=row,
                                      extra=self.rounding_rows(campaign)[0])
 
     def u_single(self, rep: "Spread | None") -> tuple[float, float, str, str]:
@@ -324,7 +324,7 @@ class Spread:
                                 sensitivity=Q_(sensitivity, ""))
 
 
-def _stated(campaign: Campaign, key: str, unit: str, what: str) -> Spread | None:
+def stated_spread(campaign: Campaign, key: str, unit: str, what: str) -> Spread | None:
     v = campaign.device.properties.get(key)
     if v in (None, ""):
         return None
@@ -338,8 +338,8 @@ def _stated(campaign: Campaign, key: str, unit: str, what: str) -> Spread | None
 def sf_repeatability(campaign: Campaign) -> Spread | None:
     """K_r (relative, 1σ of one calibration's K, eq. (10)) from the campaign's 7.2.4 runs
     (kind ``rate-repeat``, ≥ 2 runs), else ``device.scale_factor_repeatability``, else None."""
-    runs = _by(campaign.find_segments("rate-repeat"), "run")
-    stated = _stated(campaign, "scale_factor_repeatability", "", "relative repeatability of K")  # checked even if unused
+    runs = group_by(campaign.find_segments("rate-repeat"), "run")
+    stated = stated_spread(campaign, "scale_factor_repeatability", "", "relative repeatability of K")  # checked even if unused
     if len(runs) >= 2:
         Ks = [SFSet(g).K for _, g in sorted(runs.items())]
         return Spread(F.relative_repeatability_eq10(Ks), len(Ks) - 1,
@@ -351,10 +351,10 @@ def sf_repeatability(campaign: Campaign) -> Spread | None:
 def bias_repeatability(campaign: Campaign, K: float) -> Spread | None:
     """B_r (°/h, 1σ of one bias, eq. (30)) from the campaign's 7.2.15 runs (kind
     ``static-repeat``, ≥ 2 runs of one record each), else ``device.bias_repeatability``."""
-    runs = _by(campaign.find_segments("static-repeat"), "run")
-    stated = _stated(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")  # checked even if unused
+    runs = group_by(campaign.find_segments("static-repeat"), "run")
+    stated = stated_spread(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")  # checked even if unused
     if len(runs) >= 2 and all(len(g) == 1 for g in runs.values()):
-        b0 = [F.bias_eq27_28(_output(g[0])[0], K) * 3600.0 for _, g in sorted(runs.items())]
+        b0 = [F.bias_eq27_28(read_output(g[0])[0], K) * 3600.0 for _, g in sorted(runs.items())]
         br = F.std_bessel(b0, "eq. (30)")
         return Spread(br, len(b0) - 1, msg("B_r = {Br:.3g} °/h from this campaign's {n} runs (7.2.15)", Br=br, n=len(b0)))
     return stated
@@ -382,8 +382,8 @@ def with_scatter(rep: Spread | None, s: float, dof: float, what: str) -> Spread 
                                         src=rep.source, s=s, what=what, nu=dof, v=v))
 
 
-def _main_set(campaign: Campaign, proc) -> SFSet:
-    return SFSet(_need(campaign, proc, "rate"))
+def main_set(campaign: Campaign, proc) -> SFSet:
+    return SFSet(need_segments(campaign, proc, "rate"))
 
 
 @attrs.frozen
@@ -451,12 +451,12 @@ def scale_factor_for(campaign: Campaign, proc) -> KValue:
     return KValue(float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel, "device.scale_factor", INF, kr)
 
 
-def _rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = None, tag: str = "",
+def rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = None, tag: str = "",
                 seconds: float = 10.0) -> list[Step]:
     steps = []
     for r in rates:
         for sgn in (1, -1):
-            c = {"rate": _q(sgn * r, "deg/s")} | dict(extra or {})
+            c = {"rate": quantity_text(sgn * r, "deg/s")} | dict(extra or {})
             sid = f"{kind}{tag}{'+' if sgn > 0 else '-'}{r:g}"
             steps.append(Step(sid, kind, f"table at {sgn * r:+g} °/s, record {seconds:g} samples at 1 s (7.2.1.1)",
                               Q_(seconds, "s"), Q_(1, "s"), c))
@@ -466,11 +466,11 @@ def _rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None =
 RATE_OPTS = (Option("rates", DEFAULT_RATES, None, "input rate magnitudes (°/s), both directions (7.2.1.1 b))"),)
 
 
-def _budget_row_a(source, symbol, u, unit, dof, note=""):
+def budget_row_a(source, symbol, u, unit, dof, note=""):
     return BudgetRow.type_a(source, symbol, Q_(u, unit), dof, note=note)
 
 
-class _JJF(Procedure):
+class JJFItem(Procedure):
     standard = STANDARD
     station = STATION
     equipment = (
@@ -487,7 +487,7 @@ class _JJF(Procedure):
                        options={k: str(v) for k, v in (opts or {}).items()})
 
 
-def _sf_plots(s: SFSet) -> list[PlotSpec]:
+def sf_plots(s: SFSet) -> list[PlotSpec]:
     """7.2.1 figures: the mean outputs with the eq. (6) line, and the eq. (3) residuals v_i on
     their own axis (at the outputs' scale a residual of µV would be invisible)."""
     fit = s.fit
@@ -505,7 +505,7 @@ def _sf_plots(s: SFSet) -> list[PlotSpec]:
 
 
 
-def _distinct(campaign: Campaign, values: np.ndarray, what: str) -> None:
+def check_distinct(campaign: Campaign, values: np.ndarray, what: str) -> None:
     """Levels applied in decreasing order must differ (two records of one level: which one?)."""
     mags = np.abs(values)
     if np.unique(mags).size != mags.size:
@@ -514,24 +514,24 @@ def _distinct(campaign: Campaign, values: np.ndarray, what: str) -> None:
                         "°/s appear more than once; give one record per level")
 
 
-def _temperatures(groups: Mapping[str, list[Segment]], what: str) -> dict[str, float]:
+def chamber_temperatures(groups: Mapping[str, list[Segment]], what: str) -> dict[str, float]:
     """The chamber temperature (°C) of each group, parsed from its first segment's condition;
     two groups at the same temperature (e.g. "20 °C" and "20 degC") are an error."""
-    T = {k: _cond_q(g[0], "temperature", "degC") for k, g in groups.items()}
+    T = {k: condition_in(g[0], "temperature", "degC") for k, g in groups.items()}
     seen: dict[float, str] = {}
     for k, t in T.items():
         if t in seen:
-            raise DataError(_where(groups[k][0]), f"segments.{groups[k][0].id}.conditions.temperature",
+            raise DataError(where_of(groups[k][0]), f"segments.{groups[k][0].id}.conditions.temperature",
                             f"{what}: {k!r} and {seen[t]!r} are the same temperature; one calibration per point")
         seen[t] = k
     return T
 
 
-def _where(seg: Segment) -> str:
+def where_of(seg: Segment) -> str:
     return seg.file or seg.id
 
 
-def _room_index(temps: list[float], Tm: float, what: str) -> int:
+def room_index(temps: list[float], Tm: float, what: str) -> int:
     i = int(np.argmin([abs(t - Tm) for t in temps]))
     if abs(temps[i] - Tm) > 2.0:
         raise DataError(None, "segments.conditions.temperature",
@@ -540,8 +540,8 @@ def _room_index(temps: list[float], Tm: float, what: str) -> int:
     return i
 
 
-def _chamber_rows(campaign, sens: float, unit: str) -> list[BudgetRow]:
-    cal = _cal(campaign, "chamber")
+def chamber_rows(campaign, sens: float, unit: str) -> list[BudgetRow]:
+    cal = calibration_of(campaign, "chamber")
     if cal is None or cal.uncertainty.dimensionless:
         return []
     return [BudgetRow.from_calibration("chamber temperature T_i (table 2 no. 2)", "u(T_i)", cal,

@@ -27,23 +27,23 @@ from metro.api import (
 from . import budgets as B
 from . import formulas as F
 from .common import (
-    _JJF,
     RATE_OPTS,
+    JJFItem,
     Spread,
-    _budget_row_a,
-    _by,
-    _cal,
-    _cond_q,
-    _distinct,
-    _magnitudes,
-    _mean_u,
-    _need,
-    _num,
-    _output,
-    _q,
-    _stated,
+    budget_row_a,
+    calibration_of,
+    check_distinct,
+    condition_in,
+    group_by,
+    mean_and_u,
+    need_segments,
+    num_option,
     output_step,
+    parse_magnitudes,
+    quantity_text,
+    read_output,
     scale_factor_for,
+    stated_spread,
 )
 from .scale_factor import ScaleFactor
 
@@ -66,7 +66,7 @@ def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign,
                              Q_(half, "deg/s"), distribution="uniform",
                              note=msg("the middle of the interval between the failing and the candidate level, "
                                       "u = Δ/√12"))]
-    rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", _cal(campaign, "rate_table"),
+    rows += B.relative_calibration_row("rate table at low rate", "u_rel(Ω)", calibration_of(campaign, "rate_table"),
                                        Q_(mid, "deg/s"))
     b = B.type_a_budget(metric.key, "deg/s", rows)
     return Result(metric, Q_(mid, "deg/s"), b.combined, b,
@@ -75,7 +75,7 @@ def _grid_result(metric, cands: dict[str, tuple[float, float | None]], campaign,
                            "of ({lo:g}, {hi:g}]", direction=d, hi=hi, lo=lo))
 
 
-def _pair_scatter(levels: dict[str, tuple[np.ndarray, np.ndarray]]) -> tuple[float, int]:
+def pair_scatter(levels: dict[str, tuple[np.ndarray, np.ndarray]]) -> tuple[float, int]:
     """The scatter of one response between records, from the two directions: at each |Ω| both
     directions were applied, F₊ + F₋ ≈ 0 for an odd response (the dead zone, K and its small-rate
     nonlinearity cancel), so √(mean (F₊ + F₋)²/2) estimates the standard deviation of one F_i — its
@@ -123,7 +123,7 @@ def _rounding_check(campaign, res: Result, pairs: list[tuple[str, Segment, Segme
     ``pairs``: (direction, candidate's segment, reference segment, candidate level) per direction."""
     worst = None
     for name, seg_c, seg_r, level in pairs:
-        xc, xr = _output(seg_c)[0], _output(seg_r)[0]
+        xc, xr = read_output(seg_c)[0], read_output(seg_r)[0]
         q, src = output_step(campaign, [xc, xr])
         if q <= 0:
             return res
@@ -153,7 +153,7 @@ def _decided(metric, campaign, cands: dict, levels: dict, uw: dict, K: float, wh
     scatter of the ±pairs (:func:`_pair_scatter`); the candidate's interval is widened to the resolved
     levels, or the result is not reportable (interpretations.md, "7.2.9 / 7.2.10 — a level decided by
     noise"); then the output-rounding check."""
-    sc = _pair_scatter(levels)
+    sc = pair_scatter(levels)
     brackets = {}
     for name, (om, f) in levels.items():
         u = np.maximum(uw[name], sc[0])
@@ -167,7 +167,7 @@ def _decided(metric, campaign, cands: dict, levels: dict, uw: dict, K: float, wh
     return _rounding_check(campaign, res, pairs, K, eq)
 
 
-class Threshold(_JJF):
+class Threshold(JJFItem):
     """JJF 2014—2022 7.2.9 阈值: decreasing rates in each direction; F̂_i = KΩ_i (16);
     candidate = the last rate meeting |(F̂_i − F_i)/F̂_i| ≤ 50 % (17) with F_i the output minus
     the zero-input mean; threshold = the larger |candidate| of the two directions (7.2.9.1 f))."""
@@ -184,38 +184,38 @@ class Threshold(_JJF):
                            Option("seconds", 200, None, "record length per level (s at 1 s)"))
 
     def sequence(self, options):
-        n = _num(options, "seconds", 2)
+        n = num_option(options, "seconds", 2)
         steps = ScaleFactor().sequence(options)
         steps.append(Step("threshold-0", "threshold", "table at rest (zero input)", Q_(n, "s"), Q_(1, "s"),
                           {"rate": "0 deg/s"}))
-        for r in _magnitudes(options["levels"], "levels"):
+        for r in parse_magnitudes(options["levels"], "levels"):
             for sgn in (1, -1):
                 steps.append(Step(f"threshold{'+' if sgn > 0 else '-'}{r:g}", "threshold", f"table at {sgn * r:+g} °/s",
-                                  Q_(n, "s"), Q_(1, "s"), {"rate": _q(sgn * r, "deg/s")}))
+                                  Q_(n, "s"), Q_(1, "s"), {"rate": quantity_text(sgn * r, "deg/s")}))
         return steps
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         K, _, _ = scale_factor_for(campaign, type(self))
-        segs = _need(campaign, type(self), "threshold")
-        zero = [s for s in segs if _cond_q(s, "rate", "deg/s") == 0.0]
+        segs = need_segments(campaign, type(self), "threshold")
+        zero = [s for s in segs if condition_in(s, "rate", "deg/s") == 0.0]
         if not zero:
             raise DataError(campaign.source, "segments", "7.2.9 needs a zero-input segment (kind threshold, rate 0)")
-        f0 = np.mean([_mean_u(s)[0] for s in zero])
-        u0 = math.sqrt(sum(_mean_u(s)[1] ** 2 for s in zero)) / len(zero)
+        f0 = np.mean([mean_and_u(s)[0] for s in zero])
+        u0 = math.sqrt(sum(mean_and_u(s)[1] ** 2 for s in zero)) / len(zero)
         cands = {}
         rows = []
         pairs = []
         levels, uw = {}, {}
         for name, sgn in (("forward", 1), ("reverse", -1)):
-            d = sorted([s for s in segs if sgn * _cond_q(s, "rate", "deg/s") > 0],
-                       key=lambda s: -abs(_cond_q(s, "rate", "deg/s")))
+            d = sorted([s for s in segs if sgn * condition_in(s, "rate", "deg/s") > 0],
+                       key=lambda s: -abs(condition_in(s, "rate", "deg/s")))
             if len(d) < 2:
                 raise DataError(campaign.source, "segments", f"7.2.9 needs at least 2 {name} levels")
-            om = np.array([_cond_q(s, "rate", "deg/s") for s in d])
-            _distinct(campaign, om, f"7.2.9 {name} levels (condition rate)")
-            fc = np.array([_mean_u(s)[0] - f0 for s in d])
-            levels[name], uw[name] = (om, fc), np.array([math.hypot(_mean_u(s)[1], u0) for s in d])
+            om = np.array([condition_in(s, "rate", "deg/s") for s in d])
+            check_distinct(campaign, om, f"7.2.9 {name} levels (condition rate)")
+            fc = np.array([mean_and_u(s)[0] - f0 for s in d])
+            levels[name], uw[name] = (om, fc), np.array([math.hypot(mean_and_u(s)[1], u0) for s in d])
             c, i = F.threshold_eq16_17(om, fc, K)
             if c is None:
                 raise ProcedureError(f"7.2.9: already the largest {name} level {om[0]:g} °/s fails eq. (17)",
@@ -230,7 +230,7 @@ class Threshold(_JJF):
         return self._outcome([res], tables=[tab], segments=[s.id for s in segs], opts=opts)
 
 
-class Resolution(_JJF):
+class Resolution(JJFItem):
     """JJF 2014—2022 7.2.10 分辨率: increments ΔΩ_i on a base rate 20–50× the threshold;
     ΔF̂_i = KΔΩ_i by eq. (6); candidate = last increment meeting eq. (18); resolution = the
     larger |candidate| of the two directions (7.2.10.1 g))."""
@@ -248,41 +248,41 @@ class Resolution(_JJF):
                            Option("seconds", 200, None, "record length per level (s at 1 s)"))
 
     def sequence(self, options):
-        n = _num(options, "seconds", 2)
+        n = num_option(options, "seconds", 2)
         base = float(options["base_rate"].to("deg/s").magnitude)
         steps = ScaleFactor().sequence(options)
         for sgn, d in ((1, "+"), (-1, "-")):
             steps.append(Step(f"resolution{d}base", "resolution", f"base rate {sgn * base:+g} °/s", Q_(n, "s"),
-                              Q_(1, "s"), {"base_rate": _q(sgn * base, "deg/s"), "increment": "0 deg/s"}))
-            for r in _magnitudes(options["increments"], "increments"):
+                              Q_(1, "s"), {"base_rate": quantity_text(sgn * base, "deg/s"), "increment": "0 deg/s"}))
+            for r in parse_magnitudes(options["increments"], "increments"):
                 steps.append(Step(f"resolution{d}{r:g}", "resolution", f"base {sgn * base:+g} °/s + {sgn * r:+g} °/s",
                                   Q_(n, "s"), Q_(1, "s"),
-                                  {"base_rate": _q(sgn * base, "deg/s"), "increment": _q(sgn * r, "deg/s")}))
+                                  {"base_rate": quantity_text(sgn * base, "deg/s"), "increment": quantity_text(sgn * r, "deg/s")}))
         return steps
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         K, _, _ = scale_factor_for(campaign, type(self))
-        segs = _need(campaign, type(self), "resolution")
+        segs = need_segments(campaign, type(self), "resolution")
         cands, rows, pairs = {}, [], []
         levels, uw = {}, {}
         for name, sgn in (("forward", 1), ("reverse", -1)):
-            mine = [s for s in segs if sgn * _cond_q(s, "base_rate", "deg/s") > 0]
-            base = [s for s in mine if _cond_q(s, "increment", "deg/s") == 0.0]
-            inc = sorted([s for s in mine if _cond_q(s, "increment", "deg/s") != 0.0],
-                         key=lambda s: -abs(_cond_q(s, "increment", "deg/s")))
+            mine = [s for s in segs if sgn * condition_in(s, "base_rate", "deg/s") > 0]
+            base = [s for s in mine if condition_in(s, "increment", "deg/s") == 0.0]
+            inc = sorted([s for s in mine if condition_in(s, "increment", "deg/s") != 0.0],
+                         key=lambda s: -abs(condition_in(s, "increment", "deg/s")))
             if not base or len(inc) < 2:
                 raise DataError(campaign.source, "segments",
                                 f"7.2.10 needs, in the {name} direction, a base segment (increment 0) and ≥ 2 increments")
-            fb = _mean_u(base[0])[0]
-            dom = np.array([_cond_q(s, "increment", "deg/s") for s in inc])
-            _distinct(campaign, dom, f"7.2.10 {name} increments (condition increment)")
+            fb = mean_and_u(base[0])[0]
+            dom = np.array([condition_in(s, "increment", "deg/s") for s in inc])
+            check_distinct(campaign, dom, f"7.2.10 {name} increments (condition increment)")
             if len(base) > 1:
                 raise DataError(campaign.source, "segments", f"7.2.10: {len(base)} {name} base segments (increment 0); "
                                 "give one")
-            dF = np.array([_mean_u(s)[0] - fb for s in inc])
+            dF = np.array([mean_and_u(s)[0] - fb for s in inc])
             levels[name] = (dom, dF)
-            uw[name] = np.array([math.hypot(_mean_u(s)[1], _mean_u(base[0])[1]) for s in inc])
+            uw[name] = np.array([math.hypot(mean_and_u(s)[1], mean_and_u(base[0])[1]) for s in inc])
             c, i = F.resolution_eq18(dom, dF, K)
             if c is None:
                 raise ProcedureError(f"7.2.10: already the largest {name} increment {dom[0]:g} °/s fails eq. (18)")
@@ -308,14 +308,14 @@ def _misalignment_run(campaign, proc, segs: list[Segment], K: float, uK_rel: flo
         if not p:
             raise DataError(s.file or s.id, f"segments.{s.id}.conditions.position",
                             f"must be 1, 2, 3 or 4 (the four mountings of 7.2.11.1), got {ptxt!r}")
-        om = _cond_q(s, "rate", "deg/s")
+        om = condition_in(s, "rate", "deg/s")
         if om == 0:
             raise DataError(s.file or s.id, f"segments.{s.id}.conditions.rate", "must be ±Ω_(+), not 0")
         key = (p, "+" if om > 0 else "-")
         if key in Fm:
             raise DataError(s.file or s.id, f"segments.{s.id}.conditions",
                             f"two records of position {p} turning {'forward' if key[1] == '+' else 'reverse'} in one run")
-        Fm[key], uF[key], _ = _mean_u(s)
+        Fm[key], uF[key], _ = mean_and_u(s)
         omegas.add(abs(om))
     missing = [f"{p}{d}" for p in (1, 2, 3, 4) for d in "+-" if (p, d) not in Fm]
     if missing:
@@ -341,7 +341,7 @@ def misalignment_reproducibility(campaign, runs, K: float, uK: float) -> Spread 
         gam = [_misalignment_run(campaign, Misalignment, g, K, uK)[0]["gamma"] for _, g in sorted(runs.items())]
         gr = F.std_bessel(gam, "eq. (26)")
         return Spread(gr, len(gam) - 1, msg("γ_mr = {g:.3g}′ from this campaign's {n} mountings (7.2.12)", g=gr, n=len(gam)))
-    return _stated(campaign, "misalignment_repeatability", "arcmin", "misalignment repeatability in ′")
+    return stated_spread(campaign, "misalignment_repeatability", "arcmin", "misalignment repeatability in ′")
 
 
 def _reseating(campaign, rows: list, u_noise: float) -> tuple[list, str]:
@@ -362,7 +362,7 @@ def _reseating(campaign, rows: list, u_noise: float) -> tuple[list, str]:
                      "runs, device.misalignment_repeatability or the fixture's reseat_tilt)", u=u_noise)
 
 
-class Misalignment(_JJF):
+class Misalignment(JJFItem):
     """JJF 2014—2022 7.2.11 输入轴失准角: four mountings, δ_p eqs. (19), (20), (22), (23),
     α_m (21), β_m (24), γ_m = 10800√(α_m² + β_m²)/π in ′ (25)."""
 
@@ -370,7 +370,7 @@ class Misalignment(_JJF):
     title = "Input-axis misalignment (输入轴失准角)"
     clause = "7.2.11"
     metrics = (Metric("gamma", "input-axis misalignment", "γ_m", "arcmin", "7.2.11.2", "25"),)
-    equipment = _JJF.equipment + (EquipmentRequirement("fixture", "fixture seating the device at positions 1–4; its "
+    equipment = JJFItem.equipment + (EquipmentRequirement("fixture", "fixture seating the device at positions 1–4; its "
                                                        "re-seating tilt enters the budget"),)
     requires = ScaleFactor.requires + (SegmentRequirement(
         "misalignment", "positions 1–4 (OY up, +180° about IRA, OX up, +180°), table ±Ω for 1 min",
@@ -386,7 +386,7 @@ class Misalignment(_JJF):
                 for sgn in (1, -1):
                     steps.append(Step(f"misalignment#{q}p{p}{'+' if sgn > 0 else '-'}", "misalignment",
                                       f"run {q}, position {p}, table {sgn * om:+g} °/s, 1 min", Q_(60, "s"),
-                                      Q_(1, "s"), {"position": str(p), "rate": _q(sgn * om, "deg/s"), "run": str(q)}))
+                                      Q_(1, "s"), {"position": str(p), "rate": quantity_text(sgn * om, "deg/s"), "run": str(q)}))
         return steps
 
     def sequence(self, options):
@@ -396,8 +396,8 @@ class Misalignment(_JJF):
         opts = self.option_values(ctx.options)
         kv = scale_factor_for(campaign, type(self))
         K, uK = kv.K, kv.u_rel
-        segs = _need(campaign, type(self), "misalignment")
-        runs = _by(segs, "run") if all("run" in s.conditions for s in segs) else {"1": segs}
+        segs = need_segments(campaign, type(self), "misalignment")
+        runs = group_by(segs, "run") if all("run" in s.conditions for s in segs) else {"1": segs}
         first = sorted(runs)[0]
         r, u_noise, om = _misalignment_run(campaign, type(self), runs[first], K, uK)
         gamma = r["gamma"]
@@ -408,11 +408,11 @@ class Misalignment(_JJF):
             rows = [rep.row("mounting reproducibility (another mounting gives another γ_m)", "γ_mr", rep.value,
                             "arcmin")]
         else:
-            rows = [_budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF)]
+            rows = [budget_row_a("scatter of the eight mean outputs", "u_A", u_noise, "arcmin", INF)]
             if rep is None:
                 rows, why = _reseating(campaign, rows, u_noise)
         rows.append(kv.row(gamma, "arcmin", "scale factor K (γ ∝ 1/K)"))
-        rows += B.relative_calibration_row(msg("rate table Ω_(+) (γ ∝ 1/Ω)"), "u_rel(Ω)", _cal(campaign, "rate_table"),
+        rows += B.relative_calibration_row(msg("rate table Ω_(+) (γ ∝ 1/Ω)"), "u_rel(Ω)", calibration_of(campaign, "rate_table"),
                                            Q_(gamma, "arcmin"))
         b = B.type_a_budget("gamma", "arcmin", rows)
         note = msg("α_m = {a:.4g}′, β_m = {b:.4g}′ (run {run}, Ω = {om:g} °/s)", a=r['alpha'] * 10800 / math.pi,
@@ -432,19 +432,19 @@ class MisalignmentRepeatability(Misalignment):
     options = Misalignment.options + (Option("runs", 7, None, "Q (≥ 7)"),)
 
     def sequence(self, options):
-        return self._steps(options, _num(options, "runs", 7, integer=True))
+        return self._steps(options, num_option(options, "runs", 7, integer=True))
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         K, uK, _ = scale_factor_for(campaign, type(self))
-        runs = _by(_need(campaign, type(self), "misalignment"), "run")
+        runs = group_by(need_segments(campaign, type(self), "misalignment"), "run")
         if len(runs) < 7:
             raise DataError(campaign.source, "segments",
                             f"7.2.12 needs Q ≥ 7 repetitions of 7.2.11 (condition run); got {len(runs)}")
         gam = [_misalignment_run(campaign, type(self), g, K, uK)[0]["gamma"] for _, g in sorted(runs.items())]
         gr = F.std_bessel(gam, "eq. (26)", 7)
         u, dof = B.std_of_std(gr, len(gam))
-        b = B.type_a_budget("gamma_r", "arcmin", [_budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"),
+        b = B.type_a_budget("gamma_r", "arcmin", [budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"),
                                                                 "(s_{upper} − γ_mr)/2", u, "arcmin", dof)])
         tab = TableSpec("gamma_runs", msg("γ_mi per run"), [msg("run"), "γ_mi (′)"],
                         [[k, f"{g:.4f}"] for k, g in zip(sorted(runs), gam)])

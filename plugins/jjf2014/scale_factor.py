@@ -34,38 +34,38 @@ from metro.api import (
 from . import budgets as B
 from . import formulas as F
 from .common import (
-    _JJF,
     AXES,
     KU,
     RATE_OPTS,
+    JJFItem,
     SFSet,
-    _axis,
-    _budget_row_a,
-    _by,
-    _cal,
-    _chamber_rows,
-    _floats,
-    _magnitudes,
-    _main_set,
-    _need,
-    _num,
-    _phase,
-    _q,
-    _rate_steps,
-    _room_index,
-    _sf_plots,
-    _temperatures,
-    _updown,
+    axis_of,
     bias_repeatability,
+    budget_row_a,
+    calibration_of,
+    chamber_rows,
+    chamber_temperatures,
+    group_by,
+    main_set,
+    need_segments,
+    num_option,
     one_estimate,
+    parse_floats,
+    parse_magnitudes,
+    phase_of,
+    quantity_text,
+    rate_steps,
+    room_index,
+    sf_plots,
     sf_repeatability,
+    up_or_down,
     with_scatter,
 )
 
 # =============================================================================== 7.2.1 – 7.2.4
 
 
-class ScaleFactor(_JJF):
+class ScaleFactor(JJFItem):
     """JJF 2014—2022 7.2.1 标度因数: K and F_0 by least squares, eqs. (2)–(5); budget B.1."""
 
     item = "7.2.1"
@@ -79,12 +79,12 @@ class ScaleFactor(_JJF):
     options = RATE_OPTS
 
     def sequence(self, options):
-        return _rate_steps("rate", _magnitudes(options["rates"], "rates"))
+        return rate_steps("rate", parse_magnitudes(options["rates"], "rates"))
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         w: list[str] = []
-        s = _main_set(campaign, type(self))
+        s = main_set(campaign, type(self))
         npos, nneg = int(np.sum(s.omega > 0)), int(np.sum(s.omega < 0))
         if min(npos, nneg) < 11:
             w.append(msg("7.2.1.1 b) asks for at least 11 rates per direction; got {pos} forward, {neg} reverse", pos=npos, neg=nneg))
@@ -96,10 +96,10 @@ class ScaleFactor(_JJF):
         u_b = brep.value / 3600.0 * abs(s.K) if brep is not None else 0.0
         f0_row = (brep.row("bias repeatability × K (another power-on gives another F₀)", "K·B_r", u_b, "mV")
                   if brep is not None and u_b > s.fit.u_F0 else
-                  _budget_row_a("residual scatter of the eq. (3) fit", "u(F₀)", s.fit.u_F0, "mV", s.fit.dof))
+                  budget_row_a("residual scatter of the eq. (3) fit", "u(F₀)", s.fit.u_F0, "mV", s.fit.dof))
         bF0 = B.type_a_budget("fitted zero F0", "mV", [
             f0_row,
-            *B.relative_calibration_row("data acquisition, 6½-digit DMM", "u_DMM", _cal(campaign, "dmm"),
+            *B.relative_calibration_row("data acquisition, 6½-digit DMM", "u_DMM", calibration_of(campaign, "dmm"),
                                         Q_(s.fit.F0, "mV")),
             *s.rounding_rows(campaign)[1]])
         res = [Result(self.metrics[0], Q_(s.K, KU), bK.combined, bK),
@@ -110,10 +110,10 @@ class ScaleFactor(_JJF):
                         ["Ω_i (°/s)", "F̄_i (mV)", "u(F̄_i) (mV)", "v_i (mV)"],
                         [[f"{o:g}", f"{f:.6f}", f"{u:.2g}", f"{v:.3g}"]
                          for o, f, u, v in zip(s.omega, s.F, s.uF, s.fit.residuals)])
-        return self._outcome(res, plots=_sf_plots(s), tables=[tab], warnings=w, segments=s.ids, opts=opts)
+        return self._outcome(res, plots=sf_plots(s), tables=[tab], warnings=w, segments=s.ids, opts=opts)
 
 
-class NonlinearityRange(_JJF):
+class NonlinearityRange(JJFItem):
     """JJF 2014—2022 7.2.2 标度因数非线性度和量程: a_i eq. (7), K_n eq. (8); the range is the
     largest input rate whose span meets the nonlinearity requirement (7.2.2.2)."""
 
@@ -132,12 +132,12 @@ class NonlinearityRange(_JJF):
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         w: list[str] = []
-        s = _main_set(campaign, type(self))
+        s = main_set(campaign, type(self))
         try:
             a, kn = F.nonlinearity_eq7_8(s.omega, s.F, s.fit)
         except ValueError as exc:
             raise ProcedureError(f"7.2.2: {exc}") from exc
-        cal = _cal(campaign, "rate_table")
+        cal = calibration_of(campaign, "rate_table")
         kn, bkn = _kn_budget(s, np.ones(s.omega.size, dtype=bool), cal)
         limit_txt = opts["nonlinearity_limit"] or campaign.device.properties.get("nonlinearity_spec")
         results = [Result(self.metrics[0], Q_(kn, ""), bkn.combined, bkn)]
@@ -174,7 +174,7 @@ def _kn_budget(s: SFSet, sel: np.ndarray, cal) -> tuple[float, "B.UncertaintyBud
     span = abs(om.max() - om.min())
     i = int(np.argmax(np.abs(a)))
     u_pt = math.hypot(uf[i], fit.residuals.std(ddof=2) / math.sqrt(len(f))) / (abs(fit.K) * span)
-    rows = [_budget_row_a("scatter of F̄_i at the worst point and of the fit", "u(a_i)", u_pt, "", fit.dof)]
+    rows = [budget_row_a("scatter of F̄_i at the worst point and of the fit", "u(a_i)", u_pt, "", fit.dof)]
     if cal is not None and cal.uncertainty.dimensionless:
         rows.append(BudgetRow.from_calibration("rate table error at Ω_i", "u_rel(Ω)", cal,
                                                sensitivity=Q_(abs(om[i]) / span, "")))
@@ -218,7 +218,7 @@ def _range_decision(s: SFSet, limit: float, cal) -> tuple[float, float, str] | N
     return None
 
 
-class Asymmetry(_JJF):
+class Asymmetry(JJFItem):
     """JJF 2014—2022 7.2.3 标度因数不对称度: K_+, K_− by eq. (4) on each direction, K_a eq. (9)."""
 
     item = "7.2.3"
@@ -233,7 +233,7 @@ class Asymmetry(_JJF):
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        s = _main_set(campaign, type(self))
+        s = main_set(campaign, type(self))
         pos, neg = s.omega > 0, s.omega < 0
         if pos.sum() < 3 or neg.sum() < 3:
             raise DataError(campaign.source, "segments", "7.2.3 needs at least 3 forward and 3 reverse rates")
@@ -243,14 +243,14 @@ class Asymmetry(_JJF):
         u = math.hypot(fp.u_K, fm.u_K) / abs(s.K)
         dof = u**4 / ((fp.u_K / s.K) ** 4 / fp.dof + (fm.u_K / s.K) ** 4 / fm.dof) if u > 0 else INF
         b = B.type_a_budget("asymmetry Ka", "", [
-            _budget_row_a("fits of K₊ and K₋ (eq. (4) per direction)", "√(u²(K₊)+u²(K₋))/K", u, "", dof,
+            budget_row_a("fits of K₊ and K₋ (eq. (4) per direction)", "√(u²(K₊)+u²(K₋))/K", u, "", dof,
                           note=msg("the rate table and DMM errors are common to K₊, K₋ and K and cancel in eq. (9)"))])
         return self._outcome([Result(self.metrics[0], Q_(ka, ""), b.combined, b,
                                      note=msg("K₊ = {Kp:.7g}, K₋ = {Km:.7g} mV/((°)/s)", Kp=fp.K, Km=fm.K))],
                              segments=s.ids, opts=opts)
 
 
-class Repeatability(_JJF):
+class Repeatability(JJFItem):
     """JJF 2014—2022 7.2.4 标度因数重复性: Q calibrations by 7.2.1, K_r eq. (10)."""
 
     item = "7.2.4"
@@ -263,13 +263,13 @@ class Repeatability(_JJF):
 
     def sequence(self, options):
         steps = []
-        for q in range(1, _num(options, "runs", 2, integer=True) + 1):
-            steps += _rate_steps("rate-repeat", _magnitudes(options["rates"], "rates"), {"run": str(q)}, tag=f"#{q}")
+        for q in range(1, num_option(options, "runs", 2, integer=True) + 1):
+            steps += rate_steps("rate-repeat", parse_magnitudes(options["rates"], "rates"), {"run": str(q)}, tag=f"#{q}")
         return steps
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        runs = _by(_need(campaign, type(self), "rate-repeat"), "run")
+        runs = group_by(need_segments(campaign, type(self), "rate-repeat"), "run")
         if len(runs) < 2:
             raise DataError(campaign.source, "segments", f"7.2.4 needs Q ≥ 2 runs (condition run), got {len(runs)}")
         sets = {r: SFSet(g) for r, g in sorted(runs.items())}
@@ -277,7 +277,7 @@ class Repeatability(_JJF):
         kr = F.relative_repeatability_eq10(Ks)
         u, dof = B.std_of_std(kr, len(Ks))
         b = B.type_a_budget("repeatability Kr", "", [
-            _budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_{upper} − K_r)/2", u, "", dof)])
+            budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"), "(s_{upper} − K_r)/2", u, "", dof)])
         tab = TableSpec("sf_runs", msg("K_i per calibration"), [msg("run"), "K_i (mV/((°)/s))", "u(K_i) fit"],
                         [[r, f"{s.K:.7g}", f"{s.fit.u_K:.2g}"] for r, s in sets.items()])
         return self._outcome([Result(self.metrics[0], Q_(kr, ""), b.combined, b)], tables=[tab],
@@ -287,14 +287,14 @@ class Repeatability(_JJF):
 # =============================================================================== 7.2.5 – 7.2.8
 
 
-class SFTemperature(_JJF):
+class SFTemperature(JJFItem):
     """JJF 2014—2022 7.2.5 标度因数温度灵敏度: K_i at each temperature by 7.2.1, K_t eq. (11)."""
 
     item = "7.2.5"
     title = "Scale-factor temperature sensitivity (标度因数温度灵敏度)"
     clause = "7.2.5"
     metrics = (Metric("Kt", "scale-factor temperature sensitivity", "K_t", "1/delta_degC", "7.2.5.2", "11"),)
-    equipment = _JJF.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 no. 2); its "
+    equipment = JJFItem.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 no. 2); its "
                                                        "calibration U (in K) enters the budget"),)
     requires = (SegmentRequirement("rate-temperature", "7.2.1 at each chamber temperature incl. room temperature",
                                    {"rate": "deg/s", "temperature": "degC"}, {"output": ("mV",)}),)
@@ -303,21 +303,21 @@ class SFTemperature(_JJF):
 
     def sequence(self, options):
         steps = []
-        for T in _floats(options["temperatures"], "temperatures"):
-            steps += _rate_steps("rate-temperature", _magnitudes(options["rates"], "rates"),
-                                 {"temperature": _q(T, "degC")}, tag=f"@{T:g}C")
+        for T in parse_floats(options["temperatures"], "temperatures"):
+            steps += rate_steps("rate-temperature", parse_magnitudes(options["rates"], "rates"),
+                                 {"temperature": quantity_text(T, "degC")}, tag=f"@{T:g}C")
         return steps
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        groups = _by(_need(campaign, type(self), "rate-temperature"), "temperature")
-        T = _temperatures(groups, "7.2.5")
+        groups = group_by(need_segments(campaign, type(self), "rate-temperature"), "temperature")
+        T = chamber_temperatures(groups, "7.2.5")
         keys = sorted(groups, key=T.get)
         temps = [T[k] for k in keys]
         if len(keys) < 2:
             raise DataError(campaign.source, "segments", "7.2.5 needs at least 2 temperatures")
         sets = [SFSet(groups[k]) for k in keys]
-        m = _room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.5")
+        m = room_index(temps, float(opts["room_temperature"].to("degC").magnitude), "7.2.5")
         Ks = [s.K for s in sets]
         kt, i = F.sf_temperature_eq11(Ks, temps, m)
         dT = temps[i] - temps[m]
@@ -341,7 +341,7 @@ class SFTemperature(_JJF):
                 _k_row(sets[m], rep, msg("K_m at {T:g} °C", T=temps[m]), "K_i·u(K_m)/(K_m²|ΔT|)", cm, "1/delta_degC")]
         u_point = math.hypot(*(float(r.contribution.magnitude) for r in rows))
         rows += spread_rows(sel, u_point, "1/delta_degC") + selection_rows(sel, len(Ks) - 1, "1/delta_degC", point_unit="mV/((°)/s)")
-        rows += _chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
+        rows += chamber_rows(campaign, kt / abs(dT) * math.sqrt(2), "1/delta_degC")
         b = B.type_a_budget("Kt", "1/delta_degC", one_estimate(rows, rep))
         tab = TableSpec("sf_temperature", msg("K_i per temperature"), ["T_i (°C)", "K_i (mV/((°)/s))"],
                         [[f"{t:g}", f"{k:.7g}"] for t, k in zip(temps, Ks)])
@@ -358,11 +358,11 @@ def _k_row(s: SFSet, rep, what: str, symbol: str, scale: float, unit: str) -> Bu
     temperature, mounting — gives another K; interpretations.md, "Repeatability in every budget")."""
     u, dof, src, typ = s.u_single(rep)
     if typ == "A":
-        return _budget_row_a(join(": ", [what, src]), symbol, u * scale, unit, dof)
+        return budget_row_a(join(": ", [what, src]), symbol, u * scale, unit, dof)
     return BudgetRow.type_b(join(": ", [what, src]), symbol, Q_(u * scale, unit), distribution="normal", k=1.0)
 
 
-class SFAxialAcceleration(_JJF):
+class SFAxialAcceleration(JJFItem):
     """JJF 2014—2022 7.2.6 标度因数轴向加速度敏感度: K with the IRA up and down (±1 g along the
     input axis), (K_up − K_down)/2 g (7.2.6.2)."""
 
@@ -377,16 +377,16 @@ class SFAxialAcceleration(_JJF):
     def sequence(self, options):
         steps = []
         for o in ("IRA up", "IRA down"):
-            steps += _rate_steps("rate-accel", _magnitudes(options["rates"], "rates"), {"orientation": o},
+            steps += rate_steps("rate-accel", parse_magnitudes(options["rates"], "rates"), {"orientation": o},
                                  tag=f"[{o.split()[1]}]")
         return steps
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
-        segs = _need(campaign, type(self), "rate-accel")
+        segs = need_segments(campaign, type(self), "rate-accel")
         g: dict[str, list[Segment]] = {}
         for s in segs:
-            g.setdefault(_updown(s), []).append(s)
+            g.setdefault(up_or_down(s), []).append(s)
         if set(g) != {"up", "down"}:
             raise DataError(campaign.source, "segments", "7.2.6 needs calibrations with the IRA up and with it down")
         up, dn = SFSet(g["up"]), SFSet(g["down"])
@@ -396,13 +396,13 @@ class SFAxialAcceleration(_JJF):
             _k_row(up, rep, "K (IRA up)", "u(K_up)/2g", 0.5, "mV/(deg/s)/gn"),
             _k_row(dn, rep, "K (IRA down)", "u(K_down)/2g", 0.5, "mV/(deg/s)/gn"),
             *B.relative_calibration_row("rate table (common to both, acts on the difference)", "u_rel(Ω)",
-                                        _cal(campaign, "rate_table"), Q_(kg, "mV/(deg/s)/gn"))], rep))
+                                        calibration_of(campaign, "rate_table"), Q_(kg, "mV/(deg/s)/gn"))], rep))
         return self._outcome([Result(self.metrics[0], Q_(kg, "mV/(deg/s)/gn"), b.combined, b,
                                      note=msg("K_up = {up:.7g}, K_down = {down:.7g} mV/((°)/s)", up=up.K, down=dn.K))],
                              segments=up.ids + dn.ids, opts=opts)
 
 
-class _SFChange(_JJF):
+class _SFChange(JJFItem):
     kind = ""
     what = ""
 
@@ -410,15 +410,15 @@ class _SFChange(_JJF):
         steps = []
         for a in AXES:
             for p in ("before", "after"):
-                steps += _rate_steps(self.kind, _magnitudes(options["rates"], "rates"), {"axis": a, "phase": p},
+                steps += rate_steps(self.kind, parse_magnitudes(options["rates"], "rates"), {"axis": a, "phase": p},
                                      tag=f"[{a}-{p}]")
         return steps
 
     def evaluate(self, campaign, ctx):
         opts = self.option_values(ctx.options)
         sets: dict[tuple[str, str], list[Segment]] = {}
-        for s in _need(campaign, type(self), self.kind):
-            sets.setdefault((_axis(s), _phase(s)), []).append(s)
+        for s in need_segments(campaign, type(self), self.kind):
+            sets.setdefault((axis_of(s), phase_of(s)), []).append(s)
         fits = {k: SFSet(v) for k, v in sets.items()}
         before = {a: fits[(a, "before")].K for a in AXES if (a, "before") in fits}
         after = {a: fits[(a, "after")].K for a in AXES if (a, "after") in fits}
@@ -445,7 +445,7 @@ class _SFChange(_JJF):
         b = B.type_a_budget(self.metrics[0].key, KU, one_estimate([
             *rows,
             *B.relative_calibration_row("rate table (common, acts on the difference)", "u_rel(Ω)",
-                                        _cal(campaign, "rate_table"), Q_(dk, KU))], rep))
+                                        calibration_of(campaign, "rate_table"), Q_(dk, KU))], rep))
         tab = TableSpec("per_axis", msg("K before/after shock per axis") if self.what == "shock" else
                         msg("K before/after vibration per axis"),
                         [msg("axis"), "K₁ (mV/((°)/s))", "K₂ (mV/((°)/s))", "|ΔK|"],
