@@ -102,3 +102,18 @@ def test_a_plugins_note_prints_in_chinese_in_a_zh_en_document(toycat):
 def test_metros_own_translation_is_kept(toycat):
     _pm(toycat)
     assert translator("zh")("Report No.") == catalog("zh")["Report No."] != "不是 metro 的译文"
+
+
+def test_a_plugin_outside_a_package_has_no_catalog(toycat, monkeypatch):
+    """A top-level module or an object of one is no package: no catalog, no error; an object of a
+    class of the package gives the package."""
+    import types
+
+    loose = types.ModuleType("loose_plugin")
+    monkeypatch.setitem(sys.modules, "loose_plugin", loose)
+    pm = MetroPluginManager().load(autoload=False)
+    pm.add_plugin(loose, "loose")
+    pm.add_plugin(toycat.ToyCount(), "toy-object")  # an object: its class's module's package
+    assert "loose" not in pm.plugin_packages()
+    assert pm.plugin_packages()["toy-object"] == "toycat"
+    assert set(pm.catalog_folders()) == {"toy-object"}

@@ -469,13 +469,15 @@ class MetroPluginManager:
 
     def plugin_packages(self) -> dict[str, str]:
         """{plugin name: the package its module belongs to} (``metro.plugins.gbt45570``; a
-        plugin that is a module of a package, or an object, gives that module's package)."""
+        plugin that is a module of a package, or an object, gives that module's package; a
+        plugin that is a top-level module belongs to no package and is left out)."""
         out = {}
         for name, obj in sorted(self.pm.list_name_plugin(), key=lambda p: p[0]):
             mod = obj if isinstance(obj, types.ModuleType) else sys.modules.get(type(obj).__module__)
-            if mod is not None:
-                package = mod.__package__ or mod.__name__
-                out[name] = mod.__name__ if hasattr(mod, "__path__") else package
+            package = None if mod is None else (
+                mod.__name__ if hasattr(mod, "__path__") else mod.__package__)
+            if package:
+                out[name] = package
         return out
 
     def catalog_folders(self) -> dict[str, Any]:
@@ -486,7 +488,7 @@ class MetroPluginManager:
         for name, package in self.plugin_packages().items():
             try:
                 folder = resources.files(package) / "locale"
-            except (ModuleNotFoundError, TypeError):  # not a package on disk
+            except (ImportError, AttributeError, TypeError, ValueError):  # no package on disk
                 continue
             if folder.is_dir():
                 out[name] = folder
