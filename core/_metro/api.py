@@ -34,15 +34,16 @@ from __future__ import annotations
 
 from metro.core import hookimpl
 from metro.core.base import vocabulary
-from metro.core.base.errors import DataError, ProcedureError, UnitError
-from metro.core.base.locale import Text, hint, index, join, msg
-from metro.core.base.units import Q_, check_dimension, fmt_unit, parse_quantity, unit
-from metro.core.documents import document
-from metro.core.documents.document import result_fields
-from metro.core.documents.text import display_symbol
-from metro.core.documents.notes import group_notes
+from metro.core.base.errors import DataError, MetroError, ProcedureError, UnitError
 from metro.core.base.formatting import fmt_num, fmt_quantity, unit_text
+from metro.core.base.locale import Text, hint, index, join, msg
+from metro.core.base.options import check_options, convert_options, station_options
+from metro.core.base.units import Q_, check_dimension, fmt_unit, parse_quantity, unit, ureg
+from metro.core.documents import document
 from metro.core.documents.context import plot_caption
+from metro.core.documents.document import result_fields
+from metro.core.documents.notes import group_notes
+from metro.core.documents.text import display_symbol
 from metro.core.model.campaign import (
     Calibration,
     Campaign,
@@ -63,7 +64,12 @@ from metro.core.model.procedure import (
 from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
 from metro.core.model.station import CheckingStation, Station
 from metro.core.stats import allan, settling
-from metro.core.stats.earth import EARTH_RATE_DEG_S, STANDARD_GRAVITY_M_S2, normal_gravity
+from metro.core.stats.earth import (
+    EARTH_RATE_DEG_PER_H,
+    EARTH_RATE_DEG_S,
+    STANDARD_GRAVITY_M_S2,
+    normal_gravity,
+)
 from metro.core.stats.lsq import LinearFit, fit_line, fit_linear
 from metro.core.stats.settling import excursion_lobes, last_exit
 from metro.core.stats.signals import (
@@ -97,6 +103,7 @@ from metro.core.uncertainty.selection import (
     selection_note,
     selection_rows,
     spread_rows,
+    upper_sigma,
 )
 
 # The names below are objects metro does not document where they are defined (a marker, plain
@@ -107,6 +114,10 @@ from metro.core.uncertainty.selection import (
 #: EARTH_RATE_DEG_S — the earth's rotation rate Ω_e in °/s: 7.2921150×10⁻⁵ rad/s (IERS
 #: conventions, the sidereal rate) ≈ 4.178×10⁻³ °/s ≈ 15.04107 °/h.  The standards' rounded
 #: 15.041 °/h stays in their plugins, next to the equation that prints it.
+#: EARTH_RATE_DEG_PER_H — the earth's rotation rate Ω_e in °/h, ≈ 15.04107 °/h (the physical
+#: value, :data:`EARTH_RATE_DEG_S` × 3600).
+#: ureg — metro's one pint unit registry (the standards' symbols, the units plugins add with
+#: ``metro_unit_definitions``); make quantities with :data:`Q_` and units with :func:`unit`.
 #: STANDARD_GRAVITY_M_S2 — standard gravity g_n = 9.80665 m/s² (CGPM 1901); the local gravity
 #: at a latitude is :func:`normal_gravity`.
 #: INF — infinite degrees of freedom (``math.inf``): the ``dof`` of a type B
@@ -115,19 +126,95 @@ from metro.core.uncertainty.selection import (
 #: ``DecisionRule``: :func:`decide` compares the value with the limit and U does not enter.
 
 __all__ = [
-    "EARTH_RATE_DEG_S", "INF", "OUTPUT_UNITS", "SIMPLE", "STANDARD_GRAVITY_M_S2",
-    "Applicability", "BudgetRow", "Calibration", "Campaign", "CheckingStation", "Comparison",
-    "Coverage", "DataError", "DeviceUnderTest", "Equipment", "EquipmentRequirement", "LinearFit",
-    "MaxSelection", "Metric", "Option", "Outcome", "PlotSpec", "Procedure", "ProcedureError", "Q_",
-    "RateConversion", "Result", "RunContext", "Segment", "SegmentRequirement", "Series",
-    "Specification", "Station", "Step", "TableSpec", "Text", "UncertaintyBudget", "UnitError",
-    "abs_change", "abs_change_note", "abs_change_rows", "allan", "between_variance",
-    "check_dimension", "curve_scatter", "decide", "device_scale_factor", "display_symbol",
-    "document", "excursion_lobes", "fit_line", "fit_linear", "fit_sine", "fmt_num",
-    "fmt_quantity", "fmt_unit", "group_notes", "gyro_output", "hint", "hookimpl", "index", "join",
-    "last_exit", "max_abs_selection", "max_slope_selection", "msg", "normal_gravity",
-    "parse_limit", "parse_quantity", "plot_caption", "report_pair", "required_scale_factor",
-    "result_fields", "round_uncertainty", "selection_note", "selection_rows", "settling",
-    "spread_rows", "std_sampling_u", "std_upper_limit", "unit", "unit_text", "vocabulary",
+    "EARTH_RATE_DEG_PER_H",
+    "EARTH_RATE_DEG_S",
+    "INF",
+    "OUTPUT_UNITS",
+    "Q_",
+    "SIMPLE",
+    "STANDARD_GRAVITY_M_S2",
+    "Applicability",
+    "BudgetRow",
+    "Calibration",
+    "Campaign",
+    "CheckingStation",
+    "Comparison",
+    "Coverage",
+    "DataError",
+    "DeviceUnderTest",
+    "Equipment",
+    "EquipmentRequirement",
+    "LinearFit",
+    "MaxSelection",
+    "Metric",
+    "MetroError",
+    "Option",
+    "Outcome",
+    "PlotSpec",
+    "Procedure",
+    "ProcedureError",
+    "RateConversion",
+    "Result",
+    "RunContext",
+    "Segment",
+    "SegmentRequirement",
+    "Series",
+    "Specification",
+    "Station",
+    "Step",
+    "TableSpec",
+    "Text",
+    "UncertaintyBudget",
+    "UnitError",
+    "abs_change",
+    "abs_change_note",
+    "abs_change_rows",
+    "allan",
+    "between_variance",
+    "check_dimension",
+    "check_options",
+    "convert_options",
+    "curve_scatter",
+    "decide",
+    "device_scale_factor",
+    "display_symbol",
+    "document",
+    "excursion_lobes",
+    "fit_line",
+    "fit_linear",
+    "fit_sine",
+    "fmt_num",
+    "fmt_quantity",
+    "fmt_unit",
+    "group_notes",
+    "gyro_output",
+    "hint",
+    "hookimpl",
+    "index",
+    "join",
+    "last_exit",
+    "max_abs_selection",
+    "max_slope_selection",
+    "msg",
+    "normal_gravity",
+    "parse_limit",
+    "parse_quantity",
+    "plot_caption",
+    "report_pair",
+    "required_scale_factor",
+    "result_fields",
+    "round_uncertainty",
+    "selection_note",
+    "selection_rows",
+    "settling",
+    "spread_rows",
+    "station_options",
+    "std_sampling_u",
+    "std_upper_limit",
+    "unit",
+    "unit_text",
+    "upper_sigma",
+    "ureg",
+    "vocabulary",
     "wrap_phase",
 ]
