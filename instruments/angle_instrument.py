@@ -141,7 +141,8 @@ class AngleInstrumentStation:
         )
 
     def equipment(self) -> list[Equipment]:
-        from .equipment import angle_instrument_equipment, equipment_list
+        from .equipment import equipment_list
+        from .kits import angle_instrument_equipment
 
         return equipment_list(angle_instrument_equipment(self.truth.positioning_arcsec))
 

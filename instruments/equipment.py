@@ -61,16 +61,13 @@ __all__ = [
     "ADC",
     "Timer",
     "AngleTurntable",
-    "gbt45570_equipment",
-    "jjf2014_equipment",
-    "angle_instrument_equipment",
 ]
 
 
 # ------------------------------------------------------------------------------ helpers
 
 
-def _q(dimension: str) -> Callable[[Any], pint.Quantity]:
+def q_of(dimension: str) -> Callable[[Any], pint.Quantity]:
     """attrs converter: a quantity (or its text) of ``dimension``; a bare number only if dimensionless."""
 
     def conv(v: Any) -> pint.Quantity:
@@ -80,11 +77,11 @@ def _q(dimension: str) -> Callable[[Any], pint.Quantity]:
 
 
 def _opt_q(dimension: str) -> Callable[[Any], pint.Quantity | None]:
-    c = _q(dimension)
+    c = q_of(dimension)
     return lambda v: None if v is None else c(v)
 
 
-def _nonneg(inst: Any, attribute: attrs.Attribute, value: pint.Quantity) -> None:
+def non_negative(inst: Any, attribute: attrs.Attribute, value: pint.Quantity) -> None:
     if value is not None and float(np.min(value.magnitude)) < 0:
         raise DataError(None, f"{type(inst).__name__}.{attribute.name}",
                         f"must not be negative (got {value})")
@@ -102,7 +99,7 @@ def _arr(q: Any, unit: str, name: str) -> np.ndarray:
         raise DataError(None, name, f"expected a quantity like {unit}, got {q.units}") from exc
 
 
-def _fixed_rng(seed: int, *tags: Any) -> np.random.Generator:
+def fixed_rng(seed: int, *tags: Any) -> np.random.Generator:
     """A generator for an instrument's fixed errors: the same instrument (seed) and tags, the same draw."""
     words = [int(seed) & 0xFFFFFFFF] + [zlib.crc32(repr(t).encode()) for t in tags]
     return np.random.default_rng(words)
@@ -126,7 +123,7 @@ class EquipmentModel:
     serial: str = ""
     role: str = ""
     certificate: str = ""
-    U: pint.Quantity | None = attrs.field(default=None, converter=lambda v: _U_dim(None)(v), validator=_nonneg)
+    U: pint.Quantity | None = attrs.field(default=None, converter=lambda v: _U_dim(None)(v), validator=non_negative)
     k: float = 2.0
     due: dt.date | None = None
     lab: str = ""
@@ -181,9 +178,9 @@ class RateBand:
     ±``error`` (relative, a half-width) of the set point, and the rate over one sample scatters
     with relative standard deviation ``ripple`` (the rate stability)."""
 
-    upper: pint.Quantity = attrs.field(converter=_q("deg/s"))
-    error: pint.Quantity = attrs.field(converter=_q(""), validator=_nonneg)
-    ripple: pint.Quantity = attrs.field(converter=_q(""), validator=_nonneg)
+    upper: pint.Quantity = attrs.field(converter=q_of("deg/s"))
+    error: pint.Quantity = attrs.field(converter=q_of(""), validator=non_negative)
+    ripple: pint.Quantity = attrs.field(converter=q_of(""), validator=non_negative)
 
 
 def _default_bands() -> tuple[RateBand, ...]:
@@ -202,10 +199,10 @@ class RateTable(EquipmentModel):
 
     ROLE = "rate_table"
     bands: tuple[RateBand, ...] = attrs.field(factory=_default_bands, converter=tuple)
-    angle_resolution: pint.Quantity = attrs.field(default=Q_(0.36, "arcsec"), converter=_q("arcsec"),
-                                                  validator=_nonneg)
-    revolution_pulse_accuracy: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=_q("arcsec"),
-                                                           validator=_nonneg)
+    angle_resolution: pint.Quantity = attrs.field(default=Q_(0.36, "arcsec"), converter=q_of("arcsec"),
+                                                  validator=non_negative)
+    revolution_pulse_accuracy: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=q_of("arcsec"),
+                                                           validator=non_negative)
 
     def __attrs_post_init__(self) -> None:
         super().__attrs_post_init__()
@@ -234,7 +231,7 @@ class RateTable(EquipmentModel):
         """The table's fixed relative rate error at this set point (inside ±band error)."""
         b = self.band(setpoint)
         e = float(b.error.to("").magnitude)
-        return float(_fixed_rng(self.seed, "rate", round(_f(setpoint, "deg/s"), 9)).uniform(-e, e))
+        return float(fixed_rng(self.seed, "rate", round(_f(setpoint, "deg/s"), 9)).uniform(-e, e))
 
     def actual_rate(self, setpoint: pint.Quantity, n: int, rng: np.random.Generator) -> pint.Quantity:
         """``n`` samples of the rate the table actually turns at: Ω·(1 + δ) + Ω·ripple·N(0, 1)."""
@@ -278,7 +275,7 @@ class LevelPlatform(EquipmentModel):
     """A levelled platform: its top is level within ±``levelness`` (GB/T 45570 D.5 reads ``levelness``)."""
 
     ROLE = "platform"
-    levelness: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=_q("arcsec"), validator=_nonneg)
+    levelness: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         return {"levelness": self.levelness}
@@ -286,7 +283,7 @@ class LevelPlatform(EquipmentModel):
     def tilt(self) -> pint.Quantity:
         """The platform's fixed tilt (inside ±levelness)."""
         lv = _f(self.levelness, "arcsec")
-        return Q_(float(_fixed_rng(self.seed, "tilt").uniform(-lv, lv)), "arcsec")
+        return Q_(float(fixed_rng(self.seed, "tilt").uniform(-lv, lv)), "arcsec")
 
 
 @attrs.frozen(kw_only=True)
@@ -295,7 +292,7 @@ class Fixture(EquipmentModel):
     IRA) its axes tilt by up to ±``reseat_tilt`` (GB/T 45570's misalignment items read ``reseat_tilt``)."""
 
     ROLE = "fixture"
-    reseat_tilt: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=_q("arcsec"), validator=_nonneg)
+    reseat_tilt: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         return {"reseat_tilt": self.reseat_tilt}
@@ -311,8 +308,8 @@ class Fixture(EquipmentModel):
 class _Positioner(EquipmentModel):
     """A table that sets angles within ±``position_accuracy`` (uniform)."""
 
-    position_accuracy: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=_q("arcsec"),
-                                                   validator=_nonneg)
+    position_accuracy: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=q_of("arcsec"),
+                                                   validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         return {"position_accuracy": self.position_accuracy}
@@ -338,7 +335,7 @@ class TiltTable(_Positioner):
     ``tilt_range`` is the largest tilt it can set."""
 
     ROLE = "tilt_table"
-    tilt_range: pint.Quantity = attrs.field(default=Q_(90.0, "deg"), converter=_q("deg"))
+    tilt_range: pint.Quantity = attrs.field(default=Q_(90.0, "deg"), converter=q_of("deg"))
 
     def properties(self) -> dict[str, Any]:
         return super().properties() | {"tilt_range": self.tilt_range}
@@ -357,8 +354,8 @@ class ThreeAxisTable(RateTable):
     (JJF 2003 reads ``position_accuracy``) and turns with the rate bands of :class:`RateTable`."""
 
     ROLE = "table"
-    position_accuracy: pint.Quantity = attrs.field(default=Q_(10.0, "arcsec"), converter=_q("arcsec"),
-                                                   validator=_nonneg)
+    position_accuracy: pint.Quantity = attrs.field(default=Q_(10.0, "arcsec"), converter=q_of("arcsec"),
+                                                   validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         p = super().properties()
@@ -386,12 +383,12 @@ class TemperatureChamber(EquipmentModel):
     """
 
     ROLE = "chamber"
-    U: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("K"), validator=_nonneg)
-    setpoint_error: pint.Quantity = attrs.field(default=Q_(0.5, "K"), converter=_q("K"), validator=_nonneg)
-    fluctuation: pint.Quantity = attrs.field(default=Q_(0.2, "K"), converter=_q("K"), validator=_nonneg)
-    soak: pint.Quantity = attrs.field(default=Q_(60.0, "min"), converter=_q("s"), validator=_nonneg)
-    cycle: pint.Quantity = attrs.field(default=Q_(10.0, "min"), converter=_q("s"))
-    uniformity: pint.Quantity | None = attrs.field(default=None, converter=_opt_q("K"), validator=_nonneg)
+    U: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("K"), validator=non_negative)
+    setpoint_error: pint.Quantity = attrs.field(default=Q_(0.5, "K"), converter=q_of("K"), validator=non_negative)
+    fluctuation: pint.Quantity = attrs.field(default=Q_(0.2, "K"), converter=q_of("K"), validator=non_negative)
+    soak: pint.Quantity = attrs.field(default=Q_(60.0, "min"), converter=q_of("s"), validator=non_negative)
+    cycle: pint.Quantity = attrs.field(default=Q_(10.0, "min"), converter=q_of("s"))
+    uniformity: pint.Quantity | None = attrs.field(default=None, converter=_opt_q("K"), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         p = {"setpoint_error": self.setpoint_error, "fluctuation": self.fluctuation, "soak": self.soak}
@@ -403,7 +400,7 @@ class TemperatureChamber(EquipmentModel):
         """The fixed offset (K) of the chamber at this set point (inside ±setpoint_error)."""
         e = _f(self.setpoint_error, "K")
         T = _f(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
-        return float(_fixed_rng(self.seed, "T", round(T, 6)).uniform(-e, e))
+        return float(fixed_rng(self.seed, "T", round(T, 6)).uniform(-e, e))
 
     def temperature(self, setpoint: pint.Quantity, times: pint.Quantity, rng: np.random.Generator, *,
                     previous: pint.Quantity | None = None) -> pint.Quantity:
@@ -435,9 +432,9 @@ class FieldGenerator(EquipmentModel):
     by ±``uniformity`` (GB/T 45570 D.5.5 reads ``uniformity``)."""
 
     ROLE = "field_generator"
-    setting_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=_q(""), validator=_nonneg)
-    uniformity: pint.Quantity = attrs.field(default=Q_(5.0, "percent"), converter=_q(""), validator=_nonneg)
-    max_field: pint.Quantity = attrs.field(default=Q_(2.0, "mT"), converter=_q("mT"))
+    setting_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative)
+    uniformity: pint.Quantity = attrs.field(default=Q_(5.0, "percent"), converter=q_of(""), validator=non_negative)
+    max_field: pint.Quantity = attrs.field(default=Q_(2.0, "mT"), converter=q_of("mT"))
 
     def properties(self) -> dict[str, Any]:
         return {"uniformity": self.uniformity, "setting_error": self.setting_error, "max_field": self.max_field}
@@ -450,7 +447,7 @@ class FieldGenerator(EquipmentModel):
         if not -1.0 <= position <= 1.0:
             raise DataError(None, "position", "must be in [-1, 1] (centre 0, edge of the test volume ±1)")
         e = float(self.setting_error.to("").magnitude)
-        d = float(_fixed_rng(self.seed, "H", round(H, 9)).uniform(-e, e))
+        d = float(fixed_rng(self.seed, "H", round(H, 9)).uniform(-e, e))
         return Q_(H * (1.0 + d) * (1.0 + float(self.uniformity.to("").magnitude) * position), "mT")
 
 
@@ -467,10 +464,10 @@ class AngularVibrationTable(EquipmentModel):
     """
 
     ROLE = "angular-vibration"
-    amplitude_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=_q(""), validator=_nonneg)
-    phase_U: pint.Quantity = attrs.field(default=Q_(0.2, "deg"), converter=_q("deg"), validator=_nonneg)
+    amplitude_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative)
+    phase_U: pint.Quantity = attrs.field(default=Q_(0.2, "deg"), converter=q_of("deg"), validator=non_negative)
     frequency_range: tuple[pint.Quantity, pint.Quantity] = attrs.field(
-        default=(Q_(0.1, "Hz"), Q_(500.0, "Hz")), converter=lambda v: tuple(_q("Hz")(x) for x in v))
+        default=(Q_(0.1, "Hz"), Q_(500.0, "Hz")), converter=lambda v: tuple(q_of("Hz")(x) for x in v))
 
     def properties(self) -> dict[str, Any]:
         return {"phase_U": self.phase_U, "amplitude_error": self.amplitude_error,
@@ -485,7 +482,7 @@ class AngularVibrationTable(EquipmentModel):
         if not lo <= f <= hi:
             raise DataError(None, "frequency", f"{f:g} Hz is outside {self.id}'s range {lo:g}–{hi:g} Hz")
         t = _arr(times, "s", "times")
-        r = _fixed_rng(self.seed, "avt", round(f, 9))
+        r = fixed_rng(self.seed, "avt", round(f, 9))
         e = float(self.amplitude_error.to("").magnitude)
         da = r.uniform(-e, e)
         dphi = r.normal(0.0, _f(self.phase_U, "rad") / 2.0)
@@ -501,10 +498,10 @@ class LinearShaker(EquipmentModel):
     budget the applied level from it (GB/T 45570's vibration items read ``level_accuracy``)."""
 
     ROLE = "vibration"
-    amplitude_error: pint.Quantity = attrs.field(default=Q_(0.05, ""), converter=_q(""), validator=_nonneg)
-    frequency_error: pint.Quantity = attrs.field(default=Q_(1e-3, ""), converter=_q(""), validator=_nonneg)
-    max_acceleration: pint.Quantity = attrs.field(default=Q_(20.0, "gn"), converter=_q("gn"))
-    level_accuracy: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("gn"), validator=_nonneg)
+    amplitude_error: pint.Quantity = attrs.field(default=Q_(0.05, ""), converter=q_of(""), validator=non_negative)
+    frequency_error: pint.Quantity = attrs.field(default=Q_(1e-3, ""), converter=q_of(""), validator=non_negative)
+    max_acceleration: pint.Quantity = attrs.field(default=Q_(20.0, "gn"), converter=q_of("gn"))
+    level_accuracy: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("gn"), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         p = {"amplitude_error": self.amplitude_error, "frequency_error": self.frequency_error,
@@ -519,7 +516,7 @@ class LinearShaker(EquipmentModel):
         if abs(a) > _f(self.max_acceleration, "gn"):
             raise DataError(None, "amplitude", f"{a:g} g is beyond {self.id}'s {self.max_acceleration}")
         f = _f(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
-        r = _fixed_rng(self.seed, "shaker", round(a, 9), round(f, 9))
+        r = fixed_rng(self.seed, "shaker", round(a, 9), round(f, 9))
         ea, ef = (float(x.to("").magnitude) for x in (self.amplitude_error, self.frequency_error))
         t = _arr(times, "s", "times")
         return Q_(a * (1 + r.uniform(-ea, ea)) * np.sin(2 * math.pi * f * (1 + r.uniform(-ef, ef)) * t), "gn")
@@ -532,8 +529,8 @@ class ShockTable(EquipmentModel):
     ``duration_accuracy``)."""
 
     ROLE = "shock"
-    peak_error: pint.Quantity = attrs.field(default=Q_(0.1, ""), converter=_q(""), validator=_nonneg)
-    duration_accuracy: pint.Quantity = attrs.field(default=Q_(1.0, "ms"), converter=_q("s"), validator=_nonneg)
+    peak_error: pint.Quantity = attrs.field(default=Q_(0.1, ""), converter=q_of(""), validator=non_negative)
+    duration_accuracy: pint.Quantity = attrs.field(default=Q_(1.0, "ms"), converter=q_of("s"), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         return {"peak_error": self.peak_error, "duration_accuracy": self.duration_accuracy}
@@ -574,8 +571,8 @@ class DigitalMultimeter(EquipmentModel):
 
     ROLE = "dmm"
     range: pint.Quantity = attrs.field(default=Q_(10.0, "V"), converter=_meter_range)
-    reading_error: pint.Quantity = attrs.field(default=Q_(35.0, "ppm"), converter=_q(""), validator=_nonneg)
-    range_error: pint.Quantity = attrs.field(default=Q_(5.0, "ppm"), converter=_q(""), validator=_nonneg)
+    reading_error: pint.Quantity = attrs.field(default=Q_(35.0, "ppm"), converter=q_of(""), validator=non_negative)
+    range_error: pint.Quantity = attrs.field(default=Q_(5.0, "ppm"), converter=q_of(""), validator=non_negative)
     digits: float = 6.5
 
     @property
@@ -605,7 +602,7 @@ class DigitalMultimeter(EquipmentModel):
         rng_v = _f(self.range, u)
         if np.any(np.abs(v) > 1.2 * rng_v):
             raise DataError(None, "values", f"overload: a reading beyond 1.2 × the {self.range} range of {self.id}")
-        r = _fixed_rng(self.seed, "dmm", rng_v)
+        r = fixed_rng(self.seed, "dmm", rng_v)
         gain = r.uniform(-1, 1) * float(self.reading_error.to("").magnitude)
         offset = r.uniform(-1, 1) * float(self.range_error.to("").magnitude) * rng_v
         res = _f(self.resolution, u)
@@ -620,14 +617,14 @@ class Counter(EquipmentModel):
     carried into the next gate, so no pulse is lost or counted twice."""
 
     ROLE = "counter"
-    timebase_error: pint.Quantity = attrs.field(default=Q_(5e-8, ""), converter=_q(""), validator=_nonneg)
+    timebase_error: pint.Quantity = attrs.field(default=Q_(5e-8, ""), converter=q_of(""), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         return {"timebase_error": self.timebase_error}
 
     def gate(self, nominal: pint.Quantity) -> pint.Quantity:
         e = float(self.timebase_error.to("").magnitude)
-        d = float(_fixed_rng(self.seed, "timebase").uniform(-e, e))
+        d = float(fixed_rng(self.seed, "timebase").uniform(-e, e))
         return parse_quantity(nominal, dimension="s", field="gate") * (1.0 + d)
 
     @staticmethod
@@ -650,7 +647,7 @@ class ADC(EquipmentModel):
 
     ROLE = "acquisition"
     bits: int = 12
-    full_scale: pint.Quantity = attrs.field(default=Q_(10.0, "V"), converter=_q("V"))
+    full_scale: pint.Quantity = attrs.field(default=Q_(10.0, "V"), converter=q_of("V"))
 
     def __attrs_post_init__(self) -> None:
         super().__attrs_post_init__()
@@ -685,8 +682,8 @@ class Timer(EquipmentModel):
     """Timer: measures intervals with relative error within ±``accuracy`` and rounds to ``resolution``."""
 
     ROLE = "timer"
-    accuracy: pint.Quantity = attrs.field(default=Q_(5e-7, ""), converter=_q(""), validator=_nonneg)
-    resolution: pint.Quantity = attrs.field(default=Q_(1e-6, "s"), converter=_q("s"), validator=_nonneg)
+    accuracy: pint.Quantity = attrs.field(default=Q_(5e-7, ""), converter=q_of(""), validator=non_negative)
+    resolution: pint.Quantity = attrs.field(default=Q_(1e-6, "s"), converter=q_of("s"), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         return {"accuracy": self.accuracy, "resolution": self.resolution}
@@ -694,7 +691,7 @@ class Timer(EquipmentModel):
     def measure(self, elapsed: pint.Quantity) -> pint.Quantity:
         t = _arr(elapsed, "s", "elapsed")
         e = float(self.accuracy.to("").magnitude)
-        d = float(_fixed_rng(self.seed, "timer").uniform(-e, e))
+        d = float(fixed_rng(self.seed, "timer").uniform(-e, e))
         res = _f(self.resolution, "s")
         m = t * (1 + d)
         return Q_(np.round(m / res) * res if res > 0 else m, "s")
@@ -707,92 +704,14 @@ class AngleTurntable(_Positioner):
     items read it) are stated too."""
 
     ROLE = "turntable"
-    position_accuracy: pint.Quantity = attrs.field(default=Q_(0.1, "arcsec"), converter=_q("arcsec"),
-                                                   validator=_nonneg)
-    axis_wobble: pint.Quantity = attrs.field(default=Q_(0.3, "arcsec"), converter=_q("arcsec"), validator=_nonneg)
-    parallelism: pint.Quantity = attrs.field(default=Q_(0.1, "deg"), converter=_q("deg"), validator=_nonneg)
+    position_accuracy: pint.Quantity = attrs.field(default=Q_(0.1, "arcsec"), converter=q_of("arcsec"),
+                                                   validator=non_negative)
+    axis_wobble: pint.Quantity = attrs.field(default=Q_(0.3, "arcsec"), converter=q_of("arcsec"), validator=non_negative)
+    parallelism: pint.Quantity = attrs.field(default=Q_(0.1, "deg"), converter=q_of("deg"), validator=non_negative)
 
     def properties(self) -> dict[str, Any]:
         return {"axis_wobble": self.axis_wobble, "parallelism": self.parallelism,
                 "position_accuracy": self.position_accuracy}
-
-
-# ------------------------------------------------------------------------------ station kits
-
-
-def gbt45570_equipment(seed: int = 1) -> list[EquipmentModel]:
-    """The simulated GB/T 45570 station: levelled platform, rate table with revolution pulses,
-    temperature chamber, field generator, fixture, tilt table, vibration and shock tables,
-    voltmeter and ammeter (power), counter; ``seed`` draws the instruments' fixed errors (another
-    seed, another instrument of the same certificate)."""
-    sim = {"lab": "simulated", "seed": int(seed)}
-    return [
-        LevelPlatform(id="SIM-PLATFORM", model="simulated levelled platform", levelness=Q_(2.0, "arcsec")),
-        RateTable(id="SIM-RATE-TABLE", model="simulated rate table with revolution pulses",
-                  revolution_pulse_accuracy=Q_(2.0, "arcsec"), certificate="SIM-CAL-0004", U=Q_(1e-5, ""), **sim),
-        TemperatureChamber(id="SIM-CHAMBER", model="simulated temperature chamber", certificate="SIM-CAL-0002",
-                           U=Q_(0.3, "K"), **sim),
-        FieldGenerator(id="SIM-FIELD", model="simulated DC magnetic field generator",
-                       uniformity=Q_(5, "percent"), certificate="SIM-CAL-0003", U=Q_(1e-2, ""), **sim),
-        Fixture(id="SIM-FIXTURE", model="simulated gyro fixture, 180° turn about IRA", reseat_tilt=Q_(3.0, "arcsec")),
-        TiltTable(id="SIM-TILT", model="simulated two-axis tilt table", position_accuracy=Q_(2.0, "arcsec")),
-        LinearShaker(id="SIM-VIB", model="simulated vibration table", role="vibration_table",
-                     certificate="SIM-CAL-0005", U=Q_(0.05, ""), **sim),
-        ShockTable(id="SIM-SHOCK", model="simulated shock table", role="shock_table",
-                   duration_accuracy=Q_(1.0, "ms"), certificate="SIM-CAL-0006", U=Q_(0.08, ""), **sim),
-        DigitalMultimeter(id="SIM-DVM", model="simulated voltmeter", role="voltmeter", range=Q_(100.0, "V"),
-                          certificate="SIM-CAL-0007", U=Q_(5e-4, ""), **sim),
-        DigitalMultimeter(id="SIM-AMM", model="simulated ammeter", role="ammeter", range=Q_(3.0, "A"),
-                          reading_error=Q_(500.0, "ppm"), range_error=Q_(100.0, "ppm"), digits=5.5,
-                          certificate="SIM-CAL-0008", U=Q_(2e-3, ""), **sim),
-        Counter(id="SIM-COUNTER", model="simulated counter/time base", certificate="SIM-CAL-0001",
-                U=Q_(1e-7, ""), **sim),
-    ] + _type_test_equipment(seed)
-
-
-def _type_test_equipment(seed: int) -> list[EquipmentModel]:
-    """Callipers, balance and megohmmeter of the GB/T 45570 clause-5 type test (instruments/sim_gbt_type.py)."""
-    from .sim_gbt_type import type_test_equipment
-
-    return type_test_equipment(seed)
-
-
-def jjf2014_equipment(seed: int = 1) -> list[EquipmentModel]:
-    """The simulated JJF 2014 station (rate table with chamber, DMM, tables, shock, vibration, timer);
-    ``seed`` draws the instruments' fixed errors (another seed, another instrument of the same
-    certificate)."""
-    sim = {"lab": "simulated", "seed": int(seed)}
-    return [
-        # errs as its certificate says (appendix B.1: U_rel = 1×10⁻⁴, k = 2): a fixed error per set
-        # point uniform within ±√3 × 0.5×10⁻⁴ in every band; ripple within table 1's 速率平稳性
-        RateTable(id="SIM-RT", model="simulated rate table with chamber", role="rate-table",
-                  certificate="SIM-RT-001", U=Q_(1e-4, ""),
-                  bands=(RateBand("1 deg/s", math.sqrt(3.0) * 0.5e-4, 1e-3),
-                         RateBand("10 deg/s", math.sqrt(3.0) * 0.5e-4, 1e-4),
-                         RateBand("1000 deg/s", math.sqrt(3.0) * 0.5e-4, 2e-5)), **sim),
-        DigitalMultimeter(id="SIM-DMM", model="simulated 6½-digit DMM", certificate="SIM-DMM-001",
-                          U=Q_(6e-5, ""), **sim),
-        TemperatureChamber(id="SIM-CH", model="simulated temperature chamber", certificate="SIM-CH-001",
-                           U=Q_(0.5, "delta_degC"), **sim),
-        PositionTable(id="SIM-PT", model="simulated two-axis position table", certificate="SIM-PT-001",
-                      U=Q_(3.0, "arcsec"), **sim),
-        AngularVibrationTable(id="SIM-AVT", model="simulated angular vibration table + reference sensor",
-                              certificate="SIM-AVT-001", U=Q_(5e-3, ""), phase_U=Q_(0.2, "deg"), **sim),
-        ShockTable(id="SIM-SHOCK", model="simulated shock machine", seed=int(seed)),
-        LinearShaker(id="SIM-VIB", model="simulated linear vibration table", seed=int(seed)),
-        Timer(id="SIM-TIMER", model="simulated timer", certificate="SIM-TIMER-001", U=Q_(1e-6, ""), **sim),
-    ]
-
-
-def angle_instrument_equipment(positioning_arcsec: float) -> list[EquipmentModel]:
-    """The simulated angle-instrument station: low-speed turntable (uniform ±positioning error) and timer."""
-    p = positioning_arcsec or 0.1
-    return [
-        AngleTurntable(id="SIM-TURNTABLE", model="simulated low-speed turntable",
-                       position_accuracy=Q_(p, "arcsec"), axis_wobble=Q_(0.3, "arcsec"), parallelism=Q_(0.1, "deg"),
-                       certificate="SIM-TT-0001", U=Q_(p, "arcsec"), distribution="uniform", lab="simulated"),
-        Timer(id="SIM-TIMER", model="simulated timer"),
-    ]
 
 
 def equipment_list(models: Sequence[EquipmentModel]) -> list[Equipment]:

@@ -383,16 +383,17 @@ def station_table(seed: int):
 
 
 def _expected(station: MimuStation, camp: Campaign, realized: Mapping[str, tuple]) -> dict[str, Any]:
-    """What an ideal evaluation gives: the plugin's own formulas applied to the exact means of
-    what the table did (each mounting's tilt, each rate point's mean rate) without noise."""
-    try:
-        from metro.plugins.jjf2003.procedures import ideal_evaluation
-    except ImportError:  # pragma: no cover - plugin not installed
-        return {}
-    return ideal_evaluation(camp, lambda seg: ideal_means(
-        station.truth, seg.conditions, station.latitude_deg,
-        max(2, int(np.shape(seg.columns()["gx"][0])[0])), float(seg.interval.to("s").magnitude),
-        tilt_rad=realized[seg.id][0], rate_deg_s=realized[seg.id][1]))
+    """What an ideal evaluation gives: JJF 2003's own formulas (its plugin, through
+    :func:`~metro.instruments.stations.standard_expected`) applied to the exact means of what the
+    table did (each mounting's tilt, each rate point's mean rate) without noise."""
+    from .stations import standard_expected
+
+    def means(seg: Segment):
+        return ideal_means(station.truth, seg.conditions, station.latitude_deg,
+                           max(2, int(np.shape(seg.columns()["gx"][0])[0])), float(seg.interval.to("s").magnitude),
+                           tilt_rad=realized[seg.id][0], rate_deg_s=realized[seg.id][1])
+
+    return standard_expected(camp, {"jjf2003:segment_means": means})
 
 
 #: device classes (station option ``device_class=NAME``): what real MEMS IMUs vary, as presets.  A

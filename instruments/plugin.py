@@ -13,9 +13,10 @@ from metro.core import hookimpl
 def metro_register_readers(registrar) -> None:
     from . import readers
 
-    registrar.add_reader((".csv",), readers.read_samples, "comma-separated samples with `name [unit]` headers")
+    registrar.add_reader((".csv",), readers.read_samples, "comma-separated samples with `name [unit]` headers",
+                         write=readers.write_samples_csv)
     registrar.add_reader((".tsv", ".txt"), readers.read_samples, "tab-separated samples with `name [unit]` headers")
-    registrar.add_reader((".npy",), readers.read_samples, "NumPy .npy samples")
+    registrar.add_reader((".npy",), readers.read_samples, "NumPy .npy samples", write=readers.write_samples_npy)
     registrar.add_reader((".parquet", ".pq"), readers.read_samples, "Apache Parquet samples")
 
 

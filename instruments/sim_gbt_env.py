@@ -27,7 +27,7 @@ import math
 from typing import Any
 
 import numpy as np
-from metro.core.model.campaign import Segment
+from metro.core.model.campaign import Campaign, Segment
 from metro.core.base.units import Q_, parse_quantity
 
 from .simulated import (
@@ -40,6 +40,7 @@ from .simulated import (
     register_step_kind,
     simulate_static,
 )
+from .stations import standard_expected
 
 
 def dead_band_response(truth: GyroTruth, input_deg_h: float) -> float:
@@ -56,8 +57,9 @@ def _axis(conditions) -> int:
     return AXES.index(str(conditions.get("axis", "IRA")).upper())
 
 
-def _static_segment(station: SimulatedStation, step, index: int, *, n: int, interval_s: float, latitude: float,
-                    offset: float, progress=None) -> Segment:
+def static_segment(station: SimulatedStation, step, index: int, *, n: int, interval_s: float, latitude: float,
+                   offset: float, progress=None) -> Segment:
+    """The gyro at rest for ``step`` at ``latitude`` with its bias shifted by ``offset`` (°/h)."""
     t = station.truth
     data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=latitude, orientation="up",
                            seed=t.seed + index, progress=progress, bias_offset_deg_h=offset)
@@ -71,7 +73,7 @@ def sim_tilt(station, step, index, *, interval_s, n, bias_offset_deg_h, progress
     t = station.truth
     x = EARTH_RATE_DEG_PER_H * math.cos(math.radians(_psi(step.conditions)))
     # latitude 0 removes the vertical earth rate of simulate_static: the input is Ω_e·cos Ψ alone
-    return _static_segment(station, step, index, n=n, interval_s=interval_s, latitude=0.0,
+    return static_segment(station, step, index, n=n, interval_s=interval_s, latitude=0.0,
                            offset=bias_offset_deg_h + dead_band_response(t, x), progress=progress)
 
 
@@ -99,14 +101,14 @@ def _mounted_latitude(station: SimulatedStation, conditions) -> float:
 @register_step_kind("vibration")
 def sim_vibration(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
     off = bias_offset_deg_h + _environment_shift(station.truth, "vibration", step.conditions)
-    return _static_segment(station, step, index, n=n, interval_s=interval_s,
+    return static_segment(station, step, index, n=n, interval_s=interval_s,
                            latitude=_mounted_latitude(station, step.conditions), offset=off, progress=progress)
 
 
 @register_step_kind("shock")
 def sim_shock(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
     off = bias_offset_deg_h + _environment_shift(station.truth, "shock", step.conditions)
-    return _static_segment(station, step, index, n=n, interval_s=interval_s,
+    return static_segment(station, step, index, n=n, interval_s=interval_s,
                            latitude=_mounted_latitude(station, step.conditions), offset=off, progress=progress)
 
 
@@ -159,46 +161,33 @@ def sim_power(station, step, index, *, interval_s, n, **_):
 # --------------------------------------------------------------------------------------------
 
 
-def expected_threshold(truth: GyroTruth, psis_deg) -> float | None:
-    """D.39 on noise-free tilt positions: the smallest Ω_e·cos Ψ_i (15.041 °/h, as D.37 prints it)
-    whose response reaches 50 % of the expected one."""
-    from metro.plugins.gbt45570 import env_formulas as E
-
-    inputs, ratios = [], []
-    for psi in psis_deg:
-        if abs(psi - 90.0) < 1e-9:
-            continue
-        x_std = E.tilt_input_d37(psi)
-        inputs.append(x_std)
-        ratios.append(dead_band_response(truth, EARTH_RATE_DEG_PER_H * math.cos(math.radians(psi))) / x_std)
-    th, _ = E.threshold_d39(inputs, ratios)
-    return th
+def tilt_responses(truth: GyroTruth, psis_deg) -> list[tuple[float, float]]:
+    """(Ψ, the rate beyond its bias the virtual gyro indicates at Ψ) of noise-free tilt positions:
+    what GB/T 45570's plugin turns into the expected threshold (D.37, D.39)."""
+    return [(psi, dead_band_response(truth, EARTH_RATE_DEG_PER_H * math.cos(math.radians(psi))))
+            for psi in psis_deg]
 
 
-def expected_setup_time(truth: GyroTruth, n: int, interval_s: float, latitude_deg: float, *,
-                        window_s: float = 1.0, settled_s: float = 60.0, tolerance_deg_h: float = 5.0) -> float:
-    """6.2.7.7 (with the item's default options) on the noise-free power-on record."""
-    from metro.plugins.gbt45570 import env_formulas as E
-
-    y = truth.bias_deg_h + EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + transient_per_sample(
+def power_on_rates(truth: GyroTruth, n: int, interval_s: float, latitude_deg: float) -> np.ndarray:
+    """The noise-free indicated rate (°/h) of ``n`` samples from the switch-on, IRA up: what GB/T
+    45570's plugin turns into the expected set-up time (6.2.7.7)."""
+    return truth.bias_deg_h + EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + transient_per_sample(
         truth, n, interval_s)
-    w = max(1, int(round(window_s / interval_s)))
-    return E.setup_time_6277(y, interval_s, w, n - int(round(settled_s / interval_s)), tolerance_deg_h)[0]
 
 
 @register_expected
-def expected_env_items(station: SimulatedStation, segments) -> dict[str, Any]:
+def expected_env_items(station: SimulatedStation, camp: Campaign) -> dict[str, Any]:
     """Expected threshold (D.4), B₀ at the operating temperatures (D.6.1/D.6.2), ΔB_V12/ΔB_V13
-    (D.6.3), the shock's ΔB_V13 (D.6.4), the set-up time (6.2.7.7) and the power (6.2.7.8)."""
+    (D.6.3), the shock's ΔB_V13 (D.6.4), the set-up time (6.2.7.7) and the power (6.2.7.8); the
+    threshold and the set-up time by the standard's formulas (its plugin) on noise-free records."""
     t, lat = station.truth, station.latitude_deg
     out: dict[str, Any] = {}
     kinds: dict[str, list[Segment]] = {}
-    for s in segments:
+    for s in camp.segments:
         kinds.setdefault(s.kind, []).append(s)
     if "tilt" in kinds:
-        th = expected_threshold(t, [_psi(s.conditions) for s in kinds["tilt"]])
-        if th is not None:
-            out["threshold"] = Q_(th, "deg/h")
+        out |= standard_expected(camp, {"gbt45570:tilt_response": tilt_responses(
+            t, [_psi(s.conditions) for s in kinds["tilt"]])})
     earth_diff = (EARTH_RATE_DEG_PER_H - 15.041) * math.sin(math.radians(lat))
     for kind, tag in (("low-temperature", "low"), ("high-temperature", "high")):
         for s in kinds.get(kind, [])[:1]:
@@ -212,10 +201,7 @@ def expected_env_items(station: SimulatedStation, segments) -> dict[str, Any]:
     for s in kinds.get("power-on", [])[:1]:
         dt = float(s.interval.to("s").magnitude)
         n = int(s.columns()["output"][0].size)
-        try:
-            out["setup_time"] = Q_(expected_setup_time(t, n, dt, lat), "s")
-        except ValueError:
-            pass
+        out |= standard_expected(camp, {"gbt45570:power_on_rate": (power_on_rates(t, n, dt, lat), dt)})
     if "power" in kinds:
         out["P"] = Q_(sum(abs(_supply_voltage(s.conditions) * supply_current(t, _supply_voltage(s.conditions)))
                           for s in kinds["power"]), "W")

@@ -38,7 +38,7 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-from metro.core.model.campaign import Segment
+from metro.core.model.campaign import Campaign, Segment
 from metro.core.base.units import Q_, parse_quantity
 
 from .simulated import (
@@ -55,6 +55,7 @@ from .simulated import (
     scale_factor_at,
     station_factory,
 )
+from .stations import standard_expected
 
 REV_ARCSEC = 360.0 * 3600.0
 
@@ -176,13 +177,16 @@ def sim_revolutions_mounting(station, step, index, *, bias_offset_deg_h, **_):
 def _rate_table(seed: int):
     """The station's rate-table model for this device seed (its band error and ripple act on
     every rate step; the models are frozen values, so they are kept)."""
-    from .equipment import RateTable, gbt45570_equipment
+    from .equipment import RateTable
+    from .kits import gbt45570_equipment
 
     return next((m for m in gbt45570_equipment(seed=seed) if isinstance(m, RateTable)), None)
 
 
-def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_s: float, projection: float,
-                  bias_offset_deg_h: float) -> Segment:
+def rate_samples(station: SimulatedStation, step, index: int, n: int, interval_s: float, projection: float,
+                 bias_offset_deg_h: float) -> Segment:
+    """The sampled output of ``n`` samples with the table turning at the step's ``rate``, the
+    input axis projected on the table axis by ``projection``."""
     t = station.truth
     rate, direction = _signed_rate(step)
     f = scale_factor_multiplier(t, rate, direction, step.conditions)
@@ -213,7 +217,7 @@ def _rate_samples(station: SimulatedStation, step, index: int, n: int, interval_
 
 @register_step_kind("rate-output")
 def sim_rate_output(station, step, index, *, interval_s, n, bias_offset_deg_h, **_):
-    return _rate_samples(station, step, index, n, interval_s, 1.0, bias_offset_deg_h)
+    return rate_samples(station, step, index, n, interval_s, 1.0, bias_offset_deg_h)
 
 
 @register_step_kind("polarity")
@@ -221,7 +225,7 @@ def sim_polarity(station, step, index, *, interval_s, n, orientation, bias_offse
     """GB/T 45570 6.2.6: the output at rest (``rate`` 0) or turning at a signed ``rate`` about IRA."""
     rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
     if rate != 0:
-        return _rate_samples(station, step, index, n, interval_s, 1.0, bias_offset_deg_h)
+        return rate_samples(station, step, index, n, interval_s, 1.0, bias_offset_deg_h)
     from .simulated import simulate_static
 
     out = simulate_static(station.truth, n=n, interval_s=interval_s, latitude_deg=station.latitude_deg,
@@ -234,7 +238,7 @@ def sim_polarity(station, step, index, *, interval_s, n, orientation, bias_offse
 
 @register_step_kind("rate-mounting")
 def sim_rate_mounting(station, step, index, *, interval_s, n, bias_offset_deg_h, **_):
-    return _rate_samples(station, step, index, n, interval_s, mounting_projection(station.truth, step.conditions),
+    return rate_samples(station, step, index, n, interval_s, mounting_projection(station.truth, step.conditions),
                          bias_offset_deg_h)
 
 
@@ -282,10 +286,10 @@ def _kn_rate(signed, Fk) -> float:
     return float(np.max(np.abs(K * np.asarray(signed) + F0 - Fk)) / np.max(np.abs(Fk)))
 
 
-def _omega_max(rates_abs, kn_of, limit: float) -> float | None:
-    r = sorted(set(rates_abs))
-    ok = [om for om in r[2:] if kn_of(om) <= limit]
-    return max(ok) if ok else None
+def _nonlinearity_curve(rates_abs, kn_of) -> list[tuple[float, float]]:
+    """(Ω, K_n of the rate points up to Ω) for each candidate Ω of D.3 (from the third rate on):
+    what GB/T 45570's plugin turns into the expected Ω_max against its K_n limit."""
+    return [(om, kn_of(om)) for om in sorted(set(rates_abs))[2:]]
 
 
 def _by(segs, key):
@@ -317,10 +321,10 @@ def _abg(a1, a2, b1, b2) -> dict[str, Any]:
 
 
 @register_expected
-def expected_polarity(station: SimulatedStation, segments) -> dict[str, Any]:
+def expected_polarity(station: SimulatedStation, camp: Campaign) -> dict[str, Any]:
     """Expected response ratio r and polarity of 6.2.6: the polarity times the scale factor's
     relative value at the turning rate (the table's rate error is left to the budget)."""
-    turning = [s for s in segments if s.kind == "polarity" and _rate_of(s) != 0]
+    turning = [s for s in camp.segments if s.kind == "polarity" and _rate_of(s) != 0]
     if not turning:
         return {}
     rate = _rate_of(turning[0])
@@ -329,25 +333,32 @@ def expected_polarity(station: SimulatedStation, segments) -> dict[str, Any]:
     return {"polarity_ratio": Q_(t.polarity * f, ""), "polarity": Q_(float(t.polarity), "")}
 
 
-@register_expected
-def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
-    """Expected K_r, K_t, α, β, γ (D.1.4–D.1.6, D.2.4–D.2.6), K, F_0, K_n, K_a (D.2.1–D.2.3) and
-    Ω_max (D.3, with the default nonlinearity limit for the simulated device)."""
-    from metro.plugins.gbt45570.rate_method import default_nonlinearity_limit
-
-    t, lat = station.truth, station.latitude_deg
-    out: dict[str, Any] = {}
+def _kinds(segments) -> dict[str, list[Segment]]:
     kinds: dict[str, list[Segment]] = {}
     for s in segments:
         kinds.setdefault(s.kind, []).append(s)
-    limit = float(default_nonlinearity_limit(station.device())[0].to("").magnitude)
+    return kinds
+
+
+@register_expected
+def expected_rate_items(station: SimulatedStation, camp: Campaign) -> dict[str, Any]:
+    """Expected K_r, K_t, α, β, γ (D.1.4–D.1.6, D.2.4–D.2.6), K, F_0, K_n, K_a (D.2.1–D.2.3) and
+    Ω_max (D.3, by the standard's plugin with its default nonlinearity limit for the device)."""
+    kinds = _kinds(camp.segments)
+    return _expected_angle(station, camp, kinds) | _expected_rate(station, camp, kinds)
+
+
+def _expected_angle(station: SimulatedStation, camp: Campaign, kinds: Mapping[str, list[Segment]]) -> dict[str, Any]:
+    """The angle method's expected values (whole revolutions, D.1.4–D.1.6 and D.3)."""
+    t, lat = station.truth, station.latitude_deg
+    out: dict[str, Any] = {}
     if "rate-revolutions" in kinds:
         rates = sorted({abs(_rate_of(s)) for s in kinds["rate-revolutions"]})
-        if len(rates) >= 3:
-            om = _omega_max(rates, lambda c: _kn_angle([r for r in rates if r <= c],
-                                                       _ideal_Ki(t, [r for r in rates if r <= c], {}, lat)), limit)
-            if om is not None and not (t.output == "digital" and "rate-output" in kinds):
-                out["Omega_max"] = Q_(om, "deg/s")
+        if len(rates) >= 3 and not (t.output == "digital" and "rate-output" in kinds):
+            def kn_of(c):
+                sel = [r for r in rates if r <= c]
+                return _kn_angle(sel, _ideal_Ki(t, sel, {}, lat))
+            out |= standard_expected(camp, {"gbt45570:nonlinearity": _nonlinearity_curve(rates, kn_of)})
     if "revolutions-repeat" in kinds:
         runs = _by(kinds["revolutions-repeat"], "run")
         Kj = [float(_ideal_Ki(t, [abs(_rate_of(g[0]))], g[0].conditions, lat)[0]) for g in runs.values()]
@@ -369,30 +380,17 @@ def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
             r = abs(_rate_of(s))
             ang[key] = math.degrees(float(_ideal_Ki(t, [r], s.conditions, lat, proj)[0]) / t.scale_factor_P_per_arcsec)
         out |= _mounting_expected(ang)
+    return out
+
+
+def _expected_rate(station: SimulatedStation, camp: Campaign, kinds: Mapping[str, list[Segment]]) -> dict[str, Any]:
+    """The rate method's expected values (sampled output, D.2.1–D.2.6 and D.3)."""
+    t = station.truth
+    out: dict[str, Any] = {}
     if "rate-output" in kinds:
         plain = [s for s in kinds["rate-output"] if "run" not in s.conditions and "temperature" not in s.conditions]
         if plain:
-            signed = [_rate_of(s) for s in plain]
-            Fk = _ideal_Fk(t, signed, {})
-            K, F0 = _line(signed, Fk)
-            if t.output == "rate":  # a digital rate: K a ratio, F₀ in °/s (D.2 reads any angular rate as °/s)
-                out["K"], out["F0"] = Q_(K / t.lsb_per_deg_s, ""), Q_(F0 / t.lsb_per_deg_s, "deg/s")
-            else:
-                out["K"], out["F0"] = Q_(K, "LSB/(deg/s)"), Q_(F0, "LSB")
-            out["Kn"] = Q_(_kn_rate(signed, Fk), "")
-            pos = [(r, f) for r, f in zip(signed, Fk) if r > 0]
-            neg = [(r, f) for r, f in zip(signed, Fk) if r < 0]
-            if len(pos) > 1 and len(neg) > 1:
-                kp, km = _line(*zip(*pos))[0], _line(*zip(*neg))[0]
-                out["Ka"] = Q_(abs(kp - km) / ((kp + km) / 2), "")
-            mags = sorted({abs(r) for r in signed})
-            if len(mags) >= 3:
-                def kn_of(c):
-                    sel = [r for r in signed if abs(r) <= c]
-                    return _kn_rate(sel, _ideal_Fk(t, sel, {}))
-                om = _omega_max(mags, kn_of, limit)
-                if om is not None and (t.output == "digital" or "rate-revolutions" not in kinds):
-                    out["Omega_max"] = Q_(om, "deg/s")
+            out |= _expected_rate_plain(camp, t, [_rate_of(s) for s in plain], "rate-revolutions" in kinds)
         runs = _by([s for s in kinds["rate-output"] if "run" in s.conditions], "run")
         if len(runs) >= 2:
             Kj = []
@@ -415,6 +413,30 @@ def expected_rate_items(station: SimulatedStation, segments) -> dict[str, Any]:
             fp, fm = _ideal_Fk(t, [r, -r], g[0].conditions, proj)
             ang[(ax, turn)] = math.degrees(math.asin((fp - fm) / (2 * t.lsb_per_deg_s * r)))
         out |= _mounting_expected(ang)
+    return out
+
+
+def _expected_rate_plain(camp: Campaign, t: GyroTruth, signed: list[float], revolutions: bool) -> dict[str, Any]:
+    """K, F₀, K_n, K_a (D.2.1–D.2.3) and Ω_max (D.3) of the plain rate points ``signed`` (°/s)."""
+    out: dict[str, Any] = {}
+    Fk = _ideal_Fk(t, signed, {})
+    K, F0 = _line(signed, Fk)
+    if t.output == "rate":  # a digital rate: K a ratio, F₀ in °/s (D.2 reads any angular rate as °/s)
+        out["K"], out["F0"] = Q_(K / t.lsb_per_deg_s, ""), Q_(F0 / t.lsb_per_deg_s, "deg/s")
+    else:
+        out["K"], out["F0"] = Q_(K, "LSB/(deg/s)"), Q_(F0, "LSB")
+    out["Kn"] = Q_(_kn_rate(signed, Fk), "")
+    pos = [(r, f) for r, f in zip(signed, Fk) if r > 0]
+    neg = [(r, f) for r, f in zip(signed, Fk) if r < 0]
+    if len(pos) > 1 and len(neg) > 1:
+        kp, km = _line(*zip(*pos))[0], _line(*zip(*neg))[0]
+        out["Ka"] = Q_(abs(kp - km) / ((kp + km) / 2), "")
+    mags = sorted({abs(r) for r in signed})
+    if len(mags) >= 3 and (t.output == "digital" or not revolutions):
+        def kn_of(c):
+            sel = [r for r in signed if abs(r) <= c]
+            return _kn_rate(sel, _ideal_Fk(t, sel, {}))
+        out |= standard_expected(camp, {"gbt45570:nonlinearity": _nonlinearity_curve(mags, kn_of)})
     return out
 
 

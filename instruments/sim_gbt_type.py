@@ -24,7 +24,7 @@ import pint
 
 from metro.core.base.units import Q_
 
-from .equipment import EquipmentModel, _fixed_rng, _nonneg, _q
+from .gauges import type_test_equipment
 from .simulated import (
     SimulatedStation,
     register_expected,
@@ -32,6 +32,7 @@ from .simulated import (
     register_record_kind,
     register_step_kind,
 )
+from .stations import standard_expected
 
 
 @attrs.frozen
@@ -69,68 +70,6 @@ class TypeTestTruth:
 
 
 TRUTH = TypeTestTruth()
-
-
-@attrs.frozen(kw_only=True)
-class _Gauge(EquipmentModel):
-    """A gauge that reads a true value with a fixed error uniform within ±√3·U/2 (its certificate's
-    standard uncertainty), a relative ``noise`` per reading, rounded to ``resolution``."""
-
-    resolution: pint.Quantity = attrs.field(default=Q_(0.01, "mm"), converter=lambda v: v if isinstance(
-        v, pint.Quantity) else Q_(v), validator=_nonneg)
-    noise: float = 0.0
-
-    def properties(self) -> dict[str, Any]:
-        return {"resolution": self.resolution}
-
-    def read(self, true: pint.Quantity, n: int, rng: np.random.Generator, *tag: Any) -> list[pint.Quantity]:
-        u = self.resolution.units
-        x = float(true.to(u).magnitude)
-        U = self.U
-        if U is None:
-            half = 0.0
-        else:  # the fixed error: uniform with the certificate's standard uncertainty U/k
-            u_abs = float(U.to("").magnitude) * abs(x) if U.dimensionless else float(U.to(u).magnitude)
-            half = math.sqrt(3.0) * u_abs / self.k
-        err = float(_fixed_rng(self.seed, type(self).__name__, *tag).uniform(-half, half))
-        res = float(self.resolution.magnitude)
-        vals = x + err + rng.normal(0.0, self.noise * abs(x), size=n)
-        return [Q_(float(np.round(v / res) * res), u) for v in vals]
-
-
-@attrs.frozen(kw_only=True)
-class Calliper(_Gauge):
-    ROLE = "calliper"
-
-
-@attrs.frozen(kw_only=True)
-class Balance(_Gauge):
-    ROLE = "balance"
-
-
-@attrs.frozen(kw_only=True)
-class Megohmmeter(_Gauge):
-    """Insulation tester: range ``low`` … ``high``; beyond it the display shows ``< low`` / ``> high``."""
-
-    ROLE = "megohmmeter"
-    low: pint.Quantity = attrs.field(default=Q_(0.1, "Mohm"), converter=_q("ohm"))
-    high: pint.Quantity = attrs.field(default=Q_(10_000, "Mohm"), converter=_q("ohm"))
-
-    def properties(self) -> dict[str, Any]:
-        return {"resolution": self.resolution, "range_low": self.low, "range_high": self.high}
-
-
-def type_test_equipment(seed: int = 1) -> list[EquipmentModel]:
-    """Callipers, balance and megohmmeter of the simulated type test (certificates, U, resolution)."""
-    sim = {"lab": "simulated", "seed": int(seed)}
-    return [
-        Calliper(id="SIM-CALLIPER", model="simulated digital callipers 0–150 mm", certificate="SIM-CAL-0101",
-                 U=Q_(0.02, "mm"), resolution=Q_(0.01, "mm"), noise=1e-4, **sim),
-        Balance(id="SIM-BALANCE", model="simulated electronic balance 0–3 kg", certificate="SIM-CAL-0102",
-                U=Q_(0.2, "g"), resolution=Q_(0.1, "g"), noise=2e-5, **sim),
-        Megohmmeter(id="SIM-MEGOHM", model="simulated insulation tester 500 V", certificate="SIM-CAL-0103",
-                    U=Q_(0.05, ""), resolution=Q_(1, "Mohm"), noise=5e-3, **sim),
-    ]
 
 
 def _rng(station: SimulatedStation, *tag: Any) -> np.random.Generator:
@@ -221,38 +160,35 @@ def rec_insulation(station, step, index) -> dict:
     return {"inspection": {"insulation": out}}
 
 
-def _severity(tag: str, application: str) -> dict[str, str]:
-    """Table C.1's severity of the application (aviation by default) where it states one, else a
-    product-specification-like severity for the test."""
-    from metro.plugins.gbt45570.type_env import TESTS
+#: the 5.4 tests done elsewhere that the simulated environmental lab reports: (tag, the record's
+#: ``test``, the standard giving the method, the severity it applied).  The severities are table
+#: C.1's aviation column where it states one (the simulated device is an aviation gyro), else
+#: product-specification-like values (the lab's declaration, not read from the standard)
+ENV_TESTS: tuple[tuple[str, str, str, dict[str, str]], ...] = (
+    ("lts", "low-temperature storage", "GB/T 2423.1", {"temperature": "-55 degC", "duration": "16 h"}),
+    ("hts", "high-temperature storage", "GB/T 2423.2", {"temperature": "85 degC", "duration": "16 h"}),
+    ("tsh", "temperature shock", "GB/T 2423.22", {"low_temperature": "-55 degC", "high_temperature": "85 degC",
+                                                  "transfer_time": "2 min", "cycles": "3"}),
+    ("lp", "low pressure", "GB/T 2423.21", {"pressure": "3500 Pa", "duration": "2 h"}),
+    ("acc", "acceleration", "GB/T 2423.15", {"acceleration": "15 gn", "duration": "1 min"}),
+    ("dh", "damp heat", "GB/T 2423.3", {"temperature": "40 degC", "humidity": "93 %", "duration": "48 h"}),
+    ("mould", "mould", "GB/T 2423.16", {"duration": "28 day"}),
+    ("salt", "salt fog", "GB/T 2423.17", {"duration": "48 h"}),
+    ("tvac", "thermal vacuum", "GB/T 34522", {"pressure": "6.0e-3 Pa", "low_temperature": "-45 degC",
+                                              "high_temperature": "85 degC", "cycles": "3"}),
+    ("rad", "radiation", "GB/T 4937.18", {"total_dose": "200 Gy"}),
+    ("emc", "emc", "product specification", {}),
+)
 
-    test = next(t for t in TESTS if t.tag == tag)
-    defaults = {"duration": {"lts": "16 h", "hts": "16 h", "lp": "2 h", "acc": "1 min", "dh": "48 h",
-                             "mould": "28 day", "salt": "48 h"}.get(tag, "1 h"),
-                "temperature": "40 degC", "humidity": "93 %", "pressure": "6.0e-3 Pa", "low_temperature": "-45 degC",
-                "high_temperature": "85 degC", "cycles": "3", "total_dose": "200 Gy", "acceleration": "18 gn",
-                "transfer_time": "2 min"}
-    out = {}
-    for p in test.params:
-        v = p.c1.get(application)
-        out[p.name] = f"{v:g} {p.unit}".strip() if v is not None else defaults[p.name]
-    return out
 
-
-def _env_record(tag: str):
+def _env_record(tag: str, key: str, method: str, severity: dict[str, str]):
     def take_down(station, step, index) -> dict:
-        from metro.plugins.gbt45570.conformity import application_of
-        from metro.plugins.gbt45570.type_env import TESTS
-
-        test = next(t for t in TESTS if t.tag == tag)
-        app = application_of(station.device().application) or "aviation"
-        rec = {"test": test.key, "standard": test.method, "lab": "simulated environmental lab",
-               "report": f"SIM-ENV-{tag.upper()}", "severity": _severity(tag, app), "functional_check": True,
+        rec = {"test": key, "standard": method, "lab": "simulated environmental lab",
+               "report": f"SIM-ENV-{tag.upper()}", "severity": dict(severity), "functional_check": True,
                "before": f"env-{tag}-before", "after": f"env-{tag}-after",
                "required": {"bias_change": "± 0.05 deg/h", "scale_factor_change": "± 30 ppm",
                             "source": "simulated product specification"}}
-        if test.key == "emc":
-            rec["severity"] = {}
+        if key == "emc":
             rec["notes"] = "CE102/RE102/CS101/RS103 per the technical agreement"
         return {"environmental_tests": [rec]}
 
@@ -260,10 +196,8 @@ def _env_record(tag: str):
 
 
 def _register_env() -> None:
-    from metro.plugins.gbt45570.type_env import TESTS
-
-    for t in TESTS:
-        register_record_kind(f"record:environmental_tests.{t.tag}")(_env_record(t.tag))
+    for tag, key, method, severity in ENV_TESTS:
+        register_record_kind(f"record:environmental_tests.{tag}")(_env_record(tag, key, method, severity))
 
 
 @register_record_kind("record:reliability.mtbf")
@@ -281,11 +215,11 @@ def rec_life(station, step, index) -> dict:
 
 @register_step_kind("type-env")
 def sim_type_env(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
-    from .sim_gbt_env import _static_segment
+    from .sim_gbt_env import static_segment
 
     after = str(step.conditions.get("phase", "before")).lower() == "after"
     off = bias_offset_deg_h + (TRUTH.shift(str(step.conditions.get("test", ""))) if after else 0.0)
-    return _static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
+    return static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
                            offset=off, progress=progress)
 
 
@@ -322,33 +256,34 @@ def sim_type_env_revolutions(station, step, index, *, bias_offset_deg_h, **_):
 @register_step_kind("type-env-rate-output")
 def sim_type_env_rate_output(station, step, index, *, interval_s, n, bias_offset_deg_h, **_):
     """The output at a rate point before/after a test (the rate method's record, D.2.1.2 g))."""
-    from .sim_gbt_rate import _rate_samples
+    from .sim_gbt_rate import rate_samples
 
-    return _rate_samples(_after_station(station, step), step, index, n, interval_s, 1.0, bias_offset_deg_h)
+    return rate_samples(_after_station(station, step), step, index, n, interval_s, 1.0, bias_offset_deg_h)
 
 
 @register_step_kind("type-env-rate-static")
 def sim_type_env_rate_static(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
-    from .sim_gbt_env import _static_segment
+    from .sim_gbt_env import static_segment
 
-    return _static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
+    return static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
                            offset=bias_offset_deg_h, progress=progress)
 
 
 @register_expected
-def expected_type_env(station, segments) -> dict[str, Any]:
+def expected_type_env(station, camp) -> dict[str, Any]:
     """ΔB₀ and ΔK/K of every 5.4 test done elsewhere whose before/after records were simulated."""
-    tags = {str(s.conditions.get("test")) for s in segments if s.kind == "type-env"}
+    tags = {str(s.conditions.get("test")) for s in camp.segments if s.kind == "type-env"}
     out = {f"{t}_dB0": Q_(TRUTH.shift(t), "deg/h") for t in tags}
-    sf = {str(s.conditions.get("test")) for s in segments if s.kind.startswith("type-env-r")}
+    sf = {str(s.conditions.get("test")) for s in camp.segments if s.kind.startswith("type-env-r")}
     return out | {f"{t}_dK": Q_(TRUTH.sf_shift(t) * 1e6, "ppm") for t in sf}
 
 
 @register_record_expected
-def expected_records(station, records) -> dict[str, Any]:
-    """The truth of the measured inspection items and the MTBF bound of the declared evidence."""
+def expected_records(station, camp) -> dict[str, Any]:
+    """The truth of the measured inspection items, and the MTBF bound of the declared evidence
+    (by the standard's formula, from its plugin)."""
     out: dict[str, Any] = {}
-    insp = records.get("inspection", {})
+    insp = camp.records.get("inspection", {})
     if "mass" in insp:
         out["mass"] = Q_(TRUTH.mass_g, "g")
     if "dimensions" in insp:
@@ -360,11 +295,10 @@ def expected_records(station, records) -> dict[str, Any]:
         for pair, R in TRUTH.insulation_Mohm:
             if R <= 10_000:
                 out["R_ins_" + re.sub(r"[^0-9A-Za-z]+", "_", pair).strip("_")] = Q_(R, "Mohm")
-    if "operating_hours" in records.get("reliability", {}):
-        from metro.plugins.gbt45570.reliability import mtbf_lower_bound
-
-        out["mtbf_lower"] = Q_(mtbf_lower_bound(TRUTH.operating_hours, TRUTH.failures, TRUTH.confidence,
-                                                TRUTH.plan), "h")
+    if "operating_hours" in camp.records.get("reliability", {}):
+        evidence = {"operating_hours": TRUTH.operating_hours, "failures": TRUTH.failures,
+                    "confidence": TRUTH.confidence, "plan": TRUTH.plan}
+        out |= standard_expected(camp, {"gbt45570:reliability": evidence})
     return out
 
 

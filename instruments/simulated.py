@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 import attrs
 import numpy as np
@@ -36,6 +36,17 @@ from metro.core.base.units import Q_
 
 from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, physical (IERS)
 
+from .sim_registry import (
+    expected_contributors,
+    merge_records,
+    record_expected_contributors,
+    record_simulators,
+    register_expected,
+    register_record_expected,
+    register_record_kind,
+    register_step_kind,
+    step_simulators,
+)
 from .stations import step_seed
 
 
@@ -263,7 +274,8 @@ class SimulatedStation:
         )
 
     def equipment(self) -> list[Equipment]:
-        from .equipment import equipment_list, gbt45570_equipment
+        from .equipment import equipment_list
+        from .kits import gbt45570_equipment
 
         return equipment_list(gbt45570_equipment(seed=self.truth.seed))
 
@@ -349,21 +361,7 @@ class SimulatedStation:
             ))
         if t.polarity < 0:
             segments = [_reversed(seg) for seg in segments]
-        exp = {k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()}
-        if repeat_durations_s:
-            exp["Br"] = Q_(expected_bias_repeatability(t, repeat_durations_s), "deg/h")
-        rates = [s.conditions["rate"] for s in segments if s.kind == "rate-revolutions"]
-        if rates:
-            from metro.core.base.units import parse_quantity
-
-            vals = [parse_quantity(r, dimension="deg/s").to("deg/s").magnitude for r in rates]
-            exp |= {k: Q_(v, _EXPECTED_UNITS[k])
-                    for k, v in expected_scale_factor(t, vals, self.latitude_deg).items()}
-        for contribute in expected_contributors():
-            exp |= contribute(self, segments)
-        for contribute in (_RECORD_EXPECTED if records else ()):
-            exp |= contribute(self, records)
-        return Campaign(
+        camp = Campaign(
             id="SIMULATED",
             device=self.device(),
             equipment=self.equipment(),
@@ -373,9 +371,30 @@ class SimulatedStation:
             source="simulated station",
             simulated=True,
             truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
-            expected=exp,
             records=records,
         )
+        return attrs.evolve(camp, expected=self.expected_values(camp, repeat_durations_s))
+
+    def expected_values(self, camp: Campaign, repeat_durations_s: Sequence[float] = ()) -> dict[str, Any]:
+        """What an ideal evaluation of the truth gives for the items ``camp`` holds records of: the
+        station's own (:func:`expected`, :func:`expected_scale_factor`) and the step modules'
+        (:func:`register_expected`, :func:`register_record_expected`)."""
+        t = self.truth
+        exp = {k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()}
+        if repeat_durations_s:
+            exp["Br"] = Q_(expected_bias_repeatability(t, repeat_durations_s), "deg/h")
+        rates = [s.conditions["rate"] for s in camp.segments if s.kind == "rate-revolutions"]
+        if rates:
+            from metro.core.base.units import parse_quantity
+
+            vals = [parse_quantity(r, dimension="deg/s").to("deg/s").magnitude for r in rates]
+            exp |= {k: Q_(v, _EXPECTED_UNITS[k])
+                    for k, v in expected_scale_factor(t, vals, self.latitude_deg).items()}
+        for contribute in expected_contributors():
+            exp |= contribute(self, camp)
+        for contribute in (record_expected_contributors() if camp.records else ()):
+            exp |= contribute(self, camp)
+        return exp
 
 
 AXES = ("IRA", "XRA", "YRA")
@@ -398,104 +417,6 @@ def _reversed(seg: Segment) -> Segment:
             for name, (data, unit) in seg.columns().items()}
     digest = hashlib.sha256(b"".join(np.ascontiguousarray(d).tobytes() for d, _ in cols.values())).hexdigest()
     return attrs.evolve(seg, sha256=digest, loader=lambda c=cols: c)
-
-#: step kind -> simulator; see :func:`register_step_kind`
-_STEP_SIMULATORS: dict[str, Callable[..., Segment]] = {}
-#: modules that register further step kinds of the virtual gyro (imported on first use)
-STEP_MODULES: tuple[str, ...] = ("metro.instruments.sim_gbt_rate", "metro.instruments.sim_gbt_env",
-                                  "metro.instruments.sim_gbt_type")
-#: record kind (``record:<section>…``) -> fn(station, step, index) -> {section: table}; see :func:`register_record_kind`
-_RECORD_SIMULATORS: dict[str, Callable[..., Mapping[str, Any]]] = {}
-#: functions ``fn(station, records) -> {metric key: quantity}`` adding expected values of record items
-_RECORD_EXPECTED: list[Callable[..., Mapping[str, Any]]] = []
-
-
-def register_record_kind(kind: str):
-    """Decorator: ``fn(station, step, index) -> {section: table}`` takes down the records of steps of
-    ``kind`` (which starts with ``record:``) on :class:`SimulatedStation` — an inspection, a test done
-    elsewhere — as a lab would write them in the manifest (text with units)."""
-    from metro.core.model.procedure import RECORD_KIND_PREFIX
-
-    if not kind.startswith(RECORD_KIND_PREFIX):
-        raise ValueError(f"a record kind starts with {RECORD_KIND_PREFIX!r}, got {kind!r}")
-
-    def deco(fn):
-        if kind in _RECORD_SIMULATORS and _RECORD_SIMULATORS[kind] is not fn:
-            raise ValueError(f"record kind {kind!r} is already simulated by {_RECORD_SIMULATORS[kind].__qualname__}")
-        _RECORD_SIMULATORS[kind] = fn
-        return fn
-
-    return deco
-
-
-def register_record_expected(fn: Callable[..., Mapping[str, Any]]) -> Callable[..., Mapping[str, Any]]:
-    """Decorator: ``fn(station, records)`` returns the values (quantities by metric key) an ideal
-    evaluation of the simulated records gives; merged into the campaign's ``expected``."""
-    if fn not in _RECORD_EXPECTED:
-        _RECORD_EXPECTED.append(fn)
-    return fn
-
-
-def record_simulators() -> Mapping[str, Callable[..., Mapping[str, Any]]]:
-    step_simulators()  # imports the step modules, which register their record kinds
-    return _RECORD_SIMULATORS
-
-
-def merge_records(into: dict[str, Any], more: Mapping[str, Any]) -> dict[str, Any]:
-    """Add ``more`` to ``into`` section by section: tables merge key by key, arrays of tables extend."""
-    for key, val in more.items():
-        old = into.get(key)
-        if isinstance(old, dict) and isinstance(val, Mapping):
-            merge_records(old, val)
-        elif isinstance(old, list) and isinstance(val, list):
-            old.extend(val)
-        else:
-            into[key] = dict(val) if isinstance(val, Mapping) else (list(val) if isinstance(val, list) else val)
-    return into
-
-
-def register_step_kind(kind: str) -> Callable[[Callable[..., Segment]], Callable[..., Segment]]:
-    """Decorator: ``fn(station, step, index, *, interval_s, n, orientation, bias_offset_deg_h,
-    progress) -> Segment`` simulates steps of ``kind`` on :class:`SimulatedStation`.
-
-    Keeps one station (one virtual gyro, one truth) while the test methods that need other
-    motions (rate runs, tilts, vibration …) live in their own modules.
-    """
-
-    def deco(fn: Callable[..., Segment]) -> Callable[..., Segment]:
-        if kind in _STEP_SIMULATORS and _STEP_SIMULATORS[kind] is not fn:
-            raise ValueError(f"step kind {kind!r} is already simulated by {_STEP_SIMULATORS[kind].__qualname__}")
-        _STEP_SIMULATORS[kind] = fn
-        return fn
-
-    return deco
-
-
-#: functions ``fn(station, segments) -> {metric key: quantity}`` adding expected values
-_EXPECTED_CONTRIBUTORS: list[Callable[..., Mapping[str, Any]]] = []
-
-
-def register_expected(fn: Callable[..., Mapping[str, Any]]) -> Callable[..., Mapping[str, Any]]:
-    """Decorator: ``fn(station, segments)`` returns expected values (quantities by metric key) for
-    the items whose motions a step module simulates; merged into the campaign's ``expected``."""
-    if fn not in _EXPECTED_CONTRIBUTORS:
-        _EXPECTED_CONTRIBUTORS.append(fn)
-    return fn
-
-
-def expected_contributors() -> list[Callable[..., Mapping[str, Any]]]:
-    step_simulators()  # imports the step modules, which register their contributors
-    return list(_EXPECTED_CONTRIBUTORS)
-
-
-def step_simulators() -> Mapping[str, Callable[..., Segment]]:
-    import importlib
-
-    for mod in STEP_MODULES:
-        importlib.import_module(mod)
-    return _STEP_SIMULATORS
-
-
 
 def scale_factor_at(truth: GyroTruth, rate_deg_s: float, direction: int) -> float:
     """The virtual gyro's scale factor (P/″) at |Ω| = ``rate_deg_s`` turning in ``direction`` (±1)."""

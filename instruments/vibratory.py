@@ -354,45 +354,45 @@ def _sets(steps, kind, key):
     return out
 
 
-def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlinearity_spec: float) -> dict[str, Any]:
-    """An ideal (noiseless) evaluation of the planned steps, by the standard's definitions.  The
-    truth is the device's own K and bias: a power-on's draw (``power_on_variation``) is an error of
-    that calibration, not the device's value (the repeats of 7.2.4 / 7.2.15 keep their draws, whose
-    spread is what those items measure) — except the bias B₀ of 7.2.13, which is the static record's
-    own power-on's."""
-    t0, t = t, attrs.evolve(t, power_on_variation=False)
+def _sf_points(t: VibratoryTruth, group, kind: str, lat: float) -> tuple[np.ndarray, np.ndarray]:
+    """The set rates (°/s) of ``group`` and the noiseless mean outputs (mV) there."""
+    om = np.array([_cond(s.conditions, "rate", "deg/s") for s in group])
+    F = np.array([mean_output(t, kind, s.conditions, lat) for s in group])
+    return om, F
+
+
+def _expected_rate(t: VibratoryTruth, rate: list[Step], lat: float, nonlinearity_spec: float) -> dict[str, Any]:
+    """K, F₀, K_n, the input range (the largest span within the nonlinearity spec) and K_a."""
+    ex: dict[str, Any] = {}
+    om, F = _sf_points(t, rate, "rate", lat)
+    K, F0 = _fit(om, F)
+    ex["K"], ex["F0"] = Q_(K, "mV/(deg/s)"), Q_(F0, "mV")
+    span = om.max() - om.min()
+    ex["Kn"] = Q_(float(np.max(np.abs(K * om + F0 - F)) / (K * span)), "")
+    mags = np.unique(np.abs(om))[::-1]
+    rng_ = None
+    for top in mags:
+        sel = np.abs(om) <= top
+        if np.any(om[sel] > 0) and np.any(om[sel] < 0) and sel.sum() >= 3:
+            k, f0 = _fit(om[sel], F[sel])
+            kn = np.max(np.abs(k * om[sel] + f0 - F[sel])) / (k * (om[sel].max() - om[sel].min()))
+            if kn <= nonlinearity_spec:
+                rng_ = top
+                break
+    if rng_ is not None:
+        ex["range"] = Q_(float(rng_), "deg/s")
+    kp, _ = _fit(om[om > 0], F[om > 0])
+    km, _ = _fit(om[om < 0], F[om < 0])
+    ex["Ka"] = Q_(abs(kp - km) / K, "")
+    return ex
+
+
+def _expected_k_sets(t: VibratoryTruth, steps: list[Step], lat: float) -> dict[str, Any]:
+    """K_r, K_t, K_g and the scale-factor changes after shock and vibration."""
     ex: dict[str, Any] = {}
 
-    def sf(group, kind):
-        om = np.array([_cond(s.conditions, "rate", "deg/s") for s in group])
-        F = np.array([mean_output(t, kind, s.conditions, lat) for s in group])
-        return om, F
-
-    rate = [s for s in steps if s.kind == "rate"]
-    if rate:
-        om, F = sf(rate, "rate")
-        K, F0 = _fit(om, F)
-        ex["K"], ex["F0"] = Q_(K, "mV/(deg/s)"), Q_(F0, "mV")
-        span = om.max() - om.min()
-        ex["Kn"] = Q_(float(np.max(np.abs(K * om + F0 - F)) / (K * span)), "")
-        mags = np.unique(np.abs(om))[::-1]
-        rng_ = None
-        for top in mags:
-            sel = np.abs(om) <= top
-            if np.any(om[sel] > 0) and np.any(om[sel] < 0) and sel.sum() >= 3:
-                k, f0 = _fit(om[sel], F[sel])
-                kn = np.max(np.abs(k * om[sel] + f0 - F[sel])) / (k * (om[sel].max() - om[sel].min()))
-                if kn <= nonlinearity_spec:
-                    rng_ = top
-                    break
-        if rng_ is not None:
-            ex["range"] = Q_(float(rng_), "deg/s")
-        kp, _ = _fit(om[om > 0], F[om > 0])
-        km, _ = _fit(om[om < 0], F[om < 0])
-        ex["Ka"] = Q_(abs(kp - km) / K, "")
-
     def kset(kind, key):
-        return {k: _fit(*sf(g, kind))[0] for k, g in _sets(steps, kind, key).items()}
+        return {k: _fit(*_sf_points(t, g, kind, lat))[0] for k, g in _sets(steps, kind, key).items()}
 
     rep = kset("rate-repeat", ("run",))
     if len(rep) >= 2:
@@ -414,20 +414,25 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
         if s:
             ex[key] = Q_(max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s),
                          "mV/(deg/s)")
-    # the items divide by K as calibrated by 7.2.1 (the noiseless fit), not by the nominal K
-    Kn = float(ex["K"].magnitude) if "K" in ex else t.K_mV_per_dps
-    static = [s for s in steps if s.kind == "static"]
-    if static:
-        # B₀ of 7.2.13 is the bias of this record's power-on (interpretations.md, "7.2.13"): its turn-on
-        # draw is part of the truth (the record's K differs from 7.2.1's: that is error, K_r's row)
-        own = operating_point(t0, "static", static[0].conditions, lat)[1] - operating_point(
-            t, "static", static[0].conditions, lat)[1]
-        ex["B0"] = Q_((mean_output(t, "static", static[0].conditions, lat) / Kn + own) * 3600.0, "deg/h")
-        ex["ARW"] = Q_(t.arw_deg_rt_h, "deg/hour**0.5")
-        ex["Q"] = Q_(t.quantization_arcsec, "arcsec")
-        ex["RRW"] = Q_(t.rrw_deg_h_rt_h, "deg/h/hour**0.5")
-        ex["RR"] = Q_(t.rate_ramp_deg_h2, "deg/h**2")
-        ex["BI"] = Q_(t.bias_instability_deg_h, "deg/h")
+    return ex
+
+
+def _expected_static(t0: VibratoryTruth, t: VibratoryTruth, static: list[Step], lat: float,
+                     Kn: float) -> dict[str, Any]:
+    """B₀ of 7.2.13 and the noise terms of the static record."""
+    # B₀ of 7.2.13 is the bias of this record's power-on (interpretations.md, "7.2.13"): its turn-on
+    # draw is part of the truth (the record's K differs from 7.2.1's: that is error, K_r's row)
+    own = operating_point(t0, "static", static[0].conditions, lat)[1] - operating_point(
+        t, "static", static[0].conditions, lat)[1]
+    return {"B0": Q_((mean_output(t, "static", static[0].conditions, lat) / Kn + own) * 3600.0, "deg/h"),
+            "ARW": Q_(t.arw_deg_rt_h, "deg/hour**0.5"), "Q": Q_(t.quantization_arcsec, "arcsec"),
+            "RRW": Q_(t.rrw_deg_h_rt_h, "deg/h/hour**0.5"), "RR": Q_(t.rate_ramp_deg_h2, "deg/h**2"),
+            "BI": Q_(t.bias_instability_deg_h, "deg/h")}
+
+
+def _expected_bias_sets(t: VibratoryTruth, steps: list[Step], lat: float, Kn: float) -> dict[str, Any]:
+    """B_r, B_t, B_g and the bias changes after shock and vibration."""
+    ex: dict[str, Any] = {}
 
     def bset(kind, key):
         return {k: mean_output(t, kind, g[0].conditions, lat) / Kn * 3600.0 for k, g in _sets(steps, kind, key).items()}
@@ -453,6 +458,12 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
         s = bset(kind, ("axis", "phase"))
         if s:
             ex[key] = Q_(max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s), "deg/h")
+    return ex
+
+
+def _expected_misalignment(t: VibratoryTruth, steps: list[Step]) -> dict[str, Any]:
+    """γ of the first run and, with two runs or more, its scatter γ_r."""
+    ex: dict[str, Any] = {}
     mis = _sets(steps, "misalignment", ("run",))
     if mis:
         gam = []
@@ -462,41 +473,74 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
         ex["gamma"] = Q_(gam[0], "arcmin")
         if len(gam) >= 2:
             ex["gamma_r"] = Q_(float(np.std(gam, ddof=1)), "arcmin")
-    def last_passing(pairs, K):
-        """Largest-first run of levels with |(KΩ − F)/(KΩ)| ≤ 50 % (eqs. (17), (18)): its last level."""
-        last = None
-        for om, f in sorted(pairs, key=lambda p: -abs(p[0])):
-            if abs((K * om - f) / (K * om)) > 0.5:
-                break
-            last = abs(om)
-        return last
+    return ex
 
+
+def _last_passing(pairs, K):
+    """Largest-first run of levels with |(KΩ − F)/(KΩ)| ≤ 50 % (eqs. (17), (18)): its last level."""
+    last = None
+    for om, f in sorted(pairs, key=lambda p: -abs(p[0])):
+        if abs((K * om - f) / (K * om)) > 0.5:
+            break
+        last = abs(om)
+    return last
+
+
+def _expected_threshold(t: VibratoryTruth, steps: list[Step], lat: float, K: float) -> dict[str, Any]:
+    """The threshold of 7.2.9: the device's Ω_th and the last passing level of the planned steps."""
+    f0 = mean_output(t, "threshold", {"rate": "0 deg/s"}, lat)
+    lv = [s for s in steps if s.kind == "threshold" and _cond(s.conditions, "rate", "deg/s") != 0]
+    c = [_last_passing([(_cond(s.conditions, "rate", "deg/s"), mean_output(t, "threshold", s.conditions, lat) - f0)
+                        for s in lv if np.sign(_cond(s.conditions, "rate", "deg/s")) == sg], K)
+         for sg in (1, -1)]
+    if not all(x is not None for x in c):
+        return {}
+    # the device's threshold by the 50 % criterion is Ω_th; the last passing level of the
+    # planned (noiseless) sequence is what 7.2.9 reports, one level step above it at most
+    return {"threshold": Q_(t.threshold_dps, "deg/s"), "threshold_grid": Q_(max(c), "deg/s")}
+
+
+def _expected_resolution(t: VibratoryTruth, steps: list[Step], lat: float, K: float) -> dict[str, Any]:
+    """The resolution of 7.2.10: the device's and the last passing increment of the planned steps."""
+    c = []
+    for sg in (1, -1):
+        mine = [s for s in steps
+                if s.kind == "resolution" and np.sign(_cond(s.conditions, "base_rate", "deg/s")) == sg]
+        base = [s for s in mine if _cond(s.conditions, "increment", "deg/s") == 0]
+        if not base:
+            continue
+        fb = mean_output(t, "resolution", base[0].conditions, lat)
+        c.append(_last_passing([(_cond(s.conditions, "increment", "deg/s"),
+                                 mean_output(t, "resolution", s.conditions, lat) - fb)
+                                for s in mine if _cond(s.conditions, "increment", "deg/s") != 0], K))
+    if not (c and all(x is not None for x in c)):
+        return {}
+    return {"resolution": Q_(t.resolution_dps, "deg/s"), "resolution_grid": Q_(max(c), "deg/s")}
+
+
+def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlinearity_spec: float) -> dict[str, Any]:
+    """An ideal (noiseless) evaluation of the planned steps, by the standard's definitions.  The
+    truth is the device's own K and bias: a power-on's draw (``power_on_variation``) is an error of
+    that calibration, not the device's value (the repeats of 7.2.4 / 7.2.15 keep their draws, whose
+    spread is what those items measure) — except the bias B₀ of 7.2.13, which is the static record's
+    own power-on's."""
+    t0, t = t, attrs.evolve(t, power_on_variation=False)
+    ex: dict[str, Any] = {}
+    rate = [s for s in steps if s.kind == "rate"]
+    if rate:
+        ex |= _expected_rate(t, rate, lat, nonlinearity_spec)
+    ex |= _expected_k_sets(t, steps, lat)
+    # the items divide by K as calibrated by 7.2.1 (the noiseless fit), not by the nominal K
+    Kn = float(ex["K"].magnitude) if "K" in ex else t.K_mV_per_dps
+    static = [s for s in steps if s.kind == "static"]
+    if static:
+        ex |= _expected_static(t0, t, static, lat, Kn)
+    ex |= _expected_bias_sets(t, steps, lat, Kn)
+    ex |= _expected_misalignment(t, steps)
     if rate and any(s.kind == "threshold" for s in steps):
-        f0 = mean_output(t, "threshold", {"rate": "0 deg/s"}, lat)
-        lv = [s for s in steps if s.kind == "threshold" and _cond(s.conditions, "rate", "deg/s") != 0]
-        c = [last_passing([(_cond(s.conditions, "rate", "deg/s"),
-                            mean_output(t, "threshold", s.conditions, lat) - f0)
-                           for s in lv if np.sign(_cond(s.conditions, "rate", "deg/s")) == sg], ex["K"].magnitude)
-             for sg in (1, -1)]
-        if all(x is not None for x in c):
-            # the device's threshold by the 50 % criterion is Ω_th; the last passing level of the
-            # planned (noiseless) sequence is what 7.2.9 reports, one level step above it at most
-            ex["threshold"] = Q_(t.threshold_dps, "deg/s")
-            ex["threshold_grid"] = Q_(max(c), "deg/s")
+        ex |= _expected_threshold(t, steps, lat, ex["K"].magnitude)
     if rate and any(s.kind == "resolution" for s in steps):
-        c = []
-        for sg in (1, -1):
-            mine = [s for s in steps if s.kind == "resolution" and np.sign(_cond(s.conditions, "base_rate", "deg/s")) == sg]
-            base = [s for s in mine if _cond(s.conditions, "increment", "deg/s") == 0]
-            if not base:
-                continue
-            fb = mean_output(t, "resolution", base[0].conditions, lat)
-            c.append(last_passing([(_cond(s.conditions, "increment", "deg/s"),
-                                    mean_output(t, "resolution", s.conditions, lat) - fb)
-                                   for s in mine if _cond(s.conditions, "increment", "deg/s") != 0], ex["K"].magnitude))
-        if c and all(x is not None for x in c):
-            ex["resolution"] = Q_(t.resolution_dps, "deg/s")
-            ex["resolution_grid"] = Q_(max(c), "deg/s")
+        ex |= _expected_resolution(t, steps, lat, ex["K"].magnitude)
     if any(s.kind == "angular-vibration" for s in steps):
         # eq. (47) model; 7.2.21 reads the curve at K = 0.707 (not 1/√2): f = B_w·√(1/0.707² − 1)
         ex["Bw"] = Q_(t.bandwidth_hz * math.sqrt(1 / 0.707**2 - 1), "Hz")
@@ -528,7 +572,7 @@ class VibratoryStation:
     name = "simulated-jjf2014"
 
     def _models(self):
-        from .equipment import jjf2014_equipment
+        from .kits import jjf2014_equipment
 
         return jjf2014_equipment(seed=self.truth.seed)
 

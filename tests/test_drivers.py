@@ -18,7 +18,7 @@ from pint.errors import UndefinedUnitError
 
 from metro.core.base.errors import DriverError, UnitError
 from metro.core.base.units import Q_
-from metro.instruments.drivers import base
+from metro.core.model import drivers as base
 from metro.instruments.drivers.serial_gyro import (FrameField, FrameLayout, FrameParser, SerialGyro, checksum)
 
 DMM_YAML = Path(__file__).parent / "data" / "drivers" / "scpi_dmm.yaml"

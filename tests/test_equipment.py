@@ -13,6 +13,7 @@ from metro.core.stats import allan
 from metro.core.base.errors import DataError, UnitError
 from metro.core.base.units import Q_
 from metro.instruments import equipment as E
+from metro.instruments import kits
 from metro.instruments.simulated import EARTH_RATE_DEG_PER_H, GyroTruth, simulate_static
 
 FAST = settings(max_examples=40, deadline=None)
@@ -316,7 +317,7 @@ def test_a_simulated_station_reads_its_output_through_its_dmm_model():
     ideal = load_campaign(pm, [proc], [{}], data=None, station_options={"duration_scale": 0.05})
     real = load_campaign(pm, [proc], [{}], data=None,
                          station_options={"duration_scale": 0.05, "instrument_errors": True})
-    dmm = next(m for m in E.jjf2014_equipment() if isinstance(m, E.DigitalMultimeter))
+    dmm = next(m for m in kits.jjf2014_equipment() if isinstance(m, E.DigitalMultimeter))
     res_mV = dmm.resolution.to("mV").magnitude
     for a, b in zip(ideal.segments, real.segments):
         x, u = a.columns()["output"]
@@ -347,7 +348,7 @@ def test_the_simulated_jjf2014_rate_table_errs_as_its_certificate_says():
         truth = VibratoryTruth(seed=seed)
         exact = VibratoryStation(truth=truth, table_errors=False).acquire(steps)
         real = VibratoryStation(truth=truth).acquire(steps)
-        table = next(m for m in E.jjf2014_equipment(seed=seed) if isinstance(m, E.RateTable))
+        table = next(m for m in kits.jjf2014_equipment(seed=seed) if isinstance(m, E.RateTable))
         assert table.U.magnitude == pytest.approx(1e-4)
         for a, b, s in zip(exact.segments, real.segments, steps):
             om = float(Q_(s.conditions["rate"]).to("deg/s").magnitude)

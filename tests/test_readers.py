@@ -14,7 +14,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from metro.core.base.errors import DataError, UnitError
-from metro.instruments import readers
+from metro.instruments.readers import common as readers_common
+from metro.instruments.readers import text as readers_text
+from metro.instruments.readers import writing as readers_writing
 from metro.instruments.readers import (
     SampleTable,
     parse_header_cell,
@@ -205,8 +207,8 @@ def test_jittery_time_passes_with_tolerance_off(tmp_path):
 
 def test_chunk_and_block_boundaries(tmp_path, monkeypatch):
     """Small parser blocks and check chunks: errors are still located exactly."""
-    monkeypatch.setattr(readers, "_BLOCK_BYTES", 1 << 12)
-    monkeypatch.setattr(readers, "_CHECK_ROWS", 37)
+    monkeypatch.setattr(readers_text, "_BLOCK_BYTES", 1 << 12)
+    monkeypatch.setattr(readers_common, "_CHECK_ROWS", 37)
     data = _series(5000, dt=1.0)
     path = write_samples_csv(tmp_path / "b.csv", data, UNITS)
     table = read_samples(path, expected_interval_s=1.0)
@@ -400,10 +402,10 @@ def test_parquet_bad_inputs(tmp_path):
 
 def test_file_changed_while_hashing(tmp_path):
     path = write_samples_csv(tmp_path / "c.csv", _series(10), UNITS)
-    key = readers._stat_key(path.stat())
+    key = readers_common.stat_key(path.stat())
     path.write_text(path.read_text() + "# appended\n")
     with pytest.raises(DataError, match="changed while it was being read") as info:
-        readers._Digest(path, key).result()
+        readers_common.Digest(path, key).result()
     assert str(path) in str(info.value)
 
 
@@ -435,7 +437,7 @@ def test_writer_rejects_bad_columns(tmp_path):
 
 
 def test_writer_handles_many_chunks(tmp_path, monkeypatch):
-    monkeypatch.setattr(readers, "_WRITE_ROWS", 1000)
+    monkeypatch.setattr(readers_writing, "_WRITE_ROWS", 1000)
     data = _series(12_345, dt=0.001)
     path = write_samples_csv(tmp_path / "many.csv", data, UNITS)
     table = read_samples(path, expected_interval_s=0.001)

@@ -15,14 +15,15 @@ Phases:
    :func:`metro_extend_report_context` lets a plugin add to what report templates see.
    :func:`metro_item_applicability` decides which items of a standard apply to a device
    (``metro run --all`` and series); :func:`metro_conformity_specifications` supplies the
-   limits results are judged against.
+   limits results are judged against; :func:`metro_expected_values` computes, by a standard's
+   formulas, the expected values of a simulated campaign from what its station declares.
 3. **Run** — :func:`metro_campaign_loaded`, :func:`metro_procedure_started`,
    :func:`metro_procedure_finished`, :func:`metro_report_written`: lifecycle events.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import pluggy
 
@@ -92,6 +93,9 @@ def metro_register_readers(registrar: "ReaderRegistrar") -> None:
     ``read(path, **kw)`` returns a :class:`metro.instruments.readers.SampleTable`-like
     object with ``columns``, ``units`` and ``sha256``, or raises
     :class:`metro.core.base.errors.DataError`.  A suffix claimed twice is an error naming both.
+    A format metro may also write (the samples files of a campaign ``metro acquire`` writes)
+    gives ``write=callable`` too: ``write(path, columns, units)`` writes ``{name: array}`` with
+    ``{name: unit text}`` so that ``read`` gives them back.
 
     :param registrar: validates and records the readers.
     :return: nothing.
@@ -137,9 +141,9 @@ def metro_register_drivers(registrar: "DriverRegistrar") -> None:
     """Register drivers for live instruments (a vendor's rate table, a DMM, a gyro's output).
 
     Call ``registrar.add_driver(name, kind, cls, description=...)``.  ``kind`` is one of
-    ``metro.instruments.drivers.DRIVER_KINDS`` (``"rate-table"``, ``"dmm"``,
+    ``metro.core.model.drivers.DRIVER_KINDS`` (``"rate-table"``, ``"dmm"``,
     ``"gyro-output"``) and ``cls`` a class implementing that kind's interface
-    (:class:`metro.instruments.drivers.base.RateTableDriver` …); ``cls(**options)`` opens a
+    (:class:`metro.core.model.drivers.RateTableDriver` …); ``cls(**options)`` opens a
     connection.  The registrar refuses an unknown kind, a class that does not subclass the
     interface or leaves abstract methods unimplemented, and a name registered twice (naming
     both plugins).  Driver modules should import their I/O libraries (PyVISA, pyserial, a
@@ -202,6 +206,31 @@ def metro_conformity_specifications(standard: str, campaign: "Campaign") -> "Seq
     :param campaign: the campaign they were run on.
     :return: a sequence of specifications (may be empty), or ``None`` when this plugin has
         none for ``standard``.
+    """
+
+
+@hookspec
+def metro_expected_values(
+    campaign: "Campaign", ideal: "Mapping[str, Any]"
+) -> "Mapping[str, Any] | None":
+    """Compute, by a standard's formulas, what an ideal evaluation of a simulated campaign gives.
+
+    A simulated station declares its device's truth, and ``campaign.expected`` holds what an
+    ideal evaluation of that truth gives: the values results are scored against (``metro run``'s
+    comparison on a simulated campaign, the within-U benchmarks).  Most follow from the truth
+    directly and the station computes them itself.  Where one follows only through the
+    standard's formulas (GB/T 45570's threshold by D.39, JJF 2003's matrix fits), the station
+    does not import the standard's plugin: it puts the noise-free quantities those formulas
+    take into ``ideal`` and calls this hook, and the plugin that knows the keys applies them.
+
+    Keys of ``ideal`` are ``"<standard>:<what>"`` (e.g. ``"gbt45570:tilt_response"``); the
+    plugin that reads them documents what each holds.  Answer only for keys you know.
+
+    :param campaign: the simulated campaign as acquired (device, site, segments, records); its
+        expected values are not filled in yet.
+    :param ideal: the noise-free quantities the station declares, by key.
+    :return: expected values (pint quantities by metric key), or ``None`` when this plugin knows
+        none of the keys.  Results of all plugins are merged, in plugin-name order.
     """
 
 

@@ -215,9 +215,9 @@ def _distinct_segments(campaign: Campaign) -> None:
         seen[seg.id] = seg
 
 
-def _write_samples(folder: Path, stem: str, seg: Segment, npy_rows: int) -> tuple[str, dict[str, str]]:
-    from .readers import write_samples_csv, write_samples_npy
-
+def _write_samples(folder: Path, stem: str, seg: Segment, npy_rows: int,
+                   writer_for: Callable[[str], Callable[..., Any]]) -> tuple[str, dict[str, str]]:
+    """One segment's samples file, written by the format registered for its suffix."""
     cols = seg.recorded_columns()  # as recorded: a ratiometric column stays in mV/V
     if not cols:
         raise DataError(None, f"segments.{seg.id}", "the segment has no columns to write")
@@ -229,10 +229,10 @@ def _write_samples(folder: Path, stem: str, seg: Segment, npy_rows: int) -> tupl
     n = rows.pop()
     name = f"{stem}.npy" if n >= npy_rows else f"{stem}.csv"
     if name.endswith(".npy"):
-        write_samples_npy(folder / name, arrays, units)
+        writer_for(".npy")(folder / name, arrays, units)
     else:
-        write_samples_csv(folder / name, arrays, units,
-                          comments=[f"segment {seg.id} ({seg.kind}), {n} rows"])
+        writer_for(".csv")(folder / name, arrays, units,
+                           comments=[f"segment {seg.id} ({seg.kind}), {n} rows"])
     return name, units
 
 
@@ -274,17 +274,26 @@ def write_campaign(
     npy_rows: int = NPY_ROWS,
     extra: Mapping[str, Any] | None = None,
     progress: Progress | None = None,
+    pm: Any = None,
 ) -> Path:
     """Write ``campaign`` as a folder ``out`` (manifest + samples) and return the manifest's path.
 
     ``out`` must not exist or be an empty folder.  Segments of ``npy_rows`` rows or more go to
-    ``.npy``, shorter ones to CSV.  ``extra`` adds keys to the manifest's ``[campaign]`` table
+    ``.npy``, shorter ones to CSV, each by the writer the plugin manager ``pm`` has registered for
+    the suffix (default: metro's built-in plugins).  ``extra`` adds keys to the manifest's
+    ``[campaign]`` table
     (e.g. the station and the items acquired).  Atomic: a hidden temporary folder is renamed
     onto ``out`` at the end; on error nothing is left behind.
     """
     out = Path(out).absolute()
     _fresh_target(out)
     _distinct_segments(campaign)
+    if pm is None:
+        from metro.core.run.plugin_manager import builtin_plugin_manager
+
+        pm = builtin_plugin_manager()
+    for sfx in (".csv", ".npy"):  # refused before anything is made
+        pm.writer_for(sfx)
     tmp = out.with_name(f".{out.name}{TMP_MARKER}{secrets.token_hex(4)}")
     made = _make_parents(out)
     try:
@@ -293,7 +302,7 @@ def write_campaign(
         files: dict[str, tuple[str, dict[str, str]]] = {}
         total = len(campaign.segments)
         for i, seg in enumerate(campaign.segments):
-            files[seg.id] = _write_samples(tmp, stems[seg.id], seg, npy_rows)
+            files[seg.id] = _write_samples(tmp, stems[seg.id], seg, npy_rows, pm.writer_for)
             if progress is not None:
                 progress("writing samples", i + 1, total)
         atomic_write_text(tmp / MANIFEST, manifest_text(campaign, files, extra))
@@ -411,7 +420,7 @@ def acquire_campaign(
         _check_evaluates(pm, standard, station, items, options, campaign)
     extra = {"station": station, "standard": standard, "items": ",".join(items),
              "acquired": dt.datetime.now(dt.timezone.utc).replace(microsecond=0).isoformat()}
-    return write_campaign(campaign, out, npy_rows=npy_rows, extra=extra, progress=progress)
+    return write_campaign(campaign, out, npy_rows=npy_rows, extra=extra, progress=progress, pm=pm)
 
 
 def _device_of(st: Any):

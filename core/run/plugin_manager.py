@@ -13,21 +13,18 @@ built-ins of the ``metro`` distribution, plus any named in ``METRO_PLUGINS``;
 
 from __future__ import annotations
 
+import functools
 import importlib
 import os
-import sys
-import types
-from importlib import resources
 from importlib import metadata
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping, Sequence
 
 import attrs
 import pluggy
 
 from ..model import hookspec
 from ..base.errors import PluginError
-from ..base.locale import add_catalogs
 from ..base.extras import DISTRIBUTION
 from ..model.campaign import Campaign
 from ..model.results import Outcome
@@ -79,10 +76,18 @@ class SeriesInfo:
 
 @attrs.frozen
 class ReaderInfo:
+    """A samples-file format: how files with these suffixes are read and, optionally, written.
+
+    ``read(path, **kw)`` returns a table of columns with units; ``write(path, columns, units)``
+    (``None``: the format is read-only) writes ``{name: array}`` with ``{name: unit text}`` so
+    that ``read`` gives them back, and returns the path written (a text format also takes
+    ``comments=[…]``, lines written as ``# `` comments)."""
+
     suffixes: tuple[str, ...]
     read: Callable[..., Any]
     description: str
     plugin: str
+    write: Callable[..., Any] | None = None
 
 
 @attrs.frozen
@@ -193,14 +198,21 @@ class StandardRegistrar(_Registrar):
 
 
 class ReaderRegistrar(_Registrar):
-    def add_reader(self, suffixes: Sequence[str], read: Callable[..., Any], description: str = "") -> None:
+    """Validates and records the samples-file formats of one plugin."""
+
+    def add_reader(self, suffixes: Sequence[str], read: Callable[..., Any],
+                   description: str = "", *, write: Callable[..., Any] | None = None) -> None:
+        """Register a file format by suffix: ``read`` and, when the format can be written (a
+        campaign that ``metro acquire`` writes), ``write`` (see :class:`ReaderInfo`)."""
         if not callable(read):
             raise PluginError(f"plugin {self.plugin!r}: reader for {suffixes} is not callable")
+        if write is not None and not callable(write):
+            raise PluginError(f"plugin {self.plugin!r}: writer for {suffixes} is not callable")
         sfx = tuple(s.lower() if s.startswith(".") else "." + s.lower() for s in suffixes)
         for s in sfx:
             if s in self.registry.readers:
                 raise self._dup("reader for suffix", s, self.registry.readers[s].plugin)
-        info = ReaderInfo(sfx, read, description, self.plugin)
+        info = ReaderInfo(sfx, read, description, self.plugin, write)
         for s in sfx:
             self.registry.readers[s] = info
 
@@ -231,7 +243,7 @@ class DriverRegistrar(_Registrar):
     """Validates and records live-instrument drivers for one plugin."""
 
     def add_driver(self, name: str, kind: str, cls: type, description: str = "") -> None:
-        from metro.instruments.drivers.base import DRIVER_KINDS
+        from ..model.drivers import DRIVER_KINDS
 
         if not isinstance(name, str) or not name or name != name.strip() or any(c.isspace() for c in name):
             raise PluginError(f"plugin {self.plugin!r}: driver name {name!r} must be a non-empty word")
@@ -372,8 +384,6 @@ class MetroPluginManager:
                     f"{info.cls.standard!r}, which no loaded plugin registers"
                 )
         self._registered = True
-        for folder in self.catalog_folders().values():  # plugins' own translations
-            add_catalogs(folder)
         return self.registry
 
     # -- typed lookups ----------------------------------------------------------------------
@@ -427,6 +437,21 @@ class MetroPluginManager:
                 out.append(s)
         return out
 
+    def expected_values(self, campaign: Campaign, ideal: Mapping[str, Any]) -> dict[str, Any]:
+        """The expected values every plugin's ``metro_expected_values`` computes from the noise-free
+        quantities a simulated station declares in ``ideal``, merged in plugin-name order."""
+        out: dict[str, Any] = {}
+        caller = self.pm.hook.metro_expected_values
+        for impl in sorted(caller.get_hookimpls(), key=lambda i: i.plugin_name):
+            got = impl.function(campaign=campaign, ideal=ideal)
+            if got is None:
+                continue
+            if not isinstance(got, Mapping) or not all(isinstance(k, str) for k in got):
+                raise PluginError(f"plugin {impl.plugin_name!r} returned {got!r} as expected "
+                                  "values; return a mapping of metric keys to quantities")
+            out |= got
+        return out
+
     def reader_for(self, path: Path) -> ReaderInfo:
         reg = self.register_all()
         sfx = path.suffix.lower()
@@ -438,6 +463,21 @@ class MetroPluginManager:
                 f"no reader for files ending in {sfx!r}; readers exist for {', '.join(sorted(reg.readers))}",
             )
         return reg.readers[sfx]
+
+    def writer_for(self, suffix: str) -> Callable[..., Any]:
+        """The ``write`` of the format registered for files ending in ``suffix`` (``".csv"``);
+        a :class:`~metro.core.base.errors.DataError` naming the writable suffixes when none is."""
+        reg = self.register_all()
+        sfx = suffix.lower() if suffix.startswith(".") else "." + suffix.lower()
+        info = reg.readers.get(sfx)
+        if info is None or info.write is None:
+            from ..base.errors import DataError
+
+            can = sorted(s for s, r in reg.readers.items() if r.write is not None)
+            raise DataError(None, None, f"no writer is registered for files ending in {sfx!r}; "
+                            f"writers exist for {', '.join(can) or 'no suffix'}",
+                            hint="a plugin registers one with registrar.add_reader(..., write=...)")
+        return info.write
 
     def station(self, name: str) -> StationInfo:
         reg = self.register_all()
@@ -466,33 +506,6 @@ class MetroPluginManager:
             if t.standard is None and t.kind == kind:
                 return t
         raise PluginError(f"no {kind} template registered for {standard!r} and no generic one")
-
-    def plugin_packages(self) -> dict[str, str]:
-        """{plugin name: the package its module belongs to} (``metro.plugins.gbt45570``; a
-        plugin that is a module of a package, or an object, gives that module's package; a
-        plugin that is a top-level module belongs to no package and is left out)."""
-        out = {}
-        for name, obj in sorted(self.pm.list_name_plugin(), key=lambda p: p[0]):
-            mod = obj if isinstance(obj, types.ModuleType) else sys.modules.get(type(obj).__module__)
-            package = None if mod is None else (
-                mod.__name__ if hasattr(mod, "__path__") else mod.__package__)
-            if package:
-                out[name] = package
-        return out
-
-    def catalog_folders(self) -> dict[str, Any]:
-        """{plugin name: its package's ``locale`` folder} for the plugins that ship their own
-        message catalogs (``locale/zh/LC_MESSAGES/<name>.po`` next to the package's
-        ``__init__.py``; :func:`metro.core.base.locale.add_catalogs`)."""
-        out = {}
-        for name, package in self.plugin_packages().items():
-            try:
-                folder = resources.files(package) / "locale"
-            except (ImportError, AttributeError, TypeError, ValueError):  # no package on disk
-                continue
-            if folder.is_dir():
-                out[name] = folder
-        return out
 
     def versions(self) -> dict[str, str]:
         """{plugin name: 'distribution version'} for provenance."""
@@ -524,3 +537,11 @@ def get_plugin_manager(
     pm = MetroPluginManager().load(autoload=autoload, block=block, extra=extra)
     pm.register_all()
     return pm
+
+
+@functools.lru_cache(maxsize=1)
+def builtin_plugin_manager() -> MetroPluginManager:
+    """A registered plugin manager with metro's built-in plugins only (no third-party autoload),
+    made once: what code that is given no manager uses (a campaign written without one, a station
+    made directly rather than through the registry)."""
+    return get_plugin_manager(autoload=False)

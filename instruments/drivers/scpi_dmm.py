@@ -28,7 +28,7 @@ import pint
 from metro.core.base.errors import DriverError
 from metro.core.base.units import Q_, parse_quantity
 
-from .base import DmmDriver, Identity
+from metro.core.model.drivers import DmmDriver, Identity
 
 __all__ = ["ScpiDmm", "OVERLOAD"]
 

@@ -35,7 +35,7 @@ import pint
 from metro.core.base.errors import DriverError
 from metro.core.base.units import Q_, parse_quantity, unit
 
-from .base import GyroOutputDriver, Identity
+from metro.core.model.drivers import GyroOutputDriver, Identity
 
 __all__ = ["FrameField", "FrameLayout", "FrameIssue", "Frame", "FrameParser", "GyroRecord", "SerialGyro",
            "checksum"]

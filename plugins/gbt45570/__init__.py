@@ -98,3 +98,10 @@ def metro_extend_report_context(record, context) -> None:
     from .report import extend_context
 
     extend_context(record, context)  # its clause-5 table comes from clause5.clause5_rows
+
+
+@hookimpl
+def metro_expected_values(campaign, ideal):
+    from .expected import expected_values
+
+    return expected_values(campaign, ideal)

@@ -41,3 +41,10 @@ def metro_extend_report_context(record, context: dict) -> None:
 
     if any(o.standard == STANDARD_ID for o in record.outcomes):
         context[STANDARD_ID] = certificate_context(record)
+
+
+@hookimpl
+def metro_expected_values(campaign, ideal):
+    from .expected import expected_values
+
+    return expected_values(campaign, ideal)
