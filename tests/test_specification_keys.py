@@ -58,7 +58,7 @@ def test_a_flat_key_of_several_standards_is_applied_to_the_one_run_with_a_warnin
     lim = limits_for({"K": ">= 0.5 P/″"}, "gbt45570", KEYS, file="m.toml")
     assert dict(lim.table) == {"K": ">= 0.5 P/″"}
     (w,) = lim.warnings
-    assert "specification.K" in w and "gbt45570, ieee952, jjf2003" in w
+    assert "specification.K" in w and "'K' is a metric of gbt45570, ieee952 and jjf2003" in w
     assert "[specification.gbt45570]" in w and w.startswith("m.toml: ")
     # the standard's own line replaces the flat one: nothing is ambiguous for that standard
     own = limits_for({"K": ">= 0.5 P/″", "ieee952": {"K": "<= 1 deg/h^1.5"}}, "ieee952", KEYS)
@@ -113,7 +113,7 @@ def test_a_run_warns_of_a_flat_line_several_standards_have(tmp_path, builtin_pm)
     (v,) = [v for v in rec.conformity.verdicts if v.key == "B0"]
     assert v.spec.bounds == (-5, 5)
     (w,) = [w for w in rec.campaign.warnings if "specification.B0" in w]
-    assert "gbt45570, jjf2014" in w and "[specification.gbt45570]" in w
+    assert "'B0' is a metric of gbt45570 and jjf2014" in w and "[specification.gbt45570]" in w
 
 
 def test_a_limit_of_the_wrong_kind_names_its_standards_field(tmp_path, builtin_pm):

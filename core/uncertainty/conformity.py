@@ -628,9 +628,10 @@ def limits_for(table: Mapping[str, Any], standard: str, metric_keys: Mapping[str
         if owners and standard not in owners:
             continue  # another standard's key
         if len(owners) > 1 and key not in own:
+            names = ", ".join(owners[:-1]) + " and " + owners[-1]
             warnings.append(
-                f"{file}: field '{line[0]}': {', '.join(owners)} all have a metric {key!r}; "
-                f"this line is applied to {standard}, the standard being run — write it under "
+                f"{file}: field '{line[0]}': {key!r} is a metric of {names}; this line is "
+                f"applied to {standard}, the standard being run — write it under "
                 f"[specification.{standard}] (docs/data-format.md)")
         lines[key] = line
     lines.update(own)
