@@ -332,3 +332,25 @@ def test_a_value_is_read_apart_from_its_unit(text, value, pint_unit):
     q = parse_quantity(text)
     assert q.magnitude == pytest.approx(value, rel=1e-15)
     assert q.units == ureg.Unit(pint_unit)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.one_of(
+        st.integers(min_value=-(10**9), max_value=10**9),
+        st.floats(allow_nan=False, allow_infinity=False, width=64),
+    ),
+    st.sampled_from(("", ".6g", ".3e", ".12g")),
+    st.sampled_from(("deg/h", "s", "ppm", "mV/(deg/s)", "")),
+)
+def test_a_number_reads_as_pint_read_it(x, spec, unit_text):
+    # the number is now read apart from its unit; it must be the very same number as before
+    text = (
+        f"{x:{spec}} {unit_text}".strip()
+        if not isinstance(x, int) or not spec
+        else f"{x} {unit_text}"
+    )
+    q = parse_quantity(text)
+    before = ureg.Quantity(text)
+    before_m = before.magnitude if isinstance(before, pint.Quantity) else float(before)
+    assert q.magnitude == before_m and type(q.magnitude) is type(before_m)

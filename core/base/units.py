@@ -342,7 +342,7 @@ def unit(text: str | pint.Unit, *, like: str | pint.Unit | None = None, file: st
         raise _bad(text, str(exc) or type(exc).__name__, file, field) from exc
 
 
-def _split_number(syntax: str) -> tuple[float, str] | None:
+def _split_number(syntax: str) -> tuple[float | int, str] | None:
     """``"1.5 deg / h"`` → ``(1.5, "deg / h")``; ``"1 * 10 ** ( - 6 ) deg"`` (1×10⁻⁶ °) → ``(1e-06,
     "deg")``; None when the text does not start with a number.  The unit is read apart from the
     number: pint, evaluating ``0.05 deg/h/degC`` as one expression, converts the °C (an offset
@@ -367,11 +367,20 @@ def _split_number(syntax: str) -> tuple[float, str] | None:
         rest = rest[1:]
     elif rest[:1] == ["/"]:
         rest = ["1", *rest]
-    if exponent == "0":
-        return float(mantissa), " ".join(rest)
-    if "e" in mantissa.lower():
-        return float(mantissa) * 10.0 ** int(exponent), " ".join(rest)
-    return float(f"{mantissa}e{exponent}"), " ".join(rest)
+    # the same arithmetic as pint's reading of the whole text: a whole number stays whole
+    number = int(mantissa) if re.fullmatch(r"[-+]?\d+", mantissa) else float(mantissa)
+    return (number * 10 ** int(exponent) if exponent != "0" else number), " ".join(rest)
+
+
+def _split_unit(split: tuple[float | int, str] | None) -> pint.Unit | None:
+    """The unit of :func:`_split_number`'s split, or None where there is none or it is not a unit
+    alone (``2 ** 3 s``: then the whole text is read as pint reads it)."""
+    if split is None:
+        return None
+    try:
+        return ureg.Unit(split[1])
+    except Exception:  # pint raises several types for text that is not a unit alone
+        return None
 
 
 def parse_quantity(
@@ -392,7 +401,11 @@ def parse_quantity(
         syntax = _syntax(value, _wants_gravity(dimension), file, field)
         split = _split_number(syntax)
         try:
-            q = ureg.Quantity(split[0], ureg.Unit(split[1])) if split else ureg.Quantity(syntax)
+            q = ureg.Quantity(syntax)  # the whole text, as pint reads it: the same numbers as ever
+            u = _split_unit(split)
+            if u is not None and isinstance(q, pint.Quantity) and q.units != u:
+                # pint turned an offset unit into kelvin: "0.05 °/h/°C" read 1.8e-4 °/h/K
+                q = ureg.Quantity(split[0], u)
             if not isinstance(q, pint.Quantity):
                 q = ureg.Quantity(float(q), "")
         except Exception as exc:  # pint raises several types for bad strings
