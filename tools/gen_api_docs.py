@@ -394,6 +394,27 @@ def section_of(name: str, obj: Any, origins: dict[str, tuple[str, str]]) -> str:
 
 _ORDER = {"class": 0, "function": 1, "data": 2, "module": 3}
 
+#: classes a plugin reads but does not build or import: what API functions and properties
+#: return (``decide`` a Verdict, ``report_pair`` Reported values, ``fit_sine`` a SineFit,
+#: ``excursion_lobes`` Lobes, ``Campaign.people`` People …), by defining module
+RETURNED: tuple[tuple[str, str], ...] = (
+    ("metro.core.uncertainty.conformity", "Verdict"),
+    ("metro.core.uncertainty.conformity", "DecisionRule"),
+    ("metro.core.uncertainty.budget", "Reported"),
+    ("metro.core.stats.sinefit", "SineFit"),
+    ("metro.core.stats.settling", "Lobe"),
+    ("metro.core.base.vocabulary", "People"),
+    ("metro.core.base.vocabulary", "Lab"),
+    ("metro.core.base.vocabulary", "Customer"),
+)
+
+
+def returned_classes() -> list[tuple[str, type]]:
+    """The :data:`RETURNED` classes, imported."""
+    import importlib
+
+    return [(name, getattr(importlib.import_module(module), name)) for module, name in RETURNED]
+
 
 def render() -> str:
     """docs/api.md."""
@@ -410,7 +431,8 @@ def render() -> str:
         "",
         inspect.getdoc(api) or "",
         "",
-        "Contents: " + ", ".join(f"[{t}](#{_anchor(t)})" for t, _ in SECTIONS if by_section[t]) + ".",
+        "Contents: " + ", ".join(f"[{t}](#{_anchor(t)})" for t, _ in SECTIONS if by_section[t])
+        + ", [Classes the API returns](#classes-the-api-returns).",
         "",
     ]
     for title, _ in SECTIONS:
@@ -421,6 +443,11 @@ def render() -> str:
         lines += [f"## {title}", ""]
         for n in names:
             lines += render_name(n, getattr(api, n), origins)
+    lines += ["## Classes the API returns", "",
+              "What a plugin reads but neither builds nor imports: the values API functions and "
+              "properties return. Their fields are part of the contract like those above.", ""]
+    for name, cls in returned_classes():
+        lines += render_class(name, cls)
     text = "\n".join(lines)
     return re.sub(r"\n{3,}", "\n\n", text).rstrip() + "\n"
 
