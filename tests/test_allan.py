@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 import pytest
-from metro.core.stats import allan
+from metro.core.stats import allan, allan_base, allan_edf
 from metro.core.stats.allan import (
     AllanResult,
     adev,
@@ -114,15 +114,15 @@ def test_numba_and_numpy_agree(noisy):
 
 def test_env_var_forces_numpy(monkeypatch):
     monkeypatch.setenv("METRO_NO_NUMBA", "1")
-    assert allan._kernels("auto", 10**8) is None
+    assert allan_base.kernels("auto", 10**8) is None
     monkeypatch.setenv("METRO_NO_NUMBA", "0")
-    assert allan._kernels("auto", 10**8) is not None
+    assert allan_base.kernels("auto", 10**8) is not None
     monkeypatch.delenv("METRO_NO_NUMBA")
-    assert allan._kernels("auto", 10**8) is not None
-    assert allan._kernels("auto", 100) is None  # small data: no compile latency
-    assert allan._kernels("numpy", 10**8) is None
+    assert allan_base.kernels("auto", 10**8) is not None
+    assert allan_base.kernels("auto", 100) is None  # small data: no compile latency
+    assert allan_base.kernels("numpy", 10**8) is None
     with pytest.raises(ValueError, match="engine"):
-        allan._kernels("fortran", 10)  # type: ignore[arg-type]
+        allan_base.kernels("fortran", 10)  # type: ignore[arg-type]
 
 
 def test_import_does_not_load_numba():
@@ -236,7 +236,7 @@ def test_edf_oadev_close_to_howe_allan_barnes():
 def test_edf_sampled_sum_is_accurate(monkeypatch):
     n, ms = 200_000, [3000, 20_000, 60_000]
     exact = {k: edf_white_fm(k, n, ms) for k in ("oadev", "mdev")}
-    monkeypatch.setattr(allan, "_EDF_EXACT_MAX", 512)
+    monkeypatch.setattr(allan_edf, "_EDF_EXACT_MAX", 512)
     for k, v in exact.items():
         np.testing.assert_allclose(edf_white_fm(k, n, ms), v, rtol=1e-3)
 
