@@ -13,6 +13,7 @@ from metro.core.base.errors import DataError, ProcedureError
 from metro.core.run.runner import run_items
 from metro.core.base.units import Q_
 from metro.instruments.angle_instrument import AngleInstrumentStation, AngleInstrumentTruth
+from metro.plugins.ogam import common as C
 from metro.plugins.ogam import formulas as F
 from metro.plugins.ogam import procedures as P
 from metro.plugins.ogam.procedures import (
@@ -51,11 +52,11 @@ def test_ellipse_radius_eq_a3():
 def test_appendix_a_budget_reproduces_uc_and_U():
     rows = [
         BudgetRow.type_b("turntable", "u(P)", Q_(0.1, "arcsec"), distribution="uniform"),
-        P.tilt_row(Q_(0.1, "deg"))[0],
-        P.drift_row(Q_(0.005, "deg/h"), Q_(0.5, "min")),
-        P.repeatability_row(0.096, 10),
+        C.tilt_row(Q_(0.1, "deg"))[0],
+        C.drift_row(Q_(0.005, "deg/h"), Q_(0.5, "min")),
+        C.repeatability_row(0.096, 10),
     ]
-    b = P.e_budget(rows)
+    b = C.e_budget(rows)
     c = b.contributions()
     # appendix A 4.1–4.4: 0.06″, 0.05″, 0.09″, 0.096″
     assert [f"{x:.2f}" for x in c[:3]] == ["0.06", "0.05", "0.09"]
@@ -210,7 +211,7 @@ def test_74_round_option_picks_the_round(pm):
     for seg in camp.find_segments("positioning"):
         rnd = int(seg.conditions["round"])
         if rnd in E:
-            E[rnd] = float(np.max(np.abs(P.round_errors(seg)[1])))
+            E[rnd] = float(np.max(np.abs(C.round_errors(seg)[1])))
     assert o1.results[0].value.to("arcsec").magnitude == pytest.approx(E[1], rel=1e-12)
     assert rec3.outcomes[0].results[0].value.to("arcsec").magnitude == pytest.approx(E[3], rel=1e-12)
     assert E[1] != E[3]
@@ -223,7 +224,7 @@ def test_74_round_option_picks_the_round(pm):
 
 def _write_campaign(root: Path, rounds: int = 10, *, mismatch: bool = False, axis: str = "up") -> Path:
     st = AngleInstrumentStation(truth=AngleInstrumentTruth(seed=5))
-    steps = [P._pos_step(60.0, "up", r) for r in range(1, rounds + 1)]  # the data; `axis` is what is declared
+    steps = [C.pos_step(60.0, "up", r) for r in range(1, rounds + 1)]  # the data; `axis` is what is declared
     lines = ["format = \"metro-campaign/1\"", "[campaign]", "id = \"OGAM-REC\"",
              "[device]", "id = \"OGA-7\"", "model = \"RLG angle meter\"", "output = \"pulse\"",
              "zero_stability = \"0.005 °/h\"",
@@ -253,7 +254,7 @@ def test_recorded_campaign_runs_and_matches_the_simulation(pm, tmp_path):
     man = _write_campaign(tmp_path)
     rec = run_items(pm, "ogam", ["7.4", "7.5"], data=man)
     st = AngleInstrumentStation(truth=AngleInstrumentTruth(seed=5))
-    direct = run_items(pm, "ogam", ["7.4", "7.5"], campaign=st.acquire(P._rounds_at_reference()))
+    direct = run_items(pm, "ogam", ["7.4", "7.5"], campaign=st.acquire(C.rounds_at_reference()))
     for a, b in zip(rec.outcomes, direct.outcomes):
         assert a.results[0].value.magnitude == pytest.approx(b.results[0].value.magnitude, rel=1e-9)
     assert rec.outcomes[0].results[0].budget.rows[0].note == "certificate TT-CAL-1"

@@ -35,7 +35,7 @@ Means = Callable[[Segment], tuple[np.ndarray, np.ndarray]]
 # ------------------------------------------------------------------------------ data access
 
 
-def _duration_ok(seg: Segment, campaign: Campaign) -> None:
+def duration_ok(seg: Segment, campaign: Campaign) -> None:
     s = seg.series("gx", "deg/s")
     dur = float(s.duration.to("s").magnitude)
     if dur < MIN_SECONDS * 0.999:
@@ -44,7 +44,7 @@ def _duration_ok(seg: Segment, campaign: Campaign) -> None:
                         hint="record each rate point and position for 30 s or more")
 
 
-def _columns(seg: Segment, names, dim: str) -> np.ndarray:
+def columns_of(seg: Segment, names, dim: str) -> np.ndarray:
     arrs = []
     for c in names:
         s = seg.series(c, dim)
@@ -59,7 +59,7 @@ def _columns(seg: Segment, names, dim: str) -> np.ndarray:
     return np.vstack(arrs)
 
 
-def _batch_u(a: np.ndarray) -> np.ndarray:
+def batch_u(a: np.ndarray) -> np.ndarray:
     """Standard uncertainty of each row's mean from BATCHES batch means (dof BATCHES − 1)."""
     m = a.shape[1] // BATCHES
     b = a[:, : m * BATCHES].reshape(a.shape[0], BATCHES, m).mean(axis=2)
@@ -72,21 +72,21 @@ def data_means(campaign: Campaign) -> tuple[Means, Callable[[Segment], tuple[np.
 
     def load(seg: Segment):
         if seg.id not in cache:
-            _duration_ok(seg, campaign)
-            g = _columns(seg, GYRO, "deg/s")
-            a = _columns(seg, ACCEL, "m/s**2")
-            cache[seg.id] = (g.mean(axis=1), a.mean(axis=1), _batch_u(g), _batch_u(a))
+            duration_ok(seg, campaign)
+            g = columns_of(seg, GYRO, "deg/s")
+            a = columns_of(seg, ACCEL, "m/s**2")
+            cache[seg.id] = (g.mean(axis=1), a.mean(axis=1), batch_u(g), batch_u(a))
         return cache[seg.id]
 
     return (lambda s: load(s)[:2]), (lambda s: load(s)[2:])
 
 
-def _rate_of(seg: Segment, campaign: Campaign) -> float:
+def rate_of(seg: Segment, campaign: Campaign) -> float:
     r = seg.condition("rate", "deg/s")
     return float(r.to("deg/s").magnitude)
 
 
-def _axis_of(seg: Segment, campaign: Campaign) -> str:
+def axis_of(seg: Segment, campaign: Campaign) -> str:
     a = str(seg.condition("axis")).strip().lower().lstrip("+")
     if a not in AXES:
         raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.axis",
@@ -99,9 +99,9 @@ def sweeps(campaign: Campaign, axes=AXES, segments=None) -> dict[str, list[tuple
     ``segments``: another set than the campaign's kind ``rate`` (one repeated sweep)."""
     out: dict[str, list[tuple[float, Segment]]] = {a: [] for a in axes}
     for seg in (campaign.find_segments("rate") if segments is None else segments):
-        a = _axis_of(seg, campaign)
+        a = axis_of(seg, campaign)
         if a in out:
-            out[a].append((_rate_of(seg, campaign), seg))
+            out[a].append((rate_of(seg, campaign), seg))
     for a, pts in out.items():
         rates = [r for r, _ in pts]
         if len(set(rates)) != len(rates):
@@ -117,7 +117,7 @@ def sweeps(campaign: Campaign, axes=AXES, segments=None) -> dict[str, list[tuple
     return out
 
 
-def _heading_of(seg: Segment, campaign: Campaign) -> float:
+def heading_of(seg: Segment, campaign: Campaign) -> float:
     h = seg.condition("heading")
     if isinstance(h, (int, float)):
         v = float(h)
@@ -141,7 +141,7 @@ def positions(campaign: Campaign) -> dict[tuple[str, float], Segment]:
         if up not in F.SIX_POSITIONS:
             raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.up",
                             f"must be one of {', '.join(F.SIX_POSITIONS)}, got {up!r}")
-        key = (up, _heading_of(seg, campaign))
+        key = (up, heading_of(seg, campaign))
         if key in found:
             raise DataError(campaign.source, "segments", f"two segments ({found[key].id}, {seg.id}) for position "
                             f"{up} up, heading {key[1]:g}°")
@@ -198,9 +198,9 @@ def rate_pairs(campaign: Campaign, omega_deg_s: float) -> dict[str, tuple[Segmen
     for a in AXES:
         rest = turning = None
         for seg in campaign.find_segments("rate"):
-            if _axis_of(seg, campaign) != a:
+            if axis_of(seg, campaign) != a:
                 continue
-            r = _rate_of(seg, campaign)
+            r = rate_of(seg, campaign)
             if r == 0.0:
                 rest = seg
             elif abs(r - omega_deg_s) < 1e-9 * max(1.0, abs(omega_deg_s)):

@@ -45,7 +45,7 @@ import numpy as np
 from metro.api import Q_, BudgetRow, Campaign, DataError, Segment, fit_linear, join, msg
 
 from . import formulas as F
-from .data import _axis_of, _columns, _rate_of
+from .data import axis_of, columns_of, rate_of
 
 AXES = ("x", "y", "z")
 #: without recording times, a significant drift withholds a result it moves by this share of U or more
@@ -297,12 +297,12 @@ def campaign_drift(campaign: Campaign) -> GyroDrift:
     ids: list[list[str]] = [[] for _ in AXES]
     durations, intervals = {}, {}
     for seg in segs:
-        y = _columns(seg, GYRO, "deg/s").T  # n × 3, °/s
+        y = columns_of(seg, GYRO, "deg/s").T  # n × 3, °/s
         dt_s = float(seg.interval.to("s").magnitude)
         durations[seg.id], intervals[seg.id] = y.shape[0] * dt_s, dt_s
         rate, axis = 0.0, None
         if seg.kind != "position":
-            rate, axis = _rate_of(seg, campaign), AXES.index(_axis_of(seg, campaign))
+            rate, axis = rate_of(seg, campaign), AXES.index(axis_of(seg, campaign))
         if rate != 0.0 and abs(rate) * y.shape[0] * dt_s < 360.0 * MIN_TURNS:
             continue  # the table-rate sinusoid and a trend are not separable within one turn
         b, se = record_trend(y, dt_s, rate, lsb)

@@ -63,16 +63,16 @@ from .data import (  # noqa: F401 - re-exported: the segment layout and the shar
     P_UNIT,
     RATE_UNIT,
     Means,
-    _axis_of,
-    _batch_u,
-    _columns,
-    _duration_ok,
-    _heading_of,
-    _rate_of,
+    axis_of,
+    batch_u,
+    columns_of,
     data_means,
+    duration_ok,
+    heading_of,
     ideal_evaluation,
     p_matrix,
     positions,
+    rate_of,
     rate_pairs,
     six_position,
     sweep_fits,
@@ -359,7 +359,43 @@ def _sweep_warnings(campaign: Campaign, fits) -> list[str]:
     return w
 
 
-class GyroScaleFactor(Procedure):
+class _GyroSweepItem(Procedure):
+    """The items read from the three 7.2.1 sweeps: the fits of eq. (5) per swept axis, the results
+    of the ``pairs`` (i, j) of K̄_g (appendix A.1/A.4 budgets) and the item's figures."""
+
+    standard = STANDARD
+    requires = (RATE_SEG,)
+    options = _SWEEP_OPTIONS
+    station = STATION
+    #: the (output i, swept axis j) entries of K̄_g the item reports
+    pairs: tuple[tuple[int, int], ...] = ()
+
+    @staticmethod
+    def metric_for(i: int, j: int) -> Metric:
+        return _kg_metric(i, j)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return _sweep_steps(options)
+
+    def figures(self, fits) -> tuple[list[PlotSpec], list[TableSpec]]:
+        """The item's plots and tables from the sweeps' fits."""
+        raise NotImplementedError
+
+    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
+        opts = self.option_values(ctx.options)
+        means, _ = data_means(campaign)
+        fits = sweep_fits(campaign, means)
+        warnings = _sweep_warnings(campaign, fits)
+        results = _fit_results(self, campaign, fits, list(self.pairs), warnings,
+                               repeat_fits(campaign, means))
+        plots, tables = self.figures(fits)
+        segs = [s for d in fits.values() for s in d["segments"]]
+        return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=plots,
+                       tables=tables, warnings=_unique(warnings), segments=segs,
+                       options=_opts_text(opts))
+
+
+class GyroScaleFactor(_GyroSweepItem):
     """JJF 2003—2022 7.2.1 陀螺标度因数: K_gxx, K_gyy, K_gzz by least squares, eq. (3)–(5).
 
     Each axis is swept over 7–11 rates (≥ 30 s each); U_k = mean output (3), [K b] = (HᵀH)⁻¹HᵀU (5).
@@ -367,37 +403,20 @@ class GyroScaleFactor(Procedure):
     standard error of K from the fit; k = 2, U rounded up.
     """
 
-    standard = STANDARD
     item = "7.2.1"
     title = "Gyro scale factors (陀螺标度因数)"
     clause = "7.2.1"
     metrics = tuple(_kg_metric(i, i) for i in range(3))
-    requires = (RATE_SEG,)
     equipment = EQUIPMENT
-    options = _SWEEP_OPTIONS
-    station = STATION
+    pairs = tuple((i, i) for i in range(3))
 
-    @staticmethod
-    def metric_for(i: int, j: int) -> Metric:
-        return _kg_metric(i, j)
-
-    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return _sweep_steps(options)
-
-    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        opts = self.option_values(ctx.options)
-        means, _ = data_means(campaign)
-        fits = sweep_fits(campaign, means)
-        warnings = _sweep_warnings(campaign, fits)
-        results = _fit_results(self, campaign, fits, [(i, i) for i in range(3)], warnings,
-                               repeat_fits(campaign, means))
+    def figures(self, fits) -> tuple[list[PlotSpec], list[TableSpec]]:
+        """The fitted lines of the three sweeps and the table of their coefficients."""
         plot, table = _fit_plot_table(fits)
-        segs = [s for d in fits.values() for s in d["segments"]]
-        return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=[plot], tables=[table],
-                       warnings=_unique(warnings), segments=segs, options=_opts_text(opts))
+        return [plot], [table]
 
 
-class GyroCrossCoupling(Procedure):
+class GyroCrossCoupling(_GyroSweepItem):
     """JJF 2003—2022 7.2.3 陀螺交叉耦合: the full K̄_g matrix (7.2.3.2) from the three sweeps of 7.2.1.
 
     Column j of K̄_g holds the eq. (5) slopes of the three gyro outputs while the table turns
@@ -405,36 +424,20 @@ class GyroCrossCoupling(Procedure):
     (the same model as the scale factor; u₁ and u₂ relative to K_jj of the swept axis).
     """
 
-    standard = STANDARD
     item = "7.2.3"
     title = "Gyro cross-coupling (陀螺交叉耦合系数)"
     clause = "7.2.3"
     metrics = tuple(_kg_metric(i, j) for i in range(3) for j in range(3))
-    requires = (RATE_SEG,)
     equipment = EQUIPMENT_FIXTURE
-    options = _SWEEP_OPTIONS
-    station = STATION
+    pairs = tuple((i, j) for i in range(3) for j in range(3))
 
-    @staticmethod
-    def metric_for(i: int, j: int) -> Metric:
-        return _kg_metric(i, j)
-
-    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return _sweep_steps(options)
-
-    def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        opts = self.option_values(ctx.options)
-        means, _ = data_means(campaign)
-        fits = sweep_fits(campaign, means)
-        warnings = _sweep_warnings(campaign, fits)
-        results = _fit_results(self, campaign, fits, [(i, j) for i in range(3) for j in range(3)], warnings,
-                               repeat_fits(campaign, means))
+    def figures(self, fits) -> tuple[list[PlotSpec], list[TableSpec]]:
+        """K̄_g (7.2.3.2): rows the gyro outputs, columns the swept axes."""
         K = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
         table = TableSpec("K_g", msg("K̄_g (rows: gyro x, y, z; columns: input about x, y, z)"),
-                          ["", "x", "y", "z"], [[AXES[i]] + [f"{K[i, j]:.6g}" for j in range(3)] for i in range(3)])
-        segs = [s for d in fits.values() for s in d["segments"]]
-        return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
-                       warnings=_unique(warnings), segments=segs, options=_opts_text(opts))
+                          ["", "x", "y", "z"],
+                          [[AXES[i]] + [f"{K[i, j]:.6g}" for j in range(3)] for i in range(3)])
+        return [], [table]
 
 
 def _six_budget_rows(campaign, u_means, segs, which, col, i, M, warnings, unit, range_prop, per_gn: bool):
