@@ -11,18 +11,25 @@ import os
 import sys
 from typing import Any, Sequence
 
-#: Exit codes (README "Exit codes"; scripts may rely on them):
-EXIT_OK = 0  # done; the results conform, or there was nothing to judge (no specification)
-# 1 is left to Python: an uncaught exception (a bug in metro or a plugin) exits 1 with a traceback,
-# so a crash can never be read as a verdict
-EXIT_USER_ERROR = 2  # usage or data error: nothing was evaluated, nothing partial written
-EXIT_NONCONFORMING = 3  # done; the overall statement is "does not conform" (a verdict fails)
-EXIT_INDETERMINATE = 4  # done; nothing fails but a verdict is indeterminate (conformity not shown)
-EXIT_CAMPAIGN_FAILED = 5  # `metro batch`: at least one campaign could not be evaluated (listed)
-EXIT_CHECK_FAILED = 6  # a check found a problem: `register verify` (a report file differs or is missing),
-# `doctor` (a required check fails)
-EXIT_INTERRUPTED = 130  # Ctrl-C (128 + SIGINT)
-EXIT_BROKEN_PIPE = 141  # the reader of stdout went away (128 + SIGPIPE), e.g. `metro plan … | head`
+from .common import (  # noqa: F401 — the exit codes and helpers are metro.core.cli.app's too
+    EXIT_BROKEN_PIPE,
+    EXIT_CAMPAIGN_FAILED,
+    EXIT_CHECK_FAILED,
+    EXIT_INDETERMINATE,
+    EXIT_INTERRUPTED,
+    EXIT_NONCONFORMING,
+    EXIT_OK,
+    EXIT_USER_ERROR,
+    did_you_mean,
+    exit_code_for,
+    parse_options,
+    plugin_manager,
+    requested_items,
+    resolve_items,
+    resolve_standard,
+    show_progress,
+    split_items,
+)
 
 EXIT_CODES_TEXT = (
     "exit codes: 0 done, conforming or nothing to judge; 2 usage or data error; 3 does not conform; "
@@ -33,12 +40,6 @@ EXIT_CODES_TEXT = (
 #: `metro run` only: what its --strict changes
 SIMULATED_EXIT_TEXT = ("  A run on the simulated station judges a virtual device: it exits 0 once evaluated "
                        "unless --strict")
-
-
-def exit_code_for(overall: str | None) -> int:
-    """The exit code of a finished evaluation from its overall conformity status
-    (``pass``/``fail``/``indeterminate``, None when nothing was judged)."""
-    return {"fail": EXIT_NONCONFORMING, "indeterminate": EXIT_INDETERMINATE}.get(overall or "", EXIT_OK)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -231,40 +232,6 @@ def _output_args(p: argparse.ArgumentParser) -> None:
                    help="also print budgets, tables, item selection, truth checks and data file hashes")
 
 
-def _items(values: Sequence[str]) -> list[str]:
-    out: list[str] = []
-    for v in values:
-        out.extend(x.strip() for x in v.split(",") if x.strip())
-    return out
-
-
-def _options(values: Sequence[str]) -> dict[str, Any]:
-    from ..base.errors import MetroError
-
-    out: dict[str, Any] = {}
-    for v in values:
-        if "=" not in v:
-            raise MetroError(f"option {v!r} is not NAME=VALUE")
-        k, val = v.split("=", 1)
-        out[k.strip()] = val.strip()
-    return out
-
-
-def _pm(args):
-    from ..run.plugin_manager import get_plugin_manager
-
-    return get_plugin_manager(autoload=False if args.no_plugin_autoload else None, block=args.block_plugin)
-
-
-def _did_you_mean(word: str, choices: Sequence[str]) -> str:
-    """ "; did you mean 'X'?" for the closest of ``choices`` (case-insensitive), else ""."""
-    import difflib
-
-    low = {c.lower(): c for c in choices}
-    close = difflib.get_close_matches(word.lower(), list(low), n=1, cutoff=0.6)
-    return f"; did you mean {low[close[0]]!r}?" if close else ""
-
-
 def _unknown_arguments(parser: argparse.ArgumentParser, command: str | None, extra: Sequence[str]) -> None:
     """argparse's "unrecognized arguments" from the command's own parser, with suggestions."""
     target = parser
@@ -276,78 +243,8 @@ def _unknown_arguments(parser: argparse.ArgumentParser, command: str | None, ext
     for word in extra:
         if word.startswith("-"):
             word = word.split("=", 1)[0]
-            msg += _did_you_mean(word, names).replace("; did you mean", f"; {word}: did you mean")
+            msg += did_you_mean(word, names).replace("; did you mean", f"; {word}: did you mean")
     target.error(msg)
-
-
-def resolve_standard(pm, name: str) -> str:
-    """A standard id as registered, from any case or with its punctuation (``GBT45570``,
-    ``gb/t 45570``); an unknown one is an error that suggests the closest loaded standard."""
-    import re
-
-    from ..base.errors import PluginError
-
-    stds = sorted(pm.register_all().standards)
-    if name in stds:
-        return name
-
-    def key(x: str) -> str:
-        return re.sub(r"[^0-9a-z]", "", x.lower())
-
-    for s in stds:
-        if key(s) == key(name):
-            return s
-    raise PluginError(f"unknown standard {name!r}{_did_you_mean(name, stds)}; loaded: {', '.join(stds) or 'none'}",
-                      hint="`metro plugins` lists the loaded plugins; `metro items` lists every item")
-
-
-def resolve_items(pm, standard: str | None, names: Sequence[str]) -> tuple[str, list[str]]:
-    """(standard, item and series ids as registered) from what the user typed: ids in any case,
-    ``std:item`` as `metro items` prints them (the standard then may be left out).  An unknown
-    one is an error with the closest id and the list of the standard's items."""
-    from ..base.errors import MetroError, PluginError
-    from ..run.plugin_manager import item_sort_key
-
-    std = resolve_standard(pm, standard) if standard else None
-    plain: list[str] = []
-    for n in names:
-        if ":" in n:
-            pre, n = n.split(":", 1)
-            s2 = resolve_standard(pm, pre)
-            if std is not None and s2 != std:
-                raise MetroError(f"item {pre}:{n} belongs to {s2}, not to --standard {std}",
-                                 hint="give items of one standard per run")
-            std = s2
-        plain.append(n)
-    if std is None:
-        raise MetroError("no --standard given", hint="e.g. --standard gbt45570, or write items as gbt45570:D.5.6 "
-                         "(`metro items` lists them)")
-    reg = pm.register_all()
-    items = sorted((c.item for c in pm.procedures_of(std)), key=item_sort_key)
-    series = sorted(ser.name for ser in reg.series.values() if ser.standard == std)
-    known = {x.lower(): x for x in items + series}
-    out = []
-    for n in plain:
-        if n in items or n in series:
-            out.append(n)
-        elif n.lower() in known:
-            out.append(known[n.lower()])
-        else:
-            raise PluginError(f"standard {std!r} has no item {n!r}{_did_you_mean(n, items + series)}; "
-                              f"its items: {', '.join(items)}" + (f"; its series: {', '.join(series)}" if series else ""),
-                              hint="`metro items --standard " + std + "` lists the items with their options")
-    return std, out
-
-
-def requested_items(pm, args) -> list[str]:
-    """The item and series ids of ``--standard``/``--item`` (``resolve_items``, which also sets
-    ``args.standard``); none without ``--all`` is an error.  Shared by run, plan and batch."""
-    from ..base.errors import MetroError
-
-    args.standard, items = resolve_items(pm, args.standard, _items(args.item))
-    if not items and not args.run_all:
-        raise MetroError("no item given", hint="use --item, e.g. --item D.5.6, a series name, or --all")
-    return items
 
 
 class _Banner:
@@ -363,10 +260,6 @@ class _Banner:
 
             Console(stderr=True).print(self.text)
             self.text = None
-
-
-def _show_progress(args) -> bool:
-    return not (getattr(args, "no_progress", False) or getattr(args, "quiet", False)) and sys.stderr.isatty()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -496,9 +389,9 @@ def _cmd_run(args) -> int:
     from . import present
     from ..run.runner import run_items
 
-    pm = _pm(args)
+    pm = plugin_manager(args)
     items = requested_items(pm, args)
-    options = _options(args.option)
+    options = parse_options(args.option)
     station_options = _station_options(args)
     if args.data is not None and (station_options or args.station):
         from ..base.errors import MetroError
@@ -520,7 +413,7 @@ def _cmd_run(args) -> int:
                      if args.data is None and not args.json and not args.quiet else None)
     from .register_commands import drawing_ahead
 
-    with drawing_ahead(args, pm, len(items)), present.progress(enabled=_show_progress(args), started=banner) as prog:
+    with drawing_ahead(args, pm, len(items)), present.progress(enabled=show_progress(args), started=banner) as prog:
         record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
                            station_options=station_options, progress=prog, run_all=args.run_all,
                            decision_rule=args.decision_rule, **_lab_options(args))
@@ -569,7 +462,7 @@ def _lab_options(args) -> dict[str, Any]:
 
 
 def _cmd_plugins(args) -> int:
-    pm = _pm(args)
+    pm = plugin_manager(args)
     reg = pm.registry
     rows = []
     for name, info in sorted(pm.plugins.items()):
@@ -625,7 +518,7 @@ def _option_text(name: str, o: dict) -> str:
 
 
 def _cmd_items(args) -> int:
-    pm = _pm(args)
+    pm = plugin_manager(args)
     rows = []
     from ..run.plugin_manager import item_sort_key
 
@@ -686,7 +579,7 @@ def _cmd_items(args) -> int:
 def _cmd_plan(args) -> int:
     from ..run.runner import merge_steps, select_items, station_device
 
-    pm = _pm(args)
+    pm = plugin_manager(args)
     items = requested_items(pm, args)
     if args.run_all or any(pm.series(args.standard, i) is not None for i in items):
         # a series or --all: the members that apply to the station's device
@@ -766,7 +659,7 @@ def _number(text: str) -> Any:
 
 def _station_options(args) -> dict[str, Any]:
     """--station-option NAME=VALUE (numbers read as numbers) and --seed, for the station's factory."""
-    opts = {k: _number(v) for k, v in _options(args.station_option).items()}
+    opts = {k: _number(v) for k, v in parse_options(args.station_option).items()}
     if args.seed is not None:
         opts["seed"] = args.seed
     return opts
@@ -779,12 +672,12 @@ def _cmd_acquire(args) -> int:
 
     from . import present
 
-    pm = _pm(args)
-    args.standard, items = resolve_items(pm, args.standard, _items(args.item))
+    pm = plugin_manager(args)
+    args.standard, items = resolve_items(pm, args.standard, split_items(args.item))
     station_options = _station_options(args)
-    with present.progress(enabled=_show_progress(args)) as prog:
+    with present.progress(enabled=show_progress(args)) as prog:
         manifest = acquire_campaign(pm, args.standard, items, args.out, station=args.station,
-                                    options=_options(args.option), station_options=station_options,
+                                    options=parse_options(args.option), station_options=station_options,
                                     npy_rows=args.npy_rows or NPY_ROWS, progress=prog, run_all=args.run_all)
     if not args.quiet:
         Console(stderr=True).print(f"campaign written: {manifest}")

@@ -179,7 +179,7 @@ def _evaluate(job: Job, manifest: str, name: str, sha256: str, *, report: bool =
     """Evaluate (or take the ``kept`` record, with the seconds its evaluation took) and, with
     ``report``, write the report; without, keep the record for :func:`report_evaluated`."""
     from . import present
-    from .app import exit_code_for
+    from .common import exit_code_for
     from .schemas import document, dumps
     from .register_commands import run_lab_options, write_run_report
     from ..run.runner import run_items
@@ -560,7 +560,7 @@ def write_lot_summary(job: Job, outcomes: Sequence[Mapping[str, Any]], out: Path
 
 def exit_code(summary: Mapping[str, Any]) -> int:
     """5 when a campaign failed, else the worst verdict's code (3 fail, 4 indeterminate), else 0."""
-    from .app import EXIT_CAMPAIGN_FAILED, EXIT_INDETERMINATE, EXIT_NONCONFORMING, EXIT_OK
+    from .common import EXIT_CAMPAIGN_FAILED, EXIT_INDETERMINATE, EXIT_NONCONFORMING, EXIT_OK
 
     c = summary["counts"]
     if c["error"]:
@@ -578,12 +578,12 @@ def exit_code(summary: Mapping[str, Any]) -> int:
 def command(args) -> int:
     """``metro batch`` (arguments parsed by metro.core.cli.app)."""
     from . import present
-    from .app import _options, _pm, _show_progress, requested_items
+    from .common import parse_options, plugin_manager, requested_items, show_progress
     from ..base.extras import require
 
     require("distributed", "metro batch")  # before any work: the lot needs a Dask cluster
     require("pyarrow.parquet", "metro batch", extra="batch")  # lot-results.parquet
-    pm = _pm(args)
+    pm = plugin_manager(args)
     items = requested_items(pm, args)
     if args.workers is not None and args.workers < 1:
         raise MetroError(f"--workers {args.workers}: give at least 1")
@@ -596,12 +596,12 @@ def command(args) -> int:
     lab = find_lab_path(getattr(args, "lab", None))
     if lab is not None:
         load_lab(lab)  # a broken profile is an error here, before any worker starts
-    job = Job(args.standard, items, args.run_all, _options(args.option), args.decision_rule,
+    job = Job(args.standard, items, args.run_all, parse_options(args.option), args.decision_rule,
               str(Path(args.out).resolve()), False if args.no_plugin_autoload else None, args.block_plugin,
               lab=None if lab is None else str(Path(lab).resolve()),
               register_simulated=getattr(args, "register_simulated", False),
               allow_expired=getattr(args, "allow_expired", False), lang=args.lang, pdf=args.pdf)
-    with present.progress(enabled=_show_progress(args)) as prog:
+    with present.progress(enabled=show_progress(args)) as prog:
         summary = run_batch(job, manifests, scheduler=args.scheduler, workers=args.workers, progress=prog)
     code = exit_code(summary)
     summary["exit_code"] = code

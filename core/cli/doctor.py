@@ -185,7 +185,7 @@ def run_checks(args) -> list[dict[str, Any]]:
 
 
 def command(args) -> int:
-    from .app import EXIT_CHECK_FAILED, EXIT_OK
+    from .common import EXIT_CHECK_FAILED, EXIT_OK
 
     checks = run_checks(args)
     failed = [c for c in checks if c["required"] and not c["ok"]]

@@ -254,9 +254,9 @@ def run_lab_options(args) -> dict[str, Any]:
 
 
 def _run_options(args) -> dict[str, Any]:
-    from .app import _options
+    from .common import parse_options
 
-    return _options(getattr(args, "option", []) or [])
+    return parse_options(getattr(args, "option", []) or [])
 
 
 # ----------------------------------------------------------------------------------------
@@ -402,16 +402,16 @@ def _cmd_verify(args) -> int:
             print(f"{len(checks) - len(bad)} of {len(checks)} report files match their SHA-256"
                   + (f"; {len(bad)} do not: " + ", ".join(f"{c['number']} {c['check']}" for c in bad) if bad else ""),
                   file=sys.stderr)
-    from .app import EXIT_CHECK_FAILED, EXIT_OK
+    from .common import EXIT_CHECK_FAILED, EXIT_OK
 
     return EXIT_CHECK_FAILED if bad else EXIT_OK
 
 
 def _cmd_report(args) -> int:
-    from .app import _pm
+    from .common import plugin_manager
     from ..record.registering import rerender, template_changed
 
-    pm = _pm(args)
+    pm = plugin_manager(args)
     with _open(args) as reg:
         path = rerender(reg, args.number, args.out, pm=pm)
         changed = template_changed(reg, args.number, pm)
@@ -428,11 +428,11 @@ def _cmd_report(args) -> int:
 
 
 def _cmd_amend(args) -> int:
-    from .app import _pm
+    from .common import plugin_manager
     from ..record.registering import amend
 
     lab = _lab(args, required=True)
-    pm = _pm(args)
+    pm = plugin_manager(args)
     with _open(args) as reg:
         record = None
         if args.data:
