@@ -511,6 +511,8 @@ def check_specification_units(pm: MetroPluginManager, standard: str, campaign: C
     from ..uncertainty import conformity as cf
     from ..base.units import Q_, fmt_unit
 
+    if not campaign.specification:
+        return
     limits = cf.limits_for(campaign.specification, standard, metric_keys(pm), file=campaign.source)
     if not [k for k in limits.table if k not in cf.SETTINGS]:
         return
