@@ -152,7 +152,14 @@ _BINARY = {"**", "*", "/", "^"}
 
 class UnitTextError(UnitError, ValueError):
     """A text that is not a unit, or is ambiguous: a :class:`UnitError` naming the text, and a
-    ``ValueError`` as pint's own parsing errors were, for callers that catch those."""
+    ``ValueError`` as pint's own parsing errors were, for callers that catch those.  Without a
+    file or a field it says no "input:" (a caller wraps it in its own error naming them)."""
+
+    def __init__(self, file: str | None, field: str | None, reason: str, *,
+                 hint: str | None = None) -> None:
+        super().__init__(file, field, reason, hint=hint)
+        if file is None and not field:
+            self.reason = reason
 
 
 def _bad(text: str, why: str, file: str | None, field: str | None) -> UnitError:
@@ -213,6 +220,8 @@ def _check_tokens(toks: list[tuple[str, str]], original: str, file: str | None,
     """Refuse what pint would read silently as something else: ``deg//h``, a trailing or doubled
     operator, empty parentheses, and the ambiguous ``a/b·c`` (ISO 80000-1: a solidus is not
     followed by a product without parentheses; metro prints ``a·c/b``)."""
+    if toks and (toks[-1][1] in _BINARY or toks[-1][1] in ("+", "-")):
+        raise _bad(original, f"it ends with the operator {toks[-1][1]!r}", file, field)
     depth = 0
     after_slash = [False]  # per parenthesis level: the last operator at this level was "/"
     prev = ("", "")
@@ -238,8 +247,6 @@ def _check_tokens(toks: list[tuple[str, str]], original: str, file: str | None,
         prev = (kind, tok)
     if depth:
         raise _bad(original, "unbalanced parentheses", file, field)
-    if prev[1] in _BINARY or prev[1] in ("+", "-"):
-        raise _bad(original, f"it ends with the operator {prev[1]!r}", file, field)
 
 
 def _pint_syntax(text: str, *, gravity: bool = False, file: str | None = None,
