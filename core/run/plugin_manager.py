@@ -16,6 +16,9 @@ from __future__ import annotations
 import functools
 import importlib
 import os
+import sys
+import types
+from importlib import resources
 from importlib import metadata
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping, Sequence
@@ -25,6 +28,7 @@ import pluggy
 
 from ..model import hookspec
 from ..base.errors import PluginError
+from ..base.locale import add_catalogs
 from ..base.extras import DISTRIBUTION
 from ..model.campaign import Campaign
 from ..model.results import Outcome
@@ -384,6 +388,8 @@ class MetroPluginManager:
                     f"{info.cls.standard!r}, which no loaded plugin registers"
                 )
         self._registered = True
+        for folder in self.catalog_folders().values():  # plugins' own translations
+            add_catalogs(folder)
         return self.registry
 
     # -- typed lookups ----------------------------------------------------------------------
@@ -506,6 +512,33 @@ class MetroPluginManager:
             if t.standard is None and t.kind == kind:
                 return t
         raise PluginError(f"no {kind} template registered for {standard!r} and no generic one")
+
+    def plugin_packages(self) -> dict[str, str]:
+        """{plugin name: the package its module belongs to} (``metro.plugins.gbt45570``; a
+        plugin that is a module of a package, or an object, gives that module's package; a
+        plugin that is a top-level module belongs to no package and is left out)."""
+        out = {}
+        for name, obj in sorted(self.pm.list_name_plugin(), key=lambda p: p[0]):
+            mod = obj if isinstance(obj, types.ModuleType) else sys.modules.get(type(obj).__module__)
+            package = None if mod is None else (
+                mod.__name__ if hasattr(mod, "__path__") else mod.__package__)
+            if package:
+                out[name] = package
+        return out
+
+    def catalog_folders(self) -> dict[str, Any]:
+        """{plugin name: its package's ``locale`` folder} for the plugins that ship their own
+        message catalogs (``locale/zh/LC_MESSAGES/<name>.po`` next to the package's
+        ``__init__.py``; :func:`metro.core.base.locale.add_catalogs`)."""
+        out = {}
+        for name, package in self.plugin_packages().items():
+            try:
+                folder = resources.files(package) / "locale"
+            except (ImportError, AttributeError, TypeError, ValueError):  # no package on disk
+                continue
+            if folder.is_dir():
+                out[name] = folder
+        return out
 
     def versions(self) -> dict[str, str]:
         """{plugin name: 'distribution version'} for provenance."""
