@@ -165,3 +165,61 @@ def test_the_docs_name_only_public_names():
             if name not in api.__all__:
                 bad.append(f"{md.relative_to(ROOT)}: metro.api.{name}")
     assert not bad, "the docs name what metro.api does not export: " + "; ".join(bad)
+
+
+#: the pages a plugin author reads: every dotted metro name they write must exist
+PLUGIN_PAGES = ("plugins-writing.md", "plugins-testing.md", "tutorial-station.md", "api.md")
+_FILE_SUFFIXES = {"po", "git", "toml", "md", "py", "txt", "docx", "csv"}
+
+
+def _resolves(dotted: str) -> bool:
+    """Whether ``metro.a.b.c`` is a module, or an attribute path from the longest importable
+    module prefix."""
+    import importlib
+
+    parts = dotted.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:i]))
+        except ImportError:
+            continue
+        for attr in parts[i:]:
+            if not hasattr(obj, attr):
+                return False
+            obj = getattr(obj, attr)
+        return True
+    return False
+
+
+def test_the_plugin_pages_name_only_what_exists():
+    """A module or name moved (the layers split core/ in folders) leaves no stale dotted name on
+    the pages a plugin author reads: ``metro.core.model.Metric`` there was an ImportError."""
+    bad = []
+    for page in PLUGIN_PAGES:
+        text = (DOCS / page).read_text(encoding="utf-8")
+        for dotted in sorted(set(re.findall(r"\bmetro(?:\.[A-Za-z_]\w*)+", text))):
+            if dotted.rsplit(".", 1)[-1] in _FILE_SUFFIXES:
+                continue  # a file name: metro.po, metro.git
+            if not _resolves(dotted):
+                bad.append(f"docs/{page}: {dotted}")
+        for module, names in _imports(text):
+            bad += [f"docs/{page}: from {module} import {n}" for n in names
+                    if not _resolves(f"{module}.{n}")]
+    assert not bad, "; ".join(bad)
+
+
+def _imports(text: str) -> list[tuple[str, list[str]]]:
+    """``from metro… import a, b as c`` statements of a page: (module, [a, b])."""
+    out = []
+    for module, names in re.findall(r"^\s*from (metro(?:\.\w+)+) import (\([^)]*\)|[^\n]+)",
+                                    text, re.MULTILINE):
+        words = [w.split(" as ")[0].strip() for w in names.strip("()").split("#")[0].split(",")]
+        out.append((module, [w for w in words if re.fullmatch(r"[A-Za-z_]\w*", w)]))
+    return out
+
+
+def test_the_stale_name_check_catches_a_moved_name():
+    """What the plugin-writing tutorial said before the layers: an import that fails now."""
+    old = "from metro.core.model import Metric, Option\nfrom metro.api import (\n    Q_,\n)\n"
+    assert _imports(old) == [("metro.core.model", ["Metric", "Option"]), ("metro.api", ["Q_"])]
+    assert not _resolves("metro.core.model.Metric") and _resolves("metro.core.model.results.Metric")
