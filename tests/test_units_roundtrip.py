@@ -358,7 +358,6 @@ def test_a_number_reads_as_pint_read_it(x, spec, unit_text):
 
 def test_a_header_unit_that_is_not_a_unit_names_the_file_and_the_column():
     import numpy as np
-
     from metro.core.model.campaign import Segment
 
     seg = Segment(

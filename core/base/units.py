@@ -17,17 +17,28 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Iterable
 from importlib import resources
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any
 
 import pint
 
 from .errors import UnitError
 
 __all__ = [
-    "ureg", "Q_", "Quantity", "unit", "parse_quantity", "check_dimension", "add_definitions",
-    "fmt_unit", "normalise_unit_text", "angle_power", "difference_unit", "UnitTextError",
+    "Q_",
+    "Quantity",
+    "UnitTextError",
+    "add_definitions",
+    "angle_power",
+    "check_dimension",
+    "difference_unit",
+    "fmt_unit",
+    "normalise_unit_text",
+    "parse_quantity",
+    "unit",
+    "ureg",
 ]
 
 
@@ -386,7 +397,7 @@ def _split_unit(split: tuple[float | int, str] | None) -> pint.Unit | None:
         return None
     try:
         return ureg.Unit(split[1])
-    except Exception:  # pint raises several types for text that is not a unit alone
+    except Exception:  # noqa: BLE001 - pint raises several types for text not a unit alone
         return None
 
 
