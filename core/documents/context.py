@@ -398,34 +398,15 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     """
     designations = dict(designations or {})
     camp = record.campaign
-    dev = camp.device
     simulated = bool(record.simulated or camp.simulated)
     on = record.test_date
 
-    # standards and items, in the order the outcomes came
-    standards: dict[str, list[str]] = {}
-    for o in record.outcomes:
-        standards.setdefault(o.standard, []).append(o.item)
-    std_list = [
-        {"id": s, "designation": designations.get(s) or s, "items_text": ", ".join(_unique(items))}
-        for s, items in standards.items()
-    ]
+    std_list = _standards_block(record, designations)
     items_text = "; ".join(f"{s['designation']} {s['items_text']}" for s in std_list)
     title = "Test report — " + (items_text or camp.id)
 
-    outcomes = []
-    figure = 1
-    for i, o in enumerate(record.outcomes, start=1):
-        block = _outcome_block(o, f"5.{i}", designations.get(o.standard) or o.standard, figure)
-        figure += len(block["plots"])
-        outcomes.append(block)
-
+    outcomes = _outcome_blocks(record, designations)
     equipment = [_equipment_row(e, on) for e in camp.equipment]
-    equipment_warnings = [
-        msg("The calibration of {id} ({certificate}) is {status}: results that depend on it are not "
-            "traceable until it is recalibrated.", id=e["id"], certificate=e["certificate"], status=e["status"])
-        for e in equipment if e["expired"]
-    ]
 
     truth = dict(camp.truth)
     truth.update(record.truth)
@@ -451,35 +432,77 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
         "simulated_banner": SIMULATED_BANNER if simulated else "",
         "truth": _name_values(truth, relabel=False) if simulated else [],
         "campaign": {"id": camp.id, "source": source},
-        "device": {
-            "id": dev.id,
-            "manufacturer": or_dash(dev.manufacturer),
-            "model": or_dash(dev.model),
-            "serial": or_dash(dev.serial),
-            "technology": or_dash(dev.technology),
-            "application": or_dash(dev.application),
-            "output": or_dash(dev.output),
-            "description": dev.describe(),
-            "properties": _name_values(dev.properties),
-        },
+        "device": _device_block(camp.device),
         "environment": _name_values(camp.environment),
         "site": _name_values(site),
         "latitude": latitude,
         "equipment": equipment,
-        "equipment_warnings": equipment_warnings,
+        "equipment_warnings": _equipment_warnings(equipment),
         "outcomes": outcomes,
         "selection": [{"item": c.item, "run": c.run, "reason": c.reason, "via": c.via}
                       for c in getattr(record, "selection", ())],
         "conformity": _conformity_block(getattr(record, "conformity", None)),
-        "provenance": {
-            "source": source,
-            "software": [{"name": k, "version": str(v)} for k, v in software.items()],
-            "plugins": [{"name": k, "version": str(v)} for k, v in dict(record.plugins).items()],
-            "data_files": _data_files(record),
-            "manifest": {"file": record.campaign.source,
-                         "sha256": getattr(record.campaign, "manifest_sha256", "") or "—"},
-        },
+        "provenance": _provenance_block(record, source, software),
     })
+
+
+def _standards_block(record: "RunRecord", designations: Mapping[str, str]) -> list[dict[str, str]]:
+    """The standards and their items, in the order the outcomes came."""
+    standards: dict[str, list[str]] = {}
+    for o in record.outcomes:
+        standards.setdefault(o.standard, []).append(o.item)
+    return [
+        {"id": s, "designation": designations.get(s) or s, "items_text": ", ".join(_unique(items))}
+        for s, items in standards.items()
+    ]
+
+
+def _outcome_blocks(record: "RunRecord", designations: Mapping[str, str]) -> list[dict[str, Any]]:
+    """Each outcome's block, numbered 5.1, 5.2 …, its figures numbered on from the last one's."""
+    outcomes = []
+    figure = 1
+    for i, o in enumerate(record.outcomes, start=1):
+        block = _outcome_block(o, f"5.{i}", designations.get(o.standard) or o.standard, figure)
+        figure += len(block["plots"])
+        outcomes.append(block)
+    return outcomes
+
+
+def _equipment_warnings(equipment: list[dict[str, Any]]) -> list[Any]:
+    """A warning for each item of equipment whose calibration had expired on the test date."""
+    return [
+        msg("The calibration of {id} ({certificate}) is {status}: results that depend on it are not "
+            "traceable until it is recalibrated.", id=e["id"], certificate=e["certificate"],
+            status=e["status"])
+        for e in equipment if e["expired"]
+    ]
+
+
+def _device_block(dev: Any) -> dict[str, Any]:
+    """The device under test: its identity, a missing field as a dash."""
+    return {
+        "id": dev.id,
+        "manufacturer": or_dash(dev.manufacturer),
+        "model": or_dash(dev.model),
+        "serial": or_dash(dev.serial),
+        "technology": or_dash(dev.technology),
+        "application": or_dash(dev.application),
+        "output": or_dash(dev.output),
+        "description": dev.describe(),
+        "properties": _name_values(dev.properties),
+    }
+
+
+def _provenance_block(record: "RunRecord", source: str, software: Mapping[str, Any]) -> dict[str, Any]:
+    """Where the data came from, the software that evaluated them and every file's SHA-256."""
+    return {
+        "source": source,
+        "software": [{"name": k, "version": str(v)} for k, v in software.items()],
+        "plugins": [{"name": k, "version": str(v)} for k, v in dict(record.plugins).items()],
+        "data_files": _data_files(record),
+        "manifest": {"file": record.campaign.source,
+                     "sha256": getattr(record.campaign, "manifest_sha256", "") or "—"},
+    }
 
 
 def build_context(

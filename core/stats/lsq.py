@@ -143,6 +143,106 @@ def _has_constant_column(A: FloatArray) -> bool:
     return bool(np.any(np.all(A == first, axis=0) & (first != 0.0)))
 
 
+def _checked_system(A: ArrayLike, y: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """The design (a 1-D array as one column) and the observations of :func:`fit_linear` as
+    finite float arrays, with at least one residual degree of freedom."""
+    A_arr = _as_finite("A", np.reshape(A, (-1, 1)) if np.ndim(A) == 1 else A, 2)
+    y_arr = _as_finite("y", y, 1)
+    n, p = A_arr.shape
+    if y_arr.shape[0] != n:
+        raise ValueError(f"A has {n} rows but y has {y_arr.shape[0]} values")
+    if p < 1:
+        raise ValueError("A must have at least one column")
+    if n < p + 1:
+        raise ValueError(
+            f"too few points: {n} observation(s) for {p} parameter(s); at least {p + 1} are "
+            "needed (one residual degree of freedom)"
+        )
+    return A_arr, y_arr
+
+
+def _whiten(
+    A_arr: FloatArray, y_arr: FloatArray, weights: ArrayLike | None, cov_y: ArrayLike | None,
+) -> tuple[FloatArray, FloatArray, FloatArray | None, FloatArray | None]:
+    """The whitened system L^-1 A, L^-1 y of :func:`fit_linear` (V = L L^T; L = diag(1/sqrt(w))
+    for WLS, the Cholesky factor of ``cov_y`` for GLS, I for OLS), with the weights and the
+    Cholesky factor used (None when not given)."""
+    from scipy import linalg as sla
+
+    n = A_arr.shape[0]
+    chol: FloatArray | None = None
+    w: FloatArray | None = None
+    if weights is not None:
+        w = _as_finite("weights", weights, 1)
+        if w.shape[0] != n:
+            raise ValueError(f"weights has {w.shape[0]} values, expected {n}")
+        if np.any(w <= 0.0):
+            raise ValueError("weights must be strictly positive (w = 1/sigma^2)")
+        sw = np.sqrt(w)
+        Aw = A_arr * sw[:, None]
+        yw = y_arr * sw
+    elif cov_y is not None:
+        V = _as_finite("cov_y", cov_y, 2)
+        if V.shape != (n, n):
+            raise ValueError(f"cov_y must have shape ({n}, {n}), got {V.shape}")
+        scale = np.max(np.abs(V))
+        if not np.allclose(V, V.T, rtol=1e-12, atol=1e-14 * scale):
+            raise ValueError("cov_y must be symmetric")
+        try:
+            chol = sla.cholesky(V, lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            raise ValueError("cov_y is not positive definite") from None
+        Aw = sla.solve_triangular(chol, A_arr, lower=True, check_finite=False)
+        yw = sla.solve_triangular(chol, y_arr, lower=True, check_finite=False)
+    else:
+        Aw = A_arr
+        yw = y_arr
+    return Aw, yw, w, chol
+
+
+def _scaled_qr(Aw: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Column norms d, the column-scaled design Aw / d and its reduced Q R; a design of rank
+    below its column count is refused (Golub & Van Loan sec. 5.3)."""
+    n, p = Aw.shape
+    norms = np.linalg.norm(Aw, axis=0)
+    if np.any(norms == 0.0):
+        k = int(np.flatnonzero(norms == 0.0)[0])
+        raise ValueError(f"singular design matrix: column {k} is all zeros")
+    As = Aw / norms
+    Q, R = np.linalg.qr(As, mode="reduced")
+    sv = np.linalg.svd(R, compute_uv=False)
+    tol = max(n, p) * np.finfo(np.float64).eps * sv[0]
+    if sv[-1] <= tol:
+        rank = int(np.sum(sv > tol))
+        cond = sv[0] / max(sv[-1], 1e-300)
+        raise ValueError(
+            f"singular design matrix: rank {rank} < {p} columns (columns are linearly "
+            f"dependent; condition number of the column-scaled design ~ {cond:.3g})"
+        )
+    return norms, As, Q, R
+
+
+def _total_ss(A_arr: FloatArray, y_arr: FloatArray, yw: FloatArray, w: FloatArray | None,
+              chol: FloatArray | None) -> float:
+    """The total sum of squares in the same (whitened) metric as SSR: about the weighted mean
+    when the design has a constant column, about zero otherwise (for R^2)."""
+    from scipy import linalg as sla
+
+    n = y_arr.shape[0]
+    if _has_constant_column(A_arr):
+        if w is not None:
+            ybar = float(np.sum(w * y_arr) / np.sum(w))
+            return float(np.sum(w * (y_arr - ybar) ** 2))
+        if chol is not None:
+            ow = sla.solve_triangular(chol, np.ones(n), lower=True, check_finite=False)
+            ybar = float(ow @ yw / (ow @ ow))
+            dev = yw - ybar * ow
+            return float(dev @ dev)
+        dev = y_arr - np.mean(y_arr)
+        return float(dev @ dev)
+    return float(yw @ yw)
+
+
 # --------------------------------------------------------------------------- solver
 
 
@@ -203,64 +303,13 @@ def fit_linear(
     """
     from scipy import linalg as sla  # here, not at import: loading the plugins needs no scipy
 
-    A_arr = _as_finite("A", np.reshape(A, (-1, 1)) if np.ndim(A) == 1 else A, 2)
-    y_arr = _as_finite("y", y, 1)
+    A_arr, y_arr = _checked_system(A, y)
     n, p = A_arr.shape
-    if y_arr.shape[0] != n:
-        raise ValueError(f"A has {n} rows but y has {y_arr.shape[0]} values")
-    if p < 1:
-        raise ValueError("A must have at least one column")
-    if n < p + 1:
-        raise ValueError(
-            f"too few points: {n} observation(s) for {p} parameter(s); at least {p + 1} are "
-            "needed (one residual degree of freedom)"
-        )
     if weights is not None and cov_y is not None:
         raise ValueError("give either weights or cov_y, not both")
 
-    chol: FloatArray | None = None
-    w: FloatArray | None = None
-    if weights is not None:
-        w = _as_finite("weights", weights, 1)
-        if w.shape[0] != n:
-            raise ValueError(f"weights has {w.shape[0]} values, expected {n}")
-        if np.any(w <= 0.0):
-            raise ValueError("weights must be strictly positive (w = 1/sigma^2)")
-        sw = np.sqrt(w)
-        Aw = A_arr * sw[:, None]
-        yw = y_arr * sw
-    elif cov_y is not None:
-        V = _as_finite("cov_y", cov_y, 2)
-        if V.shape != (n, n):
-            raise ValueError(f"cov_y must have shape ({n}, {n}), got {V.shape}")
-        scale = np.max(np.abs(V))
-        if not np.allclose(V, V.T, rtol=1e-12, atol=1e-14 * scale):
-            raise ValueError("cov_y must be symmetric")
-        try:
-            chol = sla.cholesky(V, lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
-            raise ValueError("cov_y is not positive definite") from None
-        Aw = sla.solve_triangular(chol, A_arr, lower=True, check_finite=False)
-        yw = sla.solve_triangular(chol, y_arr, lower=True, check_finite=False)
-    else:
-        Aw = A_arr
-        yw = y_arr
-
-    norms = np.linalg.norm(Aw, axis=0)
-    if np.any(norms == 0.0):
-        k = int(np.flatnonzero(norms == 0.0)[0])
-        raise ValueError(f"singular design matrix: column {k} is all zeros")
-    As = Aw / norms
-    Q, R = np.linalg.qr(As, mode="reduced")
-    sv = np.linalg.svd(R, compute_uv=False)
-    tol = max(n, p) * np.finfo(np.float64).eps * sv[0]
-    if sv[-1] <= tol:
-        rank = int(np.sum(sv > tol))
-        cond = sv[0] / max(sv[-1], 1e-300)
-        raise ValueError(
-            f"singular design matrix: rank {rank} < {p} columns (columns are linearly "
-            f"dependent; condition number of the column-scaled design ~ {cond:.3g})"
-        )
+    Aw, yw, w, chol = _whiten(A_arr, y_arr, weights, cov_y)
+    norms, As, Q, R = _scaled_qr(Aw)
     z = sla.solve_triangular(R, Q.T @ yw, lower=False, check_finite=False)
     coef = z / norms
 
@@ -277,21 +326,7 @@ def fit_linear(
 
     residuals = y_arr - A_arr @ coef
 
-    # total sum of squares in the same (whitened) metric as SSR
-    if _has_constant_column(A_arr):
-        if w is not None:
-            ybar = float(np.sum(w * y_arr) / np.sum(w))
-            sst = float(np.sum(w * (y_arr - ybar) ** 2))
-        elif chol is not None:
-            ow = sla.solve_triangular(chol, np.ones(n), lower=True, check_finite=False)
-            ybar = float(ow @ yw / (ow @ ow))
-            dev = yw - ybar * ow
-            sst = float(dev @ dev)
-        else:
-            dev = y_arr - np.mean(y_arr)
-            sst = float(dev @ dev)
-    else:
-        sst = float(yw @ yw)
+    sst = _total_ss(A_arr, y_arr, yw, w, chol)
     r2 = 1.0 if sst == 0.0 else 1.0 - ssr / sst
 
     return LinearFit(

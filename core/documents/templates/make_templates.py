@@ -31,6 +31,7 @@ import io
 import sys
 import zipfile
 from pathlib import Path
+from typing import Any
 
 import docx
 from docx.enum.section import WD_ORIENT
@@ -394,20 +395,17 @@ def _properties(doc) -> None:
 # --------------------------------------------------------------------------------------
 
 
-def build() -> "docx.document.Document":
-    doc = docx.Document()
-    _styles(doc)
-    _page(doc)
-    _properties(doc)
-
-    # ---- title block -------------------------------------------------------------------
+def _title_block(doc: Any) -> None:
+    """The title, the report number and the SIMULATED banner."""
     para(doc, "{{ title }}", style="Title")
     para(doc, "Report number {{ report_number }} · issued {{ created }}", bold=True)
     tag(doc, "{%p if simulated %}")
     _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
     tag(doc, "{%p endif %}")
 
-    # ---- 1 Identification --------------------------------------------------------------
+
+def _identification(doc: Any) -> None:
+    """1 Identification: who, what and when."""
     heading(doc, "1 Identification", 1)
     kv_table(doc, [
         ("Report number", "{{ report_number }}"),
@@ -425,7 +423,9 @@ def build() -> "docx.document.Document":
         ("Issued with", "{{ generator }}"),
     ])
 
-    # ---- 2 Device under test -----------------------------------------------------------
+
+def _device(doc: Any) -> None:
+    """2 Device under test."""
     heading(doc, "2 Device under test", 1)
     kv_table(doc, [
         ("Identifier", "{{ device.id }}"),
@@ -437,7 +437,9 @@ def build() -> "docx.document.Document":
         ("Output", "{{ device.output }}"),
     ], loop=("p in device.properties", "{{ p.name }}", "{{ p.value }}"))
 
-    # ---- 3 Environment and site --------------------------------------------------------
+
+def _environment(doc: Any) -> None:
+    """3 Environment and site."""
     heading(doc, "3 Environment and site", 1)
     label(doc, "Environmental conditions")
     tag(doc, "{%p if environment %}")
@@ -453,7 +455,9 @@ def build() -> "docx.document.Document":
     para(doc, "No site data were stated for this campaign.", italic=True)
     tag(doc, "{%p endif %}")
 
-    # ---- 4 Equipment and traceability --------------------------------------------------
+
+def _equipment(doc: Any) -> None:
+    """4 Equipment and traceability."""
     heading(doc, "4 Equipment and traceability", 1)
     para(doc, "Calibration status on the date of measurement ({{ facts.measured }}). U is the expanded "
               "uncertainty stated on the certificate, with its coverage factor k.")
@@ -473,35 +477,9 @@ def build() -> "docx.document.Document":
     para(doc, "{{ w }}", style="Banner")
     tag(doc, "{%p endfor %}")
 
-    # ---- 5 Results ---------------------------------------------------------------------
-    heading(doc, "5 Results", 1)
-    para(doc, "Values are reported with their expanded uncertainty U = k·u_c; U has at most two "
-              "significant digits and the value is rounded to the same decimal place (JJF 1059.1).")
-    tag(doc, "{%p if simulated %}")
-    _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
-    label(doc, "Declared truth of the simulated station (compare with the results below)")
-    loop_table(doc, ["Parameter", "Declared value"], ["{{ t.name }}", "{{ t.value }}"], [70, TEXT_W - 70],
-               "t in truth")
-    tag(doc, "{%p endif %}")
-    tag(doc, "{%p for o in outcomes %}")
-    heading(doc, "{{ o.number }} {{ o.item }} — {{ o.title }}", 2)
-    para(doc, "{{ o.designation }}, clause {{ o.clause }}. Segments evaluated: {{ o.segments_text }}.")
-    tag(doc, "{%p if o.options_text %}")
-    para(doc, "Options: {{ o.options_text }}")
-    tag(doc, "{%p endif %}")
-    label(doc, "Results")
-    loop_table(
-        doc,
-        ["Quantity", "Symbol", "Value", "U", "Unit", "k", "Clause / equation"],
-        ["{{ r.quantity }}", "{{ r.symbol }}", "{{ r.value }}", "{{ r.U }}", "{{ r.unit }}", "{{ r.k }}",
-         "{{ r.reference }}"],
-        [38, 18, 24, 20, 16, 12, 42],
-        "r in o.results",
-    )
-    tag(doc, "{%p for n in o.notes %}")
-    para(doc, "Note: {{ n }}", italic=True)
-    tag(doc, "{%p endfor %}")
 
+def _budget(doc: Any) -> None:
+    """An outcome's uncertainty budgets (inside the outcome loop)."""
     tag(doc, "{%p for b in o.budgets %}")
     heading(doc, "Uncertainty budget: {{ b.title }}", 3)
     # type and distribution in one column (as metro's own documents print them), so no header
@@ -535,6 +513,29 @@ def build() -> "docx.document.Document":
     tag(doc, "{%p endif %}")
     tag(doc, "{%p endfor %}")
 
+
+def _outcome(doc: Any) -> None:
+    """One outcome (inside the outcome loop): results, notes, budgets, tables, figures, warnings."""
+    heading(doc, "{{ o.number }} {{ o.item }} — {{ o.title }}", 2)
+    para(doc, "{{ o.designation }}, clause {{ o.clause }}. Segments evaluated: {{ o.segments_text }}.")
+    tag(doc, "{%p if o.options_text %}")
+    para(doc, "Options: {{ o.options_text }}")
+    tag(doc, "{%p endif %}")
+    label(doc, "Results")
+    loop_table(
+        doc,
+        ["Quantity", "Symbol", "Value", "U", "Unit", "k", "Clause / equation"],
+        ["{{ r.quantity }}", "{{ r.symbol }}", "{{ r.value }}", "{{ r.U }}", "{{ r.unit }}", "{{ r.k }}",
+         "{{ r.reference }}"],
+        [38, 18, 24, 20, 16, 12, 42],
+        "r in o.results",
+    )
+    tag(doc, "{%p for n in o.notes %}")
+    para(doc, "Note: {{ n }}", italic=True)
+    tag(doc, "{%p endfor %}")
+
+    _budget(doc)
+
     tag(doc, "{%p for t in o.tables %}")
     label(doc, "{{ t.title }}")
     column_loop_table(doc, "t.header", "t.rows")
@@ -551,12 +552,29 @@ def build() -> "docx.document.Document":
     para(doc, "{{ w }}", style="List Bullet")
     tag(doc, "{%p endfor %}")
     tag(doc, "{%p endif %}")
+
+
+def _results(doc: Any) -> None:
+    """5 Results: the declared truth of a simulated run, then each outcome."""
+    heading(doc, "5 Results", 1)
+    para(doc, "Values are reported with their expanded uncertainty U = k·u_c; U has at most two "
+              "significant digits and the value is rounded to the same decimal place (JJF 1059.1).")
+    tag(doc, "{%p if simulated %}")
+    _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
+    label(doc, "Declared truth of the simulated station (compare with the results below)")
+    loop_table(doc, ["Parameter", "Declared value"], ["{{ t.name }}", "{{ t.value }}"], [70, TEXT_W - 70],
+               "t in truth")
+    tag(doc, "{%p endif %}")
+    tag(doc, "{%p for o in outcomes %}")
+    _outcome(doc)
     tag(doc, "{%p endfor %}")
     tag(doc, "{%p if not outcomes %}")
     para(doc, "This report holds no results.", italic=True)
     tag(doc, "{%p endif %}")
 
-    # ---- 6 Conformity ------------------------------------------------------------------
+
+def _conformity(doc: Any) -> None:
+    """6 Conformity with the specification."""
     heading(doc, "6 Conformity with the specification", 1)
     tag(doc, "{%p if conformity %}")
     para(doc, "Decision rule: {{ conformity.rule_title }}. {{ conformity.statement }}")
@@ -579,7 +597,9 @@ def build() -> "docx.document.Document":
               "conformity.", italic=True)
     tag(doc, "{%p endif %}")
 
-    # ---- 7 Provenance ------------------------------------------------------------------
+
+def _provenance(doc: Any) -> None:
+    """7 Provenance: campaign source, software, plugins, raw data."""
     heading(doc, "7 Provenance", 1)
     para(doc, "Campaign source: {{ provenance.source }}")
     label(doc, "Software")
@@ -600,7 +620,9 @@ def build() -> "docx.document.Document":
     para(doc, "No raw data files were recorded.", italic=True)
     tag(doc, "{%p endif %}")
 
-    # ---- signatures --------------------------------------------------------------------
+
+def _signatures(doc: Any) -> None:
+    """The signature table, with room to sign."""
     heading(doc, "Signatures", 1)
     sig = kv_table(doc, [
         ("Tested by", "{{ facts.operator or '—' }}"),
@@ -610,10 +632,30 @@ def build() -> "docx.document.Document":
     for row in sig.rows:
         row.height = Mm(11)  # room to sign
 
-    # ---- closing -----------------------------------------------------------------------
+
+def _closing(doc: Any) -> None:
+    """The closing statement."""
     heading(doc, "Statement", 1)
     para(doc, CLOSING)
     para(doc, "End of report {{ report_number }}", italic=True, align=WD_ALIGN_PARAGRAPH.CENTER)
+
+
+def build() -> "docx.document.Document":
+    """The docxtpl report template, section by section."""
+    doc = docx.Document()
+    _styles(doc)
+    _page(doc)
+    _properties(doc)
+    _title_block(doc)
+    _identification(doc)
+    _device(doc)
+    _environment(doc)
+    _equipment(doc)
+    _results(doc)
+    _conformity(doc)
+    _provenance(doc)
+    _signatures(doc)
+    _closing(doc)
     return doc
 
 
