@@ -402,7 +402,7 @@ def test_progress_is_one_overall_bar_and_the_current_step(pm):
 
     from rich.console import Console
 
-    from metro.core.cli.app import present
+    from metro.core.cli import present
     from metro.core.run.runner import run_items
 
     con = Console(file=io.StringIO(), force_terminal=True, width=100, height=10)
@@ -481,7 +481,7 @@ def test_the_overall_verdict_line_counts_each_status(pm, tmp_path, campaign_fact
 def test_a_result_not_reportable_and_its_earth_rate_show_in_its_row(pm, capsys, monkeypatch):
     import attrs
 
-    from metro.core.cli.app import present
+    from metro.core.cli import present
     from metro.core.run.runner import run_items
 
     monkeypatch.setenv("COLUMNS", "200")
@@ -499,7 +499,7 @@ def test_readme_exit_code_table_is_what_metro_returns():
     import re
     from pathlib import Path
 
-    from metro.core.cli.app import app as cli
+    from metro.core.cli import app as cli
 
     text = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
     table = text.split("### Exit codes", 1)[1]
