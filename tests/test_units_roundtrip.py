@@ -313,6 +313,9 @@ def test_a_bad_unit_in_a_manifest_field_names_the_file_and_the_field():
 def test_an_unreadable_unit_is_also_a_value_error_for_callers_that_catch_pint_errors():
     with pytest.raises(ValueError):
         unit("deg@h")
+    with pytest.raises(pint.errors.UndefinedUnitError) as exc:  # as pint raised it before
+        unit("deg/wibble")
+    assert isinstance(exc.value, UnitError) and exc.value.unit_names == ("wibble",)
 
 
 @pytest.mark.parametrize(

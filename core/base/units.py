@@ -29,6 +29,7 @@ from .errors import UnitError
 __all__ = [
     "Q_",
     "Quantity",
+    "UndefinedUnitTextError",
     "UnitTextError",
     "add_definitions",
     "angle_power",
@@ -173,10 +174,18 @@ class UnitTextError(UnitError, ValueError):
             self.reason = reason
 
 
-def _bad(text: str, why: str, file: str | None, field: str | None) -> UnitError:
-    hint = "write units as metro prints them (°/h, °/√h, °/h¹⋅⁵, P/″, LSB·s/°) or in pint syntax " \
-           "(deg/h, deg/hour**0.5, deg/h**1.5); see docs/data-format.md, Unit syntax"
-    return UnitTextError(file, field, f"cannot read the unit {text!r}: {why}", hint=hint)
+class UndefinedUnitTextError(UnitTextError, pint.errors.UndefinedUnitError):
+    """A unit name metro does not know: a :class:`UnitTextError`, and pint's own
+    ``UndefinedUnitError`` for callers that catch that."""
+
+
+_HINT = ("write units as metro prints them (°/h, °/√h, °/h¹⋅⁵, P/″, LSB·s/°) or in pint syntax "
+         "(deg/h, deg/hour**0.5, deg/h**1.5); see docs/data-format.md, Unit syntax")
+
+
+def _bad(text: str, why: str, file: str | None, field: str | None,
+         cls: type[UnitTextError] = UnitTextError) -> UnitTextError:
+    return cls(file, field, f"cannot read the unit {text!r}: {why}", hint=_HINT)
 
 
 def _sqrt(text: str, original: str, file: str | None, field: str | None) -> str:
@@ -356,6 +365,10 @@ def unit(text: str | pint.Unit, *, like: str | pint.Unit | None = None, file: st
     syntax = _syntax(text, _wants_gravity(like), file, field)
     try:
         return ureg.Unit(syntax)
+    except pint.errors.UndefinedUnitError as exc:
+        err = _bad(text, str(exc), file, field, UndefinedUnitTextError)
+        err.unit_names = exc.unit_names
+        raise err from exc
     except Exception as exc:  # pint raises several types for bad text
         raise _bad(text, str(exc) or type(exc).__name__, file, field) from exc
 
