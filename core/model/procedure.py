@@ -181,6 +181,11 @@ class Procedure(abc.ABC):
     Subclasses declare, as class attributes, the item's id, clause, title, the metrics it
     produces, the data and equipment it needs, its options, and implement
     :meth:`sequence` (what to measure) and :meth:`evaluate` (formulas → results + budgets).
+
+    An item whose sequence depends on the device may also define
+    ``sequence_for_device(options, device) -> list[Step]``: a station that names its device
+    before acquiring (``Station.device``) gets that sequence instead of :meth:`sequence` (GB/T
+    45570 D.3 resolves its ``method = auto`` option so).
     """
 
     #: the standard's id (``"gbt45570"``), registered with ``registrar.add_standard``
