@@ -15,7 +15,8 @@ from metro.core.run.runner import run_items
 from metro.core.base.units import Q_
 from metro.instruments.simulated import GyroTruth, SimulatedStation
 from metro.plugins.gbt45570 import formulas as F
-from metro.plugins.gbt45570.angle_method import AsymmetryD13, NonlinearityD12, ScaleFactorD11, rate_points
+from metro.plugins.gbt45570.angle_method import AsymmetryD13, NonlinearityD12, ScaleFactorD11
+from metro.plugins.gbt45570.revolutions import rate_points
 
 
 def test_d1_d2_hand_worked():

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from metro.plugins.gbt45570.angle_method import RatePoint, point_drift, revolution_trend, sweep_drift
+from metro.plugins.gbt45570.revolutions import RatePoint, point_drift, revolution_trend, sweep_drift
 
 
 def test_revolution_trend_hand_worked():

@@ -129,9 +129,9 @@ def test_d4_unresolved_positions_bound_the_threshold(pm):
     """interpretations.md "D.4 — an upper bound when nothing below is resolved": with nothing resolved
     below the first resolved pass H, the threshold is reported as ≤ H (a bound, U of the input at H) and
     judged as (−∞, H + U]; before, it was not reportable and indeterminate on every such device."""
-    from metro.plugins.gbt45570.threshold import _levels
+    from metro.plugins.gbt45570.threshold import parse_levels
 
-    levels = _levels("0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.03, 0.05")
+    levels = parse_levels("0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.03, 0.05")
     rec = run_items(pm, "gbt45570", ["D.4"], station_options={"seed": 1})
     (r,) = rec.outcomes[0].results
     assert r.bound == "upper" and not r.reportable and "stated as at most" in r.reason

@@ -405,11 +405,11 @@ def test_each_54_test_on_the_simulated_station(pm, item, tag):
 
 def test_scale_factor_change_hand_worked():
     from metro.core.model.results import Metric
-    from metro.plugins.gbt45570.type_env import _scale_factor_change
+    from metro.plugins.gbt45570.type_env import scale_factor_change
 
     m = Metric("lts_dK", "scale-factor change", "ΔK/K", "ppm", "D.1.1.3")
     # K 1.0 → 1.00001 (u = 1e-6 each, ν = 10 and 20): ΔK/K = 10 ppm, u = √(1² + 1.00001²)·1e-6 → ppm
-    r = _scale_factor_change(m, (1.0, 1e-6, 10, "P/arcsec", "D.1.1"), (1.00001, 1e-6, 20, "P/arcsec", "D.1.1"))
+    r = scale_factor_change(m, (1.0, 1e-6, 10, "P/arcsec", "D.1.1"), (1.00001, 1e-6, 20, "P/arcsec", "D.1.1"))
     assert float(r.value.to("ppm").magnitude) == pytest.approx(10.0, rel=1e-9)
     u = math.hypot(1.0, 1.00001)
     assert float(r.u.to("ppm").magnitude) == pytest.approx(u, rel=1e-9)
@@ -776,7 +776,7 @@ def test_54_bias_change_turn_on_row_is_never_zero_where_d53_only_bounds_sigma_on
     import math
 
     from metro.plugins.gbt45570 import formulas as F
-    from metro.plugins.gbt45570.procedures import segment_bias
+    from metro.plugins.gbt45570.static_bias import segment_bias
 
     # no turn-on scatter on the station: D.5.3's B_r comes out below the runs' own noise (seed 3: B_r²/u_A² = 0.54)
     rec = run_items(pm, "gbt45570", ["D.5.3", "6.2.8.2"],

@@ -185,7 +185,7 @@ def test_d56_misfit_limit_catches_the_moderate_misfit(pm):
     (interpretations.md, "D.5.6 — when the D.45 model does not hold")."""
     import re
 
-    from metro.plugins.gbt45570.procedures import D45_MISFIT_LIMIT
+    from metro.plugins.gbt45570.arw import D45_MISFIT_LIMIT
 
     rec = _run(pm, ["D.5.6"], device_class="pulse-fine-undithered", seed=149, duration_scale=0.5)
     r = _result(rec, "RWC")

@@ -135,14 +135,14 @@ def test_d4_threshold_set_by_a_dead_band_is_recovered(pm):
 
 
 def test_d4_decision_row_when_a_ratio_is_near_fifty_percent():
-    from metro.plugins.gbt45570.threshold import _decision_row
+    from metro.plugins.gbt45570.threshold import decision_row
 
     # u(ratio) at 0.008 °/h = √(3.5e-4² + 2.4e-4²)/0.008 = 0.053: 56 % is within 2u of 50 %, so the
     # threshold might be the next larger position, 0.002 °/h away
-    rows = _decision_row([0.006, 0.008, 0.01], [0.30, 0.56, 0.65], [3.5e-4] * 3, 2.4e-4, 1)
+    rows = decision_row([0.006, 0.008, 0.01], [0.30, 0.56, 0.65], [3.5e-4] * 3, 2.4e-4, 1)
     assert len(rows) == 1 and rows[0].value.magnitude == pytest.approx(0.002)
     # well clear of 50 % on both sides: no row
-    assert _decision_row([0.006, 0.008, 0.01], [0.30, 0.56, 0.65], [1e-5] * 3, 1e-5, 1) == []
+    assert decision_row([0.006, 0.008, 0.01], [0.30, 0.56, 0.65], [1e-5] * 3, 1e-5, 1) == []
 
 
 def test_d4_threshold_within_U_over_seeds(pm):
@@ -347,13 +347,13 @@ def test_d4_noise_does_not_pass_a_level(pm):
 def test_d4_resolved_hand_worked():
     """d = 0.6·0.01 = 0.006 °/h against 50 % = 0.005 °/h; u = √(3² + 4²)×10⁻⁴ = 5×10⁻⁴ °/h, ν = ∞:
     t₀.₉₅ = 1.645 → 0.006 − 0.00082 = 0.00518 ≥ 0.005: resolved; with u doubled it is not."""
-    from metro.plugins.gbt45570.threshold import _resolved
+    from metro.plugins.gbt45570.threshold import resolved
 
     m = {"u": 3e-4, "uq": 0.0, "nu": 10**9}
     ref = {"u": 4e-4, "uq": 0.0, "nu": 10**9}
-    assert _resolved(0.01, 0.6, m, ref, 0.95)[0] == "resolved ≥ 50 %"
-    assert _resolved(0.01, 0.6, m | {"u": 6e-4}, ref | {"u": 8e-4}, 0.95)[0] == "not resolved"
-    assert _resolved(0.01, 0.2, m, ref, 0.95)[0] == "resolved < 50 %"
-    assert _resolved(0.01, -0.8, m, ref, 0.95)[0] == "resolved < 50 %"  # opposite sign never counts
+    assert resolved(0.01, 0.6, m, ref, 0.95)[0] == "resolved ≥ 50 %"
+    assert resolved(0.01, 0.6, m | {"u": 6e-4}, ref | {"u": 8e-4}, 0.95)[0] == "not resolved"
+    assert resolved(0.01, 0.2, m, ref, 0.95)[0] == "resolved < 50 %"
+    assert resolved(0.01, -0.8, m, ref, 0.95)[0] == "resolved < 50 %"  # opposite sign never counts
     # one count of quantization on each mean counts like noise
-    assert _resolved(0.01, 0.6, m | {"uq": 5e-4}, ref | {"uq": 5e-4}, 0.95)[0] == "not resolved"
+    assert resolved(0.01, 0.6, m | {"uq": 5e-4}, ref | {"uq": 5e-4}, 0.95)[0] == "not resolved"

@@ -394,17 +394,14 @@ def test_d25_turn_on_scatter_of_k_is_never_zero_where_d24_only_bounds_it(pm):
     all.  Now σ_K² is the posterior mean of the variance component given the runs, worked here by hand for
     Q = 7 from the closed χ²(4) and χ²(6) cdfs (as σ_on of D.5.3), with ν = ∞."""
     from metro.plugins.gbt45570 import formulas_rate as F2
-    from metro.plugins.gbt45570.rate_method import (
-        ScaleFactorRepeatabilityD24,
-        _group_of,
-        collect_rate_data,
-        fit_scale_factor,
-    )
+    from metro.plugins.gbt45570.common import group_of
+    from metro.plugins.gbt45570.rate_data import collect_rate_data, fit_scale_factor
+    from metro.plugins.gbt45570.rate_method import ScaleFactorRepeatabilityD24
     from metro.plugins.gbt45570.repeatability import scale_factor_turn_on
 
     rec = _d25_station(pm, 2)
-    runs = sorted({_group_of(s)[0] for s in rec.campaign.find_segments("rate-output") if _group_of(s)[0]
-                   and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+    runs = sorted({group_of(s)[0] for s in rec.campaign.find_segments("rate-output") if group_of(s)[0]
+                   and not group_of(s)[1]}, key=lambda r: (len(r), r))
     assert len(runs) == 7
     fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, rec.campaign, 11, (r, ""), "")) for r in runs]
     b2 = F2.scale_factor_repeatability_d28([f.K for f in fits]) ** 2

@@ -299,7 +299,7 @@ def test_d21_type_a_is_propagated_not_the_residual_scatter(pm):
 def test_d22_fm_is_the_larger_output_at_the_maximum_rate():
     """interpretations.md "D.2.2 — F_m": |F_m| is the larger |F_kj| of the two directions at the
     largest rate."""
-    from metro.plugins.gbt45570.rate_method import RateData, nonlinearity_of
+    from metro.plugins.gbt45570.rate_data import RateData, nonlinearity_of
 
     w = np.array([-2.0, -1.0, 1.0, 2.0])
     data = RateData(w, np.array([-199.0, -100.0, 100.0, 202.0]), np.ones(4), np.full(4, 10), 0.0, 0.0, ())
@@ -451,7 +451,7 @@ def test_d21_f0_carries_the_table_error_at_each_set_point(pm):
     all set points cancels in the intercept). The row equals that sum worked by hand from the
     campaign's rate bands, and over 40 seeds — each its own table, drawn within the same bands —
     F₀ is within U in at least 37 (before the row: 88 % over 100 seeds)."""
-    from metro.plugins.gbt45570.rate_method import collect_rate_data, rate_band
+    from metro.plugins.gbt45570.rate_data import collect_rate_data, rate_band
 
     camp = _camp(pm, ["D.2.1"])
     o = run_items(pm, "gbt45570", ["D.2.1"], campaign=camp).outcomes[0]

@@ -31,8 +31,8 @@ from metro.api import (
 )
 
 from . import records as R
+from .common import COVERAGE, STANDARD
 from .conformity import clause_source
-from .procedures import COVERAGE, STANDARD
 
 SECTION = "inspection"
 

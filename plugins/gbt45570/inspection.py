@@ -44,8 +44,8 @@ from metro.api import (
 )
 
 from . import records as R
+from .common import COVERAGE, STANDARD
 from .conformity import clause_source, product_source
-from .procedures import COVERAGE, STANDARD
 
 SECTION = "inspection"
 INSULATION_MIN = Q_(50, "Mohm")

@@ -37,9 +37,9 @@ from metro.api import (
     msg,
 )
 
-from .environmental import _COUNTER, _mean_rate, _opts_text
-from .procedures import COVERAGE, STANDARD, _scale_factor_row
-from .rate_method import _rate_row
+from .common import COUNTER, COVERAGE, STANDARD, opts_text, scale_factor_row
+from .rate_data import rate_row
+from .static_bias import mean_rate
 
 #: |r| must exceed this many standard uncertainties for the sign to be read
 DECISIVE = 5.0
@@ -70,7 +70,7 @@ class Polarity626(Procedure):
                                    conditions={"rate": "deg/s", "orientation": ""},
                                    columns={"output": OUTPUT_UNITS}, min_count=2),)
     equipment = (EquipmentRequirement("rate_table", "rate table turning the gyro about its IRA; its rate accuracy "
-                                      "enters the budget"), _COUNTER)
+                                      "enters the budget"), COUNTER)
     options = (Option("rate", "10 deg/s", "deg/s", "the positive (counter-clockwise about +IA) turning rate"),
                Option("duration", "20 s", "s", "record length at rest and turning"),
                Option("interval", "0.1 s", "s", "sampling interval"),
@@ -100,7 +100,7 @@ class Polarity626(Procedure):
         r0, r1 = rest[0], turn[0]
         omega = float(r1.condition("rate", "deg/s").to("deg/s").magnitude)
         batches = int(opts["batches"])
-        m0, m1 = _mean_rate(r0, campaign, batches), _mean_rate(r1, campaign, batches)
+        m0, m1 = mean_rate(r0, campaign, batches), mean_rate(r1, campaign, batches)
         r = response_ratio(m0["rate"], m1["rate"], omega)
         scale = 1.0 / (abs(omega) * 3600.0)
         rows = [
@@ -109,8 +109,8 @@ class Polarity626(Procedure):
             BudgetRow.type_a(msg("mean indicated rate turning (batch means)"), "u(ω̄_turn)", Q_(m1["u"], "deg/h"),
                              m1["nu"], sensitivity=Q_(scale, "h/deg")),
         ]
-        rows += _scale_factor_row(m1["conv"], r, "")
-        rows += _rate_row(campaign, "at the polarity rate", r, "", "r ∝ 1/Ω", rate=abs(omega))
+        rows += scale_factor_row(m1["conv"], r, "")
+        rows += rate_row(campaign, "at the polarity rate", r, "", "r ∝ 1/Ω", rate=abs(omega))
         budget = UncertaintyBudget("r", "", rows, coverage=COVERAGE)
         u = float(budget.combined.to("").magnitude)
         where = f"segments {r0.id}, {r1.id}"
@@ -120,7 +120,6 @@ class Polarity626(Procedure):
                             f"within {DECISIVE:g} standard uncertainties of no change ({where}): the polarity "
                             "cannot be read", hint="turn faster (option rate) or record longer (option duration)")
         sign = 1 if r > 0 else -1
-        words = "positive" if sign > 0 else "NEGATIVE"
         res_r = Result(self.metrics[0], Q_(r, ""), budget.combined, budget,
                        note=msg("Ω = {omega:g} °/s; ω̄_rest = {rest:.5g} °/h, ω̄_turn = {turn:.5g} °/h", omega=omega,
                                 rest=m0['rate'], turn=m1['rate']), earth_rate="removed")
@@ -132,7 +131,7 @@ class Polarity626(Procedure):
                        earth_rate="not applicable")
         warnings = [] if sign > 0 else [msg("the polarity is negative; GB/T 45570 5.2.9 requires a positive polarity")]
         return Outcome(STANDARD, self.item, self.title, self.clause, [res_r, res_p], segments=[r0.id, r1.id],
-                       warnings=warnings, options=_opts_text(opts))
+                       warnings=warnings, options=opts_text(opts))
 
 
 PROCEDURES = (Polarity626,)

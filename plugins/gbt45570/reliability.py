@@ -40,7 +40,7 @@ from metro.api import (
 )
 
 from . import records as R
-from .procedures import COVERAGE, STANDARD
+from .common import COVERAGE, STANDARD, opts_text
 
 PLANS = ("time-terminated", "failure-terminated")
 
@@ -151,7 +151,7 @@ class Mtbf6291(Procedure):
                          ["test plan", plan], ["one-sided confidence C", f"{C:g}"],
                          ["evidence", R.text(rec, "source", src, "reliability", required=False, default="—")]])
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[tab], warnings=warnings,
-                       options={k: str(v) for k, v in opts.items()})
+                       options=opts_text(opts))
 
 
 class Life6292(Procedure):

@@ -14,10 +14,28 @@ import math
 
 import attrs
 import numpy as np
-from metro.api import Q_, BudgetRow, Campaign, DataError, between_variance, curve_scatter, hint, msg
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    DataError,
+    between_variance,
+    curve_scatter,
+    hint,
+    join,
+    msg,
+    parse_quantity,
+)
 
 from . import formulas as F
 from . import formulas_rate as F2
+from .common import ItemRef, group_of, grouped
+from .rate_data import collect_rate_data, fit_scale_factor
+from .revolutions import collect_rate_points
+from .static_bias import segment_bias
+
+#: the repeatability items whose runs the rows here read (named in their messages)
+D14, D24 = ItemRef("D.1.4"), ItemRef("D.2.4")
 
 #: D.5.3 power-ons needed to bound σ_on: the posterior mean of a variance from Q values is finite for Q ≥ 4
 MIN_BIAS_RUNS = 4
@@ -29,8 +47,6 @@ def stated_repeatability(campaign: Campaign, key: str) -> float | None:
     """``[device] bias_repeatability`` (°/h) or ``[device] scale_factor_repeatability`` (relative): 1σ of one
     power-on's bias or K measured before (an earlier D.5.3 / D.1.4 / D.2.4 of the same gyro), for campaigns
     without repeats of their own; None when not given.  A bad value is a DataError naming the field."""
-    from metro.api import parse_quantity
-
     v = campaign.device.properties.get(key)
     if v in (None, ""):
         return None
@@ -81,16 +97,14 @@ def _no_repeats(item: str, what: str):
 
 def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tuple[list[BudgetRow], str]:
     """K_r of D.1.4 (``revolutions-repeat`` runs, eq. D.11) as a row u = K_r·K on K of D.1.1."""
-    from .angle_method import ScaleFactorRepeatabilityD14, _grouped, collect_rate_points
-
-    runs = _grouped(campaign, "revolutions-repeat", "run")
+    runs = grouped(campaign, "revolutions-repeat", "run")
     st = stated_repeatability(campaign, "scale_factor_repeatability")  # a bad value is an error even when unused
     if len(runs) < 2:
         if st is not None:
             return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
         return [], _no_repeats("D.1.4", "K")
     try:
-        Kj = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0].K
+        Kj = [collect_rate_points(D14, campaign, 1, segs, f"in run {r}")[0].K
               for r, segs in sorted(runs.items())]
     except (DataError, IndexError) as exc:  # D.1.4 itself reports what is wrong with its runs
         return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated ({exc})", item="D.1.4", exc=str(exc))
@@ -99,22 +113,15 @@ def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tu
 
 def scale_factor_rate_repeat_row(campaign: Campaign, K: float, unit: str, min_points: int) -> tuple[list[BudgetRow], str]:
     """K_r of D.2.4 (``rate-output`` runs, eq. D.28) as a row u = K_r·K on K of D.2.1."""
-    from .rate_method import (
-        ScaleFactorRepeatabilityD24,
-        _group_of,
-        collect_rate_data,
-        fit_scale_factor,
-    )
-
-    runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
-                   and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+    runs = sorted({group_of(s)[0] for s in campaign.find_segments("rate-output") if group_of(s)[0]
+                   and not group_of(s)[1]}, key=lambda r: (len(r), r))
     st = stated_repeatability(campaign, "scale_factor_repeatability")  # a bad value is an error even when unused
     if len(runs) < 2:
         if st is not None:
             return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
         return [], _no_repeats("D.2.4", "K")
     try:
-        Kj = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
+        Kj = [fit_scale_factor(collect_rate_data(D24, campaign, min_points, (r, ""),
                                                  f"in run {r}")).K for r in runs]
     except DataError as exc:
         return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated ({exc})", item="D.2.4", exc=str(exc))
@@ -135,10 +142,8 @@ def bias_repeat_row(campaign: Campaign, batches: int, own_uA: float | None) -> t
     ν = ∞): never 0 where the runs do not resolve σ_on from their noise, only bound it
     (interpretations.md, "σ_on — a variance component the data only bound"); but never less than
     what keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0)) (``own_uA`` = u_A(B₀); None: the turn-on part
-    alone, as 6.2.8, D.5.4, D.5.5 and D.6.3 / D.6.4 take it through :func:`.procedures._turn_on`).
+    alone, as 6.2.8, D.5.4, D.5.5 and D.6.3 / D.6.4 take it through :func:`.repeatability.bias_turn_on`).
     Fewer than 4 runs cannot bound σ_on: no row, with a note."""
-    from .procedures import segment_bias
-
     segs = campaign.find_segments("static-repeat")
     st = stated_repeatability(campaign, "bias_repeatability")  # a bad value is an error even when unused
     if len(segs) < MIN_BIAS_RUNS:
@@ -213,14 +218,10 @@ def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rat
     st = stated_repeatability(campaign, "scale_factor_repeatability")
     item = "D.1.4" if method == "angle" else "D.2.4"
     if method == "angle":
-        from .angle_method import _grouped
-
-        runs = sorted(_grouped(campaign, "revolutions-repeat", "run").items())
+        runs = sorted(grouped(campaign, "revolutions-repeat", "run").items())
     else:
-        from .rate_method import _group_of
-
-        runs = sorted({_group_of(s)[0] for s in campaign.find_segments("rate-output") if _group_of(s)[0]
-                       and not _group_of(s)[1]}, key=lambda r: (len(r), r))
+        runs = sorted({group_of(s)[0] for s in campaign.find_segments("rate-output") if group_of(s)[0]
+                       and not group_of(s)[1]}, key=lambda r: (len(r), r))
     if len(runs) < MIN_TURN_ON_RUNS:
         if st is not None:
             return ScaleTurnOn(st, math.inf, True, "")
@@ -233,22 +234,14 @@ def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rat
             q=len(runs), item=item, m=MIN_TURN_ON_RUNS))
     try:
         if method == "angle":
-            from .angle_method import ScaleFactorRepeatabilityD14, collect_rate_points
-
-            pts = [collect_rate_points(ScaleFactorRepeatabilityD14, campaign, 1, segs, f"in run {r}")[0]
+            pts = [collect_rate_points(D14, campaign, 1, segs, f"in run {r}")[0]
                    for r, segs in runs]
             # D.1.4: consecutive revolutions are read off one accumulating count, so their rounding
             # cancels in the sum and s/√m overstates a K_j's own noise; taken away, it would remove
             # turn-on scatter that is there: K_r whole (own part 0)
             sigma, s2, within, dof = turn_on_sigma([p.K for p in pts])
         else:
-            from .rate_method import (
-                ScaleFactorRepeatabilityD24,
-                collect_rate_data,
-                fit_scale_factor,
-            )
-
-            fits = [fit_scale_factor(collect_rate_data(ScaleFactorRepeatabilityD24, campaign, min_points, (r, ""),
+            fits = [fit_scale_factor(collect_rate_data(D24, campaign, min_points, (r, ""),
                                                        f"in run {r}")) for r in runs]
             sigma, s2, within, dof = turn_on_sigma([f.K for f in fits], [f.uK / f.K for f in fits])
     except (DataError, IndexError) as exc:  # D.1.4 / D.2.4 themselves report what is wrong with their runs
@@ -301,3 +294,55 @@ def points_dof(u_points, u_on, dofs, nu_on: float) -> float:
     num = float(np.mean(np.square(u_points))) ** 2
     den = float(np.mean([o**4 / max(d, 1) + b**4 / nu_on for o, b, d in zip(own, u_on, dofs)]))
     return num / den if den > 0 else math.inf
+
+
+@attrs.frozen
+class TurnOn:
+    """The turn-on scatter of one power-on's bias as an item uses it (:func:`bias_turn_on`)."""
+
+    sigma: float  #: σ_on, °/h (0 when not known)
+    nu: float  #: its degrees of freedom
+    known: bool  #: measured on this campaign (D.5.3) or stated (device.bias_repeatability)
+    stated: bool  #: from device.bias_repeatability
+    note: str  #: why it is not known ("" when known)
+
+    def describe(self, u: float, unit: str) -> str:
+        """The budget note on the row √2·σ_on/… of a difference of two power-ons."""
+        if self.stated:
+            return msg("each record a power-on of its own: with the turn-on scatter σ_on = {s:.4g} °/h stated for the "
+                       "device{hint}, {u:.3g} {unit} at the maximising point", s=self.sigma, u=u, unit=unit,
+                       hint=hint(" (device.bias_repeatability)"))
+        return msg("each B_i a power-on of its own (D.5.4.2 c)): with the turn-on scatter σ_on = {s:.4g} °/h of D.5.3 "
+                   "on this campaign (ν = {nu:.3g}), √2·σ_on/|ΔT| = {u:.3g} (°/h)/°C at the maximising point",
+                   s=self.sigma, nu=self.nu, u=u)
+
+    def source(self) -> str:
+        """The row's source text for D.5.5's √2·σ_on/(2H_b)."""
+        if self.stated:
+            return msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by D.5.1.2\"): σ_on = {s:.4g} °/h "
+                       "stated for the device{hint}", s=self.sigma, hint=hint(" (device.bias_repeatability)"))
+        return msg("turn-on scatter of B_0+ and B_0−, each a power-on of its own (\"by D.5.1.2\"): σ_on = {s:.4g} °/h of "
+                   "D.5.3 on this campaign", s=self.sigma)
+
+
+def bias_turn_on(campaign: Campaign, batches: int, missing: str) -> TurnOn:
+    """The turn-on scatter σ_on of one power-on's bias, for items whose records are power-ons of their
+    own (D.5.4, D.5.5, D.6.3 / D.6.4, the 6.2.8 changes).
+
+    From D.5.3's repeats on this campaign (:func:`.repeatability.bias_repeat_row`, the one place it is
+    computed): σ_on² = B_r² − mean u_A² is a variance component estimated as a difference, entered as its
+    posterior mean given the runs, with ν = ∞ — never 0 where the runs only bound it (interpretations.md,
+    "σ_on — a variance component the data only bound").  Else from ``device.bias_repeatability``
+    (°/h, a B_r measured before, e.g. an earlier D.5.3; type B, ν = ∞; as a whole B_r it also holds its
+    runs' within-run noise, so it errs on the safe side).  Else not known, with ``missing`` as the note
+    (the items then declare their result not reportable: interpretations.md, "D.5.4 / D.5.5 — without
+    the turn-on scatter")."""
+    rep_rows, rep_note = bias_repeat_row(campaign, batches, None)
+    if rep_rows:
+        r = rep_rows[0]
+        stated = r.type == "B"  # device.bias_repeatability: no repeats on this campaign
+        return TurnOn(float(r.standard_uncertainty.to("deg/h").magnitude), math.inf if stated else r.dof, True,
+                      stated, "")
+    if len(campaign.find_segments("static-repeat")) >= 2 and rep_note:
+        missing = join("; ", [missing, rep_note])
+    return TurnOn(0.0, math.inf, False, False, missing)

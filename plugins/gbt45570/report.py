@@ -485,7 +485,27 @@ def layout(doc, ctx: dict) -> None:
     if g is None:
         D.generic_layout(doc, ctx)
         return
-    tr, f = doc.tr, ctx["facts"]
+    tr = doc.tr
+    verdicts = _front_page(doc, ctx, g)
+    D.results_table(doc, ctx, verdicts=verdicts)
+    n = 1
+    type_test = g.get("type_test", False)
+    symbols = _symbolizer(ctx, tr)
+    if g["clause5"] and type_test:
+        n = _clause5_section(doc, g, symbols, n)
+    n = _conditions_section(doc, ctx, g, n)
+    n = _conformity_section(doc, ctx, g, symbols, n)
+    n = _limits_section(doc, g, type_test, n)
+    n = _severities_section(doc, g, type_test, n)
+    _closing_sections(doc, ctx, g, n)
+
+
+def _front_page(doc, ctx: dict, g: dict) -> dict:
+    """Page 1: the title, the device's identification, the overall verdict and the heading of the
+    results table; returns each result's verdict text, keyed by (item, key)."""
+    from metro.api import document as D
+
+    tr = doc.tr
     doc.title_block(tr("Test report"), "GB/T 45570—2025 " + tr.pick("光学陀螺仪通用技术要求",
                                                                     "Optical gyroscopes — general technical requirements"))
     dev = ctx["device"]
@@ -503,23 +523,31 @@ def layout(doc, ctx: dict) -> None:
     else:
         doc.para(tr("No specification applies: no conformity statement is made."), bold=True)
     doc.heading(tr("Results"), 1)
-    D.results_table(doc, ctx, verdicts=verdicts)
+    return verdicts
 
-    n = 1
-    type_test = g.get("type_test", False)
-    symbols = _symbolizer(ctx, tr)
-    if g["clause5"] and type_test:
-        doc.heading(f"{n} {tr('Technical requirements')} (5)", 1)
-        # each requirement with its results (symbols, not code keys) and verdict; the why only
-        # where the verdict is not "conforms" (the interval inside the limit is the results table's)
-        doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
-                  [[r["clause"], tr.pick(r["requirement_cn"], r["requirement_en"]) if r.get("requirement_cn")
-                    else r["requirement"],
-                    _first_results(tr, symbols(r["result"])).replace("[not reportable]", f"[{tr('not reportable')}]"),
-                    tr(r["verdict"]) if r["verdict"] else DASH,
-                    "" if r["verdict"] == "conforms" else symbols(tr.text(r.get("note", "")))] for r in g["clause5"]],
-                  font_pt=7.5, prefer=4, prefer_share=0.5)  # the why of a verdict not "conforms" is long
-        n += 1
+
+def _clause5_section(doc, g: dict, symbols, n: int) -> int:
+    """Clause 5: each requirement with its results and verdict."""
+    tr = doc.tr
+    doc.heading(f"{n} {tr('Technical requirements')} (5)", 1)
+    # each requirement with its results (symbols, not code keys) and verdict; the why only
+    # where the verdict is not "conforms" (the interval inside the limit is the results table's)
+    doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
+              [[r["clause"], tr.pick(r["requirement_cn"], r["requirement_en"]) if r.get("requirement_cn")
+                else r["requirement"],
+                _first_results(tr, symbols(r["result"])).replace("[not reportable]", f"[{tr('not reportable')}]"),
+                tr(r["verdict"]) if r["verdict"] else DASH,
+                "" if r["verdict"] == "conforms" else symbols(tr.text(r.get("note", "")))] for r in g["clause5"]],
+              font_pt=7.5, prefer=4, prefer_share=0.5)  # the why of a verdict not "conforms" is long
+    n += 1
+    return n
+
+
+def _conditions_section(doc, ctx: dict, g: dict, n: int) -> int:
+    """The 6.1 test conditions and equipment, then the method and the items run."""
+    from metro.api import document as D
+
+    tr = doc.tr
     doc.heading(f"{n} {tr('Test conditions')} (6.1)", 1)
     doc.heading(f"{tr('Test environment')} (6.1.1)", 2)
     doc.table([tr("Condition"), tr("Required"), tr("Recorded"), tr("Verdict")],
@@ -541,6 +569,14 @@ def layout(doc, ctx: dict) -> None:
                       [[tr("yes") if run else tr("no"), ", ".join(items), tr.text(reason)]
                        for (run, reason), items in sorted(groups.items(), key=lambda kv: not kv[0][0])],
                       prefer=1)
+    return n
+
+
+def _conformity_section(doc, ctx: dict, g: dict, symbols, n: int) -> int:
+    """The decision rule and the verdicts other than "conforms", with the limits' sources."""
+    from metro.api import document as D
+
+    tr = doc.tr
     n += 1
     doc.heading(f"{n} {tr('Conformity')}", 1)
     doc.para(f"{tr('Decision rule')}: {tr.text(g['rule']['title'])}", keep_next=True)  # not alone at a page foot
@@ -563,6 +599,12 @@ def layout(doc, ctx: dict) -> None:
     if g["not_assessed"] and not g["limits"]:  # else table A.1/B.1 shows them as not performed
         doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(tr.text(x) for x in g["not_assessed"]),
                  size=8)
+    return n
+
+
+def _limits_section(doc, g: dict, type_test: bool, n: int) -> int:
+    """Table A.1 / B.1: the typical indices of the device's kind and application."""
+    tr = doc.tr
     lim = g["limits"]
     if lim:
         n += 1
@@ -581,6 +623,12 @@ def layout(doc, ctx: dict) -> None:
         if idle and not type_test:
             doc.para(tr("Rows of table {table} not performed in this run: {rows}", table=lim["table"],
                         rows=", ".join(idle)), size=8.5)
+    return n
+
+
+def _severities_section(doc, g: dict, type_test: bool, n: int) -> int:
+    """Table C.1: the environmental severities."""
+    tr = doc.tr
     if g["severities"]:
         n += 1
         doc.heading(f"{n} {tr('Environmental severities')} (C.1)", 1)
@@ -595,6 +643,14 @@ def layout(doc, ctx: dict) -> None:
             if idle:
                 doc.para(tr("Rows of table {table} not performed in this run: {rows}", table="C.1",
                             rows=", ".join(idle)), size=8.5)
+    return n
+
+
+def _closing_sections(doc, ctx: dict, g: dict, n: int) -> None:
+    """Notes, deviations, signatures and the annexes."""
+    from metro.api import document as D
+
+    tr, f = doc.tr, ctx["facts"]
     n += 1
     doc.heading(f"{n} {tr('Notes')}", 1)
     D.notes_section(doc, ctx, include_warnings=False)

@@ -42,8 +42,9 @@ from metro.api import (
 )
 
 from . import env_formulas as E
+from .common import COVERAGE, STANDARD, check_finite, opts_text, scale_factor_row
 from .formulas import EARTH_RATE_DEG_PER_H
-from .procedures import COVERAGE, STANDARD, _check_finite, _scale_factor_row
+from .static_bias import quantization_of
 
 TILT = SegmentRequirement(
     "tilt", "IRA at the angle Ψ_i to the earth's axis on the tilt table; Ψ = 90° (tilted south by the "
@@ -102,7 +103,7 @@ class ThresholdD4(Procedure):
         steps = [Step("tilt-ref", "tilt", "tilt the table face south by the latitude (IRA in the equatorial plane, "
                       "Ψ = 90°); warm up 30 min; record N̄_0 (D.4.2 b)–d))", n, Q_(1, "s"), {"psi": "90 deg"},
                       warmup=Q_(30, "min"))]
-        for x in _levels(options.get("levels", self.options[0].default)):
+        for x in parse_levels(options.get("levels", self.options[0].default)):
             psi = psi_for_input(x)
             steps.append(Step(f"tilt-{x:g}", "tilt", f"Ψ = {psi:.7f}° (input Ω_e·cos Ψ = {x:g} °/h); record "
                               "600 s; stop once D.39 holds (D.4.2 e), f))", n, Q_(1, "s"), {"psi": f"{psi:.7f} deg"}))
@@ -110,46 +111,17 @@ class ThresholdD4(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        segs = campaign.find_segments("tilt")
-        refs = [s for s in segs if abs(_psi(s) - 90.0) < 1e-9]
-        tilted = [s for s in segs if abs(_psi(s) - 90.0) >= 1e-9]
-        if not refs:
-            raise DataError(campaign.source, "segments", "D.4 needs the reference position: a segment of kind "
-                            "\"tilt\" with psi = \"90 deg\" (table tilted south by the latitude, D.4.2 b), d)); "
-                            f"found {len(segs)} tilt segment(s) and none at Ψ = 90°",
-                            hint="`metro plan --standard gbt45570 --item D.4` lists the positions")
-        if not tilted:
-            raise DataError(campaign.source, "segments", "D.4 needs tilt positions with Ψ_i ≠ 90° (D.4.2 e)); none found")
+        refs, tilted = _tilt_segments(campaign)
         batches = int(opts["batches"])
         ref = _mean_response(refs[0], campaign, batches)
         conv = ref["conv"]
         pulse = conv.output_kind == "pulse"
-        tau = ref["tau"]
-        K = float(conv.scale_factor.to("P/arcsec").magnitude) if pulse else None
-        rows_t, inputs, ratios, points = [], [], [], []
-        for s in sorted(tilted, key=lambda s: abs(math.cos(math.radians(_psi(s))))):
-            m = _mean_response(s, campaign, batches)
-            psi = _psi(s)
-            if pulse:
-                if abs(m["tau"] - tau) > 1e-9 * tau:
-                    raise DataError(s.file or f"segment {s.id}", "output", f"sampling interval {m['tau']:g} s "
-                                    f"differs from the reference's {tau:g} s; D.39 compares pulses per interval")
-                Ni = E.expected_counts_d37(K, psi, tau)
-                ratio = E.response_ratio_d39(m["raw_mean"], ref["raw_mean"], Ni)
-            else:
-                Ni = E.tilt_input_d37(psi)
-                ratio = E.response_ratio_d39(m["rate"], ref["rate"], Ni)
-            x = E.tilt_input_d37(psi)
-            inputs.append(x)
-            ratios.append(ratio)
-            points.append((s, psi, m, Ni))
-            rows_t.append([s.id, f"{psi:.7f}", f"{x:.5f}", f"{Ni:.5g}",
-                           f"{m['raw_mean'] if pulse else m['rate']:.5g}", f"{ratio * 100:.1f}"])
+        rows_t, inputs, ratios, points = _responses(campaign, ref, tilted, batches)
         conf = float(opts["confidence"])
         # the family of positions at ``conf`` (Bonferroni): each position at 1 − (1 − conf)/L, so
         # noise passes no position below the threshold with more than 1 − conf probability
         conf_each = 1.0 - (1.0 - conf) / len(points)
-        verdicts = [_resolved(abs(x), r, p[2], ref, conf_each) for x, r, p in zip(inputs, ratios, points)]
+        verdicts = [resolved(abs(x), r, p[2], ref, conf_each) for x, r, p in zip(inputs, ratios, points)]
         for row, v in zip(rows_t, verdicts):
             row.append(v[0])
         raw_th, raw_i = E.threshold_d39(inputs, ratios)
@@ -172,85 +144,10 @@ class ThresholdD4(Procedure):
         if opposite:
             warnings.append(msg("response opposite in sign to the input at {inputs} °/h: such a position does not count "
                                 "(check the polarity)", inputs=", ".join(f"{x:.4g}" for x in opposite)))
-        not_reportable: list[str] = []
-        cand_row: list[BudgetRow] = []
-        bound = ""
-        if passing:
-            hi = min(passing, key=lambda j: abs(inputs[j]))
-            H = abs(inputs[hi])
-            fails = [abs(inputs[j]) for j, v in enumerate(verdicts) if v[0] == "resolved < 50 %" and abs(inputs[j]) < H]
-            L = max(fails) if fails else 0.0
-            # the positions the threshold may be: every one above the last resolved failure up to
-            # the first resolved pass; D.39 (right sign) picks among them
-            cands = sorted((j for j in range(len(inputs)) if L < abs(inputs[j]) <= H), key=lambda j: abs(inputs[j]))
-            i = next((j for j in cands if ratios[j] >= E.THRESHOLD_FRACTION), hi)
-            th = abs(inputs[i])
-            lo_c, hi_c = abs(inputs[cands[0]]), abs(inputs[cands[-1]])
-            if len(cands) > 1 and not fails:
-                not_reportable.append(
-                    msg("no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
-                        "confidence (at {x:.4g} °/h: {why}), so the threshold is stated as at most {H:.4g} °/h{hint}",
-                        H=H, conf=conf, x=abs(inputs[cands[0]]), why=verdicts[cands[0]][1],
-                        hint=hint("; record longer at each position (option seconds) to resolve it")))
-                # the first resolved pass bounds the threshold from above: ≤ H, judged as (−∞, H + U]
-                # (interpretations.md, "D.4 — an upper bound when nothing below is resolved")
-                i, th, bound = hi, H, "upper"
-            elif len(cands) > 1:
-                cand_row.append(BudgetRow.type_b(
-                    msg("positions not resolved from the noise: the threshold may be any of them"), "ΔΩ (unresolved)",
-                    Q_(max(th - lo_c, hi_c - th), "deg/h"), distribution="uniform",
-                    note=msg("{n} positions {lo:.4g} … {hi:.4g} °/h between the last resolved failure ({L:.4g} °/h) "
-                             "and the first resolved pass", n=len(cands), lo=lo_c, hi=hi_c, L=L)))
-        elif hidden is not None:
-            i, th = hidden, abs(inputs[hidden])
-            not_reportable.append(
-                msg("no position reaches 50 % (D.39), and the output's quantization (up to ±{q:.3g} °/h on a "
-                    "response) is as large as the inputs (at most {th:.4g} °/h): the threshold cannot be measured "
-                    "with this output; shown is the largest input",
-                    q=math.hypot(points[i][2]['uq'], ref['uq']) * math.sqrt(3.0), th=th))
-        else:
-            i, th = raw_i, raw_th
-            not_reportable.append(
-                msg("no position's response is resolved at ≥ 50 % with the right sign at {conf:.0%} confidence "
-                    "(D.39's |ratio| alone first reaches 50 % at {th:.4g} °/h: {why})", conf=conf, th=th,
-                    why=verdicts[i][1]))
+        i, th, bound, cand_row, not_reportable = _threshold_pick(inputs, ratios, verdicts, points, ref, conf,
+                                                                 (raw_i, raw_th), hidden)
         seg, psi, m, Ni = points[i]
-        smaller = [abs(x) for x in inputs if abs(x) < th]
-        below = max(smaller) if smaller else 0.0
-        uA = math.hypot(m["u"], ref["u"])
-        nu = uA**4 / (m["u"] ** 4 / m["nu"] + ref["u"] ** 4 / ref["nu"]) if uA > 0 else math.inf
-        rows = [BudgetRow.type_a(msg("noise of the response N̄*_i − N̄_0 (batch means), as an input rate"),
-                                 "√(u²(N̄*)+u²(N̄₀))", Q_(uA, "deg/h"), nu,
-                                 note=msg("ratio {r:.1f} % against 50 %", r=ratios[i] * 100)),
-                BudgetRow.type_b(msg("quantization of N̄*_i and N̄_0 (one count, or the rounding step, per mean)"), "u_q",
-                                 Q_(math.hypot(m["uq"], ref["uq"]), "deg/h"), distribution="normal", k=1.0,
-                                 note=msg("the resolution a response must clear as well as the noise")),
-                BudgetRow.type_b(msg("step of the tilt series: the threshold lies between the next smaller input and Ω_i"),
-                                 "(Ω_i − Ω_i−1)/2", Q_((th - below) / 2.0, "deg/h"), distribution="uniform",
-                                 note=msg("next smaller input {x:.4g} °/h", x=below))]
-        rows += cand_row
-        rows += _decision_row(inputs, ratios, [p[2]["u"] for p in points], ref["u"], i)
-        if bound:
-            # "threshold ≤ H" rests on H's resolved response (its noise is in that decision, at the
-            # family's confidence); its U is that of the input realised at H: tilt, latitude, K
-            rows = []
-        c_psi = EARTH_RATE_DEG_PER_H * abs(math.sin(math.radians(psi)))
-        table = campaign.equipment_for("tilt_table")
-        if table is not None and "position_accuracy" in table.properties:
-            acc = table.prop("position_accuracy", "arcsec", source=campaign.source)
-            rows.append(BudgetRow.type_b(msg("tilt table position, Ψ_i and the reference ({equipment})",
-                                             equipment=table.describe()), "δΨ",
-                                         acc.to("rad"), distribution="uniform",
-                                         sensitivity=Q_(math.hypot(c_psi, EARTH_RATE_DEG_PER_H), "deg/h/rad"),
-                                         note=msg("∂(Ω_e cos Ψ)/∂Ψ = −Ω_e sin Ψ at Ψ_i and at Ψ = 90°")))
-        lat_u = campaign.site.get("latitude_uncertainty")
-        if lat_u is not None:
-            lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
-            rows.append(BudgetRow.type_b(msg("site latitude (sets the reference tilt)"), "u(θ)", lu.to("rad"),
-                                         distribution="uniform", sensitivity=Q_(c_psi, "deg/h/rad"),
-                                         note=msg("a latitude error tilts every position by the same angle")))
-        rows += _scale_factor_row(conv, th, "deg/h")
-        budget = UncertaintyBudget("Ω_i", "deg/h", rows, coverage=COVERAGE)
+        budget = _threshold_budget(campaign, conv, inputs, ratios, points, ref, i, th, cand_row, bound)
         res = Result(self.metrics[0], Q_(th, "deg/h"), budget.combined, budget,
                      note=msg("Ψ_i = {psi:.6f}° (segment {seg}); N̄_0 from {ref}; each position counts only when its "
                               "response is resolved ({conf:.0%} confidence over the {n} positions, {each:.4g} each)",
@@ -260,22 +157,169 @@ class ThresholdD4(Procedure):
                      bound=bound)
         if not_reportable and not bound:  # a bound is issued as such, its reason beside it
             warnings.append(msg("the threshold is NOT REPORTABLE: {reason}", reason=join("; ", not_reportable)))
-        order = np.argsort(np.abs(inputs))
-        plot = PlotSpec("threshold_ratio", msg("Response against the expected one (D.39)"), "Ω_e cos Ψ_i (°/h)",
-                        "|(N̄* − N̄₀)/N_i| (%)",
-                        [{"label": "D.39 ratio", "x": [abs(inputs[k]) for k in order],
-                          "y": [abs(ratios[k]) * 100 for k in order], "style": "o-"},
-                         {"label": "50 %", "x": [abs(inputs[k]) for k in order[[0, -1]]], "y": [50, 50], "style": "--"}],
-                        logx=True)
-        tab = TableSpec("tilt_positions", msg("Tilt positions (D.37–D.39)"),
-                        [msg("segment"), "Ψ_i (°)", "Ω_e cos Ψ_i (°/h)", "N_i (D.37)" + (" (P)" if pulse else " (°/h)"),
-                         "N̄*_i (D.38)" + (" (P)" if pulse else " (°/h)"), msg("ratio (%)"), msg("decision")], rows_t)
+        plot, tab = _threshold_figures(inputs, ratios, rows_t, pulse)
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[tab],
                        warnings=warnings, segments=[refs[0].id] + [p[0].id for p in points],
-                       options={k: str(v) for k, v in opts.items()})
+                       options=opts_text(opts))
 
 
-def _decision_row(inputs: list[float], ratios: list[float], u_pos: list[float], u_ref: float,
+def _tilt_segments(campaign: Campaign) -> tuple[list[Segment], list[Segment]]:
+    """D.4's reference segments (Ψ = 90°) and its tilted positions; an error when either is missing."""
+    segs = campaign.find_segments("tilt")
+    refs = [s for s in segs if abs(_psi(s) - 90.0) < 1e-9]
+    tilted = [s for s in segs if abs(_psi(s) - 90.0) >= 1e-9]
+    if not refs:
+        raise DataError(campaign.source, "segments", "D.4 needs the reference position: a segment of kind "
+                        "\"tilt\" with psi = \"90 deg\" (table tilted south by the latitude, D.4.2 b), d)); "
+                        f"found {len(segs)} tilt segment(s) and none at Ψ = 90°",
+                        hint="`metro plan --standard gbt45570 --item D.4` lists the positions")
+    if not tilted:
+        raise DataError(campaign.source, "segments", "D.4 needs tilt positions with Ψ_i ≠ 90° (D.4.2 e)); none found")
+    return refs, tilted
+
+
+def _responses(campaign: Campaign, ref: Mapping[str, Any], tilted: list[Segment],
+               batches: int) -> tuple[list[list[str]], list[float], list[float], list[tuple]]:
+    """Each tilt position's table row, input Ω_e·cos Ψ_i (D.37), D.39 ratio and (segment, Ψ_i, its
+    mean response, N_i), smallest input first."""
+    conv = ref["conv"]
+    pulse = conv.output_kind == "pulse"
+    tau = ref["tau"]
+    K = float(conv.scale_factor.to("P/arcsec").magnitude) if pulse else None
+    rows_t, inputs, ratios, points = [], [], [], []
+    for s in sorted(tilted, key=lambda s: abs(math.cos(math.radians(_psi(s))))):
+        m = _mean_response(s, campaign, batches)
+        psi = _psi(s)
+        if pulse:
+            if abs(m["tau"] - tau) > 1e-9 * tau:
+                raise DataError(s.file or f"segment {s.id}", "output", f"sampling interval {m['tau']:g} s "
+                                f"differs from the reference's {tau:g} s; D.39 compares pulses per interval")
+            Ni = E.expected_counts_d37(K, psi, tau)
+            ratio = E.response_ratio_d39(m["raw_mean"], ref["raw_mean"], Ni)
+        else:
+            Ni = E.tilt_input_d37(psi)
+            ratio = E.response_ratio_d39(m["rate"], ref["rate"], Ni)
+        x = E.tilt_input_d37(psi)
+        inputs.append(x)
+        ratios.append(ratio)
+        points.append((s, psi, m, Ni))
+        rows_t.append([s.id, f"{psi:.7f}", f"{x:.5f}", f"{Ni:.5g}",
+                       f"{m['raw_mean'] if pulse else m['rate']:.5g}", f"{ratio * 100:.1f}"])
+    return rows_t, inputs, ratios, points
+
+
+def _threshold_pick(inputs: list[float], ratios: list[float], verdicts: list[tuple[str, str]], points: list[tuple],
+                    ref: Mapping[str, Any], conf: float, raw: tuple[Any, Any],
+                    hidden: int | None) -> tuple[int, float, str, list[BudgetRow], list[str]]:
+    """The position D.4 states as the threshold, its input, whether it is an upper bound, the row
+    of the positions it may be, and why the result is not reportable (empty: it is)."""
+    raw_i, raw_th = raw
+    passing = [j for j, v in enumerate(verdicts) if v[0] == "resolved ≥ 50 %"]
+    not_reportable: list[str] = []
+    cand_row: list[BudgetRow] = []
+    bound = ""
+    if passing:
+        hi = min(passing, key=lambda j: abs(inputs[j]))
+        H = abs(inputs[hi])
+        fails = [abs(inputs[j]) for j, v in enumerate(verdicts) if v[0] == "resolved < 50 %" and abs(inputs[j]) < H]
+        L = max(fails) if fails else 0.0
+        # the positions the threshold may be: every one above the last resolved failure up to
+        # the first resolved pass; D.39 (right sign) picks among them
+        cands = sorted((j for j in range(len(inputs)) if L < abs(inputs[j]) <= H), key=lambda j: abs(inputs[j]))
+        i = next((j for j in cands if ratios[j] >= E.THRESHOLD_FRACTION), hi)
+        th = abs(inputs[i])
+        lo_c, hi_c = abs(inputs[cands[0]]), abs(inputs[cands[-1]])
+        if len(cands) > 1 and not fails:
+            not_reportable.append(
+                msg("no position below {H:.4g} °/h is resolved from the noise and quantization at {conf:.0%} "
+                    "confidence (at {x:.4g} °/h: {why}), so the threshold is stated as at most {H:.4g} °/h{hint}",
+                    H=H, conf=conf, x=abs(inputs[cands[0]]), why=verdicts[cands[0]][1],
+                    hint=hint("; record longer at each position (option seconds) to resolve it")))
+            # the first resolved pass bounds the threshold from above: ≤ H, judged as (−∞, H + U]
+            # (interpretations.md, "D.4 — an upper bound when nothing below is resolved")
+            i, th, bound = hi, H, "upper"
+        elif len(cands) > 1:
+            cand_row.append(BudgetRow.type_b(
+                msg("positions not resolved from the noise: the threshold may be any of them"), "ΔΩ (unresolved)",
+                Q_(max(th - lo_c, hi_c - th), "deg/h"), distribution="uniform",
+                note=msg("{n} positions {lo:.4g} … {hi:.4g} °/h between the last resolved failure ({L:.4g} °/h) "
+                         "and the first resolved pass", n=len(cands), lo=lo_c, hi=hi_c, L=L)))
+    elif hidden is not None:
+        i, th = hidden, abs(inputs[hidden])
+        not_reportable.append(
+            msg("no position reaches 50 % (D.39), and the output's quantization (up to ±{q:.3g} °/h on a "
+                "response) is as large as the inputs (at most {th:.4g} °/h): the threshold cannot be measured "
+                "with this output; shown is the largest input",
+                q=math.hypot(points[i][2]['uq'], ref['uq']) * math.sqrt(3.0), th=th))
+    else:
+        i, th = raw_i, raw_th
+        not_reportable.append(
+            msg("no position's response is resolved at ≥ 50 % with the right sign at {conf:.0%} confidence "
+                "(D.39's |ratio| alone first reaches 50 % at {th:.4g} °/h: {why})", conf=conf, th=th,
+                why=verdicts[i][1]))
+    return i, th, bound, cand_row, not_reportable
+
+
+def _threshold_budget(campaign: Campaign, conv: Any, inputs: list[float], ratios: list[float],
+                      points: list[tuple], ref: Mapping[str, Any], i: int, th: float, cand_row: list[BudgetRow],
+                      bound: str) -> UncertaintyBudget:
+    """The threshold's budget at position ``i`` (input ``th``)."""
+    seg, psi, m, Ni = points[i]
+    smaller = [abs(x) for x in inputs if abs(x) < th]
+    below = max(smaller) if smaller else 0.0
+    uA = math.hypot(m["u"], ref["u"])
+    nu = uA**4 / (m["u"] ** 4 / m["nu"] + ref["u"] ** 4 / ref["nu"]) if uA > 0 else math.inf
+    rows = [BudgetRow.type_a(msg("noise of the response N̄*_i − N̄_0 (batch means), as an input rate"),
+                             "√(u²(N̄*)+u²(N̄₀))", Q_(uA, "deg/h"), nu,
+                             note=msg("ratio {r:.1f} % against 50 %", r=ratios[i] * 100)),
+            BudgetRow.type_b(msg("quantization of N̄*_i and N̄_0 (one count, or the rounding step, per mean)"), "u_q",
+                             Q_(math.hypot(m["uq"], ref["uq"]), "deg/h"), distribution="normal", k=1.0,
+                             note=msg("the resolution a response must clear as well as the noise")),
+            BudgetRow.type_b(msg("step of the tilt series: the threshold lies between the next smaller input and Ω_i"),
+                             "(Ω_i − Ω_i−1)/2", Q_((th - below) / 2.0, "deg/h"), distribution="uniform",
+                             note=msg("next smaller input {x:.4g} °/h", x=below))]
+    rows += cand_row
+    rows += decision_row(inputs, ratios, [p[2]["u"] for p in points], ref["u"], i)
+    if bound:
+        # "threshold ≤ H" rests on H's resolved response (its noise is in that decision, at the
+        # family's confidence); its U is that of the input realised at H: tilt, latitude, K
+        rows = []
+    c_psi = EARTH_RATE_DEG_PER_H * abs(math.sin(math.radians(psi)))
+    table = campaign.equipment_for("tilt_table")
+    if table is not None and "position_accuracy" in table.properties:
+        acc = table.prop("position_accuracy", "arcsec", source=campaign.source)
+        rows.append(BudgetRow.type_b(msg("tilt table position, Ψ_i and the reference ({equipment})",
+                                         equipment=table.describe()), "δΨ",
+                                     acc.to("rad"), distribution="uniform",
+                                     sensitivity=Q_(math.hypot(c_psi, EARTH_RATE_DEG_PER_H), "deg/h/rad"),
+                                     note=msg("∂(Ω_e cos Ψ)/∂Ψ = −Ω_e sin Ψ at Ψ_i and at Ψ = 90°")))
+    lat_u = campaign.site.get("latitude_uncertainty")
+    if lat_u is not None:
+        lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
+        rows.append(BudgetRow.type_b(msg("site latitude (sets the reference tilt)"), "u(θ)", lu.to("rad"),
+                                     distribution="uniform", sensitivity=Q_(c_psi, "deg/h/rad"),
+                                     note=msg("a latitude error tilts every position by the same angle")))
+    rows += scale_factor_row(conv, th, "deg/h")
+    return UncertaintyBudget("Ω_i", "deg/h", rows, coverage=COVERAGE)
+
+
+def _threshold_figures(inputs: list[float], ratios: list[float], rows_t: list[list[str]],
+                       pulse: bool) -> tuple[PlotSpec, TableSpec]:
+    """D.4's plot of the D.39 ratios and its table of the tilt positions."""
+    order = np.argsort(np.abs(inputs))
+    plot = PlotSpec("threshold_ratio", msg("Response against the expected one (D.39)"), "Ω_e cos Ψ_i (°/h)",
+                    "|(N̄* − N̄₀)/N_i| (%)",
+                    [{"label": "D.39 ratio", "x": [abs(inputs[k]) for k in order],
+                      "y": [abs(ratios[k]) * 100 for k in order], "style": "o-"},
+                     {"label": "50 %", "x": [abs(inputs[k]) for k in order[[0, -1]]], "y": [50, 50], "style": "--"}],
+                    logx=True)
+    tab = TableSpec("tilt_positions", msg("Tilt positions (D.37–D.39)"),
+                    [msg("segment"), "Ψ_i (°)", "Ω_e cos Ψ_i (°/h)", "N_i (D.37)" + (" (P)" if pulse else " (°/h)"),
+                     "N̄*_i (D.38)" + (" (P)" if pulse else " (°/h)"), msg("ratio (%)"), msg("decision")], rows_t)
+    return plot, tab
+
+
+def decision_row(inputs: list[float], ratios: list[float], u_pos: list[float], u_ref: float,
                   i: int) -> list[BudgetRow]:
     """A type B row when the 50 % decision at the threshold position, or at the next smaller one,
     is within 2 standard uncertainties of the ratio: noise may have moved the threshold to that
@@ -304,7 +348,7 @@ def _decision_row(inputs: list[float], ratios: list[float], u_pos: list[float], 
                              "ΔΩ (neighbour)", Q_(half, "deg/h"), distribution="uniform", note=join("; ", why))]
 
 
-def _levels(text: Any) -> list[float]:
+def parse_levels(text: Any) -> list[float]:
     out = []
     for part in str(text).split(","):
         part = part.strip()
@@ -325,7 +369,7 @@ def _mean_response(seg: Segment, campaign: Campaign, batches: int) -> dict[str, 
     """Mean output of one tilt position (D.38) in raw units and °/h, with its batch-means u (°/h)."""
     series, conv = gyro_output(seg, campaign.device, source=campaign.source)
     raw = np.asarray(series.data.magnitude, dtype=float)
-    _check_finite(raw, seg)
+    check_finite(raw, seg)
     if raw.size < 2 * batches:
         raise DataError(seg.file or f"segment {seg.id}", "output",
                         f"{raw.size} samples are too few for {batches} batch means")
@@ -339,9 +383,8 @@ def _mean_response(seg: Segment, campaign: Campaign, batches: int) -> dict[str, 
 def _quantization_u(campaign: Campaign, conv, raw: np.ndarray) -> float:
     """Standard uncertainty (°/h) of one position's mean from the output's quantization: pulse
     counts ±1 P over the record (the readout at its two ends), a rounded rate ±q/2 unless the
-    noise dithers the rounding (:func:`.procedures.quantization_rows_mean`'s rule); uniform."""
+    noise dithers the rounding (:func:`.static_bias.quantization_rows_mean`'s rule); uniform."""
     from .formulas import rounding_mean_bound, rounding_sigma
-    from .procedures import quantization_of
 
     if conv.output_kind == "pulse":
         h = abs(conv.magnitude) / raw.size
@@ -353,7 +396,7 @@ def _quantization_u(campaign: Campaign, conv, raw: np.ndarray) -> float:
     return h / math.sqrt(3.0)
 
 
-def _resolved(x: float, ratio: float, m: Mapping[str, Any], ref: Mapping[str, Any], conf: float) -> tuple[str, str]:
+def resolved(x: float, ratio: float, m: Mapping[str, Any], ref: Mapping[str, Any], conf: float) -> tuple[str, str]:
     """Whether a position's response is resolved at ≥ 50 % of its input, resolved below it, or
     neither (interpretations.md, "D.4 — a response that counts").
 

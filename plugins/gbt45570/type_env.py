@@ -15,7 +15,7 @@ after it.  Each item reports
   the record gives one, else against table C.1 for the device's application (5.1: the product
   specification prevails; C.1 is the typical severity).  A severity weaker than the reference does
   not conform: the test applied was too mild to show the requirement (interpretations.md);
-* the bias before and after by D.5.1 (eq. (D.40), :func:`.procedures.segment_bias`) and its change
+* the bias before and after by D.5.1 (eq. (D.40), :func:`.static_bias.segment_bias`) and its change
   ΔB₀ = B₀(after) − B₀(before), judged against the product specification's ``bias_change`` limit;
 * the scale factor before and after, where the campaign has the records: whole revolutions
   (``type-env-revolutions``, pulse output) by D.1.1 (eqs. (D.1), (D.2), (D.4)) or the output at rate
@@ -57,8 +57,16 @@ from metro.api import (
 
 from . import formulas as F
 from . import records as R
+from .common import COVERAGE, STANDARD, opts_text, scale_factor_row
 from .conformity import TABLE_C1, application_of, clause_source, product_source
-from .procedures import COVERAGE, STANDARD, _scale_factor_row, segment_bias
+from .repeatability import (
+    bias_repeat_row,
+    missing_turn_on,
+    scale_factor_angle_repeat_row,
+    scale_factor_rate_repeat_row,
+    turn_on_known,
+)
+from .static_bias import segment_bias
 
 SECTION = "environmental_tests"
 SEGMENT_KIND = "type-env"
@@ -244,8 +252,6 @@ def turn_on_rows(rows: list[BudgetRow], absent: str, what: str, unit: str, scale
 def not_without_turn_on(result: Result, campaign: Campaign, what: str, item: str, why: str, method: str = "") -> Result:
     """A difference of two power-ons whose turn-on scatter the campaign neither measures nor states is not
     reportable (interpretations.md, "GB/T 45570 — a difference of power-ons needs their turn-on scatter")."""
-    from .repeatability import missing_turn_on, turn_on_known
-
     if turn_on_known(campaign, what, method):
         return result
     return attrs.evolve(result, reportable=False, reason=missing_turn_on(what, item, why))
@@ -267,7 +273,7 @@ def _bias_change(metric: Metric, before, after, turn_on: tuple[list[BudgetRow], 
                                          Q_(est.hw_q, "deg/h"), distribution="uniform",
                                          note=msg("the two biases' rounding errors do not cancel in the difference")))
     rows += turn_on[0]
-    rows += _scale_factor_row(before.conv, d, "deg/h")
+    rows += scale_factor_row(before.conv, d, "deg/h")
     b = UncertaintyBudget(metric.symbol, "deg/h", rows, coverage=COVERAGE)
     return Result(metric, Q_(d, "deg/h"), b.combined, b, earth_rate="removed",
                   note=join("; ", [msg("B₀ before {b:.5f} °/h, after {a:.5f} °/h (D.5.1, eq. (D.40))", b=before.B0,
@@ -326,8 +332,8 @@ def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, p
     D.2.1 on the LSB output (K of eqs. (D.21)/(D.22) with its propagated type A)."""
     from metro.api import fit_line
 
-    from .angle_method import collect_rate_points
-    from .rate_method import collect_rate_data, fit_scale_factor
+    from .rate_data import collect_rate_data, fit_scale_factor
+    from .revolutions import collect_rate_points
 
     what = f"{phase} the test {tag}"
     revs = _phase_segments(campaign, (REVOLUTIONS_KIND,), tag, phase)
@@ -357,7 +363,7 @@ def scale_factor_at_phase(proc: type[Procedure], campaign: Campaign, tag: str, p
     return None
 
 
-def _scale_factor_change(metric: Metric, before, after, turn_on: tuple[list[BudgetRow], str] = ([], "")) -> Result:
+def scale_factor_change(metric: Metric, before, after, turn_on: tuple[list[BudgetRow], str] = ([], "")) -> Result:
     """ΔK/K = (K_after − K_before)/K_before (ppm) with the two K's type A (relative, combined) and the
     two power-ons' turn-on scatter (``turn_on``: :func:`turn_on_rows`, in ppm)."""
     Kb, ub, nub, unit, how = before
@@ -376,6 +382,55 @@ def _scale_factor_change(metric: Metric, before, after, turn_on: tuple[list[Budg
     return Result(metric, Q_(d * 1e6, "ppm"), b.combined, b, earth_rate="removed",
                   note=join("; ", [msg("K before {b:.8g}, after {a:.8g} {unit} ({how})", b=Kb, a=Ka, unit=unit, how=how),
                                    *([turn_on[1]] if turn_on[1] else [])]))
+
+
+
+def _severity_results(t: EnvTest, sev: Mapping[str, Any], rec: Mapping[str, Any], src: str,
+                      where: str) -> tuple[list[Result], list[list[Any]], list[str]]:
+    """The results of the severities a test record states (each judged by table C.1 where it has a
+    row), their table rows and the severities whose uncertainty the test lab does not declare."""
+    names = {p.name for p in t.params}
+    for key in sev:
+        if names and key not in names:
+            raise DataError(src, f"{where}.severity.{key}", f"not a severity of {t.key}; known: "
+                            f"{', '.join(sorted(names))}")
+    results: list[Result] = []
+    table, undeclared = [], []
+    for p in t.params:
+        if p.name not in sev:
+            if p.c1:
+                raise DataError(src, f"{where}.severity.{p.name}", f"missing: table C.1 row {t.c1_row} states the "
+                                f"{p.label or p.name} of {t.key}")
+            continue
+        q = R.quantity(sev[p.name], p.unit, src, f"{where}.severity.{p.name}")
+        m = Metric(f"{t.tag}_{p.name}", msg("{test}: {what} applied", test=t.name_en, what=p.label or p.name), p.name, p.unit,
+                   f"5.4 {t.letter})", t.method)
+        r, missing = _severity_result(m, q, rec, p, src, where)
+        results.append(r)
+        if missing:
+            undeclared.append(missing)
+        table.append([p.label or p.name, f"{q:~P}"])
+    return results, table, undeclared
+
+
+def _bias_change_result(t: EnvTest, rec: Mapping[str, Any], campaign: Campaign, src: str, where: str,
+                        batches: int) -> tuple[dict[str, Any], Result]:
+    """The segments before and after a test and the change of the bias between them (D.40), with
+    the turn-on scatter of D.5.3 (two power-ons)."""
+    ids = {}
+    for ph in ("before", "after"):
+        sid = R.text(rec, ph, src, where)
+        seg = next((s for s in campaign.segments if s.id == sid), None)
+        if seg is None:
+            raise DataError(src, f"{where}.{ph}", f"no segment with id {sid!r} in the campaign")
+        ids[ph] = seg
+    est = {ph: segment_bias(seg, campaign, batches) for ph, seg in ids.items()}
+    dm = Metric(f"{t.tag}_dB0", msg("{test}: bias change after − before", test=t.name_en), "ΔB₀", "deg/h", "D.5.1.3", "D.40")
+    # σ_on of D.5.3 as D.5.4 / D.5.5 / D.6.3 / D.6.4 take it (its posterior mean, ν = ∞: the row's own)
+    on = turn_on_rows(*bias_repeat_row(campaign, batches, None), "B₀", "deg/h", 1.0)
+    result = not_without_turn_on(_bias_change(dm, est["before"], est["after"], on), campaign, "B₀", "D.5.3",
+                                 msg("before and after {test} are two power-ons", test=t.key))
+    return ids, result
 
 
 class _EnvironmentalTest(Procedure):
@@ -469,27 +524,7 @@ class _EnvironmentalTest(Procedure):
         if not isinstance(sev, Mapping):
             raise DataError(src, f"{where}.severity", "missing: the severity applied (a table such as temperature = "
                             "\"-55 degC\")")
-        names = {p.name for p in t.params}
-        for key in sev:
-            if names and key not in names:
-                raise DataError(src, f"{where}.severity.{key}", f"not a severity of {t.key}; known: "
-                                f"{', '.join(sorted(names))}")
-        results: list[Result] = []
-        table, undeclared = [], []
-        for p in t.params:
-            if p.name not in sev:
-                if p.c1:
-                    raise DataError(src, f"{where}.severity.{p.name}", f"missing: table C.1 row {t.c1_row} states the "
-                                    f"{p.label or p.name} of {t.key}")
-                continue
-            q = R.quantity(sev[p.name], p.unit, src, f"{where}.severity.{p.name}")
-            m = Metric(f"{t.tag}_{p.name}", msg("{test}: {what} applied", test=t.name_en, what=p.label or p.name), p.name, p.unit,
-                       f"5.4 {t.letter})", t.method)
-            r, missing = _severity_result(m, q, rec, p, src, where)
-            results.append(r)
-            if missing:
-                undeclared.append(missing)
-            table.append([p.label or p.name, f"{q:~P}"])
+        results, table, undeclared = _severity_results(t, sev, rec, src, where)
         if undeclared:
             warnings.append(msg("{test}: the test lab declares no uncertainty of the applied {what}: judged as stated",
                                 test=t.name_en, what=join(", ", undeclared)))
@@ -504,21 +539,8 @@ class _EnvironmentalTest(Procedure):
                               note=msg("passed") if func else msg("FAILED")))
         used: list[str] = []
         if "before" in rec or "after" in rec:
-            ids = {}
-            for ph in ("before", "after"):
-                sid = R.text(rec, ph, src, where)
-                seg = next((s for s in campaign.segments if s.id == sid), None)
-                if seg is None:
-                    raise DataError(src, f"{where}.{ph}", f"no segment with id {sid!r} in the campaign")
-                ids[ph] = seg
-            est = {ph: segment_bias(seg, campaign, int(opts["batches"])) for ph, seg in ids.items()}
-            dm = Metric(f"{t.tag}_dB0", msg("{test}: bias change after − before", test=t.name_en), "ΔB₀", "deg/h", "D.5.1.3", "D.40")
-            from .repeatability import bias_repeat_row
-
-            # σ_on of D.5.3 as D.5.4 / D.5.5 / D.6.3 / D.6.4 take it (its posterior mean, ν = ∞: the row's own)
-            on = turn_on_rows(*bias_repeat_row(campaign, int(opts["batches"]), None), "B₀", "deg/h", 1.0)
-            results.append(not_without_turn_on(_bias_change(dm, est["before"], est["after"], on), campaign, "B₀", "D.5.3",
-                                               msg("before and after {test} are two power-ons", test=t.key)))
+            ids, result = _bias_change_result(t, rec, campaign, src, where, int(opts["batches"]))
+            results.append(result)
             used = [ids["before"].id, ids["after"].id]
         else:
             warnings.append(msg("no before/after records of the gyro's output for {test}: the change of its bias is not "
@@ -533,14 +555,12 @@ class _EnvironmentalTest(Procedure):
         if sf["before"] is not None and sf["after"] is not None:
             km = Metric(f"{t.tag}_dK", msg("{test}: relative scale-factor change after − before", test=t.name_en), "ΔK/K", "ppm",
                         "D.1.1.3 / D.2.1.3")
-            from .repeatability import scale_factor_angle_repeat_row, scale_factor_rate_repeat_row
-
             Kb = sf["before"][0]
             found = (scale_factor_angle_repeat_row(campaign, Kb, "") if sf["before"][3] == "P/arcsec" else
                      scale_factor_rate_repeat_row(campaign, Kb, "", 1))
             on = turn_on_rows(*found, "K", "ppm", 1e6 / abs(Kb))
             angle = sf["before"][3] == "P/arcsec"
-            results.append(not_without_turn_on(_scale_factor_change(km, sf["before"], sf["after"], on), campaign, "K",
+            results.append(not_without_turn_on(scale_factor_change(km, sf["before"], sf["after"], on), campaign, "K",
                                                "D.1.4" if angle else "D.2.4",
                                                msg("before and after {test} are two power-ons", test=t.key),
                                                "angle" if angle else "rate"))
@@ -556,7 +576,7 @@ class _EnvironmentalTest(Procedure):
         tab = TableSpec(f"{t.tag}_severity", msg("{test}: severity applied", test=t.name_en), [msg("parameter"), msg("value")],
                         meta + table)
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[tab], warnings=warnings,
-                       segments=used, options={k: str(v) for k, v in opts.items()})
+                       segments=used, options=opts_text(opts))
 
 
 def _make(test: EnvTest) -> type[Procedure]:

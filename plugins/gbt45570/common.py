@@ -1,0 +1,130 @@
+"""What every GB/T 45570 item module shares: the standard's id, the coverage of its budgets, the
+budget rows of the counter's time base, the scale factor and the output's resolution, and small
+helpers on segments and options.  It imports no other item module, so they all can import it."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+import attrs
+import numpy as np
+from metro.api import (
+    Q_,
+    BudgetRow,
+    Campaign,
+    Coverage,
+    DataError,
+    EquipmentRequirement,
+    RateConversion,
+    Segment,
+    msg,
+)
+
+STANDARD = "gbt45570"
+COVERAGE = Coverage.probability(0.9545)
+COUNTER = EquipmentRequirement("counter", "gyro test system / counter; its time-base uncertainty enters the budgets")
+PLATFORM = EquipmentRequirement("platform", "levelled stable platform (D.5.1.1 a)); its levelness enters the bias "
+                                "budget")
+#: the equipment of the static bias items (D.5): the platform's levelness and the counter's time base
+#: enter their budgets
+BIAS_EQUIPMENT = (PLATFORM, COUNTER)
+
+
+@attrs.frozen
+class ItemRef:
+    """An item of this standard as the data collectors name it in their messages (what they read of
+    a :class:`~metro.api.Procedure` class: ``item`` and :meth:`qualified_id`), for helpers that
+    collect another item's runs without importing its class."""
+
+    item: str
+    standard: str = STANDARD
+
+    def qualified_id(self) -> str:
+        """``standard:item``, as :meth:`metro.api.Procedure.qualified_id` gives it."""
+        return f"{self.standard}:{self.item}"
+
+
+def opts_text(opts: Mapping[str, Any]) -> dict[str, str]:
+    """An item's option values as the outcome records them (each as text)."""
+    return {k: str(v) for k, v in opts.items()}
+
+
+def timebase_row(campaign: Campaign, measured: float, unit: str, what: str) -> list[BudgetRow]:
+    eq = campaign.equipment_for("counter")
+    if eq is None or eq.calibration is None:
+        return []
+    cal = eq.calibration
+    if not cal.uncertainty.dimensionless:
+        return []
+    return [BudgetRow.from_calibration(
+        msg("time base of the counter ({equipment})", equipment=eq.describe()), "u_rel(τ)", cal,
+        sensitivity=Q_(abs(measured), unit),
+        note=msg("{what} ∝ 1/τ; {certificate}", what=what, certificate=cal.certificate),
+    )]
+
+
+def scale_factor_row(conv: RateConversion, measured: float, unit: str) -> list[BudgetRow]:
+    if conv.output_kind == "rate" or conv.relative_u_scale_factor == 0.0:
+        return []
+    return [BudgetRow.type_b(
+        msg("scale factor K used to convert the output"), "u_rel(K)",
+        Q_(conv.relative_u_scale_factor, ""), distribution="normal", k=1.0,
+        sensitivity=Q_(abs(measured), unit),
+        note=msg("K = {K}; result ∝ 1/K", K=f"{conv.scale_factor:~P}"),
+    )]
+
+
+def check_finite(raw: np.ndarray, seg: Segment) -> None:
+    ok = np.isfinite(raw)
+    if not ok.all():
+        i = int(np.argmin(ok))
+        raise DataError(seg.file or f"segment {seg.id}", "output", f"sample {i + 1} is {raw[i]!r}")
+
+
+def delta_temperature_u(campaign: Campaign) -> tuple[float, str] | None:
+    """Standard uncertainty (K) of one chamber temperature reading, from the chamber's calibration."""
+    ch = campaign.equipment_for("chamber")
+    if ch is None or ch.calibration is None:
+        return None
+    U = ch.calibration.uncertainty
+    # an uncertainty is a temperature *difference*: "0.3 K" or "0.3 delta_degC"; "0.3 °C" means the same here
+    mag = float(U.magnitude) if str(U.units) in ("degree_Celsius", "degC") else float(U.to("K").magnitude)
+    div = ch.calibration.k if ch.calibration.distribution == "normal" else math.sqrt(3.0)
+    return mag / div, ch.describe()
+
+
+def resolution(campaign: Campaign, unit: str = "LSB") -> float:
+    """The output's resolution in ``unit``: the device's ``resolution`` if stated, else 1 LSB for
+    an LSB output and 0 (none known) for a frequency or rate output."""
+    if "resolution" in campaign.device.properties:
+        return float(campaign.device.prop("resolution", unit, source=campaign.source).to(unit).magnitude)
+    return 1.0 if unit == "LSB" else 0.0
+
+
+def resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str, *, q: float | None = None,
+                    raw_unit: str = "LSB", half_width: float | None = None,
+                    note: str = msg("±half an LSB on each mean, independent")) -> BudgetRow:
+    """Rounding of the output word: each mean F̄ is off by up to ±resolution/2 when the noise is
+    smaller than one LSB (it then does not average out); ``c_norm`` = √Σc² of the result's
+    sensitivities to the means, independent errors assumed.  ``q`` (default: :func:`resolution`),
+    its ``raw_unit`` and a smaller ``half_width`` (noise that dithers the rounding) serve the D.5
+    items' rows on LSB and rate outputs."""
+    q = resolution(campaign) if q is None else q
+    hw = q / 2.0 if half_width is None else half_width
+    return BudgetRow.type_b(msg("output resolution {q:.4g} {unit}, through {what}", q=q, unit=raw_unit, what=what), "δF",
+                            Q_(hw, raw_unit),
+                            distribution="uniform",
+                            sensitivity=Q_(c_norm, f"({unit})/({raw_unit})" if unit else f"1/({raw_unit})"),
+                            note=note)
+
+
+def group_of(seg: Segment) -> tuple[str, str]:
+    return str(seg.conditions.get("run", "")), str(seg.conditions.get("temperature", ""))
+
+
+def grouped(campaign: Campaign, kind: str, key: str) -> dict[str, list]:
+    groups: dict[str, list] = {}
+    for s in campaign.find_segments(kind):
+        groups.setdefault(str(s.condition(key)), []).append(s)
+    return groups
