@@ -18,13 +18,13 @@ from __future__ import annotations
 import csv
 import io
 import math
-from typing import Any
 
 import pint
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from metro.core.base.errors import DataError, UnitError
+from metro.core.base.formatting import unit_text, with_unit
 from metro.core.base.units import (
     Q_,
     angle_power,
@@ -34,6 +34,7 @@ from metro.core.base.units import (
     unit,
     ureg,
 )
+from metro.core.model.record_json import json_value
 from metro.core.model.results import Metric, Result
 from metro.core.run.plugin_manager import get_plugin_manager
 from metro.core.uncertainty.budget import BudgetRow, UncertaintyBudget
@@ -45,31 +46,6 @@ def _same_unit(got: pint.Unit, want: pint.Unit) -> bool:
         return False
     one = Q_(1.0, difference_unit(got)).to(difference_unit(want)).magnitude
     return math.isclose(one, 1.0, rel_tol=1e-12, abs_tol=0.0)
-
-
-def _document_unit_text(u: Any) -> str:
-    """The documents' unit text: empty for a dimensionless unit (wherever it lives now)."""
-    try:
-        from metro.core.base.formatting import unit_text
-    except ImportError:  # before the formatting helpers moved to core.base
-        from metro.core.documents.report import _unit_text as unit_text
-    return unit_text(u)
-
-
-def _with_unit(num: str, text: str) -> str:
-    try:
-        from metro.core.base.formatting import with_unit
-    except ImportError:
-        from metro.core.documents.report import with_unit
-    return with_unit(num, text)
-
-
-def _json_quantity_unit(q: pint.Quantity) -> str:
-    try:
-        from metro.core.model.record_json import json_value
-    except ImportError:
-        return fmt_unit(q.units)  # the JSON wrote a quantity's unit with fmt_unit
-    return json_value(q)["unit"]
 
 
 def _csv_units(docs: list[dict]) -> list[str]:
@@ -128,12 +104,12 @@ def _printed_texts(declared: str) -> dict[str, tuple[str, pint.Unit]]:
     budget_doc = budget.as_dict()
     return {
         "fmt_unit (terminal, notes)": (fmt_unit(u), u),
-        "document unit text": (_document_unit_text(u), u),
+        "document unit text": (unit_text(u), u),
         "json result": (result_doc["unit"], u),
         "json budget": (budget_doc["unit"], difference_unit(u)),
         "json budget row value": (budget_doc["rows"][0]["value_unit"], u),
         "json budget row sensitivity": (budget_doc["rows"][1]["sensitivity_unit"], per_s),
-        "json quantity": (_json_quantity_unit(value), u),
+        "json quantity": (json_value(value)["unit"], u),
         "lot csv": (_csv_units([result_doc | {"item": "i"}])[0], u),
     }
 
@@ -149,7 +125,7 @@ def test_every_declared_unit_reads_back_from_every_printing_path(declared):
 
 @pytest.mark.parametrize("declared", sorted(_DECLARED), ids=lambda u: u or "dimensionless")
 def test_a_value_with_its_printed_unit_reads_back_as_the_same_quantity(declared):
-    text = _with_unit("1.5", _document_unit_text(declared))
+    text = with_unit("1.5", unit_text(declared))
     q = parse_quantity(text)
     assert _same_unit(q.units, unit(declared)), f"{text!r} reads back as {q}"
     assert q.magnitude == 1.5
@@ -346,13 +322,11 @@ def test_a_value_is_read_apart_from_its_unit(text, value, pint_unit):
     st.sampled_from(("", ".6g", ".3e", ".12g")),
     st.sampled_from(("deg/h", "s", "ppm", "mV/(deg/s)", "")),
 )
-def test_a_number_reads_as_pint_read_it(x, spec, unit_text):
-    # the number is now read apart from its unit; it must be the very same number as before
-    text = (
-        f"{x:{spec}} {unit_text}".strip()
-        if not isinstance(x, int) or not spec
-        else f"{x} {unit_text}"
-    )
+def test_a_number_reads_as_pint_read_it(x, spec, written_unit):
+    # a value with an offset unit is read apart from its unit; every other must read the very
+    # same number, of the same type, as pint's reading of the whole text did
+    number = f"{x}" if isinstance(x, int) and spec else f"{x:{spec}}"
+    text = f"{number} {written_unit}".strip()
     q = parse_quantity(text)
     before = ureg.Quantity(text)
     before_m = before.magnitude if isinstance(before, pint.Quantity) else float(before)
