@@ -399,6 +399,7 @@ _ORDER = {"class": 0, "function": 1, "data": 2, "module": 3}
 #: ``excursion_lobes`` Lobes, ``Campaign.people`` People …), by defining module
 RETURNED: tuple[tuple[str, str], ...] = (
     ("metro.core.uncertainty.conformity", "Verdict"),
+    ("metro.core.uncertainty.conformity", "Status"),
     ("metro.core.uncertainty.conformity", "DecisionRule"),
     ("metro.core.uncertainty.budget", "Reported"),
     ("metro.core.stats.sinefit", "SineFit"),
