@@ -361,3 +361,14 @@ def test_a_header_unit_that_is_not_a_unit_names_the_file_and_the_column():
         loader=lambda: {"output": (np.ones(4), "°/h¹⋅⁵")},
     )
     assert ok.series("output", "deg/hour**1.5").data.units == ureg.Unit("deg/hour**1.5")
+
+
+def test_a_gram_with_other_units_prints_gram_and_check_dimension_takes_a_unit():
+    from metro.core.base.units import check_dimension
+
+    per_s = ureg.Unit("gram/s")
+    assert fmt_unit(per_s) == "gram/s" and unit("gram/s") == per_s
+    assert unit("g/s") == ureg.Unit("gn/s")  # a bare g with other units: standard gravity
+    check_dimension(Q_(2.0, per_s), per_s)  # a registry unit, not its pint text "g/s"
+    with pytest.raises(UnitError):
+        check_dimension(Q_(2.0, per_s), str(per_s))

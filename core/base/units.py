@@ -460,9 +460,11 @@ def parse_quantity(
     return q
 
 
-def check_dimension(q: pint.Quantity, dimension: str, *, file: str | None = None,
+def check_dimension(q: pint.Quantity, dimension: str | pint.Unit, *, file: str | None = None,
                     field: str | None = None) -> None:
-    """Raise :class:`UnitError` unless ``q`` has the dimensionality of the unit ``dimension``."""
+    """Raise :class:`UnitError` unless ``q`` has the dimensionality of the unit ``dimension`` (a
+    unit text, or a registry unit: pass ``x.units`` rather than ``str(x.units)``, whose pint
+    form writes a gram with other units as ``g``, which metro reads as standard gravity)."""
     want = unit(dimension) if dimension else ureg.Unit("")
     if (
         not isinstance(q, pint.Quantity)
