@@ -27,15 +27,41 @@ import re
 from typing import TYPE_CHECKING, Callable, Iterable, Sequence
 
 from .text import (
-    BODY_PT, CELL_MARGIN_MM, CJK_FONT, HEAD_FILL, LABEL_FILL, LATIN_FONT, MARGIN_MM, MIN_TABLE_PT,
-    NBSP, PAGE_H_MM, PAGE_W_MM, TABLE_PT, TEXT_WIDTH_MM, column_widths, glue, subscript_runs, two_lines, unit_may_wrap,
+    BODY_PT,
+    CELL_MARGIN_MM,
+    CJK_FONT,
+    HEAD_FILL,
+    LABEL_FILL,
+    LATIN_FONT,
+    MARGIN_MM,
+    MIN_TABLE_PT,
+    NBSP,
+    PAGE_H_MM,
+    PAGE_W_MM,
+    TABLE_PT,
+    TEXT_WIDTH_MM,
+    column_widths,
+    glue,
+    subscript_runs,
+    two_lines,
+    unit_may_wrap,
 )
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..base.locale import Translator
 
-__all__ = ["DocumentBuilder", "Layout", "append_runs", "fit_check", "oxml_element", "insert_ordered",
-           "mm_to_twips", "TRPR_ORDER", "TBLPR_ORDER", "TCPR_ORDER"]
+__all__ = [
+    "DocumentBuilder",
+    "Layout",
+    "append_runs",
+    "fit_check",
+    "oxml_element",
+    "insert_ordered",
+    "mm_to_twips",
+    "TRPR_ORDER",
+    "TBLPR_ORDER",
+    "TCPR_ORDER",
+]
 
 #: a layout: fills the document from the report context
 Layout = Callable[["DocumentBuilder", dict], None]
@@ -44,16 +70,55 @@ Layout = Callable[["DocumentBuilder", dict], None]
 # The builder
 # ----------------------------------------------------------------------------------------
 
-TRPR_ORDER = ("w:cnfStyle", "w:divId", "w:gridBefore", "w:gridAfter", "w:wBefore", "w:wAfter",
-               "w:cantSplit", "w:trHeight", "w:tblHeader", "w:tblCellSpacing", "w:jc", "w:hidden")
-TBLPR_ORDER = ("w:tblStyle", "w:tblpPr", "w:tblOverlap", "w:bidiVisual", "w:tblStyleRowBandSize",
-                "w:tblStyleColBandSize", "w:tblW", "w:jc", "w:tblCellSpacing", "w:tblInd", "w:tblBorders",
-                "w:shd", "w:tblLayout", "w:tblCellMar", "w:tblLook")
-TCPR_ORDER = ("w:cnfStyle", "w:tcW", "w:gridSpan", "w:hMerge", "w:vMerge", "w:tcBorders",
-               "w:shd", "w:noWrap", "w:tcMar", "w:textDirection", "w:tcFitText", "w:vAlign")
+TRPR_ORDER = (
+    "w:cnfStyle",
+    "w:divId",
+    "w:gridBefore",
+    "w:gridAfter",
+    "w:wBefore",
+    "w:wAfter",
+    "w:cantSplit",
+    "w:trHeight",
+    "w:tblHeader",
+    "w:tblCellSpacing",
+    "w:jc",
+    "w:hidden",
+)
+TBLPR_ORDER = (
+    "w:tblStyle",
+    "w:tblpPr",
+    "w:tblOverlap",
+    "w:bidiVisual",
+    "w:tblStyleRowBandSize",
+    "w:tblStyleColBandSize",
+    "w:tblW",
+    "w:jc",
+    "w:tblCellSpacing",
+    "w:tblInd",
+    "w:tblBorders",
+    "w:shd",
+    "w:tblLayout",
+    "w:tblCellMar",
+    "w:tblLook",
+)
+TCPR_ORDER = (
+    "w:cnfStyle",
+    "w:tcW",
+    "w:gridSpan",
+    "w:hMerge",
+    "w:vMerge",
+    "w:tcBorders",
+    "w:shd",
+    "w:noWrap",
+    "w:tcMar",
+    "w:textDirection",
+    "w:tcFitText",
+    "w:vAlign",
+)
 
 
 def oxml_element(tag: str, **attrs: str):
+    """A WordprocessingML element ``tag`` (``w:…``) with ``w:`` attributes."""
     from docx.oxml import OxmlElement
     from docx.oxml.ns import qn
 
@@ -64,10 +129,12 @@ def oxml_element(tag: str, **attrs: str):
 
 
 def insert_ordered(parent, child, order: tuple[str, ...]) -> None:
+    """Put ``child`` into ``parent`` at the place the schema's element ``order``
+    asks (ECMA-376), replacing an element of the same tag."""
     from docx.oxml.ns import qn
 
     tags = [qn(t) for t in order]
-    later = set(tags[tags.index(child.tag) + 1:])
+    later = set(tags[tags.index(child.tag) + 1 :])
     for existing in parent:
         if existing.tag == child.tag:
             parent.replace(existing, child)
@@ -114,7 +181,9 @@ def _run_text(r, text: str) -> None:
     ends with white space), a tab as ``w:tab``, a carriage return or line feed as ``w:br``."""
     from lxml.etree import SubElement
 
-    for chunk in _RUN_BREAKS.split(text) if ("\t" in text or "\r" in text or "\n" in text) else (text,):
+    for chunk in (
+        _RUN_BREAKS.split(text) if ("\t" in text or "\r" in text or "\n" in text) else (text,)
+    ):
         if chunk == "\t":
             SubElement(r, _W + "tab")
         elif chunk in ("\r", "\n"):
@@ -126,8 +195,15 @@ def _run_text(r, text: str) -> None:
                 t.set(_XML_SPACE, "preserve")
 
 
-def append_runs(p, text: str, *, bold: bool = False, size: float | None = None, italic: bool = False,
-                color: str | None = None) -> None:
+def append_runs(
+    p,
+    text: str,
+    *,
+    bold: bool = False,
+    size: float | None = None,
+    italic: bool = False,
+    color: str | None = None,
+) -> None:
     """Append ``text`` to the paragraph element ``p`` (``w:p``) as runs: a subscript (``K_l``) as
     its own run, a line break (``\\n``) as a run holding ``w:br``; every run formatted alike
     (bold, italic, colour ``RRGGBB``, size in points).  The text is used as given (see
@@ -167,8 +243,15 @@ class DocumentBuilder:
     :param footer: footer text (the software that wrote the document).
     """
 
-    def __init__(self, *, number: str, title: str, tr: "Translator", simulated: bool = False,
-                 footer: str = ""):
+    def __init__(
+        self,
+        *,
+        number: str,
+        title: str,
+        tr: "Translator",
+        simulated: bool = False,
+        footer: str = "",
+    ):
         import docx
         from docx.oxml.ns import qn
         from docx.shared import Mm, Pt
@@ -264,12 +347,23 @@ class DocumentBuilder:
 
     # -- text ------------------------------------------------------------------------------
 
-    def runs(self, paragraph, text: str, *, bold: bool = False, size: float | None = None,
-             italic: bool = False, color: str | None = None) -> None:
+    def runs(
+        self,
+        paragraph,
+        text: str,
+        *,
+        bold: bool = False,
+        size: float | None = None,
+        italic: bool = False,
+        color: str | None = None,
+    ) -> None:
         """Add ``text`` to ``paragraph`` with real subscripts and no-break spaces."""
-        append_runs(paragraph._p, glue(self.tr.text(text)), bold=bold, size=size, italic=italic, color=color)
+        append_runs(
+            paragraph._p, glue(self.tr.text(text)), bold=bold, size=size, italic=italic, color=color
+        )
 
     def heading(self, text: str, level: int = 1):
+        """A heading of ``level`` (translated, with subscripts), kept with what follows."""
         p = self.doc.add_heading(level=level)
         self.runs(p, text)
         p.paragraph_format.keep_with_next = True
@@ -307,8 +401,18 @@ class DocumentBuilder:
 
         return Pt(v)
 
-    def para(self, text: str, *, bold: bool = False, size: float | None = None, keep_next: bool = False,
-             italic: bool = False, color: str | None = None, box: bool = False):
+    def para(
+        self,
+        text: str,
+        *,
+        bold: bool = False,
+        size: float | None = None,
+        keep_next: bool = False,
+        italic: bool = False,
+        color: str | None = None,
+        box: bool = False,
+    ):
+        """A paragraph of ``text`` (translated and glued), formatted alike."""
         p = self.doc.add_paragraph()
         self.runs(p, text, bold=bold, size=size, italic=italic, color=color)
         if keep_next:
@@ -317,33 +421,49 @@ class DocumentBuilder:
             ppr = p._p.get_or_add_pPr()
             bdr = oxml_element("w:pBdr")
             for side in ("top", "left", "bottom", "right"):
-                bdr.append(oxml_element(f"w:{side}", val="single", sz="8", space="4", color="B01C1C"))
+                bdr.append(
+                    oxml_element(f"w:{side}", val="single", sz="8", space="4", color="B01C1C")
+                )
             ppr.insert(0, bdr)
         return p
 
     def bullets(self, lines: Iterable[str], *, size: float | None = None) -> None:
+        """One bulleted paragraph per line."""
         for line in lines:
             p = self.para("• " + self.tr.text(line), size=size)
             p.paragraph_format.left_indent = self._pt(10)
             p.paragraph_format.first_line_indent = self._pt(-7)
 
     def page_break(self) -> None:
+        """A page break."""
         from docx.enum.text import WD_BREAK
 
         self.doc.add_paragraph().add_run().add_break(WD_BREAK.PAGE)
 
     # -- tables ----------------------------------------------------------------------------
 
-    def table(self, header: Sequence[str] | None, rows: Sequence[Sequence[str]], *,
-              font_pt: float = TABLE_PT, label_column: bool = False, width_mm: float = TEXT_WIDTH_MM,
-              shade: Sequence[int] = (), prefer: int | None = None, prefer_share: float = 0.6,
-              spans: Sequence[int] = (), bold_rows: Sequence[int] = (), unit_break: Sequence[int] = ()):
+    def table(
+        self,
+        header: Sequence[str] | None,
+        rows: Sequence[Sequence[str]],
+        *,
+        font_pt: float = TABLE_PT,
+        label_column: bool = False,
+        width_mm: float = TEXT_WIDTH_MM,
+        shade: Sequence[int] = (),
+        prefer: int | None = None,
+        prefer_share: float = 0.6,
+        spans: Sequence[int] = (),
+        bold_rows: Sequence[int] = (),
+        unit_break: Sequence[int] = (),
+    ):
         """A bordered table: ``header`` (repeated on every page; None for a label/value table),
         then ``rows`` (each row kept on one page).  ``label_column`` shades and bolds the first
         column (label/value tables).  ``shade`` lists row indexes to shade (summary rows).
         ``spans`` lists rows (indexes into ``rows``, each a one-cell row) whose text spans every
         column (a title or a summary inside a long table; printed bold when it is in ``bold_rows``
-        too; never kept with the row below, see the comment in the loop).  In the columns ``unit_break`` a unit may go to
+        too; never kept with the row below, see the comment in the loop).  In the columns
+        ``unit_break`` a unit may go to
         the next line under its number (``4.946×10⁻⁸`` / ``°/°C/h``; the number stays whole).
         Column widths fit the content (:func:`column_widths`, spanning rows left out); the font
         shrinks (to 6.5 pt) only when the longest words would not fit otherwise."""
@@ -353,25 +473,47 @@ class DocumentBuilder:
 
         rows = [[glue(self.tr.text(c)) for c in r] for r in rows]
         if unit_break:
-            rows = [[unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r in rows]
+            rows = [
+                [unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r in rows
+            ]
         head = [two_lines(glue(self.tr.text(h))) for h in header] if header else None
         spans = set(spans)
         n = len(head) if head else max(len(r) for i, r in enumerate(rows) if i not in spans)
         rows = [list(r) + [""] * (n - len(r)) for r in rows]
         everything = ([head] if head else []) + rows
         first = 1 if head else 0
-        cols = [[r[j] for i, r in enumerate(everything) if i - first not in spans] for j in range(n)]
+        cols = [
+            [r[j] for i, r in enumerate(everything) if i - first not in spans] for j in range(n)
+        ]
         pt = font_pt
-        widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
-                               prefer=prefer, prefer_share=prefer_share)
+        widths = column_widths(
+            cols,
+            width_mm,
+            pt,
+            bold_first=bool(head),
+            bold_column=label_column,
+            prefer=prefer,
+            prefer_share=prefer_share,
+        )
         while widths is None and pt > MIN_TABLE_PT:
             pt = max(MIN_TABLE_PT, pt - 0.5)
-            widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
-                                   prefer=prefer, prefer_share=prefer_share)
-        if widths is None:  # still too wide: in proportion to the longest words (a word may then break)
-            widths = column_widths(cols, width_mm, pt, bold_first=bool(head), bold_column=label_column,
-                                   squeeze=True)
-        # the table without rows (they come below, as XML), in the body as Document.add_table puts it,
+            widths = column_widths(
+                cols,
+                width_mm,
+                pt,
+                bold_first=bool(head),
+                bold_column=label_column,
+                prefer=prefer,
+                prefer_share=prefer_share,
+            )
+        if (
+            widths is None
+        ):  # still too wide: in proportion to the longest words (a word may then break)
+            widths = column_widths(
+                cols, width_mm, pt, bold_first=bool(head), bold_column=label_column, squeeze=True
+            )
+        # the table without rows (they come below, as XML), in the body as Document.add_table puts
+        # it,
         # without its search of the whole body for the section's width: the grid gets its own widths
         t = self.doc._body.add_table(0, n, Mm(width_mm))
         tbl = t._tbl
@@ -379,7 +521,11 @@ class DocumentBuilder:
         tblPr.style = self._table_style_id()
         t.alignment = WD_TABLE_ALIGNMENT.CENTER
         t.autofit = False
-        insert_ordered(tblPr, oxml_element("w:tblW", w=str(sum(mm_to_twips(w) for w in widths)), type="dxa"), TBLPR_ORDER)
+        insert_ordered(
+            tblPr,
+            oxml_element("w:tblW", w=str(sum(mm_to_twips(w) for w in widths)), type="dxa"),
+            TBLPR_ORDER,
+        )
         insert_ordered(tblPr, oxml_element("w:tblLayout", type="fixed"), TBLPR_ORDER)
         mar = oxml_element("w:tblCellMar")
         for side in ("left", "right"):
@@ -392,20 +538,39 @@ class DocumentBuilder:
         for i, values in enumerate(everything):
             is_head = head is not None and i == 0
             if i - first in spans:
-                # not kept with the row below: LibreOffice (7.x) lost every later row of a budget whose
-                # kept title row fell at a page foot (a 6.2.7.7 report printed 1 of 6 rows and no U);
+                # not kept with the row below: LibreOffice (7.x) lost every later row of a budget
+                # whose
+                # kept title row fell at a page foot (a 6.2.7.7 report printed 1 of 6 rows and no
+                # U);
                 # a title alone at a page foot is the lesser harm
-                self._table_row(tbl, [values[0]], [str(sum(mm_to_twips(w) for w in widths))], span=n,
-                                fills=[LABEL_FILL if i - first in shade else None], keep=False,
-                                bold=[i - first in bold_rows], pt=pt)
+                self._table_row(
+                    tbl,
+                    [values[0]],
+                    [str(sum(mm_to_twips(w) for w in widths))],
+                    span=n,
+                    fills=[LABEL_FILL if i - first in shade else None],
+                    keep=False,
+                    bold=[i - first in bold_rows],
+                    pt=pt,
+                )
                 continue
             row_fill = LABEL_FILL if (i - first) in shade else None
-            fills = [HEAD_FILL if is_head else (LABEL_FILL if label_column and j == 0 else row_fill)
-                     for j in range(n)]
+            fills = [
+                HEAD_FILL if is_head else (LABEL_FILL if label_column and j == 0 else row_fill)
+                for j in range(n)
+            ]
             # the header row is kept with the next; a body row says it is not, the last says nothing
             keep = is_head if (is_head or i < len(everything) - 1) else None
-            self._table_row(tbl, values, twips, header=is_head, fills=fills, keep=keep,
-                            bold=[is_head or (label_column and j == 0) for j in range(n)], pt=pt)
+            self._table_row(
+                tbl,
+                values,
+                twips,
+                header=is_head,
+                fills=fills,
+                keep=keep,
+                bold=[is_head or (label_column and j == 0) for j in range(n)],
+                pt=pt,
+            )
         return t
 
     def _table_style_id(self) -> str:
@@ -418,11 +583,23 @@ class DocumentBuilder:
 
     _grid_style: str | None = None
 
-    def _table_row(self, tbl, values: Sequence[str], twips: Sequence[str], *, span: int = 1,
-                   header: bool = False, fills: Sequence[str | None], keep: bool | None,
-                   bold: Sequence[bool], pt: float) -> None:
-        """Append one ``w:tr`` to ``tbl``: never split across pages, repeated on each page when it is
-        the ``header``; per cell its width (twips), fill, and one paragraph with no space after, kept
+    def _table_row(
+        self,
+        tbl,
+        values: Sequence[str],
+        twips: Sequence[str],
+        *,
+        span: int = 1,
+        header: bool = False,
+        fills: Sequence[str | None],
+        keep: bool | None,
+        bold: Sequence[bool],
+        pt: float,
+    ) -> None:
+        """Append one ``w:tr`` to ``tbl``: never split across pages, repeated on each page when it
+        is
+        the ``header``; per cell its width (twips), fill, and one paragraph with no space after,
+        kept
         with the next row or not (``keep``; None says nothing), its text through :meth:`runs`.  With
         ``span`` > 1 its one cell spans that many grid columns."""
         from lxml.etree import SubElement
@@ -439,7 +616,9 @@ class DocumentBuilder:
             if span > 1:
                 SubElement(tcPr, _W + "gridSpan", {_W + "val": str(span)})
             if fill:
-                SubElement(tcPr, _W + "shd", {_W + "val": "clear", _W + "color": "auto", _W + "fill": fill})
+                SubElement(
+                    tcPr, _W + "shd", {_W + "val": "clear", _W + "color": "auto", _W + "fill": fill}
+                )
             p = SubElement(tc, _W + "p")
             pPr = SubElement(p, _W + "pPr")
             if keep is not None:
@@ -452,6 +631,7 @@ class DocumentBuilder:
         return self.table(None, [(a, b) for a, b in pairs], font_pt=font_pt, label_column=True)
 
     def caption(self, text: str):
+        """A centred caption (of a figure or table)."""
         from docx.enum.text import WD_ALIGN_PARAGRAPH
 
         p = self.para(text, size=8.5, italic=True)
@@ -470,10 +650,10 @@ class DocumentBuilder:
         self.caption(caption)
 
     def save(self, path) -> None:
+        """Write the document to ``path``."""
         self.doc.save(str(path))
 
 
 def fit_check(widths: Sequence[float], total: float = TEXT_WIDTH_MM) -> bool:
+    """Whether column ``widths`` (mm) fill ``total`` to half a millimetre."""
     return math.isclose(sum(widths), total, abs_tol=0.5)
-
-

@@ -20,7 +20,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping
 
 from ..base.formatting import (
-    DASH, fmt_divisor, fmt_dof, fmt_num, fmt_quantity, or_dash, pretty_powers, unit_text, with_unit,
+    DASH,
+    fmt_divisor,
+    fmt_dof,
+    fmt_num,
+    fmt_quantity,
+    or_dash,
+    pretty_powers,
+    unit_text,
+    with_unit,
 )
 from ..base.locale import Text, join, msg
 from .text import plain_symbol, quantity_name
@@ -71,7 +79,9 @@ def _label(key: str) -> str:
 
 
 def _name_values(m: Mapping[str, Any], *, relabel: bool = True) -> list[dict[str, str]]:
-    return [{"name": _label(k) if relabel else str(k), "value": fmt_quantity(v)} for k, v in m.items()]
+    return [
+        {"name": _label(k) if relabel else str(k), "value": fmt_quantity(v)} for k, v in m.items()
+    ]
 
 
 def _date_text(d: dt.datetime | dt.date) -> str:
@@ -95,19 +105,29 @@ def _equipment_row(e: "Equipment", on: dt.date) -> dict[str, Any]:
     if cal is not None:
         prefix = f"certificate {cal.certificate}, "
         if status.startswith(prefix):
-            status = status[len(prefix):]
+            status = status[len(prefix) :]
         if cal.due is not None:  # the same words as Calibration.status, as a message
-            status = (msg("EXPIRED on {date}", date=cal.due.isoformat()) if cal.due < on else
-                      msg("valid until {date}", date=cal.due.isoformat()))
+            status = (
+                msg("EXPIRED on {date}", date=cal.due.isoformat())
+                if cal.due < on
+                else msg("valid until {date}", date=cal.due.isoformat())
+            )
         elif status == "no due date stated":
             status = msg("no due date stated")
         if cal.distribution == "normal":
             U = f"{fmt_quantity(cal.uncertainty)} (k = {fmt_num(cal.k, 3)})"
         else:
-            U = msg("{U} ({distribution}, half-width)", U=fmt_quantity(cal.uncertainty),
-                    distribution=cal.distribution)
+            U = msg(
+                "{U} ({distribution}, half-width)",
+                U=fmt_quantity(cal.uncertainty),
+                distribution=cal.distribution,
+            )
         expired = not cal.is_valid(on)
-        relative = not unit_text(getattr(cal.uncertainty, "units", "")) if hasattr(cal.uncertainty, "units") else True
+        relative = (
+            not unit_text(getattr(cal.uncertainty, "units", ""))
+            if hasattr(cal.uncertainty, "units")
+            else True
+        )
     else:
         U = DASH
         expired = False
@@ -128,6 +148,8 @@ def _equipment_row(e: "Equipment", on: dt.date) -> dict[str, Any]:
 
 
 def result_row(r: "Result") -> dict[str, Any]:
+    """A result as the report context shows it: value and U with their unit, k,
+    the clause and equation, whether reportable and why (:meth:`Result.reported` rounds)."""
     m = r.metric
     vtext, Utext = r.reported()
     if Utext is None and r.u is not None:
@@ -141,7 +163,9 @@ def result_row(r: "Result") -> dict[str, Any]:
         "bound": getattr(r, "bound", "") or "",
         "earth_rate": str(getattr(r, "earth_rate", "") or ""),
         "value_unit": with_unit(vtext, unit),
-        "U_unit": DASH if Utext is None else (Utext if Utext.startswith("u = ") else with_unit(Utext, unit)),
+        "U_unit": DASH
+        if Utext is None
+        else (Utext if Utext.startswith("u = ") else with_unit(Utext, unit)),
         "key": m.key,
         "quantity": m.name,
         "symbol": m.symbol,
@@ -162,7 +186,8 @@ def budget_title(m: Any, measurand: str) -> str:
     (scale factor K)``; ``fitted zero F₀``, not ``… (fitted zero F0)``).
 
     >>> from types import SimpleNamespace as N
-    >>> budget_title(N(name="scale-factor nonlinearity", symbol="K_n", key="K_n"), "nonlinearity Kn")
+    >>> budget_title(N(name="scale-factor nonlinearity", symbol="K_n", key="K_n"),
+    ...              "nonlinearity Kn")
     'scale-factor nonlinearity K_n'
     >>> budget_title(N(name="bias", symbol="B₀", key="B0"), "mean of the static record")
     'bias B₀ (mean of the static record)'
@@ -171,10 +196,19 @@ def budget_title(m: Any, measurand: str) -> str:
     """
     title = quantity_name({"quantity": m.name, "symbol": m.symbol, "key": m.key})
     words = set(re.split(r"[\s()\-]+", plain_symbol(title).lower()))
-    said = all(w in words for w in re.split(r"[\s()\-]+", plain_symbol(measurand or "").lower()) if w)
-    # a measurand that is the result's code key (dB_shock, gamma_r, t_startup) says nothing a reader reads
-    key = measurand in (m.key, m.symbol) or re.fullmatch(r"[A-Za-z]+(?:_[A-Za-z0-9]+)+", measurand or "")
-    return title if not measurand or said or key else msg("{name} ({measurand})", name=title, measurand=measurand)
+    said = all(
+        w in words for w in re.split(r"[\s()\-]+", plain_symbol(measurand or "").lower()) if w
+    )
+    # a measurand that is the result's code key (dB_shock, gamma_r, t_startup) says nothing a reader
+    # reads
+    key = measurand in (m.key, m.symbol) or re.fullmatch(
+        r"[A-Za-z]+(?:_[A-Za-z0-9]+)+", measurand or ""
+    )
+    return (
+        title
+        if not measurand or said or key
+        else msg("{name} ({measurand})", name=title, measurand=measurand)
+    )
 
 
 def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
@@ -182,19 +216,23 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
     unit = d["unit"] if d["unit"] != "1" else ""
     rows = []
     for row in d["rows"]:
-        rows.append({
-            "source": msg("{source} ({note})", source=row["source"], note=row["note"]) if row["note"]
-            else row["source"],
-            "source_only": row["source"], "note": row["note"],  # apart, for a document to number repeated notes
-            "symbol": row["symbol"],
-            "type": row["type"],
-            "distribution": row["distribution"],
-            "value": with_unit(fmt_num(row["value"]), row["value_unit"]),
-            "divisor": fmt_divisor(row["divisor"]),
-            "sensitivity": with_unit(fmt_num(row["sensitivity"]), row["sensitivity_unit"]),
-            "contribution": fmt_num(row["contribution"]),
-            "dof": fmt_dof(row["dof"]),
-        })
+        rows.append(
+            {
+                "source": msg("{source} ({note})", source=row["source"], note=row["note"])
+                if row["note"]
+                else row["source"],
+                "source_only": row["source"],
+                "note": row["note"],  # apart, for a document to number repeated notes
+                "symbol": row["symbol"],
+                "type": row["type"],
+                "distribution": row["distribution"],
+                "value": with_unit(fmt_num(row["value"]), row["value_unit"]),
+                "divisor": fmt_divisor(row["divisor"]),
+                "sensitivity": with_unit(fmt_num(row["sensitivity"]), row["sensitivity_unit"]),
+                "contribution": fmt_num(row["contribution"]),
+                "dof": fmt_dof(row["dof"]),
+            }
+        )
     m = r.metric
     k_text = fmt_num(d["k"], 3)
     if d["coverage"] != f"k = {d['k']:g}":  # k from t_p(ν_eff): say how it was chosen
@@ -239,11 +277,19 @@ def plot_caption(title: str, item: str) -> str:
     return title if title.endswith(f"({item})") else join(" ", [title, f"({item})"])
 
 
-def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: int) -> dict[str, Any]:
+def _outcome_block(
+    o: "Outcome", number: str, designation: str, first_figure: int
+) -> dict[str, Any]:
     results = list(o.results)
     plots = [
-        {"number": first_figure + i, "name": p.name, "title": p.title, "caption": plot_caption(p.title, o.item),
-         "spec": p, "image": None}
+        {
+            "number": first_figure + i,
+            "name": p.name,
+            "title": p.title,
+            "caption": plot_caption(p.title, o.item),
+            "spec": p,
+            "image": None,
+        }
         for i, p in enumerate(o.plots)
     ]
     return {
@@ -258,7 +304,9 @@ def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: in
         "options": _name_values(o.options, relabel=False),
         "options_text": "; ".join(f"{k} = {fmt_quantity(v)}" for k, v in o.options.items()),
         "results": [result_row(r) for r in results],
-        "notes": [join(": ", [r.metric.symbol or r.metric.name, r.note]) for r in results if r.note],
+        "notes": [
+            join(": ", [r.metric.symbol or r.metric.name, r.note]) for r in results if r.note
+        ],
         "budgets": [_budget_block(r, r.budget) for r in results if r.budget is not None],
         "tables": [_table_block(t) for t in o.tables],
         "plots": plots,
@@ -267,7 +315,8 @@ def _outcome_block(o: "Outcome", number: str, designation: str, first_figure: in
 
 
 def sanitize(obj: Any) -> Any:
-    """Drop the characters XML 1.0 cannot hold (:data:`metro.core.base.vocabulary.NOT_XML`: C0 controls,
+    """Drop the characters XML 1.0 cannot hold (:data:`metro.core.base.vocabulary.NOT_XML`: C0
+    controls,
     lone surrogates, U+FFFE/U+FFFF) from every string of the context.  Manifests, bench files and
     lab profiles are refused with such a character at load; this keeps any other text (a sample
     file's header, a plugin's note) from stopping the document."""
@@ -293,10 +342,22 @@ def _conformity_block(a: Any) -> dict[str, Any] | None:
         "rule_title": a.rule.title,
         "statement": a.rule.statement,
         "overall": a.overall.value if a.overall is not None else DASH,
-        "verdicts": [{"item": v.item, "key": v.key, "limit": v.spec.text(), "source": v.spec.source,
-                      "status": v.status.value, "detail": v.detail, "reason": v.reason} for v in a.verdicts],
-        "not_assessed": [msg("{symbol} {limit} ({source})", symbol=s.symbol, limit=s.text(), source=s.source)
-                         for s in a.not_assessed],
+        "verdicts": [
+            {
+                "item": v.item,
+                "key": v.key,
+                "limit": v.spec.text(),
+                "source": v.spec.source,
+                "status": v.status.value,
+                "detail": v.detail,
+                "reason": v.reason,
+            }
+            for v in a.verdicts
+        ],
+        "not_assessed": [
+            msg("{symbol} {limit} ({source})", symbol=s.symbol, limit=s.text(), source=s.source)
+            for s in a.not_assessed
+        ],
     }
 
 
@@ -314,9 +375,13 @@ def _data_files(record: "RunRecord") -> list[dict[str, str]]:
         out.insert(0, {"file": f"{record.campaign.source} (manifest)", "sha256": manifest})
     if not out:  # a simulated campaign: its samples live in memory, still hashed
         out = [
-            {"file": f"segment {s.id} ({'simulated, ' if record.campaign.simulated else ''}in memory)",
-             "sha256": s.sha256}
-            for s in record.campaign.segments if s.sha256
+            {
+                "file": f"segment {s.id} "
+                f"({'simulated, ' if record.campaign.simulated else ''}in memory)",
+                "sha256": s.sha256,
+            }
+            for s in record.campaign.segments
+            if s.sha256
         ]
     return out
 
@@ -331,10 +396,12 @@ def _fact_text(v: Any) -> str:
 
 def record_facts(record: "RunRecord") -> dict[str, str]:
     """Who, where and when, from the campaign through the manifest vocabulary
-    (:mod:`metro.core.base.vocabulary`; a lab profile in force has filled in what the manifest leaves
+    (:mod:`metro.core.base.vocabulary`; a lab profile in force has filled in what the manifest
+    leaves
     out, :func:`metro.core.record.registering.with_lab`): ``lab``, ``lab_address``, ``location``,
     ``customer``, ``customer_address``, ``operator``, ``checker``, ``approver`` and their titles
-    ``operator_title``, ``checker_title``, ``approver_title``, ``received``, ``measured`` (the measurement date,
+    ``operator_title``, ``checker_title``, ``approver_title``, ``received``, ``measured`` (the
+    measurement date,
     :attr:`RunRecord.test_date`; where it came from in ``measured_from``), ``issued`` (the
     manifest's ``issued``, else the day the document is written) and ``processed`` (the time of
     this run).  A missing fact is the empty string; documents print it as "—"."""
@@ -345,10 +412,16 @@ def record_facts(record: "RunRecord") -> dict[str, str]:
     people, lab, customer = camp.people, camp.lab, camp.customer
     received = camp.date_received
     out = {
-        "lab": lab.name, "lab_address": lab.address, "location": lab.location,
-        "customer": customer.name, "customer_address": customer.address,
-        "operator": people.operator, "checker": people.checked_by, "approver": people.approved_by,
-        "approver_title": people.approved_by_title, "operator_title": people.operator_title,
+        "lab": lab.name,
+        "lab_address": lab.address,
+        "location": lab.location,
+        "customer": customer.name,
+        "customer_address": customer.address,
+        "operator": people.operator,
+        "checker": people.checked_by,
+        "approver": people.approved_by,
+        "approver_title": people.approved_by_title,
+        "operator_title": people.operator_title,
         "checker_title": people.checked_by_title,
         "received": received.isoformat() if received else "",
         "issued": _fact_text(meta.get("issued")),
@@ -367,7 +440,9 @@ def record_facts(record: "RunRecord") -> dict[str, str]:
     return {k: str(v or "") for k, v in out.items()}
 
 
-def report_context(record: "RunRecord", *, designations: Mapping[str, str] | None = None) -> dict[str, Any]:
+def report_context(
+    record: "RunRecord", *, designations: Mapping[str, str] | None = None
+) -> dict[str, Any]:
     """Everything the report shows, as plain Python (strings, lists, dicts).
 
     ``designations`` maps a standard id to its designation (``{"gbt45570": "GB/T 45570—2025"}``,
@@ -392,7 +467,8 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     measurand, result, unit, rows, u_c, nu_eff, k, coverage, U, U_unrounded, rounding,
     note}], each row {source, symbol, type, distribution, value, divisor, sensitivity,
     contribution, dof}), ``tables`` ([{name, title, header, rows}]), ``plots`` ([{number,
-    name, title, caption, spec, image}]; ``caption`` is the title with the item, ``image`` is filled in by
+    name, title, caption, spec, image}]; ``caption`` is the title with the item, ``image`` is filled
+    in by
     :func:`write_report`) and
     ``warnings``.
     """
@@ -417,33 +493,37 @@ def report_context(record: "RunRecord", *, designations: Mapping[str, str] | Non
     generator = f"metro {software['metro']}" if "metro" in software else "metro"
     source = camp.source or ("simulated station" if simulated else DASH)
 
-    return sanitize({
-        "facts": record_facts(record),
-        "report_number": record.report_number,
-        "created": _date_text(record.created),
-        "created_iso": record.created.isoformat(),
-        "title": title,
-        "footer": f"{title} · {record.report_number}",
-        "generator": generator,
-        "standards": std_list,
-        "standards_text": ", ".join(s["designation"] for s in std_list) or DASH,
-        "items_text": items_text or DASH,
-        "simulated": simulated,
-        "simulated_banner": SIMULATED_BANNER if simulated else "",
-        "truth": _name_values(truth, relabel=False) if simulated else [],
-        "campaign": {"id": camp.id, "source": source},
-        "device": _device_block(camp.device),
-        "environment": _name_values(camp.environment),
-        "site": _name_values(site),
-        "latitude": latitude,
-        "equipment": equipment,
-        "equipment_warnings": _equipment_warnings(equipment),
-        "outcomes": outcomes,
-        "selection": [{"item": c.item, "run": c.run, "reason": c.reason, "via": c.via}
-                      for c in getattr(record, "selection", ())],
-        "conformity": _conformity_block(getattr(record, "conformity", None)),
-        "provenance": _provenance_block(record, source, software),
-    })
+    return sanitize(
+        {
+            "facts": record_facts(record),
+            "report_number": record.report_number,
+            "created": _date_text(record.created),
+            "created_iso": record.created.isoformat(),
+            "title": title,
+            "footer": f"{title} · {record.report_number}",
+            "generator": generator,
+            "standards": std_list,
+            "standards_text": ", ".join(s["designation"] for s in std_list) or DASH,
+            "items_text": items_text or DASH,
+            "simulated": simulated,
+            "simulated_banner": SIMULATED_BANNER if simulated else "",
+            "truth": _name_values(truth, relabel=False) if simulated else [],
+            "campaign": {"id": camp.id, "source": source},
+            "device": _device_block(camp.device),
+            "environment": _name_values(camp.environment),
+            "site": _name_values(site),
+            "latitude": latitude,
+            "equipment": equipment,
+            "equipment_warnings": _equipment_warnings(equipment),
+            "outcomes": outcomes,
+            "selection": [
+                {"item": c.item, "run": c.run, "reason": c.reason, "via": c.via}
+                for c in getattr(record, "selection", ())
+            ],
+            "conformity": _conformity_block(getattr(record, "conformity", None)),
+            "provenance": _provenance_block(record, source, software),
+        }
+    )
 
 
 def _standards_block(record: "RunRecord", designations: Mapping[str, str]) -> list[dict[str, str]]:
@@ -471,10 +551,16 @@ def _outcome_blocks(record: "RunRecord", designations: Mapping[str, str]) -> lis
 def _equipment_warnings(equipment: list[dict[str, Any]]) -> list[Any]:
     """A warning for each item of equipment whose calibration had expired on the test date."""
     return [
-        msg("The calibration of {id} ({certificate}) is {status}: results that depend on it are not "
-            "traceable until it is recalibrated.", id=e["id"], certificate=e["certificate"],
-            status=e["status"])
-        for e in equipment if e["expired"]
+        msg(
+            "The calibration of {id} ({certificate}) is {status}: results that depend on it "
+            "are not "
+            "traceable until it is recalibrated.",
+            id=e["id"],
+            certificate=e["certificate"],
+            status=e["status"],
+        )
+        for e in equipment
+        if e["expired"]
     ]
 
 
@@ -493,15 +579,19 @@ def _device_block(dev: Any) -> dict[str, Any]:
     }
 
 
-def _provenance_block(record: "RunRecord", source: str, software: Mapping[str, Any]) -> dict[str, Any]:
+def _provenance_block(
+    record: "RunRecord", source: str, software: Mapping[str, Any]
+) -> dict[str, Any]:
     """Where the data came from, the software that evaluated them and every file's SHA-256."""
     return {
         "source": source,
         "software": [{"name": k, "version": str(v)} for k, v in software.items()],
         "plugins": [{"name": k, "version": str(v)} for k, v in dict(record.plugins).items()],
         "data_files": _data_files(record),
-        "manifest": {"file": record.campaign.source,
-                     "sha256": getattr(record.campaign, "manifest_sha256", "") or "—"},
+        "manifest": {
+            "file": record.campaign.source,
+            "sha256": getattr(record.campaign, "manifest_sha256", "") or "—",
+        },
     }
 
 
@@ -517,18 +607,23 @@ def build_context(
     ``metro_extend_report_context`` (``extend``), numbers in free text as powers of ten.
 
     ``register`` is the register statement: ``{"registered": bool, "notices": [text, …]}``
-    (:mod:`metro.core.record.registering`); each notice is printed at the top of the report.  ``lang``
+    (:mod:`metro.core.record.registering`); each notice is printed at the top of the report.
+    ``lang``
     (``zh``, ``en``, ``zh+en``) is kept in the context (``ctx["lang"]``) so the same document can
     be written again.  The result is plain JSON apart from each figure's ``spec`` (a PlotSpec),
     so the register can keep it and write the same report again (``metro report NUMBER``)."""
     ctx = report_context(record, designations=designations)
-    ctx["register"] = dict(register) if register is not None else {"registered": False, "notices": []}
+    ctx["register"] = (
+        dict(register) if register is not None else {"registered": False, "notices": []}
+    )
     if lang is not None:
         ctx["lang"] = lang
     if extend is not None:  # plugins' metro_extend_report_context
         extend(record, ctx)
     ctx = _pretty_context(ctx)
-    ctx["logo"] = _logo(ctx["facts"].get("logo", ""))  # after the text clean-up: image bytes as base64
+    ctx["logo"] = _logo(
+        ctx["facts"].get("logo", "")
+    )  # after the text clean-up: image bytes as base64
     return ctx
 
 
@@ -545,5 +640,7 @@ def _logo(path: str) -> dict[str, str] | None:
     try:
         data = p.read_bytes()
     except OSError as exc:
-        raise DataError(str(p), "lab.logo", f"cannot read the logo image: {exc.strerror or exc}") from exc
+        raise DataError(
+            str(p), "lab.logo", f"cannot read the logo image: {exc.strerror or exc}"
+        ) from exc
     return {"file": p.name, "base64": base64.b64encode(data).decode("ascii")}

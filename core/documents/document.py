@@ -20,30 +20,58 @@ from .context import result_row
 from .text import FIGURE_WIDTH_MM, display_symbol, quantity_name
 
 __all__ = [
-    "DocumentBuilder", "Layout", "DASH", "or_dash", "with_unit", "not_reportable", "withheld_reasons",
-    "status_text", "result_cells", "result_fields", "quantity_for", "identification", "results_table",
-    "environment_table", "ROLE_LABELS", "role_label", "equipment_table", "notes_section",
-    "signatory_rows", "signatures", "budgets_annex", "tables_annex", "figures_annex",
-    "provenance_annex", "generic_layout", "conformity_section", "annexes", "layout_digest",
+    "DocumentBuilder",
+    "Layout",
+    "DASH",
+    "or_dash",
+    "with_unit",
+    "not_reportable",
+    "withheld_reasons",
+    "status_text",
+    "result_cells",
+    "result_fields",
+    "quantity_for",
+    "identification",
+    "results_table",
+    "environment_table",
+    "ROLE_LABELS",
+    "role_label",
+    "equipment_table",
+    "notes_section",
+    "signatory_rows",
+    "signatures",
+    "budgets_annex",
+    "tables_annex",
+    "figures_annex",
+    "provenance_annex",
+    "generic_layout",
+    "conformity_section",
+    "annexes",
+    "layout_digest",
 ]
 
 # ----------------------------------------------------------------------------------------
 # Sections every document may use (a layout picks them and adds its appendix's own)
 # ----------------------------------------------------------------------------------------
 
+
 def not_reportable(tr, reason: Any) -> str:
-    """"not reportable: reason" in the document's language(s).  A reason made as a message
+    """ "not reportable: reason" in the document's language(s).  A reason made as a message
     (:class:`metro.core.base.locale.Text`) is written in each language; a plain one (data, in one
     language) is printed once, not once per language."""
     from ..base.locale import Text
 
-    if tr.lang != "zh+en" or (isinstance(reason, Text) and tr.render(reason, "zh") != tr.render(reason, "en")):
+    if tr.lang != "zh+en" or (
+        isinstance(reason, Text) and tr.render(reason, "zh") != tr.render(reason, "en")
+    ):
         return tr("not reportable: {reason}", reason=reason or DASH)
     head = tr("not reportable: {reason}", reason="").rstrip()
     return f"{head}{'' if head.endswith('：') else ' '}{reason or DASH}"
 
 
-def withheld_reasons(doc: DocumentBuilder, withheld: Sequence[tuple[str, Any]], size: float = 8.5) -> None:
+def withheld_reasons(
+    doc: DocumentBuilder, withheld: Sequence[tuple[str, Any]], size: float = 8.5
+) -> None:
     """Why the results of a table or matrix whose cells say "not reportable" are withheld, after it:
     ``withheld`` = (symbol, reason).  A reason, or a part of one (a "; " join: what a drifting gyro
     does, what to do), that several share is stated once naming them; the parts only one result
@@ -52,7 +80,10 @@ def withheld_reasons(doc: DocumentBuilder, withheld: Sequence[tuple[str, Any]], 
 
     tr = doc.tr
     for where, reason in group_notes([("", sym, r) for sym, r in withheld], key=tr.text):
-        doc.para(f"{where}: {not_reportable(tr, reason)}" if where else not_reportable(tr, reason), size=size)
+        doc.para(
+            f"{where}: {not_reportable(tr, reason)}" if where else not_reportable(tr, reason),
+            size=size,
+        )
 
 
 def status_text(tr, status: Any) -> str:
@@ -74,8 +105,12 @@ def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
         return not_reportable(tr, r.get("reason") or ""), DASH
     value = r["value_unit"]
     if bound:
-        value = tr("{sign} {value} (a bound: {reason})", sign=BOUND_SIGNS[bound], value=value,
-                   reason=r.get("reason") or DASH)
+        value = tr(
+            "{sign} {value} (a bound: {reason})",
+            sign=BOUND_SIGNS[bound],
+            value=value,
+            reason=r.get("reason") or DASH,
+        )
     U = r.get("U_unit") or DASH
     if U == DASH:
         return value, tr("not evaluated")
@@ -89,7 +124,8 @@ def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
 def result_fields(result: Any) -> dict:
     """A :class:`~metro.core.model.results.Result` as the report context shows it: ``value_unit``,
     ``U_unit`` (``—`` without a budget), ``k``, ``reportable``, ``reason``, ``earth_rate``,
-    ``note``, ``quantity``, ``symbol`` … (numbers rounded as :meth:`Result.reported` rounds them)."""
+    ``note``, ``quantity``, ``symbol`` … (numbers rounded as :meth:`Result.reported` rounds
+    them)."""
     return result_row(result)
 
 
@@ -120,8 +156,12 @@ def identification(doc: DocumentBuilder, ctx: dict, rows: Sequence[tuple[str, st
     doc.kv(pairs + list(rows))
 
 
-def results_table(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None,
-                  verdicts: dict | None = None) -> None:
+def results_table(
+    doc: DocumentBuilder,
+    ctx: dict,
+    outcomes: Sequence[dict] | None = None,
+    verdicts: dict | None = None,
+) -> None:
     """One table of every result: item, quantity, value, U (k) [, verdict]."""
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
@@ -140,9 +180,12 @@ def results_table(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
 
 
 def environment_table(doc: DocumentBuilder, ctx: dict) -> None:
+    """The environmental conditions and the site (latitude) of the campaign."""
     tr = doc.tr
-    rows = [(tr(n["name"].capitalize()) if n["name"].islower() else n["name"], n["value"])
-            for n in ctx["environment"]]
+    rows = [
+        (tr(n["name"].capitalize()) if n["name"].islower() else n["name"], n["value"])
+        for n in ctx["environment"]
+    ]
     if rows:
         doc.kv(rows)
     else:
@@ -153,12 +196,26 @@ _STATUS_MSGS = ("no calibration data given", "no due date stated")
 
 #: canonical equipment roles (metro.core.base.vocabulary) as a document names them (catalog ids)
 ROLE_LABELS = {
-    "rate_table": "rate table", "position_table": "position table", "tilt_table": "tilt table",
-    "turntable": "turntable", "platform": "stable platform", "counter": "counter", "dmm": "digital multimeter",
-    "acquisition": "data acquisition", "timer": "timer", "chamber": "temperature chamber",
-    "field_generator": "magnetic field generator", "fixture": "fixture", "vibration_table": "vibration table",
-    "angular_vibration_table": "angular vibration table", "shock_table": "shock table", "voltmeter": "voltmeter",
-    "ammeter": "ammeter", "calliper": "callipers", "balance": "balance", "megohmmeter": "megohmmeter",
+    "rate_table": "rate table",
+    "position_table": "position table",
+    "tilt_table": "tilt table",
+    "turntable": "turntable",
+    "platform": "stable platform",
+    "counter": "counter",
+    "dmm": "digital multimeter",
+    "acquisition": "data acquisition",
+    "timer": "timer",
+    "chamber": "temperature chamber",
+    "field_generator": "magnetic field generator",
+    "fixture": "fixture",
+    "vibration_table": "vibration table",
+    "angular_vibration_table": "angular vibration table",
+    "shock_table": "shock table",
+    "voltmeter": "voltmeter",
+    "ammeter": "ammeter",
+    "calliper": "callipers",
+    "balance": "balance",
+    "megohmmeter": "megohmmeter",
 }
 
 
@@ -176,24 +233,46 @@ def equipment_table(doc: DocumentBuilder, ctx: dict) -> None:
     """The measurement standards used, their certificates, U with unit and status on the day
     of measurement."""
     tr = doc.tr
-    rows = [[f"{tr.text(e['description'])} ({e['id']})", role_label(tr, e["role"]), e["certificate"],
-             e["U"] + (f" ({tr('relative')})" if e.get("U_relative") else ""), e["due"],
-             status_text(tr, e["status"])] for e in ctx["equipment"]]
+    rows = [
+        [
+            f"{tr.text(e['description'])} ({e['id']})",
+            role_label(tr, e["role"]),
+            e["certificate"],
+            e["U"] + (f" ({tr('relative')})" if e.get("U_relative") else ""),
+            e["due"],
+            status_text(tr, e["status"]),
+        ]
+        for e in ctx["equipment"]
+    ]
     if not rows:
         doc.para(tr("No equipment recorded."))
         return
-    doc.table([tr("Equipment"), tr("Role"), tr("Certificate"), tr("Uncertainty"), tr("Due"),
-               tr("Status on the date of measurement")], rows)
+    doc.table(
+        [
+            tr("Equipment"),
+            tr("Role"),
+            tr("Certificate"),
+            tr("Uncertainty"),
+            tr("Due"),
+            tr("Status on the date of measurement"),
+        ],
+        rows,
+    )
     for w in ctx["equipment_warnings"]:
         doc.para(w, color="B01C1C")
 
 
-def notes_section(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None,
-                  include_warnings: bool = True) -> None:
+def notes_section(
+    doc: DocumentBuilder,
+    ctx: dict,
+    outcomes: Sequence[dict] | None = None,
+    include_warnings: bool = True,
+) -> None:
     """Result notes, earth-rate statements and warnings, each text once.
 
     Each note or warning text is one line naming the results and items it applies to
-    (:func:`metro.core.documents.notes.group_notes`: ``K_gxx, K_gyy (7.2.1): …``, ``7.2.1, 7.2.2, 7.2.3: …``),
+    (:func:`metro.core.documents.notes.group_notes`: ``K_gxx, K_gyy (7.2.1): …``, ``7.2.1, 7.2.2,
+    7.2.3: …``),
     in the order the texts first appear; a part several results share (of a note joined with
     ``"; "``) is its own line, and a sentence that differs between results only in its indices is
     stated once in index form (``g_ij``).  The earth-rate statement is one line per kind naming
@@ -212,11 +291,13 @@ def notes_section(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
             er = r.get("earth_rate")
             if er:
                 earth.setdefault(er, []).append(o["item"])
-        for w in (o["warnings"] if include_warnings else ()):
+        for w in o["warnings"] if include_warnings else ():
             entries.append((o["item"], "", w))
     lines = [f"{where}: {tr.text(text)}" for where, text in group_notes(entries, key=tr.text)]
     for how, items in earth.items():
-        lines.append(f"{tr('Earth rate: {how}', how=tr.msg(how))}: {', '.join(dict.fromkeys(items))}")
+        lines.append(
+            f"{tr('Earth rate: {how}', how=tr.msg(how))}: {', '.join(dict.fromkeys(items))}"
+        )
     if lines:
         doc.bullets(lines, size=8)
     else:
@@ -228,12 +309,20 @@ def signatory_rows(facts: Mapping[str, Any], labels: Sequence[str]) -> list[tupl
     measurement (``operator``), who checked it and who approved (issued) the document, each with
     the title the campaign or the lab profile gives (``operator_title``, ``checker_title``,
     ``approver_title``; a context kept by the register before titles were kept has none)."""
-    keys = (("operator", "operator_title"), ("checker", "checker_title"), ("approver", "approver_title"))
-    return [(label, str(facts.get(name) or ""), str(facts.get(title) or ""))
-            for label, (name, title) in zip(labels, keys)]
+    keys = (
+        ("operator", "operator_title"),
+        ("checker", "checker_title"),
+        ("approver", "approver_title"),
+    )
+    return [
+        (label, str(facts.get(name) or ""), str(facts.get(title) or ""))
+        for label, (name, title) in zip(labels, keys)
+    ]
 
 
-def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]], *, titled: bool | None = None) -> None:
+def signatures(
+    doc: DocumentBuilder, roles: Sequence[tuple[str, ...]], *, titled: bool | None = None
+) -> None:
     """Signature rows: (role, name) or (role, name, title — 职务); each row is tall enough to sign.
     The title column is there when a row has a title, or always with ``titled=True`` (a
     certificate's clause 8 n) asks for the issuer's title); a missing title prints "—"."""
@@ -242,9 +331,15 @@ def signatures(doc: DocumentBuilder, roles: Sequence[tuple[str, ...]], *, titled
     tr = doc.tr
     if titled is None:
         titled = any(len(r) > 2 and r[2] for r in roles)
-    header = [tr("Role"), tr("Name")] + ([tr("Title")] if titled else []) + [tr("Signature"), tr("Date")]
-    rows = [[r[0], or_dash(r[1])] + ([or_dash(r[2] if len(r) > 2 else "")] if titled else [])
-            + ["\u2003" * 12, "\u2003" * 6] for r in roles]
+    header = (
+        [tr("Role"), tr("Name")] + ([tr("Title")] if titled else []) + [tr("Signature"), tr("Date")]
+    )
+    rows = [
+        [r[0], or_dash(r[1])]
+        + ([or_dash(r[2] if len(r) > 2 else "")] if titled else [])
+        + ["\u2003" * 12, "\u2003" * 6]
+        for r in roles
+    ]
     t = doc.table(header, rows, font_pt=9)
     for row in t.rows[1:]:
         row.height = Mm(11)
@@ -295,16 +390,33 @@ def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
             unit = "" if b["unit"] == "1" else b["unit"]
             spans.append(len(rows))
             titles.append(len(rows))
-            rows.append([f"{o['item']} — {tr.text(b['title'])}" + (f"   [u_i(y): {unit}]" if unit else "")])
+            rows.append(
+                [f"{o['item']} — {tr.text(b['title'])}" + (f"   [u_i(y): {unit}]" if unit else "")]
+            )
             for x in b["rows"]:
                 dists[x["distribution"]] = None
                 dist = tr.zh(x["distribution"]) if tr.lang == "zh+en" else tr(x["distribution"])
-                rows.append([source_of(x), x["symbol"], f"{x['type']}, {dist}", x["value"], x["divisor"],
-                             x["sensitivity"], x["contribution"], x["dof"]])
+                rows.append(
+                    [
+                        source_of(x),
+                        x["symbol"],
+                        f"{x['type']}, {dist}",
+                        x["value"],
+                        x["divisor"],
+                        x["sensitivity"],
+                        x["contribution"],
+                        x["dof"],
+                    ]
+                )
             unit = f" {unit}" if unit else ""
             spans.append(len(rows))
-            rows.append([f"u_c = {b['u_c']}{unit}, ν_eff = {b['nu_eff']}, k = {b['k']}, U = {b['U']}{unit}"
-                         + (f". {tr.text(b['note'])}" if b.get("note") else "")])
+            rows.append(
+                [
+                    f"u_c = {b['u_c']}{unit}, ν_eff = {b['nu_eff']}, k = {b['k']}, "
+                    f"U = {b['U']}{unit}"
+                    + (f". {tr.text(b['note'])}" if b.get("note") else "")
+                ]
+            )
         if rows:
             tables.append((rows, spans, titles))
     if exact:
@@ -320,13 +432,34 @@ def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
             p = doc.para(f"[{k}] {tr.text(note)}", size=7.5)
             p.paragraph_format.space_after = doc._pt(0)
     if tables and tr.lang == "zh+en":
-        doc.para(f"{tr('Distribution')}: " + ", ".join(tr(d) for d in dists), size=7.5, keep_next=True)
-    for i, (rows, spans, titles) in enumerate(tables):  # one table per item: its widths fit its own budgets
+        doc.para(
+            f"{tr('Distribution')}: " + ", ".join(tr(d) for d in dists), size=7.5, keep_next=True
+        )
+    for i, (rows, spans, titles) in enumerate(
+        tables
+    ):  # one table per item: its widths fit its own budgets
         if i:  # two tables with nothing between them are one table to LibreOffice and Word
             doc.para("", size=2)
-        doc.table([tr("Source"), tr("Symbol"), _type_distribution_header(tr), tr("Value"), tr("Divisor"),
-                   "c_i", "u_i(y)", "ν_i"], rows, font_pt=7, prefer=0, prefer_share=1.0, spans=spans,
-                  bold_rows=titles, shade=titles, unit_break=(3, 5, 6))
+        doc.table(
+            [
+                tr("Source"),
+                tr("Symbol"),
+                _type_distribution_header(tr),
+                tr("Value"),
+                tr("Divisor"),
+                "c_i",
+                "u_i(y)",
+                "ν_i",
+            ],
+            rows,
+            font_pt=7,
+            prefer=0,
+            prefer_share=1.0,
+            spans=spans,
+            bold_rows=titles,
+            shade=titles,
+            unit_break=(3, 5, 6),
+        )
 
 
 def _generic(text: Any) -> Any:
@@ -341,7 +474,9 @@ def _generic(text: Any) -> Any:
         return text
     if text.msgid is None:
         return Text(None, sep=text.sep, parts=tuple(_generic(p) for p in text.parts))
-    formatted = {f for _, f, spec, conv in string.Formatter().parse(text.msgid) if f and (spec or conv)}
+    formatted = {
+        f for _, f, spec, conv in string.Formatter().parse(text.msgid) if f and (spec or conv)
+    }
     fields = {}
     for k, v in text.fields.items():
         if isinstance(v, Text):
@@ -354,7 +489,8 @@ def _generic(text: Any) -> Any:
 
 
 def _type_distribution_header(tr) -> str:
-    """One header for the type and distribution columns merged: ``类型，分布`` above ``Type, distribution``."""
+    """One header for the type and distribution columns merged: ``类型，分布`` above
+    ``Type, distribution``."""
     if tr.lang == "zh+en":
         return f"{tr.zh('Type')}，{tr.zh('Distribution')}\nType, distribution"
     if tr.lang == "zh":
@@ -363,6 +499,7 @@ def _type_distribution_header(tr) -> str:
 
 
 def tables_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
+    """Each outcome's supplementary tables."""
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
     for o in outcomes:
         for t in o["tables"]:
@@ -371,13 +508,17 @@ def tables_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | Non
 
 
 def figures_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None) -> None:
+    """Each outcome's figures with their captions."""
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
     for o in outcomes:
         for p in o["plots"]:
             if p.get("image"):
-                doc.figure(p["image"], f"{tr('Figure')} {p['number']}: {tr.text(p['caption'])}",
-                           width_mm=FIGURE_WIDTH_MM)
+                doc.figure(
+                    p["image"],
+                    f"{tr('Figure')} {p['number']}: {tr.text(p['caption'])}",
+                    width_mm=FIGURE_WIDTH_MM,
+                )
 
 
 #: beyond this many data files (segments), the document prints the digest of their sorted list only
@@ -395,9 +536,16 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
     prov = ctx["provenance"]
     sw = ", ".join(f"{s['name']} {s['version']}" for s in prov["software"])
     pl = ", ".join(f"{p['name']} {p['version']}" for p in prov["plugins"])
-    doc.kv([(tr("Software"), sw or DASH), (tr("Plugins"), pl or DASH),
-            (tr("Data source"), or_dash(prov["source"])), (tr("Campaign"), ctx["campaign"]["id"]),
-            (tr("Processed"), ctx["facts"]["processed"])], font_pt=8)
+    doc.kv(
+        [
+            (tr("Software"), sw or DASH),
+            (tr("Plugins"), pl or DASH),
+            (tr("Data source"), or_dash(prov["source"])),
+            (tr("Campaign"), ctx["campaign"]["id"]),
+            (tr("Processed"), ctx["facts"]["processed"]),
+        ],
+        font_pt=8,
+    )
     if ctx["truth"]:
         doc.para(tr("Declared truth of the simulated device"), bold=True, keep_next=True)
         doc.kv([(t["name"], t["value"]) for t in ctx["truth"]], font_pt=8)
@@ -406,7 +554,9 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
         return
     lines = sorted(f"{f['sha256']}  {f['file']}\n" for f in files)
     digest = hashlib.sha256("".join(lines).encode("utf-8")).hexdigest()
-    doc.para(f"{tr('SHA-256 of the sorted list of data digests')}: {digest}", size=8, keep_next=True)
+    doc.para(
+        f"{tr('SHA-256 of the sorted list of data digests')}: {digest}", size=8, keep_next=True
+    )
     # a file or segment name is an identifier: in one language (English in zh+en), not twice
     one = "zh" if tr.lang == "zh" else "en"
     if len(files) <= 24:
@@ -414,17 +564,30 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
         prefix, suffix = _common_affixes(names)
         if prefix or suffix:
             doc.para(f"{tr('Data')}: {(prefix + '…' + suffix).strip()}", size=7.5, keep_next=True)
-        doc.table([tr("Data"), "SHA-256"], [[n[len(prefix):len(n) - len(suffix)].strip(), f["sha256"]]
-                                            for n, f in zip(names, files)], font_pt=7)
+        doc.table(
+            [tr("Data"), "SHA-256"],
+            [
+                [n[len(prefix) : len(n) - len(suffix)].strip(), f["sha256"]]
+                for n, f in zip(names, files)
+            ],
+            font_pt=7,
+        )
         return
     # many files (simulated segments): the name without what they all share, the first 16 hex
     # digits, three to a row (one line each at 6 pt); the shared words said once above the table
     if len(files) > MAX_LISTED_DIGESTS:
         # hundreds of segments (a JJF 2014 --all run has ~700): five pages of hex help no reader;
         # the digest over the sorted list above fixes them all, and the record lists each
-        doc.para(tr("{n} data files or segments: the SHA-256 above is over the sorted list of their "
-                    "digests, which the record of the run lists in full (the register keeps it with the "
-                    "report).", n=len(files)), size=7.5)
+        doc.para(
+            tr(
+                "{n} data files or segments: the SHA-256 above is over the sorted list of their "
+                "digests, which the record of the run lists in full (the register keeps it with "
+                "the "
+                "report).",
+                n=len(files),
+            ),
+            size=7.5,
+        )
         return
     names = [_short_name(tr.render(f["file"], one)) for f in files]
     prefix, suffix = _common_affixes(names)
@@ -432,13 +595,17 @@ def provenance_annex(doc: DocumentBuilder, ctx: dict) -> None:
     if prefix or suffix:
         title += f"; {tr('Data')}: {(prefix + '…' + suffix).strip()}"
     doc.para(title, size=7.5, keep_next=True, bold=True)
-    cells = [f"{n[len(prefix):len(n) - len(suffix)].strip()} {f['sha256'][:16]}" for n, f in zip(names, files)]
-    rows = [cells[i:i + 3] for i in range(0, len(cells), 3)]
+    cells = [
+        f"{n[len(prefix) : len(n) - len(suffix)].strip()} {f['sha256'][:16]}"
+        for n, f in zip(names, files)
+    ]
+    rows = [cells[i : i + 3] for i in range(0, len(cells), 3)]
     doc.table(None, rows, font_pt=6)
 
 
 def _common_affixes(names: Sequence[str]) -> tuple[str, str]:
-    """The word-aligned prefix and suffix every name shares (``segment `` … `` (simulated, in memory)``).
+    """The word-aligned prefix and suffix every name shares (``segment `` … `` (simulated, in
+    memory)``).
 
     >>> _common_affixes(["segment a-1 (sim)", "segment b-22 (sim)"])
     ('segment ', ' (sim)')
@@ -448,9 +615,9 @@ def _common_affixes(names: Sequence[str]) -> tuple[str, str]:
     if len(names) < 2:
         return "", ""
     pre = os.path.commonprefix(list(names))
-    pre = pre[:pre.rfind(" ") + 1] if " " in pre else ""
+    pre = pre[: pre.rfind(" ") + 1] if " " in pre else ""
     suf = os.path.commonprefix([n[::-1] for n in names])[::-1]
-    suf = suf[suf.find(" "):] if " " in suf else ""
+    suf = suf[suf.find(" ") :] if " " in suf else ""
     if any(len(n) <= len(pre) + len(suf) for n in names):
         return "", ""
     return pre, suf
@@ -480,8 +647,13 @@ def generic_layout(doc: DocumentBuilder, ctx: dict) -> None:
     doc.heading(tr("Signatures"), 2)
     f = ctx["facts"]
     signatures(doc, signatory_rows(f, [tr("Tested by"), tr("Checked by"), tr("Approved by")]))
-    doc.para(tr("The results relate only to the item tested. This report shall not be reproduced "
-                "except in full without the written approval of the laboratory."), size=8.5)
+    doc.para(
+        tr(
+            "The results relate only to the item tested. This report shall not be reproduced "
+            "except in full without the written approval of the laboratory."
+        ),
+        size=8.5,
+    )
     annexes(doc, ctx)
 
 
@@ -495,28 +667,45 @@ def conformity_section(doc: DocumentBuilder, ctx: dict) -> None:
     doc.para(f"{tr('Decision rule')}: {tr.text(a['rule_title'])}")
     doc.para(a["statement"], size=8.5)
     doc.para(f"{tr('Overall verdict')}: {tr(_VERDICT.get(a['overall'], a['overall']))}", bold=True)
-    doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Source"), tr("Verdict"), tr("Reason")],
-              [[v["item"], quantity_for(ctx, v["item"], v["key"]), v["limit"], v["source"],
+    doc.table(
+        [tr("Item"), tr("Quantity"), tr("Limit"), tr("Source"), tr("Verdict"), tr("Reason")],
+        [
+            [
+                v["item"],
+                quantity_for(ctx, v["item"], v["key"]),
+                v["limit"],
+                v["source"],
                 tr(_VERDICT.get(v["status"], v["status"])),
-                v["reason"]] for v in a["verdicts"]], font_pt=8)
+                v["reason"],
+            ]
+            for v in a["verdicts"]
+        ],
+        font_pt=8,
+    )
     if a["not_assessed"]:
-        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(tr.text(x) for x in a["not_assessed"]),
-                 size=8.5)
+        doc.para(
+            f"{tr('Not assessed (item not performed)')}: "
+            + "; ".join(tr.text(x) for x in a["not_assessed"]),
+            size=8.5,
+        )
 
 
 _VERDICT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}
 
 
-def annexes(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None,
-            first: str = "A") -> None:
+def annexes(
+    doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | None = None, first: str = "A"
+) -> None:
     """Budgets, data tables, figures and provenance as annexes A, B, C, D."""
     tr = doc.tr
     outcomes = ctx["outcomes"] if outcomes is None else outcomes
     letter = ord(first)
-    parts = [("Uncertainty budgets", budgets_annex, any(o["budgets"] for o in outcomes)),
-             ("Data tables", tables_annex, any(o["tables"] for o in outcomes)),
-             ("Figures", figures_annex, any(o["plots"] for o in outcomes)),
-             ("Provenance", lambda d, c, _o: provenance_annex(d, c), True)]
+    parts = [
+        ("Uncertainty budgets", budgets_annex, any(o["budgets"] for o in outcomes)),
+        ("Data tables", tables_annex, any(o["tables"] for o in outcomes)),
+        ("Figures", figures_annex, any(o["plots"] for o in outcomes)),
+        ("Provenance", lambda d, c, _o: provenance_annex(d, c), True),
+    ]
     for title, fn, present in parts:
         if not present:
             continue
@@ -546,6 +735,7 @@ def layout_digest(layout: Any) -> str:
     own = (__name__, f"{__package__}.builder", f"{__package__}.text")
     for mod in dict.fromkeys((module, *own)):
         h.update(Path(inspect.getfile(importlib.import_module(mod))).read_bytes())
-    h.update((resources.files("metro.core.base.locale") / "zh" / "LC_MESSAGES" / "metro.po").read_bytes())
+    h.update(
+        (resources.files("metro.core.base.locale") / "zh" / "LC_MESSAGES" / "metro.po").read_bytes()
+    )
     return h.hexdigest()
-

@@ -22,9 +22,11 @@ def soffice_path() -> str:
         found = shutil.which(cand)
         if found:
             return found
-    raise MetroError("a PDF needs LibreOffice, and neither soffice nor libreoffice is on PATH",
-                     hint="install LibreOffice (e.g. apt-get install libreoffice-writer-nogui), set "
-                          "METRO_SOFFICE to its soffice, or write the .docx and convert it yourself")
+    raise MetroError(
+        "a PDF needs LibreOffice, and neither soffice nor libreoffice is on PATH",
+        hint="install LibreOffice (e.g. apt-get install libreoffice-writer-nogui), set "
+        "METRO_SOFFICE to its soffice, or write the .docx and convert it yourself",
+    )
 
 
 def to_pdf(docx_path, pdf_path, *, timeout: float = 300.0) -> None:
@@ -47,16 +49,27 @@ def to_pdf(docx_path, pdf_path, *, timeout: float = 300.0) -> None:
         profile = (tmp / "profile").as_uri()
         # SelectPdfVersion 2 = PDF/A-2b (LibreOffice ≥ 7.4 reads the filter options as JSON)
         target = 'pdf:writer_pdf_Export:{"SelectPdfVersion":{"type":"long","value":"2"}}'
-        cmd = [exe, f"-env:UserInstallation={profile}", "--headless", "--norestore", "--convert-to", target,
-               "--outdir", str(tmp / "out"), str(src)]
+        cmd = [
+            exe,
+            f"-env:UserInstallation={profile}",
+            "--headless",
+            "--norestore",
+            "--convert-to",
+            target,
+            "--outdir",
+            str(tmp / "out"),
+            str(src),
+        ]
         try:
             proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
         except subprocess.TimeoutExpired as exc:
-            raise MetroError(f"LibreOffice did not convert {docx_path} to PDF within {timeout:g} s") from exc
+            raise MetroError(
+                f"LibreOffice did not convert {docx_path} to PDF within {timeout:g} s"
+            ) from exc
         out = tmp / "out" / "document.pdf"
         if proc.returncode != 0 or not out.is_file():
-            raise MetroError(f"LibreOffice could not convert {docx_path} to PDF (exit {proc.returncode})",
-                             hint=(proc.stderr or proc.stdout).strip()[-300:] or None)
+            raise MetroError(
+                f"LibreOffice could not convert {docx_path} to PDF (exit {proc.returncode})",
+                hint=(proc.stderr or proc.stdout).strip()[-300:] or None,
+            )
         shutil.copyfile(out, pdf_path)
-
-

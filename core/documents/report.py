@@ -1,11 +1,13 @@
-"""Render a :class:`~metro.core.model.provenance.RunRecord` as a Word (and PDF) report or certificate.
+"""Render a :class:`~metro.core.model.provenance.RunRecord` as a Word (and PDF) report or
+certificate.
 
 Two steps, so the content can be checked without Word:
 
 1. :func:`~metro.core.documents.context.build_context` turns the record into a plain dict of
    strings, lists and dicts (:mod:`metro.core.documents.context`);
 2. :func:`write_report` builds the document from that dict with
-   :class:`metro.core.documents.document.DocumentBuilder` and the standard's layout (each plugin lays out
+   :class:`metro.core.documents.document.DocumentBuilder` and the standard's layout (each plugin
+   lays out
    its own appendix), or renders a docxtpl template of a lab's own, draws the figures with
    :mod:`metro.core.documents.plots`, and writes the ``.docx`` (or ``.pdf``, through LibreOffice)
    atomically: a failure at any point leaves no file at the target (and an earlier report
@@ -74,17 +76,21 @@ def write_report(
 ) -> Path:
     """Write ``record`` as a Word document at ``path`` (atomically); return ``path``.
 
-    Without ``template`` the document is built by :class:`metro.core.documents.document.DocumentBuilder`
+    Without ``template`` the document is built by
+    :class:`metro.core.documents.document.DocumentBuilder`
     with ``layout`` (a callable ``layout(doc, ctx)``, ``"module:function"`` text, or None for
     the generic report) in ``lang`` (``zh``, ``en`` or ``zh+en``; default ``zh+en``).  With
     ``template`` (a docxtpl ``.docx`` of a lab's own) the template is rendered instead.
     A ``path`` ending in ``.pdf`` writes the PDF only; ``pdf=True`` writes the ``.docx`` and a
-    ``.pdf`` beside it (LibreOffice, :func:`metro.core.documents.document.to_pdf`).  Any failure leaves no
+    ``.pdf`` beside it (LibreOffice, :func:`metro.core.documents.document.to_pdf`).  Any failure
+    leaves no
     file (and no temporary file) behind.
     """
     if Path(path).suffix.lower() == ".pdf" or pdf:
         soffice_path()  # a clear error before any work when LibreOffice is missing
-    ctx = build_context(record, designations=designations, extend=extend, register=register, lang=lang)
+    ctx = build_context(
+        record, designations=designations, extend=extend, register=register, lang=lang
+    )
     return render_context(path, ctx, template=template, layout=layout, pdf=pdf)
 
 
@@ -104,7 +110,11 @@ def _add_notices(document: Any, notices: Iterable[str]) -> None:
 
     body = document.element.body
     first = body[0] if len(body) else None
-    start = 1 if first is not None and first.tag == qn("w:p") and first.findall(".//" + qn("w:drawing")) else 0
+    start = (
+        1
+        if first is not None and first.tag == qn("w:p") and first.findall(".//" + qn("w:drawing"))
+        else 0
+    )
     for i, text in enumerate(notices):
         para = document.add_paragraph()
         para.add_run(text).bold = True
@@ -118,14 +128,17 @@ def render_figures(ctx: Mapping[str, Any], folder: str | os.PathLike[str]) -> di
     tr = translator(ctx.get("lang"))
     for o in ctx["outcomes"]:
         for p in o["plots"]:
-            out[p["number"]] = draw_figure(p["spec"], tr, Path(folder) / f"figure-{p['number']}.png")
+            out[p["number"]] = draw_figure(
+                p["spec"], tr, Path(folder) / f"figure-{p['number']}.png"
+            )
     return out
 
 
 def draw_figure(spec: Any, tr: Any, png: Path) -> Path:
     """Draw a figure of a context in the document's language (``tr``) as the PNG ``png``, in a
     folder of the document's own (a plain write: the folder is temporary).  A figure drawn before
-    with the same inputs comes from :mod:`metro.core.documents.figure_cache` (a document written again from
+    with the same inputs comes from :mod:`metro.core.documents.figure_cache` (a document written
+    again from
     the register draws nothing twice)."""
     from . import plots
     from .figure_cache import cached_png
@@ -207,17 +220,29 @@ def _set_properties(docx_doc: Any, ctx: Mapping[str, Any]) -> None:
     props.revision = 1
 
 
-def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, lang: str | None = None,
-                   figures: Mapping[int, str | os.PathLike[str]] | None = None) -> Any:
-    """The document of a context built in memory (a :class:`~metro.core.documents.document.DocumentBuilder`);
+def build_document(
+    ctx: Mapping[str, Any],
+    figdir: Path,
+    *,
+    layout: Any = None,
+    lang: str | None = None,
+    figures: Mapping[int, str | os.PathLike[str]] | None = None,
+) -> Any:
+    """The document of a context built in memory (a
+    :class:`~metro.core.documents.document.DocumentBuilder`);
     figures are drawn into ``figdir``; ``doc.tr.missing`` lists message ids the catalog lacked."""
     ctx = dict(ctx)
     ctx["outcomes"] = [dict(o, plots=[dict(p) for p in o["plots"]]) for o in ctx["outcomes"]]
     tr = translator(lang or ctx.get("lang"))
     ctx["lang"] = tr.lang
     ctx["doc_title"] = _document_title(ctx, tr)
-    doc = DocumentBuilder(number=ctx["report_number"], title=ctx["doc_title"], tr=tr,
-                          simulated=ctx["simulated"], footer=ctx["generator"])
+    doc = DocumentBuilder(
+        number=ctx["report_number"],
+        title=ctx["doc_title"],
+        tr=tr,
+        simulated=ctx["simulated"],
+        footer=ctx["generator"],
+    )
     if ctx.get("logo"):
         import base64
 
@@ -227,15 +252,21 @@ def build_document(ctx: Mapping[str, Any], figdir: Path, *, layout: Any = None, 
             if figures is not None and p["number"] in figures:
                 p["image"] = str(figures[p["number"]])
             else:
-                p["image"] = str(draw_figure(p["spec"], tr, Path(figdir) / f"figure-{p['number']}.png"))
+                p["image"] = str(
+                    draw_figure(p["spec"], tr, Path(figdir) / f"figure-{p['number']}.png")
+                )
     _resolve_layout(layout)(doc, ctx)
     _add_notices(doc.doc, (ctx.get("register") or {}).get("notices") or ())
     _set_properties(doc.doc, ctx)
     return doc
 
 
-def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
-                     figures: Mapping[int, str | os.PathLike[str]] | None = None) -> None:
+def _render_template(
+    target: Path,
+    ctx: dict,
+    template: str | os.PathLike[str],
+    figures: Mapping[int, str | os.PathLike[str]] | None = None,
+) -> None:
     import io
 
     from docx.shared import Mm
@@ -263,7 +294,8 @@ def _render_template(target: Path, ctx: dict, template: str | os.PathLike[str],
             where = f" (line {exc.lineno})" if getattr(exc, "lineno", None) else ""
             raise MetroError(
                 f"report template {template_name}: {exc}{where}",
-                hint="check the template's {{ }} and {% %} tags against metro.core.documents.context.report_context",
+                hint="check the template's {{ }} and {% %} tags against "
+                "metro.core.documents.context.report_context",
             ) from exc
     _add_notices(tpl.docx, (ctx.get("register") or {}).get("notices") or ())
     _set_properties(tpl.docx, ctx)

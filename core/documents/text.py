@@ -15,10 +15,30 @@ from typing import Any, Sequence
 from ..base.formatting import pretty_powers
 
 __all__ = [
-    "PAGE_W_MM", "PAGE_H_MM", "MARGIN_MM", "TEXT_WIDTH_MM", "BODY_PT", "TABLE_PT", "MIN_TABLE_PT",
-    "CELL_MARGIN_MM", "HEAD_FILL", "LABEL_FILL", "LATIN_FONT", "CJK_FONT", "NBSP", "FIGURE_WIDTH_MM",
-    "subscript_runs", "one_notation", "unit_may_wrap", "glue", "text_mm", "two_lines", "column_widths",
-    "plain_symbol", "display_symbol", "quantity_name",
+    "PAGE_W_MM",
+    "PAGE_H_MM",
+    "MARGIN_MM",
+    "TEXT_WIDTH_MM",
+    "BODY_PT",
+    "TABLE_PT",
+    "MIN_TABLE_PT",
+    "CELL_MARGIN_MM",
+    "HEAD_FILL",
+    "LABEL_FILL",
+    "LATIN_FONT",
+    "CJK_FONT",
+    "NBSP",
+    "FIGURE_WIDTH_MM",
+    "subscript_runs",
+    "one_notation",
+    "unit_may_wrap",
+    "glue",
+    "text_mm",
+    "two_lines",
+    "column_widths",
+    "plain_symbol",
+    "display_symbol",
+    "quantity_name",
 ]
 
 PAGE_W_MM, PAGE_H_MM, MARGIN_MM = 210.0, 297.0, 20.0
@@ -40,21 +60,27 @@ FIGURE_WIDTH_MM = 150.0
 
 # a symbol with a subscript: one or two letters (Greek allowed, Δ prefix allowed), or max/min with a
 # one-character subscript, "_",
-# then 1–4 letters/digits or a braced group (s_{upper}); not inside a longer word or a file name (a Chinese
+# then 1–4 letters/digits or a braced group (s_{upper}); not inside a longer word or a file name (a
+# Chinese
 # character or a subscript digit before it is no word: 计数N_0, K₀₀ΔT_i).
-_SUB = re.compile(r"(?<![A-Za-z0-9_./\\-])((?:max|min)(?=_[A-Za-z0-9](?!\w))|Δ?[A-Za-zΑ-Ωα-ω][A-Za-zΑ-Ωα-ω]?)_(?:\{([^{}]{1,8})\}|([A-Za-z0-9]{1,4}))(?![\w.\\/-]*\.\w{2,4}\b)(?!\w)")
+_SUB = re.compile(
+    r"(?<![A-Za-z0-9_./\\-])((?:max|min)(?=_[A-Za-z0-9](?!\w))|Δ?[A-Za-zΑ-Ωα-ω][A-Za-zΑ-Ωα-ω]?)_(?:\{([^{}]{1,8})\}|([A-Za-z0-9]{1,4}))(?![\w.\\/-]*\.\w{2,4}\b)(?!\w)"
+)
 
 
 def subscript_runs(text: str) -> list[tuple[str, bool]]:
-    """``text`` cut into (piece, is_subscript): ``"K_l = 3"`` → [("K", False), ("l", True), (" = 3", False)].
+    """``text`` cut into (piece, is_subscript): ``"K_l = 3"`` → [("K", False), ("l", True), (" = 3",
+    False)].
 
     >>> subscript_runs("B_s and ΔB_V13; rate_table, t_startup, run_1.csv")
-    [('B', False), ('s', True), (' and ΔB', False), ('V13', True), ('; rate_table, t_startup, run_1.csv', False)]
+    ... # doctest: +NORMALIZE_WHITESPACE
+    [('B', False), ('s', True), (' and ΔB', False), ('V13', True),
+     ('; rate_table, t_startup, run_1.csv', False)]
     """
     out: list[tuple[str, bool]] = []
     pos = 0
     for m in _SUB.finditer(text):
-        out.append((text[pos:m.start()] + m.group(1), False))
+        out.append((text[pos : m.start()] + m.group(1), False))
         out.append((m.group(2) or m.group(3), True))
         pos = m.end()
     out.append((text[pos:], False))
@@ -70,7 +96,9 @@ def subscript_runs(text: str) -> list[tuple[str, bool]]:
 
 
 _NUM_UNIT = re.compile(r"(?<=[\d⁰¹²³⁴⁵⁶⁷⁸⁹%″′°∞]) (?=[^\s\d(=,;]{1,12}(?:[\s,;)]|$))")
-_EQ = re.compile(r"(?<=\b[A-Za-zνΔ]) = (?=[-−±\d(])|(?<=\b[A-Za-zνΔ]{2}) = (?=[-−±\d(])|(?<=[uUkK]) = ")
+_EQ = re.compile(
+    r"(?<=\b[A-Za-zνΔ]) = (?=[-−±\d(])|(?<=\b[A-Za-zνΔ]{2}) = (?=[-−±\d(])|(?<=[uUkK]) = "
+)
 
 
 _SMALL = re.compile(r"(?<![\w.\-/])(-?)0\.(000+)(\d+)(?![\w.])")
@@ -84,6 +112,7 @@ def one_notation(text: str) -> str:
     >>> one_notation("0.0006021 and 6.6×10⁻⁶; 0.0012; run_0.0001.csv")
     '6.021×10⁻⁴ and 6.6×10⁻⁶; 0.0012; run_0.0001.csv'
     """
+
     def sub(m: re.Match) -> str:
         digits = m.group(3)
         exp = -(len(m.group(2)) + 1)
@@ -174,8 +203,10 @@ def _words(text: str) -> list[str]:
     counts as one piece, a longer run splits after full-width punctuation, and a longer
     stretch still in pieces of :data:`CJK_CHUNK`.
 
-    >>> _words("chamber)（∂B/∂T）and 温箱 x B, 正态 类型，分布 标度因数非线性度 低温贮存：施加的贮存温度")
-    ['chamber)', '（∂B/∂T）', 'and', '温箱', 'x', 'B,', '正态', '类型，分布', '标度因数', '非线性度', '低温贮存：', '施加的贮', '存温度']
+    >>> _words("chamber)（∂B/∂T）and 温箱 x B, 正态 类型，分布 "
+    ...        "标度因数非线性度 低温贮存：施加的贮存温度")  # doctest: +NORMALIZE_WHITESPACE
+    ['chamber)', '（∂B/∂T）', 'and', '温箱', 'x', 'B,', '正态', '类型，分布', '标度因数',
+     '非线性度', '低温贮存：', '施加的贮', '存温度']
     """
     out: list[str] = []
 
@@ -187,7 +218,7 @@ def _words(text: str) -> list[str]:
             if len(seg) <= CJK_WORD:
                 out.append(seg) if seg else None
             else:
-                out.extend(seg[i:i + CJK_CHUNK] for i in range(0, len(seg), CJK_CHUNK))
+                out.extend(seg[i : i + CJK_CHUNK] for i in range(0, len(seg), CJK_CHUNK))
 
     for part in re.split(r"[ \n\t]+", text):
         buf, cjk = "", ""
@@ -242,9 +273,16 @@ def two_lines(header: str) -> str:
     return _ZH_EN.sub("\n", header, count=1)
 
 
-def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
-                  bold_first: bool = True, bold_column: bool = False,
-                  prefer: int | None = None, prefer_share: float = 0.6, squeeze: bool = False) -> list[float] | None:
+def column_widths(
+    columns: Sequence[Sequence[str]],
+    total_mm: float,
+    pt: float,
+    bold_first: bool = True,
+    bold_column: bool = False,
+    prefer: int | None = None,
+    prefer_share: float = 0.6,
+    squeeze: bool = False,
+) -> list[float] | None:
     """Column widths (mm) summing to ``total_mm`` for cells ``columns[j][i]`` at ``pt`` points,
     or None when the longest unbreakable words alone do not fit.
 
@@ -255,9 +293,17 @@ def column_widths(columns: Sequence[Sequence[str]], total_mm: float, pt: float,
     mins, wants = [], []
     for j, col in enumerate(columns):
         bold = [bold_first and i == 0 or bold_column and j == 0 for i in range(len(col))]
-        mins.append(max((text_mm(w, pt, b) for cell, b in zip(col, bold) for w in _words_of(cell)), default=0.0)
-                    * 1.03 + pad)
-        wants.append(max((text_mm(cell, pt, b) for cell, b in zip(col, bold)), default=0.0) * 1.03 + pad)
+        mins.append(
+            max(
+                (text_mm(w, pt, b) for cell, b in zip(col, bold) for w in _words_of(cell)),
+                default=0.0,
+            )
+            * 1.03
+            + pad
+        )
+        wants.append(
+            max((text_mm(cell, pt, b) for cell, b in zip(col, bold)), default=0.0) * 1.03 + pad
+        )
     if sum(mins) > total_mm:
         # the longest words alone do not fit: None, or (squeeze) widths in proportion to them,
         # so the columns whose words are longest stay widest (a word may then break)
@@ -311,7 +357,8 @@ def display_symbol(sym: str) -> str:
     ``duration``: lower-case words of three or more letters) is not a symbol and prints as
     nothing (the quantity's name says it).
 
-    >>> display_symbol("ΔB_V13"), display_symbol("low_temperature"), display_symbol("n_nc"), display_symbol("ARW")
+    >>> (display_symbol("ΔB_V13"), display_symbol("low_temperature"), display_symbol("n_nc"),
+    ...  display_symbol("ARW"))
     ('ΔB_V13', '', 'n_nc', 'ARW')
     """
     sym = (sym or "").strip()
@@ -330,7 +377,8 @@ def quantity_name(r: dict) -> str:
     'D.45 coefficient α₀'
     >>> quantity_name({"quantity": "bias stability", "symbol": "B_s"})
     'bias stability B_s'
-    >>> quantity_name({"quantity": "damp heat: duration applied", "symbol": "duration", "key": "dh_duration"})
+    >>> quantity_name({"quantity": "damp heat: duration applied", "symbol": "duration",
+    ...                "key": "dh_duration"})
     'damp heat: duration applied'
     """
     name = (r.get("quantity") or "").strip()
@@ -349,5 +397,3 @@ def quantity_name(r: dict) -> str:
     from ..base.locale import join
 
     return join(" ", [r.get("quantity"), sym])  # each part in the document's language
-
-

@@ -36,6 +36,7 @@ CHUNK = 1 << 15
 
 
 def readonly_copy(a: ArrayLike) -> np.ndarray:
+    """A read-only copy of ``a`` (a result's arrays cannot be changed in place)."""
     arr = np.array(a, copy=True)
     arr.setflags(write=False)
     return arr
@@ -94,6 +95,7 @@ def checked_series(y: ArrayLike, name: str = "y") -> tuple[FloatArray, float]:
 
 
 def checked_tau0(tau0: float) -> float:
+    """The sampling interval as a float; a non-finite or non-positive one is refused."""
     try:
         t = float(tau0)
     except (TypeError, ValueError):
@@ -104,6 +106,7 @@ def checked_tau0(tau0: float) -> float:
 
 
 def as_int(v: object, name: str) -> int:
+    """``v`` as an int; a bool or a non-integral value of ``name`` is refused."""
     if isinstance(v, (bool, np.bool_)):
         raise ValueError(f"{name} must be an integer, got {v!r}")  # noqa: TRY004
     try:
@@ -116,6 +119,8 @@ def as_int(v: object, name: str) -> int:
 
 
 def m_list(m: ArrayLike | int | None, n: int, kind: str) -> IntArray:
+    """The averaging factors to evaluate: ``m`` checked (integers, 1 ≤ m and
+    small enough for ``kind`` at N = ``n``), or the octave list."""
     if m is None:
         ms = octave_m(n)
     else:
@@ -237,6 +242,7 @@ class AllanResult:
 
     @property
     def variance(self) -> FloatArray:
+        """The variances (squared deviations)."""
         """sigma^2(tau)."""
         return self.deviation**2
 

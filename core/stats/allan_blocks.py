@@ -16,13 +16,25 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .allan_base import (
-    CHUNK, BlockDoublingResult, Engine, FloatArray, as_int, checked_series, checked_tau0, kernels,
+    CHUNK,
+    BlockDoublingResult,
+    Engine,
+    FloatArray,
+    as_int,
+    checked_series,
+    checked_tau0,
+    kernels,
 )
 from .allan_edf import gacv
 
 __all__ = [
-    "BatchMeanU", "mean_u_batches", "block_means", "block_means_pyramid", "block_std",
-    "block_variance_doubling", "block_variance_dof",
+    "BatchMeanU",
+    "mean_u_batches",
+    "block_means",
+    "block_means_pyramid",
+    "block_std",
+    "block_variance_doubling",
+    "block_variance_dof",
 ]
 
 # --------------------------------------------------------------------------- block statistics
@@ -85,7 +97,9 @@ def _toeplitz_times(gamma: FloatArray, v: FloatArray) -> FloatArray:
     from scipy.signal import fftconvolve
 
     full = np.concatenate([gamma[:0:-1], gamma])
-    return fftconvolve(full, v, mode="valid") if v.size > 256 else np.convolve(full, v, mode="valid")
+    return (
+        fftconvolve(full, v, mode="valid") if v.size > 256 else np.convolve(full, v, mode="valid")
+    )
 
 
 def block_variance_dof(n_blocks: int, factor: int, coefficients: ArrayLike) -> tuple[float, float]:
@@ -130,21 +144,21 @@ def block_variance_dof(n_blocks: int, factor: int, coefficients: ArrayLike) -> t
         raise ValueError(f"s^2 needs at least 2 block means, got {M}")
     j = np.arange(M, dtype=np.float64)
     gamma = np.zeros(M)
-    gamma[0] += (2.0 / 3.0) * a[0] / f**2 + a[1] / f           # white PM: phase white, variance a_-2/3
+    gamma[0] += (2.0 / 3.0) * a[0] / f**2 + a[1] / f  # white PM: phase white, variance a_-2/3
     if M > 1:
         gamma[1] -= (1.0 / 3.0) * a[0] / f**2
-    for k, c in ((0, a[2]), (1, a[3] * f)):                    # flicker FM, random-walk FM in block units
+    for k, c in ((0, a[2]), (1, a[3] * f)):  # flicker FM, random-walk FM in block units
         if c > 0.0:
             gamma += c * (2.0 * gacv(k, j) - gacv(k, j - 1.0) - gacv(k, j + 1.0))
-    row = _toeplitz_times(gamma, np.ones(M))                   # S 1
-    tot = float(row.sum())                                     # 1' S 1
+    row = _toeplitz_times(gamma, np.ones(M))  # S 1
+    tot = float(row.sum())  # 1' S 1
     weights = M - j
     weights[1:] *= 2.0
     tr_cs = M * float(gamma[0]) - tot / M
     tr_cs2 = float(np.sum(weights * gamma * gamma)) - 2.0 * float(row @ row) / M + tot * tot / M**2
-    mu = math.sqrt(2.0 * a[4]) * f * (j - j.mean())           # the ramp's centred block means
+    mu = math.sqrt(2.0 * a[4]) * f * (j - j.mean())  # the ramp's centred block means
     smu = _toeplitz_times(gamma, mu)
-    smu -= smu.mean()                                          # C S C mu (C mu = mu)
+    smu -= smu.mean()  # C S C mu (C mu = mu)
     e = tr_cs + float(mu @ mu)
     v = 2.0 * tr_cs2 + 4.0 * float(mu @ smu)
     if not v > 0.0:
@@ -153,7 +167,8 @@ def block_variance_dof(n_blocks: int, factor: int, coefficients: ArrayLike) -> t
 
 
 class BatchMeanU(NamedTuple):
-    """What :func:`mean_u_batches` found: the u of the mean taken, its number of batches, whether the
+    """What :func:`mean_u_batches` found: the u of the mean taken, its number of batches, whether
+    the
     short batches were found correlated, and the short batches' own u and number."""
 
     u: float
@@ -168,8 +183,10 @@ def mean_u_batches(y: ArrayLike, batches: int = 20, few: int = 5, p: float = 0.9
     check for correlated noise.
 
     With correlated noise (flicker / bias instability, random walk, slow wander) neighbouring batch
-    means are alike and the scatter of ``batches`` short ones understates the mean's u.  ``few`` long
-    batches are compared with them; when (u_few/u)² exceeds the ``p`` point of F(few − 1, b − 1), the
+    means are alike and the scatter of ``batches`` short ones understates the mean's u.  ``few``
+    long
+    batches are compared with them; when (u_few/u)² exceeds the ``p`` point of F(few − 1, b − 1),
+    the
     long batches' u is taken (``correlated``).  Used by GB/T 45570 D.5.1 (eq. D.40) and JJF 2014
     7.2.13 (eqs. (27), (28)); interpretations.md, "D.5.1 — correlated noise".  Needs ≥ 2·batches
     samples.

@@ -134,7 +134,8 @@ def edf_white_fm(kind: str, n: int, m: ArrayLike) -> FloatArray:
 
 #: the second-difference coefficients of an Allan variance term (x_j, x_{j+m}, x_{j+2m})
 _D2 = np.array([1.0, -2.0, 1.0])
-#: lag sums over the region |h| <= 4(m + m') + 2 are exact up to this many lags, beyond: midpoint rule
+# : lag sums over the region |h| <= 4(m + m') + 2 are exact up to this many lags, beyond: midpoint
+# rule
 _COV_NEAR_MAX = 1 << 12
 #: log-spaced midpoint panels for the flicker-FM tail beyond that region
 _COV_FAR_PANELS = 256
@@ -143,7 +144,8 @@ _COV_SERIES = 20
 
 
 def gacv(k: int, u: FloatArray) -> FloatArray:
-    """Generalized autocovariance of the phase x for the term a_k m^k of sigma^2 (a_k = 1, tau0 = 1).
+    """Generalized autocovariance of the phase x for the term a_k m^k of sigma^2 (a_k = 1, tau0 =
+    1).
 
     White FM (k = -1): -|u|/2; flicker FM (k = 0): u^2 ln|u| / (4 ln 2); random-walk FM (k = 1):
     |u|^3 / 4.  (White PM, k = -2, is the Kronecker delta / 3, handled by the caller.)  Each gives
@@ -193,7 +195,8 @@ def _pair_count(h: FloatArray, t1: int, t2: int) -> FloatArray:
 
 
 def _oadev_cov_pair(n: int, m: int, mp: int) -> tuple[FloatArray, FloatArray]:
-    """(Q, L) for one pair of factors: Q[s, t] = sum_h n(h) C_s(h) C_t(h) and L[s] = sum_h n(h) C_s(h)
+    """(Q, L) for one pair of factors: Q[s, t] = sum_h n(h) C_s(h) C_t(h) and L[s] = sum_h n(h)
+    C_s(h)
     over the noise terms s, t in (-2, -1, 0, 1) (indices 0..3)."""
     t1, t2 = n - 2 * m + 1, n - 2 * mp + 1
     Q = np.zeros((4, 4))
@@ -266,7 +269,8 @@ def oadev_covariance(n: int, m: ArrayLike, coefficients: ArrayLike) -> FloatArra
     e_m(j) = x_{j+2m} - 2 x_{j+m} + x_j, T_m = N - 2m + 1.  For zero-mean Gaussian e,
     Cov(e^2, e'^2) = 2 Cov(e, e')^2 (Isserlis), so
 
-        Cov(sigma^2_m, sigma^2_m') = [2 sum_h n(h) C(h)^2 + 4 d_m d_m' sum_h n(h) C(h)] / (4 m^2 m'^2 T_m T_m')
+        Cov(sigma^2_m, sigma^2_m') = [2 sum_h n(h) C(h)^2 + 4 d_m d_m' sum_h n(h) C(h)] / (4 m^2
+        m'^2 T_m T_m')
 
     with C(h) = Cov(e_m(j), e_m'(j + h)), n(h) the number of index pairs at lag h, and
     d_m = m^2 sqrt(2 a_2) the ramp's (constant) second difference.  C is a linear combination

@@ -5,11 +5,13 @@ built by :mod:`metro.core.documents.document` with each standard's layout.
 
 Run it after changing the layout (the output is committed)::
 
-    python core/documents/templates/make_templates.py            # writes core/documents/templates/report.docx
+    python core/documents/templates/make_templates.py            # writes
+    core/documents/templates/report.docx
     python core/documents/templates/make_templates.py OUT.docx   # writes elsewhere
 
 The document is built with python-docx and carries docxtpl (Jinja2) tags that
-:func:`metro.core.documents.report.write_report` fills from :func:`metro.core.documents.context.report_context`:
+:func:`metro.core.documents.report.write_report` fills from
+:func:`metro.core.documents.context.report_context`:
 
 * ``{{ name }}`` — a text value (always a string prepared by ``report_context``);
 * ``{%p if … %}`` / ``{%p for … %}`` … ``{%p endif %}`` / ``{%p endfor %}`` — a paragraph
@@ -95,7 +97,8 @@ def _el(tag: str, **attrs: str):
 
 
 def _shade_cell(cell, fill: str) -> None:
-    _insert_ordered(cell._tc.get_or_add_tcPr(), _el("w:shd", val="clear", color="auto", fill=fill), _TCPR_ORDER)
+    shd = _el("w:shd", val="clear", color="auto", fill=fill)
+    _insert_ordered(cell._tc.get_or_add_tcPr(), shd, _TCPR_ORDER)
 
 
 def _shade_paragraph(paragraph, fill: str, border: str) -> None:
@@ -176,7 +179,8 @@ def loop_table(doc, headers: list[str], cells: list[str], widths_mm: list[float]
     return table
 
 
-def kv_table(doc, rows: list[tuple[str, str]], widths_mm=(50, TEXT_W - 50), loop: tuple[str, str, str] | None = None):
+def kv_table(doc, rows: list[tuple[str, str]], widths_mm=(50, TEXT_W - 50),
+             loop: tuple[str, str, str] | None = None):
     """A two-column label/value table; ``loop`` = (``"p in device.properties"``, label, value)
     appends one row per item."""
     n = len(rows) + (3 if loop else 0)
@@ -209,7 +213,8 @@ def column_loop_table(doc, header: str, rows: str):
     for old in tbl_pr.findall(qn("w:tblW")):
         tbl_pr.remove(old)
     _insert_ordered(tbl_pr, _el("w:tblW", w="5000", type="pct"),
-                    ("w:tblStyle", "w:tblpPr", "w:tblOverlap", "w:bidiVisual", "w:tblStyleRowBandSize",
+                    ("w:tblStyle", "w:tblpPr", "w:tblOverlap", "w:bidiVisual",
+                     "w:tblStyleRowBandSize",
                      "w:tblStyleColBandSize", "w:tblW", "w:jc", "w:tblCellSpacing", "w:tblInd",
                      "w:tblBorders", "w:shd", "w:tblLayout", "w:tblCellMar", "w:tblLook"))
     for col in table.columns:
@@ -277,7 +282,8 @@ def _styles(doc) -> None:
     normal.paragraph_format.space_after = Pt(4)
     normal.paragraph_format.space_before = Pt(0)
 
-    for name, size, before in (("Title", 18, 0), ("Heading 1", 14, 14), ("Heading 2", 12, 12), ("Heading 3", 10.5, 8)):
+    sizes = (("Title", 18, 0), ("Heading 1", 14, 14), ("Heading 2", 12, 12), ("Heading 3", 10.5, 8))
+    for name, size, before in sizes:
         st = styles[name]
         st.font.name = "Calibri"
         st.font.size = Pt(size)
@@ -361,7 +367,8 @@ def _page(doc) -> None:
     _field(hp, "PAGE", "1")
     hp.add_run(" of ")
     _field(hp, "NUMPAGES", "1")
-    # the SIMULATED mark on every page, as metro's own documents carry it (docxtpl fills headers too)
+    # the SIMULATED mark on every page, as metro's own documents carry it (docxtpl fills headers
+    # too)
     sp = sec.header.add_paragraph(style="Header")
     run = sp.add_run("{% if simulated %}SIMULATED — not a measurement of a real device{% endif %}")
     run.bold = True
@@ -450,7 +457,8 @@ def _environment(doc: Any) -> None:
     tag(doc, "{%p endif %}")
     label(doc, "Test site")
     tag(doc, "{%p if site %}")
-    loop_table(doc, ["Quantity", "Value"], ["{{ s.name }}", "{{ s.value }}"], [50, TEXT_W - 50], "s in site")
+    loop_table(doc, ["Quantity", "Value"], ["{{ s.name }}", "{{ s.value }}"], [50, TEXT_W - 50],
+               "s in site")
     tag(doc, "{%p else %}")
     para(doc, "No site data were stated for this campaign.", italic=True)
     tag(doc, "{%p endif %}")
@@ -459,7 +467,8 @@ def _environment(doc: Any) -> None:
 def _equipment(doc: Any) -> None:
     """4 Equipment and traceability."""
     heading(doc, "4 Equipment and traceability", 1)
-    para(doc, "Calibration status on the date of measurement ({{ facts.measured }}). U is the expanded "
+    para(doc, "Calibration status on the date of measurement ({{ facts.measured }}). "
+              "U is the expanded "
               "uncertainty stated on the certificate, with its coverage factor k.")
     tag(doc, "{%p if equipment %}")
     loop_table(
@@ -517,7 +526,8 @@ def _budget(doc: Any) -> None:
 def _outcome(doc: Any) -> None:
     """One outcome (inside the outcome loop): results, notes, budgets, tables, figures, warnings."""
     heading(doc, "{{ o.number }} {{ o.item }} — {{ o.title }}", 2)
-    para(doc, "{{ o.designation }}, clause {{ o.clause }}. Segments evaluated: {{ o.segments_text }}.")
+    para(doc, "{{ o.designation }}, clause {{ o.clause }}. "
+              "Segments evaluated: {{ o.segments_text }}.")
     tag(doc, "{%p if o.options_text %}")
     para(doc, "Options: {{ o.options_text }}")
     tag(doc, "{%p endif %}")
@@ -525,7 +535,8 @@ def _outcome(doc: Any) -> None:
     loop_table(
         doc,
         ["Quantity", "Symbol", "Value", "U", "Unit", "k", "Clause / equation"],
-        ["{{ r.quantity }}", "{{ r.symbol }}", "{{ r.value }}", "{{ r.U }}", "{{ r.unit }}", "{{ r.k }}",
+        ["{{ r.quantity }}", "{{ r.symbol }}", "{{ r.value }}", "{{ r.U }}", "{{ r.unit }}",
+         "{{ r.k }}",
          "{{ r.reference }}"],
         [38, 18, 24, 20, 16, 12, 42],
         "r in o.results",
@@ -562,7 +573,8 @@ def _results(doc: Any) -> None:
     tag(doc, "{%p if simulated %}")
     _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
     label(doc, "Declared truth of the simulated station (compare with the results below)")
-    loop_table(doc, ["Parameter", "Declared value"], ["{{ t.name }}", "{{ t.value }}"], [70, TEXT_W - 70],
+    loop_table(doc, ["Parameter", "Declared value"], ["{{ t.name }}", "{{ t.value }}"],
+               [70, TEXT_W - 70],
                "t in truth")
     tag(doc, "{%p endif %}")
     tag(doc, "{%p for o in outcomes %}")
@@ -582,7 +594,8 @@ def _conformity(doc: Any) -> None:
     loop_table(
         doc,
         ["Item", "Result", "Limit", "Source of the limit", "Verdict", "Why"],
-        ["{{ v.item }}", "{{ v.key }}", "{{ v.limit }}", "{{ v.source }}", "{{ v.status }}", "{{ v.reason }}"],
+        ["{{ v.item }}", "{{ v.key }}", "{{ v.limit }}", "{{ v.source }}", "{{ v.status }}",
+         "{{ v.reason }}"],
         [18, 18, 26, 40, 20, 48],
         "v in conformity.verdicts",
     )
@@ -603,7 +616,8 @@ def _provenance(doc: Any) -> None:
     heading(doc, "7 Provenance", 1)
     para(doc, "Campaign source: {{ provenance.source }}")
     label(doc, "Software")
-    loop_table(doc, ["Component", "Version"], ["{{ s.name }}", "{{ s.version }}"], [50, TEXT_W - 50],
+    loop_table(doc, ["Component", "Version"], ["{{ s.name }}", "{{ s.version }}"],
+               [50, TEXT_W - 50],
                "s in provenance.software")
     label(doc, "Plugins")
     tag(doc, "{%p if provenance.plugins %}")
@@ -627,7 +641,8 @@ def _signatures(doc: Any) -> None:
     sig = kv_table(doc, [
         ("Tested by", "{{ facts.operator or '—' }}"),
         ("Checked by", "{{ facts.checker or '—' }}"),
-        ("Approved by", "{{ facts.approver or '—' }}{% if facts.approver_title %}, {{ facts.approver_title }}{% endif %}"),
+        ("Approved by", "{{ facts.approver or '—' }}"
+                        "{% if facts.approver_title %}, {{ facts.approver_title }}{% endif %}"),
     ])
     for row in sig.rows:
         row.height = Mm(11)  # room to sign
@@ -662,7 +677,8 @@ def build() -> "docx.document.Document":
 def _reproducible_zip(data: bytes) -> bytes:
     """The same package with fixed zip time stamps and attributes (deterministic bytes)."""
     out = io.BytesIO()
-    with zipfile.ZipFile(io.BytesIO(data)) as src, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as dst:
+    with zipfile.ZipFile(io.BytesIO(data)) as src, \
+            zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as dst:
         for info in src.infolist():
             fixed = zipfile.ZipInfo(info.filename, date_time=(1980, 1, 1, 0, 0, 0))
             fixed.compress_type = zipfile.ZIP_DEFLATED
