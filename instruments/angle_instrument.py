@@ -41,6 +41,7 @@ from metro.core.model.procedure import Step
 from metro.core.base.units import Q_, parse_quantity
 
 from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402
+
 AXES = ("up", "north", "south", "east", "west")
 
 
@@ -61,14 +62,20 @@ class AngleInstrumentTruth:
     reading_noise_arcsec: float = 0.02
     positioning_arcsec: float = 0.1
     resolution_arcsec: float = 0.01
-    #: the class this instrument was drawn from (station option ``device_class``; "" = fields as given)
+    #: the class this instrument was drawn from (station option ``device_class``; "" = fields as
+    #: given)
     device_class: str = ""
     seed: int = 20261122
 
     def quiet(self) -> AngleInstrumentTruth:
         """The same instrument with every random term off (for the expected values)."""
-        return attrs.evolve(self, arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0,
-                            resolution_arcsec=0.0)
+        return attrs.evolve(
+            self,
+            arw_deg_rt_h=0.0,
+            reading_noise_arcsec=0.0,
+            positioning_arcsec=0.0,
+            resolution_arcsec=0.0,
+        )
 
     def as_quantities(self) -> dict[str, Any]:
         return {
@@ -92,19 +99,36 @@ class AngleInstrumentTruth:
 def earth_rate_along(axis: str, latitude_deg: float) -> float:
     """Earth-rate component along a turntable axis pointing ``axis``, °/h."""
     lat = math.radians(latitude_deg)
-    return {"up": math.sin(lat), "north": math.cos(lat), "south": -math.cos(lat),
-            "east": 0.0, "west": 0.0}[axis] * EARTH_RATE_DEG_PER_H
+    return {
+        "up": math.sin(lat),
+        "north": math.cos(lat),
+        "south": -math.cos(lat),
+        "east": 0.0,
+        "west": 0.0,
+    }[axis] * EARTH_RATE_DEG_PER_H
 
 
-def sensed_error_arcsec(truth: AngleInstrumentTruth, theta_deg: np.ndarray, elapsed_s: np.ndarray,
-                        rate_deg_s: float, axis: str, latitude_deg: float) -> np.ndarray:
+def sensed_error_arcsec(
+    truth: AngleInstrumentTruth,
+    theta_deg: np.ndarray,
+    elapsed_s: np.ndarray,
+    rate_deg_s: float,
+    axis: str,
+    latitude_deg: float,
+) -> np.ndarray:
     """Deterministic part of φ − θ (module docstring), ″."""
     th = np.radians(np.asarray(theta_deg, dtype=float))
     t_h = np.asarray(elapsed_s, dtype=float) / 3600.0
-    harm = truth.a1_arcsec * np.sin(th) + truth.a2_arcsec * np.sin(2 * th + math.radians(truth.a2_phase_deg))
+    harm = truth.a1_arcsec * np.sin(th) + truth.a2_arcsec * np.sin(
+        2 * th + math.radians(truth.a2_phase_deg)
+    )
     tilt = math.degrees(math.sin(math.radians(truth.tilt_deg)) ** 2 / 8.0) * 3600.0 * np.sin(2 * th)
     rate = truth.rate_coeff * (rate_deg_s - 60.0) / 60.0 * np.degrees(th) * 3600.0
-    drift = (truth.drift_deg_h + truth.earth_comp_error * earth_rate_along(axis, latitude_deg)) * 3600.0 * t_h
+    drift = (
+        (truth.drift_deg_h + truth.earth_comp_error * earth_rate_along(axis, latitude_deg))
+        * 3600.0
+        * t_h
+    )
     return harm + tilt + rate + drift
 
 
@@ -134,10 +158,16 @@ class AngleInstrumentStation:
     def device(self) -> DeviceUnderTest:
         t = self.truth
         return DeviceUnderTest(
-            id="SIM-OGAM-1", model="virtual optical-gyro angle measuring instrument", serial=f"seed {t.seed}",
-            manufacturer="metro simulator", technology="laser", output="pulse",
-            properties={"scale_factor": Q_(t.K_P_per_deg / (1 + t.scale_factor_error), "P/deg"),
-                        "zero_stability": Q_(0.005, "deg/h")},
+            id="SIM-OGAM-1",
+            model="virtual optical-gyro angle measuring instrument",
+            serial=f"seed {t.seed}",
+            manufacturer="metro simulator",
+            technology="laser",
+            output="pulse",
+            properties={
+                "scale_factor": Q_(t.K_P_per_deg / (1 + t.scale_factor_error), "P/deg"),
+                "zero_stability": Q_(0.005, "deg/h"),
+            },
         )
 
     def equipment(self) -> list[Equipment]:
@@ -159,8 +189,14 @@ class AngleInstrumentStation:
         err = sensed_error_arcsec(truth, theta, t, rate, axis, self.latitude_deg)
         if truth.arw_deg_rt_h > 0:
             dt_h = np.diff(t, prepend=0.0) / 3600.0
-            err = err + np.cumsum(rng.normal(0, 1, S.size) * truth.arw_deg_rt_h * 3600.0 * np.sqrt(dt_h))
-        err = err + rng.normal(0, 1, S.size) * truth.reading_noise_arcsec if truth.reading_noise_arcsec else err
+            err = err + np.cumsum(
+                rng.normal(0, 1, S.size) * truth.arw_deg_rt_h * 3600.0 * np.sqrt(dt_h)
+            )
+        err = (
+            err + rng.normal(0, 1, S.size) * truth.reading_noise_arcsec
+            if truth.reading_noise_arcsec
+            else err
+        )
         phi = theta + err / 3600.0
         return S, phi
 
@@ -170,13 +206,18 @@ class AngleInstrumentStation:
             m = np.round(m * 3600.0 / truth.resolution_arcsec) * truth.resolution_arcsec / 3600.0
         return m
 
-    def segment_data(self, step: Step, index: int, truth: AngleInstrumentTruth | None = None
-                     ) -> dict[str, tuple[np.ndarray, str]]:
+    def segment_data(
+        self, step: Step, index: int, truth: AngleInstrumentTruth | None = None
+    ) -> dict[str, tuple[np.ndarray, str]]:
         truth = truth or self.truth
         rng = np.random.default_rng([truth.seed, index])
         if step.kind == "scale-factor":
             S, phi = self._positions(step, rng, truth)
-            counts = np.round(truth.K_P_per_deg * phi) if truth.resolution_arcsec > 0 else truth.K_P_per_deg * phi
+            counts = (
+                np.round(truth.K_P_per_deg * phi)
+                if truth.resolution_arcsec > 0
+                else truth.K_P_per_deg * phi
+            )
             return {"angle": (S, "deg"), "counts": (counts, "P")}
         if step.kind == "positioning":
             S, phi = self._positions(step, rng, truth)
@@ -185,7 +226,10 @@ class AngleInstrumentStation:
             dt_s = float(step.interval.to("s").magnitude)
             n = int(round(float(step.duration.to("s").magnitude) / dt_s)) + 1
             t = dt_s * np.arange(n)
-            err = (truth.drift_deg_h + truth.earth_comp_error * earth_rate_along("up", self.latitude_deg)) * t
+            err = (
+                truth.drift_deg_h
+                + truth.earth_comp_error * earth_rate_along("up", self.latitude_deg)
+            ) * t
             if truth.arw_deg_rt_h > 0:
                 steps = rng.normal(0, 1, n) * truth.arw_deg_rt_h * 3600.0 * math.sqrt(dt_s / 3600.0)
                 steps[0] = 0.0
@@ -194,7 +238,9 @@ class AngleInstrumentStation:
                 err = err + rng.normal(0, 1, n) * truth.reading_noise_arcsec
             m = self._reading(err / 3600.0, truth) * 3600.0
             return {"time": (t / 60.0, "min"), "reading": (m, "arcsec")}
-        raise ValueError(f"the simulated angle instrument cannot acquire steps of kind {step.kind!r}")
+        raise ValueError(
+            f"the simulated angle instrument cannot acquire steps of kind {step.kind!r}"
+        )
 
     #: the step kinds of the draft's items this station simulates
     KINDS = ("scale-factor", "positioning", "zero")
@@ -203,8 +249,14 @@ class AngleInstrumentStation:
         """Refuse, before anything is simulated, a step kind this station does not simulate."""
         from .stations import refuse_unknown_kinds
 
-        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items,
-                             hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+        refuse_unknown_kinds(
+            self.name,
+            steps,
+            self.KINDS,
+            items=items,
+            hint="acquire these items on a station that simulates them "
+            "(`metro plugins` lists them)",
+        )
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         from .stations import step_seed
@@ -213,17 +265,31 @@ class AngleInstrumentStation:
         segments = []
         for i, step in enumerate(steps):
             data = self.segment_data(step, step_seed(step))
-            digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a, _ in data.values())).hexdigest()
-            segments.append(Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions),
-                                    interval=step.interval, file=None, sha256=digest,
-                                    loader=(lambda d=data: d)))
+            digest = hashlib.sha256(
+                b"".join(np.ascontiguousarray(a).tobytes() for a, _ in data.values())
+            ).hexdigest()
+            segments.append(
+                Segment(
+                    id=step.segment,
+                    kind=step.kind,
+                    conditions=dict(step.conditions),
+                    interval=step.interval,
+                    file=None,
+                    sha256=digest,
+                    loader=(lambda d=data: d),
+                )
+            )
             if progress is not None:
                 progress("simulating angle instrument", i + 1, len(steps))
         return Campaign(
-            id="SIMULATED-OGAM", device=self.device(), equipment=self.equipment(),
+            id="SIMULATED-OGAM",
+            device=self.device(),
+            equipment=self.equipment(),
             environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
             site={"latitude": Q_(self.latitude_deg, "deg")},
-            segments=segments, source="simulated station (angle instrument)", simulated=True,
+            segments=segments,
+            source="simulated station (angle instrument)",
+            simulated=True,
             truth=self.truth.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
             expected=self.expected(steps),
         )
@@ -240,10 +306,15 @@ class AngleInstrumentStation:
             if step.kind == "scale-factor":
                 k_i = d["counts"][0] / d["angle"][0]
                 out["K"] = Q_(float(np.mean(k_i)), "P/deg")
-                out["Kl"] = Q_(100.0 * float(k_i.max() - k_i.min()) / float(np.mean(k_i)), "percent")
+                out["Kl"] = Q_(
+                    100.0 * float(k_i.max() - k_i.min()) / float(np.mean(k_i)), "percent"
+                )
             elif step.kind == "zero":
                 m = d["reading"][0]
-                out["Bs"] = Q_(float(np.std(m, ddof=1)) / 3600.0 / (float(step.duration.to("h").magnitude)), "deg/h")
+                out["Bs"] = Q_(
+                    float(np.std(m, ddof=1)) / 3600.0 / (float(step.duration.to("h").magnitude)),
+                    "deg/h",
+                )
             elif step.kind == "positioning":
                 e = float(np.max(np.abs(d["reading"][0] - d["standard"][0]))) * 3600.0
                 rate = float(_cond(step, "rate", "deg/s").to("deg/s").magnitude)
@@ -253,10 +324,14 @@ class AngleInstrumentStation:
                     out["E"] = Q_(e, "arcsec")
         rates = {r: e for (r, a), e in e_by.items() if a == "up"}
         if len(rates) > 1 and 60.0 in rates:
-            out["Cv"] = Q_(100.0 * (max(rates.values()) - min(rates.values())) / rates[60.0], "percent")
+            out["Cv"] = Q_(
+                100.0 * (max(rates.values()) - min(rates.values())) / rates[60.0], "percent"
+            )
         axes = {a: e for (r, a), e in e_by.items() if r == 60.0}
         if len(axes) > 1 and "up" in axes:
-            out["Cg"] = Q_(100.0 * (max(axes.values()) - min(axes.values())) / axes["up"], "percent")
+            out["Cg"] = Q_(
+                100.0 * (max(axes.values()) - min(axes.values())) / axes["up"], "percent"
+            )
         return out
 
 
@@ -275,18 +350,25 @@ DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
 
 
 def draw_device(device_class: str, seed: int) -> dict[str, Any]:
-    """The truth fields of one instrument of ``device_class`` drawn with ``seed``: the class's values,
+    """The truth fields of one instrument of ``device_class`` drawn with ``seed``: the class's
+    values,
     then K within ±1 % of the class's, harmonic errors a₁, a₂ uniform in 0 … 0.1″, a sensing-plane
     tilt uniform in 0 … 0.1° and an angle random walk 0.7 … 1.5 times the default's."""
     if device_class not in DEVICE_CLASSES:
         from metro.core.base.errors import DataError
 
-        raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
-                        hint="device classes: " + ", ".join(DEVICE_CLASSES))
+        raise DataError(
+            None,
+            "station option device_class",
+            f"{device_class!r} is not a device class",
+            hint="device classes: " + ", ".join(DEVICE_CLASSES),
+        )
     base = AngleInstrumentTruth()
     rng = np.random.default_rng([int(seed), 7])
     kw = dict(DEVICE_CLASSES[device_class])
-    kw["K_P_per_deg"] = float(kw.get("K_P_per_deg", base.K_P_per_deg)) * float(rng.uniform(0.99, 1.01))
+    kw["K_P_per_deg"] = float(kw.get("K_P_per_deg", base.K_P_per_deg)) * float(
+        rng.uniform(0.99, 1.01)
+    )
     kw["a1_arcsec"] = float(rng.uniform(0.0, 0.1))
     kw["a2_arcsec"] = float(rng.uniform(0.0, 0.1))
     kw["tilt_deg"] = float(rng.uniform(0.0, 0.1))
@@ -298,12 +380,16 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
 def station_factory(**options: Any) -> AngleInstrumentStation:
     """Factory of the ``simulated-ogam`` station (options: seed, latitude_deg, any truth field, and
     ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
-    truth_kw, st_kw = station_options("simulated-ogam", AngleInstrumentTruth, AngleInstrumentStation, options,
-                                      ("latitude_deg",))
+    truth_kw, st_kw = station_options(
+        "simulated-ogam", AngleInstrumentTruth, AngleInstrumentStation, options, ("latitude_deg",)
+    )
     cls = truth_kw.pop("device_class", "")
     if cls:
-        truth_kw = (draw_device(cls, truth_kw.get("seed", AngleInstrumentTruth().seed)) | truth_kw
-                    | {"device_class": cls})
+        truth_kw = (
+            draw_device(cls, truth_kw.get("seed", AngleInstrumentTruth().seed))
+            | truth_kw
+            | {"device_class": cls}
+        )
     return AngleInstrumentStation(truth=AngleInstrumentTruth(**truth_kw), **st_kw)
 
 

@@ -95,9 +95,11 @@ Operator = Callable[[str, Step], None]
 def terminal_operator(instruction: str, step: Step) -> None:
     """Print the instruction and wait for Enter on the terminal (Ctrl-C aborts the run)."""
     if not _interactive():
-        raise MetroError(f"step {step.segment!r} ({step.kind}) needs the operator: {instruction}; "
-                         "metro is not running on a terminal, so nobody can confirm it",
-                         hint=_ASSUME_READY_HINT)
+        raise MetroError(
+            f"step {step.segment!r} ({step.kind}) needs the operator: {instruction}; "
+            "metro is not running on a terminal, so nobody can confirm it",
+            hint=_ASSUME_READY_HINT,
+        )
     print(f"\n[bench] step {step.segment} ({step.kind}): {instruction}", file=sys.stderr)
     input("[bench] press Enter when done (Ctrl-C aborts the run) ")
 
@@ -109,40 +111,69 @@ def _interactive() -> bool:
         return False
 
 
-_ASSUME_READY_HINT = ("run `metro acquire` from a terminal and confirm each instruction, or, if the bench is set "
-                      "up for every such step already (or they are automated), pre-confirm them all with "
-                      "--station-option assume_ready=true")
+_ASSUME_READY_HINT = (
+    "run `metro acquire` from a terminal and confirm each instruction, or, if the bench is set "
+    "up for every such step already (or they are automated), pre-confirm them all with "
+    "--station-option assume_ready=true"
+)
 
 # ------------------------------------------------------------------------------ step kinds
 
 #: step kinds the bench runs: the table turns at the step's ``rate`` (or rests without one)
 #: while the output is recorded; other conditions are set up by the operator
-SUPPORTED_KINDS: frozenset[str] = frozenset({
-    "static", "static-zero", "rate", "rate-output", "rate-static", "threshold",
-    "rate-repeat", "static-repeat", "rate-temperature", "static-temperature", "high-temperature",
-    "low-temperature", "rate-accel", "static-accel", "static-field", "rate-shock", "rate-vibration",
-    "static-shock", "static-vibration", "misalignment", "rate-mounting", "polarity",
-})
+SUPPORTED_KINDS: frozenset[str] = frozenset(
+    {
+        "static",
+        "static-zero",
+        "rate",
+        "rate-output",
+        "rate-static",
+        "threshold",
+        "rate-repeat",
+        "static-repeat",
+        "rate-temperature",
+        "static-temperature",
+        "high-temperature",
+        "low-temperature",
+        "rate-accel",
+        "static-accel",
+        "static-field",
+        "rate-shock",
+        "rate-vibration",
+        "static-shock",
+        "static-vibration",
+        "misalignment",
+        "rate-mounting",
+        "polarity",
+    }
+)
 
 #: step kinds the bench cannot run at all, and why
 UNSUPPORTED_KINDS: Mapping[str, str] = {
-    "rate-revolutions": "it counts the output over whole table revolutions timed by the table's revolution "
-                        "pulse; the bench has no pulse-counter input",
-    "revolutions-mounting": "it counts the output over whole revolutions (revolution pulse, counter)",
+    "rate-revolutions": "it counts the output over whole table revolutions timed by the table's "
+    "revolution "
+    "pulse; the bench has no pulse-counter input",
+    "revolutions-mounting": "it counts the output over whole revolutions (revolution pulse, "
+    "counter)",
     "revolutions-repeat": "it counts the output over whole revolutions (revolution pulse, counter)",
-    "revolutions-temperature": "it counts the output over whole revolutions (revolution pulse, counter)",
+    "revolutions-temperature": "it counts the output over whole revolutions (revolution pulse, "
+    "counter)",
     "angular-vibration": "it needs an angular vibration table and its reference sensor",
     "shock": "it records during a shock pulse (shock machine, fast acquisition)",
     "vibration": "it records during vibration (shaker, fast acquisition)",
-    "startup": "it records from the moment of power-on; the bench does not switch the device's power",
-    "power-on": "it records from the moment of power-on; the bench does not switch the device's power",
+    "startup": "it records from the moment of power-on; the bench does not switch the device's "
+    "power",
+    "power-on": "it records from the moment of power-on; the bench does not switch the device's "
+    "power",
     "power": "it needs a voltmeter and an ammeter on the supply",
     "tilt": "it needs a tilt table",
-    "position": "it needs a position table and all outputs of a multi-axis IMU; the bench records one output",
+    "position": "it needs a position table and all outputs of a multi-axis IMU; the bench records "
+    "one output",
     "positioning": "it reads an angle instrument's output at turntable stops",
     "scale-factor": "it reads an angle instrument's output at turntable stops",
     "zero": "it reads an angle instrument's output at turntable stops",
-    "resolution": "it steps the input by small increments around a base rate, which the bench does not sequence",
+    "resolution": "it steps the input by small increments around a base rate, which the bench does "
+    "not sequence",
 }
 
 #: conditions the bench sets itself
@@ -151,8 +182,12 @@ _AUTOMATIC = frozenset({"rate"})
 _LABELS = frozenset({"when"})
 #: conditions that say how the device is mounted (a change is an operator step)
 _MOUNTING = ("orientation", "axis", "position", "axis_up", "turn")
-_SHOCK_KINDS = {"rate-shock": "shock", "static-shock": "shock", "rate-vibration": "vibration",
-                "static-vibration": "vibration"}
+_SHOCK_KINDS = {
+    "rate-shock": "shock",
+    "static-shock": "shock",
+    "rate-vibration": "vibration",
+    "static-vibration": "vibration",
+}
 _OPERATOR = frozenset(_MOUNTING) | {"temperature", "field", "field_axis", "run", "phase"}
 
 
@@ -208,7 +243,9 @@ class BenchStation:
         return self.config.device
 
     # -- planning -----------------------------------------------------------------------
-    def check(self, steps: Sequence[Step], *, items: Mapping[str, Sequence[str]] | None = None) -> list[StepPlan]:
+    def check(
+        self, steps: Sequence[Step], *, items: Mapping[str, Sequence[str]] | None = None
+    ) -> list[StepPlan]:
         """Check every step before anything is opened or moved and return the plan.
 
         ``items`` maps segment ids to the items that asked for them (for the error messages).
@@ -227,37 +264,53 @@ class BenchStation:
                 same = [s for s in steps if s.kind == step.kind]
                 segs = ", ".join(s.segment for s in same[:4]) + (" …" if len(same) > 4 else "")
                 its = sorted({i for s in same for i in items.get(s.segment, ())})
-                reason = UNSUPPORTED_KINDS.get(step.kind, "the bench does not know this kind of step")
-                raise MetroError(f"the bench cannot run steps of kind {step.kind!r}"
-                                 f"{' for item ' + ', '.join(its) if its else ''} (segment {segs}): {reason}; "
-                                 "nothing was commanded",
-                                 hint=f"the bench runs the kinds {', '.join(sorted(SUPPORTED_KINDS))}; acquire "
-                                 "the other items on a station that can, or record them and use `metro run --data`")
+                reason = UNSUPPORTED_KINDS.get(
+                    step.kind, "the bench does not know this kind of step"
+                )
+                raise MetroError(
+                    f"the bench cannot run steps of kind {step.kind!r}"
+                    f"{' for item ' + ', '.join(its) if its else ''} (segment {segs}): {reason}; "
+                    "nothing was commanded",
+                    hint=f"the bench runs the kinds {', '.join(sorted(SUPPORTED_KINDS))}; acquire "
+                    "the other items on a station that can, or record them and use `metro run "
+                    "--data`",
+                )
             unknown = sorted(set(step.conditions) - _AUTOMATIC - _OPERATOR - _LABELS)
             if unknown:
-                raise MetroError(f"step {step.segment!r} ({step.kind}){who(step)} has condition(s) "
-                                 f"{', '.join(unknown)} the bench does not know how to set up; nothing was commanded")
+                raise MetroError(
+                    f"step {step.segment!r} ({step.kind}){who(step)} has condition(s) "
+                    f"{', '.join(unknown)} the bench does not know how to set up; nothing was "
+                    f"commanded"
+                )
             if not (step.interval.magnitude > 0 and step.duration.magnitude > 0):
-                raise MetroError(f"step {step.segment!r}{who(step)}: duration and interval must be positive")
+                raise MetroError(
+                    f"step {step.segment!r}{who(step)}: duration and interval must be positive"
+                )
         plans: list[StepPlan] = []
         state: dict[str, str | None] = {k: None for k in _OPERATOR}
         state["orientation"] = _norm(self.config.orientation)
         for step in steps:
             rate = None
             if "rate" in step.conditions:
-                rate = parse_quantity(step.conditions["rate"], dimension="deg/s",
-                                      field=f"segments.{step.segment}.conditions.rate")
+                rate = parse_quantity(
+                    step.conditions["rate"],
+                    dimension="deg/s",
+                    field=f"segments.{step.segment}.conditions.rate",
+                )
             self._check_frames(step, who(step))
             instr, cycle = _instructions(step, state)
             plans.append(StepPlan(step, rate, _n_samples(step), tuple(instr), cycle))
         need = [p for p in plans if p.instructions]
         if need and not self.assume_ready and self.operator is None and not _interactive():
             first = need[0]
-            raise MetroError(f"step {first.step.segment!r} ({first.step.kind}){who(first.step)} needs the operator: "
-                             f"{'; '.join(first.instructions)}"
-                             f"{f' ({len(need) - 1} more step(s) need the operator too)' if len(need) > 1 else ''}; "
-                             "metro is not running on a terminal, so nobody can confirm it; nothing was commanded",
-                             hint=_ASSUME_READY_HINT)
+            more = f" ({len(need) - 1} more step(s) need the operator too)" if len(need) > 1 else ""
+            raise MetroError(
+                f"step {first.step.segment!r} ({first.step.kind}){who(first.step)} needs the "
+                f"operator: {'; '.join(first.instructions)}{more}; "
+                "metro is not running on a terminal, so nobody can confirm it; nothing was "
+                "commanded",
+                hint=_ASSUME_READY_HINT,
+            )
         return plans
 
     def _check_frames(self, step: Step, who: str) -> None:
@@ -266,9 +319,13 @@ class BenchStation:
             return
         m = float((step.interval / fi).to("").magnitude)
         if m < 0.999999 or abs(m - round(m)) > 1e-6 * max(1.0, m):
-            raise MetroError(f"step {step.segment!r}{who} samples every {step.interval:~P}, which is not a whole "
-                             f"number of the gyro's frame periods ({fi:~P}); nothing was commanded",
-                             hint="set the gyro's output rate so the step interval is a multiple of its frame period")
+            raise MetroError(
+                f"step {step.segment!r}{who} samples every {step.interval:~P}, which is not a "
+                f"whole "
+                f"number of the gyro's frame periods ({fi:~P}); nothing was commanded",
+                hint="set the gyro's output rate so the step interval is a multiple of its frame "
+                "period",
+            )
 
     # -- running --------------------------------------------------------------------------
     def acquire(self, steps: list[Step], *, progress: Progress | None = None) -> Campaign:
@@ -309,23 +366,39 @@ class BenchStation:
                 else:
                     segments.append(self._record_frames(out, plan, progress))
             table.stop(axis=cfg.table_axis)
-            meta = {"bench": cfg.source, "bench_id": cfg.id,
-                    "rate_table": f"{d.table_identity} at {table.resource or cfg.table.name}",
-                    "output": f"{d.output_identity} at {out.driver.resource or cfg.output.driver.name}",
-                    "operator_steps": prompts}
+            meta = {
+                "bench": cfg.source,
+                "bench_id": cfg.id,
+                "rate_table": f"{d.table_identity} at {table.resource or cfg.table.name}",
+                "output": f"{d.output_identity} at {out.driver.resource or cfg.output.driver.name}",
+                "operator_steps": prompts,
+            }
             equipment = d.equipment()
         stamp = dt.datetime.now(dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
-        return Campaign(id=f"{cfg.id}-{stamp}", device=cfg.device, equipment=equipment,
-                        environment=cfg.environment, site=cfg.site, segments=segments, source=cfg.source,
-                        simulated=False, meta=meta)
+        return Campaign(
+            id=f"{cfg.id}-{stamp}",
+            device=cfg.device,
+            equipment=equipment,
+            environment=cfg.environment,
+            site=cfg.site,
+            segments=segments,
+            source=cfg.source,
+            simulated=False,
+            meta=meta,
+        )
 
     def _settle(self, table: Any, step: Step, rate: pint.Quantity | None) -> None:
         cfg = self.config
         if not table.wait_stable(cfg.settle_timeout, axis=cfg.table_axis):
             what = f"at {rate:~P}" if rate is not None else "at rest"
-            raise DriverError(table.resource or cfg.table.name, f"wait_stable (step {step.segment})",
-                              f"the table did not settle {what} within {cfg.settle_timeout:~P}; nothing was recorded",
-                              hint="check the table (drive enabled, load, limits) or raise [bench] settle_timeout")
+            raise DriverError(
+                table.resource or cfg.table.name,
+                f"wait_stable (step {step.segment})",
+                f"the table did not settle {what} within {cfg.settle_timeout:~P}; nothing was "
+                "recorded",
+                hint="check the table (drive enabled, load, limits) or raise [bench] "
+                "settle_timeout",
+            )
 
     def _warm_up(self, step: Step, powered_at: float, progress: Progress | None) -> None:
         need = float(step.warmup.to("s").magnitude)
@@ -335,8 +408,11 @@ class BenchStation:
             if left <= 0:
                 return
             if progress is not None:
-                progress(f"bench: {step.segment} warm-up", self.clock.monotonic() - start,
-                         self.clock.monotonic() - start + left)
+                progress(
+                    f"bench: {step.segment} warm-up",
+                    self.clock.monotonic() - start,
+                    self.clock.monotonic() - start + left,
+                )
             self.clock.sleep(min(left, 1.0))
 
     def _record_dmm(self, out: "_Opened", plan: StepPlan, progress: Progress | None) -> Segment:
@@ -354,18 +430,26 @@ class BenchStation:
                 clock.sleep(slot - now)
                 now = clock.monotonic()
             elif now - slot > 0.5 * dt_s:
-                raise DriverError(dmm.resource, f"READ? (step {step.segment}, sample {k})",
-                                  f"the reading is {now - slot:.3g} s late for its slot: the DMM cannot keep up with "
-                                  f"the step's {dt_s:g} s interval; nothing was written",
-                                  hint="lower nplc in the bench file's [output] table")
+                raise DriverError(
+                    dmm.resource,
+                    f"READ? (step {step.segment}, sample {k})",
+                    f"the reading is {now - slot:.3g} s late for its slot: the DMM cannot keep up "
+                    f"with "
+                    f"the step's {dt_s:g} s interval; nothing was written",
+                    hint="lower nplc in the bench file's [output] table",
+                )
             stamps[k] = now - t0
             reading = dmm.read()
-            values[k] = float(parse_quantity(reading, dimension="V", field="reading").to(unit_text).magnitude)
+            values[k] = float(
+                parse_quantity(reading, dimension="V", field="reading").to(unit_text).magnitude
+            )
             if progress is not None:
                 progress(f"recording {step.segment}", k + 1, n)
-        cols = {"time": (np.arange(n, dtype=np.float64) * dt_s, "s"),
-                self.config.output.column: (values, unit_text),
-                "read_time": (stamps, "s")}
+        cols = {
+            "time": (np.arange(n, dtype=np.float64) * dt_s, "s"),
+            self.config.output.column: (values, unit_text),
+            "read_time": (stamps, "s"),
+        }
         return _segment(step, dict(step.conditions), cols)
 
     def _record_frames(self, out: "_Opened", plan: StepPlan, progress: Progress | None) -> Segment:
@@ -374,51 +458,75 @@ class BenchStation:
         gyro = out.driver
         fi = getattr(gyro, "interval", None) or spec.frame_interval
         if fi is None:
-            raise DataError(self.config.source, "output.args.interval",
-                            f"driver {spec.driver.name!r} does not say its frame period; give interval = \"…\"")
+            raise DataError(
+                self.config.source,
+                "output.args.interval",
+                f'driver {spec.driver.name!r} does not say its frame period; give interval = "…"',
+            )
         m = int(round(float((step.interval / fi).to("").magnitude)))
         if m < 1 or abs(float((step.interval / fi).to("").magnitude) - m) > 1e-6 * m:
-            raise MetroError(f"step {step.segment!r} samples every {step.interval:~P}, not a whole number of the "
-                             f"gyro's frame periods ({fi:~P})")
+            raise MetroError(
+                f"step {step.segment!r} samples every {step.interval:~P}, not a whole number of "
+                f"the "
+                f"gyro's frame periods ({fi:~P})"
+            )
         if progress is not None:
             progress(f"recording {step.segment}", 0, n)
         gyro.restart()
         rec = gyro.read(n * m)
         if spec.field not in rec.columns:
-            raise DataError(self.config.source, "output.field",
-                            f"the frames have no field {spec.field!r}; fields: {', '.join(rec.columns)}")
+            raise DataError(
+                self.config.source,
+                "output.field",
+                f"the frames have no field {spec.field!r}; fields: {', '.join(rec.columns)}",
+            )
         clean = not rec.issues
         if not clean and not (spec.allow_unclean or self.allow_unclean):
-            raise DriverError(gyro.resource, f"frames (step {step.segment})",
-                              "the record is not clean: " + "; ".join(rec.warnings) + "; nothing was written",
-                              hint="re-acquire (check cable, termination, baud rate), or keep such records with "
-                              "their issues written into the segment: allow_unclean = true in [output] or "
-                              "--station-option allow_unclean=true")
+            raise DriverError(
+                gyro.resource,
+                f"frames (step {step.segment})",
+                "the record is not clean: " + "; ".join(rec.warnings) + "; nothing was written",
+                hint="re-acquire (check cable, termination, baud rate), or keep such records with "
+                "their issues written into the segment: allow_unclean = true in [output] or "
+                "--station-option allow_unclean=true",
+            )
         q = rec.columns[spec.field]
         unit_text = spec.unit or f"{q.units:D}" or "1"
         try:
             x = np.asarray(q.to(unit_text).magnitude, dtype=np.float64)
         except pint.DimensionalityError as exc:
-            raise DataError(self.config.source, "output.unit",
-                            f"the field {spec.field!r} is in {q.units:~P}, which cannot be given in {unit_text}") from exc
+            raise DataError(
+                self.config.source,
+                "output.unit",
+                f"the field {spec.field!r} is in {q.units:~P}, which cannot be given in "
+                f"{unit_text}",
+            ) from exc
         window = np.asarray(rec.counter, dtype=np.int64) // m
         keep = window < n
         counts = np.bincount(window[keep], minlength=n)[:n]
         if np.any(counts == 0):
             k = int(np.flatnonzero(counts == 0)[0])
-            raise DriverError(gyro.resource, f"frames (step {step.segment}, sample {k})",
-                              f"every frame of sample {k} is missing: a sample cannot be made from nothing; "
-                              + "; ".join(rec.warnings), hint="re-acquire")
+            raise DriverError(
+                gyro.resource,
+                f"frames (step {step.segment}, sample {k})",
+                f"every frame of sample {k} is missing: a sample cannot be made from nothing; "
+                + "; ".join(rec.warnings),
+                hint="re-acquire",
+            )
         if spec.aggregate == "sum" and np.any(counts < m):
-            raise DriverError(gyro.resource, f"frames (step {step.segment})",
-                              "frames are missing and the output is summed (increments): a sample with missing "
-                              "frames would be short by what they held; " + "; ".join(rec.warnings),
-                              hint="re-acquire")
+            raise DriverError(
+                gyro.resource,
+                f"frames (step {step.segment})",
+                "frames are missing and the output is summed (increments): a sample with missing "
+                "frames would be short by what they held; " + "; ".join(rec.warnings),
+                hint="re-acquire",
+            )
         sums = np.bincount(window[keep], weights=x[keep], minlength=n)[:n]
         values = sums if spec.aggregate == "sum" else sums / counts
         cols: dict[str, tuple[np.ndarray, str]] = {
             "time": (np.arange(n, dtype=np.float64) * float(step.interval.to("s").magnitude), "s"),
-            spec.column: (values, unit_text)}
+            spec.column: (values, unit_text),
+        }
         conditions = dict(step.conditions)
         if not clean:
             cols["frames"] = (counts.astype(np.int64), "1")
@@ -439,7 +547,9 @@ def _instructions(step: Step, state: dict[str, str | None]) -> tuple[list[str], 
     mount_keys = [k for k in _MOUNTING if k in c and not (shock and k == "axis")]
     changed = [k for k in mount_keys if state.get(k) != c[k]]
     if changed:
-        out.append("mount the device: " + ", ".join(f"{k.replace('_', ' ')} {raw[k]}" for k in mount_keys))
+        out.append(
+            "mount the device: " + ", ".join(f"{k.replace('_', ' ')} {raw[k]}" for k in mount_keys)
+        )
     for k in mount_keys:
         state[k] = c[k]
     if "temperature" in c and state["temperature"] != c["temperature"]:
@@ -464,13 +574,22 @@ def _instructions(step: Step, state: dict[str, str | None]) -> tuple[list[str], 
     return out, cycle
 
 
-def _segment(step: Step, conditions: dict[str, Any], cols: dict[str, tuple[np.ndarray, str]]) -> Segment:
+def _segment(
+    step: Step, conditions: dict[str, Any], cols: dict[str, tuple[np.ndarray, str]]
+) -> Segment:
     h = hashlib.sha256()
     for name, (a, u) in cols.items():
         h.update(f"{name} [{u}]".encode())
         h.update(np.ascontiguousarray(a).tobytes())
-    return Segment(id=step.segment, kind=step.kind, conditions=conditions, interval=step.interval, file=None,
-                   sha256=h.hexdigest(), loader=lambda c=cols: c)
+    return Segment(
+        id=step.segment,
+        kind=step.kind,
+        conditions=conditions,
+        interval=step.interval,
+        file=None,
+        sha256=h.hexdigest(),
+        loader=lambda c=cols: c,
+    )
 
 
 @attrs.define
@@ -515,12 +634,19 @@ class _Drivers:
             self.table_identity = _describe(ident)
             eq = self.table.equipment()
             if not isinstance(eq, Equipment):
-                raise DriverError(self.table.resource or self.config.table.name, "equipment()",
-                                  f"driver {self.config.table.name!r} returned {eq!r}, not an Equipment")
+                raise DriverError(
+                    self.table.resource or self.config.table.name,
+                    "equipment()",
+                    f"driver {self.config.table.name!r} returned {eq!r}, not an Equipment",
+                )
             self._table_eq = attrs.evolve(
-                eq, manufacturer=ident.manufacturer or eq.manufacturer, model=ident.model or eq.model,
-                serial=ident.serial or eq.serial, role=self.config.table_role or eq.role,
-                calibration=self.config.table_calibration or eq.calibration)
+                eq,
+                manufacturer=ident.manufacturer or eq.manufacturer,
+                model=ident.model or eq.model,
+                serial=ident.serial or eq.serial,
+                role=self.config.table_role or eq.role,
+                calibration=self.config.table_calibration or eq.calibration,
+            )
             self._output = _Opened(self.config.output.driver, self.config.output.driver.open())
             oid = self._output.driver.identify()
             self.output_identity = _describe(oid)
@@ -535,12 +661,22 @@ class _Drivers:
         e = self.config.output.equipment
         if e is not None:
             oid = self._output_ident
-            out.append(attrs.evolve(e, manufacturer=e.manufacturer or oid.manufacturer, model=e.model or oid.model,
-                                    serial=e.serial or oid.serial))
+            out.append(
+                attrs.evolve(
+                    e,
+                    manufacturer=e.manufacturer or oid.manufacturer,
+                    model=e.model or oid.model,
+                    serial=e.serial or oid.serial,
+                )
+            )
         return out + list(self.config.equipment)
 
-    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
-                 tb: TracebackType | None) -> None:
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
         problems: list[BaseException] = []
         if self._table is not None:
             try:
@@ -586,21 +722,41 @@ def bench_station_factory(registry: Any, **options: Any) -> BenchStation:
     unknown = sorted(set(options) - _OPTIONS)
     if unknown:
         extra = " (--seed is for simulated stations)" if "seed" in unknown else ""
-        raise DataError(None, f"station option {unknown[0]}",
-                        f"the bench station does not take {', '.join(unknown)}{extra}; it takes config, "
-                        "assume_ready, allow_unclean, warmed_up")
+        raise DataError(
+            None,
+            f"station option {unknown[0]}",
+            f"the bench station does not take {', '.join(unknown)}{extra}; it takes config, "
+            "assume_ready, allow_unclean, warmed_up",
+        )
     if "config" not in options:
-        raise DataError(None, "station option config", "missing: the bench file",
-                        hint="--station-option config=bench.toml (format: docs/instruments.md, Bench station)")
+        raise DataError(
+            None,
+            "station option config",
+            "missing: the bench file",
+            hint="--station-option config=bench.toml (format: docs/instruments.md, Bench station)",
+        )
     cfg = load_bench(str(options["config"]), registry.drivers)
-    flags = {k: flag_value(options[k], cfg.source, f"station option {k}")
-             for k in ("assume_ready", "allow_unclean", "warmed_up") if k in options}
+    flags = {
+        k: flag_value(options[k], cfg.source, f"station option {k}")
+        for k in ("assume_ready", "allow_unclean", "warmed_up")
+        if k in options
+    }
     clock = options.get("clock") or SystemClock()
-    if not (callable(getattr(clock, "monotonic", None)) and callable(getattr(clock, "sleep", None))):
-        raise DataError(None, "station option clock", f"{clock!r} is not a clock (monotonic() and sleep(s))",
-                        hint="the clock and the operator are given from Python, not on the command line")
+    if not (
+        callable(getattr(clock, "monotonic", None)) and callable(getattr(clock, "sleep", None))
+    ):
+        raise DataError(
+            None,
+            "station option clock",
+            f"{clock!r} is not a clock (monotonic() and sleep(s))",
+            hint="the clock and the operator are given from Python, not on the command line",
+        )
     operator = options.get("operator")
     if operator is not None and not callable(operator):
-        raise DataError(None, "station option operator", f"{operator!r} is not a callable operator(instruction, step)",
-                        hint="the clock and the operator are given from Python, not on the command line")
+        raise DataError(
+            None,
+            "station option operator",
+            f"{operator!r} is not a callable operator(instruction, step)",
+            hint="the clock and the operator are given from Python, not on the command line",
+        )
     return BenchStation(cfg, clock=clock, operator=operator, **flags)

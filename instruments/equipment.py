@@ -4,9 +4,11 @@ Every model is an ``attrs.frozen`` value holding its accuracy parameters as pint
 (checked against their dimension when the model is made) and its calibration data.  A model
 does two things:
 
-* :meth:`~EquipmentModel.equipment` gives the :class:`~metro.core.model.campaign.Equipment` a campaign
+* :meth:`~EquipmentModel.equipment` gives the :class:`~metro.core.model.campaign.Equipment` a
+campaign
   carries — its ``role``, its accuracy parameters as properties and a
-  :class:`~metro.core.model.campaign.Calibration` (certificate id, U, k, due date) — which the procedures
+  :class:`~metro.core.model.campaign.Calibration` (certificate id, U, k, due date) — which the
+  procedures
   read as type B components of their budgets (``campaign.equipment_for(role)``);
 * its *act* methods reproduce, in simulation, the errors it states: a rate table turns at the set
   rate with its band's systematic error and ripple, a DMM adds its reading error and rounds to
@@ -68,10 +70,13 @@ __all__ = [
 
 
 def q_of(dimension: str) -> Callable[[Any], pint.Quantity]:
-    """attrs converter: a quantity (or its text) of ``dimension``; a bare number only if dimensionless."""
+    """attrs converter: a quantity (or its text) of ``dimension``; a bare number only if
+    dimensionless."""
 
     def conv(v: Any) -> pint.Quantity:
-        return parse_quantity(v, dimension=dimension, field=f"equipment parameter ({dimension or 'ratio'})")
+        return parse_quantity(
+            v, dimension=dimension, field=f"equipment parameter ({dimension or 'ratio'})"
+        )
 
     return conv
 
@@ -83,8 +88,9 @@ def _opt_q(dimension: str) -> Callable[[Any], pint.Quantity | None]:
 
 def non_negative(inst: Any, attribute: attrs.Attribute, value: pint.Quantity) -> None:
     if value is not None and float(np.min(value.magnitude)) < 0:
-        raise DataError(None, f"{type(inst).__name__}.{attribute.name}",
-                        f"must not be negative (got {value})")
+        raise DataError(
+            None, f"{type(inst).__name__}.{attribute.name}", f"must not be negative (got {value})"
+        )
 
 
 def _f(q: pint.Quantity, unit: str) -> float:
@@ -100,7 +106,8 @@ def _arr(q: Any, unit: str, name: str) -> np.ndarray:
 
 
 def fixed_rng(seed: int, *tags: Any) -> np.random.Generator:
-    """A generator for an instrument's fixed errors: the same instrument (seed) and tags, the same draw."""
+    """A generator for an instrument's fixed errors: the same instrument (seed) and tags, the
+    same draw."""
     words = [int(seed) & 0xFFFFFFFF] + [zlib.crc32(repr(t).encode()) for t in tags]
     return np.random.default_rng(words)
 
@@ -123,11 +130,15 @@ class EquipmentModel:
     serial: str = ""
     role: str = ""
     certificate: str = ""
-    U: pint.Quantity | None = attrs.field(default=None, converter=lambda v: _U_dim(None)(v), validator=non_negative)
+    U: pint.Quantity | None = attrs.field(
+        default=None, converter=lambda v: _U_dim(None)(v), validator=non_negative
+    )
     k: float = 2.0
     due: dt.date | None = None
     lab: str = ""
-    distribution: str = attrs.field(default="normal", validator=attrs.validators.in_(("normal", "uniform")))
+    distribution: str = attrs.field(
+        default="normal", validator=attrs.validators.in_(("normal", "uniform"))
+    )
     seed: int = 1
 
     #: the role a model of this class takes unless ``role`` is given (set by each subclass)
@@ -135,14 +146,22 @@ class EquipmentModel:
 
     def __attrs_post_init__(self) -> None:
         if self.certificate and self.U is None:
-            raise DataError(None, f"{self.id}.U", "a certificate is given without its expanded uncertainty U")
+            raise DataError(
+                None, f"{self.id}.U", "a certificate is given without its expanded uncertainty U"
+            )
 
     @property
     def calibration(self) -> Calibration | None:
         if not self.certificate:
             return None
-        return Calibration(self.certificate, self.U, k=float(self.k), due=self.due, lab=self.lab,
-                           distribution=self.distribution)
+        return Calibration(
+            self.certificate,
+            self.U,
+            k=float(self.k),
+            due=self.due,
+            lab=self.lab,
+            distribution=self.distribution,
+        )
 
     def properties(self) -> dict[str, Any]:
         """The accuracy parameters as equipment properties (names the procedures read)."""
@@ -151,8 +170,15 @@ class EquipmentModel:
     def equipment(self) -> Equipment:
         """The :class:`Equipment` a campaign carries for this instrument."""
         role = self.role or type(self).ROLE
-        return Equipment(id=self.id, model=self.model, serial=self.serial, manufacturer=self.manufacturer,
-                         role=role, properties=self.properties(), calibration=self.calibration)
+        return Equipment(
+            id=self.id,
+            model=self.model,
+            serial=self.serial,
+            manufacturer=self.manufacturer,
+            role=role,
+            properties=self.properties(),
+            calibration=self.calibration,
+        )
 
 
 def _U_dim(dimension: str | None):
@@ -184,7 +210,11 @@ class RateBand:
 
 
 def _default_bands() -> tuple[RateBand, ...]:
-    return (RateBand("1 deg/s", 1e-4, 1e-3), RateBand("10 deg/s", 1e-5, 1e-4), RateBand("1000 deg/s", 5e-6, 2e-5))
+    return (
+        RateBand("1 deg/s", 1e-4, 1e-3),
+        RateBand("10 deg/s", 1e-5, 1e-4),
+        RateBand("1000 deg/s", 5e-6, 2e-5),
+    )
 
 
 @attrs.frozen(kw_only=True)
@@ -199,20 +229,26 @@ class RateTable(EquipmentModel):
 
     ROLE = "rate_table"
     bands: tuple[RateBand, ...] = attrs.field(factory=_default_bands, converter=tuple)
-    angle_resolution: pint.Quantity = attrs.field(default=Q_(0.36, "arcsec"), converter=q_of("arcsec"),
-                                                  validator=non_negative)
-    revolution_pulse_accuracy: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=q_of("arcsec"),
-                                                           validator=non_negative)
+    angle_resolution: pint.Quantity = attrs.field(
+        default=Q_(0.36, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
+    revolution_pulse_accuracy: pint.Quantity = attrs.field(
+        default=Q_(2.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
 
     def __attrs_post_init__(self) -> None:
         super().__attrs_post_init__()
         ups = [_f(b.upper, "deg/s") for b in self.bands]
         if not ups or ups != sorted(ups):
-            raise DataError(None, f"{self.id}.bands", "give at least one band, by increasing upper rate")
+            raise DataError(
+                None, f"{self.id}.bands", "give at least one band, by increasing upper rate"
+            )
 
     def properties(self) -> dict[str, Any]:
-        p: dict[str, Any] = {"revolution_pulse_accuracy": self.revolution_pulse_accuracy,
-                             "angle_resolution": self.angle_resolution}
+        p: dict[str, Any] = {
+            "revolution_pulse_accuracy": self.revolution_pulse_accuracy,
+            "angle_resolution": self.angle_resolution,
+        }
         for i, b in enumerate(self.bands, 1):
             p[f"rate_band_{i}_upper"] = b.upper
             p[f"rate_band_{i}_error"] = b.error
@@ -225,7 +261,9 @@ class RateTable(EquipmentModel):
         for b in self.bands:
             if r <= _f(b.upper, "deg/s"):
                 return b
-        raise DataError(None, "rate", f"{r:g} °/s is beyond the table's range ({self.bands[-1].upper})")
+        raise DataError(
+            None, "rate", f"{r:g} °/s is beyond the table's range ({self.bands[-1].upper})"
+        )
 
     def systematic_error(self, setpoint: pint.Quantity) -> float:
         """The table's fixed relative rate error at this set point (inside ±band error)."""
@@ -233,7 +271,9 @@ class RateTable(EquipmentModel):
         e = float(b.error.to("").magnitude)
         return float(fixed_rng(self.seed, "rate", round(_f(setpoint, "deg/s"), 9)).uniform(-e, e))
 
-    def actual_rate(self, setpoint: pint.Quantity, n: int, rng: np.random.Generator) -> pint.Quantity:
+    def actual_rate(
+        self, setpoint: pint.Quantity, n: int, rng: np.random.Generator
+    ) -> pint.Quantity:
         """``n`` samples of the rate the table actually turns at: Ω·(1 + δ) + Ω·ripple·N(0, 1)."""
         om = _f(parse_quantity(setpoint, dimension="deg/s", field="setpoint"), "deg/s")
         rip = float(self.band(setpoint).ripple.to("").magnitude)
@@ -241,8 +281,9 @@ class RateTable(EquipmentModel):
         noise = rng.normal(0.0, abs(om) * rip, size=n) if rip > 0 else np.zeros(n)
         return Q_(mean + noise, "deg/s")
 
-    def angle_output(self, rate: pint.Quantity, interval: pint.Quantity,
-                     start: pint.Quantity | None = None) -> tuple[pint.Quantity, pint.Quantity]:
+    def angle_output(
+        self, rate: pint.Quantity, interval: pint.Quantity, start: pint.Quantity | None = None
+    ) -> tuple[pint.Quantity, pint.Quantity]:
         """The table's angle readings at the end of each sample for this rate record, and the
         true angle at the end (pass it as ``start`` of the next chunk).
 
@@ -251,15 +292,23 @@ class RateTable(EquipmentModel):
         """
         w = _arr(rate, "deg/s", "rate")
         dt_s = _f(parse_quantity(interval, dimension="s", field="interval"), "s")
-        start = Q_(0.0, "deg") if start is None else parse_quantity(start, dimension="deg", field="start")
+        start = (
+            Q_(0.0, "deg")
+            if start is None
+            else parse_quantity(start, dimension="deg", field="start")
+        )
         theta = _f(start, "arcsec") + np.cumsum(w) * dt_s * 3600.0
         res = _f(self.angle_resolution, "arcsec")
         read = np.floor(theta / res) * res if res > 0 else theta
-        return Q_(read, "arcsec").to("deg"), Q_(float(theta[-1]) if theta.size else _f(start, "arcsec"),
-                                                 "arcsec").to("deg")
+        return Q_(read, "arcsec").to("deg"), Q_(
+            float(theta[-1]) if theta.size else _f(start, "arcsec"), "arcsec"
+        ).to("deg")
 
-    def revolution_times(self, rate: pint.Quantity, turns: int, rng: np.random.Generator) -> pint.Quantity:
-        """Times of the ``turns`` revolution pulses at a constant ``rate``: k·360°/Ω, each shifted by
+    def revolution_times(
+        self, rate: pint.Quantity, turns: int, rng: np.random.Generator
+    ) -> pint.Quantity:
+        """Times of the ``turns`` revolution pulses at a constant ``rate``: k·360°/Ω, each shifted
+        by
         the pulse's angle error (uniform in ±``revolution_pulse_accuracy``) divided by Ω."""
         om = abs(_f(parse_quantity(rate, dimension="deg/s", field="rate"), "deg/s"))
         if om <= 0:
@@ -272,10 +321,13 @@ class RateTable(EquipmentModel):
 
 @attrs.frozen(kw_only=True)
 class LevelPlatform(EquipmentModel):
-    """A levelled platform: its top is level within ±``levelness`` (GB/T 45570 D.5 reads ``levelness``)."""
+    """A levelled platform: its top is level within ±``levelness`` (GB/T 45570 D.5 reads
+    ``levelness``)."""
 
     ROLE = "platform"
-    levelness: pint.Quantity = attrs.field(default=Q_(2.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative)
+    levelness: pint.Quantity = attrs.field(
+        default=Q_(2.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
         return {"levelness": self.levelness}
@@ -289,10 +341,13 @@ class LevelPlatform(EquipmentModel):
 @attrs.frozen(kw_only=True)
 class Fixture(EquipmentModel):
     """The gyro's mounting fixture: each time the gyro is re-seated (e.g. turned 180° about its
-    IRA) its axes tilt by up to ±``reseat_tilt`` (GB/T 45570's misalignment items read ``reseat_tilt``)."""
+    IRA) its axes tilt by up to ±``reseat_tilt`` (GB/T 45570's misalignment items read
+    ``reseat_tilt``)."""
 
     ROLE = "fixture"
-    reseat_tilt: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative)
+    reseat_tilt: pint.Quantity = attrs.field(
+        default=Q_(3.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
         return {"reseat_tilt": self.reseat_tilt}
@@ -308,8 +363,9 @@ class Fixture(EquipmentModel):
 class _Positioner(EquipmentModel):
     """A table that sets angles within ±``position_accuracy`` (uniform)."""
 
-    position_accuracy: pint.Quantity = attrs.field(default=Q_(3.0, "arcsec"), converter=q_of("arcsec"),
-                                                   validator=non_negative)
+    position_accuracy: pint.Quantity = attrs.field(
+        default=Q_(3.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
         return {"position_accuracy": self.position_accuracy}
@@ -344,7 +400,9 @@ class TiltTable(_Positioner):
         s = _arr(setpoints, "deg", "setpoints")
         lim = _f(self.tilt_range, "deg")
         if np.any(np.abs(s) > lim):
-            raise DataError(None, "setpoints", f"a tilt beyond ±{lim:g}° cannot be set on {self.id}")
+            raise DataError(
+                None, "setpoints", f"a tilt beyond ±{lim:g}° cannot be set on {self.id}"
+            )
         return super().position(setpoints, rng)
 
 
@@ -354,8 +412,9 @@ class ThreeAxisTable(RateTable):
     (JJF 2003 reads ``position_accuracy``) and turns with the rate bands of :class:`RateTable`."""
 
     ROLE = "table"
-    position_accuracy: pint.Quantity = attrs.field(default=Q_(10.0, "arcsec"), converter=q_of("arcsec"),
-                                                   validator=non_negative)
+    position_accuracy: pint.Quantity = attrs.field(
+        default=Q_(10.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
         p = super().properties()
@@ -383,15 +442,29 @@ class TemperatureChamber(EquipmentModel):
     """
 
     ROLE = "chamber"
-    U: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("K"), validator=non_negative)
-    setpoint_error: pint.Quantity = attrs.field(default=Q_(0.5, "K"), converter=q_of("K"), validator=non_negative)
-    fluctuation: pint.Quantity = attrs.field(default=Q_(0.2, "K"), converter=q_of("K"), validator=non_negative)
-    soak: pint.Quantity = attrs.field(default=Q_(60.0, "min"), converter=q_of("s"), validator=non_negative)
+    U: pint.Quantity | None = attrs.field(
+        default=None, converter=_U_dim("K"), validator=non_negative
+    )
+    setpoint_error: pint.Quantity = attrs.field(
+        default=Q_(0.5, "K"), converter=q_of("K"), validator=non_negative
+    )
+    fluctuation: pint.Quantity = attrs.field(
+        default=Q_(0.2, "K"), converter=q_of("K"), validator=non_negative
+    )
+    soak: pint.Quantity = attrs.field(
+        default=Q_(60.0, "min"), converter=q_of("s"), validator=non_negative
+    )
     cycle: pint.Quantity = attrs.field(default=Q_(10.0, "min"), converter=q_of("s"))
-    uniformity: pint.Quantity | None = attrs.field(default=None, converter=_opt_q("K"), validator=non_negative)
+    uniformity: pint.Quantity | None = attrs.field(
+        default=None, converter=_opt_q("K"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
-        p = {"setpoint_error": self.setpoint_error, "fluctuation": self.fluctuation, "soak": self.soak}
+        p = {
+            "setpoint_error": self.setpoint_error,
+            "fluctuation": self.fluctuation,
+            "soak": self.soak,
+        }
         if self.uniformity is not None:
             p["uniformity"] = self.uniformity
         return p
@@ -402,8 +475,14 @@ class TemperatureChamber(EquipmentModel):
         T = _f(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
         return float(fixed_rng(self.seed, "T", round(T, 6)).uniform(-e, e))
 
-    def temperature(self, setpoint: pint.Quantity, times: pint.Quantity, rng: np.random.Generator, *,
-                    previous: pint.Quantity | None = None) -> pint.Quantity:
+    def temperature(
+        self,
+        setpoint: pint.Quantity,
+        times: pint.Quantity,
+        rng: np.random.Generator,
+        *,
+        previous: pint.Quantity | None = None,
+    ) -> pint.Quantity:
         """Air temperature at ``times`` after the set point was changed from ``previous`` (default:
         already soaked at ``setpoint``)."""
         t = _arr(times, "s", "times")
@@ -422,7 +501,9 @@ class TemperatureChamber(EquipmentModel):
 
     def soaked(self, elapsed: pint.Quantity) -> bool:
         """Whether ``elapsed`` since the last change is at least the soak time."""
-        return _f(parse_quantity(elapsed, dimension="s", field="elapsed"), "s") >= _f(self.soak, "s")
+        return _f(parse_quantity(elapsed, dimension="s", field="elapsed"), "s") >= _f(
+            self.soak, "s"
+        )
 
 
 @attrs.frozen(kw_only=True)
@@ -432,20 +513,31 @@ class FieldGenerator(EquipmentModel):
     by ±``uniformity`` (GB/T 45570 D.5.5 reads ``uniformity``)."""
 
     ROLE = "field_generator"
-    setting_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative)
-    uniformity: pint.Quantity = attrs.field(default=Q_(5.0, "percent"), converter=q_of(""), validator=non_negative)
+    setting_error: pint.Quantity = attrs.field(
+        default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative
+    )
+    uniformity: pint.Quantity = attrs.field(
+        default=Q_(5.0, "percent"), converter=q_of(""), validator=non_negative
+    )
     max_field: pint.Quantity = attrs.field(default=Q_(2.0, "mT"), converter=q_of("mT"))
 
     def properties(self) -> dict[str, Any]:
-        return {"uniformity": self.uniformity, "setting_error": self.setting_error, "max_field": self.max_field}
+        return {
+            "uniformity": self.uniformity,
+            "setting_error": self.setting_error,
+            "max_field": self.max_field,
+        }
 
     def field(self, setpoint: pint.Quantity, position: float = 0.0) -> pint.Quantity:
-        """Field at a point of the test volume; ``position`` ∈ [−1, 1] from the centre to the edge."""
+        """Field at a point of the test volume; ``position`` ∈ [−1, 1] from the centre to the
+        edge."""
         H = _f(parse_quantity(setpoint, dimension="mT", field="setpoint"), "mT")
         if abs(H) > _f(self.max_field, "mT"):
             raise DataError(None, "setpoint", f"{H:g} mT is beyond {self.id}'s {self.max_field}")
         if not -1.0 <= position <= 1.0:
-            raise DataError(None, "position", "must be in [-1, 1] (centre 0, edge of the test volume ±1)")
+            raise DataError(
+                None, "position", "must be in [-1, 1] (centre 0, edge of the test volume ±1)"
+            )
         e = float(self.setting_error.to("").magnitude)
         d = float(fixed_rng(self.seed, "H", round(H, 9)).uniform(-e, e))
         return Q_(H * (1.0 + d) * (1.0 + float(self.uniformity.to("").magnitude) * position), "mT")
@@ -464,23 +556,36 @@ class AngularVibrationTable(EquipmentModel):
     """
 
     ROLE = "angular-vibration"
-    amplitude_error: pint.Quantity = attrs.field(default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative)
-    phase_U: pint.Quantity = attrs.field(default=Q_(0.2, "deg"), converter=q_of("deg"), validator=non_negative)
+    amplitude_error: pint.Quantity = attrs.field(
+        default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative
+    )
+    phase_U: pint.Quantity = attrs.field(
+        default=Q_(0.2, "deg"), converter=q_of("deg"), validator=non_negative
+    )
     frequency_range: tuple[pint.Quantity, pint.Quantity] = attrs.field(
-        default=(Q_(0.1, "Hz"), Q_(500.0, "Hz")), converter=lambda v: tuple(q_of("Hz")(x) for x in v))
+        default=(Q_(0.1, "Hz"), Q_(500.0, "Hz")),
+        converter=lambda v: tuple(q_of("Hz")(x) for x in v),
+    )
 
     def properties(self) -> dict[str, Any]:
-        return {"phase_U": self.phase_U, "amplitude_error": self.amplitude_error,
-                "frequency_min": self.frequency_range[0], "frequency_max": self.frequency_range[1]}
+        return {
+            "phase_U": self.phase_U,
+            "amplitude_error": self.amplitude_error,
+            "frequency_min": self.frequency_range[0],
+            "frequency_max": self.frequency_range[1],
+        }
 
-    def motion(self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
-               ) -> tuple[pint.Quantity, pint.Quantity]:
+    def motion(
+        self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
+    ) -> tuple[pint.Quantity, pint.Quantity]:
         """(true rate, reference sensor reading) at ``times``."""
         a = _f(parse_quantity(amplitude, dimension="deg/s", field="amplitude"), "deg/s")
         f = _f(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
         lo, hi = (_f(x, "Hz") for x in self.frequency_range)
         if not lo <= f <= hi:
-            raise DataError(None, "frequency", f"{f:g} Hz is outside {self.id}'s range {lo:g}–{hi:g} Hz")
+            raise DataError(
+                None, "frequency", f"{f:g} Hz is outside {self.id}'s range {lo:g}–{hi:g} Hz"
+            )
         t = _arr(times, "s", "times")
         r = fixed_rng(self.seed, "avt", round(f, 9))
         e = float(self.amplitude_error.to("").magnitude)
@@ -498,28 +603,43 @@ class LinearShaker(EquipmentModel):
     budget the applied level from it (GB/T 45570's vibration items read ``level_accuracy``)."""
 
     ROLE = "vibration"
-    amplitude_error: pint.Quantity = attrs.field(default=Q_(0.05, ""), converter=q_of(""), validator=non_negative)
-    frequency_error: pint.Quantity = attrs.field(default=Q_(1e-3, ""), converter=q_of(""), validator=non_negative)
+    amplitude_error: pint.Quantity = attrs.field(
+        default=Q_(0.05, ""), converter=q_of(""), validator=non_negative
+    )
+    frequency_error: pint.Quantity = attrs.field(
+        default=Q_(1e-3, ""), converter=q_of(""), validator=non_negative
+    )
     max_acceleration: pint.Quantity = attrs.field(default=Q_(20.0, "gn"), converter=q_of("gn"))
-    level_accuracy: pint.Quantity | None = attrs.field(default=None, converter=_U_dim("gn"), validator=non_negative)
+    level_accuracy: pint.Quantity | None = attrs.field(
+        default=None, converter=_U_dim("gn"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
-        p = {"amplitude_error": self.amplitude_error, "frequency_error": self.frequency_error,
-             "max_acceleration": self.max_acceleration}
+        p = {
+            "amplitude_error": self.amplitude_error,
+            "frequency_error": self.frequency_error,
+            "max_acceleration": self.max_acceleration,
+        }
         if self.level_accuracy is not None:
             p["level_accuracy"] = self.level_accuracy
         return p
 
-    def acceleration(self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
-                     ) -> pint.Quantity:
+    def acceleration(
+        self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
+    ) -> pint.Quantity:
         a = _f(parse_quantity(amplitude, dimension="gn", field="amplitude"), "gn")
         if abs(a) > _f(self.max_acceleration, "gn"):
-            raise DataError(None, "amplitude", f"{a:g} g is beyond {self.id}'s {self.max_acceleration}")
+            raise DataError(
+                None, "amplitude", f"{a:g} g is beyond {self.id}'s {self.max_acceleration}"
+            )
         f = _f(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
         r = fixed_rng(self.seed, "shaker", round(a, 9), round(f, 9))
         ea, ef = (float(x.to("").magnitude) for x in (self.amplitude_error, self.frequency_error))
         t = _arr(times, "s", "times")
-        return Q_(a * (1 + r.uniform(-ea, ea)) * np.sin(2 * math.pi * f * (1 + r.uniform(-ef, ef)) * t), "gn")
+        return Q_(
+            a * (1 + r.uniform(-ea, ea)) * np.sin(2 * math.pi * f * (1 + r.uniform(-ef, ef)) * t),
+            "gn",
+        )
 
 
 @attrs.frozen(kw_only=True)
@@ -529,21 +649,32 @@ class ShockTable(EquipmentModel):
     ``duration_accuracy``)."""
 
     ROLE = "shock"
-    peak_error: pint.Quantity = attrs.field(default=Q_(0.1, ""), converter=q_of(""), validator=non_negative)
-    duration_accuracy: pint.Quantity = attrs.field(default=Q_(1.0, "ms"), converter=q_of("s"), validator=non_negative)
+    peak_error: pint.Quantity = attrs.field(
+        default=Q_(0.1, ""), converter=q_of(""), validator=non_negative
+    )
+    duration_accuracy: pint.Quantity = attrs.field(
+        default=Q_(1.0, "ms"), converter=q_of("s"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
         return {"peak_error": self.peak_error, "duration_accuracy": self.duration_accuracy}
 
-    def pulse(self, peak: pint.Quantity, duration: pint.Quantity, interval: pint.Quantity,
-              rng: np.random.Generator) -> pint.Quantity:
+    def pulse(
+        self,
+        peak: pint.Quantity,
+        duration: pint.Quantity,
+        interval: pint.Quantity,
+        rng: np.random.Generator,
+    ) -> pint.Quantity:
         """One half-sine pulse sampled every ``interval`` (and one zero sample either side)."""
         p = _f(parse_quantity(peak, dimension="gn", field="peak"), "gn")
         d = _f(parse_quantity(duration, dimension="s", field="duration"), "s")
         dt_s = _f(parse_quantity(interval, dimension="s", field="interval"), "s")
         ep, ed = float(self.peak_error.to("").magnitude), _f(self.duration_accuracy, "s")
         if ed >= d:
-            raise DataError(None, "duration", f"{d:g} s is not longer than {self.id}'s duration accuracy")
+            raise DataError(
+                None, "duration", f"{d:g} s is not longer than {self.id}'s duration accuracy"
+            )
         p *= 1 + rng.uniform(-ep, ep)
         d += rng.uniform(-ed, ed)
         t = np.arange(-dt_s, d + 2 * dt_s, dt_s)
@@ -571,8 +702,12 @@ class DigitalMultimeter(EquipmentModel):
 
     ROLE = "dmm"
     range: pint.Quantity = attrs.field(default=Q_(10.0, "V"), converter=_meter_range)
-    reading_error: pint.Quantity = attrs.field(default=Q_(35.0, "ppm"), converter=q_of(""), validator=non_negative)
-    range_error: pint.Quantity = attrs.field(default=Q_(5.0, "ppm"), converter=q_of(""), validator=non_negative)
+    reading_error: pint.Quantity = attrs.field(
+        default=Q_(35.0, "ppm"), converter=q_of(""), validator=non_negative
+    )
+    range_error: pint.Quantity = attrs.field(
+        default=Q_(5.0, "ppm"), converter=q_of(""), validator=non_negative
+    )
     digits: float = 6.5
 
     @property
@@ -584,24 +719,39 @@ class DigitalMultimeter(EquipmentModel):
         return self.range / 10 ** math.floor(self.digits)
 
     def properties(self) -> dict[str, Any]:
-        return {"range": self.range, "reading_error": self.reading_error, "range_error": self.range_error,
-                "resolution": self.resolution}
+        return {
+            "range": self.range,
+            "reading_error": self.reading_error,
+            "range_error": self.range_error,
+            "resolution": self.resolution,
+        }
 
     def error_bound(self, values: pint.Quantity) -> pint.Quantity:
         """The stated maximum error at these readings (without the rounding's half step)."""
         u = self._unit
         v = np.abs(_arr(values, u, "values"))
-        return Q_(float(self.reading_error.to("").magnitude) * v
-                  + float(self.range_error.to("").magnitude) * _f(self.range, u), u)
+        return Q_(
+            float(self.reading_error.to("").magnitude) * v
+            + float(self.range_error.to("").magnitude) * _f(self.range, u),
+            u,
+        )
 
     def read(self, values: pint.Quantity) -> pint.Quantity:
         """What the meter reads for these true values (returned in the unit they were given)."""
         u = self._unit
-        q = values if isinstance(values, pint.Quantity) else parse_quantity(values, dimension=u, field="values")
+        q = (
+            values
+            if isinstance(values, pint.Quantity)
+            else parse_quantity(values, dimension=u, field="values")
+        )
         v = _arr(q, u, "values")
         rng_v = _f(self.range, u)
         if np.any(np.abs(v) > 1.2 * rng_v):
-            raise DataError(None, "values", f"overload: a reading beyond 1.2 × the {self.range} range of {self.id}")
+            raise DataError(
+                None,
+                "values",
+                f"overload: a reading beyond 1.2 × the {self.range} range of {self.id}",
+            )
         r = fixed_rng(self.seed, "dmm", rng_v)
         gain = r.uniform(-1, 1) * float(self.reading_error.to("").magnitude)
         offset = r.uniform(-1, 1) * float(self.range_error.to("").magnitude) * rng_v
@@ -617,7 +767,9 @@ class Counter(EquipmentModel):
     carried into the next gate, so no pulse is lost or counted twice."""
 
     ROLE = "counter"
-    timebase_error: pint.Quantity = attrs.field(default=Q_(5e-8, ""), converter=q_of(""), validator=non_negative)
+    timebase_error: pint.Quantity = attrs.field(
+        default=Q_(5e-8, ""), converter=q_of(""), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
         return {"timebase_error": self.timebase_error}
@@ -652,7 +804,9 @@ class ADC(EquipmentModel):
     def __attrs_post_init__(self) -> None:
         super().__attrs_post_init__()
         if not 2 <= int(self.bits) <= 32:
-            raise DataError(None, f"{self.id}.bits", f"{self.bits} bits is not a converter (2 … 32)")
+            raise DataError(
+                None, f"{self.id}.bits", f"{self.bits} bits is not a converter (2 … 32)"
+            )
 
     @property
     def lsb(self) -> pint.Quantity:
@@ -673,17 +827,26 @@ class ADC(EquipmentModel):
         """The voltages the converter reports (code × LSB); clipping is an error."""
         c, clipped = self.codes(volts)
         if clipped:
-            raise DataError(None, "volts", f"{clipped} sample(s) beyond ±{self.full_scale} were clipped by {self.id}")
+            raise DataError(
+                None,
+                "volts",
+                f"{clipped} sample(s) beyond ±{self.full_scale} were clipped by {self.id}",
+            )
         return Q_(c * _f(self.lsb, "V"), "V")
 
 
 @attrs.frozen(kw_only=True)
 class Timer(EquipmentModel):
-    """Timer: measures intervals with relative error within ±``accuracy`` and rounds to ``resolution``."""
+    """Timer: measures intervals with relative error within ±``accuracy`` and rounds to
+    ``resolution``."""
 
     ROLE = "timer"
-    accuracy: pint.Quantity = attrs.field(default=Q_(5e-7, ""), converter=q_of(""), validator=non_negative)
-    resolution: pint.Quantity = attrs.field(default=Q_(1e-6, "s"), converter=q_of("s"), validator=non_negative)
+    accuracy: pint.Quantity = attrs.field(
+        default=Q_(5e-7, ""), converter=q_of(""), validator=non_negative
+    )
+    resolution: pint.Quantity = attrs.field(
+        default=Q_(1e-6, "s"), converter=q_of("s"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
         return {"accuracy": self.accuracy, "resolution": self.resolution}
@@ -704,14 +867,22 @@ class AngleTurntable(_Positioner):
     items read it) are stated too."""
 
     ROLE = "turntable"
-    position_accuracy: pint.Quantity = attrs.field(default=Q_(0.1, "arcsec"), converter=q_of("arcsec"),
-                                                   validator=non_negative)
-    axis_wobble: pint.Quantity = attrs.field(default=Q_(0.3, "arcsec"), converter=q_of("arcsec"), validator=non_negative)
-    parallelism: pint.Quantity = attrs.field(default=Q_(0.1, "deg"), converter=q_of("deg"), validator=non_negative)
+    position_accuracy: pint.Quantity = attrs.field(
+        default=Q_(0.1, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
+    axis_wobble: pint.Quantity = attrs.field(
+        default=Q_(0.3, "arcsec"), converter=q_of("arcsec"), validator=non_negative
+    )
+    parallelism: pint.Quantity = attrs.field(
+        default=Q_(0.1, "deg"), converter=q_of("deg"), validator=non_negative
+    )
 
     def properties(self) -> dict[str, Any]:
-        return {"axis_wobble": self.axis_wobble, "parallelism": self.parallelism,
-                "position_accuracy": self.position_accuracy}
+        return {
+            "axis_wobble": self.axis_wobble,
+            "parallelism": self.parallelism,
+            "position_accuracy": self.position_accuracy,
+        }
 
 
 def equipment_list(models: Sequence[EquipmentModel]) -> list[Equipment]:

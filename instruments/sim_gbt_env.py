@@ -57,15 +57,38 @@ def _axis(conditions) -> int:
     return AXES.index(str(conditions.get("axis", "IRA")).upper())
 
 
-def static_segment(station: SimulatedStation, step, index: int, *, n: int, interval_s: float, latitude: float,
-                   offset: float, progress=None) -> Segment:
+def static_segment(
+    station: SimulatedStation,
+    step,
+    index: int,
+    *,
+    n: int,
+    interval_s: float,
+    latitude: float,
+    offset: float,
+    progress=None,
+) -> Segment:
     """The gyro at rest for ``step`` at ``latitude`` with its bias shifted by ``offset`` (°/h)."""
     t = station.truth
-    data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=latitude, orientation="up",
-                           seed=t.seed + index, progress=progress, bias_offset_deg_h=offset)
+    data = simulate_static(
+        t,
+        n=n,
+        interval_s=interval_s,
+        latitude_deg=latitude,
+        orientation="up",
+        seed=t.seed + index,
+        progress=progress,
+        bias_offset_deg_h=offset,
+    )
     unit = output_unit(t)
-    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
-                   sha256=hashlib.sha256(data.tobytes()).hexdigest(), loader=(lambda d=data, u=unit: {"output": (d, u)}))
+    return Segment(
+        id=step.segment,
+        kind=step.kind,
+        conditions=dict(step.conditions),
+        interval=Q_(interval_s, "s"),
+        sha256=hashlib.sha256(data.tobytes()).hexdigest(),
+        loader=(lambda d=data, u=unit: {"output": (d, u)}),
+    )
 
 
 @register_step_kind("tilt")
@@ -73,8 +96,16 @@ def sim_tilt(station, step, index, *, interval_s, n, bias_offset_deg_h, progress
     t = station.truth
     x = EARTH_RATE_DEG_PER_H * math.cos(math.radians(_psi(step.conditions)))
     # latitude 0 removes the vertical earth rate of simulate_static: the input is Ω_e·cos Ψ alone
-    return static_segment(station, step, index, n=n, interval_s=interval_s, latitude=0.0,
-                           offset=bias_offset_deg_h + dead_band_response(t, x), progress=progress)
+    return static_segment(
+        station,
+        step,
+        index,
+        n=n,
+        interval_s=interval_s,
+        latitude=0.0,
+        offset=bias_offset_deg_h + dead_band_response(t, x),
+        progress=progress,
+    )
 
 
 def _environment_shift(truth: GyroTruth, kind: str, conditions) -> float:
@@ -101,38 +132,76 @@ def _mounted_latitude(station: SimulatedStation, conditions) -> float:
 @register_step_kind("vibration")
 def sim_vibration(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
     off = bias_offset_deg_h + _environment_shift(station.truth, "vibration", step.conditions)
-    return static_segment(station, step, index, n=n, interval_s=interval_s,
-                           latitude=_mounted_latitude(station, step.conditions), offset=off, progress=progress)
+    return static_segment(
+        station,
+        step,
+        index,
+        n=n,
+        interval_s=interval_s,
+        latitude=_mounted_latitude(station, step.conditions),
+        offset=off,
+        progress=progress,
+    )
 
 
 @register_step_kind("shock")
 def sim_shock(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
     off = bias_offset_deg_h + _environment_shift(station.truth, "shock", step.conditions)
-    return static_segment(station, step, index, n=n, interval_s=interval_s,
-                           latitude=_mounted_latitude(station, step.conditions), offset=off, progress=progress)
+    return static_segment(
+        station,
+        step,
+        index,
+        n=n,
+        interval_s=interval_s,
+        latitude=_mounted_latitude(station, step.conditions),
+        offset=off,
+        progress=progress,
+    )
 
 
 def transient_per_sample(truth: GyroTruth, n: int, interval_s: float) -> np.ndarray:
     """Mean excess rate (°/h) over each sample interval of A·e^(−t/τ), t from the switch-on."""
     edges = np.arange(n + 1) * interval_s
     tau = truth.setup_tau_s
-    return truth.setup_transient_deg_h * tau * (np.exp(-edges[:-1] / tau) - np.exp(-edges[1:] / tau)) / interval_s
+    return (
+        truth.setup_transient_deg_h
+        * tau
+        * (np.exp(-edges[:-1] / tau) - np.exp(-edges[1:] / tau))
+        / interval_s
+    )
 
 
 @register_step_kind("power-on")
-def sim_power_on(station, step, index, *, interval_s, n, orientation, bias_offset_deg_h, progress=None, **_):
+def sim_power_on(
+    station, step, index, *, interval_s, n, orientation, bias_offset_deg_h, progress=None, **_
+):
     t = station.truth
     # the transient is part of the indicated rate, quantized with it
-    data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=station.latitude_deg,
-                           orientation=orientation, seed=t.seed + index, progress=progress,
-                           bias_offset_deg_h=bias_offset_deg_h, extra_deg_h=transient_per_sample(t, n, interval_s))
+    data = simulate_static(
+        t,
+        n=n,
+        interval_s=interval_s,
+        latitude_deg=station.latitude_deg,
+        orientation=orientation,
+        seed=t.seed + index,
+        progress=progress,
+        bias_offset_deg_h=bias_offset_deg_h,
+        extra_deg_h=transient_per_sample(t, n, interval_s),
+    )
     unit = output_unit(t)
-    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
-                   sha256=hashlib.sha256(data.tobytes()).hexdigest(), loader=(lambda d=data, u=unit: {"output": (d, u)}))
+    return Segment(
+        id=step.segment,
+        kind=step.kind,
+        conditions=dict(step.conditions),
+        interval=Q_(interval_s, "s"),
+        sha256=hashlib.sha256(data.tobytes()).hexdigest(),
+        loader=(lambda d=data, u=unit: {"output": (d, u)}),
+    )
 
 
 def supply_current(truth: GyroTruth, nominal_V: float) -> float:
-    """The current (A) the virtual gyro draws from the supply of this nominal voltage (0 if none)."""
+    """The current (A) the virtual gyro draws from the supply of this nominal voltage (0 if
+    none)."""
     for v, i in truth.power_supplies:
         if abs(v - nominal_V) < 1e-9:
             return i
@@ -152,8 +221,14 @@ def sim_power(station, step, index, *, interval_s, n, **_):
     u = V * (1.0 + rng.normal(0.0, t.power_noise_rel, size=n))
     i = current * (1.0 + rng.normal(0.0, t.power_noise_rel, size=n))
     digest = hashlib.sha256(u.tobytes() + i.tobytes()).hexdigest()
-    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(interval_s, "s"),
-                   sha256=digest, loader=(lambda a=u, b=i: {"voltage": (a, "V"), "current": (b, "A")}))
+    return Segment(
+        id=step.segment,
+        kind=step.kind,
+        conditions=dict(step.conditions),
+        interval=Q_(interval_s, "s"),
+        sha256=digest,
+        loader=(lambda a=u, b=i: {"voltage": (a, "V"), "current": (b, "A")}),
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -164,15 +239,20 @@ def sim_power(station, step, index, *, interval_s, n, **_):
 def tilt_responses(truth: GyroTruth, psis_deg) -> list[tuple[float, float]]:
     """(Ψ, the rate beyond its bias the virtual gyro indicates at Ψ) of noise-free tilt positions:
     what GB/T 45570's plugin turns into the expected threshold (D.37, D.39)."""
-    return [(psi, dead_band_response(truth, EARTH_RATE_DEG_PER_H * math.cos(math.radians(psi))))
-            for psi in psis_deg]
+    return [
+        (psi, dead_band_response(truth, EARTH_RATE_DEG_PER_H * math.cos(math.radians(psi))))
+        for psi in psis_deg
+    ]
 
 
 def power_on_rates(truth: GyroTruth, n: int, interval_s: float, latitude_deg: float) -> np.ndarray:
     """The noise-free indicated rate (°/h) of ``n`` samples from the switch-on, IRA up: what GB/T
     45570's plugin turns into the expected set-up time (6.2.7.7)."""
-    return truth.bias_deg_h + EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + transient_per_sample(
-        truth, n, interval_s)
+    return (
+        truth.bias_deg_h
+        + EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg))
+        + transient_per_sample(truth, n, interval_s)
+    )
 
 
 @register_expected
@@ -186,13 +266,23 @@ def expected_env_items(station: SimulatedStation, camp: Campaign) -> dict[str, A
     for s in camp.segments:
         kinds.setdefault(s.kind, []).append(s)
     if "tilt" in kinds:
-        out |= standard_expected(camp, {"gbt45570:tilt_response": tilt_responses(
-            t, [_psi(s.conditions) for s in kinds["tilt"]])})
+        out |= standard_expected(
+            camp,
+            {
+                "gbt45570:tilt_response": tilt_responses(
+                    t, [_psi(s.conditions) for s in kinds["tilt"]]
+                )
+            },
+        )
     earth_diff = (EARTH_RATE_DEG_PER_H - 15.041) * math.sin(math.radians(lat))
     for kind, tag in (("low-temperature", "low"), ("high-temperature", "high")):
         for s in kinds.get(kind, [])[:1]:
-            T = float(parse_quantity(s.conditions["temperature"], dimension="degC").to("degC").magnitude)
-            out[f"B0_{tag}"] = Q_(t.bias_deg_h + t.bias_tc_deg_h_per_C * (T - t.temp_ref_C) + earth_diff, "deg/h")
+            T = float(
+                parse_quantity(s.conditions["temperature"], dimension="degC").to("degC").magnitude
+            )
+            out[f"B0_{tag}"] = Q_(
+                t.bias_deg_h + t.bias_tc_deg_h_per_C * (T - t.temp_ref_C) + earth_diff, "deg/h"
+            )
     for ax, name in enumerate(AXES):
         out[f"dBV12_{name}"] = Q_(abs(t.vib_shift_during_deg_h[ax]), "deg/h")
         out[f"dBV13_{name}"] = Q_(abs(t.vib_shift_after_deg_h[ax]), "deg/h")
@@ -201,8 +291,17 @@ def expected_env_items(station: SimulatedStation, camp: Campaign) -> dict[str, A
     for s in kinds.get("power-on", [])[:1]:
         dt = float(s.interval.to("s").magnitude)
         n = int(s.columns()["output"][0].size)
-        out |= standard_expected(camp, {"gbt45570:power_on_rate": (power_on_rates(t, n, dt, lat), dt)})
+        out |= standard_expected(
+            camp, {"gbt45570:power_on_rate": (power_on_rates(t, n, dt, lat), dt)}
+        )
     if "power" in kinds:
-        out["P"] = Q_(sum(abs(_supply_voltage(s.conditions) * supply_current(t, _supply_voltage(s.conditions)))
-                          for s in kinds["power"]), "W")
+        out["P"] = Q_(
+            sum(
+                abs(
+                    _supply_voltage(s.conditions) * supply_current(t, _supply_voltage(s.conditions))
+                )
+                for s in kinds["power"]
+            ),
+            "W",
+        )
     return out

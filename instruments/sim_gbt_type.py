@@ -2,7 +2,8 @@
 the inspection items (5.2.3–5.2.8), the 5.4 tests done elsewhere (GB/T 2423.x …) and the
 reliability evidence (5.5), plus the gyro's output before and after each of those tests.
 
-Registered record kinds (``record:<section>.<part>``, :func:`metro.instruments.simulated.register_record_kind`):
+Registered record kinds (``record:<section>.<part>``,
+:func:`metro.instruments.simulated.register_record_kind`):
 ``record:inspection.{appearance,dimensions,mass,supply,interfaces,insulation}``,
 ``record:environmental_tests.<tag>`` (lts, hts, tsh, lp, acc, dh, mould, salt, tvac, rad, emc) and
 ``record:reliability.{mtbf,life}``; step kind ``type-env`` — a static record (IRA up) before or
@@ -41,19 +42,41 @@ class TypeTestTruth:
 
     #: (name, nominal mm, ± tolerance mm, true value mm)
     dimensions: tuple[tuple[str, float, float, float], ...] = (
-        ("length", 80.0, 0.1, 80.031), ("width", 60.0, 0.1, 59.962), ("height", 45.0, 0.1, 45.018))
+        ("length", 80.0, 0.1, 80.031),
+        ("width", 60.0, 0.1, 59.962),
+        ("height", 45.0, 0.1, 45.018),
+    )
     mass_g: float = 1234.6  # with the cable and the four mounting screws delivered with it
     mass_limit: str = "<= 1300 g"
-    #: (terminal pair, true insulation resistance in MΩ); above the megohmmeter's 10 GΩ shows "> 10 GΩ"
+    #: (terminal pair, true insulation resistance in MΩ); above the megohmmeter's 10 GΩ shows "> 10
+    #: GΩ"
     insulation_Mohm: tuple[tuple[str, float], ...] = (
-        ("power+ to case", 2200.0), ("signal to case", 5400.0), ("power+ to signal", 3.0e4))
+        ("power+ to case", 2200.0),
+        ("signal to case", 5400.0),
+        ("power+ to signal", 3.0e4),
+    )
     insulation_voltage_V: float = 500.0
     #: bias change (°/h) after each 5.4 test done elsewhere, by the test's tag
     env_shift_deg_h: tuple[tuple[str, float], ...] = (
-        ("lts", 0.004), ("hts", -0.006), ("tsh", 0.008), ("lp", 0.002), ("acc", -0.003), ("dh", 0.005),
-        ("mould", 0.001), ("salt", -0.002), ("tvac", 0.006), ("rad", 0.007), ("emc", -0.001))
+        ("lts", 0.004),
+        ("hts", -0.006),
+        ("tsh", 0.008),
+        ("lp", 0.002),
+        ("acc", -0.003),
+        ("dh", 0.005),
+        ("mould", 0.001),
+        ("salt", -0.002),
+        ("tvac", 0.006),
+        ("rad", 0.007),
+        ("emc", -0.001),
+    )
     #: relative scale-factor change (ppm) after each test, by tag (the others: none)
-    env_sf_shift_ppm: tuple[tuple[str, float], ...] = (("lts", 6.0), ("hts", -4.0), ("tsh", 9.0), ("acc", 3.0))
+    env_sf_shift_ppm: tuple[tuple[str, float], ...] = (
+        ("lts", 6.0),
+        ("hts", -4.0),
+        ("tsh", 9.0),
+        ("acc", 3.0),
+    )
     operating_hours: float = 62_000.0  # accumulated by all units on the reliability test
     failures: int = 3
     plan: str = "time-terminated"
@@ -88,25 +111,52 @@ def _text(q: pint.Quantity, fmt: str = "g") -> str:
 
 @register_record_kind("record:inspection.appearance")
 def rec_appearance(station, step, index) -> dict:
-    return {"inspection": {"appearance": {"a": True, "b": True, "c": True, "d": True,
-                                          "lighting": "normal lighting (≥ 500 lx)", "inspector": "simulated"}}}
+    return {
+        "inspection": {
+            "appearance": {
+                "a": True,
+                "b": True,
+                "c": True,
+                "d": True,
+                "lighting": "normal lighting (≥ 500 lx)",
+                "inspector": "simulated",
+            }
+        }
+    }
 
 
 @register_record_kind("record:inspection.materials")
 def rec_materials(station, step, index) -> dict:
     if station.device().technology == "laser":
-        m = {"cavity": "glass-ceramic (微晶玻璃)", "mirrors": "glass-ceramic", "housing": "aluminium alloy 2A12"}
+        m = {
+            "cavity": "glass-ceramic (微晶玻璃)",
+            "mirrors": "glass-ceramic",
+            "housing": "aluminium alloy 2A12",
+        }
     else:
-        m = {"fibre": "polarization-maintaining single-mode fibre", "potting": "organic silicone, modulus matched",
-             "housing": "aluminium alloy with permalloy shield"}
+        m = {
+            "fibre": "polarization-maintaining single-mode fibre",
+            "potting": "organic silicone, modulus matched",
+            "housing": "aluminium alloy with permalloy shield",
+        }
     return {"inspection": {"materials": m}}
 
 
 @register_record_kind("record:inspection.function")
 def rec_function(station, step, index) -> dict:
-    return {"inspection": {"function": {"senses": True, "outputs": True,
-                                        "composition": ["optical sensor", "structural assembly",
-                                                        "control circuit with software"]}}}
+    return {
+        "inspection": {
+            "function": {
+                "senses": True,
+                "outputs": True,
+                "composition": [
+                    "optical sensor",
+                    "structural assembly",
+                    "control circuit with software",
+                ],
+            }
+        }
+    }
 
 
 @register_record_kind("record:inspection.dimensions")
@@ -114,8 +164,14 @@ def rec_dimensions(station, step, index) -> dict:
     cal, rng, out = _eq(station, "calliper"), _rng(station, "dimensions"), []
     for name, nominal, tol, true in TRUTH.dimensions:
         vals = cal.read(Q_(true, "mm"), 3, rng, name)
-        out.append({"name": name, "nominal": f"{nominal:g} mm", "tolerance": f"± {tol:g} mm",
-                    "readings": [f"{v.magnitude:.2f} mm" for v in vals]})
+        out.append(
+            {
+                "name": name,
+                "nominal": f"{nominal:g} mm",
+                "tolerance": f"± {tol:g} mm",
+                "readings": [f"{v.magnitude:.2f} mm" for v in vals],
+            }
+        )
     return {"inspection": {"dimensions": out}}
 
 
@@ -123,8 +179,16 @@ def rec_dimensions(station, step, index) -> dict:
 def rec_mass(station, step, index) -> dict:
     vals = _eq(station, "balance").read(Q_(TRUTH.mass_g, "g"), 3, _rng(station, "mass"), "mass")
     parts = ["cable", "connector", "mounting screws"]
-    return {"inspection": {"mass": {"readings": [f"{v.magnitude:.1f} g" for v in vals], "includes": parts,
-                                    "delivered_with": parts, "limit": TRUTH.mass_limit}}}
+    return {
+        "inspection": {
+            "mass": {
+                "readings": [f"{v.magnitude:.1f} g" for v in vals],
+                "includes": parts,
+                "delivered_with": parts,
+                "limit": TRUTH.mass_limit,
+            }
+        }
+    }
 
 
 @register_record_kind("record:inspection.supply")
@@ -133,18 +197,40 @@ def rec_supply(station, step, index) -> dict:
     rails = []
     for v, i in station.truth.power_supplies:
         reads = v * (1 + rng.normal(0.0, 2e-4, size=2))
-        rails.append({"nominal": f"{v:g} V", "tolerance": "± 5 %", "current": f"{abs(i) * 1.5:.3g} A",
-                      "readings": [f"{x:.3f} V" for x in reads]})
+        rails.append(
+            {
+                "nominal": f"{v:g} V",
+                "tolerance": "± 5 %",
+                "current": f"{abs(i) * 1.5:.3g} A",
+                "readings": [f"{x:.3f} V" for x in reads],
+            }
+        )
     total = sum(abs(v * i) for v, i in station.truth.power_supplies)
-    return {"inspection": {"supply": {"voltage_type": "DC", "power": f"{math.ceil(total * 1.5):g} W", "rails": rails}}}
+    return {
+        "inspection": {
+            "supply": {
+                "voltage_type": "DC",
+                "power": f"{math.ceil(total * 1.5):g} W",
+                "rails": rails,
+            }
+        }
+    }
 
 
 @register_record_kind("record:inspection.interfaces")
 def rec_interfaces(station, step, index) -> dict:
-    return {"inspection": {"interfaces": {
-        "mechanical_per_specification": True, "mounting_face_perpendicular": True,
-        "electrical_per_specification": True, "protocol_per_specification": True, "communication": "RS-422",
-        "output_content": ["rate", "voltage", "temperature", "status"]}}}
+    return {
+        "inspection": {
+            "interfaces": {
+                "mechanical_per_specification": True,
+                "mounting_face_perpendicular": True,
+                "electrical_per_specification": True,
+                "protocol_per_specification": True,
+                "communication": "RS-422",
+                "output_content": ["rate", "voltage", "temperature", "status"],
+            }
+        }
+    }
 
 
 @register_record_kind("record:inspection.insulation")
@@ -153,10 +239,20 @@ def rec_insulation(station, step, index) -> dict:
     hi = float(meg.high.to("Mohm").magnitude)
     for pair, R in TRUTH.insulation_Mohm:
         vals = meg.read(Q_(R, "Mohm"), 2, rng, pair)
-        texts = [f"> {hi / 1000:g} GΩ" if v.to("Mohm").magnitude > hi else f"{v.to('Mohm').magnitude:.0f} MΩ"
-                 for v in vals]
-        out.append({"pair": pair, "voltage": f"{TRUTH.insulation_voltage_V:g} V", "state": "non-operating",
-                    "readings": texts})
+        texts = [
+            f"> {hi / 1000:g} GΩ"
+            if v.to("Mohm").magnitude > hi
+            else f"{v.to('Mohm').magnitude:.0f} MΩ"
+            for v in vals
+        ]
+        out.append(
+            {
+                "pair": pair,
+                "voltage": f"{TRUTH.insulation_voltage_V:g} V",
+                "state": "non-operating",
+                "readings": texts,
+            }
+        )
     return {"inspection": {"insulation": out}}
 
 
@@ -165,17 +261,50 @@ def rec_insulation(station, step, index) -> dict:
 #: C.1's aviation column where it states one (the simulated device is an aviation gyro), else
 #: product-specification-like values (the lab's declaration, not read from the standard)
 ENV_TESTS: tuple[tuple[str, str, str, dict[str, str]], ...] = (
-    ("lts", "low-temperature storage", "GB/T 2423.1", {"temperature": "-55 degC", "duration": "16 h"}),
-    ("hts", "high-temperature storage", "GB/T 2423.2", {"temperature": "85 degC", "duration": "16 h"}),
-    ("tsh", "temperature shock", "GB/T 2423.22", {"low_temperature": "-55 degC", "high_temperature": "85 degC",
-                                                  "transfer_time": "2 min", "cycles": "3"}),
+    (
+        "lts",
+        "low-temperature storage",
+        "GB/T 2423.1",
+        {"temperature": "-55 degC", "duration": "16 h"},
+    ),
+    (
+        "hts",
+        "high-temperature storage",
+        "GB/T 2423.2",
+        {"temperature": "85 degC", "duration": "16 h"},
+    ),
+    (
+        "tsh",
+        "temperature shock",
+        "GB/T 2423.22",
+        {
+            "low_temperature": "-55 degC",
+            "high_temperature": "85 degC",
+            "transfer_time": "2 min",
+            "cycles": "3",
+        },
+    ),
     ("lp", "low pressure", "GB/T 2423.21", {"pressure": "3500 Pa", "duration": "2 h"}),
     ("acc", "acceleration", "GB/T 2423.15", {"acceleration": "15 gn", "duration": "1 min"}),
-    ("dh", "damp heat", "GB/T 2423.3", {"temperature": "40 degC", "humidity": "93 %", "duration": "48 h"}),
+    (
+        "dh",
+        "damp heat",
+        "GB/T 2423.3",
+        {"temperature": "40 degC", "humidity": "93 %", "duration": "48 h"},
+    ),
     ("mould", "mould", "GB/T 2423.16", {"duration": "28 day"}),
     ("salt", "salt fog", "GB/T 2423.17", {"duration": "48 h"}),
-    ("tvac", "thermal vacuum", "GB/T 34522", {"pressure": "6.0e-3 Pa", "low_temperature": "-45 degC",
-                                              "high_temperature": "85 degC", "cycles": "3"}),
+    (
+        "tvac",
+        "thermal vacuum",
+        "GB/T 34522",
+        {
+            "pressure": "6.0e-3 Pa",
+            "low_temperature": "-45 degC",
+            "high_temperature": "85 degC",
+            "cycles": "3",
+        },
+    ),
     ("rad", "radiation", "GB/T 4937.18", {"total_dose": "200 Gy"}),
     ("emc", "emc", "product specification", {}),
 )
@@ -183,11 +312,21 @@ ENV_TESTS: tuple[tuple[str, str, str, dict[str, str]], ...] = (
 
 def _env_record(tag: str, key: str, method: str, severity: dict[str, str]):
     def take_down(station, step, index) -> dict:
-        rec = {"test": key, "standard": method, "lab": "simulated environmental lab",
-               "report": f"SIM-ENV-{tag.upper()}", "severity": dict(severity), "functional_check": True,
-               "before": f"env-{tag}-before", "after": f"env-{tag}-after",
-               "required": {"bias_change": "± 0.05 deg/h", "scale_factor_change": "± 30 ppm",
-                            "source": "simulated product specification"}}
+        rec = {
+            "test": key,
+            "standard": method,
+            "lab": "simulated environmental lab",
+            "report": f"SIM-ENV-{tag.upper()}",
+            "severity": dict(severity),
+            "functional_check": True,
+            "before": f"env-{tag}-before",
+            "after": f"env-{tag}-after",
+            "required": {
+                "bias_change": "± 0.05 deg/h",
+                "scale_factor_change": "± 30 ppm",
+                "source": "simulated product specification",
+            },
+        }
         if key == "emc":
             rec["notes"] = "CE102/RE102/CS101/RS103 per the technical agreement"
         return {"environmental_tests": [rec]}
@@ -197,20 +336,32 @@ def _env_record(tag: str, key: str, method: str, severity: dict[str, str]):
 
 def _register_env() -> None:
     for tag, key, method, severity in ENV_TESTS:
-        register_record_kind(f"record:environmental_tests.{tag}")(_env_record(tag, key, method, severity))
+        register_record_kind(f"record:environmental_tests.{tag}")(
+            _env_record(tag, key, method, severity)
+        )
 
 
 @register_record_kind("record:reliability.mtbf")
 def rec_mtbf(station, step, index) -> dict:
-    return {"reliability": {"operating_hours": f"{TRUTH.operating_hours:g} h", "failures": TRUTH.failures,
-                            "plan": TRUTH.plan, "confidence": TRUTH.confidence,
-                            "source": "simulated reliability growth and demonstration records"}}
+    return {
+        "reliability": {
+            "operating_hours": f"{TRUTH.operating_hours:g} h",
+            "failures": TRUTH.failures,
+            "plan": TRUTH.plan,
+            "confidence": TRUTH.confidence,
+            "source": "simulated reliability growth and demonstration records",
+        }
+    }
 
 
 @register_record_kind("record:reliability.life")
 def rec_life(station, step, index) -> dict:
-    return {"reliability": {"working_life": f"{TRUTH.working_life_h:g} h",
-                            "calendar_life": f"{TRUTH.calendar_life_a:g} a"}}
+    return {
+        "reliability": {
+            "working_life": f"{TRUTH.working_life_h:g} h",
+            "calendar_life": f"{TRUTH.calendar_life_a:g} a",
+        }
+    }
 
 
 @register_step_kind("type-env")
@@ -219,8 +370,16 @@ def sim_type_env(station, step, index, *, interval_s, n, bias_offset_deg_h, prog
 
     after = str(step.conditions.get("phase", "before")).lower() == "after"
     off = bias_offset_deg_h + (TRUTH.shift(str(step.conditions.get("test", ""))) if after else 0.0)
-    return static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
-                           offset=off, progress=progress)
+    return static_segment(
+        station,
+        step,
+        index,
+        n=n,
+        interval_s=interval_s,
+        latitude=station.latitude_deg,
+        offset=off,
+        progress=progress,
+    )
 
 
 def _after_station(station: SimulatedStation, step) -> SimulatedStation:
@@ -229,8 +388,14 @@ def _after_station(station: SimulatedStation, step) -> SimulatedStation:
         return station
     t = station.truth
     f = 1.0 + TRUTH.sf_shift(str(step.conditions.get("test", "")))
-    return attrs.evolve(station, truth=attrs.evolve(t, scale_factor_P_per_arcsec=t.scale_factor_P_per_arcsec * f,
-                                                    lsb_per_deg_s=t.lsb_per_deg_s * f))
+    return attrs.evolve(
+        station,
+        truth=attrs.evolve(
+            t,
+            scale_factor_P_per_arcsec=t.scale_factor_P_per_arcsec * f,
+            lsb_per_deg_s=t.lsb_per_deg_s * f,
+        ),
+    )
 
 
 @register_step_kind("type-env-revolutions")
@@ -245,12 +410,23 @@ def sim_type_env_revolutions(station, step, index, *, bias_offset_deg_h, **_):
 
     st = _after_station(station, step)
     rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
-    counts, dur = simulate_revolutions(st.truth, rate_deg_s=abs(rate), direction=1 if rate > 0 else -1,
-                                       turns=int(step.conditions.get("turns", 3)), latitude_deg=st.latitude_deg,
-                                       seed=st.truth.seed + 7919 * (index + 1), bias_offset_deg_h=bias_offset_deg_h)
-    return Segment(id=step.segment, kind=step.kind, conditions=dict(step.conditions), interval=Q_(float(dur[0]), "s"),
-                   sha256=hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest(),
-                   loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}))
+    counts, dur = simulate_revolutions(
+        st.truth,
+        rate_deg_s=abs(rate),
+        direction=1 if rate > 0 else -1,
+        turns=int(step.conditions.get("turns", 3)),
+        latitude_deg=st.latitude_deg,
+        seed=st.truth.seed + 7919 * (index + 1),
+        bias_offset_deg_h=bias_offset_deg_h,
+    )
+    return Segment(
+        id=step.segment,
+        kind=step.kind,
+        conditions=dict(step.conditions),
+        interval=Q_(float(dur[0]), "s"),
+        sha256=hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest(),
+        loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}),
+    )
 
 
 @register_step_kind("type-env-rate-output")
@@ -258,15 +434,27 @@ def sim_type_env_rate_output(station, step, index, *, interval_s, n, bias_offset
     """The output at a rate point before/after a test (the rate method's record, D.2.1.2 g))."""
     from .sim_gbt_rate import rate_samples
 
-    return rate_samples(_after_station(station, step), step, index, n, interval_s, 1.0, bias_offset_deg_h)
+    return rate_samples(
+        _after_station(station, step), step, index, n, interval_s, 1.0, bias_offset_deg_h
+    )
 
 
 @register_step_kind("type-env-rate-static")
-def sim_type_env_rate_static(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
+def sim_type_env_rate_static(
+    station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_
+):
     from .sim_gbt_env import static_segment
 
-    return static_segment(station, step, index, n=n, interval_s=interval_s, latitude=station.latitude_deg,
-                           offset=bias_offset_deg_h, progress=progress)
+    return static_segment(
+        station,
+        step,
+        index,
+        n=n,
+        interval_s=interval_s,
+        latitude=station.latitude_deg,
+        offset=bias_offset_deg_h,
+        progress=progress,
+    )
 
 
 @register_expected
@@ -296,8 +484,12 @@ def expected_records(station, camp) -> dict[str, Any]:
             if R <= 10_000:
                 out["R_ins_" + re.sub(r"[^0-9A-Za-z]+", "_", pair).strip("_")] = Q_(R, "Mohm")
     if "operating_hours" in camp.records.get("reliability", {}):
-        evidence = {"operating_hours": TRUTH.operating_hours, "failures": TRUTH.failures,
-                    "confidence": TRUTH.confidence, "plan": TRUTH.plan}
+        evidence = {
+            "operating_hours": TRUTH.operating_hours,
+            "failures": TRUTH.failures,
+            "confidence": TRUTH.confidence,
+            "plan": TRUTH.plan,
+        }
         out |= standard_expected(camp, {"gbt45570:reliability": evidence})
     return out
 

@@ -16,7 +16,8 @@ down.  Its indicated rate is::
 Pulse output integrates ω into angle and emits whole pulses of weight 1/K; the count read
 at each sample is the integrated angle rounded at a random readout phase (as a dithered ring
 laser gyro's is), so the remainder is carried, no angle is lost over the record, and the
-quantization error is white angle noise of variance ≈ 1/(6K²) ″² (the α2 term of D.45).  Digital output is ω·K rounded to LSB; ``rate`` output is ω in °/h.
+quantization error is white angle noise of variance ≈ 1/(6K²) ″² (the α2 term of D.45).  Digital
+output is ω·K rounded to LSB; ``rate`` output is ω in °/h.
 
 Records are generated in chunks so an 8 h record at 1 kHz never needs several full copies.
 """
@@ -59,8 +60,10 @@ class GyroTruth:
     """The simulated gyro's declared truth (magnitudes in the units in their names).
 
     The defaults are the ``typical`` grade: a typical aviation-grade ring-laser gyro that conforms
-    to GB/T 45570 table A.1 (aviation column) with margin — every A.1 quantity its items measure lies
-    within the row's limit by more than the result's U on ordinary seeds (docs/standards/gbt45570.md,
+    to GB/T 45570 table A.1 (aviation column) with margin — every A.1 quantity its items measure
+    lies
+    within the row's limit by more than the result's U on ordinary seeds
+    (docs/standards/gbt45570.md,
     "The simulated device").  :data:`GRADES` holds the ``marginal`` and ``failing`` units.
     """
 
@@ -72,7 +75,11 @@ class GyroTruth:
     rrw_deg_h_rt_h: float = 0.0
     bias_tc_deg_h_per_C: float = 0.0004
     temp_ref_C: float = 20.0
-    mag_sens_deg_h_per_mT: tuple[float, float, float] = (0.04, 0.015, 0.025)  # field along IRA, XRA, YRA
+    mag_sens_deg_h_per_mT: tuple[float, float, float] = (
+        0.04,
+        0.015,
+        0.025,
+    )  # field along IRA, XRA, YRA
     turn_on_sigma_deg_h: float = 0.0015
     # scale factor of the pulse output against rate Ω (°/s) and direction s = ±1:
     # K_s(Ω) = K · (1 + sf_slope·Ω + sf_quadratic·(Ω/400)² + s·sf_asymmetry/2)
@@ -81,25 +88,52 @@ class GyroTruth:
     sf_asymmetry: float = 2e-6
     # --- scale-factor repeatability, temperature sensitivity and input-axis misalignment
     # (GB/T 45570 D.1.4–D.1.6, D.2.4–D.2.6; motions in instruments/sim_gbt_rate.py) ---
-    sf_turn_on_sigma: float = 1e-6  # relative scatter of K between power-ons (per `run`, per D.1.5 point)
+    sf_turn_on_sigma: float = (
+        1e-6  # relative scatter of K between power-ons (per `run`, per D.1.5 point)
+    )
     sf_tc_per_C: float = 1e-7  # relative change of K per °C about temp_ref_C (linear)
     misalign_alpha_arcsec: float = 40.0  # IA tilted from IRA towards XRA (α of fig. D.1)
     misalign_beta_arcsec: float = -25.0  # IA tilted from IRA towards YRA (β)
-    fixture_tilt_arcsec: tuple[float, float] = (90.0, -60.0)  # XRA-up, YRA-up fixture errors (cancelled by 180°)
+    fixture_tilt_arcsec: tuple[float, float] = (
+        90.0,
+        -60.0,
+    )  # XRA-up, YRA-up fixture errors (cancelled by 180°)
     # --- end of the D.1.4–D.1.6 / D.2 block ---
     # --- threshold, environmental response, set-up and power (GB/T 45570 D.4, D.6.1–D.6.4,
     # 6.2.7.7, 6.2.7.8; motions in instruments/sim_gbt_env.py) ---
     dead_band_deg_h: float = 0.0005  # response r = sign(Ω)·max(|Ω| − d, 0): threshold (50 %) at 2d
-    vib_shift_during_deg_h: tuple[float, float, float] = (0.02, 0.012, 0.015)  # while vibrating along IRA, XRA, YRA
-    vib_shift_after_deg_h: tuple[float, float, float] = (0.006, 0.004, 0.005)  # after performance vibration
-    vib_endurance_shift_deg_h: tuple[float, float, float] = (0.01, 0.007, 0.008)  # after endurance vibration
-    shock_shift_deg_h: tuple[float, float, float] = (0.008, 0.005, 0.006)  # after the shocks along each axis
+    vib_shift_during_deg_h: tuple[float, float, float] = (
+        0.02,
+        0.012,
+        0.015,
+    )  # while vibrating along IRA, XRA, YRA
+    vib_shift_after_deg_h: tuple[float, float, float] = (
+        0.006,
+        0.004,
+        0.005,
+    )  # after performance vibration
+    vib_endurance_shift_deg_h: tuple[float, float, float] = (
+        0.01,
+        0.007,
+        0.008,
+    )  # after endurance vibration
+    shock_shift_deg_h: tuple[float, float, float] = (
+        0.008,
+        0.005,
+        0.006,
+    )  # after the shocks along each axis
     setup_transient_deg_h: float = 300.0  # bias excess at switch-on, decaying exponentially …
     setup_tau_s: float = 1.5  # … with this time constant (set-up time ≈ τ·ln(A/tolerance))
-    power_supplies: tuple[tuple[float, float], ...] = ((5.0, 0.24), (15.0, 0.06), (-15.0, -0.02))  # (V, A)
+    power_supplies: tuple[tuple[float, float], ...] = (
+        (5.0, 0.24),
+        (15.0, 0.06),
+        (-15.0, -0.02),
+    )  # (V, A)
     power_noise_rel: float = 0.002  # relative noise of each voltage and current sample
     # --- end of the D.4 / D.6 / set-up / power block ---
-    output: str = attrs.field(default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate")))
+    output: str = attrs.field(
+        default="pulse", validator=attrs.validators.in_(("pulse", "digital", "rate"))
+    )
     lsb_per_deg_s: float = 5000.0
     # --- how the output is quantized (device classes, see DEVICE_CLASSES) ---
     # pulse output: True reads the accumulated angle at a random phase each sample (a dithered ring
@@ -110,7 +144,9 @@ class GyroTruth:
     # unbiased whatever the noise); False rounds the rate as it is
     lsb_dither: bool = False
     # rate output: the unit of the output column and its resolution in that unit (0: unquantized)
-    rate_unit: str = attrs.field(default="deg/h", validator=attrs.validators.in_(("deg/h", "deg/s")))
+    rate_unit: str = attrs.field(
+        default="deg/h", validator=attrs.validators.in_(("deg/h", "deg/s"))
+    )
     rate_resolution: float = attrs.field(default=0.0, validator=attrs.validators.ge(0.0))
     # relative scale-factor and bias changes between mountings (D.1.6/D.2.6 axis_up/turn and D.5
     # orientations): drawn per mounting, seeded by (seed, mounting)
@@ -118,12 +154,15 @@ class GyroTruth:
     bias_mount_sigma_deg_h: float = 0.0
     # the device class this truth was made from ("" when set field by field)
     device_class: str = ""
-    # GB/T 45570 5.2.9 / 6.2.6: +1 when the output grows while the gyro turns counter-clockwise about
+    # GB/T 45570 5.2.9 / 6.2.6: +1 when the output grows while the gyro turns counter-clockwise
+    # about
     # +IA (right-hand rule); −1 a reversed gyro (every output column is negated)
     polarity: int = attrs.field(default=1, validator=attrs.validators.in_((1, -1)))
-    #: which unit this is (:data:`GRADE_NAMES`; the station option ``grade`` takes its values from :data:`GRADES`)
+    #: which unit this is (:data:`GRADE_NAMES`; the station option ``grade`` takes its values from
+    #: :data:`GRADES`)
     grade: str = attrs.field(default="typical", validator=attrs.validators.in_(GRADE_NAMES))
-    #: the device's data sheet states its turn-on scatter (bias and K repeatability, 1σ, as from an earlier
+    #: the device's data sheet states its turn-on scatter (bias and K repeatability, 1σ, as from an
+    #: earlier
     #: D.5.3 / D.1.4): ``[device] bias_repeatability`` / ``scale_factor_repeatability``
     states_repeatability: bool = True
     seed: int = 20251122
@@ -137,15 +176,20 @@ class GyroTruth:
             "rate random walk": Q_(self.rrw_deg_h_rt_h, "deg/h/hour**0.5"),
             "bias temperature coefficient": Q_(self.bias_tc_deg_h_per_C, "deg/h/delta_degC"),
             "bias magnetic sensitivity (IRA, XRA, YRA)": ", ".join(
-                f"{v:g}" for v in self.mag_sens_deg_h_per_mT) + " °/h/mT",
+                f"{v:g}" for v in self.mag_sens_deg_h_per_mT
+            )
+            + " °/h/mT",
             "turn-on bias σ (per power-on)": Q_(self.turn_on_sigma_deg_h, "deg/h"),
             "scale-factor slope (relative per °/s)": self.sf_slope_per_deg_s,
             "scale-factor quadratic term at 400 °/s (relative)": self.sf_quadratic,
             "scale-factor asymmetry (relative)": self.sf_asymmetry,
             "scale-factor turn-on σ (relative, per power-on)": self.sf_turn_on_sigma,
             "scale-factor temperature coefficient": Q_(self.sf_tc_per_C, "1/delta_degC"),
-            "input-axis misalignment α, β": f"{self.misalign_alpha_arcsec:g}″, {self.misalign_beta_arcsec:g}″",
-            "fixture tilt (XRA-up, YRA-up mountings)": ", ".join(f"{v:g}″" for v in self.fixture_tilt_arcsec),
+            "input-axis misalignment α, β": f"{self.misalign_alpha_arcsec:g}″, "
+            f"{self.misalign_beta_arcsec:g}″",
+            "fixture tilt (XRA-up, YRA-up mountings)": ", ".join(
+                f"{v:g}″" for v in self.fixture_tilt_arcsec
+            ),
             "seed": self.seed,
             "output": self.output,
             "device class": self.device_class or "(fields as given)",
@@ -184,8 +228,11 @@ def simulate_static(
         raise ValueError("n must be ≥ 1 and the interval > 0")
     rng = np.random.default_rng(truth.seed if seed is None else seed)
     sign = 1.0 if orientation == "up" else -1.0
-    mean_rate = (sign * EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h
-                 + bias_offset_deg_h)
+    mean_rate = (
+        sign * EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg))
+        + truth.bias_deg_h
+        + bias_offset_deg_h
+    )
     tau_h = interval_s / 3600.0
     white_sd = truth.arw_deg_rt_h / math.sqrt(tau_h)  # °/h per sample
     out = np.empty(n, dtype=np.float64)
@@ -234,8 +281,17 @@ def simulate_static(
     return out
 
 
-_EXPECTED_UNITS = {"B0": "deg/h", "RWC": "deg/hour**0.5", "Br": "deg/h", "Bt": "deg/h/delta_degC",
-                   "Bh": "deg/h/mT", "K": "P/arcsec", "W": "P/arcsec/(deg/s)", "Kn": "", "Ka": ""}
+_EXPECTED_UNITS = {
+    "B0": "deg/h",
+    "RWC": "deg/hour**0.5",
+    "Br": "deg/h",
+    "Bt": "deg/h/delta_degC",
+    "Bh": "deg/h/mT",
+    "K": "P/arcsec",
+    "W": "P/arcsec/(deg/s)",
+    "Kn": "",
+    "Ka": "",
+}
 
 
 @attrs.define
@@ -262,14 +318,22 @@ class SimulatedStation:
             props["scale_factor_k"] = 2.0
         elif t.rate_resolution > 0:
             props["resolution"] = Q_(t.rate_resolution, t.rate_unit)
-        if t.states_repeatability:  # the data sheet's turn-on scatter, as from an earlier D.5.3 / D.1.4 (1σ)
+        if (
+            t.states_repeatability
+        ):  # the data sheet's turn-on scatter, as from an earlier D.5.3 / D.1.4 (1σ)
             props["bias_repeatability"] = Q_(t.turn_on_sigma_deg_h, "deg/h")
             props["scale_factor_repeatability"] = Q_(t.sf_turn_on_sigma, "")
         return DeviceUnderTest(
-            id="SIM-OG-1", model=device_description(t), serial=f"seed {t.seed}", manufacturer="metro simulator",
-            # a pulse output is a ring-laser gyro's; a digital word or a digital rate a fibre gyro's (6.2.7.1
+            id="SIM-OG-1",
+            model=device_description(t),
+            serial=f"seed {t.seed}",
+            manufacturer="metro simulator",
+            # a pulse output is a ring-laser gyro's; a digital word or a digital rate a fibre
+            # gyro's (6.2.7.1
             # then sends it to the rate method D.2, which takes LSB, Hz and °/s outputs)
-            properties=props, technology="laser" if t.output == "pulse" else "fibre", application="aviation",
+            properties=props,
+            technology="laser" if t.output == "pulse" else "fibre",
+            application="aviation",
             output={"pulse": "pulse", "digital": "digital", "rate": "rate"}[t.output],
         )
 
@@ -282,7 +346,12 @@ class SimulatedStation:
     def kinds(self) -> tuple[str, ...]:
         """The step kinds this station simulates (:data:`STATIC_KINDS`, whole revolutions and the
         kinds the step modules register); revolution counts only for a pulse output."""
-        kinds = set(STATIC_KINDS) | set(step_simulators()) | set(record_simulators()) | {"rate-revolutions"}
+        kinds = (
+            set(STATIC_KINDS)
+            | set(step_simulators())
+            | set(record_simulators())
+            | {"rate-revolutions"}
+        )
         if self.truth.output != "pulse":
             kinds -= set(PULSE_KINDS)
         return tuple(sorted(kinds))
@@ -296,15 +365,29 @@ class SimulatedStation:
         if self.truth.output != "pulse":
             for step in steps:
                 if step.kind in PULSE_KINDS:
-                    out = "digital (LSB)" if self.truth.output == "digital" else f"rate ({self.truth.rate_unit})"
+                    out = (
+                        "digital (LSB)"
+                        if self.truth.output == "digital"
+                        else f"rate ({self.truth.rate_unit})"
+                    )
                     raise StationError(
-                        f"station {self.name!r} simulates a gyro with {out} output; steps of kind {step.kind!r} "
-                        f"(segment {step.segment}) count the pulses of whole revolutions (angle method, GB/T 45570 "
+                        f"station {self.name!r} simulates a gyro with {out} output; steps of kind "
+                        f"{step.kind!r} "
+                        f"(segment {step.segment}) count the pulses of whole revolutions (angle "
+                        f"method, GB/T 45570 "
                         "D.1), which only a pulse output gives; nothing was recorded",
-                        hint="acquire the angle method on station simulated (pulse output), or the rate method "
-                        "(D.2, D.3 with -o method=rate) on this one")
-        refuse_unknown_kinds(self.name, steps, self.kinds(), items=items,
-                             hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+                        hint="acquire the angle method on station simulated (pulse output), or the "
+                        "rate method "
+                        "(D.2, D.3 with -o method=rate) on this one",
+                    )
+        refuse_unknown_kinds(
+            self.name,
+            steps,
+            self.kinds(),
+            items=items,
+            hint="acquire these items on a station that simulates them "
+            "(`metro plugins` lists them)",
+        )
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""
@@ -322,43 +405,94 @@ class SimulatedStation:
                     raise ValueError(f"the simulated station has no record of kind {step.kind!r}")
                 merge_records(records, take_down(self, step, i))
                 continue
-            interval_s = float(step.interval.to("s").magnitude) if step.interval is not None else float(
-                self.interval.to("s").magnitude)
-            n = max(1, int(round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)))
+            interval_s = (
+                float(step.interval.to("s").magnitude)
+                if step.interval is not None
+                else float(self.interval.to("s").magnitude)
+            )
+            n = max(
+                1,
+                int(
+                    round(float(step.duration.to("s").magnitude) * self.duration_scale / interval_s)
+                ),
+            )
             if step.kind == "static-repeat":
                 repeat_durations_s.append(n * interval_s)
-            orient = str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
-            cb = (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot)) if progress else None
+            orient = (
+                str(step.conditions.get("orientation", "IRA up")).lower().replace("ira", "").strip()
+            )
+            cb = (
+                (lambda d, tot, _s=step.segment: progress(f"simulating {_s}", d, tot))
+                if progress
+                else None
+            )
             offset = bias_offset(t, step.conditions) + own_power_on_bias(t, step)
             custom = step_simulators().get(step.kind)
             if custom is not None:
-                segments.append(custom(self, step, i, interval_s=interval_s, n=n, orientation=orient,
-                                       bias_offset_deg_h=offset, progress=cb))
+                segments.append(
+                    custom(
+                        self,
+                        step,
+                        i,
+                        interval_s=interval_s,
+                        n=n,
+                        orientation=orient,
+                        bias_offset_deg_h=offset,
+                        progress=cb,
+                    )
+                )
                 continue
             if step.kind == "rate-revolutions":
                 from metro.core.base.units import parse_quantity
 
-                rate = float(parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude)
+                rate = float(
+                    parse_quantity(step.conditions["rate"], dimension="deg/s").to("deg/s").magnitude
+                )
                 direction = 1 if rate > 0 else -1
-                counts, dur = simulate_revolutions(t, rate_deg_s=abs(rate), direction=direction,
-                                                   turns=int(step.conditions.get("turns", 5)),
-                                                   latitude_deg=self.latitude_deg, seed=t.seed + 7919 * (i + 1),
-                                                   bias_offset_deg_h=offset)
+                counts, dur = simulate_revolutions(
+                    t,
+                    rate_deg_s=abs(rate),
+                    direction=direction,
+                    turns=int(step.conditions.get("turns", 5)),
+                    latitude_deg=self.latitude_deg,
+                    seed=t.seed + 7919 * (i + 1),
+                    bias_offset_deg_h=offset,
+                )
                 digest = hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest()
-                segments.append(Segment(
-                    id=step.segment, kind=step.kind, conditions=dict(step.conditions),
-                    interval=Q_(float(dur[0]), "s"), file=None, sha256=digest,
-                    loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}),
-                ))
+                segments.append(
+                    Segment(
+                        id=step.segment,
+                        kind=step.kind,
+                        conditions=dict(step.conditions),
+                        interval=Q_(float(dur[0]), "s"),
+                        file=None,
+                        sha256=digest,
+                        loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}),
+                    )
+                )
                 continue
-            data = simulate_static(t, n=n, interval_s=interval_s, latitude_deg=self.latitude_deg,
-                                   orientation=orient, seed=t.seed + i, progress=cb, bias_offset_deg_h=offset)
+            data = simulate_static(
+                t,
+                n=n,
+                interval_s=interval_s,
+                latitude_deg=self.latitude_deg,
+                orientation=orient,
+                seed=t.seed + i,
+                progress=cb,
+                bias_offset_deg_h=offset,
+            )
             digest = hashlib.sha256(data.tobytes()).hexdigest()
-            segments.append(Segment(
-                id=step.segment, kind=step.kind, conditions=dict(step.conditions),
-                interval=Q_(interval_s, "s"), file=None, sha256=digest,
-                loader=(lambda d=data, u=unit: {"output": (d, u)}),
-            ))
+            segments.append(
+                Segment(
+                    id=step.segment,
+                    kind=step.kind,
+                    conditions=dict(step.conditions),
+                    interval=Q_(interval_s, "s"),
+                    file=None,
+                    sha256=digest,
+                    loader=(lambda d=data, u=unit: {"output": (d, u)}),
+                )
+            )
         if t.polarity < 0:
             segments = [_reversed(seg) for seg in segments]
         camp = Campaign(
@@ -366,7 +500,10 @@ class SimulatedStation:
             device=self.device(),
             equipment=self.equipment(),
             environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
-            site={"latitude": Q_(self.latitude_deg, "deg"), "latitude_uncertainty": Q_(0.001, "deg")},
+            site={
+                "latitude": Q_(self.latitude_deg, "deg"),
+                "latitude_uncertainty": Q_(0.001, "deg"),
+            },
             segments=segments,
             source="simulated station",
             simulated=True,
@@ -375,12 +512,17 @@ class SimulatedStation:
         )
         return attrs.evolve(camp, expected=self.expected_values(camp, repeat_durations_s))
 
-    def expected_values(self, camp: Campaign, repeat_durations_s: Sequence[float] = ()) -> dict[str, Any]:
+    def expected_values(
+        self, camp: Campaign, repeat_durations_s: Sequence[float] = ()
+    ) -> dict[str, Any]:
         """What an ideal evaluation of the truth gives for the items ``camp`` holds records of: the
         station's own (:func:`expected`, :func:`expected_scale_factor`) and the step modules'
         (:func:`register_expected`, :func:`register_record_expected`)."""
         t = self.truth
-        exp = {k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]]) for k, v in expected(t, self.latitude_deg).items()}
+        exp = {
+            k: Q_(v, _EXPECTED_UNITS[k.split("_")[0]])
+            for k, v in expected(t, self.latitude_deg).items()
+        }
         if repeat_durations_s:
             exp["Br"] = Q_(expected_bias_repeatability(t, repeat_durations_s), "deg/h")
         rates = [s.conditions["rate"] for s in camp.segments if s.kind == "rate-revolutions"]
@@ -388,11 +530,13 @@ class SimulatedStation:
             from metro.core.base.units import parse_quantity
 
             vals = [parse_quantity(r, dimension="deg/s").to("deg/s").magnitude for r in rates]
-            exp |= {k: Q_(v, _EXPECTED_UNITS[k])
-                    for k, v in expected_scale_factor(t, vals, self.latitude_deg).items()}
+            exp |= {
+                k: Q_(v, _EXPECTED_UNITS[k])
+                for k, v in expected_scale_factor(t, vals, self.latitude_deg).items()
+            }
         for contribute in expected_contributors():
             exp |= contribute(self, camp)
-        for contribute in (record_expected_contributors() if camp.records else ()):
+        for contribute in record_expected_contributors() if camp.records else ():
             exp |= contribute(self, camp)
         return exp
 
@@ -401,10 +545,23 @@ AXES = ("IRA", "XRA", "YRA")
 
 #: step kinds the station records as the gyro at rest on its platform (conditions such as
 #: temperature, field, run and orientation act through :func:`bias_offset`)
-STATIC_KINDS = ("static", "static-zero", "rate-static", "static-repeat", "static-temperature", "static-field",
-                "low-temperature", "high-temperature")
+STATIC_KINDS = (
+    "static",
+    "static-zero",
+    "rate-static",
+    "static-repeat",
+    "static-temperature",
+    "static-field",
+    "low-temperature",
+    "high-temperature",
+)
 #: step kinds that count the pulses of whole table revolutions (GB/T 45570 D.1, D.3 angle method)
-PULSE_KINDS = ("rate-revolutions", "revolutions-repeat", "revolutions-temperature", "revolutions-mounting")
+PULSE_KINDS = (
+    "rate-revolutions",
+    "revolutions-repeat",
+    "revolutions-temperature",
+    "revolutions-mounting",
+)
 
 #: the gyro's output columns, negated for a gyro of negative polarity
 OUTPUT_COLUMNS = ("output", "count")
@@ -413,17 +570,26 @@ OUTPUT_COLUMNS = ("output", "count")
 def _reversed(seg: Segment) -> Segment:
     """``seg`` as a gyro of negative polarity gives it: its output columns negated (the digest
     is of what the procedures read)."""
-    cols = {name: ((-np.asarray(data) if name in OUTPUT_COLUMNS else data), unit)
-            for name, (data, unit) in seg.columns().items()}
-    digest = hashlib.sha256(b"".join(np.ascontiguousarray(d).tobytes() for d, _ in cols.values())).hexdigest()
+    cols = {
+        name: ((-np.asarray(data) if name in OUTPUT_COLUMNS else data), unit)
+        for name, (data, unit) in seg.columns().items()
+    }
+    digest = hashlib.sha256(
+        b"".join(np.ascontiguousarray(d).tobytes() for d, _ in cols.values())
+    ).hexdigest()
     return attrs.evolve(seg, sha256=digest, loader=lambda c=cols: c)
 
+
 def scale_factor_at(truth: GyroTruth, rate_deg_s: float, direction: int) -> float:
-    """The virtual gyro's scale factor (P/″) at |Ω| = ``rate_deg_s`` turning in ``direction`` (±1)."""
+    """The virtual gyro's scale factor (P/″) at |Ω| = ``rate_deg_s`` turning in ``direction``
+    (±1)."""
     r = abs(rate_deg_s)
-    return truth.scale_factor_P_per_arcsec * (1.0 + truth.sf_slope_per_deg_s * r
-                                              + truth.sf_quadratic * (r / 400.0) ** 2
-                                              + direction * truth.sf_asymmetry / 2.0)
+    return truth.scale_factor_P_per_arcsec * (
+        1.0
+        + truth.sf_slope_per_deg_s * r
+        + truth.sf_quadratic * (r / 400.0) ** 2
+        + direction * truth.sf_asymmetry / 2.0
+    )
 
 
 def simulate_revolutions(
@@ -446,9 +612,15 @@ def simulate_revolutions(
     rng = np.random.default_rng(seed)
     t = 360.0 / abs(rate_deg_s)
     K = scale_factor_at(truth, rate_deg_s, direction)
-    drift = EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg)) + truth.bias_deg_h + bias_offset_deg_h
+    drift = (
+        EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg))
+        + truth.bias_deg_h
+        + bias_offset_deg_h
+    )
     angle = direction * 360.0 * 3600.0 + drift * t  # ″ per revolution (°/h = ″/s)
-    noise_sd = truth.arw_deg_rt_h * math.sqrt(t / 3600.0) * 3600.0  # ″ of angle random walk per turn
+    noise_sd = (
+        truth.arw_deg_rt_h * math.sqrt(t / 3600.0) * 3600.0
+    )  # ″ of angle random walk per turn
     inc = K * (angle + rng.normal(0.0, noise_sd, size=turns))
     cum = np.cumsum(inc)
     whole = pulse_readout(truth, cum, rng)
@@ -488,15 +660,22 @@ OWN_POWER_ON_KINDS = ("static-temperature", "static-field")
 
 
 def own_power_on_bias(truth: GyroTruth, step) -> float:
-    """The turn-on bias (°/h) of a record that is a power-on of its own (:data:`OWN_POWER_ON_KINDS`):
+    """The turn-on bias (°/h) of a record that is a power-on of its own
+    (:data:`OWN_POWER_ON_KINDS`):
     N(0, turn_on_sigma), seeded by the device and the record's kind and conditions — so the station
     makes what D.5.4 / D.5.5 meet on a real gyro (their results carry σ_on of D.5.3; truth stays the
     device's B_t, B_h).  Records with a ``run`` condition draw theirs in :func:`bias_offset`."""
-    if step.kind not in OWN_POWER_ON_KINDS or "run" in step.conditions or truth.turn_on_sigma_deg_h <= 0:
+    if (
+        step.kind not in OWN_POWER_ON_KINDS
+        or "run" in step.conditions
+        or truth.turn_on_sigma_deg_h <= 0
+    ):
         return 0.0
     key = step.kind + ";" + ";".join(f"{k}={step.conditions[k]}" for k in sorted(step.conditions))
     digest = int.from_bytes(hashlib.sha256(key.encode()).digest()[:4], "little")
-    return float(np.random.default_rng([truth.seed, digest, 4099]).normal(0.0, truth.turn_on_sigma_deg_h))
+    return float(
+        np.random.default_rng([truth.seed, digest, 4099]).normal(0.0, truth.turn_on_sigma_deg_h)
+    )
 
 
 def mounting_key(conditions) -> tuple[int, ...]:
@@ -546,18 +725,27 @@ def quantization_text(truth: GyroTruth) -> str:
     """One line on how the output is quantized (for the truth table)."""
     if truth.output == "pulse":
         w = 1.0 / truth.scale_factor_P_per_arcsec
-        return f"1 P = {w:.4g}″, " + ("dithered readout" if truth.dither else "undithered (fixed readout phase)")
+        return f"1 P = {w:.4g}″, " + (
+            "dithered readout" if truth.dither else "undithered (fixed readout phase)"
+        )
     if truth.output == "digital":
         q = 3600.0 / truth.lsb_per_deg_s
-        return f"1 LSB = {q:.4g} °/h, " + ("±½ LSB dither" if truth.lsb_dither else "rounded, no dither")
-    res = f"{truth.rate_resolution:g} {truth.rate_unit}" if truth.rate_resolution > 0 else "unquantized"
+        return f"1 LSB = {q:.4g} °/h, " + (
+            "±½ LSB dither" if truth.lsb_dither else "rounded, no dither"
+        )
+    res = (
+        f"{truth.rate_resolution:g} {truth.rate_unit}"
+        if truth.rate_resolution > 0
+        else "unquantized"
+    )
     return f"rate in {truth.rate_unit}, resolution {res}"
 
 
 def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) -> dict[str, float]:
     """What D.1.1–D.1.3 give on noise-free revolutions of the virtual gyro at these rate points:
     the truth the angle-method items must recover (K, W, K_n, K_a).  Fewer than two distinct rates
-    define no straight line (D.1.1's least squares needs two): no truth, rather than a degenerate fit."""
+    define no straight line (D.1.1's least squares needs two): no truth, rather than a degenerate
+    fit."""
     rates = np.asarray(sorted(set(abs(float(r)) for r in rates_deg_s)), dtype=float)
     if rates.size < 2:
         return {}
@@ -572,23 +760,48 @@ def expected_scale_factor(truth: GyroTruth, rates_deg_s, latitude_deg: float) ->
     n0 = truth.scale_factor_P_per_arcsec * d
     Kp = np.polyfit(rates, (n_plus - n0 * t) / rev, 1)[1]
     Km = np.polyfit(rates, (n_minus - n0 * t) / -rev, 1)[1]
-    return {"K": float(K), "W": float(W), "Kn": float(np.max(np.abs(Ki - K)) / K),
-            "Ka": float(abs(Kp - Km) / ((Kp + Km) / 2))}
+    return {
+        "K": float(K),
+        "W": float(W),
+        "Kn": float(np.max(np.abs(Ki - K)) / K),
+        "Ka": float(abs(Kp - Km) / ((Kp + Km) / 2)),
+    }
 
 
-#: the units the station simulates by ``grade`` (fields that differ from :class:`GyroTruth`'s defaults, which
-#: are the ``typical`` unit).  ``marginal`` is the station's default unit before issue 29 (an angle random walk
-#: on table A.1's aviation limit, 1 P = 1.25″: B_s(100 s) ≈ 0.011 (°)/h fails row 10, RWC = 0.0015 (°)/h^½ is
-#: indeterminate by design); the device classes (:data:`DEVICE_CLASSES`) vary it.  ``failing`` fails rows 5,
+#: the units the station simulates by ``grade`` (fields that differ from :class:`GyroTruth`'s
+#: defaults, which
+#: are the ``typical`` unit).  ``marginal`` is the station's default unit before issue 29 (an angle
+#: random walk
+#: on table A.1's aviation limit, 1 P = 1.25″: B_s(100 s) ≈ 0.011 (°)/h fails row 10, RWC = 0.0015
+#: (°)/h^½ is
+#: indeterminate by design); the device classes (:data:`DEVICE_CLASSES`) vary it.  ``failing``
+#: fails rows 5,
 #: 10, 12 and 14 of the aviation column outright.
 GRADES: Mapping[str, Mapping[str, Any]] = {
     "typical": {"grade": "typical"},
-    "marginal": {"grade": "marginal", "scale_factor_P_per_arcsec": 0.8, "arw_deg_rt_h": 0.0015,
-                 "dead_band_deg_h": 0.0035, "turn_on_sigma_deg_h": 0.002, "bias_tc_deg_h_per_C": 0.0006,
-                 "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 3e-7, "states_repeatability": False},
-    "failing": {"grade": "failing", "scale_factor_P_per_arcsec": 0.8, "arw_deg_rt_h": 0.004,
-                "dead_band_deg_h": 0.0035, "turn_on_sigma_deg_h": 0.002, "bias_tc_deg_h_per_C": 0.002,
-                "sf_asymmetry": 4e-6, "sf_turn_on_sigma": 3e-6, "sf_tc_per_C": 1.5e-6},
+    "marginal": {
+        "grade": "marginal",
+        "scale_factor_P_per_arcsec": 0.8,
+        "arw_deg_rt_h": 0.0015,
+        "dead_band_deg_h": 0.0035,
+        "turn_on_sigma_deg_h": 0.002,
+        "bias_tc_deg_h_per_C": 0.0006,
+        "sf_asymmetry": 4e-6,
+        "sf_turn_on_sigma": 3e-6,
+        "sf_tc_per_C": 3e-7,
+        "states_repeatability": False,
+    },
+    "failing": {
+        "grade": "failing",
+        "scale_factor_P_per_arcsec": 0.8,
+        "arw_deg_rt_h": 0.004,
+        "dead_band_deg_h": 0.0035,
+        "turn_on_sigma_deg_h": 0.002,
+        "bias_tc_deg_h_per_C": 0.002,
+        "sf_asymmetry": 4e-6,
+        "sf_turn_on_sigma": 3e-6,
+        "sf_tc_per_C": 1.5e-6,
+    },
 }
 
 #: what each grade is, in the device's model name and the truth table
@@ -600,8 +813,10 @@ GRADE_TEXT: Mapping[str, str] = {
 
 
 def device_description(truth: GyroTruth) -> str:
-    """The simulated device's model name: what it is and how it stands against GB/T 45570's table of its
-    technology (A.1 for the pulse-output ring-laser gyro, B.1 for a fibre gyro's LSB or rate output)."""
+    """The simulated device's model name: what it is and how it stands against GB/T 45570's table
+    of its
+    technology (A.1 for the pulse-output ring-laser gyro, B.1 for a fibre gyro's LSB or rate
+    output)."""
     laser = truth.output == "pulse"
     what = "virtual ring-laser gyro" if laser else "virtual fibre-optic gyro"
     return f"{what} ({GRADE_TEXT[truth.grade].format(table='A.1' if laser else 'B.1')})"
@@ -610,8 +825,12 @@ def device_description(truth: GyroTruth) -> str:
 #: a fibre-optic gyro with a digital output and a scale-factor nonlinearity above 5 × 10⁻⁶, which
 #: 6.2.7.1 sends to the rate method (D.2) — the ``simulated-digital`` station's defaults
 DIGITAL_DEFAULTS: Mapping[str, Any] = {
-    "output": "digital", "sf_quadratic": 3e-5, "sf_slope_per_deg_s": 2e-8, "sf_asymmetry": 2e-5,
-    "sf_tc_per_C": 2e-6, "sf_turn_on_sigma": 5e-6,
+    "output": "digital",
+    "sf_quadratic": 3e-5,
+    "sf_slope_per_deg_s": 2e-8,
+    "sf_asymmetry": 2e-5,
+    "sf_tc_per_C": 2e-6,
+    "sf_turn_on_sigma": 5e-6,
 }
 
 _MOUNTING = {"sf_mount_sigma": 2e-6, "bias_mount_sigma_deg_h": 0.003}
@@ -627,8 +846,14 @@ DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
     "pulse-fine-undithered": {"output": "pulse", "dither": False} | _MOUNTING,
     # 0.05 P/″ (1 P = 20″, about 2 s of earth rate), dithered / undithered
     "pulse-coarse": {"output": "pulse", "scale_factor_P_per_arcsec": 0.05} | _MOUNTING,
-    "pulse-coarse-undithered": {"output": "pulse", "scale_factor_P_per_arcsec": 0.05, "dither": False} | _MOUNTING,
-    # fibre gyro, LSB word: 1 LSB = 0.0072 °/h (finer than the noise) and 0.72 °/h (coarser), rounded
+    "pulse-coarse-undithered": {
+        "output": "pulse",
+        "scale_factor_P_per_arcsec": 0.05,
+        "dither": False,
+    }
+    | _MOUNTING,
+    # fibre gyro, LSB word: 1 LSB = 0.0072 °/h (finer than the noise) and 0.72 °/h (coarser),
+    # rounded
     "lsb-fine": dict(DIGITAL_DEFAULTS) | {"lsb_per_deg_s": 500000.0} | _MOUNTING,
     "lsb-coarse": dict(DIGITAL_DEFAULTS) | _MOUNTING,
     "lsb-coarse-dithered": dict(DIGITAL_DEFAULTS) | {"lsb_dither": True} | _MOUNTING,
@@ -641,13 +866,19 @@ DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
 def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     """The truth fields of one device of ``device_class``, drawn with ``seed``: the class's values,
     then a bias uniform in ±0.5 °/h, a scale factor within ±0.2 % of the class's and an angle random
-    walk 0.7 … 1.5 times the marginal unit's (so a sweep over seeds sees where the quantization falls);
-    the other fields are the ``marginal`` grade's (:data:`GRADES`), the unit the classes were built on."""
+    walk 0.7 … 1.5 times the marginal unit's (so a sweep over seeds sees where the quantization
+    falls);
+    the other fields are the ``marginal`` grade's (:data:`GRADES`), the unit the classes were built
+    on."""
     if device_class not in DEVICE_CLASSES:
         from metro.core.base.errors import DataError
 
-        raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
-                        hint="device classes: " + ", ".join(DEVICE_CLASSES))
+        raise DataError(
+            None,
+            "station option device_class",
+            f"{device_class!r} is not a device class",
+            hint="device classes: " + ", ".join(DEVICE_CLASSES),
+        )
     kw = dict(GRADES["marginal"]) | dict(DEVICE_CLASSES[device_class])
     base = GyroTruth(**GRADES["marginal"])
     rng = np.random.default_rng([int(seed), 4099])
@@ -656,24 +887,37 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     if kw.get("output") == "digital":
         kw["lsb_per_deg_s"] = float(kw.get("lsb_per_deg_s", base.lsb_per_deg_s)) * sf
     elif kw.get("output") == "pulse":
-        kw["scale_factor_P_per_arcsec"] = float(kw.get("scale_factor_P_per_arcsec", base.scale_factor_P_per_arcsec)) * sf
+        kw["scale_factor_P_per_arcsec"] = (
+            float(kw.get("scale_factor_P_per_arcsec", base.scale_factor_P_per_arcsec)) * sf
+        )
     kw["arw_deg_rt_h"] = base.arw_deg_rt_h * float(rng.uniform(0.7, 1.5))
     kw["device_class"] = device_class
     return kw
 
 
 def station_factory(**options: Any) -> SimulatedStation:
-    """Factory registered as the ``simulated`` station (options: seed, latitude, output, duration_scale,
+    """Factory registered as the ``simulated`` station (options: seed, latitude, output,
+    duration_scale,
     grade, device_class …).  ``grade`` (typical, marginal, failing; :data:`GRADES`) picks the unit;
-    with ``device_class`` the device is drawn from that class by the seed (:func:`draw_device`); other
+    with ``device_class`` the device is drawn from that class by the seed (:func:`draw_device`);
+    other
     options given override both."""
     from metro.core.base.options import station_options
 
-    truth_kw, st_kw = station_options("the simulated gyro station", GyroTruth, SimulatedStation, options,
-                                      ("latitude_deg", "duration_scale"))
+    truth_kw, st_kw = station_options(
+        "the simulated gyro station",
+        GyroTruth,
+        SimulatedStation,
+        options,
+        ("latitude_deg", "duration_scale"),
+    )
     cls = truth_kw.pop("device_class", "")
     if cls:  # a class is drawn about the marginal unit (draw_device)
-        truth_kw = draw_device(cls, truth_kw.get("seed", GyroTruth().seed)) | truth_kw | {"device_class": cls}
+        truth_kw = (
+            draw_device(cls, truth_kw.get("seed", GyroTruth().seed))
+            | truth_kw
+            | {"device_class": cls}
+        )
     else:
         truth_kw = dict(GRADES[truth_kw.get("grade", "typical")]) | truth_kw
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
@@ -681,9 +925,12 @@ def station_factory(**options: Any) -> SimulatedStation:
 
 def mean_noise_variance(truth: GyroTruth, duration_s: float) -> float:
     """Variance ((°/h)²) of the mean rate over ``duration_s`` of the device's noise: white rate
-    noise (ARW²/T), a rate random walk started at each power-on (q²T/3) and Gauss–Markov wander (2σ²τ/T·[1 − τ/T·(1 − e^(−T/τ))])."""
+    noise (ARW²/T), a rate random walk started at each power-on (q²T/3) and Gauss–Markov wander
+    (2σ²τ/T·[1 − τ/T·(1 − e^(−T/τ))])."""
     T_h = duration_s / 3600.0
-    var = truth.arw_deg_rt_h**2 / T_h + truth.rrw_deg_h_rt_h**2 * T_h / 3.0  # a walk from 0: mean var q²T/3
+    var = (
+        truth.arw_deg_rt_h**2 / T_h + truth.rrw_deg_h_rt_h**2 * T_h / 3.0
+    )  # a walk from 0: mean var q²T/3
     if truth.gm_sigma_deg_h > 0:
         r = truth.gm_tau_s / duration_s
         var += 2.0 * truth.gm_sigma_deg_h**2 * r * (1.0 - r * (1.0 - math.exp(-1.0 / r)))
@@ -699,9 +946,11 @@ def expected_bias_repeatability(truth: GyroTruth, durations_s: Sequence[float]) 
 
 
 def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
-    """What an ideal evaluation of the truth gives, per item (for tests and the CLI's comparison)."""
+    """What an ideal evaluation of the truth gives, per item (for tests and the CLI's
+    comparison)."""
     out = {
-        "B0": truth.bias_deg_h + (EARTH_RATE_DEG_PER_H - 15.041) * math.sin(math.radians(latitude_deg)),
+        "B0": truth.bias_deg_h
+        + (EARTH_RATE_DEG_PER_H - 15.041) * math.sin(math.radians(latitude_deg)),
         "RWC": truth.arw_deg_rt_h,
         "Br": truth.turn_on_sigma_deg_h,
         "Bt": truth.bias_tc_deg_h_per_C,
@@ -711,4 +960,35 @@ def expected(truth: GyroTruth, latitude_deg: float) -> Mapping[str, float]:
     return out
 
 
-__all__ = ["register_record_kind", "register_record_expected", "record_simulators", "merge_records", "register_expected", "expected_contributors", "register_step_kind", "step_simulators", "expected_scale_factor", "scale_factor_at", "simulate_revolutions", "GyroTruth", "SimulatedStation", "simulate_static", "station_factory", "DEVICE_CLASSES", "GRADES", "GRADE_NAMES", "device_description", "DIGITAL_DEFAULTS", "draw_device", "output_unit", "pulse_readout", "quantize_rate", "mounting_key", "expected", "expected_bias_repeatability", "mean_noise_variance", "bias_offset", "AXES"]
+__all__ = [
+    "register_record_kind",
+    "register_record_expected",
+    "record_simulators",
+    "merge_records",
+    "register_expected",
+    "expected_contributors",
+    "register_step_kind",
+    "step_simulators",
+    "expected_scale_factor",
+    "scale_factor_at",
+    "simulate_revolutions",
+    "GyroTruth",
+    "SimulatedStation",
+    "simulate_static",
+    "station_factory",
+    "DEVICE_CLASSES",
+    "GRADES",
+    "GRADE_NAMES",
+    "device_description",
+    "DIGITAL_DEFAULTS",
+    "draw_device",
+    "output_unit",
+    "pulse_readout",
+    "quantize_rate",
+    "mounting_key",
+    "expected",
+    "expected_bias_repeatability",
+    "mean_noise_variance",
+    "bias_offset",
+    "AXES",
+]

@@ -20,7 +20,8 @@ shock and vibration (per axis).  A rate increment ΔΩ on top of a steady rate i
 gain ΔΩ²/(ΔΩ² + r_res²) (a stick–slip resolution model), or with ``hard_dead_band`` passed
 whole when |ΔΩ| ≥ r_res and not at all below.  Either way the response is exactly half (soft)
 or jumps from none to all (hard) at Ω_th / r_res, so by the 50 % criterion of eqs. (17)/(18)
-the device's threshold is Ω_th and its resolution r_res: those are the declared truth.  Dynamics: first order with time
+the device's threshold is Ω_th and its resolution r_res: those are the declared truth.  Dynamics:
+first order with time
 constant T = 1/(2π·B_w) in series with a pure delay T_d (JJF 2014 eq. (46), (47)).  Start-up:
 the output settles as K·d₀·exp(−t/τ_s) after power-on.
 
@@ -51,6 +52,7 @@ from metro.core.model.procedure import Step
 from metro.core.base.units import Q_, parse_quantity
 
 from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  physical, 15.04107 °/h
+
 AXES = ("X", "Y", "Z")
 
 
@@ -117,17 +119,23 @@ class VibratoryTruth:
             "rate ramp": Q_(self.rate_ramp_deg_h2, "deg/h**2"),
             "bias instability": Q_(self.bias_instability_deg_h, "deg/h"),
             "K temperature coefficient": Q_(self.sf_temp_per_degC, "1/delta_degC"),
-            "bias temperature coefficient": Q_(self.bias_temp_dps_per_degC * 3600, "deg/h/delta_degC"),
+            "bias temperature coefficient": Q_(
+                self.bias_temp_dps_per_degC * 3600, "deg/h/delta_degC"
+            ),
             "threshold model Ω_th": Q_(self.threshold_dps, "deg/s"),
             "resolution model r_res": Q_(self.resolution_dps, "deg/s"),
-            "dead band": "hard (no output below Ω_th / r_res)" if self.hard_dead_band
+            "dead band": "hard (no output below Ω_th / r_res)"
+            if self.hard_dead_band
             else "soft (Ω³/(Ω² + Ω_th²))",
             "misalignment α, β": f"{self.misalign_alpha_rad:g} rad, {self.misalign_beta_rad:g} rad",
             "bandwidth": Q_(self.bandwidth_hz, "Hz"),
             "delay": Q_(self.delay_s, "s"),
             "start-up time constant": Q_(self.startup_tau_s, "s"),
-            "variation between power-ons": ("every calibration and record" if self.power_on_variation
-                                           else "the 7.2.4 / 7.2.15 repeats only"),
+            "variation between power-ons": (
+                "every calibration and record"
+                if self.power_on_variation
+                else "the 7.2.4 / 7.2.15 repeats only"
+            ),
             "output quantum": Q_(self.output_lsb_mV, "mV"),
             "device class": self.device_class or "(fields as given)",
             "seed": self.seed,
@@ -175,7 +183,9 @@ def _run_rng(t: VibratoryTruth, tag: str, run: Any) -> np.random.Generator:
     return np.random.default_rng([t.seed, zlib.crc32(tag.encode()), zlib.crc32(str(run).encode())])
 
 
-def operating_point(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude_deg: float) -> tuple[float, float]:
+def operating_point(
+    t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude_deg: float
+) -> tuple[float, float]:
     """(K in mV/(°/s), bias in °/s, earth rate included) for a segment's conditions."""
     K, b = t.K_mV_per_dps, t.bias_dps
     T = _cond(c, "temperature", "degC", 20.0)
@@ -199,7 +209,12 @@ def operating_point(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude
     if kind == "static-accel":
         b += t.bias_accel_dps_per_g[AXES.index(axis)] * sign
     phase = str(c.get("phase", "before")).lower()
-    if phase == "after" and kind in ("rate-shock", "rate-vibration", "static-shock", "static-vibration"):
+    if phase == "after" and kind in (
+        "rate-shock",
+        "rate-vibration",
+        "static-shock",
+        "static-vibration",
+    ):
         i = AXES.index(axis)
         if kind == "rate-shock":
             K += t.sf_shock_mV_dps[i]
@@ -217,17 +232,22 @@ def operating_point(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude
     return K, b
 
 
-#: conditions that do not start a new power-on, by kind: the chamber's points of 7.2.5 / 7.2.16 (their
-#: c): "在校准过程中，陀螺始终处于工作状态", the gyro works throughout) and the flips of 7.2.6 / 7.2.17
-#: (b) powers on once, c) turns the table) share one power-on
-SAME_POWER_ON = {"rate-temperature": ("temperature",), "static-temperature": ("temperature",),
-                 "rate-accel": ("orientation", "axis"), "static-accel": ("orientation", "axis")}
+#: conditions that do not start a new power-on, by kind: the chamber's points of 7.2.5 / 7.2.16
+#: (their c): "在校准过程中，陀螺始终处于工作状态", the gyro works throughout) and the
+#: flips of 7.2.6 / 7.2.17 (b) powers on once, c) turns the table) share one power-on
+SAME_POWER_ON = {
+    "rate-temperature": ("temperature",),
+    "static-temperature": ("temperature",),
+    "rate-accel": ("orientation", "axis"),
+    "static-accel": ("orientation", "axis"),
+}
 
 
 def power_on_key(kind: str, c: Mapping[str, Any]) -> str:
     """Which power-on a segment belongs to: one calibration or record is one power-on, so every
     condition but the rate (and the resolution's increment) names it (7.2.7/7.2.8 one per axis and
-    phase, …) — except where the clause keeps the gyro on across them (:data:`SAME_POWER_ON`: 7.2.5 and
+    phase, …) — except where the clause keeps the gyro on across them (:data:`SAME_POWER_ON`: 7.2.5
+    and
     7.2.16 one power-on through the chamber, 7.2.6 and 7.2.17 one for all the flips)."""
     same = ("rate", "increment", "base_rate") + SAME_POWER_ON.get(kind, ())
     return ";".join(f"{k}={c[k]}" for k in sorted(c) if k not in same)
@@ -238,8 +258,10 @@ def misalignment_angles(t: VibratoryTruth, run: Any) -> tuple[float, float]:
     if t.misalign_repeat_rad <= 0:
         return t.misalign_alpha_rad, t.misalign_beta_rad
     rng = _run_rng(t, "misalignment", run)
-    return (t.misalign_alpha_rad + t.misalign_repeat_rad * rng.standard_normal(),
-            t.misalign_beta_rad + t.misalign_repeat_rad * rng.standard_normal())
+    return (
+        t.misalign_alpha_rad + t.misalign_repeat_rad * rng.standard_normal(),
+        t.misalign_beta_rad + t.misalign_repeat_rad * rng.standard_normal(),
+    )
 
 
 def mean_output(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude_deg: float) -> float:
@@ -253,8 +275,12 @@ def mean_output(t: VibratoryTruth, kind: str, c: Mapping[str, Any], latitude_deg
     if kind == "misalignment":
         a, be = misalignment_angles(t, c.get("run", 1))
         pos = int(c["position"])
-        proj = {1: a + t.fixture_error_rad[0], 2: -a + t.fixture_error_rad[0],
-                3: be + t.fixture_error_rad[1], 4: -be + t.fixture_error_rad[1]}[pos]
+        proj = {
+            1: a + t.fixture_error_rad[0],
+            2: -a + t.fixture_error_rad[0],
+            3: be + t.fixture_error_rad[1],
+            4: -be + t.fixture_error_rad[1],
+        }[pos]
         omega = omega * math.sin(proj)
     return float(steady_output(t, omega, K=K, bias_dps=b))
 
@@ -303,8 +329,15 @@ def static_noise(t: VibratoryTruth, rng, n: int, interval_s: float) -> np.ndarra
     return w
 
 
-def simulate_segment(t: VibratoryTruth, kind: str, c: Mapping[str, Any], n: int, interval_s: float,
-                     latitude_deg: float, rng: np.random.Generator) -> dict[str, tuple[np.ndarray, str]]:
+def simulate_segment(
+    t: VibratoryTruth,
+    kind: str,
+    c: Mapping[str, Any],
+    n: int,
+    interval_s: float,
+    latitude_deg: float,
+    rng: np.random.Generator,
+) -> dict[str, tuple[np.ndarray, str]]:
     """The columns of one segment (``output`` in mV; ``reference`` in °/s on the angular
     vibration table)."""
     if kind == "angular-vibration":
@@ -318,15 +351,21 @@ def simulate_segment(t: VibratoryTruth, kind: str, c: Mapping[str, Any], n: int,
         gain = 1.0 / math.sqrt(1 + (w * T) ** 2)
         lag = math.atan(w * T) + w * t.delay_s
         ref = A * np.cos(w * tt + ph) + rng.normal(0.0, t.ref_noise_dps, n)
-        out = K * b + K * A * gain * np.cos(w * tt + ph - lag) + K * _white_rate(rng, n, interval_s, t.arw_deg_rt_h)
+        out = (
+            K * b
+            + K * A * gain * np.cos(w * tt + ph - lag)
+            + K * _white_rate(rng, n, interval_s, t.arw_deg_rt_h)
+        )
         return {"output": (out, "mV"), "reference": (ref, "deg/s")}
     if kind == "startup":
         K, b = operating_point(t, kind, c, latitude_deg)
         omega = _cond(c, "rate", "deg/s", 0.0)
         tt = (np.arange(n) + 1) * interval_s
-        out = (steady_output(t, omega, K=K, bias_dps=b)
-               + K * t.startup_excursion_dps * np.exp(-tt / t.startup_tau_s)
-               + K * _white_rate(rng, n, interval_s, t.arw_deg_rt_h))
+        out = (
+            steady_output(t, omega, K=K, bias_dps=b)
+            + K * t.startup_excursion_dps * np.exp(-tt / t.startup_tau_s)
+            + K * _white_rate(rng, n, interval_s, t.arw_deg_rt_h)
+        )
         return {"output": (np.asarray(out, dtype=float), "mV")}
     m = mean_output(t, kind, c, latitude_deg)
     K, _ = operating_point(t, kind, c, latitude_deg)
@@ -361,7 +400,9 @@ def _sf_points(t: VibratoryTruth, group, kind: str, lat: float) -> tuple[np.ndar
     return om, F
 
 
-def _expected_rate(t: VibratoryTruth, rate: list[Step], lat: float, nonlinearity_spec: float) -> dict[str, Any]:
+def _expected_rate(
+    t: VibratoryTruth, rate: list[Step], lat: float, nonlinearity_spec: float
+) -> dict[str, Any]:
     """K, F₀, K_n, the input range (the largest span within the nonlinearity spec) and K_a."""
     ex: dict[str, Any] = {}
     om, F = _sf_points(t, rate, "rate", lat)
@@ -392,7 +433,9 @@ def _expected_k_sets(t: VibratoryTruth, steps: list[Step], lat: float) -> dict[s
     ex: dict[str, Any] = {}
 
     def kset(kind, key):
-        return {k: _fit(*_sf_points(t, g, kind, lat))[0] for k, g in _sets(steps, kind, key).items()}
+        return {
+            k: _fit(*_sf_points(t, g, kind, lat))[0] for k, g in _sets(steps, kind, key).items()
+        }
 
     rep = kset("rate-repeat", ("run",))
     if len(rep) >= 2:
@@ -402,8 +445,10 @@ def _expected_k_sets(t: VibratoryTruth, steps: list[Step], lat: float) -> dict[s
     if len(temp) >= 2:
         T = {k: _cond({"t": k[0]}, "t", "degC") for k in temp}
         km = min(temp, key=lambda k: abs(T[k] - 20.0))
-        ex["Kt"] = Q_(max(abs((temp[k] - temp[km]) / (temp[km] * (T[k] - T[km]))) for k in temp if k != km),
-                      "1/delta_degC")
+        ex["Kt"] = Q_(
+            max(abs((temp[k] - temp[km]) / (temp[km] * (T[k] - T[km]))) for k in temp if k != km),
+            "1/delta_degC",
+        )
     acc = kset("rate-accel", ("orientation",))
     if len(acc) == 2:
         up = [v for k, v in acc.items() if "up" in k[0].lower()][0]
@@ -412,30 +457,46 @@ def _expected_k_sets(t: VibratoryTruth, steps: list[Step], lat: float) -> dict[s
     for kind, key in (("rate-shock", "dK_shock"), ("rate-vibration", "dK_vib")):
         s = kset(kind, ("axis", "phase"))
         if s:
-            ex[key] = Q_(max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s),
-                         "mV/(deg/s)")
+            ex[key] = Q_(
+                max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s),
+                "mV/(deg/s)",
+            )
     return ex
 
 
-def _expected_static(t0: VibratoryTruth, t: VibratoryTruth, static: list[Step], lat: float,
-                     Kn: float) -> dict[str, Any]:
+def _expected_static(
+    t0: VibratoryTruth, t: VibratoryTruth, static: list[Step], lat: float, Kn: float
+) -> dict[str, Any]:
     """B₀ of 7.2.13 and the noise terms of the static record."""
     # B₀ of 7.2.13 is the bias of this record's power-on (interpretations.md, "7.2.13"): its turn-on
     # draw is part of the truth (the record's K differs from 7.2.1's: that is error, K_r's row)
-    own = operating_point(t0, "static", static[0].conditions, lat)[1] - operating_point(
-        t, "static", static[0].conditions, lat)[1]
-    return {"B0": Q_((mean_output(t, "static", static[0].conditions, lat) / Kn + own) * 3600.0, "deg/h"),
-            "ARW": Q_(t.arw_deg_rt_h, "deg/hour**0.5"), "Q": Q_(t.quantization_arcsec, "arcsec"),
-            "RRW": Q_(t.rrw_deg_h_rt_h, "deg/h/hour**0.5"), "RR": Q_(t.rate_ramp_deg_h2, "deg/h**2"),
-            "BI": Q_(t.bias_instability_deg_h, "deg/h")}
+    own = (
+        operating_point(t0, "static", static[0].conditions, lat)[1]
+        - operating_point(t, "static", static[0].conditions, lat)[1]
+    )
+    return {
+        "B0": Q_(
+            (mean_output(t, "static", static[0].conditions, lat) / Kn + own) * 3600.0, "deg/h"
+        ),
+        "ARW": Q_(t.arw_deg_rt_h, "deg/hour**0.5"),
+        "Q": Q_(t.quantization_arcsec, "arcsec"),
+        "RRW": Q_(t.rrw_deg_h_rt_h, "deg/h/hour**0.5"),
+        "RR": Q_(t.rate_ramp_deg_h2, "deg/h**2"),
+        "BI": Q_(t.bias_instability_deg_h, "deg/h"),
+    }
 
 
-def _expected_bias_sets(t: VibratoryTruth, steps: list[Step], lat: float, Kn: float) -> dict[str, Any]:
+def _expected_bias_sets(
+    t: VibratoryTruth, steps: list[Step], lat: float, Kn: float
+) -> dict[str, Any]:
     """B_r, B_t, B_g and the bias changes after shock and vibration."""
     ex: dict[str, Any] = {}
 
     def bset(kind, key):
-        return {k: mean_output(t, kind, g[0].conditions, lat) / Kn * 3600.0 for k, g in _sets(steps, kind, key).items()}
+        return {
+            k: mean_output(t, kind, g[0].conditions, lat) / Kn * 3600.0
+            for k, g in _sets(steps, kind, key).items()
+        }
 
     br = bset("static-repeat", ("run",))
     if len(br) >= 2:
@@ -444,7 +505,9 @@ def _expected_bias_sets(t: VibratoryTruth, steps: list[Step], lat: float, Kn: fl
     if len(bt) >= 2:
         T = {k: _cond({"t": k[0]}, "t", "degC") for k in bt}
         km = min(bt, key=lambda k: abs(T[k] - 20.0))
-        ex["Bt"] = Q_(max(abs((bt[k] - bt[km]) / (T[k] - T[km])) for k in bt if k != km), "deg/h/delta_degC")
+        ex["Bt"] = Q_(
+            max(abs((bt[k] - bt[km]) / (T[k] - T[km])) for k in bt if k != km), "deg/h/delta_degC"
+        )
     bg = bset("static-accel", ("axis", "orientation"))
     if bg:
         vals = []
@@ -457,7 +520,10 @@ def _expected_bias_sets(t: VibratoryTruth, steps: list[Step], lat: float, Kn: fl
     for kind, key in (("static-shock", "dB_shock"), ("static-vibration", "dB_vib")):
         s = bset(kind, ("axis", "phase"))
         if s:
-            ex[key] = Q_(max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s), "deg/h")
+            ex[key] = Q_(
+                max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s),
+                "deg/h",
+            )
     return ex
 
 
@@ -486,13 +552,26 @@ def _last_passing(pairs, K):
     return last
 
 
-def _expected_threshold(t: VibratoryTruth, steps: list[Step], lat: float, K: float) -> dict[str, Any]:
+def _expected_threshold(
+    t: VibratoryTruth, steps: list[Step], lat: float, K: float
+) -> dict[str, Any]:
     """The threshold of 7.2.9: the device's Ω_th and the last passing level of the planned steps."""
     f0 = mean_output(t, "threshold", {"rate": "0 deg/s"}, lat)
     lv = [s for s in steps if s.kind == "threshold" and _cond(s.conditions, "rate", "deg/s") != 0]
-    c = [_last_passing([(_cond(s.conditions, "rate", "deg/s"), mean_output(t, "threshold", s.conditions, lat) - f0)
-                        for s in lv if np.sign(_cond(s.conditions, "rate", "deg/s")) == sg], K)
-         for sg in (1, -1)]
+    c = [
+        _last_passing(
+            [
+                (
+                    _cond(s.conditions, "rate", "deg/s"),
+                    mean_output(t, "threshold", s.conditions, lat) - f0,
+                )
+                for s in lv
+                if np.sign(_cond(s.conditions, "rate", "deg/s")) == sg
+            ],
+            K,
+        )
+        for sg in (1, -1)
+    ]
     if not all(x is not None for x in c):
         return {}
     # the device's threshold by the 50 % criterion is Ω_th; the last passing level of the
@@ -500,25 +579,43 @@ def _expected_threshold(t: VibratoryTruth, steps: list[Step], lat: float, K: flo
     return {"threshold": Q_(t.threshold_dps, "deg/s"), "threshold_grid": Q_(max(c), "deg/s")}
 
 
-def _expected_resolution(t: VibratoryTruth, steps: list[Step], lat: float, K: float) -> dict[str, Any]:
-    """The resolution of 7.2.10: the device's and the last passing increment of the planned steps."""
+def _expected_resolution(
+    t: VibratoryTruth, steps: list[Step], lat: float, K: float
+) -> dict[str, Any]:
+    """The resolution of 7.2.10: the device's and the last passing increment of the planned
+    steps."""
     c = []
     for sg in (1, -1):
-        mine = [s for s in steps
-                if s.kind == "resolution" and np.sign(_cond(s.conditions, "base_rate", "deg/s")) == sg]
+        mine = [
+            s
+            for s in steps
+            if s.kind == "resolution" and np.sign(_cond(s.conditions, "base_rate", "deg/s")) == sg
+        ]
         base = [s for s in mine if _cond(s.conditions, "increment", "deg/s") == 0]
         if not base:
             continue
         fb = mean_output(t, "resolution", base[0].conditions, lat)
-        c.append(_last_passing([(_cond(s.conditions, "increment", "deg/s"),
-                                 mean_output(t, "resolution", s.conditions, lat) - fb)
-                                for s in mine if _cond(s.conditions, "increment", "deg/s") != 0], K))
+        c.append(
+            _last_passing(
+                [
+                    (
+                        _cond(s.conditions, "increment", "deg/s"),
+                        mean_output(t, "resolution", s.conditions, lat) - fb,
+                    )
+                    for s in mine
+                    if _cond(s.conditions, "increment", "deg/s") != 0
+                ],
+                K,
+            )
+        )
     if not (c and all(x is not None for x in c)):
         return {}
     return {"resolution": Q_(t.resolution_dps, "deg/s"), "resolution_grid": Q_(max(c), "deg/s")}
 
 
-def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlinearity_spec: float) -> dict[str, Any]:
+def expected_values(
+    t: VibratoryTruth, steps: list[Step], lat: float, nonlinearity_spec: float
+) -> dict[str, Any]:
     """An ideal (noiseless) evaluation of the planned steps, by the standard's definitions.  The
     truth is the device's own K and bias: a power-on's draw (``power_on_variation``) is an error of
     that calibration, not the device's value (the repeats of 7.2.4 / 7.2.15 keep their draws, whose
@@ -551,7 +648,6 @@ def expected_values(t: VibratoryTruth, steps: list[Step], lat: float, nonlineari
 # ------------------------------------------------------------------------------ station
 
 
-
 @attrs.define
 class VibratoryStation:
     """The simulated JJF 2014 station; ``acquire(steps)`` returns an in-memory campaign."""
@@ -578,12 +674,22 @@ class VibratoryStation:
 
     def device(self) -> DeviceUnderTest:
         return DeviceUnderTest(
-            id="SIM-MVG-1", model="virtual metal-shell vibratory rate gyro", serial=f"seed {self.truth.seed}",
+            id="SIM-MVG-1",
+            model="virtual metal-shell vibratory rate gyro",
+            serial=f"seed {self.truth.seed}",
             manufacturer="metro simulator",
-            properties={"full_scale": Q_(self.truth.full_scale_dps, "deg/s"),
-                        "nonlinearity_spec": Q_(self.nonlinearity_spec, "")}
-            | ({"supply_voltage": Q_(self.truth.ratiometric_supply_V, "V")} if self.truth.ratiometric_supply_V > 0 else {}),
-            technology="vibratory", application="", output="analog",
+            properties={
+                "full_scale": Q_(self.truth.full_scale_dps, "deg/s"),
+                "nonlinearity_spec": Q_(self.nonlinearity_spec, ""),
+            }
+            | (
+                {"supply_voltage": Q_(self.truth.ratiometric_supply_V, "V")}
+                if self.truth.ratiometric_supply_V > 0
+                else {}
+            ),
+            technology="vibratory",
+            application="",
+            output="analog",
         )
 
     def equipment(self) -> list[Equipment]:
@@ -591,15 +697,18 @@ class VibratoryStation:
 
         return equipment_list(self._models())
 
-    def _through_dmm(self, cols: dict[str, tuple[np.ndarray, str]]) -> dict[str, tuple[np.ndarray, str]]:
+    def _through_dmm(
+        self, cols: dict[str, tuple[np.ndarray, str]]
+    ) -> dict[str, tuple[np.ndarray, str]]:
         from .equipment import DigitalMultimeter
 
         dmm = next(m for m in self._models() if isinstance(m, DigitalMultimeter))
         arr, u = cols["output"]
         return cols | {"output": (np.asarray(dmm.read(Q_(arr, u)).to(u).magnitude, dtype=float), u)}
 
-    def _on_table(self, st: Step, cols: dict[str, tuple[np.ndarray, str]], n: int,
-                  rng: np.random.Generator) -> dict[str, tuple[np.ndarray, str]]:
+    def _on_table(
+        self, st: Step, cols: dict[str, tuple[np.ndarray, str]], n: int, rng: np.random.Generator
+    ) -> dict[str, tuple[np.ndarray, str]]:
         """The output of a segment run on the rate table, at the rate the table really turned at.
 
         The set point is the condition ``rate`` (``base_rate`` + ``increment`` for 7.2.10). The
@@ -620,8 +729,12 @@ class VibratoryStation:
         w = table.actual_rate(Q_(om, "deg/s"), n, rng).to("deg/s").magnitude
 
         def out(scale: float) -> float:
-            return mean_output(self.truth, st.kind, {**c, **{k: Q_(_cond(c, k, "deg/s", 0.0) * scale, "deg/s")
-                                                             for k in names}}, self.latitude_deg)
+            return mean_output(
+                self.truth,
+                st.kind,
+                {**c, **{k: Q_(_cond(c, k, "deg/s", 0.0) * scale, "deg/s") for k in names}},
+                self.latitude_deg,
+            )
 
         w_mean = float(np.mean(w))
         h = 1e-6
@@ -631,16 +744,38 @@ class VibratoryStation:
         return cols | {"output": (np.asarray(shifted, dtype=float), u)}
 
     #: the JJF 2014 step kinds this station simulates
-    KINDS = ("rate", "rate-repeat", "rate-temperature", "rate-accel", "rate-shock", "rate-vibration", "threshold",
-             "resolution", "misalignment", "static", "static-repeat", "static-temperature", "static-accel",
-             "static-shock", "static-vibration", "angular-vibration", "startup")
+    KINDS = (
+        "rate",
+        "rate-repeat",
+        "rate-temperature",
+        "rate-accel",
+        "rate-shock",
+        "rate-vibration",
+        "threshold",
+        "resolution",
+        "misalignment",
+        "static",
+        "static-repeat",
+        "static-temperature",
+        "static-accel",
+        "static-shock",
+        "static-vibration",
+        "angular-vibration",
+        "startup",
+    )
 
     def check(self, steps, *, items=None) -> None:
         """Refuse, before anything is simulated, a step kind this station does not simulate."""
         from .stations import refuse_unknown_kinds
 
-        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items,
-                             hint="acquire these items on a station that simulates them (`metro plugins` lists them)")
+        refuse_unknown_kinds(
+            self.name,
+            steps,
+            self.KINDS,
+            items=items,
+            hint="acquire these items on a station that simulates them "
+            "(`metro plugins` lists them)",
+        )
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         from .stations import step_seed
@@ -666,30 +801,51 @@ class VibratoryStation:
             conditions = dict(st.conditions)
             if t.ratiometric_supply_V > 0:
                 arr, u = cols["output"]
-                cols = cols | {"output": (np.asarray(Q_(arr, u).to("mV").magnitude) / t.ratiometric_supply_V, "mV/V")}
+                cols = cols | {
+                    "output": (
+                        np.asarray(Q_(arr, u).to("mV").magnitude) / t.ratiometric_supply_V,
+                        "mV/V",
+                    )
+                }
                 conditions["supply"] = f"{t.ratiometric_supply_V:g} V"
             h = hashlib.sha256()
             for name in sorted(cols):
                 h.update(cols[name][0].tobytes())
-            segs.append(Segment(id=st.segment, kind=st.kind, conditions=conditions,
-                                interval=Q_(dt_, "s"), sha256=h.hexdigest(),
-                                loader=(lambda c=cols: c)))
+            segs.append(
+                Segment(
+                    id=st.segment,
+                    kind=st.kind,
+                    conditions=conditions,
+                    interval=Q_(dt_, "s"),
+                    sha256=h.hexdigest(),
+                    loader=(lambda c=cols: c),
+                )
+            )
             if progress is not None:
                 progress("simulating", k + 1, len(steps))
         return Campaign(
-            id="SIMULATED-JJF2014", device=self.device(), equipment=self.equipment(),
-            environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent"),
-                         "location": "simulated laboratory"},
+            id="SIMULATED-JJF2014",
+            device=self.device(),
+            equipment=self.equipment(),
+            environment={
+                "temperature": Q_(20.0, "degC"),
+                "humidity": Q_(45.0, "percent"),
+                "location": "simulated laboratory",
+            },
             site={"latitude": Q_(self.latitude_deg, "deg")},
-            segments=segs, source="simulated station (simulated-jjf2014)", simulated=True,
+            segments=segs,
+            source="simulated station (simulated-jjf2014)",
+            simulated=True,
             truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
             expected=expected_values(t, steps, self.latitude_deg, self.nonlinearity_spec),
         )
 
 
-#: device classes (station option ``device_class=NAME``): what real vibratory gyros vary, as presets.
+#: device classes (station option ``device_class=NAME``): what real vibratory gyros vary, as
+#: presets.
 #: A class is a population: each seed draws one device of it (:func:`draw_device`); options given
-#: with the class override its values.  The output is analog in every class — JJF 2014's items read a
+#: with the class override its values.  The output is analog in every class — JJF 2014's items read
+#: a
 #: voltage — digitised finely or coarsely, or ratiometric (mV/V of the supply).
 DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
     # the default device: only the 7.2.4 / 7.2.15 repeats vary between power-ons; output not rounded
@@ -699,11 +855,15 @@ DEVICE_CLASSES: Mapping[str, Mapping[str, Any]] = {
     "analog-power-on": {"power_on_variation": True, "sf_repeat_rel": 2e-4, "bias_repeat_dps": 1e-3},
     # the output digitised to 0.02 mV (≈ 3.6 °/h at 20 mV/((°)/s)), about the noise of a 1 s sample
     "analog-coarse": {"output_lsb_mV": 0.02},
-    # the output digitised to 0.2 mV (≈ 36 °/h at 20 mV/((°)/s), a 14-bit word over ±2 V): coarser than the
-    # noise of a 1 s sample (0.02 … 0.05 mV), so the rounding of the 1 s records (7.2.1, 7.2.9, 7.2.10,
-    # 7.2.15 …) does not average out; about 0.4 … 0.8 of the noise of a 0.1 s sample (7.2.13, 7.2.20)
+    # the output digitised to 0.2 mV (≈ 36 °/h at 20 mV/((°)/s), a 14-bit word over ±2 V): coarser
+    # than the
+    # noise of a 1 s sample (0.02 … 0.05 mV), so the rounding of the 1 s records (7.2.1, 7.2.9,
+    # 7.2.10,
+    # 7.2.15 …) does not average out; about 0.4 … 0.8 of the noise of a 0.1 s sample (7.2.13,
+    # 7.2.20)
     "analog-coarser": {"output_lsb_mV": 0.2},
-    # a ratiometric output, recorded in mV/V of a 5 V supply (read back into mV with the declared supply)
+    # a ratiometric output, recorded in mV/V of a 5 V supply (read back into mV with the declared
+    # supply)
     "analog-ratiometric": {"ratiometric_supply_V": 5.0},
 }
 
@@ -715,8 +875,12 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     if device_class not in DEVICE_CLASSES:
         from metro.core.base.errors import DataError
 
-        raise DataError(None, "station option device_class", f"{device_class!r} is not a device class",
-                        hint="device classes: " + ", ".join(DEVICE_CLASSES))
+        raise DataError(
+            None,
+            "station option device_class",
+            f"{device_class!r} is not a device class",
+            hint="device classes: " + ", ".join(DEVICE_CLASSES),
+        )
     base = VibratoryTruth()
     rng = np.random.default_rng([int(seed), 2014])
     kw = dict(DEVICE_CLASSES[device_class])
@@ -731,12 +895,26 @@ def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
     latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors, and
     ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
-    truth_kw, st_kw = station_options("simulated-jjf2014", VibratoryTruth, VibratoryStation, options,
-                                      ("latitude_deg", "duration_scale", "nonlinearity_spec", "instrument_errors",
-                                       "table_errors"))
+    truth_kw, st_kw = station_options(
+        "simulated-jjf2014",
+        VibratoryTruth,
+        VibratoryStation,
+        options,
+        (
+            "latitude_deg",
+            "duration_scale",
+            "nonlinearity_spec",
+            "instrument_errors",
+            "table_errors",
+        ),
+    )
     cls = truth_kw.pop("device_class", "")
     if cls:
-        truth_kw = draw_device(cls, truth_kw.get("seed", VibratoryTruth().seed)) | truth_kw | {"device_class": cls}
+        truth_kw = (
+            draw_device(cls, truth_kw.get("seed", VibratoryTruth().seed))
+            | truth_kw
+            | {"device_class": cls}
+        )
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 

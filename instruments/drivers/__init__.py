@@ -1,4 +1,5 @@
-"""Drivers for live instruments (optional extra ``drivers``: ``pip install 'metro-inertial[drivers]'``).
+"""Drivers for live instruments (optional extra ``drivers``: ``pip install
+'metro-inertial[drivers]'``).
 
 * :mod:`metro.core.model.drivers` — the interfaces a driver implements
   (:class:`~metro.core.model.drivers.DmmDriver`,

@@ -40,8 +40,12 @@ def _visa():
     try:
         import pyvisa
     except ImportError as exc:  # pragma: no cover - the test extra installs it
-        raise DriverError(None, None, "PyVISA is not installed",
-                          hint="pip install 'metro-inertial[drivers]' (pyvisa, pyvisa-sim, pyserial)") from exc
+        raise DriverError(
+            None,
+            None,
+            "PyVISA is not installed",
+            hint="pip install 'metro-inertial[drivers]' (pyvisa, pyvisa-sim, pyserial)",
+        ) from exc
     return pyvisa
 
 
@@ -54,8 +58,15 @@ class ScpiDmm(DmmDriver):
     :param timeout: how long one reply may take (a quantity of time).
     """
 
-    def __init__(self, resource: str, *, visa_library: str = "", timeout: Any = "5 s",
-                 read_termination: str = "\n", write_termination: str = "\n") -> None:
+    def __init__(
+        self,
+        resource: str,
+        *,
+        visa_library: str = "",
+        timeout: Any = "5 s",
+        read_termination: str = "\n",
+        write_termination: str = "\n",
+    ) -> None:
         self.resource = resource
         tmo = parse_quantity(timeout, dimension="s", field="timeout")
         pyvisa = _visa()
@@ -63,8 +74,12 @@ class ScpiDmm(DmmDriver):
             self._rm = pyvisa.ResourceManager(visa_library)
             self._inst = self._rm.open_resource(resource)
         except Exception as exc:  # noqa: BLE001 - pyvisa raises several types
-            raise DriverError(resource, None, f"cannot open the instrument: {exc}",
-                              hint="check the address (`python -m pyvisa info`, the instrument's I/O menu)") from exc
+            raise DriverError(
+                resource,
+                None,
+                f"cannot open the instrument: {exc}",
+                hint="check the address (`python -m pyvisa info`, the instrument's I/O menu)",
+            ) from exc
         self._inst.timeout = int(round(float(tmo.to("ms").magnitude)))
         self._inst.read_termination = read_termination
         self._inst.write_termination = write_termination
@@ -77,7 +92,8 @@ class ScpiDmm(DmmDriver):
         try:
             self._inst.clear()
             self.device_cleared = True
-        except Exception:  # noqa: BLE001 - a backend without viClear (pyvisa-sim), VI_ERROR_NSUP_OPER, …
+        except Exception:  # noqa: BLE001 - a backend without viClear (pyvisa-sim),
+            # VI_ERROR_NSUP_OPER, …
             pass
         try:
             #: what the instrument said it is when the driver opened (an absent one fails here)
@@ -93,11 +109,19 @@ class ScpiDmm(DmmDriver):
         try:
             reply = self._inst.query(command)
         except Exception as exc:  # noqa: BLE001 - timeouts, I/O errors
-            raise DriverError(self.resource, command, f"no valid reply ({type(exc).__name__}: {exc})",
-                              hint="is the instrument connected, switched on and in SCPI mode?") from exc
+            raise DriverError(
+                self.resource,
+                command,
+                f"no valid reply ({type(exc).__name__}: {exc})",
+                hint="is the instrument connected, switched on and in SCPI mode?",
+            ) from exc
         if reply is None or not str(reply).strip():
-            raise DriverError(self.resource, command, "empty reply",
-                              hint="is the instrument at this address connected and switched on?")
+            raise DriverError(
+                self.resource,
+                command,
+                "empty reply",
+                hint="is the instrument at this address connected and switched on?",
+            )
         return str(reply).strip()
 
     def _write(self, command: str) -> None:
@@ -118,7 +142,9 @@ class ScpiDmm(DmmDriver):
             try:
                 code = int(code_text)
             except ValueError as exc:
-                raise DriverError(self.resource, "SYST:ERR?", f"malformed error-queue reply {reply!r}") from exc
+                raise DriverError(
+                    self.resource, "SYST:ERR?", f"malformed error-queue reply {reply!r}"
+                ) from exc
             if code == 0:
                 break
             messages.append(f"{code}: {msg.strip().strip(chr(34))}")
@@ -138,7 +164,9 @@ class ScpiDmm(DmmDriver):
         self._write("*RST")
         self._write("*CLS")
 
-    def configure_dc_voltage(self, range: pint.Quantity | str | None = None, *, nplc: float = 10.0) -> None:
+    def configure_dc_voltage(
+        self, range: pint.Quantity | str | None = None, *, nplc: float = 10.0
+    ) -> None:
         if range is None:
             self._write("CONF:VOLT:DC AUTO")
         else:
@@ -148,7 +176,11 @@ class ScpiDmm(DmmDriver):
                 raise DriverError(self.resource, "range", f"a range must be positive, got {r}")
             self._write(f"CONF:VOLT:DC {v:.6E}")
         if not (isinstance(nplc, (int, float)) and nplc > 0 and math.isfinite(nplc)):
-            raise DriverError(self.resource, "nplc", f"must be a positive number of power-line cycles, got {nplc!r}")
+            raise DriverError(
+                self.resource,
+                "nplc",
+                f"must be a positive number of power-line cycles, got {nplc!r}",
+            )
         self._write(f"VOLT:DC:NPLC {float(nplc):.6E}")
 
     def range(self) -> pint.Quantity:
@@ -160,10 +192,16 @@ class ScpiDmm(DmmDriver):
         try:
             v = float(reply)
         except ValueError as exc:
-            raise DriverError(self.resource, command, f"the reply {reply!r} is not a number") from exc
+            raise DriverError(
+                self.resource, command, f"the reply {reply!r} is not a number"
+            ) from exc
         if not math.isfinite(v) or abs(v) >= OVERLOAD * 0.99:
-            raise DriverError(self.resource, command, f"overload or invalid reading ({reply})",
-                              hint="select a larger range or check the input")
+            raise DriverError(
+                self.resource,
+                command,
+                f"overload or invalid reading ({reply})",
+                hint="select a larger range or check the input",
+            )
         return v
 
     def read(self) -> pint.Quantity:

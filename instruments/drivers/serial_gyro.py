@@ -18,7 +18,8 @@ word that is not 0.  Nothing is dropped silently: :class:`GyroRecord` carries th
 the data, its ``warnings`` say what happened, and its ``time`` column is built from the frame
 counter, so a gap stays a gap (metro's readers refuse a time column with a gap).  Streams that
 cannot be frames at all — no header within a few frame lengths (wrong layout or baud rate), a
-stream that ends mid-frame, a port that goes away — raise :class:`~metro.core.base.errors.DriverError`.
+stream that ends mid-frame, a port that goes away — raise
+:class:`~metro.core.base.errors.DriverError`.
 
 :class:`SerialGyro` reads frames from a serial port with pyserial (imported when it opens).
 """
@@ -37,8 +38,16 @@ from metro.core.base.units import Q_, parse_quantity, unit
 
 from metro.core.model.drivers import GyroOutputDriver, Identity
 
-__all__ = ["FrameField", "FrameLayout", "FrameIssue", "Frame", "FrameParser", "GyroRecord", "SerialGyro",
-           "checksum"]
+__all__ = [
+    "FrameField",
+    "FrameLayout",
+    "FrameIssue",
+    "Frame",
+    "FrameParser",
+    "GyroRecord",
+    "SerialGyro",
+    "checksum",
+]
 
 _INT_CODES = set("bBhHiIqQ")
 _CODES = _INT_CODES | set("fd")
@@ -46,7 +55,9 @@ _CODES = _INT_CODES | set("fd")
 
 def _valid_code(inst: Any, attribute: attrs.Attribute, value: str) -> None:
     if value not in _CODES:
-        raise ValueError(f"{attribute.name}: struct code {value!r} is not one of {''.join(sorted(_CODES))}")
+        raise ValueError(
+            f"{attribute.name}: struct code {value!r} is not one of {''.join(sorted(_CODES))}"
+        )
 
 
 def _valid_unit(inst: Any, attribute: attrs.Attribute, value: str) -> None:
@@ -78,7 +89,8 @@ def _crc16_ccitt(data: bytes) -> int:
 
 
 def checksum(kind: str, data: bytes) -> int:
-    """The checksum of ``data``: ``sum8`` (sum of bytes mod 256), ``xor8`` or ``crc16`` (CCITT-FALSE)."""
+    """The checksum of ``data``: ``sum8`` (sum of bytes mod 256), ``xor8`` or ``crc16``
+    (CCITT-FALSE)."""
     if kind == "sum8":
         return sum(data) & 0xFF
     if kind == "xor8":
@@ -106,9 +118,13 @@ class FrameLayout:
     header: bytes = attrs.field(default=b"\xaa\x55")
     counter: FrameField = attrs.field(factory=lambda: FrameField("counter", "B"))
     fields: tuple[FrameField, ...] = attrs.field(
-        factory=lambda: (FrameField("rate", "i", 1e-6, "deg/s"), FrameField("temperature", "h", 0.01, "degC"),
-                         FrameField("status", "B")),
-        converter=tuple)
+        factory=lambda: (
+            FrameField("rate", "i", 1e-6, "deg/s"),
+            FrameField("temperature", "h", 0.01, "degC"),
+            FrameField("status", "B"),
+        ),
+        converter=tuple,
+    )
     checksum: str = attrs.field(default="sum8", validator=attrs.validators.in_(tuple(_CHECK_CODES)))
     byte_order: str = attrs.field(default="<", validator=attrs.validators.in_(("<", ">")))
 
@@ -116,7 +132,10 @@ class FrameLayout:
         if not self.header:
             raise ValueError("a frame needs header bytes to synchronise on")
         if self.counter.code not in set("BHIQ"):
-            raise ValueError(f"the counter must be an unsigned integer field (B, H, I, Q), not {self.counter.code!r}")
+            raise ValueError(
+                f"the counter must be an unsigned integer field (B, H, I, Q), not "
+                f"{self.counter.code!r}"
+            )
         names = [self.counter.name] + [f.name for f in self.fields]
         if len(set(names)) != len(names) or "time" in names:
             raise ValueError(f"field names must be distinct and not 'time': {names}")
@@ -135,17 +154,26 @@ class FrameLayout:
             raise ValueError(f"{where}: must be a table, got {type(m).__name__}")
         unknown = sorted(set(m) - {"header", "counter", "fields", "checksum", "byte_order"})
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; "
-                             "use header, counter, fields, checksum, byte_order")
+            raise ValueError(
+                f"{where}: unknown key(s) {', '.join(unknown)}; "
+                "use header, counter, fields, checksum, byte_order"
+            )
 
         def field(d: Any, w: str) -> FrameField:
             if not isinstance(d, Mapping) or "name" not in d or "code" not in d:
                 raise ValueError(f"{w}: give a table with at least name and code, got {d!r}")
             bad = sorted(set(d) - {"name", "code", "scale", "unit"})
             if bad:
-                raise ValueError(f"{w}: unknown key(s) {', '.join(bad)}; use name, code, scale, unit")
+                raise ValueError(
+                    f"{w}: unknown key(s) {', '.join(bad)}; use name, code, scale, unit"
+                )
             try:
-                return FrameField(str(d["name"]), str(d["code"]), float(d.get("scale", 1.0)), str(d.get("unit", "1")))
+                return FrameField(
+                    str(d["name"]),
+                    str(d["code"]),
+                    float(d.get("scale", 1.0)),
+                    str(d.get("unit", "1")),
+                )
             except (ValueError, TypeError, pint.errors.UndefinedUnitError) as exc:
                 raise ValueError(f"{w}: {exc}") from exc
 
@@ -154,7 +182,9 @@ class FrameLayout:
             try:
                 kw["header"] = bytes.fromhex(str(m["header"]))
             except ValueError as exc:
-                raise ValueError(f"{where}.header: not hexadecimal bytes ({m['header']!r})") from exc
+                raise ValueError(
+                    f"{where}.header: not hexadecimal bytes ({m['header']!r})"
+                ) from exc
         if "counter" in m:
             kw["counter"] = field(m["counter"], f"{where}.counter")
         if "fields" in m:
@@ -220,8 +250,14 @@ class FrameParser:
     in :attr:`issues`.  ``max_junk`` bytes without a valid frame is an error (a wrong layout or
     baud rate), as is ending mid-frame (:meth:`finish`)."""
 
-    def __init__(self, layout: FrameLayout, *, max_junk: int | None = None, source: str = "stream",
-                 lead_in: bool = False) -> None:
+    def __init__(
+        self,
+        layout: FrameLayout,
+        *,
+        max_junk: int | None = None,
+        source: str = "stream",
+        lead_in: bool = False,
+    ) -> None:
         self.layout = layout
         #: bytes skipped before the first good frame when the parser starts mid-stream (``lead_in``)
         self.lead_in = 0
@@ -241,8 +277,15 @@ class FrameParser:
 
     def _flush_junk(self) -> None:
         if self._junk:
-            self.issues.append(FrameIssue("junk", self._junk_start or 0, self._n_good,
-                                          f"{self._junk} byte(s) that are not a frame were skipped", self._junk))
+            self.issues.append(
+                FrameIssue(
+                    "junk",
+                    self._junk_start or 0,
+                    self._n_good,
+                    f"{self._junk} byte(s) that are not a frame were skipped",
+                    self._junk,
+                )
+            )
             self._junk, self._junk_start = 0, None
 
     def _skip(self, n: int) -> None:
@@ -259,10 +302,14 @@ class FrameParser:
         del self._buf[:n]
         self._offset += n
         if self._junk > self.max_junk:
-            raise DriverError(self.source, f"byte {self._junk_start}",
-                              f"{self._junk} bytes without a valid frame: the stream does not match the "
-                              f"declared layout ({self.layout.size}-byte frames, header {self.layout.header.hex()})",
-                              hint="check the frame layout, the baud rate and the wiring (RS-422 polarity)")
+            raise DriverError(
+                self.source,
+                f"byte {self._junk_start}",
+                f"{self._junk} bytes without a valid frame: the stream does not match the "
+                f"declared layout ({self.layout.size}-byte frames, header "
+                f"{self.layout.header.hex()})",
+                hint="check the frame layout, the baud rate and the wiring (RS-422 polarity)",
+            )
 
     def feed(self, data: bytes) -> list[Frame]:
         L = self.layout
@@ -281,16 +328,22 @@ class FrameParser:
             if len(self._buf) < size:
                 break
             frame = bytes(self._buf[:size])
-            body = frame[hlen:hlen + L.body_size]
-            (stored,) = self._check.unpack(frame[hlen + L.body_size:])
+            body = frame[hlen : hlen + L.body_size]
+            (stored,) = self._check.unpack(frame[hlen + L.body_size :])
             if checksum(L.checksum, body) != stored:
                 if self._lead_in_open and self._offset < size:
                     self._skip(1)  # a header pattern inside the tail of an earlier frame
                     continue
                 self._flush_junk()
-                self.issues.append(FrameIssue("checksum", self._offset, self._n_good,
-                                              f"checksum {stored:#x} does not match the frame "
-                                              f"({checksum(L.checksum, body):#x}); frame left out"))
+                self.issues.append(
+                    FrameIssue(
+                        "checksum",
+                        self._offset,
+                        self._n_good,
+                        f"checksum {stored:#x} does not match the frame "
+                        f"({checksum(L.checksum, body):#x}); frame left out",
+                    )
+                )
                 # the frame's bytes are reported with it; resynchronise on the next header
                 self._bad_until = self._offset + size
                 self._skip(1)
@@ -303,9 +356,16 @@ class FrameParser:
                 step = (cnt - self._last_counter) % L.counter_modulus
                 if step != 1:
                     missing = (step - 1) if step else L.counter_modulus - 1
-                    self.issues.append(FrameIssue(
-                        "counter-gap", self._offset, self._n_good,
-                        f"counter went {self._last_counter} → {cnt}: {missing} frame(s) missing", missing))
+                    self.issues.append(
+                        FrameIssue(
+                            "counter-gap",
+                            self._offset,
+                            self._n_good,
+                            f"counter went {self._last_counter} → {cnt}: "
+                            f"{missing} frame(s) missing",
+                            missing,
+                        )
+                    )
             self._last_counter = cnt
             values = tuple(float(v) * f.scale for v, f in zip(raw[1:], L.fields))
             out.append(Frame(self._offset, cnt, values))
@@ -317,9 +377,12 @@ class FrameParser:
     def finish(self) -> None:
         """The stream has ended: leftover bytes of a partial frame are an error."""
         if self._buf:
-            raise DriverError(self.source, f"byte {self._offset}",
-                              f"the stream ended inside a frame ({len(self._buf)} of {self.layout.size} bytes)",
-                              hint="the connection dropped or the device stopped mid-frame")
+            raise DriverError(
+                self.source,
+                f"byte {self._offset}",
+                f"the stream ended inside a frame ({len(self._buf)} of {self.layout.size} bytes)",
+                hint="the connection dropped or the device stopped mid-frame",
+            )
 
 
 @attrs.frozen(eq=False)
@@ -358,7 +421,10 @@ class GyroRecord:
             more = f" and {len(found) - 5} more" if len(found) > 5 else ""
             out.append(f"{self.source}: {len(found)} {kind} issue(s) at {where}{more}")
         if self.missing_frames:
-            out.append(f"{self.source}: {self.missing_frames} frame(s) missing in total; the time column has gaps")
+            out.append(
+                f"{self.source}: {self.missing_frames} frame(s) missing in total; the time column "
+                f"has gaps"
+            )
         return out
 
     @property
@@ -366,18 +432,28 @@ class GyroRecord:
         return not self.issues
 
     def require_clean(self) -> "GyroRecord":
-        """The record itself if nothing went wrong, else a :class:`DriverError` listing the issues."""
+        """The record itself if nothing went wrong, else a :class:`DriverError` listing the
+        issues."""
         if self.issues:
-            raise DriverError(self.source, "frames", "; ".join(self.warnings),
-                              hint="re-acquire, or keep the record and its gaps explicitly")
+            raise DriverError(
+                self.source,
+                "frames",
+                "; ".join(self.warnings),
+                hint="re-acquire, or keep the record and its gaps explicitly",
+            )
         return self
 
     def as_columns(self) -> dict[str, tuple[np.ndarray, str]]:
         """``{name: (array, unit text)}`` (what a segment loader returns), ``time`` first."""
-        t = self.interval.to("s").magnitude * (self.counter - self.counter[0] if self.counter.size else self.counter)
+        t = self.interval.to("s").magnitude * (
+            self.counter - self.counter[0] if self.counter.size else self.counter
+        )
         out = {"time": (np.asarray(t, dtype=float), "s")}
         for name, q in self.columns.items():
-            out[name] = (np.asarray(q.magnitude, dtype=float), f"{q.units:D}" if str(q.units) else "1")
+            out[name] = (
+                np.asarray(q.magnitude, dtype=float),
+                f"{q.units:D}" if str(q.units) else "1",
+            )
         return out
 
 
@@ -390,8 +466,17 @@ class SerialGyro(GyroOutputDriver):
     :param timeout: how long a read may wait for bytes before the connection counts as dropped.
     """
 
-    def __init__(self, port: str, layout: FrameLayout | Mapping[str, Any], *, interval: Any = "1 ms", baudrate: int = 921600,
-                 timeout: Any = "1 s", parity: str = "N", stopbits: float = 1) -> None:
+    def __init__(
+        self,
+        port: str,
+        layout: FrameLayout | Mapping[str, Any],
+        *,
+        interval: Any = "1 ms",
+        baudrate: int = 921600,
+        timeout: Any = "1 s",
+        parity: str = "N",
+        stopbits: float = 1,
+    ) -> None:
         self.resource = port
         if isinstance(layout, Mapping):
             try:
@@ -400,39 +485,67 @@ class SerialGyro(GyroOutputDriver):
                 raise DriverError(port, "layout", str(exc)) from exc
         self.layout = layout
         self.interval = parse_quantity(interval, dimension="s", field="interval")
-        self._timeout_s = float(parse_quantity(timeout, dimension="s", field="timeout").to("s").magnitude)
+        self._timeout_s = float(
+            parse_quantity(timeout, dimension="s", field="timeout").to("s").magnitude
+        )
         try:
             import serial
         except ImportError as exc:  # pragma: no cover - the test extra installs it
-            raise DriverError(port, None, "pyserial is not installed", hint="pip install 'metro-inertial[drivers]'") from exc
+            raise DriverError(
+                port,
+                None,
+                "pyserial is not installed",
+                hint="pip install 'metro-inertial[drivers]'",
+            ) from exc
         self._serial_mod = serial
         try:
-            self._port = serial.Serial(port, baudrate=baudrate, timeout=self._timeout_s, parity=parity,
-                                       stopbits=stopbits, bytesize=8)
+            self._port = serial.Serial(
+                port,
+                baudrate=baudrate,
+                timeout=self._timeout_s,
+                parity=parity,
+                stopbits=stopbits,
+                bytesize=8,
+            )
         except (serial.SerialException, OSError, ValueError) as exc:
-            raise DriverError(port, None, f"cannot open the serial port: {exc}",
-                              hint="check the port name and that no other program holds it") from exc
+            raise DriverError(
+                port,
+                None,
+                f"cannot open the serial port: {exc}",
+                hint="check the port name and that no other program holds it",
+            ) from exc
         self.parser = FrameParser(layout, source=port)
         self._pending: list[Frame] = []
         self._issues_read = 0
-        self._status_index = next((i for i, f in enumerate(layout.fields) if f.name == "status"), None)
+        self._status_index = next(
+            (i for i, f in enumerate(layout.fields) if f.name == "status"), None
+        )
 
     def identify(self) -> Identity:
         """A streaming gyro does not answer queries: the identity is the port and the layout."""
-        return Identity("serial gyro", f"{self.layout.size}-byte frames, {self.layout.checksum}", self.resource)
+        return Identity(
+            "serial gyro", f"{self.layout.size}-byte frames, {self.layout.checksum}", self.resource
+        )
 
     def _chunks(self) -> Iterator[bytes]:
         while True:
             try:
                 data = self._port.read(max(1, min(self._port.in_waiting or 1, 1 << 16)))
             except (self._serial_mod.SerialException, OSError) as exc:
-                raise DriverError(self.resource, f"byte {self.parser._offset + len(self.parser._buf)}",
-                                  f"the connection was lost: {exc}",
-                                  hint="check the cable and the adapter; nothing after this point was read") from exc
+                raise DriverError(
+                    self.resource,
+                    f"byte {self.parser._offset + len(self.parser._buf)}",
+                    f"the connection was lost: {exc}",
+                    hint="check the cable and the adapter; nothing after this point was read",
+                ) from exc
             if not data:
-                raise DriverError(self.resource, f"byte {self.parser._offset + len(self.parser._buf)}",
-                                  f"no data for {self._timeout_s:g} s: the connection dropped or the gyro "
-                                  "stopped sending", hint="check power, cable and baud rate")
+                raise DriverError(
+                    self.resource,
+                    f"byte {self.parser._offset + len(self.parser._buf)}",
+                    f"no data for {self._timeout_s:g} s: the connection dropped or the gyro "
+                    "stopped sending",
+                    hint="check power, cable and baud rate",
+                )
             yield data
 
     def read(self, n_frames: int) -> GyroRecord:
@@ -454,17 +567,34 @@ class SerialGyro(GyroOutputDriver):
         L = self.layout
         vals = np.array([f.values for f in frames], dtype=float).reshape(len(frames), len(L.fields))
         counter = np.array([f.counter for f in frames], dtype=np.int64)
-        unwrapped = np.concatenate([[0], np.cumsum(np.diff(counter) % L.counter_modulus)]) if frames else counter
+        unwrapped = (
+            np.concatenate([[0], np.cumsum(np.diff(counter) % L.counter_modulus)])
+            if frames
+            else counter
+        )
         if self._status_index is not None:
             bad = np.flatnonzero(vals[:, self._status_index] != 0)
+            status_scale = L.fields[self._status_index].scale
             for j in bad:
-                issues.append(FrameIssue("status", frames[j].position, int(j),
-                                         f"status word {int(vals[j, self._status_index] / L.fields[self._status_index].scale):#x}"))
+                issues.append(
+                    FrameIssue(
+                        "status",
+                        frames[j].position,
+                        int(j),
+                        f"status word {int(vals[j, self._status_index] / status_scale):#x}",
+                    )
+                )
         cols = {L.counter.name: Q_(counter.astype(float), "")}
         for k, f in enumerate(L.fields):
             cols[f.name] = Q_(vals[:, k], f.unit)
-        return GyroRecord(cols, unwrapped, self.interval, tuple(issues),
-                          np.array([f.position for f in frames], dtype=np.int64), self.resource)
+        return GyroRecord(
+            cols,
+            unwrapped,
+            self.interval,
+            tuple(issues),
+            np.array([f.position for f in frames], dtype=np.int64),
+            self.resource,
+        )
 
     def restart(self) -> None:
         """Start a new record: discard the bytes received so far (frames sent while the table was
@@ -474,7 +604,9 @@ class SerialGyro(GyroOutputDriver):
         try:
             self._port.reset_input_buffer()
         except (self._serial_mod.SerialException, OSError) as exc:
-            raise DriverError(self.resource, "reset_input_buffer", f"the connection was lost: {exc}") from exc
+            raise DriverError(
+                self.resource, "reset_input_buffer", f"the connection was lost: {exc}"
+            ) from exc
         self.parser = FrameParser(self.layout, source=self.resource, lead_in=True)
         self._pending = []
         self._issues_read = 0
