@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .campaign import Campaign, DeviceUnderTest
     from .results import Outcome
     from .provenance import RunRecord
-    from ..run.plugin_manager import (
+    from .registry import (
         DriverRegistrar,
         ReaderRegistrar,
         StandardRegistrar,
