@@ -101,8 +101,8 @@ def test_an_unguarded_script_runs_once(tmp_path):
     script = tmp_path / "unguarded.py"
     script.write_text(textwrap.dedent(f"""
         import numpy as np
-        from metro.core import figure_cache
-        from metro.core.model import PlotSpec
+        from metro.core.documents import figure_cache
+        from metro.core.model.results import PlotSpec
 
         with open({str(marker)!r}, "a") as f:
             f.write("ran\\n")

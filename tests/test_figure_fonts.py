@@ -53,8 +53,8 @@ _DRAW = """
 import sys
 from matplotlib import font_manager as fm
 from matplotlib.ft2font import FT2Font
-from metro.core import plots
-from metro.core.model import PlotSpec
+from metro.core.documents import plots
+from metro.core.model.results import PlotSpec
 
 assert not any("CJK" in f.name for f in fm.fontManager.ttflist), "the cache is not stale"
 spec = PlotSpec("zh", "零偏稳定性 bias stability", "平均时间 τ (s)", "零偏 B₀ (°/h)",
@@ -98,7 +98,7 @@ def test_no_cjk_font_at_all_is_one_statement_not_a_warning_per_glyph(stale_cache
     """Without any CJK font (the system's font list empty), figures still draw, and the run says once
     what is missing instead of matplotlib's warning per glyph and figure."""
     code = ("import sys\nfrom matplotlib import font_manager as fm\nfm.findSystemFonts = lambda *a, **k: []\n"
-            "from metro.core import plots\nfrom metro.core.model import PlotSpec\n"
+            "from metro.core.documents import plots\nfrom metro.core.model.results import PlotSpec\n"
             "spec = PlotSpec('zh', '零偏稳定性', 'τ (s)', '零偏 (°/h)', [{'x': [1.0, 2.0], 'y': [1.0, 2.0]}])\n"
             "for i in range(3):\n    plots.render_png(spec, f'{sys.argv[1]}/{i}.png', dpi=40)\n")
     proc = _run(code, stale_cache, str(tmp_path))

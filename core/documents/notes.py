@@ -58,7 +58,8 @@ def where_label(pairs: Sequence[tuple[str, str]]) -> str:
     warning): the symbols of each set of items, then those items in parentheses; an item's own
     texts as the item alone.
 
-    >>> where_label([("7.2.1", "K_gxx"), ("7.2.3", "K_gxx"), ("7.2.3", "K_gxy"), ("7.2.3", "K_gxz")])
+    >>> where_label([("7.2.1", "K_gxx"), ("7.2.3", "K_gxx"), ("7.2.3", "K_gxy"),
+    ...              ("7.2.3", "K_gxz")])
     'K_gxx (7.2.1, 7.2.3); K_gxy, K_gxz (7.2.3)'
     >>> where_label([("7.2.1", ""), ("7.2.2", ""), ("7.2.3", "")])
     '7.2.1, 7.2.2, 7.2.3'
@@ -84,8 +85,9 @@ def where_label(pairs: Sequence[tuple[str, str]]) -> str:
     return "; ".join(out)
 
 
-def group_notes(entries: Iterable[tuple[str, str, Any]], key: Callable[[Any], Hashable] = str,
-                sep: str = "; ") -> list[tuple[str, Any]]:
+def group_notes(
+    entries: Iterable[tuple[str, str, Any]], key: Callable[[Any], Hashable] = str, sep: str = "; "
+) -> list[tuple[str, Any]]:
     """``[(label, text)]``: each note or warning text once, labelled with where it applies.
 
     :param entries: ``(item, symbol, text)`` in document order: a result's note with its
@@ -106,7 +108,9 @@ def group_notes(entries: Iterable[tuple[str, str, Any]], key: Callable[[Any], Ha
             return ("=", key(part))
         return ("~", part.msgid, key(_with(part, {f: _HOLE for f in fields})))
 
-    split = [(item, sym, [(gkey(p), p) for p in parts_of(text, sep)]) for item, sym, text in entries]
+    split = [
+        (item, sym, [(gkey(p), p) for p in parts_of(text, sep)]) for item, sym, text in entries
+    ]
     where: dict[Hashable, list[tuple[str, str]]] = {}
     members: dict[Hashable, list[Any]] = {}
     for item, sym, parts in split:

@@ -42,8 +42,18 @@ from ..base.atomic import atomic_write
 if TYPE_CHECKING:  # pragma: no cover
     from ..model.results import PlotSpec
 
-__all__ = ["render_png", "png_bytes", "FIGSIZE_IN", "FALLBACK_FONTS", "register_cjk_fonts", "font_families",
-           "cjk_font_files", "CJK_FONT_FILE", "MissingGlyphs", "png_encode"]
+__all__ = [
+    "render_png",
+    "png_bytes",
+    "FIGSIZE_IN",
+    "FALLBACK_FONTS",
+    "register_cjk_fonts",
+    "font_families",
+    "cjk_font_files",
+    "CJK_FONT_FILE",
+    "MissingGlyphs",
+    "png_encode",
+]
 
 #: Figure size in inches (about 16 cm × 10 cm: printed at 15 cm wide in reports).
 FIGSIZE_IN = (6.3, 3.9)
@@ -51,14 +61,24 @@ FIGSIZE_IN = (6.3, 3.9)
 _MARKER_STYLES = frozenset({"o", "s", "^", "v", "D", "x", "+", "."})
 
 #: Fonts tried after DejaVu Sans for characters it lacks (Chinese titles), when installed.
-FALLBACK_FONTS = ("Noto Sans CJK SC", "Noto Sans SC", "Source Han Sans SC", "WenQuanYi Zen Hei",
-                  "WenQuanYi Micro Hei", "SimHei", "Microsoft YaHei", "PingFang SC")
+FALLBACK_FONTS = (
+    "Noto Sans CJK SC",
+    "Noto Sans SC",
+    "Source Han Sans SC",
+    "WenQuanYi Zen Hei",
+    "WenQuanYi Micro Hei",
+    "SimHei",
+    "Microsoft YaHei",
+    "PingFang SC",
+)
 
 
 #: file names of the fallback fonts' files (Noto Sans/Serif CJK, Source Han Sans, WenQuanYi, SimHei,
 #: Microsoft YaHei, PingFang): the files :func:`register_cjk_fonts` adds
-CJK_FONT_FILE = re.compile(r"(?i)(noto(sans|serif)cjk|notosans-?sc|sourcehansans|wqy-?(zenhei|microhei)|simhei|msyh"
-                       r"|pingfang)[^/\\]*\.(ttc|otf|ttf)$")
+CJK_FONT_FILE = re.compile(
+    r"(?i)(noto(sans|serif)cjk|notosans-?sc|sourcehansans|wqy-?(zenhei|microhei)|simhei|msyh"
+    r"|pingfang)[^/\\]*\.(ttc|otf|ttf)$"
+)
 
 
 #: held while the machine is searched for CJK fonts: figures drawn from threads (``metro batch``)
@@ -130,8 +150,12 @@ _log = logging.getLogger("metro")
 @functools.lru_cache(maxsize=1)
 def _say_no_cjk_font() -> None:
     """Once per process: figures with Chinese have no font to draw it."""
-    _log.warning("figures: no CJK font found, Chinese text in figures is drawn as empty boxes; install one of "
-                 "%s (e.g. apt-get install fonts-noto-cjk) — `metro doctor` checks it", ", ".join(FALLBACK_FONTS[:2]))
+    _log.warning(
+        "figures: no CJK font found, Chinese text in figures is drawn as empty boxes; "
+        "install one of "
+        "%s (e.g. apt-get install fonts-noto-cjk) — `metro doctor` checks it",
+        ", ".join(FALLBACK_FONTS[:2]),
+    )
 
 
 class MissingGlyphs(warnings.catch_warnings):
@@ -148,8 +172,12 @@ class MissingGlyphs(warnings.catch_warnings):
 
     def __exit__(self, *exc):
         super().__exit__(*exc)
-        missing = [w for w in self._seen if issubclass(w.category, UserWarning)
-                   and re.match(r"Glyph \d+ .* missing from font", str(w.message))]
+        missing = [
+            w
+            for w in self._seen
+            if issubclass(w.category, UserWarning)
+            and re.match(r"Glyph \d+ .* missing from font", str(w.message))
+        ]
         for w in self._seen:  # anything else is shown as it would have been
             if w not in missing:
                 warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
@@ -169,7 +197,9 @@ def _values(v: Any) -> Any:
 def _draw_series(ax, s: Mapping[str, Any], index: int) -> bool:
     """Draw one series on ``ax``; return whether it has a legend label."""
     if "x" not in s or "y" not in s:
-        raise ValueError(f"plot series {index} needs 'x' and 'y' (has: {', '.join(map(str, s)) or 'nothing'})")
+        raise ValueError(
+            f"plot series {index} needs 'x' and 'y' (has: {', '.join(map(str, s)) or 'nothing'})"
+        )
     x = _values(s["x"])
     y = _values(s["y"])
     if x.shape != y.shape:
@@ -180,8 +210,16 @@ def _draw_series(ax, s: Mapping[str, Any], index: int) -> bool:
     yerr = s.get("yerr")
     if style in _MARKER_STYLES:
         if yerr is not None:
-            ax.errorbar(x, y, yerr=_values(yerr), fmt=style, markersize=4, capsize=3,
-                        elinewidth=0.8, label=label)
+            ax.errorbar(
+                x,
+                y,
+                yerr=_values(yerr),
+                fmt=style,
+                markersize=4,
+                capsize=3,
+                elinewidth=0.8,
+                label=label,
+            )
         else:
             ax.plot(x, y, style, markersize=4, label=label)
     elif style == "-":
@@ -201,7 +239,8 @@ _SUBSCRIPT = re.compile(r"(?<![\w$\\])([A-Za-zΔΩα-ω])_(\{[^{}$]{1,12}\}|[A-Z
 
 def localized(spec: "PlotSpec", tr: Any) -> "PlotSpec":
     """The figure's own words — its title, axis labels and legend entries — in the document's
-    language (``tr``: a :class:`metro.core.base.locale.Translator`); a plain text the catalog lacks stays
+    language (``tr``: a :class:`metro.core.base.locale.Translator`); a plain text the catalog lacks
+    stays
     as it is.  The caption under the figure is the document's; this is the text drawn inside it."""
     import attrs
 
@@ -209,7 +248,9 @@ def localized(spec: "PlotSpec", tr: Any) -> "PlotSpec":
         return tr.text(x) if x not in (None, "") else x
 
     series = tuple(dict(s, label=t(s["label"])) if s.get("label") else s for s in spec.series)
-    return attrs.evolve(spec, title=t(spec.title), xlabel=t(spec.xlabel), ylabel=t(spec.ylabel), series=series)
+    return attrs.evolve(
+        spec, title=t(spec.title), xlabel=t(spec.xlabel), ylabel=t(spec.ylabel), series=series
+    )
 
 
 def display_width(text: str) -> int:
@@ -248,14 +289,22 @@ def plot_text(text: str) -> str:
     if "$" in text:
         return text
     if _CJK.search(text):
-        # mathtext draws the whole string in its own font, which has no CJK glyphs (the zh title of JJF 2014's
-        # residual figure printed as boxes): Unicode subscripts where every character has one, else as written
+        # mathtext draws the whole string in its own font, which has no CJK glyphs (the zh title of
+        # JJF 2014's
+        # residual figure printed as boxes): Unicode subscripts where every character has one, else
+        # as written
         def uni(m):
             sub = m.group(2).strip("{}")
-            return m.group(1) + "".join(_UNI_SUB[c] for c in sub) if all(c in _UNI_SUB for c in sub) else m.group(0)
+            return (
+                m.group(1) + "".join(_UNI_SUB[c] for c in sub)
+                if all(c in _UNI_SUB for c in sub)
+                else m.group(0)
+            )
 
         return _SUBSCRIPT.sub(uni, text)
-    return _SUBSCRIPT.sub(lambda m: "$\\mathregular{" + m.group(1) + "_{" + m.group(2).strip("{}") + "}}$", text)
+    return _SUBSCRIPT.sub(
+        lambda m: "$\\mathregular{" + m.group(1) + "_{" + m.group(2).strip("{}") + "}}$", text
+    )
 
 
 def _axis_formatters(ax, spec: "PlotSpec") -> None:
@@ -351,12 +400,20 @@ def png_bytes(spec: "PlotSpec", *, dpi: int = DPI) -> bytes:
         fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, layout="constrained")
         canvas = _canvas_class()(fig)  # Agg canvas: no GUI backend, nothing registered with pyplot
         _draw(fig, spec)
-        # drawn once (savefig with a layout engine lays the figure out and draws it twice, for the same
-        # pixels), then the canvas's buffer written as a PNG: the pixels savefig writes (FigureCanvasAgg.print_png,
-        # imsave of that buffer), encoded faster (png_encode; the same pixels: tests/test_figure_cache.py)
+        # drawn once (savefig with a layout engine lays the figure out and draws it twice, for the
+        # same
+        # pixels), then the canvas's buffer written as a PNG: the pixels savefig writes
+        # (FigureCanvasAgg.print_png,
+        # imsave of that buffer), encoded faster (png_encode; the same pixels:
+        # tests/test_figure_cache.py)
         canvas.draw()
-        return png_encode(canvas.buffer_rgba(), dpi=fig.dpi,
-                          text={"Software": f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/"})
+        return png_encode(
+            canvas.buffer_rgba(),
+            dpi=fig.dpi,
+            text={
+                "Software": f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/"
+            },
+        )
 
 
 def _chunk(kind: bytes, data: bytes) -> bytes:
@@ -387,12 +444,19 @@ def png_encode(rgba: Any, *, dpi: float, text: Mapping[str, str] | None = None) 
     h, w, _ = pixels.shape
     rows = pixels.reshape(h, w * 4)
     raw = np.empty((h, w * 4 + 1), dtype=np.uint8)
-    raw[:, 0] = 2  # filter type 2, "Up": each byte minus the byte above it (modulo 256), 0 above the first row
+    # filter type 2, "Up": each byte minus the byte above it (modulo 256), 0 above the first row
+    raw[:, 0] = 2
     raw[0, 1:] = rows[0]
     np.subtract(rows[1:], rows[:-1], out=raw[1:, 1:])
     ppm = int(dpi / 0.0254 + 0.5)  # pixels per metre, rounded as Pillow rounds it
     parts = [b"\x89PNG\r\n\x1a\n", _chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0))]
-    parts += [_chunk(b"tEXt", k.encode("latin-1") + b"\0" + v.encode("latin-1")) for k, v in (text or {}).items()]
-    parts += [_chunk(b"pHYs", struct.pack(">IIB", ppm, ppm, 1)), _chunk(b"IDAT", zlib.compress(raw.data, 6)),
-              _chunk(b"IEND", b"")]
+    parts += [
+        _chunk(b"tEXt", k.encode("latin-1") + b"\0" + v.encode("latin-1"))
+        for k, v in (text or {}).items()
+    ]
+    parts += [
+        _chunk(b"pHYs", struct.pack(">IIB", ppm, ppm, 1)),
+        _chunk(b"IDAT", zlib.compress(raw.data, 6)),
+        _chunk(b"IEND", b""),
+    ]
     return b"".join(parts)

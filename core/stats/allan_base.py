@@ -242,7 +242,6 @@ class AllanResult:
 
     @property
     def variance(self) -> FloatArray:
-        """The variances (squared deviations)."""
         """sigma^2(tau)."""
         return self.deviation**2
 
@@ -296,4 +295,5 @@ class BlockDoublingResult:
 
     @property
     def variance(self) -> FloatArray:
+        """The variances of the block means at each level (squared standard deviations)."""
         return self.std**2

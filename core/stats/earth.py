@@ -7,7 +7,8 @@ formula modules, next to the equation that prints them.
 * Ω_e = 7.2921150×10⁻⁵ rad/s (IERS conventions, the sidereal rotation rate) ≈ 15.04107 °/h;
 * g_n = 9.80665 m/s² (standard gravity, CGPM 1901), the ``g`` of metro's unit registry;
 * the local gravity a MIMU at rest on a table feels is not g_n: :func:`normal_gravity` is the
-  GRS 80 normal gravity at a latitude and height (9.780 m/s² at the equator, 9.832 m/s² at the poles).
+  GRS 80 normal gravity at a latitude and height (9.780 m/s² at the equator, 9.832 m/s² at the
+  poles).
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ EARTH_RATE_DEG_PER_H = EARTH_RATE_DEG_S * 3600.0
 STANDARD_GRAVITY_M_S2 = 9.80665
 
 
-#: GRS 80 (H. Moritz, "Geodetic Reference System 1980", J. Geodesy 74 (2000) 128–133): normal gravity
+# : GRS 80 (H. Moritz, "Geodetic Reference System 1980", J. Geodesy 74 (2000) 128–133): normal
+# gravity
 #: at the equator (m/s²), Somigliana's constant k and the first eccentricity squared e²
 GRS80_GAMMA_E = 9.7803267715
 GRS80_K = 0.001931851353
@@ -49,5 +51,12 @@ def horizontal_earth_rate_deg_h(latitude_deg: float) -> float:
     return EARTH_RATE_DEG_PER_H * math.cos(math.radians(latitude_deg))
 
 
-__all__ = ["EARTH_RATE_RAD_S", "EARTH_RATE_DEG_S", "EARTH_RATE_DEG_PER_H", "STANDARD_GRAVITY_M_S2",
-           "normal_gravity", "vertical_earth_rate_deg_h", "horizontal_earth_rate_deg_h"]
+__all__ = [
+    "EARTH_RATE_RAD_S",
+    "EARTH_RATE_DEG_S",
+    "EARTH_RATE_DEG_PER_H",
+    "STANDARD_GRAVITY_M_S2",
+    "normal_gravity",
+    "vertical_earth_rate_deg_h",
+    "horizontal_earth_rate_deg_h",
+]

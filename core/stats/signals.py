@@ -68,17 +68,27 @@ def rate_conversion(
     raw = Q_(1.0, raw_unit)
     if raw.check("[pulse_count]"):
         if scale_factor is None:
-            raise DataError(source, "device.scale_factor", "pulse output needs the scale factor K in P/″",
-                            hint="add scale_factor = \"… P/″\" under [device] (from D.1.1)")
+            raise DataError(
+                source,
+                "device.scale_factor",
+                "pulse output needs the scale factor K in P/″",
+                hint='add scale_factor = "… P/″" under [device] (from D.1.1)',
+            )
         check_dimension(scale_factor, "P/arcsec", file=source, field="device.scale_factor")
         f = raw / (interval * scale_factor)
         kind, expl = "pulse", "rate = N/(τ·K)  (GB/T 45570 eq. D.40)"
     elif raw.check("[digital_count]") or raw.check("[electric_potential]"):
         if scale_factor is None:
-            raise DataError(source, "device.scale_factor",
-                            f"{fmt_unit(raw_unit)} output needs the scale factor K in {fmt_unit(raw_unit)}/[(°)/s]",
-                            hint="add scale_factor = \"… LSB/(°/s)\" under [device] (from D.2.1)")
-        check_dimension(scale_factor, f"{raw_unit}/(deg/s)", file=source, field="device.scale_factor")
+            raise DataError(
+                source,
+                "device.scale_factor",
+                f"{fmt_unit(raw_unit)} output needs the scale factor K in "
+                f"{fmt_unit(raw_unit)}/[(°)/s]",
+                hint='add scale_factor = "… LSB/(°/s)" under [device] (from D.2.1)',
+            )
+        check_dimension(
+            scale_factor, f"{raw_unit}/(deg/s)", file=source, field="device.scale_factor"
+        )
         f = raw / scale_factor
         kind = "digital" if raw.check("[digital_count]") else "analog"
         expl = "rate = F/K"
@@ -119,15 +129,21 @@ def device_scale_factor(device, source: str | None = None) -> tuple[pint.Quantit
     return K, abs(rel) / k
 
 
-def required_scale_factor(device, unit: str, *, source: str | None, needed_by: str) -> tuple[float, float]:
+def required_scale_factor(
+    device, unit: str, *, source: str | None, needed_by: str
+) -> tuple[float, float]:
     """The device's scale factor K as a number in ``unit`` and its relative standard
     uncertainty, for a formula that divides by K; a missing or wrongly dimensioned
     ``[device] scale_factor`` is a :class:`DataError` saying which formula needs it
     (``needed_by``, e.g. ``"D.14 (D.1.6)"``)."""
     K, urel = device_scale_factor(device, source)
     if K is None:
-        raise DataError(source, "device.scale_factor", f"{needed_by} divides by the scale factor K ({fmt_unit(unit)}); "
-                        "give the device's K", hint=f"add scale_factor = \"… {unit}\" under [device]")
+        raise DataError(
+            source,
+            "device.scale_factor",
+            f"{needed_by} divides by the scale factor K ({fmt_unit(unit)}); give the device's K",
+            hint=f'add scale_factor = "… {unit}" under [device]',
+        )
     check_dimension(K, unit, file=source, field="device.scale_factor")
     return float(K.to(unit).magnitude), urel
 
@@ -136,6 +152,7 @@ def gyro_output(segment, device, *, column: str = "output", source: str | None =
     """The segment's gyro output column and the conversion of its samples to °/h."""
     series = segment.series(column, OUTPUT_UNITS)
     K, urel = device_scale_factor(device, source)
-    conv = rate_conversion(series.unit, series.interval, K, scale_factor_u_rel=urel,
-                           source=segment.file or source)
+    conv = rate_conversion(
+        series.unit, series.interval, K, scale_factor_u_rel=urel, source=segment.file or source
+    )
     return series, conv

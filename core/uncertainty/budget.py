@@ -59,7 +59,9 @@ def _as_q(x: pint.Quantity | float | int, unit: str | pint.Unit = "") -> pint.Qu
 
 def _positive_or_inf(instance, attribute, value) -> None:
     if not (value > 0):
-        raise ValueError(f"{attribute.name} must be > 0 (use math.inf for an exactly known bound), got {value}")
+        raise ValueError(
+            f"{attribute.name} must be > 0 (use math.inf for an exactly known bound), got {value}"
+        )
 
 
 @attrs.frozen
@@ -104,7 +106,9 @@ class BudgetRow:
         note: str = "",
     ) -> "BudgetRow":
         """A type A row: ``u`` is already a standard uncertainty from the data, with ``dof``."""
-        return cls(source, symbol, "A", "normal", _as_q(u), 1.0, _as_q(sensitivity), float(dof), note)
+        return cls(
+            source, symbol, "A", "normal", _as_q(u), 1.0, _as_q(sensitivity), float(dof), note
+        )
 
     @classmethod
     def type_b(
@@ -129,7 +133,9 @@ class BudgetRow:
             if distribution not in _DIVISORS:
                 raise ValueError(f"{source}: unknown distribution {distribution!r}")
             divisor = _DIVISORS[distribution]  # type: ignore[assignment]
-        return cls(source, symbol, "B", distribution, _as_q(value), divisor, _as_q(sensitivity), dof, note)
+        return cls(
+            source, symbol, "B", distribution, _as_q(value), divisor, _as_q(sensitivity), dof, note
+        )
 
     @classmethod
     def from_calibration(
@@ -197,10 +203,14 @@ class UncertaintyBudget:
     """
 
     measurand: str
-    unit: pint.Unit = attrs.field(converter=lambda u: ureg.Unit(u) if not isinstance(u, pint.Unit) else u)
+    unit: pint.Unit = attrs.field(
+        converter=lambda u: ureg.Unit(u) if not isinstance(u, pint.Unit) else u
+    )
     rows: tuple[BudgetRow, ...] = attrs.field(converter=tuple)
     coverage: Coverage = Coverage.fixed(2.0)
-    round_mode: str = attrs.field(default="half-even", validator=attrs.validators.in_(("half-even", "up")))
+    round_mode: str = attrs.field(
+        default="half-even", validator=attrs.validators.in_(("half-even", "up"))
+    )
     relative: bool = False
     note: str = ""
 
@@ -358,9 +368,12 @@ def _fmt_decimal(d: Decimal, exponent: int) -> str:
     return power_of_ten(f"{mant:.{ndec}f}", lead)
 
 
-def std_upper_limit(s: float, n_values: int | None = None, p: float = 0.02275, *, dof: float | None = None) -> float:
+def std_upper_limit(
+    s: float, n_values: int | None = None, p: float = 0.02275, *, dof: float | None = None
+) -> float:
     """Upper confidence limit of σ from a Bessel standard deviation ``s`` of ``n_values`` normal
-    values (χ² with ν = n − 1), or with an effective ``dof`` ν instead (a Satterthwaite or Bartlett ν of
+    values (χ² with ν = n − 1), or with an effective ``dof`` ν instead (a Satterthwaite or Bartlett
+    ν of
     correlated values, not an integer)::
 
         σ_upper = s·√(ν / χ²_p(ν)),   p = 0.02275 (the one-sided 97.7 %, k = 2 of a normal)
@@ -378,39 +391,53 @@ def std_sampling_u(s: float, n_values: int | None = None, *, dof: float | None =
     """Standard uncertainty of a repeatability s (a Bessel standard deviation of n values, or of
     effective ``dof`` ν) as an estimate of σ, from the χ² bound: (σ_upper − s)/2, entered with ν = ∞
     — s + 2u is the 97.7 % upper confidence limit.  The linear s/√(2(n − 1)) with ν = n − 1 covers σ
-    in only ≈ 92 % of cases at n = 6 or 7 (its U is small exactly when s came out small); for large n
+    in only ≈ 92 % of cases at n = 6 or 7 (its U is small exactly when s came out small); for large
+    n
     the two agree (interpretations.md, "D.5.3 — what D.42 measures" and "Repeatabilities: the χ²
     bound")."""
     return (std_upper_limit(s, n_values, dof=dof) - float(s)) / 2.0
 
 
 def between_variance(s2: float, within: float, dof: int) -> float:
-    """The between-group variance σ_b² of a one-way random-effects analysis, as an uncertainty input:
+    """The between-group variance σ_b² of a one-way random-effects analysis, as an uncertainty
+    input:
     its posterior mean given the data, never 0 while ``within`` > 0.
 
-    ``s2`` is the variance of the group values (ν = ``dof`` = Q − 1; e.g. B_r² of GB/T 45570 eq. (D.42)
-    over Q power-ons), ``within`` the part of it that each value's own noise explains (mean u_A², taken
-    as known: it rests on far more degrees of freedom than ``s2``).  τ = σ_b² + within is what ``s2``
+    ``s2`` is the variance of the group values (ν = ``dof`` = Q − 1; e.g. B_r² of GB/T 45570 eq.
+    (D.42)
+    over Q power-ons), ``within`` the part of it that each value's own noise explains (mean u_A²,
+    taken
+    as known: it rests on far more degrees of freedom than ``s2``).  τ = σ_b² + within is what
+    ``s2``
     estimates, ν·s2/τ ~ χ²(ν).  With the reference prior p(τ) ∝ 1/τ restricted to τ ≥ within (Box &
-    Tiao, *Bayesian Inference in Statistical Analysis*, 1973, §5.2: the one-way random-effect model),
+    Tiao, *Bayesian Inference in Statistical Analysis*, 1973, §5.2: the one-way random-effect
+    model),
     τ = ν·s2/X with X ~ χ²(ν) truncated to X ≤ c = ν·s2/within, and::
 
         E[σ_b² | data] = ν·s2·F_{ν−2}(c) / ((ν − 2)·F_ν(c)) − within        (F_m: the χ²(m) cdf)
 
     Well resolved (c → ∞) it is ν/(ν − 2)·s2 − within — the (n − 1)/(n − 3) of JCGM 101 6.4.9 for a
-    variance from n values; unresolved (s2 → 0) 2·within/(ν − 2).  The moment estimate max(s2 − within, 0)
-    (ISO 5725-2's s_L², set to 0 when negative) is 0 whenever s2 ≤ within, where the data only bound σ_b.
-    E[σ_b²] is the variance of the predictive distribution of a further group's offset, so it enters a
+    variance from n values; unresolved (s2 → 0) 2·within/(ν − 2).  The moment estimate max(s2 −
+    within, 0)
+    (ISO 5725-2's s_L², set to 0 when negative) is 0 whenever s2 ≤ within, where the data only bound
+    σ_b.
+    E[σ_b²] is the variance of the predictive distribution of a further group's offset, so it enters
+    a
     budget with ν = ∞ (interpretations.md, "σ_on — a variance component the data only bound").
     Needs ν ≥ 3 (the posterior mean is infinite with fewer): ValueError."""
     from scipy.stats import chi2
 
     nu = int(dof)
     if nu < 3:
-        raise ValueError(f"the posterior mean of a variance component needs at least 3 degrees of freedom, got {nu}")
+        raise ValueError(
+            "the posterior mean of a variance component needs at least 3 degrees of freedom, "
+            f"got {nu}"
+        )
     s2, within = float(s2), float(within)
     if not (s2 >= 0 and within >= 0 and math.isfinite(s2) and math.isfinite(within)):
-        raise ValueError(f"variances must be finite and non-negative, got s2 = {s2!r}, within = {within!r}")
+        raise ValueError(
+            f"variances must be finite and non-negative, got s2 = {s2!r}, within = {within!r}"
+        )
     if within == 0.0:
         return nu * s2 / (nu - 2)
     if s2 == 0.0:
@@ -452,11 +479,12 @@ def round_to(value: float, exponent: int, *, unit=None) -> Reported:
     return Reported(float(r), _fmt_decimal(r, exponent), exponent, unit)
 
 
-def report_pair(value: float, U: float, *, digits: int = 2, mode: str = "half-even") -> tuple[Reported, Reported]:
+def report_pair(
+    value: float, U: float, *, digits: int = 2, mode: str = "half-even"
+) -> tuple[Reported, Reported]:
     """Round U to ``digits`` significant digits and the value to the same decimal place."""
     rU = round_uncertainty(U, digits=digits, mode=mode)
     if U == 0:  # exact (a count, a value taken as declared): whole numbers whole, else 6 digits
         text = f"{int(value)}" if float(value).is_integer() else f"{float(value):.6g}"
         return Reported(value, text, 0), rU
     return round_to(value, rU.exponent), rU
-

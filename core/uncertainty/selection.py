@@ -22,9 +22,19 @@ from ..stats.lsq import fit_line
 from ..base.locale import msg
 from ..base.units import Q_
 
-__all__ = ["MaxSelection", "max_slope_selection", "max_abs_selection", "selection_rows", "abs_change",
-           "abs_change_rows", "abs_change_note",
-           "selection_note", "spread_rows", "upper_sigma", "line_scatter"]
+__all__ = [
+    "MaxSelection",
+    "max_slope_selection",
+    "max_abs_selection",
+    "selection_rows",
+    "abs_change",
+    "abs_change_rows",
+    "abs_change_note",
+    "selection_note",
+    "spread_rows",
+    "upper_sigma",
+    "line_scatter",
+]
 
 
 @attrs.frozen
@@ -35,8 +45,9 @@ class MaxSelection:
     value: float  # corrected for the selection bias: printed − bias
     s: float  # standard deviation of the maximum over the Monte Carlo draws
     bias: float  # mean of the simulated maxima minus the maximum of the smoothed points
-    degree: int  # degree of the polynomial the points were smoothed with (−1: not smoothed, χ² rejected it;
-    #              −2: each value's size shrunk by its own noise, :func:`max_abs_selection`)
+    # degree of the polynomial the points were smoothed with (−1: not smoothed, χ² rejected it;
+    # −2: each value's size shrunk by its own noise, :func:`max_abs_selection`)
+    degree: int
     #: the points' observed scatter, where it was smaller than their stated u and the draws used it
     #: instead (``observed=True``); None when the stated u were used
     scatter: float | None = None
@@ -44,14 +55,16 @@ class MaxSelection:
 
 def upper_sigma(s: float, dof: int, p: float = 0.95) -> float:
     """The one-sided ``p`` upper confidence limit of σ from a standard deviation ``s`` of ``dof``
-    degrees of freedom, s·√(ν/χ²_{1−p}(ν)) (:func:`metro.core.uncertainty.budget.std_upper_limit`; ν = 2: 4.41·s,
+    degrees of freedom, s·√(ν/χ²_{1−p}(ν)) (:func:`metro.core.uncertainty.budget.std_upper_limit`; ν
+    = 2: 4.41·s,
     ν = 5: 2.09·s)."""
     return std_upper_limit(s, int(dof) + 1, 1.0 - p)
 
 
 def line_scatter(y: Sequence[float], x: Sequence[float]) -> tuple[float, int]:
     """The residual standard deviation of ``y`` about a least-squares straight line in ``x``
-    (:func:`metro.core.stats.lsq.fit_line`) and its n − 2 degrees of freedom; (0, 0) with fewer than four
+    (:func:`metro.core.stats.lsq.fit_line`) and its n − 2 degrees of freedom; (0, 0) with fewer than
+    four
     points (a line through three leaves one degree of freedom: no estimate of a scatter)."""
     if len(y) < 4:
         return 0.0, 0
@@ -74,9 +87,19 @@ def curve_scatter(y: Sequence[float], x: Sequence[float], degree: int = 1) -> tu
     return float(math.sqrt(float(np.sum(r * r)) / dof)), int(dof)
 
 
-def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Sequence[float], i0: int, *,
-                        relative: bool, draws: int = 4000, seed: int = 45570,
-                        observed: bool = False, cap_degree: int = 1, u_dof: float = math.inf) -> MaxSelection:
+def max_slope_selection(
+    values: Sequence[float],
+    u: Sequence[float],
+    temps_C: Sequence[float],
+    i0: int,
+    *,
+    relative: bool,
+    draws: int = 4000,
+    seed: int = 45570,
+    observed: bool = False,
+    cap_degree: int = 1,
+    u_dof: float = math.inf,
+) -> MaxSelection:
     """Selection bias of max_i |(y_i − y_0)/(d·(T_i − T_0))| (d = y_0 when ``relative``, D.12/D.29;
     d = 1, D.43), by Monte Carlo (GUM Supplement 1) about a smoothed K(T) or B(T).
 
@@ -102,10 +125,14 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     freedom) — a curved K(T) is a real difference between the slopes, not scatter (JJF 2014,
     interpretations.md "7.2.5 / 7.2.16 — a curved K(T) is not noise").
 
-    ``u_dof``: the degrees of freedom of the u_i themselves where they are one estimate of few degrees of
-    freedom (GB/T D.1.5 / D.2.5: K's turn-on scatter from seven repeatability runs).  The straight line is
-    then rejected when Σ((y − line)/u)²/(n − 2) exceeds the 95 % point of F(n − 2, u_dof) rather than of
-    χ²(n − 2)/(n − 2): a u small by chance must not reject the line (interpretations.md "D.2.5 — the line
+    ``u_dof``: the degrees of freedom of the u_i themselves where they are one estimate of few
+    degrees of
+    freedom (GB/T D.1.5 / D.2.5: K's turn-on scatter from seven repeatability runs).  The straight
+    line is
+    then rejected when Σ((y − line)/u)²/(n − 2) exceeds the 95 % point of F(n − 2, u_dof) rather
+    than of
+    χ²(n − 2)/(n − 2): a u small by chance must not reject the line (interpretations.md "D.2.5 — the
+    line
     test with an estimated scatter").
 
     Hand-checked: five equal slopes of u = 1 give bias ≈ +1.1 (the mean maximum of five |N(0,1)|
@@ -149,15 +176,24 @@ def max_slope_selection(values: Sequence[float], u: Sequence[float], temps_C: Se
     else:
         limit = float(chi2.ppf(0.95, dof)) if dof >= 1 else math.inf
     if dof >= 1 and float(np.sum(((y - smooth) * w) ** 2)) > limit:
-        smooth, deg = y, -1  # the points depart from a smooth curve beyond their u: take them as they are
+        smooth, deg = (
+            y,
+            -1,
+        )  # the points depart from a smooth curve beyond their u: take them as they are
     sample = np.random.default_rng(seed).normal(smooth, uu, size=(int(draws), y.size))
     mx = stat(sample)
     bias = float(mx.mean() - stat(smooth))
     return MaxSelection(printed, printed - bias, float(mx.std(ddof=1)), bias, deg, scatter)
 
 
-def max_abs_selection(values: Sequence[float], u: Sequence[float], *, draws: int = 4000, seed: int = 2014,
-                      same: Sequence[float] | None = None) -> MaxSelection:
+def max_abs_selection(
+    values: Sequence[float],
+    u: Sequence[float],
+    *,
+    draws: int = 4000,
+    seed: int = 2014,
+    same: Sequence[float] | None = None,
+) -> MaxSelection:
     """Selection bias of max_j |d_j| over independent noisy values d_j ~ N(δ_j, u_j²) (the largest
     change over the axes, JJF 2014 eqs. (13), (15), 7.2.18.2, 7.2.19.2; the largest sensitivity,
     7.2.17.2), by Monte Carlo (GUM Supplement 1).
@@ -186,7 +222,9 @@ def max_abs_selection(values: Sequence[float], u: Sequence[float], *, draws: int
     printed = float(np.max(np.abs(d)))
     scatter = None
     if same is not None and len(same) >= 2:
-        cap = float(np.sqrt(2.0)) * upper_sigma(float(np.std(np.asarray(same, dtype=float), ddof=1)), len(same) - 1)
+        cap = float(np.sqrt(2.0)) * upper_sigma(
+            float(np.std(np.asarray(same, dtype=float), ddof=1)), len(same) - 1
+        )
         if np.any(cap < uu):
             uu, scatter = np.minimum(uu, cap), cap
     if not np.any(uu > 0):
@@ -198,13 +236,19 @@ def max_abs_selection(values: Sequence[float], u: Sequence[float], *, draws: int
     return MaxSelection(printed, printed - bias, float(mx.std(ddof=1)), bias, -2, scatter)
 
 
-def selection_rows(sel: MaxSelection, n: int, unit: str, *, slopes: bool = True, point_unit: str = "") -> list[BudgetRow]:
+def selection_rows(
+    sel: MaxSelection, n: int, unit: str, *, slopes: bool = True, point_unit: str = ""
+) -> list[BudgetRow]:
     """The row of the selection-bias correction of a maximum (D.12, D.29, D.43; JJF 2014 eqs. (11),
-    (13), (15), (31)): the correction is uncertain by up to its own size (uniform, half-width |bias|)."""
+    (13), (15), (31)): the correction is uncertain by up to its own size (uniform, half-width
+    |bias|)."""
     if not sel.bias:
         return []
-    what = (msg("correction for taking the largest of {n} noisy slopes (Monte Carlo)", n=n) if slopes else
-            msg("correction for taking the largest of {n} noisy changes (Monte Carlo)", n=n))
+    what = (
+        msg("correction for taking the largest of {n} noisy slopes (Monte Carlo)", n=n)
+        if slopes
+        else msg("correction for taking the largest of {n} noisy changes (Monte Carlo)", n=n)
+    )
     if sel.degree >= 0:
         how = msg("{c:+.3g} applied; about a degree-{d} polynomial in T", c=-sel.bias, d=sel.degree)
     elif sel.degree == -2:
@@ -212,9 +256,16 @@ def selection_rows(sel: MaxSelection, n: int, unit: str, *, slopes: bool = True,
     else:
         how = msg("{c:+.3g} applied; about the points as measured", c=-sel.bias)
     if sel.scatter is not None:
-        how = msg("{how}; drawn with at most {s:.3g} {unit}, the 95 % upper limit of the points' own scatter",
-                  how=how, s=sel.scatter, unit=point_unit)
-    return [BudgetRow.type_b(what, "δ_sel", Q_(abs(sel.bias), unit), distribution="uniform", note=how)]
+        how = msg(
+            "{how}; drawn with at most {s:.3g} {unit}, "
+            "the 95 % upper limit of the points' own scatter",
+            how=how,
+            s=sel.scatter,
+            unit=point_unit,
+        )
+    return [
+        BudgetRow.type_b(what, "δ_sel", Q_(abs(sel.bias), unit), distribution="uniform", note=how)
+    ]
 
 
 def spread_rows(sel: MaxSelection, u_point: float, unit: str) -> list[BudgetRow]:
@@ -223,17 +274,31 @@ def spread_rows(sel: MaxSelection, u_point: float, unit: str) -> list[BudgetRow]
     point could have given the maximum), normal, else nothing."""
     if not sel.s > u_point:
         return []
-    return [BudgetRow.type_b(msg("spread of the maximum over the Monte Carlo draws beyond the maximising point's own u"),
-                             "√(s² − u_i²)", Q_(float(np.sqrt(sel.s ** 2 - u_point ** 2)), unit), distribution="normal",
-                             k=1.0, note=msg("s = {s:.3g}, the maximising point alone {u:.3g}", s=sel.s, u=u_point))]
+    return [
+        BudgetRow.type_b(
+            msg(
+                "spread of the maximum over the Monte Carlo draws "
+                "beyond the maximising point's own u"
+            ),
+            "√(s² − u_i²)",
+            Q_(float(np.sqrt(sel.s**2 - u_point**2)), unit),
+            distribution="normal",
+            k=1.0,
+            note=msg("s = {s:.3g}, the maximising point alone {u:.3g}", s=sel.s, u=u_point),
+        )
+    ]
 
 
 def selection_note(sel: MaxSelection, scale: float, unit: str) -> str:
-    """The note of a corrected maximum: the value as the standard's formula prints it, and the bias removed."""
-    return msg("as printed by the formula {printed:.4g} {unit}, selection bias {bias:+.2g} {unit} removed "
-               "(interpretations.md)", printed=sel.printed * scale, bias=sel.bias * scale, unit=unit)
-
-
+    """The note of a corrected maximum: the value as the standard's formula prints it, and the bias
+    removed."""
+    return msg(
+        "as printed by the formula {printed:.4g} {unit}, selection bias {bias:+.2g} {unit} removed "
+        "(interpretations.md)",
+        printed=sel.printed * scale,
+        bias=sel.bias * scale,
+        unit=unit,
+    )
 
 
 def abs_change(d: float, u: float) -> MaxSelection:
@@ -252,7 +317,8 @@ def abs_change(d: float, u: float) -> MaxSelection:
     note.  The caller keeps the value ≥ 0.  Hand-checked: d = 0, u = 1 gives
     bias √(2/π) = 0.798 (value −0.798, reported as 0); d = 3, u = 1: δ̂ = √8 = 2.828, E|N(δ̂, 1)| =
     2.8298, bias 0.0014; d = 1.2, u = 1: δ̂ = 0.663, bias 0.304 (Monte Carlo of
-    :func:`max_abs_selection` over 400 000 draws: 0.798, 0.0011, 0.303).  Over noise draws the printed |d|
+    :func:`max_abs_selection` over 400 000 draws: 0.798, 0.0011, 0.303).  Over noise draws the
+    printed |d|
     reads +0.80 u high at δ = 0 and the corrected value +0.3 u (interpretations.md "D.5.5 / D.6.3 /
     D.6.4 — the absolute value of one noisy difference").
     """
@@ -261,32 +327,53 @@ def abs_change(d: float, u: float) -> MaxSelection:
     if not u > 0 or not math.isfinite(u):
         return MaxSelection(printed, printed, 0.0, 0.0, -3)
     m = math.sqrt(max(0.0, d * d - u * u))
-    mean = u * math.sqrt(2.0 / math.pi) * math.exp(-0.5 * (m / u) ** 2) + m * math.erf(m / (u * math.sqrt(2.0)))
+    mean = u * math.sqrt(2.0 / math.pi) * math.exp(-0.5 * (m / u) ** 2) + m * math.erf(
+        m / (u * math.sqrt(2.0))
+    )
     bias = max(0.0, mean - m)  # ≥ 0: E|X| ≥ |E X|; rounding can take it a hair below
-    if bias < 1e-3 * u:  # δ̂ beyond ≈ 3 u: nothing worth a row or a note (it was 1e-16 … 1e-7 of the value)
+    if (
+        bias < 1e-3 * u
+    ):  # δ̂ beyond ≈ 3 u: nothing worth a row or a note (it was 1e-16 … 1e-7 of the value)
         bias = 0.0
     s = math.sqrt(max(0.0, m * m + u * u - mean * mean))
     return MaxSelection(printed, printed - bias, s, bias, -3)
 
 
 def abs_change_rows(sel: MaxSelection, unit: str, u: float) -> list[BudgetRow]:
-    """The row of the correction of :func:`abs_change` (``u``: the difference's noise, as given to it):
-    normal, of standard uncertainty √(u·bias + bias²/4), so that the corrected value's interval at k = 2,
-    (|d| − bias) ± 2√(u² + u·bias + bias²/4) = (|d| − bias) ± (2u + bias), holds the formula's |d| ± 2u.
+    """The row of the correction of :func:`abs_change` (``u``: the difference's noise, as given to
+    it):
+    normal, of standard uncertainty √(u·bias + bias²/4), so that the corrected value's interval at k
+    = 2,
+    (|d| − bias) ± 2√(u² + u·bias + bias²/4) = (|d| − bias) ± (2u + bias), holds the formula's |d| ±
+    2u.
 
-    The correction depends on δ, known only to about u: at d ≈ u it may be anything from 0 (δ ≈ 2–3 u)
-    to 0.8 u (δ = 0).  The uniform ±|bias| of a maximum's correction (:func:`selection_rows`) left the
+    The correction depends on δ, known only to about u: at d ≈ u it may be anything from 0 (δ ≈ 2–3
+    u)
+    to 0.8 u (δ = 0).  The uniform ±|bias| of a maximum's correction (:func:`selection_rows`) left
+    the
     value outside U on 9 % of draws at δ = 2.5 u (|d| ± 2u: 4.4 %); u = |bias|, 5.8 % at δ = 3 u
     (4.4 %); this row never more than |d| ± 2u (interpretations.md)."""
     if not sel.bias > 0:
         return []
     uc = math.sqrt(abs(float(u)) * sel.bias + 0.25 * sel.bias**2)
-    return [BudgetRow.type_b(msg("folded-normal correction of |d| (the amount: the result's note)"),
-                             "δ_abs", Q_(uc, unit), distribution="normal", k=1.0)]
+    return [
+        BudgetRow.type_b(
+            msg("folded-normal correction of |d| (the amount: the result's note)"),
+            "δ_abs",
+            Q_(uc, unit),
+            distribution="normal",
+            k=1.0,
+        )
+    ]
 
 
 def abs_change_note(sel: MaxSelection, scale: float, unit: str) -> str:
-    """The note of a corrected absolute difference: the value as the standard's formula prints it, and the bias
+    """The note of a corrected absolute difference: the value as the standard's formula prints it,
+    and the bias
     removed."""
-    return msg("as printed by the formula {printed:.4g} {unit}, less {bias:.2g} {unit} (folded normal)",
-               printed=sel.printed * scale, bias=sel.bias * scale, unit=unit)
+    return msg(
+        "as printed by the formula {printed:.4g} {unit}, less {bias:.2g} {unit} (folded normal)",
+        printed=sel.printed * scale,
+        bias=sel.bias * scale,
+        unit=unit,
+    )
