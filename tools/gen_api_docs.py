@@ -75,6 +75,30 @@ def _comments(src: str) -> dict[int, tuple[str, bool]]:
     return out
 
 
+#: a comment line that continues the one above it (its text indented inside the comment)
+_CONTINUED = re.compile(r"#\s{2,}\S")
+
+
+def _comment_above(lineno: int, comments: dict[int, tuple[str, bool]]) -> str:
+    """The whole-line comments right above line ``lineno``: its ``#:`` lines, or, when there
+    are none, its plain ``#`` lines (not continuations of a comment further up)."""
+    block: list[str] = []
+    row = lineno - 1
+    while row in comments and comments[row][1]:
+        block.insert(0, comments[row][0])
+        row -= 1
+    marked = []
+    for line in reversed(block):
+        if not line.startswith("#:"):
+            break
+        marked.insert(0, line[2:].strip())
+    if marked:
+        return " ".join(marked)
+    if block and not any(_CONTINUED.match(line) or line.startswith("#:") for line in block):
+        return " ".join(line.lstrip("#").strip() for line in block)
+    return ""
+
+
 def _statement_docs(body: list[ast.stmt], comments: dict[int, tuple[str, bool]]) -> dict[str, str]:
     """The comment documentation of each assigned name of ``body`` (see the module docstring)."""
     out: dict[str, str] = {}
@@ -86,17 +110,12 @@ def _statement_docs(body: list[ast.stmt], comments: dict[int, tuple[str, bool]])
             name = node.targets[0].id
         else:
             continue
-        above: list[str] = []
-        row = node.lineno - 1
-        while row in comments and comments[row][1] and comments[row][0].startswith("#:"):
-            above.insert(0, comments[row][0][2:].strip())
-            row -= 1
-        text = " ".join(above)
+        text = _comment_above(node.lineno, comments)
         end = node.end_lineno or node.lineno
         if not text and end in comments and not comments[end][1]:
             parts = [comments[end][0].lstrip("#").strip()]
-            row = end + 1
-            while row in comments and comments[row][1] and not comments[row][0].startswith("#:"):
+            row = end + 1  # continued on lines indented inside the comment: "#      more"
+            while row in comments and comments[row][1] and _CONTINUED.match(comments[row][0]):
                 parts.append(comments[row][0].lstrip("#").strip())
                 row += 1
             text = " ".join(p for p in parts if p)
@@ -445,8 +464,8 @@ def render() -> str:
         for n in names:
             lines += render_name(n, getattr(api, n), origins)
     lines += ["## Classes the API returns", "",
-              "What a plugin reads but neither builds nor imports: the values API functions and "
-              "properties return. Their fields are part of the contract like those above.", ""]
+              ("What a plugin reads but neither builds nor imports: the values API functions and "
+               "properties return. Their fields are part of the contract like those above."), ""]
     for name, cls in returned_classes():
         lines += render_class(name, cls)
     text = "\n".join(lines)
