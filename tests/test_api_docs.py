@@ -223,3 +223,30 @@ def test_the_stale_name_check_catches_a_moved_name():
     old = "from metro.core.model import Metric, Option\nfrom metro.api import (\n    Q_,\n)\n"
     assert _imports(old) == [("metro.core.model", ["Metric", "Option"]), ("metro.api", ["Q_"])]
     assert not _resolves("metro.core.model.Metric") and _resolves("metro.core.model.results.Metric")
+
+
+_FIELDS = '''
+class C:
+    """Doc naming ``d``."""
+
+    #: the first field,
+    #: on two lines
+    a: int
+    b: float  # an end-of-line comment
+    #              continued inside the comment
+    # a plain block above c
+    # on two lines
+    c: str
+    d: str = ""
+    e: int = 0
+'''
+
+
+def test_the_generator_reads_each_way_a_field_is_documented(gen):
+    import ast
+
+    cdef = ast.parse(_FIELDS).body[0]
+    docs = gen._statement_docs(cdef.body, gen._comments(_FIELDS))
+    assert docs == {"a": "the first field, on two lines",
+                    "b": "an end-of-line comment continued inside the comment",
+                    "c": "a plain block above c on two lines"}

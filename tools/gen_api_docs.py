@@ -81,10 +81,10 @@ _CONTINUED = re.compile(r"#\s{2,}\S")
 
 def _comment_above(lineno: int, comments: dict[int, tuple[str, bool]]) -> str:
     """The whole-line comments right above line ``lineno``: its ``#:`` lines, or, when there
-    are none, its plain ``#`` lines (not continuations of a comment further up)."""
+    are none, its plain ``#`` lines (up to a line continuing a comment further up)."""
     block: list[str] = []
     row = lineno - 1
-    while row in comments and comments[row][1]:
+    while row in comments and comments[row][1] and not _CONTINUED.match(comments[row][0]):
         block.insert(0, comments[row][0])
         row -= 1
     marked = []
@@ -94,7 +94,7 @@ def _comment_above(lineno: int, comments: dict[int, tuple[str, bool]]) -> str:
         marked.insert(0, line[2:].strip())
     if marked:
         return " ".join(marked)
-    if block and not any(_CONTINUED.match(line) or line.startswith("#:") for line in block):
+    if block and not any(line.startswith("#:") for line in block):
         return " ".join(line.lstrip("#").strip() for line in block)
     return ""
 
