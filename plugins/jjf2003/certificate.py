@@ -2,8 +2,8 @@
 
 :func:`certificate_context` turns a run record into ``context["jjf2003"]`` for the template
 the document :func:`layout`.  Values are
-rounded as :meth:`metro.core.model.results.Result.reported` rounds them (U to two significant digits,
-rounded up as appendix A does, k = 2).
+rounded as :meth:`metro.core.model.results.Result.reported` rounds them (U to two significant
+digits, rounded up as appendix A does, k = 2).
 """
 
 from __future__ import annotations
@@ -34,17 +34,20 @@ def _unit(r) -> str:
 
 def _row(r) -> dict[str, Any]:
     v, U = r.reported()
-    return {"name": r.metric.name, "symbol": r.metric.symbol, "value": v, "U": U or DASH, "unit": _unit(r) or "1",
+    return {"name": r.metric.name, "symbol": r.metric.symbol, "value": v, "U": U or DASH,
+            "unit": _unit(r) or "1",
             "k": "2" if r.k is None else fmt_num(r.k, 3), "clause": r.metric.clause,
             # the reason stays a message, so the document writes it in its language
-            "reportable": bool(getattr(r, "reportable", True)), "reason": getattr(r, "reason", "") or ""}
+            "reportable": bool(getattr(r, "reportable", True)),
+            "reason": getattr(r, "reason", "") or ""}
 
 
 def _rows(res, keys) -> list[dict[str, str]]:
     return [_row(res[k]) for k in keys if k in res]
 
 
-#: a matrix cell whose result is not reportable (translated by the layout; the reasons follow the matrix)
+# : a matrix cell whose result is not reportable (translated by the layout; the reasons follow the
+# matrix)
 NOT_REPORTABLE = "not reportable"
 
 
@@ -85,15 +88,18 @@ def certificate_context(record) -> dict[str, Any]:
     camp = record.campaign
     res = _results(record)
     dev = camp.device
-    created = record.created.date().isoformat() if hasattr(record.created, "date") else str(record.created)
+    created = record.created.date().isoformat() if hasattr(record.created,
+                                                           "date") else str(record.created)
     env = "; ".join(f"{k}: {fmt_quantity(v)}" for k, v in camp.environment.items())
     standards = []
     for e in camp.equipment:
         cal = e.calibration
         standards.append({
             "name": e.describe(), "role": e.role or DASH, "serial": e.serial or e.id,
-            "accuracy": DASH if cal is None else (f"U = {fmt_quantity(cal.uncertainty)} (k = {cal.k:g})"
-                                                  if cal.distribution == "normal" else f"±{fmt_quantity(cal.uncertainty)}"),
+            "accuracy": DASH if cal is None else (f"U = {fmt_quantity(cal.uncertainty)} (k = "
+                                                  f"{cal.k:g})"
+                                                  if cal.distribution == "normal"
+                                                  else f"±{fmt_quantity(cal.uncertainty)}"),
             "certificate": DASH if cal is None else cal.certificate,
         })
     clause8 = {
@@ -101,12 +107,14 @@ def certificate_context(record) -> dict[str, Any]:
         "lab_name": _text(camp.lab.name), "lab_address": _text(camp.lab.address),
         "number": record.report_number,
         "customer": _text(camp.customer.name), "customer_address": _text(camp.customer.address),
-        "device_name": "微惯性测量组合 (MIMU) " + (dev.model or ""), "manufacturer": dev.manufacturer or DASH,
+        "device_name": "微惯性测量组合 (MIMU) " + (dev.model or ""),
+               "manufacturer": dev.manufacturer or DASH,
         "model": dev.model or DASH, "serial": dev.serial or dev.id,
         "received": _text(camp.date_received and camp.date_received.isoformat()),
         "calibrated": camp.measurement_date.isoformat() if camp.measurement_date else created,
         "standards": standards, "environment": env or DASH,
-        "issuer": _text(camp.people.approved_by), "issuer_title": _text(camp.people.approved_by_title),
+        "issuer": _text(camp.people.approved_by),
+               "issuer_title": _text(camp.people.approved_by_title),
         "issued": created,
         "operator": _text(camp.people.operator), "checker": _text(camp.people.checked_by),
     }
@@ -157,20 +165,25 @@ def layout(doc, ctx: dict) -> None:
         (tr("Seal of the calibrating laboratory"), tr("(affixed on the issued certificate)")),
         (tr("Customer"), D.or_dash(f["customer"])),
         (tr("Customer address"), D.or_dash(f["customer_address"])),
-        (tr("Instrument calibrated"), tr.pick("微惯性测量组合 (MIMU)", "micro inertial measurement unit (MIMU)")),
+        (tr("Instrument calibrated"),
+         tr.pick("微惯性测量组合 (MIMU)", "micro inertial measurement unit (MIMU)")),
         (tr("Manufacturer"), c8["manufacturer"]),
         (tr("Model"), c8["model"]),
         (tr("Serial number"), c8["serial"]),
         (tr("Date received"), D.or_dash(f["received"])),
         (tr("Date of calibration"), D.or_dash(f["measured"])),
         (tr("Calibration specification"), tr.pick("JJF 2003—2022 微惯性测量组合(MIMU)校准规范",
-                                                  "JJF 2003—2022 Calibration Specification for MIMU")),
-        (tr("Environment"), "; ".join(f"{tr(n['name'].capitalize())} {n['value']}" for n in ctx["environment"])
+                                                  "JJF 2003—2022 Calibration Specification for "
+                                                  "MIMU")),
+        (tr("Environment"),
+         "; ".join(f"{tr(n['name'].capitalize())} {n['value']}" for n in ctx["environment"])
          or DASH),
     ])
     doc.heading(tr("Measurement standards used"), 2)
-    doc.table([tr("Name"), tr("Serial number"), tr("Accuracy"), tr("Certificate No."), tr("Status on the date of measurement")],
-              [[s["name"], s["serial"], s["accuracy"], s["certificate"], D.status_text(tr, e["status"])]
+    doc.table([tr("Name"), tr("Serial number"), tr("Accuracy"), tr("Certificate No."),
+               tr("Status on the date of measurement")],
+              [[s["name"], s["serial"], s["accuracy"], s["certificate"],
+                D.status_text(tr, e["status"])]
                for s, e in zip(c8["standards"], ctx["equipment"])])
     doc.heading(tr("MIMU calibration results"), 1)
     for no, cn, en, key in GROUPS:
@@ -179,10 +192,14 @@ def layout(doc, ctx: dict) -> None:
         if not rows:
             doc.para(tr("not performed"))
             continue
-        # a result not reportable: the cell says so, its U is not issued, the reason follows the table
-        doc.table([tr("Quantity"), tr("Symbol"), tr("Calibration result"), tr("Expanded uncertainty")],
-                  [[r["name"], r["symbol"], D.with_unit(r["value"], r["unit"]), f"U = {D.with_unit(r['U'], r['unit'])} "
-                    f"(k = {r['k']})" if r["U"] != DASH else tr("not evaluated")] if r["reportable"] else
+        # a result not reportable: the cell says so, its U is not issued, the reason follows the
+        # table
+        doc.table([tr("Quantity"), tr("Symbol"), tr("Calibration result"),
+                   tr("Expanded uncertainty")],
+                  [[r["name"], r["symbol"], D.with_unit(r["value"], r["unit"]),
+                    f"U = {D.with_unit(r['U'], r['unit'])} "
+                    f"(k = {r['k']})" if r["U"] != DASH else tr("not evaluated")]
+                   if r["reportable"] else
                    [r["name"], r["symbol"], tr(NOT_REPORTABLE), DASH] for r in rows], prefer=0)
         D.withheld_reasons(doc, [(r["symbol"], r["reason"]) for r in rows if not r["reportable"]])
     for no, cn, en, key, sym in MATRICES:
@@ -196,15 +213,19 @@ def layout(doc, ctx: dict) -> None:
             return tr(x) if x == NOT_REPORTABLE else x
 
         doc.para(f"{sym}{unit}:", keep_next=True)
-        doc.table(["", "x", "y", "z"], [[r["axis"], *(cell(r[f"c{n}"]) for n in (1, 2, 3))] for r in m["value_rows"]],
+        doc.table(["", "x", "y", "z"],
+                  [[r["axis"], *(cell(r[f"c{n}"]) for n in (1, 2, 3))] for r in m["value_rows"]],
                   width_mm=110)
         doc.para(f"{tr('Measurement uncertainty')} U (k = 2){unit}:", keep_next=True)
-        doc.table(["", "x", "y", "z"], [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["u_rows"]], width_mm=110)
+        doc.table(["", "x", "y", "z"],
+                  [[r["axis"], r["c1"], r["c2"], r["c3"]] for r in m["u_rows"]], width_mm=110)
         D.withheld_reasons(doc, m.get("not_reportable", ()))
     doc.heading(tr("Notes on the results"), 2)
     D.notes_section(doc, ctx)
     doc.heading(tr("Signatures"), 2)
-    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]), titled=True)
+    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]),
+                 titled=True)
     doc.para(f"{tr('Date of issue')}: {D.or_dash(f['issued'])}")
-    doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")), size=8.5)
+    doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")),
+             size=8.5)
     D.annexes(doc, ctx)

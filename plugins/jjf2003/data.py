@@ -40,7 +40,8 @@ def duration_ok(seg: Segment, campaign: Campaign) -> None:
     dur = float(s.duration.to("s").magnitude)
     if dur < MIN_SECONDS * 0.999:
         raise DataError(seg.file or campaign.source, f"segments.{seg.id}",
-                        f"held for {dur:.3g} s; JJF 2003 7.2.1.1 d) / 7.2.2.1 a) ask for at least 30 s",
+                        f"held for {dur:.3g} s; JJF 2003 7.2.1.1 d) / 7.2.2.1 a) ask for at least "
+                        "30 s",
                         hint="record each rate point and position for 30 s or more")
 
 
@@ -50,7 +51,8 @@ def columns_of(seg: Segment, names, dim: str) -> np.ndarray:
         s = seg.series(c, dim)
         a = np.asarray(s.data.to(RATE_UNIT if dim == "deg/s" else ACC_UNIT).magnitude, dtype=float)
         if a.size < 2 * BATCHES:
-            raise DataError(seg.file, c, f"segment {seg.id!r} has {a.size} samples; at least {2 * BATCHES} needed")
+            raise DataError(seg.file, c, f"segment {seg.id!r} has {a.size} samples; at least "
+                                         f"{2 * BATCHES} needed")
         bad = ~np.isfinite(a)
         if bad.any():
             i = int(np.argmax(bad))
@@ -66,8 +68,11 @@ def batch_u(a: np.ndarray) -> np.ndarray:
     return b.std(axis=1, ddof=1) / math.sqrt(BATCHES)
 
 
-def data_means(campaign: Campaign) -> tuple[Means, Callable[[Segment], tuple[np.ndarray, np.ndarray]]]:
-    """(means(seg) → (gyro[3] °/s, accel[3] gn) by eq. (3); u(seg) → their standard uncertainties)."""
+def data_means(
+    campaign: Campaign,
+) -> tuple[Means, Callable[[Segment], tuple[np.ndarray, np.ndarray]]]:
+    """(means(seg) → (gyro[3] °/s, accel[3] gn) by eq. (3); u(seg) → their standard
+    uncertainties)."""
     cache: dict[str, tuple] = {}
 
     def load(seg: Segment):
@@ -90,7 +95,8 @@ def axis_of(seg: Segment, campaign: Campaign) -> str:
     a = str(seg.condition("axis")).strip().lower().lstrip("+")
     if a not in AXES:
         raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.axis",
-                        f"must be x, y or z (the MIMU axis along the table axis, pointing up), got {a!r}")
+                        "must be x, y or z (the MIMU axis along the table axis, pointing up), got "
+                        f"{a!r}")
     return a
 
 
@@ -106,11 +112,14 @@ def sweeps(campaign: Campaign, axes=AXES, segments=None) -> dict[str, list[tuple
         rates = [r for r, _ in pts]
         if len(set(rates)) != len(rates):
             dup = sorted({r for r in rates if rates.count(r) > 1})
-            raise DataError(campaign.source, "segments", f"axis {a}: more than one segment at rate(s) "
-                            f"{', '.join(f'{r:g}' for r in dup)} °/s; metro does not guess which to use")
+            raise DataError(campaign.source, "segments", f"axis {a}: more than one segment at "
+                                                         "rate(s) "
+                            f"{', '.join(f'{r:g}' for r in dup)} °/s; metro does not guess which "
+                            "to use")
         if len(rates) < 7:
             raise DataError(campaign.source, "segments",
-                            f"axis {a} is swept with {len(rates)} rate(s); JJF 2003 7.2.1.1 c) asks for 7–11 "
+                            f"axis {a} is swept with {len(rates)} rate(s); JJF 2003 7.2.1.1 c) "
+                            "asks for 7–11 "
                             "rate points including the maximum input rate",
                             hint="`metro plan -s jjf2003 -i 7.2.1` lists the rate points")
         pts.sort(key=lambda p: p[0])
@@ -143,14 +152,17 @@ def positions(campaign: Campaign) -> dict[tuple[str, float], Segment]:
                             f"must be one of {', '.join(F.SIX_POSITIONS)}, got {up!r}")
         key = (up, heading_of(seg, campaign))
         if key in found:
-            raise DataError(campaign.source, "segments", f"two segments ({found[key].id}, {seg.id}) for position "
+            raise DataError(campaign.source, "segments", f"two segments ({found[key].id}, "
+                                                         f"{seg.id}) for position "
                             f"{up} up, heading {key[1]:g}°")
         found[key] = seg
-    missing = [f"{u} up, heading {h:g}°" for u in F.SIX_POSITIONS for h in HEADINGS if (u, h) not in found]
+    missing = [f"{u} up, heading {h:g}°" for u in F.SIX_POSITIONS for h in HEADINGS
+               if (u, h) not in found]
     if missing:
         raise DataError(campaign.source, "segments",
-                        f"the six-position method (7.2.2.1 a), appendix C) needs 12 mountings; missing: "
-                        f"{'; '.join(missing)}", hint="`metro plan -s jjf2003 -i 7.2.2` lists the 12 mountings")
+                        "the six-position method (7.2.2.1 a), appendix C) needs 12 mountings; "
+                        f"missing: {'; '.join(missing)}", hint="`metro plan -s jjf2003 -i 7.2.2` "
+                                                               "lists the 12 mountings")
     return found
 
 
@@ -168,14 +180,16 @@ def sweep_fits(campaign: Campaign, means: Means, segments=None) -> dict[str, dic
             try:
                 fits.append(F.scale_factor_eq5(X, U[:, i]))
             except ValueError as exc:
-                raise ProcedureError(f"7.2.1 axis {j}: the eq. (5) design is singular or too small ({exc})") from exc
+                raise ProcedureError(f"7.2.1 axis {j}: the eq. (5) design is singular or too small "
+                                     f"({exc})") from exc
         out[j] = {"X": X, "U": U, "fits": fits, "segments": [s.id for _, s in pts]}
     return out
 
 
-def six_position(campaign: Campaign, means: Means, which: int) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """Pair-averaged outputs U (3×6) of the gyros (which=0) or accelerometers (1) and the eq. (7)/(10)
-    solution [M | B] (3×4)."""
+def six_position(campaign: Campaign, means: Means,
+                 which: int) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Pair-averaged outputs U (3×6) of the gyros (which=0) or accelerometers (1) and the eq.
+    (7)/(10) solution [M | B] (3×4)."""
     segs = positions(campaign)
     cols = []
     for up in F.SIX_POSITIONS:
@@ -209,7 +223,8 @@ def rate_pairs(campaign: Campaign, omega_deg_s: float) -> dict[str, tuple[Segmen
             what = "at rest (U₇)" if rest is None else f"turning at ω = {omega_deg_s:g} °/s (U₈)"
             raise DataError(campaign.source, "segments",
                             f"7.2.5 needs, for axis {a} up, a rate segment {what}; none found",
-                            hint="`metro plan -s jjf2003 -i 7.2.5`, or set the option omega to a recorded rate")
+                            hint="`metro plan -s jjf2003 -i 7.2.5`, or set the option omega to a "
+                                 "recorded rate")
         out[a] = (rest, turning)
     return out
 
@@ -228,7 +243,8 @@ def p_matrix(campaign: Campaign, means: Means, omega_deg_s: float, sign: str) ->
 
 
 def ideal_evaluation(campaign: Campaign, means: Means) -> dict[str, Any]:
-    """Every metric by the default evaluation, from given (exact) segment means (for ``expected``)."""
+    """Every metric by the default evaluation, from given (exact) segment means (for
+    ``expected``)."""
     out: dict[str, Any] = {}
     try:
         fits = sweep_fits(campaign, means)
@@ -237,7 +253,8 @@ def ideal_evaluation(campaign: Campaign, means: Means) -> dict[str, Any]:
                 out[f"K_g{r}{j}"] = Q_(float(d["fits"][i].coef[0]), "")
     except Exception:  # noqa: BLE001 - items not in this campaign
         pass
-    for which, prefix_m, prefix_b, mu, bu in ((0, "g_", "B_g", G_UNIT, RATE_UNIT), (1, "K_a", "B_a", "", ACC_UNIT)):
+    for which, prefix_m, prefix_b, mu, bu in ((0, "g_", "B_g", G_UNIT, RATE_UNIT),
+                                              (1, "K_a", "B_a", "", ACC_UNIT)):
         try:
             _, GB, _ = six_position(campaign, means, which)
         except Exception:  # noqa: BLE001

@@ -48,21 +48,23 @@ from . import formulas as F
 from .data import axis_of, columns_of, rate_of
 
 AXES = ("x", "y", "z")
-#: without recording times, a significant drift withholds a result it moves by this share of U or more
-#: with the records back to back in the plan's order — the least lever arm they can have had; below it,
-#: gaps would have to lengthen that lever arm tenfold to move the result by U (the drift is in u_b too)
+# : without recording times, a significant drift withholds a result it moves by this share of U or
+# more : with the records back to back in the plan's order — the least lever arm they can have had;
+# below it, : gaps would have to lengthen that lever arm tenfold to move the result by U (the drift
+# is in u_b too)
 MATERIAL = 0.1
 GYRO = ("gx", "gy", "gz")
-#: the pooled drift of one gyro is significant at |d̂|/u(d̂) ≥ Z_CRIT (two-sided 1.2 % per gyro for a
-#: steady device; measured false rates in docs/standards/jjf2003.md)
+# : the pooled drift of one gyro is significant at |d̂|/u(d̂) ≥ Z_CRIT (two-sided 1.2 % per gyro
+# for a : steady device; measured false rates in docs/standards/jjf2003.md)
 Z_CRIT = 2.5
-#: with recording times a result is corrected for the drift where its effect Δ on it is resolved: |Δ|/u(Δ)
-#: beyond the two-sided quantile of Student's t with the drift model's ν at the false rate Z_CORRECT standard
-#: errors have for a normal variable (1.24 %; :func:`correct_threshold`: 3.1 at ν = 10, the twelve
-#: six-position records of 7.2.2 alone — 2.5 flat corrected 3 % of steady gyros there by chance).  GUM
-#: 3.2.4's "significant"; an effect the data do not resolve is budgeted uncorrected, √(Δ² + u²).
-#: Correcting always (Z_CORRECT = 0, measured with benchmarks/jjf2003_drift_modes.py) is unbiased but puts
-#: the estimate's noise into every steady device's K_g and g (rms E_n × 3–10)
+# : with recording times a result is corrected for the drift where its effect Δ on it is resolved:
+# |Δ|/u(Δ) : beyond the two-sided quantile of Student's t with the drift model's ν at the false
+# rate Z_CORRECT standard : errors have for a normal variable (1.24 %; :func:`correct_threshold`:
+# 3.1 at ν = 10, the twelve : six-position records of 7.2.2 alone — 2.5 flat corrected 3 % of
+# steady gyros there by chance).  GUM : 3.2.4's "significant"; an effect the data do not resolve is
+# budgeted uncorrected, √(Δ² + u²). : Correcting always (Z_CORRECT = 0, measured with
+# benchmarks/jjf2003_drift_modes.py) is unbiased but puts : the estimate's noise into every steady
+# device's K_g and g (rms E_n × 3–10)
 Z_CORRECT = Z_CRIT
 
 
@@ -75,8 +77,8 @@ def correct_threshold(nu: float) -> float:
     from scipy.stats import norm, t
 
     return float(t.isf(norm.sf(Z_CORRECT), max(nu, 1)))
-#: the line in time fits the record trends unless χ² exceeds its 99 % quantile (the drift model's error
-#: then enters the budget, :func:`correction`)
+# : the line in time fits the record trends unless χ² exceeds its 99 % quantile (the drift model's
+# error : then enters the budget, :func:`correction`)
 P_FIT = 0.01
 #: a turning record's trend is fitted with the table-rate sinusoid only over at least one revolution
 MIN_TURNS = 1.0
@@ -127,7 +129,8 @@ class RateModel:
         """[mean of (t − t_ref), mean of (t − t_ref)²/2] over a record's samples (mid-time ``mid``,
         ``duration`` = samples × ``interval``)."""
         x = mid - self.t_ref
-        spread = max(duration**2 - interval**2, 0.0) / 12.0  # variance of the sample times about mid
+        # variance of the sample times about mid
+        spread = max(duration**2 - interval**2, 0.0) / 12.0
         return np.array([x, 0.5 * (x * x + spread)])
 
     def effect(self, grad: np.ndarray) -> tuple[float, float]:
@@ -152,7 +155,8 @@ class GyroDrift:
     durations: Mapping[str, float]
     #: records with ``started`` when not all have it (their times are then not used)
     timed: int = 0
-    #: each gyro's drift rate as a line in time (None without times or with fewer than three records)
+    # : each gyro's drift rate as a line in time (None without times or with fewer than three
+    # records)
     models: tuple[RateModel | None, RateModel | None, RateModel | None] = (None, None, None)
     intervals: Mapping[str, float] = attrs.field(factory=dict)
 
@@ -174,7 +178,8 @@ class GyroDrift:
         return np.append(m.basis(t, self.durations[sid], self.intervals[sid]), m.leftover(t))
 
 
-def record_trend(y: np.ndarray, dt_s: float, rate_deg_s: float, lsb: float | None) -> tuple[np.ndarray, np.ndarray]:
+def record_trend(y: np.ndarray, dt_s: float, rate_deg_s: float,
+                 lsb: float | None) -> tuple[np.ndarray, np.ndarray]:
     """Least-squares trend (per s) of each column of ``y`` (n × k) within one record and its
     standard error: y = a + b·t (+ c·cos ωt + s·sin ωt for a turning table, ω = ``rate_deg_s``),
     t about the record's middle; the residual variance is floored at LSB²/12 (a record frozen
@@ -197,9 +202,9 @@ def record_trend(y: np.ndarray, dt_s: float, rate_deg_s: float, lsb: float | Non
 
 
 def pooled(b: np.ndarray, se: np.ndarray) -> tuple[float, float, int]:
-    """Inverse-variance mean of the record trends b with standard errors se (core.lsq's weighted fit of a
-    constant, absolute weights); its standard error scaled by the Birge ratio √(χ²/(n − 1)) where that
-    exceeds 1; ν = n − 1."""
+    """Inverse-variance mean of the record trends b with standard errors se (core.lsq's weighted
+    fit of a constant, absolute weights); its standard error scaled by the Birge ratio √(χ²/(n −
+    1)) where that exceeds 1; ν = n − 1."""
     ok = se > 0
     b, se = b[ok], se[ok]
     n = int(b.size)
@@ -210,8 +215,8 @@ def pooled(b: np.ndarray, se: np.ndarray) -> tuple[float, float, int]:
 
 
 def rate_model(b: np.ndarray, se: np.ndarray, mid: np.ndarray) -> RateModel | None:
-    """The record trends b (standard errors se, at mid-times ``mid``) fitted by a drift rate that is a
-    straight line in time (:class:`RateModel`; core.lsq's weighted fit, absolute weights, its
+    """The record trends b (standard errors se, at mid-times ``mid``) fitted by a drift rate that
+    is a straight line in time (:class:`RateModel`; core.lsq's weighted fit, absolute weights, its
     covariance scaled by the Birge ratio² where that exceeds 1; t_ref the weighted mean time, so
     that a is the pooled trend of :func:`pooled`); where its change in time c is below
     :data:`Z_CRIT` standard errors the rate is taken constant (c = 0, the pooled trend: a slope
@@ -241,9 +246,11 @@ def rate_model(b: np.ndarray, se: np.ndarray, mid: np.ndarray) -> RateModel | No
     x2 = float(fit.residual_sd) ** 2 * nu
     return RateModel(a=float(fit.coef[0]), c=float(fit.coef[1]) if line else 0.0, chi2=x2,
                      p_fit=float(_chi2.sf(x2, nu)),
-                     cov=((float(cov[0, 0]), float(cov[0, 1])), (float(cov[1, 0]), float(cov[1, 1]))),
+                     cov=((float(cov[0, 0]), float(cov[0, 1])),
+                          (float(cov[1, 0]), float(cov[1, 1]))),
                      dof=nu, t_ref=t_ref, birge=birge, knots=tuple(float(x) for x in tk),
-                     left=tuple(float(x) for x in left), line=line, c_seen=c_seen, records=int(b.size))
+                     left=tuple(float(x) for x in left), line=line, c_seen=c_seen,
+                     records=int(b.size))
 
 
 _CACHE: "weakref.WeakKeyDictionary[Campaign, GyroDrift]" = weakref.WeakKeyDictionary()
@@ -255,7 +262,8 @@ def _lsb(campaign: Campaign) -> float | None:
     if eq is None or "bits" not in eq.properties or rng is None:
         return None
     try:
-        fs = float(campaign.device.prop("gyro_range", "deg/s", source=campaign.source).to("deg/s").magnitude)
+        fs = float(campaign.device.prop("gyro_range", "deg/s",
+                                        source=campaign.source).to("deg/s").magnitude)
         return 2.0 * fs / 2 ** int(eq.properties["bits"])
     except (DataError, ValueError, TypeError):
         return None
@@ -278,8 +286,9 @@ def _times(campaign: Campaign, segs: list[Segment], durations: Mapping[str, floa
         end = start[a.id] + durations[a.id]
         if start[b.id] < end - intervals[a.id]:
             raise DataError(b.file or campaign.source, f"segments.{b.id}.started",
-                            f"{b.started.isoformat()} is before the end of segment {a.id!r} (started "
-                            f"{a.started.isoformat()}, {durations[a.id]:g} s long): the records of one MIMU "
+                            f"{b.started.isoformat()} is before the end of segment {a.id!r} "
+                            f"(started {a.started.isoformat()}, {durations[a.id]:g} s long): the "
+                            "records of one MIMU "
                             "on one table cannot overlap",
                             hint="give each segment the time its first sample was taken")
     return {s.id: start[s.id] + 0.5 * (durations[s.id] - intervals[s.id]) for s in segs}
@@ -316,7 +325,8 @@ def campaign_drift(campaign: Campaign) -> GyroDrift:
     times = _times(campaign, segs, durations, intervals)
     models = tuple(rate_model(np.array(b), np.array(s), np.array([times[k] for k in sid]))
                    if times is not None else None for (b, s), sid in zip(per, ids))
-    out = GyroDrift(d=tuple(e[0] for e in est), u=tuple(e[1] for e in est), dof=tuple(e[2] for e in est),
+    out = GyroDrift(d=tuple(e[0] for e in est), u=tuple(e[1] for e in est),
+                    dof=tuple(e[2] for e in est),
                     records=tuple(len(b) for b, _ in per), mid_times=times, durations=durations,
                     timed=0 if times is not None else sum(s.started is not None for s in segs),
                     models=models, intervals=intervals)
@@ -369,7 +379,8 @@ def plan_sweep_factor(rates, durations) -> float:
     return sweep_factor(np.asarray(rates, float)[order], mids)
 
 
-def plan_six_factors(durations_by_position: Mapping[tuple[str, float], float], ratio: float) -> np.ndarray:
+def plan_six_factors(durations_by_position: Mapping[tuple[str, float], float],
+                     ratio: float) -> np.ndarray:
     """τ of eq. (7) for the twelve mountings taken back to back in ``metro plan``'s order (each
     position at heading 0° then 180°, +x, −x, +y, −y, +z, −z)."""
     clock, pair_t = 0.0, []
@@ -399,52 +410,63 @@ def correction(drift: GyroDrift, i: int, grad: np.ndarray, unit: str, what, tau_
     does not fit the trends (:attr:`RateModel.misfit`) u_dm = |e|."""
     m = drift.models[i]
     delta, u = m.effect(grad[:2])
-    shape = (msg("as a line in time: {a:.3g} ± {ua:.2g} °/s per hour, changing by {c:.2g} ± {uc:.2g} °/s per hour "
-                 "per hour", a=m.a * 3600.0, ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c * 3600.0**2,
+    shape = (msg("as a line in time: {a:.3g} ± {ua:.2g} °/s per hour, changing by {c:.2g} ± "
+                 "{uc:.2g} °/s per hour per hour", a=m.a * 3600.0,
+                 ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c * 3600.0**2,
                  uc=math.sqrt(m.cov[1][1]) * 3600.0**2) if m.line else
-             msg("as a constant: {a:.3g} ± {ua:.2g} °/s per hour (a change in time of {c:.2g} ± {uc:.2g} °/s per hour "
-                 "per hour, below {z:g} standard errors, is not fitted)", a=m.a * 3600.0,
-                 ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c_seen[0] * 3600.0**2, uc=m.c_seen[1] * 3600.0**2, z=Z_CRIT))
+             msg("as a constant: {a:.3g} ± {ua:.2g} °/s per hour (a change in time of {c:.2g} ± "
+                 "{uc:.2g} °/s per hour per hour, below {z:g} standard errors, is not fitted)",
+                 a=m.a * 3600.0,
+                 ua=math.sqrt(m.cov[0][0]) * 3600.0, c=m.c_seen[0] * 3600.0**2,
+                 uc=m.c_seen[1] * 3600.0**2, z=Z_CRIT))
     z_cut = correct_threshold(m.dof)
     applied = abs(delta) >= z_cut * u
     if applied:
         rows = [BudgetRow.type_a(
-            msg("correction for the gyro bias drift between the records ({what})", what=what), "u_d",
+            msg("correction for the gyro bias drift between the records ({what})", what=what),
+                                 "u_d",
             Q_(u, unit), max(m.dof, 1),
-            note=msg("gyro {gyro}'s drift rate fitted to the within-record trends of {n} records {shape} (Birge "
-                     "ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} {tau_unit}; the result is corrected "
-                     "by {delta:.3g}{unit}", gyro=AXES[i], n=m.records, shape=shape, birge=m.birge, chi2=m.chi2,
+            note=msg("gyro {gyro}'s drift rate fitted to the within-record trends of {n} records "
+                     "{shape} (Birge ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} "
+                     "{tau_unit}; the result is corrected by {delta:.3g}{unit}", gyro=AXES[i],
+                     n=m.records, shape=shape, birge=m.birge, chi2=m.chi2,
                      nu=m.dof, tau=float(grad[0]), tau_unit=tau_unit, delta=-delta, unit=shown))]
     else:  # an effect the data do not resolve: left in, budgeted (GUM F.2.4.5)
         rows = [BudgetRow.type_a(
             msg("gyro bias drift between the records ({what})", what=what), "u_d",
             Q_(math.hypot(delta, u), unit), max(m.dof, 1),
-            note=msg("gyro {gyro}'s drift rate fitted to the within-record trends of {n} records {shape} (Birge "
-                     "ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} {tau_unit}; its effect on this "
-                     "result, {delta:.3g} ± {ud:.2g}{unit}, is below {z:g} standard errors: not corrected, "
-                     "√(Δ² + u²)", gyro=AXES[i], n=m.records, shape=shape, birge=m.birge, chi2=m.chi2, nu=m.dof,
-                     tau=float(grad[0]), tau_unit=tau_unit, delta=delta, ud=u, unit=shown, z=round(z_cut, 2)))]
-    if not m.line:  # the change of the rate in time that the data do not resolve: budgeted, not corrected
+            note=msg("gyro {gyro}'s drift rate fitted to the within-record trends of {n} records "
+                     "{shape} (Birge ratio {birge:.2f}, χ² = {chi2:.1f}, ν = {nu}); τ = {tau:.4g} "
+                     "{tau_unit}; its effect on this result, {delta:.3g} ± {ud:.2g}{unit}, is "
+                     "below {z:g} standard errors: not corrected, √(Δ² + u²)", gyro=AXES[i],
+                     n=m.records, shape=shape, birge=m.birge, chi2=m.chi2, nu=m.dof,
+                     tau=float(grad[0]), tau_unit=tau_unit, delta=delta, ud=u, unit=shown,
+                     z=round(z_cut, 2)))]
+    # the change of the rate in time that the data do not resolve: budgeted, not corrected
+    if not m.line:
         rows.append(BudgetRow.type_a(
             msg("change of the drift rate in time, not corrected ({what})", what=what), "u_dc",
             Q_(math.hypot(*m.c_seen) * abs(float(grad[1])), unit), max(m.records - 2, 1),
-            note=msg("√(ĉ² + u(ĉ)²)·|τ₂|, ĉ the fitted change of gyro {gyro}'s drift rate in time, τ₂ = "
-                     "{tau2:.4g} {tau_unit}·s (GUM F.2.4.5)", gyro=AXES[i], tau2=float(grad[1]),
+            note=msg("√(ĉ² + u(ĉ)²)·|τ₂|, ĉ the fitted change of gyro {gyro}'s drift rate in time, "
+                     "τ₂ = {tau2:.4g} {tau_unit}·s (GUM F.2.4.5)", gyro=AXES[i],
+                     tau2=float(grad[1]),
                      tau_unit=tau_unit)))
     if m.misfit:
         rows.append(BudgetRow.type_a(
-            msg("drift model error: the bias change a line in time leaves out ({what})", what=what), "u_dm",
+            msg("drift model error: the bias change a line in time leaves out ({what})", what=what),
+                                     "u_dm",
             Q_(abs(float(grad[2])), unit), max(m.dof, 1),
-            note=msg("the trends do not lie on a line in time (χ² = {chi2:.1f}, ν = {nu}, p = {p:.2g}): their "
-                     "residuals, integrated over the records' times and carried through the result's formula",
+            note=msg("the trends do not lie on a line in time (χ² = {chi2:.1f}, ν = {nu}, p = "
+                     "{p:.2g}): their residuals, integrated over the records' times and carried "
+                     "through the result's formula",
                      chi2=m.chi2, nu=m.dof, p=m.p_fit)))
     return (delta if applied else 0.0), rows
 
 
 def corrected_note(delta: float, unit: str):
     """The result note of a value corrected for the drift."""
-    return msg("corrected for the gyro bias drift during the campaign by {delta:.3g}{unit} (from the recording "
-               "times)", delta=-delta, unit=unit)
+    return msg("corrected for the gyro bias drift during the campaign by {delta:.3g}{unit} (from "
+               "the recording times)", delta=-delta, unit=unit)
 
 
 def drift_row(drift: GyroDrift, i: int, tau: float, unit: str, what, tau_unit: str) -> BudgetRow:
@@ -455,8 +477,9 @@ def drift_row(drift: GyroDrift, i: int, tau: float, unit: str, what, tau_unit: s
     return BudgetRow.type_a(
         msg("gyro bias drift between the records ({what})", what=what), "u_d",
         Q_(math.hypot(d, u) * abs(tau), unit), max(drift.dof[i], 1),
-        note=msg("pooled within-record trend of gyro {gyro}: {d:.3g} ± {u:.2g} °/s per hour over {n} records "
-                 "× τ = {tau:.4g} {tau_unit}; √(d̂² + u²)·|τ| (drift not corrected)", gyro=AXES[i], d=d * 3600.0,
+        note=msg("pooled within-record trend of gyro {gyro}: {d:.3g} ± {u:.2g} °/s per hour over "
+                 "{n} records × τ = {tau:.4g} {tau_unit}; √(d̂² + u²)·|τ| (drift not corrected)",
+                 gyro=AXES[i], d=d * 3600.0,
                  u=u * 3600.0, n=drift.records[i], tau=tau, tau_unit=tau_unit))
 
 
@@ -466,69 +489,85 @@ def drift_bound(drift: GyroDrift, i: int) -> float:
     return abs(drift.d[i]) + 2.0 * drift.u[i]
 
 
-def bound_row(drift: GyroDrift, i: int, tau_plan: float, unit: str, what, tau_unit: str) -> BudgetRow | None:
+def bound_row(drift: GyroDrift, i: int, tau_plan: float, unit: str, what,
+              tau_unit: str) -> BudgetRow | None:
     """Without recording times: the drift of gyro i that its records' trends cannot exclude, carried
     through a result with the least lever arm its records can have had (τ_plan: back to back in the
-    plan's order), u_b = (|d̂| + 2u(d̂))·|τ_plan| as a standard uncertainty (type B, ν of the trends)
-    — not the bound ÷ √3: gaps between the records, which no manifest without times states, lengthen
-    the lever arm (measured, docs/interpretations.md: ÷ √3 covered the harness's warm-up device's
-    results 86.7–95.8 %, the bound itself 98.3–100 %).  None where fewer than two records give the
-    gyro a trend (:func:`not_reportable_reason` then withholds the result)."""
+    plan's order), u_b = (|d̂| + 2u(d̂))·|τ_plan| as a standard uncertainty (type B, ν of the
+    trends) — not the bound ÷ √3: gaps between the records, which no manifest without times states,
+    lengthen the lever arm (measured, docs/interpretations.md: ÷ √3 covered the harness's warm-up
+    device's results 86.7–95.8 %, the bound itself 98.3–100 %).  None where fewer than two records
+    give the gyro a trend (:func:`not_reportable_reason` then withholds the result)."""
     if not math.isfinite(drift.u[i]):
         return None
     return BudgetRow.type_b(
-        msg("gyro bias drift the records cannot exclude, no recording times ({what})", what=what), "u_b",
-        Q_(drift_bound(drift, i) * abs(tau_plan), unit), distribution="normal", k=1.0, dof=max(drift.dof[i], 1),
-        note=msg("(|d̂| + 2u(d̂))·|τ|: gyro {gyro}'s pooled within-record trend {d:.3g} ± {u:.2g} °/s per hour over {n} "
-                 "records, τ = {tau:.4g} {tau_unit} with the records back to back in the plan's order (the least "
-                 "lever arm they can have had); give `started` on the segments to evaluate the drift instead",
-                 gyro=AXES[i], d=drift.d[i] * 3600.0, u=drift.u[i] * 3600.0, n=drift.records[i], tau=tau_plan,
+        msg("gyro bias drift the records cannot exclude, no recording times ({what})", what=what),
+                            "u_b",
+        Q_(drift_bound(drift, i) * abs(tau_plan), unit), distribution="normal", k=1.0,
+                            dof=max(drift.dof[i], 1),
+        note=msg("(|d̂| + 2u(d̂))·|τ|: gyro {gyro}'s pooled within-record trend {d:.3g} ± {u:.2g} "
+                 "°/s per hour over {n} records, τ = {tau:.4g} {tau_unit} with the records back to "
+                 "back in the plan's order (the least lever arm they can have had); give `started` "
+                 "on the segments to evaluate the drift instead",
+                 gyro=AXES[i], d=drift.d[i] * 3600.0, u=drift.u[i] * 3600.0, n=drift.records[i],
+                 tau=tau_plan,
                  tau_unit=tau_unit))
 
 
 def not_reportable_reason(drift: GyroDrift, i: int, tau_plan: float, U: float, unit: str):
     """The reason a result of gyro i cannot be reported without recording times, or None: the drift
-    is significant (|d̂|/u(d̂) ≥ :data:`Z_CRIT`) — seen, but not placed in time — and moves the result
-    by |d̂|·|τ_plan| ≥ :data:`MATERIAL`·U with the records back to back in the plan's order (``U``
-    without :func:`bound_row`'s row), the least it can do: gaps between the records, which no
-    manifest without times states, make it more; or no record gives the gyro a within-record trend."""
+    is significant (|d̂|/u(d̂) ≥ :data:`Z_CRIT`) — seen, but not placed in time — and moves the
+    result by |d̂|·|τ_plan| ≥ :data:`MATERIAL`·U with the records back to back in the plan's order
+    (``U`` without :func:`bound_row`'s row), the least it can do: gaps between the records, which no
+    manifest without times states, make it more; or no record gives the gyro a within-record
+    trend."""
     if not math.isfinite(drift.u[i]):
-        return msg("fewer than two of the records give gyro {gyro} a within-record trend, so a bias drift during the "
-                   "campaign can be neither seen nor bounded, and the manifest gives no recording times (`started` "
-                   "on the segments). Give `started` on every segment, or record each position and rate over at "
-                   "least one table revolution", gyro=AXES[i])
+        return msg("fewer than two of the records give gyro {gyro} a within-record trend, so a "
+                   "bias drift during the campaign can be neither seen nor bounded, and the "
+                   "manifest gives no recording times (`started` on the segments). Give `started` "
+                   "on every segment, or record each position and rate over at least one table "
+                   "revolution", gyro=AXES[i])
     if not U > 0 or not drift.significant(i):
         return None
     effect = abs(drift.d[i] * tau_plan)
     if effect < MATERIAL * U:  # stays below U even with a lever arm 1/MATERIAL times the plan's
         return None
-    # three parts ("; "): what the gyro does (shared by its results), what it does to this result, and what
-    # to do (shared by all) — a certificate states a shared part once (core.notes.group_notes)
+    # three parts ("; "): what the gyro does (shared by its results), what it does to this result,
+    # and what to do (shared by all) — a certificate states a shared part once
+    # (core.notes.group_notes)
     return join("; ", [
-        msg("gyro {gyro}'s bias drifts by {d:.3g} °/s per hour during the campaign (pooled trend of its {n} records, "
-            "{z:.1f} standard errors)", gyro=AXES[i], d=drift.d[i] * 3600.0, n=drift.records[i], z=drift.z(i)),
-        msg("it moves this result by {effect:.2g}{unit} ({ratio:.2g} × its U without the drift) were the records taken "
-            "back to back in the plan's order, by more with gaps between them", effect=effect, unit=unit,
+        msg("gyro {gyro}'s bias drifts by {d:.3g} °/s per hour during the campaign (pooled trend "
+            "of its {n} records, {z:.1f} standard errors)", gyro=AXES[i], d=drift.d[i] * 3600.0,
+            n=drift.records[i], z=drift.z(i)),
+        msg("it moves this result by {effect:.2g}{unit} ({ratio:.2g} × its U without the drift) "
+            "were the records taken back to back in the plan's order, by more with gaps between "
+            "them", effect=effect, unit=unit,
             ratio=effect / U),
-        msg("the manifest gives no recording times (`started` on the segments) to budget the drift: give `started` on "
-            "every segment, or let the MIMU warm up until its bias is steady (7.2.1.1 b)) and recalibrate")])
+        msg("the manifest gives no recording times (`started` on the segments) to budget the "
+            "drift: give `started` on every segment, or let the MIMU warm up until its bias is "
+            "steady (7.2.1.1 b)) and recalibrate")])
 
 
 def drift_warning(drift: GyroDrift) -> list[Any]:
     """A warning per gyro whose drift is significant (whatever the results do with it)."""
     out = []
     if drift.timed:
-        out.append(msg("`started` is given on {n} of the {m} records only: the recording times are not used, and a "
-                       "drift between the records is not budgeted", n=drift.timed, m=len(drift.durations)))
+        out.append(msg("`started` is given on {n} of the {m} records only: the recording times are "
+                       "not used, and a drift between the records is not budgeted", n=drift.timed,
+                       m=len(drift.durations)))
     for i in range(3):
         if drift.significant(i):
-            out.append(msg("gyro {gyro}'s bias drifts by {d:.3g} ± {u:.2g} °/s per hour during the campaign (pooled "
-                           "within-record trend of {n} records): JJF 2003 takes B_g as constant; the results that "
-                           "difference records {how}", gyro=AXES[i], d=drift.d[i] * 3600.0, u=drift.u[i] * 3600.0,
+            out.append(msg("gyro {gyro}'s bias drifts by {d:.3g} ± {u:.2g} °/s per hour during the "
+                           "campaign (pooled within-record trend of {n} records): JJF 2003 takes "
+                           "B_g as constant; the results that difference records {how}",
+                           gyro=AXES[i], d=drift.d[i] * 3600.0, u=drift.u[i] * 3600.0,
                            n=drift.records[i],
-                           how=(msg("are corrected for it where its effect on them is resolved, with the correction's "
-                                    "uncertainty in the budget, and carry it as a budget row where not (recording times "
-                                    "given)") if drift.corrects(i)
-                                else msg("carry it as a budget row (recording times given)") if drift.mid_times is not None
-                                else msg("are not reportable: its effect on them cannot be placed without recording times"))))
+                           how=(msg("are corrected for it where its effect on them is resolved, "
+                                    "with the correction's uncertainty in the budget, and carry it "
+                                    "as a budget row where not (recording times given)")
+                                if drift.corrects(i)
+                                else msg("carry it as a budget row (recording times given)")
+                                if drift.mid_times is not None
+                                else msg("are not reportable: its effect on them cannot be placed "
+                                         "without recording times"))))
     return out

@@ -73,7 +73,8 @@ def six_position_eq7(U: np.ndarray, A: np.ndarray | None = None) -> np.ndarray:
     U = np.asarray(U, float)
     M = A @ A.T
     if np.linalg.matrix_rank(M) < M.shape[0]:
-        raise ValueError("Ā·Āᵀ is singular: the mounting positions do not determine all axes and the bias")
+        raise ValueError("Ā·Āᵀ is singular: the mounting positions do not determine all axes and "
+                         "the bias")
     return U @ A.T @ np.linalg.inv(M)
 
 
@@ -94,7 +95,8 @@ def earth_rate_leak(K_g: np.ndarray, latitude_deg: float, earth_rate: float) -> 
     return np.asarray(K_g, float) * (earth_rate * math.sin(math.radians(latitude_deg)))
 
 
-def rate_sensitivity_eq12(u_rest: float, u_turning: float, omega: float, *, sign: str = "model") -> float:
+def rate_sensitivity_eq12(u_rest: float, u_turning: float, omega: float, *,
+                          sign: str = "model") -> float:
     """Accelerometer angular-rate sensitivity, JJF 2003 7.2.5.2 eq. (12), (13).
 
     Printed: p_yx = (U_ay7 − U_ay8)/ω².  By the model of eq. (2), a'_Y contains + p_yx·ω_X², so
@@ -157,7 +159,8 @@ def appendix_a_examples() -> dict[str, dict[str, object]]:
         if U_digits == 2:
             U_text = round_uncertainty(U, digits=2, mode="up").text
         else:  # A.2.4 keeps three significant digits
-            U_text = f"{Decimal(repr(U)).quantize(Decimal(1).scaleb(Decimal(repr(U)).adjusted() - 2)):f}"
+            step = Decimal(1).scaleb(Decimal(repr(U)).adjusted() - 2)
+            U_text = f"{Decimal(repr(U)).quantize(step):f}"
         out[name] = {"u1": a, "u2": b, "u3": c, "u_c": uc, "U": U,
                      "u_c_text": sig_text(uc, 3), "U_text": U_text}
     return out

@@ -44,7 +44,8 @@ FIXTURE_62_ARCSEC = 10.0
 
 
 def local_gravity(campaign: Campaign) -> tuple[float, float | None, str]:
-    """(g/g_n, relative half-width of g (uniform) or None when stated without one, where g came from)."""
+    """(g/g_n, relative half-width of g (uniform) or None when stated without one, where g came
+    from)."""
     site = campaign.site
     if "gravity" in site:
         g = float(campaign.site_value("gravity", "m/s**2").to("m/s**2").magnitude)
@@ -57,7 +58,8 @@ def local_gravity(campaign: Campaign) -> tuple[float, float | None, str]:
             hw = float(campaign.site_value("gravity_uncertainty", "m/s**2").to("m/s**2").magnitude)
             if not 0 <= hw < 0.1:
                 raise DataError(campaign.source, "site.gravity_uncertainty",
-                                f"{hw:g} m/s² is not a half-width of a local gravity (0 … 0.1 m/s²)")
+                                f"{hw:g} m/s² is not a half-width of a local gravity (0 … 0.1 "
+                                "m/s²)")
             rel = hw / g
         return g / STANDARD_GRAVITY_M_S2, rel, msg("[site] gravity = {g:.6g} m/s²", g=g)
     lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
@@ -81,7 +83,8 @@ def gravity_row(campaign: Campaign, value: float, unit: str) -> BudgetRow:
         return BudgetRow.type_b(msg("local gravity ({where})", where=where), "u_g", Q_(0.0, ""),
                                 distribution="uniform", sensitivity=Q_(abs(value), unit),
                                 note=msg("stated without gravity_uncertainty: taken as exact"))
-    return BudgetRow.type_b(msg("local gravity ({where})", where=where), "u_g", Q_(rel, ""), distribution="uniform",
+    return BudgetRow.type_b(msg("local gravity ({where})", where=where), "u_g", Q_(rel, ""),
+                            distribution="uniform",
                             sensitivity=Q_(abs(value), unit),
                             note=msg("Ā's ±1 are ±g/g_n; relative half-width of g"))
 
@@ -91,24 +94,27 @@ def _angle(eq, prop: str, default: float, source: str) -> tuple[float, str]:
     if eq is not None and prop in eq.properties:
         q = eq.prop(prop, "deg", source=source)
         return float(q.to("rad").magnitude), msg("stated by {equipment}", equipment=eq.describe())
-    return math.radians(default / 3600.0), msg("{a:g}″, the standard's bound (not stated by the lab)", a=default)
+    return math.radians(default / 3600.0), msg("{a:g}″, the standard's bound (not stated by the "
+                                               "lab)", a=default)
 
 
 def fixture_row(campaign: Campaign, sensitivity: float, unit: str) -> BudgetRow:
     """6.2: the fixture's perpendicularity (the MIMU's axes against the table's), uniform."""
     eq = campaign.equipment_for("fixture")
     hw, where = _angle(eq, "perpendicularity", FIXTURE_62_ARCSEC, campaign.source)
-    return BudgetRow.type_b(msg("fixture perpendicularity (6.2)"), "u_f", Q_(hw, "rad"), distribution="uniform",
+    return BudgetRow.type_b(msg("fixture perpendicularity (6.2)"), "u_f", Q_(hw, "rad"),
+                            distribution="uniform",
                             sensitivity=Q_(abs(sensitivity), f"{unit}/rad" if unit else "1/rad"),
                             note=msg("the same in every mounting; {where}", where=where))
 
 
 def swept_axis_rows(campaign: Campaign, K_ii: float) -> list[BudgetRow]:
-    """7.2.3: a table axis off the MIMU's axis j by δ puts K_ii·δ into K_g[i, j] (i ≠ j): the table's
-    positioning and axis perpendicularity (table 1) and the fixture (6.2), uniform each."""
+    """7.2.3: a table axis off the MIMU's axis j by δ puts K_ii·δ into K_g[i, j] (i ≠ j): the
+    table's positioning and axis perpendicularity (table 1) and the fixture (6.2), uniform each."""
     eq = campaign.equipment_for("rate_table")
     rows = []
-    for prop, default, name in (("position_accuracy", TABLE1_POSITION_ARCSEC, msg("table positioning of the swept axis")),
+    for prop, default, name in (("position_accuracy", TABLE1_POSITION_ARCSEC,
+                                 msg("table positioning of the swept axis")),
                                 ("axis_perpendicularity", TABLE1_AXIS_PERPENDICULARITY_ARCSEC,
                                  msg("table axis perpendicularity (table 1)"))):
         hw, where = _angle(eq, prop, default, campaign.source)
@@ -124,6 +130,7 @@ def rest_tilt_row(campaign: Campaign, K_ii_gn: float, omega_rad_s: float, p_unit
     ``position_accuracy``), which turning averages out of U₈: c = K_ii·g/ω² per rad."""
     eq = campaign.equipment_for("rate_table")
     hw, where = _angle(eq, "position_accuracy", TABLE1_POSITION_ARCSEC, campaign.source)
-    return BudgetRow.type_b(msg("table axis tilt at rest (U₇)"), "u_t", Q_(hw, "rad"), distribution="uniform",
+    return BudgetRow.type_b(msg("table axis tilt at rest (U₇)"), "u_t", Q_(hw, "rad"),
+                            distribution="uniform",
                             sensitivity=Q_(abs(K_ii_gn) / omega_rad_s**2, f"{p_unit}/rad"),
                             note=msg("K_ii·g·δ in U₇, averaged out of U₈; {where}", where=where))

@@ -23,12 +23,11 @@ from typing import Any, Mapping
 
 import numpy as np
 from metro.api import (
+    EARTH_RATE_DEG_S,
     Q_,
     BudgetRow,
     Campaign,
-    Coverage,
     DataError,
-    EquipmentRequirement,
     Metric,
     Option,
     Outcome,
@@ -38,7 +37,6 @@ from metro.api import (
     Result,
     RunContext,
     Segment,
-    SegmentRequirement,
     Step,
     TableSpec,
     UncertaintyBudget,
@@ -51,6 +49,24 @@ from metro.api import (
 from . import drift as D
 from . import formulas as F
 from . import mounting
+from .common import (
+    COVERAGE,
+    EQUIPMENT,
+    EQUIPMENT_FIXTURE,
+    POSITION_SEG,
+    RATE_SEG,
+    ROUND,
+    STANDARD,
+    STATION,
+    SWEEP_OPTIONS,
+    abs_quant_row,
+    options_text,
+    position_steps,
+    relative_quant_row,
+    sweep_steps,
+    table_position_row,
+    table_rate_row,
+)
 from .data import (  # noqa: F401 - re-exported: the segment layout and the shared computations
     ACC_UNIT,
     ACCEL,
@@ -79,161 +95,6 @@ from .data import (  # noqa: F401 - re-exported: the segment layout and the shar
     sweeps,
 )
 
-STANDARD = "jjf2003"
-STATION = "simulated-mimu"
-#: k = t_p(ν_eff), p = 95.45 % (JJF 1059.1 5.3.4): appendix A's "取 k = 2" with components stated
-#: without degrees of freedom is the large-ν_eff case (interpretations.md, "Coverage factor (JJF 2003)")
-COVERAGE = Coverage.probability(0.9545)
-ROUND = "up"
-from metro.api import EARTH_RATE_DEG_S  # noqa: E402
-
-RATE_SEG = SegmentRequirement(
-    kind="rate",
-    description="MIMU axis `axis` up along the rate table axis, table at `rate` (signed about +axis), ≥ 30 s",
-    conditions={"axis": "", "rate": "deg/s"},
-    columns={c: ("deg/s",) for c in GYRO} | {c: ("m/s**2",) for c in ACCEL},
-    min_duration=Q_(30, "s"), min_count=21,
-)
-POSITION_SEG = SegmentRequirement(
-    kind="position",
-    description="MIMU axis `up` (±x, ±y, ±z) to the zenith, table heading 0° or 180°, ≥ 30 s (appendix C)",
-    conditions={"up": "", "heading": "deg"},
-    columns={c: ("deg/s",) for c in GYRO} | {c: ("m/s**2",) for c in ACCEL},
-    min_duration=Q_(30, "s"), min_count=12,
-)
-EQUIPMENT = (
-    EquipmentRequirement("rate_table", "three-axis position/rate table (table 1); its rate uncertainty (calibration, "
-                         "relative) and `position_accuracy` enter the budgets", required=False),
-    EquipmentRequirement("acquisition", "data acquisition; its `bits` give the quantization term u₂ (A.3)"),
-)
-#: the items whose budgets hold the fixture's perpendicularity (6.2; the standard's bound when not stated)
-EQUIPMENT_FIXTURE = EQUIPMENT + (
-    EquipmentRequirement("fixture", "fixture holding the MIMU on the table; its perpendicularity enters the "
-                         "cross-coupling budgets (6.2: the standard's bound when not stated)", noted=False),
-)
-
-# ------------------------------------------------------------------------------ budget rows
-
-
-def _table_rate_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
-    eq = campaign.equipment_for("rate_table")
-    if eq is None or eq.calibration is None or not eq.calibration.uncertainty.dimensionless:
-        warnings.append(msg("no three-axis table with a relative rate uncertainty (equipment role \"table\", "
-                            "calibration U relative): u₁ (A.1.2.1) is missing from the budget"))
-        return []
-    return [BudgetRow.from_calibration(msg("three-axis table rate ({equipment})", equipment=eq.describe()), "u₁", eq.calibration,
-                                       sensitivity=sensitivity, note=note)]
-
-
-def _table_position_row(campaign: Campaign, sensitivity, note: str, warnings: list[str]) -> list[BudgetRow]:
-    eq = campaign.equipment_for("rate_table")
-    if eq is None or "position_accuracy" not in eq.properties:
-        warnings.append(msg("no `position_accuracy` of the three-axis table (equipment role \"table\"): "
-                            "u₁ (A.2.2.1) is missing from the budget"))
-        return []
-    acc = eq.prop("position_accuracy", "deg", source=campaign.source)
-    return [BudgetRow.type_b(msg("three-axis table positioning ({equipment})", equipment=eq.describe()), "u₁", acc.to("rad"),
-                             distribution="uniform", sensitivity=sensitivity, note=note)]
-
-
-def _bits(campaign: Campaign, warnings: list[str]) -> int | None:
-    eq = campaign.equipment_for("acquisition")
-    if eq is None or "bits" not in eq.properties:
-        warnings.append(msg("no acquisition `bits` (equipment role \"acquisition\"): u₂ (A.1.2.2) is missing "
-                            "from the budget"))
-        return None
-    return int(eq.properties["bits"])
-
-
-def _relative_quant_row(campaign: Campaign, scale: float, warnings: list[str]) -> list[BudgetRow]:
-    """A.1.2.2: δ = 1/2^N relative, uniform, times the scale factor of the swept axis."""
-    n = _bits(campaign, warnings)
-    if n is None:
-        return []
-    return [BudgetRow.type_b(msg("acquisition quantization, {n} bits (A.3)", n=n), "u₂", Q_(1.0 / 2**n, ""),
-                             distribution="uniform", sensitivity=Q_(abs(scale), ""),
-                             note=msg("δ = 1/2^N relative to full scale"))]
-
-
-def _abs_quant_row(campaign: Campaign, range_prop: str, unit: str, csum, warnings: list[str]) -> list[BudgetRow]:
-    """A.2.2.2 with (A.3): the quantization error δ = 1/2^N relative to the full scale FS, i.e. the
-    half-width δ·FS = FS/2^N (half an LSB of an N-bit converter over ±FS), uniform, in every mean;
-    sensitivity Σ|cᵢ| (the means' errors added linearly, as appendix A adds u₃)."""
-    n = _bits(campaign, warnings)
-    if n is None:
-        return []
-    dev = campaign.device
-    if range_prop not in dev.properties:
-        warnings.append(msg("no device `{prop}` (full scale): u₂ is missing from the budget", prop=range_prop))
-        return []
-    fs = dev.prop(range_prop, unit, source=campaign.source).to(unit).magnitude
-    half_width = float(fs) / 2**n  # δ·FS, δ = 1/2^N (A.3)
-    return [BudgetRow.type_b(msg("acquisition quantization, {n} bits over ±{fs:g} (A.3)", n=n, fs=float(fs)), "u₂",
-                             Q_(half_width, unit), distribution="uniform", sensitivity=csum,
-                             note=msg("δ·FS = FS/2^N (half an LSB) in each mean, Σ|cᵢ|"))]
-
-
-# ------------------------------------------------------------------------------ procedures
-
-
-def _rates_option(opts: Mapping[str, Any]) -> list[float]:
-    from metro.api import parse_quantity
-
-    out = []
-    for t in str(opts["rates"]).split(","):
-        t = t.strip()
-        if not t:
-            continue
-        q = parse_quantity(t if any(ch.isalpha() or ch in "°/" for ch in t) else t + " deg/s",
-                           dimension="deg/s", field="option rates")
-        out.append(float(q.to("deg/s").magnitude))
-    return out
-
-
-def _sweep_steps(opts: Mapping[str, Any]) -> list[Step]:
-    steps = []
-    for a in AXES:
-        for r in _rates_option(opts):
-            steps.append(Step(f"rate-{a}-{r:g}", "rate",
-                              f"MIMU {a} axis up along the table axis (7.2.1.1 a), e), f)); table at {r:g} °/s; "
-                              "record ≥ 30 s after the rate is steady", Q_(30, "s"), Q_(0.01, "s"),
-                              {"axis": a, "rate": Q_(r, "deg/s")}))
-    raw = str(opts.get("repeats", "0")).strip() or "0"
-    try:
-        q = int(raw)
-    except ValueError:
-        q = -1
-    if q < 0 or q == 1:
-        raise ProcedureError(f"option repeats: {raw!r} must be 0 or a whole number ≥ 2 (repeated calibrations)")
-    for run in range(1, q + 1):
-        for a in AXES:
-            for r in _rates_option(opts):
-                steps.append(Step(f"rate-repeat#{run}-{a}-{r:g}", "rate-repeat",
-                                  f"repeat {run}: power off, remount, then as 7.2.1.1 (MIMU {a} axis up), table at "
-                                  f"{r:g} °/s, ≥ 30 s", Q_(30, "s"), Q_(0.01, "s"),
-                                  {"axis": a, "rate": Q_(r, "deg/s"), "run": str(run)}))
-    return steps
-
-
-def _position_steps() -> list[Step]:
-    steps = []
-    for up in F.SIX_POSITIONS:
-        for h in HEADINGS:
-            steps.append(Step(f"pos{up}-h{h:g}", "position",
-                              f"MIMU {up} axis to the zenith, heading {h:g}° (7.2.2.1 a), appendix C); hold ≥ 30 s",
-                              Q_(30, "s"), Q_(0.01, "s"), {"up": up, "heading": Q_(h, "deg")}))
-    return steps
-
-
-_SWEEP_OPTIONS = (Option("rates", "-400, -200, -100, -50, 0, 50, 100, 200, 400", None,
-                         "rate points in °/s for each axis (7–11 including the maximum, 7.2.1.1 c))"),
-                  Option("repeats", "0", None, "repeated calibrations (power off, remount) whose spread is u₃ of K "
-                         "(appendix A.1.2.3); 0: none (u₃ then from device.scale_factor_repeatability or the fit)"))
-
-
-def _opts_text(opts):
-    return {k: str(v) for k, v in opts.items()}
-
 
 def repeat_fits(campaign: Campaign, means: Means) -> list[dict[str, dict[str, Any]]]:
     """The campaign's repeated 7.2.1 calibrations (kind ``rate-repeat``, condition ``run``; the
@@ -257,10 +118,12 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
         Ks = [float(d["fits"][i].coef[0])] + [float(r[AXES[j]]["fits"][i].coef[0]) for r in repeats]
         sd = float(np.std(Ks, ddof=1))
         if sd >= se:
-            return BudgetRow.type_a(msg("repeatability: standard deviation of K over this campaign's {n} "
-                                        "calibrations (A.1.2.3)", n=len(Ks)), "u₃", Q_(sd, ""), len(Ks) - 1)
-        return BudgetRow.type_a(msg("repeatability: least-squares scatter of eq. (5) (larger than the spread of "
-                                    "{n} calibrations, A.1.2.3)", n=len(Ks)), "u₃", Q_(se, ""), dof)
+            return BudgetRow.type_a(msg("repeatability: standard deviation of K over this "
+                                        "campaign's {n} calibrations (A.1.2.3)", n=len(Ks)), "u₃",
+                                    Q_(sd, ""), len(Ks) - 1)
+        return BudgetRow.type_a(msg("repeatability: least-squares scatter of eq. (5) (larger than "
+                                    "the spread of {n} calibrations, A.1.2.3)", n=len(Ks)), "u₃",
+                                Q_(se, ""), dof)
     stated = campaign.device.properties.get("scale_factor_repeatability")
     if stated not in (None, ""):
         from metro.api import parse_quantity
@@ -271,13 +134,16 @@ def _repeatability_row(campaign, fits, repeats, i, j, warnings) -> BudgetRow:
         if rel * Kjj >= se:
             return BudgetRow.type_b(msg("repeatability stated for the device (A.1.2.3){hint}",
                                         hint=hint(" (device.scale_factor_repeatability)")), "u₃",
-                                    Q_(rel, ""), distribution="normal", k=1.0, sensitivity=Q_(Kjj, ""))
+                                    Q_(rel, ""), distribution="normal", k=1.0,
+                                    sensitivity=Q_(Kjj, ""))
     else:
-        warnings.append(msg("no repeated calibrations (7.2.1) and no stated repeatability of K: u₃ of K is the eq. (5) "
-                            "fit's standard error, which leaves out the variation of K between power-ons and "
-                            "mountings{hint}", hint=hint(" (rate-repeat runs, option repeats of 7.2.1, or "
+        warnings.append(msg("no repeated calibrations (7.2.1) and no stated repeatability of K: u₃ "
+                            "of K is the eq. (5) fit's standard error, which leaves out the "
+                            "variation of K between power-ons and mountings{hint}",
+                            hint=hint(" (rate-repeat runs, option repeats of 7.2.1, or "
                                                          "device.scale_factor_repeatability)")))
-    return BudgetRow.type_a(msg("repeatability: least-squares scatter of eq. (5)"), "u₃", Q_(se, ""), dof,
+    return BudgetRow.type_a(msg("repeatability: least-squares scatter of eq. (5)"), "u₃",
+                            Q_(se, ""), dof,
                             note=msg("{n} rate points", n=len(d['X'])))
 
 
@@ -290,16 +156,19 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
         fit = d["fits"][i]
         K = float(fit.coef[0])
         Kjj = float(d["fits"][j].coef[0])
-        rows = _table_rate_row(campaign, Q_(abs(Kjj), ""), msg("input rate error scales the slope (A.1.2.1)"), warnings)
-        rows += _relative_quant_row(campaign, Kjj, warnings)
+        rows = table_rate_row(campaign, Q_(abs(Kjj), ""), msg("input rate error scales the slope "
+                                                              "(A.1.2.1)"), warnings)
+        rows += relative_quant_row(campaign, Kjj, warnings)
         rows.append(_repeatability_row(campaign, fits, repeats, i, j, warnings))
-        if i != j:  # the swept axis off the MIMU's axis j puts K_ii·δ into K_g[i, j] (interpretations)
+        # the swept axis off the MIMU's axis j puts K_ii·δ into K_g[i, j] (interpretations)
+        if i != j:
             rows += mounting.swept_axis_rows(campaign, float(fits[AXES[i]]["fits"][i].coef[0]))
         # a gyro bias drifting while the sweep is recorded adds its change to the slope (drift.py):
         # corrected with the recording times, its correction's uncertainty budgeted
         note = msg("fitted bias b = {b:.5g} °/s", b=float(fit.coef[1]))
         if drift.corrects(i):
-            delta, drows = D.correction(drift, i, D.sweep_gradient(drift, i, d["X"], d["segments"]), "",
+            delta, drows = D.correction(drift, i, D.sweep_gradient(drift, i, d["X"], d["segments"]),
+                                        "",
                                         msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)")
             K -= delta
             rows += drows
@@ -307,17 +176,23 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
                 note = join("; ", [note, D.corrected_note(delta, "")])
         elif drift.mid_times is not None:
             tau = D.sweep_factor(d["X"], [drift.mid_times[sid] for sid in d["segments"]])
-            rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)"))
+            rows.append(D.drift_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]),
+                                    "s/(°/s)"))
         metric = proc.metric_for(i, j)
         budget = UncertaintyBudget(metric.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
         reason = None
-        if drift.mid_times is None:  # no recording times: the drift the trends cannot exclude (drift.py)
+        # no recording times: the drift the trends cannot exclude (drift.py)
+        if drift.mid_times is None:
             tau = D.plan_sweep_factor(d["X"], [drift.durations[sid] for sid in d["segments"]])
-            reason = D.not_reportable_reason(drift, i, tau, float(budget.expanded.to("").magnitude), "")
-            row = D.bound_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]), "s/(°/s)")
+            reason = D.not_reportable_reason(drift, i, tau, float(budget.expanded.to("").magnitude),
+                                             "")
+            row = D.bound_row(drift, i, tau, "", msg("the sweep about {axis}", axis=AXES[j]),
+                              "s/(°/s)")
             if row is not None:
-                budget = UncertaintyBudget(metric.symbol, "", rows + [row], coverage=COVERAGE, round_mode=ROUND)
-        results.append(Result(metric, Q_(K, ""), budget.combined, budget, note=note, earth_rate="not applicable",
+                budget = UncertaintyBudget(metric.symbol, "", rows + [row], coverage=COVERAGE,
+                                           round_mode=ROUND)
+        results.append(Result(metric, Q_(K, ""), budget.combined, budget, note=note,
+                              earth_rate="not applicable",
                               reportable=reason is None, reason=reason or ""))
     return results
 
@@ -325,8 +200,11 @@ def _fit_results(proc, campaign, fits, pairs, warnings, repeats=()) -> list[Resu
 def _kg_metric(i: int, j: int) -> Metric:
     r, c = AXES[i], AXES[j]
     if i == j:
-        return Metric(f"K_g{r}{c}", msg("{axis} gyro scale factor", axis=r.upper()), f"K_g{r}{c}", "", "7.2.1.2", "eq. (5)")
-    return Metric(f"K_g{r}{c}", msg("gyro cross-coupling ({input} input → {gyro} gyro)", input=c.upper(), gyro=r.upper()), f"K_g{r}{c}", "",
+        return Metric(f"K_g{r}{c}", msg("{axis} gyro scale factor", axis=r.upper()), f"K_g{r}{c}",
+                      "", "7.2.1.2", "eq. (5)")
+    return Metric(f"K_g{r}{c}",
+                  msg("gyro cross-coupling ({input} input → {gyro} gyro)", input=c.upper(),
+                      gyro=r.upper()), f"K_g{r}{c}", "",
                   "7.2.3.2", "K̄_g, eq. (5)")
 
 
@@ -335,13 +213,16 @@ def _fit_plot_table(fits) -> tuple[PlotSpec, TableSpec]:
     for j, d in fits.items():
         i = AXES.index(j)
         fit = d["fits"][i]
-        series.append({"label": msg("{axis} axis: residual of eq. (5)", axis=j), "x": d["X"].tolist(),
+        series.append({"label": msg("{axis} axis: residual of eq. (5)", axis=j),
+                       "x": d["X"].tolist(),
                        "y": np.asarray(fit.residuals).tolist(), "style": "o-"})
         for X, U, sid in zip(d["X"], d["U"], d["segments"]):
             rows.append([j, f"{X:g}", f"{U[0]:.6g}", f"{U[1]:.6g}", f"{U[2]:.6g}", sid])
-    plot = PlotSpec("sf_residuals", msg("Residuals of the eq. (5) fits"), msg("input rate (°/s)"), msg("residual (°/s)"), series)
+    plot = PlotSpec("sf_residuals", msg("Residuals of the eq. (5) fits"), msg("input rate (°/s)"),
+                    msg("residual (°/s)"), series)
     table = TableSpec("rate_points", msg("Mean outputs at each rate point, eq. (3)"),
-                      [msg("axis"), msg("rate (°/s)"), "gx (°/s)", "gy (°/s)", "gz (°/s)", msg("segment")], rows)
+                      [msg("axis"), msg("rate (°/s)"), "gx (°/s)", "gy (°/s)", "gz (°/s)",
+                       msg("segment")], rows)
     return plot, table
 
 
@@ -354,8 +235,8 @@ def _sweep_warnings(campaign: Campaign, fits) -> list[str]:
         if rng is not None:
             top = float(rng.to("deg/s").magnitude)
             if np.max(np.abs(d["X"])) < 0.999 * top:
-                w.append(f"axis {j}: the largest rate {np.max(np.abs(d['X'])):g} °/s is below the measuring "
-                         f"range {top:g} °/s; 7.2.1.1 c) includes the maximum input rate")
+                w.append(f"axis {j}: the largest rate {np.max(np.abs(d['X'])):g} °/s is below the "
+                         f"measuring range {top:g} °/s; 7.2.1.1 c) includes the maximum input rate")
     return w
 
 
@@ -365,7 +246,7 @@ class _GyroSweepItem(Procedure):
 
     standard = STANDARD
     requires = (RATE_SEG,)
-    options = _SWEEP_OPTIONS
+    options = SWEEP_OPTIONS
     station = STATION
     #: the (output i, swept axis j) entries of K̄_g the item reports
     pairs: tuple[tuple[int, int], ...] = ()
@@ -375,7 +256,7 @@ class _GyroSweepItem(Procedure):
         return _kg_metric(i, j)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return _sweep_steps(options)
+        return sweep_steps(options)
 
     def figures(self, fits) -> tuple[list[PlotSpec], list[TableSpec]]:
         """The item's plots and tables from the sweeps' fits."""
@@ -392,7 +273,7 @@ class _GyroSweepItem(Procedure):
         segs = [s for d in fits.values() for s in d["segments"]]
         return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=plots,
                        tables=tables, warnings=_unique(warnings), segments=segs,
-                       options=_opts_text(opts))
+                       options=options_text(opts))
 
 
 class GyroScaleFactor(_GyroSweepItem):
@@ -417,7 +298,8 @@ class GyroScaleFactor(_GyroSweepItem):
 
 
 class GyroCrossCoupling(_GyroSweepItem):
-    """JJF 2003—2022 7.2.3 陀螺交叉耦合: the full K̄_g matrix (7.2.3.2) from the three sweeps of 7.2.1.
+    """JJF 2003—2022 7.2.3 陀螺交叉耦合: the full K̄_g matrix (7.2.3.2) from the three sweeps of
+    7.2.1.
 
     Column j of K̄_g holds the eq. (5) slopes of the three gyro outputs while the table turns
     about axis j; the off-diagonal terms are the cross-coupling coefficients.  Budget as A.4
@@ -433,14 +315,16 @@ class GyroCrossCoupling(_GyroSweepItem):
 
     def figures(self, fits) -> tuple[list[PlotSpec], list[TableSpec]]:
         """K̄_g (7.2.3.2): rows the gyro outputs, columns the swept axes."""
-        K = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
+        K = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)]
+                      for i in range(3)])
         table = TableSpec("K_g", msg("K̄_g (rows: gyro x, y, z; columns: input about x, y, z)"),
                           ["", "x", "y", "z"],
                           [[AXES[i]] + [f"{K[i, j]:.6g}" for j in range(3)] for i in range(3)])
         return [], [table]
 
 
-def _six_budget_rows(campaign, u_means, segs, which, col, i, M, warnings, unit, range_prop, per_gn: bool):
+def _six_budget_rows(campaign, u_means, segs, which, col, i, M, warnings, unit, range_prop,
+                     per_gn: bool):
     """Appendix A.2/A.3 rows for entry (i, col) of [M | B] from the six-position data."""
     S = F.six_position_sensitivities()  # 6 × 4
     c = S[:, col]
@@ -452,19 +336,23 @@ def _six_budget_rows(campaign, u_means, segs, which, col, i, M, warnings, unit, 
     out_unit = unit + ("/gn" if per_gn else "")
     csum = Q_(float(np.sum(np.abs(c))), "1/gn" if per_gn else "")
     uA = float(np.sum(np.abs(c) * np.array(u6)))
-    rows = [BudgetRow.type_a(msg("repeatability of the position means, Σ|cᵢ|·u(Uᵢ) (A.2.2.3)"), "u₃",
+    rows = [BudgetRow.type_a(msg("repeatability of the position means, Σ|cᵢ|·u(Uᵢ) (A.2.2.3)"),
+                             "u₃",
                              Q_(uA, out_unit), BATCHES - 1,
-                             note=msg("{n} batch means per mounting; linear sum as appendix A", n=BATCHES))]
-    rows += _abs_quant_row(campaign, range_prop, unit, csum, warnings)
+                             note=msg("{n} batch means per mounting; linear sum as appendix A",
+                                      n=BATCHES))]
+    rows += abs_quant_row(campaign, range_prop, unit, csum, warnings)
     if col < 3:  # a matrix term: per g_n of the local gravity (Ā), and the fixture's misalignment
         rows.append(mounting.gravity_row(campaign, float(M[i, col]), out_unit))
         if col != i:
             rows.append(mounting.fixture_row(campaign, float(M[i, i]), out_unit))
-    off = [abs(M[i, k]) for k in range(3) if k != col] if col < 3 else [abs(M[i, k]) for k in range(3)]
+    off = ([abs(M[i, k]) for k in range(3) if k != col] if col < 3
+           else [abs(M[i, k]) for k in range(3)])
     tilt = max(off) if off else 0.0
     if tilt > 0:
         sens = Q_(tilt, f"{out_unit}/rad") if per_gn else Q_(tilt, f"{unit}/rad")
-        rows += _table_position_row(campaign, sens, msg("a tilt δθ puts δθ·gn on the other axes"), warnings)
+        rows += table_position_row(campaign, sens, msg("a tilt δθ puts δθ·gn on the other axes"),
+                                   warnings)
     return rows
 
 
@@ -486,24 +374,29 @@ class GyroBiasGSensitivity(Procedure):
     item = "7.2.2"
     title = "Gyro bias and g-sensitivity (陀螺零偏、零偏加速度敏感系数)"
     clause = "7.2.2"
-    metrics = tuple(Metric(f"B_g{r}", msg("{axis} gyro bias", axis=r.upper()), f"B_g{r}", RATE_UNIT, "7.2.2.2", "eq. (8)")
+    metrics = tuple(Metric(f"B_g{r}", msg("{axis} gyro bias", axis=r.upper()), f"B_g{r}", RATE_UNIT,
+                           "7.2.2.2", "eq. (8)")
                     for r in AXES) + tuple(
-        Metric(f"g_{r}{c}", msg("gyro g-sensitivity ({input} acceleration → {gyro} gyro)", input=c.upper(), gyro=r.upper()), f"g_{r}{c}",
+        Metric(f"g_{r}{c}",
+               msg("gyro g-sensitivity ({input} acceleration → {gyro} gyro)", input=c.upper(),
+                   gyro=r.upper()), f"g_{r}{c}",
                G_UNIT, "7.2.2.2", "eq. (8)") for r in AXES for c in AXES)
     requires = (POSITION_SEG,)
     equipment = EQUIPMENT_FIXTURE
-    options = (Option("earth_rate", "no", None, "yes: remove the earth-rate leak from the g diagonal "
+    options = (Option("earth_rate", "no", None, "yes: remove the earth-rate leak from the g "
+                                                "diagonal "
                       "(a deviation from 7.2.2; needs site.latitude)"),)
     station = STATION
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return _position_steps()
+        return position_steps()
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
         flag = str(opts["earth_rate"]).strip().lower()
         if flag not in ("yes", "no", "true", "false", "on", "off"):
-            raise ProcedureError(f"7.2.2: option earth_rate must be yes or no, got {opts['earth_rate']!r}")
+            raise ProcedureError("7.2.2: option earth_rate must be yes or no, got "
+                                 f"{opts['earth_rate']!r}")
         correct = flag in ("yes", "true", "on")
         means, u_means = data_means(campaign)
         U, GB, seg_ids = six_position(campaign, means, 0)
@@ -515,79 +408,104 @@ class GyroBiasGSensitivity(Procedure):
             lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
             try:
                 fits = sweep_fits(campaign, means)
-                Kg = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)] for i in range(3)])
+                Kg = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)]
+                               for i in range(3)])
                 src = msg("K̄_g from the campaign's rate sweeps (7.2.3)")
             except (DataError, ProcedureError):
                 Kg = np.eye(3)
                 src = msg("K̄_g taken as the identity (no complete rate sweeps in the campaign)")
-            leak = F.earth_rate_leak(Kg, lat, EARTH_RATE_DEG_S) / mounting.local_gravity(campaign)[0]
+            leak = F.earth_rate_leak(Kg, lat,
+                                     EARTH_RATE_DEG_S) / mounting.local_gravity(campaign)[0]
             G = G - leak
-            warnings.append(msg("DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = {rate:.4f} °/h at "
-                                "φ = {lat:g}°) that eq. (7) puts into the g matrix was removed, using {src}",
-                                rate=EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600, lat=lat, src=src))
+            warnings.append(msg("DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = "
+                                "{rate:.4f} °/h at φ = {lat:g}°) that eq. (7) puts into the g "
+                                "matrix was removed, using {src}",
+                                rate=EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600, lat=lat,
+                                src=src))
         results = []
         drift = D.campaign_drift(campaign)
         warnings.extend(D.drift_warning(drift))
         ratio = mounting.local_gravity(campaign)[0]
         pairs = [(segs[(up, 0.0)].id, segs[(up, 180.0)].id) for up in F.SIX_POSITIONS]
-        if drift.mid_times is not None:  # the ±j differences of eq. (7) turn a drift into g terms (drift.py)
-            tau = D.six_position_factors([0.5 * (drift.mid_times[segs[(up, 0.0)].id] + drift.mid_times[segs[(up, 180.0)].id])
-                                          for up in F.SIX_POSITIONS], ratio)
+        # the ±j differences of eq. (7) turn a drift into g terms (drift.py)
+        if drift.mid_times is not None:
+            mid = drift.mid_times
+            tau = D.six_position_factors(
+                [0.5 * (mid[segs[(up, 0.0)].id] + mid[segs[(up, 180.0)].id])
+                 for up in F.SIX_POSITIONS], ratio)
         else:
             tau = D.plan_six_factors({k: drift.durations[sg.id] for k, sg in segs.items()}, ratio)
         for i, r in enumerate(AXES):
-            rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT, "gyro_range", False)
+            rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT,
+                                    "gyro_range", False)
             m = self.metrics[i]
             b = UncertaintyBudget(m.symbol, RATE_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-            results.append(Result(m, Q_(float(GB[i, 3]), RATE_UNIT), b.combined, b, earth_rate="not applicable",
-                                  note=msg("the vertical earth rate flips with the up axis and cancels in the mean of six")))
+            results.append(Result(m, Q_(float(GB[i, 3]), RATE_UNIT), b.combined, b,
+                                  earth_rate="not applicable",
+                                  note=msg("the vertical earth rate flips with the up axis and "
+                                           "cancels in the mean of six")))
         for i, r in enumerate(AXES):
             for j, c in enumerate(AXES):
-                rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT, "gyro_range", True)
+                rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT,
+                                        "gyro_range", True)
                 delta = 0.0
                 if drift.corrects(i):
-                    delta, drows = D.correction(drift, i, D.six_gradient(drift, i, pairs, j, ratio), G_UNIT,
-                                                msg("the ±{axis} mountings", axis=c), "s/gn", " (°/s)/gn")
+                    delta, drows = D.correction(drift, i, D.six_gradient(drift, i, pairs, j, ratio),
+                                                G_UNIT,
+                                                msg("the ±{axis} mountings", axis=c), "s/gn",
+                                                " (°/s)/gn")
                     rows += drows
                 elif drift.mid_times is not None:
-                    rows.append(D.drift_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c),
+                    rows.append(D.drift_row(drift, i, float(tau[j]), G_UNIT,
+                                            msg("the ±{axis} mountings", axis=c),
                                             "s/gn"))
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, G_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
                 reason = None
-                if drift.mid_times is None:  # no recording times: the drift the trends cannot exclude
-                    reason = D.not_reportable_reason(drift, i, float(tau[j]), float(b.expanded.to(G_UNIT).magnitude),
+                # no recording times: the drift the trends cannot exclude
+                if drift.mid_times is None:
+                    reason = D.not_reportable_reason(drift, i, float(tau[j]),
+                                                     float(b.expanded.to(G_UNIT).magnitude),
                                                      " (°/s)/gn")
-                    row = D.bound_row(drift, i, float(tau[j]), G_UNIT, msg("the ±{axis} mountings", axis=c), "s/gn")
+                    row = D.bound_row(drift, i, float(tau[j]), G_UNIT,
+                                      msg("the ±{axis} mountings", axis=c), "s/gn")
                     if row is not None:
-                        b = UncertaintyBudget(m.symbol, G_UNIT, rows + [row], coverage=COVERAGE, round_mode=ROUND)
+                        b = UncertaintyBudget(m.symbol, G_UNIT, rows + [row], coverage=COVERAGE,
+                                              round_mode=ROUND)
                 # the vertical earth rate is along +j with axis j up and flips with it: eq. (7) puts
-                # K_g[:, j]·Ω_e·sin φ into the whole column j — the diagonal mostly, the cross terms by
-                # the cross-coupling (interpretations, "Earth rate disclosed (JJF 2003)")
+                # K_g[:, j]·Ω_e·sin φ into the whole column j — the diagonal mostly, the cross
+                # terms by the cross-coupling (interpretations, "Earth rate disclosed (JJF 2003)")
                 try:
                     lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
                 except (DataError, KeyError, ValueError):
                     lat = math.nan
-                v = EARTH_RATE_DEG_S * math.sin(math.radians(lat)) / mounting.local_gravity(campaign)[0]
+                v = (EARTH_RATE_DEG_S * math.sin(math.radians(lat))
+                     / mounting.local_gravity(campaign)[0])
                 if leak is not None:
-                    note, er = msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)", leak=leak[i, j]), "removed"
+                    note, er = msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)",
+                                   leak=leak[i, j]), "removed"
                 elif i == j:
-                    note, er = msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
-                                   "(φ = {lat:g}°) into g_{r}{r}, as the standard prints{hint}", r=index(r), v=v, lat=lat,
+                    note, er = msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ "
+                                   "{v:.3g} (°/s)/gn (φ = {lat:g}°) into g_{r}{r}, as the standard "
+                                   "prints{hint}", r=index(r), v=v, lat=lat,
                                    hint=hint("; option earth_rate = yes removes it")), "included"
                 else:
-                    note, er = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
-                                   "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}{hint}", r=index(r), c=index(c), v=v,
-                                   lat=lat, hint=hint("; option earth_rate = yes removes it")), "included"
+                    note, er = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} "
+                                   "× Ω_e·sin φ ({v:.3g} (°/s)/gn at φ = {lat:g}°) into "
+                                   "g_{r}{c}{hint}", r=index(r), c=index(c), v=v,
+                                   lat=lat,
+                                   hint=hint("; option earth_rate = yes removes it")), "included"
                 if delta:
                     note = join("; ", [note, D.corrected_note(delta, " (°/s)/gn")])
-                results.append(Result(m, Q_(float(G[i, j]) - delta, G_UNIT), b.combined, b, note=note, earth_rate=er,
+                results.append(Result(m, Q_(float(G[i, j]) - delta, G_UNIT), b.combined, b,
+                                      note=note, earth_rate=er,
                                       reportable=reason is None, reason=reason or ""))
         table = TableSpec("six_positions", msg("Pair-averaged gyro outputs U_g (°/s), eq. (6)"),
-                          ["", *F.SIX_POSITIONS], [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
+                          ["", *F.SIX_POSITIONS],
+                          [[f"g{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
                                                    for i in range(3)])
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
-                       warnings=_unique(warnings), segments=seg_ids, options=_opts_text(opts))
+                       warnings=_unique(warnings), segments=seg_ids, options=options_text(opts))
 
 
 class AccelSixPosition(Procedure):
@@ -600,12 +518,16 @@ class AccelSixPosition(Procedure):
 
     standard = STANDARD
     item = "7.2.4"
-    title = "Accelerometer biases, scale factors and cross-coupling (加速度计偏值、标度因数、交叉耦合)"
+    title = ("Accelerometer biases, scale factors and cross-coupling "
+             "(加速度计偏值、标度因数、交叉耦合)")
     clause = "7.2.4"
-    metrics = tuple(Metric(f"B_a{r}", msg("{axis} accelerometer bias", axis=r.upper()), f"B_a{r}", ACC_UNIT, "7.2.4.2", "eq. (11)")
+    metrics = tuple(Metric(f"B_a{r}", msg("{axis} accelerometer bias", axis=r.upper()), f"B_a{r}",
+                           ACC_UNIT, "7.2.4.2", "eq. (11)")
                     for r in AXES) + tuple(
-        Metric(f"K_a{r}{c}", (msg("{axis} accelerometer scale factor", axis=r.upper()) if r == c else
-                              msg("accelerometer cross-coupling ({input} input → {acc} accelerometer)", input=c.upper(),
+        Metric(f"K_a{r}{c}",
+               (msg("{axis} accelerometer scale factor", axis=r.upper()) if r == c else
+                              msg("accelerometer cross-coupling ({input} input → {acc} "
+                                  "accelerometer)", input=c.upper(),
                                   acc=r.upper())),
                f"K_a{r}{c}", "", "7.2.4.2", "eq. (11)") for r in AXES for c in AXES)
     requires = (POSITION_SEG,)
@@ -614,7 +536,7 @@ class AccelSixPosition(Procedure):
     station = STATION
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return _position_steps()
+        return position_steps()
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
@@ -624,28 +546,35 @@ class AccelSixPosition(Procedure):
         warnings: list[str] = []
         results = []
         for i in range(3):
-            rows = _six_budget_rows(campaign, u_means, segs, 1, 3, i, KB[:, :3], warnings, ACC_UNIT, "accel_range",
+            rows = _six_budget_rows(campaign, u_means, segs, 1, 3, i, KB[:, :3], warnings, ACC_UNIT,
+                                    "accel_range",
                                     False)
             m = self.metrics[i]
             b = UncertaintyBudget(m.symbol, ACC_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-            results.append(Result(m, Q_(float(KB[i, 3]), ACC_UNIT), b.combined, b, earth_rate="not applicable"))
+            results.append(Result(m, Q_(float(KB[i, 3]), ACC_UNIT), b.combined, b,
+                                  earth_rate="not applicable"))
         for i in range(3):
             for j in range(3):
-                rows = _six_budget_rows(campaign, u_means, segs, 1, j, i, KB[:, :3], warnings, ACC_UNIT,
+                rows = _six_budget_rows(campaign, u_means, segs, 1, j, i, KB[:, :3], warnings,
+                                        ACC_UNIT,
                                         "accel_range", True)
                 m = self.metrics[3 + 3 * i + j]
                 b = UncertaintyBudget(m.symbol, "", rows, coverage=COVERAGE, round_mode=ROUND)
-                results.append(Result(m, Q_(float(KB[i, j]), ""), b.combined, b, earth_rate="not applicable"))
-        table = TableSpec("six_positions", msg("Pair-averaged accelerometer outputs U_a (gn), eq. (9)"),
-                          ["", *F.SIX_POSITIONS], [[f"a{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
+                results.append(Result(m, Q_(float(KB[i, j]), ""), b.combined, b,
+                                      earth_rate="not applicable"))
+        table = TableSpec("six_positions", msg("Pair-averaged accelerometer outputs U_a (gn), eq. "
+                                               "(9)"),
+                          ["", *F.SIX_POSITIONS],
+                          [[f"a{AXES[i]}"] + [f"{U[i, k]:.6g}" for k in range(6)]
                                                    for i in range(3)])
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
-                       warnings=_unique(warnings), segments=seg_ids, options=_opts_text(opts))
+                       warnings=_unique(warnings), segments=seg_ids, options=options_text(opts))
 
 
 def _accel_scale(campaign: Campaign, means: Means, pairs, i: int) -> float:
     """|K_ii|·g of accelerometer i in g_n, the sensitivity of its reading to a tilt: its reading at
-    rest with axis i up (U₇ of axis i's sweep), bias included (a few per cent of the row at most)."""
+    rest with axis i up (U₇ of axis i's sweep), bias included (a few per cent of the row at
+    most)."""
     rest = pairs[AXES[i]][0]
     return abs(float(means(rest)[1][i]))
 
@@ -664,13 +593,16 @@ class AccelRateSensitivity(Procedure):
     item = "7.2.5"
     title = "Accelerometer angular-rate sensitivity (加速度计角速度灵敏系数)"
     clause = "7.2.5"
-    metrics = tuple(Metric(f"p_{r}{c}", msg("accelerometer rate sensitivity ({rate} rate → {acc} accelerometer)",
-                               rate=c.upper(), acc=r.upper()), f"p_{r}{c}", P_UNIT, "7.2.5.2", "eq. (12)")
+    metrics = tuple(Metric(f"p_{r}{c}", msg("accelerometer rate sensitivity ({rate} rate → {acc} "
+                                            "accelerometer)",
+                               rate=c.upper(), acc=r.upper()), f"p_{r}{c}", P_UNIT, "7.2.5.2",
+                           "eq. (12)")
                     for r in AXES for c in AXES if r != c)
     requires = (RATE_SEG,)
     equipment = EQUIPMENT
     options = (Option("omega", "400 deg/s", "deg/s", "table rate ω of 7.2.5.1 b)"),
-               Option("sign", "model", None, "model: p = (U₈ − U₇)/ω² (eq. (2)); as-printed: (U₇ − U₈)/ω² (eq. (12))"))
+               Option("sign", "model", None, "model: p = (U₈ − U₇)/ω² (eq. (2)); as-printed: (U₇ − "
+                                             "U₈)/ω² (eq. (12))"))
     station = STATION
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -678,8 +610,10 @@ class AccelRateSensitivity(Procedure):
         steps = []
         for a in AXES:
             for r in (0.0, w):
-                steps.append(Step(f"rate-{a}-{r:g}", "rate", f"MIMU {a} accelerometer axis up on the table "
-                                  f"(7.2.5.1); table at {r:g} °/s; record ≥ 30 s", Q_(30, "s"), Q_(0.01, "s"),
+                steps.append(Step(f"rate-{a}-{r:g}", "rate", f"MIMU {a} accelerometer axis up on "
+                                                             "the table "
+                                  f"(7.2.5.1); table at {r:g} °/s; record ≥ 30 s", Q_(30, "s"),
+                                  Q_(0.01, "s"),
                                   {"axis": a, "rate": Q_(r, "deg/s")}))
         return steps
 
@@ -687,7 +621,8 @@ class AccelRateSensitivity(Procedure):
         opts = self.option_values(ctx.options)
         sign = str(opts["sign"]).strip().lower()
         if sign not in ("model", "as-printed"):
-            raise ProcedureError(f"7.2.5: option sign must be model or as-printed, got {opts['sign']!r}")
+            raise ProcedureError("7.2.5: option sign must be model or as-printed, got "
+                                 f"{opts['sign']!r}")
         w_deg = float(opts["omega"].to("deg/s").magnitude)
         if w_deg == 0:
             raise ProcedureError("7.2.5: ω must not be zero (eq. (12) divides by ω²)")
@@ -697,26 +632,36 @@ class AccelRateSensitivity(Procedure):
         p = p_matrix(campaign, means, w_deg, sign)
         warnings: list[str] = []
         if sign == "as-printed":
-            warnings.append(msg("p computed with eq. (12) as printed, (U₇ − U₈)/ω²: opposite sign to the model of eq. (2)"))
+            warnings.append(msg("p computed with eq. (12) as printed, (U₇ − U₈)/ω²: opposite sign "
+                                "to the model of eq. (2)"))
         results = []
         c = 1.0 / w**2
         for m in self.metrics:
             i, j = AXES.index(m.key[2]), AXES.index(m.key[3])
             rest, turning = pairs[AXES[j]]
             u7, u8 = u_means(rest)[1][i], u_means(turning)[1][i]
-            rows = [BudgetRow.type_a(msg("repeatability of U₇ and U₈, |c|(u(U₇) + u(U₈)) (A.5.2.3)"), "u₃",
-                                     Q_(c * (u7 + u8), P_UNIT), BATCHES - 1)]
-            rows += _abs_quant_row(campaign, "accel_range", ACC_UNIT, Q_(2 * c, "1/(rad/s)**2"), warnings)
-            rows += _table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT), msg("c(ω) = −2p/ω (A.12)"), warnings)
-            rows.append(mounting.rest_tilt_row(campaign, _accel_scale(campaign, means, pairs, i), w, P_UNIT))
+            rows = [BudgetRow.type_a(
+                msg("repeatability of U₇ and U₈, |c|(u(U₇) + u(U₈)) (A.5.2.3)"), "u₃",
+                Q_(c * (u7 + u8), P_UNIT), BATCHES - 1)]
+            rows += abs_quant_row(campaign, "accel_range", ACC_UNIT, Q_(2 * c, "1/(rad/s)**2"),
+                                  warnings)
+            rows += table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT),
+                                   msg("c(ω) = −2p/ω (A.12)"), warnings)
+            rows.append(mounting.rest_tilt_row(campaign, _accel_scale(campaign, means, pairs, i), w,
+                                               P_UNIT))
             b = UncertaintyBudget(m.symbol, P_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
-            results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b, earth_rate="not applicable",
-                                  note=msg("the vertical earth rate adds a relative 2Ω_e·sin φ/ω to ω² (10⁻⁵ at 400 °/s): neglected")))
-        table = TableSpec("p", msg("p (rows: accelerometer x, y, z; columns: rate about x, y, z), gn/(rad/s)²"),
-                          ["", "x", "y", "z"], [[AXES[i]] + [f"{p[i, j]:.5g}" for j in range(3)] for i in range(3)])
+            results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b,
+                                  earth_rate="not applicable",
+                                  note=msg("the vertical earth rate adds a relative 2Ω_e·sin φ/ω "
+                                           "to ω² (10⁻⁵ at 400 °/s): neglected")))
+        table = TableSpec("p", msg("p (rows: accelerometer x, y, z; columns: rate about x, y, z), "
+                                   "gn/(rad/s)²"),
+                          ["", "x", "y", "z"],
+                          [[AXES[i]] + [f"{p[i, j]:.5g}" for j in range(3)] for i in range(3)])
         segs = [s.id for pr in pairs.values() for s in pr]
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=[table],
-                       warnings=_unique(warnings), segments=segs, options=_opts_text(opts))
+                       warnings=_unique(warnings), segments=segs, options=options_text(opts))
 
 
-PROCEDURES = (GyroScaleFactor, GyroBiasGSensitivity, GyroCrossCoupling, AccelSixPosition, AccelRateSensitivity)
+PROCEDURES = (GyroScaleFactor, GyroBiasGSensitivity, GyroCrossCoupling, AccelSixPosition,
+              AccelRateSensitivity)

@@ -19,7 +19,8 @@ def metro_register_standards(registrar) -> None:
 
     registrar.add_standard(
         STANDARD_ID,
-        "金属振子式速率陀螺校准规范 (Calibration specification for metal-shell vibratory rate gyroscopes)",
+        "金属振子式速率陀螺校准规范 (Calibration specification for metal-shell vibratory rate "
+        "gyroscopes)",
         designation="JJF 2014—2022",
         description="calibration items of clause 7.2 (table 3); uncertainty after appendix B",
     )
@@ -32,7 +33,8 @@ def metro_register_stations(registrar) -> None:
     from metro.instruments.vibratory import station_factory
 
     registrar.add_station("simulated-jjf2014", station_factory,
-                          "simulated JJF 2014 station (virtual analog vibratory rate gyro on rate/vibration tables)")
+                          "simulated JJF 2014 station (virtual analog vibratory rate gyro on "
+                          "rate/vibration tables)")
 
 
 @hookimpl

@@ -1,11 +1,12 @@
-"""Certificate data for JJF 2014—2022 (clause 8 a)–p), appendix A inner page): ``context["jjf2014"]``.
+"""Certificate data for JJF 2014—2022 (clause 8 a)–p), appendix A inner page):
+``context["jjf2014"]``.
 
 The 24 rows of appendix A map to the metrics of the items (table 3).  A row whose item was
 not run in this record says so ("未检测 not performed") — never blank, never zero.
 Laboratory, customer, signatories and dates come from the report context's ``facts``
-(:func:`metro.core.documents.report.record_facts`: the campaign, and the lab profile when one is given); a
-missing one is shown as "—" so a reviewer sees it is missing.  :func:`layout` lays out clause 8
-a)–p) (each field marked with its letter in the code) and the appendix A inner page.
+(:func:`metro.core.documents.report.record_facts`: the campaign, and the lab profile when one is
+given); a missing one is shown as "—" so a reviewer sees it is missing.  :func:`layout` lays out
+clause 8 a)–p) (each field marked with its letter in the code) and the appendix A inner page.
 """
 
 from __future__ import annotations
@@ -45,7 +46,8 @@ ROWS = (
 NOT_PERFORMED = "not performed"
 DASH = "—"
 SPECIFICATION_CN = "JJF 2014—2022 金属振子式速率陀螺校准规范"
-SPECIFICATION_EN = "JJF 2014—2022 Calibration Specification for Metal-Shell Vibratory Rate Gyroscopes"
+SPECIFICATION_EN = ("JJF 2014—2022 Calibration Specification for Metal-Shell Vibratory Rate "
+                    "Gyroscopes")
 
 
 def certificate_rows(outcomes) -> list[dict[str, Any]]:
@@ -64,12 +66,15 @@ def certificate_rows(outcomes) -> list[dict[str, Any]]:
         r = found.get((item, key))
         base = {"no": str(no), "item_cn": cn, "item_en": en, "clause": item}
         if r is None:
-            rows.append(base | {"performed": False, "reportable": True, "reason": "", "value": "", "U": "",
+            rows.append(base | {"performed": False, "reportable": True, "reason": "", "value": "",
+                                "U": "",
                                 "k": "", "note": "", "earth_rate": "", "symbol": ""})
             continue
         row = result_fields(r)
-        rows.append(base | {"performed": True, "reportable": row["reportable"], "reason": row["reason"],
-                            "value": row["value_unit"], "U": row["U_unit"], "k": row["k"], "note": r.note,
+        rows.append(base | {"performed": True, "reportable": row["reportable"],
+                            "reason": row["reason"],
+                            "value": row["value_unit"], "U": row["U_unit"], "k": row["k"],
+                            "note": r.note,
                             "earth_rate": row["earth_rate"], "symbol": r.metric.symbol})
     return rows
 
@@ -85,8 +90,8 @@ def extend_context(record, context: dict) -> None:
         "rows": rows,
         "performed_count": sum(r["performed"] for r in rows),
         # a warning several items share (the same missing repeat data) once, naming them
-        "deviations": [join(": ", [where, w]) for where, w in group_notes((o.item, "", w) for o in outs
-                                                                          for w in o.warnings)],
+        "deviations": [join(": ", [where, w]) for where, w
+                       in group_notes((o.item, "", w) for o in outs for w in o.warnings)],
     }
 
 
@@ -114,8 +119,9 @@ def layout(doc, ctx: dict) -> None:
         (tr("Place of calibration"), D.or_dash(f["location"] or f["lab_address"])),  # 8 c)
         (tr("Customer"), D.or_dash(f["customer"])),                               # 8 e)
         (tr("Customer address"), D.or_dash(f["customer_address"])),
-        (tr("Instrument calibrated"), f"{tr.pick('金属振子式速率陀螺', 'metal-shell vibratory rate gyroscope')}: "
-                                      f"{tr.text(dev['description'])} ({tr('id')} {dev['id']})"),  # 8 f)
+        (tr("Instrument calibrated"),                                             # 8 f)
+         f"{tr.pick('金属振子式速率陀螺', 'metal-shell vibratory rate gyroscope')}: "
+         f"{tr.text(dev['description'])} ({tr('id')} {dev['id']})"),
         (tr("Date of calibration"), D.or_dash(f["measured"])),                    # 8 g)
         (tr("Date received"), D.or_dash(f["received"])),
         (tr("Date of issue"), D.or_dash(f["issued"])),
@@ -135,9 +141,10 @@ def layout(doc, ctx: dict) -> None:
         else:
             value = r["value"]
             U = f"U = {r['U']} (k = {r['k']})" if r["U"] not in ("", DASH) else tr("not evaluated")
-        rows.append([r["no"], tr.pick(r["item_cn"], r["item_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
-                     value, U])
-    doc.table([tr("No."), tr("Calibration item"), tr("Calibration result"), tr("Expanded uncertainty")], rows)
+        item = tr.pick(r["item_cn"], r["item_en"]) + (f" {r['symbol']}" if r["symbol"] else "")
+        rows.append([r["no"], item, value, U])
+    doc.table([tr("No."), tr("Calibration item"), tr("Calibration result"),
+               tr("Expanded uncertainty")], rows)
     doc.heading(tr("Notes on the results"), 2)                                     # 8 l)
     D.notes_section(doc, ctx, include_warnings=False)
     doc.heading(tr("Measurement standards used and their traceability"), 2)         # 8 j)
@@ -147,10 +154,16 @@ def layout(doc, ctx: dict) -> None:
         doc.bullets(c["deviations"], size=8.5)
     else:
         doc.para(tr("none"))
-    doc.heading(tr("Signatures"), 2)                                                # 8 n), appendix A
-    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]), titled=True)
-    doc.para(tr("The calibration results relate only to the item calibrated."), size=8.5)            # 8 o)
-    doc.para(tr("This certificate shall not be reproduced except in full without the written approval "
-                "of the laboratory."), size=8.5)                                                      # 8 p)
-    doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")), size=8.5)  # clause 9
+    # 8 n), appendix A
+    doc.heading(tr("Signatures"), 2)
+    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]),
+                 titled=True)
+    # 8 o)
+    doc.para(tr("The calibration results relate only to the item calibrated."), size=8.5)
+    # 8 p)
+    doc.para(tr("This certificate shall not be reproduced except in full without the written "
+                "approval of the laboratory."), size=8.5)
+    # clause 9
+    doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("1 year")),
+             size=8.5)
     D.annexes(doc, ctx)

@@ -45,7 +45,8 @@ def parse_floats(text: Any, what: str) -> list[float]:
     try:
         vals = [float(x) for x in str(text).replace(";", ",").split(",") if x.strip()]
     except ValueError as exc:
-        raise ProcedureError(f"option {what}: {text!r} is not a comma-separated list of numbers") from exc
+        raise ProcedureError(f"option {what}: {text!r} is not a comma-separated list of "
+                             "numbers") from exc
     if not vals:
         raise ProcedureError(f"option {what} is empty")
     return vals
@@ -56,7 +57,8 @@ def parse_magnitudes(text: Any, what: str) -> list[float]:
     7.2.9, 7.2.10): every value positive and finite."""
     vals = parse_floats(text, what)
     if not all(v > 0 and math.isfinite(v) for v in vals):
-        raise ProcedureError(f"option {what}: every value must be a positive magnitude in °/s, got {text!r}")
+        raise ProcedureError(f"option {what}: every value must be a positive magnitude in °/s, got "
+                             f"{text!r}")
     return vals
 
 
@@ -72,7 +74,8 @@ def num_option(options: Mapping[str, Any], name: str, lo: float, *, integer: boo
     except (TypeError, ValueError) as exc:
         raise ProcedureError(f"option {name}: {raw!r} is not a number") from exc
     if not math.isfinite(v) or v < lo or (integer and v != int(v)):
-        raise ProcedureError(f"option {name}: {raw!r} must be {'a whole number ' if integer else ''}≥ {lo:g}")
+        raise ProcedureError(f"option {name}: {raw!r} must be "
+                             f"{'a whole number ' if integer else ''}≥ {lo:g}")
     return int(v) if integer else v
 
 
@@ -115,10 +118,12 @@ def output_step(campaign: Campaign, arrays: Iterable[np.ndarray]) -> tuple[float
     whole number of it — else 0 (a continuous reading: no rounding row)."""
     v = campaign.device.properties.get("output_resolution")
     if v not in (None, ""):
-        q = parse_quantity(v, dimension="mV", file=campaign.source, field="device.output_resolution")
+        q = parse_quantity(v, dimension="mV", file=campaign.source,
+                           field="device.output_resolution")
         x = float(q.to("mV").magnitude)
         if not (x >= 0 and math.isfinite(x)):
-            raise DataError(campaign.source, "device.output_resolution", f"must be a non-negative voltage step, got {v!r}")
+            raise DataError(campaign.source, "device.output_resolution",
+                            f"must be a non-negative voltage step, got {v!r}")
         return x, msg("device.output_resolution = {v}", v=v)
     vals = [np.unique(np.asarray(a, dtype=float)[:200_000]) for a in arrays]
     steps = [float(np.min(np.diff(u))) for u in vals if u.size > 1]
@@ -129,8 +134,8 @@ def output_step(campaign: Campaign, arrays: Iterable[np.ndarray]) -> tuple[float
     if not q > 1e-9 * max(float(np.max(np.abs(allv))), 1e-300):
         return 0.0, msg("the data (no common step)")
     ratio = (allv - allv[0]) / q
-    # every value within a thousandth of a step of the grid (a continuous reading's smallest difference
-    # leaves the others at random fractions of it)
+    # every value within a thousandth of a step of the grid (a continuous reading's smallest
+    # difference leaves the others at random fractions of it)
     if np.max(np.abs(ratio)) < 1e9 and np.all(np.abs(ratio - np.round(ratio)) < 1e-3):
         return q, msg("the data (every value a whole number of this step)")
     return 0.0, msg("the data (no common step)")
@@ -139,10 +144,11 @@ def output_step(campaign: Campaign, arrays: Iterable[np.ndarray]) -> tuple[float
 def rounding_note(q: float, s: float, hw: float, dithered: bool, source: str) -> str:
     """What a rounding row says: the step, the noise and whether it dithers the rounding."""
     if dithered:
-        return msg("noise s = {s:.3g} mV ≥ q/2 (q = {q:.3g} mV, {source}) dithers the rounding: offset of a mean "
-                   "≤ Σ(q/πk)e^(−2π²k²σ²/q²) = {hw:.3g} mV", s=s, q=q, source=source, hw=hw)
-    return msg("noise s = {s:.3g} mV < q/2 (q = {q:.3g} mV, {source}): the rounding does not average out, "
-               "±q/2 on a mean", s=s, q=q, source=source)
+        return msg("noise s = {s:.3g} mV ≥ q/2 (q = {q:.3g} mV, {source}) dithers the rounding: "
+                   "offset of a mean ≤ Σ(q/πk)e^(−2π²k²σ²/q²) = {hw:.3g} mV", s=s, q=q,
+                   source=source, hw=hw)
+    return msg("noise s = {s:.3g} mV < q/2 (q = {q:.3g} mV, {source}): the rounding does not "
+               "average out, ±q/2 on a mean", s=s, q=q, source=source)
 
 
 def rounding_row_mean(campaign: Campaign, x: np.ndarray, what: str, scale: float, unit: str,
@@ -154,7 +160,8 @@ def rounding_row_mean(campaign: Campaign, x: np.ndarray, what: str, scale: float
         return []
     sd = float(np.std(x, ddof=1))
     hw, dith = F.rounding_half_width(qq, sd)
-    return [BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of {what}", q=qq, what=what), "δF_q", Q_(hw * abs(scale), unit),
+    return [BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of {what}", q=qq, what=what),
+                             "δF_q", Q_(hw * abs(scale), unit),
                              distribution="uniform", note=rounding_note(qq, sd, hw, dith, src))]
 
 
@@ -162,14 +169,17 @@ def condition_in(seg: Segment, name: str, unit: str) -> float:
     return float(seg.condition(name, unit).to(unit).magnitude)
 
 
-def need_segments(campaign: Campaign, proc: type[Procedure], kind: str, **conditions) -> list[Segment]:
+def need_segments(campaign: Campaign, proc: type[Procedure], kind: str,
+                  **conditions) -> list[Segment]:
     segs = campaign.find_segments(kind, **conditions)
     if not segs:
         extra = ", ".join(f"{k} = {v!r}" for k, v in conditions.items())
         raise DataError(campaign.source, "segments",
-                        f"{proc.qualified_id()} needs segments of kind {kind!r}{' with ' + extra if extra else ''}; "
+                        f"{proc.qualified_id()} needs segments of kind "
+                        f"{kind!r}{' with ' + extra if extra else ''}; "
                         "none found",
-                        hint=f"`metro plan --standard jjf2014 --item {proc.item}` lists what to measure")
+                        hint=f"`metro plan --standard jjf2014 --item {proc.item}` lists what to "
+                             "measure")
     return segs
 
 
@@ -188,7 +198,8 @@ def group_by(segs: Iterable[Segment], name: str) -> dict[str, list[Segment]]:
 def axis_of(seg: Segment) -> str:
     a = str(seg.condition("axis")).strip().upper()
     if a not in AXES:
-        raise DataError(seg.file or seg.id, f"segments.{seg.id}.conditions.axis", f"must be X, Y or Z, got {a!r}")
+        raise DataError(seg.file or seg.id, f"segments.{seg.id}.conditions.axis",
+                        f"must be X, Y or Z, got {a!r}")
     return a
 
 
@@ -219,19 +230,22 @@ class SFSet:
     def __init__(self, segs: list[Segment]):
         if len(segs) < 3:
             raise DataError(segs[0].file if segs else None, "segments",
-                            f"a scale-factor calibration needs at least 3 input rates, got {len(segs)}")
+                            "a scale-factor calibration needs at least 3 input rates, got "
+                            f"{len(segs)}")
         rows = []
         for s in segs:
             om = condition_in(s, "rate", "deg/s")
             x, _ = read_output(s)
-            rows.append((om, F.mean_output_eq2(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), x.size, s.id,
+            rows.append((om, F.mean_output_eq2(x), float(np.std(x, ddof=1) / math.sqrt(x.size)),
+                         x.size, s.id,
                          float(np.std(x, ddof=1)), np.unique(x[:200_000])))
         rows.sort(key=lambda r: r[0])
         self.sd = np.array([r[5] for r in rows])
         self._values = [r[6] for r in rows]
         self.omega = np.array([r[0] for r in rows])
         if np.unique(self.omega).size != self.omega.size:
-            raise DataError(segs[0].file, "segments", "two segments of one calibration have the same input rate")
+            raise DataError(segs[0].file, "segments", "two segments of one calibration have the "
+                                                      "same input rate")
         self.F = np.array([r[1] for r in rows])
         self.uF = np.array([r[2] for r in rows])
         self.n = [r[3] for r in rows]
@@ -248,9 +262,10 @@ class SFSet:
     def rounding_rows(self, campaign: Campaign) -> tuple[list[BudgetRow], list[BudgetRow]]:
         """The rounding rows of K and of F₀ (interpretations.md, "JJF 2014 — output quantization"):
         each F̄_i is off by up to its half-width (Widrow bound when the noise dithers the rounding,
-        else ±q/2), independently between input rates; K = Σc_iF̄_i and F₀ = Σd_iF̄_i (eqs. (4), (5),
-        c_i = (Ω_i − Ω̄)/Σ(Ω − Ω̄)², d_i = 1/n − Ω̄c_i), so the half-width of each is √Σ(c_i·a_i)²
-        (a uniform row with that standard uncertainty).  Nothing when the output has no step."""
+        else ±q/2), independently between input rates; K = Σc_iF̄_i and F₀ = Σd_iF̄_i (eqs. (4),
+        (5), c_i = (Ω_i − Ω̄)/Σ(Ω − Ω̄)², d_i = 1/n − Ω̄c_i), so the half-width of each is
+        √Σ(c_i·a_i)² (a uniform row with that standard uncertainty).  Nothing when the output has
+        no step."""
         q, src = output_step(campaign, self._values)
         if q <= 0:
             return [], []
@@ -260,16 +275,22 @@ class SFSet:
         c = w / float(np.sum(w * w))
         d = 1.0 / self.omega.size - self.omega.mean() * c
         n_und = len(dith) - sum(dith)
-        note = msg("q = {q:.3g} mV ({src}); {n} of {total} means not dithered by their noise (±q/2), the others "
-                   "within the Widrow bound; noise s = {lo:.3g} … {hi:.3g} mV", q=q, src=src, n=n_und, total=len(dith),
+        note = msg("q = {q:.3g} mV ({src}); {n} of {total} means not dithered by their noise "
+                   "(±q/2), the others within the Widrow bound; noise s = {lo:.3g} … {hi:.3g} mV",
+                   q=q, src=src, n=n_und, total=len(dith),
                    lo=self.sd.min(), hi=self.sd.max())
-        kr = BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of the F̄_i through eq. (4)", q=q), "u_q",
-                              Q_(float(np.sqrt(np.sum((c * hw) ** 2))), KU), distribution="uniform", note=note)
-        fr = BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of the F̄_i through eq. (5)", q=q), "u_q",
-                              Q_(float(np.sqrt(np.sum((d * hw) ** 2))), "mV"), distribution="uniform", note=note)
+        kr = BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of the F̄_i through eq. (4)",
+                                  q=q), "u_q",
+                              Q_(float(np.sqrt(np.sum((c * hw) ** 2))), KU), distribution="uniform",
+                              note=note)
+        fr = BudgetRow.type_b(msg("output step {q:.3g} mV: rounding of the F̄_i through eq. (5)",
+                                  q=q), "u_q",
+                              Q_(float(np.sqrt(np.sum((d * hw) ** 2))), "mV"),
+                              distribution="uniform", note=note)
         return [kr], [fr]
 
-    def budget(self, campaign: Campaign, warnings: list[str] | None = None, rep: "Spread | None | bool" = True):
+    def budget(self, campaign: Campaign, warnings: list[str] | None = None,
+               rep: "Spread | None | bool" = True):
         """Appendix B.1 budget of this K.  u₃ (B.1.2.2 3)) is the *repeatability* of K, as the
         appendix's 1.54×10⁻⁴ is: K_r·|K| from the campaign's own repeated calibrations (7.2.4,
         kind ``rate-repeat``), else ``device.scale_factor_repeatability``; never less than the
@@ -279,15 +300,18 @@ class SFSet:
             rep = sf_repeatability(campaign)
         u, dof, src, typ = self.u_single(rep)
         if rep is None and warnings is not None:
-            warnings.append(msg("no repeated calibrations (7.2.4) and no stated repeatability of K: u₃ of K is the "
-                                "eq. (3) fit's standard error, which leaves out the variation of K between "
-                                "power-ons{hint}",
-                                hint=hint(" (rate-repeat runs or device.scale_factor_repeatability)")))
+            warnings.append(msg("no repeated calibrations (7.2.4) and no stated repeatability of "
+                                "K: u₃ of K is the eq. (3) fit's standard error, which leaves out "
+                                "the variation of K between power-ons{hint}",
+                                hint=hint(" (rate-repeat runs or "
+                                          "device.scale_factor_repeatability)")))
         src = join(" ", [src, "(B.1.2.2 3))"])
         row = (BudgetRow.type_a(src, "u₃", Q_(u, KU), dof) if typ == "A" else
                BudgetRow.type_b(src, "u₃", Q_(u, KU), distribution="normal", k=1.0))
-        return B.scale_factor_budget(Q_(self.K, KU), None, 0, rate_table=calibration_of(campaign, "rate_table"),
-                                     dmm=calibration_of(campaign, "dmm"), warnings=warnings, rep_row=row,
+        return B.scale_factor_budget(Q_(self.K, KU), None, 0,
+                                     rate_table=calibration_of(campaign, "rate_table"),
+                                     dmm=calibration_of(campaign, "dmm"), warnings=warnings,
+                                     rep_row=row,
                                      extra=self.rounding_rows(campaign)[0])
 
     def u_single(self, rep: "Spread | None") -> tuple[float, float, str, str]:
@@ -296,11 +320,14 @@ class SFSet:
         K_r·|K| (which already holds the within-run scatter) and the fit's standard error."""
         fit_u = self.fit.u_K
         if rep is not None and rep.value * abs(self.K) >= fit_u:
-            return rep.value * abs(self.K), rep.dof, msg("repeatability of K: K_r·K, {source}", source=rep.source), rep.type
+            return rep.value * abs(self.K), rep.dof, msg("repeatability of K: K_r·K, {source}",
+                                                         source=rep.source), rep.type
         if rep is not None:
-            return fit_u, self.fit.dof, msg("residual scatter of the eq. (3) fit (larger than the repeatability K_r·K, "
-                                            "{source})", source=rep.source), "A"
-        return fit_u, self.fit.dof, msg("residual scatter of the eq. (3) fit (no repeatability of K available)"), "A"
+            return fit_u, self.fit.dof, msg("residual scatter of the eq. (3) fit (larger than the "
+                                            "repeatability K_r·K, {source})",
+                                            source=rep.source), "A"
+        return fit_u, self.fit.dof, msg("residual scatter of the eq. (3) fit (no repeatability of "
+                                        "K available)"), "A"
 
 
 @attrs.frozen
@@ -315,12 +342,15 @@ class Spread:
     source: str
     type: str = "A"
 
-    def row(self, source: str, symbol: str, u: float, unit: str, sensitivity: float = 1.0) -> BudgetRow:
+    def row(self, source: str, symbol: str, u: float, unit: str,
+            sensitivity: float = 1.0) -> BudgetRow:
         """A budget row of standard uncertainty ``u`` (in ``unit``) that comes from this spread."""
         if self.type == "A":
-            return BudgetRow.type_a(join(", ", [source, self.source]), symbol, Q_(u, unit), self.dof,
+            return BudgetRow.type_a(join(", ", [source, self.source]), symbol, Q_(u, unit),
+                                    self.dof,
                                     sensitivity=Q_(sensitivity, ""))
-        return BudgetRow.type_b(join(", ", [source, self.source]), symbol, Q_(u, unit), distribution="normal", k=1.0,
+        return BudgetRow.type_b(join(", ", [source, self.source]), symbol, Q_(u, unit),
+                                distribution="normal", k=1.0,
                                 sensitivity=Q_(sensitivity, ""))
 
 
@@ -331,7 +361,8 @@ def stated_spread(campaign: Campaign, key: str, unit: str, what: str) -> Spread 
     q = parse_quantity(v, dimension=unit, file=campaign.source, field=f"device.{key}")
     x = float(q.to(unit).magnitude)
     if not (x >= 0 and math.isfinite(x)):
-        raise DataError(campaign.source, f"device.{key}", f"must be a non-negative {what}, got {v!r}")
+        raise DataError(campaign.source, f"device.{key}", f"must be a non-negative {what}, got "
+                                                          f"{v!r}")
     return Spread(x, INF, msg("stated for the device{hint}", hint=hint(f" (device.{key})")), "B")
 
 
@@ -339,7 +370,9 @@ def sf_repeatability(campaign: Campaign) -> Spread | None:
     """K_r (relative, 1σ of one calibration's K, eq. (10)) from the campaign's 7.2.4 runs
     (kind ``rate-repeat``, ≥ 2 runs), else ``device.scale_factor_repeatability``, else None."""
     runs = group_by(campaign.find_segments("rate-repeat"), "run")
-    stated = stated_spread(campaign, "scale_factor_repeatability", "", "relative repeatability of K")  # checked even if unused
+    # checked even if unused
+    stated = stated_spread(campaign, "scale_factor_repeatability", "",
+                           "relative repeatability of K")
     if len(runs) >= 2:
         Ks = [SFSet(g).K for _, g in sorted(runs.items())]
         return Spread(F.relative_repeatability_eq10(Ks), len(Ks) - 1,
@@ -352,11 +385,13 @@ def bias_repeatability(campaign: Campaign, K: float) -> Spread | None:
     """B_r (°/h, 1σ of one bias, eq. (30)) from the campaign's 7.2.15 runs (kind
     ``static-repeat``, ≥ 2 runs of one record each), else ``device.bias_repeatability``."""
     runs = group_by(campaign.find_segments("static-repeat"), "run")
-    stated = stated_spread(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")  # checked even if unused
+    # checked even if unused
+    stated = stated_spread(campaign, "bias_repeatability", "deg/h", "bias repeatability in °/h")
     if len(runs) >= 2 and all(len(g) == 1 for g in runs.values()):
         b0 = [F.bias_eq27_28(read_output(g[0])[0], K) * 3600.0 for _, g in sorted(runs.items())]
         br = F.std_bessel(b0, "eq. (30)")
-        return Spread(br, len(b0) - 1, msg("B_r = {Br:.3g} °/h from this campaign's {n} runs (7.2.15)", Br=br, n=len(b0)))
+        return Spread(br, len(b0) - 1, msg("B_r = {Br:.3g} °/h from this campaign's {n} runs "
+                                           "(7.2.15)", Br=br, n=len(b0)))
     return stated
 
 
@@ -374,11 +409,13 @@ def with_scatter(rep: Spread | None, s: float, dof: float, what: str) -> Spread 
     if rep is None or rep.type != "A" or not math.isfinite(rep.dof):
         if rep is not None and s <= rep.value:
             return rep
-        return Spread(s, float(dof), msg("scatter {s:.3g} of {what} (ν = {nu:g})", s=s, what=what, nu=dof))
+        return Spread(s, float(dof),
+                      msg("scatter {s:.3g} of {what} (ν = {nu:g})", s=s, what=what, nu=dof))
     if s <= rep.value:
         return rep
     v = math.sqrt((rep.dof * rep.value ** 2 + dof * s * s) / (rep.dof + dof))
-    return Spread(v, rep.dof + dof, msg("{src}, pooled with the larger scatter {s:.3g} of {what} (ν = {nu:g}): {v:.3g}",
+    return Spread(v, rep.dof + dof, msg("{src}, pooled with the larger scatter {s:.3g} of {what} "
+                                        "(ν = {nu:g}): {v:.3g}",
                                         src=rep.source, s=s, what=what, nu=dof, v=v))
 
 
@@ -404,29 +441,36 @@ class KValue:
         return iter((self.K, self.u_rel, self.source))
 
     def power_on_u(self, value: float) -> float:
-        """u (the unit of ``value``) of ``value`` = F̄/K for a record made at another power-on than the
-        7.2.1 calibration: its own K differs from the calibrated one by K_r, so |value|·K_r (0 without K_r)."""
+        """u (the unit of ``value``) of ``value`` = F̄/K for a record made at another power-on than
+        the 7.2.1 calibration: its own K differs from the calibrated one by K_r, so |value|·K_r (0
+        without K_r)."""
         return abs(value) * self.kr.value if self.kr is not None else 0.0
 
     def power_on_rows(self, value: float, scale: float, unit: str, what: str) -> list[BudgetRow]:
-        """The row of :meth:`power_on_u`, times ``scale`` (a result's sensitivity to this record's B₀):
-        the record is its own power-on, whose K differs from the 7.2.1 calibration's by the power-on
-        repeatability K_r (7.2.4).  When u_rel(K) already holds K_r (u₃ of the 7.2.1 budget) the row
-        shares that one estimate: ν_r/3 makes Welch–Satterthwaite count it once ((2c²)²/ν_r =
-        c⁴/ν_r + c⁴/(ν_r/3)).  Without K_r, nothing (the caller notes it) (interpretations.md,
-        "7.2.13 — the static record is another power-on")."""
+        """The row of :meth:`power_on_u`, times ``scale`` (a result's sensitivity to this record's
+        B₀): the record is its own power-on, whose K differs from the 7.2.1 calibration's by the
+        power-on repeatability K_r (7.2.4).  When u_rel(K) already holds K_r (u₃ of the 7.2.1
+        budget) the row shares that one estimate: ν_r/3 makes Welch–Satterthwaite count it once
+        ((2c²)²/ν_r = c⁴/ν_r + c⁴/(ν_r/3)).  Without K_r, nothing (the caller notes it)
+        (interpretations.md, "7.2.13 — the static record is another power-on")."""
         if self.kr is None:
             return []
-        dof = self.kr.dof / 3.0 if (self.kr_in_u and self.kr.type == "A" and math.isfinite(self.kr.dof)) else self.kr.dof
-        src = join(", ", [msg("{what}: its power-on's K differs from the calibration's by K_r", what=what), self.kr.source])
+        dof = self.kr.dof / 3.0 if (self.kr_in_u and self.kr.type == "A"
+                                    and math.isfinite(self.kr.dof)) else self.kr.dof
+        src = join(", ",
+                   [msg("{what}: its power-on's K differs from the calibration's by K_r",
+                        what=what), self.kr.source])
         if self.kr.type == "A":
-            return [BudgetRow.type_a(src, "K_r·B·c", Q_(self.kr.value * abs(value) * abs(scale), unit), dof,
-                                     note=msg("one estimate with u(K)'s K_r: ν = {nu:g} of {nr:g}", nu=dof, nr=self.kr.dof)
+            return [BudgetRow.type_a(src, "K_r·B·c",
+                                     Q_(self.kr.value * abs(value) * abs(scale), unit), dof,
+                                     note=msg("one estimate with u(K)'s K_r: ν = {nu:g} of {nr:g}",
+                                              nu=dof, nr=self.kr.dof)
                                      if self.kr_in_u else "")]
         return [BudgetRow.type_b(src, "K_r·B·c", Q_(self.kr.value * abs(value) * abs(scale), unit),
                                  distribution="normal", k=1.0)]
 
-    def row(self, sensitivity: float, unit: str, source: str = "scale factor K", symbol: str = "u_rel(K)") -> BudgetRow:
+    def row(self, sensitivity: float, unit: str, source: str = "scale factor K",
+            symbol: str = "u_rel(K)") -> BudgetRow:
         """The row of a result y ∝ 1/K (or ∝ K): relative u(K) times |y|, with K's ν_eff."""
         return BudgetRow.type_b(source, symbol, Q_(self.u_rel, ""), distribution="normal", k=1.0,
                                 sensitivity=Q_(abs(sensitivity), unit), dof=self.dof,
@@ -441,14 +485,17 @@ def scale_factor_for(campaign: Campaign, proc) -> KValue:
     if campaign.find_segments("rate"):
         s = SFSet(campaign.find_segments("rate"))
         b = s.budget(campaign, rep=kr)
-        return KValue(s.K, float(b.combined.to(KU).magnitude) / abs(s.K), "7.2.1 segments of this campaign",
+        return KValue(s.K, float(b.combined.to(KU).magnitude) / abs(s.K),
+                      "7.2.1 segments of this campaign",
                       b.nu_eff, kr, kr is not None and kr.value * abs(s.K) >= s.fit.u_K)
     K, urel = device_scale_factor(campaign.device, campaign.source)
     if K is None:
         raise DataError(campaign.source, "device.scale_factor",
-                        f"{proc.qualified_id()} needs the scale factor K: give 7.2.1 segments (kind \"rate\") "
+                        f"{proc.qualified_id()} needs the scale factor K: give 7.2.1 segments "
+                        "(kind \"rate\") "
                         "or device.scale_factor in mV/((°)/s)")
-    return KValue(float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel, "device.scale_factor", INF, kr)
+    return KValue(float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel,
+                  "device.scale_factor", INF, kr)
 
 
 def rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = None, tag: str = "",
@@ -458,12 +505,14 @@ def rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = 
         for sgn in (1, -1):
             c = {"rate": quantity_text(sgn * r, "deg/s")} | dict(extra or {})
             sid = f"{kind}{tag}{'+' if sgn > 0 else '-'}{r:g}"
-            steps.append(Step(sid, kind, f"table at {sgn * r:+g} °/s, record {seconds:g} samples at 1 s (7.2.1.1)",
+            steps.append(Step(sid, kind, f"table at {sgn * r:+g} °/s, record {seconds:g} samples "
+                                         "at 1 s (7.2.1.1)",
                               Q_(seconds, "s"), Q_(1, "s"), c))
     return steps
 
 
-RATE_OPTS = (Option("rates", DEFAULT_RATES, None, "input rate magnitudes (°/s), both directions (7.2.1.1 b))"),)
+RATE_OPTS = (Option("rates", DEFAULT_RATES, None, "input rate magnitudes (°/s), both directions "
+                                                  "(7.2.1.1 b))"),)
 
 
 def budget_row_a(source, symbol, u, unit, dof, note=""):
@@ -474,14 +523,19 @@ class JJFItem(Procedure):
     standard = STANDARD
     station = STATION
     equipment = (
-        EquipmentRequirement("rate_table", "rate table (table 2 no. 1); relative calibration U enters the budgets"),
-        EquipmentRequirement("dmm", "data acquisition, 6½-digit DMM; relative calibration U enters the budgets"),
+        EquipmentRequirement("rate_table", "rate table (table 2 no. 1); relative calibration U "
+                                           "enters the budgets"),
+        EquipmentRequirement("dmm", "data acquisition, 6½-digit DMM; relative calibration U enters "
+                                    "the budgets"),
     )
 
-    def _outcome(self, results, *, plots=(), tables=(), warnings=(), segments=(), opts=None) -> Outcome:
+    def _outcome(self, results, *, plots=(), tables=(), warnings=(), segments=(),
+                 opts=None) -> Outcome:
         # a result that does not state the earth rate is one it cancels from (slopes, differences at
-        # one orientation, spreads, dynamics): "not applicable" (interpretations.md, "Earth rate disclosed")
-        results = [r if r.earth_rate else attrs.evolve(r, earth_rate="not applicable") for r in results]
+        # one orientation, spreads, dynamics): "not applicable" (interpretations.md, "Earth rate
+        # disclosed")
+        results = [r if r.earth_rate else attrs.evolve(r, earth_rate="not applicable")
+                   for r in results]
         return Outcome(STANDARD, self.item, self.title, self.clause, results, plots=list(plots),
                        tables=list(tables), warnings=list(warnings), segments=list(segments),
                        options={k: str(v) for k, v in (opts or {}).items()})
@@ -491,16 +545,21 @@ def sf_plots(s: SFSet) -> list[PlotSpec]:
     """7.2.1 figures: the mean outputs with the eq. (6) line, and the eq. (3) residuals v_i on
     their own axis (at the outputs' scale a residual of µV would be invisible)."""
     fit = s.fit
-    return [PlotSpec("sf_fit", msg("Scale factor: mean outputs F̄_i (eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))"),
+    return [PlotSpec("sf_fit", msg("Scale factor: mean outputs F̄_i (eq. (2)) and the fitted line "
+                                   "F̂ = KΩ + F₀ (eq. (6))"),
                      msg("input rate Ω (°/s)"), msg("output (mV)"),
-                     [{"label": "F̄_i (eq. (2))", "x": s.omega.tolist(), "y": s.F.tolist(), "style": "o"},
+                     [{"label": "F̄_i (eq. (2))", "x": s.omega.tolist(), "y": s.F.tolist(),
+                       "style": "o"},
                       {"label": f"F̂ = KΩ + F₀, K = {fit.K:.6g} mV/((°)/s), F₀ = {fit.F0:.4g} mV",
                        "x": s.omega.tolist(), "y": fit.predict(s.omega).tolist(), "style": "-"}]),
-            PlotSpec("sf_residuals", msg("Scale factor: residuals v_i = F̄_i − (KΩ_i + F₀) of the eq. (3) fit"),
+            PlotSpec("sf_residuals", msg("Scale factor: residuals v_i = F̄_i − (KΩ_i + F₀) of the "
+                                         "eq. (3) fit"),
                      msg("input rate Ω (°/s)"), msg("residual v_i (mV)"),
-                     [{"label": "v_i", "x": s.omega.tolist(), "y": fit.residuals.tolist(), "style": "o",
+                     [{"label": "v_i", "x": s.omega.tolist(), "y": fit.residuals.tolist(),
+                       "style": "o",
                        "yerr": s.uF.tolist()},
-                      {"label": "0", "x": [float(s.omega.min()), float(s.omega.max())], "y": [0.0, 0.0],
+                      {"label": "0", "x": [float(s.omega.min()), float(s.omega.max())],
+                       "y": [0.0, 0.0],
                        "style": ":"}])]
 
 
@@ -510,7 +569,8 @@ def check_distinct(campaign: Campaign, values: np.ndarray, what: str) -> None:
     mags = np.abs(values)
     if np.unique(mags).size != mags.size:
         dup = sorted({float(v) for v in mags if np.sum(mags == v) > 1})
-        raise DataError(campaign.source, "segments", f"{what}: the level(s) {', '.join(f'{v:g}' for v in dup)} "
+        raise DataError(campaign.source, "segments", f"{what}: the level(s) "
+                                                     f"{', '.join(f'{v:g}' for v in dup)} "
                         "°/s appear more than once; give one record per level")
 
 
@@ -521,8 +581,10 @@ def chamber_temperatures(groups: Mapping[str, list[Segment]], what: str) -> dict
     seen: dict[float, str] = {}
     for k, t in T.items():
         if t in seen:
-            raise DataError(where_of(groups[k][0]), f"segments.{groups[k][0].id}.conditions.temperature",
-                            f"{what}: {k!r} and {seen[t]!r} are the same temperature; one calibration per point")
+            raise DataError(where_of(groups[k][0]),
+                            f"segments.{groups[k][0].id}.conditions.temperature",
+                            f"{what}: {k!r} and {seen[t]!r} are the same temperature; one "
+                            "calibration per point")
         seen[t] = k
     return T
 
@@ -551,20 +613,23 @@ def chamber_rows(campaign, sens: float, unit: str) -> list[BudgetRow]:
 def one_estimate(rows: Iterable[BudgetRow], spread: Spread | None) -> list[BudgetRow]:
     """Rows drawn from one repeatability estimate (K_r or B_r of the same runs: the two members of a
     difference or of a ratio) share its degrees of freedom: ν is apportioned among them,
-    ν_i = ν·u_i²/Σu_j², so that Welch–Satterthwaite counts the estimate once (Σu_i⁴/ν_i = (Σu_i²)²/ν).
-    Two rows of ν = 5 each gave ν_eff ≈ 10 and k ≈ 2.28 where t(5) = 2.65 is due
+    ν_i = ν·u_i²/Σu_j², so that Welch–Satterthwaite counts the estimate once (Σu_i⁴/ν_i =
+    (Σu_i²)²/ν). Two rows of ν = 5 each gave ν_eff ≈ 10 and k ≈ 2.28 where t(5) = 2.65 is due
     (interpretations.md, "JJF 2014 — one estimate, one ν")."""
     out = list(rows)
     if spread is None or not math.isfinite(spread.dof):
         return out
     tag = str(spread.source)
-    idx = [i for i, r in enumerate(out) if r.type == "A" and r.dof == spread.dof and str(r.source).endswith(tag)]
+    idx = [i for i,
+           r in enumerate(out) if r.type == "A" and r.dof == spread.dof
+           and str(r.source).endswith(tag)]
     if len(idx) < 2:
         return out
     c2 = [float(out[i].contribution.magnitude) ** 2 for i in idx]
     total = sum(c2)
     for i, c in zip(idx, c2):
         out[i] = attrs.evolve(out[i], dof=spread.dof * c / total if total > 0 else spread.dof,
-                              note=join("; ", [out[i].note, msg("one estimate shared with {n} rows: ν = {nu:g} apportioned",
+                              note=join("; ", [out[i].note, msg("one estimate shared with {n} "
+                                                                "rows: ν = {nu:g} apportioned",
                                                                 n=len(idx), nu=spread.dof)]))
     return out

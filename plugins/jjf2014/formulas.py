@@ -63,7 +63,8 @@ def scale_factor_eq4_5(omega: Sequence[float], F: Sequence[float]) -> LineFit:
     if om.shape != f.shape or om.ndim != 1:
         raise ValueError("Ω and F must be 1-D of the same length")
     if om.size < 3:
-        raise ValueError(f"eq. (4) needs at least 3 input rates for a fit with an uncertainty, got {om.size}")
+        raise ValueError("eq. (4) needs at least 3 input rates for a fit with an uncertainty, got "
+                         f"{om.size}")
     if not (np.all(np.isfinite(om)) and np.all(np.isfinite(f))):
         raise ValueError("Ω or F is not finite")
     ob, fb = om.mean(), f.mean()
@@ -81,7 +82,8 @@ def scale_factor_eq4_5(omega: Sequence[float], F: Sequence[float]) -> LineFit:
 # ------------------------------------------------------------------ 7.2.2 – 7.2.4
 
 
-def nonlinearity_eq7_8(omega: Sequence[float], F: Sequence[float], fit: LineFit) -> tuple[np.ndarray, float]:
+def nonlinearity_eq7_8(omega: Sequence[float], F: Sequence[float],
+                       fit: LineFit) -> tuple[np.ndarray, float]:
     """Point deviations a_i = (F̂_i − F_i)/(K·|Ω_max+ − Ω_max−|), eq. (7), and
     K_n = |a_i|_max, eq. (8).  Ω_max+ / Ω_max− are the largest forward / reverse rates."""
     om = np.asarray(omega, dtype=float)
@@ -93,7 +95,8 @@ def nonlinearity_eq7_8(omega: Sequence[float], F: Sequence[float], fit: LineFit)
     return a, float(np.max(np.abs(a)))
 
 
-def range_from_nonlinearity(omega: Sequence[float], F: Sequence[float], limit: float) -> tuple[float | None, float]:
+def range_from_nonlinearity(omega: Sequence[float], F: Sequence[float],
+                            limit: float) -> tuple[float | None, float]:
     """The range (7.2.2.2, last paragraph): the largest input rate Ω_m such that the
     eq. (4)–(8) nonlinearity of the points with |Ω| ≤ Ω_m meets ``limit``.
 
@@ -160,7 +163,8 @@ def per_g_726(up: float, down: float) -> float:
     return (up - down) / 2.0
 
 
-def max_change_eq12_13(before: Mapping[str, float], after: Mapping[str, float]) -> tuple[float, str, dict]:
+def max_change_eq12_13(before: Mapping[str, float],
+                       after: Mapping[str, float]) -> tuple[float, str, dict]:
     """ΔK_j = |K_j2 − K_j1| per axis j (eq. (12)/(14)/(32)/(33)) and the maximum over the
     axes (eq. (13)/(15), 7.2.18.2/7.2.19.2 last sentence); returns (max, its axis, per axis)."""
     axes = [a for a in before if a in after]
@@ -174,7 +178,8 @@ def max_change_eq12_13(before: Mapping[str, float], after: Mapping[str, float]) 
 # ------------------------------------------------------------------ 7.2.9, 7.2.10
 
 
-def threshold_eq16_17(omega_desc: Sequence[float], F_cal: Sequence[float], K: float) -> tuple[float | None, int]:
+def threshold_eq16_17(omega_desc: Sequence[float], F_cal: Sequence[float],
+                      K: float) -> tuple[float | None, int]:
     """Candidate threshold of one direction, eqs. (16), (17).
 
     Rates are taken in the order applied (decreasing |Ω|); F̂_i = K·Ω_i (eq. (16)); a rate
@@ -192,22 +197,25 @@ def threshold_eq16_17(omega_desc: Sequence[float], F_cal: Sequence[float], K: fl
     return float(om[i]), i
 
 
-def resolution_eq18(increments_desc: Sequence[float], dF: Sequence[float], K: float) -> tuple[float | None, int]:
+def resolution_eq18(increments_desc: Sequence[float], dF: Sequence[float],
+                    K: float) -> tuple[float | None, int]:
     """Candidate resolution of one direction, eq. (18): ΔF̂_i = K·ΔΩ_i (slope of eq. (6));
     an increment meets it when |(ΔF̂_i − ΔF_i)/ΔF̂_i| ≤ 50 %; same run rule as eq. (17)."""
     return threshold_eq16_17(increments_desc, dF, K)
 
 
-def resolved_bracket(omega_desc: Sequence[float], F_cal: Sequence[float], K: float, u: Sequence[float],
+def resolved_bracket(omega_desc: Sequence[float], F_cal: Sequence[float], K: float,
+                     u: Sequence[float],
                      k: float = 2.0) -> tuple[int, int | None, int] | None:
-    """Where the threshold (eq. (17)) or resolution (eq. (18)) lies when each response F_i has a standard
-    uncertainty u_i (issue 13: a level counts only if its pass is resolved from the noise).
+    """Where the threshold (eq. (17)) or resolution (eq. (18)) lies when each response F_i has a
+    standard uncertainty u_i (issue 13: a level counts only if its pass is resolved from the noise).
 
-    d_i = |F̂_i − F_i| − 50 %·|F̂_i| (F̂_i = K·Ω_i) passes at d_i ≤ 0; the pass is *resolved* at d_i ≤ −k·u_i, a
-    fail at d_i ≥ k·u_i.  The standard's candidate is the last level i of the unbroken run of passes
-    (:func:`threshold_eq16_17`).  The true value is at most the smallest level h ≤ i whose pass is resolved,
-    and above the largest level below h whose fail is resolved (0 when none is): (Ω_lo, Ω_h].
-    Returns (h, lo index or None, i), or None when no level of the run passes resolved."""
+    d_i = |F̂_i − F_i| − 50 %·|F̂_i| (F̂_i = K·Ω_i) passes at d_i ≤ 0; the pass is *resolved* at
+    d_i ≤ −k·u_i, a fail at d_i ≥ k·u_i.  The standard's candidate is the last level i of the
+    unbroken run of passes (:func:`threshold_eq16_17`).  The true value is at most the smallest
+    level h ≤ i whose pass is resolved, and above the largest level below h whose fail is resolved
+    (0 when none is): (Ω_lo, Ω_h]. Returns (h, lo index or None, i), or None when no level of the
+    run passes resolved."""
     om = np.asarray(omega_desc, dtype=float)
     f = np.asarray(F_cal, dtype=float)
     uu = np.asarray(u, dtype=float)
@@ -226,7 +234,8 @@ def resolved_bracket(omega_desc: Sequence[float], F_cal: Sequence[float], K: flo
 # ------------------------------------------------------------------ 7.2.11, 7.2.12
 
 
-def misalignment_eq19_25(F: Mapping[tuple[int, str], float], omega: float, K: float) -> dict[str, float]:
+def misalignment_eq19_25(F: Mapping[tuple[int, str], float], omega: float,
+                         K: float) -> dict[str, float]:
     """Input-axis misalignment, eqs. (19)–(25).
 
     ``F[(p, '+')]``/``F[(p, '-')]`` are the mean outputs (mV) at mounting position p = 1…4 with
@@ -267,7 +276,8 @@ def bias_stability_eq29(F: Sequence[float], K: float, P: int) -> tuple[float, in
         raise ValueError("the averaging period P must be ≥ 1 sample")
     m = f.size // P
     if m < 2:
-        raise ValueError(f"eq. (29) needs at least 2 averages of {P} samples; the record has {f.size} samples")
+        raise ValueError(f"eq. (29) needs at least 2 averages of {P} samples; the record has "
+                         f"{f.size} samples")
     means = f[: m * P].reshape(m, P).mean(axis=1)
     return float(np.std(means, ddof=1) / abs(K)), m
 
@@ -298,18 +308,20 @@ class AllanFit:
         return sum(self.A[i] * t ** m for i, (m, _) in enumerate(ALLAN_TERMS))
 
 
-def allan_covariance(A: Sequence[float], tau_h: np.ndarray, n_samples: int, tau0_h: float) -> np.ndarray:
+def allan_covariance(A: Sequence[float], tau_h: np.ndarray, n_samples: int,
+                     tau0_h: float) -> np.ndarray:
     """Covariance of the σ̂²(τ_k) (overlapping Allan variance, 7.2.20) used as the eq. (38) fit's
     weights, for the noise the fitted model says is there.
 
     Eq. (38)'s terms are independent noises — A₋₂τ⁻² quantization (white angle), A₋₁τ⁻¹ angle random
     walk, A₀ bias instability (flicker rate), A₁τ rate random walk — and a rate ramp A₂τ²;
-    :func:`metro.core.stats.allan.oadev_covariance` gives the exact Gaussian covariance of the estimates for
-    that mix (generalized autocovariances, C. A. Greenhall, TMO Progress Report 42-137, 1999), with
-    A_m ≥ 0 (a negative term counts as 0).  So the correlation between octave levels follows the
-    noise that dominates there: ≈ 0.5 (adjacent) where white rate noise does, ≈ 0.69 for flicker,
-    ≈ 0.89 for rate random walk, ≈ 0.40 (and 0.51 two apart) for quantization — what repeated records
-    show (tests/test_allan_covariance.py, interpretations.md "7.2.20 — weighting").
+    :func:`metro.core.stats.allan.oadev_covariance` gives the exact Gaussian covariance of the
+    estimates for that mix (generalized autocovariances, C. A. Greenhall, TMO Progress Report
+    42-137, 1999), with A_m ≥ 0 (a negative term counts as 0).  So the correlation between octave
+    levels follows the noise that dominates there: ≈ 0.5 (adjacent) where white rate noise does, ≈
+    0.69 for flicker, ≈ 0.89 for rate random walk, ≈ 0.40 (and 0.51 two apart) for quantization —
+    what repeated records show (tests/test_allan_covariance.py, interpretations.md "7.2.20 —
+    weighting").
 
     :param A: A₋₂ … A₂ (τ in h, σ in °/h).
     :param tau_h: the cluster times τ_k = m_k·τ₀ in h.
@@ -367,7 +379,8 @@ def fit_allan_eq38(tau_h: Sequence[float], sigma: Sequence[float], edf: Sequence
     :param tau_h: cluster times τ in hours (≥ 6 values).
     :param sigma: Allan deviations σ(τ) in °/h.
     :param edf: equivalent degrees of freedom of each σ²(τ) (the start of the iteration).
-    :param n_samples: samples in the record (with ``tau0_h``: exact covariance for the model's noise).
+    :param n_samples: samples in the record (with ``tau0_h``: exact covariance for the model's
+    noise).
     :param tau0_h: sample interval in h.
     """
     t = np.asarray(tau_h, dtype=float)
@@ -461,24 +474,27 @@ def coefficient_u(A: float, u_A: float, c: float, k: float = 2.0) -> tuple[float
     hi = math.sqrt(c * max(A + k * u_A, 0.0))
     if A > 0:
         return max(val - lo, hi - val) / k, "k·u(A) interval of A mapped through √(c·A)"
-    return max(hi, math.sqrt(c * u_A)) / k, "A ≤ 0, reported 0: k·u = max(√(c·(A + k·u(A))), √(c·u(A)))"
+    return max(hi,
+               math.sqrt(c * u_A)) / k, "A ≤ 0, reported 0: k·u = max(√(c·(A + k·u(A))), √(c·u(A)))"
 
 
 def not_resolved_bound(A: float, u_A: float, c: float, k: float = 3.0) -> float:
     """Upper bound √(c·max(A + k·u(A), 0)) on a noise coefficient √(c·A) whose eq. (38) term is not
-    resolved from 0 (7.2.20, A − 3u ≤ 0; interpretations.md, "7.2.20 — the other four coefficients").
+    resolved from 0 (7.2.20, A − 3u ≤ 0; interpretations.md, "7.2.20 — the other four
+    coefficients").
 
-    One-sided, k = 3: the estimate of a long-τ term is skewed — when it comes out low, the u(A) of the
-    fitted model comes out low with it — so A + 2u lay below the true A₁ in 8–10 % of 1 h records
-    dominated by rate random walk (Monte Carlo, 300 records; tests/test_allan_covariance.py), A + 3u
-    in 3.3 %."""
+    One-sided, k = 3: the estimate of a long-τ term is skewed — when it comes out low, the u(A) of
+    the fitted model comes out low with it — so A + 2u lay below the true A₁ in 8–10 % of 1 h
+    records dominated by rate random walk (Monte Carlo, 300 records;
+    tests/test_allan_covariance.py), A + 3u in 3.3 %."""
     return math.sqrt(c * max(A + k * u_A, 0.0))
 
 
 def arw_eq39(A_minus1: float) -> float:
     """ARW = √A_−1, eq. (39)."""
     if not A_minus1 > 0:
-        raise ValueError(f"A_−1 = {A_minus1:g} is not positive, so ARW = √A_−1 (eq. (39)) is undefined")
+        raise ValueError(f"A_−1 = {A_minus1:g} is not positive, so ARW = √A_−1 (eq. (39)) is "
+                         "undefined")
     return math.sqrt(A_minus1)
 
 
@@ -510,7 +526,8 @@ def bandwidth_fit_743(f: Sequence[float], Kr: Sequence[float], level: float = 0.
     if not quartic:
         a, b = (float(c) for c in coef)
         if not b > 0:
-            raise ValueError("the fitted amplitude curve does not fall with frequency (b ≤ 0): no 0.707 point")
+            raise ValueError("the fitted amplitude curve does not fall with frequency (b ≤ 0): no "
+                             "0.707 point")
         q = (target - a) / b
         if not q > 0:
             raise ValueError("the fitted curve is below 0.707 already at 0 Hz")
@@ -518,14 +535,17 @@ def bandwidth_fit_743(f: Sequence[float], Kr: Sequence[float], level: float = 0.
     a, b, c = (float(v) for v in coef)
     if not a < target:
         raise ValueError("the fitted curve is below 0.707 already at 0 Hz")
-    roots = np.roots([c, b, a - target]) if c != 0 else np.array([(target - a) / b]) if b != 0 else np.array([])
-    pos = sorted(float(r.real) for r in np.atleast_1d(roots) if abs(r.imag) < 1e-12 * max(1.0, abs(r.real)) and r.real > 0)
+    roots = (np.roots([c, b, a - target]) if c != 0
+             else np.array([(target - a) / b]) if b != 0 else np.array([]))
+    pos = sorted(float(r.real) for r in np.atleast_1d(roots)
+                 if abs(r.imag) < 1e-12 * max(1.0, abs(r.real)) and r.real > 0)
     if not pos:
         raise ValueError("the fitted amplitude curve never falls to 0.707")
     return math.sqrt(pos[0]), coef, np.asarray(fit.cov)
 
 
-def delay_eq48_50(omega: Sequence[float], P: Sequence[float], T: float) -> tuple[float, float, np.ndarray]:
+def delay_eq48_50(omega: Sequence[float], P: Sequence[float],
+                  T: float) -> tuple[float, float, np.ndarray]:
     """Output delay T_d by least squares, eqs. (48)–(50)::
 
         y_i = −P_i − atan(ω_i T) = ω_i T_d,   T_d = (ΩΩᵀ)⁻¹ Ω y
@@ -562,20 +582,24 @@ def settle_time(t: Sequence[float], x: Sequence[float], target: float, tol: floa
     return float(tt[int(np.flatnonzero(out)[-1]) + 1])
 
 
-def startup_sample_exits(d: Sequence[float], t: Sequence[float], dt: float, upper: float, lower: float, sigma: float,
+def startup_sample_exits(d: Sequence[float], t: Sequence[float], dt: float, upper: float,
+                         lower: float, sigma: float,
                          lobes: Sequence, chain: Mapping) -> dict:
-    """7.2.23.2 on the samples of an output that rings: the distribution of the start-up time (the first sample
-    after the last one outside the band) over the candidate lobes of :func:`metro.core.stats.settling.last_exit`
-    (``chain``; its ``lobes`` index ``lobes``, its ``probabilities`` P_i are those of lobe i being the last real
-    one).  Within lobe i the noise-free output falls from its top (sample k) back into the band once: the last
-    sample outside is sample j ≥ k with probability ∝ Π_{k≤i≤j} q_i·Π_{i>j}(1 − q_i) (a change point),
-    q_i = Φ((s·d_i − edge)/σ) (the noise-free sample i outside its edge, s the lobe's sign, edge ``upper`` or
-    ``lower``); its exit is the next sample, t_j + dt (interpretations.md, "7.2.23 — a ringing output decided
-    by its samples").  Over all candidates:
+    """7.2.23.2 on the samples of an output that rings: the distribution of the start-up time (the
+    first sample after the last one outside the band) over the candidate lobes of
+    :func:`metro.core.stats.settling.last_exit` (``chain``; its ``lobes`` index ``lobes``, its
+    ``probabilities`` P_i are those of lobe i being the last real one).  Within lobe i the
+    noise-free output falls from its top (sample k) back into the band once: the last sample
+    outside is sample j ≥ k with probability ∝ Π_{k≤i≤j} q_i·Π_{i>j}(1 − q_i) (a change point), q_i
+    = Φ((s·d_i − edge)/σ) (the noise-free sample i outside its edge, s the lobe's sign, edge
+    ``upper`` or ``lower``); its exit is the next sample, t_j + dt (interpretations.md, "7.2.23 — a
+    ringing output decided by its samples").  Over all candidates:
 
-        t = Σ W_m·x_m,   u_sel = √(Σ W_m·(x_m − t)²),   d_95: the distance from t within which Σ W_m ≥ 95 %.
+        t = Σ W_m·x_m,   u_sel = √(Σ W_m·(x_m − t)²),   d_95: the distance from t within which Σ
+        W_m ≥ 95 %.
 
-    :return: ``t``, ``u_selection``, ``d95`` (s), and per candidate lobe its total probability and mean exit
+    :return: ``t``, ``u_selection``, ``d95`` (s), and per candidate lobe its total probability and
+    mean exit
         (``lobe_probabilities``, ``lobe_exits``).
     """
     from scipy.special import ndtr
@@ -586,14 +610,16 @@ def startup_sample_exits(d: Sequence[float], t: Sequence[float], dt: float, uppe
     n_lobes = len(chain["lobes"])
     for m, P in enumerate(chain["probabilities"]):
         if m >= n_lobes:  # no lobe certain: inside from the first sample with the probability left
-            xs.append(chain["exits"][m]), ws.append(P), lobe_p.append(P), lobe_x.append(chain["exits"][m])
+            xs.append(chain["exits"][m]), ws.append(P)
+            lobe_p.append(P), lobe_x.append(chain["exits"][m])
             continue
         lb = lobes[chain["lobes"][m]]
         edge = upper if lb.sign > 0 else lower
         k = lb.start + int(np.argmax(lb.sign * d[lb.start:lb.end]))
         q = np.clip(ndtr((lb.sign * d[k:lb.end] - edge) / max(sigma, 1e-12)), 1e-300, 1.0 - 1e-16)
         # log of Π_{i≤j} q_i · Π_{i>j} (1 − q_i) for j = k … end − 1
-        logw = np.cumsum(np.log(q)) + np.concatenate((np.cumsum(np.log1p(-q)[::-1])[::-1][1:], [0.0]))
+        logw = np.cumsum(np.log(q)) + np.concatenate((np.cumsum(np.log1p(-q)[::-1])[::-1][1:],
+                                                      [0.0]))
         w = np.exp(logw - float(np.max(logw)))
         w = w / float(w.sum())
         j = np.arange(k, lb.end)
@@ -606,16 +632,17 @@ def startup_sample_exits(d: Sequence[float], t: Sequence[float], dt: float, uppe
     order = np.argsort(np.abs(x - ts), kind="stable")
     cum = np.cumsum(w[order])
     d95 = float(np.abs(x - ts)[order][min(int(np.searchsorted(cum, 0.95 - 1e-12)), x.size - 1)])
-    return {"t": ts, "u_selection": float(math.sqrt(max(float(w @ (x - ts) ** 2), 0.0))), "d95": d95,
+    return {"t": ts, "u_selection": float(math.sqrt(max(float(w @ (x - ts) ** 2), 0.0))),
+            "d95": d95,
             "lobe_probabilities": lobe_p, "lobe_exits": lobe_x}
 
 
 # ------------------------------------------------------------------ appendix B
 
 
-# ------------------------------------------------------------------------------- output quantization
-# (not in the standard: the budget rows of the results read from a digitised output need them;
-# interpretations.md, "JJF 2014 — output quantization")
+# ------------------------------------------------------------------------------- output
+# quantization (not in the standard: the budget rows of the results read from a digitised output
+# need them; interpretations.md, "JJF 2014 — output quantization")
 
 
 def rounding_mean_bound(q: float, sigma: float) -> float:

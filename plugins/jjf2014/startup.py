@@ -203,9 +203,9 @@ def window_interval(tr: Trial, win: float) -> tuple[str, float, float, np.ndarra
     z_in = max(2.0, float(norm.isf(0.025 / n_tail)))
     m_in = z_in * math.hypot(rec.sd, tr.ut) + rec.qw
     if not tol - m > 0:
-        return msg("{id}: the output's noise and its target's uncertainty (2u = {m:.3g} °/s over the "
-                   "{w:g} s window) are as large as the tolerance ±{tol:.3g} °/s, so whether it is "
-                   "inside cannot be decided",
+        return msg("{id}: the output's noise and its target's uncertainty (2u = {m:.3g} °/s over "
+                   "the {w:g} s window) are as large as the tolerance ±{tol:.3g} °/s, so whether "
+                   "it is inside cannot be decided",
                    id=tr.seg.id, m=m, w=win, tol=tol), lo, lo, out, math.nan, m
     # the settled output (the last quarter's mean; for a position trial its own target) must be
     # inside the band by more than the window means' z_N·u, or the tail's windows cannot tell it
@@ -213,9 +213,9 @@ def window_interval(tr: Trial, win: float) -> tuple[str, float, float, np.ndarra
     settled = float(np.mean(r[int(0.75 * r.size):])) - target
     if not tol - abs(settled) - m_in > 0:
         return msg("{id}: the output's noise and its target's uncertainty ({z:.2g}u = {m:.3g} °/s "
-                   "over the {w:g} s window, {z:.2g} for the {n:.0f} window means after it left the "
-                   "band) are as large as the settled output's margin to the band's edge ({g:.3g} "
-                   "°/s of ±{tol:.3g} °/s), so when it stays inside cannot be decided",
+                   "over the {w:g} s window, {z:.2g} for the {n:.0f} window means after it left "
+                   "the band) are as large as the settled output's margin to the band's edge "
+                   "({g:.3g} °/s of ±{tol:.3g} °/s), so when it stays inside cannot be decided",
                    id=tr.seg.id, z=z_in, m=m_in, w=win, n=n_tail, g=tol - abs(settled),
                    tol=tol), lo, lo, out, settled, m
     # the end of the record is one test (2u, 95 %); the scan of the tail a family of n_tail (z_N·u)
@@ -223,7 +223,8 @@ def window_interval(tr: Trial, win: float) -> tuple[str, float, float, np.ndarra
         return msg("{id}: the output is not inside ±{tol:.3g} °/s of {target:.4g} °/s (less 2u = "
                    "{m:.3g} °/s of noise) at the end of the record ({end:.3g} s): it has not "
                    "settled, or not resolvably",
-                   id=tr.seg.id, tol=tol, target=target, m=m, end=float(t[-1])), lo, lo, out, settled, m
+                   id=tr.seg.id, tol=tol, target=target, m=m,
+                   end=float(t[-1])), lo, lo, out, settled, m
     notin = np.flatnonzero(dev >= tol - m_in)
     hi = float(t[min(notin[-1] + 1, t.size - 1)]) if notin.size else float(t[0])
     return "", lo, hi, out, settled, m
@@ -276,7 +277,8 @@ def ringing_exits(tr: Trial, lo: float, settled: float, win: float) -> tuple[str
     # the one the output approached from, beyond the tail's family-wise noise
     side = next((lb.sign for lb in lobes if lb.start <= i_lo < lb.end), 0)
     ringing = (np.any((rdev > tol + m1) & (ts >= lo))
-               or (tol - m1 > 0 and any(lb.start >= i_lo and lb.sign != side and lb.top > z_ring * s_p
+               or (tol - m1 > 0
+                   and any(lb.start >= i_lo and lb.sign != side and lb.top > z_ring * s_p
                                         for lb in lobes)))
     if not ringing:
         return "", None
@@ -326,7 +328,8 @@ def noise_rows(lo: float, hi: float, ts: float) -> list[BudgetRow]:
         rows.append(BudgetRow.type_b(msg("the settling decided from the output's noise (outside at "
                                          "2u, inside at the window means' family-wise 95 %): "
                                          "between {lo:.3g} s and {hi:.3g} s", lo=lo, hi=hi),
-                                     "Δt_{noise}/2", Q_((hi - lo) / 2, "s"), distribution="uniform"))
+                                     "Δt_{noise}/2", Q_((hi - lo) / 2, "s"),
+                                     distribution="uniform"))
         off = abs(ts - (lo + hi) / 2.0)
         if off > 1e-3 * (hi - lo):
             rows.append(BudgetRow.type_b(msg("the crossing of an exponential approach, {off:.3g} s "
@@ -346,8 +349,10 @@ class StartupTime(JJFItem):
     item = "7.2.23"
     title = "Start-up time (启动时间)"
     clause = "7.2.23"
-    metrics = (Metric("t_startup", "start-up time", "t_s", "s", "7.2.23.2", "prose, no eq. number"),)
-    requires = (SegmentRequirement("startup", "power-on records: trial = position (at rest) or rate "
+    metrics = (Metric("t_startup", "start-up time", "t_s", "s", "7.2.23.2",
+                      "prose, no eq. number"),)
+    requires = (SegmentRequirement("startup", "power-on records: trial = position (at rest) or "
+                                              "rate "
                                    "(table at Ω)",
                                    {"trial": "", "rate": "deg/s", "run": ""}, {"output": ("mV",)}),)
     options = RATE_OPTS + (
@@ -406,11 +411,13 @@ class StartupTime(JJFItem):
 
     @staticmethod
     def _table(table: list) -> TableSpec:
-        """The start-up time per trial: its target, tolerance, plain crossing and decided interval."""
+        """The start-up time per trial: its target, tolerance, plain crossing and decided
+        interval."""
         return TableSpec("startup", msg("Start-up time per trial"),
                          [msg("trial"), msg("segment"), msg("target"), msg("tolerance"), "t (s)",
                           msg("decided within (s)")],
-                         [[str(x[0].condition("trial")), x[0].id, f"{x[1]:.4g} °/s", f"{x[2]:.3g} °/s",
+                         [[str(x[0].condition("trial")), x[0].id, f"{x[1]:.4g} °/s",
+                           f"{x[2]:.3g} °/s",
                            f"{x[3]:.2f}", f"{x[4]:.2f} … {x[5]:.2f}"] for x in table])
 
     def _undecided_outcome(self, trials, table, why, tab, segs, opts) -> Outcome:
@@ -464,7 +471,8 @@ class StartupTime(JJFItem):
         rows += B.relative_calibration_row("timer", "u_rel(t)", calibration_of(campaign, "timer"),
                                            Q_(ts, "s"))
         b = B.type_a_budget("t_startup", "s", rows)
-        note = msg("largest in {id}, decided by its samples: the output rings faster than the window",
+        note = msg("largest in {id}, decided by its samples: the output rings faster than the "
+                   "window",
                    id=s.id)
         return self._outcome([Result(self.metrics[0], Q_(ts, "s"), b.combined, b, note=note)],
                              tables=[tab], segments=[x.id for x in segs], opts=opts)

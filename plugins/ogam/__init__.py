@@ -19,7 +19,8 @@ def metro_register_standards(registrar) -> None:
 
     registrar.add_standard(
         STANDARD_ID,
-        "光学陀螺测角仪校准规范 (Calibration specification for optical-gyroscope angle measuring instruments)",
+        "光学陀螺测角仪校准规范 (Calibration specification for optical-gyroscope angle measuring "
+        "instruments)",
         designation="JJF xxxx—xxxx (征求意见稿)",
         description="draft; items 7.1–7.7, uncertainty example appendix A, certificate appendix B",
     )
@@ -32,7 +33,8 @@ def metro_register_stations(registrar) -> None:
     from metro.instruments.angle_instrument import station_factory
 
     registrar.add_station("simulated-ogam", station_factory,
-                          "simulated optical-gyro angle measuring instrument on a low-speed turntable")
+                          "simulated optical-gyro angle measuring instrument on a low-speed "
+                          "turntable")
 
 
 @hookimpl

@@ -22,30 +22,36 @@ ROWS = (
     ("7", "指向一致性", "pointing consistency", "7.7", "Cg"),
 )
 DESIGNATION_CN = "JJF xxxx—xxxx 光学陀螺测角仪校准规范 (征求意见稿)"
-DESIGNATION_EN = "JJF xxxx—xxxx Calibration Specification for Optical Gyroscope Angle Measuring Instruments (draft)"
+DESIGNATION_EN = ("JJF xxxx—xxxx Calibration Specification for Optical Gyroscope Angle Measuring "
+                  "Instruments (draft)")
 DASH = "—"
 
 
 def certificate_context(record) -> dict[str, Any]:
-    """{rows [{no, item_cn, item_en, symbol, performed, reportable, reason, value, U, k}], U_E, k_E}."""
+    """{rows [{no, item_cn, item_en, symbol, performed, reportable, reason, value, U, k}], U_E,
+    k_E}."""
     from metro.api import result_fields
 
-    results = {(o.item, r.metric.key): r for o in record.outcomes if o.standard == "ogam" for r in o.results}
+    results = {(o.item, r.metric.key): r for o in record.outcomes if o.standard == "ogam"
+               for r in o.results}
     rows = []
     U_E, k_E = DASH, "2"
     for no, cn, en, item, key in ROWS:
         r = results.get((item, key))
         base = {"no": no, "item_cn": cn, "item_en": en, "clause": item}
         if r is None:
-            rows.append(base | {"performed": False, "reportable": True, "reason": "", "value": "", "U": "",
+            rows.append(base | {"performed": False, "reportable": True, "reason": "", "value": "",
+                                "U": "",
                                 "k": "", "symbol": ""})
             continue
         row = result_fields(r)
         value = row["value_unit"]
         if key == "E" and not value.startswith(("-", "−")):
             value = "±" + value  # 7.4: E = ±max|E_i|
-        rows.append(base | {"performed": True, "reportable": row["reportable"], "reason": row["reason"],
-                            "value": value, "U": row["U_unit"], "k": row["k"], "symbol": r.metric.symbol})
+        rows.append(base | {"performed": True, "reportable": row["reportable"],
+                            "reason": row["reason"],
+                            "value": value, "U": row["U_unit"], "k": row["k"],
+                            "symbol": r.metric.symbol})
         if key == "E" and row["U_unit"] != DASH:
             U_E, k_E = row["U_unit"], row["k"]
     return {"designation": DESIGNATION_CN, "rows": rows, "U_E": U_E, "k_E": k_E}
@@ -69,13 +75,15 @@ def layout(doc, ctx: dict) -> None:
         (tr("Laboratory address"), D.or_dash(f["lab_address"])),
         (tr("Customer"), D.or_dash(f["customer"])),
         (tr("Customer address"), D.or_dash(f["customer_address"])),
-        (tr("Instrument calibrated"), f"{tr.pick('光学陀螺测角仪', 'optical gyroscope angle measuring instrument')}: "
+        (tr("Instrument calibrated"),
+         f"{tr.pick('光学陀螺测角仪', 'optical gyroscope angle measuring instrument')}: "
                                       f"{tr.text(dev['description'])} ({tr('id')} {dev['id']})"),
         (tr("Date of calibration"), D.or_dash(f["measured"])),
         (tr("Date received"), D.or_dash(f["received"])),
         (tr("Date of issue"), D.or_dash(f["issued"])),
         (tr("Calibration specification"), tr.pick(DESIGNATION_CN, DESIGNATION_EN)),
-        (tr("Environment"), "; ".join(f"{tr(n['name'].capitalize())} {n['value']}" for n in ctx["environment"])
+        (tr("Environment"),
+         "; ".join(f"{tr(n['name'].capitalize())} {n['value']}" for n in ctx["environment"])
          or DASH),
     ])
     doc.heading(tr("Calibration results"), 1)
@@ -88,16 +96,22 @@ def layout(doc, ctx: dict) -> None:
         else:
             value = r["value"]
             U = f"U = {r['U']} (k = {r['k']})" if r["U"] != DASH else tr("not evaluated")
-        rows.append([r["no"], tr.pick(r["item_cn"], r["item_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
+        rows.append([r["no"],
+                     tr.pick(r["item_cn"],
+                             r["item_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
                      value, U])
-    doc.table([tr("No."), tr("Calibration item"), tr("Calibration result"), tr("Expanded uncertainty")], rows)
-    doc.para(f"{tr('Measurement uncertainty of the angle-position error')}: U = {c['U_E']}, k = {c['k_E']}")
+    doc.table([tr("No."), tr("Calibration item"), tr("Calibration result"),
+               tr("Expanded uncertainty")], rows)
+    doc.para(f"{tr('Measurement uncertainty of the angle-position error')}: U = {c['U_E']}, k = "
+             f"{c['k_E']}")
     doc.heading(tr("Notes on the results"), 2)
     D.notes_section(doc, ctx)
     doc.heading(tr("Measurement standards used and their traceability"), 2)
     D.equipment_table(doc, ctx)
     doc.heading(tr("Signatures"), 2)
-    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]), titled=True)
+    D.signatures(doc, D.signatory_rows(f, [tr("Calibrated by"), tr("Checked by"), tr("Issued by")]),
+                 titled=True)
     doc.para(tr("The calibration results relate only to the item calibrated."), size=8.5)
-    doc.para(tr("Recommended recalibration interval: {interval}", interval=tr.msg("at most 12 months")), size=8.5)
+    doc.para(tr("Recommended recalibration interval: {interval}",
+                interval=tr.msg("at most 12 months")), size=8.5)
     D.annexes(doc, ctx)

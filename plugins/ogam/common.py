@@ -35,12 +35,15 @@ STATION = "simulated-ogam"
 #: E: appendix A 8 and the certificate format of appendix B fix "k = 2" (interpretations.md,
 #: "Coverage factor (ogam)")
 COVERAGE = Coverage.fixed(2.0)
-#: every other result (the draft fixes no k for them): k = t_p(ν_eff), p = 95.45 % (JJF 1059.1 5.3.4)
+# : every other result (the draft fixes no k for them): k = t_p(ν_eff), p = 95.45 % (JJF 1059.1
+# 5.3.4)
 COVERAGE_NU = Coverage.probability(0.9545)
-#: "校准开始前, 光学陀螺测角仪完成预热和地球自转(地速)补偿操作" (clause 7): the instrument removes the
-#: earth rate before every item; what its compensation leaves (η·Ω) is part of the zero drift
+#: "校准开始前, 光学陀螺测角仪完成预热和地球自转(地速)补偿操作" (clause 7): the instrument
+#: removes the earth rate before every item; what its compensation leaves (η·Ω) is part of the
+#: zero drift
 EARTH_RATE = "removed"
-EARTH_NOTE = msg("earth rate removed by the instrument's own compensation before the item (clause 7)")
+EARTH_NOTE = msg("earth rate removed by the instrument's own compensation before the item (clause "
+                 "7)")
 
 
 def disclosed(res: Result) -> Result:
@@ -61,17 +64,21 @@ SCALE = SegmentRequirement(
     conditions={"rate": "deg/s", "axis": ""}, columns={"angle": ("deg",), "counts": ("P",)},
 )
 ZERO = SegmentRequirement(
-    "zero", "instrument at rest on a stable platform, after 1 h warm-up a reading every 5 min for 1 h (7.3)",
+    "zero", "instrument at rest on a stable platform, after 1 h warm-up a reading every 5 min for "
+            "1 h (7.3)",
     columns={"reading": ("deg",)},
 )
 POSITIONING = SegmentRequirement(
     "positioning", "one round of the 7.4 table: twelve stops 30°…360°, 60 s each",
-    conditions={"rate": "deg/s", "axis": "", "round": ""}, columns={"standard": ("deg",), "reading": ("deg",)},
+    conditions={"rate": "deg/s", "axis": "", "round": ""},
+                                 columns={"standard": ("deg",), "reading": ("deg",)},
     min_count=1,
 )
 EQUIPMENT = (
-    EquipmentRequirement("turntable", "low-speed turntable of table 1 (positioning error ±0.1″, axis up/north/east); "
-                         "its calibration (a uniform half-width) enters the E budget", required=False),
+    EquipmentRequirement("turntable", "low-speed turntable of table 1 (positioning error ±0.1″, "
+                                      "axis up/north/east); "
+                         "its calibration (a uniform half-width) enters the E budget",
+                         required=False),
     EquipmentRequirement("timer", "timer (table 1)"),
 )
 
@@ -81,8 +88,8 @@ EQUIPMENT = (
 
 def scale_step() -> Step:
     return Step("sf-60-up", "scale-factor",
-                "axis vertical; zero both readouts; 60 °/s to 60°, 120°, …, 360°, stop 60 s at each; "
-                "record the counts C_i of each round (7.1)",
+                "axis vertical; zero both readouts; 60 °/s to 60°, 120°, …, 360°, stop 60 s at "
+                "each; record the counts C_i of each round (7.1)",
                 Q_(7, "min"), Q_(60, "s"),
                 {"axis": "up", "rate": "60 deg/s", "step": "60 deg", "stops": "6"})
 
@@ -90,10 +97,11 @@ def scale_step() -> Step:
 def pos_step(rate: float, axis: str, rnd: int) -> Step:
     turn_s = 360.0 / rate
     return Step(f"pos-{rate:g}-{axis}-r{rnd:02d}", "positioning",
-                f"axis {axis}; zero both readouts; {rate:g} °/s through 30°, 60°, …, 360°, stop 60 s at each; "
-                f"read M_i and S_i (7.4, round {rnd})",
+                f"axis {axis}; zero both readouts; {rate:g} °/s through 30°, 60°, …, 360°, stop 60 "
+                f"s at each; read M_i and S_i (7.4, round {rnd})",
                 Q_(12 * 60 + turn_s, "s"), Q_(60, "s"),
-                {"axis": axis, "rate": f"{rate:g} deg/s", "step": "30 deg", "stops": "12", "round": str(rnd)})
+                {"axis": axis, "rate": f"{rate:g} deg/s", "step": "30 deg", "stops": "12",
+                 "round": str(rnd)})
 
 
 def rounds_at_reference() -> list[Step]:
@@ -121,7 +129,8 @@ def round_of(seg: Segment, manifest: Any = None) -> int:
     try:
         return int(str(v))
     except ValueError:
-        raise DataError(manifest or seg.file, f"segments.{seg.id}.conditions.round", f"must be a whole number, got {v!r}") from None
+        raise DataError(manifest or seg.file, f"segments.{seg.id}.conditions.round",
+                        f"must be a whole number, got {v!r}") from None
 
 
 def column_of(seg: Segment, name: str, unit: str) -> np.ndarray:
@@ -129,7 +138,8 @@ def column_of(seg: Segment, name: str, unit: str) -> np.ndarray:
     a = np.asarray(s.data.to(unit).magnitude, dtype=float)
     bad = np.flatnonzero(~np.isfinite(a))
     if bad.size:
-        raise DataError(seg.file or f"segment {seg.id}", name, f"row {bad[0] + 1} is not a finite number")
+        raise DataError(seg.file or f"segment {seg.id}", name, f"row {bad[0] + 1} is not a finite "
+                                                               "number")
     return a
 
 
@@ -137,13 +147,15 @@ def positioning_groups(campaign: Campaign) -> dict[tuple[float, str], list[tuple
     """Positioning segments by (rate °/s, axis), each list sorted by round."""
     out: dict[tuple[float, str], list[tuple[int, Segment]]] = {}
     for seg in campaign.find_segments("positioning"):
-        out.setdefault((rate_of(seg), axis_of(seg, campaign.source)), []).append((round_of(seg, campaign.source), seg))
+        out.setdefault((rate_of(seg), axis_of(seg, campaign.source)),
+                       []).append((round_of(seg, campaign.source), seg))
     for key, lst in out.items():
         lst.sort(key=lambda x: x[0])
         rounds = [r for r, _ in lst]
         if len(set(rounds)) != len(rounds):
             raise DataError(campaign.source, "segments",
-                            f"two positioning segments at {key[0]:g} °/s, axis {key[1]} have the same round")
+                            f"two positioning segments at {key[0]:g} °/s, axis {key[1]} have the "
+                            "same round")
     return out
 
 
@@ -152,16 +164,19 @@ def round_errors(seg: Segment) -> tuple[np.ndarray, np.ndarray]:
     S = column_of(seg, "standard", "deg")
     M = column_of(seg, "reading", "deg")
     if S.size < 2:
-        raise DataError(seg.file or f"segment {seg.id}", "standard", "a round needs at least 2 stops")
+        raise DataError(seg.file or f"segment {seg.id}", "standard", "a round needs at least 2 "
+                                                                     "stops")
     return S, F.position_errors_74(M, S) * F.ARCSEC_PER_DEG
 
 
-def positioning_group(campaign: Campaign, rate: float, axis: str, item: str) -> list[tuple[int, Segment]]:
+def positioning_group(campaign: Campaign, rate: float, axis: str,
+                      item: str) -> list[tuple[int, Segment]]:
     groups = positioning_groups(campaign)
     if (rate, axis) not in groups:
         have = ", ".join(f"{r:g} °/s {a}" for r, a in sorted(groups)) or "none"
         raise DataError(campaign.source, "segments",
-                        f"{item} needs positioning segments at {rate:g} °/s with the axis {axis}; found: {have}",
+                        f"{item} needs positioning segments at {rate:g} °/s with the axis {axis}; "
+                        f"found: {have}",
                         hint=f"`metro plan -s ogam -i {item}` lists what to measure")
     return groups[(rate, axis)]
 
@@ -175,7 +190,8 @@ def error_matrix(rounds: list[tuple[int, Segment]]) -> tuple[np.ndarray, np.ndar
             S0 = S
         elif S.size != S0.size or np.max(np.abs(S - S0)) > 1e-6:
             raise DataError(seg.file or f"segment {seg.id}", "standard",
-                            "this round does not stop at the same standard angles as the first round (7.5)")
+                            "this round does not stop at the same standard angles as the first "
+                            "round (7.5)")
         rows.append(E)
     return S0, np.vstack(rows)
 
@@ -189,20 +205,25 @@ def option_quantity(opts: Mapping[str, Any], name: str, dim: str) -> Any:
 
 
 def positioning_row(campaign: Campaign, warnings: list[str]) -> BudgetRow:
-    """Appendix A 4.1: the turntable's angle-positioning error (from its calibration, else table 1)."""
+    """Appendix A 4.1: the turntable's angle-positioning error (from its calibration, else
+    table 1)."""
     tt = campaign.equipment_for("turntable")
     if tt is not None and tt.calibration is not None:
-        return BudgetRow.from_calibration(msg("turntable angle positioning ({equipment})", equipment=tt.describe()), "u(P)", tt.calibration)
-    warnings.append(msg("no turntable calibration given: the E budget uses table 1's ±0.1″ positioning error"))
+        return BudgetRow.from_calibration(msg("turntable angle positioning ({equipment})",
+                                              equipment=tt.describe()), "u(P)", tt.calibration)
+    warnings.append(msg("no turntable calibration given: the E budget uses table 1's ±0.1″ "
+                        "positioning error"))
     return BudgetRow.type_b(msg("turntable angle positioning (table 1 requirement, ±0.1″)"), "u(P)",
                             TABLE1_POSITIONING, distribution="uniform")
 
 
 def tilt_row(psi: Any) -> tuple[BudgetRow, F.TiltSimulation]:
-    """Appendix A 4.2: simulate the tilt ψ over 0…360° (eqs. (2)–(5)); its extreme is a uniform half-width."""
+    """Appendix A 4.2: simulate the tilt ψ over 0…360° (eqs. (2)–(5)); its extreme is a uniform
+    half-width."""
     sim = F.tilt_error_simulation(float(psi.to("deg").magnitude))
     row = BudgetRow.type_b(
-        msg("sensing plane not parallel to the turntable plane"), "u(θ_ψ)", Q_(sim.extreme_arcsec, "arcsec"),
+        msg("sensing plane not parallel to the turntable plane"), "u(θ_ψ)",
+                           Q_(sim.extreme_arcsec, "arcsec"),
         distribution="uniform",
         note=msg("ψ = {psi:g}°, simulated extreme {extreme:.4f}″ (appendix A 4.2)", psi=sim.psi_deg,
                  extreme=sim.extreme_arcsec))
@@ -211,21 +232,25 @@ def tilt_row(psi: Any) -> tuple[BudgetRow, F.TiltSimulation]:
 
 def drift_row(zero_stability: Any, time: Any) -> BudgetRow:
     """Appendix A 4.3: zero drift over the measurement time, a uniform half-width."""
-    a = F.zero_drift_error(float(zero_stability.to("deg/h").magnitude), float(time.to("min").magnitude))
-    return BudgetRow.type_b(msg("zero drift of the instrument"), "u(δ)", Q_(a, "arcsec"), distribution="uniform",
-                            note=msg("{rate:g} °/h over {time:g} min", rate=zero_stability.to('deg/h').magnitude,
+    a = F.zero_drift_error(float(zero_stability.to("deg/h").magnitude),
+                           float(time.to("min").magnitude))
+    return BudgetRow.type_b(msg("zero drift of the instrument"), "u(δ)", Q_(a, "arcsec"),
+                            distribution="uniform",
+                            note=msg("{rate:g} °/h over {time:g} min",
+                                     rate=zero_stability.to('deg/h').magnitude,
                                      time=time.to('min').magnitude))
 
 
 def repeatability_row(R_arcsec: float, rounds: int) -> BudgetRow:
     """Appendix A 4.4: the 7.5 repeatability (largest R_i), type A with ν = rounds − 1."""
-    return BudgetRow.type_a(msg("measurement repeatability (max R_i, 7.5)"), "u(r)", Q_(R_arcsec, "arcsec"), rounds - 1,
+    return BudgetRow.type_a(msg("measurement repeatability (max R_i, 7.5)"), "u(r)",
+                            Q_(R_arcsec, "arcsec"), rounds - 1,
                             note=msg("{n} rounds", n=rounds))
 
 
 def reading_step_of(campaign: Campaign, E: np.ndarray) -> tuple[float, str]:
-    """(q in ″, where it was seen): the step of the positioning readings, else of the 7.3 readings at rest
-    (the same display; over an hour at rest the reading moves by whole steps), else 0."""
+    """(q in ″, where it was seen): the step of the positioning readings, else of the 7.3 readings
+    at rest (the same display; over an hour at rest the reading moves by whole steps), else 0."""
     q = F.reading_step(E)
     if q > 0.0:
         return q, "positioning"
@@ -237,17 +262,22 @@ def reading_step_of(campaign: Campaign, E: np.ndarray) -> tuple[float, str]:
 
 
 def resolution_row(E: np.ndarray, campaign: Campaign | None = None) -> BudgetRow:
-    """The reading's resolution, ±q/2 uniform, q the step the readings show (:func:`.formulas.reading_step`;
-    interpretations.md, "7.4 — the reading's resolution"): a reading rounded coarser than the
-    instrument's noise errs by a fixed amount at each stop that the repeatability of 7.5 does not see."""
-    q, where = reading_step_of(campaign, E) if campaign is not None else (F.reading_step(E), "positioning")
+    """The reading's resolution, ±q/2 uniform, q the step the readings show
+    (:func:`.formulas.reading_step`; interpretations.md, "7.4 — the reading's resolution"): a
+    reading rounded coarser than the instrument's noise errs by a fixed amount at each stop that
+    the repeatability of 7.5 does not see."""
+    q, where = (reading_step_of(campaign, E) if campaign is not None
+                else (F.reading_step(E), "positioning"))
     if q == 0.0:  # 7.4 then reports E as not reportable
-        return BudgetRow.type_b(msg("resolution of the reading (every E_ij equal: the step is unknown)"), "u(q)",
+        return BudgetRow.type_b(msg("resolution of the reading (every E_ij equal: the step is "
+                                    "unknown)"), "u(q)",
                                 Q_(0.0, "arcsec"), distribution="uniform")
-    return BudgetRow.type_b(msg("resolution of the reading (±q/2)"), "u(q)", Q_(q / 2.0, "arcsec"), distribution="uniform",
-                            note=msg("q = {q:.3g}″, the smallest step between the readings", q=q) if where == "positioning"
-                            else msg("q = {q:.3g}″, the smallest step between the 7.3 readings at rest (the positioning "
-                                     "readings all read the same)", q=q))
+    return BudgetRow.type_b(msg("resolution of the reading (±q/2)"), "u(q)", Q_(q / 2.0, "arcsec"),
+                            distribution="uniform",
+                            note=msg("q = {q:.3g}″, the smallest step between the readings", q=q)
+                            if where == "positioning"
+                            else msg("q = {q:.3g}″, the smallest step between the 7.3 readings at "
+                                     "rest (the positioning readings all read the same)", q=q))
 
 
 def e_budget(rows: list[BudgetRow]) -> UncertaintyBudget:
@@ -264,7 +294,8 @@ def zero_stability_of(campaign: Campaign, opts: Mapping[str, Any]) -> Any:
         return campaign.device.prop("zero_stability", "deg/h", source=campaign.source)
     raise DataError(campaign.source, "device.zero_stability",
                     "missing: the E budget (appendix A 4.3) needs the instrument's zero stability",
-                    hint="add zero_stability = \"0.005 °/h\" under [device] or give -o zero_stability=…")
+                    hint="add zero_stability = \"0.005 °/h\" under [device] or give -o "
+                         "zero_stability=…")
 
 
 class PositionErrorItem(Procedure):
@@ -275,11 +306,13 @@ class PositionErrorItem(Procedure):
     equipment = EQUIPMENT
     requires = (POSITIONING,)
     options = (
-        Option("tilt", None, None, "largest sensing-plane/turntable tilt ψ (default: the turntable's "
+        Option("tilt", None, None, "largest sensing-plane/turntable tilt ψ (default: the "
+                                   "turntable's "
                "`parallelism` property, else 0.1° as appendix A 1)"),
         Option("zero_stability", None, None, "instrument zero stability for appendix A 4.3 "
                "(default: device property zero_stability)"),
-        Option("drift_time", "0.5 min", None, "measurement time for the drift term (appendix A 1 and 4.3: 0.5 min)"),
+        Option("drift_time", "0.5 min", None, "measurement time for the drift term (appendix A 1 "
+                                              "and 4.3: 0.5 min)"),
     )
 
     def _reference(self, campaign: Campaign, opts: Mapping[str, Any], warnings: list[str]):
@@ -288,19 +321,23 @@ class PositionErrorItem(Procedure):
         S, E = error_matrix(rounds)
         if E.shape[0] < 2:
             raise DataError(campaign.source, "segments",
-                            f"only {E.shape[0]} round at 60 °/s with the axis up: the repeatability (7.5) and "
+                            f"only {E.shape[0]} round at 60 °/s with the axis up: the "
+                            "repeatability (7.5) and "
                             "the E budget (appendix A 4.4) need the 7.4 test repeated (10 rounds)",
                             hint="record rounds 1…10 as segments with conditions round = 1 … 10")
         if E.shape[0] < ROUNDS:
-            warnings.append(msg("{n} rounds at 60 °/s; clause 7.5 asks for {asked}", n=E.shape[0], asked=ROUNDS))
+            warnings.append(msg("{n} rounds at 60 °/s; clause 7.5 asks for {asked}", n=E.shape[0],
+                                asked=ROUNDS))
         R, R_i = F.repeatability_75(E)
         psi = option_quantity(opts, "tilt", "deg")
         if psi is None:
             tt = campaign.equipment_for("turntable")
-            psi = tt.prop("parallelism", "deg") if tt is not None and "parallelism" in tt.properties else DEFAULT_TILT
+            psi = (tt.prop("parallelism", "deg")
+                   if tt is not None and "parallelism" in tt.properties else DEFAULT_TILT)
         trow, sim = tilt_row(psi)
         time = parse_quantity(opts["drift_time"], dimension="min", field="option drift_time")
-        rows = [positioning_row(campaign, warnings), trow, drift_row(zero_stability_of(campaign, opts), time),
+        rows = [positioning_row(campaign, warnings), trow,
+                drift_row(zero_stability_of(campaign, opts), time),
                 repeatability_row(R, E.shape[0]), resolution_row(E, campaign)]
         return S, E, rounds, R, R_i, rows, sim
 

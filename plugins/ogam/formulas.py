@@ -74,16 +74,17 @@ class RangeEstimate:
         return self.printed - self.estimate
 
 
-def linearity_72_moment_matched(k_i: Sequence[float], noise: np.ndarray, *, iterations: int = 50) -> RangeEstimate:
+def linearity_72_moment_matched(k_i: Sequence[float], noise: np.ndarray, *,
+                                iterations: int = 50) -> RangeEstimate:
     """Clause 7.2's K_l = (max K_i − min K_i)/K corrected for the widening of a range by noise.
 
     Not in the draft (interpretations.md, "7.2 — K_l is a range of noisy K_i").  The noise of the
     K_i can only widen their range on average (a range is convex: E[range(d + e)] ≥ range(d)); for
-    n equal standard deviations σ and no true variation the expected range is d₂(n)·σ (d₂(6) = 2.534).
-    With d_i = K_i/K̄ − 1 and ``noise`` an (M × n) array of draws of the relative errors of the K_i
-    (GUM Supplement 1), f(λ) = mean over the draws of range(λ·d + e) grows with λ; the estimate is
-    λ̂·range(d) with f(λ̂) = range(d) (moment matching, bisection; common draws keep f monotone),
-    0 when the noise alone already gives the observed range on average (f(0) ≥ range(d)).
+    n equal standard deviations σ and no true variation the expected range is d₂(n)·σ (d₂(6) =
+    2.534). With d_i = K_i/K̄ − 1 and ``noise`` an (M × n) array of draws of the relative errors of
+    the K_i (GUM Supplement 1), f(λ) = mean over the draws of range(λ·d + e) grows with λ; the
+    estimate is λ̂·range(d) with f(λ̂) = range(d) (moment matching, bisection; common draws keep f
+    monotone), 0 when the noise alone already gives the observed range on average (f(0) ≥ range(d)).
 
     :param k_i: the rounds' scale factors K_i (any unit).
     :param noise: relative errors of the K_i, one row per draw, one column per round.
@@ -98,13 +99,14 @@ def linearity_72_moment_matched(k_i: Sequence[float], noise: np.ndarray, *, iter
     return _range_matched(k / K - 1.0, e, iterations)
 
 
-def range_moment_matched(values: Sequence[float], noise: np.ndarray, *, iterations: int = 50) -> RangeEstimate:
+def range_moment_matched(values: Sequence[float], noise: np.ndarray, *,
+                         iterations: int = 50) -> RangeEstimate:
     """The range max x_i − min x_i of noisy values less its expected widening by their noise, as
-    :func:`linearity_72_moment_matched` does for K_l, in the values' own unit: for clause 7.6's C_v and
-    7.7's C_g, whose numerator is the range of eight (three) noisy E (interpretations.md, "7.6 / 7.7 — the
-    range of noisy E").  With d_i = x_i − mean(x) and ``noise`` an (M × n) array of draws of the errors of
-    the x_i, f(λ) = mean range(λ·d + e); the estimate is λ̂·range(d) with f(λ̂) = range(d), 0 when the
-    noise alone already gives the observed range on average."""
+    :func:`linearity_72_moment_matched` does for K_l, in the values' own unit: for clause 7.6's C_v
+    and 7.7's C_g, whose numerator is the range of eight (three) noisy E (interpretations.md, "7.6
+    / 7.7 — the range of noisy E").  With d_i = x_i − mean(x) and ``noise`` an (M × n) array of
+    draws of the errors of the x_i, f(λ) = mean range(λ·d + e); the estimate is λ̂·range(d) with
+    f(λ̂) = range(d), 0 when the noise alone already gives the observed range on average."""
     x = _arr(values, "range values", 2)
     e = np.asarray(noise, dtype=float)
     if e.ndim != 2 or e.shape[1] != x.size or e.shape[0] < 2:
@@ -134,7 +136,8 @@ def _range_matched(d: np.ndarray, e: np.ndarray, iterations: int) -> RangeEstima
 # ------------------------------------------------------------------------------------ 7.3
 
 
-def zero_stability_73(readings_deg: Sequence[float], duration_h: float, statistic: str = "std") -> float:
+def zero_stability_73(readings_deg: Sequence[float], duration_h: float,
+                      statistic: str = "std") -> float:
     """Zero stability B_s, clause 7.3 (method) or definition 3.3, °/h.
 
     * ``statistic="std"`` (clause 7.3, the method): B_s = s(M) / T with s the Bessel
@@ -189,11 +192,11 @@ def reading_step(errors_arcsec: np.ndarray, *, tol: float = 1e-6) -> float:
     """The step of the readings, inferred from the data (not in the draft; interpretations.md,
     "7.4 — the reading's resolution"), ″.
 
-    Readings rounded to a resolution q differ by whole multiples of q: the smallest non-zero difference
-    between the rounds' E_ij at one stop (columns: stops), over the stops; when every round reads the same at
-    every stop, the smallest non-zero difference between any two E_ij (the standard angles, whole multiples of
-    30°, keep a decimal q's grid).  Unrounded readings give a step far below their noise.  0 when all values
-    are equal.
+    Readings rounded to a resolution q differ by whole multiples of q: the smallest non-zero
+    difference between the rounds' E_ij at one stop (columns: stops), over the stops; when every
+    round reads the same at every stop, the smallest non-zero difference between any two E_ij (the
+    standard angles, whole multiples of 30°, keep a decimal q's grid).  Unrounded readings give a
+    step far below their noise.  0 when all values are equal.
 
     :param errors_arcsec: E_ij, ″, rounds × stops.
     :param tol: differences below this (″) are float noise of the unit conversion, not a step.
@@ -236,7 +239,8 @@ def ellipse_radius_a3(theta_rad: np.ndarray, psi_rad: float, r: float = 1.0) -> 
         r(θ) = r·cos ψ / sqrt(cos²ψ·cos²θ + sin²θ)
     """
     th = np.asarray(theta_rad, dtype=float)
-    return r * math.cos(psi_rad) / np.sqrt(math.cos(psi_rad) ** 2 * np.cos(th) ** 2 + np.sin(th) ** 2)
+    return r * math.cos(psi_rad) / np.sqrt(math.cos(psi_rad) ** 2 * np.cos(th) ** 2
+                                           + np.sin(th) ** 2)
 
 
 @attrs.frozen
