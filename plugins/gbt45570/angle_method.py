@@ -43,12 +43,11 @@ from metro.api import (
     msg,
     parse_quantity,
     required_scale_factor,
-    std_sampling_u,
 )
 
 from . import formulas as F
 from . import formulas_rate as F2
-from .common import COVERAGE, STANDARD, grouped, opts_text
+from .common import COVERAGE, DIRECTIONS, STANDARD, grouped, kr_sampling_row, opts_text
 from .misalignment import FIXTURE, DeviceScale, MountingMisalignment, misalignment_metrics
 from .repeatability import scale_factor_angle_repeat_row
 from .revolutions import (
@@ -64,12 +63,16 @@ from .temperature import room_index, temperature_outcome
 
 REVOLUTIONS = SegmentRequirement(
     "rate-revolutions", "m whole revolutions at each rate point, each direction (D.1.1.2 g))",
-    conditions={"rate": "deg/s", "turns": ""}, columns={"count": ("P",), "duration": ("s",)}, min_count=22,
+    conditions={"rate": "deg/s", "turns": ""}, columns={"count": ("P",), "duration": ("s",)},
+                                 min_count=22,
 )
-ZERO = SegmentRequirement("static-zero", "table at rest, τ = 1 s, n = 300, several symmetric positions (D.1.3.2 a))",
+ZERO = SegmentRequirement("static-zero",
+                          "table at rest, τ = 1 s, n = 300, several symmetric positions (D.1.3.2 "
+                          "a))",
                           conditions={}, columns={"output": ("P",)})
 _EQUIPMENT = (
-    EquipmentRequirement("rate_table", "rate table with angle output and a revolution pulse generator (D.1.1.1)",
+    EquipmentRequirement("rate_table",
+                         "rate table with angle output and a revolution pulse generator (D.1.1.1)",
                          required=True),
     EquipmentRequirement("counter", "gyro test system / counter"),
 )
@@ -94,7 +97,8 @@ class ScaleFactorD11(Procedure):
     title = "Scale factor, angle method (标度因数 角度法)"
     clause = "D.1.1"
     metrics = (Metric("K", "scale factor", "K", "P/arcsec", "D.1.1.3", "D.5"),
-               Metric("W", "scale factor change with rate", "W", "P/arcsec/(deg/s)", "D.1.1.3", "D.6"))
+               Metric("W", "scale factor change with rate", "W", "P/arcsec/(deg/s)", "D.1.1.3",
+                      "D.6"))
     requires = (REVOLUTIONS,)
     equipment = _EQUIPMENT
     options = _OPTIONS
@@ -114,26 +118,38 @@ class ScaleFactorD11(Procedure):
         pts, rates, Ki, fit = self.fit(campaign, opts)
         K, W = (float(x) for x in fit.coef)
         uK, uW = (float(x) for x in fit.stderr)
-        rows = [BudgetRow.type_a(msg("least-squares fit of K_i = K + W·Ω_i (D.4)"), "s(K)", Q_(uK, "P/arcsec"), fit.dof,
-                                 note=msg("{n} rate points", n=len(pts)))]
+        rows = [
+            BudgetRow.type_a(
+                msg("least-squares fit of K_i = K + W·Ω_i (D.4)"),
+                "s(K)",
+                Q_(uK, "P/arcsec"),
+                fit.dof,
+                note=msg("{n} rate points", n=len(pts)),
+            )
+        ]
         rows += angle_row(campaign, K, "P/arcsec")
         rep_rows, rep_note = scale_factor_angle_repeat_row(campaign, K, "P/arcsec")
         rows += rep_rows
         budget = UncertaintyBudget("K", "P/arcsec", rows, coverage=COVERAGE)
-        res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget, earth_rate="removed", note=rep_note),
-               Result(self.metrics[1], Q_(W, "P/arcsec/(deg/s)"), Q_(uW, "P/arcsec/(deg/s)"), earth_rate="removed")]
+        res = [Result(self.metrics[0], Q_(K, "P/arcsec"), budget.combined, budget,
+                      earth_rate="removed", note=rep_note),
+               Result(self.metrics[1], Q_(W, "P/arcsec/(deg/s)"), Q_(uW, "P/arcsec/(deg/s)"),
+                      earth_rate="removed")]
         model = K + W * rates
         plot = PlotSpec("K_rate", msg("K_i against rate with the eq. (D.4) fit"),
                         "Ω (°/s)", "K_i (P/″)",
                         [{"label": "K_i (D.2)", "x": rates.tolist(), "y": Ki.tolist(),
                           "yerr": [2 * p.u_K for p in pts], "style": "o"},
-                         {"label": f"K + WΩ: K = {K:.7g} P/″", "x": rates.tolist(), "y": model.tolist(), "style": "-"}],
+                         {"label": f"K + WΩ: K = {K:.7g} P/″", "x": rates.tolist(),
+                          "y": model.tolist(), "style": "-"}],
                         logx=True)
         table = TableSpec("K_points", msg("K_i per rate point (D.1, D.2)"),
-                          ["Ω (°/s)", "N₊ (P)", "N₋ (P)", "K_i (P/″)", msg("K_i − (K + WΩ_i) (ppm of K)")],
+                          ["Ω (°/s)", "N₊ (P)", "N₋ (P)", "K_i (P/″)",
+                           msg("K_i − (K + WΩ_i) (ppm of K)")],
                           [[f"{p.rate:g}", f"{p.n_plus:.1f}", f"{p.n_minus:.1f}", f"{p.K:.8f}",
                             f"{(p.K - K - W * p.rate) / K * 1e6:.2f}"] for p in pts])
-        return Outcome(STANDARD, self.item, self.title, self.clause, res, plots=[plot], tables=[table],
+        return Outcome(STANDARD, self.item, self.title, self.clause, res, plots=[plot],
+                       tables=[table],
                        segments=[s for p in pts for s in p.segments], options=opts_text(opts))
 
 
@@ -156,19 +172,25 @@ class NonlinearityD12(ScaleFactorD11):
         K = float(fit.coef[0])
         Kn, i = F.nonlinearity_d7(Ki, K)
         u = math.hypot(pts[i].u_K, float(fit.stderr[0])) / K
-        rows = [BudgetRow.type_a(msg("K_i at {rate:g} °/s (revolution scatter) and the fitted K", rate=pts[i].rate),
+        rows = [BudgetRow.type_a(msg("K_i at {rate:g} °/s (revolution scatter) and the fitted K",
+                                     rate=pts[i].rate),
                                  "u(K_i − K)/K",
                                  Q_(u, ""), max(min(pts[i].m_plus, pts[i].m_minus) - 1, 1))]
         u_dr = point_drift(pts[i])
         if u_dr > 0:
             rows.append(BudgetRow.type_a(
-                msg("bias drift between the + and − runs at {rate:g} °/s (D.1.1.2 g)), from the trend of the point's "
-                    "revolutions", rate=pts[i].rate), "Δ·√(β² + u²(β))/(2·360·3600″·K_i)", Q_(u_dr, ""), pts[i].dof_trend,
-                note=msg("β = {b:.3g} ± {u:.2g} P per revolution", b=pts[i].trend, u=pts[i].u_trend)))
+                msg("bias drift between the + and − runs at {rate:g} °/s (D.1.1.2 g)), from the "
+                    "trend of the point's "
+                    "revolutions", rate=pts[i].rate), "Δ·√(β² + u²(β))/(2·360·3600″·K_i)", Q_(u_dr,
+                                                                                              ""),
+                                         pts[i].dof_trend,
+                note=msg("β = {b:.3g} ± {u:.2g} P per revolution", b=pts[i].trend,
+                         u=pts[i].u_trend)))
         rows += angle_row(campaign, Kn, "")
         budget = UncertaintyBudget("K_n", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Kn, ""), budget.combined, budget,
-                     note=msg("largest |K_i − K| at {rate:g} °/s", rate=pts[i].rate), earth_rate="removed")
+                     note=msg("largest |K_i − K| at {rate:g} °/s", rate=pts[i].rate),
+                     earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res],
                        segments=[s for p in pts for s in p.segments], options=opts_text(opts))
 
@@ -197,14 +219,16 @@ class AsymmetryD13(ScaleFactorD11):
         pts = collect_rate_points(type(self), campaign, int(opts["min_points"]))
         zeros = campaign.find_segments("static-zero")
         if not zeros:
-            raise DataError(campaign.source, "segments", "D.1.3 needs the zero-rate count: segments of kind "
-                            "\"static-zero\" (table at rest, τ = 1 s, n = 300) at the start and end (D.1.3.2 a))")
+            raise DataError(campaign.source, "segments",
+                            "D.1.3 needs the zero-rate count: segments of kind \"static-zero\" "
+                            "(table at rest, τ = 1 s, n = 300) at the start and end (D.1.3.2 a))")
         per_s = []
         for z in zeros:
             ser = z.series("output", "P")
             x = np.asarray(ser.data.magnitude, dtype=float)
             if x.size < 2 or not np.all(np.isfinite(x)):
-                raise DataError(z.file or f"segment {z.id}", "output", "needs at least 2 finite samples")
+                raise DataError(z.file or f"segment {z.id}", "output",
+                                "needs at least 2 finite samples")
             per_s.append(x / float(ser.interval.to("s").magnitude))
         allz = np.concatenate(per_s)
         N0 = float(np.mean(allz))
@@ -223,27 +247,36 @@ class AsymmetryD13(ScaleFactorD11):
         # analytic sensitivity: a central difference through |K₊ − K₋| fails at the kink (issue 13)
         c_n0 = F.asymmetry_sensitivity_n0(rates, [p.t_plus for p in pts], [p.t_minus for p in pts],
                                           float(fp.coef[0]), float(fm.coef[0]))
-        rows = [BudgetRow.type_a(msg("fits of K_+i and K_−i (D.4, D.5)"), "√(u²(K₊)+u²(K₋))/K̄", Q_(u_fit, ""), fp.dof),
-                BudgetRow.type_a(msg("zero-rate count N̄_0"), "u(N̄₀)", Q_(uN0, "P/s"), allz.size - 1,
+        rows = [BudgetRow.type_a(msg("fits of K_+i and K_−i (D.4, D.5)"), "√(u²(K₊)+u²(K₋))/K̄",
+                                 Q_(u_fit, ""), fp.dof),
+                BudgetRow.type_a(msg("zero-rate count N̄_0"), "u(N̄₀)", Q_(uN0, "P/s"),
+                                 allz.size - 1,
                                  sensitivity=Q_(abs(c_n0), "s/P"),
-                                 note=msg("∂K_a/∂N̄₀ analytic through the D.5 intercepts (one-sided at K₊ = K₋)"))]
+                                 note=msg("∂K_a/∂N̄₀ analytic through the D.5 intercepts "
+                                          "(one-sided at K₊ = K₋)"))]
         drift = sweep_drift(pts)
         if drift.rms > 0:
-            # N̄₀ is the bias at the start and the end (D.1.3.2 a)); at a rate point between them the bias
+            # N̄₀ is the bias at the start and the end (D.1.3.2 a)); at a rate point between them
+            # the bias
             # is off their mean by at most ḃ·S/2, S the time the test spans (zero records and runs)
             span = sum(float(np.asarray(z.series("output", "P").data.magnitude).size)
                        * float(z.series("output", "P").interval.to("s").magnitude) for z in zeros)
             span += sum(p.m_plus * p.t_plus + p.m_minus * p.t_minus for p in pts)
             Kbar_p_s = abs(Kbar)  # P/″ = (P/s)/(″/s)
             rows.append(BudgetRow.type_a(
-                msg("bias drift during the sweep: the bias at each rate point against N̄₀ of the start and the end"),
-                "ḃ·S/(2√3)", Q_(Kbar_p_s * drift.rms * span / (2.0 * math.sqrt(3.0)), "P/s"), drift.dof,
+                msg("bias drift during the sweep: the bias at each rate point against N̄₀ of the "
+                    "start and the end"),
+                "ḃ·S/(2√3)", Q_(Kbar_p_s * drift.rms * span / (2.0 * math.sqrt(3.0)), "P/s"),
+                                         drift.dof,
                 sensitivity=Q_(abs(c_n0), "s/P"),
-                note=msg("ḃ_rms = {b:.3g} (°/h)/h from the trends of {n} rate points' revolutions, over S = {S:.3g} h "
-                         "(uniform within ±ḃ·S/2)", b=drift.rms * 3600.0, n=drift.points, S=span / 3600.0)))
+                note=msg("ḃ_rms = {b:.3g} (°/h)/h from the trends of {n} rate points' revolutions, "
+                         "over S = {S:.3g} h "
+                         "(uniform within ±ḃ·S/2)", b=drift.rms * 3600.0, n=drift.points,
+                         S=span / 3600.0)))
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
-                     note=msg("K₊ = {Kp:.8f} P/″, K₋ = {Km:.8f} P/″, N̄₀ = {N0:.4f} P/s", Kp=fp.coef[0], Km=fm.coef[0], N0=N0),
+                     note=msg("K₊ = {Kp:.8f} P/″, K₋ = {Km:.8f} P/″, N̄₀ = {N0:.4f} P/s",
+                              Kp=fp.coef[0], Km=fm.coef[0], N0=N0),
                      earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res],
                        segments=[z.id for z in zeros] + [s for p in pts for s in p.segments],
@@ -259,7 +292,8 @@ def _counter_row(pts: list[RatePoint], value: float, unit: str) -> BudgetRow:
     """±1 P of the counter on the pulses of m revolutions, as a relative half-width on K."""
     p = pts[0]
     rel = 1.0 / (min(p.m_plus, p.m_minus) * abs(p.n_plus - p.n_minus))
-    return BudgetRow.type_b(msg("counter resolution (±1 P over m revolutions each way)"), "δN/N", Q_(rel, ""),
+    return BudgetRow.type_b(msg("counter resolution (±1 P over m revolutions each way)"), "δN/N",
+                            Q_(rel, ""),
                             distribution="uniform", sensitivity=Q_(abs(value), unit))
 
 
@@ -277,7 +311,8 @@ class ScaleFactorRepeatabilityD14(Procedure):
     title = "Scale factor repeatability, angle method (标度因数重复性)"
     clause = "D.1.4"
     metrics = (Metric("Kr", "scale factor repeatability", "K_r", "ppm", "D.1.4.3", "D.11"),)
-    requires = (SegmentRequirement("revolutions-repeat", "m whole revolutions each way at 30 °/s on each of 7 "
+    requires = (SegmentRequirement("revolutions-repeat",
+                                   "m whole revolutions each way at 30 °/s on each of 7 "
                                    "power-ons, off ≥ 10 min between (D.1.4.2)",
                                    conditions={"rate": "deg/s", "turns": "", "run": ""},
                                    columns={"count": ("P",), "duration": ("s",)}, min_count=14),)
@@ -287,15 +322,19 @@ class ScaleFactorRepeatabilityD14(Procedure):
                Option("Q", 7, None, "number of power-ons; D.11 is written for 7", minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        r = float(parse_quantity(options.get("rate", REPEAT_RATE), dimension="deg/s").to("deg/s").magnitude)
+        r = float(parse_quantity(options.get("rate", REPEAT_RATE),
+                                 dimension="deg/s").to("deg/s").magnitude)
         m, q = int(options.get("turns", 5)), int(options.get("Q", 7))
         steps = []
         for j in range(1, q + 1):
-            for sign, word in ((1, "counter-clockwise (+)"), (-1, "clockwise (−)")):
+            for sign, word in DIRECTIONS:
                 steps.append(Step(f"run{j}-rate{sign * r:+g}", "revolutions-repeat",
-                                  f"power-on {j} of {q}: {m} whole revolutions at {r:g} °/s {word} as D.1.1.2; "
-                                  "then power off ≥ 10 min (D.1.4.2)", Q_(m * 360.0 / r, "s"), Q_(360.0 / r, "s"),
-                                  {"rate": f"{sign * r:g} deg/s", "turns": m, "run": j}, warmup=Q_(30, "min")))
+                                  f"power-on {j} of {q}: {m} whole revolutions at {r:g} °/s {word} "
+                                  f"as D.1.1.2; "
+                                  "then power off ≥ 10 min (D.1.4.2)", Q_(m * 360.0 / r, "s"),
+                                  Q_(360.0 / r, "s"),
+                                  {"rate": f"{sign * r:g} deg/s", "turns": m, "run": j},
+                                  warmup=Q_(30, "min")))
         return steps
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
@@ -304,47 +343,58 @@ class ScaleFactorRepeatabilityD14(Procedure):
         runs = grouped(campaign, "revolutions-repeat", "run")
         if len(runs) != q:
             raise DataError(campaign.source, "segments",
-                            f"D.1.4 needs {q} power-ons (segments of kind \"revolutions-repeat\" with run = 1 … {q}, "
-                            f"D.1.4.2); found {len(runs)} run(s): {', '.join(sorted(runs)) or 'none'}",
+                            f"D.1.4 needs {q} power-ons (segments of kind \"revolutions-repeat\" "
+                            f"with run = 1 … {q}, D.1.4.2); found {len(runs)} run(s): "
+                            f"{', '.join(sorted(runs)) or 'none'}",
                             hint="D.11 is written for 7 repeats")
         pts = []
         for run, segs in sorted(runs.items()):
             p = collect_rate_points(type(self), campaign, 1, segs, f"in run {run}")
             if len(p) != 1:
                 raise DataError(campaign.source, f"segments.{segs[0].id}.conditions.rate",
-                                f"run {run} has {len(p)} rate points; D.1.4 tests at one rate ({opts['rate']:~P})")
+                                f"run {run} has {len(p)} rate points; D.1.4 tests at one rate "
+                                f"({opts['rate']:~P})")
             pts.append((run, p[0]))
         Kj = [p.K for _, p in pts]
         want = float(opts["rate"].to("deg/s").magnitude)
         off = sorted({f"{p.rate:g}" for _, p in pts if abs(p.rate - want) > 0.01 * want})
-        warnings = [msg("runs at {off} °/s; D.1.4.2 repeats the test at {want:g} °/s{hint}", off=", ".join(off),
+        warnings = [msg("runs at {off} °/s; D.1.4.2 repeats the test at {want:g} °/s{hint}",
+                        off=", ".join(off),
                         want=want, hint=hint(" (option rate)"))] if off else []
         Kr = F2.scale_factor_repeatability_d11(Kj)
         if not Kr > 0:
-            # identical whole counts: one pulse in m revolutions is coarser than the power-on scatter
+            # identical whole counts: one pulse in m revolutions is coarser than the power-on
+            # scatter
             # (a coarse undithered counter), not a data error — K_r cannot be measured
             p0 = pts[0][1]
             res_ppm = 1e6 / (min(p0.m_plus, p0.m_minus) * abs(p0.n_plus - p0.n_minus))
-            reason = msg("the {q} scale factors K_j are identical: one count over the m revolutions ({res:.3g} ppm of "
-                         "K) is coarser than the power-on scatter, which cannot be measured — use more revolutions",
+            reason = msg("the {q} scale factors K_j are identical: one count over the m "
+                         "revolutions ({res:.3g} ppm of K) is coarser than the power-on scatter, "
+                         "which cannot be measured — use more revolutions",
                          q=q, res=res_ppm)
-            res = Result(self.metrics[0], Q_(0.0, ""), reportable=False, reason=reason, earth_rate="removed")
-            return Outcome(STANDARD, self.item, self.title, self.clause, [res], warnings=warnings + [reason],
+            res = Result(self.metrics[0], Q_(0.0, ""), reportable=False, reason=reason,
+                         earth_rate="removed")
+            return Outcome(STANDARD, self.item, self.title, self.clause, [res],
+                           warnings=warnings + [reason],
                            segments=[s for _, p in pts for s in p.segments],
                            options=opts_text(opts))
-        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors (χ² bound)", q=q),
-                                 "(s_{upper} − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf),
-                _counter_row([p for _, p in pts], 1.0, "")]
+        rows = [kr_sampling_row(Kr, q), _counter_row([p for _, p in pts], 1.0, "")]
         m = min(min(p.m_plus, p.m_minus) for _, p in pts)
-        rows += [attrs.evolve(r, source=msg("{source}, run to run", source=r.source), sensitivity=Q_(1.0 / m, ""),
+        rows += [attrs.evolve(r, source=msg("{source}, run to run", source=r.source),
+                              sensitivity=Q_(1.0 / m, ""),
                               note=join("; ", [r.note, msg("over m = {m} revolutions", m=m)]))
                  for r in angle_row(campaign, 1.0, "")]
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))
-        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=msg("K̄ = {mean:.8f} P/″, Q = {q}", mean=mean, q=q), earth_rate="removed")
-        table = TableSpec("K_runs", msg("K_j of each power-on (D.2)"), [msg("run"), "Ω (°/s)", "K_j (P/″)", "K_j − K̄ (ppm)"],
-                          [[run, f"{p.rate:g}", f"{p.K:.8f}", f"{(p.K - mean) / mean * 1e6:.2f}"] for run, p in pts])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], warnings=warnings,
+        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget,
+                     note=msg("K̄ = {mean:.8f} P/″, Q = {q}", mean=mean, q=q), earth_rate="removed")
+        table = TableSpec("K_runs", msg("K_j of each power-on (D.2)"), [msg("run"), "Ω (°/s)",
+                                                                        "K_j (P/″)",
+                                                                        "K_j − K̄ (ppm)"],
+                          [[run, f"{p.rate:g}", f"{p.K:.8f}",
+                            f"{(p.K - mean) / mean * 1e6:.2f}"] for run, p in pts])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table],
+                       warnings=warnings,
                        segments=[s for _, p in pts for s in p.segments], options=opts_text(opts))
 
 
@@ -363,26 +413,41 @@ class ScaleFactorTemperatureSensitivityD15(Procedure):
     item = "D.1.5"
     title = "Scale factor temperature sensitivity, angle method (标度因数温度灵敏度)"
     clause = "D.1.5"
-    metrics = (Metric("Kt", "scale factor temperature sensitivity", "K_t", "ppm/delta_degC", "D.1.5.3", "D.12"),)
-    requires = (SegmentRequirement("revolutions-temperature", "the D.1.1.2 rate sweep at each temperature point after "
-                                   "≥ 2 h soak, powered off while the temperature changes (D.1.5.2)",
-                                   conditions={"rate": "deg/s", "turns": "", "temperature": "degC"},
-                                   columns={"count": ("P",), "duration": ("s",)}, min_count=66),)
-    equipment = _EQUIPMENT + (EquipmentRequirement("chamber", "temperature chamber, vibration-isolated, control "
-                                                   "better than ±2 °C (D.1.5.1 b))"),)
+    metrics = (Metric("Kt", "scale factor temperature sensitivity", "K_t", "ppm/delta_degC",
+                      "D.1.5.3", "D.12"),)
+    requires = (
+        SegmentRequirement(
+            "revolutions-temperature",
+            "the D.1.1.2 rate sweep at each temperature point after "
+            "≥ 2 h soak, powered off while the temperature changes (D.1.5.2)",
+            conditions={"rate": "deg/s", "turns": "", "temperature": "degC"},
+            columns={"count": ("P",), "duration": ("s",)},
+            min_count=66,
+        ),
+    )
+    equipment = _EQUIPMENT + (EquipmentRequirement("chamber",
+                                                   "temperature chamber, vibration-isolated, "
+                                                   "control better than ±2 °C (D.1.5.1 b))"),)
     options = _OPTIONS + (
-        Option("temperatures", "-40 °C, 20 °C, 60 °C", None,
-               "temperature points for the sequence: both limits and room temperature (D.1.5.2 b))"),
+        Option(
+            "temperatures",
+            "-40 °C, 20 °C, 60 °C",
+            None,
+            "temperature points for the sequence: both limits and room temperature (D.1.5.2 b))",
+        ),
         Option("room", "20 °C", "degC", "room temperature T0: the nearest point is the reference"),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        temps = [t.strip() for t in str(options.get("temperatures", "-40 °C, 20 °C, 60 °C")).split(",")]
+        temps = [t.strip() for t in str(options.get("temperatures",
+                                                    "-40 °C, 20 °C, 60 °C")).split(",")]
         steps = []
         for i, T in enumerate(temps):
             for st in angle_sequence(options, zero=False):
-                steps.append(attrs.evolve(st, segment=f"T{i + 1}-{st.segment}", kind="revolutions-temperature",
-                                          description=f"at {T} (power off, soak ≥ 2 h, D.1.5.2 c)): " + st.description,
+                steps.append(attrs.evolve(st, segment=f"T{i + 1}-{st.segment}",
+                                          kind="revolutions-temperature",
+                                          description=f"at {T} (power off, soak ≥ 2 h, D.1.5.2 "
+                                                      f"c)): " + st.description,
                                           conditions=dict(st.conditions) | {"temperature": T},
                                           warmup=Q_(2, "h")))
         return steps
@@ -390,25 +455,30 @@ class ScaleFactorTemperatureSensitivityD15(Procedure):
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
         byT = grouped(campaign, "revolutions-temperature", "temperature")
-        keys, temps, i0 = room_index(campaign, byT, float(opts["room"].to("degC").magnitude), 3, "D.1.5")
+        keys, temps, i0 = room_index(campaign, byT, float(opts["room"].to("degC").magnitude), 3,
+                                     "D.1.5")
         Ks, uKs, dofs, used = [], [], [], []
         for k, T in zip(keys, temps):
-            pts = collect_rate_points(type(self), campaign, int(opts["min_points"]), byT[k], f"at {T:g} °C")
+            pts = collect_rate_points(type(self), campaign, int(opts["min_points"]), byT[k],
+                                      f"at {T:g} °C")
             rates = np.array([p.rate for p in pts])
             Ks.append(F.scale_factor_fit_d5_d6([p.K for p in pts], rates)[0])
             # type A of the D.5 intercept from each K_i's revolution scatter (not the residuals,
             # which hold the nonlinearity)
             ca, _ = F2.line_fit_sensitivities(rates)
-            u, nu = F2.propagate(ca, [p.u_K for p in pts], [max(min(p.m_plus, p.m_minus) - 1, 1) for p in pts])
+            u, nu = F2.propagate(ca, [p.u_K for p in pts], [max(min(p.m_plus, p.m_minus) - 1,
+                                                                1) for p in pts])
             uKs.append(u)
             dofs.append(nu)
             used += [s for p in pts for s in p.segments]
         Kt, imax = F2.scale_factor_temperature_sensitivity_d12(Ks, temps, i0)
-        return temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used, "P/″")
+        return temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used,
+                                   "P/″")
 
 
 class InputAxisMisalignmentD16(MountingMisalignment):
-    """GB/T 45570—2025 D.1.6 输入轴失准角 (input-axis misalignment), angle method, eqs. (D.13)–(D.16).
+    """GB/T 45570—2025 D.1.6 输入轴失准角 (input-axis misalignment), angle method, eqs.
+    (D.13)–(D.16).
 
     Four mountings (segments of kind ``revolutions-mounting``, conditions ``axis_up`` XRA/YRA and
     ``turn`` 0°/180° about IRA, signed ``rate``): N_± per mounting (D.13), α_{1,2} = (N₊ − N₋)/
@@ -422,9 +492,12 @@ class InputAxisMisalignmentD16(MountingMisalignment):
     title = "Input axis misalignment, angle method (输入轴失准角)"
     clause = "D.1.6"
     metrics = misalignment_metrics("D.1.6.4", ("D.15", "D.15", "D.16"))
-    requires = (SegmentRequirement("revolutions-mounting", "m whole revolutions each way with XRA, then YRA, "
-                                   "along the table axis, each before and after a 180° turn about IRA (D.1.6.3)",
-                                   conditions={"axis_up": "", "turn": "deg", "rate": "deg/s", "turns": ""},
+    requires = (SegmentRequirement("revolutions-mounting",
+                                   "m whole revolutions each way with XRA, then YRA, "
+                                   "along the table axis, each before and after a 180° turn about "
+                                   "IRA (D.1.6.3)",
+                                   conditions={"axis_up": "", "turn": "deg", "rate": "deg/s",
+                                               "turns": ""},
                                    columns={"count": ("P",), "duration": ("s",)}, min_count=8),)
     equipment = _EQUIPMENT + (FIXTURE,)
     options = (Option("rate", REPEAT_RATE, "deg/s", "table rate (D.1.6.3 d): \"a given rate\")"),
@@ -433,7 +506,8 @@ class InputAxisMisalignmentD16(MountingMisalignment):
     revolutions = True
     scatter = msg("revolution count scatter")
 
-    def scale_factor(self, campaign: Campaign, groups: Mapping[tuple[str, int], list]) -> DeviceScale:
+    def scale_factor(self, campaign: Campaign, groups: Mapping[tuple[str, int],
+                                                               list]) -> DeviceScale:
         k, u_rel_K = required_scale_factor(campaign.device, "P/arcsec", source=campaign.source,
                                            needed_by="eq. (D.14) of D.1.6 (K from D.1.1)")
         return DeviceScale(k, u_rel_K, "P")
@@ -445,7 +519,8 @@ class InputAxisMisalignmentD16(MountingMisalignment):
         pts = collect_rate_points(type(self), campaign, 1, segs, f"({ax} up, turned {turn}°)")
         if len(pts) != 1:
             raise DataError(campaign.source, f"segments.{segs[0].id}.conditions.rate",
-                            f"mounting {ax} up, turned {turn}° has {len(pts)} rate points; D.1.6 uses one rate")
+                            f"mounting {ax} up, turned {turn}° has {len(pts)} rate points; D.1.6 "
+                            f"uses one rate")
         p = pts[0]
         a = F2.misalignment_d14(p.n_plus, p.n_minus, k)
         up = p.s_plus / math.sqrt(p.m_plus) if p.m_plus > 1 else 0.5
@@ -457,7 +532,8 @@ class InputAxisMisalignmentD16(MountingMisalignment):
         k, u_rel_K = scale.k, scale.u_rel
         rel = []
         if u_rel_K > 0:
-            rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
+            rel.append(BudgetRow.type_b("scale factor K (device)", "u_rel(K)", Q_(u_rel_K, ""),
+                                        distribution="normal",
                                         k=1.0, note=msg("K = {k:g} P/″; α ∝ 1/K", k=k)))
         rel += [attrs.evolve(r, sensitivity=Q_(1.0, "")) for r in angle_row(campaign, 1.0, "")]
         return rel

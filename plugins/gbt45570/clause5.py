@@ -33,7 +33,8 @@ class Requirement:
     text_cn: str
     text_en: str
     items: tuple[str, ...] = ()
-    keys: tuple[str, ...] = ()  # metric keys (or key prefixes) of the results this requirement is about
+    # metric keys (or key prefixes) of the results this requirement is about
+    keys: tuple[str, ...] = ()
     by_spec: str = ""  # why the requirement is the product specification's (no test item)
 
     @property
@@ -47,19 +48,25 @@ def _q(clause, cn, en, items=(), keys=(), by_spec=""):
 
 _SF = ("D.1.1", "D.2.1")
 REQUIREMENTS: tuple[Requirement, ...] = (
-    _q("5.1", "通则", "general: this standard and the product specification; the product specification prevails",
-       by_spec="a rule of precedence: the product specification's limits replace the typical ones (applied in "
-               "every verdict below)"),
+    _q("5.1", "通则",
+       "general: this standard and the product specification; the product specification prevails",
+       by_spec="a rule of precedence: the product specification's limits replace the typical ones "
+               "(applied in every verdict below)"),
     _q("5.2.1", "材料", "materials", ("5.2.1",),
-       by_spec="5.2.1 names the usual materials (一般选取) and leaves the choice to the product specification; "
-               "clause 6 gives no test method"),
-    _q("5.2.2", "功能与组成", "function and composition (senses and outputs rate or angle)", ("5.2.2",),
+       by_spec="5.2.1 names the usual materials (一般选取) and leaves the choice to the product "
+               "specification; clause 6 gives no test method"),
+    _q("5.2.2", "功能与组成", "function and composition (senses and outputs rate or angle)",
+       ("5.2.2",),
        ("function_nc",)),
     _q("5.2.3", "外观质量", "appearance a)–d)", ("6.2.1",), ("appearance_nc",)),
-    _q("5.2.4", "外形尺寸", "dimensions per product specification, tolerance grade ≤ IT12", ("6.2.2",),
+    _q("5.2.4", "外形尺寸", "dimensions per product specification, tolerance grade ≤ IT12",
+       ("6.2.2",),
        ("dim", "itgrade")),
-    _q("5.2.5", "重量", "mass per product specification (cables, connectors, screws included)", ("6.2.3",), ("mass",)),
-    _q("5.2.6", "供电要求", "supply requirements: voltage kind and accuracy, current, power", ("5.2.6",),
+    _q("5.2.5", "重量", "mass per product specification (cables, connectors, screws included)",
+       ("6.2.3",), ("mass",)),
+    _q("5.2.6", "供电要求", "supply requirements: voltage kind and accuracy, current, power",
+       ("5.2.6",
+                                                                                           ),
        ("supply_missing", "supply_V")),
     _q("5.2.7.1", "机械接口", "mechanical interface", ("6.2.4",), ("mech_interface_nc",)),
     _q("5.2.7.2", "电气接口", "electrical interface (RS-422/RS-485, output content)", ("6.2.4",),
@@ -70,7 +77,8 @@ REQUIREMENTS: tuple[Requirement, ...] = (
     _q("5.3 b)", "标度因数非线性度", "scale-factor nonlinearity", ("D.1.2", "D.2.2"), ("Kn",)),
     _q("5.3 c)", "标度因数不对称度", "scale-factor asymmetry", ("D.1.3", "D.2.3"), ("Ka",)),
     _q("5.3 d)", "标度因数重复性", "scale-factor repeatability", ("D.1.4", "D.2.4"), ("Kr",)),
-    _q("5.3 e)", "标度因数温度灵敏度", "scale-factor temperature sensitivity", ("D.1.5", "D.2.5"), ("Kt",)),
+    _q("5.3 e)", "标度因数温度灵敏度", "scale-factor temperature sensitivity", ("D.1.5", "D.2.5"),
+       ("Kt",)),
     _q("5.3 f)", "输入轴失准角", "input-axis misalignment", ("D.1.6", "D.2.6")),
     _q("5.3 g)", "最大输入角速率", "maximum input rate", ("D.3",)),
     _q("5.3 h)", "阈值", "threshold", ("D.4",)),
@@ -89,7 +97,8 @@ REQUIREMENTS: tuple[Requirement, ...] = (
     _q("5.4 e)", "温度冲击", "temperature shock", ("6.2.8.5",)),
     _q("5.4 f)", "低气压(高度)", "low pressure (altitude)", ("6.2.8.6",)),
     _q("5.4 g)", "加速度", "acceleration", ("6.2.8.7",)),
-    _q("5.4 h)", "性能振动", "performance vibration", ("D.6.3",), ("vib_perf_level", "dBV12", "dBV13_")),
+    _q("5.4 h)", "性能振动", "performance vibration", ("D.6.3",), ("vib_perf_level", "dBV12",
+                                                               "dBV13_")),
     _q("5.4 i)", "耐久振动", "endurance vibration", ("D.6.3",), ("vib_end_level", "dBV13end")),
     _q("5.4 j)", "机械冲击", "mechanical shock", ("D.6.4",)),
     _q("5.4 k)", "湿热", "damp heat", ("6.2.8.10",)),
@@ -107,12 +116,30 @@ REQUIREMENTS: tuple[Requirement, ...] = (
 TYPE_TEST_ITEMS: tuple[str, ...] = tuple(dict.fromkeys(i for r in REQUIREMENTS for i in r.items))
 
 RELIABILITY_SPECS = (
-    Specification("mtbf_lower", Comparison.AT_LEAST, Q_(5000, "h"), source=clause_source("5.5.1", "MTBF ≥ 5 000 h"),
-                  name="MTBF, lower confidence bound", items=("6.2.9.1",)),
-    Specification("working_life", Comparison.AT_LEAST, Q_(1000, "h"), source=clause_source("5.5.2 a)"),
-                  name="working life", items=("6.2.9.2",)),
-    Specification("calendar_life", Comparison.AT_LEAST, Q_(5, "year"), source=clause_source("5.5.2 b)"),
-                  name="calendar life", items=("6.2.9.2",)),
+    Specification(
+        "mtbf_lower",
+        Comparison.AT_LEAST,
+        Q_(5000, "h"),
+        source=clause_source("5.5.1", "MTBF ≥ 5 000 h"),
+        name="MTBF, lower confidence bound",
+        items=("6.2.9.1",),
+    ),
+    Specification(
+        "working_life",
+        Comparison.AT_LEAST,
+        Q_(1000, "h"),
+        source=clause_source("5.5.2 a)"),
+        name="working life",
+        items=("6.2.9.2",),
+    ),
+    Specification(
+        "calendar_life",
+        Comparison.AT_LEAST,
+        Q_(5, "year"),
+        source=clause_source("5.5.2 b)"),
+        name="calendar life",
+        items=("6.2.9.2",),
+    ),
 )
 
 
@@ -122,16 +149,19 @@ def specifications(campaign) -> list[Specification]:
 
     out: list[Specification] = []
     if R.has(campaign, "inspection"):
-        paths = {"appearance_nc": "appearance", "supply_missing": "supply", "mech_interface_nc": "interfaces",
+        paths = {"appearance_nc": "appearance", "supply_missing": "supply",
+                 "mech_interface_nc": "interfaces",
                  "elec_interface_nc": "interfaces"}
-        out += [s for s in inspection.COUNT_SPECS if R.has(campaign, f"inspection.{paths[s.symbol]}")]
+        out += [s for s in inspection.COUNT_SPECS if R.has(campaign,
+                                                           f"inspection.{paths[s.symbol]}")]
         if R.has(campaign, "inspection.function"):
             from .declarations import FUNCTION_SPEC
 
             out.append(FUNCTION_SPEC)
         if R.has(campaign, "inspection.insulation"):
             out.append(inspection.INSULATION_SPEC)
-        out += (inspection.dimension_specifications(campaign) + inspection.mass_specifications(campaign)
+        out += (inspection.dimension_specifications(campaign)
+                + inspection.mass_specifications(campaign)
                 + inspection.supply_specifications(campaign))
     if type_env.SECTION in campaign.records:
         out += type_env.specifications(campaign)
@@ -141,7 +171,8 @@ def specifications(campaign) -> list[Specification]:
 
 
 def _matches(key: str, keys: tuple[str, ...]) -> bool:
-    return not keys or any(key == k or key.startswith(k if k.endswith("_") else k + "_") for k in keys)
+    return not keys or any(key == k or key.startswith(k if k.endswith("_") else k + "_")
+                           for k in keys)
 
 
 def _result_text(r) -> str:
@@ -149,12 +180,14 @@ def _result_text(r) -> str:
 
     v, U = r.reported()
     ut = unit_text(r.metric.unit)
-    if r.U is None or float(r.U.magnitude) == 0:  # exact (a count, a declared value, a ratio of specs)
+    # exact (a count, a declared value, a ratio of specs)
+    if r.U is None or float(r.U.magnitude) == 0:
         v = fmt_num(float(r.value.to(r.metric.unit).magnitude), 6)
     text = f"{r.metric.key} = {v}{(' ' + ut) if ut else ''}"
     if U is not None and float(r.U.magnitude) > 0:
         text += f" (U = {U}{(' ' + ut) if ut else ''}, k = {r.k:.2f})"
-    if not r.reportable:  # the reason is the row's note (the item's warning); the document translates the mark
+    # the reason is the row's note (the item's warning); the document translates the mark
+    if not r.reportable:
         text += " [not reportable]"
     # a minus sign, not a hyphen: a line may break after a hyphen and split the number in two
     return re.sub(r"(?<![\w.])-(?=\d)", "\u2212", text)
@@ -185,14 +218,20 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
         row = {"clause": req.clause, "requirement": req.text, "requirement_cn": req.text_cn,
                "requirement_en": req.text_en, "method": " / ".join(req.items) or "—"}
         if not req.items:  # 5.1
-            rows.append(row | {"status": BY_SPEC, "result": "—", "verdict": BY_SPEC, "reason": req.by_spec})
+            rows.append(row | {"status": BY_SPEC, "result": "—", "verdict": BY_SPEC,
+                               "reason": req.by_spec})
             continue
-        mine = [(o, r) for o in outs if o.item in req.items for r in o.results if _matches(r.metric.key, req.keys)]
+        mine = [(o,
+                 r) for o in outs if o.item in req.items for r in o.results
+                if _matches(r.metric.key, req.keys)]
         ran = [o for o in outs if o.item in req.items]
         if req.by_spec and ran:  # reported, not judged (5.2.1): what the records declare
-            shown = [" / ".join(str(c) for c in row[:2]) for o in ran for t in o.tables for row in t.rows]
-            rows.append(row | {"status": BY_SPEC, "result": "; ".join(shown) or "—", "verdict": BY_SPEC,
-                               "reason": "; ".join([req.by_spec] + [w for o in ran for w in o.warnings])})
+            shown = [" / ".join(str(c) for c in row[:2]) for o in ran for t in o.tables
+                     for row in t.rows]
+            rows.append(row | {"status": BY_SPEC, "result": "; ".join(shown) or "—",
+                               "verdict": BY_SPEC,
+                               "reason": "; ".join([req.by_spec] + [w for o in ran
+                                                                    for w in o.warnings])})
             continue
         if not ran:
             reasons = [f"{i}: {choices[i].reason}" for i in req.items if i in choices]
@@ -202,7 +241,8 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
         if not mine:
             notes = [w for o in ran for w in o.warnings]
             rows.append(row | {"status": NOT_PERFORMED, "result": "—", "verdict": NOT_PERFORMED,
-                               "reason": "; ".join(notes) or "the item gave no result for this requirement"})
+                               "reason": "; ".join(notes)
+                               or "the item gave no result for this requirement"})
             continue
         texts = [_result_text(r) for _, r in mine]
         if len(texts) > limit:
@@ -215,14 +255,18 @@ def clause5_rows(record, *, limit: int = 4) -> list[dict[str, str]]:
             worst = [v for v in judged if v.status.value == status]
             parts = [v.reason for v in worst[:2]]
             if unjudged:
-                parts.append(msg("no limit for {keys}", keys=", ".join(unjudged[:3]) + (" …" if len(unjudged) > 3 else "")))
+                parts.append(msg("no limit for {keys}",
+                                 keys=", ".join(unjudged[:3]) + (" …" if len(unjudged) > 3
+                                                                 else "")))
         else:
             verdict = "no limit given"
-            parts = [msg("by product specification: give the limit (manifest [specification] or the record) to judge it")]
+            parts = [msg("by product specification: give the limit (manifest [specification] or "
+                         "the record) to judge it")]
         warnings = [w for o in ran for w in o.warnings]
         # each part keeps its message, so the document writes the reason in its language
         reason = join("; ", parts + warnings[:2])
-        rows.append(row | {"status": PERFORMED, "result": "; ".join(texts), "verdict": verdict, "reason": reason})
+        rows.append(row | {"status": PERFORMED, "result": "; ".join(texts), "verdict": verdict,
+                           "reason": reason})
     for r in rows:
         r["note"] = r["reason"]  # the report's clause-5 table prints it as the row's note
     return rows

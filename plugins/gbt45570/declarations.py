@@ -36,20 +36,30 @@ from .conformity import clause_source
 
 SECTION = "inspection"
 
-#: 5.2.1: the usual materials by technology (key in the record -> (what, the usual material, words that match it))
+#: 5.2.1: the usual materials by technology (key in the record -> (what, the usual material, words
+#: that match it))
 USUAL = {
-    "laser": {"cavity": ("resonator cavity", "glass-ceramic (微晶玻璃)", ("glass-ceramic", "glass ceramic", "微晶玻璃", "zerodur")),
-              "mirrors": ("mirrors", "glass-ceramic (微晶玻璃)", ("glass-ceramic", "glass ceramic", "微晶玻璃", "zerodur")),
-              "housing": ("housing", "aluminium alloy (铝合金)", ("aluminium", "aluminum", "铝合金"))},
-    "fibre": {"fibre": ("sensing fibre", "single-mode fibre (单模光纤)", ("single-mode", "single mode", "单模", "pm fibre",
-                                                                   "polarization-maintaining", "polarisation-maintaining")),
+    "laser": {"cavity": ("resonator cavity", "glass-ceramic (微晶玻璃)", ("glass-ceramic",
+                                                                      "glass ceramic", "微晶玻璃",
+                                                                      "zerodur")),
+              "mirrors": ("mirrors", "glass-ceramic (微晶玻璃)", ("glass-ceramic", "glass ceramic",
+                                                              "微晶玻璃", "zerodur")),
+              "housing": ("housing", "aluminium alloy (铝合金)", ("aluminium", "aluminum",
+                                                               "铝合金"))},
+    "fibre": {"fibre": ("sensing fibre", "single-mode fibre (单模光纤)", ("single-mode",
+                                                                      "single mode",
+                                                                      "单模", "pm fibre",
+                                                                   "polarization-maintaining",
+                                                                      "polarisation-maintaining")),
               "potting": ("coil potting", "organic material matched to the fibre coating's modulus",
                           ("organic", "epoxy", "silicone", "有机")),
               "housing": ("housing", "aluminium alloy or soft-magnetic material (铝合金或软磁材料)",
-                          ("aluminium", "aluminum", "铝合金", "soft-magnetic", "soft magnetic", "permalloy", "软磁"))},
+                          ("aluminium", "aluminum", "铝合金", "soft-magnetic", "soft magnetic",
+                           "permalloy", "软磁"))},
 }
 
-COMPOSITION = {"optical sensor": ("optical", "光学传感器", "sensor"), "structure": ("structur", "结构"),
+COMPOSITION = {"optical sensor": ("optical", "光学传感器", "sensor"), "structure": ("structur",
+                                                                               "结构"),
                "control circuit": ("circuit", "electronics", "控制电路")}
 
 
@@ -61,7 +71,8 @@ class Materials521(Procedure):
     """GB/T 45570—2025 5.2.1 材料 (materials): the declared materials against those 5.2.1 names as
     usual for the device's technology (laser: glass-ceramic cavity and mirrors, aluminium-alloy
     housing; fibre: single-mode fibre, organic potting matched to the coating, aluminium-alloy or
-    soft-magnetic housing).  No method in clause 6 and no limit: reported, by product specification."""
+    soft-magnetic housing).  No method in clause 6 and no limit: reported, by product
+    specification."""
 
     standard = STANDARD
     item = "5.2.1"
@@ -75,13 +86,15 @@ class Materials521(Procedure):
         return "" if R.has(campaign, f"{SECTION}.materials") else f"[{SECTION}.materials]"
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [_record_step("materials", "from the product specification and the build records: the materials of "
-                             "the optical sensor and the housing (5.2.1)")]
+        return [_record_step("materials",
+                             "from the product specification and the build records: the materials "
+                             "of the optical sensor and the housing (5.2.1)")]
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         src, where = R.where_of(campaign), f"{SECTION}.materials"
         rec = R.section(campaign, where, "5.2.1")
-        tech = "fibre" if campaign.device.technology in ("fibre", "fiber") else campaign.device.technology
+        tech = "fibre" if campaign.device.technology in ("fibre",
+                                                         "fiber") else campaign.device.technology
         usual = USUAL.get(tech, {})
         rows, warnings = [], []
         for key in rec:
@@ -89,28 +102,35 @@ class Materials521(Procedure):
         for key, (what, typical, words) in usual.items():
             declared = R.text(rec, key, src, where, required=False, default="")
             if not declared:
-                warnings.append(msg("5.2.1: the {what} material is not declared (usually {typical})", what=what, typical=typical))
+                warnings.append(msg("5.2.1: the {what} material is not declared "
+                                    "(usually {typical})", what=what, typical=typical))
                 rows.append([what, "not declared", typical, "—"])
                 continue
             same = any(w in declared.lower() for w in words)
             if not same:
-                warnings.append(msg("5.2.1: {what} of {declared}, not the usual {typical}: by product specification", what=what,
+                warnings.append(msg("5.2.1: {what} of {declared}, not the usual {typical}: by "
+                                    "product specification", what=what,
                                     declared=repr(declared), typical=typical))
             rows.append([what, declared, typical, "usual" if same else "per product specification"])
         for key in rec:
             if key not in usual:
                 rows.append([key, str(rec[key]), "—", "per product specification"])
         if not usual:
-            warnings.append(msg("5.2.1 names usual materials for laser and fibre gyros only, not {tech}",
+            warnings.append(msg("5.2.1 names usual materials for laser and fibre gyros only, not "
+                                "{tech}",
                                 tech=tech or msg("unstated")))
-        tab = TableSpec("materials", "Materials (5.2.1): declared and usual", ["part", "declared", "usual (一般选取)",
+        tab = TableSpec("materials", "Materials (5.2.1): declared and usual", ["part", "declared",
+                                                                               "usual (一般选取)",
                                                                                 "status"], rows)
-        return Outcome(STANDARD, self.item, self.title, self.clause, [], tables=[tab], warnings=warnings)
+        return Outcome(STANDARD, self.item, self.title, self.clause, [], tables=[tab],
+                       warnings=warnings)
 
 
 class Function522(Procedure):
-    """GB/T 45570—2025 5.2.2 功能与组成 (function and composition): the gyro shall sense the angular rate
-    or angle of its carrier and output it (``senses``, ``outputs``: the count of those not met, exact,
+    """GB/T 45570—2025 5.2.2 功能与组成 (function and composition): the gyro shall sense the angular
+    rate
+    or angle of its carrier and output it (``senses``, ``outputs``: the count of those not met,
+    exact,
     judged ≤ 0); it generally consists of an optical sensor, a structural assembly and a control
     circuit with software (``composition``: a difference is a note)."""
 
@@ -126,8 +146,9 @@ class Function522(Procedure):
         return "" if R.has(campaign, f"{SECTION}.function") else f"[{SECTION}.function]"
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [_record_step("function", "check that the gyro senses and outputs angular rate or angle and list "
-                             "its parts (5.2.2)")]
+        return [_record_step("function",
+                             "check that the gyro senses and outputs angular rate or angle and "
+                             "list its parts (5.2.2)")]
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         src, where = R.where_of(campaign), f"{SECTION}.function"
@@ -143,17 +164,24 @@ class Function522(Procedure):
 
             raise DataError(src, f"{where}.composition", f"must be a list of parts, got {parts!r}")
         low = [p.lower() for p in parts]
-        lacking = [name for name, words in COMPOSITION.items() if not any(w in p for p in low for w in words)]
-        warnings = [msg("5.2.2: the composition lists no {parts} (generally part of a gyro, 一般)", parts=", ".join(lacking))] if lacking \
+        lacking = [name for name,
+                   words in COMPOSITION.items() if not any(w in p for p in low for w in words)]
+        warnings = [msg("5.2.2: the composition lists no {parts} (generally part of a gyro, 一般)",
+                        parts=", ".join(lacking))] if lacking \
             else []
-        b = UncertaintyBudget("n_f", "", [BudgetRow.type_b(msg("observed answers, a count (exact)"), "u(n_f)", Q_(0.0, ""),
-                                                           distribution="uniform")], coverage=COVERAGE)
+        b = UncertaintyBudget("n_f", "", [BudgetRow.type_b(msg("observed answers, a count (exact)"),
+                                                           "u(n_f)", Q_(0.0, ""),
+                                                           distribution="uniform")],
+                              coverage=COVERAGE)
         res = R.na_result(self.metrics[0], Q_(float(len(failed)), ""), b.combined, b,
                           note="not met: " + "; ".join(failed) if failed else "senses and outputs")
-        tab = TableSpec("composition", "Composition (5.2.2)", ["part"], [[p] for p in parts] or [["not listed"]])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[tab], warnings=warnings)
+        tab = TableSpec("composition", "Composition (5.2.2)", ["part"],
+                        [[p] for p in parts] or [["not listed"]])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[tab],
+                       warnings=warnings)
 
 
-FUNCTION_SPEC = Specification("function_nc", Comparison.AT_MOST, Q_(0, ""), source=clause_source("5.2.2"),
+FUNCTION_SPEC = Specification("function_nc", Comparison.AT_MOST, Q_(0, ""),
+                              source=clause_source("5.2.2"),
                               name="function (senses and outputs rate or angle)", items=("5.2.2",))
 PROCEDURES = (Materials521, Function522)

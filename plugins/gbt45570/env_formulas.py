@@ -62,7 +62,8 @@ def response_ratio_d39(n_star: float, n0: float, n_expected: float) -> float:
 
 def threshold_d39(inputs_deg_h: Sequence[float], ratios: Sequence[float],
                   fraction: float = THRESHOLD_FRACTION) -> tuple[float | None, int | None]:
-    """The threshold by D.4.3 c): the smallest |Ω_e cos Ψ_i| whose |(N̄*_i − N̄_0)/N_i| ≥ 50 % (D.39).
+    """The threshold by D.4.3 c): the smallest |Ω_e cos Ψ_i| whose |(N̄*_i − N̄_0)/N_i| ≥ 50 %
+    (D.39).
 
     :param inputs_deg_h: Ω_e cos Ψ_i of each tilt position, °/h.
     :param ratios: the D.39 ratios of the same positions.
@@ -125,13 +126,16 @@ def setup_time_6277(rate_deg_h: Sequence[float], interval_s: float, window: int,
     """
     y = np.asarray(rate_deg_h, dtype=float)
     if not 0 < settled_from < y.size - 1:
-        raise ValueError(f"the settled part must start inside the record (sample {settled_from} of {y.size})")
+        raise ValueError(f"the settled part must start inside the record (sample {settled_from} of "
+                         f"{y.size})")
     settled = float(np.mean(y[settled_from:]))
     mm = moving_mean(y[:settled_from], window)
     out = np.abs(mm - settled) > tolerance_deg_h
     if out.size and out[-1]:
-        raise ValueError(f"the output is still outside ±{tolerance_deg_h:g} °/h of the settled bias when the "
-                         "settled part begins: the gyro has not reached the required performance in the record")
+        raise ValueError(f"the output is still outside ±{tolerance_deg_h:g} °/h of the settled "
+                         f"bias when the "
+                         "settled part begins: the gyro has not reached the required performance "
+                         "in the record")
     bad = np.flatnonzero(out)
     j_out = int(bad[-1]) + 1 if bad.size else 0  # first window of the final in-band run
     j_in = int(np.argmin(out))  # first window inside the band
@@ -139,7 +143,8 @@ def setup_time_6277(rate_deg_h: Sequence[float], interval_s: float, window: int,
     return 0.5 * (t_in + t_out), settled, t_in, t_out
 
 
-def power_6278(voltages_V: Sequence[Sequence[float]], currents_A: Sequence[Sequence[float]]) -> tuple[float, list[float]]:
+def power_6278(voltages_V: Sequence[Sequence[float]],
+               currents_A: Sequence[Sequence[float]]) -> tuple[float, list[float]]:
     """Power consumption by 6.2.7.8: the sum over the supplies of the input voltage times current,
     each supply's U·I averaged over its record::
 
@@ -164,14 +169,16 @@ def power_6278(voltages_V: Sequence[Sequence[float]], currents_A: Sequence[Seque
 # 6.2.7.7 set-up time on a noisy record: which excursion beyond the band is the last real one
 # --------------------------------------------------------------------------------------------
 
-def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, window: int, settled_from: int,
+def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, window: int,
+                               settled_from: int,
                                tolerance_deg_h: float, sigma_w: float) -> dict:
     """Set-up time by 6.2.7.7 on a noisy record: the expected instant the window mean of the output
     leaves ±``tolerance_deg_h`` of the settled bias for the last time (docs/interpretations.md
     "6.2.7.7 — the last real excursion").
 
     The window mean's deviation from the settled bias (the mean from sample ``settled_from`` on) is
-    cut into lobes at its sign changes.  Each lobe's top is fitted by a parabola (σ of the fitted value
+    cut into lobes at its sign changes.  Each lobe's top is fitted by a parabola (σ of the fitted
+    value
     from ``sigma_w``, the σ of one window mean) and p_i = Φ((top_i − tolerance)/σ_top,i) is the
     probability that the noise-free window mean left the band in that lobe.  Its exit e_i is the
     midpoint of the first window inside the band after the top and the end of the last window
@@ -185,7 +192,8 @@ def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, w
 
     Where no lobe is certain the output may have been inside from the first window, whose end then
     takes the remaining probability.  Times are window ends from the switch-on (the first sample
-    starts at t = 0).  The lobes and their candidates: :mod:`metro.core.stats.settling` (shared with JJF 2014
+    starts at t = 0).  The lobes and their candidates: :mod:`metro.core.stats.settling` (shared with
+    JJF 2014
     7.2.23).
 
     :return: a dict with ``t_s``, ``settled`` (°/h), ``u_selection``, ``u_span`` (s), ``exits`` (the
@@ -194,14 +202,19 @@ def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, w
     """
     y = np.asarray(rate_deg_h, dtype=float)
     if not 0 < settled_from < y.size - 1:
-        raise ValueError(f"the settled part must start inside the record (sample {settled_from} of {y.size})")
+        raise ValueError(f"the settled part must start inside the record (sample {settled_from} of "
+                         f"{y.size})")
     settled = float(np.mean(y[settled_from:]))
     mm = moving_mean(y[:settled_from], window)
     d = mm - settled
     if d.size and abs(d[-1]) > tolerance_deg_h:
-        raise ValueError(f"the output is still outside ±{tolerance_deg_h:g} °/h of the settled bias when the "
-                         "settled part begins: the gyro has not reached the required performance in the record")
+        raise ValueError(f"the output is still outside ±{tolerance_deg_h:g} °/h of the settled "
+                         f"bias when the "
+                         "settled part begins: the gyro has not reached the required performance "
+                         "in the record")
     t = (np.arange(mm.size) + window) * interval_s
-    st = last_exit(excursion_lobes(d, t, interval_s, window, tolerance_deg_h, tolerance_deg_h, sigma_w), float(t[0]))
-    return {"settled": settled, **{k: st[k] for k in ("t_s", "u_selection", "u_span", "exits", "probabilities",
+    st = last_exit(excursion_lobes(d, t, interval_s, window, tolerance_deg_h, tolerance_deg_h,
+                                   sigma_w), float(t[0]))
+    return {"settled": settled, **{k: st[k] for k in ("t_s", "u_selection", "u_span", "exits",
+                                                      "probabilities",
                                                       "p_real", "exit_index")}}

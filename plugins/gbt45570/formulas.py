@@ -39,7 +39,8 @@ def earth_rate_vertical(latitude_deg: float, orientation: str = "up") -> float:
     return sign * EARTH_RATE_DEG_PER_H * math.sin(math.radians(latitude_deg))
 
 
-def bias_stability_d41(accumulated_counts: Sequence[float], t_s: float, K_P_per_arcsec: float) -> float:
+def bias_stability_d41(accumulated_counts: Sequence[float], t_s: float,
+                       K_P_per_arcsec: float) -> float:
     """Bias stability, GB/T 45570 D.5.2.3 eq. (D.41)::
 
         B_s = (1/(t·K)) · [ Σ (N'_i − N̄')² / (m − 1) ]^(1/2)
@@ -115,7 +116,8 @@ def d45_covariance(model_bs2: np.ndarray, m: np.ndarray) -> np.ndarray:
     return C
 
 
-def fit_d45(tau_h: Sequence[float], bs: Sequence[float], m: Sequence[int], *, iterations: int = 4) -> D45Fit:
+def fit_d45(tau_h: Sequence[float], bs: Sequence[float], m: Sequence[int], *,
+            iterations: int = 4) -> D45Fit:
     """Least-squares fit of the bias-stability model, GB/T 45570 D.5.6.3 eq. (D.45)::
 
         B_s²(τ_k) = α0 + α1 (1/τ_k) + α2 (1/τ_k)²,   τ_k in h, B_s in °/h
@@ -143,7 +145,8 @@ def fit_d45(tau_h: Sequence[float], bs: Sequence[float], m: Sequence[int], *, it
     if np.any(b <= 0) or not np.all(np.isfinite(b)):
         bad = int(np.argmin(b > 0)) if np.any(b <= 0) else int(np.argmin(np.isfinite(b)))
         raise ValueError(
-            f"B_s(τ) must be positive and finite; level {bad + 1} (τ = {t[bad] * 3600:g} s) gives {b[bad]!r} "
+            f"B_s(τ) must be positive and finite; level {bad + 1} (τ = {t[bad] * 3600:g} s) gives "
+            f"{b[bad]!r} "
             "(zero-variance or constant data?)"
         )
     if np.any(mm < 2):
@@ -175,7 +178,8 @@ def rwc_d46(alpha1: float) -> float:
     return math.sqrt(alpha1)
 
 
-def bias_temperature_sensitivity_d43(biases: Sequence[float], temps_C: Sequence[float], i0: int) -> tuple[float, int]:
+def bias_temperature_sensitivity_d43(biases: Sequence[float], temps_C: Sequence[float],
+                                     i0: int) -> tuple[float, int]:
     """Bias temperature sensitivity, D.5.4.3 eq. (D.43)::
 
         B_t = | (B_i − B_00) / (T_i − T_0) |_max
@@ -190,7 +194,8 @@ def bias_temperature_sensitivity_d43(biases: Sequence[float], temps_C: Sequence[
         if i == i0:
             continue
         if t == temps_C[i0]:
-            raise ValueError(f"point {i} has the room temperature {t} °C; D.43 divides by T_i − T_0")
+            raise ValueError(f"point {i} has the room temperature {t} °C; "
+                             "D.43 divides by T_i − T_0")
         r = abs((b - biases[i0]) / (t - temps_C[i0]))
         if r > best:
             best, imax = r, i
@@ -231,12 +236,14 @@ def scale_factor_d2(n_plus: float, n_minus: float) -> float:
     return (n_plus - n_minus) / (2.0 * REVOLUTION_ARCSEC)
 
 
-def scale_factor_d3(n_plus: float, n_minus: float, theta_plus_deg: float, theta_minus_deg: float) -> float:
+def scale_factor_d3(n_plus: float, n_minus: float, theta_plus_deg: float,
+                    theta_minus_deg: float) -> float:
     """Fixed-angle method, eq. (D.3): K_i = (N'_+i − N'_−i) / ((|θ_+| + |θ_−|) × 3 600), P/″."""
     return (n_plus - n_minus) / ((abs(theta_plus_deg) + abs(theta_minus_deg)) * 3600.0)
 
 
-def scale_factor_fit_d5_d6(K_i: Sequence[float], rates_deg_s: Sequence[float]) -> tuple[float, float]:
+def scale_factor_fit_d5_d6(K_i: Sequence[float], rates_deg_s: Sequence[float]) -> tuple[float,
+                                                                                        float]:
     """Least squares of K_i = K + W·Ω_i (eq. D.4), closed forms (D.5) and (D.6).
 
     :return: (K in P/″, W in (P/″)/((°)/s)).
@@ -312,7 +319,8 @@ def alpha1_rounding_d45(q_deg_h: float, tau0_h: float) -> float:
     return q_deg_h * q_deg_h * tau0_h / 12.0
 
 
-def asymmetry_sensitivity_n0(rates_deg_s: Sequence[float], t_plus_s: Sequence[float], t_minus_s: Sequence[float],
+def asymmetry_sensitivity_n0(rates_deg_s: Sequence[float], t_plus_s: Sequence[float],
+                             t_minus_s: Sequence[float],
                              K_plus: float, K_minus: float) -> float:
     """|∂K_a/∂N̄_0| of eqs. (D.8)–(D.10) (GB/T 45570 D.1.3.3), s/P, analytically.
 
@@ -341,7 +349,8 @@ def asymmetry_sensitivity_n0(rates_deg_s: Sequence[float], t_plus_s: Sequence[fl
 
 def std_upper_limit(s: float, n_values: int, p: float = 0.02275) -> float:
     """Upper confidence limit of σ from a Bessel standard deviation ``s`` of ``n_values`` normal
-    values, s·√(ν/χ²_p(ν)), ν = n − 1 (:func:`metro.core.uncertainty.budget.std_upper_limit`).  Used for the
+    values, s·√(ν/χ²_p(ν)), ν = n − 1 (:func:`metro.core.uncertainty.budget.std_upper_limit`).  Used
+    for the
     sampling row of D.42 (interpretations.md, D.5.3): at Q = 7, σ_upper = 2.243·s."""
     from metro.api import std_upper_limit as upper
 

@@ -65,7 +65,8 @@ def scale_factor_temperature_sensitivity_d12(K_i: Sequence[float], temps_C: Sequ
         if i == i0:
             continue
         if T[i] == T[i0]:
-            raise ValueError(f"point {i} has the room temperature {T[i]:g} °C; D.12 divides by T_i − T_0")
+            raise ValueError(f"point {i} has the room temperature {T[i]:g} °C; D.12 divides by T_i "
+                             f"− T_0")
         r = abs((K[i] - K[i0]) / (K[i0] * (T[i] - T[i0])))
         if r > best:
             best, imax = r, i
@@ -151,7 +152,8 @@ def rate_output_d19(F_j: float, F_r: float) -> float:
     return F_j - F_r
 
 
-def scale_factor_fit_d21_d22(rates_deg_s: Sequence[float], F_k: Sequence[float]) -> tuple[float, float]:
+def scale_factor_fit_d21_d22(rates_deg_s: Sequence[float], F_k: Sequence[float]) -> tuple[float,
+                                                                                          float]:
     """Least squares of F_kj = K·Ω_ij + F_0 (eq. D.20), closed forms (D.21) and (D.22).
 
     :param rates_deg_s: Ω_ij, signed (+ counter-clockwise), (°)/s; M of them.
@@ -176,7 +178,8 @@ def fitted_output_d23(K: float, F0: float, rates_deg_s: Sequence[float]) -> np.n
     return K * np.asarray(rates_deg_s, dtype=float) + F0
 
 
-def nonlinearity_d24_d25(F_hat: Sequence[float], F_k: Sequence[float], F_m: float) -> tuple[float, int]:
+def nonlinearity_d24_d25(F_hat: Sequence[float], F_k: Sequence[float], F_m: float) -> tuple[float,
+                                                                                            int]:
     """a_j = (F̂_j − F_kj)/|F_m| (eq. D.24) and K_n = |a_j|_max (eq. D.25).
 
     :param F_m: output at the stated rate (by default the maximum input rate), LSB.
@@ -203,7 +206,8 @@ def asymmetry_d26_d27(K_plus: float, K_minus: float) -> float:
 
 
 def max_input_rate_d3(rates_deg_s: Sequence[float], nonlinearity_of: Callable[[float], float],
-                      limit: float, min_points: int = 3) -> tuple[float | None, list[tuple[float, float]]]:
+                      limit: float, min_points: int = 3) -> tuple[float | None, list[tuple[float,
+                                                                                           float]]]:
     """Maximum input rate, D.3: the largest table rate whose range [−Ω, +Ω] has a scale-factor
     nonlinearity that meets its limit (definition 3.13, note 1: "within this range").
 

@@ -68,23 +68,31 @@ class MaxInputRateD3(Procedure):
     title = "Maximum input rate (最大输入角速率)"
     clause = "D.3"
     metrics = (Metric("Omega_max", "maximum input rate", "Ω_max", "deg/s", "D.3", "D.7, D.25"),)
-    requires = (attrs.evolve(RATE_OUTPUT, description="rate method: " + RATE_OUTPUT.description, alternative="sweep"),
-                SegmentRequirement("rate-revolutions", "or, angle method: m whole revolutions at each rate point, each "
-                                   "direction (D.1.1.2 g))", conditions={"rate": "deg/s", "turns": ""},
-                                   columns={"count": ("P",), "duration": ("s",)}, min_count=22, alternative="sweep"))
+    requires = (attrs.evolve(RATE_OUTPUT, description="rate method: " + RATE_OUTPUT.description,
+                             alternative="sweep"),
+                SegmentRequirement("rate-revolutions",
+                                   "or, angle method: m whole revolutions at each rate point, each "
+                                   "direction (D.1.1.2 g))", conditions={"rate": "deg/s",
+                                                                         "turns": ""},
+                                   columns={"count": ("P",), "duration": ("s",)}, min_count=22,
+                                   alternative="sweep"))
     equipment = RATE_EQUIPMENT
     options = (
-        Option("Kn_limit", None, None, "nonlinearity limit, e.g. \"10 ppm\" (default: device.nonlinearity_limit, "
+        Option("Kn_limit", None, None,
+               "nonlinearity limit, e.g. \"10 ppm\" (default: device.nonlinearity_limit, "
                "else table A.1/B.1 for the device's technology and application)"),
-        Option("method", "auto", None, "\"angle\" (pulse output, D.1), \"rate\" (LSB output, D.2) or \"auto\" "
-               "(the sweep the data hold; both: the one matching the device's output; for the sequence, "
+        Option("method", "auto", None,
+               "\"angle\" (pulse output, D.1), \"rate\" (LSB output, D.2) or \"auto\" (the sweep "
+               "the data hold; both: the one matching the device's output; for the sequence, "
                "\"auto\" means angle)"),
-        Option("max_rate", "400 °/s", "deg/s", "largest rate point tested (test beyond the expected maximum)"),
+        Option("max_rate", "400 °/s", "deg/s",
+               "largest rate point tested (test beyond the expected maximum)"),
         Option("turns", 5, None, "angle method: whole revolutions m per rate point and direction"),
         Option("duration", "100 s", "s", "rate method: record at each rate point and at rest"),
         Option("interval", "1 s", "s", "rate method: sampling interval"),
         Option("min_points", 11, None, "fewest rate points accepted (D.1.1.2 e), D.2.1.2 e))"),
-        Option("min_range_points", 3, None, "fewest rate points in a range before its K_n is judged"),
+        Option("min_range_points", 3, None,
+               "fewest rate points in a range before its K_n is judged"),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -92,8 +100,10 @@ class MaxInputRateD3(Procedure):
             return rate_sequence(options)
         return angle_sequence(options, zero=False)
 
-    def sequence_for_device(self, options: Mapping[str, Any], device: DeviceUnderTest | None) -> list[Step]:
-        """The sequence for a known device: ``method = auto`` becomes the sweep the device can give —
+    def sequence_for_device(self, options: Mapping[str, Any],
+                            device: DeviceUnderTest | None) -> list[Step]:
+        """The sequence for a known device: ``method = auto`` becomes the sweep the device can give
+        —
         whole-revolution pulse counts (angle method) need a pulse output, so a digital or analog
         output takes the rate method; a pulse output follows the 6.2.7.1 method rule."""
         if device is None or str(options.get("method", "auto")).lower() != "auto":
@@ -115,34 +125,57 @@ class MaxInputRateD3(Procedure):
         except ValueError as exc:
             raise DataError(campaign.source, "segments", f"D.3: {exc}") from exc
         if om is None:
-            raise ProcedureError(f"D.3: no tested range meets the nonlinearity limit {limit * 1e6:g} ppm ({lim_src}); "
-                                 f"the smallest range, up to {curve[0][0]:g} °/s, has K_n = {curve[0][1] * 1e6:.3g} ppm",
+            raise ProcedureError(f"D.3: no tested range meets the nonlinearity limit "
+                                 f"{limit * 1e6:g} ppm ({lim_src}); the smallest range, up to "
+                                 f"{curve[0][0]:g} °/s, has K_n = {curve[0][1] * 1e6:.3g} ppm",
                                  hint="test lower rates, or check the limit (option Kn_limit)")
         warnings = []
         if om == max(sweep.rates):
-            warnings.append(msg("K_n meets the limit up to the largest rate tested ({om:g} °/s); the maximum input rate "
-                                "may be higher — test beyond it{hint}", om=om, hint=hint(" (plan with -o max_rate=…)")))
+            warnings.append(msg("K_n meets the limit up to the largest rate tested ({om:g} °/s); "
+                                "the maximum input rate "
+                                "may be higher — test beyond it{hint}", om=om,
+                                hint=hint(" (plan with -o max_rate=…)")))
         failing_below = [r for r, kn in curve if r < om and kn > limit]
         if failing_below:
-            warnings.append(msg("ranges up to {rates} °/s exceed the limit while the range up to {om:g} °/s meets it "
+            warnings.append(msg("ranges up to {rates} °/s exceed the limit while the range up to "
+                                "{om:g} °/s meets it "
                                 "(definition 3.13 judges the range up to Ω_max)",
                                 rates=", ".join(f'{r:g}' for r in failing_below), om=om))
         # type A: the table rate at Ω_max as the gyro indicates it
         u_rate, nu = sweep.rate_u(om)
         how = msg("angle method") if method == "angle" else msg("rate method")
-        rows = [BudgetRow.type_a(msg("rate realised at {om:g} °/s, as the gyro indicates it", om=om), "u(Ω)",
+        rows = [BudgetRow.type_a(msg("rate realised at {om:g} °/s, as the gyro indicates it",
+                                     om=om), "u(Ω)",
                                  Q_(u_rate, "deg/s"), nu, note=how)]
-        rows += rate_row(campaign, msg("at {om:g} °/s", om=om), om, "deg/s", msg("the table's setting of Ω_max"),
+        rows += rate_row(campaign, msg("at {om:g} °/s", om=om), om, "deg/s",
+                         msg("the table's setting of Ω_max"),
                          rate=om)
         rows += _decision_rows(curve, sweep.kn_u, limit, om)
         budget = UncertaintyBudget("Ω_max", "deg/s", rows, coverage=COVERAGE)
         kn_at = dict(curve)[om]
-        res = Result(self.metrics[0], Q_(om, "deg/s"), budget.combined, budget,
-                     note=join("; ", [msg("K_n up to {om:g} °/s = {kn:.3g} ppm ≤ {limit:g} ppm ({source})", om=om,
-                                          kn=kn_at * 1e6, limit=limit * 1e6, source=lim_src), how]),
-                     earth_rate="not applicable")
+        res = Result(
+            self.metrics[0],
+            Q_(om, "deg/s"),
+            budget.combined,
+            budget,
+            note=join(
+                "; ",
+                [
+                    msg(
+                        "K_n up to {om:g} °/s = {kn:.3g} ppm ≤ {limit:g} ppm ({source})",
+                        om=om,
+                        kn=kn_at * 1e6,
+                        limit=limit * 1e6,
+                        source=lim_src,
+                    ),
+                    how,
+                ],
+            ),
+            earth_rate="not applicable",
+        )
         plot, table = _d3_figures(curve, limit)
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], tables=[table],
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot],
+                       tables=[table],
                        warnings=warnings, segments=sweep.segments, options=opts_text(opts))
 
 
@@ -164,7 +197,8 @@ def _d3_method(campaign: Campaign, opts: Mapping[str, Any]) -> str:
     if has_rate:
         return "rate"
     raise DataError(campaign.source, "segments",
-                    "D.3 needs the scale-factor sweep of D.1 (segments of kind \"rate-revolutions\") or of "
+                    "D.3 needs the scale-factor sweep of D.1 (segments of kind "
+                    "\"rate-revolutions\") or of "
                     "D.2 (\"rate-output\" and \"rate-static\"); none found",
                     hint="`metro plan --standard gbt45570 --item D.3` lists them")
 
@@ -214,7 +248,8 @@ def _angle_sweep(proc: type[Procedure], campaign: Campaign, nmin: int) -> _Sweep
         ca, _cb = F2.line_fit_sensitivities(w)
         g = -ca
         g[j] += 1.0
-        return F2.propagate(g / K0, [p.u_K for p in sub], [max(min(p.m_plus, p.m_minus) - 1, 1) for p in sub])[0]
+        return F2.propagate(g / K0, [p.u_K for p in sub], [max(min(p.m_plus, p.m_minus) - 1,
+                                                               1) for p in sub])[0]
 
     def rate_u(om: float) -> tuple[float, float]:
         p = next(p for p in pts if p.rate == om)
@@ -231,7 +266,8 @@ def _rate_sweep(proc: type[Procedure], campaign: Campaign, nmin: int) -> _Sweep:
         return nonlinearity_of(data, upto)[0]
 
     def kn_u(upto: float) -> float:
-        # D.2.2's budget of the range's K_n: its outputs' scatter, resolution, the table's rate error
+        # D.2.2's budget of the range's K_n: its outputs' scatter, resolution, the table's rate
+        # error
         _kn, j, Fm, sel, K, _F0 = nonlinearity_of(data, upto)
         b = nonlinearity_budget(campaign, data, j, Fm, K, sel=sel)
         return float(b.combined.to("").magnitude)
@@ -239,30 +275,41 @@ def _rate_sweep(proc: type[Procedure], campaign: Campaign, nmin: int) -> _Sweep:
     def rate_u(om: float) -> tuple[float, float]:
         K = fit_scale_factor(data).K
         sel = np.abs(data.rates) == om
-        return (float(np.sqrt(np.mean(data.uF[sel] ** 2) / sel.sum())) / abs(K)), int(data.n[sel].min()) - 1
+        u = float(np.sqrt(np.mean(data.uF[sel] ** 2) / sel.sum())) / abs(K)
+        return u, int(data.n[sel].min()) - 1
 
     return _Sweep(data.magnitudes, kn_of, kn_u, rate_u, list(data.segments))
 
 
 def _d3_figures(curve: list[tuple[float, float]], limit: float) -> tuple[PlotSpec, TableSpec]:
     """D.3's plot and table of K_n of each range against the limit."""
-    plot = PlotSpec("Kn_range", msg("K_n of the range [−Ω, +Ω] against Ω (D.3)"), "Ω (°/s)", "K_n (ppm)",
-                    [{"label": "K_n up to Ω", "x": [r for r, _ in curve], "y": [k * 1e6 for _, k in curve],
+    plot = PlotSpec("Kn_range", msg("K_n of the range [−Ω, +Ω] against Ω (D.3)"), "Ω (°/s)",
+                    "K_n (ppm)",
+                    [{"label": "K_n up to Ω", "x": [r for r, _ in curve], "y": [k * 1e6 for _,
+                                                                                k in curve],
                       "style": "o-"},
-                     {"label": msg("limit {v:g} ppm", v=limit * 1e6), "x": [curve[0][0], curve[-1][0]],
+                     {"label": msg("limit {v:g} ppm", v=limit * 1e6), "x": [curve[0][0],
+                                                                            curve[-1][0]],
                       "y": [limit * 1e6] * 2, "style": "--"}], logx=True)
     table = TableSpec("Kn_ranges", msg("K_n of each range (D.3)"),
                       [msg("up to Ω (°/s)"), "K_n (ppm)", msg("meets the limit")],
-                      [[f"{r:g}", f"{k * 1e6:.3g}", msg("yes") if k <= limit else msg("no")] for r, k in curve])
+                      [[f"{r:g}", f"{k * 1e6:.3g}", msg("yes") if k <= limit else msg("no")] for r,
+                       k in curve])
     return plot, table
 
 
-def _decision_rows(curve: list[tuple[float, float]], kn_u, limit: float, om: float) -> list[BudgetRow]:
-    """D.3's decision near the limit (interpretations.md, "D.3 — a range near the limit"): Ω_max is a tested
-    rate picked by comparing each range's K_n with the limit, so a K_n within 2u of the limit may have
-    been judged either way by the noise and the table's error.  The candidates are Ω_max, every larger
-    range whose K_n is within 2u of the limit (it may truly meet it), and, when Ω_max's own K_n is within
-    2u, the next smaller range; the row is uniform over the whole distance to the farthest candidate (as
+def _decision_rows(curve: list[tuple[float, float]], kn_u, limit: float,
+                   om: float) -> list[BudgetRow]:
+    """D.3's decision near the limit (interpretations.md, "D.3 — a range near the limit"): Ω_max is
+    a tested
+    rate picked by comparing each range's K_n with the limit, so a K_n within 2u of the limit may
+    have
+    been judged either way by the noise and the table's error.  The candidates are Ω_max, every
+    larger
+    range whose K_n is within 2u of the limit (it may truly meet it), and, when Ω_max's own K_n is
+    within
+    2u, the next smaller range; the row is uniform over the whole distance to the farthest candidate
+    (as
     D.4's 50 % decision)."""
     rates = [r for r, _ in curve]
     kn = dict(curve)
@@ -275,8 +322,11 @@ def _decision_rows(curve: list[tuple[float, float]], kn_u, limit: float, om: flo
     if not cands:
         return []
     half = max(abs(c - om) for c in cands)
-    why = join("; ", [msg("K_n up to {r:g} °/s = {kn:.3g} ± {u:.2g} ppm (2u) against {limit:g} ppm", r=r, kn=kn[r] * 1e6,
+    why = join("; ", [msg("K_n up to {r:g} °/s = {kn:.3g} ± {u:.2g} ppm (2u) against {limit:g} ppm",
+                          r=r, kn=kn[r] * 1e6,
                           u=2e6 * kn_u(r), limit=limit * 1e6) for r in sorted(doubtful)])
-    return [BudgetRow.type_b(msg("decision near the limit: a range whose K_n is within 2u of the limit may be judged "
-                                 "either way, so Ω_max may be the neighbouring rate"), "ΔΩ (decision)",
+    return [BudgetRow.type_b(msg("decision near the limit: a range whose K_n is within 2u of the "
+                                 "limit may be judged "
+                                 "either way, so Ω_max may be the neighbouring rate"),
+                             "ΔΩ (decision)",
                              Q_(half, "deg/s"), distribution="uniform", note=why)]

@@ -31,9 +31,11 @@ MISALIGNMENT = {"angle": "D.1.6", "rate": "D.2.6"}
 SERIES = {
     "scale-factor": (ANGLE_ITEMS + RATE_ITEMS,
                      "6.2.7.1 标度因数系列: D.1.1–D.1.5 or D.2.1–D.2.5 by the 6.2.7.1 method rule"),
-    "misalignment": (("D.1.6", "D.2.6"), "6.2.7.2 input-axis misalignment: D.1.6 (laser) or D.2.6 (fibre)"),
+    "misalignment": (("D.1.6", "D.2.6"),
+                     "6.2.7.2 input-axis misalignment: D.1.6 (laser) or D.2.6 (fibre)"),
     "bias": (("D.5.1", "D.5.2", "D.5.3", "D.5.4", "D.5.5"), "6.2.7.5 零偏系列: D.5.1–D.5.5"),
-    "environmental": (("D.6.1", "D.6.2", "D.6.3", "D.6.4"), "6.2.8 environmental tests: D.6.1–D.6.4"),
+    "environmental": (("D.6.1", "D.6.2", "D.6.3", "D.6.4"),
+                      "6.2.8 environmental tests: D.6.1–D.6.4"),
 }
 
 
@@ -48,7 +50,8 @@ def _declared_nonlinearity(device: DeviceUnderTest) -> Any:
 def method_for(device: DeviceUnderTest | None) -> tuple[str, str]:
     """("angle" or "rate", the reason in words) for ``device`` by clause 6.2.7.1."""
     if device is None:
-        return "angle", msg("device not known before acquisition; the angle method (D.1) is assumed")
+        return "angle", msg("device not known before acquisition; "
+                            "the angle method (D.1) is assumed")
     tech = (device.technology or "").lower()
     if tech == "laser":
         return "angle", msg("laser gyro: clause 6.2.7.1 prescribes the angle method (D.1)")
@@ -61,15 +64,18 @@ def method_for(device: DeviceUnderTest | None) -> tuple[str, str]:
     else:
         app = application_of(device.application)
         if app is None:
-            return "rate", msg("{who} without a declared nonlinearity or a known application: clause 6.2.7.1 rate "
+            return "rate", msg("{who} without a declared nonlinearity or a known application: "
+                               "clause 6.2.7.1 rate "
                                "method (D.2), which does not presume K_n ≤ 5×10⁻⁶", who=who)
         row = next(r for r in TABLE_B1 if r.key == "Kn")
         basis = Q_(row.limits[app], row.unit)
         what = msg("typical nonlinearity limit {kn:g}×10⁻⁶ (table B.1, {app}; none declared)",
                    kn=basis.to('ppm').magnitude, app=app)
     if basis.to("").magnitude <= THRESHOLD.magnitude:
-        return "angle", msg("{who}, {what} ≤ 5×10⁻⁶: clause 6.2.7.1 angle method (D.1)", who=who, what=what)
-    return "rate", msg("{who}, {what} > 5×10⁻⁶: clause 6.2.7.1 rate method (D.2)", who=who, what=what)
+        return "angle", msg("{who}, {what} ≤ 5×10⁻⁶: clause 6.2.7.1 angle method (D.1)", who=who,
+                            what=what)
+    return "rate", msg("{who}, {what} > 5×10⁻⁶: clause 6.2.7.1 rate method (D.2)", who=who,
+                       what=what)
 
 
 def applicability(procedure, device: DeviceUnderTest | None) -> Applicability | None:

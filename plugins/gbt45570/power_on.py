@@ -41,9 +41,11 @@ class SetupTime6277(Procedure):
     reaches the required performance, read as the instant the window mean of the output comes
     within ±``tolerance`` of the settled bias (the mean of the last ``settled`` of the record);
     where noise takes it in and out of the band, the midpoint of the first entry and the final
-    one (eq. in :func:`.env_formulas.setup_time_6277`; interpretations.md).  Budget: the crossing's noise
+    one (eq. in :func:`.env_formulas.setup_time_6277`; interpretations.md).  Budget: the crossing's
+    noise
     (A: σ of a window mean over the output's slope there), the re-crossings of the band between
-    the first entry and the final one (B: uniform over that span), the sampling of the record (B: uniform
+    the first entry and the final one (B: uniform over that span), the sampling of the record (B:
+    uniform
     ±τ), the timer or the counter's time base (B).
     """
 
@@ -53,11 +55,14 @@ class SetupTime6277(Procedure):
     clause = "6.2.7.7"
     metrics = (Metric("setup_time", "set-up time", "t_s", "s", "6.2.7.7", ""),)
     requires = (SegmentRequirement("power-on", "output recorded from the switch-on, IRA up",
-                                   conditions={"orientation": ""}, columns={"output": OUTPUT_UNITS}),)
-    equipment = (EquipmentRequirement("timer", "timer (6.2.7.7); its calibration enters the budget, otherwise the "
-                                      "counter's time base"), COUNTER)
+                                   conditions={"orientation": ""},
+                                   columns={"output": OUTPUT_UNITS}),)
+    equipment = (EquipmentRequirement("timer",
+                                      "timer (6.2.7.7); its calibration enters the budget, "
+                                      "otherwise the counter's time base"), COUNTER)
     options = (
-        Option("tolerance", "5 deg/h", "deg/h", "the required performance: band around the settled bias"),
+        Option("tolerance", "5 deg/h", "deg/h",
+               "the required performance: band around the settled bias"),
         Option("window", "1 s", "s", "averaging window of the output"),
         Option("settled", "60 s", "s", "the last part of the record that gives the settled bias"),
         Option("record", "120 s", "s", "record length from the switch-on"),
@@ -65,18 +70,23 @@ class SetupTime6277(Procedure):
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})
-        return [Step("power-on", "power-on", "gyro at rest, IRA up, unpowered; switch on and record from that instant "
-                     f"for {opts['record']:~P} at {opts['interval']:~P} (6.2.7.7)", opts["record"].to("s"),
+        opts = self.option_values({k: v for k,
+                                   v in options.items() if k in {o.name for o in self.options}})
+        return [Step("power-on", "power-on",
+                     "gyro at rest, IRA up, unpowered; switch on and record from that instant "
+                     f"for {opts['record']:~P} at {opts['interval']:~P} (6.2.7.7)",
+                     opts["record"].to("s"),
                      opts["interval"].to("s"), {"orientation": "IRA up"})]
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
         segs = campaign.find_segments("power-on")
         if not segs:
-            raise DataError(campaign.source, "segments", "6.2.7.7 needs a segment of kind \"power-on\": the output "
+            raise DataError(campaign.source, "segments",
+                            "6.2.7.7 needs a segment of kind \"power-on\": the output "
                             "recorded from the switch-on; none found",
-                            hint="`metro plan --standard gbt45570 --item 6.2.7.7` shows what to measure")
+                            hint="`metro plan --standard gbt45570 --item 6.2.7.7` shows what to "
+                                 "measure")
         seg = segs[0]
         series, conv = gyro_output(seg, campaign.device, source=campaign.source)
         raw = np.asarray(series.data.magnitude, dtype=float)
@@ -89,7 +99,8 @@ class SetupTime6277(Procedure):
         start = y.size - n_set
         if start < 2 * w or n_set < 2 * w:
             raise DataError(seg.file or f"segment {seg.id}", "output",
-                            f"a record of {y.size} samples at {tau:g} s is too short for the settled part "
+                            f"a record of {y.size} samples at {tau:g} s is too short for the "
+                            f"settled part "
                             f"({opts['settled']:~P}) and windows of {opts['window']:~P} before it")
         # what a window mean can resolve: one pulse over the window (a pulse count carries its
         # remainder), or one step of a rounded output (it does not average out undithered)
@@ -102,10 +113,13 @@ class SetupTime6277(Procedure):
             # the band cannot be told from the output's steps at this window: widen it until one
             # step is within half the band, evaluate for information, and say so (not reportable)
             w_used = w * int(math.ceil(res / (tol / 2.0)))
-            reason = msg("over the {w:g} s window the output resolves only {res:.3g} °/h (one {what}), coarser than half "
-                         "the band ±{tol:g} °/h: the instant the gyro enters the band cannot be read; the value shown is "
-                         "from a {used:g} s window — use a finer output or agree a longer window{hint}", hint=hint(" (option window)"),
-                         w=w * tau, res=res, what=msg("pulse") if conv.output_kind == "pulse" else msg("output step"),
+            reason = msg("over the {w:g} s window the output resolves only {res:.3g} °/h (one "
+                         "{what}), coarser than half the band ±{tol:g} °/h: the instant the gyro "
+                         "enters the band cannot be read; the value shown is from a {used:g} s "
+                         "window — use a finer output or agree a longer "
+                         "window{hint}", hint=hint(" (option window)"),
+                         w=w * tau, res=res,
+                         what=msg("pulse") if conv.output_kind == "pulse" else msg("output step"),
                          tol=tol, used=w_used * tau)
             if start < 2 * w_used:
                 raise DataError(seg.file or f"segment {seg.id}", "output",
@@ -118,20 +132,25 @@ class SetupTime6277(Procedure):
             st = E.setup_time_excursions_6277(y, tau, w, start, tol, s_w)
         except ValueError as exc:
             raise DataError(seg.file or f"segment {seg.id}", "output", str(exc),
-                            hint="record longer, or check the option tolerance against the product spec") from exc
+                            hint="record longer, or check the option tolerance against the product "
+                                 "spec") from exc
         ts, settled = st["t_s"], st["settled"]
         mm = E.moving_mean(y[:start], w)
         rows = _setup_rows(campaign, mm, tau, w, st, s_w, res, tail.size)
         budget = UncertaintyBudget("t_s", "s", rows, coverage=COVERAGE)
         result = Result(self.metrics[0], Q_(ts, "s"), budget.combined, budget,
-                        note=msg("settled bias {b:.4g} °/h, band ±{tol:g} °/h, window {w:g} s", b=settled, tol=tol, w=w * tau),
+                        note=msg("settled bias {b:.4g} °/h, band ±{tol:g} °/h, window {w:g} s",
+                                 b=settled, tol=tol, w=w * tau),
                         earth_rate="not applicable", reportable=not reason, reason=reason)
         plot = _setup_plot(mm, tau, w, settled, tol, ts)
-        return Outcome(STANDARD, self.item, self.title, self.clause, [result], plots=[plot], segments=[seg.id],
-                       options=opts_text(opts), warnings=[f"t_s is NOT REPORTABLE: {reason}"] if reason else [])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [result], plots=[plot],
+                       segments=[seg.id],
+                       options=opts_text(opts),
+                       warnings=[f"t_s is NOT REPORTABLE: {reason}"] if reason else [])
 
 
-def _setup_rows(campaign: Campaign, mm: np.ndarray, tau: float, w: int, st: Mapping[str, Any], s_w: float,
+def _setup_rows(campaign: Campaign, mm: np.ndarray, tau: float, w: int, st: Mapping[str, Any],
+                s_w: float,
                 res: float, n_tail: int) -> list[BudgetRow]:
     """The budget rows of the set-up time t_s (6.2.7.7): the window mean's noise and resolution at
     the crossing over the output's slope, the sampling, re-crossings, the choice of the last
@@ -154,24 +173,33 @@ def _setup_rows(campaign: Campaign, mm: np.ndarray, tau: float, w: int, st: Mapp
     rows = []
     if slopes:  # the output was outside the band at first: the crossing time carries noise
         slope = max(slopes)[1]
-        rows.append(BudgetRow.type_a(msg("noise of the window mean at the crossing, over the output's slope"),
-                                     "σ_w/|dȳ/dt|", Q_(math.sqrt(u_noise2), "s"), max(n_tail - 1, 1),
-                                     note=msg("σ_w = {s:.3g} °/h, slope {slope:.3g} (°/h)/s", s=s_w, slope=slope)))
+        rows.append(BudgetRow.type_a(msg("noise of the window mean at the crossing, over the "
+                                         "output's slope"),
+                                     "σ_w/|dȳ/dt|", Q_(math.sqrt(u_noise2), "s"), max(n_tail - 1,
+                                                                                      1),
+                                     note=msg("σ_w = {s:.3g} °/h, slope {slope:.3g} (°/h)/s", s=s_w,
+                                              slope=slope)))
         if u_res2 > 0:
-            # a quantized window mean (an undithered counter's sawtooth, a rounded word) is not in σ_w
-            rows.append(BudgetRow.type_b(msg("resolution of the window mean at the crossing (half a step), over "
-                                             "the output's slope"), "δ_q/|dȳ/dt|", Q_(math.sqrt(3.0 * u_res2), "s"),
+            # a quantized window mean (an undithered counter's sawtooth, a rounded word) is not in
+            # σ_w
+            rows.append(BudgetRow.type_b(msg("resolution of the window mean at the crossing (half "
+                                             "a step), over the output's slope"), "δ_q/|dȳ/dt|",
+                                         Q_(math.sqrt(3.0 * u_res2), "s"),
                                          distribution="uniform",
-                                         note=msg("one step of the window mean: {res:.3g} °/h", res=res)))
-    rows.append(BudgetRow.type_b(msg("sampling: the window means step by τ, the crossing lies within ±τ of the "
-                                     "reported instant"), "τ", Q_(tau, "s"), distribution="uniform"))
+                                         note=msg("one step of the window mean: {res:.3g} °/h",
+                                                  res=res)))
+    rows.append(BudgetRow.type_b(msg("sampling: the window means step by τ, the crossing lies "
+                                     "within ±τ of the reported instant"), "τ", Q_(tau, "s"),
+                                 distribution="uniform"))
     if st["u_span"] > 0:  # noise took the output in and out of the band: the crossing is ambiguous
-        rows.append(BudgetRow.type_b(msg("re-crossings of the band between the first entry and the final one"),
+        rows.append(BudgetRow.type_b(msg("re-crossings of the band between the first entry and the "
+                                         "final one"),
                                      "(t_out − t_in)/2", Q_(math.sqrt(3.0) * st["u_span"], "s"),
                                      distribution="uniform"))
     if st["u_selection"] > 0:  # which excursion beyond the band was the last real one
         rows.append(BudgetRow.type_b(
-            msg("which excursion beyond the band is the last real one (spread of the candidates' exits)"),
+            msg("which excursion beyond the band is the last real one (spread of the candidates' "
+                "exits)"),
             "u_sel", Q_(st["u_selection"], "s"), distribution="normal", k=1.0,
             note=msg("exits {exits} s with probabilities {probs}",
                      exits=", ".join(f"{e:.4g}" for e in st["exits"]),
@@ -180,24 +208,31 @@ def _setup_rows(campaign: Campaign, mm: np.ndarray, tau: float, w: int, st: Mapp
     if timer is not None and timer.calibration is not None:
         cal = timer.calibration
         sens = Q_(ts, "s") if cal.uncertainty.dimensionless else Q_(1.0, "")
-        rows.append(BudgetRow.from_calibration(msg("timer ({equipment})", equipment=timer.describe()), "u(t)", cal,
+        rows.append(BudgetRow.from_calibration(msg("timer ({equipment})",
+                                                   equipment=timer.describe()), "u(t)", cal,
                                                sensitivity=sens))
     else:
         rows += timebase_row(campaign, ts, "s", "t_s")
     return rows
 
 
-def _setup_plot(mm: np.ndarray, tau: float, w: int, settled: float, tol: float, ts: float) -> PlotSpec:
+def _setup_plot(mm: np.ndarray, tau: float, w: int, settled: float, tol: float,
+                ts: float) -> PlotSpec:
     """6.2.7.7's plot: the window mean after switch-on, the band and t_s."""
     t_mm = (np.arange(mm.size) + w) * tau
     step = max(1, mm.size // 400)
-    plot = PlotSpec("setup", msg("Window mean of the output after switch-on (6.2.7.7)"), "t (s)", "ω̄ (°/h)",
-                    [{"label": msg("{w:g} s mean", w=w * tau), "x": t_mm[::step].tolist(), "y": mm[::step].tolist(),
+    plot = PlotSpec("setup", msg("Window mean of the output after switch-on (6.2.7.7)"), "t (s)",
+                    "ω̄ (°/h)",
+                    [{"label": msg("{w:g} s mean", w=w * tau), "x": t_mm[::step].tolist(),
+                      "y": mm[::step].tolist(),
                       "style": "-"},
-                     {"label": msg("band"), "x": [0.0, float(t_mm[-1])], "y": [settled + tol, settled + tol],
+                     {"label": msg("band"), "x": [0.0, float(t_mm[-1])], "y": [settled + tol,
+                                                                               settled + tol],
                       "style": "--"},
-                     {"label": "", "x": [0.0, float(t_mm[-1])], "y": [settled - tol, settled - tol], "style": "--"},
-                     {"label": f"t_s = {ts:g} s", "x": [ts, ts], "y": [settled - tol, settled + tol],
+                     {"label": "", "x": [0.0, float(t_mm[-1])], "y": [settled - tol, settled - tol],
+                      "style": "--"},
+                     {"label": f"t_s = {ts:g} s", "x": [ts, ts], "y": [settled - tol,
+                                                                       settled + tol],
                       "style": "-"}])
     return plot
 
@@ -217,7 +252,8 @@ class PowerConsumption6278(Procedure):
     clause = "6.2.7.8"
     metrics = (Metric("P", "power consumption", "P", "W", "6.2.7.8", ""),)
     requires = (SegmentRequirement("power", "input voltage and current of one supply, in operation",
-                                   conditions={"supply": ""}, columns={"voltage": ("V",), "current": ("A",)}),)
+                                   conditions={"supply": ""}, columns={"voltage": ("V",),
+                                                                       "current": ("A",)}),)
     equipment = (EquipmentRequirement("voltmeter", "voltage measuring equipment (6.2.7.8)"),
                  EquipmentRequirement("ammeter", "current measuring equipment (6.2.7.8)"))
     options = (
@@ -227,13 +263,16 @@ class PowerConsumption6278(Procedure):
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k, v in options.items() if k in {o.name for o in self.options}})
+        opts = self.option_values({k: v for k,
+                                   v in options.items() if k in {o.name for o in self.options}})
         steps = []
         for text in str(opts["supplies"]).split(","):
             V = parse_quantity(text.strip(), dimension="V", field="option supplies")
             v = float(V.to("V").magnitude)
-            steps.append(Step(f"power-{v:+g}V", "power", f"gyro in operation: record the {v:+g} V supply's voltage and "
-                              f"current for {opts['record']:~P} at 1 s (6.2.7.8)", opts["record"].to("s"), Q_(1, "s"),
+            steps.append(Step(f"power-{v:+g}V", "power",
+                              f"gyro in operation: record the {v:+g} V supply's voltage and "
+                              f"current for {opts['record']:~P} at 1 s (6.2.7.8)",
+                              opts["record"].to("s"), Q_(1, "s"),
                               {"supply": f"{v:g} V"}))
         return steps
 
@@ -241,7 +280,8 @@ class PowerConsumption6278(Procedure):
         opts = self.option_values(ctx.options)
         segs = campaign.find_segments("power")
         if not segs:
-            raise DataError(campaign.source, "segments", "6.2.7.8 needs one segment of kind \"power\" per supply "
+            raise DataError(campaign.source, "segments",
+                            "6.2.7.8 needs one segment of kind \"power\" per supply "
                             "(columns voltage [V] and current [A]); none found")
         b = int(opts["batches"])
         Us, Is, rowsA, table = [], [], [], []
@@ -252,16 +292,19 @@ class PowerConsumption6278(Procedure):
             for name, a in (("voltage", u), ("current", i)):
                 if not np.all(np.isfinite(a)):
                     k = int(np.argmin(np.isfinite(a)))
-                    raise DataError(s.file or f"segment {s.id}", name, f"sample {k + 1} is {a[k]!r}")
+                    raise DataError(s.file or f"segment {s.id}", name,
+                                    f"sample {k + 1} is {a[k]!r}")
             if u.size != i.size:
                 raise DataError(s.file or f"segment {s.id}", "current",
                                 f"{i.size} current samples against {u.size} voltage samples")
             if u.size < 2 * b:
-                raise DataError(s.file or f"segment {s.id}", "voltage", f"{u.size} samples are too few for {b} batches")
+                raise DataError(s.file or f"segment {s.id}", "voltage",
+                                f"{u.size} samples are too few for {b} batches")
             Us.append(u)
             Is.append(i)
             sd, nb = allan.block_std(u * i, u.size // b)
-            rowsA.append(BudgetRow.type_a(msg("scatter of U·I, supply {supply} (batch means)", supply=s.conditions['supply']),
+            rowsA.append(BudgetRow.type_a(msg("scatter of U·I, supply {supply} (batch means)",
+                                              supply=s.conditions['supply']),
                                           "s_b/√b", Q_(sd / math.sqrt(nb), "W"), nb - 1))
         P, parts = E.power_6278(Us, Is)
         rows = list(rowsA)
@@ -276,14 +319,19 @@ class PowerConsumption6278(Procedure):
                 sens = Q_(P, "W")
             else:
                 sens = Q_(sum(other), "W") / Q_(1.0, "V" if role == "voltmeter" else "A")
-            rows.append(BudgetRow.from_calibration(msg("{what} ({equipment})", what=role, equipment=eq.describe()), sym, cal,
+            rows.append(BudgetRow.from_calibration(msg("{what} ({equipment})", what=role,
+                                                       equipment=eq.describe()), sym, cal,
                                                    sensitivity=sens,
-                                                   note=msg("same instrument on every supply: contributions add linearly")))
+                                                   note=msg("same instrument on every supply: "
+                                                            "contributions add linearly")))
         budget = UncertaintyBudget("P", "W", rows, coverage=COVERAGE)
         for s, u, i, p in zip(segs, Us, Is, parts):
-            table.append([s.id, str(s.conditions["supply"]), f"{np.mean(u):.4f}", f"{np.mean(i):.5f}", f"{p:.4f}"])
+            table.append([s.id, str(s.conditions["supply"]), f"{np.mean(u):.4f}",
+                          f"{np.mean(i):.5f}", f"{p:.4f}"])
         tab = TableSpec("supplies", msg("Mean voltage, current and power per supply (6.2.7.8)"),
                         [msg("segment"), msg("supply"), "U (V)", "I (A)", "U·I (W)"], table)
-        res = Result(self.metrics[0], Q_(P, "W"), budget.combined, budget, note=msg("{n} supplies", n=len(segs)), earth_rate="not applicable")
+        res = Result(self.metrics[0], Q_(P, "W"), budget.combined, budget, note=msg("{n} supplies",
+                                                                                    n=len(segs)),
+                     earth_rate="not applicable")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[tab],
                        segments=[s.id for s in segs], options=opts_text(opts))

@@ -31,7 +31,7 @@ from metro.api import (
 )
 
 from . import formulas_rate as F2
-from .common import COVERAGE, ItemRef, group_of, resolution, resolution_row
+from .common import COVERAGE, DIRECTIONS, ItemRef, group_of, resolution, resolution_row
 from .revolutions import rate_points
 
 LSB_PER_RATE = "LSB/(deg/s)"
@@ -44,12 +44,15 @@ OUTPUT_UNITS = ("LSB", "Hz", "deg/s")
 
 
 RATE_OUTPUT = SegmentRequirement(
-    "rate-output", "output sampled at each rate point once the table is steady, both directions (D.2.1.2 f), g))",
+    "rate-output",
+                                 "output sampled at each rate point once the table is steady, both "
+                                 "directions (D.2.1.2 f), g))",
     conditions={"rate": "deg/s"}, columns={"output": OUTPUT_UNITS}, min_count=22,
 )
 
 
-REST = SegmentRequirement("rate-static", "table at rest at the start and at the end of the test (D.2.1.2 h))",
+REST = SegmentRequirement("rate-static",
+                          "table at rest at the start and at the end of the test (D.2.1.2 h))",
                           conditions={"when": ""}, columns={"output": OUTPUT_UNITS}, min_count=2)
 
 
@@ -89,40 +92,52 @@ _APPLICATION = {"aerospace": "aerospace", "space": "aerospace", "航天": "aeros
                 "marine": "marine", "ship": "marine", "naval": "marine", "船舶": "marine"}
 
 
-def default_nonlinearity_limit(device: DeviceUnderTest, source: str | None = None) -> tuple[Any, str]:
+def default_nonlinearity_limit(device: DeviceUnderTest, source: str | None = None) -> tuple[Any,
+                                                                                            str]:
     """The K_n limit D.3 judges against: the device specification's ``nonlinearity_limit`` if
     given, else the typical value of table A.1 (laser) or B.1 (fibre) for its application."""
     if "nonlinearity_limit" in device.properties:
         q = device.prop("nonlinearity_limit", "", source=source)
-        return Q_(float(q.to("").magnitude), ""), msg("device specification (device.nonlinearity_limit)")
+        return Q_(float(q.to("").magnitude),
+                  ""), msg("device specification (device.nonlinearity_limit)")
     tech = _TECHNOLOGY.get(str(device.technology).strip().lower())
     app = _APPLICATION.get(str(device.application).strip().lower())
     if tech is None or app is None:
         raise DataError(source, "device.technology/application",
-                        f"no default nonlinearity limit for technology {device.technology!r}, application "
-                        f"{device.application!r} (tables A.1/B.1 know laser/fibre × aerospace/aviation/marine)",
-                        hint="give the option Kn_limit (e.g. \"10 ppm\") or device.nonlinearity_limit")
+                        f"no default nonlinearity limit for technology {device.technology!r}, "
+                        f"application {device.application!r} (tables A.1/B.1 know laser/fibre × "
+                        f"aerospace/aviation/marine)",
+                        hint="give the option Kn_limit (e.g. \"10 ppm\") or "
+                             "device.nonlinearity_limit")
     table = "A.1" if tech == "laser" else "B.1"
-    return Q_(NONLINEARITY_LIMITS_PPM[tech][app] * 1e-6, ""), msg("table {table} ({technology}, {application})",
-                                                                   table=table, technology=tech, application=app)
+    return Q_(NONLINEARITY_LIMITS_PPM[tech][app] * 1e-6,
+              ""), msg("table {table} ({technology}, {application})",
+                                                                   table=table, technology=tech,
+                                                                  application=app)
 
 
-def rate_sequence(options: Mapping[str, Any], extra: Mapping[str, Any] | None = None, prefix: str = "",
+def rate_sequence(options: Mapping[str, Any], extra: Mapping[str, Any] | None = None,
+                  prefix: str = "",
                   note: str = "") -> list[Step]:
     """D.2.1.2: at rest (start), each R5 rate point both ways, at rest (end)."""
-    rmax = float(parse_quantity(options.get("max_rate", "400 °/s"), dimension="deg/s").to("deg/s").magnitude)
+    rmax = float(parse_quantity(options.get("max_rate", "400 °/s"),
+                                dimension="deg/s").to("deg/s").magnitude)
     dur = parse_quantity(options.get("duration", "100 s"), dimension="s")
     tau = parse_quantity(options.get("interval", "1 s"), dimension="s")
     extra = dict(extra or {})
     head = f"{note}: " if note else ""
-    steps = [Step(f"{prefix}rest-start", "rate-static", head + "table at rest at the start; record n samples "
+    steps = [Step(f"{prefix}rest-start", "rate-static",
+                  head + "table at rest at the start; record n samples "
                   "(D.2.1.2 h))", dur, tau, {"when": "start"} | extra, warmup=Q_(30, "min"))]
     for r in rate_points(rmax):
-        for sign, word in ((1, "counter-clockwise (+)"), (-1, "clockwise (−)")):
+        for sign, word in DIRECTIONS:
             steps.append(Step(f"{prefix}rate{sign * r:+g}", "rate-output",
-                              head + f"table at {r:g} °/s {word}; once steady record n samples, stop "
-                              "(D.2.1.2 f), g))", dur, tau, {"rate": f"{sign * r:g} deg/s"} | extra))
-    steps.append(Step(f"{prefix}rest-end", "rate-static", head + "table at rest at the end; record n samples "
+                              head + f"table at {r:g} °/s {word}; once steady record n samples, "
+                                     f"stop "
+                              "(D.2.1.2 f), g))", dur, tau,
+                              {"rate": f"{sign * r:g} deg/s"} | extra))
+    steps.append(Step(f"{prefix}rest-end", "rate-static",
+                      head + "table at rest at the end; record n samples "
                       "(D.2.1.2 h))", dur, tau, {"when": "end"} | extra))
     return steps
 
@@ -157,18 +172,24 @@ def output_series(seg: Segment) -> tuple[np.ndarray, str]:
         except DataError:
             continue
         return np.asarray(data.to(unit).magnitude, dtype=float), unit
-    raise DataError(seg.file, "output", f"unit {data.units} is none of {', '.join(OUTPUT_UNITS)}")  # pragma: no cover
+    # pragma: no cover
+    raise DataError(seg.file, "output", f"unit {data.units} is none of {', '.join(OUTPUT_UNITS)}")
 
 
 def mean_output(seg: Segment, campaign: Campaign) -> tuple[float, float, int, str]:
+    """The mean output of one segment (D.17), its standard uncertainty, its number of samples and
+    its unit."""
     x, unit = output_series(seg)
     if x.size < 2 or not np.all(np.isfinite(x)):
-        bad = "fewer than 2 samples" if x.size < 2 else f"sample {int(np.argmin(np.isfinite(x))) + 1} is not finite"
-        raise DataError(seg.file or f"segment {seg.id}", "output", f"{bad}; D.17 needs a finite record")
+        bad = ("fewer than 2 samples" if x.size < 2 else
+               f"sample {int(np.argmin(np.isfinite(x))) + 1} is not finite")
+        raise DataError(seg.file or f"segment {seg.id}", "output",
+                        f"{bad}; D.17 needs a finite record")
     return F2.mean_output_d17(x), float(np.std(x, ddof=1) / math.sqrt(x.size)), int(x.size), unit
 
 
-def collect_rate_data(proc: type[Procedure] | ItemRef, campaign: Campaign, min_points: int, group: tuple[str, str] = ("", ""),
+def collect_rate_data(proc: type[Procedure] | ItemRef, campaign: Campaign, min_points: int,
+                      group: tuple[str, str] = ("", ""),
                       what: str = "") -> RateData:
     """Mean outputs (D.17), the rest output (D.18) and F_kj (D.19) of the segments of one group
     (``run``, ``temperature``; ("", "") = neither)."""
@@ -177,17 +198,20 @@ def collect_rate_data(proc: type[Procedure] | ItemRef, campaign: Campaign, min_p
     rest = [s for s in campaign.find_segments("rate-static") if group_of(s) == group]
     if not segs:
         raise DataError(campaign.source, "segments",
-                        f"{proc.qualified_id()} needs segments of kind \"rate-output\"{where} (output at each rate "
+                        f"{proc.qualified_id()} needs segments of kind \"rate-output\"{where} "
+                        f"(output at each rate "
                         "point, D.2.1.2 g)); none found",
                         hint=f"`metro plan --standard gbt45570 --item {proc.item}` lists them")
     when = {str(s.condition("when")).strip().lower(): s for s in rest}
     missing = [w for w in ("start", "end") if w not in when]
     if missing:
         raise DataError(campaign.source, "segments",
-                        f"{proc.qualified_id()} needs the output with the table at rest at the start and the end "
-                        f"(segments of kind \"rate-static\", when = start / end{where}, D.2.1.2 h)); missing: "
-                        f"{', '.join(missing)}")
-    (Fs, us, _, unit), (Fe, ue, _, unit_e) = mean_output(when["start"], campaign), mean_output(when["end"], campaign)
+                        f"{proc.qualified_id()} needs the output with the table at rest at the "
+                        f"start and the end (segments of kind \"rate-static\", when = start / "
+                        f"end{where}, D.2.1.2 h)); missing: {', '.join(missing)}")
+    (Fs, us, _, unit), (Fe, ue, _, unit_e) = mean_output(when["start"],
+                                                         campaign), mean_output(when["end"],
+                                                                                campaign)
     units = {unit, unit_e}
     Fr = F2.rest_output_d18(Fs, Fe)
     uFr = 0.5 * math.hypot(us, ue)
@@ -195,16 +219,19 @@ def collect_rate_data(proc: type[Procedure] | ItemRef, campaign: Campaign, min_p
     for s in segs:
         rate = float(s.condition("rate", "deg/s").to("deg/s").magnitude)
         if rate == 0:
-            raise DataError(campaign.source, f"segments.{s.id}.conditions.rate", "a rate point cannot be 0 °/s")
+            raise DataError(campaign.source, f"segments.{s.id}.conditions.rate",
+                            "a rate point cannot be 0 °/s")
         d = 1 if rate > 0 else -1
         slot = by_rate.setdefault(round(abs(rate), 9), {})
         if d in slot:
-            raise DataError(campaign.source, f"segments.{s.id}", f"two segments at {rate:+g} °/s{where}")
+            raise DataError(campaign.source, f"segments.{s.id}",
+                            f"two segments at {rate:+g} °/s{where}")
         mean = mean_output(s, campaign)
         slot[d] = (s, rate) + mean[:3]
         units.add(mean[3])
     if len(units) > 1:
-        raise DataError(campaign.source, "segments", f"{proc.qualified_id()}{where}: the outputs are of different "
+        raise DataError(campaign.source, "segments",
+                        f"{proc.qualified_id()}{where}: the outputs are of different "
                         f"kinds ({', '.join(sorted(units))}); one test records one output")
     rates, Fk, uF, n, ids = [], [], [], [], [s.id for s in rest]
     for mag, pair in sorted(by_rate.items()):
@@ -212,7 +239,8 @@ def collect_rate_data(proc: type[Procedure] | ItemRef, campaign: Campaign, min_p
             only = next(iter(pair.values()))[0]
             missing_dir = "clockwise (−)" if 1 in pair else "counter-clockwise (+)"
             raise DataError(campaign.source, f"segments.{only.id}",
-                            f"rate point {mag:g} °/s{where} has no {missing_dir} record; D.2.1.2 f) turns the table "
+                            f"rate point {mag:g} °/s{where} has no {missing_dir} record; D.2.1.2 "
+                            f"f) turns the table "
                             "both ways")
         for d in (1, -1):
             s, rate, Fj, u, m = pair[d]
@@ -223,9 +251,11 @@ def collect_rate_data(proc: type[Procedure] | ItemRef, campaign: Campaign, min_p
             ids.append(s.id)
     if len(by_rate) < min_points:
         raise DataError(campaign.source, "segments",
-                        f"{proc.qualified_id()} needs at least {min_points} rate points (D.2.1.2 e)){where}; "
-                        f"found {len(by_rate)}", hint="or lower the option min_points if agreed with the user")
-    return RateData(np.array(rates), np.array(Fk), np.array(uF), np.array(n), Fr, uFr, tuple(ids), unit)
+                        f"{proc.qualified_id()} needs at least {min_points} rate points (D.2.1.2 "
+                        f"e)){where}; found {len(by_rate)}",
+                        hint="or lower the option min_points if agreed with the user")
+    return RateData(np.array(rates), np.array(Fk), np.array(uF), np.array(n), Fr, uFr, tuple(ids),
+                    unit)
 
 
 def rate_band(campaign: Campaign, rate: float) -> tuple[float, float, str] | None:
@@ -237,11 +267,15 @@ def rate_band(campaign: Campaign, rate: float) -> tuple[float, float, str] | Non
         return None
     i = 1
     while f"rate_band_{i}_upper" in tab.properties:
-        upper = float(tab.prop(f"rate_band_{i}_upper", "deg/s", source=campaign.source).to("deg/s").magnitude)
+        upper = float(tab.prop(f"rate_band_{i}_upper", "deg/s",
+                               source=campaign.source).to("deg/s").magnitude)
         if abs(rate) <= upper * (1 + 1e-12):
             err = tab.prop(f"rate_band_{i}_error", "", source=campaign.source)
             rip = tab.prop(f"rate_band_{i}_ripple", "", source=campaign.source)
-            return float(err.to("").magnitude), float(rip.to("").magnitude), msg("{equipment}, band ≤ {upper:g} °/s", equipment=tab.describe(),
+            return float(err.to("").magnitude), float(rip.to("").magnitude), msg("{equipment}, "
+                                                                                 "band ≤ {upper:g} "
+                                                                                 "°/s",
+                                                                                 equipment=tab.describe(),
                                                                                   upper=upper)
         i += 1
     return None
@@ -261,16 +295,22 @@ def rate_table_rel(campaign: Campaign, rate: float | None = None) -> tuple[float
     cal = tab.calibration
     if cal is None or not cal.uncertainty.dimensionless:
         return None
-    return float(cal.standard_uncertainty.to("").magnitude), join(", ", [tab.describe(), cal.certificate])
+    return float(cal.standard_uncertainty.to("").magnitude), join(", ", [tab.describe(),
+                                                                         cal.certificate])
 
 
 def rate_row(campaign: Campaign, what: str, value: float, unit: str, note: str,
               rate: float | None = None) -> list[BudgetRow]:
+    """The rate table's rate accuracy (at ``rate``, or its calibration) as a relative row on
+    ``value``."""
     r = rate_table_rel(campaign, rate)
     if r is None:
         return []
-    return [BudgetRow.type_b(msg("rate-table rate accuracy, {what} ({table})", what=what, table=r[1]), "u_rel(Ω)",
-                             Q_(r[0], ""), distribution="normal", k=1.0, sensitivity=Q_(abs(value), unit), note=note)]
+    return [BudgetRow.type_b(msg("rate-table rate accuracy, {what} ({table})", what=what,
+                                 table=r[1]), "u_rel(Ω)",
+                             Q_(r[0], ""), distribution="normal", k=1.0, sensitivity=Q_(abs(value),
+                                                                                        unit),
+                             note=note)]
 
 
 def through_fit(rates: np.ndarray, u_rel: list[float], *, intercept: bool = False) -> float:
@@ -282,7 +322,8 @@ def through_fit(rates: np.ndarray, u_rel: list[float], *, intercept: bool = Fals
     return float(np.sqrt(np.sum((c * rates * np.asarray(u_rel)) ** 2)))
 
 
-def intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float, unit: str = "LSB") -> list[BudgetRow]:
+def intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float,
+                        unit: str = "LSB") -> list[BudgetRow]:
     """The table's error at each set point moves F₀ (D.22) by K·Σ c_F0,j·Ω_j·δ_j. A relative error
     common to all set points cancels (Σ c_F0,j·Ω_j = 0 for a least-squares intercept); a fixed error
     of its own at each set point (uniform within its band, else the calibration's U/k) does not.
@@ -292,10 +333,12 @@ def intercept_table_row(campaign: Campaign, rates: np.ndarray, K: float, unit: s
         return []
     u = abs(K) * through_fit(rates, [x[0] for x in per_point], intercept=True)
     table = campaign.equipment_for("rate_table")
-    return [BudgetRow.type_b(msg("rate-table error at each set point, within its band, through D.22 ({table})",
+    return [BudgetRow.type_b(msg("rate-table error at each set point, within its band, through "
+                                 "D.22 ({table})",
                                  table=table.describe()),
                              "u(F₀)", Q_(u, unit), distribution="normal", k=1.0,
-                             note=msg("a fixed error of its own at each Ω_ij, independent between set points; "
+                             note=msg("a fixed error of its own at each Ω_ij, independent between "
+                                      "set points; "
                                       "an error common to all cancels in the intercept"))]
 
 
@@ -306,22 +349,28 @@ def stability_row(campaign: Campaign, data: RateData) -> list[BudgetRow]:
     bounds it."""
     bands = [rate_band(campaign, float(r)) for r in data.rates]
     if any(b is None for b in bands):
-        return rate_row(campaign, msg("run to run (no rate bands stated: its calibration bounds it)"), 1.0, "",
+        return rate_row(campaign,
+                        msg("run to run (no rate bands stated: its calibration bounds it)"), 1.0,
+                        "",
                          msg("bounds a table rate that differs between runs"))
     u = through_fit(data.rates, [b[1] / math.sqrt(m) for b, m in zip(bands, data.n)])
-    return [BudgetRow.type_b(msg("rate-table ripple averaged over each rate point, through D.21, run to run "
-                                 "({equipment})", equipment=bands[0][2].fields["equipment"]), "u(δK/K)", Q_(u, ""),
+    return [BudgetRow.type_b(msg("rate-table ripple averaged over each rate point, through D.21, "
+                                 "run to run "
+                                 "({equipment})", equipment=bands[0][2].fields["equipment"]),
+                             "u(δK/K)", Q_(u, ""),
                              distribution="normal", k=1.0,
                              note=msg("independent in each run; adds to the spread of the K_j"))]
 
 
-def out_resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str, out: str) -> BudgetRow:
+def out_resolution_row(campaign: Campaign, c_norm: float, unit: str, what: str,
+                       out: str) -> BudgetRow:
     """:func:`resolution_row` for an output in ``out`` (LSB, Hz, deg/s)."""
     if out == "LSB":
         return resolution_row(campaign, c_norm, unit, what)
     q = resolution(campaign, out)
     note = (msg("±half the stated resolution on each mean, independent") if q > 0 else
-            msg("the device states no resolution of its {unit} output (device.resolution): none assumed",
+            msg("the device states no resolution of its {unit} output (device.resolution): none "
+                "assumed",
                 unit=unit_text(out)))
     return resolution_row(campaign, c_norm, unit, what, q=q, raw_unit=out, note=note)
 
@@ -351,18 +400,21 @@ def fit_scale_factor(data: RateData, mask: np.ndarray | None = None) -> ScaleFit
     K, F0 = F2.scale_factor_fit_d21_d22(w, f)
     qr = fit_line(w, f)
     if not math.isclose(K, float(qr.coef[1]), rel_tol=1e-9, abs_tol=1e-12 * max(1.0, abs(K))):
-        raise ProcedureError(f"D.21 gives K = {K!r} but the QR least squares {float(qr.coef[1])!r}; ill-conditioned rates?")
+        raise ProcedureError(f"D.21 gives K = {K!r} but the QR least squares "
+                             f"{float(qr.coef[1])!r}; ill-conditioned rates?")
     ca, cb = F2.line_fit_sensitivities(w)
     uK, nuK = F2.propagate(cb, u, n - 1)
     uF0, nuF0 = F2.propagate(ca, u, n - 1)
     return ScaleFit(K, F0, uK, nuK, uF0, nuF0, float(qr.residual_sd), qr.dof)
 
 
-def nonlinearity_of(data: RateData, upto: float | None = None) -> tuple[float, int, float, np.ndarray, float, float]:
+def nonlinearity_of(data: RateData, upto: float | None = None) -> tuple[float, int, float,
+                                                                        np.ndarray, float, float]:
     """D.23–D.25 on the rate points with |Ω| ≤ ``upto`` (all by default): (K_n, index j of the
     maximum within the selection, |F_m|, the selection mask, K, F_0).  F_m is the output at the
     largest rate of the selection, the larger of its two directions."""
-    sel = np.ones(data.rates.size, bool) if upto is None else np.abs(data.rates) <= upto * (1 + 1e-12)
+    sel = np.ones(data.rates.size,
+                  bool) if upto is None else np.abs(data.rates) <= upto * (1 + 1e-12)
     w, f = data.rates[sel], data.Fk[sel]
     K, F0 = F2.scale_factor_fit_d21_d22(w, f)
     top = np.abs(w) == np.abs(w).max()
@@ -384,18 +436,24 @@ def nonlinearity_budget(campaign: Campaign, data: RateData, j: int, Fm: float, K
     g[j] -= 1.0
     u, nu = F2.propagate(g / Fm, uF, n - 1)
     # with ``spread`` (the Monte Carlo spread of the maximum over all points) the larger of the two
-    rows = [BudgetRow.type_a(msg("mean outputs through F̂_j − F_kj at {rate:+g} °/s", rate=w[j]) if spread <= u else
-                             msg("mean outputs through the largest |F̂_j − F_kj| (Monte Carlo over every point)"),
-                             "√Σ(g_i·u(F̄_i))²/|F_m|" if spread <= u else "s(max_j |a_j|)", Q_(max(u, spread), ""), nu),
-            out_resolution_row(campaign, float(np.linalg.norm(g)) / Fm, "", "F̂_j − F_kj", data.unit)]
+    rows = [BudgetRow.type_a(msg("mean outputs through F̂_j − F_kj at {rate:+g} °/s",
+                                 rate=w[j]) if spread <= u else
+                             msg("mean outputs through the largest |F̂_j − F_kj| (Monte Carlo over "
+                                 "every point)"),
+                             "√Σ(g_i·u(F̄_i))²/|F_m|" if spread <= u else "s(max_j |a_j|)",
+                             Q_(max(u, spread), ""), nu),
+            out_resolution_row(campaign, float(np.linalg.norm(g)) / Fm, "", "F̂_j − F_kj",
+                               data.unit)]
     rows += rate_row(campaign, msg("at {rate:+g} °/s", rate=w[j]), K * abs(w[j]) / Fm, "",
-                      msg("an error not proportional to Ω shows as nonlinearity; bounded by the table's accuracy"),
+                      msg("an error not proportional to Ω shows as nonlinearity; bounded by the "
+                          "table's accuracy"),
                       rate=float(w[j]))
     return UncertaintyBudget("K_n", "ppm", rows, coverage=COVERAGE)
 
 
 RATE_EQUIPMENT = (
-    EquipmentRequirement("rate_table", "rate table with rate output (D.2.1.1 a)); its rate accuracy enters the "
+    EquipmentRequirement("rate_table",
+                         "rate table with rate output (D.2.1.1 a)); its rate accuracy enters the "
                          "budgets", required=True),
     EquipmentRequirement("counter", "gyro test system"),
 )

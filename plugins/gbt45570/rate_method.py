@@ -41,11 +41,10 @@ from metro.api import (
     join,
     msg,
     required_scale_factor,
-    std_sampling_u,
 )
 
 from . import formulas_rate as F2
-from .common import COVERAGE, STANDARD, group_of, opts_text
+from .common import COVERAGE, STANDARD, group_of, kr_sampling_row, opts_text, repeat_runs
 from .max_rate import MaxInputRateD3
 from .misalignment import (
     FIXTURE,
@@ -86,7 +85,8 @@ from .temperature import room_index, temperature_outcome
 
 _OPTIONS = (
     Option("max_rate", "400 °/s", "deg/s", "largest rate point (the device's maximum input rate)"),
-    Option("duration", "100 s", "s", "record at each rate point and at rest (n samples × interval)"),
+    Option("duration", "100 s", "s",
+           "record at each rate point and at rest (n samples × interval)"),
     Option("interval", "1 s", "s", "sampling interval (D.2.1.2 d))"),
     Option("min_points", 11, None, "fewest rate points accepted (D.2.1.2 e): not fewer than 11)"),
 )
@@ -125,9 +125,12 @@ class ScaleFactorD21(Procedure):
         fit = fit_scale_factor(data)
         K, F0 = fit.K, fit.F0
         out, ku, ot = data.unit, per_rate(data.unit), unit_text(data.unit)
-        rows = [BudgetRow.type_a(msg("mean outputs F̄_j through the D.21 fit"), "√Σ(c_j·u(F̄_j))²", Q_(fit.uK, ku),
-                                 fit.nuK, note=msg("M = {m} rates; residual s = {s:.3g} {unit} (systematic "
-                                                   "nonlinearity, D.2.2)", m=data.rates.size, s=fit.residual_sd,
+        rows = [BudgetRow.type_a(msg("mean outputs F̄_j through the D.21 fit"), "√Σ(c_j·u(F̄_j))²",
+                                 Q_(fit.uK, ku),
+                                 fit.nuK,
+                                 note=msg("M = {m} rates; residual s = {s:.3g} {unit} (systematic "
+                                                   "nonlinearity, D.2.2)", m=data.rates.size,
+                                                   s=fit.residual_sd,
                                                    unit=ot))]
         ca, cb = F2.line_fit_sensitivities(data.rates)
         rows.append(out_resolution_row(campaign, float(np.linalg.norm(cb)), ku, "D.21", out))
@@ -136,25 +139,32 @@ class ScaleFactorD21(Procedure):
         rows += rep_rows
         bK = UncertaintyBudget("K", ku, rows, coverage=COVERAGE)
         b0 = UncertaintyBudget("F₀", out, [
-            BudgetRow.type_a(msg("mean outputs F̄_j through the D.22 fit"), "√Σ(c_j·u(F̄_j))²", Q_(fit.uF0, out),
+            BudgetRow.type_a(msg("mean outputs F̄_j through the D.22 fit"), "√Σ(c_j·u(F̄_j))²",
+                             Q_(fit.uF0, out),
                              fit.nuF0),
-            BudgetRow.type_a(msg("rest output F̄_r removed from every point (D.18)"), "u(F̄_r)", Q_(data.uFr, out),
+            BudgetRow.type_a(msg("rest output F̄_r removed from every point (D.18)"), "u(F̄_r)",
+                             Q_(data.uFr, out),
                              int(data.n.min()) - 1),
             # F̄_r = (F̄_s + F̄_e)/2 enters F₀ with sensitivity −1: √(2·(1/2)²) on its two means
             out_resolution_row(campaign, math.hypot(float(np.linalg.norm(ca)), math.sqrt(0.5)), out,
                                 "D.22 and F̄_r", out),
             *intercept_table_row(campaign, data.rates, K, out)], coverage=COVERAGE)
-        res = [Result(metric_in(self.metrics[0], ku), Q_(K, ku), bK.combined, bK, earth_rate="removed", note=rep_note),
-               Result(metric_in(self.metrics[1], out), Q_(F0, out), b0.combined, b0, note=f"F̄_r = {data.Fr:.4f} {ot}",
+        res = [Result(metric_in(self.metrics[0], ku), Q_(K, ku), bK.combined, bK,
+                      earth_rate="removed", note=rep_note),
+               Result(metric_in(self.metrics[1], out), Q_(F0, out), b0.combined, b0,
+                      note=f"F̄_r = {data.Fr:.4f} {ot}",
                       earth_rate="removed")]
         resid = data.Fk - (K * data.rates + F0)
-        plot = PlotSpec("F_rate", msg("F_kj against Ω with the D.20 fit: residuals"), "Ω (°/s)", f"F_kj − (KΩ + F₀) ({ot})",
+        plot = PlotSpec("F_rate", msg("F_kj against Ω with the D.20 fit: residuals"), "Ω (°/s)",
+                        f"F_kj − (KΩ + F₀) ({ot})",
                         [{"label": "residual", "x": data.rates.tolist(), "y": resid.tolist(),
                           "yerr": (2 * data.uF).tolist(), "style": "o"}])
         table = TableSpec("F_points", msg("F_kj per rate point (D.17–D.19)"),
                           ["Ω (°/s)", f"F_kj ({ot})", msg("residual ({unit})", unit=ot)],
-                          [[f"{r:+g}", f"{f:.3f}", f"{e:.3f}"] for r, f, e in zip(data.rates, data.Fk, resid)])
-        return Outcome(STANDARD, self.item, self.title, self.clause, res, plots=[plot], tables=[table],
+                          [[f"{r:+g}", f"{f:.3f}", f"{e:.3f}"] for r, f, e in zip(data.rates,
+                                                                                  data.Fk, resid)])
+        return Outcome(STANDARD, self.item, self.title, self.clause, res, plots=[plot],
+                       tables=[table],
                        segments=data.segments, options=opts_text(opts))
 
 
@@ -176,21 +186,27 @@ class NonlinearityD22(ScaleFactorD21):
         opts = self.option_values(ctx.options)
         data = collect_rate_data(type(self), campaign, int(opts["min_points"]))
         Kn, j, Fm, _, K, F0 = nonlinearity_of(data)
-        # K_n is the largest of 2M noisy |a_j|: corrected for the selection (interpretations.md, D.2.2)
+        # K_n is the largest of 2M noisy |a_j|: corrected for the selection (interpretations.md,
+        # D.2.2)
         from metro.api import selection_note, selection_rows
 
         sel = F2.nonlinearity_selection(data.rates, data.Fk, data.uF)
         budget = nonlinearity_budget(campaign, data, j, Fm, K, spread=sel.s)
-        budget = UncertaintyBudget("K_n", "ppm", list(budget.rows) + selection_rows(sel, data.rates.size, ""),
+        budget = UncertaintyBudget("K_n", "ppm", list(budget.rows) + selection_rows(sel,
+                                                                                    data.rates.size,
+                                                                                    ""),
                                    coverage=COVERAGE)
         a = (F2.fitted_output_d23(K, F0, data.rates) - data.Fk) / Fm
         res = Result(self.metrics[0], Q_(max(sel.value, 0.0), ""), budget.combined, budget,
                      note=join("; ", [msg("largest |a_j| at {rate:+g} °/s", rate=data.rates[j]),
-                                      f"|F_m| = {Fm:.1f} {unit_text(data.unit)}", selection_note(sel, 1e6, 'ppm')]),
+                                      f"|F_m| = {Fm:.1f} {unit_text(data.unit)}",
+                                      selection_note(sel, 1e6, 'ppm')]),
                      earth_rate="removed")
         plot = PlotSpec("a_rate", msg("Point nonlinearity a_j (D.24)"), "Ω (°/s)", "a_j (ppm)",
-                        [{"label": "a_j", "x": data.rates.tolist(), "y": (a * 1e6).tolist(), "style": "o"}])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot], segments=data.segments,
+                        [{"label": "a_j", "x": data.rates.tolist(), "y": (a * 1e6).tolist(),
+                          "style": "o"}])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], plots=[plot],
+                       segments=data.segments,
                        options=opts_text(opts))
 
 
@@ -215,20 +231,25 @@ class AsymmetryD23(ScaleFactorD21):
         Kp, Km = fp.K, fm.K
         Ka = F2.asymmetry_d26_d27(Kp, Km)
         Kbar = 0.5 * (Kp + Km)
-        rows = [BudgetRow.type_a(msg("K_(+): D.21 on the + rates"), "u(K₊)/K̄", Q_(fp.uK / Kbar, ""), fp.nuK),
-                BudgetRow.type_a(msg("K_(−): D.21 on the − rates"), "u(K₋)/K̄", Q_(fm.uK / Kbar, ""), fm.nuK)]
+        rows = [BudgetRow.type_a(msg("K_(+): D.21 on the + rates"), "u(K₊)/K̄", Q_(fp.uK / Kbar,
+                                                                                   ""), fp.nuK),
+                BudgetRow.type_a(msg("K_(−): D.21 on the − rates"), "u(K₋)/K̄", Q_(fm.uK / Kbar,
+                                                                                   ""), fm.nuK)]
         per_point = [rate_table_rel(campaign, float(r)) for r in data.rates]
         if all(p is not None for p in per_point):
             u_rel = np.array([p[0] for p in per_point])
             u_dir = math.hypot(through_fit(data.rates[pos], list(u_rel[pos])),
                                through_fit(data.rates[neg], list(u_rel[neg])))
-            rows.append(BudgetRow.type_b(msg("rate-table rate error at each set point, through K(+) and K(−) "
-                                             "({table})", table=per_point[-1][1]), "u(δK₊/K ⊖ δK₋/K)", Q_(u_dir, ""),
+            rows.append(BudgetRow.type_b(msg("rate-table rate error at each set point, through "
+                                             "K(+) and K(−) ({table})", table=per_point[-1][1]),
+                                         "u(δK₊/K ⊖ δK₋/K)", Q_(u_dir, ""),
                                          distribution="normal", k=1.0,
-                                         note=msg("independent at each signed set point; a common error cancels")))
+                                         note=msg("independent at each signed set point; a common "
+                                                  "error cancels")))
         budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
-                     note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} {k_text(data.unit)}", earth_rate="removed")
+                     note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} {k_text(data.unit)}",
+                     earth_rate="removed")
         return Outcome(STANDARD, self.item, self.title, self.clause, [res], segments=data.segments,
                        options=opts_text(opts))
 
@@ -253,7 +274,8 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
     metrics = (Metric("Kr", "scale factor repeatability", "K_r", "ppm", "D.2.4.3", "D.28"),)
     requires = (attrs.evolve(RATE_OUTPUT, conditions={"rate": "deg/s", "run": ""}, min_count=154),
                 attrs.evolve(REST, conditions={"when": "", "run": ""}, min_count=14))
-    options = _OPTIONS + (Option("Q", 7, None, "number of power-ons; D.28 is written for 7", minimum=2),)
+    options = _OPTIONS + (Option("Q", 7, None, "number of power-ons; D.28 is written for 7",
+                                 minimum=2),)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         q = int(options.get("Q", 7))
@@ -264,32 +286,37 @@ class ScaleFactorRepeatabilityD24(ScaleFactorD21):
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
         q = int(opts["Q"])
-        runs = sorted({group_of(s)[0] for s in campaign.find_segments("rate-output") if group_of(s)[0]
-                       and not group_of(s)[1]}, key=lambda r: (len(r), r))
+        runs = repeat_runs(campaign)
         if len(runs) != q:
             raise DataError(campaign.source, "segments",
-                            f"D.2.4 needs {q} power-ons (segments of kind \"rate-output\" with run = 1 … {q}, "
+                            f"D.2.4 needs {q} power-ons (segments of kind \"rate-output\" with run "
+                            f"= 1 … {q}, "
                             f"D.2.4.2); found {len(runs)} run(s): {', '.join(runs) or 'none'}",
                             hint="D.28 is written for 7 repeats")
         Kj, used = [], []
         for r in runs:
-            last = collect_rate_data(type(self), campaign, int(opts["min_points"]), (r, ""), f"in run {r}")
+            last = collect_rate_data(type(self), campaign, int(opts["min_points"]), (r, ""),
+                                     f"in run {r}")
             Kj.append(fit_scale_factor(last).K)
             used += list(last.segments)
         Kr = F2.scale_factor_repeatability_d28(Kj)
         if not Kr > 0:
-            raise DataError(campaign.source, "segments", f"the {q} scale factors are identical; K_r = 0 cannot be right")
-        rows = [BudgetRow.type_a(msg("sampling of the standard deviation of Q = {q} scale factors (χ² bound)", q=q),
-                                 "(s_{upper} − K_r)/2", Q_(std_sampling_u(Kr, q), ""), math.inf)]
+            raise DataError(campaign.source, "segments",
+                            f"the {q} scale factors are identical; K_r = 0 cannot be right")
+        rows = [kr_sampling_row(Kr, q)]
         rows += stability_row(campaign, last)
         budget = UncertaintyBudget("K_r", "ppm", rows, coverage=COVERAGE)
         mean = float(np.mean(Kj))
         kt = k_text(last.unit)
-        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget, note=f"K̄ = {mean:.4f} {kt}, Q = {q}",
+        res = Result(self.metrics[0], Q_(Kr, ""), budget.combined, budget,
+                     note=f"K̄ = {mean:.4f} {kt}, Q = {q}",
                      earth_rate="removed")
-        table = TableSpec("K_runs", msg("K_j of each power-on (D.21)"), [msg("run"), f"K_j ({kt})", "K_j − K̄ (ppm)"],
-                          [[r, f"{k:.5f}", f"{(k - mean) / mean * 1e6:.2f}"] for r, k in zip(runs, Kj)])
-        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table], segments=used,
+        table = TableSpec("K_runs", msg("K_j of each power-on (D.21)"), [msg("run"), f"K_j ({kt})",
+                                                                         "K_j − K̄ (ppm)"],
+                          [[r, f"{k:.5f}", f"{(k - mean) / mean * 1e6:.2f}"] for r, k in zip(runs,
+                                                                                             Kj)])
+        return Outcome(STANDARD, self.item, self.title, self.clause, [res], tables=[table],
+                       segments=used,
                        options=opts_text(opts))
 
 
@@ -306,24 +333,37 @@ class ScaleFactorTemperatureSensitivityD25(ScaleFactorD21):
     item = "D.2.5"
     title = "Scale factor temperature sensitivity, rate method (标度因数温度灵敏度)"
     clause = "D.2.5"
-    metrics = (Metric("Kt", "scale factor temperature sensitivity", "K_t", "ppm/delta_degC", "D.2.5.3", "D.29"),)
-    requires = (attrs.evolve(RATE_OUTPUT, conditions={"rate": "deg/s", "temperature": "degC"}, min_count=110),
+    metrics = (Metric("Kt", "scale factor temperature sensitivity", "K_t", "ppm/delta_degC",
+                      "D.2.5.3", "D.29"),)
+    requires = (attrs.evolve(RATE_OUTPUT, conditions={"rate": "deg/s", "temperature": "degC"},
+                             min_count=110),
                 attrs.evolve(REST, conditions={"when": "", "temperature": "degC"}, min_count=10))
-    equipment = RATE_EQUIPMENT + (EquipmentRequirement("chamber", "temperature chamber, vibration-isolated, control "
+    equipment = RATE_EQUIPMENT + (EquipmentRequirement("chamber",
+                                                       "temperature chamber, vibration-isolated, "
+                                                       "control "
                                                    "better than ±2 °C (D.2.5.1 b))"),)
     options = _OPTIONS + (
         Option("temperatures", "-40 °C, -20 °C, 0 °C, 20 °C, 40 °C, 60 °C", None,
                "≥ 5 temperature points, evenly spread, including room temperature (D.2.5.2 b))"),
         Option("room", "20 °C", "degC", "room temperature T0: the nearest point is the reference"),
-        Option("min_temperatures", 5, None, "fewest temperature points accepted (D.2.5.2 b): not fewer than 5)"),
+        Option("min_temperatures", 5, None,
+               "fewest temperature points accepted (D.2.5.2 b): not fewer than 5)"),
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        temps = [t.strip() for t in str(options.get("temperatures", "-40 °C, -20 °C, 0 °C, 20 °C, 40 °C, 60 °C"))
+        temps = [t.strip() for t in str(options.get("temperatures",
+                                                    "-40 °C, -20 °C, 0 °C, 20 °C, 40 °C, 60 °C"))
                  .split(",")]
-        return [s for i, T in enumerate(temps)
-                for s in rate_sequence(options, {"temperature": T}, f"T{i + 1}-",
-                                       f"at {T} (power off while changing, soak ≥ 2 h, D.2.5.2 c))")]
+        return [
+            s
+            for i, T in enumerate(temps)
+            for s in rate_sequence(
+                options,
+                {"temperature": T},
+                f"T{i + 1}-",
+                f"at {T} (power off while changing, soak ≥ 2 h, D.2.5.2 c))",
+            )
+        ]
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
@@ -336,7 +376,8 @@ class ScaleFactorTemperatureSensitivityD25(ScaleFactorD21):
                                      int(opts["min_temperatures"]), "D.2.5")
         Ks, uKs, dofs, used = [], [], [], []
         for k, T in zip(keys, temps):
-            data = collect_rate_data(type(self), campaign, int(opts["min_points"]), ("", k), f"at {T:g} °C")
+            data = collect_rate_data(type(self), campaign, int(opts["min_points"]), ("", k),
+                                     f"at {T:g} °C")
             fit = fit_scale_factor(data)
             Ks.append(fit.K)
             uKs.append(fit.uK)
@@ -344,7 +385,8 @@ class ScaleFactorTemperatureSensitivityD25(ScaleFactorD21):
             used += list(data.segments)
         Kt, imax = F2.scale_factor_temperature_sensitivity_d29(Ks, temps, i0)
         kt = k_text(data.unit)
-        return temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used, kt)
+        return temperature_outcome(self, campaign, opts, Kt, imax, i0, temps, Ks, uKs, dofs, used,
+                                   kt)
 
 
 # --------------------------------------------------------------------------------------------
@@ -353,7 +395,8 @@ class ScaleFactorTemperatureSensitivityD25(ScaleFactorD21):
 
 
 class InputAxisMisalignmentD26(MountingMisalignment):
-    """GB/T 45570—2025 D.2.6 输入轴失准角 (input-axis misalignment), rate method, eqs. (D.30)–(D.36).
+    """GB/T 45570—2025 D.2.6 输入轴失准角 (input-axis misalignment), rate method, eqs.
+    (D.30)–(D.36).
 
     Four mountings (segments of kind ``rate-mounting``: ``axis_up`` XRA/YRA, ``turn`` 0°/180°
     about IRA, signed ``rate``): δ = sin⁻¹((F₊ − F₋)/(2KΩ)) per mounting (D.30, D.31, D.33,
@@ -367,20 +410,23 @@ class InputAxisMisalignmentD26(MountingMisalignment):
     title = "Input axis misalignment, rate method (输入轴失准角)"
     clause = "D.2.6"
     metrics = misalignment_metrics("D.2.6.4", ("D.32", "D.35", "D.36"))
-    requires = (SegmentRequirement("rate-mounting", "output at ±Ω with XRA, then YRA, along the table axis, each "
+    requires = (SegmentRequirement("rate-mounting",
+                                   "output at ±Ω with XRA, then YRA, along the table axis, each "
                                    "before and after a 180° turn about IRA (D.2.6.3)",
                                    conditions={"axis_up": "", "turn": "deg", "rate": "deg/s"},
                                    columns={"output": OUTPUT_UNITS}, min_count=8),)
     equipment = RATE_EQUIPMENT + (FIXTURE,)
     options = (Option("rate", REPEAT_RATE, "deg/s", "table rate Ω (D.2.6.3 d): \"a given rate\")"),
-               Option("turns", 5, None, "whole revolutions recorded at each rate (the horizontal earth rate "
+               Option("turns", 5, None,
+                      "whole revolutions recorded at each rate (the horizontal earth rate "
                       "averages out over whole revolutions)"))
     station = "simulated-digital"
     mounting_kind = "rate-mounting"
     revolutions = False
     scatter = msg("scatter of the mean outputs")
 
-    def scale_factor(self, campaign: Campaign, groups: Mapping[tuple[str, int], list]) -> DeviceScale:
+    def scale_factor(self, campaign: Campaign, groups: Mapping[tuple[str, int],
+                                                               list]) -> DeviceScale:
         first = next(iter(groups.values()))[0]
         out_unit = output_series(first)[1]
         if out_unit == "deg/s":
@@ -401,26 +447,31 @@ class InputAxisMisalignmentD26(MountingMisalignment):
         for s in segs:
             rate = float(s.condition("rate", "deg/s").to("deg/s").magnitude)
             if rate == 0:
-                raise DataError(campaign.source, f"segments.{s.id}.conditions.rate", "the rate cannot be 0 °/s")
+                raise DataError(campaign.source, f"segments.{s.id}.conditions.rate",
+                                "the rate cannot be 0 °/s")
             d = 1 if rate > 0 else -1
             if d in by_dir:
-                raise DataError(campaign.source, f"segments.{s.id}", f"{where}: two segments at {rate:+g} °/s")
+                raise DataError(campaign.source, f"segments.{s.id}",
+                                f"{where}: two segments at {rate:+g} °/s")
             mean = mean_output(s, campaign)
             if mean[3] != out_unit:  # D.30 divides by the device's K in the output's unit per °/s
                 raise DataError(s.file or campaign.source, "output",
-                                f"D.2.6 reads one kind of output in every mounting (D.30 divides by K in "
-                                f"{unit_text(out_unit)}/(°/s)); segment {s.id!r} is in {unit_text(mean[3])}, "
-                                f"segment {scale.reference!r} in {unit_text(out_unit)}")
+                                f"D.2.6 reads one kind of output in every mounting (D.30 divides "
+                                f"by K in {unit_text(out_unit)}/(°/s)); segment {s.id!r} is in "
+                                f"{unit_text(mean[3])}, segment {scale.reference!r} in "
+                                f"{unit_text(out_unit)}")
             by_dir[d] = (s, abs(rate)) + mean[:3]
         if set(by_dir) != {1, -1}:
             only = next(iter(by_dir.values()))[0]
             raise DataError(campaign.source, f"segments.{only.id}",
-                            f"{where} has no {'clockwise (−)' if 1 in by_dir else 'counter-clockwise (+)'} "
+                            f"{where} has no "
+                            f"{'clockwise (−)' if 1 in by_dir else 'counter-clockwise (+)'} "
                             "record; D.30 needs F₊ and F₋")
         (sp, rp, Fp, up, n_p), (sm, rm, Fm, um, n_m) = by_dir[1], by_dir[-1]
         if abs(rp - rm) > 1e-9 * rp:
             raise DataError(campaign.source, f"segments.{sm.id}.conditions.rate",
-                            f"{where}: the two directions differ in rate ({rp:g} and {rm:g} °/s); D.30 uses one Ω")
+                            f"{where}: the two directions differ in rate ({rp:g} and {rm:g} °/s); "
+                            f"D.30 uses one Ω")
         try:
             delta = F2.misalignment_d30(Fp, Fm, k, rp)
         except ValueError as exc:
@@ -432,22 +483,22 @@ class InputAxisMisalignmentD26(MountingMisalignment):
         k, u_rel_K, out_unit = scale.k, scale.u_rel, scale.unit
         rel = []
         if u_rel_K > 0:
-            rel.append(BudgetRow.type_b(msg("scale factor K (device)"), "u_rel(K)", Q_(u_rel_K, ""), distribution="normal",
-                                        k=1.0, note=f"K = {k:g} {unit_text(out_unit)}/[(°)/s]; δ ≈ (F₊ − F₋)/(2KΩ)"))
+            rel.append(BudgetRow.type_b(msg("scale factor K (device)"), "u_rel(K)", Q_(u_rel_K, ""),
+                                        distribution="normal",
+                                        k=1.0,
+                                        note=f"K = {k:g} {unit_text(out_unit)}/[(°)/s]; δ ≈ (F₊ − "
+                                             f"F₋)/(2KΩ)"))
         r = rate_table_rel(campaign)
         if r is not None:
-            rel.append(BudgetRow.type_b(msg("rate-table rate accuracy ({table})", table=r[1]), "u_rel(Ω)", Q_(r[0], ""),
+            rel.append(BudgetRow.type_b(msg("rate-table rate accuracy ({table})", table=r[1]),
+                                        "u_rel(Ω)", Q_(r[0], ""),
                                         distribution="normal", k=1.0, note="δ ∝ 1/Ω"))
         return rel
-
-
-# --------------------------------------------------------------------------------------------
-# D.3 maximum input rate
-# --------------------------------------------------------------------------------------------
 
 
 PROCEDURES = (ScaleFactorD21, NonlinearityD22, AsymmetryD23, ScaleFactorRepeatabilityD24,
               ScaleFactorTemperatureSensitivityD25, InputAxisMisalignmentD26, MaxInputRateD3)
 
-__all__ = ["PROCEDURES", "default_nonlinearity_limit", "collect_rate_data", "nonlinearity_of", "rate_sequence",
+__all__ = ["PROCEDURES", "default_nonlinearity_limit", "collect_rate_data", "nonlinearity_of",
+           "rate_sequence",
            "RateData", "MOUNTINGS"] + [c.__name__ for c in PROCEDURES]

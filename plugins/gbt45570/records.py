@@ -39,8 +39,10 @@ def section(campaign: Campaign, path: str, item: str, *, kind: type = dict) -> A
     parts = path.split(".")
     for i, p in enumerate(parts):
         if not isinstance(node, Mapping) or p not in node:
-            raise DataError(where_of(campaign), path, f"missing: GB/T 45570 {item} reads the record [{path}]",
-                            hint="docs/standards/gbt45570.md (clause 5 records) shows how to write it")
+            raise DataError(where_of(campaign), path,
+                            f"missing: GB/T 45570 {item} reads the record [{path}]",
+                            hint="docs/standards/gbt45570.md (clause 5 records) shows how to write "
+                                 "it")
         node = node[p]
     if kind is list and isinstance(node, Mapping):
         node = [node]
@@ -60,14 +62,18 @@ def has(campaign: Campaign, path: str) -> bool:
 
 
 def quantity(value: Any, dimension: str, file: str, field: str) -> pint.Quantity:
-    """``value`` as a quantity of ``dimension``; a number or text without a unit is refused by name."""
+    """``value`` as a quantity of ``dimension``; a number or text without a unit is refused by
+    name."""
     if isinstance(value, bool) or value is None:
-        raise DataError(file, field, f"expected a quantity such as \"1 {dimension}\", got {value!r}")
+        raise DataError(file, field,
+                        f"expected a quantity such as \"1 {dimension}\", got {value!r}")
     if isinstance(value, (int, float)) or (isinstance(value, str) and _is_number(value)):
         if not Q_(1, dimension).dimensionless:
-            raise UnitError(file, field, f"{value!r} has no unit; write it with its unit, e.g. \"{value} "
+            raise UnitError(file, field,
+                            f"{value!r} has no unit; write it with its unit, e.g. \"{value} "
                             f"{dimension}\" (metro never guesses a unit)")
-    q = parse_quantity(value if not isinstance(value, (int, float)) else str(value), dimension=dimension,
+    q = parse_quantity(value if not isinstance(value, (int, float)) else str(value),
+                       dimension=dimension,
                        file=file, field=field)
     if not math.isfinite(float(q.magnitude)):
         raise DataError(file, field, f"{value!r} is not a finite value")
@@ -82,7 +88,8 @@ def _is_number(text: str) -> bool:
     return True
 
 
-def text(table: Mapping, key: str, file: str, where: str, *, required: bool = True, default: str = "") -> str:
+def text(table: Mapping, key: str, file: str, where: str, *, required: bool = True,
+         default: str = "") -> str:
     v = table.get(key)
     if v is None:
         if required:
@@ -100,7 +107,8 @@ _NO = {"no", "n", "false", "fail", "does not conform", "不合格", "否", "不�
 def answer(table: Mapping, key: str, file: str, where: str) -> bool:
     """A checklist answer: true/false or yes/no (pass/fail, 是/否); anything else is an error."""
     if key not in table:
-        raise DataError(file, f"{where}.{key}", "missing checklist answer", hint="write true/false or \"yes\"/\"no\"")
+        raise DataError(file, f"{where}.{key}", "missing checklist answer",
+                        hint="write true/false or \"yes\"/\"no\"")
     v = table[key]
     if isinstance(v, bool):
         return v
@@ -108,19 +116,26 @@ def answer(table: Mapping, key: str, file: str, where: str) -> bool:
         return True
     if isinstance(v, str) and v.strip().lower() in _NO:
         return False
-    raise DataError(file, f"{where}.{key}", f"a checklist answer must be true/false or yes/no, got {v!r}")
+    raise DataError(file, f"{where}.{key}",
+                    f"a checklist answer must be true/false or yes/no, got {v!r}")
 
 
-def readings(table: Mapping, key: str, dimension: str, file: str, where: str) -> list[pint.Quantity]:
+def readings(table: Mapping, key: str, dimension: str, file: str,
+             where: str) -> list[pint.Quantity]:
     """One reading or a list of repeated readings, each with its unit."""
     if key not in table:
-        raise DataError(file, f"{where}.{key}", "missing", hint=f"write {key} = [\"… {dimension}\", …]")
+        raise DataError(file, f"{where}.{key}", "missing",
+                        hint=f"write {key} = [\"… {dimension}\", …]")
     raw = table[key]
     seq = raw if isinstance(raw, list) else [raw]
     if not seq:
         raise DataError(file, f"{where}.{key}", "no reading given")
-    return [quantity(v, dimension, file, f"{where}.{key}[{i}]" if isinstance(raw, list) else f"{where}.{key}")
-            for i, v in enumerate(seq)]
+    return [
+        quantity(
+            v, dimension, file, f"{where}.{key}[{i}]" if isinstance(raw, list) else f"{where}.{key}"
+        )
+        for i, v in enumerate(seq)
+    ]
 
 
 @attrs.frozen
@@ -136,12 +151,14 @@ class Censored:
 _CENSORED = re.compile(r"^\s*(?P<op><|>|≤|≥|<=|>=)\s*(?P<q>.+)$")
 
 
-def reading_or_censored(value: Any, dimension: str, file: str, field: str) -> pint.Quantity | Censored:
+def reading_or_censored(value: Any, dimension: str, file: str,
+                        field: str) -> pint.Quantity | Censored:
     """A reading, or a :class:`Censored` one written ``"< 1 MΩ"`` / ``"> 10 GΩ"`` (not a number)."""
     if isinstance(value, str):
         m = _CENSORED.match(value)
         if m:
-            return Censored(m["op"] in ("<", "≤", "<="), quantity(m["q"].strip(), dimension, file, field), value)
+            return Censored(m["op"] in ("<", "≤", "<="), quantity(m["q"].strip(), dimension, file,
+                                                                  field), value)
     return quantity(value, dimension, file, field)
 
 
@@ -150,12 +167,14 @@ def equipment(campaign: Campaign, role: str, item: str, what: str) -> Equipment:
     eq = campaign.equipment_for(role)
     if eq is None:
         raise DataError(where_of(campaign), "equipment",
-                        f"GB/T 45570 {item} measures {what} but the campaign lists no equipment with role "
-                        f"\"{role}\"; the result's uncertainty needs its calibration",
-                        hint=f"add [[equipment]] with role = \"{role}\" and its [equipment.calibration]")
+                        f"GB/T 45570 {item} measures {what} but the campaign lists no equipment "
+                        f"with role \"{role}\"; the result's uncertainty needs its calibration",
+                        hint=f"add [[equipment]] with role = \"{role}\" and its "
+                             f"[equipment.calibration]")
     if eq.calibration is None:
         raise DataError(where_of(campaign), f"equipment.{eq.id}.calibration",
-                        f"the {role} ({eq.describe()}) used for {what} ({item}) has no calibration data; "
+                        f"the {role} ({eq.describe()}) used for {what} ({item}) has no calibration "
+                        f"data; "
                         "6.1.2 asks for calibrated equipment and the budget needs its U",
                         hint="add [equipment.calibration] with certificate, U and k")
     return eq
@@ -164,8 +183,10 @@ def equipment(campaign: Campaign, role: str, item: str, what: str) -> Equipment:
 def calibration_row(eq: Equipment, symbol: str, value: pint.Quantity, out_unit: str) -> BudgetRow:
     """The equipment's certificate U (absolute, or relative to ``value``) as a type B row."""
     cal = eq.calibration
-    sens = Q_(abs(float(value.to(out_unit).magnitude)), out_unit) if cal.uncertainty.dimensionless else Q_(1.0, "")
-    return BudgetRow.from_calibration(msg("calibration of the {role} ({equipment})", role=eq.role.replace("_", " "),
+    sens = Q_(abs(float(value.to(out_unit).magnitude)),
+              out_unit) if cal.uncertainty.dimensionless else Q_(1.0, "")
+    return BudgetRow.from_calibration(msg("calibration of the {role} ({equipment})",
+                                          role=eq.role.replace("_", " "),
                                           equipment=eq.describe()), symbol, cal,
                                       sensitivity=sens)
 
@@ -175,7 +196,9 @@ def resolution_row(eq: Equipment, symbol: str, out_unit: str, file: str) -> list
     if "resolution" not in eq.properties:
         return []
     d = quantity(eq.properties["resolution"], out_unit, file, f"equipment.{eq.id}.resolution")
-    return [BudgetRow.type_b(msg("resolution of the {role} (d = {d})", role=eq.role.replace("_", " "), d=f"{d:~P}"),
+    return [BudgetRow.type_b(msg("resolution of the {role} (d = {d})", role=eq.role.replace("_",
+                                                                                            " "),
+                                 d=f"{d:~P}"),
                              symbol, (d / 2).to(out_unit), distribution="uniform",
                              note=msg("half-width d/2 (JJF 1059.1)"))]
 

@@ -1,7 +1,9 @@
 """GB/T 45570—2025 test report: ``context["gbt45570"]`` and the document :func:`layout`.
 
-Adds to the generic report context (:func:`metro.core.documents.report.report_context`, whose ``facts``
-carry laboratory, customer, people and dates): the 6.1.1 test environment checked against its limits, the method choice of 6.2.7.1
+Adds to the generic report context (:func:`metro.core.documents.report.report_context`, whose
+``facts``
+carry laboratory, customer, people and dates): the 6.1.1 test environment checked against its
+limits, the method choice of 6.2.7.1
 and the items ``--all``/series chose, the conformity verdicts with the decision rule and
 their reasons, the typical-limit table of the device (A.1 or B.1) row by row — "not
 performed" where no result exists, never a zero — the C.1 severities, a residual figure of
@@ -50,22 +52,26 @@ TITLE = "试验报告 Test report — GB/T 45570—2025 光学陀螺仪通用技
 #: 6.1.1 试验环境: (environment key, label (a message id), clause, specification)
 ENVIRONMENT = (
     ("temperature", "Temperature", "6.1.1 a)",
-     Specification("temperature", Comparison.RANGE, Q_(15, "degC"), Q_(35, "degC"), source="GB/T 45570—2025 6.1.1 a)")),
+     Specification("temperature", Comparison.RANGE, Q_(15, "degC"), Q_(35, "degC"),
+                   source="GB/T 45570—2025 6.1.1 a)")),
     ("humidity", "Relative humidity", "6.1.1 b)",
      Specification("humidity", Comparison.RANGE, Q_(20, "percent"), Q_(80, "percent"),
                    source="GB/T 45570—2025 6.1.1 b)")),
     ("magnetic_field", "Magnetic field", "6.1.1 d)",
-     Specification("magnetic_field", Comparison.AT_MOST, Q_(1e-4, "T"), source="GB/T 45570—2025 6.1.1 d)",
+     Specification("magnetic_field", Comparison.AT_MOST, Q_(1e-4, "T"),
+                   source="GB/T 45570—2025 6.1.1 d)",
                    magnitude=True)),
 )
 #: verdicts as the catalog's message ids (translated by the layout)
 STATUS_TEXT = {"pass": "conforms", "fail": "does not conform", "indeterminate": "indeterminate"}
-#: the verdict on a result that is not reportable: no statement is made (core.conformity.not_reportable)
+#: the verdict on a result that is not reportable: no statement is made
+#: (core.conformity.not_reportable)
 NO_STATEMENT = "no statement (not reportable)"
 
 
 def verdict_text(v) -> str:
-    """A verdict's words: ``STATUS_TEXT``, or ``NO_STATEMENT`` for a result that is not reportable."""
+    """A verdict's words: ``STATUS_TEXT``, or ``NO_STATEMENT`` for a result that is not
+    reportable."""
     return NO_STATEMENT if v.detail == "not reportable" else STATUS_TEXT[v.status.value]
 
 
@@ -82,14 +88,17 @@ def environment_rows(env: dict) -> list[dict[str, str]]:
     for key, label, clause, spec in ENVIRONMENT:
         v = env.get(key)
         if v is None or not hasattr(v, "magnitude"):
-            rows.append({"name": label, "clause": clause, "required": spec.text(), "measured": "not recorded",
+            rows.append({"name": label, "clause": clause, "required": spec.text(),
+                         "measured": "not recorded",
                          "verdict": ""})
             continue
         verdict = decide(spec, v, None, SIMPLE)
-        rows.append({"name": label, "clause": clause, "required": spec.text(), "measured": _fmt_q(v),
+        rows.append({"name": label, "clause": clause, "required": spec.text(),
+                     "measured": _fmt_q(v),
                      "verdict": STATUS_TEXT[verdict.status.value]})
     p = env.get("pressure")
-    rows.insert(2, {"name": "Atmospheric pressure", "clause": "6.1.1 c)", "required": "the site's pressure",
+    rows.insert(2, {"name": "Atmospheric pressure", "clause": "6.1.1 c)",
+                    "required": "the site's pressure",
                     "measured": _fmt_q(p) if p is not None else "not recorded", "verdict": ""})
     return rows
 
@@ -130,34 +139,43 @@ def verdict_rows(assessment) -> list[dict[str, str]]:
 
 
 def limit_table(device, outcomes, assessment) -> dict[str, Any] | None:
-    """The device's A.1/B.1 table for its application, each row with its results or "not performed"."""
+    """The device's A.1/B.1 table for its application, each row with its results or "not
+    performed"."""
     rows = table_for(device.technology)
     app = application_of(device.application)
     if rows is None or app is None:
         return None
-    verdicts = {} if assessment is None else {(v.item, v.key, v.spec.symbol): v for v in assessment.verdicts}
+    verdicts = {} if assessment is None else {(v.item, v.key,
+                                               v.spec.symbol): v for v in assessment.verdicts}
     found = [(o, r) for o in outcomes if o.standard == STANDARD for r in o.results]
     out = []
     for row in rows:
         spec = row.specification(app)
         mine = [(o, r) for o, r in found if spec.applies_to(r.metric.key, o.item)]
         if not mine:
-            out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en}", "name_cn": row.name_cn,
+            out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en}",
+                        "name_cn": row.name_cn,
                         "name_en": row.name_en, "symbol": "", "limit": spec.text(),
                         "method": " / ".join(row.items), "result": NOT_PERFORMED, "verdict": "",
                         "performed": False})
             continue
         for o, r in mine:
             val, U, k = _result_cells(r)
-            # judged by the row (``Bs``) or by a limit on this result's own key (row 10 at t = 100 s: ``Bs_100s``)
-            v = verdicts.get((o.item, r.metric.key, row.key)) or verdicts.get((o.item, r.metric.key, r.metric.key))
-            if getattr(r, "bound", ""):  # the bound is what is issued (D.4: threshold ≤ H); the results table says why
-                result = f"{r.bound_sign} {val}, U = {U} (k = {k})" if U != DASH else f"{r.bound_sign} {val}"
+            # judged by the row (``Bs``) or by a limit on this result's own key (row 10 at t = 100
+            # s: ``Bs_100s``)
+            v = verdicts.get((o.item, r.metric.key, row.key)) or verdicts.get((o.item, r.metric.key,
+                                                                               r.metric.key))
+            # the bound is what is issued (D.4: threshold ≤ H); the results table says why
+            if getattr(r, "bound", ""):
+                result = (f"{r.bound_sign} {val}, U = {U} (k = {k})" if U != DASH else
+                          f"{r.bound_sign} {val}")
             elif not getattr(r, "reportable", True):
-                result = "not reportable"  # the results table gives the value and why it is not issued
+                # the results table gives the value and why it is not issued
+                result = "not reportable"
             else:
                 result = f"{val}, U = {U} (k = {k})" if U != DASH else val
-            out.append({"no": str(row.no), "name": f"{row.name_cn} {row.name_en} ({r.metric.symbol})",
+            out.append({"no": str(row.no),
+                        "name": f"{row.name_cn} {row.name_en} ({r.metric.symbol})",
                         "name_cn": row.name_cn, "name_en": row.name_en, "symbol": r.metric.symbol,
                         "limit": spec.text(), "method": o.item, "result": result,
                         "verdict": verdict_text(v) if v is not None else "", "performed": True})
@@ -182,8 +200,10 @@ def severity_rows(device, outcomes) -> list[dict[str, str]]:
             status, which = "performed", ", ".join(sorted(done & set(r.items)))
         else:
             status, which = NOT_PERFORMED, ""
-        rows.append({"no": str(r.no), "name": f"{r.name_cn} {r.name_en}", "name_cn": r.name_cn, "name_en": r.name_en,
-                     "severity": r.text(app), "method": ", ".join(r.items) or DASH, "status": status,
+        rows.append({"no": str(r.no), "name": f"{r.name_cn} {r.name_en}", "name_cn": r.name_cn,
+                     "name_en": r.name_en,
+                     "severity": r.text(app), "method": ", ".join(r.items) or DASH,
+                     "status": status,
                      "performed_items": which})
     return rows
 
@@ -207,12 +227,14 @@ def residual_plot(spec: PlotSpec) -> PlotSpec | None:
     k_i, model = np.asarray(pts["y"], dtype=float), np.asarray(fit["y"], dtype=float)
     if k_i.shape != model.shape or not np.all(model != 0):
         return None
-    series = [{"label": "K_i − (K + WΩ_i)", "x": x.tolist(), "y": ((k_i - model) / model * 1e6).tolist(),
+    series = [{"label": "K_i − (K + WΩ_i)", "x": x.tolist(),
+               "y": ((k_i - model) / model * 1e6).tolist(),
                "style": "o"}]
     if pts.get("yerr") is not None:
         series[0]["yerr"] = (np.asarray(pts["yerr"], dtype=float) / model * 1e6).tolist()
     series.append({"x": [float(x.min()), float(x.max())], "y": [0.0, 0.0], "style": "--"})
-    return PlotSpec("K_residuals", msg("Residuals of K_i about the eq. (D.4) fit"), spec.xlabel, msg("residual (ppm of K)"),
+    return PlotSpec("K_residuals", msg("Residuals of K_i about the eq. (D.4) fit"), spec.xlabel,
+                    msg("residual (ppm of K)"),
                     series, logx=spec.logx)
 
 
@@ -230,7 +252,8 @@ def _add_residual_figures(context: dict) -> None:
                 extra = residual_plot(p["spec"])
                 if extra is not None:
                     plots.append({"number": 0, "name": extra.name, "title": extra.title,
-                                  "caption": plot_caption(extra.title, o["item"]), "spec": extra, "image": None})
+                                  "caption": plot_caption(extra.title, o["item"]), "spec": extra,
+                                  "image": None})
         for p in plots:
             p["number"] = n
             n += 1
@@ -298,7 +321,9 @@ def extend_context(record, context: dict) -> None:
 
     a = record.conformity
     # a warning several items share once, naming them (metro.core.documents.notes)
-    deviations = [join(": ", [where, w]) for where, w in group_notes((o.item, "", w) for o in outs for w in o.warnings)]
+    deviations = [join(": ", [where, w]) for where, w in group_notes((o.item, "",
+                                                                      w) for o in outs
+                                                                     for w in o.warnings)]
 
     _add_residual_figures(context)
     selection = [{"item": c.item, "run": bool(c.run), "reason": c.reason} for c in record.selection]
@@ -307,22 +332,26 @@ def extend_context(record, context: dict) -> None:
         "number": record.report_number,
         "lab": m(lab.name), "lab_address": m(lab.address), "customer": m(customer.name),
         "customer_address": m(customer.address),
-        "tested_on": camp.measurement_date.isoformat() if camp.measurement_date else context.get("created", DASH),
-        "tested_by": m(people.operator), "checked_by": m(people.checked_by), "approved_by": m(people.approved_by),
+        "tested_on": camp.measurement_date.isoformat() if camp.measurement_date
+                           else context.get("created", DASH),
+        "tested_by": m(people.operator), "checked_by": m(people.checked_by),
+                           "approved_by": m(people.approved_by),
         "device_application": (f"{camp.device.technology or DASH} gyro, application "
                                f"{camp.device.application or DASH}"),
         "environment": environment_rows(dict(camp.environment)),
         "method": method_text(record),
         "selection": selection,
         "has_conformity": a is not None,
-        "rule": {"name": a.rule.name, "title": a.rule.title, "statement": a.rule.statement} if a else
+        "rule": {"name": a.rule.name, "title": a.rule.title,
+                 "statement": a.rule.statement} if a else
                 {"name": DASH, "title": "no specification given", "statement":
-                 "No specification applies (device technology or application not given, and no [specification] "
-                 "in the manifest): no conformity statement is made."},
+                 "No specification applies (device technology or application not given, and no "
+                 "[specification] in the manifest): no conformity statement is made."},
         "overall": STATUS_TEXT[a.overall.value] if a is not None and a.overall is not None else "",
         "counts": dict(a.counts()) if a is not None else {},
         "verdicts": verdict_rows(a) if a is not None else [],
-        "not_assessed": [msg("{symbol} {limit} ({source})", symbol=s.symbol, limit=s.text(), source=s.source)
+        "not_assessed": [msg("{symbol} {limit} ({source})", symbol=s.symbol, limit=s.text(),
+                             source=s.source)
                          for s in a.not_assessed] if a is not None else [],
         "limits": limit_table(camp.device, outs, a),
         "severities": severity_rows(camp.device, outs),
@@ -361,7 +390,8 @@ def limit_sources(sources: Iterable[Any]) -> Any:
 
     ``[row_source("A.1", 1, "scale factor", "aviation"), row_source("A.1", 2, "scale factor
     nonlinearity", "aviation"), clause_source("5.2.6"), product_source("inspection.mass.limit")]`` →
-    ``GB/T 45570—2025: table A.1 rows 1, 2, aviation; 5.2.6; product specification (inspection.mass.limit)``.
+    ``GB/T 45570—2025: table A.1 rows 1, 2, aviation; 5.2.6; product specification
+    (inspection.mass.limit)``.
     """
     gb: dict[tuple, Any] = {}
     products: list[Any] = []
@@ -378,7 +408,8 @@ def limit_sources(sources: Iterable[Any]) -> Any:
         if remark is None and (_is(s, CLAUSE_SOURCE) or _is(s, CLAUSE_WHY_SOURCE)):
             clause, why = str(s.fields["clause"]), s.fields.get("why")
             m = re.fullmatch(r"(\d+(?:\.\d+)*) ([a-z]\))", clause)
-            if m is not None and why is not None:  # "5.4 b) (why)", "5.4 d) (why)" -> "5.4 b), d) (why)"
+            # "5.4 b) (why)", "5.4 d) (why)" -> "5.4 b), d) (why)"
+            if m is not None and why is not None:
                 key = ("sub", m[1], str(why))
                 gb.setdefault(key, [why]).append(m[2])
             else:
@@ -395,16 +426,22 @@ def limit_sources(sources: Iterable[Any]) -> Any:
         if key[0] == "row":
             rows = sorted(val, key=lambda rv: rv[0])
             nums = [r for r, _ in rows]
-            text = (msg("table {table} row {row}, {application}", table=key[1], row=nums[0], application=key[2])
+            text = (msg("table {table} row {row}, {application}", table=key[1], row=nums[0],
+                        application=key[2])
                     if len(nums) == 1 else
-                    msg("table {table} rows {rows}, {application}", table=key[1], rows=_ranges(nums),
+                    msg("table {table} rows {rows}, {application}", table=key[1],
+                        rows=_ranges(nums),
                         application=key[2]))
-            remarks = [msg("row {row}: {remark}", row=r, remark=rem) for r, rem in rows if rem is not None]
-            parts.append(msg("{text} ({remarks})", text=text, remarks=_semi(remarks)) if remarks else text)
+            remarks = [msg("row {row}: {remark}", row=r, remark=rem) for r,
+                       rem in rows if rem is not None]
+            parts.append(msg("{text} ({remarks})", text=text,
+                             remarks=_semi(remarks)) if remarks else text)
         elif key[0] == "sub":
-            parts.append(msg("{clause} {items} ({why})", clause=key[1], items=", ".join(val[1:]), why=val[0]))
+            parts.append(msg("{clause} {items} ({why})", clause=key[1], items=", ".join(val[1:]),
+                             why=val[0]))
         else:
-            parts.append(key[1] if val[0] is None else msg("{clause} ({why})", clause=key[1], why=val[0]))
+            parts.append(key[1] if val[0] is None else msg("{clause} ({why})", clause=key[1],
+                                                           why=val[0]))
     out: list[Any] = []
     for o in dict.fromkeys(order):
         if o == "GB":
@@ -465,7 +502,8 @@ def _symbolizer(ctx: dict, tr=None):
              for k, (s, n) in found.items() if s or n}
     if not names:
         return lambda text: text
-    rx = re.compile(r"(?<![\w.])(" + "|".join(sorted(map(re.escape, names), key=len, reverse=True)) + r")(?!\w)")
+    rx = re.compile(r"(?<![\w.])(" + "|".join(sorted(map(re.escape, names), key=len,
+                                                     reverse=True)) + r")(?!\w)")
     return lambda text: rx.sub(lambda m: names[m.group(1)], text)
 
 
@@ -507,14 +545,22 @@ def _front_page(doc, ctx: dict, g: dict) -> dict:
 
     tr = doc.tr
     doc.title_block(tr("Test report"), "GB/T 45570—2025 " + tr.pick("光学陀螺仪通用技术要求",
-                                                                    "Optical gyroscopes — general technical requirements"))
+                                                                    "Optical gyroscopes — general "
+                                                                    "technical requirements"))
     dev = ctx["device"]
-    D.identification(doc, ctx, [
-        (tr("Technology and application"), f"{tr(dev['technology']) if dev['technology'] != DASH else DASH}, "
-                                           f"{tr(dev['application']) if dev['application'] != DASH else DASH}"),
-        (tr("Standard"), "GB/T 45570—2025, " + tr("appendix D")),
-        (tr("Items"), ", ".join(dict.fromkeys(o["item"] for o in ctx["outcomes"]))),
-    ])
+    D.identification(
+        doc,
+        ctx,
+        [
+            (
+                tr("Technology and application"),
+                f"{tr(dev['technology']) if dev['technology'] != DASH else DASH}, "
+                f"{tr(dev['application']) if dev['application'] != DASH else DASH}",
+            ),
+            (tr("Standard"), "GB/T 45570—2025, " + tr("appendix D")),
+            (tr("Items"), ", ".join(dict.fromkeys(o["item"] for o in ctx["outcomes"]))),
+        ],
+    )
     verdicts = {(v["item"], v["key"]): tr(v["status_text"]) for v in g["verdicts"]}
     if g["has_conformity"]:
         counts = ", ".join(f"{n} {tr(STATUS_TEXT[k])}" for k, n in g["counts"].items() if n)
@@ -532,13 +578,27 @@ def _clause5_section(doc, g: dict, symbols, n: int) -> int:
     doc.heading(f"{n} {tr('Technical requirements')} (5)", 1)
     # each requirement with its results (symbols, not code keys) and verdict; the why only
     # where the verdict is not "conforms" (the interval inside the limit is the results table's)
-    doc.table([tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
-              [[r["clause"], tr.pick(r["requirement_cn"], r["requirement_en"]) if r.get("requirement_cn")
+    doc.table(
+        [tr("Clause"), tr("Requirement"), tr("Result"), tr("Verdict"), tr("Note")],
+        [
+            [
+                r["clause"],
+                tr.pick(r["requirement_cn"], r["requirement_en"])
+                if r.get("requirement_cn")
                 else r["requirement"],
-                _first_results(tr, symbols(r["result"])).replace("[not reportable]", f"[{tr('not reportable')}]"),
+                _first_results(tr, symbols(r["result"])).replace(
+                    "[not reportable]", f"[{tr('not reportable')}]"
+                ),
                 tr(r["verdict"]) if r["verdict"] else DASH,
-                "" if r["verdict"] == "conforms" else symbols(tr.text(r.get("note", "")))] for r in g["clause5"]],
-              font_pt=7.5, prefer=4, prefer_share=0.5)  # the why of a verdict not "conforms" is long
+                "" if r["verdict"] == "conforms" else symbols(tr.text(r.get("note", ""))),
+            ]
+            for r in g["clause5"]
+        ],
+        # the why of a verdict not "conforms" is long
+        font_pt=7.5,
+        prefer=4,
+        prefer_share=0.5,
+    )
     n += 1
     return n
 
@@ -551,7 +611,8 @@ def _conditions_section(doc, ctx: dict, g: dict, n: int) -> int:
     doc.heading(f"{n} {tr('Test conditions')} (6.1)", 1)
     doc.heading(f"{tr('Test environment')} (6.1.1)", 2)
     doc.table([tr("Condition"), tr("Required"), tr("Recorded"), tr("Verdict")],
-              [[f"{tr(r['name'])} ({r['clause']}", tr(r["required"]) if r["required"] == "the site's pressure" else r["required"],
+              [[f"{tr(r['name'])} ({r['clause']}",
+                tr(r["required"]) if r["required"] == "the site's pressure" else r["required"],
                 tr(r["measured"]) if r["measured"] == "not recorded" else r["measured"],
                 tr(r["verdict"]) if r["verdict"] else DASH] for r in g["environment"]])
     doc.heading(f"{tr('Test equipment and measuring instruments')} (6.1.2)", 2)
@@ -567,7 +628,8 @@ def _conditions_section(doc, ctx: dict, g: dict, n: int) -> int:
                 groups.setdefault((c["run"], c["reason"]), []).append(c["item"])
             doc.table([tr("Run"), tr("Items"), tr("Reason")],
                       [[tr("yes") if run else tr("no"), ", ".join(items), tr.text(reason)]
-                       for (run, reason), items in sorted(groups.items(), key=lambda kv: not kv[0][0])],
+                       for (run, reason), items in sorted(groups.items(),
+                                                          key=lambda kv: not kv[0][0])],
                       prefer=1)
     return n
 
@@ -579,11 +641,14 @@ def _conformity_section(doc, ctx: dict, g: dict, symbols, n: int) -> int:
     tr = doc.tr
     n += 1
     doc.heading(f"{n} {tr('Conformity')}", 1)
-    doc.para(f"{tr('Decision rule')}: {tr.text(g['rule']['title'])}", keep_next=True)  # not alone at a page foot
+    # not alone at a page foot
+    doc.para(f"{tr('Decision rule')}: {tr.text(g['rule']['title'])}", keep_next=True)
     doc.para(g["rule"]["statement"], size=8.5, keep_next=True)
-    shown = [v for v in g["verdicts"] if v["status"] != "pass"]  # the results table gives every verdict
+    # the results table gives every verdict
+    shown = [v for v in g["verdicts"] if v["status"] != "pass"]
     if shown:
-        doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Value"), tr("U (k)"), tr("Verdict"), tr("Reason")],
+        doc.table([tr("Item"), tr("Quantity"), tr("Limit"), tr("Value"), tr("U (k)"), tr("Verdict"),
+                   tr("Reason")],
                   [[v["item"], D.quantity_for(ctx, v["item"], v["key"]), v["limit"],
                     tr(v["value"]) if v["detail"] == "not reportable" else v["value"],
                     DASH if v["detail"] == "not reportable" else f"{v['U']} (k = {v['k']})",
@@ -594,11 +659,17 @@ def _conformity_section(doc, ctx: dict, g: dict, symbols, n: int) -> int:
         doc.para(tr("The other {n} results conform: each interval value ± U lies within its limit "
                     "(results table above).", n=len(g["verdicts"]) - len(shown)), size=8.5)
     if g["verdicts"]:
-        doc.para(f"{tr('Sources of the limits')}: " + tr.text(limit_sources(v["source"] for v in g["verdicts"])),
-                 size=8)
+        doc.para(
+            f"{tr('Sources of the limits')}: "
+            + tr.text(limit_sources(v["source"] for v in g["verdicts"])),
+            size=8,
+        )
     if g["not_assessed"] and not g["limits"]:  # else table A.1/B.1 shows them as not performed
-        doc.para(f"{tr('Not assessed (item not performed)')}: " + "; ".join(tr.text(x) for x in g["not_assessed"]),
-                 size=8)
+        doc.para(
+            f"{tr('Not assessed (item not performed)')}: "
+            + "; ".join(tr.text(x) for x in g["not_assessed"]),
+            size=8,
+        )
     return n
 
 
@@ -613,15 +684,19 @@ def _limits_section(doc, g: dict, type_test: bool, n: int) -> int:
                     f"{tr.pick(lim['app_cn'], lim['app'])}", 1)
         rows = [r for r in lim["rows"] if type_test or r["performed"]]
         if rows:
-            doc.table([tr("No."), tr("Index"), tr("Limit"), tr("Method"), tr("Result"), tr("Verdict")],
-                      [[r["no"], tr.pick(r["name_cn"], r["name_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
+            doc.table([tr("No."), tr("Index"), tr("Limit"), tr("Method"), tr("Result"),
+                       tr("Verdict")],
+                      [[r["no"], tr.pick(r["name_cn"],
+                                         r["name_en"]) + (f" {r['symbol']}" if r["symbol"] else ""),
                         r["limit"], r["method"],
-                        (tr(r["result"]) if r["result"] == "not reportable" else r["result"]) if r["performed"]
+                        (tr(r["result"]) if r["result"] == "not reportable" else r["result"])
+                        if r["performed"]
                         else tr(NOT_PERFORMED),
                         tr(r["verdict"]) if r["verdict"] else DASH] for r in rows], font_pt=7.5)
         idle = [r["no"] for r in lim["rows"] if not r["performed"]]
         if idle and not type_test:
-            doc.para(tr("Rows of table {table} not performed in this run: {rows}", table=lim["table"],
+            doc.para(tr("Rows of table {table} not performed in this run: {rows}",
+                        table=lim["table"],
                         rows=", ".join(idle)), size=8.5)
     return n
 
@@ -636,7 +711,8 @@ def _severities_section(doc, g: dict, type_test: bool, n: int) -> int:
         if rows:
             doc.table([tr("No."), tr("Test"), tr("Severity"), tr("Method"), tr("Status")],
                       [[r["no"], tr.pick(r["name_cn"], r["name_en"]), r["severity"], r["method"],
-                        tr(r["status"]) + (f": {r['performed_items']}" if r["performed_items"] else "")]
+                        tr(r["status"]) + (f": {r['performed_items']}" if r["performed_items"]
+                                           else "")]
                        for r in rows], font_pt=7.5)
         if not type_test:
             idle = [r["no"] for r in g["severities"] if r["status"] != "performed"]

@@ -13,7 +13,7 @@ import numpy as np
 from metro.api import Q_, BudgetRow, Campaign, DataError, Procedure, Step, msg
 
 from . import formulas as F
-from .common import ItemRef
+from .common import DIRECTIONS, ItemRef
 
 #: GB/T 321 R5 preferred numbers, rounded, up to 400 °/s (D.1.1.2 e))
 R5_RATES = (1.0, 1.6, 2.5, 4.0, 6.3, 10.0, 16.0, 25.0, 40.0, 63.0, 100.0, 160.0, 250.0, 400.0)
@@ -29,18 +29,23 @@ def rate_points(max_rate_deg_s: float) -> list[float]:
 
 
 def angle_sequence(options: Mapping[str, Any], zero: bool) -> list[Step]:
+    """D.1.1.2: whole revolutions both ways at each R5 rate point, with (``zero``) the zero-rate
+    records of D.1.3.2 a) at the start and end."""
     from metro.api import parse_quantity
 
-    rmax = float(parse_quantity(options.get("max_rate", "400 °/s"), dimension="deg/s").to("deg/s").magnitude)
+    rmax = float(parse_quantity(options.get("max_rate", "400 °/s"),
+                                dimension="deg/s").to("deg/s").magnitude)
     m = int(options.get("turns", 5))
     steps = []
     if zero:
-        steps.append(Step("zero-start", "static-zero", "table at rest, 300 s at τ = 1 s (D.1.3.2 a))",
+        steps.append(Step("zero-start", "static-zero",
+                          "table at rest, 300 s at τ = 1 s (D.1.3.2 a))",
                           Q_(300, "s"), Q_(1, "s"), {"orientation": "IRA up"}))
     for r in rate_points(rmax):
-        for sign, word in ((1, "counter-clockwise (+)"), (-1, "clockwise (−)")):
+        for sign, word in DIRECTIONS:
             steps.append(Step(f"rate{sign * r:+g}", "rate-revolutions",
-                              f"{m} whole revolutions at {r:g} °/s {word}, counting pulses between revolution "
+                              f"{m} whole revolutions at {r:g} °/s {word}, counting pulses between "
+                              f"revolution "
                               "pulses (D.1.1.2 g))", Q_(m * 360.0 / r, "s"), Q_(360.0 / r, "s"),
                               {"rate": f"{sign * r:g} deg/s", "turns": m}, warmup=Q_(30, "min")))
     if zero:
@@ -56,7 +61,8 @@ def revolution_trend(c_plus: np.ndarray, c_minus: np.ndarray) -> tuple[float, fl
     ν = m₊ + m₋ − 3.  A bias changing at ḃ (″/s²) through the point adds K·ḃ·T² per revolution
     of T seconds to both runs' counts, so β = K·ḃ·T².  Not a formula of the standard: metro's
     bound on the bias drift between the + and − runs of D.1.1.2 g) (interpretations.md, "D.1.2 /
-    D.1.3 — the bias drifting through the sweep").  Returns (0, inf, 0) below two revolutions a run."""
+    D.1.3 — the bias drifting through the sweep").  Returns (0, inf, 0) below two revolutions a
+    run."""
     cp, cm = np.asarray(c_plus, dtype=float), np.asarray(c_minus, dtype=float)
     if cp.size < 2 or cm.size < 2 or cp.size + cm.size < 5:
         return 0.0, math.inf, 0
@@ -70,6 +76,9 @@ def revolution_trend(c_plus: np.ndarray, c_minus: np.ndarray) -> tuple[float, fl
 
 @attrs.frozen
 class RatePoint:
+    """One rate point of the angle method: the mean pulse counts of its + and − runs (D.1), their
+    scatter, revolutions and times, and the trend of the counts within the runs."""
+
     rate: float  # |Ω|, °/s
     n_plus: float
     n_minus: float
@@ -155,7 +164,8 @@ def collect_rate_points(proc: type[Procedure] | ItemRef, campaign: Campaign, min
     for s in segs:
         rate = float(s.condition("rate", "deg/s").to("deg/s").magnitude)
         if rate == 0:
-            raise DataError(campaign.source, f"segments.{s.id}.conditions.rate", "a rate point cannot be 0 °/s")
+            raise DataError(campaign.source, f"segments.{s.id}.conditions.rate",
+                            "a rate point cannot be 0 °/s")
         key = round(abs(rate), 9)
         d = 1 if rate > 0 else -1
         if d in by_rate.setdefault(key, {}):
@@ -167,38 +177,46 @@ def collect_rate_points(proc: type[Procedure] | ItemRef, campaign: Campaign, min
             missing = "clockwise (−)" if 1 in pair else "counter-clockwise (+)"
             only = pair.get(1) or pair.get(-1)
             raise DataError(campaign.source, f"segments.{only.id}",
-                            f"rate point {rate:g} °/s{' ' + what if what else ''} has no {missing} run; "
+                            f"rate point {rate:g} °/s{' ' + what if what else ''} has no {missing} "
+                            f"run; "
                             "D.2 needs both directions")
         stats = {}
         for d, s in pair.items():
             c = np.asarray(s.series("count", "P").data.magnitude, dtype=float)
             t = np.asarray(s.series("duration", "s").data.to("s").magnitude, dtype=float)
-            if c.size < 1 or not np.all(np.isfinite(c)) or not np.all(np.isfinite(t)) or np.any(t <= 0):
+            if (c.size < 1 or not np.all(np.isfinite(c)) or not np.all(np.isfinite(t))
+                    or np.any(t <= 0)):
                 raise DataError(s.file or f"segment {s.id}", "count/duration",
-                                "needs at least one revolution with finite counts and positive durations")
+                                "needs at least one revolution with finite counts and positive "
+                                "durations")
             expect_t = 360.0 / rate
             if abs(float(np.mean(t)) - expect_t) > 0.05 * expect_t:
                 raise DataError(s.file or f"segment {s.id}", "duration",
-                                f"revolutions last {np.mean(t):.4g} s on average, but 360° at {rate:g} °/s takes "
+                                f"revolutions last {np.mean(t):.4g} s on average, but 360° at "
+                                f"{rate:g} °/s takes "
                                 f"{expect_t:.4g} s; is the rate or the duration unit wrong?")
-            stats[d] = (F.mean_counts_d1(c), float(np.std(c, ddof=1)) if c.size > 1 else 0.0, c.size,
+            stats[d] = (F.mean_counts_d1(c), float(np.std(c, ddof=1)) if c.size > 1 else 0.0,
+                        c.size,
                         float(np.mean(t)), s.id, c)
         (np_, sp, mp, tp, idp, cp), (nm, sm, mm, tm, idm, cm) = stats[1], stats[-1]
-        points.append(RatePoint(rate, np_, nm, sp, sm, mp, mm, tp, tm, (idp, idm), *revolution_trend(cp, cm)))
+        points.append(RatePoint(rate, np_, nm, sp, sm, mp, mm, tp, tm, (idp, idm),
+                                *revolution_trend(cp, cm)))
     if len(points) < min_points:
         raise DataError(campaign.source, "segments",
-                        f"{proc.qualified_id()} needs at least {min_points} rate points (D.1.1.2 e))"
-                        f"{' ' + what if what else ''}; found {len(points)}",
+                        f"{proc.qualified_id()} needs at least {min_points} rate points (D.1.1.2 "
+                        f"e)){' ' + what if what else ''}; found {len(points)}",
                         hint="or lower the option min_points if agreed with the user")
     return points
 
 
 def angle_row(campaign: Campaign, value: float, unit: str) -> list[BudgetRow]:
+    """The revolution pulse's position accuracy (D.1.1.1 d)) as a relative row on ``value``."""
     table = campaign.equipment_for("rate_table")
     if table is None or "revolution_pulse_accuracy" not in table.properties:
         return []
     acc = table.prop("revolution_pulse_accuracy", "arcsec", source=campaign.source)
     rel = float(acc.to("arcsec").magnitude) / F.REVOLUTION_ARCSEC
-    return [BudgetRow.type_b(msg("revolution pulse position ({equipment})", equipment=table.describe()), "δθ/360°",
+    return [BudgetRow.type_b(msg("revolution pulse position ({equipment})",
+                                 equipment=table.describe()), "δθ/360°",
                              Q_(rel, ""), distribution="uniform", sensitivity=Q_(abs(value), unit),
                              note=msg("±{acc} on 360° (D.1.1.1 d))", acc=f"{acc:~P}"))]

@@ -32,13 +32,17 @@ from .common import COVERAGE, check_finite, resolution_row, scale_factor_row, ti
 
 STATIC = SegmentRequirement(
     kind="static",
-    description="gyro at rest on a levelled stable platform, IRA along the local vertical (D.5.1.2)",
+    description="gyro at rest on a levelled stable platform, IRA along the local vertical "
+                "(D.5.1.2)",
     conditions={"orientation": ""},
     columns={"output": OUTPUT_UNITS},
 )
 
 
-def static_segment(proc: type[Procedure], campaign: Campaign, options: Mapping[str, Any]) -> Segment:
+def static_segment(proc: type[Procedure], campaign: Campaign, options: Mapping[str,
+                                                                               Any]) -> Segment:
+    """The static segment a D.5 item evaluates (option ``segment``, else the first), its
+    orientation checked."""
     wanted = options.get("segment")
     segs = campaign.find_segments("static")
     if wanted:
@@ -48,7 +52,8 @@ def static_segment(proc: type[Procedure], campaign: Campaign, options: Mapping[s
     if not segs:
         raise DataError(
             campaign.source, "segments",
-            f"{proc.qualified_id()} needs a segment of kind \"static\" ({STATIC.description}); none found",
+            f"{proc.qualified_id()} needs a segment of kind \"static\" ({STATIC.description}); "
+            f"none found",
             hint="`metro plan --standard gbt45570 --item " + proc.item + "` shows what to measure",
         )
     seg = segs[0]
@@ -71,7 +76,8 @@ def orientation(seg: Segment, campaign: Campaign) -> str:
     orient = str(seg.condition("orientation")).strip().lower().replace("ira", "").strip()
     if orient not in ("up", "down"):
         raise DataError(seg.file or campaign.source, f"segments.{seg.id}.conditions.orientation",
-                        f"must be \"IRA up\" or \"IRA down\" (D.5.1.2 a)), got {seg.conditions['orientation']!r}")
+                        f"must be \"IRA up\" or \"IRA down\" (D.5.1.2 a)), got "
+                        f"{seg.conditions['orientation']!r}")
     return orient
 
 
@@ -92,19 +98,27 @@ class BiasEstimate:
     hw_q: float = 0.0  # °/h, its half-width (uniform)
 
 
+def batch_record(seg: Segment, campaign: Campaign, batches: int,
+                 dtype: Any = float) -> tuple[Any, RateConversion, np.ndarray]:
+    """A segment's output series, its conversion to °/h and its samples (as ``dtype``), checked
+    finite and long enough for ``batches`` batch means."""
+    series, conv = gyro_output(seg, campaign.device, source=campaign.source)
+    raw = np.asarray(series.data.magnitude, dtype=dtype)
+    check_finite(raw, seg)
+    if raw.size < 2 * batches:
+        raise DataError(seg.file or f"segment {seg.id}", "output",
+                        f"{raw.size} samples are too few for {batches} batch means")
+    return series, conv, raw
+
+
 def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEstimate:
     """Bias of one static segment by D.40 (D.5.1.3), with its budget.
 
     Shared by D.5.1 and the items built on it (D.5.3 repeatability, D.5.4 temperature and
     D.5.5 magnetic sensitivity), which apply "the method of D.5.1.2" to each segment.
     """
-    series, conv = gyro_output(seg, campaign.device, source=campaign.source)
-    raw = np.asarray(series.data.magnitude)
-    check_finite(raw, seg)
     b = int(batches)
-    if raw.size < 2 * b:
-        raise DataError(seg.file or f"segment {seg.id}", "output",
-                        f"{raw.size} samples are too few for {b} batch means")
+    series, conv, raw = batch_record(seg, campaign, b, dtype=None)
     orient = orientation(seg, campaign)
     theta = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
     mean_raw = float(np.mean(raw, dtype=np.float64))
@@ -117,52 +131,68 @@ def segment_bias(seg: Segment, campaign: Campaign, batches: int = 20) -> BiasEst
             B0 += 2 * F.earth_rate_vertical(theta)
     else:
         B0 = indicated - earth
-    # correlated noise (bias instability, rate random walk) makes neighbouring batch means alike, and
+    # correlated noise (bias instability, rate random walk) makes neighbouring batch means alike,
+    # and
     # their scatter understates the mean's u: five long batches are checked against it and taken
     # when they disagree beyond chance (F test, 95 %) (interpretations.md, D.5.1)
     bm = allan.mean_u_batches(raw, b)
     uA, nb = bm.u * conv.magnitude, bm.batches
     note = msg("{nb} batches of {n} samples", nb=nb, n=raw.size // b)
     if bm.correlated:
-        note = msg("{n5} batches of {n} samples: the {nb} batch means ({uA:.3g} °/h) are correlated (bias "
-                   "instability or random walk), their scatter understates the mean's u", n5=nb, n=raw.size // nb,
+        note = msg("{n5} batches of {n} samples: the {nb} batch means ({uA:.3g} °/h) are "
+                   "correlated (bias "
+                   "instability or random walk), their scatter understates the mean's u", n5=nb,
+                   n=raw.size // nb,
                    nb=bm.batches_short, uA=bm.u_short * conv.magnitude)
-    rows = [BudgetRow.type_a(msg("scatter of the output (batch means)"), "s_b/√b", Q_(uA, "deg/h"), nb - 1, note=note)]
+    rows = [BudgetRow.type_a(msg("scatter of the output (batch means)"), "s_b/√b", Q_(uA, "deg/h"),
+                             nb - 1, note=note)]
     rows += scale_factor_row(conv, indicated, "deg/h")
     lat_u = campaign.site.get("latitude_uncertainty")
     c_theta = F.EARTH_RATE_DEG_PER_H * math.cos(math.radians(theta))
     if lat_u is not None:
-        lu = parse_quantity(lat_u, dimension="deg", file=campaign.source, field="site.latitude_uncertainty")
-        rows.append(BudgetRow.type_b(msg("site latitude θ"), "u(θ)", lu.to("rad"), distribution="uniform",
-                                     sensitivity=Q_(c_theta, "deg/h/rad"), note=msg("∂B0/∂θ = −15.041·cos θ")))
+        lu = parse_quantity(lat_u, dimension="deg", file=campaign.source,
+                            field="site.latitude_uncertainty")
+        rows.append(BudgetRow.type_b(msg("site latitude θ"), "u(θ)", lu.to("rad"),
+                                     distribution="uniform",
+                                     sensitivity=Q_(c_theta, "deg/h/rad"),
+                                     note=msg("∂B0/∂θ = −15.041·cos θ")))
     plat = campaign.equipment_for("platform")
     if plat is not None and "levelness" in plat.properties:
         lev = plat.prop("levelness", "arcsec", source=campaign.source)
-        rows.append(BudgetRow.type_b(msg("levelling of the IRA ({equipment})", equipment=plat.describe()), "δ",
-                                     lev.to("rad"), distribution="uniform", sensitivity=Q_(c_theta, "deg/h/rad"),
-                                     note=msg("horizontal earth rate Ω·cos θ·sin δ leaks into the IRA")))
+        rows.append(BudgetRow.type_b(msg("levelling of the IRA ({equipment})",
+                                         equipment=plat.describe()), "δ",
+                                     lev.to("rad"), distribution="uniform", sensitivity=Q_(c_theta,
+                                                                                           "deg/h/rad"),
+                                     note=msg("horizontal earth rate Ω·cos θ·sin δ leaks into the "
+                                              "IRA")))
     rows += timebase_row(campaign, indicated, "deg/h", msg("indicated rate"))
     q_rows = quantization_rows_mean(campaign, conv, raw, msg("the mean of D.40"))
     rows += q_rows
     budget = UncertaintyBudget("B0", "deg/h", rows, coverage=COVERAGE)
     u_q = float(q_rows[0].contribution.to("deg/h").magnitude) if q_rows else 0.0
-    return BiasEstimate(B0, uA, nb - 1, budget, earth, orient, theta, conv, series, u_q, u_q * math.sqrt(3.0))
+    return BiasEstimate(B0, uA, nb - 1, budget, earth, orient, theta, conv, series, u_q,
+                        u_q * math.sqrt(3.0))
 
 
 def duration_warnings(series, wanted, clause: str) -> list[str]:
+    """A warning when the record is shorter than the clause asks."""
     dur = series.duration.to("h")
     if dur < wanted * 0.999:
-        return [msg("the record lasts {dur}; {clause} asks for {wanted} (or the user's application time)",
+        return [msg("the record lasts {dur}; {clause} asks for {wanted} (or the user's application "
+                    "time)",
                     dur=f"{dur:~.3gP}", clause=clause, wanted=f"{wanted:~P}")]
     return []
 
 
-def segments_of(proc: type[Procedure], campaign: Campaign, kind: str, need: int, what: str) -> list[Segment]:
+def segments_of(proc: type[Procedure], campaign: Campaign, kind: str, need: int,
+                what: str) -> list[Segment]:
+    """The segments of ``kind``; a DataError when fewer than ``need``."""
     segs = campaign.find_segments(kind)
     if len(segs) < need:
         raise DataError(
             campaign.source, "segments",
-            f"{proc.qualified_id()} needs at least {need} segments of kind \"{kind}\" ({what}); found {len(segs)}",
+            f"{proc.qualified_id()} needs at least {need} segments of kind \"{kind}\" ({what}); "
+            f"found {len(segs)}",
             hint=f"`metro plan --standard gbt45570 --item {proc.item}` lists them",
         )
     return segs
@@ -197,9 +227,11 @@ def output_quantum(campaign: Campaign, conv: RateConversion, raw: np.ndarray) ->
         if q.check("[digital_count]"):
             return float(q.to("LSB").magnitude), msg("device resolution {res}", res=res)
         if q.is_compatible_with("deg/h") and conv.magnitude:
-            return float(q.to("deg/h").magnitude) / conv.magnitude, msg("device resolution {res}", res=res)
+            return float(q.to("deg/h").magnitude) / conv.magnitude, msg("device resolution {res}",
+                                                                        res=res)
         raise DataError(campaign.source, "device.resolution",
-                        f"{res!r} is not a resolution of a {conv.output_kind} output (LSB or a rate such as °/h)")
+                        f"{res!r} is not a resolution of a {conv.output_kind} output (LSB or a "
+                        f"rate such as °/h)")
     sample = np.asarray(raw[: 200_000], dtype=np.float64)
     vals = np.unique(sample)
     if conv.output_kind == "digital" and np.all(vals == np.round(vals)):
@@ -227,10 +259,12 @@ def quantization_of(campaign: Campaign, conv: RateConversion, raw: np.ndarray) -
 
 
 def raw_unit(conv: RateConversion) -> str:
+    """The unit of the raw samples of an output of this kind."""
     return {"digital": "LSB", "pulse": "P"}.get(conv.output_kind, "deg/h")
 
 
-def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.ndarray, what: str) -> list[BudgetRow]:
+def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.ndarray,
+                           what: str) -> list[BudgetRow]:
     """The quantization row of a mean of the output (D.5.1, and through it D.5.3–D.5.5).
 
     * pulse counts carry their remainder: the mean count is off by at most the readout error at
@@ -240,8 +274,10 @@ def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.nda
       the offset of the mean is bounded by :func:`.formulas.rounding_mean_bound`."""
     c = abs(conv.magnitude)
     if conv.output_kind == "pulse":
-        return [resolution_row(campaign, c, "deg/h", what, q=1.0, raw_unit="P", half_width=1.0 / raw.size,
-                                note=msg("readout at the record's two ends: ±1 P over {n} samples", n=raw.size))]
+        return [resolution_row(campaign, c, "deg/h", what, q=1.0, raw_unit="P",
+                               half_width=1.0 / raw.size,
+                                note=msg("readout at the record's two ends: ±1 P over {n} samples",
+                                         n=raw.size))]
     qz = quantization_of(campaign, conv, raw)
     if qz.q <= 0:
         return []
@@ -250,16 +286,19 @@ def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.nda
     q_raw = qz.q / c if c else 0.0
     if qz.dithered:
         hw = F.rounding_mean_bound(qz.q, F.rounding_sigma(qz.s, qz.q)) / c
-        note = msg("noise s = {s:.3g} °/h ≥ q = {q:.3g} °/h dithers the rounding: offset of the mean ≤ "
+        note = msg("noise s = {s:.3g} °/h ≥ q = {q:.3g} °/h dithers the rounding: offset of the "
+                   "mean ≤ "
                    "Σ(q/πk)e^(−2π²k²σ²/q²) (step from {source})", s=qz.s, q=qz.q, source=qz.source)
     else:
         hw = q_raw / 2.0
         note = msg("noise s = {s:.3g} °/h < q = {q:.3g} °/h: the rounding does not average out, "
                    "±q/2 on the mean (step from {source})", s=qz.s, q=qz.q, source=qz.source)
-    return [resolution_row(campaign, c, "deg/h", what, q=q_raw, raw_unit=raw_unit(conv), half_width=hw, note=note)]
+    return [resolution_row(campaign, c, "deg/h", what, q=q_raw, raw_unit=raw_unit(conv),
+                           half_width=hw, note=note)]
 
 
-def quantization_rows_std(campaign: Campaign, conv: RateConversion, raw: np.ndarray, factor: int) -> list[BudgetRow]:
+def quantization_rows_std(campaign: Campaign, conv: RateConversion, raw: np.ndarray,
+                          factor: int) -> list[BudgetRow]:
     """The quantization row of a standard deviation of means of ``factor`` rounded rate samples
     (D.5.2): |Δstd| ≤ std of the means' rounding errors — q/√(12·factor) when the noise dithers
     the rounding (independent errors of variance q²/12), else up to q/2.  Pulse counts: none
@@ -274,20 +313,18 @@ def quantization_rows_std(campaign: Campaign, conv: RateConversion, raw: np.ndar
         c = 1.0
     q_raw = qz.q / c
     hw = q_raw / math.sqrt(12.0 * factor) if qz.dithered else q_raw / 2.0
-    note = (msg("dithered by the noise: rounding errors independent, q/√(12·n) on each mean") if qz.dithered else
-            msg("noise s = {s:.3g} °/h < q = {q:.3g} °/h: each mean's rounding error up to ±q/2", s=qz.s, q=qz.q))
-    return [resolution_row(campaign, c, "deg/h", msg("the D.41 means of {n} samples", n=factor), q=q_raw,
+    note = (msg("dithered by the noise: rounding errors independent, q/√(12·n) on each mean")
+            if qz.dithered else
+            msg("noise s = {s:.3g} °/h < q = {q:.3g} °/h: each mean's rounding error up to ±q/2",
+                s=qz.s, q=qz.q))
+    return [resolution_row(campaign, c, "deg/h", msg("the D.41 means of {n} samples", n=factor),
+                           q=q_raw,
                             raw_unit=raw_unit(conv), half_width=hw, note=note)]
 
 
 def mean_rate(seg: Segment, campaign: Campaign, batches: int) -> dict[str, Any]:
     """Mean indicated rate of a segment (°/h, the first term of D.40) and its batch-means u."""
-    series, conv = gyro_output(seg, campaign.device, source=campaign.source)
-    raw = np.asarray(series.data.magnitude, dtype=float)
-    check_finite(raw, seg)
-    if raw.size < 2 * batches:
-        raise DataError(seg.file or f"segment {seg.id}", "output",
-                        f"{raw.size} samples are too few for {batches} batch means")
+    series, conv, raw = batch_record(seg, campaign, batches)
     sd, nb = allan.block_std(raw, raw.size // batches)
     q_rows = quantization_rows_mean(campaign, conv, raw, "the mean")
     return {"rate": float(np.mean(raw)) * conv.magnitude, "u": sd * conv.magnitude / math.sqrt(nb),
