@@ -31,18 +31,26 @@ has a default role and takes another one as ``role=``.
 
 from __future__ import annotations
 
-import datetime as dt
 import math
-import zlib
-from typing import Any, Callable, Sequence
+from typing import Any, Sequence
 
 import attrs
 import numpy as np
 import pint
 
 from metro.core.base.errors import DataError
-from metro.core.model.campaign import Calibration, Equipment
+from metro.core.model.campaign import Equipment
 from metro.core.base.units import Q_, parse_quantity
+from .equipment_base import (
+    EquipmentModel,
+    as_float_array,
+    fixed_rng,
+    magnitude_in,
+    non_negative,
+    opt_q_of,
+    q_of,
+    uncertainty_converter,
+)
 
 __all__ = [
     "EquipmentModel",
@@ -69,130 +77,7 @@ __all__ = [
 # ------------------------------------------------------------------------------ helpers
 
 
-def q_of(dimension: str) -> Callable[[Any], pint.Quantity]:
-    """attrs converter: a quantity (or its text) of ``dimension``; a bare number only if
-    dimensionless."""
-
-    def conv(v: Any) -> pint.Quantity:
-        return parse_quantity(
-            v, dimension=dimension, field=f"equipment parameter ({dimension or 'ratio'})"
-        )
-
-    return conv
-
-
-def _opt_q(dimension: str) -> Callable[[Any], pint.Quantity | None]:
-    c = q_of(dimension)
-    return lambda v: None if v is None else c(v)
-
-
-def non_negative(inst: Any, attribute: attrs.Attribute, value: pint.Quantity) -> None:
-    if value is not None and float(np.min(value.magnitude)) < 0:
-        raise DataError(
-            None, f"{type(inst).__name__}.{attribute.name}", f"must not be negative (got {value})"
-        )
-
-
-def _f(q: pint.Quantity, unit: str) -> float:
-    return float(q.to(unit).magnitude)
-
-
-def _arr(q: Any, unit: str, name: str) -> np.ndarray:
-    q = parse_quantity(q, dimension=unit, field=name) if not isinstance(q, pint.Quantity) else q
-    try:
-        return np.asarray(q.to(unit).magnitude, dtype=float)
-    except pint.DimensionalityError as exc:
-        raise DataError(None, name, f"expected a quantity like {unit}, got {q.units}") from exc
-
-
-def fixed_rng(seed: int, *tags: Any) -> np.random.Generator:
-    """A generator for an instrument's fixed errors: the same instrument (seed) and tags, the
-    same draw."""
-    words = [int(seed) & 0xFFFFFFFF] + [zlib.crc32(repr(t).encode()) for t in tags]
-    return np.random.default_rng(words)
-
-
 # ------------------------------------------------------------------------------ base
-
-
-@attrs.frozen(kw_only=True)
-class EquipmentModel:
-    """Identification and calibration data common to every model.
-
-    ``U`` is the expanded uncertainty of the certificate (relative, e.g. ``1e-5``, or absolute,
-    e.g. ``"0.3 K"``) with coverage factor ``k``; ``distribution = "uniform"`` makes ``U`` a
-    half-width.  ``certificate = ""`` means no calibration data are given.
-    """
-
-    id: str
-    model: str = ""
-    manufacturer: str = ""
-    serial: str = ""
-    role: str = ""
-    certificate: str = ""
-    U: pint.Quantity | None = attrs.field(
-        default=None, converter=lambda v: _U_dim(None)(v), validator=non_negative
-    )
-    k: float = 2.0
-    due: dt.date | None = None
-    lab: str = ""
-    distribution: str = attrs.field(
-        default="normal", validator=attrs.validators.in_(("normal", "uniform"))
-    )
-    seed: int = 1
-
-    #: the role a model of this class takes unless ``role`` is given (set by each subclass)
-    ROLE = ""
-
-    def __attrs_post_init__(self) -> None:
-        if self.certificate and self.U is None:
-            raise DataError(
-                None, f"{self.id}.U", "a certificate is given without its expanded uncertainty U"
-            )
-
-    @property
-    def calibration(self) -> Calibration | None:
-        if not self.certificate:
-            return None
-        return Calibration(
-            self.certificate,
-            self.U,
-            k=float(self.k),
-            due=self.due,
-            lab=self.lab,
-            distribution=self.distribution,
-        )
-
-    def properties(self) -> dict[str, Any]:
-        """The accuracy parameters as equipment properties (names the procedures read)."""
-        return {}
-
-    def equipment(self) -> Equipment:
-        """The :class:`Equipment` a campaign carries for this instrument."""
-        role = self.role or type(self).ROLE
-        return Equipment(
-            id=self.id,
-            model=self.model,
-            serial=self.serial,
-            manufacturer=self.manufacturer,
-            role=role,
-            properties=self.properties(),
-            calibration=self.calibration,
-        )
-
-
-def _U_dim(dimension: str | None):
-    """Converter for a calibration U: relative, or (if ``dimension`` is given) of ``dimension``."""
-
-    def conv(v: Any) -> pint.Quantity | None:
-        if v is None:
-            return None
-        q = parse_quantity(v, field="U")
-        if dimension is not None and not q.dimensionless:
-            q = parse_quantity(v, dimension=dimension, field="U")
-        return q
-
-    return conv
 
 
 # ------------------------------------------------------------------------------ tables
@@ -238,7 +123,7 @@ class RateTable(EquipmentModel):
 
     def __attrs_post_init__(self) -> None:
         super().__attrs_post_init__()
-        ups = [_f(b.upper, "deg/s") for b in self.bands]
+        ups = [magnitude_in(b.upper, "deg/s") for b in self.bands]
         if not ups or ups != sorted(ups):
             raise DataError(
                 None, f"{self.id}.bands", "give at least one band, by increasing upper rate"
@@ -257,9 +142,9 @@ class RateTable(EquipmentModel):
 
     def band(self, rate: pint.Quantity) -> RateBand:
         """The band that covers |``rate``|; a rate above the last band is an error."""
-        r = abs(_f(parse_quantity(rate, dimension="deg/s", field="rate"), "deg/s"))
+        r = abs(magnitude_in(parse_quantity(rate, dimension="deg/s", field="rate"), "deg/s"))
         for b in self.bands:
-            if r <= _f(b.upper, "deg/s"):
+            if r <= magnitude_in(b.upper, "deg/s"):
                 return b
         raise DataError(
             None, "rate", f"{r:g} °/s is beyond the table's range ({self.bands[-1].upper})"
@@ -269,13 +154,15 @@ class RateTable(EquipmentModel):
         """The table's fixed relative rate error at this set point (inside ±band error)."""
         b = self.band(setpoint)
         e = float(b.error.to("").magnitude)
-        return float(fixed_rng(self.seed, "rate", round(_f(setpoint, "deg/s"), 9)).uniform(-e, e))
+        return float(
+            fixed_rng(self.seed, "rate", round(magnitude_in(setpoint, "deg/s"), 9)).uniform(-e, e)
+        )
 
     def actual_rate(
         self, setpoint: pint.Quantity, n: int, rng: np.random.Generator
     ) -> pint.Quantity:
         """``n`` samples of the rate the table actually turns at: Ω·(1 + δ) + Ω·ripple·N(0, 1)."""
-        om = _f(parse_quantity(setpoint, dimension="deg/s", field="setpoint"), "deg/s")
+        om = magnitude_in(parse_quantity(setpoint, dimension="deg/s", field="setpoint"), "deg/s")
         rip = float(self.band(setpoint).ripple.to("").magnitude)
         mean = om * (1.0 + self.systematic_error(setpoint))
         noise = rng.normal(0.0, abs(om) * rip, size=n) if rip > 0 else np.zeros(n)
@@ -290,18 +177,18 @@ class RateTable(EquipmentModel):
         Readings are the true accumulated angle truncated to ``angle_resolution``; as they read an
         absolute angle, splitting a record into chunks loses nothing.
         """
-        w = _arr(rate, "deg/s", "rate")
-        dt_s = _f(parse_quantity(interval, dimension="s", field="interval"), "s")
+        w = as_float_array(rate, "deg/s", "rate")
+        dt_s = magnitude_in(parse_quantity(interval, dimension="s", field="interval"), "s")
         start = (
             Q_(0.0, "deg")
             if start is None
             else parse_quantity(start, dimension="deg", field="start")
         )
-        theta = _f(start, "arcsec") + np.cumsum(w) * dt_s * 3600.0
-        res = _f(self.angle_resolution, "arcsec")
+        theta = magnitude_in(start, "arcsec") + np.cumsum(w) * dt_s * 3600.0
+        res = magnitude_in(self.angle_resolution, "arcsec")
         read = np.floor(theta / res) * res if res > 0 else theta
         return Q_(read, "arcsec").to("deg"), Q_(
-            float(theta[-1]) if theta.size else _f(start, "arcsec"), "arcsec"
+            float(theta[-1]) if theta.size else magnitude_in(start, "arcsec"), "arcsec"
         ).to("deg")
 
     def revolution_times(
@@ -310,10 +197,10 @@ class RateTable(EquipmentModel):
         """Times of the ``turns`` revolution pulses at a constant ``rate``: k·360°/Ω, each shifted
         by
         the pulse's angle error (uniform in ±``revolution_pulse_accuracy``) divided by Ω."""
-        om = abs(_f(parse_quantity(rate, dimension="deg/s", field="rate"), "deg/s"))
+        om = abs(magnitude_in(parse_quantity(rate, dimension="deg/s", field="rate"), "deg/s"))
         if om <= 0:
             raise DataError(None, "rate", "revolution pulses need a non-zero rate")
-        acc = _f(self.revolution_pulse_accuracy, "deg")
+        acc = magnitude_in(self.revolution_pulse_accuracy, "deg")
         k = np.arange(1, turns + 1)
         err = rng.uniform(-acc, acc, size=turns) if acc > 0 else np.zeros(turns)
         return Q_((360.0 * k + err) / om, "s")
@@ -334,7 +221,7 @@ class LevelPlatform(EquipmentModel):
 
     def tilt(self) -> pint.Quantity:
         """The platform's fixed tilt (inside ±levelness)."""
-        lv = _f(self.levelness, "arcsec")
+        lv = magnitude_in(self.levelness, "arcsec")
         return Q_(float(fixed_rng(self.seed, "tilt").uniform(-lv, lv)), "arcsec")
 
 
@@ -354,7 +241,7 @@ class Fixture(EquipmentModel):
 
     def reseat(self, rng: np.random.Generator) -> tuple[pint.Quantity, pint.Quantity]:
         """The tilts (about two axes) after one re-seating, each uniform in ±reseat_tilt."""
-        e = _f(self.reseat_tilt, "arcsec")
+        e = magnitude_in(self.reseat_tilt, "arcsec")
         a, b = rng.uniform(-e, e, size=2) if e > 0 else (0.0, 0.0)
         return Q_(float(a), "arcsec"), Q_(float(b), "arcsec")
 
@@ -372,8 +259,8 @@ class _Positioner(EquipmentModel):
 
     def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
         """The angles the table actually reaches for these set points."""
-        s = _arr(setpoints, "deg", "setpoints")
-        e = _f(self.position_accuracy, "deg")
+        s = as_float_array(setpoints, "deg", "setpoints")
+        e = magnitude_in(self.position_accuracy, "deg")
         return Q_(s + (rng.uniform(-e, e, size=s.shape) if e > 0 else 0.0), "deg")
 
 
@@ -397,8 +284,8 @@ class TiltTable(_Positioner):
         return super().properties() | {"tilt_range": self.tilt_range}
 
     def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
-        s = _arr(setpoints, "deg", "setpoints")
-        lim = _f(self.tilt_range, "deg")
+        s = as_float_array(setpoints, "deg", "setpoints")
+        lim = magnitude_in(self.tilt_range, "deg")
         if np.any(np.abs(s) > lim):
             raise DataError(
                 None, "setpoints", f"a tilt beyond ±{lim:g}° cannot be set on {self.id}"
@@ -423,8 +310,8 @@ class ThreeAxisTable(RateTable):
 
     def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
         """Angles reached on one axis for these set points (uniform in ±position_accuracy)."""
-        s = _arr(setpoints, "deg", "setpoints")
-        e = _f(self.position_accuracy, "deg")
+        s = as_float_array(setpoints, "deg", "setpoints")
+        e = magnitude_in(self.position_accuracy, "deg")
         return Q_(s + (rng.uniform(-e, e, size=s.shape) if e > 0 else 0.0), "deg")
 
 
@@ -443,7 +330,7 @@ class TemperatureChamber(EquipmentModel):
 
     ROLE = "chamber"
     U: pint.Quantity | None = attrs.field(
-        default=None, converter=_U_dim("K"), validator=non_negative
+        default=None, converter=uncertainty_converter("K"), validator=non_negative
     )
     setpoint_error: pint.Quantity = attrs.field(
         default=Q_(0.5, "K"), converter=q_of("K"), validator=non_negative
@@ -456,7 +343,7 @@ class TemperatureChamber(EquipmentModel):
     )
     cycle: pint.Quantity = attrs.field(default=Q_(10.0, "min"), converter=q_of("s"))
     uniformity: pint.Quantity | None = attrs.field(
-        default=None, converter=_opt_q("K"), validator=non_negative
+        default=None, converter=opt_q_of("K"), validator=non_negative
     )
 
     def properties(self) -> dict[str, Any]:
@@ -471,8 +358,8 @@ class TemperatureChamber(EquipmentModel):
 
     def offset(self, setpoint: pint.Quantity) -> float:
         """The fixed offset (K) of the chamber at this set point (inside ±setpoint_error)."""
-        e = _f(self.setpoint_error, "K")
-        T = _f(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
+        e = magnitude_in(self.setpoint_error, "K")
+        T = magnitude_in(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
         return float(fixed_rng(self.seed, "T", round(T, 6)).uniform(-e, e))
 
     def temperature(
@@ -485,25 +372,25 @@ class TemperatureChamber(EquipmentModel):
     ) -> pint.Quantity:
         """Air temperature at ``times`` after the set point was changed from ``previous`` (default:
         already soaked at ``setpoint``)."""
-        t = _arr(times, "s", "times")
-        T = _f(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
+        t = as_float_array(times, "s", "times")
+        T = magnitude_in(parse_quantity(setpoint, dimension="degC", field="setpoint"), "degC")
         target = T + self.offset(setpoint)
-        fl = _f(self.fluctuation, "K")
+        fl = magnitude_in(self.fluctuation, "K")
         phase = rng.uniform(0.0, 2.0 * math.pi)
-        wave = fl * np.sin(2.0 * math.pi * t / _f(self.cycle, "s") + phase)
+        wave = fl * np.sin(2.0 * math.pi * t / magnitude_in(self.cycle, "s") + phase)
         if previous is None:
             base = np.full(t.shape, target)
         else:
-            T0 = _f(parse_quantity(previous, dimension="degC", field="previous"), "degC")
-            tau = max(_f(self.soak, "s") / 5.0, 1e-9)
+            T0 = magnitude_in(parse_quantity(previous, dimension="degC", field="previous"), "degC")
+            tau = max(magnitude_in(self.soak, "s") / 5.0, 1e-9)
             base = target + (T0 - target) * np.exp(-np.clip(t, 0, None) / tau)
         return Q_(base + wave, "degC")
 
     def soaked(self, elapsed: pint.Quantity) -> bool:
         """Whether ``elapsed`` since the last change is at least the soak time."""
-        return _f(parse_quantity(elapsed, dimension="s", field="elapsed"), "s") >= _f(
-            self.soak, "s"
-        )
+        return magnitude_in(
+            parse_quantity(elapsed, dimension="s", field="elapsed"), "s"
+        ) >= magnitude_in(self.soak, "s")
 
 
 @attrs.frozen(kw_only=True)
@@ -531,8 +418,8 @@ class FieldGenerator(EquipmentModel):
     def field(self, setpoint: pint.Quantity, position: float = 0.0) -> pint.Quantity:
         """Field at a point of the test volume; ``position`` ∈ [−1, 1] from the centre to the
         edge."""
-        H = _f(parse_quantity(setpoint, dimension="mT", field="setpoint"), "mT")
-        if abs(H) > _f(self.max_field, "mT"):
+        H = magnitude_in(parse_quantity(setpoint, dimension="mT", field="setpoint"), "mT")
+        if abs(H) > magnitude_in(self.max_field, "mT"):
             raise DataError(None, "setpoint", f"{H:g} mT is beyond {self.id}'s {self.max_field}")
         if not -1.0 <= position <= 1.0:
             raise DataError(
@@ -579,18 +466,18 @@ class AngularVibrationTable(EquipmentModel):
         self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
     ) -> tuple[pint.Quantity, pint.Quantity]:
         """(true rate, reference sensor reading) at ``times``."""
-        a = _f(parse_quantity(amplitude, dimension="deg/s", field="amplitude"), "deg/s")
-        f = _f(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
-        lo, hi = (_f(x, "Hz") for x in self.frequency_range)
+        a = magnitude_in(parse_quantity(amplitude, dimension="deg/s", field="amplitude"), "deg/s")
+        f = magnitude_in(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
+        lo, hi = (magnitude_in(x, "Hz") for x in self.frequency_range)
         if not lo <= f <= hi:
             raise DataError(
                 None, "frequency", f"{f:g} Hz is outside {self.id}'s range {lo:g}–{hi:g} Hz"
             )
-        t = _arr(times, "s", "times")
+        t = as_float_array(times, "s", "times")
         r = fixed_rng(self.seed, "avt", round(f, 9))
         e = float(self.amplitude_error.to("").magnitude)
         da = r.uniform(-e, e)
-        dphi = r.normal(0.0, _f(self.phase_U, "rad") / 2.0)
+        dphi = r.normal(0.0, magnitude_in(self.phase_U, "rad") / 2.0)
         w = 2.0 * math.pi * f
         return Q_(a * np.sin(w * t), "deg/s"), Q_(a * (1.0 + da) * np.sin(w * t + dphi), "deg/s")
 
@@ -611,7 +498,7 @@ class LinearShaker(EquipmentModel):
     )
     max_acceleration: pint.Quantity = attrs.field(default=Q_(20.0, "gn"), converter=q_of("gn"))
     level_accuracy: pint.Quantity | None = attrs.field(
-        default=None, converter=_U_dim("gn"), validator=non_negative
+        default=None, converter=uncertainty_converter("gn"), validator=non_negative
     )
 
     def properties(self) -> dict[str, Any]:
@@ -627,15 +514,15 @@ class LinearShaker(EquipmentModel):
     def acceleration(
         self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
     ) -> pint.Quantity:
-        a = _f(parse_quantity(amplitude, dimension="gn", field="amplitude"), "gn")
-        if abs(a) > _f(self.max_acceleration, "gn"):
+        a = magnitude_in(parse_quantity(amplitude, dimension="gn", field="amplitude"), "gn")
+        if abs(a) > magnitude_in(self.max_acceleration, "gn"):
             raise DataError(
                 None, "amplitude", f"{a:g} g is beyond {self.id}'s {self.max_acceleration}"
             )
-        f = _f(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
+        f = magnitude_in(parse_quantity(frequency, dimension="Hz", field="frequency"), "Hz")
         r = fixed_rng(self.seed, "shaker", round(a, 9), round(f, 9))
         ea, ef = (float(x.to("").magnitude) for x in (self.amplitude_error, self.frequency_error))
-        t = _arr(times, "s", "times")
+        t = as_float_array(times, "s", "times")
         return Q_(
             a * (1 + r.uniform(-ea, ea)) * np.sin(2 * math.pi * f * (1 + r.uniform(-ef, ef)) * t),
             "gn",
@@ -667,10 +554,10 @@ class ShockTable(EquipmentModel):
         rng: np.random.Generator,
     ) -> pint.Quantity:
         """One half-sine pulse sampled every ``interval`` (and one zero sample either side)."""
-        p = _f(parse_quantity(peak, dimension="gn", field="peak"), "gn")
-        d = _f(parse_quantity(duration, dimension="s", field="duration"), "s")
-        dt_s = _f(parse_quantity(interval, dimension="s", field="interval"), "s")
-        ep, ed = float(self.peak_error.to("").magnitude), _f(self.duration_accuracy, "s")
+        p = magnitude_in(parse_quantity(peak, dimension="gn", field="peak"), "gn")
+        d = magnitude_in(parse_quantity(duration, dimension="s", field="duration"), "s")
+        dt_s = magnitude_in(parse_quantity(interval, dimension="s", field="interval"), "s")
+        ep, ed = float(self.peak_error.to("").magnitude), magnitude_in(self.duration_accuracy, "s")
         if ed >= d:
             raise DataError(
                 None, "duration", f"{d:g} s is not longer than {self.id}'s duration accuracy"
@@ -729,10 +616,10 @@ class DigitalMultimeter(EquipmentModel):
     def error_bound(self, values: pint.Quantity) -> pint.Quantity:
         """The stated maximum error at these readings (without the rounding's half step)."""
         u = self._unit
-        v = np.abs(_arr(values, u, "values"))
+        v = np.abs(as_float_array(values, u, "values"))
         return Q_(
             float(self.reading_error.to("").magnitude) * v
-            + float(self.range_error.to("").magnitude) * _f(self.range, u),
+            + float(self.range_error.to("").magnitude) * magnitude_in(self.range, u),
             u,
         )
 
@@ -744,8 +631,8 @@ class DigitalMultimeter(EquipmentModel):
             if isinstance(values, pint.Quantity)
             else parse_quantity(values, dimension=u, field="values")
         )
-        v = _arr(q, u, "values")
-        rng_v = _f(self.range, u)
+        v = as_float_array(q, u, "values")
+        rng_v = magnitude_in(self.range, u)
         if np.any(np.abs(v) > 1.2 * rng_v):
             raise DataError(
                 None,
@@ -755,7 +642,7 @@ class DigitalMultimeter(EquipmentModel):
         r = fixed_rng(self.seed, "dmm", rng_v)
         gain = r.uniform(-1, 1) * float(self.reading_error.to("").magnitude)
         offset = r.uniform(-1, 1) * float(self.range_error.to("").magnitude) * rng_v
-        res = _f(self.resolution, u)
+        res = magnitude_in(self.resolution, u)
         out = np.round((v * (1 + gain) + offset) / res) * res
         return Q_(out, u).to(q.units)
 
@@ -783,7 +670,7 @@ class Counter(EquipmentModel):
     def count(increments: pint.Quantity, carry: float = 0.0) -> tuple[pint.Quantity, float]:
         """Whole pulses counted in each gate for these (fractional) pulse increments, and the carry
         (0 ≤ carry < 1 for non-negative totals) to pass to the next call."""
-        inc = _arr(increments, "P", "increments")
+        inc = as_float_array(increments, "P", "increments")
         cum = np.cumsum(inc) + carry
         whole = np.floor(cum)
         counts = np.diff(whole, prepend=math.floor(carry))
@@ -817,9 +704,9 @@ class ADC(EquipmentModel):
 
     def codes(self, volts: pint.Quantity) -> tuple[np.ndarray, int]:
         """Integer codes (−2^(N−1) … 2^(N−1) − 1) and how many samples were clipped."""
-        v = _arr(volts, "V", "volts")
+        v = as_float_array(volts, "V", "volts")
         lo, hi = -(2 ** (int(self.bits) - 1)), 2 ** (int(self.bits) - 1) - 1
-        c = np.round(v / _f(self.lsb, "V"))
+        c = np.round(v / magnitude_in(self.lsb, "V"))
         clipped = int(np.count_nonzero((c < lo) | (c > hi)))
         return np.clip(c, lo, hi).astype(np.int64), clipped
 
@@ -832,7 +719,7 @@ class ADC(EquipmentModel):
                 "volts",
                 f"{clipped} sample(s) beyond ±{self.full_scale} were clipped by {self.id}",
             )
-        return Q_(c * _f(self.lsb, "V"), "V")
+        return Q_(c * magnitude_in(self.lsb, "V"), "V")
 
 
 @attrs.frozen(kw_only=True)
@@ -852,10 +739,10 @@ class Timer(EquipmentModel):
         return {"accuracy": self.accuracy, "resolution": self.resolution}
 
     def measure(self, elapsed: pint.Quantity) -> pint.Quantity:
-        t = _arr(elapsed, "s", "elapsed")
+        t = as_float_array(elapsed, "s", "elapsed")
         e = float(self.accuracy.to("").magnitude)
         d = float(fixed_rng(self.seed, "timer").uniform(-e, e))
-        res = _f(self.resolution, "s")
+        res = magnitude_in(self.resolution, "s")
         m = t * (1 + d)
         return Q_(np.round(m / res) * res if res > 0 else m, "s")
 

@@ -16,7 +16,7 @@ import pint
 
 from metro.core.base.units import Q_
 
-from .equipment import EquipmentModel, fixed_rng, non_negative, q_of
+from .equipment_base import EquipmentModel, fixed_rng, non_negative, q_of
 
 __all__ = ["Gauge", "Calliper", "Balance", "Megohmmeter", "type_test_equipment"]
 
