@@ -360,6 +360,63 @@ def _unique(seq):
     return list(dict.fromkeys(seq))
 
 
+def _earth_rate_leak(campaign: Campaign, means: Means, warnings: list[str]) -> np.ndarray:
+    """7.2.2 with option earth_rate = yes (a deviation, stated in ``warnings``): the vertical
+    earth rate K_g[:, j]·Ω_e·sin φ / g that eq. (7) puts into column j of the g matrix, K̄_g from
+    the campaign's 7.2.3 sweeps (else the identity)."""
+    lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+    try:
+        fits = sweep_fits(campaign, means)
+        Kg = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)]
+                       for i in range(3)])
+        src = msg("K̄_g from the campaign's rate sweeps (7.2.3)")
+    except (DataError, ProcedureError):
+        Kg = np.eye(3)
+        src = msg("K̄_g taken as the identity (no complete rate sweeps in the campaign)")
+    leak = F.earth_rate_leak(Kg, lat, EARTH_RATE_DEG_S) / mounting.local_gravity(campaign)[0]
+    warnings.append(msg("DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = "
+                        "{rate:.4f} °/h at φ = {lat:g}°) that eq. (7) puts into the g "
+                        "matrix was removed, using {src}",
+                        rate=EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600, lat=lat,
+                        src=src))
+    return leak
+
+
+def _six_drift_factors(drift, segs: dict, ratio: float) -> np.ndarray:
+    """How a drift enters each column j of eq. (7) through the ±j differences (drift.py): from
+    the recording times of the twelve mountings, else from the planned durations."""
+    if drift.mid_times is not None:
+        mid = drift.mid_times
+        return D.six_position_factors(
+            [0.5 * (mid[segs[(up, 0.0)].id] + mid[segs[(up, 180.0)].id])
+             for up in F.SIX_POSITIONS], ratio)
+    return D.plan_six_factors({k: drift.durations[sg.id] for k, sg in segs.items()}, ratio)
+
+
+def _earth_rate_note(campaign: Campaign, leak: np.ndarray | None, i: int,
+                     j: int) -> tuple[str, str]:
+    """The earth-rate statement of g_ij (note, "removed" or "included"): the vertical earth rate
+    is along +j with axis j up and flips with it, so eq. (7) puts K_g[:, j]·Ω_e·sin φ into the
+    whole column j — the diagonal mostly, the cross terms by the cross-coupling
+    (interpretations.md, "Earth rate disclosed (JJF 2003)")."""
+    r, c = AXES[i], AXES[j]
+    try:
+        lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
+    except (DataError, KeyError, ValueError):
+        lat = math.nan
+    v = EARTH_RATE_DEG_S * math.sin(math.radians(lat)) / mounting.local_gravity(campaign)[0]
+    if leak is not None:
+        return msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)",
+                   leak=leak[i, j]), "removed"
+    if i == j:
+        return msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ {v:.3g} (°/s)/gn "
+                   "(φ = {lat:g}°) into g_{r}{r}, as the standard prints{hint}", r=index(r), v=v,
+                   lat=lat, hint=hint("; option earth_rate = yes removes it")), "included"
+    return msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
+               "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}{hint}", r=index(r), c=index(c),
+               v=v, lat=lat, hint=hint("; option earth_rate = yes removes it")), "included"
+
+
 class GyroBiasGSensitivity(Procedure):
     """JJF 2003—2022 7.2.2 陀螺零偏、零偏加速度敏感系数: B_g and the 3×3 g matrix, eq. (6)–(8).
 
@@ -403,38 +460,15 @@ class GyroBiasGSensitivity(Procedure):
         segs = positions(campaign)
         warnings: list[str] = []
         G = GB[:, :3].copy()
-        leak = None
-        if correct:
-            lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
-            try:
-                fits = sweep_fits(campaign, means)
-                Kg = np.array([[float(fits[AXES[j]]["fits"][i].coef[0]) for j in range(3)]
-                               for i in range(3)])
-                src = msg("K̄_g from the campaign's rate sweeps (7.2.3)")
-            except (DataError, ProcedureError):
-                Kg = np.eye(3)
-                src = msg("K̄_g taken as the identity (no complete rate sweeps in the campaign)")
-            leak = F.earth_rate_leak(Kg, lat,
-                                     EARTH_RATE_DEG_S) / mounting.local_gravity(campaign)[0]
+        leak = _earth_rate_leak(campaign, means, warnings) if correct else None
+        if leak is not None:
             G = G - leak
-            warnings.append(msg("DEVIATION from JJF 2003 7.2.2: the vertical earth rate (Ω·sin φ = "
-                                "{rate:.4f} °/h at φ = {lat:g}°) that eq. (7) puts into the g "
-                                "matrix was removed, using {src}",
-                                rate=EARTH_RATE_DEG_S * math.sin(math.radians(lat)) * 3600, lat=lat,
-                                src=src))
         results = []
         drift = D.campaign_drift(campaign)
         warnings.extend(D.drift_warning(drift))
         ratio = mounting.local_gravity(campaign)[0]
         pairs = [(segs[(up, 0.0)].id, segs[(up, 180.0)].id) for up in F.SIX_POSITIONS]
-        # the ±j differences of eq. (7) turn a drift into g terms (drift.py)
-        if drift.mid_times is not None:
-            mid = drift.mid_times
-            tau = D.six_position_factors(
-                [0.5 * (mid[segs[(up, 0.0)].id] + mid[segs[(up, 180.0)].id])
-                 for up in F.SIX_POSITIONS], ratio)
-        else:
-            tau = D.plan_six_factors({k: drift.durations[sg.id] for k, sg in segs.items()}, ratio)
+        tau = _six_drift_factors(drift, segs, ratio)
         for i, r in enumerate(AXES):
             rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT,
                                     "gyro_range", False)
@@ -472,29 +506,7 @@ class GyroBiasGSensitivity(Procedure):
                     if row is not None:
                         b = UncertaintyBudget(m.symbol, G_UNIT, rows + [row], coverage=COVERAGE,
                                               round_mode=ROUND)
-                # the vertical earth rate is along +j with axis j up and flips with it: eq. (7) puts
-                # K_g[:, j]·Ω_e·sin φ into the whole column j — the diagonal mostly, the cross
-                # terms by the cross-coupling (interpretations, "Earth rate disclosed (JJF 2003)")
-                try:
-                    lat = float(campaign.site_value("latitude", "deg").to("deg").magnitude)
-                except (DataError, KeyError, ValueError):
-                    lat = math.nan
-                v = (EARTH_RATE_DEG_S * math.sin(math.radians(lat))
-                     / mounting.local_gravity(campaign)[0])
-                if leak is not None:
-                    note, er = msg("earth-rate leak {leak:.3g} (°/s)/gn removed (deviation)",
-                                   leak=leak[i, j]), "removed"
-                elif i == j:
-                    note, er = msg("earth rate included: eq. (7) puts K_g{r}{r}·Ω_e·sin φ ≈ "
-                                   "{v:.3g} (°/s)/gn (φ = {lat:g}°) into g_{r}{r}, as the standard "
-                                   "prints{hint}", r=index(r), v=v, lat=lat,
-                                   hint=hint("; option earth_rate = yes removes it")), "included"
-                else:
-                    note, er = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} "
-                                   "× Ω_e·sin φ ({v:.3g} (°/s)/gn at φ = {lat:g}°) into "
-                                   "g_{r}{c}{hint}", r=index(r), c=index(c), v=v,
-                                   lat=lat,
-                                   hint=hint("; option earth_rate = yes removes it")), "included"
+                note, er = _earth_rate_note(campaign, leak, i, j)
                 if delta:
                     note = join("; ", [note, D.corrected_note(delta, " (°/s)/gn")])
                 results.append(Result(m, Q_(float(G[i, j]) - delta, G_UNIT), b.combined, b,

@@ -571,13 +571,16 @@ class BiasAcceleration(JJFItem):
 
 
 class _BiasChange(JJFItem):
+    """7.2.18 and 7.2.19: the bias before and after a ``what`` on each axis (segments ``kind``)."""
+
     kind = ""
     what = ""
+    options = RATE_OPTS
 
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
-            Step(f"{self.kind}[{a}-{p}]", self.kind, f"7.2.13 bias {p} {self.what} on {a}, 30 min "
-                                                     "at 1 s",
+            Step(f"{self.kind}[{a}-{p}]", self.kind,
+                 f"7.2.13 bias {p} {self.what} on {a}, 30 min at 1 s",
                  Q_(30, "min"), Q_(1, "s"), {"axis": a, "phase": p, "orientation": "IRA up"})
             for a in AXES for p in ("before", "after")]
 
@@ -652,7 +655,6 @@ class BiasShock(_BiasChange):
                                                           "bias before/after shock per axis",
                                                           {"axis": "", "phase": ""},
                                                           {"output": ("mV",)}),)
-    options = RATE_OPTS
 
 
 class BiasVibration(_BiasChange):
@@ -668,4 +670,3 @@ class BiasVibration(_BiasChange):
                                                           "bias before/after vibration per axis",
                                                           {"axis": "", "phase": ""},
                                                           {"output": ("mV",)}),)
-    options = RATE_OPTS

@@ -96,6 +96,42 @@ def _arw_rounding(campaign, x: np.ndarray, dt: float, K: float, A1: float, arw: 
     return arw, [row], "", ""
 
 
+def _fit_warnings(fit) -> list[str]:
+    """What the eq. (38) fit of 7.2.20 leaves to say: each term that came out negative (removed
+    and refitted, or kept in the curve; reported as 0) and a poor fit (χ²/ν > 1.5², the
+    uncertainties scaled up)."""
+    w = []
+    for i, (m, name) in enumerate(F.ALLAN_TERMS):
+        if not fit.active[i]:
+            how = (msg("the term was removed and the fit repeated")
+                   if fit.A[i] == 0 and fit.raw[i] != 0 else msg("kept in the fitted curve"))
+            sig_txt = (msg("consistent with 0") if abs(fit.raw[i]) <= 2 * fit.u_A[i] else
+                       msg("significantly negative: the model does not describe the data"))
+            w.append(msg("A_{m} ({name}) came out negative in the eq. (38) fit ({raw:.3g} ± "
+                         "{u:.2g}, {sig}); {how}; reported as 0 (not resolved)", m=m, name=name,
+                         raw=fit.raw[i], u=fit.u_A[i], sig=sig_txt, how=how))
+    if fit.birge > 1.5:
+        w.append(msg("eq. (38) fits poorly (χ²/ν = {chi2:.2g}); the uncertainties were scaled "
+                     "up", chi2=fit.birge ** 2))
+    return w
+
+
+def _allan_plot(tau_h: np.ndarray, sig: np.ndarray, edf: np.ndarray, fit) -> PlotSpec:
+    """7.2.20's figure: the overlapping Allan deviation σ(τ) of the eq. (34) rate with its
+    uncertainty, the eq. (38) fit and each of its positive terms."""
+    model = fit.model(tau_h)
+    series = [{"label": msg("σ(τ) overlapping Allan deviation"), "x": (tau_h * 3600).tolist(),
+               "y": sig.tolist(), "yerr": (sig / np.sqrt(2 * edf)).tolist(), "style": "o"},
+              {"label": "eq. (38) fit", "x": (tau_h * 3600).tolist(),
+               "y": np.sqrt(np.clip(model, 0, None)).tolist(), "style": "-"}]
+    for i, (m, name) in enumerate(F.ALLAN_TERMS):
+        if fit.A[i] > 0:
+            series.append({"label": msg("{name} term", name=name), "x": (tau_h * 3600).tolist(),
+                           "y": np.sqrt(fit.A[i] * tau_h**m).tolist(), "style": "--"})
+    return PlotSpec("allan", msg("Allan deviation, eq. (38) fit and its terms"), "τ (s)",
+                    "σ(τ) (°/h)", series, logx=True, logy=True)
+
+
 class AngleRandomWalk(JJFItem):
     """JJF 2014—2022 7.2.20 角度随机游走系数: Ω_j = F_j/K (34); overlapping Allan variance of
     cluster averages τ = k·t₀ (the intent of eqs. (35)–(37), see interpretations.md); WLS fit
@@ -147,20 +183,7 @@ class AngleRandomWalk(JJFItem):
                                  "undefined",
                                  hint="look at the Allan plot; the record may be dominated by "
                                       "other noise")
-        for i, (m, name) in enumerate(F.ALLAN_TERMS):
-            if not fit.active[i]:
-                how = (msg("the term was removed and the fit repeated") if fit.A[i] == 0
-                       and fit.raw[i] != 0
-                       else msg("kept in the fitted curve"))
-                sig_txt = (msg("consistent with 0") if abs(fit.raw[i]) <= 2 * fit.u_A[i] else
-                           msg("significantly negative: the model does not describe the data"))
-                w.append(msg("A_{m} ({name}) came out negative in the eq. (38) fit ({raw:.3g} ± "
-                             "{u:.2g}, {sig}); {how}; reported as 0 (not resolved)", m=m, name=name,
-                             raw=fit.raw[i], u=fit.u_A[i], sig=sig_txt,
-                             how=how))
-        if fit.birge > 1.5:
-            w.append(msg("eq. (38) fits poorly (χ²/ν = {chi2:.2g}); the uncertainties were scaled "
-                         "up", chi2=fit.birge ** 2))
+        w.extend(_fit_warnings(fit))
         coefs = F.noise_coefficients(fit.A)
         keys = ("Q", "ARW", "BI", "RRW", "RR")
         units = ("deg", "deg/hour**0.5", "deg/h", "deg/h/hour**0.5", "deg/h**2")
@@ -200,20 +223,7 @@ class AngleRandomWalk(JJFItem):
             results.append(Result(metric, Q_(val, metric.unit), b.combined, b, note=note,
                                   reportable=not why, reason=why))
         results.insert(0, results.pop(1))  # ARW first
-        model = fit.model(tau_h)
-        series = [{"label": msg("σ(τ) overlapping Allan deviation"), "x": (tau_h * 3600).tolist(),
-                   "y": sig.tolist(),
-                   "yerr": (sig / np.sqrt(2 * np.asarray(ad.edf))).tolist(), "style": "o"},
-                  {"label": "eq. (38) fit", "x": (tau_h * 3600).tolist(),
-                   "y": np.sqrt(np.clip(model, 0, None)).tolist(),
-                   "style": "-"}]
-        for i, (m, name) in enumerate(F.ALLAN_TERMS):
-            if fit.A[i] > 0:
-                series.append({"label": msg("{name} term", name=name), "x": (tau_h * 3600).tolist(),
-                               "y": np.sqrt(fit.A[i] * tau_h**m).tolist(), "style": "--"})
-        plot = PlotSpec("allan", msg("Allan deviation, eq. (38) fit and its terms"), "τ (s)",
-                        "σ(τ) (°/h)", series,
-                        logx=True, logy=True)
+        plot = _allan_plot(tau_h, sig, np.asarray(ad.edf), fit)
         tab = TableSpec("allan_coef", msg("Eq. (38) coefficients (τ in h, σ in °/h)"),
                         ["m", msg("term"), "A_m", "u(A_m)", msg("kept")],
                         [[m, name, f"{fit.A[i]:.4g}", f"{fit.u_A[i]:.2g}",

@@ -453,8 +453,11 @@ class SFAxialAcceleration(JJFItem):
 
 
 class _SFChange(JJFItem):
+    """7.2.7 and 7.2.8: K before and after a ``what`` on each axis (segments ``kind``)."""
+
     kind = ""
     what = ""
+    options = RATE_OPTS
 
     def sequence(self, options):
         steps = []
@@ -530,7 +533,6 @@ class SFShock(_SFChange):
     requires = (SegmentRequirement("rate-shock", "7.2.1 before and after a shock on each axis",
                                    {"rate": "deg/s", "axis": "", "phase": ""},
                                    {"output": ("mV",)}),)
-    options = RATE_OPTS
 
 
 class SFVibration(_SFChange):
@@ -547,4 +549,3 @@ class SFVibration(_SFChange):
                                                      "axis",
                                    {"rate": "deg/s", "axis": "", "phase": ""},
                                    {"output": ("mV",)}),)
-    options = RATE_OPTS

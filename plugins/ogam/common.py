@@ -298,12 +298,26 @@ def zero_stability_of(campaign: Campaign, opts: Mapping[str, Any]) -> Any:
                          "zero_stability=…")
 
 
-class PositionErrorItem(Procedure):
-    """Shared by the items whose results rest on the 7.4 angle-position error."""
+class OgamItem(Procedure):
+    """An item of the draft: its standard, the simulated station and the equipment of table 1."""
 
     standard = STANDARD
     station = STATION
     equipment = EQUIPMENT
+
+
+class ScaleFactorItem(OgamItem):
+    """The items read from the 7.1 rounds to 60°…360° at 60 °/s (7.1 and 7.2)."""
+
+    requires = (SCALE,)
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [scale_step()]
+
+
+class PositionErrorItem(OgamItem):
+    """Shared by the items whose results rest on the 7.4 angle-position error."""
+
     requires = (POSITIONING,)
     options = (
         Option("tilt", None, None, "largest sensing-plane/turntable tilt ψ (default: the "

@@ -28,7 +28,6 @@ from metro.api import (
     Option,
     Outcome,
     PlotSpec,
-    Procedure,
     ProcedureError,
     Result,
     RunContext,
@@ -44,15 +43,15 @@ from . import formulas as F
 from .common import (
     AXES,
     COVERAGE_NU,
-    EQUIPMENT,
     RATES,
     REF_RATE,
     ROUNDS,
     SCALE,
     STANDARD,
-    STATION,
     ZERO,
+    OgamItem,
     PositionErrorItem,
+    ScaleFactorItem,
     column_of,
     disclosed,
     e_budget,
@@ -64,7 +63,6 @@ from .common import (
     reading_step_of,
     round_errors,
     rounds_at_reference,
-    scale_step,
 )
 
 # ------------------------------------------------------------------------------ 7.1 and 7.2
@@ -88,7 +86,7 @@ def _scale_factors(campaign: Campaign, item: str):
     return seg, theta, counts, F.scale_factors_71(counts, theta)
 
 
-class ScaleFactor71(Procedure):
+class ScaleFactor71(ScaleFactorItem):
     """Draft JJF 光学陀螺测角仪 7.1 标度因数 (scale factor): K_i = C_i/θ_i, K = (1/6)ΣK_i.
 
     Budget: scatter of the K_i (type A, s/√n, ν = n − 1), the turntable positioning error,
@@ -98,17 +96,10 @@ class ScaleFactor71(Procedure):
     — a count is ±1 count"); sensitivity sqrt(Σθ_i⁻²)/n.
     """
 
-    standard = STANDARD
     item = "7.1"
     title = "Scale factor (标度因数)"
     clause = "7.1"
-    station = STATION
     metrics = (Metric("K", "scale factor", "K", "P/deg", "7.1", "K = ΣK_i/6, K_i = C_i/θ_i"),)
-    requires = (SCALE,)
-    equipment = EQUIPMENT
-
-    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [scale_step()]
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
@@ -197,7 +188,7 @@ def linearity_noise(campaign: Campaign, theta_deg: np.ndarray, K: float, warning
     return ang / (theta_deg * F.ARCSEC_PER_DEG), join("; ", [what, counting])
 
 
-class Linearity72(Procedure):
+class Linearity72(ScaleFactorItem):
     """Draft JJF 光学陀螺测角仪 7.2 标度因数线性度 (scale-factor linearity):
     K_l = (max K_i − min K_i)/K, in %, corrected for the widening of a range by the K_i's noise.
 
@@ -209,18 +200,11 @@ class Linearity72(Procedure):
     and the correction, uncertain by its own size (both type B, normal).
     """
 
-    standard = STANDARD
     item = "7.2"
     title = "Scale-factor linearity (标度因数线性度)"
     clause = "7.2"
-    station = STATION
     metrics = (Metric("Kl", "scale-factor linearity", "K_l", "percent", "7.2",
                       "K_l = (max K_i − min K_i)/K, less the widening by the K_i's noise"),)
-    requires = (SCALE,)
-    equipment = EQUIPMENT
-
-    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [scale_step()]
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
@@ -262,7 +246,7 @@ class Linearity72(Procedure):
 # ------------------------------------------------------------------------------------ 7.3
 
 
-class ZeroStability73(Procedure):
+class ZeroStability73(OgamItem):
     """Draft JJF 光学陀螺测角仪 7.3 零位稳定性 (zero stability) B_s, °/h.
 
     B_s = s(M_n)/T (clause 7.3: Bessel standard deviation over the duration T); with
@@ -270,20 +254,17 @@ class ZeroStability73(Procedure):
     the readings span.  Type A: sampling of a standard deviation of n values, B_s/√(2(n−1)).
     """
 
-    standard = STANDARD
     item = "7.3"
     title = "Zero stability (零位稳定性)"
     clause = "7.3"
-    station = STATION
     metrics = (Metric("Bs", "zero stability", "B_s", "deg/h", "7.3", "B_s = s(M)/T"),)
     requires = (ZERO,)
-    equipment = EQUIPMENT
-    options = (Option("statistic", "std", None, "std (clause 7.3, default) or range (definition "
-                                                "3.3)"),)
+    options = (Option("statistic", "std", None,
+                      "std (clause 7.3, default) or range (definition 3.3)"),)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [Step("zero-1h", "zero", "instrument at rest on a stable platform, sensitive axis "
-                                        "vertical; warm up "
+        return [Step("zero-1h", "zero",
+                     "instrument at rest on a stable platform, sensitive axis vertical; warm up "
                      "1 h, then read the angle every 5 min for 1 h (7.3)", Q_(1, "h"), Q_(5, "min"),
                      {"axis": "up"}, warmup=Q_(1, "h"))]
 
