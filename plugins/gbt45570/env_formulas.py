@@ -192,7 +192,7 @@ def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, w
 
     Where no lobe is certain the output may have been inside from the first window, whose end then
     takes the remaining probability.  Times are window ends from the switch-on (the first sample
-    starts at t = 0).  The lobes and their candidates: :mod:`metro.core.stats.settling` (shared with
+    starts at t = 0).  The lobes and their candidates: :mod:`metro.api.settling` (shared with
     JJF 2014
     7.2.23).
 

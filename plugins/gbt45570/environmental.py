@@ -350,7 +350,7 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
     and for records that are two power-ons, the turn-on scatter (``turn_on``:
     :func:`_two_power_ons`).
     ``value`` (the formula's |B_a − B_b|) is corrected for the bias of an absolute value of a noisy
-    difference (:func:`metro.core.uncertainty.selection.abs_change`, with the noise of those rows),
+    difference (:func:`metro.api.abs_change`, with the noise of those rows),
     ≥ 0."""
     uA = math.hypot(a["u"], b["u"])
     nu = uA**4 / (a["u"] ** 4 / a["nu"] + b["u"] ** 4 / b["nu"]) if uA > 0 else math.inf

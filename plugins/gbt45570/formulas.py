@@ -2,7 +2,7 @@
 
 Units are those the standard states for each formula (given in each docstring); the
 procedures in :mod:`metro.plugins.gbt45570.procedures` convert at the boundary.  Shared
-maths (block statistics, least squares) comes from :mod:`metro.core`.
+maths (block statistics, least squares) comes from :mod:`metro.api`.
 """
 
 from __future__ import annotations
@@ -349,7 +349,7 @@ def asymmetry_sensitivity_n0(rates_deg_s: Sequence[float], t_plus_s: Sequence[fl
 
 def std_upper_limit(s: float, n_values: int, p: float = 0.02275) -> float:
     """Upper confidence limit of σ from a Bessel standard deviation ``s`` of ``n_values`` normal
-    values, s·√(ν/χ²_p(ν)), ν = n − 1 (:func:`metro.core.uncertainty.budget.std_upper_limit`).  Used
+    values, s·√(ν/χ²_p(ν)), ν = n − 1 (:func:`metro.api.std_upper_limit`).  Used
     for the
     sampling row of D.42 (interpretations.md, D.5.3): at Q = 7, σ_upper = 2.243·s."""
     from metro.api import std_upper_limit as upper

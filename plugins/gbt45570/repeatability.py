@@ -169,7 +169,7 @@ def bias_repeat_row(campaign: Campaign, batches: int,
     """The turn-on part of B_r of D.5.3 (``static-repeat`` runs, eq. D.42) as a row on B₀ of D.5.1:
     σ_on² = B_r² less the runs' within-run part (mean u_A², already B₀'s own type A), taken as the
     posterior mean of that variance component given the runs
-    (:func:`metro.core.uncertainty.budget.between_variance`,
+    (:func:`metro.api.between_variance`,
     ν = ∞): never 0 where the runs do not resolve σ_on from their noise, only bound it
     (interpretations.md, "σ_on — a variance component the data only bound"); but never less than
     what keeps U ≥ B_r: u ≥ √(max(B_r²/4 − u_A(B₀)², 0)) (``own_uA`` = u_A(B₀); None: the turn-on
@@ -240,7 +240,7 @@ def turn_on_sigma(Kj, rel_u=None) -> tuple[float, float, float, int]:
     K_j's
     relative u; None: K_r taken whole, w = 0); σ_K² = the posterior mean of the turn-on variance
     given
-    the runs, :func:`metro.core.uncertainty.budget.between_variance`(K_r², w, Q − 1) — Box & Tiao
+    the runs, :func:`metro.api.between_variance`(K_r², w, Q − 1) — Box & Tiao
     §5.2's one-way
     random-effect model with the reference prior, ν = ∞ (interpretations.md "σ_K — …").  Needs Q ≥
     4."""
@@ -260,7 +260,7 @@ def scale_factor_turn_on(campaign: Campaign, min_points: int, method: str = "rat
 
     σ_K² = K_r² less the runs' own part, mean (u(K_j)/K_j)², is a variance component estimated as a
     difference; it enters as its posterior mean given the runs
-    (:func:`metro.core.uncertainty.budget.between_variance`, ν = ∞), never 0 where the runs only
+    (:func:`metro.api.between_variance`, ν = ∞), never 0 where the runs only
     bound it, as σ_on of
     D.5.3 does (interpretations.md, "σ_on — a variance component the data only bound", "σ_K — …").
     D.1.4's K_j take K_r whole (own part 0: the revolutions' scatter overstates a K_j's noise where
@@ -320,13 +320,13 @@ def pool_turn_on(Ks, uKs, temps, on: ScaleTurnOn) -> tuple[ScaleTurnOn, str]:
 
     Each temperature point is a power-on (D.1.5.2 c)) / D.2.5.2 c)), so the K_i's mean square about
     a
-    smooth K(T) (a quadratic in T, :func:`metro.core.uncertainty.selection.curve_scatter`, n − 3
+    smooth K(T) (a quadratic in T, :func:`metro.api.curve_scatter`, n − 3
     degrees of freedom,
     its own part mean (u(K_i)/K_i)²) is a second estimate of the same variance beside the runs'
     (K_r², Q − 1).
     Pooled — mean squares and own parts each weighted by their degrees of freedom — the posterior
     mean of the
-    variance component (:func:`metro.core.uncertainty.budget.between_variance`, Q − 1 + n − 3
+    variance component (:func:`metro.api.between_variance`, Q − 1 + n − 3
     degrees of freedom) is
     taken where it is larger than the runs' alone; it never lowers σ_K below what the repeatability
     item
