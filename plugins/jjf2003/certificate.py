@@ -46,8 +46,8 @@ def _rows(res, keys) -> list[dict[str, str]]:
     return [_row(res[k]) for k in keys if k in res]
 
 
-# : a matrix cell whose result is not reportable (translated by the layout; the reasons follow the
-# matrix)
+#: a matrix cell whose result is not reportable (translated by the layout; the reasons follow the
+#: matrix)
 NOT_REPORTABLE = "not reportable"
 
 

@@ -30,8 +30,8 @@ from .data import (
 STANDARD = "jjf2003"
 STATION = "simulated-mimu"
 #: k = t_p(ν_eff), p = 95.45 % (JJF 1059.1 5.3.4): appendix A's "取 k = 2" with components stated
-# : without degrees of freedom is the large-ν_eff case (interpretations.md, "Coverage factor (JJF
-# 2003)")
+#: without degrees of freedom is the large-ν_eff case (interpretations.md, "Coverage factor (JJF
+#: 2003)")
 COVERAGE = Coverage.probability(0.9545)
 ROUND = "up"
 
@@ -52,18 +52,19 @@ POSITION_SEG = SegmentRequirement(
     min_duration=Q_(30, "s"), min_count=12,
 )
 EQUIPMENT = (
-    EquipmentRequirement("rate_table", "three-axis position/rate table (table 1); its rate "
-                                       "uncertainty (calibration, "
-                         "relative) and `position_accuracy` enter the budgets", required=False),
-    EquipmentRequirement("acquisition", "data acquisition; its `bits` give the quantization term "
-                                        "u₂ (A.3)"),
+    EquipmentRequirement("rate_table",
+                         "three-axis position/rate table (table 1); its rate uncertainty "
+                         "(calibration, relative) and `position_accuracy` enter the "
+                         "budgets", required=False),
+    EquipmentRequirement("acquisition",
+                         "data acquisition; its `bits` give the quantization term u₂ (A.3)"),
 )
-# : the items whose budgets hold the fixture's perpendicularity (6.2; the standard's bound when not
-# stated)
+#: the items whose budgets hold the fixture's perpendicularity (6.2; the standard's bound when not
+#: stated)
 EQUIPMENT_FIXTURE = EQUIPMENT + (
     EquipmentRequirement("fixture", "fixture holding the MIMU on the table; its perpendicularity "
-                                    "enters the "
-                         "cross-coupling budgets (6.2: the standard's bound when not stated)",
+                                    "enters the cross-coupling budgets (6.2: the standard's bound "
+                                    "when not stated)",
                          noted=False),
 )
 
@@ -160,8 +161,8 @@ def sweep_steps(opts: Mapping[str, Any]) -> list[Step]:
         for r in rates_option(opts):
             steps.append(Step(f"rate-{a}-{r:g}", "rate",
                               f"MIMU {a} axis up along the table axis (7.2.1.1 a), e), f)); table "
-                              f"at {r:g} °/s; "
-                              "record ≥ 30 s after the rate is steady", Q_(30, "s"), Q_(0.01, "s"),
+                              f"at {r:g} °/s; record ≥ 30 s after the rate is "
+                              "steady", Q_(30, "s"), Q_(0.01, "s"),
                               {"axis": a, "rate": Q_(r, "deg/s")}))
     raw = str(opts.get("repeats", "0")).strip() or "0"
     try:
@@ -196,8 +197,8 @@ def position_steps() -> list[Step]:
 SWEEP_OPTIONS = (Option("rates", "-400, -200, -100, -50, 0, 50, 100, 200, 400", None,
                          "rate points in °/s for each axis (7–11 including the maximum, 7.2.1.1 "
                          "c))"),
-                  Option("repeats", "0", None, "repeated calibrations (power off, remount) whose "
-                                               "spread is u₃ of K "
+                  Option("repeats", "0", None,
+                         "repeated calibrations (power off, remount) whose spread is u₃ of K "
                          "(appendix A.1.2.3); 0: none (u₃ then from "
                          "device.scale_factor_repeatability or the fit)"))
 

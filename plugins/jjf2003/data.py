@@ -51,8 +51,9 @@ def columns_of(seg: Segment, names, dim: str) -> np.ndarray:
         s = seg.series(c, dim)
         a = np.asarray(s.data.to(RATE_UNIT if dim == "deg/s" else ACC_UNIT).magnitude, dtype=float)
         if a.size < 2 * BATCHES:
-            raise DataError(seg.file, c, f"segment {seg.id!r} has {a.size} samples; at least "
-                                         f"{2 * BATCHES} needed")
+            raise DataError(seg.file, c,
+                            f"segment {seg.id!r} has {a.size} samples; at least {2 * BATCHES} "
+                            f"needed")
         bad = ~np.isfinite(a)
         if bad.any():
             i = int(np.argmax(bad))
@@ -112,15 +113,14 @@ def sweeps(campaign: Campaign, axes=AXES, segments=None) -> dict[str, list[tuple
         rates = [r for r, _ in pts]
         if len(set(rates)) != len(rates):
             dup = sorted({r for r in rates if rates.count(r) > 1})
-            raise DataError(campaign.source, "segments", f"axis {a}: more than one segment at "
-                                                         "rate(s) "
+            raise DataError(campaign.source, "segments",
+                            f"axis {a}: more than one segment at rate(s) "
                             f"{', '.join(f'{r:g}' for r in dup)} °/s; metro does not guess which "
                             "to use")
         if len(rates) < 7:
             raise DataError(campaign.source, "segments",
                             f"axis {a} is swept with {len(rates)} rate(s); JJF 2003 7.2.1.1 c) "
-                            "asks for 7–11 "
-                            "rate points including the maximum input rate",
+                            "asks for 7–11 rate points including the maximum input rate",
                             hint="`metro plan -s jjf2003 -i 7.2.1` lists the rate points")
         pts.sort(key=lambda p: p[0])
     return out
@@ -152,9 +152,9 @@ def positions(campaign: Campaign) -> dict[tuple[str, float], Segment]:
                             f"must be one of {', '.join(F.SIX_POSITIONS)}, got {up!r}")
         key = (up, heading_of(seg, campaign))
         if key in found:
-            raise DataError(campaign.source, "segments", f"two segments ({found[key].id}, "
-                                                         f"{seg.id}) for position "
-                            f"{up} up, heading {key[1]:g}°")
+            raise DataError(campaign.source, "segments",
+                            f"two segments ({found[key].id}, {seg.id}) for position {up} up, "
+                            f"heading {key[1]:g}°")
         found[key] = seg
     missing = [f"{u} up, heading {h:g}°" for u in F.SIX_POSITIONS for h in HEADINGS
                if (u, h) not in found]

@@ -48,23 +48,23 @@ from . import formulas as F
 from .data import axis_of, columns_of, rate_of
 
 AXES = ("x", "y", "z")
-# : without recording times, a significant drift withholds a result it moves by this share of U or
-# more : with the records back to back in the plan's order — the least lever arm they can have had;
-# below it, : gaps would have to lengthen that lever arm tenfold to move the result by U (the drift
-# is in u_b too)
+#: without recording times, a significant drift withholds a result it moves by this share of U or
+#: more with the records back to back in the plan's order — the least lever arm they can have had;
+#: below it, gaps would have to lengthen that lever arm tenfold to move the result by U (the drift
+#: is in u_b too)
 MATERIAL = 0.1
 GYRO = ("gx", "gy", "gz")
-# : the pooled drift of one gyro is significant at |d̂|/u(d̂) ≥ Z_CRIT (two-sided 1.2 % per gyro
-# for a : steady device; measured false rates in docs/standards/jjf2003.md)
+#: the pooled drift of one gyro is significant at |d̂|/u(d̂) ≥ Z_CRIT (two-sided 1.2 % per gyro for
+#: a steady device; measured false rates in docs/standards/jjf2003.md)
 Z_CRIT = 2.5
-# : with recording times a result is corrected for the drift where its effect Δ on it is resolved:
-# |Δ|/u(Δ) : beyond the two-sided quantile of Student's t with the drift model's ν at the false
-# rate Z_CORRECT standard : errors have for a normal variable (1.24 %; :func:`correct_threshold`:
-# 3.1 at ν = 10, the twelve : six-position records of 7.2.2 alone — 2.5 flat corrected 3 % of
-# steady gyros there by chance).  GUM : 3.2.4's "significant"; an effect the data do not resolve is
-# budgeted uncorrected, √(Δ² + u²). : Correcting always (Z_CORRECT = 0, measured with
-# benchmarks/jjf2003_drift_modes.py) is unbiased but puts : the estimate's noise into every steady
-# device's K_g and g (rms E_n × 3–10)
+#: with recording times a result is corrected for the drift where its effect Δ on it is resolved:
+#: |Δ|/u(Δ) beyond the two-sided quantile of Student's t with the drift model's ν at the false rate
+#: Z_CORRECT standard errors have for a normal variable (1.24 %; :func:`correct_threshold`: 3.1 at ν
+#: = 10, the twelve six-position records of 7.2.2 alone — 2.5 flat corrected 3 % of steady gyros
+#: there by chance).  GUM 3.2.4's "significant"; an effect the data do not resolve is budgeted
+#: uncorrected, √(Δ² + u²). Correcting always (Z_CORRECT = 0, measured with
+#: benchmarks/jjf2003_drift_modes.py) is unbiased but puts the estimate's noise into every steady
+#: device's K_g and g (rms E_n × 3–10)
 Z_CORRECT = Z_CRIT
 
 
@@ -77,8 +77,8 @@ def correct_threshold(nu: float) -> float:
     from scipy.stats import norm, t
 
     return float(t.isf(norm.sf(Z_CORRECT), max(nu, 1)))
-# : the line in time fits the record trends unless χ² exceeds its 99 % quantile (the drift model's
-# error : then enters the budget, :func:`correction`)
+#: the line in time fits the record trends unless χ² exceeds its 99 % quantile (the drift model's
+#: error then enters the budget, :func:`correction`)
 P_FIT = 0.01
 #: a turning record's trend is fitted with the table-rate sinusoid only over at least one revolution
 MIN_TURNS = 1.0
@@ -155,8 +155,8 @@ class GyroDrift:
     durations: Mapping[str, float]
     #: records with ``started`` when not all have it (their times are then not used)
     timed: int = 0
-    # : each gyro's drift rate as a line in time (None without times or with fewer than three
-    # records)
+    #: each gyro's drift rate as a line in time (None without times or with fewer than three
+    #: records)
     models: tuple[RateModel | None, RateModel | None, RateModel | None] = (None, None, None)
     intervals: Mapping[str, float] = attrs.field(factory=dict)
 
@@ -288,8 +288,7 @@ def _times(campaign: Campaign, segs: list[Segment], durations: Mapping[str, floa
             raise DataError(b.file or campaign.source, f"segments.{b.id}.started",
                             f"{b.started.isoformat()} is before the end of segment {a.id!r} "
                             f"(started {a.started.isoformat()}, {durations[a.id]:g} s long): the "
-                            "records of one MIMU "
-                            "on one table cannot overlap",
+                            "records of one MIMU on one table cannot overlap",
                             hint="give each segment the time its first sample was taken")
     return {s.id: start[s.id] + 0.5 * (durations[s.id] - intervals[s.id]) for s in segs}
 

@@ -440,9 +440,9 @@ class GyroBiasGSensitivity(Procedure):
                G_UNIT, "7.2.2.2", "eq. (8)") for r in AXES for c in AXES)
     requires = (POSITION_SEG,)
     equipment = EQUIPMENT_FIXTURE
-    options = (Option("earth_rate", "no", None, "yes: remove the earth-rate leak from the g "
-                                                "diagonal "
-                      "(a deviation from 7.2.2; needs site.latitude)"),)
+    options = (Option("earth_rate", "no", None,
+                      "yes: remove the earth-rate leak from the g diagonal (a deviation from "
+                      "7.2.2; needs site.latitude)"),)
     station = STATION
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -613,8 +613,8 @@ class AccelRateSensitivity(Procedure):
     requires = (RATE_SEG,)
     equipment = EQUIPMENT
     options = (Option("omega", "400 deg/s", "deg/s", "table rate ω of 7.2.5.1 b)"),
-               Option("sign", "model", None, "model: p = (U₈ − U₇)/ω² (eq. (2)); as-printed: (U₇ − "
-                                             "U₈)/ω² (eq. (12))"))
+               Option("sign", "model", None,
+                      "model: p = (U₈ − U₇)/ω² (eq. (2)); as-printed: (U₇ − U₈)/ω² (eq. (12))"))
     station = STATION
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -622,9 +622,9 @@ class AccelRateSensitivity(Procedure):
         steps = []
         for a in AXES:
             for r in (0.0, w):
-                steps.append(Step(f"rate-{a}-{r:g}", "rate", f"MIMU {a} accelerometer axis up on "
-                                                             "the table "
-                                  f"(7.2.5.1); table at {r:g} °/s; record ≥ 30 s", Q_(30, "s"),
+                steps.append(Step(f"rate-{a}-{r:g}", "rate",
+                                  f"MIMU {a} accelerometer axis up on the table (7.2.5.1); table "
+                                  f"at {r:g} °/s; record ≥ 30 s", Q_(30, "s"),
                                   Q_(0.01, "s"),
                                   {"axis": a, "rate": Q_(r, "deg/s")}))
         return steps

@@ -122,8 +122,8 @@ class BiasValue:
     def __init__(self, seg: Segment, K: float, earth: float = 0.0, batches: int = 20):
         x, dt = read_output(seg)
         if x.size < 2 * batches:
-            raise DataError(seg.file or seg.id, "output", f"{x.size} samples are too few for "
-                                                          f"{batches} batch means")
+            raise DataError(seg.file or seg.id, "output",
+                            f"{x.size} samples are too few for {batches} batch means")
         self.seg, self.x, self.dt, self.K = seg, x, dt, K
         self.Fbar = F.mean_output_eq2(x)
         self.B0 = F.bias_eq27_28(x, K) * 3600.0 - earth  # °/h
@@ -204,8 +204,8 @@ class Bias(JJFItem):
                                                           {"orientation": ""},
                                                           {"output": ("mV",)},
                                                           min_duration=Q_(1, "h")),)
-    options = RATE_OPTS + (EARTH_OPT, Option("batches", 20, None, "batch means for the type A "
-                                                                  "uncertainty", minimum=2))
+    options = RATE_OPTS + (EARTH_OPT, Option("batches", 20, None,
+                                             "batch means for the type A uncertainty", minimum=2))
 
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
@@ -321,8 +321,8 @@ class BiasRepeatability(JJFItem):
         K = kv.K
         runs = group_by(need_segments(campaign, type(self), "static-repeat"), "run")
         if len(runs) < 2:
-            raise DataError(campaign.source, "segments", "7.2.15 needs Q ≥ 2 runs, got "
-                                                         f"{len(runs)}")
+            raise DataError(campaign.source, "segments",
+                            f"7.2.15 needs Q ≥ 2 runs, got {len(runs)}")
         for r, g in runs.items():
             if len(g) > 1:
                 raise DataError(where_of(g[1]), f"segments.{g[1].id}.conditions.run",
@@ -334,8 +334,7 @@ class BiasRepeatability(JJFItem):
         # half-width; when that reaches B_r itself, the spread may be rounding alone
         # (interpretations.md, output quantization)
         qrows = max((_rounded(campaign, x, msg("each B_0i (the standard deviation moves by at most "
-                                               "its "
-                                                "half-width)"), 1.0, "deg/h") for x in bvs),
+                                               "its half-width)"), 1.0, "deg/h") for x in bvs),
                     key=lambda r: r[0].value.magnitude if r else -1.0)
         b = B.type_a_budget("Br", "deg/h", [
             budget_row_a(msg("sampling of a standard deviation of Q values (χ² bound)"),
@@ -403,8 +402,8 @@ class BiasTemperature(JJFItem):
     metrics = (Metric("Bt", "bias temperature sensitivity", "B_t", "deg/h/delta_degC", "7.2.16.2",
                       "31"),)
     equipment = JJFItem.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 "
-                                                                     "no. 2); its "
-                                                       "calibration U (in K) enters the budget"),)
+                                                                     "no. 2); its calibration U "
+                                                                     "(in K) enters the budget"),)
     requires = ScaleFactor.requires + (SegmentRequirement("static-temperature",
                                                           "7.2.13 at each chamber temperature",
                                                           {"temperature": "degC"},
@@ -516,8 +515,8 @@ class BiasAcceleration(JJFItem):
 
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
-            Step(f"static-accel[{a}-{o}]", "static-accel", f"{a} axis {o} on the position table, "
-                                                           "30 min at 1 s",
+            Step(f"static-accel[{a}-{o}]", "static-accel",
+                 f"{a} axis {o} on the position table, 30 min at 1 s",
                  Q_(30, "min"), Q_(1, "s"), {"axis": a, "orientation": o}) for a in AXES
                                                   for o in ("up", "down")]
 
@@ -537,8 +536,8 @@ class BiasAcceleration(JJFItem):
         per = {a: F.per_g_726(v["up"].B0, v["down"].B0) for a,
                v in vals.items() if {"up", "down"} <= set(v)}
         if not per:
-            raise DataError(campaign.source, "segments", "7.2.17 needs at least one axis both up "
-                                                         "and down")
+            raise DataError(campaign.source, "segments",
+                            "7.2.17 needs at least one axis both up and down")
         worst = max(per, key=lambda a: abs(per[a]))
         bg = abs(per[worst])
         v = vals[worst]

@@ -22,8 +22,8 @@ import pint
 from metro.api import INF, Q_, BudgetRow, Calibration, Coverage, UncertaintyBudget, join, msg
 
 #: k = t_p(ν_eff) for p = 95.45 % (JJF 1059.1 5.3.4): 2.00 for the large ν_eff of appendix B's
-# : examples, larger where a repeatability of Q = 6 runs dominates (interpretations.md, "Coverage
-# factor")
+#: examples, larger where a repeatability of Q = 6 runs dominates (interpretations.md, "Coverage
+#: factor")
 COVERAGE = Coverage.probability(0.9545)
 
 

@@ -176,8 +176,7 @@ def need_segments(campaign: Campaign, proc: type[Procedure], kind: str,
         extra = ", ".join(f"{k} = {v!r}" for k, v in conditions.items())
         raise DataError(campaign.source, "segments",
                         f"{proc.qualified_id()} needs segments of kind "
-                        f"{kind!r}{' with ' + extra if extra else ''}; "
-                        "none found",
+                        f"{kind!r}{' with ' + extra if extra else ''}; none found",
                         hint=f"`metro plan --standard jjf2014 --item {proc.item}` lists what to "
                              "measure")
     return segs
@@ -244,8 +243,8 @@ class SFSet:
         self._values = [r[6] for r in rows]
         self.omega = np.array([r[0] for r in rows])
         if np.unique(self.omega).size != self.omega.size:
-            raise DataError(segs[0].file, "segments", "two segments of one calibration have the "
-                                                      "same input rate")
+            raise DataError(segs[0].file, "segments",
+                            "two segments of one calibration have the same input rate")
         self.F = np.array([r[1] for r in rows])
         self.uF = np.array([r[2] for r in rows])
         self.n = [r[3] for r in rows]
@@ -361,8 +360,8 @@ def stated_spread(campaign: Campaign, key: str, unit: str, what: str) -> Spread 
     q = parse_quantity(v, dimension=unit, file=campaign.source, field=f"device.{key}")
     x = float(q.to(unit).magnitude)
     if not (x >= 0 and math.isfinite(x)):
-        raise DataError(campaign.source, f"device.{key}", f"must be a non-negative {what}, got "
-                                                          f"{v!r}")
+        raise DataError(campaign.source, f"device.{key}",
+                        f"must be a non-negative {what}, got {v!r}")
     return Spread(x, INF, msg("stated for the device{hint}", hint=hint(f" (device.{key})")), "B")
 
 
@@ -492,8 +491,7 @@ def scale_factor_for(campaign: Campaign, proc) -> KValue:
     if K is None:
         raise DataError(campaign.source, "device.scale_factor",
                         f"{proc.qualified_id()} needs the scale factor K: give 7.2.1 segments "
-                        "(kind \"rate\") "
-                        "or device.scale_factor in mV/((°)/s)")
+                        "(kind \"rate\") or device.scale_factor in mV/((°)/s)")
     return KValue(float(parse_quantity(K, dimension=KU).to(KU).magnitude), urel,
                   "device.scale_factor", INF, kr)
 
@@ -511,8 +509,8 @@ def rate_steps(kind: str, rates: list[float], extra: Mapping[str, Any] | None = 
     return steps
 
 
-RATE_OPTS = (Option("rates", DEFAULT_RATES, None, "input rate magnitudes (°/s), both directions "
-                                                  "(7.2.1.1 b))"),)
+RATE_OPTS = (Option("rates", DEFAULT_RATES, None,
+                    "input rate magnitudes (°/s), both directions (7.2.1.1 b))"),)
 
 
 def budget_row_a(source, symbol, u, unit, dof, note=""):
@@ -523,8 +521,9 @@ class JJFItem(Procedure):
     standard = STANDARD
     station = STATION
     equipment = (
-        EquipmentRequirement("rate_table", "rate table (table 2 no. 1); relative calibration U "
-                                           "enters the budgets"),
+        EquipmentRequirement("rate_table",
+                             "rate table (table 2 no. 1); relative calibration U enters the "
+                             "budgets"),
         EquipmentRequirement("dmm", "data acquisition, 6½-digit DMM; relative calibration U enters "
                                     "the budgets"),
     )
@@ -569,9 +568,9 @@ def check_distinct(campaign: Campaign, values: np.ndarray, what: str) -> None:
     mags = np.abs(values)
     if np.unique(mags).size != mags.size:
         dup = sorted({float(v) for v in mags if np.sum(mags == v) > 1})
-        raise DataError(campaign.source, "segments", f"{what}: the level(s) "
-                                                     f"{', '.join(f'{v:g}' for v in dup)} "
-                        "°/s appear more than once; give one record per level")
+        raise DataError(campaign.source, "segments",
+                        f"{what}: the level(s) {', '.join(f'{v:g}' for v in dup)} °/s appear more "
+                        "than once; give one record per level")
 
 
 def chamber_temperatures(groups: Mapping[str, list[Segment]], what: str) -> dict[str, float]:

@@ -148,11 +148,11 @@ class AngleRandomWalk(JJFItem):
                       "38: A₁ = K²/3"),
                Metric("RR", "rate ramp", "R", "deg/h**2", "7.2.20.2", "38: A₂ = R²/2"))
     requires = Bias.requires
-    options = RATE_OPTS + (Option("max_fraction", 0.25, None, "largest cluster length k as a "
-                                                              "fraction of n"),
-                           Option("nonnegative", "off", None, "on: remove negative eq. (38) terms "
-                                                              "and refit "
-                                  "(biases the others; see interpretations.md)"))
+    options = RATE_OPTS + (Option("max_fraction", 0.25, None,
+                                  "largest cluster length k as a fraction of n"),
+                           Option("nonnegative", "off", None,
+                                  "on: remove negative eq. (38) terms and refit (biases the "
+                                  "others; see interpretations.md)"))
 
     def sequence(self, options):
         return Bias().sequence(options)
@@ -248,8 +248,8 @@ class _Dynamic:
         for s in segs:
             by_f.setdefault(condition_in(s, "frequency", "Hz"), []).append(s)
         if len(by_f) < 3:
-            raise DataError(campaign.source, "segments", f"{proc.item} needs at least 3 "
-                                                         "frequencies (7.2.21.1 b): N ≥ 10)")
+            raise DataError(campaign.source, "segments",
+                            f"{proc.item} needs at least 3 frequencies (7.2.21.1 b): N ≥ 10)")
         self.f = np.array(sorted(by_f))
         self.E, self.A, self.phi, self.uS = [], [], [], []
         self.n = []
@@ -344,8 +344,8 @@ class Bandwidth(JJFItem):
                                   "expected B_w (sets the top frequency 2·B_w)"),
                            Option("frequencies", 12, None, "N"),
                            Option("records", 10, None, "n per frequency"),
-                           Option("amplitude", "20 deg/s", "deg/s", "table amplitude (10–30 % of "
-                                                                    "range)"),
+                           Option("amplitude", "20 deg/s", "deg/s",
+                                  "table amplitude (10–30 % of range)"),
                            Option("sample_rate", "5000 Hz", "Hz", "> 20·B_w"))
     equipment = JJFItem.equipment + (EquipmentRequirement("angular_vibration_table",
                                                           "angular vibration table and its "

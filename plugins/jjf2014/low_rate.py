@@ -220,8 +220,8 @@ class Threshold(JJFItem):
         segs = need_segments(campaign, type(self), "threshold")
         zero = [s for s in segs if condition_in(s, "rate", "deg/s") == 0.0]
         if not zero:
-            raise DataError(campaign.source, "segments", "7.2.9 needs a zero-input segment (kind "
-                                                         "threshold, rate 0)")
+            raise DataError(campaign.source, "segments",
+                            "7.2.9 needs a zero-input segment (kind threshold, rate 0)")
         f0 = np.mean([mean_and_u(s)[0] for s in zero])
         u0 = math.sqrt(sum(mean_and_u(s)[1] ** 2 for s in zero)) / len(zero)
         cands = {}
@@ -232,8 +232,8 @@ class Threshold(JJFItem):
             d = sorted([s for s in segs if sgn * condition_in(s, "rate", "deg/s") > 0],
                        key=lambda s: -abs(condition_in(s, "rate", "deg/s")))
             if len(d) < 2:
-                raise DataError(campaign.source, "segments", f"7.2.9 needs at least 2 {name} "
-                                                             "levels")
+                raise DataError(campaign.source, "segments",
+                                f"7.2.9 needs at least 2 {name} levels")
             om = np.array([condition_in(s, "rate", "deg/s") for s in d])
             check_distinct(campaign, om, f"7.2.9 {name} levels (condition rate)")
             fc = np.array([mean_and_u(s)[0] - f0 for s in d])
@@ -270,10 +270,10 @@ class Resolution(JJFItem):
     requires = ScaleFactor.requires + (SegmentRequirement(
         "resolution", "base rate Ω_b and Ω_b + ΔΩ_i for decreasing increments, each direction",
         {"base_rate": "deg/s", "increment": "deg/s"}, {"output": ("mV",)}),)
-    options = RATE_OPTS + (Option("base_rate", "0.3 deg/s", "deg/s", "base rate (20–50× the "
-                                                                     "estimated threshold)"),
-                           Option("increments", "0.05, 0.02, 0.01, 0.007, 0.005, 0.003, 0.002, "
-                                                "0.001", None,
+    options = RATE_OPTS + (Option("base_rate", "0.3 deg/s", "deg/s",
+                                  "base rate (20–50× the estimated threshold)"),
+                           Option("increments",
+                                  "0.05, 0.02, 0.01, 0.007, 0.005, 0.003, 0.002, 0.001", None,
                                   "increments (°/s), largest first"),
                            Option("seconds", 200, None, "record length per level (s at 1 s)"))
 
@@ -314,9 +314,8 @@ class Resolution(JJFItem):
             dom = np.array([condition_in(s, "increment", "deg/s") for s in inc])
             check_distinct(campaign, dom, f"7.2.10 {name} increments (condition increment)")
             if len(base) > 1:
-                raise DataError(campaign.source, "segments", f"7.2.10: {len(base)} {name} base "
-                                                             "segments (increment 0); "
-                                "give one")
+                raise DataError(campaign.source, "segments",
+                                f"7.2.10: {len(base)} {name} base segments (increment 0); give one")
             dF = np.array([mean_and_u(s)[0] - fb for s in inc])
             levels[name] = (dom, dF)
             uw[name] = np.array([math.hypot(mean_and_u(s)[1], mean_and_u(base[0])[1]) for s in inc])
@@ -361,12 +360,12 @@ def _misalignment_run(campaign, proc, segs: list[Segment], K: float, uK_rel: flo
         omegas.add(abs(om))
     missing = [f"{p}{d}" for p in (1, 2, 3, 4) for d in "+-" if (p, d) not in Fm]
     if missing:
-        raise DataError(campaign.source, "segments", "7.2.11 needs all four positions in both "
-                                                     "directions; "
-                        f"missing {', '.join(missing)}")
+        raise DataError(campaign.source, "segments",
+                        "7.2.11 needs all four positions in both directions; missing "
+                        f"{', '.join(missing)}")
     if len(omegas) != 1:
-        raise DataError(campaign.source, "segments", "7.2.11: all records must use the same table "
-                                                     "rate Ω_(+)")
+        raise DataError(campaign.source, "segments",
+                        "7.2.11: all records must use the same table rate Ω_(+)")
     om = omegas.pop()
     r = F.misalignment_eq19_25(Fm, om, K)
     # u(α) from the four means of positions 1, 2: each δ has u = √(u²(F+) + u²(F−))/(2ΩK)

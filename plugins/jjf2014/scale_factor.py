@@ -74,8 +74,8 @@ class ScaleFactor(JJFItem):
     metrics = (Metric("K", "scale factor", "K", KU, "7.2.1.2", "4"),
                Metric("F0", "fitted zero", "F₀", "mV", "7.2.1.2", "5"))
     requires = (SegmentRequirement("rate", "rate table at Ω_i, IRA ∥ table axis; ≥ 11 rates per "
-                                           "direction incl. "
-                                   "the maximum, ≥ 10 samples at 1 s each (7.2.1.1)",
+                                           "direction incl. the maximum, ≥ 10 samples at 1 s each "
+                                           "(7.2.1.1)",
                                    {"rate": "deg/s"},
                                    {"output": ("mV",)}, min_count=22),)
     options = RATE_OPTS
@@ -255,8 +255,8 @@ class Asymmetry(JJFItem):
         s = main_set(campaign, type(self))
         pos, neg = s.omega > 0, s.omega < 0
         if pos.sum() < 3 or neg.sum() < 3:
-            raise DataError(campaign.source, "segments", "7.2.3 needs at least 3 forward and 3 "
-                                                         "reverse rates")
+            raise DataError(campaign.source, "segments",
+                            "7.2.3 needs at least 3 forward and 3 reverse rates")
         fp = F.scale_factor_eq4_5(s.omega[pos], s.F[pos])
         fm = F.scale_factor_eq4_5(s.omega[neg], s.F[neg])
         ka = F.asymmetry_eq9(fp.K, fm.K, s.K)
@@ -296,8 +296,8 @@ class Repeatability(JJFItem):
         opts = self.option_values(ctx.options)
         runs = group_by(need_segments(campaign, type(self), "rate-repeat"), "run")
         if len(runs) < 2:
-            raise DataError(campaign.source, "segments", "7.2.4 needs Q ≥ 2 runs (condition run), "
-                                                         f"got {len(runs)}")
+            raise DataError(campaign.source, "segments",
+                            f"7.2.4 needs Q ≥ 2 runs (condition run), got {len(runs)}")
         sets = {r: SFSet(g) for r, g in sorted(runs.items())}
         Ks = [s.K for s in sets.values()]
         kr = F.relative_repeatability_eq10(Ks)
@@ -324,10 +324,10 @@ class SFTemperature(JJFItem):
     metrics = (Metric("Kt", "scale-factor temperature sensitivity", "K_t", "1/delta_degC",
                       "7.2.5.2", "11"),)
     equipment = JJFItem.equipment + (EquipmentRequirement("chamber", "temperature chamber (table 2 "
-                                                                     "no. 2); its "
-                                                       "calibration U (in K) enters the budget"),)
-    requires = (SegmentRequirement("rate-temperature", "7.2.1 at each chamber temperature incl. "
-                                                       "room temperature",
+                                                                     "no. 2); its calibration U "
+                                                                     "(in K) enters the budget"),)
+    requires = (SegmentRequirement("rate-temperature",
+                                   "7.2.1 at each chamber temperature incl. room temperature",
                                    {"rate": "deg/s", "temperature": "degC"}, {"output": ("mV",)}),)
     options = RATE_OPTS + (Option("temperatures", "-40, -10, 20, 40, 60", None,
                                   "chamber points (°C), R5-like"),
@@ -434,8 +434,8 @@ class SFAxialAcceleration(JJFItem):
         for s in segs:
             g.setdefault(up_or_down(s), []).append(s)
         if set(g) != {"up", "down"}:
-            raise DataError(campaign.source, "segments", "7.2.6 needs calibrations with the IRA up "
-                                                         "and with it down")
+            raise DataError(campaign.source, "segments",
+                            "7.2.6 needs calibrations with the IRA up and with it down")
         up, dn = SFSet(g["up"]), SFSet(g["down"])
         kg = F.per_g_726(up.K, dn.K)
         rep = sf_repeatability(campaign)
@@ -545,7 +545,7 @@ class SFVibration(_SFChange):
     what = "vibration"
     metrics = (Metric("dK_vib", "scale-factor change after vibration", "ΔK_v", KU, "7.2.8.2",
                       "14, 15"),)
-    requires = (SegmentRequirement("rate-vibration", "7.2.1 before and after vibration on each "
-                                                     "axis",
+    requires = (SegmentRequirement("rate-vibration",
+                                   "7.2.1 before and after vibration on each axis",
                                    {"rate": "deg/s", "axis": "", "phase": ""},
                                    {"output": ("mV",)}),)

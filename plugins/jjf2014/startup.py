@@ -352,8 +352,7 @@ class StartupTime(JJFItem):
     metrics = (Metric("t_startup", "start-up time", "t_s", "s", "7.2.23.2",
                       "prose, no eq. number"),)
     requires = (SegmentRequirement("startup", "power-on records: trial = position (at rest) or "
-                                              "rate "
-                                   "(table at Ω)",
+                                              "rate (table at Ω)",
                                    {"trial": "", "rate": "deg/s", "run": ""}, {"output": ("mV",)}),)
     options = RATE_OPTS + (
         Option("bias_tolerance", "0.05 deg/s", "deg/s", "required bias band (position trials)"),

@@ -35,8 +35,8 @@ STATION = "simulated-ogam"
 #: E: appendix A 8 and the certificate format of appendix B fix "k = 2" (interpretations.md,
 #: "Coverage factor (ogam)")
 COVERAGE = Coverage.fixed(2.0)
-# : every other result (the draft fixes no k for them): k = t_p(ν_eff), p = 95.45 % (JJF 1059.1
-# 5.3.4)
+#: every other result (the draft fixes no k for them): k = t_p(ν_eff), p = 95.45 % (JJF 1059.1
+#: 5.3.4)
 COVERAGE_NU = Coverage.probability(0.9545)
 #: "校准开始前, 光学陀螺测角仪完成预热和地球自转(地速)补偿操作" (clause 7): the instrument
 #: removes the earth rate before every item; what its compensation leaves (η·Ω) is part of the
@@ -75,9 +75,10 @@ POSITIONING = SegmentRequirement(
     min_count=1,
 )
 EQUIPMENT = (
-    EquipmentRequirement("turntable", "low-speed turntable of table 1 (positioning error ±0.1″, "
-                                      "axis up/north/east); "
-                         "its calibration (a uniform half-width) enters the E budget",
+    EquipmentRequirement("turntable",
+                         "low-speed turntable of table 1 (positioning error ±0.1″, axis "
+                         "up/north/east); its calibration (a uniform half-width) enters the E "
+                         "budget",
                          required=False),
     EquipmentRequirement("timer", "timer (table 1)"),
 )
@@ -138,8 +139,8 @@ def column_of(seg: Segment, name: str, unit: str) -> np.ndarray:
     a = np.asarray(s.data.to(unit).magnitude, dtype=float)
     bad = np.flatnonzero(~np.isfinite(a))
     if bad.size:
-        raise DataError(seg.file or f"segment {seg.id}", name, f"row {bad[0] + 1} is not a finite "
-                                                               "number")
+        raise DataError(seg.file or f"segment {seg.id}", name,
+                        f"row {bad[0] + 1} is not a finite number")
     return a
 
 
@@ -164,8 +165,8 @@ def round_errors(seg: Segment) -> tuple[np.ndarray, np.ndarray]:
     S = column_of(seg, "standard", "deg")
     M = column_of(seg, "reading", "deg")
     if S.size < 2:
-        raise DataError(seg.file or f"segment {seg.id}", "standard", "a round needs at least 2 "
-                                                                     "stops")
+        raise DataError(seg.file or f"segment {seg.id}", "standard",
+                        "a round needs at least 2 stops")
     return S, F.position_errors_74(M, S) * F.ARCSEC_PER_DEG
 
 
@@ -320,13 +321,14 @@ class PositionErrorItem(OgamItem):
 
     requires = (POSITIONING,)
     options = (
-        Option("tilt", None, None, "largest sensing-plane/turntable tilt ψ (default: the "
-                                   "turntable's "
-               "`parallelism` property, else 0.1° as appendix A 1)"),
-        Option("zero_stability", None, None, "instrument zero stability for appendix A 4.3 "
-               "(default: device property zero_stability)"),
-        Option("drift_time", "0.5 min", None, "measurement time for the drift term (appendix A 1 "
-                                              "and 4.3: 0.5 min)"),
+        Option("tilt", None, None,
+               "largest sensing-plane/turntable tilt ψ (default: the turntable's `parallelism` "
+               "property, else 0.1° as appendix A 1)"),
+        Option("zero_stability", None, None,
+               "instrument zero stability for appendix A 4.3 (default: device property "
+               "zero_stability)"),
+        Option("drift_time", "0.5 min", None,
+               "measurement time for the drift term (appendix A 1 and 4.3: 0.5 min)"),
     )
 
     def _reference(self, campaign: Campaign, opts: Mapping[str, Any], warnings: list[str]):
@@ -336,8 +338,8 @@ class PositionErrorItem(OgamItem):
         if E.shape[0] < 2:
             raise DataError(campaign.source, "segments",
                             f"only {E.shape[0]} round at 60 °/s with the axis up: the "
-                            "repeatability (7.5) and "
-                            "the E budget (appendix A 4.4) need the 7.4 test repeated (10 rounds)",
+                            "repeatability (7.5) and the E budget (appendix A 4.4) need the 7.4 "
+                            "test repeated (10 rounds)",
                             hint="record rounds 1…10 as segments with conditions round = 1 … 10")
         if E.shape[0] < ROUNDS:
             warnings.append(msg("{n} rounds at 60 °/s; clause 7.5 asks for {asked}", n=E.shape[0],

@@ -81,8 +81,8 @@ def _scale_factors(campaign: Campaign, item: str):
     if theta.size < 2:
         raise DataError(seg.file or f"segment {seg.id}", "angle", "7.1 needs several rounds (six)")
     if np.any(theta <= 0):
-        raise DataError(seg.file or f"segment {seg.id}", "angle", "every angular displacement θ_i "
-                                                                  "must be positive")
+        raise DataError(seg.file or f"segment {seg.id}", "angle",
+                        "every angular displacement θ_i must be positive")
     return seg, theta, counts, F.scale_factors_71(counts, theta)
 
 
@@ -137,8 +137,8 @@ def attrs_evolve_sensitivity(row: BudgetRow, sensitivity) -> BudgetRow:
     return attrs.evolve(row, sensitivity=sensitivity)
 
 
-# : 7.2: Monte Carlo draws of the K_i's noise (GUM Supplement 1; a fixed seed keeps a run
-# reproducible)
+#: 7.2: Monte Carlo draws of the K_i's noise (GUM Supplement 1; a fixed seed keeps a run
+#: reproducible)
 KL_DRAWS = 4000
 KL_SEED = 72
 
@@ -275,8 +275,8 @@ class ZeroStability73(OgamItem):
             raise ProcedureError(f"7.3: option statistic must be std or range, got {stat!r}")
         segs = campaign.find_segments("zero")
         if not segs:
-            raise DataError(campaign.source, "segments", "7.3 needs a segment of kind \"zero\" "
-                                                         f"({ZERO.description})",
+            raise DataError(campaign.source, "segments",
+                            f"7.3 needs a segment of kind \"zero\" ({ZERO.description})",
                             hint="`metro plan -s ogam -i 7.3` shows what to measure")
         seg = segs[0]
         m = column_of(seg, "reading", "deg")
@@ -404,8 +404,8 @@ class Repeatability75(PositionErrorItem):
         S, E = error_matrix(rounds)
         warnings = []
         if E.shape[0] < 2:
-            raise DataError(campaign.source, "segments", "7.5 needs the 7.4 test repeated; found "
-                                                         f"{E.shape[0]} round")
+            raise DataError(campaign.source, "segments",
+                            f"7.5 needs the 7.4 test repeated; found {E.shape[0]} round")
         if E.shape[0] < ROUNDS:
             warnings.append(msg("{n} rounds; clause 7.5 asks for {rounds}", n=E.shape[0],
                                 rounds=ROUNDS))
@@ -459,9 +459,9 @@ def _consistency(proc: PositionErrorItem, campaign: Campaign, opts,
         table_rows.append([label(key), f"{values[key]:.3f}"])
     missing = [label(k) for k in groups_wanted if k not in values]
     if len(values) < 2:
-        raise DataError(campaign.source, "segments", f"{proc.item} needs the angle-position error "
-                                                     "under at least "
-                        f"two {('rates' if proc.item == '7.6' else 'axis directions')}; missing: "
+        raise DataError(campaign.source, "segments",
+                        f"{proc.item} needs the angle-position error under at least two "
+                        f"{('rates' if proc.item == '7.6' else 'axis directions')}; missing: "
                         f"{', '.join(missing)}",
                         hint=f"`metro plan -s ogam -i {proc.item}` lists what to measure")
     if missing:
@@ -510,8 +510,8 @@ def _consistency(proc: PositionErrorItem, campaign: Campaign, opts,
     if printed != 0 and C == 0.0:
         note = join("; ", [x for x in (note,) if x] + [msg("not resolved from 0: the noise alone "
                                                            "gives a range of {n:.3g}″ on average, "
-                                                           "no less "
-                                     "than the one observed", n=est.noise_only)])
+                                                           "no less than the one "
+                                                           "observed", n=est.noise_only)])
     return C, brows, warnings, used, values, table_rows, note
 
 
