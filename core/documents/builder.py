@@ -24,7 +24,7 @@ from __future__ import annotations
 import functools
 import math
 import re
-from typing import TYPE_CHECKING, Callable, Iterable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
 
 from .text import (
     BODY_PT,
@@ -459,18 +459,14 @@ class DocumentBuilder:
     ):
         """A bordered table: ``header`` (repeated on every page; None for a label/value table),
         then ``rows`` (each row kept on one page).  ``label_column`` shades and bolds the first
-        column (label/value tables).  ``shade`` lists row indexes to shade (summary rows).
-        ``spans`` lists rows (indexes into ``rows``, each a one-cell row) whose text spans every
-        column (a title or a summary inside a long table; printed bold when it is in ``bold_rows``
-        too; never kept with the row below, see the comment in the loop).  In the columns
-        ``unit_break`` a unit may go to
-        the next line under its number (``4.946×10⁻⁸`` / ``°/°C/h``; the number stays whole).
-        Column widths fit the content (:func:`column_widths`, spanning rows left out); the font
+        column (label/value tables).  ``shade`` lists row indexes to shade (summary rows). ``spans``
+        lists rows (indexes into ``rows``, each a one-cell row) whose text spans every column (a
+        title or a summary inside a long table; printed bold when it is in ``bold_rows`` too; never
+        kept with the row below, see the comment in the loop).  In the columns ``unit_break`` a unit
+        may go to the next line under its number (``4.946×10⁻⁸`` / ``°/°C/h``; the number stays
+        whole). Column widths fit the content (:func:`column_widths`, spanning rows left out); the
+        font
         shrinks (to 6.5 pt) only when the longest words would not fit otherwise."""
-        from docx.enum.table import WD_TABLE_ALIGNMENT
-        from docx.oxml.ns import qn
-        from docx.shared import Mm
-
         rows = [[glue(self.tr.text(c)) for c in r] for r in rows]
         if unit_break:
             rows = [
@@ -485,64 +481,18 @@ class DocumentBuilder:
         cols = [
             [r[j] for i, r in enumerate(everything) if i - first not in spans] for j in range(n)
         ]
-        pt = font_pt
-        widths = column_widths(
-            cols,
-            width_mm,
-            pt,
-            bold_first=bool(head),
-            bold_column=label_column,
-            prefer=prefer,
-            prefer_share=prefer_share,
-        )
-        while widths is None and pt > MIN_TABLE_PT:
-            pt = max(MIN_TABLE_PT, pt - 0.5)
-            widths = column_widths(
-                cols,
-                width_mm,
-                pt,
-                bold_first=bool(head),
-                bold_column=label_column,
-                prefer=prefer,
-                prefer_share=prefer_share,
-            )
-        if (
-            widths is None
-        ):  # still too wide: in proportion to the longest words (a word may then break)
-            widths = column_widths(
-                cols, width_mm, pt, bold_first=bool(head), bold_column=label_column, squeeze=True
-            )
-        # the table without rows (they come below, as XML), in the body as Document.add_table puts
-        # it,
-        # without its search of the whole body for the section's width: the grid gets its own widths
-        t = self.doc._body.add_table(0, n, Mm(width_mm))
+        widths, pt = _fitted_widths(cols, width_mm, font_pt, bold_first=bool(head),
+                                    bold_column=label_column, prefer=prefer,
+                                    prefer_share=prefer_share)
+        t = self._empty_table(n, width_mm, widths)
         tbl = t._tbl
-        tblPr = tbl.tblPr
-        tblPr.style = self._table_style_id()
-        t.alignment = WD_TABLE_ALIGNMENT.CENTER
-        t.autofit = False
-        insert_ordered(
-            tblPr,
-            oxml_element("w:tblW", w=str(sum(mm_to_twips(w) for w in widths)), type="dxa"),
-            TBLPR_ORDER,
-        )
-        insert_ordered(tblPr, oxml_element("w:tblLayout", type="fixed"), TBLPR_ORDER)
-        mar = oxml_element("w:tblCellMar")
-        for side in ("left", "right"):
-            mar.append(oxml_element(f"w:{side}", w=str(mm_to_twips(CELL_MARGIN_MM)), type="dxa"))
-        insert_ordered(tblPr, mar, TBLPR_ORDER)
-        grid = tbl.tblGrid
-        for gc, w in zip(grid.findall(qn("w:gridCol")), widths):
-            gc.set(qn("w:w"), str(mm_to_twips(w)))
         twips = [str(mm_to_twips(w)) for w in widths]
         for i, values in enumerate(everything):
             is_head = head is not None and i == 0
             if i - first in spans:
                 # not kept with the row below: LibreOffice (7.x) lost every later row of a budget
-                # whose
-                # kept title row fell at a page foot (a 6.2.7.7 report printed 1 of 6 rows and no
-                # U);
-                # a title alone at a page foot is the lesser harm
+                # whose kept title row fell at a page foot (a 6.2.7.7 report printed 1 of 6 rows
+                # and no U); a title alone at a page foot is the lesser harm
                 self._table_row(
                     tbl,
                     [values[0]],
@@ -573,6 +523,35 @@ class DocumentBuilder:
             )
         return t
 
+    def _empty_table(self, n: int, width_mm: float, widths: Sequence[float]) -> Any:
+        """A table of ``n`` columns of ``widths`` (mm) and no rows (they come as XML), in the body
+        as Document.add_table puts it, without its search of the whole body for the section's
+        width: the grid and ``w:tblW`` get the widths, fixed layout, the cell margins."""
+        from docx.enum.table import WD_TABLE_ALIGNMENT
+        from docx.oxml.ns import qn
+        from docx.shared import Mm
+
+        t = self.doc._body.add_table(0, n, Mm(width_mm))
+        tbl = t._tbl
+        tblPr = tbl.tblPr
+        tblPr.style = self._table_style_id()
+        t.alignment = WD_TABLE_ALIGNMENT.CENTER
+        t.autofit = False
+        insert_ordered(
+            tblPr,
+            oxml_element("w:tblW", w=str(sum(mm_to_twips(w) for w in widths)), type="dxa"),
+            TBLPR_ORDER,
+        )
+        insert_ordered(tblPr, oxml_element("w:tblLayout", type="fixed"), TBLPR_ORDER)
+        mar = oxml_element("w:tblCellMar")
+        for side in ("left", "right"):
+            mar.append(oxml_element(f"w:{side}", w=str(mm_to_twips(CELL_MARGIN_MM)), type="dxa"))
+        insert_ordered(tblPr, mar, TBLPR_ORDER)
+        grid = tbl.tblGrid
+        for gc, w in zip(grid.findall(qn("w:gridCol")), widths):
+            gc.set(qn("w:w"), str(mm_to_twips(w)))
+        return t
+
     def _table_style_id(self) -> str:
         """The style id of "Table Grid" (looked up in the styles part once per document)."""
         if self._grid_style is None:
@@ -597,10 +576,9 @@ class DocumentBuilder:
         pt: float,
     ) -> None:
         """Append one ``w:tr`` to ``tbl``: never split across pages, repeated on each page when it
-        is
-        the ``header``; per cell its width (twips), fill, and one paragraph with no space after,
-        kept
-        with the next row or not (``keep``; None says nothing), its text through :meth:`runs`.  With
+        is the ``header``; per cell its width (twips), fill, and one paragraph with no space after,
+        kept with the next row or not (``keep``; None says nothing), its text through :meth:`runs`.
+        With
         ``span`` > 1 its one cell spans that many grid columns."""
         from lxml.etree import SubElement
 
@@ -652,6 +630,26 @@ class DocumentBuilder:
     def save(self, path) -> None:
         """Write the document to ``path``."""
         self.doc.save(str(path))
+
+
+def _fitted_widths(cols: Sequence[Sequence[str]], width_mm: float, font_pt: float, *,
+                   bold_first: bool, bold_column: bool, prefer: int | None,
+                   prefer_share: float) -> tuple[list[float], float]:
+    """Column widths (mm) and the font size (pt) of a table: :func:`column_widths` at
+    ``font_pt``, the font shrunk by half points (to :data:`MIN_TABLE_PT`) while the longest
+    words do not fit, and still too wide, widths in proportion to the longest words (a word may
+    then break)."""
+    pt = font_pt
+    kw = dict(bold_first=bold_first, bold_column=bold_column, prefer=prefer,
+              prefer_share=prefer_share)
+    widths = column_widths(cols, width_mm, pt, **kw)
+    while widths is None and pt > MIN_TABLE_PT:
+        pt = max(MIN_TABLE_PT, pt - 0.5)
+        widths = column_widths(cols, width_mm, pt, **kw)
+    if widths is None:
+        widths = column_widths(cols, width_mm, pt, bold_first=bold_first,
+                               bold_column=bold_column, squeeze=True)
+    return widths, pt
 
 
 def fit_check(widths: Sequence[float], total: float = TEXT_WIDTH_MM) -> bool:

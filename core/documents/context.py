@@ -397,11 +397,10 @@ def _fact_text(v: Any) -> str:
 def record_facts(record: "RunRecord") -> dict[str, str]:
     """Who, where and when, from the campaign through the manifest vocabulary
     (:mod:`metro.core.base.vocabulary`; a lab profile in force has filled in what the manifest
-    leaves
-    out, :func:`metro.core.record.registering.with_lab`): ``lab``, ``lab_address``, ``location``,
-    ``customer``, ``customer_address``, ``operator``, ``checker``, ``approver`` and their titles
-    ``operator_title``, ``checker_title``, ``approver_title``, ``received``, ``measured`` (the
-    measurement date,
+    leaves out, :func:`metro.core.record.registering.with_lab`): ``lab``, ``lab_address``,
+    ``location``, ``customer``, ``customer_address``, ``operator``, ``checker``, ``approver`` and
+    their titles ``operator_title``, ``checker_title``, ``approver_title``, ``received``,
+    ``measured`` (the measurement date,
     :attr:`RunRecord.test_date`; where it came from in ``measured_from``), ``issued`` (the
     manifest's ``issued``, else the day the document is written) and ``processed`` (the time of
     this run).  A missing fact is the empty string; documents print it as "—"."""
@@ -608,9 +607,9 @@ def build_context(
 
     ``register`` is the register statement: ``{"registered": bool, "notices": [text, …]}``
     (:mod:`metro.core.record.registering`); each notice is printed at the top of the report.
-    ``lang``
-    (``zh``, ``en``, ``zh+en``) is kept in the context (``ctx["lang"]``) so the same document can
-    be written again.  The result is plain JSON apart from each figure's ``spec`` (a PlotSpec),
+    ``lang`` (``zh``, ``en``, ``zh+en``) is kept in the context (``ctx["lang"]``) so the same
+    document can be written again.  The result is plain JSON apart from each figure's ``spec`` (a
+    PlotSpec),
     so the register can keep it and write the same report again (``metro report NUMBER``)."""
     ctx = report_context(record, designations=designations)
     ctx["register"] = (

@@ -272,10 +272,9 @@ def notes_section(
 
     Each note or warning text is one line naming the results and items it applies to
     (:func:`metro.core.documents.notes.group_notes`: ``K_gxx, K_gyy (7.2.1): …``, ``7.2.1, 7.2.2,
-    7.2.3: …``),
-    in the order the texts first appear; a part several results share (of a note joined with
-    ``"; "``) is its own line, and a sentence that differs between results only in its indices is
-    stated once in index form (``g_ij``).  The earth-rate statement is one line per kind naming
+    7.2.3: …``), in the order the texts first appear; a part several results share (of a note joined
+    with ``"; "``) is its own line, and a sentence that differs between results only in its indices
+    is stated once in index form (``g_ij``).  The earth-rate statement is one line per kind naming
     the items it applies to."""
     from .notes import group_notes
 
@@ -361,14 +360,7 @@ def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
     exact: dict[tuple, tuple[list, list[str]]] = {}
     tables: list[tuple[list, list[int], list[int]]] = []
     dists: dict[str, None] = {}
-    # a row's note that several rows share is printed once, numbered, above the tables
-    seen: dict[str, int] = {}
-    for o in outcomes:
-        for b in o["budgets"]:
-            for x in b["rows"]:
-                if x.get("note") and len(str(x["note"])) > 40:
-                    seen[str(x["note"])] = seen.get(str(x["note"]), 0) + 1
-    numbered = {n: None for n, c in seen.items() if c > 1}
+    numbered = _shared_notes(outcomes)
     notes: dict[str, tuple[int, Any]] = {}
 
     def source_of(x: dict) -> Any:
@@ -419,25 +411,12 @@ def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
             )
         if rows:
             tables.append((rows, spans, titles))
-    if exact:
-        doc.para(f"{tr('no uncertainty (exact)')}:", size=7.5, keep_next=True)
-        lines = []
-        for sources, names in exact.values():
-            why = "; ".join(tr.text(_generic(x) if len(names) > 1 else x) for x in sources)
-            lines.append(f"{why}: {'; '.join(names)}")
-        doc.bullets(lines, size=7.5)
-    if notes:
-        doc.para(f"{tr('Notes to several rows')}:", size=7.5, keep_next=True)
-        for k, note in notes.values():
-            p = doc.para(f"[{k}] {tr.text(note)}", size=7.5)
-            p.paragraph_format.space_after = doc._pt(0)
+    _exact_budgets_and_notes(doc, exact, notes)
     if tables and tr.lang == "zh+en":
         doc.para(
             f"{tr('Distribution')}: " + ", ".join(tr(d) for d in dists), size=7.5, keep_next=True
         )
-    for i, (rows, spans, titles) in enumerate(
-        tables
-    ):  # one table per item: its widths fit its own budgets
+    for i, (rows, spans, titles) in enumerate(tables):  # one table per item, widths its own
         if i:  # two tables with nothing between them are one table to LibreOffice and Word
             doc.para("", size=2)
         doc.table(
@@ -460,6 +439,37 @@ def budgets_annex(doc: DocumentBuilder, ctx: dict, outcomes: Sequence[dict] | No
             shade=titles,
             unit_break=(3, 5, 6),
         )
+
+
+def _shared_notes(outcomes: Sequence[dict]) -> dict[str, None]:
+    """The budget-row notes (over 40 characters) that several rows share: each is printed once,
+    numbered, above the budget tables."""
+    seen: dict[str, int] = {}
+    for o in outcomes:
+        for b in o["budgets"]:
+            for x in b["rows"]:
+                if x.get("note") and len(str(x["note"])) > 40:
+                    seen[str(x["note"])] = seen.get(str(x["note"]), 0) + 1
+    return {n: None for n, c in seen.items() if c > 1}
+
+
+def _exact_budgets_and_notes(doc: DocumentBuilder, exact: dict[tuple, tuple[list, list[str]]],
+                             notes: dict[str, tuple[int, Any]]) -> None:
+    """Above the budget tables: the budgets with no uncertainty (those sharing one reason under
+    it once), then the numbered notes that several rows share."""
+    tr = doc.tr
+    if exact:
+        doc.para(f"{tr('no uncertainty (exact)')}:", size=7.5, keep_next=True)
+        lines = []
+        for sources, names in exact.values():
+            why = "; ".join(tr.text(_generic(x) if len(names) > 1 else x) for x in sources)
+            lines.append(f"{why}: {'; '.join(names)}")
+        doc.bullets(lines, size=7.5)
+    if notes:
+        doc.para(f"{tr('Notes to several rows')}:", size=7.5, keep_next=True)
+        for k, note in notes.values():
+            p = doc.para(f"[{k}] {tr.text(note)}", size=7.5)
+            p.paragraph_format.space_after = doc._pt(0)
 
 
 def _generic(text: Any) -> Any:

@@ -78,13 +78,12 @@ def write_report(
 
     Without ``template`` the document is built by
     :class:`metro.core.documents.document.DocumentBuilder`
-    with ``layout`` (a callable ``layout(doc, ctx)``, ``"module:function"`` text, or None for
-    the generic report) in ``lang`` (``zh``, ``en`` or ``zh+en``; default ``zh+en``).  With
-    ``template`` (a docxtpl ``.docx`` of a lab's own) the template is rendered instead.
-    A ``path`` ending in ``.pdf`` writes the PDF only; ``pdf=True`` writes the ``.docx`` and a
-    ``.pdf`` beside it (LibreOffice, :func:`metro.core.documents.document.to_pdf`).  Any failure
-    leaves no
-    file (and no temporary file) behind.
+    with ``layout`` (a callable ``layout(doc, ctx)``, ``"module:function"`` text, or None for the
+    generic report) in ``lang`` (``zh``, ``en`` or ``zh+en``; default ``zh+en``).  With ``template``
+    (a docxtpl ``.docx`` of a lab's own) the template is rendered instead. A ``path`` ending in
+    ``.pdf`` writes the PDF only; ``pdf=True`` writes the ``.docx`` and a ``.pdf`` beside it
+    (LibreOffice, :func:`metro.core.documents.document.to_pdf`).  Any failure leaves no file (and no
+    temporary file) behind.
     """
     if Path(path).suffix.lower() == ".pdf" or pdf:
         soffice_path()  # a clear error before any work when LibreOffice is missing

@@ -184,12 +184,10 @@ def mean_u_batches(y: ArrayLike, batches: int = 20, few: int = 5, p: float = 0.9
 
     With correlated noise (flicker / bias instability, random walk, slow wander) neighbouring batch
     means are alike and the scatter of ``batches`` short ones understates the mean's u.  ``few``
-    long
-    batches are compared with them; when (u_few/u)² exceeds the ``p`` point of F(few − 1, b − 1),
-    the
-    long batches' u is taken (``correlated``).  Used by GB/T 45570 D.5.1 (eq. D.40) and JJF 2014
-    7.2.13 (eqs. (27), (28)); interpretations.md, "D.5.1 — correlated noise".  Needs ≥ 2·batches
-    samples.
+    long batches are compared with them; when (u_few/u)² exceeds the ``p`` point of F(few − 1, b −
+    1), the long batches' u is taken (``correlated``).  Used by GB/T 45570 D.5.1 (eq. D.40) and JJF
+    2014 7.2.13 (eqs. (27), (28)); interpretations.md, "D.5.1 — correlated noise".  Needs ≥
+    2·batches samples.
     """
     from scipy.stats import f as f_dist
 

@@ -4,14 +4,10 @@ A start-up or set-up time is the instant the output enters a band about its targ
 output that rings passes through the band several times before it stays, and near the band's edge
 noise decides whether a swing left it.  This module cuts the deviation from the settled value into
 lobes (its swings to either side), gives each lobe the probability that the noise-free output left
-the
-band in it, and takes the expected instant of the last real exit with the spread of that
-distribution
-(interpretations.md, "6.2.7.7 — the last real excursion" and "7.2.23 — a ringing output decided by
-its
-samples").  Used by GB/T 45570 6.2.7.7 on the window means of the output and by JJF 2014 7.2.23 on
-the
-samples of an output ringing faster than its window.
+the band in it, and takes the expected instant of the last real exit with the spread of that
+distribution (interpretations.md, "6.2.7.7 — the last real excursion" and "7.2.23 — a ringing output
+decided by its samples").  Used by GB/T 45570 6.2.7.7 on the window means of the output and by JJF
+2014 7.2.23 on the samples of an output ringing faster than its window.
 """
 
 from __future__ import annotations
@@ -33,10 +29,9 @@ SETTLE_CERTAIN = 0.00135  # Φ(−3)
 class Lobe:
     """One swing of the deviation to one side of the settled value: indices ``start`` … ``end`` − 1,
     ``sign`` ±1, ``top`` its largest |deviation| (observed), ``p`` the probability that the
-    noise-free
-    output left the band on its side in it, ``p_near`` the same against the nearer of the two edges
-    (= ``p`` for a band symmetric about the settled value), its ``exit`` (s) with the ``half_span``
-    of
+    noise-free output left the band on its side in it, ``p_near`` the same against the nearer of the
+    two edges (= ``p`` for a band symmetric about the settled value), its ``exit`` (s) with the
+    ``half_span`` of
     the noise re-crossings about it, and the exit as an index (``exit_index``)."""
 
     start: int
@@ -75,6 +70,22 @@ def quadratic_peak(
     return float(x @ beta), sd, tv + float(t[k])
 
 
+def _lobe_cuts(d: np.ndarray, hyst: float) -> list[int]:
+    """Where a deviation's lobes part: at each sign change of ``d`` past the hysteresis ``hyst``
+    on the other side, the index where ``d`` last left zero."""
+    cuts, state, zero = [], 0, 0
+    for i, v in enumerate(d):
+        s_i = 1 if v >= 0 else -1
+        if i and s_i != (1 if d[i - 1] >= 0 else -1):
+            zero = i
+        if state == 0 and abs(v) > hyst:
+            state = s_i
+        elif state and s_i != state and abs(v) > hyst:
+            cuts.append(zero)
+            state = s_i
+    return cuts
+
+
 def excursion_lobes(
     d: Sequence[float],
     t: Sequence[float],
@@ -89,29 +100,21 @@ def excursion_lobes(
 ) -> list[Lobe]:
     """The lobes of a deviation ``d`` from the settled value (window means or samples ending at the
     times ``t``, s, one ``interval_s`` apart), against a band from −``lower`` to +``upper`` about
-    the
-    settled value (both > 0; equal for a band centred on it).
+    the settled value (both > 0; equal for a band centred on it).
 
     Lobes are cut at the sign changes of d with a hysteresis of 2σ (at most half the nearer edge),
-    so
-    that noise about zero does not cut one swing into slivers; a lobe starts where d last left zero
-    before it passed the other side's threshold.  Each lobe's top is fitted by a parabola (σ of the
-    fitted
-    value from ``sigma``, the σ of one element of d, :func:`quadratic_peak`; ``sigma_common`` is
-    added
-    in quadrature: an uncertainty shared by every element, such as that of the band's centre) and
-    p = Φ((top − edge)/σ_top) is the probability that the noise-free d left the band in that lobe; a
-    lobe
-    more than 6σ beyond or inside its edge is certain.  Its exit is the midpoint of the first
-    element
-    inside the band after the top and the one after the last element outside it in the lobe (noise
-    re-crossings; half their span is the lobe's own spread), or the vertex where no element was
-    outside.
-    With ``half_lobe_fit`` the parabola is fitted only where it spans at most half the lobe, else
-    the top is
-    the largest element (a ringing sampled a few times per swing: a parabola over most of a cosine's
-    lobe
-    misses its top by a few per cent of the swing).
+    so that noise about zero does not cut one swing into slivers; a lobe starts where d last left
+    zero before it passed the other side's threshold.  Each lobe's top is fitted by a parabola (σ of
+    the fitted value from ``sigma``, the σ of one element of d, :func:`quadratic_peak`;
+    ``sigma_common`` is added in quadrature: an uncertainty shared by every element, such as that of
+    the band's centre) and p = Φ((top − edge)/σ_top) is the probability that the noise-free d left
+    the band in that lobe; a lobe more than 6σ beyond or inside its edge is certain.  Its exit is
+    the midpoint of the first element inside the band after the top and the one after the last
+    element outside it in the lobe (noise re-crossings; half their span is the lobe's own spread),
+    or the vertex where no element was outside. With ``half_lobe_fit`` the parabola is fitted only
+    where it spans at most half the lobe, else the top is the largest element (a ringing sampled a
+    few times per swing: a parabola over most of a cosine's lobe misses its top by a few per cent of
+    the swing).
     """
     from scipy.special import ndtr
 
@@ -122,17 +125,7 @@ def excursion_lobes(
     near = min(upper, lower)
     out = (d > upper) | (d < -lower)
     hyst = min(2.0 * sigma, 0.5 * near)
-    cuts, state, zero = [], 0, 0
-    for i, v in enumerate(d):
-        s_i = 1 if v >= 0 else -1
-        if i and s_i != (1 if d[i - 1] >= 0 else -1):
-            zero = i
-        if state == 0 and abs(v) > hyst:
-            state = s_i
-        elif state and s_i != state and abs(v) > hyst:
-            cuts.append(zero)
-            state = s_i
-    bounds = np.concatenate(([0], cuts, [d.size])).astype(int)
+    bounds = np.concatenate(([0], _lobe_cuts(d, hyst), [d.size])).astype(int)
     lobes = []
     for a, b in zip(bounds[:-1], bounds[1:]):
         z = np.abs(d[a:b])
@@ -167,19 +160,8 @@ def excursion_lobes(
             e_out = t[last_out + 1] if last_out + 1 < d.size else t[last_out] + interval_s
             e_in = t[first_in] if first_in < d.size else t[-1] + interval_s
             lo, hi = min(e_in, e_out), max(e_in, e_out)
-            lobes.append(
-                Lobe(
-                    int(a),
-                    int(b),
-                    sign,
-                    float(z[k]),
-                    p,
-                    p_near,
-                    0.5 * (lo + hi),
-                    0.5 * (hi - lo),
-                    int(min(last_out + 1, d.size - 1)),
-                )
-            )
+            lobes.append(Lobe(int(a), int(b), sign, float(z[k]), p, p_near, 0.5 * (lo + hi),
+                              0.5 * (hi - lo), int(min(last_out + 1, d.size - 1))))
         else:
             lobes.append(
                 Lobe(int(a), int(b), sign, float(z[k]), p, p_near, float(t[a + k]), 0.0, int(a + k))
@@ -192,12 +174,9 @@ def last_exit(lobes: Sequence[Lobe], t_first: float) -> dict:
     (:func:`excursion_lobes`).
 
     The last certain lobe (p ≥ 1 − SETTLE_CERTAIN) and the lobes after it up to the first that is
-    clearly
-    inside the nearer edge (p_near < SETTLE_CERTAIN: the output has then come clearly inside; a
-    later lobe
-    is noise) are the candidates; the last real one is lobe i with probability P_i = p_i·Π_{j>i}(1 −
-    p_j),
-    and
+    clearly inside the nearer edge (p_near < SETTLE_CERTAIN: the output has then come clearly
+    inside; a later lobe is noise) are the candidates; the last real one is lobe i with probability
+    P_i = p_i·Π_{j>i}(1 − p_j), and
 
         t_s = Σ_i P_i·e_i,   u_sel² = Σ_i P_i·(e_i − t_s)²,   u_span² = Σ_i P_i·(half span_i)²/3.
 
@@ -207,8 +186,7 @@ def last_exit(lobes: Sequence[Lobe], t_first: float) -> dict:
     :return: a dict with ``t_s``, ``u_selection``, ``u_span`` (s), ``exits`` (the candidates' e_i,
     s),
         ``probabilities`` (P_i), ``p_real`` (p_i), ``exit_index`` and ``lobes`` (the candidates'
-        indices
-        into ``lobes``).
+        indices into ``lobes``).
     """
     certain = [i for i, lb in enumerate(lobes) if lb.p >= 1.0 - SETTLE_CERTAIN]
     first = certain[-1] if certain else 0

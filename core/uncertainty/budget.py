@@ -373,8 +373,7 @@ def std_upper_limit(
 ) -> float:
     """Upper confidence limit of σ from a Bessel standard deviation ``s`` of ``n_values`` normal
     values (χ² with ν = n − 1), or with an effective ``dof`` ν instead (a Satterthwaite or Bartlett
-    ν of
-    correlated values, not an integer)::
+    ν of correlated values, not an integer)::
 
         σ_upper = s·√(ν / χ²_p(ν)),   p = 0.02275 (the one-sided 97.7 %, k = 2 of a normal)
 
@@ -392,8 +391,7 @@ def std_sampling_u(s: float, n_values: int | None = None, *, dof: float | None =
     effective ``dof`` ν) as an estimate of σ, from the χ² bound: (σ_upper − s)/2, entered with ν = ∞
     — s + 2u is the 97.7 % upper confidence limit.  The linear s/√(2(n − 1)) with ν = n − 1 covers σ
     in only ≈ 92 % of cases at n = 6 or 7 (its U is small exactly when s came out small); for large
-    n
-    the two agree (interpretations.md, "D.5.3 — what D.42 measures" and "Repeatabilities: the χ²
+    n the two agree (interpretations.md, "D.5.3 — what D.42 measures" and "Repeatabilities: the χ²
     bound")."""
     return (std_upper_limit(s, n_values, dof=dof) - float(s)) / 2.0
 
@@ -404,26 +402,20 @@ def between_variance(s2: float, within: float, dof: int) -> float:
     its posterior mean given the data, never 0 while ``within`` > 0.
 
     ``s2`` is the variance of the group values (ν = ``dof`` = Q − 1; e.g. B_r² of GB/T 45570 eq.
-    (D.42)
-    over Q power-ons), ``within`` the part of it that each value's own noise explains (mean u_A²,
-    taken
-    as known: it rests on far more degrees of freedom than ``s2``).  τ = σ_b² + within is what
-    ``s2``
-    estimates, ν·s2/τ ~ χ²(ν).  With the reference prior p(τ) ∝ 1/τ restricted to τ ≥ within (Box &
-    Tiao, *Bayesian Inference in Statistical Analysis*, 1973, §5.2: the one-way random-effect
-    model),
-    τ = ν·s2/X with X ~ χ²(ν) truncated to X ≤ c = ν·s2/within, and::
+    (D.42) over Q power-ons), ``within`` the part of it that each value's own noise explains (mean
+    u_A², taken as known: it rests on far more degrees of freedom than ``s2``).  τ = σ_b² + within
+    is what ``s2`` estimates, ν·s2/τ ~ χ²(ν).  With the reference prior p(τ) ∝ 1/τ restricted to τ ≥
+    within (Box & Tiao, *Bayesian Inference in Statistical Analysis*, 1973, §5.2: the one-way
+    random-effect model), τ = ν·s2/X with X ~ χ²(ν) truncated to X ≤ c = ν·s2/within, and::
 
         E[σ_b² | data] = ν·s2·F_{ν−2}(c) / ((ν − 2)·F_ν(c)) − within        (F_m: the χ²(m) cdf)
 
     Well resolved (c → ∞) it is ν/(ν − 2)·s2 − within — the (n − 1)/(n − 3) of JCGM 101 6.4.9 for a
     variance from n values; unresolved (s2 → 0) 2·within/(ν − 2).  The moment estimate max(s2 −
-    within, 0)
-    (ISO 5725-2's s_L², set to 0 when negative) is 0 whenever s2 ≤ within, where the data only bound
-    σ_b.
-    E[σ_b²] is the variance of the predictive distribution of a further group's offset, so it enters
-    a
-    budget with ν = ∞ (interpretations.md, "σ_on — a variance component the data only bound").
+    within, 0) (ISO 5725-2's s_L², set to 0 when negative) is 0 whenever s2 ≤ within, where the data
+    only bound σ_b. E[σ_b²] is the variance of the predictive distribution of a further group's
+    offset, so it enters a budget with ν = ∞ (interpretations.md, "σ_on — a variance component the
+    data only bound").
     Needs ν ≥ 3 (the posterior mean is infinite with fewer): ValueError."""
     from scipy.stats import chi2
 

@@ -126,14 +126,10 @@ def max_slope_selection(
     interpretations.md "7.2.5 / 7.2.16 — a curved K(T) is not noise").
 
     ``u_dof``: the degrees of freedom of the u_i themselves where they are one estimate of few
-    degrees of
-    freedom (GB/T D.1.5 / D.2.5: K's turn-on scatter from seven repeatability runs).  The straight
-    line is
-    then rejected when Σ((y − line)/u)²/(n − 2) exceeds the 95 % point of F(n − 2, u_dof) rather
-    than of
-    χ²(n − 2)/(n − 2): a u small by chance must not reject the line (interpretations.md "D.2.5 — the
-    line
-    test with an estimated scatter").
+    degrees of freedom (GB/T D.1.5 / D.2.5: K's turn-on scatter from seven repeatability runs).  The
+    straight line is then rejected when Σ((y − line)/u)²/(n − 2) exceeds the 95 % point of F(n − 2,
+    u_dof) rather than of χ²(n − 2)/(n − 2): a u small by chance must not reject the line
+    (interpretations.md "D.2.5 — the line test with an estimated scatter").
 
     Hand-checked: five equal slopes of u = 1 give bias ≈ +1.1 (the mean maximum of five |N(0,1)|
     deviates about a common slope of 10 is 10 + 1.16; the shared y_0 correlates them, which lowers
@@ -341,17 +337,14 @@ def abs_change(d: float, u: float) -> MaxSelection:
 
 def abs_change_rows(sel: MaxSelection, unit: str, u: float) -> list[BudgetRow]:
     """The row of the correction of :func:`abs_change` (``u``: the difference's noise, as given to
-    it):
-    normal, of standard uncertainty √(u·bias + bias²/4), so that the corrected value's interval at k
-    = 2,
-    (|d| − bias) ± 2√(u² + u·bias + bias²/4) = (|d| − bias) ± (2u + bias), holds the formula's |d| ±
-    2u.
+    it): normal, of standard uncertainty √(u·bias + bias²/4), so that the corrected value's interval
+    at k = 2, (|d| − bias) ± 2√(u² + u·bias + bias²/4) = (|d| − bias) ± (2u + bias), holds the
+    formula's |d| ± 2u.
 
     The correction depends on δ, known only to about u: at d ≈ u it may be anything from 0 (δ ≈ 2–3
-    u)
-    to 0.8 u (δ = 0).  The uniform ±|bias| of a maximum's correction (:func:`selection_rows`) left
-    the
-    value outside U on 9 % of draws at δ = 2.5 u (|d| ± 2u: 4.4 %); u = |bias|, 5.8 % at δ = 3 u
+    u) to 0.8 u (δ = 0).  The uniform ±|bias| of a maximum's correction (:func:`selection_rows`)
+    left the value outside U on 9 % of draws at δ = 2.5 u (|d| ± 2u: 4.4 %); u = |bias|, 5.8 % at δ
+    = 3 u
     (4.4 %); this row never more than |d| ± 2u (interpretations.md)."""
     if not sel.bias > 0:
         return []

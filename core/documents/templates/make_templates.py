@@ -44,6 +44,10 @@ from docx.oxml import OxmlElement
 from docx.oxml.ns import qn
 from docx.shared import Mm, Pt, RGBColor
 
+from metro.core.documents.builder import (
+    TBLPR_ORDER, TCPR_ORDER, TRPR_ORDER, insert_ordered, oxml_element,
+)
+
 OUT = Path(__file__).with_name("report.docx")
 
 PAGE_W, PAGE_H = 210, 297  # A4 portrait, mm
@@ -66,10 +70,6 @@ CLOSING = (
 _PPR_ORDER = ("w:pStyle", "w:keepNext", "w:keepLines", "w:pageBreakBefore", "w:framePr",
               "w:widowControl", "w:numPr", "w:suppressLineNumbers", "w:pBdr", "w:shd", "w:tabs",
               "w:suppressAutoHyphens", "w:spacing", "w:ind", "w:jc", "w:outlineLvl", "w:rPr")
-_TCPR_ORDER = ("w:cnfStyle", "w:tcW", "w:gridSpan", "w:hMerge", "w:vMerge", "w:tcBorders",
-               "w:shd", "w:noWrap", "w:tcMar", "w:textDirection", "w:tcFitText", "w:vAlign")
-_TRPR_ORDER = ("w:cnfStyle", "w:divId", "w:gridBefore", "w:gridAfter", "w:wBefore", "w:wAfter",
-               "w:cantSplit", "w:trHeight", "w:tblHeader", "w:tblCellSpacing", "w:jc", "w:hidden")
 
 
 # --------------------------------------------------------------------------------------
@@ -77,53 +77,34 @@ _TRPR_ORDER = ("w:cnfStyle", "w:divId", "w:gridBefore", "w:gridAfter", "w:wBefor
 # --------------------------------------------------------------------------------------
 
 
-def _insert_ordered(parent, child, order: tuple[str, ...]) -> None:
-    """Insert ``child`` into ``parent`` at the place the schema's element order asks."""
-    tags = [qn(t) for t in order]
-    idx = tags.index(child.tag)
-    later = set(tags[idx + 1:])
-    for existing in parent:
-        if existing.tag in later:
-            existing.addprevious(child)
-            return
-    parent.append(child)
-
-
-def _el(tag: str, **attrs: str):
-    el = OxmlElement(tag)
-    for k, v in attrs.items():
-        el.set(qn(f"w:{k}"), v)
-    return el
-
-
 def _shade_cell(cell, fill: str) -> None:
-    shd = _el("w:shd", val="clear", color="auto", fill=fill)
-    _insert_ordered(cell._tc.get_or_add_tcPr(), shd, _TCPR_ORDER)
+    shd = oxml_element("w:shd", val="clear", color="auto", fill=fill)
+    insert_ordered(cell._tc.get_or_add_tcPr(), shd, TCPR_ORDER)
 
 
 def _shade_paragraph(paragraph, fill: str, border: str) -> None:
     ppr = paragraph._p.get_or_add_pPr()
-    bdr = _el("w:pBdr")
+    bdr = oxml_element("w:pBdr")
     for side in ("top", "left", "bottom", "right"):
-        bdr.append(_el(f"w:{side}", val="single", sz="8", space="4", color=border))
-    _insert_ordered(ppr, bdr, _PPR_ORDER)
-    _insert_ordered(ppr, _el("w:shd", val="clear", color="auto", fill=fill), _PPR_ORDER)
+        bdr.append(oxml_element(f"w:{side}", val="single", sz="8", space="4", color=border))
+    insert_ordered(ppr, bdr, _PPR_ORDER)
+    insert_ordered(ppr, oxml_element("w:shd", val="clear", color="auto", fill=fill), _PPR_ORDER)
 
 
 def _bottom_rule(paragraph) -> None:
     ppr = paragraph._p.get_or_add_pPr()
-    bdr = _el("w:pBdr")
-    bdr.append(_el("w:bottom", val="single", sz="6", space="1", color="808080"))
-    _insert_ordered(ppr, bdr, _PPR_ORDER)
+    bdr = oxml_element("w:pBdr")
+    bdr.append(oxml_element("w:bottom", val="single", sz="6", space="1", color="808080"))
+    insert_ordered(ppr, bdr, _PPR_ORDER)
 
 
 def _row_flag(row, tag: str) -> None:
-    _insert_ordered(row._tr.get_or_add_trPr(), _el(tag), _TRPR_ORDER)
+    insert_ordered(row._tr.get_or_add_trPr(), oxml_element(tag), TRPR_ORDER)
 
 
 def _field(paragraph, instr: str, shown: str) -> None:
     """Append a Word field (``PAGE``, ``NUMPAGES``) with ``shown`` as its cached result."""
-    fld = _el("w:fldSimple", instr=f" {instr} \\* MERGEFORMAT ")
+    fld = oxml_element("w:fldSimple", instr=f" {instr} \\* MERGEFORMAT ")
     run = OxmlElement("w:r")
     text = OxmlElement("w:t")
     text.text = shown
@@ -212,11 +193,7 @@ def column_loop_table(doc, header: str, rows: str):
     tbl_pr = table._tbl.tblPr
     for old in tbl_pr.findall(qn("w:tblW")):
         tbl_pr.remove(old)
-    _insert_ordered(tbl_pr, _el("w:tblW", w="5000", type="pct"),
-                    ("w:tblStyle", "w:tblpPr", "w:tblOverlap", "w:bidiVisual",
-                     "w:tblStyleRowBandSize",
-                     "w:tblStyleColBandSize", "w:tblW", "w:jc", "w:tblCellSpacing", "w:tblInd",
-                     "w:tblBorders", "w:shd", "w:tblLayout", "w:tblCellMar", "w:tblLook"))
+    insert_ordered(tbl_pr, oxml_element("w:tblW", w="5000", type="pct"), TBLPR_ORDER)
     for col in table.columns:
         col.width = Mm(TEXT_W / 3)
     for row in table.rows:
@@ -224,7 +201,7 @@ def column_loop_table(doc, header: str, rows: str):
             tcpr = cell._tc.get_or_add_tcPr()
             for w in tcpr.findall(qn("w:tcW")):
                 tcpr.remove(w)
-            _insert_ordered(tcpr, _el("w:tcW", w="0", type="auto"), _TCPR_ORDER)
+            insert_ordered(tcpr, oxml_element("w:tcW", w="0", type="auto"), TCPR_ORDER)
     h = table.rows[0]
     _row_flag(h, "w:cantSplit")
     _row_flag(h, "w:tblHeader")
