@@ -251,25 +251,36 @@ class Bias(JJFItem):
                              warnings=w, segments=[seg.id], opts=opts)
 
 
-class BiasStability(JJFItem):
+class StaticRecordItem(JJFItem):
+    """The items read from the 7.2.13.1 static record as 7.2.13 measures it (7.2.14, 7.2.20)."""
+
+    requires = Bias.requires
+
+    def sequence(self, options):
+        return Bias().sequence(options)
+
+    def static_start(self, campaign, ctx) -> tuple[dict, list[str], KValue, Segment]:
+        """The item's options, its warnings so far, K (:func:`scale_factor_for`: 7.2.1 or the
+        device's) and the static record (:func:`static_segment`)."""
+        opts = self.option_values(ctx.options)
+        w: list[str] = []
+        kv = scale_factor_for(campaign, type(self))
+        seg = static_segment(campaign, type(self), w)
+        return opts, w, kv, seg
+
+
+class BiasStability(StaticRecordItem):
     """JJF 2014—2022 7.2.14 零偏稳定性: B_s = (1/K)·s(F̄_i over P), eq. (29)."""
 
     item = "7.2.14"
     title = "Bias stability (零偏稳定性)"
     clause = "7.2.14"
     metrics = (Metric("Bs", "bias stability", "B_s", "deg/h", "7.2.14.2", "29"),)
-    requires = Bias.requires
     options = RATE_OPTS + (Option("P", "10 s", "s", "averaging period P"),)
 
-    def sequence(self, options):
-        return Bias().sequence(options)
-
     def evaluate(self, campaign, ctx):
-        opts = self.option_values(ctx.options)
-        w: list[str] = []
-        kv = scale_factor_for(campaign, type(self))
+        opts, w, kv, seg = self.static_start(campaign, ctx)
         K = kv.K
-        seg = static_segment(campaign, type(self), w)
         x, dt = read_output(seg)
         p = float(opts["P"].to("s").magnitude) / dt
         if abs(p - round(p)) > 1e-6 or round(p) < 1:

@@ -30,7 +30,7 @@ from metro.api import (
 
 from . import budgets as B
 from . import formulas as F
-from .bias import Bias, static_segment
+from .bias import StaticRecordItem
 from .common import (
     RATE_OPTS,
     JJFItem,
@@ -132,7 +132,7 @@ def _allan_plot(tau_h: np.ndarray, sig: np.ndarray, edf: np.ndarray, fit) -> Plo
                     "σ(τ) (°/h)", series, logx=True, logy=True)
 
 
-class AngleRandomWalk(JJFItem):
+class AngleRandomWalk(StaticRecordItem):
     """JJF 2014—2022 7.2.20 角度随机游走系数: Ω_j = F_j/K (34); overlapping Allan variance of
     cluster averages τ = k·t₀ (the intent of eqs. (35)–(37), see interpretations.md); WLS fit
     of eq. (38) σ²(τ) = Σ_{m=−2}^{2} A_m τ^m; ARW = √A_−1 (39).  Also reports the other four
@@ -147,22 +147,15 @@ class AngleRandomWalk(JJFItem):
                Metric("RRW", "rate random walk", "K_rrw", "deg/h/hour**0.5", "7.2.20.2",
                       "38: A₁ = K²/3"),
                Metric("RR", "rate ramp", "R", "deg/h**2", "7.2.20.2", "38: A₂ = R²/2"))
-    requires = Bias.requires
     options = RATE_OPTS + (Option("max_fraction", 0.25, None,
                                   "largest cluster length k as a fraction of n"),
                            Option("nonnegative", "off", None,
                                   "on: remove negative eq. (38) terms and refit (biases the "
                                   "others; see interpretations.md)"))
 
-    def sequence(self, options):
-        return Bias().sequence(options)
-
     def evaluate(self, campaign, ctx):
-        opts = self.option_values(ctx.options)
-        w: list[str] = []
-        kv = scale_factor_for(campaign, type(self))
+        opts, w, kv, seg = self.static_start(campaign, ctx)
         K = kv.K
-        seg = static_segment(campaign, type(self), w)
         x, dt = read_output(seg)
         rate = x / K * 3600.0  # eq. (34), °/h
         try:
