@@ -252,9 +252,9 @@ def _equipment_of(
     props_t = t.get("properties", {})
     if not isinstance(props_t, dict):
         raise DataError(src, f"{where}.properties", 'must be a table of name = "value unit"')
-    from metro.core.run.manifest import _maybe_quantity
+    from metro.core.run.manifest import maybe_quantity
 
-    props = {k: _maybe_quantity(v, src, f"{where}.properties.{k}") for k, v in props_t.items()}
+    props = {k: maybe_quantity(v, src, f"{where}.properties.{k}") for k, v in props_t.items()}
     return Equipment(
         id=eid,
         role=_text(t, "role", src, where, default_role),

@@ -40,6 +40,28 @@ def metro_register_stations(registrar) -> None:
         "the simulated station with a digital (LSB) output gyro, for the GB/T 45570 rate method",
     )
 
+    # the standards' own simulated stations (a standard's plugin never imports instruments)
+    from .angle_instrument import station_factory as ogam_station
+    from .mimu import station_factory as mimu_station
+    from .vibratory import station_factory as vibratory_station
+
+    registrar.add_station(
+        "simulated-jjf2014",
+        vibratory_station,
+        "simulated JJF 2014 station (virtual analog vibratory rate gyro on "
+        "rate/vibration tables)",
+    )
+    registrar.add_station(
+        "simulated-mimu",
+        mimu_station,
+        "simulated MIMU (JJF 2003 eq. (1), (2)) on a three-axis position/rate table",
+    )
+    registrar.add_station(
+        "simulated-ogam",
+        ogam_station,
+        "simulated optical-gyro angle measuring instrument on a low-speed turntable",
+    )
+
     from functools import partial
 
     from .bench import bench_station_factory

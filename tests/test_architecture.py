@@ -69,6 +69,11 @@ def test_architecture_md_draws_the_contract_layers():
             assert (ROOT / "core" / name.strip() / "__init__.py").is_file(), name
 
 
+def _is_private(name: str) -> bool:
+    """``_x`` is private; a dunder (``__version__``) is not."""
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
 def _private_imports() -> list[str]:
     found = []
     for name, path in MODULES.items():
@@ -81,7 +86,7 @@ def _private_imports() -> list[str]:
                 continue
             for alias in node.names:
                 sub = f"{target}.{alias.name}"
-                if alias.name.startswith("_") and sub not in MODULES and target != name:
+                if _is_private(alias.name) and sub not in MODULES and target != name:
                     found.append(f"{name}: from {target} import {alias.name}")
     return found
 

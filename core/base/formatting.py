@@ -15,6 +15,7 @@ import re
 from typing import Any
 
 __all__ = [
+    "BOUND_SIGNS",
     "DASH",
     "power_of_ten",
     "fmt_num",
@@ -29,6 +30,10 @@ __all__ = [
 
 #: What a document prints for a missing value, fact or unit.
 DASH = "—"
+
+#: a bound as the terminal, the documents and the verdicts state it (``Result.bound``): the true
+#: value is at least (``lower``) or at most (``upper``) the value shown
+BOUND_SIGNS = {"lower": "≥", "upper": "≤"}
 
 _SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
 

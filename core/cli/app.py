@@ -77,6 +77,55 @@ def build_parser() -> argparse.ArgumentParser:
     cli_register.add_global_options(p)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
+    _add_run(sub)
+    pl = sub.add_parser("plugins", help="list loaded plugins and their versions, stations and drivers")
+    pl.add_argument("--json", action="store_true")
+
+    it = sub.add_parser("items", help="list the items of the loaded standards")
+    it.add_argument("--standard", "-s", help="only this standard's items")
+    it.add_argument("--json", action="store_true")
+
+    pn = sub.add_parser("plan", help="print items' test sequence (what to measure) and its total duration")
+    pn.add_argument("--standard", "-s", help="standard id (may be left out with std:item ids)")
+    pn.add_argument("--item", "-i", action="append", default=[], help="item ids or a series name")
+    pn.add_argument("--all", action="store_true", dest="run_all",
+                    help="every item of the standard that applies to the simulated station's device")
+    pn.add_argument("--json", action="store_true")
+
+    aq = sub.add_parser("acquire", help="run items' test sequence on a station and write the campaign",
+                        description="Acquire the merged test sequence of one or more items on a station "
+                        "(simulated or live) and write it as a campaign folder (manifest.toml + samples, "
+                        "docs/data-format.md) that `metro run --data DIR/manifest.toml` evaluates.")
+    aq.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
+    aq.add_argument("--item", "-i", action="append", default=[],
+                    help="item id or series name, e.g. scale-factor (repeat or comma-separate for several; "
+                    "shared steps are measured once)")
+    aq.add_argument("--all", action="store_true", dest="run_all",
+                    help="acquire every item of the standard that applies to the station's device")
+    aq.add_argument("--station", help="registered station (default: the items' simulated station)")
+    aq.add_argument("--out", required=True, metavar="DIR", help="campaign folder to create (must not exist "
+                    "or be empty)")
+    aq.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
+    aq.add_argument("--seed", type=int, help="seed of a simulated station")
+    aq.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
+                    help="station option, e.g. duration_scale=0.1 (numbers are read as numbers)")
+    aq.add_argument("--npy-rows", type=int, default=None, metavar="N",
+                    help="segments of N rows or more are written as .npy (default 100000), shorter as CSV")
+    _progress_args(aq)
+    cli_register.add_commands(sub)
+
+    _add_batch(sub)
+    from . import doctor
+
+    doctor.add_command(sub)
+    _share_global_options(p)
+    return p
+
+
+def _add_run(sub: Any) -> None:
+    """``metro run``: its options."""
+    from . import register_commands as cli_register
+
     r = sub.add_parser("run", help="evaluate one or more items of a standard",
                        description="Evaluate items of a standard on a campaign (--data) or, without --data, "
                        "on the built-in simulated test station.",
@@ -116,41 +165,10 @@ def build_parser() -> argparse.ArgumentParser:
     _output_args(r)
     cli_register.add_run_options(r)
 
-    pl = sub.add_parser("plugins", help="list loaded plugins and their versions, stations and drivers")
-    pl.add_argument("--json", action="store_true")
 
-    it = sub.add_parser("items", help="list the items of the loaded standards")
-    it.add_argument("--standard", "-s", help="only this standard's items")
-    it.add_argument("--json", action="store_true")
-
-    pn = sub.add_parser("plan", help="print items' test sequence (what to measure) and its total duration")
-    pn.add_argument("--standard", "-s", help="standard id (may be left out with std:item ids)")
-    pn.add_argument("--item", "-i", action="append", default=[], help="item ids or a series name")
-    pn.add_argument("--all", action="store_true", dest="run_all",
-                    help="every item of the standard that applies to the simulated station's device")
-    pn.add_argument("--json", action="store_true")
-
-    aq = sub.add_parser("acquire", help="run items' test sequence on a station and write the campaign",
-                        description="Acquire the merged test sequence of one or more items on a station "
-                        "(simulated or live) and write it as a campaign folder (manifest.toml + samples, "
-                        "docs/data-format.md) that `metro run --data DIR/manifest.toml` evaluates.")
-    aq.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
-    aq.add_argument("--item", "-i", action="append", default=[],
-                    help="item id or series name, e.g. scale-factor (repeat or comma-separate for several; "
-                    "shared steps are measured once)")
-    aq.add_argument("--all", action="store_true", dest="run_all",
-                    help="acquire every item of the standard that applies to the station's device")
-    aq.add_argument("--station", help="registered station (default: the items' simulated station)")
-    aq.add_argument("--out", required=True, metavar="DIR", help="campaign folder to create (must not exist "
-                    "or be empty)")
-    aq.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
-    aq.add_argument("--seed", type=int, help="seed of a simulated station")
-    aq.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
-                    help="station option, e.g. duration_scale=0.1 (numbers are read as numbers)")
-    aq.add_argument("--npy-rows", type=int, default=None, metavar="N",
-                    help="segments of N rows or more are written as .npy (default 100000), shorter as CSV")
-    _progress_args(aq)
-    cli_register.add_commands(sub)
+def _add_batch(sub: Any) -> None:
+    """``metro batch``: its options."""
+    from . import register_commands as cli_register
 
     b = sub.add_parser("batch", help="evaluate many device campaigns (a production lot) on a Dask cluster",
                        description="Evaluate the same items on many recorded campaigns, one per device, on a "
@@ -182,11 +200,6 @@ def build_parser() -> argparse.ArgumentParser:
                    help="language of the reports (default: the lab profile's, else zh+en)")
     _output_args(b)
     cli_register.add_run_options(b)  # each device registered as `metro run` registers it (--lab)
-    from . import doctor
-
-    doctor.add_command(sub)
-    _share_global_options(p)
-    return p
 
 
 #: the global options a command's own parser accepts too, after the command

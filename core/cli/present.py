@@ -99,13 +99,49 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
     report, ``--pdf``); ``verbose`` adds item selection, budgets, tables, truth checks, the
     conformity reasons and the data files' SHA-256."""
     from rich.console import Console
-    from rich.table import Table
-
-    from rich.markup import escape as esc  # messages and file names are text, not markup: "[device] key" stays
+    from rich.markup import escape as esc  # messages and file names are text, not markup
 
     con = Console(highlight=False)
     c = record.campaign
-    con.print(f"[bold]{record.standard}[/] on {esc(c.device.describe())} — campaign {esc(str(c.id))} ({esc(str(c.source))})")
+    con.print(f"[bold]{record.standard}[/] on {esc(c.device.describe())} — campaign {esc(str(c.id))} "
+              f"({esc(str(c.source))})")
+    _print_selection(con, record, verbose)
+    withheld = _print_results(con, record)
+    from ..documents.notes import group_notes
+
+    for where, reason in (group_notes(withheld) if len(withheld) > 1 else ()):
+        con.print(f"[yellow]not reportable ({esc(where)}):[/] {esc(pretty_powers(str(reason)))}")
+    if verbose:
+        for o in record.outcomes:
+            _print_budgets_and_tables(con, o)
+    _print_warnings(con, record)
+    _print_simulated(con, record, verbose)
+    a = record.conformity
+    _print_conformity(con, a, verbose)
+    if verbose:
+        for f, h in record.data_files:
+            con.print(f"data: {esc(str(f))}  sha256 {h}")
+    overall = a.overall.value if a is not None and a.overall is not None else None
+    style = VERDICT_COLOUR.get(overall or "", "bold")
+    con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)  # one line: scripts grep it
+    if report_path:  # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
+        kind = "PDF report" if str(report_path).lower().endswith(".pdf") else "Word report"
+        also = f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind == "Word report" else ""
+        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}{also}", soft_wrap=True)
+    else:  # --no-report: no document, so no number either
+        con.print("no report written", soft_wrap=True)
+
+
+
+
+#: the colour of each verdict on the terminal
+VERDICT_COLOUR = {"pass": "green", "fail": "red", "indeterminate": "yellow"}
+
+
+def _print_selection(con: Any, record: RunRecord, verbose: bool) -> None:
+    """Which candidate items ran (all of them with ``verbose``; else only how many did not)."""
+    from rich.markup import escape as esc
+
     if record.selection:
         ran = sum(1 for ch in record.selection if ch.run)
         if verbose:
@@ -115,7 +151,14 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
         elif ran < len(record.selection):
             con.print(f"{ran} of {len(record.selection)} candidate items run; not run: "
                       + ", ".join(ch.item for ch in record.selection if not ch.run) + " (--verbose says why)")
-    colour = {"pass": "green", "fail": "red", "indeterminate": "yellow"}
+
+
+def _print_results(con: Any, record: RunRecord) -> list[tuple[str, str, Any]]:
+    """The results table; returns (item, symbol, reason) of the results not reportable."""
+    from rich.markup import escape as esc
+    from rich.table import Table
+
+    colour = VERDICT_COLOUR
     verdicts: dict[tuple[str, str], Any] = {}
     if record.conformity is not None:
         for v in record.conformity.verdicts:
@@ -153,13 +196,15 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
             t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)), esc(str(u_text)),
                       esc(fmt_unit(r.metric.unit)), "; ".join(notes))
     con.print(t)
-    from ..documents.notes import group_notes
+    return withheld
 
-    for where, reason in (group_notes(withheld) if len(withheld) > 1 else ()):
-        con.print(f"[yellow]not reportable ({esc(where)}):[/] {esc(pretty_powers(str(reason)))}")
-    if verbose:
-        for o in record.outcomes:
-            _print_budgets_and_tables(con, o)
+
+def _print_warnings(con: Any, record: RunRecord) -> None:
+    """The items' warnings (one said by several items printed once, naming them) and equipment past
+    its due date on the measurement date."""
+    from rich.markup import escape as esc
+
+    c = record.campaign
     # a warning several items give (a campaign's drift seen by 7.2.1, 7.2.2 and 7.2.3) is printed once,
     # naming them, where its first item's warnings are
     said: dict[str, list[str]] = {}
@@ -174,6 +219,10 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
         if e.calibration is not None and not e.calibration.is_valid(record.test_date):
             con.print(f"[bold red]equipment {esc(str(e.id))}[/]: {esc(e.status(record.test_date))} — results that depend on it "
                       "are not traceable; recalibrate it or use other equipment")
+
+
+def _print_simulated(con: Any, record: RunRecord, verbose: bool) -> None:
+    """On a simulated station: how many results recovered the declared truth within U."""
     checks = truth_checks(record)
     if record.simulated and not record.truth:
         con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated station "
@@ -193,7 +242,14 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
                     "" if ch["reportable"] else " [yellow](not reportable)[/]")
                 con.print(f"  {ch['item']} {ch['key']}: result {fmt_num(ch['value'], 5)} vs truth "
                           f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → {mark}")
-    a = record.conformity
+
+
+def _print_conformity(con: Any, a: Any, verbose: bool) -> None:
+    """With ``verbose``: the conformity table (limit, source, verdict, why) and what was not assessed."""
+    from rich.markup import escape as esc
+    from rich.table import Table
+
+    colour = VERDICT_COLOUR
     if a is not None and verbose:
         ct = Table(title=f"Conformity — {a.rule.title}", title_justify="left")
         for col in ("item", "result", "limit", "source", "verdict", "why"):
@@ -207,18 +263,6 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
         if a.not_assessed:
             con.print("not assessed (item not performed): "
                       + ", ".join(f"{sp.symbol} {sp.text()}" for sp in a.not_assessed))
-    if verbose:
-        for f, h in record.data_files:
-            con.print(f"data: {esc(str(f))}  sha256 {h}")
-    overall = a.overall.value if a is not None and a.overall is not None else None
-    style = colour.get(overall or "", "bold")
-    con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)  # one line: scripts grep it
-    if report_path:  # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
-        kind = "PDF report" if str(report_path).lower().endswith(".pdf") else "Word report"
-        also = f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind == "Word report" else ""
-        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}{also}", soft_wrap=True)
-    else:  # --no-report: no document, so no number either
-        con.print("no report written", soft_wrap=True)
 
 
 def _print_budgets_and_tables(con: Any, o: Any) -> None:

@@ -97,7 +97,7 @@ def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
     """(value with unit, "U = … (k = …)") of a result row of the report context; a result not
     reportable says so, with its reason, in place of its value; one that bounds the quantity (D.4's
     threshold ≤ H, a megohmmeter over its range) states the bound, with its U and why it is one."""
-    from ..model.results import BOUND_SIGNS
+    from ..base.formatting import BOUND_SIGNS
 
     tr = doc.tr
     bound = "" if r.get("reportable", True) else r.get("bound") or ""

@@ -13,6 +13,7 @@ import numpy as np
 import pint
 
 from ..uncertainty.budget import UncertaintyBudget, report_pair
+from ..base.formatting import BOUND_SIGNS
 from ..base.errors import ProcedureError
 from ..base.units import check_dimension, difference_unit, fmt_unit
 from .campaign import frozen_map
@@ -55,9 +56,6 @@ class Metric:
         return f"{self.clause} ({self.equation})" if self.equation else self.clause
 
 
-#: a bound as the terminal, the documents and the verdicts state it (:attr:`Result.bound`): the true
-#: value is at least (``lower``) or at most (``upper``) the value shown
-BOUND_SIGNS = {"lower": "≥", "upper": "≤"}
 
 
 @attrs.frozen

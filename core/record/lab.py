@@ -242,6 +242,73 @@ def _register(value: str, base: Path, src: str) -> str:
     return "sqlite:///" + str(p.resolve())
 
 
+def numbering(doc: dict, src: str) -> tuple[str, str]:
+    """The profile's ``[numbering]``: (scheme, prefix), the scheme checked and the prefix one a
+    file name can hold."""
+    num = doc.get("numbering", {})
+    if not isinstance(num, dict):
+        raise DataError(src, "numbering", "must be a table ([numbering])")
+    bad = sorted(set(num) - {"scheme", "prefix"})
+    if bad:
+        raise DataError(src, f"numbering.{bad[0]}", "unknown key", hint="known keys: scheme, prefix")
+    scheme = _text(num, "scheme", src, "numbering", DEFAULT_SCHEME)
+    prefix = _text(num, "prefix", src, "numbering", "MTR")
+    problem = scheme_problem(scheme)
+    if problem:
+        raise DataError(src, "numbering.scheme", f"{scheme!r} {problem}",
+                        hint='e.g. scheme = "{prefix}{year}-{seq:05d}"')
+    if any(c in prefix for c in '/\\:*?"<>|'):
+        raise DataError(src, "numbering.prefix", f"{prefix!r} contains a character a file name cannot hold")
+    return scheme, prefix
+
+
+def signatories_of(doc: dict, src: str) -> list[Signatory]:
+    """The profile's ``[[signatories]]``: name, title and role (one of :data:`ROLES`)."""
+    sigs = doc.get("signatories", [])
+    if not isinstance(sigs, list):
+        raise DataError(src, "signatories", "must be an array of tables ([[signatories]])")
+    signatories = []
+    for i, s in enumerate(sigs):
+        where = f"signatories[{i}]"
+        if not isinstance(s, dict):
+            raise DataError(src, where, "must be a table")
+        bad = sorted(set(s) - {"name", "title", "role"})
+        if bad:
+            raise DataError(src, f"{where}.{bad[0]}", "unknown key", hint="known keys: name, title, role")
+        name = _text(s, "name", src, where)
+        if not name:
+            raise DataError(src, f"{where}.name", "missing")
+        role = _text(s, "role", src, where)
+        if role not in ROLES:
+            raise DataError(src, f"{where}.role", f"must be one of {', '.join(ROLES)}, got {role!r}")
+        signatories.append(Signatory(name=name, title=_text(s, "title", src, where), role=role))
+    return signatories
+
+
+def lab_equipment(doc: dict, src: str, *, read: bool = True) -> list:
+    """The profile's ``[[equipment]]``, each with its calibration (certificate, U, k, due), ids
+    unique; ``read=False`` checks only that it is an array of tables (no pint imported)."""
+    eq_list = doc.get("equipment", [])
+    if not isinstance(eq_list, list):
+        raise DataError(src, "equipment", "must be an array of tables ([[equipment]])")
+    equipment = []
+    if eq_list and read:
+        from ..run.manifest import equipment_from_table
+
+        seen: set[str] = set()
+        for i, e in enumerate(eq_list):
+            where = f"equipment[{i}]"
+            eq = equipment_from_table(e, src, where)
+            if eq.id in seen:
+                raise DataError(src, f"{where}.id", f"duplicate equipment id {eq.id!r}")
+            if eq.calibration is None:
+                raise DataError(src, f"{where}.calibration", "missing",
+                                hint="the lab's equipment states its calibration: certificate, U, k, due")
+            seen.add(eq.id)
+            equipment.append(eq)
+    return equipment
+
+
 def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProfile:
     """Read and check a lab profile; a problem is a DataError naming the file, the field and why.
     ``equipment=False`` leaves the ``[[equipment]]`` tables unread (no pint): what the commands
@@ -298,58 +365,9 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
                         hint="an IANA name such as Asia/Shanghai or UTC") from exc
     register = _register(vals["register"], base, src)
 
-    num = doc.get("numbering", {})
-    if not isinstance(num, dict):
-        raise DataError(src, "numbering", "must be a table ([numbering])")
-    bad = sorted(set(num) - {"scheme", "prefix"})
-    if bad:
-        raise DataError(src, f"numbering.{bad[0]}", "unknown key", hint="known keys: scheme, prefix")
-    scheme = _text(num, "scheme", src, "numbering", DEFAULT_SCHEME)
-    prefix = _text(num, "prefix", src, "numbering", "MTR")
-    problem = scheme_problem(scheme)
-    if problem:
-        raise DataError(src, "numbering.scheme", f"{scheme!r} {problem}",
-                        hint='e.g. scheme = "{prefix}{year}-{seq:05d}"')
-    if any(c in prefix for c in '/\\:*?"<>|'):
-        raise DataError(src, "numbering.prefix", f"{prefix!r} contains a character a file name cannot hold")
-
-    sigs = doc.get("signatories", [])
-    if not isinstance(sigs, list):
-        raise DataError(src, "signatories", "must be an array of tables ([[signatories]])")
-    signatories = []
-    for i, s in enumerate(sigs):
-        where = f"signatories[{i}]"
-        if not isinstance(s, dict):
-            raise DataError(src, where, "must be a table")
-        bad = sorted(set(s) - {"name", "title", "role"})
-        if bad:
-            raise DataError(src, f"{where}.{bad[0]}", "unknown key", hint="known keys: name, title, role")
-        name = _text(s, "name", src, where)
-        if not name:
-            raise DataError(src, f"{where}.name", "missing")
-        role = _text(s, "role", src, where)
-        if role not in ROLES:
-            raise DataError(src, f"{where}.role", f"must be one of {', '.join(ROLES)}, got {role!r}")
-        signatories.append(Signatory(name=name, title=_text(s, "title", src, where), role=role))
-
-    eq_list = doc.get("equipment", [])
-    if not isinstance(eq_list, list):
-        raise DataError(src, "equipment", "must be an array of tables ([[equipment]])")
-    read_equipment, equipment = equipment, []
-    if eq_list and read_equipment:
-        from ..run.manifest import equipment_from_table
-
-        seen: set[str] = set()
-        for i, e in enumerate(eq_list):
-            where = f"equipment[{i}]"
-            eq = equipment_from_table(e, src, where)
-            if eq.id in seen:
-                raise DataError(src, f"{where}.id", f"duplicate equipment id {eq.id!r}")
-            if eq.calibration is None:
-                raise DataError(src, f"{where}.calibration", "missing",
-                                hint="the lab's equipment states its calibration: certificate, U, k, due")
-            seen.add(eq.id)
-            equipment.append(eq)
+    scheme, prefix = numbering(doc, src)
+    signatories = signatories_of(doc, src)
+    equipment = lab_equipment(doc, src, read=equipment)
     return LabProfile(
         name_zh=vals["name_zh"], name_en=vals["name_en"], address=vals["address"],
         accreditation_body=vals["accreditation_body"], accreditation_number=vals["accreditation_number"],

@@ -73,7 +73,7 @@ def _bounded(text: str, src: str, field: str) -> str:
 
 
 def _condition_value(v: Any, src: str, field: str) -> Any:
-    """A segment condition: as :func:`_maybe_quantity`, except that a text without a digit stays text.
+    """A segment condition: as :func:`maybe_quantity`, except that a text without a digit stays text.
 
     A condition is a quantity only when written with its number (``"10 deg/s"``, ``"-55 °C"``); a
     word such as a test's tag (``test = "acc"``, ``"dh"``, ``"rad"`` of GB/T 45570 6.2.8) is a name
@@ -92,10 +92,10 @@ def _condition_value(v: Any, src: str, field: str) -> Any:
             finite = False
         if finite:
             return _bounded(v, src, field)
-    return _maybe_quantity(v, src, field)
+    return maybe_quantity(v, src, field)
 
 
-def _maybe_quantity(v: Any, src: str, field: str) -> Any:
+def maybe_quantity(v: Any, src: str, field: str) -> Any:
     """Values written as text with a unit become quantities; plain text stays text."""
     if isinstance(v, str):
         try:
@@ -234,7 +234,7 @@ def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = Non
                 raise DataError(src, "device.scale_factor_U", f"{q:~P} is negative; an expanded uncertainty is ≥ 0")
             props[key] = q
         else:
-            props[key] = _maybe_quantity(val, src, f"device.{key}")
+            props[key] = maybe_quantity(val, src, f"device.{key}")
     return DeviceUnderTest(
         id=dev_id, model=_str(dev_t, "model", src, "device", required=False),
         serial=_str(dev_t, "serial", src, "device", required=False),
@@ -259,7 +259,7 @@ def environment_from_table(env_t: Mapping, src: str, warnings: list[str] | None 
               "not a relative humidity (0 % … 100 %)")
     for key, val in env_t.items():
         if key not in environment:
-            environment[key] = _maybe_quantity(val, src, f"environment.{key}")
+            environment[key] = maybe_quantity(val, src, f"environment.{key}")
     p = environment.get("pressure")
     if p is not None and hasattr(p, "units"):
         if p.dimensionality != parse_quantity("1 kPa").dimensionality:
@@ -279,7 +279,7 @@ def site_from_table(site_t: Mapping, src: str, warnings: list[str] | None = None
         raise DataError(src, "site.latitude", f"{lat:g}° is not a latitude (−90° … 90°)")
     for key, val in site_t.items():
         if key not in site:
-            site[key] = _maybe_quantity(val, src, f"site.{key}")
+            site[key] = maybe_quantity(val, src, f"site.{key}")
     if "latitude_uncertainty" in site:
         q = site["latitude_uncertainty"]
         if not hasattr(q, "units"):
@@ -316,7 +316,7 @@ def equipment_from_table(e: Mapping, src: str, where: str, warnings: list[str] |
     if "calibration" in e:
         _closed(e["calibration"], src, f"{where}.calibration", voc.CALIBRATION_KEYS, "calibration", warnings)
     cal = _calibration(e["calibration"], src, f"{where}.calibration") if "calibration" in e else None
-    eprops = {k: _maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
+    eprops = {k: maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
               if k not in {"id", "role", "model", "serial", "manufacturer", "calibration"}}
     return Equipment(
         id=eid, role=_str(e, "role", src, where), model=_str(e, "model", src, where, required=False),
@@ -366,23 +366,10 @@ def read_toml_digest(path: str | Path, fmt: str, *, what: str, hint: str) -> tup
     return src, doc, digest
 
 
-def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, Equipment] | None = None) -> Campaign:
-    """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
-    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``).
-
-    What is read but not refused — a deprecated spelling, a key in no list — is in the
-    campaign's ``warnings``; the manifest's SHA-256 is its ``manifest_sha256``."""
-    path = Path(path)
-    src, doc, digest = read_toml_digest(path, FORMAT, what="manifest",
-                                        hint="give the path of a manifest.toml (docs/data-format.md)")
-    warnings: list[str] = []
-    _closed(doc, src, "", voc.SECTIONS, "top-level", warnings)
-
-    camp = campaign_meta(_table(doc, "campaign", src, required=False), src, warnings)
-    device = device_from_table(_table(doc, "device", src), src, warnings)
-    environment = environment_from_table(_table(doc, "environment", src), src, warnings)
-    site = site_from_table(_table(doc, "site", src), src, warnings)
-
+def equipment_list(doc: Mapping[str, Any], src: str, lab_equipment: Mapping[str, Equipment] | None,
+                   warnings: list[str]) -> list[Equipment]:
+    """The manifest's ``[[equipment]]`` (docs/data-format.md): each entry read, or the lab
+    profile's entry of that id when it gives no calibration of its own (only its role may change)."""
     equipment = []
     seen: set[str] = set()
     eq_list = doc.get("equipment", [])
@@ -413,6 +400,98 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
                             hint="the lab profile's equipment: " + (", ".join(sorted(lab_equipment)) or "none"))
         equipment.append(equipment_from_table(e, src, where, warnings))
 
+    return equipment
+
+
+def segment_list(seg_list: list, path: Path, src: str, device: Any, reader_for,
+                 warnings: list[str]) -> list[Segment]:
+    """The manifest's ``[[segments]]``: ids unique, each samples file present and read by one
+    segment of a kind, with its sample interval, start, conditions and declared units."""
+    segments = []
+    seen = set()
+    read_by: dict[tuple[Path, str], str] = {}  # (samples file, kind) -> the segment reading it
+    for i, s in enumerate(seg_list):
+        segments.append(segment_from_table(s, i, path, src, device, reader_for, warnings, seen, read_by))
+    return segments
+
+
+def segment_from_table(s: Any, i: int, path: Path, src: str, device: Any, reader_for, warnings: list[str],
+                       seen: set[str], read_by: dict[tuple[Path, str], str]) -> Segment:
+    """One ``[[segments]]`` entry (index ``i``) as a :class:`Segment` whose loader reads its file."""
+    where = f"segments[{i}]"
+    if not isinstance(s, dict):
+        raise DataError(src, where, f"must be a table, got {type(s).__name__}")
+    _closed(s, src, where, voc.SEGMENT_KEYS, "segment", warnings)
+    sid = _str(s, "id", src, where)
+    if not sid.strip():
+        raise DataError(src, f"{where}.id", "empty; every segment needs an id")
+    if sid in seen:
+        raise DataError(src, f"{where}.id", f"duplicate segment id {sid!r}")
+    seen.add(sid)
+    kind = _str(s, "kind", src, where)
+    fname = _str(s, "file", src, where)
+    fpath = (path.parent / fname).resolve()
+    if not fpath.is_file():
+        raise DataError(src, f"{where}.file", f"samples file {fname!r} not found (looked in {fpath.parent})")
+    other = read_by.get((fpath, kind))
+    if other is not None:  # one record cannot be two measurements of one kind (two rates, two runs)
+        raise DataError(src, f"{where}.file",
+                        f"segment {sid!r} reads {fname!r}, the samples file of segment {other!r} of the same "
+                        f"kind {kind!r}: each measurement has its own record",
+                        hint="give each segment the file it was recorded in (a file-name typo, or a name cut "
+                             "at a dot such as 'rate+0.25' -> 'rate+0.csv'?)")
+    read_by[(fpath, kind)] = sid
+    if "sample_interval" not in s:
+        raise DataError(src, f"{where}.sample_interval", "missing", hint="add sample_interval = \"1 s\"")
+    interval = parse_quantity(s["sample_interval"], dimension="s", file=src, field=f"{where}.sample_interval")
+    if not interval.magnitude > 0 or not math.isfinite(interval.magnitude):
+        raise DataError(src, f"{where}.sample_interval", "must be a positive, finite time")
+    started = _started(s.get("started"), src, f"{where}.started")
+    conds = s.get("conditions", {})
+    if not isinstance(conds, dict):
+        raise DataError(src, f"{where}.conditions", "must be a table")
+    conditions = {k: _condition_value(v, src, f"{where}.conditions.{k}") for k, v in conds.items()}
+    if "supply" not in conditions and "supply_voltage" in device.properties:
+        conditions["supply"] = device.properties["supply_voltage"]  # a ratiometric output's reference
+    declared = s.get("units", {})
+    if not isinstance(declared, dict):
+        raise DataError(src, f"{where}.units", "must be a table of column = \"unit\"")
+    for col, utext in declared.items():
+        if not isinstance(utext, str):
+            raise DataError(src, f"{where}.units.{col}", f"must be a unit as text, got {_short(utext)}")
+        try:
+            parse_quantity(f"1 {utext}", file=src, field=f"{where}.units.{col}")
+        except DataError as exc:
+            raise DataError(src, f"{where}.units.{col}", f"{utext!r} is not a unit metro knows",
+                            hint="write the unit as in the samples file's header, e.g. \"P\", \"LSB\", \"°/h\"") from exc
+    reader = reader_for(fpath)
+    interval_s = float(interval.to("s").magnitude)
+    return Segment(
+        id=sid, kind=kind, conditions=conditions, interval=interval, file=str(fpath),
+        sha256=None, declared_units={k: str(v) for k, v in declared.items()},
+        loader=_make_loader(reader.read, fpath, interval_s, declared), started=started,
+    )
+
+
+def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, Equipment] | None = None) -> Campaign:
+    """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
+    (an object with ``read``) for a samples file (the plugin manager's ``reader_for``).
+
+    What is read but not refused — a deprecated spelling, a key in no list — is in the
+    campaign's ``warnings``; the manifest's SHA-256 is its ``manifest_sha256``."""
+    path = Path(path)
+    src, doc, digest = read_toml_digest(path, FORMAT, what="manifest",
+                                        hint="give the path of a manifest.toml (docs/data-format.md)")
+    warnings: list[str] = []
+    _closed(doc, src, "", voc.SECTIONS, "top-level", warnings)
+
+    camp = campaign_meta(_table(doc, "campaign", src, required=False), src, warnings)
+    device = device_from_table(_table(doc, "device", src), src, warnings)
+    environment = environment_from_table(_table(doc, "environment", src), src, warnings)
+    site = site_from_table(_table(doc, "site", src), src, warnings)
+
+    equipment = equipment_list(doc, src, lab_equipment, warnings)
+
     records = {k: v for k, v in doc.items() if k not in CORE_KEYS and isinstance(v, (dict, list))}
     seg_list = doc.get("segments")
     if not seg_list and not records:
@@ -420,63 +499,7 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
                         "(or record sections such as [inspection], docs/data-format.md)")
     if seg_list is not None and not isinstance(seg_list, list):
         raise DataError(src, "segments", "must be an array of tables ([[segments]])")
-    segments = []
-    seen = set()
-    read_by: dict[tuple[Path, str], str] = {}  # (samples file, kind) -> the segment reading it
-    for i, s in enumerate(seg_list or []):
-        where = f"segments[{i}]"
-        if not isinstance(s, dict):
-            raise DataError(src, where, f"must be a table, got {type(s).__name__}")
-        _closed(s, src, where, voc.SEGMENT_KEYS, "segment", warnings)
-        sid = _str(s, "id", src, where)
-        if not sid.strip():
-            raise DataError(src, f"{where}.id", "empty; every segment needs an id")
-        if sid in seen:
-            raise DataError(src, f"{where}.id", f"duplicate segment id {sid!r}")
-        seen.add(sid)
-        kind = _str(s, "kind", src, where)
-        fname = _str(s, "file", src, where)
-        fpath = (path.parent / fname).resolve()
-        if not fpath.is_file():
-            raise DataError(src, f"{where}.file", f"samples file {fname!r} not found (looked in {fpath.parent})")
-        other = read_by.get((fpath, kind))
-        if other is not None:  # one record cannot be two measurements of one kind (two rates, two runs)
-            raise DataError(src, f"{where}.file",
-                            f"segment {sid!r} reads {fname!r}, the samples file of segment {other!r} of the same "
-                            f"kind {kind!r}: each measurement has its own record",
-                            hint="give each segment the file it was recorded in (a file-name typo, or a name cut "
-                                 "at a dot such as 'rate+0.25' -> 'rate+0.csv'?)")
-        read_by[(fpath, kind)] = sid
-        if "sample_interval" not in s:
-            raise DataError(src, f"{where}.sample_interval", "missing", hint="add sample_interval = \"1 s\"")
-        interval = parse_quantity(s["sample_interval"], dimension="s", file=src, field=f"{where}.sample_interval")
-        if not interval.magnitude > 0 or not math.isfinite(interval.magnitude):
-            raise DataError(src, f"{where}.sample_interval", "must be a positive, finite time")
-        started = _started(s.get("started"), src, f"{where}.started")
-        conds = s.get("conditions", {})
-        if not isinstance(conds, dict):
-            raise DataError(src, f"{where}.conditions", "must be a table")
-        conditions = {k: _condition_value(v, src, f"{where}.conditions.{k}") for k, v in conds.items()}
-        if "supply" not in conditions and "supply_voltage" in device.properties:
-            conditions["supply"] = device.properties["supply_voltage"]  # a ratiometric output's reference
-        declared = s.get("units", {})
-        if not isinstance(declared, dict):
-            raise DataError(src, f"{where}.units", "must be a table of column = \"unit\"")
-        for col, utext in declared.items():
-            if not isinstance(utext, str):
-                raise DataError(src, f"{where}.units.{col}", f"must be a unit as text, got {_short(utext)}")
-            try:
-                parse_quantity(f"1 {utext}", file=src, field=f"{where}.units.{col}")
-            except DataError as exc:
-                raise DataError(src, f"{where}.units.{col}", f"{utext!r} is not a unit metro knows",
-                                hint="write the unit as in the samples file's header, e.g. \"P\", \"LSB\", \"°/h\"") from exc
-        reader = reader_for(fpath)
-        interval_s = float(interval.to("s").magnitude)
-        segments.append(Segment(
-            id=sid, kind=kind, conditions=conditions, interval=interval, file=str(fpath),
-            sha256=None, declared_units={k: str(v) for k, v in declared.items()},
-            loader=_make_loader(reader.read, fpath, interval_s, declared), started=started,
-        ))
+    segments = segment_list(seg_list or [], path, src, device, reader_for, warnings)
 
     spec_t = _table(doc, "specification", src, required=False)
     specification = _specification(spec_t, src)

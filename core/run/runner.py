@@ -521,7 +521,7 @@ def check_specification_units(pm: MetroPluginManager, standard: str, campaign: C
         judged = [m for m in metrics if spec.applies_to(m.key)]
         if not judged:
             continue
-        if not any(cf._compatible(Q_(1.0, m.unit), spec.limit) for m in judged):
+        if not any(cf.compatible(Q_(1.0, m.unit), spec.limit) for m in judged):
             m = judged[0]
             field = limits.fields.get(spec.symbol, f"specification.{spec.symbol}")
             unit = fmt_unit(Q_(1.0, m.unit).units)
@@ -537,12 +537,12 @@ def _for_the_outputs(specs, outcomes):
     kept from the results it cannot judge — it is listed as not assessed, its source saying why —
     instead of stopping the run on the unit.  A limit the manifest gives is never filtered: a
     ``[specification]`` in the wrong kind of unit stays an error."""
-    from ..uncertainty.conformity import _compatible
+    from ..uncertainty.conformity import compatible
 
     out = []
     for sp in specs:
         clash = sorted({o.item for o in outcomes for r in o.results
-                        if sp.applies_to(r.metric.key, o.item) and not _compatible(r.value, sp.limit)})
+                        if sp.applies_to(r.metric.key, o.item) and not compatible(r.value, sp.limit)})
         if not clash:
             out.append(sp)
             continue

@@ -39,7 +39,7 @@ import pint
 from ..base.errors import DataError, UnitError
 from ..base.locale import msg
 from ..base.vocabulary import did_you_mean
-from ..model.results import BOUND_SIGNS
+from ..base.formatting import BOUND_SIGNS
 from ..base.units import angle_power, fmt_unit, parse_quantity
 
 __all__ = [
@@ -88,7 +88,7 @@ def _is_quantity(_inst: Any, attribute: attrs.Attribute, value: Any) -> None:
         raise TypeError(f"{attribute.name} must be a pint quantity, got {value!r}")
 
 
-def _compatible(a: pint.Quantity, b: pint.Quantity) -> bool:
+def compatible(a: pint.Quantity, b: pint.Quantity) -> bool:
     return a.dimensionality == b.dimensionality and angle_power(a.units) == angle_power(b.units)
 
 
@@ -96,7 +96,7 @@ def _in_unit(q: pint.Quantity, target: pint.Quantity, what: str, symbol: str) ->
     """``q`` as a plain number in ``target``'s unit; a clear error across kinds of quantity."""
     if not isinstance(q, pint.Quantity):
         raise UnitError(None, f"specification {symbol}", f"the {what} {q!r} has no unit")
-    if not _compatible(q, target):
+    if not compatible(q, target):
         raise UnitError(
             None, f"specification {symbol}",
             f"the {what} is in {fmt_unit(q.units)} but the limit is in {fmt_unit(target.units)}: "
@@ -108,7 +108,7 @@ def _in_unit(q: pint.Quantity, target: pint.Quantity, what: str, symbol: str) ->
 
 def _difference_in_unit(q: pint.Quantity, target: pint.Quantity, what: str, symbol: str) -> float:
     """An uncertainty (a difference) in ``target``'s unit: U = 0.3 K against a limit in °C is 0.3."""
-    if not isinstance(q, pint.Quantity) or not _compatible(q, target):
+    if not isinstance(q, pint.Quantity) or not compatible(q, target):
         return _in_unit(q, target, what, symbol)  # raises the clear error
     try:  # a limit in °C: the difference unit is Δ°C
         unit = target._REGISTRY.Unit(f"delta_{target.units}")

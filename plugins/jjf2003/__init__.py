@@ -22,14 +22,6 @@ def metro_register_standards(registrar) -> None:
 
 
 @hookimpl
-def metro_register_stations(registrar) -> None:
-    from metro.instruments.mimu import station_factory
-
-    registrar.add_station("simulated-mimu", station_factory,
-                          "simulated MIMU (JJF 2003 eq. (1), (2)) on a three-axis position/rate table")
-
-
-@hookimpl
 def metro_register_templates(registrar) -> None:
     registrar.add_template("jjf2003-certificate", standard=STANDARD_ID, kind="report",
                            layout="metro.plugins.jjf2003.certificate:layout")

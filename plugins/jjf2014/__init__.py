@@ -29,15 +29,6 @@ def metro_register_standards(registrar) -> None:
 
 
 @hookimpl
-def metro_register_stations(registrar) -> None:
-    from metro.instruments.vibratory import station_factory
-
-    registrar.add_station("simulated-jjf2014", station_factory,
-                          "simulated JJF 2014 station (virtual analog vibratory rate gyro on "
-                          "rate/vibration tables)")
-
-
-@hookimpl
 def metro_register_templates(registrar) -> None:
     registrar.add_template("jjf2014-certificate", standard=STANDARD_ID, kind="report",
                            layout="metro.plugins.jjf2014.certificate:layout")

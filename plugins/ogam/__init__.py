@@ -29,15 +29,6 @@ def metro_register_standards(registrar) -> None:
 
 
 @hookimpl
-def metro_register_stations(registrar) -> None:
-    from metro.instruments.angle_instrument import station_factory
-
-    registrar.add_station("simulated-ogam", station_factory,
-                          "simulated optical-gyro angle measuring instrument on a low-speed "
-                          "turntable")
-
-
-@hookimpl
 def metro_register_templates(registrar) -> None:
     registrar.add_template("ogam-certificate", standard=STANDARD_ID, kind="report",
                            layout="metro.plugins.ogam.certificate:layout")
