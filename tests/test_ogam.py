@@ -122,7 +122,7 @@ def test_items_registered_with_their_station(pm):
     classes = {c.item: c for c in pm.procedures_of("ogam")}
     assert sorted(classes) == ALL
     assert {c.station for c in classes.values()} == {"simulated-ogam"}
-    assert pm.station("simulated-ogam").plugin == "ogam"
+    assert pm.station("simulated-ogam").plugin == "instruments"  # stations are the instruments'
     assert pm.template_for("ogam").name == "ogam-certificate"
 
 

@@ -30,8 +30,9 @@ def test_wheel_contains_only_the_metro_namespace(wheel):
     assert {t for t in top if not t.endswith(".dist-info")} == {"metro"}
     assert [t.split("-")[0] for t in top if t.endswith(".dist-info")] == ["metro_inertial"]
     for needed in (
-        "metro/core/hookspec.py", "metro/core/units.txt", "metro/core/templates/report.docx",
-        "metro/core/locale/zh/LC_MESSAGES/metro.po", "metro/core/locale/__init__.py",
+        "metro/api.py", "metro/core/model/hookspec.py", "metro/core/base/units.txt",
+        "metro/core/documents/templates/report.docx", "metro/core/base/locale/zh/LC_MESSAGES/metro.po",
+        "metro/core/base/locale/__init__.py", "metro/core/cli/schemas/run.schema.json",
         "metro/plugins/gbt45570/procedures.py", "metro/plugins/jjf2014/__init__.py",
         "metro/plugins/jjf2003/__init__.py", "metro/instruments/simulated.py",
     ):

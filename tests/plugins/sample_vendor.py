@@ -155,7 +155,7 @@ def metro_register_drivers(registrar):
 def metro_register_templates(registrar):
     from importlib import resources
 
-    p = Path(str(resources.files("metro.core").joinpath("templates", "report.docx")))
+    p = Path(str(resources.files("metro.core.documents").joinpath("templates", "report.docx")))
     registrar.add_template("vendorx-report", p, standard="vendorx")
 
 
@@ -204,3 +204,15 @@ def metro_extend_report_context(record, context):
 @hookimpl
 def metro_report_written(path, outcomes):
     EVENTS.append(("metro_report_written", str(path)))
+
+
+@hookimpl
+def metro_expected_values(campaign, ideal):
+    """The vendor item's expected value from a station's noise-free offset (key ``vendorx:offset``,
+    in °/h): what its evaluation gives on an ideal record; None for keys it does not know."""
+    if "vendorx:offset" not in ideal:
+        return None
+    EVENTS.append(("metro_expected_values", campaign.id))
+    from metro.api import Q_
+
+    return {"X": Q_(float(ideal["vendorx:offset"]), "deg/h")}
