@@ -19,10 +19,17 @@ import math
 import re
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..base.units import fmt_unit
-from .provenance import RunRecord
+if TYPE_CHECKING:  # pragma: no cover - annotations only: reading a register prints JSON without pint
+    from .provenance import RunRecord
+
+
+def _fmt_unit(u: Any) -> str:
+    """:func:`metro.core.base.units.fmt_unit`, imported when a unit is printed (it loads pint)."""
+    from ..base.units import fmt_unit as fmt
+
+    return fmt(u)
 
 
 def json_value(v: Any) -> Any:
@@ -36,7 +43,7 @@ def json_value(v: Any) -> Any:
     if isinstance(v, float):
         return float(v) if math.isfinite(v) else None
     if hasattr(v, "magnitude") and hasattr(v, "units"):  # a pint quantity
-        return {"value": json_value(_plain_number(v.magnitude)), "unit": fmt_unit(v.units)}
+        return {"value": json_value(_plain_number(v.magnitude)), "unit": _fmt_unit(v.units)}
     if isinstance(v, Mapping):
         return {str(k): json_value(x) for k, x in v.items()}
     if isinstance(v, (list, tuple, set, frozenset)):
@@ -80,7 +87,7 @@ def option_value(v: Any) -> Any:
     try:
         from ..base.units import unit
 
-        return {"value": value, "unit": fmt_unit(unit(rest))}
+        return {"value": value, "unit": _fmt_unit(unit(rest))}
     except Exception:  # noqa: BLE001 — pint's parse errors are of many kinds: not a unit
         return v
 
@@ -106,7 +113,7 @@ def truth_checks(record: RunRecord) -> list[dict[str, Any]]:
             U = float(r.U.magnitude)
             out.append({"item": o.item, "key": r.metric.key, "truth": t, "value": v, "U": U,
                         "within_U": abs(v - t) <= U,
-                        "reportable": bool(getattr(r, "reportable", True)), "unit": fmt_unit(unit)})
+                        "reportable": bool(getattr(r, "reportable", True)), "unit": _fmt_unit(unit)})
     return out
 
 
