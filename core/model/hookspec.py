@@ -158,7 +158,7 @@ def metro_register_drivers(registrar: "DriverRegistrar") -> None:
 def metro_extend_report_context(record: "RunRecord", context: dict) -> None:
     """Add entries to the context a Word report/certificate template is rendered with.
 
-    Called after :func:`metro.core.documents.report.report_context` has built the generic context and
+    Called after :func:`metro.core.documents.context.report_context` has built the generic context and
     before the template renders.  Add keys under a name of your own (e.g.
     ``context["jjf2003"] = {...}`` with matrices laid out as rows) so certificate templates
     registered with :func:`metro_register_templates` can show standard-specific layouts.

@@ -1,6 +1,6 @@
 """GB/T 45570—2025 test report: ``context["gbt45570"]`` and the document :func:`layout`.
 
-Adds to the generic report context (:func:`metro.core.documents.report.report_context`, whose
+Adds to the generic report context (:func:`metro.core.documents.context.report_context`, whose
 ``facts``
 carry laboratory, customer, people and dates): the 6.1.1 test environment checked against its
 limits, the method choice of 6.2.7.1
