@@ -82,7 +82,7 @@ def write_report(
     generic report) in ``lang`` (``zh``, ``en`` or ``zh+en``; default ``zh+en``).  With ``template``
     (a docxtpl ``.docx`` of a lab's own) the template is rendered instead. A ``path`` ending in
     ``.pdf`` writes the PDF only; ``pdf=True`` writes the ``.docx`` and a ``.pdf`` beside it
-    (LibreOffice, :func:`metro.core.documents.document.to_pdf`).  Any failure leaves no file (and no
+    (LibreOffice, :func:`metro.core.documents.pdf.to_pdf`).  Any failure leaves no file (and no
     temporary file) behind.
     """
     if Path(path).suffix.lower() == ".pdf" or pdf:

@@ -4,7 +4,7 @@
 The 24 rows of appendix A map to the metrics of the items (table 3).  A row whose item was
 not run in this record says so ("未检测 not performed") — never blank, never zero.
 Laboratory, customer, signatories and dates come from the report context's ``facts``
-(:func:`metro.core.documents.report.record_facts`: the campaign, and the lab profile when one is
+(:func:`metro.core.documents.context.record_facts`: the campaign, and the lab profile when one is
 given); a missing one is shown as "—" so a reviewer sees it is missing.  :func:`layout` lays out
 clause 8 a)–p) (each field marked with its letter in the code) and the appendix A inner page.
 """
