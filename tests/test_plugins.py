@@ -166,13 +166,17 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
                  "metro_conformity_specifications"):
         assert hook in kinds, hook
     assert kinds.index("metro_procedure_started") < kinds.index("metro_procedure_finished")
+    # metro_expected_values: the plugin answers the keys it knows, merged with the built-ins'
+    got = pm.expected_values(camp, {"vendorx:offset": 0.25, "nobody:else": 1})
+    assert got["X"].to("deg/h").magnitude == pytest.approx(0.25) and "nobody:else" not in got
+    assert pm.expected_values(camp, {"nobody:else": 1}) == {}
 
 
 def test_hookspecs_are_documented_typed_stubs():
     import inspect
 
     names = [n for n in dir(hookspec) if n.startswith("metro_")]
-    assert len(names) == 13
+    assert len(names) == 14
     for n in names:
         fn = getattr(hookspec, n)
         doc = inspect.getdoc(fn) or ""
