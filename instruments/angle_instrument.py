@@ -35,12 +35,11 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.base.options import station_options
-from metro.core.model.campaign import Campaign, DeviceUnderTest, Equipment, Segment
-from metro.core.model.procedure import Step
-from metro.core.base.units import Q_, parse_quantity
 
-from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402
+from metro.api import (
+    EARTH_RATE_DEG_PER_H, Q_, Campaign, DeviceUnderTest, Equipment, Segment, Step, parse_quantity,
+    station_options,
+)
 
 AXES = ("up", "north", "south", "east", "west")
 
@@ -355,7 +354,7 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     then K within ±1 % of the class's, harmonic errors a₁, a₂ uniform in 0 … 0.1″, a sensing-plane
     tilt uniform in 0 … 0.1° and an angle random walk 0.7 … 1.5 times the default's."""
     if device_class not in DEVICE_CLASSES:
-        from metro.core.base.errors import DataError
+        from metro.api import DataError
 
         raise DataError(
             None,

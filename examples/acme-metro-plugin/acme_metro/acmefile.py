@@ -20,7 +20,7 @@ import struct
 from pathlib import Path
 
 import numpy as np
-from metro.core.base.errors import DataError
+from metro.api import DataError
 
 MAGIC = b"ACME1\0"
 HEADER = struct.Struct("<6sHdI16s")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from metro.core import hookimpl
+from metro.api import hookimpl
 
 TEMPLATE = Path(__file__).parent / "templates" / "acme_certificate.docx"
 

@@ -13,13 +13,10 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.core.stats import allan
-from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
-from metro.core.base.errors import DataError
-from metro.core.model.results import Metric, Outcome, Result
-from metro.core.model.procedure import Option, Procedure, SegmentRequirement, Step
-from metro.core.stats.signals import OUTPUT_UNITS, gyro_output
-from metro.core.base.units import Q_
+from metro.api import (
+    OUTPUT_UNITS, Q_, BudgetRow, Coverage, DataError, Metric, Option, Outcome, Procedure, Result,
+    SegmentRequirement, Step, UncertaintyBudget, allan, gyro_output,
+)
 from metro.plugins.gbt45570 import procedures as gbt
 
 
