@@ -9,7 +9,7 @@ delay T_d and 7.2.23 start-up time.  As in the other modules, the generators wer
 documentation (docs/data-format.md, docs/instruments.md, ``metro plan -s jjf2014 -i …``'s segment
 list and columns) and the standard's clauses only; numpy makes the samples and only the shared pieces
 of ``independent_campaigns.py`` (noise, outputs, campaign writer, scoring, ``run_variant``, ``cli``) are
-imported — no part of metro's instruments or simulators (tests/test_independent_jjf2014_dyn.py checks it).
+imported — no part of metro's instruments or simulators (tests/plugins/jjf2014/test_independent_dynamic.py checks it).
 
 The device (every variant; parameters drawn per device): a vibratory rate gyro with an analog output,
 

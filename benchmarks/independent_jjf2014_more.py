@@ -9,7 +9,7 @@ for 7.2.2 K_n and range, 7.2.3 K_a, 7.2.5 K_t, 7.2.6 K_g, 7.2.15 B_r, 7.2.16 B_t
 7.2.20 (ARW and the other Allan terms) and 7.2.11 / 7.2.12 (misalignment and its repeatability).
 As there, the generators were written from the documentation (docs/data-format.md, ``metro plan -s
 jjf2014 -i …``'s segment list) and the standard's clauses only; numpy makes the samples, no part of
-metro's instruments or simulators is imported (tests/test_independent_jjf2014_more.py checks it).
+metro's instruments or simulators is imported (tests/plugins/jjf2014/test_independent_more.py checks it).
 
 The device (every variant; parameters drawn per device):
 

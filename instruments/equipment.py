@@ -20,7 +20,7 @@ set point) are drawn from the model's ``seed`` and the set point, so the same in
 the same error every time it is asked; errors that vary from sample to sample (ripple,
 fluctuation, noise) are drawn from the generator the caller passes.  Half-widths (maximum
 permissible errors) are drawn uniformly inside ±the half-width, so an act never exceeds what the
-model states; tests in ``tests/test_equipment.py`` check each claim.
+model states; tests in ``tests/instruments/test_equipment.py`` check each claim.
 
 Role names are the ones the built-in procedures look for: ``platform``, ``rate_table``,
 ``chamber``, ``field_generator``, ``counter`` (GB/T 45570); ``rate-table``, ``dmm``, ``chamber``,

@@ -14,7 +14,7 @@ settings.register_profile("metro", deadline=None)
 settings.load_profile("metro")
 
 # Tests draw every figure (metro.core.documents.figure_cache off): a figure kept in the user's cache by an
-# earlier run would hide a drawing under test; tests/test_figure_cache.py turns it on in a tmp folder.
+# earlier run would hide a drawing under test; tests/core/documents/test_figure_cache.py turns it on in a tmp folder.
 os.environ["METRO_FIGURE_CACHE"] = "off"
 
 

@@ -35,11 +35,11 @@ def test_every_hook_is_documented():
 
 
 def test_every_hook_is_implemented_by_the_sample_plugin_and_tested():
-    sample = (ROOT / "tests" / "plugins" / "sample_vendor.py").read_text(encoding="utf-8")
-    tests = (ROOT / "tests" / "test_plugins.py").read_text(encoding="utf-8")
+    sample = (ROOT / "tests" / "data" / "plugins" / "sample_vendor.py").read_text(encoding="utf-8")
+    tests = (ROOT / "tests" / "core" / "run" / "test_plugins.py").read_text(encoding="utf-8")
     for name in _hooks():
         assert f"def {name}(" in sample, f"{name} has no sample implementation"
-        assert name in tests, f"{name} is not named in tests/test_plugins.py"
+        assert name in tests, f"{name} is not named in tests/core/run/test_plugins.py"
 
 
 def test_every_registered_procedure_is_documented_with_its_test():

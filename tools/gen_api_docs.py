@@ -11,7 +11,7 @@ field as ``name`` in the class docstring ("see above").  A constant, or an objec
 define (``hookimpl``), is documented by a ``#: NAME — text`` comment in core/_metro/api.py, or by
 a ``#:`` comment above its assignment in the module it comes from.
 
-tests/test_api_docs.py fails when docs/api.md is out of date or a name is undocumented.
+tests/core/run/test_api_docs.py fails when docs/api.md is out of date or a name is undocumented.
 """
 
 from __future__ import annotations

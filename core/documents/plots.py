@@ -405,7 +405,7 @@ def png_bytes(spec: "PlotSpec", *, dpi: int = DPI) -> bytes:
         # pixels), then the canvas's buffer written as a PNG: the pixels savefig writes
         # (FigureCanvasAgg.print_png,
         # imsave of that buffer), encoded faster (png_encode; the same pixels:
-        # tests/test_figure_cache.py)
+        # tests/core/documents/test_figure_cache.py)
         canvas.draw()
         return png_encode(
             canvas.buffer_rgba(),

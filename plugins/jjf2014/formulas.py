@@ -320,7 +320,7 @@ def allan_covariance(A: Sequence[float], tau_h: np.ndarray, n_samples: int,
     42-137, 1999), with A_m ≥ 0 (a negative term counts as 0).  So the correlation between octave
     levels follows the noise that dominates there: ≈ 0.5 (adjacent) where white rate noise does, ≈
     0.69 for flicker, ≈ 0.89 for rate random walk, ≈ 0.40 (and 0.51 two apart) for quantization —
-    what repeated records show (tests/test_allan_covariance.py, interpretations.md "7.2.20 —
+    what repeated records show (tests/core/stats/test_allan_covariance.py, interpretations.md "7.2.20 —
     weighting").
 
     :param A: A₋₂ … A₂ (τ in h, σ in °/h).
@@ -486,7 +486,7 @@ def not_resolved_bound(A: float, u_A: float, c: float, k: float = 3.0) -> float:
     One-sided, k = 3: the estimate of a long-τ term is skewed — when it comes out low, the u(A) of
     the fitted model comes out low with it — so A + 2u lay below the true A₁ in 8–10 % of 1 h
     records dominated by rate random walk (Monte Carlo, 300 records;
-    tests/test_allan_covariance.py), A + 3u in 3.3 %."""
+    tests/core/stats/test_allan_covariance.py), A + 3u in 3.3 %."""
     return math.sqrt(c * max(A + k * u_A, 0.0))
 
 

@@ -41,7 +41,7 @@ from ...base.errors import MetroError
 __all__ = ["open_register", "register_state", "Register", "Draft", "Issued", "sha256_file", "who_am_i",
            "RegisterError", "SCHEMA_HEAD", "SCHEMA_REVISIONS"]
 
-#: the migrations' revisions, oldest first (``migrations/versions``; tests/test_cli_daily.py checks
+#: the migrations' revisions, oldest first (``migrations/versions``; tests/core/cli/test_cli_daily.py checks
 #: them against Alembic's own list); a register at the newest is opened without loading Alembic
 SCHEMA_REVISIONS = ("0001",)
 SCHEMA_HEAD = SCHEMA_REVISIONS[-1]
