@@ -114,3 +114,33 @@ def test_no_function_is_over_100_lines():
 def test_no_module_is_over_800_lines():
     long = {n: len(p.read_text(encoding="utf-8").splitlines()) for n, p in MODULES.items()}
     assert {n: k for n, k in long.items() if k > MAX_MODULE_LINES} == {}
+
+
+#: the project-wide checks that stand at tests/ itself (the rest mirror the tree)
+PROJECT_TESTS = {"test_architecture.py", "test_contributing.py", "test_docs.py", "test_examples.py",
+                 "test_independent_campaigns.py", "test_install.py", "test_packaging.py"}
+
+
+def test_tests_mirror_the_tree():
+    """A test of ``core/<layer>/`` is under ``tests/core/<layer>/``, one of ``plugins/<std>/`` under
+    ``tests/plugins/<std>/``, one of ``instruments/`` under ``tests/instruments/``; a test file is
+    named for the behaviour it checks, never for how it came about (``*_findings``, ``*_fixes``)."""
+    tests = ROOT / "tests"
+    allowed = {("core", p.name) for p in (ROOT / "core").iterdir() if (p / "__init__.py").is_file()}
+    allowed |= {("plugins", p.name) for p in (ROOT / "plugins").iterdir() if (p / "__init__.py").is_file()}
+    misplaced, named = [], []
+    for f in sorted(tests.rglob("test_*.py")):
+        rel = f.relative_to(tests).parts
+        if rel[0] == "data":
+            continue
+        if len(rel) == 1:
+            ok = f.name in PROJECT_TESTS
+        elif rel[0] == "instruments":
+            ok = len(rel) == 2
+        else:
+            ok = len(rel) == 3 and (rel[0], rel[1]) in allowed
+        if not ok:
+            misplaced.append("/".join(rel))
+        if re.search(r"findings|fixes", f.stem):
+            named.append("/".join(rel))
+    assert misplaced == [] and named == []
