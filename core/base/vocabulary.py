@@ -296,11 +296,18 @@ def deprecated_warning(src: str, field: str, old: str, new: str, what: str = "ke
 class People:
     """Who measured, checked and approved (empty text where the manifest does not say)."""
 
+    #: who performed the measurement, the report's "tested by" and the certificate's
+    #: "calibrated by" (``[campaign] operator``)
     operator: str = ""
+    #: who checked the results (``[campaign] checked_by``)
     checked_by: str = ""
+    #: who approved (issued) the report or certificate (``[campaign] approved_by``)
     approved_by: str = ""
+    #: the approver's title, printed beside the name in the signatures (``approved_by_title``)
     approved_by_title: str = ""
+    #: the operator's title, printed beside the name in the signatures (``operator_title``)
     operator_title: str = ""
+    #: the checker's title, printed beside the name in the signatures (``checked_by_title``)
     checked_by_title: str = ""
 
 
@@ -308,14 +315,20 @@ class People:
 class Lab:
     """The laboratory that performed the test or calibration."""
 
+    #: the laboratory's name (``[campaign] lab``, else the lab profile's), or ``""``
     name: str = ""
+    #: the laboratory's address (``[campaign] lab_address``, else the lab profile's), or ``""``
     address: str = ""
+    #: where the measurement was made when not at the laboratory (``[campaign] location``), or
+    #: ``""``
     location: str = ""
 
 
 @attrs.frozen
 class Customer:
+    #: who ordered the test or calibration (``[campaign] customer``), or ``""``
     name: str = ""
+    #: the customer's address (``[campaign] customer_address``), or ``""``
     address: str = ""
 
 

@@ -37,8 +37,15 @@ class RateConversion:
 
     factor: pint.Quantity  # °/h for one raw unit
     output_kind: str  # "pulse" | "digital" | "analog" | "rate"
+    #: the device's scale factor K the factor was made from (P/″ for a pulse output, LSB/(°/s)
+    #: or mV/(°/s) for a digital or analog one), as given; None when none was given (a rate
+    #: output needs none)
     scale_factor: pint.Quantity | None
+    #: the relative standard uncertainty u(K)/K of the scale factor (a fraction, k = 1); 0.0
+    #: for a rate output or a K stated without uncertainty
     relative_u_scale_factor: float
+    #: the conversion as text for a reader (``"rate = F/K"``, ``"rate = N/(τ·K)  (GB/T 45570
+    #: eq. D.40)"``, ``"output already a rate"``)
     explanation: str
 
     @property

@@ -37,15 +37,26 @@ __all__ = ["SineFit", "fit_sine", "wrap_phase"]
 class SineFit:
     """Result of :func:`fit_sine`: y ≈ E·cos(ωt + φ) + c."""
 
+    #: the known frequency f the sine was fitted at, in Hz (with t in s); ω = 2πf
     frequency: float
+    #: the amplitude E = √(a² + b²) > 0, in the unit of y
     amplitude: float
+    #: the phase φ = atan2(−b, a) of E·cos(ωt + φ), in rad, in (−π, π]
     phase: float
+    #: the fitted constant c, in the unit of y; 0.0 for a two-parameter fit (``offset=False``)
     offset: float
+    #: the coefficient of cos(ωt), in the unit of y
     a: float
+    #: the coefficient of sin(ωt), in the unit of y
     b: float
+    #: the 3×3 covariance matrix of (a, b, c), scaled by the residual variance s²; the row and
+    #: column of c are zero for a two-parameter fit
     cov_abc: np.ndarray
+    #: the residual standard deviation s = √(SSR/ν), in the unit of y
     residual_sd: float
+    #: the degrees of freedom ν = n − p of the residuals (p = 3 with the offset, 2 without)
     dof: int
+    #: the number of samples fitted
     n: int
 
     @property

@@ -74,14 +74,28 @@ class BudgetRow:
     input-unit; the row's contribution to the output is ``|c|·u(x)``.
     """
 
+    #: the source of uncertainty in words (``"resolution of the reading (±q/2)"``), the row's
+    #: label in the budget table (a :func:`msg` is translated in documents)
     source: str
+    #: the symbol of the input's standard uncertainty as the table prints it (``"u(q)"``,
+    #: ``"u_rel(K)"``, ``"s(K_i)/√n"``)
     symbol: str
+    #: the evaluation: ``"A"`` (statistical analysis of the measured data) or ``"B"`` (other
+    #: information: a certificate, a resolution, a specified bound)
     type: Literal["A", "B"] = attrs.field(validator=attrs.validators.in_(("A", "B")))
+    #: the distribution assumed for the input: ``"normal"`` (every type A row; a type B
+    #: value with its k), ``"uniform"``/``"rectangular"`` (divisor √3), ``"triangular"`` (√6),
+    #: ``"arcsine"`` (√2); printed only, ``divisor`` is what enters u(x_i)
     distribution: str
     value: pint.Quantity
     divisor: float = attrs.field(validator=_positive_or_inf)
     sensitivity: pint.Quantity
+    #: the degrees of freedom ν_i of u(x_i), > 0 (n − 1 for a mean of n readings);
+    #: ``math.inf`` (default) when u(x_i) is taken as exactly known, as for most type B rows:
+    #: such a row adds nothing to the Welch–Satterthwaite sum of ν_eff
     dof: float = attrs.field(default=INF, validator=_positive_or_inf)
+    #: a remark printed with the row (the certificate it comes from, a correlation folded into
+    #: it), or ``""``
     note: str = ""
 
     @property
@@ -202,16 +216,27 @@ class UncertaintyBudget:
     does not is refused when the budget is built).
     """
 
+    #: the output quantity y the budget is for, as a name or symbol (``"K"``, ``"mean of the
+    #: static record"``); a report's budget title adds it to the result's name when it says more
     measurand: str
     unit: pint.Unit = attrs.field(
         converter=lambda u: ureg.Unit(u) if not isinstance(u, pint.Unit) else u
     )
+    #: the sources of uncertainty, one :class:`BudgetRow` each, in the table's order; at least
+    #: one; inputs are taken as uncorrelated
     rows: tuple[BudgetRow, ...] = attrs.field(converter=tuple)
+    #: how the coverage factor k is chosen: a fixed k (default k = 2) or k = t_p(ν_eff) for a
+    #: coverage probability p (:class:`Coverage`)
     coverage: Coverage = Coverage.fixed(2.0)
+    #: how U is rounded to two significant digits: ``"half-even"`` (default, GB/T 8170) or
+    #: ``"up"`` (rounded up, to stay on the safe side)
     round_mode: str = attrs.field(
         default="half-even", validator=attrs.validators.in_(("half-even", "up"))
     )
+    #: True when u_c and U are relative (fractions of the value: ``unit`` is ``""``, ``ppm``,
+    #: ``percent``); recorded with the budget, no computation depends on it
     relative: bool = False
+    #: a remark printed under the budget table, or ``""``
     note: str = ""
 
     @rows.validator
@@ -318,9 +343,14 @@ class UncertaintyBudget:
 class Reported:
     """A rounded number as it is printed, with the decimal exponent of its last digit."""
 
+    #: the rounded number as a float, in ``unit``
     value: float
+    #: the rounded number as printed, trailing zeros kept (``"0.00340"``, ``"1.4×10⁻⁶"``), without
+    #: the unit
     text: str
     exponent: int  # the last kept digit is 10**exponent
+    #: the unit of ``value``, or None when the number was rounded without one (a value rounded
+    #: by :func:`report_pair`)
     unit: pint.Unit | None = None
 
 

@@ -136,10 +136,14 @@ class Specification:
     """
 
     symbol: str
+    #: how the value is compared with ``limit``: ``AT_MOST`` (≤), ``AT_LEAST`` (≥) or ``RANGE``
+    #: (``limit`` ≤ value ≤ ``upper``); a value on a bound conforms
     comparison: Comparison = attrs.field(validator=attrs.validators.instance_of(Comparison))
     limit: pint.Quantity = attrs.field(validator=_is_quantity)
     upper: pint.Quantity | None = attrs.field(default=None, validator=_is_quantity)
     source: str = ""
+    #: the limited quantity's name in words (``"insulation resistance"``), or ``""``; for a
+    #: reader of the specification, verdicts and reports print ``symbol`` and ``source``
     name: str = ""
     magnitude: bool = False
     #: when given, only results of these items are judged (a table row names its test methods)
@@ -199,7 +203,10 @@ class DecisionRule:
     ``statement`` is the sentence a report prints to say which rule was applied.
     """
 
+    #: the rule's identifier, ``"simple"`` or ``"guarded"``: its key in :data:`RULES`, as the
+    #: command line, a batch job and a specification's ``rule`` name it
     name: str
+    #: the rule's short name as a report heads it (``"guarded acceptance (guard band w = U)"``)
     title: str
     guard_band: str
     statement: str
@@ -241,15 +248,29 @@ def rule_named(name: str | None) -> DecisionRule:
 class Verdict:
     """The judgement of one result against one specification, with its reason in words."""
 
+    #: the specification (limit) the result was judged against
     spec: Specification
+    #: the decision rule applied: the specification's own ``rule`` when it has one, else the run's
     rule: DecisionRule
+    #: the key of the judged result's metric (``"B0_low"``; ``spec.symbol`` or a keyed variant)
     key: str
+    #: the item (test method) whose result was judged, or ``""`` when not given
     item: str
+    #: the measured value, in the result's own unit (compared in the limit's unit; its absolute
+    #: value when ``spec.magnitude``)
     value: pint.Quantity
+    #: the expanded uncertainty U of the value, or None when none was evaluated (guarded
+    #: acceptance then cannot decide: indeterminate)
     U: pint.Quantity | None
+    #: the coverage factor k of U, or None when not known
     k: float | None
+    #: the outcome: pass, fail or indeterminate
     status: Status
+    #: the outcome in a word or two: ``"pass"``, ``"fail"``, ``"conditional pass"``,
+    #: ``"conditional fail"``, ``"no U"`` or ``"not reportable"``
     detail: str
+    #: the sentence a report prints to justify the outcome: the value (± U) against the limit
+    #: (a :func:`msg`, translated in documents)
     reason: str
 
     @property

@@ -17,25 +17,6 @@ from metro import api
 ROOT = Path(__file__).resolve().parents[3]
 DOCS = ROOT / "docs"
 
-#: fields whose modules (not owned by the API's maintainers in this change) do not explain them
-#: yet: each must still be undocumented — document it where it is defined and delete it here
-PENDING_FIELDS = {
-    "BudgetRow": {"source", "symbol", "type", "distribution", "dof", "note"},
-    "Specification": {"comparison", "name"},
-    "UncertaintyBudget": {"measurand", "rows", "coverage", "round_mode", "relative", "note"},
-    "RateConversion": {"scale_factor", "relative_u_scale_factor", "explanation"},
-    # classes the API returns (tools/gen_api_docs.py RETURNED)
-    "Verdict": {"spec", "rule", "key", "item", "value", "U", "k", "status", "detail", "reason"},
-    "DecisionRule": {"name", "title"},
-    "Reported": {"value", "text", "unit"},
-    "SineFit": {"frequency", "amplitude", "phase", "offset", "a", "b", "cov_abc", "residual_sd",
-                "dof", "n"},
-    "People": {"operator", "checked_by", "approved_by", "approved_by_title", "operator_title",
-               "checked_by_title"},
-    "Lab": {"name", "address", "location"},
-    "Customer": {"name", "address"},
-}
-
 
 def _generator():
     spec = importlib.util.spec_from_file_location("gen_api_docs", ROOT / "tools" / "gen_api_docs.py")
@@ -75,18 +56,11 @@ def _api_classes(gen):
 
 def test_every_field_of_every_api_class_is_explained(gen, page):
     """Every field of every class of metro.api, and of the classes its functions return, has its
-    meaning on the page (or is listed in PENDING_FIELDS, which may only shrink)."""
-    missing, stale = [], []
-    for name, cls in _api_classes(gen):
-        pending = PENDING_FIELDS.get(name, set())
-        for field, _typ, _default, meaning in gen.field_rows(cls):
-            if not meaning and field not in pending:
-                missing.append(f"{name}.{field}")
-            if meaning and field in pending:
-                stale.append(f"{name}.{field}")
+    meaning on the page."""
+    missing = [f"{name}.{field}" for name, cls in _api_classes(gen)
+               for field, _typ, _default, meaning in gen.field_rows(cls) if not meaning]
     assert not missing, f"fields without documentation: {', '.join(missing)}"
-    assert not stale, f"documented now, remove from PENDING_FIELDS: {', '.join(stale)}"
-    assert page.count("(undocumented)") == sum(map(len, PENDING_FIELDS.values()))
+    assert "(undocumented)" not in page
 
 
 def test_the_classes_a_procedure_builds_and_reads_have_every_field_on_the_page(gen, page):
