@@ -31,7 +31,7 @@ agree to ~1e-15 relative.  The rounding error of a squared second difference is 
 eps * max|x| / |x_{j+2m} - 2x_{j+m} + x_j|, i.e. it grows only with the excursion of the
 mean-removed phase (a strong frequency drift), never with the offset.
 
-Speed (28.8 M samples, 24 octave factors, 2-core Xeon, see docs/performance-allan.md):
+Speed (28.8 M samples, 24 octave factors, 2-core Xeon, see docs/performance.md):
 numba OADEV ~0.4 s, numpy fallback ~2 s, allantools.oadev ~9 s on the same machine.
 
 Averaging-factor lists and stopping rule
