@@ -6,8 +6,8 @@ D.2.1–D.2.6 (rate method, LSB output, on the ``simulated-digital`` station) an
 input rate, either method; :mod:`.rate_method`), D.4 (threshold, :mod:`.threshold`),
 D.5.1–D.5.6 (bias series, ARW), D.6.1–D.6.4 (environmental) and 6.2.7.7/6.2.7.8 (set-up time,
 power; :mod:`.environmental`) and 6.2.6 (polarity, :mod:`.polarity`); the rest of the type test of
-clause 5 from the campaign's records: 5.2.3–5.2.8 inspection (:mod:`.inspection`), the 5.4 tests done
-by GB/T 2423.x and others (:mod:`.type_env`), 5.5 reliability (:mod:`.reliability`), and the
+clause 5 from the campaign's records: 5.2.3–5.2.8 inspection (:mod:`.inspection`), the 5.4 tests
+done by GB/T 2423.x and others (:mod:`.type_env`), 5.5 reliability (:mod:`.reliability`), and the
 clause-5 table of the report (:mod:`.clause5`).
 """
 
@@ -24,18 +24,20 @@ def _register_vocabulary() -> None:
     from metro.api import vocabulary as voc
 
     for name, text in (
-        ("inspection", "GB/T 45570 5.2.1–5.2.8 inspection records (appearance, dimensions, mass, supply, "
-                       "interfaces, insulation resistance)"),
-        ("environmental_tests", "GB/T 45570 5.4 tests done by GB/T 2423.x and others: severity, functional check, "
-                                "segments before and after"),
-        ("reliability", "GB/T 45570 5.5 reliability evidence: operating hours, failures, test plan, life"),
+        ("inspection", "GB/T 45570 5.2.1–5.2.8 inspection records (appearance, dimensions, "
+                       "mass, supply, interfaces, insulation resistance)"),
+        ("environmental_tests", "GB/T 45570 5.4 tests done by GB/T 2423.x and others: severity, "
+                                "functional check, segments before and after"),
+        ("reliability", "GB/T 45570 5.5 reliability evidence: operating hours, failures, "
+                        "test plan, life"),
     ):
         voc.register_section(name, text)
-    voc.register_role("calliper", "callipers / gauges for outline dimensions (GB/T 45570 6.2.2)", ("caliper", "calipers"),
-                      calibration=("", "mm"))
-    voc.register_role("balance", "electronic balance (GB/T 45570 6.2.3)", ("scale",), calibration=("", "g"))
-    voc.register_role("megohmmeter", "insulation resistance tester (GB/T 45570 6.2.5)", ("insulation_tester",),
-                      calibration=("", "ohm"))
+    voc.register_role("calliper", "callipers / gauges for outline dimensions (GB/T 45570 6.2.2)",
+                      ("caliper", "calipers"), calibration=("", "mm"))
+    voc.register_role("balance", "electronic balance (GB/T 45570 6.2.3)", ("scale",),
+                      calibration=("", "g"))
+    voc.register_role("megohmmeter", "insulation resistance tester (GB/T 45570 6.2.5)",
+                      ("insulation_tester",), calibration=("", "ohm"))
 
 
 _register_vocabulary()
@@ -54,15 +56,18 @@ def metro_register_standards(registrar) -> None:
     )
     from . import environmental, polarity, threshold
 
-    for cls in angle_method.PROCEDURES + rate_method.PROCEDURES + PROCEDURES + threshold.PROCEDURES + environmental.PROCEDURES + polarity.PROCEDURES:
+    for cls in (angle_method.PROCEDURES + rate_method.PROCEDURES + PROCEDURES + threshold.PROCEDURES
+                + environmental.PROCEDURES + polarity.PROCEDURES):
         registrar.add_procedure(cls)
     from . import declarations, inspection, reliability, type_env
     from .clause5 import TYPE_TEST_ITEMS
 
-    for cls in declarations.PROCEDURES + inspection.PROCEDURES + type_env.PROCEDURES + reliability.PROCEDURES:
+    for cls in (declarations.PROCEDURES + inspection.PROCEDURES + type_env.PROCEDURES
+                + reliability.PROCEDURES):
         registrar.add_procedure(cls)
     registrar.add_series(STANDARD_ID, "type-test", TYPE_TEST_ITEMS,
-                         "clause 5 type test: every item answering a requirement of 5.2–5.5 that applies")
+                         "clause 5 type test: every item answering a requirement of 5.2–5.5 "
+                         "that applies")
 
     from .method_rule import SERIES
 
@@ -84,7 +89,8 @@ def metro_conformity_specifications(standard, campaign):
     from .clause5 import specifications as type_test_specifications
     from .conformity import specifications
 
-    return specifications(campaign.device, campaign.specification) + type_test_specifications(campaign)
+    return (specifications(campaign.device, campaign.specification)
+            + type_test_specifications(campaign))
 
 
 @hookimpl

@@ -13,7 +13,8 @@ def metro_register_standards(registrar) -> None:
 
     registrar.add_standard(
         STANDARD_ID,
-        "微惯性测量组合(MIMU)校准规范 (Calibration specification for micro inertial measurement units)",
+        "微惯性测量组合(MIMU)校准规范 "
+        "(Calibration specification for micro inertial measurement units)",
         designation="JJF 2003—2022",
         description="the eight items of table 2, clauses 7.2.1–7.2.5",
     )

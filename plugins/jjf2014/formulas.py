@@ -320,8 +320,8 @@ def allan_covariance(A: Sequence[float], tau_h: np.ndarray, n_samples: int,
     42-137, 1999), with A_m ≥ 0 (a negative term counts as 0).  So the correlation between octave
     levels follows the noise that dominates there: ≈ 0.5 (adjacent) where white rate noise does, ≈
     0.69 for flicker, ≈ 0.89 for rate random walk, ≈ 0.40 (and 0.51 two apart) for quantization —
-    what repeated records show (tests/core/stats/test_allan_covariance.py, interpretations.md "7.2.20 —
-    weighting").
+    what repeated records show (tests/core/stats/test_allan_covariance.py, interpretations.md
+    "7.2.20 — weighting").
 
     :param A: A₋₂ … A₂ (τ in h, σ in °/h).
     :param tau_h: the cluster times τ_k = m_k·τ₀ in h.
