@@ -187,7 +187,7 @@ def test_concurrent_processes_get_distinct_consecutive_numbers(opened, register_
     open_register(register_url).close()  # migrated once; the workers race on numbers, not on DDL
     out = tmp_path / "out"
     script = tmp_path / "worker.py"
-    script.write_text(_WORKER.format(tests=str(Path(__file__).parents[2])), encoding="utf-8")
+    script.write_text(_WORKER.format(tests=str(Path(__file__).parent)), encoding="utf-8")
     start = time.time() + 4.0  # all eight start issuing at the same moment
     procs = [subprocess.Popen([sys.executable, str(script), register_url, str(out), str(start)],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for _ in range(8)]
