@@ -1,8 +1,9 @@
-"""metro core: units, plugin system, abstractions, budgets and shared maths.
+"""metro core, in layers (docs/architecture.md): base → stats → uncertainty → model →
+run | documents → record → cli, each importing only those below it (``.importlinter``).
 
-Import the pieces from their modules (``metro.core.uncertainty.budget``, ``metro.core.model``, …);
-this package only exposes the hook markers and the version, so ``import metro.core`` stays
-cheap.
+A plugin imports ``metro.api``, never this package.  Inside metro, import the pieces from
+their modules (``metro.core.uncertainty.budget``, ``metro.core.model.results``, …); this package
+only exposes the hook marker and the version, so ``import metro.core`` stays cheap.
 """
 
 from __future__ import annotations
