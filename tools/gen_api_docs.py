@@ -3,7 +3,8 @@
 Every name of ``metro.api.__all__`` gets a section: a class its signature, its docstring, a
 table of its fields (attrs fields, or a class's annotated attributes) with type, default and
 meaning, and its public methods; a function its signature and docstring; a module its
-docstring and the names it exports; a constant its value and its ``#:`` comment.
+docstring and the names it exports (a function with its signature and first paragraph, a class
+with its fields and methods); a constant its value and its ``#:`` comment.
 
 A field's meaning is read, in this order, from a ``#:`` comment above it, a ``#`` comment at
 the end of its line, the ``Attributes`` section of the class docstring, or a mention of the
@@ -195,6 +196,8 @@ def _ann(a: Any) -> str:
         return ""
     if isinstance(a, str):
         return a
+    if hasattr(a, "__forward_arg__"):  # a NamedTuple's field under ``from __future__``
+        return str(a.__forward_arg__)
     return getattr(a, "__name__", None) or repr(a).replace("typing.", "")
 
 
@@ -276,7 +279,8 @@ def field_rows(cls: type) -> list[tuple[str, str, str, str]]:
                 if name.startswith("_") or name in seen:
                     continue
                 seen.add(name)
-                default = getattr(cls, name, attrs.NOTHING)
+                default = (getattr(cls, "_field_defaults", {}).get(name, attrs.NOTHING)
+                           if issubclass(cls, tuple) else getattr(cls, name, attrs.NOTHING))
                 fields.append((name, _ann(ann), "required" if default is attrs.NOTHING
                                else _value(default)))
     for name, typ, default in fields:
@@ -385,16 +389,50 @@ def render_name(name: str, obj: Any, origins: dict[str, tuple[str, str]]) -> lis
     if kind == "module":
         lines = [f"### module `{name}`", "", f"`metro.api.{name}` is `{obj.__name__}`.", "",
                  inspect.getdoc(obj) or "", ""]
-        exported = [n for n in getattr(obj, "__all__", ()) if not n.startswith("_")]
-        for n in exported:
-            member = getattr(obj, n, None)
-            first = (inspect.getdoc(member) or "").split("\n\n")[0] if member is not None and (
-                inspect.isfunction(member) or inspect.isclass(member)) else ""
-            lines.append(f"* `{name}.{n}`" + (f" — {' '.join(first.split())}" if first else ""))
-        return lines + [""]
+        return lines + render_module_members(name, obj)
     text = _value(obj) if not callable(obj) else type(obj).__name__
     return [f"### `{name}`", "", f"`{name} = {text}`" if not callable(obj) else "",
             "", data_doc(name, origins), ""]
+
+
+def _first_paragraph(obj: Any) -> str:
+    return " ".join((inspect.getdoc(obj) or "").split("\n\n")[0].split())
+
+
+def render_module_members(name: str, module: Any) -> list[str]:
+    """The names a module of ``metro.api`` exports: each function its signature and the first
+    paragraph of its docstring, each class its signature, docstring, field table and methods (a
+    class of :data:`RETURNED` points to its section there), each constant its ``#:`` comment."""
+    returned = {cls for _, cls in returned_classes()}
+    lines: list[str] = []
+    for n in (n for n in getattr(module, "__all__", ()) if not n.startswith("_")):
+        member = getattr(module, n, None)
+        if inspect.isfunction(member):
+            lines += [f"#### `{name}.{n}{signature(member)}`", "", _first_paragraph(member), ""]
+        elif inspect.isclass(member):
+            lines += [f"#### class `{name}.{n}`", ""]
+            if member in returned:
+                lines += [f"See [`{n}`](#class-{n.lower()}) under Classes the API returns.", ""]
+                continue
+            if not issubclass(member, enum.Enum):
+                lines += ["```python", f"{n}{signature(member)}", "```", ""]
+            lines += [inspect.getdoc(member) or "", ""]
+            rows = field_rows(member)
+            if rows:  # a field without a comment of its own is told of in the description
+                lines += ["| field | type | default | meaning |", "|---|---|---|---|"]
+                lines += [f"| `{f}` | `{_cell(t)}` | `{_cell(d)}` | "
+                          f"{_cell(m) or 'see the description above'} |" for f, t, d, m in rows]
+                lines += [""]
+            for mname, meth in _members(member):
+                head = (f"`{n}.{mname}` (property)" if isinstance(meth, property)
+                        else f"`{n}.{mname}{signature(meth)}`")
+                first = _first_paragraph(meth.fget if isinstance(meth, property) else meth)
+                lines += [f"* {head}" + (f" — {first}" if first else "")]
+            lines += [""]
+        else:
+            doc = " ".join(module_data_doc(module.__name__, n).split())
+            lines += [f"* `{name}.{n}`" + (f" — {doc}" if doc else ""), ""]
+    return lines
 
 
 def section_of(name: str, obj: Any, origins: dict[str, tuple[str, str]]) -> str:
