@@ -138,7 +138,11 @@ class BudgetRow:
         note: str = "",
     ) -> "BudgetRow":
         """A type B row from a half-width (uniform/triangular/arcsine) or an expanded
-        uncertainty with its ``k`` (normal)."""
+        uncertainty with its ``k`` (normal).
+
+        ``distribution`` is one of ``"uniform"`` or ``"rectangular"`` (divisor √3),
+        ``"triangular"`` (√6), ``"arcsine"`` (√2), or ``"normal"`` (divisor ``k``, which is then
+        required); another name raises :class:`ValueError`."""
         if distribution == "normal":
             if k is None:
                 raise ValueError(f"{source}: a normal type B value needs its coverage factor k")
