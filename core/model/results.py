@@ -21,6 +21,37 @@ from .campaign import frozen_map
 __all__ = ['Metric', 'BOUND_SIGNS', 'Result', 'PlotSpec', 'TableSpec', 'Outcome']
 
 
+def same_unit_for_pint(text: str) -> None:
+    """Refuse a metric's unit text that pint (which results are built with) reads otherwise than
+    metro's parser (:func:`metro.core.base.units.unit`): ``"°/√h"`` is °/h to pint, silently.
+    Plain pint syntax (ASCII) is read alike by both and is not re-parsed.
+
+    >>> same_unit_for_pint("deg/hour**0.5")
+    >>> try:
+    ...     same_unit_for_pint("°/√h")
+    ... except Exception as exc:
+    ...     print("pint reads it as °/h" in str(exc))
+    True
+    """
+    if not text or text.isascii():
+        return
+    from ..base.errors import UnitError
+    from ..base.units import fmt_unit as fmt
+    from ..base.units import unit, ureg
+
+    mine = unit(text)
+    try:
+        theirs = ureg.Unit(text)
+        alike = (theirs.dimensionality == mine.dimensionality
+                 and (1 * theirs).to(mine).magnitude == 1)
+    except (pint.PintError, ValueError, TypeError):
+        theirs, alike = None, False
+    if not alike:
+        read = "cannot read it" if theirs is None else f"reads it as {fmt(theirs)}"
+        raise UnitError(None, None, f"unit {text!r}: pint {read}, metro as {fmt(mine)}; "
+                        'write it in pint syntax, e.g. "deg/hour**0.5"')
+
+
 @attrs.frozen
 class Metric:
     """A declared output of a procedure: what it is, its unit, and where its formula is.
@@ -41,8 +72,9 @@ class Metric:
     #: the symbol the standard uses (``"B₀"``, ``"K_gxx"``), shown beside the value
     symbol: str
     #: the unit results are reported in, as pint parses it (``"deg/h"``, ``"P/arcsec"``, ``""``
-    #: for a ratio); a result of another dimension is refused
-    unit: str
+    #: for a ratio); a result of another dimension is refused.  A text pint reads otherwise
+    #: than metro's unit syntax (``"°/√h"``: pint reads °/h) is refused: write ``"deg/hour**0.5"``
+    unit: str = attrs.field(validator=lambda inst, att, value: same_unit_for_pint(value))
     #: the clause of the standard that defines the quantity (``"D.5.1"``)
     clause: str
     #: the equation number in the standard (``"(D.40)"``), or ``""``

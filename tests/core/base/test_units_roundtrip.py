@@ -372,3 +372,15 @@ def test_a_gram_with_other_units_prints_gram_and_check_dimension_takes_a_unit():
     check_dimension(Q_(2.0, per_s), per_s)  # a registry unit, not its pint text "g/s"
     with pytest.raises(UnitError):
         check_dimension(Q_(2.0, per_s), str(per_s))
+
+
+def test_a_metric_unit_pint_would_read_otherwise_is_refused():
+    """Results are built with pint, which reads "°/√h" as °/h without a word: a Metric declared
+    with it is refused, naming the text; pint syntax and plain ASCII units are taken as before."""
+    from metro.core.base.errors import UnitError
+    from metro.core.model.results import Metric
+
+    with pytest.raises(UnitError, match="pint reads it as °/h"):
+        Metric("N", "angle random walk", "N", "°/√h", "D.5.6")
+    assert Metric("N", "angle random walk", "N", "deg/hour**0.5", "D.5.6").unit == "deg/hour**0.5"
+    assert Metric("B", "bias", "B", "°/h", "D.5.1").unit == "°/h"
