@@ -70,6 +70,7 @@ from metro.core.stats.earth import (
     STANDARD_GRAVITY_M_S2,
     normal_gravity,
 )
+from metro.core.stats.quantization import rounding_mean_bound
 from metro.core.stats.lsq import LinearFit, fit_line, fit_linear
 from metro.core.stats.settling import excursion_lobes, last_exit
 from metro.core.stats.signals import (
@@ -204,6 +205,7 @@ __all__ = [
     "required_scale_factor",
     "result_fields",
     "round_uncertainty",
+    "rounding_mean_bound",
     "selection_note",
     "selection_rows",
     "settling",

@@ -12,7 +12,7 @@ from typing import Sequence
 
 import attrs
 import numpy as np
-from metro.api import fit_linear
+from metro.api import fit_linear, rounding_mean_bound  # noqa: F401  (core.stats.quantization)
 
 #: Earth rotation rate as printed in D.40, °/h.
 EARTH_RATE_DEG_PER_H = 15.041
@@ -287,22 +287,6 @@ def asymmetry_d10(K_plus: float, K_minus: float) -> float:
 # Output quantization (not in the standard: the budget rows D.5.1, D.5.2 and D.5.6 need;
 # docs/interpretations.md, "D.5 — output quantization")
 # --------------------------------------------------------------------------------------------
-
-
-def rounding_mean_bound(q: float, sigma: float) -> float:
-    """Largest offset of the mean of round(x + n) from x, n ~ N(0, σ²), rounding step q.
-
-    The rounding error's mean is a periodic function of x whose Fourier series (Widrow's
-    quantization theorem for a Gaussian input) is Σ_k (−1)^k (q/(πk))·e^(−2π²k²σ²/q²)·sin(2πkx/q),
-    so |offset| ≤ Σ_k (q/(πk))·e^(−2π²k²σ²/q²) — and never more than q/2 (a plain rounding).
-    With σ ≥ q the bound is below 10⁻⁸·q: noise that large dithers the rounding."""
-    if q <= 0:
-        return 0.0
-    if sigma <= 0:
-        return q / 2.0
-    r = 2.0 * math.pi**2 * (sigma / q) ** 2
-    total = sum(q / (math.pi * k) * math.exp(-r * k * k) for k in range(1, 50))
-    return min(q / 2.0, total)
 
 
 def rounding_sigma(s_measured: float, q: float) -> float:

@@ -271,7 +271,7 @@ def quantization_rows_mean(campaign: Campaign, conv: RateConversion, raw: np.nda
       the two ends of the record, ±1 P over n samples;
     * a rounded rate sample (LSB word, rate of finite resolution q): ±q/2 (the row of D.2.1,
       :func:`.common.resolution_row`) unless the noise dithers the rounding (s ≥ q), when
-      the offset of the mean is bounded by :func:`.formulas.rounding_mean_bound`."""
+      the offset of the mean is bounded by :func:`metro.api.rounding_mean_bound`."""
     c = abs(conv.magnitude)
     if conv.output_kind == "pulse":
         return [resolution_row(campaign, c, "deg/h", what, q=1.0, raw_unit="P",

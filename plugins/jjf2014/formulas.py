@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 
 import attrs
 import numpy as np
-from metro.api import allan, fit_linear
+from metro.api import allan, fit_linear, rounding_mean_bound  # core.stats.quantization
 
 #: Earth rotation rate in °/h, as GB/T 45570 D.40 prints it (JJF 2014 has no earth term).
 EARTH_RATE_DEG_PER_H = 15.041
@@ -643,21 +643,6 @@ def startup_sample_exits(d: Sequence[float], t: Sequence[float], dt: float, uppe
 # ------------------------------------------------------------------------------- output
 # quantization (not in the standard: the budget rows of the results read from a digitised output
 # need them; interpretations.md, "JJF 2014 — output quantization")
-
-
-def rounding_mean_bound(q: float, sigma: float) -> float:
-    """Largest offset of the mean of round(x + n) from x for n ~ N(0, σ²) and rounding step q.
-
-    The mean rounding error is periodic in x; its Fourier series for a Gaussian input (Widrow's
-    quantization theorem) is Σ_k (−1)^k (q/(πk))·e^(−2π²k²σ²/q²)·sin(2πkx/q), so
-    |offset| ≤ Σ_k (q/(πk))·e^(−2π²k²σ²/q²), and never more than q/2 (plain rounding).
-    σ = q/2 gives 0.0023·q, σ = q gives 10⁻⁹·q: noise that large dithers the rounding."""
-    if q <= 0:
-        return 0.0
-    if sigma <= 0:
-        return q / 2.0
-    r = 2.0 * math.pi**2 * (sigma / q) ** 2
-    return min(q / 2.0, sum(q / (math.pi * k) * math.exp(-r * k * k) for k in range(1, 50)))
 
 
 def rounding_half_width(q: float, s: float) -> tuple[float, bool]:
