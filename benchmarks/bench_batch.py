@@ -43,7 +43,8 @@ def acquire_lot(n: int) -> Path:
         folder = lot / f"dev-{i:03d}"
         if (folder / "manifest.toml").is_file():
             continue
-        acquire_campaign(pm, "gbt45570", ITEMS.split(","), folder, station_options={"seed": 1000 + i,
+        acquire_campaign(pm, "gbt45570", ITEMS.split(","), folder,
+                         station_options={"seed": 1000 + i,
                                                                                     "duration_scale": 0.2})
     return lot
 
@@ -51,7 +52,8 @@ def acquire_lot(n: int) -> Path:
 def single_run(manifest: Path) -> float:
     with tempfile.TemporaryDirectory() as out:
         t0 = time.perf_counter()
-        p = subprocess.run([*METRO, "run", "-s", "gbt45570", "-i", ITEMS, "--data", str(manifest), "--out", out,
+        p = subprocess.run([*METRO, "run", "-s", "gbt45570", "-i", ITEMS, "--data", str(manifest),
+                            "--out", out,
                             "--quiet"], capture_output=True, text=True)
         wall = time.perf_counter() - t0
     if p.returncode not in (0, 3, 4):
@@ -62,8 +64,10 @@ def single_run(manifest: Path) -> float:
 def batch(lot: Path, workers: int) -> dict:
     with tempfile.TemporaryDirectory() as out:
         t0 = time.perf_counter()
-        p = subprocess.run([*METRO, "batch", "-s", "gbt45570", "-i", ITEMS, "--data", str(lot / "*"),
-                            "--workers", str(workers), "--out", out, "--json", "--quiet"], capture_output=True,
+        p = subprocess.run([*METRO, "batch", "-s", "gbt45570", "-i", ITEMS, "--data",
+                            str(lot / "*"),
+                            "--workers", str(workers), "--out", out, "--json", "--quiet"],
+                           capture_output=True,
                            text=True)
         wall = time.perf_counter() - t0
         if p.returncode not in (0, 3, 4, 5):
@@ -78,21 +82,25 @@ def batch(lot: Path, workers: int) -> dict:
     done = [d for d in summary["devices"] if d["status"] == "evaluated"]
     cpu = sum(d["cpu_seconds"] for d in done) / max(1, len(done))
     busy = sum(d["seconds"] for d in done) / max(1, len(done))
-    return {"workers": workers, "campaigns": n, "wall_s": wall, "cluster_start_s": t["cluster_start_s"],
+    return {"workers": workers, "campaigns": n, "wall_s": wall,
+            "cluster_start_s": t["cluster_start_s"],
             "cpu_per_campaign_s": cpu, "wall_per_campaign_in_worker_s": busy,
-            "evaluate_s": evaluate, "per_min_wall": 60 * n / wall, "per_min_evaluate": 60 * n / evaluate,
+            "evaluate_s": evaluate, "per_min_wall": 60 * n / wall, "per_min_evaluate": 60 * n
+            / evaluate,
             "failed": summary["counts"]["error"], "load_before": os.getloadavg()[0]}
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--devices", type=int, default=60)
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
     a = ap.parse_args()
     t0 = time.perf_counter()
     lot = acquire_lot(a.devices)
-    print(f"lot: {a.devices} campaigns in {lot} (acquired/checked in {time.perf_counter() - t0:.1f} s)")
+    print(f"lot: {a.devices} campaigns in {lot} (acquired/checked in "
+          f"{time.perf_counter() - t0:.1f} s)")
     manifests = sorted(lot.glob("*/manifest.toml"))
     singles = [single_run(m) for m in manifests[:3]]
     print(f"single cold `metro run` with report: {statistics.median(singles):.2f} s (median of 3: "
@@ -102,21 +110,26 @@ def main() -> None:
         for w in (1, 2):
             res = batch(lot, w)
             runs.append(res)
-            print(f"round {r + 1}, {w} worker(s): wall {res['wall_s']:.1f} s (cluster start {res['cluster_start_s']:.1f} s,"
-                  f" evaluation {res['evaluate_s']:.1f} s) → {res['per_min_wall']:.1f} campaigns/min overall, "
+            print(f"round {r + 1}, {w} worker(s): wall {res['wall_s']:.1f} s (cluster start "
+                  f"{res['cluster_start_s']:.1f} s, evaluation {res['evaluate_s']:.1f} s) → "
+                  f"{res['per_min_wall']:.1f} campaigns/min overall, "
                   f"{res['per_min_evaluate']:.1f}/min evaluating; per campaign in its worker "
-                  f"{res['wall_per_campaign_in_worker_s']:.2f} s wall, {res['cpu_per_campaign_s']:.2f} s CPU; "
-                  f"load {res['load_before']:.1f}")
-    best = {w: max((x for x in runs if x["workers"] == w), key=lambda x: x["per_min_evaluate"]) for w in (1, 2)}
+                  f"{res['wall_per_campaign_in_worker_s']:.2f} s wall, "
+                  f"{res['cpu_per_campaign_s']:.2f} s CPU; load {res['load_before']:.1f}")
+    best = {w: max((x for x in runs if x["workers"] == w), key=lambda x: x["per_min_evaluate"])
+            for w in (1, 2)}
     scaling = best[2]["per_min_evaluate"] / best[1]["per_min_evaluate"]
     per_campaign_1 = best[1]["evaluate_s"] / best[1]["campaigns"]
     cpu_ratio = best[2]["cpu_per_campaign_s"] / best[1]["cpu_per_campaign_s"]
-    print(f"CPU per campaign, 2 workers / 1 worker: {cpu_ratio:.2f} (1.00: the workers share nothing but the "
-          "cores; scaling on idle cores is then bounded by the cores, not by the design)")
+    print(f"CPU per campaign, 2 workers / 1 worker: {cpu_ratio:.2f} (1.00: the workers share "
+          "nothing but the cores; scaling on idle cores is then bounded by the cores, not by the "
+          "design)")
     print(f"scaling 1 → 2 workers (evaluation, best rounds): {scaling:.2f}×; "
-          f"per campaign with 1 worker {per_campaign_1:.2f} s vs a single cold run {statistics.median(singles):.2f} s")
+          f"per campaign with 1 worker {per_campaign_1:.2f} s vs a single cold run "
+          f"{statistics.median(singles):.2f} s")
     if a.json:
-        Path(a.json).write_text(json.dumps({"single_run_s": singles, "runs": runs, "scaling": scaling,
+        Path(a.json).write_text(json.dumps({"single_run_s": singles, "runs": runs,
+                                            "scaling": scaling,
                                             "cpus": os.cpu_count()}, indent=2))
 
 

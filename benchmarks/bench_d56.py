@@ -63,8 +63,10 @@ orientation = "IRA up"
 
 def cold_run(manifest: Path) -> dict:
     t0 = time.perf_counter()
-    out = subprocess.run([METRO, "run", "-s", "gbt45570", "-i", "D.5.6", "--data", str(manifest), "--json",
-                          "--no-report", "--no-progress"], capture_output=True, text=True, check=True)
+    out = subprocess.run([METRO, "run", "-s", "gbt45570", "-i", "D.5.6", "--data", str(manifest),
+                          "--json",
+                          "--no-report", "--no-progress"], capture_output=True, text=True,
+                         check=True)
     wall = time.perf_counter() - t0
     doc = json.loads(out.stdout)
     rwc = [r for r in doc["results"] if r["key"] == "RWC"][0]
@@ -87,7 +89,8 @@ def main() -> None:
     rows.append(ref)
     ms = allan.octave_m(n)
     allan.oadev(y[:100_000], 1e-3, ms[ms < 25_000])  # warm-up (numba compile or cache load)
-    rows.append(measure(allan.oadev, y, 1e-3, ms, label="metro oadev octave (numba)", repeat=args.repeat))
+    rows.append(measure(allan.oadev, y, 1e-3, ms, label="metro oadev octave (numba)",
+                        repeat=args.repeat))
     if not args.no_allantools:
         import allantools
 
@@ -105,9 +108,11 @@ def main() -> None:
                         label="D.5.6 whole evaluation (in memory)", repeat=args.repeat))
     rec = run_items(pm, "gbt45570", ["D.5.6"], campaign=camp)
     r = rec.outcomes[0].result("RWC")
-    print(f"D.5.6 RWC = {r.value.magnitude:.5g} ± {r.U.magnitude:.2g} °/√h (truth {truth.arw_deg_rt_h})")
+    print(f"D.5.6 RWC = {r.value.magnitude:.5g} ± {r.U.magnitude:.2g} °/√h (truth "
+          f"{truth.arw_deg_rt_h})")
 
-    header = ["what", "best wall s", "cpu s", "extra MiB (traced)", "extra MiB (RSS)", "extra / input", "cumsum speed ratio"]
+    header = ["what", "best wall s", "cpu s", "extra MiB (traced)", "extra MiB (RSS)",
+              "extra / input", "cumsum speed ratio"]
     table = [m.row(nbytes, ref.wall) for m in rows]
     print(format_table(table, header))
 

@@ -158,7 +158,8 @@ def child(reader: str, csv_path: Path, npy_path: Path) -> dict:
     elif reader == "polars":
         values = values.to_series(0).to_numpy()
     ref = np.load(npy_path, mmap_mode="r")
-    exact = bool(values.shape == ref.shape and np.array_equal(values.view(np.uint64), ref.view(np.uint64)))
+    exact = bool(values.shape == ref.shape and np.array_equal(values.view(np.uint64),
+                                                              ref.view(np.uint64)))
     return {
         "seconds": seconds,
         "cpu": (c1.user - c0.user) + (c1.system - c0.system),
@@ -225,7 +226,8 @@ def main() -> None:
         print(f"  round {k + 1}/{args.rounds} done", flush=True)
 
     best = {r: min(x["seconds"] for x in v) for r, v in results.items()}
-    fastest = min(best[r] for r in THIRD_PARTY if r in best) if any(r in best for r in THIRD_PARTY) else None
+    fastest = min(best[r] for r in THIRD_PARTY if r in best) if any(r in best for r
+                                                                    in THIRD_PARTY) else None
     head = (f"{'reader':<22}{'best s':>8}{'median s':>10}{'CPU s':>8}{'peak MB':>9}"
             f"{'exact':>7}{'ratio':>7}")
     print("\n" + head + "\n" + "-" * len(head))

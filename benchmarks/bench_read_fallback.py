@@ -41,7 +41,8 @@ def make_data(rows: int, multi_rows: int) -> tuple[Path, Path]:
     multi = DATA / f"fallback_multi_{multi_rows / 1e6:g}M.csv"
     rng = np.random.default_rng(SEED)
     if not one.exists():
-        write_samples_csv(one, {"output": np.round(rng.normal(0.0, 1.5e4, rows), 3)}, {"output": "P"})
+        write_samples_csv(one, {"output": np.round(rng.normal(0.0, 1.5e4, rows), 3)},
+                          {"output": "P"})
     if not multi.exists():
         cols = {"time": np.arange(multi_rows) * 0.005}
         units = {"time": "s"}
@@ -49,7 +50,8 @@ def make_data(rows: int, multi_rows: int) -> tuple[Path, Path]:
             cols[k], units[k] = np.round(rng.normal(0.002, 0.01, multi_rows), 6), "°/s"
         for k in ("ax", "ay", "az"):
             cols[k], units[k] = np.round(rng.normal(0.0, 1e-4, multi_rows), 7), "gn"
-        cols["temperature"], units["temperature"] = np.round(rng.normal(25.0, 0.05, multi_rows), 3), "degC"
+        cols["temperature"], units["temperature"] = np.round(rng.normal(25.0, 0.05, multi_rows),
+                                                             3), "degC"
         write_samples_csv(multi, cols, units)
     return one, multi
 
@@ -75,7 +77,8 @@ def run(path: Path, numpy: bool) -> dict:
     env.pop("METRO_NO_PYARROW", None)
     if numpy:
         env["METRO_NO_PYARROW"] = "1"
-    out = subprocess.run([sys.executable, __file__, "--child", str(path)], capture_output=True, text=True,
+    out = subprocess.run([sys.executable, __file__, "--child", str(path)], capture_output=True,
+                         text=True,
                          env=env, check=True)
     return json.loads(out.stdout)
 
@@ -105,8 +108,8 @@ def main() -> None:
         print(f"{path.name} ({path.stat().st_size / 1e6:.0f} MB, {r['rows']} rows): "
               f"pyarrow best {best['pyarrow']:.2f} s median {med['pyarrow']:.2f} s; "
               f"numpy best {best['numpy']:.2f} s median {med['numpy']:.2f} s; "
-              f"ratio best {best['numpy'] / best['pyarrow']:.2f}, median {med['numpy'] / med['pyarrow']:.2f}; "
-              f"same values: {len(values) == 1}", flush=True)
+              f"ratio best {best['numpy'] / best['pyarrow']:.2f}, median "
+              f"{med['numpy'] / med['pyarrow']:.2f}; same values: {len(values) == 1}", flush=True)
 
 
 if __name__ == "__main__":

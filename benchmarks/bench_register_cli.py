@@ -32,7 +32,8 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parents[1]
 N_REPORTS = 20
 #: command → target (s) from issue 29's "Done when"
-TARGETS = {"register list": 0.5, "register show": 0.5, "history": 1.5, "report N": 3.0, "amend": 3.0}
+TARGETS = {"register list": 0.5, "register show": 0.5, "history": 1.5, "report N": 3.0,
+           "amend": 3.0}
 
 
 def shim(tree: Path, where: Path) -> Path:
@@ -69,14 +70,17 @@ for i in range({n}):
 
 
 def build_register(path: Path, work: Path) -> tuple[Path, list[dict]]:
-    """``metro lab init`` and 20 registered runs with the tree at ``path``; the lab profile and the list."""
+    """``metro lab init`` and 20 registered runs with the tree at ``path``; the lab profile and the
+    list."""
     lab = work / "lab.toml"
     env = environment(path, lab)
     subprocess.run([sys.executable, "-m", "metro", "lab", "init", str(lab)], env=env, check=True,
                    capture_output=True)
-    subprocess.run([sys.executable, "-c", BUILD.format(n=N_REPORTS), str(work / "reports")], env=env, check=True,
+    subprocess.run([sys.executable, "-c", BUILD.format(n=N_REPORTS), str(work / "reports")],
+                   env=env, check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    listed = subprocess.run([sys.executable, "-m", "metro", "register", "list", "--json"], env=env, check=True,
+    listed = subprocess.run([sys.executable, "-m", "metro", "register", "list", "--json"], env=env,
+                            check=True,
                             capture_output=True, text=True)
     reports = json.loads(listed.stdout)["reports"]
     assert len(reports) == N_REPORTS, len(reports)
@@ -87,7 +91,8 @@ def timed(argv: list[str], env: dict[str, str]) -> tuple[float, float, int, str]
     """(wall s, CPU s of the child, exit code, stderr's last line) of one fresh process."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    done = subprocess.run([sys.executable, "-m", "metro", *argv], env=env, stdout=subprocess.DEVNULL,
+    done = subprocess.run([sys.executable, "-m", "metro", *argv], env=env,
+                          stdout=subprocess.DEVNULL,
                           stderr=subprocess.PIPE, text=True)
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -95,7 +100,8 @@ def timed(argv: list[str], env: dict[str, str]) -> tuple[float, float, int, str]
     return wall, cpu, done.returncode, (done.stderr.strip().splitlines() or [""])[-1]
 
 
-def commands(reports: list[dict], work: Path, run: int, version: str) -> dict[str, tuple[list[str], dict]]:
+def commands(reports: list[dict], work: Path, run: int,
+             version: str) -> dict[str, tuple[list[str], dict]]:
     """Each benchmarked command's arguments (and extra environment) for one run of one version."""
     number = reports[3]["number"]
     serial = reports[0]["device"]["serial"]
@@ -115,7 +121,8 @@ def commands(reports: list[dict], work: Path, run: int, version: str) -> dict[st
     }
 
 
-def bench(trees: dict[str, Path], reports: list[dict], lab: Path, work: Path, runs: int) -> dict[str, dict]:
+def bench(trees: dict[str, Path], reports: list[dict], lab: Path, work: Path,
+          runs: int) -> dict[str, dict]:
     """Each command once untimed per tree (byte-code compiled and cached, files in the page cache),
     then ``runs`` timed runs, the trees taking turns."""
     figures: dict[str, dict] = {}
@@ -145,14 +152,17 @@ def table(figures: dict[str, dict], versions: list[str]) -> str:
         cells = [f"{statistics.median(per[v]['wall']):.2f} ({statistics.median(per[v]['cpu']):.2f})"
                  for v in versions]
         target = TARGETS.get(name)
-        lines.append(f"| `{name}` | " + " | ".join(cells) + f" | {f'≤ {target:g} s' if target else '—'} |")
+        lines.append(f"| `{name}` | " + " | ".join(cells)
+                     + f" | {f'≤ {target:g} s' if target else '—'} |")
     return "\n".join(lines)
 
 
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--base-src", type=Path, help="a checkout of the base commit (e.g. a git worktree of 3dea654)")
-    p.add_argument("--runs", type=int, default=5, help="runs of each command per tree (median; default 5)")
+    p.add_argument("--base-src", type=Path,
+                   help="a checkout of the base commit (e.g. a git worktree of 3dea654)")
+    p.add_argument("--runs", type=int, default=5,
+                   help="runs of each command per tree (median; default 5)")
     p.add_argument("--json", action="store_true", help="print the raw figures as JSON")
     args = p.parse_args()
     with tempfile.TemporaryDirectory(prefix="metro-bench-register-") as tmp:
@@ -168,11 +178,12 @@ def main() -> int:
         figures = bench(trees, reports, lab, work, args.runs)
         load1 = os.getloadavg()
     if args.json:
-        print(json.dumps({"figures": figures, "runs": args.runs, "load": [load0, load1], "build_s": built},
+        print(json.dumps({"figures": figures, "runs": args.runs, "load": [load0, load1],
+                          "build_s": built},
                          indent=2))
         return 0
-    print(f"register of {N_REPORTS} reports written in {built:.0f} s; {args.runs} runs per command and tree; "
-          f"load average {load0[0]:.1f} → {load1[0]:.1f} on {os.cpu_count()} CPUs")
+    print(f"register of {N_REPORTS} reports written in {built:.0f} s; {args.runs} runs per command "
+          f"and tree; load average {load0[0]:.1f} → {load1[0]:.1f} on {os.cpu_count()} CPUs")
     print(table(figures, list(trees)))
     return 0
 

@@ -109,7 +109,8 @@ else:
 
 def metro(tree: Path, args: list[str], *, code: str = CLI, env: dict[str, str] | None = None
           ) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", code, str(tree), *args], capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-c", code, str(tree), *args], capture_output=True,
+                          text=True,
                           env={**os.environ, **(env or {})})
 
 
@@ -121,14 +122,17 @@ def acquire(tree: Path, out: Path) -> Path:
 
 
 def one_run(tree: Path, data: Path, out: Path) -> dict[str, float]:
-    """One cold ``metro run --all --json``: its ``write report`` stage, the process's wall and CPU."""
+    """One cold ``metro run --all --json``: its ``write report`` stage, the process's wall and
+    CPU."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    p = metro(tree, ["run", "--standard", "gbt45570", "--all", "--data", str(data), "--out", str(out), "--json"],
+    p = metro(tree, ["run", "--standard", "gbt45570", "--all", "--data", str(data), "--out",
+                     str(out), "--json"],
               env={"METRO_FIGURE_CACHE": "off"})
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if p.returncode not in (0, 3, 4):  # 3/4: the device does not conform / indeterminate (still a report)
+    # 3/4: the device does not conform / indeterminate (still a report)
+    if p.returncode not in (0, 3, 4):
         raise SystemExit(f"metro run failed ({tree}, exit {p.returncode}):\n{p.stderr[-2000:]}")
     timings = json.loads(p.stdout)["timings_s"]
     evaluate = sum(v for k, v in timings.items() if k.startswith(("evaluate", "read samples")))
@@ -138,14 +142,16 @@ def one_run(tree: Path, data: Path, out: Path) -> dict[str, float]:
 
 def rewrite(tree: Path, kept: Path, out: Path, cache: Path) -> float:
     """Seconds to write the report again from its kept context (``REWRITE write``)."""
-    p = metro(tree, ["write", str(kept), str(out)], code=REWRITE, env={"METRO_CACHE_DIR": str(cache)})
+    p = metro(tree, ["write", str(kept), str(out)], code=REWRITE,
+              env={"METRO_CACHE_DIR": str(cache)})
     if p.returncode != 0:
         raise SystemExit(f"writing from the kept context failed ({tree}):\n{p.stderr[-2000:]}")
     return float(p.stdout.strip().splitlines()[-1])
 
 
 def prepare(tree: Path, data: Path, kept: Path, out: Path, cache: Path) -> None:
-    p = metro(tree, ["prepare", str(data), str(kept), str(out)], code=REWRITE, env={"METRO_CACHE_DIR": str(cache)})
+    p = metro(tree, ["prepare", str(data), str(kept), str(out)], code=REWRITE,
+              env={"METRO_CACHE_DIR": str(cache)})
     if p.returncode != 0:
         raise SystemExit(f"keeping the context failed ({tree}):\n{p.stderr[-2000:]}")
 
@@ -167,20 +173,26 @@ def table(title: str, trees: dict[str, Path], results: dict[str, list[dict[str, 
 
 
 def git_describe(tree: Path) -> str:
-    p = subprocess.run(["git", "-C", str(tree), "log", "-1", "--format=%h %s"], capture_output=True, text=True)
-    dirty = subprocess.run(["git", "-C", str(tree), "status", "--porcelain", "--untracked-files=no"],
+    p = subprocess.run(["git", "-C", str(tree), "log", "-1", "--format=%h %s"], capture_output=True,
+                       text=True)
+    dirty = subprocess.run(["git", "-C", str(tree), "status", "--porcelain",
+                            "--untracked-files=no"],
                            capture_output=True, text=True).stdout.strip()
     return (p.stdout.strip()[:60] or str(tree)) + (" (+ uncommitted changes)" if dirty else "")
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--base", type=Path, default=Path("/tmp/metro-base"), help="checkout of the commit to compare with")
+    ap.add_argument("--base", type=Path, default=Path("/tmp/metro-base"),
+                    help="checkout of the commit to compare with")
     ap.add_argument("--runs", type=int, default=5, help="runs of each tree (default 5)")
-    ap.add_argument("--data", type=Path, help="a recorded campaign's manifest (default: acquired now by --base)")
+    ap.add_argument("--data", type=Path,
+                    help="a recorded campaign's manifest (default: acquired now by --base)")
     args = ap.parse_args(argv)
-    if not (args.base / "core" / "cli.py").is_file() and not (args.base / "core" / "cli" / "app.py").is_file():
-        raise SystemExit(f"{args.base} is not a metro checkout: git worktree add {args.base} 3dea654")
+    if not (args.base / "core" / "cli.py").is_file() and not (args.base / "core" / "cli"
+                                                              / "app.py").is_file():
+        raise SystemExit(f"{args.base} is not a metro checkout: git worktree add {args.base} "
+                         "3dea654")
     trees = {"base": args.base, "this tree": ROOT}
     tag = {"base": "base", "this tree": "this"}
     with tempfile.TemporaryDirectory(prefix="bench-report-") as tmp:
@@ -188,25 +200,31 @@ def main(argv: list[str] | None = None) -> int:
         data = args.data or acquire(args.base, tmp / "campaign")
         runs: dict[str, list[dict[str, float]]] = {name: [] for name in trees}
         again: dict[str, list[dict[str, float]]] = {name: [] for name in trees}
-        for name, tree in trees.items():  # one warm-up each (bytecode, pint caches), the context kept
+        # one warm-up each (bytecode, pint caches), the context kept
+        for name, tree in trees.items():
             one_run(tree, data, tmp / f"warm-{tag[name]}")
-            prepare(tree, data, tmp / f"kept-{tag[name]}.json", tmp / f"kept-{tag[name]}.docx", tmp / f"cache-{tag[name]}")
+            prepare(tree, data, tmp / f"kept-{tag[name]}.json", tmp / f"kept-{tag[name]}.docx", tmp
+                    / f"cache-{tag[name]}")
         for i in range(args.runs):
             for name, tree in (trees.items() if i % 2 == 0 else reversed(trees.items())):
                 runs[name].append(one_run(tree, data, tmp / f"run-{i}-{tag[name]}"))
                 again[name].append({"write again": rewrite(tree, tmp / f"kept-{tag[name]}.json",
-                                                           tmp / f"again-{i}-{tag[name]}.docx", tmp / f"cache-{tag[name]}")})
-                print(f"{i + 1}/{args.runs} {name}: write report {runs[name][-1]['write report']:.2f} s, "
-                      f"again {again[name][-1]['write again']:.2f} s", file=sys.stderr)
+                                                           tmp / f"again-{i}-{tag[name]}.docx", tmp
+                                                           / f"cache-{tag[name]}")})
+                print(f"{i + 1}/{args.runs} {name}: write report "
+                      f"{runs[name][-1]['write report']:.2f} s, again "
+                      f"{again[name][-1]['write again']:.2f} s", file=sys.stderr)
     print(f"GB/T 45570 --all on recorded data, {args.runs} runs each, medians (min–max); "
           f"load average at the end {os.getloadavg()[0]:.1f}, {os.cpu_count()} CPUs")
     for name, tree in trees.items():
         print(f"  {name}: {git_describe(tree)}")
-    med = table("metro run --all --json (figure cache off)", trees, runs, ("write report", "evaluate", "wall", "cpu"))
-    med2 = table("the report written again from its kept context (figure cache on)", trees, again, ("write again",))
-    print(f"\nwrite report: {med['base', 'write report'] / med['this tree', 'write report']:.1f}x faster; "
-          f"whole run: {med['base', 'wall'] / med['this tree', 'wall']:.1f}x; written again: "
-          f"{med2['base', 'write again'] / med2['this tree', 'write again']:.1f}x")
+    med = table("metro run --all --json (figure cache off)", trees, runs,
+                ("write report", "evaluate", "wall", "cpu"))
+    med2 = table("the report written again from its kept context (figure cache on)", trees, again,
+                 ("write again",))
+    print(f"\nwrite report: {med['base', 'write report'] / med['this tree', 'write report']:.1f}x "
+          f"faster; whole run: {med['base', 'wall'] / med['this tree', 'wall']:.1f}x; written "
+          f"again: {med2['base', 'write again'] / med2['this tree', 'write again']:.1f}x")
     return 0
 
 

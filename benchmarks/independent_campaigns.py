@@ -1,6 +1,6 @@
 """An independent harness: devices metro's simulators do not make, written as campaigns.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/independent_campaigns.py [--devices 30] [--variants A,B]
+Run: nice -n 10 .venv/bin/python benchmarks/independent_campaigns.py [--devices 30] [--variants A,B]
                                                                      [--keep DIR] [--subprocess]
 
 Issue 13 asks that an independent harness, with its own device generators, score |E_n| on
@@ -92,7 +92,8 @@ def flicker(n: int, dt: float, sigma_flat: float, rng: np.random.Generator) -> n
 
 @dataclass
 class Noise:
-    """Rate noise in °/h: white (ARW, °/√h), flicker plateau (°/h), thermal wander (°/h, period s)."""
+    """Rate noise in °/h: white (ARW, °/√h), flicker plateau (°/h), thermal wander (°/h, period
+    s)."""
     arw: float
     flicker: float = 0.0
     wander_amp: float = 0.0
@@ -233,7 +234,8 @@ COUNTER = {"id": "CNT-X", "role": "counter",
            "calibration": {"certificate": "IND-CNT-1", "U": "2e-7", "k": 2}}
 RATE_TABLE = {"id": "RT-X", "role": "rate_table",
               "calibration": {"certificate": "IND-RT-1", "U": "1e-4", "k": 2}}
-DMM = {"id": "DMM-X", "role": "dmm", "calibration": {"certificate": "IND-DMM-1", "U": "2e-5", "k": 2}}
+DMM = {"id": "DMM-X", "role": "dmm", "calibration": {"certificate": "IND-DMM-1", "U": "2e-5",
+                                                     "k": 2}}
 
 
 # --------------------------------------------------------------------------------------------
@@ -255,7 +257,8 @@ def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: 
     """GB/T 45570 D.5.1 + D.5.3 on one device: a 1 h `static` record and Q `static-repeat`
     power-ons (D.5.3.2), IRA up, at ``dt``."""
     lat = float(rng.uniform(-65, 70))
-    earth = OMEGA_E_DEG_H * math.sin(math.radians(lat)) * (-1.0 if "down" in orientation.lower() else 1.0)
+    earth = OMEGA_E_DEG_H * math.sin(math.radians(lat)) * (-1.0 if "down" in orientation.lower()
+                                                           else 1.0)
     arw = float(rng.uniform(0.001, 0.004))                      # °/√h
     noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)),
                   wander_amp=wander * float(rng.uniform(0.5, 1.5)),
@@ -270,7 +273,8 @@ def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: 
     elif kind == "LSB":
         K = 3600.0 / lsb_deg_h * float(rng.uniform(0.8, 1.25))  # LSB/(°/s)
         out = Output("LSB", K=K)
-        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)", "scale_factor_U": "5 ppm"}
+        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
+                   "scale_factor_U": "5 ppm"}
     else:
         out = Output("deg/h", q=q_deg_h)
         device |= {"output": "rate"}
@@ -284,7 +288,8 @@ def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: 
         vals = out.record(rate, dt, rng=rng)
         truth_b0 = b_on + float(w.mean())
         if idx == 0:
-            camp.add("static-1h", "static", vals, dt, {"orientation": orientation, "warmup": "30 min"})
+            camp.add("static-1h", "static", vals, dt,
+                     {"orientation": orientation, "warmup": "30 min"})
             b0_truth = truth_b0
             b0_alt = truth_b0 + float(fl.mean())
         else:
@@ -326,11 +331,14 @@ def build_gbt_rate(folder: Path, rng, *, dt: float, fmt: str, lsb_deg_h: float, 
                   wander_period=float(rng.uniform(1200, 5400)))
     b = float(rng.uniform(-2, 2))
     out = Output("LSB", K=K)
-    device = {"id": folder.name, "technology": "fibre", "application": "marine", "output": "digital",
-              "scale_factor": f"{K!r} LSB/(°/s)", "scale_factor_U": "50 ppm", "nonlinearity": "20 ppm"}
+    device = {"id": folder.name, "technology": "fibre", "application": "marine",
+              "output": "digital",
+              "scale_factor": f"{K!r} LSB/(°/s)", "scale_factor_U": "50 ppm",
+              "nonlinearity": "20 ppm"}
     camp = Campaign(folder, device, lat, [RATE_TABLE, COUNTER], fmt=fmt, output=out)
     n = int(round(100 / dt))
-    # fixed table error per set point, uniform within ±√3·U/k (the table errs as its certificate says)
+    # fixed table error per set point, uniform within ±√3·U/k (the table errs as its certificate
+    # says)
     terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * 0.5e-4 for r in rates}
     phase = float(rng.uniform(0, 2 * math.pi))
     t0 = 0.0
@@ -347,7 +355,8 @@ def build_gbt_rate(folder: Path, rng, *, dt: float, fmt: str, lsb_deg_h: float, 
     for r in rates:
         for sgn, tag in ((1, "+"), (-1, "-")):
             actual = sgn * r * (1 + terr[r])
-            camp.add(f"rate{tag}{r}", "rate-output", seg(actual), dt, {"rate": f"{sgn * r!r} deg/s"})
+            camp.add(f"rate{tag}{r}", "rate-output", seg(actual), dt,
+                     {"rate": f"{sgn * r!r} deg/s"})
     camp.add("rest-end", "rate-static", seg(0.0), dt, {"when": "end"})
     camp.write_manifest()
     return {("D.2.1", "K"): (K * (Kp + Km) / 2, "LSB/(°/s)", "")}
@@ -367,7 +376,8 @@ def build_gbt_angle(folder: Path, rng, *, asym: float, columns: str = "count", q
     Kp, Km = 1 + a / 2, 1 - a / 2
     arw = float(rng.uniform(0.001, 0.004))
     b = float(rng.uniform(-1, 1))
-    device = {"id": folder.name, "technology": "laser", "application": "aviation", "output": "pulse",
+    device = {"id": folder.name, "technology": "laser", "application": "aviation",
+              "output": "pulse",
               "scale_factor": f"{K!r} P/″", "scale_factor_U": "10 ppm"}
     table = dict(RATE_TABLE, revolution_pulse_accuracy="2″")
     camp = Campaign(folder, device, lat, [table, COUNTER], fmt="csv", output=Output("pulse", K=K))
@@ -391,7 +401,8 @@ def build_gbt_angle(folder: Path, rng, *, asym: float, columns: str = "count", q
                 camp.segments.append((sid, "rate-revolutions", name.name, T,
                                       {"rate": f"{sgn * r!r} deg/s", "turns": turns}, None))
             else:
-                camp.add(sid, "rate-revolutions", counts, T, {"rate": f"{sgn * r!r} deg/s", "turns": turns})
+                camp.add(sid, "rate-revolutions", counts, T,
+                         {"rate": f"{sgn * r!r} deg/s", "turns": turns})
     camp.write_manifest()
     return {("D.1.1", "K"): (K * (Kp + Km) / 2, "P/″", "")}
 
@@ -410,7 +421,8 @@ def _jjf_noise_mc_K_rel(noise: Noise, dt: float, n_per_rate: int, K: float, out:
             F.append(out.record(sensed, dt, K_scale=asym_scale(r), rng=rng).mean())
         F = np.asarray(F)
         nn = rates.size
-        k_hat = (nn * (rates * F).sum() - rates.sum() * F.sum()) / (nn * (rates ** 2).sum() - rates.sum() ** 2)
+        k_hat = (nn * (rates * F).sum() - rates.sum() * F.sum()) / (nn * (rates ** 2).sum()
+                                                                    - rates.sum() ** 2)
         ks.append(k_hat)
     ks = np.asarray(ks)
     if out.kind == "mV/V":
@@ -470,7 +482,8 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
     b_on = b_mean + sigma_b * rng.standard_normal()
     k_rel = 1 + sigma_K * rng.standard_normal()
     wh, fl, w = noise.draw3(n_static, dt_static, rng)
-    e_sign = -1.0 if "down" in orientation.lower() else 1.0          # the IRA's vertical earth-rate component
+    # the IRA's vertical earth-rate component
+    e_sign = -1.0 if "down" in orientation.lower() else 1.0
     vals = out.record(b_on + e_sign * earth + w + wh + fl, dt_static, K_scale=k_rel, rng=rng)
     camp.add("static", "static", vals, dt_static, {"orientation": orientation})
     camp.write_manifest()
@@ -479,7 +492,8 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
     # power-on's own K differs from K0 by its turn-on scatter, which is the device's K_r; the
     # measurand is the static record's rate, so truth divides by that power-on's K, as a lab that
     # knew it would.
-    kr_noise = _jjf_noise_mc_K_rel(noise, dt_rate, n_rate, K, out, rng, 30 if quick else 80, asym_scale, rates)
+    kr_noise = _jjf_noise_mc_K_rel(noise, dt_rate, n_rate, K, out, rng, 30 if quick else 80,
+                                   asym_scale, rates)
     kr_truth = math.sqrt(sigma_K ** 2 + kr_noise ** 2)
     unitK = "mV/(°/s)"
     return {("7.2.1", "K"): (K0, unitK, ""),
@@ -496,15 +510,17 @@ VARIANTS = {
                                              wander=0.0, lsb_deg_h=0, q_deg_h=0, quick=quick)),
     "gbt-pulse-1Hz-strong-flicker": Variant(
         "gbt-pulse-1Hz-strong-flicker", "gbt45570", "D.5.1,D.5.3",
-        "as gbt-pulse-1Hz-flicker with a flicker plateau ≈ 0.02 °/h (5–20 × the white noise's 1 h mean)",
+        "as gbt-pulse-1Hz-flicker with a flicker plateau ≈ 0.02 °/h (5–20 × the white noise's 1 h "
+        "mean)",
         lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.02,
                                              wander=0.0, lsb_deg_h=0, q_deg_h=0, quick=quick)),
     "gbt-pulse-10Hz-IRAdown-Q10": Variant(
         "gbt-pulse-10Hz-IRAdown-Q10", "gbt45570", "D.5.1,D.5.3",
-        "pulse output at 10 Hz (a few pulses per sample: the counter's ±1 P matters), IRA down (the "
-        "earth rate's sign flips), Q = 10 power-ons, thermal wander 0.005 °/h, no flicker",
+        "pulse output at 10 Hz (a few pulses per sample: the counter's ±1 P matters), IRA down "
+        "(the earth rate's sign flips), Q = 10 power-ons, thermal wander 0.005 °/h, no flicker",
         lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=0.1, fmt="npy", flick=0.0,
-                                             wander=0.005, lsb_deg_h=0, q_deg_h=0, quick=quick, Q=10,
+                                             wander=0.005, lsb_deg_h=0, q_deg_h=0, quick=quick,
+                                             Q=10,
                                              orientation="IRA down")),
     "gbt-lsb-10Hz-coarse-thermal": Variant(
         "gbt-lsb-10Hz-coarse-thermal", "gbt45570", "D.5.1,D.5.3",
@@ -526,8 +542,9 @@ VARIANTS = {
                                              flick=0.01, wander=0.05, quick=quick)),
     "gbt-angle-method-pulse-asym": Variant(
         "gbt-angle-method-pulse-asym", "gbt45570", "D.1.1",
-        "D.1.1 angle method, pulse output (K 0.3–3 P/″), 5 whole revolutions each way at 14 R5 rates "
-        "(1–400 °/s), revolution pulse within ±2″, K asymmetry up to ±20 ppm, count/duration CSV",
+        "D.1.1 angle method, pulse output (K 0.3–3 P/″), 5 whole revolutions each way at 14 R5 "
+        "rates (1–400 °/s), revolution pulse within ±2″, K asymmetry up to ±20 ppm, count/duration "
+        "CSV",
         lambda f, rng, quick: build_gbt_angle(f, rng, asym=2e-5, quick=quick)),
     "jjf-mV-1Hz-IRAdown-17rates": Variant(
         "jjf-mV-1Hz-IRAdown-17rates", "jjf2014", "7.2.1,7.2.4,7.2.13",
@@ -536,7 +553,8 @@ VARIANTS = {
         lambda f, rng, quick: build_jjf(f, rng, dt_static=1.0, dt_rate=1.0, fmt="csv", kind="mV",
                                         flick=0.0, wander=0.0, q=0.0, asym=0.0, neg=True,
                                         static_s=3600 if not quick else 300, quick=quick, runs=8,
-                                        rates=(0.16, 0.25, 0.4, 0.63, 1, 1.6, 2.5, 4, 6.3, 10, 16, 25,
+                                        rates=(0.16, 0.25, 0.4, 0.63, 1, 1.6, 2.5, 4, 6.3, 10, 16,
+                                               25,
                                                40, 63, 100, 160, 250), orientation="IRA down")),
     "jjf-mV-100Hz-flicker-negK": Variant(
         "jjf-mV-100Hz-flicker-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
@@ -547,8 +565,8 @@ VARIANTS = {
                                         static_s=3600 if not quick else 300, quick=quick)),
     "jjf-mV-10Hz-white-negK": Variant(
         "jjf-mV-10Hz-white-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
-        "mV output, K ±(5–60) mV/(°/s) (either sign), white noise and a thermal wander of 5 °/h only "
-        "(no flicker), rate points at 1 s, static 1 h at 10 Hz (CSV)",
+        "mV output, K ±(5–60) mV/(°/s) (either sign), white noise and a thermal wander of 5 °/h "
+        "only (no flicker), rate points at 1 s, static 1 h at 10 Hz (CSV)",
         lambda f, rng, quick: build_jjf(f, rng, dt_static=0.1, dt_rate=1.0, fmt="csv", kind="mV",
                                         flick=0.0, wander=5.0, q=0.0, asym=0.0, neg=True,
                                         static_s=3600 if not quick else 300, quick=quick)),
@@ -558,7 +576,8 @@ VARIANTS = {
         "(10 s), static 1 h at 400 Hz (.npy), thermal wander 5 °/h, flicker 2 °/h",
         lambda f, rng, quick: build_jjf(f, rng, dt_static=0.0025, dt_rate=0.0025, fmt="npy",
                                         kind="mV/V", flick=2.0, wander=5.0, q=0.01, asym=0.0,
-                                        neg=False, static_s=3600 if not quick else 300, quick=quick)),
+                                        neg=False, static_s=3600 if not quick else 300,
+                                        quick=quick)),
     "jjf-mV-2kHz-asym": Variant(
         "jjf-mV-2kHz-asym", "jjf2014", "7.2.1,7.2.4,7.2.13",
         "mV output rounded to 0.1 mV, K asymmetry up to ±500 ppm, either sign, rate points at 1 s, "
@@ -573,8 +592,10 @@ VARIANTS = {
 # running metro and scoring
 # --------------------------------------------------------------------------------------------
 
-def run_metro(manifest: Path, standard: str, items: str, use_subprocess: bool = False) -> tuple[int, dict, str]:
-    argv = ["run", "-s", standard, "-i", items, "--data", str(manifest), "--json", "--no-report", "--quiet"]
+def run_metro(manifest: Path, standard: str, items: str,
+              use_subprocess: bool = False) -> tuple[int, dict, str]:
+    argv = ["run", "-s", standard, "-i", items, "--data", str(manifest), "--json", "--no-report",
+            "--quiet"]
     if use_subprocess:
         exe = Path(sys.executable).with_name("metro")
         proc = subprocess.run([str(exe), *argv], capture_output=True, text=True)
@@ -613,19 +634,22 @@ def score(truth: dict, doc: dict) -> list[dict]:
     rows = []
     results = doc.get("results", [])
     for (item, key), (value, unit, earth, *alt) in truth.items():
-        match = [r for r in results if r.get("key") == key and str(r.get("item", "")).upper() == item.upper()]
+        match = [r for r in results if r.get("key") == key and str(r.get("item", "")).upper()
+                 == item.upper()]
         if not match:
             rows.append({"item": item, "key": key, "status": "missing"})
             continue
         r = match[0]
         t = value
         t_alt = alt[0] if alt else None
-        if isinstance(earth, tuple):  # JJF B₀: truth follows what metro says it did with the earth rate
+        # JJF B₀: truth follows what metro says it did with the earth rate
+        if isinstance(earth, tuple):
             if r.get("earth_rate") == "included":
                 t = value + earth[1]
                 t_alt = None if t_alt is None else t_alt + earth[1]
             elif r.get("earth_rate") not in ("removed", "not applicable"):
-                rows.append({"item": item, "key": key, "status": f"earth_rate={r.get('earth_rate')!r}"})
+                rows.append({"item": item, "key": key,
+                             "status": f"earth_rate={r.get('earth_rate')!r}"})
                 continue
         runit = r.get("unit") or ""
         val, U = r.get("value"), r.get("U")
@@ -640,7 +664,8 @@ def score(truth: dict, doc: dict) -> list[dict]:
                          "value": val, "truth": t})
             continue
         if not r.get("reportable", True):
-            rows.append({"item": item, "key": key, "status": "not reportable", "reason": r.get("reason", ""),
+            rows.append({"item": item, "key": key, "status": "not reportable",
+                         "reason": r.get("reason", ""),
                          "value": val, "truth": t, "U": U})
             continue
         if U is None or not U > 0:
@@ -654,12 +679,13 @@ def score(truth: dict, doc: dict) -> list[dict]:
     return rows
 
 
-def run_variant(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool = False,
+def run_variant(variant: Variant, devices: int, seed0: int, workdir: Path,
+                use_subprocess: bool = False,
                 quick: bool = False, keep: bool = False, metro=None, scorer=None) -> list[dict]:
-    """Build and evaluate ``devices`` campaigns of ``variant`` (seeds seed0, seed0 + 1, …) and score them:
-    one row per result, or one ``exit N`` row with metro's message.  ``metro(manifest)`` runs metro
-    (default :func:`run_metro` with the variant's standard and items), ``scorer(truth, doc)`` scores
-    (default :func:`score`) — a harness module passes its own."""
+    """Build and evaluate ``devices`` campaigns of ``variant`` (seeds seed0, seed0 + 1, …) and score
+    them: one row per result, or one ``exit N`` row with metro's message. ``metro(manifest)`` runs
+    metro (default :func:`run_metro` with the variant's standard and items), ``scorer(truth, doc)``
+    scores (default :func:`score`) — a harness module passes its own."""
     metro = metro or (lambda m: run_metro(m, variant.standard, variant.items, use_subprocess))
     scorer = scorer or score
     out = []
@@ -675,10 +701,12 @@ def run_variant(variant: Variant, devices: int, seed0: int, workdir: Path, use_s
         t2 = time.perf_counter()
         if code not in (0, 3, 4) or not doc.get("results"):
             out.append({"variant": variant.name, "seed": seed, "status": f"exit {code}",
-                        "error": (doc.get("message") or (err.strip().splitlines() or [""])[-1])[:400]})
+                        "error": (doc.get("message") or (err.strip().splitlines()
+                                                         or [""])[-1])[:400]})
         else:
             for row in scorer(truth, doc):
-                out.append({"variant": variant.name, "seed": seed, **row, "t_gen": t1 - t0, "t_run": t2 - t1})
+                out.append({"variant": variant.name, "seed": seed, **row, "t_gen": t1 - t0,
+                            "t_run": t2 - t1})
         if not keep:
             import shutil
 
@@ -693,7 +721,8 @@ def summarise(rows: list[dict]) -> list[dict]:
             k = (r["variant"], "(all)", "(run)")
         else:
             k = (r["variant"], r["item"], r["key"])
-        s = table.setdefault(k, {"devices": 0, "ok": 0, "within": 0, "nr": 0, "en": [], "alt": [], "other": []})
+        s = table.setdefault(k, {"devices": 0, "ok": 0, "within": 0, "nr": 0, "en": [], "alt": [],
+                                 "other": []})
         s["devices"] += 1
         st = r.get("status")
         if st == "ok":
@@ -709,9 +738,11 @@ def summarise(rows: list[dict]) -> list[dict]:
     res = []
     for (v, item, key), s in table.items():
         en = np.asarray(s["en"])
-        res.append({"variant": v, "item": item, "key": key, "devices": s["devices"], "reportable": s["ok"],
+        res.append({"variant": v, "item": item, "key": key, "devices": s["devices"],
+                    "reportable": s["ok"],
                     "not_reportable": s["nr"],
-                    "within": (s["within"] + s["nr"]) / s["devices"] if s["devices"] else float("nan"),
+                    "within": (s["within"] + s["nr"]) / s["devices"] if s["devices"]
+                    else float("nan"),
                     "mean_En": float(en.mean()) if en.size else float("nan"),
                     "rms_En": float(np.sqrt((en ** 2).mean())) if en.size else float("nan"),
                     "max_abs_En": float(np.abs(en).max()) if en.size else float("nan"),
@@ -729,27 +760,32 @@ def markdown(rows: list[dict]) -> str:
     for s in summarise(rows):
         def f(x, fmt):
             return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
-        alt = (f"{100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f}" if s["within_alt"] is not None else "—")
+        alt = (f"{100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f}" if s["within_alt"]
+               is not None else "—")
         other = f" ({'; '.join(s['other'])})" if s["other"] else ""
-        out.append(f"| {s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | {s['not_reportable']} | "
-                   f"{100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} | {f(s['rms_En'], '.2f')} | "
-                   f"{f(s['max_abs_En'], '.2f')} | {alt} |")
+        out.append(f"| {s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | "
+                   f"{s['not_reportable']} | {100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} "
+                   f"| {f(s['rms_En'], '.2f')} | {f(s['max_abs_En'], '.2f')} | {alt} |")
     return "\n".join(out)
 
 
-def cli(argv, variants: dict, description: str, *, run=None, summary=None, table=None, prefix: str = "indep-",
-        alt_label: str = "flicker mean as bias", quick_help: str = "short records (a smoke run, not the measurand)",
+def cli(argv, variants: dict, description: str, *, run=None, summary=None, table=None,
+        prefix: str = "indep-",
+        alt_label: str = "flicker mean as bias",
+        quick_help: str = "short records (a smoke run, not the measurand)",
         add_arguments=None) -> int:
-    """The command line every harness module shares: ``--devices --seed --variants --keep --subprocess --quick
-    --json --markdown`` (and the module's own ``add_arguments(ap)``).  ``run(variant, args, work)`` evaluates
-    one variant's devices (default :func:`run_variant`), ``summary(rows, args)`` gives the printed lines'
-    dicts (default :func:`summarise`), ``table(rows, args)`` the ``--markdown`` table (default :func:`markdown`)."""
+    """The command line every harness module shares: ``--devices --seed --variants --keep
+    --subprocess --quick --json --markdown`` (and the module's own ``add_arguments(ap)``).
+    ``run(variant, args, work)`` evaluates one variant's devices (default :func:`run_variant`),
+    ``summary(rows, args)`` gives the printed lines' dicts (default :func:`summarise`),
+    ``table(rows, args)`` the ``--markdown`` table (default :func:`markdown`)."""
     ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--devices", type=int, default=30)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--variants", default=",".join(variants))
     ap.add_argument("--keep", type=Path, default=None, help="keep the campaigns under this folder")
-    ap.add_argument("--subprocess", action="store_true", help="run the metro command, not cli.main in-process")
+    ap.add_argument("--subprocess", action="store_true",
+                    help="run the metro command, not cli.main in-process")
     ap.add_argument("--quick", action="store_true", help=quick_help)
     ap.add_argument("--json", type=Path, default=None, help="write every row to this file")
     ap.add_argument("--markdown", nargs="+", type=Path, default=None,
@@ -757,7 +793,8 @@ def cli(argv, variants: dict, description: str, *, run=None, summary=None, table
     if add_arguments is not None:
         add_arguments(ap)
     args = ap.parse_args(argv)
-    run = run or (lambda v, a, work: run_variant(v, a.devices, a.seed, work, a.subprocess, quick=a.quick,
+    run = run or (lambda v, a, work: run_variant(v, a.devices, a.seed, work, a.subprocess,
+                                                 quick=a.quick,
                                                  keep=a.keep is not None))
     summary = summary or (lambda rows, a: summarise(rows))
     table = table or (lambda rows, a: markdown(rows))
@@ -775,12 +812,15 @@ def cli(argv, variants: dict, description: str, *, run=None, summary=None, table
             t0 = time.perf_counter()
             rows = run(variants[name], args, work)
             all_rows += rows
-            print(f"# {name}: {args.devices} devices in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+            print(f"# {name}: {args.devices} devices in {time.perf_counter() - t0:.0f} s",
+                  file=sys.stderr)
             for s in summary(rows, args):
                 print(f"{s['variant']:36s} {s['item']:7s} {s['key']:17s} n={s['devices']:4d} "
                       f"nr={s['not_reportable']:3d} within={100 * s['within']:5.1f} % "
-                      f"mean_En={s['mean_En']:+.2f} rms={s['rms_En']:.2f} max|En|={s['max_abs_En']:.2f} "
-                      + (f"[{alt_label}: within={100 * s['within_alt']:.1f} % mean_En={s['mean_En_alt']:+.2f}] "
+                      f"mean_En={s['mean_En']:+.2f} rms={s['rms_En']:.2f} "
+                      f"max|En|={s['max_abs_En']:.2f} "
+                      + (f"[{alt_label}: within={100 * s['within_alt']:.1f} % "
+                         f"mean_En={s['mean_En_alt']:+.2f}] "
                          if s.get("within_alt") is not None else "")
                       + f"{'; '.join(s['other'])[:300]}", flush=True)
             if args.json:  # after each variant: a long sweep keeps what it has

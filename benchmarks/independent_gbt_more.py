@@ -1,7 +1,8 @@
 """More of the independent harness: GB/T 45570's scale-factor items and the Allan item.
 
 Run:  nice -n 10 .venv/bin/python benchmarks/independent_gbt_more.py [--devices 30] [--variants A,B]
-                                                                    [--seed 1] [--json F] [--keep DIR]
+                                                                    [--seed 1] [--json F] [--keep
+                                                                    DIR]
 
 benchmarks/independent_campaigns.py scores D.5.1, D.5.3, D.1.1 and D.2.1 on devices metro's
 simulators do not make.  This module adds what a lab certifies from the same kind of campaign:
@@ -120,7 +121,8 @@ def revolution_counts(rng, *, sign: int, rate: float, m: int, scale: float, K: f
     return np.diff(cum), np.full(m, T)
 
 
-def write_revolutions(camp: Campaign, sid: str, kind: str, counts, durations, T: float, cond: dict) -> None:
+def write_revolutions(camp: Campaign, sid: str, kind: str, counts, durations, T: float,
+                      cond: dict) -> None:
     name = camp.folder / f"{sid}.csv"
     rows = "\n".join(f"{c!r},{d!r}" for c, d in zip(counts.tolist(), durations.tolist()))
     name.write_text(f"count [P],duration [s]\n{rows}\n", encoding="utf-8")
@@ -146,13 +148,15 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
     a = asym * float(rng.uniform(-1, 1))                                 # (K+ − K−)/K
     sigma_K = float(rng.uniform(*sigma_K_range))
     arw = float(rng.uniform(0.001, 0.005))
-    noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)), wander_amp=wander * float(rng.uniform(0.5, 1.5)),
+    noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)), wander_amp=wander
+                  * float(rng.uniform(0.5, 1.5)),
                   wander_period=float(rng.uniform(3600, 3 * 3600)))
     b_mean = float(rng.uniform(-1, 1))
     U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
     table = {"id": "RT-X", "role": "rate_table", "revolution_pulse_accuracy": "2″",
              "calibration": {"certificate": "IND-RT-2", "U": repr(U_table), "k": 2}}
-    device = {"id": folder.name, "technology": "laser", "application": "aviation", "output": "pulse",
+    device = {"id": folder.name, "technology": "laser", "application": "aviation",
+              "output": "pulse",
               "scale_factor": f"{K!r} P/″", "scale_factor_U": "10 ppm"}
     camp = Campaign(folder, device, lat, [table, COUNTER], fmt="csv", output=Output("pulse", K=K))
     terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * U_table / 2 for r in rates + [30.0]}
@@ -170,14 +174,17 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
     def zero(tag):
         e, w = noise.draw(n_zero, 1.0, rng, t0=clock[0], phase=phase)
         clock[0] += n_zero + 60.0
-        camp.add(f"zero-{tag}", "static-zero", zero_out.record(b0 + earth + e + w, 1.0, rng=rng), 1.0,
+        camp.add(f"zero-{tag}", "static-zero", zero_out.record(b0 + earth + e + w, 1.0, rng=rng),
+                 1.0,
                  {"orientation": "IRA up"})
 
     zero("start")
     for r in rates:
         for sgn, tag in ((1, "+"), (-1, "-")):
-            cnt, dur = revolution_counts(rng, sign=sgn, rate=r, m=m, scale=scale(sgn, r, eps0), K=K, bias=b0 + earth,
-                                         noise=noise, table_err=terr[r], edge=2.0, clock=clock, phase=phase)
+            cnt, dur = revolution_counts(rng, sign=sgn, rate=r, m=m, scale=scale(sgn, r, eps0), K=K,
+                                         bias=b0 + earth,
+                                         noise=noise, table_err=terr[r], edge=2.0, clock=clock,
+                                         phase=phase)
             write_revolutions(camp, f"rate{tag}{r:g}", "rate-revolutions", cnt, dur, 360.0 / r,
                               {"rate": f"{sgn * r!r} deg/s", "turns": m})
     zero("end")
@@ -186,8 +193,10 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
         eps = sigma_K * float(rng.standard_normal())
         bj = b_mean + 0.005 * float(rng.standard_normal())
         for sgn, tag in ((1, "+"), (-1, "-")):
-            cnt, dur = revolution_counts(rng, sign=sgn, rate=30.0, m=m, scale=scale(sgn, 30.0, eps), K=K,
-                                         bias=bj + earth, noise=noise, table_err=terr[30.0], edge=2.0)
+            cnt, dur = revolution_counts(rng, sign=sgn, rate=30.0, m=m, scale=scale(sgn, 30.0, eps),
+                                         K=K,
+                                         bias=bj + earth, noise=noise, table_err=terr[30.0],
+                                         edge=2.0)
             write_revolutions(camp, f"run{j}-rate{tag}30", "revolutions-repeat", cnt, dur, 12.0,
                               {"rate": f"{sgn * 30.0!r} deg/s", "turns": m, "run": j})
     camp.write_manifest()
@@ -205,14 +214,17 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
     draws = 80 if quick else 300
     kj = []
     for _ in range(draws):
-        n_p, _d = revolution_counts(rng, sign=1, rate=30.0, m=m, scale=scale(1, 30.0, 0.0), K=K, bias=b_mean + earth,
+        n_p, _d = revolution_counts(rng, sign=1, rate=30.0, m=m, scale=scale(1, 30.0, 0.0), K=K,
+                                    bias=b_mean + earth,
                                     noise=noise, table_err=terr[30.0], edge=2.0)
         n_m, _d = revolution_counts(rng, sign=-1, rate=30.0, m=m, scale=scale(-1, 30.0, 0.0), K=K,
-                                    bias=b_mean + earth, noise=noise, table_err=terr[30.0], edge=2.0)
+                                    bias=b_mean + earth, noise=noise, table_err=terr[30.0],
+                                    edge=2.0)
         kj.append((n_p.mean() - n_m.mean()) / (2 * REV))
     kbar = K * (scale(1, 30.0, 0.0) + scale(-1, 30.0, 0.0)) / 2
     Kr = math.sqrt(sigma_K ** 2 + float(np.var(kj, ddof=1)) / kbar ** 2)
-    meta = {"shape": shape, "c": c, "a": a, "sigma_K": sigma_K, "m": m, "max_rate": max_rate, "U_table": U_table}
+    meta = {"shape": shape, "c": c, "a": a, "sigma_K": sigma_K, "m": m, "max_rate": max_rate,
+            "U_table": U_table}
     (folder / "truth.json").write_text(json.dumps(meta))
     return {("D.1.1", "K"): (K_fit, "P/″", ""),
             ("D.1.2", "Kn"): (Kn, "", ""),
@@ -220,15 +232,16 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
             ("D.1.4", "Kr"): (Kr, "", "")}
 
 
-def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bool = True, quick=False) -> dict:
-    """D.1.5 (and D.1.4) on a laser gyro, pulse output (undithered counter): the D.1.1 sweep (R5 up to
-    100 … 400 °/s, m whole revolutions each way) at 3 points (both limits and room temperature,
+def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bool = True,
+                   quick=False) -> dict:
+    """D.1.5 (and D.1.4) on a laser gyro, pulse output (undithered counter): the D.1.1 sweep (R5 up
+    to 100 … 400 °/s, m whole revolutions each way) at 3 points (both limits and room temperature,
     D.1.5.2 b)) or 5, each a power-on of its own (D.1.5.2 c): off while the chamber changes), with
     its own K (power-on scatter σ_K 1–20 ppm) and bias; K(T) = K·(1 + k₁(T − 20) + k₂(T − 20)²), k₁
     up to ±5×10⁻⁶/°C of either sign; ``repeats``: D.1.4's 7 power-ons at 30 °/s at room temperature.
     Truth: D.12 on the noise-free K(T_i) at the temperatures the chamber held (± 0.25 °C), the D.5
-    intercept of each point's noise-free K_i (the nonlinearity does not change with T, so K(T_i)/K(T₀)
-    is kT(T_i)/kT(T₀)); the power-on scatter, noise and counter are error."""
+    intercept of each point's noise-free K_i (the nonlinearity does not change with T, so
+    K(T_i)/K(T₀) is kT(T_i)/kT(T₀)); the power-on scatter, noise and counter are error."""
     lat = float(rng.uniform(-65, 70))
     earth = OMEGA_E_DEG_H * math.sin(math.radians(lat))
     K = float(rng.uniform(0.3, 3.0))
@@ -236,7 +249,8 @@ def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bo
     rates = r5_points(max_rate)[-11:] if quick else r5_points(max_rate)
     m = 3 if quick else int(rng.choice([3, 5]))
     shape = str(rng.choice(SHAPES))
-    g = nonlinearity(shape, float(rng.uniform(1e-6, 2e-5)) * (1 if rng.uniform() < 0.5 else -1), max_rate,
+    g = nonlinearity(shape, float(rng.uniform(1e-6, 2e-5)) * (1 if rng.uniform() < 0.5 else -1),
+                     max_rate,
                      float(rng.uniform(2, 10)))
     a = 2e-5 * float(rng.uniform(-1, 1))
     sigma_K = float(rng.uniform(*sigma_K_range))
@@ -246,10 +260,13 @@ def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bo
     U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
     table = {"id": "RT-X", "role": "rate_table", "revolution_pulse_accuracy": "2″",
              "calibration": {"certificate": "IND-RT-2", "U": repr(U_table), "k": 2}}
-    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2}}
-    device = {"id": folder.name, "technology": "laser", "application": "aviation", "output": "pulse",
+    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1",
+                                                                "U": "0.5 K", "k": 2}}
+    device = {"id": folder.name, "technology": "laser", "application": "aviation",
+              "output": "pulse",
               "scale_factor": f"{K!r} P/″", "scale_factor_U": "10 ppm"}
-    camp = Campaign(folder, device, lat, [table, COUNTER, chamber], fmt="csv", output=Output("pulse", K=K))
+    camp = Campaign(folder, device, lat, [table, COUNTER, chamber], fmt="csv",
+                    output=Output("pulse", K=K))
     terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * U_table / 2 for r in rates + [30.0]}
     room = float(rng.uniform(18, 25))
     temps = [-40.0, room, 60.0] if rng.uniform() < 0.5 else [-40.0, -10.0, room, 40.0, 70.0]
@@ -268,24 +285,30 @@ def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bo
         b_on = float(rng.uniform(-1, 1)) + earth
         for r in rates:
             for sgn, tag in ((1, "+"), (-1, "-")):
-                cnt, dur = revolution_counts(rng, sign=sgn, rate=r, m=m, scale=scale(sgn, r, rel), K=K, bias=b_on,
+                cnt, dur = revolution_counts(rng, sign=sgn, rate=r, m=m, scale=scale(sgn, r, rel),
+                                             K=K, bias=b_on,
                                              noise=noise, table_err=terr[r], edge=2.0)
-                write_revolutions(camp, f"T{i + 1}-rate{tag}{r:g}", "revolutions-temperature", cnt, dur, 360.0 / r,
-                                  {"rate": f"{sgn * r!r} deg/s", "turns": m, "temperature": f"{T!r} °C"})
+                write_revolutions(camp, f"T{i + 1}-rate{tag}{r:g}", "revolutions-temperature", cnt,
+                                  dur, 360.0 / r,
+                                  {"rate": f"{sgn * r!r} deg/s", "turns": m,
+                                   "temperature": f"{T!r} °C"})
     if repeats:
         for j in range(1, 8):
             rel = kT(room) * (1 + sigma_K * float(rng.standard_normal()))
             b_on = float(rng.uniform(-1, 1)) + earth
             for sgn, tag in ((1, "+"), (-1, "-")):
-                cnt, dur = revolution_counts(rng, sign=sgn, rate=30.0, m=m, scale=scale(sgn, 30.0, rel), K=K,
+                cnt, dur = revolution_counts(rng, sign=sgn, rate=30.0, m=m,
+                                             scale=scale(sgn, 30.0, rel), K=K,
                                              bias=b_on, noise=noise, table_err=terr[30.0], edge=2.0)
                 write_revolutions(camp, f"run{j}-rate{tag}30", "revolutions-repeat", cnt, dur, 12.0,
                                   {"rate": f"{sgn * 30.0!r} deg/s", "turns": m, "run": j})
     camp.write_manifest()
     i0 = int(np.argmin([abs(T - 20.0) for T in temps]))
     T0 = actual[temps[i0]]
-    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T in enumerate(temps) if i != i0)
-    (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2, "temps": temps,
+    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T
+             in enumerate(temps) if i != i0)
+    (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2,
+                                                   "temps": temps,
                                                    "m": m, "shape": shape}))
     return {("D.1.5", "Kt"): (Kt * 1e6, "ppm/°C", "")}
 
@@ -294,8 +317,10 @@ def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bo
 # rate method: D.2.1 – D.2.4
 # --------------------------------------------------------------------------------------------
 
-def build_rate(folder: Path, rng, *, kind: str, dt: float, seconds: float, q: float, fmt: str = "npy",
-               c_range=(2e-5, 5e-4), asym=3e-4, sigma_K_range=(5e-6, 1e-4), flick=0.005, wander=0.02,
+def build_rate(folder: Path, rng, *, kind: str, dt: float, seconds: float, q: float,
+               fmt: str = "npy",
+               c_range=(2e-5, 5e-4), asym=3e-4, sigma_K_range=(5e-6, 1e-4), flick=0.005,
+               wander=0.02,
                arw_range=(0.002, 0.02), quick=False) -> dict:
     """A fibre gyro on the rate method: the D.2.1 sweep (rest at start and end, R5 rates up to a
     maximum of 100 … 500 °/s both ways, ``seconds`` at each) and 7 more power-ons of it (D.2.4.2).
@@ -313,15 +338,19 @@ def build_rate(folder: Path, rng, *, kind: str, dt: float, seconds: float, q: fl
     a = asym * float(rng.uniform(-1, 1))
     sigma_K = float(rng.uniform(*sigma_K_range))
     noise = Noise(float(rng.uniform(*arw_range)), flicker=flick * float(rng.uniform(0.5, 1.5)),
-                  wander_amp=wander * float(rng.uniform(0.5, 1.5)), wander_period=float(rng.uniform(1200, 5400)))
+                  wander_amp=wander * float(rng.uniform(0.5, 1.5)),
+                  wander_period=float(rng.uniform(1200, 5400)))
     b_mean = float(rng.uniform(-2, 2))
     U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
-    table = {"id": "RT-X", "role": "rate_table", "calibration": {"certificate": "IND-RT-3", "U": repr(U_table), "k": 2}}
-    device = {"id": folder.name, "technology": "fibre", "application": "marine", "nonlinearity": "100 ppm"}
+    table = {"id": "RT-X", "role": "rate_table",
+             "calibration": {"certificate": "IND-RT-3", "U": repr(U_table), "k": 2}}
+    device = {"id": folder.name, "technology": "fibre", "application": "marine",
+              "nonlinearity": "100 ppm"}
     if kind == "LSB":
         Kout = 3600.0 / q * float(rng.uniform(0.8, 1.25))               # LSB/(°/s)
         out = Output("LSB", K=Kout)
-        device |= {"output": "digital", "scale_factor": f"{Kout!r} LSB/(°/s)", "scale_factor_U": "50 ppm"}
+        device |= {"output": "digital", "scale_factor": f"{Kout!r} LSB/(°/s)",
+                   "scale_factor_U": "50 ppm"}
         to_out = Kout / 3600.0                                             # output per °/h
         unit = "LSB/(°/s)"
     else:
@@ -360,7 +389,8 @@ def build_rate(folder: Path, rng, *, kind: str, dt: float, seconds: float, q: fl
             for sgn, tag in ((1, "+"), (-1, "-")):
                 v = seg(sgn * r, sgn * r * (1 + terr[r]))
                 if write:
-                    camp.add(f"{prefix}rate{tag}{r:g}", "rate-output", v, dt, {"rate": f"{sgn * r!r} deg/s", **extra})
+                    camp.add(f"{prefix}rate{tag}{r:g}", "rate-output", v, dt,
+                             {"rate": f"{sgn * r!r} deg/s", **extra})
                 means[sgn * r] = float(v.mean())
         v = seg(0.0, 0.0)
         if write:
@@ -397,7 +427,8 @@ def build_rate(folder: Path, rng, *, kind: str, dt: float, seconds: float, q: fl
         kj.append(line(x, y)[1])
     kbar = Kunit * (1 + 0.0)
     Kr = math.sqrt(sigma_K ** 2 + float(np.var(kj, ddof=1)) / kbar ** 2)
-    meta = {"shape": shape, "c": c, "a": a, "sigma_K": sigma_K, "max_rate": max_rate, "U_table": U_table,
+    meta = {"shape": shape, "c": c, "a": a, "sigma_K": sigma_K, "max_rate": max_rate,
+            "U_table": U_table,
             "Kr_noise": float(np.std(kj, ddof=1) / kbar)}
     (folder / "truth.json").write_text(json.dumps(meta))
     # K of a rate output is a ratio (output rate per table rate): the slope per °/s in °/s
@@ -424,17 +455,22 @@ def build_kt(folder: Path, rng, *, dt: float = 1.0, seconds: float = 100.0, q: f
     k2 = float(rng.uniform(-1, 1)) * 2e-7
     noise = Noise(float(rng.uniform(0.002, 0.02)))
     U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
-    table = {"id": "RT-X", "role": "rate_table", "calibration": {"certificate": "IND-RT-3", "U": repr(U_table), "k": 2}}
-    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2}}
+    table = {"id": "RT-X", "role": "rate_table",
+             "calibration": {"certificate": "IND-RT-3", "U": repr(U_table), "k": 2}}
+    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1",
+                                                                "U": "0.5 K", "k": 2}}
     Kout = 3600.0 / q * float(rng.uniform(0.8, 1.25))
     out = Output("LSB", K=Kout)
-    device = {"id": folder.name, "technology": "fibre", "application": "marine", "nonlinearity": "100 ppm",
-              "output": "digital", "scale_factor": f"{Kout!r} LSB/(°/s)", "scale_factor_U": "50 ppm"}
+    device = {"id": folder.name, "technology": "fibre", "application": "marine",
+              "nonlinearity": "100 ppm",
+              "output": "digital", "scale_factor": f"{Kout!r} LSB/(°/s)",
+              "scale_factor_U": "50 ppm"}
     camp = Campaign(folder, device, lat, [table, COUNTER, chamber], fmt="npy", output=out)
     terr = {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * U_table / 2 for r in rates}
     n = int(round((seconds if not quick else 20.0) / dt))
     room = float(rng.uniform(18, 25))
-    temps = [-40.0, -20.0, 0.0, room, 40.0, 60.0] if rng.uniform() < 0.5 else [-40.0, -10.0, room, 40.0, 70.0]
+    temps = [-40.0, -20.0, 0.0, room, 40.0,
+             60.0] if rng.uniform() < 0.5 else [-40.0, -10.0, room, 40.0, 70.0]
 
     def kT(T):
         return 1 + k1 * (T - 20) + k2 * (T - 20) ** 2
@@ -455,15 +491,18 @@ def build_kt(folder: Path, rng, *, dt: float = 1.0, seconds: float = 100.0, q: f
     for i, T in enumerate(temps):
         Ta = T + 0.25 * float(rng.standard_normal())
         actual[T] = Ta
-        sweep(f"T{i + 1}-", kT(Ta) * (1 + sigma_K * float(rng.standard_normal())), {"temperature": f"{T!r} °C"})
+        sweep(f"T{i + 1}-", kT(Ta) * (1 + sigma_K * float(rng.standard_normal())),
+              {"temperature": f"{T!r} °C"})
     if repeats:
         for j in range(1, 8):
             sweep(f"run{j}-", kT(room) * (1 + sigma_K * float(rng.standard_normal())), {"run": j})
     camp.write_manifest()
     i0 = int(np.argmin([abs(T - 20.0) for T in temps]))
     T0 = actual[temps[i0]]
-    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T in enumerate(temps) if i != i0)
-    (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2, "temps": temps}))
+    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T
+             in enumerate(temps) if i != i0)
+    (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2,
+                                                   "temps": temps}))
     return {("D.2.5", "Kt"): (Kt * 1e6, "ppm/°C", "")}
 
 
@@ -500,7 +539,8 @@ class _DitheredPulse(Output):
         return np.diff(cum)
 
 
-def build_arw(folder: Path, rng, *, kind: str, dt: float, hours: float, q: float = 0.0, flick: float = 0.0,
+def build_arw(folder: Path, rng, *, kind: str, dt: float, hours: float, q: float = 0.0,
+              flick: float = 0.0,
               wander: float = 0.0, arw_range=(0.001, 0.005), fmt: str = "npy", quick=False) -> dict:
     """D.5.6 (with D.5.1 on the same record): one static record, IRA up, warm-up 30 min, of
     ``hours`` at ``dt`` (D.5.6.2 asks for 8 h at τ = 1 s).  ``kind``: 'pulse' (dithered
@@ -508,7 +548,8 @@ def build_arw(folder: Path, rng, *, kind: str, dt: float, hours: float, q: float
     lat = float(rng.uniform(-65, 70))
     earth = OMEGA_E_DEG_H * math.sin(math.radians(lat))
     arw = float(rng.uniform(*arw_range))
-    noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)), wander_amp=wander * float(rng.uniform(0.5, 1.5)),
+    noise = Noise(arw, flicker=flick * float(rng.uniform(0.5, 1.5)), wander_amp=wander
+                  * float(rng.uniform(0.5, 1.5)),
                   wander_period=float(rng.uniform(1200, 5400)))
     b = float(rng.uniform(-0.5, 0.5))
     device = {"id": folder.name, "technology": "fibre", "application": "marine"}
@@ -519,7 +560,8 @@ def build_arw(folder: Path, rng, *, kind: str, dt: float, hours: float, q: float
     elif kind == "LSB":
         K = 3600.0 / q * float(rng.uniform(0.8, 1.25))
         out = Output("LSB", K=K)
-        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)", "scale_factor_U": "5 ppm"}
+        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
+                   "scale_factor_U": "5 ppm"}
     else:
         out = Output("deg/h", q=q)
         device |= {"output": "rate"}
@@ -537,7 +579,8 @@ def build_arw(folder: Path, rng, *, kind: str, dt: float, hours: float, q: float
 # --------------------------------------------------------------------------------------------
 
 def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, flick: float = 0.0,
-                   repeats: bool = True, field_power_ons: bool = False, fmt: str = "npy", quick=False) -> dict:
+                   repeats: bool = True, field_power_ons: bool = False, fmt: str = "npy",
+                   quick=False) -> dict:
     """D.5.4 and D.5.5 on one device.  D.5.4.2 c): the gyro is off while the chamber changes
     temperature, so each point is a power-on of its own — its bias carries the device's turn-on
     scatter σ_on (D.5.3).  Bias against temperature: B(T) = b + c₁(T − 20) + c₂(T − 20)², either
@@ -554,8 +597,10 @@ def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, f
     b = float(rng.uniform(-0.5, 0.5))
     c1 = float(rng.uniform(-1, 1)) * float(rng.choice([2e-5, 2e-4, 2e-3]))        # °/h/°C
     c2 = float(rng.uniform(-1, 1)) * 2e-5                                         # °/h/°C²
-    S = {ax: float(rng.uniform(-1, 1)) * float(rng.choice([1e-4, 1e-3, 1e-2])) for ax in ("IRA", "XRA", "YRA")}
-    even = float(rng.uniform(-1, 1)) * 1e-3                                       # °/h/mT², cancels in D.44
+    S = {ax: float(rng.uniform(-1, 1)) * float(rng.choice([1e-4, 1e-3, 1e-2])) for ax
+         in ("IRA", "XRA", "YRA")}
+    # °/h/mT², cancels in D.44
+    even = float(rng.uniform(-1, 1)) * 1e-3
     device = {"id": folder.name, "technology": "fibre", "application": "marine"}
     if kind == "pulse":
         K = float(rng.uniform(0.5, 3.0))
@@ -564,18 +609,21 @@ def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, f
     elif kind == "LSB":
         K = 3600.0 / q * float(rng.uniform(0.8, 1.25))
         out = Output("LSB", K=K)
-        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)", "scale_factor_U": "5 ppm"}
+        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
+                   "scale_factor_U": "5 ppm"}
     else:
         out = Output("deg/h", q=q)
         device |= {"output": "rate"}
-    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2}}
+    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1",
+                                                                "U": "0.5 K", "k": 2}}
     Hb = float(rng.choice([0.5, 1.0, 2.0]))
     gen = {"id": "FG-X", "role": "field_generator", "uniformity": "5 %",
            "calibration": {"certificate": "IND-FG-1", "U": "0.02", "k": 2}}
     camp = Campaign(folder, device, lat, [PLATFORM, COUNTER, chamber, gen], fmt=fmt, output=out)
     lo, hi = [(-40.0, 60.0), (-55.0, 70.0), (-20.0, 50.0)][int(rng.integers(0, 3))]
     room = float(rng.uniform(18, 25))
-    temps = [lo, room, hi] if rng.uniform() < 0.5 else [lo, (lo + room) / 2, room, (room + hi) / 2, hi]
+    temps = [lo, room, hi] if rng.uniform() < 0.5 else [lo, (lo + room) / 2, room, (room + hi) / 2,
+                                                        hi]
     n_h = int(round((3600 if not quick else 600) / dt))
 
     def B(T):
@@ -587,13 +635,15 @@ def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, f
         actual[T] = Ta
         e, w = noise.draw(n_h, dt, rng)
         b_on = B(Ta) + sigma_on * float(rng.standard_normal())
-        camp.add(f"temperature-{i + 1}", "static-temperature", out.record(b_on + earth + e + w, dt, rng=rng), dt,
+        camp.add(f"temperature-{i + 1}", "static-temperature",
+                 out.record(b_on + earth + e + w, dt, rng=rng), dt,
                  {"orientation": "IRA up", "temperature": f"{T!r} °C"})
     if repeats:
         for j in range(1, 8):
             e, w = noise.draw(n_h, dt, rng)
             b_on = B(room) + sigma_on * float(rng.standard_normal())
-            camp.add(f"repeat-{j}", "static-repeat", out.record(b_on + earth + e + w, dt, rng=rng), dt,
+            camp.add(f"repeat-{j}", "static-repeat", out.record(b_on + earth + e + w, dt, rng=rng),
+                     dt,
                      {"orientation": "IRA up", "run": j, "warmup": "30 min"})
     n_f = int(round(600 / dt))
     b_field = B(20.0) + sigma_on * float(rng.standard_normal())
@@ -601,7 +651,8 @@ def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, f
         for sgn, tag in ((1, "plus"), (-1, "minus")):
             H = sgn * Hb * (1 + float(rng.uniform(-0.05, 0.05)))
             e, w = noise.draw(n_f, dt, rng)
-            b_on = (B(20.0) + sigma_on * float(rng.standard_normal())) if field_power_ons else b_field
+            b_on = (B(20.0) + sigma_on
+                    * float(rng.standard_normal())) if field_power_ons else b_field
             rate = b_on + S[ax] * H + even * H ** 2 + earth + e + w
             camp.add(f"field-{ax}-{tag}", "static-field", out.record(rate, dt, rng=rng), dt,
                      {"orientation": "IRA up", "field_axis": ax, "field": f"{sgn * Hb!r} mT"})
@@ -629,63 +680,76 @@ RATE_ITEMS = "D.2.1,D.2.2,D.2.3,D.2.4"
 VARIANTS = {
     "angle-pulse-fine": Variant(
         "angle-pulse-fine", "gbt45570", ANGLE_ITEMS,
-        "laser gyro, pulse 0.3–3 P/″ (undithered counter), nonlinearity 1–20 ppm of the five shapes, either "
-        "sign, asymmetry ±20 ppm, K power-on σ 1–20 ppm, m = 3/5/8, max rate 100–500 °/s, table U 1e-5–1e-4",
+        "laser gyro, pulse 0.3–3 P/″ (undithered counter), nonlinearity 1–20 ppm of the five "
+        "shapes, either sign, asymmetry ±20 ppm, K power-on σ 1–20 ppm, m = 3/5/8, max rate "
+        "100–500 °/s, table U 1e-5–1e-4",
         lambda f, rng, quick: build_angle(f, rng, quick=quick)),
     "angle-pulse-coarse-flicker": Variant(
         "angle-pulse-coarse-flicker", "gbt45570", ANGLE_ITEMS,
-        "as angle-pulse-fine with a coarse pulse (0.05–0.2 P/″: 1 P = 5–20″), flicker 0.01 °/h, nonlinearity "
-        "5–50 ppm, asymmetry ±50 ppm, K power-on σ 2–40 ppm",
-        lambda f, rng, quick: build_angle(f, rng, K_range=(0.05, 0.2), c_range=(5e-6, 5e-5), asym=5e-5,
+        "as angle-pulse-fine with a coarse pulse (0.05–0.2 P/″: 1 P = 5–20″), flicker 0.01 °/h, "
+        "nonlinearity 5–50 ppm, asymmetry ±50 ppm, K power-on σ 2–40 ppm",
+        lambda f, rng, quick: build_angle(f, rng, K_range=(0.05, 0.2), c_range=(5e-6, 5e-5),
+                                          asym=5e-5,
                                           sigma_K_range=(2e-6, 4e-5), flick=0.01, quick=quick)),
     "angle-pulse-drift": Variant(
         "angle-pulse-drift", "gbt45570", ANGLE_ITEMS,
-        "as angle-pulse-fine with a slow thermal bias wander of 0.005–0.045 °/h amplitude (period 1–3 h) running "
-        "through the whole sweep, the zero-rate counts at its start and end",
+        "as angle-pulse-fine with a slow thermal bias wander of 0.005–0.045 °/h amplitude (period "
+        "1–3 h) running through the whole sweep, the zero-rate counts at its start and end",
         lambda f, rng, quick: build_angle(f, rng, wander=0.03, quick=quick)),
     "rate-lsb-10Hz": Variant(
         "rate-lsb-10Hz", "gbt45570", RATE_ITEMS,
-        "fibre gyro, LSB word 1 LSB ≈ 0.05 °/h (finer than the noise), 10 Hz, 100 s per point, .npy; "
-        "nonlinearity 20–500 ppm of five shapes, asymmetry ±300 ppm, K power-on σ 5–100 ppm, flicker, wander",
-        lambda f, rng, quick: build_rate(f, rng, kind="LSB", dt=0.1, seconds=100.0, q=0.05, quick=quick)),
+        "fibre gyro, LSB word 1 LSB ≈ 0.05 °/h (finer than the noise), 10 Hz, 100 s per point, "
+        ".npy; nonlinearity 20–500 ppm of five shapes, asymmetry ±300 ppm, K power-on σ 5–100 ppm, "
+        "flicker, wander",
+        lambda f, rng, quick: build_rate(f, rng, kind="LSB", dt=0.1, seconds=100.0, q=0.05,
+                                         quick=quick)),
     "rate-lsb-coarse-1Hz": Variant(
         "rate-lsb-coarse-1Hz", "gbt45570", RATE_ITEMS,
-        "LSB word 1 LSB ≈ 2 °/h (coarser than the 1 Hz noise of 0.1–0.6 °/h), 1 Hz, 100 s per point, CSV",
-        lambda f, rng, quick: build_rate(f, rng, kind="LSB", dt=1.0, seconds=100.0, q=2.0, fmt="csv",
+        "LSB word 1 LSB ≈ 2 °/h (coarser than the 1 Hz noise of 0.1–0.6 °/h), 1 Hz, 100 s per "
+        "point, CSV",
+        lambda f, rng, quick: build_rate(f, rng, kind="LSB", dt=1.0, seconds=100.0, q=2.0,
+                                         fmt="csv",
                                          arw_range=(0.002, 0.01), quick=quick)),
     "rate-degh-200Hz": Variant(
         "rate-degh-200Hz", "gbt45570", RATE_ITEMS,
-        "rate output in °/h rounded to 0.1 °/h, 200 Hz, 10 s per point (.npy), nonlinearity 20–500 ppm",
-        lambda f, rng, quick: build_rate(f, rng, kind="deg/h", dt=0.005, seconds=10.0, q=0.1, quick=quick)),
+        "rate output in °/h rounded to 0.1 °/h, 200 Hz, 10 s per point (.npy), nonlinearity 20–500 "
+        "ppm",
+        lambda f, rng, quick: build_rate(f, rng, kind="deg/h", dt=0.005, seconds=10.0, q=0.1,
+                                         quick=quick)),
     "rate-degs-1Hz": Variant(
         "rate-degs-1Hz", "gbt45570", RATE_ITEMS,
         "rate output in °/s rounded to 1e-5 °/s (0.036 °/h), 1 Hz, 60 s per point, CSV",
-        lambda f, rng, quick: build_rate(f, rng, kind="deg/s", dt=1.0, seconds=60.0, q=1e-5, fmt="csv",
+        lambda f, rng, quick: build_rate(f, rng, kind="deg/s", dt=1.0, seconds=60.0, q=1e-5,
+                                         fmt="csv",
                                          quick=quick)),
     "kt-rate-lsb-1Hz": Variant(
         "kt-rate-lsb-1Hz", "gbt45570", "D.2.5",
-        "fibre gyro, LSB 0.05 °/h, 1 Hz, 100 s per point; D.2.1 sweeps at 5 or 6 temperatures −40 … 70 °C, each a "
-        "power-on with K's scatter σ_K 5–100 ppm; K(T) slope up to ±50 ppm/°C with a curvature; D.2.4's 7 runs",
+        "fibre gyro, LSB 0.05 °/h, 1 Hz, 100 s per point; D.2.1 sweeps at 5 or 6 temperatures −40 "
+        "… 70 °C, each a power-on with K's scatter σ_K 5–100 ppm; K(T) slope up to ±50 ppm/°C with "
+        "a curvature; D.2.4's 7 runs",
         lambda f, rng, quick: build_kt(f, rng, quick=quick)),
     "kt-angle-pulse": Variant(
         "kt-angle-pulse", "gbt45570", "D.1.5",
-        "laser gyro, pulse 0.3–3 P/″ (undithered counter); the D.1.1 sweep at 3 or 5 temperatures −40 … 70 °C (room "
-        "18–25 °C), each a power-on with K's scatter σ_K 1–20 ppm (D.1.5.2 c)); K(T) slope up to ±5 ppm/°C with a "
-        "curvature; D.1.4's 7 runs at 30 °/s",
+        "laser gyro, pulse 0.3–3 P/″ (undithered counter); the D.1.1 sweep at 3 or 5 temperatures "
+        "−40 … 70 °C (room 18–25 °C), each a power-on with K's scatter σ_K 1–20 ppm (D.1.5.2 c)); "
+        "K(T) slope up to ±5 ppm/°C with a curvature; D.1.4's 7 runs at 30 °/s",
         lambda f, rng, quick: build_kt_angle(f, rng, quick=quick)),
     "arw-pulse-dithered-1Hz": Variant(
         "arw-pulse-dithered-1Hz", "gbt45570", "D.5.6",
-        "pulse 0.5–3 P/″ read at a random phase (dithered), 8 h at 1 Hz, ARW 0.001–0.005 °/√h, white only",
+        "pulse 0.5–3 P/″ read at a random phase (dithered), 8 h at 1 Hz, ARW 0.001–0.005 °/√h, "
+        "white only",
         lambda f, rng, quick: build_arw(f, rng, kind="pulse", dt=1.0, hours=8.0, quick=quick)),
     "arw-pulse-dithered-flicker": Variant(
         "arw-pulse-dithered-flicker", "gbt45570", "D.5.6",
         "as above with a flicker plateau 0.002 °/h and a thermal wander 0.003 °/h",
-        lambda f, rng, quick: build_arw(f, rng, kind="pulse", dt=1.0, hours=8.0, flick=0.002, wander=0.003,
+        lambda f, rng, quick: build_arw(f, rng, kind="pulse", dt=1.0, hours=8.0, flick=0.002,
+                                        wander=0.003,
                                         quick=quick)),
     "arw-lsb-fine-10Hz": Variant(
         "arw-lsb-fine-10Hz", "gbt45570", "D.5.6",
         "LSB word 1 LSB = 0.05 °/h (finer than the 10 Hz noise), 8 h at 10 Hz (.npy)",
-        lambda f, rng, quick: build_arw(f, rng, kind="LSB", dt=0.1, hours=8.0, q=0.05, quick=quick)),
+        lambda f, rng, quick: build_arw(f, rng, kind="LSB", dt=0.1, hours=8.0, q=0.05,
+                                        quick=quick)),
     "arw-rate-degh-5Hz": Variant(
         "arw-rate-degh-5Hz", "gbt45570", "D.5.6",
         "rate output in °/h rounded to 0.2 °/h (≈ the 5 Hz noise), 8 h at 5 Hz, ARW 0.002–0.01 °/√h",
@@ -693,29 +757,36 @@ VARIANTS = {
                                         arw_range=(0.002, 0.01), quick=quick)),
     "bt-bh-pulse-1Hz": Variant(
         "bt-bh-pulse-1Hz", "gbt45570", "D.5.4,D.5.5",
-        "pulse 0.5–3 P/″ (undithered), 1 Hz CSV; bias against T linear ±(2e-5…2e-3) °/h/°C plus a curvature, 3 or 5 "
-        "points with limits −55…70 °C, turn-on σ 0.002–0.01 °/h per power-on, D.5.3's 7 repeats in the campaign; "
-        "field ±0.5–2 mT, S up to 0.01 °/h/mT per axis, the six field biases in one power-on",
+        "pulse 0.5–3 P/″ (undithered), 1 Hz CSV; bias against T linear ±(2e-5…2e-3) °/h/°C plus a "
+        "curvature, 3 or 5 points with limits −55…70 °C, turn-on σ 0.002–0.01 °/h per power-on, "
+        "D.5.3's 7 repeats in the campaign; field ±0.5–2 mT, S up to 0.01 °/h/mT per axis, the six "
+        "field biases in one power-on",
         lambda f, rng, quick: build_bias_env(f, rng, kind="pulse", dt=1.0, fmt="csv", quick=quick)),
     "bt-bh-lsb-10Hz-flicker": Variant(
         "bt-bh-lsb-10Hz-flicker", "gbt45570", "D.5.4,D.5.5",
-        "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, D.5.3's repeats, the six field biases in one power-on",
-        lambda f, rng, quick: build_bias_env(f, rng, kind="LSB", dt=0.1, q=0.05, flick=0.003, quick=quick)),
+        "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, D.5.3's repeats, the six field "
+        "biases in one power-on",
+        lambda f, rng, quick: build_bias_env(f, rng, kind="LSB", dt=0.1, q=0.05, flick=0.003,
+                                             quick=quick)),
     "bt-bh-lsb-10Hz-flicker-no-repeats": Variant(
         "bt-bh-lsb-10Hz-flicker-no-repeats", "gbt45570", "D.5.4,D.5.5",
-        "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, no D.5.3 repeats, each field bias its own power-on",
-        lambda f, rng, quick: build_bias_env(f, rng, kind="LSB", dt=0.1, q=0.05, flick=0.003, repeats=False,
+        "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, no D.5.3 repeats, each field bias "
+        "its own power-on",
+        lambda f, rng, quick: build_bias_env(f, rng, kind="LSB", dt=0.1, q=0.05, flick=0.003,
+                                             repeats=False,
                                              field_power_ons=True, quick=quick)),
     "arw-pulse-undithered-1Hz": Variant(
         "arw-pulse-undithered-1Hz", "gbt45570", "D.5.6",
         "undithered pulse counter 0.5–3 P/″, 8 h at 1 Hz (the sawtooth issue 13 names)",
-        lambda f, rng, quick: build_arw(f, rng, kind="pulse-undithered", dt=1.0, hours=8.0, quick=quick)),
+        lambda f, rng, quick: build_arw(f, rng, kind="pulse-undithered", dt=1.0, hours=8.0,
+                                        quick=quick)),
 }
 
 #: results whose unit metro may state as ppm (dimensionless in the truth)
 _PPM_KEYS = ("Kn", "Ka", "Kr")
 _UNITS = {"°/√h": {"°/√h", "deg/h⁰⋅⁵", "deg/hour**0.5", "degree / hour ** 0.5", "°/h⁰⋅⁵", "(°)/√h"},
-          "°/h/°C": {"°/h/°C", "°/°C/h", "deg/h/delta_degC", "deg/h/Δ°C", "deg/hour/delta_degC", "degree / hour / delta_degree_Celsius"},
+          "°/h/°C": {"°/h/°C", "°/°C/h", "deg/h/delta_degC", "deg/h/Δ°C", "deg/hour/delta_degC",
+                     "degree / hour / delta_degree_Celsius"},
           "ppm/°C": {"ppm/°C", "ppm/Δ°C", "ppm/delta_degC", "1e-06/delta_degC"},
           "°/h/mT": {"°/h/mT", "deg/h/mT", "deg/hour/mT", "degree / hour / millitesla"}}
 
@@ -741,11 +812,13 @@ def score_more(truth: dict, doc: dict) -> list[dict]:
 
 
 def main(argv=None) -> int:
-    """The shared command line (``independent_campaigns.cli``), scoring through :func:`score_more`."""
+    """The shared command line (``independent_campaigns.cli``), scoring through
+    :func:`score_more`."""
     import independent_campaigns as ic
 
     return ic.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-more-",
-                  run=lambda v, a, work: ic.run_variant(v, a.devices, a.seed, work, a.subprocess, quick=a.quick,
+                  run=lambda v, a, work: ic.run_variant(v, a.devices, a.seed, work, a.subprocess,
+                                                        quick=a.quick,
                                                         keep=a.keep is not None, scorer=score_more))
 
 

@@ -1,7 +1,8 @@
 """An independent harness for JJF 2003—2022 (MIMU): devices metro's simulator does not make.
 
 Run:  nice -n 10 .venv/bin/python benchmarks/independent_jjf2003.py [--devices 30] [--variants A,B]
-                                                                   [--seed 1] [--json F] [--keep DIR] [--quick]
+                                                                   [--seed 1] [--json F] [--keep
+                                                                   DIR] [--quick]
       .venv/bin/python benchmarks/independent_jjf2003.py --markdown F1.json [F2.json …]
 
 The JJF 2003 companion of ``benchmarks/independent_campaigns.py`` (GB/T 45570, JJF 2014), whose
@@ -26,13 +27,13 @@ kinematics of the table, not from the standard's design matrices:
 * ω′ = K_g·ω_b + B_g(t) + G·f_b + noise, a′ = K_a·f_b + B_a + p·ω_b² + noise (ω in rad/s),
   quantized to the LSB of an N-bit converter over ±FS (2·FS/2^N), in the column's own unit.
 
-Truth (the standard's measurand of the constructed device; see docs/independent-campaigns.md,
-"JJF 2003: MIMU matrices"): K_g[i, j], G[i, j], K_a[i, j], p[i, j] as built (the device's matrices in
-its own reference frame, per g_n of specific force); B_g the mean of the gyro bias over the
-twelve position records (a slow thermal wander is bias); B_a as built.  Where metro says a g term
-has the earth rate ``included`` (eq. (7) as printed), its truth is G[i, j] + K_g[i, j]·Ω_e·sin φ·g_n/g,
-the rate eq. (7) cannot separate from g-sensitivity (the whole column j, not the diagonal alone).  No truth depends on noise, so none needs Monte
-Carlo.
+Truth (the standard's measurand of the constructed device; see docs/independent-campaigns.md, "JJF
+2003: MIMU matrices"): K_g[i, j], G[i, j], K_a[i, j], p[i, j] as built (the device's matrices in its
+own reference frame, per g_n of specific force); B_g the mean of the gyro bias over the twelve
+position records (a slow thermal wander is bias); B_a as built. Where metro says a g term has the
+earth rate ``included`` (eq. (7) as printed), its truth is G[i, j] + K_g[i, j]·Ω_e·sin φ·g_n/g, the
+rate eq. (7) cannot separate from g-sensitivity (the whole column j, not the diagonal alone). No
+truth depends on noise, so none needs Monte Carlo.
 """
 
 from __future__ import annotations
@@ -54,7 +55,8 @@ _HERE = Path(__file__).resolve().parent
 if "independent_campaigns" in sys.modules:
     ic = sys.modules["independent_campaigns"]
 else:
-    _spec = importlib.util.spec_from_file_location("independent_campaigns", _HERE / "independent_campaigns.py")
+    _spec = importlib.util.spec_from_file_location("independent_campaigns", _HERE
+                                                   / "independent_campaigns.py")
     ic = importlib.util.module_from_spec(_spec)
     sys.modules["independent_campaigns"] = ic  # its dataclasses look their module up
     _spec.loader.exec_module(ic)
@@ -71,9 +73,12 @@ ARCSEC = math.pi / 180 / 3600
 # the units metro writes in --json for the JJF 2003 results, and their spellings
 ic.UNIT_ALIASES.setdefault("°/s", {"°/s", "deg/s", "degree / second", "(°)/s", "degree/second"})
 ic.UNIT_ALIASES.setdefault("gn", {"gn", "g", "g_n", "standard_gravity", "g₀"})
-ic.UNIT_ALIASES.setdefault("(°/s)/gn", {"(°/s)/gn", "deg/s/gn", "degree / second / standard_gravity",
-                                        "°/s/gn", "(°/s)/g", "°/s/g", "°/(s·gn)", "degree / standard_gravity / second"})
-ic.UNIT_ALIASES.setdefault("gn/(rad/s)²", {"gn/(rad/s)²", "gn/(rad/s)**2", "gn s²/rad²", "gn·s²/rad²",
+ic.UNIT_ALIASES.setdefault("(°/s)/gn", {"(°/s)/gn", "deg/s/gn",
+                                        "degree / second / standard_gravity",
+                                        "°/s/gn", "(°/s)/g", "°/s/g", "°/(s·gn)",
+                                        "degree / standard_gravity / second"})
+ic.UNIT_ALIASES.setdefault("gn/(rad/s)²", {"gn/(rad/s)²", "gn/(rad/s)**2", "gn s²/rad²",
+                                           "gn·s²/rad²",
                                            "standard_gravity * second ** 2 / radian ** 2",
                                            "gn/(rad/s)^2", "g/(rad/s)²", "s²·g/rad²"})
 
@@ -102,7 +107,8 @@ def small_rotation(angles) -> np.ndarray:
 
 def up_nominal(up: str) -> np.ndarray:
     """C_LB (body → local level ENU) that puts body axis ``up`` (±x, ±y, ±z) on the zenith."""
-    return {"+z": np.eye(3), "-z": rot(0, math.pi), "+x": rot(1, -math.pi / 2), "-x": rot(1, math.pi / 2),
+    return {"+z": np.eye(3), "-z": rot(0, math.pi), "+x": rot(1, -math.pi / 2),
+            "-x": rot(1, math.pi / 2),
             "+y": rot(0, math.pi / 2), "-y": rot(0, -math.pi / 2)}[up]
 
 
@@ -113,7 +119,8 @@ def rodrigues_many(k: np.ndarray, theta: np.ndarray, v: np.ndarray) -> np.ndarra
 
 
 def normal_gravity(lat_deg: float, altitude_m: float = 0.0) -> float:
-    """GRS 80 normal gravity (Somigliana) at the latitude, free-air gradient −3.086×10⁻⁶ s⁻² per m."""
+    """GRS 80 normal gravity (Somigliana) at the latitude, free-air gradient −3.086×10⁻⁶ s⁻² per
+    m."""
     s2 = math.sin(math.radians(lat_deg)) ** 2
     g0 = 9.7803267715 * (1 + 0.001931851353 * s2) / math.sqrt(1 - 0.0066943800229 * s2)
     return g0 - 3.086e-6 * altitude_m
@@ -178,13 +185,16 @@ def draw_mimu(rng, *, xc_g: float, xc_a: float, g_sens: float, p_mag: float, arw
         return M
     p = rng.uniform(-p_mag, p_mag, (3, 3))
     p[np.diag_indices(3)] = 0.0
-    return Mimu(Kg=mat(0.9, 1.1, xc_g), Bg=rng.uniform(-0.5, 0.5, 3), G=rng.uniform(-g_sens, g_sens, (3, 3)),
+    return Mimu(Kg=mat(0.9, 1.1, xc_g), Bg=rng.uniform(-0.5, 0.5, 3),
+                G=rng.uniform(-g_sens, g_sens, (3, 3)),
                 Ka=mat(0.95, 1.05, xc_a), Ba=rng.uniform(-0.03, 0.03, 3), p=p,
                 arw=rng.uniform(*arw, 3), vrw=rng.uniform(*vrw, 3),
-                wander=wander * rng.uniform(0.5, 1.5, 3) * (rng.choice([-1.0, 1.0], 3) if ramp else 1.0),
+                wander=wander * rng.uniform(0.5, 1.5, 3) * (rng.choice([-1.0, 1.0], 3) if ramp
+                                                            else 1.0),
                 wander_period=float(rng.uniform(600, 3600)) if not ramp else 4 * 3600.0,
                 # ramp: a warm-up drift — the sinusoid's steepest part (a quarter period is 1 h)
-                wander_phase=rng.uniform(0, 2 * math.pi, 3) if not ramp else np.zeros(3), fs_g=fs_g, fs_a=fs_a, bits=bits,
+                wander_phase=rng.uniform(0, 2 * math.pi, 3) if not ramp else np.zeros(3), fs_g=fs_g,
+                fs_a=fs_a, bits=bits,
                 gyro_unit=gyro_unit, acc_unit=acc_unit)
 
 
@@ -192,9 +202,11 @@ def draw_mimu(rng, *, xc_g: float, xc_a: float, g_sens: float, p_mag: float, arw
 # writing the campaign (data-format.md, docs/standards/jjf2003.md "Data: segment layout")
 # --------------------------------------------------------------------------------------------
 
-def write_six(path: Path, gyro: np.ndarray, acc: np.ndarray, dt: float, fmt: str, gunit: str, aunit: str,
+def write_six(path: Path, gyro: np.ndarray, acc: np.ndarray, dt: float, fmt: str, gunit: str,
+              aunit: str,
               with_time: bool) -> str:
-    """One segment's samples: gx, gy, gz, ax, ay, az with units in the header (CSV) or field names (.npy)."""
+    """One segment's samples: gx, gy, gz, ax, ay, az with units in the header (CSV) or field names
+    (.npy)."""
     gh = {"deg/s": "°/s", "rad/s": "rad/s"}[gunit]
     ah = {"gn": "gn", "m/s2": "m/s²"}[aunit]
     names = [f"g{a} [{gh}]" for a in AXES] + [f"a{a} [{ah}]" for a in AXES]
@@ -221,7 +233,8 @@ def write_six(path: Path, gyro: np.ndarray, acc: np.ndarray, dt: float, fmt: str
 @dataclass
 class Lab:
     """What the lab's equipment is and does: the rate table's certificate (relative U, k = 2) and
-    its positioning accuracy, the fixture's perpendicularity (6.2: 10″), and how well each is met."""
+    its positioning accuracy, the fixture's perpendicularity (6.2: 10″), and how well each is
+    met."""
     table_U: float = 2e-4           # relative, k = 2 (appendix A.1.2.1)
     position_accuracy: float = 10.0  # ″ (table 1: ±10″)
     fixture: float = 10.0            # ″, 6.2 (the MIMU seated in it, per mounting)
@@ -235,7 +248,8 @@ class MimuCampaign:
     device: dict
     site: dict
     equipment: list
-    segments: list = field(default_factory=list)  # (id, kind, file, dt, conditions, started or None)
+    # (id, kind, file, dt, conditions, started or None)
+    segments: list = field(default_factory=list)
 
     def write_manifest(self) -> Path:
         # the head (device, environment, site, equipment) as the shared harness writes it, then
@@ -260,22 +274,31 @@ class MimuCampaign:
         return path
 
 
-def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: int, fs_g: float, fs_a: float,
-               rates: tuple, xc_g: float, xc_a: float, g_sens: float, p_mag: float, arw: tuple, vrw: tuple,
-               wander: float = 0.0, lab: Lab = Lab(), lat_range=(-70.0, 70.0), altitude: tuple = (0.0, 0.0),
-               anomaly_mgal: float = 30.0, write_gravity: bool = False, gyro_unit="deg/s", acc_unit="gn",
+def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: int, fs_g: float,
+               fs_a: float,
+               rates: tuple, xc_g: float, xc_a: float, g_sens: float, p_mag: float, arw: tuple,
+               vrw: tuple,
+               wander: float = 0.0, lab: Lab = Lab(), lat_range=(-70.0, 70.0),
+               altitude: tuple = (0.0, 0.0),
+               anomaly_mgal: float = 30.0, write_gravity: bool = False, gyro_unit="deg/s",
+               acc_unit="gn",
                with_time: bool = True, quick: bool = False, flip: float = 0.3,
                items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0, sigma_K: float = 0.0,
-               sigma_B: float = 0.0, ramp: bool = False, started: bool = False, shuffle: bool = False) -> dict:
+               sigma_B: float = 0.0, ramp: bool = False, started: bool = False,
+               shuffle: bool = False) -> dict:
     """One MIMU written as a campaign of the 27 (3 axes × the rate set) rate segments and the twelve
     positions; returns the truth {(item, key): (value, unit, earth)} and ``options``."""
     lat = float(rng.uniform(*lat_range))
     alt = float(rng.uniform(*altitude))
     g_loc = normal_gravity(lat, alt) + rng.uniform(-1, 1) * anomaly_mgal * 1e-5
-    f_up = g_loc / G_N                                                   # specific force at rest, gn
-    dev = draw_mimu(rng, xc_g=xc_g, xc_a=xc_a, g_sens=g_sens, p_mag=p_mag, arw=arw, vrw=vrw, wander=wander,
-                    bits=bits, fs_g=fs_g, fs_a=fs_a, flip=flip, gyro_unit=gyro_unit, acc_unit=acc_unit, ramp=ramp)
-    device = {"id": folder.name, "manufacturer": "independent", "technology": "mems", "output": "rate",
+    # specific force at rest, gn
+    f_up = g_loc / G_N
+    dev = draw_mimu(rng, xc_g=xc_g, xc_a=xc_a, g_sens=g_sens, p_mag=p_mag, arw=arw, vrw=vrw,
+                    wander=wander,
+                    bits=bits, fs_g=fs_g, fs_a=fs_a, flip=flip, gyro_unit=gyro_unit,
+                    acc_unit=acc_unit, ramp=ramp)
+    device = {"id": folder.name, "manufacturer": "independent", "technology": "mems",
+              "output": "rate",
               "gyro_range": f"{fs_g!r} °/s", "accel_range": f"{fs_a!r} gn"}
     site = {"latitude": lat}
     if altitude != (0.0, 0.0):
@@ -294,11 +317,13 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     n = int(round(seconds / dt)) if not quick else int(round(30.0 / dt))
     W_L = OMEGA_E_DEG_S * np.array([0.0, math.cos(math.radians(lat)), math.sin(math.radians(lat))])
     F_L = np.array([0.0, 0.0, f_up])
-    mount = small_rotation(rng.uniform(-1, 1, 3) * lab.fixture * ARCSEC)   # body → fixture, one mounting
+    # body → fixture, one mounting
+    mount = small_rotation(rng.uniform(-1, 1, 3) * lab.fixture * ARCSEC)
     clock = [0.0]
     # the acquisition's clock: the campaign begins some morning in a UTC+8 lab (times to the ms)
     # (drawn only when written, so that the other variants' devices stay those of their seeds)
-    t_begin = datetime.datetime(2026, 11, 24, 8, 0, tzinfo=datetime.timezone(datetime.timedelta(hours=8))) + \
+    t_begin = datetime.datetime(2026, 11, 24, 8, 0,
+                                tzinfo=datetime.timezone(datetime.timedelta(hours=8))) + \
         datetime.timedelta(seconds=float(rng.uniform(0, 4 * 3600))) if started else None
 
     def tilt():
@@ -310,13 +335,16 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
         t = clock[0] + dt * (np.arange(n) + 0.5)
         clock[0] += n * dt + 20.0
         # a sweep starts wherever the table is; a position is held at its heading (θ = 0)
-        theta = np.radians(rate) * (t - t[0]) + (rng.uniform(0, 2 * math.pi) if kind != "position" else 0.0)
+        theta = np.radians(rate) * (t - t[0]) + (rng.uniform(0, 2 * math.pi) if kind != "position"
+                                                 else 0.0)
         W_b = rodrigues_many(axis_L, -theta, W_L) @ C0          # C0ᵀ·Rot(−θ)·v, row-vector form
         F_b = rodrigues_many(axis_L, -theta, F_L) @ C0          # (Rot(θ)·C0 is C_LB(t))
         w_b = W_b + rate * (C0.T @ axis_L)[None, :]
         g, a = dev.outputs(t, w_b, F_b, dt, rng)
         fname = write_six(folder / sid, g, a, dt, fmt, gyro_unit, acc_unit, with_time)
-        when = (t_begin + datetime.timedelta(milliseconds=round(1000 * (t[0] - 0.5 * dt)))) if started else None
+        when = (t_begin + datetime.timedelta(milliseconds=round(1000
+                                                                * (t[0] - 0.5
+                                                                   * dt)))) if started else None
         camp.segments.append((sid, kind, fname, dt, cond, when))
         return t
 
@@ -325,7 +353,8 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     for up in POSITIONS:
         for h in (0.0, 180.0):
             C0 = tilt() @ rot(2, math.radians(h)) @ up_nominal(up) @ mount
-            pos_times.append(record(f"pos{up}-h{h:g}", "position", C0, np.array([0.0, 0.0, 1.0]), 0.0,
+            pos_times.append(record(f"pos{up}-h{h:g}", "position", C0, np.array([0.0, 0.0, 1.0]),
+                                    0.0,
                                     {"up": up, "heading": f"{h:g}°"}))
     # the sweeps (7.2.1.1): axis j up along the table axis; the table axis (as the MIMU sees it)
     # errs by the axis perpendicularity and the mounting; each rate point errs within ±√3·U/k
@@ -335,7 +364,8 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     # puts a horizontal component of g on the other accelerometers that turning averages away.
     for j, a in enumerate(AXES):
         T = tilt()
-        perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) @ small_rotation(
+        perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy
+                              * ARCSEC) @ small_rotation(
             rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
         for r in rates:
             eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
@@ -353,17 +383,22 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
         dev.Bg = Bg0 + sigma_B * rng.standard_normal(3)
         for j, a in enumerate(AXES):
             T = tilt()
-            perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) @ small_rotation(
+            perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy
+                                  * ARCSEC) @ small_rotation(
                 rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
             for r in rates:
                 eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
                 C0 = T @ up_nominal("+" + a) @ perp @ mount
-                record(f"rate-repeat#{run}-{a}-{r:g}", "rate-repeat", C0, T @ np.array([0.0, 0.0, 1.0]),
+                record(f"rate-repeat#{run}-{a}-{r:g}", "rate-repeat", C0, T
+                       @ np.array([0.0, 0.0, 1.0]),
                        r * (1 + eps), {"axis": a, "rate": f"{r:g} °/s", "run": str(run)})
     dev.Kg, dev.Bg = Kg0, Bg0
-    if shuffle:  # the manifest lists the records in an order of its own, not the recording order (its
+    # the manifest lists the records in an order of its own, not the recording order (its
+    if shuffle:
         # own generator: the devices stay those of their seeds)
-        order = np.random.default_rng(zlib.crc32(folder.name.encode())).permutation(len(camp.segments))
+        order = (
+            np.random.default_rng(zlib.crc32(folder.name.encode())).permutation(len(camp.segments))
+        )
         camp.segments = [camp.segments[k] for k in order]
     camp.write_manifest()
 
@@ -384,7 +419,8 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
             if "7.2.3" in want:
                 truth[("7.2.3", f"K_g{r}{c}")] = (float(dev.Kg[i, j]), "", "")
             if "7.2.2" in want:
-                leak = float(dev.Kg[i, j]) * OMEGA_E_DEG_S * sin_lat / f_up  # per g_n of specific force
+                # per g_n of specific force
+                leak = float(dev.Kg[i, j]) * OMEGA_E_DEG_S * sin_lat / f_up
                 truth[("7.2.2", f"g_{r}{c}")] = (float(dev.G[i, j]), "(°/s)/gn", ("earth", leak))
             if "7.2.4" in want:
                 truth[("7.2.4", f"K_a{r}{c}")] = (float(dev.Ka[i, j]), "", "")
@@ -414,57 +450,78 @@ class MimuVariant:
 VARIANTS = {
     "mimu-16bit-100Hz-skewed": MimuVariant(
         "mimu-16bit-100Hz-skewed",
-        "16-bit over ±400 °/s / ±8 gn (finer than the noise), 100 Hz CSV, 30 s per record, the plan's "
-        "nine rates; non-orthogonal axes and cross-coupling within ±5×10⁻³, an axis read inverted (30 %), "
-        "g-sensitivity ±0.05 (°/s)/gn, p ±5×10⁻⁴; table U 2×10⁻⁴ (k = 2), ±10″; latitude ±70°",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.01, seconds=30.0, fmt="csv", bits=16, fs_g=400.0, fs_a=8.0,
-                                         rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.05, p_mag=5e-4,
+        "16-bit over ±400 °/s / ±8 gn (finer than the noise), 100 Hz CSV, 30 s per record, the "
+        "plan's nine rates; non-orthogonal axes and cross-coupling within ±5×10⁻³, an axis read "
+        "inverted (30 %), g-sensitivity ±0.05 (°/s)/gn, p ±5×10⁻⁴; table U 2×10⁻⁴ (k = 2), ±10″; "
+        "latitude ±70°",
+        lambda f, rng, quick: build_mimu(f, rng, dt=0.01, seconds=30.0, fmt="csv", bits=16,
+                                         fs_g=400.0, fs_a=8.0,
+                                         rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.05,
+                                         p_mag=5e-4,
                                          arw=(0.005, 0.02), vrw=(5e-5, 2e-4), quick=quick)),
     "mimu-24bit-200Hz-goodtable-gravity": MimuVariant(
         "mimu-24bit-200Hz-goodtable-gravity",
-        "24-bit (fine) at 200 Hz in .npy, 60 s per record, a quiet MIMU (0.002–0.005 °/s/√Hz, 20–50 µg/√Hz); "
-        "a table as table 1 asks (rate U 2×10⁻⁵, k = 2; ±5″); the lab's measured local g in [site] gravity",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.005, seconds=60.0, fmt="npy", bits=24, fs_g=400.0,
-                                         fs_a=8.0, rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.02,
+        "24-bit (fine) at 200 Hz in .npy, 60 s per record, a quiet MIMU (0.002–0.005 °/s/√Hz, "
+        "20–50 µg/√Hz); a table as table 1 asks (rate U 2×10⁻⁵, k = 2; ±5″); the lab's measured "
+        "local g in [site] gravity",
+        lambda f, rng, quick: build_mimu(f, rng, dt=0.005, seconds=60.0, fmt="npy", bits=24,
+                                         fs_g=400.0,
+                                         fs_a=8.0, rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3,
+                                         g_sens=0.02,
                                          p_mag=2e-4, arw=(0.002, 0.005), vrw=(2e-5, 5e-5),
-                                         lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0, axis_perp=10.0),
+                                         lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0,
+                                                 axis_perp=10.0),
                                          write_gravity=True, quick=quick)),
     "mimu-12bit-50Hz-coarse-rad-ms2": MimuVariant(
         "mimu-12bit-50Hz-coarse-rad-ms2",
-        "12-bit (appendix A's N) over ±300 °/s / ±4 gn: 1 LSB 0.15 °/s, 2 mg, coarser than the noise "
-        "(undithered); columns in rad/s and m/s², 50 Hz CSV without a time column; 7 rates "
+        "12-bit (appendix A's N) over ±300 °/s / ±4 gn: 1 LSB 0.15 °/s, 2 mg, coarser than the "
+        "noise (undithered); columns in rad/s and m/s², 50 Hz CSV without a time column; 7 rates "
         "±300, ±150, ±50, 0 (ω = 300 °/s for 7.2.5)",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.02, seconds=40.0, fmt="csv", bits=12, fs_g=300.0, fs_a=4.0,
-                                         rates=(-300, -150, -50, 0, 50, 150, 300), xc_g=1e-2, xc_a=1e-2,
-                                         g_sens=0.05, p_mag=5e-4, arw=(0.002, 0.01), vrw=(5e-5, 2e-4),
-                                         gyro_unit="rad/s", acc_unit="m/s2", with_time=False, quick=quick),
+        lambda f, rng, quick: build_mimu(f, rng, dt=0.02, seconds=40.0, fmt="csv", bits=12,
+                                         fs_g=300.0, fs_a=4.0,
+                                         rates=(-300, -150, -50, 0, 50, 150, 300), xc_g=1e-2,
+                                         xc_a=1e-2,
+                                         g_sens=0.05, p_mag=5e-4, arw=(0.002, 0.01),
+                                         vrw=(5e-5, 2e-4),
+                                         gyro_unit="rad/s", acc_unit="m/s2", with_time=False,
+                                         quick=quick),
         options=("omega=300 deg/s",)),
     "mimu-1kHz-wander-polar-altitude": MimuVariant(
         "mimu-1kHz-wander-polar-altitude",
-        "1 kHz .npy, 16 bits over ±2000 °/s / ±16 gn, 11 rates up to ±2000 °/s (ω = 1000 °/s for 7.2.5), "
-        "a gyro-bias thermal wander 0.01 °/s (period 10–60 min), large cross terms (±2×10⁻²), "
-        "g-sensitivity ±0.1, p ±1×10⁻³; latitude 60–89° either hemisphere, altitude 0–3000 m, no [site] gravity",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.001, seconds=30.0, fmt="npy", bits=16, fs_g=2000.0,
-                                         fs_a=16.0, rates=(-2000, -1000, -500, -200, -100, 0, 100, 200, 500,
+        "1 kHz .npy, 16 bits over ±2000 °/s / ±16 gn, 11 rates up to ±2000 °/s (ω = 1000 °/s for "
+        "7.2.5), a gyro-bias thermal wander 0.01 °/s (period 10–60 min), large cross terms "
+        "(±2×10⁻²), g-sensitivity ±0.1, p ±1×10⁻³; latitude 60–89° either hemisphere, altitude "
+        "0–3000 m, no [site] gravity",
+        lambda f, rng, quick: build_mimu(f, rng, dt=0.001, seconds=30.0, fmt="npy", bits=16,
+                                         fs_g=2000.0,
+                                         fs_a=16.0, rates=(-2000, -1000, -500, -200, -100, 0, 100,
+                                                           200, 500,
                                                            1000, 2000),
-                                         xc_g=2e-2, xc_a=2e-2, g_sens=0.1, p_mag=1e-3, arw=(0.01, 0.03),
+                                         xc_g=2e-2, xc_a=2e-2, g_sens=0.1, p_mag=1e-3,
+                                         arw=(0.01, 0.03),
                                          vrw=(1e-4, 3e-4), wander=0.01, altitude=(0.0, 3000.0),
-                                         lat_range=(60.0, 89.0) if rng.uniform() < 0.5 else (-89.0, -60.0),
+                                         lat_range=(60.0, 89.0) if rng.uniform() < 0.5
+                                         else (-89.0, -60.0),
                                          quick=quick),
         options=("omega=1000 deg/s",)),
     "mimu-24bit-quiet-skewed-repeats": MimuVariant(
         "mimu-24bit-quiet-skewed-repeats",
-        "a quiet MIMU (0.0003–0.001 °/s/√Hz, 10–30 µg/√Hz), 24-bit at 50 Hz .npy, 60 s records, large "
-        "cross terms (±2×10⁻², non-orthogonal axes) at latitude ±(50–85)°; three repeated calibrations "
-        "(rate-repeat, remounted in the fixture, K_g diagonal σ 2×10⁻⁴ and B_g σ 0.01 °/s per power-on); "
-        "table U 5×10⁻⁵, ±5″, fixture 5″, axis perpendicularity 5″ stated",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.02, seconds=60.0, fmt="npy", bits=24, fs_g=500.0,
-                                         fs_a=10.0, rates=(-500, -250, -100, -20, 0, 20, 100, 250, 500),
-                                         xc_g=2e-2, xc_a=2e-2, g_sens=0.01, p_mag=2e-4, arw=(3e-4, 1e-3),
+        "a quiet MIMU (0.0003–0.001 °/s/√Hz, 10–30 µg/√Hz), 24-bit at 50 Hz .npy, 60 s records, "
+        "large cross terms (±2×10⁻², non-orthogonal axes) at latitude ±(50–85)°; three repeated "
+        "calibrations (rate-repeat, remounted in the fixture, K_g diagonal σ 2×10⁻⁴ and B_g σ 0.01 "
+        "°/s per power-on); table U 5×10⁻⁵, ±5″, fixture 5″, axis perpendicularity 5″ stated",
+        lambda f, rng, quick: build_mimu(f, rng, dt=0.02, seconds=60.0, fmt="npy", bits=24,
+                                         fs_g=500.0,
+                                         fs_a=10.0, rates=(-500, -250, -100, -20, 0, 20, 100, 250,
+                                                           500),
+                                         xc_g=2e-2, xc_a=2e-2, g_sens=0.01, p_mag=2e-4,
+                                         arw=(3e-4, 1e-3),
                                          vrw=(1e-5, 3e-5),
-                                         lab=Lab(table_U=5e-5, position_accuracy=5.0, fixture=5.0, axis_perp=5.0,
+                                         lab=Lab(table_U=5e-5, position_accuracy=5.0, fixture=5.0,
+                                                 axis_perp=5.0,
                                                  state_axis_perp=True),
-                                         lat_range=(50.0, 85.0) if rng.uniform() < 0.5 else (-85.0, -50.0),
+                                         lat_range=(50.0, 85.0) if rng.uniform() < 0.5
+                                         else (-85.0, -50.0),
                                          repeats=3, sigma_K=2e-4, sigma_B=0.01, quick=quick),
         options=("omega=500 deg/s",)),
 }
@@ -474,22 +531,29 @@ def _warmup(started: bool, shuffle: bool = False):
     return lambda f, rng, quick: build_mimu(
         f, rng, dt=0.01, seconds=30.0, fmt="npy", bits=24, fs_g=125.0, fs_a=8.0,
         rates=(-125, -60, -20, 0, 20, 60, 125), xc_g=5e-3, xc_a=5e-3, g_sens=0.02, p_mag=2e-4,
-        arw=(0.002, 0.005), vrw=(2e-5, 5e-5), wander=0.2 * 4 / (2 * math.pi),  # slope A·2π/4 h = 0.2 °/s/h at t = 0
-        lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0, axis_perp=10.0), write_gravity=True, ramp=True,
+        # slope A·2π/4 h = 0.2 °/s/h at t = 0
+        arw=(0.002, 0.005), vrw=(2e-5, 5e-5), wander=0.2 * 4 / (2 * math.pi),
+        lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0, axis_perp=10.0),
+        write_gravity=True, ramp=True,
         started=started, shuffle=shuffle, quick=quick)
 
 
-_WARMUP = ("a MIMU still warming up: each gyro bias ramps by 0.1–0.3 °/s per hour of either sign (the "
-           "campaign's 33 min, recorded in the plan's order: positions, then each sweep from −125 to +125 °/s); "
-           "24 bits over ±125 °/s at 100 Hz .npy, 30 s records, 7 rates; table U 2×10⁻⁵, ±5″; g stated")
+_WARMUP = ("a MIMU still warming up: each gyro bias ramps by 0.1–0.3 °/s per hour of either sign "
+           "(the campaign's 33 min, recorded in the plan's order: positions, then each sweep from "
+           "−125 to +125 °/s); 24 bits over ±125 °/s at 100 Hz .npy, 30 s records, 7 rates; table "
+           "U 2×10⁻⁵, ±5″; g stated")
 VARIANTS["mimu-24bit-warmup-ramp"] = MimuVariant(
-    "mimu-24bit-warmup-ramp", _WARMUP + "; no recording times", _warmup(False), options=("omega=125 deg/s",))
+    "mimu-24bit-warmup-ramp", _WARMUP + "; no recording times", _warmup(False),
+    options=("omega=125 deg/s",))
 VARIANTS["mimu-24bit-warmup-ramp-started"] = MimuVariant(
-    "mimu-24bit-warmup-ramp-started", _WARMUP + "; each segment's `started` (the acquisition's clock, UTC+8)",
+    "mimu-24bit-warmup-ramp-started", _WARMUP
+    + "; each segment's `started` (the acquisition's clock, UTC+8)",
     _warmup(True), options=("omega=125 deg/s",))
 VARIANTS["mimu-24bit-warmup-ramp-shuffled"] = MimuVariant(
-    "mimu-24bit-warmup-ramp-shuffled", _WARMUP + "; no recording times, and the manifest lists the segments in a "
-    "random order (recorded in the plan's)", _warmup(False, shuffle=True), options=("omega=125 deg/s",))
+    "mimu-24bit-warmup-ramp-shuffled", _WARMUP
+    + "; no recording times, and the manifest lists the segments in a "
+    "random order (recorded in the plan's)", _warmup(False, shuffle=True),
+    options=("omega=125 deg/s",))
 
 
 # --------------------------------------------------------------------------------------------
@@ -497,7 +561,8 @@ VARIANTS["mimu-24bit-warmup-ramp-shuffled"] = MimuVariant(
 # --------------------------------------------------------------------------------------------
 
 def run_metro(manifest: Path, standard: str, items: str, options=()) -> tuple[int, dict, str]:
-    argv = ["run", "-s", standard, "-i", items, "--data", str(manifest), "--json", "--no-report", "--quiet"]
+    argv = ["run", "-s", standard, "-i", items, "--data", str(manifest), "--json", "--no-report",
+            "--quiet"]
     for o in options:
         argv += ["-o", o]
     from metro.core.cli.app import main
@@ -520,9 +585,11 @@ def run_metro(manifest: Path, standard: str, items: str, options=()) -> tuple[in
 
 def run_variant(variant: MimuVariant, devices: int, seed0: int, workdir: Path, quick: bool = False,
                 keep: bool = False) -> list[dict]:
-    """:func:`independent_campaigns.run_variant` with the variant's item options on metro's command line."""
+    """:func:`independent_campaigns.run_variant` with the variant's item options on metro's command
+    line."""
     return ic.run_variant(variant, devices, seed0, workdir, quick=quick, keep=keep,
-                          metro=lambda m: run_metro(m, variant.standard, variant.items, variant.options))
+                          metro=lambda m: run_metro(m, variant.standard, variant.items,
+                                                    variant.options))
 
 
 GROUPS = (("7.2.1", "K_g diagonal", lambda k: k[3] == k[4]),
@@ -552,21 +619,23 @@ def grouped(rows: list[dict]) -> list[dict]:
 
 
 def markdown(rows: list[dict]) -> str:
-    out = ["| variant | item | results | values | not reportable | within U (or not reportable) | mean E_n | "
-           "rms E_n | max abs E_n |", "|---|---|---|---|---|---|---|---|---|"]
+    out = ["| variant | item | results | values | not reportable | within U (or not reportable) | "
+           "mean E_n | rms E_n | max abs E_n |", "|---|---|---|---|---|---|---|---|---|"]
     for s in grouped(rows):
         def f(x, fmt):
             return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
         other = f" ({'; '.join(s['other'])[:200]})" if s["other"] else ""
-        out.append(f"| {s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | {s['not_reportable']} | "
-                   f"{100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} | {f(s['rms_En'], '.2f')} | "
-                   f"{f(s['max_abs_En'], '.2f')} |")
+        out.append(f"| {s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | "
+                   f"{s['not_reportable']} | {100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} "
+                   f"| {f(s['rms_En'], '.2f')} | {f(s['max_abs_En'], '.2f')} |")
     return "\n".join(out)
 
 
 def main(argv=None) -> int:
-    return ic.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-mimu-", quick_help="30 s records (a smoke run)",
-                  run=lambda v, a, work: run_variant(v, a.devices, a.seed, work, quick=a.quick, keep=a.keep is not None),
+    return ic.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-mimu-",
+                  quick_help="30 s records (a smoke run)",
+                  run=lambda v, a, work: run_variant(v, a.devices, a.seed, work, quick=a.quick,
+                                                     keep=a.keep is not None),
                   summary=lambda rows, a: summarise(rows) if a.per_result else grouped(rows),
                   table=lambda rows, a: ic.markdown(rows) if a.per_result else markdown(rows),
                   add_arguments=lambda ap: ap.add_argument("--per-result", action="store_true",

@@ -1,26 +1,31 @@
 """The independent harness, JJF 2014: shock, vibration, stability and the dynamic items.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_dyn.py [--devices 30] [--variants A,B]
-                                                                       [--seed 1] [--json F] [--keep DIR]
+Run: nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_dyn.py [--devices 30] [--variants
+A,B]
+                                                                       [--seed 1] [--json F] [--keep
+                                                                       DIR]
 
-The items no other harness module covers: 7.2.7 ΔK after shock, 7.2.8 ΔK after vibration, 7.2.14 bias
-stability B_s, 7.2.18 ΔB after shock, 7.2.19 ΔB after vibration, 7.2.21 bandwidth B_w, 7.2.22 output
-delay T_d and 7.2.23 start-up time.  As in the other modules, the generators were written from the
-documentation (docs/data-format.md, docs/instruments.md, ``metro plan -s jjf2014 -i …``'s segment
-list and columns) and the standard's clauses only; numpy makes the samples and only the shared pieces
-of ``independent_campaigns.py`` (noise, outputs, campaign writer, scoring, ``run_variant``, ``cli``) are
-imported — no part of metro's instruments or simulators (tests/plugins/jjf2014/test_independent_dynamic.py checks it).
+The items no other harness module covers: 7.2.7 ΔK after shock, 7.2.8 ΔK after vibration, 7.2.14
+bias stability B_s, 7.2.18 ΔB after shock, 7.2.19 ΔB after vibration, 7.2.21 bandwidth B_w, 7.2.22
+output delay T_d and 7.2.23 start-up time. As in the other modules, the generators were written from
+the documentation (docs/data-format.md, docs/instruments.md, ``metro plan -s jjf2014 -i …``'s
+segment list and columns) and the standard's clauses only; numpy makes the samples and only the
+shared pieces of ``independent_campaigns.py`` (noise, outputs, campaign writer, scoring,
+``run_variant``, ``cli``) are imported — no part of metro's instruments or simulators
+(tests/plugins/jjf2014/test_independent_dynamic.py checks it).
 
-The device (every variant; parameters drawn per device): a vibratory rate gyro with an analog output,
+The device (every variant; parameters drawn per device): a vibratory rate gyro with an analog
+output,
 
     output = K · k_rec · [ Ω + (b_rec + earth + wander + white + flicker)/3600 ]      (mV, or mV/V)
 
-K ±(1 … 100) mV/[(°)/s] log-uniform, either sign; k_rec the record's power-on K factor (1σ σ_K) times
-the shifts the shocks and vibrations left (7.2.7/7.2.8); b_rec the record's bias: the device's mean
-bias ±360 °/h, + a turn-on draw (σ_b) for each power-on, + the shifts (7.2.18/7.2.19).  The dynamic
-items add a real frequency response H(f) — first order with a pure delay (eq. (46)), or second order
-(ω_n, ζ) with a delay — and the start-up item a power-on transient (exponential, two exponentials,
-ringing, a dead time with the output at 0 mV, a drive amplitude building up that scales K).
+K ±(1 … 100) mV/[(°)/s] log-uniform, either sign; k_rec the record's power-on K factor (1σ σ_K)
+times the shifts the shocks and vibrations left (7.2.7/7.2.8); b_rec the record's bias: the device's
+mean bias ±360 °/h, + a turn-on draw (σ_b) for each power-on, + the shifts (7.2.18/7.2.19). The
+dynamic items add a real frequency response H(f) — first order with a pure delay (eq. (46)), or
+second order (ω_n, ζ) with a delay — and the start-up item a power-on transient (exponential, two
+exponentials, ringing, a dead time with the output at 0 mV, a drive amplitude building up that
+scales K).
 
 What the truth is (the standard's measurand on the records actually written; noise and the
 equipment's errors are measurement error):
@@ -90,7 +95,8 @@ AVT_PHASE_U = 0.2     # its phase U, degrees (k = 2)
 class Device:
     """A vibratory rate gyro with an analog output (module docstring)."""
 
-    def __init__(self, rng, *, kind: str, q: float, arw=(0.05, 0.5), flick: float = 0.0, wander: float = 0.0,
+    def __init__(self, rng, *, kind: str, q: float, arw=(0.05, 0.5), flick: float = 0.0,
+                 wander: float = 0.0,
                  sigma_b=(1.0, 10.0), sigma_K=(5e-5, 4e-4)):
         self.rng = rng
         self.lat = float(rng.uniform(-80, 80))
@@ -112,13 +118,14 @@ class Device:
                 self.b_mean + self.sigma_b * float(self.rng.standard_normal()))
 
     def record(self, om: float | np.ndarray, n: int, dt: float, k: float, b: float, *, extra=None):
-        """Samples of one record at the (true) rate ``om`` °/s with K factor ``k`` and bias ``b`` °/h
-        (+ ``extra`` °/h per sample): (values, wander mean, flicker mean), both °/h."""
+        """Samples of one record at the (true) rate ``om`` °/s with K factor ``k`` and bias ``b``
+        °/h (+ ``extra`` °/h per sample): (values, wander mean, flicker mean), both °/h."""
         wh, fl, w = self.noise.draw3(n, dt, self.rng)
         sensed = np.asarray(om, dtype=float) * 3600.0 + b + self.earth + wh + fl + w
         if extra is not None:
             sensed = sensed + extra
-        return self.out.record(sensed, dt, K_scale=k, rng=self.rng), float(w.mean()), float(fl.mean())
+        return self.out.record(sensed, dt, K_scale=k,
+                               rng=self.rng), float(w.mean()), float(fl.mean())
 
     def manifest_device(self, name: str, extra: dict | None = None) -> dict:
         d = {"id": name, "technology": "vibratory", "output": "analog"}
@@ -128,17 +135,20 @@ class Device:
 
 
 def _table_errors(rng, rates) -> dict:
-    """The rate table errs within its certificate (U = 1×10⁻⁴, k = 2): a fixed error per set point."""
+    """The rate table errs within its certificate (U = 1×10⁻⁴, k = 2): a fixed error per set
+    point."""
     return {r: float(rng.uniform(-1, 1)) * math.sqrt(3) * 0.5e-4 for r in rates}
 
 
-def _calibration(camp: Campaign, dev: Device, rates, terr, *, prefix: str, kind: str, n: int, dt: float,
+def _calibration(camp: Campaign, dev: Device, rates, terr, *, prefix: str, kind: str, n: int,
+                 dt: float,
                  k: float, b: float, cond: dict | None = None) -> None:
     """One 7.2.1.1 calibration: each rate forward then reverse, ``n`` samples at ``dt``."""
     for r in rates:
         for sgn, tag in ((1, "+"), (-1, "-")):
             vals, _, _ = dev.record(sgn * r * (1 + terr[r]), n, dt, k, b)
-            camp.add(f"{prefix}{tag}{r}", kind, vals, dt, {"rate": f"{sgn * r!r} deg/s"} | (cond or {}))
+            camp.add(f"{prefix}{tag}{r}", kind, vals, dt, {"rate": f"{sgn * r!r} deg/s"}
+                     | (cond or {}))
 
 
 def _shifts(rng, big: float, small: float) -> dict:
@@ -157,21 +167,26 @@ def _shifts(rng, big: float, small: float) -> dict:
 # 7.2.7, 7.2.8: K before and after shock and vibration
 # --------------------------------------------------------------------------------------------
 
-def build_change_k(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, flick: float = 0.0,
-                   power_off: bool | None = None, repeats: bool = False, quick: bool = False) -> dict:
-    """Per test (shock, then vibration) and axis X, Y, Z: a 7.2.1 calibration before, the test, one after
-    (7.2.7.1 d), 7.2.8.1 e)).  The device is powered off between calibrations on half the devices
-    (each its own power-on) or stays on through the campaign; the tests' shifts accumulate."""
+def build_change_k(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
+                   flick: float = 0.0,
+                   power_off: bool | None = None, repeats: bool = False,
+                   quick: bool = False) -> dict:
+    """Per test (shock, then vibration) and axis X, Y, Z: a 7.2.1 calibration before, the test, one
+    after (7.2.7.1 d), 7.2.8.1 e)). The device is powered off between calibrations on half the
+    devices (each its own power-on) or stays on through the campaign; the tests' shifts
+    accumulate."""
     dev = Device(rng, kind=kind, q=q, flick=flick)
     power_off = bool(rng.uniform() < 0.5) if power_off is None else power_off
     rates = R5_100 if not quick else (0.63, 4, 25, 100)
     terr = _table_errors(rng, rates)
     n = int(round((10.0 if not quick else 4.0) / dt))
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt, output=dev.out)
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
+                    output=dev.out)
     k_session, b_session = dev.power_on()
     state = 1.0
     truth = {}
-    for item, key, kind_, big in (("7.2.7", "dK_shock", "rate-shock", 3e-3), ("7.2.8", "dK_vib", "rate-vibration", 2e-3)):
+    for item, key, kind_, big in (("7.2.7", "dK_shock", "rate-shock", 3e-3),
+                                  ("7.2.8", "dK_vib", "rate-vibration", 2e-3)):
         shifts = _shifts(rng, big, 2e-5)
         dk, dk_alt = [], []
         for a in AXES:
@@ -183,7 +198,8 @@ def build_change_k(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: st
                 k_on, b_on = dev.power_on() if power_off else (k_session, b_session)
                 k = state * k_on
                 ks.append(k)
-                _calibration(camp, dev, rates, terr, prefix=f"{kind_}[{a}-{phase}]", kind=kind_, n=n, dt=dt, k=k,
+                _calibration(camp, dev, rates, terr, prefix=f"{kind_}[{a}-{phase}]", kind=kind_,
+                             n=n, dt=dt, k=k,
                              b=b_on, cond={"axis": a, "phase": phase})
             dk.append(abs(dev.K * (ks[1] - ks[0])))
             dk_alt.append(abs(dev.K * k_before_state * shifts[a]))
@@ -191,7 +207,8 @@ def build_change_k(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: st
     if repeats:  # 7.2.4: six calibrations, each a power-on (K_r for the budgets)
         for run in range(1, 7):
             k_on, b_on = dev.power_on()
-            _calibration(camp, dev, rates, terr, prefix=f"rate-repeat#{run}", kind="rate-repeat", n=n, dt=dt,
+            _calibration(camp, dev, rates, terr, prefix=f"rate-repeat#{run}", kind="rate-repeat",
+                         n=n, dt=dt,
                          k=state * k_on, b=b_on, cond={"run": str(run)})
     camp.write_manifest()
     return truth
@@ -201,18 +218,21 @@ def build_change_k(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: st
 # 7.2.18, 7.2.19: bias before and after shock and vibration
 # --------------------------------------------------------------------------------------------
 
-def build_change_b(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, flick: float = 0.0,
+def build_change_b(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
+                   flick: float = 0.0,
                    wander: float = 0.0, minutes: float = 30.0, power_off: bool | None = None,
                    repeats: bool = False, quick: bool = False) -> dict:
-    """A 7.2.1 calibration (K), then per test and axis a 7.2.13 record before and after (7.2.18.1 c)–e),
-    7.2.19.1 d)–f)), IRA up; powered off between records on half the devices."""
+    """A 7.2.1 calibration (K), then per test and axis a 7.2.13 record before and after (7.2.18.1
+    c)–e), 7.2.19.1 d)–f)), IRA up; powered off between records on half the devices."""
     dev = Device(rng, kind=kind, q=q, flick=flick, wander=wander)
     power_off = bool(rng.uniform() < 0.5) if power_off is None else power_off
     rates = R5_100 if not quick else (0.63, 4, 25, 100)
     terr = _table_errors(rng, rates)
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt, output=dev.out)
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
+                    output=dev.out)
     k_cal, b_cal = dev.power_on()
-    _calibration(camp, dev, rates, terr, prefix="rate", kind="rate", n=int(round(10.0 / 1.0)), dt=1.0, k=k_cal,
+    _calibration(camp, dev, rates, terr, prefix="rate", kind="rate", n=int(round(10.0 / 1.0)),
+                 dt=1.0, k=k_cal,
                  b=b_cal)
     n = int(round(60.0 * (minutes if not quick else 5.0) / dt))
     k_session, b_session = dev.power_on()
@@ -239,7 +259,8 @@ def build_change_b(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: st
         for run in range(1, 7):
             k_on, b_on = dev.power_on()
             vals, _, _ = dev.record(0.0, n, dt, k_on, b_on + shift_b)
-            camp.add(f"static-repeat#{run}", "static-repeat", vals, dt, {"run": str(run), "orientation": "IRA up"})
+            camp.add(f"static-repeat#{run}", "static-repeat", vals, dt,
+                     {"run": str(run), "orientation": "IRA up"})
     camp.write_manifest()
     return truth
 
@@ -254,14 +275,16 @@ def bs_eq29(x: np.ndarray, P: int) -> float:
     return float(np.std(x[: m * P].reshape(m, P).mean(axis=1), ddof=1))
 
 
-def build_stability(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, flick: float = 0.0,
+def build_stability(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
+                    flick: float = 0.0,
                     wander: float = 0.0, ramp: float = 0.0, hours: float = 1.0, mc: int = 100,
                     quick: bool = False) -> dict:
     """A 7.2.1 calibration and one 7.2.13.1 record (IRA up), P = 10 s (metro's default)."""
     dev = Device(rng, kind=kind, q=q, flick=flick, wander=wander)
     rates = R5_100 if not quick else (0.63, 4, 25, 100)
     terr = _table_errors(rng, rates)
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt, output=dev.out)
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
+                    output=dev.out)
     k_cal, b_cal = dev.power_on()
     _calibration(camp, dev, rates, terr, prefix="rate", kind="rate", n=10, dt=1.0, k=k_cal, b=b_cal)
     n = int(round(3600.0 * (hours if not quick else 0.1) / dt))
@@ -271,7 +294,8 @@ def build_stability(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: s
     t_h = dt * (np.arange(n) + 0.5) / 3600.0
     vals, _, _ = dev.record(0.0, n, dt, k_on, b_on, extra=r * (t_h - t_h.mean()))
     camp.add("static", "static", vals, dt, {"orientation": "IRA up"})
-    scale = abs(dev.K * k_on) / 3600.0 / (dev.supply if kind == "mV/V" else 1.0)  # column unit per °/h
+    # column unit per °/h
+    scale = abs(dev.K * k_on) / 3600.0 / (dev.supply if kind == "mV/V" else 1.0)
     s2 = []
     for _ in range(mc if not quick else 20):
         v, _, _ = dev.record(0.0, n, dt, k_on, b_on, extra=r * (t_h - t_h.mean()))
@@ -286,7 +310,8 @@ def build_stability(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: s
 # --------------------------------------------------------------------------------------------
 
 class Response:
-    """H(f) relative to the DC gain: first order (corner f_c) or second order (f_n, ζ), times e^{−sT_d}."""
+    """H(f) relative to the DC gain: first order (corner f_c) or second order (f_n, ζ), times
+    e^{−sT_d}."""
 
     def __init__(self, order: int, fc: float, td: float, zeta: float = 0.7):
         self.order, self.fc, self.td, self.zeta = order, fc, td, zeta
@@ -320,24 +345,29 @@ def td_eq50(freqs: np.ndarray, P: np.ndarray, bw: float) -> float:
     return float(w @ y / (w @ w))
 
 
-def build_dynamic(folder: Path, rng, *, kind: str, q: float, order: int, fs: float, records: int = 10,
+def build_dynamic(folder: Path, rng, *, kind: str, q: float, order: int, fs: float,
+                  records: int = 10,
                   nfreq=(10, 14), flick: float = 0.0, quick: bool = False) -> dict:
-    """A 7.2.1 calibration (S₀ = K) and the 7.2.21.1 records: N log-spaced frequencies from 10 Hz to 2× the
-    lab's estimate of B_w (within ±30 % of the truth), n records of 1 s each at ``fs``, amplitude 10–30 % of
-    a range of 100–500 °/s; columns ``output`` and ``reference`` (the reference sensor: °/s, with a fixed
-    amplitude error and phase error within its certificate, and its own noise)."""
+    """A 7.2.1 calibration (S₀ = K) and the 7.2.21.1 records: N log-spaced frequencies from 10 Hz to
+    2× the lab's estimate of B_w (within ±30 % of the truth), n records of 1 s each at ``fs``,
+    amplitude 10–30 % of a range of 100–500 °/s; columns ``output`` and ``reference`` (the reference
+    sensor: °/s, with a fixed amplitude error and phase error within its certificate, and its own
+    noise)."""
     dev = Device(rng, kind=kind, q=q, flick=flick)
     if order == 1:
-        resp = Response(1, float(np.exp(rng.uniform(math.log(20), math.log(250)))), float(rng.uniform(0.0, 2e-3)))
+        resp = Response(1, float(np.exp(rng.uniform(math.log(20), math.log(250)))),
+                        float(rng.uniform(0.0, 2e-3)))
     else:
-        resp = Response(2, float(np.exp(rng.uniform(math.log(30), math.log(250)))), float(rng.uniform(0.0, 1e-3)),
+        resp = Response(2, float(np.exp(rng.uniform(math.log(30), math.log(250)))),
+                        float(rng.uniform(0.0, 1e-3)),
                         zeta=float(rng.uniform(0.45, 1.0)))
     bw707, bw3 = resp.level_point(0.707), resp.level_point(1 / math.sqrt(2))
     rates = R5_100 if not quick else (0.63, 4, 25, 100)
     terr = _table_errors(rng, rates)
     avt = {"id": "AVT-X", "role": "angular_vibration_table", "phase_U": f"{AVT_PHASE_U!r} deg",
            "calibration": {"certificate": "IND-AVT-1", "U": f"{AVT_U!r}", "k": 2}}
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM, avt], fmt="npy",
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM, avt],
+                    fmt="npy",
                     output=dev.out)
     k_on, b_on = dev.power_on()
     _calibration(camp, dev, rates, terr, prefix="rate", kind="rate", n=10, dt=1.0, k=k_on, b=b_on)
@@ -346,7 +376,8 @@ def build_dynamic(folder: Path, rng, *, kind: str, q: float, order: int, fs: flo
     freqs = [float(x) for x in np.round(np.geomspace(10.0, 2 * est, N), 1)]
     rng_ = float(rng.choice([100.0, 200.0, 300.0, 500.0]))
     amp = rng_ * float(rng.uniform(0.1, 0.3))
-    eA = float(rng.normal(0.0, AVT_U / 2))                     # the reference sensor's amplitude error
+    # the reference sensor's amplitude error
+    eA = float(rng.normal(0.0, AVT_U / 2))
     ePh = math.radians(float(rng.normal(0.0, AVT_PHASE_U / 2)))  # and its phase error
     dt = 1.0 / fs
     n = int(round((1.0 if not quick else 0.25) * fs))
@@ -367,7 +398,8 @@ def build_dynamic(folder: Path, rng, *, kind: str, q: float, order: int, fs: flo
             arr["reference [°/s]"] = ref
             np.save(folder / f"{sid}.npy", arr)
             camp.segments.append((sid, "angular-vibration", f"{sid}.npy", dt,
-                                  {"frequency": f"{f!r} Hz", "amplitude": f"{amp!r} deg/s", "repeat": str(j)}, ""))
+                                  {"frequency": f"{f!r} Hz", "amplitude": f"{amp!r} deg/s",
+                                   "repeat": str(j)}, ""))
             del true_rate
     freqs = np.array(freqs)
     P = np.unwrap(np.angle(resp(freqs)))
@@ -393,7 +425,9 @@ def transient(rng, shape: str, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, f
             dead = float(rng.uniform(0.5, 3.0))
     elif shape == "2exp":
         add = (sign * float(rng.uniform(0.3, 3.0)) * np.exp(-t / float(rng.uniform(0.3, 3.0)))
-               + float(rng.choice([-1, 1])) * float(rng.uniform(0.05, 0.2)) * np.exp(-t / float(rng.uniform(5.0, 12.0))))
+               + float(rng.choice([-1, 1])) * float(rng.uniform(0.05,
+                                                                0.2)) * np.exp(-t / float(
+                                                                    rng.uniform(5.0, 12.0))))
     elif shape == "ring":
         add = (sign * float(rng.uniform(0.3, 3.0)) * np.exp(-t / float(rng.uniform(0.5, 4.0)))
                * np.cos(2 * math.pi * float(rng.uniform(0.2, 2.0)) * t))
@@ -412,22 +446,27 @@ def _settle(t: np.ndarray, x: np.ndarray, target: float, tol: float) -> float:
     return float(t[out[-1] + 1])
 
 
-def _smooth(t: np.ndarray, x: np.ndarray, window: float, dt: float) -> tuple[np.ndarray, np.ndarray]:
+def _smooth(t: np.ndarray, x: np.ndarray, window: float,
+            dt: float) -> tuple[np.ndarray, np.ndarray]:
     """The documented moving average (option ``window``) placed at its centre."""
     k = max(1, int(round(window / dt)))
     c = np.convolve(x, np.ones(k) / k, mode="valid")
     return t[0] - dt + (np.arange(c.size) + (k + 1) / 2.0) * dt, c
 
 
-def build_startup(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, flick: float = 0.0,
-                  shapes=("exp", "2exp", "ring", "dead", "drive"), arw=(0.05, 0.5), quick: bool = False) -> dict:
-    """A 7.2.1 calibration, three position trials at rest and three rate trials (100, 10, 1 °/s), each a
-    power-on recorded from t = 0 for 60 s at ``dt`` (``metro plan``'s steps), IRA up."""
+def build_startup(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
+                  flick: float = 0.0,
+                  shapes=("exp", "2exp", "ring", "dead", "drive"), arw=(0.05, 0.5),
+                  quick: bool = False) -> dict:
+    """A 7.2.1 calibration, three position trials at rest and three rate trials (100, 10, 1 °/s),
+    each a power-on recorded from t = 0 for 60 s at ``dt`` (``metro plan``'s steps), IRA up."""
     dev = Device(rng, kind=kind, q=q, flick=flick, arw=arw)
     rates = R5_100 if not quick else (0.63, 4, 25, 100)
     terr = _table_errors(rng, rates)
-    timer = {"id": "TMR-X", "role": "timer", "calibration": {"certificate": "IND-TMR-1", "U": "1e-5", "k": 2}}
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM, timer], fmt=fmt,
+    timer = {"id": "TMR-X", "role": "timer", "calibration": {"certificate": "IND-TMR-1",
+                                                             "U": "1e-5", "k": 2}}
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM, timer],
+                    fmt=fmt,
                     output=dev.out)
     k_cal, b_cal = dev.power_on()
     _calibration(camp, dev, rates, terr, prefix="rate", kind="rate", n=10, dt=1.0, k=k_cal, b=b_cal)
@@ -476,73 +515,88 @@ def build_startup(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str
 VARIANTS = {
     "jjf-dK-shock-vib-mV-1Hz": Variant(
         "jjf-dK-shock-vib-mV-1Hz", "jjf2014", "7.2.7,7.2.8",
-        "mV, K ±(1 … 100) mV/(°/s) of either sign; per test a shift of K on no axis, one axis (0.2–1 × "
-        "3×10⁻³ / 2×10⁻³) or every axis; powered off between calibrations on half the devices (K power-on σ "
-        "5×10⁻⁵ … 4×10⁻⁴), no 7.2.4 runs; R5 rates to 100 °/s, 10 × 1 s (CSV), white noise",
-        lambda f, rng, quick: build_change_k(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv", quick=quick)),
+        "mV, K ±(1 … 100) mV/(°/s) of either sign; per test a shift of K on no axis, one axis "
+        "(0.2–1 × 3×10⁻³ / 2×10⁻³) or every axis; powered off between calibrations on half the "
+        "devices (K power-on σ 5×10⁻⁵ … 4×10⁻⁴), no 7.2.4 runs; R5 rates to 100 °/s, 10 × 1 s "
+        "(CSV), white noise",
+        lambda f, rng, quick: build_change_k(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
+                                             quick=quick)),
     "jjf-dK-shock-vib-mVV-10Hz-q-repeats": Variant(
         "jjf-dK-shock-vib-mVV-10Hz-q-repeats", "jjf2014", "7.2.4,7.2.7,7.2.8",
-        "as jjf-dK-shock-vib-mV-1Hz, mV/V rounded to 0.001 mV/V, 10 s at 10 Hz per rate (.npy), flicker "
-        "≈ 2 °/h, with six 7.2.4 power-ons (K_r)",
-        lambda f, rng, quick: build_change_k(f, rng, kind="mV/V", q=0.001, dt=0.1, fmt="npy", flick=2.0,
+        "as jjf-dK-shock-vib-mV-1Hz, mV/V rounded to 0.001 mV/V, 10 s at 10 Hz per rate (.npy), "
+        "flicker ≈ 2 °/h, with six 7.2.4 power-ons (K_r)",
+        lambda f, rng, quick: build_change_k(f, rng, kind="mV/V", q=0.001, dt=0.1, fmt="npy",
+                                             flick=2.0,
                                              repeats=True, quick=quick)),
     "jjf-dB-shock-vib-mV-1Hz": Variant(
         "jjf-dB-shock-vib-mV-1Hz", "jjf2014", "7.2.18,7.2.19",
-        "mV, either sign; per test a bias shift on no axis, one axis (0.2–1 × 30 / 20 °/h) or every axis; "
-        "powered off between records on half the devices (turn-on σ 1–10 °/h), no 7.2.15 runs; records 30 min "
-        "at 1 s (CSV, `metro plan`'s), white noise ARW 0.05–0.5 °/√h",
-        lambda f, rng, quick: build_change_b(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv", quick=quick)),
+        "mV, either sign; per test a bias shift on no axis, one axis (0.2–1 × 30 / 20 °/h) or "
+        "every axis; powered off between records on half the devices (turn-on σ 1–10 °/h), no "
+        "7.2.15 runs; records 30 min at 1 s (CSV, `metro plan`'s), white noise ARW 0.05–0.5 °/√h",
+        lambda f, rng, quick: build_change_b(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
+                                             quick=quick)),
     "jjf-dB-shock-vib-mVV-10Hz-flicker-q-repeats": Variant(
         "jjf-dB-shock-vib-mVV-10Hz-flicker-q-repeats", "jjf2014", "7.2.1,7.2.15,7.2.18,7.2.19",
-        "as jjf-dB-shock-vib-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker ≈ 1.5 °/h, "
-        "wander 1 °/h, six 7.2.15 power-ons (B_r)",
-        lambda f, rng, quick: build_change_b(f, rng, kind="mV/V", q=0.0005, dt=0.1, fmt="npy", flick=1.5,
+        "as jjf-dB-shock-vib-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker ≈ 1.5 "
+        "°/h, wander 1 °/h, six 7.2.15 power-ons (B_r)",
+        lambda f, rng, quick: build_change_b(f, rng, kind="mV/V", q=0.0005, dt=0.1, fmt="npy",
+                                             flick=1.5,
                                              wander=1.0, repeats=True, quick=quick)),
     "jjf-Bs-mV-10Hz-white": Variant(
         "jjf-Bs-mV-10Hz-white", "jjf2014", "7.2.14",
         "mV, either sign, static 1 h at 10 Hz (CSV), white noise ARW 0.05–0.5 °/√h only",
-        lambda f, rng, quick: build_stability(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv", quick=quick)),
+        lambda f, rng, quick: build_stability(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv",
+                                              quick=quick)),
     "jjf-Bs-mVV-10Hz-flicker-wander-q": Variant(
         "jjf-Bs-mVV-10Hz-flicker-wander-q", "jjf2014", "7.2.14",
-        "mV/V rounded to 0.0005 mV/V, 1 h at 10 Hz (.npy), flicker plateau ≈ 2 °/h, wander ≈ 2 °/h (period "
-        "10–60 min), ramp ±(0–20) °/h²",
-        lambda f, rng, quick: build_stability(f, rng, kind="mV/V", q=0.0005, dt=0.1, fmt="npy", flick=2.0,
+        "mV/V rounded to 0.0005 mV/V, 1 h at 10 Hz (.npy), flicker plateau ≈ 2 °/h, wander ≈ 2 °/h "
+        "(period 10–60 min), ramp ±(0–20) °/h²",
+        lambda f, rng, quick: build_stability(f, rng, kind="mV/V", q=0.0005, dt=0.1, fmt="npy",
+                                              flick=2.0,
                                               wander=2.0, ramp=20.0, quick=quick)),
     "jjf-Bw-Td-first-order-mV": Variant(
         "jjf-Bw-Td-first-order-mV", "jjf2014", "7.2.1,7.2.21,7.2.22",
-        "mV, either sign; first order + delay (eq. (46)): corner 20–250 Hz, delay 0–2 ms; N = 10–14 "
-        "frequencies 10 Hz … 2 × the lab's estimate of B_w, n = 10 records of 1 s at 10 kHz (.npy, columns "
-        "output and reference), amplitude 10–30 % of a 100–500 °/s range; reference sensor U 0.5 %, phase U 0.2°",
-        lambda f, rng, quick: build_dynamic(f, rng, kind="mV", q=0.0, order=1, fs=10000.0, quick=quick)),
+        "mV, either sign; first order + delay (eq. (46)): corner 20–250 Hz, delay 0–2 ms; N = "
+        "10–14 frequencies 10 Hz … 2 × the lab's estimate of B_w, n = 10 records of 1 s at 10 kHz "
+        "(.npy, columns output and reference), amplitude 10–30 % of a 100–500 °/s range; reference "
+        "sensor U 0.5 %, phase U 0.2°",
+        lambda f, rng, quick: build_dynamic(f, rng, kind="mV", q=0.0, order=1, fs=10000.0,
+                                            quick=quick)),
     "jjf-Bw-Td-second-order-mVV-q": Variant(
         "jjf-Bw-Td-second-order-mVV-q", "jjf2014", "7.2.1,7.2.21,7.2.22",
-        "mV/V rounded to 0.001 mV/V; second order (f_n 30–250 Hz, ζ 0.45–1) + delay 0–1 ms; otherwise as "
-        "jjf-Bw-Td-first-order-mV",
-        lambda f, rng, quick: build_dynamic(f, rng, kind="mV/V", q=0.001, order=2, fs=10000.0, quick=quick)),
+        "mV/V rounded to 0.001 mV/V; second order (f_n 30–250 Hz, ζ 0.45–1) + delay 0–1 ms; "
+        "otherwise as jjf-Bw-Td-first-order-mV",
+        lambda f, rng, quick: build_dynamic(f, rng, kind="mV/V", q=0.001, order=2, fs=10000.0,
+                                            quick=quick)),
     "jjf-startup-mV-10Hz": Variant(
         "jjf-startup-mV-10Hz", "jjf2014", "7.2.23",
-        "mV, either sign; power-on transients: exponential (0.2–3 °/s, τ 0.3–6 s), two exponentials (+ 0.05–0.2 "
-        "°/s with τ 5–12 s), ringing (0.2–2 Hz), a dead time of 0.5–3 s at 0 mV, or the drive amplitude "
-        "building up (τ 0.2–2 s, K scales with it); 3 position + 3 rate trials (100, 10, 1 °/s), 60 s at 0.1 s "
-        "(CSV), each a power-on (turn-on σ 1–10 °/h); white noise ARW 0.05–0.5 °/√h",
-        lambda f, rng, quick: build_startup(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv", quick=quick)),
+        "mV, either sign; power-on transients: exponential (0.2–3 °/s, τ 0.3–6 s), two "
+        "exponentials (+ 0.05–0.2 °/s with τ 5–12 s), ringing (0.2–2 Hz), a dead time of 0.5–3 s "
+        "at 0 mV, or the drive amplitude building up (τ 0.2–2 s, K scales with it); 3 position + 3 "
+        "rate trials (100, 10, 1 °/s), 60 s at 0.1 s (CSV), each a power-on (turn-on σ 1–10 °/h); "
+        "white noise ARW 0.05–0.5 °/√h",
+        lambda f, rng, quick: build_startup(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv",
+                                            quick=quick)),
     "jjf-startup-mVV-10Hz-quiet-q": Variant(
         "jjf-startup-mVV-10Hz-quiet-q", "jjf2014", "7.2.23",
-        "as jjf-startup-mV-10Hz, ARW 0.005–0.05 °/√h (the 1 °/s trial's ±1 % resolvable), mV/V rounded to "
-        "0.0002 mV/V (.npy)",
-        lambda f, rng, quick: build_startup(f, rng, kind="mV/V", q=0.0002, dt=0.1, fmt="npy", arw=(0.005, 0.05),
+        "as jjf-startup-mV-10Hz, ARW 0.005–0.05 °/√h (the 1 °/s trial's ±1 % resolvable), mV/V "
+        "rounded to 0.0002 mV/V (.npy)",
+        lambda f, rng, quick: build_startup(f, rng, kind="mV/V", q=0.0002, dt=0.1, fmt="npy",
+                                            arw=(0.005, 0.05),
                                             quick=quick)),
 }
 
 
 def run_dyn(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool = False,
             quick: bool = False, keep: bool = False) -> list[dict]:
-    return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep, scorer=score)
+    return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep,
+                       scorer=score)
 
 
 def main(argv=None) -> int:
     return cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-jjfdyn-", alt_label="alt",
-               run=lambda v, a, work: run_dyn(v, a.devices, a.seed, work, a.subprocess, quick=a.quick,
+               run=lambda v, a, work: run_dyn(v, a.devices, a.seed, work, a.subprocess,
+                                              quick=a.quick,
                                               keep=a.keep is not None))
 
 

@@ -1,15 +1,17 @@
 """The independent harness, JJF 2014: the other items a lab certifies from a calibration campaign.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_more.py [--devices 30] [--variants A,B]
-                                                                        [--seed 1] [--json F] [--keep DIR]
+Run: nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_more.py [--devices 30] [--variants
+A,B]
+                                                                        [--seed 1] [--json F]
+                                                                        [--keep DIR]
 
-benchmarks/independent_campaigns.py scores JJF 2014 7.2.1 K, 7.2.4 K_r and 7.2.13 B₀.  This module
+benchmarks/independent_campaigns.py scores JJF 2014 7.2.1 K, 7.2.4 K_r and 7.2.13 B₀. This module
 adds, with the same shared pieces (noise, outputs, campaign writer, scoring), devices and campaigns
-for 7.2.2 K_n and range, 7.2.3 K_a, 7.2.5 K_t, 7.2.6 K_g, 7.2.15 B_r, 7.2.16 B_t, 7.2.17 B_g,
-7.2.20 (ARW and the other Allan terms) and 7.2.11 / 7.2.12 (misalignment and its repeatability).
-As there, the generators were written from the documentation (docs/data-format.md, ``metro plan -s
-jjf2014 -i …``'s segment list) and the standard's clauses only; numpy makes the samples, no part of
-metro's instruments or simulators is imported (tests/plugins/jjf2014/test_independent_more.py checks it).
+for 7.2.2 K_n and range, 7.2.3 K_a, 7.2.5 K_t, 7.2.6 K_g, 7.2.15 B_r, 7.2.16 B_t, 7.2.17 B_g, 7.2.20
+(ARW and the other Allan terms) and 7.2.11 / 7.2.12 (misalignment and its repeatability). As there,
+the generators were written from the documentation (docs/data-format.md, ``metro plan -s jjf2014 -i
+…``'s segment list) and the standard's clauses only; numpy makes the samples, no part of metro's
+instruments or simulators is imported (tests/plugins/jjf2014/test_independent_more.py checks it).
 
 The device (every variant; parameters drawn per device):
 
@@ -75,11 +77,16 @@ from independent_campaigns import (  # noqa: E402  (the shared pieces of the har
 # the units of the items scored here, as metro may spell them
 UNIT_ALIASES.setdefault("°/s", {"°/s", "deg/s", "degree / second", "(°)/s"})
 UNIT_ALIASES.setdefault("1/°C", {"1/°C", "1 / delta_degree_Celsius", "1/delta_degC", "1/K", "/°C"})
-UNIT_ALIASES.setdefault("°/h/°C", {"°/h/°C", "degree / hour / delta_degree_Celsius", "deg/h/delta_degC",
+UNIT_ALIASES.setdefault("°/h/°C", {"°/h/°C", "degree / hour / delta_degree_Celsius",
+                                   "deg/h/delta_degC",
                                    "(°/h)/°C", "°/°C/h"})
-UNIT_ALIASES.setdefault("°/h/g", {"°/h/g", "degree / hour / standard_gravity", "deg/h/gn", "(°/h)/g"})
-UNIT_ALIASES.setdefault("mV/(°/s)/g", {"mV/(°/s)/g", "millivolt * second / degree / standard_gravity",
-                                       "mV/(deg/s)/gn", "millivolt / degree * second / standard_gravity", "mV·s/°/g"})
+UNIT_ALIASES.setdefault("°/h/g", {"°/h/g", "degree / hour / standard_gravity", "deg/h/gn",
+                                  "(°/h)/g"})
+UNIT_ALIASES.setdefault("mV/(°/s)/g", {"mV/(°/s)/g",
+                                       "millivolt * second / degree / standard_gravity",
+                                       "mV/(deg/s)/gn",
+                                       "millivolt / degree * second / standard_gravity",
+                                       "mV·s/°/g"})
 UNIT_ALIASES.setdefault("°/√h", {"°/√h", "degree / hour ** 0.5", "deg/hour**0.5", "(°)/√h"})
 UNIT_ALIASES.setdefault("°/h", set()).update({"degree / hour"})
 UNIT_ALIASES.setdefault("′", {"′", "arcminute", "arcmin"})
@@ -136,7 +143,8 @@ class Device:
                  orientation_sign: float = 1.0):
         self.rng = rng
         self.lat = float(rng.uniform(-80, 80))
-        self.earth = OMEGA_E_DEG_H * math.sin(math.radians(self.lat))   # °/h along a vertical IRA (up)
+        # °/h along a vertical IRA (up)
+        self.earth = OMEGA_E_DEG_H * math.sin(math.radians(self.lat))
         mag = float(np.exp(rng.uniform(math.log(K_range[0]), math.log(K_range[1]))))
         self.K = -mag if neg and rng.uniform() < 0.5 else mag           # mV/(°/s)
         self.a = asym * float(rng.uniform(-1, 1))
@@ -195,8 +203,10 @@ class Device:
         return d | (extra or {})
 
 
-def _rate_cal(camp: Campaign, dev: Device, rates, terr, *, prefix: str, kind: str, n: int, dt: float,
-              k_on: float, b_on: float, earth: float, cond: dict | None = None, dT=0.0, g_ira=0.0) -> None:
+def _rate_cal(camp: Campaign, dev: Device, rates, terr, *, prefix: str, kind: str, n: int,
+              dt: float,
+              k_on: float, b_on: float, earth: float, cond: dict | None = None, dT=0.0,
+              g_ira=0.0) -> None:
     """One 7.2.1.1 calibration: each rate forward then reverse, ``n`` samples at ``dt``."""
     for r in rates:
         for sgn, tag in ((1, "+"), (-1, "-")):
@@ -230,7 +240,8 @@ def build_nonlin(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
     b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
     F = dev.mean_out(om, k_on, b_on=b_on, earth=dev.earth)
     # a requirement between the noise-free K_n of two successive spans: the range is one of them
-    kns = [kn_eq7_8(om[np.abs(om) <= t], F[np.abs(om) <= t]) for t in sorted(rates, reverse=True)[:8]]
+    kns = [kn_eq7_8(om[np.abs(om) <= t], F[np.abs(om) <= t]) for t
+           in sorted(rates, reverse=True)[:8]]
     lo, hi = max(min(kns), 1e-7), max(max(kns), 2e-7)
     limit = float(np.exp(rng.uniform(math.log(lo), math.log(hi) + 0.7)))
     limit = float(f"{limit:.2g}")
@@ -260,7 +271,8 @@ def build_nonlin(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
 AXES = ("X", "Y", "Z")
 
 
-def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_static: float, fmt: str,
+def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_static: float,
+                 fmt: str,
                  flick: float = 0.0, wander: float = 0.0, ira_axis: str = "Z", quick: bool = False,
                  repeats: bool = False) -> dict:
     """7.2.1 (K for every item dividing by it), 7.2.5 (K at each chamber point, one power-on), 7.2.6
@@ -275,7 +287,8 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
     extra = {} if ira_axis == "Z" else {"ira_axis": ira_axis}
     camp = Campaign(folder, dev.manifest_device(folder.name, extra), dev.lat,
                     [RATE_TABLE, DMM, {"id": "CH-X", "role": "chamber",
-                                       "calibration": {"certificate": "IND-CH-1", "U": "0.5 degC", "k": 2}},
+                                       "calibration": {"certificate": "IND-CH-1", "U": "0.5 degC",
+                                                       "k": 2}},
                      {"id": "PT-X", "role": "position_table"}],
                     fmt=fmt, output=dev.out)
     terr = _table_errors(rng, rates)
@@ -285,7 +298,10 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
     e = dev.earth
 
     def power_on():
-        return 1 + dev.sigma_K * float(rng.standard_normal()), dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+        return (
+            1 + dev.sigma_K * float(rng.standard_normal()), dev.b_mean + dev.sigma_b
+            * float(rng.standard_normal())
+        )
 
     # 7.2.1 at room temperature: its own power-on
     k_cal, b_cal = power_on()
@@ -297,21 +313,25 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
     Ks = []
     for T in temps:
         dT = T - room
-        _rate_cal(camp, dev, rates, terr, prefix=f"rate-temperature@{T:g}C", kind="rate-temperature",
+        _rate_cal(camp, dev, rates, terr, prefix=f"rate-temperature@{T:g}C",
+                  kind="rate-temperature",
                   n=n_rate, dt=dt_rate, k_on=k5, b_on=b5 + dev.bias(dT), earth=e,
                   cond={"temperature": f"{T!r} degC"}, dT=dT)
         Ks.append(lsq(om, dev.mean_out(om, k5, dT=dT, b_on=b5 + dev.bias(dT), earth=e))[0])
     m = temps.index(room)
-    kt = max(abs((Ks[i] - Ks[m]) / (Ks[m] * (temps[i] - temps[m]))) for i in range(len(temps)) if i != m)
+    kt = max(abs((Ks[i] - Ks[m]) / (Ks[m] * (temps[i] - temps[m]))) for i in range(len(temps)) if i
+             != m)
     # 7.2.6: IRA up (+1 g along the IRA) and down, one power-on
     k6, b6 = power_on()
     Kud = {}
     for o, gi in (("IRA up", 1.0), ("IRA down", -1.0)):
         gvec = {ira_axis: gi}
-        _rate_cal(camp, dev, rates, terr, prefix=f"rate-accel[{o.split()[1]}]", kind="rate-accel", n=n_rate,
+        _rate_cal(camp, dev, rates, terr, prefix=f"rate-accel[{o.split()[1]}]", kind="rate-accel",
+                  n=n_rate,
                   dt=dt_rate, k_on=k6, b_on=b6 + dev.bias(0.0, gvec), earth=gi * e,
                   cond={"orientation": o}, g_ira=gi)
-        Kud[o] = lsq(om, dev.mean_out(om, k6, g_ira=gi, b_on=b6 + dev.bias(0.0, gvec), earth=gi * e))[0]
+        Kud[o] = lsq(om, dev.mean_out(om, k6, g_ira=gi, b_on=b6 + dev.bias(0.0, gvec), earth=gi
+                                      * e))[0]
     kg = (Kud["IRA up"] - Kud["IRA down"]) / 2.0
     # 7.2.16: B₀ at each chamber point (IRA up), one power-on
     k16, b16 = power_on()
@@ -341,7 +361,8 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
             earth = gi * e if a == ira_axis else 0.0
             g_ira = gi if a == ira_axis else 0.0
             vals, wm, fm = dev.record(0.0, n_g, dt_static, k17, g_ira=g_ira, b=b, earth=earth)
-            camp.add(f"static-accel[{a}-{o}]", "static-accel", vals, dt_static, {"axis": a, "orientation": o})
+            camp.add(f"static-accel[{a}-{o}]", "static-accel", vals, dt_static,
+                     {"axis": a, "orientation": o})
             bb[o] = (b + wm, b + wm + fm)
         per[a] = (bb["up"][0] - bb["down"][0]) / 2.0
         per_alt[a] = (bb["up"][1] - bb["down"][1]) / 2.0
@@ -364,13 +385,15 @@ def _repeats(camp, dev, rates, terr, n_rate, dt_rate, n_t, dt_static, e, Q=6):
     for i in range(1, Q + 1):
         k_on = 1 + dev.sigma_K * float(dev.rng.standard_normal())
         b_on = dev.b_mean + dev.sigma_b * float(dev.rng.standard_normal())
-        _rate_cal(camp, dev, rates, terr, prefix=f"rate-repeat#{i}", kind="rate-repeat", n=n_rate, dt=dt_rate,
+        _rate_cal(camp, dev, rates, terr, prefix=f"rate-repeat#{i}", kind="rate-repeat", n=n_rate,
+                  dt=dt_rate,
                   k_on=k_on, b_on=b_on, earth=e, cond={"run": i})
     for i in range(1, Q + 1):
         k_on = 1 + dev.sigma_K * float(dev.rng.standard_normal())
         b_on = dev.b_mean + dev.sigma_b * float(dev.rng.standard_normal())
         vals, _, _ = dev.record(0.0, n_t, dt_static, k_on, b=b_on, earth=e)
-        camp.add(f"static-repeat#{i}", "static-repeat", vals, dt_static, {"run": i, "orientation": "IRA up"})
+        camp.add(f"static-repeat#{i}", "static-repeat", vals, dt_static,
+                 {"run": i, "orientation": "IRA up"})
 
 
 # --------------------------------------------------------------------------------------------
@@ -384,16 +407,20 @@ def _flicker_mean_var(dev: Device, T: float, draws: int) -> float:
         return 0.0
     dt = 1.0 if T >= 600 else 0.1
     n = int(round(T / dt))
-    return float(np.var([flicker(n, dt, dev.noise.flicker, dev.rng).mean() for _ in range(draws)], ddof=1))
+    return float(np.var([flicker(n, dt, dev.noise.flicker, dev.rng).mean() for _ in range(draws)],
+                        ddof=1))
 
 
 def build_repeat_allan(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_static: float,
-                       fmt: str, flick: float, static_s: float = 3600.0, Q: int = 6, quick: bool = False,
+                       fmt: str, flick: float, static_s: float = 3600.0, Q: int = 6,
+                       quick: bool = False,
                        sigma_b=(0.5, 20.0), arw=(0.05, 0.5)) -> dict:
-    dev = Device(rng, kind=kind, q=q, flick=flick, sigma_b=sigma_b, arw=arw, shapes=("none",), asym=0.0)
+    dev = Device(rng, kind=kind, q=q, flick=flick, sigma_b=sigma_b, arw=arw, shapes=("none",),
+                 asym=0.0)
     rates = R5_SETS[100]
     om = _signed_rates(rates)
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt, output=dev.out)
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
+                    output=dev.out)
     terr = _table_errors(rng, rates)
     n_rate = int(round((10.0 if not quick else 5.0) / dt_rate))
     T = static_s if not quick else 300.0
@@ -401,19 +428,22 @@ def build_repeat_allan(folder: Path, rng, *, kind: str, q: float, dt_rate: float
     e = dev.earth
     k_cal = 1 + dev.sigma_K * float(rng.standard_normal())
     b_cal = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
-    _rate_cal(camp, dev, rates, terr, prefix="rate", kind="rate", n=n_rate, dt=dt_rate, k_on=k_cal, b_on=b_cal, earth=e)
+    _rate_cal(camp, dev, rates, terr, prefix="rate", kind="rate", n=n_rate, dt=dt_rate, k_on=k_cal,
+              b_on=b_cal, earth=e)
     K_cal = lsq(om, dev.mean_out(om, k_cal, b_on=b_cal, earth=e))[0]
     # 7.2.4 runs and 7.2.15 records: each its own power-on
     for i in range(1, Q + 1):
         k_on = 1 + dev.sigma_K * float(rng.standard_normal())
         b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
-        _rate_cal(camp, dev, rates, terr, prefix=f"rate-repeat#{i}", kind="rate-repeat", n=n_rate, dt=dt_rate,
+        _rate_cal(camp, dev, rates, terr, prefix=f"rate-repeat#{i}", kind="rate-repeat", n=n_rate,
+                  dt=dt_rate,
                   k_on=k_on, b_on=b_on, earth=e, cond={"run": i})
     for i in range(1, Q + 1):
         k_on = 1 + dev.sigma_K * float(rng.standard_normal())
         b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
         vals, _, _ = dev.record(0.0, n_t, dt_static, k_on, b=b_on, earth=e)
-        camp.add(f"static-repeat#{i}", "static-repeat", vals, dt_static, {"run": i, "orientation": "IRA up"})
+        camp.add(f"static-repeat#{i}", "static-repeat", vals, dt_static,
+                 {"run": i, "orientation": "IRA up"})
     # 7.2.13 / 7.2.20: one static record
     k_on = 1 + dev.sigma_K * float(rng.standard_normal())
     b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
@@ -428,7 +458,8 @@ def build_repeat_allan(folder: Path, rng, *, kind: str, q: float, dt_rate: float
     if q:
         step = q * (dev.supply if kind == "mV/V" else 1.0)             # mV
         quant = (step * 3600.0 / abs(K)) ** 2 / 12.0 / n_t           # dithered rounding, °/h²
-    br = abs(ratio) * math.sqrt(dev.sigma_b ** 2 + (dev.b_mean + e) ** 2 * dev.sigma_K ** 2 + var_rec + quant)
+    br = abs(ratio) * math.sqrt(dev.sigma_b ** 2 + (dev.b_mean + e) ** 2 * dev.sigma_K ** 2
+                                + var_rec + quant)
     truth = {("7.2.15", "Br"): (br, "°/h", ""),
              ("7.2.13", "B0"): (b_on + wm, "°/h", ("earth", e), b_on + wm + fm),
              ("7.2.20", "ARW"): (dev.noise.arw, "°/√h", "")}
@@ -441,14 +472,17 @@ def build_repeat_allan(folder: Path, rng, *, kind: str, q: float, dt_rate: float
     return truth
 
 
-def build_allan(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, static_s: float = 7200.0,
+def build_allan(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
+                static_s: float = 7200.0,
                 quick: bool = False) -> dict:
     """7.2.1 (K) and 7.2.20 on one static record with each of flicker, rate random walk and a rate
-    ramp present or not (drawn per device), ARW 0.01–0.1 °/√h: every coefficient of eq. (38) exercised."""
+    ramp present or not (drawn per device), ARW 0.01–0.1 °/√h: every coefficient of eq. (38)
+    exercised."""
     dev = Device(rng, kind=kind, q=q, shapes=("none",), asym=0.0, arw=(0.01, 0.1))
     rates = R5_SETS[100]
     om = _signed_rates(rates)
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt, output=dev.out)
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
+                    output=dev.out)
     e = dev.earth
     k_cal = 1 + dev.sigma_K * float(rng.standard_normal())
     b_cal = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
@@ -458,19 +492,22 @@ def build_allan(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, 
     n = int(round(T / dt))
     fl = float(rng.uniform(0.3, 3.0)) if rng.uniform() < 0.6 else 0.0      # plateau °/h
     rrw = float(rng.uniform(1.0, 10.0)) if rng.uniform() < 0.5 else 0.0    # °/h/√h
-    ramp = float(rng.uniform(2.0, 20.0)) * (1 if rng.uniform() < 0.5 else -1) if rng.uniform() < 0.4 else 0.0  # °/h²
+    ramp = float(rng.uniform(2.0, 20.0)) * (1 if rng.uniform() < 0.5 else
+                                            -1) if rng.uniform() < 0.4 else 0.0  # °/h²
     white = rng.standard_normal(n) * dev.noise.arw * 60.0 / math.sqrt(dt)
     flick = flicker(n, dt, fl, rng)
     walk = np.cumsum(rng.standard_normal(n)) * rrw * math.sqrt(dt / 3600.0)
     t_h = dt * (np.arange(n) + 0.5) / 3600.0
     b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
     sensed = b_on + e + white + flick + walk + ramp * t_h
-    vals = dev.out.record(sensed, dt, K_scale=1 + dev.sigma_K * float(rng.standard_normal()), rng=rng)
+    vals = dev.out.record(sensed, dt, K_scale=1 + dev.sigma_K * float(rng.standard_normal()),
+                          rng=rng)
     camp.add("static", "static", vals, dt, {"orientation": "IRA up"})
     camp.write_manifest()
-    # the sampled 1/f record's own short-τ excess (its Allan variance is 1.19 × the plateau² at τ = t₀,
-    # 1.09 × at 2t₀, 1.01 × at 8t₀: measured on this generator) looks like white noise: the alternative
-    # truth counts e = 0.19 of the plateau² at t₀ into A₋₁ (docs/independent-campaigns.md)
+    # the sampled 1/f record's own short-τ excess (its Allan variance is 1.19 × the plateau² at τ =
+    # t₀, 1.09 × at 2t₀, 1.01 × at 8t₀: measured on this generator) looks like white noise: the
+    # alternative truth counts e = 0.19 of the plateau² at t₀ into A₋₁
+    # (docs/independent-campaigns.md)
     arw_alt = math.sqrt(dev.noise.arw ** 2 + 0.19 * fl ** 2 * dt / 3600.0)
     return {("7.2.20", "ARW"): (dev.noise.arw, "°/√h", "", arw_alt),
             ("7.2.20", "BI"): (fl / BI_FACTOR, "°/h", ""),
@@ -495,18 +532,21 @@ def _gamma_eq25(F: dict, om: float, K: float) -> float:
 def build_misalignment(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str, runs: int,
                        quick: bool = False, fixture: bool = False) -> dict:
     """7.2.1 and 7.2.11 (four mountings, table ±Ω(+) for 1 min each), ``runs`` times (7.2.12, each
-    mounting re-seated).  The device's input axis leans α (in yoz) and β (in xoz), 0–30′ in any
+    mounting re-seated). The device's input axis leans α (in yoz) and β (in xoz), 0–30′ in any
     direction; the fixture errs by ε (common to the 180° pair, cancelled by eqs. (21)/(24)) and each
-    re-seating by η (1σ 0.2–3′): the position's δ_p = ±α + ε + η_p.  The table turns at Ω(+) 100–400 °/s,
-    so the earth rate's horizontal component averages out over the minute.  ``fixture``: on half the
-    devices the manifest gives a `fixture` with its `reseat_tilt` (docs/data-format.md's role)."""
+    re-seating by η (1σ 0.2–3′): the position's δ_p = ±α + ε + η_p. The table turns at Ω(+) 100–400
+    °/s, so the earth rate's horizontal component averages out over the minute. ``fixture``: on half
+    the devices the manifest gives a `fixture` with its `reseat_tilt` (docs/data-format.md's
+    role)."""
     dev = Device(rng, kind=kind, q=q, shapes=("none", "cubic"), asym=2e-4)
     rates = R5_SETS[100]
     eta_sd = float(rng.uniform(0.2, 3.0)) * ARCMIN
     equipment = [RATE_TABLE, DMM]
     if fixture and rng.uniform() < 0.5:  # the fixture's re-seating, stated as a half-width: √3·σ
-        equipment.append({"id": "FX-X", "role": "fixture", "reseat_tilt": f"{math.sqrt(3) * eta_sd / ARCMIN!r}′"})
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, equipment, fmt=fmt, output=dev.out)
+        equipment.append({"id": "FX-X", "role": "fixture",
+                          "reseat_tilt": f"{math.sqrt(3) * eta_sd / ARCMIN!r}′"})
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, equipment, fmt=fmt,
+                    output=dev.out)
     e = dev.earth
     k_cal = 1 + dev.sigma_K * float(rng.standard_normal())
     b_cal = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
@@ -519,21 +559,24 @@ def build_misalignment(folder: Path, rng, *, kind: str, q: float, dt: float, fmt
     om = float(rng.choice([100.0, 200.0, 360.0, 400.0]))
     n = int(round((60.0 if not quick else 20.0) / dt))
     for run in range(1, runs + 1):
-        k_on = 1 + dev.sigma_K * float(rng.standard_normal())         # each run a power-on of its own
+        # each run a power-on of its own
+        k_on = 1 + dev.sigma_K * float(rng.standard_normal())
         b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
         for p in (1, 2, 3, 4):
             lean = (alpha if p in (1, 2) else beta) * (1 if p in (1, 3) else -1)
             delta = lean + eps[1 if p in (1, 2) else 3] + eta_sd * float(rng.standard_normal())
             for sgn, tag in ((1, "+"), (-1, "-")):
                 wh, fl, w = dev.noise.draw3(n, dt, rng)
-                sensed = sgn * om * 3600.0 * math.sin(delta) + b_on + wh + fl + w     # °/h along the IA
+                # °/h along the IA
+                sensed = sgn * om * 3600.0 * math.sin(delta) + b_on + wh + fl + w
                 vals = dev.out.record(sensed, dt, K_scale=k_on, rng=rng)
                 camp.add(f"misalignment#{run}p{p}{tag}", "misalignment", vals, dt,
                          {"position": str(p), "rate": f"{sgn * om!r} deg/s", "run": str(run)})
     camp.write_manifest()
     gamma = 10800.0 / math.pi * math.hypot(alpha, beta)
-    # what eq. (26) measures: Var of one run's γ̂ under re-seating and the minute means' noise (Monte Carlo)
-    sd_mean = dev.noise.arw * 60.0 / math.sqrt(n * dt) / (om * 3600.0)            # rad, one minute's mean
+    # what eq. (26) measures: Var of one run's γ̂ under re-seating and the minute means' noise
+    # (Monte Carlo) rad, one minute's mean
+    sd_mean = dev.noise.arw * 60.0 / math.sqrt(n * dt) / (om * 3600.0)
     draws = 4000
     z = rng.standard_normal((draws, 4))
     a_hat = alpha + (eta_sd * (z[:, 0] - z[:, 1]) + sd_mean * rng.standard_normal(draws)) / 2
@@ -550,18 +593,22 @@ def build_misalignment(folder: Path, rng, *, kind: str, q: float, dt: float, fmt
 # --------------------------------------------------------------------------------------------
 
 TH_LEVELS = (0.1, 0.05, 0.03, 0.02, 0.015, 0.01, 0.007, 0.005, 0.003)          # °/s, `metro plan`'s
-RES_INCREMENTS = (0.05, 0.02, 0.01, 0.007, 0.005, 0.003, 0.002, 0.001)          # °/s, `metro plan`'s
+# °/s, `metro plan`'s
+RES_INCREMENTS = (0.05, 0.02, 0.01, 0.007, 0.005, 0.003, 0.002, 0.001)
 
 
-def build_threshold(folder: Path, rng, *, kind: str, q: float, fmt: str, dt: float = 1.0, flick: float = 0.0,
+def build_threshold(folder: Path, rng, *, kind: str, q: float, fmt: str, dt: float = 1.0,
+                    flick: float = 0.0,
                     quick: bool = False) -> dict:
-    """7.2.1, 7.2.9 and 7.2.10 (the levels `metro plan` lists, 200 s each).  The device's response to a
-    small rate is soft: K·Ω³/(Ω² + Ω_th²) near zero, Ω_th drawn per direction (0.004–0.06 °/s), so eq. (17)
-    holds exactly from Ω_th up; an increment ΔΩ on the base rate gives K·ΔΩ³/(ΔΩ² + r²), r per direction
-    (0.0015–0.03 °/s).  Truth: max over the directions of Ω_th (7.2.9.1 f)) and of r (7.2.10.1 g))."""
+    """7.2.1, 7.2.9 and 7.2.10 (the levels `metro plan` lists, 200 s each). The device's response to
+    a small rate is soft: K·Ω³/(Ω² + Ω_th²) near zero, Ω_th drawn per direction (0.004–0.06 °/s), so
+    eq. (17) holds exactly from Ω_th up; an increment ΔΩ on the base rate gives K·ΔΩ³/(ΔΩ² + r²), r
+    per direction (0.0015–0.03 °/s). Truth: max over the directions of Ω_th (7.2.9.1 f)) and of r
+    (7.2.10.1 g))."""
     dev = Device(rng, kind=kind, q=q, flick=flick, shapes=("none",), asym=2e-4, arw=(0.05, 0.3))
     rates = R5_SETS[100]
-    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt, output=dev.out)
+    camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
+                    output=dev.out)
     e = dev.earth
     th = {1: float(rng.uniform(0.004, 0.06)), -1: float(rng.uniform(0.004, 0.06))}
     rr = {1: float(rng.uniform(0.0015, 0.03)), -1: float(rng.uniform(0.0015, 0.03))}
@@ -573,7 +620,8 @@ def build_threshold(folder: Path, rng, *, kind: str, q: float, fmt: str, dt: flo
 
     def rec(sensed_dps: float):
         wh, fl, w = dev.noise.draw3(n, dt, rng)
-        return dev.out.record(sensed_dps * 3600.0 + b_on + e + wh + fl + w, dt, K_scale=k_on, rng=rng)
+        return dev.out.record(sensed_dps * 3600.0 + b_on + e + wh + fl + w, dt, K_scale=k_on,
+                              rng=rng)
 
     camp.add("threshold-0", "threshold", rec(0.0), dt, {"rate": "0 deg/s"})
     for r in TH_LEVELS:
@@ -595,7 +643,8 @@ def build_threshold(folder: Path, rng, *, kind: str, q: float, fmt: str, dt: flo
             ("7.2.10", "resolution"): (max(rr.values()), "°/s", "")}
 
 
-UNIT_ALIASES.setdefault("°/h/√h", {"°/h/√h", "degree / hour / hour ** 0.5", "deg/h/hour**0.5", "°/h¹⋅⁵"})
+UNIT_ALIASES.setdefault("°/h/√h", {"°/h/√h", "degree / hour / hour ** 0.5", "deg/h/hour**0.5",
+                                   "°/h¹⋅⁵"})
 UNIT_ALIASES.setdefault("°/h²", {"°/h²", "degree / hour ** 2", "deg/h**2"})
 UNIT_ALIASES.setdefault("″", {"″", "arcsec", "arcsecond"})
 
@@ -608,8 +657,10 @@ def score_more(truth: dict, doc: dict) -> list[dict]:
     plain = {}
     for (item, key), (value, unit, earth, *alt) in truth.items():
         if isinstance(value, dict):
-            r = [x for x in doc.get("results", []) if x.get("key") == key and str(x.get("item", "")) == item]
-            value = value.get(r[0].get("earth_rate", ""), value["included"]) if r else value["included"]
+            r = [x for x in doc.get("results", []) if x.get("key") == key
+                 and str(x.get("item", "")) == item]
+            value = value.get(r[0].get("earth_rate", ""),
+                              value["included"]) if r else value["included"]
         plain[(item, key)] = (value, unit, earth, *alt)
     return score(plain, doc)
 
@@ -621,88 +672,106 @@ def score_more(truth: dict, doc: dict) -> list[dict]:
 VARIANTS = {
     "jjf-nonlin-mV-1Hz": Variant(
         "jjf-nonlin-mV-1Hz", "jjf2014", "7.2.1,7.2.2,7.2.3",
-        "mV, K ±(0.5 … 200) mV/(°/s) log-uniform, nonlinearity none/quadratic/cubic/both up to 5×10⁻⁴ "
-        "of full scale, asymmetry up to ±1×10⁻³, R5 sets to 50/100/200/400 °/s, 10 × 1 s per rate, "
-        "CSV; nonlinearity_spec between the noise-free K_n of the spans",
-        lambda f, rng, quick: build_nonlin(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv", quick=quick)),
+        "mV, K ±(0.5 … 200) mV/(°/s) log-uniform, nonlinearity none/quadratic/cubic/both up to "
+        "5×10⁻⁴ of full scale, asymmetry up to ±1×10⁻³, R5 sets to 50/100/200/400 °/s, 10 × 1 s "
+        "per rate, CSV; nonlinearity_spec between the noise-free K_n of the spans",
+        lambda f, rng, quick: build_nonlin(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
+                                           quick=quick)),
     "jjf-nonlin-mVV-200Hz-q": Variant(
         "jjf-nonlin-mVV-200Hz-q", "jjf2014", "7.2.1,7.2.2,7.2.3",
         "as jjf-nonlin-mV-1Hz, ratiometric mV/V rounded to 0.002 mV/V, 10 s per rate at 200 Hz "
         "(.npy), flicker plateau ≈ 2 °/h",
-        lambda f, rng, quick: build_nonlin(f, rng, kind="mV/V", q=0.002, dt=0.005, fmt="npy", flick=2.0,
+        lambda f, rng, quick: build_nonlin(f, rng, kind="mV/V", q=0.002, dt=0.005, fmt="npy",
+                                           flick=2.0,
                                            quick=quick)),
     "jjf-temp-g-mV-1Hz": Variant(
         "jjf-temp-g-mV-1Hz", "jjf2014", "7.2.1,7.2.5,7.2.6,7.2.16,7.2.17",
-        "mV, K of either sign; K temperature coefficient ±3×10⁻⁴/°C (+ quadratic), axial-g ±5×10⁻⁴/g; "
-        "bias ±0.5 °/h/°C (+ quadratic), g-sensitivity up to ±20 °/h/g on each axis; chamber sets "
-        "3–6 points incl. 20 °C; one power-on per item; 1 Hz CSV, white noise",
-        lambda f, rng, quick: build_temp_g(f, rng, kind="mV", q=0.0, dt_rate=1.0, dt_static=1.0, fmt="csv",
+        "mV, K of either sign; K temperature coefficient ±3×10⁻⁴/°C (+ quadratic), axial-g "
+        "±5×10⁻⁴/g; bias ±0.5 °/h/°C (+ quadratic), g-sensitivity up to ±20 °/h/g on each axis; "
+        "chamber sets 3–6 points incl. 20 °C; one power-on per item; 1 Hz CSV, white noise",
+        lambda f, rng, quick: build_temp_g(f, rng, kind="mV", q=0.0, dt_rate=1.0, dt_static=1.0,
+                                           fmt="csv",
                                            quick=quick)),
     "jjf-temp-g-mVV-10Hz-flicker-IRAx": Variant(
-        "jjf-temp-g-mVV-10Hz-flicker-IRAx", "jjf2014", "7.2.1,7.2.4,7.2.5,7.2.6,7.2.15,7.2.16,7.2.17",
+        "jjf-temp-g-mVV-10Hz-flicker-IRAx", "jjf2014",
+        "7.2.1,7.2.4,7.2.5,7.2.6,7.2.15,7.2.16,7.2.17",
         "as jjf-temp-g-mV-1Hz, mV/V rounded to 0.001 mV/V, static records at 10 Hz (.npy), flicker "
-        "≈ 1 °/h, wander 2 °/h, the IRA is the case's X axis (device.ira_axis), with 7.2.4 / 7.2.15 "
-        "repeats (6 power-ons each)",
-        lambda f, rng, quick: build_temp_g(f, rng, kind="mV/V", q=0.001, dt_rate=1.0, dt_static=0.1, fmt="npy",
-                                           flick=1.0, wander=2.0, ira_axis="X", quick=quick, repeats=True)),
+        "≈ 1 °/h, wander 2 °/h, the IRA is the case's X axis (device.ira_axis), with 7.2.4 / "
+        "7.2.15 repeats (6 power-ons each)",
+        lambda f, rng, quick: build_temp_g(f, rng, kind="mV/V", q=0.001, dt_rate=1.0, dt_static=0.1,
+                                           fmt="npy",
+                                           flick=1.0, wander=2.0, ira_axis="X", quick=quick,
+                                           repeats=True)),
     "jjf-repeat-allan-mV-10Hz": Variant(
         "jjf-repeat-allan-mV-10Hz", "jjf2014", "7.2.1,7.2.4,7.2.13,7.2.15,7.2.20",
-        "mV, either sign; bias turn-on σ 0.5–20 °/h, K power-on σ 5×10⁻⁵–4×10⁻⁴, 6 power-ons each for "
-        "7.2.4 and 7.2.15, static 1 h at 10 Hz (CSV), white noise only",
-        lambda f, rng, quick: build_repeat_allan(f, rng, kind="mV", q=0.0, dt_rate=1.0, dt_static=0.1,
+        "mV, either sign; bias turn-on σ 0.5–20 °/h, K power-on σ 5×10⁻⁵–4×10⁻⁴, 6 power-ons each "
+        "for 7.2.4 and 7.2.15, static 1 h at 10 Hz (CSV), white noise only",
+        lambda f, rng, quick: build_repeat_allan(f, rng, kind="mV", q=0.0, dt_rate=1.0,
+                                                 dt_static=0.1,
                                                  fmt="csv", flick=0.0, quick=quick)),
     "jjf-repeat-allan-mVV-100Hz-flicker-q": Variant(
         "jjf-repeat-allan-mVV-100Hz-flicker-q", "jjf2014", "7.2.1,7.2.4,7.2.13,7.2.15,7.2.20",
         "as jjf-repeat-allan-mV-10Hz, mV/V rounded to 0.0005 mV/V, every record at 100 Hz (.npy), "
         "flicker plateau ≈ 1.5 °/h, ARW 0.1–1 °/√h",
-        lambda f, rng, quick: build_repeat_allan(f, rng, kind="mV/V", q=0.0005, dt_rate=0.01, dt_static=0.01,
-                                                 fmt="npy", flick=1.5, quick=quick, arw=(0.1, 1.0))),
+        lambda f, rng, quick: build_repeat_allan(f, rng, kind="mV/V", q=0.0005, dt_rate=0.01,
+                                                 dt_static=0.01,
+                                                 fmt="npy", flick=1.5, quick=quick,
+                                                 arw=(0.1, 1.0))),
     "jjf-allan-terms-mV-10Hz": Variant(
         "jjf-allan-terms-mV-10Hz", "jjf2014", "7.2.1,7.2.20",
-        "mV, either sign, static 2 h at 10 Hz (CSV), ARW 0.01–0.1 °/√h and, each drawn present or not, "
-        "flicker plateau 0.3–3 °/h, rate random walk 1–10 °/h/√h, rate ramp ±(2–20) °/h²",
-        lambda f, rng, quick: build_allan(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv", quick=quick)),
+        "mV, either sign, static 2 h at 10 Hz (CSV), ARW 0.01–0.1 °/√h and, each drawn present or "
+        "not, flicker plateau 0.3–3 °/h, rate random walk 1–10 °/h/√h, rate ramp ±(2–20) °/h²",
+        lambda f, rng, quick: build_allan(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv",
+                                          quick=quick)),
     "jjf-allan-terms-mVV-400Hz-q": Variant(
         "jjf-allan-terms-mVV-400Hz-q", "jjf2014", "7.2.1,7.2.20",
         "as jjf-allan-terms-mV-10Hz, mV/V rounded to 0.0002 mV/V, 1 h at 400 Hz (.npy)",
-        lambda f, rng, quick: build_allan(f, rng, kind="mV/V", q=0.0002, dt=0.0025, fmt="npy", static_s=3600.0,
+        lambda f, rng, quick: build_allan(f, rng, kind="mV/V", q=0.0002, dt=0.0025, fmt="npy",
+                                          static_s=3600.0,
                                           quick=quick)),
     "jjf-misalignment-mV-Q7": Variant(
         "jjf-misalignment-mV-Q7", "jjf2014", "7.2.1,7.2.11,7.2.12",
-        "mV, either sign; input axis leaning 0–30′ in any direction, fixture error 5′ (1σ), each re-seating "
-        "0.2–3′ (1σ); table Ω(+) 100/200/360/400 °/s; Q = 7 runs, each a power-on; 1 Hz CSV",
-        lambda f, rng, quick: build_misalignment(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv", runs=7, quick=quick)),
+        "mV, either sign; input axis leaning 0–30′ in any direction, fixture error 5′ (1σ), each "
+        "re-seating 0.2–3′ (1σ); table Ω(+) 100/200/360/400 °/s; Q = 7 runs, each a power-on; 1 Hz "
+        "CSV",
+        lambda f, rng, quick: build_misalignment(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
+                                                 runs=7, quick=quick)),
     "jjf-misalignment-mVV-50Hz-one-run": Variant(
         "jjf-misalignment-mVV-50Hz-one-run", "jjf2014", "7.2.1,7.2.11",
-        "as jjf-misalignment-mV-Q7 with one run only (7.2.11 alone), mV/V at 50 Hz (.npy); on half the "
-        "devices a fixture with its reseat_tilt (√3 × the re-seating σ)",
-        lambda f, rng, quick: build_misalignment(f, rng, kind="mV/V", q=0.0, dt=0.02, fmt="npy", runs=1,
+        "as jjf-misalignment-mV-Q7 with one run only (7.2.11 alone), mV/V at 50 Hz (.npy); on half "
+        "the devices a fixture with its reseat_tilt (√3 × the re-seating σ)",
+        lambda f, rng, quick: build_misalignment(f, rng, kind="mV/V", q=0.0, dt=0.02, fmt="npy",
+                                                 runs=1,
                                                  quick=quick, fixture=True)),
     "jjf-threshold-mV-1Hz": Variant(
         "jjf-threshold-mV-1Hz", "jjf2014", "7.2.1,7.2.9,7.2.10",
-        "mV, either sign; soft threshold Ω_th 0.004–0.06 °/s and resolution r 0.0015–0.03 °/s per direction; "
-        "the levels and increments `metro plan` lists, 200 s at 1 s (CSV), white noise",
+        "mV, either sign; soft threshold Ω_th 0.004–0.06 °/s and resolution r 0.0015–0.03 °/s per "
+        "direction; the levels and increments `metro plan` lists, 200 s at 1 s (CSV), white noise",
         lambda f, rng, quick: build_threshold(f, rng, kind="mV", q=0.0, fmt="csv", quick=quick)),
     "jjf-threshold-mVV-10Hz-flicker": Variant(
         "jjf-threshold-mVV-10Hz-flicker", "jjf2014", "7.2.1,7.2.9,7.2.10",
-        "as jjf-threshold-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker plateau ≈ 3 °/h "
-        "(the bias moves between the zero record and the levels)",
-        lambda f, rng, quick: build_threshold(f, rng, kind="mV/V", q=0.0005, fmt="npy", dt=0.1, flick=3.0,
+        "as jjf-threshold-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker plateau ≈ 3 "
+        "°/h (the bias moves between the zero record and the levels)",
+        lambda f, rng, quick: build_threshold(f, rng, kind="mV/V", q=0.0005, fmt="npy", dt=0.1,
+                                              flick=3.0,
                                               quick=quick)),
 }
 
 
-def run_more(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool = False,
+def run_more(variant: Variant, devices: int, seed0: int, workdir: Path,
+             use_subprocess: bool = False,
              quick: bool = False, keep: bool = False) -> list[dict]:
     """run_variant with the earth-rate-aware scoring of this module."""
-    return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep, scorer=score_more)
+    return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep,
+                       scorer=score_more)
 
 
 def main(argv=None) -> int:
     from independent_campaigns import cli
 
     return cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-jjf-", alt_label="alt",
-               run=lambda v, a, work: run_more(v, a.devices, a.seed, work, a.subprocess, quick=a.quick,
+               run=lambda v, a, work: run_more(v, a.devices, a.seed, work, a.subprocess,
+                                               quick=a.quick,
                                                keep=a.keep is not None))
 
 if __name__ == "__main__":

@@ -1,14 +1,17 @@
-"""An independent harness for the draft JJF 光学陀螺测角仪 (ogam): instruments metro's simulator does not make.
+"""An independent harness for the draft JJF 光学陀螺测角仪 (ogam): instruments metro's simulator
+does not make.
 
 Run:  nice -n 10 .venv/bin/python benchmarks/independent_ogam.py [--devices 30] [--variants A,B]
-                                                                [--seed 1] [--json F] [--keep DIR] [--quick]
+                                                                [--seed 1] [--json F] [--keep DIR]
+                                                                [--quick]
 
 Issue 13's independent harness for the optical-gyro angle-measuring instrument (draft JJF, file 004
-of the standards folder).  The generators here were written from the documentation only
+of the standards folder). The generators here were written from the documentation only
 (docs/standards/ogam.md's data table, docs/data-format.md, ``metro plan -s ogam --all``'s steps and
 columns) and from the draft's clauses 7.1–7.7 and appendix A; they import neither
-``metro.instruments`` nor any of metro's simulators (numpy alone).  The shared pieces (the manifest
-writer, running metro, scoring, the tables) come from ``independent_campaigns.py`` next to this file.
+``metro.instruments`` nor any of metro's simulators (numpy alone). The shared pieces (the manifest
+writer, running metro, scoring, the tables) come from ``independent_campaigns.py`` next to this
+file.
 
 The instrument (all angles in ″ unless said):
 
@@ -26,9 +29,11 @@ The instrument (all angles in ″ unless said):
 * the reading rounded to the instrument's resolution (zeroed with the turntable: no random phase);
   the 7.1 counts are ⌊K_true·angle + φ₀⌋ with a random counter phase φ₀;
 * the sensing plane tilted by ψ (within the turntable's declared ``parallelism``) at an azimuth α to
-  the zero position: appendix A's model (eqs. (2)–(5), numerically integrated here), Δ(θ + α) − Δ(α);
-* the turntable's positioning error, a fixed function of angle (harmonics of orders 1–4 and 12) whose
-  largest value over the stops is within its certificate (the uniform half-width, or U at k = 2);
+  the zero position: appendix A's model (eqs. (2)–(5), numerically integrated here), Δ(θ + α) −
+  Δ(α);
+* the turntable's positioning error, a fixed function of angle (harmonics of orders 1–4 and 12)
+  whose largest value over the stops is within its certificate (the uniform half-width, or U at k =
+  2);
 * the time from zeroing to each reading: ``from-zero`` (the draft's tables: every stop is turned to
   from 0°, turning time θ/v + 2 s, read within the 60 s stop, about 0.5 min as appendix A 1 says) or
   ``sequential`` (``metro plan``'s wording: 30°, 60°, … in one run, 60 s at each, up to 12 min).
@@ -45,9 +50,10 @@ Truth (docs/independent-campaigns.md, "ogam: the angle-measuring instrument"):
 * 7.1 K: the mean of K_i = C_i/θ_i on the noise-free counts (harmonics and the residual rate in,
   counter rounding, turntable error, tilt out); 7.2 K_l: (max − min)/K of those K_i, in %.
 * 7.3 B_s: √E[s²(M)]/T, E over 4 000 Monte Carlo repeats of the generator's own 7.3 record (the
-  residual rate, the random rate, random walk, reading noise, rounding), T = (n − 1)·Δt as the clause.
-* 7.5 R: max_i σ_i, σ_i the standard deviation of E_ij at stop i over 4 000 Monte Carlo rounds of the
-  generator (clause 3.7: the standard deviation of repeated measurements of the same position).
+  residual rate, the random rate, random walk, reading noise, rounding), T = (n − 1)·Δt as the
+  clause.
+* 7.5 R: max_i σ_i, σ_i the standard deviation of E_ij at stop i over 4 000 Monte Carlo rounds of
+  the generator (clause 3.7: the standard deviation of repeated measurements of the same position).
 """
 
 from __future__ import annotations
@@ -144,7 +150,8 @@ class Instrument:
 
     def turntable(self, theta_deg: np.ndarray) -> np.ndarray:
         th = np.radians(theta_deg)
-        return self.tt_scale * sum(a * (np.sin(k * th + p) - math.sin(p)) for k, a, p in self.tt_coef)
+        return self.tt_scale * sum(a * (np.sin(k * th + p) - math.sin(p)) for k, a, p
+                                   in self.tt_coef)
 
     def tilt(self, theta_deg: np.ndarray) -> np.ndarray:
         if self.psi == 0:
@@ -173,7 +180,8 @@ class Instrument:
             + self.rate_on(axis) * t
         b = self.wander(t, rounds, rng)
         dt = np.diff(np.concatenate([[0.0], t]))
-        rw = np.cumsum(rng.standard_normal((rounds, t.size)) * self.arw * 60.0 * np.sqrt(dt / 3600.0), axis=1)
+        rw = np.cumsum(rng.standard_normal((rounds, t.size)) * self.arw * 60.0
+                       * np.sqrt(dt / 3600.0), axis=1)
         m = base + b + rw + rng.standard_normal((rounds, t.size)) * self.read_noise
         if self.resolution:
             m = np.round(m / self.resolution) * self.resolution
@@ -184,12 +192,14 @@ class Instrument:
         t = dt_s * np.arange(n)
         b = self.rate_on("up") * t + self.wander(t, repeats, rng)
         rw = np.cumsum(np.concatenate([np.zeros((repeats, 1)),
-                                       rng.standard_normal((repeats, n - 1)) * self.arw * 60.0 * math.sqrt(dt_s / 3600.0)],
+                                       rng.standard_normal((repeats, n - 1)) * self.arw * 60.0
+                                       * math.sqrt(dt_s / 3600.0)],
                                       axis=1), axis=1)
         m = b + rw + rng.standard_normal((repeats, n)) * self.read_noise
         if self.resolution:
             m = np.round(m / self.resolution) * self.resolution
-        self.last_path = b + rw  # the angle the instrument itself drifted through (no readout error)
+        # the angle the instrument itself drifted through (no readout error)
+        self.last_path = b + rw
         return m
 
     def counts(self, theta_deg: np.ndarray, rng, noisy: bool = True) -> np.ndarray:
@@ -199,11 +209,14 @@ class Instrument:
             theta_deg / 60.0 + 2.0 + 60.0  # each 7.1 round starts at 0 (the draft's table)
         if noisy:
             true = theta_deg * 3600.0 + self.turntable(theta_deg)
-            ang = true + self.kappa(60.0) * true + self.harm(true / 3600.0) + self.tilt(true / 3600.0) \
+            ang = true + self.kappa(60.0) * true + self.harm(true
+                                                             / 3600.0) + self.tilt(true / 3600.0) \
                 + (self.rate_on("up") + rng.standard_normal(theta_deg.size) * self.sigma_b) * t \
                 + rng.standard_normal(theta_deg.size) * self.arw * 60.0 * np.sqrt(t / 3600.0)
             return np.floor(self.K * ang / 3600.0 + rng.uniform(0, 1, theta_deg.size))
-        ang = theta_deg * 3600.0 * (1 + self.kappa(60.0)) + self.harm(theta_deg) + self.rate_on("up") * t
+        ang = theta_deg * 3600.0 * (1
+                                    + self.kappa(60.0)) + self.harm(theta_deg) + self.rate_on(
+                                        "up") * t
         return self.K * ang / 3600.0
 
 
@@ -217,11 +230,12 @@ def write_table(path: Path, columns: list[tuple[str, np.ndarray]], fmt: str = "c
         arr = np.zeros(columns[0][1].size, dtype=[(c, "f8") for c, _ in columns])
         for c, v in columns:
             arr[c] = v
-        # a field name such as "reading [″]" is not Latin-1: the header needs .npy format 3.0, asked for
-        # by name (np.save guesses it and warns "Stored array in format 3.0")
+        # a field name such as "reading [″]" is not Latin-1: the header needs .npy format 3.0, asked
+        # for by name (np.save guesses it and warns "Stored array in format 3.0")
         latin1 = all(ord(ch) < 256 for c, _ in columns for ch in c)
         with open(name, "wb") as fh:
-            np.lib.format.write_array(fh, arr, version=None if latin1 else (3, 0), allow_pickle=False)
+            np.lib.format.write_array(fh, arr, version=None if latin1 else (3, 0),
+                                      allow_pickle=False)
         return name.name
     name = path.parent / (path.name + ".csv")
     with open(name, "w", encoding="utf-8", newline="\n") as fh:
@@ -270,21 +284,27 @@ def _loguni(rng, lo, hi):
 def draw_instrument(spec: Spec, rng) -> tuple[Instrument, dict]:
     n_h = int(rng.integers(spec.n_harm[0], spec.n_harm[1] + 1))
     orders = rng.choice(spec.orders, size=min(n_h, len(spec.orders)), replace=False)
-    harmonics = [(int(k), float(rng.uniform(*spec.harm_amp)), float(rng.uniform(0, 2 * math.pi))) for k in orders]
+    harmonics = [(int(k), float(rng.uniform(*spec.harm_amp)), float(rng.uniform(0, 2 * math.pi)))
+                 for k in orders]
     par = float(rng.uniform(*spec.parallelism))
     tt_U = float(rng.uniform(*spec.tt_U))
-    tt_coef = [(k, float(rng.uniform(0, 1)), float(rng.uniform(0, 2 * math.pi))) for k in (1, 2, 3, 4, 12)]
+    tt_coef = [(k, float(rng.uniform(0, 1)), float(rng.uniform(0, 2 * math.pi))) for k
+               in (1, 2, 3, 4, 12)]
     inst = Instrument(
         K=_loguni(rng, *spec.K), kappa60=float(rng.uniform(-spec.kappa, spec.kappa)),
-        s_lin=float(rng.uniform(-spec.s_lin, spec.s_lin)), s_low=float(rng.uniform(-spec.s_low, spec.s_low)),
-        harmonics=harmonics, b0=float(rng.uniform(-spec.b0, spec.b0)), eta=float(rng.uniform(-spec.eta, spec.eta)),
+        s_lin=float(rng.uniform(-spec.s_lin, spec.s_lin)),
+        s_low=float(rng.uniform(-spec.s_low, spec.s_low)),
+        harmonics=harmonics, b0=float(rng.uniform(-spec.b0, spec.b0)),
+        eta=float(rng.uniform(-spec.eta, spec.eta)),
         b_g=float(rng.uniform(-spec.b_g, spec.b_g)), sigma_b=float(rng.uniform(*spec.sigma_b)),
         arw=float(rng.uniform(*spec.arw)), read_noise=float(rng.uniform(*spec.read_noise)),
         resolution=float(rng.choice(spec.resolution)) if spec.resolution else 0.0,
         psi=par * float(rng.uniform(0, 1)), alpha=float(rng.uniform(0, 2 * math.pi)),
-        latitude=float(rng.uniform(-85, 85)), tau=float(rng.uniform(*spec.tau)), tt_half=tt_U, tt_coef=tt_coef, layout=spec.layout,
+        latitude=float(rng.uniform(-85, 85)), tau=float(rng.uniform(*spec.tau)), tt_half=tt_U,
+        tt_coef=tt_coef, layout=spec.layout,
         settle=float(rng.uniform(5, 25)))
-    # the turntable's error: largest |p| over a fine grid = tt_U × U(0.3, 1) (within the certificate)
+    # the turntable's error: largest |p| over a fine grid = tt_U × U(0.3, 1) (within the
+    # certificate)
     grid = np.linspace(0, 360, 3601)
     p = inst.turntable(grid)
     inst.tt_scale = tt_U * float(rng.uniform(0.3, 1.0)) / float(np.max(np.abs(p)))
@@ -300,7 +320,8 @@ def _fmt_deg(x_arcsec: np.ndarray, unit: str) -> np.ndarray:
 def build_ogam(folder: Path, rng, spec: Spec, quick: bool = False) -> dict:
     inst, meta = draw_instrument(spec, rng)
     device = {"id": folder.name, "technology": spec.technology, "output": "pulse",
-              "scale_factor": f"{inst.K!r} P/°", "zero_stability": f"{meta['zero_stability']!r} °/h"}
+              "scale_factor": f"{inst.K!r} P/°",
+              "zero_stability": f"{meta['zero_stability']!r} °/h"}
     tt = {"id": "TT-X", "role": "turntable", "parallelism": f"{meta['parallelism']!r}°",
           "calibration": {"certificate": "IND-TT-1", "U": f"{meta['tt_U']!r}″",
                           "k": 2 if spec.tt_dist == "normal" else 1.7320508075688772,
@@ -328,13 +349,16 @@ def build_ogam(folder: Path, rng, spec: Spec, quick: bool = False) -> dict:
     n_z, dt_z = spec.zero
     z = inst.zero_record(n_z, dt_z, 1, rng)[0]
     path = inst.last_path[0]
-    add("zero-1h", "zero", [(f"reading [{'°' if spec.zero_unit == 'deg' else '″'}]", _fmt_deg(z, spec.zero_unit))],
+    add("zero-1h", "zero", [(f"reading [{'°' if spec.zero_unit == 'deg' else '″'}]",
+                             _fmt_deg(z, spec.zero_unit))],
         dt_z, {"axis": "up"})
     mc = inst.zero_record(n_z, dt_z, 1000 if quick else 4000, rng)
     T_h = (n_z - 1) * dt_z / 3600.0
-    # the expectation over repeated hours; and, second, this hour's own drift (reading noise and rounding
-    # the only error: the reading of JJF 2014 7.2.13's "this record's bias", interpretations.md)
-    truth[("7.3", "Bs")] = (math.sqrt(float(np.mean(np.var(mc, axis=1, ddof=1)))) / 3600.0 / T_h, "°/h", None,
+    # the expectation over repeated hours; and, second, this hour's own drift (reading noise and
+    # rounding the only error: the reading of JJF 2014 7.2.13's "this record's bias",
+    # interpretations.md)
+    truth[("7.3", "Bs")] = (math.sqrt(float(np.mean(np.var(mc, axis=1, ddof=1)))) / 3600.0 / T_h,
+                            "°/h", None,
                             float(np.std(path, ddof=1)) / 3600.0 / T_h)
     # 7.4 / 7.5: ten rounds at 60 °/s axis up
     S = 30.0 * np.arange(1, 13)
@@ -342,7 +366,8 @@ def build_ogam(folder: Path, rng, spec: Spec, quick: bool = False) -> dict:
     scol = f"standard [{'°' if spec.reading_unit == 'deg' else '″'}]"
 
     def pos(seg_id, v, axis, rnd, m):
-        add(seg_id, "positioning", [(scol, _fmt_deg(S * 3600.0, spec.reading_unit)), (rcol, _fmt_deg(m, spec.reading_unit))],
+        add(seg_id, "positioning", [(scol, _fmt_deg(S * 3600.0, spec.reading_unit)),
+                                    (rcol, _fmt_deg(m, spec.reading_unit))],
             60.0, {"axis": axis, "rate": f"{v:g} °/s", "round": rnd})
 
     M = inst.readings(S, 60.0, "up", 10, rng)
@@ -379,27 +404,33 @@ def build_ogam(folder: Path, rng, spec: Spec, quick: bool = False) -> dict:
 SPECS = {
     "rlg-fine-fromzero": (
         Spec(),
-        "ring-laser, K 20 000–200 000 P/° (0.18–0.018″ a pulse), reading resolution 0.001, 0.002, 0.005 or 0.01″, ARW "
-        "1–4×10⁻⁴ °/√h, harmonics of orders 1–4 up to 0.15″, |κ₆₀| ≤ 0.3 ppm, residual bias ≤ 0.003 °/h, "
-        "|η| ≤ 3×10⁻⁴, every stop turned to from 0° (the draft’s tables), turntable ±0.05–0.2″ uniform, "
-        "declared parallelism 0.05–0.1° (tilt within it, any azimuth), latitude −85…85°"),
+        "ring-laser, K 20 000–200 000 P/° (0.18–0.018″ a pulse), reading resolution 0.001, 0.002, "
+        "0.005 or 0.01″, ARW 1–4×10⁻⁴ °/√h, harmonics of orders 1–4 up to 0.15″, |κ₆₀| ≤ 0.3 ppm, "
+        "residual bias ≤ 0.003 °/h, |η| ≤ 3×10⁻⁴, every stop turned to from 0° (the draft’s "
+        "tables), turntable ±0.05–0.2″ uniform, declared parallelism 0.05–0.1° (tilt within it, "
+        "any azimuth), latitude −85…85°"),
     "fog-coarse-reading": (
-        Spec(K=(500, 3000), resolution=(0.2, 0.5, 1.0), arw=(2e-4, 8e-4), read_noise=(0.01, 0.05), orders=(1, 2, 3),
-             harm_amp=(0, 0.3), technology="fibre", reading_unit="arcsec", zero_unit="arcsec", fmt="npy"),
-        "fibre, K 500–3 000 P/° (7.2–1.2″ a pulse), reading rounded to 0.2, 0.5 or 1″, ARW 2–8×10⁻⁴ °/√h, reading "
-        "noise 0.01–0.05″, harmonics orders 1–3 up to 0.3″, readings in ″ columns, `.npy`"),
+        Spec(K=(500, 3000), resolution=(0.2, 0.5, 1.0), arw=(2e-4, 8e-4), read_noise=(0.01, 0.05),
+             orders=(1, 2, 3),
+             harm_amp=(0, 0.3), technology="fibre", reading_unit="arcsec", zero_unit="arcsec",
+             fmt="npy"),
+        "fibre, K 500–3 000 P/° (7.2–1.2″ a pulse), reading rounded to 0.2, 0.5 or 1″, ARW "
+        "2–8×10⁻⁴ °/√h, reading noise 0.01–0.05″, harmonics orders 1–3 up to 0.3″, readings in ″ "
+        "columns, `.npy`"),
     "rlg-sequential-drifting": (
         Spec(layout="sequential", b0=0.01, eta=2e-3, b_g=0.005, zero=(15, 300.0), south_west=True,
              rates=(2.0, 5.0, 20.0, 60.0, 120.0, 180.0, 240.0, 300.0)),
-        "stops in one run 30°, 60°, … 60 s each (`metro plan`'s wording; the last reading ≈ 12 min after "
-        "zeroing), residual bias ≤ 0.01 °/h, |η| ≤ 2×10⁻³, g-dependent bias ≤ 0.005 °/h, 15 readings every "
-        "5 min for 7.3 (70 min), axes south and west, rates 2, 5, 20, 60, 120, 180, 240, 300 °/s"),
+        "stops in one run 30°, 60°, … 60 s each (`metro plan`'s wording; the last reading ≈ 12 min "
+        "after zeroing), residual bias ≤ 0.01 °/h, |η| ≤ 2×10⁻³, g-dependent bias ≤ 0.005 °/h, 15 "
+        "readings every 5 min for 7.3 (70 min), axes south and west, rates 2, 5, 20, 60, 120, 180, "
+        "240, 300 °/s"),
     "rlg-tilted-harmonic": (
-        Spec(parallelism=(0.08, 0.1), orders=(2, 3, 4, 5, 6, 8), harm_amp=(0.0, 0.5), kappa=1e-6, s_lin=1e-6,
+        Spec(parallelism=(0.08, 0.1), orders=(2, 3, 4, 5, 6, 8), harm_amp=(0.0, 0.5), kappa=1e-6,
+             s_lin=1e-6,
              s_low=1e-6, tt_U=(0.1, 0.3), tt_dist="normal", zero=(16, 240.0)),
-        "declared parallelism 0.08–0.1° (appendix A 1 asks for better than 0.1°; the tilt within it, at any "
-        "azimuth), harmonics of orders 2–8 up to 0.5″, |κ₆₀| ≤ 1 ppm, rate dependence ≤ 1 ppm, turntable "
-        "certificate U 0.1–0.3″ (k = 2, normal), 16 readings every 4 min for 7.3"),
+        "declared parallelism 0.08–0.1° (appendix A 1 asks for better than 0.1°; the tilt within "
+        "it, at any azimuth), harmonics of orders 2–8 up to 0.5″, |κ₆₀| ≤ 1 ppm, rate dependence ≤ "
+        "1 ppm, turntable certificate U 0.1–0.3″ (k = 2, normal), 16 readings every 4 min for 7.3"),
 }
 
 
@@ -412,27 +443,31 @@ VARIANTS = {name: _variant(name, spec, d) for name, (spec, d) in SPECS.items()}
 
 
 def markdown(rows: list[dict], label: str = "") -> str:
-    """The table of docs/independent-campaigns.md (ogam section) from the rows of one or more sweeps."""
-    out = ["| variant | item | result | devices | not reportable | within U (or not reportable) | mean E_n | "
-           "rms E_n | max abs E_n | B_s truth = this hour's own: within U, mean E_n |",
+    """The table of docs/independent-campaigns.md (ogam section) from the rows of one or more
+    sweeps."""
+    out = ["| variant | item | result | devices | not reportable | within U (or not reportable) | "
+           "mean E_n | rms E_n | max abs E_n | B_s truth = this hour's own: within U, mean E_n |",
            "|---|---|---|---|---|---|---|---|---|---|"]
     for s in summarise(rows):
         def f(x, fmt):
             return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
         other = f" ({'; '.join(s['other'])})" if s["other"] else ""
-        out.append(f"| {label}{s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | {s['not_reportable']} | "
-                   f"{100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} | {f(s['rms_En'], '.2f')} | "
-                   f"{f(s['max_abs_En'], '.2f')} | "
-                   + (f"{100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f} |" if s["within_alt"] is not None else "— |"))
+        out.append(f"| {label}{s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | "
+                   f"{s['not_reportable']} | {100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} "
+                   f"| {f(s['rms_En'], '.2f')} | {f(s['max_abs_En'], '.2f')} | "
+                   + (f"{100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f} |"
+                      if s["within_alt"] is not None else "— |"))
     return "\n".join(out)
 
 
 def main(argv=None) -> int:
-    return IC.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-ogam-", alt_label="this hour's own",
+    return IC.cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-ogam-",
+                  alt_label="this hour's own",
                   quick_help="fewer Monte Carlo draws for the noise truths",
                   table=lambda rows, a: markdown(rows, a.label),
                   add_arguments=lambda ap: ap.add_argument("--label", default="",
-                                                           help="with --markdown: a prefix for the variant column"))
+                                                           help="with --markdown: a prefix for the "
+                                                           "variant column"))
 
 if __name__ == "__main__":
     sys.exit(main())

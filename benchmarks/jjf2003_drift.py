@@ -1,16 +1,17 @@
 """JJF 2003 gyro bias drift (plugins/jjf2003/drift.py) on the simulated MIMU's device classes.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/jjf2003_drift.py [--classes mems-16bit,mems-12bit,…] [--seeds 1:101]
+Run: nice -n 10 .venv/bin/python benchmarks/jjf2003_drift.py [--classes mems-16bit,mems-12bit,…]
+[--seeds 1:101]
 
 For each seed the station acquires the 7.2.1 and 7.2.2 plan (and 7.2.3 from the same sweeps) for a
 device of the class; the items run twice: on the records as written (with each segment's
 ``started``: the drift corrected where resolved) and on the same records without their times (the
 row u_b of the drift the trends cannot exclude; not reportable where the pooled drift is
-significant).  Printed per class: the fraction of gyros whose pooled drift is
-significant, the fraction of K_g / g results not reportable without times, and per result group
-the fraction within U of the station's ``expected`` (the device without the drift) with times, and
-the mean and rms E_n; then without times the fraction within U or not reportable, the mean E_n of
-the reportable ones and the median ratio of their U to the same result's U with times.  Not a test: the figures go to
+significant). Printed per class: the fraction of gyros whose pooled drift is significant, the
+fraction of K_g / g results not reportable without times, and per result group the fraction within U
+of the station's ``expected`` (the device without the drift) with times, and the mean and rms E_n;
+then without times the fraction within U or not reportable, the mean E_n of the reportable ones and
+the median ratio of their U to the same result's U with times. Not a test: the figures go to
 docs/standards/jjf2003.md.
 """
 
@@ -43,8 +44,9 @@ def main() -> None:
     lo, hi = (int(x) for x in a.seeds.split(":"))
     items = ["7.2.1", "7.2.2", "7.2.3"]
     procs = [pm.procedure("jjf2003", i) for i in items]
-    print("| class | seeds | gyros with a significant drift | K_g, g not reportable without times | group | "
-          "within U with times | mean E_n | rms E_n | without times: within U or n.r. | mean E_n | U ratio |")
+    print("| class | seeds | gyros with a significant drift | K_g, g not reportable without times "
+          "| group | within U with times | mean E_n | rms E_n | without times: within U or n.r. | "
+          "mean E_n | U ratio |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for cls in a.classes.split(","):
         t0 = time.time()
@@ -64,14 +66,17 @@ def main() -> None:
                     k = r.metric.key
                     if not k.startswith(("K_g", "g_")) or k not in exp:
                         continue
-                    g = ("K_g diagonal" if k[3] == k[4] else "K_g off-diagonal") if k.startswith("K_g") else \
+                    g = ("K_g diagonal" if k[3] == k[4]
+                         else "K_g off-diagonal") if k.startswith("K_g") else \
                         ("g diagonal" if k[2] == k[3] else "g off-diagonal")
                     g = f"{o.item} {g}"
                     U = float(r.U.magnitude)
                     U_with[(o.item, k)] = U
-                    e = (float(r.value.magnitude) - float(exp[k].to(r.value.units).magnitude)) / U if U > 0 else math.inf
+                    e = (float(r.value.magnitude)
+                         - float(exp[k].to(r.value.units).magnitude)) / U if U > 0 else math.inf
                     groups.setdefault(g, []).append(e)
-            bare = attrs.evolve(camp, segments=[attrs.evolve(s, started=None) for s in camp.segments])
+            bare = attrs.evolve(camp, segments=[attrs.evolve(s, started=None) for s
+                                                in camp.segments])
             d = D.campaign_drift(bare)
             sig += sum(d.significant(i) for i in range(3))
             rec2 = run_items(pm, "jjf2003", items, campaign=bare, options=opts)
@@ -83,20 +88,22 @@ def main() -> None:
                         nr += not r.reportable
                     if (o.item, k) not in U_with:
                         continue
-                    g = ("K_g diagonal" if k[3] == k[4] else "K_g off-diagonal") if k.startswith("K_g") else \
+                    g = ("K_g diagonal" if k[3] == k[4]
+                         else "K_g off-diagonal") if k.startswith("K_g") else \
                         ("g diagonal" if k[2] == k[3] else "g off-diagonal")
                     U = float(r.U.magnitude)
                     if not r.reportable:
                         bare_groups.setdefault(f"{o.item} {g}", []).append((math.nan, math.nan))
                         continue
-                    e = (float(r.value.magnitude) - float(exp[k].to(r.value.units).magnitude)) / U if U > 0 else math.inf
+                    e = (float(r.value.magnitude)
+                         - float(exp[k].to(r.value.units).magnitude)) / U if U > 0 else math.inf
                     bare_groups.setdefault(f"{o.item} {g}", []).append((e, U / U_with[(o.item, k)]))
         n = hi - lo
         first = True
         for g, es in sorted(groups.items()):
             es_ = np.array(es)
-            head = (f"| {cls} | {n} | {sig} of {3 * n} ({100 * sig / (3 * n):.1f} %) | {nr} of {nres} "
-                    f"({100 * nr / max(nres, 1):.1f} %) |") if first else "| | | | |"
+            head = (f"| {cls} | {n} | {sig} of {3 * n} ({100 * sig / (3 * n):.1f} %) | {nr} of "
+                    f"{nres} ({100 * nr / max(nres, 1):.1f} %) |") if first else "| | | | |"
             b = np.array(bare_groups.get(g, [(math.nan, math.nan)]))
             ok = ~np.isnan(b[:, 0])
             cov = np.mean(np.where(ok, np.abs(np.nan_to_num(b[:, 0])) <= 1, True))

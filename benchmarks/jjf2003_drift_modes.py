@@ -1,6 +1,7 @@
 """Run a benchmark with JJF 2003's drift rules switched to an alternative that issue 13 measured.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/jjf2003_drift_modes.py [--correct always|significant|never]
+Run: nice -n 10 .venv/bin/python benchmarks/jjf2003_drift_modes.py [--correct
+always|significant|never]
           [--no-times budget|significant|material|verdict|bound] SCRIPT [its arguments …]
 
 ``--correct`` (with recording times): ``significant`` (metro's rule: a result is corrected where the
@@ -17,7 +18,8 @@ the procedures and is only in this script's history (71d6f49).  The figures are 
 docs/interpretations.md and docs/standards/jjf2003.md, "Gyro bias drift during the campaign".
 Example:
 
-  benchmarks/jjf2003_drift_modes.py --no-times verdict benchmarks/independent_jjf2003.py --devices 200 \\
+  benchmarks/jjf2003_drift_modes.py --no-times verdict benchmarks/independent_jjf2003.py --devices
+  200 \\
       --seed 1001 --variants mimu-24bit-warmup-ramp --json verdict.json
 """
 
@@ -29,7 +31,8 @@ import sys
 
 
 def _bound_reason(D):
-    """Not reportable wherever the drift the trends cannot exclude could move the result by half of U."""
+    """Not reportable wherever the drift the trends cannot exclude could move the result by half of
+    U."""
 
     def reason(drift, i, tau_plan, U, unit):
         if not U > 0:
@@ -45,7 +48,8 @@ def _bound_reason(D):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--correct", choices=("significant", "always", "never"), default="significant")
-    ap.add_argument("--no-times", choices=("budget", "significant", "material", "verdict", "bound"), default="budget")
+    ap.add_argument("--no-times", choices=("budget", "significant", "material", "verdict", "bound"),
+                    default="budget")
     ap.add_argument("script")
     ap.add_argument("args", nargs=argparse.REMAINDER)
     a = ap.parse_args()

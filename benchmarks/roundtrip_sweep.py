@@ -4,7 +4,8 @@ simulated station (plus a few multi-item and series cases), through the real CLI
 
 Each case ends in one of:
 
-* ``ok``       — plan and acquire exit 0, run evaluates (exit 0, or 3/4: does not conform / indeterminate);
+* ``ok`` — plan and acquire exit 0, run evaluates (exit 0, or 3/4: does not conform /
+  indeterminate);
 * ``refused``  — acquire exits 2 with a message and writes nothing (a clean refusal);
 * ``broken``   — acquire wrote a campaign that run does not evaluate (exit ≠ 0);
 * ``leak``     — acquire refused but left something in --out;
@@ -26,7 +27,8 @@ import time
 import traceback
 from pathlib import Path
 
-STATIONS = ("simulated", "simulated-digital", "simulated-jjf2014", "simulated-mimu", "simulated-ogam")
+STATIONS = ("simulated", "simulated-digital", "simulated-jjf2014", "simulated-mimu",
+            "simulated-ogam")
 #: stations that take the option duration_scale (--scale)
 SCALED = ("simulated", "simulated-digital", "simulated-jjf2014", "simulated-mimu")
 SCALE: float | None = None
@@ -55,7 +57,8 @@ def case(standard: str, items: str, station: str, root: Path, seed: int = 7) -> 
     if rc == "traceback":
         rec.update(result="crash", where="plan", message=msg)
         return rec
-    argv = ["acquire", "-s", standard, "-i", items, "--station", station, "--out", str(out), "--seed", str(seed),
+    argv = ["acquire", "-s", standard, "-i", items, "--station", station, "--out", str(out),
+            "--seed", str(seed),
             "--no-progress"]
     if SCALE is not None and station in SCALED:
         argv += ["--station-option", f"duration_scale={SCALE}"]
@@ -68,10 +71,12 @@ def case(standard: str, items: str, station: str, root: Path, seed: int = 7) -> 
     if rc == 2:
         rec.update(result="leak" if out.exists() else "refused", message=msg)
         return rec
-    rc, msg = _cli(["run", "-s", standard, "-i", items, "--data", str(out / "manifest.toml"), "--no-report",
+    rc, msg = _cli(["run", "-s", standard, "-i", items, "--data", str(out / "manifest.toml"),
+                    "--no-report",
                     "--json", "--no-progress"])
     rec["run"] = rc
-    # run's exit codes for an evaluation: 0 (conforms / nothing judged), 3 (does not conform), 4 (indeterminate)
+    # run's exit codes for an evaluation: 0 (conforms / nothing judged), 3 (does not conform), 4
+    # (indeterminate)
     if rc == "traceback" or rc not in (0, 2, 3, 4):
         rec.update(result="crash", where="run", message=msg)
     elif rc == 2:
@@ -96,8 +101,10 @@ def cases(only: str | None) -> list[tuple[str, str, str]]:
         for item in sorted(stds[std]):
             for st in STATIONS:
                 out.append((std, item, st))
-    extra = [("gbt45570", "D.2.1,D.3", "simulated-digital"), ("gbt45570", "D.1.1,D.2.1", "simulated"),
-             ("gbt45570", "scale-factor", "simulated"), ("gbt45570", "scale-factor", "simulated-digital"),
+    extra = [("gbt45570", "D.2.1,D.3", "simulated-digital"),
+             ("gbt45570", "D.1.1,D.2.1", "simulated"),
+             ("gbt45570", "scale-factor", "simulated"),
+             ("gbt45570", "scale-factor", "simulated-digital"),
              ("gbt45570", "bias", "simulated"), ("gbt45570", "misalignment", "simulated-digital")]
     out += [e for e in extra if not only or e[0] == only]
     return out
@@ -107,7 +114,8 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--json", help="write every case's record here")
     ap.add_argument("--only", help="one standard")
-    ap.add_argument("--scale", type=float, help="duration_scale of the stations that take it (default: none given)")
+    ap.add_argument("--scale", type=float,
+                    help="duration_scale of the stations that take it (default: none given)")
     args = ap.parse_args()
     global SCALE
     SCALE = args.scale
@@ -117,16 +125,19 @@ def main() -> int:
         for std, items, st in cases(args.only):
             r = case(std, items, st, Path(d))
             recs.append(r)
-            print(f"{r['result']:8s} {std}:{items} @ {st}  {r.get('message', '')[:150]}", flush=True)
+            print(f"{r['result']:8s} {std}:{items} @ {st}  {r.get('message', '')[:150]}",
+                  flush=True)
     from collections import Counter
 
     c = Counter(r["result"] for r in recs)
-    print(f"\n{len(recs)} cases in {time.perf_counter() - t0:.0f} s: " + ", ".join(f"{k} {v}" for k, v in sorted(c.items())))
+    print(f"\n{len(recs)} cases in {time.perf_counter() - t0:.0f} s: "
+          + ", ".join(f"{k} {v}" for k, v in sorted(c.items())))
     consistent = c["ok"] + c["refused"]
     print(f"consistent (ok or clean refusal): {consistent}/{len(recs)}")
     per_item: dict[str, list[str]] = {}
     for r in recs:
-        per_item.setdefault(f"{r['standard']}:{r['items']}", []).extend([r["station"]] if r["result"] == "ok" else [])
+        per_item.setdefault(f"{r['standard']}:{r['items']}",
+                            []).extend([r["station"]] if r["result"] == "ok" else [])
     none = [k for k, v in per_item.items() if not v]
     print(f"items/sets evaluated on no station: {len(none)} {none}")
     if args.json:

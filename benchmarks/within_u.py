@@ -47,16 +47,20 @@ def _pairs(values: list[str]) -> dict[str, object]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("-s", "--standard", required=True)
     ap.add_argument("-i", "--item", default="", help="comma-separated item ids")
     ap.add_argument("--all", action="store_true", help="every item of the standard")
     ap.add_argument("--seeds", default="1:101", help="first:stop")
     ap.add_argument("-o", "--option", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE")
-    ap.add_argument("--device-class", default="", help="GB/T 45570: a device class of the simulated station, or all")
-    ap.add_argument("--classes", default="", help="JJF 2014 / JJF 2003 / ogam: comma-separated device classes, "
-                    "each run over the seeds; prints a Markdown table (result, class, seeds, within U, mean E_n)")
+    ap.add_argument("--device-class", default="",
+                    help="GB/T 45570: a device class of the simulated station, or all")
+    ap.add_argument("--classes", default="",
+                    help="JJF 2014 / JJF 2003 / ogam: comma-separated device classes, "
+                    "each run over the seeds; prints a Markdown table (result, class, seeds, "
+                    "within U, mean E_n)")
     a = ap.parse_args()
     if a.device_class:
         gbt_device_classes_main(a)
@@ -79,7 +83,8 @@ def main() -> None:
     for seed in range(first, stop):
         rec = run_items(pm, a.standard, items, options=options,
                         station_options=_pairs(a.station_option) | {"seed": seed})
-        flagged = {(o.item, r.metric.key) for o in rec.outcomes for r in o.results if not r.reportable}
+        flagged = {(o.item, r.metric.key) for o in rec.outcomes for r in o.results if
+                   not r.reportable}
         for c in truth_checks(rec):
             z = (c["value"] - c["truth"]) / (c["U"] / 2) if c["U"] else math.nan
             rows.setdefault((c["item"], c["key"]), []).append(
@@ -87,10 +92,10 @@ def main() -> None:
     n = stop - first
     print(f"{a.standard}: {len(items)} items, seeds {first}–{stop - 1} ({n}), "
           f"station options {_pairs(a.station_option) or 'none'}, {time.perf_counter() - t0:.0f} s")
-    # within U: every seed's value against its U; not rep.: seeds declared not reportable; covered: within U
-    # or not reportable (issue 13); mean E_n = mean z/2 over the reportable seeds
-    print(f"{'item':10s} {'result':14s} {'within U':>16s} {'rms z':>6s} {'not rep.':>8s} {'covered':>8s} "
-          f"{'mean E_n':>8s}")
+    # within U: every seed's value against its U; not rep.: seeds declared not reportable; covered:
+    # within U or not reportable (issue 13); mean E_n = mean z/2 over the reportable seeds
+    print(f"{'item':10s} {'result':14s} {'within U':>16s} {'rms z':>6s} {'not rep.':>8s} "
+          f"{'covered':>8s} {'mean E_n':>8s}")
     for (item, key), v in rows.items():
         hit = sum(h for h, _, _ in v)
         z = np.array([z for _, z, _ in v])
@@ -107,17 +112,20 @@ def main() -> None:
 # --------------------------------------------------------------------------------------------
 
 
-def gbt_class_items(pm, device_class: str, station_options: dict, options: dict) -> tuple[list[str], dict[str, str]]:
+def gbt_class_items(pm, device_class: str, station_options: dict,
+                    options: dict) -> tuple[list[str], dict[str, str]]:
     """The items that apply to the class's device, and those that fail on it (item → error):
     each applicable item is tried once on seed 1."""
     from metro.core.run.runner import run_items, select_items, station_device
 
     so = station_options | {"seed": 1, "device_class": device_class}
-    items, _ = select_items(pm, "gbt45570", [], run_all=True, device=station_device(pm, "simulated", so))
+    items, _ = select_items(pm, "gbt45570", [], run_all=True,
+                            device=station_device(pm, "simulated", so))
     ok, failed = [], {}
     for item in items:
         try:
-            run_items(pm, "gbt45570", [item], station="simulated", station_options=so, options=options)
+            run_items(pm, "gbt45570", [item], station="simulated", station_options=so,
+                      options=options)
             ok.append(item)
         except Exception as exc:  # noqa: BLE001 - reported in the table, not hidden
             failed[item] = f"{type(exc).__name__}: {str(exc).splitlines()[0][:120]}"
@@ -134,7 +142,8 @@ def sweep_gbt_class(pm, device_class: str, items: list[str], seeds: range, stati
     for seed in seeds:
         try:
             rec = run_items(pm, "gbt45570", items, station="simulated", options=options,
-                            station_options=station_options | {"seed": seed, "device_class": device_class})
+                            station_options=station_options | {"seed": seed,
+                                                               "device_class": device_class})
         except Exception as exc:  # noqa: BLE001
             errors.append(f"seed {seed}: {type(exc).__name__}: {str(exc).splitlines()[0][:120]}")
             continue
@@ -152,12 +161,14 @@ def sweep_gbt_class(pm, device_class: str, items: list[str], seeds: range, stati
                 t = float(exp[r.metric.key].to(unit).magnitude)
                 U = float(r.U.magnitude)
                 en = (v - t) / U if U > 0 else (0.0 if v == t else math.inf)
-                rows.setdefault((o.item, r.metric.key), []).append((bool(r.reportable), abs(en) <= 1.0, en))
+                rows.setdefault((o.item, r.metric.key),
+                                []).append((bool(r.reportable), abs(en) <= 1.0, en))
     return rows, errors
 
 
 def gbt_table(device_class: str, rows: dict) -> list[str]:
-    """Markdown rows: result, class, seeds, not reportable, within U (or not reportable), mean E_n, verdict."""
+    """Markdown rows: result, class, seeds, not reportable, within U (or not reportable), mean E_n,
+    verdict."""
     out = []
     for (item, key), v in sorted(rows.items()):
         n = len(v)
@@ -184,7 +195,8 @@ def gbt_device_classes_main(a) -> None:
     so = _pairs(a.station_option)
     print(f"gbt45570 device classes, seeds {first}–{stop - 1}, station options {so or 'none'}, "
           f"item options {options or 'none'}")
-    print("| result | class | seeds | not reportable | within U or not reportable | mean E_n | ≥ 95 %, |E_n| ≤ 0.3 |")
+    print("| result | class | seeds | not reportable | within U or not reportable | mean E_n | ≥ "
+          "95 %, |E_n| ≤ 0.3 |")
     print("|---|---|---|---|---|---|---|")
     notes = []
     for cls in classes:
@@ -202,14 +214,18 @@ def gbt_device_classes_main(a) -> None:
     for line in notes:
         print("  " + line)
 
-# ------------------------------------------------------------------ device classes (JJF 2014, JJF 2003, ogam)
+# ------------------------------------------------------------------ device classes (JJF 2014, JJF
+# 2003, ogam)
 
 
-def class_rows(standard: str, items: list[str], device_class: str, seeds: range, options: dict[str, str],
-               station_options: dict[str, object]) -> dict[tuple[str, str], list[tuple[bool, float]]]:
-    """Per (item, result): (within U, E_n = (result − truth)/U) for each seed, the station drawing one
-    device of ``device_class`` per seed.  A result marked not reportable counts as covered when it
-    says why (issue 13: "within U … or declared not reportable with a reason") and has E_n = nan."""
+def class_rows(standard: str, items: list[str], device_class: str, seeds: range,
+               options: dict[str, str],
+               station_options: dict[str, object]) -> dict[tuple[str, str],
+                                                           list[tuple[bool, float]]]:
+    """Per (item, result): (within U, E_n = (result − truth)/U) for each seed, the station drawing
+    one device of ``device_class`` per seed. A result marked not reportable counts as covered when
+    it says why (issue 13: "within U … or declared not reportable with a reason") and has E_n =
+    nan."""
     from metro.core.run.plugin_manager import get_plugin_manager
     from metro.core.cli.present import truth_checks
     from metro.core.run.runner import run_items
@@ -218,18 +234,22 @@ def class_rows(standard: str, items: list[str], device_class: str, seeds: range,
     rows: dict[tuple[str, str], list[tuple[bool, float]]] = {}
     for seed in seeds:
         rec = run_items(pm, standard, items, options=options,
-                        station_options=station_options | {"seed": seed, "device_class": device_class})
-        flagged = {(o.item, r.metric.key): r for o in rec.outcomes for r in o.results if not r.reportable}
+                        station_options=station_options | {"seed": seed,
+                                                           "device_class": device_class})
+        flagged = {(o.item, r.metric.key): r for o in rec.outcomes for r in o.results if
+                   not r.reportable}
         for c in truth_checks(rec):
             if (c["item"], c["key"]) in flagged:
-                rows.setdefault((c["item"], c["key"] + " (not reportable)"), []).append((True, math.nan))
+                rows.setdefault((c["item"], c["key"] + " (not reportable)"),
+                                []).append((True, math.nan))
                 continue
             en = (c["value"] - c["truth"]) / c["U"] if c["U"] else math.nan
             rows.setdefault((c["item"], c["key"]), []).append((bool(c["within_U"]), en))
     return rows
 
 
-def class_table(device_class: str, rows: dict[tuple[str, str], list[tuple[bool, float]]]) -> list[str]:
+def class_table(device_class: str, rows: dict[tuple[str, str],
+                                              list[tuple[bool, float]]]) -> list[str]:
     """Markdown rows: | item | result | class | seeds | within U | mean E_n | rms E_n |."""
     out = []
     for (item, key), v in rows.items():
@@ -238,7 +258,8 @@ def class_table(device_class: str, rows: dict[tuple[str, str], list[tuple[bool, 
         fin = en[np.isfinite(en)]
         mean = f"{fin.mean():+.2f}" if fin.size else "—"
         rms = f"{math.sqrt(np.mean(fin**2)):.2f}" if fin.size else "—"
-        out.append(f"| {item} | {key} | {device_class} | {len(v)} | {100 * hit / len(v):.1f} % | {mean} | {rms} |")
+        out.append(f"| {item} | {key} | {device_class} | {len(v)} | {100 * hit / len(v):.1f} % | "
+                   f"{mean} | {rms} |")
     return out
 
 
@@ -251,17 +272,20 @@ def jjf_classes_main(a) -> None:
     first, stop = (int(x) for x in a.seeds.split(":"))
     options = {k: str(v) for k, v in _pairs(a.option).items()}
     st = _pairs(a.station_option)
-    print(f"<!-- {a.standard}, items {','.join(items)}, seeds {first}–{stop - 1}, options {options or 'none'}, "
-          f"station options {st or 'none'} -->")
+    print(f"<!-- {a.standard}, items {','.join(items)}, seeds {first}–{stop - 1}, options "
+          f"{options or 'none'}, station options {st or 'none'} -->")
     print("| item | result | class | seeds | within U | mean E_n | rms E_n |")
     print("|---|---|---|---|---|---|---|")
     for cls in a.classes.split(","):
         t0 = time.perf_counter()
         rows: dict[tuple[str, str], list[tuple[bool, float]]] = {}
-        for lo in range(first, stop, 50):  # a cumulative table every 50 seeds (a long run can be cut short)
-            for k, v in class_rows(a.standard, items, cls, range(lo, min(lo + 50, stop)), options, st).items():
+        # a cumulative table every 50 seeds (a long run can be cut short)
+        for lo in range(first, stop, 50):
+            for k, v in class_rows(a.standard, items, cls, range(lo, min(lo + 50, stop)), options,
+                                   st).items():
                 rows.setdefault(k, []).extend(v)
-            print(f"<!-- {cls}: seeds {first}–{min(lo + 50, stop) - 1}, {time.perf_counter() - t0:.0f} s -->",
+            print(f"<!-- {cls}: seeds {first}–{min(lo + 50, stop) - 1}, "
+                  f"{time.perf_counter() - t0:.0f} s -->",
                   flush=True)
             for line in class_table(cls, rows):
                 print(line, flush=True)

@@ -13,8 +13,9 @@ from hypothesis import settings
 settings.register_profile("metro", deadline=None)
 settings.load_profile("metro")
 
-# Tests draw every figure (metro.core.documents.figure_cache off): a figure kept in the user's cache by an
-# earlier run would hide a drawing under test; tests/core/documents/test_figure_cache.py turns it on in a tmp folder.
+# Tests draw every figure (metro.core.documents.figure_cache off): a figure kept in the user's cache
+# by an earlier run would hide a drawing under test; tests/core/documents/test_figure_cache.py turns
+# it on in a tmp folder.
 os.environ["METRO_FIGURE_CACHE"] = "off"
 
 
@@ -39,9 +40,9 @@ def _load_local(name: str):
 
 @contextlib.contextmanager
 def _benchmark(name: str):
-    """A harness module of benchmarks/ (scripts, not a package), with benchmarks/ on sys.path while it is
-    in use (the harness modules import their shared pieces as siblings) and registered in sys.modules
-    (their dataclasses look their module up)."""
+    """A harness module of benchmarks/ (scripts, not a package), with benchmarks/ on sys.path while
+    it is in use (the harness modules import their shared pieces as siblings) and registered in
+    sys.modules (their dataclasses look their module up)."""
     import importlib.util
     import sys
     from pathlib import Path
@@ -60,13 +61,16 @@ def _benchmark(name: str):
 
 @pytest.fixture(scope="session")
 def benchmark_imports():
-    """``text, imports = benchmark_imports("independent_gbt_env")``: a harness module's source and its
-    ``import`` / ``from`` lines (stripped), for the tests that keep its generators independent of metro."""
+    """``text, imports = benchmark_imports("independent_gbt_env")``: a harness module's source and
+    its ``import`` / ``from`` lines (stripped), for the tests that keep its generators independent
+    of metro."""
     from pathlib import Path
 
     def read(name: str) -> tuple[str, list[str]]:
-        text = (Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.py").read_text(encoding="utf-8")
-        return text, [ln.strip() for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+        text = (Path(__file__).resolve().parents[1] / "benchmarks"
+                / f"{name}.py").read_text(encoding="utf-8")
+        return text, [ln.strip() for ln in text.splitlines()
+                      if ln.lstrip().startswith(("import ", "from "))]
 
     return read
 
@@ -79,7 +83,8 @@ def load_benchmark():
 
 @pytest.fixture(scope="module")
 def gbt_more_harness():
-    """benchmarks/independent_gbt_more.py, the GB/T harness whose device builders several tests use."""
+    """benchmarks/independent_gbt_more.py, the GB/T harness whose device builders several tests
+    use."""
     with _benchmark("independent_gbt_more") as mod:
         yield mod
 

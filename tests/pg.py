@@ -29,7 +29,9 @@ def _binary(name: str) -> str | None:
 
 
 INITDB, PG_CTL = _binary("initdb"), _binary("pg_ctl")
-SKIP_REASON = None if INITDB and PG_CTL else "no PostgreSQL server binary (initdb/pg_ctl) on this machine"
+SKIP_REASON = (
+    None if INITDB and PG_CTL else "no PostgreSQL server binary (initdb/pg_ctl) on this machine"
+)
 
 
 def _free_port() -> int:
@@ -55,9 +57,11 @@ class Server:
     def start(self) -> "Server":
         if self.as_root:
             shutil.chown(self.dir, "postgres", "postgres")
-        self._run(INITDB, "-D", str(self.data), "-U", "metro", "--auth=trust", "-E", "UTF8", "--no-sync")
+        self._run(INITDB, "-D", str(self.data), "-U", "metro", "--auth=trust", "-E", "UTF8",
+                  "--no-sync")
         self._run(PG_CTL, "-D", str(self.data), "-l", str(self.dir / "log"), "-o",
-                  f"-p {self.port} -k {self.dir} -c listen_addresses=127.0.0.1 -c fsync=off", "-w", "start")
+                  f"-p {self.port} -k {self.dir} -c listen_addresses=127.0.0.1 -c fsync=off", "-w",
+                  "start")
         return self
 
     def url(self, db: str = "postgres") -> str:
@@ -68,7 +72,8 @@ class Server:
         import psycopg
 
         name = "t_" + uuid.uuid4().hex[:12]
-        with psycopg.connect(f"host=127.0.0.1 port={self.port} user=metro dbname=postgres", autocommit=True) as c:
+        with psycopg.connect(f"host=127.0.0.1 port={self.port} user=metro dbname=postgres",
+                             autocommit=True) as c:
             c.execute(f'CREATE DATABASE "{name}"')
         return self.url(name)
 

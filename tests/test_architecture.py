@@ -59,7 +59,8 @@ def test_the_contracts_ignore_nothing():
 def test_architecture_md_draws_the_contract_layers():
     cfg = configparser.ConfigParser()
     cfg.read(ROOT / ".importlinter", encoding="utf-8")
-    layers = [x.strip() for x in cfg["importlinter:contract:core-layers"]["layers"].split("\n") if x.strip()]
+    layers = [x.strip() for x in cfg["importlinter:contract:core-layers"]["layers"].split("\n")
+              if x.strip()]
     doc = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
     block = re.search(r"<!-- layers -->\s*```text\n(.*?)```", doc, re.S)
     assert block, "docs/architecture.md lost its layers block"
@@ -127,7 +128,8 @@ def test_tests_mirror_the_tree():
     named for the behaviour it checks, never for how it came about (``*_findings``, ``*_fixes``)."""
     tests = ROOT / "tests"
     allowed = {("core", p.name) for p in (ROOT / "core").iterdir() if (p / "__init__.py").is_file()}
-    allowed |= {("plugins", p.name) for p in (ROOT / "plugins").iterdir() if (p / "__init__.py").is_file()}
+    allowed |= {("plugins", p.name) for p in (ROOT / "plugins").iterdir()
+                if (p / "__init__.py").is_file()}
     misplaced, named = [], []
     for f in sorted(tests.rglob("test_*.py")):
         rel = f.relative_to(tests).parts

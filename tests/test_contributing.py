@@ -16,11 +16,13 @@ SINCE = "8f598ab"
 def _subjects() -> list[str]:
     if shutil.which("git") is None or not (ROOT / ".git").exists():
         pytest.skip("not a git checkout (an unpacked sdist has no history)")
-    known = subprocess.run(["git", "-C", str(ROOT), "cat-file", "-e", f"{SINCE}^{{commit}}"], check=False,
+    known = subprocess.run(["git", "-C", str(ROOT), "cat-file", "-e", f"{SINCE}^{{commit}}"],
+                           check=False,
                            capture_output=True)
     if known.returncode != 0:
         pytest.skip(f"a shallow clone without {SINCE}")
-    out = subprocess.run(["git", "-C", str(ROOT), "log", "--format=%s", f"{SINCE}^..HEAD"], check=True,
+    out = subprocess.run(["git", "-C", str(ROOT), "log", "--format=%s", f"{SINCE}^..HEAD"],
+                         check=True,
                          capture_output=True, text=True)
     return out.stdout.splitlines()
 

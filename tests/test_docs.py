@@ -10,7 +10,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _gen():
-    spec = importlib.util.spec_from_file_location("gen_hook_docs", ROOT / "tools" / "gen_hook_docs.py")
+    spec = importlib.util.spec_from_file_location("gen_hook_docs", ROOT / "tools"
+                                                  / "gen_hook_docs.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
@@ -94,7 +95,8 @@ def test_every_registered_procedure_has_a_reference_test():
         page = (ROOT / "docs" / "standards" / f"{std}.md").read_text(encoding="utf-8")
         cited = {n for line in page.splitlines() if f"`{info.cls.__name__}`" in line
                  for n in re.findall(r"(test_\w+)", line)}
-        marks = [info.cls.__name__] + [f"'{x}'" for x in [item] + [m.key for m in info.cls.metrics]] + \
+        marks = [info.cls.__name__] + [f"'{x}'" for x in [item]
+                                       + [m.key for m in info.cls.metrics]] + \
                 [f'"{x}"' for x in [item] + [m.key for m in info.cls.metrics]]
         if not any(n in bodies and any(k in bodies[n] for k in marks) for n in cited):
             missing.append(f"{pid} ({info.cls.__name__}): cites {sorted(cited) or 'no test'}")
@@ -115,7 +117,8 @@ def test_worked_example_campaign_runs(run_cli):
     import json
 
     manifest = ROOT / "docs" / "examples" / "campaign" / "manifest.toml"
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest), "--json",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest),
+                             "--json",
                              "--no-report", "--no-progress")
     assert code in (0, 3, 4), err  # evaluated (0 conforms, 3 does not conform, 4 indeterminate)
     doc = json.loads(out)
@@ -139,8 +142,8 @@ def _public_modules() -> list[str]:
     text = (ROOT / "docs" / "plugins-writing.md").read_text(encoding="utf-8")
     section = text.split("## 9. What a plugin may import", 1)[1].split("\n## ", 1)[0]
     mods = re.findall(r"^\| `(metro[\w.*<>]*)` \|", section, re.M)
-    # metro.api is the one module of metro a plugin imports (its names come from core, listed
-    # below it in the table, but are imported from metro.api); a standard's own modules may be reused
+    # metro.api is the one module of metro a plugin imports (its names come from core, listed below
+    # it in the table, but are imported from metro.api); a standard's own modules may be reused
     assert mods == ["metro.api", "metro.plugins.<standard>"], mods
     return mods
 
@@ -156,7 +159,8 @@ def _is_public(module: str, public: list[str]) -> bool:
 
 
 def _metro_imports(path: Path, package: str):
-    """(line, module, names) of every import of a metro module in ``path``, relative ones resolved."""
+    """(line, module, names) of every import of a metro module in ``path``, relative ones
+    resolved."""
     import ast
 
     tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
@@ -187,7 +191,8 @@ def test_plugins_import_only_the_public_api():
             for line, mod, names in _metro_imports(f, ".".join((package, *sub))):
                 own = mod == package or mod.startswith(package + ".")
                 if not own and not _is_public(mod, public):
-                    bad.append(f"{f.relative_to(ROOT)}:{line}: {mod} is not in the public API table")
+                    bad.append(
+                        f"{f.relative_to(ROOT)}:{line}: {mod} is not in the public API table")
                 if any(part.startswith("_") for part in mod.split(".")) or any(
                         n.startswith("_") for n in names):
                     bad.append(f"{f.relative_to(ROOT)}:{line}: private name from {mod}: {names}")
@@ -195,13 +200,18 @@ def test_plugins_import_only_the_public_api():
 
 
 def test_public_api_check_catches_a_private_import(tmp_path):
-    (tmp_path / "p.py").write_text("from metro.core.run.runner import run_items\nfrom metro.core.base.units import _x\n"
+    (tmp_path
+     / "p.py").write_text("from metro.core.run.runner import run_items\nfrom metro.core.base.units "
+                          "import _x\n"
                                    "from .sibling import thing\n", encoding="utf-8")
     got = list(_metro_imports(tmp_path / "p.py", "metro.plugins.zzz"))
-    assert [m for _, m, _ in got] == ["metro.core.run.runner", "metro.core.base.units", "metro.plugins.zzz.sibling"]
+    assert [m for _, m, _ in got] == ["metro.core.run.runner", "metro.core.base.units",
+                                      "metro.plugins.zzz.sibling"]
     public = _public_modules()
-    assert not _is_public("metro.core.run.runner", public) and not _is_public("metro.core.cli.app", public)
-    assert not _is_public("metro.core.model.results", public) and not _is_public("metro.core", public)
+    assert not _is_public("metro.core.run.runner",
+                          public) and not _is_public("metro.core.cli.app", public)
+    assert not _is_public("metro.core.model.results",
+                          public) and not _is_public("metro.core", public)
     assert _is_public("metro.api", public) and _is_public("metro.plugins.gbt45570.formulas", public)
 
 
@@ -212,7 +222,8 @@ def test_every_test_a_doc_names_exists():
         defs |= set(re.findall(r"^\s*def (test_\w+)", f.read_text(encoding="utf-8"), re.M))
     missing = []
     for doc in sorted((ROOT / "docs").rglob("*.md")) + [ROOT / "README.md"]:
-        for name in sorted(set(re.findall(r"`(?:[\w/.]*::)?(test_\w+)`", doc.read_text(encoding="utf-8")))):
+        for name in sorted(set(re.findall(r"`(?:[\w/.]*::)?(test_\w+)`",
+                                          doc.read_text(encoding="utf-8")))):
             if name not in defs:
                 missing.append(f"{doc.relative_to(ROOT)}: {name}")
     assert not missing, missing

@@ -36,12 +36,16 @@ def acme():
 
 
 def _modules():
-    return importlib.import_module("acme_metro.acmefile"), importlib.import_module("acme_metro.procedures")
+    return (
+        importlib.import_module("acme_metro.acmefile"),
+        importlib.import_module("acme_metro.procedures")
+    )
 
 
 def test_smoothed_std_hand_worked(acme):
     _, proc = _modules()
-    # moving averages of 2 over [0, 2, 0, 2, 0]: all 1 → s = 0; over [0, 0, 4, 0]: 0, 2, 2 → s = 2/√3
+    # moving averages of 2 over [0, 2, 0, 2, 0]: all 1 → s = 0; over [0, 0, 4, 0]: 0, 2, 2 → s =
+    # 2/√3
     assert proc.smoothed_std(np.array([0, 2, 0, 2, 0.0]), 2)[0] == pytest.approx(0.0, abs=1e-12)
     s, m = proc.smoothed_std(np.array([0, 0, 4, 0.0]), 2)
     assert s == pytest.approx(np.std([0, 2, 2], ddof=1), rel=1e-12) and m == 2
@@ -57,7 +61,8 @@ def test_vendor_item_joins_the_gbt45570_family(acme, metro_pm_factory, simulated
     assert pm.procedure("gbt45570", "ACME.BS10") is proc.AcmeBiasStability10s
     assert pm.registry.procedures["gbt45570:ACME.BS10"].plugin == acme.__name__
     assert ".acme" in pm.registry.readers and pm.template_for("acme").name == "acme-certificate"
-    assert pm.template_for("gbt45570").name != "acme-certificate"  # the vendor does not take over GB/T reports
+    # the vendor does not take over GB/T reports
+    assert pm.template_for("gbt45570").name != "acme-certificate"
     st = simulated_station(output="rate")
     rec = run_items(pm, "gbt45570", ["ACME.BS10", "D.5.2"], campaign=st.acquire(
         pm.procedure("gbt45570", "ACME.BS10")().sequence({})))
@@ -136,13 +141,16 @@ def test_vendor_certificate_on_recorded_binary_data(acme, metro_pm_factory, tmp_
 def test_vendor_template_is_reproducible(acme):
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("acme_make", EXAMPLE / "acme_metro" / "templates" / "make_template.py")
+    spec = importlib.util.spec_from_file_location("acme_make", EXAMPLE / "acme_metro" / "templates"
+                                                  / "make_template.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    assert mod.build() == (EXAMPLE / "acme_metro" / "templates" / "acme_certificate.docx").read_bytes()
+    assert mod.build() == (EXAMPLE / "acme_metro" / "templates"
+                           / "acme_certificate.docx").read_bytes()
 
 
-# ----------------------------------------------------------------------- a fresh virtual environment
+# ----------------------------------------------------------------------- a fresh virtual
+# environment
 
 #: what the fresh environment must not inherit from the running one: metro itself (its
 #: editable install), the example, and pip's own machinery
@@ -159,10 +167,12 @@ def _dependency_overlay(dest: Path) -> Path:
     "metro".
     """
     dest.mkdir()
-    for site in {Path(p) for p in (sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"])}:
+    for site in {Path(p) for p in (sysconfig.get_paths()["purelib"],
+                                   sysconfig.get_paths()["platlib"])}:
         for entry in site.iterdir():
             low = entry.name.lower()
-            if entry.suffix == ".pth" or low.startswith(_NOT_SHARED) or (dest / entry.name).exists():
+            if entry.suffix == ".pth" or low.startswith(_NOT_SHARED) or (
+                dest / entry.name).exists():
                 continue
             (dest / entry.name).symlink_to(entry, target_is_directory=entry.is_dir())
     return dest
@@ -185,11 +195,14 @@ def test_installed_next_to_metro_in_a_fresh_venv(tmp_path):
     network: ``--no-index``, dependencies from the running environment's packages), then the
     venv's own ``metro`` lists the plugin and runs its item."""
     venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, capture_output=True)
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True,
+                   capture_output=True)
     py = venv / "bin" / "python"
-    site = Path(subprocess.run([str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+    site = Path(subprocess.run([str(py), "-c",
+                                "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
                                check=True, capture_output=True, text=True).stdout.strip())
-    (site / "_metro_test_deps.pth").write_text(f"{_dependency_overlay(tmp_path / 'deps')}\n", encoding="utf-8")
+    (site / "_metro_test_deps.pth").write_text(f"{_dependency_overlay(tmp_path / 'deps')}\n",
+                                               encoding="utf-8")
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(("METRO_", "PIP_")) and k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     env["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
@@ -199,25 +212,30 @@ def test_installed_next_to_metro_in_a_fresh_venv(tmp_path):
     # the running pip installs into the venv (--python); metro first, then the example, whose
     # "metro>=0.1" requirement is then met by the metro just installed
     for what in (src, example):
-        pip = subprocess.run([sys.executable, "-m", "pip", "--python", str(py), "install", "-q", "--no-index",
+        pip = subprocess.run([sys.executable, "-m", "pip", "--python", str(py), "install", "-q",
+                              "--no-index",
                               "--no-build-isolation", "--no-cache-dir", str(what)],
                              capture_output=True, text=True, env=env, cwd=tmp_path, timeout=600)
         assert pip.returncode == 0, f"pip install {what.name}:\n{pip.stdout[-2000:]}{pip.stderr[-3000:]}"
     metro = venv / "bin" / "metro"
-    out = subprocess.run([str(metro), "plugins", "--json"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    out = subprocess.run([str(metro), "plugins", "--json"], capture_output=True, text=True, env=env,
+                         cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     plugins = {p["name"]: p for p in json.loads(out.stdout)["plugins"]}
     assert plugins["acme"]["distribution"] == "acme-metro-plugin" and not plugins["acme"]["builtin"]
     assert plugins["acme"]["standards"] == ["acme"] and plugins["acme"]["items"] == 2
     assert plugins["ogam"]["builtin"]
-    out = subprocess.run([str(metro), "run", "-s", "gbt45570", "-i", "ACME.BS10", "--json", "--no-progress",
+    out = subprocess.run([str(metro), "run", "-s", "gbt45570", "-i", "ACME.BS10", "--json",
+                          "--no-progress",
                           "--no-report"], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     res = json.loads(out.stdout)["results"]
     assert res[0]["key"] == "Bs_ma10" and res[0]["value"] > 0 and res[0]["U"] > 0
     # both came from the venv (installed copies), not from the repository or the test's environment
-    where = subprocess.run([str(py), "-c", "import acme_metro, metro.core; print(acme_metro.__file__); "
-                            "print(metro.core.__file__)"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    where = subprocess.run([str(py), "-c",
+                            "import acme_metro, metro.core; print(acme_metro.__file__); "
+                            "print(metro.core.__file__)"], capture_output=True, text=True, env=env,
+                           cwd=tmp_path)
     assert where.returncode == 0, where.stderr
     assert all(line.startswith(str(site)) for line in where.stdout.split()), where.stdout
 
@@ -228,7 +246,8 @@ def test_installed_next_to_metro_in_a_fresh_venv(tmp_path):
 def _tutorial_blocks() -> tuple[str, str]:
     text = (ROOT / "docs" / "plugins-writing.md").read_text(encoding="utf-8")
     blocks = re.findall(r"```python\n(.*?)```", text, re.DOTALL)
-    plugin = "\n".join(b.split("\n", 1)[1] for b in blocks if b.startswith("# file: demo_metro/plugin.py"))
+    plugin = "\n".join(b.split("\n", 1)[1] for b in blocks
+                       if b.startswith("# file: demo_metro/plugin.py"))
     tests = [b for b in blocks if b.startswith("# tests/test_demo.py")]
     assert plugin and len(tests) == 1
     return plugin, tests[0]
@@ -249,15 +268,18 @@ def test_writing_tutorial_runs(tmp_path):
     (doc_tests,) = re.findall(r"```python\n(.*?)```", testing_doc, re.DOTALL)
     (tmp_path / "test_testing_doc.py").write_text(doc_tests, encoding="utf-8")
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
-    out = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--rootdir", str(tmp_path),
+    out = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                          "--rootdir", str(tmp_path),
                           str(tmp_path / "test_demo.py"), str(tmp_path / "test_testing_doc.py")],
                          capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
     assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-2000:]
     assert "4 passed" in out.stdout
     # and through the CLI, loaded by METRO_PLUGINS without installing it
     env["METRO_PLUGINS"] = "demo_metro.plugin"
-    out = subprocess.run([sys.executable, "-m", "metro.core.cli.app", "run", "-s", "demo", "-i", "4.1", "--json",
-                          "--no-report", "--no-progress"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    out = subprocess.run([sys.executable, "-m", "metro.core.cli.app", "run", "-s", "demo", "-i",
+                          "4.1", "--json",
+                          "--no-report", "--no-progress"], capture_output=True, text=True, env=env,
+                         cwd=tmp_path)
     if out.returncode != 0 and "No module named metro.core.cli.app.__main__" in out.stderr:  # pragma: no cover
         pytest.skip("metro.core.cli.app is not runnable with -m")
     assert out.returncode == 0, out.stderr

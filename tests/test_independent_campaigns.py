@@ -58,10 +58,12 @@ def test_pulse_counter_keeps_every_pulse(harness):
 
 DEVICES = [
     ("gbt45570", "D.5.1,D.5.3", 11,
-     lambda h, f, rng: h.build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.002, wander=0.0,
+     lambda h, f, rng: h.build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.002,
+                                        wander=0.0,
                                        lsb_deg_h=0, q_deg_h=0, quick=True)),
     ("gbt45570", "D.2.1", 12,
-     lambda h, f, rng: h.build_gbt_rate(f, rng, dt=0.1, fmt="npy", lsb_deg_h=0.3, asym=2e-4, flick=0.01,
+     lambda h, f, rng: h.build_gbt_rate(f, rng, dt=0.1, fmt="npy", lsb_deg_h=0.3, asym=2e-4,
+                                        flick=0.01,
                                        wander=0.05, quick=True)),
     ("jjf2014", "7.2.1,7.2.4,7.2.13", 13,
      lambda h, f, rng: h.build_jjf(f, rng, dt_static=0.0025, dt_rate=0.0025, fmt="npy", kind="mV/V",
@@ -70,7 +72,8 @@ DEVICES = [
 ]
 
 
-@pytest.mark.parametrize("standard,items,seed,build", DEVICES, ids=["gbt-pulse-bias", "gbt-lsb-rate", "jjf-mVV"])
+@pytest.mark.parametrize("standard,items,seed,build", DEVICES,
+                         ids=["gbt-pulse-bias", "gbt-lsb-rate", "jjf-mVV"])
 def test_independent_device_evaluates_within_U(harness, tmp_path, standard, items, seed, build):
     folder = tmp_path / f"dev-{seed}"
     folder.mkdir()
@@ -123,26 +126,33 @@ def test_two_segments_of_one_kind_cannot_read_one_file(run_cli, harness, tmp_pat
     kinds may share a record (a D.5.1 static hour that is also the first D.5.3 power-on)."""
     folder = tmp_path / "jjf"
     folder.mkdir()
-    harness.build_jjf(folder, np.random.default_rng(5), dt_static=0.01, dt_rate=1.0, fmt="csv", kind="mV",
+    harness.build_jjf(folder, np.random.default_rng(5), dt_static=0.01, dt_rate=1.0, fmt="csv",
+                      kind="mV",
                       flick=0.0, wander=0.0, q=0.0, asym=0.0, neg=False, static_s=300, quick=True)
     manifest = folder / "manifest.toml"
     text = manifest.read_text(encoding="utf-8")
     assert text.count('file = "rate+0.25.csv"') == 1
-    manifest.write_text(text.replace('file = "rate+0.25.csv"', 'file = "rate+0.1.csv"'), encoding="utf-8")
-    code, out, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--data", str(manifest), "--no-report", "--json")
+    manifest.write_text(text.replace('file = "rate+0.25.csv"', 'file = "rate+0.1.csv"'),
+                        encoding="utf-8")
+    code, out, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--data", str(manifest),
+                             "--no-report", "--json")
     assert code == 2, err
     doc = json.loads(out)
     assert doc["field"].startswith("segments[") and doc["field"].endswith("].file"), doc
-    assert "'rate+0.25'" in doc["message"] and "'rate+0.1'" in doc["message"] and "rate+0.1.csv" in doc["message"]
+    assert "'rate+0.25'" in doc["message"] and "'rate+0.1'" in doc[
+        "message"] and "rate+0.1.csv" in doc["message"]
     assert "Traceback" not in err
 
     bias = tmp_path / "bias"
     bias.mkdir()
-    harness.build_gbt_bias(bias, np.random.default_rng(6), kind="pulse", dt=1.0, fmt="csv", flick=0.0, wander=0.0,
+    harness.build_gbt_bias(bias, np.random.default_rng(6), kind="pulse", dt=1.0, fmt="csv",
+                           flick=0.0, wander=0.0,
                            lsb_deg_h=0, q_deg_h=0, quick=True)
     manifest = bias / "manifest.toml"
     text = manifest.read_text(encoding="utf-8")
-    manifest.write_text(text.replace('file = "repeat-1.csv"', 'file = "static-1h.csv"'), encoding="utf-8")
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.3", "--data", str(manifest), "--no-report",
+    manifest.write_text(text.replace('file = "repeat-1.csv"', 'file = "static-1h.csv"'),
+                        encoding="utf-8")
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.3", "--data", str(manifest),
+                             "--no-report",
                              "--json")
     assert code in (0, 3, 4), err

@@ -37,7 +37,8 @@ def test_core_dependencies_leave_the_heavy_and_unused_packages_to_extras():
     assert {"numba", "pyarrow"} <= extras["fast"]
     assert {"dask", "pyarrow"} <= extras["batch"]
     assert extras["postgres"] == {"psycopg"}
-    assert project["optional-dependencies"]["all"] == ["metro-inertial[fast,batch,postgres,drivers]"]
+    assert project["optional-dependencies"]["all"] == [
+        "metro-inertial[fast,batch,postgres,drivers]"]
 
 
 def test_distribution_name_and_version():
@@ -53,12 +54,15 @@ def test_readme_commands_and_ci():
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     blocks = [b.split("```", 1)[0].strip() for b in readme.split("```sh\n")[1:3]]
     main_job, tests = blocks
-    assert main_job.endswith("metro run --standard gbt45570 --item D.5.6") and "pip install -e . " in main_job
+    assert main_job.endswith(
+        "metro run --standard gbt45570 --item D.5.6") and "pip install -e . " in main_job
     assert tests == "python3 -m venv .venv && .venv/bin/pip install -e '.[all,test]' && .venv/bin/python -m pytest"
     assert tests in ci.splitlines()  # verbatim
     assert "libreoffice-writer-nogui poppler-utils fonts-noto-cjk" in " ".join(ci.split())
-    for needs in ("libreoffice-writer-nogui poppler-utils", "fonts-noto-cjk", "'metro-inertial[fast]'",
-                  "'metro-inertial[batch]'", "'metro-inertial[postgres]'", "pip install metro-inertial"):
+    for needs in ("libreoffice-writer-nogui poppler-utils", "fonts-noto-cjk",
+                  "'metro-inertial[fast]'",
+                  "'metro-inertial[batch]'", "'metro-inertial[postgres]'",
+                  "pip install metro-inertial"):
         assert needs in readme, needs
 
 
@@ -90,7 +94,8 @@ BLOCK = textwrap.dedent("""
 
 def _core_only(tmp_path: Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
     environ = {k: v for k, v in os.environ.items() if not k.startswith("METRO_")} | (env or {})
-    return subprocess.run([sys.executable, "-c", BLOCK, ",".join(OPTIONAL), *args], capture_output=True,
+    return subprocess.run([sys.executable, "-c", BLOCK, ",".join(OPTIONAL), *args],
+                          capture_output=True,
                           text=True, cwd=tmp_path, env=environ, timeout=900)
 
 
@@ -98,16 +103,19 @@ def test_main_job_and_a_recorded_campaign_without_the_extras(tmp_path):
     p = _core_only(tmp_path, "run", "--standard", "gbt45570", "--item", "D.5.6", "--no-progress")
     assert p.returncode == 0, p.stderr
     assert list((tmp_path / "metro-out").glob("*.docx"))
-    p = _core_only(tmp_path, "acquire", "-s", "gbt45570", "-i", "D.5.1,D.5.6", "--out", "acq", "--no-progress")
+    p = _core_only(tmp_path, "acquire", "-s", "gbt45570", "-i", "D.5.1,D.5.6", "--out", "acq",
+                   "--no-progress")
     assert p.returncode == 0, p.stderr
-    p = _core_only(tmp_path, "run", "-s", "gbt45570", "-i", "D.5.1,D.5.6", "--data", "acq/manifest.toml",
+    p = _core_only(tmp_path, "run", "-s", "gbt45570", "-i", "D.5.1,D.5.6", "--data",
+                   "acq/manifest.toml",
                    "--no-report", "--json", "--no-progress")
     assert p.returncode == 0, p.stderr
     assert "Traceback" not in p.stderr
 
 
 def test_batch_without_dask_names_the_extra(tmp_path):
-    p = _core_only(tmp_path, "batch", "-s", "gbt45570", "-i", "D.5.6", "--data", "nothing/*/manifest.toml",
+    p = _core_only(tmp_path, "batch", "-s", "gbt45570", "-i", "D.5.6", "--data",
+                   "nothing/*/manifest.toml",
                    "--out", "lot")
     assert p.returncode == 2, p.stderr
     assert "metro batch needs the 'batch' extra: pip install 'metro-inertial[batch]'" in p.stderr
@@ -133,5 +141,6 @@ def test_parquet_without_pyarrow_names_the_extra(tmp_path):
             print(exc.reason)
     """)
     block = BLOCK.split("from metro.core.cli.app")[0]
-    p = subprocess.run([sys.executable, "-c", block + code, ",".join(OPTIONAL)], capture_output=True, text=True)
+    p = subprocess.run([sys.executable, "-c", block + code, ",".join(OPTIONAL)],
+                       capture_output=True, text=True)
     assert "needs the 'fast' extra: pip install 'metro-inertial[fast]'" in p.stdout, p.stderr

@@ -1,4 +1,5 @@
-"""Packaging: one `metro` namespace in the wheel, entry points, no top-level core/run/plugin_manager/instruments."""
+"""Packaging: one `metro` namespace in the wheel, entry points, no top-level
+core/run/plugin_manager/instruments."""
 
 from __future__ import annotations
 
@@ -17,7 +18,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def wheel(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("wheel")
     subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(out), str(ROOT)],
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w",
+         str(out), str(ROOT)],
         check=True, capture_output=True, text=True,
     )
     (whl,) = out.glob("metro_inertial-*.whl")  # the distribution metro-inertial
@@ -31,7 +33,8 @@ def test_wheel_contains_only_the_metro_namespace(wheel):
     assert [t.split("-")[0] for t in top if t.endswith(".dist-info")] == ["metro_inertial"]
     for needed in (
         "metro/api.py", "metro/core/model/hookspec.py", "metro/core/base/units.txt",
-        "metro/core/documents/templates/report.docx", "metro/core/base/locale/zh/LC_MESSAGES/metro.po",
+        "metro/core/documents/templates/report.docx",
+        "metro/core/base/locale/zh/LC_MESSAGES/metro.po",
         "metro/core/base/locale/__init__.py", "metro/core/cli/schemas/run.schema.json",
         "metro/plugins/gbt45570/procedures.py", "metro/plugins/jjf2014/__init__.py",
         "metro/plugins/jjf2003/__init__.py", "metro/instruments/simulated.py",
@@ -54,12 +57,14 @@ def test_help_is_fast_and_imports_nothing_heavy():
             "with contextlib.redirect_stdout(io.StringIO()):\n"
             "    try: main(['--help'])\n"
             "    except SystemExit: pass\n"
-            "heavy=[m for m in ('numpy','scipy','pint','docxtpl','matplotlib','numba','pyarrow') if m in sys.modules]\n"
-            "print(heavy)")
+            "heavy=[m for m in ('numpy','scipy','pint','docxtpl','matplotlib','numba','pyarrow') "
+            "if m in sys.modules]\nprint(heavy)")
     t0 = time.perf_counter()
-    out = subprocess.run([sys.executable, "-P", "-c", code], check=True, capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-P", "-c", code], check=True, capture_output=True,
+                         text=True)
     assert out.stdout.strip() == "[]"
-    assert time.perf_counter() - t0 < 2.0  # generous for CI; docs/performance.md has the measured figure
+    # generous for CI; docs/performance.md has the measured figure
+    assert time.perf_counter() - t0 < 2.0
 
 
 def test_wheel_gives_python_dash_m_metro_and_keeps_the_namespace(wheel):

@@ -6,8 +6,8 @@ plugins' own (``locale/zh/LC_MESSAGES/*.po`` in a plugin's package); ``--update`
 missing ids to metro's catalog with an empty translation, to be filled in.
 
 Babel's extractor does not look inside f-strings before Python 3.12, so this list can miss some;
-``tests/core/documents/test_report.py::test_every_document_string_is_in_the_catalog`` renders every standard's
-document in Chinese and fails on any message id the catalog lacks."""
+``tests/core/documents/test_report.py::test_every_document_string_is_in_the_catalog`` renders every
+standard's document in Chinese and fails on any message id the catalog lacks."""
 
 from __future__ import annotations
 

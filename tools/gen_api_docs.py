@@ -273,7 +273,8 @@ def field_rows(cls: type) -> list[tuple[str, str, str, str]]:
         fields = []
         seen: set[str] = set()
         for klass in reversed(cls.__mro__):
-            if not klass.__module__.startswith("metro") or klass.__name__ in ("Protocol", "Generic"):
+            if not klass.__module__.startswith("metro") or klass.__name__ in (
+                "Protocol", "Generic"):
                 continue
             for name, ann in vars(klass).get("__annotations__", {}).items():
                 if name.startswith("_") or name in seen:

@@ -1,13 +1,13 @@
 """Atomic file writing: a file is either written completely or not at all.
 
-Everything is written to a temporary file in the target's own directory (named
-``.{name}.tmp-<8 random characters>``, so it is on the same file system and hidden from a plain ``ls``);
-only when the writer has finished without an error is the temporary file flushed to disk
-and renamed onto the target with :func:`os.replace`, which is atomic on POSIX and Windows.
-On any exception, ``KeyboardInterrupt`` included, the temporary file is removed and a file
-that already existed at the target is left exactly as it was.  A process killed outright
-(SIGKILL, power loss) cannot clean up: the next atomic write into the same directory removes
-temporary files of that pattern older than :data:`STALE_AFTER_S` (:func:`sweep_stale`).
+Everything is written to a temporary file in the target's own directory (named ``.{name}.tmp-<8
+random characters>``, so it is on the same file system and hidden from a plain ``ls``); only when
+the writer has finished without an error is the temporary file flushed to disk and renamed onto the
+target with :func:`os.replace`, which is atomic on POSIX and Windows. On any exception,
+``KeyboardInterrupt`` included, the temporary file is removed and a file that already existed at the
+target is left exactly as it was. A process killed outright (SIGKILL, power loss) cannot clean up:
+the next atomic write into the same directory removes temporary files of that pattern older than
+:data:`STALE_AFTER_S` (:func:`sweep_stale`).
 
 >>> atomic_write_text(path, "hello\\n")                     # doctest: +SKIP
 >>> atomic_write(path, lambda tmp: figure.savefig(tmp, format="png"))  # doctest: +SKIP
@@ -41,22 +41,32 @@ _TMP_NAME = re.compile(r"^\..+" + re.escape(TMP_MARKER) + r"[0-9a-f]{8}$")
 
 def write_failure(exc: OSError) -> tuple[str, str]:
     """(reason, what to do) for an ``OSError`` met while writing, in words a user acts on: a full
-    disk (ENOSPC) says so, as do a used-up quota, a read-only file system and a refused permission."""
+    disk (ENOSPC) says so, as do a used-up quota, a read-only file system and a refused
+    permission."""
     import errno
 
     code, said = exc.errno, exc.strerror or str(exc)
     if code == errno.ENOSPC:
-        return f"the disk is full ({said})", "free some space on that disk, or write to another folder"
+        return (
+            f"the disk is full ({said})", "free some space on that disk, or write to another folder"
+        )
     if code == getattr(errno, "EDQUOT", None):
-        return f"your disk quota is used up ({said})", "free some space in your quota, or write to another folder"
+        return (
+            f"your disk quota is used up ({said})",
+            "free some space in your quota, or write to another folder"
+        )
     if code == errno.EROFS:
         return f"the file system is read-only ({said})", "write to another folder"
     if code in (errno.EACCES, errno.EPERM):
-        return f"permission denied ({said})", "write to a folder you may write in, or ask for write access"
+        return (
+            f"permission denied ({said})",
+            "write to a folder you may write in, or ask for write access"
+        )
     return said, "check the disk and the folder, or write to another folder"
 
 
-def sweep_stale(directory: str | os.PathLike[str], *, older_than_s: float = STALE_AFTER_S) -> list[Path]:
+def sweep_stale(directory: str | os.PathLike[str], *,
+                older_than_s: float = STALE_AFTER_S) -> list[Path]:
     """Remove the temporary files (``.{name}.tmp-<8 hex digits>``) in ``directory`` that are older
     than ``older_than_s`` — left behind by a writer killed between writing and renaming — and
     return their paths.  Only regular files of exactly that pattern are touched."""
@@ -91,7 +101,8 @@ def _create_temp(final: Path) -> Path:
     for _ in range(_TRIES):
         tmp = final.with_name(f".{final.name}{TMP_MARKER}{secrets.token_hex(4)}")
         try:
-            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0),
+                         0o666)
         except FileExistsError:
             continue
         os.close(fd)
@@ -156,7 +167,8 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
 
 
 def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], None]) -> Path:
-    """Call ``writer(tmp_path)`` and move what it wrote onto ``path`` atomically; return ``path``."""
+    """Call ``writer(tmp_path)`` and move what it wrote onto ``path`` atomically; return
+    ``path``."""
     with atomic_path(path) as tmp:
         writer(tmp)
     return Path(path)

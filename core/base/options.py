@@ -14,7 +14,8 @@ from typing import Any
 from .errors import DataError
 
 
-def check_options(owner: str, given: Iterable[str], accepted: Iterable[str], *, kind: str = "station option") -> None:
+def check_options(owner: str, given: Iterable[str], accepted: Iterable[str], *,
+                  kind: str = "station option") -> None:
     """Refuse option names that ``owner`` does not take.
 
     A misspelt option (``table_error=false`` for ``table_errors``) would otherwise be dropped
@@ -28,7 +29,8 @@ def check_options(owner: str, given: Iterable[str], accepted: Iterable[str], *, 
                         hint=f"{owner} takes: {', '.join(accepted)}")
 
 
-def convert_options(owner: str, cls: type, options: Mapping[str, Any], *, kind: str = "station option") -> dict[str, Any]:
+def convert_options(owner: str, cls: type, options: Mapping[str, Any], *,
+                    kind: str = "station option") -> dict[str, Any]:
     """The ``options`` that name fields of the attrs class ``cls``, each converted to the type of
     the field's default — from the command line every value comes as text.
 
@@ -52,11 +54,14 @@ def convert_options(owner: str, cls: type, options: Mapping[str, Any], *, kind: 
 
 
 def convert_value(owner: str, field: str, value: Any, default: Any) -> Any:
-    """``value`` converted to the type of ``default`` (see :func:`convert_options`); ``field`` names it in errors."""
+    """``value`` converted to the type of ``default`` (see :func:`convert_options`); ``field`` names
+    it in errors."""
     def bad(what: str) -> DataError:
-        example = ",".join(f"{x:g}" for x in default) if isinstance(default, tuple) else str(default).lower()
+        example = ",".join(f"{x:g}" for x in default) if isinstance(default,
+                                                                    tuple) else str(default).lower()
         return DataError(None, field, f"{value!r} is not {what}",
-                         hint=f"{owner} takes it in the form of its default, {field.split()[-1]}={example}")
+                         hint=f"{owner} takes it in the form of its default, "
+                         f"{field.split()[-1]}={example}")
 
     if isinstance(default, bool):
         if isinstance(value, bool):
@@ -87,7 +92,8 @@ def convert_value(owner: str, field: str, value: Any, default: Any) -> Any:
         if isinstance(value, (tuple, list)):
             return tuple(value)
         if any(isinstance(x, (tuple, list)) for x in default):
-            raise DataError(None, field, "a matrix is set from Python (a station factory argument), not as text")
+            raise DataError(None, field,
+                            "a matrix is set from Python (a station factory argument), not as text")
         parts = [p for p in str(value).replace(";", ",").split(",") if p.strip()]
         try:
             nums = tuple(float(p) for p in parts)
@@ -111,7 +117,8 @@ def station_options(owner: str, truth_cls: type, station_cls: type, options: Map
     station_fields = tuple(station_fields)
     check_options(owner, options, [*attrs.fields_dict(truth_cls), *station_fields])
     truth = convert_options(owner, truth_cls, options)
-    station = convert_options(owner, station_cls, {k: v for k, v in options.items() if k in station_fields})
+    station = convert_options(owner, station_cls,
+                              {k: v for k, v in options.items() if k in station_fields})
     for name, value in (*truth.items(), *station.items()):
         check_range(owner, f"station option {name}", name, value)
     validate_fields(owner, truth_cls, truth)
@@ -138,7 +145,8 @@ def check_range(owner: str, field: str, name: str, value: Any) -> None:
                         f"{lo:.10g} {'<' if open_lo else '≤'} {name} ≤ {hi:.10g}")
 
 
-def validate_fields(owner: str, cls: type, values: Mapping[str, Any], *, kind: str = "station option") -> None:
+def validate_fields(owner: str, cls: type, values: Mapping[str, Any], *,
+                    kind: str = "station option") -> None:
     """Build ``cls(**values)`` once to run its attrs validators; a value a validator refuses
     (``output=analog``, ``polarity=2``) is a :class:`DataError` naming the option and what it
     takes, not a ``ValueError`` traceback from inside a station factory."""
@@ -151,6 +159,7 @@ def validate_fields(owner: str, cls: type, values: Mapping[str, Any], *, kind: s
         att = next((a for a in args if isinstance(a, attrs.Attribute)), None)
         name = att.name if att is not None else next((k for k in values if k in str(exc)), None)
         allowed = args[2] if len(args) >= 4 and att is not None else None
-        reason = (f"{values.get(name)!r} is not one of {', '.join(map(str, allowed))}" if allowed is not None
+        reason = (f"{values.get(name)!r} is not one of {', '.join(map(str, allowed))}" if allowed
+                  is not None
                   else str(args[0]) if args else str(exc))
         raise DataError(None, f"{kind} {name}" if name else kind, f"{owner}: {reason}") from None

@@ -68,7 +68,8 @@ CAMPAIGN_KEYS: dict[str, str] = {
     "bench_id": "the bench's id (metro acquire --station bench)",
     "rate_table": "the rate table's identity on a live bench (metro acquire --station bench)",
     "output": "the device output's identity on a live bench (metro acquire --station bench)",
-    "operator_steps": "how many steps the bench asked the operator to do (metro acquire --station bench)",
+    "operator_steps": "how many steps the bench asked the operator to do (metro acquire --station "
+    "bench)",
 }
 
 #: old spelling -> canonical key (read, with a deprecation warning)
@@ -85,7 +86,8 @@ CAMPAIGN_ALIASES: dict[str, str] = {
 }
 
 #: the [campaign] keys that name a person
-PEOPLE_KEYS = ("operator", "checked_by", "approved_by", "approved_by_title", "operator_title", "checked_by_title")
+PEOPLE_KEYS = ("operator", "checked_by", "approved_by", "approved_by_title", "operator_title",
+               "checked_by_title")
 #: the [campaign] keys that are dates
 DATE_KEYS = ("measurement_date", "date_received")
 
@@ -166,12 +168,15 @@ SECTIONS: dict[str, str] = {
 #: one of these is reported as a probable misspelling)
 DEVICE_KEYS: dict[str, str] = {
     "id": "device id", "manufacturer": "manufacturer", "model": "model", "serial": "serial number",
-    "technology": "laser, fibre, mems, vibratory, other", "application": "aerospace, aviation, marine",
+    "technology": "laser, fibre, mems, vibratory, other",
+    "application": "aerospace, aviation, marine",
     "output": "pulse, digital, analog, rate",
-    "scale_factor": "K", "scale_factor_U": "expanded uncertainty of K", "scale_factor_k": "its coverage factor",
+    "scale_factor": "K", "scale_factor_U": "expanded uncertainty of K",
+    "scale_factor_k": "its coverage factor",
     "nonlinearity": "the scale-factor nonlinearity the device is specified for",
     # read by the built-in plugins
-    "nonlinearity_limit": "GB/T 45570 rate method: the nonlinearity limit the device is tested against",
+    "nonlinearity_limit": "GB/T 45570 rate method: the nonlinearity limit the device is tested "
+    "against",
     "nonlinearity_spec": "JJF 2014 7.2.2: the specified nonlinearity",
     "resolution": "output resolution (GB/T 45570 LSB outputs)",
     "gyro_range": "full-scale gyro range (JJF 2003, JJF 2014)",
@@ -181,7 +186,8 @@ DEVICE_KEYS: dict[str, str] = {
     "bias_repeatability": "stated bias repeatability (JJF 2014)",
     "misalignment_repeatability": "stated misalignment repeatability (JJF 2014)",
     "zero_stability": "stated zero stability (ogam)",
-    "supply_voltage": "the supply a ratiometric (mV/V) output is referred to; default supply of every segment",
+    "supply_voltage": "the supply a ratiometric (mV/V) output is referred to; default supply of "
+    "every segment",
 }
 
 #: [device] application values (GB/T 45570 tables A.1/B.1); plugins may add theirs
@@ -195,7 +201,8 @@ SEGMENT_KEYS = ("id", "kind", "file", "sample_interval", "started", "conditions"
 CALIBRATION_KEYS = ("certificate", "U", "k", "due", "lab", "distribution")
 #: [environment] and [site] keys metro reads (other keys are kept)
 ENVIRONMENT_KEYS = ("temperature", "humidity", "pressure", "magnetic_field", "location", "other")
-SITE_KEYS = ("latitude", "latitude_uncertainty", "altitude", "gravity", "gravity_uncertainty", "name")
+SITE_KEYS = ("latitude", "latitude_uncertainty", "altitude", "gravity", "gravity_uncertainty",
+             "name")
 EQUIPMENT_KEYS = ("id", "role", "model", "serial", "manufacturer", "calibration")
 
 
@@ -388,9 +395,11 @@ def _character_error(src: str | None, field: str, text: str, what: str) -> DataE
     cp = ord(m.group())
     kind = ("the control character" if cp < 32 else "a lone surrogate" if 0xD800 <= cp <= 0xDFFF
             else "the non-character")
-    return DataError(src, field, f"{what} contains {kind} U+{cp:04X} at position {m.start() + 1}, which a "
+    return DataError(src, field,
+                     f"{what} contains {kind} U+{cp:04X} at position {m.start() + 1}, which a "
                      "report cannot hold (XML allows no such character)",
-                     hint="delete it or retype the text; it is often left by a copy from another program")
+                     hint="delete it or retype the text; it is often left by a copy from another "
+                     "program")
 
 
 def check_characters(doc: Any, src: str | None, field: str = "") -> None:

@@ -32,14 +32,14 @@ from .common import (  # noqa: F401 — the exit codes and helpers are metro.cor
 )
 
 EXIT_CODES_TEXT = (
-    "exit codes: 0 done, conforming or nothing to judge; 2 usage or data error; 3 does not conform; "
-    "4 indeterminate (nothing fails, some verdict is indeterminate); 5 batch: a campaign failed; "
-    "6 a check found a problem (register verify, doctor); 130 interrupted; 1 is an internal error "
-    "(a bug: please report the traceback)."
+    "exit codes: 0 done, conforming or nothing to judge; 2 usage or data error; 3 does not "
+    "conform; 4 indeterminate (nothing fails, some verdict is indeterminate); 5 batch: a campaign "
+    "failed; 6 a check found a problem (register verify, doctor); 130 interrupted; 1 is an "
+    "internal error (a bug: please report the traceback)."
 )
 #: `metro run` only: what its --strict changes
-SIMULATED_EXIT_TEXT = ("  A run on the simulated station judges a virtual device: it exits 0 once evaluated "
-                       "unless --strict")
+SIMULATED_EXIT_TEXT = ("  A run on the simulated station judges a virtual device: it exits 0 once "
+                       "evaluated unless --strict")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -65,52 +65,62 @@ def build_parser() -> argparse.ArgumentParser:
         description="Calibrate and test inertial sensors to published standards "
         "(GB/T 45570, JJF 2014, JJF 2003 …). Standards are plugins.",
         epilog="Example: metro run --standard gbt45570 --item D.5.6   "
-        "(no --data: runs on the built-in simulated test station).  " + EXIT_CODES_TEXT + SIMULATED_EXIT_TEXT,
+        "(no --data: runs on the built-in simulated test station).  " + EXIT_CODES_TEXT
+        + SIMULATED_EXIT_TEXT,
     )
-    p.add_argument("--version", action="store_true", help="print metro's version and the loaded plugins' versions")
+    p.add_argument("--version", action="store_true",
+                   help="print metro's version and the loaded plugins' versions")
     p.add_argument("--no-plugin-autoload", action="store_true",
                    help="load only metro's built-in plugins (also METRO_DISABLE_PLUGIN_AUTOLOAD=1)")
     p.add_argument("--block-plugin", action="append", default=[], metavar="NAME",
                    help="do not load the plugin NAME (repeatable; also METRO_BLOCK_PLUGINS=a,b)")
-    from . import register_commands as cli_register  # lab profile and report register commands (their own module)
+    # lab profile and report register commands (their own module)
+    from . import register_commands as cli_register
 
     cli_register.add_global_options(p)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     _add_run(sub)
-    pl = sub.add_parser("plugins", help="list loaded plugins and their versions, stations and drivers")
+    pl = sub.add_parser("plugins",
+                        help="list loaded plugins and their versions, stations and drivers")
     pl.add_argument("--json", action="store_true")
 
     it = sub.add_parser("items", help="list the items of the loaded standards")
     it.add_argument("--standard", "-s", help="only this standard's items")
     it.add_argument("--json", action="store_true")
 
-    pn = sub.add_parser("plan", help="print items' test sequence (what to measure) and its total duration")
+    pn = sub.add_parser("plan",
+                        help="print items' test sequence (what to measure) and its total duration")
     pn.add_argument("--standard", "-s", help="standard id (may be left out with std:item ids)")
     pn.add_argument("--item", "-i", action="append", default=[], help="item ids or a series name")
     pn.add_argument("--all", action="store_true", dest="run_all",
                     help="every item of the standard that applies to the simulated station's device")
     pn.add_argument("--json", action="store_true")
 
-    aq = sub.add_parser("acquire", help="run items' test sequence on a station and write the campaign",
-                        description="Acquire the merged test sequence of one or more items on a station "
-                        "(simulated or live) and write it as a campaign folder (manifest.toml + samples, "
-                        "docs/data-format.md) that `metro run --data DIR/manifest.toml` evaluates.")
+    aq = sub.add_parser("acquire",
+                        help="run items' test sequence on a station and write the campaign",
+                        description="Acquire the merged test sequence of one or more items on a "
+                        "station (simulated or live) and write it as a campaign folder "
+                        "(manifest.toml + samples, docs/data-format.md) that `metro run --data "
+                        "DIR/manifest.toml` evaluates.")
     aq.add_argument("--standard", "-s", required=True, help="standard id, e.g. gbt45570")
     aq.add_argument("--item", "-i", action="append", default=[],
-                    help="item id or series name, e.g. scale-factor (repeat or comma-separate for several; "
-                    "shared steps are measured once)")
+                    help="item id or series name, e.g. scale-factor (repeat or comma-separate for "
+                    "several; shared steps are measured once)")
     aq.add_argument("--all", action="store_true", dest="run_all",
                     help="acquire every item of the standard that applies to the station's device")
     aq.add_argument("--station", help="registered station (default: the items' simulated station)")
-    aq.add_argument("--out", required=True, metavar="DIR", help="campaign folder to create (must not exist "
+    aq.add_argument("--out", required=True, metavar="DIR",
+                    help="campaign folder to create (must not exist "
                     "or be empty)")
-    aq.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
+    aq.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE",
+                    help="item option")
     aq.add_argument("--seed", type=int, help="seed of a simulated station")
     aq.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
                     help="station option, e.g. duration_scale=0.1 (numbers are read as numbers)")
     aq.add_argument("--npy-rows", type=int, default=None, metavar="N",
-                    help="segments of N rows or more are written as .npy (default 100000), shorter as CSV")
+                    help="segments of N rows or more are written as .npy (default 100000), shorter "
+                    "as CSV")
     _progress_args(aq)
     cli_register.add_commands(sub)
 
@@ -127,41 +137,49 @@ def _add_run(sub: Any) -> None:
     from . import register_commands as cli_register
 
     r = sub.add_parser("run", help="evaluate one or more items of a standard",
-                       description="Evaluate items of a standard on a campaign (--data) or, without --data, "
-                       "on the built-in simulated test station.",
-                       epilog='Example: metro run -s gbt45570 -i D.5.6 -o min_blocks=20   ' + EXIT_CODES_TEXT
+                       description="Evaluate items of a standard on a campaign (--data) or, "
+                       "without --data, on the built-in simulated test station.",
+                       epilog='Example: metro run -s gbt45570 -i D.5.6 -o min_blocks=20   '
+                       + EXIT_CODES_TEXT
                        + SIMULATED_EXIT_TEXT)
-    r.add_argument("--standard", "-s", help="standard id, e.g. gbt45570 (case does not matter; may be left out "
+    r.add_argument("--standard", "-s",
+                   help="standard id, e.g. gbt45570 (case does not matter; may be left out "
                    "when every item is written std:item, as `metro items` prints them)")
     r.add_argument("--item", "-i", action="append", default=[],
-                   help="item id, e.g. D.5.6 or gbt45570:D.5.6, or a series name, e.g. scale-factor "
-                   "(repeat or comma-separate)")
+                   help="item id, e.g. D.5.6 or gbt45570:D.5.6, or a series name, e.g. "
+                   "scale-factor (repeat or comma-separate)")
     r.add_argument("--all", action="store_true", dest="run_all",
                    help="run every item of the standard that applies to the device")
     r.add_argument("--decision-rule", choices=("guarded", "simple"),
                    help="conformity decision rule (default: the manifest's, else guarded: w = U)")
-    r.add_argument("--data", "-d", metavar="MANIFEST", help="campaign manifest (TOML); see docs/data-format.md")
+    r.add_argument("--data", "-d", metavar="MANIFEST",
+                   help="campaign manifest (TOML); see docs/data-format.md")
     r.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE",
-                   help="item option, e.g. -o min_blocks=20 (D.5.6) or -o t=\"10 s, 100 s\" (D.5.2); `metro items` lists them")
+                   help="item option, e.g. -o min_blocks=20 (D.5.6) or -o t=\"10 s, 100 s\" "
+                   "(D.5.2); `metro items` lists them")
     r.add_argument("--json", action="store_true", help="print one JSON document on stdout")
-    r.add_argument("--out", default="metro-out", metavar="DIR", help="where the Word report goes (default: metro-out)")
+    r.add_argument("--out", default="metro-out", metavar="DIR",
+                   help="where the Word report goes (default: metro-out)")
     r.add_argument("--report", metavar="PATH", help="write the Word report to PATH instead")
     r.add_argument("--no-report", action="store_true", help="do not write a Word report")
-    r.add_argument("--force", action="store_true", help="replace an existing report file (never an input of "
+    r.add_argument("--force", action="store_true",
+                   help="replace an existing report file (never an input of "
                    "the run, never a read-only file)")
     r.add_argument("--pdf", action="store_true",
-                   help="also write the report as PDF (through LibreOffice); a --report path ending in .pdf "
-                   "writes the PDF only")
+                   help="also write the report as PDF (through LibreOffice); a --report path "
+                   "ending in .pdf writes the PDF only")
     r.add_argument("--lang", choices=("zh", "en", "zh+en"),
                    help="language of the report (default: the lab profile's, else zh+en)")
     r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
     r.add_argument("--strict", action="store_true",
-                   help="on the simulated station too, exit 3/4 when the virtual device does not conform "
-                   "or is indeterminate (recorded data always do)")
-    r.add_argument("--station", help="station to acquire on when no --data is given (default: the item's "
+                   help="on the simulated station too, exit 3/4 when the virtual device does not "
+                   "conform or is indeterminate (recorded data always do)")
+    r.add_argument("--station",
+                   help="station to acquire on when no --data is given (default: the item's "
                    "simulated station)")
     r.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE",
-                   help="station option when no --data is given, e.g. table_errors=false (as for `metro acquire`)")
+                   help="station option when no --data is given, e.g. table_errors=false (as for "
+                   "`metro acquire`)")
     _output_args(r)
     cli_register.add_run_options(r)
 
@@ -170,32 +188,43 @@ def _add_batch(sub: Any) -> None:
     """``metro batch``: its options."""
     from . import register_commands as cli_register
 
-    b = sub.add_parser("batch", help="evaluate many device campaigns (a production lot) on a Dask cluster",
-                       description="Evaluate the same items on many recorded campaigns, one per device, on a "
-                       "dask.distributed cluster: a local cluster of processes by default, or an existing one "
-                       "(--scheduler). Each device gets its own report exactly as `metro run --data` would "
-                       "write it; a campaign that fails is listed with its error and the others go on; a "
-                       "batch run again with the same --out skips the campaigns already evaluated (same "
-                       "manifest SHA-256). The lot summary (all results as CSV and Parquet, statistics and "
-                       "yield per quantity, histograms, a one-page lot report) goes to --out.",
-                       epilog="Example: metro batch -s gbt45570 -i D.5.1,D.5.2 --data 'lot-7/*/manifest.toml' "
-                       "--workers 2 --out lot-7-out   " + EXIT_CODES_TEXT)
+    b = sub.add_parser("batch",
+                       help="evaluate many device campaigns (a production lot) on a Dask cluster",
+                       description="Evaluate the same items on many recorded campaigns, one per "
+                       "device, on a dask.distributed cluster: a local cluster of processes by "
+                       "default, or an existing one (--scheduler). Each device gets its own report "
+                       "exactly as `metro run --data` would write it; a campaign that fails is "
+                       "listed with its error and the others go on; a batch run again with the "
+                       "same --out skips the campaigns already evaluated (same manifest SHA-256). "
+                       "The lot summary (all results as CSV and Parquet, statistics and yield per "
+                       "quantity, histograms, a one-page lot report) goes to --out.",
+                       epilog="Example: metro batch -s gbt45570 -i D.5.1,D.5.2 --data "
+                       "'lot-7/*/manifest.toml' --workers 2 --out lot-7-out   " + EXIT_CODES_TEXT)
     b.add_argument("--standard", "-s", help="standard id (may be left out with std:item ids)")
-    b.add_argument("--item", "-i", action="append", default=[], help="item ids or series (repeat or comma-separate)")
-    b.add_argument("--all", action="store_true", dest="run_all", help="every item that applies to each device")
-    b.add_argument("--data", "-d", action="append", default=[], required=True, metavar="GLOB_OR_LIST",
-                   help="campaigns: manifest files or campaign folders, a glob (quote it), or a comma-separated "
-                   "list; repeatable")
-    b.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786 "
+    b.add_argument("--item", "-i", action="append", default=[],
+                   help="item ids or series (repeat or comma-separate)")
+    b.add_argument("--all", action="store_true", dest="run_all",
+                   help="every item that applies to each device")
+    b.add_argument("--data", "-d", action="append", default=[], required=True,
+                   metavar="GLOB_OR_LIST",
+                   help="campaigns: manifest files or campaign folders, a glob (quote it), or a "
+                   "comma-separated list; repeatable")
+    b.add_argument("--scheduler", metavar="ADDRESS",
+                   help="an existing Dask scheduler, e.g. tcp://host:8786 "
                    "(workers must see --data and --out at the same paths); default: a local cluster")
     b.add_argument("--workers", type=int, metavar="N", help="worker processes of the local cluster "
                    "(default: the number of CPUs)")
-    b.add_argument("--out", default="metro-batch", metavar="DIR", help="reports, lot summary and the resume "
+    b.add_argument("--out", default="metro-batch", metavar="DIR",
+                   help="reports, lot summary and the resume "
                    "state (default: metro-batch)")
-    b.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE", help="item option")
-    b.add_argument("--decision-rule", choices=("guarded", "simple"), help="conformity decision rule")
-    b.add_argument("--json", action="store_true", help="print the lot summary as one JSON document on stdout")
-    b.add_argument("--pdf", action="store_true", help="also write each device's report as PDF (through LibreOffice)")
+    b.add_argument("--option", "-o", action="append", default=[], metavar="NAME=VALUE",
+                   help="item option")
+    b.add_argument("--decision-rule", choices=("guarded", "simple"),
+                   help="conformity decision rule")
+    b.add_argument("--json", action="store_true",
+                   help="print the lot summary as one JSON document on stdout")
+    b.add_argument("--pdf", action="store_true",
+                   help="also write each device's report as PDF (through LibreOffice)")
     b.add_argument("--lang", choices=("zh", "en", "zh+en"),
                    help="language of the reports (default: the lab profile's, else zh+en)")
     _output_args(b)
@@ -233,7 +262,8 @@ def _share_global_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _progress_args(p: argparse.ArgumentParser) -> None:
-    """--quiet and --no-progress, the same on every command that shows progress (run, batch, acquire)."""
+    """--quiet and --no-progress, the same on every command that shows progress (run, batch,
+    acquire)."""
     p.add_argument("--quiet", "-q", action="store_true",
                    help="no progress display and no messages on stderr (errors and warnings still)")
     p.add_argument("--no-progress", action="store_true", help="no progress display")
@@ -242,10 +272,12 @@ def _progress_args(p: argparse.ArgumentParser) -> None:
 def _output_args(p: argparse.ArgumentParser) -> None:
     _progress_args(p)
     p.add_argument("--verbose", "-v", action="store_true",
-                   help="also print budgets, tables, item selection, truth checks and data file hashes")
+                   help="also print budgets, tables, item selection, truth checks and data file "
+                   "hashes")
 
 
-def _unknown_arguments(parser: argparse.ArgumentParser, command: str | None, extra: Sequence[str]) -> None:
+def _unknown_arguments(parser: argparse.ArgumentParser, command: str | None,
+                       extra: Sequence[str]) -> None:
     """argparse's "unrecognized arguments" from the command's own parser, with suggestions."""
     target = parser
     for a in parser._actions:
@@ -286,7 +318,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())
         return EXIT_BROKEN_PIPE
     except SystemExit as exc:  # argparse: --help (0) and usage errors (2)
-        if exc.code == 1 and _stdout_is_devnull():  # rich's own broken-pipe exit (Console.on_broken_pipe)
+        # rich's own broken-pipe exit (Console.on_broken_pipe)
+        if exc.code == 1 and _stdout_is_devnull():
             return EXIT_BROKEN_PIPE
         return exc.code if isinstance(exc.code, int) else EXIT_USER_ERROR
 
@@ -346,8 +379,8 @@ def _main(argv: Sequence[str] | None) -> int:
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
         if args.command == "batch":
-            print(f"metro: interrupted; the campaigns finished so far are kept in {args.out} (the same command "
-                  "resumes the batch)", file=sys.stderr)
+            print(f"metro: interrupted; the campaigns finished so far are kept in {args.out} (the "
+                  "same command resumes the batch)", file=sys.stderr)
         else:
             print("metro: interrupted; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -362,7 +395,8 @@ def _cmd_version(args) -> int:
 
     # the plugins loaded as every command loads them, without their registration (their items'
     # modules): the versions are the distributions'
-    pm = MetroPluginManager().load(autoload=False if args.no_plugin_autoload else None, block=args.block_plugin)
+    pm = MetroPluginManager().load(autoload=False if args.no_plugin_autoload else None,
+                                   block=args.block_plugin)
     for name, info in sorted(pm.plugins.items()):
         where = info.distribution or info.module
         print(f"  plugin {name}: {where} {info.version or ''}".rstrip())
@@ -409,10 +443,12 @@ def _cmd_run(args) -> int:
     if args.data is not None and (station_options or args.station):
         from ..base.errors import MetroError
 
-        given = ", ".join(x for x, on in (("--station", args.station), ("--seed", args.seed is not None),
+        given = ", ".join(x for x, on in (("--station", args.station),
+                                          ("--seed", args.seed is not None),
                                           ("--station-option", bool(args.station_option))) if on)
         raise MetroError(f"{given} acts on a station, and --data {args.data} was recorded already",
-                         hint="drop --data to run on a station, or drop the station arguments to evaluate the data")
+                         hint="drop --data to run on a station, or drop the station arguments to "
+                         "evaluate the data")
     if not args.no_report:  # checked before anything is evaluated (core.outputs)
         from ..run.outputs import manifest_inputs, plan_report
 
@@ -426,14 +462,17 @@ def _cmd_run(args) -> int:
                      if args.data is None and not args.json and not args.quiet else None)
     from .register_commands import drawing_ahead
 
-    with drawing_ahead(args, pm, len(items)), present.progress(enabled=show_progress(args), started=banner) as prog:
-        record = run_items(pm, args.standard, items, data=args.data, options=options, station=args.station,
+    with drawing_ahead(args, pm, len(items)), present.progress(enabled=show_progress(args),
+                                                               started=banner) as prog:
+        record = run_items(pm, args.standard, items, data=args.data, options=options,
+                           station=args.station,
                            station_options=station_options, progress=prog, run_all=args.run_all,
                            decision_rule=args.decision_rule, **_lab_options(args))
         for w in record.campaign.warnings:  # deprecated spellings, unknown keys (core.vocabulary)
             print(f"metro: warning: {w}", file=sys.stderr)
         report_path = registration = None
-        if not args.no_report:  # registered with a lab profile, else "not registered" (core/cli/register_commands.py)
+        # registered with a lab profile, else "not registered" (core/cli/register_commands.py)
+        if not args.no_report:
             from .register_commands import write_run_report
 
             record, report_path, registration = write_run_report(args, pm, record, prog)
@@ -448,13 +487,16 @@ def _cmd_run(args) -> int:
         from pathlib import Path
 
         pdf_path = None  # --pdf: the PDF goes beside the Word report, under the same name
-        if report_path is not None and getattr(args, "pdf", False) and Path(report_path).suffix.lower() == ".docx":
+        if report_path is not None and getattr(args, "pdf",
+                                               False) and Path(
+                                                   report_path).suffix.lower() == ".docx":
             pdf_path = Path(report_path).with_suffix(".pdf")
         present.print_record(record, report_path, verbose=args.verbose, pdf_path=pdf_path)
         if registration is not None and not args.quiet:
             from rich.console import Console
 
-            Console(stderr=True).print(f"registered as {registration['number']}" if registration["registered"]
+            Console(stderr=True).print(f"registered as {registration['number']}"
+                                       if registration["registered"]
                                        else f"not registered ({registration['why']})")
     a = record.conformity
     code = exit_code_for(a.overall.value if a is not None and a.overall is not None else None)
@@ -462,8 +504,8 @@ def _cmd_run(args) -> int:
         # the verdict is about the simulated station's virtual device, not a device under test: the
         # evaluation itself succeeded (the statement is printed, in --json and in the report)
         if not args.json and not args.quiet:
-            print(f"metro: the verdict is about the simulated station's virtual device; exit code 0 "
-                  f"(--strict gives {code})", file=sys.stderr)
+            print("metro: the verdict is about the simulated station's virtual device; exit code "
+                  f"0 (--strict gives {code})", file=sys.stderr)
         return EXIT_OK
     return code
 
@@ -482,11 +524,13 @@ def _cmd_plugins(args) -> int:
         stds = sorted(s.id for s in reg.standards.values() if s.plugin == name)
         n_items = sum(1 for p in reg.procedures.values() if p.plugin == name)
         rows.append({"name": name, "distribution": info.distribution, "version": info.version,
-                     "builtin": info.builtin, "module": info.module, "standards": stds, "items": n_items})
+                     "builtin": info.builtin, "module": info.module, "standards": stds,
+                     "items": n_items})
     stations = [{"name": st.name, "plugin": st.plugin, "description": st.description}
                 for _, st in sorted(reg.stations.items())]
     drivers = [{"name": d.name, "kind": d.kind, "plugin": d.plugin, "description": d.description,
-                "class": f"{d.cls.__module__}.{d.cls.__qualname__}"} for _, d in sorted(reg.drivers.items())]
+                "class": f"{d.cls.__module__}.{d.cls.__qualname__}"} for _, d
+               in sorted(reg.drivers.items())]
     if args.json:
         from .schemas import print_json
 
@@ -501,7 +545,8 @@ def _cmd_plugins(args) -> int:
     for col in ("plugin", "distribution", "version", "built-in", "standards", "items"):
         t.add_column(col)
     for r in rows:
-        t.add_row(r["name"], r["distribution"] or "-", r["version"] or "-", "yes" if r["builtin"] else "no",
+        t.add_row(r["name"], r["distribution"] or "-", r["version"] or "-", "yes" if r["builtin"]
+                  else "no",
                   ", ".join(r["standards"]) or "-", str(r["items"]))
     console = Console()
     console.print(t)
@@ -526,7 +571,9 @@ def _option_text(name: str, o: dict) -> str:
     d = o["default"]
     if d is None or d == "":
         return name
-    unit = f" {o['unit']}" if o["unit"] and isinstance(d, (int, float)) and not isinstance(d, bool) else ""
+    unit = f" {o['unit']}" if o["unit"] and isinstance(d,
+                                                       (int,
+                                                        float)) and not isinstance(d, bool) else ""
     return f"{name} = {d}{unit}"
 
 
@@ -542,7 +589,8 @@ def _cmd_items(args) -> int:
             continue
         rows.append({"id": pid, "standard": cls.standard, "item": cls.item, "title": cls.title,
                      "clause": cls.clause, "plugin": info.plugin,
-                     "options": {o.name: {"default": o.default, "unit": o.unit, "description": o.description}
+                     "options": {o.name: {"default": o.default, "unit": o.unit,
+                                          "description": o.description}
                                  for o in cls.options}})
     series = [{"id": key, "standard": ser.standard, "name": ser.name, "members": list(ser.members),
                "description": ser.description, "plugin": ser.plugin}
@@ -571,7 +619,8 @@ def _cmd_items(args) -> int:
                 continue
             text = r["title"] + (f" (clause {r['clause']})" if r["clause"] != r["item"] else "")
             if r["options"]:
-                text += "\n[dim]options:[/] " + ", ".join(_option_text(k, o) for k, o in r["options"].items())
+                text += "\n[dim]options:[/] " + ", ".join(_option_text(k, o) for k, o
+                                                          in r["options"].items())
             grid.add_row(r["item"], text)
         con.print(grid)
         mine = [ser for ser in series if ser["standard"] == sid]
@@ -602,14 +651,17 @@ def _cmd_plan(args) -> int:
     procs = [pm.procedure(args.standard, i) for i in items]
     steps = merge_steps([cls().sequence(cls.option_values({})) for cls in procs])
     columns = _plan_columns(procs)
-    rows = [{"segment": s.segment, "kind": s.kind, "duration": f"{s.duration:~P}", "interval": f"{s.interval:~P}",
+    rows = [{"segment": s.segment, "kind": s.kind, "duration": f"{s.duration:~P}",
+             "interval": f"{s.interval:~P}",
              "warmup": f"{s.warmup:~P}" if s.warmup is not None else None,
-             "conditions": {k: str(v) for k, v in s.conditions.items()}, "columns": columns.get(s.kind, {}),
+             "conditions": {k: str(v) for k, v in s.conditions.items()},
+             "columns": columns.get(s.kind, {}),
              "description": s.description}
             for s in steps]
     record_s = sum(float(s.duration.to("s").magnitude) for s in steps)
     warmup_s = sum(float(s.warmup.to("s").magnitude) for s in steps if s.warmup is not None)
-    total = {"steps": len(steps), "items": list(items), "recording_s": record_s, "warmup_s": warmup_s,
+    total = {"steps": len(steps), "items": list(items), "recording_s": record_s,
+             "warmup_s": warmup_s,
              "total_s": record_s + warmup_s}
     if args.json:  # durations as {"value", "unit"}, conditions as JSON values (docs/json.md)
         from .schemas import print_json
@@ -623,10 +675,12 @@ def _cmd_plan(args) -> int:
         print(f"   kind={r['kind']} duration={r['duration']} interval={r['interval']}"
               + (f" warm-up≥{r['warmup']}" if r["warmup"] else "")
               + "".join(f" {k}={v}" for k, v in r["conditions"].items())
-              + ("; columns: " + ", ".join(f"{c} [{' or '.join(u)}]" for c, u in r["columns"].items())
+              + ("; columns: " + ", ".join(f"{c} [{' or '.join(u)}]" for c, u
+                                           in r["columns"].items())
                  if r["columns"] else ""))
     print(f"total: {len(steps)} steps for {len(items)} item(s): {_duration(record_s)} of recording"
-          + (f" + {_duration(warmup_s)} of warm-up = {_duration(record_s + warmup_s)}" if warmup_s else "")
+          + (f" + {_duration(warmup_s)} of warm-up = {_duration(record_s + warmup_s)}" if warmup_s
+             else "")
           + " (set-up time between steps not included)")
     return 0
 
@@ -671,7 +725,8 @@ def _number(text: str) -> Any:
 
 
 def _station_options(args) -> dict[str, Any]:
-    """--station-option NAME=VALUE (numbers read as numbers) and --seed, for the station's factory."""
+    """--station-option NAME=VALUE (numbers read as numbers) and --seed, for the station's
+    factory."""
     opts = {k: _number(v) for k, v in parse_options(args.station_option).items()}
     if args.seed is not None:
         opts["seed"] = args.seed
@@ -690,8 +745,10 @@ def _cmd_acquire(args) -> int:
     station_options = _station_options(args)
     with present.progress(enabled=show_progress(args)) as prog:
         manifest = acquire_campaign(pm, args.standard, items, args.out, station=args.station,
-                                    options=parse_options(args.option), station_options=station_options,
-                                    npy_rows=args.npy_rows or NPY_ROWS, progress=prog, run_all=args.run_all)
+                                    options=parse_options(args.option),
+                                    station_options=station_options,
+                                    npy_rows=args.npy_rows or NPY_ROWS, progress=prog,
+                                    run_all=args.run_all)
     if not args.quiet:
         Console(stderr=True).print(f"campaign written: {manifest}")
     print(manifest)

@@ -1,20 +1,21 @@
 """``metro batch``: a production lot — many device campaigns — on a dask.distributed cluster.
 
 Each campaign is evaluated on a worker exactly as ``metro run --data`` evaluates it
-(:func:`metro.core.run.runner.run_items`, then :func:`metro.core.cli.register_commands.write_run_report`): the same
-report, the same ``--json`` document (kept next to the report).  What goes to a worker is small:
-the job (standard, items, options, decision rule, where reports go, which plugins to load) and
-one manifest path; the worker reads the campaign's files itself and writes the device's report
-into ``OUT/devices/<name>/``, so the client, the scheduler and the workers must see the same
-paths (one machine, or a shared file system).  What comes back is the device's JSON document.
+(:func:`metro.core.run.runner.run_items`, then
+:func:`metro.core.cli.register_commands.write_run_report`): the same report, the same ``--json``
+document (kept next to the report). What goes to a worker is small: the job (standard, items,
+options, decision rule, where reports go, which plugins to load) and one manifest path; the worker
+reads the campaign's files itself and writes the device's report into ``OUT/devices/<name>/``, so
+the client, the scheduler and the workers must see the same paths (one machine, or a shared file
+system). What comes back is the device's JSON document.
 
-The client keeps a state file (``OUT/batch-state.json``): every campaign's manifest path with
-its SHA-256 and outcome, written after each campaign.  A batch started again with the same
-``--out`` skips the campaigns evaluated before whose manifest is unchanged (same SHA-256) and
-evaluates the new, changed or failed ones.  (A samples file replaced under an unchanged manifest
-is not noticed before evaluation; each report records the SHA-256 of the files it read.)  At the end it writes the lot summary: every result of every device (CSV and
-Parquet), per-quantity statistics with the yield against the specification, one histogram per
-judged quantity, and a one-page lot report (Word).
+The client keeps a state file (``OUT/batch-state.json``): every campaign's manifest path with its
+SHA-256 and outcome, written after each campaign. A batch started again with the same ``--out``
+skips the campaigns evaluated before whose manifest is unchanged (same SHA-256) and evaluates the
+new, changed or failed ones. (A samples file replaced under an unchanged manifest is not noticed
+before evaluation; each report records the SHA-256 of the files it read.) At the end it writes the
+lot summary: every result of every device (CSV and Parquet), per-quantity statistics with the yield
+against the specification, one histogram per judged quantity, and a one-page lot report (Word).
 """
 
 from __future__ import annotations
@@ -41,7 +42,8 @@ SUMMARY_FILES = ("lot-results.csv", "lot-results.parquet", "lot-statistics.csv",
 
 @attrs.frozen
 class Job:
-    """What every campaign of the lot is evaluated for (sent to each worker with a manifest path)."""
+    """What every campaign of the lot is evaluated for (sent to each worker with a manifest
+    path)."""
 
     standard: str
     items: tuple[str, ...] = attrs.field(converter=tuple)
@@ -64,7 +66,8 @@ class Job:
         register's ``run_lab_options`` and ``write_run_report``, the one way runs write reports)."""
         from types import SimpleNamespace
 
-        return SimpleNamespace(command="batch", lab=self.lab, report=None, out=str(folder), no_report=False,
+        return SimpleNamespace(command="batch", lab=self.lab, report=None, out=str(folder),
+                               no_report=False,
                                force=False, register_simulated=self.register_simulated,
                                allow_expired=self.allow_expired, lang=self.lang, pdf=self.pdf,
                                option=[f"{k}={v}" for k, v in self.options.items()])
@@ -88,17 +91,20 @@ def find_campaigns(specs: Sequence[str]) -> list[Path]:
         for part in (p.strip() for p in spec.split(",")):
             if not part:
                 continue
-            matches = sorted(glob.glob(os.path.expanduser(part), recursive=True)) if glob.has_magic(part) else [part]
+            matches = sorted(glob.glob(os.path.expanduser(part),
+                                       recursive=True)) if glob.has_magic(part) else [part]
             if not matches:
                 raise DataError(part, None, "no campaign matches this pattern",
-                                hint="quote the glob so the shell does not expand it, e.g. --data 'lot/*/manifest.toml'")
+                                hint="quote the glob so the shell does not expand it, e.g. --data "
+                                "'lot/*/manifest.toml'")
             for m in matches:
                 p = Path(m)
                 if p.is_dir():
                     p = p / "manifest.toml"
                 if not p.is_file():
                     raise DataError(str(p), None, "no such campaign manifest",
-                                    hint="give manifest files or campaign folders holding manifest.toml")
+                                    hint="give manifest files or campaign folders holding "
+                                    "manifest.toml")
                 p = p.resolve()
                 if p not in out:
                     out.append(p)
@@ -167,7 +173,8 @@ def report_evaluated(job: Job, manifest: str, name: str, sha256: str) -> dict[st
     """The second half: the report of a campaign :func:`evaluate_only` evaluated on this worker
     (evaluated again here when it ran on another worker, e.g. one that has gone)."""
     with _ONE_AT_A_TIME:
-        return _evaluate(job, manifest, name, sha256, kept=_EVALUATED.pop(_campaign_key(manifest, sha256), None))
+        return _evaluate(job, manifest, name, sha256,
+                         kept=_EVALUATED.pop(_campaign_key(manifest, sha256), None))
 
 
 def _campaign_key(manifest: str, sha256: str) -> str:
@@ -194,8 +201,10 @@ def _evaluate(job: Job, manifest: str, name: str, sha256: str, *, report: bool =
             record, seconds, cpu = kept
             t0, c0 = t0 - seconds, c0 - cpu
         else:  # evaluated and checked against the lab profile as `metro run --out FOLDER` does
-            record = run_items(pm, job.standard, list(job.items), data=manifest, options=dict(job.options),
-                               run_all=job.run_all, decision_rule=job.decision_rule, **run_lab_options(args))
+            record = run_items(pm, job.standard, list(job.items), data=manifest,
+                               options=dict(job.options),
+                               run_all=job.run_all, decision_rule=job.decision_rule,
+                               **run_lab_options(args))
         if not report:
             from distributed import get_worker
 
@@ -208,16 +217,23 @@ def _evaluate(job: Job, manifest: str, name: str, sha256: str, *, report: bool =
         doc_path = folder / "result.json"
         doc_path.write_text(dumps(doc), encoding="utf-8")  # as `metro run --json` prints it
         overall = (doc["conformity"] or {}).get("overall")
-        return base | {"status": "evaluated", "overall": overall, "exit_code": exit_code_for(overall),
-                       "report": str(report), "json": str(doc_path), "report_number": record.report_number,
+        return base | {"status": "evaluated", "overall": overall,
+                       "exit_code": exit_code_for(overall),
+                       "report": str(report), "json": str(doc_path),
+                       "report_number": record.report_number,
                        "registered": bool(registration and registration.get("registered")),
-                       "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0, "doc": doc}
+                       "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0,
+                       "doc": doc}
     except MetroError as exc:
-        return base | {"status": "error", "error": type(exc).__name__, "message": exc.reason, "hint": exc.hint,
+        return base | {"status": "error", "error": type(exc).__name__, "message": exc.reason,
+                       "hint": exc.hint,
                        "seconds": time.perf_counter() - t0}
-    except Exception as exc:  # a bug in metro or a plugin: listed with its traceback, the lot goes on
-        return base | {"status": "error", "error": type(exc).__name__, "message": str(exc) or repr(exc),
-                       "hint": "an internal error: please report it with the traceback in batch-state.json",
+    # a bug in metro or a plugin: listed with its traceback, the lot goes on
+    except Exception as exc:
+        return base | {"status": "error", "error": type(exc).__name__, "message": str(exc)
+                       or repr(exc),
+                       "hint": "an internal error: please report it with the traceback in "
+                       "batch-state.json",
                        "traceback": traceback.format_exc(), "seconds": time.perf_counter() - t0}
 
 
@@ -243,8 +259,10 @@ def load_state(out: Path, job: Job) -> dict[str, Any]:
         raise DataError(str(path), None, f"not a metro batch state file ({exc})",
                         hint="give another --out, or remove the file to start the batch afresh") from exc
     if state.get("job") != job.fingerprint():
-        raise DataError(str(path), "job", f"this --out holds a batch of another job ({state.get('job')}); "
-                        f"this one is {job.fingerprint()}", hint="give another --out for a different job")
+        raise DataError(str(path), "job",
+                        f"this --out holds a batch of another job ({state.get('job')}); "
+                        f"this one is {job.fingerprint()}",
+                        hint="give another --out for a different job")
     return state
 
 
@@ -261,7 +279,8 @@ def already_done(state: Mapping[str, Any], manifest: str, sha: str) -> dict[str,
 # -- the batch ------------------------------------------------------------------------------
 
 
-def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = None, workers: int | None = None,
+def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = None, workers: int
+              | None = None,
               progress: Callable[[str, float, float], None] | None = None) -> dict[str, Any]:
     """Evaluate ``manifests`` on a Dask cluster (a local cluster of ``workers`` processes, or the
     one at ``scheduler``), skip those already evaluated in ``job.out``, write the lot summary;
@@ -286,7 +305,8 @@ def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = No
     t0 = time.perf_counter()
     timing: dict[str, float] = {"cluster_start_s": 0.0}
     if todo:
-        for res in _evaluate_on_dask(job, todo, scheduler=scheduler, workers=workers, timing=timing):
+        for res in _evaluate_on_dask(job, todo, scheduler=scheduler, workers=workers,
+                                     timing=timing):
             outcomes[res["campaign"]] = res
             entry = {k: v for k, v in res.items() if k != "doc"}
             state["campaigns"][res["campaign"]] = entry
@@ -299,7 +319,8 @@ def run_batch(job: Job, manifests: Sequence[Path], *, scheduler: str | None = No
     ordered = [outcomes[str(m)] for m in manifests]
     summary = write_lot_summary(job, ordered, out)
     summary["timing"] = {"seconds": elapsed, "cluster_start_s": timing["cluster_start_s"],
-                         "evaluated_now": len(todo), "skipped": total - len(todo), "workers": workers,
+                         "evaluated_now": len(todo), "skipped": total - len(todo),
+                         "workers": workers,
                          "scheduler": scheduler or "local"}
     from .schemas import document
 
@@ -323,11 +344,12 @@ def _evaluate_on_dask(job: Job, todo: Sequence[tuple[str, str, str]], *, schedul
             client = Client(scheduler, timeout="20s")
         except OSError as exc:
             raise MetroError(f"cannot reach the Dask scheduler at {scheduler}: {exc}",
-                             hint="start one (`dask scheduler`, then `dask worker ADDRESS`) or leave out "
-                             "--scheduler for a local cluster") from exc
+                             hint="start one (`dask scheduler`, then `dask worker ADDRESS`) or "
+                             "leave out --scheduler for a local cluster") from exc
     else:
         n = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address="127.0.0.1:0",
                                silence_logs=logging.ERROR)
         client = Client(cluster)
         client.wait_for_workers(n)
@@ -344,19 +366,23 @@ def _evaluate_on_dask(job: Job, todo: Sequence[tuple[str, str, str]], *, schedul
 
 
 def _outcome(fut, campaign: tuple[str, str, str]) -> dict[str, Any]:
-    """A task's result; a worker that died (KilledWorker, lost connection) gives the campaign's error."""
+    """A task's result; a worker that died (KilledWorker, lost connection) gives the campaign's
+    error."""
     m, name, sha = campaign
     try:
         return fut.result()
     except Exception as exc:  # listed, the lot goes on
-        return {"campaign": m, "name": name, "sha256": sha, "status": "error", "error": type(exc).__name__,
-                "message": str(exc) or repr(exc), "hint": "the Dask worker failed while evaluating it"}
+        return {"campaign": m, "name": name, "sha256": sha, "status": "error",
+                "error": type(exc).__name__,
+                "message": str(exc) or repr(exc),
+                "hint": "the Dask worker failed while evaluating it"}
 
 
 def _as_finished(client, job: Job, todo: Sequence[tuple[str, str, str]]):
     from distributed import as_completed
 
-    futures = {client.submit(evaluate_campaign, job, m, name, sha, pure=False, key=f"metro-{sha[:16]}-{name}"):
+    futures = {client.submit(evaluate_campaign, job, m, name, sha, pure=False,
+                             key=f"metro-{sha[:16]}-{name}"):
                (m, name, sha) for m, name, sha in todo}
     for fut in as_completed(futures):
         yield _outcome(fut, futures[fut])
@@ -382,8 +408,10 @@ def _in_lot_order(client, job: Job, todo: Sequence[tuple[str, str, str]]):
 
 # -- the lot summary ------------------------------------------------------------------------
 
-RESULT_COLUMNS = ("device", "campaign", "device_id", "serial", "model", "report_number", "item", "key", "symbol",
-                  "quantity", "value", "unit", "u", "U", "k", "reportable", "reason", "earth_rate", "limit",
+RESULT_COLUMNS = ("device", "campaign", "device_id", "serial", "model", "report_number", "item",
+                  "key", "symbol",
+                  "quantity", "value", "unit", "u", "U", "k", "reportable", "reason", "earth_rate",
+                  "limit",
                   "verdict")
 
 
@@ -394,14 +422,18 @@ def result_rows(outcomes: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         if o.get("status") != "evaluated":
             continue
         doc = o["doc"]
-        verdicts = {(v["item"], v["key"]): v for v in ((doc.get("conformity") or {}).get("verdicts") or [])}
+        verdicts = {(v["item"], v["key"]): v for v
+                    in ((doc.get("conformity") or {}).get("verdicts") or [])}
         for r in doc["results"]:
             v = verdicts.get((r["item"], r["key"]))
-            rows.append({"device": o["name"], "campaign": o["campaign"], "device_id": doc["device"]["id"],
+            rows.append({"device": o["name"], "campaign": o["campaign"],
+                         "device_id": doc["device"]["id"],
                          "serial": doc["device"]["serial"], "model": doc["device"]["model"],
                          "report_number": doc["report_number"], "item": r["item"], "key": r["key"],
-                         "symbol": r["symbol"], "quantity": r["quantity"], "value": r["value"], "unit": r["unit"],
-                         "u": r["u"], "U": r["U"], "k": r["k"], "reportable": r.get("reportable", True),
+                         "symbol": r["symbol"], "quantity": r["quantity"], "value": r["value"],
+                         "unit": r["unit"],
+                         "u": r["u"], "U": r["U"], "k": r["k"],
+                         "reportable": r.get("reportable", True),
                          "reason": r.get("reason") or "", "earth_rate": r.get("earth_rate") or "",
                          "limit": v["limit"] if v else "", "verdict": v["status"] if v else ""})
     return rows
@@ -419,8 +451,10 @@ def statistics(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     for (item, key, unit), rs in groups.items():
         vals = np.array([r["value"] for r in rs if r["reportable"]], dtype=float)
         judged = [r for r in rs if r["verdict"]]
-        counts = {s: sum(1 for r in judged if r["verdict"] == s) for s in ("pass", "fail", "indeterminate")}
-        out.append({"item": item, "key": key, "symbol": rs[0]["symbol"], "quantity": rs[0]["quantity"],
+        counts = {s: sum(1 for r in judged if r["verdict"] == s) for s
+                  in ("pass", "fail", "indeterminate")}
+        out.append({"item": item, "key": key, "symbol": rs[0]["symbol"],
+                    "quantity": rs[0]["quantity"],
                     "unit": unit, "n": int(vals.size), "not_reportable": len(rs) - int(vals.size),
                     "mean": float(vals.mean()) if vals.size else None,
                     "std": float(vals.std(ddof=1)) if vals.size > 1 else None,
@@ -451,7 +485,8 @@ def _write_parquet(path: Path, rows: Sequence[Mapping[str, Any]], columns: Seque
     pq.write_table(table, path)
 
 
-def _histograms(stats: Sequence[Mapping[str, Any]], rows: Sequence[Mapping[str, Any]], folder: Path) -> list[str]:
+def _histograms(stats: Sequence[Mapping[str, Any]], rows: Sequence[Mapping[str, Any]],
+                folder: Path) -> list[str]:
     """One PNG per judged quantity (per quantity when nothing is judged), values across the lot."""
     import matplotlib
 
@@ -462,12 +497,14 @@ def _histograms(stats: Sequence[Mapping[str, Any]], rows: Sequence[Mapping[str, 
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
     for s in keyed:
-        vals = [r["value"] for r in rows if (r["item"], r["key"], r["unit"]) == (s["item"], s["key"], s["unit"])
+        vals = [r["value"] for r in rows if (r["item"], r["key"], r["unit"])
+                == (s["item"], s["key"], s["unit"])
                 and r["reportable"]]
         if not vals:
             continue
         fig, ax = plt.subplots(figsize=(5, 3.2), dpi=100)
-        ax.hist(vals, bins=max(5, min(30, int(math.sqrt(len(vals))) + 3)), color="#4878a8", edgecolor="white")
+        ax.hist(vals, bins=max(5, min(30, int(math.sqrt(len(vals))) + 3)), color="#4878a8",
+                edgecolor="white")
         ax.set_xlabel(f"{s['symbol']} [{s['unit']}]")
         ax.set_ylabel("devices")
         title = f"{s['item']} {s['quantity']} — {len(vals)} devices"
@@ -475,7 +512,8 @@ def _histograms(stats: Sequence[Mapping[str, Any]], rows: Sequence[Mapping[str, 
             title += f"\nlimit {s['limit']}, yield {100 * s['yield']:.0f} %"
         ax.set_title(title, fontsize=9)
         fig.tight_layout()
-        safe = "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in f"{s['item']}_{s['key']}")
+        safe = "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch
+                       in f"{s['item']}_{s['key']}")
         p = folder / f"{safe}.png"
         fig.savefig(p)
         plt.close(fig)
@@ -489,11 +527,12 @@ def _fmt(x: float | None) -> str:
     return "–" if x is None else fmt_num(x, 4)
 
 
-def _lot_report(path: Path, job: Job, summary: Mapping[str, Any], stats: Sequence[Mapping[str, Any]]) -> None:
+def _lot_report(path: Path, job: Job, summary: Mapping[str, Any],
+                stats: Sequence[Mapping[str, Any]]) -> None:
     """A one-page Word lot report: what was evaluated, the lot's verdicts, the judged quantities'
-    statistics and yield, the campaigns that failed; the per-device reports hold the detail.
-    Laid out by :class:`metro.core.documents.document.DocumentBuilder` as every metro document is (A4, the
-    header with "page x of y", columns that fit their numbers, symbols with subscripts); in
+    statistics and yield, the campaigns that failed; the per-device reports hold the detail. Laid
+    out by :class:`metro.core.documents.document.DocumentBuilder` as every metro document is (A4,
+    the header with "page x of y", columns that fit their numbers, symbols with subscripts); in
     English (a lab's internal summary: the devices' reports carry the document language)."""
     import datetime as dt
 
@@ -515,9 +554,12 @@ def _lot_report(path: Path, job: Job, summary: Mapping[str, Any], stats: Sequenc
     shown = [s for s in stats if s["judged"]] or list(stats)
     shown = shown[:28]  # one page; lot-statistics.csv has every quantity
     heads = ("Item", "Quantity", "Unit", "n", "Mean", "σ", "Min", "Max", "Limit", "Yield")
-    rows = [(s["item"], quantity_name({"quantity": s["quantity"], "symbol": s["symbol"], "key": s.get("key", "")}),
-             s["unit"], str(s["n"]), _fmt(s["mean"]), _fmt(s["std"]), _fmt(s["min"]), _fmt(s["max"]),
-             s["limit"] or "–", "–" if s["yield"] is None else f"{100 * s['yield']:.0f} % ({s['pass']}/{s['judged']})")
+    rows = [(s["item"], quantity_name({"quantity": s["quantity"], "symbol": s["symbol"],
+                                       "key": s.get("key", "")}),
+             s["unit"], str(s["n"]), _fmt(s["mean"]), _fmt(s["std"]), _fmt(s["min"]),
+             _fmt(s["max"]),
+             s["limit"] or "–", "–" if s["yield"] is None
+             else f"{100 * s['yield']:.0f} % ({s['pass']}/{s['judged']})")
             for s in shown]
     if rows:
         doc.table(heads, rows, font_pt=8, prefer=1)
@@ -526,10 +568,12 @@ def _lot_report(path: Path, job: Job, summary: Mapping[str, Any], stats: Sequenc
     failed = [o for o in summary["devices"] if o["status"] == "error"]
     if failed:
         doc.para("Campaigns that could not be evaluated:", keep_next=True)
-        doc.bullets([f"{o['name']} ({o['campaign']}): {o['error']}: {o['message']}" for o in failed], size=8.5)
-    doc.para("Yield: devices whose verdict is pass, of those judged, per quantity. Each device's report "
-             "(devices/<name>/) carries its results, budgets and verdicts; lot-results.csv/.parquet list "
-             "every result; histograms/ plots the judged quantities.", size=8.5)
+        doc.bullets([f"{o['name']} ({o['campaign']}): {o['error']}: {o['message']}" for o
+                     in failed], size=8.5)
+    doc.para("Yield: devices whose verdict is pass, of those judged, per quantity. Each device's "
+             "report (devices/<name>/) carries its results, budgets and verdicts; "
+             "lot-results.csv/.parquet list every result; histograms/ plots the judged quantities.",
+             size=8.5)
     doc.save(path)
 
 
@@ -538,7 +582,8 @@ def write_lot_summary(job: Job, outcomes: Sequence[Mapping[str, Any]], out: Path
     stats = statistics(rows)
     _write_csv(out / "lot-results.csv", rows, RESULT_COLUMNS)
     _write_parquet(out / "lot-results.parquet", rows, RESULT_COLUMNS)
-    stat_cols = ("item", "key", "symbol", "quantity", "unit", "n", "not_reportable", "mean", "std", "min", "max",
+    stat_cols = ("item", "key", "symbol", "quantity", "unit", "n", "not_reportable", "mean", "std",
+                 "min", "max",
                  "limit", "judged", "pass", "fail", "indeterminate", "yield")
     _write_csv(out / "lot-statistics.csv", stats, stat_cols)
     hists = _histograms(stats, rows, out / "histograms") if rows else []
@@ -548,10 +593,13 @@ def write_lot_summary(job: Job, outcomes: Sequence[Mapping[str, Any]], out: Path
         counts[o["status"]] += 1
         if o["status"] == "evaluated":
             counts[o.get("overall") or "not judged"] += 1
-        devices.append({k: o.get(k) for k in ("name", "campaign", "sha256", "status", "overall", "report", "json",
-                                              "report_number", "registered", "error", "message", "hint", "skipped",
+        devices.append({k: o.get(k) for k in ("name", "campaign", "sha256", "status", "overall",
+                                              "report", "json",
+                                              "report_number", "registered", "error", "message",
+                                              "hint", "skipped",
                                               "seconds", "cpu_seconds")})
-    summary = {"standard": job.standard, "items": list(job.items), "all": job.run_all, "campaigns": len(outcomes),
+    summary = {"standard": job.standard, "items": list(job.items), "all": job.run_all,
+               "campaigns": len(outcomes),
                "counts": counts, "devices": devices, "statistics": stats, "histograms": hists,
                "files": {name: str(out / name) for name in SUMMARY_FILES}}
     _lot_report(out / "lot-report.docx", job, summary, stats)
@@ -588,7 +636,8 @@ def command(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise MetroError(f"--workers {args.workers}: give at least 1")
     if args.scheduler and args.workers:
-        raise MetroError("--workers sizes the local cluster; an existing cluster (--scheduler) has its own workers",
+        raise MetroError("--workers sizes the local cluster; an existing cluster (--scheduler) has "
+                         "its own workers",
                          hint="drop --workers, or drop --scheduler to run on this machine")
     manifests = find_campaigns(args.data)
     from ..record.lab import find_lab_path, load_lab
@@ -597,12 +646,14 @@ def command(args) -> int:
     if lab is not None:
         load_lab(lab)  # a broken profile is an error here, before any worker starts
     job = Job(args.standard, items, args.run_all, parse_options(args.option), args.decision_rule,
-              str(Path(args.out).resolve()), False if args.no_plugin_autoload else None, args.block_plugin,
+              str(Path(args.out).resolve()), False if args.no_plugin_autoload else None,
+              args.block_plugin,
               lab=None if lab is None else str(Path(lab).resolve()),
               register_simulated=getattr(args, "register_simulated", False),
               allow_expired=getattr(args, "allow_expired", False), lang=args.lang, pdf=args.pdf)
     with present.progress(enabled=show_progress(args)) as prog:
-        summary = run_batch(job, manifests, scheduler=args.scheduler, workers=args.workers, progress=prog)
+        summary = run_batch(job, manifests, scheduler=args.scheduler, workers=args.workers,
+                            progress=prog)
     code = exit_code(summary)
     summary["exit_code"] = code
     if args.json:
@@ -635,14 +686,17 @@ def print_summary(summary: Mapping[str, Any], out: Path, *, verbose: bool = Fals
     if verbose:
         st = Table(title="lot statistics", title_justify="left")
         for col in ("item", "quantity", "n", "mean", "σ", "min", "max", "unit", "yield"):
-            st.add_column(col, justify="right" if col not in ("item", "quantity", "unit") else "left")
+            st.add_column(col, justify="right" if col not in ("item", "quantity", "unit")
+                          else "left")
         for s in summary["statistics"]:
             st.add_row(s["item"], s["symbol"], str(s["n"]), _fmt(s["mean"]), _fmt(s["std"]),
                        _fmt(s["min"]), _fmt(s["max"]), s["unit"],
                        "–" if s["yield"] is None else f"{100 * s['yield']:.0f} %")
         con.print(st)
     c = summary["counts"]
-    con.print(f"[bold]lot: {summary['campaigns']} campaigns: {c['pass']} conform, {c['fail']} do not conform, "
-              f"{c['indeterminate']} indeterminate, {c['not judged']} not judged, {c['error']} failed[/]", soft_wrap=True)
-    con.print(f"lot summary in {out}: lot-report.docx, lot-results.csv/.parquet, lot-statistics.csv, histograms/",
+    con.print(f"[bold]lot: {summary['campaigns']} campaigns: {c['pass']} conform, {c['fail']} do "
+              f"not conform, {c['indeterminate']} indeterminate, {c['not judged']} not judged, "
+              f"{c['error']} failed[/]", soft_wrap=True)
+    con.print(f"lot summary in {out}: lot-report.docx, lot-results.csv/.parquet, "
+              "lot-statistics.csv, histograms/",
               soft_wrap=True)

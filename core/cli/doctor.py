@@ -36,18 +36,21 @@ _PROBE = "中"
 
 
 def add_command(sub) -> None:
-    d = sub.add_parser("doctor", help="check the environment (fonts, LibreOffice, extras, lab profile, register)",
-                       description="Check what metro needs on this machine and say what to do for each check "
-                       "that fails: CJK fonts for the figures, LibreOffice for PDF, poppler, the optional "
-                       "extras, the lab profile (--lab, METRO_LAB) and its register (read only: nothing is "
-                       "created or migrated).",
+    d = sub.add_parser("doctor",
+                       help="check the environment (fonts, LibreOffice, extras, lab profile, "
+                       "register)",
+                       description="Check what metro needs on this machine and say what to do for "
+                       "each check that fails: CJK fonts for the figures, LibreOffice for PDF, "
+                       "poppler, the optional extras, the lab profile (--lab, METRO_LAB) and its "
+                       "register (read only: nothing is created or migrated).",
                        epilog="exit codes: 0 every required check passes; 6 a required check fails "
                        "(optional ones only inform); 2 usage error")
     d.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
 
 def _check(name: str, ok: bool, detail: str, *, required: bool, fix: str = "") -> dict[str, Any]:
-    return {"check": name, "ok": bool(ok), "required": required, "detail": detail, "fix": "" if ok else fix}
+    return {"check": name, "ok": bool(ok), "required": required, "detail": detail, "fix": "" if ok
+            else fix}
 
 
 def check_fonts() -> dict[str, Any]:
@@ -69,10 +72,11 @@ def check_fonts() -> dict[str, Any]:
                     break
             except (OSError, RuntimeError):
                 continue
-    fix = ("install a CJK font, e.g. `apt-get install fonts-noto-cjk` (Debian/Ubuntu) or Noto Sans CJK SC; "
-           "metro's figures look for " + ", ".join(plots.FALLBACK_FONTS))
+    fix = ("install a CJK font, e.g. `apt-get install fonts-noto-cjk` (Debian/Ubuntu) or Noto Sans "
+           "CJK SC; metro's figures look for " + ", ".join(plots.FALLBACK_FONTS))
     return _check("cjk-fonts", bool(found), "; ".join(found[:2]) if found else
-                  "no CJK font found by matplotlib: Chinese in figures would be drawn as empty boxes",
+                  "no CJK font found by matplotlib: Chinese in figures would be drawn as empty "
+                  "boxes",
                   required=True, fix=fix)
 
 
@@ -88,14 +92,17 @@ def check_programs() -> list[dict[str, Any]]:
         exe: str | None = soffice_path()
     except MetroError:
         exe = None
-    out.append(_check("soffice", exe is not None, f"LibreOffice {exe} (PDF reports: --pdf, --report x.pdf)" if exe
-                      else "no LibreOffice (soffice): PDF reports (--pdf, --report x.pdf) are unavailable; Word "
-                      "reports are written as usual", required=False,
-                      fix="install LibreOffice, e.g. `apt-get install libreoffice-writer-nogui`, or set "
-                      "METRO_SOFFICE to its soffice"))
+    out.append(_check("soffice", exe is not None,
+                      f"LibreOffice {exe} (PDF reports: --pdf, --report x.pdf)" if exe
+                      else "no LibreOffice (soffice): PDF reports (--pdf, --report x.pdf) are "
+                      "unavailable; Word reports are written as usual", required=False,
+                      fix="install LibreOffice, e.g. `apt-get install libreoffice-writer-nogui`, "
+                      "or set METRO_SOFFICE to its soffice"))
     pdftotext = shutil.which("pdftotext")
-    out.append(_check("pdftotext", pdftotext is not None, f"poppler {pdftotext} (reads a PDF report as text)"
-                      if pdftotext else "no pdftotext: the PDF checks of the test suite are skipped",
+    out.append(_check("pdftotext", pdftotext is not None,
+                      f"poppler {pdftotext} (reads a PDF report as text)"
+                      if pdftotext
+                      else "no pdftotext: the PDF checks of the test suite are skipped",
                       required=False, fix="install poppler, e.g. `apt-get install poppler-utils`"))
     return out
 
@@ -121,21 +128,25 @@ def check_lab(args) -> tuple[list[dict[str, Any]], Any]:
 
     where = labmod.find_lab_path(getattr(args, "lab", None))
     if where is None:
-        return [_check("lab-profile", True, "no lab profile in force: reports are written unregistered",
+        return [_check("lab-profile", True,
+                       "no lab profile in force: reports are written unregistered",
                        required=False)], None
     try:
         profile = labmod.load_lab(where)
     except MetroError as exc:
         return [_check("lab-profile", False, f"{where}: {exc.reason}", required=True,
-                       fix=exc.hint or "correct the profile (docs/register.md lists its keys)")], None
+                       fix=exc.hint
+                       or "correct the profile (docs/register.md lists its keys)")], None
     out = [_check("lab-profile", True, f"{where}: {profile.name}", required=True)]
     today = dt.date.today()
     due = [f"{e.id} (due {e.calibration.due.isoformat()})" for e in profile.equipment
            if e.calibration is not None and not e.calibration.is_valid(today)]
-    out.append(_check("lab-equipment", not due, "every piece of the lab's equipment is within its calibration"
-                      if not due else "past its calibration due date today: " + ", ".join(due), required=False,
-                      fix="recalibrate it and update the lab profile (a registered run refuses it unless "
-                      "--allow-expired)"))
+    out.append(_check("lab-equipment", not due,
+                      "every piece of the lab's equipment is within its calibration"
+                      if not due else "past its calibration due date today: " + ", ".join(due),
+                      required=False,
+                      fix="recalibrate it and update the lab profile (a registered run refuses it "
+                      "unless --allow-expired)"))
     return out, profile
 
 
@@ -153,19 +164,23 @@ def check_register(args, profile) -> dict[str, Any]:
         st = register_state(url)
     except MetroError as exc:
         return _check("register", False, exc.reason, required=True,
-                      fix="check the profile's register (or METRO_REGISTER) and that its database server is "
-                      "reachable")
+                      fix="check the profile's register (or METRO_REGISTER) and that its database "
+                      "server is reachable")
     if not st["exists"]:
-        return _check("register", True, f"no register at {shown} yet: the first registered run makes it",
+        return _check("register", True,
+                      f"no register at {shown} yet: the first registered run makes it",
                       required=False)
     if st["migrated"]:
-        return _check("register", True, f"{shown}: {st['reports']} report(s), schema {st['revision']} (newest)",
+        return _check("register", True,
+                      f"{shown}: {st['reports']} report(s), schema {st['revision']} (newest)",
                       required=True)
     from ..record.register import SCHEMA_HEAD, SCHEMA_REVISIONS
 
     newer = st["revision"] not in SCHEMA_REVISIONS  # a revision this metro does not know
-    return _check("register", False, f"{shown}: schema {st['revision']}, this metro's newest is {SCHEMA_HEAD}",
-                  required=newer, fix="upgrade metro (the register was written by a newer one)" if newer
+    return _check("register", False,
+                  f"{shown}: schema {st['revision']}, this metro's newest is {SCHEMA_HEAD}",
+                  required=newer, fix="upgrade metro (the register was written by a newer one)"
+                  if newer
                   else "the next command that opens the register migrates it (a registered run, or "
                   "`metro register list`)")
 
@@ -177,7 +192,8 @@ def run_checks(args) -> list[dict[str, Any]]:
     try:
         lab_checks, profile = check_lab(args)
     except MetroError as exc:  # pragma: no cover - find_lab_path itself refused
-        lab_checks, profile = [_check("lab-profile", False, exc.reason, required=True, fix=exc.hint or "")], None
+        lab_checks, profile = [_check("lab-profile", False, exc.reason, required=True, fix=exc.hint
+                                      or "")], None
     checks += lab_checks
     if not any(c["check"] == "lab-profile" and not c["ok"] for c in checks):
         checks.append(check_register(args, profile))
@@ -196,7 +212,8 @@ def command(args) -> int:
     else:
         width = max(len(c["check"]) for c in checks)
         for c in checks:
-            state = "ok" if c["ok"] else ("FAIL" if c["required"] else "missing" if c["check"].startswith(
+            state = "ok" if c["ok"] else ("FAIL" if c["required"] else "missing"
+                                          if c["check"].startswith(
                 ("extra:", "soffice", "pdftotext")) else "warn")
             print(f"{state:<7} {c['check']:<{width}}  {c['detail']}")
             if c["fix"]:

@@ -18,12 +18,14 @@ OVERALL_TASKS = ("segments", "items", "campaigns")
 
 
 @contextlib.contextmanager
-def progress(enabled: bool = True, started: Callable[[], None] | None = None, console: Any = None) -> Iterator[Any]:
+def progress(enabled: bool = True, started: Callable[[], None] | None = None,
+             console: Any = None) -> Iterator[Any]:
     """A ``progress(task, done, total)`` callback for a terminal: two lines on stderr, no more —
-    one overall bar (the ``segments``/``items``/``campaigns`` events summed: done of total,
-    elapsed, remaining) and the current step (the latest other task, with its own fraction).
-    The display is removed at the end; ``console`` is rich's (default: stderr).  ``started`` is called at the first event (the banner
-    of a simulated run), also when the display is disabled.  Disabled: no output at all."""
+    one overall bar (the ``segments``/``items``/``campaigns`` events summed: done of total, elapsed,
+    remaining) and the current step (the latest other task, with its own fraction). The display is
+    removed at the end; ``console`` is rich's (default: stderr). ``started`` is called at the first
+    event (the banner of a simulated run), also when the display is disabled. Disabled: no output at
+    all."""
     first = [started]
 
     def start() -> None:
@@ -48,7 +50,8 @@ def progress(enabled: bool = True, started: Callable[[], None] | None = None, co
     console = console or Console(stderr=True)
     width = max(20, console.width - 60)
     bar = Progress(TextColumn("{task.description}", table_column=Column(no_wrap=True, width=width)),
-                   BarColumn(bar_width=20), TextColumn("{task.fields[count]}", table_column=Column(no_wrap=True)),
+                   BarColumn(bar_width=20), TextColumn("{task.fields[count]}",
+                                                       table_column=Column(no_wrap=True)),
                    TimeElapsedColumn(), TimeRemainingColumn(), console=console, transient=True)
     counts: dict[str, list[float]] = {}
     state: dict[str, Any] = {"overall": None, "step": None}
@@ -65,12 +68,14 @@ def progress(enabled: bool = True, started: Callable[[], None] | None = None, co
             text = ", ".join(f"{int(c[0])}/{int(c[1])} {k}" for k, c in counts.items() if c[1])
             if state["overall"] is None:
                 state["overall"] = bar.add_task("overall", total=t, count="")
-            bar.update(state["overall"], completed=d, total=t, description=clip("overall"), count=text)
+            bar.update(state["overall"], completed=d, total=t, description=clip("overall"),
+                       count=text)
             return
         if state["step"] is None:
             state["step"] = bar.add_task("", total=1, count="")
         frac = f"{100 * done / total:5.1f}%" if total else ""
-        bar.update(state["step"], description=clip(task), completed=done, total=total or 1, count=frac)
+        bar.update(state["step"], description=clip(task), completed=done, total=total or 1,
+                   count=frac)
 
     update.display = bar  # type: ignore[attr-defined]  # for tests: the rich Progress and its tasks
     with bar:
@@ -81,7 +86,8 @@ OVERALL_TEXT = {"pass": "conforms", "fail": "does not conform", "indeterminate":
 
 
 def verdict_line(assessment: Any) -> str:
-    """The overall statement with its counts: ``does not conform: 17 pass, 2 fail, 6 indeterminate``."""
+    """The overall statement with its counts: ``does not conform: 17 pass, 2 fail, 6
+    indeterminate``."""
     if assessment is None or assessment.overall is None:
         return "not judged: no specification applies to these results"
     c = assessment.counts()
@@ -103,8 +109,8 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
 
     con = Console(highlight=False)
     c = record.campaign
-    con.print(f"[bold]{record.standard}[/] on {esc(c.device.describe())} — campaign {esc(str(c.id))} "
-              f"({esc(str(c.source))})")
+    con.print(f"[bold]{record.standard}[/] on {esc(c.device.describe())} — campaign "
+              f"{esc(str(c.id))} ({esc(str(c.source))})")
     _print_selection(con, record, verbose)
     withheld = _print_results(con, record)
     from ..documents.notes import group_notes
@@ -123,11 +129,17 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
             con.print(f"data: {esc(str(f))}  sha256 {h}")
     overall = a.overall.value if a is not None and a.overall is not None else None
     style = VERDICT_COLOUR.get(overall or "", "bold")
-    con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)  # one line: scripts grep it
-    if report_path:  # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
+    # one line: scripts grep it
+    con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)
+    # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
+    if report_path:
         kind = "PDF report" if str(report_path).lower().endswith(".pdf") else "Word report"
-        also = f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind == "Word report" else ""
-        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}{also}", soft_wrap=True)
+        also = (
+            f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind == "Word report"
+            else ""
+        )
+        con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}{also}",
+                  soft_wrap=True)
     else:  # --no-report: no document, so no number either
         con.print("no report written", soft_wrap=True)
 
@@ -150,7 +162,8 @@ def _print_selection(con: Any, record: RunRecord, verbose: bool) -> None:
                 con.print(f"  {ch.item} ({esc(str(ch.via))}): {mark} — {esc(str(ch.reason))}")
         elif ran < len(record.selection):
             con.print(f"{ran} of {len(record.selection)} candidate items run; not run: "
-                      + ", ".join(ch.item for ch in record.selection if not ch.run) + " (--verbose says why)")
+                      + ", ".join(ch.item for ch in record.selection if not ch.run)
+                      + " (--verbose says why)")
 
 
 def _print_results(con: Any, record: RunRecord) -> list[tuple[str, str, Any]]:
@@ -164,10 +177,11 @@ def _print_results(con: Any, record: RunRecord) -> list[tuple[str, str, Any]]:
         for v in record.conformity.verdicts:
             verdicts[(v.item, v.key)] = v
     t = Table(title="Results", title_justify="left")
-    # (item, symbol, reason) of the results not reportable: one says why in its row; several, below the
-    # table, a reason (or a part of one) they share stated once (core.notes.group_notes)
-    # (a result that states a bound says why in its own row: it is issued as the bound)
-    withheld: list[tuple[str, str, Any]] = [(o.item, r.metric.symbol, r.reason) for o in record.outcomes
+    # (item, symbol, reason) of the results not reportable: one says why in its row; several, below
+    # the table, a reason (or a part of one) they share stated once (core.notes.group_notes) (a
+    # result that states a bound says why in its own row: it is issued as the bound)
+    withheld: list[tuple[str, str, Any]] = [(o.item, r.metric.symbol, r.reason) for o
+                                            in record.outcomes
                                             for r in o.results if not r.reportable and not r.bound]
     for col in ("item", "quantity", "value", "U (k)", "unit", "verdict / note"):
         t.add_column(col, justify="right" if col in ("value", "U (k)") else "left",
@@ -183,17 +197,21 @@ def _print_results(con: Any, record: RunRecord) -> list[tuple[str, str, Any]]:
             ver = verdicts.get((o.item, r.metric.key))
             if ver is not None:
                 st = ver.status.value
-                notes.append(f"[{colour[st]}]{st}[/]" + (f" ({esc(ver.detail)})" if ver.detail not in ("pass", "fail") else "")
+                notes.append(f"[{colour[st]}]{st}[/]"
+                             + (f" ({esc(ver.detail)})" if ver.detail not in ("pass", "fail")
+                                else "")
                              + f" vs {esc(ver.spec.text())}")
             if r.bound:
                 v = f"{r.bound_sign} {v}"
                 notes.append(f"a bound: {esc(r.reason)}")
             elif not r.reportable:
-                notes.append(f"[yellow]not reportable:[/] {esc(r.reason)}" if len(withheld) == 1 else
+                notes.append(f"[yellow]not reportable:[/] {esc(r.reason)}" if len(withheld) == 1
+                             else
                              "[yellow]not reportable[/] (why: below)")
             if r.earth_rate:
                 notes.append(f"earth rate {r.earth_rate}")
-            t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)), esc(str(u_text)),
+            t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)),
+                      esc(str(u_text)),
                       esc(fmt_unit(r.metric.unit)), "; ".join(notes))
     con.print(t)
     return withheld
@@ -205,8 +223,8 @@ def _print_warnings(con: Any, record: RunRecord) -> None:
     from rich.markup import escape as esc
 
     c = record.campaign
-    # a warning several items give (a campaign's drift seen by 7.2.1, 7.2.2 and 7.2.3) is printed once,
-    # naming them, where its first item's warnings are
+    # a warning several items give (a campaign's drift seen by 7.2.1, 7.2.2 and 7.2.3) is printed
+    # once, naming them, where its first item's warnings are
     said: dict[str, list[str]] = {}
     for o in record.outcomes:
         for w in o.warnings:
@@ -217,35 +235,42 @@ def _print_warnings(con: Any, record: RunRecord) -> None:
         con.print(f"[yellow]warning ({', '.join(items)}):[/] {esc(pretty_powers(text))}")
     for e in c.equipment:
         if e.calibration is not None and not e.calibration.is_valid(record.test_date):
-            con.print(f"[bold red]equipment {esc(str(e.id))}[/]: {esc(e.status(record.test_date))} — results that depend on it "
-                      "are not traceable; recalibrate it or use other equipment")
+            con.print(f"[bold red]equipment {esc(str(e.id))}[/]: {esc(e.status(record.test_date))} "
+                      "— results that depend on it are not traceable; recalibrate it or use other "
+                      "equipment")
 
 
 def _print_simulated(con: Any, record: RunRecord, verbose: bool) -> None:
     """On a simulated station: how many results recovered the declared truth within U."""
     checks = truth_checks(record)
     if record.simulated and not record.truth:
-        con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated station "
-                  "(its manifest says simulated = true); the report carries the SIMULATED banner")
+        con.print("[bold yellow]SIMULATED data[/]: the campaign was recorded on a simulated "
+                  "station (its manifest says simulated = true); the report carries the SIMULATED "
+                  "banner")
     elif record.simulated:
         judged = [ch for ch in checks if ch["reportable"]]
         inside = sum(1 for ch in judged if ch["within_U"])
         withheld = len(checks) - len(judged)
-        con.print("[bold yellow]SIMULATED station[/]: " + (f"declared truth recovered within U by {inside} of "
-                  f"{len(judged)} reportable results" if checks else "the station declared its truth")
+        con.print("[bold yellow]SIMULATED station[/]: "
+                  + (f"declared truth recovered within U by {inside} of "
+                  f"{len(judged)} reportable results" if checks
+                                                           else "the station declared its truth")
                   + (f" ({withheld} not reportable)" if withheld else "")
                   + ("" if verbose else " (--verbose shows them)"))
         if verbose:
-            con.print("  declared truth " + ", ".join(f"{k} = {_fmt(v)}" for k, v in record.truth.items()))
+            con.print("  declared truth " + ", ".join(f"{k} = {_fmt(v)}" for k, v
+                                                      in record.truth.items()))
             for ch in checks:
                 mark = ("[green]within U[/]" if ch["within_U"] else "[red]OUTSIDE U[/]") + (
                     "" if ch["reportable"] else " [yellow](not reportable)[/]")
                 con.print(f"  {ch['item']} {ch['key']}: result {fmt_num(ch['value'], 5)} vs truth "
-                          f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → {mark}")
+                          f"{fmt_num(ch['truth'], 5)} {ch['unit']} (U = {fmt_num(ch['U'], 2)}) → "
+                          f"{mark}")
 
 
 def _print_conformity(con: Any, a: Any, verbose: bool) -> None:
-    """With ``verbose``: the conformity table (limit, source, verdict, why) and what was not assessed."""
+    """With ``verbose``: the conformity table (limit, source, verdict, why) and what was not
+    assessed."""
     from rich.markup import escape as esc
     from rich.table import Table
 
@@ -257,7 +282,8 @@ def _print_conformity(con: Any, a: Any, verbose: bool) -> None:
         for v in a.verdicts:
             st = v.status.value
             ct.add_row(v.item, v.key, esc(v.spec.text()), esc(v.spec.source),
-                       f"[{colour[st]}]{st}[/]" + (f" ({esc(v.detail)})" if v.detail not in ("pass", "fail") else ""),
+                       f"[{colour[st]}]{st}[/]" + (f" ({esc(v.detail)})" if v.detail
+                                                   not in ("pass", "fail") else ""),
                        esc(v.reason))
         con.print(ct)
         if a.not_assessed:
@@ -283,8 +309,8 @@ def _print_budgets_and_tables(con: Any, o: Any) -> None:
                        fmt_num(row["contribution"], 3),
                        fmt_dof(row["dof"]))
         unit_ = "" if b["unit"] == "1" else f" {b['unit']}"
-        bt.caption = (f"u_c = {fmt_num(b['u_c'], 3)}{unit_}, ν_eff = {fmt_dof(b['nu_eff'])}, k = {b['k']:.2f}, "
-                      f"U = {b['U_reported']}{unit_}")
+        bt.caption = (f"u_c = {fmt_num(b['u_c'], 3)}{unit_}, ν_eff = {fmt_dof(b['nu_eff'])}, k = "
+                      f"{b['k']:.2f}, U = {b['U_reported']}{unit_}")
         con.print(bt)
     for tab in o.tables:
         tt = Table(title=esc(str(tab.title)))

@@ -17,15 +17,17 @@ COMMANDS = ("lab", "register", "report", "amend", "withdraw", "history")
 
 def add_global_options(p) -> None:
     p.add_argument("--lab", metavar="PATH", default=None,
-                   help="lab profile (TOML; default: METRO_LAB, else lab.toml in the user config folder)")
+                   help="lab profile (TOML; default: METRO_LAB, else lab.toml in the user config "
+                   "folder)")
 
 
 def add_commands(sub) -> None:
     lab = sub.add_parser("lab", help="the lab profile: metro lab init PATH, metro lab show",
-                         description="The lab profile names the lab, its signatories, numbering scheme, "
-                         "register and equipment (docs/register.md).")
+                         description="The lab profile names the lab, its signatories, numbering "
+                         "scheme, register and equipment (docs/register.md).")
     lsub = lab.add_subparsers(dest="lab_command", metavar="SUBCOMMAND", required=True)
-    li = lsub.add_parser("init", help="write a commented lab profile template (never replaces a file)")
+    li = lsub.add_parser("init",
+                         help="write a commented lab profile template (never replaces a file)")
     li.add_argument("path", metavar="PATH")
     li.add_argument("--json", action="store_true")
     ls = lsub.add_parser("show", help="print the lab profile in force and where it was found")
@@ -33,68 +35,86 @@ def add_commands(sub) -> None:
 
 
     rg = sub.add_parser("register", help="the report register: list, show, verify",
-                        description="Every registered report: number, status, results, provenance, audit trail "
-                        "(docs/register.md).")
+                        description="Every registered report: number, status, results, provenance, "
+                        "audit trail (docs/register.md).")
     rsub = rg.add_subparsers(dest="register_command", metavar="SUBCOMMAND", required=True)
     rl = rsub.add_parser("list", help="list the registered reports")
-    rl.add_argument("--device", metavar="SERIAL", help="only this device's reports (its serial number)")
+    rl.add_argument("--device", metavar="SERIAL",
+                    help="only this device's reports (its serial number)")
     rl.add_argument("--standard", "-s", metavar="S", help="only reports of this standard")
-    rl.add_argument("--since", metavar="DATE", help="only reports measured on or after DATE (YYYY-MM-DD)")
+    rl.add_argument("--since", metavar="DATE",
+                    help="only reports measured on or after DATE (YYYY-MM-DD)")
     rl.add_argument("--json", action="store_true")
-    rs = rsub.add_parser("show", help="one report's register entry: results, verdicts, provenance, audit trail")
+    rs = rsub.add_parser("show",
+                         help="one report's register entry: results, verdicts, provenance, audit "
+                         "trail")
     rs.add_argument("number", metavar="NUMBER")
     rs.add_argument("--json", action="store_true")
-    rv = rsub.add_parser("verify", help="check every report file against its stored SHA-256 (exit 6 if any "
+    rv = rsub.add_parser("verify",
+                         help="check every report file against its stored SHA-256 (exit 6 if any "
                          "differs or is missing)")
     rv.add_argument("--json", action="store_true")
 
     rp = sub.add_parser("report", help="write a registered report again from the register",
-                        description="Re-render report NUMBER from the register: the same numbers, the same content.")
+                        description="Re-render report NUMBER from the register: the same numbers, "
+                        "the same content.")
     rp.add_argument("number", metavar="NUMBER")
-    rp.add_argument("--out", default="metro-out", metavar="DIR", help="folder for NUMBER.docx (default: metro-out)")
+    rp.add_argument("--out", default="metro-out", metavar="DIR",
+                    help="folder for NUMBER.docx (default: metro-out)")
     rp.add_argument("--json", action="store_true")
 
-    am = sub.add_parser("amend", help="issue a report that replaces NUMBER (which becomes superseded)",
-                        description="Issue an amended report replacing NUMBER and saying why; NUMBER becomes "
-                        "superseded, never deleted. With --data the items are run again on that manifest; "
-                        "without it the stored content is issued again under a new number.")
+    am = sub.add_parser("amend",
+                        help="issue a report that replaces NUMBER (which becomes superseded)",
+                        description="Issue an amended report replacing NUMBER and saying why; "
+                        "NUMBER becomes superseded, never deleted. With --data the items are run "
+                        "again on that manifest; without it the stored content is issued again "
+                        "under a new number.")
     am.add_argument("number", metavar="NUMBER")
-    am.add_argument("--reason", required=True, help="why the report is amended (printed in the new report)")
-    am.add_argument("--data", "-d", metavar="MANIFEST", help="run the report's items again on this campaign")
-    am.add_argument("--out", metavar="DIR", help="folder of the new report (default: the replaced report's)")
+    am.add_argument("--reason", required=True,
+                    help="why the report is amended (printed in the new report)")
+    am.add_argument("--data", "-d", metavar="MANIFEST",
+                    help="run the report's items again on this campaign")
+    am.add_argument("--out", metavar="DIR",
+                    help="folder of the new report (default: the replaced report's)")
     am.add_argument("--allow-expired", action="store_true",
-                    help="issue even if equipment was past its calibration due date (the report says so)")
+                    help="issue even if equipment was past its calibration due date (the report "
+                    "says so)")
     am.add_argument("--json", action="store_true")
 
-    wd = sub.add_parser("withdraw", help="withdraw an issued report (kept in the register, marked withdrawn)")
+    wd = sub.add_parser("withdraw",
+                        help="withdraw an issued report (kept in the register, marked withdrawn)")
     wd.add_argument("number", metavar="NUMBER")
     wd.add_argument("--reason", required=True)
     wd.add_argument("--json", action="store_true")
 
-    hi = sub.add_parser("history", help="a device's calibrations over time, with drift flags and a plot",
-                        description="List a device's issued reports and plot each result over time with its U; "
-                        "a change between consecutive calibrations with |E_n| > 1 is flagged as drift.")
+    hi = sub.add_parser("history",
+                        help="a device's calibrations over time, with drift flags and a plot",
+                        description="List a device's issued reports and plot each result over time "
+                        "with its U; a change between consecutive calibrations with |E_n| > 1 is "
+                        "flagged as drift.")
     hi.add_argument("serial", metavar="SERIAL")
     hi.add_argument("--key", action="append", default=[], help="only this result key (repeatable)")
-    hi.add_argument("--out", default="metro-out", metavar="DIR", help="folder for history-SERIAL.png")
+    hi.add_argument("--out", default="metro-out", metavar="DIR",
+                    help="folder for history-SERIAL.png")
     hi.add_argument("--json", action="store_true")
 
 
 def add_run_options(r) -> None:
     """Options of ``metro run`` about registration."""
     r.add_argument("--register-simulated", action="store_true",
-                   help="register a simulated run too (needs a lab profile; by default simulated runs are not "
-                   "registered)")
+                   help="register a simulated run too (needs a lab profile; by default simulated "
+                   "runs are not registered)")
     r.add_argument("--allow-expired", action="store_true",
-                   help="with a lab profile: run even if equipment is past its calibration due date on the "
-                   "measurement date (the report says so)")
+                   help="with a lab profile: run even if equipment is past its calibration due "
+                   "date on the measurement date (the report says so)")
 
 
 def dispatch(args) -> int:
     if args.command == "lab":
         return _cmd_lab(args)
     if args.command == "register":
-        return {"list": _cmd_list, "show": _cmd_show, "verify": _cmd_verify}[args.register_command](args)
+        return {"list": _cmd_list, "show": _cmd_show,
+                "verify": _cmd_verify}[args.register_command](args)
     if args.command == "report":
         return _cmd_report(args)
     if args.command == "amend":
@@ -128,16 +148,19 @@ def write_run_report(args, pm, record, prog=None):
     simulated = bool(record.simulated)
     register_simulated = getattr(args, "register_simulated", False)
     if register_simulated and lab is None:
-        raise MetroError("--register-simulated needs a lab profile (its register and numbering scheme)",
-                         hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a template")
+        raise MetroError("--register-simulated needs a lab profile (its register and numbering "
+                         "scheme)",
+                         hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a "
+                         "template")
     registered = lab is not None and (not simulated or register_simulated)
     t0 = time.perf_counter()
     if prog:
         prog("writing report", 0, 1)
     if registered:
         if args.report:
-            raise MetroError("a registered report is named by its register number; --report PATH cannot be used "
-                             "with a lab profile", hint="use --out DIR (the report is DIR/<number>.docx)")
+            raise MetroError("a registered report is named by its register number; --report PATH "
+                             "cannot be used with a lab profile",
+                             hint="use --out DIR (the report is DIR/<number>.docx)")
         issued, record = register_run(record, pm=pm, lab=lab, folder=Path(args.out),
                                       allow_expired=getattr(args, "allow_expired", False),
                                       options=_run_options(args), lang=getattr(args, "lang", None))
@@ -155,7 +178,8 @@ def write_run_report(args, pm, record, prog=None):
     if lab is not None:
         from ..record.registering import check_equipment, measurement_date
 
-        check_equipment(record.campaign, measurement_date(record), allow_expired=getattr(args, "allow_expired", False))
+        check_equipment(record.campaign, measurement_date(record),
+                        allow_expired=getattr(args, "allow_expired", False))
     why = "no lab profile" if lab is None else "simulated"
     from ..run.outputs import write_checked
 
@@ -166,7 +190,8 @@ def write_run_report(args, pm, record, prog=None):
     # core.outputs: never onto an input, an existing file only with --force; nothing left on failure
     path = write_checked(target, record.campaign, lambda p: write_report(
         p, record, template=info.path, layout=info.layout, designations=designations,
-        extend=pm.extend_report_context, register=unregistered(record, why, lang or "zh+en"), lang=lang,
+        extend=pm.extend_report_context, register=unregistered(record, why, lang or "zh+en"),
+        lang=lang,
         pdf=getattr(args, "pdf", False)),
         force=getattr(args, "force", False), option="--report" if args.report else "--out",
         pdf=getattr(args, "pdf", False))
@@ -174,12 +199,13 @@ def write_run_report(args, pm, record, prog=None):
     pm.report_written(path, record.outcomes)
     from ..record.registering import NOT_REGISTERED
 
-    return record, path, {"registered": False, "number": record.report_number, "why": NOT_REGISTERED[why][1]}
+    return record, path, {"registered": False, "number": record.report_number,
+                          "why": NOT_REGISTERED[why][1]}
 
 
 class FiguresAhead:
-    """A run's figures drawn ahead (:class:`metro.core.documents.figure_cache.DrawingAhead`): each item's
-    figures, in the report's language, go to the drawing process as soon as the item is
+    """A run's figures drawn ahead (:class:`metro.core.documents.figure_cache.DrawingAhead`): each
+    item's figures, in the report's language, go to the drawing process as soon as the item is
     evaluated (the ``metro_procedure_finished`` hook), while the next items are evaluated."""
 
     def __init__(self, ahead: Any, lang: str | None) -> None:
@@ -233,8 +259,10 @@ def run_lab_options(args) -> dict[str, Any]:
     lab = labmod.lab_in_force(getattr(args, "lab", None))
     if lab is None:
         if getattr(args, "register_simulated", False):  # said before anything is evaluated
-            raise MetroError("--register-simulated needs a lab profile (its register and numbering scheme)",
-                             hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a template")
+            raise MetroError("--register-simulated needs a lab profile (its register and numbering "
+                             "scheme)",
+                             hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a "
+                             "template")
         return {}
 
     def check(campaign) -> None:
@@ -245,8 +273,9 @@ def run_lab_options(args) -> dict[str, Any]:
         registered = not getattr(args, "no_report", False) and (
             not campaign.simulated or getattr(args, "register_simulated", False))
         if registered and getattr(args, "report", None):
-            raise MetroError("a registered report is named by its register number; --report PATH cannot be used "
-                             "with a lab profile", hint="use --out DIR (the report is DIR/<number>.docx)")
+            raise MetroError("a registered report is named by its register number; --report PATH "
+                             "cannot be used with a lab profile",
+                             hint="use --out DIR (the report is DIR/<number>.docx)")
         on = getattr(campaign, "measurement_date", None) or dt.datetime.now(dt.timezone.utc).date()
         check_equipment(campaign, on, allow_expired=getattr(args, "allow_expired", False))
 
@@ -270,8 +299,10 @@ def _lab(args, required: bool = False):
 
     lab = labmod.lab_in_force(getattr(args, "lab", None))
     if lab is None and required:
-        raise MetroError(f"metro {args.command} needs a lab profile (its numbering scheme and register)",
-                         hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a template")
+        raise MetroError(f"metro {args.command} needs a lab profile (its numbering scheme and "
+                         "register)",
+                         hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a "
+                         "template")
     return lab
 
 
@@ -315,15 +346,17 @@ def _is_terminal() -> bool:
 
 
 def _table(title: str, cols, rows) -> None:
-    """A table of the register: on a terminal a rich table whose cells wrap (an identifier is folded,
-    never cut to "stand…"); piped or redirected, plain rows for scripts: a ``# title`` line, the
-    header, then one line per row, cells separated by a tab, nothing padded, every value whole."""
+    """A table of the register: on a terminal a rich table whose cells wrap (an identifier is
+    folded, never cut to "stand…"); piped or redirected, plain rows for scripts: a ``# title`` line,
+    the header, then one line per row, cells separated by a tab, nothing padded, every value
+    whole."""
     cells = [[("—" if v in (None, "") else str(v)) for v in r] for r in rows]
     if not _is_terminal():
         import sys
 
         def line(values) -> str:
-            return "\t".join(" ".join(v.split()) for v in values)  # one line per row, no tab inside a cell
+            # one line per row, no tab inside a cell
+            return "\t".join(" ".join(v.split()) for v in values)
 
         sys.stdout.write("\n".join([f"# {title}", line(cols), *(line(r) for r in cells)]) + "\n")
         return
@@ -332,9 +365,11 @@ def _table(title: str, cols, rows) -> None:
 
     console = Console()
     # short identifiers (a report number, a date: up to 13 characters) are kept on one line when the
-    # terminal is wide enough for all of them; else a cell folds onto the next line, never cut to "stand…"
+    # terminal is wide enough for all of them; else a cell folds onto the next line, never cut to
+    # "stand…"
     short = [min(13, max([len(c)] + [len(r[i]) for r in cells])) for i, c in enumerate(cols)]
-    keep = sum(short) + 3 * len(cols) - 1 <= console.width  # cells, their padding, the lines between them
+    # cells, their padding, the lines between them
+    keep = sum(short) + 3 * len(cols) - 1 <= console.width
     t = Table(title=title, show_edge=False)  # no outer frame: two more columns for the cells
     for i, c in enumerate(cols):
         t.add_column(c, overflow="fold", no_wrap=False, min_width=short[i] if keep else None)
@@ -345,13 +380,15 @@ def _table(title: str, cols, rows) -> None:
 
 def _cmd_list(args) -> int:
     with _open(args) as reg:
-        rows = reg.list(device=args.device, standard=args.standard, since=_date(args.since, "--since"))
+        rows = reg.list(device=args.device, standard=args.standard,
+                        since=_date(args.since, "--since"))
         if args.json:
             _print_json({"register": reg.display_url, "reports": rows})
             return 0
         _table(f"register {reg.display_url}", ("number", "status", "standard", "items", "serial",
                                                 "measured", "issued", "replaces / replaced by"),
-               [(r["number"], r["status"], r["standard"], ", ".join(r["items"]), r["device"]["serial"], r["measurement_date"], r["issued_at"][:10],
+               [(r["number"], r["status"], r["standard"], ", ".join(r["items"]),
+                 r["device"]["serial"], r["measurement_date"], r["issued_at"][:10],
                  " / ".join(x or "—" for x in (r["supersedes"], r["superseded_by"]))
                  if (r["supersedes"] or r["superseded_by"]) else "") for r in rows])
     return 0
@@ -366,22 +403,26 @@ def _cmd_show(args) -> int:
     from rich.console import Console
 
     c = Console(soft_wrap=not _is_terminal())  # piped: each line whole (no wrapping at 80 columns)
-    c.print(f"[bold]{d['number']}[/] — {d['status']}" + (f" (reason: {d['reason']})" if d["reason"] else ""))
+    c.print(f"[bold]{d['number']}[/] — {d['status']}"
+            + (f" (reason: {d['reason']})" if d["reason"] else ""))
     for label, key in (("replaces", "supersedes"), ("replaced by", "superseded_by")):
         if d[key]:
             c.print(f"  {label}: {d[key]}")
     dev = d["device"]
-    c.print(f"  {d['standard']} {', '.join(d['items'])}; device {dev['manufacturer']} {dev['model']} s/n "
-            f"{dev['serial']}; customer {d['customer'] or '—'}")
+    c.print(f"  {d['standard']} {', '.join(d['items'])}; device {dev['manufacturer']} "
+            f"{dev['model']} s/n {dev['serial']}; customer {d['customer'] or '—'}")
     c.print(f"  measured {d['measurement_date']}, issued {d['issued_at']} by {d['issued_by']}"
-            + (" — SIMULATED" if d["simulated"] else "") + (" — issued with --allow-expired" if d["allow_expired"]
+            + (" — SIMULATED" if d["simulated"] else "")
+            + (" — issued with --allow-expired" if d["allow_expired"]
                                                             else ""))
     c.print(f"  file {d['report_path']} (sha256 {d['report_sha256']})")
     _table("results", ("item", "quantity", "value", "U", "k", "ν_eff", "unit", "reportable"),
-           [(x["item"], f"{x['quantity']} {x['symbol']}", x["reported"]["value"], x["reported"]["U"],
+           [(x["item"], f"{x['quantity']} {x['symbol']}", x["reported"]["value"],
+             x["reported"]["U"],
              x["k"] and f"{x['k']:.3g}", x["nu_eff"] and f"{x['nu_eff']:.3g}", x["unit"],
              "yes" if x["reportable"] else f"no: {x['reason']}") for x in d["results"]])
-    _table("equipment (status on the measurement date)", ("id", "role", "certificate", "due", "status"),
+    _table("equipment (status on the measurement date)",
+           ("id", "role", "certificate", "due", "status"),
            [(e["id"], e["role"], e["certificate"], e["due"], e["status"]) for e in d["equipment"]])
     _table("audit trail", ("when", "who", "what", "detail"),
            [(a["at"], a["who"], a["action"], a["detail"]) for a in d["audit"]])
@@ -400,7 +441,8 @@ def _cmd_verify(args) -> int:
             import sys
 
             print(f"{len(checks) - len(bad)} of {len(checks)} report files match their SHA-256"
-                  + (f"; {len(bad)} do not: " + ", ".join(f"{c['number']} {c['check']}" for c in bad) if bad else ""),
+                  + (f"; {len(bad)} do not: " + ", ".join(f"{c['number']} {c['check']}" for c
+                                                          in bad) if bad else ""),
                   file=sys.stderr)
     from .common import EXIT_CHECK_FAILED, EXIT_OK
 
@@ -421,8 +463,8 @@ def _cmd_report(args) -> int:
         if changed:
             import sys
 
-            print(f"metro: warning: the template of {args.number} changed since it was issued: same content, "
-                  "new layout", file=sys.stderr)
+            print(f"metro: warning: the template of {args.number} changed since it was issued: "
+                  "same content, new layout", file=sys.stderr)
         print(path)
     return 0
 
@@ -442,7 +484,8 @@ def _cmd_amend(args) -> int:
             given = old["options"].get("_given", {})
             record = run_items(pm, old["standard"], old["items"], data=args.data, options=given,
                                **run_lab_options(args))
-        issued = amend(reg, args.number, args.reason, pm=pm, lab=lab, folder=args.out, record=record,
+        issued = amend(reg, args.number, args.reason, pm=pm, lab=lab, folder=args.out,
+                       record=record,
                        allow_expired=args.allow_expired)
     if args.json:
         _print_json({"number": issued.number, "supersedes": args.number, "reason": args.reason,
@@ -472,7 +515,8 @@ def _cmd_history(args) -> int:
     from ..base.errors import MetroError
 
     if not hist["calibrations"]:
-        raise MetroError(f"no issued report of a device with serial {args.serial!r} in the register",
+        raise MetroError(
+            f"no issued report of a device with serial {args.serial!r} in the register",
                          hint="`metro register list` shows the devices' serial numbers")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -483,7 +527,8 @@ def _cmd_history(args) -> int:
         _print_json(hist)
         return 0
     _table(f"calibrations of {args.serial}", ("number", "standard", "items", "measured", "issued"),
-           [(c["number"], c["standard"], ", ".join(c["items"]), c["measurement_date"], c["issued_at"][:10])
+           [(c["number"], c["standard"], ", ".join(c["items"]), c["measurement_date"],
+             c["issued_at"][:10])
             for c in hist["calibrations"]])
     rows = []
     for res in hist["results"]:
@@ -513,7 +558,8 @@ def _cmd_lab(args) -> int:
         if args.json:
             _print_json({"written": str(path)})
         else:
-            print(f"lab profile template written: {path} (edit it, then `metro --lab {path} lab show`)")
+            print(f"lab profile template written: {path} (edit it, then `metro --lab {path} lab "
+                  "show`)")
         return 0
     where = labmod.find_lab_path(args.lab)
     if where is None:
@@ -533,7 +579,8 @@ def _cmd_lab(args) -> int:
     c = Console()
     c.print(f"[bold]lab profile[/] {doc['source']}")
     t = Table(show_header=False)
-    for key in ("name_zh", "name_en", "address", "accreditation_body", "accreditation_number", "logo",
+    for key in ("name_zh", "name_en", "address", "accreditation_body", "accreditation_number",
+                "logo",
                 "language", "timezone", "register"):
         t.add_row(key, str(doc[key] or "—"))
     n = doc["numbering"]
@@ -550,7 +597,8 @@ def _cmd_lab(args) -> int:
     for col in ("id", "role", "certificate", "U", "k", "due", "distribution"):
         te.add_column(col)
     for e in doc["equipment"]:
-        te.add_row(e["id"], e["role"], e["certificate"] or "—", e["U"] or "—", str(e["k"]), e["due"] or "—",
+        te.add_row(e["id"], e["role"], e["certificate"] or "—", e["U"] or "—", str(e["k"]),
+                   e["due"] or "—",
                    e["distribution"] or "—")
     c.print(te)
     return 0

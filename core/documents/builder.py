@@ -151,11 +151,11 @@ def mm_to_twips(mm: float) -> int:
     return int(round(mm / 25.4 * 1440))
 
 
-# Runs and table rows are written as lxml elements directly (one SubElement call per element),
-# not through python-docx's per-run and per-cell proxies, which parse a snippet of XML for every
-# element they add and search the children for its place: a GB/T --all report has ~5 000 cells,
-# and building them the python-docx way took most of the time of writing the report.  The XML is
-# the same element for element (tests/core/documents/test_document_speed.py builds both ways and compares).
+# Runs and table rows are written as lxml elements directly (one SubElement call per element), not
+# through python-docx's per-run and per-cell proxies, which parse a snippet of XML for every element
+# they add and search the children for its place: a GB/T --all report has ~5 000 cells, and building
+# them the python-docx way took most of the time of writing the report. The XML is the same element
+# for element (tests/core/documents/test_document_speed.py builds both ways and compares).
 _W = "{http://schemas.openxmlformats.org/wordprocessingml/2006/main}"
 _XML_SPACE = "{http://www.w3.org/XML/1998/namespace}space"
 _RUN_BREAKS = re.compile(r"([\t\r\n])")

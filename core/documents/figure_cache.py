@@ -1,10 +1,10 @@
 """A cache of drawn figures, so a document written again draws none of them twice.
 
-Drawing a figure (:func:`metro.core.documents.plots.png_bytes`: matplotlib lays it out, renders it and
-compresses the PNG) is most of the time a report takes to write: 0.2–0.3 s a figure, eight in a
-GB/T 45570 ``--all`` report.  ``metro report NUMBER`` and ``metro amend`` write a registered
-report again from its stored context, whose figures are the same ones: this cache gives their
-PNG back without drawing.
+Drawing a figure (:func:`metro.core.documents.plots.png_bytes`: matplotlib lays it out, renders it
+and compresses the PNG) is most of the time a report takes to write: 0.2–0.3 s a figure, eight in a
+GB/T 45570 ``--all`` report. ``metro report NUMBER`` and ``metro amend`` write a registered report
+again from its stored context, whose figures are the same ones: this cache gives their PNG back
+without drawing.
 
 The key is the SHA-256 of everything the pixels depend on: the figure's own text and numbers
 (after translation), the resolution and size, the source of :mod:`metro.core.documents.plots`, the
@@ -60,7 +60,8 @@ def _environment(dpi: int) -> bytes:
     from . import plots
 
     families = plots.font_families()
-    fonts = sorted({(f.fname, _stat(f.fname)) for f in font_manager.fontManager.ttflist if f.name in families})
+    fonts = sorted({(f.fname, _stat(f.fname)) for f in font_manager.fontManager.ttflist if f.name
+                    in families})
     # the settings as stored (dict.items): reading rcParams["backend"] through the mapping would
     # resolve the backend, importing pyplot (1 s)
     rc = sorted((k, repr(v)) for k, v in dict.items(matplotlib.rcParams) if k != "backend")
@@ -85,11 +86,12 @@ def _source_digest() -> str:
 
 def spec_digest(spec: PlotSpec, *, dpi: int) -> str:
     """The SHA-256 of a figure's own content — its text as drawn, its numbers as float64 — and
-    ``dpi``: what :func:`figure_key` adds to the drawing environment.  Reading it imports nothing."""
+    ``dpi``: what :func:`figure_key` adds to the drawing environment. Reading it imports nothing."""
     import numpy as np
 
     h = hashlib.sha256(f"{FORMAT}\x00{dpi}".encode())
-    h.update(repr((str(spec.title), str(spec.xlabel), str(spec.ylabel), bool(spec.logx), bool(spec.logy),
+    h.update(repr((str(spec.title), str(spec.xlabel), str(spec.ylabel), bool(spec.logx),
+                   bool(spec.logy),
                    len(spec.series))).encode("utf-8"))
     for s in spec.series:
         for k in sorted(s, key=str):
@@ -186,7 +188,8 @@ _AHEAD: list[DrawingAhead] = []
 
 
 def _warm() -> bool:
-    """Run first in the drawing process: matplotlib and the fonts loaded before any figure is asked for."""
+    """Run first in the drawing process: matplotlib and the fonts loaded before any figure is asked
+    for."""
     from matplotlib.figure import Figure  # noqa: F401  (imported for its import time)
 
     from . import plots
@@ -244,7 +247,8 @@ class DrawingAhead:
 
         main = sys.modules.get("__main__")
         try:
-            self._pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+            self._pool = ProcessPoolExecutor(max_workers=1,
+                                             mp_context=multiprocessing.get_context("spawn"))
             # the worker needs nothing of the caller's main module: a "spawn" child would import it
             # again, and a caller's script without an ``if __name__ == "__main__"`` guard would run
             # its whole work twice.  The process starts inside this first submit (3.11: spawn

@@ -18,7 +18,8 @@ from ..base.errors import DataError
 from ..base.units import Q_, check_dimension, fmt_unit, parse_quantity, unit
 from ..base.vocabulary import Customer, Lab, People, canonical_role, customer_of, date_of, lab_of, people_of
 
-__all__ = ['Calibration', 'Instrument', 'DeviceUnderTest', 'Equipment', 'Series', 'Segment', 'Campaign']
+__all__ = ['Calibration', 'Instrument', 'DeviceUnderTest', 'Equipment', 'Series', 'Segment',
+           'Campaign']
 
 
 def frozen_map(m: Mapping | None) -> Mapping:
@@ -93,7 +94,8 @@ class Instrument:
     properties: Mapping[str, Any] = attrs.field(factory=dict, converter=frozen_map)
 
     def prop(self, name: str, dimension: str | None = None, *, source: str | None = None) -> Any:
-        """A property by name, checked against ``dimension`` when given; a clear error if missing."""
+        """A property by name, checked against ``dimension`` when given; a clear error if
+        missing."""
         if name not in self.properties:
             raise DataError(source, f"{self.kind}.{name}", f"missing (needed for {self.id})")
         v = self.properties[name]
@@ -143,7 +145,8 @@ class DeviceUnderTest(Instrument):
 class Equipment(Instrument):
     """A piece of the lab's equipment with its role in the test and its calibration data."""
 
-    #: canonical spelling (metro.core.base.vocabulary.canonical_role: ``rate-table`` → ``rate_table``)
+    #: canonical spelling (metro.core.base.vocabulary.canonical_role: ``rate-table`` →
+    #``rate_table``)
     role: str = attrs.field(default="", converter=lambda r: canonical_role(r))
     #: its calibration data, or None (an item that needs its U then says so)
     calibration: Calibration | None = None
@@ -233,17 +236,20 @@ class Segment:
     def _started_aware(self, attribute, value) -> None:
         if value is not None and value.utcoffset() is None:
             raise DataError(self.file, f"segments.{self.id}.started",
-                            f"{value.isoformat()} has no UTC offset; the recording time must say its time zone")
+                            f"{value.isoformat()} has no UTC offset; the recording time must say "
+                            "its time zone")
 
     def condition(self, name: str, dimension: str | None = None) -> Any:
         """The condition ``name`` as recorded, or parsed as a quantity checked against
         ``dimension`` when given; a :class:`DataError` naming the segment when it is missing."""
         if name not in self.conditions:
             raise DataError(self.file, f"segments.{self.id}.conditions.{name}", "missing condition",
-                            hint=f"add '{name} = \"…\"' under [segments.conditions] of segment {self.id!r}")
+                            hint=f"add '{name} = \"…\"' under [segments.conditions] of segment "
+                            f"{self.id!r}")
         v = self.conditions[name]
         if dimension is not None:
-            v = parse_quantity(v, dimension=dimension, file=self.file, field=f"segments.{self.id}.conditions.{name}")
+            v = parse_quantity(v, dimension=dimension, file=self.file,
+                               field=f"segments.{self.id}.conditions.{name}")
         return v
 
     def columns(self) -> Mapping[str, tuple[np.ndarray, str]]:
@@ -267,7 +273,8 @@ class Segment:
             self._cache["load_seconds"] = time.perf_counter() - t0
         return self._cache["raw"]
 
-    def _ratiometric(self, cols: Mapping[str, tuple[np.ndarray, str]]) -> Mapping[str, tuple[np.ndarray, str]]:
+    def _ratiometric(self, cols: Mapping[str, tuple[np.ndarray,
+                                                    str]]) -> Mapping[str, tuple[np.ndarray, str]]:
         from ..base.units import is_voltage_ratio
 
         out = dict(cols)
@@ -275,14 +282,19 @@ class Segment:
             if not is_voltage_ratio(utext):
                 continue
             if "supply" not in self.conditions:
-                raise DataError(self.file, name, f"column {name!r} is ratiometric ({utext}); turning it into a "
+                raise DataError(self.file, name,
+                                f"column {name!r} is ratiometric ({utext}); turning it into a "
                                 "voltage needs the supply voltage it is referred to",
-                                hint="add supply_voltage = \"5 V\" under [device], or supply = \"5 V\" to the "
+                                hint="add supply_voltage = \"5 V\" under [device], or supply = \"5 "
+                                "V\" to the "
                                      f"conditions of segment {self.id!r}")
             v = self.condition("supply", "V")
             if not float(v.magnitude) > 0:
-                raise DataError(self.file, f"segments.{self.id}.conditions.supply", f"{v} is not a positive voltage")
-            out[name] = (np.asarray(arr, dtype=float) * float((Q_(1.0, utext) * v).to("mV").magnitude), "mV")
+                raise DataError(self.file, f"segments.{self.id}.conditions.supply",
+                                f"{v} is not a positive voltage")
+            out[name] = (np.asarray(arr, dtype=float) * float((Q_(1.0,
+                                                                  utext) * v).to("mV").magnitude),
+                         "mV")
         return out
 
     @property
@@ -294,7 +306,8 @@ class Segment:
         """SHA-256 of the raw data: as given, or as computed by the reader while loading."""
         if self.sha256:
             return self.sha256
-        for key in ("raw", "cols"):  # the reader's columns carry it (a ratiometric conversion copies them)
+        # the reader's columns carry it (a ratiometric conversion copies them)
+        for key in ("raw", "cols"):
             if key in self._cache and getattr(self._cache[key], "sha256", None):
                 return self._cache[key].sha256
         return None
@@ -306,13 +319,15 @@ class Segment:
         if column not in cols:
             raise DataError(
                 self.file, column,
-                f"segment {self.id!r} has no column {column!r} (columns: {', '.join(cols) or 'none'})",
+                f"segment {self.id!r} has no column {column!r} (columns: "
+                f"{', '.join(cols) or 'none'})",
             )
         arr, utext = cols[column]
         try:
             u = unit(utext)
         except Exception as exc:
-            raise DataError(self.file, column, f"cannot read unit {utext!r} in the header ({exc})") from exc
+            raise DataError(self.file, column,
+                            f"cannot read unit {utext!r} in the header ({exc})") from exc
         dims = [dimension] if isinstance(dimension, str) else list(dimension)
         errors = []
         for d in dims:
@@ -328,7 +343,8 @@ class Segment:
                 f"({', '.join(fmt_unit(d) for d in dims)})",
             )
         declared = self.declared_units.get(column)
-        rec_text = self.recorded_columns()[column][1]  # the header as recorded (mV/V before its conversion)
+        # the header as recorded (mV/V before its conversion)
+        rec_text = self.recorded_columns()[column][1]
         if declared is not None and unit(declared) != unit(rec_text):
             raise DataError(
                 self.file, column,
@@ -337,8 +353,10 @@ class Segment:
                 hint="correct the header or the manifest's units table",
             )
         if self.interval is None:
-            raise DataError(self.file, f"segments.{self.id}.sample_interval", "missing sample interval")
-        return Series(Q_(arr, u), self.interval, source=self.file or f"segment {self.id}", column=column)
+            raise DataError(self.file, f"segments.{self.id}.sample_interval",
+                            "missing sample interval")
+        return Series(Q_(arr, u), self.interval, source=self.file or f"segment {self.id}",
+                      column=column)
 
 
 @attrs.frozen(eq=False)
@@ -444,8 +462,10 @@ class Campaign:
         """The site's ``name`` as a quantity checked against ``dimension``; a :class:`DataError`
         naming ``[site]`` when it is missing."""
         if name not in self.site:
-            raise DataError(self.source, f"site.{name}", "missing", hint=f"add '{name} = \"…\"' under [site]")
-        return parse_quantity(self.site[name], dimension=dimension, file=self.source, field=f"site.{name}")
+            raise DataError(self.source, f"site.{name}", "missing",
+                            hint=f"add '{name} = \"…\"' under [site]")
+        return parse_quantity(self.site[name], dimension=dimension, file=self.source,
+                              field=f"site.{name}")
 
     def data_files(self) -> list[tuple[str, str]]:
         """(file, sha256) of every raw data file used by the campaign."""

@@ -158,11 +158,11 @@ def metro_register_drivers(registrar: "DriverRegistrar") -> None:
 def metro_extend_report_context(record: "RunRecord", context: dict) -> None:
     """Add entries to the context a Word report/certificate template is rendered with.
 
-    Called after :func:`metro.core.documents.context.report_context` has built the generic context and
-    before the template renders.  Add keys under a name of your own (e.g.
-    ``context["jjf2003"] = {...}`` with matrices laid out as rows) so certificate templates
-    registered with :func:`metro_register_templates` can show standard-specific layouts.
-    Do not remove or change existing keys.
+    Called after :func:`metro.core.documents.context.report_context` has built the generic context
+    and before the template renders. Add keys under a name of your own (e.g. ``context["jjf2003"] =
+    {...}`` with matrices laid out as rows) so certificate templates registered with
+    :func:`metro_register_templates` can show standard-specific layouts. Do not remove or change
+    existing keys.
 
     :param record: the run record being reported.
     :param context: the template context (a plain dict), modified in place.
@@ -177,10 +177,10 @@ def metro_item_applicability(
     """Decide whether an item applies to a device when a whole standard or a series is run.
 
     ``metro run --standard S --all`` and series aliases (``registrar.add_series``) run only the
-    items that apply.  The first non-``None`` answer decides; when every plugin returns
-    ``None`` the procedure's own :meth:`~metro.core.model.procedure.Procedure.applies_to` does (every item
-    applies by default).  Answer only for standards you know — GB/T 45570 uses it to choose
-    the angle method (D.1) or the rate method (D.2) by clause 6.2.7.1 — and say why in the
+    items that apply. The first non-``None`` answer decides; when every plugin returns ``None`` the
+    procedure's own :meth:`~metro.core.model.procedure.Procedure.applies_to` does (every item
+    applies by default). Answer only for standards you know — GB/T 45570 uses it to choose the angle
+    method (D.1) or the rate method (D.2) by clause 6.2.7.1 — and say why in the
     :class:`~metro.core.model.procedure.Applicability`'s ``reason``: it is printed and reported.
 
     :param procedure: the candidate item's procedure class.
@@ -192,15 +192,16 @@ def metro_item_applicability(
 
 
 @hookspec
-def metro_conformity_specifications(standard: str, campaign: "Campaign") -> "Sequence[Specification] | None":
+def metro_conformity_specifications(standard: str,
+                                    campaign: "Campaign") -> "Sequence[Specification] | None":
     """Supply the specification limits results of ``standard`` are judged against.
 
-    Return :class:`metro.core.uncertainty.conformity.Specification` values (metric key, ``≤``/``≥``/range,
-    the limit as a pint quantity, the source cited, e.g. "GB/T 45570—2025 table A.1,
-    aviation") chosen for the campaign's device (``campaign.device.technology``,
-    ``.application``).  Results of all plugins are combined; limits the campaign manifest
-    gives in its ``[specification]`` table replace them metric by metric.  Results are then
-    judged with the run's decision rule (:mod:`metro.core.uncertainty.conformity`).
+    Return :class:`metro.core.uncertainty.conformity.Specification` values (metric key,
+    ``≤``/``≥``/range, the limit as a pint quantity, the source cited, e.g. "GB/T 45570—2025 table
+    A.1, aviation") chosen for the campaign's device (``campaign.device.technology``,
+    ``.application``). Results of all plugins are combined; limits the campaign manifest gives in
+    its ``[specification]`` table replace them metric by metric. Results are then judged with the
+    run's decision rule (:mod:`metro.core.uncertainty.conformity`).
 
     :param standard: the standard whose items were run.
     :param campaign: the campaign they were run on.
@@ -252,7 +253,8 @@ def metro_campaign_loaded(campaign: "Campaign") -> None:
 
 
 @hookspec
-def metro_procedure_started(procedure: "Procedure", campaign: "Campaign", ctx: "RunContext") -> None:
+def metro_procedure_started(procedure: "Procedure", campaign: "Campaign",
+                            ctx: "RunContext") -> None:
     """Called just before ``procedure.evaluate(campaign, ctx)``.
 
     :param procedure: the procedure about to run.

@@ -18,7 +18,8 @@ from ..base.vocabulary import canonical_role
 from .campaign import frozen_map, DeviceUnderTest, Campaign
 from .results import Metric, Outcome
 
-__all__ = ['SegmentRequirement', 'EquipmentRequirement', 'Applicability', 'Option', 'RECORD_KIND_PREFIX', 'Step', 'RunContext', 'Procedure']
+__all__ = ['SegmentRequirement', 'EquipmentRequirement', 'Applicability', 'Option',
+           'RECORD_KIND_PREFIX', 'Step', 'RunContext', 'Procedure']
 
 
 @attrs.frozen
@@ -107,7 +108,8 @@ class Option:
         of the default's type; a :class:`DataError` naming the option when it is not."""
         if self.unit is None:
             if isinstance(self.default, (bool, int, float)) and value is not self.default:
-                # a count or a flag given as text on the command line: its default's type, or a clear error
+                # a count or a flag given as text on the command line: its default's type, or a
+                # clear error
                 from ..base.options import convert_value
 
                 value = convert_value("this item", f"option {self.name}", value, self.default)
@@ -115,7 +117,8 @@ class Option:
                 least = 1 if self.minimum is None else self.minimum
                 most = 10_000 if self.maximum is None else self.maximum
                 if not least <= value <= most:
-                    raise DataError(None, f"option {self.name}", f"{value} is outside {least} … {most}",
+                    raise DataError(None, f"option {self.name}",
+                                    f"{value} is outside {least} … {most}",
                                     hint=f"{self.description} (default {self.default})")
             return value
         return parse_quantity(value, dimension=self.unit, field=f"option {self.name}")

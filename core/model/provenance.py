@@ -15,7 +15,8 @@ from .results import Outcome
 
 
 def new_report_number(now: dt.datetime | None = None) -> str:
-    """A unique report number: ``MTR-<UTC date>-<UTC time>-<6 hex digits>`` (UTC time + 24 random bits)."""
+    """A unique report number: ``MTR-<UTC date>-<UTC time>-<6 hex digits>`` (UTC time + 24 random
+    bits)."""
     now = now or dt.datetime.now(dt.timezone.utc)
     return f"MTR-{now:%Y%m%d-%H%M%S}-{secrets.token_hex(3).upper()}"
 
@@ -28,9 +29,11 @@ class RunRecord:
     created: dt.datetime
     campaign: Campaign
     outcomes: tuple[Outcome, ...] = attrs.field(converter=tuple)
-    software: Mapping[str, str] = attrs.field(factory=dict)  # {"metro": "0.1.0", "python": ..., "numpy": ...}
+    # {"metro": "0.1.0", "python": ..., "numpy": ...}
+    software: Mapping[str, str] = attrs.field(factory=dict)
     plugins: Mapping[str, str] = attrs.field(factory=dict)  # {plugin name: "dist version"}
-    data_files: tuple[tuple[str, str], ...] = attrs.field(default=(), converter=tuple)  # (file, sha256)
+    # (file, sha256)
+    data_files: tuple[tuple[str, str], ...] = attrs.field(default=(), converter=tuple)
     simulated: bool = False
     truth: Mapping[str, Any] = attrs.field(factory=dict)
     timings: Mapping[str, float] = attrs.field(factory=dict)  # stage -> seconds
@@ -45,8 +48,8 @@ class RunRecord:
 
     @property
     def test_date(self) -> dt.date:
-        """The day of the measurement: the campaign's ``measurement_date``, else the day its data were
-        acquired (``acquired``, written by ``metro acquire``), else the day of this run.
+        """The day of the measurement: the campaign's ``measurement_date``, else the day its data
+        were acquired (``acquired``, written by ``metro acquire``), else the day of this run.
         Equipment calibration status is judged on it (reports, terminal, ``--json``)."""
         d = measurement_date(self.campaign)
         if d is not None:
@@ -87,8 +90,10 @@ def software_versions() -> dict[str, str]:
     out = {"python": sys.version.split()[0], "platform": platform.platform(terse=True)}
     from ..base.extras import DISTRIBUTION
 
-    for key, dist in (("metro", DISTRIBUTION), *((d, d) for d in ("numpy", "scipy", "pint", "pluggy", "attrs",
-                                                                    "docxtpl", "numba", "pyarrow"))):
+    for key, dist in (("metro", DISTRIBUTION), *((d, d) for d in ("numpy", "scipy", "pint",
+                                                                  "pluggy", "attrs",
+                                                                    "docxtpl", "numba",
+                                                                  "pyarrow"))):
         try:
             out[key] = metadata.version(dist)
         except metadata.PackageNotFoundError:

@@ -113,12 +113,14 @@ def truth_checks(record: RunRecord) -> list[dict[str, Any]]:
             U = float(r.U.magnitude)
             out.append({"item": o.item, "key": r.metric.key, "truth": t, "value": v, "U": U,
                         "within_U": abs(v - t) <= U,
-                        "reportable": bool(getattr(r, "reportable", True)), "unit": _fmt_unit(unit)})
+                        "reportable": bool(getattr(r, "reportable", True)),
+                        "unit": _fmt_unit(unit)})
     return out
 
 
 def _items(record: RunRecord) -> list[dict[str, Any]]:
-    return [{"item": o.item, "title": o.title, "clause": o.clause, "warnings": list(map(str, o.warnings)),
+    return [{"item": o.item, "title": o.title, "clause": o.clause,
+             "warnings": list(map(str, o.warnings)),
              "options": options_json(o.options),
              "tables": [{"name": t.name, "title": str(t.title), "header": list(map(str, t.header)),
                          "rows": [list(map(str, r)) for r in t.rows]} for t in o.tables]}
@@ -143,7 +145,8 @@ def _provenance(record: RunRecord) -> dict[str, Any]:
     c = record.campaign
     return {"software": dict(record.software), "plugins": dict(record.plugins),
             "data_files": [{"file": f, "sha256": h} for f, h in record.data_files],
-            "manifest": {"file": c.source, "sha256": c.manifest_sha256} if c.manifest_sha256 else None,
+            "manifest": {"file": c.source, "sha256": c.manifest_sha256} if c.manifest_sha256
+            else None,
             "source": c.source, "created": record.created.isoformat()}
 
 

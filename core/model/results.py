@@ -84,7 +84,8 @@ class Metric:
 
     @property
     def reference(self) -> str:
-        """Where the formula is: the clause, and the equation when there is one (``D.5.1.3 (D.40)``)."""
+        """Where the formula is: the clause, and the equation when there is one (``D.5.1.3
+        (D.40)``)."""
         return f"{self.clause} ({self.equation})" if self.equation else self.clause
 
 
@@ -118,8 +119,8 @@ class Result:
     #: or "" (not stated by the procedure)
     earth_rate: str = ""
     #: for a result that is not reportable as a value but bounds the quantity (a reading beyond the
-    #: instrument's range): "lower" — the true value is at least ``value``; "upper" — at most; "" — no
-    #: bound (stated with :data:`BOUND_SIGNS`)
+    #: instrument's range): "lower" — the true value is at least ``value``; "upper" — at most; "" —
+    #no : bound (stated with :data:`BOUND_SIGNS`)
     bound: str = attrs.field(default="", validator=attrs.validators.in_(("", "lower", "upper")))
 
     @property
@@ -134,7 +135,8 @@ class Result:
     def __attrs_post_init__(self) -> None:
         check_dimension(self.value, self.metric.unit, field=self.metric.key)
         if not self.reportable and not self.reason.strip():
-            raise ProcedureError(f"{self.metric.key}: a result marked not reportable needs a reason")
+            raise ProcedureError(
+                f"{self.metric.key}: a result marked not reportable needs a reason")
         if not np.all(np.isfinite(np.asarray(self.value.magnitude, dtype=float))):
             raise ProcedureError(f"{self.metric.key}: result is not finite ({self.value})")
 
@@ -183,7 +185,8 @@ class Result:
             "u": None if self.u is None else float(self.u.to(difference_unit(unit_)).magnitude),
             "U": None if self.U is None else float(self.U.magnitude),
             "k": self.k,
-            "nu_eff": None if self.budget is None or math.isinf(self.budget.nu_eff) else self.budget.nu_eff,
+            "nu_eff": None if self.budget is None or math.isinf(self.budget.nu_eff)
+            else self.budget.nu_eff,
             "reported": {"value": vtext, "U": Utext},
             "note": self.note,
             "reportable": self.reportable,

@@ -73,7 +73,10 @@ def scheme_problem(scheme: str) -> str | None:
         return f"not a format string: {exc}"
     unknown = sorted(set(fields) - _SCHEME_FIELDS)
     if unknown:
-        return f"unknown field(s) {', '.join('{' + f + '}' for f in unknown)}; use {{prefix}}, {{year}}, {{seq}}"
+        return (
+            f"unknown field(s) {', '.join('{' + f + '}' for f in unknown)}; use {{prefix}}, "
+            f"{{year}}, {{seq}}"
+        )
     if "seq" not in fields:
         return "has no {seq} field: numbers would not differ"
     try:
@@ -127,7 +130,8 @@ class LabProfile:
         return self.name_en or self.name_zh
 
     def signatory(self, role: str) -> Signatory | None:
-        """The first signatory with ``role`` (``calibrated_by``, ``checked_by``, ``approved_by``)."""
+        """The first signatory with ``role`` (``calibrated_by``, ``checked_by``,
+        ``approved_by``)."""
         if role not in ROLES:
             raise ValueError(f"unknown role {role!r}; one of {', '.join(ROLES)}")
         return next((s for s in self.signatories if s.role == role), None)
@@ -143,7 +147,8 @@ class LabProfile:
         return self.scheme.format(prefix=self.prefix, year=year, seq=seq)
 
     def register_url(self) -> str:
-        """The register in force: ``METRO_REGISTER``, else the profile's, else the user data folder's."""
+        """The register in force: ``METRO_REGISTER``, else the profile's, else the user data
+        folder's."""
         return os.environ.get(ENV_REGISTER) or self.register or default_register_url()
 
     def as_dict(self) -> dict[str, Any]:
@@ -152,15 +157,18 @@ class LabProfile:
         for e in self.equipment:
             cal = e.calibration
             eq.append({
-                "id": e.id, "role": e.role, "manufacturer": e.manufacturer, "model": e.model, "serial": e.serial,
+                "id": e.id, "role": e.role, "manufacturer": e.manufacturer, "model": e.model,
+                "serial": e.serial,
                 "certificate": cal.certificate if cal else None,
                 "U": f"{cal.uncertainty:~P}" if cal else None, "k": cal.k if cal else None,
                 "due": cal.due.isoformat() if cal and cal.due else None,
                 "distribution": cal.distribution if cal else None,
             })
         return {
-            "source": self.source, "name_zh": self.name_zh, "name_en": self.name_en, "address": self.address,
-            "accreditation_body": self.accreditation_body, "accreditation_number": self.accreditation_number,
+            "source": self.source, "name_zh": self.name_zh, "name_en": self.name_en,
+            "address": self.address,
+            "accreditation_body": self.accreditation_body,
+            "accreditation_number": self.accreditation_number,
             "logo": str(self.logo) if self.logo else None,
             "signatories": [s.as_dict() for s in self.signatories],
             "numbering": {"scheme": self.scheme, "prefix": self.prefix, "per_year": self.per_year(),
@@ -196,8 +204,8 @@ def user_lab_path() -> Path:
 
 
 def find_lab_path(cli_path: str | os.PathLike[str] | None = None) -> Path | None:
-    """The profile in force: ``--lab``, else ``METRO_LAB``, else the user config folder's ``lab.toml``
-    when it exists; ``None`` when there is none.  A path given explicitly must exist."""
+    """The profile in force: ``--lab``, else ``METRO_LAB``, else the user config folder's
+    ``lab.toml`` when it exists; ``None`` when there is none. A path given explicitly must exist."""
     if cli_path:
         return Path(cli_path)
     env = os.environ.get(ENV_LAB)
@@ -207,7 +215,8 @@ def find_lab_path(cli_path: str | os.PathLike[str] | None = None) -> Path | None
     return p if p.is_file() else None
 
 
-def lab_in_force(cli_path: str | os.PathLike[str] | None = None, *, equipment: bool = True) -> LabProfile | None:
+def lab_in_force(cli_path: str | os.PathLike[str] | None = None, *,
+                 equipment: bool = True) -> LabProfile | None:
     """:func:`load_lab` of :func:`find_lab_path`, or ``None`` without a profile."""
     p = find_lab_path(cli_path)
     return None if p is None else load_lab(p, equipment=equipment)
@@ -250,7 +259,8 @@ def numbering(doc: dict, src: str) -> tuple[str, str]:
         raise DataError(src, "numbering", "must be a table ([numbering])")
     bad = sorted(set(num) - {"scheme", "prefix"})
     if bad:
-        raise DataError(src, f"numbering.{bad[0]}", "unknown key", hint="known keys: scheme, prefix")
+        raise DataError(src, f"numbering.{bad[0]}", "unknown key",
+                        hint="known keys: scheme, prefix")
     scheme = _text(num, "scheme", src, "numbering", DEFAULT_SCHEME)
     prefix = _text(num, "prefix", src, "numbering", "MTR")
     problem = scheme_problem(scheme)
@@ -258,7 +268,8 @@ def numbering(doc: dict, src: str) -> tuple[str, str]:
         raise DataError(src, "numbering.scheme", f"{scheme!r} {problem}",
                         hint='e.g. scheme = "{prefix}{year}-{seq:05d}"')
     if any(c in prefix for c in '/\\:*?"<>|'):
-        raise DataError(src, "numbering.prefix", f"{prefix!r} contains a character a file name cannot hold")
+        raise DataError(src, "numbering.prefix",
+                        f"{prefix!r} contains a character a file name cannot hold")
     return scheme, prefix
 
 
@@ -274,13 +285,15 @@ def signatories_of(doc: dict, src: str) -> list[Signatory]:
             raise DataError(src, where, "must be a table")
         bad = sorted(set(s) - {"name", "title", "role"})
         if bad:
-            raise DataError(src, f"{where}.{bad[0]}", "unknown key", hint="known keys: name, title, role")
+            raise DataError(src, f"{where}.{bad[0]}", "unknown key",
+                            hint="known keys: name, title, role")
         name = _text(s, "name", src, where)
         if not name:
             raise DataError(src, f"{where}.name", "missing")
         role = _text(s, "role", src, where)
         if role not in ROLES:
-            raise DataError(src, f"{where}.role", f"must be one of {', '.join(ROLES)}, got {role!r}")
+            raise DataError(src, f"{where}.role",
+                            f"must be one of {', '.join(ROLES)}, got {role!r}")
         signatories.append(Signatory(name=name, title=_text(s, "title", src, where), role=role))
     return signatories
 
@@ -303,7 +316,8 @@ def lab_equipment(doc: dict, src: str, *, read: bool = True) -> list:
                 raise DataError(src, f"{where}.id", f"duplicate equipment id {eq.id!r}")
             if eq.calibration is None:
                 raise DataError(src, f"{where}.calibration", "missing",
-                                hint="the lab's equipment states its calibration: certificate, U, k, due")
+                                hint="the lab's equipment states its calibration: certificate, U, "
+                                "k, due")
             seen.add(eq.id)
             equipment.append(eq)
     return equipment
@@ -333,13 +347,15 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
     unknown = sorted(set(doc) - {"format", "lab", "numbering", "signatories", "equipment"})
     if unknown:
         raise DataError(src, unknown[0], "unknown key",
-                        hint="a lab profile has [lab], [numbering], [[signatories]] and [[equipment]]")
+                        hint="a lab profile has [lab], [numbering], [[signatories]] and "
+                        "[[equipment]]")
     lab = doc.get("lab", {})
     if not isinstance(lab, dict):
         raise DataError(src, "lab", "must be a table ([lab])")
     bad = sorted(set(lab) - _LAB_KEYS)
     if bad:
-        raise DataError(src, f"lab.{bad[0]}", "unknown key", hint="known keys: " + ", ".join(sorted(_LAB_KEYS)))
+        raise DataError(src, f"lab.{bad[0]}", "unknown key", hint="known keys: "
+                        + ", ".join(sorted(_LAB_KEYS)))
     vals = {k: _text(lab, k, src, "lab") for k in _LAB_KEYS}
     if not (vals["name_zh"] or vals["name_en"]):
         raise DataError(src, "lab.name_en", "the lab has no name (name_zh or name_en)")
@@ -349,12 +365,14 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
         logo = Path(vals["logo"]).expanduser()
         logo = logo if logo.is_absolute() else base / logo
         if not logo.is_file():
-            raise DataError(src, "lab.logo", f"logo image {vals['logo']!r} not found (looked for {logo})")
+            raise DataError(src, "lab.logo",
+                            f"logo image {vals['logo']!r} not found (looked for {logo})")
         if logo.suffix.lower() not in (".png", ".jpg", ".jpeg", ".gif", ".bmp"):
             raise DataError(src, "lab.logo", f"{logo.name}: not a PNG, JPEG, GIF or BMP image")
     language = vals["language"] or "zh+en"
     if language not in LANGUAGES:
-        raise DataError(src, "lab.language", f"must be one of {', '.join(LANGUAGES)}, got {language!r}")
+        raise DataError(src, "lab.language",
+                        f"must be one of {', '.join(LANGUAGES)}, got {language!r}")
     tz = vals["timezone"] or "UTC"
     import zoneinfo
 
@@ -370,8 +388,10 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
     equipment = lab_equipment(doc, src, read=equipment)
     return LabProfile(
         name_zh=vals["name_zh"], name_en=vals["name_en"], address=vals["address"],
-        accreditation_body=vals["accreditation_body"], accreditation_number=vals["accreditation_number"],
-        logo=logo, signatories=signatories, prefix=prefix, scheme=scheme, language=language, timezone=tz,
+        accreditation_body=vals["accreditation_body"],
+        accreditation_number=vals["accreditation_number"],
+        logo=logo, signatories=signatories, prefix=prefix, scheme=scheme, language=language,
+        timezone=tz,
         register=register, equipment=equipment, source=src,
     )
 

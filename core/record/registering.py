@@ -29,7 +29,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..model.provenance import RunRecord
     from .register import Issued, Register
 
-__all__ = ["register_run", "unregistered", "rerender", "amend", "check_equipment", "measurement_date",
+__all__ = ["register_run", "unregistered", "rerender", "amend", "check_equipment",
+           "measurement_date",
            "expired_equipment", "encode_context", "decode_context"]
 
 
@@ -39,11 +40,11 @@ PENDING = "METRO-REGISTER-NUMBER-PENDING"
 
 def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
     """``record`` whose campaign names the lab and its people from the profile: ``[campaign]``
-    keys ``lab``, ``lab_address``, ``operator`` (calibrated by), ``checked_by``, ``approved_by``
-    and each one's title (``operator_title``, ``checked_by_title``, ``approved_by_title``) are
-    filled in where the manifest gives none (under any spelling metro reads): campaign values
-    override the profile per run, and a person the manifest names gets no title from the profile.  ``lab_logo`` carries the
-    profile's logo image (its path), which the documents draw above the title."""
+    keys ``lab``, ``lab_address``, ``operator`` (calibrated by), ``checked_by``, ``approved_by`` and
+    each one's title (``operator_title``, ``checked_by_title``, ``approved_by_title``) are filled in
+    where the manifest gives none (under any spelling metro reads): campaign values override the
+    profile per run, and a person the manifest names gets no title from the profile. ``lab_logo``
+    carries the profile's logo image (its path), which the documents draw above the title."""
     try:
         from ..base.vocabulary import CAMPAIGN_ALIASES
     except ImportError:  # pragma: no cover - before the manifest vocabulary
@@ -52,14 +53,17 @@ def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
     meta = dict(camp.meta)
 
     def given(key: str) -> bool:
-        return any(meta.get(k) not in (None, "") for k in (key, *[a for a, c in CAMPAIGN_ALIASES.items()
+        return any(meta.get(k) not in (None, "") for k
+                   in (key, *[a for a, c in CAMPAIGN_ALIASES.items()
                                                                    if c == key]))
 
     cal, chk, app = (lab.signatory(r) for r in ("calibrated_by", "checked_by", "approved_by"))
-    values = {"lab": lab.name_zh + (f" {lab.name_en}" if lab.name_zh and lab.name_en else lab.name_en),
+    values = {"lab": lab.name_zh + (f" {lab.name_en}" if lab.name_zh and lab.name_en
+                                    else lab.name_en),
               "lab_address": lab.address, "operator": cal.name if cal else "",
               "checked_by": chk.name if chk else "", "approved_by": app.name if app else "",
-              "operator_title": cal.title if cal else "", "checked_by_title": chk.title if chk else "",
+              "operator_title": cal.title if cal else "", "checked_by_title": chk.title if chk
+              else "",
               "approved_by_title": app.title if app else "",
               "lab_logo": str(lab.logo) if lab.logo else ""}
     added = {k: v for k, v in values.items() if v and not given(k)}
@@ -82,7 +86,8 @@ def expired_equipment(campaign: Any, on: dt.date) -> list[str]:
     for e in campaign.equipment:
         cal = e.calibration
         if cal is not None and not cal.is_valid(on):
-            out.append(f"{e.id} ({e.role}, certificate {cal.certificate}) was due {cal.due.isoformat()}")
+            out.append(f"{e.id} ({e.role}, certificate {cal.certificate}) was due "
+                       f"{cal.due.isoformat()}")
     return out
 
 
@@ -94,8 +99,8 @@ def check_equipment(campaign: Any, on: dt.date, *, allow_expired: bool) -> list[
         raise MetroError(
             f"equipment past its calibration due date on the measurement date {on.isoformat()}: "
             + "; ".join(expired),
-            hint="recalibrate it (and update the lab profile or manifest), or run with --allow-expired "
-            "(the report then says so)",
+            hint="recalibrate it (and update the lab profile or manifest), or run with "
+            "--allow-expired (the report then says so)",
         )
     return expired
 
@@ -122,10 +127,12 @@ def unregistered(record: "RunRecord", why: str, language: str = "zh+en") -> dict
     zh, en = NOT_REGISTERED[why]
     n = record.report_number
     return {
-        "registered": False, "number": n, "supersedes": None, "reason": "", "expired": [], "on": None,
-        "notices": [_say(language, f"未登记（{zh}）：本报告未列入实验室报告登记册，编号 {n} 不是登记编号。",
-                         f"Not registered ({en}): this report is in no lab register, and its number {n} is "
-                         "not a register number.")],
+        "registered": False, "number": n, "supersedes": None, "reason": "", "expired": [],
+        "on": None,
+        "notices": [_say(language,
+                         f"未登记（{zh}）：本报告未列入实验室报告登记册，编号 {n} 不是登记编号。",
+                         f"Not registered ({en}): this report is in no lab register, and its "
+                         f"number {n} is not a register number.")],
     }
 
 
@@ -138,11 +145,14 @@ def notices_for(lab: "LabProfile", number: str, *, supersedes: str | None = None
                 f"Registered report {number} of {lab.name_en or lab.name_zh}.")]
     if supersedes:
         out.append(_say(lang, f"本报告替代报告 {supersedes}（该报告已被替代）。原因：{reason}",
-                        f"This report replaces report {supersedes}, which is superseded by it. Reason: {reason}"))
+                        f"This report replaces report {supersedes}, which is superseded by it. "
+                        f"Reason: {reason}"))
     if expired:
-        out.append(_say(lang, f"按 --allow-expired 出具：下列设备在测量日期 {on} 已超过校准有效期：" + "；".join(expired) + "。",
-                        "Issued with --allow-expired: equipment past its calibration due date on the "
-                        f"measurement date {on}: " + "; ".join(expired) + "."))
+        out.append(_say(lang,
+                        f"按 --allow-expired 出具：下列设备在测量日期 {on} 已超过校准有效期："
+                        + "；".join(expired) + "。",
+                        "Issued with --allow-expired: equipment past its calibration due date on "
+                        f"the measurement date {on}: " + "; ".join(expired) + "."))
     return out
 
 
@@ -175,10 +185,12 @@ def encode_context(ctx: Mapping[str, Any]) -> dict[str, Any]:
     from .register import json_safe
 
     def enc(obj: Any, figure: bool) -> Any:
-        if isinstance(obj, Text):  # a message keeps its id and fields: the document is written again in any language
+        # a message keeps its id and fields: the document is written again in any language
+        if isinstance(obj, Text):
             return {"text": obj.encode()}
         if isinstance(obj, PlotSpec):
-            return {"plotspec": {f.name: enc(getattr(obj, f.name), True) for f in attrs.fields(PlotSpec)}}
+            return {"plotspec": {f.name: enc(getattr(obj, f.name), True) for f
+                                 in attrs.fields(PlotSpec)}}
         if figure:
             obj = _plain(obj)
         if isinstance(obj, Mapping):
@@ -204,7 +216,8 @@ def decode_context(doc: Mapping[str, Any]) -> dict[str, Any]:
             if set(obj) == {"text"} and isinstance(obj["text"], Mapping):
                 return Text.decode(obj["text"])
             if set(obj) == {"plotspec"}:
-                return PlotSpec(**{k: dec(v, True) for k, v in obj["plotspec"].items() if k in fields})
+                return PlotSpec(**{k: dec(v, True) for k, v in obj["plotspec"].items() if k
+                                   in fields})
             return {k: dec(v, figure) for k, v in obj.items()}
         if isinstance(obj, list):
             return [float("nan") if figure and v is None else dec(v, figure) for v in obj]
@@ -228,7 +241,8 @@ def _template(pm: "MetroPluginManager", standard: str):
 
 def _lab_identity(lab: "LabProfile") -> dict[str, Any]:
     return {"name_zh": lab.name_zh, "name_en": lab.name_en, "address": lab.address,
-            "accreditation_body": lab.accreditation_body, "accreditation_number": lab.accreditation_number,
+            "accreditation_body": lab.accreditation_body,
+            "accreditation_number": lab.accreditation_number,
             "signatories": [s.as_dict() for s in lab.signatories], "source": lab.source}
 
 
@@ -242,24 +256,29 @@ def draft_for(record: "RunRecord", ctx: Mapping[str, Any], *, lab: "LabProfile",
     dev = camp.device
     on = measurement_date(record)
     customer = getattr(camp, "customer", None)
-    customer = getattr(customer, "name", None) if customer is not None else camp.meta.get("customer", "")
+    customer = getattr(customer, "name",
+                       None) if customer is not None else camp.meta.get("customer", "")
     results = []
     for o in record.outcomes:
         for r in o.results:
             d = r.as_dict()
-            results.append({"item": o.item, "key": d["key"], "quantity": d["quantity"], "symbol": d["symbol"],
-                            "value": d["value"], "u": d["u"], "U": d["U"], "k": d["k"], "nu_eff": d["nu_eff"],
+            results.append({"item": o.item, "key": d["key"], "quantity": d["quantity"],
+                            "symbol": d["symbol"],
+                            "value": d["value"], "u": d["u"], "U": d["U"], "k": d["k"],
+                            "nu_eff": d["nu_eff"],
                             "unit": d["unit"], "value_text": d["reported"]["value"] or "",
                             "U_text": d["reported"]["U"], "reportable": bool(d["reportable"]),
                             "reason": d["reason"] or ""})
     equipment = [{"id": e.id, "role": e.role, "description": e.describe(),
                   "certificate": e.calibration.certificate if e.calibration else None,
-                  "due": e.calibration.due.isoformat() if e.calibration and e.calibration.due else None,
+                  "due": e.calibration.due.isoformat() if e.calibration and e.calibration.due
+                  else None,
                   "status": e.status(on),
                   "valid": None if e.calibration is None else e.calibration.is_valid(on)}
                  for e in camp.equipment]
     provenance = dict(doc["provenance"])
-    provenance["template"] = {"name": template.name, "layout": template.layout if isinstance(template.layout, str)
+    provenance["template"] = {"name": template.name, "layout": template.layout
+                              if isinstance(template.layout, str)
                               else None, "sha256": _template_sha256(template)}
     fields = {
         "standard": record.standard,
@@ -320,9 +339,11 @@ def register_run(
     pending = attrs.evolve(record, report_number=PENDING)
     statement = {"registered": True, "number": PENDING, "supersedes": supersedes, "reason": reason,
                  "lab": lab.name, "expired": list(expired), "on": on.isoformat(),
-                 "notices": notices_for(lab, PENDING, supersedes=supersedes, reason=reason, expired=expired,
+                 "notices": notices_for(lab, PENDING, supersedes=supersedes, reason=reason,
+                                        expired=expired,
                                         on=on.isoformat())}
-    ctx0 = build_context(pending, designations=designations, extend=pm.extend_report_context, register=statement,
+    ctx0 = build_context(pending, designations=designations, extend=pm.extend_report_context,
+                         register=statement,
                          lang=lang or lab.language)
     tmpdir = tempfile.TemporaryDirectory(prefix="metro-figures-")
     figures = render_figures(ctx0, tmpdir.name)
@@ -331,18 +352,22 @@ def register_run(
         rec = attrs.evolve(record, report_number=number)
         numbered.append(rec)
         ctx = _replace_text(ctx0, PENDING, number)
-        fields, results = draft_for(rec, ctx, lab=lab, template=template, allow_expired=allow_expired,
+        fields, results = draft_for(rec, ctx, lab=lab, template=template,
+                                    allow_expired=allow_expired,
                                     options=options)
         fields["context"] = encode_context(ctx)
 
         def write(tmp: Path) -> None:
-            render_context(tmp, ctx, template=template.path, layout=template.layout, figures=figures)
+            render_context(tmp, ctx, template=template.path, layout=template.layout,
+                           figures=figures)
 
         return Draft(fields, results, write)
 
     try:
-        issued = reg.issue(make, folder=folder, scheme=lambda seq, year: lab.format_number(seq, year),
-                           per_year=lab.per_year(), timezone=lab.timezone, supersedes=supersedes, reason=reason,
+        issued = reg.issue(make, folder=folder, scheme=lambda seq,
+                           year: lab.format_number(seq, year),
+                           per_year=lab.per_year(), timezone=lab.timezone, supersedes=supersedes,
+                           reason=reason,
                            who=who)
     finally:
         tmpdir.cleanup()
@@ -352,7 +377,8 @@ def register_run(
     return issued, numbered[-1]
 
 
-def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *, pm: "MetroPluginManager") -> Path:
+def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *,
+             pm: "MetroPluginManager") -> Path:
     """Write report ``number`` again from the register into ``out/<number>.docx`` (never replacing
     a file): the stored context rendered into the standard's template."""
     from ..base.atomic import atomic_path
@@ -361,8 +387,9 @@ def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *, pm: "
     doc, template_name = reg.context(number)
     tpl = pm.register_all().templates.get(template_name)
     if tpl is None:
-        raise MetroError(f"report {number} was rendered with the template {template_name!r}, which no loaded "
-                         "plugin registers now", hint="load the plugin of its standard (metro plugins)")
+        raise MetroError(f"report {number} was rendered with the template {template_name!r}, which "
+                         "no loaded plugin registers now",
+                         hint="load the plugin of its standard (metro plugins)")
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     target = folder / f"{number}.docx"
@@ -416,14 +443,16 @@ def amend(
     old = reg.get(number)
     folder = Path(folder) if folder is not None else Path(old["report_path"]).parent
     if record is not None:
-        issued, _ = register_run(record, pm=pm, lab=lab, folder=folder, register=reg, allow_expired=allow_expired,
+        issued, _ = register_run(record, pm=pm, lab=lab, folder=folder, register=reg,
+                                 allow_expired=allow_expired,
                                  supersedes=number, reason=reason, who=who)
         return issued
     doc, template_name = reg.context(number)
     tpl = pm.register_all().templates.get(template_name)
     if tpl is None:
-        raise MetroError(f"report {number} was rendered with the template {template_name!r}, which no loaded "
-                         "plugin registers now", hint="load the plugin of its standard (metro plugins)")
+        raise MetroError(f"report {number} was rendered with the template {template_name!r}, which "
+                         "no loaded plugin registers now",
+                         hint="load the plugin of its standard (metro plugins)")
 
     from sqlalchemy import select
 
@@ -432,11 +461,15 @@ def amend(
     with reg._session(read=True) as s:
         row = s.execute(select(Report).where(Report.number == number)).scalar_one()
         keep = {c: getattr(row, c) for c in (
-            "standard", "items", "options", "device_id", "device_manufacturer", "device_model", "device_serial",
-            "customer", "measurement_date", "simulated", "allow_expired", "lab", "verdicts", "budgets",
+            "standard", "items", "options", "device_id", "device_manufacturer", "device_model",
+            "device_serial",
+            "customer", "measurement_date", "simulated", "allow_expired", "lab", "verdicts",
+            "budgets",
             "provenance", "manifest_sha256", "equipment", "template")}
-        results = [{c: getattr(x, c) for c in ("item", "key", "quantity", "symbol", "value", "u", "U", "k",
-                                               "nu_eff", "unit", "value_text", "U_text", "reportable", "reason")}
+        results = [{c: getattr(x, c) for c in ("item", "key", "quantity", "symbol", "value", "u",
+                                               "U", "k",
+                                               "nu_eff", "unit", "value_text", "U_text",
+                                               "reportable", "reason")}
                    for x in row.results]
 
     def make(new: str, issued_at: dt.datetime) -> Draft:
@@ -444,9 +477,11 @@ def amend(
         ctx = decode_context(_replace_text(doc, old_number, new))
         before = ctx.get("register") or {}
         expired, on = before.get("expired") or [], before.get("on")
-        ctx["register"] = {"registered": True, "number": new, "supersedes": number, "reason": reason,
+        ctx["register"] = {"registered": True, "number": new, "supersedes": number,
+                           "reason": reason,
                            "lab": lab.name, "expired": expired, "on": on,
-                           "notices": notices_for(lab, new, supersedes=number, reason=reason, expired=expired, on=on)}
+                           "notices": notices_for(lab, new, supersedes=number, reason=reason,
+                                                  expired=expired, on=on)}
         fields = dict(keep, context=encode_context(ctx))
 
         def write(tmp: Path) -> None:
@@ -455,16 +490,17 @@ def amend(
         return Draft(fields, results, write)
 
     return reg.issue(make, folder=folder, scheme=lambda seq, year: lab.format_number(seq, year),
-                     per_year=lab.per_year(), timezone=lab.timezone, supersedes=number, reason=reason, who=who)
+                     per_year=lab.per_year(), timezone=lab.timezone, supersedes=number,
+                     reason=reason, who=who)
 
 
 def _replace_text(obj: Any, old: str, new: str) -> Any:
     """``old`` replaced by ``new`` in every string of a context (the report number wherever a
-    template or plugin context printed it).  A translatable text stays one: a :class:`Text` is
-    mapped field by field (:meth:`Text.map`), and its JSON form (``{"text": {...}}``, as the
-    register keeps it) has its fields, parts and English replaced, never its message id, so the
-    document still writes it in every language of the certificate.  A figure's PlotSpec (in a
-    context made by :func:`~metro.core.documents.report.build_context`) has every field mapped the same way."""
+    template or plugin context printed it). A translatable text stays one: a :class:`Text` is mapped
+    field by field (:meth:`Text.map`), and its JSON form (``{"text": {...}}``, as the register keeps
+    it) has its fields, parts and English replaced, never its message id, so the document still
+    writes it in every language of the certificate. A figure's PlotSpec (in a context made by
+    :func:`~metro.core.documents.report.build_context`) has every field mapped the same way."""
     from ..base.locale import Text
     from ..model.results import PlotSpec
 
@@ -503,7 +539,8 @@ def history(reg: "Register", serial: str, *, keys: Sequence[str] | None = None) 
             if keys and x["key"] not in keys:
                 continue
             series.setdefault((r["standard"], x["item"], x["key"]), []).append({
-                "number": r["number"], "date": r["measurement_date"], "value": x["value"], "U": x["U"],
+                "number": r["number"], "date": r["measurement_date"], "value": x["value"],
+                "U": x["U"],
                 "unit": x["unit"], "symbol": x["symbol"], "quantity": x["quantity"],
                 "reported": x["reported"]})
     out = []
@@ -520,12 +557,14 @@ def history(reg: "Register", serial: str, *, keys: Sequence[str] | None = None) 
                     "quantity": pts[0]["quantity"], "unit": pts[0]["unit"], "points": pts,
                     "drift": any(p.get("drift") for p in pts)})
     return {"serial": serial, "calibrations": [{k: r[k] for k in ("number", "standard", "items",
-                                                                   "measurement_date", "issued_at", "status")}
+                                                                   "measurement_date", "issued_at",
+                                                                  "status")}
                                                for r in reports], "results": out}
 
 
 def history_plot(hist: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
-    """One panel per result: value against measurement date with U error bars, drift points in red."""
+    """One panel per result: value against measurement date with U error bars, drift points in
+    red."""
     import matplotlib
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -547,7 +586,8 @@ def history_plot(hist: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
             ax.errorbar(dates, vals, yerr=errs, fmt="o-", capsize=4, label="value ± U")
             drift = [(d, v) for d, v, p in zip(dates, vals, res["points"]) if p.get("drift")]
             if drift:
-                ax.plot([d for d, _ in drift], [v for _, v in drift], "s", color="red", mfc="none", ms=12,
+                ax.plot([d for d, _ in drift], [v for _, v in drift], "s", color="red", mfc="none",
+                        ms=12,
                         label="drift: |E_n| > 1")
             unit = f" / {res['unit']}" if res["unit"] not in ("", "1") else ""
             ax.set_title(f"{res['standard']} {res['item']}: {res['quantity']} {res['symbol']}".strip(), fontsize=9)

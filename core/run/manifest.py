@@ -14,10 +14,9 @@ import tomllib
 
 import attrs
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any, Mapping
 
 from ..base.errors import DataError, UnitError
-from ..base.locale import msg
 from ..model.campaign import Calibration, Campaign, DeviceUnderTest, Equipment, Segment
 from ..base.units import parse_quantity
 from ..base import vocabulary as voc
@@ -27,7 +26,8 @@ FORMAT = "metro-campaign/1"
 _DEVICE_KEYS = {"id", "manufacturer", "model", "serial", "technology", "application", "output"}
 _DEVICE_QUANTITIES = {"scale_factor": None, "scale_factor_U": None}
 #: the manifest's own top-level keys; every other table is a record section (Campaign.records)
-CORE_KEYS = frozenset({"format", "campaign", "device", "environment", "site", "equipment", "segments",
+CORE_KEYS = frozenset({"format", "campaign", "device", "environment", "site", "equipment",
+                       "segments",
                        "specification"})
 _TECH = {"laser", "fibre", "fiber", "mems", "vibratory", "other", ""}
 _OUTPUT = {"pulse", "digital", "analog", "rate", ""}
@@ -37,18 +37,21 @@ def _table(doc: Mapping, key: str, src: str, *, required: bool = True) -> Mappin
     v = doc.get(key)
     if v is None:
         if required:
-            raise DataError(src, f"[{key}]", "missing table", hint=f"add a [{key}] table (docs/data-format.md)")
+            raise DataError(src, f"[{key}]", "missing table",
+                            hint=f"add a [{key}] table (docs/data-format.md)")
         return {}
     if not isinstance(v, dict):
         raise DataError(src, key, f"must be a table, got {type(v).__name__}")
     return v
 
 
-def _str(t: Mapping, key: str, src: str, where: str, *, required: bool = True, default: str = "") -> str:
+def _str(t: Mapping, key: str, src: str, where: str, *, required: bool = True,
+         default: str = "") -> str:
     v = t.get(key)
     if v is None:
         if required:
-            raise DataError(src, f"{where}.{key}", "missing", hint=f"add {key} = \"…\" to [{where}]")
+            raise DataError(src, f"{where}.{key}", "missing",
+                            hint=f"add {key} = \"…\" to [{where}]")
         return default
     if isinstance(v, bool) or not isinstance(v, (str, int)):
         raise DataError(src, f"{where}.{key}", f"must be text, got {_short(v)}")
@@ -61,8 +64,8 @@ def _short(v: Any) -> str:
 
 
 def _bounded(text: str, src: str, field: str) -> str:
-    """Text no longer than :data:`metro.core.base.vocabulary.MAX_TEXT` characters (a report must stay
-    renderable) and without control characters other than a line break."""
+    """Text no longer than :data:`metro.core.base.vocabulary.MAX_TEXT` characters (a report must
+    stay renderable) and without control characters other than a line break."""
     if len(text) > voc.MAX_TEXT:
         raise DataError(src, field, f"{len(text)} characters; at most {voc.MAX_TEXT} are taken",
                         hint="shorten it; long descriptions belong in a separate document")
@@ -73,14 +76,15 @@ def _bounded(text: str, src: str, field: str) -> str:
 
 
 def _condition_value(v: Any, src: str, field: str) -> Any:
-    """A segment condition: as :func:`maybe_quantity`, except that a text without a digit stays text.
+    """A segment condition: as :func:`maybe_quantity`, except that a text without a digit stays
+    text.
 
     A condition is a quantity only when written with its number (``"10 deg/s"``, ``"-55 °C"``); a
     word such as a test's tag (``test = "acc"``, ``"dh"``, ``"rad"`` of GB/T 45570 6.2.8) is a name
-    even when pint knows it as a unit (attocubic centimetre, decihour, radian) — read as ``1 acc`` it
-    matched no tag and the records were silently unused.  A condition read with a dimension
-    (``Segment.condition(name, unit)``) is parsed there as before; ``"inf °C"`` and ``"nan"`` are still
-    refused."""
+    even when pint knows it as a unit (attocubic centimetre, decihour, radian) — read as ``1 acc``
+    it matched no tag and the records were silently unused. A condition read with a dimension
+    (``Segment.condition(name, unit)``) is parsed there as before; ``"inf °C"`` and ``"nan"`` are
+    still refused."""
     if isinstance(v, str) and not any(ch.isdigit() for ch in v):
         try:
             q = parse_quantity(v, file=src, field=field)
@@ -136,10 +140,14 @@ def _calibration(t: Mapping, src: str, where: str) -> Calibration:
     cert = _str(t, "certificate", src, where)
     if "U" not in t:
         raise DataError(src, f"{where}.U", "missing expanded uncertainty",
-                        hint="write U = \"0.5 arcsec\" (absolute) or U = \"1e-4\" (relative) with its k")
+                        hint="write U = \"0.5 arcsec\" (absolute) or U = \"1e-4\" (relative) with "
+                        "its k")
     if isinstance(t["U"], bool) or not isinstance(t["U"], (str, int, float)):
-        raise DataError(src, f"{where}.U", f"must be a quantity such as \"2e-7\" or \"0.5 arcsec\", got {_short(t['U'])}")
-    U = parse_quantity(t["U"] if not isinstance(t["U"], (int, float)) else str(t["U"]), file=src, field=f"{where}.U")
+        raise DataError(src, f"{where}.U",
+                        "must be a quantity such as \"2e-7\" or \"0.5 arcsec\", got "
+                        f"{_short(t['U'])}")
+    U = parse_quantity(t["U"] if not isinstance(t["U"], (int, float)) else str(t["U"]), file=src,
+                       field=f"{where}.U")
     _finite(U, src, f"{where}.U")
     # an uncertainty is a difference: "0.5 °C" (a chamber's U, as docs/data-format.md lists it) is
     # 0.5 K, not the temperature 0.5 °C, on which no budget row can be multiplied (pint refuses an
@@ -151,7 +159,8 @@ def _calibration(t: Mapping, src: str, where: str) -> Calibration:
         raise DataError(src, f"{where}.U", f"{U:~P} is negative; an expanded uncertainty is ≥ 0")
     k = t.get("k", 2.0)
     if isinstance(k, bool) or not isinstance(k, (int, float)) or not 0 < k < 100:
-        raise DataError(src, f"{where}.k", f"must be a positive number (a coverage factor, e.g. 2), got {_short(k)}")
+        raise DataError(src, f"{where}.k",
+                        f"must be a positive number (a coverage factor, e.g. 2), got {_short(k)}")
     due = t.get("due")
     if due is not None and not isinstance(due, dt.date):
         try:
@@ -180,8 +189,8 @@ def _typos(t: Mapping, src: str, where: str, known, what: str, warnings: list[st
             continue
         guess = voc.did_you_mean(key, known, cutoff=0.8)
         if guess is not None:
-            warnings.append(f"{src}: field '{where}.{key}': not a key metro reads (kept as a property) "
-                            f"— did you mean {guess!r}?")
+            warnings.append(f"{src}: field '{where}.{key}': not a key metro reads (kept as a "
+                            f"property) — did you mean {guess!r}?")
 
 
 def _closed(t: Mapping, src: str, where: str, known, what: str, warnings: list[str] | None) -> None:
@@ -191,18 +200,24 @@ def _closed(t: Mapping, src: str, where: str, known, what: str, warnings: list[s
     known = list(known)
     for key in t:
         if key not in known:
-            warnings.append(voc.unknown_key_warning(src, f"{where}.{key}" if where else key, key, known, what))
+            warnings.append(voc.unknown_key_warning(src, f"{where}.{key}" if where else key, key,
+                                                    known, what))
 
 
-def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = None) -> DeviceUnderTest:
-    """The manifest's ``[device]`` table as a :class:`DeviceUnderTest` (also used by bench files)."""
+def device_from_table(dev_t: Mapping, src: str, warnings: list[str]
+                      | None = None) -> DeviceUnderTest:
+    """The manifest's ``[device]`` table as a :class:`DeviceUnderTest` (also used by bench
+    files)."""
     dev_id = _str(dev_t, "id", src, "device")
     if not dev_id.strip():
-        raise DataError(src, "device.id", "empty; the device needs an id (its serial number will do)")
+        raise DataError(src, "device.id",
+                        "empty; the device needs an id (its serial number will do)")
     _typos(dev_t, src, "device", voc.DEVICE_KEYS, "device", warnings)
     tech = _str(dev_t, "technology", src, "device", required=False).lower()
     if tech not in _TECH:
-        raise DataError(src, "device.technology", f"unknown technology {tech!r}; use one of laser, fibre, mems, vibratory, other")
+        raise DataError(src, "device.technology",
+                        f"unknown technology {tech!r}; use one of laser, fibre, mems, vibratory, "
+                        "other")
     application = _str(dev_t, "application", src, "device", required=False).strip().lower()
     if application not in voc.APPLICATIONS:
         guess = voc.did_you_mean(application, [a for a in voc.APPLICATIONS if a])
@@ -212,26 +227,33 @@ def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = Non
                         + " (or leave it out)")
     output = _str(dev_t, "output", src, "device", required=False).lower()
     if output not in _OUTPUT:
-        raise DataError(src, "device.output", f"unknown output {output!r}; use pulse, digital, analog or rate")
+        raise DataError(src, "device.output",
+                        f"unknown output {output!r}; use pulse, digital, analog or rate")
     props: dict[str, Any] = {}
     for key, val in dev_t.items():
         if key in _DEVICE_KEYS:
             continue
         if key == "scale_factor_k":
             if isinstance(val, bool) or not isinstance(val, (int, float)) or not 0 < val < 100:
-                raise DataError(src, "device.scale_factor_k", f"must be a positive number, got {val!r}")
+                raise DataError(src, "device.scale_factor_k",
+                                f"must be a positive number, got {val!r}")
             props[key] = float(val)
         elif key in _DEVICE_QUANTITIES:
             if isinstance(val, bool) or not isinstance(val, (str, int, float)):
-                raise DataError(src, f"device.{key}", f"must be a quantity with its unit, got {_short(val)}")
-            q = _finite(parse_quantity(val if not isinstance(val, (int, float)) else str(val), file=src,
+                raise DataError(src, f"device.{key}",
+                                f"must be a quantity with its unit, got {_short(val)}")
+            q = _finite(parse_quantity(val if not isinstance(val, (int, float)) else str(val),
+                                       file=src,
                                        field=f"device.{key}"), src, f"device.{key}")
             if key == "scale_factor" and not float(q.magnitude) > 0:
-                raise DataError(src, "device.scale_factor", f"{q:~P}: a scale factor must be positive (zero "
-                                "would turn every output into an infinite rate)", hint="K is a magnitude; the sign of the "
+                raise DataError(src, "device.scale_factor",
+                                f"{q:~P}: a scale factor must be positive (zero "
+                                "would turn every output into an infinite rate)",
+                                hint="K is a magnitude; the sign of the "
                                 "output is the polarity item's (GB/T 45570 6.2.6)")
             if key == "scale_factor_U" and float(q.magnitude) < 0:
-                raise DataError(src, "device.scale_factor_U", f"{q:~P} is negative; an expanded uncertainty is ≥ 0")
+                raise DataError(src, "device.scale_factor_U",
+                                f"{q:~P} is negative; an expanded uncertainty is ≥ 0")
             props[key] = q
         else:
             props[key] = maybe_quantity(val, src, f"device.{key}")
@@ -244,15 +266,19 @@ def device_from_table(dev_t: Mapping, src: str, warnings: list[str] | None = Non
     )
 
 
-def environment_from_table(env_t: Mapping, src: str, warnings: list[str] | None = None) -> dict[str, Any]:
+def environment_from_table(env_t: Mapping, src: str, warnings: list[str]
+                           | None = None) -> dict[str, Any]:
     """The ``[environment]`` table: temperature and humidity required, other keys kept."""
     _typos(env_t, src, "environment", voc.ENVIRONMENT_KEYS, "environment", warnings)
     environment: dict[str, Any] = {}
     for key, dim in (("temperature", "degC"), ("humidity", "percent")):
         if key not in env_t:
-            raise DataError(src, f"environment.{key}", "missing", hint=f"add {key} = \"…\" under [environment]")
-        environment[key] = parse_quantity(env_t[key], dimension=dim, file=src, field=f"environment.{key}")
-    _in_range(environment["temperature"], "degC", *voc.TEMPERATURE_RANGE_C, src, "environment.temperature",
+            raise DataError(src, f"environment.{key}", "missing",
+                            hint=f"add {key} = \"…\" under [environment]")
+        environment[key] = parse_quantity(env_t[key], dimension=dim, file=src,
+                                          field=f"environment.{key}")
+    _in_range(environment["temperature"], "degC", *voc.TEMPERATURE_RANGE_C, src,
+              "environment.temperature",
               f"not a test environment's temperature ({voc.TEMPERATURE_RANGE_C[0]:g} °C … "
               f"{voc.TEMPERATURE_RANGE_C[1]:g} °C; −273.15 °C is absolute zero)")
     _in_range(environment["humidity"], "percent", 0.0, 100.0, src, "environment.humidity",
@@ -263,8 +289,10 @@ def environment_from_table(env_t: Mapping, src: str, warnings: list[str] | None 
     p = environment.get("pressure")
     if p is not None and hasattr(p, "units"):
         if p.dimensionality != parse_quantity("1 kPa").dimensionality:
-            raise DataError(src, "environment.pressure", f"{p:~P} is not a pressure", hint="write e.g. \"101.3 kPa\"")
-        _in_range(p, "kPa", 0.0, 1000.0, src, "environment.pressure", "not an air pressure (0 … 1000 kPa)")
+            raise DataError(src, "environment.pressure", f"{p:~P} is not a pressure",
+                            hint="write e.g. \"101.3 kPa\"")
+        _in_range(p, "kPa", 0.0, 1000.0, src, "environment.pressure",
+                  "not an air pressure (0 … 1000 kPa)")
     return environment
 
 
@@ -272,8 +300,10 @@ def site_from_table(site_t: Mapping, src: str, warnings: list[str] | None = None
     """The ``[site]`` table: the latitude required (−90° … 90°), other keys kept."""
     _typos(site_t, src, "site", voc.SITE_KEYS, "site", warnings)
     if "latitude" not in site_t:
-        raise DataError(src, "site.latitude", "missing", hint="add latitude = \"39.98°\" under [site]")
-    site: dict[str, Any] = {"latitude": parse_quantity(site_t["latitude"], dimension="deg", file=src, field="site.latitude")}
+        raise DataError(src, "site.latitude", "missing",
+                        hint="add latitude = \"39.98°\" under [site]")
+    site: dict[str, Any] = {"latitude": parse_quantity(site_t["latitude"], dimension="deg",
+                                                       file=src, field="site.latitude")}
     lat = site["latitude"].to("deg").magnitude
     if not -90 <= lat <= 90:
         raise DataError(src, "site.latitude", f"{lat:g}° is not a latitude (−90° … 90°)")
@@ -283,18 +313,21 @@ def site_from_table(site_t: Mapping, src: str, warnings: list[str] | None = None
     if "latitude_uncertainty" in site:
         q = site["latitude_uncertainty"]
         if not hasattr(q, "units"):
-            raise DataError(src, "site.latitude_uncertainty", f"must be an angle such as \"0.001°\", got {_short(q)}")
-        q = parse_quantity(f"{q.magnitude} {q.units}", dimension="deg", file=src, field="site.latitude_uncertainty")
+            raise DataError(src, "site.latitude_uncertainty",
+                            f"must be an angle such as \"0.001°\", got {_short(q)}")
+        q = parse_quantity(f"{q.magnitude} {q.units}", dimension="deg", file=src,
+                           field="site.latitude_uncertainty")
         _in_range(q, "deg", 0.0, 90.0, src, "site.latitude_uncertainty",
                   "not a latitude uncertainty (a half-width, 0° … 90°)")
     return site
 
 
-def equipment_from_table(e: Mapping, src: str, where: str, warnings: list[str] | None = None) -> Equipment:
+def equipment_from_table(e: Mapping, src: str, where: str, warnings: list[str]
+                         | None = None) -> Equipment:
     """One ``[[equipment]]`` table (id, role, model, serial, manufacturer, properties, calibration).
 
-    The role is stored in its canonical spelling (:mod:`metro.core.base.vocabulary`); an old spelling
-    (``rate-table``) or a role no item looks for is reported in ``warnings``."""
+    The role is stored in its canonical spelling (:mod:`metro.core.base.vocabulary`); an old
+    spelling (``rate-table``) or a role no item looks for is reported in ``warnings``."""
     if not isinstance(e, dict):
         raise DataError(src, where, f"must be a table, got {type(e).__name__}")
     eid = _str(e, "id", src, where)
@@ -314,12 +347,15 @@ def equipment_from_table(e: Mapping, src: str, where: str, warnings: list[str] |
     if "calibration" in e and not isinstance(e["calibration"], dict):
         raise DataError(src, f"{where}.calibration", "must be a table ([equipment.calibration])")
     if "calibration" in e:
-        _closed(e["calibration"], src, f"{where}.calibration", voc.CALIBRATION_KEYS, "calibration", warnings)
-    cal = _calibration(e["calibration"], src, f"{where}.calibration") if "calibration" in e else None
+        _closed(e["calibration"], src, f"{where}.calibration", voc.CALIBRATION_KEYS, "calibration",
+                warnings)
+    cal = _calibration(e["calibration"], src,
+                       f"{where}.calibration") if "calibration" in e else None
     eprops = {k: maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
               if k not in {"id", "role", "model", "serial", "manufacturer", "calibration"}}
     return Equipment(
-        id=eid, role=_str(e, "role", src, where), model=_str(e, "model", src, where, required=False),
+        id=eid, role=_str(e, "role", src, where), model=_str(e, "model", src, where,
+                                                             required=False),
         serial=_str(e, "serial", src, where, required=False),
         manufacturer=_str(e, "manufacturer", src, where, required=False),
         properties=eprops, calibration=cal,
@@ -338,7 +374,8 @@ def read_toml(path: str | Path, fmt: str, *, what: str, hint: str) -> tuple[str,
 MAX_MANIFEST_BYTES = 16 * 1024 * 1024
 
 
-def read_toml_digest(path: str | Path, fmt: str, *, what: str, hint: str) -> tuple[str, dict[str, Any], str]:
+def read_toml_digest(path: str | Path, fmt: str, *, what: str,
+                     hint: str) -> tuple[str, dict[str, Any], str]:
     """As :func:`read_toml`, with the SHA-256 of the bytes that were parsed."""
     p = Path(path)
     src = str(p)
@@ -362,14 +399,16 @@ def read_toml_digest(path: str | Path, fmt: str, *, what: str, hint: str) -> tup
     voc.check_characters(doc, src)
     found = doc.get("format", fmt)
     if found != fmt:
-        raise DataError(src, "format", f"unsupported format {_short(found)}; this metro reads {fmt!r}")
+        raise DataError(src, "format",
+                        f"unsupported format {_short(found)}; this metro reads {fmt!r}")
     return src, doc, digest
 
 
 def equipment_list(doc: Mapping[str, Any], src: str, lab_equipment: Mapping[str, Equipment] | None,
                    warnings: list[str]) -> list[Equipment]:
     """The manifest's ``[[equipment]]`` (docs/data-format.md): each entry read, or the lab
-    profile's entry of that id when it gives no calibration of its own (only its role may change)."""
+    profile's entry of that id when it gives no calibration of its own (only its role may
+    change)."""
     equipment = []
     seen: set[str] = set()
     eq_list = doc.get("equipment", [])
@@ -389,15 +428,19 @@ def equipment_list(doc: Mapping[str, Any], src: str, lab_equipment: Mapping[str,
             known = lab_equipment[eid]
             extra = sorted(set(e) - {"id", "role"})
             if extra:
-                raise DataError(src, f"{where}.{extra[0]}", f"equipment {eid!r} is the lab profile's "
-                                f"({getattr(known, 'source', '') or 'lab profile'}); only its role may be given here",
+                raise DataError(src, f"{where}.{extra[0]}",
+                                f"equipment {eid!r} is the lab profile's "
+                                f"({getattr(known, 'source', '') or 'lab profile'}); only its role "
+                                "may be given here",
                                 hint="change it in the lab profile, or give this entry another id")
             role = _str(e, "role", src, where, required=False) or known.role
             equipment.append(attrs.evolve(known, role=role))
             continue
         if "role" not in e and lab_equipment is not None:
-            raise DataError(src, f"{where}.role", f"missing, and the lab profile names no equipment {eid!r}",
-                            hint="the lab profile's equipment: " + (", ".join(sorted(lab_equipment)) or "none"))
+            raise DataError(src, f"{where}.role",
+                            f"missing, and the lab profile names no equipment {eid!r}",
+                            hint="the lab profile's equipment: "
+                            + (", ".join(sorted(lab_equipment)) or "none"))
         equipment.append(equipment_from_table(e, src, where, warnings))
 
     return equipment
@@ -411,13 +454,16 @@ def segment_list(seg_list: list, path: Path, src: str, device: Any, reader_for,
     seen = set()
     read_by: dict[tuple[Path, str], str] = {}  # (samples file, kind) -> the segment reading it
     for i, s in enumerate(seg_list):
-        segments.append(segment_from_table(s, i, path, src, device, reader_for, warnings, seen, read_by))
+        segments.append(segment_from_table(s, i, path, src, device, reader_for, warnings, seen,
+                                           read_by))
     return segments
 
 
-def segment_from_table(s: Any, i: int, path: Path, src: str, device: Any, reader_for, warnings: list[str],
+def segment_from_table(s: Any, i: int, path: Path, src: str, device: Any, reader_for,
+                       warnings: list[str],
                        seen: set[str], read_by: dict[tuple[Path, str], str]) -> Segment:
-    """One ``[[segments]]`` entry (index ``i``) as a :class:`Segment` whose loader reads its file."""
+    """One ``[[segments]]`` entry (index ``i``) as a :class:`Segment` whose loader reads its
+    file."""
     where = f"segments[{i}]"
     if not isinstance(s, dict):
         raise DataError(src, where, f"must be a table, got {type(s).__name__}")
@@ -432,18 +478,22 @@ def segment_from_table(s: Any, i: int, path: Path, src: str, device: Any, reader
     fname = _str(s, "file", src, where)
     fpath = (path.parent / fname).resolve()
     if not fpath.is_file():
-        raise DataError(src, f"{where}.file", f"samples file {fname!r} not found (looked in {fpath.parent})")
+        raise DataError(src, f"{where}.file",
+                        f"samples file {fname!r} not found (looked in {fpath.parent})")
     other = read_by.get((fpath, kind))
     if other is not None:  # one record cannot be two measurements of one kind (two rates, two runs)
         raise DataError(src, f"{where}.file",
-                        f"segment {sid!r} reads {fname!r}, the samples file of segment {other!r} of the same "
-                        f"kind {kind!r}: each measurement has its own record",
-                        hint="give each segment the file it was recorded in (a file-name typo, or a name cut "
+                        f"segment {sid!r} reads {fname!r}, the samples file of segment {other!r} "
+                        f"of the same kind {kind!r}: each measurement has its own record",
+                        hint="give each segment the file it was recorded in (a file-name typo, or "
+                        "a name cut "
                              "at a dot such as 'rate+0.25' -> 'rate+0.csv'?)")
     read_by[(fpath, kind)] = sid
     if "sample_interval" not in s:
-        raise DataError(src, f"{where}.sample_interval", "missing", hint="add sample_interval = \"1 s\"")
-    interval = parse_quantity(s["sample_interval"], dimension="s", file=src, field=f"{where}.sample_interval")
+        raise DataError(src, f"{where}.sample_interval", "missing",
+                        hint="add sample_interval = \"1 s\"")
+    interval = parse_quantity(s["sample_interval"], dimension="s", file=src,
+                              field=f"{where}.sample_interval")
     if not interval.magnitude > 0 or not math.isfinite(interval.magnitude):
         raise DataError(src, f"{where}.sample_interval", "must be a positive, finite time")
     started = _started(s.get("started"), src, f"{where}.started")
@@ -452,18 +502,21 @@ def segment_from_table(s: Any, i: int, path: Path, src: str, device: Any, reader
         raise DataError(src, f"{where}.conditions", "must be a table")
     conditions = {k: _condition_value(v, src, f"{where}.conditions.{k}") for k, v in conds.items()}
     if "supply" not in conditions and "supply_voltage" in device.properties:
-        conditions["supply"] = device.properties["supply_voltage"]  # a ratiometric output's reference
+        # a ratiometric output's reference
+        conditions["supply"] = device.properties["supply_voltage"]
     declared = s.get("units", {})
     if not isinstance(declared, dict):
         raise DataError(src, f"{where}.units", "must be a table of column = \"unit\"")
     for col, utext in declared.items():
         if not isinstance(utext, str):
-            raise DataError(src, f"{where}.units.{col}", f"must be a unit as text, got {_short(utext)}")
+            raise DataError(src, f"{where}.units.{col}",
+                            f"must be a unit as text, got {_short(utext)}")
         try:
             parse_quantity(f"1 {utext}", file=src, field=f"{where}.units.{col}")
         except DataError as exc:
             raise DataError(src, f"{where}.units.{col}", f"{utext!r} is not a unit metro knows",
-                            hint="write the unit as in the samples file's header, e.g. \"P\", \"LSB\", \"°/h\"") from exc
+                            hint="write the unit as in the samples file's header, e.g. \"P\", "
+                            "\"LSB\", \"°/h\"") from exc
     reader = reader_for(fpath)
     interval_s = float(interval.to("s").magnitude)
     return Segment(
@@ -473,7 +526,8 @@ def segment_from_table(s: Any, i: int, path: Path, src: str, device: Any, reader
     )
 
 
-def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, Equipment] | None = None) -> Campaign:
+def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, Equipment]
+                  | None = None) -> Campaign:
     """Read and validate a manifest; ``reader_for(path)`` returns the registered reader
     (an object with ``read``) for a samples file (the plugin manager's ``reader_for``).
 
@@ -481,7 +535,8 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
     campaign's ``warnings``; the manifest's SHA-256 is its ``manifest_sha256``."""
     path = Path(path)
     src, doc, digest = read_toml_digest(path, FORMAT, what="manifest",
-                                        hint="give the path of a manifest.toml (docs/data-format.md)")
+                                        hint="give the path of a manifest.toml "
+                                        "(docs/data-format.md)")
     warnings: list[str] = []
     _closed(doc, src, "", voc.SECTIONS, "top-level", warnings)
 
@@ -495,7 +550,8 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
     records = {k: v for k, v in doc.items() if k not in CORE_KEYS and isinstance(v, (dict, list))}
     seg_list = doc.get("segments")
     if not seg_list and not records:
-        raise DataError(src, "segments", "no [[segments]] given; a campaign needs at least one measured segment "
+        raise DataError(src, "segments",
+                        "no [[segments]] given; a campaign needs at least one measured segment "
                         "(or record sections such as [inspection], docs/data-format.md)")
     if seg_list is not None and not isinstance(seg_list, list):
         raise DataError(src, "segments", "must be an array of tables ([[segments]])")
@@ -507,7 +563,8 @@ def load_manifest(path: str | Path, reader_for, *, lab_equipment: Mapping[str, E
     simulated = camp.get("simulated", False)
     if not isinstance(simulated, bool):
         raise DataError(src, "campaign.simulated", f"must be true or false, got {simulated!r}",
-                        hint="metro acquire writes simulated = true for data from a simulated station")
+                        hint="metro acquire writes simulated = true for data from a simulated "
+                        "station")
     return Campaign(
         id=_str(camp, "id", src, "campaign", required=False, default=path.parent.name),
         device=device, equipment=equipment, environment=environment, site=site, segments=segments,
@@ -522,7 +579,10 @@ def _started(v: Any, src: str, field: str) -> dt.datetime | None:
     its UTC offset (a TOML offset date-time or the same as text), e.g. 2026-11-24T10:15:00+08:00."""
     if v is None:
         return None
-    hint = 'write the time the record began with its UTC offset, e.g. started = "2026-11-24T10:15:00+08:00"'
+    hint = (
+        'write the time the record began with its UTC offset, e.g. started = '
+        '"2026-11-24T10:15:00+08:00"'
+    )
     if isinstance(v, dt.datetime):
         t = v
     elif isinstance(v, str):
@@ -536,10 +596,13 @@ def _started(v: Any, src: str, field: str) -> dt.datetime | None:
         if "T" not in text.upper() and " " not in text:
             raise DataError(src, field, f"{_short(v)} is a date without the time of day", hint=hint)
     else:
-        what = "a date without the time of day" if isinstance(v, dt.date) else f"not a date and time: {_short(v)}"
+        what = "a date without the time of day" if isinstance(v,
+                                                              dt.date) else f"not a date and time: {_short(v)}"
         raise DataError(src, field, what, hint=hint)
     if t.utcoffset() is None:
-        raise DataError(src, field, f"{t.isoformat()} has no UTC offset; a recording time must say its time zone",
+        raise DataError(src, field,
+                        f"{t.isoformat()} has no UTC offset; a recording time must say its time "
+                        "zone",
                         hint=hint)
     return t
 
@@ -559,7 +622,8 @@ def campaign_meta(t: Mapping, src: str, warnings: list[str] | None = None) -> di
                 raise DataError(src, field, f"given twice: as {key!r} and as {canon!r}",
                                 hint=f"keep {canon!r} only")
         elif canon not in voc.CAMPAIGN_KEYS and warnings is not None:
-            warnings.append(voc.unknown_key_warning(src, field, key, voc.CAMPAIGN_KEYS, "[campaign]"))
+            warnings.append(voc.unknown_key_warning(src, field, key, voc.CAMPAIGN_KEYS,
+                                                    "[campaign]"))
         if canon in voc.DATE_KEYS:
             if isinstance(val, dt.datetime):
                 val = val.date()
@@ -636,10 +700,12 @@ def _check_magnitudes(fpath: Path, column: str, arr) -> None:
         return
     if a.dtype.kind in "iu" and a.dtype.itemsize < 8:
         return
-    bad = ~(np.abs(a) <= MAX_SAMPLE) if a.dtype.kind == "f" else (np.abs(a.astype(np.float64)) > MAX_SAMPLE)
+    bad = ~(np.abs(a) <= MAX_SAMPLE) if a.dtype.kind == "f" else (np.abs(a.astype(np.float64))
+                                                                  > MAX_SAMPLE)
     if bad.any():
         i = int(np.argmax(bad))
-        raise DataError(str(fpath), column, f"row {i + 1}: {float(a[i]):g} is not a plausible sample "
+        raise DataError(str(fpath), column,
+                        f"row {i + 1}: {float(a[i]):g} is not a plausible sample "
                         f"(|x| ≤ 2⁵³ ≈ {MAX_SAMPLE:.3g}, finite)",
                         hint="check the record for corruption or a wrong scale")
 
@@ -657,99 +723,7 @@ def _check_time_interval(fpath: Path, time_col, interval_s: float) -> None:
     if abs(step - interval_s) > 1e-6 * interval_s:
         raise DataError(
             str(fpath), "time",
-            f"the time column steps by {step:g} s but the manifest's sample_interval is {interval_s:g} s",
+            f"the time column steps by {step:g} s but the manifest's sample_interval is "
+            f"{interval_s:g} s",
             hint="correct sample_interval in the manifest or the time column",
         )
-
-
-# -----------------------------------------------------------------------------------------
-# equipment requirements (EquipmentRequirement: required roles, kinds of calibration U)
-# -----------------------------------------------------------------------------------------
-
-
-def _kind_text(kinds) -> str:
-    return " or ".join("relative (a number such as \"2e-7\")" if k == "" else f"in {k} (or a unit of that kind)"
-                       for k in kinds)
-
-
-def check_equipment(campaign: Campaign, proc) -> list:
-    """Check ``proc``'s equipment requirements against ``campaign`` before it is evaluated.
-
-    A required role the campaign does not list, or a calibration U of a kind of unit the item
-    cannot use (a counter's U in °C), is a :class:`DataError` naming the equipment, the role and
-    what is accepted — never a budget row dropped without a word.  Returns the optional
-    requirements that are absent and ``noted`` (the runner adds a note row for each to the item's
-    budgets)."""
-    from ..base.units import Q_
-
-    absent = []
-    src = campaign.source or "campaign"
-    for req in getattr(proc, "equipment", ()):
-        found = [(i, e) for i, e in enumerate(campaign.equipment) if e.role == req.role]
-        if not found:
-            if req.required:
-                near = voc.did_you_mean(req.role, [e.role for e in campaign.equipment if e.role])
-                hint = (f"equipment {[e.id for e in campaign.equipment if e.role == near][0]!r} has the role "
-                        f"{near!r}; did you mean {req.role!r}?" if near else
-                        f"add [[equipment]] with role = \"{req.role}\" and its [equipment.calibration]")
-                raise DataError(src, "equipment", f"{proc.qualified_id()} requires equipment with the role "
-                                f"{req.role!r} ({req.description}); the campaign lists none "
-                                f"(roles given: {', '.join(sorted({e.role for e in campaign.equipment})) or 'none'})",
-                                hint=hint)
-            if req.noted:
-                absent.append(req)
-            continue
-        kinds = req.calibration or voc.ROLE_CALIBRATION.get(req.role, ())
-        if not kinds:
-            continue
-        for i, e in found:
-            cal = e.calibration
-            if cal is None:
-                continue
-            U = cal.uncertainty
-            ok = any(U.dimensionless if k == "" else U.dimensionality == Q_(1.0, k).dimensionality for k in kinds)
-            if not ok:
-                where = f"equipment[{i}].calibration.U" if campaign.source.endswith(".toml") else \
-                    f"equipment {e.id}.calibration.U"
-                raise DataError(src, where, f"the {req.role} {e.id!r} has U = {U:~P}, which {proc.qualified_id()} "
-                                f"cannot use: a {req.role}'s U must be {_kind_text(kinds)}",
-                                hint=f"give the calibration certificate's U {_kind_text(kinds)}")
-    return absent
-
-
-def used_equipment(campaign: Campaign, procs: Iterable[Any]) -> Campaign:
-    """``campaign`` with only the equipment the items ``procs`` use — the roles their
-    :attr:`~metro.core.model.procedure.Procedure.equipment` requirements name — in the campaign's order.
-    A report lists the equipment its items used (GB/T 45570 6.1.2, JJF 2014 8 j)), not every
-    instrument of the station or every line of the manifest; ``metro acquire`` writes the same."""
-    roles = {req.role for cls in procs for req in getattr(cls, "equipment", ())}
-    kept = [e for e in campaign.equipment if e.role in roles]
-    return campaign if len(kept) == len(campaign.equipment) else attrs.evolve(campaign, equipment=kept)
-
-
-def note_absent_equipment(outcome, absent) -> Any:
-    """``outcome`` with one note row per absent optional role in each of its budgets (zero
-    contribution: the budget says what is not in it instead of leaving it out silently)."""
-    if not absent:
-        return outcome
-    import attrs as _attrs
-
-    from ..uncertainty.budget import BudgetRow
-    from ..base.units import Q_
-
-    results = []
-    for r in outcome.results:
-        b = r.budget
-        if b is None:
-            results.append(r)
-            continue
-        rows = list(b.rows)
-        for req in absent:
-            if any(req.role in row.source for row in rows):
-                continue
-            rows.append(BudgetRow.type_b(
-                msg("{role}: not given in the campaign", role=req.role), "—", Q_(0.0, b.unit), distribution="uniform",
-                note=msg("no equipment with role {role!r} ({description}): its uncertainty is not in this budget",
-                         role=req.role, description=req.description)))
-        results.append(_attrs.evolve(r, budget=_attrs.evolve(b, rows=rows)))
-    return _attrs.evolve(outcome, results=results)

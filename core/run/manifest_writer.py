@@ -1,7 +1,8 @@
-"""Writing a :class:`~metro.core.model.campaign.Campaign` to disk in the ``metro-campaign/1`` format.
+"""Writing a :class:`~metro.core.model.campaign.Campaign` to disk in the ``metro-campaign/1``
+format.
 
-:func:`write_campaign` turns any campaign — one a station has just acquired (simulated or
-live) or one read from another manifest — into a folder that :func:`metro.core.run.manifest.load_manifest`
+:func:`write_campaign` turns any campaign — one a station has just acquired (simulated or live) or
+one read from another manifest — into a folder that :func:`metro.core.run.manifest.load_manifest`
 reads back to the same numbers:
 
 * ``manifest.toml`` with the device, every piece of equipment and its calibration, the
@@ -53,12 +54,13 @@ _SAFE_FILE = re.compile(r"[^A-Za-z0-9._+-]+")
 
 
 def quantity_text(q: pint.Quantity, *, field: str = "") -> str:
-    """A scalar quantity as manifest text that :func:`metro.core.base.units.parse_quantity` reads back
-    to the same magnitude and unit (``"0.8 pulse / arcsecond"``, ``"-40 degree_Celsius"``,
+    """A scalar quantity as manifest text that :func:`metro.core.base.units.parse_quantity` reads
+    back to the same magnitude and unit (``"0.8 pulse / arcsecond"``, ``"-40 degree_Celsius"``,
     ``"4e-06"`` for a dimensionless ratio)."""
     mag = q.magnitude
     if np.ndim(mag) != 0:
-        raise DataError(None, field, f"cannot write an array quantity ({q!r}) as one manifest value")
+        raise DataError(None, field,
+                        f"cannot write an array quantity ({q!r}) as one manifest value")
     mag = mag.item() if isinstance(mag, np.generic) else mag
     if isinstance(mag, float) and not math.isfinite(mag):
         raise DataError(None, field, f"cannot write the non-finite value {mag!r}")
@@ -106,20 +108,24 @@ def _calibration_items(cal: Calibration) -> dict[str, Any]:
 
 
 def _equipment_table(e: Equipment, i: int) -> dict[str, Any]:
-    head = {"id": e.id, "role": e.role, "manufacturer": e.manufacturer or None, "model": e.model or None,
+    head = {"id": e.id, "role": e.role, "manufacturer": e.manufacturer or None, "model": e.model
+            or None,
             "serial": e.serial or None}
     reserved = set(head) | {"calibration"}
     clash = sorted(set(e.properties) & reserved)
     if clash:
-        raise DataError(None, f"equipment[{i}]", f"property name(s) {', '.join(clash)} clash with the "
+        raise DataError(None, f"equipment[{i}]",
+                        f"property name(s) {', '.join(clash)} clash with the "
                         "manifest's own keys")
     out = _table(head | dict(e.properties), f"equipment[{i}]")
     if e.calibration is not None:
-        out["calibration"] = _table(_calibration_items(e.calibration), f"equipment[{i}].calibration")
+        out["calibration"] = _table(_calibration_items(e.calibration),
+                                    f"equipment[{i}].calibration")
     return out
 
 
-def _segment_table(campaign: Campaign, seg: Segment, fname: str, units: Mapping[str, str]) -> dict[str, Any]:
+def _segment_table(campaign: Campaign, seg: Segment, fname: str,
+                   units: Mapping[str, str]) -> dict[str, Any]:
     if seg.interval is None:
         raise DataError(campaign.source, f"segments.{seg.id}.sample_interval",
                         "the segment has no sample interval; the data format requires one")
@@ -141,8 +147,10 @@ def manifest_text(campaign: Campaign, files: Mapping[str, tuple[str, Mapping[str
     if campaign.simulated:
         camp.setdefault("simulated", True)
     d = campaign.device
-    dev = {"id": d.id, "manufacturer": d.manufacturer or None, "model": d.model or None, "serial": d.serial or None,
-           "technology": d.technology or None, "application": d.application or None, "output": d.output or None}
+    dev = {"id": d.id, "manufacturer": d.manufacturer or None, "model": d.model or None,
+           "serial": d.serial or None,
+           "technology": d.technology or None, "application": d.application or None,
+           "output": d.output or None}
     doc: dict[str, Any] = {"format": FORMAT, "campaign": _table(camp, "campaign"),
                            "device": _table(dev | dict(d.properties), "device"),
                            "environment": _table(campaign.environment, "environment"),
@@ -150,13 +158,18 @@ def manifest_text(campaign: Campaign, files: Mapping[str, tuple[str, Mapping[str
     if campaign.equipment:
         doc["equipment"] = [_equipment_table(e, i) for i, e in enumerate(campaign.equipment)]
     if campaign.segments:
-        doc["segments"] = [_segment_table(campaign, seg, *files[seg.id]) for seg in campaign.segments]
+        doc["segments"] = [_segment_table(campaign, seg, *files[seg.id]) for seg
+                           in campaign.segments]
     for name, value in campaign.records.items():
         if str(name) in doc:
-            raise DataError(None, str(name), f"the record section '{name}' clashes with the manifest's own keys")
+            raise DataError(None, str(name),
+                            f"the record section '{name}' clashes with the manifest's own keys")
         doc[str(name)] = _record(str(name), value)
     source = " ".join(str(campaign.source or "campaign").split())
-    return f"# metro campaign written by metro.core.run.manifest_writer ({source})\n" + tomli_w.dumps(doc)
+    return (
+        f"# metro campaign written by metro.core.run.manifest_writer ({source})\n"
+        + tomli_w.dumps(doc)
+    )
 
 
 def _is_table_array(v: Any) -> bool:
@@ -169,7 +182,8 @@ def _record(path: str, value: Any) -> Any:
         return [_record_table(path, item) for item in value]
     if isinstance(value, Mapping):
         return _record_table(path, value)
-    raise DataError(None, path, f"a record section must be a table or an array of tables, got {value!r}")
+    raise DataError(None, path,
+                    f"a record section must be a table or an array of tables, got {value!r}")
 
 
 def _record_table(path: str, table: Mapping[str, Any]) -> dict[str, Any]:
@@ -208,10 +222,11 @@ def _distinct_segments(campaign: Campaign) -> None:
         other = seen.get(seg.id)
         if other is not None:
             raise DataError(campaign.source or None, f"segments.{seg.id}",
-                            f"two segments have the id {seg.id!r} (kinds {other.kind!r} and {seg.kind!r}); "
-                            "one record would replace the other, so nothing was written",
-                            hint="give every segment its own id (metro.core.run.runner.merge_steps does for "
-                            "merged sequences)")
+                            f"two segments have the id {seg.id!r} (kinds {other.kind!r} and "
+                            f"{seg.kind!r}); one record would replace the other, so nothing was "
+                            "written",
+                            hint="give every segment its own id (metro.core.run.runner.merge_steps "
+                            "does for merged sequences)")
         seen[seg.id] = seg
 
 
@@ -225,7 +240,8 @@ def _write_samples(folder: Path, stem: str, seg: Segment, npy_rows: int,
     units = {name: str(u) for name, (_a, u) in cols.items()}
     rows = {len(a) for a in arrays.values()}
     if len(rows) != 1:
-        raise DataError(None, f"segments.{seg.id}", f"the columns have different lengths {sorted(rows)}")
+        raise DataError(None, f"segments.{seg.id}",
+                        f"the columns have different lengths {sorted(rows)}")
     n = rows.pop()
     name = f"{stem}.npy" if n >= npy_rows else f"{stem}.csv"
     if name.endswith(".npy"):
@@ -243,11 +259,14 @@ def _fresh_target(out: Path) -> None:
     if out.exists() and not out.is_dir():
         raise DataError(str(out), None, "exists and is not a folder", hint="choose another --out")
     if out.is_dir() and any(out.iterdir()):
-        raise DataError(str(out), None, "the folder exists and is not empty; metro never overwrites a campaign",
+        raise DataError(str(out), None,
+                        "the folder exists and is not empty; metro never overwrites a campaign",
                         hint="choose a new --out folder or remove the old one")
-    for parent in out.parents:  # missing parents are made (as mkdir -p does); a file in the way is not
+    # missing parents are made (as mkdir -p does); a file in the way is not
+    for parent in out.parents:
         if parent.exists() and not parent.is_dir():
-            raise DataError(str(out), None, f"{parent} is not a folder", hint="choose another --out")
+            raise DataError(str(out), None, f"{parent} is not a folder",
+                            hint="choose another --out")
 
 
 def _make_parents(out: Path) -> list[Path]:
@@ -263,7 +282,8 @@ def _make_parents(out: Path) -> list[Path]:
         for parent in reversed(made):
             with contextlib.suppress(OSError):
                 parent.rmdir()
-        raise DataError(str(out), None, f"cannot make its parent folders ({exc.strerror or exc})") from exc
+        raise DataError(str(out), None,
+                        f"cannot make its parent folders ({exc.strerror or exc})") from exc
     return made
 
 
@@ -317,7 +337,8 @@ def write_campaign(
                 parent.rmdir()
         if isinstance(exc, OSError):  # a full disk, a read-only file system: said, not a traceback
             reason, hint = write_failure(exc)
-            raise DataError(str(out), None, f"cannot write the campaign: {reason}; nothing was written",
+            raise DataError(str(out), None,
+                            f"cannot write the campaign: {reason}; nothing was written",
                             hint=hint) from exc
         raise
     try:
@@ -352,19 +373,20 @@ def acquire_campaign(
     write the campaign to ``out``; return the manifest path.  ``pm`` is a loaded plugin manager.
 
     ``items`` may name series; ``run_all`` adds every item of the standard that applies to the
-    station's device (as ``metro run`` selects them).  Every item is checked against the station
-    and its device before anything is recorded: the item applies to the device (GB/T 45570
-    6.2.7.1's method rule …) and the station simulates or runs every step kind.  After the
-    record, and before anything is written, every item's segment requirements (kinds,
-    alternatives, columns in an accepted unit) are checked against what was recorded, and a
-    simulated campaign is evaluated in memory (``evaluate``, default: when simulated) — so a
-    campaign that acquire writes is one that ``metro run --data`` evaluates.  A mismatch is a
-    :class:`~metro.core.base.errors.MetroError` naming the stations that would fit; nothing is written.
+    station's device (as ``metro run`` selects them). Every item is checked against the station and
+    its device before anything is recorded: the item applies to the device (GB/T 45570 6.2.7.1's
+    method rule …) and the station simulates or runs every step kind. After the record, and before
+    anything is written, every item's segment requirements (kinds, alternatives, columns in an
+    accepted unit) are checked against what was recorded, and a simulated campaign is evaluated in
+    memory (``evaluate``, default: when simulated) — so a campaign that acquire writes is one that
+    ``metro run --data`` evaluates. A mismatch is a :class:`~metro.core.base.errors.MetroError`
+    naming the stations that would fit; nothing is written.
     """
     from metro.core.run.runner import item_sequence, merge_steps, select_items, split_options
 
     if not items and not run_all:
-        raise MetroError("no item given", hint="use --item, e.g. --item D.5.1, a series name, or --all")
+        raise MetroError("no item given",
+                         hint="use --item, e.g. --item D.5.1, a series name, or --all")
     _fresh_target(Path(out).absolute())
     if station is None:
         named = [pm.procedure(standard, i) for i in items if pm.series(standard, i) is None]
@@ -373,7 +395,8 @@ def acquire_campaign(
             named += cands[:1]
         wanted = sorted({cls.station for cls in named})
         if len(wanted) > 1:
-            raise MetroError(f"the items need different stations ({', '.join(wanted)}); acquire them separately",
+            raise MetroError(f"the items need different stations ({', '.join(wanted)}); acquire "
+                             "them separately",
                              hint="or name one with --station")
         station = wanted[0] if wanted else "simulated"
     st = pm.station(station).factory(**dict(station_options or {}))
@@ -383,7 +406,8 @@ def acquire_campaign(
     items = list(items)
     procs = [pm.procedure(standard, i) for i in items]
     per_opts = split_options(procs, dict(options or {}))
-    sequences = [item_sequence(cls, cls.option_values(o), device) for cls, o in zip(procs, per_opts)]
+    sequences = [item_sequence(cls, cls.option_values(o), device) for cls, o
+                 in zip(procs, per_opts)]
     steps = merge_steps(sequences)
     origin = _origin(procs, sequences, steps)
     check = getattr(st, "check", None)
@@ -400,21 +424,24 @@ def acquire_campaign(
             if not a.applies:
                 raise MetroError(
                     f"{cls.qualified_id()} does not apply to the device of station {station!r} "
-                    f"({device.id}, {device.technology or 'technology not stated'}, {device.output or 'output not stated'} "
-                    f"output): {a.reason}; nothing was recorded",
+                    f"({device.id}, {device.technology or 'technology not stated'}, "
+                    f"{device.output or 'output not stated'} output): {a.reason}; nothing was "
+                    "recorded",
                     hint=_fits(pm, standard, cls, station))
     if progress is not None:
         progress("acquiring", 0, len(steps))
     campaign = st.acquire(steps, progress=progress)
     if progress is not None:
         progress("acquiring", len(steps), len(steps))
-    from metro.core.run.manifest import used_equipment
+    from metro.core.run.equipment_check import used_equipment
 
-    campaign = used_equipment(campaign, procs)  # the equipment these items use, not the whole station's
+    # the equipment these items use, not the whole station's
+    campaign = used_equipment(campaign, procs)
     ids = {seg.id for seg in campaign.segments}
     missing = [s.segment for s in steps if s.segment not in ids and not s.is_record]
     if missing:
-        raise MetroError(f"station {station!r} returned no segment for step(s) {', '.join(missing)}")
+        raise MetroError(
+            f"station {station!r} returned no segment for step(s) {', '.join(missing)}")
     _check_recorded(pm, standard, station, procs, campaign, origin)
     if evaluate if evaluate is not None else campaign.simulated:
         _check_evaluates(pm, standard, station, items, options, campaign)
@@ -435,9 +462,11 @@ def _device_of(st: Any):
 
 
 def _origin(procs, sequences, steps) -> dict[str, list[str]]:
-    """Merged segment id -> the items that asked for it (steps matched by kind, conditions, interval)."""
+    """Merged segment id -> the items that asked for it (steps matched by kind, conditions,
+    interval)."""
     def key(s):
-        return (s.kind, tuple(sorted((k, str(v)) for k, v in s.conditions.items())), str(s.interval))
+        return (s.kind, tuple(sorted((k, str(v)) for k, v in s.conditions.items())),
+                str(s.interval))
 
     ids = {key(s): s.segment for s in steps}
     origin: dict[str, list[str]] = {}
@@ -459,8 +488,9 @@ def _check_recorded(pm, standard: str, station: str, procs, campaign: Campaign, 
         problems = unmet_requirements(cls, mine)
         if problems:
             raise MetroError(
-                f"station {station!r} records what {cls.qualified_id()} cannot evaluate: {'; '.join(problems)}; "
-                "nothing was written", hint=_fits(pm, standard, cls, station))
+                f"station {station!r} records what {cls.qualified_id()} cannot evaluate: "
+                f"{'; '.join(problems)}; nothing was written",
+                hint=_fits(pm, standard, cls, station))
 
 
 def _check_evaluates(pm, standard: str, station: str, items, options, campaign: Campaign) -> None:
@@ -471,9 +501,10 @@ def _check_evaluates(pm, standard: str, station: str, items, options, campaign: 
     try:
         run_items(pm, standard, list(items), options=options, campaign=campaign)
     except MetroError as exc:
-        raise MetroError(f"the campaign recorded on station {station!r} would not evaluate: {exc.reason}; "
-                         "nothing was written",
-                         hint=exc.hint or "a longer record (duration_scale) or other item options may help") from exc
+        raise MetroError(f"the campaign recorded on station {station!r} would not evaluate: "
+                         f"{exc.reason}; nothing was written",
+                         hint=exc.hint
+                         or "a longer record (duration_scale) or other item options may help") from exc
 
 
 def _fits(pm, standard: str, cls, refused: str) -> str:
@@ -503,4 +534,7 @@ def _fits(pm, standard: str, cls, refused: str) -> str:
             continue
     if ok:
         return f"stations that fit {cls.qualified_id()}: {', '.join(ok)} (--station NAME)"
-    return f"no registered simulated station serves {cls.qualified_id()}; record it and use `metro run --data`"
+    return (
+        f"no registered simulated station serves {cls.qualified_id()}; record it and use `metro "
+        "run --data`"
+    )

@@ -32,7 +32,8 @@ _NOT_YET: dict[str, str] = {
 
 @attrs.frozen
 class ReportTarget:
-    """The report's path (``path``), or a folder (``directory``) where ``<report number>.docx`` goes."""
+    """The report's path (``path``), or a folder (``directory``) where ``<report number>.docx``
+    goes."""
 
     path: Path | None
     directory: Path
@@ -84,21 +85,27 @@ def check_writable_folder(folder: Path, option: str, target: Path | None = None)
                         hint="give a folder that is not under a file")
     if p.exists() and not os.access(p, os.W_OK | os.X_OK):
         raise DataError(named, option, f"the folder {p} is not writable",
-                        hint="choose another output folder or ask for write access; nothing was evaluated")
+                        hint="choose another output folder or ask for write access; nothing was "
+                        "evaluated")
 
 
-def check_report_path(path: Path, *, force: bool, inputs: Iterable[Path], option: str = "--report") -> None:
+def check_report_path(path: Path, *, force: bool, inputs: Iterable[Path],
+                      option: str = "--report") -> None:
     """Refuse a report path that would destroy something (see the module docstring)."""
     suffix = path.suffix.lower()
     if suffix not in REPORT_FORMATS:
-        reason = _NOT_YET.get(suffix, f"metro cannot tell the format from the suffix {path.suffix or '(none)'!r}")
+        reason = _NOT_YET.get(suffix,
+                              "metro cannot tell the format from the suffix "
+                              f"{path.suffix or '(none)'!r}")
         raise DataError(str(path), option, f"{reason}; the report formats are "
                         + ", ".join(f"{s} ({n})" for s, n in REPORT_FORMATS.items()),
                         hint=f"name the report {path.stem or 'report'}.docx")
     for inp in inputs:
         if _same(path, Path(inp)):
-            raise DataError(str(path), option, f"is an input of this run ({inp}); metro never writes over its "
-                            "own inputs, not even with --force", hint="write the report to another path")
+            raise DataError(str(path), option,
+                            f"is an input of this run ({inp}); metro never writes over its "
+                            "own inputs, not even with --force",
+                            hint="write the report to another path")
     if path.is_dir():
         raise DataError(str(path), option, "is a folder; --report names the report file",
                         hint=f"use --out {path} to write <report number>.docx into it")
@@ -106,8 +113,10 @@ def check_report_path(path: Path, *, force: bool, inputs: Iterable[Path], option
         if not force:
             raise DataError(str(path), option, "exists; metro never replaces a file unless told to",
                             hint="choose another path, or add --force to replace it")
-        if not os.access(path, os.W_OK) or not (path.stat().st_mode & 0o222):  # root too: no write bit
-            raise DataError(str(path), option, "exists and is read-only; metro does not replace a protected "
+        # root too: no write bit
+        if not os.access(path, os.W_OK) or not (path.stat().st_mode & 0o222):
+            raise DataError(str(path), option,
+                            "exists and is read-only; metro does not replace a protected "
                             "file, even with --force", hint="choose another path")
     check_writable_folder(path.parent, option, path)
 
@@ -132,17 +141,20 @@ def plan_report(report: str | None, out: str, *, force: bool, inputs: Iterable[P
     return ReportTarget(None, d, force)
 
 
-def write_checked(path: Path, campaign, writer, *, force: bool, option: str = "--report", pdf: bool = False) -> Path:
+def write_checked(path: Path, campaign, writer, *, force: bool, option: str = "--report",
+                  pdf: bool = False) -> Path:
     """Write the report with ``writer(path)`` after checking ``path`` once more against the
     campaign as read (its manifest and every samples file are inputs); folders made for it are
     removed again if the write fails, and an ``OSError`` (a full or read-only file system) is a
     :class:`~metro.core.base.errors.MetroError` saying nothing was written."""
     from ..base.errors import MetroError
 
-    inputs = [Path(p) for p in (campaign.source if getattr(campaign, "manifest_sha256", "") else None,
+    inputs = [Path(p) for p in (campaign.source if getattr(campaign, "manifest_sha256", "")
+                                else None,
                                 *(s.file for s in campaign.segments)) if p]
     check_report_path(path, force=force, inputs=inputs, option=option)
-    if pdf and path.suffix.lower() != ".pdf":  # --pdf: the PDF beside the .docx, checked the same way
+    # --pdf: the PDF beside the .docx, checked the same way
+    if pdf and path.suffix.lower() != ".pdf":
         check_report_path(path.with_suffix(".pdf"), force=force, inputs=inputs, option=option)
     made = [p for p in (path.parent, *path.parent.parents) if not p.exists()]
     # the files this write makes (the .docx and, with --pdf, the PDF beside it, written one after

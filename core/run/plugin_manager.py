@@ -75,7 +75,8 @@ def item_sort_key(item: str) -> tuple:
     """Order item ids as the standards number them: 7.2.2 before 7.2.10, D.1.6 before D.2.1."""
     import re
 
-    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.findall(r"\d+|[^\d.:]+", item))
+    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t) for t
+                 in re.findall(r"\d+|[^\d.:]+", item))
 
 
 def _env_list(name: str) -> list[str]:
@@ -118,7 +119,8 @@ class MetroPluginManager:
                 obj = ep.load()
             except Exception as exc:  # a broken third-party plugin must say who it is
                 raise PluginError(
-                    f"plugin {ep.name!r} (entry point {ep.value}, distribution {dist}) failed to load: {exc}",
+                    f"plugin {ep.name!r} (entry point {ep.value}, distribution {dist}) failed to "
+                    f"load: {exc}",
                     hint=f"block it with METRO_BLOCK_PLUGINS={ep.name} or fix/uninstall {dist}",
                 ) from exc
             version = ep.dist.version if ep.dist is not None else None
@@ -130,8 +132,10 @@ class MetroPluginManager:
             try:
                 mod = importlib.import_module(name)
             except ImportError as exc:
-                raise PluginError(f"plugin {name!r} named in METRO_PLUGINS cannot be imported: {exc}") from exc
-            if self.pm.is_registered(mod):  # an installed plugin named by its module: loaded already
+                raise PluginError(f"plugin {name!r} named in METRO_PLUGINS cannot be imported: "
+                                  f"{exc}") from exc
+            # an installed plugin named by its module: loaded already
+            if self.pm.is_registered(mod):
                 continue
             self.add_plugin(mod, name)
         return self
@@ -153,7 +157,8 @@ class MetroPluginManager:
         if self.pm.is_blocked(name):
             return
         self.pm.register(obj, name=name)
-        self.plugins[name] = PluginInfo(name, getattr(obj, "__name__", type(obj).__name__), distribution, version, builtin)
+        self.plugins[name] = PluginInfo(name, getattr(obj, "__name__", type(obj).__name__),
+                                        distribution, version, builtin)
 
     # -- registration ---------------------------------------------------------------------
     def _call_each(self, hook_name: str, registrar_cls: type[Registrar]) -> None:
@@ -168,7 +173,8 @@ class MetroPluginManager:
         """Run the set-up and registration phases once; return the registry."""
         if self._registered:
             return self.registry
-        for impl in sorted(self.pm.hook.metro_unit_definitions.get_hookimpls(), key=lambda i: i.plugin_name):
+        for impl in sorted(self.pm.hook.metro_unit_definitions.get_hookimpls(),
+                           key=lambda i: i.plugin_name):
             lines = impl.function() or ()
             add_definitions(lines, source=f"plugin {impl.plugin_name}")
         self._call_each("metro_register_standards", StandardRegistrar)
@@ -195,14 +201,17 @@ class MetroPluginManager:
         reg = self.register_all()
         if standard not in reg.standards:
             raise PluginError(
-                f"unknown standard {standard!r}; loaded: {', '.join(sorted(reg.standards)) or 'none'}",
+                f"unknown standard {standard!r}; loaded: "
+                f"{', '.join(sorted(reg.standards)) or 'none'}",
                 hint="`metro plugins` lists loaded plugins; `metro items` lists every item",
             )
         pid = f"{standard}:{item}"
         if pid not in reg.procedures:
-            items = sorted((p.cls.item for p in reg.procedures.values() if p.cls.standard == standard),
+            items = sorted((p.cls.item for p in reg.procedures.values() if p.cls.standard
+                            == standard),
                            key=item_sort_key)
-            raise PluginError(f"standard {standard!r} has no item {item!r}; its items: {', '.join(items)}")
+            raise PluginError(f"standard {standard!r} has no item {item!r}; its items: "
+                              f"{', '.join(items)}")
         return reg.procedures[pid].cls
 
     def procedures_of(self, standard: str) -> list[type[Procedure]]:
@@ -222,7 +231,8 @@ class MetroPluginManager:
         if ans is None:
             ans = procedure.applies_to(device)
         if not isinstance(ans, Applicability):
-            raise PluginError(f"applicability of {procedure.qualified_id()} is {ans!r}, not an Applicability")
+            raise PluginError(f"applicability of {procedure.qualified_id()} is {ans!r}, not an "
+                              "Applicability")
         return ans
 
     def conformity_specifications(self, standard: str, campaign: Campaign) -> list["Specification"]:
@@ -236,8 +246,9 @@ class MetroPluginManager:
             specs = impl.function(**{k: v for k, v in given.items() if k in impl.argnames})
             for s in specs or ():
                 if not isinstance(s, Specification):
-                    raise PluginError(f"plugin {impl.plugin_name!r} returned {s!r} as a specification; "
-                                      "return metro.core.uncertainty.conformity.Specification values")
+                    raise PluginError(f"plugin {impl.plugin_name!r} returned {s!r} as a "
+                                      "specification; return "
+                                      "metro.core.uncertainty.conformity.Specification values")
                 out.append(s)
         return out
 
@@ -264,7 +275,8 @@ class MetroPluginManager:
 
             raise DataError(
                 str(path), None,
-                f"no reader for files ending in {sfx!r}; readers exist for {', '.join(sorted(reg.readers))}",
+                f"no reader for files ending in {sfx!r}; readers exist for "
+                f"{', '.join(sorted(reg.readers))}",
             )
         return reg.readers[sfx]
 
@@ -286,14 +298,17 @@ class MetroPluginManager:
     def station(self, name: str) -> StationInfo:
         reg = self.register_all()
         if name not in reg.stations:
-            raise PluginError(f"unknown station {name!r}; available: {', '.join(sorted(reg.stations))}")
+            raise PluginError(f"unknown station {name!r}; available: "
+                              f"{', '.join(sorted(reg.stations))}")
         return reg.stations[name]
 
     def driver(self, name: str) -> DriverInfo:
         reg = self.register_all()
         if name not in reg.drivers:
-            raise PluginError(f"unknown driver {name!r}; available: {', '.join(sorted(reg.drivers)) or 'none'}",
-                              hint="`metro plugins` lists the loaded plugins; drivers come from metro_register_drivers")
+            raise PluginError(f"unknown driver {name!r}; available: "
+                              f"{', '.join(sorted(reg.drivers)) or 'none'}",
+                              hint="`metro plugins` lists the loaded plugins; drivers come from "
+                              "metro_register_drivers")
         return reg.drivers[name]
 
     def drivers_of(self, kind: str) -> list[DriverInfo]:
@@ -317,7 +332,8 @@ class MetroPluginManager:
         plugin that is a top-level module belongs to no package and is left out)."""
         out = {}
         for name, obj in sorted(self.pm.list_name_plugin(), key=lambda p: p[0]):
-            mod = obj if isinstance(obj, types.ModuleType) else sys.modules.get(type(obj).__module__)
+            mod = obj if isinstance(obj,
+                                    types.ModuleType) else sys.modules.get(type(obj).__module__)
             package = None if mod is None else (
                 mod.__name__ if hasattr(mod, "__path__") else mod.__package__)
             if package:
@@ -341,7 +357,8 @@ class MetroPluginManager:
     def versions(self) -> dict[str, str]:
         """{plugin name: 'distribution version'} for provenance."""
         return {
-            n: f"{p.distribution or p.module} {p.version or ''}".strip() for n, p in sorted(self.plugins.items())
+            n: f"{p.distribution or p.module} {p.version or ''}".strip() for n, p
+            in sorted(self.plugins.items())
         }
 
     # -- lifecycle events -------------------------------------------------------------------

@@ -15,7 +15,8 @@ import re
 
 import attrs
 
-from .manifest import check_equipment, load_manifest, note_absent_equipment, used_equipment
+from .equipment_check import check_equipment, note_absent_equipment, used_equipment
+from .manifest import load_manifest
 from ..base.errors import DataError, MetroError, ProcedureError
 from ..base.locale import msg
 from ..model.campaign import Campaign, DeviceUnderTest, Segment
@@ -34,7 +35,8 @@ def merge_steps(sequences: Sequence[Sequence[Step]]) -> list[Step]:
     merged: dict[tuple, Step] = {}
     for seq in sequences:
         for st in seq:
-            key = (st.kind, tuple(sorted((k, str(v)) for k, v in st.conditions.items())), str(st.interval))
+            key = (st.kind, tuple(sorted((k, str(v)) for k, v in st.conditions.items())),
+                   str(st.interval))
             if key not in merged or st.duration > merged[key].duration:
                 merged[key] = st
     return _unique_ids(list(merged.values()))
@@ -74,7 +76,8 @@ def _unique_ids(steps: list[Step]) -> list[Step]:
     return out
 
 
-def split_options(procs: Sequence[type[Procedure]], options: Mapping[str, Any]) -> list[dict[str, Any]]:
+def split_options(procs: Sequence[type[Procedure]],
+                  options: Mapping[str, Any]) -> list[dict[str, Any]]:
     """Give each item the options it declares; an option no item declares is an error."""
     per = []
     used: set[str] = set()
@@ -100,7 +103,8 @@ def split_options(procs: Sequence[type[Procedure]], options: Mapping[str, Any]) 
     return per
 
 
-def item_sequence(cls: type[Procedure], options: Mapping[str, Any], device: DeviceUnderTest | None = None) -> list[Step]:
+def item_sequence(cls: type[Procedure], options: Mapping[str, Any], device: DeviceUnderTest
+                  | None = None) -> list[Step]:
     """``cls``'s test sequence; for a known ``device``, the procedure's ``sequence_for_device``
     when it has one (an option such as D.3's ``method = auto`` resolved for the device)."""
     proc = cls()
@@ -127,7 +131,8 @@ def requirement_groups(cls: type[Procedure]) -> list[list[SegmentRequirement]]:
 
 
 def _column_problem(req: SegmentRequirement, seg: Segment) -> str | None:
-    """Why ``seg`` does not give the columns ``req`` asks for (missing, or a unit of another kind)."""
+    """Why ``seg`` does not give the columns ``req`` asks for (missing, or a unit of another
+    kind)."""
     from ..base.units import Q_, check_dimension, fmt_unit, unit
 
     if not req.columns:
@@ -135,7 +140,9 @@ def _column_problem(req: SegmentRequirement, seg: Segment) -> str | None:
     cols = seg.columns()
     for name, accepted in req.columns.items():
         if name not in cols:
-            return f"segment {seg.id!r} has no column {name!r} (columns: {', '.join(cols) or 'none'})"
+            return (
+                f"segment {seg.id!r} has no column {name!r} (columns: {', '.join(cols) or 'none'})"
+            )
         utext = cols[name][1]
         try:
             u = unit(utext)
@@ -155,7 +162,8 @@ def _column_problem(req: SegmentRequirement, seg: Segment) -> str | None:
     return None
 
 
-def unmet_requirements(cls: type[Procedure], segments: Sequence[Segment], *, columns: bool = True) -> list[str]:
+def unmet_requirements(cls: type[Procedure], segments: Sequence[Segment], *,
+                       columns: bool = True) -> list[str]:
     """What ``cls`` needs and ``segments`` do not give, in words (empty: every requirement group
     is met).  A group is met when one of its alternatives has a segment of its kind (and, with
     ``columns``, whose columns are there in a unit of an accepted kind — this reads the samples)."""
@@ -180,7 +188,8 @@ def unmet_requirements(cls: type[Procedure], segments: Sequence[Segment], *, col
 
 @attrs.frozen
 class ItemChoice:
-    """One candidate item of ``--all`` or a series: whether it runs, and why (printed and reported)."""
+    """One candidate item of ``--all`` or a series: whether it runs, and why (printed and
+    reported)."""
 
     item: str
     run: bool
@@ -218,19 +227,26 @@ def select_items(
             return
         cls = registered.get(item)
         if cls is None:
-            choices.append(ItemChoice(item, False, msg("not available in this metro (no loaded plugin registers it)"), via))
+            choices.append(ItemChoice(item, False,
+                                      msg("not available in this metro (no loaded plugin registers "
+                                          "it)"), via))
             return
         a = pm.item_applicability(cls, device)
         if a.applies and campaign is not None:  # recorded data: only items whose segments are there
             missing = unmet_requirements(cls, campaign.segments, columns=False)
             if missing:
-                choices.append(ItemChoice(item, False, msg("no data: {missing}", missing="; ".join(missing)), via))
+                choices.append(ItemChoice(item, False,
+                                          msg("no data: {missing}", missing="; ".join(missing)),
+                                          via))
                 return
             lacking = cls.missing_records(campaign)
             if lacking:
-                choices.append(ItemChoice(item, False, msg("no record: the campaign has no {lacking}", lacking=lacking), via))
+                choices.append(ItemChoice(item, False,
+                                          msg("no record: the campaign has no {lacking}",
+                                              lacking=lacking), via))
                 return
-        choices.append(ItemChoice(item, a.applies, a.reason or (msg("applies") if a.applies else msg("does not apply")), via))
+        choices.append(ItemChoice(item, a.applies, a.reason
+                                  or (msg("applies") if a.applies else msg("does not apply")), via))
 
     for name in requested:
         ser = pm.series(standard, name)
@@ -271,8 +287,8 @@ def _merge_campaigns(parts: Sequence[tuple[str, Campaign]]) -> Campaign:
         raise ProcedureError(
             "the items need different simulated stations ("
             + ", ".join(f"{n}: device {c.device.id}" for n, c in parts)
-            + ") that simulate different devices; a report covers one device, so run them separately "
-            "or give --data",
+            + ") that simulate different devices; a report covers one device, so run them "
+            "separately or give --data",
         )
     segments, seen, equipment, eq_ids = [], set(), [], set()
     truth: dict[str, Any] = {}
@@ -291,7 +307,8 @@ def _merge_campaigns(parts: Sequence[tuple[str, Campaign]]) -> Campaign:
         expected.update(c.expected)
     return attrs.evolve(
         first, id="+".join(c.id for _, c in parts), equipment=equipment, segments=segments,
-        source="; ".join(f"{c.source} ({n})" for n, c in parts), simulated=any(c.simulated for _, c in parts),
+        source="; ".join(f"{c.source} ({n})" for n, c in parts),
+        simulated=any(c.simulated for _, c in parts),
         truth=truth, expected=expected, records=records,
     )
 
@@ -336,7 +353,8 @@ def load_campaign(
         groups: dict[str, list[int]] = {}
         for i, cls in enumerate(procs):
             groups.setdefault(station or cls.station, []).append(i)
-        stations = {name: pm.station(name).factory(**dict(station_options or {})) for name in groups}
+        stations = {name: pm.station(name).factory(**dict(station_options or {})) for name
+                    in groups}
 
         def device_of(st):
             dev = getattr(st, "device", None)
@@ -353,7 +371,8 @@ def load_campaign(
         parts = []
         for name, steps in plans:
             st = stations[name]
-            tracker = _SegmentTracker(progress, done, total, len(steps)) if progress is not None else None
+            tracker = _SegmentTracker(progress, done, total,
+                                      len(steps)) if progress is not None else None
             parts.append((name, st.acquire(steps, progress=tracker)))
             done += len(steps)
             if progress is not None:
@@ -401,7 +420,8 @@ def run_items(
             items, selection = select_items(pm, standard, items, run_all=run_all, campaign=campaign)
         else:
             cands = pm.procedures_of(standard)
-            device = station_device(pm, station or (cands[0].station if cands else "simulated"), station_options)
+            device = station_device(pm, station or (cands[0].station if cands else "simulated"),
+                                    station_options)
             items, selection = select_items(pm, standard, items, run_all=run_all, device=device)
     procs = [pm.procedure(standard, item) for item in items]
     per_opts = split_options(procs, dict(options or {}))
@@ -409,7 +429,8 @@ def run_items(
         progress("items", 0, len(procs))
     if campaign is None:
         campaign = load_campaign(pm, procs, per_opts, data=data, station=station,
-                                 station_options=station_options, progress=progress, lab_equipment=lab_equipment)
+                                 station_options=station_options, progress=progress,
+                                 lab_equipment=lab_equipment)
     if check_campaign is not None:
         check_campaign(campaign)
     timings["campaign (manifest or simulation)"] = time.perf_counter() - t0
@@ -444,7 +465,8 @@ def run_items(
     conformity = judge(pm, standard, as_given, outcomes, decision_rule)
     timings["conformity"] = time.perf_counter() - t1
     used = {sid for o in outcomes for sid in o.segments}
-    files = [(s.file or msg("simulated segment {id}", id=s.id), s.digest()) for s in campaign.segments
+    files = [(s.file or msg("simulated segment {id}", id=s.id), s.digest()) for s
+             in campaign.segments
              if s.id in used and s.digest()]
     return RunRecord(
         report_number=new_report_number(),
@@ -463,7 +485,8 @@ def run_items(
 
 
 #: the fields that are the manifest's (not a samples file's): an error about one names the manifest
-_MANIFEST_FIELDS = ("segments.", "segments[", "device.", "site.", "environment.", "equipment", "specification",
+_MANIFEST_FIELDS = ("segments.", "segments[", "device.", "site.", "environment.", "equipment",
+                    "specification",
                     "campaign.")
 
 
@@ -542,7 +565,8 @@ def _for_the_outputs(specs, outcomes):
     out = []
     for sp in specs:
         clash = sorted({o.item for o in outcomes for r in o.results
-                        if sp.applies_to(r.metric.key, o.item) and not compatible(r.value, sp.limit)})
+                        if sp.applies_to(r.metric.key, o.item) and
+                        not compatible(r.value, sp.limit)})
         if not clash:
             out.append(sp)
             continue
@@ -563,7 +587,8 @@ def judge(pm: MetroPluginManager, standard: str, campaign: Campaign, outcomes: S
     campaign = specification_for(pm, standard, campaign)  # the lines that judge this standard
     given = dict(campaign.specification)
     typical = _for_the_outputs(pm.conformity_specifications(standard, campaign), outcomes)
-    specs = cf.merge_specifications(typical, cf.specifications_from_table(given, file=campaign.source))
+    specs = cf.merge_specifications(typical,
+                                    cf.specifications_from_table(given, file=campaign.source))
     if not specs:
         return None
     rule = cf.rule_named(decision_rule or given.get("decision_rule"))

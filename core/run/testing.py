@@ -105,7 +105,8 @@ class _ApproxQuantity:
         check_dimension(actual, str(self.expected.units))
         a = actual.to(self.expected.units).magnitude
         abs_ = None if self.abs is None else (
-            self.abs.to(self.expected.units).magnitude if isinstance(self.abs, pint.Quantity) else self.abs)
+            self.abs.to(self.expected.units).magnitude if isinstance(self.abs, pint.Quantity)
+            else self.abs)
         return a == pytest.approx(self.expected.magnitude, rel=self.rel, abs=abs_)
 
     def __repr__(self) -> str:

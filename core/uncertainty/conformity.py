@@ -101,13 +101,15 @@ def _in_unit(q: pint.Quantity, target: pint.Quantity, what: str, symbol: str) ->
             None, f"specification {symbol}",
             f"the {what} is in {fmt_unit(q.units)} but the limit is in {fmt_unit(target.units)}: "
             "these are different kinds of quantity and cannot be compared",
-            hint="state the limit in a unit of the same kind as the metric (metro never rescales between kinds)",
+            hint="state the limit in a unit of the same kind as the metric (metro never rescales "
+            "between kinds)",
         )
     return float(q.to(target.units).magnitude)
 
 
 def _difference_in_unit(q: pint.Quantity, target: pint.Quantity, what: str, symbol: str) -> float:
-    """An uncertainty (a difference) in ``target``'s unit: U = 0.3 K against a limit in °C is 0.3."""
+    """An uncertainty (a difference) in ``target``'s unit: U = 0.3 K against a limit in °C is
+    0.3."""
     if not isinstance(q, pint.Quantity) or not compatible(q, target):
         return _in_unit(q, target, what, symbol)  # raises the clear error
     try:  # a limit in °C: the difference unit is Δ°C
@@ -118,8 +120,8 @@ def _difference_in_unit(q: pint.Quantity, target: pint.Quantity, what: str, symb
         return float(q.to(unit).magnitude)
     except (pint.errors.DimensionalityError, pint.errors.OffsetUnitCalculusError) as exc:
         raise UnitError(None, f"specification {symbol}",
-                        f"the {what} is in {fmt_unit(q.units)}, an absolute temperature; an uncertainty is "
-                        "a temperature difference (K or Δ°C)") from exc
+                        f"the {what} is in {fmt_unit(q.units)}, an absolute temperature; an "
+                        "uncertainty is a temperature difference (K or Δ°C)") from exc
 
 
 @attrs.frozen
@@ -162,7 +164,8 @@ class Specification:
                 raise ValueError(f"specification {self.symbol}: a range needs an upper bound")
             hi = _in_unit(self.upper, self.limit, "upper bound", self.symbol)
             if not hi >= float(self.limit.magnitude):
-                raise ValueError(f"specification {self.symbol}: the upper bound is below the lower bound")
+                raise ValueError(f"specification {self.symbol}: the upper bound is below the lower "
+                                 "bound")
         elif self.upper is not None:
             raise ValueError(f"specification {self.symbol}: only a range has an upper bound")
 
@@ -192,7 +195,10 @@ class Specification:
         if self.comparison is Comparison.RANGE:
             lo, hi = self.bounds
             return f"{lead}{fmt_num(lo)} … {fmt_num(hi)}{u}".replace("-", "−")
-        return f"{lead}{self.comparison.value} {fmt_num(float(self.limit.magnitude))}{u}".replace("-", "−")
+        return (
+            f"{lead}{self.comparison.value} {fmt_num(float(self.limit.magnitude))}{u}".replace(
+                "-", "−")
+        )
 
 
 @attrs.frozen
@@ -240,7 +246,8 @@ def rule_named(name: str | None) -> DecisionRule:
         return DEFAULT_RULE
     key = str(name).strip().lower()
     if key not in RULES:
-        raise DataError(None, "decision_rule", f"unknown decision rule {name!r}; use one of {', '.join(RULES)}")
+        raise DataError(None, "decision_rule",
+                        f"unknown decision rule {name!r}; use one of {', '.join(RULES)}")
     return RULES[key]
 
 
@@ -280,7 +287,8 @@ class Verdict:
     def in_limit_unit(self) -> tuple[float, float | None]:
         """(value, U) as plain numbers in the limit's unit."""
         v = _in_unit(self.value, self.spec.limit, "value", self.spec.symbol)
-        U = None if self.U is None else _difference_in_unit(self.U, self.spec.limit, "U", self.spec.symbol)
+        U = None if self.U is None else _difference_in_unit(self.U, self.spec.limit, "U",
+                                                            self.spec.symbol)
         return v, U
 
     def as_dict(self) -> dict[str, Any]:
@@ -329,11 +337,13 @@ def decide(
 ) -> Verdict:
     """Judge ``value`` (expanded uncertainty ``U``, coverage factor ``k``) against ``spec``."""
     v = _in_unit(value, spec.limit, "value", spec.symbol)
-    Uv = None if U is None else _difference_in_unit(U, spec.limit, "expanded uncertainty U", spec.symbol)
+    Uv = None if U is None else _difference_in_unit(U, spec.limit, "expanded uncertainty U",
+                                                    spec.symbol)
     if not math.isfinite(v):
         raise ValueError(f"specification {spec.symbol}: the value is not finite")
     if Uv is not None and not (math.isfinite(Uv) and Uv >= 0):
-        raise ValueError(f"specification {spec.symbol}: U must be a finite non-negative quantity, got {Uv}")
+        raise ValueError(f"specification {spec.symbol}: U must be a finite non-negative quantity, "
+                         f"got {Uv}")
     ut = fmt_unit(spec.limit.units)
     lo, hi = spec.bounds
     x = abs(v) if spec.magnitude else v
@@ -344,17 +354,22 @@ def decide(
         status = Status.PASS if inside else Status.FAIL
         detail = "pass" if inside else "fail"
         if Uv is not None:
-            reason = (msg("{what} = {x} is within {limit} (U = {U} not used by simple acceptance)", what=what,
+            reason = (msg("{what} = {x} is within {limit} (U = {U} not used by simple acceptance)",
+                          what=what,
                           x=_fmt(x, ut), limit=limit_text, U=_fmt(Uv, ut)) if inside else
-                      msg("{what} = {x} is outside {limit} (U = {U} not used by simple acceptance)", what=what,
+                      msg("{what} = {x} is outside {limit} (U = {U} not used by simple acceptance)",
+                          what=what,
                           x=_fmt(x, ut), limit=limit_text, U=_fmt(Uv, ut)))
         else:
-            reason = (msg("{what} = {x} is within {limit}", what=what, x=_fmt(x, ut), limit=limit_text) if inside
-                      else msg("{what} = {x} is outside {limit}", what=what, x=_fmt(x, ut), limit=limit_text))
+            reason = (msg("{what} = {x} is within {limit}", what=what, x=_fmt(x, ut),
+                          limit=limit_text) if inside
+                      else msg("{what} = {x} is outside {limit}", what=what, x=_fmt(x, ut),
+                               limit=limit_text))
     elif Uv is None:
         status = Status.INDETERMINATE
         detail = "no U"
-        reason = msg("{what} = {x} but no expanded uncertainty was evaluated, so guarded acceptance cannot decide",
+        reason = msg("{what} = {x} but no expanded uncertainty was evaluated, so guarded "
+                     "acceptance cannot decide",
                      what=what, x=_fmt(x, ut))
     else:
         # the interval of the compared quantity; |x| cannot go below zero
@@ -364,19 +379,24 @@ def decide(
         interval = f"[{_fmt(x_lo, '1', sig)}, {_fmt(x_hi, ut, sig)}]"
         if lo <= x_lo and x_hi <= hi:
             status, detail = Status.PASS, "pass"
-            reason = msg("{what} ± U = {interval} lies wholly within {limit}", what=what, interval=interval,
+            reason = msg("{what} ± U = {interval} lies wholly within {limit}", what=what,
+                         interval=interval,
                          limit=limit_text)
         elif x_hi < lo or x_lo > hi:
             status, detail = Status.FAIL, "fail"
-            reason = msg("{what} ± U = {interval} lies wholly outside {limit}", what=what, interval=interval,
+            reason = msg("{what} ± U = {interval} lies wholly outside {limit}", what=what,
+                         interval=interval,
                          limit=limit_text)
         else:
             status = Status.INDETERMINATE
             detail = "conditional pass" if inside else "conditional fail"
-            reason = (msg("{what} = {x} is within {limit} but {what} ± U = {interval} straddles a limit (conditional "
-                          "pass)", what=what, x=_fmt(x, ut), limit=limit_text, interval=interval) if inside else
-                      msg("{what} = {x} is outside {limit} but {what} ± U = {interval} straddles a limit (conditional "
-                          "fail)", what=what, x=_fmt(x, ut), limit=limit_text, interval=interval))
+            reason = (msg("{what} = {x} is within {limit} but {what} ± U = {interval} straddles a "
+                          "limit (conditional pass)", what=what, x=_fmt(x, ut), limit=limit_text,
+                          interval=interval)
+                      if inside else
+                      msg("{what} = {x} is outside {limit} but {what} ± U = {interval} straddles a "
+                          "limit (conditional fail)", what=what, x=_fmt(x, ut), limit=limit_text,
+                          interval=interval))
     return Verdict(spec, rule, key or spec.symbol, item, value, U, k, status, detail, reason)
 
 
@@ -390,7 +410,8 @@ class Assessment:
 
     @property
     def overall(self) -> Status | None:
-        """fail if any verdict fails, else indeterminate if any is, else pass; None without verdicts."""
+        """fail if any verdict fails, else indeterminate if any is, else pass; None without
+        verdicts."""
         if not self.verdicts:
             return None
         states = {v.status for v in self.verdicts}
@@ -406,26 +427,29 @@ class Assessment:
         return out
 
 
-def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAULT_RULE, *, item: str = "") -> Verdict:
+def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAULT_RULE, *,
+                   item: str = "") -> Verdict:
     """The verdict on a result its procedure declared **not reportable**.
 
-    A value the procedure cannot stand behind (its reason says why: a rounding coarser than the noise, a
-    model the data contradict) is not compared with the limit under either rule: a pass or a fail read
-    from it would be a conformity statement on a number the report does not issue (ILAC-G8:09/2019 §4:
-    a statement needs the measured value *and* its uncertainty).  It is ``indeterminate``, detail
-    ``not reportable``, with the procedure's reason, and so counts as neither a pass nor a fail.
+    A value the procedure cannot stand behind (its reason says why: a rounding coarser than the
+    noise, a model the data contradict) is not compared with the limit under either rule: a pass or
+    a fail read from it would be a conformity statement on a number the report does not issue
+    (ILAC-G8:09/2019 §4: a statement needs the measured value *and* its uncertainty). It is
+    ``indeterminate``, detail ``not reportable``, with the procedure's reason, and so counts as
+    neither a pass nor a fail.
 
-    The one exception is a result that *bounds* the quantity (``result.bound``: a megohmmeter over its
-    range shows R > 10 GΩ): the true value lies in [value − U, ∞) for a lower bound, (−∞, value + U] for
-    an upper one ([0, …] for a magnitude).  When that whole half-line lies within the limit it conforms,
-    when it lies wholly outside it does not; otherwise no statement is made, as above.
+    The one exception is a result that *bounds* the quantity (``result.bound``: a megohmmeter over
+    its range shows R > 10 GΩ): the true value lies in [value − U, ∞) for a lower bound, (−∞, value
+    + U] for an upper one ([0, …] for a magnitude). When that whole half-line lies within the limit
+    it conforms, when it lies wholly outside it does not; otherwise no statement is made, as above.
     """
     key = result.metric.key
     what = f"|{key}|" if spec.magnitude else key
     bound = getattr(result, "bound", "")
     if bound:
         v = _in_unit(result.value, spec.limit, "value", spec.symbol)
-        Uv = 0.0 if result.U is None else _difference_in_unit(result.U, spec.limit, "expanded uncertainty U",
+        Uv = 0.0 if result.U is None else _difference_in_unit(result.U, spec.limit,
+                                                              "expanded uncertainty U",
                                                                spec.symbol)
         lo, hi = spec.bounds
         if spec.magnitude:
@@ -437,29 +461,38 @@ def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAUL
         sign = BOUND_SIGNS[bound]
         edge = x_lo if bound == "lower" else x_hi
         if lo <= x_lo and x_hi <= hi:
-            return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),
-                           Status.PASS, "pass", msg("{what} {sign} {x} (a bound: {reason}) lies wholly within {limit}",
-                                                    what=what, sign=sign, x=_fmt(edge, ut), reason=result.reason,
+            return Verdict(spec, rule, key, item, result.value, result.U,
+                           getattr(result, "k", None),
+                           Status.PASS, "pass",
+                           msg("{what} {sign} {x} (a bound: {reason}) lies wholly within {limit}",
+                                                    what=what, sign=sign, x=_fmt(edge, ut),
+                                                    reason=result.reason,
                                                     limit=spec.text()))
         if x_hi < lo or x_lo > hi:
-            return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),
-                           Status.FAIL, "fail", msg("{what} {sign} {x} (a bound: {reason}) lies wholly outside {limit}",
-                                                    what=what, sign=sign, x=_fmt(edge, ut), reason=result.reason,
+            return Verdict(spec, rule, key, item, result.value, result.U,
+                           getattr(result, "k", None),
+                           Status.FAIL, "fail",
+                           msg("{what} {sign} {x} (a bound: {reason}) lies wholly outside {limit}",
+                                                    what=what, sign=sign, x=_fmt(edge, ut),
+                                                    reason=result.reason,
                                                     limit=spec.text()))
-    # the why is the result's own reason, printed with it (results table, --json, the terminal's note)
-    reason = msg("{what} is not reportable (the result gives the reason), so no statement of conformity with "
-                 "{limit} is made", what=what, limit=spec.text())
+    # the why is the result's own reason, printed with it (results table, --json, the terminal's
+    # note)
+    reason = msg("{what} is not reportable (the result gives the reason), so no statement of "
+                 "conformity with {limit} is made", what=what, limit=spec.text())
     return Verdict(spec, rule, key, item, result.value, result.U, getattr(result, "k", None),
                    Status.INDETERMINATE, "not reportable", reason)
 
 
-def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: DecisionRule = DEFAULT_RULE) -> Assessment:
+def assess(outcomes: Iterable[Any], specs: Sequence[Specification],
+           rule: DecisionRule = DEFAULT_RULE) -> Assessment:
     """Judge every result of ``outcomes`` that a specification applies to.
 
     Where several apply to one result the most specific wins (the longest symbol: a limit on
-    ``B0_low`` judges ``B0_low``, not the limit on ``B0``).  A limit with its own ``rule`` (a test
-    condition: simple acceptance) is judged by it whatever ``rule`` is.  Verdicts come in the order of ``specs``.  A result declared
-    not reportable gets :func:`not_reportable`'s verdict (indeterminate, no statement), never a pass or fail.
+    ``B0_low`` judges ``B0_low``, not the limit on ``B0``). A limit with its own ``rule`` (a test
+    condition: simple acceptance) is judged by it whatever ``rule`` is. Verdicts come in the order
+    of ``specs``. A result declared not reportable gets :func:`not_reportable`'s verdict
+    (indeterminate, no statement), never a pass or fail.
     """
     outcomes = list(outcomes)
     judged: dict[int, list[tuple[Any, Any]]] = {}
@@ -475,8 +508,10 @@ def assess(outcomes: Iterable[Any], specs: Sequence[Specification], rule: Decisi
     def rule_of(sp: Specification) -> DecisionRule:
         return RULES[sp.rule] if sp.rule else rule
 
-    verdicts = [decide(specs[i], r.value, r.U, rule_of(specs[i]), key=r.metric.key, item=o.item, k=r.k)
-                if getattr(r, "reportable", True) else not_reportable(specs[i], r, rule_of(specs[i]), item=o.item)
+    verdicts = [decide(specs[i], r.value, r.U, rule_of(specs[i]), key=r.metric.key, item=o.item,
+                       k=r.k)
+                if getattr(r, "reportable", True)
+                else not_reportable(specs[i], r, rule_of(specs[i]), item=o.item)
                 for i in sorted(judged) for o, r in judged[i]]
     return Assessment(rule, verdicts, [sp for i, sp in enumerate(specs) if i not in judged])
 
@@ -516,11 +551,13 @@ def parse_limit(symbol: str, text: str, *, source: str = "", file: str | None = 
             return Specification(symbol, cmp, q, source=source, magnitude=magnitude)
     if t.startswith(("±", "+-", "+/-")):
         q = _quantity(t.lstrip("±+-/ "), file, field)
-        return Specification(symbol, Comparison.RANGE, -abs(q), abs(q), source=source, magnitude=magnitude)
+        return Specification(symbol, Comparison.RANGE, -abs(q), abs(q), source=source,
+                             magnitude=magnitude)
     m = _RANGE.match(t)
     if m is None:
         raise DataError(file, field, f"cannot read the limit {text!r}",
-                        hint="write \"<= 10 ppm\", \">= 0.25 P/arcsec\", \"-1 .. 1 deg/h\" or \"± 1 deg/h\"")
+                        hint="write \"<= 10 ppm\", \">= 0.25 P/arcsec\", \"-1 .. 1 deg/h\" or \"± "
+                        "1 deg/h\"")
     hi = _quantity(m["hi"], file, field)
     lo = _quantity(m["lo"], file, field)
     if lo.unitless and not hi.unitless:  # "-1 .. 1 deg/h": the lower bound takes the upper's unit
@@ -528,7 +565,8 @@ def parse_limit(symbol: str, text: str, *, source: str = "", file: str | None = 
     try:
         return Specification(symbol, Comparison.RANGE, lo, hi, source=source, magnitude=magnitude)
     except (ValueError, UnitError) as exc:
-        raise DataError(file, field, f"cannot use the range {text!r}: {getattr(exc, 'detail', exc)}") from exc
+        raise DataError(file, field,
+                        f"cannot use the range {text!r}: {getattr(exc, 'detail', exc)}") from exc
 
 
 #: keys of a [specification] table that are settings, not limits

@@ -1,7 +1,8 @@
-"""The live bench station: a vendor's rate-table driver (tests/data/plugins/bench_vendor.py, a simulated
-table in a simulated world with its own clock) and the SCPI DMM over pyvisa-sim, or the serial
-gyro over a pseudo-terminal pair.  `metro acquire --station bench` writes a campaign `metro run
---data` evaluates; every failure stops the table, closes the drivers and leaves nothing behind."""
+"""The live bench station: a vendor's rate-table driver (tests/data/plugins/bench_vendor.py, a
+simulated table in a simulated world with its own clock) and the SCPI DMM over pyvisa-sim, or the
+serial gyro over a pseudo-terminal pair. `metro acquire --station bench` writes a campaign `metro
+run --data` evaluates; every failure stops the table, closes the drivers and leaves nothing
+behind."""
 
 from __future__ import annotations
 
@@ -100,7 +101,8 @@ def vendor(monkeypatch):
 @pytest.fixture
 def world(vendor, monkeypatch):
     clock = vendor.SimClock()
-    table = RateTable(id="RT-500", model="RT-500", manufacturer="ACME", certificate="ACME-CAL-2025-31",
+    table = RateTable(id="RT-500", model="RT-500", manufacturer="ACME",
+                      certificate="ACME-CAL-2025-31",
                       U=Q_(5e-5, ""), seed=3)
     _fresh_dmm()
     w = vendor.install(vendor.World(clock, table, dmm_library=DMM_LIB, dmm_resource=DMM_ADDR))
@@ -161,8 +163,10 @@ def _table_at_rest_and_closed(world) -> None:
 def test_cli_acquire_on_the_bench_then_run(tmp_path, world, run_cli):
     bench = _bench(tmp_path)
     out = tmp_path / "camp"
-    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.1", "--station",
-                                "bench", "--station-option", f"config={bench}", "--out", str(out), "--no-progress")
+    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.1",
+                                "--station",
+                                "bench", "--station-option", f"config={bench}", "--out", str(out),
+                                "--no-progress")
     assert code == 0, err
     manifest = Path(stdout.strip())
     assert manifest == out / "manifest.toml"
@@ -170,7 +174,8 @@ def test_cli_acquire_on_the_bench_then_run(tmp_path, world, run_cli):
     rates = [r for c, r in world.commands if c == "rate" and r != 0.0]
     assert len(rates) == 22 and min(rates) == -100.0 and max(rates) == 100.0
     _table_at_rest_and_closed(world)
-    code, stdout, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.1", "--data",
+    code, stdout, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.1",
+                                "--data",
                                 str(manifest), "--json", "--no-report", "--no-progress")
     assert code == 0, err
     doc = json.loads(stdout)
@@ -181,10 +186,12 @@ def test_cli_acquire_on_the_bench_then_run(tmp_path, world, run_cli):
     F0 = next(r for r in doc["results"] if r["key"] == "F0")
     assert abs(F0["value"] - world.F0_mV) <= F0["U"]
     # provenance names the real instruments 7.2.1 used, identified by their drivers, with their
-    # certificates; the bench's climatic chamber is not one of them (issue 29: not the whole station)
+    # certificates; the bench's climatic chamber is not one of them (issue 29: not the whole
+    # station)
     eq = {e["id"]: e for e in doc["equipment"]}
     assert set(eq) == {"RT-500", "DMM-07"}
-    assert "ACME-CAL-2025-31" in eq["RT-500"]["status"] and "CAL-DMM-2025-117" in eq["DMM-07"]["status"]
+    assert "ACME-CAL-2025-31" in eq["RT-500"]["status"] and "CAL-DMM-2025-117" in eq["DMM-07"][
+        "status"]
     import tomllib
 
     mdoc = tomllib.loads(manifest.read_text(encoding="utf-8"))
@@ -192,10 +199,12 @@ def test_cli_acquire_on_the_bench_then_run(tmp_path, world, run_cli):
     assert (meq["DMM-07"]["manufacturer"], meq["DMM-07"]["model"], meq["DMM-07"]["serial"]) == (
         "METRO-SIM", "DMM-6.5", "SN000123")  # what the DMM answered to *IDN?
     assert (meq["RT-500"]["serial"], meq["RT-500"]["role"]) == ("RT500-0042", "rate_table")
-    assert meq["RT-500"]["rate_band_3_error"] == "5e-06"  # the table's stated accuracy, from the driver
+    # the table's stated accuracy, from the driver
+    assert meq["RT-500"]["rate_band_3_error"] == "5e-06"
     camp = mdoc["campaign"]
     assert camp["station"] == "bench" and "simulated" not in camp
-    assert "RT-500" in camp["rate_table"] and "DMM-6.5" in camp["output"] and camp["operator_steps"] == 0
+    assert "RT-500" in camp["rate_table"] and "DMM-6.5" in camp["output"] and camp[
+        "operator_steps"] == 0
     csv = (out / "rate+10.csv").read_text(encoding="utf-8").splitlines()
     assert csv[1] == "time [s],output [mV],read_time [s]" and len(csv) == 12  # 10 readings at 1 s
 
@@ -210,13 +219,15 @@ def test_samples_follow_the_clock_and_progress_is_reported(tmp_path, world, pm):
     seg = camp.segments[0]
     cols = seg.columns()
     np.testing.assert_array_equal(cols["time"][0], np.arange(10.0))
-    np.testing.assert_allclose(cols["read_time"][0], np.arange(10.0))  # one reading per second of the clock
+    # one reading per second of the clock
+    np.testing.assert_allclose(cols["read_time"][0], np.arange(10.0))
     mv = cols["output"][0]
     assert cols["output"][1] == "mV" and np.std(mv) > 0  # real readings, not a constant
     assert abs(np.mean(mv) - (world.F0_mV + 0.1 * world.K_mV_per_deg_s)) < 0.05
     # simulated time passed (settling + 10 s per step), no real waiting
     assert world.clock.t - t0 >= 6 * 10
-    assert ("recording rate+0.1", 10, 10) in seen and any(t.startswith("bench: ") for t, _, _ in seen)
+    assert ("recording rate+0.1", 10, 10) in seen and any(t.startswith("bench: ") for t, _, _
+                                                          in seen)
 
 
 # ------------------------------------------------------------------------------ failures
@@ -233,7 +244,8 @@ def test_table_that_does_not_settle_is_a_driver_error_and_nothing_is_written(tmp
 
 
 def _unplug_dmm_after(monkeypatch, n_reads: int) -> dict:
-    """From the n-th VISA read on, the DMM's connection is lost (as a real VISA library reports it)."""
+    """From the n-th VISA read on, the DMM's connection is lost (as a real VISA library reports
+    it)."""
     from pyvisa import constants, errors
     from pyvisa_sim.highlevel import SimVisaLibrary
 
@@ -250,7 +262,8 @@ def _unplug_dmm_after(monkeypatch, n_reads: int) -> dict:
     return state
 
 
-def test_dmm_connection_dropped_mid_run_is_loud_and_nothing_is_written(tmp_path, world, pm, monkeypatch):
+def test_dmm_connection_dropped_mid_run_is_loud_and_nothing_is_written(
+    tmp_path, world, pm, monkeypatch):
     bench = _bench(tmp_path)
     _unplug_dmm_after(monkeypatch, 60)  # *IDN?, configuration, then some readings
     with pytest.raises(DriverError, match="no valid reply.*VI_ERROR_CONN_LOST") as ei:
@@ -273,7 +286,8 @@ def test_interrupt_stops_the_table(tmp_path, world, pm):
 
 def test_unsupported_step_kind_is_refused_before_anything_moves(tmp_path, world, pm):
     bench = _bench(tmp_path)
-    with pytest.raises(MetroError, match=r"cannot run steps of kind 'rate-revolutions' for item gbt45570:D.1.1"
+    with pytest.raises(MetroError,
+                       match=r"cannot run steps of kind 'rate-revolutions' for item gbt45570:D.1.1"
                                          r".*revolution pulse.*nothing was commanded"):
         _acquire(pm, "gbt45570", ["D.1.1"], tmp_path / "camp", config=str(bench))
     assert world.commands == [] and world.open_tables == 0  # no driver was even opened
@@ -283,15 +297,18 @@ def test_unsupported_step_kind_is_refused_before_anything_moves(tmp_path, world,
 def test_operator_step_without_a_terminal_is_a_clear_error(tmp_path, world, pm, run_cli):
     bench = _bench(tmp_path)
     out = tmp_path / "camp"
-    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.6", "--station", "bench",
-                           "--station-option", f"config={bench}", "--out", str(out), "--no-progress")
+    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.6",
+                           "--station", "bench",
+                           "--station-option", f"config={bench}", "--out", str(out),
+                           "--no-progress")
     assert code == 2
     assert "step 'rate-accel[down]+0.1' (rate-accel) (item jjf2014:7.2.6) needs the operator" in err
     assert "mount the device: orientation IRA down" in err and "assume_ready=true" in err
     assert world.commands == [] and world.open_tables == 0
     _nothing_written(tmp_path, "bench.toml")
     # pre-confirmed: the run goes through, and the manifest says how many operator steps there were
-    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.6", "--station",
+    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.6",
+                                "--station",
                                 "bench", "--station-option", f"config={bench}", "--station-option",
                                 "assume_ready=true", "--out", str(out), "--no-progress")
     assert code == 0, err
@@ -302,12 +319,15 @@ def test_operator_is_asked_with_the_table_at_rest_and_between_power_cycles(tmp_p
     asked = []
 
     def operator(instruction, step):
-        asked.append((step.segment, instruction, world.set_rate, world.clock.t >= world.stable_at()))
+        asked.append((step.segment, instruction, world.set_rate, world.clock.t
+                      >= world.stable_at()))
 
-    st = pm.station("bench").factory(config=str(_bench(tmp_path)), operator=operator, clock=world.clock)
+    st = pm.station("bench").factory(config=str(_bench(tmp_path)), operator=operator,
+                                     clock=world.clock)
     steps = _sequence(pm, "7.2.6")
     camp = st.acquire(steps)
-    assert [(a[0], a[1]) for a in asked] == [("rate-accel[down]+0.1", "mount the device: orientation IRA down")]
+    assert [(a[0], a[1]) for a in asked] == [("rate-accel[down]+0.1",
+                                              "mount the device: orientation IRA down")]
     assert asked[0][2] == 0.0 and asked[0][3]  # the table was stopped and at rest
     assert camp.meta["operator_steps"] == 1
     # repeated runs (7.2.4): power-cycle between runs
@@ -352,30 +372,43 @@ def test_dmm_that_cannot_keep_up_is_an_error(tmp_path, world, pm, monkeypatch):
 
 
 BAD = [
-    ("no device", lambda t: t.split("[device]")[0] + "[environment]" + t.split("[environment]")[1], "[device]",
+    ("no device", lambda t: t.split("[device]")[0] + "[environment]" + t.split("[environment]")[1],
+     "[device]",
      "missing table"),
-    ("unknown top key", lambda t: t + "\n[chamber]\nid = 'x'\n", "bench file.chamber", "unknown key"),
-    ("typo in bench", lambda t: t.replace("settle_timeout", "settle_timout"), "bench.settle_timout", "unknown key"),
-    ("settle not a time", lambda t: t.replace('"30 s"', '"30 m"'), "bench.settle_timeout", "not compatible"),
+    ("unknown top key", lambda t: t + "\n[chamber]\nid = 'x'\n", "bench file.chamber",
+     "unknown key"),
+    ("typo in bench", lambda t: t.replace("settle_timeout", "settle_timout"), "bench.settle_timout",
+     "unknown key"),
+    ("settle not a time", lambda t: t.replace('"30 s"', '"30 m"'), "bench.settle_timeout",
+     "not compatible"),
     ("unknown driver", lambda t: t.replace('"acme-rt500"', '"acme-rt900"'), "rate_table.driver",
      "no driver 'acme-rt900' is registered"),
-    ("wrong kind", lambda t: t.replace('driver = "acme-rt500"', 'driver = "scpi-dmm"'), "rate_table.driver",
+    ("wrong kind", lambda t: t.replace('driver = "acme-rt500"', 'driver = "scpi-dmm"'),
+     "rate_table.driver",
      "is a 'dmm' driver"),
-    ("bad args", lambda t: t.replace('address = "sim://rt-500"', 'adress = "sim://rt-500"'), "rate_table.args",
+    ("bad args", lambda t: t.replace('address = "sim://rt-500"', 'adress = "sim://rt-500"'),
+     "rate_table.args",
      "cannot take these arguments"),
-    ("axis", lambda t: t.replace('role = "rate-table"', 'role = "rate-table"\naxis = 0'), "rate_table.axis",
+    ("axis", lambda t: t.replace('role = "rate-table"', 'role = "rate-table"\naxis = 0'),
+     "rate_table.axis",
      "whole number"),
-    ("no dmm calibration", lambda t: t.split("[output.calibration]")[0] + "[[equipment]]" + t.split("[[equipment]]")[1],
+    ("no dmm calibration", lambda t: t.split("[output.calibration]")[0] + "[[equipment]]"
+     + t.split("[[equipment]]")[1],
      "output.calibration", "missing"),
     ("no dmm id", lambda t: t.replace('id = "DMM-07"\n', ""), "output.id", "missing"),
-    ("dmm unit", lambda t: t.replace('unit = "mV"', 'unit = "deg/s"'), "output.unit", "not a voltage unit"),
+    ("dmm unit", lambda t: t.replace('unit = "mV"', 'unit = "deg/s"'), "output.unit",
+     "not a voltage unit"),
     ("nplc", lambda t: t.replace("nplc = 1", "nplc = 0"), "output.nplc", "positive"),
     ("U missing", lambda t: t.replace('U = "2e-5"\n', ""), "output.calibration.U", "missing"),
-    ("due", lambda t: t.replace("due = 2099-03-31", 'due = "next year"'), "output.calibration.due", "not a date"),
-    ("latitude", lambda t: t.replace('"39.98 deg"', '"139.98 deg"'), "site.latitude", "not a latitude"),
-    ("device output", lambda t: t.replace('output = "analog"', 'output = "volts"'), "device.output", "unknown output"),
+    ("due", lambda t: t.replace("due = 2099-03-31", 'due = "next year"'), "output.calibration.due",
+     "not a date"),
+    ("latitude", lambda t: t.replace('"39.98 deg"', '"139.98 deg"'), "site.latitude",
+     "not a latitude"),
+    ("device output", lambda t: t.replace('output = "analog"', 'output = "volts"'), "device.output",
+     "unknown output"),
     ("duplicate id", lambda t: t.replace('id = "CH-2"', 'id = "DMM-07"'), "equipment", "duplicate"),
-    ("format", lambda t: t.replace("metro-bench/1", "metro-bench/9"), "format", "unsupported format"),
+    ("format", lambda t: t.replace("metro-bench/1", "metro-bench/9"), "format",
+     "unsupported format"),
 ]
 
 
@@ -397,7 +430,8 @@ def test_station_options_are_checked(tmp_path, pm, world, run_cli):
         pm.station("bench").factory(config=str(tmp_path / "nope.toml"))
     with pytest.raises(DataError, match="must be true or false"):
         pm.station("bench").factory(config=str(_bench(tmp_path)), assume_ready="perhaps")
-    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.1", "--station", "bench",
+    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "jjf2014", "-i", "7.2.1",
+                           "--station", "bench",
                            "--station-option", f"config={_bench(tmp_path)}", "--seed", "3", "--out",
                            str(tmp_path / "c"), "--no-progress")
     assert code == 2 and "does not take seed (--seed is for simulated stations)" in err
@@ -410,7 +444,8 @@ def test_the_documented_example_bench_file_loads(vendor):
     """docs/examples/bench.toml names the sample vendor's ACME RT-300 driver and a SCPI DMM."""
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("metro_tests_sample_vendor", HERE / "data" / "plugins" / "sample_vendor.py")
+    spec = importlib.util.spec_from_file_location("metro_tests_sample_vendor", HERE / "data"
+                                                  / "plugins" / "sample_vendor.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     m = MetroPluginManager().load(autoload=False)
@@ -480,7 +515,8 @@ def gyro_stream():
     ``corrupt_every`` corrupts one frame's checksum in every so many."""
     from metro.instruments.drivers.serial_gyro import FrameField, FrameLayout
 
-    layout = FrameLayout(fields=(FrameField("rate", "i", 1e-7, "deg/s"), FrameField("temperature", "h", 0.01, "degC"),
+    layout = FrameLayout(fields=(FrameField("rate", "i", 1e-7, "deg/s"),
+                                 FrameField("temperature", "h", 0.01, "degC"),
                                  FrameField("status", "B")))  # as GYRO_BENCH declares it
     master, slave = os.openpty()
     import tty
@@ -498,7 +534,8 @@ def gyro_stream():
             for _ in range(64):
                 rate = (BIAS_DEG_H + EARTH_UP_DEG_H + rng.normal(0, 0.2)) / 3600.0
                 ce = state["corrupt_every"]
-                buf += layout.encode(k, (int(round(rate * 1e7)), 2000, 0), corrupt=bool(ce) and k % ce == ce - 1)
+                buf += layout.encode(k, (int(round(rate * 1e7)), 2000, 0), corrupt=bool(ce) and k
+                                     % ce == ce - 1)
                 k += 1
             view = memoryview(bytes(buf))
             while view and not state["stop"].is_set():
@@ -529,16 +566,19 @@ def test_serial_gyro_bench_records_frames_into_samples(tmp_path, world, pm, gyro
     b0 = rec.outcomes[0].result("B0")
     seg = rec.campaign.segments[0]
     cols = seg.columns()
-    assert cols["output"][1] == "deg/h" and cols["output"][0].size == 3600  # 1 h at 1 s: two frames per sample
+    # 1 h at 1 s: two frames per sample
+    assert cols["output"][1] == "deg/h" and cols["output"][0].size == 3600
     assert "frames" not in cols
-    assert abs(float(b0.value.to("deg/h").magnitude) - BIAS_DEG_H) <= float(b0.U.to("deg/h").magnitude) + 0.01
-    # D.5.1 uses a platform and a counter (D.5.1.1): the bench's rate table, under its role rate_table,
-    # is not listed for it (issue 29: a report lists the roles its items use)
+    assert abs(float(b0.value.to("deg/h").magnitude)
+               - BIAS_DEG_H) <= float(b0.U.to("deg/h").magnitude) + 0.01
+    # D.5.1 uses a platform and a counter (D.5.1.1): the bench's rate table, under its role
+    # rate_table, is not listed for it (issue 29: a report lists the roles its items use)
     assert [e.role for e in rec.campaign.equipment] == []
     _table_at_rest_and_closed(world)
 
 
-def test_serial_gyro_record_that_is_not_clean_is_refused_unless_allowed(tmp_path, world, pm, gyro_stream):
+def test_serial_gyro_record_that_is_not_clean_is_refused_unless_allowed(
+    tmp_path, world, pm, gyro_stream):
     gyro_stream["corrupt_every"] = 1000
     bench = _bench(tmp_path, GYRO_BENCH.format(port=gyro_stream["port"], extra=""))
     with pytest.raises(DriverError, match="not clean.*checksum") as ei:
@@ -546,8 +586,10 @@ def test_serial_gyro_record_that_is_not_clean_is_refused_unless_allowed(tmp_path
     assert ei.value.file == gyro_stream["port"] and "allow_unclean" in ei.value.hint
     _nothing_written(tmp_path, "bench.toml")
     _table_at_rest_and_closed(world)
-    # allowed: kept, and nothing is silent — the issues are in the segment, each sample says its frames
-    manifest = _acquire(pm, "gbt45570", ["D.5.1"], tmp_path / "camp", config=str(bench), allow_unclean="true")
+    # allowed: kept, and nothing is silent — the issues are in the segment, each sample says its
+    # frames
+    manifest = _acquire(pm, "gbt45570", ["D.5.1"], tmp_path / "camp", config=str(bench),
+                        allow_unclean="true")
     from metro.core.run.manifest import load_manifest
 
     camp = load_manifest(manifest, pm.reader_for)
@@ -559,7 +601,8 @@ def test_serial_gyro_record_that_is_not_clean_is_refused_unless_allowed(tmp_path
 
 
 def test_step_interval_must_be_whole_frames(tmp_path, world, pm, gyro_stream):
-    bench = _bench(tmp_path, GYRO_BENCH.format(port=gyro_stream["port"], extra="").replace('"0.5 s"', '"0.3 s"'))
+    bench = _bench(tmp_path, GYRO_BENCH.format(port=gyro_stream["port"],
+                                               extra="").replace('"0.5 s"', '"0.3 s"'))
     with pytest.raises(MetroError, match="not a whole number of the gyro's frame periods"):
         _acquire(pm, "gbt45570", ["D.5.1"], tmp_path / "camp", config=str(bench))
     assert world.commands == []
@@ -580,16 +623,20 @@ def test_metro_plugins_lists_stations_and_drivers_with_their_plugin(vendor, run_
     assert code == 0, err
     doc = json.loads(out)
     stations = {s["name"]: s for s in doc["stations"]}
-    assert stations["bench"]["plugin"] == "instruments" and "bench file" in stations["bench"]["description"]
+    assert stations["bench"]["plugin"] == "instruments" and "bench file" in stations["bench"][
+        "description"]
     assert stations["simulated"]["plugin"] == "instruments"
     drivers = {d["name"]: d for d in doc["drivers"]}
     assert (drivers["scpi-dmm"]["kind"], drivers["scpi-dmm"]["plugin"]) == ("dmm", "instruments")
-    assert (drivers["serial-gyro"]["kind"], drivers["serial-gyro"]["plugin"]) == ("gyro-output", "instruments")
-    assert (drivers["acme-rt500"]["kind"], drivers["acme-rt500"]["plugin"]) == ("rate-table", "bench_vendor")
+    assert (drivers["serial-gyro"]["kind"],
+            drivers["serial-gyro"]["plugin"]) == ("gyro-output", "instruments")
+    assert (drivers["acme-rt500"]["kind"],
+            drivers["acme-rt500"]["plugin"]) == ("rate-table", "bench_vendor")
     assert drivers["acme-rt500"]["class"] == "bench_vendor.SimRateTable"
     code, out, err = run_cli("--no-plugin-autoload", "plugins")
     assert code == 0, err
-    for text in ("stations", "bench", "simulated-jjf2014", "drivers", "scpi-dmm", "serial-gyro", "acme-rt500",
+    for text in ("stations", "bench", "simulated-jjf2014", "drivers", "scpi-dmm", "serial-gyro",
+                 "acme-rt500",
                  "rate-table", "bench_vendor"):
         assert text in out, text
 
@@ -625,6 +672,7 @@ def test_warm_up_is_waited_on_the_clock_from_the_start_and_after_a_power_cycle(t
     # warmed_up=true: the device is known to be warm, no waiting at the start
     world.clock.t = start = 5e6
     events.clear()
-    pm.station("bench").factory(config=str(_bench(tmp_path)), operator=operator, warmed_up="true").acquire(
+    pm.station("bench").factory(config=str(_bench(tmp_path)), operator=operator,
+                                warmed_up="true").acquire(
         steps[:1], progress=progress)
     assert events["recording rest-1"] - start < 60

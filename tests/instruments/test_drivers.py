@@ -19,7 +19,8 @@ from pint.errors import UndefinedUnitError
 from metro.core.base.errors import DriverError, UnitError
 from metro.core.base.units import Q_
 from metro.core.model import drivers as base
-from metro.instruments.drivers.serial_gyro import (FrameField, FrameLayout, FrameParser, SerialGyro, checksum)
+from metro.instruments.drivers.serial_gyro import (FrameField, FrameLayout, FrameParser, SerialGyro,
+                                                   checksum)
 
 DMM_YAML = Path(__file__).parents[1] / "data" / "drivers" / "scpi_dmm.yaml"
 DMM_ADDR = "TCPIP::dmm.metro.test::INSTR"
@@ -50,7 +51,8 @@ def _fresh_sim() -> None:
 
 def test_dmm_identifies_configures_and_reads_quantities(dmm):
     idn = dmm.identify()
-    assert (idn.manufacturer, idn.model, idn.serial, idn.firmware) == ("METRO-SIM", "DMM-6.5", "SN000123", "1.2.3")
+    assert (idn.manufacturer, idn.model, idn.serial,
+            idn.firmware) == ("METRO-SIM", "DMM-6.5", "SN000123", "1.2.3")
     dmm.reset()
     dmm.configure_dc_voltage(Q_(1, "V"), nplc=1)
     assert dmm.range() == Q_(1.0, "V")
@@ -119,7 +121,8 @@ def test_dmm_unknown_resource_is_a_clear_error():
 
 # ------------------------------------------------------------------------------ frames
 
-LAYOUT = FrameLayout()  # AA 55 | counter u8 | rate i32 (1 µ°/s) | temperature i16 (0.01 °C) | status u8 | sum8
+# AA 55 | counter u8 | rate i32 (1 µ°/s) | temperature i16 (0.01 °C) | status u8 | sum8
+LAYOUT = FrameLayout()
 
 
 def _frames(n, start=0, layout=LAYOUT, *, corrupt=(), skip=(), status=None):
@@ -145,7 +148,8 @@ def test_checksums():
 
 def test_layout_is_declared_and_checked():
     assert LAYOUT.size == 2 + 1 + 4 + 2 + 1 + 1
-    big = FrameLayout(header=b"\x7e", counter=FrameField("n", "H"), byte_order=">", checksum="crc16",
+    big = FrameLayout(header=b"\x7e", counter=FrameField("n", "H"), byte_order=">",
+                      checksum="crc16",
                       fields=(FrameField("rate", "f", 1.0, "deg/h"),))
     assert big.size == 1 + 2 + 4 + 2 and big.counter_modulus == 65536
     with pytest.raises(ValueError):
@@ -178,7 +182,8 @@ def test_parser_reports_bad_checksum_gaps_and_junk_with_positions():
     p = FrameParser(LAYOUT)
     frames = p.feed(stream)
     p.finish()
-    assert [f.counter for f in frames] == [c % 256 for c, _ in raw]  # every good frame, none invented
+    # every good frame, none invented
+    assert [f.counter for f in frames] == [c % 256 for c, _ in raw]
     kinds = [(i.kind, i.position, i.count) for i in p.issues]
     size = LAYOUT.size
     assert ("checksum", 10 * size, 0) in kinds
@@ -251,11 +256,13 @@ def test_serial_gyro_reads_frames_and_reports_what_went_wrong(pty_pair):
     assert any("checksum" in w and f"byte {100 * LAYOUT.size}" in w for w in rec.warnings)
     cols = rec.as_columns()
     steps = np.diff(cols["time"][0])
-    assert sorted(set(np.round(steps, 9))) == [0.001, 0.002] and (np.round(steps, 9) == 0.002).sum() == 2
+    assert sorted(set(np.round(steps, 9))) == [0.001, 0.002] and (np.round(steps, 9)
+                                                                  == 0.002).sum() == 2
     with pytest.raises(DriverError, match="checksum"):
         rec.require_clean()
     # the second read carries the status flag, and only its own issues
-    assert rec2.count("status") == 1 and rec2.count("checksum") == 0 and "0x4" in rec2.issues[0].detail
+    assert rec2.count("status") == 1 and rec2.count("checksum") == 0 and "0x4" in rec2.issues[
+        0].detail
 
 
 def test_serial_gyro_dropped_connection_fails_loudly(pty_pair):
@@ -294,7 +301,8 @@ def test_interfaces_are_abstract_and_cover_the_kinds():
     assert set(base.DRIVER_KINDS) == {"dmm", "gyro-output", "rate-table"}
     with pytest.raises(TypeError):
         base.RateTableDriver()  # abstract
-    assert base.Identity.from_idn("ACME,RT-300,42,2.1\n") == base.Identity("ACME", "RT-300", "42", "2.1")
+    assert base.Identity.from_idn("ACME,RT-300,42,2.1\n") == base.Identity(
+        "ACME", "RT-300", "42", "2.1")
     with pytest.raises(ValueError):
         base.Identity.from_idn("garbage")
 
@@ -319,7 +327,8 @@ def test_dmm_device_clear_on_opening(monkeypatch):
     assert d.device_cleared is False and d.identity.model  # pyvisa-sim has no viClear
     d.close()
     calls = []
-    monkeypatch.setattr(pyvisa.resources.Resource, "clear", lambda self: calls.append(self.resource_name))
+    monkeypatch.setattr(pyvisa.resources.Resource, "clear",
+                        lambda self: calls.append(self.resource_name))
     _fresh_sim()
     d = ScpiDmm(DMM_ADDR, visa_library=f"{DMM_YAML}@sim")
     try:

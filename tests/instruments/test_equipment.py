@@ -25,7 +25,8 @@ FAST = settings(max_examples=40, deadline=None)
 def test_arw_only_noise_has_allan_deviation_n_over_root_tau():
     """White rate noise of ARW N (°/√h) must give σ(τ) = N/√τ (τ in h) at every τ."""
     N = 0.02
-    truth = GyroTruth(output="rate", bias_deg_h=0.0, arw_deg_rt_h=N, gm_sigma_deg_h=0.0, rrw_deg_h_rt_h=0.0,
+    truth = GyroTruth(output="rate", bias_deg_h=0.0, arw_deg_rt_h=N, gm_sigma_deg_h=0.0,
+                      rrw_deg_h_rt_h=0.0,
                       seed=11)
     tau0 = 0.1
     y = simulate_static(truth, n=400_000, interval_s=tau0, latitude_deg=0.0)
@@ -43,7 +44,8 @@ def test_arw_only_noise_has_allan_deviation_n_over_root_tau():
 @FAST
 @given(chunk=st.integers(min_value=1, max_value=5000), n=st.integers(min_value=1, max_value=5000))
 def test_pulses_integrate_to_the_exact_angle_for_any_chunk_size(chunk, n):
-    """No pulse is lost or doubled between chunks: Σ pulses is the integrated angle × K to within one pulse."""
+    """No pulse is lost or doubled between chunks: Σ pulses is the integrated angle × K to within
+    one pulse."""
     truth = GyroTruth(output="pulse", arw_deg_rt_h=0.0, bias_deg_h=0.37, seed=3)
     tau, lat = 0.01, 39.98
     out = simulate_static(truth, n=n, interval_s=tau, latitude_deg=lat, chunk=chunk)
@@ -103,7 +105,8 @@ def test_rate_table_error_and_ripple_follow_their_band():
         rel = w / sp - 1.0
         e, rip = float(b.error.magnitude), float(b.ripple.magnitude)
         assert abs(rel.mean()) <= e + 5 * rip / math.sqrt(w.size)
-        assert rel.mean() == pytest.approx(t.systematic_error(Q_(sp, "deg/s")), abs=5 * rip / math.sqrt(w.size))
+        assert rel.mean() == pytest.approx(t.systematic_error(Q_(sp, "deg/s")), abs=5 * rip
+                                           / math.sqrt(w.size))
         assert rel.std(ddof=1) == pytest.approx(rip, rel=0.03)
     with pytest.raises(DataError, match="beyond the table's range"):
         t.band(Q_(5000, "deg/s"))
@@ -197,14 +200,16 @@ def test_timer_within_accuracy_and_resolution():
 
 
 def test_chamber_holds_setpoint_within_error_and_fluctuation_once_soaked():
-    ch = E.TemperatureChamber(id="CH", setpoint_error=Q_(0.5, "K"), fluctuation=Q_(0.2, "K"), soak=Q_(60, "min"))
+    ch = E.TemperatureChamber(id="CH", setpoint_error=Q_(0.5, "K"), fluctuation=Q_(0.2, "K"),
+                              soak=Q_(60, "min"))
     times = Q_(np.arange(0, 7200, 10.0), "s")
     T = ch.temperature(Q_(60, "degC"), times, np.random.default_rng(1)).to("degC").magnitude
     assert np.all(np.abs(T - 60) <= 0.7 + 1e-9)
     assert abs(T.mean() - 60 - ch.offset(Q_(60, "degC"))) < 0.02
     assert T.max() - T.min() == pytest.approx(0.4, abs=0.01)
     # after a change from 20 °C: not settled at first, within 1 % of the step after the soak time
-    T2 = ch.temperature(Q_(60, "degC"), times, np.random.default_rng(1), previous=Q_(20, "degC")).to("degC").magnitude
+    T2 = ch.temperature(Q_(60, "degC"), times, np.random.default_rng(1),
+                        previous=Q_(20, "degC")).to("degC").magnitude
     assert T2[0] < 25 and abs(T2[times.magnitude >= 3600][0] - 60) < 0.7 + 0.4
     assert ch.soaked(Q_(61, "min")) and not ch.soaked(Q_(59, "min"))
 
@@ -226,7 +231,8 @@ def test_positioners_stay_within_their_accuracy():
 def test_field_vibration_shock_and_reference_sensor():
     fg = E.FieldGenerator(id="F", setting_error=Q_(1e-3, ""), uniformity=Q_(5, "percent"))
     H = fg.field(Q_(1.0, "mT")).to("mT").magnitude
-    assert abs(H - 1.0) <= 1e-3 and fg.field(Q_(1.0, "mT"), 1.0).to("mT").magnitude == pytest.approx(H * 1.05)
+    assert abs(H - 1.0) <= 1e-3 and fg.field(Q_(1.0, "mT"),
+                                             1.0).to("mT").magnitude == pytest.approx(H * 1.05)
     with pytest.raises(DataError):
         fg.field(Q_(5.0, "mT"))
     t = Q_(np.linspace(0, 1, 20001), "s")
@@ -234,7 +240,8 @@ def test_field_vibration_shock_and_reference_sensor():
     a = sh.acceleration(Q_(6, "gn"), Q_(100, "Hz"), t).to("gn").magnitude
     assert 6 * 0.95 - 1e-2 <= np.abs(a).max() <= 6 * 1.05
     sk = E.ShockTable(id="S", peak_error=Q_(0.1, ""), duration_accuracy=Q_(1, "ms"))
-    p = sk.pulse(Q_(100, "gn"), Q_(6, "ms"), Q_(1e-5, "s"), np.random.default_rng(1)).to("gn").magnitude
+    p = sk.pulse(Q_(100, "gn"), Q_(6, "ms"), Q_(1e-5, "s"),
+                 np.random.default_rng(1)).to("gn").magnitude
     assert 90 - 0.1 <= p.max() <= 110 and p[0] == 0 and p[-1] == 0
     assert (p > 0).sum() * 1e-5 == pytest.approx(6e-3, abs=1.05e-3)
     avt = E.AngularVibrationTable(id="AVT", amplitude_error=Q_(5e-3, ""), phase_U=Q_(0.2, "deg"))
@@ -260,7 +267,8 @@ def test_models_check_units_and_calibration():
     with pytest.raises(DataError, match="negative"):
         E.Timer(id="T", accuracy=Q_(-1e-6, ""))
     with pytest.raises(DataError, match="increasing"):
-        E.RateTable(id="RT", bands=(E.RateBand("10 deg/s", 1e-5, 1e-4), E.RateBand("1 deg/s", 1e-4, 1e-3)))
+        E.RateTable(id="RT", bands=(E.RateBand("10 deg/s", 1e-5, 1e-4),
+                                    E.RateBand("1 deg/s", 1e-4, 1e-3)))
     import datetime as dt
 
     eq = E.Counter(id="C", certificate="CAL-7", U=Q_(1e-7, ""), k=2.0, due=dt.date(2030, 1, 1),
@@ -279,13 +287,16 @@ def test_models_check_units_and_calibration():
 # `grep -rn 'equipment_for\|\.prop("' plugins/`
 READ_BY_PROCEDURES = {
     "simulated": {"platform": ["levelness"],
-                  "rate_table": ["revolution_pulse_accuracy", "rate_band_1_upper", "rate_band_1_error",
+                  "rate_table": ["revolution_pulse_accuracy", "rate_band_1_upper",
+                                 "rate_band_1_error",
                                  "rate_band_1_ripple"],
                   "chamber": [],
                   "field_generator": ["uniformity"], "counter": [], "fixture": ["reseat_tilt"],
-                  "tilt_table": ["position_accuracy"], "vibration_table": [], "shock_table": ["duration_accuracy"],
+                  "tilt_table": ["position_accuracy"], "vibration_table": [],
+                  "shock_table": ["duration_accuracy"],
                   "voltmeter": [], "ammeter": []},
-    "simulated-jjf2014": {"rate_table": [], "dmm": [], "chamber": [], "angular_vibration_table": ["phase_U"],
+    "simulated-jjf2014": {"rate_table": [], "dmm": [], "chamber": [],
+                          "angular_vibration_table": ["phase_U"],
                           "timer": []},
     "simulated-mimu": {"rate_table": ["position_accuracy"], "acquisition": ["bits"]},
     "simulated-ogam": {"turntable": ["parallelism"]},
@@ -341,7 +352,8 @@ def test_the_simulated_jjf2014_rate_table_errs_as_its_certificate_says():
     from metro.instruments.vibratory import VibratoryStation, VibratoryTruth, mean_output
 
     pm = get_plugin_manager(autoload=False)
-    steps = pm.procedure("jjf2014", "7.2.1")().sequence(pm.procedure("jjf2014", "7.2.1").option_values({}))
+    steps = pm.procedure("jjf2014", "7.2.1")().sequence(pm.procedure("jjf2014",
+                                                                     "7.2.1").option_values({}))
     half = math.sqrt(3.0) * 0.5e-4
     deltas = {}
     for seed in (1, 2):
@@ -357,13 +369,16 @@ def test_the_simulated_jjf2014_rate_table_errs_as_its_certificate_says():
             # the local slope of the device at this rate turns an output shift into a rate error
             h = 1e-6
             slope = (mean_output(truth, "rate", {"rate": Q_(om * (1 + h), "deg/s")}, 39.98)
-                     - mean_output(truth, "rate", {"rate": Q_(om * (1 - h), "deg/s")}, 39.98)) / (2 * h * om)
+                     - mean_output(truth, "rate", {"rate": Q_(om * (1 - h), "deg/s")},
+                                   39.98)) / (2 * h * om)
             seen = float(np.mean(y - x)) / (slope * om)
             ripple = float(table.band(Q_(om, "deg/s")).ripple.magnitude)
             want = table.systematic_error(Q_(om, "deg/s"))
             assert abs(want) <= half
             assert seen == pytest.approx(want, abs=5 * ripple / math.sqrt(x.size) + 1e-9)
             deltas[(seed, om)] = want
-    per_seed = [np.array([v for (s, _), v in sorted(deltas.items()) if s == seed]) for seed in (1, 2)]
-    assert max(np.max(np.abs(d)) for d in per_seed) > 0.5e-4  # the errors fill the certificate's interval
+    per_seed = [np.array([v for (s, _), v in sorted(deltas.items()) if s == seed]) for seed
+                in (1, 2)]
+    # the errors fill the certificate's interval
+    assert max(np.max(np.abs(d)) for d in per_seed) > 0.5e-4
     assert not np.allclose(per_seed[0], per_seed[1])  # another seed, another table

@@ -2,11 +2,12 @@
 
 A D.5.1/D.5.2/D.5.6 report listed the vibration table, shock table, callipers, balance and
 megohmmeter: ``metro acquire`` wrote every instrument of the simulated station into the manifest,
-and the report printed every line of the manifest.  The equipment an item uses is the roles of its
-``equipment`` requirements (:class:`metro.core.model.procedure.EquipmentRequirement`); ``acquire`` writes
-those and a run keeps those (:func:`metro.core.run.manifest.used_equipment`), so a manifest with more
-equipment still gets a table of what was used, while a required role that is missing stays an error.
-The declarations are complete: every role an item looks up while it evaluates is one it declares.
+and the report printed every line of the manifest. The equipment an item uses is the roles of its
+``equipment`` requirements (:class:`metro.core.model.procedure.EquipmentRequirement`); ``acquire``
+writes those and a run keeps those (:func:`metro.core.run.equipment_check.used_equipment`), so a manifest
+with more equipment still gets a table of what was used, while a required role that is missing stays
+an error. The declarations are complete: every role an item looks up while it evaluates is one it
+declares.
 """
 
 from __future__ import annotations
@@ -50,19 +51,24 @@ def test_acquire_writes_the_equipment_of_the_items_only(tmp_path):
     manifest = acquire_campaign(pm, "gbt45570", ["D.5.1", "D.5.2", "D.5.6"], tmp_path / "camp",
                                 station_options={"duration_scale": 0.05})
     doc = tomllib.loads(manifest.read_text(encoding="utf-8"))
-    assert sorted(e["role"] for e in doc["equipment"]) == ["counter", "platform"]  # 13 station instruments before
+    # 13 station instruments before
+    assert sorted(e["role"] for e in doc["equipment"]) == ["counter", "platform"]
 
 
-@pytest.mark.skipif(not (shutil.which("soffice") or shutil.which("libreoffice")) or not shutil.which("pdftotext"),
-                    reason="LibreOffice (soffice) and poppler (pdftotext) are needed to render and read the PDF")
+@pytest.mark.skipif(not (shutil.which("soffice") or shutil.which("libreoffice")) or
+                    not shutil.which("pdftotext"),
+                    reason="LibreOffice (soffice) and poppler (pdftotext) are needed to render and "
+                    "read the PDF")
 def test_a_manifest_with_more_equipment_gets_a_table_of_what_was_used(tmp_path, campaign_factory):
-    manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.5, manifest_edit=lambda t: t + EXTRA)
+    manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.5,
+                                               manifest_edit=lambda t: t + EXTRA)
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "gbt45570", ["D.5.1"], data=manifest)
     assert [e.role for e in rec.campaign.equipment] == ["platform", "counter"]
     pdf = write_report(tmp_path / "r.pdf", rec, layout=pm.template_for("gbt45570").layout,
                        extend=pm.extend_report_context)
-    text = subprocess.run(["pdftotext", "-enc", "UTF-8", str(pdf), "-"], capture_output=True, text=True,
+    text = subprocess.run(["pdftotext", "-enc", "UTF-8", str(pdf), "-"], capture_output=True,
+                          text=True,
                           check=True).stdout
     assert "VIB-9" not in text and "MEG-1" not in text and "V-100" not in text and "M-500" not in text
     listed = text[text.index("Test equipment and measuring instruments"):]
@@ -70,15 +76,16 @@ def test_a_manifest_with_more_equipment_gets_a_table_of_what_was_used(tmp_path, 
 
 
 def test_a_missing_required_role_stays_an_error_beside_extra_equipment(tmp_path, campaign_factory):
-    manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.2, manifest_edit=lambda t: t + EXTRA)
+    manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.2,
+                                               manifest_edit=lambda t: t + EXTRA)
     pm = get_plugin_manager(autoload=False)
     with pytest.raises(DataError, match="requires equipment with the role 'rate_table'"):
         run_items(pm, "gbt45570", ["D.1.1"], data=manifest)
 
 
-# items whose lookups were not declared before (the platform of D.6 and 6.2.8's biases, the voltmeter of
-# 5.2.6, the fixture of JJF 2003 7.2.2–7.2.4 and JJF 2014 7.2.11, the chamber of JJF 2014 7.2.5 / 7.2.16)
-# and a few whose declarations always held
+# items whose lookups were not declared before (the platform of D.6 and 6.2.8's biases, the
+# voltmeter of 5.2.6, the fixture of JJF 2003 7.2.2–7.2.4 and JJF 2014 7.2.11, the chamber of JJF
+# 2014 7.2.5 / 7.2.16) and a few whose declarations always held
 LOOKUPS = [
     ("gbt45570", ["D.5.1", "D.6.3", "D.6.4", "6.2.8.2", "6.2.8.10", "5.2.6"]),
     ("jjf2003", ["7.2.1", "7.2.2", "7.2.3", "7.2.4"]),

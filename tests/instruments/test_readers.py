@@ -110,11 +110,13 @@ def test_large_offset_values_read_exactly(tmp_path):
     assert table["value"][0] == 10000000.1
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=60, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.lists(st.floats(allow_nan=False, allow_infinity=False), min_size=1, max_size=40))
 def test_random_floats_round_trip_exactly(tmp_path, values):
     x = np.array(values, dtype=np.float64)
-    path = write_samples_csv(tmp_path / "h.csv", {"x": x, "y": x[::-1].copy()}, {"x": "1", "y": "mV"})
+    path = write_samples_csv(tmp_path / "h.csv", {"x": x, "y": x[::-1].copy()},
+                             {"x": "1", "y": "mV"})
     table = read_samples(path, time_column=None)
     assert np.array_equal(_bits(table["x"]), _bits(x))  # bit-exact, -0.0 included
     assert np.array_equal(_bits(table["y"]), _bits(x[::-1]))
@@ -172,7 +174,8 @@ def test_plain_npy_needs_declared_columns(tmp_path):
     two = np.column_stack([np.arange(10) * 0.1, np.arange(10, dtype=float) ** 2])
     np.save(tmp_path / "two.npy", two)
     table = read_samples(tmp_path / "two.npy", columns=[("time", "s"), ("output", "LSB")])
-    assert np.array_equal(table["output"], two[:, 1]) and table.sample_interval_s == pytest.approx(0.1)
+    assert np.array_equal(table["output"], two[:,
+                                               1]) and table.sample_interval_s == pytest.approx(0.1)
     np.save(tmp_path / "ints.npy", np.arange(5, dtype=np.int32))
     table = read_samples(tmp_path / "ints.npy", columns=[("count", "P")])
     assert table["count"].dtype == np.float64 and table["count"].tolist() == [0, 1, 2, 3, 4]
@@ -387,7 +390,8 @@ def test_parquet_bad_inputs(tmp_path):
     import pyarrow.parquet as pq
 
     field = pa.field("output", pa.float64(), metadata={b"unit": b"P"})
-    pq.write_table(pa.table([pa.array([1.0, 2.0])], schema=pa.schema([field])), tmp_path / "m.parquet")
+    pq.write_table(pa.table([pa.array([1.0, 2.0])], schema=pa.schema([field])), tmp_path
+                   / "m.parquet")
     err = _expect(tmp_path / "m.parquet", ["has no unit"], field="output")
     assert "metadata" in err.hint
     pq.write_table(pa.table({"output [P]": [1.0, None, 3.0]}), tmp_path / "null.parquet")

@@ -157,8 +157,8 @@ class Msg:
 
 class Index(str):
     """A message field that is an index (an axis letter, ``K_g{r}{c}``): where several results'
-    notes differ only in such fields, a document states the sentence once in index form
-    (``K_gij``; :func:`metro.core.documents.notes.group_notes`).  Everywhere else it is the plain string."""
+    notes differ only in such fields, a document states the sentence once in index form (``K_gij``;
+    :func:`metro.core.documents.notes.group_notes`). Everywhere else it is the plain string."""
 
     __slots__ = ()
 
@@ -257,7 +257,8 @@ class Text(str):
 
         if self.msgid is None:
             return {"sep": self.sep, "parts": [enc(p) for p in self.parts], "en": str(self)}
-        return {"msgid": self.msgid, "fields": {k: enc(v) for k, v in self.fields.items()}, "en": str(self)}
+        return {"msgid": self.msgid, "fields": {k: enc(v) for k, v in self.fields.items()},
+                "en": str(self)}
 
     @staticmethod
     def decode(doc: dict[str, Any]) -> Text:
@@ -269,8 +270,10 @@ class Text(str):
             return Text.decode(v["text"]) if isinstance(v, dict) and set(v) == {"text"} else v
 
         if "parts" in doc:
-            return Text(None, sep=doc["sep"], parts=tuple(dec(p) for p in doc["parts"]), english=doc.get("en"))
-        return Text(doc["msgid"], {k: dec(v) for k, v in doc["fields"].items()}, english=doc.get("en"))
+            return Text(None, sep=doc["sep"], parts=tuple(dec(p) for p in doc["parts"]),
+                        english=doc.get("en"))
+        return Text(doc["msgid"], {k: dec(v) for k, v in doc["fields"].items()},
+                    english=doc.get("en"))
 
 
 def _rebuild_text(msgid, fields, sep, parts, english=None) -> Text:
@@ -298,7 +301,8 @@ class Translator:
         if lang not in LANGS:
             from ..errors import MetroError
 
-            raise MetroError(f"unknown document language {lang!r}", hint=f"use one of {', '.join(LANGS)}")
+            raise MetroError(f"unknown document language {lang!r}",
+                             hint=f"use one of {', '.join(LANGS)}")
         self.lang = lang
         self.missing: set[str] = set()
         self._zh = translations("zh") if lang != "en" else {}
@@ -347,7 +351,8 @@ class Translator:
             pattern = value.msgid if lang == "en" else self.zh(value.msgid)
             try:
                 return pattern.format(**fields) if value.fields else pattern
-            except (KeyError, IndexError, ValueError, TypeError):  # wrong places, a field that lost its type
+            # wrong places, a field that lost its type
+            except (KeyError, IndexError, ValueError, TypeError):
                 if lang != "en":
                     self.missing.add(value.msgid)
                 return str(value)
@@ -377,7 +382,8 @@ class Translator:
         return Msg(msgid)
 
     def pick(self, zh: str, en: str) -> str:
-        """Text that comes in both languages from data (a standard's item names): the one(s) asked for."""
+        """Text that comes in both languages from data (a standard's item names): the one(s) asked
+        for."""
         if self.lang == "en":
             return en
         if self.lang == "zh":

@@ -38,17 +38,20 @@ import attrs
 
 from ...base.errors import MetroError
 
-__all__ = ["open_register", "register_state", "Register", "Draft", "Issued", "sha256_file", "who_am_i",
+__all__ = ["open_register", "register_state", "Register", "Draft", "Issued", "sha256_file",
+           "who_am_i",
            "RegisterError", "SCHEMA_HEAD", "SCHEMA_REVISIONS"]
 
-#: the migrations' revisions, oldest first (``migrations/versions``; tests/core/cli/test_cli_daily.py checks
-#: them against Alembic's own list); a register at the newest is opened without loading Alembic
+#: the migrations' revisions, oldest first (``migrations/versions``;
+#tests/core/cli/test_cli_daily.py checks : them against Alembic's own list); a register at the
+#newest is opened without loading Alembic
 SCHEMA_REVISIONS = ("0001",)
 SCHEMA_HEAD = SCHEMA_REVISIONS[-1]
 
 
 class RegisterError(MetroError):
-    """The register cannot do what was asked (unknown number, wrong status, database unreachable)."""
+    """The register cannot do what was asked (unknown number, wrong status, database
+    unreachable)."""
 
 
 def sha256_file(path: str | os.PathLike[str]) -> str:
@@ -132,7 +135,8 @@ def _engine(url: str, create: bool = True):
 
         @event.listens_for(engine, "begin")
         def _begin(conn):  # one writer at a time: the counter is read and written under this lock
-            conn.exec_driver_sql("BEGIN" if conn.get_execution_options().get("metro_read") else "BEGIN IMMEDIATE")
+            conn.exec_driver_sql("BEGIN" if conn.get_execution_options().get("metro_read")
+                                 else "BEGIN IMMEDIATE")
 
         return engine
     if url.startswith("postgresql+psycopg"):
@@ -168,9 +172,9 @@ def schema_revision(engine) -> str | None:
 
 
 #: what to do when there is no register yet (read-only commands create none)
-NO_REGISTER_HINT = ("a register is made by the first registered run: write a lab profile with `metro lab init "
-                    "lab.toml` (its `register` names the database), then `metro --lab lab.toml run … --data "
-                    "MANIFEST`; or point --lab / METRO_LAB / METRO_REGISTER at an existing register")
+NO_REGISTER_HINT = ("a register is made by the first registered run: write a lab profile with "
+                    "`metro lab init lab.toml` (its `register` names the database), then `metro "
+                    "--lab lab.toml run … --data MANIFEST`; or point --lab / METRO_LAB / METRO_REGISTER at an existing register")
 
 
 def _no_register(url: str, why: str) -> "RegisterError":
@@ -181,8 +185,8 @@ def _no_register(url: str, why: str) -> "RegisterError":
 
 @contextlib.contextmanager
 def _reading(url: str):
-    """A :class:`~metro.core.record.register.reading.Reader` of the register at ``url`` (which must exist);
-    a database that cannot be read is a :class:`RegisterError` saying why."""
+    """A :class:`~metro.core.record.register.reading.Reader` of the register at ``url`` (which must
+    exist); a database that cannot be read is a :class:`RegisterError` saying why."""
     from ..lab import redact_url
     from .reading import reading
 
@@ -193,14 +197,16 @@ def _reading(url: str):
         from ...base.extras import install_line
 
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
-                            hint=f"a PostgreSQL register needs the 'postgres' extra: {install_line('postgres')}") from exc
+                            hint="a PostgreSQL register needs the 'postgres' extra: "
+                            f"{install_line('postgres')}") from exc
     except Exception as exc:
         if not exc.__class__.__module__.startswith(("sqlite3", "psycopg")):
             raise
-        raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc.__class__.__name__}: "
+        raise RegisterError(f"register {redact_url(url)}: cannot open the database "
+                            f"({exc.__class__.__name__}: "
                             f"{str(exc).splitlines()[0] if str(exc) else ''})",
-                            hint="check the lab profile's register (or METRO_REGISTER) and that the database "
-                            "server is reachable") from exc
+                            hint="check the lab profile's register (or METRO_REGISTER) and that "
+                            "the database server is reachable") from exc
 
 
 def _revision(url: str) -> str | None:
@@ -229,7 +235,8 @@ def _open(url: str, create: bool) -> "Register":
         revision = schema_revision(engine)
         if revision is None and not create:
             raise _no_register(url, "the database has no register tables")
-        if revision != SCHEMA_HEAD:  # a new register, or one written by an older metro (Alembic only then)
+        # a new register, or one written by an older metro (Alembic only then)
+        if revision != SCHEMA_HEAD:
             migrate(engine)
     except BaseException:
         if engine is not None:
@@ -255,14 +262,16 @@ def register_state(url: str) -> dict[str, Any]:
     from ..lab import redact_url
 
     _check_scheme(url)
-    state: dict[str, Any] = {"url": redact_url(url), "exists": False, "revision": None, "head": SCHEMA_HEAD,
+    state: dict[str, Any] = {"url": redact_url(url), "exists": False, "revision": None,
+                             "head": SCHEMA_HEAD,
                              "migrated": False, "reports": None}
     path = sqlite_path(url)
     if path is not None and not path.is_file():
         return state
     with _reading(url) as reader:
         revision = reader.revision()
-        state.update(exists=revision is not None, revision=revision, migrated=revision == SCHEMA_HEAD)
+        state.update(exists=revision is not None, revision=revision, migrated=revision
+                     == SCHEMA_HEAD)
         if revision is not None:
             state["reports"] = reader.rows("SELECT count(*) FROM reports")[0][0]
     return state
@@ -280,19 +289,20 @@ def open_register(url: str, *, create: bool = True) -> "Register":
         return _open(url, create)
     except (OSError, ImportError) as exc:
         raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc})",
-                            hint="check the lab profile's register (or METRO_REGISTER): its folder must be "
-                            "writable") from exc
+                            hint="check the lab profile's register (or METRO_REGISTER): its folder "
+                            "must be writable") from exc
     except Exception as exc:
         if not exc.__class__.__module__.startswith("sqlalchemy"):
             raise _alembic_error(url, exc)
-        raise RegisterError(f"register {redact_url(url)}: cannot open the database ({exc.__class__.__name__}: "
-                            f"{str(exc).splitlines()[0]})",
-                            hint="check the lab profile's register (or METRO_REGISTER) and that the database "
-                            "server is reachable") from exc
+        raise RegisterError(f"register {redact_url(url)}: cannot open the database "
+                            f"({exc.__class__.__name__}: {str(exc).splitlines()[0]})",
+                            hint="check the lab profile's register (or METRO_REGISTER) and that "
+                            "the database server is reachable") from exc
 
 
 def _alembic_error(url: str, exc: Exception) -> Exception:
-    """Alembic's error about a register written by a newer metro, said as such; any other as it is."""
+    """Alembic's error about a register written by a newer metro, said as such; any other as it
+    is."""
     from ..lab import redact_url
 
     if exc.__class__.__module__.startswith("alembic"):
@@ -305,8 +315,8 @@ def _alembic_error(url: str, exc: Exception) -> Exception:
 
 class Register:
     """An open register.  Reading goes through the database's own driver
-    (:mod:`metro.core.record.register.reading`, no SQLAlchemy); the SQLAlchemy engine that writes is made
-    on first use."""
+    (:mod:`metro.core.record.register.reading`, no SQLAlchemy); the SQLAlchemy engine that writes is
+    made on first use."""
 
     def __init__(self, url: str, engine=None) -> None:
         self.url = url
@@ -336,7 +346,8 @@ class Register:
     # -- sessions ------------------------------------------------------------------------
     @contextlib.contextmanager
     def _session(self, *, read: bool = False) -> Iterator[Any]:
-        """A transaction; ``read`` ones do not take SQLite's write lock (lists wait for no writer)."""
+        """A transaction; ``read`` ones do not take SQLite's write lock (lists wait for no
+        writer)."""
         from sqlalchemy.orm import Session
 
         bind = self.engine.execution_options(metro_read=True) if read else self.engine
@@ -353,8 +364,10 @@ class Register:
             from sqlalchemy.dialects.postgresql import insert
         else:
             from sqlalchemy.dialects.sqlite import insert
-        s.execute(insert(Counter).values(scope=scope, last=0).on_conflict_do_nothing(index_elements=["scope"]))
-        last = s.execute(select(Counter.last).where(Counter.scope == scope).with_for_update()).scalar_one()
+        s.execute(insert(Counter).values(scope=scope,
+                                         last=0).on_conflict_do_nothing(index_elements=["scope"]))
+        last = s.execute(select(Counter.last).where(Counter.scope
+                                                    == scope).with_for_update()).scalar_one()
         s.execute(update(Counter).where(Counter.scope == scope).values(last=last + 1))
         return last + 1
 
@@ -424,15 +437,19 @@ class Register:
                     old = self._report(s, supersedes, lock=True)
                     if old.status != "issued":
                         raise RegisterError(f"report {supersedes} is {old.status}"
-                                            + (f" by {old.superseded_by}" if old.superseded_by else "")
+                                            + (f" by {old.superseded_by}" if old.superseded_by
+                                               else "")
                                             + "; only an issued report can be amended",
-                                            hint=f"amend {old.superseded_by}" if old.superseded_by else None)
+                                            hint=f"amend {old.superseded_by}" if old.superseded_by
+                                            else None)
                 seq = self._allocate(s, scope)
                 number = scheme(seq, year)
                 final = folder / f"{number}{suffix}"
                 if final.exists() or final.is_symlink():
-                    raise RegisterError(f"{final} exists already; a register never replaces a report file",
-                                        hint="move the file away or write reports to another --out folder")
+                    raise RegisterError(f"{final} exists already; a register never replaces a "
+                                        "report file",
+                                        hint="move the file away or write reports to another --out "
+                                        "folder")
                 draft = make(number, issued_at)
                 tmp = folder / f".{final.name}.tmp-{secrets.token_hex(4)}"
                 tmp.touch(exist_ok=False)
@@ -440,18 +457,23 @@ class Register:
                 with open(tmp, "rb") as fh:
                     os.fsync(fh.fileno())
                 digest = sha256_file(tmp)
-                rep = Report(number=number, scope=scope, seq=seq, status="issued", supersedes=supersedes,
-                             reason=reason, issued_at=issued_at, issued_by=who, report_path=str(final.resolve()),
+                rep = Report(number=number, scope=scope, seq=seq, status="issued",
+                             supersedes=supersedes,
+                             reason=reason, issued_at=issued_at, issued_by=who,
+                             report_path=str(final.resolve()),
                              report_sha256=digest, **json_safe_fields(draft.fields))
                 rep.results = [ResultRow(**json_safe_fields(r)) for r in draft.results]
                 s.add(rep)
                 if old is not None:
                     old.status = "superseded"
                     old.superseded_by = number
-                    self._audit(s, "superseded", supersedes, f"superseded by {number}: {reason}", who, issued_at)
-                    self._audit(s, "amend", number, f"replaces {supersedes}: {reason}", who, issued_at)
+                    self._audit(s, "superseded", supersedes, f"superseded by {number}: {reason}",
+                                who, issued_at)
+                    self._audit(s, "amend", number, f"replaces {supersedes}: {reason}", who,
+                                issued_at)
                 else:
-                    self._audit(s, "issue", number, f"{rep.standard} {', '.join(rep.items)}; file {final} "
+                    self._audit(s, "issue", number,
+                                f"{rep.standard} {', '.join(rep.items)}; file {final} "
                                 f"sha256 {digest}", who, issued_at)
                 s.flush()  # a constraint failure happens here, before the file is visible
                 os.link(tmp, final)  # into place, never replacing a file
@@ -470,7 +492,8 @@ class Register:
                     final.unlink()
             raise
         _fsync_dir(folder)
-        return Issued(number=number, path=final, sha256=digest, seq=seq, scope=scope, issued_at=issued_at)
+        return Issued(number=number, path=final, sha256=digest, seq=seq, scope=scope,
+                      issued_at=issued_at)
 
     # -- status changes ------------------------------------------------------------------
     def withdraw(self, number: str, reason: str, *, who: str | None = None) -> None:
@@ -480,10 +503,12 @@ class Register:
         with self._session() as s:
             rep = self._report(s, number, lock=True)
             if rep.status != "issued":
-                raise RegisterError(f"report {number} is {rep.status}; only an issued report can be withdrawn")
+                raise RegisterError(f"report {number} is {rep.status}; only an issued report can "
+                                    "be withdrawn")
             rep.status = "withdrawn"
             rep.reason = reason
-            self._audit(s, "withdraw", number, reason, who, dt.datetime.now(dt.timezone.utc).replace(microsecond=0))
+            self._audit(s, "withdraw", number, reason, who,
+                        dt.datetime.now(dt.timezone.utc).replace(microsecond=0))
 
     # -- reading (the database's own driver: metro.core.record.register.reading) ------------------
     def _unknown(self, number: str) -> RegisterError:
@@ -500,7 +525,8 @@ class Register:
     def context(self, number: str) -> tuple[dict[str, Any], str]:
         """The stored render context and template name of a report (for re-rendering)."""
         with self._reader() as r:
-            found = r.records(("context", "template"), "SELECT context, template FROM reports WHERE number = ?",
+            found = r.records(("context", "template"),
+                              "SELECT context, template FROM reports WHERE number = ?",
                               [number])
         if not found:
             raise self._unknown(number)
@@ -522,7 +548,8 @@ class Register:
             if since and r.sqlite:  # SQLite keeps dates as ISO text, which sorts as the dates do
                 params[-1] = since.isoformat()
             where = ("WHERE " + " AND ".join(conditions)) if conditions else ""
-            return [report_dict(x, results=results) for x in r.reports(where, params, results=results)]
+            return [report_dict(x, results=results) for x
+                    in r.reports(where, params, results=results)]
 
     def verify(self) -> list[dict[str, Any]]:
         """Every report file against its stored SHA-256: ``ok``, ``modified`` or ``missing``."""
@@ -534,7 +561,8 @@ class Register:
             else:
                 found = sha256_file(p)
                 state = "ok" if found == r["report_sha256"] else "modified"
-            out.append({"number": r["number"], "status": r["status"], "path": str(p), "check": state,
+            out.append({"number": r["number"], "status": r["status"], "path": str(p),
+                        "check": state,
                         "sha256_stored": r["report_sha256"], "sha256_found": found})
         return out
 
@@ -574,20 +602,27 @@ def _utc(t: dt.datetime) -> dt.datetime:
 
 def report_dict(r, *, results: bool = False, audit: list | None = None) -> dict[str, Any]:
     d = {
-        "number": r.number, "seq": r.seq, "scope": r.scope, "status": r.status, "supersedes": r.supersedes,
-        "superseded_by": r.superseded_by, "reason": r.reason, "standard": r.standard, "items": list(r.items),
+        "number": r.number, "seq": r.seq, "scope": r.scope, "status": r.status,
+        "supersedes": r.supersedes,
+        "superseded_by": r.superseded_by, "reason": r.reason, "standard": r.standard,
+        "items": list(r.items),
         "options": r.options,
-        "device": {"id": r.device_id, "manufacturer": r.device_manufacturer, "model": r.device_model,
+        "device": {"id": r.device_id, "manufacturer": r.device_manufacturer,
+                   "model": r.device_model,
                    "serial": r.device_serial},
         "customer": r.customer, "measurement_date": r.measurement_date.isoformat(),
-        "issued_at": _utc(r.issued_at).isoformat(), "issued_by": r.issued_by, "simulated": r.simulated,
+        "issued_at": _utc(r.issued_at).isoformat(), "issued_by": r.issued_by,
+        "simulated": r.simulated,
         "allow_expired": r.allow_expired, "lab": r.lab, "report_path": r.report_path,
-        "report_sha256": r.report_sha256, "manifest_sha256": r.manifest_sha256, "template": r.template,
+        "report_sha256": r.report_sha256, "manifest_sha256": r.manifest_sha256,
+        "template": r.template,
     }
     if results:
         d["results"] = [{"item": x.item, "key": x.key, "quantity": x.quantity, "symbol": x.symbol,
-                         "value": x.value, "u": x.u, "U": x.U, "k": x.k, "nu_eff": x.nu_eff, "unit": x.unit,
-                         "reported": {"value": x.value_text, "U": x.U_text}, "reportable": x.reportable,
+                         "value": x.value, "u": x.u, "U": x.U, "k": x.k, "nu_eff": x.nu_eff,
+                         "unit": x.unit,
+                         "reported": {"value": x.value_text, "U": x.U_text},
+                         "reportable": x.reportable,
                          "reason": x.reason} for x in r.results]
         d["verdicts"] = r.verdicts
         d["budgets"] = r.budgets

@@ -70,7 +70,8 @@ class Report(Base):
     #: everything the renderer needs to write the same report again (metro report NUMBER)
     context: Mapped[dict[str, Any]] = mapped_column(JSON, nullable=False, default=dict)
 
-    results: Mapped[list["ResultRow"]] = relationship(back_populates="report", order_by="ResultRow.id",
+    results: Mapped[list["ResultRow"]] = relationship(back_populates="report",
+                                                      order_by="ResultRow.id",
                                                       cascade="all, delete-orphan")
 
 

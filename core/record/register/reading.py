@@ -1,11 +1,11 @@
 """Reading the register through the database's own driver (``sqlite3``, ``psycopg``), without
 SQLAlchemy.
 
-The commands that only read — ``register list/show/verify``, ``report N``, ``history`` — spend
-most of their time importing SQLAlchemy's ORM (about 0.5 s of CPU), not querying.  They read the
-same tables with plain ``SELECT`` statements here and get rows with the attributes of the ORM
-models (:mod:`metro.core.record.register.models`), so :func:`metro.core.record.register.report_dict` serves both.
-Writing (issuing, amending, withdrawing) and migrations stay with SQLAlchemy and Alembic.
+The commands that only read — ``register list/show/verify``, ``report N``, ``history`` — spend most
+of their time importing SQLAlchemy's ORM (about 0.5 s of CPU), not querying. They read the same
+tables with plain ``SELECT`` statements here and get rows with the attributes of the ORM models
+(:mod:`metro.core.record.register.models`), so :func:`metro.core.record.register.report_dict` serves
+both. Writing (issuing, amending, withdrawing) and migrations stay with SQLAlchemy and Alembic.
 
 Column values come back as the ORM gives them: JSON columns parsed (SQLite keeps them as text,
 PostgreSQL's driver parses them), dates and datetimes as :mod:`datetime` values (SQLite keeps
@@ -22,17 +22,26 @@ from types import SimpleNamespace
 from typing import Any, Iterator, Sequence
 
 #: the ``reports`` columns a listing reads (``context``, the largest, only when asked for)
-REPORT_COLUMNS = ("id", "number", "scope", "seq", "status", "supersedes", "superseded_by", "reason", "standard",
-                  "items", "options", "device_id", "device_manufacturer", "device_model", "device_serial",
-                  "customer", "measurement_date", "issued_at", "issued_by", "simulated", "allow_expired", "lab",
-                  "verdicts", "budgets", "provenance", "manifest_sha256", "equipment", "report_path",
+REPORT_COLUMNS = ("id", "number", "scope", "seq", "status", "supersedes", "superseded_by", "reason",
+                  "standard",
+                  "items", "options", "device_id", "device_manufacturer", "device_model",
+                  "device_serial",
+                  "customer", "measurement_date", "issued_at", "issued_by", "simulated",
+                  "allow_expired", "lab",
+                  "verdicts", "budgets", "provenance", "manifest_sha256", "equipment",
+                  "report_path",
                   "report_sha256", "template")
-#: the ``results`` columns, as (column, attribute): the expanded uncertainty's column is ``U_expanded``
-RESULT_COLUMNS = (("report_id", "report_id"), ("item", "item"), ("key", "key"), ("quantity", "quantity"),
-                  ("symbol", "symbol"), ("value", "value"), ("u", "u"), ("U_expanded", "U"), ("k", "k"),
-                  ("nu_eff", "nu_eff"), ("unit", "unit"), ("value_text", "value_text"), ("U_text", "U_text"),
+#: the ``results`` columns, as (column, attribute): the expanded uncertainty's column is
+#``U_expanded``
+RESULT_COLUMNS = (("report_id", "report_id"), ("item", "item"), ("key", "key"),
+                  ("quantity", "quantity"),
+                  ("symbol", "symbol"), ("value", "value"), ("u", "u"), ("U_expanded", "U"),
+                  ("k", "k"),
+                  ("nu_eff", "nu_eff"), ("unit", "unit"), ("value_text", "value_text"),
+                  ("U_text", "U_text"),
                   ("reportable", "reportable"), ("reason", "reason"))
-JSON_COLUMNS = frozenset({"items", "options", "lab", "verdicts", "budgets", "provenance", "equipment", "context"})
+JSON_COLUMNS = frozenset({"items", "options", "lab", "verdicts", "budgets", "provenance",
+                          "equipment", "context"})
 BOOL_COLUMNS = frozenset({"simulated", "allow_expired", "reportable"})
 DATE_COLUMNS = frozenset({"measurement_date"})
 DATETIME_COLUMNS = frozenset({"issued_at", "at"})
@@ -91,12 +100,16 @@ class Reader:
                 for row in self.rows(sql, params)]
 
     def revision(self) -> str | None:
-        """The schema revision (Alembic's ``alembic_version``); None when there are no register tables."""
+        """The schema revision (Alembic's ``alembic_version``); None when there are no register
+        tables."""
         if self.sqlite:
-            there = self.rows("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'alembic_version'")
+            there = (
+                self.rows("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = "
+                          "'alembic_version'")
+            )
         else:
-            there = self.rows("SELECT count(*) FROM information_schema.tables WHERE table_name = 'alembic_version' "
-                              "AND table_schema = current_schema()")
+            there = self.rows("SELECT count(*) FROM information_schema.tables WHERE table_name = "
+                              "'alembic_version' AND table_schema = current_schema()")
         if not there[0][0]:
             return None
         found = self.rows("SELECT version_num FROM alembic_version")
@@ -106,15 +119,18 @@ class Reader:
     def reports(self, where: str = "", params: Sequence[Any] = (), *, results: bool = False,
                 context: bool = False) -> list[SimpleNamespace]:
         cols = REPORT_COLUMNS + (("context",) if context else ())
-        reps = self.records(cols, f"SELECT {_names(cols)} FROM reports {where} ORDER BY issued_at, id", params)
+        reps = self.records(cols,
+                            f"SELECT {_names(cols)} FROM reports {where} ORDER BY issued_at, id",
+                            params)
         for r in reps:
             r.results = []
         if results and reps:
             by_id = {r.id: r for r in reps}
             marks = ", ".join("?" for _ in by_id)
             cols, names = zip(*RESULT_COLUMNS)
-            for x in self.records(cols, f"SELECT {_names(cols)} FROM results WHERE report_id IN ({marks}) "
-                                  "ORDER BY id", list(by_id), names):
+            for x in self.records(cols,
+                                  f"SELECT {_names(cols)} FROM results WHERE report_id IN "
+                                  f"({marks}) ORDER BY id", list(by_id), names):
                 by_id[x.report_id].results.append(x)
         return reps
 
@@ -125,7 +141,8 @@ class Reader:
 
 
 def _names(columns: Sequence[str]) -> str:
-    """A select list; quoted, as SQLAlchemy created them (PostgreSQL folds ``U_expanded`` otherwise)."""
+    """A select list; quoted, as SQLAlchemy created them (PostgreSQL folds ``U_expanded``
+    otherwise)."""
     return ", ".join(f'"{c}"' for c in columns)
 
 

@@ -29,7 +29,8 @@ HEADER = struct.Struct("<6sHdI16s")
 class AcmeTable:
     """The samples of one ``.acme`` file."""
 
-    def __init__(self, path: Path, columns: dict, units: dict, sha256: str, interval_s: float) -> None:
+    def __init__(self, path: Path, columns: dict, units: dict, sha256: str,
+                 interval_s: float) -> None:
         self.path = path
         self.columns = columns
         self.units = units
@@ -40,7 +41,8 @@ class AcmeTable:
 
 
 def write_acme(path, samples, interval_s: float, unit: str = "P") -> Path:
-    """Write ``samples`` (whole numbers) as an ``.acme`` file (ACME's logger does this on the bench)."""
+    """Write ``samples`` (whole numbers) as an ``.acme`` file (ACME's logger does this on the
+    bench)."""
     a = np.asarray(samples)
     if not np.all(a == np.round(a)) or np.abs(a).max(initial=0) >= 2**31:
         raise ValueError("ACME files hold 32-bit whole-number samples")
@@ -54,18 +56,23 @@ def read_acme(path, **_kw) -> AcmeTable:
     path = Path(path)
     raw = path.read_bytes()
     if len(raw) < HEADER.size:
-        raise DataError(str(path), "header", f"file is {len(raw)} bytes, shorter than the {HEADER.size}-byte header")
+        raise DataError(str(path), "header",
+                        f"file is {len(raw)} bytes, shorter than the {HEADER.size}-byte header")
     magic, version, interval, n, unit = HEADER.unpack_from(raw)
     if magic != MAGIC:
         raise DataError(str(path), "header.magic", f"not an ACME file (magic {magic!r})")
     if version != 1:
-        raise DataError(str(path), "header.version", f"format version {version} is not supported (only 1)")
+        raise DataError(str(path), "header.version",
+                        f"format version {version} is not supported (only 1)")
     if not interval > 0:
-        raise DataError(str(path), "header.interval", f"sample interval {interval!r} s is not positive")
+        raise DataError(str(path), "header.interval",
+                        f"sample interval {interval!r} s is not positive")
     body = raw[HEADER.size:]
     if len(body) != 4 * n:
-        raise DataError(str(path), "samples", f"the header announces {n} samples but the file holds "
-                        f"{len(body) / 4:g}", hint="the file is truncated or was not closed by the logger")
+        raise DataError(str(path), "samples",
+                        f"the header announces {n} samples but the file holds "
+                        f"{len(body) / 4:g}",
+                        hint="the file is truncated or was not closed by the logger")
     data = np.frombuffer(body, dtype="<i4").astype(np.float64)
     data.flags.writeable = False
     unit_text = unit.rstrip(b"\0").decode("ascii", errors="replace")

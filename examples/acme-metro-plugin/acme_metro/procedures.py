@@ -39,9 +39,11 @@ class AcmeBiasStability10s(Procedure):
     item = "ACME.BS10"
     title = "ACME 10 s-smoothed bias stability"
     clause = "ACME AT-7 3.2"
-    metrics = (Metric("Bs_ma10", "10 s-smoothed bias stability", "B_s,10", "deg/h", "AT-7 3.2", "(1)"),)
+    metrics = (Metric("Bs_ma10", "10 s-smoothed bias stability", "B_s,10", "deg/h", "AT-7 3.2",
+                      "(1)"),)
     requires = (SegmentRequirement("static", "gyro at rest, IRA up (as GB/T 45570 D.5.1.2)",
-                                   conditions={"orientation": ""}, columns={"output": OUTPUT_UNITS}),)
+                                   conditions={"orientation": ""},
+                                   columns={"output": OUTPUT_UNITS}),)
     options = (Option("window", "10 s", "s", "moving-average length"),)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
@@ -67,7 +69,8 @@ class AcmeBiasStability10s(Procedure):
                                  Q_(bs / math.sqrt(2 * (m - 1)), "deg/h"), m - 1)]
         budget = UncertaintyBudget("B_s,10", "deg/h", rows, coverage=Coverage.fixed(2.0))
         res = Result(self.metrics[0], Q_(bs, "deg/h"), budget.combined, budget,
-                     note=f"GB/T 45570 D.41 with non-overlapping means: {d41 * conv.magnitude:.4g} °/h")
+                     note=f"GB/T 45570 D.41 with non-overlapping means: {d41 * conv.magnitude:.4g} "
+                     "°/h")
         return Outcome(self.standard, self.item, self.title, self.clause, [res], segments=[seg.id],
                        options={k: str(v) for k, v in opts.items()})
 

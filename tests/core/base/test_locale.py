@@ -1,6 +1,6 @@
-"""The message catalog and :class:`metro.core.base.locale.Text`: text made far from the document (notes,
-reasons, warnings, budget components) stays English everywhere but a document, which writes it
-in its language."""
+"""The message catalog and :class:`metro.core.base.locale.Text`: text made far from the document
+(notes, reasons, warnings, budget components) stays English everywhere but a document, which writes
+it in its language."""
 
 from __future__ import annotations
 
@@ -66,7 +66,8 @@ def _places(text: str) -> set[str]:
 
 
 def test_every_translation_has_the_places_of_its_message_id():
-    """A msgstr must fill the same {fields} as its msgid (else a document would fall back to English)."""
+    """A msgstr must fill the same {fields} as its msgid (else a document would fall back to
+    English)."""
     bad = {k: v for k, v in catalog("zh").items() if _places(k) != _places(v)}
     assert not bad, bad
 
@@ -100,20 +101,22 @@ def test_no_message_is_built_from_an_f_string():
     import metro.core
 
     root = Path(metro.core.__file__).resolve().parent.parent
-    bad = [f"{p.relative_to(root)}" for p in root.rglob("*.py") if ".venv" not in p.parts and "tests" not in p.parts
+    bad = [f"{p.relative_to(root)}" for p in root.rglob("*.py") if ".venv" not in p.parts
+           and "tests" not in p.parts
            if re.search(r"\bmsg\(\s*f[\"']", p.read_text(encoding="utf-8"))]
     assert not bad, bad
 
 
 def test_no_catalog_entry_claims_percent_formatting():
-    """metro's messages are ``str.format`` templates ({fields}); an entry flagged ``python-format`` makes
-    ``msgfmt --check`` read "50 % 判定" as a broken %-directive and refuse the catalog — three such
-    flags had crept in with hand-appended entries."""
+    """metro's messages are ``str.format`` templates ({fields}); an entry flagged ``python-format``
+    makes ``msgfmt --check`` read "50 % 判定" as a broken %-directive and refuse the catalog — three
+    such flags had crept in with hand-appended entries."""
     from importlib import resources
 
     path = resources.files("metro.core.base.locale") / "zh" / "LC_MESSAGES" / "metro.po"
     lines = path.read_text(encoding="utf-8").splitlines()
-    flagged = [n for n, line in enumerate(lines, 1) if line.startswith("#,") and "python-format" in line]
+    flagged = [n for n, line in enumerate(lines, 1) if line.startswith("#,") and "python-format"
+               in line]
     assert not flagged, f"metro.po lines {flagged}: drop the python-format flag"
 
 
@@ -134,7 +137,8 @@ def test_catalog_reader_gives_what_babel_gives():
         return {m.id: m.string for m in cat if m.id and isinstance(m.id, str) and m.string
                 and not m.fuzzy and not m.context}
 
-    shipped = (resources.files("metro.core.base.locale") / "zh" / "LC_MESSAGES" / "metro.po").read_text(encoding="utf-8")
+    shipped = (resources.files("metro.core.base.locale") / "zh" / "LC_MESSAGES"
+               / "metro.po").read_text(encoding="utf-8")
     assert read_catalog(shipped) == babel_map(shipped)
     assert len(read_catalog(shipped)) > 1000
     edges = "\n".join([
@@ -147,6 +151,8 @@ def test_catalog_reader_gives_what_babel_gives():
         'msgctxt "ctx"', 'msgid "in context"', 'msgstr "上下文"', "",
         'msgid "one"', 'msgid_plural "many"', 'msgstr[0] "一"', "",
         '#~ msgid "obsolete"', '#~ msgstr "废"', "",
-        "# a translator's comment", "#: core/x.py:1", 'msgid "after comments"', 'msgstr "注释后"', ""])
+        "# a translator's comment", "#: core/x.py:1", 'msgid "after comments"', 'msgstr "注释后"',
+        ""])
     assert read_catalog(edges) == babel_map(edges) == {
-        "plain": "平", "continued over lines": "续行", 'say "q"\n\ttab': '引"号"\n', "after comments": "注释后"}
+        "plain": "平", "continued over lines": "续行", 'say "q"\n\ttab': '引"号"\n',
+        "after comments": "注释后"}

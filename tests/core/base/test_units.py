@@ -18,7 +18,8 @@ from metro.core.base.units import Q_, angle_power, check_dimension, fmt_unit, pa
 @pytest.mark.parametrize(
     "text, pretty",
     [
-        ("°/h", "°/h"), ("(°)/h", "°/h"), ("deg/s", "°/s"), ("°/√h", "°/√h"), ("″", "″"), ("′", "′"),
+        ("°/h", "°/h"), ("(°)/h", "°/h"), ("deg/s", "°/s"), ("°/√h", "°/√h"), ("″", "″"),
+        ("′", "′"),
         ("P", "P"), ("LSB", "LSB"), ("mV", "mV"), ("mT", "mT"), ("ppm", "ppm"), ("1/degC", "1/°C"),
         ("P/″", "P/″"), ("(°/h)/mT", "°/h/mT"),
     ],
@@ -51,7 +52,8 @@ def test_angle_kinds_are_not_confused():
 def test_number_without_unit_is_refused_with_an_example():
     with pytest.raises(UnitError) as exc:
         parse_quantity(3.0, dimension="deg/h", file="manifest.toml", field="site.rate")
-    assert "manifest.toml" in str(exc.value) and "site.rate" in str(exc.value) and "3.0 deg/h" in str(exc.value)
+    assert "manifest.toml" in str(exc.value) and "site.rate" in str(
+        exc.value) and "3.0 deg/h" in str(exc.value)
 
 
 def test_unparseable_quantity():
@@ -74,18 +76,22 @@ def _units_in_subprocess(env_extra: dict[str, str]) -> subprocess.CompletedProce
             "from metro.core.base.units import Q_, ureg\n"
             "print(Q_(1, 'deg/h').to('arcsec/s').magnitude, ureg.cache_folder)\n")
     env = dict(os.environ) | env_extra
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                          timeout=120)
 
 
 def test_the_definitions_cache_is_per_installation_and_never_fatal(tmp_path):
     """pint's shared ':auto:' cache remembers where another environment's definitions file was,
     and breaks every environment once that one is deleted (pint #1572). metro's cache folder is
-    keyed by this pint's location and version; a folder that cannot be used costs time, not the run."""
+    keyed by this pint's location and version; a folder that cannot be used costs time, not the
+    run."""
     import hashlib
 
     import pint
 
-    key = hashlib.sha256(f"{Path(pint.__file__).resolve().parent}|{pint.__version__}".encode()).hexdigest()[:16]
+    key = (
+        hashlib.sha256(f"{Path(pint.__file__).resolve().parent}|{pint.__version__}".encode()).hexdigest()[:16]
+    )
     good = _units_in_subprocess({"METRO_CACHE_DIR": str(tmp_path / "c")})
     assert good.returncode == 0, good.stderr
     value, folder = good.stdout.split()
@@ -114,10 +120,13 @@ def test_convert_options_gives_each_field_its_type():
         v: tuple = (1.0, 2.0, 3.0)
         m: tuple = ((1.0, 0.0), (0.0, 1.0))
 
-    got = convert_options("T", T, {"x": "0.25", "n": "7", "on": "yes", "name": 5, "v": "4, 5,6", "m": [[2, 0], [0, 2]],
+    got = convert_options("T", T, {"x": "0.25", "n": "7", "on": "yes", "name": 5, "v": "4, 5,6",
+                                   "m": [[2, 0], [0, 2]],
                                    "other": "left out"})
-    assert got == {"x": 0.25, "n": 7, "on": True, "name": "5", "v": (4.0, 5.0, 6.0), "m": ([2, 0], [0, 2])}
+    assert got == {"x": 0.25, "n": 7, "on": True, "name": "5", "v": (4.0, 5.0, 6.0),
+                   "m": ([2, 0], [0, 2])}
     assert isinstance(got["x"], float) and isinstance(got["n"], int)
-    for bad in ({"x": "nan"}, {"n": "2.5"}, {"on": "maybe"}, {"v": "1,2"}, {"m": "1,0,0,1"}, {"x": True}):
+    for bad in ({"x": "nan"}, {"n": "2.5"}, {"on": "maybe"}, {"v": "1,2"}, {"m": "1,0,0,1"},
+                {"x": True}):
         with pytest.raises(DataError):
             convert_options("T", T, bad)

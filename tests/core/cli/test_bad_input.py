@@ -8,55 +8,73 @@ from pathlib import Path
 
 import pytest
 
-#: the factory's pulse scale factor, whatever the simulated device's value (``scale_factor = "5 P/″"``)
+#: the factory's pulse scale factor, whatever the simulated device's value (``scale_factor = "5
+#P/″"``)
 _SCALE = re.compile(r'^scale_factor = "[^"]* P/″"\n', re.M)
 
 CASES = {
     # name: (manifest_edit, data_edit, extra CLI args, [fragments expected in the message])
     "truncated file": (None, lambda c: c[: c.rindex(",") + 1], (), ["static.csv"]),
-    "non-numeric cell": (None, lambda c: c.replace("\n5,", "\n5,abc", 1).replace("abc", "abc", 1), (),
+    "non-numeric cell": (None, lambda c: c.replace("\n5,", "\n5,abc", 1).replace("abc", "abc", 1),
+                         (),
                          ["static.csv", "abc"]),
     "NaN": (None, lambda c: _replace_value(c, 10, "nan"), (), ["static.csv"]),
     "Inf": (None, lambda c: _replace_value(c, 20, "inf"), (), ["static.csv"]),
-    "non-monotonic time": (None, lambda c: c.replace("\n7,", "\n5,", 1), (), ["static.csv", "time"]),
+    "non-monotonic time": (None, lambda c: c.replace("\n7,", "\n5,", 1), (),
+                           ["static.csv", "time"]),
     "duplicated time": (None, lambda c: c.replace("\n8,", "\n7,", 1), (), ["static.csv", "time"]),
     "gap in time": (None, lambda c: _gap(c), (), ["static.csv", "time"]),
-    "interval disagrees with manifest": (lambda m: m.replace('sample_interval = "1 s"', 'sample_interval = "2 s"'),
+    "interval disagrees with manifest": (lambda m: m.replace('sample_interval = "1 s"',
+                                                             'sample_interval = "2 s"'),
                                          None, (), ["static.csv"]),
     "header unit disagrees with manifest": (
-        lambda m: m.replace("[segments.conditions]", '[segments.units]\noutput = "LSB"\n[segments.conditions]'),
+        lambda m: m.replace("[segments.conditions]",
+                            '[segments.units]\noutput = "LSB"\n[segments.conditions]'),
         None, (), ["static.csv", "output", "LSB"]),
     "header unit of the wrong kind": (None, lambda c: c.replace("output [P]", "output [Hz]", 1), (),
                                       ["static.csv", "output", "Hz"]),
-    "missing manifest field (site.latitude)": (lambda m: m.replace('latitude = "39.98°"\n', ""), None, (),
+    "missing manifest field (site.latitude)": (lambda m: m.replace('latitude = "39.98°"\n', ""),
+                                               None, (),
                                                ["manifest.toml", "site.latitude"]),
-    "missing device id": (lambda m: m.replace('id = "LG-0042"\n', ""), None, (), ["manifest.toml", "device.id"]),
-    "missing environment temperature": (lambda m: m.replace('temperature = "20.5 °C"\n', ""), None, (),
+    "missing device id": (lambda m: m.replace('id = "LG-0042"\n', ""), None, (),
+                          ["manifest.toml", "device.id"]),
+    "missing environment temperature": (lambda m: m.replace('temperature = "20.5 °C"\n', ""), None,
+                                        (),
                                         ["manifest.toml", "environment.temperature"]),
-    "latitude without a unit": (lambda m: m.replace('latitude = "39.98°"', "latitude = 39.98"), None, (),
+    "latitude without a unit": (lambda m: m.replace('latitude = "39.98°"', "latitude = 39.98"),
+                                None, (),
                                 ["manifest.toml", "site.latitude"]),
-    "latitude in metres": (lambda m: m.replace('latitude = "39.98°"', 'latitude = "39.98 m"'), None, (),
+    "latitude in metres": (lambda m: m.replace('latitude = "39.98°"', 'latitude = "39.98 m"'), None,
+                           (),
                            ["manifest.toml", "site.latitude"]),
-    "latitude out of range": (lambda m: m.replace('latitude = "39.98°"', 'latitude = "123°"'), None, (),
+    "latitude out of range": (lambda m: m.replace('latitude = "39.98°"', 'latitude = "123°"'), None,
+                              (),
                               ["site.latitude"]),
-    "invalid TOML": (lambda m: m.replace("[device]", "[device"), None, (), ["manifest.toml", "TOML"]),
-    "samples file missing": (lambda m: m.replace('file = "static.csv"', 'file = "nope.csv"'), None, (),
+    "invalid TOML": (lambda m: m.replace("[device]", "[device"), None, (),
+                     ["manifest.toml", "TOML"]),
+    "samples file missing": (lambda m: m.replace('file = "static.csv"', 'file = "nope.csv"'), None,
+                             (),
                              ["nope.csv"]),
-    "missing condition (orientation)": (lambda m: m.replace('orientation = "IRA up"\n', ""), None, (),
+    "missing condition (orientation)": (lambda m: m.replace('orientation = "IRA up"\n', ""), None,
+                                        (),
                                         ["orientation"]),
     "pulse output without scale factor": (
         lambda m: _SCALE.sub("", m, count=1).replace('scale_factor_U = "4 ppm"\n', ""), None, (),
         ["device.scale_factor"]),
-    "scale factor of the wrong kind": (lambda m: _SCALE.sub('scale_factor = "5000 LSB/(°/s)"\n', m, count=1),
+    "scale factor of the wrong kind": (lambda m: _SCALE.sub('scale_factor = "5000 LSB/(°/s)"\n', m,
+                                                            count=1),
                                        None, (), ["device.scale_factor"]),
     "calibration without U": (lambda m: m.replace('U = "2e-7"\n', ""), None, (), ["calibration.U"]),
-    "duplicate segment id": (lambda m: m + '\n[[segments]]\nid = "static-1"\nkind = "static"\nfile = "static.csv"\n'
-                             'sample_interval = "1 s"\n', None, (), ["static-1"]),
+    "duplicate segment id": (lambda m: m
+                             + '\n[[segments]]\nid = "static-1"\nkind = "static"\nfile = '
+                             '"static.csv"\nsample_interval = "1 s"\n', None, (), ["static-1"]),
     "too few points for the τ range": (None, lambda c: "\n".join(c.splitlines()[:60]) + "\n", (),
                                        ["static.csv", "τ"]),
     "zero-variance data": (None, lambda c: _constant(c), (), ["static.csv", "zero"]),
     "unknown option": (None, None, ("-o", "smoothing=3"), ["smoothing"]),
-    "simulated flag that is not a boolean": (lambda m: m.replace('id = "TEST-001"\n', 'id = "TEST-001"\nsimulated = "no"\n'),
+    "simulated flag that is not a boolean": (lambda m: m.replace('id = "TEST-001"\n',
+                                                                 'id = "TEST-001"\nsimulated = '
+                                                                 '"no"\n'),
                                              None, (), ["manifest.toml", "campaign.simulated"]),
 }
 
@@ -82,9 +100,11 @@ def _constant(csv: str) -> str:
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_bad_input_is_a_clear_error_and_writes_nothing(case, tmp_path, campaign_factory, run_cli):
     medit, dedit, extra, fragments = CASES[case]
-    manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.5, manifest_edit=medit, data_edit=dedit)
+    manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.5, manifest_edit=medit,
+                                               data_edit=dedit)
     out = tmp_path / "out"
-    code, stdout, stderr = run_cli("run", "--standard", "gbt45570", "--item", "D.5.6", "--data", str(manifest),
+    code, stdout, stderr = run_cli("run", "--standard", "gbt45570", "--item", "D.5.6", "--data",
+                                   str(manifest),
                                    "--out", str(out), "--no-progress", *extra)
     assert code == 2, (case, stdout, stderr)
     assert "error" in stderr
@@ -102,8 +122,10 @@ def test_json_error_document(tmp_path, campaign_factory, run_cli):
     import json
 
     manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.2,
-                                               manifest_edit=lambda m: m.replace('latitude = "39.98°"\n', ""))
-    code, stdout, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--json",
+                                               manifest_edit=lambda m: m.replace('latitude = '
+                                                   '"39.98°"\n', ""))
+    code, stdout, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
+                              "--json",
                               "--no-report")
     assert code == 2
     doc = json.loads(stdout)
@@ -127,11 +149,13 @@ def test_every_item_option_refuses_a_bad_value_clearly():
             for opt in cls.options:
                 for value in ("abc", "-1", "0", "1e9"):
                     try:
-                        run_items(pm, std, [cls.item], options={opt.name: value}, station_options=station)
+                        run_items(pm, std, [cls.item], options={opt.name: value},
+                                  station_options=station)
                     except MetroError:
                         pass
                     except Exception as exc:  # noqa: BLE001 - what the test looks for
-                        failures.append(f"{std} {cls.item} -o {opt.name}={value}: {type(exc).__name__}: {exc}"[:160])
+                        failures.append(f"{std} {cls.item} -o {opt.name}={value}: "
+                                        f"{type(exc).__name__}: {exc}"[:160])
     assert not failures, "\n".join(failures)
 
 
@@ -210,5 +234,6 @@ def test_removing_any_key_of_the_worked_example_is_a_clear_error_or_a_run(tmp_pa
         except MetroError:
             pass
         except Exception as exc:  # noqa: BLE001 - what the test looks for
-            failures.append(f"without {'.'.join(map(str, path))}: {type(exc).__name__}: {exc}"[:160])
+            failures.append(f"without {'.'.join(map(str, path))}: {type(exc).__name__}: {exc}"[
+                :160])
     assert tried > 30 and not failures, "\n".join(failures)

@@ -20,7 +20,8 @@ def d21(tmp_path_factory):
 
     root = tmp_path_factory.mktemp("d21")
     assert main(["acquire", "-s", "gbt45570", "-i", "D.2.1", "--station", "simulated-digital",
-                 "--station-option", "duration_scale=0.02", "--out", str(root / "c"), "--no-progress"]) == 0
+                 "--station-option", "duration_scale=0.02", "--out", str(root / "c"),
+                 "--no-progress"]) == 0
     return root / "c"
 
 
@@ -32,7 +33,8 @@ def _copy(src, dst, edit):
 
 
 def _run_json(run_cli, m, item="D.2.1", *extra):
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", item, "--data", str(m), "--json", "--no-report",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", item, "--data", str(m), "--json",
+                             "--no-report",
                              "--no-progress", *extra)
     return code, (json.loads(out) if out.strip() else None), err
 
@@ -45,15 +47,18 @@ def _result(doc, key):
 def test_a_required_role_missing_is_an_error_naming_it(tmp_path, d21, run_cli):
     m = _copy(d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"', 'role = "turntable"'))
     out_dir = tmp_path / "out"
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.2.1", "--data", str(m), "--out", str(out_dir),
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.2.1", "--data", str(m), "--out",
+                             str(out_dir),
                              "--no-progress")
     assert code == 2
-    assert str(m) in err and "'rate_table'" in err and "gbt45570:D.2.1" in err and "Traceback" not in err
+    assert str(
+        m) in err and "'rate_table'" in err and "gbt45570:D.2.1" in err and "Traceback" not in err
     assert not out_dir.exists()
 
 
 def test_a_misspelt_required_role_is_named_with_did_you_mean(tmp_path, d21, run_cli):
-    m = _copy(d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"', 'role = "rate_tabel"'))
+    m = _copy(d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"',
+                                                       'role = "rate_tabel"'))
     code, _, err = _run_json(run_cli, m)
     assert code == 2 and "did you mean 'rate_table'" in err and "SIM-" in err
 
@@ -63,7 +68,8 @@ def test_an_old_role_spelling_keeps_its_budget_row(tmp_path, d21, run_cli):
     # gyro's K (≈ 5000 LSB/(°/s)) sits on table B.1's limit ≥ 5000, so its verdict is a draw
     code, ref, err = _run_json(run_cli, d21 / "manifest.toml")
     assert code in (0, 3, 4), err
-    m = _copy(d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"', 'role = "rate-table"'))
+    m = _copy(d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"',
+                                                       'role = "rate-table"'))
     code, doc, err = _run_json(run_cli, m)
     assert code in (0, 3, 4), err
     assert _result(doc, "K")["U"] == _result(ref, "K")["U"]  # the rate-table row is still there
@@ -81,16 +87,20 @@ def test_a_calibration_u_of_the_wrong_kind_is_an_error(tmp_path, d21, run_cli, r
     text = (d21 / "manifest.toml").read_text(encoding="utf-8")
     # the U line of the equipment with this role
     block = re.search(rf'role = "{role}".*?\nU = "[^"]*"', text, re.S).group(0)
-    m = _copy(d21, tmp_path / "c", lambda t: t.replace(block, re.sub(r'U = "[^"]*"$', f'U = "{U}"', block)))
+    m = _copy(d21, tmp_path / "c", lambda t: t.replace(block, re.sub(r'U = "[^"]*"$', f'U = "{U}"',
+                                                                     block)))
     code, _, err = _run_json(run_cli, m)
     assert code == 2 and "Traceback" not in err
-    assert str(m) in err and role in err and accepted in err and re.search(r"equipment\[\d+\]\.calibration\.U", err)
+    assert str(m) in err and role in err and accepted in err and re.search(
+        r"equipment\[\d+\]\.calibration\.U", err)
 
 
 def test_the_counter_u_in_celsius_on_a_recorded_campaign(tmp_path, campaign_factory, run_cli):
     m = campaign_factory.write_campaign(tmp_path / "c", hours=0.2,
-                                        manifest_edit=lambda t: t.replace('U = "2e-7"', 'U = "2 °C"'))
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--no-report", "--no-progress")
+                                        manifest_edit=lambda t: t.replace(
+                                            'U = "2e-7"', 'U = "2 °C"'))
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m),
+                             "--no-report", "--no-progress")
     assert code == 2
     assert "field 'equipment[1].calibration.U'" in err and "'CNT-1'" in err and "counter" in err
 
@@ -114,7 +124,7 @@ def test_an_optional_role_absent_is_a_note_row(tmp_path, campaign_factory, run_c
 
 def test_the_requirement_reads_required():
     """EquipmentRequirement.required is read: an item marked required refuses the campaign."""
-    from metro.core.run.manifest import check_equipment
+    from metro.core.run.equipment_check import check_equipment
     from metro.core.base.errors import DataError
     from metro.core.model.campaign import Campaign, DeviceUnderTest
     from metro.core.model.procedure import EquipmentRequirement
@@ -126,7 +136,8 @@ def test_the_requirement_reads_required():
         def qualified_id():
             return "x:1"
 
-    camp = Campaign(id="c", device=DeviceUnderTest(id="d"), equipment=[], environment={}, site={}, segments=[],
+    camp = Campaign(id="c", device=DeviceUnderTest(id="d"), equipment=[], environment={}, site={},
+                    segments=[],
                     source="m.toml")
     with pytest.raises(DataError, match="requires equipment with the role 'rate_table'"):
         check_equipment(camp, P)

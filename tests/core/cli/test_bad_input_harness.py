@@ -38,9 +38,11 @@ def _campaign(tmp_path: Path, edit) -> Path:
     ("\\u000B", "000B", "control character"),
 ])
 def test_text_a_report_cannot_hold_is_refused_at_load(tmp_path, run_cli, escape, code, kind):
-    manifest = _campaign(tmp_path, lambda t: t.replace('model = "RLG-90"', f'model = "RLG{escape}-90"', 1))
+    manifest = _campaign(tmp_path, lambda t: t.replace('model = "RLG-90"',
+                                                       f'model = "RLG{escape}-90"', 1))
     out = tmp_path / "out"
-    rc, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.2", "--data", str(manifest), "--out", str(out),
+    rc, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.2", "--data", str(manifest), "--out",
+                         str(out),
                          "--no-progress")
     assert rc == 2, err
     assert str(manifest) in err and "field 'device.model'" in err
@@ -49,7 +51,8 @@ def test_text_a_report_cannot_hold_is_refused_at_load(tmp_path, run_cli, escape,
 
 
 def test_a_key_and_a_record_section_are_checked_too(tmp_path, run_cli):
-    manifest = _campaign(tmp_path, lambda t: t + '\n[inspection]\nnote = "ok"\n\n[[inspection.items]]\n'
+    manifest = _campaign(tmp_path, lambda t: t
+                         + '\n[inspection]\nnote = "ok"\n\n[[inspection.items]]\n'
                                                  '"名称\\uFFFF" = "外观"\n')
     rc, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.2", "--data", str(manifest), "--out",
                          str(tmp_path / "out"), "--no-progress")
@@ -83,7 +86,8 @@ def full_disk(tmp_path):
     mnt.mkdir()
     if os.geteuid() != 0:
         pytest.skip("mounting a small tmpfs needs root")
-    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)], capture_output=True, text=True)
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)],
+                          capture_output=True, text=True)
     if done.returncode != 0:
         pytest.skip(f"cannot mount a tmpfs here: {done.stderr.strip()}")
 
@@ -98,17 +102,21 @@ def full_disk(tmp_path):
 
 def _metro(*args: str, cwd: Path) -> subprocess.CompletedProcess:
     env = {k: v for k, v in os.environ.items() if not k.startswith("METRO_")}
-    return subprocess.run([sys.executable, "-m", "metro", *args], capture_output=True, text=True, cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "metro", *args], capture_output=True, text=True,
+                          cwd=cwd, env=env,
                           timeout=600)
 
 
 def test_acquire_onto_a_full_disk(full_disk, tmp_path):
     disk = full_disk(40)
-    p = _metro("acquire", "-s", "gbt45570", "-i", "D.5.6", "--out", str(disk / "lot" / "dev1"), "--no-progress",
+    p = _metro("acquire", "-s", "gbt45570", "-i", "D.5.6", "--out", str(disk / "lot" / "dev1"),
+               "--no-progress",
                cwd=tmp_path)
     assert p.returncode == 2, p.stderr
-    assert "Traceback" not in p.stderr and "the disk is full" in p.stderr and str(disk / "lot" / "dev1") in p.stderr
-    assert sorted(x.name for x in disk.iterdir()) == ["filler"]  # not lot/, no hidden temporary folder
+    assert "Traceback" not in p.stderr and "the disk is full" in p.stderr and str(
+        disk / "lot" / "dev1") in p.stderr
+    # not lot/, no hidden temporary folder
+    assert sorted(x.name for x in disk.iterdir()) == ["filler"]
 
 
 def test_acquire_disk_full_in_process(tmp_path, run_cli, monkeypatch):
@@ -119,7 +127,8 @@ def test_acquire_disk_full_in_process(tmp_path, run_cli, monkeypatch):
 
     monkeypatch.setattr(campaign_writer, "atomic_write_text", full)
     out = tmp_path / "lot" / "dev1"
-    rc, _, err = run_cli("acquire", "-s", "gbt45570", "-i", "D.5.6", "--out", str(out), "--no-progress")
+    rc, _, err = run_cli("acquire", "-s", "gbt45570", "-i", "D.5.6", "--out", str(out),
+                         "--no-progress")
     assert rc == 2 and "the disk is full" in err and str(out) in err, err
     assert list(tmp_path.iterdir()) == []
 
@@ -143,7 +152,8 @@ def test_run_out_leaves_nothing_when_the_disk_fills(tmp_path, run_cli, monkeypat
                     reason="the PDF needs LibreOffice")
 def test_run_out_pdf_onto_a_full_disk(full_disk, tmp_path):
     disk = full_disk(600)  # room for the PDF, not for the .docx after it
-    p = _metro("run", "-s", "gbt45570", "-i", "D.5.6", "--pdf", "--out", str(disk / "out"), "--no-progress",
+    p = _metro("run", "-s", "gbt45570", "-i", "D.5.6", "--pdf", "--out", str(disk / "out"),
+               "--no-progress",
                cwd=tmp_path)
     assert p.returncode in (0, 2), p.stderr
     if p.returncode == 2:
@@ -178,7 +188,8 @@ def _exits(path: Path, runs: int) -> list[tuple[int, str]]:
     env = {k: v for k, v in os.environ.items() if k != "METRO_NO_PYARROW"}
     out = []
     for _ in range(runs):
-        p = subprocess.run([sys.executable, "-c", _READ, str(path)], capture_output=True, text=True, env=env,
+        p = subprocess.run([sys.executable, "-c", _READ, str(path)], capture_output=True, text=True,
+                           env=env,
                            timeout=120)
         out.append((p.returncode, p.stderr))
     return out
@@ -196,8 +207,10 @@ def test_extra_cell_diagnosis_hands_no_python_callback_to_arrow(tmp_path, monkey
         return real(*args, **kw)
 
     monkeypatch.setattr(pcsv, "ParseOptions", options)
-    monkeypatch.setattr(pcsv, "open_csv", lambda *a, **k: pytest.fail("the streaming reader is not needed"))
-    with pytest.raises(DataError, match=r"row 10000 \(line 10001\) has 3 cell\(s\) but the header has 2"):
+    monkeypatch.setattr(pcsv, "open_csv", lambda *a,
+                        **k: pytest.fail("the streaming reader is not needed"))
+    with pytest.raises(DataError,
+                       match=r"row 10000 \(line 10001\) has 3 cell\(s\) but the header has 2"):
         read_samples(_bad_csv(tmp_path))
     assert handlers and not any(handlers)
 
@@ -276,9 +289,11 @@ def test_numpy_reader_values_equal_pyarrow_bit_for_bit(tmp_path, monkeypatch):
 
     rng = np.random.default_rng(29)
     n = 60_000
-    cols = {"time": np.arange(n) * 0.001, "wide": rng.normal(size=n) * 10.0 ** rng.integers(-40, 40, n),
+    cols = {"time": np.arange(n) * 0.001,
+            "wide": rng.normal(size=n) * 10.0 ** rng.integers(-40, 40, n),
             "round": np.round(rng.normal(size=n), 3), "count": rng.integers(-2**53, 2**53, n),
-            "mid": rng.random(n) * 10.0 ** rng.integers(-25, 25, n)}  # 17 digits: the long-double path
+            # 17 digits: the long-double path
+            "mid": rng.random(n) * 10.0 ** rng.integers(-25, 25, n)}
     cols["wide"][:6] = [0.0, -0.0, 5e-324, 1.7976931348623157e308, 1e22, 1e23]
     units = {"time": "s", "wide": "P", "round": "P", "count": "1", "mid": "P"}
     texts = {}
@@ -290,7 +305,9 @@ def test_numpy_reader_values_equal_pyarrow_bit_for_bit(tmp_path, monkeypatch):
             monkeypatch.setenv("METRO_NO_PYARROW", read_mode)
             t = read_samples(path)
             for k, v in cols.items():
-                assert t.columns[k].tobytes() == np.asarray(v, dtype=np.float64).tobytes(), (mode, read_mode, k)
+                assert t.columns[k].tobytes() == np.asarray(v,
+                                                            dtype=np.float64).tobytes(), (
+                                                                mode, read_mode, k)
     assert texts[""] == texts["1"]  # the same file with or without pyarrow
 
 

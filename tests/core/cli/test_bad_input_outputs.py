@@ -19,12 +19,14 @@ def camp(tmp_path, campaign_factory):
 
 
 def _snapshot(root):
-    return {str(p.relative_to(root)): (hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else "dir")
+    return {str(p.relative_to(root)): (hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file()
+                                       else "dir")
             for p in sorted(root.rglob("*"))}
 
 
 def _run(run_cli, manifest, *extra):
-    return run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--no-progress", *extra)
+    return run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--no-progress",
+                   *extra)
 
 
 def _refused(run_cli, tmp_path, manifest, *extra, field="--report", where=None):
@@ -43,19 +45,22 @@ def test_the_manifest_is_never_the_report(tmp_path, campaign_factory, run_cli, f
     m = campaign_factory.write_campaign(tmp_path / "c", hours=0.1)
     docx_manifest = m.with_name("manifest.docx")  # a manifest whose name has the report's suffix
     m.rename(docx_manifest)
-    err = _refused(run_cli, tmp_path, docx_manifest, "--report", str(docx_manifest), *force, where=docx_manifest)
+    err = _refused(run_cli, tmp_path, docx_manifest, "--report", str(docx_manifest), *force,
+                   where=docx_manifest)
     assert "input of this run" in err
 
 
 def test_a_samples_file_is_never_the_report(tmp_path, campaign_factory, run_cli):
     m = campaign_factory.write_campaign(tmp_path / "c", hours=0.1)
     (m.parent / "static.csv").rename(m.parent / "static.docx")
-    m.write_text(m.read_text(encoding="utf-8").replace("static.csv", "static.docx"), encoding="utf-8")
+    m.write_text(m.read_text(encoding="utf-8").replace("static.csv", "static.docx"),
+                 encoding="utf-8")
     err = _refused(run_cli, tmp_path, m, "--report", str(m.parent / "static.docx"), "--force")
     assert "input of this run" in err
 
 
-@pytest.mark.parametrize("suffix", [".doc", ".txt", ".csv", ".toml", ""])  # .docx and .pdf are written
+# .docx and .pdf are written
+@pytest.mark.parametrize("suffix", [".doc", ".txt", ".csv", ".toml", ""])
 def test_the_suffix_decides_the_format(tmp_path, camp, run_cli, suffix):
     err = _refused(run_cli, tmp_path, camp, "--report", str(tmp_path / f"r{suffix}"))
     assert ".docx" in err
@@ -115,7 +120,8 @@ def test_an_unwritable_folder_is_refused_before_evaluation(tmp_path, camp, run_c
     ro = tmp_path / "ro"
     ro.mkdir()
     real = os.access
-    monkeypatch.setattr(outputs.os, "access", lambda p, mode: False if os.fspath(p) == str(ro) else real(p, mode))
+    monkeypatch.setattr(outputs.os, "access", lambda p, mode: False if os.fspath(p) == str(ro)
+                        else real(p, mode))
     err = _refused(run_cli, tmp_path, camp, "--out", str(ro / "reports"), field="--out")
     assert "not writable" in err
 

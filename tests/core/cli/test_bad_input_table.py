@@ -85,7 +85,8 @@ def _columns(root: Path) -> tuple[np.ndarray, np.ndarray]:
 
 def _point_to(root: Path, name: str) -> None:
     m = root / "manifest.toml"
-    m.write_text(m.read_text(encoding="utf-8").replace('file = "static.csv"', f'file = "{name}"'), encoding="utf-8")
+    m.write_text(m.read_text(encoding="utf-8").replace('file = "static.csv"', f'file = "{name}"'),
+                 encoding="utf-8")
     (root / "static.csv").unlink()
 
 
@@ -177,20 +178,26 @@ BIG = "D" * 1_000_000
 MANIFEST_CASES = [
     # file-level
     ("toml-syntax", M('id = "TEST-001"', 'id = "TEST-001'), "manifest", None),
-    ("format-version", M('format = "metro-campaign/1"', 'format = "metro-campaign/2"'), "manifest", "format"),
+    ("format-version", M('format = "metro-campaign/1"', 'format = "metro-campaign/2"'), "manifest",
+     "format"),
     ("format-number", M('format = "metro-campaign/1"', "format = 1"), "manifest", "format"),
     ("not-utf8", MB(b'format = "metro-campaign/1"\n[device]\nid = "\xff\xfe"\n'), "manifest", None),
     ("empty-manifest", MB(b""), "manifest", "[device]"),
     ("binary-manifest", MB(bytes(range(256)) * 4), "manifest", None),
     # [campaign]
-    ("campaign-not-table", M("[campaign]\n", 'campaign = "x"\n[campaign-old]\n'), "manifest", "campaign"),
-    ("campaign-simulated-text", M('operator = "test"', 'operator = "test"\nsimulated = "yes"'), "manifest",
+    ("campaign-not-table", M("[campaign]\n", 'campaign = "x"\n[campaign-old]\n'), "manifest",
+     "campaign"),
+    ("campaign-simulated-text", M('operator = "test"', 'operator = "test"\nsimulated = "yes"'),
+     "manifest",
      "campaign.simulated"),
     ("campaign-date-text", M('operator = "test"', 'measurement_date = "yesterday"'), "manifest",
      "campaign.measurement_date"),
-    ("campaign-old-date-bad", M('operator = "test"', 'date = "20/11/2026"'), "manifest", "campaign.date"),
-    ("campaign-received-bad", M('operator = "test"', 'date_received = 42'), "manifest", "campaign.date_received"),
-    ("campaign-operator-number", M('operator = "test"', "operator = 42"), "manifest", "campaign.operator"),
+    ("campaign-old-date-bad", M('operator = "test"', 'date = "20/11/2026"'), "manifest",
+     "campaign.date"),
+    ("campaign-received-bad", M('operator = "test"', 'date_received = 42'), "manifest",
+     "campaign.date_received"),
+    ("campaign-operator-number", M('operator = "test"', "operator = 42"), "manifest",
+     "campaign.operator"),
     ("campaign-lab-array", M('operator = "test"', 'lab = ["a", "b"]'), "manifest", "campaign.lab"),
     ("campaign-both-spellings", M('operator = "test"', 'lab = "A"\nlaboratory = "B"'), "manifest",
      "campaign.laboratory"),
@@ -198,7 +205,8 @@ MANIFEST_CASES = [
      "campaign.tested_by"),
     ("campaign-customer-long", M('operator = "test"', 'customer = "' + "c" * 600 + '"'), "manifest",
      "campaign.customer"),
-    ("campaign-id-long", M('id = "TEST-001"', 'id = "' + "i" * 501 + '"'), "manifest", "campaign.id"),
+    ("campaign-id-long", M('id = "TEST-001"', 'id = "' + "i" * 501 + '"'), "manifest",
+     "campaign.id"),
     # [device]
     ("device-missing", M("[device]", "[devices]"), "manifest", "[device]"),
     ("device-not-table", TOP('device = "x"', M("[device]", "[device-old]")), "manifest", "device"),
@@ -208,37 +216,55 @@ MANIFEST_CASES = [
     ("device-id-bool", M('id = "LG-0042"', "id = true"), "manifest", "device.id"),
     ("device-id-1MB", M('id = "LG-0042"', f'id = "{BIG}"'), "manifest", "device.id"),
     ("device-id-control", M('id = "LG-0042"', 'id = "LG\\u0007"'), "manifest", "device.id"),
-    ("device-model-long", M('model = "RLG-90"', 'model = "' + "m" * 501 + '"'), "manifest", "device.model"),
+    ("device-model-long", M('model = "RLG-90"', 'model = "' + "m" * 501 + '"'), "manifest",
+     "device.model"),
     ("device-serial-table", M('serial = "0042"', "serial = {a = 1}"), "manifest", "device.serial"),
-    ("device-technology", M('technology = "laser"', 'technology = "quantum"'), "manifest", "device.technology"),
+    ("device-technology", M('technology = "laser"', 'technology = "quantum"'), "manifest",
+     "device.technology"),
     ("device-output", M('output = "pulse"', 'output = "optical"'), "manifest", "device.output"),
     ("device-application", M('application = "aviation"', 'application = "submarine"'), "manifest",
      "device.application"),
-    ("device-application-typo", M('application = "aviation"', 'application = "aviaton"'), "manifest",
+    ("device-application-typo", M('application = "aviation"', 'application = "aviaton"'),
+     "manifest",
      "device.application"),
-    ("K-zero", M('scale_factor = "', 'scale_factor = "0 P/″" #'), "manifest", "device.scale_factor"),
-    ("K-negative", M('scale_factor = "', 'scale_factor = "-0.8 P/″" #'), "manifest", "device.scale_factor"),
-    ("K-inf", M('scale_factor = "', 'scale_factor = "inf P/″" #'), "manifest", "device.scale_factor"),
-    ("K-nan", M('scale_factor = "', 'scale_factor = "nan P/″" #'), "manifest", "device.scale_factor"),
-    ("K-bananas", M('scale_factor = "', 'scale_factor = "0.8 bananas" #'), "manifest", "device.scale_factor"),
-    ("K-array", M('scale_factor = "', 'scale_factor = [1, 2] #'), "manifest", "device.scale_factor"),
+    ("K-zero", M('scale_factor = "', 'scale_factor = "0 P/″" #'), "manifest",
+     "device.scale_factor"),
+    ("K-negative", M('scale_factor = "', 'scale_factor = "-0.8 P/″" #'), "manifest",
+     "device.scale_factor"),
+    ("K-inf", M('scale_factor = "', 'scale_factor = "inf P/″" #'), "manifest",
+     "device.scale_factor"),
+    ("K-nan", M('scale_factor = "', 'scale_factor = "nan P/″" #'), "manifest",
+     "device.scale_factor"),
+    ("K-bananas", M('scale_factor = "', 'scale_factor = "0.8 bananas" #'), "manifest",
+     "device.scale_factor"),
+    ("K-array", M('scale_factor = "', 'scale_factor = [1, 2] #'), "manifest",
+     "device.scale_factor"),
     ("K-bool", M('scale_factor = "', 'scale_factor = true #'), "manifest", "device.scale_factor"),
-    ("K-wrong-kind", M('scale_factor = "', 'scale_factor = "0.8 P/s" #'), "manifest", "device.scale_factor"),
+    ("K-wrong-kind", M('scale_factor = "', 'scale_factor = "0.8 P/s" #'), "manifest",
+     "device.scale_factor"),
     ("K-U-negative", M('scale_factor_U = "4 ppm"', 'scale_factor_U = "-4 ppm"'), "manifest",
      "device.scale_factor_U"),
-    ("K-U-inf", M('scale_factor_U = "4 ppm"', 'scale_factor_U = "inf ppm"'), "manifest", "device.scale_factor_U"),
-    ("K-k-zero", M("scale_factor_k = 2", "scale_factor_k = 0"), "manifest", "device.scale_factor_k"),
-    ("K-k-text", M("scale_factor_k = 2", 'scale_factor_k = "two"'), "manifest", "device.scale_factor_k"),
-    ("K-k-negative", M("scale_factor_k = 2", "scale_factor_k = -2"), "manifest", "device.scale_factor_k"),
-    ("device-prop-inf", M('technology = "laser"', 'technology = "laser"\nnonlinearity = "inf ppm"'), "manifest",
+    ("K-U-inf", M('scale_factor_U = "4 ppm"', 'scale_factor_U = "inf ppm"'), "manifest",
+     "device.scale_factor_U"),
+    ("K-k-zero", M("scale_factor_k = 2", "scale_factor_k = 0"), "manifest",
+     "device.scale_factor_k"),
+    ("K-k-text", M("scale_factor_k = 2", 'scale_factor_k = "two"'), "manifest",
+     "device.scale_factor_k"),
+    ("K-k-negative", M("scale_factor_k = 2", "scale_factor_k = -2"), "manifest",
+     "device.scale_factor_k"),
+    ("device-prop-inf", M('technology = "laser"', 'technology = "laser"\nnonlinearity = "inf ppm"'),
+     "manifest",
      "device.nonlinearity"),
-    ("device-prop-nan-float", M('technology = "laser"', 'technology = "laser"\ngain = nan'), "manifest",
+    ("device-prop-nan-float", M('technology = "laser"', 'technology = "laser"\ngain = nan'),
+     "manifest",
      "device.gain"),
-    ("device-prop-long-text", M('technology = "laser"', 'technology = "laser"\nnote = "' + "n" * 600 + '"'),
+    ("device-prop-long-text", M('technology = "laser"', 'technology = "laser"\nnote = "' + "n"
+                                * 600 + '"'),
      "manifest", "device.note"),
     # [environment]
     ("env-missing", M("[environment]", "[environ]"), "manifest", "[environment]"),
-    ("env-temperature-missing", M('temperature = "20.5 °C"\n', ""), "manifest", "environment.temperature"),
+    ("env-temperature-missing", M('temperature = "20.5 °C"\n', ""), "manifest",
+     "environment.temperature"),
     ("env-temperature-inf", M('temperature = "20.5 °C"', 'temperature = "inf °C"'), "manifest",
      "environment.temperature"),
     ("env-temperature-nan", M('temperature = "20.5 °C"', 'temperature = "nan °C"'), "manifest",
@@ -253,74 +279,106 @@ MANIFEST_CASES = [
      "environment.temperature"),
     ("env-temperature-bare", M('temperature = "20.5 °C"', "temperature = 20"), "manifest",
      "environment.temperature"),
-    ("env-humidity-150", M('humidity = "45 %"', 'humidity = "150 %"'), "manifest", "environment.humidity"),
-    ("env-humidity-negative", M('humidity = "45 %"', 'humidity = "-5 %"'), "manifest", "environment.humidity"),
+    ("env-humidity-150", M('humidity = "45 %"', 'humidity = "150 %"'), "manifest",
+     "environment.humidity"),
+    ("env-humidity-negative", M('humidity = "45 %"', 'humidity = "-5 %"'), "manifest",
+     "environment.humidity"),
     ("env-humidity-missing", M('humidity = "45 %"\n', ""), "manifest", "environment.humidity"),
-    ("env-humidity-kelvin", M('humidity = "45 %"', 'humidity = "45 K"'), "manifest", "environment.humidity"),
-    ("env-pressure-negative", M('humidity = "45 %"', 'humidity = "45 %"\npressure = "-1 kPa"'), "manifest",
+    ("env-humidity-kelvin", M('humidity = "45 %"', 'humidity = "45 K"'), "manifest",
+     "environment.humidity"),
+    ("env-pressure-negative", M('humidity = "45 %"', 'humidity = "45 %"\npressure = "-1 kPa"'),
+     "manifest",
      "environment.pressure"),
-    ("env-pressure-mass", M('humidity = "45 %"', 'humidity = "45 %"\npressure = "101 kg"'), "manifest",
+    ("env-pressure-mass", M('humidity = "45 %"', 'humidity = "45 %"\npressure = "101 kg"'),
+     "manifest",
      "environment.pressure"),
-    ("env-field-nan", M('humidity = "45 %"', 'humidity = "45 %"\nmagnetic_field = "nan mT"'), "manifest",
+    ("env-field-nan", M('humidity = "45 %"', 'humidity = "45 %"\nmagnetic_field = "nan mT"'),
+     "manifest",
      "environment.magnetic_field"),
     # [site]
     ("site-missing", M("[site]", "[place]"), "manifest", "[site]"),
     ("site-latitude-missing", M('latitude = "', 'lat = "'), "manifest", "site.latitude"),
     ("site-latitude-95", M('latitude = "39.98°"', 'latitude = "95°"'), "manifest", "site.latitude"),
-    ("site-latitude-metres", M('latitude = "39.98°"', 'latitude = "39.98 m"'), "manifest", "site.latitude"),
-    ("site-latitude-inf", M('latitude = "39.98°"', 'latitude = "inf°"'), "manifest", "site.latitude"),
-    ("site-latitude-nan", M('latitude = "39.98°"', 'latitude = "nan°"'), "manifest", "site.latitude"),
-    ("site-latitude-bare", M('latitude = "39.98°"', "latitude = 39.98"), "manifest", "site.latitude"),
-    ("site-latU-negative", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "-0.001°"'), "manifest",
+    ("site-latitude-metres", M('latitude = "39.98°"', 'latitude = "39.98 m"'), "manifest",
+     "site.latitude"),
+    ("site-latitude-inf", M('latitude = "39.98°"', 'latitude = "inf°"'), "manifest",
+     "site.latitude"),
+    ("site-latitude-nan", M('latitude = "39.98°"', 'latitude = "nan°"'), "manifest",
+     "site.latitude"),
+    ("site-latitude-bare", M('latitude = "39.98°"', "latitude = 39.98"), "manifest",
+     "site.latitude"),
+    ("site-latU-negative", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "-0.001°"'),
+     "manifest",
      "site.latitude_uncertainty"),
-    ("site-latU-metres", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "1 m"'), "manifest",
+    ("site-latU-metres", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "1 m"'),
+     "manifest",
      "site.latitude_uncertainty"),
-    ("site-latU-text", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "small"'), "manifest",
+    ("site-latU-text", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "small"'),
+     "manifest",
      "site.latitude_uncertainty"),
-    ("site-latU-huge", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "100°"'), "manifest",
+    ("site-latU-huge", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "100°"'),
+     "manifest",
      "site.latitude_uncertainty"),
-    ("site-altitude-inf", M('latitude_uncertainty = "0.001°"', 'latitude_uncertainty = "0.001°"\naltitude = "inf m"'),
+    ("site-altitude-inf", M('latitude_uncertainty = "0.001°"',
+                            'latitude_uncertainty = "0.001°"\naltitude = "inf m"'),
      "manifest", "site.altitude"),
     # [[equipment]]
     ("equipment-not-array", TOP("equipment = 3", M("[[equipment]]", "[[equipment-x]]", 2),
-                                                 M("[equipment.calibration]", "[equipment-x.calibration]")), "manifest", "equipment"),
+                                                 M("[equipment.calibration]",
+                                                   "[equipment-x.calibration]")), "manifest",
+     "equipment"),
     ("equipment-id-missing", M('id = "PLAT-1"\n', ""), "manifest", "equipment[0].id"),
     ("equipment-id-empty", M('id = "PLAT-1"', 'id = ""'), "manifest", "equipment[0].id"),
     ("equipment-id-duplicate", M('id = "CNT-1"', 'id = "PLAT-1"'), "manifest", "equipment[1].id"),
     ("equipment-role-missing", M('role = "platform"\n', ""), "manifest", "equipment[0].role"),
     ("equipment-role-bool", M('role = "platform"', "role = true"), "manifest", "equipment[0].role"),
-    ("equipment-prop-inf", M('levelness = "2″"', 'levelness = "inf″"'), "manifest", "equipment[0].levelness"),
-    ("calibration-not-table", M("[equipment.calibration]\n", "calibration = 5\n[equipment-calibration]\n"),
+    ("equipment-prop-inf", M('levelness = "2″"', 'levelness = "inf″"'), "manifest",
+     "equipment[0].levelness"),
+    ("calibration-not-table", M("[equipment.calibration]\n",
+                                "calibration = 5\n[equipment-calibration]\n"),
      "manifest", "equipment[1].calibration"),
     ("calibration-U-missing", M('U = "2e-7"\n', ""), "manifest", "equipment[1].calibration.U"),
-    ("calibration-U-negative", M('U = "2e-7"', 'U = "-2e-7"'), "manifest", "equipment[1].calibration.U"),
+    ("calibration-U-negative", M('U = "2e-7"', 'U = "-2e-7"'), "manifest",
+     "equipment[1].calibration.U"),
     ("calibration-U-inf", M('U = "2e-7"', 'U = "inf"'), "manifest", "equipment[1].calibration.U"),
-    ("calibration-U-bananas", M('U = "2e-7"', 'U = "2 bananas"'), "manifest", "equipment[1].calibration.U"),
+    ("calibration-U-bananas", M('U = "2e-7"', 'U = "2 bananas"'), "manifest",
+     "equipment[1].calibration.U"),
     ("calibration-U-array", M('U = "2e-7"', "U = [1]"), "manifest", "equipment[1].calibration.U"),
-    ("calibration-U-celsius", M('U = "2e-7"', 'U = "2 °C"'), "manifest", "equipment[1].calibration.U"),
-    ("calibration-U-seconds", M('U = "2e-7"', 'U = "1 ns"'), "manifest", "equipment[1].calibration.U"),
+    ("calibration-U-celsius", M('U = "2e-7"', 'U = "2 °C"'), "manifest",
+     "equipment[1].calibration.U"),
+    ("calibration-U-seconds", M('U = "2e-7"', 'U = "1 ns"'), "manifest",
+     "equipment[1].calibration.U"),
     ("calibration-k-zero", M("\nk = 2\n", "\nk = 0\n"), "manifest", "equipment[1].calibration.k"),
-    ("calibration-k-negative", M("\nk = 2\n", "\nk = -2\n"), "manifest", "equipment[1].calibration.k"),
-    ("calibration-k-bool", M("\nk = 2\n", "\nk = true\n"), "manifest", "equipment[1].calibration.k"),
+    ("calibration-k-negative", M("\nk = 2\n", "\nk = -2\n"), "manifest",
+     "equipment[1].calibration.k"),
+    ("calibration-k-bool", M("\nk = 2\n", "\nk = true\n"), "manifest",
+     "equipment[1].calibration.k"),
     ("calibration-k-inf", M("\nk = 2\n", "\nk = inf\n"), "manifest", "equipment[1].calibration.k"),
-    ("K-k-bool", M("scale_factor_k = 2", "scale_factor_k = true"), "manifest", "device.scale_factor_k"),
-    ("K-k-inf", M("scale_factor_k = 2", "scale_factor_k = inf"), "manifest", "device.scale_factor_k"),
-    ("calibration-due-text", M("due = 2027-08-15", 'due = "next year"'), "manifest", "equipment[1].calibration.due"),
-    ("calibration-distribution", M('lab = "NIM"', 'lab = "NIM"\ndistribution = "cauchy"'), "manifest",
+    ("K-k-bool", M("scale_factor_k = 2", "scale_factor_k = true"), "manifest",
+     "device.scale_factor_k"),
+    ("K-k-inf", M("scale_factor_k = 2", "scale_factor_k = inf"), "manifest",
+     "device.scale_factor_k"),
+    ("calibration-due-text", M("due = 2027-08-15", 'due = "next year"'), "manifest",
+     "equipment[1].calibration.due"),
+    ("calibration-distribution", M('lab = "NIM"', 'lab = "NIM"\ndistribution = "cauchy"'),
+     "manifest",
      "equipment[1].calibration.distribution"),
     ("calibration-certificate-missing", M('certificate = "CNAS-2026-0815"\n', ""), "manifest",
      "equipment[1].calibration.certificate"),
     # [[segments]]
     ("segments-missing", M("[[segments]]", "[[segment]]"), "manifest", "segments"),
-    ("segments-not-array", M("[[segments]]\nid", "segments = 3\n[[segx]]\nid"), "manifest", "segments"),
+    ("segments-not-array", M("[[segments]]\nid", "segments = 3\n[[segx]]\nid"), "manifest",
+     "segments"),
     ("segment-id-missing", M('id = "static-1"\n', ""), "manifest", "segments[0].id"),
     ("segment-id-empty", M('id = "static-1"', 'id = ""'), "manifest", "segments[0].id"),
     ("segment-kind-missing", M('kind = "static"\n', ""), "manifest", "segments[0].kind"),
     ("segment-file-missing", M('file = "static.csv"\n', ""), "manifest", "segments[0].file"),
-    ("segment-file-absent", M('file = "static.csv"', 'file = "nope.csv"'), "manifest", "segments[0].file"),
+    ("segment-file-absent", M('file = "static.csv"', 'file = "nope.csv"'), "manifest",
+     "segments[0].file"),
     ("segment-file-folder", M('file = "static.csv"', 'file = "."'), "manifest", "segments[0].file"),
     ("segment-file-suffix", M('file = "static.csv"', 'file = "manifest.toml"'), "manifest", None),
-    ("interval-missing", M('sample_interval = "1 s"\n', ""), "manifest", "segments[0].sample_interval"),
+    ("interval-missing", M('sample_interval = "1 s"\n', ""), "manifest",
+     "segments[0].sample_interval"),
     ("interval-zero", M('sample_interval = "1 s"', 'sample_interval = "0 s"'), "manifest",
      "segments[0].sample_interval"),
     ("interval-negative", M('sample_interval = "1 s"', 'sample_interval = "-1 s"'), "manifest",
@@ -329,33 +387,47 @@ MANIFEST_CASES = [
      "segments[0].sample_interval"),
     ("interval-metres", M('sample_interval = "1 s"', 'sample_interval = "1 m"'), "manifest",
      "segments[0].sample_interval"),
-    ("interval-bare", M('sample_interval = "1 s"', "sample_interval = 1"), "manifest", "segments[0].sample_interval"),
-    ("interval-vs-time", M('sample_interval = "1 s"', 'sample_interval = "2 s"'), "samples", "time"),
-    ("conditions-not-table", M("[segments.conditions]\n", "conditions = 1\n[segments-conditions]\n"), "manifest",
+    ("interval-bare", M('sample_interval = "1 s"', "sample_interval = 1"), "manifest",
+     "segments[0].sample_interval"),
+    ("interval-vs-time", M('sample_interval = "1 s"', 'sample_interval = "2 s"'), "samples",
+     "time"),
+    ("conditions-not-table", M("[segments.conditions]\n",
+                               "conditions = 1\n[segments-conditions]\n"), "manifest",
      "segments[0].conditions"),
     ("condition-orientation", M('orientation = "IRA up"', 'orientation = "sideways"'), "manifest",
      "segments.static-1.conditions.orientation"),
     ("condition-temperature-inf", M('temperature = "20 °C"', 'temperature = "inf °C"'), "manifest",
      "segments[0].conditions.temperature"),
-    ("units-bananas", M('warmup = "30 min"', 'warmup = "30 min"\n[segments.units]\noutput = "bananas"'), "manifest",
+    ("units-bananas", M('warmup = "30 min"',
+                        'warmup = "30 min"\n[segments.units]\noutput = "bananas"'), "manifest",
      "segments[0].units.output"),
-    ("units-number", M('warmup = "30 min"', 'warmup = "30 min"\n[segments.units]\noutput = 5'), "manifest",
+    ("units-number", M('warmup = "30 min"', 'warmup = "30 min"\n[segments.units]\noutput = 5'),
+     "manifest",
      "segments[0].units.output"),
-    ("units-not-header", M('warmup = "30 min"', 'warmup = "30 min"\n[segments.units]\noutput = "LSB"'), "samples",
+    ("units-not-header", M('warmup = "30 min"',
+                           'warmup = "30 min"\n[segments.units]\noutput = "LSB"'), "samples",
      "output"),
-    ("segment-id-duplicate", M("[[segments]]", '[[segments]]\nid = "static-1"\nkind = "static"\nfile = "static.csv"\n'
-                               'sample_interval = "1 s"\n\n[[segments]]'), "manifest", "segments[1].id"),
+    ("segment-id-duplicate", M("[[segments]]",
+                               '[[segments]]\nid = "static-1"\nkind = "static"\nfile = '
+                               '"static.csv"\nsample_interval = "1 s"\n\n[[segments]]'), "manifest",
+     "segments[1].id"),
     # [specification]
-    ("spec-wrong-kind", M("[[segments]]", '[specification]\nB0 = "<= 5 ppm"\n\n[[segments]]'), "manifest",
+    ("spec-wrong-kind", M("[[segments]]", '[specification]\nB0 = "<= 5 ppm"\n\n[[segments]]'),
+     "manifest",
      "specification.B0"),
-    ("spec-wrong-kind-Kn", M("[[segments]]", '[specification]\nKn = "<= 5 °/h"\n\n[[segments]]'), "manifest",
+    ("spec-wrong-kind-Kn", M("[[segments]]", '[specification]\nKn = "<= 5 °/h"\n\n[[segments]]'),
+     "manifest",
      "specification.Kn"),
-    ("spec-unreadable", M("[[segments]]", '[specification]\nB0 = "about 5"\n\n[[segments]]'), "manifest",
+    ("spec-unreadable", M("[[segments]]", '[specification]\nB0 = "about 5"\n\n[[segments]]'),
+     "manifest",
      "specification.B0"),
-    ("spec-number", M("[[segments]]", "[specification]\nB0 = 5\n\n[[segments]]"), "manifest", "specification.B0"),
-    ("spec-rule", M("[[segments]]", '[specification]\ndecision_rule = "lenient"\n\n[[segments]]'), "manifest",
+    ("spec-number", M("[[segments]]", "[specification]\nB0 = 5\n\n[[segments]]"), "manifest",
+     "specification.B0"),
+    ("spec-rule", M("[[segments]]", '[specification]\ndecision_rule = "lenient"\n\n[[segments]]'),
+     "manifest",
      "specification.decision_rule"),
-    ("spec-inverted-range", M("[[segments]]", '[specification]\nB0 = "1 .. -1 °/h"\n\n[[segments]]'), "manifest",
+    ("spec-inverted-range", M("[[segments]]",
+                              '[specification]\nB0 = "1 .. -1 °/h"\n\n[[segments]]'), "manifest",
      "specification.B0"),
 ]
 
@@ -369,10 +441,13 @@ CSV_CASES = [
     ("csv-minus-1e308", CELL("-1e308"), "samples", "output"),
     ("csv-1e309", CELL("1e309"), "samples", "output [P], row 5"),
     ("csv-header-no-unit", C(lambda t: t.replace("output [P]", "output", 1)), "samples", None),
-    ("csv-header-bananas", C(lambda t: t.replace("output [P]", "output [bananas]", 1)), "samples", "output"),
-    ("csv-header-celsius", C(lambda t: t.replace("output [P]", "output [°C]", 1)), "samples", "output"),
+    ("csv-header-bananas", C(lambda t: t.replace("output [P]", "output [bananas]", 1)), "samples",
+     "output"),
+    ("csv-header-celsius", C(lambda t: t.replace("output [P]", "output [°C]", 1)), "samples",
+     "output"),
     ("csv-no-output", C(lambda t: t.replace("output [P]", "signal [P]", 1)), "samples", "output"),
-    ("csv-duplicate-column", C(lambda t: t.replace("time [s],output [P]", "output [P],output [P]", 1)), "samples",
+    ("csv-duplicate-column", C(lambda t: t.replace("time [s],output [P]", "output [P],output [P]",
+                                                   1)), "samples",
      None),
     ("csv-time-metres", C(lambda t: t.replace("time [s]", "time [m]", 1)), "samples", "time"),
     ("csv-time-backwards", C(lambda t: t.replace("\n5,", "\n3,", 1)), "samples", "time"),
@@ -386,38 +461,49 @@ CSV_CASES = [
     ("csv-not-utf8", CB(lambda b: b.replace(b"output", b"outp\xffut", 1)), "samples", None),
     ("csv-nul-byte", CB(lambda b: b.replace(b"\n5,", b"\n5\x00,", 1)), "samples", None),
     ("csv-two-rows", CB(lambda b: b"\n".join(b.split(b"\n")[:3]) + b"\n"), "samples", "output"),
-    ("csv-comment-after-header", C(lambda t: t.replace("\n5,", "\n# note\n5,", 1)), "samples", None),
+    ("csv-comment-after-header", C(lambda t: t.replace("\n5,", "\n# note\n5,", 1)), "samples",
+     None),
     ("csv-hex", CELL("0x10"), "samples", "output [P], row 5"),
 ]
 
 NPY_CASES = [
     ("npy-no-units", NPY(lambda t, o: _struct(t, o, names=("time", "output"))), "samples", None),
     ("npy-plain-array", NPY(lambda t, o: o), "samples", None),
-    ("npy-nan", NPY(lambda t, o: _struct(t, np.where(np.arange(o.size) == 4, np.nan, o))), "samples", None),
-    ("npy-1e20", NPY(lambda t, o: _struct(t, np.where(np.arange(o.size) == 4, 1e20, o))), "samples", "output"),
-    ("npy-1e308", NPY(lambda t, o: _struct(t, np.where(np.arange(o.size) == 4, -1e308, o))), "samples", "output"),
+    ("npy-nan", NPY(lambda t, o: _struct(t, np.where(np.arange(o.size) == 4, np.nan, o))),
+     "samples", None),
+    ("npy-1e20", NPY(lambda t, o: _struct(t, np.where(np.arange(o.size) == 4, 1e20, o))), "samples",
+     "output"),
+    ("npy-1e308", NPY(lambda t, o: _struct(t, np.where(np.arange(o.size) == 4, -1e308, o))),
+     "samples", "output"),
     ("npy-object", NPY(lambda t, o: np.array([{"a": 1}] * 3, dtype=object)), "samples", None),
-    ("npy-wrong-unit", NPY(lambda t, o: _struct(t, o, names=("time [s]", "output [°C]"))), "samples", "output"),
-    ("npy-no-output", NPY(lambda t, o: _struct(t, o, names=("time [s]", "signal [P]"))), "samples", "output"),
+    ("npy-wrong-unit", NPY(lambda t, o: _struct(t, o, names=("time [s]", "output [°C]"))),
+     "samples", "output"),
+    ("npy-no-output", NPY(lambda t, o: _struct(t, o, names=("time [s]", "signal [P]"))), "samples",
+     "output"),
     ("npy-truncated", NPY_CUT(200), "samples", None),
     ("npy-header-only", NPY_CUT(64), "samples", None),
     ("npy-garbage", NPY(None, raw=b"not a numpy file at all"), "samples", None),
-    ("npy-big-int", NPY(lambda t, o: _struct(t, np.full(o.size, 2**60), dtype=np.int64)), "samples", None),
+    ("npy-big-int", NPY(lambda t, o: _struct(t, np.full(o.size, 2**60), dtype=np.int64)), "samples",
+     None),
     ("npy-time-backwards", NPY(lambda t, o: _struct(t[::-1].copy(), o)), "samples", "time"),
 ]
 
 PARQUET_CASES = [
     ("pq-no-units", PQ(lambda t, o: {"time": t, "output": o}), "samples", None),
-    ("pq-nan", PQ(lambda t, o: {"time [s]": t, "output [P]": np.where(np.arange(o.size) == 4, np.nan, o)}),
+    ("pq-nan", PQ(lambda t, o: {"time [s]": t,
+                                "output [P]": np.where(np.arange(o.size) == 4, np.nan, o)}),
      "samples", None),
-    ("pq-1e20", PQ(lambda t, o: {"time [s]": t, "output [P]": np.where(np.arange(o.size) == 4, 1e20, o)}),
+    ("pq-1e20", PQ(lambda t, o: {"time [s]": t,
+                                 "output [P]": np.where(np.arange(o.size) == 4, 1e20, o)}),
      "samples", "output"),
-    ("pq-text-column", PQ(lambda t, o: {"time [s]": t, "output [P]": [str(x) for x in o]}), "samples", None),
+    ("pq-text-column", PQ(lambda t, o: {"time [s]": t, "output [P]": [str(x) for x in o]}),
+     "samples", None),
     ("pq-no-output", PQ(lambda t, o: {"time [s]": t, "signal [P]": o}), "samples", "output"),
     ("pq-wrong-unit", PQ(lambda t, o: {"time [s]": t, "output [°/s/s]": o}), "samples", "output"),
     ("pq-truncated", PQ_CUT(100), "samples", None),
     ("pq-garbage", PQ(raw=b"PAR1 this is not parquet PAR1"), "samples", None),
-    ("pq-time-gap", PQ(lambda t, o: {"time [s]": np.where(t > 100, t + 50, t), "output [P]": o}), "samples", "time"),
+    ("pq-time-gap", PQ(lambda t, o: {"time [s]": np.where(t > 100, t + 50, t), "output [P]": o}),
+     "samples", "time"),
 ]
 
 # item options (-o) on a recorded campaign: no file; the field names the option
@@ -501,7 +587,8 @@ def _sample_file(camp: Path) -> Path:
     return camp / "static.csv"
 
 
-@pytest.mark.parametrize("case", MANIFEST_CASES + CSV_CASES + NPY_CASES + PARQUET_CASES, ids=lambda c: c[0])
+@pytest.mark.parametrize("case", MANIFEST_CASES + CSV_CASES + NPY_CASES + PARQUET_CASES,
+                         ids=lambda c: c[0])
 def test_bad_campaign(case, base, run_cli):
     name, edit, which, field = case
     root, camp, out = base
@@ -518,7 +605,8 @@ def test_bad_option(case, base, run_cli):
     name, edit, which, field, extra = case
     root, camp, out = base
     before = _snapshot(root)
-    argv = ("run", *ITEM, "--data", str(camp / "manifest.toml"), "--out", str(out), "--no-progress", *extra)
+    argv = ("run", *ITEM, "--data", str(camp / "manifest.toml"), "--out", str(out), "--no-progress",
+            *extra)
     if name == "decision-rule-cli":  # argparse's own refusal: exit 2, no traceback
         from metro.core.cli.app import main
 
@@ -556,7 +644,8 @@ def test_bad_output_path(case, base, run_cli):
     path = target.format(root=root, camp=camp) if "{" in target else str(root / target)
     before = _snapshot(root)
     try:
-        code, stdout, err = run_cli("run", *ITEM, "--data", str(camp / "manifest.toml"), "--report", path,
+        code, stdout, err = run_cli("run", *ITEM, "--data", str(camp / "manifest.toml"), "--report",
+                                    path,
                                     "--no-progress", *extra)
         _check(code, stdout, err, before, root, path, field)
     finally:
@@ -570,7 +659,8 @@ def test_bad_output_path(case, base, run_cli):
     (("run", "-s", "gbt45570", "-i", "D.5.1", "--station", "nostation", "--no-report"), None),
     (("run", "-s", "gbt45570", "-i", "D.5.1", "--data", "{root}/none.toml", "--no-report"), None),
     (("run", "-s", "gbt45570", "-i", "D.5.1", "--data", "{root}", "--no-report"), None),
-    (("run", "-s", "gbt45570", "-i", "D.5.1", "--data", "{camp}/manifest.toml", "--station", "simulated",
+    (("run", "-s", "gbt45570", "-i", "D.5.1", "--data", "{camp}/manifest.toml", "--station",
+      "simulated",
       "--no-report"), None),
     (("plan", "-s", "gbt45570", "-i", "D.99"), None),
     (("acquire", "-s", "gbt45570", "-i", "D.5.1", "--out", "{camp}"), None),
@@ -592,7 +682,8 @@ def test_bad_command_line(args, field, base, run_cli):
 def _metro(*args, env_extra=None, cwd=None):
     env = dict(os.environ)
     env.update(env_extra or {})
-    return subprocess.run([sys.executable, "-m", "metro.core.cli.app", *args], capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "metro.core.cli.app", *args], capture_output=True,
+                          text=True,
                           env=env, cwd=cwd, timeout=300)
 
 
@@ -612,7 +703,8 @@ def test_metro_plugins_environment(plugins, code_wanted, tmp_path):
 
 
 def test_blocked_plugin_standard_is_a_clean_error(tmp_path, run_cli):
-    code, out, err = run_cli("--block-plugin", "gbt45570", "run", "-s", "gbt45570", "-i", "D.5.1", "--no-report",
+    code, out, err = run_cli("--block-plugin", "gbt45570", "run", "-s", "gbt45570", "-i", "D.5.1",
+                             "--no-report",
                              "--no-progress")
     assert code == 2 and "Traceback" not in err and "gbt45570" in err
 
@@ -651,9 +743,11 @@ def test_plan_into_a_closed_pipe_is_quiet(tmp_path):
 
 def test_bad_manifest_in_a_real_process(tmp_path, campaign_factory):
     m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05,
-                                        manifest_edit=lambda t: t.replace('humidity = "45 %"', 'humidity = "150 %"'))
+                                        manifest_edit=lambda t: t.replace(
+                                            'humidity = "45 %"', 'humidity = "150 %"'))
     before = _snapshot(tmp_path)
-    r = _metro("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--out", str(tmp_path / "out"),
+    r = _metro("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--out",
+               str(tmp_path / "out"),
                "--no-progress")
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert str(m) in r.stderr and "field 'environment.humidity'" in r.stderr
@@ -661,6 +755,7 @@ def test_bad_manifest_in_a_real_process(tmp_path, campaign_factory):
 
 
 def test_the_table_has_at_least_150_cases():
-    n = (len(MANIFEST_CASES) + len(CSV_CASES) + len(NPY_CASES) + len(PARQUET_CASES) + len(OPTION_CASES)
+    n = (len(MANIFEST_CASES) + len(CSV_CASES) + len(NPY_CASES) + len(PARQUET_CASES)
+         + len(OPTION_CASES)
          + len(STATION_CASES) + len(OUTPUT_CASES) + 9 + 3 + 4)
     assert n >= 150, n

@@ -21,15 +21,16 @@ def _load(path):
 
 
 def _with_campaign(lines: str):
-    return lambda t: t.replace('[campaign]\nid = "TEST-001"\noperator = "test"\n', "[campaign]\nid = \"TEST-001\"\n" + lines)
+    return lambda t: t.replace('[campaign]\nid = "TEST-001"\noperator = "test"\n',
+                               "[campaign]\nid = \"TEST-001\"\n" + lines)
 
 
 def test_canonical_keys_fill_the_typed_view(tmp_path, campaign_factory):
     m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05, manifest_edit=_with_campaign(
         'lab = "NIM inertial lab"\nlab_address = "18 Bei San Huan Dong Lu"\nlocation = "hall 3"\n'
-        'customer = "Acme"\ncustomer_address = "1 Road"\noperator = "A. Tester"\nchecked_by = "B. Checker"\n'
-        'approved_by = "C. Head"\napproved_by_title = "head of laboratory"\nmeasurement_date = 2026-11-20\n'
-        'date_received = "2026-11-01"\n'))
+        'customer = "Acme"\ncustomer_address = "1 Road"\noperator = "A. Tester"\nchecked_by = "B. '
+        'Checker"\napproved_by = "C. Head"\napproved_by_title = "head of '
+        'laboratory"\nmeasurement_date = 2026-11-20\ndate_received = "2026-11-01"\n'))
     c = _load(m)
     assert c.warnings == ()
     assert c.people == voc.People("A. Tester", "B. Checker", "C. Head", "head of laboratory")
@@ -50,8 +51,10 @@ def test_canonical_keys_fill_the_typed_view(tmp_path, campaign_factory):
     ("date = 2026-11-20", "measurement_date", lambda c: c.measurement_date),
     ("received = 2026-11-20", "date_received", lambda c: c.date_received),
 ])
-def test_old_spellings_are_read_with_a_deprecation_warning(tmp_path, campaign_factory, old, new, attr):
-    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05, manifest_edit=_with_campaign(old + "\n"))
+def test_old_spellings_are_read_with_a_deprecation_warning(tmp_path, campaign_factory, old, new,
+                                                           attr):
+    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05,
+                                        manifest_edit=_with_campaign(old + "\n"))
     c = _load(m)
     assert attr(c) in ("L", dt.date(2026, 11, 20))
     (w,) = c.warnings
@@ -61,7 +64,8 @@ def test_old_spellings_are_read_with_a_deprecation_warning(tmp_path, campaign_fa
 
 def test_both_spellings_of_one_key_are_an_error(tmp_path, campaign_factory):
     m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05,
-                                        manifest_edit=_with_campaign('lab = "A"\nlaboratory = "B"\n'))
+                                        manifest_edit=_with_campaign(
+                                            'lab = "A"\nlaboratory = "B"\n'))
     with pytest.raises(DataError) as exc:
         _load(m)
     assert exc.value.file == str(m) and exc.value.field == "campaign.laboratory"
@@ -70,14 +74,18 @@ def test_both_spellings_of_one_key_are_an_error(tmp_path, campaign_factory):
 @pytest.mark.parametrize("edit, field, guess", [
     (lambda t: t.replace('operator = "test"', 'opertor = "test"'), "campaign.opertor", "operator"),
     (lambda t: t.replace("[site]", '[enviroment]\nx = 1\n\n[site]'), "enviroment", "environment"),
-    (lambda t: t.replace('humidity = "45 %"', 'humidity = "45 %"\nhumdity = "45 %"'), "environment.humdity",
+    (lambda t: t.replace('humidity = "45 %"', 'humidity = "45 %"\nhumdity = "45 %"'),
+     "environment.humdity",
      "humidity"),
-    (lambda t: t.replace('latitude_uncertainty', 'latitude_uncertainity'), "site.latitude_uncertainity",
+    (lambda t: t.replace('latitude_uncertainty', 'latitude_uncertainity'),
+     "site.latitude_uncertainity",
      "latitude_uncertainty"),
-    (lambda t: t.replace('scale_factor_U =', 'scale_factor_u ='), "device.scale_factor_u", "scale_factor_U"),
+    (lambda t: t.replace('scale_factor_U =', 'scale_factor_u ='), "device.scale_factor_u",
+     "scale_factor_U"),
     (lambda t: t.replace('lab = "NIM"', 'lab = "NIM"\ncertficate_date = 2026-01-01'),
      "equipment[1].calibration.certficate_date", None),
-    (lambda t: t.replace('file = "static.csv"', 'file = "static.csv"\nfiles = "x.csv"'), "segments[0].files", "file"),
+    (lambda t: t.replace('file = "static.csv"', 'file = "static.csv"\nfiles = "x.csv"'),
+     "segments[0].files", "file"),
     (lambda t: t.replace('role = "counter"', 'role = "countr"'), "equipment[1].role", "counter"),
 ])
 def test_unknown_keys_warn_with_did_you_mean(tmp_path, campaign_factory, edit, field, guess):
@@ -90,7 +98,8 @@ def test_unknown_keys_warn_with_did_you_mean(tmp_path, campaign_factory, edit, f
 
 
 def test_a_property_that_is_not_a_misspelling_is_kept_without_a_warning(tmp_path, campaign_factory):
-    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05, manifest_edit=lambda t: t.replace(
+    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05,
+                                        manifest_edit=lambda t: t.replace(
         'humidity = "45 %"', 'humidity = "45 %"\nvibration_level = "0.1 g"'))
     c = _load(m)
     assert c.warnings == () and "vibration_level" in c.environment
@@ -99,7 +108,8 @@ def test_a_property_that_is_not_a_misspelling_is_kept_without_a_warning(tmp_path
 def test_a_plugin_registers_its_own_section(tmp_path, campaign_factory, monkeypatch):
     monkeypatch.setattr(voc, "SECTIONS", dict(voc.SECTIONS))
     m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05,
-                                        manifest_edit=lambda t: t + '\n[insulation]\nvoltage = "500 V"\n')
+                                        manifest_edit=lambda t: t
+                                        + '\n[insulation]\nvoltage = "500 V"\n')
     assert any("'insulation'" in w for w in _load(m).warnings)
     voc.register_section("insulation", "GB/T 45570 5.x insulation resistance")
     assert _load(m).warnings == ()
@@ -107,7 +117,8 @@ def test_a_plugin_registers_its_own_section(tmp_path, campaign_factory, monkeypa
 
 @pytest.mark.parametrize("given", ["rate-table", "table", "Rate Table", "RATE_TABLE", "ratetable"])
 def test_roles_are_canonical_and_old_spellings_warn(tmp_path, campaign_factory, given):
-    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05, manifest_edit=lambda t: t.replace(
+    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05,
+                                        manifest_edit=lambda t: t.replace(
         'role = "platform"', f'role = "{given}"'))
     c = _load(m)
     (eq,) = [e for e in c.equipment if e.id == "PLAT-1"]
@@ -147,7 +158,8 @@ def test_campaign_text_and_dates_are_checked(tmp_path, campaign_factory, edit, f
 def test_manifest_sha256_in_json_and_report(tmp_path, campaign_factory, run_cli):
     import docx
 
-    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.2, manifest_edit=_with_campaign('tested_by = "X"\n'))
+    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.2,
+                                        manifest_edit=_with_campaign('tested_by = "X"\n'))
     digest = hashlib.sha256(m.read_bytes()).hexdigest()
     report = tmp_path / "out" / "r.docx"
     code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--json",

@@ -1,4 +1,5 @@
-"""End to end through the command line: simulated default, recorded data, JSON, report, provenance."""
+"""End to end through the command line: simulated default, recorded data, JSON, report,
+provenance."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ import pytest
 
 
 def test_default_run_on_the_simulated_station_json(tmp_path, run_cli):
-    code, out, err = run_cli("run", "--standard", "gbt45570", "--item", "D.5.6", "--json", "--out", str(tmp_path),
+    code, out, err = run_cli("run", "--standard", "gbt45570", "--item", "D.5.6", "--json", "--out",
+                             str(tmp_path),
                              "--no-progress")
     assert code in (0, 3, 4), err
     doc = json.loads(out)
@@ -39,12 +41,15 @@ def test_terminal_output_says_simulated(run_cli, tmp_path):
 def test_recorded_campaign_with_provenance(tmp_path, campaign_factory, run_cli):
     manifest = campaign_factory.write_campaign(tmp_path / "c", hours=1.0)
     digest = hashlib.sha256((tmp_path / "c" / "static.csv").read_bytes()).hexdigest()
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest), "--json",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest),
+                             "--json",
                              "--out", str(tmp_path / "out"), "--no-progress")
     assert code in (0, 3, 4), err
     doc = json.loads(out)
     assert doc["simulated"] is False
-    assert doc["provenance"]["data_files"] == [{"file": str((tmp_path / "c" / "static.csv").resolve()), "sha256": digest}]
+    assert doc["provenance"]["data_files"] == [{"file": str((tmp_path / "c"
+                                                             / "static.csv").resolve()),
+                                                "sha256": digest}]
     assert {"metro", "numpy", "pint"} <= set(doc["provenance"]["software"])
     assert "gbt45570" in doc["provenance"]["plugins"]
     assert {e["id"] for e in doc["equipment"]} == {"PLAT-1", "CNT-1"}
@@ -53,7 +58,8 @@ def test_recorded_campaign_with_provenance(tmp_path, campaign_factory, run_cli):
     from docx import Document
 
     text = "\n".join(p.text for p in Document(doc["report"]).paragraphs)
-    tables = "\n".join(c.text for t in Document(doc["report"]).tables for row in t.rows for c in row.cells)
+    tables = "\n".join(c.text for t in Document(doc["report"]).tables for row in t.rows for c
+                       in row.cells)
     assert digest in text + tables
     assert "CNAS-2026-0815" in text + tables
 
@@ -61,11 +67,13 @@ def test_recorded_campaign_with_provenance(tmp_path, campaign_factory, run_cli):
 def test_time_column_in_milliseconds(tmp_path, campaign_factory, run_cli):
     def ms(csv: str) -> str:
         lines = csv.splitlines()
-        out = ["time [ms],output [P]"] + [f"{int(l.split(',')[0]) * 1000},{l.split(',')[1]}" for l in lines[1:]]
+        out = ["time [ms],output [P]"] + [f"{int(l.split(',')[0]) * 1000},{l.split(',')[1]}" for l
+                                          in lines[1:]]
         return "\n".join(out) + "\n"
 
     manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.5, data_edit=ms)
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--no-report",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
+                             "--no-report",
                              "--no-progress")
     assert code == 0, err
 
@@ -113,7 +121,8 @@ def test_unknown_item_lists_the_items(run_cli):
                                            ("simulated-jjf2014", ("jjf2014", "7.2.13")),
                                            ("simulated-mimu", ("jjf2003", "7.2.2")),
                                            ("simulated-ogam", ("ogam", "7.3"))])
-def test_a_misspelt_station_option_is_refused_and_nothing_is_written(tmp_path, run_cli, station, item):
+def test_a_misspelt_station_option_is_refused_and_nothing_is_written(tmp_path, run_cli, station,
+                                                                     item):
     """A station option the station does not take is an error naming it and listing the ones it
     takes — never dropped silently with the run going ahead on defaults."""
     std, it = item
@@ -122,7 +131,8 @@ def test_a_misspelt_station_option_is_refused_and_nothing_is_written(tmp_path, r
     assert code == 2, err
     assert "duration_scal" in err and "seed" in err  # the bad name, and what the station takes
     assert not (tmp_path / "c").exists()
-    code, _, err = run_cli("run", "-s", std, "-i", it, "--station-option", "duration_scal=0.1", "--out",
+    code, _, err = run_cli("run", "-s", std, "-i", it, "--station-option", "duration_scal=0.1",
+                           "--out",
                            str(tmp_path / "r"), "--no-progress")
     assert code == 2 and "duration_scal" in err
     assert not (tmp_path / "r").exists()
@@ -134,13 +144,15 @@ def test_run_takes_station_options_and_refuses_them_with_data(tmp_path, run_cli,
     ks = []
     for opt in ("table_errors=true", "table_errors=false"):
         code, out, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--station-option", opt,
-                                 "--station-option", "duration_scale=0.1", "--json", "--no-report", "--no-progress")
+                                 "--station-option", "duration_scale=0.1", "--json", "--no-report",
+                                 "--no-progress")
         assert code == 0, err
         ks.append(next(r["value"] for r in json.loads(out)["results"] if r["key"] == "K"))
     assert ks[0] != ks[1]
     manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.2)
     for extra in (["--seed", "3"], ["--station-option", "duration_scale=0.1"]):
-        code, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), *extra,
+        code, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
+                               *extra,
                                "--out", str(tmp_path / "o"), "--no-progress")
         assert code == 2 and extra[0] in err and "--data" in err
         assert not (tmp_path / "o").exists()
@@ -148,7 +160,8 @@ def test_run_takes_station_options_and_refuses_them_with_data(tmp_path, run_cli,
 
 def test_expired_equipment_is_named_on_the_terminal_and_in_json(tmp_path, run_cli):
     """A piece of equipment whose calibration is past due on the day of the run: the terminal says
-    so (results that depend on it are not traceable) and --json marks it calibration_valid = false."""
+    so (results that depend on it are not traceable) and --json marks it calibration_valid =
+    false."""
     import shutil
     from pathlib import Path
 
@@ -158,17 +171,20 @@ def test_expired_equipment_is_named_on_the_terminal_and_in_json(tmp_path, run_cl
     text = m.read_text(encoding="utf-8")
     assert "due = 2027-08-15" in text
     m.write_text(text.replace("due = 2027-08-15", "due = 2025-08-15"), encoding="utf-8")
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--no-report", "--no-progress")
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m),
+                             "--no-report", "--no-progress")
     assert code == 0, err
     assert "CNT-1" in out and "EXPIRED on 2025-08-15" in out and "not traceable" in out
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m), "--no-report", "--json",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(m),
+                             "--no-report", "--json",
                              "--no-progress")
     eq = {e["id"]: e for e in json.loads(out)["equipment"]}
     assert eq["CNT-1"]["calibration_valid"] is False and eq["PLAT-1"]["calibration_valid"] is None
 
 
 def test_a_station_flag_that_is_neither_true_nor_false_is_refused(run_cli, tmp_path):
-    code, _, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--station-option", "table_errors=maybe",
+    code, _, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--station-option",
+                           "table_errors=maybe",
                            "--out", str(tmp_path / "o"), "--no-progress")
     assert code == 2 and "table_errors" in err and "not true or false" in err
     assert not (tmp_path / "o").exists()
@@ -181,11 +197,13 @@ def test_a_station_flag_that_is_neither_true_nor_false_is_refused(run_cli, tmp_p
     ("jjf2014", "7.2.13", "bias_accel_dps_per_g=0.001,0.002", "is not 3 comma-separated numbers"),
     ("jjf2003", "7.2.1", "K_g=1", "a matrix is set from Python"),
 ])
-def test_a_station_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, std, item, option, says):
+def test_a_station_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, std, item, option,
+                                                             says):
     """Values from the command line are text: each is converted to the type of the field it sets,
     and one that does not convert names the option and its form — never a TypeError from inside
     a simulation."""
-    code, _, err = run_cli("run", "-s", std, "-i", item, "--station-option", option, "--out", str(tmp_path / "o"),
+    code, _, err = run_cli("run", "-s", std, "-i", item, "--station-option", option, "--out",
+                           str(tmp_path / "o"),
                            "--no-progress")
     assert code == 2 and option.split("=")[0] in err and says in err and "Traceback" not in err
     assert not (tmp_path / "o").exists()
@@ -196,10 +214,12 @@ def test_a_station_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, 
     ("gbt45570", "D.1.4", "Q=seven", "is not a whole number"),
     ("jjf2014", "7.2.13", "batches=many", "is not a whole number"),
 ])
-def test_an_item_count_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, std, item, option, says):
+def test_an_item_count_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_path, std, item,
+                                                                 option, says):
     """A unitless option whose default is a count takes a whole number (it once ended in a
     ValueError traceback from int())."""
-    code, _, err = run_cli("run", "-s", std, "-i", item, "-o", option, "--out", str(tmp_path / "o"), "--no-progress")
+    code, _, err = run_cli("run", "-s", std, "-i", item, "-o", option, "--out", str(tmp_path / "o"),
+                           "--no-progress")
     assert code == 2 and option.split("=")[0] in err and says in err and "Traceback" not in err
     assert not (tmp_path / "o").exists()
 
@@ -207,7 +227,8 @@ def test_an_item_count_option_of_the_wrong_form_is_a_clear_error(run_cli, tmp_pa
 def test_json_is_strict_json_even_with_infinite_degrees_of_freedom(run_cli):
     """--json is read by other programs: no NaN or Infinity literals (invalid JSON), also where a
     budget has ν_eff = ∞ (D.6.1's T_low row is type B only)."""
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.6.1,D.5.1", "--station-option", "duration_scale=0.5",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.6.1,D.5.1", "--station-option",
+                             "duration_scale=0.5",
                              "--json", "--no-report", "--no-progress")
     assert code in (0, 3, 4), err
 
@@ -223,8 +244,11 @@ def test_json_is_strict_json_even_with_infinite_degrees_of_freedom(run_cli):
 
 def _spec_run(run_cli, tmp_path, campaign_factory, name, spec):
     manifest = campaign_factory.write_campaign(
-        tmp_path / name, hours=0.3, manifest_edit=(lambda t: t + f'\n[specification]\nB0 = "{spec}"\n') if spec else None)
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--json", "--no-report")
+        tmp_path / name, hours=0.3, manifest_edit=(lambda t: t
+                                                   + f'\n[specification]\nB0 = "{spec}"\n') if spec
+        else None)
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
+                             "--json", "--no-report")
     return code, json.loads(out), err
 
 
@@ -236,14 +260,17 @@ def test_exit_codes_follow_the_overall_verdict(tmp_path, campaign_factory, run_c
     assert doc["conformity"]["overall"] == "pass"
     b0 = next(r for r in doc["results"] if r["key"] == "B0")
     v, U = b0["value"], b0["U"]
-    code, doc, _ = _spec_run(run_cli, tmp_path, campaign_factory, "b", f"{v + 3 * U:.5f} .. {v + 10 * U:.5f} °/h")
+    code, doc, _ = _spec_run(run_cli, tmp_path, campaign_factory, "b",
+                             f"{v + 3 * U:.5f} .. {v + 10 * U:.5f} °/h")
     assert (code, doc.get("conformity", {}).get("overall")) == (3, "fail"), doc
-    code, doc, _ = _spec_run(run_cli, tmp_path, campaign_factory, "c", f"<= {v + U / 3:.5f} °/h")  # straddles
+    # straddles
+    code, doc, _ = _spec_run(run_cli, tmp_path, campaign_factory, "c", f"<= {v + U / 3:.5f} °/h")
     assert (code, doc["conformity"]["overall"]) == (4, "indeterminate"), doc
 
 
 def test_exit_code_0_when_nothing_is_judged_and_130_when_interrupted(run_cli, monkeypatch):
-    code, out, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--station-option", "duration_scale=0.1",
+    code, out, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1", "--station-option",
+                             "duration_scale=0.1",
                              "--json", "--no-report")
     assert code == 0, err
     assert json.loads(out)["conformity"] is None  # JJF 2014 declares no limits: nothing to judge
@@ -264,7 +291,8 @@ def test_version_names_metro_and_each_loaded_plugin(run_cli):
     lines = out.splitlines()
     assert lines[0] == f"metro {version('metro-inertial')}"
     for name in ("gbt45570", "jjf2014", "jjf2003", "ogam", "instruments"):
-        assert any(line.strip().startswith(f"plugin {name}: metro-inertial {version('metro-inertial')}") for line in lines), name
+        assert any(line.strip().startswith(f"plugin {name}: metro-inertial "
+                                           f"{version('metro-inertial')}") for line in lines), name
     code, out, _ = run_cli("--block-plugin", "ogam", "--version")
     assert "plugin ogam" not in out and "plugin gbt45570" in out
 
@@ -274,13 +302,16 @@ def test_python_dash_m_metro(tmp_path):
     import subprocess
     import sys
 
-    p = subprocess.run([sys.executable, "-m", "metro", "--version"], capture_output=True, text=True, cwd=tmp_path)
+    p = subprocess.run([sys.executable, "-m", "metro", "--version"], capture_output=True, text=True,
+                       cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert p.stdout.startswith("metro ") and "plugin gbt45570" in p.stdout
-    p = subprocess.run([sys.executable, "-m", "metro", "items", "-s", "nosuch"], capture_output=True, text=True,
+    p = subprocess.run([sys.executable, "-m", "metro", "items", "-s", "nosuch"],
+                       capture_output=True, text=True,
                        cwd=tmp_path)
     assert p.returncode == 2 and "unknown standard" in p.stderr
-    p = subprocess.run([sys.executable, "-c", "import metro; print(metro.__file__)"], capture_output=True, text=True)
+    p = subprocess.run([sys.executable, "-c", "import metro; print(metro.__file__)"],
+                       capture_output=True, text=True)
     assert p.stdout.strip() == "None"  # a namespace package
 
 
@@ -295,7 +326,8 @@ def test_python_dash_m_metro(tmp_path):
     (("plan", "-s", "gbt45570", "-i", "d.51"), "did you mean 'D.5.1'"),
 ])
 def test_mistyped_names_get_a_suggestion_and_exit_2(run_cli, args, says, tmp_path):
-    code, out, err = run_cli(*args, "--out", str(tmp_path / "o")) if args[0] == "run" else run_cli(*args)
+    code, out, err = run_cli(*args, "--out", str(tmp_path
+                                                 / "o")) if args[0] == "run" else run_cli(*args)
     assert code == 2, err
     assert says in err and "Traceback" not in err
     assert "SIMULATED" not in err  # usage errors come before any banner
@@ -314,8 +346,10 @@ def test_ids_are_case_insensitive_and_taken_as_items_prints_them(run_cli):
     ids = [i["id"] for i in json.loads(out)["items"]]
     assert "gbt45570:D.5.1" in ids
     keys = []
-    for args in (("-i", "gbt45570:D.5.1"), ("-s", "GbT45570", "-i", "d.5.1"), ("-i", "GBT45570:d.5.1")):
-        code, out, err = run_cli("run", *args, "--station-option", "duration_scale=0.1", "--json", "--no-report")
+    for args in (("-i", "gbt45570:D.5.1"), ("-s", "GbT45570", "-i", "d.5.1"),
+                 ("-i", "GBT45570:d.5.1")):
+        code, out, err = run_cli("run", *args, "--station-option", "duration_scale=0.1", "--json",
+                                 "--no-report")
         assert code in (0, 3, 4), err
         doc = json.loads(out)
         assert doc["standard"] == "gbt45570" and doc["item"] == "D.5.1"
@@ -336,7 +370,8 @@ def test_run_help_example_runs_on_the_readme_item(run_cli):
     assert code == 0
     text = " ".join(out.split())
     example = re.search(r"Example: metro (run .*?) {0,3}exit codes", text).group(1)
-    readme = (__import__("pathlib").Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
+    readme = (__import__("pathlib").Path(__file__).resolve().parents[3]
+              / "README.md").read_text(encoding="utf-8")
     assert "--item D.5.6" in readme and "-i D.5.6" in example
     code, out, err = run_cli(*shlex.split(example), "--json", "--no-report")
     assert code in (0, 3, 4), err
@@ -347,7 +382,8 @@ def _pipe_closed_early(*args):
     import subprocess
     import sys
 
-    p = subprocess.Popen([sys.executable, "-m", "metro", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    p = subprocess.Popen([sys.executable, "-m", "metro", *args], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE)
     p.stdout.close()  # the reader is gone before the first line is written (as `| head -0`)
     err = p.stderr.read().decode()
     return p.wait(), err
@@ -389,10 +425,12 @@ def test_plan_all_gives_the_total_duration(run_cli):
 
     rec = sum(seconds(s["duration"]) for s in doc["steps"])
     warm = sum(seconds(s["warmup"]) for s in doc["steps"] if s["warmup"])
-    assert doc["total"]["recording_s"] == pytest.approx(rec) and doc["total"]["warmup_s"] == pytest.approx(warm)
+    assert doc["total"]["recording_s"] == pytest.approx(rec) and doc["total"][
+        "warmup_s"] == pytest.approx(warm)
     assert len(doc["total"]["items"]) > 15 and doc["total"]["steps"] == len(doc["steps"])
     code, out, _ = run_cli("plan", "-s", "gbt45570", "-i", "D.5.1,D.5.6")
-    assert out.splitlines()[-1].startswith("total: 1 steps for 2 item(s): 8 h of recording + 30 min of warm-up")
+    assert out.splitlines()[-1].startswith("total: 1 steps for 2 item(s): 8 h of recording + 30 "
+                                           "min of warm-up")
 
 
 def test_progress_is_one_overall_bar_and_the_current_step(pm):
@@ -424,7 +462,8 @@ def test_progress_is_one_overall_bar_and_the_current_step(pm):
 
 
 def test_no_progress_on_a_non_terminal_and_quiet_silences_it(run_cli, monkeypatch):
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--station-option", "duration_scale=0.1",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--station-option",
+                             "duration_scale=0.1",
                              "--no-report")
     assert "%" not in err and "━" not in err  # stderr is not a terminal here
     flags = []
@@ -438,24 +477,30 @@ def test_no_progress_on_a_non_terminal_and_quiet_silences_it(run_cli, monkeypatc
 
     monkeypatch.setattr(present, "progress", record)
     monkeypatch.setattr("sys.stderr.isatty", lambda: True, raising=False)
-    run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--station-option", "duration_scale=0.1", "--no-report")
-    run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--station-option", "duration_scale=0.1", "--no-report", "-q")
+    run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--station-option", "duration_scale=0.1",
+            "--no-report")
+    run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--station-option", "duration_scale=0.1",
+            "--no-report", "-q")
     assert flags == [True, False]
 
 
-def test_terminal_summary_is_concise_and_verbose_adds_the_detail(tmp_path, campaign_factory, run_cli):
+def test_terminal_summary_is_concise_and_verbose_adds_the_detail(tmp_path, campaign_factory,
+                                                                 run_cli):
     manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.3,
-                                               manifest_edit=lambda t: t + '\n[specification]\nB0 = "-100 .. 100 °/h"\n')
+                                               manifest_edit=lambda t: t
+                                               + '\n[specification]\nB0 = "-100 .. 100 °/h"\n')
     code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest),
                              "--out", str(tmp_path / "o"))
     assert code in (0, 3, 4), err
     lines = out.splitlines()
     assert "sha256" not in out and "Budget" not in out
     assert out.count("Results") == 1
-    verdict = next(line for line in lines if line.startswith(("conforms", "does not conform", "indeterminate")))
+    verdict = next(line for line in lines if line.startswith(("conforms", "does not conform",
+                                                              "indeterminate")))
     assert "pass" in verdict and "rule" in verdict
     assert "Word report" in out and str(tmp_path / "o") in out
-    code2, outv, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest), "--no-report",
+    code2, outv, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest),
+                             "--no-report",
                              "--verbose")
     assert "sha256" in outv and "Budget" in outv and "Conformity" in outv
     assert len(outv.splitlines()) > 2 * len(lines)
@@ -471,7 +516,8 @@ def test_the_overall_verdict_line_counts_each_status(pm, tmp_path, campaign_fact
 
     record = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1})
     (v,) = [v for v in record.conformity.verdicts if v.key == "B0"]
-    vs = ([attrs.evolve(v, status=cf.Status.PASS)] * 17 + [attrs.evolve(v, status=cf.Status.FAIL)] * 2
+    vs = ([attrs.evolve(v, status=cf.Status.PASS)] * 17
+          + [attrs.evolve(v, status=cf.Status.FAIL)] * 2
           + [attrs.evolve(v, status=cf.Status.INDETERMINATE)] * 6)
     a = attrs.evolve(record.conformity, verdicts=vs, not_assessed=())
     assert verdict_line(a) == "does not conform: 17 pass, 2 fail, 6 indeterminate (guarded rule)"
@@ -487,7 +533,8 @@ def test_a_result_not_reportable_and_its_earth_rate_show_in_its_row(pm, capsys, 
     monkeypatch.setenv("COLUMNS", "200")
     record = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1})
     o = record.outcomes[0]
-    r = attrs.evolve(o.results[0], reportable=False, reason="misfit of the test model", earth_rate="removed")
+    r = attrs.evolve(o.results[0], reportable=False, reason="misfit of the test model",
+                     earth_rate="removed")
     record = attrs.evolve(record, outcomes=[attrs.evolve(o, results=[r])])
     present.print_record(record, None)
     row = next(line for line in capsys.readouterr().out.splitlines() if "B₀" in line)
@@ -504,8 +551,10 @@ def test_readme_exit_code_table_is_what_metro_returns():
     text = (Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
     table = text.split("### Exit codes", 1)[1]
     documented = {int(c) for c in re.findall(r"^\| (\d+) \|", table, flags=re.M)}
-    assert documented == {cli.EXIT_OK, cli.EXIT_USER_ERROR, cli.EXIT_NONCONFORMING, cli.EXIT_INDETERMINATE,
-                          cli.EXIT_CAMPAIGN_FAILED, cli.EXIT_CHECK_FAILED, cli.EXIT_INTERRUPTED, cli.EXIT_BROKEN_PIPE}
+    assert documented == {cli.EXIT_OK, cli.EXIT_USER_ERROR, cli.EXIT_NONCONFORMING,
+                          cli.EXIT_INDETERMINATE,
+                          cli.EXIT_CAMPAIGN_FAILED, cli.EXIT_CHECK_FAILED, cli.EXIT_INTERRUPTED,
+                          cli.EXIT_BROKEN_PIPE}
     assert (cli.exit_code_for("pass"), cli.exit_code_for(None), cli.exit_code_for("fail"),
             cli.exit_code_for("indeterminate")) == (0, 0, 3, 4)
 
@@ -513,13 +562,15 @@ def test_readme_exit_code_table_is_what_metro_returns():
 def test_simulated_run_exits_0_unless_strict(run_cli, tmp_path):
     """The README's main job runs on the simulated station and must exit 0 once evaluated: a verdict
     about the virtual device is printed, not returned; --strict returns it as for recorded data."""
-    # the marginal virtual gyro's ARW equals table A.1's aviation limit: not shown to conform (the default
-    # unit conforms since issue 29: tests/plugins/gbt45570/test_bias_stability_limit.py)
+    # the marginal virtual gyro's ARW equals table A.1's aviation limit: not shown to conform (the
+    # default unit conforms since issue 29: tests/plugins/gbt45570/test_bias_stability_limit.py)
     marginal = ("--station-option", "grade=marginal")
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--json", "--no-report", *marginal)
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--json", "--no-report",
+                             *marginal)
     assert code == 0, err
     overall = json.loads(out)["conformity"]["overall"]
     assert overall in ("fail", "indeterminate")
-    code_strict, _, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--json", "--no-report", "--strict",
+    code_strict, _, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--json", "--no-report",
+                                "--strict",
                                 *marginal)
     assert code_strict == {"fail": 3, "indeterminate": 4}[overall]

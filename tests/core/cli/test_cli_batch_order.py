@@ -35,7 +35,8 @@ def test_reports_are_numbered_in_lot_order_when_the_first_finishes_last(lab, tmp
     import metro.core.run.runner as runner
     from metro.instruments.simulated import GyroTruth
 
-    manifests = [campaign_factory.write_campaign(tmp_path / "lot" / name, hours=0.3, truth=GyroTruth(seed=seed))
+    manifests = [campaign_factory.write_campaign(tmp_path / "lot" / name, hours=0.3,
+                                                 truth=GyroTruth(seed=seed))
                  for name, seed in (("dev1", 21), ("dev2", 22))]
     second_evaluated = threading.Event()
     real = runner.run_items
@@ -50,10 +51,12 @@ def test_reports_are_numbered_in_lot_order_when_the_first_finishes_last(lab, tmp
         return record
 
     monkeypatch.setattr(runner, "run_items", held)
-    monkeypatch.setattr(batch, "_ONE_AT_A_TIME", contextlib.nullcontext())  # two worker threads at once
+    # two worker threads at once
+    monkeypatch.setattr(batch, "_ONE_AT_A_TIME", contextlib.nullcontext())
     out = tmp_path / "out"
     job = batch.Job("gbt45570", ["D.5.1"], out=str(out), autoload=False, lab=str(lab))
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                      dashboard_address=None) as cluster:
         summary = batch.run_batch(job, manifests, scheduler=cluster.scheduler_address)
     devices = {d["name"]: d for d in summary["devices"]}
     assert [devices[n]["status"] for n in ("dev1", "dev2")] == ["evaluated", "evaluated"], devices

@@ -48,15 +48,22 @@ def _issue(lab_path: Path, out: Path, *, serial: str = LONG_SERIAL, standard: st
     numbers = []
     with open_register(profile.register_url()) as reg:
         for day in range(1, n + 1):
-            fields = {"standard": standard, "items": ["A.1", "A.2"], "options": {}, "device_id": "d",
-                      "device_manufacturer": "m", "device_model": "M", "device_serial": serial, "customer": "",
-                      "measurement_date": dt.date(2026, 1, day), "simulated": False, "allow_expired": False,
-                      "lab": {}, "verdicts": None, "budgets": [], "provenance": {}, "manifest_sha256": None,
+            fields = {"standard": standard, "items": ["A.1", "A.2"], "options": {},
+                      "device_id": "d",
+                      "device_manufacturer": "m", "device_model": "M", "device_serial": serial,
+                      "customer": "",
+                      "measurement_date": dt.date(2026, 1, day), "simulated": False,
+                      "allow_expired": False,
+                      "lab": {}, "verdicts": None, "budgets": [], "provenance": {},
+                      "manifest_sha256": None,
                       "equipment": [], "template": "", "context": {}}
-            result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": 1.0 + day / 10,
-                      "u": 0.1, "U": 0.2, "k": 2.0, "nu_eff": None, "unit": "°/h", "value_text": "1.0",
+            result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": 1.0
+                      + day / 10,
+                      "u": 0.1, "U": 0.2, "k": 2.0, "nu_eff": None, "unit": "°/h",
+                      "value_text": "1.0",
                       "U_text": "0.2", "reportable": True, "reason": ""}
-            issued = reg.issue(lambda num, t, f=fields, r=result: Draft(f, [r], lambda tmp: tmp.write_text("x")),
+            issued = reg.issue(lambda num, t, f=fields,
+                               r=result: Draft(f, [r], lambda tmp: tmp.write_text("x")),
                                folder=out, scheme=profile.format_number, per_year=True)
             numbers.append(issued.number)
     return numbers
@@ -70,7 +77,8 @@ def _files(root: Path) -> list[str]:
 
 
 READ_ONLY = (["register", "list"], ["register", "show", "EML2026-00001"], ["register", "verify"],
-             ["report", "EML2026-00001"], ["history", "S1"], ["withdraw", "EML2026-00001", "--reason", "r"])
+             ["report", "EML2026-00001"], ["history", "S1"],
+             ["withdraw", "EML2026-00001", "--reason", "r"])
 
 
 @pytest.mark.parametrize("argv", READ_ONLY, ids=lambda a: " ".join(a[:2]))
@@ -91,7 +99,8 @@ def test_read_only_commands_create_no_register(home, run_cli, argv):
 
 def test_read_only_commands_with_a_profile_create_no_register(lab, run_cli):
     before = _files(lab.parent.parent)
-    for argv in (["register", "list"], ["register", "verify"], ["amend", "EML2026-00001", "--reason", "r"]):
+    for argv in (["register", "list"], ["register", "verify"],
+                 ["amend", "EML2026-00001", "--reason", "r"]):
         code, _, err = run_cli("--lab", str(lab), *argv)
         assert code == 2 and f"{lab.parent / 'register.sqlite'}" in err and "does not exist" in err, err
     assert _files(lab.parent.parent) == before and not (lab.parent / "register.sqlite").exists()
@@ -103,7 +112,8 @@ def test_read_only_commands_with_a_profile_create_no_register(lab, run_cli):
 
 
 def test_schema_head_is_the_newest_migration():
-    """open_register skips Alembic for a register at SCHEMA_HEAD: it must be the newest migration."""
+    """open_register skips Alembic for a register at SCHEMA_HEAD: it must be the newest
+    migration."""
     from alembic.config import Config
     from alembic.script import ScriptDirectory
 
@@ -113,7 +123,8 @@ def test_schema_head_is_the_newest_migration():
     cfg.set_main_option("script_location", str(Path(register.__file__).parent / "migrations"))
     scripts = ScriptDirectory.from_config(cfg)
     assert scripts.get_current_head() == register.SCHEMA_HEAD
-    assert tuple(reversed([r.revision for r in scripts.walk_revisions()])) == register.SCHEMA_REVISIONS
+    assert tuple(reversed([r.revision for r
+                           in scripts.walk_revisions()])) == register.SCHEMA_REVISIONS
 
 
 # -- 2. register verify has its own exit code ------------------------------------------------
@@ -125,7 +136,8 @@ def test_verify_exits_6_on_a_modified_or_missing_file(lab, run_cli, tmp_path):
     assert code == 0 and json.loads(stdout)["ok"] is True
     (tmp_path / "reports" / f"{a}.docx").write_text("changed")
     code, stdout, _ = run_cli("--lab", str(lab), "register", "verify", "--json")
-    assert code == 6 and {r["number"]: r["check"] for r in json.loads(stdout)["reports"]} == {a: "modified", b: "ok"}
+    assert code == 6 and {r["number"]: r["check"] for r
+                          in json.loads(stdout)["reports"]} == {a: "modified", b: "ok"}
     (tmp_path / "reports" / f"{b}.docx").unlink()
     code, _, err = run_cli("--lab", str(lab), "register", "verify")
     assert code == 6 and f"{b} missing" in err
@@ -147,9 +159,12 @@ def test_register_list_and_history_print_whole_rows_when_piped(lab, run_cli, tmp
     assert [r[0] for r in rows] == numbers
     assert all(r[2] == LONG_STANDARD and r[3] == "A.1, A.2" and r[4] == LONG_SERIAL for r in rows)
     assert all(len(r) == len(lines[1].split("\t")) for r in rows)
-    assert "…" not in stdout and not any(ln != ln.rstrip() for ln in lines)  # nothing cut, nothing padded
-    code, stdout, _ = run_cli("--lab", str(lab), "history", LONG_SERIAL, "--out", str(tmp_path / "h"))
-    assert code == 0 and "…" not in stdout and not any(ln != ln.rstrip() for ln in stdout.splitlines())
+    # nothing cut, nothing padded
+    assert "…" not in stdout and not any(ln != ln.rstrip() for ln in lines)
+    code, stdout, _ = run_cli("--lab", str(lab), "history", LONG_SERIAL, "--out",
+                              str(tmp_path / "h"))
+    assert code == 0 and "…" not in stdout and not any(ln != ln.rstrip() for ln
+                                                       in stdout.splitlines())
     assert f"{numbers[1]}\t{LONG_STANDARD}\tA.1, A.2\t2026-01-02" in stdout
 
 
@@ -163,10 +178,12 @@ def test_register_list_on_a_terminal_folds_identifiers(lab, run_cli, tmp_path, m
     assert code == 0 and "…" not in stdout
     lines = stdout.splitlines()
     assert max(len(ln) for ln in lines) <= 80
-    header = [ln for ln in lines if "┃" in ln][-1]  # a header folds too: its last line names every column
+    # a header folds too: its last line names every column
+    header = [ln for ln in lines if "┃" in ln][-1]
     col = [c.strip() for c in header.split("┃")].index("serial")
     serial_column = "".join(ln.split("│")[col].strip() for ln in lines if ln.count("│") > col)
-    assert serial_column == LONG_SERIAL + LONG_SERIAL  # folded onto several lines, every character kept
+    # folded onto several lines, every character kept
+    assert serial_column == LONG_SERIAL + LONG_SERIAL
 
 
 # -- 4. global options after the command ------------------------------------------------------
@@ -182,7 +199,8 @@ def test_global_options_are_accepted_after_the_command(lab, run_cli, tmp_path):
     code, stdout, _ = run_cli("plugins", "--json", "--no-plugin-autoload")
     assert code == 0 and json.loads(stdout)["autoload"] is False
     # --block-plugin given before and after the command: both count
-    code, stdout, _ = run_cli("--block-plugin", "ogam", "items", "--json", "--block-plugin", "jjf2003")
+    code, stdout, _ = run_cli("--block-plugin", "ogam", "items", "--json", "--block-plugin",
+                              "jjf2003")
     standards = {i["standard"] for i in json.loads(stdout)["items"]}
     assert code == 0 and "ogam" not in standards and "jjf2003" not in standards and "gbt45570" in standards
 
@@ -203,7 +221,8 @@ def test_run_batch_and_acquire_share_their_progress_flags(run_cli):
 
 def test_acquire_quiet_says_nothing_on_stderr(run_cli, tmp_path):
     out = tmp_path / "camp"
-    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out", str(out),
+    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1",
+                                "--out", str(out),
                                 "--station-option", "duration_scale=0.05", "--seed", "7", "--quiet")
     assert code == 0 and stdout.strip() == str(out / "manifest.toml") and err == ""
 
@@ -213,17 +232,21 @@ def test_acquire_quiet_says_nothing_on_stderr(run_cli, tmp_path):
 
 def test_acquire_makes_missing_parent_folders(run_cli, tmp_path):
     out = tmp_path / "lot" / "line-2" / "dev1"
-    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out",
-                                str(out), "--station-option", "duration_scale=0.05", "--seed", "7", "--no-progress")
+    code, stdout, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1",
+                                "--out",
+                                str(out), "--station-option", "duration_scale=0.05", "--seed", "7",
+                                "--no-progress")
     assert code == 0, err
     assert (out / "manifest.toml").is_file()
     # a file in the way is an error, and nothing is made
     (tmp_path / "afile").write_text("x")
-    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out",
+    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1",
+                           "--out",
                            str(tmp_path / "afile" / "dev1"), "--no-progress")
     assert code == 2 and "afile is not a folder" in err
     # still never replacing anything: an existing campaign is refused
-    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out", str(out),
+    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1",
+                           "--out", str(out),
                            "--no-progress")
     assert code == 2 and "not empty" in err
 
@@ -236,8 +259,10 @@ def test_acquire_removes_the_parents_it_made_when_it_fails(tmp_path, monkeypatch
         raise DataError(str(path), None, "no space left on device")
 
     monkeypatch.setattr(cw, "atomic_write_text", full)
-    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out",
-                           str(tmp_path / "new" / "deeper" / "dev1"), "--station-option", "duration_scale=0.05",
+    code, _, err = run_cli("--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1",
+                           "--out",
+                           str(tmp_path / "new" / "deeper" / "dev1"), "--station-option",
+                           "duration_scale=0.05",
                            "--no-progress")
     assert code == 2 and "no space left" in err
     assert list(tmp_path.iterdir()) == []  # the parents it made are gone with the campaign
@@ -285,7 +310,8 @@ def test_doctor_passes_here_and_creates_nothing(lab, run_cli):
     reg = checks["register"]
     assert reg["ok"] and "no register" in reg["detail"] and "first registered run" in reg["detail"]
     assert {f"extra:{m}" for m in ("distributed", "psycopg", "numba", "pyarrow")} <= set(checks)
-    assert files() == before and not (lab.parent / "register.sqlite").exists()  # read only: no register made
+    # read only: no register made
+    assert files() == before and not (lab.parent / "register.sqlite").exists()
 
 
 def test_doctor_reports_the_register_schema(lab, run_cli, tmp_path):
@@ -297,12 +323,14 @@ def test_doctor_reports_the_register_schema(lab, run_cli, tmp_path):
     with sqlite3.connect(lab.parent / "register.sqlite") as db:  # as if written by a newer metro
         db.execute("UPDATE alembic_version SET version_num = '9999'")
     code, doc, checks = _doctor(run_cli, "--lab", str(lab))
-    assert code == 6 and not checks["register"]["ok"] and "upgrade metro" in checks["register"]["fix"]
+    assert code == 6 and not checks["register"]["ok"] and "upgrade metro" in checks["register"][
+        "fix"]
 
 
 def test_doctor_fails_on_a_broken_profile_and_says_what_to_do(home, run_cli, capsys):
     bad = home / "bad.toml"
-    bad.write_text('format = "metro-lab/1"\n[lab]\nname_en = "X"\ncolour = "red"\n', encoding="utf-8")
+    bad.write_text('format = "metro-lab/1"\n[lab]\nname_en = "X"\ncolour = "red"\n',
+                   encoding="utf-8")
     code, doc, checks = _doctor(run_cli, "--lab", str(bad))
     assert code == 6 and doc["ok"] is False
     assert not checks["lab-profile"]["ok"] and checks["lab-profile"]["required"]
@@ -316,7 +344,8 @@ def test_doctor_fails_without_a_cjk_font(home, run_cli, monkeypatch):
 
     monkeypatch.setattr(plots, "FALLBACK_FONTS", ("No Such CJK Font",))
     code, doc, checks = _doctor(run_cli)
-    assert code == 6 and not checks["cjk-fonts"]["ok"] and "fonts-noto-cjk" in checks["cjk-fonts"]["fix"]
+    assert code == 6 and not checks["cjk-fonts"]["ok"] and "fonts-noto-cjk" in checks["cjk-fonts"][
+        "fix"]
 
 
 def test_doctor_names_the_extra_of_a_missing_package(home, run_cli, monkeypatch):
@@ -326,8 +355,10 @@ def test_doctor_names_the_extra_of_a_missing_package(home, run_cli, monkeypatch)
     monkeypatch.setattr(extras, "available", lambda module: module != "numba" and real(module))
     code, doc, checks = _doctor(run_cli)
     numba = checks["extra:numba"]
-    assert code == 0 and not numba["ok"] and not numba["required"]  # optional: informs, does not fail
-    assert numba["fix"] == "pip install 'metro-inertial[fast]'" and "numpy fallback" in numba["detail"]
+    # optional: informs, does not fail
+    assert code == 0 and not numba["ok"] and not numba["required"]
+    assert numba["fix"] == "pip install 'metro-inertial[fast]'" and "numpy fallback" in numba[
+        "detail"]
     code, stdout, _ = run_cli("doctor")
     assert "missing" in stdout and "metro-inertial[fast]" in stdout
 
@@ -337,12 +368,14 @@ def test_register_show_piped_keeps_each_line_whole(lab, run_cli, tmp_path):
     code, stdout, _ = run_cli("--lab", str(lab), "register", "show", number)
     assert code == 0
     line = next(ln for ln in stdout.splitlines() if ln.startswith("  file "))
-    assert line.endswith(")") and "sha256 " in line and len(line) > 80  # one line, not wrapped at 80
+    # one line, not wrapped at 80
+    assert line.endswith(")") and "sha256 " in line and len(line) > 80
     assert "# results" in stdout and "# audit trail" in stdout and "…" not in stdout
 
 
 def test_a_postgresql_register_without_its_driver_names_the_extra(home, run_cli, monkeypatch):
-    monkeypatch.setitem(__import__("sys").modules, "psycopg", None)  # as if the 'postgres' extra were missing
+    # as if the 'postgres' extra were missing
+    monkeypatch.setitem(__import__("sys").modules, "psycopg", None)
     monkeypatch.setenv("METRO_REGISTER", "postgresql+psycopg://metro@127.0.0.1:5/x")
     code, _, err = run_cli("register", "list")
     assert code == 2 and "pip install 'metro-inertial[postgres]'" in err and "Traceback" not in err

@@ -2,11 +2,11 @@
 
 Budget sources printed literal underscores (``(s_upper − R)/2``, ``Δt_noise/2``); notes named
 command options and JSON paths (``(plan with -o max_rate=…)``, ``-o earth_rate=on``, ``metro run
---json: provenance.data_files``, ``metro plan -s gbt45570 -i D.5.4``, ``device.bias_repeatability``).  Symbols are now typeset as
-the others (``s_{upper}`` prints s with a subscript), and advice about the software is a
-terminal-only field of its message (:func:`metro.core.base.locale.hint`): the terminal and ``--json``
-keep it, a document leaves it out.  Each document is rendered by LibreOffice and read with
-pdftotext.
+--json: provenance.data_files``, ``metro plan -s gbt45570 -i D.5.4``,
+``device.bias_repeatability``). Symbols are now typeset as the others (``s_{upper}`` prints s with a
+subscript), and advice about the software is a terminal-only field of its message
+(:func:`metro.core.base.locale.hint`): the terminal and ``--json`` keep it, a document leaves it
+out. Each document is rendered by LibreOffice and read with pdftotext.
 """
 
 from __future__ import annotations
@@ -28,16 +28,19 @@ needs_office = pytest.mark.skipif(
 )
 
 #: what program text looks like; none of it may reach a document
-SOFTWARE = re.compile(r"_upper|_noise|_fixture|metro (run|plan|acquire)|(^|[\s(])-o\s|\s--[a-z]|provenance\.|"
-                      r"option (earth_rate|scale_factor)|\[device\]|device\.[a-z]+_[a-z_]+")
+SOFTWARE = re.compile(r"_upper|_noise|_fixture|metro "
+                      r"(run|plan|acquire)|(^|[\s(])-o\s|\s--[a-z]|provenance\.|option "
+                      r"(earth_rate|scale_factor)|\[device\]|device\.[a-z]+_[a-z_]+")
 
-# (standard, items, station options, item options, what the terminal says that the document must not):
-# the items whose budgets or notes had such text
+# (standard, items, station options, item options, what the terminal says that the document must
+# not): the items whose budgets or notes had such text
 CASES = [
     ("ogam", ["7.5"], {}, {}, ["(s_{upper} − R)/2"]),
     ("jjf2014", ["7.2.4", "7.2.12", "7.2.13", "7.2.14", "7.2.15", "7.2.23"], {"seed": 3}, {},
-     ["(s_{upper} − K_r)/2", "(s_{upper} − B_s)/2", "(s_{upper} − B_r)/2", "Δt_{noise}/2", "(-o earth_rate=on"]),
-    ("gbt45570", ["D.1.4", "D.5.4"], {"seed": 3, "duration_scale": 0.2, "states_repeatability": False},
+     ["(s_{upper} − K_r)/2", "(s_{upper} − B_s)/2", "(s_{upper} − B_r)/2", "Δt_{noise}/2",
+      "(-o earth_rate=on"]),
+    ("gbt45570", ["D.1.4", "D.5.4"], {"seed": 3, "duration_scale": 0.2,
+                                      "states_repeatability": False},
      {"repeats": "0"}, ["(s_{upper} − K_r)/2", "as metro plan -s gbt45570 -i D.5.4 lists them"]),
     ("gbt45570", ["D.2.4"], {"seed": 3}, {}, ["(s_{upper} − K_r)/2"]),
     ("gbt45570", ["D.3"], {"seed": 3}, {}, ["(plan with -o max_rate=…)"]),
@@ -46,7 +49,8 @@ CASES = [
 
 
 def _all_text(record) -> str:
-    """Every note, warning, reason and budget source of a run as the terminal prints them (English)."""
+    """Every note, warning, reason and budget source of a run as the terminal prints them
+    (English)."""
     out = []
     for o in record.outcomes:
         out += [str(w) for w in o.warnings]
@@ -69,11 +73,14 @@ def test_documents_print_no_program_syntax(tmp_path, standard, items, station, o
     for lang in ("zh+en", "en"):
         pdf = write_report(tmp_path / f"{lang}.pdf", rec, layout=pm.template_for(standard).layout,
                            extend=pm.extend_report_context, lang=lang)
-        text = subprocess.run(["pdftotext", "-enc", "UTF-8", str(pdf), "-"], capture_output=True, text=True,
+        text = subprocess.run(["pdftotext", "-enc", "UTF-8", str(pdf), "-"], capture_output=True,
+                              text=True,
                               check=True).stdout
         found = sorted({m.group(0).strip() for m in SOFTWARE.finditer(text)})
-        assert not found, (standard, lang, found, [ln for ln in text.splitlines() if SOFTWARE.search(ln)][:5])
-    # the symbols are there, typeset (the χ² bound of a sampled standard deviation prints s with subscript upper)
+        assert not found, (standard, lang, found, [ln for ln in text.splitlines()
+                                                   if SOFTWARE.search(ln)][:5])
+    # the symbols are there, typeset (the χ² bound of a sampled standard deviation prints s with
+    # subscript upper)
     if any("s_{upper}" in s for s in said):
         assert "(supper−" in re.sub(r"\s", "", text)
 
@@ -81,7 +88,8 @@ def test_documents_print_no_program_syntax(tmp_path, standard, items, station, o
 def test_the_terminal_keeps_the_hint_a_document_leaves_out():
     note = msg("earth rate removed ({amount}; not in the standard){hint}", amount="Ω_e·sin φ",
                hint=hint(" (-o earth_rate=on)"))
-    assert str(note) == "earth rate removed (Ω_e·sin φ; not in the standard) (-o earth_rate=on)"  # terminal, --json
+    # terminal, --json
+    assert str(note) == "earth rate removed (Ω_e·sin φ; not in the standard) (-o earth_rate=on)"
     for lang in ("en", "zh", "zh+en"):
         printed = translator(lang).text(note)
         assert "-o" not in printed and "earth_rate" not in printed, (lang, printed)

@@ -1,6 +1,6 @@
-"""The fast document writing (metro.core.documents.document builds table rows and runs as lxml elements)
-writes the same XML as python-docx's own per-run and per-cell calls did: the reference path
-below is the former implementation, kept here to hold the fast one to it.  Not timed (the times
+"""The fast document writing (metro.core.documents.document builds table rows and runs as lxml
+elements) writes the same XML as python-docx's own per-run and per-cell calls did: the reference
+path below is the former implementation, kept here to hold the fast one to it. Not timed (the times
 are in benchmarks/bench_report_write.py and docs/performance.md)."""
 
 from __future__ import annotations
@@ -16,7 +16,8 @@ from metro.core.base.locale import translator
 
 
 # ------------------------------------------------------------------------------------------------
-# the reference: python-docx proxies, one call per run, per cell property (the code before the change)
+# the reference: python-docx proxies, one call per run, per cell property (the code before the
+# change)
 # ------------------------------------------------------------------------------------------------
 
 
@@ -42,7 +43,8 @@ def _reference_runs(doc, paragraph, text, *, bold=False, size=None, italic=False
             paragraph.add_run().add_break()
 
 
-def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=False, shade=(), spans=(),
+def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=False, shade=(),
+                     spans=(),
                      bold_rows=(), unit_break=()):
     from docx.enum.table import WD_TABLE_ALIGNMENT
     from docx.oxml.ns import qn
@@ -51,7 +53,8 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
     E, O = B.oxml_element, B.insert_ordered
     rows = [[T.glue(doc.tr.text(c)) for c in r] for r in rows]
     if unit_break:
-        rows = [[T.unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r in rows]
+        rows = [[T.unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r
+                in rows]
     head = [T.two_lines(T.glue(doc.tr.text(h))) for h in header] if header else None
     spans = set(spans)
     n = len(head) if head else max(len(r) for i, r in enumerate(rows) if i not in spans)
@@ -59,7 +62,8 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
     everything = ([head] if head else []) + rows
     first = 1 if head else 0
     cols = [[r[j] for i, r in enumerate(everything) if i - first not in spans] for j in range(n)]
-    widths = T.column_widths(cols, T.TEXT_WIDTH_MM, font_pt, bold_first=bool(head), bold_column=label_column)
+    widths = T.column_widths(cols, T.TEXT_WIDTH_MM, font_pt, bold_first=bool(head),
+                             bold_column=label_column)
     pt = font_pt
     t = doc.doc.add_table(rows=len(everything), cols=n)
     t.style = "Table Grid"
@@ -83,7 +87,8 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
         if i - first in spans:
             cell = row.cells[0].merge(row.cells[n - 1]) if n > 1 else row.cells[0]
             tcPr = cell._tc.get_or_add_tcPr()
-            O(tcPr, E("w:tcW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"), B.TCPR_ORDER)
+            O(tcPr, E("w:tcW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"),
+              B.TCPR_ORDER)
             if i - first in shade:
                 O(tcPr, E("w:shd", val="clear", color="auto", fill=T.LABEL_FILL), B.TCPR_ORDER)
             p = cell.paragraphs[0]
@@ -111,20 +116,24 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
 
 
 def _builder(lang="zh+en"):
-    return D.DocumentBuilder(number="MTR-1", title="Test report", tr=translator(lang), simulated=True, footer="metro")
+    return D.DocumentBuilder(number="MTR-1", title="Test report", tr=translator(lang),
+                             simulated=True, footer="metro")
 
 
 def _xml(element) -> bytes:
     return etree.tostring(element, encoding="utf-8")
 
 
-#: a small budget table: a header in both languages, subscripts, a spanning title row (bold, shaded),
-#: units that may wrap, a negative number, a summary row, leading/trailing spaces, a tab and a line break
+#: a small budget table: a header in both languages, subscripts, a spanning title row (bold,
+#shaded), : units that may wrap, a negative number, a summary row, leading/trailing spaces, a tab
+#and a line break
 HEADER = ["Source", "Symbol", "Type, distribution", "Value", "Divisor", "c_i", "u_i(y)", "ν_i"]
 ROWS = [
     ["D.5.2 — bias stability B_s   [u_i(y): °/h]"],
-    ["repeatability of B_s (t = 10 s)", "B_s", "A, normal", "4.946×10⁻⁸ °/°C/h", "1", "1", "0.0012 °/h", "9"],
-    ["rate table: stated U (k = 2)", "Ω_r", "B, uniform", "-0.5 °/s", "1.732", "2.3 ppm", " 0.29 ", "∞"],
+    ["repeatability of B_s (t = 10 s)", "B_s", "A, normal", "4.946×10⁻⁸ °/°C/h", "1", "1",
+     "0.0012 °/h", "9"],
+    ["rate table: stated U (k = 2)", "Ω_r", "B, uniform", "-0.5 °/s", "1.732", "2.3 ppm", " 0.29 ",
+     "∞"],
     ["a tab\there and a line\nbreak", "K_{upper}", "B, normal", "1 ppm", "2", "1", "0.5", "∞"],
     ["u_c = 0.0012 °/h, ν_eff = 9, k = 2.26, U = 0.0027 °/h"],
 ]
@@ -149,7 +158,8 @@ def test_label_value_table_is_the_xml_python_docx_wrote():
     assert _xml(t1._tbl) == _xml(t2._tbl)
 
 
-@pytest.mark.parametrize("kw", [{}, {"bold": True, "size": 8}, {"italic": True, "color": "b01c1c", "size": 7.5}])
+@pytest.mark.parametrize("kw", [{}, {"bold": True, "size": 8}, {"italic": True, "color": "b01c1c",
+                                                                "size": 7.5}])
 def test_paragraph_runs_are_the_xml_python_docx_wrote(kw):
     fast, ref = _builder(), _builder()
     text = "K_l = 3 ppm and α_0 = -1.2×10⁻⁷\nsecond line with\ta tab "

@@ -1,5 +1,5 @@
-"""Writing a document measures and glues each text once (metro.core.documents.text's caches), with the results
-the uncached functions give."""
+"""Writing a document measures and glues each text once (metro.core.documents.text's caches), with
+the results the uncached functions give."""
 
 from __future__ import annotations
 

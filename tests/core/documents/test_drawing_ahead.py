@@ -1,6 +1,6 @@
 """A run's figures drawn in a second process while its items are evaluated
-(metro.core.documents.figure_cache.DrawingAhead): the same PNG bytes as drawn in-process, taken by the
-document when it asks for the same figure, drawn in-process whenever the worker cannot help, and
+(metro.core.documents.figure_cache.DrawingAhead): the same PNG bytes as drawn in-process, taken by
+the document when it asks for the same figure, drawn in-process whenever the worker cannot help, and
 a caller's unguarded script is never run a second time by the worker."""
 
 from __future__ import annotations
@@ -113,7 +113,8 @@ def test_an_unguarded_script_runs_once(tmp_path):
             png = figure_cache.cached_png(spec)
             print(ahead.take_count, png[:4] == b"\\x89PNG")
     """))
-    out = subprocess.run([sys.executable, str(script)], check=False, capture_output=True, text=True, timeout=120,
+    out = subprocess.run([sys.executable, str(script)], check=False, capture_output=True, text=True,
+                         timeout=120,
                          env={**os.environ, "METRO_FIGURE_CACHE": "off"})
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["1", "True"]
@@ -144,7 +145,8 @@ def test_run_hands_the_report_its_own_figures(monkeypatch, run_cli, tmp_path, la
     """``metro run`` with several items hands each item's figures to the worker as the item
     finishes, in the report's language: the very figures the document then asks for."""
     submitted, asked = _spy(monkeypatch)
-    argv = ["run", "-s", "gbt45570", "-i", "D.5.1", "-i", "D.5.2", "-i", "D.5.6", "--out", str(tmp_path / "o")]
+    argv = ["run", "-s", "gbt45570", "-i", "D.5.1", "-i", "D.5.2", "-i", "D.5.6", "--out",
+            str(tmp_path / "o")]
     code, _, err = run_cli(*argv, *(["--lang", lang] if lang else []))
     assert code == 0, err
     assert asked and sorted(submitted) == sorted(asked)

@@ -1,5 +1,6 @@
 """Figures are drawn once per figure (not laid out twice by savefig) and a document written again
-takes them from metro.core.documents.figure_cache: the same pixels as savefig's, never a stale image."""
+takes them from metro.core.documents.figure_cache: the same pixels as savefig's, never a stale
+image."""
 
 from __future__ import annotations
 
@@ -13,12 +14,15 @@ from metro.core.documents import figure_cache, plots
 from metro.core.model.results import PlotSpec
 
 
-def _spec(y_last: float = 3.0, title: str = "B_s(τ_k) 及 D.45 拟合 B_s(τ_k) and the D.45 fit") -> PlotSpec:
+def _spec(y_last: float = 3.0,
+          title: str = "B_s(τ_k) 及 D.45 拟合 B_s(τ_k) and the D.45 fit") -> PlotSpec:
     tau = np.array([1.0, 10.0, 100.0, 1000.0])
     return PlotSpec("adev", title, "τ_k (s)", "B_s (°/h)",
-                    [{"x": tau, "y": np.array([9.0, 5.0, 4.0, y_last]), "style": "o", "label": "B_s(τ_k)",
+                    [{"x": tau, "y": np.array([9.0, 5.0, 4.0, y_last]), "style": "o",
+                      "label": "B_s(τ_k)",
                       "yerr": np.array([0.5, 0.4, 0.4, 0.3])},
-                     {"x": tau, "y": np.array([9.1, 5.2, 3.9, 3.1]), "style": "--", "label": "D.45"}],
+                     {"x": tau, "y": np.array([9.1, 5.2, 3.9, 3.1]), "style": "--",
+                      "label": "D.45"}],
                     logx=True, logy=True)
 
 
@@ -44,8 +48,10 @@ def _savefig_png(spec: PlotSpec) -> bytes:
         return out.getvalue()
 
 
-@pytest.mark.parametrize("spec", [_spec(), PlotSpec("lin", "Scale factor against temperature", "T (°C)", "K (P/″)",
-                                                    [{"x": [-40, 20, 60], "y": [0.800001, 0.800002, 0.8000031]}])])
+@pytest.mark.parametrize("spec", [_spec(), PlotSpec("lin", "Scale factor against temperature",
+                                                    "T (°C)", "K (P/″)",
+                                                    [{"x": [-40, 20, 60],
+                                                      "y": [0.800001, 0.800002, 0.8000031]}])])
 def test_one_draw_writes_the_pixels_savefig_wrote(spec, tmp_path):
     assert _same_image(plots.png_bytes(spec), _savefig_png(spec))
     assert _same_image(plots.render_png(spec, tmp_path / "f.png").read_bytes(), _savefig_png(spec))
@@ -56,7 +62,9 @@ def _same_image(a: bytes, b: bytes) -> bool:
     from PIL import Image
 
     ia, ib = Image.open(io.BytesIO(a)), Image.open(io.BytesIO(b))
-    return (ia.mode, ia.size, ia.info) == (ib.mode, ib.size, ib.info) and np.array_equal(np.asarray(ia), np.asarray(ib))
+    return (ia.mode, ia.size, ia.info) == (ib.mode, ib.size,
+                                           ib.info) and np.array_equal(np.asarray(ia), np.asarray(
+                                               ib))
 
 
 def test_png_encode_keeps_every_pixel():
@@ -66,7 +74,8 @@ def test_png_encode_keeps_every_pixel():
     rng = np.random.default_rng(29)
     for shape in ((37, 53, 4), (1, 9, 4), (9, 1, 4), (300, 200, 4)):
         rgba = rng.integers(0, 256, size=shape, dtype=np.uint8)
-        rgba[: shape[0] // 2, : shape[1] // 2] = (255, 255, 255, 255)  # runs, as a figure's white space
+        # runs, as a figure's white space
+        rgba[: shape[0] // 2, : shape[1] // 2] = (255, 255, 255, 255)
         im = Image.open(io.BytesIO(plots.png_encode(rgba, dpi=300, text={"Software": "metro"})))
         assert im.mode == "RGBA" and im.size == (shape[1], shape[0])
         assert np.array_equal(np.asarray(im), rgba)
@@ -83,7 +92,8 @@ def test_png_encode_smaller_than_pillow_on_a_figure():
 def test_figures_drawn_one_after_another_on_the_kept_renderer(tmp_path):
     """The renderer kept between figures (its text measurements and parsed mathtext) draws each
     figure as a renderer of its own did: a figure drawn after others is the figure drawn alone."""
-    a, b = _spec(), PlotSpec("lin", "温度 T_{ref}", "T (°C)", "K_i (P/″)", [{"x": [-40, 20, 60], "y": [0.5, 0.6, 0.7],
+    a, b = _spec(), PlotSpec("lin", "温度 T_{ref}", "T (°C)", "K_i (P/″)",
+                             [{"x": [-40, 20, 60], "y": [0.5, 0.6, 0.7],
                                                                               "style": "o", "yerr": 0.01}])
     drawn = [plots.png_bytes(x) for x in (a, b, a, b)]
     assert drawn[0] == drawn[2] and _same_image(drawn[0], _savefig_png(a))
@@ -109,7 +119,8 @@ def figure_key_of(spec):
 
 @pytest.mark.parametrize("changed", [_spec(y_last=3.0000001), _spec(title="another title"),
                                      attrs.evolve(_spec(), logy=False),
-                                     attrs.evolve(_spec(), series=[dict(_spec().series[0], style="s")])])
+                                     attrs.evolve(_spec(),
+                                                  series=[dict(_spec().series[0], style="s")])])
 def test_any_change_is_a_new_figure(cache, changed):
     figure_cache.cached_png(_spec())
     assert figure_key_of(changed) != figure_key_of(_spec())
@@ -134,9 +145,13 @@ def test_stored_context_finds_the_figure_drawn_at_issue(cache):
 
     spec = _spec()
     spec = PlotSpec(spec.name, spec.title, spec.xlabel, spec.ylabel,
-                    [dict(spec.series[0], y=np.array([9.0, np.nan, 4.0, 3.0]))] + list(spec.series[1:]),
+                    [dict(spec.series[0], y=np.array([9.0, np.nan, 4.0, 3.0]))]
+                    + list(spec.series[1:]),
                     logx=True, logy=True)
-    again = decode_context(encode_context({"outcomes": [{"plots": [{"spec": spec}]}]}))["outcomes"][0]["plots"][0]["spec"]
+    again = (
+        decode_context(encode_context({"outcomes": [{"plots": [{"spec": spec}]}]}))["outcomes"][0][
+            "plots"][0]["spec"]
+    )
     assert figure_key_of(again) == figure_key_of(spec)
 
 

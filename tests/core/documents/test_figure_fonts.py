@@ -3,9 +3,9 @@
 matplotlib lists the machine's fonts once, in a cache file (``fontlist-*.json`` in its config or
 cache folder); a lab that installs its CJK fonts after the first use of matplotlib has a cache
 without them, and before issue 29 every figure drew its Chinese as empty boxes with one
-``UserWarning: Glyph … missing from font(s) DejaVu Sans`` per glyph.  metro now adds the CJK font
-files it finds to the running process (:func:`metro.core.documents.plots.register_cjk_fonts`), and a machine
-with no CJK font at all gets one statement of metro's, never matplotlib's warnings.
+``UserWarning: Glyph … missing from font(s) DejaVu Sans`` per glyph. metro now adds the CJK font
+files it finds to the running process (:func:`metro.core.documents.plots.register_cjk_fonts`), and a
+machine with no CJK font at all gets one statement of metro's, never matplotlib's warnings.
 
 Each case runs in a subprocess whose ``MPLCONFIGDIR`` holds a font cache built without the CJK
 fonts (matplotlib's own cache format, its entries for the CJK font files removed).
@@ -24,7 +24,8 @@ import pytest
 from metro.core.documents import plots
 
 _CJK_FILES = plots.cjk_font_files()
-needs_cjk = pytest.mark.skipif(not _CJK_FILES, reason="no CJK font file on this machine (fonts-noto-cjk)")
+needs_cjk = pytest.mark.skipif(not _CJK_FILES,
+                               reason="no CJK font file on this machine (fonts-noto-cjk)")
 
 @pytest.fixture(scope="module")
 def stale_cache(tmp_path_factory):
@@ -38,7 +39,8 @@ def stale_cache(tmp_path_factory):
             "m = fm.FontManager()\nm.ttflist = [f for f in m.ttflist if not pat.search(f.fname)]\n"
             "fm.json_dump(m, sys.argv[1])\n")
     env = dict(os.environ, MPLCONFIGDIR=str(folder))
-    subprocess.run([sys.executable, "-c", code, str(target)], check=True, env=env, capture_output=True)
+    subprocess.run([sys.executable, "-c", code, str(target)], check=True, env=env,
+                   capture_output=True)
     cached = json.loads(target.read_text(encoding="utf-8"))
     assert not [f for f in cached["ttflist"] if "CJK" in f["name"]]  # the cache really is stale
     return folder
@@ -46,7 +48,8 @@ def stale_cache(tmp_path_factory):
 
 def _run(code: str, mplconfig: Path, *args: str) -> subprocess.CompletedProcess:
     env = dict(os.environ, MPLCONFIGDIR=str(mplconfig), PYTHONWARNINGS="default")
-    return subprocess.run([sys.executable, "-c", code, *args], env=env, capture_output=True, text=True, timeout=600)
+    return subprocess.run([sys.executable, "-c", code, *args], env=env, capture_output=True,
+                          text=True, timeout=600)
 
 
 _DRAW = """
@@ -83,24 +86,27 @@ def test_a_stale_font_cache_still_draws_chinese_with_a_cjk_font(stale_cache, tmp
 def test_a_run_with_a_stale_font_cache_prints_no_python_warning(stale_cache, tmp_path):
     """``metro run`` of an item with figures, zh+en: stderr holds no Python warning."""
     code = "import sys; from metro.core.cli.app import main; sys.exit(main(sys.argv[1:]))"
-    proc = _run(code, stale_cache, "run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_scale=0.05",
+    proc = _run(code, stale_cache, "run", "-s", "gbt45570", "-i", "D.5.6", "--station-option",
+                "duration_scale=0.05",
                 "--out", str(tmp_path), "--no-progress", "-q")
     assert proc.returncode in (0, 3, 4), proc.stderr
     import zipfile
 
     docx = next(tmp_path.glob("*.docx"))
-    assert [n for n in zipfile.ZipFile(docx).namelist() if n.endswith(".png")]  # the figure is drawn
+    # the figure is drawn
+    assert [n for n in zipfile.ZipFile(docx).namelist() if n.endswith(".png")]
     for text in (proc.stderr, proc.stdout):
         assert "Warning" not in text and "missing from font" not in text and "no CJK font" not in text, text
 
 
 def test_no_cjk_font_at_all_is_one_statement_not_a_warning_per_glyph(stale_cache, tmp_path):
-    """Without any CJK font (the system's font list empty), figures still draw, and the run says once
-    what is missing instead of matplotlib's warning per glyph and figure."""
-    code = ("import sys\nfrom matplotlib import font_manager as fm\nfm.findSystemFonts = lambda *a, **k: []\n"
-            "from metro.core.documents import plots\nfrom metro.core.model.results import PlotSpec\n"
-            "spec = PlotSpec('zh', '零偏稳定性', 'τ (s)', '零偏 (°/h)', [{'x': [1.0, 2.0], 'y': [1.0, 2.0]}])\n"
-            "for i in range(3):\n    plots.render_png(spec, f'{sys.argv[1]}/{i}.png', dpi=40)\n")
+    """Without any CJK font (the system's font list empty), figures still draw, and the run says
+    once what is missing instead of matplotlib's warning per glyph and figure."""
+    code = ("import sys\nfrom matplotlib import font_manager as fm\nfm.findSystemFonts = lambda "
+            "*a, **k: []\nfrom metro.core.documents import plots\nfrom metro.core.model.results "
+            "import PlotSpec\nspec = PlotSpec('zh', '零偏稳定性', 'τ (s)', '零偏 (°/h)', "
+            "[{'x': [1.0, 2.0], 'y': [1.0, 2.0]}])\nfor i in range(3):\n    plots.render_png(spec, "
+            "f'{sys.argv[1]}/{i}.png', dpi=40)\n")
     proc = _run(code, stale_cache, str(tmp_path))
     assert proc.returncode == 0, proc.stderr
     assert "Warning" not in proc.stderr and "missing from font" not in proc.stderr, proc.stderr
@@ -110,12 +116,14 @@ def test_no_cjk_font_at_all_is_one_statement_not_a_warning_per_glyph(stale_cache
 
 @pytest.fixture
 def no_cjk_font_known(monkeypatch):
-    """matplotlib's font list without CJK fonts, the machine's fonts found through a counting finder,
-    and register_cjk_fonts' result forgotten before and after (other tests find the real fonts)."""
+    """matplotlib's font list without CJK fonts, the machine's fonts found through a counting
+    finder, and register_cjk_fonts' result forgotten before and after (other tests find the real
+    fonts)."""
     from matplotlib import font_manager
 
     fm = font_manager.fontManager
-    monkeypatch.setattr(fm, "ttflist", [f for f in fm.ttflist if not plots.CJK_FONT_FILE.search(f.fname)])
+    monkeypatch.setattr(fm, "ttflist", [f for f in fm.ttflist if
+                                        not plots.CJK_FONT_FILE.search(f.fname)])
     searches = []
     plots.register_cjk_fonts.cache_clear()
     yield monkeypatch, searches
@@ -160,7 +168,8 @@ def test_figures_drawn_at_once_from_threads_search_once(no_cjk_font_known):
     monkeypatch, searches = no_cjk_font_known
     _counting_finder(monkeypatch, searches, _CJK_FILES[:1], delay=0.2)
     results = []
-    threads = [threading.Thread(target=lambda: results.append(plots.register_cjk_fonts())) for _ in range(4)]
+    threads = [threading.Thread(target=lambda: results.append(plots.register_cjk_fonts())) for _
+               in range(4)]
     for t in threads:
         t.start()
     for t in threads:

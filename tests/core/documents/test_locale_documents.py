@@ -105,7 +105,8 @@ def test_the_figures_of_a_chinese_document_draw_no_english_prose(rendered):
     tr = translator("zh")
     specs = [plots.localized(p, tr) for o in rec.outcomes for p in o.plots]
     assert specs, case
-    drawn = [str(t) for s in specs for t in (s.title, s.xlabel, s.ylabel, *(x.get("label") or "" for x in s.series))]
+    drawn = [str(t) for s in specs for t in (s.title, s.xlabel, s.ylabel,
+                                             *(x.get("label") or "" for x in s.series))]
     bad = english_prose(drawn)
     assert not bad, f"{case}: {len(bad)} English runs in figures, e.g.\n" + "\n".join(bad[:15])
 
@@ -131,16 +132,19 @@ def test_a_bilingual_document_has_both_and_every_note_in_both(rendered):
         s = glue(s).replace("\u00a0", " ").replace("\u2060", "")
         return "\n".join("".join(p for p, _ in subscript_runs(line)) for line in s.split("\n"))
 
-    note = next(r.note for o in rec.outcomes for r in o.results if r.note and getattr(r.note, "msgid", None))
+    note = next(r.note for o in rec.outcomes for r in o.results if r.note
+                and getattr(r.note, "msgid", None))
     assert printed(translator("zh").text(note)) in zh_text.replace("\u2060", "")
     assert printed(str(note)) in text.replace("\u2060", "")
 
 
 def test_terminal_json_stays_english(capsys):
-    """--lang changes the document only: the --json output (notes, reasons, budget sources) is English."""
+    """--lang changes the document only: the --json output (notes, reasons, budget sources) is
+    English."""
     from metro.core.cli.app import main
 
-    code = main(["run", "-s", "ogam", "-i", "7.1,7.2,7.4", "--lang", "zh", "--json", "-q", "--no-report"])
+    code = main(["run", "-s", "ogam", "-i", "7.1,7.2,7.4", "--lang", "zh", "--json", "-q",
+                 "--no-report"])
     out = capsys.readouterr().out
     assert code == 0, out[-2000:]
     doc = json.loads(out)
@@ -154,10 +158,10 @@ def test_gbt45570_type_test_report_in_chinese(pm, tmp_path):
     """GB/T 45570 `--all` (the type test: clause-5 table, 5.4 severities, not-reportable threshold)
     in zh holds no English prose, the merged line of the limits' sources included (its table rows,
     clauses and remarks are messages merged by their fields, no longer English text parsed: it was
-    the one English line left, 'table A.1 rows 1–16, 航空 aviation (row 1: applies to D.1.1 only …)');
-    the en document has no Chinese in that line ('航空', '绝缘电阻', '极性应为正' were there); the
-    catalog lacks nothing.  Before the clause-5 table rendered its requirements, results and notes
-    through the catalog the report had 58 English runs all over the clause-5 table."""
+    the one English line left, 'table A.1 rows 1–16, 航空 aviation (row 1: applies to D.1.1 only
+    …)'); the en document has no Chinese in that line ('航空', '绝缘电阻', '极性应为正' were there);
+    the catalog lacks nothing. Before the clause-5 table rendered its requirements, results and
+    notes through the catalog the report had 58 English runs all over the clause-5 table."""
     rec = run_items(pm, "gbt45570", [], run_all=True)
     ctx = report.build_context(rec, extend=pm.extend_report_context)
     figures = report.render_figures(ctx, tmp_path)
@@ -169,16 +173,21 @@ def test_gbt45570_type_test_report_in_chinese(pm, tmp_path):
     assert not bad, bad[:10]
     line = next(t for t in texts if t.startswith("限值来源")).replace("\u00a0", " ")
     assert "表 A.1 第 1–16 行，航空（第 1 行：仅适用于 D.1.1" in line and "5.2.8（绝缘电阻 ≥ 50 MΩ）" in line, line
-    # the figures' own words too (D.1.5's fit line, 6.2.7.7's window mean and band are added to the specs)
+    # the figures' own words too (D.1.5's fit line, 6.2.7.7's window mean and band are added to the
+    # specs)
     from metro.core.documents import plots
     from metro.core.base.locale import translator
 
-    specs = [plots.localized(p["spec"], translator("zh")) for o in ctx["outcomes"] for p in o["plots"]]
-    drawn = [str(t) for sp in specs for t in (sp.title, sp.xlabel, sp.ylabel, *(x.get("label") or "" for x in sp.series))]
+    specs = [plots.localized(p["spec"], translator("zh")) for o in ctx["outcomes"] for p
+             in o["plots"]]
+    drawn = [str(t) for sp in specs for t in (sp.title, sp.xlabel, sp.ylabel,
+                                              *(x.get("label") or "" for x in sp.series))]
     assert len(specs) >= 8 and not english_prose(drawn), english_prose(drawn)[:10]
     en = report.build_document(ctx, tmp_path, layout=layout, lang="en", figures=figures)
-    line = next(t for t in _texts(en.doc) if t.startswith("Sources of the limits")).replace("\u00a0", " ")
-    assert not CJK.search(line) and "table A.1 rows 1–16, aviation (row 1: applies to D.1.1 only" in line, line
+    line = next(t for t in _texts(en.doc)
+                if t.startswith("Sources of the limits")).replace("\u00a0", " ")
+    assert not CJK.search(
+        line) and "table A.1 rows 1–16, aviation (row 1: applies to D.1.1 only" in line, line
 
 
 #: two English words in a row (a sentence or phrase, not a symbol or a unit)
@@ -195,7 +204,8 @@ def _bypassing(rec) -> list[str]:
     texts = []
     for o in rec.outcomes:
         texts += [(o.id, "warning", w) for w in o.warnings]
-        texts += [(o.id, "table", t.title) for t in o.tables] + [(o.id, "plot", p.title) for p in o.plots]
+        texts += [(o.id, "table", t.title) for t in o.tables] + [(o.id, "plot", p.title) for p
+                                                                 in o.plots]
         for r in o.results:
             texts += [(o.id, "note", r.note), (o.id, "reason", r.reason)]
             if r.budget is not None:
@@ -208,7 +218,8 @@ def _bypassing(rec) -> list[str]:
             continue
         before = set(tr.missing)
         tr.text(t)
-        if tr.missing - before or (not isinstance(t, Text) and WORDY.search(str(t)) and str(t) not in tr._zh):
+        if tr.missing - before or (not isinstance(t, Text) and WORDY.search(str(t)) and str(t)
+                                   not in tr._zh):
             bad.append(f"{item} {what}: {str(t)[:120]}")
     return bad
 
@@ -220,17 +231,19 @@ def test_rate_method_and_quantization_texts_go_through_the_catalog(pm):
     f-strings ('mean outputs F̄_j through the D.21 fit', 'rate-table ripple averaged over each rate
     point …', 'the D.41 means of 10 samples', 'noise s = … the rounding does not average out …'),
     printed in English in a Chinese report."""
-    rec = run_items(pm, "gbt45570", ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.6", "D.3", "D.5.1", "D.5.2"],
+    rec = run_items(pm, "gbt45570", ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.6", "D.3", "D.5.1",
+                                     "D.5.2"],
                     station="simulated-digital")
     bad = _bypassing(rec)
     assert not bad, "\n".join(bad[:20])
 
 
 def test_every_standards_texts_go_through_the_catalog(pm):
-    """ogam, JJF 2003, JJF 2014 and the GB/T type test (--all): warnings ('not measured: …', 'n rounds
-    at 60 °/s …'), the 5.2.x declarations' warnings and budget sources ('observed answers, a count
-    (exact)', JJF 2014 7.2.11's 'rate table Ω_(+) (γ ∝ 1/Ω)') are messages."""
-    bad = [b for s in ("ogam", "jjf2003", "jjf2014", "gbt45570") for b in _bypassing(run_items(pm, s, [], run_all=True))]
+    """ogam, JJF 2003, JJF 2014 and the GB/T type test (--all): warnings ('not measured: …', 'n
+    rounds at 60 °/s …'), the 5.2.x declarations' warnings and budget sources ('observed answers, a
+    count (exact)', JJF 2014 7.2.11's 'rate table Ω_(+) (γ ∝ 1/Ω)') are messages."""
+    bad = [b for s in ("ogam", "jjf2003", "jjf2014", "gbt45570") for b
+           in _bypassing(run_items(pm, s, [], run_all=True))]
     assert not bad, "\n".join(bad[:20])
 
 
@@ -246,13 +259,17 @@ def test_figure_text_in_the_document_language(pm, tmp_path, monkeypatch):
     assert titles and all(getattr(t, "msgid", None) in catalog("zh") for t in titles)
     drawn: list[str] = []
     real = plots.png_bytes
-    monkeypatch.setattr(plots, "png_bytes", lambda spec, **kw: (drawn.append(spec.title), real(spec, **kw))[1])
+    monkeypatch.setattr(plots, "png_bytes", lambda spec,
+                        **kw: (drawn.append(spec.title), real(spec, **kw))[1])
     import warnings
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         report.build_document(ctx, tmp_path, layout=pm.template_for("gbt45570").layout, lang="zh")
-    if len(plots.font_families()) > 1:  # a CJK font is installed (CI installs fonts-noto-cjk): no empty boxes
+    # a CJK font is installed (CI installs fonts-noto-cjk): no empty boxes
+    if len(plots.font_families()) > 1:
         assert not [w for w in caught if "missing from font" in str(w.message)], caught[:3]
-    assert drawn and all(re.search(r"[\u4e00-\u9fff]", t) and not re.search(r"[A-Za-z]{4,}", t) for t in drawn), drawn
-    assert plots.localized(ctx["outcomes"][0]["plots"][0]["spec"], report.translator("en")).title == str(titles[0])
+    assert drawn and all(re.search(r"[\u4e00-\u9fff]", t) and not re.search(r"[A-Za-z]{4,}", t)
+                         for t in drawn), drawn
+    assert plots.localized(ctx["outcomes"][0]["plots"][0]["spec"],
+                           report.translator("en")).title == str(titles[0])

@@ -1,4 +1,5 @@
-"""Notes and warnings stated once, naming where they apply (metro.core.documents.notes, issue 13 follow-up).
+"""Notes and warnings stated once, naming where they apply (metro.core.documents.notes, issue 13
+follow-up).
 
 A JJF 2003 certificate of 7.2.1–7.2.3 on a drifting MIMU (simulated class mems-warmup, seed 3)
 printed its notes block over 2⅓ pages (13 pages in all, zh+en): each item repeated the three
@@ -27,30 +28,38 @@ def test_a_warning_several_items_share_is_stated_once_naming_them():
 
 
 def test_a_shared_part_of_a_note_is_its_own_line_the_rest_stays_with_its_result():
-    corr = msg("corrected for the gyro bias drift during the campaign by {delta:.3g}{unit} (from the recording "
-               "times)", delta=-1.7e-4, unit="")
-    fit = {s: msg("fitted bias b = {b:.5g} °/s", b=b) for s, b in (("K_gxx", -0.34072), ("K_gxy", -0.2817))}
+    corr = msg("corrected for the gyro bias drift during the campaign by {delta:.3g}{unit} (from "
+               "the recording times)", delta=-1.7e-4, unit="")
+    fit = {s: msg("fitted bias b = {b:.5g} °/s", b=b) for s, b
+           in (("K_gxx", -0.34072), ("K_gxy", -0.2817))}
     entries = [("7.2.1", "K_gxx", join("; ", [fit["K_gxx"], corr])),
                ("7.2.3", "K_gxx", join("; ", [fit["K_gxx"], corr])),
                ("7.2.3", "K_gxy", join("; ", [fit["K_gxy"], corr]))]
     lines = [(w, str(t)) for w, t in group_notes(entries)]
     assert lines == [("K_gxx (7.2.1, 7.2.3)", str(fit["K_gxx"])),
                      ("K_gxx (7.2.1, 7.2.3); K_gxy (7.2.3)", str(corr)),
-                     ("7.2.3", "K_gxy: fitted bias b = -0.2817 °/s")]  # what only one result says: its item's line
+                     # what only one result says: its item's line
+                     ("7.2.3", "K_gxy: fitted bias b = -0.2817 °/s")]
     # the texts said once stay on their item's line, a result's parts together, as its note has them
-    own = group_notes([("D.6.3", "ΔB_V12", join("; ", [msg("eq. ({eq})", eq="D.47"), msg("largest at {T} °C", T=60)])),
-                       ("D.6.3", "ΔB_V13", msg("eq. ({eq})", eq="D.48")), ("D.6.3", "", msg("no repeats"))])
-    assert [(w, str(t)) for w, t in own] == [("D.6.3", "ΔB_V12: eq. (D.47); largest at 60 °C; ΔB_V13: eq. (D.48); "
+    own = group_notes([("D.6.3", "ΔB_V12", join("; ", [msg("eq. ({eq})", eq="D.47"),
+                                                       msg("largest at {T} °C", T=60)])),
+                       ("D.6.3", "ΔB_V13", msg("eq. ({eq})", eq="D.48")),
+                       ("D.6.3", "", msg("no repeats"))])
+    assert [(w, str(t)) for w, t in own] == [("D.6.3",
+                                              "ΔB_V12: eq. (D.47); largest at 60 °C; ΔB_V13: eq. "
+                                              "(D.48); "
                                                         "no repeats")]
     # two results of one symbol in one item (three supplies' U) saying the same: once
-    u = [("5.2.6", "U", join("; ", [msg("nominal {v} V", v=v), msg("at the connector")])) for v in (5, 15)]
-    assert [(w, str(t)) for w, t in group_notes(u)] == [("5.2.6", "U: nominal 5 V; U: nominal 15 V"),
+    u = [("5.2.6", "U", join("; ", [msg("nominal {v} V", v=v), msg("at the connector")])) for v
+         in (5, 15)]
+    assert [(w, str(t)) for w, t in group_notes(u)] == [("5.2.6",
+                                                         "U: nominal 5 V; U: nominal 15 V"),
                                                         ("U (5.2.6)", "at the connector")]
 
 
 def _earth(r, c):
-    return msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ ({v:.3g} (°/s)/gn at "
-               "φ = {lat:g}°) into g_{r}{c}{hint}", r=index(r), c=index(c),
+    return msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
+               "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}{hint}", r=index(r), c=index(c),
                v=0.00268, lat=39.98, hint=hint("; option earth_rate = yes removes it"))
 
 
@@ -65,13 +74,15 @@ def test_a_sentence_differing_only_in_its_indices_is_stated_once_in_index_form()
     zh = translator("zh").text(text)
     assert "K_gij" in zh and "g_ij" in zh and "0.00268" in zh
     # an index the same in every result keeps its value: g_xz, g_yz → K_giz
-    (_, two), = group_notes([("7.2.2", "g_xz", _earth("x", "z")), ("7.2.2", "g_yz", _earth("y", "z"))])
+    (_, two), = group_notes([("7.2.2", "g_xz", _earth("x", "z")),
+                             ("7.2.2", "g_yz", _earth("y", "z"))])
     assert "K_giz" in str(two) and "g_iz" in str(two)
     # one result alone: its own sentence, indices as given; other numbers: not merged
     assert [(w, str(t)) for w, t in group_notes([("7.2.2", "g_xy", _earth("x", "y"))])] == \
         [("7.2.2", f"g_xy: {_earth('x', 'y')}")]
-    other = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ ({v:.3g} (°/s)/gn at "
-                "φ = {lat:g}°) into g_{r}{c}{hint}", r=index("x"), c=index("z"),
+    other = msg("earth rate included: eq. (7) puts the cross-coupling K_g{r}{c} × Ω_e·sin φ "
+                "({v:.3g} (°/s)/gn at φ = {lat:g}°) into g_{r}{c}{hint}", r=index("x"),
+                c=index("z"),
                 v=0.00275, lat=45.0, hint=hint("; option earth_rate = yes removes it"))
     (_, both), = group_notes([("7.2.2", "g_xy", _earth("x", "y")), ("7.2.2", "g_xz", other)])
     assert str(both) == f"g_xy: {_earth('x', 'y')}; g_xz: {other}"
@@ -79,14 +90,17 @@ def test_a_sentence_differing_only_in_its_indices_is_stated_once_in_index_form()
 
 def test_an_index_field_survives_the_register_and_pickling():
     t = _earth("x", "y")
-    assert str(t) == str(Text.decode(t.encode())) and isinstance(Text.decode(t.encode()).fields["r"], Index)
+    assert str(t) == str(Text.decode(t.encode())) and isinstance(Text.decode(t.encode()).fields[
+        "r"], Index)
     assert isinstance(pickle.loads(pickle.dumps(t)).fields["c"], Index)
     assert isinstance(t.map(str.upper).fields["r"], Index)
 
 
 def test_labels():
-    assert where_label([("7.2.1", ""), ("7.2.2", "B_gx"), ("7.2.2", "B_gy")]) == "7.2.1; B_gx, B_gy (7.2.2)"
-    assert parts_of(join("; ", [msg("a"), join("; ", [msg("b"), ""]), join(": ", [msg("c"), msg("d")])])) == \
+    assert where_label([("7.2.1", ""), ("7.2.2", "B_gx"),
+                        ("7.2.2", "B_gy")]) == "7.2.1; B_gx, B_gy (7.2.2)"
+    assert parts_of(join("; ", [msg("a"), join("; ", [msg("b"), ""]),
+                                join(": ", [msg("c"), msg("d")])])) == \
         ["a", "b", "c: d"]
 
 
@@ -148,7 +162,8 @@ def test_certificate_notes_state_each_text_once_and_lose_none(warmup):
         # indices only) once in index form
         generic = earth.sub(index_form, text)
         found = [t for t in (text, generic) if block.count(t) == 1]
-        assert found and block.count(text) + (block.count(generic) if generic != text else 0) == 1, text
+        assert found and block.count(text) + (block.count(generic) if generic != text
+                                              else 0) == 1, text
         line = next(ln for ln in lines if found[0] in ln)
         label = line[:line.index(found[0])]
         for item, sym in where:  # naming every result and item it applies to
@@ -158,6 +173,7 @@ def test_certificate_notes_state_each_text_once_and_lose_none(warmup):
     assert len(drift) == 3 and all(ln.startswith("7.2.1, 7.2.2, 7.2.3: gyro ") for ln in drift)
     # the nine g earth-rate sentences: two lines, diagonal and cross-coupling
     g = [ln for ln in lines if "earth rate included" in ln]
-    assert [ln.split(" (7.2.2)")[0] for ln in g] == ["g_xx, g_yy, g_zz", "g_xy, g_xz, g_yx, g_yz, g_zx, g_zy"]
+    assert [ln.split(" (7.2.2)")[0] for ln in g] == ["g_xx, g_yy, g_zz",
+                                                     "g_xy, g_xz, g_yx, g_yz, g_zx, g_zy"]
     # 52 lines before the grouping (2⅓ pages of the zh+en certificate), each text once now: 20
     assert len(lines) <= 20, len(lines)

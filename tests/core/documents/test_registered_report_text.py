@@ -1,11 +1,11 @@
 """A registered report says what the unregistered one says, in the same languages.
 
-Issue 29: in zh+en the registered report printed English-only quantity names, notes and budget
-rows, because the report number was substituted through the context as plain strings, which
-dropped every translatable text's Chinese (core/record/registering.py).  Here the same simulated campaign
-(same seed) is written unregistered (a lab profile, simulated run) and registered
+Issue 29: in zh+en the registered report printed English-only quantity names, notes and budget rows,
+because the report number was substituted through the context as plain strings, which dropped every
+translatable text's Chinese (core/record/registering.py). Here the same simulated campaign (same
+seed) is written unregistered (a lab profile, simulated run) and registered
 (``--register-simulated``), and then amended from the register; each PDF that LibreOffice renders is
-read with pdftotext.  Apart from the report number and the registration statements at the top, the
+read with pdftotext. Apart from the report number and the registration statements at the top, the
 three say the same: the lines only one of two documents has (those around the number and the
 statements, which break where the number's length puts them) hold the same characters once the
 statements are taken out — in particular the same Chinese.
@@ -32,13 +32,15 @@ needs_pdf = pytest.mark.skipif(
     reason="LibreOffice (soffice) and poppler (pdftotext) are needed to render and read the PDF",
 )
 
-RUN = ["run", "-s", "gbt45570", "-i", "D.5.1,D.5.2,D.5.6", "--station-option", "duration_scale=0.05",
+RUN = ["run", "-s", "gbt45570", "-i", "D.5.1,D.5.2,D.5.6", "--station-option",
+       "duration_scale=0.05",
        "--seed", "1", "--no-progress", "--pdf", "-q"]
 _HAN = re.compile(r"[\u3400-\u9fff]")
 
 
 def _pdf_text(pdf: Path) -> str:
-    return subprocess.run(["pdftotext", "-layout", "-enc", "UTF-8", str(pdf), "-"], capture_output=True, text=True,
+    return subprocess.run(["pdftotext", "-layout", "-enc", "UTF-8", str(pdf), "-"],
+                          capture_output=True, text=True,
                           check=True).stdout
 
 
@@ -48,19 +50,23 @@ def _squash(text: str) -> str:
 
 #: the page numbers (a longer statement at the top may add a page), and the clock times of the
 #: two runs (the report's issue time: a slow machine may run them in different minutes)
-_PAGE = re.compile(r"第\s*\d+\s*页\s*共\s*\d+\s*页|Page\s+\d+\s+of\s+\d+|\b\d{1,2}:\d{2}(?::\d{2})?\b")
+_PAGE = (
+    re.compile(r"第\s*\d+\s*页\s*共\s*\d+\s*页|Page\s+\d+\s+of\s+\d+|\b\d{1,2}:\d{2}(?::\d{2})?\b")
+)
 
 
 def _lines(text: str, number: str) -> set[str]:
     """The document's distinct lines (pdftotext -layout, spaces collapsed), the report number as one
     token, page numbers left out: a table header repeated on each page counts once."""
-    return {re.sub(r"\s+", " ", _PAGE.sub("", ln.replace(number, "\x00"))).strip() for ln in text.splitlines()} - {""}
+    return {re.sub(r"\s+", " ", _PAGE.sub("", ln.replace(number, "\x00"))).strip() for ln
+            in text.splitlines()} - {""}
 
 
-def _difference(a: tuple[str, str, list[str]], b: tuple[str, str, list[str]]) -> tuple[Counter, Counter]:
+def _difference(a: tuple[str, str, list[str]],
+                b: tuple[str, str, list[str]]) -> tuple[Counter, Counter]:
     """The characters of the lines only ``a`` has and of those only ``b`` has, each without its
-    registration statements (``(text, number, statements)``): the same when the two documents say the
-    same apart from the number and the statements, however the lines around those break."""
+    registration statements (``(text, number, statements)``): the same when the two documents say
+    the same apart from the number and the statements, however the lines around those break."""
     la, lb = _lines(a[0], a[1]), _lines(b[0], b[1])
     out = []
     for only, (_, number, notices) in ((la - lb, a), (lb - la, b)):
@@ -93,10 +99,12 @@ def test_registered_and_amended_reports_keep_both_languages(lab, tmp_path, capsy
     reg_pdf, reg_no = _report(tmp_path / "reg")
     assert plain_no.startswith("MTR-") and reg_no.startswith("EML")
 
-    plain_notes = unregistered(SimpleNamespace(report_number=plain_no), "simulated", "zh+en")["notices"]
+    plain_notes = unregistered(SimpleNamespace(report_number=plain_no), "simulated",
+                               "zh+en")["notices"]
     plain = (_pdf_text(plain_pdf), plain_no, plain_notes)
     assert len(_HAN.findall(plain[0])) > 1000  # the document is bilingual
-    only_plain, only_reg = _difference(plain, (_pdf_text(reg_pdf), reg_no, notices_for(profile, reg_no)))
+    only_plain, only_reg = _difference(plain, (_pdf_text(reg_pdf), reg_no,
+                                               notices_for(profile, reg_no)))
     han = lambda c: {k: v for k, v in c.items() if _HAN.match(k)}  # noqa: E731
     assert han(only_reg) == han(only_plain), "registered report lost or gained Chinese"
     assert only_reg == only_plain
@@ -138,8 +146,10 @@ def _drawn(spec, lang: str) -> tuple:
 
     s = plots.localized(spec, translator(lang))
     series = tuple((str(x.get("label") or ""), str(x.get("style") or ""),
-                    tuple(np.round(np.asarray(getattr(x["x"], "magnitude", x["x"]), dtype=float), 9)),
-                    tuple(np.round(np.asarray(getattr(x["y"], "magnitude", x["y"]), dtype=float), 9)))
+                    tuple(np.round(np.asarray(getattr(x["x"], "magnitude", x["x"]), dtype=float),
+                                   9)),
+                    tuple(np.round(np.asarray(getattr(x["y"], "magnitude", x["y"]), dtype=float),
+                                   9)))
                    for x in s.series)
     return s.name, str(s.title), str(s.xlabel), str(s.ylabel), series, s.logx, s.logy
 
@@ -161,7 +171,8 @@ def figures_drawn(monkeypatch):
 
 
 @pytest.mark.parametrize("standard", sorted(FIGURE_RUNS))
-def test_figures_from_the_register_draw_the_texts_of_the_unregistered_report(standard, lab, tmp_path, capsys,
+def test_figures_from_the_register_draw_the_texts_of_the_unregistered_report(
+    standard, lab, tmp_path, capsys,
                                                                            figures_drawn):
     """Issue 29: the register's stored context (:func:`encode_context` / :func:`decode_context`)
     kept a figure's title and legend entries as English strings, so a report written again from
@@ -194,7 +205,8 @@ def test_figures_from_the_register_draw_the_texts_of_the_unregistered_report(sta
 
     # the documents written from the register draw them so: `metro report N` and an amendment
     for command in (["report", reg_no, "--out", str(tmp_path / "again")],
-                    ["amend", reg_no, "--reason", "the customer's name corrected", "--out", str(tmp_path / "amend")]):
+                    ["amend", reg_no, "--reason", "the customer's name corrected", "--out",
+                     str(tmp_path / "amend")]):
         figures_drawn.clear()
         assert main(command) == 0
         assert [_drawn(s, lang) for lang, s in figures_drawn] == zh_en, command[0]

@@ -1,4 +1,5 @@
-"""metro.core.documents.report (context + Word rendering), metro.core.documents.plots and the template generator."""
+"""metro.core.documents.report (context + Word rendering), metro.core.documents.plots and the
+template generator."""
 
 from __future__ import annotations
 
@@ -34,10 +35,13 @@ def make_record(*, simulated: bool = False, with_plot: bool = True) -> RunRecord
         technology="fibre", application="aerospace", output="pulse",
     )
     equipment = [
-        Equipment(id="CNT-1", model="53230A", manufacturer="Keysight", serial="MY555", role="counter",
-                  calibration=Calibration("CERT-2023-0117", Q_(1e-7, ""), k=2.0, due=dt.date(2024, 6, 30))),
+        Equipment(id="CNT-1", model="53230A", manufacturer="Keysight", serial="MY555",
+                  role="counter",
+                  calibration=Calibration("CERT-2023-0117", Q_(1e-7, ""), k=2.0,
+                                          due=dt.date(2024, 6, 30))),
         Equipment(id="PLAT-1", model="granite table", role="platform",
-                  calibration=Calibration("CERT-2025-0009", Q_(2.0, "arcsec"), distribution="uniform",
+                  calibration=Calibration("CERT-2025-0009", Q_(2.0, "arcsec"),
+                                          distribution="uniform",
                                           due=dt.date(2030, 1, 1))),
     ]
     campaign = Campaign(
@@ -51,7 +55,8 @@ def make_record(*, simulated: bool = False, with_plot: bool = True) -> RunRecord
     )
     metric = Metric("RWC", "Random walk coefficient", "RWC", "deg/hour**0.5", "D.5.6", "D.45")
     rows = [
-        BudgetRow.type_a("Fit of B_s(τ_k) over the levels", "u(α₁)", Q_(3.3e-5, "deg/hour**0.5"), 12),
+        BudgetRow.type_a("Fit of B_s(τ_k) over the levels", "u(α₁)", Q_(3.3e-5, "deg/hour**0.5"),
+                         12),
         BudgetRow.type_b("Counter time base", "u(T)", Q_(1e-7, ""), distribution="normal", k=2,
                          sensitivity=Q_(0.0012, "deg/hour**0.5")),
         BudgetRow.type_b("Platform levelness", "u(θ)", Q_(2.0, "arcsec"),
@@ -62,7 +67,8 @@ def make_record(*, simulated: bool = False, with_plot: bool = True) -> RunRecord
     plot = PlotSpec(
         "bs_tau", "B_s(τ_k) and the fit", "τ_k (s)", "B_s (°/h)",
         [
-            {"label": "B_s(τ_k)", "x": [1, 10, 100], "y": [0.1, 0.03, 0.01], "yerr": [0.01, 0.003, 0.001],
+            {"label": "B_s(τ_k)", "x": [1, 10, 100], "y": [0.1, 0.03, 0.01],
+             "yerr": [0.01, 0.003, 0.001],
              "style": "o"},
             {"label": "fit √(α₀ + α₁/τ)", "x": [1, 10, 100], "y": [0.1, 0.032, 0.01], "style": "-"},
             {"label": "ARW term", "x": [1, 10, 100], "y": [0.09, 0.03, 0.009], "style": "--"},
@@ -206,7 +212,8 @@ def test_docx_contents(simulated_docx):
     assert SHA in text
     assert "CERT-2023-0117" in text
     assert "EXPIRED" in text
-    assert "SIMULATED — not a measurement of a real device" in text  # in the header, so on every page
+    # in the header, so on every page
+    assert "SIMULATED — not a measurement of a real device" in text
     assert "0.0012 °/√h" in text  # the declared truth
     for source in ("Fit of Bs(τk) over the levels", "Counter time base", "Platform levelness"):
         assert source in text  # B_s printed as B with a subscript s
@@ -302,21 +309,23 @@ def test_render_png_with_unicode_labels(tmp_path):
 
 
 def test_cjk_figure_text_with_subscripts_keeps_its_glyphs(tmp_path, caplog):
-    """A subscript in a Chinese figure text (JJF 2014 7.2.1's "残差 v_i（mV）") was turned into mathtext,
-    which draws the whole string in its own font: every Chinese character printed as a box (seen on the
-    rendered zh+en certificate, page 5).  With CJK in the text the subscript is a Unicode one where it
-    exists, else the text stays as written; English keeps mathtext."""
+    """A subscript in a Chinese figure text (JJF 2014 7.2.1's "残差 v_i（mV）") was turned into
+    mathtext, which draws the whole string in its own font: every Chinese character printed as a box
+    (seen on the rendered zh+en certificate, page 5). With CJK in the text the subscript is a
+    Unicode one where it exists, else the text stays as written; English keeps mathtext."""
     import logging
 
     assert plots.plot_text("残差 v_i（mV）") == "残差 vᵢ（mV）"
-    assert plots.plot_text("温度 T_{ref}") == "温度 T_{ref}"  # no Unicode subscript for every letter: as written
+    # no Unicode subscript for every letter: as written
+    assert plots.plot_text("温度 T_{ref}") == "温度 T_{ref}"
     assert plots.plot_text("residual v_i (mV)") == "residual $\\mathregular{v_{i}}$ (mV)"
     spec = PlotSpec("r", "标度因数：式（3）拟合的残差 v_i", "输入角速率 Ω (°/s)", "残差 v_i（mV）",
                     [{"label": "v_i", "x": [1.0, 2.0], "y": [0.1, -0.1], "style": "o"}])
     with caplog.at_level(logging.WARNING, logger="matplotlib"):
         plots.render_png(spec, tmp_path / "zh.png", dpi=50)
     if len(plots.font_families()) > 1:  # a CJK font is installed (CI installs fonts-noto-cjk)
-        assert not [r for r in caplog.records if "does not have a glyph" in r.getMessage()], caplog.records[:2]
+        assert not [r for r in caplog.records if "does not have a glyph"
+                    in r.getMessage()], caplog.records[:2]
 
 
 def test_render_png_rejects_mismatched_series(tmp_path):
@@ -380,7 +389,8 @@ def test_degrees_of_freedom_print_without_false_precision():
     ("jjf2003", ["7.2.1", "7.2.2"], {}),
     ("ogam", ["7.1", "7.4"], {}),
 ])
-def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, items, station_options):
+def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, items,
+                                                           station_options):
     """Each standard's own report or certificate, rendered from a simulated run, holds no Python
     repr (a Jinja ``r.items`` on a dict once printed "<built-in method items of dict …>" in the
     GB/T typical-indices table), no unrendered tag, no None/NaN and no 1e-06-style number."""
@@ -393,9 +403,11 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, standard, items, station_options=station_options)
     tpl = pm.template_for(standard)
-    path = write_report(tmp_path / "doc.docx", rec, layout=tpl.layout, extend=pm.extend_report_context)
+    path = write_report(tmp_path / "doc.docx", rec, layout=tpl.layout,
+                        extend=pm.extend_report_context)
     text = docx_text(path)
-    for bad in ("object at 0x", "built-in method", "bound method", "{{", "}}", "{%", "%}", "Traceback"):
+    for bad in ("object at 0x", "built-in method", "bound method", "{{", "}}", "{%", "%}",
+                "Traceback"):
         assert bad not in text, f"{standard}: {bad!r} in the document"
     for word in (r"\bNone\b", r"\b[Nn]a[Nn]\b", r"\binf\b"):
         assert not re.search(word, text), re.search(r".{40}" + word + r".{10}", text)
@@ -409,21 +421,26 @@ def test_every_standards_document_prints_no_code_artefacts(tmp_path, standard, i
             head = [c.text for c in t.rows[0].cells]
             for col in ("Type", "distribution", "Value", "Divisor", "ci", "νi"):
                 assert any(col in h for h in head), (standard, col)
-            dist = next(i for i, h in enumerate(head) if "distribution" in h)  # type and distribution merged
+            # type and distribution merged
+            dist = next(i for i, h in enumerate(head) if "distribution" in h)
             # a budget's title and its u_c … U line span the table; the rows between give the
             # distribution in Chinese (zh+en: the names in both languages once, above the tables)
             rows = [r for r in t.rows[1:] if len({id(c._tc) for c in r.cells}) > 1]
-            assert rows and all(re.fullmatch(r"[AB], (正态|均匀|三角|反正弦)", r.cells[dist].text) for r in rows), \
+            assert rows and all(re.fullmatch(r"[AB], (正态|均匀|三角|反正弦)", r.cells[dist].text)
+                                for r in rows), \
                 [r.cells[dist].text for r in rows]
-            spans = [r.cells[0].text.replace("\xa0", " ") for r in t.rows[1:] if len({id(c._tc) for c in r.cells}) == 1]
+            spans = [r.cells[0].text.replace("\xa0", " ") for r in t.rows[1:]
+                     if len({id(c._tc) for c in r.cells}) == 1]
             assert spans and all("U = " in x or " — " in x for x in spans), spans
-        assert re.search(r"分布 Distribution: 正态 normal", text), "the distributions' names in both languages"
+        assert re.search(r"分布 Distribution: 正态 normal",
+                         text), "the distributions' names in both languages"
 
 
 def test_pretty_powers_changes_free_standing_numbers_only():
     from metro.core.base.formatting import pretty_powers
 
-    assert pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a; x=-3e-07") == \
+    assert pretty_powers("band ≤ 1000 °/s: ±5e-06 (uniform); 2.5E+03 s; run-1e-5.csv; sha 0e0a; "
+                         "x=-3e-07") == \
         "band ≤ 1000 °/s: ±5×10⁻⁶ (uniform); 2.5×10³ s; run-1e-5.csv; sha 0e0a; x=-3×10⁻⁷"
 
 
@@ -436,16 +453,21 @@ def test_symbols_get_real_subscripts_and_numbers_stay_whole():
     from metro.core.documents.text import NBSP, glue, one_notation, subscript_runs
 
     assert subscript_runs("K_l = 3, B_{s} and K_gxx") == [
-        ("K", False), ("l", True), (" = 3, B", False), ("s", True), (" and K", False), ("gxx", True)]
+        ("K", False), ("l", True), (" = 3, B", False), ("s", True), (" and K", False),
+        ("gxx", True)]
     # names, options and files keep their underscores
-    for text in ("rate_table", "t_startup", "min_blocks", "run_1.csv", "option max_rate", "earth_rate", "dB_shock"):
+    for text in ("rate_table", "t_startup", "min_blocks", "run_1.csv", "option max_rate",
+                 "earth_rate", "dB_shock"):
         assert subscript_runs(text) == [(text, False)], text
     # after a Chinese character or a subscript digit, max/min with one letter, a braced subscript
     # (the rendered zh budgets printed 计数N_0, K₀₀ΔT_i, max_i and s_upper with their underscores)
     assert subscript_runs("计数N_0") == [("计数N", False), ("0", True)]
-    assert subscript_runs("max_i |ΔK_i/(K₀₀ΔT_i)|") == [("max", False), ("i", True), (" |ΔK", False), ("i", True),
-                                                         ("/(K₀₀ΔT", False), ("i", True), (")|", False)]
-    assert subscript_runs("(s_{upper} − B_r)/2") == [("(s", False), ("upper", True), (" − B", False), ("r", True),
+    assert subscript_runs("max_i |ΔK_i/(K₀₀ΔT_i)|") == [("max", False), ("i", True),
+                                                        (" |ΔK", False), ("i", True),
+                                                         ("/(K₀₀ΔT", False), ("i", True),
+                                                        (")|", False)]
+    assert subscript_runs("(s_{upper} − B_r)/2") == [("(s", False), ("upper", True),
+                                                     (" − B", False), ("r", True),
                                                      (")/2", False)]
     assert glue("U = 1.2 ppm (k = 2)") == f"U{NBSP}={NBSP}1.2{NBSP}ppm (k{NBSP}={NBSP}2)"
     # one notation: a value below 0.001 as ×10ⁿ like its U, every digit kept
@@ -456,29 +478,35 @@ def test_symbols_get_real_subscripts_and_numbers_stay_whole():
 def test_column_widths_fit_the_longest_word_and_the_page():
     from metro.core.documents.text import TEXT_WIDTH_MM, column_widths, text_mm
 
-    cols = [["Item", "D.1.1", "D.5.6"], ["Quantity", "scale factor nonlinearity Kn", "angle random walk"],
+    cols = [["Item", "D.1.1", "D.5.6"], ["Quantity", "scale factor nonlinearity Kn",
+                                         "angle random walk"],
             ["Result", "3.292×10⁻⁵ °/h", "0.8000000 P/″"]]
     w = column_widths(cols, TEXT_WIDTH_MM, 8.5)
     assert sum(w) == pytest.approx(TEXT_WIDTH_MM)
     assert w[2] > text_mm("3.292×10⁻⁵", 8.5) + 2  # the longest number fits on one line
     assert w[0] < w[1]  # a short column stays narrow
-    assert column_widths([["x" * 400]], TEXT_WIDTH_MM, 8.5) is None  # cannot fit: the caller shrinks the font
+    # cannot fit: the caller shrinks the font
+    assert column_widths([["x" * 400]], TEXT_WIDTH_MM, 8.5) is None
 
 
 def test_a_chinese_term_is_not_broken_one_character_per_line():
     """A zh budget table: the source column takes all the room it wants (prefer, share 1), and the
     "类型，分布" column kept only its widest single character (Chinese may break anywhere), so
-    LibreOffice printed 类/型/，/分/布 one character per line.  A run of Chinese up to six characters
+    LibreOffice printed 类/型/，/分/布 one character per line. A run of Chinese up to six characters
     now counts as one word; a longer run gives the column at least four characters."""
     from metro.core.documents.text import CELL_MARGIN_MM, TEXT_WIDTH_MM, column_widths, text_mm
 
-    source = "两个零偏的分散性（分组平均值）（地球自转角速度、纬度和调平对两次记录相同，相互抵消）" * 3
-    cols = [["来源", source, source], ["类型，分布", "A, 正态", "B, 均匀"], ["量值", "0.008388 °/h", "2×10⁻⁶"]]
+    source = (
+        "两个零偏的分散性（分组平均值）（地球自转角速度、纬度和调平对两次记录相同，相互抵消）" * 3
+    )
+    cols = [["来源", source, source], ["类型，分布", "A, 正态", "B, 均匀"],
+            ["量值", "0.008388 °/h", "2×10⁻⁶"]]
     w = column_widths(cols, TEXT_WIDTH_MM, 7, prefer=0, prefer_share=1.0)
     assert w[1] >= text_mm("类型，分布", 7, bold=True) + 2 * CELL_MARGIN_MM, w
     assert w[1] >= text_mm("B, 均匀", 7) + 2 * CELL_MARGIN_MM, w
     # a long Chinese name may wrap, but not narrower than four characters
-    w = column_widths([["名称", "标度因数非线性度标度因数不对称度"], ["值", "some words " * 40]], TEXT_WIDTH_MM, 7)
+    w = column_widths([["名称", "标度因数非线性度标度因数不对称度"], ["值", "some words " * 40]],
+                      TEXT_WIDTH_MM, 7)
     assert w[0] >= text_mm("标度因数", 7) + 2 * CELL_MARGIN_MM, w
 
 
@@ -494,7 +522,8 @@ def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_do
         assert sum(grid) <= 170 / 25.4 * 1440 + 5
         for i, row in enumerate(t.rows):
             cells, want, pos = [], [], 0
-            for tc in row._tr.tc_lst:  # a cell spanning columns (a budget's title) is as wide as they are
+            # a cell spanning columns (a budget's title) is as wide as they are
+            for tc in row._tr.tc_lst:
                 span = tc.tcPr.find(qn("w:gridSpan"))
                 n = 1 if span is None else int(span.get(qn("w:val")))
                 cells.append(int(tc.tcPr.find(qn("w:tcW")).get(qn("w:w"))))
@@ -502,7 +531,8 @@ def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_do
                 pos += n
             assert cells == want and pos == len(grid)
             assert row._tr.trPr.find(qn("w:cantSplit")) is not None
-        if t.rows[0]._tr.trPr.find(qn("w:tblHeader")) is None:  # only label/value tables lack a header
+        # only label/value tables lack a header
+        if t.rows[0]._tr.trPr.find(qn("w:tblHeader")) is None:
             assert len(t.columns) == 2
     heads = [p for p in d.paragraphs if p.style.name.startswith("Heading")]
     assert heads and all(p.paragraph_format.keep_with_next for p in heads)
@@ -511,12 +541,14 @@ def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_do
 
 
 def test_every_document_string_is_in_the_catalog(tmp_path):
-    """In zh, no label of any standard's document falls back to English: the catalog has them all."""
+    """In zh, no label of any standard's document falls back to English: the catalog has them
+    all."""
     from metro.core.run.plugin_manager import get_plugin_manager
     from metro.core.run.runner import run_items
 
     pm = get_plugin_manager(autoload=False)
-    cases = [("gbt45570", ["D.1.1", "D.5.1"], {"duration_scale": 0.1}), ("jjf2014", ["7.2.13"], {"duration_scale": 0.1}),
+    cases = [("gbt45570", ["D.1.1", "D.5.1"], {"duration_scale": 0.1}),
+             ("jjf2014", ["7.2.13"], {"duration_scale": 0.1}),
              ("jjf2003", ["7.2.1"], {}), ("ogam", ["7.1", "7.4"], {})]
     missing = set()
     for standard, items, so in cases:
@@ -524,7 +556,8 @@ def test_every_document_string_is_in_the_catalog(tmp_path):
         ctx = report.build_context(rec, extend=pm.extend_report_context)
         for layout in (pm.template_for(standard).layout, None):
             (tmp_path / f"{standard}-{layout}").mkdir()
-            doc = report.build_document(ctx, tmp_path / f"{standard}-{layout}", layout=layout, lang="zh")
+            doc = report.build_document(ctx, tmp_path / f"{standard}-{layout}", layout=layout,
+                                        lang="zh")
             missing |= doc.tr.missing
     assert not missing, sorted(missing)
 
@@ -575,10 +608,13 @@ def _png(width: int = 8, height: int = 4) -> bytes:
     import zlib
 
     def chunk(kind: bytes, data: bytes) -> bytes:
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+        return struct.pack(">I",
+                           len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data)
+                                                                  & 0xFFFFFFFF)
 
     raw = b"".join(b"\x00" + b"\xff\x00\x00" * width for _ in range(height))
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0,
+                                                              0))
             + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
 
@@ -600,7 +636,8 @@ def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
     capsys.readouterr()
     logo = _png()
     (tmp_path / "logo.png").write_bytes(logo)
-    profile.write_text(profile.read_text(encoding="utf-8").replace('# logo = "logo.png"', 'logo = "logo.png"'),
+    profile.write_text(profile.read_text(encoding="utf-8").replace('# logo = "logo.png"',
+                                                                   'logo = "logo.png"'),
                        encoding="utf-8")
     lab = labmod.load_lab(profile)
     assert lab.logo == tmp_path / "logo.png"
@@ -614,7 +651,8 @@ def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
         rids = first._p.xpath(".//a:blip/@r:embed")
         return [d.part.related_parts[r].blob for r in rids]
 
-    with_logo = write_report(tmp_path / "a.docx", with_lab(rec, lab), layout=layout, extend=pm.extend_report_context)
+    with_logo = write_report(tmp_path / "a.docx", with_lab(rec, lab), layout=layout,
+                             extend=pm.extend_report_context)
     assert drawn(with_logo) == [logo]
     with zipfile.ZipFile(with_logo) as z:
         assert any(z.read(n) == logo for n in z.namelist() if n.startswith("word/media/"))
@@ -627,7 +665,8 @@ def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
     # the register's statement goes under the logo, the logo stays at the top of page 1
     ctx["register"] = {"registered": False, "notices": ["NOT REGISTERED notice"]}
     d = docx.Document(str(render_context(tmp_path / "d.docx", ctx, layout=layout)))
-    assert d.paragraphs[0]._p.xpath(".//w:drawing") and d.paragraphs[1].text == "NOT REGISTERED notice"
+    assert d.paragraphs[0]._p.xpath(".//w:drawing") and d.paragraphs[
+        1].text == "NOT REGISTERED notice"
 
 
 def test_zh_en_text_without_chinese_is_printed_once():
@@ -637,13 +676,15 @@ def test_zh_en_text_without_chinese_is_printed_once():
     from metro.core.base.locale import msg, translator
 
     tr = translator("zh+en")
-    text = tr.text(msg("{source} ({note})", source="scatter of the two biases", note="the terms cancel"))
+    text = tr.text(msg("{source} ({note})", source="scatter of the two biases",
+                       note="the terms cancel"))
     assert text == "scatter of the two biases (the terms cancel)"
     assert tr.text(msg("not performed")) == "未检测 not performed"
 
 
 def test_an_exact_result_says_so_instead_of_u_zero_with_a_k():
-    """A count or a declared value (U = 0) prints 'no uncertainty (exact)', not 'U = 0 °C (k = 2)'."""
+    """A count or a declared value (U = 0) prints 'no uncertainty (exact)', not 'U = 0 °C (k =
+    2)'."""
     from metro.core.documents.document import DocumentBuilder, result_cells
     from metro.core.base.locale import translator
 
@@ -672,7 +713,8 @@ def test_budgets_annex_says_a_shared_note_once_and_groups_exact_budgets(tmp_path
     path = write_report(tmp_path / "all.docx", rec, layout=pm.template_for("gbt45570").layout,
                         extend=pm.extend_report_context)
     d = docx.Document(str(path))
-    cells = [c.text for t in d.tables for row in t.rows for c in {id(c._tc): c for c in row.cells}.values()]
+    cells = [c.text for t in d.tables for row in t.rows for c
+             in {id(c._tc): c for c in row.cells}.values()]
     paras = [p.text for p in d.paragraphs]
     note = "the two biases' rounding errors do not cancel in the difference"
     rows_with = [c for c in cells if "quantization of the output" in c]
@@ -682,10 +724,12 @@ def test_budgets_annex_says_a_shared_note_once_and_groups_exact_budgets(tmp_path
     assert all(f"[{k}]" in c for c in rows_with if "B₀ before" in c or "B₀ after" in c)
     said = [p for p in paras if "no uncertainty declared by the test lab" in p]
     assert len(said) == 1 and said[0].count("no uncertainty declared by the test lab") == 1, said
-    budgets = sum(1 for o in rec.outcomes for r in o.results if r.budget is not None and r.budget.combined.magnitude > 0)
+    budgets = sum(1 for o in rec.outcomes for r in o.results if r.budget is not None
+                  and r.budget.combined.magnitude > 0)
     tables = [t for t in d.tables if any("Divisor" in c.text for c in t.rows[0].cells)]
     assert len(tables) == len({o.item for o in rec.outcomes
-                               if any(r.budget is not None and r.budget.combined.magnitude > 0 for r in o.results)})
+                               if any(r.budget is not None and r.budget.combined.magnitude > 0
+                                      for r in o.results)})
     assert len(tables) < budgets
 
 
@@ -696,10 +740,13 @@ def test_a_budget_title_leaves_out_a_code_key_measurand():
 
     from metro.core.documents.context import budget_title as _budget_title
 
-    assert str(_budget_title(N(name="start-up time", symbol="t_s", key="t_startup"), "t_startup")) == "start-up time t_s"
-    assert "dB_shock" not in str(_budget_title(N(name="bias change after shock", symbol="ΔB_i", key="dB_shock"),
+    assert str(_budget_title(N(name="start-up time", symbol="t_s", key="t_startup"),
+                             "t_startup")) == "start-up time t_s"
+    assert "dB_shock" not in str(_budget_title(N(name="bias change after shock", symbol="ΔB_i",
+                                                 key="dB_shock"),
                                                "dB_shock"))
-    assert str(_budget_title(N(name="bias", symbol="B₀", key="B0"), "mean of the static record")) == \
+    assert str(_budget_title(N(name="bias", symbol="B₀", key="B0"),
+                             "mean of the static record")) == \
         "bias B₀ (mean of the static record)"
 
 
@@ -712,15 +759,17 @@ def test_the_signature_table_stays_on_one_page():
     doc = DocumentBuilder(number="N-1", title="T", tr=translator("en"))
     signatures(doc, [("Calibrated by", "A"), ("Checked by", "B"), ("Issued by", "C", "Manager")])
     t = doc.doc.tables[-1]
-    keep = [all(p.paragraph_format.keep_with_next for c in row.cells for p in c.paragraphs) for row in t.rows]
+    keep = [all(p.paragraph_format.keep_with_next for c in row.cells for p in c.paragraphs) for row
+            in t.rows]
     assert keep == [True, True, True, False]
 
 
 def test_zh_en_figure_title_wraps_by_display_width():
-    """A zh+en title wrapped at 70 characters ran past the figure's edge (a CJK character is two columns
-    wide) and was clipped — JJF 2014 7.2.1's first figure read "Scale factor: m" on the rendered page."""
-    t = ("标度因数：平均输出 F̄_i（式（2））及拟合直线 F̂ = KΩ + F₀（式（6）） Scale factor: mean outputs F̄_i "
-         "(eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))")
+    """A zh+en title wrapped at 70 characters ran past the figure's edge (a CJK character is two
+    columns wide) and was clipped — JJF 2014 7.2.1's first figure read "Scale factor: m" on the
+    rendered page."""
+    t = ("标度因数：平均输出 F̄_i（式（2））及拟合直线 F̂ = KΩ + F₀（式（6）） Scale factor: mean "
+         "outputs F̄_i (eq. (2)) and the fitted line F̂ = KΩ + F₀ (eq. (6))")
     lines = plots.title_lines(t)
     assert all(plots.display_width(x) <= 70 for x in lines), lines
     assert " ".join(lines).split() == t.split()  # nothing lost

@@ -65,14 +65,18 @@ def test_register_env_overrides(tmp_path, capsys, monkeypatch):
 
 
 @pytest.mark.parametrize("old,new,field,reason", [
-    ('scheme = "{prefix}{year}-{seq:05d}"', 'scheme = "{prefix}{year}"', "numbering.scheme", "no {seq}"),
-    ('scheme = "{prefix}{year}-{seq:05d}"', 'scheme = "{prefix}{month}-{seq}"', "numbering.scheme", "{month}"),
-    ('scheme = "{prefix}{year}-{seq:05d}"', 'scheme = "{prefix}/{seq}"', "numbering.scheme", "file name"),
+    ('scheme = "{prefix}{year}-{seq:05d}"', 'scheme = "{prefix}{year}"', "numbering.scheme",
+     "no {seq}"),
+    ('scheme = "{prefix}{year}-{seq:05d}"', 'scheme = "{prefix}{month}-{seq}"', "numbering.scheme",
+     "{month}"),
+    ('scheme = "{prefix}{year}-{seq:05d}"', 'scheme = "{prefix}/{seq}"', "numbering.scheme",
+     "file name"),
     ('role = "checked_by"', 'role = "checker"', "signatories[1].role", "checker"),
     ('timezone = "Asia/Shanghai"', 'timezone = "Mars/Olympus"', "lab.timezone", "Mars/Olympus"),
     ('language = "zh+en"', 'language = "fr"', "lab.language", "fr"),
     ('# logo = "logo.png"', 'logo = "logo.png"', "lab.logo", "not found"),
-    ('name_zh = "示例计量实验室"', 'name_zh = "示例计量实验室"\ncolour = "red"', "lab.colour", "unknown key"),
+    ('name_zh = "示例计量实验室"', 'name_zh = "示例计量实验室"\ncolour = "red"', "lab.colour",
+     "unknown key"),
     ('U = "5e-6"', 'U = "five"', "equipment[0].calibration.U", ""),
     ('due = 2027-06-30', 'due = "June"', "equipment[0].calibration.due", "not a date"),
     ('format = "metro-lab/1"', 'format = "metro-lab/9"', "format", "unsupported"),
@@ -107,7 +111,8 @@ def test_missing_name_and_not_toml(tmp_path, capsys):
 
 def test_profile_api(tmp_path, capsys):
     p = labmod.load_lab(_init(tmp_path, capsys))
-    assert p.signatory("approved_by").name == "王五" and p.signatory("approved_by").title == "技术负责人"
+    assert p.signatory("approved_by").name == "王五" and p.signatory(
+        "approved_by").title == "技术负责人"
     assert p.format_number(42, 2027) == "EML2027-00042"
     assert set(p.equipment_by_id()) == {"RT-01"}
     with pytest.raises(ValueError):

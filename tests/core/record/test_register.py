@@ -39,12 +39,18 @@ def _draft(text="report", serial="S1", fail=False, value=1.0, date=dt.date(2026,
             raise RuntimeError("renderer failed")
         tmp.write_text(text, encoding="utf-8")
 
-    fields = {"standard": "std", "items": ["A.1"], "options": {}, "device_id": "d", "device_manufacturer": "m",
-              "device_model": "M1", "device_serial": serial, "customer": "c", "measurement_date": date,
-              "simulated": False, "allow_expired": False, "lab": {}, "verdicts": None, "budgets": [],
-              "provenance": {}, "manifest_sha256": None, "equipment": [], "template": "", "context": {}}
-    results = [{"item": "A.1", "key": "k", "quantity": "q", "symbol": "x", "value": value, "u": 0.1, "U": 0.2,
-                "k": 2.0, "nu_eff": float("inf"), "unit": "°/h", "value_text": f"{value}", "U_text": "0.2",
+    fields = {"standard": "std", "items": ["A.1"], "options": {}, "device_id": "d",
+              "device_manufacturer": "m",
+              "device_model": "M1", "device_serial": serial, "customer": "c",
+              "measurement_date": date,
+              "simulated": False, "allow_expired": False, "lab": {}, "verdicts": None,
+              "budgets": [],
+              "provenance": {}, "manifest_sha256": None, "equipment": [], "template": "",
+              "context": {}}
+    results = [{"item": "A.1", "key": "k", "quantity": "q", "symbol": "x", "value": value, "u": 0.1,
+                "U": 0.2,
+                "k": 2.0, "nu_eff": float("inf"), "unit": "°/h", "value_text": f"{value}",
+                "U_text": "0.2",
                 "reportable": True, "reason": ""}]
     return lambda number, at: Draft(fields, results, write)
 
@@ -78,7 +84,8 @@ def test_sequential_numbers_and_no_gap_after_failure(opened, register_url, tmp_p
         _issue(reg, tmp_path / "out", make=_draft(fail=True))
     b = _issue(reg, tmp_path / "out")
     assert (a.number, b.number) == (f"T{year}-0001", f"T{year}-0002")
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [f"T{year}-0001.docx", f"T{year}-0002.docx"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [f"T{year}-0001.docx",
+                                                                    f"T{year}-0002.docx"]
     rows = reg.list()
     assert [r["number"] for r in rows] == [a.number, b.number]
     got = reg.get(a.number)
@@ -127,8 +134,10 @@ def test_amendment_chain_and_withdrawal(opened, register_url, tmp_path):
     c = _issue(reg, out, supersedes=b.number, reason="customer name corrected")
     ra, rb, rc = (reg.get(x.number) for x in (a, b, c))
     assert (ra["status"], ra["superseded_by"]) == ("superseded", b.number)
-    assert (rb["status"], rb["supersedes"], rb["superseded_by"]) == ("superseded", a.number, c.number)
-    assert (rc["status"], rc["supersedes"], rc["reason"]) == ("issued", b.number, "customer name corrected")
+    assert (rb["status"], rb["supersedes"], rb["superseded_by"]) == ("superseded", a.number,
+                                                                     c.number)
+    assert (rc["status"], rc["supersedes"], rc["reason"]) == ("issued", b.number,
+                                                              "customer name corrected")
     with pytest.raises(RegisterError, match="superseded"):
         _issue(reg, out, supersedes=a.number, reason="again")
     assert len(reg.list()) == 3  # the refused amendment took no number
@@ -190,7 +199,8 @@ def test_concurrent_processes_get_distinct_consecutive_numbers(opened, register_
     script.write_text(_WORKER.format(tests=str(Path(__file__).parent)), encoding="utf-8")
     start = time.time() + 4.0  # all eight start issuing at the same moment
     procs = [subprocess.Popen([sys.executable, str(script), register_url, str(out), str(start)],
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for _ in range(8)]
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for _
+             in range(8)]
     numbers = []
     for p in procs:
         o, e = p.communicate(timeout=300)
@@ -243,8 +253,10 @@ def test_readers_do_not_wait_for_a_writer(opened, register_url, tmp_path):
     assert len(other.list()) == 2
 
 
-def test_year_of_a_number_is_the_labs_and_numbers_restart_each_year(opened, register_url, tmp_path, monkeypatch):
-    """31 December 16:30 UTC is 1 January 00:30 in Asia/Shanghai: numbered in the new year, from 1."""
+def test_year_of_a_number_is_the_labs_and_numbers_restart_each_year(opened, register_url, tmp_path,
+                                                                    monkeypatch):
+    """31 December 16:30 UTC is 1 January 00:30 in Asia/Shanghai: numbered in the new year, from
+    1."""
     import metro.core.record.register as regmod
 
     reg = opened(register_url)
@@ -267,4 +279,5 @@ def test_year_of_a_number_is_the_labs_and_numbers_restart_each_year(opened, regi
     Clock.at = real(2026, 12, 31, 16, 30, tzinfo=dt.timezone.utc)  # 00:30 on 1 January in Shanghai
     c = reg.issue(_draft(), **kw)
     d = reg.issue(_draft(), folder=tmp_path / "out2", scheme=_scheme, per_year=True, timezone="UTC")
-    assert [x.number for x in (a, b, c, d)] == ["T2026-0001", "T2026-0002", "T2027-0001", "T2026-0003"]
+    assert [x.number for x in (a, b, c, d)] == ["T2026-0001", "T2026-0002", "T2027-0001",
+                                                "T2026-0003"]

@@ -13,7 +13,8 @@ import pytest
 
 from metro.core.cli.app import main
 
-SIM_GBT = ["run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_scale=0.05", "--no-progress"]
+SIM_GBT = ["run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_scale=0.05",
+           "--no-progress"]
 SIM_JJF = ["run", "-s", "jjf2014", "-i", "7.2.3", "--no-progress"]
 
 
@@ -39,7 +40,9 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     # a simulated run is not registered unless asked; its report says so
     code, doc = _json(capsys, *SIM_GBT, "--seed", "1", "--out", str(out))
     # a run exits 0, 3 or 4 by its verdict (README "Exit codes")
-    assert code in (0, 3, 4) and doc["register"]["registered"] is False and doc["report_number"].startswith("MTR-")
+    assert code in (0, 3,
+                    4) and doc["register"]["registered"] is False and doc[
+                        "report_number"].startswith("MTR-")
     text = _docx_text(doc["report"])
     assert text[0].startswith("未登记（仿真运行）") and "Not registered (simulated run" in text[0]
     assert doc["report_number"] in text[0]
@@ -47,7 +50,8 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     code, a = _json(capsys, *SIM_GBT, "--seed", "1", "--out", str(out), "--register-simulated")
     code2, b = _json(capsys, *SIM_JJF, "--seed", "2", "--out", str(out), "--register-simulated")
     manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.5)
-    code3, c = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out", str(out))
+    code3, c = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
+                     "--out", str(out))
     assert {code, code2, code3} <= {0, 3, 4}
     numbers = [x["report_number"] for x in (a, b, c)]
     assert numbers == [f"EML{year}-{i:05d}" for i in (1, 2, 3)]
@@ -62,17 +66,21 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     # the template's language is zh+en: the statement in both
     assert first[0] == (f"登记报告 EML{year}-00001，示例计量实验室。 "
                         f"Registered report EML{year}-00001 of Example Metrology Laboratory.")
-    assert any("示例计量实验室 Example Metrology Laboratory" in t for t in first)  # lab identity from the profile
+    # lab identity from the profile
+    assert any("示例计量实验室 Example Metrology Laboratory" in t for t in first)
 
     code, lst = _json(capsys, "register", "list")
     assert [r["number"] for r in lst["reports"]] == numbers
-    assert [r["number"] for r in _json(capsys, "register", "list", "--standard", "jjf2014")[1]["reports"]] == [numbers[1]]
-    assert [r["number"] for r in _json(capsys, "register", "list", "--device", "0042")[1]["reports"]] == [numbers[2]]
+    assert [r["number"] for r in _json(capsys, "register", "list", "--standard",
+                                       "jjf2014")[1]["reports"]] == [numbers[1]]
+    assert [r["number"] for r in _json(capsys, "register", "list", "--device",
+                                       "0042")[1]["reports"]] == [numbers[2]]
     tomorrow = (dt.date.today() + dt.timedelta(days=2)).isoformat()
     assert _json(capsys, "register", "list", "--since", tomorrow)[1]["reports"] == []
 
     code, show = _json(capsys, "register", "show", numbers[2])
-    assert show["device"] == {"id": "LG-0042", "manufacturer": "Acme Inertial", "model": "RLG-90", "serial": "0042"}
+    assert show["device"] == {"id": "LG-0042", "manufacturer": "Acme Inertial", "model": "RLG-90",
+                              "serial": "0042"}
     import hashlib
 
     assert show["manifest_sha256"] == hashlib.sha256(manifest.read_bytes()).hexdigest()
@@ -91,7 +99,8 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
             ctx, _ = reg.context(n)
             assert PENDING not in json.dumps(ctx, ensure_ascii=False) and ctx["report_number"] == n
     assert any(e["id"] == "CNT-1" and e["valid"] is True for e in show["equipment"])
-    assert show["provenance"]["data_files"][0]["sha256"] == c["provenance"]["data_files"][0]["sha256"]
+    assert show["provenance"]["data_files"][0]["sha256"] == c["provenance"]["data_files"][0][
+        "sha256"]
 
     # metro report NUMBER: the same document again (every part of the .docx identical)
     code, rep = _json(capsys, "report", numbers[0], "--out", str(tmp_path / "again"))
@@ -104,7 +113,8 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     capsys.readouterr()
 
     # amendments: a new run on the manifest, then a re-issue of the stored content
-    code, am1 = _json(capsys, "amend", numbers[2], "--reason", "customer name corrected", "--data", str(manifest))
+    code, am1 = _json(capsys, "amend", numbers[2], "--reason", "customer name corrected", "--data",
+                      str(manifest))
     code2, am2 = _json(capsys, "amend", am1["number"], "--reason", "typo in the serial number")
     assert (code, code2) == (0, 0)
     assert (am1["number"], am2["number"]) == (f"EML{year}-00004", f"EML{year}-00005")
@@ -114,11 +124,13 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
     assert statuses[am1["number"]] == ("superseded", numbers[2], am2["number"])
     assert statuses[am2["number"]] == ("issued", am1["number"], None)
     t5 = _docx_text(am2["report"])
-    assert t5[1].endswith(f"This report replaces report {am1['number']}, which is superseded by it. "
-                          "Reason: typo in the serial number")
-    assert t5[1].startswith(f"本报告替代报告 {am1['number']}（该报告已被替代）。原因：typo in the serial number")
+    assert t5[1].endswith(f"This report replaces report {am1['number']}, which is superseded by "
+                          "it. Reason: typo in the serial number")
+    assert t5[1].startswith(f"本报告替代报告 {am1['number']}（该报告已被替代）。原因：typo in the "
+                            "serial number")
     assert not any(am1["number"] in t for t in t5[2:])  # the old number printed nowhere else
-    assert main(["amend", numbers[2], "--reason", "again"]) == 2  # a superseded report is not amended
+    # a superseded report is not amended
+    assert main(["amend", numbers[2], "--reason", "again"]) == 2
     assert "superseded" in capsys.readouterr().err
 
     code, wd = _json(capsys, "withdraw", numbers[1], "--reason", "wrong device")
@@ -135,19 +147,23 @@ def test_runs_register_amend_withdraw_verify_report(lab, tmp_path, capsys, campa
 
 def test_expired_equipment_refuses_unless_allowed(lab, tmp_path, capsys, campaign_factory):
     manifest = campaign_factory.write_campaign(
-        tmp_path / "camp", hours=0.5, manifest_edit=lambda t: t.replace("due = 2027-08-15", "due = 2025-01-01"))
+        tmp_path / "camp", hours=0.5,
+        manifest_edit=lambda t: t.replace("due = 2027-08-15", "due = 2025-01-01"))
     out = tmp_path / "out"
     args = ["run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out", str(out)]
     assert main(args) == 2
     err = capsys.readouterr().err
     assert "CNT-1" in err and "2025-01-01" in err and "--allow-expired" in err
     assert not out.exists() or list(out.iterdir()) == []
-    code, listed = _json(capsys, "register", "list")  # nothing registered: not even the register was made
-    assert code == 2 and listed["message"].startswith("no register at") and not (tmp_path / "register.sqlite").exists()
+    # nothing registered: not even the register was made
+    code, listed = _json(capsys, "register", "list")
+    assert code == 2 and listed["message"].startswith("no register at") and not (
+        tmp_path / "register.sqlite").exists()
     code, doc = _json(capsys, *args, "--allow-expired")
     assert code in (0, 3, 4) and doc["register"]["registered"]
     text = _docx_text(doc["report"])
-    assert text[1].startswith("按 --allow-expired 出具") and "Issued with --allow-expired" in text[1]
+    assert text[1].startswith("按 --allow-expired 出具") and "Issued with --allow-expired" in text[
+        1]
     assert "CNT-1" in text[1] and "2025-01-01" in text[1]
     show = _json(capsys, "register", "show", doc["report_number"])[1]
     assert show["allow_expired"] is True
@@ -178,7 +194,8 @@ def test_cli_on_postgresql(lab, tmp_path, capsys, monkeypatch, pg_server):
     assert [r["number"] for r in _json(capsys, "register", "list")[1]["reports"]] == numbers
     code, rep = _json(capsys, "report", numbers[1], "--out", str(tmp_path / "again"))
     assert _docx_text(rep["report"]) == _docx_text(out / f"{numbers[1]}.docx")
-    assert not (tmp_path / "register.sqlite").exists()  # METRO_REGISTER took the place of the profile's file
+    # METRO_REGISTER took the place of the profile's file
+    assert not (tmp_path / "register.sqlite").exists()
 
 
 def test_history_flags_drift(lab, tmp_path, capsys):
@@ -190,12 +207,18 @@ def test_history_flags_drift(lab, tmp_path, capsys):
     profile = load_lab(lab)
     reg = open_register(profile.register_url())
     for day, value, U in ((1, 1.0, 0.2), (2, 1.1, 0.2), (3, 2.0, 0.3)):
-        fields = {"standard": "std", "items": ["A.1"], "options": {}, "device_id": "d", "device_manufacturer": "m",
-                  "device_model": "M", "device_serial": "S1", "customer": "", "measurement_date": dt.date(2026, 1, day),
-                  "simulated": False, "allow_expired": False, "lab": {}, "verdicts": None, "budgets": [],
-                  "provenance": {}, "manifest_sha256": None, "equipment": [], "template": "", "context": {}}
-        result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": value, "u": U / 2,
-                  "U": U, "k": 2.0, "nu_eff": None, "unit": "°/h", "value_text": str(value), "U_text": str(U),
+        fields = {"standard": "std", "items": ["A.1"], "options": {}, "device_id": "d",
+                  "device_manufacturer": "m",
+                  "device_model": "M", "device_serial": "S1", "customer": "",
+                  "measurement_date": dt.date(2026, 1, day),
+                  "simulated": False, "allow_expired": False, "lab": {}, "verdicts": None,
+                  "budgets": [],
+                  "provenance": {}, "manifest_sha256": None, "equipment": [], "template": "",
+                  "context": {}}
+        result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": value,
+                  "u": U / 2,
+                  "U": U, "k": 2.0, "nu_eff": None, "unit": "°/h", "value_text": str(value),
+                  "U_text": str(U),
                   "reportable": True, "reason": ""}
         reg.issue(lambda n, t, f=fields, r=result: Draft(f, [r], lambda tmp: tmp.write_text("x")),
                   folder=tmp_path / "out", scheme=profile.format_number, per_year=True)
@@ -205,8 +228,10 @@ def test_history_flags_drift(lab, tmp_path, capsys):
     (res,) = hist["results"]
     ens = [p.get("E_n") for p in res["points"]]
     assert ens[0] is None
-    assert ens[1] == pytest.approx(0.1 / math.sqrt(0.08), rel=1e-9) and res["points"][1]["drift"] is False
-    assert ens[2] == pytest.approx(0.9 / math.sqrt(0.13), rel=1e-9) and res["points"][2]["drift"] is True
+    assert ens[1] == pytest.approx(0.1 / math.sqrt(0.08),
+                                   rel=1e-9) and res["points"][1]["drift"] is False
+    assert ens[2] == pytest.approx(0.9 / math.sqrt(0.13),
+                                   rel=1e-9) and res["points"][2]["drift"] is True
     assert res["drift"] is True
     png = Path(hist["plot"])
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -219,7 +244,8 @@ def test_manifest_names_lab_equipment_by_id(lab, tmp_path, capsys, campaign_fact
     """CNT-1 given by id alone: its calibration comes from the lab profile; an id the profile does
     not know, without a role, is an error naming the field."""
     text = lab.read_text(encoding="utf-8").replace('id = "RT-01"', 'id = "CNT-9"').replace(
-        'role = "rate_table"', 'role = "counter"').replace('certificate = "CAL-2026-0001"', 'certificate = "LAB-CNT-9"')
+        'role = "rate_table"', 'role = "counter"').replace('certificate = "CAL-2026-0001"',
+                                                           'certificate = "LAB-CNT-9"')
     lab.write_text(text, encoding="utf-8")
 
     def by_id(t: str, ident: str) -> str:
@@ -227,28 +253,37 @@ def test_manifest_names_lab_equipment_by_id(lab, tmp_path, capsys, campaign_fact
         end = t.index("[[segments]]")
         return t[:start] + f'[[equipment]]\nid = "{ident}"\n\n' + t[end:]
 
-    manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.5, manifest_edit=lambda t: by_id(t, "CNT-9"))
-    code, doc = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out",
+    manifest = campaign_factory.write_campaign(tmp_path / "camp", hours=0.5,
+                                               manifest_edit=lambda t: by_id(t, "CNT-9"))
+    code, doc = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
+                      "--out",
                       str(tmp_path / "out"))
     assert code == 0
     show = _json(capsys, "register", "show", doc["report_number"])[1]
     (cnt,) = [e for e in show["equipment"] if e["id"] == "CNT-9"]
-    assert (cnt["role"], cnt["certificate"], cnt["due"], cnt["valid"]) == ("counter", "LAB-CNT-9", "2027-06-30", True)
+    assert (cnt["role"], cnt["certificate"], cnt["due"],
+            cnt["valid"]) == ("counter", "LAB-CNT-9", "2027-06-30", True)
     assert any("LAB-CNT-9" in t for t in _docx_text(doc["report"]))
-    bad = campaign_factory.write_campaign(tmp_path / "camp2", hours=0.5, manifest_edit=lambda t: by_id(t, "CNT-404"))
-    code, err = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(bad), "--out", str(tmp_path / "o2"))
+    bad = campaign_factory.write_campaign(tmp_path / "camp2", hours=0.5,
+                                          manifest_edit=lambda t: by_id(t, "CNT-404"))
+    code, err = _json(capsys, "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(bad), "--out",
+                      str(tmp_path / "o2"))
     assert code == 2 and err["field"] == "equipment[1].role" and "CNT-404" in err["message"]
     # the profile's equipment past its due date refuses the run before anything is evaluated
     lab.write_text(text.replace("due = 2027-06-30", "due = 2020-01-01"), encoding="utf-8")
-    assert main(["run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out", str(tmp_path / "o3")]) == 2
+    assert main(["run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest), "--out",
+                 str(tmp_path / "o3")]) == 2
     assert "LAB-CNT-9" in capsys.readouterr().err and not (tmp_path / "o3").exists()
 
 
 def test_statement_follows_the_lab_language(lab, tmp_path, capsys):
-    lab.write_text(lab.read_text(encoding="utf-8").replace('language = "zh+en"', 'language = "en"'), encoding="utf-8")
+    lab.write_text(lab.read_text(encoding="utf-8").replace('language = "zh+en"', 'language = "en"'),
+                   encoding="utf-8")
     year = dt.datetime.now(dt.timezone.utc).year
-    code, d = _json(capsys, *SIM_JJF, "--seed", "4", "--out", str(tmp_path / "o"), "--register-simulated")
-    assert _docx_text(d["report"])[0] == f"Registered report EML{year}-00001 of Example Metrology Laboratory."
+    code, d = _json(capsys, *SIM_JJF, "--seed", "4", "--out", str(tmp_path / "o"),
+                    "--register-simulated")
+    assert _docx_text(d["report"])[
+        0] == f"Registered report EML{year}-00001 of Example Metrology Laboratory."
     code, a = _json(capsys, "amend", d["report_number"], "--reason", "re-issued")
     assert _docx_text(a["report"])[:2] == [
         f"Registered report EML{year}-00002 of Example Metrology Laboratory.",

@@ -1,6 +1,6 @@
-"""The register's read path (metro.core.record.register.reading: plain SELECTs through sqlite3 / psycopg)
-against the SQLAlchemy models that write it: the same columns, and the same values for every
-column of every row, on SQLite and on a real PostgreSQL server.  A column added to a model and
+"""The register's read path (metro.core.record.register.reading: plain SELECTs through sqlite3 /
+psycopg) against the SQLAlchemy models that write it: the same columns, and the same values for
+every column of every row, on SQLite and on a real PostgreSQL server. A column added to a model and
 forgotten in the reader, or a type the reader converts differently (JSON, dates, booleans, the
 ``U_expanded`` column), fails here."""
 
@@ -24,16 +24,23 @@ def test_reader_columns_are_the_models_columns():
 
 
 def _draft(serial: str, value: float | None, reportable: bool):
-    fields = {"standard": "gbt45570", "items": ["D.5.2", "D.5.6"], "options": {"t": "10 s", "nested": [1, 2.5]},
+    fields = {"standard": "gbt45570", "items": ["D.5.2", "D.5.6"],
+              "options": {"t": "10 s", "nested": [1, 2.5]},
               "device_id": "dev-1", "device_manufacturer": "ACME 光电", "device_model": "FOG-9",
-              "device_serial": serial, "customer": "客户 <x>", "measurement_date": dt.date(2026, 11, 23),
-              "simulated": True, "allow_expired": False, "lab": {"name": "EML", "langs": ["zh", "en"]},
+              "device_serial": serial, "customer": "客户 <x>",
+              "measurement_date": dt.date(2026, 11, 23),
+              "simulated": True, "allow_expired": False,
+              "lab": {"name": "EML", "langs": ["zh", "en"]},
               "verdicts": {"overall": "conforms"}, "budgets": [{"rows": [["u1", 0.1]]}],
               "provenance": {"metro": "0.1.0"}, "manifest_sha256": "ab" * 32,
-              "equipment": [{"id": "T1", "due": "2027-01-01"}], "template": "gbt45570", "context": {"k": "v"}}
-    results = [{"item": "D.5.2", "key": "Bs_100", "quantity": "bias stability", "symbol": "B_s", "value": value,
-                "u": None if value is None else 1e-4, "U": None if value is None else 2.3e-4, "k": 2.3,
-                "nu_eff": float("inf"), "unit": "°/h", "value_text": "" if value is None else f"{value}",
+              "equipment": [{"id": "T1", "due": "2027-01-01"}], "template": "gbt45570",
+              "context": {"k": "v"}}
+    results = [{"item": "D.5.2", "key": "Bs_100", "quantity": "bias stability", "symbol": "B_s",
+                "value": value,
+                "u": None if value is None else 1e-4, "U": None if value is None else 2.3e-4,
+                "k": 2.3,
+                "nu_eff": float("inf"), "unit": "°/h", "value_text": "" if value is None
+                else f"{value}",
                 "U_text": None if value is None else "0.00023", "reportable": reportable,
                 "reason": "" if reportable else "not reportable: too few records"}]
 
@@ -63,7 +70,9 @@ def _orm_rows(url: str):
         with Session(engine) as s:
             reports = {r.number: ({c.name: getattr(r, c.key) for c in Report.__table__.columns},
                                   [{a: getattr(x, a) for _, a in RESULT_COLUMNS}
-                                   for x in s.scalars(sa.select(ResultRow).where(ResultRow.report_id == r.id)
+                                   for x
+                                   in s.scalars(sa.select(ResultRow).where(
+                                       ResultRow.report_id == r.id)
                                                       .order_by(ResultRow.id))])
                        for r in s.scalars(sa.select(Report))}
             audit = [(a.at, a.who, a.action, a.number, a.detail)
@@ -95,7 +104,8 @@ def test_reader_gives_what_the_models_give(register_url, tmp_path):
     assert [(_utc(a[0]),) + a[1:] for a in audit] == [(_utc(a[0]),) + a[1:] for a in orm_audit]
     # the states the reader must carry through: superseded, withdrawn, a result withheld
     assert {got[n].status for n in numbers} == {"superseded", "withdrawn", "issued"}
-    assert got[numbers[1]].results[0].reportable is False and got[numbers[1]].results[0].value is None
+    assert got[numbers[1]].results[0].reportable is False and got[numbers[1]].results[
+        0].value is None
 
 
 def test_reader_never_creates_a_database(tmp_path):

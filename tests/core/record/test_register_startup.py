@@ -16,7 +16,8 @@ import pytest
 from metro.core.cli.app import main
 
 #: what reading the register needs none of
-HEAVY = {"sqlalchemy", "alembic", "pint", "numpy", "scipy", "matplotlib", "docx", "dask", "distributed", "numba",
+HEAVY = {"sqlalchemy", "alembic", "pint", "numpy", "scipy", "matplotlib", "docx", "dask",
+         "distributed", "numba",
          "pyarrow"}
 
 PROBE = """
@@ -51,14 +52,20 @@ def register(tmp_path, capsys):
     with open_register(profile.register_url()) as reg:
         for day in (1, 2):
             fields = {"standard": "std", "items": ["A.1"], "options": {}, "device_id": "d",
-                      "device_manufacturer": "m", "device_model": "M", "device_serial": "S1", "customer": "",
-                      "measurement_date": dt.date(2026, 1, day), "simulated": False, "allow_expired": False,
-                      "lab": {}, "verdicts": None, "budgets": [], "provenance": {}, "manifest_sha256": None,
+                      "device_manufacturer": "m", "device_model": "M", "device_serial": "S1",
+                      "customer": "",
+                      "measurement_date": dt.date(2026, 1, day), "simulated": False,
+                      "allow_expired": False,
+                      "lab": {}, "verdicts": None, "budgets": [], "provenance": {},
+                      "manifest_sha256": None,
                       "equipment": [], "template": "", "context": {}}
-            result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": 1.0, "u": 0.1,
-                      "U": 0.2, "k": 2.0, "nu_eff": None, "unit": "°/h", "value_text": "1.0", "U_text": "0.2",
+            result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": 1.0,
+                      "u": 0.1,
+                      "U": 0.2, "k": 2.0, "nu_eff": None, "unit": "°/h", "value_text": "1.0",
+                      "U_text": "0.2",
                       "reportable": True, "reason": ""}
-            numbers.append(reg.issue(lambda n, t, f=fields, r=result: Draft(f, [r], lambda p: p.write_text("x")),
+            numbers.append(reg.issue(lambda n, t, f=fields,
+                                     r=result: Draft(f, [r], lambda p: p.write_text("x")),
                                      folder=tmp_path / "reports", scheme=profile.format_number,
                                      per_year=True).number)
     env = dict(os.environ, METRO_LAB=str(lab))
@@ -66,7 +73,8 @@ def register(tmp_path, capsys):
     return env, numbers
 
 
-@pytest.mark.parametrize("argv", [["register", "list"], ["register", "show", "{n}"], ["register", "verify"],
+@pytest.mark.parametrize("argv", [["register", "list"], ["register", "show", "{n}"],
+                                  ["register", "verify"],
                                   ["register", "list", "--json"]], ids=lambda a: " ".join(a))
 def test_reading_the_register_loads_nothing_heavy(register, tmp_path, argv):
     env, numbers = register
@@ -76,7 +84,8 @@ def test_reading_the_register_loads_nothing_heavy(register, tmp_path, argv):
 
 
 def test_loading_the_plugins_imports_no_scipy(tmp_path):
-    """core.lsq imports scipy.linalg where it fits, not when GB/T 45570's angle method is imported."""
+    """core.lsq imports scipy.linalg where it fits, not when GB/T 45570's angle method is
+    imported."""
     out = tmp_path / "m.json"
     code = ("import json, sys\nfrom metro.core.run.plugin_manager import get_plugin_manager\n"
             "get_plugin_manager(autoload=False).register_all()\n"
@@ -88,7 +97,9 @@ def test_loading_the_plugins_imports_no_scipy(tmp_path):
 
 def test_version_registers_no_items(tmp_path):
     out = tmp_path / "m.json"
-    subprocess.run([sys.executable, "-c", "import json, sys\nfrom metro.core.cli.app import main\nmain(['--version'])\n"
+    subprocess.run([sys.executable, "-c",
+                    "import json, sys\nfrom metro.core.cli.app import main\nmain(['--version'])\n"
                     f"json.dump(sorted(sys.modules), open({str(out)!r}, 'w'))"], check=True,
                    stdout=subprocess.DEVNULL)
-    assert not any(m.startswith("metro.plugins.gbt45570.angle_method") for m in json.loads(out.read_text()))
+    assert not any(m.startswith("metro.plugins.gbt45570.angle_method") for m
+                   in json.loads(out.read_text()))

@@ -11,7 +11,7 @@ import pytest
 from metro.core.cli.app import main
 from metro.core.base.errors import DataError
 from metro.core.run.plugin_manager import get_plugin_manager
-from metro.core.run.manifest import used_equipment
+from metro.core.run.equipment_check import used_equipment
 from metro.core.run.runner import load_campaign, run_items
 from metro.core.run import manifest_writer as W
 
@@ -34,7 +34,8 @@ def _same_results(rec_mem, rec_disk):
         for ra, rb in zip(a.results, b.results):
             va = np.asarray(ra.value.to(ra.metric.unit).magnitude, dtype=float)
             vb = np.asarray(rb.value.to(ra.metric.unit).magnitude, dtype=float)
-            np.testing.assert_allclose(vb, va, rtol=1e-12, atol=0, err_msg=f"{a.item} {ra.metric.key}")
+            np.testing.assert_allclose(vb, va, rtol=1e-12, atol=0,
+                                       err_msg=f"{a.item} {ra.metric.key}")
             if ra.U is not None:
                 assert rb.U is not None
                 assert float(rb.U.magnitude) == pytest.approx(float(ra.U.magnitude), rel=1e-12)
@@ -54,8 +55,10 @@ CASES = [
 
 
 @pytest.mark.parametrize("standard,items,station_options,npy_rows", CASES,
-                         ids=[f"{c[0]}-{'+'.join(c[1])}-{'npy' if c[3] < 1000 else 'csv'}" for c in CASES])
-def test_round_trip_gives_the_in_memory_results(pm, tmp_path, standard, items, station_options, npy_rows):
+                         ids=[f"{c[0]}-{'+'.join(c[1])}-{'npy' if c[3] < 1000 else 'csv'}" for c
+                              in CASES])
+def test_round_trip_gives_the_in_memory_results(pm, tmp_path, standard, items, station_options,
+                                                npy_rows):
     camp = _acquire(pm, standard, items, **station_options)
     mem = run_items(pm, standard, items, campaign=camp)
     manifest = W.write_campaign(camp, tmp_path / "c", npy_rows=npy_rows)
@@ -76,14 +79,15 @@ def test_manifest_records_device_equipment_calibration_site_and_conditions(pm, t
     roles = {e["role"]: e for e in doc["equipment"]}
     assert set(roles) == {e.role for e in camp.equipment}
     dmm = roles["dmm"]
-    assert dmm["calibration"]["certificate"] and "U" in dmm["calibration"] and dmm["calibration"]["k"] == 2.0
+    assert dmm["calibration"]["certificate"] and "U" in dmm["calibration"] and dmm["calibration"][
+        "k"] == 2.0
     assert doc["site"]["latitude"].endswith("degree")
     assert {"temperature", "humidity"} <= set(doc["environment"])
     seg = doc["segments"][0]
     assert seg["conditions"] and seg["units"]["output"] == "mV"
     # and the loader reads them back as the same objects
     back = run_items(pm, "jjf2014", ["7.2.1"], data=manifest).campaign
-    # (a run keeps the equipment its items use: metro.core.run.manifest.used_equipment)
+    # (a run keeps the equipment its items use: metro.core.run.equipment_check.used_equipment)
     used = used_equipment(camp, [pm.procedure("jjf2014", "7.2.1")]).equipment
     assert len(used) < len(camp.equipment)
     assert [e.calibration for e in back.equipment] == [e.calibration for e in used]
@@ -102,7 +106,8 @@ def test_nothing_is_left_when_writing_fails(pm, tmp_path, monkeypatch):
         return real(*args)
 
     monkeypatch.setattr(W, "_write_samples", flaky)
-    with pytest.raises(DataError, match="cannot write the campaign: disk full"):  # said, not a traceback
+    # said, not a traceback
+    with pytest.raises(DataError, match="cannot write the campaign: disk full"):
         W.write_campaign(camp, tmp_path / "c")
     assert list(tmp_path.iterdir()) == []  # no target, no hidden temporary folder
 
@@ -122,8 +127,10 @@ def test_refuses_a_folder_that_is_not_empty(pm, tmp_path):
 def test_quantity_text_round_trips():
     from metro.core.base.units import Q_, parse_quantity
 
-    for q in (Q_(20.0, "degC"), Q_(-40, "degC"), Q_(0.5, "delta_degC"), Q_(45.0, "percent"), Q_(4e-6, ""),
-              Q_(0.8, "P/arcsec"), Q_(5000.0, "LSB/(deg/s)"), Q_(1 / 3, "s"), Q_(0.0015, "deg/hour**0.5")):
+    for q in (Q_(20.0, "degC"), Q_(-40, "degC"), Q_(0.5, "delta_degC"), Q_(45.0, "percent"),
+              Q_(4e-6, ""),
+              Q_(0.8, "P/arcsec"), Q_(5000.0, "LSB/(deg/s)"), Q_(1 / 3, "s"),
+              Q_(0.0015, "deg/hour**0.5")):
         back = parse_quantity(W.quantity_text(q))
         assert back.magnitude == q.magnitude and back.units == q.units
     with pytest.raises(DataError):
@@ -132,14 +139,16 @@ def test_quantity_text_round_trips():
 
 def test_cli_acquire_then_run(tmp_path, capsys):
     out = tmp_path / "camp"
-    rc = main(["--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out", str(out),
+    rc = main(["--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out",
+               str(out),
                "--station-option", "duration_scale=0.05", "--seed", "7", "--no-progress"])
     assert rc == 0
     manifest = out / "manifest.toml"
     assert capsys.readouterr().out.strip() == str(manifest)
     doc = tomllib.loads(manifest.read_text(encoding="utf-8"))
     assert doc["campaign"]["station"] == "simulated" and doc["device"]["serial"] == "seed 7"
-    rc = main(["--no-plugin-autoload", "run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
+    rc = main(["--no-plugin-autoload", "run", "-s", "gbt45570", "-i", "D.5.1", "--data",
+               str(manifest),
                "--no-report", "--json", "--no-progress"])
     assert rc == 0
     import json
@@ -147,14 +156,16 @@ def test_cli_acquire_then_run(tmp_path, capsys):
     res = json.loads(capsys.readouterr().out)
     assert res["results"][0]["key"] == "B0" and res["simulated"]
     # a second acquire into the same folder is refused with a clear message, exit code 2
-    rc = main(["--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out", str(out),
+    rc = main(["--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "D.5.1", "--out",
+               str(out),
                "--no-progress"])
     assert rc == 2
     assert "not empty" in capsys.readouterr().err
 
 
 def test_cli_acquire_unknown_item_is_a_clear_error(tmp_path, capsys):
-    rc = main(["--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "Z.9", "--out", str(tmp_path / "x"),
+    rc = main(["--no-plugin-autoload", "acquire", "-s", "gbt45570", "-i", "Z.9", "--out",
+               str(tmp_path / "x"),
                "--no-progress"])
     assert rc == 2 and "has no item 'Z.9'" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()

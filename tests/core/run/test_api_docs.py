@@ -19,7 +19,8 @@ DOCS = ROOT / "docs"
 
 
 def _generator():
-    spec = importlib.util.spec_from_file_location("gen_api_docs", ROOT / "tools" / "gen_api_docs.py")
+    spec = importlib.util.spec_from_file_location("gen_api_docs", ROOT / "tools"
+                                                  / "gen_api_docs.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
@@ -44,13 +45,15 @@ def test_every_public_name_is_documented_and_on_the_page(gen, page, name):
     doc = gen.doc_of(name)
     assert len(doc.split()) >= 4, f"metro.api.{name} has no documentation"
     kind = gen.kind_of(getattr(api, name))
-    heading = {"class": f"### class `{name}`", "module": f"### module `{name}`"}.get(kind, f"### `{name}")
+    heading = {"class": f"### class `{name}`",
+               "module": f"### module `{name}`"}.get(kind, f"### `{name}")
     assert heading in page, f"{name} is not in docs/api.md"
 
 
 def _api_classes(gen):
     public = [(n, getattr(api, n)) for n in sorted(api.__all__)
-              if inspect.isclass(getattr(api, n)) and getattr(api, n).__module__.startswith("metro")]
+              if inspect.isclass(getattr(api, n)) and getattr(api,
+                                                              n).__module__.startswith("metro")]
     return public + gen.returned_classes()
 
 

@@ -27,11 +27,15 @@ def _load(path: Path):
 
 def _tricky(camp):
     dev = attrs.evolve(camp.device, manufacturer="北京某惯性技术有限公司", model=TRICKY,
-                       properties=dict(camp.device.properties) | {"备注 note": TRICKY, "rate [°/s]": Q_(10.0, "degree / second")})
-    eq = [attrs.evolve(e, properties=dict(e.properties) | {"位置": "实验室 2 号台"}) for e in camp.equipment]
+                       properties=dict(camp.device.properties)
+                       | {"备注 note": TRICKY, "rate [°/s]": Q_(10.0, "degree / second")})
+    eq = [attrs.evolve(e, properties=dict(e.properties) | {"位置": "实验室 2 号台"}) for e
+          in camp.equipment]
     records = {"inspection": {"appearance": "外观完好，无划痕", "marking": TRICKY,
-                              "items": [{"name": "尺寸", "value": "90 mm"}, {"name": 'say "ok"', "value": "1 kg"}]},
-               "environmental_tests": [{"clause": "5.4.1", "note": "高温 +70 ℃", "severity": {"temperature": "70 °C"}}]}
+                              "items": [{"name": "尺寸", "value": "90 mm"},
+                                        {"name": 'say "ok"', "value": "1 kg"}]},
+               "environmental_tests": [{"clause": "5.4.1", "note": "高温 +70 ℃",
+                                        "severity": {"temperature": "70 °C"}}]}
     meta = dict(camp.meta) | {"operator": "张三", "remark": TRICKY}
     return attrs.evolve(camp, device=dev, equipment=eq, records=records, meta=meta)
 
@@ -51,7 +55,8 @@ def test_manifest_round_trip_keeps_chinese_and_special_characters(tmp_path):
     assert back.records["inspection"]["marking"] == TRICKY
     assert back.records["inspection"]["items"][1]["name"] == 'say "ok"'
     assert back.records["environmental_tests"][0]["severity"]["temperature"] == "70 °C"
-    assert [e.properties.get("位置") for e in back.equipment] == ["实验室 2 号台"] * len(camp.equipment)
+    assert [e.properties.get("位置") for e
+            in back.equipment] == ["实验室 2 号台"] * len(camp.equipment)
     assert [(e.id, e.role, e.calibration) for e in back.equipment] == [(e.id, e.role, e.calibration)
                                                                         for e in camp.equipment]
     assert dict(back.environment) == dict(camp.environment) and dict(back.site) == dict(camp.site)

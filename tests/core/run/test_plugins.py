@@ -129,7 +129,8 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     assert {"scpi-dmm", "serial-gyro"} <= set(reg.drivers)
     with info.cls(seed=3) as table:
         table.set_rate(Q_(10, "deg/s"))
-        assert abs(table.rate().to("deg/s").magnitude / 10 - 1) <= 1e-5  # within the 10 °/s band's error
+        # within the 10 °/s band's error
+        assert abs(table.rate().to("deg/s").magnitude / 10 - 1) <= 1e-5
         table.move_to(Q_(90, "deg"))
         assert table.angle().to("deg").magnitude == pytest.approx(90.0)
         eq = table.equipment()
@@ -139,7 +140,8 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     # lifecycle hooks
     data = np.linspace(1.0, 2.0, 101)
     camp = Campaign("C1", DeviceUnderTest("D1"), [], {}, {}, [
-        Segment("s", "static", {}, Q_(1, "s"), loader=lambda: {"output": (data, "deg/h")}, sha256="0" * 64)])
+        Segment("s", "static", {}, Q_(1, "s"), loader=lambda: {"output": (data, "deg/h")},
+                sha256="0" * 64)])
     pm.campaign_loaded(camp)
     rec = run_items(pm, "vendorx", ["V.1"], campaign=camp)
     assert rec.outcomes[0].results[0].value.magnitude == pytest.approx(1.5)
@@ -199,7 +201,9 @@ def test_items_choose_their_default_station():
         station = "elsewhere"
         item = "X.1"
 
-    pm.registry.procedures["gbt45570:X.1"] = type(pm.registry.procedures["gbt45570:D.5.1"])(Other, "test")
+    pm.registry.procedures["gbt45570:X.1"] = (
+        type(pm.registry.procedures["gbt45570:D.5.1"])(Other, "test")
+    )
     # items on different stations: each station acquires its own campaign
     with pytest.raises(PluginError, match="unknown station 'elsewhere'"):
         run_items(pm, "gbt45570", ["D.5.1", "X.1"])
@@ -211,7 +215,8 @@ def test_items_are_listed_in_the_standards_order():
     from metro.core.run.plugin_manager import item_sort_key
 
     ids = ["7.2.10", "7.2.2", "D.2.1", "D.1.6", "7.2.1", "D.10", "6.2.7.8", "6.2.6"]
-    assert sorted(ids, key=item_sort_key) == ["6.2.6", "6.2.7.8", "7.2.1", "7.2.2", "7.2.10", "D.1.6", "D.2.1",
+    assert sorted(ids, key=item_sort_key) == ["6.2.6", "6.2.7.8", "7.2.1", "7.2.2", "7.2.10",
+                                              "D.1.6", "D.2.1",
                                               "D.10"]
 
 

@@ -22,14 +22,17 @@ import pytest
 from metro.core.cli.app import main
 from metro.core.run.plugin_manager import get_plugin_manager
 
-STATIONS = ("simulated", "simulated-digital", "simulated-jjf2014", "simulated-mimu", "simulated-ogam")
+STATIONS = ("simulated", "simulated-digital", "simulated-jjf2014", "simulated-mimu",
+            "simulated-ogam")
 #: short records where a station takes them and the items still evaluate (a record too short for
 #: an item is refused by acquire: see test_too_short_a_record_is_refused_before_writing)
 SCALE = {"simulated-jjf2014": 0.2, "simulated": 0.25, "simulated-digital": 0.25}
-#: item options that keep the heaviest items short (as tests/plugins/jjf2014/test_items.py runs them)
+#: item options that keep the heaviest items short (as tests/plugins/jjf2014/test_items.py runs
+#them)
 ITEM_OPTIONS = {("jjf2014", "7.2.21"): ["-o", "records=3", "-o", "sample_rate=2000 Hz"],
                 ("jjf2014", "7.2.22"): ["-o", "records=3", "-o", "sample_rate=2000 Hz"]}
-#: run's exit codes for "evaluated": conforms or nothing to judge (0), does not conform (3), indeterminate (4)
+#: run's exit codes for "evaluated": conforms or nothing to judge (0), does not conform (3),
+#indeterminate (4)
 EVALUATED = (0, 3, 4)
 _ANGLE = {"D.1.1", "D.1.2", "D.1.3", "D.1.4", "D.1.5", "D.1.6"}
 _RATE = {"D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5", "D.2.6"}
@@ -42,7 +45,8 @@ def accepting(standard: str, item: str) -> set[str]:
         if item in _RATE:
             return {"simulated-digital"}
         return {"simulated", "simulated-digital"}
-    return {"jjf2014": {"simulated-jjf2014"}, "jjf2003": {"simulated-mimu"}, "ogam": {"simulated-ogam"}}[standard]
+    return {"jjf2014": {"simulated-jjf2014"}, "jjf2003": {"simulated-mimu"},
+            "ogam": {"simulated-ogam"}}[standard]
 
 
 def _items():
@@ -59,7 +63,8 @@ FULL_LENGTH = {("gbt45570", "6.2.7.7"), ("gbt45570", "6.2.7.8")}
 
 
 def _acquire_argv(standard, items, station, out, *extra):
-    argv = ["acquire", "-s", standard, "-i", items, "--station", station, "--out", str(out), "--seed", "11",
+    argv = ["acquire", "-s", standard, "-i", items, "--station", station, "--out", str(out),
+            "--seed", "11",
             "--no-progress", *extra]
     if station in SCALE and (standard, items) not in FULL_LENGTH:
         argv += ["--station-option", f"duration_scale={SCALE[station]}"]
@@ -78,7 +83,8 @@ def test_round_trip_on_every_station(standard, item, tmp_path, capsys):
         err = capsys.readouterr().err
         if station in fits:
             assert rc == 0, f"{item} on {station}: {err}"
-            rc = main(["run", "-s", standard, "-i", item, "--data", str(out / "manifest.toml"), "--no-report",
+            rc = main(["run", "-s", standard, "-i", item, "--data", str(out / "manifest.toml"),
+                       "--no-report",
                        "--json", "--no-progress", *opts])
             err = capsys.readouterr().err
             assert rc in EVALUATED, f"{item} acquired on {station} but run refused it: rc {rc} {err}"
@@ -120,7 +126,8 @@ def test_angle_and_rate_items_together_keep_every_record(tmp_path, capsys):
 
     doc = tomllib.loads((out / "manifest.toml").read_text(encoding="utf-8"))
     files = [s["file"] for s in doc["segments"]]
-    assert len(files) == len(set(files)) == len([p for p in out.iterdir() if p.name != "manifest.toml"])
+    assert len(files) == len(set(files)) == len([p for p in out.iterdir() if p.name
+                                                 != "manifest.toml"])
 
 
 def test_writer_refuses_two_segments_with_one_id(tmp_path):
@@ -131,7 +138,8 @@ def test_writer_refuses_two_segments_with_one_id(tmp_path):
     from metro.core.run.manifest_writer import write_campaign
 
     pm = get_plugin_manager(autoload=False)
-    camp = load_campaign(pm, [pm.procedure("gbt45570", "D.2.1")], [{}], data=None, station="simulated-digital",
+    camp = load_campaign(pm, [pm.procedure("gbt45570", "D.2.1")], [{}], data=None,
+                         station="simulated-digital",
                          station_options={"duration_scale": 0.05})
     segs = list(camp.segments)
     twin = attrs.evolve(segs[1], id=segs[0].id)
@@ -141,7 +149,8 @@ def test_writer_refuses_two_segments_with_one_id(tmp_path):
 
 
 def _digests(folder: Path) -> dict[str, str]:
-    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in folder.iterdir() if p.name != "manifest.toml"}
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in folder.iterdir() if p.name
+            != "manifest.toml"}
 
 
 @pytest.mark.parametrize("standard,a,b,station", [
@@ -168,7 +177,8 @@ def test_acquire_all_and_series_select_as_run_does(tmp_path, capsys):
     out = tmp_path / "all"
     assert main(_acquire_argv("gbt45570", "scale-factor", "simulated-digital", out)) == 0
     capsys.readouterr()
-    assert main(["run", "-s", "gbt45570", "-i", "scale-factor", "--data", str(out / "manifest.toml"), "--no-report",
+    assert main(["run", "-s", "gbt45570", "-i", "scale-factor", "--data",
+                 str(out / "manifest.toml"), "--no-report",
                  "--json", "--no-progress"]) in EVALUATED
     import json
 
@@ -176,10 +186,12 @@ def test_acquire_all_and_series_select_as_run_does(tmp_path, capsys):
     ran = sorted(o["item"] for o in doc["items"])
     assert ran == ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5"]
     out2 = tmp_path / "all2"
-    assert main(["acquire", "-s", "gbt45570", "--all", "--station", "simulated-digital", "--out", str(out2),
+    assert main(["acquire", "-s", "gbt45570", "--all", "--station", "simulated-digital", "--out",
+                 str(out2),
                  "--no-progress", "--seed", "3"]) == 0
     capsys.readouterr()
-    assert main(["run", "-s", "gbt45570", "--all", "--data", str(out2 / "manifest.toml"), "--no-report", "--json",
+    assert main(["run", "-s", "gbt45570", "--all", "--data", str(out2 / "manifest.toml"),
+                 "--no-report", "--json",
                  "--no-progress"]) in EVALUATED
     doc = json.loads(capsys.readouterr().out)
     ran = {o["item"] for o in doc["items"]}
@@ -213,7 +225,8 @@ def test_stations_refuse_step_kinds_they_cannot_simulate(station):
     pm = get_plugin_manager(autoload=False)
     st = pm.station(station).factory()
     step = Step("x", "warp-drive", "a kind no station knows", Q_(10, "s"), Q_(1, "s"))
-    with pytest.raises(StationError, match=f"station '{station}' cannot simulate steps of kind 'warp-drive'"):
+    with pytest.raises(StationError,
+                       match=f"station '{station}' cannot simulate steps of kind 'warp-drive'"):
         st.acquire([step])
 
 
@@ -223,7 +236,8 @@ def test_digital_and_rate_gyros_give_no_revolution_counts():
     from metro.instruments.stations import StationError
 
     pm = get_plugin_manager(autoload=False)
-    step = Step("rate+1", "rate-revolutions", "turns", Q_(10, "s"), Q_(1, "s"), {"rate": "1 deg/s", "turns": 2})
+    step = Step("rate+1", "rate-revolutions", "turns", Q_(10, "s"), Q_(1, "s"),
+                {"rate": "1 deg/s", "turns": 2})
     for name, opts in (("simulated-digital", {}), ("simulated", {"output": "rate"})):
         with pytest.raises(StationError, match="only a pulse output gives"):
             pm.station(name).factory(**opts).acquire([step])
@@ -254,7 +268,8 @@ def _run_json(capsys, manifest, items="D.2.1"):
     import json
 
     capsys.readouterr()
-    assert main(["run", "-s", "gbt45570", "-i", items, "--data", str(manifest), "--no-report", "--json",
+    assert main(["run", "-s", "gbt45570", "-i", items, "--data", str(manifest), "--no-report",
+                 "--json",
                  "--no-progress"]) in EVALUATED
     return json.loads(capsys.readouterr().out)
 
@@ -270,7 +285,8 @@ def test_d2_takes_an_output_in_deg_per_s_and_in_hz(tmp_path, capsys):
     # errors (sf_slope·Ω + sf_quadratic·(Ω/400)² ≤ 4×10⁻⁵ at 400 °/s, fitted over ±400 °/s)
     out = tmp_path / "ds"
     assert main(["acquire", "-s", "gbt45570", "-i", "D.2.1,D.2.2", "--station", "simulated-digital",
-                 "--station-option", "output=rate", "--station-option", "rate_unit=deg/s", "--station-option",
+                 "--station-option", "output=rate", "--station-option", "rate_unit=deg/s",
+                 "--station-option",
                  "duration_scale=0.1", "--seed", "5", "--out", str(out), "--no-progress"]) == 0
     doc = _run_json(capsys, out / "manifest.toml", "D.2.1,D.2.2")
     k = _result(doc, "K")
@@ -295,7 +311,8 @@ def test_too_short_a_record_is_refused_before_writing(tmp_path, capsys):
     """6.2.7.7 needs a settled part of 60 s after the switch-on: a quarter-length record cannot
     give it, and acquire says so instead of writing what run would refuse."""
     out = tmp_path / "c"
-    assert main(["acquire", "-s", "gbt45570", "-i", "6.2.7.7", "--station", "simulated", "--station-option",
+    assert main(["acquire", "-s", "gbt45570", "-i", "6.2.7.7", "--station", "simulated",
+                 "--station-option",
                  "duration_scale=0.25", "--out", str(out), "--no-progress"]) == 2
     err = capsys.readouterr().err
     assert "would not evaluate" in err and "too short" in err and not out.exists()
@@ -307,7 +324,8 @@ def test_a_series_without_a_station_is_acquired_where_run_would_simulate_it(tmp_
     import tomllib
 
     out = tmp_path / "c"
-    assert main(["acquire", "-s", "gbt45570", "-i", "scale-factor", "--out", str(out), "--no-progress",
+    assert main(["acquire", "-s", "gbt45570", "-i", "scale-factor", "--out", str(out),
+                 "--no-progress",
                  "--station-option", "duration_scale=0.25"]) == 0
     camp = tomllib.loads((out / "manifest.toml").read_text(encoding="utf-8"))["campaign"]
     assert camp["station"] == "simulated" and camp["items"] == "D.1.1,D.1.2,D.1.3,D.1.4,D.1.5"

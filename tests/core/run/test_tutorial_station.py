@@ -78,7 +78,8 @@ def test_the_pyproject_declares_the_plugin_entry_point():
 def test_the_tutorial_tests_pass_with_metros_pytest_plugin(tutorial):
     out = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--rootdir", str(tutorial),
-         str(tutorial / TESTS)], capture_output=True, text=True, env=_env(tutorial), cwd=tutorial, check=False,
+         str(tutorial / TESTS)], capture_output=True, text=True, env=_env(tutorial), cwd=tutorial,
+        check=False,
         timeout=300)
     assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-2000:]
     assert "3 passed" in out.stdout
@@ -98,7 +99,8 @@ def _run(tutorial: Path, line: str) -> subprocess.CompletedProcess:
     assert words[0] == "metro"
     return subprocess.run([sys.executable, "-m", "metro", *words[1:], "--no-progress"]
                           if words[1] == "run" else [sys.executable, "-m", "metro", *words[1:]],
-                          capture_output=True, text=True, env=env, cwd=tutorial, timeout=300, check=False)
+                          capture_output=True, text=True, env=env, cwd=tutorial, timeout=300,
+                          check=False)
 
 
 def test_metro_run_uses_the_plugins_station_and_names_it(tutorial):

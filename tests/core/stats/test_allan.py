@@ -375,12 +375,13 @@ def test_deviations_follow_scale_and_ignore_offset(seed, n, a, b):
         # a·y + b is itself rounded: about eps·|b| per sample against a spread of |a|
         tol = 1e-9 + 1e-14 * abs(b) / abs(a)
         np.testing.assert_allclose(got, abs(a) * ref, rtol=tol, err_msg=fn.__name__)
-    np.testing.assert_allclose(oadev(y, 0.1, [1]).deviation, adev(y, 0.1, [1]).deviation, rtol=1e-12)
+    np.testing.assert_allclose(oadev(y, 0.1, [1]).deviation, adev(y, 0.1, [1]).deviation,
+                               rtol=1e-12)
 
 
 def test_mean_u_batches_checks_for_correlated_batch_means():
-    """metro.core.stats.allan.mean_u_batches: white noise keeps the 20 batch means (u = s_b/√20); a random
-    walk makes them alike and the F test (95 %) takes 5 long batches, whose u is larger."""
+    """metro.core.stats.allan.mean_u_batches: white noise keeps the 20 batch means (u = s_b/√20); a
+    random walk makes them alike and the F test (95 %) takes 5 long batches, whose u is larger."""
     from metro.core.stats.allan import block_std, mean_u_batches
 
     rng = np.random.default_rng(7)

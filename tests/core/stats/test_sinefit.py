@@ -1,4 +1,5 @@
-"""metro.core.stats.sinefit: hand-worked values, exact ("certified") data, Monte Carlo covariance, bad input."""
+"""metro.core.stats.sinefit: hand-worked values, exact ("certified") data, Monte Carlo covariance,
+bad input."""
 
 from __future__ import annotations
 
@@ -10,8 +11,9 @@ from metro.core.stats.sinefit import fit_sine, wrap_phase
 
 
 def test_hand_worked_eight_points_per_period():
-    # y = 3 + 2·cos(ωt + π/6), f = 1 Hz, t = 0, 1/8, …, 7/8 s.  Over whole periods the normal
-    # equations are diagonal: a = (2/N)Σy cos ωt = 2 cos(π/6) = √3, b = (2/N)Σy sin ωt = −2 sin(π/6) = −1
+    # y = 3 + 2·cos(ωt + π/6), f = 1 Hz, t = 0, 1/8, …, 7/8 s. Over whole periods the normal
+    # equations are diagonal: a = (2/N)Σy cos ωt = 2 cos(π/6) = √3, b = (2/N)Σy sin ωt = −2 sin(π/6)
+    # = −1
     t = np.arange(8) / 8.0
     y = 3 + 2 * np.cos(2 * math.pi * t + math.pi / 6)
     f = fit_sine(t, y, 1.0)
@@ -64,7 +66,8 @@ def test_covariance_matches_monte_carlo():
 
 
 def test_wrap_phase():
-    np.testing.assert_allclose(wrap_phase([0.0, 3 * math.pi, -math.pi, 4.0]), [0.0, math.pi, math.pi, 4.0 - 2 * math.pi])
+    np.testing.assert_allclose(wrap_phase([0.0, 3 * math.pi, -math.pi, 4.0]),
+                               [0.0, math.pi, math.pi, 4.0 - 2 * math.pi])
 
 
 @pytest.mark.parametrize("t,y,f,msg", [

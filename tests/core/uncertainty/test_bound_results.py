@@ -26,11 +26,14 @@ def test_terminal_states_the_bound(run_cli):
     assert "conforms" in flat
 
 
-@pytest.mark.skipif(not (shutil.which("soffice") or shutil.which("libreoffice")) or not shutil.which("pdftotext"),
-                    reason="LibreOffice (soffice) and poppler (pdftotext) are needed to render and read the PDF")
+@pytest.mark.skipif(not (shutil.which("soffice") or shutil.which("libreoffice")) or
+                    not shutil.which("pdftotext"),
+                    reason="LibreOffice (soffice) and poppler (pdftotext) are needed to render and "
+                    "read the PDF")
 def test_document_states_the_bound(run_cli, tmp_path):
     out = tmp_path / "out"
-    code, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.4", "--out", str(out), "--pdf", "--no-progress")
+    code, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.4", "--out", str(out), "--pdf",
+                           "--no-progress")
     assert code == 0, err
     (pdf,) = out.glob("*.pdf")
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True,

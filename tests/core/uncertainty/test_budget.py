@@ -61,7 +61,8 @@ def test_row_in_wrong_unit_is_refused():
 
 def test_welch_satterthwaite_hand_worked():
     # u1 = 3 (ν=4), u2 = 4 (ν=∞): u_c = 5; ν_eff = 5⁴ / (3⁴/4) = 625/20.25
-    rows = [BudgetRow.type_a("a", "a", Q_(3.0, "mV"), dof=4), BudgetRow.type_b("b", "b", Q_(8.0, "mV"),
+    rows = [BudgetRow.type_a("a", "a", Q_(3.0, "mV"), dof=4),
+            BudgetRow.type_b("b", "b", Q_(8.0, "mV"),
                                                                                distribution="normal", k=2)]
     b = UncertaintyBudget("y", "mV", rows, coverage=Coverage.probability(0.9545))
     assert b.combined.magnitude == pytest.approx(5.0)
@@ -152,8 +153,10 @@ def test_empty_budget_refused():
 
 
 _rows = st.lists(
-    st.tuples(st.floats(min_value=1e-9, max_value=1e6), st.one_of(st.none(), st.integers(min_value=1, max_value=500)),
-              st.floats(min_value=0.01, max_value=100.0), st.sampled_from(["normal", "uniform", "triangular"])),
+    st.tuples(st.floats(min_value=1e-9, max_value=1e6),
+              st.one_of(st.none(), st.integers(min_value=1, max_value=500)),
+              st.floats(min_value=0.01, max_value=100.0),
+              st.sampled_from(["normal", "uniform", "triangular"])),
     min_size=1, max_size=8)
 
 
@@ -162,7 +165,8 @@ def _budget(rows, p=0.9545):
     for i, (u, dof, c, dist) in enumerate(rows):
         if dof is None:
             built.append(BudgetRow.type_b(f"b{i}", f"b{i}", Q_(u, "mV"), distribution=dist,
-                                          k=2.0 if dist == "normal" else None, sensitivity=Q_(c, "deg/s/mV")))
+                                          k=2.0 if dist == "normal" else None,
+                                          sensitivity=Q_(c, "deg/s/mV")))
         else:
             built.append(BudgetRow.type_a(f"a{i}", f"a{i}", Q_(u * c, "deg/s"), dof=dof))
     return UncertaintyBudget("y", "deg/s", built, coverage=Coverage.probability(p))
@@ -203,9 +207,9 @@ def test_budget_scales_with_its_inputs(rows, s):
 
 
 def test_sampling_of_a_standard_deviation_chi_square_bound():
-    """metro.core.uncertainty.budget.std_sampling_u: (σ_upper − s)/2 with σ_upper = s·√(ν/χ²₀.₀₂₂₇₅(ν)); χ² lower
-    points from the printed table (NIST/SEMATECH e-Handbook 1.3.6.7.4, 3 digits): ν = 5 → 0.797,
-    ν = 6 → 1.19; for large n it tends to the linear s/√(2(n − 1))."""
+    """metro.core.uncertainty.budget.std_sampling_u: (σ_upper − s)/2 with σ_upper =
+    s·√(ν/χ²₀.₀₂₂₇₅(ν)); χ² lower points from the printed table (NIST/SEMATECH e-Handbook 1.3.6.7.4,
+    3 digits): ν = 5 → 0.797, ν = 6 → 1.19; for large n it tends to the linear s/√(2(n − 1))."""
     import math
 
     from metro.core.uncertainty.budget import std_sampling_u, std_upper_limit
@@ -217,17 +221,18 @@ def test_sampling_of_a_standard_deviation_chi_square_bound():
 
 
 def test_between_variance_is_the_posterior_mean_of_a_variance_component():
-    """metro.core.uncertainty.budget.between_variance (interpretations.md, "σ_on — a variance component the data only
-    bound"): E[τ − w | τ ≥ w] for τ = ν·s²/X, X ~ χ²(ν) (reference prior 1/τ, Box & Tiao 1973 §5.2).
-    Worked by hand for ν = 6 at s² = w = 1 (where the moment estimate s² − w is 0): c = 6,
-    F₄(6) = 1 − 4e⁻³, F₆(6) = 1 − 8.5e⁻³, E[τ] = 6·F₄/(4·F₆) = 2.082623; checked against a direct
-    quadrature of the truncated posterior, and the two limits."""
+    """metro.core.uncertainty.budget.between_variance (interpretations.md, "σ_on — a variance
+    component the data only bound"): E[τ − w | τ ≥ w] for τ = ν·s²/X, X ~ χ²(ν) (reference prior
+    1/τ, Box & Tiao 1973 §5.2). Worked by hand for ν = 6 at s² = w = 1 (where the moment estimate s²
+    − w is 0): c = 6, F₄(6) = 1 − 4e⁻³, F₆(6) = 1 − 8.5e⁻³, E[τ] = 6·F₄/(4·F₆) = 2.082623; checked
+    against a direct quadrature of the truncated posterior, and the two limits."""
     from scipy import integrate
 
     from metro.core.uncertainty.budget import between_variance
 
     e3 = math.exp(-3.0)
-    assert between_variance(1.0, 1.0, 6) == pytest.approx(6 * (1 - 4 * e3) / (4 * (1 - 8.5 * e3)) - 1, rel=1e-12)
+    assert between_variance(1.0, 1.0, 6) == pytest.approx(6 * (1 - 4 * e3) / (4 * (1 - 8.5 * e3))
+                                                          - 1, rel=1e-12)
     assert between_variance(1.0, 1.0, 6) == pytest.approx(1.0826230, rel=1e-6)
 
     def by_quadrature(s2, w, nu):
@@ -237,8 +242,11 @@ def test_between_variance_is_the_posterior_mean_of_a_variance_component():
 
     for s2, w, nu in ((0.3, 1.0, 6), (4.0, 1.0, 6), (2.0, 1.0, 9), (1.0, 3.0, 4)):
         assert between_variance(s2, w, nu) == pytest.approx(by_quadrature(s2, w, nu), rel=1e-6)
-    assert between_variance(2.0e-6, 1.0e-6, 9) == pytest.approx(1e-6 * between_variance(2.0, 1.0, 9), rel=1e-12)
-    # never 0 while the runs have noise: s² → 0 gives 2w/(ν − 2); no within-run part gives ν/(ν − 2)·s²
+    assert between_variance(2.0e-6, 1.0e-6, 9) == pytest.approx(1e-6
+                                                                * between_variance(2.0, 1.0, 9),
+                                                                rel=1e-12)
+    # never 0 while the runs have noise: s² → 0 gives 2w/(ν − 2); no within-run part gives ν/(ν −
+    # 2)·s²
     assert between_variance(0.0, 1.0, 6) == pytest.approx(0.5)
     assert between_variance(1e-9, 1.0, 6) == pytest.approx(0.5, rel=1e-6)
     assert between_variance(1.0, 0.0, 6) == pytest.approx(1.5)

@@ -32,7 +32,9 @@ def test_parse_limits_of_every_form():
     assert parse_limit("Kn", "<= 10 ppm").bounds == (-math.inf, 10)
     assert parse_limit("K", "≥ 0.25 P/″").comparison is Comparison.AT_LEAST
     r = parse_limit("B0", "-1 .. 1 deg/h")
-    assert r.comparison is Comparison.RANGE and r.bounds == (-1, 1) and r.limit.units == Q_(1, "deg/h").units
+    assert r.comparison is Comparison.RANGE and r.bounds == (-1,
+                                                             1) and r.limit.units == Q_(
+                                                                 1, "deg/h").units
     assert parse_limit("B0", "-1 deg/h .. +1 deg/h").bounds == (-1, 1)
     assert parse_limit("B0", "± 0.5 deg/h").bounds == (-0.5, 0.5)
     m = parse_limit("Bh", "|x| <= 0.1 deg/h/mT")
@@ -100,10 +102,12 @@ def test_assess_matches_keyed_variants_and_lists_unmet_limits():
     def res(key, value, unit):
         return Result(Metric(key, key, key, unit, "X"), Q_(value, unit))
 
-    out = Outcome("s", "D.5.5", "t", "c", [res("Bh_IRA", 0.01, "deg/h/mT"), res("Bh_XRA", 0.5, "deg/h/mT")])
+    out = Outcome("s", "D.5.5", "t", "c", [res("Bh_IRA", 0.01, "deg/h/mT"),
+                                           res("Bh_XRA", 0.5, "deg/h/mT")])
     specs = [parse_limit("Bh", "|x| <= 0.1 deg/h/mT"), parse_limit("RWC", "<= 0.002 deg/hour**0.5")]
     a = cf.assess([out], specs, SIMPLE)
-    assert [(v.key, v.status) for v in a.verdicts] == [("Bh_IRA", Status.PASS), ("Bh_XRA", Status.FAIL)]
+    assert [(v.key, v.status) for v in a.verdicts] == [("Bh_IRA", Status.PASS),
+                                                       ("Bh_XRA", Status.FAIL)]
     assert [s.symbol for s in a.not_assessed] == ["RWC"]
     assert a.overall is Status.FAIL and a.counts() == {"pass": 1, "fail": 1, "indeterminate": 0}
     # the most specific limit judges a result
@@ -112,16 +116,17 @@ def test_assess_matches_keyed_variants_and_lists_unmet_limits():
     assert [(v.spec.symbol, v.key, v.status) for v in a.verdicts] == [
         ("Bh", "Bh_IRA", Status.PASS), ("Bh_XRA", "Bh_XRA", Status.PASS)]
     # a manifest's limit replaces the standard's for the same symbol
-    merged = cf.merge_specifications(specs, [parse_limit("Bh", "<= 1 deg/h/mT", source="product spec")])
+    merged = cf.merge_specifications(specs, [parse_limit("Bh", "<= 1 deg/h/mT",
+                                                         source="product spec")])
     assert {s.symbol: s.source for s in merged} == {"Bh": "product spec", "RWC": ""}
 
 
 def test_a_result_declared_not_reportable_gets_no_statement_of_conformity():
     """A value its procedure will not stand behind is neither a pass nor a fail under either rule.
 
-    Seen on `metro run -s gbt45570 -i D.5.1,D.5.6 --station simulated-digital --seed 1`: RWC 0.0051 °/√h,
-    not reportable (rounding coarser than the noise), was judged "fail vs ≤ 0.0015 °/√h" and made the
-    run "does not conform"; the station's truth is 0.0015.
+    Seen on `metro run -s gbt45570 -i D.5.1,D.5.6 --station simulated-digital --seed 1`: RWC 0.0051
+    °/√h, not reportable (rounding coarser than the noise), was judged "fail vs ≤ 0.0015 °/√h" and
+    made the run "does not conform"; the station's truth is 0.0015.
     """
     import attrs
 
@@ -145,33 +150,41 @@ def test_a_result_declared_not_reportable_gets_no_statement_of_conformity():
         assert v["RWC"].status is Status.INDETERMINATE and v["RWC"].detail == "not reportable"
         assert "RWC is not reportable (the result gives the reason)" in v["RWC"].reason
         assert "no statement of conformity" in v["RWC"].reason
-        assert a.overall is Status.INDETERMINATE and a.counts() == {"pass": 1, "fail": 0, "indeterminate": 1}
+        assert a.overall is Status.INDETERMINATE and a.counts() == {"pass": 1, "fail": 0,
+                                                                    "indeterminate": 1}
         assert v["RWC"].as_dict()["status"] == "indeterminate"
     # the same value, reportable, fails: the verdict above is the declaration's doing
-    a = cf.assess([Outcome("s", "D.5.6", "t", "c", [attrs.evolve(bad, reportable=True, reason="")])], specs, GUARDED)
+    a = cf.assess([Outcome("s", "D.5.6", "t", "c",
+                           [attrs.evolve(bad, reportable=True, reason="")])], specs, GUARDED)
     assert a.verdicts[0].status is Status.FAIL
 
 
 def test_a_bound_beyond_an_instruments_range_is_judged_as_a_half_line():
-    """R > 10 000 MΩ (a megohmmeter over its range) conforms to R ≥ 50 MΩ; hand-worked half-lines."""
+    """R > 10 000 MΩ (a megohmmeter over its range) conforms to R ≥ 50 MΩ; hand-worked
+    half-lines."""
     import attrs
 
     from metro.core.uncertainty.budget import BudgetRow, Coverage, UncertaintyBudget
     from metro.core.model.results import Metric, Outcome, Result
 
     def bounded(value, bound, U=0.0):
-        row = BudgetRow.type_b("reading beyond the range", "R", Q_(U, "Mohm"), distribution="normal", k=2)
+        row = BudgetRow.type_b("reading beyond the range", "R", Q_(U, "Mohm"),
+                               distribution="normal", k=2)
         b = UncertaintyBudget("R", "Mohm", [row], coverage=Coverage.fixed(2))
-        r = Result(Metric("R_ins", "R", "insulation resistance", "Mohm", "5.2.8"), Q_(value, "Mohm"), budget=b)
+        r = Result(Metric("R_ins", "R", "insulation resistance", "Mohm", "5.2.8"),
+                   Q_(value, "Mohm"), budget=b)
         return attrs.evolve(r, reportable=False, reason="beyond the meter's range", bound=bound)
 
     def judged(result, limit):
-        return cf.assess([Outcome("s", "6.2.5", "t", "c", [result])], [parse_limit("R_ins", limit)], GUARDED).verdicts[0]
+        return cf.assess([Outcome("s", "6.2.5", "t", "c", [result])], [parse_limit("R_ins", limit)],
+                         GUARDED).verdicts[0]
 
     v = judged(bounded(10000, "lower"), ">= 50 Mohm")
     assert v.status is Status.PASS and "R_ins ≥ 1×10⁴ MΩ" in v.reason and "a bound" in v.reason
-    assert judged(bounded(10000, "lower"), "<= 5000 Mohm").status is Status.FAIL   # R > 10 000 is over 5 000
-    assert judged(bounded(20, "upper"), ">= 50 Mohm").status is Status.FAIL        # R < 20 is under 50
+    # R > 10 000 is over 5 000
+    assert judged(bounded(10000, "lower"), "<= 5000 Mohm").status is Status.FAIL
+    # R < 20 is under 50
+    assert judged(bounded(20, "upper"), ">= 50 Mohm").status is Status.FAIL
     assert judged(bounded(20, "upper"), "<= 50 Mohm").status is Status.PASS
     # a bound that does not decide: no statement
     v = judged(bounded(30, "lower"), ">= 50 Mohm")
@@ -248,7 +261,8 @@ def test_verdict_does_not_depend_on_the_unit_the_value_is_in(spec, value, U):
             if math.isfinite(b) and math.isfinite(edge):
                 assume(abs(edge - b) > 1e-6 * (1 + abs(b)))  # away from float ties at a limit
     in_deg_h = decide(spec, Q_(value, "deg/h"), Q_(U, "deg/h"), GUARDED).status
-    in_arcsec_s = decide(spec, Q_(value, "deg/h").to("arcsec/s"), Q_(U, "deg/h").to("arcsec/min"), GUARDED).status
+    in_arcsec_s = decide(spec, Q_(value, "deg/h").to("arcsec/s"), Q_(U, "deg/h").to("arcsec/min"),
+                         GUARDED).status
     assert in_deg_h is in_arcsec_s
 
 
@@ -268,13 +282,16 @@ def test_specifications_hook_collects_plugin_limits(pm):
     assert bs.limit == Q_(0.007, "deg/h") and "table A.1" in bs.source and "aviation" in bs.source
     assert by["B0"].bounds == (-1, 1)
     assert pm.conformity_specifications("jjf2014", camp) == []
-    fibre = Campaign("c", DeviceUnderTest("F", technology="fibre", application="船舶"), [], {}, {}, [])
+    fibre = Campaign("c", DeviceUnderTest("F", technology="fibre", application="船舶"), [], {}, {},
+                     [])
     by = {s.symbol: s for s in pm.conformity_specifications("gbt45570", fibre)}
     assert by["Kn"].limit == Q_(10, "ppm") and "table B.1" in by["Kn"].source
     assert by["K"].limit == Q_(5000, "LSB/(deg/s)")
-    unknown = Campaign("c", DeviceUnderTest("U", technology="laser", application=""), [], {}, {}, [])
+    unknown = Campaign("c", DeviceUnderTest("U", technology="laser", application=""), [], {}, {},
+                       [])
     # with no application no table applies, but 5.2.9 (positive polarity) holds for every gyro
-    assert [s.symbol for s in pm.conformity_specifications("gbt45570", unknown)] == ["polarity_ratio"]
+    assert [s.symbol for s in pm.conformity_specifications("gbt45570",
+                                                           unknown)] == ["polarity_ratio"]
 
 
 def test_tables_hold_the_published_numbers():
@@ -283,9 +300,11 @@ def test_tables_hold_the_published_numbers():
     a = {r.no: r for r in TABLE_A1}
     b = {r.no: r for r in TABLE_B1}
     assert len(a) == len(b) == len(TABLE_C1) == 16
-    assert a[1].limits == {"aerospace": 0.25, "aviation": 0.25, "marine": 0.50} and a[1].comparison is Comparison.AT_LEAST
+    assert a[1].limits == {"aerospace": 0.25, "aviation": 0.25,
+                           "marine": 0.50} and a[1].comparison is Comparison.AT_LEAST
     assert a[14].limits["marine"] == 0.0006 and b[14].limits["aviation"] == 0.0015
-    assert a[7].limits["aerospace"] == 400 and b[7].limits == {"aerospace": 30, "aviation": 200, "marine": 30}
+    assert a[7].limits["aerospace"] == 400 and b[7].limits == {"aerospace": 30, "aviation": 200,
+                                                               "marine": 30}
     assert b[5].limits == {"aerospace": 5, "aviation": 3, "marine": 0.2}
     assert b[16].limits["marine"] == 50 and a[16].limits["marine"] == 8
     assert a[9].limits["aviation"] == (-1, 1)
@@ -296,7 +315,8 @@ def test_tables_hold_the_published_numbers():
 
 def test_every_table_row_maps_to_a_registered_metric_or_says_it_is_pending(pm):
     """A row whose item is registered must map to a metric that item declares (row_mapping raises
-    otherwise); a row whose items no loaded plugin registers is marked NOT AVAILABLE, not skipped."""
+    otherwise); a row whose items no loaded plugin registers is marked NOT AVAILABLE, not
+    skipped."""
     from metro.plugins.gbt45570.conformity import TABLE_A1, TABLE_B1, TABLE_C1, row_mapping
 
     for rows in (TABLE_A1, TABLE_B1, TABLE_C1):
@@ -305,13 +325,16 @@ def test_every_table_row_maps_to_a_registered_metric_or_says_it_is_pending(pm):
             if m.registered:
                 assert m.status.startswith("implemented")
             elif m.row.items:
-                assert m.status.startswith("NOT AVAILABLE") and all(i in m.status for i in m.missing)
+                assert m.status.startswith("NOT AVAILABLE") and all(i in m.status for i
+                                                                    in m.missing)
     # every A.1/B.1 row and every C.1 severity reported as a metric is implemented by now
     for rows in (TABLE_A1, TABLE_B1):
-        assert all(m.registered for m in row_mapping(pm, rows)), [m.status for m in row_mapping(pm, rows)]
+        assert all(m.registered for m in row_mapping(pm, rows)), [m.status for m
+                                                                  in row_mapping(pm, rows)]
     assert all(m.registered for m in row_mapping(pm, TABLE_C1) if m.row.key)
     keys = {r.no: r.key for r in TABLE_A1}
-    assert keys[6] == "gamma" and keys[7] == "Omega_max" and keys[8] == "threshold" and keys[15] == "setup_time"
+    assert keys[6] == "gamma" and keys[7] == "Omega_max" and keys[8] == "threshold" and keys[
+        15] == "setup_time"
 
 
 def test_method_rule_6271():
@@ -328,7 +351,8 @@ def test_method_rule_6271():
     assert by_table[0] == "rate" and "table B.1" in by_table[1]
     assert method_for(DeviceUnderTest("F", technology="fibre"))[0] == "rate"
     with pytest.raises(UnitError):
-        method_for(DeviceUnderTest("F", technology="fibre", properties={"nonlinearity": Q_(3, "deg")}))
+        method_for(DeviceUnderTest("F", technology="fibre",
+                                   properties={"nonlinearity": Q_(3, "deg")}))
 
 
 def test_applicability_hook_and_series(pm):
@@ -340,7 +364,8 @@ def test_applicability_hook_and_series(pm):
     assert pm.item_applicability(d11, laser).applies
     a = pm.item_applicability(d11, fibre)
     assert not a.applies and "rate method" in a.reason
-    assert pm.item_applicability(pm.procedure("jjf2014", "7.2.1"), fibre).applies  # not GB/T: default
+    # not GB/T: default
+    assert pm.item_applicability(pm.procedure("jjf2014", "7.2.1"), fibre).applies
     items, choices = select_items(pm, "gbt45570", ["scale-factor"], device=laser)
     assert items[:3] == ["D.1.1", "D.1.2", "D.1.3"]
     assert not any(i.startswith("D.2.") for i in items)
@@ -348,7 +373,8 @@ def test_applicability_hook_and_series(pm):
     assert why["D.1.1"].via == "series scale-factor" and "laser" in why["D.1.1"].reason
     assert not why["D.2.1"].run
     both, _ = select_items(pm, "gbt45570", ["scale-factor", "D.2.1"], device=laser)
-    assert "D.2.1" in both and "D.1.1" in both  # an item named explicitly runs whatever the rule says
+    # an item named explicitly runs whatever the rule says
+    assert "D.2.1" in both and "D.1.1" in both
     all_items, _ = select_items(pm, "gbt45570", [], run_all=True, device=laser)
     assert {"D.1.1", "D.5.1", "D.5.6"} <= set(all_items)
     from metro.core.base.errors import PluginError
@@ -364,7 +390,10 @@ def test_manifest_specification_table(tmp_path):
     src = (__import__("pathlib").Path(__file__).parents[3] / "docs" / "examples" / "campaign")
     text = (src / "manifest.toml").read_text(encoding="utf-8")
     (tmp_path / "static-1h.csv").write_bytes((src / "static-1h.csv").read_bytes())
-    text += '\n[specification]\nsource = "ACME OG-1 product specification"\ndecision_rule = "simple"\nB0 = "± 5 deg/h"\n'
+    text += (
+        '\n[specification]\nsource = "ACME OG-1 product specification"\ndecision_rule = '
+        '"simple"\nB0 = "± 5 deg/h"\n'
+    )
     (tmp_path / "manifest.toml").write_text(text, encoding="utf-8")
     pm = get_plugin_manager(autoload=False)
     rec = run_items(pm, "gbt45570", ["D.5.1"], data=tmp_path / "manifest.toml")
@@ -393,7 +422,8 @@ def test_items_on_two_stations_are_acquired_separately_and_merged():
         item = "X.2"
 
     pm.registry.procedures["gbt45570:X.2"] = ProcedureInfo(OtherBench, "test")
-    pm.registry.stations["simulated-b"] = StationInfo("simulated-b", station_factory, "a second bench", "test")
+    pm.registry.stations["simulated-b"] = StationInfo("simulated-b", station_factory,
+                                                      "a second bench", "test")
     rec = run_items(pm, "gbt45570", ["D.5.1", "X.2"], station_options={"duration_scale": 0.2})
     assert [o.item for o in rec.outcomes] == ["D.5.1", "X.2"]
     assert "simulated-b" in rec.campaign.source and rec.campaign.id == "SIMULATED+SIMULATED"
@@ -404,7 +434,8 @@ def test_items_on_two_stations_are_acquired_separately_and_merged():
 
             return attrs.evolve(super().device(), id="SIM-OTHER")
 
-    pm.registry.stations["simulated-b"] = StationInfo("simulated-b", lambda **kw: OtherDevice(duration_scale=0.2),
+    pm.registry.stations["simulated-b"] = StationInfo("simulated-b",
+                                                      lambda **kw: OtherDevice(duration_scale=0.2),
                                                       "another device", "test")
     with pytest.raises(ProcedureError, match="simulate different devices"):
         run_items(pm, "gbt45570", ["D.5.1", "X.2"], station_options={"duration_scale": 0.2})
@@ -421,10 +452,12 @@ def test_all_on_recorded_data_runs_the_items_the_campaign_has_data_for():
     rec = run_items(pm, "gbt45570", ["bias"], data=manifest)
     assert [o.item for o in rec.outcomes] == ["D.5.1", "D.5.2"]
     why = {c.item: c for c in rec.selection}
-    assert not why["D.5.3"].run and "no data" in why["D.5.3"].reason and "'static-repeat'" in why["D.5.3"].reason
+    assert not why["D.5.3"].run and "no data" in why["D.5.3"].reason and "'static-repeat'" in why[
+        "D.5.3"].reason
     assert why["D.5.1"].via == "series bias"
     keys = {v.key for v in rec.conformity.verdicts}
-    assert keys >= {"B0", "Bs_100s"} and "Bs_10s" not in keys  # A.1, aviation (the example's device); t = 100 s
+    # A.1, aviation (the example's device); t = 100 s
+    assert keys >= {"B0", "Bs_100s"} and "Bs_10s" not in keys
 
 
 def test_a_procedure_decides_its_own_applicability_when_no_plugin_answers():
@@ -443,19 +476,24 @@ def test_a_procedure_decides_its_own_applicability_when_no_plugin_answers():
             return Applicability(ok, "for MEMS gyros only" if not ok else "a MEMS gyro")
 
     pm.registry.procedures["jjf2014:X.9"] = ProcedureInfo(MemsOnly, "test")
-    items, choices = select_items(pm, "jjf2014", [], run_all=True, device=DeviceUnderTest("V", technology="vibratory"))
+    items, choices = select_items(pm, "jjf2014", [], run_all=True,
+                                  device=DeviceUnderTest("V", technology="vibratory"))
     assert "X.9" not in items and "7.2.1" in items
     assert {c.item: c.reason for c in choices}["X.9"] == "for MEMS gyros only"
-    items, _ = select_items(pm, "jjf2014", ["X.9"], device=DeviceUnderTest("V", technology="vibratory"))
+    items, _ = select_items(pm, "jjf2014", ["X.9"],
+                            device=DeviceUnderTest("V", technology="vibratory"))
     assert items == ["X.9"]  # named explicitly: it runs
 
 
-@pytest.mark.parametrize("text, lo, hi", [("-0.5 .. 0.5 °/h", -0.5, 0.5), ("0.1 .. 0.25 °/h", 0.1, 0.25),
-                                           ("0.1 °/h .. 0.2 °/h", 0.1, 0.2), ("-1 .. 1 °/h", -1, 1)])
+@pytest.mark.parametrize("text, lo, hi", [("-0.5 .. 0.5 °/h", -0.5, 0.5),
+                                          ("0.1 .. 0.25 °/h", 0.1, 0.25),
+                                           ("0.1 °/h .. 0.2 °/h", 0.1, 0.2),
+                                          ("-1 .. 1 °/h", -1, 1)])
 def test_a_range_with_decimal_limits_is_read(text, lo, hi):
     """docs/data-format.md's own example "-0.5 .. 0.5 °/h" was refused: the low end could not
     hold a decimal point."""
     from metro.core.uncertainty import conformity as cf
 
     (sp,) = cf.specifications_from_table({"B0": text}, file="manifest.toml")
-    assert sp.limit.to("deg/h").magnitude == pytest.approx(lo) and sp.upper.to("deg/h").magnitude == pytest.approx(hi)
+    assert sp.limit.to("deg/h").magnitude == pytest.approx(lo) and sp.upper.to(
+        "deg/h").magnitude == pytest.approx(hi)

@@ -96,7 +96,8 @@ class World:
             self.held = (0.0, 0.0)
         else:  # the table's error model: a rate error fixed per set point, the band's ripple
             q = Q_(rate, "deg/s")
-            self.held = (rate * (1.0 + self.table.systematic_error(q)), float(self.table.band(q).ripple.to("").magnitude))
+            self.held = (rate * (1.0 + self.table.systematic_error(q)),
+                         float(self.table.band(q).ripple.to("").magnitude))
         self.commands.append(("rate", rate))
 
     def stable_at(self) -> float:
@@ -110,7 +111,10 @@ class World:
         return om + abs(om) * self.held[1] * float(self.rng.normal())
 
     def voltage_mV(self) -> float:
-        return self.F0_mV + self.K_mV_per_deg_s * self.actual_rate() + self.noise_mV * float(self.rng.normal())
+        return (
+            self.F0_mV + self.K_mV_per_deg_s * self.actual_rate() + self.noise_mV
+            * float(self.rng.normal())
+        )
 
     def advance(self) -> None:
         if not self.dmm_library:
@@ -135,7 +139,8 @@ def install(world: World) -> World:
 
 def _world() -> World:
     if WORLD is None:
-        raise DriverError("sim://", None, "no simulated world installed (tests call bench_vendor.install)")
+        raise DriverError("sim://", None,
+                          "no simulated world installed (tests call bench_vendor.install)")
     return WORLD
 
 
@@ -167,7 +172,8 @@ class SimRateTable(RateTableDriver):
     def move_to(self, angle, *, axis=1):
         self._check(axis)
         self.world.command(0.0)
-        self.world.angle = float(parse_quantity(angle, dimension="deg", field="angle").to("deg").magnitude)
+        self.world.angle = float(parse_quantity(angle, dimension="deg",
+                                                field="angle").to("deg").magnitude)
 
     def stop(self, *, axis=None):
         if not self._open:
@@ -206,4 +212,5 @@ class SimRateTable(RateTableDriver):
 
 @hookimpl
 def metro_register_drivers(registrar):
-    registrar.add_driver("acme-rt500", "rate-table", SimRateTable, "ACME RT-500 rate table (simulated, tests)")
+    registrar.add_driver("acme-rt500", "rate-table", SimRateTable,
+                         "ACME RT-500 rate table (simulated, tests)")

@@ -35,14 +35,16 @@ class MeanOutput(Procedure):
     requires = (SegmentRequirement("static", "any static record", columns={"output": ("deg/h",)}),)
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [Step("static", "static", "record", Q_(10, "min"), Q_(1, "s"), {"orientation": "IRA up"})]
+        return [Step("static", "static", "record", Q_(10, "min"), Q_(1, "s"),
+                     {"orientation": "IRA up"})]
 
     def evaluate(self, campaign, ctx) -> Outcome:
         seg = campaign.find_segments("static")[0]
         s = seg.series("output", "deg/h")
         x = np.asarray(s.data.to("deg/h").magnitude)
         u = float(np.std(x, ddof=1) / np.sqrt(x.size))
-        b = UncertaintyBudget("mean", "deg/h", [BudgetRow.type_a("scatter", "s/√n", Q_(u, "deg/h"), x.size - 1)])
+        b = UncertaintyBudget("mean", "deg/h", [BudgetRow.type_a("scatter", "s/√n", Q_(u, "deg/h"),
+                                                                 x.size - 1)])
         r = Result(self.metrics[0], Q_(float(np.mean(x)), "deg/h"), b.combined, b)
         return Outcome(self.standard, self.item, self.title, self.clause, [r], segments=[seg.id])
 
@@ -70,7 +72,8 @@ def metro_register_readers(registrar):
 
 @hookimpl
 def metro_register_stations(registrar):
-    registrar.add_station("vendorx-bench", lambda **kw: None, "Vendor X bench (not connected in tests)")
+    registrar.add_station("vendorx-bench", lambda **kw: None,
+                          "Vendor X bench (not connected in tests)")
 
 
 class AcmeRateTableDriver(RateTableDriver):
@@ -83,7 +86,8 @@ class AcmeRateTableDriver(RateTableDriver):
 
     def __init__(self, address: str = "sim://acme-rt", *, seed: int = 1):
         self.resource = address
-        self.model = RateTable(id="ACME-RT-300", model="ACME RT-300", manufacturer="ACME", serial="42",
+        self.model = RateTable(id="ACME-RT-300", model="ACME RT-300", manufacturer="ACME",
+                               serial="42",
                                certificate="ACME-CAL-2031", U=Q_(2e-5, ""), seed=seed)
         self._rate = 0.0
         self._angle = 0.0
@@ -119,7 +123,8 @@ class AcmeRateTableDriver(RateTableDriver):
     def move_to(self, angle, *, axis=1):
         self._check(axis)
         self._rate = 0.0
-        self._angle = float(parse_quantity(angle, dimension="deg", field="angle").to("deg").magnitude)
+        self._angle = float(parse_quantity(angle, dimension="deg",
+                                           field="angle").to("deg").magnitude)
         self._t = time.monotonic()
 
     def stop(self, *, axis=None):
@@ -148,7 +153,8 @@ class AcmeRateTableDriver(RateTableDriver):
 
 @hookimpl
 def metro_register_drivers(registrar):
-    registrar.add_driver("acme-rt300", "rate-table", AcmeRateTableDriver, "ACME RT-300 rate table (simulated)")
+    registrar.add_driver("acme-rt300", "rate-table", AcmeRateTableDriver,
+                         "ACME RT-300 rate table (simulated)")
 
 
 @hookimpl
@@ -167,7 +173,8 @@ def metro_item_applicability(procedure, device):
 
     EVENTS.append(("metro_item_applicability", procedure.qualified_id()))
     rate = device is None or device.output in ("", "rate")
-    return Applicability(rate, "V.1 reads a rate output" if rate else "V.1 needs a rate-output device")
+    return Applicability(rate, "V.1 reads a rate output" if rate
+                         else "V.1 needs a rate-output device")
 
 
 @hookimpl

@@ -90,7 +90,8 @@ def test_angle_method_recovers_simulated_truth(pm):
 
 
 def test_fewer_than_eleven_rate_points(pm):
-    camp = _camp(pm, ["D.1.1"], drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5", "rate-2.5",
+    camp = _camp(pm, ["D.1.1"], drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5",
+                                      "rate-2.5",
                                       "rate+4", "rate-4"})
     with pytest.raises(DataError, match="at least 11 rate points"):
         run_items(pm, "gbt45570", ["D.1.1"], campaign=camp)
@@ -119,7 +120,8 @@ def test_d11_on_seven_d2_scale_factors_hand_worked():
     k = [F.scale_factor_d2(p, m) for p, m in n]
     expect = np.std(k, ddof=1) / np.mean(k)
     assert F2.scale_factor_repeatability_d11(k) == pytest.approx(expect, rel=1e-12)
-    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(math.sqrt(10 / 6) / 1_036_800.0, rel=1e-9)
+    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(math.sqrt(10 / 6) / 1_036_800.0,
+                                                                 rel=1e-9)
 
 
 def test_d14_reversed_mounting_cancels_a_fixture_error_exactly():
@@ -155,7 +157,8 @@ def test_d14_d15_d16_recover_simulated_truth(pm):
     checked = set()
     for o in rec.outcomes:
         for r in o.results:
-            assert any(row.type == "A" for row in r.budget.rows) and any(row.type == "B" for row in r.budget.rows)
+            assert any(row.type == "A" for row
+                       in r.budget.rows) and any(row.type == "B" for row in r.budget.rows)
             exp = camp.expected[r.metric.key].to(r.metric.unit).magnitude
             assert abs(r.value.to(r.metric.unit).magnitude - exp) <= r.U.magnitude, r.metric.key
             checked.add(r.metric.key)
@@ -173,29 +176,41 @@ def test_d14_d15_d16_recover_simulated_truth(pm):
     kr = rec.outcomes[0].result("Kr").value.to("ppm").magnitude
     (row,) = [r for r in kt.budget.rows if r.symbol == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
     s_on = float(str(row.note).split("turn-on scatter of K, ")[1].split(" ppm")[0])
-    # D.1.4's K_r of this campaign taken whole (own part 0), as the posterior mean of the turn-on variance given
-    # its Q − 1 = 6 degrees of freedom: (Q − 1)/(Q − 3)·K_r² (interpretations.md "σ_K — …"), to 3 digits
+    # D.1.4's K_r of this campaign taken whole (own part 0), as the posterior mean of the turn-on
+    # variance given its Q − 1 = 6 degrees of freedom: (Q − 1)/(Q − 3)·K_r² (interpretations.md "σ_K
+    # — …"), to 3 digits
     assert s_on == pytest.approx(kr * math.sqrt(6 / 4), rel=2e-3)
 
 
 def test_simulated_d15_temperature_points_are_power_ons():
     """D.1.5.2 c): the gyro is off while the chamber changes temperature, so the simulated station
-    gives every D.1.5 point a turn-on draw of K of its own (``temperature_power_on``): with no noise,
-    K_i of each point's sweep is K(T)·(1 + δ_T), not K(T).  (Before, the sweep ran in one power-on.)"""
+    gives every D.1.5 point a turn-on draw of K of its own (``temperature_power_on``): with no
+    noise, K_i of each point's sweep is K(T)·(1 + δ_T), not K(T). (Before, the sweep ran in one
+    power-on.)"""
     from metro.core.run.plugin_manager import get_plugin_manager
     from metro.core.run.runner import merge_steps
     from metro.instruments.sim_gbt_rate import scale_factor_multiplier, temperature_power_on
 
-    truth = GyroTruth(seed=5, sf_turn_on_sigma=2e-5, arw_deg_rt_h=1e-9, scale_factor_P_per_arcsec=50.0)
-    steps = get_plugin_manager(autoload=False).procedure("gbt45570", "D.1.5")().sequence({"max_rate": "100 °/s"})
+    truth = GyroTruth(seed=5, sf_turn_on_sigma=2e-5, arw_deg_rt_h=1e-9,
+                      scale_factor_P_per_arcsec=50.0)
+    steps = get_plugin_manager(autoload=False).procedure("gbt45570",
+                                                         "D.1.5")().sequence({
+                                                             "max_rate": "100 °/s"})
     camp = SimulatedStation(truth=truth).acquire(merge_steps([steps]))
     segs = {s.id: s for s in camp.segments}
     deltas = []
     for i, T in enumerate(("-40 °C", "20 °C", "60 °C"), start=1):
-        n_p, n_m = (float(np.mean(segs[f"T{i}-rate{d}100"].series("count", "P").data.magnitude)) for d in "+-")
+        n_p, n_m = (float(np.mean(segs[f"T{i}-rate{d}100"].series("count", "P").data.magnitude))
+                    for d in "+-")
         k_meas = F.scale_factor_d2(n_p, n_m)
-        k_plus = truth.scale_factor_P_per_arcsec * scale_factor_multiplier(truth, 100.0, 1, {"temperature": T})
-        k_minus = truth.scale_factor_P_per_arcsec * scale_factor_multiplier(truth, 100.0, -1, {"temperature": T})
+        k_plus = (
+            truth.scale_factor_P_per_arcsec
+            * scale_factor_multiplier(truth, 100.0, 1, {"temperature": T})
+        )
+        k_minus = (
+            truth.scale_factor_P_per_arcsec
+            * scale_factor_multiplier(truth, 100.0, -1, {"temperature": T})
+        )
         dk, _ = temperature_power_on(truth, {"temperature": T})
         # the noise-free D.2 with the power-on's K; rounding of 50 P/″ counts: ≤ 1 P in 6.5×10⁷
         assert k_meas == pytest.approx((k_plus + k_minus) / 2 * (1 + dk), rel=3e-8)
@@ -227,7 +242,8 @@ def test_d15_temperatures_without_room_temperature(pm):
 
 
 def test_d15_needs_three_temperature_points(pm):
-    camp = _camp(pm, ["D.1.5"], drop={s.segment for s in pm.procedure("gbt45570", "D.1.5")().sequence({})
+    camp = _camp(pm, ["D.1.5"], drop={s.segment for s
+                                      in pm.procedure("gbt45570", "D.1.5")().sequence({})
                                       if s.segment.startswith("T3-")})
     with pytest.raises(DataError, match="at least 3 temperature points"):
         run_items(pm, "gbt45570", ["D.1.5"], campaign=camp)
@@ -248,7 +264,9 @@ def test_d16_needs_the_device_scale_factor(pm):
         run_items(pm, "gbt45570", ["D.1.6"], campaign=camp)
     assert e.value.field == "device.scale_factor"
     # a K in the rate method's unit is not silently used by the angle method
-    camp = attrs.evolve(camp, device=attrs.evolve(camp.device, properties={"scale_factor": Q_(100.0, "LSB/(deg/s)")}))
+    camp = attrs.evolve(camp, device=attrs.evolve(camp.device,
+                                                  properties={"scale_factor": Q_(
+                                                      100.0, "LSB/(deg/s)")}))
     with pytest.raises(UnitError, match="scale_factor") as e:
         run_items(pm, "gbt45570", ["D.1.6"], campaign=camp)
     assert "LSB" in str(e.value)
@@ -258,7 +276,8 @@ def test_d14_warns_when_the_runs_are_not_at_the_stated_rate(pm):
     from metro.core.run.runner import merge_steps
 
     st_ = SimulatedStation(truth=GyroTruth(seed=5))
-    camp = st_.acquire(merge_steps([pm.procedure("gbt45570", "D.1.4")().sequence({"rate": "60 °/s"})]))
+    camp = st_.acquire(merge_steps([pm.procedure("gbt45570",
+                                                 "D.1.4")().sequence({"rate": "60 °/s"})]))
     o = run_items(pm, "gbt45570", ["D.1.4"], campaign=camp).outcomes[0]
     assert any("repeats the test at 30 °/s" in w for w in o.warnings)
     o = run_items(pm, "gbt45570", ["D.1.4"], campaign=camp, options={"rate": "60 °/s"}).outcomes[0]
@@ -271,13 +290,15 @@ def test_d13_sensitivity_to_n0_hand_worked():
     ∂K₋/∂N̄₀ = +46/R (R = 1 296 000″); at K₊ = K₋ = 0.8 P/″: |∂K_a/∂N̄₀| = 92/(R·0.8) s/P."""
     R = 1_296_000.0
     rates, t = [10.0, 20.0, 30.0], [36.0, 18.0, 12.0]
-    assert F.asymmetry_sensitivity_n0(rates, t, t, 0.8, 0.8) == pytest.approx(92 / (R * 0.8), rel=1e-9)
+    assert F.asymmetry_sensitivity_n0(rates, t, t, 0.8,
+                                      0.8) == pytest.approx(92 / (R * 0.8), rel=1e-9)
     # away from the kink, with t₋ = t₊ + 1 s (intercept 47 s): D′ = −93/R, M′ = +0.5/R,
     # D = 4.8×10⁻⁶ → ∂K_a/∂N̄₀ = −93/(R·M) − D·0.5/(R·M²)
     kp, km = 0.8 + 4.8e-6, 0.8
     M = (kp + km) / 2
     want = abs(-93 / (R * M) - 4.8e-6 * 0.5 / (R * M * M))
-    assert F.asymmetry_sensitivity_n0(rates, t, [37.0, 19.0, 13.0], kp, km) == pytest.approx(want, rel=1e-9)
+    assert F.asymmetry_sensitivity_n0(rates, t, [37.0, 19.0, 13.0], kp,
+                                      km) == pytest.approx(want, rel=1e-9)
 
 
 def test_d13_u_ka_at_the_kink(pm):
@@ -292,9 +313,11 @@ def test_d13_u_ka_at_the_kink(pm):
         t = 360.0 / r
         for d in (1, -1):
             c = np.full(5, d * K * R + N0 * t)
-            segs.append(Segment(f"rev{d:+d}-{r:g}", "rate-revolutions", {"rate": f"{d * r:g} deg/s", "turns": "5"},
+            segs.append(Segment(f"rev{d:+d}-{r:g}", "rate-revolutions",
+                                {"rate": f"{d * r:g} deg/s", "turns": "5"},
                                 Q_(t, "s"), sha256="0" * 64,
-                                loader=lambda c=c, t=t: {"count": (c, "P"), "duration": (np.full(5, t), "s")}))
+                                loader=lambda c=c, t=t: {"count": (c, "P"),
+                                                         "duration": (np.full(5, t), "s")}))
     zero = N0 + np.tile([0.5, -0.5], 150)  # u(N̄₀) = s/√n, s = 0.5·√(300/299)
     segs.append(Segment("zero", "static-zero", {}, Q_(1, "s"), sha256="0" * 64,
                         loader=lambda: {"output": (zero, "P")}))

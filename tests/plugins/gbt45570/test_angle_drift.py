@@ -1,12 +1,13 @@
-"""GB/T 45570 D.1.2 / D.1.3 under a bias that drifts through the sweep (issue 13, independent harness).
+"""GB/T 45570 D.1.2 / D.1.3 under a bias that drifts through the sweep (issue 13, independent
+harness).
 
-D.1.1.2 g) turns the table m whole revolutions one way, then m the other: a bias that changes between
-the two runs stays in N₊ − N₋ (eq. D.2), and D.8/D.9 remove N̄₀ measured only at the start and the
-end of the test (D.1.3.2 a)).  The harness's variant ``angle-pulse-drift`` (benchmarks/
+D.1.1.2 g) turns the table m whole revolutions one way, then m the other: a bias that changes
+between the two runs stays in N₊ − N₋ (eq. D.2), and D.8/D.9 remove N̄₀ measured only at the start
+and the end of the test (D.1.3.2 a)). The harness's variant ``angle-pulse-drift`` (benchmarks/
 independent_gbt_more.py: a thermal wander of 0.015–0.045 °/h, period 1–3 h, through a 2–4 h sweep)
-found K_n within U on 87 of 100 devices and K_a on 90.  The budgets now carry the drift the
+found K_n within U on 87 of 100 devices and K_a on 90. The budgets now carry the drift the
 revolutions' own counts show (interpretations.md, "D.1.2 / D.1.3 — the bias drifting through the
-sweep").  Here: the trend estimate hand-worked, and harness devices (seeds of the recorded run) that
+sweep"). Here: the trend estimate hand-worked, and harness devices (seeds of the recorded run) that
 were outside U before.
 """
 
@@ -25,11 +26,13 @@ from metro.plugins.gbt45570.revolutions import RatePoint, point_drift, revolutio
 
 def test_revolution_trend_hand_worked():
     # a ramp of 2 P per revolution in both runs, each run with its own level: β = 2 exactly
-    beta, u, dof = revolution_trend(np.array([100.0, 102.0, 104.0]), np.array([-50.0, -48.0, -46.0, -44.0]))
+    beta, u, dof = revolution_trend(np.array([100.0, 102.0, 104.0]),
+                                    np.array([-50.0, -48.0, -46.0, -44.0]))
     assert beta == pytest.approx(2.0, abs=1e-12) and u == pytest.approx(0.0, abs=1e-12) and dof == 4
     # one count off in the middle of the + run: Sxx = 2 + 5 = 7, Σj·c unchanged, so β stays 2;
     # residuals (+⅓, −⅔, +⅓) in the + run, none in the − run: s² = (2/3)/4, u = √(s²/7)
-    beta, u, dof = revolution_trend(np.array([100.0, 101.0, 104.0]), np.array([-50.0, -48.0, -46.0, -44.0]))
+    beta, u, dof = revolution_trend(np.array([100.0, 101.0, 104.0]),
+                                    np.array([-50.0, -48.0, -46.0, -44.0]))
     assert beta == pytest.approx(2.0, abs=1e-12)
     assert u == pytest.approx(math.sqrt((2.0 / 3.0) / 4.0 / 7.0), rel=1e-12) and dof == 4
     # fewer than two revolutions in a run: no trend
@@ -45,7 +48,8 @@ def _point(K: float, rate: float, m: int, bdot: float) -> RatePoint:
     cp = K * (rev + (1.0 + bdot * t_plus) * T)
     cm = K * (-rev + (1.0 + bdot * t_minus) * T)
     b, u, dof = revolution_trend(cp, cm)
-    return RatePoint(rate, float(cp.mean()), float(cm.mean()), float(cp.std(ddof=1)), float(cm.std(ddof=1)), m, m,
+    return RatePoint(rate, float(cp.mean()), float(cm.mean()), float(cp.std(ddof=1)),
+                     float(cm.std(ddof=1)), m, m,
                      T, T, ("p", "m"), b, u, dof)
 
 
@@ -57,7 +61,8 @@ def test_point_drift_is_the_error_a_drift_leaves_in_k_i():
     T = 360.0 / rate
     err = abs(p.K - K) / K
     assert err == pytest.approx(bdot * T * m * T / (2 * 1_296_000.0), rel=1e-9)  # ≈ 2.5 ppm
-    assert point_drift(p) == pytest.approx(err, rel=1e-5)  # divided by K_i, which holds the error itself
+    # divided by K_i, which holds the error itself
+    assert point_drift(p) == pytest.approx(err, rel=1e-5)
     # the sweep's rms drift rate from the same trends (no noise to remove)
     assert sweep_drift([p, _point(K, 1.6, m, bdot)]).rms == pytest.approx(bdot, rel=1e-5)
     assert point_drift(_point(K, rate, m, 0.0)) == pytest.approx(0.0, abs=1e-15)
@@ -75,7 +80,8 @@ def _drift_device(harness, folder: Path, seed: int) -> dict:
 
 
 def _results(run_cli, folder: Path) -> dict:
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.1.2,D.1.3", "--data", str(folder / "manifest.toml"),
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.1.2,D.1.3", "--data",
+                             str(folder / "manifest.toml"),
                              "--json", "--no-report", "--quiet")
     assert code in (0, 3, 4), err
     return {r["key"]: r for r in json.loads(out)["results"]}

@@ -1,5 +1,5 @@
-"""Issue 29: the built-in device conforms to its class, row 10 (bias stability) is judged at t = 100 s
-only, test levels are judged as set, and D.5.2's t must be positive.
+"""Issue 29: the built-in device conforms to its class, row 10 (bias stability) is judged at t = 100
+s only, test levels are judged as set, and D.5.2's t must be positive.
 
 docs/interpretations.md: "D.5.2 — which smoothing time the table's limit applies to",
 "Conformity — test levels"; docs/standards/gbt45570.md: "The simulated device".
@@ -20,7 +20,8 @@ from metro.core.run.runner import judge, run_items
 from metro.core.base.units import Q_
 from metro.plugins.gbt45570.conformity import specifications
 
-AVIATION_LASER = DeviceUnderTest(id="G1", technology="laser", application="aviation", output="pulse")
+AVIATION_LASER = DeviceUnderTest(id="G1", technology="laser", application="aviation",
+                                 output="pulse")
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +45,8 @@ def test_row_10_judges_t_100_s_only(d52):
     v = _verdicts(d52)
     assert set(v) == {"Bs_100s"}  # … only t = 100 s judged; B_s(10 s) is informative
     assert v["Bs_100s"].spec.limit == Q_(0.007, "deg/h")
-    assert "t = 100 s" in str(v["Bs_100s"].spec.source) and "informative" in str(v["Bs_100s"].spec.source)
+    assert "t = 100 s" in str(v["Bs_100s"].spec.source) and "informative" in str(v[
+        "Bs_100s"].spec.source)
     # the default device conforms, with margin: value + U below the limit
     assert v["Bs_100s"].status is Status.PASS
     (bs,) = [r for o in d52.outcomes for r in o.results if r.metric.key == "Bs_100s"]
@@ -52,34 +54,42 @@ def test_row_10_judges_t_100_s_only(d52):
 
 
 def test_a_product_specification_of_bs_replaces_row_10(pm, d52):
-    assert not [s for s in specifications(AVIATION_LASER, {"Bs_10s": "<= 0.05 deg/h"}) if s.symbol.startswith("Bs")]
-    assert [s.symbol for s in specifications(AVIATION_LASER) if s.symbol.startswith("Bs")] == ["Bs_100s"]
+    assert not [s for s in specifications(AVIATION_LASER, {"Bs_10s": "<= 0.05 deg/h"})
+                if s.symbol.startswith("Bs")]
+    assert [s.symbol for s in specifications(AVIATION_LASER)
+            if s.symbol.startswith("Bs")] == ["Bs_100s"]
     own = attrs.evolve(d52.campaign, specification={"Bs_10s": "<= 0.05 deg/h"})
     v = {x.key: x for x in judge(pm, "gbt45570", own, d52.outcomes).verdicts}
     assert set(v) == {"Bs_10s"} and "product specification" in str(v["Bs_10s"].spec.source)
     # a bare Bs in the manifest judges every t, as the manifest says
     every = attrs.evolve(d52.campaign, specification={"Bs": "<= 1 deg/h"})
-    assert {x.key for x in judge(pm, "gbt45570", every, d52.outcomes).verdicts} == {"Bs_10s", "Bs_100s"}
+    assert {x.key for x in judge(pm, "gbt45570", every,
+                                 d52.outcomes).verdicts} == {"Bs_10s", "Bs_100s"}
 
 
 def test_without_t_100_s_row_10_is_not_assessed(pm):
     rec = run_items(pm, "gbt45570", ["D.5.2"], options={"t": "10 s"}, station_options={"seed": 3})
-    assert rec.conformity is None or not [v for v in rec.conformity.verdicts if v.key.startswith("Bs")]
+    assert rec.conformity is None or not [v for v in rec.conformity.verdicts
+                                          if v.key.startswith("Bs")]
     assert "Bs_100s" in [s.symbol for s in rec.conformity.not_assessed]
 
 
 def _outcome(item, key, value, U, unit, U_unit=None):
     metric = SimpleNamespace(key=key)
-    res = SimpleNamespace(metric=metric, value=Q_(value, unit), U=Q_(U, U_unit or unit), k=2.0, reportable=True)
+    res = SimpleNamespace(metric=metric, value=Q_(value, unit), U=Q_(U, U_unit or unit), k=2.0,
+                          reportable=True)
     return SimpleNamespace(item=item, results=[res])
 
 
 def test_test_levels_are_judged_as_set():
     specs = specifications(AVIATION_LASER)
     rules = {s.symbol: s.rule for s in specs}
-    assert rules["T_low"] == rules["T_high"] == rules["vib_perf_level"] == rules["Omega_max"] == "simple"
-    assert rules["RWC"] == rules["Bs_100s"] == rules["Kt"] == ""  # device properties keep the run's rule
-    a = assess([_outcome("D.6.1", "T_low", -55.0, 0.3, "degC", "delta_degC"), _outcome("D.3", "Omega_max", 400.0, 0.0023, "deg/s"),
+    assert rules["T_low"] == rules["T_high"] == rules["vib_perf_level"] == rules[
+        "Omega_max"] == "simple"
+    # device properties keep the run's rule
+    assert rules["RWC"] == rules["Bs_100s"] == rules["Kt"] == ""
+    a = assess([_outcome("D.6.1", "T_low", -55.0, 0.3, "degC", "delta_degC"),
+                _outcome("D.3", "Omega_max", 400.0, 0.0023, "deg/s"),
                 _outcome("D.5.6", "RWC", 0.00151, 0.00027, "deg/hour**0.5")], specs)
     v = {x.key: x for x in a.verdicts}
     assert v["T_low"].status is Status.PASS and v["T_low"].rule.name == "simple"
@@ -93,16 +103,18 @@ def test_test_levels_are_judged_as_set():
 
 @pytest.mark.parametrize("t", ["-10 s", "0 s", "10 s, -5 s"])
 def test_d52_t_must_be_positive(run_cli, tmp_path, t):
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.2", "-o", f"t={t}", "--no-report", "-q")
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.2", "-o", f"t={t}", "--no-report",
+                             "-q")
     assert code == 2
     assert "option t" in err and "must be > 0" in err
     assert "whole number of sampling intervals" not in err and "Traceback" not in err
 
 
 def test_the_readme_main_job_conforms_on_the_default_device(run_cli, tmp_path):
-    """README: `metro run --standard gbt45570 --item D.5.6` — before issue 29 RWC = 0.00151 ± 0.00027
-    (°)/h^½ against ≤ 0.0015: indeterminate (conditional fail)."""
-    code, out, err = run_cli("run", "--standard", "gbt45570", "--item", "D.5.6", "--json", "--no-report",
+    """README: `metro run --standard gbt45570 --item D.5.6` — before issue 29 RWC = 0.00151 ±
+    0.00027 (°)/h^½ against ≤ 0.0015: indeterminate (conditional fail)."""
+    code, out, err = run_cli("run", "--standard", "gbt45570", "--item", "D.5.6", "--json",
+                             "--no-report",
                              "--strict", "-q")
     assert code == 0, err
     doc = json.loads(out)
@@ -120,15 +132,17 @@ def test_grades_of_the_simulated_device(pm, grade, status):
 
 
 def test_an_unknown_grade_is_refused(run_cli):
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "grade=superb",
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.6", "--station-option",
+                             "grade=superb",
                              "--no-report", "-q")
     assert code == 2 and "grade" in err and "Traceback" not in err
 
 
 def test_d4_unresolved_positions_bound_the_threshold(pm):
-    """interpretations.md "D.4 — an upper bound when nothing below is resolved": with nothing resolved
-    below the first resolved pass H, the threshold is reported as ≤ H (a bound, U of the input at H) and
-    judged as (−∞, H + U]; before, it was not reportable and indeterminate on every such device."""
+    """interpretations.md "D.4 — an upper bound when nothing below is resolved": with nothing
+    resolved below the first resolved pass H, the threshold is reported as ≤ H (a bound, U of the
+    input at H) and judged as (−∞, H + U]; before, it was not reportable and indeterminate on every
+    such device."""
     from metro.plugins.gbt45570.threshold import parse_levels
 
     levels = parse_levels("0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.03, 0.05")
@@ -137,7 +151,8 @@ def test_d4_unresolved_positions_bound_the_threshold(pm):
     assert r.bound == "upper" and not r.reportable and "stated as at most" in r.reason
     H = float(r.value.to("deg/h").magnitude)
     assert min(abs(H - x) for x in levels) < 1e-6 and H < 0.02  # a tested input (Ψ_i as set)
-    assert {row.symbol for row in r.budget.rows} <= {"δΨ", "u(θ)", "u_rel(K)"}  # the input realised at H, no noise
+    # the input realised at H, no noise
+    assert {row.symbol for row in r.budget.rows} <= {"δΨ", "u(θ)", "u_rel(K)"}
     (v,) = rec.conformity.verdicts
     assert v.status is Status.PASS and "bound" in str(v.reason)
     # the marginal unit's noise resolves no position below the limit: no statement
@@ -148,13 +163,15 @@ def test_d4_unresolved_positions_bound_the_threshold(pm):
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_acquired_campaign_of_the_default_device_conforms(run_cli, tmp_path, seed):
     """`metro acquire --standard gbt45570 --all --out DIR` then `metro run --standard gbt45570 --all
-    --data DIR/manifest.toml`: recorded data (exit codes are not relaxed as on the station) conform —
-    every verdict passes (before issue 29: D.5.2 failed, D.1.3, D.1.5, D.3, D.4, D.5.6, D.6.1–D.6.3
-    indeterminate)."""
+    --data DIR/manifest.toml`: recorded data (exit codes are not relaxed as on the station) conform
+    — every verdict passes (before issue 29: D.5.2 failed, D.1.3, D.1.5, D.3, D.4, D.5.6,
+    D.6.1–D.6.3 indeterminate)."""
     out = tmp_path / "camp"
-    code, _, err = run_cli("acquire", "--standard", "gbt45570", "--all", "--out", str(out), "--seed", str(seed), "-q")
+    code, _, err = run_cli("acquire", "--standard", "gbt45570", "--all", "--out", str(out),
+                           "--seed", str(seed), "-q")
     assert code == 0, err
-    code, text, err = run_cli("run", "--standard", "gbt45570", "--all", "--data", str(out / "manifest.toml"),
+    code, text, err = run_cli("run", "--standard", "gbt45570", "--all", "--data",
+                              str(out / "manifest.toml"),
                               "--json", "--no-report", "-q")
     assert code == 0, err
     doc = json.loads(text)

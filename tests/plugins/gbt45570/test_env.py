@@ -67,15 +67,17 @@ def test_setup_time_noise_crossing_takes_the_midpoint():
     """Noise takes the output into the band at sample 2, out at 3, in for good from 4: t_in = 3 s,
     t_out = 5 s (ends of those 1-sample windows) and t_s is their midpoint, 4 s."""
     y = [10, 10, 1.2, 1.8, 1.1, 1, 1, 1]
-    assert E.setup_time_6277(y, 1.0, 1, 5, 0.5) == (pytest.approx(4.0), pytest.approx(1.0), 3.0, 5.0)
+    assert E.setup_time_6277(y, 1.0, 1, 5, 0.5) == (pytest.approx(4.0), pytest.approx(1.0), 3.0,
+                                                    5.0)
 
 
 def test_setup_time_last_real_excursion_hand_worked():
-    """A ringing output (5, 0, −3, 0, 2, 0, −1, 0, 0 against a settled 0, band ±1, window 1 sample of 1 s,
-    σ_w = 0.3): the lobes beyond the band are 5 and −3 (certain) and 2 (Φ(1/0.3) ≥ 1 − Φ(−3): certain), the last
-    lobe's top 1.0 is on the band's edge (p = Φ(0) = ½; three samples, no parabola).  The exit of the 2 lobe is
-    6 s (window ending at sample 5 is the first inside), the edge lobe's vertex ends at 7 s: t_s = ½·6 + ½·7 =
-    6.5 s, u_sel = 0.5 s.  The rule of first entry and final exit gives (2 + 6)/2 = 4 s, half the ringing early."""
+    """A ringing output (5, 0, −3, 0, 2, 0, −1, 0, 0 against a settled 0, band ±1, window 1 sample
+    of 1 s, σ_w = 0.3): the lobes beyond the band are 5 and −3 (certain) and 2 (Φ(1/0.3) ≥ 1 −
+    Φ(−3): certain), the last lobe's top 1.0 is on the band's edge (p = Φ(0) = ½; three samples, no
+    parabola). The exit of the 2 lobe is 6 s (window ending at sample 5 is the first inside), the
+    edge lobe's vertex ends at 7 s: t_s = ½·6 + ½·7 = 6.5 s, u_sel = 0.5 s. The rule of first entry
+    and final exit gives (2 + 6)/2 = 4 s, half the ringing early."""
     y = [5, 0, -3, 0, 2, 0, -1.0, 0, 0, 0, 0, 0]
     st = E.setup_time_excursions_6277(y, 1.0, 1, 9, 1.0, 0.3)
     assert st["settled"] == pytest.approx(0.0)
@@ -83,12 +85,17 @@ def test_setup_time_last_real_excursion_hand_worked():
     assert st["probabilities"] == pytest.approx([0.5, 0.5])
     assert st["t_s"] == pytest.approx(6.5) and st["u_selection"] == pytest.approx(0.5)
     assert E.setup_time_6277(y, 1.0, 1, 9, 1.0)[0] == pytest.approx(4.0)
-    # a quiet record (σ_w tiny) whose last lobe tops at 0.9: certainly inside, the 2 lobe is the last
-    st = E.setup_time_excursions_6277([5, 0, -3, 0, 2, 0, -0.9, 0, 0, 0, 0, 0], 1.0, 1, 9, 1.0, 1e-6)
+    # a quiet record (σ_w tiny) whose last lobe tops at 0.9: certainly inside, the 2 lobe is the
+    # last
+    st = E.setup_time_excursions_6277([5, 0, -3, 0, 2, 0, -0.9, 0, 0, 0, 0, 0], 1.0, 1, 9, 1.0,
+                                      1e-6)
     assert st["t_s"] == pytest.approx(6.0) and st["u_selection"] == 0.0
-    # noise about zero after the output settled does not cut a lobe: one certain lobe, its exit midpoint
-    st = E.setup_time_excursions_6277([9, 6, 4, 2, 0.5, -0.4, 0.3, -0.2, 0.1, 0, 0, 0], 1.0, 1, 9, 3.0, 0.3)
-    assert st["exits"] == pytest.approx([4.0]) and st["t_s"] == pytest.approx(4.0)  # 2 (sample 3) is inside
+    # noise about zero after the output settled does not cut a lobe: one certain lobe, its exit
+    # midpoint
+    st = E.setup_time_excursions_6277([9, 6, 4, 2, 0.5, -0.4, 0.3, -0.2, 0.1, 0, 0, 0], 1.0, 1, 9,
+                                      3.0, 0.3)
+    # 2 (sample 3) is inside
+    assert st["exits"] == pytest.approx([4.0]) and st["t_s"] == pytest.approx(4.0)
     with pytest.raises(ValueError, match="has not reached"):
         E.setup_time_excursions_6277([10, 10, 10, 10, 10, 1, 1], 1.0, 1, 5, 0.5, 0.1)
 
@@ -122,7 +129,8 @@ def _within(r, truth_q):
 
 def test_d4_threshold_set_by_a_dead_band_is_recovered(pm):
     """Dead band d = 0.0035 °/h: the response reaches 50 % at 2d = 0.007 °/h, so on the default
-    tilt series the threshold is the 0.008 °/h position; the true 2d lies inside the budget's step."""
+    tilt series the threshold is the 0.008 °/h position; the true 2d lies inside the budget's
+    step."""
     truth = GyroTruth(output="rate", arw_deg_rt_h=1e-4, dead_band_deg_h=0.0035, seed=41)
     camp, rec = _run(pm, ["D.4"], truth)
     r = rec.outcomes[0].result("threshold")
@@ -150,7 +158,8 @@ def test_d4_threshold_within_U_over_seeds(pm):
     least 18 of 20 seeds (noise near 50 % moves the decision by a whole position)."""
     inside = 0
     for seed in range(20):
-        camp, rec = _run(pm, ["D.4"], GyroTruth(output="rate", arw_deg_rt_h=1e-4, dead_band_deg_h=0.0035,
+        camp, rec = _run(pm, ["D.4"], GyroTruth(output="rate", arw_deg_rt_h=1e-4,
+                                                dead_band_deg_h=0.0035,
                                                 seed=700 + seed))
         inside += _within(rec.outcomes[0].result("threshold"), camp.expected["threshold"])
     assert inside >= 18
@@ -181,9 +190,11 @@ def test_d61_d62_bias_and_stability_at_the_operating_temperatures(pm):
         assert d["u"] == pytest.approx(0.15) and d["U"] == pytest.approx(0.3, rel=1e-5)
         # white noise: B_s(t) = ARW/√t
         bs = o.result(f"Bs_{tag}_100s")
-        assert abs(bs.value.magnitude - truth.arw_deg_rt_h / math.sqrt(100 / 3600)) <= bs.U.magnitude
+        assert abs(bs.value.magnitude - truth.arw_deg_rt_h
+                   / math.sqrt(100 / 3600)) <= bs.U.magnitude
     # the two biases differ by bias_tc × 140 °C
-    assert high.result("B0_high").value.magnitude - low.result("B0_low").value.magnitude == pytest.approx(
+    assert high.result("B0_high").value.magnitude - low.result(
+        "B0_low").value.magnitude == pytest.approx(
         truth.bias_tc_deg_h_per_C * 140.0, abs=0.004)
     assert pm.procedure("gbt45570", "D.6.1") is LowTemperatureOperationD61
     assert pm.procedure("gbt45570", "D.6.2") is HighTemperatureOperationD62
@@ -193,8 +204,10 @@ def test_d63_d64_bias_changes_recovered(pm):
     # seed 45: segments are seeded by their step's identity since issue 14; at seed 44 two of the
     # 12 changes fell just outside U (seeds 44–55: 9 of 144 outside, as k = 2 allows)
     truth = GyroTruth(output="rate", arw_deg_rt_h=5e-4, seed=45,
-                      vib_shift_during_deg_h=(0.05, -0.03, 0.04), vib_shift_after_deg_h=(0.01, 0.02, -0.015),
-                      vib_endurance_shift_deg_h=(-0.02, 0.03, 0.025), shock_shift_deg_h=(0.03, -0.02, 0.01))
+                      vib_shift_during_deg_h=(0.05, -0.03, 0.04),
+                      vib_shift_after_deg_h=(0.01, 0.02, -0.015),
+                      vib_endurance_shift_deg_h=(-0.02, 0.03, 0.025),
+                      shock_shift_deg_h=(0.03, -0.02, 0.01))
     camp, rec = _run(pm, ["D.6.3", "D.6.4"], truth)
     vib, shock = rec.outcomes
     n = 0
@@ -206,9 +219,11 @@ def test_d63_d64_bias_changes_recovered(pm):
     assert n == 12
     assert vib.result("dBV12_IRA").value.magnitude == pytest.approx(0.05, abs=0.01)
     assert vib.result("vib_perf_level").value.to("gn").magnitude == pytest.approx(6.6)
-    assert vib.result("vib_perf_level").U.magnitude == pytest.approx(0.05 * 6.6, rel=1e-5)  # 5 % (k = 2) table calibration
+    # 5 % (k = 2) table calibration
+    assert vib.result("vib_perf_level").U.magnitude == pytest.approx(0.05 * 6.6, rel=1e-5)
     assert shock.result("shock_duration").value.to("ms").magnitude == pytest.approx(20)
-    assert {vib.result("dBV13_XRA").metric.symbol, shock.result("dBshock_XRA").metric.symbol} == {"ΔB_V13"}
+    assert {vib.result("dBV13_XRA").metric.symbol,
+            shock.result("dBshock_XRA").metric.symbol} == {"ΔB_V13"}
     assert pm.procedure("gbt45570", "D.6.3") is VibrationD63
     assert pm.procedure("gbt45570", "D.6.4") is MechanicalShockD64
 
@@ -249,7 +264,8 @@ def test_d4_needs_the_reference_position(pm):
 
 
 def test_d63_missing_after_segment(pm):
-    with pytest.raises(DataError, match=r"after segment\(s\) of kind \"vibration\" for axis XRA") as exc:
+    with pytest.raises(DataError,
+                       match=r"after segment\(s\) of kind \"vibration\" for axis XRA") as exc:
         _run(pm, ["D.6.3"], GyroTruth(output="rate", seed=1), drop=("vib-perf-XRA-after",))
     assert exc.value.field == "segments"
 
@@ -262,7 +278,8 @@ def test_d64_missing_before_segment(pm):
 def _rate_campaign(kind, conditions, data, interval=1.0):
     seg = Segment("s1", kind, conditions, Q_(interval, "s"), sha256="0" * 64,
                   loader=lambda: {"output": (np.asarray(data, dtype=float), "deg/h")})
-    return Campaign("C", DeviceUnderTest("D", output="rate"), [], {}, {"latitude": Q_(40, "deg")}, [seg])
+    return Campaign("C", DeviceUnderTest("D", output="rate"), [], {}, {"latitude": Q_(40, "deg")},
+                    [seg])
 
 
 def test_d61_missing_temperature_condition(pm):
@@ -273,7 +290,8 @@ def test_d61_missing_temperature_condition(pm):
 
 
 def test_d62_missing_segment(pm):
-    camp = _rate_campaign("low-temperature", {"orientation": "IRA up", "temperature": "-45 degC"}, np.full(3600, 0.1))
+    camp = _rate_campaign("low-temperature", {"orientation": "IRA up", "temperature": "-45 degC"},
+                          np.full(3600, 0.1))
     with pytest.raises(DataError, match="kind \"high-temperature\""):
         run_items(pm, "gbt45570", ["D.6.2"], campaign=camp)
 
@@ -300,11 +318,13 @@ def test_d4_response_opposite_to_the_input_does_not_count(pm):
     D.39's value is shown, not reportable, the reason and a warning saying why."""
     rng = np.random.default_rng(3)
     segs = []
-    for sid, psi, mean in (("ref", "90 deg", 0.1), ("t1", "89.99 deg", 0.1 - 0.8 * E.tilt_input_d37(89.99))):
+    for sid, psi, mean in (("ref", "90 deg", 0.1),
+                           ("t1", "89.99 deg", 0.1 - 0.8 * E.tilt_input_d37(89.99))):
         data = mean + rng.normal(0, 1e-4, 600)
         segs.append(Segment(sid, "tilt", {"psi": psi}, Q_(1, "s"), sha256="0" * 64,
                             loader=lambda d=data: {"output": (d, "deg/h")}))
-    camp = Campaign("C", DeviceUnderTest("D", output="rate"), [], {}, {"latitude": Q_(40, "deg")}, segs)
+    camp = Campaign("C", DeviceUnderTest("D", output="rate"), [], {}, {"latitude": Q_(40, "deg")},
+                    segs)
     o = run_items(pm, "gbt45570", ["D.4"], campaign=camp).outcomes[0]
     r = o.result("threshold")
     assert r.value.magnitude == pytest.approx(E.tilt_input_d37(89.99))
@@ -315,7 +335,8 @@ def test_d4_response_opposite_to_the_input_does_not_count(pm):
 def test_d63_earth_rate_cancels_in_the_bias_change(pm):
     """The biases of D.6.3 are mean indicated rates: with the IRA up (earth rate 9.7 °/h) or
     horizontal east (none), the same shift gives the same ΔB."""
-    truth = GyroTruth(output="rate", arw_deg_rt_h=5e-4, seed=7, vib_shift_after_deg_h=(0.02, 0.02, 0.02))
+    truth = GyroTruth(output="rate", arw_deg_rt_h=5e-4, seed=7,
+                      vib_shift_after_deg_h=(0.02, 0.02, 0.02))
     _, rec = _run(pm, ["D.6.3"], truth, {"tests": "performance"})
     v = rec.outcomes[0]
     assert v.result("dBV13_IRA").value.magnitude == pytest.approx(v.result("dBV13_XRA").value.magnitude, abs=0.004)
@@ -334,7 +355,8 @@ def test_d4_noise_does_not_pass_a_level(pm):
     against a true 0.008).  Now no seed gives a reportable threshold below the truth, and a
     threshold reported is bracketed by a position resolved below 50 %."""
     for seed in range(1, 7):
-        camp, rec = _run(pm, ["D.4"], GyroTruth(**GRADES["marginal"], seed=seed))  # the gyro of issue 13
+        # the gyro of issue 13
+        camp, rec = _run(pm, ["D.4"], GyroTruth(**GRADES["marginal"], seed=seed))
         r = rec.outcomes[0].result("threshold")
         truth = camp.expected["threshold"].magnitude
         if r.reportable:

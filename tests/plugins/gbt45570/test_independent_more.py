@@ -3,10 +3,10 @@
 benchmarks/independent_gbt_more.py writes campaigns from the documented format with its own numpy
 generators (nonlinearity of several shapes, asymmetry of either sign, K varying between power-ons,
 undithered and dithered pulse counters, LSB words, °/h and °/s rate outputs, a turn-on scatter at
-every temperature point) and scores D.1.1–D.1.4, D.2.1–D.2.4, D.5.4–D.5.6 against the truth it knows by construction.  Here a few devices at short
-record lengths: metro must read them, give each result in the standard's unit, and land within U
-of the truth or say why it cannot report it.  The sweeps and their table are at the end of
-docs/independent-campaigns.md.
+every temperature point) and scores D.1.1–D.1.4, D.2.1–D.2.4, D.5.4–D.5.6 against the truth it knows
+by construction. Here a few devices at short record lengths: metro must read them, give each result
+in the standard's unit, and land within U of the truth or say why it cannot report it. The sweeps
+and their table are at the end of docs/independent-campaigns.md.
 """
 
 from __future__ import annotations
@@ -28,7 +28,8 @@ def test_module_does_not_use_metro_generators(benchmark_imports):
     the sibling module's `metro run`), and take nothing but writers and scoring from it."""
     text, imports = benchmark_imports("independent_gbt_more")
     assert imports, "no imports found"
-    assert not [ln for ln in imports if "metro" in ln or "simulated" in ln or "instruments" in ln], imports
+    assert not [ln for ln in imports if "metro" in ln or "simulated" in ln or "instruments"
+                in ln], imports
 
 
 def test_nonlinearity_truth_is_the_clause_formula_on_a_hand_worked_device(more):
@@ -54,13 +55,17 @@ DEVICES = [
     ("D.2.1,D.2.2,D.2.3,D.2.4", 32,
      lambda m, f, rng: m.build_rate(f, rng, kind="LSB", dt=0.1, seconds=100.0, q=0.05, quick=True)),
     ("D.2.1,D.2.2,D.2.3,D.2.4", 33,
-     lambda m, f, rng: m.build_rate(f, rng, kind="deg/s", dt=1.0, seconds=60.0, q=1e-5, fmt="csv", quick=True)),
-    ("D.5.6", 34, lambda m, f, rng: m.build_arw(f, rng, kind="pulse", dt=1.0, hours=8.0, quick=True)),
-    ("D.5.4,D.5.5", 35, lambda m, f, rng: m.build_bias_env(f, rng, kind="pulse", dt=1.0, fmt="csv", quick=True)),
+     lambda m, f, rng: m.build_rate(f, rng, kind="deg/s", dt=1.0, seconds=60.0, q=1e-5, fmt="csv",
+                                    quick=True)),
+    ("D.5.6", 34, lambda m, f, rng: m.build_arw(f, rng, kind="pulse", dt=1.0, hours=8.0,
+                                                quick=True)),
+    ("D.5.4,D.5.5", 35, lambda m, f, rng: m.build_bias_env(f, rng, kind="pulse", dt=1.0, fmt="csv",
+                                                           quick=True)),
 ]
 
 
-@pytest.mark.parametrize("items,seed,build", DEVICES, ids=["angle-pulse", "rate-lsb", "rate-degs", "arw-pulse", "bt-bh-pulse"])
+@pytest.mark.parametrize("items,seed,build", DEVICES,
+                         ids=["angle-pulse", "rate-lsb", "rate-degs", "arw-pulse", "bt-bh-pulse"])
 def test_independent_device_evaluates_within_U(more, tmp_path, items, seed, build):
     import independent_campaigns as ic
 

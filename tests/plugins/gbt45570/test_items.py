@@ -1,4 +1,5 @@
-"""GB/T 45570—2025 D.5.1, D.5.2, D.5.6: hand-worked formulas and simulated devices with known truth."""
+"""GB/T 45570—2025 D.5.1, D.5.2, D.5.6: hand-worked formulas and simulated devices with known
+truth."""
 
 from __future__ import annotations
 
@@ -26,7 +27,8 @@ def test_d40_hand_worked():
 
 def test_d41_hand_worked():
     # N' = 100, 102, 98, 100 over t = 10 s, K = 1 P/″: s = sqrt(8/3) = 1.632993, B_s = 0.1632993 °/h
-    assert F.bias_stability_d41([100, 102, 98, 100], 10.0, 1.0) == pytest.approx(math.sqrt(8 / 3) / 10, rel=1e-12)
+    assert F.bias_stability_d41([100, 102, 98, 100], 10.0,
+                                1.0) == pytest.approx(math.sqrt(8 / 3) / 10, rel=1e-12)
 
 
 def test_d42_hand_worked():
@@ -236,7 +238,8 @@ def test_d54_needs_room_temperature(pm):
 
 def test_d55_needs_both_field_directions(pm):
     st_ = SimulatedStation(truth=GyroTruth(seed=1))
-    steps = [s for s in pm.procedure("gbt45570", "D.5.5")().sequence({}) if s.segment != "field-XRA-minus"]
+    steps = [s for s in pm.procedure("gbt45570", "D.5.5")().sequence({}) if s.segment
+             != "field-XRA-minus"]
     steps.append(steps[0])  # still six segments, but XRA has no reversed field
     with pytest.raises(DataError, match="reversed"):
         run_items(pm, "gbt45570", ["D.5.5"], campaign=st_.acquire(steps))

@@ -37,7 +37,8 @@ FAST = 0.1  # duration_scale: 10 samples per rate point keep the tests quick
 def test_d11_d28_hand_worked():
     # K_j = 1 ± small: mean 1.000002, std of (0, 1, 2, 3, 4, 2, 2)·1e-6 = sqrt(10/6)·1e-6
     k = [1.0 + d * 1e-6 for d in (0, 1, 2, 3, 4, 2, 2)]
-    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(math.sqrt(10 / 6) * 1e-6 / 1.000002, rel=1e-6)
+    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(math.sqrt(10 / 6) * 1e-6
+                                                                 / 1.000002, rel=1e-6)
     assert F2.scale_factor_repeatability_d28 is F2.scale_factor_repeatability_d11
     with pytest.raises(ValueError, match="at least 2"):
         F2.scale_factor_repeatability_d11([1.0])
@@ -45,7 +46,8 @@ def test_d11_d28_hand_worked():
 
 def test_d12_d29_hand_worked():
     # K00 = 5000 at 20 °C; at 60 °C +1 LSB/(°/s) → 1/(5000·40) = 5e-6/°C; at −40 °C −0.9 → 3e-6/°C
-    kt, i = F2.scale_factor_temperature_sensitivity_d12([4999.1, 5000.0, 5001.0], [-40.0, 20.0, 60.0], 1)
+    kt, i = F2.scale_factor_temperature_sensitivity_d12([4999.1, 5000.0, 5001.0],
+                                                        [-40.0, 20.0, 60.0], 1)
     assert kt == pytest.approx(5e-6, rel=1e-12) and i == 2
     with pytest.raises(ValueError, match="T_i − T_0"):
         F2.scale_factor_temperature_sensitivity_d12([1.0, 1.0], [20.0, 20.0], 0)
@@ -125,13 +127,15 @@ def test_line_fit_sensitivities_give_the_ols_coefficients_and_propagate():
 
 def _camp(pm, items, station=None, drop=(), options=None, **truth):
     st_ = station or digital_station_factory(duration_scale=FAST, **truth)
-    steps = merge_steps([pm.procedure("gbt45570", i)().sequence((options or {}).get(i, {})) for i in items])
+    steps = merge_steps([pm.procedure("gbt45570", i)().sequence((options or {}).get(i, {})) for i
+                         in items])
     steps = [s for s in steps if s.segment not in set(drop)]
     return st_.acquire(steps)
 
 
 def camp_truth_sf_tc(camp) -> float:
-    """The simulated device's K temperature coefficient (relative per °C), from the campaign's truth."""
+    """The simulated device's K temperature coefficient (relative per °C), from the campaign's
+    truth."""
     return float(camp.truth["scale-factor temperature coefficient"].to("1/delta_degC").magnitude)
 
 
@@ -139,7 +143,8 @@ def _check_truth(rec, camp, keys):
     checked = set()
     for o in rec.outcomes:
         for r in o.results:
-            assert r.budget is not None and any(row.type == "A" for row in r.budget.rows), r.metric.key
+            assert r.budget is not None and any(row.type == "A" for row
+                                                in r.budget.rows), r.metric.key
             if r.metric.key in camp.expected and r.metric.key in keys:
                 exp = camp.expected[r.metric.key].to(r.metric.unit).magnitude
                 got = r.value.to(r.metric.unit).magnitude
@@ -160,7 +165,8 @@ def test_rate_method_recovers_simulated_truth(pm):
     assert kn.value.to("ppm").magnitude > 2 * kn.U.to("ppm").magnitude
     assert ka.value.to("ppm").magnitude > 2 * ka.U.to("ppm").magnitude
     # type B rows come from the campaign's rate table
-    assert any(r.type == "B" and "rate-table" in r.source for r in rec.outcomes[0].results[0].budget.rows)
+    assert any(r.type == "B" and "rate-table" in r.source for r
+               in rec.outcomes[0].results[0].budget.rows)
 
 
 def test_d24_repeatability_recovers_turn_on_scatter(pm):
@@ -183,9 +189,10 @@ def test_d25_temperature_sensitivity(pm):
 
 
 def test_simulated_d25_temperature_points_are_power_ons(pm):
-    """D.2.5.2 c): off while the chamber changes temperature, so the digital station gives every D.2.5
-    point a turn-on draw of K (``temperature_power_on``, its own stream beside D.1.5's): the same device
-    with and without the scatter, nearly noise-free, differs at each point by that draw."""
+    """D.2.5.2 c): off while the chamber changes temperature, so the digital station gives every
+    D.2.5 point a turn-on draw of K (``temperature_power_on``, its own stream beside D.1.5's): the
+    same device with and without the scatter, nearly noise-free, differs at each point by that
+    draw."""
     from metro.instruments.sim_gbt_rate import temperature_power_on
 
     common = dict(seed=5, arw_deg_rt_h=1e-9)
@@ -202,12 +209,12 @@ def test_simulated_d25_temperature_points_are_power_ons(pm):
 
 
 def test_d25_power_cycled_points_pool_their_scatter_with_the_runs(pm):
-    """lsb-fine device 14 with D.2.4's runs and D.2.5 at power-cycled points: the seven runs happened to give
-    K_r = 1.2 ppm against the device's 5 ppm turn-on scatter, the six temperature points scatter about
-    a smooth K(T) far beyond that, the line test rejected the smoothing and the maximum went uncorrected
-    with U = 0.2 ppm/°C: K_t 2.23 against 2.00 ppm/°C (E_n +1.17). The points' own scatter about a
-    quadratic in T is pooled with the runs' (interpretations.md "D.2.5 — the line test with an estimated
-    scatter"): within U."""
+    """lsb-fine device 14 with D.2.4's runs and D.2.5 at power-cycled points: the seven runs
+    happened to give K_r = 1.2 ppm against the device's 5 ppm turn-on scatter, the six temperature
+    points scatter about a smooth K(T) far beyond that, the line test rejected the smoothing and the
+    maximum went uncorrected with U = 0.2 ppm/°C: K_t 2.23 against 2.00 ppm/°C (E_n +1.17). The
+    points' own scatter about a quadratic in T is pooled with the runs' (interpretations.md "D.2.5 —
+    the line test with an estimated scatter"): within U."""
     rec = run_items(pm, "gbt45570", ["D.2.4", "D.2.5"], station="simulated",
                     station_options={"seed": 14, "device_class": "lsb-fine"})
     kt = rec.outcomes[1].results[0]
@@ -252,7 +259,8 @@ def test_d3_default_limit_from_tables_a1_b1_and_device(pm):
     assert lim.to("ppm").magnitude == pytest.approx(10.0) and "A.1" in src  # laser, aviation
     import attrs
 
-    spec = attrs.evolve(dev, properties=dict(dev.properties) | {"nonlinearity_limit": Q_(30, "ppm")})
+    spec = attrs.evolve(dev, properties=dict(dev.properties)
+                        | {"nonlinearity_limit": Q_(30, "ppm")})
     assert default_nonlinearity_limit(spec)[0].to("ppm").magnitude == pytest.approx(30.0)
     with pytest.raises(DataError, match="Kn_limit"):
         default_nonlinearity_limit(attrs.evolve(dev, technology="MEMS"))
@@ -302,7 +310,8 @@ def test_d22_fm_is_the_larger_output_at_the_maximum_rate():
     from metro.plugins.gbt45570.rate_data import RateData, nonlinearity_of
 
     w = np.array([-2.0, -1.0, 1.0, 2.0])
-    data = RateData(w, np.array([-199.0, -100.0, 100.0, 202.0]), np.ones(4), np.full(4, 10), 0.0, 0.0, ())
+    data = RateData(w, np.array([-199.0, -100.0, 100.0, 202.0]), np.ones(4), np.full(4, 10), 0.0,
+                    0.0, ())
     Fm = nonlinearity_of(data)[2]
     assert Fm == 202.0
     only_small = nonlinearity_of(data, upto=1.0)
@@ -313,7 +322,8 @@ def test_d22_fm_is_the_larger_output_at_the_maximum_rate():
 
 
 def test_fewer_than_eleven_rate_points(pm):
-    camp = _camp(pm, ["D.2.1"], drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5", "rate-2.5",
+    camp = _camp(pm, ["D.2.1"], drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5",
+                                      "rate-2.5",
                                       "rate+4", "rate-4"})
     with pytest.raises(DataError, match="at least 11 rate points"):
         run_items(pm, "gbt45570", ["D.2.1"], campaign=camp)
@@ -333,7 +343,8 @@ def test_missing_rest_output(pm):
 
 
 def test_d24_six_repeats_instead_of_seven(pm):
-    drop = {s.segment for s in ScaleFactorRepeatabilityD24().sequence({}) if s.segment.startswith("run7-")}
+    drop = {s.segment for s in ScaleFactorRepeatabilityD24().sequence({})
+            if s.segment.startswith("run7-")}
     camp = _camp(pm, ["D.2.4"], drop=drop)
     with pytest.raises(DataError, match=r"needs 7 power-ons.*found 6 run") as e:
         run_items(pm, "gbt45570", ["D.2.4"], campaign=camp)
@@ -367,7 +378,8 @@ def test_rate_method_refuses_pulse_output(pm):
 
 
 def test_cli_runs_d21_on_the_digital_station(run_cli):
-    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.2.1", "--no-report", "--no-progress", "--json")
+    code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.2.1", "--no-report", "--no-progress",
+                             "--json")
     assert code == 0, err
     import json
 
@@ -396,10 +408,14 @@ def test_d12_maximum_selection_bias_corrected():
         corrected.append(sel.value)
     se = np.std(printed) / math.sqrt(len(printed))
     assert np.mean(printed) - 2.0 > 5 * se  # the formula's maximum reads high …
-    assert abs(np.mean(corrected) - 2.0) < 3 * np.std(corrected) / math.sqrt(len(corrected))  # … corrected: not
-    # a clearly curved K(T): the largest slope is real (at 60 °C, 2.8), the points are kept as they are
-    corrected = [max_slope_selection([2.0 * (t - 20.0) + 0.02 * (t - 20.0) ** 2 for t in T] + rng.normal(0.0, 1.0, 6),
-                                        [1.0] * 6, T, 3, relative=False, draws=1000).value for _ in range(200)]
+    # … corrected: not
+    assert abs(np.mean(corrected) - 2.0) < 3 * np.std(corrected) / math.sqrt(len(corrected))
+    # a clearly curved K(T): the largest slope is real (at 60 °C, 2.8), the points are kept as they
+    # are
+    corrected = [max_slope_selection([2.0 * (t - 20.0) + 0.02 * (t - 20.0) ** 2 for t in T]
+                                     + rng.normal(0.0, 1.0, 6),
+                                        [1.0] * 6, T, 3, relative=False, draws=1000).value for _
+                 in range(200)]
     assert abs(np.mean(corrected) - 2.8) < 3 * np.std(corrected) / math.sqrt(len(corrected))
 
 
@@ -436,13 +452,16 @@ def test_d3_auto_follows_the_device_output_when_both_sweeps_exist(pm):
     camp = _camp(pm, ["D.2.1"], sf_quadratic=2e-4)
     pulse = station_factory(**(dict(DIGITAL_DEFAULTS) | {"output": "pulse", "sf_quadratic": 2e-4}),
                             duration_scale=FAST)
-    rev = [attrs.evolve(s, id=f"{s.id}@revolutions") for s in _camp(pm, ["D.3"], station=pulse).segments
+    rev = [attrs.evolve(s, id=f"{s.id}@revolutions") for s
+           in _camp(pm, ["D.3"], station=pulse).segments
            if s.kind == "rate-revolutions"]
     camp = attrs.evolve(camp, segments=list(camp.segments) + rev)
     assert camp.find_segments("rate-revolutions") and camp.find_segments("rate-output")
-    o = run_items(pm, "gbt45570", ["D.3"], campaign=camp, options={"Kn_limit": "20 ppm"}).outcomes[0]
+    o = run_items(pm, "gbt45570", ["D.3"], campaign=camp,
+                  options={"Kn_limit": "20 ppm"}).outcomes[0]
     assert o.results[0].note.endswith("rate method")
-    o = run_items(pm, "gbt45570", ["D.3"], campaign=camp, options={"Kn_limit": "20 ppm", "method": "angle"}).outcomes[0]
+    o = run_items(pm, "gbt45570", ["D.3"], campaign=camp,
+                  options={"Kn_limit": "20 ppm", "method": "angle"}).outcomes[0]
     assert o.results[0].note.endswith("angle method")
 
 
@@ -463,11 +482,13 @@ def test_d21_f0_carries_the_table_error_at_each_set_point(pm):
     M, sx, sxx = w.size, w.sum(), (w**2).sum()
     ca = (sxx - w * sx) / (M * sxx - sx**2)
     e = np.array([rate_band(camp, float(r))[0] for r in w])
-    assert row.contribution.to("LSB").magnitude == pytest.approx(abs(K) * math.sqrt(np.sum((ca * w * e) ** 2) / 3))
+    assert row.contribution.to("LSB").magnitude == pytest.approx(abs(K) * math.sqrt(np.sum((
+        ca * w * e) ** 2) / 3))
     assert math.isclose(float(np.sum(ca * w)), 0.0, abs_tol=1e-9)  # a common error cancels
     inside = 0
     for seed in range(200, 240):
         rec = run_items(pm, "gbt45570", ["D.2.1"], station_options={"seed": seed})
         f0 = rec.outcomes[0].result("F0")
-        inside += abs(f0.value.magnitude - rec.campaign.expected["F0"].to("LSB").magnitude) <= f0.U.magnitude
+        inside += abs(f0.value.magnitude
+                      - rec.campaign.expected["F0"].to("LSB").magnitude) <= f0.U.magnitude
     assert inside >= 37

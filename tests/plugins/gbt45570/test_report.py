@@ -1,4 +1,5 @@
-"""The GB/T 45570—2025 test report: template, context, the produced .docx read back with python-docx."""
+"""The GB/T 45570—2025 test report: template, context, the produced .docx read back with
+python-docx."""
 
 from __future__ import annotations
 
@@ -21,19 +22,24 @@ ITEMS = ["D.1.1", "D.1.2", "D.5.1", "D.5.4", "D.5.6"]
 
 @pytest.fixture(scope="module")
 def produced(tmp_path_factory):
-    """A short simulated run of five items, written with the GB/T layout; (record, Document, path)."""
+    """A short simulated run of five items, written with the GB/T layout; (record, Document,
+    path)."""
     pm = get_plugin_manager(autoload=False)
-    # the marginal unit (issue 29): its indeterminate RWC gives the conformity section a verdict to list
-    rec = run_items(pm, "gbt45570", ITEMS, station_options={"duration_scale": 0.25, "seed": 11, "grade": "marginal"})
+    # the marginal unit (issue 29): its indeterminate RWC gives the conformity section a verdict to
+    # list
+    rec = run_items(pm, "gbt45570", ITEMS, station_options={"duration_scale": 0.25, "seed": 11,
+                                                            "grade": "marginal"})
     tpl = pm.template_for("gbt45570")
     assert tpl.name == "gbt45570-report" and tpl.layout == "metro.plugins.gbt45570.report:layout"
     path = write_report(tmp_path_factory.mktemp("gbt") / "r.docx", rec, layout=tpl.layout,
-                        designations={"gbt45570": "GB/T 45570—2025"}, extend=pm.extend_report_context)
+                        designations={"gbt45570": "GB/T 45570—2025"},
+                        extend=pm.extend_report_context)
     return rec, docx.Document(str(path)), path
 
 
 def _norm(text: str) -> str:
-    return text.replace("\u00a0", " ").replace("\u2060", "").replace("\n", " ")  # a bilingual header: two lines
+    # a bilingual header: two lines
+    return text.replace("\u00a0", " ").replace("\u2060", "").replace("\n", " ")
 
 
 def _texts(doc) -> list[str]:
@@ -61,28 +67,33 @@ def test_verdict_table_lists_every_verdict_not_conforming_with_its_reason(produc
     (table,) = list(_table_with(doc, "理由 Reason"))
     rows = [_cells(r) for r in table.rows[1:]]
     assert len(rows) == len(shown)
-    status = {"pass": "合格 conforms", "fail": "不合格 does not conform", "indeterminate": "不确定 indeterminate"}
+    status = {"pass": "合格 conforms", "fail": "不合格 does not conform",
+              "indeterminate": "不确定 indeterminate"}
     for row, v in zip(rows, shown):
         assert row[0] == v.item and row[2] == v.spec.text()
         assert row[5] == status[v.status.value]
         # the reason in both languages (a message of the catalog); values below 0.001 as ×10ⁿ
         assert row[6] == one_notation(translator("zh+en").text(v.reason))
         assert one_notation(v.reason) in row[6] and re.search(r"[\u4e00-\u9fff]", row[6])
-        assert row[1] != v.key and len(row[1]) > len(v.key)  # a quantity name with its symbol, not a key
+        # a quantity name with its symbol, not a key
+        assert row[1] != v.key and len(row[1]) > len(v.key)
     text = "\n".join(_texts(doc))
     assert f"其余 {len(verdicts) - len(shown)} 个结果合格" in text
     (results,) = [t for t in _table_with(doc, "扩展不确定度 Expanded uncertainty")][:1]
     verdict_col = [_cells(r)[4] for r in results.rows[1:]]
     assert verdict_col.count("合格 conforms") == len(verdicts) - len(shown)
-    assert "零偏 bias B₀" in [_cells(r)[1] for r in results.rows[1:]]  # quantity name (zh+en) and symbol
+    # quantity name (zh+en) and symbol
+    assert "零偏 bias B₀" in [_cells(r)[1] for r in results.rows[1:]]
 
 
 def test_decision_rule_text_and_sources(produced):
     _, doc, _ = produced
     text = "\n".join(_texts(doc))
     assert "判定规则 Decision rule: 保护带接受（保护带 w = U） guarded acceptance (guard band w = U)" in text
-    assert GUARDED.statement in text and translator("zh").text(GUARDED.statement) in text  # both languages
-    assert "GB/T 45570—2025 table A.1 rows 1, 2, 9, 12, 14" in text  # the limits' sources, each table once
+    # both languages
+    assert GUARDED.statement in text and translator("zh").text(GUARDED.statement) in text
+    # the limits' sources, each table once
+    assert "GB/T 45570—2025 table A.1 rows 1, 2, 9, 12, 14" in text
 
 
 def test_report_number_on_every_page_and_in_the_properties(produced):
@@ -110,7 +121,8 @@ def test_data_digest_is_the_sha256_of_every_segment_digest(produced):
     body = doc.element.body
     (title,) = [p for p in doc.paragraphs if "first 16 hex digits" in _norm(p.text)]
     table = next(t for t in doc.tables if body.index(t._tbl) == body.index(title._p) + 1)
-    assert sum(1 for t in doc.tables if any(len(c) >= 16 and all(ch in "0123456789abcdef" for ch in c.split()[-1])
+    assert sum(1 for t in doc.tables if any(len(c) >= 16 and all(ch in "0123456789abcdef" for ch
+                                                                 in c.split()[-1])
                                             for r in t.rows for c in _cells(r) if c.split())) == 1
     text = "\n".join(c for r in table.rows for c in _cells(r))
     for _, h in files:
@@ -129,7 +141,8 @@ def test_items_not_performed_are_marked_never_zero(produced):
     for value in rows.values():
         assert "U =" in value and not value.startswith("0 ")
     text = "\n".join(_texts(doc))
-    assert "表 A.1 中本次未检测的行：3, 4, 5, 6, 7, 8, 10, 11, 13, 15, 16" in text  # row 4: K_r, 11: B_r
+    # row 4: K_r, 11: B_r
+    assert "表 A.1 中本次未检测的行：3, 4, 5, 6, 7, 8, 10, 11, 13, 15, 16" in text
     assert "表 C.1 中本次未检测的行：1, 2, 3" in text
 
 
@@ -146,15 +159,18 @@ def test_type_test_prints_clause_5_and_whole_tables(produced):
     pm = get_plugin_manager(autoload=False)
     typ = attrs.evolve(rec, selection=[ItemChoice(i, True, "applies", "--all") for i in ITEMS])
     ctx = build_context(typ, extend=pm.extend_report_context)
-    assert ctx["gbt45570"]["type_test"] and not build_context(rec, extend=pm.extend_report_context)["gbt45570"]["type_test"]
+    assert ctx["gbt45570"]["type_test"] and not build_context(rec,
+                                                              extend=pm.extend_report_context)["gbt45570"]["type_test"]
     from metro.core.documents.report import render_context
 
-    path = render_context(produced[2].with_name("type-test.docx"), ctx, layout=pm.template_for("gbt45570").layout)
+    path = render_context(produced[2].with_name("type-test.docx"), ctx,
+                          layout=pm.template_for("gbt45570").layout)
     d = docx.Document(str(path))
     texts = _texts(d)
     assert any(t.startswith("1 技术要求 Technical requirements (5)") for t in texts)
     (table,) = [t for t in _table_with(d, "指标 Index")]
-    assert [_cells(r)[0] for r in table.rows[1:]] == [str(i) for i in range(1, 17)]  # each of A.1's 16 rows once
+    # each of A.1's 16 rows once
+    assert [_cells(r)[0] for r in table.rows[1:]] == [str(i) for i in range(1, 17)]
     (c1,) = [t for t in _table_with(d, "严酷等级 Severity")]
     assert len(c1.rows) == 1 + 16
     assert not any("本次未检测的行" in t for t in texts)
@@ -172,7 +188,8 @@ def test_environment_equipment_method_and_figures(produced):
     assert "D.1: laser gyro: clause 6.2.7.1" in text
     assert "Via" not in text and "--all" not in text  # no command-line jargon
     titles = [t for t in _texts(doc) if t.startswith("图 Figure ")]
-    assert [t.split(":")[0] for t in titles] == [f"图 Figure {i}" for i in range(1, len(titles) + 1)]
+    assert [t.split(":")[0] for t in titles] == [f"图 Figure {i}" for i
+                                                 in range(1, len(titles) + 1)]
     assert any("Residuals of Ki" in t for t in titles) and any("D.45 fit" in t for t in titles)
     assert any("Bias against temperature" in t for t in titles)
     assert len(doc.inline_shapes) == len(titles)
@@ -198,7 +215,8 @@ def test_simple_rule_and_no_specification_are_stated():
     from metro.core.documents.context import report_context
 
     pm = get_plugin_manager(autoload=False)
-    rec = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1}, decision_rule="simple")
+    rec = run_items(pm, "gbt45570", ["D.5.1"], station_options={"duration_scale": 0.1},
+                    decision_rule="simple")
     ctx = report_context(rec)
     assert ctx["conformity"]["rule"] == "simple" and ctx["conformity"]["verdicts"][0]["key"] == "B0"
     pm.extend_report_context(rec, ctx)
@@ -206,11 +224,13 @@ def test_simple_rule_and_no_specification_are_stated():
     assert all(v["status"] in ("pass", "fail") for v in ctx["gbt45570"]["verdicts"])
     import attrs
 
-    other = attrs.evolve(rec, campaign=attrs.evolve(rec.campaign, device=DeviceUnderTest("M", technology="mems")),
+    other = attrs.evolve(rec, campaign=attrs.evolve(rec.campaign,
+                                                    device=DeviceUnderTest("M", technology="mems")),
                          conformity=None)
     ctx = report_context(other)
     pm.extend_report_context(other, ctx)
-    assert not ctx["gbt45570"]["has_conformity"] and "no conformity statement" in ctx["gbt45570"]["rule"]["statement"]
+    assert not ctx["gbt45570"]["has_conformity"] and "no conformity statement" in ctx["gbt45570"][
+        "rule"]["statement"]
     assert ctx["gbt45570"]["limits"] is None
 
 
@@ -232,7 +252,8 @@ def test_series_alias_reports_the_method_choice(run_cli):
     assert code == 0 and series["scale-factor"]["members"][:2] == ["D.1.1", "D.1.2"]
     code, out, _ = run_cli("plan", "-s", "gbt45570", "-i", "scale-factor", "--json")
     kinds = {s["kind"] for s in json.loads(out)["steps"]}
-    assert code == 0 and "rate-revolutions" in kinds and "rate-output" not in kinds  # the angle method's steps
+    # the angle method's steps
+    assert code == 0 and "rate-revolutions" in kinds and "rate-output" not in kinds
 
 
 def test_fibre_gyro_takes_the_rate_method_and_table_b1():
@@ -248,7 +269,8 @@ def test_fibre_gyro_takes_the_rate_method_and_table_b1():
     items, choices = select_items(pm, "gbt45570", ["scale-factor"], device=device)
     assert items == ["D.2.1", "D.2.2", "D.2.3", "D.2.4", "D.2.5"]
     why = {c.item: c for c in choices}
-    assert not why["D.1.1"].run and "rate method (D.2)" in why["D.1.1"].reason and "table B.1" in why["D.1.1"].reason
+    assert not why["D.1.1"].run and "rate method (D.2)" in why[
+        "D.1.1"].reason and "table B.1" in why["D.1.1"].reason
     rec = run_items(pm, "gbt45570", ["D.2.1", "D.2.2"], station="simulated-digital",
                     station_options={"duration_scale": 0.3, "seed": 4})
     assert all("table B.1" in v.spec.source for v in rec.conformity.verdicts)
@@ -257,12 +279,14 @@ def test_fibre_gyro_takes_the_rate_method_and_table_b1():
     g = ctx["gbt45570"]
     assert g["limits"]["table"] == "B.1" and g["method"].startswith("D.2:")
     rows = {r["name"].split(" (")[0]: r for r in g["limits"]["rows"]}
-    assert rows["零偏 bias"]["result"] == gbt_report.NOT_PERFORMED and not rows["零偏 bias"]["performed"]
+    assert rows["零偏 bias"]["result"] == gbt_report.NOT_PERFORMED and not rows["零偏 bias"][
+        "performed"]
 
 
 def test_clause5_rows_come_from_the_clause5_module(produced, monkeypatch):
     """The clause-5 table's contract: ``metro.plugins.gbt45570.clause5.clause5_rows(record)`` gives
-    rows with clause, requirement, result, verdict (note optional); a row lacking one is an error."""
+    rows with clause, requirement, result, verdict (note optional); a row lacking one is an
+    error."""
     import sys
     import types
 
@@ -274,7 +298,8 @@ def test_clause5_rows_come_from_the_clause5_module(produced, monkeypatch):
     monkeypatch.setitem(sys.modules, fake.__name__, fake)
     monkeypatch.setattr(sys.modules["metro.plugins.gbt45570"], "clause5", fake, raising=False)
     assert gbt_report.clause5_rows(rec) == [{"clause": "5.2.1", "requirement": "scale factor",
-                                              "result": "1.0 ″/P", "verdict": "合格 conforms", "note": ""}]
+                                              "result": "1.0 ″/P", "verdict": "合格 conforms",
+                                             "note": ""}]
     fake.clause5_rows = lambda record: [{"clause": "5.2.1"}]
     with pytest.raises(ValueError, match="requirement"):
         gbt_report.clause5_rows(rec)
@@ -288,13 +313,16 @@ def test_environmental_notes_name_the_test_not_the_manifest_field(tmp_path):
     document holds no 'environmental_tests'; the warning names the test."""
     pm = get_plugin_manager()
     rec = run_items(pm, "gbt45570", ["6.2.8.2", "6.2.8.5"])
-    texts = [str(r.note) for o in rec.outcomes for r in o.results] + [str(w) for o in rec.outcomes for w in o.warnings]
+    texts = [str(r.note) for o in rec.outcomes for r
+             in o.results] + [str(w) for o in rec.outcomes for w in o.warnings]
     assert not [t for t in texts if "environmental_tests" in t], texts
-    assert any(str(w).startswith("low-temperature storage: the test lab declares no uncertainty") for o in rec.outcomes
+    assert any(str(w).startswith("low-temperature storage: the test lab declares no uncertainty")
+               for o in rec.outcomes
                for w in o.warnings), texts
     tpl = pm.template_for("gbt45570")
     for lang in ("zh", "en"):
-        out = write_report(tmp_path / f"r_{lang}.docx", rec, layout=tpl.layout, extend=pm.extend_report_context,
+        out = write_report(tmp_path / f"r_{lang}.docx", rec, layout=tpl.layout,
+                           extend=pm.extend_report_context,
                            lang=lang)
         d = docx.Document(str(out))
         body = "\n".join(_texts(d) + [c for t in d.tables for row in t.rows for c in _cells(row)])

@@ -1,4 +1,5 @@
-"""MIMU campaigns from the independent JJF 2003 harness (benchmarks/independent_jjf2003.py) read and evaluate.
+"""MIMU campaigns from the independent JJF 2003 harness (benchmarks/independent_jjf2003.py) read and
+evaluate.
 
 The harness builds MIMUs metro's simulator does not make — eq. (1), (2) with skewed axes, inverted
 axes, g-sensitivity and p, from the table's kinematics (earth rate turned into the body, local
@@ -32,10 +33,11 @@ def harness():
 
 
 def test_harness_does_not_use_metro_generators():
-    """Independence: the generators import no part of metro; the one metro import is the command line
-    (and the shared harness module it builds on, which holds the same rule)."""
+    """Independence: the generators import no part of metro; the one metro import is the command
+    line (and the shared harness module it builds on, which holds the same rule)."""
     text = _PATH.read_text(encoding="utf-8")
-    imports = [ln.strip() for ln in text.splitlines() if ln.lstrip().startswith(("import ", "from "))]
+    imports = [ln.strip() for ln in text.splitlines()
+               if ln.lstrip().startswith(("import ", "from "))]
     assert imports, "no imports found"
     for ln in imports:
         assert "metro.instruments" not in ln and "simulat" not in ln, ln
@@ -46,7 +48,8 @@ def test_harness_does_not_use_metro_generators():
 def test_kinematics_hold_what_the_standard_assumes(harness):
     """The geometry the devices are built from: up_nominal puts each axis on the zenith, a position
     pair 180° apart cancels the horizontal earth rate, and GRS 80 gravity spans 9.780–9.832 m/s²."""
-    for up, (j, s) in {"+x": (0, 1), "-x": (0, -1), "+y": (1, 1), "-y": (1, -1), "+z": (2, 1), "-z": (2, -1)}.items():
+    for up, (j, s) in {"+x": (0, 1), "-x": (0, -1), "+y": (1, 1), "-y": (1, -1), "+z": (2, 1),
+                       "-z": (2, -1)}.items():
         e = np.zeros(3)
         e[j] = s
         assert np.allclose(harness.up_nominal(up) @ e, [0, 0, 1])
@@ -58,7 +61,8 @@ def test_kinematics_hold_what_the_standard_assumes(harness):
     assert harness.normal_gravity(90.0) == pytest.approx(9.8321863685, abs=1e-9)
 
 
-DEVICES = ["mimu-16bit-100Hz-skewed", "mimu-24bit-200Hz-goodtable-gravity", "mimu-12bit-50Hz-coarse-rad-ms2"]
+DEVICES = ["mimu-16bit-100Hz-skewed", "mimu-24bit-200Hz-goodtable-gravity",
+           "mimu-12bit-50Hz-coarse-rad-ms2"]
 
 
 @pytest.mark.parametrize("name", DEVICES)
@@ -68,7 +72,8 @@ def test_independent_mimu_evaluates_within_U(harness, tmp_path, name):
     folder.mkdir()
     rng = np.random.default_rng([7, zlib.crc32(name.encode())])
     truth = variant.build(folder, rng, True)  # quick: 30 s records
-    code, doc, err = harness.run_metro(folder / "manifest.toml", variant.standard, variant.items, variant.options)
+    code, doc, err = harness.run_metro(folder / "manifest.toml", variant.standard, variant.items,
+                                       variant.options)
     assert code in (0, 3, 4), err
     assert not doc.get("manifest_warnings"), doc.get("manifest_warnings")
     rows = harness.score(truth, doc)

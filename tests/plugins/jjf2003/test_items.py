@@ -138,7 +138,8 @@ def test_full_matrices_recovered_within_uncertainty(default_run):
 
 
 def test_truth_is_non_trivial_and_resolved(default_run):
-    """Every off-diagonal K_g, K_a and p term is resolved: |value| > U (a zero matrix would fail)."""
+    """Every off-diagonal K_g, K_a and p term is resolved: |value| > U (a zero matrix would
+    fail)."""
     camp, rec = default_run
     for o in rec.outcomes:
         for r in o.results:
@@ -167,7 +168,8 @@ def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run):
 
     pm = get_plugin_manager(autoload=False)
     plain = rec.outcomes[1]
-    corr = run_items(pm, "jjf2003", ["7.2.2"], campaign=camp, options={"earth_rate": "yes"}).outcomes[0]
+    corr = run_items(pm, "jjf2003", ["7.2.2"], campaign=camp,
+                     options={"earth_rate": "yes"}).outcomes[0]
     assert any("DEVIATION" in w for w in corr.warnings)
     assert not any("DEVIATION" in w for w in plain.warnings)
     lat = 39.98
@@ -176,10 +178,11 @@ def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run):
         key = f"g_{r}{r}"
         d = plain.result(key).value.magnitude - corr.result(key).value.magnitude
         # the removed leak is K_g[i, i]·Ω·sin φ, with K_g from the campaign's sweeps
-        assert d == pytest.approx(K[i, i] * EARTH_RATE_DEG_S * math.sin(math.radians(lat)), rel=2e-3)
+        assert d == pytest.approx(K[i, i] * EARTH_RATE_DEG_S * math.sin(math.radians(lat)),
+                                  rel=2e-3)
         assert corr.result(key).note
-    # the uncorrected standard value sits off the truth by the leak (noise-free means; the mountings'
-    # ≤ 10″ tilts move it by G·δθ < 1e-6 (°/s)/gn)
+    # the uncorrected standard value sits off the truth by the leak (noise-free means; the
+    # mountings' ≤ 10″ tilts move it by G·δθ < 1e-6 (°/s)/gn)
     g_true = MimuTruth().G_deg_s_per_gn[0][0]
     assert camp.expected["g_xx"].magnitude - g_true == pytest.approx(
         K[0, 0] * EARTH_RATE_DEG_S * math.sin(math.radians(lat)), abs=1e-6)
@@ -191,7 +194,8 @@ def test_p_sign_follows_model_by_default(default_run):
 
     pm = get_plugin_manager(autoload=False)
     p_model = rec.outcomes[4]
-    p_printed = run_items(pm, "jjf2003", ["7.2.5"], campaign=camp, options={"sign": "as-printed"}).outcomes[0]
+    p_printed = run_items(pm, "jjf2003", ["7.2.5"], campaign=camp,
+                          options={"sign": "as-printed"}).outcomes[0]
     for r in p_model.results:
         assert np.sign(r.value.magnitude) == np.sign(camp.truth[r.metric.key].magnitude)
         assert p_printed.result(r.metric.key).value.magnitude == pytest.approx(-r.value.magnitude)
@@ -201,18 +205,22 @@ def test_p_sign_follows_model_by_default(default_run):
 def test_budgets_follow_appendix_a_structure(default_run):
     camp, rec = default_run
     b = rec.outcomes[0].result("K_gxx").budget
-    # appendix A's three, then the bias drift between the sweep's records (the station writes `started`),
-    # budgeted uncorrected: its effect on this steady gyro's K is not resolved (drift.CORRECT "significant"),
-    # and the change of its rate in time, not resolved either (u_dc)
+    # appendix A's three, then the bias drift between the sweep's records (the station writes
+    # `started`), budgeted uncorrected: its effect on this steady gyro's K is not resolved
+    # (drift.CORRECT "significant"), and the change of its rate in time, not resolved either (u_dc)
     assert [r.symbol for r in b.rows] == ["u₁", "u₂", "u₃", "u_d", "u_dc"]
     assert "not corrected" in str(b.rows[3].note)
     assert "corrected" not in str(rec.outcomes[0].result("K_gxx").note)
-    # k = t_p(ν_eff) at 95.45 % (interpretations.md "Coverage factor (JJF 2003)"): ≈ 2 here (u₁, u₂ dominate)
+    # k = t_p(ν_eff) at 95.45 % (interpretations.md "Coverage factor (JJF 2003)"): ≈ 2 here (u₁, u₂
+    # dominate)
     from scipy import stats
 
-    assert b.round_mode == "up" and b.k == pytest.approx(stats.t.ppf(0.97725, b.nu_eff)) and 2.0 <= b.k < 2.01
+    assert b.round_mode == "up" and b.k == pytest.approx(stats.t.ppf(0.97725,
+                                                                     b.nu_eff)) and 2.0 <= b.k < 2.01
     # u₁: table U = 2e-4, k = 2 → 1e-4 relative, times K
-    assert b.rows[0].contribution.magnitude == pytest.approx(1e-4 * rec.outcomes[0].result("K_gxx").value.magnitude)
+    assert b.rows[0].contribution.magnitude == pytest.approx(1e-4
+                                                             * rec.outcomes[0].result(
+                                                                 "K_gxx").value.magnitude)
     for o in rec.outcomes[1:]:
         for r in o.results:
             assert {"A", "B"} <= {row.type for row in r.budget.rows}
@@ -228,7 +236,8 @@ def test_twelve_bit_acquisition_quantization_row():
 
 
 def test_procedure_classes_are_registered(pm):
-    for cls in (GyroScaleFactor, GyroBiasGSensitivity, GyroCrossCoupling, AccelSixPosition, AccelRateSensitivity):
+    for cls in (GyroScaleFactor, GyroBiasGSensitivity, GyroCrossCoupling, AccelSixPosition,
+                AccelRateSensitivity):
         assert pm.procedure("jjf2003", cls.item) is cls
         assert cls.station == "simulated-mimu"
     assert pm.station("simulated-mimu")
@@ -283,19 +292,26 @@ def test_bad_options():
         run_items(pm, "jjf2003", ["7.2.5"], campaign=camp, options={"omega": "123 deg/s"})
 
 
-# ------------------------------------------------------------------------------ files, CLI, certificate
+# ------------------------------------------------------------------------------ files, CLI,
+# certificate
 
 
 def write_mimu_campaign(root: Path, camp, drop=(), shorten=()) -> Path:
-    """Write the campaign's segments as CSV files and a manifest (docs/standards/jjf2003.md layout)."""
+    """Write the campaign's segments as CSV files and a manifest (docs/standards/jjf2003.md
+    layout)."""
     root.mkdir(parents=True, exist_ok=True)
     lines = [
-        'format = "metro-campaign/1"', "", "[campaign]", 'id = "MIMU-T-1"', 'customer = "Example Nav Co."',
-        'customer_address = "1 Test Road"', 'laboratory = "Metro Lab"', 'laboratory_address = "2 Lab Street"',
-        'operator = "A. Tester"', 'checker = "B. Checker"', 'issuer = "C. Issuer"', 'issuer_title = "head"',
-        'received = "2026-11-01"', "", "[device]", 'id = "MIMU-7"', 'manufacturer = "Acme"', 'model = "IMU-1"',
+        'format = "metro-campaign/1"', "", "[campaign]", 'id = "MIMU-T-1"',
+        'customer = "Example Nav Co."',
+        'customer_address = "1 Test Road"', 'laboratory = "Metro Lab"',
+        'laboratory_address = "2 Lab Street"',
+        'operator = "A. Tester"', 'checker = "B. Checker"', 'issuer = "C. Issuer"',
+        'issuer_title = "head"',
+        'received = "2026-11-01"', "", "[device]", 'id = "MIMU-7"', 'manufacturer = "Acme"',
+        'model = "IMU-1"',
         'serial = "0007"', 'technology = "mems"', 'output = "rate"', 'gyro_range = "400 °/s"',
-        'accel_range = "8 gn"', "", "[environment]", 'temperature = "20.1 °C"', 'humidity = "40 %"', "",
+        'accel_range = "8 gn"', "", "[environment]", 'temperature = "20.1 °C"', 'humidity = "40 %"',
+        "",
         "[site]", 'latitude = "39.98°"', "", "[[equipment]]", 'id = "TBL-1"', 'role = "table"',
         'model = "three-axis table"', 'position_accuracy = "10″"', "[equipment.calibration]",
         'certificate = "CAL-TBL-1"', 'U = "2e-4"', "k = 2", "", "[[equipment]]", 'id = "DAQ-1"',
@@ -317,7 +333,10 @@ def write_mimu_campaign(root: Path, camp, drop=(), shorten=()) -> Path:
         lines += ["[[segments]]", f'id = "{seg.id}"', f'kind = "{seg.kind}"', f'file = "{fname}"',
                   'sample_interval = "0.01 s"', "[segments.conditions]"]
         for k, v in seg.conditions.items():
-            text = f"{v.magnitude:g} {'°/s' if k == 'rate' else '°'}" if hasattr(v, "magnitude") else str(v)
+            text = (
+                f"{v.magnitude:g} {'°/s' if k == 'rate' else '°'}" if hasattr(v, "magnitude")
+                else str(v)
+            )
             lines.append(f'{k} = "{text}"')
         lines.append("")
     (root / "manifest.toml").write_text("\n".join(lines), encoding="utf-8")
@@ -336,7 +355,8 @@ def test_cli_campaign_writes_certificate(files, run_cli, tmp_path):
     camp, root = files
     manifest = write_mimu_campaign(root / "good", camp)
     out = tmp_path / "cert.docx"
-    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", ",".join(ALL), "--data", str(manifest),
+    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", ",".join(ALL), "--data",
+                                str(manifest),
                                 "--report", str(out), "--no-progress", "--json")
     assert code == 0, err
     import json
@@ -348,7 +368,8 @@ def test_cli_campaign_writes_certificate(files, run_cli, tmp_path):
     text = "\n".join(p.text for p in d.paragraphs).replace("\u00a0", " ")
     cells = [[c.text.replace("\u00a0", " ") for c in row.cells] for t in d.tables for row in t.rows]
     flat = "\n".join(" | ".join(r) for r in cells)
-    for word in ("Example Nav Co.", "1 Test Road", "Metro Lab", "A. Tester", "B. Checker", "C. Issuer",
+    for word in ("Example Nav Co.", "1 Test Road", "Metro Lab", "A. Tester", "B. Checker",
+                 "C. Issuer",
                  "2026-11-01", "CAL-TBL-1", "0007", "20.1"):
         assert word in flat + text, word
     assert "SIMULATED" not in text
@@ -357,7 +378,8 @@ def test_cli_campaign_writes_certificate(files, run_cli, tmp_path):
     assert len(mats) >= 4  # appendix B: g and p, values and U each (then data tables in the annex)
     p_vals = mats[2]
     assert [p_vals.rows[i].cells[i].text for i in range(1, 4)] == ["0", "0", "0"]
-    for sec in ("1. 标度因数", "2. 零偏", "3. 陀螺交叉耦合系数", "4. 加速度计交叉耦合系数", "5. 陀螺加速度敏感系数",
+    for sec in ("1. 标度因数", "2. 零偏", "3. 陀螺交叉耦合系数", "4. 加速度计交叉耦合系数",
+                "5. 陀螺加速度敏感系数",
                 "6. 加速度计角速度灵敏系数"):
         assert sec in text
 
@@ -369,9 +391,11 @@ def test_cli_campaign_writes_certificate(files, run_cli, tmp_path):
 ])
 def test_cli_bad_campaigns_write_nothing(files, run_cli, tmp_path, drop, shorten, item, message):
     camp, root = files
-    manifest = write_mimu_campaign(root / f"bad-{item}-{len(drop)}", camp, drop=drop, shorten=shorten)
+    manifest = write_mimu_campaign(root / f"bad-{item}-{len(drop)}", camp, drop=drop,
+                                   shorten=shorten)
     out = tmp_path / "cert.docx"
-    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", item, "--data", str(manifest), "--report", str(out),
+    code, stdout, err = run_cli("run", "-s", "jjf2003", "-i", item, "--data", str(manifest),
+                                "--report", str(out),
                                 "--no-progress")
     assert code == 2
     assert message in err
@@ -430,9 +454,10 @@ def test_table_errors_are_simulated(monkeypatch):
 
     def rms_error():
         e = []
-        # seeds 502, 503: no gyro's pooled trend reaches 2.5 standard errors (502: |z| ≤ 1.05, 503: ≤ 1.12),
-        # so K is eq. (5)'s slope uncorrected (seeds 500, 501 have gyro z at 2.7 and 2.9 by chance: its K
-        # then carries the drift correction's own noise, ≈ 3×10⁻⁵, as large as a perfect table's error)
+        # seeds 502, 503: no gyro's pooled trend reaches 2.5 standard errors (502: |z| ≤ 1.05, 503:
+        # ≤ 1.12), so K is eq. (5)'s slope uncorrected (seeds 500, 501 have gyro z at 2.7 and 2.9 by
+        # chance: its K then carries the drift correction's own noise, ≈ 3×10⁻⁵, as large as a
+        # perfect table's error)
         for seed in range(2, 4):
             _, camp = _campaign(MimuTruth(seed=500 + seed), items=["7.2.1"])
             for r in run_items(pm, "jjf2003", ["7.2.1"], campaign=camp).outcomes[0].results:
@@ -471,17 +496,23 @@ def test_budget_rows_come_from_the_campaign_equipment(default_run):
     assert rows["u₂"].standard_uncertainty.magnitude == pytest.approx(1 / 2**12 / math.sqrt(3))
     Ka = rec.outcomes[1].result("K_axy")
     rows = {r.symbol: r for r in Ka.budget.rows}
-    assert rows["u₂"].standard_uncertainty.magnitude == pytest.approx(8.0 / 2**12 / math.sqrt(3))  # gn
+    # gn
+    assert rows["u₂"].standard_uncertainty.magnitude == pytest.approx(8.0 / 2**12 / math.sqrt(3))
     assert rows["u₂"].sensitivity.magnitude == pytest.approx(1.0)  # Σ|cᵢ| = ½ + ½
     assert rows["u₁"].standard_uncertainty.to("rad").magnitude == pytest.approx(
         math.radians(20 / 3600) / math.sqrt(3))
     bare = run_items(pm, "jjf2003", ["7.2.1", "7.2.4"], campaign=attrs.evolve(camp, equipment=[]))
-    # without equipment: u₃, and for K_a the site's gravity and the fixture at 6.2's 10″ (not equipment rows); u_d, the gyro bias drift between the sweep's records, from the data and their times
-    for o, key, kept in ((bare.outcomes[0], "K_gxx", ["u₃", "u_d", "u_dc"]), (bare.outcomes[1], "K_axy", ["u₃", "u_g", "u_f"])):
+    # without equipment: u₃, and for K_a the site's gravity and the fixture at 6.2's 10″ (not
+    # equipment rows); u_d, the gyro bias drift between the sweep's records, from the data and their
+    # times
+    for o, key, kept in ((bare.outcomes[0], "K_gxx", ["u₃", "u_d", "u_dc"]),
+                         (bare.outcomes[1], "K_axy", ["u₃", "u_g", "u_f"])):
         rows = o.result(key).budget.rows
         assert [r.symbol for r in rows if r.symbol != "—"] == kept
-        # the absent equipment is a zero note row, not a silent gap (core.campaign.note_absent_equipment)
-        assert sorted(r.source.split(":")[0] for r in rows if r.symbol == "—") == ["acquisition", "rate_table"]
+        # the absent equipment is a zero note row, not a silent gap
+        # (core.campaign.note_absent_equipment)
+        assert sorted(r.source.split(":")[0] for r in rows if r.symbol
+                      == "—") == ["acquisition", "rate_table"]
         assert all(r.contribution.magnitude == 0 for r in rows if r.symbol == "—")
     w = " ".join(bare.outcomes[0].warnings + bare.outcomes[1].warnings)
     assert "three-axis table" in w and "acquisition `bits`" in w and "position_accuracy" in w
@@ -492,11 +523,13 @@ def test_acquire_then_run_data_gives_the_in_memory_results(run_cli, tmp_path):
     U as the in-memory run on the same station, and one certificate."""
     import json
 
-    code, _, err = run_cli("acquire", "-s", "jjf2003", "-i", ",".join(ALL), "--out", str(tmp_path / "c"),
+    code, _, err = run_cli("acquire", "-s", "jjf2003", "-i", ",".join(ALL), "--out",
+                           str(tmp_path / "c"),
                            "--seed", "77", "--no-progress")
     assert code == 0, err
     out = tmp_path / "cert.docx"
-    code, stdout, err = run_cli("run", "-s", "jjf2003", "--all", "--data", str(tmp_path / "c" / "manifest.toml"),
+    code, stdout, err = run_cli("run", "-s", "jjf2003", "--all", "--data",
+                                str(tmp_path / "c" / "manifest.toml"),
                                 "--report", str(out), "--no-progress", "--json")
     assert code == 0, err
     disk = {r["key"] + "@" + r["item"]: (r["value"], r["U"]) for r in json.loads(stdout)["results"]}
@@ -520,7 +553,8 @@ def test_certificate_states_the_earth_rate_deviation(files, run_cli, tmp_path):
     camp, root = files
     manifest = write_mimu_campaign(root / "dev", camp)
     out = tmp_path / "dev.docx"
-    code, _, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data", str(manifest), "--report", str(out),
+    code, _, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data", str(manifest),
+                           "--report", str(out),
                            "-o", "earth_rate=yes", "--no-progress")
     assert code == 0, err
     d = docx.Document(str(out))
@@ -557,7 +591,8 @@ def test_scale_factor_u3_is_the_spread_of_repeated_calibrations():
         u3 = next(x for x in r.budget.rows if x.symbol == "u₃")
         assert u3.dof == 4 and "5 calibrations" in u3.source
         ks = [r.value.magnitude]
-        assert u3.standard_uncertainty.magnitude > 2e-4  # a 1e-3 relative spread, not the 1e-5 fit error
+        # a 1e-3 relative spread, not the 1e-5 fit error
+        assert u3.standard_uncertainty.magnitude > 2e-4
         # the power-on draw puts this calibration's K off the device's by ~1e-3: U covers it
         assert abs(r.value.magnitude - camp.truth[f"K_g{a}{a}"].magnitude) <= r.U.magnitude
         assert r.earth_rate == "not applicable"
@@ -567,7 +602,8 @@ def test_scale_factor_u3_is_the_spread_of_repeated_calibrations():
 
 
 def test_every_result_discloses_the_earth_rate(default_run):
-    """Issue 13: earth_rate on every JJF 2003 result; the g diagonal holds K_g·Ω_e·sin φ as printed."""
+    """Issue 13: earth_rate on every JJF 2003 result; the g diagonal holds K_g·Ω_e·sin φ as
+    printed."""
     camp, rec = default_run
     for o in rec.outcomes:
         for r in o.results:
@@ -576,20 +612,23 @@ def test_every_result_discloses_the_earth_rate(default_run):
     assert g["g_xx"].earth_rate == "included" and "earth_rate = yes" in g["g_xx"].note
     # the cross terms hold K_g[i, j]·Ω_e·sin φ too (the independent harness: up to 0.75 U on a quiet
     # MIMU with 2 % cross-coupling at 80°, labelled "not applicable" before)
-    assert g["g_xy"].earth_rate == "included" and "K_gxy" in g["g_xy"].note and "earth_rate = yes" in g["g_xy"].note
+    assert g["g_xy"].earth_rate == "included" and "K_gxy" in g[
+        "g_xy"].note and "earth_rate = yes" in g["g_xy"].note
     assert g["B_gx"].earth_rate == "not applicable"
 
 
-@pytest.mark.parametrize("cls, opts", [("mems-16bit", {}), ("mems-12bit", {}), ("mems-power-on", {"repeats": "3"})])
+@pytest.mark.parametrize("cls, opts", [("mems-16bit", {}), ("mems-12bit", {}),
+                                       ("mems-power-on", {"repeats": "3"})])
 def test_device_class_truth_within_U(cls, opts):
-    """One modest run per device class (issue 13; the ≥ 200-seed tables are on docs/standards/jjf2003.md):
-    the 7.2.1 scale factors and the 7.2.2 biases of two devices of the class within their U (one
-    in eight outside at most: a 95 % interval misses one in twenty)."""
+    """One modest run per device class (issue 13; the ≥ 200-seed tables are on
+    docs/standards/jjf2003.md): the 7.2.1 scale factors and the 7.2.2 biases of two devices of the
+    class within their U (one in eight outside at most: a 95 % interval misses one in twenty)."""
     from metro.core.run.plugin_manager import get_plugin_manager
     from metro.core.cli.present import truth_checks
     from metro.instruments.mimu import DEVICE_CLASSES, station_factory
 
-    assert cls in DEVICE_CLASSES and station_factory(device_class=cls, seed=1).truth.device_class == cls
+    assert cls in DEVICE_CLASSES and station_factory(device_class=cls,
+                                                     seed=1).truth.device_class == cls
     pm = get_plugin_manager(autoload=False)
     checks = []
     for seed in (1, 2):

@@ -1,4 +1,5 @@
-"""JJF 2003: what the site, the table and the fixture put into the matrices (plugins/jjf2003/mounting.py).
+"""JJF 2003: what the site, the table and the fixture put into the matrices
+(plugins/jjf2003/mounting.py).
 
 Found by the independent harness (benchmarks/independent_jjf2003.py, docs/independent-campaigns.md
 "JJF 2003: MIMU matrices"): K_a's diagonal was off by g/g_n − 1 (up to ±2.6×10⁻³, 15–660 U) because
@@ -28,23 +29,30 @@ P = np.array([[0, 2e-4, -1e-4], [1e-4, 0, 3e-4], [-2e-4, 1e-4, 0]])
 UP = {"+x": (0, 1), "-x": (0, -1), "+y": (1, 1), "-y": (1, -1), "+z": (2, 1), "-z": (2, -1)}
 
 
-def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_tilt=0.0, extra_table=(), lat=0.0):
+def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_tilt=0.0,
+           extra_table=(), lat=0.0):
     """A noise-free MIMU (eq. (1), (2); G = 0, no earth rate) at latitude 0: positions feel ±g_loc
     along the up axis; the sweep about j turns about e_j tilted by ``sweep_misalign`` (rad) towards
     the next axis; at rest the table axis leans by ``rest_tilt`` (rad) towards the next axis."""
     root.mkdir()
     f = g_loc / GN
-    lines = ['format = "metro-campaign/1"', "[device]", 'id = "M"', 'output = "rate"', 'gyro_range = "400 °/s"',
-             'accel_range = "8 gn"', "[environment]", 'temperature = "20 °C"', 'humidity = "40 %"', "[site]",
-             f'latitude = "{lat!r}°"', *site, "[[equipment]]", 'id = "T"', 'role = "rate_table"', 'position_accuracy = "10″"',
-             *extra_table, "[equipment.calibration]", 'certificate = "C"', f'U = "{table_U}"', "k = 2",
+    lines = ['format = "metro-campaign/1"', "[device]", 'id = "M"', 'output = "rate"',
+             'gyro_range = "400 °/s"',
+             'accel_range = "8 gn"', "[environment]", 'temperature = "20 °C"', 'humidity = "40 %"',
+             "[site]",
+             f'latitude = "{lat!r}°"', *site, "[[equipment]]", 'id = "T"', 'role = "rate_table"',
+             'position_accuracy = "10″"',
+             *extra_table, "[equipment.calibration]", 'certificate = "C"', f'U = "{table_U}"',
+             "k = 2",
              "[[equipment]]", 'id = "D"', 'role = "acquisition"', "bits = 24", ""]
     wiggle = 1e-9 * np.where(np.arange(40) % 2, 1.0, -1.0)
 
     def seg(sid, kind, w, a, cond):
         data = np.column_stack([np.full(40, v) + wiggle for v in list(w) + list(a)])
         head = "gx [°/s],gy [°/s],gz [°/s],ax [gn],ay [gn],az [gn]"
-        (root / f"{sid}.csv").write_text(head + "\n" + "\n".join(",".join(repr(float(x)) for x in r) for r in data)
+        (root / f"{sid}.csv").write_text(head + "\n"
+                                         + "\n".join(",".join(repr(float(x)) for x in r) for r
+                                                     in data)
                                          + "\n", encoding="utf-8")
         lines.extend(["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{sid}.csv"',
                       'sample_interval = "1 s"', "[segments.conditions]",
@@ -74,7 +82,8 @@ def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_
 
 
 def _run(run_cli, manifest, items):
-    code, out, err = run_cli("run", "-s", "jjf2003", "-i", items, "--data", str(manifest), "--json", "--no-report")
+    code, out, err = run_cli("run", "-s", "jjf2003", "-i", items, "--data", str(manifest), "--json",
+                             "--no-report")
     assert code in (0, 3, 4), err
     doc = json.loads(out)
     return {(r["item"], r["key"]): r for r in doc["results"]}, doc
@@ -86,8 +95,10 @@ def test_six_position_divides_by_the_local_gravity(run_cli, tmp_path):
     the matrix is exact; without it GRS 80 normal gravity at the latitude (and altitude) is used and
     its anomaly is a budget row."""
     g_eq = normal_gravity(0.0)
-    res, _ = _run(run_cli, _write(tmp_path / "stated", g_loc=9.7803, site=['gravity = "9.7803 m/s²"',
-                                                                          'gravity_uncertainty = "0.00001 m/s²"']),
+    res, _ = _run(run_cli, _write(tmp_path / "stated", g_loc=9.7803,
+                                  site=['gravity = "9.7803 m/s²"',
+                                                                          'gravity_uncertainty = '
+                                                                              '"0.00001 m/s²"']),
                   "7.2.2,7.2.4")
     for i, r in enumerate("xyz"):
         for j, c in enumerate("xyz"):
@@ -109,9 +120,11 @@ def test_six_position_divides_by_the_local_gravity(run_cli, tmp_path):
 
 def test_bad_site_gravity_is_refused(run_cli, tmp_path):
     manifest = _write(tmp_path / "bad", site=['gravity = "1 gn"'])
-    manifest.write_text(manifest.read_text(encoding="utf-8").replace('gravity = "1 gn"', 'gravity = "9.1 m/s²"'),
+    manifest.write_text(manifest.read_text(encoding="utf-8").replace('gravity = "1 gn"',
+                                                                     'gravity = "9.1 m/s²"'),
                         encoding="utf-8")
-    code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.4", "--data", str(manifest), "--json", "--no-report")
+    code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.4", "--data", str(manifest),
+                             "--json", "--no-report")
     assert code == 2 and "Traceback" not in err
     doc = json.loads(out)
     assert doc["field"] == "site.gravity" and "9.1" in doc["message"]
@@ -138,7 +151,8 @@ def test_cross_coupling_budget_covers_the_swept_axis_alignment(run_cli, tmp_path
 def test_cross_coupling_alignment_rows_read_the_equipment(run_cli, tmp_path):
     manifest = _write(tmp_path / "eq", extra_table=['axis_perpendicularity = "3″"'])
     text = manifest.read_text(encoding="utf-8").replace(
-        "[[equipment]]\nid = \"D\"", "[[equipment]]\nid = \"F\"\nrole = \"fixture\"\nperpendicularity = \"4″\"\n\n"
+        "[[equipment]]\nid = \"D\"",
+        "[[equipment]]\nid = \"F\"\nrole = \"fixture\"\nperpendicularity = \"4″\"\n\n"
         "[[equipment]]\nid = \"D\"")
     manifest.write_text(text, encoding="utf-8")
     res, _ = _run(run_cli, manifest, "7.2.3")
@@ -149,8 +163,8 @@ def test_cross_coupling_alignment_rows_read_the_equipment(run_cli, tmp_path):
 
 def test_p_budget_covers_the_table_axis_leaning_at_rest(run_cli, tmp_path):
     """U₇ is read at rest: a table axis leaning 8″ puts K_ii·g·δ = 3.9×10⁻⁵ g_n on accelerometer i,
-    which turning at ω averages out of U₈: p errs by 8×10⁻⁷ g_n/(rad/s)², where the 24-bit noise-free
-    budget was 2×10⁻⁸."""
+    which turning at ω averages out of U₈: p errs by 8×10⁻⁷ g_n/(rad/s)², where the 24-bit
+    noise-free budget was 2×10⁻⁸."""
     d = 8 * ARCSEC
     res, _ = _run(run_cli, _write(tmp_path / "p", rest_tilt=d), "7.2.5")
     w2 = math.radians(400) ** 2
@@ -165,8 +179,8 @@ def test_p_budget_covers_the_table_axis_leaning_at_rest(run_cli, tmp_path):
 def test_earth_rate_is_in_every_g_term_of_its_column(run_cli, tmp_path):
     """With axis j up the vertical earth rate lies along +j and flips with it, so eq. (7) puts
     K_g[:, j]·Ω_e·sin φ into the whole column j of the g matrix: the cross terms hold the
-    cross-coupling times it (8×10⁻⁵ (°/s)/gn for 2 % at 80°, 0.75 U on a quiet MIMU), and were labelled
-    earth rate "not applicable".  Here G = 0: every g term is the leak."""
+    cross-coupling times it (8×10⁻⁵ (°/s)/gn for 2 % at 80°, 0.75 U on a quiet MIMU), and were
+    labelled earth rate "not applicable". Here G = 0: every g term is the leak."""
     lat = 60.0
     wv = math.degrees(7.2921150e-5) * math.sin(math.radians(lat))
     manifest = _write(tmp_path / "e", lat=lat, site=['gravity = "9.80665 m/s²"'])
@@ -176,7 +190,8 @@ def test_earth_rate_is_in_every_g_term_of_its_column(run_cli, tmp_path):
             g = res[("7.2.2", f"g_{r}{c}")]
             assert g["value"] == pytest.approx(KG[i, j] * wv, abs=1e-12)
             assert g["earth_rate"] == "included", (r, c, g["earth_rate"])
-    code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data", str(manifest), "--json", "--no-report",
+    code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data", str(manifest),
+                             "--json", "--no-report",
                              "-o", "earth_rate=yes")
     assert code in (0, 3, 4), err
     for x in json.loads(out)["results"]:

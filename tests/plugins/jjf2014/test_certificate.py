@@ -1,4 +1,5 @@
-"""JJF 2014 certificate: layout registered, appendix-A rows, items not performed marked, page x of y."""
+"""JJF 2014 certificate: layout registered, appendix-A rows, items not performed marked, page x of
+y."""
 
 from __future__ import annotations
 
@@ -55,7 +56,8 @@ def test_certificate_written_with_the_registered_layout(record, tmp_path):
     d = docx.Document(out)
     text = "\n".join(p.text for p in d.paragraphs).replace("\u00a0", " ")
     # a bilingual header cell is two lines (Chinese above English): read it as one
-    cells = "\n".join(c.text.replace("\n", " ") for t in d.tables for row in t.rows for c in row.cells).replace("\u00a0", " ")
+    cells = "\n".join(c.text.replace("\n", " ") for t in d.tables for row in t.rows for c
+                      in row.cells).replace("\u00a0", " ")
     assert "校准证书" in text
     assert "本证书的校准结果仅对被校对象有效。" in text and "未经实验室书面批准，不得部分复制本证书。" in text
     assert cells.count("未检测 not performed") == 24 - 7
@@ -71,7 +73,8 @@ def test_certificate_written_with_the_registered_layout(record, tmp_path):
 
 
 def test_cli_runs_an_item_on_the_simulated_station(run_cli, tmp_path):
-    code, out, err = run_cli("--no-plugin-autoload", "run", "--standard", "jjf2014", "--item", "7.2.1,7.2.3",
+    code, out, err = run_cli("--no-plugin-autoload", "run", "--standard", "jjf2014", "--item",
+                             "7.2.1,7.2.3",
                              "--json", "--out", str(tmp_path))
     assert code == 0, err
     data = json.loads(out)
@@ -86,9 +89,12 @@ def _write_recorded_campaign(root: Path) -> Path:
     from metro.instruments.vibratory import VibratoryTruth, simulate_segment
 
     t = VibratoryTruth(seed=99)
-    lines = ['format = "metro-campaign/1"', "", "[campaign]", 'id = "JJF-REC-1"', 'customer = "ACME Navigation"',
-             'lab = "Test lab"', "", "[device]", 'id = "MVG-7"', 'model = "MVG-100"', 'serial = "7"',
-             'output = "analog"', "", "[environment]", 'temperature = "20.5 °C"', 'humidity = "40 %"', "",
+    lines = ['format = "metro-campaign/1"', "", "[campaign]", 'id = "JJF-REC-1"',
+             'customer = "ACME Navigation"',
+             'lab = "Test lab"', "", "[device]", 'id = "MVG-7"', 'model = "MVG-100"',
+             'serial = "7"',
+             'output = "analog"', "", "[environment]", 'temperature = "20.5 °C"',
+             'humidity = "40 %"', "",
              "[site]", 'latitude = "39.98°"', "",
              "[[equipment]]", 'id = "RT-1"', 'role = "rate-table"', "[equipment.calibration]",
              'certificate = "RT-CAL-1"', 'U = "1e-4"', "k = 2", "",
@@ -101,7 +107,8 @@ def _write_recorded_campaign(root: Path) -> Path:
     for sid, kind, cond, n, dt_ in segs:
         cols = simulate_segment(t, kind, cond, n, dt_, 39.98, rng)
         fname = f"{sid}.csv"
-        (root / fname).write_text("output [mV]\n" + "\n".join(f"{v:.6f}" for v in cols["output"][0]) + "\n",
+        (root / fname).write_text("output [mV]\n"
+                                  + "\n".join(f"{v:.6f}" for v in cols["output"][0]) + "\n",
                                   encoding="utf-8")
         lines += ["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{fname}"',
                   f'sample_interval = "{dt_:g} s"', "[segments.conditions]"]
@@ -114,7 +121,8 @@ def test_recorded_campaign_from_manifest(run_cli, tmp_path):
     from metro.instruments.vibratory import VibratoryTruth
 
     man = _write_recorded_campaign(tmp_path)
-    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.1,7.2.13", "--data", str(man),
+    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.1,7.2.13",
+                             "--data", str(man),
                              "--json", "--report", str(tmp_path / "cert.docx"))
     assert code == 0, err
     data = json.loads(out)
@@ -132,15 +140,18 @@ def test_recorded_campaign_from_manifest(run_cli, tmp_path):
 def test_recorded_campaign_with_a_bad_unit_writes_nothing(run_cli, tmp_path):
     man = _write_recorded_campaign(tmp_path)
     p = tmp_path / "static.csv"
-    p.write_text(p.read_text(encoding="utf-8").replace("output [mV]", "output [deg/h]"), encoding="utf-8")
-    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.13", "--data", str(man),
+    p.write_text(p.read_text(encoding="utf-8").replace("output [mV]", "output [deg/h]"),
+                 encoding="utf-8")
+    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "jjf2014", "-i", "7.2.13",
+                             "--data", str(man),
                              "--report", str(tmp_path / "cert.docx"))
     assert code == 2 and "output" in err
     assert not (tmp_path / "cert.docx").exists()
 
 
 ALL = [f"7.2.{i}" for i in range(1, 24)]
-ACQ_OPTS = ["-o", "records=2", "-o", "frequencies=10", "-o", "sample_rate=2000 Hz", "-o", "rates=1, 4, 16, 40, 100"]
+ACQ_OPTS = ["-o", "records=2", "-o", "frequencies=10", "-o", "sample_rate=2000 Hz", "-o",
+            "rates=1, 4, 16, 40, 100"]
 
 
 @pytest.fixture(scope="module")
@@ -149,20 +160,23 @@ def acquired(tmp_path_factory):
     from metro.core.cli.app import main
 
     root = tmp_path_factory.mktemp("acq") / "c"
-    code = main(["acquire", "-s", "jjf2014", "-i", ",".join(ALL), "--out", str(root), "--seed", "11",
+    code = main(["acquire", "-s", "jjf2014", "-i", ",".join(ALL), "--out", str(root), "--seed",
+                 "11",
                  "--station-option", "duration_scale=0.25", "--no-progress", *ACQ_OPTS])
     assert code == 0
     return root / "manifest.toml"
 
 
-def test_acquire_then_one_command_evaluates_the_campaign_and_writes_the_certificate(acquired, run_cli, tmp_path):
+def test_acquire_then_one_command_evaluates_the_campaign_and_writes_the_certificate(
+    acquired, run_cli, tmp_path):
     """acquire → `metro run --all --data` (recorded data): the same values and U as the in-memory
     run on the same station, all 24 appendix-A rows filled, the five figures, page x of y."""
     from metro.core.run.plugin_manager import get_plugin_manager
     from metro.core.run.runner import split_options
 
     out = tmp_path / "cert.docx"
-    code, stdout, err = run_cli("run", "-s", "jjf2014", "--all", "--data", str(acquired), "--report", str(out),
+    code, stdout, err = run_cli("run", "-s", "jjf2014", "--all", "--data", str(acquired),
+                                "--report", str(out),
                                 "--no-progress", "--json")
     assert code == 0, err
     disk = {f"{r['key']}@{r['item']}": (r["value"], r["U"]) for r in json.loads(stdout)["results"]}
@@ -190,7 +204,8 @@ def test_acquire_then_one_command_evaluates_the_campaign_and_writes_the_certific
 
 @pytest.mark.parametrize("old,new,field", [('position = "4"', 'position = "five"', "position"),
                                            ('trial = "rate"', 'trial = "warm"', "trial")])
-def test_acquired_campaign_with_a_bad_condition_writes_nothing(acquired, run_cli, tmp_path, old, new, field):
+def test_acquired_campaign_with_a_bad_condition_writes_nothing(acquired, run_cli, tmp_path, old,
+                                                               new, field):
     import shutil
 
     root = tmp_path / "c"
@@ -200,7 +215,8 @@ def test_acquired_campaign_with_a_bad_condition_writes_nothing(acquired, run_cli
     assert old in text
     man.write_text(text.replace(old, new, 1), encoding="utf-8")
     out = tmp_path / "cert.docx"
-    code, _, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1,7.2.11,7.2.23", "--data", str(man), "--report", str(out),
+    code, _, err = run_cli("run", "-s", "jjf2014", "-i", "7.2.1,7.2.11,7.2.23", "--data", str(man),
+                           "--report", str(out),
                            "--no-progress")
     # a condition is the manifest's field: the manifest is named, not the samples file (issue 14)
     assert code == 2 and f"conditions.{field}" in err and f"{man}, field" in err

@@ -40,9 +40,12 @@ class _Writer:
     def manifest(self, device: dict, chamber_U: str = "0.5 °C") -> Path:
         lines = ['format = "metro-campaign/1"', "[campaign]", 'id = "hand"', "[device]"]
         lines += [f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in device.items()]
-        lines += ["[environment]", 'temperature = "20 °C"', 'humidity = "40 %"', "[site]", 'latitude = "30°"']
-        for eid, role, U in (("RT", "rate_table", "1e-4"), ("DMM", "dmm", "2e-5"), ("CH", "chamber", chamber_U)):
-            lines += ["[[equipment]]", f'id = "{eid}"', f'role = "{role}"', "[equipment.calibration]",
+        lines += ["[environment]", 'temperature = "20 °C"', 'humidity = "40 %"', "[site]",
+                  'latitude = "30°"']
+        for eid, role, U in (("RT", "rate_table", "1e-4"), ("DMM", "dmm", "2e-5"),
+                             ("CH", "chamber", chamber_U)):
+            lines += ["[[equipment]]", f'id = "{eid}"', f'role = "{role}"',
+                      "[equipment.calibration]",
                       f'certificate = "C-{eid}"', f'U = "{U}"', "k = 2"]
         for sid, kind, name, dt, cond in self.segs:
             lines += ["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{name}"',
@@ -56,12 +59,14 @@ class _Writer:
 def _run(manifest: Path, items: str) -> dict:
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(["run", "-s", "jjf2014", "-i", items, "--data", str(manifest), "--json", "--no-report", "--quiet"])
+        code = main(["run", "-s", "jjf2014", "-i", items, "--data", str(manifest), "--json",
+                     "--no-report", "--quiet"])
     assert code in (0, 3, 4), err.getvalue()[-2000:]
     return {r["key"]: r for r in json.loads(out.getvalue())["results"]}
 
 
-def _cal(w: _Writer, rng, K: float, kind: str, prefix: str, cond: dict, *, bias: float = 0.0, c3: float = 0.0,
+def _cal(w: _Writer, rng, K: float, kind: str, prefix: str, cond: dict, *, bias: float = 0.0,
+         c3: float = 0.0,
          sd: float = 1e-4, n: int = 10, rates=R5) -> None:
     """One 7.2.1.1 calibration: K·(Ω + c₃Ω³/Ω_m² + B/3600) mV plus white noise ``sd`` (mV)."""
     om_m = max(rates)
@@ -75,19 +80,23 @@ def _cal(w: _Writer, rng, K: float, kind: str, prefix: str, cond: dict, *, bias:
 
 def test_a_chamber_U_in_degrees_celsius_is_a_temperature_difference():
     """docs/data-format.md: the chamber's U is in °C.  "0.5 °C" is read as 0.5 K (a difference):
-    as the temperature 0.5 °C it could not be divided by k, and 7.2.5 / 7.2.16 ended in a traceback."""
-    cal = calibration_from_table({"certificate": "C", "U": "0.5 °C", "k": 2}, "m.toml", "equipment[0].calibration")
+    as the temperature 0.5 °C it could not be divided by k, and 7.2.5 / 7.2.16 ended in a
+    traceback."""
+    cal = calibration_from_table({"certificate": "C", "U": "0.5 °C", "k": 2}, "m.toml",
+                                 "equipment[0].calibration")
     assert cal.uncertainty.to("delta_degC").magnitude == 0.5
     assert (cal.uncertainty / 2).to("K").magnitude == 0.25
-    cal_f = calibration_from_table({"certificate": "C", "U": "0.9 degF"}, "m.toml", "equipment[0].calibration")
+    cal_f = calibration_from_table({"certificate": "C", "U": "0.9 degF"}, "m.toml",
+                                   "equipment[0].calibration")
     assert math.isclose(cal_f.uncertainty.to("delta_degC").magnitude, 0.5)
 
 
 def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(tmp_path):
-    """7.2.16: B_0i is an equivalent input rate at T_i, F̄_i over the K the device has at T_i.  Device
-    (hand-made): K = 20 mV/((°)/s) × (1 + 3×10⁻⁴·(T − 20 °C)), bias 300 + 0.1·(T − 20) °/h, so B_t =
-    0.1 °/h/°C exactly; over the room K every B_0i errs by 300·3×10⁻⁴·ΔT, and B_t read 0.19 with U ≈ 0.01.
-    With the 7.2.5 calibrations at the same points metro divides by K·K_i/K_m (tolerance: U)."""
+    """7.2.16: B_0i is an equivalent input rate at T_i, F̄_i over the K the device has at T_i.
+    Device (hand-made): K = 20 mV/((°)/s) × (1 + 3×10⁻⁴·(T − 20 °C)), bias 300 + 0.1·(T − 20) °/h,
+    so B_t = 0.1 °/h/°C exactly; over the room K every B_0i errs by 300·3×10⁻⁴·ΔT, and B_t read 0.19
+    with U ≈ 0.01. With the 7.2.5 calibrations at the same points metro divides by K·K_i/K_m
+    (tolerance: U)."""
     rng = np.random.default_rng(7)
     w = _Writer(tmp_path)
     K0, kt, b0, bt = 20.0, 3e-4, 300.0, 0.1
@@ -95,11 +104,13 @@ def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(tmp_path):
     temps = (-40.0, 20.0, 60.0)
     for T in temps:
         k = K0 * (1 + kt * (T - 20))
-        _cal(w, rng, k, "rate-temperature", f"rt@{T:g}", {"temperature": f"{T!r} degC"}, bias=b0 + bt * (T - 20))
+        _cal(w, rng, k, "rate-temperature", f"rt@{T:g}", {"temperature": f"{T!r} degC"}, bias=b0
+             + bt * (T - 20))
         f = k * (b0 + bt * (T - 20)) / 3600.0
         w.add(f"st@{T:g}", "static-temperature", f + 2e-4 * rng.standard_normal(3600),
               {"temperature": f"{T!r} degC", "orientation": "IRA up"})
-    res = _run(w.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}), "7.2.5,7.2.16")
+    res = _run(w.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
+               "7.2.5,7.2.16")
     assert math.isclose(res["Kt"]["value"], kt, rel_tol=0.05)
     r = res["Bt"]
     assert r["U"] < 0.03, r["U"]
@@ -110,15 +121,16 @@ def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(tmp_path):
     w2.segs = [s for s in w.segs if s[1] != "rate-temperature"]
     for sid, kind, name, dt, cond in w2.segs:
         (w2.folder / name).write_bytes((tmp_path / name).read_bytes())
-    r2 = _run(w2.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}), "7.2.16")["Bt"]
+    r2 = _run(w2.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
+              "7.2.16")["Bt"]
     assert "K_i/K_m" in r2["budget"]["note"], r2["budget"]["note"]
 
 
 def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
     """7.2.2.2, last sentence: the range is the largest set rate whose span meets the nonlinearity
-    requirement.  A cubic device (c₃ = 2×10⁻³ of full scale) whose ±100 °/s span's K_n lies between the
-    requirement and the requirement + its U: the range (a set point, U = 10⁻⁴ of it) depended on the
-    noise draw; now it is not reportable, and with a requirement far from every span's K_n it is
+    requirement. A cubic device (c₃ = 2×10⁻³ of full scale) whose ±100 °/s span's K_n lies between
+    the requirement and the requirement + its U: the range (a set point, U = 10⁻⁴ of it) depended on
+    the noise draw; now it is not reportable, and with a requirement far from every span's K_n it is
     reported (the noise-free answer)."""
     rng = np.random.default_rng(3)
     w = _Writer(tmp_path)
@@ -137,7 +149,8 @@ def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
     r = _run(manifest, "7.2.2")
     U_kn = r["Kn"]["U"]
     assert U_kn > 1e-4 * kn(100)  # the requirement is within U of the full span's K_n
-    assert r["range"]["reportable"] is False and "noise may decide" in r["range"]["reason"], r["range"]
+    assert r["range"]["reportable"] is False and "noise may decide" in r["range"]["reason"], r[
+        "range"]
     # a requirement far from every span's K_n: the noise-free range (63 °/s), reportable
     limit = math.sqrt(kn(100) * kn(63))
     assert kn(100) - U_kn > limit > kn(63)
@@ -148,7 +161,8 @@ def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
 def _misalignment_campaign(tmp_path, fixture: str | None) -> Path:
     """7.2.1 and one set of the four mountings (7.2.11.1) of a device whose input axis leans α = 6′,
     β = −8′ (γ = 10′); the fixture errs by 4′ and each seating by η = (2.5, −1.5, 2, 1)′ — the
-    re-seating a second set would show, which eqs. (21)/(24) do not cancel: α̂ = 8′, β̂ = −7.5′, γ̂ = 10.97′."""
+    re-seating a second set would show, which eqs. (21)/(24) do not cancel: α̂ = 8′, β̂ = −7.5′, γ̂
+    = 10.97′."""
     rng = np.random.default_rng(11)
     w = _Writer(tmp_path)
     K0 = 12.0
@@ -159,7 +173,8 @@ def _misalignment_campaign(tmp_path, fixture: str | None) -> Path:
         delta = (alpha if p < 3 else beta) * (1 if p in (1, 3) else -1) + eps + eta[p - 1]
         for s in (1, -1):
             f = K0 * (s * 360.0 * math.sin(delta) + 50.0 / 3600.0)
-            w.add(f"mis-p{p}{'+' if s > 0 else '-'}", "misalignment", f + 1e-3 * rng.standard_normal(60),
+            w.add(f"mis-p{p}{'+' if s > 0 else '-'}", "misalignment", f + 1e-3
+                  * rng.standard_normal(60),
                   {"position": str(p), "rate": f"{s * 360.0!r} deg/s", "run": "1"})
     m = w.manifest({"id": "MIS", "technology": "vibratory", "output": "analog"})
     if fixture is not None:
@@ -169,11 +184,11 @@ def _misalignment_campaign(tmp_path, fixture: str | None) -> Path:
 
 
 def test_one_set_of_mountings_does_not_know_the_reseating(tmp_path):
-    """7.2.11 alone: the eight means' scatter (U ≈ 0.002′, issue 13's example) left out how far another
-    seating puts the input axis — 0.97′ here.  Without 7.2.12 runs, device.misalignment_repeatability or the
-    fixture's reseat_tilt, γ_m is not reportable (the reason says what to give); with the fixture's
-    reseat_tilt (a half-width per mounting, as GB/T D.1) its row is in the budget and U covers the
-    truth 10′."""
+    """7.2.11 alone: the eight means' scatter (U ≈ 0.002′, issue 13's example) left out how far
+    another seating puts the input axis — 0.97′ here. Without 7.2.12 runs,
+    device.misalignment_repeatability or the fixture's reseat_tilt, γ_m is not reportable (the
+    reason says what to give); with the fixture's reseat_tilt (a half-width per mounting, as GB/T
+    D.1) its row is in the budget and U covers the truth 10′."""
     r = _run(_misalignment_campaign(tmp_path, None), "7.2.11")["gamma"]
     assert abs(r["value"] - 10.966) < 0.05
     assert r["reportable"] is False and "reseat_tilt" in r["reason"], r
@@ -185,11 +200,11 @@ def test_one_set_of_mountings_does_not_know_the_reseating(tmp_path):
 
 
 def test_a_curved_k_of_t_is_not_noise(tmp_path):
-    """7.2.5 is one power-on through the chamber (7.2.5.1 d)).  Without a K_r in the campaign the K_i
-    were drawn, for the selection correction of the largest slope, with their scatter about a straight
-    line in T — which on a curved K(T) is the curvature: the independent harness's devices read K_t with
-    mean E_n −0.38 (100 devices) and U ≈ 1.7 × the value.  Hand device: K = 20·(1 + 2×10⁻⁴ΔT +
-    2×10⁻⁶ΔT²) mV/((°)/s), noise 10⁻⁴ mV per sample; truth by eq. (11): max over T_i of
+    """7.2.5 is one power-on through the chamber (7.2.5.1 d)). Without a K_r in the campaign the K_i
+    were drawn, for the selection correction of the largest slope, with their scatter about a
+    straight line in T — which on a curved K(T) is the curvature: the independent harness's devices
+    read K_t with mean E_n −0.38 (100 devices) and U ≈ 1.7 × the value. Hand device: K = 20·(1 +
+    2×10⁻⁴ΔT + 2×10⁻⁶ΔT²) mV/((°)/s), noise 10⁻⁴ mV per sample; truth by eq. (11): max over T_i of
     |K_i/K_m − 1|/|ΔT| = 2×10⁻⁴ + 2×10⁻⁶·50 = 3.0×10⁻⁴ /°C at 70 °C.  Now the points carry their fits'
     u: K_t within 0.2 U of the truth and U under a tenth of it."""
     rng = np.random.default_rng(5)
@@ -205,6 +220,7 @@ def test_a_curved_k_of_t_is_not_noise(tmp_path):
         _cal(w, rng, k, "rate-temperature", f"rt@{T:g}", {"temperature": f"{T!r} degC"}, bias=100.0)
     truth = max(kt.values())
     assert math.isclose(truth, 3.0e-4)
-    r = _run(w.manifest({"id": "KT2", "technology": "vibratory", "output": "analog"}), "7.2.5")["Kt"]
+    r = _run(w.manifest({"id": "KT2", "technology": "vibratory", "output": "analog"}),
+             "7.2.5")["Kt"]
     assert abs(r["value"] - truth) <= 0.2 * r["U"], (r["value"], truth, r["U"])
     assert r["U"] < 0.1 * truth, r["U"]

@@ -1,14 +1,14 @@
-"""JJF 2014 campaigns from the independent harness's dynamic module (benchmarks/independent_jjf2014_dyn.py)
-read and evaluate within U.
+"""JJF 2014 campaigns from the independent harness's dynamic module
+(benchmarks/independent_jjf2014_dyn.py) read and evaluate within U.
 
 The module writes devices metro's simulators do not make — K of either sign shifted by shocks and
-vibrations on no, one or every axis, biases that shift, power-ons between records or not, flicker and a
-wander, mV and ratiometric mV/V outputs, first- and second-order frequency responses with a delay,
-start-up transients of several shapes — from the documented format only, and scores 7.2.7, 7.2.8, 7.2.14,
-7.2.18, 7.2.19, 7.2.21, 7.2.22 and 7.2.23 against the truth it knows by construction.  Here one short
-device of each kind: every result in the standard's unit, within U of the truth or not reportable with a
-reason.  The sweeps and their tables: docs/independent-campaigns.md, "JJF 2014: shock, vibration,
-stability and dynamic items".
+vibrations on no, one or every axis, biases that shift, power-ons between records or not, flicker
+and a wander, mV and ratiometric mV/V outputs, first- and second-order frequency responses with a
+delay, start-up transients of several shapes — from the documented format only, and scores 7.2.7,
+7.2.8, 7.2.14, 7.2.18, 7.2.19, 7.2.21, 7.2.22 and 7.2.23 against the truth it knows by construction.
+Here one short device of each kind: every result in the standard's unit, within U of the truth or
+not reportable with a reason. The sweeps and their tables: docs/independent-campaigns.md, "JJF 2014:
+shock, vibration, stability and dynamic items".
 """
 
 from __future__ import annotations
@@ -30,7 +30,8 @@ def test_the_module_does_not_use_metro_generators(benchmark_imports):
     the shared harness's command line)."""
     text, imports = benchmark_imports("independent_jjf2014_dyn")
     assert imports
-    assert not [ln for ln in imports if "metro" in ln or "simulat" in ln or "instruments" in ln], imports
+    assert not [ln for ln in imports if "metro" in ln or "simulat" in ln or "instruments"
+                in ln], imports
     assert "from independent_campaigns import (  # noqa: E402  (the shared pieces of the harness)" in imports
 
 
@@ -60,12 +61,16 @@ def test_independent_jjf2014_dynamic_device_within_U(dyn, tmp_path, name):
 
 
 def test_truth_of_the_dynamic_items(dyn):
-    """The harness's own truths on hand cases: a first-order response's 0.707 point is f_c·√(1/0.707² − 1) and
-    its −3 dB point f_c; eq. (50) on its exact phases with T = 1/(2πf_c) returns its delay."""
+    """The harness's own truths on hand cases: a first-order response's 0.707 point is
+    f_c·√(1/0.707² − 1) and its −3 dB point f_c; eq. (50) on its exact phases with T = 1/(2πf_c)
+    returns its delay."""
     r = dyn.Response(1, 80.0, 1.5e-3)
     assert r.level_point(0.707) == pytest.approx(80.0 * math.sqrt(1 / 0.707 ** 2 - 1), rel=1e-9)
     assert r.level_point(1 / math.sqrt(2)) == pytest.approx(80.0, rel=1e-9)
     f = np.geomspace(10, 160, 12)
     assert dyn.td_eq50(f, np.unwrap(np.angle(r(f))), 80.0) == pytest.approx(1.5e-3, rel=1e-9)
     # a second-order response with ζ = 1/√2 has its −3 dB point at f_n
-    assert dyn.Response(2, 100.0, 0.0, zeta=1 / math.sqrt(2)).level_point(1 / math.sqrt(2)) == pytest.approx(100.0, rel=1e-9)
+    assert dyn.Response(2, 100.0, 0.0, zeta=1
+                        / math.sqrt(2)).level_point(1
+                                                    / math.sqrt(2)) == pytest.approx(
+                                                        100.0, rel=1e-9)

@@ -2,13 +2,13 @@
 
 The harness builds optical-gyro angle-measuring instruments metro's simulator does not make — numpy
 generators written from docs/standards/ogam.md's data table and the draft's clauses only: pulse
-equivalents from 0.018″ to 7.2″, harmonic angle errors of other orders, a tilted sensing plane at any
-azimuth, residual earth-rate compensation errors of either sign, coarse and fine reading resolution,
-stops reached from 0° or in one run, other 7.6 rate points, south/west axes — and scores every
-result of 7.1–7.7 against the truth it knows by construction.  Here one short instrument of each
-variant (fewer Monte Carlo draws for the noise truths): metro must read it, give each result in the
-draft's unit and land within U of the truth or say why it cannot report it.  The sweep and its table
-are in docs/independent-campaigns.md, "ogam: the angle-measuring instrument"."""
+equivalents from 0.018″ to 7.2″, harmonic angle errors of other orders, a tilted sensing plane at
+any azimuth, residual earth-rate compensation errors of either sign, coarse and fine reading
+resolution, stops reached from 0° or in one run, other 7.6 rate points, south/west axes — and scores
+every result of 7.1–7.7 against the truth it knows by construction. Here one short instrument of
+each variant (fewer Monte Carlo draws for the noise truths): metro must read it, give each result in
+the draft's unit and land within U of the truth or say why it cannot report it. The sweep and its
+table are in docs/independent-campaigns.md, "ogam: the angle-measuring instrument"."""
 
 from __future__ import annotations
 

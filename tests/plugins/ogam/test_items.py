@@ -39,7 +39,9 @@ def test_tilt_simulation_reproduces_the_appendix_extreme():
 
 def test_tilt_simulation_scales_with_psi_squared_and_vanishes_without_tilt():
     assert F.tilt_error_simulation(0.0).extreme_arcsec == pytest.approx(0.0, abs=1e-6)
-    ratio = F.tilt_error_simulation(0.2).extreme_arcsec / F.tilt_error_simulation(0.1).extreme_arcsec
+    ratio = (
+        F.tilt_error_simulation(0.2).extreme_arcsec / F.tilt_error_simulation(0.1).extreme_arcsec
+    )
     assert ratio == pytest.approx(4.0, rel=1e-4)
 
 
@@ -134,8 +136,8 @@ def test_quiet_instrument_matches_the_model_exactly(pm):
         exp = camp.expected[key]
         assert _as_printed(got[key]).to(exp.units).magnitude == pytest.approx(exp.magnitude, rel=1e-9, abs=1e-12), key
     assert got["R"].value.magnitude == pytest.approx(0.0, abs=1e-9)
-    # K_l: the plugin does not know the counts are unrounded here, so it still takes off the widening
-    # that ±1 count (triangular) would give; the model's value stays within U
+    # K_l: the plugin does not know the counts are unrounded here, so it still takes off the
+    # widening that ±1 count (triangular) would give; the model's value stays within U
     kl = got["Kl"]
     assert abs(kl.value - camp.expected["Kl"]) <= kl.U
 
@@ -143,11 +145,13 @@ def test_quiet_instrument_matches_the_model_exactly(pm):
 def _as_printed(res):
     """A result's value as the draft prints its formula: K_l (7.2) is reported less the widening of
     a range by noise (interpretations.md), the budget's correction row u(δ) holds that widening."""
-    if res.metric.key in ("Cv", "Cg"):  # 7.6 / 7.7: the range less its widening, λ·printed with 0 ≤ λ ≤ 1
+    # 7.6 / 7.7: the range less its widening, λ·printed with 0 ≤ λ ≤ 1
+    if res.metric.key in ("Cv", "Cg"):
         corr = [r for r in res.budget.rows if r.symbol == "u(δ_R)"]
         if not corr:
             return res.value
-        return res.value + math.copysign(1.0, res.value.magnitude) * corr[0].value.to(res.value.units)
+        return res.value + math.copysign(1.0,
+                                         res.value.magnitude) * corr[0].value.to(res.value.units)
     if res.metric.key != "Kl":
         return res.value
     (corr,) = [r for r in res.budget.rows if r.symbol == "u(δ)"]
@@ -156,8 +160,10 @@ def _as_printed(res):
 
 def test_pure_scale_factor_error_gives_e_equal_eps_times_360_degrees(pm):
     eps = 1e-7
-    zero = dict(a1_arcsec=0.0, a2_arcsec=0.0, tilt_deg=0.0, rate_coeff=0.0, drift_deg_h=0.0, earth_comp_error=0.0,
-                arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0, resolution_arcsec=0.0)
+    zero = dict(a1_arcsec=0.0, a2_arcsec=0.0, tilt_deg=0.0, rate_coeff=0.0, drift_deg_h=0.0,
+                earth_comp_error=0.0,
+                arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0,
+                resolution_arcsec=0.0)
     rec, _ = _run(pm, ["7.4", "7.1"], scale_factor_error=eps, **zero)
     E = rec.outcomes[0].results[0].value.to("arcsec").magnitude
     assert E == pytest.approx(eps * 360 * 3600, rel=1e-6)
@@ -182,7 +188,8 @@ def test_noisy_instrument_e_within_U_of_truth_over_seeds(pm):
     for seed in range(8):
         rec, camp = _run(pm, ["7.4"], seed=seed)
         r = rec.outcomes[0].results[0]
-        inside += abs(r.value.to("arcsec").magnitude - camp.expected["E"].to("arcsec").magnitude) <= r.U.magnitude
+        inside += abs(r.value.to("arcsec").magnitude
+                      - camp.expected["E"].to("arcsec").magnitude) <= r.U.magnitude
         b = r.budget.as_dict()
         assert [row["symbol"] for row in b["rows"]] == ["u(P)", "u(θ_ψ)", "u(δ)", "u(r)", "u(q)"]
         assert b["k"] == 2.0
@@ -222,16 +229,19 @@ def test_74_round_option_picks_the_round(pm):
 # ----------------------------------------------------------------------- recorded data
 
 
-def _write_campaign(root: Path, rounds: int = 10, *, mismatch: bool = False, axis: str = "up") -> Path:
+def _write_campaign(root: Path, rounds: int = 10, *, mismatch: bool = False,
+                    axis: str = "up") -> Path:
     st = AngleInstrumentStation(truth=AngleInstrumentTruth(seed=5))
-    steps = [C.pos_step(60.0, "up", r) for r in range(1, rounds + 1)]  # the data; `axis` is what is declared
+    # the data; `axis` is what is declared
+    steps = [C.pos_step(60.0, "up", r) for r in range(1, rounds + 1)]
     lines = ["format = \"metro-campaign/1\"", "[campaign]", "id = \"OGAM-REC\"",
              "[device]", "id = \"OGA-7\"", "model = \"RLG angle meter\"", "output = \"pulse\"",
              "zero_stability = \"0.005 °/h\"",
              "[environment]", "temperature = \"20.1 °C\"", "humidity = \"50 %\"",
              "[site]", "latitude = \"39.98°\"",
              "[[equipment]]", "id = \"TT-1\"", "role = \"turntable\"", "parallelism = \"0.1°\"",
-             "[equipment.calibration]", "certificate = \"TT-CAL-1\"", "U = \"0.1″\"", "distribution = \"uniform\""]
+             "[equipment.calibration]", "certificate = \"TT-CAL-1\"", "U = \"0.1″\"",
+             "distribution = \"uniform\""]
     root.mkdir(parents=True, exist_ok=True)
     from metro.instruments.stations import step_seed
 
@@ -241,10 +251,13 @@ def _write_campaign(root: Path, rounds: int = 10, *, mismatch: bool = False, axi
         if mismatch and i == 1:
             S = S + 1.0
         name = f"round{i + 1}.csv"
-        (root / name).write_text("standard [°],reading [°]\n" + "".join(f"{float(s)!r},{float(m)!r}\n" for s, m in zip(S, M)),
+        (root / name).write_text("standard [°],reading [°]\n"
+                                 + "".join(f"{float(s)!r},{float(m)!r}\n" for s, m in zip(S, M)),
                                  encoding="utf-8")
-        lines += ["[[segments]]", f"id = \"r{i + 1}\"", "kind = \"positioning\"", f"file = \"{name}\"",
-                  "sample_interval = \"60 s\"", "[segments.conditions]", "rate = \"60 °/s\"", f"axis = \"{axis}\"",
+        lines += ["[[segments]]", f"id = \"r{i + 1}\"", "kind = \"positioning\"",
+                  f"file = \"{name}\"",
+                  "sample_interval = \"60 s\"", "[segments.conditions]", "rate = \"60 °/s\"",
+                  f"axis = \"{axis}\"",
                   f"round = {i + 1}"]
     (root / "manifest.toml").write_text("\n".join(lines) + "\n", encoding="utf-8")
     return root / "manifest.toml"
@@ -264,7 +277,8 @@ def test_recorded_campaign_via_cli(run_cli, tmp_path):
     import json
 
     man = _write_campaign(tmp_path)
-    code, out, err = run_cli("run", "-s", "ogam", "-i", "7.4", "--data", str(man), "--json", "--no-report",
+    code, out, err = run_cli("run", "-s", "ogam", "-i", "7.4", "--data", str(man), "--json",
+                             "--no-report",
                              "--no-progress")
     assert code == 0, err
     doc = json.loads(out)
@@ -273,7 +287,8 @@ def test_recorded_campaign_via_cli(run_cli, tmp_path):
 
 def test_bad_recorded_data_via_cli_writes_nothing(run_cli, tmp_path):
     man = _write_campaign(tmp_path / "c", 2, axis="sideways")
-    code, out, err = run_cli("run", "-s", "ogam", "-i", "7.4", "--data", str(man), "--out", str(tmp_path / "out"),
+    code, out, err = run_cli("run", "-s", "ogam", "-i", "7.4", "--data", str(man), "--out",
+                             str(tmp_path / "out"),
                              "--no-progress")
     assert code == 2 and "conditions.axis" in err and "sideways" in err
     assert not (tmp_path / "out").exists()
@@ -305,34 +320,42 @@ def test_acquire_then_run_all_seven_items_from_disk(run_cli, pm, tmp_path):
     from metro.core.run.runner import load_campaign
 
     camp_dir = tmp_path / "camp"
-    code, out, err = run_cli("--no-plugin-autoload", "acquire", "-s", "ogam", "-i", ",".join(ALL), "--out",
+    code, out, err = run_cli("--no-plugin-autoload", "acquire", "-s", "ogam", "-i", ",".join(ALL),
+                             "--out",
                              str(camp_dir), "--seed", "11", "--no-progress")
     assert code == 0, err
     manifest = camp_dir / "manifest.toml"
     kinds = {p.name.split("-")[0] for p in camp_dir.glob("*.csv")}
     assert kinds == {"sf", "zero", "pos"}, kinds
     cert = tmp_path / "cert.docx"
-    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "ogam", "--all", "--data", str(manifest), "--json",
+    code, out, err = run_cli("--no-plugin-autoload", "run", "-s", "ogam", "--all", "--data",
+                             str(manifest), "--json",
                              "--report", str(cert), "--no-progress")
     assert code == 0, err
     disk = {r["key"]: r for r in json.loads(out)["results"]}
     assert sorted(disk) == sorted(["K", "Kl", "Bs", "E", "R", "Cv", "Cg"])
     procs = [pm.procedure("ogam", i) for i in ALL]
     camp = load_campaign(pm, procs, [{} for _ in procs], data=None, station_options={"seed": 11})
-    mem = {r.metric.key: r for o in run_items(pm, "ogam", ALL, campaign=camp).outcomes for r in o.results}
+    mem = {r.metric.key: r for o in run_items(pm, "ogam", ALL, campaign=camp).outcomes for r
+           in o.results}
     for key, r in disk.items():
-        unit = mem[key].metric.unit  # the JSON gives values in the metric's unit (shown as "%", "″", …)
+        # the JSON gives values in the metric's unit (shown as "%", "″", …)
+        unit = mem[key].metric.unit
         assert r["value"] == pytest.approx(mem[key].value.to(unit).magnitude, rel=1e-9), key
         assert r["U"] == pytest.approx(mem[key].U.to(unit).magnitude, rel=1e-9), key
-        # k = 2 for E (appendix A 8, appendix B); k = t_p(ν_eff) at 95.45 % for the rest (interpretations.md)
-        assert r["k"] == (2.0 if key == "E" else pytest.approx(mem[key].budget.coverage.factor(mem[key].budget.nu_eff)))
+        # k = 2 for E (appendix A 8, appendix B); k = t_p(ν_eff) at 95.45 % for the rest
+        # (interpretations.md)
+        assert r["k"] == (2.0 if key == "E"
+                          else pytest.approx(mem[key].budget.coverage.factor(mem[
+                              key].budget.nu_eff)))
         assert r["k"] >= 2.0 - 1e-5 and mem[key].earth_rate == "removed"
     d = docx.Document(str(cert))
     (table,) = [t for t in d.tables if "校准项目" in t.rows[0].cells[1].text]
     rows = [[c.text.replace("\u00a0", " ") for c in row.cells] for row in table.rows]
     assert [r[0] for r in rows[1:]] == ["1", "2", "3", "4", "5", "6", "7"]
     assert not any(r[2].startswith(("—", "未检测")) for r in rows[1:]), rows
-    assert all(r[3].startswith("U = ") and "(k = " in r[3] for r in rows[1:]), rows  # clause 8: U per item
+    # clause 8: U per item
+    assert all(r[3].startswith("U = ") and "(k = " in r[3] for r in rows[1:]), rows
     assert "SIMULATED" in d.sections[0].header.paragraphs[-1].text
     assert len(d.inline_shapes) >= 5  # the five figures are placed
 
@@ -361,11 +384,13 @@ def test_certificate_appendix_b(pm, tmp_path):
     assert d.sections[0].page_width.mm == pytest.approx(210, abs=0.5)  # A4, not US Letter
 
 
-# ----------------------------------------------------------------------- one reference case per item
+# ----------------------------------------------------------------------- one reference case per
+# item
 
 #: the noise-free instrument (every random term off): each item's result equals the value the
 #: station's model gives independently (``campaign.expected``); R is then exactly 0
-QUIET = dict(arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0, resolution_arcsec=0.0)
+QUIET = dict(arw_deg_rt_h=0.0, reading_noise_arcsec=0.0, positioning_arcsec=0.0,
+             resolution_arcsec=0.0)
 
 
 @pytest.mark.parametrize("cls", P.PROCEDURES, ids=[c.item for c in P.PROCEDURES])
@@ -381,7 +406,8 @@ def test_reference_case_per_item(pm, cls, approx_quantity):
         from scipy import stats
 
         nu = res.budget.nu_eff
-        assert res.budget.k == pytest.approx(2.0000024 if math.isinf(nu) else stats.t.ppf(0.97725, nu), rel=1e-6)
+        assert res.budget.k == pytest.approx(2.0000024 if math.isinf(nu)
+                                             else stats.t.ppf(0.97725, nu), rel=1e-6)
     assert res.earth_rate == "removed" and "compensation" in res.note
     exp = Q_(0.0, "arcsec") if cls is Repeatability75 else camp.expected[res.metric.key]
     assert approx_quantity(exp, rel=1e-9, abs=Q_(1e-9, exp.units)) == _as_printed(res)
@@ -394,7 +420,8 @@ def test_scale_factor_within_U_of_truth_over_seeds(pm):
     for seed in range(10):
         rec, camp = _run(pm, ["7.1"], seed=seed)
         r = rec.outcomes[0].results[0]
-        inside += abs(r.value.magnitude - camp.expected["K"].to(r.value.units).magnitude) <= r.U.magnitude
+        inside += abs(r.value.magnitude
+                      - camp.expected["K"].to(r.value.units).magnitude) <= r.U.magnitude
         assert [row.symbol for row in r.budget.rows] == ["s(K_i)/√n", "u(P)", "u(C)"]
     assert inside >= 8
 
@@ -408,7 +435,9 @@ def test_72_moment_matching_hand_checked():
     k = np.array([1.0, 1.0 + 2e-6, 1.0 - 1e-6, 1.0, 1.0 + 1e-6, 1.0])
     printed = F.linearity_72(k)
     quiet = F.linearity_72_moment_matched(k, np.zeros((10, 6)))
-    assert quiet.estimate == pytest.approx(printed, rel=1e-9) and quiet.inflation == pytest.approx(0.0, abs=1e-15)
+    assert quiet.estimate == pytest.approx(printed,
+                                           rel=1e-9) and quiet.inflation == pytest.approx(
+                                               0.0, abs=1e-15)
     sigma = 1e-6
     flat = F.linearity_72_moment_matched(np.ones(6), rng.normal(0.0, sigma, (40_000, 6)))
     assert flat.noise_only == pytest.approx(2.534 * sigma, rel=0.02)
@@ -444,7 +473,8 @@ def test_72_linearity_budget_and_mean_en_over_coarse_instruments(pm):
     range and the correction; the note keeps the printed value."""
     ens, inside = [], 0
     for seed in range(1, 61):
-        rec = run_items(pm, "ogam", ["7.2"], station_options={"seed": seed, "device_class": "fog-coarse"})
+        rec = run_items(pm, "ogam", ["7.2"], station_options={"seed": seed,
+                                                              "device_class": "fog-coarse"})
         r = rec.outcomes[0].result("Kl")
         truth = rec.campaign.expected["Kl"].to("percent").magnitude
         ens.append((r.value.magnitude - truth) / r.U.magnitude)
@@ -457,21 +487,25 @@ def test_72_linearity_budget_and_mean_en_over_coarse_instruments(pm):
             printed = 100.0 * F.linearity_72(k_i)
             assert f"{printed:.3g} %" in r.note
             # value + correction = the printed range
-            assert r.value.magnitude + r.budget.rows[1].value.to("percent").magnitude == pytest.approx(printed)
+            assert r.value.magnitude + r.budget.rows[1].value.to(
+                "percent").magnitude == pytest.approx(printed)
             K = float(np.mean(k_i))
-            assert f"counting ±1 count (triangular) = ±{3600.0 / K:.3g}″" in r.budget.rows[0].note  # 1/K of a degree
+            # 1/K of a degree
+            assert f"counting ±1 count (triangular) = ±{3600.0 / K:.3g}″" in r.budget.rows[0].note
     assert abs(np.mean(ens)) <= 0.3 and inside >= 55, (np.mean(ens), inside)
 
 
 @pytest.mark.parametrize("cls", ["rlg-fine", "fog-coarse", "rlg-drifting"])
 def test_device_class_truth_within_U(cls):
-    """One modest run per device class (issue 13; the 200-seed tables are on docs/standards/ogam.md):
-    every result of three instruments of the class within its U (one in eight outside at most)."""
+    """One modest run per device class (issue 13; the 200-seed tables are on
+    docs/standards/ogam.md): every result of three instruments of the class within its U (one in
+    eight outside at most)."""
     from metro.core.run.plugin_manager import get_plugin_manager
     from metro.core.cli.present import truth_checks
     from metro.instruments.angle_instrument import DEVICE_CLASSES, station_factory
 
-    assert cls in DEVICE_CLASSES and station_factory(device_class=cls, seed=1).truth.device_class == cls
+    assert cls in DEVICE_CLASSES and station_factory(device_class=cls,
+                                                     seed=1).truth.device_class == cls
     pm = get_plugin_manager(autoload=False)
     checks = []
     for seed in (1, 2, 3):

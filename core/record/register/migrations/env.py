@@ -1,5 +1,5 @@
-"""Alembic environment of the register: run programmatically by metro.core.record.register.migrate on
-the connection it is given (``config.attributes["connection"]``); no alembic.ini is needed."""
+"""Alembic environment of the register: run programmatically by metro.core.record.register.migrate
+on the connection it is given (``config.attributes["connection"]``); no alembic.ini is needed."""
 
 from alembic import context
 

@@ -19,7 +19,8 @@ def build() -> bytes:
     d.add_paragraph("{%p if simulated %}")
     d.add_paragraph("{{ simulated_banner }}")
     d.add_paragraph("{%p endif %}")
-    d.add_paragraph("Certificate {{ report_number }} · {{ acme.lab }} · specification {{ acme.spec }}")
+    d.add_paragraph("Certificate {{ report_number }} · {{ acme.lab }} · specification "
+                    "{{ acme.spec }}")
     d.add_paragraph("Unit: {{ device.description }}")
     t = d.add_table(rows=6, cols=4)
     t.style = "Table Grid"
@@ -28,7 +29,8 @@ def build() -> bytes:
     # one docxtpl row tag per row: the outer loop, the inner loop, the template row, two ends
     t.rows[1].cells[0].paragraphs[0].add_run("{%tr for o in outcomes %}")
     t.rows[2].cells[0].paragraphs[0].add_run("{%tr for r in o.results %}")
-    for cell, text in zip(t.rows[3].cells, ["{{ o.item }}", "{{ r.quantity }}", "{{ r.value }} {{ r.unit }}",
+    for cell, text in zip(t.rows[3].cells, ["{{ o.item }}", "{{ r.quantity }}",
+                                            "{{ r.value }} {{ r.unit }}",
                                              "{{ r.U }} ({{ r.k }})"]):
         cell.paragraphs[0].add_run(text)
     t.rows[4].cells[0].paragraphs[0].add_run("{%tr endfor %}")

@@ -53,7 +53,8 @@ def upgrade() -> None:
         sa.Column("template", sa.Text, nullable=False),
         sa.Column("context", sa.JSON, nullable=False),
         sa.UniqueConstraint("scope", "seq", name="uq_reports_scope_seq"),
-        sa.CheckConstraint("status IN ('issued', 'superseded', 'withdrawn')", name="ck_reports_status"),
+        sa.CheckConstraint("status IN ('issued', 'superseded', 'withdrawn')",
+                           name="ck_reports_status"),
     )
     op.create_table(
         "results",
