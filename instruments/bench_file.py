@@ -338,14 +338,9 @@ def load_bench(path: str | Path, drivers: Mapping[str, Any]) -> BenchConfig:
     :class:`~metro.core.run.plugin_manager.DriverInfo`.  Every problem is a :class:`DataError`
     naming the
     file, the field and the reason; nothing is opened or moved here."""
-    from metro.core.run.manifest import (
-        calibration_from_table,
-        device_from_table,
-        environment_from_table,
-        equipment_from_table,
-        read_toml,
-        site_from_table,
-    )
+    from metro.core.run.manifest import (calibration_from_table, device_from_table,
+                                         environment_from_table, equipment_from_table, read_toml,
+                                         site_from_table)
 
     p = Path(path)
     src, doc = read_toml(

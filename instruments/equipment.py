@@ -41,16 +41,8 @@ import pint
 from metro.core.base.errors import DataError
 from metro.core.model.campaign import Equipment
 from metro.core.base.units import Q_, parse_quantity
-from .equipment_base import (
-    EquipmentModel,
-    as_float_array,
-    fixed_rng,
-    magnitude_in,
-    non_negative,
-    opt_q_of,
-    q_of,
-    uncertainty_converter,
-)
+from .equipment_base import (EquipmentModel, as_float_array, fixed_rng, magnitude_in, non_negative,
+                             opt_q_of, q_of, uncertainty_converter)
 
 __all__ = [
     "EquipmentModel",

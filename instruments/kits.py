@@ -7,24 +7,10 @@ import math
 
 from metro.core.base.units import Q_
 
-from .equipment import (
-    AngleTurntable,
-    AngularVibrationTable,
-    Counter,
-    DigitalMultimeter,
-    EquipmentModel,
-    FieldGenerator,
-    Fixture,
-    LevelPlatform,
-    LinearShaker,
-    PositionTable,
-    RateBand,
-    RateTable,
-    ShockTable,
-    TemperatureChamber,
-    TiltTable,
-    Timer,
-)
+from .equipment import (AngleTurntable, AngularVibrationTable, Counter, DigitalMultimeter,
+                        EquipmentModel, FieldGenerator, Fixture, LevelPlatform, LinearShaker,
+                        PositionTable, RateBand, RateTable, ShockTable, TemperatureChamber,
+                        TiltTable, Timer)
 from .gauges import type_test_equipment
 
 __all__ = ["gbt45570_equipment", "jjf2014_equipment", "angle_instrument_equipment"]

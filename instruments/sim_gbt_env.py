@@ -30,16 +30,8 @@ import numpy as np
 from metro.core.model.campaign import Campaign, Segment
 from metro.core.base.units import Q_, parse_quantity
 
-from .simulated import (
-    AXES,
-    EARTH_RATE_DEG_PER_H,
-    GyroTruth,
-    SimulatedStation,
-    register_expected,
-    output_unit,
-    register_step_kind,
-    simulate_static,
-)
+from .simulated import (AXES, EARTH_RATE_DEG_PER_H, GyroTruth, SimulatedStation, register_expected,
+                        output_unit, register_step_kind, simulate_static)
 from .stations import standard_expected
 
 

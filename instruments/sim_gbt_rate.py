@@ -41,20 +41,9 @@ import numpy as np
 from metro.core.model.campaign import Campaign, Segment
 from metro.core.base.units import Q_, parse_quantity
 
-from .simulated import (
-    DIGITAL_DEFAULTS,
-    EARTH_RATE_DEG_PER_H,
-    GyroTruth,
-    SimulatedStation,
-    register_expected,
-    mounting_key,
-    output_unit,
-    pulse_readout,
-    quantize_rate,
-    register_step_kind,
-    scale_factor_at,
-    station_factory,
-)
+from .simulated import (DIGITAL_DEFAULTS, EARTH_RATE_DEG_PER_H, GyroTruth, SimulatedStation,
+                        register_expected, mounting_key, output_unit, pulse_readout, quantize_rate,
+                        register_step_kind, scale_factor_at, station_factory)
 from .stations import standard_expected
 
 REV_ARCSEC = 360.0 * 3600.0

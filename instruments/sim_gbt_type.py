@@ -26,13 +26,8 @@ import pint
 from metro.core.base.units import Q_
 
 from .gauges import type_test_equipment
-from .simulated import (
-    SimulatedStation,
-    register_expected,
-    register_record_expected,
-    register_record_kind,
-    register_step_kind,
-)
+from .simulated import (SimulatedStation, register_expected, register_record_expected,
+                        register_record_kind, register_step_kind)
 from .stations import standard_expected
 
 

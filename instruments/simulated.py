@@ -37,27 +37,12 @@ from metro.core.base.units import Q_
 
 from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 °/h, physical (IERS)
 
-from .sim_registry import (
-    expected_contributors,
-    merge_records,
-    record_expected_contributors,
-    record_simulators,
-    register_expected,
-    register_record_expected,
-    register_record_kind,
-    register_step_kind,
-    step_simulators,
-)
+from .sim_registry import (expected_contributors, merge_records, record_expected_contributors,
+                           record_simulators, register_expected, register_record_expected,
+                           register_record_kind, register_step_kind, step_simulators)
 from .stations import step_seed
-from .gyro_truth import (
-    DEVICE_CLASSES,
-    DIGITAL_DEFAULTS,
-    GRADES,
-    GRADE_NAMES,
-    GyroTruth,
-    device_description,
-    draw_device,
-)
+from .gyro_truth import (DEVICE_CLASSES, DIGITAL_DEFAULTS, GRADES, GRADE_NAMES, GyroTruth,
+                         device_description, draw_device)
 
 
 def simulate_static(

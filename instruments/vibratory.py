@@ -51,20 +51,9 @@ from metro.core.model.procedure import Step
 from metro.core.base.units import Q_
 
 from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  physical, 15.04107 °/h
-from .vibratory_model import (
-    AXES,
-    SAME_POWER_ON,
-    VibratoryTruth,
-    condition_value,
-    increment_gain,
-    mean_output,
-    misalignment_angles,
-    operating_point,
-    power_on_key,
-    simulate_segment,
-    static_noise,
-    steady_output,
-)
+from .vibratory_model import (AXES, SAME_POWER_ON, VibratoryTruth, condition_value, increment_gain,
+                              mean_output, misalignment_angles, operating_point, power_on_key,
+                              simulate_segment, static_noise, steady_output)
 
 
 # ------------------------------------------------------------------------------ the model

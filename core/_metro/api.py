@@ -44,68 +44,29 @@ from metro.core.documents.context import plot_caption
 from metro.core.documents.document import result_fields
 from metro.core.documents.notes import group_notes
 from metro.core.documents.text import display_symbol
-from metro.core.model.campaign import (
-    Calibration,
-    Campaign,
-    DeviceUnderTest,
-    Equipment,
-    Segment,
-    Series,
-)
-from metro.core.model.procedure import (
-    Applicability,
-    EquipmentRequirement,
-    Option,
-    Procedure,
-    RunContext,
-    SegmentRequirement,
-    Step,
-)
+from metro.core.model.campaign import (Calibration, Campaign, DeviceUnderTest, Equipment, Segment,
+                                       Series)
+from metro.core.model.procedure import (Applicability, EquipmentRequirement, Option, Procedure,
+                                        RunContext, SegmentRequirement, Step)
 from metro.core.model.results import Metric, Outcome, PlotSpec, Result, TableSpec
 from metro.core.model.station import CheckingStation, Station
 from metro.core.stats import allan, settling
-from metro.core.stats.earth import (
-    EARTH_RATE_DEG_PER_H,
-    EARTH_RATE_DEG_S,
-    STANDARD_GRAVITY_M_S2,
-    normal_gravity,
-)
+from metro.core.stats.earth import (EARTH_RATE_DEG_PER_H, EARTH_RATE_DEG_S, STANDARD_GRAVITY_M_S2,
+                                    normal_gravity)
 from metro.core.stats.quantization import rounding_mean_bound
 from metro.core.stats.lsq import LinearFit, fit_line, fit_linear
 from metro.core.stats.settling import excursion_lobes, last_exit
-from metro.core.stats.signals import (
-    OUTPUT_UNITS,
-    RateConversion,
-    device_scale_factor,
-    gyro_output,
-    required_scale_factor,
-)
+from metro.core.stats.signals import (OUTPUT_UNITS, RateConversion, device_scale_factor,
+                                      gyro_output, required_scale_factor)
 from metro.core.stats.sinefit import fit_sine, wrap_phase
-from metro.core.uncertainty.budget import (
-    INF,
-    BudgetRow,
-    Coverage,
-    UncertaintyBudget,
-    between_variance,
-    report_pair,
-    round_uncertainty,
-    std_sampling_u,
-    std_upper_limit,
-)
+from metro.core.uncertainty.budget import (INF, BudgetRow, Coverage, UncertaintyBudget,
+                                           between_variance, report_pair, round_uncertainty,
+                                           std_sampling_u, std_upper_limit)
 from metro.core.uncertainty.conformity import SIMPLE, Comparison, Specification, decide, parse_limit
-from metro.core.uncertainty.selection import (
-    MaxSelection,
-    abs_change,
-    abs_change_note,
-    abs_change_rows,
-    curve_scatter,
-    max_abs_selection,
-    max_slope_selection,
-    selection_note,
-    selection_rows,
-    spread_rows,
-    upper_sigma,
-)
+from metro.core.uncertainty.selection import (MaxSelection, abs_change, abs_change_note,
+                                              abs_change_rows, curve_scatter, max_abs_selection,
+                                              max_slope_selection, selection_note, selection_rows,
+                                              spread_rows, upper_sigma)
 
 # The names below are objects metro does not document where they are defined (a marker, plain
 # numbers); docs/api.md takes their documentation from these comments (tools/gen_api_docs.py).

@@ -26,26 +26,9 @@ import math
 import re
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
 
-from .text import (
-    BODY_PT,
-    CELL_MARGIN_MM,
-    CJK_FONT,
-    HEAD_FILL,
-    LABEL_FILL,
-    LATIN_FONT,
-    MARGIN_MM,
-    MIN_TABLE_PT,
-    NBSP,
-    PAGE_H_MM,
-    PAGE_W_MM,
-    TABLE_PT,
-    TEXT_WIDTH_MM,
-    column_widths,
-    glue,
-    subscript_runs,
-    two_lines,
-    unit_may_wrap,
-)
+from .text import (BODY_PT, CELL_MARGIN_MM, CJK_FONT, HEAD_FILL, LABEL_FILL, LATIN_FONT, MARGIN_MM,
+                   MIN_TABLE_PT, NBSP, PAGE_H_MM, PAGE_W_MM, TABLE_PT, TEXT_WIDTH_MM, column_widths,
+                   glue, subscript_runs, two_lines, unit_may_wrap)
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..base.locale import Translator

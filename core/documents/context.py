@@ -19,17 +19,8 @@ import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping
 
-from ..base.formatting import (
-    DASH,
-    fmt_divisor,
-    fmt_dof,
-    fmt_num,
-    fmt_quantity,
-    or_dash,
-    pretty_powers,
-    unit_text,
-    with_unit,
-)
+from ..base.formatting import (DASH, fmt_divisor, fmt_dof, fmt_num, fmt_quantity, or_dash,
+                               pretty_powers, unit_text, with_unit)
 from ..base.locale import Text, join, msg
 from .text import plain_symbol, quantity_name
 

@@ -35,13 +35,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from .campaign import Campaign, DeviceUnderTest
     from .results import Outcome
     from .provenance import RunRecord
-    from .registry import (
-        DriverRegistrar,
-        ReaderRegistrar,
-        StandardRegistrar,
-        StationRegistrar,
-        TemplateRegistrar,
-    )
+    from .registry import (DriverRegistrar, ReaderRegistrar, StandardRegistrar, StationRegistrar,
+                           TemplateRegistrar)
 
 PROJECT = "metro"
 hookspec = pluggy.HookspecMarker(PROJECT)

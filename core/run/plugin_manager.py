@@ -27,23 +27,10 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping, Sequence
 import pluggy
 
 from ..model import hookspec
-from ..model.registry import (
-    DriverInfo,
-    DriverRegistrar,
-    PluginInfo,
-    ProcedureInfo,
-    ReaderInfo,
-    ReaderRegistrar,
-    Registrar,
-    Registry,
-    SeriesInfo,
-    StandardInfo,
-    StandardRegistrar,
-    StationInfo,
-    StationRegistrar,
-    TemplateInfo,
-    TemplateRegistrar,
-)
+from ..model.registry import (DriverInfo, DriverRegistrar, PluginInfo, ProcedureInfo, ReaderInfo,
+                              ReaderRegistrar, Registrar, Registry, SeriesInfo, StandardInfo,
+                              StandardRegistrar, StationInfo, StationRegistrar, TemplateInfo,
+                              TemplateRegistrar)
 from ..base.errors import PluginError
 from ..base.locale import add_catalogs
 from ..base.extras import DISTRIBUTION

@@ -15,16 +15,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .allan_base import (
-    CHUNK,
-    BlockDoublingResult,
-    Engine,
-    FloatArray,
-    as_int,
-    checked_series,
-    checked_tau0,
-    kernels,
-)
+from .allan_base import (CHUNK, BlockDoublingResult, Engine, FloatArray, as_int, checked_series,
+                         checked_tau0, kernels)
 from .allan_edf import gacv
 
 __all__ = [

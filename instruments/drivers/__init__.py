@@ -16,13 +16,7 @@ CLI stay fast and work without them.
 
 from __future__ import annotations
 
-from metro.core.model.drivers import (
-    DRIVER_KINDS,
-    DmmDriver,
-    Driver,
-    GyroOutputDriver,
-    Identity,
-    RateTableDriver,
-)
+from metro.core.model.drivers import (DRIVER_KINDS, DmmDriver, Driver, GyroOutputDriver, Identity,
+                                      RateTableDriver)
 
 __all__ = ["DRIVER_KINDS", "DmmDriver", "Driver", "GyroOutputDriver", "Identity", "RateTableDriver"]

@@ -3,13 +3,7 @@ contract keeps them) for code that imported them from here."""
 
 from __future__ import annotations
 
-from metro.core.model.drivers import (
-    DRIVER_KINDS,
-    DmmDriver,
-    Driver,
-    GyroOutputDriver,
-    Identity,
-    RateTableDriver,
-)
+from metro.core.model.drivers import (DRIVER_KINDS, DmmDriver, Driver, GyroOutputDriver, Identity,
+                                      RateTableDriver)
 
 __all__ = ["Identity", "Driver", "DmmDriver", "GyroOutputDriver", "RateTableDriver", "DRIVER_KINDS"]

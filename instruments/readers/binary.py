@@ -9,16 +9,8 @@ import numpy as np
 from metro.core.base.errors import DataError
 from metro.core.base import extras
 
-from .common import (
-    MAX_EXACT_INT,
-    assemble,
-    cell_field,
-    check_cells,
-    first_nonfinite,
-    float64_chunk,
-    nonfinite_error,
-    select_columns,
-)
+from .common import (MAX_EXACT_INT, assemble, cell_field, check_cells, first_nonfinite,
+                     float64_chunk, nonfinite_error, select_columns)
 
 
 # --------------------------------------------------------------------------- npy files

@@ -10,16 +10,8 @@ from pathlib import Path
 
 from metro.core.base.errors import DataError
 
-from .common import (
-    Digest,
-    SampleTable,
-    changed_error,
-    check_time,
-    file_stat,
-    format_of,
-    normalize_columns,
-    stat_key,
-)
+from .common import (Digest, SampleTable, changed_error, check_time, file_stat, format_of,
+                     normalize_columns, stat_key)
 from .text import read_text
 from .binary import read_npy, read_parquet
 

@@ -20,45 +20,18 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    Result,
-    RunContext,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    fit_line,
-    hint,
-    join,
-    msg,
-    parse_quantity,
-    required_scale_factor,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Metric, Option,
+                       Outcome, PlotSpec, Procedure, Result, RunContext, SegmentRequirement, Step,
+                       TableSpec, UncertaintyBudget, fit_line, hint, join, msg, parse_quantity,
+                       required_scale_factor)
 
 from . import formulas as F
 from . import formulas_rate as F2
 from .common import COVERAGE, DIRECTIONS, STANDARD, grouped, kr_sampling_row, opts_text
 from .misalignment import FIXTURE, DeviceScale, MountingMisalignment, misalignment_metrics
 from .repeatability import scale_factor_angle_repeat_row
-from .revolutions import (
-    REPEAT_RATE,
-    RatePoint,
-    angle_row,
-    angle_sequence,
-    collect_rate_points,
-    point_drift,
-    sweep_drift,
-)
+from .revolutions import (REPEAT_RATE, RatePoint, angle_row, angle_sequence, collect_rate_points,
+                          point_drift, sweep_drift)
 from .temperature import room_index, temperature_outcome
 
 REVOLUTIONS = SegmentRequirement(

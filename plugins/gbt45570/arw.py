@@ -8,28 +8,9 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    ProcedureError,
-    RateConversion,
-    Result,
-    RunContext,
-    Segment,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    allan,
-    join,
-    msg,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, Metric, Option, Outcome, PlotSpec,
+                       Procedure, ProcedureError, RateConversion, Result, RunContext, Segment, Step,
+                       TableSpec, UncertaintyBudget, allan, join, msg)
 
 from . import formulas as F
 from .common import BIAS_EQUIPMENT, COVERAGE, STANDARD, opts_text, scale_factor_row, timebase_row

@@ -9,18 +9,8 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    Coverage,
-    DataError,
-    EquipmentRequirement,
-    RateConversion,
-    Segment,
-    msg,
-    std_sampling_u,
-)
+from metro.api import (Q_, BudgetRow, Campaign, Coverage, DataError, EquipmentRequirement,
+                       RateConversion, Segment, msg, std_sampling_u)
 
 STANDARD = "gbt45570"
 COVERAGE = Coverage.probability(0.9545)

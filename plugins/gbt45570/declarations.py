@@ -14,21 +14,8 @@ from __future__ import annotations
 
 from typing import Any, Mapping
 
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    Comparison,
-    Metric,
-    Outcome,
-    Procedure,
-    RunContext,
-    Specification,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    msg,
-)
+from metro.api import (Q_, BudgetRow, Campaign, Comparison, Metric, Outcome, Procedure, RunContext,
+                       Specification, Step, TableSpec, UncertaintyBudget, msg)
 
 from . import records as R
 from .common import COVERAGE, STANDARD

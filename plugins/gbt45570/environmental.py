@@ -28,42 +28,14 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.api import (
-    OUTPUT_UNITS,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    Procedure,
-    ProcedureError,
-    Result,
-    RunContext,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    allan,
-    hint,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
+                       Metric, Option, Outcome, Procedure, ProcedureError, Result, RunContext,
+                       Segment, SegmentRequirement, Step, TableSpec, UncertaintyBudget, allan, hint,
+                       join, msg, parse_quantity)
 
 from . import env_formulas as E
-from .common import (
-    COUNTER,
-    COVERAGE,
-    PLATFORM,
-    STANDARD,
-    opts_text,
-    scale_factor_row,
-    timebase_row,
-)
+from .common import (COUNTER, COVERAGE, PLATFORM, STANDARD, opts_text, scale_factor_row,
+                     timebase_row)
 from .power_on import PowerConsumption6278, SetupTime6277
 from .procedures import REPEATS_OPTION, repeat_steps
 from .repeatability import bias_turn_on

@@ -22,26 +22,9 @@ import re
 from typing import Mapping
 
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    Comparison,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Outcome,
-    Procedure,
-    Result,
-    RunContext,
-    Specification,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    join,
-    msg,
-    parse_limit,
-)
+from metro.api import (Q_, BudgetRow, Campaign, Comparison, DataError, EquipmentRequirement, Metric,
+                       Outcome, Procedure, Result, RunContext, Specification, Step, TableSpec,
+                       UncertaintyBudget, join, msg, parse_limit)
 
 from . import records as R
 from .common import COVERAGE, STANDARD

@@ -8,45 +8,17 @@ from typing import Any, Callable, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    DeviceUnderTest,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    ProcedureError,
-    Result,
-    RunContext,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    fit_line,
-    hint,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, DeviceUnderTest, Metric, Option, Outcome,
+                       PlotSpec, Procedure, ProcedureError, Result, RunContext, SegmentRequirement,
+                       Step, TableSpec, UncertaintyBudget, fit_line, hint, join, msg,
+                       parse_quantity)
 
 from . import formulas as F
 from . import formulas_rate as F2
 from .common import COVERAGE, STANDARD, group_of, opts_text
-from .rate_data import (
-    RATE_EQUIPMENT,
-    RATE_OUTPUT,
-    collect_rate_data,
-    default_nonlinearity_limit,
-    fit_scale_factor,
-    nonlinearity_budget,
-    nonlinearity_of,
-    rate_row,
-    rate_sequence,
-)
+from .rate_data import (RATE_EQUIPMENT, RATE_OUTPUT, collect_rate_data, default_nonlinearity_limit,
+                        fit_scale_factor, nonlinearity_budget, nonlinearity_of, rate_row,
+                        rate_sequence)
 from .revolutions import angle_sequence, collect_rate_points
 
 

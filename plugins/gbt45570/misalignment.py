@@ -9,23 +9,9 @@ import math
 from typing import Any, Mapping
 
 import attrs
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Outcome,
-    Procedure,
-    Result,
-    RunContext,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    msg,
-    parse_quantity,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Metric, Outcome,
+                       Procedure, Result, RunContext, Step, TableSpec, UncertaintyBudget, msg,
+                       parse_quantity)
 
 from . import formulas_rate as F2
 from .common import COVERAGE, DIRECTIONS, STANDARD, opts_text

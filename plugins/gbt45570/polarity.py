@@ -18,24 +18,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from metro.api import (
-    OUTPUT_UNITS,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    Procedure,
-    Result,
-    RunContext,
-    SegmentRequirement,
-    Step,
-    UncertaintyBudget,
-    msg,
-)
+from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
+                       Metric, Option, Outcome, Procedure, Result, RunContext, SegmentRequirement,
+                       Step, UncertaintyBudget, msg)
 
 from .common import COUNTER, COVERAGE, STANDARD, opts_text, scale_factor_row
 from .rate_data import rate_row

@@ -6,30 +6,10 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-from metro.api import (
-    OUTPUT_UNITS,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    Result,
-    RunContext,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    allan,
-    gyro_output,
-    hint,
-    msg,
-    parse_quantity,
-)
+from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
+                       Metric, Option, Outcome, PlotSpec, Procedure, Result, RunContext,
+                       SegmentRequirement, Step, TableSpec, UncertaintyBudget, allan, gyro_output,
+                       hint, msg, parse_quantity)
 
 from . import env_formulas as E
 from .common import COUNTER, COVERAGE, STANDARD, check_finite, opts_text, timebase_row

@@ -11,55 +11,18 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-from metro.api import (
-    OUTPUT_UNITS,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    ProcedureError,
-    Result,
-    RunContext,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    allan,
-    hint,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
+                       Metric, Option, Outcome, PlotSpec, Procedure, ProcedureError, Result,
+                       RunContext, Segment, SegmentRequirement, Step, TableSpec, UncertaintyBudget,
+                       allan, hint, join, msg, parse_quantity)
 
 from . import formulas as F
 from .arw import AngleRandomWalkD56
-from .common import (
-    BIAS_EQUIPMENT,
-    COVERAGE,
-    STANDARD,
-    delta_temperature_u,
-    opts_text,
-    scale_factor_row,
-    timebase_row,
-)
+from .common import (BIAS_EQUIPMENT, COVERAGE, STANDARD, delta_temperature_u, opts_text,
+                     scale_factor_row, timebase_row)
 from .repeatability import bias_repeat_row, bias_turn_on
-from .static_bias import (
-    STATIC,
-    duration_warnings,
-    quantization_of,
-    quantization_rows_std,
-    segment_bias,
-    segments_of,
-    static_input,
-    static_segment,
-)
+from .static_bias import (STATIC, duration_warnings, quantization_of, quantization_rows_std,
+                          segment_bias, segments_of, static_input, static_segment)
 
 # --------------------------------------------------------------------------------------------
 # D.5.1 Bias

@@ -10,25 +10,9 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    DeviceUnderTest,
-    EquipmentRequirement,
-    Metric,
-    Procedure,
-    ProcedureError,
-    Segment,
-    SegmentRequirement,
-    Step,
-    UncertaintyBudget,
-    fit_line,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, DeviceUnderTest, EquipmentRequirement,
+                       Metric, Procedure, ProcedureError, Segment, SegmentRequirement, Step,
+                       UncertaintyBudget, fit_line, join, msg, parse_quantity)
 
 from . import formulas_rate as F2
 from .common import COVERAGE, DIRECTIONS, ItemRef, group_of, resolution, resolution_row

@@ -20,65 +20,21 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    Result,
-    RunContext,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    join,
-    msg,
-    required_scale_factor,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Metric, Option,
+                       Outcome, PlotSpec, Procedure, Result, RunContext, Segment,
+                       SegmentRequirement, Step, TableSpec, UncertaintyBudget, join, msg,
+                       required_scale_factor)
 
 from . import formulas_rate as F2
 from .common import COVERAGE, STANDARD, group_of, kr_sampling_row, opts_text, repeat_runs
 from .max_rate import MaxInputRateD3
-from .misalignment import (
-    FIXTURE,
-    MOUNTINGS,
-    DeviceScale,
-    MountingMisalignment,
-    misalignment_metrics,
-)
-from .rate_data import (
-    LSB_PER_RATE,
-    OUTPUT_UNITS,
-    RATE_EQUIPMENT,
-    RATE_OUTPUT,
-    REST,
-    RateData,
-    collect_rate_data,
-    default_nonlinearity_limit,
-    fit_scale_factor,
-    intercept_table_row,
-    k_text,
-    mean_output,
-    metric_in,
-    nonlinearity_budget,
-    nonlinearity_of,
-    out_resolution_row,
-    output_series,
-    per_rate,
-    rate_row,
-    rate_sequence,
-    rate_table_rel,
-    stability_row,
-    through_fit,
-    unit_text,
-)
+from .misalignment import (FIXTURE, MOUNTINGS, DeviceScale, MountingMisalignment,
+                           misalignment_metrics)
+from .rate_data import (LSB_PER_RATE, OUTPUT_UNITS, RATE_EQUIPMENT, RATE_OUTPUT, REST, RateData,
+                        collect_rate_data, default_nonlinearity_limit, fit_scale_factor,
+                        intercept_table_row, k_text, mean_output, metric_in, nonlinearity_budget,
+                        nonlinearity_of, out_resolution_row, output_series, per_rate, rate_row,
+                        rate_sequence, rate_table_rel, stability_row, through_fit, unit_text)
 from .repeatability import scale_factor_rate_repeat_row
 from .revolutions import REPEAT_RATE
 from .temperature import room_index, temperature_outcome

@@ -15,18 +15,8 @@ from typing import Any, Mapping
 
 import attrs
 import pint
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    Equipment,
-    Result,
-    UnitError,
-    msg,
-    parse_quantity,
-    unit,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, Equipment, Result, UnitError, msg,
+                       parse_quantity, unit)
 
 
 def where_of(campaign: Campaign) -> str:

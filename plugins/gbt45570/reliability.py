@@ -23,21 +23,8 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    Metric,
-    Option,
-    Outcome,
-    Procedure,
-    RunContext,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    msg,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, Metric, Option, Outcome, Procedure,
+                       RunContext, Step, TableSpec, UncertaintyBudget, msg)
 
 from . import records as R
 from .common import COVERAGE, STANDARD, opts_text

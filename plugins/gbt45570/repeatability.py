@@ -14,18 +14,8 @@ import math
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    between_variance,
-    curve_scatter,
-    hint,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, between_variance, curve_scatter, hint,
+                       join, msg, parse_quantity)
 
 from . import formulas as F
 from . import formulas_rate as F2

@@ -17,31 +17,11 @@ import re
 from typing import Any, Iterable
 
 import numpy as np
-from metro.api import (
-    Q_,
-    SIMPLE,
-    Comparison,
-    PlotSpec,
-    Specification,
-    Text,
-    decide,
-    group_notes,
-    join,
-    msg,
-    report_pair,
-)
+from metro.api import (Q_, SIMPLE, Comparison, PlotSpec, Specification, Text, decide, group_notes,
+                       join, msg, report_pair)
 
-from .conformity import (
-    APPLICATION_CN,
-    CLAUSE_SOURCE,
-    CLAUSE_WHY_SOURCE,
-    PRODUCT_SOURCE,
-    REMARK_SOURCE,
-    ROW_SOURCE,
-    TABLE_C1,
-    application_of,
-    table_for,
-)
+from .conformity import (APPLICATION_CN, CLAUSE_SOURCE, CLAUSE_WHY_SOURCE, PRODUCT_SOURCE,
+                         REMARK_SOURCE, ROW_SOURCE, TABLE_C1, application_of, table_for)
 from .method_rule import ANGLE_ITEMS, RATE_ITEMS, method_for
 
 STANDARD = "gbt45570"

@@ -10,22 +10,9 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    OUTPUT_UNITS,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    Procedure,
-    RateConversion,
-    Segment,
-    SegmentRequirement,
-    UncertaintyBudget,
-    allan,
-    gyro_output,
-    msg,
-    parse_quantity,
-)
+from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, Procedure, RateConversion,
+                       Segment, SegmentRequirement, UncertaintyBudget, allan, gyro_output, msg,
+                       parse_quantity)
 
 from . import formulas as F
 from .common import COVERAGE, check_finite, resolution_row, scale_factor_row, timebase_row

@@ -9,24 +9,9 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    Result,
-    TableSpec,
-    UncertaintyBudget,
-    hint,
-    join,
-    max_slope_selection,
-    msg,
-    selection_note,
-    selection_rows,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, Outcome, PlotSpec, Procedure, Result,
+                       TableSpec, UncertaintyBudget, hint, join, max_slope_selection, msg,
+                       selection_note, selection_rows)
 
 from .common import COVERAGE, STANDARD, delta_temperature_u, opts_text
 from .repeatability import missing_turn_on, points_dof, pool_turn_on, scale_factor_turn_on

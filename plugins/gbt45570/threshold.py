@@ -14,31 +14,10 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from metro.api import (
-    OUTPUT_UNITS,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    Result,
-    RunContext,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    allan,
-    hint,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
+                       Metric, Option, Outcome, PlotSpec, Procedure, Result, RunContext, Segment,
+                       SegmentRequirement, Step, TableSpec, UncertaintyBudget, allan, hint, join,
+                       msg, parse_quantity)
 
 from . import env_formulas as E
 from .common import COVERAGE, STANDARD, opts_text, scale_factor_row

@@ -32,40 +32,16 @@ from typing import Any, Mapping
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    Comparison,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    Procedure,
-    Result,
-    RunContext,
-    Specification,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    hint,
-    join,
-    msg,
-    parse_limit,
-)
+from metro.api import (Q_, BudgetRow, Campaign, Comparison, DataError, EquipmentRequirement, Metric,
+                       Option, Outcome, Procedure, Result, RunContext, Specification, Step,
+                       TableSpec, UncertaintyBudget, hint, join, msg, parse_limit)
 
 from . import formulas as F
 from . import records as R
 from .common import COVERAGE, STANDARD, opts_text, scale_factor_row
 from .conformity import TABLE_C1, application_of, clause_source, product_source
-from .repeatability import (
-    bias_repeat_row,
-    missing_turn_on,
-    scale_factor_angle_repeat_row,
-    scale_factor_rate_repeat_row,
-    turn_on_known,
-)
+from .repeatability import (bias_repeat_row, missing_turn_on, scale_factor_angle_repeat_row,
+                            scale_factor_rate_repeat_row, turn_on_known)
 from .static_bias import segment_bias
 
 SECTION = "environmental_tests"

@@ -6,26 +6,11 @@ from __future__ import annotations
 
 from typing import Any, Mapping
 
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    Coverage,
-    EquipmentRequirement,
-    Option,
-    ProcedureError,
-    SegmentRequirement,
-    Step,
-    msg,
-)
+from metro.api import (Q_, BudgetRow, Campaign, Coverage, EquipmentRequirement, Option,
+                       ProcedureError, SegmentRequirement, Step, msg)
 
 from . import formulas as F
-from .data import (
-    ACCEL,
-    AXES,
-    GYRO,
-    HEADINGS,
-)
+from .data import (ACCEL, AXES, GYRO, HEADINGS)
 
 STANDARD = "jjf2003"
 STATION = "simulated-mimu"

@@ -22,16 +22,8 @@ from __future__ import annotations
 
 import math
 
-from metro.api import (
-    Q_,
-    STANDARD_GRAVITY_M_S2,
-    BudgetRow,
-    Campaign,
-    DataError,
-    msg,
-    normal_gravity,
-    parse_quantity,
-)
+from metro.api import (Q_, STANDARD_GRAVITY_M_S2, BudgetRow, Campaign, DataError, msg,
+                       normal_gravity, parse_quantity)
 
 #: half-width of the gravity anomaly about normal gravity (±300 mGal), relative
 GRAVITY_ANOMALY_REL = 3e-4

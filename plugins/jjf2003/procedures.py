@@ -22,51 +22,16 @@ import math
 from typing import Any, Mapping
 
 import numpy as np
-from metro.api import (
-    EARTH_RATE_DEG_S,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    ProcedureError,
-    Result,
-    RunContext,
-    Segment,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    hint,
-    index,
-    join,
-    msg,
-)
+from metro.api import (EARTH_RATE_DEG_S, Q_, BudgetRow, Campaign, DataError, Metric, Option,
+                       Outcome, PlotSpec, Procedure, ProcedureError, Result, RunContext, Segment,
+                       Step, TableSpec, UncertaintyBudget, hint, index, join, msg)
 
 from . import drift as D
 from . import formulas as F
 from . import mounting
-from .common import (
-    COVERAGE,
-    EQUIPMENT,
-    EQUIPMENT_FIXTURE,
-    POSITION_SEG,
-    RATE_SEG,
-    ROUND,
-    STANDARD,
-    STATION,
-    SWEEP_OPTIONS,
-    abs_quant_row,
-    options_text,
-    position_steps,
-    relative_quant_row,
-    sweep_steps,
-    table_position_row,
-    table_rate_row,
-)
+from .common import (COVERAGE, EQUIPMENT, EQUIPMENT_FIXTURE, POSITION_SEG, RATE_SEG, ROUND,
+                     STANDARD, STATION, SWEEP_OPTIONS, abs_quant_row, options_text, position_steps,
+                     relative_quant_row, sweep_steps, table_position_row, table_rate_row)
 from .data import (  # noqa: F401 - re-exported: the segment layout and the shared computations
     ACC_UNIT,
     ACCEL,

@@ -8,64 +8,18 @@ import statistics
 
 import attrs
 import numpy as np
-from metro.api import (
-    INF,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    ProcedureError,
-    Result,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    allan,
-    curve_scatter,
-    hint,
-    join,
-    max_abs_selection,
-    max_slope_selection,
-    msg,
-    selection_note,
-    selection_rows,
-    spread_rows,
-)
+from metro.api import (INF, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Metric,
+                       Option, ProcedureError, Result, Segment, SegmentRequirement, Step, TableSpec,
+                       allan, curve_scatter, hint, join, max_abs_selection, max_slope_selection,
+                       msg, selection_note, selection_rows, spread_rows)
 
 from . import budgets as B
 from . import formulas as F
-from .common import (
-    AXES,
-    RATE_OPTS,
-    JJFItem,
-    KValue,
-    SFSet,
-    Spread,
-    axis_of,
-    bias_repeatability,
-    budget_row_a,
-    calibration_of,
-    chamber_rows,
-    chamber_temperatures,
-    flag_option,
-    group_by,
-    need_segments,
-    num_option,
-    one_estimate,
-    parse_floats,
-    phase_of,
-    quantity_text,
-    read_output,
-    room_index,
-    rounding_row_mean,
-    scale_factor_for,
-    up_or_down,
-    where_of,
-    with_scatter,
-)
+from .common import (AXES, RATE_OPTS, JJFItem, KValue, SFSet, Spread, axis_of, bias_repeatability,
+                     budget_row_a, calibration_of, chamber_rows, chamber_temperatures, flag_option,
+                     group_by, need_segments, num_option, one_estimate, parse_floats, phase_of,
+                     quantity_text, read_output, room_index, rounding_row_mean, scale_factor_for,
+                     up_or_down, where_of, with_scatter)
 from .scale_factor import ScaleFactor
 
 # =============================================================================== 7.2.13 – 7.2.19

@@ -9,26 +9,9 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.api import (
-    INF,
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Option,
-    Outcome,
-    PlotSpec,
-    Procedure,
-    ProcedureError,
-    Segment,
-    Step,
-    device_scale_factor,
-    hint,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (INF, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Option,
+                       Outcome, PlotSpec, Procedure, ProcedureError, Segment, Step,
+                       device_scale_factor, hint, join, msg, parse_quantity)
 
 from . import budgets as B
 from . import formulas as F

@@ -6,45 +6,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    PlotSpec,
-    ProcedureError,
-    Result,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    allan,
-    fit_sine,
-    join,
-    msg,
-    parse_quantity,
-    wrap_phase,
-)
+from metro.api import (Q_, BudgetRow, DataError, EquipmentRequirement, Metric, Option, PlotSpec,
+                       ProcedureError, Result, Segment, SegmentRequirement, Step, TableSpec, allan,
+                       fit_sine, join, msg, parse_quantity, wrap_phase)
 
 from . import budgets as B
 from . import formulas as F
 from .bias import StaticRecordItem
-from .common import (
-    RATE_OPTS,
-    JJFItem,
-    budget_row_a,
-    calibration_of,
-    condition_in,
-    flag_option,
-    need_segments,
-    num_option,
-    output_step,
-    quantity_text,
-    read_output,
-    scale_factor_for,
-)
+from .common import (RATE_OPTS, JJFItem, budget_row_a, calibration_of, condition_in, flag_option,
+                     need_segments, num_option, output_step, quantity_text, read_output,
+                     scale_factor_for)
 from .scale_factor import ScaleFactor
 
 # =============================================================================== 7.2.20

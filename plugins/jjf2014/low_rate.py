@@ -7,45 +7,15 @@ import math
 
 import attrs
 import numpy as np
-from metro.api import (
-    INF,
-    Q_,
-    BudgetRow,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    ProcedureError,
-    Result,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    join,
-    msg,
-)
+from metro.api import (INF, Q_, BudgetRow, DataError, EquipmentRequirement, Metric, Option,
+                       ProcedureError, Result, Segment, SegmentRequirement, Step, TableSpec, join,
+                       msg)
 
 from . import budgets as B
 from . import formulas as F
-from .common import (
-    RATE_OPTS,
-    JJFItem,
-    Spread,
-    budget_row_a,
-    calibration_of,
-    check_distinct,
-    condition_in,
-    group_by,
-    mean_and_u,
-    need_segments,
-    num_option,
-    output_step,
-    parse_magnitudes,
-    quantity_text,
-    read_output,
-    scale_factor_for,
-    stated_spread,
-)
+from .common import (RATE_OPTS, JJFItem, Spread, budget_row_a, calibration_of, check_distinct,
+                     condition_in, group_by, mean_and_u, need_segments, num_option, output_step,
+                     parse_magnitudes, quantity_text, read_output, scale_factor_for, stated_spread)
 from .scale_factor import ScaleFactor
 
 # =============================================================================== 7.2.9, 7.2.10

@@ -14,28 +14,13 @@ collects them.
 
 from __future__ import annotations
 
-from .bias import (
-    Bias,
-    BiasAcceleration,
-    BiasRepeatability,
-    BiasShock,
-    BiasStability,
-    BiasTemperature,
-    BiasVibration,
-)
+from .bias import (Bias, BiasAcceleration, BiasRepeatability, BiasShock, BiasStability,
+                   BiasTemperature, BiasVibration)
 from .common import STANDARD, STATION, SFSet, scale_factor_for
 from .dynamic import AngleRandomWalk, Bandwidth, OutputDelay
 from .low_rate import Misalignment, MisalignmentRepeatability, Resolution, Threshold
-from .scale_factor import (
-    Asymmetry,
-    NonlinearityRange,
-    Repeatability,
-    ScaleFactor,
-    SFAxialAcceleration,
-    SFShock,
-    SFTemperature,
-    SFVibration,
-)
+from .scale_factor import (Asymmetry, NonlinearityRange, Repeatability, ScaleFactor,
+                           SFAxialAcceleration, SFShock, SFTemperature, SFVibration)
 from .startup import StartupTime
 
 PROCEDURES = (ScaleFactor, NonlinearityRange, Asymmetry, Repeatability, SFTemperature,

@@ -6,61 +6,18 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from metro.api import (
-    INF,
-    Q_,
-    BudgetRow,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    ProcedureError,
-    Result,
-    Segment,
-    SegmentRequirement,
-    TableSpec,
-    curve_scatter,
-    hint,
-    join,
-    max_abs_selection,
-    max_slope_selection,
-    msg,
-    parse_quantity,
-    selection_note,
-    selection_rows,
-    spread_rows,
-)
+from metro.api import (INF, Q_, BudgetRow, DataError, EquipmentRequirement, Metric, Option,
+                       ProcedureError, Result, Segment, SegmentRequirement, TableSpec,
+                       curve_scatter, hint, join, max_abs_selection, max_slope_selection, msg,
+                       parse_quantity, selection_note, selection_rows, spread_rows)
 
 from . import budgets as B
 from . import formulas as F
-from .common import (
-    AXES,
-    KU,
-    RATE_OPTS,
-    JJFItem,
-    SFSet,
-    axis_of,
-    bias_repeatability,
-    budget_row_a,
-    calibration_of,
-    chamber_rows,
-    chamber_temperatures,
-    group_by,
-    main_set,
-    need_segments,
-    num_option,
-    one_estimate,
-    parse_floats,
-    parse_magnitudes,
-    phase_of,
-    quantity_text,
-    rate_steps,
-    room_index,
-    sf_plots,
-    sf_repeatability,
-    up_or_down,
-    with_scatter,
-)
+from .common import (AXES, KU, RATE_OPTS, JJFItem, SFSet, axis_of, bias_repeatability, budget_row_a,
+                     calibration_of, chamber_rows, chamber_temperatures, group_by, main_set,
+                     need_segments, num_option, one_estimate, parse_floats, parse_magnitudes,
+                     phase_of, quantity_text, rate_steps, room_index, sf_plots, sf_repeatability,
+                     up_or_down, with_scatter)
 
 # =============================================================================== 7.2.1 – 7.2.4
 

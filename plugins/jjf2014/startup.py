@@ -14,38 +14,14 @@ import math
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    EquipmentRequirement,
-    Metric,
-    Option,
-    Outcome,
-    Result,
-    Segment,
-    SegmentRequirement,
-    Step,
-    TableSpec,
-    join,
-    msg,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Metric, Option,
+                       Outcome, Result, Segment, SegmentRequirement, Step, TableSpec, join, msg)
 from metro.api import settling as S
 
 from . import budgets as B
 from . import formulas as F
-from .common import (
-    RATE_OPTS,
-    JJFItem,
-    calibration_of,
-    condition_in,
-    need_segments,
-    output_step,
-    quantity_text,
-    read_output,
-    scale_factor_for,
-)
+from .common import (RATE_OPTS, JJFItem, calibration_of, condition_in, need_segments, output_step,
+                     quantity_text, read_output, scale_factor_for)
 from .scale_factor import ScaleFactor
 
 TRIALS = ("position", "rate")

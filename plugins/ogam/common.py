@@ -9,24 +9,9 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    Coverage,
-    DataError,
-    EquipmentRequirement,
-    Option,
-    Procedure,
-    Result,
-    Segment,
-    SegmentRequirement,
-    Step,
-    UncertaintyBudget,
-    join,
-    msg,
-    parse_quantity,
-)
+from metro.api import (Q_, BudgetRow, Campaign, Coverage, DataError, EquipmentRequirement, Option,
+                       Procedure, Result, Segment, SegmentRequirement, Step, UncertaintyBudget,
+                       join, msg, parse_quantity)
 
 from . import formulas as F
 

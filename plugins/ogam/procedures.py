@@ -19,51 +19,15 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.api import (
-    Q_,
-    BudgetRow,
-    Campaign,
-    DataError,
-    Metric,
-    Option,
-    Outcome,
-    PlotSpec,
-    ProcedureError,
-    Result,
-    RunContext,
-    Step,
-    TableSpec,
-    UncertaintyBudget,
-    join,
-    msg,
-    std_sampling_u,
-)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, Metric, Option, Outcome, PlotSpec,
+                       ProcedureError, Result, RunContext, Step, TableSpec, UncertaintyBudget, join,
+                       msg, std_sampling_u)
 
 from . import formulas as F
-from .common import (
-    AXES,
-    COVERAGE_NU,
-    RATES,
-    REF_RATE,
-    ROUNDS,
-    SCALE,
-    STANDARD,
-    ZERO,
-    OgamItem,
-    PositionErrorItem,
-    ScaleFactorItem,
-    column_of,
-    disclosed,
-    e_budget,
-    error_matrix,
-    pos_step,
-    positioning_group,
-    positioning_groups,
-    positioning_row,
-    reading_step_of,
-    round_errors,
-    rounds_at_reference,
-)
+from .common import (AXES, COVERAGE_NU, RATES, REF_RATE, ROUNDS, SCALE, STANDARD, ZERO, OgamItem,
+                     PositionErrorItem, ScaleFactorItem, column_of, disclosed, e_budget,
+                     error_matrix, pos_step, positioning_group, positioning_groups, positioning_row,
+                     reading_step_of, round_errors, rounds_at_reference)
 
 # ------------------------------------------------------------------------------ 7.1 and 7.2
 

@@ -17,13 +17,8 @@ from metro.core.base.errors import DataError, UnitError
 from metro.instruments.readers import common as readers_common
 from metro.instruments.readers import text as readers_text
 from metro.instruments.readers import writing as readers_writing
-from metro.instruments.readers import (
-    SampleTable,
-    parse_header_cell,
-    read_samples,
-    write_samples_csv,
-    write_samples_npy,
-)
+from metro.instruments.readers import (SampleTable, parse_header_cell, read_samples,
+                                       write_samples_csv, write_samples_npy)
 
 
 def _bits(a: np.ndarray) -> np.ndarray:

@@ -8,13 +8,8 @@ import sys
 
 import pytest
 
-from metro.core.base.atomic import (
-    TMP_MARKER,
-    atomic_path,
-    atomic_write,
-    atomic_write_bytes,
-    atomic_write_text,
-)
+from metro.core.base.atomic import (TMP_MARKER, atomic_path, atomic_write, atomic_write_bytes,
+                                    atomic_write_text)
 
 
 def _leftovers(directory):

@@ -25,15 +25,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from metro.core.base.errors import DataError, UnitError
 from metro.core.base.formatting import unit_text, with_unit
-from metro.core.base.units import (
-    Q_,
-    angle_power,
-    difference_unit,
-    fmt_unit,
-    parse_quantity,
-    unit,
-    ureg,
-)
+from metro.core.base.units import (Q_, angle_power, difference_unit, fmt_unit, parse_quantity, unit,
+                                   ureg)
 from metro.core.model.record_json import json_value
 from metro.core.model.results import Metric, Result
 from metro.core.run.plugin_manager import get_plugin_manager

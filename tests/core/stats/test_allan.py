@@ -14,19 +14,9 @@ import sys
 import numpy as np
 import pytest
 from metro.core.stats import allan, allan_base, allan_edf
-from metro.core.stats.allan import (
-    AllanResult,
-    adev,
-    block_means,
-    block_means_pyramid,
-    block_std,
-    block_variance_doubling,
-    edf_white_fm,
-    log_m,
-    mdev,
-    oadev,
-    octave_m,
-)
+from metro.core.stats.allan import (AllanResult, adev, block_means, block_means_pyramid, block_std,
+                                    block_variance_doubling, edf_white_fm, log_m, mdev, oadev,
+                                    octave_m)
 
 ENGINES = ["numpy", "numba"]
 

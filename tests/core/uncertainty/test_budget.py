@@ -8,14 +8,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from metro.core.uncertainty.budget import (
-    BudgetRow,
-    Coverage,
-    UncertaintyBudget,
-    report_pair,
-    round_to,
-    round_uncertainty,
-)
+from metro.core.uncertainty.budget import (BudgetRow, Coverage, UncertaintyBudget, report_pair,
+                                           round_to, round_uncertainty)
 from metro.core.model.campaign import Calibration
 from metro.core.base.units import Q_
 

@@ -10,15 +10,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from metro.core.uncertainty import conformity as cf
-from metro.core.uncertainty.conformity import (
-    GUARDED,
-    SIMPLE,
-    Comparison,
-    Specification,
-    Status,
-    decide,
-    parse_limit,
-)
+from metro.core.uncertainty.conformity import (GUARDED, SIMPLE, Comparison, Specification, Status,
+                                               decide, parse_limit)
 from metro.core.base.errors import DataError, UnitError
 from metro.core.model.campaign import DeviceUnderTest
 from metro.core.base.units import Q_

@@ -9,13 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from metro.core.uncertainty.selection import (
-    max_abs_selection,
-    max_slope_selection,
-    selection_rows,
-    spread_rows,
-    upper_sigma,
-)
+from metro.core.uncertainty.selection import (max_abs_selection, max_slope_selection,
+                                              selection_rows, spread_rows, upper_sigma)
 
 
 def test_upper_sigma_against_chi_square_table():

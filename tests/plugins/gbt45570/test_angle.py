@@ -137,11 +137,9 @@ def test_d14_reversed_mounting_cancels_a_fixture_error_exactly():
 
 
 def test_d14_d15_d16_recover_simulated_truth(pm):
-    from metro.plugins.gbt45570.angle_method import (
-        InputAxisMisalignmentD16,
-        ScaleFactorRepeatabilityD14,
-        ScaleFactorTemperatureSensitivityD15,
-    )
+    from metro.plugins.gbt45570.angle_method import (InputAxisMisalignmentD16,
+                                                     ScaleFactorRepeatabilityD14,
+                                                     ScaleFactorTemperatureSensitivityD15)
 
     assert pm.procedure("gbt45570", "D.1.4") is ScaleFactorRepeatabilityD14
     assert pm.procedure("gbt45570", "D.1.5") is ScaleFactorTemperatureSensitivityD15

@@ -13,14 +13,9 @@ from metro.core.run.runner import merge_steps, run_items
 from metro.core.base.units import Q_
 from metro.instruments.simulated import GRADES, GyroTruth, SimulatedStation
 from metro.plugins.gbt45570 import env_formulas as E
-from metro.plugins.gbt45570.environmental import (
-    HighTemperatureOperationD62,
-    LowTemperatureOperationD61,
-    MechanicalShockD64,
-    PowerConsumption6278,
-    SetupTime6277,
-    VibrationD63,
-)
+from metro.plugins.gbt45570.environmental import (HighTemperatureOperationD62,
+                                                  LowTemperatureOperationD61, MechanicalShockD64,
+                                                  PowerConsumption6278, SetupTime6277, VibrationD63)
 from metro.plugins.gbt45570.threshold import ThresholdD4
 
 # ---------------------------------------------------------------------------- hand-worked

@@ -198,11 +198,8 @@ def test_d44_hand_worked():
 
 
 def test_d53_d54_d55_recover_simulated_truth(pm):
-    from metro.plugins.gbt45570.procedures import (
-        BiasMagneticSensitivityD55,
-        BiasRepeatabilityD53,
-        BiasTemperatureSensitivityD54,
-    )
+    from metro.plugins.gbt45570.procedures import (BiasMagneticSensitivityD55, BiasRepeatabilityD53,
+                                                   BiasTemperatureSensitivityD54)
 
     # seed 22: segments are seeded by their step's identity since issue 14; at seed 21 that draw
     # put B_r 3.4 U from the truth (seeds 22–31: all within 0.6 U)

@@ -18,16 +18,11 @@ from metro.core.base.units import Q_
 from metro.instruments.sim_gbt_rate import digital_station_factory
 from metro.instruments.simulated import station_factory
 from metro.plugins.gbt45570 import formulas_rate as F2
-from metro.plugins.gbt45570.rate_method import (
-    AsymmetryD23,
-    InputAxisMisalignmentD26,
-    MaxInputRateD3,
-    NonlinearityD22,
-    ScaleFactorD21,
-    ScaleFactorRepeatabilityD24,
-    ScaleFactorTemperatureSensitivityD25,
-    default_nonlinearity_limit,
-)
+from metro.plugins.gbt45570.rate_method import (AsymmetryD23, InputAxisMisalignmentD26,
+                                                MaxInputRateD3, NonlinearityD22, ScaleFactorD21,
+                                                ScaleFactorRepeatabilityD24,
+                                                ScaleFactorTemperatureSensitivityD25,
+                                                default_nonlinearity_limit)
 
 FAST = 0.1  # duration_scale: 10 samples per rate point keep the tests quick
 

@@ -14,13 +14,9 @@ from metro.core.run.runner import merge_steps, run_items
 from metro.core.base.units import Q_
 from metro.instruments.mimu import EARTH_RATE_DEG_S, MimuStation, MimuTruth
 from metro.plugins.jjf2003 import formulas as F
-from metro.plugins.jjf2003.procedures import (
-    AccelRateSensitivity,
-    AccelSixPosition,
-    GyroBiasGSensitivity,
-    GyroCrossCoupling,
-    GyroScaleFactor,
-)
+from metro.plugins.jjf2003.procedures import (AccelRateSensitivity, AccelSixPosition,
+                                              GyroBiasGSensitivity, GyroCrossCoupling,
+                                              GyroScaleFactor)
 
 ALL = ["7.2.1", "7.2.2", "7.2.3", "7.2.4", "7.2.5"]
 

@@ -465,31 +465,14 @@ def test_startup_of_a_coarsely_digitised_output(pm):
 
 
 def test_procedure_classes_are_registered(pm):
-    from metro.plugins.jjf2014.procedures import (
-        AngleRandomWalk,
-        Asymmetry,
-        Bandwidth,
-        Bias,
-        BiasAcceleration,
-        BiasRepeatability,
-        BiasShock,
-        BiasStability,
-        BiasTemperature,
-        BiasVibration,
-        Misalignment,
-        MisalignmentRepeatability,
-        NonlinearityRange,
-        OutputDelay,
-        Repeatability,
-        Resolution,
-        ScaleFactor,
-        SFAxialAcceleration,
-        SFShock,
-        SFTemperature,
-        SFVibration,
-        StartupTime,
-        Threshold,
-    )
+    from metro.plugins.jjf2014.procedures import (AngleRandomWalk, Asymmetry, Bandwidth, Bias,
+                                                  BiasAcceleration, BiasRepeatability, BiasShock,
+                                                  BiasStability, BiasTemperature, BiasVibration,
+                                                  Misalignment, MisalignmentRepeatability,
+                                                  NonlinearityRange, OutputDelay, Repeatability,
+                                                  Resolution, ScaleFactor, SFAxialAcceleration,
+                                                  SFShock, SFTemperature, SFVibration, StartupTime,
+                                                  Threshold)
 
     classes = (ScaleFactor, NonlinearityRange, Asymmetry, Repeatability, SFTemperature,
                SFAxialAcceleration, SFShock,

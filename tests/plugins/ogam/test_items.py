@@ -16,10 +16,7 @@ from metro.instruments.angle_instrument import AngleInstrumentStation, AngleInst
 from metro.plugins.ogam import common as C
 from metro.plugins.ogam import formulas as F
 from metro.plugins.ogam import procedures as P
-from metro.plugins.ogam.procedures import (
-    Repeatability75,
-    ZeroStability73,
-)
+from metro.plugins.ogam.procedures import (Repeatability75, ZeroStability73)
 
 ALL = ["7.1", "7.2", "7.3", "7.4", "7.5", "7.6", "7.7"]
 
