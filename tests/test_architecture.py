@@ -1,12 +1,15 @@
 """The architecture as contracts: layers and imports (.importlinter, run with lint-imports), no
-private name crossing a module, the size limits, and docs/architecture.md drawing the same
-layers as the contracts file."""
+private name crossing a module, the size limits, ruff clean at the configured line length, and
+docs/architecture.md drawing the same layers as the contracts file."""
 
 from __future__ import annotations
 
 import ast
 import configparser
 import re
+import subprocess
+import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -49,6 +52,25 @@ def test_the_import_contracts_hold():
     """lint-imports on .importlinter: layers, core alone, plugins through metro.api, no cycles."""
     lint = pytest.importorskip("importlinter.cli", reason="import-linter is in the [test] extra")
     assert lint.lint_imports(config_filename=str(ROOT / ".importlinter")) == 0
+
+
+def test_ruff_is_clean_over_the_whole_tree():
+    """``ruff check`` with the project's rules (pyproject.toml) finds nothing anywhere: packages,
+    tests, benchmarks, tools and examples."""
+    pytest.importorskip("ruff", reason="ruff is in the [test] extra")
+    run = subprocess.run([sys.executable, "-m", "ruff", "check", "--no-cache",
+                          "--output-format", "concise", str(ROOT)],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-1000:]
+
+
+def test_ruff_checks_line_length_100_and_the_error_rules():
+    """The rules cannot be weakened silently: 100 columns, pycodestyle errors (E501 among them),
+    pyflakes and bugbear are selected, and no rule of E or F is ignored."""
+    ruff = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["ruff"]
+    assert ruff["line-length"] == 100
+    assert {"E", "W", "F", "B"} <= set(ruff["lint"]["select"])
+    assert not [r for r in ruff["lint"].get("ignore", []) if r[0] in "EF"]
 
 
 def test_the_contracts_ignore_nothing():

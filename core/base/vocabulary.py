@@ -55,7 +55,8 @@ CAMPAIGN_KEYS: dict[str, str] = {
     "approved_by_title": "the approver's title, e.g. head of laboratory",
     "operator_title": "the operator's title, e.g. calibration engineer",
     "checked_by_title": "the checker's title",
-    "measurement_date": "the day of the measurement (YYYY-MM-DD); reports print it as the test date",
+    "measurement_date": ("the day of the measurement (YYYY-MM-DD); reports print it as the test "
+                         "date"),
     "date_received": "the day the device was received (YYYY-MM-DD)",
     "notes": "free text kept with the campaign",
     # written by metro acquire
@@ -100,7 +101,8 @@ ROLES: dict[str, str] = {
     "rate_table": "rate / position table (single or multi-axis) turning the device",
     "position_table": "position table setting the device's attitude (JJF 2014 table 2)",
     "tilt_table": "two-axis tilt table (GB/T 45570 D.4)",
-    "turntable": "low-speed turntable of an angle measuring instrument's calibration (ogam table 1)",
+    "turntable": ("low-speed turntable of an angle measuring instrument's calibration (ogam "
+                  "table 1)"),
     "platform": "levelled stable platform",
     "counter": "gyro test system / counter (its time base)",
     "dmm": "digital multimeter / data acquisition of an analog output",

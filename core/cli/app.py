@@ -94,7 +94,8 @@ def build_parser() -> argparse.ArgumentParser:
     pn.add_argument("--standard", "-s", help="standard id (may be left out with std:item ids)")
     pn.add_argument("--item", "-i", action="append", default=[], help="item ids or a series name")
     pn.add_argument("--all", action="store_true", dest="run_all",
-                    help="every item of the standard that applies to the simulated station's device")
+                    help="every item of the standard that applies to the simulated station's "
+                    "device")
     pn.add_argument("--json", action="store_true")
 
     aq = sub.add_parser("acquire",
@@ -211,7 +212,8 @@ def _add_batch(sub: Any) -> None:
                    "comma-separated list; repeatable")
     b.add_argument("--scheduler", metavar="ADDRESS",
                    help="an existing Dask scheduler, e.g. tcp://host:8786 "
-                   "(workers must see --data and --out at the same paths); default: a local cluster")
+                   "(workers must see --data and --out at the same paths); default: a local "
+                   "cluster")
     b.add_argument("--workers", type=int, metavar="N", help="worker processes of the local cluster "
                    "(default: the number of CPUs)")
     b.add_argument("--out", default="metro-batch", metavar="DIR",

@@ -256,8 +256,9 @@ def load_state(out: Path, job: Job) -> dict[str, Any]:
         state = json.loads(path.read_text(encoding="utf-8"))
         state["campaigns"]
     except (ValueError, KeyError, TypeError) as exc:
+        hint = "give another --out, or remove the file to start the batch afresh"
         raise DataError(str(path), None, f"not a metro batch state file ({exc})",
-                        hint="give another --out, or remove the file to start the batch afresh") from exc
+                        hint=hint) from exc
     if state.get("job") != job.fingerprint():
         raise DataError(str(path), "job",
                         f"this --out holds a batch of another job ({state.get('job')}); "

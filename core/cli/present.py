@@ -44,7 +44,8 @@ def progress(enabled: bool = True, started: Callable[[], None] | None = None,
         yield quiet
         return
     from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+    from rich.progress import (BarColumn, Progress, TextColumn, TimeElapsedColumn,
+                               TimeRemainingColumn)
     from rich.table import Column
 
     console = console or Console(stderr=True)

@@ -565,7 +565,8 @@ def _cmd_lab(args) -> int:
     if where is None:
         raise MetroError("no lab profile in force",
                          hint="give --lab PATH or METRO_LAB, or put lab.toml in "
-                         f"{labmod.user_lab_path().parent}; `metro lab init PATH` writes a template")
+                         f"{labmod.user_lab_path().parent}; `metro lab init PATH` writes a "
+                         "template")
     profile = labmod.load_lab(where)
     doc = profile.as_dict()
     if args.json:  # each certificate's U as {"value", "unit"} (docs/json.md), not as its text

@@ -130,7 +130,7 @@ def group_notes(
                 own_line[item] = [item, []]
                 lines.append(own_line[item])
             own_line[item][1].append((sym, mine[0] if len(mine) == 1 else join(sep, mine)))
-        for k, p in parts:
+        for k, _ in parts:
             if k in shared and k not in placed:
                 placed.add(k)
                 lines.append([where_label(where[k]), _stated_once(members[k], key)])

@@ -16,7 +16,8 @@ import pint
 
 from ..base.errors import DataError
 from ..base.units import Q_, check_dimension, fmt_unit, parse_quantity, unit
-from ..base.vocabulary import Customer, Lab, People, canonical_role, customer_of, date_of, lab_of, people_of
+from ..base.vocabulary import (Customer, Lab, People, canonical_role, customer_of, date_of, lab_of,
+                               people_of)
 
 __all__ = ['Calibration', 'Instrument', 'DeviceUnderTest', 'Equipment', 'Series', 'Segment',
            'Campaign']

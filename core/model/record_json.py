@@ -21,7 +21,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-if TYPE_CHECKING:  # pragma: no cover - annotations only: reading a register prints JSON without pint
+# annotations only: reading a register prints JSON without pint
+if TYPE_CHECKING:  # pragma: no cover
     from .provenance import RunRecord
 
 

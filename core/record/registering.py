@@ -590,7 +590,8 @@ def history_plot(hist: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
                         ms=12,
                         label="drift: |E_n| > 1")
             unit = f" / {res['unit']}" if res["unit"] not in ("", "1") else ""
-            ax.set_title(f"{res['standard']} {res['item']}: {res['quantity']} {res['symbol']}".strip(), fontsize=9)
+            title = f"{res['standard']} {res['item']}: {res['quantity']} {res['symbol']}"
+            ax.set_title(title.strip(), fontsize=9)
             ax.set_ylabel(f"{res['symbol'] or res['key']}{unit}")
             ax.legend(fontsize=7)
             ax.grid(True, alpha=0.3)

@@ -47,11 +47,11 @@ def check_equipment(campaign: Campaign, proc) -> list:
                         f"has the role {near!r}; did you mean {req.role!r}?" if near else
                         f"add [[equipment]] with role = \"{req.role}\" and its "
                         "[equipment.calibration]")
+                given = ", ".join(sorted({e.role for e in campaign.equipment}))
                 raise DataError(src, "equipment",
                                 f"{proc.qualified_id()} requires equipment with the role "
                                 f"{req.role!r} ({req.description}); the campaign lists none "
-                                "(roles given: "
-                                f"{', '.join(sorted({e.role for e in campaign.equipment})) or 'none'})",
+                                f"(roles given: {given or 'none'})",
                                 hint=hint)
             if req.noted:
                 absent.append(req)

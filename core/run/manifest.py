@@ -596,8 +596,8 @@ def _started(v: Any, src: str, field: str) -> dt.datetime | None:
         if "T" not in text.upper() and " " not in text:
             raise DataError(src, field, f"{_short(v)} is a date without the time of day", hint=hint)
     else:
-        what = "a date without the time of day" if isinstance(v,
-                                                              dt.date) else f"not a date and time: {_short(v)}"
+        what = ("a date without the time of day" if isinstance(v, dt.date)
+                else f"not a date and time: {_short(v)}")
         raise DataError(src, field, what, hint=hint)
     if t.utcoffset() is None:
         raise DataError(src, field,

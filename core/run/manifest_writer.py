@@ -503,8 +503,8 @@ def _check_evaluates(pm, standard: str, station: str, items, options, campaign: 
     except MetroError as exc:
         raise MetroError(f"the campaign recorded on station {station!r} would not evaluate: "
                          f"{exc.reason}; nothing was written",
-                         hint=exc.hint
-                         or "a longer record (duration_scale) or other item options may help") from exc
+                         hint=exc.hint or "a longer record (duration_scale) or other item "
+                         "options may help") from exc
 
 
 def _fits(pm, standard: str, cls, refused: str) -> str:

@@ -134,7 +134,7 @@ def excursion_lobes(
         edge = upper if sign > 0 else lower
         fit = None
 
-        def prob(e: float) -> float:
+        def prob(e: float, z=z, k=k, a=a, b=b) -> float:
             nonlocal fit
             margin = float(z[k]) - e
             if margin > 6.0 * s_tot:

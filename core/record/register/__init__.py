@@ -174,7 +174,8 @@ def schema_revision(engine) -> str | None:
 #: what to do when there is no register yet (read-only commands create none)
 NO_REGISTER_HINT = ("a register is made by the first registered run: write a lab profile with "
                     "`metro lab init lab.toml` (its `register` names the database), then `metro "
-                    "--lab lab.toml run … --data MANIFEST`; or point --lab / METRO_LAB / METRO_REGISTER at an existing register")
+                    "--lab lab.toml run … --data MANIFEST`; or point --lab / METRO_LAB / "
+                    "METRO_REGISTER at an existing register")
 
 
 def _no_register(url: str, why: str) -> "RegisterError":
@@ -293,7 +294,7 @@ def open_register(url: str, *, create: bool = True) -> "Register":
                             "must be writable") from exc
     except Exception as exc:
         if not exc.__class__.__module__.startswith("sqlalchemy"):
-            raise _alembic_error(url, exc)
+            raise _alembic_error(url, exc) from exc
         raise RegisterError(f"register {redact_url(url)}: cannot open the database "
                             f"({exc.__class__.__name__}: {str(exc).splitlines()[0]})",
                             hint="check the lab profile's register (or METRO_REGISTER) and that "
