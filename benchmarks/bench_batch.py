@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import shutil
 import statistics
 import subprocess
 import sys
@@ -44,8 +43,7 @@ def acquire_lot(n: int) -> Path:
         if (folder / "manifest.toml").is_file():
             continue
         acquire_campaign(pm, "gbt45570", ITEMS.split(","), folder,
-                         station_options={"seed": 1000 + i,
-                                                                                    "duration_scale": 0.2})
+                         station_options={"seed": 1000 + i, "duration_scale": 0.2})
     return lot
 
 

@@ -3,7 +3,8 @@ core install), on a long one-column record and a multi-column one.
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_read_fallback.py [--rounds 3] [--rows 30000000] [--multi-rows 3000000]
+    .venv/bin/python benchmarks/bench_read_fallback.py [--rounds 3] [--rows 30000000] \
+        [--multi-rows 3000000]
 
 Data (written to ``benchmarks/data/`` on first use, gitignored): ``fallback_one_<N>.csv``, header
 ``output [P]``, seeded normal values rounded to three decimals (an 8 h record at 1 kHz is 28.8 M

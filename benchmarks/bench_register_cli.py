@@ -62,9 +62,10 @@ except ImportError:  # the flat layout before the architecture change
 out = sys.argv[1]
 for i in range({n}):
     seed = str(1 + i % 4)  # four devices ("seed 1" … "seed 4"), five calibrations each
-    std = ["-s", "jjf2014", "-i", "7.2.3"] if i % 2 == 0 else ["-s", "gbt45570", "-i", "D.5.6",
-                                                               "--station-option", "duration_scale=0.05"]
-    code = main(["run", *std, "--seed", seed, "--quiet", "--register-simulated", "--out", out, "--json"])
+    std = ["-s", "jjf2014", "-i", "7.2.3"] if i % 2 == 0 else [
+        "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_scale=0.05"]
+    code = main(["run", *std, "--seed", seed, "--quiet", "--register-simulated", "--out", out,
+                 "--json"])
     assert code in (0, 3, 4), code
 """
 

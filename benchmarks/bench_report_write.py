@@ -54,7 +54,8 @@ class Tree(importlib.abc.MetaPathFinder):
             return None
         init = folder / "__init__.py"
         if init.is_file():
-            return importlib.util.spec_from_file_location(name, init, submodule_search_locations=[str(folder)])
+            return importlib.util.spec_from_file_location(
+                name, init, submodule_search_locations=[str(folder)])
         spec = importlib.machinery.ModuleSpec(name, None, is_package=True)
         spec.submodule_search_locations = [str(folder)]
         return spec
@@ -92,8 +93,10 @@ import json, time
 if sys.argv[1] == "prepare":
     pm = get_plugin_manager()
     record = run_items(pm, "gbt45570", [], data=sys.argv[2], run_all=True)
-    ctx = report.build_context(record, designations={s.id: s.designation for s in pm.registry.standards.values()},
-                               extend=pm.extend_report_context, register=unregistered(record, "no lab profile"))
+    designations = {s.id: s.designation for s in pm.registry.standards.values()}
+    ctx = report.build_context(record, designations=designations,
+                               extend=pm.extend_report_context,
+                               register=unregistered(record, "no lab profile"))
     layout = pm.template_for("gbt45570").layout
     with open(sys.argv[3], "w", encoding="utf-8") as fh:
         json.dump({"layout": layout, "context": encode_context(ctx)}, fh, ensure_ascii=False)

@@ -53,7 +53,6 @@ import contextlib
 import io
 import json
 import math
-import os
 import subprocess
 import sys
 import tempfile
@@ -525,7 +524,8 @@ VARIANTS = {
     "gbt-lsb-10Hz-coarse-thermal": Variant(
         "gbt-lsb-10Hz-coarse-thermal", "gbt45570", "D.5.1,D.5.3",
         "LSB output, 1 LSB ≈ 1 °/h (coarser than the 10 Hz noise), 10 Hz, .npy, sinusoidal "
-        "thermal wander ≈ 0.01 °/h (period 20–90 min, random phase per power-on), flicker 0.002 °/h",
+        "thermal wander ≈ 0.01 °/h (period 20–90 min, random phase per power-on), "
+        "flicker 0.002 °/h",
         lambda f, rng, quick: build_gbt_bias(f, rng, kind="LSB", dt=0.1, fmt="npy", flick=0.002,
                                              wander=0.01, lsb_deg_h=1.0, q_deg_h=0, quick=quick)),
     "gbt-rate-1Hz-quantized": Variant(
@@ -607,7 +607,7 @@ def run_metro(manifest: Path, standard: str, items: str,
         with contextlib.redirect_stdout(so), contextlib.redirect_stderr(se):
             try:
                 code = main(argv)
-            except Exception as exc:  # a traceback is itself a finding
+            except Exception:  # a traceback is itself a finding
                 import traceback
 
                 code, se = 1, io.StringIO(traceback.format_exc())

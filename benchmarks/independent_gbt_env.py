@@ -287,22 +287,22 @@ def build_power(folder: Path, rng, *, supplies=(5.0, 15.0, -15.0), pulsed: bool 
         if pulsed:
             duty, per = float(rng.uniform(0.3, 0.7)), float(rng.uniform(3, 9))
             on = ((t / per) % 1.0) < duty
-            I = I0 * (0.3 + 1.4 * on) + 0.002 * rng.standard_normal(n)
+            i_sup = I0 * (0.3 + 1.4 * on) + 0.002 * rng.standard_normal(n)
             R = float(rng.uniform(0.05, 0.3))
         else:
-            I = I0 * (1 + 0.01 * np.sin(2 * math.pi * t
-                                        / float(rng.uniform(5,
-                                                            30)))) + 0.001 * rng.standard_normal(n)
+            period = float(rng.uniform(5, 30))
+            i_sup = I0 * (1 + 0.01 * np.sin(2 * math.pi * t / period)) \
+                + 0.001 * rng.standard_normal(n)
             R = 0.02
-        U = abs(V) * (1 + 0.02 * float(rng.uniform(-1, 1))) - R * I + 0.002 * rng.standard_normal(n)
-        P += float(np.mean(U * I))
+        U = abs(V) * (1 + 0.02 * float(rng.uniform(-1, 1))) - R * i_sup \
+            + 0.002 * rng.standard_normal(n)
+        P += float(np.mean(U * i_sup))
         if absolute:
-            Um, Im = U + ev, I + ei
+            Um, Im = U + ev, i_sup + ei
         else:
-            Um, Im = U * (1 + ev), I * (1 + ei)
+            Um, Im = U * (1 + ev), i_sup * (1 + ei)
         write_table(camp, f"power{V:+g}V", "power", {"voltage [V]": s * Um, "current [A]": s * Im},
-                    dt,
-                    {"supply": f"{V:g} V"})
+                    dt, {"supply": f"{V:g} V"})
     camp.write_manifest()
     return {("6.2.7.8", "P"): (P, "W", "")}
 
@@ -775,9 +775,9 @@ VARIANTS = {
                                                                                             quick=quick)),
     "vibshock-lsb-no-repeats": V("vibshock-lsb-no-repeats", "gbt45570", "D.6.3,D.6.4",
                                  "LSB 0.05 °/h at 1 s, flicker 0.003 °/h, no D.5.3 repeats",
-                                 lambda f, rng,
-                                 quick: build_vibration_shock(f, rng, kind="LSB", flick=0.003,
-                                                                             repeats=False, quick=quick)),
+                                 lambda f, rng, quick: build_vibration_shock(
+                                     f, rng, kind="LSB", flick=0.003, repeats=False,
+                                     quick=quick)),
     "vibshock-rate-quiet-on": V("vibshock-rate-quiet-on", "gbt45570", "D.6.3,D.6.4",
                                 "rate output °/h (0.001 °/h), turn-on σ 0.0005–0.002 °/h (small "
                                 "against 10 min of noise), D.5.3's repeats", lambda f, rng,
@@ -793,19 +793,20 @@ VARIANTS = {
     "env-angle-pulse-no-repeats": V("env-angle-pulse-no-repeats", "gbt45570",
                                     "6.2.8.2,6.2.8.5,6.2.8.7",
                                     "as env-angle-pulse without the repeats",
-                                    lambda f, rng,
-                                    quick: build_type_env(f, rng, kind="pulse", method="angle",
-                                                                         repeats=False, quick=quick)),
+                                    lambda f, rng, quick: build_type_env(
+                                        f, rng, kind="pulse", method="angle", repeats=False,
+                                        quick=quick)),
     "env-rate-lsb": V("env-rate-lsb", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
                       "LSB 0.05 °/h at 1 s; the scale factor by D.2.1 at ±10, ±100 °/s and rest "
-                      "(100 s each); D.5.3 and D.2.4 (short) repeats", lambda f, rng,
-                      quick: build_type_env(f, rng, kind="LSB", method="rate",
-                                                                                    quick=quick)),
+                      "(100 s each); D.5.3 and D.2.4 (short) repeats",
+                      lambda f, rng, quick: build_type_env(f, rng, kind="LSB", method="rate",
+                                                           quick=quick)),
     "maxrate-lsb-10Hz": V("maxrate-lsb-10Hz", "gbt45570", "D.3",
                           "LSB 0.05 °/h at 10 Hz, 100 s per point, R5 1–400 °/s, compression "
-                          "c(|Ω|/Ω_s)⁴, limit 20/50/100 ppm", lambda f, rng,
-                          quick: build_maxrate(f, rng, kind="LSB", dt=0.1, seconds=100.0,
-                                                                               q=0.05, quick=quick)),
+                          "c(|Ω|/Ω_s)⁴, limit 20/50/100 ppm",
+                          lambda f, rng, quick: build_maxrate(f, rng, kind="LSB", dt=0.1,
+                                                              seconds=100.0, q=0.05,
+                                                              quick=quick)),
     "maxrate-rate-1Hz": V("maxrate-rate-1Hz", "gbt45570", "D.3",
                           "rate output °/h rounded to 0.01 °/h at 1 Hz, 100 s per point (CSV)",
                           lambda f, rng, quick: build_maxrate(f, rng, kind="rate", dt=1.0,

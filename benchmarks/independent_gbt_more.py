@@ -752,7 +752,8 @@ VARIANTS = {
                                         quick=quick)),
     "arw-rate-degh-5Hz": Variant(
         "arw-rate-degh-5Hz", "gbt45570", "D.5.6",
-        "rate output in °/h rounded to 0.2 °/h (≈ the 5 Hz noise), 8 h at 5 Hz, ARW 0.002–0.01 °/√h",
+        "rate output in °/h rounded to 0.2 °/h (≈ the 5 Hz noise), 8 h at 5 Hz, "
+        "ARW 0.002–0.01 °/√h",
         lambda f, rng, quick: build_arw(f, rng, kind="deg/h", dt=0.2, hours=8.0, q=0.2,
                                         arw_range=(0.002, 0.01), quick=quick)),
     "bt-bh-pulse-1Hz": Variant(

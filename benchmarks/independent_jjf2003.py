@@ -242,6 +242,10 @@ class Lab:
     state_axis_perp: bool = False    # the table's axis_perpendicularity written in the manifest
 
 
+#: the lab a campaign is built in when none is given
+DEFAULT_LAB = Lab()
+
+
 @dataclass
 class MimuCampaign:
     folder: Path
@@ -275,17 +279,14 @@ class MimuCampaign:
 
 
 def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: int, fs_g: float,
-               fs_a: float,
-               rates: tuple, xc_g: float, xc_a: float, g_sens: float, p_mag: float, arw: tuple,
-               vrw: tuple,
-               wander: float = 0.0, lab: Lab = Lab(), lat_range=(-70.0, 70.0),
-               altitude: tuple = (0.0, 0.0),
-               anomaly_mgal: float = 30.0, write_gravity: bool = False, gyro_unit="deg/s",
-               acc_unit="gn",
+               fs_a: float, rates: tuple, xc_g: float, xc_a: float, g_sens: float, p_mag: float,
+               arw: tuple, vrw: tuple, wander: float = 0.0, lab: Lab = DEFAULT_LAB,
+               lat_range=(-70.0, 70.0), altitude: tuple = (0.0, 0.0), anomaly_mgal: float = 30.0,
+               write_gravity: bool = False, gyro_unit="deg/s", acc_unit="gn",
                with_time: bool = True, quick: bool = False, flip: float = 0.3,
-               items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0, sigma_K: float = 0.0,
-               sigma_B: float = 0.0, ramp: bool = False, started: bool = False,
-               shuffle: bool = False) -> dict:
+               items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0,
+               sigma_K: float = 0.0, sigma_B: float = 0.0, ramp: bool = False,
+               started: bool = False, shuffle: bool = False) -> dict:
     """One MIMU written as a campaign of the 27 (3 axes × the rate set) rate segments and the twelve
     positions; returns the truth {(item, key): (value, unit, earth)} and ``options``."""
     lat = float(rng.uniform(*lat_range))
@@ -362,11 +363,10 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     # vertical within ±position_accuracy (T); the MIMU axis lies off the table axis by the table's
     # positioning and axis perpendicularity and the fixture (perp, mount): at rest the leaning axis
     # puts a horizontal component of g on the other accelerometers that turning averages away.
-    for j, a in enumerate(AXES):
+    for a in AXES:
         T = tilt()
-        perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy
-                              * ARCSEC) @ small_rotation(
-            rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
+        perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) \
+            @ small_rotation(rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
         for r in rates:
             eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
             C0 = T @ up_nominal("+" + a) @ perp @ mount
@@ -381,11 +381,10 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
         dev.Kg = Kg0.copy()
         dev.Kg[np.diag_indices(3)] *= 1 + sigma_K * rng.standard_normal(3)
         dev.Bg = Bg0 + sigma_B * rng.standard_normal(3)
-        for j, a in enumerate(AXES):
+        for a in AXES:
             T = tilt()
-            perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy
-                                  * ARCSEC) @ small_rotation(
-                rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
+            perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) \
+                @ small_rotation(rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
             for r in rates:
                 eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
                 C0 = T @ up_nominal("+" + a) @ perp @ mount
@@ -638,8 +637,9 @@ def main(argv=None) -> int:
                                                      keep=a.keep is not None),
                   summary=lambda rows, a: summarise(rows) if a.per_result else grouped(rows),
                   table=lambda rows, a: ic.markdown(rows) if a.per_result else markdown(rows),
-                  add_arguments=lambda ap: ap.add_argument("--per-result", action="store_true",
-                                                           help="print every result, not the groups"))
+                  add_arguments=lambda ap: ap.add_argument(
+                      "--per-result", action="store_true",
+                      help="print every result, not the groups"))
 
 if __name__ == "__main__":
     sys.exit(main())

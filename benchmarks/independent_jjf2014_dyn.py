@@ -497,7 +497,7 @@ def build_startup(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str
         camp.add(sid, "startup", vals, dt, {"trial": trial, "rate": f"{om!r} deg/s", "run": run})
     z = float(np.mean([v[3] for v in nf.values() if v[0] == "position"])) / K_cal
     res, res_alt = [], []
-    for sid, (trial, om, free, final) in nf.items():
+    for trial, om, free, final in nf.values():
         for store, (tt, xx) in ((res, (t, free)), (res_alt, _smooth(t, free, win, dt))):
             if trial == "position":
                 store.append(_settle(tt, xx / K_cal, final / K_cal, btol))

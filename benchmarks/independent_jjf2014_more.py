@@ -480,7 +480,6 @@ def build_allan(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
     exercised."""
     dev = Device(rng, kind=kind, q=q, shapes=("none",), asym=0.0, arw=(0.01, 0.1))
     rates = R5_SETS[100]
-    om = _signed_rates(rates)
     camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
                     output=dev.out)
     e = dev.earth
