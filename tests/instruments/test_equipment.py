@@ -273,7 +273,8 @@ def test_models_check_units_and_calibration():
 
     eq = E.Counter(id="C", certificate="CAL-7", U=Q_(1e-7, ""), k=2.0, due=dt.date(2030, 1, 1),
                    lab="NIM").equipment()
-    assert eq.role == "counter" and eq.calibration.certificate == "CAL-7" and eq.calibration.due.year == 2030
+    assert (eq.role == "counter" and eq.calibration.certificate == "CAL-7"
+            and eq.calibration.due.year == 2030)
     assert eq.calibration.standard_uncertainty == Q_(5e-8, "")
     assert E.Counter(id="C", role="timebase").equipment().role == "timebase"
     with pytest.raises(DataError, match="duplicate"):

@@ -4,10 +4,10 @@ A D.5.1/D.5.2/D.5.6 report listed the vibration table, shock table, callipers, b
 megohmmeter: ``metro acquire`` wrote every instrument of the simulated station into the manifest,
 and the report printed every line of the manifest. The equipment an item uses is the roles of its
 ``equipment`` requirements (:class:`metro.core.model.procedure.EquipmentRequirement`); ``acquire``
-writes those and a run keeps those (:func:`metro.core.run.equipment_check.used_equipment`), so a manifest
-with more equipment still gets a table of what was used, while a required role that is missing stays
-an error. The declarations are complete: every role an item looks up while it evaluates is one it
-declares.
+writes those and a run keeps those (:func:`metro.core.run.equipment_check.used_equipment`), so a
+manifest with more equipment still gets a table of what was used, while a required role that is
+missing stays an error. The declarations are complete: every role an item looks up while it
+evaluates is one it declares.
 """
 
 from __future__ import annotations
@@ -70,7 +70,8 @@ def test_a_manifest_with_more_equipment_gets_a_table_of_what_was_used(tmp_path, 
     text = subprocess.run(["pdftotext", "-enc", "UTF-8", str(pdf), "-"], capture_output=True,
                           text=True,
                           check=True).stdout
-    assert "VIB-9" not in text and "MEG-1" not in text and "V-100" not in text and "M-500" not in text
+    assert ("VIB-9" not in text and "MEG-1" not in text and "V-100" not in text
+            and "M-500" not in text)
     listed = text[text.index("Test equipment and measuring instruments"):]
     assert "counter" in listed and "platform" in listed
 

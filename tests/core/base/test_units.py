@@ -12,7 +12,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from metro.core.base.errors import UnitError
-from metro.core.base.units import Q_, angle_power, check_dimension, fmt_unit, parse_quantity, unit, ureg
+from metro.core.base.units import (Q_, angle_power, check_dimension, fmt_unit, parse_quantity, unit,
+                                   ureg)
 
 
 @pytest.mark.parametrize(

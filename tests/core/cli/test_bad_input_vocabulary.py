@@ -132,7 +132,8 @@ def test_every_role_an_item_requires_is_in_the_vocabulary():
     pm = get_plugin_manager(autoload=False)
     for info in pm.registry.procedures.values():
         for req in info.cls.equipment:
-            assert req.role in voc.ROLES, f"{info.cls.qualified_id()}: role {req.role!r} not in the vocabulary"
+            assert req.role in voc.ROLES, (
+                f"{info.cls.qualified_id()}: role {req.role!r} not in the vocabulary")
 
 
 @pytest.mark.parametrize("edit, field", [

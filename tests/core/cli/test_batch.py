@@ -92,8 +92,9 @@ def _check_lot(out: Path, summary: dict, single_runs: dict, lot: Path) -> None:
                          in r.cells)
         assert single["provenance"]["data_files"][0]["sha256"] in text
         doc = json.loads(Path(d["json"]).read_text(encoding="utf-8"))
+        # same evaluation
         assert [(r["item"], r["key"], r["value"], r["U"]) for r in doc["results"]] == \
-            [(r["item"], r["key"], r["value"], r["U"]) for r in single["results"]]  # same evaluation
+            [(r["item"], r["key"], r["value"], r["U"]) for r in single["results"]]
         assert d["overall"] == single["conformity"]["overall"]
 
     # every result of every device, CSV and Parquet
@@ -134,7 +135,8 @@ def _check_lot(out: Path, summary: dict, single_runs: dict, lot: Path) -> None:
     report = Document(out / "lot-report.docx")
     # no-break spaces of the builder
     text = "\n".join(p.text for p in report.paragraphs).replace("\u00a0", " ")
-    assert "Lot summary — gbt45570" in text and "unit-broken" in text and "4 (3 evaluated, 1 failed)" in text
+    assert ("Lot summary — gbt45570" in text and "unit-broken" in text
+            and "4 (3 evaluated, 1 failed)" in text)
 
 
 def test_batch_on_a_local_cluster_of_processes(lot, single_runs, run_cli, tmp_path, monkeypatch):

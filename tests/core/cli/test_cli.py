@@ -67,8 +67,8 @@ def test_recorded_campaign_with_provenance(tmp_path, campaign_factory, run_cli):
 def test_time_column_in_milliseconds(tmp_path, campaign_factory, run_cli):
     def ms(csv: str) -> str:
         lines = csv.splitlines()
-        out = ["time [ms],output [P]"] + [f"{int(l.split(',')[0]) * 1000},{l.split(',')[1]}" for l
-                                          in lines[1:]]
+        out = ["time [ms],output [P]"] + [f"{int(ln.split(',')[0]) * 1000},{ln.split(',')[1]}"
+                                          for ln in lines[1:]]
         return "\n".join(out) + "\n"
 
     manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.5, data_edit=ms)

@@ -89,7 +89,8 @@ def test_read_only_commands_create_no_register(home, run_cli, argv):
     out = ["--out", str(home / "out")] if argv[0] in ("report", "history") else []
     code, stdout, err = run_cli(*argv, *out)
     assert code == 2, err
-    assert "no register at sqlite:///" in err and "register.sqlite" in err and "metro lab init" in err
+    assert ("no register at sqlite:///" in err and "register.sqlite" in err
+            and "metro lab init" in err)
     assert "Traceback" not in err
     assert _files(home) == before  # no file, no folder
     code, stdout, _ = run_cli(*argv, *out, "--json")
@@ -102,7 +103,8 @@ def test_read_only_commands_with_a_profile_create_no_register(lab, run_cli):
     for argv in (["register", "list"], ["register", "verify"],
                  ["amend", "EML2026-00001", "--reason", "r"]):
         code, _, err = run_cli("--lab", str(lab), *argv)
-        assert code == 2 and f"{lab.parent / 'register.sqlite'}" in err and "does not exist" in err, err
+        assert (code == 2 and f"{lab.parent / 'register.sqlite'}" in err
+                and "does not exist" in err), err
     assert _files(lab.parent.parent) == before and not (lab.parent / "register.sqlite").exists()
     # a database with no register tables is not made one either
     (lab.parent / "register.sqlite").write_bytes(b"")
@@ -202,7 +204,8 @@ def test_global_options_are_accepted_after_the_command(lab, run_cli, tmp_path):
     code, stdout, _ = run_cli("--block-plugin", "ogam", "items", "--json", "--block-plugin",
                               "jjf2003")
     standards = {i["standard"] for i in json.loads(stdout)["items"]}
-    assert code == 0 and "ogam" not in standards and "jjf2003" not in standards and "gbt45570" in standards
+    assert (code == 0 and "ogam" not in standards and "jjf2003" not in standards
+            and "gbt45570" in standards)
 
 
 # -- 6. one set of progress flags ---------------------------------------------------------------
@@ -274,7 +277,8 @@ def test_acquire_removes_the_parents_it_made_when_it_fails(tmp_path, monkeypatch
 def test_a_pdf_report_is_called_one_and_no_report_has_no_number(run_cli, tmp_path, home):
     code, stdout, err = run_cli(*SIM_JJF, "--no-progress", "--no-report")
     assert code == 0, err
-    assert "no report written" in stdout and "report number" not in stdout and "Word report" not in stdout
+    assert ("no report written" in stdout and "report number" not in stdout
+            and "Word report" not in stdout)
     pdf = tmp_path / "x.pdf"
     code, stdout, err = run_cli(*SIM_JJF, "--no-progress", "--report", str(pdf))
     assert code == 0, err
@@ -336,7 +340,8 @@ def test_doctor_fails_on_a_broken_profile_and_says_what_to_do(home, run_cli, cap
     assert not checks["lab-profile"]["ok"] and checks["lab-profile"]["required"]
     assert "colour" in checks["lab-profile"]["detail"] and checks["lab-profile"]["fix"]
     code, stdout, err = run_cli("--lab", str(bad), "doctor")
-    assert code == 6 and "FAIL" in stdout and "what to do:" in stdout and "required check(s) failed" in err
+    assert (code == 6 and "FAIL" in stdout and "what to do:" in stdout
+            and "required check(s) failed" in err)
 
 
 def test_doctor_fails_without_a_cjk_font(home, run_cli, monkeypatch):

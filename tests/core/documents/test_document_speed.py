@@ -50,7 +50,7 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
     from docx.oxml.ns import qn
     from docx.shared import Pt
 
-    E, O = B.oxml_element, B.insert_ordered
+    E, ins = B.oxml_element, B.insert_ordered
     rows = [[T.glue(doc.tr.text(c)) for c in r] for r in rows]
     if unit_break:
         rows = [[T.unit_may_wrap(c) if j in unit_break else c for j, c in enumerate(r)] for r
@@ -70,27 +70,27 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
     t.alignment = WD_TABLE_ALIGNMENT.CENTER
     t.autofit = False
     tblPr = t._tbl.tblPr
-    O(tblPr, E("w:tblW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"), B.TBLPR_ORDER)
-    O(tblPr, E("w:tblLayout", type="fixed"), B.TBLPR_ORDER)
+    ins(tblPr, E("w:tblW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"), B.TBLPR_ORDER)
+    ins(tblPr, E("w:tblLayout", type="fixed"), B.TBLPR_ORDER)
     mar = E("w:tblCellMar")
     for side in ("left", "right"):
         mar.append(E(f"w:{side}", w=str(B.mm_to_twips(T.CELL_MARGIN_MM)), type="dxa"))
-    O(tblPr, mar, B.TBLPR_ORDER)
+    ins(tblPr, mar, B.TBLPR_ORDER)
     for gc, w in zip(t._tbl.tblGrid.findall(qn("w:gridCol")), widths):
         gc.set(qn("w:w"), str(B.mm_to_twips(w)))
     for i, (row, values) in enumerate(zip(t.rows, everything)):
         trPr = row._tr.get_or_add_trPr()
-        O(trPr, E("w:cantSplit"), B.TRPR_ORDER)
+        ins(trPr, E("w:cantSplit"), B.TRPR_ORDER)
         is_head = head is not None and i == 0
         if is_head:
-            O(trPr, E("w:tblHeader"), B.TRPR_ORDER)
+            ins(trPr, E("w:tblHeader"), B.TRPR_ORDER)
         if i - first in spans:
             cell = row.cells[0].merge(row.cells[n - 1]) if n > 1 else row.cells[0]
             tcPr = cell._tc.get_or_add_tcPr()
-            O(tcPr, E("w:tcW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"),
+            ins(tcPr, E("w:tcW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"),
               B.TCPR_ORDER)
             if i - first in shade:
-                O(tcPr, E("w:shd", val="clear", color="auto", fill=T.LABEL_FILL), B.TCPR_ORDER)
+                ins(tcPr, E("w:shd", val="clear", color="auto", fill=T.LABEL_FILL), B.TCPR_ORDER)
             p = cell.paragraphs[0]
             p.paragraph_format.space_after = Pt(0)
             p.paragraph_format.keep_with_next = False
@@ -98,12 +98,12 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
             continue
         for j, (cell, value, w) in enumerate(zip(row.cells, values, widths)):
             tcPr = cell._tc.get_or_add_tcPr()
-            O(tcPr, E("w:tcW", w=str(B.mm_to_twips(w)), type="dxa"), B.TCPR_ORDER)
+            ins(tcPr, E("w:tcW", w=str(B.mm_to_twips(w)), type="dxa"), B.TCPR_ORDER)
             bold = is_head or (label_column and j == 0)
             fill = T.HEAD_FILL if is_head else (T.LABEL_FILL if (label_column and j == 0) or
                                                 (i - (1 if head else 0)) in shade else None)
             if fill:
-                O(tcPr, E("w:shd", val="clear", color="auto", fill=fill), B.TCPR_ORDER)
+                ins(tcPr, E("w:shd", val="clear", color="auto", fill=fill), B.TCPR_ORDER)
             p = cell.paragraphs[0]
             p.paragraph_format.space_after = Pt(0)
             if is_head or i < len(everything) - 1:

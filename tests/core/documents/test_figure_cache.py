@@ -94,7 +94,7 @@ def test_figures_drawn_one_after_another_on_the_kept_renderer(tmp_path):
     figure as a renderer of its own did: a figure drawn after others is the figure drawn alone."""
     a, b = _spec(), PlotSpec("lin", "温度 T_{ref}", "T (°C)", "K_i (P/″)",
                              [{"x": [-40, 20, 60], "y": [0.5, 0.6, 0.7],
-                                                                              "style": "o", "yerr": 0.01}])
+                               "style": "o", "yerr": 0.01}])
     drawn = [plots.png_bytes(x) for x in (a, b, a, b)]
     assert drawn[0] == drawn[2] and _same_image(drawn[0], _savefig_png(a))
     assert drawn[1] == drawn[3] and _same_image(drawn[1], _savefig_png(b))

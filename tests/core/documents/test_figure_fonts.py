@@ -96,7 +96,8 @@ def test_a_run_with_a_stale_font_cache_prints_no_python_warning(stale_cache, tmp
     # the figure is drawn
     assert [n for n in zipfile.ZipFile(docx).namelist() if n.endswith(".png")]
     for text in (proc.stderr, proc.stdout):
-        assert "Warning" not in text and "missing from font" not in text and "no CJK font" not in text, text
+        assert ("Warning" not in text and "missing from font" not in text
+                and "no CJK font" not in text), text
 
 
 def test_no_cjk_font_at_all_is_one_statement_not_a_warning_per_glyph(stale_cache, tmp_path):

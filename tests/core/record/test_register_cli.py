@@ -200,7 +200,8 @@ def test_cli_on_postgresql(lab, tmp_path, capsys, monkeypatch, pg_server):
 
 def test_history_flags_drift(lab, tmp_path, capsys):
     """Three calibrations of S1: 1.0 ± 0.2, 1.1 ± 0.2, 2.0 ± 0.3 (U, k = 2).  E_n (hand-worked):
-    |1.1 − 1.0| / √(0.2² + 0.2²) = 0.354 (no drift), |2.0 − 1.1| / √(0.2² + 0.3²) = 2.496 (drift)."""
+    |1.1 − 1.0| / √(0.2² + 0.2²) = 0.354 (no drift),
+    |2.0 − 1.1| / √(0.2² + 0.3²) = 2.496 (drift)."""
     from metro.core.record.lab import load_lab
     from metro.core.record.register import Draft, open_register
 
@@ -287,7 +288,8 @@ def test_statement_follows_the_lab_language(lab, tmp_path, capsys):
     code, a = _json(capsys, "amend", d["report_number"], "--reason", "re-issued")
     assert _docx_text(a["report"])[:2] == [
         f"Registered report EML{year}-00002 of Example Metrology Laboratory.",
-        f"This report replaces report EML{year}-00001, which is superseded by it. Reason: re-issued"]
+        f"This report replaces report EML{year}-00001, which is superseded by it. "
+        "Reason: re-issued"]
 
 
 def test_registration_problems_are_said_before_evaluating(lab, tmp_path, capsys, monkeypatch):

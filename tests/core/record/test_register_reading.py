@@ -7,6 +7,7 @@ forgotten in the reader, or a type the reader converts differently (JSON, dates,
 from __future__ import annotations
 
 import datetime as dt
+import sqlite3
 from pathlib import Path
 
 import pytest
@@ -110,7 +111,7 @@ def test_reader_gives_what_the_models_give(register_url, tmp_path):
 
 def test_reader_never_creates_a_database(tmp_path):
     url = "sqlite:///" + str(tmp_path / "absent.sqlite")
-    with pytest.raises(Exception):
+    with pytest.raises(sqlite3.OperationalError, match="unable to open database file"):
         with reading(url, sqlite_path(url)):
             pass
     assert list(tmp_path.iterdir()) == []

@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 import pytest
-from metro.core.stats import allan, allan_base, allan_edf
+from metro.core.stats import allan_base, allan_edf
 from metro.core.stats.allan import (AllanResult, adev, block_means, block_means_pyramid, block_std,
                                     block_variance_doubling, edf_white_fm, log_m, mdev, oadev,
                                     octave_m)
@@ -378,7 +378,8 @@ def test_mean_u_batches_checks_for_correlated_batch_means():
     w = rng.normal(0.0, 1.0, 20000)
     r = mean_u_batches(w)
     sd, nb = block_std(w, 1000)
-    assert not r.correlated and r.batches == 20 and r.u == pytest.approx(sd / np.sqrt(nb), rel=1e-12)
+    assert (not r.correlated and r.batches == 20
+            and r.u == pytest.approx(sd / np.sqrt(nb), rel=1e-12))
     walk = w + 0.05 * np.cumsum(rng.normal(0.0, 1.0, 20000))
     c = mean_u_batches(walk)
     assert c.correlated and c.batches == 5 and c.batches_short == 20 and c.u > 2 * c.u_short

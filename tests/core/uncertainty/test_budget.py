@@ -56,8 +56,7 @@ def test_row_in_wrong_unit_is_refused():
 def test_welch_satterthwaite_hand_worked():
     # u1 = 3 (ν=4), u2 = 4 (ν=∞): u_c = 5; ν_eff = 5⁴ / (3⁴/4) = 625/20.25
     rows = [BudgetRow.type_a("a", "a", Q_(3.0, "mV"), dof=4),
-            BudgetRow.type_b("b", "b", Q_(8.0, "mV"),
-                                                                               distribution="normal", k=2)]
+            BudgetRow.type_b("b", "b", Q_(8.0, "mV"), distribution="normal", k=2)]
     b = UncertaintyBudget("y", "mV", rows, coverage=Coverage.probability(0.9545))
     assert b.combined.magnitude == pytest.approx(5.0)
     assert b.nu_eff == pytest.approx(625 / 20.25)
