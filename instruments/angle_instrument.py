@@ -41,6 +41,8 @@ from metro.api import (
     station_options,
 )
 
+from .stations import device_class_fields, with_device_class
+
 AXES = ("up", "north", "south", "east", "west")
 
 
@@ -248,14 +250,7 @@ class AngleInstrumentStation:
         """Refuse, before anything is simulated, a step kind this station does not simulate."""
         from .stations import refuse_unknown_kinds
 
-        refuse_unknown_kinds(
-            self.name,
-            steps,
-            self.KINDS,
-            items=items,
-            hint="acquire these items on a station that simulates them "
-            "(`metro plugins` lists them)",
-        )
+        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items)
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         from .stations import step_seed
@@ -353,18 +348,9 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     values,
     then K within ±1 % of the class's, harmonic errors a₁, a₂ uniform in 0 … 0.1″, a sensing-plane
     tilt uniform in 0 … 0.1° and an angle random walk 0.7 … 1.5 times the default's."""
-    if device_class not in DEVICE_CLASSES:
-        from metro.api import DataError
-
-        raise DataError(
-            None,
-            "station option device_class",
-            f"{device_class!r} is not a device class",
-            hint="device classes: " + ", ".join(DEVICE_CLASSES),
-        )
     base = AngleInstrumentTruth()
     rng = np.random.default_rng([int(seed), 7])
-    kw = dict(DEVICE_CLASSES[device_class])
+    kw = device_class_fields(device_class, DEVICE_CLASSES)
     kw["K_P_per_deg"] = float(kw.get("K_P_per_deg", base.K_P_per_deg)) * float(
         rng.uniform(0.99, 1.01)
     )
@@ -382,13 +368,7 @@ def station_factory(**options: Any) -> AngleInstrumentStation:
     truth_kw, st_kw = station_options(
         "simulated-ogam", AngleInstrumentTruth, AngleInstrumentStation, options, ("latitude_deg",)
     )
-    cls = truth_kw.pop("device_class", "")
-    if cls:
-        truth_kw = (
-            draw_device(cls, truth_kw.get("seed", AngleInstrumentTruth().seed))
-            | truth_kw
-            | {"device_class": cls}
-        )
+    truth_kw = with_device_class(truth_kw, draw_device, AngleInstrumentTruth().seed)
     return AngleInstrumentStation(truth=AngleInstrumentTruth(**truth_kw), **st_kw)
 
 

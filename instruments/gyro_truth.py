@@ -11,6 +11,8 @@ import numpy as np
 
 from metro.core.base.units import Q_
 
+from .stations import device_class_fields
+
 
 #: the grades of device the station simulates (station option ``grade``; values in :data:`GRADES`)
 GRADE_NAMES = ("typical", "marginal", "failing")
@@ -290,16 +292,7 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     falls);
     the other fields are the ``marginal`` grade's (:data:`GRADES`), the unit the classes were built
     on."""
-    if device_class not in DEVICE_CLASSES:
-        from metro.core.base.errors import DataError
-
-        raise DataError(
-            None,
-            "station option device_class",
-            f"{device_class!r} is not a device class",
-            hint="device classes: " + ", ".join(DEVICE_CLASSES),
-        )
-    kw = dict(GRADES["marginal"]) | dict(DEVICE_CLASSES[device_class])
+    kw = dict(GRADES["marginal"]) | device_class_fields(device_class, DEVICE_CLASSES)
     base = GyroTruth(**GRADES["marginal"])
     rng = np.random.default_rng([int(seed), 4099])
     kw["bias_deg_h"] = float(rng.uniform(-0.5, 0.5))

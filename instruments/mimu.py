@@ -49,6 +49,7 @@ from metro.core.model.procedure import Step
 from metro.core.base.units import Q_
 
 from metro.core.stats.earth import EARTH_RATE_DEG_S, EARTH_RATE_RAD_S  # noqa: E402
+from .stations import device_class_fields, with_device_class
 
 AXES = ("x", "y", "z")
 GYRO_COLUMNS = ("gx", "gy", "gz")
@@ -389,18 +390,9 @@ class MimuStation:
 
     def check(self, steps, *, items=None) -> None:
         """Refuse, before anything is simulated, a step kind this station does not simulate."""
-        from .stations import refuse_unknown_kinds
+        from .stations import StationError, refuse_unknown_kinds
 
-        from .stations import StationError
-
-        refuse_unknown_kinds(
-            self.name,
-            steps,
-            self.KINDS,
-            items=items,
-            hint="acquire these items on a station that simulates them "
-            "(`metro plugins` lists them)",
-        )
+        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items)
         need = {
             "position": ("up", "heading"),
             "rate": ("axis", "rate"),
@@ -569,18 +561,9 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     """The truth fields of one device of ``device_class`` drawn with ``seed``: the class's values,
     then gyro biases uniform in ±0.1 °/s, the K_g diagonal within ±2 % of 1, and noise 0.7 … 1.5
     times the default's."""
-    if device_class not in DEVICE_CLASSES:
-        from metro.core.base.errors import DataError
-
-        raise DataError(
-            None,
-            "station option device_class",
-            f"{device_class!r} is not a device class",
-            hint="device classes: " + ", ".join(DEVICE_CLASSES),
-        )
     base = MimuTruth()
     rng = np.random.default_rng([int(seed), 2003])
-    kw = dict(DEVICE_CLASSES[device_class])
+    kw = device_class_fields(device_class, DEVICE_CLASSES)
     K = np.array(base.K_g, float)
     K[np.diag_indices(3)] = 1.0 + rng.uniform(-0.02, 0.02, 3)
     kw["K_g"] = _m(K)
@@ -601,13 +584,7 @@ def station_factory(**options: Any) -> MimuStation:
     truth_kw, st_kw = station_options(
         "simulated-mimu", MimuTruth, MimuStation, options, ("latitude_deg", "duration_scale")
     )
-    cls = truth_kw.pop("device_class", "")
-    if cls:
-        truth_kw = (
-            draw_device(cls, truth_kw.get("seed", MimuTruth().seed))
-            | truth_kw
-            | {"device_class": cls}
-        )
+    truth_kw = with_device_class(truth_kw, draw_device, MimuTruth().seed)
     return MimuStation(truth=MimuTruth(**truth_kw), **st_kw)
 
 

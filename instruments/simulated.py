@@ -40,7 +40,7 @@ from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 
 from .sim_registry import (expected_contributors, merge_records, record_expected_contributors,
                            record_simulators, register_expected, register_record_expected,
                            register_record_kind, register_step_kind, step_simulators)
-from .stations import step_seed
+from .stations import step_seed, with_device_class
 from .gyro_truth import (DEVICE_CLASSES, DIGITAL_DEFAULTS, GRADES, GRADE_NAMES, GyroTruth,
                          device_description, draw_device)
 
@@ -221,14 +221,7 @@ class SimulatedStation:
                         "rate method "
                         "(D.2, D.3 with -o method=rate) on this one",
                     )
-        refuse_unknown_kinds(
-            self.name,
-            steps,
-            self.kinds(),
-            items=items,
-            hint="acquire these items on a station that simulates them "
-            "(`metro plugins` lists them)",
-        )
+        refuse_unknown_kinds(self.name, steps, self.kinds(), items=items)
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         """Run the steps on the virtual gyro; the campaign's segments hold the samples in memory."""
@@ -613,14 +606,10 @@ def station_factory(**options: Any) -> SimulatedStation:
         options,
         ("latitude_deg", "duration_scale"),
     )
-    cls = truth_kw.pop("device_class", "")
-    if cls:  # a class is drawn about the marginal unit (draw_device)
-        truth_kw = (
-            draw_device(cls, truth_kw.get("seed", GyroTruth().seed))
-            | truth_kw
-            | {"device_class": cls}
-        )
+    if truth_kw.get("device_class"):  # a class is drawn about the marginal unit (draw_device)
+        truth_kw = with_device_class(truth_kw, draw_device, GyroTruth().seed)
     else:
+        truth_kw.pop("device_class", None)
         truth_kw = dict(GRADES[truth_kw.get("grade", "typical")]) | truth_kw
     return SimulatedStation(truth=GyroTruth(**truth_kw), **st_kw)
 

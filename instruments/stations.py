@@ -9,6 +9,8 @@ step kinds a station cannot simulate.
 * :func:`refuse_unknown_kinds` — a station that is asked for a kind of step it does not know
   refuses before simulating anything, naming the step kind, the segment and the station, and the
   kinds it does simulate; it never records "a gyro at rest" in place of a motion it cannot make.
+* :func:`device_class_fields` and :func:`with_device_class` — the ``device_class`` station option
+  of the simulated stations: a preset class of devices, one of which the seed draws.
 * :func:`standard_expected` — the expected values that follow from a station's truth only through
   a standard's formulas, computed by that standard's plugin (the ``metro_expected_values`` hook)
   from the noise-free quantities the station declares; instruments never import a plugin.
@@ -17,9 +19,9 @@ step kinds a station cannot simulate.
 from __future__ import annotations
 
 import hashlib
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
-from metro.core.base.errors import MetroError
+from metro.core.base.errors import DataError, MetroError
 from metro.core.model.campaign import Campaign
 from metro.core.model.procedure import Step
 
@@ -27,6 +29,9 @@ __all__ = [
     "step_identity",
     "step_seed",
     "refuse_unknown_kinds",
+    "ELSEWHERE_HINT",
+    "device_class_fields",
+    "with_device_class",
     "standard_expected",
     "StationError",
 ]
@@ -53,15 +58,22 @@ def step_seed(step: Step) -> int:
     )
 
 
+#: the hint of :func:`refuse_unknown_kinds` unless a station gives its own
+ELSEWHERE_HINT = (
+    "acquire these items on a station that simulates them (`metro plugins` lists them)"
+)
+
+
 def refuse_unknown_kinds(
     station: str,
     steps: Sequence[Step],
     kinds: Iterable[str],
     *,
     items: Mapping[str, Sequence[str]] | None = None,
-    hint: str = "",
+    hint: str = ELSEWHERE_HINT,
 ) -> None:
-    """Raise :class:`StationError` for the first step whose kind ``station`` does not simulate."""
+    """Raise :class:`StationError` for the first step whose kind ``station`` does not simulate;
+    the refusal's hint starts with ``hint`` and ends with the kinds the station does simulate."""
     known = set(kinds)
     items = items or {}
     for step in steps:
@@ -77,6 +89,48 @@ def refuse_unknown_kinds(
             hint=(hint + "; " if hint else "")
             + f"{station} simulates the kinds {', '.join(sorted(known))}",
         )
+
+
+def device_class_fields(
+    device_class: str, classes: Mapping[str, Mapping[str, Any]]
+) -> dict[str, Any]:
+    """A copy of the preset truth fields of ``device_class`` in ``classes``; a :class:`DataError`
+    naming the known classes when there is no such class.
+
+    >>> device_class_fields("quiet", {"quiet": {"arw": 0.1}})
+    {'arw': 0.1}
+    """
+    if device_class not in classes:
+        raise DataError(
+            None,
+            "station option device_class",
+            f"{device_class!r} is not a device class",
+            hint="device classes: " + ", ".join(classes),
+        )
+    return dict(classes[device_class])
+
+
+def with_device_class(
+    truth_kw: dict[str, Any],
+    draw: Callable[[str, int], Mapping[str, Any]],
+    default_seed: int,
+) -> dict[str, Any]:
+    """The truth fields of a station factory with the ``device_class`` option resolved: without
+    it, ``truth_kw`` as given; with it, the device ``draw(device_class, seed)`` draws (``seed``
+    from ``truth_kw``, else ``default_seed``), then the fields given in ``truth_kw`` over it.
+    The option is taken out of ``truth_kw``.
+
+    >>> def draw(cls, seed):
+    ...     return {"bias": 0.1 * seed, "noise": 1.0}
+    >>> with_device_class({"device_class": "a", "noise": 2.0}, draw, 3)
+    {'bias': 0.30000000000000004, 'noise': 2.0, 'device_class': 'a'}
+    >>> with_device_class({"noise": 2.0}, draw, 3)
+    {'noise': 2.0}
+    """
+    cls = truth_kw.pop("device_class", "")
+    if not cls:
+        return truth_kw
+    return dict(draw(cls, truth_kw.get("seed", default_seed))) | truth_kw | {"device_class": cls}
 
 
 def standard_expected(

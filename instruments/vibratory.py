@@ -51,6 +51,7 @@ from metro.core.model.procedure import Step
 from metro.core.base.units import Q_
 
 from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  physical, 15.04107 °/h
+from .stations import device_class_fields, with_device_class
 from .vibratory_model import (AXES, SAME_POWER_ON, VibratoryTruth, condition_value, increment_gain,
                               mean_output, misalignment_angles, operating_point, power_on_key,
                               simulate_segment, static_noise, steady_output)
@@ -459,14 +460,7 @@ class VibratoryStation:
         """Refuse, before anything is simulated, a step kind this station does not simulate."""
         from .stations import refuse_unknown_kinds
 
-        refuse_unknown_kinds(
-            self.name,
-            steps,
-            self.KINDS,
-            items=items,
-            hint="acquire these items on a station that simulates them "
-            "(`metro plugins` lists them)",
-        )
+        refuse_unknown_kinds(self.name, steps, self.KINDS, items=items)
 
     def acquire(self, steps: list[Step], *, progress=None) -> Campaign:
         from .stations import step_seed
@@ -563,18 +557,9 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
     """The truth fields of one device of ``device_class`` drawn with ``seed``: the class's values,
     then K uniform in 15 … 25 mV/((°)/s), a bias uniform in ±0.1 °/s and an angle random walk
     0.7 … 1.5 times the default's."""
-    if device_class not in DEVICE_CLASSES:
-        from metro.core.base.errors import DataError
-
-        raise DataError(
-            None,
-            "station option device_class",
-            f"{device_class!r} is not a device class",
-            hint="device classes: " + ", ".join(DEVICE_CLASSES),
-        )
     base = VibratoryTruth()
     rng = np.random.default_rng([int(seed), 2014])
-    kw = dict(DEVICE_CLASSES[device_class])
+    kw = device_class_fields(device_class, DEVICE_CLASSES)
     kw["K_mV_per_dps"] = float(rng.uniform(15.0, 25.0))
     kw["bias_dps"] = float(rng.uniform(-0.1, 0.1))
     kw["arw_deg_rt_h"] = base.arw_deg_rt_h * float(rng.uniform(0.7, 1.5))
@@ -599,13 +584,7 @@ def station_factory(**options: Any) -> VibratoryStation:
             "table_errors",
         ),
     )
-    cls = truth_kw.pop("device_class", "")
-    if cls:
-        truth_kw = (
-            draw_device(cls, truth_kw.get("seed", VibratoryTruth().seed))
-            | truth_kw
-            | {"device_class": cls}
-        )
+    truth_kw = with_device_class(truth_kw, draw_device, VibratoryTruth().seed)
     return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 
