@@ -348,18 +348,10 @@ def _main(argv: Sequence[str] | None) -> int:
         if args.command is None:
             parser.print_help()
             return 0
-        if args.command == "run":
-            return _cmd_run(args)
-        if args.command == "plugins":
-            return _cmd_plugins(args)
-        if args.command == "items":
-            return _cmd_items(args)
-        if args.command == "plan":
-            return _cmd_plan(args)
-        if args.command == "acquire":
-            return _cmd_acquire(args)
-        if args.command == "batch":
-            return _cmd_batch(args)
+        command = {"run": _cmd_run, "plugins": _cmd_plugins, "items": _cmd_items,
+                   "plan": _cmd_plan, "acquire": _cmd_acquire, "batch": _cmd_batch}
+        if args.command in command:
+            return command[args.command](args)
         if args.command == "doctor":
             from .doctor import command
 

@@ -110,20 +110,13 @@ def add_run_options(r) -> None:
 
 
 def dispatch(args) -> int:
-    if args.command == "lab":
-        return _cmd_lab(args)
+    """Run one of :data:`COMMANDS` (``metro lab``, ``register``, ``report``, ``amend``, …)."""
     if args.command == "register":
         return {"list": _cmd_list, "show": _cmd_show,
                 "verify": _cmd_verify}[args.register_command](args)
-    if args.command == "report":
-        return _cmd_report(args)
-    if args.command == "amend":
-        return _cmd_amend(args)
-    if args.command == "withdraw":
-        return _cmd_withdraw(args)
-    if args.command == "history":
-        return _cmd_history(args)
-    raise AssertionError(args.command)  # pragma: no cover
+    command = {"lab": _cmd_lab, "report": _cmd_report, "amend": _cmd_amend,
+               "withdraw": _cmd_withdraw, "history": _cmd_history}
+    return command[args.command](args)
 
 
 # ----------------------------------------------------------------------------------------

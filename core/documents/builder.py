@@ -178,15 +178,8 @@ def _run_text(r, text: str) -> None:
                 t.set(_XML_SPACE, "preserve")
 
 
-def append_runs(
-    p,
-    text: str,
-    *,
-    bold: bool = False,
-    size: float | None = None,
-    italic: bool = False,
-    color: str | None = None,
-) -> None:
+def append_runs(p, text: str, *, bold: bool = False, size: float | None = None,
+                italic: bool = False, color: str | None = None) -> None:
     """Append ``text`` to the paragraph element ``p`` (``w:p``) as runs: a subscript (``K_l``) as
     its own run, a line break (``\\n``) as a run holding ``w:br``; every run formatted alike
     (bold, italic, colour ``RRGGBB``, size in points).  The text is used as given (see
@@ -330,16 +323,8 @@ class DocumentBuilder:
 
     # -- text ------------------------------------------------------------------------------
 
-    def runs(
-        self,
-        paragraph,
-        text: str,
-        *,
-        bold: bool = False,
-        size: float | None = None,
-        italic: bool = False,
-        color: str | None = None,
-    ) -> None:
+    def runs(self, paragraph, text: str, *, bold: bool = False, size: float | None = None,
+             italic: bool = False, color: str | None = None) -> None:
         """Add ``text`` to ``paragraph`` with real subscripts and no-break spaces."""
         append_runs(
             paragraph._p, glue(self.tr.text(text)), bold=bold, size=size, italic=italic, color=color

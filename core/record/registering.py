@@ -30,7 +30,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .register import Issued, Register
 
 __all__ = ["register_run", "unregistered", "rerender", "amend", "check_equipment",
-           "measurement_date",
+           "measurement_date", "stored_context",
            "expired_equipment", "encode_context", "decode_context"]
 
 
@@ -377,6 +377,18 @@ def register_run(
     return issued, numbered[-1]
 
 
+def stored_context(reg: "Register", number: str, pm: "MetroPluginManager") -> tuple[Any, Any]:
+    """Report ``number``'s stored document context and the loaded template it was rendered with;
+    a :class:`MetroError` when no loaded plugin registers that template now."""
+    doc, template_name = reg.context(number)
+    tpl = pm.register_all().templates.get(template_name)
+    if tpl is None:
+        raise MetroError(f"report {number} was rendered with the template {template_name!r}, which "
+                         "no loaded plugin registers now",
+                         hint="load the plugin of its standard (metro plugins)")
+    return doc, tpl
+
+
 def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *,
              pm: "MetroPluginManager") -> Path:
     """Write report ``number`` again from the register into ``out/<number>.docx`` (never replacing
@@ -384,12 +396,7 @@ def rerender(reg: "Register", number: str, out: str | os.PathLike[str], *,
     from ..base.atomic import atomic_path
     from ..documents.report import render_context
 
-    doc, template_name = reg.context(number)
-    tpl = pm.register_all().templates.get(template_name)
-    if tpl is None:
-        raise MetroError(f"report {number} was rendered with the template {template_name!r}, which "
-                         "no loaded plugin registers now",
-                         hint="load the plugin of its standard (metro plugins)")
+    doc, tpl = stored_context(reg, number, pm)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     target = folder / f"{number}.docx"
@@ -447,12 +454,7 @@ def amend(
                                  allow_expired=allow_expired,
                                  supersedes=number, reason=reason, who=who)
         return issued
-    doc, template_name = reg.context(number)
-    tpl = pm.register_all().templates.get(template_name)
-    if tpl is None:
-        raise MetroError(f"report {number} was rendered with the template {template_name!r}, which "
-                         "no loaded plugin registers now",
-                         hint="load the plugin of its standard (metro plugins)")
+    doc, tpl = stored_context(reg, number, pm)
 
     from sqlalchemy import select
 

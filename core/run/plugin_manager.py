@@ -127,15 +127,8 @@ class MetroPluginManager:
             self.add_plugin(mod, name)
         return self
 
-    def add_plugin(
-        self,
-        obj: Any,
-        name: str,
-        *,
-        distribution: str | None = None,
-        version: str | None = None,
-        builtin: bool = False,
-    ) -> None:
+    def add_plugin(self, obj: Any, name: str, *, distribution: str | None = None,
+                   version: str | None = None, builtin: bool = False) -> None:
         """Register a plugin object (module or instance) under ``name``."""
         if self._registered:
             raise PluginError(f"plugin {name!r} added after registration ran; add plugins first")

@@ -252,6 +252,25 @@ def _result(kind: str, tau0: float, ms: IntArray, ssq: FloatArray, n: int) -> Al
     )
 
 
+def _deviation(kind: str, y: ArrayLike, tau0: float, m: ArrayLike | int | None,
+               engine: Engine) -> AllanResult:
+    """The path adev, oadev and mdev share: check the series, the averaging factors, integrate
+    to phase, then the kind's sums of squares (numba kernels when the engine has them)."""
+    arr, mu = checked_series(y)
+    t0 = checked_tau0(tau0)
+    ms = m_list(m, arr.size, kind)
+    k = kernels(engine, arr.size)
+    x = _phase(arr, mu, k)
+    if kind == "adev":
+        ssq = _ssq_numpy_adev(x, ms) if k is None else k.adev_ssq(x, ms)
+    elif kind == "oadev":
+        ssq = _ssq_numpy_oadev(x, ms) if k is None else _oadev_numba(k, x, ms)
+    else:
+        ssq = _ssq_numpy_mdev(x, ms) if k is None else k.mdev_ssq(x, ms)
+    del x
+    return _result(kind, t0, ms, ssq, arr.size)
+
+
 def adev(
     y: ArrayLike, tau0: float, m: ArrayLike | int | None = None, *, engine: Engine = "auto"
 ) -> AllanResult:
@@ -292,14 +311,7 @@ def adev(
     ----------
     D. W. Allan, Proc. IEEE 54(2) (1966); IEEE Std 1139-2008; NIST SP 1065 (2008), eq. 6-8.
     """
-    arr, mu = checked_series(y)
-    t0 = checked_tau0(tau0)
-    ms = m_list(m, arr.size, "adev")
-    k = kernels(engine, arr.size)
-    x = _phase(arr, mu, k)
-    ssq = _ssq_numpy_adev(x, ms) if k is None else k.adev_ssq(x, ms)
-    del x
-    return _result("adev", t0, ms, ssq, arr.size)
+    return _deviation("adev", y, tau0, m, engine)
 
 
 def oadev(
@@ -339,14 +351,7 @@ def oadev(
     IEEE Std 1139-2008; D. A. Howe, D. W. Allan, J. A. Barnes, Proc. 35th Frequency Control
     Symposium (1981); NIST SP 1065 (2008), eq. 11.
     """
-    arr, mu = checked_series(y)
-    t0 = checked_tau0(tau0)
-    ms = m_list(m, arr.size, "oadev")
-    k = kernels(engine, arr.size)
-    x = _phase(arr, mu, k)
-    ssq = _ssq_numpy_oadev(x, ms) if k is None else _oadev_numba(k, x, ms)
-    del x
-    return _result("oadev", t0, ms, ssq, arr.size)
+    return _deviation("oadev", y, tau0, m, engine)
 
 
 def mdev(
@@ -375,11 +380,4 @@ def mdev(
     characterization ability", Proc. 35th Frequency Control Symposium (1981);
     NIST SP 1065 (2008), eq. 14.
     """
-    arr, mu = checked_series(y)
-    t0 = checked_tau0(tau0)
-    ms = m_list(m, arr.size, "mdev")
-    k = kernels(engine, arr.size)
-    x = _phase(arr, mu, k)
-    ssq = _ssq_numpy_mdev(x, ms) if k is None else k.mdev_ssq(x, ms)
-    del x
-    return _result("mdev", t0, ms, ssq, arr.size)
+    return _deviation("mdev", y, tau0, m, engine)

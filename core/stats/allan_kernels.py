@@ -222,10 +222,7 @@ def _halve_stats(src, dst, h, shift):  # pragma: no cover - compiled
 
     Block i0..i1 reads src[2 i0 : 2 i1], which later blocks never write, so src may be
     dst itself (in-place halving)."""
-    a1 = 0.0
-    c1 = 0.0
-    a2 = 0.0
-    c2 = 0.0
+    a1 = c1 = a2 = c2 = 0.0  # Kahan-compensated sums of (v - shift) and (v - shift)^2
     for i0 in range(0, h, BLOCK):
         i1 = min(i0 + BLOCK, h)
         for i in range(i0, i1):
@@ -249,10 +246,7 @@ def pyramid_stats(y, shift, buf, nlev):  # pragma: no cover - compiled
     s1 = np.zeros(nlev)
     s2 = np.zeros(nlev)
     n = y.size
-    a1 = 0.0
-    c1 = 0.0
-    a2 = 0.0
-    c2 = 0.0
+    a1 = c1 = a2 = c2 = 0.0  # Kahan-compensated sums of (v - shift) and (v - shift)^2
     for i0 in range(0, n, BLOCK):
         i1 = min(i0 + BLOCK, n)
         p, q = _sum_shifted(y[i0:i1], shift)

@@ -246,14 +246,8 @@ def _total_ss(A_arr: FloatArray, y_arr: FloatArray, yw: FloatArray, w: FloatArra
 # --------------------------------------------------------------------------- solver
 
 
-def fit_linear(
-    A: ArrayLike,
-    y: ArrayLike,
-    *,
-    weights: ArrayLike | None = None,
-    cov_y: ArrayLike | None = None,
-    scale_cov: bool = True,
-) -> LinearFit:
+def fit_linear(A: ArrayLike, y: ArrayLike, *, weights: ArrayLike | None = None,
+               cov_y: ArrayLike | None = None, scale_cov: bool = True) -> LinearFit:
     """Least-squares solution of ``y = A b + e`` (OLS, WLS or GLS).
 
     The estimate minimises (y - A b)^T V^-1 (y - A b), with V = I (OLS),

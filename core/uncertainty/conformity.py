@@ -449,8 +449,7 @@ def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAUL
     if bound:
         v = _in_unit(result.value, spec.limit, "value", spec.symbol)
         Uv = 0.0 if result.U is None else _difference_in_unit(result.U, spec.limit,
-                                                              "expanded uncertainty U",
-                                                               spec.symbol)
+                                                              "expanded uncertainty U", spec.symbol)
         lo, hi = spec.bounds
         if spec.magnitude:
             v = abs(v)
@@ -460,22 +459,17 @@ def not_reportable(spec: Specification, result: Any, rule: DecisionRule = DEFAUL
         ut = fmt_unit(spec.limit.units)
         sign = BOUND_SIGNS[bound]
         edge = x_lo if bound == "lower" else x_hi
-        if lo <= x_lo and x_hi <= hi:
+        inside, outside = lo <= x_lo and x_hi <= hi, x_hi < lo or x_lo > hi
+        if inside or outside:
+            said = dict(what=what, sign=sign, x=_fmt(edge, ut), reason=result.reason,
+                        limit=spec.text())
+            text = (msg("{what} {sign} {x} (a bound: {reason}) lies wholly within {limit}", **said)
+                    if inside else
+                    msg("{what} {sign} {x} (a bound: {reason}) lies wholly outside {limit}",
+                        **said))
+            status, word = (Status.PASS, "pass") if inside else (Status.FAIL, "fail")
             return Verdict(spec, rule, key, item, result.value, result.U,
-                           getattr(result, "k", None),
-                           Status.PASS, "pass",
-                           msg("{what} {sign} {x} (a bound: {reason}) lies wholly within {limit}",
-                                                    what=what, sign=sign, x=_fmt(edge, ut),
-                                                    reason=result.reason,
-                                                    limit=spec.text()))
-        if x_hi < lo or x_lo > hi:
-            return Verdict(spec, rule, key, item, result.value, result.U,
-                           getattr(result, "k", None),
-                           Status.FAIL, "fail",
-                           msg("{what} {sign} {x} (a bound: {reason}) lies wholly outside {limit}",
-                                                    what=what, sign=sign, x=_fmt(edge, ut),
-                                                    reason=result.reason,
-                                                    limit=spec.text()))
+                           getattr(result, "k", None), status, word, text)
     # the why is the result's own reason, printed with it (results table, --json, the terminal's
     # note)
     reason = msg("{what} is not reportable (the result gives the reason), so no statement of "
