@@ -30,10 +30,11 @@ as the tags stay intact; re-running this script overwrites such edits.
 from __future__ import annotations
 
 import io
+from contextlib import contextmanager
 import sys
 import zipfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
 import docx
 from docx.enum.section import WD_ORIENT
@@ -224,6 +225,15 @@ def tag(doc, text: str) -> None:
     doc.add_paragraph(text)
 
 
+@contextmanager
+def block(doc, head: str) -> Iterator[None]:
+    """``{%p if … %}`` or ``{%p for … %}`` paragraphs around what the body adds, closed by
+    ``{%p endif %}`` or ``{%p endfor %}``."""
+    tag(doc, "{%p " + head + " %}")
+    yield
+    tag(doc, "{%p end" + head.split()[0] + " %}")
+
+
 def para(doc, text: str = "", *, style: str | None = None, bold: bool = False, italic: bool = False,
          align=None):
     p = doc.add_paragraph(style=style)
@@ -383,9 +393,8 @@ def _title_block(doc: Any) -> None:
     """The title, the report number and the SIMULATED banner."""
     para(doc, "{{ title }}", style="Title")
     para(doc, "Report number {{ report_number }} · issued {{ created }}", bold=True)
-    tag(doc, "{%p if simulated %}")
-    _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
-    tag(doc, "{%p endif %}")
+    with block(doc, "if simulated"):
+        _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
 
 
 def _identification(doc: Any) -> None:
@@ -459,45 +468,43 @@ def _equipment(doc: Any) -> None:
     tag(doc, "{%p else %}")
     para(doc, "No equipment was listed for this campaign.", italic=True)
     tag(doc, "{%p endif %}")
-    tag(doc, "{%p for w in equipment_warnings %}")
-    para(doc, "{{ w }}", style="Banner")
-    tag(doc, "{%p endfor %}")
+    with block(doc, "for w in equipment_warnings"):
+        para(doc, "{{ w }}", style="Banner")
 
 
 def _budget(doc: Any) -> None:
     """An outcome's uncertainty budgets (inside the outcome loop)."""
-    tag(doc, "{%p for b in o.budgets %}")
-    heading(doc, "Uncertainty budget: {{ b.title }}", 3)
-    # type and distribution in one column (as metro's own documents print them), so no header
-    # word is cut ("Typ|e", "Distribut|ion" in columns of 12 and 19 mm)
-    widths = [32, 18, 26, 22, 16, 22, 24, 10]
-    budget = loop_table(
-        doc,
-        ["Source of uncertainty", "Symbol", "Type, distribution", "Value", "Divisor",
-         "Sensitivity c_i", "u_i(y) / {{ b.unit }}", "ν_i"],
-        ["{{ r.source }}", "{{ r.symbol }}", "{{ r.type }}, {{ r.distribution }}", "{{ r.value }}",
-         "{{ r.divisor }}", "{{ r.sensitivity }}", "{{ r.contribution }}", "{{ r.dof }}"],
-        widths,
-        "r in b.rows",
-    )
-    for label_text, value_text in (
-        ("Combined standard uncertainty u_c", "{{ b.u_c }} {{ b.unit }}"),
-        ("Effective degrees of freedom ν_eff", "{{ b.nu_eff }}"),
-        ("Coverage factor k", "{{ b.k }}"),
-        ("Expanded uncertainty U = k·u_c", "{{ b.U }} {{ b.unit }}"),
-    ):
-        row = budget.add_row()
-        _row_flag(row, "w:cantSplit")
-        left = row.cells[0].merge(row.cells[4])
-        right = row.cells[5].merge(row.cells[7])
-        _set_text(left, label_text, bold=True)
-        _set_text(right, value_text, bold=True)
-        _shade_cell(left, SUM_FILL)
-        _shade_cell(right, SUM_FILL)
-    tag(doc, "{%p if b.note %}")
-    para(doc, "{{ b.note }}", italic=True)
-    tag(doc, "{%p endif %}")
-    tag(doc, "{%p endfor %}")
+    with block(doc, "for b in o.budgets"):
+        heading(doc, "Uncertainty budget: {{ b.title }}", 3)
+        # type and distribution in one column (as metro's own documents print them), so no header
+        # word is cut ("Typ|e", "Distribut|ion" in columns of 12 and 19 mm)
+        widths = [32, 18, 26, 22, 16, 22, 24, 10]
+        budget = loop_table(
+            doc,
+            ["Source of uncertainty", "Symbol", "Type, distribution", "Value", "Divisor",
+             "Sensitivity c_i", "u_i(y) / {{ b.unit }}", "ν_i"],
+            ["{{ r.source }}", "{{ r.symbol }}", "{{ r.type }}, {{ r.distribution }}",
+             "{{ r.value }}", "{{ r.divisor }}", "{{ r.sensitivity }}", "{{ r.contribution }}",
+             "{{ r.dof }}"],
+            widths,
+            "r in b.rows",
+        )
+        for label_text, value_text in (
+            ("Combined standard uncertainty u_c", "{{ b.u_c }} {{ b.unit }}"),
+            ("Effective degrees of freedom ν_eff", "{{ b.nu_eff }}"),
+            ("Coverage factor k", "{{ b.k }}"),
+            ("Expanded uncertainty U = k·u_c", "{{ b.U }} {{ b.unit }}"),
+        ):
+            row = budget.add_row()
+            _row_flag(row, "w:cantSplit")
+            left = row.cells[0].merge(row.cells[4])
+            right = row.cells[5].merge(row.cells[7])
+            _set_text(left, label_text, bold=True)
+            _set_text(right, value_text, bold=True)
+            _shade_cell(left, SUM_FILL)
+            _shade_cell(right, SUM_FILL)
+        with block(doc, "if b.note"):
+            para(doc, "{{ b.note }}", italic=True)
 
 
 def _outcome(doc: Any) -> None:
@@ -505,41 +512,34 @@ def _outcome(doc: Any) -> None:
     heading(doc, "{{ o.number }} {{ o.item }} — {{ o.title }}", 2)
     para(doc, "{{ o.designation }}, clause {{ o.clause }}. "
               "Segments evaluated: {{ o.segments_text }}.")
-    tag(doc, "{%p if o.options_text %}")
-    para(doc, "Options: {{ o.options_text }}")
-    tag(doc, "{%p endif %}")
+    with block(doc, "if o.options_text"):
+        para(doc, "Options: {{ o.options_text }}")
     label(doc, "Results")
     loop_table(
         doc,
         ["Quantity", "Symbol", "Value", "U", "Unit", "k", "Clause / equation"],
         ["{{ r.quantity }}", "{{ r.symbol }}", "{{ r.value }}", "{{ r.U }}", "{{ r.unit }}",
-         "{{ r.k }}",
-         "{{ r.reference }}"],
+         "{{ r.k }}", "{{ r.reference }}"],
         [38, 18, 24, 20, 16, 12, 42],
         "r in o.results",
     )
-    tag(doc, "{%p for n in o.notes %}")
-    para(doc, "Note: {{ n }}", italic=True)
-    tag(doc, "{%p endfor %}")
+    with block(doc, "for n in o.notes"):
+        para(doc, "Note: {{ n }}", italic=True)
 
     _budget(doc)
 
-    tag(doc, "{%p for t in o.tables %}")
-    label(doc, "{{ t.title }}")
-    column_loop_table(doc, "t.header", "t.rows")
-    tag(doc, "{%p endfor %}")
+    with block(doc, "for t in o.tables"):
+        label(doc, "{{ t.title }}")
+        column_loop_table(doc, "t.header", "t.rows")
 
-    tag(doc, "{%p for p in o.plots %}")
-    para(doc, "{{ p.image }}", style="Figure")
-    para(doc, "Figure {{ p.number }} — {{ p.title }}", style="Caption")
-    tag(doc, "{%p endfor %}")
+    with block(doc, "for p in o.plots"):
+        para(doc, "{{ p.image }}", style="Figure")
+        para(doc, "Figure {{ p.number }} — {{ p.title }}", style="Caption")
 
-    tag(doc, "{%p if o.warnings %}")
-    label(doc, "Warnings")
-    tag(doc, "{%p for w in o.warnings %}")
-    para(doc, "{{ w }}", style="List Bullet")
-    tag(doc, "{%p endfor %}")
-    tag(doc, "{%p endif %}")
+    with block(doc, "if o.warnings"):
+        label(doc, "Warnings")
+        with block(doc, "for w in o.warnings"):
+            para(doc, "{{ w }}", style="List Bullet")
 
 
 def _results(doc: Any) -> None:
@@ -547,19 +547,16 @@ def _results(doc: Any) -> None:
     heading(doc, "5 Results", 1)
     para(doc, "Values are reported with their expanded uncertainty U = k·u_c; U has at most two "
               "significant digits and the value is rounded to the same decimal place (JJF 1059.1).")
-    tag(doc, "{%p if simulated %}")
-    _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
-    label(doc, "Declared truth of the simulated station (compare with the results below)")
-    loop_table(doc, ["Parameter", "Declared value"], ["{{ t.name }}", "{{ t.value }}"],
-               [70, TEXT_W - 70],
-               "t in truth")
-    tag(doc, "{%p endif %}")
-    tag(doc, "{%p for o in outcomes %}")
-    _outcome(doc)
-    tag(doc, "{%p endfor %}")
-    tag(doc, "{%p if not outcomes %}")
-    para(doc, "This report holds no results.", italic=True)
-    tag(doc, "{%p endif %}")
+    with block(doc, "if simulated"):
+        _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
+        label(doc, "Declared truth of the simulated station (compare with the results below)")
+        loop_table(doc, ["Parameter", "Declared value"], ["{{ t.name }}", "{{ t.value }}"],
+                   [70, TEXT_W - 70],
+                   "t in truth")
+    with block(doc, "for o in outcomes"):
+        _outcome(doc)
+    with block(doc, "if not outcomes"):
+        para(doc, "This report holds no results.", italic=True)
 
 
 def _conformity(doc: Any) -> None:
@@ -576,12 +573,10 @@ def _conformity(doc: Any) -> None:
         [18, 18, 26, 40, 20, 48],
         "v in conformity.verdicts",
     )
-    tag(doc, "{%p if conformity.not_assessed %}")
-    label(doc, "Limits given but not assessed (no result of this run)")
-    tag(doc, "{%p for n in conformity.not_assessed %}")
-    para(doc, "{{ n }}", style="List Bullet")
-    tag(doc, "{%p endfor %}")
-    tag(doc, "{%p endif %}")
+    with block(doc, "if conformity.not_assessed"):
+        label(doc, "Limits given but not assessed (no result of this run)")
+        with block(doc, "for n in conformity.not_assessed"):
+            para(doc, "{{ n }}", style="List Bullet")
     tag(doc, "{%p else %}")
     para(doc, "No specification was given for this campaign; this report makes no statement of "
               "conformity.", italic=True)
