@@ -27,7 +27,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["Measurement", "format_table", "measure", "rss_bytes"]
+__all__ = ["Measurement", "format_table", "measure", "reset_peak_rss", "rss_bytes"]
 
 MiB = 1024.0 * 1024.0
 
@@ -48,7 +48,9 @@ def rss_bytes() -> int | None:
     return _status_kb("VmRSS")
 
 
-def _reset_hwm() -> bool:
+def reset_peak_rss() -> bool:
+    """Reset this process's peak RSS (VmHWM, Linux); False where it cannot be.  ``ru_maxrss``
+    cannot serve instead: it survives fork and exec, so a child would report its parent's peak."""
     try:
         with open("/proc/self/clear_refs", "w") as fh:
             fh.write("5")
@@ -127,7 +129,7 @@ def measure(
         m.result = None
         gc.collect()
         rss0 = rss_bytes()
-        hwm_ok = _reset_hwm()
+        hwm_ok = reset_peak_rss()
         started = not tracemalloc.is_tracing()
         if started:
             tracemalloc.start()

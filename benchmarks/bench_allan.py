@@ -109,34 +109,14 @@ def main() -> int:
         allan.oadev, y, tau0, ms, engine="numba", label="metro oadev, numba", repeat=args.repeat
     )
     results["numba"] = m_nb.result
-    m_np = measure(
-        allan.oadev,
-        y,
-        tau0,
-        ms,
-        engine="numpy",
-        label="metro oadev, numpy fallback",
-        repeat=max(1, args.repeat - 1),
-    )
+    m_np = measure(allan.oadev, y, tau0, ms, engine="numpy", label="metro oadev, numpy fallback",
+                   repeat=max(1, args.repeat - 1))
     results["numpy"] = m_np.result
 
     allan.block_variance_doubling(y[: 1 << 17], tau0, engine="numba")
-    m_bvd = measure(
-        allan.block_variance_doubling,
-        y,
-        tau0,
-        engine="numba",
-        label="metro block_variance_doubling, numba",
-        repeat=args.repeat,
-    )
-    m_bvd_np = measure(
-        allan.block_variance_doubling,
-        y,
-        tau0,
-        engine="numpy",
-        label="metro block_variance_doubling, numpy",
-        repeat=args.repeat,
-    )
+    m_bvd, m_bvd_np = (measure(allan.block_variance_doubling, y, tau0, engine=engine,
+                               label=f"metro block_variance_doubling, {engine}",
+                               repeat=args.repeat) for engine in ("numba", "numpy"))
 
     m_at = None
     if not args.no_allantools:
@@ -145,15 +125,8 @@ def main() -> int:
         except ImportError:
             print("allantools not installed: comparison skipped")
         else:
-            m_at = measure(
-                allantools.oadev,
-                y,
-                rate=rate,
-                data_type="freq",
-                taus="octave",
-                label="allantools.oadev(taus='octave')",
-                repeat=max(1, args.repeat - 1),
-            )
+            m_at = measure(allantools.oadev, y, rate=rate, data_type="freq", taus="octave",
+                           label="allantools.oadev(taus='octave')", repeat=max(1, args.repeat - 1))
             results["allantools"] = m_at.result
 
     cold, warm = first_call_latency()

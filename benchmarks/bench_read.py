@@ -27,6 +27,9 @@ import sys
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _measure import reset_peak_rss  # noqa: E402  (a sibling script, not a package)
+
 HERE = Path(__file__).resolve().parent
 DATA = HERE / "data"
 SEED = 20261122
@@ -72,17 +75,6 @@ def make_data(rows: int) -> tuple[Path, Path]:
 def _rss() -> int:
     with open("/proc/self/statm") as f:
         return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-
-
-def _reset_peak() -> bool:
-    """Reset this process's peak RSS (Linux).  ``ru_maxrss`` cannot be used: it survives
-    fork and exec, so a child would report its parent's peak."""
-    try:
-        with open("/proc/self/clear_refs", "w") as f:
-            f.write("5")
-        return True
-    except OSError:
-        return False
 
 
 def _peak() -> int:
@@ -143,7 +135,7 @@ def child(reader: str, csv_path: Path, npy_path: Path) -> dict:
         raise ValueError(reader)
 
     base = _rss()
-    if not _reset_peak():
+    if not reset_peak_rss():
         print("warning: cannot reset the peak RSS; peak memory is an upper bound", file=sys.stderr)
     c0 = os.times()
     t0 = time.perf_counter()

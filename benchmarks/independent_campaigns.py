@@ -157,6 +157,42 @@ class Output:
         return y
 
 
+class DitheredPulse(Output):
+    """Pulse counts read at a random phase every sample (a dithered readout): the quantization
+    error of each sample's count is independent, white angle noise."""
+
+    def __init__(self, K: float):
+        super().__init__("pulse", K=K)
+
+    def record(self, rate_deg_h, dt, K_scale=1.0, rng=None):
+        angle = np.cumsum(np.asarray(rate_deg_h) * dt) * self.K * K_scale
+        u = rng.uniform(0, 1, angle.size)
+        cum = np.floor(np.concatenate([[0.0], angle]) + np.concatenate([[rng.uniform(0, 1)], u]))
+        return np.diff(cum)
+
+
+def marine_gyro(folder: Path, rng, kind: str, *, q: float = 0.0, K_range=(0.3, 3.0),
+                sf_U: str = "5 ppm", dithered: bool = False) -> tuple[dict, Output]:
+    """(device table, output) of a GB/T 45570 marine fibre gyro. ``kind``: 'pulse…' (K drawn in
+    ``K_range`` P/″, read by an undithered counter or, with ``dithered``, a dithered readout),
+    'LSB' (1 LSB ≈ ``q`` °/h), anything else a rate output in °/h rounded to ``q``; the declared
+    scale factor's U is ``sf_U``."""
+    device = {"id": folder.name, "technology": "fibre", "application": "marine"}
+    if kind.startswith("pulse"):
+        K = float(rng.uniform(*K_range))
+        out = DitheredPulse(K) if dithered else Output("pulse", K=K)
+        device |= {"output": "pulse", "scale_factor": f"{K!r} P/″", "scale_factor_U": sf_U}
+    elif kind == "LSB":
+        K = 3600.0 / q * float(rng.uniform(0.8, 1.25))
+        out = Output("LSB", K=K)
+        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
+                   "scale_factor_U": sf_U}
+    else:
+        out = Output("deg/h", q=q)
+        device |= {"output": "rate"}
+    return device, out
+
+
 # --------------------------------------------------------------------------------------------
 # writing campaigns (data-format.md)
 # --------------------------------------------------------------------------------------------
@@ -264,19 +300,7 @@ def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: 
                   wander_period=float(rng.uniform(1200, 5400)))
     sigma_on = float(rng.uniform(0.002, 0.01))                  # °/h, turn-on scatter
     b_mean = float(rng.uniform(-0.5, 0.5))                      # °/h
-    device = {"id": folder.name, "technology": "fibre", "application": "marine"}
-    if kind == "pulse":
-        K = float(rng.uniform(0.3, 3.0))                        # P/″
-        out = Output("pulse", K=K)
-        device |= {"output": "pulse", "scale_factor": f"{K!r} P/″", "scale_factor_U": "5 ppm"}
-    elif kind == "LSB":
-        K = 3600.0 / lsb_deg_h * float(rng.uniform(0.8, 1.25))  # LSB/(°/s)
-        out = Output("LSB", K=K)
-        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
-                   "scale_factor_U": "5 ppm"}
-    else:
-        out = Output("deg/h", q=q_deg_h)
-        device |= {"output": "rate"}
+    device, out = marine_gyro(folder, rng, kind, q=lsb_deg_h if kind == "LSB" else q_deg_h)
     camp = Campaign(folder, device, lat, [PLATFORM, COUNTER], fmt=fmt, output=out)
     n = int(round(3600 / dt)) if not quick else int(round(600 / dt))
     biases = []
@@ -592,16 +616,22 @@ VARIANTS = {
 # running metro and scoring
 # --------------------------------------------------------------------------------------------
 
-def run_metro(manifest: Path, standard: str, items: str,
-              use_subprocess: bool = False) -> tuple[int, dict, str]:
+def run_metro(manifest: Path, standard: str, items: str, use_subprocess: bool = False,
+              options=(), main=None) -> tuple[int, dict, str]:
+    """``metro run --json`` on one campaign (``options``: item options, each ``-o`` once):
+    (exit code, the JSON document, stderr). In-process, ``main`` is the command line called
+    (default metro's ``cli.app.main``)."""
     argv = ["run", "-s", standard, "-i", items, "--data", str(manifest), "--json", "--no-report",
             "--quiet"]
+    for o in options:
+        argv += ["-o", o]
     if use_subprocess:
         exe = Path(sys.executable).with_name("metro")
         proc = subprocess.run([str(exe), *argv], capture_output=True, text=True)
         out, err, code = proc.stdout, proc.stderr, proc.returncode
     else:
-        from metro.core.cli.app import main
+        if main is None:
+            from metro.core.cli.app import main
 
         so, se = io.StringIO(), io.StringIO()
         with contextlib.redirect_stdout(so), contextlib.redirect_stderr(se):
@@ -752,20 +782,28 @@ def summarise(rows: list[dict]) -> list[dict]:
     return res
 
 
+def table_row(s: dict, *, label: str = "", alt: bool = True, other_chars: int | None = None) -> str:
+    """One summary row ``s`` of a harness table: variant (after ``label``), item, result (with its
+    other outcomes, cut to ``other_chars``), devices, not reportable, within U, the E_n columns and,
+    with ``alt``, the alternative truth's within U and mean E_n; "—" where there is no value."""
+    def f(x, fmt):
+        return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
+    other = f" ({'; '.join(s['other'])[:other_chars]})" if s["other"] else ""
+    row = (f"| {label}{s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | "
+           f"{s['not_reportable']} | {100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} "
+           f"| {f(s['rms_En'], '.2f')} | {f(s['max_abs_En'], '.2f')} |")
+    if alt:
+        row += (f" {100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f} |"
+                if s["within_alt"] is not None else " — |")
+    return row
+
+
 def markdown(rows: list[dict]) -> str:
     """The table of docs/independent-campaigns.md from the rows of one or more sweeps."""
     out = ["| variant | item | result | devices | not reportable | within U (or not reportable) | "
            "mean E_n | rms E_n | max abs E_n | flicker mean as bias: within U, mean E_n |",
            "|---|---|---|---|---|---|---|---|---|---|"]
-    for s in summarise(rows):
-        def f(x, fmt):
-            return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
-        alt = (f"{100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f}" if s["within_alt"]
-               is not None else "—")
-        other = f" ({'; '.join(s['other'])})" if s["other"] else ""
-        out.append(f"| {s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | "
-                   f"{s['not_reportable']} | {100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} "
-                   f"| {f(s['rms_En'], '.2f')} | {f(s['max_abs_En'], '.2f')} | {alt} |")
+    out += [table_row(s) for s in summarise(rows)]
     return "\n".join(out)
 
 

@@ -54,7 +54,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from independent_campaigns import (  # noqa: E402  (the sibling module: shared writers and scoring)
-    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, score)
+    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, marine_gyro, score)
 
 REV = 1296000.0  # ″ per revolution
 
@@ -63,41 +63,18 @@ REV = 1296000.0  # ″ per revolution
 # outputs and devices
 # --------------------------------------------------------------------------------------------
 
-class DitheredPulse(Output):
-    """Pulse counts read at a random phase each sample: the quantization error is white."""
-
-    def __init__(self, K: float):
-        super().__init__("pulse", K=K)
-
-    def record(self, rate_deg_h, dt, K_scale=1.0, rng=None):
-        angle = np.cumsum(np.asarray(rate_deg_h) * dt) * self.K * K_scale
-        u = rng.uniform(0, 1, angle.size)
-        cum = np.floor(np.concatenate([[0.0], angle]) + np.concatenate([[rng.uniform(0, 1)], u]))
-        return np.diff(cum)
-
-
 def make_output(rng, kind: str, folder: Path, *, q: float = 0.05,
                 sf_U: float = 20e-6) -> tuple[dict, Output]:
     """(device table, output) of one device. ``kind``: 'pulse' (undithered counter, 0.3–3 P/″),
     'pulse-fine' (dithered readout, 2–10 P/″), 'pulse-coarse' (undithered, 0.05–0.2 P/″), 'LSB' (1
     LSB ≈ q °/h), 'rate' (°/h rounded to q). K is declared with U = sf_U (k = 2)."""
-    device = {"id": folder.name, "technology": "fibre", "application": "marine"}
+    K_range = {"pulse-fine": (2.0, 10.0), "pulse-coarse": (0.05, 0.2)}.get(kind, (0.3, 3.0))
+    device, out = marine_gyro(folder, rng, kind, q=q, K_range=K_range,
+                              sf_U=f"{sf_U * 1e6:g} ppm", dithered=kind == "pulse-fine")
     if kind.startswith("pulse"):
-        lo, hi = {"pulse": (0.3, 3.0), "pulse-fine": (2.0, 10.0), "pulse-coarse": (0.05, 0.2)}[kind]
-        K = float(rng.uniform(lo, hi))
-        out = DitheredPulse(K) if kind == "pulse-fine" else Output("pulse", K=K)
-        device |= {"technology": "laser", "output": "pulse", "scale_factor": f"{K!r} P/″",
-                   "scale_factor_U": f"{sf_U * 1e6:g} ppm"}
-    elif kind == "LSB":
-        K = 3600.0 / q * float(rng.uniform(0.8, 1.25))
-        out = Output("LSB", K=K)
-        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
-                   "scale_factor_U": f"{sf_U * 1e6:g} ppm"}
-    else:
-        out = Output("deg/h", q=q)
-        device |= {"output": "rate"}
-        if q:
-            device["resolution"] = f"{q!r} °/h"
+        device["technology"] = "laser"  # (the key keeps its place in the table)
+    elif kind != "LSB" and q:
+        device["resolution"] = f"{q!r} °/h"
     return device, out
 
 

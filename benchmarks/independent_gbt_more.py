@@ -45,7 +45,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from independent_campaigns import (  # noqa: E402  (the sibling module: shared writers and scoring)
-    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, score)
+    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, marine_gyro,
+    score)
 
 REV = 1296000.0  # ″ in one revolution (D.2: 360 × 3 600)
 
@@ -525,20 +526,6 @@ class _RateSeconds(Output):
 # D.5.6 angle random walk
 # --------------------------------------------------------------------------------------------
 
-class _DitheredPulse(Output):
-    """Pulse counts read at a random phase every sample (a dithered readout): the quantization
-    error of each sample's count is independent, white angle noise (D.45's α2 term)."""
-
-    def __init__(self, K: float):
-        super().__init__("pulse", K=K)
-
-    def record(self, rate_deg_h, dt, K_scale=1.0, rng=None):
-        angle = np.cumsum(np.asarray(rate_deg_h) * dt) * self.K * K_scale
-        u = rng.uniform(0, 1, angle.size)
-        cum = np.floor(np.concatenate([[0.0], angle]) + np.concatenate([[rng.uniform(0, 1)], u]))
-        return np.diff(cum)
-
-
 def build_arw(folder: Path, rng, *, kind: str, dt: float, hours: float, q: float = 0.0,
               flick: float = 0.0,
               wander: float = 0.0, arw_range=(0.001, 0.005), fmt: str = "npy", quick=False) -> dict:
@@ -552,19 +539,8 @@ def build_arw(folder: Path, rng, *, kind: str, dt: float, hours: float, q: float
                   * float(rng.uniform(0.5, 1.5)),
                   wander_period=float(rng.uniform(1200, 5400)))
     b = float(rng.uniform(-0.5, 0.5))
-    device = {"id": folder.name, "technology": "fibre", "application": "marine"}
-    if kind in ("pulse", "pulse-undithered"):
-        K = float(rng.uniform(0.5, 3.0))
-        out = _DitheredPulse(K) if kind == "pulse" else Output("pulse", K=K)
-        device |= {"output": "pulse", "scale_factor": f"{K!r} P/″", "scale_factor_U": "5 ppm"}
-    elif kind == "LSB":
-        K = 3600.0 / q * float(rng.uniform(0.8, 1.25))
-        out = Output("LSB", K=K)
-        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
-                   "scale_factor_U": "5 ppm"}
-    else:
-        out = Output("deg/h", q=q)
-        device |= {"output": "rate"}
+    # a dithered readout for 'pulse' (D.45's α2 term: white angle noise)
+    device, out = marine_gyro(folder, rng, kind, q=q, K_range=(0.5, 3.0), dithered=kind == "pulse")
     camp = Campaign(folder, device, lat, [PLATFORM, COUNTER], fmt=fmt, output=out)
     n = int(round((hours if not quick else 1.0) * 3600 / dt))
     e, w = noise.draw(n, dt, rng)
@@ -601,19 +577,7 @@ def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, f
          in ("IRA", "XRA", "YRA")}
     # °/h/mT², cancels in D.44
     even = float(rng.uniform(-1, 1)) * 1e-3
-    device = {"id": folder.name, "technology": "fibre", "application": "marine"}
-    if kind == "pulse":
-        K = float(rng.uniform(0.5, 3.0))
-        out = Output("pulse", K=K)
-        device |= {"output": "pulse", "scale_factor": f"{K!r} P/″", "scale_factor_U": "5 ppm"}
-    elif kind == "LSB":
-        K = 3600.0 / q * float(rng.uniform(0.8, 1.25))
-        out = Output("LSB", K=K)
-        device |= {"output": "digital", "scale_factor": f"{K!r} LSB/(°/s)",
-                   "scale_factor_U": "5 ppm"}
-    else:
-        out = Output("deg/h", q=q)
-        device |= {"output": "rate"}
+    device, out = marine_gyro(folder, rng, kind, q=q, K_range=(0.5, 3.0))
     chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1",
                                                                 "U": "0.5 K", "k": 2}}
     Hb = float(rng.choice([0.5, 1.0, 2.0]))

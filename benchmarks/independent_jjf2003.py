@@ -38,10 +38,8 @@ truth depends on noise, so none needs Monte Carlo.
 
 from __future__ import annotations
 
-import contextlib
 import datetime
 import importlib.util
-import io
 import json
 import math
 import sys
@@ -363,15 +361,18 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
     # vertical within ±position_accuracy (T); the MIMU axis lies off the table axis by the table's
     # positioning and axis perpendicularity and the fixture (perp, mount): at rest the leaning axis
     # puts a horizontal component of g on the other accelerometers that turning averages away.
-    for a in AXES:
-        T = tilt()
-        perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) \
-            @ small_rotation(rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
-        for r in rates:
-            eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
-            C0 = T @ up_nominal("+" + a) @ perp @ mount
-            record(f"rate-{a}-{r:g}", "rate", C0, T @ np.array([0.0, 0.0, 1.0]), r * (1 + eps),
-                   {"axis": a, "rate": f"{r:g} °/s"})
+    def sweeps(mount, prefix: str, kind: str, cond: dict) -> None:
+        for a in AXES:
+            T = tilt()
+            perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) \
+                @ small_rotation(rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
+            for r in rates:
+                eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
+                C0 = T @ up_nominal("+" + a) @ perp @ mount
+                record(f"{prefix}{a}-{r:g}", kind, C0, T @ np.array([0.0, 0.0, 1.0]),
+                       r * (1 + eps), {"axis": a, "rate": f"{r:g} °/s"} | cond)
+
+    sweeps(mount, "rate-", "rate", {})
     # repeated calibrations (kind rate-repeat, condition run; docs/standards/jjf2003.md, option
     # repeats): power off, remount — a new seat in the fixture, another power-on's K_g diagonal
     # (relative σ_K) and B_g (σ_B).  The truth stays the first calibration's power-on.
@@ -381,16 +382,7 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
         dev.Kg = Kg0.copy()
         dev.Kg[np.diag_indices(3)] *= 1 + sigma_K * rng.standard_normal(3)
         dev.Bg = Bg0 + sigma_B * rng.standard_normal(3)
-        for a in AXES:
-            T = tilt()
-            perp = small_rotation(rng.uniform(-1, 1, 3) * lab.position_accuracy * ARCSEC) \
-                @ small_rotation(rng.uniform(-1, 1, 3) * lab.axis_perp * ARCSEC)
-            for r in rates:
-                eps = rng.uniform(-1, 1) * math.sqrt(3) * lab.table_U / 2
-                C0 = T @ up_nominal("+" + a) @ perp @ mount
-                record(f"rate-repeat#{run}-{a}-{r:g}", "rate-repeat", C0, T
-                       @ np.array([0.0, 0.0, 1.0]),
-                       r * (1 + eps), {"axis": a, "rate": f"{r:g} °/s", "run": str(run)})
+        sweeps(mount, f"rate-repeat#{run}-", "rate-repeat", {"run": str(run)})
     dev.Kg, dev.Bg = Kg0, Bg0
     # the manifest lists the records in an order of its own, not the recording order (its
     if shuffle:
@@ -453,37 +445,30 @@ VARIANTS = {
         "plan's nine rates; non-orthogonal axes and cross-coupling within ±5×10⁻³, an axis read "
         "inverted (30 %), g-sensitivity ±0.05 (°/s)/gn, p ±5×10⁻⁴; table U 2×10⁻⁴ (k = 2), ±10″; "
         "latitude ±70°",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.01, seconds=30.0, fmt="csv", bits=16,
-                                         fs_g=400.0, fs_a=8.0,
-                                         rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.05,
-                                         p_mag=5e-4,
-                                         arw=(0.005, 0.02), vrw=(5e-5, 2e-4), quick=quick)),
+        lambda f, rng, quick: build_mimu(
+            f, rng, dt=0.01, seconds=30.0, fmt="csv", bits=16, fs_g=400.0, fs_a=8.0,
+            rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.05, p_mag=5e-4, arw=(0.005, 0.02),
+            vrw=(5e-5, 2e-4), quick=quick)),
     "mimu-24bit-200Hz-goodtable-gravity": MimuVariant(
         "mimu-24bit-200Hz-goodtable-gravity",
         "24-bit (fine) at 200 Hz in .npy, 60 s per record, a quiet MIMU (0.002–0.005 °/s/√Hz, "
         "20–50 µg/√Hz); a table as table 1 asks (rate U 2×10⁻⁵, k = 2; ±5″); the lab's measured "
         "local g in [site] gravity",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.005, seconds=60.0, fmt="npy", bits=24,
-                                         fs_g=400.0,
-                                         fs_a=8.0, rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3,
-                                         g_sens=0.02,
-                                         p_mag=2e-4, arw=(0.002, 0.005), vrw=(2e-5, 5e-5),
-                                         lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0,
-                                                 axis_perp=10.0),
-                                         write_gravity=True, quick=quick)),
+        lambda f, rng, quick: build_mimu(
+            f, rng, dt=0.005, seconds=60.0, fmt="npy", bits=24, fs_g=400.0, fs_a=8.0,
+            rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.02, p_mag=2e-4, arw=(0.002, 0.005),
+            vrw=(2e-5, 5e-5), lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0,
+                                      axis_perp=10.0), write_gravity=True, quick=quick)),
     "mimu-12bit-50Hz-coarse-rad-ms2": MimuVariant(
         "mimu-12bit-50Hz-coarse-rad-ms2",
         "12-bit (appendix A's N) over ±300 °/s / ±4 gn: 1 LSB 0.15 °/s, 2 mg, coarser than the "
         "noise (undithered); columns in rad/s and m/s², 50 Hz CSV without a time column; 7 rates "
         "±300, ±150, ±50, 0 (ω = 300 °/s for 7.2.5)",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.02, seconds=40.0, fmt="csv", bits=12,
-                                         fs_g=300.0, fs_a=4.0,
-                                         rates=(-300, -150, -50, 0, 50, 150, 300), xc_g=1e-2,
-                                         xc_a=1e-2,
-                                         g_sens=0.05, p_mag=5e-4, arw=(0.002, 0.01),
-                                         vrw=(5e-5, 2e-4),
-                                         gyro_unit="rad/s", acc_unit="m/s2", with_time=False,
-                                         quick=quick),
+        lambda f, rng, quick: build_mimu(
+            f, rng, dt=0.02, seconds=40.0, fmt="csv", bits=12, fs_g=300.0, fs_a=4.0,
+            rates=(-300, -150, -50, 0, 50, 150, 300), xc_g=1e-2, xc_a=1e-2, g_sens=0.05, p_mag=5e-4,
+            arw=(0.002, 0.01), vrw=(5e-5, 2e-4), gyro_unit="rad/s", acc_unit="m/s2",
+            with_time=False, quick=quick),
         options=("omega=300 deg/s",)),
     "mimu-1kHz-wander-polar-altitude": MimuVariant(
         "mimu-1kHz-wander-polar-altitude",
@@ -491,17 +476,12 @@ VARIANTS = {
         "7.2.5), a gyro-bias thermal wander 0.01 °/s (period 10–60 min), large cross terms "
         "(±2×10⁻²), g-sensitivity ±0.1, p ±1×10⁻³; latitude 60–89° either hemisphere, altitude "
         "0–3000 m, no [site] gravity",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.001, seconds=30.0, fmt="npy", bits=16,
-                                         fs_g=2000.0,
-                                         fs_a=16.0, rates=(-2000, -1000, -500, -200, -100, 0, 100,
-                                                           200, 500,
-                                                           1000, 2000),
-                                         xc_g=2e-2, xc_a=2e-2, g_sens=0.1, p_mag=1e-3,
-                                         arw=(0.01, 0.03),
-                                         vrw=(1e-4, 3e-4), wander=0.01, altitude=(0.0, 3000.0),
-                                         lat_range=(60.0, 89.0) if rng.uniform() < 0.5
-                                         else (-89.0, -60.0),
-                                         quick=quick),
+        lambda f, rng, quick: build_mimu(
+            f, rng, dt=0.001, seconds=30.0, fmt="npy", bits=16, fs_g=2000.0, fs_a=16.0,
+            rates=(-2000, -1000, -500, -200, -100, 0, 100, 200, 500, 1000, 2000), xc_g=2e-2,
+            xc_a=2e-2, g_sens=0.1, p_mag=1e-3, arw=(0.01, 0.03), vrw=(1e-4, 3e-4), wander=0.01,
+            altitude=(0.0, 3000.0), quick=quick,
+            lat_range=(60.0, 89.0) if rng.uniform() < 0.5 else (-89.0, -60.0)),
         options=("omega=1000 deg/s",)),
     "mimu-24bit-quiet-skewed-repeats": MimuVariant(
         "mimu-24bit-quiet-skewed-repeats",
@@ -509,19 +489,14 @@ VARIANTS = {
         "large cross terms (±2×10⁻², non-orthogonal axes) at latitude ±(50–85)°; three repeated "
         "calibrations (rate-repeat, remounted in the fixture, K_g diagonal σ 2×10⁻⁴ and B_g σ 0.01 "
         "°/s per power-on); table U 5×10⁻⁵, ±5″, fixture 5″, axis perpendicularity 5″ stated",
-        lambda f, rng, quick: build_mimu(f, rng, dt=0.02, seconds=60.0, fmt="npy", bits=24,
-                                         fs_g=500.0,
-                                         fs_a=10.0, rates=(-500, -250, -100, -20, 0, 20, 100, 250,
-                                                           500),
-                                         xc_g=2e-2, xc_a=2e-2, g_sens=0.01, p_mag=2e-4,
-                                         arw=(3e-4, 1e-3),
-                                         vrw=(1e-5, 3e-5),
-                                         lab=Lab(table_U=5e-5, position_accuracy=5.0, fixture=5.0,
-                                                 axis_perp=5.0,
-                                                 state_axis_perp=True),
-                                         lat_range=(50.0, 85.0) if rng.uniform() < 0.5
-                                         else (-85.0, -50.0),
-                                         repeats=3, sigma_K=2e-4, sigma_B=0.01, quick=quick),
+        lambda f, rng, quick: build_mimu(
+            f, rng, dt=0.02, seconds=60.0, fmt="npy", bits=24, fs_g=500.0, fs_a=10.0,
+            rates=(-500, -250, -100, -20, 0, 20, 100, 250, 500), xc_g=2e-2, xc_a=2e-2, g_sens=0.01,
+            p_mag=2e-4, arw=(3e-4, 1e-3), vrw=(1e-5, 3e-5),
+            lab=Lab(table_U=5e-5, position_accuracy=5.0, fixture=5.0, axis_perp=5.0,
+                    state_axis_perp=True),
+            lat_range=(50.0, 85.0) if rng.uniform() < 0.5 else (-85.0, -50.0), repeats=3,
+            sigma_K=2e-4, sigma_B=0.01, quick=quick),
         options=("omega=500 deg/s",)),
 }
 
@@ -560,26 +535,11 @@ VARIANTS["mimu-24bit-warmup-ramp-shuffled"] = MimuVariant(
 # --------------------------------------------------------------------------------------------
 
 def run_metro(manifest: Path, standard: str, items: str, options=()) -> tuple[int, dict, str]:
-    argv = ["run", "-s", standard, "-i", items, "--data", str(manifest), "--json", "--no-report",
-            "--quiet"]
-    for o in options:
-        argv += ["-o", o]
+    """:func:`independent_campaigns.run_metro` in-process on metro's command line, with item
+    ``options``."""
     from metro.core.cli.app import main
 
-    so, se = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(so), contextlib.redirect_stderr(se):
-        try:
-            code = main(argv)
-        except Exception:  # a traceback is itself a finding
-            import traceback
-
-            code, se = 1, io.StringIO(traceback.format_exc())
-    out, err = so.getvalue(), se.getvalue()
-    try:
-        doc = json.loads(out) if out.strip() else {}
-    except json.JSONDecodeError:
-        doc = {}
-    return code, doc, err
+    return ic.run_metro(manifest, standard, items, options=options, main=main)
 
 
 def run_variant(variant: MimuVariant, devices: int, seed0: int, workdir: Path, quick: bool = False,
@@ -620,13 +580,7 @@ def grouped(rows: list[dict]) -> list[dict]:
 def markdown(rows: list[dict]) -> str:
     out = ["| variant | item | results | values | not reportable | within U (or not reportable) | "
            "mean E_n | rms E_n | max abs E_n |", "|---|---|---|---|---|---|---|---|---|"]
-    for s in grouped(rows):
-        def f(x, fmt):
-            return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
-        other = f" ({'; '.join(s['other'])[:200]})" if s["other"] else ""
-        out.append(f"| {s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | "
-                   f"{s['not_reportable']} | {100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} "
-                   f"| {f(s['rms_En'], '.2f')} | {f(s['max_abs_En'], '.2f')} |")
+    out += [ic.table_row(s, alt=False, other_chars=200) for s in grouped(rows)]
     return "\n".join(out)
 
 

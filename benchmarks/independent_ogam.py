@@ -448,15 +448,7 @@ def markdown(rows: list[dict], label: str = "") -> str:
     out = ["| variant | item | result | devices | not reportable | within U (or not reportable) | "
            "mean E_n | rms E_n | max abs E_n | B_s truth = this hour's own: within U, mean E_n |",
            "|---|---|---|---|---|---|---|---|---|---|"]
-    for s in summarise(rows):
-        def f(x, fmt):
-            return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
-        other = f" ({'; '.join(s['other'])})" if s["other"] else ""
-        out.append(f"| {label}{s['variant']} | {s['item']} | {s['key']}{other} | {s['devices']} | "
-                   f"{s['not_reportable']} | {100 * s['within']:.1f} % | {f(s['mean_En'], '+.2f')} "
-                   f"| {f(s['rms_En'], '.2f')} | {f(s['max_abs_En'], '.2f')} | "
-                   + (f"{100 * s['within_alt']:.1f} %, {s['mean_En_alt']:+.2f} |"
-                      if s["within_alt"] is not None else "— |"))
+    out += [IC.table_row(s, label=label) for s in summarise(rows)]
     return "\n".join(out)
 
 
@@ -465,9 +457,9 @@ def main(argv=None) -> int:
                   alt_label="this hour's own",
                   quick_help="fewer Monte Carlo draws for the noise truths",
                   table=lambda rows, a: markdown(rows, a.label),
-                  add_arguments=lambda ap: ap.add_argument("--label", default="",
-                                                           help="with --markdown: a prefix for the "
-                                                           "variant column"))
+                  add_arguments=lambda ap: ap.add_argument(
+                      "--label", default="",
+                      help="with --markdown: a prefix for the variant column"))
 
 if __name__ == "__main__":
     sys.exit(main())
