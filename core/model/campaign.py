@@ -147,7 +147,7 @@ class Equipment(Instrument):
     """A piece of the lab's equipment with its role in the test and its calibration data."""
 
     #: canonical spelling (metro.core.base.vocabulary.canonical_role: ``rate-table`` →
-    #``rate_table``)
+    #: ``rate_table``)
     role: str = attrs.field(default="", converter=lambda r: canonical_role(r))
     #: its calibration data, or None (an item that needs its U then says so)
     calibration: Calibration | None = None

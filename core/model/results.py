@@ -120,7 +120,7 @@ class Result:
     earth_rate: str = ""
     #: for a result that is not reportable as a value but bounds the quantity (a reading beyond the
     #: instrument's range): "lower" — the true value is at least ``value``; "upper" — at most; "" —
-    #no : bound (stated with :data:`BOUND_SIGNS`)
+    #: no bound (stated with :data:`BOUND_SIGNS`)
     bound: str = attrs.field(default="", validator=attrs.validators.in_(("", "lower", "upper")))
 
     @property

@@ -43,8 +43,8 @@ __all__ = ["open_register", "register_state", "Register", "Draft", "Issued", "sh
            "RegisterError", "SCHEMA_HEAD", "SCHEMA_REVISIONS"]
 
 #: the migrations' revisions, oldest first (``migrations/versions``;
-#tests/core/cli/test_cli_daily.py checks : them against Alembic's own list); a register at the
-#newest is opened without loading Alembic
+#: tests/core/cli/test_cli_daily.py checks them against Alembic's own list); a register at the
+#: newest is opened without loading Alembic
 SCHEMA_REVISIONS = ("0001",)
 SCHEMA_HEAD = SCHEMA_REVISIONS[-1]
 

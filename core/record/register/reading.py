@@ -32,7 +32,7 @@ REPORT_COLUMNS = ("id", "number", "scope", "seq", "status", "supersedes", "super
                   "report_path",
                   "report_sha256", "template")
 #: the ``results`` columns, as (column, attribute): the expanded uncertainty's column is
-#``U_expanded``
+#: ``U_expanded``
 RESULT_COLUMNS = (("report_id", "report_id"), ("item", "item"), ("key", "key"),
                   ("quantity", "quantity"),
                   ("symbol", "symbol"), ("value", "value"), ("u", "u"), ("U_expanded", "U"),
