@@ -22,7 +22,8 @@ def add_global_options(p) -> None:
 
 
 def add_commands(sub) -> None:
-    lab = sub.add_parser("lab", help="the lab profile: metro lab init PATH, metro lab show",
+    lab = sub.add_parser("lab", help="the lab profile: metro lab init PATH, metro lab show, "
+                         "metro lab equipment import CERT.xml",
                          description="The lab profile names the lab, its signatories, numbering "
                          "scheme, register and equipment (docs/register.md).")
     lsub = lab.add_subparsers(dest="lab_command", metavar="SUBCOMMAND", required=True)
@@ -32,6 +33,9 @@ def add_commands(sub) -> None:
     li.add_argument("--json", action="store_true")
     ls = lsub.add_parser("show", help="print the lab profile in force and where it was found")
     ls.add_argument("--json", action="store_true")
+    from .lab_commands import add_equipment_commands
+
+    add_equipment_commands(lsub)
 
 
     rg = sub.add_parser("register", help="the report register: list, show, verify",
@@ -546,6 +550,10 @@ def _cmd_lab(args) -> int:
     from ..record import lab as labmod
     from ..base.errors import MetroError
 
+    if args.lab_command == "equipment":
+        from .lab_commands import equipment_command
+
+        return equipment_command(args)
     if args.lab_command == "init":
         path = labmod.write_template(args.path)
         if args.json:

@@ -385,7 +385,12 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
 
     scheme, prefix = numbering(doc, src)
     signatories = signatories_of(doc, src)
-    equipment = lab_equipment(doc, src, read=equipment)
+    read = equipment
+    equipment = lab_equipment(doc, src, read=read)
+    if read:  # and what `metro lab equipment import` wrote beside the profile
+        from .equipment_store import read_store
+
+        equipment += read_store(p, {e.id for e in equipment})
     return LabProfile(
         name_zh=vals["name_zh"], name_en=vals["name_en"], address=vals["address"],
         accreditation_body=vals["accreditation_body"],
