@@ -286,6 +286,22 @@ class Variant:
     build: object  # callable(folder, rng, quick) -> truth dict {key: (value, unit, earth)}
 
 
+def build_with(builder, **options):
+    """A variant's ``build(folder, rng, quick)``: ``builder(folder, rng, quick=quick,
+    **options)``."""
+    return lambda folder, rng, quick: builder(folder, rng, quick=quick, **options)
+
+
+def variants(*table) -> dict:
+    """{name: variant} of the variants given, in their order."""
+    return {v.name: v for v in table}
+
+
+def text(block: str) -> str:
+    """A variant's description written as a wrapped block: its words joined by single spaces."""
+    return " ".join(block.split())
+
+
 def build_gbt_bias(folder: Path, rng, *, kind: str, dt: float, fmt: str, flick: float,
                    wander: float, lsb_deg_h: float, q_deg_h: float, quick: bool = False,
                    Q: int = 7, orientation: str = "IRA up") -> dict:
@@ -524,92 +540,94 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
             ("7.2.13", "B0"): (b0, "°/h", ("earth", e_sign * earth), b0 + float(fl.mean()))}
 
 
-VARIANTS = {
-    "gbt-pulse-1Hz-flicker": Variant(
-        "gbt-pulse-1Hz-flicker", "gbt45570", "D.5.1,D.5.3",
-        "pulse output (undithered counter, K 0.3–3 P/″), 1 Hz, CSV, ARW 0.001–0.004 °/√h, "
-        "flicker plateau ≈ 0.004 °/h, 1 h records, latitude −65°…70°",
-        lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.004,
-                                             wander=0.0, lsb_deg_h=0, q_deg_h=0, quick=quick)),
-    "gbt-pulse-1Hz-strong-flicker": Variant(
-        "gbt-pulse-1Hz-strong-flicker", "gbt45570", "D.5.1,D.5.3",
-        "as gbt-pulse-1Hz-flicker with a flicker plateau ≈ 0.02 °/h (5–20 × the white noise's 1 h "
-        "mean)",
-        lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=1.0, fmt="csv", flick=0.02,
-                                             wander=0.0, lsb_deg_h=0, q_deg_h=0, quick=quick)),
-    "gbt-pulse-10Hz-IRAdown-Q10": Variant(
-        "gbt-pulse-10Hz-IRAdown-Q10", "gbt45570", "D.5.1,D.5.3",
-        "pulse output at 10 Hz (a few pulses per sample: the counter's ±1 P matters), IRA down "
-        "(the earth rate's sign flips), Q = 10 power-ons, thermal wander 0.005 °/h, no flicker",
-        lambda f, rng, quick: build_gbt_bias(f, rng, kind="pulse", dt=0.1, fmt="npy", flick=0.0,
-                                             wander=0.005, lsb_deg_h=0, q_deg_h=0, quick=quick,
-                                             Q=10,
-                                             orientation="IRA down")),
-    "gbt-lsb-10Hz-coarse-thermal": Variant(
-        "gbt-lsb-10Hz-coarse-thermal", "gbt45570", "D.5.1,D.5.3",
-        "LSB output, 1 LSB ≈ 1 °/h (coarser than the 10 Hz noise), 10 Hz, .npy, sinusoidal "
-        "thermal wander ≈ 0.01 °/h (period 20–90 min, random phase per power-on), "
-        "flicker 0.002 °/h",
-        lambda f, rng, quick: build_gbt_bias(f, rng, kind="LSB", dt=0.1, fmt="npy", flick=0.002,
-                                             wander=0.01, lsb_deg_h=1.0, q_deg_h=0, quick=quick)),
-    "gbt-rate-1Hz-quantized": Variant(
-        "gbt-rate-1Hz-quantized", "gbt45570", "D.5.1,D.5.3",
-        "rate output in °/h rounded to 0.5 °/h (coarser than the 1 Hz noise), 1 Hz, CSV, flicker "
-        "0.003 °/h",
-        lambda f, rng, quick: build_gbt_bias(f, rng, kind="rate", dt=1.0, fmt="csv", flick=0.003,
-                                             wander=0.0, lsb_deg_h=0, q_deg_h=0.5, quick=quick)),
-    "gbt-rate-method-lsb-asym": Variant(
-        "gbt-rate-method-lsb-asym", "gbt45570", "D.2.1",
-        "D.2.1 rate method, LSB output (1 LSB ≈ 0.2–0.5 °/h), 10 Hz, .npy, K asymmetry up to "
-        "±200 ppm, thermal wander 0.05 °/h between start and end rest",
-        lambda f, rng, quick: build_gbt_rate(f, rng, dt=0.1, fmt="npy", lsb_deg_h=0.3, asym=2e-4,
-                                             flick=0.01, wander=0.05, quick=quick)),
-    "gbt-angle-method-pulse-asym": Variant(
-        "gbt-angle-method-pulse-asym", "gbt45570", "D.1.1",
-        "D.1.1 angle method, pulse output (K 0.3–3 P/″), 5 whole revolutions each way at 14 R5 "
-        "rates (1–400 °/s), revolution pulse within ±2″, K asymmetry up to ±20 ppm, count/duration "
-        "CSV",
-        lambda f, rng, quick: build_gbt_angle(f, rng, asym=2e-5, quick=quick)),
-    "jjf-mV-1Hz-IRAdown-17rates": Variant(
-        "jjf-mV-1Hz-IRAdown-17rates", "jjf2014", "7.2.1,7.2.4,7.2.13",
-        "mV output, either sign, 17 R5 rates 0.16 … 250 °/s (not metro's default set), 8 repeat "
-        "calibrations, static 1 h at 1 Hz IRA down, white noise only (CSV)",
-        lambda f, rng, quick: build_jjf(f, rng, dt_static=1.0, dt_rate=1.0, fmt="csv", kind="mV",
-                                        flick=0.0, wander=0.0, q=0.0, asym=0.0, neg=True,
-                                        static_s=3600 if not quick else 300, quick=quick, runs=8,
-                                        rates=(0.16, 0.25, 0.4, 0.63, 1, 1.6, 2.5, 4, 6.3, 10, 16,
-                                               25,
-                                               40, 63, 100, 160, 250), orientation="IRA down")),
-    "jjf-mV-100Hz-flicker-negK": Variant(
-        "jjf-mV-100Hz-flicker-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
-        "mV output, K ±(5–60) mV/(°/s) (either sign), rate points at 1 s (10 samples), static 1 h "
-        "at 100 Hz (.npy), flicker plateau ≈ 3 °/h, no quantization",
-        lambda f, rng, quick: build_jjf(f, rng, dt_static=0.01, dt_rate=1.0, fmt="npy", kind="mV",
-                                        flick=3.0, wander=0.0, q=0.0, asym=0.0, neg=True,
-                                        static_s=3600 if not quick else 300, quick=quick)),
-    "jjf-mV-10Hz-white-negK": Variant(
-        "jjf-mV-10Hz-white-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
-        "mV output, K ±(5–60) mV/(°/s) (either sign), white noise and a thermal wander of 5 °/h "
-        "only (no flicker), rate points at 1 s, static 1 h at 10 Hz (CSV)",
-        lambda f, rng, quick: build_jjf(f, rng, dt_static=0.1, dt_rate=1.0, fmt="csv", kind="mV",
-                                        flick=0.0, wander=5.0, q=0.0, asym=0.0, neg=True,
-                                        static_s=3600 if not quick else 300, quick=quick)),
-    "jjf-mVV-400Hz-thermal-coarse": Variant(
-        "jjf-mVV-400Hz-thermal-coarse", "jjf2014", "7.2.1,7.2.4,7.2.13",
-        "ratiometric mV/V output (supply 4.5–5.5 V) rounded to 0.01 mV/V, rate points at 400 Hz "
-        "(10 s), static 1 h at 400 Hz (.npy), thermal wander 5 °/h, flicker 2 °/h",
-        lambda f, rng, quick: build_jjf(f, rng, dt_static=0.0025, dt_rate=0.0025, fmt="npy",
-                                        kind="mV/V", flick=2.0, wander=5.0, q=0.01, asym=0.0,
-                                        neg=False, static_s=3600 if not quick else 300,
-                                        quick=quick)),
-    "jjf-mV-2kHz-asym": Variant(
-        "jjf-mV-2kHz-asym", "jjf2014", "7.2.1,7.2.4,7.2.13",
-        "mV output rounded to 0.1 mV, K asymmetry up to ±500 ppm, either sign, rate points at 1 s, "
-        "static 15 min at 2 kHz (.npy), CSV rate files",
-        lambda f, rng, quick: build_jjf(f, rng, dt_static=0.0005, dt_rate=1.0, fmt="csv", kind="mV",
-                                        flick=1.0, wander=0.0, q=0.1, asym=5e-4, neg=True,
-                                        static_s=900 if not quick else 120, quick=quick)),
-}
+VARIANTS = variants(
+    Variant("gbt-pulse-1Hz-flicker", "gbt45570", "D.5.1,D.5.3",
+            text("""
+                pulse output (undithered counter, K 0.3–3 P/″), 1 Hz, CSV, ARW 0.001–0.004
+                °/√h, flicker plateau ≈ 0.004 °/h, 1 h records, latitude −65°…70°"""),
+            build_with(build_gbt_bias, kind="pulse", dt=1.0, fmt="csv", flick=0.004, wander=0.0,
+                       lsb_deg_h=0, q_deg_h=0)),
+    Variant("gbt-pulse-1Hz-strong-flicker", "gbt45570", "D.5.1,D.5.3",
+            text("""
+                as gbt-pulse-1Hz-flicker with a flicker plateau ≈ 0.02 °/h (5–20 × the white
+                noise's 1 h mean)"""),
+            build_with(build_gbt_bias, kind="pulse", dt=1.0, fmt="csv", flick=0.02, wander=0.0,
+                       lsb_deg_h=0, q_deg_h=0)),
+    Variant("gbt-pulse-10Hz-IRAdown-Q10", "gbt45570", "D.5.1,D.5.3",
+            text("""
+                pulse output at 10 Hz (a few pulses per sample: the counter's ±1 P matters),
+                IRA down (the earth rate's sign flips), Q = 10 power-ons, thermal wander 0.005
+                °/h, no flicker"""),
+            build_with(build_gbt_bias, kind="pulse", dt=0.1, fmt="npy", flick=0.0, wander=0.005,
+                       lsb_deg_h=0, q_deg_h=0, Q=10, orientation="IRA down")),
+    Variant("gbt-lsb-10Hz-coarse-thermal", "gbt45570", "D.5.1,D.5.3",
+            text("""
+                LSB output, 1 LSB ≈ 1 °/h (coarser than the 10 Hz noise), 10 Hz, .npy,
+                sinusoidal thermal wander ≈ 0.01 °/h (period 20–90 min, random phase per
+                power-on), flicker 0.002 °/h"""),
+            build_with(build_gbt_bias, kind="LSB", dt=0.1, fmt="npy", flick=0.002, wander=0.01,
+                       lsb_deg_h=1.0, q_deg_h=0)),
+    Variant("gbt-rate-1Hz-quantized", "gbt45570", "D.5.1,D.5.3",
+            text("""
+                rate output in °/h rounded to 0.5 °/h (coarser than the 1 Hz noise), 1 Hz, CSV,
+                flicker 0.003 °/h"""),
+            build_with(build_gbt_bias, kind="rate", dt=1.0, fmt="csv", flick=0.003, wander=0.0,
+                       lsb_deg_h=0, q_deg_h=0.5)),
+    Variant("gbt-rate-method-lsb-asym", "gbt45570", "D.2.1",
+            text("""
+                D.2.1 rate method, LSB output (1 LSB ≈ 0.2–0.5 °/h), 10 Hz, .npy, K asymmetry
+                up to ±200 ppm, thermal wander 0.05 °/h between start and end rest"""),
+            build_with(build_gbt_rate, dt=0.1, fmt="npy", lsb_deg_h=0.3, asym=2e-4, flick=0.01,
+                       wander=0.05)),
+    Variant("gbt-angle-method-pulse-asym", "gbt45570", "D.1.1",
+            text("""
+                D.1.1 angle method, pulse output (K 0.3–3 P/″), 5 whole revolutions each way at
+                14 R5 rates (1–400 °/s), revolution pulse within ±2″, K asymmetry up to ±20
+                ppm, count/duration CSV"""),
+            build_with(build_gbt_angle, asym=2e-5)),
+    Variant("jjf-mV-1Hz-IRAdown-17rates", "jjf2014", "7.2.1,7.2.4,7.2.13",
+            text("""
+                mV output, either sign, 17 R5 rates 0.16 … 250 °/s (not metro's default set), 8
+                repeat calibrations, static 1 h at 1 Hz IRA down, white noise only (CSV)"""),
+            lambda f, rng, quick: build_jjf(f, rng, dt_static=1.0, dt_rate=1.0, fmt="csv",
+                                            kind="mV", flick=0.0, wander=0.0, q=0.0, asym=0.0,
+                                            neg=True, static_s=3600 if not quick else 300,
+                                            quick=quick, runs=8, orientation="IRA down",
+                                            rates=(0.16, 0.25, 0.4, 0.63, 1, 1.6, 2.5, 4, 6.3, 10,
+                                                   16, 25, 40, 63, 100, 160, 250))),
+    Variant("jjf-mV-100Hz-flicker-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
+            text("""
+                mV output, K ±(5–60) mV/(°/s) (either sign), rate points at 1 s (10 samples),
+                static 1 h at 100 Hz (.npy), flicker plateau ≈ 3 °/h, no quantization"""),
+            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.01, dt_rate=1.0, fmt="npy",
+                                            kind="mV", flick=3.0, wander=0.0, q=0.0, asym=0.0,
+                                            neg=True, static_s=3600 if not quick else 300,
+                                            quick=quick)),
+    Variant("jjf-mV-10Hz-white-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
+            text("""
+                mV output, K ±(5–60) mV/(°/s) (either sign), white noise and a thermal wander
+                of 5 °/h only (no flicker), rate points at 1 s, static 1 h at 10 Hz (CSV)"""),
+            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.1, dt_rate=1.0, fmt="csv",
+                                            kind="mV", flick=0.0, wander=5.0, q=0.0, asym=0.0,
+                                            neg=True, static_s=3600 if not quick else 300,
+                                            quick=quick)),
+    Variant("jjf-mVV-400Hz-thermal-coarse", "jjf2014", "7.2.1,7.2.4,7.2.13",
+            text("""
+                ratiometric mV/V output (supply 4.5–5.5 V) rounded to 0.01 mV/V, rate points at
+                400 Hz (10 s), static 1 h at 400 Hz (.npy), thermal wander 5 °/h, flicker 2 °/h"""),
+            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.0025, dt_rate=0.0025, fmt="npy",
+                                            kind="mV/V", flick=2.0, wander=5.0, q=0.01, asym=0.0,
+                                            neg=False, static_s=3600 if not quick else 300,
+                                            quick=quick)),
+    Variant("jjf-mV-2kHz-asym", "jjf2014", "7.2.1,7.2.4,7.2.13",
+            text("""
+                mV output rounded to 0.1 mV, K asymmetry up to ±500 ppm, either sign, rate
+                points at 1 s, static 15 min at 2 kHz (.npy), CSV rate files"""),
+            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.0005, dt_rate=1.0, fmt="csv",
+                                            kind="mV", flick=1.0, wander=0.0, q=0.1, asym=5e-4,
+                                            neg=True, static_s=900 if not quick else 120,
+                                            quick=quick)),
+)
 
 
 # --------------------------------------------------------------------------------------------

@@ -54,7 +54,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from independent_campaigns import (  # noqa: E402  (the sibling module: shared writers and scoring)
-    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, marine_gyro, score)
+    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, build_with,
+    marine_gyro, score, text, variants)
 
 REV = 1296000.0  # ″ per revolution
 
@@ -695,148 +696,138 @@ def build_threshold(folder: Path, rng, *, kind: str, arw_range=(0.0002, 0.0006),
 # --------------------------------------------------------------------------------------------
 
 V = Variant
-VARIANTS = {
-    "pol-pulse": V("pol-pulse", "gbt45570", "6.2.6",
-                   "pulse, undithered 0.3–3 P/″, 0.1 s, rest 20 s and turning 2–30 °/s, 30 % of "
-                   "devices negative, K declared U 50 ppm (true within it), table U 1e-5…1e-3",
-                   lambda f, rng, quick: build_polarity(f, rng, kind="pulse", quick=quick)),
-    "pol-pulse-coarse": V("pol-pulse-coarse", "gbt45570", "6.2.6",
-                          "coarse pulse 0.05–0.2 P/″, otherwise as pol-pulse",
-                          lambda f, rng, quick: build_polarity(f, rng, kind="pulse-coarse",
-                                                               quick=quick)),
-    "pol-lsb": V("pol-lsb", "gbt45570", "6.2.6", "LSB word 1 LSB ≈ 0.05 °/h, flicker 0.01 °/h",
-                 lambda f, rng, quick: build_polarity(f, rng, kind="LSB", flick=0.01, quick=quick)),
-    "pol-rate": V("pol-rate", "gbt45570", "6.2.6",
-                  "rate output °/h rounded to 0.5 °/h, scale error σ 200 ppm",
-                  lambda f, rng, quick: build_polarity(f, rng, kind="rate", q=0.5, quick=quick)),
-    "setup-rate-exp": V("setup-rate-exp", "gbt45570", "6.2.7.7",
-                        "rate output °/h (0.01 °/h), 120 s at 0.1 s from switch-on, exponential "
-                        "settling ±20…300 °/h, T_c 2–12 s, ARW 0.002–0.02 °/√h",
-                        lambda f, rng, quick: build_setup(f, rng, kind="rate", q=0.01,
-                                                          quick=quick)),
-    "setup-lsb-ringing": V("setup-lsb-ringing", "gbt45570", "6.2.7.7",
-                           "LSB 0.05 °/h, a damped oscillation (period 4–15 s) that passes through "
-                           "the band before it stays in it", lambda f, rng,
-                           quick: build_setup(f, rng, kind="LSB", ringing=True,
-                                                                          quick=quick)),
-    "setup-pulse-blank": V("setup-pulse-blank", "gbt45570", "6.2.7.7",
-                           "dithered pulse 2–10 P/″, the output reads 0 for the first 0.3–1.5 s, "
-                           "then exponential",
-                           lambda f, rng, quick: build_setup(f, rng, kind="pulse-fine",
-                                                             blank=float(rng.uniform(0.3, 1.5)),
-                                                             quick=quick)),
-    "power-3rails": V("power-3rails", "gbt45570", "6.2.7.8",
-                      "+5, +15, −15 V (negative rail: U, I < 0), 60 s at 1 s, "
-                      "relative meter certificates", lambda f, rng,
-                      quick: build_power(f, rng, quick=quick)),
-    "power-28V-pulsed-abs": V("power-28V-pulsed-abs", "gbt45570", "6.2.7.8",
-                              "one 28 V rail and a 5 V rail, heater duty cycle with source "
-                              "resistance (mean U·I ≠ mean U·mean I), absolute meter certificates "
-                              "(5 mV, 2 mA)",
-                              lambda f, rng, quick: build_power(f, rng, supplies=(28.0, 5.0),
-                                                                pulsed=True,
-                                                                absolute=True, quick=quick)),
-    "temp-pulse": V("temp-pulse", "gbt45570", "D.6.1,D.6.2",
-                    "pulse 0.3–3 P/″ undithered, 1 h at 1 s CSV, turn-on σ "
-                    "0.002–0.01 °/h", lambda f, rng,
-                    quick: build_temperature(f, rng, kind="pulse", quick=quick)),
-    "temp-lsb-flicker": V("temp-lsb-flicker", "gbt45570", "D.6.1,D.6.2",
-                          "LSB 0.05 °/h at 10 Hz (.npy), flicker 0.004 °/h, wander 0.01 °/h",
-                          lambda f, rng, quick: build_temperature(f, rng, kind="LSB", dt=0.1,
-                                                                  flick=0.004, wander=0.01,
-                                                                  quick=quick)),
-    "vibshock-pulse": V("vibshock-pulse", "gbt45570", "D.6.3,D.6.4",
-                        "pulse 0.3–3 P/″ undithered, 10 min per phase at 1 s, turn-on σ 0.002–0.01 "
-                        "°/h, D.5.3's 7 repeats in the campaign", lambda f, rng,
-                        quick: build_vibration_shock(f, rng, kind="pulse",
-                                                                                            quick=quick)),
-    "vibshock-lsb-no-repeats": V("vibshock-lsb-no-repeats", "gbt45570", "D.6.3,D.6.4",
-                                 "LSB 0.05 °/h at 1 s, flicker 0.003 °/h, no D.5.3 repeats",
-                                 lambda f, rng, quick: build_vibration_shock(
-                                     f, rng, kind="LSB", flick=0.003, repeats=False,
-                                     quick=quick)),
-    "vibshock-rate-quiet-on": V("vibshock-rate-quiet-on", "gbt45570", "D.6.3,D.6.4",
-                                "rate output °/h (0.001 °/h), turn-on σ 0.0005–0.002 °/h (small "
-                                "against 10 min of noise), D.5.3's repeats", lambda f, rng,
-                                quick: build_vibration_shock(
-                                    f, rng, kind="rate", q=0.001, sigma_on_range=(0.0005, 0.002),
-                                    quick=quick)),
-    "env-angle-pulse": V("env-angle-pulse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
-                         "pulse 0.3–3 P/″ undithered; before/after each test 10 min at rest and 3 "
-                         "revolutions at ±10, ±100 °/s, each a power-on (σ_on 0.002–0.01 °/h, σ_K "
-                         "2–20 ppm); D.5.3 and D.1.4 repeats",
-                         lambda f, rng, quick: build_type_env(f, rng, kind="pulse", method="angle",
-                                                              quick=quick)),
-    "env-angle-pulse-no-repeats": V("env-angle-pulse-no-repeats", "gbt45570",
-                                    "6.2.8.2,6.2.8.5,6.2.8.7",
-                                    "as env-angle-pulse without the repeats",
-                                    lambda f, rng, quick: build_type_env(
-                                        f, rng, kind="pulse", method="angle", repeats=False,
-                                        quick=quick)),
-    "env-rate-lsb": V("env-rate-lsb", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
-                      "LSB 0.05 °/h at 1 s; the scale factor by D.2.1 at ±10, ±100 °/s and rest "
-                      "(100 s each); D.5.3 and D.2.4 (short) repeats",
-                      lambda f, rng, quick: build_type_env(f, rng, kind="LSB", method="rate",
-                                                           quick=quick)),
-    "maxrate-lsb-10Hz": V("maxrate-lsb-10Hz", "gbt45570", "D.3",
-                          "LSB 0.05 °/h at 10 Hz, 100 s per point, R5 1–400 °/s, compression "
-                          "c(|Ω|/Ω_s)⁴, limit 20/50/100 ppm",
-                          lambda f, rng, quick: build_maxrate(f, rng, kind="LSB", dt=0.1,
-                                                              seconds=100.0, q=0.05,
-                                                              quick=quick)),
-    "maxrate-rate-1Hz": V("maxrate-rate-1Hz", "gbt45570", "D.3",
-                          "rate output °/h rounded to 0.01 °/h at 1 Hz, 100 s per point (CSV)",
-                          lambda f, rng, quick: build_maxrate(f, rng, kind="rate", dt=1.0,
-                                                              seconds=100.0, q=0.01,
-                                                              fmt="csv", quick=quick)),
-    "maxrate-angle-pulse": V("maxrate-angle-pulse", "gbt45570", "D.3",
-                             "laser gyro, undithered pulse 0.3–3 P/″, 5 revolutions each way at R5 "
-                             "rates 1–400 °/s, K compressing at high rate, limit 2/5/10 ppm",
-                             lambda f, rng, quick: build_maxrate_angle(f, rng, quick=quick)),
-    "setup-pulse-coarse": V("setup-pulse-coarse", "gbt45570", "6.2.7.7",
-                            "coarse undithered pulse 0.05–0.2 P/″ (1 P over 1 s ≥ 5 °/h: the band "
-                            "cannot be read)",
-                            lambda f, rng, quick: build_setup(f, rng, kind="pulse-coarse",
-                                                              quick=quick)),
-    "temp-rate-coarse": V("temp-rate-coarse", "gbt45570", "D.6.1,D.6.2",
-                          "°/h output rounded to 0.5 °/h (coarser than the 1 s noise), 1 h at 1 s",
-                          lambda f, rng, quick: build_temperature(f, rng, kind="rate", q=0.5,
-                                                                  quick=quick)),
-    "vibshock-lsb-coarse": V("vibshock-lsb-coarse", "gbt45570", "D.6.3,D.6.4",
-                             "LSB ≈ 1 °/h (coarser than the 1 s noise), D.5.3's repeats",
-                             lambda f, rng,
-                             quick: build_vibration_shock(f, rng, kind="LSB", q=1.0, quick=quick)),
-    "env-rate-lsb-coarse": V("env-rate-lsb-coarse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
-                             "as env-rate-lsb with 1 LSB ≈ 1 °/h", lambda f, rng,
-                             quick: build_type_env(
-                                 f, rng, kind="LSB", method="rate", q=1.0, quick=quick)),
-    "env-angle-pulse-coarse": V("env-angle-pulse-coarse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
-                                "as env-angle-pulse with coarse pulses 0.05–0.2 P/″",
-                                lambda f, rng, quick: build_type_env(f, rng, kind="pulse-coarse",
-                                                                     method="angle",
-                                                                     quick=quick)),
-    "thr-lsb-coarse": V("thr-lsb-coarse", "gbt45570", "D.4",
-                        "LSB 0.05 °/h, rounded, ARW 0.0002–0.0006 °/√h (the "
-                        "rounding coarser than the inputs)", lambda f, rng, quick: build_threshold(
-                            f, rng, kind="LSB", q=0.05, quick=quick)),
-    "thr-pulse-quiet": V("thr-pulse-quiet", "gbt45570", "D.4",
-                         "dithered pulse 2–10 P/″, ARW 0.0002–0.0006 °/√h, dead band 0.003–0.03 "
-                         "°/h, 600 s per position",
-                         lambda f, rng, quick: build_threshold(f, rng, kind="pulse-fine",
-                                                               quick=quick)),
-    "thr-lsb-quiet-flicker": V("thr-lsb-quiet-flicker", "gbt45570", "D.4",
-                               "LSB 0.01 °/h, ARW 0.0002–0.0006 °/√h, flicker 0.0005 °/h, dead "
-                               "band 0.003–0.03 °/h",
-                               lambda f, rng, quick: build_threshold(f, rng, kind="LSB", q=0.01,
-                                                                     flick=0.0005,
-                                                                     quick=quick)),
-    "thr-pulse-typical": V("thr-pulse-typical", "gbt45570", "D.4",
-                           "undithered pulse 0.3–3 P/″, ARW 0.001–0.003 °/√h (a typical gyro: "
-                           "mostly not resolvable)",
-                           lambda f, rng, quick: build_threshold(f, rng, kind="pulse",
-                                                                 arw_range=(0.001, 0.003),
-                                                                 quick=quick)),
-}
+VARIANTS = variants(
+    V("pol-pulse", "gbt45570", "6.2.6",
+      text("""
+          pulse, undithered 0.3–3 P/″, 0.1 s, rest 20 s and turning 2–30 °/s, 30 % of devices
+          negative, K declared U 50 ppm (true within it), table U 1e-5…1e-3"""),
+      build_with(build_polarity, kind="pulse")),
+    V("pol-pulse-coarse", "gbt45570", "6.2.6",
+      text("""
+          coarse pulse 0.05–0.2 P/″, otherwise as pol-pulse"""),
+      build_with(build_polarity, kind="pulse-coarse")),
+    V("pol-lsb", "gbt45570", "6.2.6",
+      text("""
+          LSB word 1 LSB ≈ 0.05 °/h, flicker 0.01 °/h"""),
+      build_with(build_polarity, kind="LSB", flick=0.01)),
+    V("pol-rate", "gbt45570", "6.2.6",
+      text("""
+          rate output °/h rounded to 0.5 °/h, scale error σ 200 ppm"""),
+      build_with(build_polarity, kind="rate", q=0.5)),
+    V("setup-rate-exp", "gbt45570", "6.2.7.7",
+      text("""
+          rate output °/h (0.01 °/h), 120 s at 0.1 s from switch-on, exponential settling
+          ±20…300 °/h, T_c 2–12 s, ARW 0.002–0.02 °/√h"""),
+      build_with(build_setup, kind="rate", q=0.01)),
+    V("setup-lsb-ringing", "gbt45570", "6.2.7.7",
+      text("""
+          LSB 0.05 °/h, a damped oscillation (period 4–15 s) that passes through the band
+          before it stays in it"""),
+      build_with(build_setup, kind="LSB", ringing=True)),
+    V("setup-pulse-blank", "gbt45570", "6.2.7.7",
+      text("""
+          dithered pulse 2–10 P/″, the output reads 0 for the first 0.3–1.5 s, then exponential"""),
+      lambda f, rng, quick: build_setup(f, rng, kind="pulse-fine",
+                                        blank=float(rng.uniform(0.3, 1.5)), quick=quick)),
+    V("power-3rails", "gbt45570", "6.2.7.8",
+      text("""
+          +5, +15, −15 V (negative rail: U, I < 0), 60 s at 1 s, relative meter certificates"""),
+      build_with(build_power)),
+    V("power-28V-pulsed-abs", "gbt45570", "6.2.7.8",
+      text("""
+          one 28 V rail and a 5 V rail, heater duty cycle with source resistance (mean U·I ≠
+          mean U·mean I), absolute meter certificates (5 mV, 2 mA)"""),
+      build_with(build_power, supplies=(28.0, 5.0), pulsed=True, absolute=True)),
+    V("temp-pulse", "gbt45570", "D.6.1,D.6.2",
+      text("""
+          pulse 0.3–3 P/″ undithered, 1 h at 1 s CSV, turn-on σ 0.002–0.01 °/h"""),
+      build_with(build_temperature, kind="pulse")),
+    V("temp-lsb-flicker", "gbt45570", "D.6.1,D.6.2",
+      text("""
+          LSB 0.05 °/h at 10 Hz (.npy), flicker 0.004 °/h, wander 0.01 °/h"""),
+      build_with(build_temperature, kind="LSB", dt=0.1, flick=0.004, wander=0.01)),
+    V("vibshock-pulse", "gbt45570", "D.6.3,D.6.4",
+      text("""
+          pulse 0.3–3 P/″ undithered, 10 min per phase at 1 s, turn-on σ 0.002–0.01 °/h,
+          D.5.3's 7 repeats in the campaign"""),
+      build_with(build_vibration_shock, kind="pulse")),
+    V("vibshock-lsb-no-repeats", "gbt45570", "D.6.3,D.6.4",
+      text("""
+          LSB 0.05 °/h at 1 s, flicker 0.003 °/h, no D.5.3 repeats"""),
+      build_with(build_vibration_shock, kind="LSB", flick=0.003, repeats=False)),
+    V("vibshock-rate-quiet-on", "gbt45570", "D.6.3,D.6.4",
+      text("""
+          rate output °/h (0.001 °/h), turn-on σ 0.0005–0.002 °/h (small against 10 min of
+          noise), D.5.3's repeats"""),
+      build_with(build_vibration_shock, kind="rate", q=0.001, sigma_on_range=(0.0005, 0.002))),
+    V("env-angle-pulse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
+      text("""
+          pulse 0.3–3 P/″ undithered; before/after each test 10 min at rest and 3 revolutions
+          at ±10, ±100 °/s, each a power-on (σ_on 0.002–0.01 °/h, σ_K 2–20 ppm); D.5.3 and
+          D.1.4 repeats"""),
+      build_with(build_type_env, kind="pulse", method="angle")),
+    V("env-angle-pulse-no-repeats", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
+      text("""
+          as env-angle-pulse without the repeats"""),
+      build_with(build_type_env, kind="pulse", method="angle", repeats=False)),
+    V("env-rate-lsb", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
+      text("""
+          LSB 0.05 °/h at 1 s; the scale factor by D.2.1 at ±10, ±100 °/s and rest (100 s
+          each); D.5.3 and D.2.4 (short) repeats"""),
+      build_with(build_type_env, kind="LSB", method="rate")),
+    V("maxrate-lsb-10Hz", "gbt45570", "D.3",
+      text("""
+          LSB 0.05 °/h at 10 Hz, 100 s per point, R5 1–400 °/s, compression c(|Ω|/Ω_s)⁴, limit
+          20/50/100 ppm"""),
+      build_with(build_maxrate, kind="LSB", dt=0.1, seconds=100.0, q=0.05)),
+    V("maxrate-rate-1Hz", "gbt45570", "D.3",
+      text("""
+          rate output °/h rounded to 0.01 °/h at 1 Hz, 100 s per point (CSV)"""),
+      build_with(build_maxrate, kind="rate", dt=1.0, seconds=100.0, q=0.01, fmt="csv")),
+    V("maxrate-angle-pulse", "gbt45570", "D.3",
+      text("""
+          laser gyro, undithered pulse 0.3–3 P/″, 5 revolutions each way at R5 rates 1–400 °/s,
+          K compressing at high rate, limit 2/5/10 ppm"""),
+      build_with(build_maxrate_angle)),
+    V("setup-pulse-coarse", "gbt45570", "6.2.7.7",
+      text("""
+          coarse undithered pulse 0.05–0.2 P/″ (1 P over 1 s ≥ 5 °/h: the band cannot be read)"""),
+      build_with(build_setup, kind="pulse-coarse")),
+    V("temp-rate-coarse", "gbt45570", "D.6.1,D.6.2",
+      text("""
+          °/h output rounded to 0.5 °/h (coarser than the 1 s noise), 1 h at 1 s"""),
+      build_with(build_temperature, kind="rate", q=0.5)),
+    V("vibshock-lsb-coarse", "gbt45570", "D.6.3,D.6.4",
+      text("""
+          LSB ≈ 1 °/h (coarser than the 1 s noise), D.5.3's repeats"""),
+      build_with(build_vibration_shock, kind="LSB", q=1.0)),
+    V("env-rate-lsb-coarse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
+      text("""
+          as env-rate-lsb with 1 LSB ≈ 1 °/h"""),
+      build_with(build_type_env, kind="LSB", method="rate", q=1.0)),
+    V("env-angle-pulse-coarse", "gbt45570", "6.2.8.2,6.2.8.5,6.2.8.7",
+      text("""
+          as env-angle-pulse with coarse pulses 0.05–0.2 P/″"""),
+      build_with(build_type_env, kind="pulse-coarse", method="angle")),
+    V("thr-lsb-coarse", "gbt45570", "D.4",
+      text("""
+          LSB 0.05 °/h, rounded, ARW 0.0002–0.0006 °/√h (the rounding coarser than the inputs)"""),
+      build_with(build_threshold, kind="LSB", q=0.05)),
+    V("thr-pulse-quiet", "gbt45570", "D.4",
+      text("""
+          dithered pulse 2–10 P/″, ARW 0.0002–0.0006 °/√h, dead band 0.003–0.03 °/h, 600 s per
+          position"""),
+      build_with(build_threshold, kind="pulse-fine")),
+    V("thr-lsb-quiet-flicker", "gbt45570", "D.4",
+      text("""
+          LSB 0.01 °/h, ARW 0.0002–0.0006 °/√h, flicker 0.0005 °/h, dead band 0.003–0.03 °/h"""),
+      build_with(build_threshold, kind="LSB", q=0.01, flick=0.0005)),
+    V("thr-pulse-typical", "gbt45570", "D.4",
+      text("""
+          undithered pulse 0.3–3 P/″, ARW 0.001–0.003 °/√h (a typical gyro: mostly not
+          resolvable)"""),
+      build_with(build_threshold, kind="pulse", arw_range=(0.001, 0.003))),
+)
 
 _UNITS = {"°/h": {"°/h", "deg/h", "degree / hour", "degree/hour", "(°)/h"},
           "°C": {"°C", "degC", "degree_Celsius", "℃"},

@@ -45,8 +45,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from independent_campaigns import (  # noqa: E402  (the sibling module: shared writers and scoring)
-    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, marine_gyro,
-    score)
+    COUNTER, OMEGA_E_DEG_H, PLATFORM, R5_GBT, Campaign, Noise, Output, Variant, build_with,
+    marine_gyro, score, text, variants)
 
 REV = 1296000.0  # ″ in one revolution (D.2: 360 × 3 600)
 
@@ -641,111 +641,100 @@ def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, f
 ANGLE_ITEMS = "D.1.1,D.1.2,D.1.3,D.1.4"
 RATE_ITEMS = "D.2.1,D.2.2,D.2.3,D.2.4"
 
-VARIANTS = {
-    "angle-pulse-fine": Variant(
-        "angle-pulse-fine", "gbt45570", ANGLE_ITEMS,
-        "laser gyro, pulse 0.3–3 P/″ (undithered counter), nonlinearity 1–20 ppm of the five "
-        "shapes, either sign, asymmetry ±20 ppm, K power-on σ 1–20 ppm, m = 3/5/8, max rate "
-        "100–500 °/s, table U 1e-5–1e-4",
-        lambda f, rng, quick: build_angle(f, rng, quick=quick)),
-    "angle-pulse-coarse-flicker": Variant(
-        "angle-pulse-coarse-flicker", "gbt45570", ANGLE_ITEMS,
-        "as angle-pulse-fine with a coarse pulse (0.05–0.2 P/″: 1 P = 5–20″), flicker 0.01 °/h, "
-        "nonlinearity 5–50 ppm, asymmetry ±50 ppm, K power-on σ 2–40 ppm",
-        lambda f, rng, quick: build_angle(f, rng, K_range=(0.05, 0.2), c_range=(5e-6, 5e-5),
-                                          asym=5e-5,
-                                          sigma_K_range=(2e-6, 4e-5), flick=0.01, quick=quick)),
-    "angle-pulse-drift": Variant(
-        "angle-pulse-drift", "gbt45570", ANGLE_ITEMS,
-        "as angle-pulse-fine with a slow thermal bias wander of 0.005–0.045 °/h amplitude (period "
-        "1–3 h) running through the whole sweep, the zero-rate counts at its start and end",
-        lambda f, rng, quick: build_angle(f, rng, wander=0.03, quick=quick)),
-    "rate-lsb-10Hz": Variant(
-        "rate-lsb-10Hz", "gbt45570", RATE_ITEMS,
-        "fibre gyro, LSB word 1 LSB ≈ 0.05 °/h (finer than the noise), 10 Hz, 100 s per point, "
-        ".npy; nonlinearity 20–500 ppm of five shapes, asymmetry ±300 ppm, K power-on σ 5–100 ppm, "
-        "flicker, wander",
-        lambda f, rng, quick: build_rate(f, rng, kind="LSB", dt=0.1, seconds=100.0, q=0.05,
-                                         quick=quick)),
-    "rate-lsb-coarse-1Hz": Variant(
-        "rate-lsb-coarse-1Hz", "gbt45570", RATE_ITEMS,
-        "LSB word 1 LSB ≈ 2 °/h (coarser than the 1 Hz noise of 0.1–0.6 °/h), 1 Hz, 100 s per "
-        "point, CSV",
-        lambda f, rng, quick: build_rate(f, rng, kind="LSB", dt=1.0, seconds=100.0, q=2.0,
-                                         fmt="csv",
-                                         arw_range=(0.002, 0.01), quick=quick)),
-    "rate-degh-200Hz": Variant(
-        "rate-degh-200Hz", "gbt45570", RATE_ITEMS,
-        "rate output in °/h rounded to 0.1 °/h, 200 Hz, 10 s per point (.npy), nonlinearity 20–500 "
-        "ppm",
-        lambda f, rng, quick: build_rate(f, rng, kind="deg/h", dt=0.005, seconds=10.0, q=0.1,
-                                         quick=quick)),
-    "rate-degs-1Hz": Variant(
-        "rate-degs-1Hz", "gbt45570", RATE_ITEMS,
-        "rate output in °/s rounded to 1e-5 °/s (0.036 °/h), 1 Hz, 60 s per point, CSV",
-        lambda f, rng, quick: build_rate(f, rng, kind="deg/s", dt=1.0, seconds=60.0, q=1e-5,
-                                         fmt="csv",
-                                         quick=quick)),
-    "kt-rate-lsb-1Hz": Variant(
-        "kt-rate-lsb-1Hz", "gbt45570", "D.2.5",
-        "fibre gyro, LSB 0.05 °/h, 1 Hz, 100 s per point; D.2.1 sweeps at 5 or 6 temperatures −40 "
-        "… 70 °C, each a power-on with K's scatter σ_K 5–100 ppm; K(T) slope up to ±50 ppm/°C with "
-        "a curvature; D.2.4's 7 runs",
-        lambda f, rng, quick: build_kt(f, rng, quick=quick)),
-    "kt-angle-pulse": Variant(
-        "kt-angle-pulse", "gbt45570", "D.1.5",
-        "laser gyro, pulse 0.3–3 P/″ (undithered counter); the D.1.1 sweep at 3 or 5 temperatures "
-        "−40 … 70 °C (room 18–25 °C), each a power-on with K's scatter σ_K 1–20 ppm (D.1.5.2 c)); "
-        "K(T) slope up to ±5 ppm/°C with a curvature; D.1.4's 7 runs at 30 °/s",
-        lambda f, rng, quick: build_kt_angle(f, rng, quick=quick)),
-    "arw-pulse-dithered-1Hz": Variant(
-        "arw-pulse-dithered-1Hz", "gbt45570", "D.5.6",
-        "pulse 0.5–3 P/″ read at a random phase (dithered), 8 h at 1 Hz, ARW 0.001–0.005 °/√h, "
-        "white only",
-        lambda f, rng, quick: build_arw(f, rng, kind="pulse", dt=1.0, hours=8.0, quick=quick)),
-    "arw-pulse-dithered-flicker": Variant(
-        "arw-pulse-dithered-flicker", "gbt45570", "D.5.6",
-        "as above with a flicker plateau 0.002 °/h and a thermal wander 0.003 °/h",
-        lambda f, rng, quick: build_arw(f, rng, kind="pulse", dt=1.0, hours=8.0, flick=0.002,
-                                        wander=0.003,
-                                        quick=quick)),
-    "arw-lsb-fine-10Hz": Variant(
-        "arw-lsb-fine-10Hz", "gbt45570", "D.5.6",
-        "LSB word 1 LSB = 0.05 °/h (finer than the 10 Hz noise), 8 h at 10 Hz (.npy)",
-        lambda f, rng, quick: build_arw(f, rng, kind="LSB", dt=0.1, hours=8.0, q=0.05,
-                                        quick=quick)),
-    "arw-rate-degh-5Hz": Variant(
-        "arw-rate-degh-5Hz", "gbt45570", "D.5.6",
-        "rate output in °/h rounded to 0.2 °/h (≈ the 5 Hz noise), 8 h at 5 Hz, "
-        "ARW 0.002–0.01 °/√h",
-        lambda f, rng, quick: build_arw(f, rng, kind="deg/h", dt=0.2, hours=8.0, q=0.2,
-                                        arw_range=(0.002, 0.01), quick=quick)),
-    "bt-bh-pulse-1Hz": Variant(
-        "bt-bh-pulse-1Hz", "gbt45570", "D.5.4,D.5.5",
-        "pulse 0.5–3 P/″ (undithered), 1 Hz CSV; bias against T linear ±(2e-5…2e-3) °/h/°C plus a "
-        "curvature, 3 or 5 points with limits −55…70 °C, turn-on σ 0.002–0.01 °/h per power-on, "
-        "D.5.3's 7 repeats in the campaign; field ±0.5–2 mT, S up to 0.01 °/h/mT per axis, the six "
-        "field biases in one power-on",
-        lambda f, rng, quick: build_bias_env(f, rng, kind="pulse", dt=1.0, fmt="csv", quick=quick)),
-    "bt-bh-lsb-10Hz-flicker": Variant(
-        "bt-bh-lsb-10Hz-flicker", "gbt45570", "D.5.4,D.5.5",
-        "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, D.5.3's repeats, the six field "
-        "biases in one power-on",
-        lambda f, rng, quick: build_bias_env(f, rng, kind="LSB", dt=0.1, q=0.05, flick=0.003,
-                                             quick=quick)),
-    "bt-bh-lsb-10Hz-flicker-no-repeats": Variant(
-        "bt-bh-lsb-10Hz-flicker-no-repeats", "gbt45570", "D.5.4,D.5.5",
-        "LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, no D.5.3 repeats, each field bias "
-        "its own power-on",
-        lambda f, rng, quick: build_bias_env(f, rng, kind="LSB", dt=0.1, q=0.05, flick=0.003,
-                                             repeats=False,
-                                             field_power_ons=True, quick=quick)),
-    "arw-pulse-undithered-1Hz": Variant(
-        "arw-pulse-undithered-1Hz", "gbt45570", "D.5.6",
-        "undithered pulse counter 0.5–3 P/″, 8 h at 1 Hz (the sawtooth issue 13 names)",
-        lambda f, rng, quick: build_arw(f, rng, kind="pulse-undithered", dt=1.0, hours=8.0,
-                                        quick=quick)),
-}
+VARIANTS = variants(
+    Variant("angle-pulse-fine", "gbt45570", ANGLE_ITEMS,
+            text("""
+                laser gyro, pulse 0.3–3 P/″ (undithered counter), nonlinearity 1–20 ppm of the
+                five shapes, either sign, asymmetry ±20 ppm, K power-on σ 1–20 ppm, m = 3/5/8,
+                max rate 100–500 °/s, table U 1e-5–1e-4"""),
+            build_with(build_angle)),
+    Variant("angle-pulse-coarse-flicker", "gbt45570", ANGLE_ITEMS,
+            text("""
+                as angle-pulse-fine with a coarse pulse (0.05–0.2 P/″: 1 P = 5–20″), flicker
+                0.01 °/h, nonlinearity 5–50 ppm, asymmetry ±50 ppm, K power-on σ 2–40 ppm"""),
+            build_with(build_angle, K_range=(0.05, 0.2), c_range=(5e-6, 5e-5), asym=5e-5,
+                       sigma_K_range=(2e-6, 4e-5), flick=0.01)),
+    Variant("angle-pulse-drift", "gbt45570", ANGLE_ITEMS,
+            text("""
+                as angle-pulse-fine with a slow thermal bias wander of 0.005–0.045 °/h
+                amplitude (period 1–3 h) running through the whole sweep, the zero-rate counts
+                at its start and end"""),
+            build_with(build_angle, wander=0.03)),
+    Variant("rate-lsb-10Hz", "gbt45570", RATE_ITEMS,
+            text("""
+                fibre gyro, LSB word 1 LSB ≈ 0.05 °/h (finer than the noise), 10 Hz, 100 s per
+                point, .npy; nonlinearity 20–500 ppm of five shapes, asymmetry ±300 ppm, K
+                power-on σ 5–100 ppm, flicker, wander"""),
+            build_with(build_rate, kind="LSB", dt=0.1, seconds=100.0, q=0.05)),
+    Variant("rate-lsb-coarse-1Hz", "gbt45570", RATE_ITEMS,
+            text("""
+                LSB word 1 LSB ≈ 2 °/h (coarser than the 1 Hz noise of 0.1–0.6 °/h), 1 Hz, 100
+                s per point, CSV"""),
+            build_with(build_rate, kind="LSB", dt=1.0, seconds=100.0, q=2.0, fmt="csv",
+                       arw_range=(0.002, 0.01))),
+    Variant("rate-degh-200Hz", "gbt45570", RATE_ITEMS,
+            text("""
+                rate output in °/h rounded to 0.1 °/h, 200 Hz, 10 s per point (.npy),
+                nonlinearity 20–500 ppm"""),
+            build_with(build_rate, kind="deg/h", dt=0.005, seconds=10.0, q=0.1)),
+    Variant("rate-degs-1Hz", "gbt45570", RATE_ITEMS,
+            text("""
+                rate output in °/s rounded to 1e-5 °/s (0.036 °/h), 1 Hz, 60 s per point, CSV"""),
+            build_with(build_rate, kind="deg/s", dt=1.0, seconds=60.0, q=1e-5, fmt="csv")),
+    Variant("kt-rate-lsb-1Hz", "gbt45570", "D.2.5",
+            text("""
+                fibre gyro, LSB 0.05 °/h, 1 Hz, 100 s per point; D.2.1 sweeps at 5 or 6
+                temperatures −40 … 70 °C, each a power-on with K's scatter σ_K 5–100 ppm; K(T)
+                slope up to ±50 ppm/°C with a curvature; D.2.4's 7 runs"""),
+            build_with(build_kt)),
+    Variant("kt-angle-pulse", "gbt45570", "D.1.5",
+            text("""
+                laser gyro, pulse 0.3–3 P/″ (undithered counter); the D.1.1 sweep at 3 or 5
+                temperatures −40 … 70 °C (room 18–25 °C), each a power-on with K's scatter σ_K
+                1–20 ppm (D.1.5.2 c)); K(T) slope up to ±5 ppm/°C with a curvature; D.1.4's 7
+                runs at 30 °/s"""),
+            build_with(build_kt_angle)),
+    Variant("arw-pulse-dithered-1Hz", "gbt45570", "D.5.6",
+            text("""
+                pulse 0.5–3 P/″ read at a random phase (dithered), 8 h at 1 Hz, ARW 0.001–0.005
+                °/√h, white only"""),
+            build_with(build_arw, kind="pulse", dt=1.0, hours=8.0)),
+    Variant("arw-pulse-dithered-flicker", "gbt45570", "D.5.6",
+            text("""
+                as above with a flicker plateau 0.002 °/h and a thermal wander 0.003 °/h"""),
+            build_with(build_arw, kind="pulse", dt=1.0, hours=8.0, flick=0.002, wander=0.003)),
+    Variant("arw-lsb-fine-10Hz", "gbt45570", "D.5.6",
+            text("""
+                LSB word 1 LSB = 0.05 °/h (finer than the 10 Hz noise), 8 h at 10 Hz (.npy)"""),
+            build_with(build_arw, kind="LSB", dt=0.1, hours=8.0, q=0.05)),
+    Variant("arw-rate-degh-5Hz", "gbt45570", "D.5.6",
+            text("""
+                rate output in °/h rounded to 0.2 °/h (≈ the 5 Hz noise), 8 h at 5 Hz, ARW
+                0.002–0.01 °/√h"""),
+            build_with(build_arw, kind="deg/h", dt=0.2, hours=8.0, q=0.2, arw_range=(0.002, 0.01))),
+    Variant("bt-bh-pulse-1Hz", "gbt45570", "D.5.4,D.5.5",
+            text("""
+                pulse 0.5–3 P/″ (undithered), 1 Hz CSV; bias against T linear ±(2e-5…2e-3)
+                °/h/°C plus a curvature, 3 or 5 points with limits −55…70 °C, turn-on σ
+                0.002–0.01 °/h per power-on, D.5.3's 7 repeats in the campaign; field ±0.5–2
+                mT, S up to 0.01 °/h/mT per axis, the six field biases in one power-on"""),
+            build_with(build_bias_env, kind="pulse", dt=1.0, fmt="csv")),
+    Variant("bt-bh-lsb-10Hz-flicker", "gbt45570", "D.5.4,D.5.5",
+            text("""
+                LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, D.5.3's repeats, the six
+                field biases in one power-on"""),
+            build_with(build_bias_env, kind="LSB", dt=0.1, q=0.05, flick=0.003)),
+    Variant("bt-bh-lsb-10Hz-flicker-no-repeats", "gbt45570", "D.5.4,D.5.5",
+            text("""
+                LSB 1 LSB = 0.05 °/h, 10 Hz (.npy), flicker 0.003 °/h, no D.5.3 repeats, each
+                field bias its own power-on"""),
+            build_with(build_bias_env, kind="LSB", dt=0.1, q=0.05, flick=0.003, repeats=False,
+                       field_power_ons=True)),
+    Variant("arw-pulse-undithered-1Hz", "gbt45570", "D.5.6",
+            text("""
+                undithered pulse counter 0.5–3 P/″, 8 h at 1 Hz (the sawtooth issue 13 names)"""),
+            build_with(build_arw, kind="pulse-undithered", dt=1.0, hours=8.0)),
+)
 
 #: results whose unit metro may state as ppm (dimensionless in the truth)
 _PPM_KEYS = ("Kn", "Ka", "Kr")

@@ -72,9 +72,12 @@ from independent_campaigns import (  # noqa: E402  (the shared pieces of the har
     Noise,
     Output,
     Variant,
+    build_with,
     cli,
     run_variant,
     score,
+    text,
+    variants,
 )
 
 UNIT_ALIASES.setdefault("Hz", {"Hz", "hertz"})
@@ -512,79 +515,69 @@ def build_startup(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str
 # variants
 # --------------------------------------------------------------------------------------------
 
-VARIANTS = {
-    "jjf-dK-shock-vib-mV-1Hz": Variant(
-        "jjf-dK-shock-vib-mV-1Hz", "jjf2014", "7.2.7,7.2.8",
-        "mV, K ±(1 … 100) mV/(°/s) of either sign; per test a shift of K on no axis, one axis "
-        "(0.2–1 × 3×10⁻³ / 2×10⁻³) or every axis; powered off between calibrations on half the "
-        "devices (K power-on σ 5×10⁻⁵ … 4×10⁻⁴), no 7.2.4 runs; R5 rates to 100 °/s, 10 × 1 s "
-        "(CSV), white noise",
-        lambda f, rng, quick: build_change_k(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
-                                             quick=quick)),
-    "jjf-dK-shock-vib-mVV-10Hz-q-repeats": Variant(
-        "jjf-dK-shock-vib-mVV-10Hz-q-repeats", "jjf2014", "7.2.4,7.2.7,7.2.8",
-        "as jjf-dK-shock-vib-mV-1Hz, mV/V rounded to 0.001 mV/V, 10 s at 10 Hz per rate (.npy), "
-        "flicker ≈ 2 °/h, with six 7.2.4 power-ons (K_r)",
-        lambda f, rng, quick: build_change_k(f, rng, kind="mV/V", q=0.001, dt=0.1, fmt="npy",
-                                             flick=2.0,
-                                             repeats=True, quick=quick)),
-    "jjf-dB-shock-vib-mV-1Hz": Variant(
-        "jjf-dB-shock-vib-mV-1Hz", "jjf2014", "7.2.18,7.2.19",
-        "mV, either sign; per test a bias shift on no axis, one axis (0.2–1 × 30 / 20 °/h) or "
-        "every axis; powered off between records on half the devices (turn-on σ 1–10 °/h), no "
-        "7.2.15 runs; records 30 min at 1 s (CSV, `metro plan`'s), white noise ARW 0.05–0.5 °/√h",
-        lambda f, rng, quick: build_change_b(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
-                                             quick=quick)),
-    "jjf-dB-shock-vib-mVV-10Hz-flicker-q-repeats": Variant(
-        "jjf-dB-shock-vib-mVV-10Hz-flicker-q-repeats", "jjf2014", "7.2.1,7.2.15,7.2.18,7.2.19",
-        "as jjf-dB-shock-vib-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker ≈ 1.5 "
-        "°/h, wander 1 °/h, six 7.2.15 power-ons (B_r)",
-        lambda f, rng, quick: build_change_b(f, rng, kind="mV/V", q=0.0005, dt=0.1, fmt="npy",
-                                             flick=1.5,
-                                             wander=1.0, repeats=True, quick=quick)),
-    "jjf-Bs-mV-10Hz-white": Variant(
-        "jjf-Bs-mV-10Hz-white", "jjf2014", "7.2.14",
-        "mV, either sign, static 1 h at 10 Hz (CSV), white noise ARW 0.05–0.5 °/√h only",
-        lambda f, rng, quick: build_stability(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv",
-                                              quick=quick)),
-    "jjf-Bs-mVV-10Hz-flicker-wander-q": Variant(
-        "jjf-Bs-mVV-10Hz-flicker-wander-q", "jjf2014", "7.2.14",
-        "mV/V rounded to 0.0005 mV/V, 1 h at 10 Hz (.npy), flicker plateau ≈ 2 °/h, wander ≈ 2 °/h "
-        "(period 10–60 min), ramp ±(0–20) °/h²",
-        lambda f, rng, quick: build_stability(f, rng, kind="mV/V", q=0.0005, dt=0.1, fmt="npy",
-                                              flick=2.0,
-                                              wander=2.0, ramp=20.0, quick=quick)),
-    "jjf-Bw-Td-first-order-mV": Variant(
-        "jjf-Bw-Td-first-order-mV", "jjf2014", "7.2.1,7.2.21,7.2.22",
-        "mV, either sign; first order + delay (eq. (46)): corner 20–250 Hz, delay 0–2 ms; N = "
-        "10–14 frequencies 10 Hz … 2 × the lab's estimate of B_w, n = 10 records of 1 s at 10 kHz "
-        "(.npy, columns output and reference), amplitude 10–30 % of a 100–500 °/s range; reference "
-        "sensor U 0.5 %, phase U 0.2°",
-        lambda f, rng, quick: build_dynamic(f, rng, kind="mV", q=0.0, order=1, fs=10000.0,
-                                            quick=quick)),
-    "jjf-Bw-Td-second-order-mVV-q": Variant(
-        "jjf-Bw-Td-second-order-mVV-q", "jjf2014", "7.2.1,7.2.21,7.2.22",
-        "mV/V rounded to 0.001 mV/V; second order (f_n 30–250 Hz, ζ 0.45–1) + delay 0–1 ms; "
-        "otherwise as jjf-Bw-Td-first-order-mV",
-        lambda f, rng, quick: build_dynamic(f, rng, kind="mV/V", q=0.001, order=2, fs=10000.0,
-                                            quick=quick)),
-    "jjf-startup-mV-10Hz": Variant(
-        "jjf-startup-mV-10Hz", "jjf2014", "7.2.23",
-        "mV, either sign; power-on transients: exponential (0.2–3 °/s, τ 0.3–6 s), two "
-        "exponentials (+ 0.05–0.2 °/s with τ 5–12 s), ringing (0.2–2 Hz), a dead time of 0.5–3 s "
-        "at 0 mV, or the drive amplitude building up (τ 0.2–2 s, K scales with it); 3 position + 3 "
-        "rate trials (100, 10, 1 °/s), 60 s at 0.1 s (CSV), each a power-on (turn-on σ 1–10 °/h); "
-        "white noise ARW 0.05–0.5 °/√h",
-        lambda f, rng, quick: build_startup(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv",
-                                            quick=quick)),
-    "jjf-startup-mVV-10Hz-quiet-q": Variant(
-        "jjf-startup-mVV-10Hz-quiet-q", "jjf2014", "7.2.23",
-        "as jjf-startup-mV-10Hz, ARW 0.005–0.05 °/√h (the 1 °/s trial's ±1 % resolvable), mV/V "
-        "rounded to 0.0002 mV/V (.npy)",
-        lambda f, rng, quick: build_startup(f, rng, kind="mV/V", q=0.0002, dt=0.1, fmt="npy",
-                                            arw=(0.005, 0.05),
-                                            quick=quick)),
-}
+VARIANTS = variants(
+    Variant("jjf-dK-shock-vib-mV-1Hz", "jjf2014", "7.2.7,7.2.8",
+            text("""
+                mV, K ±(1 … 100) mV/(°/s) of either sign; per test a shift of K on no axis, one
+                axis (0.2–1 × 3×10⁻³ / 2×10⁻³) or every axis; powered off between calibrations
+                on half the devices (K power-on σ 5×10⁻⁵ … 4×10⁻⁴), no 7.2.4 runs; R5 rates to
+                100 °/s, 10 × 1 s (CSV), white noise"""),
+            build_with(build_change_k, kind="mV", q=0.0, dt=1.0, fmt="csv")),
+    Variant("jjf-dK-shock-vib-mVV-10Hz-q-repeats", "jjf2014", "7.2.4,7.2.7,7.2.8",
+            text("""
+                as jjf-dK-shock-vib-mV-1Hz, mV/V rounded to 0.001 mV/V, 10 s at 10 Hz per rate
+                (.npy), flicker ≈ 2 °/h, with six 7.2.4 power-ons (K_r)"""),
+            build_with(build_change_k, kind="mV/V", q=0.001, dt=0.1, fmt="npy", flick=2.0,
+                       repeats=True)),
+    Variant("jjf-dB-shock-vib-mV-1Hz", "jjf2014", "7.2.18,7.2.19",
+            text("""
+                mV, either sign; per test a bias shift on no axis, one axis (0.2–1 × 30 / 20
+                °/h) or every axis; powered off between records on half the devices (turn-on σ
+                1–10 °/h), no 7.2.15 runs; records 30 min at 1 s (CSV, `metro plan`'s), white
+                noise ARW 0.05–0.5 °/√h"""),
+            build_with(build_change_b, kind="mV", q=0.0, dt=1.0, fmt="csv")),
+    Variant("jjf-dB-shock-vib-mVV-10Hz-flicker-q-repeats", "jjf2014", "7.2.1,7.2.15,7.2.18,7.2.19",
+            text("""
+                as jjf-dB-shock-vib-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy),
+                flicker ≈ 1.5 °/h, wander 1 °/h, six 7.2.15 power-ons (B_r)"""),
+            build_with(build_change_b, kind="mV/V", q=0.0005, dt=0.1, fmt="npy", flick=1.5,
+                       wander=1.0, repeats=True)),
+    Variant("jjf-Bs-mV-10Hz-white", "jjf2014", "7.2.14",
+            text("""
+                mV, either sign, static 1 h at 10 Hz (CSV), white noise ARW 0.05–0.5 °/√h only"""),
+            build_with(build_stability, kind="mV", q=0.0, dt=0.1, fmt="csv")),
+    Variant("jjf-Bs-mVV-10Hz-flicker-wander-q", "jjf2014", "7.2.14",
+            text("""
+                mV/V rounded to 0.0005 mV/V, 1 h at 10 Hz (.npy), flicker plateau ≈ 2 °/h,
+                wander ≈ 2 °/h (period 10–60 min), ramp ±(0–20) °/h²"""),
+            build_with(build_stability, kind="mV/V", q=0.0005, dt=0.1, fmt="npy", flick=2.0,
+                       wander=2.0, ramp=20.0)),
+    Variant("jjf-Bw-Td-first-order-mV", "jjf2014", "7.2.1,7.2.21,7.2.22",
+            text("""
+                mV, either sign; first order + delay (eq. (46)): corner 20–250 Hz, delay 0–2
+                ms; N = 10–14 frequencies 10 Hz … 2 × the lab's estimate of B_w, n = 10 records
+                of 1 s at 10 kHz (.npy, columns output and reference), amplitude 10–30 % of a
+                100–500 °/s range; reference sensor U 0.5 %, phase U 0.2°"""),
+            build_with(build_dynamic, kind="mV", q=0.0, order=1, fs=10000.0)),
+    Variant("jjf-Bw-Td-second-order-mVV-q", "jjf2014", "7.2.1,7.2.21,7.2.22",
+            text("""
+                mV/V rounded to 0.001 mV/V; second order (f_n 30–250 Hz, ζ 0.45–1) + delay 0–1
+                ms; otherwise as jjf-Bw-Td-first-order-mV"""),
+            build_with(build_dynamic, kind="mV/V", q=0.001, order=2, fs=10000.0)),
+    Variant("jjf-startup-mV-10Hz", "jjf2014", "7.2.23",
+            text("""
+                mV, either sign; power-on transients: exponential (0.2–3 °/s, τ 0.3–6 s), two
+                exponentials (+ 0.05–0.2 °/s with τ 5–12 s), ringing (0.2–2 Hz), a dead time of
+                0.5–3 s at 0 mV, or the drive amplitude building up (τ 0.2–2 s, K scales with
+                it); 3 position + 3 rate trials (100, 10, 1 °/s), 60 s at 0.1 s (CSV), each a
+                power-on (turn-on σ 1–10 °/h); white noise ARW 0.05–0.5 °/√h"""),
+            build_with(build_startup, kind="mV", q=0.0, dt=0.1, fmt="csv")),
+    Variant("jjf-startup-mVV-10Hz-quiet-q", "jjf2014", "7.2.23",
+            text("""
+                as jjf-startup-mV-10Hz, ARW 0.005–0.05 °/√h (the 1 °/s trial's ±1 %
+                resolvable), mV/V rounded to 0.0002 mV/V (.npy)"""),
+            build_with(build_startup, kind="mV/V", q=0.0002, dt=0.1, fmt="npy", arw=(0.005, 0.05))),
+)
 
 
 def run_dyn(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool = False,

@@ -69,9 +69,12 @@ from independent_campaigns import (  # noqa: E402  (the shared pieces of the har
     Noise,
     Output,
     Variant,
+    build_with,
     flicker,
     run_variant,
     score,
+    text,
+    variants,
 )
 
 # the units of the items scored here, as metro may spell them
@@ -668,93 +671,82 @@ def score_more(truth: dict, doc: dict) -> list[dict]:
 # variants
 # --------------------------------------------------------------------------------------------
 
-VARIANTS = {
-    "jjf-nonlin-mV-1Hz": Variant(
-        "jjf-nonlin-mV-1Hz", "jjf2014", "7.2.1,7.2.2,7.2.3",
-        "mV, K ±(0.5 … 200) mV/(°/s) log-uniform, nonlinearity none/quadratic/cubic/both up to "
-        "5×10⁻⁴ of full scale, asymmetry up to ±1×10⁻³, R5 sets to 50/100/200/400 °/s, 10 × 1 s "
-        "per rate, CSV; nonlinearity_spec between the noise-free K_n of the spans",
-        lambda f, rng, quick: build_nonlin(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
-                                           quick=quick)),
-    "jjf-nonlin-mVV-200Hz-q": Variant(
-        "jjf-nonlin-mVV-200Hz-q", "jjf2014", "7.2.1,7.2.2,7.2.3",
-        "as jjf-nonlin-mV-1Hz, ratiometric mV/V rounded to 0.002 mV/V, 10 s per rate at 200 Hz "
-        "(.npy), flicker plateau ≈ 2 °/h",
-        lambda f, rng, quick: build_nonlin(f, rng, kind="mV/V", q=0.002, dt=0.005, fmt="npy",
-                                           flick=2.0,
-                                           quick=quick)),
-    "jjf-temp-g-mV-1Hz": Variant(
-        "jjf-temp-g-mV-1Hz", "jjf2014", "7.2.1,7.2.5,7.2.6,7.2.16,7.2.17",
-        "mV, K of either sign; K temperature coefficient ±3×10⁻⁴/°C (+ quadratic), axial-g "
-        "±5×10⁻⁴/g; bias ±0.5 °/h/°C (+ quadratic), g-sensitivity up to ±20 °/h/g on each axis; "
-        "chamber sets 3–6 points incl. 20 °C; one power-on per item; 1 Hz CSV, white noise",
-        lambda f, rng, quick: build_temp_g(f, rng, kind="mV", q=0.0, dt_rate=1.0, dt_static=1.0,
-                                           fmt="csv",
-                                           quick=quick)),
-    "jjf-temp-g-mVV-10Hz-flicker-IRAx": Variant(
-        "jjf-temp-g-mVV-10Hz-flicker-IRAx", "jjf2014",
-        "7.2.1,7.2.4,7.2.5,7.2.6,7.2.15,7.2.16,7.2.17",
-        "as jjf-temp-g-mV-1Hz, mV/V rounded to 0.001 mV/V, static records at 10 Hz (.npy), flicker "
-        "≈ 1 °/h, wander 2 °/h, the IRA is the case's X axis (device.ira_axis), with 7.2.4 / "
-        "7.2.15 repeats (6 power-ons each)",
-        lambda f, rng, quick: build_temp_g(f, rng, kind="mV/V", q=0.001, dt_rate=1.0, dt_static=0.1,
-                                           fmt="npy",
-                                           flick=1.0, wander=2.0, ira_axis="X", quick=quick,
-                                           repeats=True)),
-    "jjf-repeat-allan-mV-10Hz": Variant(
-        "jjf-repeat-allan-mV-10Hz", "jjf2014", "7.2.1,7.2.4,7.2.13,7.2.15,7.2.20",
-        "mV, either sign; bias turn-on σ 0.5–20 °/h, K power-on σ 5×10⁻⁵–4×10⁻⁴, 6 power-ons each "
-        "for 7.2.4 and 7.2.15, static 1 h at 10 Hz (CSV), white noise only",
-        lambda f, rng, quick: build_repeat_allan(f, rng, kind="mV", q=0.0, dt_rate=1.0,
-                                                 dt_static=0.1,
-                                                 fmt="csv", flick=0.0, quick=quick)),
-    "jjf-repeat-allan-mVV-100Hz-flicker-q": Variant(
-        "jjf-repeat-allan-mVV-100Hz-flicker-q", "jjf2014", "7.2.1,7.2.4,7.2.13,7.2.15,7.2.20",
-        "as jjf-repeat-allan-mV-10Hz, mV/V rounded to 0.0005 mV/V, every record at 100 Hz (.npy), "
-        "flicker plateau ≈ 1.5 °/h, ARW 0.1–1 °/√h",
-        lambda f, rng, quick: build_repeat_allan(f, rng, kind="mV/V", q=0.0005, dt_rate=0.01,
-                                                 dt_static=0.01,
-                                                 fmt="npy", flick=1.5, quick=quick,
-                                                 arw=(0.1, 1.0))),
-    "jjf-allan-terms-mV-10Hz": Variant(
-        "jjf-allan-terms-mV-10Hz", "jjf2014", "7.2.1,7.2.20",
-        "mV, either sign, static 2 h at 10 Hz (CSV), ARW 0.01–0.1 °/√h and, each drawn present or "
-        "not, flicker plateau 0.3–3 °/h, rate random walk 1–10 °/h/√h, rate ramp ±(2–20) °/h²",
-        lambda f, rng, quick: build_allan(f, rng, kind="mV", q=0.0, dt=0.1, fmt="csv",
-                                          quick=quick)),
-    "jjf-allan-terms-mVV-400Hz-q": Variant(
-        "jjf-allan-terms-mVV-400Hz-q", "jjf2014", "7.2.1,7.2.20",
-        "as jjf-allan-terms-mV-10Hz, mV/V rounded to 0.0002 mV/V, 1 h at 400 Hz (.npy)",
-        lambda f, rng, quick: build_allan(f, rng, kind="mV/V", q=0.0002, dt=0.0025, fmt="npy",
-                                          static_s=3600.0,
-                                          quick=quick)),
-    "jjf-misalignment-mV-Q7": Variant(
-        "jjf-misalignment-mV-Q7", "jjf2014", "7.2.1,7.2.11,7.2.12",
-        "mV, either sign; input axis leaning 0–30′ in any direction, fixture error 5′ (1σ), each "
-        "re-seating 0.2–3′ (1σ); table Ω(+) 100/200/360/400 °/s; Q = 7 runs, each a power-on; 1 Hz "
-        "CSV",
-        lambda f, rng, quick: build_misalignment(f, rng, kind="mV", q=0.0, dt=1.0, fmt="csv",
-                                                 runs=7, quick=quick)),
-    "jjf-misalignment-mVV-50Hz-one-run": Variant(
-        "jjf-misalignment-mVV-50Hz-one-run", "jjf2014", "7.2.1,7.2.11",
-        "as jjf-misalignment-mV-Q7 with one run only (7.2.11 alone), mV/V at 50 Hz (.npy); on half "
-        "the devices a fixture with its reseat_tilt (√3 × the re-seating σ)",
-        lambda f, rng, quick: build_misalignment(f, rng, kind="mV/V", q=0.0, dt=0.02, fmt="npy",
-                                                 runs=1,
-                                                 quick=quick, fixture=True)),
-    "jjf-threshold-mV-1Hz": Variant(
-        "jjf-threshold-mV-1Hz", "jjf2014", "7.2.1,7.2.9,7.2.10",
-        "mV, either sign; soft threshold Ω_th 0.004–0.06 °/s and resolution r 0.0015–0.03 °/s per "
-        "direction; the levels and increments `metro plan` lists, 200 s at 1 s (CSV), white noise",
-        lambda f, rng, quick: build_threshold(f, rng, kind="mV", q=0.0, fmt="csv", quick=quick)),
-    "jjf-threshold-mVV-10Hz-flicker": Variant(
-        "jjf-threshold-mVV-10Hz-flicker", "jjf2014", "7.2.1,7.2.9,7.2.10",
-        "as jjf-threshold-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker plateau ≈ 3 "
-        "°/h (the bias moves between the zero record and the levels)",
-        lambda f, rng, quick: build_threshold(f, rng, kind="mV/V", q=0.0005, fmt="npy", dt=0.1,
-                                              flick=3.0,
-                                              quick=quick)),
-}
+VARIANTS = variants(
+    Variant("jjf-nonlin-mV-1Hz", "jjf2014", "7.2.1,7.2.2,7.2.3",
+            text("""
+                mV, K ±(0.5 … 200) mV/(°/s) log-uniform, nonlinearity none/quadratic/cubic/both
+                up to 5×10⁻⁴ of full scale, asymmetry up to ±1×10⁻³, R5 sets to 50/100/200/400
+                °/s, 10 × 1 s per rate, CSV; nonlinearity_spec between the noise-free K_n of
+                the spans"""),
+            build_with(build_nonlin, kind="mV", q=0.0, dt=1.0, fmt="csv")),
+    Variant("jjf-nonlin-mVV-200Hz-q", "jjf2014", "7.2.1,7.2.2,7.2.3",
+            text("""
+                as jjf-nonlin-mV-1Hz, ratiometric mV/V rounded to 0.002 mV/V, 10 s per rate at
+                200 Hz (.npy), flicker plateau ≈ 2 °/h"""),
+            build_with(build_nonlin, kind="mV/V", q=0.002, dt=0.005, fmt="npy", flick=2.0)),
+    Variant("jjf-temp-g-mV-1Hz", "jjf2014", "7.2.1,7.2.5,7.2.6,7.2.16,7.2.17",
+            text("""
+                mV, K of either sign; K temperature coefficient ±3×10⁻⁴/°C (+ quadratic),
+                axial-g ±5×10⁻⁴/g; bias ±0.5 °/h/°C (+ quadratic), g-sensitivity up to ±20
+                °/h/g on each axis; chamber sets 3–6 points incl. 20 °C; one power-on per item;
+                1 Hz CSV, white noise"""),
+            build_with(build_temp_g, kind="mV", q=0.0, dt_rate=1.0, dt_static=1.0, fmt="csv")),
+    Variant("jjf-temp-g-mVV-10Hz-flicker-IRAx", "jjf2014",
+            "7.2.1,7.2.4,7.2.5,7.2.6,7.2.15,7.2.16,7.2.17",
+            text("""
+                as jjf-temp-g-mV-1Hz, mV/V rounded to 0.001 mV/V, static records at 10 Hz
+                (.npy), flicker ≈ 1 °/h, wander 2 °/h, the IRA is the case's X axis
+                (device.ira_axis), with 7.2.4 / 7.2.15 repeats (6 power-ons each)"""),
+            build_with(build_temp_g, kind="mV/V", q=0.001, dt_rate=1.0, dt_static=0.1, fmt="npy",
+                       flick=1.0, wander=2.0, ira_axis="X", repeats=True)),
+    Variant("jjf-repeat-allan-mV-10Hz", "jjf2014", "7.2.1,7.2.4,7.2.13,7.2.15,7.2.20",
+            text("""
+                mV, either sign; bias turn-on σ 0.5–20 °/h, K power-on σ 5×10⁻⁵–4×10⁻⁴, 6
+                power-ons each for 7.2.4 and 7.2.15, static 1 h at 10 Hz (CSV), white noise
+                only"""),
+            build_with(build_repeat_allan, kind="mV", q=0.0, dt_rate=1.0, dt_static=0.1, fmt="csv",
+                       flick=0.0)),
+    Variant("jjf-repeat-allan-mVV-100Hz-flicker-q", "jjf2014", "7.2.1,7.2.4,7.2.13,7.2.15,7.2.20",
+            text("""
+                as jjf-repeat-allan-mV-10Hz, mV/V rounded to 0.0005 mV/V, every record at 100
+                Hz (.npy), flicker plateau ≈ 1.5 °/h, ARW 0.1–1 °/√h"""),
+            build_with(build_repeat_allan, kind="mV/V", q=0.0005, dt_rate=0.01, dt_static=0.01,
+                       fmt="npy", flick=1.5, arw=(0.1, 1.0))),
+    Variant("jjf-allan-terms-mV-10Hz", "jjf2014", "7.2.1,7.2.20",
+            text("""
+                mV, either sign, static 2 h at 10 Hz (CSV), ARW 0.01–0.1 °/√h and, each drawn
+                present or not, flicker plateau 0.3–3 °/h, rate random walk 1–10 °/h/√h, rate
+                ramp ±(2–20) °/h²"""),
+            build_with(build_allan, kind="mV", q=0.0, dt=0.1, fmt="csv")),
+    Variant("jjf-allan-terms-mVV-400Hz-q", "jjf2014", "7.2.1,7.2.20",
+            text("""
+                as jjf-allan-terms-mV-10Hz, mV/V rounded to 0.0002 mV/V, 1 h at 400 Hz (.npy)"""),
+            build_with(build_allan, kind="mV/V", q=0.0002, dt=0.0025, fmt="npy", static_s=3600.0)),
+    Variant("jjf-misalignment-mV-Q7", "jjf2014", "7.2.1,7.2.11,7.2.12",
+            text("""
+                mV, either sign; input axis leaning 0–30′ in any direction, fixture error 5′
+                (1σ), each re-seating 0.2–3′ (1σ); table Ω(+) 100/200/360/400 °/s; Q = 7 runs,
+                each a power-on; 1 Hz CSV"""),
+            build_with(build_misalignment, kind="mV", q=0.0, dt=1.0, fmt="csv", runs=7)),
+    Variant("jjf-misalignment-mVV-50Hz-one-run", "jjf2014", "7.2.1,7.2.11",
+            text("""
+                as jjf-misalignment-mV-Q7 with one run only (7.2.11 alone), mV/V at 50 Hz
+                (.npy); on half the devices a fixture with its reseat_tilt (√3 × the re-seating
+                σ)"""),
+            build_with(build_misalignment, kind="mV/V", q=0.0, dt=0.02, fmt="npy", runs=1,
+                       fixture=True)),
+    Variant("jjf-threshold-mV-1Hz", "jjf2014", "7.2.1,7.2.9,7.2.10",
+            text("""
+                mV, either sign; soft threshold Ω_th 0.004–0.06 °/s and resolution r
+                0.0015–0.03 °/s per direction; the levels and increments `metro plan` lists,
+                200 s at 1 s (CSV), white noise"""),
+            build_with(build_threshold, kind="mV", q=0.0, fmt="csv")),
+    Variant("jjf-threshold-mVV-10Hz-flicker", "jjf2014", "7.2.1,7.2.9,7.2.10",
+            text("""
+                as jjf-threshold-mV-1Hz, mV/V rounded to 0.0005 mV/V at 10 Hz (.npy), flicker
+                plateau ≈ 3 °/h (the bias moves between the zero record and the levels)"""),
+            build_with(build_threshold, kind="mV/V", q=0.0005, fmt="npy", dt=0.1, flick=3.0)),
+)
 
 
 def run_more(variant: Variant, devices: int, seed0: int, workdir: Path,
