@@ -4,65 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-
 from metro.instruments.simulated import GyroTruth, simulate_static
 
-MANIFEST = """\
-format = "metro-campaign/1"
-
-[campaign]
-id = "TEST-001"
-operator = "test"
-
-[device]
-id = "LG-0042"
-manufacturer = "Acme Inertial"
-model = "RLG-90"
-serial = "0042"
-technology = "laser"
-application = "aviation"
-output = "pulse"
-scale_factor = "{K} P/″"
-scale_factor_U = "4 ppm"
-scale_factor_k = 2
-
-[environment]
-temperature = "20.5 °C"
-humidity = "45 %"
-
-[site]
-latitude = "{lat}°"
-latitude_uncertainty = "0.001°"
-
-[[equipment]]
-id = "PLAT-1"
-role = "platform"
-model = "granite platform"
-levelness = "2″"
-
-[[equipment]]
-id = "CNT-1"
-role = "counter"
-manufacturer = "Keysight"
-model = "53230A"
-serial = "MY1234"
-[equipment.calibration]
-certificate = "CNAS-2026-0815"
-U = "2e-7"
-k = 2
-due = 2027-08-15
-lab = "NIM"
-
-[[segments]]
-id = "static-1"
-kind = "static"
-file = "static.csv"
-sample_interval = "1 s"
-[segments.conditions]
-orientation = "IRA up"
-temperature = "20 °C"
-warmup = "30 min"
-"""
+# the manifest, with {K} and {lat} to fill in
+MANIFEST = (Path(__file__).parent / "data" / "campaign_manifest.toml").read_text(encoding="utf-8")
 
 
 def write_campaign(

@@ -139,3 +139,92 @@ def register_url(request, tmp_path):
     if request.param == "sqlite":
         return "sqlite:///" + str(tmp_path / "register.sqlite")
     return request.getfixturevalue("pg_server").new_database()
+
+
+def _within_u(rows: list[dict]) -> None:
+    for r in rows:
+        if r["status"] == "not reportable":
+            assert r["reason"], r
+            continue
+        assert r["status"] == "ok", r  # a missing result or a wrong unit fails here
+        assert abs(r["En"]) <= 1, r
+
+
+@pytest.fixture(scope="session")
+def within_u():
+    """``within_u(rows)``: every row an independent harness scored is within U of its truth
+    (|E_n| ≤ 1), or not reportable with a reason."""
+    return _within_u
+
+
+@pytest.fixture(scope="session")
+def harness_device():
+    """``folder, truth = harness_device(harness, build, seed, items, tmp_path)``: the device
+    ``build(harness, folder, rng)`` writes into ``tmp_path/dev-<seed>``, drawn from the seed
+    ``[seed, crc32(items)]`` (the sweeps' draw)."""
+    import zlib
+
+    import numpy as np
+
+    def make(harness, build, seed: int, items: str, tmp_path):
+        folder = tmp_path / f"dev-{seed}"
+        folder.mkdir()
+        rng = np.random.default_rng([seed, zlib.crc32(items.encode())])
+        return folder, build(harness, folder, rng)
+
+    return make
+
+
+@pytest.fixture(scope="session")
+def evaluated_within_u():
+    """``evaluated_within_u(run_metro, score, folder, standard, items, truth)``: the campaign in
+    ``folder`` through the harness's ``run_metro`` evaluates with no manifest warning, ``score``
+    gives a row for every key of ``truth``, and each row is within U (:func:`within_u`)."""
+    def check(run_metro, score, folder, standard: str, items: str, truth: dict) -> None:
+        code, doc, err = run_metro(folder / "manifest.toml", standard, items)
+        assert code in (0, 3, 4), err
+        assert not doc.get("manifest_warnings"), doc.get("manifest_warnings")
+        rows = score(truth, doc)
+        assert {(r["item"], r["key"]) for r in rows} == set(truth)
+        _within_u(rows)
+
+    return check
+
+
+@pytest.fixture(scope="session")
+def draft_rows():
+    """``fields, result = draft_rows(standard=…, items=…, serial=…, day=…, value=…)``: the
+    fields of a register draft (measured 2026-01-``day``) and its one result row (A.1 bias
+    ``value`` °/h, U = 0.2 with k = 2), for tests that fill a register through its API."""
+    import datetime as dt
+
+    def rows(*, standard: str = "std", items: tuple[str, ...] = ("A.1",), serial: str = "S1",
+             day: int = 1, value: float = 1.0) -> tuple[dict, dict]:
+        fields = {"standard": standard, "items": list(items), "options": {}, "device_id": "d",
+                  "device_manufacturer": "m", "device_model": "M", "device_serial": serial,
+                  "customer": "", "measurement_date": dt.date(2026, 1, day), "simulated": False,
+                  "allow_expired": False, "lab": {}, "verdicts": None, "budgets": [],
+                  "provenance": {}, "manifest_sha256": None, "equipment": [], "template": "",
+                  "context": {}}
+        result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": value,
+                  "u": 0.1, "U": 0.2, "k": 2.0, "nu_eff": None, "unit": "°/h",
+                  "value_text": "1.0", "U_text": "0.2", "reportable": True, "reason": ""}
+        return fields, result
+
+    return rows
+
+
+@pytest.fixture(scope="session")
+def load_tool():
+    """``load_tool("gen_api_docs")``: the script tools/<name>.py, loaded as a module."""
+    import importlib.util
+    from pathlib import Path
+
+    def load(name: str):
+        path = Path(__file__).resolve().parents[1] / "tools" / f"{name}.py"
+        spec = importlib.util.spec_from_file_location(name, path)
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        return mod
+
+    return load

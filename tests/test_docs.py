@@ -2,19 +2,10 @@
 
 from __future__ import annotations
 
-import importlib.util
 import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def _gen():
-    spec = importlib.util.spec_from_file_location("gen_hook_docs", ROOT / "tools"
-                                                  / "gen_hook_docs.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def _hooks():
@@ -23,8 +14,9 @@ def _hooks():
     return [n for n in dir(hookspec) if n.startswith("metro_")]
 
 
-def test_hook_reference_is_current():
-    assert (ROOT / "docs" / "hooks.md").read_text(encoding="utf-8") == _gen().render(), (
+def test_hook_reference_is_current(load_tool):
+    rendered = load_tool("gen_hook_docs").render()
+    assert (ROOT / "docs" / "hooks.md").read_text(encoding="utf-8") == rendered, (
         "docs/hooks.md is stale: run python -P tools/gen_hook_docs.py"
     )
 
@@ -53,7 +45,8 @@ def test_every_registered_procedure_is_documented_with_its_test():
         assert page.is_file(), f"no docs page for standard {std}"
         text = page.read_text(encoding="utf-8")
         assert re.search(rf"\b{re.escape(item)}\b", text), f"{pid} missing from {page.name}"
-        assert info.cls.__name__ in text, f"{pid}: class {info.cls.__name__} not named in {page.name}"
+        assert info.cls.__name__ in text, (
+            f"{pid}: class {info.cls.__name__} not named in {page.name}")
 
 
 def _test_sources() -> dict[str, str]:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import shutil
 import subprocess
 import tomllib
+from pathlib import Path
 
 import pytest
 
@@ -24,24 +25,9 @@ from metro.core.run.plugin_manager import get_plugin_manager
 from metro.core.documents.report import write_report
 from metro.core.run.runner import run_items
 
-EXTRA = """
-[[equipment]]
-id = "VIB-9"
-role = "vibration_table"
-manufacturer = "Shaker Co."
-model = "V-100"
-[equipment.calibration]
-certificate = "VIB-CAL-1"
-U = "0.05"
-k = 2
-due = 2030-01-01
-
-[[equipment]]
-id = "MEG-1"
-role = "megohmmeter"
-manufacturer = "Ohm Co."
-model = "M-500"
-"""
+# a vibration table and a megohmmeter that no D.5 item uses
+EXTRA = "\n" + (Path(__file__).parents[1] / "data" / "extra_equipment.toml").read_text(
+    encoding="utf-8")
 
 
 def test_acquire_writes_the_equipment_of_the_items_only(tmp_path):

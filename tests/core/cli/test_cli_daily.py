@@ -5,7 +5,6 @@ command, `acquire --out` making its parents, the report messages, and `metro doc
 
 from __future__ import annotations
 
-import datetime as dt
 import json
 from pathlib import Path
 
@@ -38,35 +37,28 @@ def lab(home, capsys):
     return path
 
 
-def _issue(lab_path: Path, out: Path, *, serial: str = LONG_SERIAL, standard: str = LONG_STANDARD,
-           n: int = 1) -> list[str]:
-    """``n`` reports in the register of the profile (through the register's API: no evaluation)."""
+@pytest.fixture
+def issue(draft_rows):
+    """``issue(lab_path, out, serial=…, standard=…, n=…)``: ``n`` reports in the register of the
+    profile (through the register's API: no evaluation); their numbers."""
     from metro.core.record.lab import load_lab
     from metro.core.record.register import Draft, open_register
 
-    profile = load_lab(lab_path)
-    numbers = []
-    with open_register(profile.register_url()) as reg:
-        for day in range(1, n + 1):
-            fields = {"standard": standard, "items": ["A.1", "A.2"], "options": {},
-                      "device_id": "d",
-                      "device_manufacturer": "m", "device_model": "M", "device_serial": serial,
-                      "customer": "",
-                      "measurement_date": dt.date(2026, 1, day), "simulated": False,
-                      "allow_expired": False,
-                      "lab": {}, "verdicts": None, "budgets": [], "provenance": {},
-                      "manifest_sha256": None,
-                      "equipment": [], "template": "", "context": {}}
-            result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": 1.0
-                      + day / 10,
-                      "u": 0.1, "U": 0.2, "k": 2.0, "nu_eff": None, "unit": "°/h",
-                      "value_text": "1.0",
-                      "U_text": "0.2", "reportable": True, "reason": ""}
-            issued = reg.issue(lambda num, t, f=fields,
-                               r=result: Draft(f, [r], lambda tmp: tmp.write_text("x")),
-                               folder=out, scheme=profile.format_number, per_year=True)
-            numbers.append(issued.number)
-    return numbers
+    def run(lab_path: Path, out: Path, *, serial: str = LONG_SERIAL,
+            standard: str = LONG_STANDARD, n: int = 1) -> list[str]:
+        profile = load_lab(lab_path)
+        numbers = []
+        with open_register(profile.register_url()) as reg:
+            for day in range(1, n + 1):
+                fields, result = draft_rows(standard=standard, items=("A.1", "A.2"),
+                                            serial=serial, day=day, value=1.0 + day / 10)
+                issued = reg.issue(lambda num, t, f=fields,
+                                   r=result: Draft(f, [r], lambda tmp: tmp.write_text("x")),
+                                   folder=out, scheme=profile.format_number, per_year=True)
+                numbers.append(issued.number)
+        return numbers
+
+    return run
 
 
 def _files(root: Path) -> list[str]:
@@ -132,8 +124,8 @@ def test_schema_head_is_the_newest_migration():
 # -- 2. register verify has its own exit code ------------------------------------------------
 
 
-def test_verify_exits_6_on_a_modified_or_missing_file(lab, run_cli, tmp_path):
-    a, b = _issue(lab, tmp_path / "reports", n=2)
+def test_verify_exits_6_on_a_modified_or_missing_file(lab, issue, run_cli, tmp_path):
+    a, b = issue(lab, tmp_path / "reports", n=2)
     code, stdout, _ = run_cli("--lab", str(lab), "register", "verify", "--json")
     assert code == 0 and json.loads(stdout)["ok"] is True
     (tmp_path / "reports" / f"{a}.docx").write_text("changed")
@@ -150,8 +142,8 @@ def test_verify_exits_6_on_a_modified_or_missing_file(lab, run_cli, tmp_path):
 # -- 3. tables: complete plain rows when piped, folded (never cut) on a terminal --------------
 
 
-def test_register_list_and_history_print_whole_rows_when_piped(lab, run_cli, tmp_path):
-    numbers = _issue(lab, tmp_path / "reports", n=2)
+def test_register_list_and_history_print_whole_rows_when_piped(lab, issue, run_cli, tmp_path):
+    numbers = issue(lab, tmp_path / "reports", n=2)
     code, stdout, _ = run_cli("--lab", str(lab), "register", "list")
     assert code == 0
     lines = stdout.splitlines()
@@ -170,10 +162,10 @@ def test_register_list_and_history_print_whole_rows_when_piped(lab, run_cli, tmp
     assert f"{numbers[1]}\t{LONG_STANDARD}\tA.1, A.2\t2026-01-02" in stdout
 
 
-def test_register_list_on_a_terminal_folds_identifiers(lab, run_cli, tmp_path, monkeypatch):
+def test_register_list_on_a_terminal_folds_identifiers(lab, issue, run_cli, tmp_path, monkeypatch):
     import metro.core.cli.register_commands as cr
 
-    _issue(lab, tmp_path / "reports", n=2)
+    issue(lab, tmp_path / "reports", n=2)
     monkeypatch.setattr(cr, "_is_terminal", lambda: True)
     monkeypatch.setenv("COLUMNS", "80")
     code, stdout, _ = run_cli("--lab", str(lab), "register", "list")
@@ -191,8 +183,8 @@ def test_register_list_on_a_terminal_folds_identifiers(lab, run_cli, tmp_path, m
 # -- 4. global options after the command ------------------------------------------------------
 
 
-def test_global_options_are_accepted_after_the_command(lab, run_cli, tmp_path):
-    (number,) = _issue(lab, tmp_path / "reports")
+def test_global_options_are_accepted_after_the_command(lab, issue, run_cli, tmp_path):
+    (number,) = issue(lab, tmp_path / "reports")
     code, stdout, err = run_cli("register", "list", "--lab", str(lab), "--json")
     assert code == 0, err
     assert [r["number"] for r in json.loads(stdout)["reports"]] == [number]
@@ -318,8 +310,8 @@ def test_doctor_passes_here_and_creates_nothing(lab, run_cli):
     assert files() == before and not (lab.parent / "register.sqlite").exists()
 
 
-def test_doctor_reports_the_register_schema(lab, run_cli, tmp_path):
-    _issue(lab, tmp_path / "reports", n=2)
+def test_doctor_reports_the_register_schema(lab, issue, run_cli, tmp_path):
+    issue(lab, tmp_path / "reports", n=2)
     code, doc, checks = _doctor(run_cli, "--lab", str(lab))
     assert code == 0 and checks["register"]["ok"] and "2 report(s)" in checks["register"]["detail"]
     import sqlite3
@@ -368,8 +360,8 @@ def test_doctor_names_the_extra_of_a_missing_package(home, run_cli, monkeypatch)
     assert "missing" in stdout and "metro-inertial[fast]" in stdout
 
 
-def test_register_show_piped_keeps_each_line_whole(lab, run_cli, tmp_path):
-    (number,) = _issue(lab, tmp_path / "a-folder-with-a-rather-long-name-for-its-reports")
+def test_register_show_piped_keeps_each_line_whole(lab, issue, run_cli, tmp_path):
+    (number,) = issue(lab, tmp_path / "a-folder-with-a-rather-long-name-for-its-reports")
     code, stdout, _ = run_cli("--lab", str(lab), "register", "show", number)
     assert code == 0
     line = next(ln for ln in stdout.splitlines() if ln.startswith("  file "))

@@ -4,7 +4,6 @@ bench_register_cli.py measures that)."""
 
 from __future__ import annotations
 
-import datetime as dt
 import json
 import os
 import subprocess
@@ -38,7 +37,7 @@ def _loaded(tmp_path: Path, *argv: str, env: dict[str, str]) -> tuple[int, set[s
 
 
 @pytest.fixture
-def register(tmp_path, capsys):
+def register(tmp_path, capsys, draft_rows):
     """A lab profile (with equipment: reading it needs pint) and a register of two reports."""
     from metro.core.record.lab import load_lab
     from metro.core.record.register import Draft, open_register
@@ -51,19 +50,7 @@ def register(tmp_path, capsys):
     numbers = []
     with open_register(profile.register_url()) as reg:
         for day in (1, 2):
-            fields = {"standard": "std", "items": ["A.1"], "options": {}, "device_id": "d",
-                      "device_manufacturer": "m", "device_model": "M", "device_serial": "S1",
-                      "customer": "",
-                      "measurement_date": dt.date(2026, 1, day), "simulated": False,
-                      "allow_expired": False,
-                      "lab": {}, "verdicts": None, "budgets": [], "provenance": {},
-                      "manifest_sha256": None,
-                      "equipment": [], "template": "", "context": {}}
-            result = {"item": "A.1", "key": "bias", "quantity": "bias", "symbol": "B", "value": 1.0,
-                      "u": 0.1,
-                      "U": 0.2, "k": 2.0, "nu_eff": None, "unit": "°/h", "value_text": "1.0",
-                      "U_text": "0.2",
-                      "reportable": True, "reason": ""}
+            fields, result = draft_rows(day=day)
             numbers.append(reg.issue(lambda n, t, f=fields,
                                      r=result: Draft(f, [r], lambda p: p.write_text("x")),
                                      folder=tmp_path / "reports", scheme=profile.format_number,

@@ -5,7 +5,6 @@ metro.api does not export."""
 
 from __future__ import annotations
 
-import importlib.util
 import inspect
 import re
 from pathlib import Path
@@ -18,17 +17,9 @@ ROOT = Path(__file__).resolve().parents[3]
 DOCS = ROOT / "docs"
 
 
-def _generator():
-    spec = importlib.util.spec_from_file_location("gen_api_docs", ROOT / "tools"
-                                                  / "gen_api_docs.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 @pytest.fixture(scope="module")
-def gen():
-    return _generator()
+def gen(load_tool):
+    return load_tool("gen_api_docs")
 
 
 @pytest.fixture(scope="module")
