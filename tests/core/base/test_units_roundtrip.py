@@ -330,29 +330,18 @@ def test_a_header_unit_that_is_not_a_unit_names_the_file_and_the_column():
     import numpy as np
     from metro.core.model.campaign import Segment
 
-    seg = Segment(
-        "s",
-        "static",
-        {},
-        Q_(1, "s"),
-        file="run1.csv",
-        sha256="0" * 64,
-        loader=lambda: {"output": (np.zeros(4), "°/h¹⋅")},
-    )
+    def segment(column):
+        """A segment of run1.csv whose ``output`` column reads ``column`` (values, header unit)."""
+        return Segment("s", "static", {}, Q_(1, "s"), file="run1.csv", sha256="0" * 64,
+                       loader=lambda: {"output": column})
+
+    seg = segment((np.zeros(4), "°/h¹⋅"))
     with pytest.raises(DataError) as exc:
         seg.series("output", "deg/h")
     text = str(exc.value)
     assert text.startswith("run1.csv, field 'output': cannot read unit '°/h¹⋅' in the header")
     assert "input:" not in text and "ends with the operator" in text
-    ok = Segment(
-        "s",
-        "static",
-        {},
-        Q_(1, "s"),
-        file="run1.csv",
-        sha256="0" * 64,
-        loader=lambda: {"output": (np.ones(4), "°/h¹⋅⁵")},
-    )
+    ok = segment((np.ones(4), "°/h¹⋅⁵"))
     assert ok.series("output", "deg/hour**1.5").data.units == ureg.Unit("deg/hour**1.5")
 
 

@@ -24,12 +24,14 @@ KG = np.array([[1.02, 0.003, -0.002], [0.001, -0.98, 0.004], [-0.003, 0.002, 1.0
 KA = np.array([[1.01, 0.002, -0.001], [-0.002, 0.99, 0.003], [0.001, -0.002, -1.03]])
 BG, BA = np.array([0.1, -0.2, 0.05]), np.array([0.01, -0.02, 0.005])
 UP = {"+x": (0, 1), "-x": (0, -1), "+y": (1, 1), "-y": (1, -1), "+z": (2, 1), "-z": (2, -1)}
+HEAD = "gx [°/s],gy [°/s],gz [°/s],ax [gn],ay [gn],az [gn]"  # the CSV header of every record
 N, STEP = 40, 50.0          # 40 samples at 1 s per record, a record begins every 50 s
 #: a warm-up drift of 0.36, −0.25 and 0.18 °/s per hour (°/s per s)
 DRIFT = np.array([0.36, -0.25, 0.18]) / 3600.0
 T0 = dt.datetime(2026, 11, 24, 10, 15, tzinfo=dt.timezone(dt.timedelta(hours=8)))
-#: eq. (5) turns a drift d into d·β: β = least-squares slope of the records' times on their rates; :
-#by hand with records 50 s apart in rate order: 50·Σ(k − 4)·r_k / Σ r_k² = 50·4900/425000 s per °/s
+#: eq. (5) turns a drift d into d·β: β = least-squares slope of the records' times on their rates;
+#: by hand with records 50 s apart in rate order: 50·Σ(k − 4)·r_k / Σ r_k² = 50·4900/425000 s per
+#: °/s
 BETA = 50 * 4900 / 425000
 #: eq. (7): g[:, x] = (U(+x) − U(−x))/2 of the pair means; the −x pair is recorded 100 s after +x
 TAU_G = -50.0
@@ -58,11 +60,8 @@ def _write(root, *, drift=DRIFT, started=True, noise=1e-4, seed=7, times=None, b
         change = bias(t) if bias is not None else drift[None, :] * t[:, None]
         g = w[None, :] + change + noise * rng.standard_normal((N, 3))
         data = np.column_stack([g, np.tile(a, (N, 1))])
-        head = "gx [°/s],gy [°/s],gz [°/s],ax [gn],ay [gn],az [gn]"
-        (root / f"{sid}.csv").write_text(head + "\n"
-                                         + "\n".join(",".join(repr(float(x)) for x in r) for r
-                                                     in data)
-                                         + "\n", encoding="utf-8")
+        rows = "\n".join(",".join(repr(float(x)) for x in r) for r in data)
+        (root / f"{sid}.csv").write_text(f"{HEAD}\n{rows}\n", encoding="utf-8")
         lines.extend(["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{sid}.csv"',
                       'sample_interval = "1 s"'])
         if started:
@@ -466,7 +465,8 @@ def test_without_times_a_gyro_no_record_gives_a_trend_is_withheld():
                     mid_times=None, durations={})
     assert D.bound_row(d, 0, 5.0, "", "sweep", "s/(°/s)") is None
     reason = str(D.not_reportable_reason(d, 0, 5.0, 1e-4, ""))
-    assert "fewer than two of the records give gyro x a within-record trend" in reason and "`started`" in reason
+    assert ("fewer than two of the records give gyro x a within-record trend" in reason
+            and "`started`" in reason)
     # gyro z: not significant (z = 0), so reportable; its u_b by hand: (0 + 2·1e-7)·5 s/(°/s)
     assert D.not_reportable_reason(d, 2, 5.0, 1e-4, "") is None
     assert D.bound_row(d, 2, -5.0, "", "sweep",

@@ -158,11 +158,8 @@ def test_scale_factor_coverage_over_seeds():
     assert inside >= 0.95 * total
 
 
-def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run):
+def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run, pm):
     camp, rec = default_run
-    from metro.core.run.plugin_manager import get_plugin_manager
-
-    pm = get_plugin_manager(autoload=False)
     plain = rec.outcomes[1]
     corr = run_items(pm, "jjf2003", ["7.2.2"], campaign=camp,
                      options={"earth_rate": "yes"}).outcomes[0]
@@ -184,11 +181,8 @@ def test_earth_rate_leaks_into_g_diagonal_and_correction(default_run):
         K[0, 0] * EARTH_RATE_DEG_S * math.sin(math.radians(lat)), abs=1e-6)
 
 
-def test_p_sign_follows_model_by_default(default_run):
+def test_p_sign_follows_model_by_default(default_run, pm):
     camp, rec = default_run
-    from metro.core.run.plugin_manager import get_plugin_manager
-
-    pm = get_plugin_manager(autoload=False)
     p_model = rec.outcomes[4]
     p_printed = run_items(pm, "jjf2003", ["7.2.5"], campaign=camp,
                           options={"sign": "as-printed"}).outcomes[0]
@@ -211,8 +205,8 @@ def test_budgets_follow_appendix_a_structure(default_run):
     # dominate)
     from scipy import stats
 
-    assert b.round_mode == "up" and b.k == pytest.approx(stats.t.ppf(0.97725,
-                                                                     b.nu_eff)) and 2.0 <= b.k < 2.01
+    assert (b.round_mode == "up" and b.k == pytest.approx(stats.t.ppf(0.97725, b.nu_eff))
+            and 2.0 <= b.k < 2.01)
     # u₁: table U = 2e-4, k = 2 → 1e-4 relative, times K
     assert b.rows[0].contribution.magnitude == pytest.approx(1e-4
                                                              * rec.outcomes[0].result(
@@ -248,22 +242,16 @@ def _without(camp, drop):
     return attrs.evolve(camp, segments=[s for s in camp.segments if not drop(s)])
 
 
-def test_missing_position_is_a_clear_error(default_run):
+def test_missing_position_is_a_clear_error(default_run, pm):
     camp, _ = default_run
-    from metro.core.run.plugin_manager import get_plugin_manager
-
-    pm = get_plugin_manager(autoload=False)
     bad = _without(camp, lambda s: s.id == "pos-y-h180")
     for item in ("7.2.2", "7.2.4"):
         with pytest.raises(DataError, match=r"-y up, heading 180"):
             run_items(pm, "jjf2003", [item], campaign=bad)
 
 
-def test_axis_with_too_few_rates(default_run):
+def test_axis_with_too_few_rates(default_run, pm):
     camp, _ = default_run
-    from metro.core.run.plugin_manager import get_plugin_manager
-
-    pm = get_plugin_manager(autoload=False)
     bad = _without(camp, lambda s: s.id in ("rate-z-50", "rate-z--50", "rate-z-100"))
     with pytest.raises(DataError, match="axis z is swept with 6 rate"):
         run_items(pm, "jjf2003", ["7.2.1"], campaign=bad)
@@ -582,11 +570,10 @@ def test_scale_factor_u3_is_the_spread_of_repeated_calibrations():
     truth = MimuTruth(seed=11, sf_repeat_rel=1e-3)
     camp, rec = _run_2003(["7.2.1"], truth, {"repeats": "4"})
     out = rec.outcomes[0]
-    for i, a in enumerate("xyz"):
+    for a in "xyz":
         r = out.result(f"K_g{a}{a}")
         u3 = next(x for x in r.budget.rows if x.symbol == "u₃")
         assert u3.dof == 4 and "5 calibrations" in u3.source
-        ks = [r.value.magnitude]
         # a 1e-3 relative spread, not the 1e-5 fit error
         assert u3.standard_uncertainty.magnitude > 2e-4
         # the power-on draw puts this calibration's K off the device's by ~1e-3: U covers it

@@ -27,6 +27,7 @@ KA = np.array([[1.01, 0.002, -0.001], [-0.002, 0.99, 0.003], [0.001, -0.002, -1.
 BG, BA = np.array([0.1, -0.2, 0.05]), np.array([0.01, -0.02, 0.005])
 P = np.array([[0, 2e-4, -1e-4], [1e-4, 0, 3e-4], [-2e-4, 1e-4, 0]])
 UP = {"+x": (0, 1), "-x": (0, -1), "+y": (1, 1), "-y": (1, -1), "+z": (2, 1), "-z": (2, -1)}
+HEAD = "gx [°/s],gy [°/s],gz [°/s],ax [gn],ay [gn],az [gn]"  # the CSV header of every record
 
 
 def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_tilt=0.0,
@@ -49,11 +50,8 @@ def _write(root, *, g_loc=GN, site=(), table_U="2e-5", sweep_misalign=0.0, rest_
 
     def seg(sid, kind, w, a, cond):
         data = np.column_stack([np.full(40, v) + wiggle for v in list(w) + list(a)])
-        head = "gx [°/s],gy [°/s],gz [°/s],ax [gn],ay [gn],az [gn]"
-        (root / f"{sid}.csv").write_text(head + "\n"
-                                         + "\n".join(",".join(repr(float(x)) for x in r) for r
-                                                     in data)
-                                         + "\n", encoding="utf-8")
+        rows = "\n".join(",".join(repr(float(x)) for x in r) for r in data)
+        (root / f"{sid}.csv").write_text(f"{HEAD}\n{rows}\n", encoding="utf-8")
         lines.extend(["[[segments]]", f'id = "{sid}"', f'kind = "{kind}"', f'file = "{sid}.csv"',
                       'sample_interval = "1 s"', "[segments.conditions]",
                       *(f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in cond.items()), ""])

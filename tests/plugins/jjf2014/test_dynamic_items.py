@@ -19,8 +19,6 @@ stability and dynamic items"), each on a small campaign written here in the docu
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import math
 from pathlib import Path
@@ -28,7 +26,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from metro.core.cli.app import main
 from metro.plugins.jjf2014 import budgets as B
 
 RATES = (1.0, 10.0, 100.0)  # °/s: a 7.2.1 calibration of three rates each way is enough for S₀ = K
@@ -66,15 +63,6 @@ class _Camp:
         return path
 
 
-def _run(manifest: Path, items: str) -> dict:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(["run", "-s", "jjf2014", "-i", items, "--data", str(manifest), "--json",
-                     "--no-report", "--quiet"])
-    assert code in (0, 3, 4), err.getvalue()[-2000:]
-    return {r["key"]: r for r in json.loads(out.getvalue())["results"]}
-
-
 def _calibration(c: _Camp, K: float, rng, noise: float = 0.0) -> None:
     for r in RATES:
         for s in (1, -1):
@@ -110,7 +98,7 @@ def _first_order(fc: float, td: float):
     return lambda f: np.exp(-2j * math.pi * f * td) / (1 + 1j * f / fc)
 
 
-def test_a_negative_k_is_a_polarity_not_a_refusal(tmp_path):
+def test_a_negative_k_is_a_polarity_not_a_refusal(jjf_run, tmp_path):
     """The same first-order device (f_c 80 Hz, T_d 1 ms) with K = +20 and −20 mV/((°)/s): B_w and
     T_d are the same and within U of the truth (before: exit 2, 'sensitivity ratios must be
     positive')."""
@@ -119,7 +107,7 @@ def test_a_negative_k_is_a_polarity_not_a_refusal(tmp_path):
     for K in (20.0, -20.0):
         folder = tmp_path / f"K{K:+g}"
         folder.mkdir()
-        res = _run(_dynamic_campaign(folder, K, _first_order(80.0, 1e-3), freqs),
+        res = jjf_run(_dynamic_campaign(folder, K, _first_order(80.0, 1e-3), freqs),
                    "7.2.1,7.2.21,7.2.22")
         got[K] = res
         # the literal 0.707 point of a first-order response
@@ -130,7 +118,7 @@ def test_a_negative_k_is_a_polarity_not_a_refusal(tmp_path):
     assert got[20.0]["Td"]["value"] == pytest.approx(got[-20.0]["Td"]["value"], rel=1e-9)
 
 
-def test_a_second_order_response_is_fitted_as_one(tmp_path):
+def test_a_second_order_response_is_fitted_as_one(jjf_run, tmp_path):
     """A second-order device (f_n 100 Hz, ζ = 0.6, T_d 0.5 ms): its 0.707 point (by bisection of
     |H|, 107.7 Hz) is within U of B_w; the first-order curve put it at ≈ 70 Hz with U ≈ 0.3 Hz."""
     fn, z, td = 100.0, 0.6, 5e-4
@@ -146,7 +134,7 @@ def test_a_second_order_response_is_fitted_as_one(tmp_path):
         lo, hi = (mid, hi) if abs(H(mid)) > 0.707 else (lo, mid)
     bw = (lo + hi) / 2
     freqs = [float(x) for x in np.round(np.geomspace(10, 200, 12), 1)]
-    res = _run(_dynamic_campaign(tmp_path, 15.0, H, freqs), "7.2.1,7.2.21")
+    res = jjf_run(_dynamic_campaign(tmp_path, 15.0, H, freqs), "7.2.1,7.2.21")
     assert "second-order" in res["Bw"]["note"]
     assert abs(res["Bw"]["value"] - bw) <= res["Bw"]["U"], (res["Bw"]["value"], bw, res["Bw"]["U"])
 
@@ -170,24 +158,24 @@ def _startup_campaign(folder: Path, arw: float, seed: int = 3) -> tuple[Path, fl
     return c.manifest([("TMR", "timer", "1e-5", {})]), 2.0 * math.log(2.0 / 0.01)
 
 
-def test_a_start_up_decided_by_noise_is_not_reported(tmp_path):
+def test_a_start_up_decided_by_noise_is_not_reported(jjf_run, tmp_path):
     """ARW 0.5 °/√h: the 1 s window's noise (0.0083 °/s) is as large as the ±0.01 °/s band, so the
     time is not reportable (before: the last noise excursion, near the record's end, with U ≈ 1
     s)."""
     m, _ = _startup_campaign(tmp_path, 0.5)
-    r = _run(m, "7.2.1,7.2.23")["t_startup"]
+    r = jjf_run(m, "7.2.1,7.2.23")["t_startup"]
     assert r["reportable"] is False and "cannot be decided" in r["reason"], r
 
 
-def test_a_start_up_with_moderate_noise_is_bracketed(tmp_path):
+def test_a_start_up_with_moderate_noise_is_bracketed(jjf_run, tmp_path):
     """ARW 0.05 °/√h: the time is decided at 2u of the noise and the truth (10.6 s) is within U."""
     m, truth = _startup_campaign(tmp_path, 0.05)
-    r = _run(m, "7.2.1,7.2.23")["t_startup"]
+    r = jjf_run(m, "7.2.1,7.2.23")["t_startup"]
     assert r["reportable"] is not False and abs(r["value"]
                                                 - truth) <= r["U"], (r["value"], truth, r["U"])
 
 
-def test_a_start_up_is_read_at_its_crossing_not_the_middle_of_its_interval(tmp_path):
+def test_a_start_up_is_read_at_its_crossing_not_the_middle_of_its_interval(jjf_run, tmp_path):
     """ARW 0.1 °/s√h: the 1 °/s trial's ±0.01 °/s band is about 3u of the 1 s window wide. The
     interval's end (the last window not clearly inside) was the last of ≈ 50 chances for a 2u noise
     excursion in the settled tail, often near the record's end, and the result the middle of it:
@@ -200,7 +188,7 @@ def test_a_start_up_is_read_at_its_crossing_not_the_middle_of_its_interval(tmp_p
         folder = tmp_path / f"s{seed}"
         folder.mkdir()
         m, truth = _startup_campaign(folder, 0.1, seed)
-        r = _run(m, "7.2.1,7.2.23")["t_startup"]
+        r = jjf_run(m, "7.2.1,7.2.23")["t_startup"]
         if r["reportable"] is False:
             assert "cannot be decided" in r["reason"] or "not resolvably" in r["reason"], r[
                 "reason"]
@@ -301,7 +289,7 @@ def test_bias_stability_nu_from_the_noise_model_covers_a_flicker_record():
     assert model / 150 >= 0.95 and bartlett / 150 <= 0.93, (model, bartlett)
 
 
-def test_a_k_change_of_a_negative_k_device_has_the_same_budget(tmp_path):
+def test_a_k_change_of_a_negative_k_device_has_the_same_budget(jjf_run, tmp_path):
     """7.2.7: the scatter of K before the test over the axes (relative, pooled into the
     repeatability when larger) was s/mean(K) — negative for a negative K, and then silently left
     out: a device and its mirror image got U = 0.0102 and 0.000067 mV/((°)/s). Three axes, K
@@ -327,7 +315,7 @@ def test_a_k_change_of_a_negative_k_device_has_the_same_budget(tmp_path):
                               1.0,
                               {"rate": f"{sgn * r:g} deg/s", "axis": a, "phase": phase})
                 i += 1
-        U[K] = _run(c.manifest(), "7.2.7")["dK_shock"]
+        U[K] = jjf_run(c.manifest(), "7.2.7")["dK_shock"]
     srcs = {K: " ".join(r["source"] for r in v["budget"]["rows"]) for K, v in U.items()}
     assert "K before the test over the axes" in srcs[
         10.0] and "K before the test over the axes" in srcs[-10.0], srcs
@@ -336,7 +324,7 @@ def test_a_k_change_of_a_negative_k_device_has_the_same_budget(tmp_path):
     assert U[10.0]["value"] == pytest.approx(U[-10.0]["value"], abs=0.2 * U[10.0]["U"])
 
 
-def test_a_start_up_ringing_faster_than_the_window_is_seen(tmp_path):
+def test_a_start_up_ringing_faster_than_the_window_is_seen(jjf_run, tmp_path):
     """A start-up that rings at 1 Hz (2 °/s·e^(−t/3)·cos 2πt): the 1 s window means are flat from ≈
     1 s on, while the samples leave the ±0.05 °/s band until ≈ 11 s. The samples (outside by more
     than 4.5u of one sample's noise) now decide: the truth is within U (before: 8.75 s early, U 0.06
@@ -355,7 +343,7 @@ def test_a_start_up_ringing_faster_than_the_window_is_seen(tmp_path):
               {"trial": "position", "rate": "0 deg/s", "run": str(run)})
     m = c.manifest([("TMR", "timer", "1e-5", {})])
     truth = float(t[np.flatnonzero(np.abs(ring) > 0.05)[-1] + 1])
-    r = _run(m, "7.2.1,7.2.23")["t_startup"]
+    r = jjf_run(m, "7.2.1,7.2.23")["t_startup"]
     assert r["reportable"] is not False and abs(r["value"]
                                                 - truth) <= r["U"], (r["value"], truth, r["U"])
 
@@ -384,7 +372,8 @@ def _ringing_rate_trial(folder: Path, seed: int) -> tuple[Path, float]:
                         {})]), float(t[np.flatnonzero(np.abs(ring + off) > 0.01)[-1] + 1])
 
 
-def test_a_start_up_ringing_within_the_noise_of_the_band_edge_is_read_from_its_samples(tmp_path):
+def test_a_start_up_ringing_within_the_noise_of_the_band_edge_is_read_from_its_samples(
+        jjf_run, tmp_path):
     """The 1 s window means of a 0.5 Hz ringing keep 64 % of it and leave the band at ≈ 18.3 s; the
     samples leave it until 20.2 s, by less than 4.5u of one sample's noise after the window means
     settle, so they did not decide: 18.35 s with U 0.13 s on each of these seeds (E_n −14.3; the
@@ -395,7 +384,7 @@ def test_a_start_up_ringing_within_the_noise_of_the_band_edge_is_read_from_its_s
         folder = tmp_path / f"s{seed}"
         folder.mkdir()
         m, truth = _ringing_rate_trial(folder, seed)
-        r = _run(m, "7.2.1,7.2.23")["t_startup"]
+        r = jjf_run(m, "7.2.1,7.2.23")["t_startup"]
         assert r["reportable"] is not False and abs(r["value"]
                                                     - truth) <= r["U"], (seed, r["value"], truth, r[
                                                         "U"])

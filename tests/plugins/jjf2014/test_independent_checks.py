@@ -12,8 +12,6 @@ by hand in the documented format (numpy, CSV), evaluated through the command lin
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import math
 from pathlib import Path
@@ -21,7 +19,6 @@ from pathlib import Path
 import numpy as np
 
 from metro.core.run.manifest import calibration_from_table
-from metro.core.cli.app import main
 
 R5 = (0.1, 0.25, 0.63, 1.6, 4, 10, 16, 25, 40, 63, 100)  # °/s, 7.2.1.1 b)
 
@@ -56,15 +53,6 @@ class _Writer:
         return path
 
 
-def _run(manifest: Path, items: str) -> dict:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(["run", "-s", "jjf2014", "-i", items, "--data", str(manifest), "--json",
-                     "--no-report", "--quiet"])
-    assert code in (0, 3, 4), err.getvalue()[-2000:]
-    return {r["key"]: r for r in json.loads(out.getvalue())["results"]}
-
-
 def _cal(w: _Writer, rng, K: float, kind: str, prefix: str, cond: dict, *, bias: float = 0.0,
          c3: float = 0.0,
          sd: float = 1e-4, n: int = 10, rates=R5) -> None:
@@ -91,7 +79,7 @@ def test_a_chamber_U_in_degrees_celsius_is_a_temperature_difference():
     assert math.isclose(cal_f.uncertainty.to("delta_degC").magnitude, 0.5)
 
 
-def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(tmp_path):
+def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(jjf_run, tmp_path):
     """7.2.16: B_0i is an equivalent input rate at T_i, F̄_i over the K the device has at T_i.
     Device (hand-made): K = 20 mV/((°)/s) × (1 + 3×10⁻⁴·(T − 20 °C)), bias 300 + 0.1·(T − 20) °/h,
     so B_t = 0.1 °/h/°C exactly; over the room K every B_0i errs by 300·3×10⁻⁴·ΔT, and B_t read 0.19
@@ -109,7 +97,7 @@ def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(tmp_path):
         f = k * (b0 + bt * (T - 20)) / 3600.0
         w.add(f"st@{T:g}", "static-temperature", f + 2e-4 * rng.standard_normal(3600),
               {"temperature": f"{T!r} degC", "orientation": "IRA up"})
-    res = _run(w.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
+    res = jjf_run(w.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
                "7.2.5,7.2.16")
     assert math.isclose(res["Kt"]["value"], kt, rel_tol=0.05)
     r = res["Bt"]
@@ -119,14 +107,14 @@ def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(tmp_path):
     w2 = _Writer(tmp_path / "no725")
     (tmp_path / "no725").mkdir()
     w2.segs = [s for s in w.segs if s[1] != "rate-temperature"]
-    for sid, kind, name, dt, cond in w2.segs:
+    for _sid, _kind, name, _dt, _cond in w2.segs:
         (w2.folder / name).write_bytes((tmp_path / name).read_bytes())
-    r2 = _run(w2.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
+    r2 = jjf_run(w2.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
               "7.2.16")["Bt"]
     assert "K_i/K_m" in r2["budget"]["note"], r2["budget"]["note"]
 
 
-def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
+def test_range_is_not_reportable_when_noise_can_decide_it(jjf_run, tmp_path):
     """7.2.2.2, last sentence: the range is the largest set rate whose span meets the nonlinearity
     requirement. A cubic device (c₃ = 2×10⁻³ of full scale) whose ±100 °/s span's K_n lies between
     the requirement and the requirement + its U: the range (a set point, U = 10⁻⁴ of it) depended on
@@ -146,7 +134,7 @@ def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
 
     dev = {"id": "NL", "technology": "vibratory", "output": "analog"}
     manifest = w.manifest(dev | {"nonlinearity_spec": repr(kn(100) * 1.0001)})
-    r = _run(manifest, "7.2.2")
+    r = jjf_run(manifest, "7.2.2")
     U_kn = r["Kn"]["U"]
     assert U_kn > 1e-4 * kn(100)  # the requirement is within U of the full span's K_n
     assert r["range"]["reportable"] is False and "noise may decide" in r["range"]["reason"], r[
@@ -154,7 +142,7 @@ def test_range_is_not_reportable_when_noise_can_decide_it(tmp_path):
     # a requirement far from every span's K_n: the noise-free range (63 °/s), reportable
     limit = math.sqrt(kn(100) * kn(63))
     assert kn(100) - U_kn > limit > kn(63)
-    r = _run(w.manifest(dev | {"nonlinearity_spec": repr(limit)}), "7.2.2")
+    r = jjf_run(w.manifest(dev | {"nonlinearity_spec": repr(limit)}), "7.2.2")
     assert r["range"]["reportable"] is True and r["range"]["value"] == 63.0, r["range"]
 
 
@@ -183,30 +171,30 @@ def _misalignment_campaign(tmp_path, fixture: str | None) -> Path:
     return m
 
 
-def test_one_set_of_mountings_does_not_know_the_reseating(tmp_path):
+def test_one_set_of_mountings_does_not_know_the_reseating(jjf_run, tmp_path):
     """7.2.11 alone: the eight means' scatter (U ≈ 0.002′, issue 13's example) left out how far
     another seating puts the input axis — 0.97′ here. Without 7.2.12 runs,
     device.misalignment_repeatability or the fixture's reseat_tilt, γ_m is not reportable (the
     reason says what to give); with the fixture's reseat_tilt (a half-width per mounting, as GB/T
     D.1) its row is in the budget and U covers the truth 10′."""
-    r = _run(_misalignment_campaign(tmp_path, None), "7.2.11")["gamma"]
+    r = jjf_run(_misalignment_campaign(tmp_path, None), "7.2.11")["gamma"]
     assert abs(r["value"] - 10.966) < 0.05
     assert r["reportable"] is False and "reseat_tilt" in r["reason"], r
     (tmp_path / "fx").mkdir()
-    r = _run(_misalignment_campaign(tmp_path / "fx", "4′"), "7.2.11")["gamma"]
+    r = jjf_run(_misalignment_campaign(tmp_path / "fx", "4′"), "7.2.11")["gamma"]
     assert r["reportable"] is True
     assert any("re-seating" in row["source"] for row in r["budget"]["rows"])
     assert abs(r["value"] - 10.0) <= r["U"] < 6.0, (r["value"], r["U"])
 
 
-def test_a_curved_k_of_t_is_not_noise(tmp_path):
+def test_a_curved_k_of_t_is_not_noise(jjf_run, tmp_path):
     """7.2.5 is one power-on through the chamber (7.2.5.1 d)). Without a K_r in the campaign the K_i
     were drawn, for the selection correction of the largest slope, with their scatter about a
     straight line in T — which on a curved K(T) is the curvature: the independent harness's devices
     read K_t with mean E_n −0.38 (100 devices) and U ≈ 1.7 × the value. Hand device: K = 20·(1 +
     2×10⁻⁴ΔT + 2×10⁻⁶ΔT²) mV/((°)/s), noise 10⁻⁴ mV per sample; truth by eq. (11): max over T_i of
-    |K_i/K_m − 1|/|ΔT| = 2×10⁻⁴ + 2×10⁻⁶·50 = 3.0×10⁻⁴ /°C at 70 °C.  Now the points carry their fits'
-    u: K_t within 0.2 U of the truth and U under a tenth of it."""
+    |K_i/K_m − 1|/|ΔT| = 2×10⁻⁴ + 2×10⁻⁶·50 = 3.0×10⁻⁴ /°C at 70 °C.  Now the points carry their
+    fits' u: K_t within 0.2 U of the truth and U under a tenth of it."""
     rng = np.random.default_rng(5)
     w = _Writer(tmp_path)
     K0 = 20.0
@@ -220,7 +208,7 @@ def test_a_curved_k_of_t_is_not_noise(tmp_path):
         _cal(w, rng, k, "rate-temperature", f"rt@{T:g}", {"temperature": f"{T!r} degC"}, bias=100.0)
     truth = max(kt.values())
     assert math.isclose(truth, 3.0e-4)
-    r = _run(w.manifest({"id": "KT2", "technology": "vibratory", "output": "analog"}),
+    r = jjf_run(w.manifest({"id": "KT2", "technology": "vibratory", "output": "analog"}),
              "7.2.5")["Kt"]
     assert abs(r["value"] - truth) <= 0.2 * r["U"], (r["value"], truth, r["U"])
     assert r["U"] < 0.1 * truth, r["U"]
