@@ -233,6 +233,17 @@ def build_angle(folder: Path, rng, *, K_range=(0.3, 3.0), c_range=(1e-6, 2e-5), 
             ("D.1.4", "Kr"): (Kr, "", "")}
 
 
+def kt_ppm(kT, temps, actual: dict) -> float:
+    """The K_t truth of D.1.5 / D.2.5 (ppm/°C) on the noise-free K(T): the largest
+    |K(T_i) − K(T_0)|/(K(T_0)·|T_i − T_0|) over the chamber's actual temperatures, T_0 the point
+    set nearest 20 °C."""
+    i0 = int(np.argmin([abs(T - 20.0) for T in temps]))
+    T0 = actual[temps[i0]]
+    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T
+             in enumerate(temps) if i != i0)
+    return Kt * 1e6
+
+
 def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bool = True,
                    quick=False) -> dict:
     """D.1.5 (and D.1.4) on a laser gyro, pulse output (undithered counter): the D.1.1 sweep (R5 up
@@ -304,14 +315,10 @@ def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bo
                 write_revolutions(camp, f"run{j}-rate{tag}30", "revolutions-repeat", cnt, dur, 12.0,
                                   {"rate": f"{sgn * 30.0!r} deg/s", "turns": m, "run": j})
     camp.write_manifest()
-    i0 = int(np.argmin([abs(T - 20.0) for T in temps]))
-    T0 = actual[temps[i0]]
-    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T
-             in enumerate(temps) if i != i0)
     (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2,
                                                    "temps": temps,
                                                    "m": m, "shape": shape}))
-    return {("D.1.5", "Kt"): (Kt * 1e6, "ppm/°C", "")}
+    return {("D.1.5", "Kt"): (kt_ppm(kT, temps, actual), "ppm/°C", "")}
 
 
 # --------------------------------------------------------------------------------------------
@@ -498,13 +505,9 @@ def build_kt(folder: Path, rng, *, dt: float = 1.0, seconds: float = 100.0, q: f
         for j in range(1, 8):
             sweep(f"run{j}-", kT(room) * (1 + sigma_K * float(rng.standard_normal())), {"run": j})
     camp.write_manifest()
-    i0 = int(np.argmin([abs(T - 20.0) for T in temps]))
-    T0 = actual[temps[i0]]
-    Kt = max(abs((kT(actual[T]) - kT(T0)) / (kT(T0) * (actual[T] - T0))) for i, T
-             in enumerate(temps) if i != i0)
     (folder / "truth.json").write_text(json.dumps({"sigma_K": sigma_K, "k1": k1, "k2": k2,
                                                    "temps": temps}))
-    return {("D.2.5", "Kt"): (Kt * 1e6, "ppm/°C", "")}
+    return {("D.2.5", "Kt"): (kt_ppm(kT, temps, actual), "ppm/°C", "")}
 
 
 class _RateSeconds(Output):

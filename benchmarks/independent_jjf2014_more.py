@@ -199,6 +199,11 @@ class Device:
         vals = self.out.record(sensed, dt, K_scale=k_on * self.kfac(dT, g_ira), rng=self.rng)
         return vals, float(w.mean()), float(fl.mean())
 
+    def power_on(self) -> tuple[float, float]:
+        """(k_on, b_on) of a new power-on: the K factor (1σ σ_K) and the bias (°/h, 1σ σ_b)."""
+        return (1 + self.sigma_K * float(self.rng.standard_normal()),
+                self.b_mean + self.sigma_b * float(self.rng.standard_normal()))
+
     def manifest_device(self, name: str, extra: dict | None = None) -> dict:
         d = {"id": name, "technology": "vibratory", "output": "analog"}
         if self.out.kind == "mV/V":
@@ -239,8 +244,7 @@ def build_nonlin(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
     rates = R5_SETS[top]
     dev.Om = float(top)
     om = _signed_rates(rates)
-    k_on = 1 + dev.sigma_K * float(rng.standard_normal())
-    b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    k_on, b_on = dev.power_on()
     F = dev.mean_out(om, k_on, b_on=b_on, earth=dev.earth)
     # a requirement between the noise-free K_n of two successive spans: the range is one of them
     kns = [kn_eq7_8(om[np.abs(om) <= t], F[np.abs(om) <= t]) for t
@@ -300,19 +304,13 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
     n_g = int(round((1800.0 if not quick else 240.0) / dt_static))
     e = dev.earth
 
-    def power_on():
-        return (
-            1 + dev.sigma_K * float(rng.standard_normal()), dev.b_mean + dev.sigma_b
-            * float(rng.standard_normal())
-        )
-
     # 7.2.1 at room temperature: its own power-on
-    k_cal, b_cal = power_on()
+    k_cal, b_cal = dev.power_on()
     _rate_cal(camp, dev, rates, terr, prefix="rate", kind="rate", n=n_rate, dt=dt_rate, k_on=k_cal,
               b_on=b_cal, earth=e)
     K_cal = lsq(om, dev.mean_out(om, k_cal, b_on=b_cal, earth=e))[0]
     # 7.2.5: one power-on through the chamber
-    k5, b5 = power_on()
+    k5, b5 = dev.power_on()
     Ks = []
     for T in temps:
         dT = T - room
@@ -325,7 +323,7 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
     kt = max(abs((Ks[i] - Ks[m]) / (Ks[m] * (temps[i] - temps[m]))) for i in range(len(temps)) if i
              != m)
     # 7.2.6: IRA up (+1 g along the IRA) and down, one power-on
-    k6, b6 = power_on()
+    k6, b6 = dev.power_on()
     Kud = {}
     for o, gi in (("IRA up", 1.0), ("IRA down", -1.0)):
         gvec = {ira_axis: gi}
@@ -337,7 +335,7 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
                                       * e))[0]
     kg = (Kud["IRA up"] - Kud["IRA down"]) / 2.0
     # 7.2.16: B₀ at each chamber point (IRA up), one power-on
-    k16, b16 = power_on()
+    k16, b16 = dev.power_on()
     B = []
     Balt = []
     for T in temps:
@@ -354,7 +352,7 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
 
     # 7.2.17: each axis up and down (specific force +1 g / −1 g along it), one power-on; the IRA's
     # own pair sees ±Ω_e·sin φ, the others have the IRA horizontal east–west (no earth rate)
-    k17, b17 = power_on()
+    k17, b17 = dev.power_on()
     per, per_alt = {}, {}
     for a in AXES:
         bb = {}
@@ -386,14 +384,12 @@ def build_temp_g(folder: Path, rng, *, kind: str, q: float, dt_rate: float, dt_s
 def _repeats(camp, dev, rates, terr, n_rate, dt_rate, n_t, dt_static, e, Q=6):
     """7.2.4 (Q calibrations) and 7.2.15 (Q static records), each a power-on of its own."""
     for i in range(1, Q + 1):
-        k_on = 1 + dev.sigma_K * float(dev.rng.standard_normal())
-        b_on = dev.b_mean + dev.sigma_b * float(dev.rng.standard_normal())
+        k_on, b_on = dev.power_on()
         _rate_cal(camp, dev, rates, terr, prefix=f"rate-repeat#{i}", kind="rate-repeat", n=n_rate,
                   dt=dt_rate,
                   k_on=k_on, b_on=b_on, earth=e, cond={"run": i})
     for i in range(1, Q + 1):
-        k_on = 1 + dev.sigma_K * float(dev.rng.standard_normal())
-        b_on = dev.b_mean + dev.sigma_b * float(dev.rng.standard_normal())
+        k_on, b_on = dev.power_on()
         vals, _, _ = dev.record(0.0, n_t, dt_static, k_on, b=b_on, earth=e)
         camp.add(f"static-repeat#{i}", "static-repeat", vals, dt_static,
                  {"run": i, "orientation": "IRA up"})
@@ -429,27 +425,14 @@ def build_repeat_allan(folder: Path, rng, *, kind: str, q: float, dt_rate: float
     T = static_s if not quick else 300.0
     n_t = int(round(T / dt_static))
     e = dev.earth
-    k_cal = 1 + dev.sigma_K * float(rng.standard_normal())
-    b_cal = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    k_cal, b_cal = dev.power_on()
     _rate_cal(camp, dev, rates, terr, prefix="rate", kind="rate", n=n_rate, dt=dt_rate, k_on=k_cal,
               b_on=b_cal, earth=e)
     K_cal = lsq(om, dev.mean_out(om, k_cal, b_on=b_cal, earth=e))[0]
     # 7.2.4 runs and 7.2.15 records: each its own power-on
-    for i in range(1, Q + 1):
-        k_on = 1 + dev.sigma_K * float(rng.standard_normal())
-        b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
-        _rate_cal(camp, dev, rates, terr, prefix=f"rate-repeat#{i}", kind="rate-repeat", n=n_rate,
-                  dt=dt_rate,
-                  k_on=k_on, b_on=b_on, earth=e, cond={"run": i})
-    for i in range(1, Q + 1):
-        k_on = 1 + dev.sigma_K * float(rng.standard_normal())
-        b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
-        vals, _, _ = dev.record(0.0, n_t, dt_static, k_on, b=b_on, earth=e)
-        camp.add(f"static-repeat#{i}", "static-repeat", vals, dt_static,
-                 {"run": i, "orientation": "IRA up"})
+    _repeats(camp, dev, rates, terr, n_rate, dt_rate, n_t, dt_static, e, Q=Q)
     # 7.2.13 / 7.2.20: one static record
-    k_on = 1 + dev.sigma_K * float(rng.standard_normal())
-    b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    k_on, b_on = dev.power_on()
     vals, wm, fm = dev.record(0.0, n_t, dt_static, k_on, b=b_on, earth=e)
     camp.add("static", "static", vals, dt_static, {"orientation": "IRA up"})
     camp.write_manifest()
@@ -486,8 +469,7 @@ def build_allan(folder: Path, rng, *, kind: str, q: float, dt: float, fmt: str,
     camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, [RATE_TABLE, DMM], fmt=fmt,
                     output=dev.out)
     e = dev.earth
-    k_cal = 1 + dev.sigma_K * float(rng.standard_normal())
-    b_cal = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    k_cal, b_cal = dev.power_on()
     _rate_cal(camp, dev, rates, _table_errors(rng, rates), prefix="rate", kind="rate", n=10, dt=1.0,
               k_on=k_cal, b_on=b_cal, earth=e)
     T = static_s if not quick else 900.0
@@ -550,8 +532,7 @@ def build_misalignment(folder: Path, rng, *, kind: str, q: float, dt: float, fmt
     camp = Campaign(folder, dev.manifest_device(folder.name), dev.lat, equipment, fmt=fmt,
                     output=dev.out)
     e = dev.earth
-    k_cal = 1 + dev.sigma_K * float(rng.standard_normal())
-    b_cal = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    k_cal, b_cal = dev.power_on()
     _rate_cal(camp, dev, rates, _table_errors(rng, rates), prefix="rate", kind="rate", n=10, dt=1.0,
               k_on=k_cal, b_on=b_cal, earth=e)
     mag = float(rng.uniform(0.0, 30.0)) * ARCMIN
@@ -562,8 +543,7 @@ def build_misalignment(folder: Path, rng, *, kind: str, q: float, dt: float, fmt
     n = int(round((60.0 if not quick else 20.0) / dt))
     for run in range(1, runs + 1):
         # each run a power-on of its own
-        k_on = 1 + dev.sigma_K * float(rng.standard_normal())
-        b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+        k_on, b_on = dev.power_on()
         for p in (1, 2, 3, 4):
             lean = (alpha if p in (1, 2) else beta) * (1 if p in (1, 3) else -1)
             delta = lean + eps[1 if p in (1, 2) else 3] + eta_sd * float(rng.standard_normal())
@@ -614,8 +594,7 @@ def build_threshold(folder: Path, rng, *, kind: str, q: float, fmt: str, dt: flo
     e = dev.earth
     th = {1: float(rng.uniform(0.004, 0.06)), -1: float(rng.uniform(0.004, 0.06))}
     rr = {1: float(rng.uniform(0.0015, 0.03)), -1: float(rng.uniform(0.0015, 0.03))}
-    k_on = 1 + dev.sigma_K * float(rng.standard_normal())
-    b_on = dev.b_mean + dev.sigma_b * float(rng.standard_normal())
+    k_on, b_on = dev.power_on()
     _rate_cal(camp, dev, rates, _table_errors(rng, rates), prefix="rate", kind="rate", n=10, dt=1.0,
               k_on=k_on, b_on=b_on, earth=e)
     n = int(round((200.0 if not quick else 60.0) / dt))
