@@ -446,7 +446,8 @@ def report_context(
     ([{name, value}]), ``latitude``, ``equipment`` ([{id, description, role, certificate, U,
     due, status, expired, valid}]), ``equipment_warnings``, ``outcomes`` (see below),
     ``provenance`` {source, software, plugins ([{name, version}]), data_files ([{file,
-    sha256}])}, ``selection`` ([{item, run, reason, via}]: what ``--all``/a series chose and why)
+    sha256}])}, ``selection`` ([{item, run, reason, via}]: what ``--all``/a series chose and why),
+    ``data`` (the machine values a DCC carries: :func:`metro.core.documents.dcc.data.dcc_data`)
     and ``conformity`` (None, or {rule, rule_title, statement, overall, verdicts ([{item, key,
     limit, source, status, detail, reason}]), not_assessed ([text])}).
 
@@ -462,6 +463,8 @@ def report_context(
     :func:`write_report`) and
     ``warnings``.
     """
+    from .dcc.data import dcc_data
+
     designations = dict(designations or {})
     camp = record.campaign
     simulated = bool(record.simulated or camp.simulated)
@@ -512,6 +515,8 @@ def report_context(
             ],
             "conformity": _conformity_block(getattr(record, "conformity", None)),
             "provenance": _provenance_block(record, source, software),
+            # the numbers, units, k and verdict codes themselves, for a DCC (docs/dcc.md)
+            "data": dcc_data(record),
         }
     )
 
