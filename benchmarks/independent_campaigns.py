@@ -472,9 +472,11 @@ def _jjf_noise_mc_K_rel(noise: Noise, dt: float, n_per_rate: int, K: float, out:
 def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, kind: str,
               flick: float, wander: float, q: float, asym: float, neg: bool, static_s: float,
               quick: bool = False, runs: int = 6, rates=R5_JJF, orientation: str = "IRA up",
-              sigma_K_range: tuple[float, float] = (5e-5, 4e-4)) -> dict:
+              sigma_K_range: tuple[float, float] = (5e-5, 4e-4),
+              static_quick: float | None = None) -> dict:
     """JJF 2014 7.2.1, 7.2.4, 7.2.13: ±11 R5 rates (7.2.1.1), `runs` repeats of them (7.2.4.1,
-    each a power-on of its own), and a static record IRA up (7.2.13.1), analog output."""
+    each a power-on of its own), and a static record IRA up (7.2.13.1) of ``static_s`` seconds
+    (``static_quick`` with ``quick``), analog output."""
     lat = float(rng.uniform(-65, 70))
     earth = OMEGA_E_DEG_H * math.sin(math.radians(lat))
     Kmag = float(rng.uniform(5, 60))                                   # mV/(°/s)
@@ -517,6 +519,8 @@ def build_jjf(folder: Path, rng, *, dt_static: float, dt_rate: float, fmt: str, 
     K0 = calibration("rate", "rate", None)
     for i in range(1, runs + 1):
         calibration(f"rate-repeat#{i}", "rate-repeat", i)
+    if quick and static_quick is not None:
+        static_s = static_quick
     n_static = int(round(static_s / dt_static))
     b_on = b_mean + sigma_b * rng.standard_normal()
     k_rel = 1 + sigma_K * rng.standard_normal()
@@ -589,44 +593,36 @@ VARIANTS = variants(
             text("""
                 mV output, either sign, 17 R5 rates 0.16 … 250 °/s (not metro's default set), 8
                 repeat calibrations, static 1 h at 1 Hz IRA down, white noise only (CSV)"""),
-            lambda f, rng, quick: build_jjf(f, rng, dt_static=1.0, dt_rate=1.0, fmt="csv",
-                                            kind="mV", flick=0.0, wander=0.0, q=0.0, asym=0.0,
-                                            neg=True, static_s=3600 if not quick else 300,
-                                            quick=quick, runs=8, orientation="IRA down",
-                                            rates=(0.16, 0.25, 0.4, 0.63, 1, 1.6, 2.5, 4, 6.3, 10,
-                                                   16, 25, 40, 63, 100, 160, 250))),
+            build_with(build_jjf, dt_static=1.0, dt_rate=1.0, fmt="csv", kind="mV", flick=0.0,
+                       wander=0.0, q=0.0, asym=0.0, neg=True, static_s=3600, static_quick=300,
+                       runs=8, orientation="IRA down",
+                       rates=(0.16, 0.25, 0.4, 0.63, 1, 1.6, 2.5, 4, 6.3, 10, 16, 25, 40, 63, 100,
+                              160, 250))),
     Variant("jjf-mV-100Hz-flicker-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
             text("""
                 mV output, K ±(5–60) mV/(°/s) (either sign), rate points at 1 s (10 samples),
                 static 1 h at 100 Hz (.npy), flicker plateau ≈ 3 °/h, no quantization"""),
-            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.01, dt_rate=1.0, fmt="npy",
-                                            kind="mV", flick=3.0, wander=0.0, q=0.0, asym=0.0,
-                                            neg=True, static_s=3600 if not quick else 300,
-                                            quick=quick)),
+            build_with(build_jjf, dt_static=0.01, dt_rate=1.0, fmt="npy", kind="mV", flick=3.0,
+                       wander=0.0, q=0.0, asym=0.0, neg=True, static_s=3600, static_quick=300)),
     Variant("jjf-mV-10Hz-white-negK", "jjf2014", "7.2.1,7.2.4,7.2.13",
             text("""
                 mV output, K ±(5–60) mV/(°/s) (either sign), white noise and a thermal wander
                 of 5 °/h only (no flicker), rate points at 1 s, static 1 h at 10 Hz (CSV)"""),
-            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.1, dt_rate=1.0, fmt="csv",
-                                            kind="mV", flick=0.0, wander=5.0, q=0.0, asym=0.0,
-                                            neg=True, static_s=3600 if not quick else 300,
-                                            quick=quick)),
+            build_with(build_jjf, dt_static=0.1, dt_rate=1.0, fmt="csv", kind="mV", flick=0.0,
+                       wander=5.0, q=0.0, asym=0.0, neg=True, static_s=3600, static_quick=300)),
     Variant("jjf-mVV-400Hz-thermal-coarse", "jjf2014", "7.2.1,7.2.4,7.2.13",
             text("""
                 ratiometric mV/V output (supply 4.5–5.5 V) rounded to 0.01 mV/V, rate points at
                 400 Hz (10 s), static 1 h at 400 Hz (.npy), thermal wander 5 °/h, flicker 2 °/h"""),
-            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.0025, dt_rate=0.0025, fmt="npy",
-                                            kind="mV/V", flick=2.0, wander=5.0, q=0.01, asym=0.0,
-                                            neg=False, static_s=3600 if not quick else 300,
-                                            quick=quick)),
+            build_with(build_jjf, dt_static=0.0025, dt_rate=0.0025, fmt="npy", kind="mV/V",
+                       flick=2.0, wander=5.0, q=0.01, asym=0.0, neg=False, static_s=3600,
+                       static_quick=300)),
     Variant("jjf-mV-2kHz-asym", "jjf2014", "7.2.1,7.2.4,7.2.13",
             text("""
                 mV output rounded to 0.1 mV, K asymmetry up to ±500 ppm, either sign, rate
                 points at 1 s, static 15 min at 2 kHz (.npy), CSV rate files"""),
-            lambda f, rng, quick: build_jjf(f, rng, dt_static=0.0005, dt_rate=1.0, fmt="csv",
-                                            kind="mV", flick=1.0, wander=0.0, q=0.1, asym=5e-4,
-                                            neg=True, static_s=900 if not quick else 120,
-                                            quick=quick)),
+            build_with(build_jjf, dt_static=0.0005, dt_rate=1.0, fmt="csv", kind="mV", flick=1.0,
+                       wander=0.0, q=0.1, asym=5e-4, neg=True, static_s=900, static_quick=120)),
 )
 
 

@@ -60,6 +60,7 @@ else:
     _spec.loader.exec_module(ic)
 
 Campaign, Variant, score, summarise = ic.Campaign, ic.Variant, ic.score, ic.summarise
+build_with, text, variants = ic.build_with, ic.text, ic.variants
 
 OMEGA_E_RAD_S = 7.2921150e-5            # IERS sidereal rate
 OMEGA_E_DEG_S = math.degrees(OMEGA_E_RAD_S)
@@ -284,9 +285,13 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
                with_time: bool = True, quick: bool = False, flip: float = 0.3,
                items: str = "7.2.1,7.2.2,7.2.3,7.2.4,7.2.5", repeats: int = 0,
                sigma_K: float = 0.0, sigma_B: float = 0.0, ramp: bool = False,
-               started: bool = False, shuffle: bool = False) -> dict:
+               started: bool = False, shuffle: bool = False,
+               either_hemisphere: bool = False) -> dict:
     """One MIMU written as a campaign of the 27 (3 axes × the rate set) rate segments and the twelve
-    positions; returns the truth {(item, key): (value, unit, earth)} and ``options``."""
+    positions; returns the truth {(item, key): (value, unit, earth)} and ``options``. With
+    ``either_hemisphere`` the latitude is drawn in ``lat_range`` or its mirror south, evenly."""
+    if either_hemisphere and rng.uniform() >= 0.5:
+        lat_range = (-lat_range[1], -lat_range[0])
     lat = float(rng.uniform(*lat_range))
     alt = float(rng.uniform(*altitude))
     g_loc = normal_gravity(lat, alt) + rng.uniform(-1, 1) * anomaly_mgal * 1e-5
@@ -438,67 +443,66 @@ class MimuVariant:
     standard: str = "jjf2003"
 
 
-VARIANTS = {
-    "mimu-16bit-100Hz-skewed": MimuVariant(
-        "mimu-16bit-100Hz-skewed",
-        "16-bit over ±400 °/s / ±8 gn (finer than the noise), 100 Hz CSV, 30 s per record, the "
-        "plan's nine rates; non-orthogonal axes and cross-coupling within ±5×10⁻³, an axis read "
-        "inverted (30 %), g-sensitivity ±0.05 (°/s)/gn, p ±5×10⁻⁴; table U 2×10⁻⁴ (k = 2), ±10″; "
-        "latitude ±70°",
-        lambda f, rng, quick: build_mimu(
-            f, rng, dt=0.01, seconds=30.0, fmt="csv", bits=16, fs_g=400.0, fs_a=8.0,
-            rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.05, p_mag=5e-4, arw=(0.005, 0.02),
-            vrw=(5e-5, 2e-4), quick=quick)),
-    "mimu-24bit-200Hz-goodtable-gravity": MimuVariant(
-        "mimu-24bit-200Hz-goodtable-gravity",
-        "24-bit (fine) at 200 Hz in .npy, 60 s per record, a quiet MIMU (0.002–0.005 °/s/√Hz, "
-        "20–50 µg/√Hz); a table as table 1 asks (rate U 2×10⁻⁵, k = 2; ±5″); the lab's measured "
-        "local g in [site] gravity",
-        lambda f, rng, quick: build_mimu(
-            f, rng, dt=0.005, seconds=60.0, fmt="npy", bits=24, fs_g=400.0, fs_a=8.0,
-            rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.02, p_mag=2e-4, arw=(0.002, 0.005),
-            vrw=(2e-5, 5e-5), lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0,
-                                      axis_perp=10.0), write_gravity=True, quick=quick)),
-    "mimu-12bit-50Hz-coarse-rad-ms2": MimuVariant(
-        "mimu-12bit-50Hz-coarse-rad-ms2",
-        "12-bit (appendix A's N) over ±300 °/s / ±4 gn: 1 LSB 0.15 °/s, 2 mg, coarser than the "
-        "noise (undithered); columns in rad/s and m/s², 50 Hz CSV without a time column; 7 rates "
-        "±300, ±150, ±50, 0 (ω = 300 °/s for 7.2.5)",
-        lambda f, rng, quick: build_mimu(
-            f, rng, dt=0.02, seconds=40.0, fmt="csv", bits=12, fs_g=300.0, fs_a=4.0,
-            rates=(-300, -150, -50, 0, 50, 150, 300), xc_g=1e-2, xc_a=1e-2, g_sens=0.05, p_mag=5e-4,
-            arw=(0.002, 0.01), vrw=(5e-5, 2e-4), gyro_unit="rad/s", acc_unit="m/s2",
-            with_time=False, quick=quick),
-        options=("omega=300 deg/s",)),
-    "mimu-1kHz-wander-polar-altitude": MimuVariant(
-        "mimu-1kHz-wander-polar-altitude",
-        "1 kHz .npy, 16 bits over ±2000 °/s / ±16 gn, 11 rates up to ±2000 °/s (ω = 1000 °/s for "
-        "7.2.5), a gyro-bias thermal wander 0.01 °/s (period 10–60 min), large cross terms "
-        "(±2×10⁻²), g-sensitivity ±0.1, p ±1×10⁻³; latitude 60–89° either hemisphere, altitude "
-        "0–3000 m, no [site] gravity",
-        lambda f, rng, quick: build_mimu(
-            f, rng, dt=0.001, seconds=30.0, fmt="npy", bits=16, fs_g=2000.0, fs_a=16.0,
-            rates=(-2000, -1000, -500, -200, -100, 0, 100, 200, 500, 1000, 2000), xc_g=2e-2,
-            xc_a=2e-2, g_sens=0.1, p_mag=1e-3, arw=(0.01, 0.03), vrw=(1e-4, 3e-4), wander=0.01,
-            altitude=(0.0, 3000.0), quick=quick,
-            lat_range=(60.0, 89.0) if rng.uniform() < 0.5 else (-89.0, -60.0)),
-        options=("omega=1000 deg/s",)),
-    "mimu-24bit-quiet-skewed-repeats": MimuVariant(
-        "mimu-24bit-quiet-skewed-repeats",
-        "a quiet MIMU (0.0003–0.001 °/s/√Hz, 10–30 µg/√Hz), 24-bit at 50 Hz .npy, 60 s records, "
-        "large cross terms (±2×10⁻², non-orthogonal axes) at latitude ±(50–85)°; three repeated "
-        "calibrations (rate-repeat, remounted in the fixture, K_g diagonal σ 2×10⁻⁴ and B_g σ 0.01 "
-        "°/s per power-on); table U 5×10⁻⁵, ±5″, fixture 5″, axis perpendicularity 5″ stated",
-        lambda f, rng, quick: build_mimu(
-            f, rng, dt=0.02, seconds=60.0, fmt="npy", bits=24, fs_g=500.0, fs_a=10.0,
-            rates=(-500, -250, -100, -20, 0, 20, 100, 250, 500), xc_g=2e-2, xc_a=2e-2, g_sens=0.01,
-            p_mag=2e-4, arw=(3e-4, 1e-3), vrw=(1e-5, 3e-5),
-            lab=Lab(table_U=5e-5, position_accuracy=5.0, fixture=5.0, axis_perp=5.0,
-                    state_axis_perp=True),
-            lat_range=(50.0, 85.0) if rng.uniform() < 0.5 else (-85.0, -50.0), repeats=3,
-            sigma_K=2e-4, sigma_B=0.01, quick=quick),
-        options=("omega=500 deg/s",)),
-}
+VARIANTS = variants(
+    MimuVariant("mimu-16bit-100Hz-skewed",
+                text("""
+                    16-bit over ±400 °/s / ±8 gn (finer than the noise), 100 Hz CSV, 30 s per
+                    record, the plan's nine rates; non-orthogonal axes and cross-coupling
+                    within ±5×10⁻³, an axis read inverted (30 %), g-sensitivity ±0.05 (°/s)/gn,
+                    p ±5×10⁻⁴; table U 2×10⁻⁴ (k = 2), ±10″; latitude ±70°"""),
+                build_with(build_mimu, dt=0.01, seconds=30.0, fmt="csv", bits=16, fs_g=400.0,
+                           fs_a=8.0, rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.05,
+                           p_mag=5e-4, arw=(0.005, 0.02), vrw=(5e-5, 2e-4))),
+    MimuVariant("mimu-24bit-200Hz-goodtable-gravity",
+                text("""
+                    24-bit (fine) at 200 Hz in .npy, 60 s per record, a quiet MIMU (0.002–0.005
+                    °/s/√Hz, 20–50 µg/√Hz); a table as table 1 asks (rate U 2×10⁻⁵, k = 2;
+                    ±5″); the lab's measured local g in [site] gravity"""),
+                build_with(build_mimu, dt=0.005, seconds=60.0, fmt="npy", bits=24, fs_g=400.0,
+                           fs_a=8.0, rates=DEFAULT_RATES, xc_g=5e-3, xc_a=5e-3, g_sens=0.02,
+                           p_mag=2e-4, arw=(0.002, 0.005), vrw=(2e-5, 5e-5),
+                           lab=Lab(table_U=2e-5, position_accuracy=5.0, fixture=10.0,
+                                   axis_perp=10.0), write_gravity=True)),
+    MimuVariant("mimu-12bit-50Hz-coarse-rad-ms2",
+                text("""
+                    12-bit (appendix A's N) over ±300 °/s / ±4 gn: 1 LSB 0.15 °/s, 2 mg,
+                    coarser than the noise (undithered); columns in rad/s and m/s², 50 Hz CSV
+                    without a time column; 7 rates ±300, ±150, ±50, 0 (ω = 300 °/s for 7.2.5)"""),
+                build_with(build_mimu, dt=0.02, seconds=40.0, fmt="csv", bits=12, fs_g=300.0,
+                           fs_a=4.0, rates=(-300, -150, -50, 0, 50, 150, 300), xc_g=1e-2, xc_a=1e-2,
+                           g_sens=0.05, p_mag=5e-4, arw=(0.002, 0.01), vrw=(5e-5, 2e-4),
+                           gyro_unit="rad/s", acc_unit="m/s2", with_time=False),
+                options=("omega=300 deg/s",)),
+    MimuVariant("mimu-1kHz-wander-polar-altitude",
+                text("""
+                    1 kHz .npy, 16 bits over ±2000 °/s / ±16 gn, 11 rates up to ±2000 °/s (ω =
+                    1000 °/s for 7.2.5), a gyro-bias thermal wander 0.01 °/s (period 10–60
+                    min), large cross terms (±2×10⁻²), g-sensitivity ±0.1, p ±1×10⁻³; latitude
+                    60–89° either hemisphere, altitude 0–3000 m, no [site] gravity"""),
+                build_with(build_mimu, dt=0.001, seconds=30.0, fmt="npy", bits=16, fs_g=2000.0,
+                           fs_a=16.0,
+                           rates=(-2000, -1000, -500, -200, -100, 0, 100, 200, 500, 1000, 2000),
+                           xc_g=2e-2, xc_a=2e-2, g_sens=0.1, p_mag=1e-3, arw=(0.01, 0.03),
+                           vrw=(1e-4, 3e-4), wander=0.01, altitude=(0.0, 3000.0),
+                           lat_range=(60.0, 89.0), either_hemisphere=True),
+                options=("omega=1000 deg/s",)),
+    MimuVariant("mimu-24bit-quiet-skewed-repeats",
+                text("""
+                    a quiet MIMU (0.0003–0.001 °/s/√Hz, 10–30 µg/√Hz), 24-bit at 50 Hz .npy, 60
+                    s records, large cross terms (±2×10⁻², non-orthogonal axes) at latitude
+                    ±(50–85)°; three repeated calibrations (rate-repeat, remounted in the
+                    fixture, K_g diagonal σ 2×10⁻⁴ and B_g σ 0.01 °/s per power-on); table U
+                    5×10⁻⁵, ±5″, fixture 5″, axis perpendicularity 5″ stated"""),
+                build_with(build_mimu, dt=0.02, seconds=60.0, fmt="npy", bits=24, fs_g=500.0,
+                           fs_a=10.0, rates=(-500, -250, -100, -20, 0, 20, 100, 250, 500),
+                           xc_g=2e-2, xc_a=2e-2, g_sens=0.01, p_mag=2e-4, arw=(3e-4, 1e-3),
+                           vrw=(1e-5, 3e-5),
+                           lab=Lab(table_U=5e-5, position_accuracy=5.0, fixture=5.0, axis_perp=5.0,
+                                   state_axis_perp=True),
+                           lat_range=(50.0, 85.0), either_hemisphere=True, repeats=3, sigma_K=2e-4,
+                           sigma_B=0.01),
+                options=("omega=500 deg/s",)),
+)
 
 
 def _warmup(started: bool, shuffle: bool = False):
