@@ -220,13 +220,14 @@ def _parse(raw: bytes, src: str) -> Any:
     are refused."""
     _schema(str(schema_folder()))  # a missing schema is said before the file is judged
     import xmlschema
+    from xmlschema.exceptions import XMLResourceError, XMLResourceForbidden
 
     try:
         return xmlschema.XMLResource(io.BytesIO(raw), defuse="always", allow="none")
-    except xmlschema.XMLResourceForbidden as exc:
+    except XMLResourceForbidden as exc:
         raise DataError(src, None, f"not accepted: {exc}",
                         hint="a DCC has no DTD or entity declarations") from exc
-    except (xmlschema.XMLResourceError, SyntaxError) as exc:
+    except (XMLResourceError, SyntaxError) as exc:
         raise DataError(src, None, f"not XML: {exc}",
                         hint="give the certificate's .xml file (a DCC 3.3.0)") from exc
 
