@@ -27,7 +27,6 @@ comes before anything is written, so a refused certificate imports nothing.
 from __future__ import annotations
 
 import datetime as dt
-import functools
 import hashlib
 import io
 import math
@@ -54,12 +53,6 @@ MAX_BYTES = 64 * 1024 * 1024
 ENV_SCHEMA = "METRO_DCC_SCHEMA"
 ROOT = "/dcc:digitalCalibrationCertificate"
 _PREFIX = {DCC_NS: "dcc", SI_NS: "si", "http://www.w3.org/2000/09/xmldsig#": "ds"}
-#: where dcc.xsd and SI_Format.xsd import their neighbours from → the local file name
-_IMPORTS = {
-    "https://ptb.de/si/v2.2.1/SI_Format.xsd": "SI_Format.xsd",
-    "https://www.ptb.de/dcc/d-sig/xmldsig-core-schema.xsd": "xmldsig-core-schema.xsd",
-    "https://www.ptb.de/si/v2.2.1/qudt/quantitykind.xsd": "quantitykind.xsd",
-}
 #: the refType token of the statement whose date is the recommended recalibration (due) date
 DUE_REFTYPE = "basic_recalibration"
 
@@ -69,14 +62,13 @@ DUE_REFTYPE = "basic_recalibration"
 
 def schema_folder() -> Path:
     """The folder holding dcc.xsd 3.3.0 and the schemas it imports: ``METRO_DCC_SCHEMA`` if set,
-    else the copy shipped in the package (``metro/core/documents/dcc/schema``), else the source
-    tree's reference copy (``../shared/reference/dcc`` beside the checkout)."""
+    else the copy shipped in the package (:data:`metro.core.documents.dcc.SCHEMA_DIR`), else the
+    source tree's reference copy (``../shared/reference/dcc`` beside the checkout)."""
+    from ..documents.dcc.schema import SCHEMA_DIR
+
     env = os.environ.get(ENV_SCHEMA)
-    here = Path(__file__).resolve()
     folders = ([Path(env)] if env else []) + [
-        here.parents[1] / "documents" / "dcc" / "schema",
-        here.parents[3] / "shared" / "reference" / "dcc",
-    ]
+        SCHEMA_DIR, Path(__file__).resolve().parents[3] / "shared" / "reference" / "dcc"]
     for folder in folders:
         if (folder / "dcc.xsd").is_file():
             return folder
@@ -86,15 +78,11 @@ def schema_folder() -> Path:
                      "quantitykind.xsd and xmldsig-core-schema.xsd")
 
 
-@functools.lru_cache(maxsize=4)
-def _schema(folder: str) -> Any:
-    try:
-        import xmlschema
-    except ImportError as exc:
-        raise MetroError("reading a DCC needs the xmlschema package",
-                         hint="pip install 'metro[dcc]'") from exc
-    uri_map = {uri: str(Path(folder) / name) for uri, name in _IMPORTS.items()}
-    return xmlschema.XMLSchema(str(Path(folder) / "dcc.xsd"), uri_mapper=uri_map, allow="local")
+def _schema() -> Any:
+    """The DCC schema from :func:`schema_folder` (built once per folder)."""
+    from ..documents.dcc.schema import schema
+
+    return schema(str(schema_folder()))
 
 
 # ------------------------------------------------------------------------------ reading
@@ -106,9 +94,10 @@ class DccResult:
 
     #: element path of the ``si:real``
     path: str
-    #: the ``dcc:result``'s name (English if given), its ``id`` and the quantity's label
+    #: the ``dcc:result``'s name (English if given) and ``id``, the quantity's name and label
     name: str
     ident: str
+    quantity: str
     label: str
     value: float
     unit_dsi: str
@@ -122,8 +111,9 @@ class DccResult:
     distribution: str = ""
 
     def names(self) -> set[str]:
-        """What ``--result`` may name it by: the result's id, its name, the quantity's label."""
-        return {n for n in (self.ident, self.name, self.label) if n}
+        """What ``--result`` may name it by: the result's id and name, the quantity's name and
+        label."""
+        return {n for n in (self.ident, self.name, self.quantity, self.label) if n}
 
 
 @attrs.frozen
@@ -218,7 +208,7 @@ def _read_bytes(path: Path) -> bytes:
 def _parse(raw: bytes, src: str) -> Any:
     """The parsed document (an ``xmlschema.XMLResource``): entities, DTDs and remote resources
     are refused."""
-    _schema(str(schema_folder()))  # a missing schema is said before the file is judged
+    _schema()  # a missing schema is said before the file is judged
     import xmlschema
     from xmlschema.exceptions import XMLResourceError, XMLResourceForbidden
 
@@ -245,7 +235,7 @@ def _check_root(root: Element, src: str) -> None:
 
 
 def _validate(resource: Any, src: str) -> None:
-    errors = list(_schema(str(schema_folder())).iter_errors(resource))
+    errors = list(_schema().iter_errors(resource))
     if errors:
         first = errors[0]
         more = f" ({len(errors)} schema errors; the first)" if len(errors) > 1 else ""
@@ -279,7 +269,8 @@ def read_dcc(path: str | os.PathLike[str]) -> EquipmentDcc:
     results = tuple(_results(t))
     if not results:
         raise t.error(f"{ROOT}/dcc:measurementResults",
-                      "no result metro can read: no si:real quantity in any dcc:result")
+                      "no result metro can read: no dcc:result has an si:real quantity in its "
+                      "dcc:data")
     return EquipmentDcc(
         source=src, sha256=hashlib.sha256(raw).hexdigest(),
         unique_identifier=_text(core.find(_q("dcc:uniqueIdentifier"))),
@@ -327,15 +318,19 @@ def _number(t: _Tree, e: Element) -> float:
 
 
 def _results(t: _Tree):
-    """Every ``si:real`` under ``dcc:measurementResult/dcc:results/dcc:result``."""
+    """Every ``si:real`` that is a quantity of a result's data
+    (``dcc:measurementResult/dcc:results/dcc:result/dcc:data/dcc:quantity/si:real``); quantities
+    nested in a ``dcc:list`` (a table, a budget's components) are not results of their own."""
     for res in t.root.iterfind(_q("dcc:measurementResults/dcc:measurementResult/dcc:results/"
                                   "dcc:result")):
         name = _content(res.find(_q("dcc:name")))
-        for real in res.iter(f"{{{SI_NS}}}real"):
-            yield _result(t, res, name, real)
+        for quantity in res.iterfind(_q("dcc:data/dcc:quantity")):
+            real = quantity.find(_q("si:real"))
+            if real is not None:
+                yield _result(t, res, name, real, _content(quantity.find(_q("dcc:name"))))
 
 
-def _result(t: _Tree, res: Element, name: str, real: Element) -> DccResult:
+def _result(t: _Tree, res: Element, name: str, real: Element, quantity: str) -> DccResult:
     value_el = real.find(_q("si:value"))
     value = float(_text(value_el))  # the schema's decimal pattern: a number or NaN
     mu = real.find(_q("si:measurementUncertaintyUnivariate"))
@@ -344,7 +339,7 @@ def _result(t: _Tree, res: Element, name: str, real: Element) -> DccResult:
     if exp is None and real.find(_q("si:expandedUnc")) is not None:  # deprecated, still read
         exp = real.find(_q("si:expandedUnc"))
         values = ("si:uncertainty", "si:coverageFactor", "si:coverageProbability")
-    base = dict(path=t.path(real), name=name, ident=res.get("id") or "",
+    base = dict(path=t.path(real), name=name, ident=res.get("id") or "", quantity=quantity,
                 label=_text(real.find(_q("si:label"))), value=value,
                 unit_dsi=_text(real.find(_q("si:unit"))))
     if exp is None:

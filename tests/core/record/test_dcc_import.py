@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import datetime as dt
 import hashlib
+import json
 import re
 import tomllib
 from pathlib import Path
@@ -35,6 +36,7 @@ def lab(tmp_path, monkeypatch):
     from metro.core.record.lab import write_template
 
     monkeypatch.setenv(ENV_SCHEMA, str(REFERENCE))
+    monkeypatch.delenv("METRO_REGISTER", raising=False)
     return write_template(tmp_path / "lab.toml")
 
 
@@ -175,3 +177,36 @@ def test_malformed_certificates_are_refused_naming_the_element(lab, tmp_path, ca
 
 def test_there_are_at_least_ten_malformed_certificates():
     assert len({c["name"] for c in malformed_cases()}) >= 10
+
+
+def test_a_dcc_metro_wrote_imports_as_equipment(lab, tmp_path, capsys):
+    """The round trip: a registered run's DCC (metro.core.documents.dcc.build_dcc of the stored
+    context) imports, its U and k those of the register's result."""
+    from metro.core.cli.app import main
+    from metro.core.documents.dcc import build_dcc, read_dcc_results
+    from metro.core.record.dcc_import import import_dcc
+    from metro.core.record.lab import load_lab
+    from metro.core.record.register import open_register
+
+    assert main(["--lab", str(lab), "run", "-s", "jjf2014", "-i", "7.2.3", "--no-progress",
+                 "--seed", "2", "--register-simulated", "--out", str(tmp_path / "out"),
+                 "--json"]) in (0, 3, 4)
+    run = json.loads(capsys.readouterr().out)
+    number = run["report_number"]
+    profile = load_lab(lab)
+    context, _ = open_register(profile.register_url(), create=False).context(number)
+    cert = tmp_path / f"{number}.xml"
+    cert.write_bytes(build_dcc(context))
+    (written,) = read_dcc_results(cert.read_bytes())
+    assert main(["--lab", str(lab), "register", "show", number, "--json"]) == 0
+    shown = json.loads(capsys.readouterr().out)
+    (result,) = [r for r in shown["results"] if r["key"] == written["key"]]
+    # a relative U, as a rate table's; the device's ids are the lab's, none the customer's
+    plan, target = import_dcc(cert, lab, role="rate_table", eid="REF-1", select="Ka")
+    cal = plan.read.calibration
+    assert (cal.certificate, cal.lab) == (number, profile.name_zh + " " + profile.name_en)
+    assert cal.uncertainty.dimensionless and cal.due is None
+    assert (float(cal.uncertainty.magnitude), cal.k) == (written["U"], written["k"])
+    assert (written["U"], written["k"]) == (float(result["reported"]["U"]), result["k"])
+    assert tomllib.loads(target.read_text(encoding="utf-8"))["dcc"]["sha256"] == hashlib.sha256(
+        cert.read_bytes()).hexdigest()
