@@ -822,13 +822,13 @@ def markdown(rows: list[dict]) -> str:
 
 
 def cli(argv, variants: dict, description: str, *, run=None, summary=None, table=None,
-        prefix: str = "indep-",
-        alt_label: str = "flicker mean as bias",
+        prefix: str = "indep-", alt_label: str = "flicker mean as bias",
         quick_help: str = "short records (a smoke run, not the measurand)",
-        add_arguments=None) -> int:
+        add_arguments=None, scorer=None) -> int:
     """The command line every harness module shares: ``--devices --seed --variants --keep
     --subprocess --quick --json --markdown`` (and the module's own ``add_arguments(ap)``).
-    ``run(variant, args, work)`` evaluates one variant's devices (default :func:`run_variant`),
+    ``run(variant, args, work)`` evaluates one variant's devices (default :func:`run_variant` with
+    ``scorer``),
     ``summary(rows, args)`` gives the printed lines' dicts (default :func:`summarise`),
     ``table(rows, args)`` the ``--markdown`` table (default :func:`markdown`)."""
     ap = argparse.ArgumentParser(description=description)
@@ -846,8 +846,8 @@ def cli(argv, variants: dict, description: str, *, run=None, summary=None, table
         add_arguments(ap)
     args = ap.parse_args(argv)
     run = run or (lambda v, a, work: run_variant(v, a.devices, a.seed, work, a.subprocess,
-                                                 quick=a.quick,
-                                                 keep=a.keep is not None))
+                                                 quick=a.quick, keep=a.keep is not None,
+                                                 scorer=scorer))
     summary = summary or (lambda rows, a: summarise(rows))
     table = table or (lambda rows, a: markdown(rows))
     if args.markdown:

@@ -1,9 +1,8 @@
 """The independent harness on the rest of GB/T 45570: environment, polarity, set-up, power, D.3,
 D.4, D.6.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/independent_gbt_env.py [--devices 30] [--variants A,B]
-                                                                   [--seed 1] [--json F] [--keep
-                                                                   DIR]
+Run:  nice -n 10 .venv/bin/python benchmarks/independent_gbt_env.py [--devices 30]
+      [--variants A,B] [--seed 1] [--json F] [--keep DIR]
 
 benchmarks/independent_campaigns.py and independent_gbt_more.py score D.1.1–D.2.5 and D.5.1–D.5.6.
 This module covers what no harness did: 6.2.6 polarity, 6.2.7.7 set-up time, 6.2.7.8 power

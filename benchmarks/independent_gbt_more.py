@@ -1,8 +1,7 @@
 """More of the independent harness: GB/T 45570's scale-factor items and the Allan item.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/independent_gbt_more.py [--devices 30] [--variants A,B]
-                                                                    [--seed 1] [--json F] [--keep
-                                                                    DIR]
+Run:  nice -n 10 .venv/bin/python benchmarks/independent_gbt_more.py [--devices 30]
+      [--variants A,B] [--seed 1] [--json F] [--keep DIR]
 
 benchmarks/independent_campaigns.py scores D.5.1, D.5.3, D.1.1 and D.2.1 on devices metro's
 simulators do not make.  This module adds what a lab certifies from the same kind of campaign:

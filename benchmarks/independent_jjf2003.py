@@ -1,8 +1,7 @@
 """An independent harness for JJF 2003—2022 (MIMU): devices metro's simulator does not make.
 
-Run:  nice -n 10 .venv/bin/python benchmarks/independent_jjf2003.py [--devices 30] [--variants A,B]
-                                                                   [--seed 1] [--json F] [--keep
-                                                                   DIR] [--quick]
+Run:  nice -n 10 .venv/bin/python benchmarks/independent_jjf2003.py [--devices 30]
+      [--variants A,B] [--seed 1] [--json F] [--keep DIR] [--quick]
       .venv/bin/python benchmarks/independent_jjf2003.py --markdown F1.json [F2.json …]
 
 The JJF 2003 companion of ``benchmarks/independent_campaigns.py`` (GB/T 45570, JJF 2014), whose

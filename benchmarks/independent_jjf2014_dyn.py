@@ -1,9 +1,7 @@
 """The independent harness, JJF 2014: shock, vibration, stability and the dynamic items.
 
-Run: nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_dyn.py [--devices 30] [--variants
-A,B]
-                                                                       [--seed 1] [--json F] [--keep
-                                                                       DIR]
+Run: nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_dyn.py [--devices 30]
+     [--variants A,B] [--seed 1] [--json F] [--keep DIR]
 
 The items no other harness module covers: 7.2.7 ΔK after shock, 7.2.8 ΔK after vibration, 7.2.14
 bias stability B_s, 7.2.18 ΔB after shock, 7.2.19 ΔB after vibration, 7.2.21 bandwidth B_w, 7.2.22
@@ -75,7 +73,6 @@ from independent_campaigns import (  # noqa: E402  (the shared pieces of the har
     build_with,
     cli,
     run_variant,
-    score,
     text,
     variants,
 )
@@ -580,17 +577,12 @@ VARIANTS = variants(
 )
 
 
-def run_dyn(variant: Variant, devices: int, seed0: int, workdir: Path, use_subprocess: bool = False,
-            quick: bool = False, keep: bool = False) -> list[dict]:
-    return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep,
-                       scorer=score)
+#: these variants are scored as the shared harness scores
+run_dyn = run_variant
 
 
 def main(argv=None) -> int:
-    return cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-jjfdyn-", alt_label="alt",
-               run=lambda v, a, work: run_dyn(v, a.devices, a.seed, work, a.subprocess,
-                                              quick=a.quick,
-                                              keep=a.keep is not None))
+    return cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-jjfdyn-", alt_label="alt")
 
 
 if __name__ == "__main__":

@@ -1,9 +1,7 @@
 """The independent harness, JJF 2014: the other items a lab certifies from a calibration campaign.
 
-Run: nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_more.py [--devices 30] [--variants
-A,B]
-                                                                        [--seed 1] [--json F]
-                                                                        [--keep DIR]
+Run: nice -n 10 .venv/bin/python benchmarks/independent_jjf2014_more.py [--devices 30]
+     [--variants A,B] [--seed 1] [--json F] [--keep DIR]
 
 benchmarks/independent_campaigns.py scores JJF 2014 7.2.1 K, 7.2.4 K_r and 7.2.13 B₀. This module
 adds, with the same shared pieces (noise, outputs, campaign writer, scoring), devices and campaigns
@@ -52,6 +50,7 @@ Scored as in independent_campaigns.py: E_n = (result − truth)/U; not reportabl
 
 from __future__ import annotations
 
+import functools
 import math
 import sys
 from pathlib import Path
@@ -728,21 +727,15 @@ VARIANTS = variants(
 )
 
 
-def run_more(variant: Variant, devices: int, seed0: int, workdir: Path,
-             use_subprocess: bool = False,
-             quick: bool = False, keep: bool = False) -> list[dict]:
-    """run_variant with the earth-rate-aware scoring of this module."""
-    return run_variant(variant, devices, seed0, workdir, use_subprocess, quick=quick, keep=keep,
-                       scorer=score_more)
+#: run_variant with the earth-rate-aware scoring of this module
+run_more = functools.partial(run_variant, scorer=score_more)
 
 
 def main(argv=None) -> int:
     from independent_campaigns import cli
 
     return cli(argv, VARIANTS, __doc__.split("\n\n")[0], prefix="indep-jjf-", alt_label="alt",
-               run=lambda v, a, work: run_more(v, a.devices, a.seed, work, a.subprocess,
-                                               quick=a.quick,
-                                               keep=a.keep is not None))
+               scorer=score_more)
 
 if __name__ == "__main__":
     sys.exit(main())
