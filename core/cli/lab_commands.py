@@ -50,6 +50,7 @@ def equipment_command(args) -> int:
     from ..base.errors import MetroError
     from ..record import lab as labmod
     from ..record.dcc_import import import_dcc
+    from .common import plugin_manager
 
     where = labmod.find_lab_path(args.lab)
     if where is None:
@@ -57,6 +58,7 @@ def equipment_command(args) -> int:
                          "beside it)",
                          hint="give --lab PATH or METRO_LAB; `metro lab init PATH` writes a "
                          "template")
+    plugin_manager(args)  # the plugins' equipment roles (GB/T 45570's megohmmeter, …) are known
     plan, target = import_dcc(args.certificate, where, role=args.role, eid=args.equipment_id,
                               select=args.result, replace=args.replace,
                               allow_expired=args.allow_expired, dry_run=args.dry_run)

@@ -68,6 +68,10 @@ def test_dry_run_writes_nothing(lab, cert, run_cli):
     code, out, _ = run_cli("lab", "equipment", "import", str(cert), "--role", "timer", "--id",
                            "TB-1", "--dry-run")
     assert code == 0 and "would import TB-1 (timer" in out
+    # a role a plugin registers (GB/T 45570's insulation tester: relative or in ohm)
+    code, out, err = run_cli("lab", "equipment", "import", str(cert), "--role", "megohmmeter",
+                             "--id", "MEG-1", "--dry-run")
+    assert code == 0 and "would import MEG-1 (megohmmeter" in out and "U = 2e-07" in out, err
     assert not (lab.parent / "lab.equipment").exists()
 
 
