@@ -22,7 +22,7 @@ from typing import Any
 from .admin import CONFORMITY, administrative_data
 from .data import DATA_VERSION, dcc_data
 from .read import read_dcc_results
-from .results import REF_BUDGET, REF_ITEM, REF_MATRIX, measurement_results
+from .results import REF_BUDGET, REF_ITEM, REF_MATRIX, REF_TABLE, measurement_results
 from .schema import SCHEMA_DIR, validate_dcc
 from .xml import DCC_NS, SI_NS, DccError, Writer
 
@@ -35,7 +35,8 @@ __all__ = [
 SCHEMA_VERSION = "3.3.0"
 _REFTYPES = ((REF_ITEM, "the item (clause) of the standard a measurement result belongs to"),
              (REF_MATRIX, "a 3×3 matrix of results, row by row, as a D-SI list"),
-             (REF_BUDGET, "an uncertainty budget: one list per component, then u_c, ν_eff, k, U"))
+             (REF_BUDGET, "an uncertainty budget: one list per component, then u_c, ν_eff, k, U"),
+             (REF_TABLE, "a table of records the report prints, one text per row"))
 
 
 def _decoded(ctx: Mapping[str, Any]) -> Mapping[str, Any]:

@@ -70,7 +70,8 @@ def read_dcc_results(xml: bytes) -> list[dict[str, Any]]:
     :func:`metro.core.base.dsi.metro_unit`), ``dsi_unit``, ``reportable`` (False for a
     ``dcc:noQuantity``), ``reason`` and ``verdict`` (metro's word for the conformity statement
     that refers to the result: ``pass``, ``fail``, ``conditional pass``, ``conditional fail``,
-    or None).  Matrices (refType ``metro_matrix``) repeat results and are left out.
+    or None).  Matrices (refType ``metro_matrix``) repeat results and are left out, as are
+    tables (``metro_table``) and items that state no quantity.
     :class:`DccError` for text that is not a DCC; :class:`UnitError` for a unit metro does
     not map."""
     try:
@@ -89,7 +90,9 @@ def read_dcc_results(xml: bytes) -> list[dict[str, Any]]:
     for mr in root.iter(f"{_D}measurementResult"):
         item = _item(mr)
         for res in mr.findall(f"{_D}results/{_D}result"):
-            if "metro_matrix" in (res.get("refType") or "").split():
+            if {"metro_matrix", "metro_table"} & set((res.get("refType") or "").split()):
+                continue
+            if res.find(f"{_D}data/{_D}quantity") is None:  # an item without a quantity
                 continue
             out.append(_one(res, item, verdicts))
     return out

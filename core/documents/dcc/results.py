@@ -13,12 +13,14 @@ from .admin import result_ids
 from .data import decimal_text
 from .xml import DccError, Writer, decimal, ncname
 
-__all__ = ["measurement_results", "matrices", "REF_ITEM", "REF_MATRIX", "REF_BUDGET"]
+__all__ = ["measurement_results", "matrices", "REF_ITEM", "REF_MATRIX", "REF_BUDGET",
+           "REF_TABLE"]
 
 #: refTypes metro gives its own elements (declared in ``dcc:refTypeDefinitions``)
 REF_ITEM = "metro_item"
 REF_MATRIX = "metro_matrix"
 REF_BUDGET = "metro_budget"
+REF_TABLE = "metro_table"
 _AXES = "xyz"
 _MATRIX_KEY = re.compile(r"^(?P<base>.+?)(?P<row>[xyz])(?P<col>[xyz])$")
 _CONDITIONS = (("environment", "temperature"), ("environment", "humidity"),
@@ -118,8 +120,12 @@ def _budget(w: Writer, parent: ET.Element, r: Mapping[str, Any]) -> None:
     b = r["budget"]
     where = f"budget of {r['item']} {r['key']}"
     lst = w.el(parent, "list", refType=REF_BUDGET)
-    w.text(lst, "name", f"uncertainty budget of {r['symbol'] or r['key']} ({b['measurand']})")
-    w.text(lst, "description", f"coverage: {b['coverage']}; U = {b['U_text']} {b['unit']}")
+    what = r["symbol"] or r["key"]
+    if b["measurand"] and b["measurand"] not in (r["symbol"], r["key"]):
+        what = f"{what} ({b['measurand']})"
+    w.text(lst, "name", f"uncertainty budget of {what}")
+    unit = "" if b["unit"] in ("", "1") else f" {b['unit']}"
+    w.text(lst, "description", f"coverage: {b['coverage']}; U = {b['U_text']}{unit}")
     for row in b["rows"]:
         comp = w.el(lst, "list")
         w.text(comp, "name", f"{row['symbol']}: {row['source']}")
@@ -201,6 +207,21 @@ def _matrix(w: Writer, parent: ET.Element, name: str, rows: list[Mapping[str, An
                 [x["p"] for x in rows], where=f"{rows[0]['item']} {name}")
 
 
+def _table(w: Writer, parent: ET.Element, o: Mapping[str, Any], t: Mapping[str, Any],
+           n: int) -> None:
+    """One of the item's tables (records the report prints): one text per row."""
+    res = w.el(parent, "result", id=ncname("table", o["number"], o["item"], n),
+               refType=REF_TABLE)
+    w.text(res, "name", t["title"] or t["name"])
+    d = w.el(res, "data")
+    header = [str(h) for h in t["header"]]
+    if not t["rows"]:
+        w.text(d, "text", "no rows")
+    for i, row in enumerate(t["rows"], start=1):
+        cells = "; ".join(f"{h}: {c}" if h else str(c) for h, c in zip(header, row))
+        w.no_quantity(d, f"row {i}", cells)
+
+
 def _outcome(w: Writer, parent: ET.Element, o: Mapping[str, Any],
              results: list[tuple[Mapping[str, Any], str]]) -> None:
     mr = w.el(parent, "measurementResult", id=ncname("item", o["number"], o["item"]))
@@ -216,6 +237,12 @@ def _outcome(w: Writer, parent: ET.Element, o: Mapping[str, Any],
         _result(w, rl, r, rid)
     for n, (name, idx) in enumerate(matrices([r for r, _ in results])):
         _matrix(w, rl, name, [results[i][0] for i in idx], n)
+    for n, t in enumerate(o.get("tables", [])):
+        _table(w, rl, o, t, n)
+    if not len(rl):
+        res = w.el(rl, "result", id=ncname("record", o["number"], o["item"]))
+        w.text(res, "name", o["title"])
+        w.text(w.el(res, "data"), "text", "this item states no quantity")
     meta = w.el(mr, "measurementMetaData")
     md = w.el(meta, "metaData", refType=REF_ITEM)
     w.text(md, "name", "item")
