@@ -15,10 +15,9 @@ __all__ = ["add_equipment_commands", "equipment_command"]
 
 def add_equipment_commands(lsub) -> None:
     """``metro lab equipment import`` under the ``metro lab`` subcommands ``lsub``."""
-    le = lsub.add_parser("equipment", help="the lab's equipment: import a calibration "
-                         "certificate (DCC)",
-                         description="The lab's equipment from its calibration providers' "
-                         "Digital Calibration Certificates (docs/dcc.md).")
+    text = "the lab's equipment: import a calibration certificate (DCC)"
+    le = lsub.add_parser("equipment", help=text, description=text[0].upper() + text[1:]
+                         + " from its calibration provider (docs/dcc.md).")
     esub = le.add_subparsers(dest="equipment_command", metavar="SUBCOMMAND", required=True)
     ei = esub.add_parser(
         "import", help="import an equipment's DCC 3.3.0 (XML) into the lab's equipment store",
