@@ -53,6 +53,18 @@ MAX_BYTES = 64 * 1024 * 1024
 ENV_SCHEMA = "METRO_DCC_SCHEMA"
 ROOT = "/dcc:digitalCalibrationCertificate"
 _PREFIX = {DCC_NS: "dcc", SI_NS: "si", "http://www.w3.org/2000/09/xmldsig#": "ds"}
+_ITEM = f"{ROOT}/dcc:administrativeData/dcc:items/dcc:item"
+#: a field of the imported equipment → the element of the certificate it is read from
+_FROM = {
+    "equipment.id": f"{_ITEM}/dcc:identifications",
+    "equipment.manufacturer": f"{_ITEM}/dcc:manufacturer/dcc:name",
+    "equipment.model": f"{_ITEM}/dcc:model",
+    "equipment.serial": f"{_ITEM}/dcc:identifications",
+    "equipment.calibration.certificate": f"{ROOT}/dcc:administrativeData/dcc:coreData/"
+                                         "dcc:uniqueIdentifier",
+    "equipment.calibration.lab": f"{ROOT}/dcc:administrativeData/dcc:calibrationLaboratory/"
+                                 "dcc:contact/dcc:name",
+}
 #: the refType token of the statement whose date is the recommended recalibration (due) date
 DUE_REFTYPE = "basic_recalibration"
 
@@ -447,8 +459,7 @@ def plan_import(dcc: EquipmentDcc, *, role: str, eid: str | None = None,
                          "roles: " + ", ".join(sorted(voc.ROLES)))
     eid = eid or dcc.lab_id
     if not eid:
-        raise DataError(dcc.source, f"{ROOT}/dcc:administrativeData/dcc:items/dcc:item/"
-                        "dcc:identifications",
+        raise DataError(dcc.source, f"{_ITEM}/dcc:identifications",
                         "no identification issued by the customer or owner (the lab's own id)",
                         hint="give the equipment's id with --id")
     r = _choose(dcc, role, select)
@@ -483,7 +494,12 @@ def plan_import(dcc: EquipmentDcc, *, role: str, eid: str | None = None,
     cal = {"certificate": dcc.unique_identifier, "U": quantity_text(_quantity(dcc, r, r.U)),
            "k": r.k, "lab": dcc.issuer, "distribution": "normal"}
     table["calibration"] = cal | ({"due": dcc.due} if dcc.due else {})
-    read = equipment_from_table(table, dcc.source, "equipment")
+    try:
+        read = equipment_from_table(table, dcc.source, "equipment")
+    except DataError as exc:  # said of the element the text came from
+        field = "--id" if exc.field == "equipment.id" and eid != dcc.lab_id else exc.field
+        raise DataError(dcc.source, _FROM.get(field or "", field), exc.detail,
+                        hint=exc.hint) from exc
     provenance = {
         "file": Path(dcc.source).name, "sha256": dcc.sha256, "issuer": dcc.issuer,
         "unique_identifier": dcc.unique_identifier,

@@ -159,6 +159,24 @@ def test_a_missing_certificate_is_refused(lab):
     with pytest.raises(DataError, match="certificate not found") as err:
         import_dcc(lab.parent / "absent.xml", lab, role="counter")
     assert err.value.file == str(lab.parent / "absent.xml")
+    with pytest.raises(DataError, match="not a file"):
+        import_dcc(lab.parent, lab, role="counter")
+
+
+def test_a_text_no_report_can_hold_names_its_element(lab, tmp_path):
+    """A model of 600 characters (a report takes 500) is refused at dcc:model, not at a field of
+    metro's own table."""
+    from metro.core.record.dcc_import import import_dcc
+
+    cert = tmp_path / "long.xml"
+    cert.write_text(VALID.read_text(encoding="utf-8").replace(
+        "<dcc:model>53230A</dcc:model>", f"<dcc:model>{'X' * 600}</dcc:model>"), encoding="utf-8")
+    with pytest.raises(DataError, match="600 characters") as err:
+        import_dcc(cert, lab, role="counter", today=TODAY)
+    assert err.value.field.endswith("/dcc:administrativeData/dcc:items/dcc:item/dcc:model")
+    with pytest.raises(DataError, match="600 characters") as err:
+        import_dcc(VALID, lab, role="counter", eid="Y" * 600, today=TODAY)
+    assert err.value.field == "--id"
 
 
 @pytest.mark.parametrize("case", malformed_cases(), ids=lambda c: c["name"])
