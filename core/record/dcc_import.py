@@ -443,6 +443,39 @@ def _wrong_kind(dcc: EquipmentDcc, r: DccResult, role: str, kinds: tuple[str, ..
                      "equipment's role")
 
 
+def _check_uncertainty(dcc: EquipmentDcc, r: DccResult, role: str) -> None:
+    """The chosen result states U with k (an expanded uncertainty, numbers, U ≥ 0)."""
+    if r.U is None:
+        raise DataError(dcc.source, r.u_path,
+                        f"no expanded uncertainty for the value the {role} needs: the result "
+                        f"{r.missing}",
+                        hint="metro needs si:measurementUncertaintyUnivariate/si:expandedMU "
+                        "with its coverage factor")
+    for what, x in (("value", r.value), ("expanded uncertainty", r.U), ("coverage factor", r.k),
+                    ("coverage probability", r.p)):
+        if not math.isfinite(x):
+            raise DataError(dcc.source, r.path if what == "value" else r.u_path,
+                            f"the {what} is {x}, not a number")
+    if r.U < 0 or r.k <= 0:
+        raise DataError(dcc.source, r.u_path, f"U = {r.U} with k = {r.k}: an expanded "
+                        "uncertainty is ≥ 0 and its coverage factor > 0")
+
+
+def _validity(dcc: EquipmentDcc, today: dt.date, allow_expired: bool) -> list[str]:
+    """Nothing when the certificate is not past its due date on ``today``; past it, a refusal,
+    or with ``allow_expired`` a warning."""
+    if dcc.due is None or dcc.due >= today:
+        return []
+    if not allow_expired:
+        raise DataError(dcc.source, dcc.due_path,
+                        f"the calibration was due on {dcc.due.isoformat()}: expired "
+                        f"(today is {today.isoformat()})",
+                        hint="import the current certificate; --allow-expired imports it "
+                        "anyway (a run then refuses it unless --allow-expired)")
+    return [f"{dcc.source}: the calibration was due on {dcc.due.isoformat()} (expired); "
+            "imported because of --allow-expired"]
+
+
 def plan_import(dcc: EquipmentDcc, *, role: str, eid: str | None = None,
                 select: str | None = None, today: dt.date | None = None,
                 allow_expired: bool = False) -> ImportPlan:
@@ -463,31 +496,8 @@ def plan_import(dcc: EquipmentDcc, *, role: str, eid: str | None = None,
                         "no identification issued by the customer or owner (the lab's own id)",
                         hint="give the equipment's id with --id")
     r = _choose(dcc, role, select)
-    if r.U is None:
-        raise DataError(dcc.source, r.u_path,
-                        f"no expanded uncertainty for the value the {role} needs: the result "
-                        f"{r.missing}",
-                        hint="metro needs si:measurementUncertaintyUnivariate/si:expandedMU "
-                        "with its coverage factor")
-    for what, x in (("value", r.value), ("expanded uncertainty", r.U), ("coverage factor", r.k),
-                    ("coverage probability", r.p)):
-        if not math.isfinite(x):
-            raise DataError(dcc.source, r.path if what == "value" else r.u_path,
-                            f"the {what} is {x}, not a number")
-    if r.U < 0 or r.k <= 0:
-        raise DataError(dcc.source, r.u_path, f"U = {r.U} with k = {r.k}: an expanded "
-                        "uncertainty is ≥ 0 and its coverage factor > 0")
-    warnings = []
-    today = today or dt.date.today()
-    if dcc.due is not None and dcc.due < today:
-        if not allow_expired:
-            raise DataError(dcc.source, dcc.due_path,
-                            f"the calibration was due on {dcc.due.isoformat()}: expired "
-                            f"(today is {today.isoformat()})",
-                            hint="import the current certificate; --allow-expired imports it "
-                            "anyway (a run then refuses it unless --allow-expired)")
-        warnings.append(f"{dcc.source}: the calibration was due on {dcc.due.isoformat()} "
-                        "(expired); imported because of --allow-expired")
+    _check_uncertainty(dcc, r, role)
+    warnings = _validity(dcc, today or dt.date.today(), allow_expired)
     table = {"id": eid, "role": role}
     table |= {k: v for k, v in (("manufacturer", dcc.manufacturer), ("model", dcc.model),
                                 ("serial", dcc.serial)) if v}
