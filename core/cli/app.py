@@ -159,9 +159,14 @@ def _add_run(sub: Any) -> None:
                    help="item option, e.g. -o min_blocks=20 (D.5.6) or -o t=\"10 s, 100 s\" "
                    "(D.5.2); `metro items` lists them")
     r.add_argument("--json", action="store_true", help="print one JSON document on stdout")
-    r.add_argument("--out", default="metro-out", metavar="DIR",
+    from .dcc_commands import OutGiven, add_format_option
+
+    r.add_argument("--out", default="metro-out", metavar="DIR", action=OutGiven,
                    help="where the Word report goes (default: metro-out)")
-    r.add_argument("--report", metavar="PATH", help="write the Word report to PATH instead")
+    r.add_argument("--report", metavar="PATH",
+                   help="write the report to PATH instead; its suffix decides the format: .docx "
+                   "Word, .pdf PDF, .xml a DCC (docs/dcc.md)")
+    add_format_option(r, "the report's format")
     r.add_argument("--no-report", action="store_true", help="do not write a Word report")
     r.add_argument("--force", action="store_true",
                    help="replace an existing report file (never an input of "
@@ -443,8 +448,12 @@ def _cmd_run(args) -> int:
         raise MetroError(f"{given} acts on a station, and --data {args.data} was recorded already",
                          hint="drop --data to run on a station, or drop the station arguments to "
                          "evaluate the data")
-    if not args.no_report:  # checked before anything is evaluated (core.outputs)
-        from ..run.outputs import manifest_inputs, plan_report
+    from .dcc_commands import check_run
+    from ..run.outputs import manifest_inputs
+
+    # checked before anything is evaluated (core.outputs; a DCC: core/cli/dcc_commands.py)
+    if not check_run(args, manifest_inputs(args.data)) and not args.no_report:
+        from ..run.outputs import plan_report
 
         plan_report(args.report, args.out, force=args.force, inputs=manifest_inputs(args.data),
                     pdf=getattr(args, "pdf", False))
@@ -492,6 +501,9 @@ def _cmd_run(args) -> int:
             Console(stderr=True).print(f"registered as {registration['number']}"
                                        if registration["registered"]
                                        else f"not registered ({registration['why']})")
+            if registration.get("dcc"):
+                Console(stderr=True, highlight=False).print(
+                    f"DCC {registration['dcc']['path']} (sha256 {registration['dcc']['sha256']})")
     a = record.conformity
     code = exit_code_for(a.overall.value if a is not None and a.overall is not None else None)
     if code != EXIT_OK and args.data is None and not args.strict:

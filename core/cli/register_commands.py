@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..model.hookspec import hookimpl
+from .dcc_commands import OutGiven, add_format_option
 
 #: the top-level commands this module handles
 COMMANDS = ("lab", "register", "report", "amend", "withdraw", "history")
@@ -63,8 +64,10 @@ def add_commands(sub) -> None:
                         description="Re-render report NUMBER from the register: the same numbers, "
                         "the same content.")
     rp.add_argument("number", metavar="NUMBER")
-    rp.add_argument("--out", default="metro-out", metavar="DIR",
-                    help="folder for NUMBER.docx (default: metro-out)")
+    rp.add_argument("--out", default="metro-out", metavar="DIR", action=OutGiven,
+                    help="folder for NUMBER.docx, or NUMBER.xml with --format dcc (default: "
+                    "metro-out)")
+    add_format_option(rp, "what to write")
     rp.add_argument("--json", action="store_true")
 
     am = sub.add_parser("amend",
@@ -83,6 +86,7 @@ def add_commands(sub) -> None:
     am.add_argument("--allow-expired", action="store_true",
                     help="issue even if equipment was past its calibration due date (the report "
                     "says so)")
+    add_format_option(am, "also issue the new report's DCC (default: when NUMBER had one)")
     am.add_argument("--json", action="store_true")
 
     wd = sub.add_parser("withdraw",
@@ -153,23 +157,28 @@ def write_run_report(args, pm, record, prog=None):
     t0 = time.perf_counter()
     if prog:
         prog("writing report", 0, 1)
+    from . import dcc_commands
+
     if registered:
         if args.report:
-            raise MetroError("a registered report is named by its register number; --report PATH "
-                             "cannot be used with a lab profile",
-                             hint="use --out DIR (the report is DIR/<number>.docx)")
+            raise dcc_commands.registered_report_error(args)
+        writer = None
+        if dcc_commands.wants_dcc(args):
+            from ..record.dcc_out import DccWriter
+
+            writer = DccWriter()
         issued, record = register_run(record, pm=pm, lab=lab, folder=Path(args.out),
                                       allow_expired=getattr(args, "allow_expired", False),
-                                      options=_run_options(args), lang=getattr(args, "lang", None))
+                                      options=_run_options(args), lang=getattr(args, "lang", None),
+                                      dcc=writer)
         if getattr(args, "pdf", False):  # the registered .docx, as PDF beside it
-            from ..base.atomic import atomic_path
-            from ..documents.pdf import to_pdf
-
-            with atomic_path(Path(issued.path).with_suffix(".pdf")) as tmp:
-                to_pdf(issued.path, Path(tmp))
+            dcc_commands.registered_pdf(issued.path, writer)
         record.timings["write report"] = time.perf_counter() - t0
-        return record, issued.path, {"registered": True, "number": issued.number, "register":
-                                     labmod.redact_url(lab.register_url()), "sha256": issued.sha256}
+        summary = {"registered": True, "number": issued.number,
+                   "register": labmod.redact_url(lab.register_url()), "sha256": issued.sha256}
+        if writer is not None:
+            summary["dcc"] = dcc_commands.dcc_summary(issued.dcc_path, issued.dcc_sha256)
+        return record, issued.path, summary
     from ..documents.report import write_report
 
     if lab is not None:
@@ -178,6 +187,8 @@ def write_run_report(args, pm, record, prog=None):
         check_equipment(record.campaign, measurement_date(record),
                         allow_expired=getattr(args, "allow_expired", False))
     why = "no lab profile" if lab is None else "simulated"
+    if dcc_commands.wants_dcc(args):
+        return dcc_commands.write_run_dcc(args, pm, record, lab, why, t0)
     from ..run.outputs import write_checked
 
     target = Path(args.report) if args.report else Path(args.out) / f"{record.report_number}.docx"
@@ -270,9 +281,9 @@ def run_lab_options(args) -> dict[str, Any]:
         registered = not getattr(args, "no_report", False) and (
             not campaign.simulated or getattr(args, "register_simulated", False))
         if registered and getattr(args, "report", None):
-            raise MetroError("a registered report is named by its register number; --report PATH "
-                             "cannot be used with a lab profile",
-                             hint="use --out DIR (the report is DIR/<number>.docx)")
+            from .dcc_commands import registered_report_error
+
+            raise registered_report_error(args)
         on = getattr(campaign, "measurement_date", None) or dt.datetime.now(dt.timezone.utc).date()
         check_equipment(campaign, on, allow_expired=getattr(args, "allow_expired", False))
 
@@ -413,6 +424,8 @@ def _cmd_show(args) -> int:
             + (" — issued with --allow-expired" if d["allow_expired"]
                                                             else ""))
     c.print(f"  file {d['report_path']} (sha256 {d['report_sha256']})")
+    if d.get("dcc_path"):
+        c.print(f"  DCC {d['dcc_path']} (sha256 {d['dcc_sha256']})")
     _table("results", ("item", "quantity", "value", "U", "k", "ν_eff", "unit", "reportable"),
            [(x["item"], f"{x['quantity']} {x['symbol']}", x["reported"]["value"],
              x["reported"]["U"],
@@ -438,8 +451,9 @@ def _cmd_verify(args) -> int:
             import sys
 
             print(f"{len(checks) - len(bad)} of {len(checks)} report files match their SHA-256"
-                  + (f"; {len(bad)} do not: " + ", ".join(f"{c['number']} {c['check']}" for c
-                                                          in bad) if bad else ""),
+                  + (f"; {len(bad)} do not: " + ", ".join(
+                      f"{c['number']}{' DCC' if c['file'] == 'dcc' else ''} {c['check']}"
+                      for c in bad) if bad else ""),
                   file=sys.stderr)
     from .common import EXIT_CHECK_FAILED, EXIT_OK
 
@@ -450,6 +464,11 @@ def _cmd_report(args) -> int:
     from .common import plugin_manager
     from ..record.registering import rerender, template_changed
 
+    if args.format == "dcc":
+        from .dcc_commands import cmd_report_dcc
+
+        with _open(args) as reg:
+            return cmd_report_dcc(args, reg, plugin_manager(args))
     pm = plugin_manager(args)
     with _open(args) as reg:
         path = rerender(reg, args.number, args.out, pm=pm)
@@ -481,14 +500,23 @@ def _cmd_amend(args) -> int:
             given = old["options"].get("_given", {})
             record = run_items(pm, old["standard"], old["items"], data=args.data, options=given,
                                **run_lab_options(args))
+        from ..record.dcc_out import amend_writer
+
         issued = amend(reg, args.number, args.reason, pm=pm, lab=lab, folder=args.out,
                        record=record,
-                       allow_expired=args.allow_expired)
+                       allow_expired=args.allow_expired,
+                       dcc=amend_writer(reg.get(args.number), args.format))
+    from .dcc_commands import dcc_summary
+
+    dcc = dcc_summary(issued.dcc_path, issued.dcc_sha256)
     if args.json:
         _print_json({"number": issued.number, "supersedes": args.number, "reason": args.reason,
-                     "report": str(issued.path), "sha256": issued.sha256})
+                     "report": str(issued.path), "sha256": issued.sha256}
+                    | ({"dcc": dcc} if dcc else {}))
     else:
-        print(f"{issued.number} issued ({issued.path}); {args.number} is superseded by it")
+        print(f"{issued.number} issued ({issued.path}"
+              + (f"; DCC {issued.dcc_path}" if dcc else "")
+              + f"); {args.number} is superseded by it")
     return 0
 
 

@@ -315,10 +315,14 @@ def register_run(
     options: Mapping[str, Any] | None = None,
     who: str | None = None,
     lang: str | None = None,
+    dcc: Any = None,
 ) -> tuple["Issued", "RunRecord"]:
     """Issue ``record``'s report under the next register number in ``folder``; return the issued
     report and the record carrying its number.  Equipment past its due date on the measurement
-    date refuses it unless ``allow_expired``.  With ``supersedes`` it is an amendment."""
+    date refuses it unless ``allow_expired``.  With ``supersedes`` it is an amendment.  With
+    ``dcc`` (a :class:`metro.core.record.dcc_out.DccWriter`) the report's DCC is issued with it
+    (``folder/<number>.xml``, its SHA-256 in the register), checked before a number is
+    allocated."""
     from .register import Draft, open_register
     from ..documents.report import build_context, render_context
 
@@ -345,6 +349,8 @@ def register_run(
     ctx0 = build_context(pending, designations=designations, extend=pm.extend_report_context,
                          register=statement,
                          lang=lang or lab.language)
+    if dcc is not None:  # refused (an unmapped unit) before anything is allocated or written
+        dcc.check(ctx0)
     tmpdir = tempfile.TemporaryDirectory(prefix="metro-figures-")
     figures = render_figures(ctx0, tmpdir.name)
 
@@ -352,6 +358,7 @@ def register_run(
         rec = attrs.evolve(record, report_number=number)
         numbered.append(rec)
         ctx = _replace_text(ctx0, PENDING, number)
+        ctx["register"] = dict(ctx["register"], issued_at=issued_at.isoformat())
         fields, results = draft_for(rec, ctx, lab=lab, template=template,
                                     allow_expired=allow_expired,
                                     options=options)
@@ -361,7 +368,8 @@ def register_run(
             render_context(tmp, ctx, template=template.path, layout=template.layout,
                            figures=figures)
 
-        return Draft(fields, results, write)
+        return Draft(fields, results, write, dcc=dcc.maker(decode_context(fields["context"]))
+                     if dcc is not None else None)
 
     try:
         issued = reg.issue(make, folder=folder, scheme=lambda seq,
@@ -438,10 +446,12 @@ def _template_sha256(template: Any) -> str | None:
 def amend(
     reg: "Register", number: str, reason: str, *, pm: "MetroPluginManager", lab: "LabProfile",
     folder: str | os.PathLike[str] | None = None, record: "RunRecord | None" = None,
-    allow_expired: bool = False, who: str | None = None,
+    allow_expired: bool = False, who: str | None = None, dcc: Any = None,
 ) -> "Issued":
     """Issue a report replacing ``number``: from ``record`` (a new run, ``--data``) or, without
-    one, from the stored content of ``number`` under a new number with the amendment stated."""
+    one, from the stored content of ``number`` under a new number with the amendment stated.
+    With ``dcc`` (a :class:`metro.core.record.dcc_out.DccWriter`) the new report's DCC is issued
+    with it, stating the replacement (``reportAmendedSubstituted``)."""
     from .register import Draft
     from ..documents.report import render_context
 
@@ -449,12 +459,15 @@ def amend(
         raise MetroError("an amendment needs a reason (--reason TEXT)")
     old = reg.get(number)
     folder = Path(folder) if folder is not None else Path(old["report_path"]).parent
+    writer = dcc
     if record is not None:
         issued, _ = register_run(record, pm=pm, lab=lab, folder=folder, register=reg,
                                  allow_expired=allow_expired,
-                                 supersedes=number, reason=reason, who=who)
+                                 supersedes=number, reason=reason, who=who, dcc=writer)
         return issued
     doc, tpl = stored_context(reg, number, pm)
+    if writer is not None:  # refused (an unmapped unit) before anything is allocated or written
+        writer.check(decode_context(doc))
 
     from sqlalchemy import select
 
@@ -483,13 +496,15 @@ def amend(
                            "reason": reason,
                            "lab": lab.name, "expired": expired, "on": on,
                            "notices": notices_for(lab, new, supersedes=number, reason=reason,
-                                                  expired=expired, on=on)}
+                                                  expired=expired, on=on),
+                           "issued_at": issued_at.isoformat()}
         fields = dict(keep, context=encode_context(ctx))
 
         def write(tmp: Path) -> None:
             render_context(tmp, ctx, template=tpl.path, layout=tpl.layout)
 
-        return Draft(fields, results, write)
+        return Draft(fields, results, write, dcc=writer.maker(decode_context(fields["context"]))
+                     if writer is not None else None)
 
     return reg.issue(make, folder=folder, scheme=lambda seq, year: lab.format_number(seq, year),
                      per_year=lab.per_year(), timezone=lab.timezone, supersedes=number,

@@ -23,7 +23,8 @@ import attrs
 from ..base.errors import DataError
 
 #: report formats metro writes, by suffix (lower case)
-REPORT_FORMATS: dict[str, str] = {".docx": "Word (OOXML)", ".pdf": "PDF/A-2b through LibreOffice"}
+REPORT_FORMATS: dict[str, str] = {".docx": "Word (OOXML)", ".pdf": "PDF/A-2b through LibreOffice",
+                                  ".xml": "PTB DCC 3.3.0 certificate"}  # core/cli/dcc_commands.py
 #: suffixes refused with a specific reason
 _NOT_YET: dict[str, str] = {
     ".doc": "metro writes Word 2007+ (.docx), not the old .doc format",

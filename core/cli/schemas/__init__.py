@@ -14,7 +14,7 @@ from importlib import resources
 from typing import Any
 
 #: the version of every JSON document metro prints (docs/json.md "Versions")
-SCHEMA_VERSION = "1.0"
+SCHEMA_VERSION = "1.1"
 
 #: each schema's name and the command whose ``--json`` document it describes
 SCHEMAS = {

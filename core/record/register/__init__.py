@@ -45,7 +45,7 @@ __all__ = ["open_register", "register_state", "Register", "Draft", "Issued", "sh
 #: the migrations' revisions, oldest first (``migrations/versions``;
 #: tests/core/cli/test_cli_daily.py checks them against Alembic's own list); a register at the
 #: newest is opened without loading Alembic
-SCHEMA_REVISIONS = ("0001",)
+SCHEMA_REVISIONS = ("0001", "0002")
 SCHEMA_HEAD = SCHEMA_REVISIONS[-1]
 
 
@@ -98,6 +98,9 @@ class Draft:
     fields: Mapping[str, Any]
     results: Sequence[Mapping[str, Any]]
     write: Callable[[Path], None]
+    #: ``dcc(report)``: the report's DCC (XML bytes), made from the report file just written at
+    #: the temporary path ``report``; None when the report is issued without a DCC
+    dcc: Callable[[Path], bytes] | None = None
 
 
 @attrs.frozen
@@ -108,6 +111,8 @@ class Issued:
     seq: int
     scope: str
     issued_at: dt.datetime
+    dcc_path: Path | None = None
+    dcc_sha256: str | None = None
 
 
 def sqlite_path(url: str) -> Path | None:
@@ -415,8 +420,9 @@ class Register:
         """Allocate the next number, write the report and insert its row, all or nothing.
 
         ``make(number, issued_at)`` returns the :class:`Draft`; ``scheme(seq, year)`` formats the
-        number; the file goes to ``folder/<number><suffix>``.  With ``supersedes`` the new report
-        replaces that (issued) report, which becomes ``superseded`` in the same transaction.
+        number; the file goes to ``folder/<number><suffix>`` (and a draft's DCC to
+        ``folder/<number>.xml``).  With ``supersedes`` the new report replaces that (issued)
+        report, which becomes ``superseded`` in the same transaction.
         """
         import zoneinfo
 
@@ -425,44 +431,29 @@ class Register:
         who = who or who_am_i()
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        tmp: Path | None = None
-        final: Path | None = None
-        linked = False
+        files = _Staged(folder)
         try:
             with self._session() as s:
                 issued_at = dt.datetime.now(dt.timezone.utc).replace(microsecond=0)
                 year = issued_at.astimezone(zoneinfo.ZoneInfo(timezone)).year
                 scope = str(year) if per_year else "all"
-                old = None
-                if supersedes is not None:
-                    old = self._report(s, supersedes, lock=True)
-                    if old.status != "issued":
-                        raise RegisterError(f"report {supersedes} is {old.status}"
-                                            + (f" by {old.superseded_by}" if old.superseded_by
-                                               else "")
-                                            + "; only an issued report can be amended",
-                                            hint=f"amend {old.superseded_by}" if old.superseded_by
-                                            else None)
+                old = self._replaced(s, supersedes)
                 seq = self._allocate(s, scope)
                 number = scheme(seq, year)
-                final = folder / f"{number}{suffix}"
-                if final.exists() or final.is_symlink():
-                    raise RegisterError(f"{final} exists already; a register never replaces a "
-                                        "report file",
-                                        hint="move the file away or write reports to another --out "
-                                        "folder")
+                final = files.claim(f"{number}{suffix}")
                 draft = make(number, issued_at)
-                tmp = folder / f".{final.name}.tmp-{secrets.token_hex(4)}"
-                tmp.touch(exist_ok=False)
-                draft.write(tmp)
-                with open(tmp, "rb") as fh:
-                    os.fsync(fh.fileno())
-                digest = sha256_file(tmp)
+                digest = files.stage(final, draft.write)
+                dcc: dict[str, Any] = {}
+                if draft.dcc is not None:  # the DCC, made from the report just written
+                    report_tmp = files.tmp[final]
+                    xml = files.claim(f"{number}.xml")
+                    dcc = {"dcc_path": str(xml.resolve()), "dcc_sha256": files.stage(
+                        xml, lambda tmp: tmp.write_bytes(draft.dcc(report_tmp)))}
                 rep = Report(number=number, scope=scope, seq=seq, status="issued",
                              supersedes=supersedes,
                              reason=reason, issued_at=issued_at, issued_by=who,
                              report_path=str(final.resolve()),
-                             report_sha256=digest, **json_safe_fields(draft.fields))
+                             report_sha256=digest, **dcc, **json_safe_fields(draft.fields))
                 rep.results = [ResultRow(**json_safe_fields(r)) for r in draft.results]
                 s.add(rep)
                 if old is not None:
@@ -476,25 +467,33 @@ class Register:
                     self._audit(s, "issue", number,
                                 f"{rep.standard} {', '.join(rep.items)}; file {final} "
                                 f"sha256 {digest}", who, issued_at)
+                if dcc:
+                    self._audit(s, "dcc", number, f"DCC {dcc['dcc_path']} sha256 "
+                                f"{dcc['dcc_sha256']}", who, issued_at)
                 s.flush()  # a constraint failure happens here, before the file is visible
-                os.link(tmp, final)  # into place, never replacing a file
-                linked = True
-                tmp.unlink()
-                tmp = None
+                files.link()  # into place, never replacing a file
                 if _before_commit is not None:
                     _before_commit(final)
             # committed
         except BaseException:
-            if tmp is not None:
-                with contextlib.suppress(OSError):
-                    tmp.unlink()
-            if linked and final is not None:
-                with contextlib.suppress(OSError):
-                    final.unlink()
+            files.discard()
             raise
         _fsync_dir(folder)
         return Issued(number=number, path=final, sha256=digest, seq=seq, scope=scope,
-                      issued_at=issued_at)
+                      issued_at=issued_at, dcc_path=Path(dcc["dcc_path"]) if dcc else None,
+                      dcc_sha256=dcc.get("dcc_sha256"))
+
+    def _replaced(self, s, supersedes: str | None):
+        """The row of the report an amendment replaces (locked; it must be issued), or None."""
+        if supersedes is None:
+            return None
+        old = self._report(s, supersedes, lock=True)
+        if old.status != "issued":
+            raise RegisterError(f"report {supersedes} is {old.status}"
+                                + (f" by {old.superseded_by}" if old.superseded_by else "")
+                                + "; only an issued report can be amended",
+                                hint=f"amend {old.superseded_by}" if old.superseded_by else None)
+        return old
 
     # -- status changes ------------------------------------------------------------------
     def withdraw(self, number: str, reason: str, *, who: str | None = None) -> None:
@@ -553,19 +552,66 @@ class Register:
                     in r.reports(where, params, results=results)]
 
     def verify(self) -> list[dict[str, Any]]:
-        """Every report file against its stored SHA-256: ``ok``, ``modified`` or ``missing``."""
+        """Every report file, and every DCC issued with a report, against its stored SHA-256:
+        ``ok``, ``modified`` or ``missing`` (``file``: ``report`` or ``dcc``)."""
         out = []
         for r in self.list():
-            p = Path(r["report_path"])
-            if not p.is_file():
-                state, found = "missing", None
-            else:
-                found = sha256_file(p)
-                state = "ok" if found == r["report_sha256"] else "modified"
-            out.append({"number": r["number"], "status": r["status"], "path": str(p),
-                        "check": state,
-                        "sha256_stored": r["report_sha256"], "sha256_found": found})
+            files = [("report", r["report_path"], r["report_sha256"])]
+            if r.get("dcc_path"):
+                files.append(("dcc", r["dcc_path"], r["dcc_sha256"]))
+            for kind, path, stored in files:
+                p = Path(path)
+                if not p.is_file():
+                    state, found = "missing", None
+                else:
+                    found = sha256_file(p)
+                    state = "ok" if found == stored else "modified"
+                out.append({"number": r["number"], "status": r["status"], "file": kind,
+                            "path": str(p), "check": state, "sha256_stored": stored,
+                            "sha256_found": found})
         return out
+
+
+class _Staged:
+    """The files of one issue, written to hidden temporary names in ``folder`` (each fsynced and
+    hashed), then linked into place together, never replacing a file; :meth:`discard` removes
+    whatever a failure left (temporary or linked)."""
+
+    def __init__(self, folder: Path) -> None:
+        self.folder = folder
+        self.tmp: dict[Path, Path] = {}
+        self.linked: list[Path] = []
+
+    def claim(self, name: str) -> Path:
+        """``folder/name``, which must not exist (a register never replaces a report file)."""
+        final = self.folder / name
+        if final.exists() or final.is_symlink():
+            raise RegisterError(f"{final} exists already; a register never replaces a report file",
+                                hint="move the file away or write reports to another --out "
+                                "folder")
+        return final
+
+    def stage(self, final: Path, write: Callable[[Path], None]) -> str:
+        """Write ``final``'s content with ``write(tmp)`` to a temporary name; its SHA-256."""
+        tmp = self.folder / f".{final.name}.tmp-{secrets.token_hex(4)}"
+        tmp.touch(exist_ok=False)
+        self.tmp[final] = tmp
+        write(tmp)
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        return sha256_file(tmp)
+
+    def link(self) -> None:
+        for final, tmp in list(self.tmp.items()):
+            os.link(tmp, final)
+            self.linked.append(final)
+            tmp.unlink()
+            del self.tmp[final]
+
+    def discard(self) -> None:
+        for path in [*self.tmp.values(), *self.linked]:
+            with contextlib.suppress(OSError):
+                path.unlink()
 
 
 def _audit_dicts(entries) -> list[dict[str, Any]]:
@@ -616,6 +662,7 @@ def report_dict(r, *, results: bool = False, audit: list | None = None) -> dict[
         "simulated": r.simulated,
         "allow_expired": r.allow_expired, "lab": r.lab, "report_path": r.report_path,
         "report_sha256": r.report_sha256, "manifest_sha256": r.manifest_sha256,
+        "dcc_path": getattr(r, "dcc_path", None), "dcc_sha256": getattr(r, "dcc_sha256", None),
         "template": r.template,
     }
     if results:

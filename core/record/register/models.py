@@ -66,6 +66,9 @@ class Report(Base):
     equipment: Mapped[list[Any]] = mapped_column(JSON, nullable=False, default=list)
     report_path: Mapped[str] = mapped_column(Text, nullable=False)
     report_sha256: Mapped[str] = mapped_column(String(64), nullable=False)
+    #: the report's DCC (PTB Digital Calibration Certificate XML) when one was issued with it
+    dcc_path: Mapped[str | None] = mapped_column(Text, nullable=True)
+    dcc_sha256: Mapped[str | None] = mapped_column(String(64), nullable=True)
     template: Mapped[str] = mapped_column(Text, nullable=False, default="")
     #: everything the renderer needs to write the same report again (metro report NUMBER)
     context: Mapped[dict[str, Any]] = mapped_column(JSON, nullable=False, default=dict)

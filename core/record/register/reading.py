@@ -30,7 +30,7 @@ REPORT_COLUMNS = ("id", "number", "scope", "seq", "status", "supersedes", "super
                   "allow_expired", "lab",
                   "verdicts", "budgets", "provenance", "manifest_sha256", "equipment",
                   "report_path",
-                  "report_sha256", "template")
+                  "report_sha256", "template", "dcc_path", "dcc_sha256")
 #: the ``results`` columns, as (column, attribute): the expanded uncertainty's column is
 #: ``U_expanded``
 RESULT_COLUMNS = (("report_id", "report_id"), ("item", "item"), ("key", "key"),
