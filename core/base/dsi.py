@@ -19,6 +19,7 @@ guessed.  docs/dcc.md gives the whole table.
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Iterator
 
@@ -102,12 +103,25 @@ def dsi_unit(u: str | pint.Unit, *, result: str | None = None) -> str:
     (marked not SI); dimensionless → ``\\one``.  :class:`UnitError` naming the unit (and
     ``result``, the quantity it belongs to, when given) for a unit with no mapping.
     """
+    if isinstance(u, str):
+        try:
+            return _dsi_of_text(u)
+        except UnitError as exc:  # the same refusal, naming the result
+            raise UnitError(None, _where(result), exc.detail, hint=exc.hint) from None
+    return _dsi_of_unit(u, fmt_unit(u), result)
+
+
+@functools.lru_cache(maxsize=1024)
+def _dsi_of_text(text: str) -> str:
     try:
-        pu = unit(u) if isinstance(u, str) else u
+        pu = unit(text)
     except UnitError as exc:
-        raise UnitError(None, _where(result), f"the unit {u!r} has no D-SI mapping: {exc.detail}",
-                        hint=exc.hint) from exc
-    text = u if isinstance(u, str) else fmt_unit(u)
+        raise UnitError(None, _where(None), f"the unit {text!r} has no D-SI mapping: "
+                        f"{exc.detail}", hint=exc.hint) from exc
+    return _dsi_of_unit(pu, text, None)
+
+
+def _dsi_of_unit(pu: pint.Unit, text: str, result: str | None) -> str:
     items = list(pu._units.items())
     if not items:
         return "\\one"

@@ -66,6 +66,7 @@ class Writer:
     def __init__(self, lang: str) -> None:
         self.langs: list[str] = ["zh", "en"] if lang == "zh+en" else [lang]
         self.tr: Translator = translator(lang)
+        self._seen: dict[str, list[tuple[str | None, str]]] = {}
 
     # --- plain elements --------------------------------------------------------------------
     @staticmethod
@@ -81,6 +82,15 @@ class Writer:
     def texts(self, value: Any) -> list[tuple[str | None, str]]:
         """``value`` in each language of the document: [(lang, text)]; one entry without a
         language when every language reads the same."""
+        plain = type(value) is str
+        if plain and value in self._seen:
+            return self._seen[value]
+        out = self._texts(value)
+        if plain:
+            self._seen[value] = out
+        return out
+
+    def _texts(self, value: Any) -> list[tuple[str | None, str]]:
         out = [(lang, " ".join(self.tr.render(value, lang).split())) for lang in self.langs]
         out = [(lang, t) for lang, t in out if t]
         if not out:
@@ -90,6 +100,7 @@ class Writer:
         return out
 
     def contents(self, parent: ET.Element, value: Any) -> None:
+        """A ``dcc:content`` per language of ``value`` under ``parent``."""
         for lang, text in self.texts(value):
             attrib = {"lang": lang} if lang else {}
             self.el(parent, "content", text, **attrib)
@@ -108,6 +119,7 @@ class Writer:
     # --- D-SI --------------------------------------------------------------------------------
     @staticmethod
     def unit(u: str, where: str) -> str:
+        """The D-SI unit of metro's ``u``; :class:`UnitError` naming ``where`` when unmapped."""
         return dsi_unit(u, result=where)
 
     def real(self, parent: ET.Element, value: str, unit: str, *, where: str,
@@ -155,6 +167,7 @@ class Writer:
         return q
 
     def no_quantity(self, parent: ET.Element, name: Any, text: Any, **attrib: str) -> ET.Element:
+        """A ``dcc:quantity`` that states text instead of a value (``dcc:noQuantity``)."""
         q = self.quantity(parent, name, **attrib)
         self.text(q, "noQuantity", text)
         return q
