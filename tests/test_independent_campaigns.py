@@ -15,7 +15,6 @@ import importlib.util
 import json
 import math
 import sys
-import zlib
 from pathlib import Path
 
 import numpy as np
@@ -74,22 +73,10 @@ DEVICES = [
 
 @pytest.mark.parametrize("standard,items,seed,build", DEVICES,
                          ids=["gbt-pulse-bias", "gbt-lsb-rate", "jjf-mVV"])
-def test_independent_device_evaluates_within_U(harness, tmp_path, standard, items, seed, build):
-    folder = tmp_path / f"dev-{seed}"
-    folder.mkdir()
-    rng = np.random.default_rng([seed, zlib.crc32(items.encode())])
-    truth = build(harness, folder, rng)
-    code, doc, err = harness.run_metro(folder / "manifest.toml", standard, items)
-    assert code in (0, 3, 4), err
-    assert not doc.get("manifest_warnings"), doc.get("manifest_warnings")
-    rows = harness.score(truth, doc)
-    assert {(r["item"], r["key"]) for r in rows} == set(truth)
-    for r in rows:
-        if r["status"] == "not reportable":
-            assert r["reason"], r
-            continue
-        assert r["status"] == "ok", r  # a missing result or a wrong unit fails here
-        assert abs(r["En"]) <= 1, r
+def test_independent_device_evaluates_within_U(harness, tmp_path, standard, items, seed, build,
+                                                harness_device, evaluated_within_u):
+    folder, truth = harness_device(harness, build, seed, items, tmp_path)
+    evaluated_within_u(harness.run_metro, harness.score, folder, standard, items, truth)
 
 
 def test_plan_lists_the_columns_a_campaign_writer_needs(run_cli, harness, tmp_path):

@@ -61,25 +61,13 @@ DEVICES = [
 @pytest.mark.parametrize("items,seed,build", DEVICES,
                          ids=["polarity-negative", "setup", "power", "temperature",
                               "vibration-shock", "type-env"])
-def test_independent_device_evaluates_within_U(env, tmp_path, items, seed, build):
+def test_independent_device_evaluates_within_U(env, tmp_path, items, seed, build, harness_device,
+                                                evaluated_within_u):
     import independent_campaigns as ic
 
-    folder = tmp_path / f"dev-{seed}"
-    folder.mkdir()
-    rng = np.random.default_rng([seed, zlib.crc32(items.encode())])
-    truth = build(env, folder, rng)
+    folder, truth = harness_device(env, build, seed, items, tmp_path)
     truth = {k: v for k, v in truth.items() if k[0] in items.split(",")}
-    code, doc, err = ic.run_metro(folder / "manifest.toml", "gbt45570", items)
-    assert code in (0, 3, 4), err
-    assert not doc.get("manifest_warnings"), doc.get("manifest_warnings")
-    rows = env.score_env(truth, doc)
-    assert {(r["item"], r["key"]) for r in rows} == set(truth)
-    for r in rows:
-        if r["status"] == "not reportable":
-            assert r["reason"], r
-            continue
-        assert r["status"] == "ok", r  # a missing result or a wrong unit fails here
-        assert abs(r["En"]) <= 1, r
+    evaluated_within_u(ic.run_metro, env.score_env, folder, "gbt45570", items, truth)
 
 
 def _variant_device(env, tmp_path, name: str, seed: int, quick: bool = False):
@@ -174,17 +162,18 @@ def test_d64_takes_a_stated_bias_repeatability(env, tmp_path):
     r = next(x for x in doc["results"] if x["key"] == "dBshock_IRA")
     assert r["reportable"] is True
     row = next(row for row in r["budget"]["rows"] if row["symbol"] == "√2·σ_on")
-    assert row["type"] == "B" and row["standard_uncertainty"] == pytest.approx(2 ** 0.5 * 0.01, rel=1e-9)
+    assert row["type"] == "B" and row["standard_uncertainty"] == pytest.approx(2 ** 0.5 * 0.01,
+                                                                               rel=1e-9)
 
 
 def test_d63_d64_absolute_value_of_a_noisy_difference_is_corrected(env, tmp_path):
     """D.47/D.48 take |B_a − B_b|; where the test changes the bias by less than the noise the
     absolute value reads high (a folded normal; harness vibshock-*: mean E_n +0.20 … +0.43 on every
-    ΔB cell). Each ΔB is
-    |d| less the folded-normal bias about √max(0, d² − u²), u from the batch-means, quantization and turn-on
-    rows, recomputed by hand here with scipy's folded normal from the note's printed value (4
-    digits); the value is never negative and the budget carries the correction (interpretations.md
-    "D.5.5 / D.6.3 / D.6.4 — the absolute value of one noisy difference")."""
+    ΔB cell). Each ΔB is |d| less the folded-normal bias about √max(0, d² − u²), u from the
+    batch-means, quantization and turn-on rows, recomputed by hand here with scipy's folded normal
+    from the note's printed value (4 digits); the value is never negative and the budget carries the
+    correction (interpretations.md "D.5.5 / D.6.3 / D.6.4 — the absolute value of one noisy
+    difference")."""
     import independent_campaigns as ic
     from scipy.stats import foldnorm
 

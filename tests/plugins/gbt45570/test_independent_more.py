@@ -11,8 +11,6 @@ and their table are at the end of docs/independent-campaigns.md.
 
 from __future__ import annotations
 
-import zlib
-
 import numpy as np
 import pytest
 
@@ -66,21 +64,9 @@ DEVICES = [
 
 @pytest.mark.parametrize("items,seed,build", DEVICES,
                          ids=["angle-pulse", "rate-lsb", "rate-degs", "arw-pulse", "bt-bh-pulse"])
-def test_independent_device_evaluates_within_U(more, tmp_path, items, seed, build):
+def test_independent_device_evaluates_within_U(more, tmp_path, items, seed, build, harness_device,
+                                                evaluated_within_u):
     import independent_campaigns as ic
 
-    folder = tmp_path / f"dev-{seed}"
-    folder.mkdir()
-    rng = np.random.default_rng([seed, zlib.crc32(items.encode())])
-    truth = build(more, folder, rng)
-    code, doc, err = ic.run_metro(folder / "manifest.toml", "gbt45570", items)
-    assert code in (0, 3, 4), err
-    assert not doc.get("manifest_warnings"), doc.get("manifest_warnings")
-    rows = more.score_more(truth, doc)
-    assert {(r["item"], r["key"]) for r in rows} == set(truth)
-    for r in rows:
-        if r["status"] == "not reportable":
-            assert r["reason"], r
-            continue
-        assert r["status"] == "ok", r  # a missing result or a wrong unit fails here
-        assert abs(r["En"]) <= 1, r
+    folder, truth = harness_device(more, build, seed, items, tmp_path)
+    evaluated_within_u(ic.run_metro, more.score_more, folder, "gbt45570", items, truth)
