@@ -56,7 +56,8 @@ def test_readme_commands_and_ci():
     main_job, tests = blocks
     assert main_job.endswith(
         "metro run --standard gbt45570 --item D.5.6") and "pip install -e . " in main_job
-    assert tests == "python3 -m venv .venv && .venv/bin/pip install -e '.[all,test]' && .venv/bin/python -m pytest"
+    assert tests == ("python3 -m venv .venv && .venv/bin/pip install -e '.[all,test]' "
+                     "&& .venv/bin/python -m pytest")
     assert tests in ci.splitlines()  # verbatim
     assert "libreoffice-writer-nogui poppler-utils fonts-noto-cjk" in " ".join(ci.split())
     for needs in ("libreoffice-writer-nogui poppler-utils", "fonts-noto-cjk",
@@ -72,7 +73,8 @@ def test_require_names_the_extra():
 
     with pytest.raises(MetroError) as info:
         require("metro_no_such_module_29", "metro frobnicate", extra="batch")
-    assert info.value.reason == "metro frobnicate needs the 'batch' extra: pip install 'metro-inertial[batch]'"
+    assert info.value.reason == ("metro frobnicate needs the 'batch' extra: "
+                                 "pip install 'metro-inertial[batch]'")
     assert "metro_no_such_module_29 is not installed" in info.value.hint
     assert require("json", "x", extra="fast").dumps([1]) == "[1]"
     assert available("json") and not available("metro_no_such_module_29")
@@ -86,7 +88,8 @@ BLOCK = textwrap.dedent("""
         sys.modules[name] = None
     from metro.core.cli.app import main
     code = main(sys.argv[2:])
-    loaded = sorted(m for m, mod in sys.modules.items() if mod is not None and m.split(".")[0] in BLOCKED)
+    loaded = sorted(m for m, mod in sys.modules.items()
+                    if mod is not None and m.split(".")[0] in BLOCKED)
     assert not loaded, loaded
     sys.exit(code)
 """)

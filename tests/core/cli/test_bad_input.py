@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 #: the factory's pulse scale factor, whatever the simulated device's value (``scale_factor = "5
-#P/″"``)
+#: P/″"``)
 _SCALE = re.compile(r'^scale_factor = "[^"]* P/″"\n', re.M)
 
 CASES = {
@@ -180,8 +180,8 @@ def _toml(doc: dict) -> str:
     def table(prefix: str, t: dict, array: bool = False) -> None:
         if prefix:
             lines.append(f"[[{prefix}]]" if array else f"[{prefix}]")
-        nested = [(k, v) for k, v in t.items() if isinstance(v, dict) or (isinstance(v, list) and v
-                                                                           and isinstance(v[0], dict))]
+        nested = [(k, v) for k, v in t.items()
+                  if isinstance(v, dict) or (isinstance(v, list) and v and isinstance(v[0], dict))]
         lines.extend(f'"{k}" = {val(v)}' for k, v in t.items() if (k, v) not in nested)
         for k, v in nested:
             name = f"{prefix}.{k}" if prefix else k

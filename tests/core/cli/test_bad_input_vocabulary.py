@@ -71,25 +71,23 @@ def test_both_spellings_of_one_key_are_an_error(tmp_path, campaign_factory):
     assert exc.value.file == str(m) and exc.value.field == "campaign.laboratory"
 
 
-@pytest.mark.parametrize("edit, field, guess", [
-    (lambda t: t.replace('operator = "test"', 'opertor = "test"'), "campaign.opertor", "operator"),
-    (lambda t: t.replace("[site]", '[enviroment]\nx = 1\n\n[site]'), "enviroment", "environment"),
-    (lambda t: t.replace('humidity = "45 %"', 'humidity = "45 %"\nhumdity = "45 %"'),
-     "environment.humdity",
+# (text of the manifest, what replaces it, the key the warning names, the key it suggests)
+@pytest.mark.parametrize("old, new, field, guess", [
+    ('operator = "test"', 'opertor = "test"', "campaign.opertor", "operator"),
+    ("[site]", '[enviroment]\nx = 1\n\n[site]', "enviroment", "environment"),
+    ('humidity = "45 %"', 'humidity = "45 %"\nhumdity = "45 %"', "environment.humdity",
      "humidity"),
-    (lambda t: t.replace('latitude_uncertainty', 'latitude_uncertainity'),
-     "site.latitude_uncertainity",
+    ("latitude_uncertainty", "latitude_uncertainity", "site.latitude_uncertainity",
      "latitude_uncertainty"),
-    (lambda t: t.replace('scale_factor_U =', 'scale_factor_u ='), "device.scale_factor_u",
-     "scale_factor_U"),
-    (lambda t: t.replace('lab = "NIM"', 'lab = "NIM"\ncertficate_date = 2026-01-01'),
+    ("scale_factor_U =", "scale_factor_u =", "device.scale_factor_u", "scale_factor_U"),
+    ('lab = "NIM"', 'lab = "NIM"\ncertficate_date = 2026-01-01',
      "equipment[1].calibration.certficate_date", None),
-    (lambda t: t.replace('file = "static.csv"', 'file = "static.csv"\nfiles = "x.csv"'),
-     "segments[0].files", "file"),
-    (lambda t: t.replace('role = "counter"', 'role = "countr"'), "equipment[1].role", "counter"),
+    ('file = "static.csv"', 'file = "static.csv"\nfiles = "x.csv"', "segments[0].files", "file"),
+    ('role = "counter"', 'role = "countr"', "equipment[1].role", "counter"),
 ])
-def test_unknown_keys_warn_with_did_you_mean(tmp_path, campaign_factory, edit, field, guess):
-    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05, manifest_edit=edit)
+def test_unknown_keys_warn_with_did_you_mean(tmp_path, campaign_factory, old, new, field, guess):
+    m = campaign_factory.write_campaign(tmp_path / "c", hours=0.05,
+                                        manifest_edit=lambda t: t.replace(old, new))
     c = _load(m)
     (w,) = [w for w in c.warnings if f"'{field}'" in w]
     assert str(m) in w

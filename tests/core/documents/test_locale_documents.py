@@ -172,7 +172,8 @@ def test_gbt45570_type_test_report_in_chinese(pm, tmp_path):
     bad = english_prose(texts)
     assert not bad, bad[:10]
     line = next(t for t in texts if t.startswith("限值来源")).replace("\u00a0", " ")
-    assert "表 A.1 第 1–16 行，航空（第 1 行：仅适用于 D.1.1" in line and "5.2.8（绝缘电阻 ≥ 50 MΩ）" in line, line
+    assert ("表 A.1 第 1–16 行，航空（第 1 行：仅适用于 D.1.1" in line
+            and "5.2.8（绝缘电阻 ≥ 50 MΩ）" in line), line
     # the figures' own words too (D.1.5's fit line, 6.2.7.7's window mean and band are added to the
     # specs)
     from metro.core.documents import plots

@@ -520,7 +520,7 @@ def test_every_table_declares_grid_widths_that_agree_with_its_cells(simulated_do
     for t in d.tables:
         grid = [int(g.get(qn("w:w"))) for g in t._tbl.tblGrid.findall(qn("w:gridCol"))]
         assert sum(grid) <= 170 / 25.4 * 1440 + 5
-        for i, row in enumerate(t.rows):
+        for row in t.rows:
             cells, want, pos = [], [], 0
             # a cell spanning columns (a budget's title) is as wide as they are
             for tc in row._tr.tc_lst:

@@ -163,8 +163,11 @@ def test_d14_d15_d16_recover_simulated_truth(pm):
     assert checked == {"Kr", "Kt", "alpha", "beta", "gamma"}
     o = rec.outcomes[2]
     # the truth itself: the 300″/200″ fixture errors cancel in D.15
-    assert o.result("alpha").value.to("arcsec").magnitude == pytest.approx(-55.0, abs=o.result("alpha").U.to("arcsec").magnitude)
-    assert o.result("beta").value.to("arcsec").magnitude == pytest.approx(35.0, abs=o.result("beta").U.to("arcsec").magnitude)
+    alpha, beta = o.result("alpha"), o.result("beta")
+    assert alpha.value.to("arcsec").magnitude == pytest.approx(
+        -55.0, abs=alpha.U.to("arcsec").magnitude)
+    assert beta.value.to("arcsec").magnitude == pytest.approx(
+        35.0, abs=beta.U.to("arcsec").magnitude)
     # K_t: the simulator's truth is D.12 on the noise-free K(T) = K·(1 + 4×10⁻⁷·(T − 20)), exactly
     # 0.4 ppm/°C; each temperature point is a power-on of its own (D.1.5.2 c)), so the measured K_t
     # is off by the turn-on draws (σ 10 ppm over ΔT = 40 … 60 °C) and U holds D.1.4's K_r for them

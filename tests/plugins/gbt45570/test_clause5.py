@@ -554,7 +554,8 @@ def test_insulation_below_range(pm, tmp_path):
                                         'readings = ["< 100 MΩ"]')
     with pytest.raises(DataError) as e:
         _run(pm, _write(tmp_path / "b", worse), ["6.2.5"])
-    assert e.value.field == "inspection.insulation[0].readings" and "below the megohmmeter's range" in e.value.detail
+    assert (e.value.field == "inspection.insulation[0].readings"
+            and "below the megohmmeter's range" in e.value.detail)
     over = (HEAD + INSPECTION).replace('readings = ["> 10 GΩ"]', 'readings = ["> 20 MΩ"]')
     with pytest.raises(DataError, match="over the megohmmeter's range"):
         _run(pm, _write(tmp_path / "c", over), ["6.2.5"])
@@ -787,7 +788,8 @@ def test_before_and_after_a_54_test_carry_two_power_ons(pm):
     for key, item, field in (("lts_dK", "D.1.4", "scale_factor_repeatability"),
                              ("lts_dB0", "D.5.3", "bias_repeatability")):
         r = _result(alone, key)
-        assert r.reportable is False and item in r.reason and f"[device] {field}" in r.reason, r.reason
+        assert (r.reportable is False and item in r.reason
+                and f"[device] {field}" in r.reason), r.reason
     rec = run_items(pm, "gbt45570", ["D.5.3", "D.1.4", "6.2.8.2"],
                     station_options={"duration_scale": 0.25})
     dk = _result(rec, "lts_dK")
@@ -800,7 +802,8 @@ def test_before_and_after_a_54_test_carry_two_power_ons(pm):
     db = _result(rec, "lts_dB0")
     brow = next(r for r in db.budget.rows if r.symbol == "√2·σ_on")
     sigma_on = bias_repeat_row(rec.campaign, 20, None)[0][0]
-    assert brow.contribution.m_as("deg/h") == pytest.approx(math.sqrt(2) * sigma_on.contribution.m_as("deg/h"), rel=1e-9)
+    assert brow.contribution.m_as("deg/h") == pytest.approx(
+        math.sqrt(2) * sigma_on.contribution.m_as("deg/h"), rel=1e-9)
 
 
 def test_54_changes_take_a_stated_repeatability(pm, tmp_path):
@@ -823,8 +826,10 @@ def test_54_changes_take_a_stated_repeatability(pm, tmp_path):
     assert dk.reportable and db.reportable, (dk.reason, db.reason)
     (rk,) = [r for r in dk.budget.rows if r.symbol == "√2·σ_on"]
     (rb,) = [r for r in db.budget.rows if r.symbol == "√2·σ_on"]
-    assert rk.type == "B" and rk.contribution.m_as("ppm") == pytest.approx(math.sqrt(2) * 4.0, rel=1e-9)
-    assert rb.type == "B" and rb.contribution.m_as("deg/h") == pytest.approx(math.sqrt(2) * 0.003, rel=1e-9)
+    assert rk.type == "B" and rk.contribution.m_as("ppm") == pytest.approx(math.sqrt(2) * 4.0,
+                                                                           rel=1e-9)
+    assert rb.type == "B" and rb.contribution.m_as("deg/h") == pytest.approx(
+        math.sqrt(2) * 0.003, rel=1e-9)
 
 
 @pytest.mark.parametrize("item, tag", [("6.2.8.7", "acc"), ("6.2.8.10", "dh"), ("6.2.8.14", "rad")])

@@ -21,11 +21,10 @@ def _run(pm, items, station="simulated", **so):
 
 
 def _result(rec, key):
-    for o in rec.outcomes:
-        for r in o.results:
-            if r.metric.key == key:
-                return r
-    raise KeyError(key)
+    found = [r for o in rec.outcomes for r in o.results if r.metric.key == key]
+    if not found:
+        raise KeyError(key)
+    return found[0]
 
 
 # ---------------------------------------------------------------------------- hand-worked

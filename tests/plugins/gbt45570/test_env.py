@@ -133,7 +133,8 @@ def test_d4_threshold_set_by_a_dead_band_is_recovered(pm):
     assert _within(r, camp.expected["threshold"])
     assert abs(r.value.magnitude - 2 * 0.0035) <= r.U.magnitude
     sources = " ".join(row.source for row in r.budget.rows)
-    assert "tilt table" in sources and "step of the tilt series" in sources and "latitude" in sources
+    assert ("tilt table" in sources and "step of the tilt series" in sources
+            and "latitude" in sources)
     assert pm.procedure("gbt45570", "D.4") is ThresholdD4
 
 
@@ -334,7 +335,8 @@ def test_d63_earth_rate_cancels_in_the_bias_change(pm):
                       vib_shift_after_deg_h=(0.02, 0.02, 0.02))
     _, rec = _run(pm, ["D.6.3"], truth, {"tests": "performance"})
     v = rec.outcomes[0]
-    assert v.result("dBV13_IRA").value.magnitude == pytest.approx(v.result("dBV13_XRA").value.magnitude, abs=0.004)
+    assert v.result("dBV13_IRA").value.magnitude == pytest.approx(
+        v.result("dBV13_XRA").value.magnitude, abs=0.004)
 
 
 def test_difference_unit_of_an_offset_unit():

@@ -228,8 +228,11 @@ def test_d26_misalignment_cancels_the_fixture(pm):
     _check_truth(rec, camp, {"alpha", "beta", "gamma"})
     o = rec.outcomes[0]
     # the truth itself, not only the ideal evaluation: the 400″ fixture error is gone
-    assert o.result("alpha").value.to("arcsec").magnitude == pytest.approx(70.0, abs=o.result("alpha").U.to("arcsec").magnitude)
-    assert o.result("beta").value.to("arcsec").magnitude == pytest.approx(-30.0, abs=o.result("beta").U.to("arcsec").magnitude)
+    alpha, beta = o.result("alpha"), o.result("beta")
+    assert alpha.value.to("arcsec").magnitude == pytest.approx(
+        70.0, abs=alpha.U.to("arcsec").magnitude)
+    assert beta.value.to("arcsec").magnitude == pytest.approx(
+        -30.0, abs=beta.U.to("arcsec").magnitude)
     assert any("fixture" in row.source for row in o.result("gamma").budget.rows)
 
 
@@ -316,54 +319,49 @@ def test_d22_fm_is_the_larger_output_at_the_maximum_rate():
 # ---------------------------------------------------------------------------- bad input
 
 
+def _refused(pm, items: list[str], match: str, **camp_kw) -> DataError:
+    """The error a run of ``items`` on ``_camp(pm, items, **camp_kw)`` stops with."""
+    camp = _camp(pm, items, **camp_kw)
+    with pytest.raises(DataError, match=match) as e:
+        run_items(pm, "gbt45570", items, campaign=camp)
+    return e.value
+
+
 def test_fewer_than_eleven_rate_points(pm):
-    camp = _camp(pm, ["D.2.1"], drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5",
-                                      "rate-2.5",
-                                      "rate+4", "rate-4"})
-    with pytest.raises(DataError, match="at least 11 rate points"):
-        run_items(pm, "gbt45570", ["D.2.1"], campaign=camp)
+    _refused(pm, ["D.2.1"], "at least 11 rate points",
+             drop={"rate+1", "rate-1", "rate+1.6", "rate-1.6", "rate+2.5", "rate-2.5", "rate+4",
+                   "rate-4"})
 
 
 def test_missing_direction(pm):
-    camp = _camp(pm, ["D.2.2"], drop={"rate-25"})
-    with pytest.raises(DataError, match=r"25 °/s has no clockwise \(−\)") as e:
-        run_items(pm, "gbt45570", ["D.2.2"], campaign=camp)
-    assert e.value.field == "segments.rate+25"
+    e = _refused(pm, ["D.2.2"], r"25 °/s has no clockwise \(−\)", drop={"rate-25"})
+    assert e.field == "segments.rate+25"
 
 
 def test_missing_rest_output(pm):
-    camp = _camp(pm, ["D.2.3"], drop={"rest-end"})
-    with pytest.raises(DataError, match="at rest.*missing: end"):
-        run_items(pm, "gbt45570", ["D.2.3"], campaign=camp)
+    _refused(pm, ["D.2.3"], "at rest.*missing: end", drop={"rest-end"})
 
 
 def test_d24_six_repeats_instead_of_seven(pm):
     drop = {s.segment for s in ScaleFactorRepeatabilityD24().sequence({})
             if s.segment.startswith("run7-")}
-    camp = _camp(pm, ["D.2.4"], drop=drop)
-    with pytest.raises(DataError, match=r"needs 7 power-ons.*found 6 run") as e:
-        run_items(pm, "gbt45570", ["D.2.4"], campaign=camp)
-    assert e.value.field == "segments"
+    e = _refused(pm, ["D.2.4"], r"needs 7 power-ons.*found 6 run", drop=drop)
+    assert e.field == "segments"
 
 
 def test_d25_temperatures_without_room_temperature(pm):
     temps = {"temperatures": "-40 °C, -20 °C, 0 °C, 40 °C, 60 °C"}
-    camp = _camp(pm, ["D.2.5"], options={"D.2.5": temps})
-    with pytest.raises(DataError, match="no point at room temperature"):
-        run_items(pm, "gbt45570", ["D.2.5"], campaign=camp)
+    _refused(pm, ["D.2.5"], "no point at room temperature", options={"D.2.5": temps})
 
 
 def test_d25_fewer_than_five_temperatures(pm):
     temps = {"temperatures": "-40 °C, 20 °C, 60 °C"}
-    camp = _camp(pm, ["D.2.5"], options={"D.2.5": temps})
-    with pytest.raises(DataError, match="at least 5 temperature points"):
-        run_items(pm, "gbt45570", ["D.2.5"], campaign=camp)
+    _refused(pm, ["D.2.5"], "at least 5 temperature points", options={"D.2.5": temps})
 
 
 def test_d26_missing_mounting(pm):
-    camp = _camp(pm, ["D.2.6"], drop={"YRA-180-rate+30", "YRA-180-rate-30"})
-    with pytest.raises(DataError, match=r"missing: YRA up, turned 180°"):
-        run_items(pm, "gbt45570", ["D.2.6"], campaign=camp)
+    _refused(pm, ["D.2.6"], r"missing: YRA up, turned 180°",
+             drop={"YRA-180-rate+30", "YRA-180-rate-30"})
 
 
 def test_rate_method_refuses_pulse_output(pm):
