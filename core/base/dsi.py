@@ -68,7 +68,7 @@ _TOKEN = re.compile(r"\\([A-Za-z]+)(?:\{([^{}]*)\})?")
 
 
 def _where(result: str | None) -> str:
-    return f"result {result!r}" if result else "D-SI unit"
+    return f"result {result}" if result else "D-SI unit"
 
 
 def _exponent(exp: float) -> str:

@@ -7,6 +7,7 @@ the refusals (no machine values, a withdrawn report, a unit with no D-SI mapping
 from __future__ import annotations
 
 import base64
+import datetime as dt
 import math
 import re
 import xml.etree.ElementTree as ET
@@ -283,3 +284,51 @@ def test_validate_dcc_names_the_element_of_a_broken_document() -> None:
                     broken)
     with pytest.raises(MetroError, match="countryCodeISO3166_1"):
         validate_dcc(broken)
+
+
+@needs_reference
+def test_recorded_campaign_with_a_lab_profile(tmp_path, capsys) -> None:
+    """A campaign read from its files (``metro acquire``), the lab profile ``metro lab init``
+    writes, and the register statement of a registered report."""
+    import tomllib
+
+    import tomli_w
+    from metro.core.cli.app import main
+    from metro.core.record.lab import load_lab
+    from metro.core.record.registering import notices_for, with_lab
+
+    assert main(["lab", "init", str(tmp_path / "lab.toml")]) == 0
+    assert main(["acquire", "-s", "ogam", "--all", "--out", str(tmp_path / "camp"), "-q"]) == 0
+    capsys.readouterr()
+    manifest = tmp_path / "camp" / "manifest.toml"
+    doc = tomllib.loads(manifest.read_text(encoding="utf-8"))
+    doc["site"]["country"] = "CN"
+    doc["campaign"]["customer"] = "某导航公司"
+    segments = doc["segments"]  # measured over two days
+    segments[0]["started"] = dt.datetime(2026, 3, 1, 9, 30, tzinfo=dt.timezone.utc)
+    segments[-1]["started"] = dt.datetime(2026, 3, 2, 16, 5, tzinfo=dt.timezone.utc)
+    manifest.write_text(tomli_w.dumps(doc), encoding="utf-8")
+    lab = load_lab(tmp_path / "lab.toml")
+    pm = get_plugin_manager(autoload=False)
+    rec = run_items(pm, "ogam", [], run_all=True, data=manifest,
+                    lab_equipment=lab.equipment_by_id())
+    rec = attrs.evolve(with_lab(rec, lab), report_number="EML2026-00001")
+    statement = {"registered": True, "number": "EML2026-00001", "supersedes": None, "reason": "",
+                 "notices": notices_for(lab, "EML2026-00001")}
+    ctx = build_context(rec, register=statement, lang=lab.language,
+                        designations={s.id: s.designation for s in pm.registry.standards.values()})
+    xml = build_dcc(ctx)
+    _reference_schema().validate(xml.decode("utf-8"))
+    _check_round_trip(rec, xml)
+    adm = _root(xml).find(f"{D}administrativeData")
+    core = adm.find(f"{D}coreData")
+    assert core.findtext(f"{D}uniqueIdentifier") == "EML2026-00001"
+    assert core.findtext(f"{D}countryCodeISO3166_1") == "CN"
+    assert (core.findtext(f"{D}beginPerformanceDate"),
+            core.findtext(f"{D}endPerformanceDate")) == ("2026-03-01", "2026-03-02")
+    lab_name = adm.findtext(f"{D}calibrationLaboratory/{D}contact/{D}name/{D}content")
+    assert lab_name == "示例计量实验室 Example Metrology Laboratory"
+    people = {p.findtext(f"{D}person/{D}name/{D}content"): p.findtext(f"{D}mainSigner")
+              for p in adm.iter(f"{D}respPerson")}
+    assert people == {"张三": "false", "李四": "false", "王五": "true"}
+    assert adm.findtext(f"{D}customer/{D}name/{D}content") == "某导航公司"
