@@ -20,22 +20,23 @@ STATION = "simulated-mimu"
 COVERAGE = Coverage.probability(0.9545)
 ROUND = "up"
 
-RATE_SEG = SegmentRequirement(
-    kind="rate",
-    description="MIMU axis `axis` up along the rate table axis, table at `rate` (signed about "
-                "+axis), ≥ 30 s",
-    conditions={"axis": "", "rate": "deg/s"},
-    columns={c: ("deg/s",) for c in GYRO} | {c: ("m/s**2",) for c in ACCEL},
-    min_duration=Q_(30, "s"), min_count=21,
-)
-POSITION_SEG = SegmentRequirement(
-    kind="position",
-    description="MIMU axis `up` (±x, ±y, ±z) to the zenith, table heading 0° or 180°, ≥ 30 s "
-                "(appendix C)",
-    conditions={"up": "", "heading": "deg"},
-    columns={c: ("deg/s",) for c in GYRO} | {c: ("m/s**2",) for c in ACCEL},
-    min_duration=Q_(30, "s"), min_count=12,
-)
+
+def mimu_segment(kind: str, description: str, conditions: dict[str, str],
+                 min_count: int) -> SegmentRequirement:
+    """A record of ``kind``: every gyro (°/s) and accelerometer (m/s²) column, ≥ 30 s."""
+    return SegmentRequirement(kind=kind, description=description, conditions=conditions,
+                              columns={c: ("deg/s",) for c in GYRO}
+                              | {c: ("m/s**2",) for c in ACCEL},
+                              min_duration=Q_(30, "s"), min_count=min_count)
+
+
+RATE_SEG = mimu_segment("rate", "MIMU axis `axis` up along the rate table axis, table at `rate` "
+                                "(signed about +axis), ≥ 30 s",
+                        {"axis": "", "rate": "deg/s"}, 21)
+POSITION_SEG = mimu_segment("position", "MIMU axis `up` (±x, ±y, ±z) to the zenith, table heading "
+                                        "0° or 180°, ≥ 30 s (appendix C)",
+                            {"up": "", "heading": "deg"}, 12)
+
 EQUIPMENT = (
     EquipmentRequirement("rate_table",
                          "three-axis position/rate table (table 1); its rate uncertainty "

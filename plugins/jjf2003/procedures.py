@@ -434,7 +434,7 @@ class GyroBiasGSensitivity(Procedure):
         ratio = mounting.local_gravity(campaign)[0]
         pairs = [(segs[(up, 0.0)].id, segs[(up, 180.0)].id) for up in F.SIX_POSITIONS]
         tau = _six_drift_factors(drift, segs, ratio)
-        for i, r in enumerate(AXES):
+        for i in range(len(AXES)):
             rows = _six_budget_rows(campaign, u_means, segs, 0, 3, i, G, warnings, RATE_UNIT,
                                     "gyro_range", False)
             m = self.metrics[i]
@@ -443,7 +443,7 @@ class GyroBiasGSensitivity(Procedure):
                                   earth_rate="not applicable",
                                   note=msg("the vertical earth rate flips with the up axis and "
                                            "cancels in the mean of six")))
-        for i, r in enumerate(AXES):
+        for i in range(len(AXES)):
             for j, c in enumerate(AXES):
                 rows = _six_budget_rows(campaign, u_means, segs, 0, j, i, G, warnings, RATE_UNIT,
                                         "gyro_range", True)
