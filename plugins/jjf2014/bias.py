@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import statistics
+from typing import Any
 
 import attrs
 import numpy as np
@@ -15,11 +16,11 @@ from metro.api import (INF, Q_, BudgetRow, Campaign, DataError, EquipmentRequire
 
 from . import budgets as B
 from . import formulas as F
-from .common import (AXES, RATE_OPTS, JJFItem, KValue, SFSet, Spread, axis_of, bias_repeatability,
-                     budget_row_a, calibration_of, chamber_rows, chamber_temperatures, flag_option,
-                     group_by, need_segments, num_option, one_estimate, parse_floats, phase_of,
-                     quantity_text, read_output, room_index, rounding_row_mean, scale_factor_for,
-                     up_or_down, where_of, with_scatter)
+from .common import (AXES, RATE_OPTS, JJFItem, KValue, SFSet, Spread, axis_of, before_after_change,
+                     bias_repeatability, budget_row_a, calibration_of, chamber_rows,
+                     chamber_temperatures, flag_option, group_by, need_segments, num_option,
+                     one_estimate, parse_floats, phase_of, quantity_text, read_output, room_index,
+                     rounding_row_mean, scale_factor_for, up_or_down, where_of, with_scatter)
 from .scale_factor import ScaleFactor
 
 # =============================================================================== 7.2.13 – 7.2.19
@@ -535,11 +536,22 @@ class BiasAcceleration(JJFItem):
 
 
 class _BiasChange(JJFItem):
-    """7.2.18 and 7.2.19: the bias before and after a ``what`` on each axis (segments ``kind``)."""
+    """7.2.18 and 7.2.19: the bias before and after a ``what`` on each axis (segments ``kind``,
+    ``static-<what>``), after the scale factor's segments; a subclass names ``what`` as a class
+    keyword."""
 
     kind = ""
     what = ""
     options = RATE_OPTS
+
+    def __init_subclass__(cls, what: str = "", **kw: Any) -> None:
+        super().__init_subclass__(**kw)
+        if not what:  # a subclass of a complete item keeps its segments
+            return
+        cls.what, cls.kind = what, f"static-{what}"
+        cls.requires = ScaleFactor.requires + (SegmentRequirement(
+            cls.kind, f"bias before/after {what} per axis", {"axis": "", "phase": ""},
+            {"output": ("mV",)}),)
 
     def sequence(self, options):
         return ScaleFactor().sequence(options) + [
@@ -559,12 +571,8 @@ class _BiasChange(JJFItem):
                 raise DataError(where_of(s), f"segments.{s.id}.conditions",
                                 f"{self.item}: two records for axis {key[0]} {key[1]}; give one")
             vals[key] = BiasValue(s, K)
-        before = {a: vals[(a, "before")].B0 for a in AXES if (a, "before") in vals}
-        after = {a: vals[(a, "after")].B0 for a in AXES if (a, "after") in vals}
-        try:
-            printed, worst, per = F.max_change_eq12_13(before, after)
-        except ValueError as exc:
-            raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
+        before, after, printed, worst, per = before_after_change(
+            {k: v.B0 for k, v in vals.items()}, self.item, campaign.source)
         v1, v2 = vals[(worst, "before")], vals[(worst, "after")]
         ax = list(per)
         rep = with_scatter(bias_repeatability(campaign, K),
@@ -606,31 +614,19 @@ class _BiasChange(JJFItem):
                              opts=opts)
 
 
-class BiasShock(_BiasChange):
+class BiasShock(_BiasChange, what="shock"):
     """JJF 2014—2022 7.2.18 零偏冲击前后变化量: ΔB_i = |B_i2 − B_i1| eq. (32), max over 3 axes."""
 
     item = "7.2.18"
     title = "Bias change after shock (零偏冲击前后变化量)"
     clause = "7.2.18"
-    kind = "static-shock"
-    what = "shock"
     metrics = (Metric("dB_shock", "bias change after shock", "ΔB_i", "deg/h", "7.2.18.2", "32"),)
-    requires = ScaleFactor.requires + (SegmentRequirement("static-shock",
-                                                          "bias before/after shock per axis",
-                                                          {"axis": "", "phase": ""},
-                                                          {"output": ("mV",)}),)
 
 
-class BiasVibration(_BiasChange):
+class BiasVibration(_BiasChange, what="vibration"):
     """JJF 2014—2022 7.2.19 零偏振动前后变化量: ΔB_v = |B_v2 − B_v1| eq. (33), max over 3 axes."""
 
     item = "7.2.19"
     title = "Bias change after vibration (零偏振动前后变化量)"
     clause = "7.2.19"
-    kind = "static-vibration"
-    what = "vibration"
     metrics = (Metric("dB_vib", "bias change after vibration", "ΔB_v", "deg/h", "7.2.19.2", "33"),)
-    requires = ScaleFactor.requires + (SegmentRequirement("static-vibration",
-                                                          "bias before/after vibration per axis",
-                                                          {"axis": "", "phase": ""},
-                                                          {"output": ("mV",)}),)

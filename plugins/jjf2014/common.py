@@ -193,6 +193,22 @@ def phase_of(seg: Segment) -> str:
     return p
 
 
+def before_after_change(values: Mapping[tuple[str, str], float], item: str,
+                        source: str | None) -> tuple[dict[str, float], dict[str, float], float,
+                                                     str, dict[str, float]]:
+    """The values before and after the test by axis (``values`` keyed by (axis, phase)) and the
+    largest change over the axes, eqs. (12)/(13) (7.2.7, 7.2.8; 7.2.18, 7.2.19 by eqs. (32)/(33)
+    alike): (before, after, printed, worst axis, change per axis); an axis without both phases is
+    a DataError naming ``item``."""
+    before = {a: values[(a, "before")] for a in AXES if (a, "before") in values}
+    after = {a: values[(a, "after")] for a in AXES if (a, "after") in values}
+    try:
+        printed, worst, per = F.max_change_eq12_13(before, after)
+    except ValueError as exc:
+        raise DataError(source, "segments", f"{item}: {exc}") from exc
+    return before, after, printed, worst, per
+
+
 def up_or_down(seg: Segment) -> str:
     o = str(seg.condition("orientation")).lower()
     if "up" in o:

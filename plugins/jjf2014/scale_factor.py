@@ -4,6 +4,7 @@ temperature and acceleration sensitivity, change after shock and vibration."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from metro.api import (INF, Q_, BudgetRow, DataError, EquipmentRequirement, Metric, Option,
@@ -13,11 +14,11 @@ from metro.api import (INF, Q_, BudgetRow, DataError, EquipmentRequirement, Metr
 
 from . import budgets as B
 from . import formulas as F
-from .common import (AXES, KU, RATE_OPTS, JJFItem, SFSet, axis_of, bias_repeatability, budget_row_a,
-                     calibration_of, chamber_rows, chamber_temperatures, group_by, main_set,
-                     need_segments, num_option, one_estimate, parse_floats, parse_magnitudes,
-                     phase_of, quantity_text, rate_steps, room_index, sf_plots, sf_repeatability,
-                     up_or_down, with_scatter)
+from .common import (AXES, KU, RATE_OPTS, JJFItem, SFSet, axis_of, before_after_change,
+                     bias_repeatability, budget_row_a, calibration_of, chamber_rows,
+                     chamber_temperatures, group_by, main_set, need_segments, num_option,
+                     one_estimate, parse_floats, parse_magnitudes, phase_of, quantity_text,
+                     rate_steps, room_index, sf_plots, sf_repeatability, up_or_down, with_scatter)
 
 # =============================================================================== 7.2.1 – 7.2.4
 
@@ -410,11 +411,22 @@ class SFAxialAcceleration(JJFItem):
 
 
 class _SFChange(JJFItem):
-    """7.2.7 and 7.2.8: K before and after a ``what`` on each axis (segments ``kind``)."""
+    """7.2.7 and 7.2.8: K before and after a ``what`` on each axis (segments ``kind``,
+    ``rate-<what>``); a subclass names ``what`` and the ``event`` (its wording in the segment's
+    description) as class keywords."""
 
     kind = ""
     what = ""
     options = RATE_OPTS
+
+    def __init_subclass__(cls, what: str = "", event: str = "", **kw: Any) -> None:
+        super().__init_subclass__(**kw)
+        if not what:  # a subclass of a complete item keeps its segments
+            return
+        cls.what, cls.kind = what, f"rate-{what}"
+        cls.requires = (SegmentRequirement(cls.kind, f"7.2.1 before and after {event} on each axis",
+                                           {"rate": "deg/s", "axis": "", "phase": ""},
+                                           {"output": ("mV",)}),)
 
     def sequence(self, options):
         steps = []
@@ -431,12 +443,8 @@ class _SFChange(JJFItem):
         for s in need_segments(campaign, type(self), self.kind):
             sets.setdefault((axis_of(s), phase_of(s)), []).append(s)
         fits = {k: SFSet(v) for k, v in sets.items()}
-        before = {a: fits[(a, "before")].K for a in AXES if (a, "before") in fits}
-        after = {a: fits[(a, "after")].K for a in AXES if (a, "after") in fits}
-        try:
-            printed, worst, per = F.max_change_eq12_13(before, after)
-        except ValueError as exc:
-            raise DataError(campaign.source, "segments", f"{self.item}: {exc}") from exc
+        before, after, printed, worst, per = before_after_change(
+            {k: f.K for k, f in fits.items()}, self.item, campaign.source)
         w = [] if len(per) == 3 else [msg("only the axes {axes} were tested (the clause asks for "
                                           "X, Y, Z)", axes=", ".join(per))]
         ax = list(per)
@@ -476,33 +484,22 @@ class _SFChange(JJFItem):
                              segments=[i for s in fits.values() for i in s.ids], opts=opts)
 
 
-class SFShock(_SFChange):
+class SFShock(_SFChange, what="shock", event="a shock"):
     """JJF 2014—2022 7.2.7 标度因数冲击前后变化量: ΔK_ij = |K_ij2 − K_ij1| eq. (12), max over X, Y,
     Z eq. (13)."""
 
     item = "7.2.7"
     title = "Scale-factor change after shock (标度因数冲击前后变化量)"
     clause = "7.2.7"
-    kind = "rate-shock"
-    what = "shock"
     metrics = (Metric("dK_shock", "scale-factor change after shock", "ΔK_i", KU, "7.2.7.2",
                       "12, 13"),)
-    requires = (SegmentRequirement("rate-shock", "7.2.1 before and after a shock on each axis",
-                                   {"rate": "deg/s", "axis": "", "phase": ""},
-                                   {"output": ("mV",)}),)
 
 
-class SFVibration(_SFChange):
+class SFVibration(_SFChange, what="vibration", event="vibration"):
     """JJF 2014—2022 7.2.8 标度因数振动前后变化量: ΔK_vj eq. (14), max over X, Y, Z eq. (15)."""
 
     item = "7.2.8"
     title = "Scale-factor change after vibration (标度因数振动前后变化量)"
     clause = "7.2.8"
-    kind = "rate-vibration"
-    what = "vibration"
     metrics = (Metric("dK_vib", "scale-factor change after vibration", "ΔK_v", KU, "7.2.8.2",
                       "14, 15"),)
-    requires = (SegmentRequirement("rate-vibration",
-                                   "7.2.1 before and after vibration on each axis",
-                                   {"rate": "deg/s", "axis": "", "phase": ""},
-                                   {"output": ("mV",)}),)
