@@ -21,13 +21,13 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 from metro.api import (Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Metric, Option,
-                       Outcome, PlotSpec, Procedure, Result, RunContext, SegmentRequirement, Step,
+                       Outcome, PlotSpec, Result, RunContext, SegmentRequirement, Step,
                        TableSpec, UncertaintyBudget, fit_line, hint, join, msg, parse_quantity,
                        required_scale_factor)
 
 from . import formulas as F
 from . import formulas_rate as F2
-from .common import COVERAGE, DIRECTIONS, STANDARD, grouped, kr_sampling_row, opts_text
+from .common import COVERAGE, DIRECTIONS, STANDARD, GbtItem, grouped, kr_sampling_row, opts_text
 from .misalignment import FIXTURE, DeviceScale, MountingMisalignment, misalignment_metrics
 from .repeatability import scale_factor_angle_repeat_row
 from .revolutions import (REPEAT_RATE, RatePoint, angle_row, angle_sequence, collect_rate_points,
@@ -56,7 +56,7 @@ _OPTIONS = (
 )
 
 
-class ScaleFactorD11(Procedure):
+class ScaleFactorD11(GbtItem):
     """GB/T 45570—2025 D.1.1 标度因数 (scale factor), angle method, eqs. (D.1), (D.2), (D.4)–(D.6).
 
     K_i per rate point from whole revolutions both ways (D.2); K and W by least squares of
@@ -65,7 +65,6 @@ class ScaleFactorD11(Procedure):
     position accuracy of the table.
     """
 
-    standard = STANDARD
     item = "D.1.1"
     title = "Scale factor, angle method (标度因数 角度法)"
     clause = "D.1.1"
@@ -270,7 +269,7 @@ def _counter_row(pts: list[RatePoint], value: float, unit: str) -> BudgetRow:
                             distribution="uniform", sensitivity=Q_(abs(value), unit))
 
 
-class ScaleFactorRepeatabilityD14(Procedure):
+class ScaleFactorRepeatabilityD14(GbtItem):
     """GB/T 45570—2025 D.1.4 标度因数重复性 (scale-factor repeatability), angle method, eq. (D.11).
 
     Q = 7 power-ons (segments of kind ``revolutions-repeat``, condition ``run`` = 1 … 7, at 30 °/s
@@ -279,7 +278,6 @@ class ScaleFactorRepeatabilityD14(Procedure):
     the revolution-pulse position, per run (both bounded, uniform).
     """
 
-    standard = STANDARD
     item = "D.1.4"
     title = "Scale factor repeatability, angle method (标度因数重复性)"
     clause = "D.1.4"
@@ -371,7 +369,7 @@ class ScaleFactorRepeatabilityD14(Procedure):
                        segments=[s for _, p in pts for s in p.segments], options=opts_text(opts))
 
 
-class ScaleFactorTemperatureSensitivityD15(Procedure):
+class ScaleFactorTemperatureSensitivityD15(GbtItem):
     """GB/T 45570—2025 D.1.5 标度因数温度灵敏度 (scale-factor temperature sensitivity), angle
     method, eq. (D.12).
 
@@ -382,7 +380,6 @@ class ScaleFactorTemperatureSensitivityD15(Procedure):
     the chamber's temperature uncertainty on T_i − T_0 (B).
     """
 
-    standard = STANDARD
     item = "D.1.5"
     title = "Scale factor temperature sensitivity, angle method (标度因数温度灵敏度)"
     clause = "D.1.5"
@@ -460,7 +457,6 @@ class InputAxisMisalignmentD16(MountingMisalignment):
     re-seating tilt, the scale factor K, the revolution-pulse position.
     """
 
-    standard = STANDARD
     item = "D.1.6"
     title = "Input axis misalignment, angle method (输入轴失准角)"
     clause = "D.1.6"

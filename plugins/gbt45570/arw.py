@@ -9,11 +9,12 @@ from typing import Any, Mapping
 
 import numpy as np
 from metro.api import (Q_, BudgetRow, Campaign, DataError, Metric, Option, Outcome, PlotSpec,
-                       Procedure, ProcedureError, RateConversion, Result, RunContext, Segment, Step,
+                       ProcedureError, RateConversion, Result, RunContext, Segment, Step,
                        TableSpec, UncertaintyBudget, allan, join, msg)
 
 from . import formulas as F
-from .common import BIAS_EQUIPMENT, COVERAGE, STANDARD, opts_text, scale_factor_row, timebase_row
+from .common import (BIAS_EQUIPMENT, COVERAGE, STANDARD, GbtItem, opts_text, scale_factor_row,
+                     timebase_row)
 from .static_bias import STATIC, Quantization, duration_warnings, quantization_of, static_input
 
 #: χ²/ν of the D.45 fit beyond which its model is taken not to hold (interpretations.md,
@@ -23,7 +24,7 @@ from .static_bias import STATIC, Quantization, duration_warnings, quantization_o
 D45_MISFIT_LIMIT = 10.0
 
 
-class AngleRandomWalkD56(Procedure):
+class AngleRandomWalkD56(GbtItem):
     """GB/T 45570—2025 D.5.6 角度随机游走 (angle random walk), eqs. (D.45), (D.46).
 
     From the initial series (interval τ), the interval is doubled, τ_k = 2^(k−1)·τ, by
@@ -34,7 +35,6 @@ class AngleRandomWalkD56(Procedure):
     RWC = √α1.
     """
 
-    standard = STANDARD
     item = "D.5.6"
     title = "Angle random walk (角度随机游走)"
     clause = "D.5.6"

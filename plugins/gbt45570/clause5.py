@@ -115,31 +115,15 @@ REQUIREMENTS: tuple[Requirement, ...] = (
 #: every item that answers a clause-5 requirement (the ``type-test`` series)
 TYPE_TEST_ITEMS: tuple[str, ...] = tuple(dict.fromkeys(i for r in REQUIREMENTS for i in r.items))
 
-RELIABILITY_SPECS = (
-    Specification(
-        "mtbf_lower",
-        Comparison.AT_LEAST,
-        Q_(5000, "h"),
-        source=clause_source("5.5.1", "MTBF ≥ 5 000 h"),
-        name="MTBF, lower confidence bound",
-        items=("6.2.9.1",),
-    ),
-    Specification(
-        "working_life",
-        Comparison.AT_LEAST,
-        Q_(1000, "h"),
-        source=clause_source("5.5.2 a)"),
-        name="working life",
-        items=("6.2.9.2",),
-    ),
-    Specification(
-        "calendar_life",
-        Comparison.AT_LEAST,
-        Q_(5, "year"),
-        source=clause_source("5.5.2 b)"),
-        name="calendar life",
-        items=("6.2.9.2",),
-    ),
+RELIABILITY_SPECS = tuple(
+    Specification(key, Comparison.AT_LEAST, Q_(value, unit), source=clause_source(*clause),
+                  name=name, items=(item,))
+    for key, value, unit, clause, name, item in (
+        ("mtbf_lower", 5000, "h", ("5.5.1", "MTBF ≥ 5 000 h"), "MTBF, lower confidence bound",
+         "6.2.9.1"),
+        ("working_life", 1000, "h", ("5.5.2 a)",), "working life", "6.2.9.2"),
+        ("calendar_life", 5, "year", ("5.5.2 b)",), "calendar life", "6.2.9.2"),
+    )
 )
 
 

@@ -10,7 +10,7 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 from metro.api import (Q_, BudgetRow, Campaign, Coverage, DataError, EquipmentRequirement,
-                       RateConversion, Segment, msg, std_sampling_u)
+                       Procedure, RateConversion, Segment, msg, std_sampling_u)
 
 STANDARD = "gbt45570"
 COVERAGE = Coverage.probability(0.9545)
@@ -57,6 +57,31 @@ def opts_text(opts: Mapping[str, Any]) -> dict[str, str]:
     return {k: str(v) for k, v in opts.items()}
 
 
+class GbtItem(Procedure):
+    """The base of the GB/T 45570 items: the standard they belong to."""
+
+    standard = STANDARD
+
+
+def need_segments(campaign: Campaign, kind: str, what: str,
+                  item: str | None = None) -> list[Segment]:
+    """The campaign's segments of ``kind``; without one a DataError saying ``what`` is needed
+    (with ``item``, naming the `metro plan` line that shows it)."""
+    segs = campaign.find_segments(kind)
+    if not segs:
+        raise DataError(campaign.source, "segments", what,
+                        hint=None if item is None else f"`metro plan --standard gbt45570 --item "
+                                                       f"{item}` shows what to measure")
+    return segs
+
+
+def sequence_options(proc: Procedure, options: Mapping[str, Any]) -> dict[str, Any]:
+    """The item's own options among ``options`` (a series plans every item with one set of
+    options, some of them another item's), parsed by :meth:`Procedure.option_values`."""
+    names = {o.name for o in proc.options}
+    return proc.option_values({k: v for k, v in options.items() if k in names})
+
+
 def timebase_row(campaign: Campaign, measured: float, unit: str, what: str) -> list[BudgetRow]:
     """The counter's time base as a relative row on a result ∝ 1/τ (none without a relative
     calibration of the ``counter``)."""
@@ -84,6 +109,16 @@ def scale_factor_row(conv: RateConversion, measured: float, unit: str) -> list[B
         sensitivity=Q_(abs(measured), unit),
         note=msg("K = {K}; result ∝ 1/K", K=f"{conv.scale_factor:~P}"),
     )]
+
+
+def signed_rate(campaign: Campaign, seg: Segment,
+                zero: str = "a rate point cannot be 0 °/s") -> tuple[float, int]:
+    """The ``rate`` condition of ``seg`` in °/s and its direction (+1 or −1); a rate of 0 is a
+    DataError that ``zero`` words."""
+    rate = float(seg.condition("rate", "deg/s").to("deg/s").magnitude)
+    if rate == 0:
+        raise DataError(campaign.source, f"segments.{seg.id}.conditions.rate", zero)
+    return rate, 1 if rate > 0 else -1
 
 
 def check_finite(raw: np.ndarray, seg: Segment) -> None:

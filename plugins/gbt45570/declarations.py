@@ -12,16 +12,12 @@ not met (exact), judged ≤ 0; a different composition is a note.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
-
-from metro.api import (Q_, BudgetRow, Campaign, Comparison, Metric, Outcome, Procedure, RunContext,
-                       Specification, Step, TableSpec, UncertaintyBudget, msg)
+from metro.api import (Q_, BudgetRow, Campaign, Comparison, Metric, Outcome, RunContext,
+                       Specification, TableSpec, UncertaintyBudget, msg)
 
 from . import records as R
 from .common import COVERAGE, STANDARD
 from .conformity import clause_source
-
-SECTION = "inspection"
 
 #: 5.2.1: the usual materials by technology (key in the record -> (what, the usual material, words
 #: that match it))
@@ -50,36 +46,23 @@ COMPOSITION = {"optical sensor": ("optical", "光学传感器", "sensor"), "stru
                "control circuit": ("circuit", "electronics", "控制电路")}
 
 
-def _record_step(path: str, what: str) -> Step:
-    return Step(f"inspection-{path}", f"record:{SECTION}.{path}", what, Q_(0, "s"), Q_(0, "s"))
-
-
-class Materials521(Procedure):
+class Materials521(R.InspectionRecord):
     """GB/T 45570—2025 5.2.1 材料 (materials): the declared materials against those 5.2.1 names as
     usual for the device's technology (laser: glass-ceramic cavity and mirrors, aluminium-alloy
     housing; fibre: single-mode fibre, organic potting matched to the coating, aluminium-alloy or
     soft-magnetic housing).  No method in clause 6 and no limit: reported, by product
     specification."""
 
-    standard = STANDARD
     item = "5.2.1"
     clause = "5.2.1"
     title = "Materials (材料)"
-    record_sections = (SECTION,)
     metrics = ()
-
-    @classmethod
-    def missing_records(cls, campaign: Campaign) -> str:
-        return "" if R.has(campaign, f"{SECTION}.materials") else f"[{SECTION}.materials]"
-
-    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [_record_step("materials",
-                             "from the product specification and the build records: the materials "
-                             "of the optical sensor and the housing (5.2.1)")]
+    path = "materials"
+    step = ("from the product specification and the build records: the materials of the optical "
+            "sensor and the housing (5.2.1)")
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        src, where = R.where_of(campaign), f"{SECTION}.materials"
-        rec = R.section(campaign, where, "5.2.1")
+        src, where, rec = self.record(campaign, "5.2.1")
         tech = "fibre" if campaign.device.technology in ("fibre",
                                                          "fiber") else campaign.device.technology
         usual = USUAL.get(tech, {})
@@ -113,7 +96,7 @@ class Materials521(Procedure):
                        warnings=warnings)
 
 
-class Function522(Procedure):
+class Function522(R.InspectionRecord):
     """GB/T 45570—2025 5.2.2 功能与组成 (function and composition): the gyro shall sense the angular
     rate
     or angle of its carrier and output it (``senses``, ``outputs``: the count of those not met,
@@ -121,25 +104,15 @@ class Function522(Procedure):
     judged ≤ 0); it generally consists of an optical sensor, a structural assembly and a control
     circuit with software (``composition``: a difference is a note)."""
 
-    standard = STANDARD
     item = "5.2.2"
     clause = "5.2.2"
     title = "Function and composition (功能与组成)"
-    record_sections = (SECTION,)
     metrics = (Metric("function_nc", "function requirements of 5.2.2 not met", "n_f", "", "5.2.2"),)
-
-    @classmethod
-    def missing_records(cls, campaign: Campaign) -> str:
-        return "" if R.has(campaign, f"{SECTION}.function") else f"[{SECTION}.function]"
-
-    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        return [_record_step("function",
-                             "check that the gyro senses and outputs angular rate or angle and "
-                             "list its parts (5.2.2)")]
+    path = "function"
+    step = "check that the gyro senses and outputs angular rate or angle and list its parts (5.2.2)"
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        src, where = R.where_of(campaign), f"{SECTION}.function"
-        rec = R.section(campaign, where, "5.2.2")
+        src, where, rec = self.record(campaign, "5.2.2")
         failed = [text for key, text in (("senses", "senses the carrier's angular rate or angle"),
                                          ("outputs", "outputs angular rate or angle information"))
                   if not R.answer(rec, key, src, where)]

@@ -111,6 +111,17 @@ def moving_mean(y: Sequence[float], window: int) -> np.ndarray:
     return (c[window:] - c[:-window]) / window + a[0]
 
 
+def settled_and_window_means(rate_deg_h: Sequence[float], window: int,
+                              settled_from: int) -> tuple[float, np.ndarray]:
+    """6.2.7.7 on a record from switch-on: the settled bias (the mean from sample ``settled_from``
+    to the end, °/h) and the means of ``window`` samples before it (:func:`moving_mean`)."""
+    y = np.asarray(rate_deg_h, dtype=float)
+    if not 0 < settled_from < y.size - 1:
+        raise ValueError(f"the settled part must start inside the record (sample {settled_from} of "
+                         f"{y.size})")
+    return float(np.mean(y[settled_from:])), moving_mean(y[:settled_from], window)
+
+
 def setup_time_6277(rate_deg_h: Sequence[float], interval_s: float, window: int, settled_from: int,
                     tolerance_deg_h: float) -> tuple[float, float, float, float]:
     """Set-up time by 6.2.7.7: the interval from switch-on (the first sample starts at t = 0)
@@ -124,12 +135,7 @@ def setup_time_6277(rate_deg_h: Sequence[float], interval_s: float, window: int,
 
     :return: (t_s, the settled bias in °/h, t_in, t_out), times in s.
     """
-    y = np.asarray(rate_deg_h, dtype=float)
-    if not 0 < settled_from < y.size - 1:
-        raise ValueError(f"the settled part must start inside the record (sample {settled_from} of "
-                         f"{y.size})")
-    settled = float(np.mean(y[settled_from:]))
-    mm = moving_mean(y[:settled_from], window)
+    settled, mm = settled_and_window_means(rate_deg_h, window, settled_from)
     out = np.abs(mm - settled) > tolerance_deg_h
     if out.size and out[-1]:
         raise ValueError(f"the output is still outside ±{tolerance_deg_h:g} °/h of the settled "
@@ -200,12 +206,7 @@ def setup_time_excursions_6277(rate_deg_h: Sequence[float], interval_s: float, w
         candidates' e_i, s), ``probabilities`` (P_i), ``p_real`` (p_i) and ``exit_index`` (each
         candidate's exit as an index into the window means).
     """
-    y = np.asarray(rate_deg_h, dtype=float)
-    if not 0 < settled_from < y.size - 1:
-        raise ValueError(f"the settled part must start inside the record (sample {settled_from} of "
-                         f"{y.size})")
-    settled = float(np.mean(y[settled_from:]))
-    mm = moving_mean(y[:settled_from], window)
+    settled, mm = settled_and_window_means(rate_deg_h, window, settled_from)
     d = mm - settled
     if d.size and abs(d[-1]) > tolerance_deg_h:
         raise ValueError(f"the output is still outside ±{tolerance_deg_h:g} °/h of the settled "

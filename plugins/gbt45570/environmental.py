@@ -34,8 +34,8 @@ from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, Equipme
                        join, msg, parse_quantity)
 
 from . import env_formulas as E
-from .common import (COUNTER, COVERAGE, PLATFORM, STANDARD, opts_text, scale_factor_row,
-                     timebase_row)
+from .common import (COUNTER, COVERAGE, PLATFORM, STANDARD, GbtItem, opts_text, scale_factor_row,
+                     need_segments, sequence_options, timebase_row)
 from .power_on import PowerConsumption6278, SetupTime6277
 from .procedures import REPEATS_OPTION, repeat_steps
 from .repeatability import bias_turn_on
@@ -99,18 +99,35 @@ def _condition_result(metric: Metric, value, equipment, campaign: Campaign, *,
 # --------------------------------------------------------------------------------------------
 
 
-class _TemperatureOperation(Procedure):
+class _TemperatureOperation(GbtItem):
     """Shared by D.6.1 and D.6.2: bias (D.5.1, D.40) and bias stability (D.5.2, D.41) of 1 h at
     the temperature point after the soak, and the temperature itself."""
 
-    standard = STANDARD
     kind: str
     word: str
-    tag: str
     equipment = (EquipmentRequirement("chamber",
                                       "high/low temperature chamber (D.6.1.1 b)); its calibration "
                                       "and property uniformity enter the temperature's budget"),
                  COUNTER, PLATFORM)
+
+    def __init_subclass__(cls, word: str = "", row: str = "", default: str = "", points: str = "",
+                          **kw: Any) -> None:
+        """An item at the ``word`` temperature (table C.1 ``row``: ``points``; the default option
+        ``default`` covers them all): its metrics, its one segment and its options."""
+        super().__init_subclass__(**kw)
+        if not word:  # a subclass of a complete item keeps its own
+            return
+        cls.kind, cls.word = f"{word}-temperature", word
+        cls.metrics = _temperature_metrics(word, word, cls.clause, row)
+        cls.requires = (SegmentRequirement(cls.kind, f"1 h at the {word} temperature after a soak "
+                                                     "of at least 2 h",
+                                           conditions={"orientation": "", "temperature": "degC"},
+                                           columns={"output": OUTPUT_UNITS}),)
+        cls.options = (Option("temperature", default, "degC",
+                              f"the {word} temperature point (product spec; table C.1 {row}: "
+                              f"{points}, the default covers all three)"),
+                       Option("batches", 20, None, "batch means for the bias's type A uncertainty",
+                              minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         T = parse_quantity(options.get("temperature", self.options[0].default), dimension="degC")
@@ -122,16 +139,10 @@ class _TemperatureOperation(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        segs = campaign.find_segments(self.kind)
-        if not segs:
-            raise DataError(campaign.source, "segments",
+        seg = need_segments(campaign, self.kind,
                             f"{self.qualified_id()} needs a segment of kind \"{self.kind}\" (1 h "
-                            f"at the {self.word} "
-                            "temperature after the soak, conditions orientation and temperature); "
-                            "none found",
-                            hint=f"`metro plan --standard gbt45570 --item {self.item}` shows what "
-                                 f"to measure")
-        seg = segs[0]
+                            f"at the {self.word} temperature after the soak, conditions "
+                            "orientation and temperature); none found", self.item)[0]
         T = seg.condition("temperature", "degC")
         est = segment_bias(seg, campaign, int(opts["batches"]))
         m = self.metrics
@@ -195,7 +206,8 @@ def _temperature_metrics(tag: str, word: str, clause: str, row: str) -> tuple[Me
     )
 
 
-class LowTemperatureOperationD61(_TemperatureOperation):
+class LowTemperatureOperationD61(_TemperatureOperation, word="low", row="row 1",
+                                 default="-55 °C", points="−45/−55/−20 °C"):
     """GB/T 45570—2025 D.6.1 低温工作试验 (low-temperature operation): after ≥ 2 h soak at the low
     temperature, 1 h of output processed by D.5.1 (B₀, eq. (D.40)) and D.5.2 (B_s, eq. (D.41),
     t = 10 s and 100 s) (D.6.1.3); the temperature T_low (table C.1 row 1) with the chamber's
@@ -204,49 +216,16 @@ class LowTemperatureOperationD61(_TemperatureOperation):
     item = "D.6.1"
     clause = "D.6.1"
     title = "Low-temperature operation (低温工作)"
-    kind = "low-temperature"
-    word = "low"
-    metrics = _temperature_metrics("low", "low", "D.6.1", "row 1")
-    requires = (SegmentRequirement("low-temperature",
-                                   "1 h at the low temperature after a soak of at least 2 h",
-                                   conditions={"orientation": "", "temperature": "degC"},
-                                   columns={"output": OUTPUT_UNITS}),)
-    options = (
-        Option(
-            "temperature",
-            "-55 °C",
-            "degC",
-            "the low temperature point (product spec; table C.1 row 1: "
-            "−45/−55/−20 °C, the default covers all three)",
-        ),
-        Option("batches", 20, None, "batch means for the bias's type A uncertainty", minimum=2),
-    )
 
 
-class HighTemperatureOperationD62(_TemperatureOperation):
+class HighTemperatureOperationD62(_TemperatureOperation, word="high", row="row 3",
+                                  default="85 °C", points="+70/+85/+60 °C"):
     """GB/T 45570—2025 D.6.2 高温工作试验 (high-temperature operation): as D.6.1 at the high
     temperature (D.6.2.3: B₀ by eq. (D.40), B_s by eq. (D.41)); T_high is table C.1 row 3."""
 
     item = "D.6.2"
     clause = "D.6.2"
     title = "High-temperature operation (高温工作)"
-    kind = "high-temperature"
-    word = "high"
-    metrics = _temperature_metrics("high", "high", "D.6.2", "row 3")
-    requires = (SegmentRequirement("high-temperature",
-                                   "1 h at the high temperature after a soak of at least 2 h",
-                                   conditions={"orientation": "", "temperature": "degC"},
-                                   columns={"output": OUTPUT_UNITS}),)
-    options = (
-        Option(
-            "temperature",
-            "85 °C",
-            "degC",
-            "the high temperature point (product spec; table C.1 row 3: "
-            "+70/+85/+60 °C, the default covers all three)",
-        ),
-        Option("batches", 20, None, "batch means for the bias's type A uncertainty", minimum=2),
-    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -357,6 +336,12 @@ def _delta_result(metric: Metric, eq: str, a: dict, b: dict, campaign: Campaign,
                   earth_rate="not applicable", reportable=turn_on[2], reason=turn_on[1])
 
 
+#: the options D.6.3 and D.6.4 share: batch means of each bias, and D.5.3's power-ons (the
+#: turn-on scatter of a difference of two power-ons)
+_CHANGE_OPTIONS = (Option("batches", 10, None, "batch means per segment for the type A uncertainty",
+                          minimum=2), REPEATS_OPTION)
+
+
 def _vibration_metrics() -> tuple[Metric, ...]:
     out = [Metric("vib_perf_level", "performance vibration level (table C.1 row 8)", "a_rms", "gn",
                   "D.6.3.2", ""),
@@ -375,7 +360,7 @@ def _vibration_metrics() -> tuple[Metric, ...]:
     return tuple(out)
 
 
-class VibrationD63(Procedure):
+class VibrationD63(GbtItem):
     """GB/T 45570—2025 D.6.3 振动试验 (vibration), eqs. (D.47), (D.48).
 
     Along each of IRA, XRA, YRA: for performance vibration the biases before (B_01), during
@@ -387,7 +372,6 @@ class VibrationD63(Procedure):
     smallest over the axes) carry the vibration table's calibration.
     """
 
-    standard = STANDARD
     item = "D.6.3"
     title = "Vibration (振动试验)"
     clause = "D.6.3"
@@ -410,14 +394,11 @@ class VibrationD63(Procedure):
         Option("endurance_level", "9 g", "gn",
                "endurance vibration level, g_rms (product spec; table C.1 row 9)"),
         Option("vibration_time", "10 min", "s", "vibration time per axis (product spec)"),
-        Option("batches", 10, None, "batch means per segment for the type A uncertainty",
-               minimum=2),
-        REPEATS_OPTION,
+        *_CHANGE_OPTIONS,
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k,
-                                   v in options.items() if k in {o.name for o in self.options}})
+        opts = sequence_options(self, options)
         vt = opts["vibration_time"]
         steps = []
         for ax in _names(opts["axes"], AXES, "axes"):
@@ -518,7 +499,7 @@ def _shock_metrics() -> tuple[Metric, ...]:
     return tuple(out)
 
 
-class MechanicalShockD64(Procedure):
+class MechanicalShockD64(GbtItem):
     """GB/T 45570—2025 D.6.4 机械冲击试验 (mechanical shock), eq. (D.48).
 
     Along each of IRA, XRA, YRA the biases before and after the (unpowered) shocks by D.5.1 and
@@ -527,7 +508,6 @@ class MechanicalShockD64(Procedure):
     table's calibration and its duration accuracy.
     """
 
-    standard = STANDARD
     item = "D.6.4"
     title = "Mechanical shock (机械冲击试验)"
     clause = "D.6.4"
@@ -545,14 +525,11 @@ class MechanicalShockD64(Procedure):
         Option("axes", "IRA, XRA, YRA", None, "axes along the shock (D.6.4.2 e))"),
         Option("level", "40 g", "gn", "peak acceleration (product spec; table C.1 row 10)"),
         Option("pulse", "20 ms", "ms", "pulse duration (product spec; table C.1 row 10)"),
-        Option("batches", 10, None, "batch means per segment for the type A uncertainty",
-               minimum=2),
-        REPEATS_OPTION,
+        *_CHANGE_OPTIONS,
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k,
-                                   v in options.items() if k in {o.name for o in self.options}})
+        opts = sequence_options(self, options)
         lvl = opts["level"].to("gn").magnitude
         dur = opts["pulse"].to("ms").magnitude
         steps = []

@@ -219,12 +219,18 @@ def bias_magnetic_sensitivity_d44(b_plus: float, b_minus: float, H_b_mT: float) 
 REVOLUTION_ARCSEC = 360.0 * 3600.0
 
 
+def mean_of(values: Sequence[float], eq: str, what: str) -> float:
+    """The arithmetic mean (1/n) Σ x of eq. ``eq`` (D.1, D.17); a ValueError naming the equation
+    when there is no ``what`` to average."""
+    a = np.asarray(values, dtype=float)
+    if a.size < 1:
+        raise ValueError(f"{eq} needs at least one {what}")
+    return float(a.mean())
+
+
 def mean_counts_d1(counts_per_turn: Sequence[float]) -> float:
     """N_±i = (1/m) Σ_j N_±ij, eq. (D.1): mean pulses per whole revolution (P)."""
-    c = np.asarray(counts_per_turn, dtype=float)
-    if c.size < 1:
-        raise ValueError("D.1 needs at least one revolution")
-    return float(c.mean())
+    return mean_of(counts_per_turn, "D.1", "revolution")
 
 
 def scale_factor_d2(n_plus: float, n_minus: float) -> float:

@@ -15,7 +15,7 @@ from metro.api import (  # D.12, D.29, D.43: the maximum's selection bias
     MaxSelection,
 )
 
-from .formulas import REVOLUTION_ARCSEC
+from .formulas import REVOLUTION_ARCSEC, mean_of
 
 # --------------------------------------------------------------------------------------------
 # D.1.4 / D.2.4 repeatability, D.1.5 / D.2.5 temperature sensitivity
@@ -136,10 +136,7 @@ def misalignment_d30(F_plus: float, F_minus: float, K: float, rate: float) -> fl
 
 def mean_output_d17(samples: Sequence[float]) -> float:
     """F̄_j = (1/n) Σ_p F_jp, eq. (D.17): mean output at one input rate, LSB."""
-    f = np.asarray(samples, dtype=float)
-    if f.size < 1:
-        raise ValueError("D.17 needs at least one sample")
-    return float(f.mean())
+    return mean_of(samples, "D.17", "sample")
 
 
 def rest_output_d18(F_start: float, F_end: float) -> float:

@@ -23,7 +23,7 @@ from typing import Mapping
 
 import numpy as np
 from metro.api import (Q_, BudgetRow, Campaign, Comparison, DataError, EquipmentRequirement, Metric,
-                       Outcome, Procedure, Result, RunContext, Specification, Step, TableSpec,
+                       Outcome, Result, RunContext, Specification, TableSpec,
                        UncertaintyBudget, join, msg, parse_limit)
 
 from . import records as R
@@ -114,19 +114,7 @@ def _key(name: str) -> str:
     return k
 
 
-def _record_step(item: str, path: str, what: str) -> Step:
-    return Step(f"inspection-{path}", f"record:{SECTION}.{path}", what, Q_(0, "s"), Q_(0, "s"))
-
-
-class _Inspection(Procedure):
-    standard = STANDARD
-    record_sections = (SECTION,)
-    path: str
-
-    @classmethod
-    def missing_records(cls, campaign: Campaign) -> str:
-        return "" if R.has(campaign, f"{SECTION}.{cls.path}") else f"[{SECTION}.{cls.path}]"
-
+class _Inspection(R.InspectionRecord):
     def _outcome(self, results, *, tables=(), warnings=()) -> Outcome:
         return Outcome(STANDARD, self.item, self.title, self.clause, results, tables=tables,
                        warnings=warnings)
@@ -154,14 +142,11 @@ class Appearance621(_Inspection):
               "c": "marks legible, visible, no missing characters",
               "d": "electrical connectors undamaged, capped, insulation intact"}
 
-    def sequence(self, options):
-        return [_record_step(self.item, self.path,
-                             "visual inspection under normal lighting (6.2.1): answer the "
-                             "checklist a)–d) of 5.2.3")]
+    step = ("visual inspection under normal lighting (6.2.1): answer the "
+            "checklist a)–d) of 5.2.3")
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        src, rec = R.where_of(campaign), R.section(campaign, f"{SECTION}.{self.path}", "5.2.3")
-        where = f"{SECTION}.{self.path}"
+        src, where, rec = self.record(campaign, "5.2.3")
         answers = {k: R.answer(rec, k, src, where) for k in self.CHECKS}
         failed = [f"{k}) {self.CHECKS[k]}" for k, ok in answers.items() if not ok]
         tab = TableSpec("appearance", "Appearance checklist (5.2.3)", ["", "requirement",
@@ -269,10 +254,8 @@ class Dimensions622(_Inspection):
     metrics = (Metric("dim", "dimension", "l", "mm", "5.2.4"),
                Metric("itgrade", "tolerance zone over IT12", "T/IT12", "", "5.2.4"))
 
-    def sequence(self, options):
-        return [_record_step(self.item, self.path,
-                             "measure each outline dimension of the product specification with "
-                             "callipers (6.2.2), repeated readings; record nominal and tolerance")]
+    step = ("measure each outline dimension of the product specification with "
+            "callipers (6.2.2), repeated readings; record nominal and tolerance")
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         src = R.where_of(campaign)
@@ -340,14 +323,11 @@ class Mass623(_Inspection):
                                       "enter the budget", required=True),)
     metrics = (Metric("mass", "mass as delivered", "m", "g", "5.2.5"),)
 
-    def sequence(self, options):
-        return [_record_step(self.item, self.path,
-                             "weigh the gyro on the electronic balance (6.2.3) with the "
-                             "cables, connectors and screws delivered with it; repeated readings")]
+    step = ("weigh the gyro on the electronic balance (6.2.3) with the "
+            "cables, connectors and screws delivered with it; repeated readings")
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        src, where = R.where_of(campaign), f"{SECTION}.{self.path}"
-        rec = R.section(campaign, where, "5.2.5")
+        src, where, rec = self.record(campaign, "5.2.5")
         vals = R.readings(rec, "readings", "kg", src, where)
         delivered = _names(rec, "delivered_with", src, where)
         included = _names(rec, "includes", src, where)
@@ -401,15 +381,12 @@ class Supply526(_Inspection):
                       "", "5.2.6"),
                Metric("supply_V", "supply voltage at the gyro", "U", "V", "5.2.6"))
 
-    def sequence(self, options):
-        return [_record_step(self.item, self.path,
-                             "check that the product specification states voltage kind and "
-                             "accuracy, current and power for each supply (5.2.6); measure the "
-                             "voltages at the gyro")]
+    step = ("check that the product specification states voltage kind and "
+            "accuracy, current and power for each supply (5.2.6); measure the "
+            "voltages at the gyro")
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        src, where = R.where_of(campaign), f"{SECTION}.{self.path}"
-        rec = R.section(campaign, where, "5.2.6")
+        src, where, rec = self.record(campaign, "5.2.6")
         missing = []
         if not str(rec.get("voltage_type", "")).strip():
             missing.append("voltage kind (voltage_type)")
@@ -524,15 +501,12 @@ class Interfaces624(_Inspection):
                  "status": "status", "status word": "status", "电参量": "electrical",
                  "温度": "temperature", "状态字": "status"}
 
-    def sequence(self, options):
-        return [_record_step(self.item, self.path,
-                             "check the mechanical interface with gauges (6.2.4.1) and the "
-                             "electrical interface, protocol and output frame content (6.2.4.2) "
-                             "against the product specification")]
+    step = ("check the mechanical interface with gauges (6.2.4.1) and the "
+            "electrical interface, protocol and output frame content (6.2.4.2) "
+            "against the product specification")
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
-        src, where = R.where_of(campaign), f"{SECTION}.{self.path}"
-        rec = R.section(campaign, where, "5.2.7")
+        src, where, rec = self.record(campaign, "5.2.7")
         warnings, mech, elec = [], [], []
         if not R.answer(rec, "mechanical_per_specification", src, where):
             mech.append("mechanical interface not as the product specification")
@@ -604,11 +578,9 @@ class Insulation625(_Inspection):
                                       required=True),)
     metrics = (Metric("R_ins", "insulation resistance", "R", "Mohm", "5.2.8"),)
 
-    def sequence(self, options):
-        return [_record_step(self.item, self.path,
-                             "gyro not operating: measure the insulation resistance between "
-                             "mutually insulated terminals and between terminals and case with the "
-                             "megohmmeter at the specified test voltage (6.2.5)")]
+    step = ("gyro not operating: measure the insulation resistance between "
+            "mutually insulated terminals and between terminals and case with the "
+            "megohmmeter at the specified test voltage (6.2.5)")
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         src = R.where_of(campaign)

@@ -15,14 +15,14 @@ from metro.api import (Q_, BudgetRow, Campaign, DataError, DeviceUnderTest, Metr
 
 from . import formulas as F
 from . import formulas_rate as F2
-from .common import COVERAGE, STANDARD, group_of, opts_text
+from .common import COVERAGE, STANDARD, GbtItem, group_of, opts_text
 from .rate_data import (RATE_EQUIPMENT, RATE_OUTPUT, collect_rate_data, default_nonlinearity_limit,
                         fit_scale_factor, nonlinearity_budget, nonlinearity_of, rate_row,
                         rate_sequence)
 from .revolutions import angle_sequence, collect_rate_points
 
 
-class MaxInputRateD3(Procedure):
+class MaxInputRateD3(GbtItem):
     """GB/T 45570—2025 D.3 最大输入角速率 (maximum input rate).
 
     The largest tested table rate Ω whose range [−Ω, +Ω] has a scale-factor nonlinearity within
@@ -35,7 +35,6 @@ class MaxInputRateD3(Procedure):
     table's rate accuracy.
     """
 
-    standard = STANDARD
     item = "D.3"
     title = "Maximum input rate (最大输入角速率)"
     clause = "D.3"

@@ -14,7 +14,7 @@ from metro.api import (Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
                        parse_quantity)
 
 from . import formulas_rate as F2
-from .common import COVERAGE, DIRECTIONS, STANDARD, opts_text
+from .common import COVERAGE, DIRECTIONS, STANDARD, GbtItem, opts_text
 from .revolutions import REPEAT_RATE
 
 #: the four mountings of D.1.6.3 / D.2.6.3: (axis along the table axis, turn about IRA)
@@ -159,7 +159,7 @@ class DeviceScale:
     reference: str = ""  #: the segment whose unit every mounting's must match
 
 
-class MountingMisalignment(Procedure):
+class MountingMisalignment(GbtItem):
     """The procedure D.1.6 (angle method) and D.2.6 (rate method) share: the four mountings'
     steps at the ``rate`` option, their segments (:func:`mounting_groups`), one angle per mounting
     and α, β, γ with their budgets (:func:`misalignment_outcome`).  A subclass says how one

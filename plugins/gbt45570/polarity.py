@@ -19,10 +19,11 @@ from collections.abc import Mapping
 from typing import Any
 
 from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
-                       Metric, Option, Outcome, Procedure, Result, RunContext, SegmentRequirement,
+                       Metric, Option, Outcome, Result, RunContext, SegmentRequirement,
                        Step, UncertaintyBudget, msg)
 
-from .common import COUNTER, COVERAGE, STANDARD, opts_text, scale_factor_row
+from .common import (COUNTER, COVERAGE, STANDARD, GbtItem, opts_text, scale_factor_row,
+                     sequence_options)
 from .rate_data import rate_row
 from .static_bias import mean_rate
 
@@ -37,13 +38,12 @@ def response_ratio(rest_deg_h: float, turn_deg_h: float, rate_deg_s: float) -> f
     return (turn_deg_h - rest_deg_h) / (rate_deg_s * 3600.0)
 
 
-class Polarity626(Procedure):
+class Polarity626(GbtItem):
     """GB/T 45570—2025 6.2.6 极性 (polarity), judged against 5.2.9 (positive): the response ratio
     r = (ω̄_turn − ω̄_rest)/Ω and the polarity sign(r).  Budget of r: the two means (A, batch means
     so that correlated noise is not understated), the device's K used to convert the output (B)
     and the table's rate (B)."""
 
-    standard = STANDARD
     item = "6.2.6"
     title = "Polarity (极性)"
     clause = "6.2.6"
@@ -69,8 +69,7 @@ class Polarity626(Procedure):
                       minimum=2))
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k,
-                                   v in options.items() if k in {o.name for o in self.options}})
+        opts = sequence_options(self, options)
         rate = opts["rate"].to("deg/s")
         return [
             Step("polarity-rest", "polarity",

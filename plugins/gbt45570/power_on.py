@@ -7,16 +7,17 @@ from typing import Any, Mapping
 
 import numpy as np
 from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
-                       Metric, Option, Outcome, PlotSpec, Procedure, Result, RunContext,
+                       Metric, Option, Outcome, PlotSpec, Result, RunContext,
                        SegmentRequirement, Step, TableSpec, UncertaintyBudget, allan, gyro_output,
                        hint, msg, parse_quantity)
 
 from . import env_formulas as E
-from .common import COUNTER, COVERAGE, STANDARD, check_finite, opts_text, timebase_row
+from .common import (COUNTER, COVERAGE, STANDARD, GbtItem, check_finite, need_segments,
+                     opts_text, sequence_options, timebase_row)
 from .static_bias import output_quantum
 
 
-class SetupTime6277(Procedure):
+class SetupTime6277(GbtItem):
     """GB/T 45570—2025 6.2.7.7 准备时间 (set-up time): the time from switch-on until the gyro
     reaches the required performance, read as the instant the window mean of the output comes
     within ±``tolerance`` of the settled bias (the mean of the last ``settled`` of the record);
@@ -29,7 +30,6 @@ class SetupTime6277(Procedure):
     ±τ), the timer or the counter's time base (B).
     """
 
-    standard = STANDARD
     item = "6.2.7.7"
     title = "Set-up time (准备时间)"
     clause = "6.2.7.7"
@@ -50,8 +50,7 @@ class SetupTime6277(Procedure):
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k,
-                                   v in options.items() if k in {o.name for o in self.options}})
+        opts = sequence_options(self, options)
         return [Step("power-on", "power-on",
                      "gyro at rest, IRA up, unpowered; switch on and record from that instant "
                      f"for {opts['record']:~P} at {opts['interval']:~P} (6.2.7.7)",
@@ -60,14 +59,8 @@ class SetupTime6277(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        segs = campaign.find_segments("power-on")
-        if not segs:
-            raise DataError(campaign.source, "segments",
-                            "6.2.7.7 needs a segment of kind \"power-on\": the output "
-                            "recorded from the switch-on; none found",
-                            hint="`metro plan --standard gbt45570 --item 6.2.7.7` shows what to "
-                                 "measure")
-        seg = segs[0]
+        seg = need_segments(campaign, "power-on", "6.2.7.7 needs a segment of kind \"power-on\": "
+                            "the output recorded from the switch-on; none found", self.item)[0]
         series, conv = gyro_output(seg, campaign.device, source=campaign.source)
         raw = np.asarray(series.data.magnitude, dtype=float)
         check_finite(raw, seg)
@@ -217,7 +210,7 @@ def _setup_plot(mm: np.ndarray, tau: float, w: int, settled: float, tol: float,
     return plot
 
 
-class PowerConsumption6278(Procedure):
+class PowerConsumption6278(GbtItem):
     """GB/T 45570—2025 6.2.7.8 功耗 (power consumption): P = Σ_j mean(U_j·I_j) over the supplies.
 
     One ``power`` segment per supply with ``voltage`` and ``current`` columns.  Budget: each
@@ -226,7 +219,6 @@ class PowerConsumption6278(Procedure):
     supplies and are entered once).
     """
 
-    standard = STANDARD
     item = "6.2.7.8"
     title = "Power consumption (功耗)"
     clause = "6.2.7.8"
@@ -243,8 +235,7 @@ class PowerConsumption6278(Procedure):
     )
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k,
-                                   v in options.items() if k in {o.name for o in self.options}})
+        opts = sequence_options(self, options)
         steps = []
         for text in str(opts["supplies"]).split(","):
             V = parse_quantity(text.strip(), dimension="V", field="option supplies")
@@ -258,11 +249,8 @@ class PowerConsumption6278(Procedure):
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
-        segs = campaign.find_segments("power")
-        if not segs:
-            raise DataError(campaign.source, "segments",
-                            "6.2.7.8 needs one segment of kind \"power\" per supply "
-                            "(columns voltage [V] and current [A]); none found")
+        segs = need_segments(campaign, "power", "6.2.7.8 needs one segment of kind \"power\" per "
+                             "supply (columns voltage [V] and current [A]); none found")
         b = int(opts["batches"])
         Us, Is, rowsA, table = [], [], [], []
         for s in segs:
@@ -288,8 +276,7 @@ class PowerConsumption6278(Procedure):
                                           "s_b/√b", Q_(sd / math.sqrt(nb), "W"), nb - 1))
         P, parts = E.power_6278(Us, Is)
         rows = list(rowsA)
-        for role, sym, means in (("voltmeter", "u(U)", [abs(float(np.mean(x))) for x in Us]),
-                                 ("ammeter", "u(I)", [abs(float(np.mean(x))) for x in Is])):
+        for role, sym in (("voltmeter", "u(U)"), ("ammeter", "u(I)")):
             eq = campaign.equipment_for(role)
             if eq is None or eq.calibration is None:
                 continue

@@ -12,13 +12,13 @@ from typing import Any, Mapping
 
 import numpy as np
 from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
-                       Metric, Option, Outcome, PlotSpec, Procedure, ProcedureError, Result,
+                       Metric, Option, Outcome, PlotSpec, ProcedureError, Result,
                        RunContext, Segment, SegmentRequirement, Step, TableSpec, UncertaintyBudget,
                        allan, hint, join, msg, parse_quantity)
 
 from . import formulas as F
 from .arw import AngleRandomWalkD56
-from .common import (BIAS_EQUIPMENT, COVERAGE, STANDARD, delta_temperature_u, opts_text,
+from .common import (BIAS_EQUIPMENT, COVERAGE, STANDARD, GbtItem, delta_temperature_u, opts_text,
                      scale_factor_row, timebase_row)
 from .repeatability import bias_repeat_row, bias_turn_on
 from .static_bias import (STATIC, duration_warnings, quantization_of, quantization_rows_std,
@@ -29,7 +29,7 @@ from .static_bias import (STATIC, duration_warnings, quantization_of, quantizati
 # --------------------------------------------------------------------------------------------
 
 
-class BiasD51(Procedure):
+class BiasD51(GbtItem):
     """GB/T 45570—2025 D.5.1 零偏 (bias), eq. (D.40).
 
     B0 = (1/(τK))·(1/n)ΣN_i − 15.041·sin θ.  For LSB or rate output the first term is the
@@ -38,7 +38,6 @@ class BiasD51(Procedure):
     noise is correlated.  Type B: scale factor, latitude, levelling of the IRA, time base.
     """
 
-    standard = STANDARD
     item = "D.5.1"
     title = "Bias (零偏)"
     clause = "D.5.1"
@@ -93,7 +92,7 @@ def smoothing_times(text: Any) -> list[Any]:
     return out
 
 
-class BiasStabilityD52(Procedure):
+class BiasStabilityD52(GbtItem):
     """GB/T 45570—2025 D.5.2 零偏稳定性 (bias stability), eq. (D.41).
 
     Samples are accumulated over t (10 s and 100 s unless another ``t`` is given) and
@@ -101,7 +100,6 @@ class BiasStabilityD52(Procedure):
     deviation of m values, u = B_s/√(2(m − 1)), ν = m − 1.  Type B: scale factor, time base.
     """
 
-    standard = STANDARD
     item = "D.5.2"
     title = "Bias stability (零偏稳定性)"
     clause = "D.5.2"
@@ -178,7 +176,7 @@ class BiasStabilityD52(Procedure):
 # --------------------------------------------------------------------------------------------
 
 
-class BiasRepeatabilityD53(Procedure):
+class BiasRepeatabilityD53(GbtItem):
     """GB/T 45570—2025 D.5.3 零偏重复性 (bias repeatability), eq. (D.42).
 
     Q ≥ 7 biases B_oi, each by D.5.1 (eq. D.40) on its own power-on (segments of kind
@@ -189,7 +187,6 @@ class BiasRepeatabilityD53(Procedure):
     measures.  Type B: quantization, scale factor.
     """
 
-    standard = STANDARD
     item = "D.5.3"
     title = "Bias repeatability (零偏重复性)"
     clause = "D.5.3"
@@ -284,7 +281,7 @@ REPEATS_OPTION = Option("repeats", 7, None,
                         minimum=0)
 
 
-class BiasTemperatureSensitivityD54(Procedure):
+class BiasTemperatureSensitivityD54(GbtItem):
     """GB/T 45570—2025 D.5.4 零偏温度灵敏度 (bias temperature sensitivity), eq. (D.43).
 
     B_t = max_i |(B_i − B_00)/(T_i − T_0)|: B_i by D.5.1 at each temperature point (segments of
@@ -294,7 +291,6 @@ class BiasTemperatureSensitivityD54(Procedure):
     temperature uncertainty on T_i − T_0, the scale factor.
     """
 
-    standard = STANDARD
     item = "D.5.4"
     title = "Bias temperature sensitivity (零偏温度灵敏度)"
     clause = "D.5.4"
@@ -443,7 +439,7 @@ def repeat_steps(options: Mapping[str, Any]) -> list[Step]:
     return BiasRepeatabilityD53().sequence({"Q": q}) if q > 0 else []
 
 
-class BiasMagneticSensitivityD55(Procedure):
+class BiasMagneticSensitivityD55(GbtItem):
     """GB/T 45570—2025 D.5.5 零偏磁场灵敏度 (bias magnetic sensitivity), eq. (D.44).
 
     For each axis (IRA, XRA, YRA): B_h = |B_0+ − B_0−| / (2 H_b), the biases by D.5.1 with the
@@ -452,7 +448,6 @@ class BiasMagneticSensitivityD55(Procedure):
     field generator's uniformity (5 %, uniform) and calibration, the scale factor.
     """
 
-    standard = STANDARD
     item = "D.5.5"
     title = "Bias magnetic sensitivity (零偏磁场灵敏度)"
     clause = "D.5.5"

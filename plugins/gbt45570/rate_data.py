@@ -15,7 +15,8 @@ from metro.api import (Q_, BudgetRow, Campaign, DataError, DeviceUnderTest, Equi
                        UncertaintyBudget, fit_line, join, msg, parse_quantity)
 
 from . import formulas_rate as F2
-from .common import COVERAGE, DIRECTIONS, ItemRef, group_of, resolution, resolution_row
+from .common import (COVERAGE, DIRECTIONS, ItemRef, group_of, resolution, resolution_row,
+                     signed_rate)
 from .revolutions import rate_points
 
 LSB_PER_RATE = "LSB/(deg/s)"
@@ -201,11 +202,7 @@ def collect_rate_data(proc: type[Procedure] | ItemRef, campaign: Campaign, min_p
     uFr = 0.5 * math.hypot(us, ue)
     by_rate: dict[float, dict[int, tuple]] = {}
     for s in segs:
-        rate = float(s.condition("rate", "deg/s").to("deg/s").magnitude)
-        if rate == 0:
-            raise DataError(campaign.source, f"segments.{s.id}.conditions.rate",
-                            "a rate point cannot be 0 °/s")
-        d = 1 if rate > 0 else -1
+        rate, d = signed_rate(campaign, s)
         slot = by_rate.setdefault(round(abs(rate), 9), {})
         if d in slot:
             raise DataError(campaign.source, f"segments.{s.id}",

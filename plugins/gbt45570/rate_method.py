@@ -21,12 +21,13 @@ from typing import Any, Mapping
 import attrs
 import numpy as np
 from metro.api import (Q_, BudgetRow, Campaign, DataError, EquipmentRequirement, Metric, Option,
-                       Outcome, PlotSpec, Procedure, Result, RunContext, Segment,
+                       Outcome, PlotSpec, Result, RunContext, Segment,
                        SegmentRequirement, Step, TableSpec, UncertaintyBudget, join, msg,
                        required_scale_factor)
 
 from . import formulas_rate as F2
-from .common import COVERAGE, STANDARD, group_of, kr_sampling_row, opts_text, repeat_runs
+from .common import (COVERAGE, STANDARD, GbtItem, group_of, kr_sampling_row, opts_text, repeat_runs,
+                     signed_rate)
 from .max_rate import MaxInputRateD3
 from .misalignment import (FIXTURE, MOUNTINGS, DeviceScale, MountingMisalignment,
                            misalignment_metrics)
@@ -53,7 +54,7 @@ _OPTIONS = (
 # --------------------------------------------------------------------------------------------
 
 
-class ScaleFactorD21(Procedure):
+class ScaleFactorD21(GbtItem):
     """GB/T 45570—2025 D.2.1 标度因数 (scale factor), rate method, eqs. (D.17)–(D.22).
 
     F̄_j per rate point (D.17), the rest output F̄_r = (F̄_s + F̄_e)/2 (D.18) removed (D.19), and
@@ -61,7 +62,6 @@ class ScaleFactorD21(Procedure):
     Type A: the fit's standard error (ν = M − 2); type B: the rate table's rate accuracy (K ∝ 1/Ω).
     """
 
-    standard = STANDARD
     item = "D.2.1"
     title = "Scale factor, rate method (标度因数 速率法)"
     clause = "D.2.1"
@@ -361,7 +361,6 @@ class InputAxisMisalignmentD26(MountingMisalignment):
     factor and the table's rate accuracy (δ ∝ 1/(KΩ)).
     """
 
-    standard = STANDARD
     item = "D.2.6"
     title = "Input axis misalignment, rate method (输入轴失准角)"
     clause = "D.2.6"
@@ -401,11 +400,7 @@ class InputAxisMisalignmentD26(MountingMisalignment):
         where = f"mounting {ax} up, turned {turn}°"
         by_dir: dict[int, tuple] = {}
         for s in segs:
-            rate = float(s.condition("rate", "deg/s").to("deg/s").magnitude)
-            if rate == 0:
-                raise DataError(campaign.source, f"segments.{s.id}.conditions.rate",
-                                "the rate cannot be 0 °/s")
-            d = 1 if rate > 0 else -1
+            rate, d = signed_rate(campaign, s, "the rate cannot be 0 °/s")
             if d in by_dir:
                 raise DataError(campaign.source, f"segments.{s.id}",
                                 f"{where}: two segments at {rate:+g} °/s")

@@ -15,8 +15,12 @@ from typing import Any, Mapping
 
 import attrs
 import pint
-from metro.api import (Q_, BudgetRow, Campaign, DataError, Equipment, Result, UnitError, msg,
-                       parse_quantity, unit)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, Equipment, Result, Step,
+                       UnitError, msg, parse_quantity, unit)
+
+from .common import GbtItem
+
+INSPECTION = "inspection"
 
 
 def where_of(campaign: Campaign) -> str:
@@ -27,7 +31,7 @@ def section(campaign: Campaign, path: str, item: str, *, kind: type = dict) -> A
     """The record at ``path`` (``inspection.mass``), or a DataError saying it is missing."""
     node: Any = campaign.records
     parts = path.split(".")
-    for i, p in enumerate(parts):
+    for p in parts:
         if not isinstance(node, Mapping) or p not in node:
             raise DataError(where_of(campaign), path,
                             f"missing: GB/T 45570 {item} reads the record [{path}]",
@@ -200,3 +204,26 @@ def as_unit(text_unit: str) -> pint.Unit:
 def na_result(*args: Any, **kw: Any) -> Result:
     """A Result about the device's build or records, in which the earth's rate has no part."""
     return Result(*args, earth_rate="not applicable", **kw)
+
+
+class InspectionRecord(GbtItem):
+    """An item answered from one table ``[inspection.<path>]`` of the campaign's records (5.2.1–
+    5.2.8): its one step asks the lab for that table, as ``step`` says."""
+
+    record_sections = (INSPECTION,)
+    path: str
+    step: str
+
+    @classmethod
+    def missing_records(cls, campaign: Campaign) -> str:
+        where = f"{INSPECTION}.{cls.path}"
+        return "" if has(campaign, where) else f"[{where}]"
+
+    def sequence(self, options: Mapping[str, Any]) -> list[Step]:
+        return [Step(f"inspection-{self.path}", f"record:{INSPECTION}.{self.path}", self.step,
+                     Q_(0, "s"), Q_(0, "s"))]
+
+    def record(self, campaign: Campaign, item: str) -> tuple[str, str, Any]:
+        """(file, field, table) of this item's record; a DataError citing ``item`` without it."""
+        where = f"{INSPECTION}.{self.path}"
+        return where_of(campaign), where, section(campaign, where, item)

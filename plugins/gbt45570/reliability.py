@@ -23,11 +23,11 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
-from metro.api import (Q_, BudgetRow, Campaign, DataError, Metric, Option, Outcome, Procedure,
-                       RunContext, Step, TableSpec, UncertaintyBudget, msg)
+from metro.api import (Q_, BudgetRow, Campaign, DataError, Metric, Option, Outcome, RunContext,
+                       Step, TableSpec, UncertaintyBudget, msg)
 
 from . import records as R
-from .common import COVERAGE, STANDARD, opts_text
+from .common import COVERAGE, STANDARD, GbtItem, opts_text
 
 PLANS = ("time-terminated", "failure-terminated")
 
@@ -67,7 +67,7 @@ def _evidence(campaign: Campaign) -> tuple[Mapping[str, Any], str]:
     return R.section(campaign, "reliability", "5.5"), R.where_of(campaign)
 
 
-class Mtbf6291(Procedure):
+class Mtbf6291(GbtItem):
     """GB/T 45570—2025 5.5.1 平均故障间隔时间 MTBF ≥ 5 000 h, by 6.2.9.1 (the product
     specification's
     method): θ̂ = T/r and the one-sided lower bound θ_L = 2T/χ²(C; 2r+2) (time-terminated) or
@@ -75,7 +75,6 @@ class Mtbf6291(Procedure):
     θ_L is a confidence bound: its sampling uncertainty is the stated confidence, so its budget is
     the declared hours taken as exact; θ̂ carries u = θ̂/√r (exponential model, for information)."""
 
-    standard = STANDARD
     item = "6.2.9.1"
     clause = "5.5.1"
     title = "MTBF (平均故障间隔时间)"
@@ -163,13 +162,12 @@ class Mtbf6291(Procedure):
                        options=opts_text(opts))
 
 
-class Life6292(Procedure):
+class Life6292(GbtItem):
     """GB/T 45570—2025 5.5.2 寿命 (life), by 6.2.9.2 (the product specification's method): working
     life ≥ 1 000 h and calendar life ≥ 5 a, both cumulative, whichever comes first — read from the
     declared ``[reliability]`` records (``working_life``, ``calendar_life``) and judged as
     declared."""
 
-    standard = STANDARD
     item = "6.2.9.2"
     clause = "5.5.2"
     title = "Life (寿命)"

@@ -11,6 +11,7 @@ row is dropped silently).  interpretations.md, "D.1.1 / D.2.1 / D.5.1 — power-
 from __future__ import annotations
 
 import math
+from typing import Any, Callable
 
 import attrs
 import numpy as np
@@ -105,44 +106,45 @@ def _no_repeats(item: str, what: str):
                "of this power-on (run {item} to state the device's {what})", item=item, what=what)
 
 
-def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tuple[list[BudgetRow],
-                                                                                    str]:
-    """K_r of D.1.4 (``revolutions-repeat`` runs, eq. D.11) as a row u = K_r·K on K of D.1.1."""
-    runs = grouped(campaign, "revolutions-repeat", "run")
+def _scale_factor_repeat_row(campaign: Campaign, K: float, unit: str, item: str, eq: str,
+                             runs: list, k_of: Callable[[Any], float],
+                             formula: Callable[[list[float]], float],
+                             errors: tuple[type[Exception], ...]) -> tuple[list[BudgetRow], str]:
+    """K_r of ``item`` (eq. ``eq``: ``formula`` over the K_j that ``k_of`` gives of each of the
+    ``runs``) as a row u = K_r·K; with fewer than 2 runs the device's stated repeatability, or a
+    note that there is none."""
     # a bad value is an error even when unused
     st = stated_repeatability(campaign, "scale_factor_repeatability")
     if len(runs) < 2:
         if st is not None:
             return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
-        return [], _no_repeats("D.1.4", "K")
+        return [], _no_repeats(item, "K")
     try:
-        Kj = [collect_rate_points(D14, campaign, 1, segs, f"in run {r}")[0].K
-              for r, segs in sorted(runs.items())]
-    except (DataError, IndexError) as exc:  # D.1.4 itself reports what is wrong with its runs
+        Kj = [k_of(r) for r in runs]
+    except errors as exc:  # the item itself reports what is wrong with its runs
         return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated "
-                       "({exc})", item="D.1.4", exc=str(exc))
-    return [_row("K", "D.1.4, eq. (D.11)", F2.scale_factor_repeatability_d11(Kj), K, len(Kj),
-                 unit)], ""
+                       "({exc})", item=item, exc=str(exc))
+    return [_row("K", f"{item}, eq. ({eq})", formula(Kj), K, len(Kj), unit)], ""
+
+
+def scale_factor_angle_repeat_row(campaign: Campaign, K: float, unit: str) -> tuple[list[BudgetRow],
+                                                                                    str]:
+    """K_r of D.1.4 (``revolutions-repeat`` runs, eq. D.11) as a row u = K_r·K on K of D.1.1."""
+    runs = sorted(grouped(campaign, "revolutions-repeat", "run").items())
+    return _scale_factor_repeat_row(
+        campaign, K, unit, "D.1.4", "D.11", runs,
+        lambda run: collect_rate_points(D14, campaign, 1, run[1], f"in run {run[0]}")[0].K,
+        F2.scale_factor_repeatability_d11, (DataError, IndexError))
 
 
 def scale_factor_rate_repeat_row(campaign: Campaign, K: float, unit: str,
                                  min_points: int) -> tuple[list[BudgetRow], str]:
     """K_r of D.2.4 (``rate-output`` runs, eq. D.28) as a row u = K_r·K on K of D.2.1."""
-    runs = repeat_runs(campaign)
-    # a bad value is an error even when unused
-    st = stated_repeatability(campaign, "scale_factor_repeatability")
-    if len(runs) < 2:
-        if st is not None:
-            return [_stated_row(campaign, "scale_factor_repeatability", "K", abs(st * K), unit)], ""
-        return [], _no_repeats("D.2.4", "K")
-    try:
-        Kj = [fit_scale_factor(collect_rate_data(D24, campaign, min_points, (r, ""),
-                                                 f"in run {r}")).K for r in runs]
-    except DataError as exc:
-        return [], msg("power-on repeatability not in U: the {item} runs could not be evaluated "
-                       "({exc})", item="D.2.4", exc=str(exc))
-    return [_row("K", "D.2.4, eq. (D.28)", F2.scale_factor_repeatability_d28(Kj), K, len(Kj),
-                 unit)], ""
+    return _scale_factor_repeat_row(
+        campaign, K, unit, "D.2.4", "D.28", repeat_runs(campaign),
+        lambda r: fit_scale_factor(collect_rate_data(D24, campaign, min_points, (r, ""),
+                                                     f"in run {r}")).K,
+        F2.scale_factor_repeatability_d28, (DataError,))
 
 
 def _row(symbol: str, where: str, Kr: float, K: float, q: int, unit: str) -> BudgetRow:

@@ -13,7 +13,7 @@ import numpy as np
 from metro.api import Q_, BudgetRow, Campaign, DataError, Procedure, Step, msg
 
 from . import formulas as F
-from .common import DIRECTIONS, ItemRef
+from .common import DIRECTIONS, ItemRef, signed_rate
 
 #: GB/T 321 R5 preferred numbers, rounded, up to 400 °/s (D.1.1.2 e))
 R5_RATES = (1.0, 1.6, 2.5, 4.0, 6.3, 10.0, 16.0, 25.0, 40.0, 63.0, 100.0, 160.0, 250.0, 400.0)
@@ -162,12 +162,8 @@ def collect_rate_points(proc: type[Procedure] | ItemRef, campaign: Campaign, min
     segs = campaign.find_segments("rate-revolutions") if segments is None else segments
     by_rate: dict[float, dict[int, Any]] = {}
     for s in segs:
-        rate = float(s.condition("rate", "deg/s").to("deg/s").magnitude)
-        if rate == 0:
-            raise DataError(campaign.source, f"segments.{s.id}.conditions.rate",
-                            "a rate point cannot be 0 °/s")
+        rate, d = signed_rate(campaign, s)
         key = round(abs(rate), 9)
-        d = 1 if rate > 0 else -1
         if d in by_rate.setdefault(key, {}):
             raise DataError(campaign.source, f"segments.{s.id}", f"two segments at {rate:+g} °/s")
         by_rate[key][d] = s

@@ -15,12 +15,12 @@ from typing import Any
 
 import numpy as np
 from metro.api import (OUTPUT_UNITS, Q_, BudgetRow, Campaign, DataError, EquipmentRequirement,
-                       Metric, Option, Outcome, PlotSpec, Procedure, Result, RunContext, Segment,
+                       Metric, Option, Outcome, PlotSpec, Result, RunContext, Segment,
                        SegmentRequirement, Step, TableSpec, UncertaintyBudget, allan, hint, join,
                        msg, parse_quantity)
 
 from . import env_formulas as E
-from .common import COVERAGE, STANDARD, opts_text, scale_factor_row
+from .common import COVERAGE, STANDARD, GbtItem, opts_text, scale_factor_row
 from .formulas import EARTH_RATE_DEG_PER_H
 from .static_bias import batch_record, quantization_of
 
@@ -44,7 +44,7 @@ def _psi(seg: Segment) -> float:
     return float(seg.condition("psi", "deg").to("deg").magnitude)
 
 
-class ThresholdD4(Procedure):
+class ThresholdD4(GbtItem):
     """GB/T 45570—2025 D.4 阈值 (threshold), eqs. (D.37)–(D.39).
 
     At each tilt position N_i = K·Ω_e cos Ψ_i·τ (D.37) is the expected output and N̄*_i the
@@ -58,7 +58,6 @@ class ThresholdD4(Procedure):
     Ω_e·sin Ψ), the scale factor (type B).
     """
 
-    standard = STANDARD
     item = "D.4"
     title = "Threshold (阈值)"
     clause = "D.4"

@@ -38,7 +38,8 @@ from metro.api import (Q_, BudgetRow, Campaign, Comparison, DataError, Equipment
 
 from . import formulas as F
 from . import records as R
-from .common import COVERAGE, STANDARD, opts_text, scale_factor_row
+from .common import (COVERAGE, STANDARD, GbtItem, opts_text, scale_factor_row,
+                     sequence_options)
 from .conformity import TABLE_C1, application_of, clause_source, product_source
 from .repeatability import (bias_repeat_row, missing_turn_on, scale_factor_angle_repeat_row,
                             scale_factor_rate_repeat_row, turn_on_known)
@@ -492,11 +493,10 @@ def _bias_change_result(t: EnvTest, rec: Mapping[str, Any], campaign: Campaign, 
     return ids, result
 
 
-class _EnvironmentalTest(Procedure):
+class _EnvironmentalTest(GbtItem):
     """Shared by the 5.4 tests done elsewhere: severity applied, bias before/after (D.5.1), the
     functional check.  Subclasses set ``test``."""
 
-    standard = STANDARD
     test: EnvTest
     record_sections = (SECTION,)
     # the biases before/after are D.5.1's (segment_bias): the counter's time base and the platform's
@@ -526,8 +526,7 @@ class _EnvironmentalTest(Procedure):
         return "" if found else f"[[{SECTION}]] with test = \"{cls.test.key}\""
 
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
-        opts = self.option_values({k: v for k,
-                                   v in options.items() if k in {o.name for o in self.options}})
+        opts = sequence_options(self, options)
         t = self.test
         base = {"orientation": "IRA up", "test": t.tag}
         sf = {ph: self._sf_steps(opts, ph) for ph in ("before", "after")}
