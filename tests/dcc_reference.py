@@ -1,19 +1,28 @@
 """The DCC reference schemas for the tests of DCC output (tests/core/cli/test_dcc_cli.py,
-tests/core/record/test_dcc_register.py): ../shared/reference/dcc read with xmlschema, not the copy
-metro ships; the tests skip, saying why, where that folder is absent.  Also small readers of a DCC
-written (its identifier, the PDF it embeds, its content without that PDF)."""
+tests/core/record/test_dcc_register.py, which load it with ``runpy.run_path``):
+../shared/reference/dcc read with xmlschema, not the copy metro ships; the tests skip, saying why,
+where that folder is absent (``needs_reference``), or LibreOffice is (``needs_soffice``).  Also
+small readers of a DCC written (its identifier, the PDF it embeds, its content without that
+PDF)."""
 
 from __future__ import annotations
 
 import base64
 import functools
+import shutil
 import xml.etree.ElementTree as ET
 from pathlib import Path
+
+import pytest
 
 REFERENCE = Path(__file__).resolve().parents[1].parent / "shared" / "reference" / "dcc"
 #: why the schema tests skip (None: the reference folder is there)
 SKIP_REASON = (None if (REFERENCE / "dcc.xsd").is_file()
                else f"the DCC reference schemas are not at {REFERENCE} (CI has them)")
+needs_reference = pytest.mark.skipif(SKIP_REASON is not None, reason=str(SKIP_REASON))
+needs_soffice = pytest.mark.skipif(
+    not (shutil.which("soffice") or shutil.which("libreoffice")),
+    reason="LibreOffice (soffice) makes the PDF a DCC embeds")
 DCC = "{https://ptb.de/dcc}"
 
 
@@ -60,3 +69,22 @@ def without_pdf(path: str | Path) -> bytes:
     for doc in r.findall(f"{DCC}document"):
         r.remove(doc)
     return ET.tostring(r, encoding="utf-8")
+
+
+
+@pytest.fixture
+def unmapped_hour():
+    """``hour`` out of metro's D-SI mapping for one test: °/h, the unit of GB/T 45570 D.5.6's
+    results, then has no D-SI mapping.  What the module keeps cached is dropped before and after."""
+    from metro.core.base import dsi
+
+    def clear() -> None:
+        for f in list(vars(dsi).values()):
+            if callable(getattr(f, "cache_clear", None)):
+                f.cache_clear()
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.delitem(dsi.DSI_UNITS, "hour")
+        clear()
+        yield
+    clear()

@@ -489,10 +489,9 @@ def _cmd_run(args) -> int:
     else:
         from pathlib import Path
 
-        pdf_path = None  # --pdf: the PDF goes beside the Word report, under the same name
-        if report_path is not None and getattr(args, "pdf",
-                                               False) and Path(
-                                                   report_path).suffix.lower() == ".docx":
+        pdf_path = None  # --pdf: the PDF goes beside the Word report (or DCC), under the same name
+        if report_path is not None and getattr(args, "pdf", False) and Path(
+                report_path).suffix.lower() in (".docx", ".xml"):
             pdf_path = Path(report_path).with_suffix(".pdf")
         present.print_record(record, report_path, verbose=args.verbose, pdf_path=pdf_path)
         if registration is not None and not args.quiet:
@@ -502,7 +501,7 @@ def _cmd_run(args) -> int:
                                        if registration["registered"]
                                        else f"not registered ({registration['why']})")
             if registration.get("dcc"):
-                Console(stderr=True, highlight=False).print(
+                Console(stderr=True, highlight=False, soft_wrap=True).print(  # one line
                     f"DCC {registration['dcc']['path']} (sha256 {registration['dcc']['sha256']})")
     a = record.conformity
     code = exit_code_for(a.overall.value if a is not None and a.overall is not None else None)

@@ -132,11 +132,12 @@ def print_record(record: RunRecord, report_path: Path | None, *, verbose: bool =
     style = VERDICT_COLOUR.get(overall or "", "bold")
     # one line: scripts grep it
     con.print(f"[bold {style}]{esc(verdict_line(a))}[/]", soft_wrap=True)
-    # the kind of document by its file name (a --report PATH ending in .pdf is a PDF)
+    # the kind of document by its file name (a --report PATH ending in .pdf is a PDF, .xml a DCC)
     if report_path:
-        kind = "PDF report" if str(report_path).lower().endswith(".pdf") else "Word report"
+        suffix = Path(report_path).suffix.lower()
+        kind = {".pdf": "PDF report", ".xml": "DCC"}.get(suffix, "Word report")
         also = (
-            f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind == "Word report"
+            f" and PDF {esc(str(pdf_path))}" if pdf_path is not None and kind != "PDF report"
             else ""
         )
         con.print(f"report number {record.report_number}: {kind} {esc(str(report_path))}{also}",

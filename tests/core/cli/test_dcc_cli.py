@@ -7,10 +7,10 @@ mapping) exits 2 with a clean message and writes nothing."""
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import json
-import shutil
+import runpy
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -21,19 +21,10 @@ SIM = ["run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_sca
        "--no-progress", "--seed", "1"]
 
 
-def _load_reference():
-    spec = importlib.util.spec_from_file_location("metro_tests_dcc_reference",
-                                                  ROOT / "tests" / "dcc_reference.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-REF = _load_reference()
-needs_reference = pytest.mark.skipif(REF.SKIP_REASON is not None, reason=str(REF.SKIP_REASON))
-needs_soffice = pytest.mark.skipif(
-    not (shutil.which("soffice") or shutil.which("libreoffice")),
-    reason="LibreOffice (soffice) makes the PDF a DCC embeds")
+#: tests/dcc_reference.py: the reference schemas, readers of a DCC, the skip marks
+REF = SimpleNamespace(**runpy.run_path(str(ROOT / "tests" / "dcc_reference.py")))
+needs_reference, needs_soffice = REF.needs_reference, REF.needs_soffice
+unmapped_hour = REF.unmapped_hour  # a fixture: °/h has no D-SI mapping
 
 
 @pytest.fixture
@@ -78,12 +69,15 @@ def test_report_xml_writes_a_valid_dcc_with_its_pdf(no_lab, tmp_path, capsys):
 @needs_soffice
 def test_format_dcc_out_writes_number_xml(no_lab, tmp_path, capsys):
     out = tmp_path / "out"
-    code, doc, err = _json(capsys, *SIM, "--format", "dcc", "--out", str(out))
-    assert code == 0, err
-    target = out / f"{doc['report_number']}.xml"
-    assert [p.name for p in out.iterdir()] == [target.name]
-    assert doc["register"]["dcc"]["sha256"] == _sha256(target)
+    code = main([*SIM, "--format", "dcc", "--out", str(out)])
+    printed = capsys.readouterr()
+    assert code == 0, printed.err
+    [target] = list(out.iterdir())  # <report number>.xml, and no Word file
+    assert target.suffix == ".xml"
     REF.validate(target)
+    # the terminal names the DCC and its SHA-256
+    assert f": DCC {target}" in " ".join(printed.out.split())
+    assert f"DCC {target} (sha256 {_sha256(target)})\n" in printed.err  # one line
 
 
 def _refused(capsys, tmp_path, *argv: str, says: str) -> str:
@@ -120,10 +114,7 @@ def test_bad_format_options_are_refused_before_evaluation(no_lab, tmp_path, caps
 
 
 @needs_soffice
-def test_a_unit_with_no_dsi_mapping_writes_nothing(no_lab, tmp_path, capsys, monkeypatch):
-    from metro.core.base import dsi
-
-    monkeypatch.delitem(dsi.DSI_UNITS, "hour")  # °/h, the unit of D.5.6's results, unmapped
+def test_a_unit_with_no_dsi_mapping_writes_nothing(no_lab, unmapped_hour, tmp_path, capsys):
     out = tmp_path / "out"
     out.mkdir()
     err = _refused(capsys, tmp_path, *SIM, "--format", "dcc", "--out", str(out),

@@ -9,12 +9,10 @@ from __future__ import annotations
 
 import datetime as dt
 import hashlib
-import importlib.util
 import json
-import shutil
+import runpy
 from pathlib import Path
-
-import pytest
+from types import SimpleNamespace
 
 from metro.core.cli.app import main
 
@@ -23,19 +21,10 @@ SIM = ["run", "-s", "gbt45570", "-i", "D.5.6", "--station-option", "duration_sca
        "--no-progress", "--seed", "1", "--register-simulated"]
 
 
-def _load_reference():
-    spec = importlib.util.spec_from_file_location("metro_tests_dcc_reference",
-                                                  ROOT / "tests" / "dcc_reference.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-REF = _load_reference()
-needs_reference = pytest.mark.skipif(REF.SKIP_REASON is not None, reason=str(REF.SKIP_REASON))
-needs_soffice = pytest.mark.skipif(
-    not (shutil.which("soffice") or shutil.which("libreoffice")),
-    reason="LibreOffice (soffice) makes the PDF a DCC embeds")
+#: tests/dcc_reference.py: the reference schemas, readers of a DCC, the skip marks
+REF = SimpleNamespace(**runpy.run_path(str(ROOT / "tests" / "dcc_reference.py")))
+needs_reference, needs_soffice = REF.needs_reference, REF.needs_soffice
+unmapped_hour = REF.unmapped_hour  # a fixture: °/h has no D-SI mapping
 
 
 def _json(capsys, *argv: str) -> tuple[int, dict]:
@@ -152,19 +141,15 @@ def test_amendment_dcc_and_withdrawn_report(lab, tmp_path, capsys):
 
 
 @needs_soffice
-def test_a_unit_with_no_dsi_mapping_takes_no_number(lab, tmp_path, capsys, monkeypatch):
-    from metro.core.base import dsi
-
+def test_a_unit_with_no_dsi_mapping_takes_no_number(lab, unmapped_hour, tmp_path, capsys):
     out = tmp_path / "out"
-    with monkeypatch.context() as mp:
-        mp.delitem(dsi.DSI_UNITS, "hour")  # °/h, the unit of D.5.6's results, unmapped
-        code = main([*SIM, "--format", "dcc", "--out", str(out)])
-        err = capsys.readouterr().err
-        assert code == 2 and "has no D-SI mapping" in err and "Traceback" not in err
+    code = main([*SIM, "--format", "dcc", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and "has no D-SI mapping" in err and "Traceback" not in err
     assert not out.exists() or list(out.iterdir()) == []
     code, lst = _json(capsys, "register", "list")
     assert lst.get("reports", []) == []
-    # the counter was not moved: the next report takes the first number
+    # the counter was not moved: the next report (a Word one) takes the first number
     code, run = _json(capsys, *SIM, "--out", str(out))
     assert run["report_number"].endswith("-00001")
 
