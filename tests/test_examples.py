@@ -216,7 +216,8 @@ def test_installed_next_to_metro_in_a_fresh_venv(tmp_path):
                               "--no-index",
                               "--no-build-isolation", "--no-cache-dir", str(what)],
                              capture_output=True, text=True, env=env, cwd=tmp_path, timeout=600)
-        assert pip.returncode == 0, f"pip install {what.name}:\n{pip.stdout[-2000:]}{pip.stderr[-3000:]}"
+        assert pip.returncode == 0, (
+            f"pip install {what.name}:\n{pip.stdout[-2000:]}{pip.stderr[-3000:]}")
     metro = venv / "bin" / "metro"
     out = subprocess.run([str(metro), "plugins", "--json"], capture_output=True, text=True, env=env,
                          cwd=tmp_path)
@@ -280,7 +281,8 @@ def test_writing_tutorial_runs(tmp_path):
                           "4.1", "--json",
                           "--no-report", "--no-progress"], capture_output=True, text=True, env=env,
                          cwd=tmp_path)
-    if out.returncode != 0 and "No module named metro.core.cli.app.__main__" in out.stderr:  # pragma: no cover
+    no_main = "No module named metro.core.cli.app.__main__"
+    if out.returncode != 0 and no_main in out.stderr:  # pragma: no cover
         pytest.skip("metro.core.cli.app is not runnable with -m")
     assert out.returncode == 0, out.stderr
     assert json.loads(out.stdout)["results"][0]["key"] == "D"

@@ -4,12 +4,12 @@ migrations, amendments, withdrawal, verify, the append-only audit trail."""
 from __future__ import annotations
 
 import datetime as dt
-import json
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+import sqlalchemy.exc
 
 from metro.core.record.register import Draft, RegisterError, open_register
 from metro.core.record.register.models import Base
@@ -108,7 +108,7 @@ def test_failure_between_file_and_row_leaves_neither(opened, register_url, tmp_p
     assert seen == [True]
     assert list(out.iterdir()) == [] and reg.list() == [] and reg.audit() == []
     # a row that cannot be inserted (constraint) leaves no file either
-    with pytest.raises(Exception):
+    with pytest.raises(sqlalchemy.exc.IntegrityError):
         _issue(reg, out, make=_draft(date=None))
     assert list(out.iterdir()) == [] and reg.list() == []
     assert _issue(reg, out).seq == 1  # and the counter was rolled back each time

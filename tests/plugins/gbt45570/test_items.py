@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from metro.core.base.errors import DataError, ProcedureError
 from metro.core.run.runner import run_items
-from metro.instruments.simulated import EARTH_RATE_DEG_PER_H, GRADES, GyroTruth, SimulatedStation, expected
+from metro.instruments.simulated import (EARTH_RATE_DEG_PER_H, GRADES, GyroTruth, SimulatedStation,
+                                         expected)
 from metro.plugins.gbt45570 import formulas as F
 
 # ---------------------------------------------------------------------------- hand-worked

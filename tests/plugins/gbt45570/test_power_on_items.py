@@ -203,8 +203,21 @@ def harness(gbt_more_harness):
     return gbt_more_harness
 
 
-def _kt(run_cli, folder: Path) -> dict:
-    return _run(run_cli, folder, "D.2.5")["Kt"]
+def _kt_within_u(run_cli, tmp_path: Path, build, item: str, stream: int, prefix: str) -> int:
+    """How many of 12 harness devices (``build``, seeds ``[stream, 0…11]``) read ``item``'s K_t
+    within U; each K_t is in ppm/°C and its budget has the turn-on scatter of K."""
+    within = 0
+    for seed in range(12):
+        folder = tmp_path / f"{prefix}{seed}"
+        folder.mkdir()
+        truth = build(folder, np.random.default_rng([stream, seed]), quick=True)
+        res = _run(run_cli, folder, item)["Kt"]
+        t = truth[(item, "Kt")][0]
+        assert res["unit"] in ("ppm/°C", "ppm/Δ°C"), res["unit"]
+        within += abs(res["value"] - t) <= res["U"]
+        (row,) = [r for r in res["budget"]["rows"] if r["symbol"] == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
+        assert "turn-on scatter of K" in row["note"], row["note"]
+    return within
 
 
 def test_d25_covers_the_turn_on_scatter_of_k_over_devices(run_cli, tmp_path, harness):
@@ -213,29 +226,24 @@ def test_d25_covers_the_turn_on_scatter_of_k_over_devices(run_cli, tmp_path, har
     D.2.4's 7 runs in the campaign.  Before, U held the fits' noise alone (≈ 1 ppm of K): K_t within
     U on 15 of 100 devices, mean E_n +3.1, up to 45; with σ_K from D.2.4 in each K_i's u, 97 of 100.
     Here 12 short devices (20 s per rate point; 10 of 12 within U after the fix)."""
-    within = 0
-    for seed in range(12):
-        folder = tmp_path / f"kt{seed}"
-        folder.mkdir()
-        truth = harness.build_kt(folder, np.random.default_rng([25, seed]), quick=True)
-        res = _kt(run_cli, folder)
-        t = truth[("D.2.5", "Kt")][0]
-        assert res["unit"] in ("ppm/°C", "ppm/Δ°C"), res["unit"]
-        within += abs(res["value"] - t) <= res["U"]
-        (row,) = [r for r in res["budget"]["rows"] if r["symbol"] == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
-        assert "turn-on scatter of K" in row["note"], row["note"]
+    within = _kt_within_u(run_cli, tmp_path, harness.build_kt, "D.2.5", 25, "kt")
     assert within >= 10, within
 
 
-def test_d25_without_d24_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_path, harness):
-    folder = tmp_path / "kt"
+def _kt_without_repeats(run_cli, folder: Path, build, item: str, stream: int, repeats: str):
+    """A harness device without the ``repeats`` item's runs: ``item``'s K_t says the turn-on
+    scatter of K is not in U, and is not reportable (interpretations.md "GB/T 45570 — a difference
+    of power-ons needs their turn-on scatter")."""
     folder.mkdir()
-    harness.build_kt(folder, np.random.default_rng([25, 99]), quick=True, repeats=False)
-    res = _kt(run_cli, folder)
-    assert "turn-on scatter of K not in U" in res["note"] and "D.2.4" in res["note"], res["note"]
-    # interpretations.md "GB/T 45570 — a difference of power-ons needs their turn-on scatter"
-    assert res["reportable"] is False and "D.2.4" in res[
-        "reason"] and "scale_factor_repeatability" in res["reason"]
+    build(folder, np.random.default_rng([stream, 99]), quick=True, repeats=False)
+    res = _run(run_cli, folder, item)["Kt"]
+    assert "turn-on scatter of K not in U" in res["note"] and repeats in res["note"], res["note"]
+    assert (res["reportable"] is False and repeats in res["reason"]
+            and "scale_factor_repeatability" in res["reason"])
+
+
+def test_d25_without_d24_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_path, harness):
+    _kt_without_repeats(run_cli, tmp_path / "kt", harness.build_kt, "D.2.5", 25, "D.2.4")
 
 
 def test_d15_covers_the_turn_on_scatter_of_k_over_devices(run_cli, tmp_path, harness):
@@ -244,28 +252,12 @@ def test_d15_covers_the_turn_on_scatter_of_k_over_devices(run_cli, tmp_path, har
     runs in the campaign.  With U from the sweeps' fits alone K_t was within U on 0 of 4 such
     devices (mean E_n −8); with D.1.4's K_r in each K_i's u 95–97 % of 100.  Here 12 short devices
     (11 rate points, m = 3; 12 of 12 within U after the fix, 4 of 12 before)."""
-    within = 0
-    for seed in range(12):
-        folder = tmp_path / f"kta{seed}"
-        folder.mkdir()
-        truth = harness.build_kt_angle(folder, np.random.default_rng([15, seed]), quick=True)
-        res = _run(run_cli, folder, "D.1.5")["Kt"]
-        t = truth[("D.1.5", "Kt")][0]
-        assert res["unit"] in ("ppm/°C", "ppm/Δ°C"), res["unit"]
-        within += abs(res["value"] - t) <= res["U"]
-        (row,) = [r for r in res["budget"]["rows"] if r["symbol"] == "s(max_i |ΔK_i/(K₀₀ΔT_i)|)"]
-        assert "turn-on scatter of K" in row["note"], row["note"]
+    within = _kt_within_u(run_cli, tmp_path, harness.build_kt_angle, "D.1.5", 15, "kta")
     assert within >= 10, within
 
 
 def test_d15_without_d14_runs_says_the_turn_on_scatter_is_not_in_u(run_cli, tmp_path, harness):
-    folder = tmp_path / "kta"
-    folder.mkdir()
-    harness.build_kt_angle(folder, np.random.default_rng([15, 99]), quick=True, repeats=False)
-    res = _run(run_cli, folder, "D.1.5")["Kt"]
-    assert "turn-on scatter of K not in U" in res["note"] and "D.1.4" in res["note"], res["note"]
-    assert res["reportable"] is False and "D.1.4" in res[
-        "reason"] and "scale_factor_repeatability" in res["reason"]
+    _kt_without_repeats(run_cli, tmp_path / "kta", harness.build_kt_angle, "D.1.5", 15, "D.1.4")
 
 
 def _field_campaign(folder: Path, rng, *, sigma_on: float, repeats: bool,
@@ -456,7 +448,8 @@ def test_d25_turn_on_scatter_of_k_is_never_zero_where_d24_only_bounds_it(pm):
     assert rec.outcomes[1].item == "D.2.5" and kt.reportable
     note = kt.budget.rows[0].note
     assert "not resolved from the runs' own noise" in note, note
-    assert float(note.split("turn-on scatter of K, ")[1].split(" ppm")[0]) == pytest.approx(math.sqrt(s2) * 1e6, rel=5e-3)
+    scatter_ppm = float(note.split("turn-on scatter of K, ")[1].split(" ppm")[0])
+    assert scatter_ppm == pytest.approx(math.sqrt(s2) * 1e6, rel=5e-3)
 
 
 def test_d25_three_d24_power_ons_cannot_bound_the_turn_on_scatter_of_k(pm):
@@ -476,7 +469,8 @@ def test_d25_three_d24_power_ons_cannot_bound_the_turn_on_scatter_of_k(pm):
                                                 or s.conditions.get("temperature")])
     kt = run_items(pm, "gbt45570", ["D.2.5"], campaign=camp).outcomes[0].results[0]
     assert not kt.reportable
-    assert "3 D.2.4 power-ons cannot bound it" in kt.reason and "scale_factor_repeatability" in kt.reason, kt.reason
+    assert ("3 D.2.4 power-ons cannot bound it" in kt.reason
+            and "scale_factor_repeatability" in kt.reason), kt.reason
     dev = attrs.evolve(camp.device, properties=dict(camp.device.properties)
                        | {"scale_factor_repeatability": "5e-6"})
     kt = run_items(pm, "gbt45570", ["D.2.5"], campaign=attrs.evolve(camp,

@@ -89,7 +89,8 @@ def test_verdict_table_lists_every_verdict_not_conforming_with_its_reason(produc
 def test_decision_rule_text_and_sources(produced):
     _, doc, _ = produced
     text = "\n".join(_texts(doc))
-    assert "判定规则 Decision rule: 保护带接受（保护带 w = U） guarded acceptance (guard band w = U)" in text
+    assert ("判定规则 Decision rule: 保护带接受（保护带 w = U） "
+            "guarded acceptance (guard band w = U)") in text
     # both languages
     assert GUARDED.statement in text and translator("zh").text(GUARDED.statement) in text
     # the limits' sources, each table once

@@ -59,7 +59,8 @@ def test_certificate_written_with_the_registered_layout(record, tmp_path):
     cells = "\n".join(c.text.replace("\n", " ") for t in d.tables for row in t.rows for c
                       in row.cells).replace("\u00a0", " ")
     assert "校准证书" in text
-    assert "本证书的校准结果仅对被校对象有效。" in text and "未经实验室书面批准，不得部分复制本证书。" in text
+    assert ("本证书的校准结果仅对被校对象有效。" in text
+            and "未经实验室书面批准，不得部分复制本证书。" in text)
     assert cells.count("未检测 not performed") == 24 - 7
     assert "标度因数" in cells and "启动时间" in cells and "JJF 2014—2022" in cells
     assert "签发人 Issued by" in cells and "职务 Title" in cells  # 8 n): signature and title

@@ -507,7 +507,8 @@ def test_threshold_resolution_budget_is_the_one_sided_level_step(full_run):
         r = outs[item].result(key)
         assert r.value.to("deg/s").magnitude == pytest.approx((hi + lo) / 2, rel=1e-12)
         row = r.budget.rows[0]
-        assert row.standard_uncertainty.to("deg/s").magnitude == pytest.approx((hi - lo) / math.sqrt(12), rel=1e-12)
+        assert row.standard_uncertainty.to("deg/s").magnitude == pytest.approx(
+            (hi - lo) / math.sqrt(12), rel=1e-12)
 
 
 @pytest.mark.parametrize("hard", [False, True], ids=["soft-dead-zone", "hard-dead-band"])
@@ -615,8 +616,9 @@ def _mut(camp, keep=lambda s: True, cond=None, cols=None):
         c = cond(s) if cond else None
         if c is not None:
             s = attrs.evolve(s, conditions=c)
-        if cols is not None and cols(s) is not None:
-            s = attrs.evolve(s, loader=(lambda d=cols(s): d))
+        data = cols(s) if cols is not None else None
+        if data is not None:
+            s = attrs.evolve(s, loader=(lambda d=data: d))
         segs.append(s)
     return Campaign("C", camp.device, camp.equipment, {}, camp.site, segs, source="bad.toml")
 
@@ -835,7 +837,8 @@ def test_every_result_discloses_the_earth_rate(full_run, pm):
     assert outs["7.2.1"].result("F0").earth_rate == "included"
     assert outs["7.2.1"].result("K").earth_rate == "not applicable"
     bg = outs["7.2.17"].result("Bg")
-    assert bg.earth_rate == "included" and "earth rate included" in bg.note and "-o earth_rate=on" in bg.note
+    assert (bg.earth_rate == "included" and "earth rate included" in bg.note
+            and "-o earth_rate=on" in bg.note)
     camp = _campaign(pm, ["7.2.17"], scale=0.25)
     on = run_items(pm, "jjf2014", ["7.2.17"], campaign=camp,
                    options={"earth_rate": "on"}).outcomes[0].result("Bg")
@@ -895,7 +898,7 @@ def test_power_on_class_k_would_fail_with_the_fits_standard_error(pm):
     2×10⁻⁴), many times its fit's standard error (≈ 10⁻⁵); u₃ = K_r·K (ν = 5) covers it, the fit's
     standard error would not (seeds 1–5: 3 of 5 inside, against 1 of 5 with the fit's error)."""
     inside, outside_fit, n = 0, 0, 0
-    for seed, c in _class_checks(pm, "analog-power-on", ["7.2.1", "7.2.4"], range(1, 6),
+    for _seed, c in _class_checks(pm, "analog-power-on", ["7.2.1", "7.2.4"], range(1, 6),
                                  duration_scale=0.1):
         if c["key"] == "K":
             n += 1
@@ -1007,8 +1010,8 @@ def test_ratiometric_output_round_trip_and_refusal(pm, tmp_path):
                        campaign=camp).outcomes[0].results[0].value.magnitude
     assert k_file == pytest.approx(k_mem, rel=1e-12)
     manifest = (out / "manifest.toml").read_text()
-    (out / "manifest.toml").write_text("\n".join(l for l in manifest.splitlines()
-                                                 if not l.startswith((
+    (out / "manifest.toml").write_text("\n".join(ln for ln in manifest.splitlines()
+                                                 if not ln.startswith((
                                                      "supply_voltage", "supply ="))))
     camp = load_manifest(out / "manifest.toml", pm.reader_for)
     with pytest.raises(DataError, match="ratiometric") as exc:
@@ -1082,7 +1085,8 @@ def test_static_record_is_another_power_on_its_k_in_the_b0_budget(pm):
     b0, kr = r["B0"], r["Kr"].value.magnitude
     row = [x for x in b0.budget.rows if x.symbol == "K_r·B·c"]
     assert len(row) == 1 and "K_r" in row[0].source
-    assert row[0].contribution.to("deg/h").magnitude == pytest.approx(abs(b0.value.magnitude) * kr, rel=1e-9)
+    assert row[0].contribution.to("deg/h").magnitude == pytest.approx(
+        abs(b0.value.magnitude) * kr, rel=1e-9)
     assert row[0].dof == pytest.approx(5 / 3)
     # with 7.2.15's runs in the campaign B_r holds it: no second row
     rec = run_items(pm, "jjf2014", ["7.2.1", "7.2.4", "7.2.13", "7.2.15"], station_options=so)

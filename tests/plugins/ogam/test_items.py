@@ -131,7 +131,8 @@ def test_quiet_instrument_matches_the_model_exactly(pm):
     got = {r.metric.key: r for o in rec.outcomes for r in o.results}
     for key in ("K", "Kl", "Bs", "E", "Cv", "Cg"):
         exp = camp.expected[key]
-        assert _as_printed(got[key]).to(exp.units).magnitude == pytest.approx(exp.magnitude, rel=1e-9, abs=1e-12), key
+        assert _as_printed(got[key]).to(exp.units).magnitude == pytest.approx(
+            exp.magnitude, rel=1e-9, abs=1e-12), key
     assert got["R"].value.magnitude == pytest.approx(0.0, abs=1e-9)
     # K_l: the plugin does not know the counts are unrounded here, so it still takes off the
     # widening that ±1 count (triangular) would give; the model's value stays within U
@@ -175,7 +176,8 @@ def test_linear_drift_gives_the_analytic_zero_stability(pm):
     rec, camp = _run(pm, ["7.3"], **quiet)
     n = 13  # readings at 0, 5, …, 60 min
     expected = d / (n - 1) * math.sqrt(n * (n + 1) / 12.0)  # s of an arithmetic sequence / 1 h
-    assert rec.outcomes[0].results[0].value.to("deg/h").magnitude == pytest.approx(expected, rel=1e-9)
+    assert rec.outcomes[0].results[0].value.to("deg/h").magnitude == pytest.approx(expected,
+                                                                                   rel=1e-9)
     rng_rec = run_items(pm, "ogam", ["7.3"], campaign=camp, options={"statistic": "range"})
     assert rng_rec.outcomes[0].results[0].value.to("deg/h").magnitude == pytest.approx(d, rel=1e-9)
 
@@ -217,7 +219,8 @@ def test_74_round_option_picks_the_round(pm):
         if rnd in E:
             E[rnd] = float(np.max(np.abs(C.round_errors(seg)[1])))
     assert o1.results[0].value.to("arcsec").magnitude == pytest.approx(E[1], rel=1e-12)
-    assert rec3.outcomes[0].results[0].value.to("arcsec").magnitude == pytest.approx(E[3], rel=1e-12)
+    assert rec3.outcomes[0].results[0].value.to("arcsec").magnitude == pytest.approx(E[3],
+                                                                                     rel=1e-12)
     assert E[1] != E[3]
     with pytest.raises(ProcedureError, match="no round 11"):
         run_items(pm, "ogam", ["7.4"], campaign=camp, options={"round": "11"})
@@ -376,7 +379,9 @@ def test_certificate_appendix_b(pm, tmp_path):
     text = "\n".join(p.text for p in d.paragraphs).replace("\u00a0", " ")
     E = rec.outcomes[1].results[0]
     assert f"U = {E.reported()[1]} ″, k = 2" in text
-    assert "建议复校时间间隔：不超过 12 个月 Recommended recalibration interval: at most 12 months" in text  # clause 9
+    # clause 9
+    assert ("建议复校时间间隔：不超过 12 个月 "
+            "Recommended recalibration interval: at most 12 months") in text
     assert "SIMULATED" in d.sections[0].header.paragraphs[-1].text
     assert d.sections[0].page_width.mm == pytest.approx(210, abs=0.5)  # A4, not US Letter
 
