@@ -3,7 +3,8 @@
 report's PDF embedded) in one transaction, the register keeps the DCC's SHA-256 and ``register
 verify`` checks it; ``metro report NUMBER --format dcc`` writes the same DCC again; an amendment's
 DCC states the replacement; a withdrawn report is never issued as a DCC; a unit with no D-SI
-mapping takes no number; a register written before DCCs is brought up to date and still read."""
+mapping takes no number, and a DCC failing inside the transaction leaves no file and no row; a
+register written before DCCs is brought up to date and still read."""
 
 from __future__ import annotations
 
@@ -152,6 +153,25 @@ def test_a_unit_with_no_dsi_mapping_takes_no_number(lab, unmapped_hour, tmp_path
     # the counter was not moved: the next report (a Word one) takes the first number
     code, run = _json(capsys, *SIM, "--out", str(out))
     assert run["report_number"].endswith("-00001")
+
+
+@needs_soffice
+def test_a_dcc_failing_in_the_transaction_leaves_no_file_and_no_row(lab, tmp_path, capsys,
+                                                                     monkeypatch):
+    from metro.core.base.errors import MetroError
+    from metro.core.record import dcc_out
+
+    def broken(docx):  # the PDF conversion fails once the Word file is written
+        raise MetroError("LibreOffice could not convert the report (test)")
+
+    monkeypatch.setattr(dcc_out, "docx_pdf", broken)
+    out = tmp_path / "out"
+    code = main([*SIM, "--format", "dcc", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and "could not convert the report (test)" in err and "Traceback" not in err
+    # neither the Word file nor the DCC, nor a temporary one, and no row
+    assert list(out.iterdir()) == []
+    assert _json(capsys, "register", "list")[1]["reports"] == []
 
 
 def test_a_register_written_before_dccs_is_migrated_and_read(tmp_path, draft_rows):
