@@ -89,37 +89,11 @@ class BenchConfig:
 _TOP = {"format", "bench", "device", "environment", "site", "rate_table", "output", "equipment"}
 _BENCH_KEYS = {"id", "orientation", "settle_timeout"}
 _TABLE_KEYS = {"driver", "args", "axis", "role", "calibration"}
-_DMM_KEYS = {
-    "driver",
-    "args",
-    "id",
-    "role",
-    "model",
-    "manufacturer",
-    "serial",
-    "column",
-    "unit",
-    "range",
-    "nplc",
-    "calibration",
-    "properties",
-}
-_GYRO_KEYS = {
-    "driver",
-    "args",
-    "id",
-    "role",
-    "model",
-    "manufacturer",
-    "serial",
-    "column",
-    "unit",
-    "field",
-    "aggregate",
-    "allow_unclean",
-    "calibration",
-    "properties",
-}
+#: the keys of every [output]: its driver, the instrument it is, and the column it writes
+_OUTPUT_KEYS = {"driver", "args", "id", "role", "model", "manufacturer", "serial", "column", "unit",
+                "calibration", "properties"}
+_DMM_KEYS = _OUTPUT_KEYS | {"range", "nplc"}
+_GYRO_KEYS = _OUTPUT_KEYS | {"field", "aggregate", "allow_unclean"}
 
 
 def _sub(doc: Mapping[str, Any], key: str, src: str, *, required: bool = True) -> Mapping[str, Any]:

@@ -30,6 +30,8 @@ from metro.core.base.units import Q_, parse_quantity
 
 from metro.core.model.drivers import DmmDriver, Identity
 
+from .base import DRIVERS_HINT, import_for_driver
+
 __all__ = ["ScpiDmm", "OVERLOAD"]
 
 #: SCPI's "not a number / overload" reading
@@ -37,16 +39,8 @@ OVERLOAD = 9.9e37
 
 
 def _visa():
-    try:
-        import pyvisa
-    except ImportError as exc:  # pragma: no cover - the test extra installs it
-        raise DriverError(
-            None,
-            None,
-            "PyVISA is not installed",
-            hint="pip install 'metro-inertial[drivers]' (pyvisa, pyvisa-sim, pyserial)",
-        ) from exc
-    return pyvisa
+    return import_for_driver("pyvisa", None, package="PyVISA",
+                             hint=DRIVERS_HINT + " (pyvisa, pyvisa-sim, pyserial)")
 
 
 class ScpiDmm(DmmDriver):

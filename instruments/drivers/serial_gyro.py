@@ -38,6 +38,8 @@ from metro.core.base.units import Q_, parse_quantity, unit
 
 from metro.core.model.drivers import GyroOutputDriver, Identity
 
+from .base import import_for_driver
+
 __all__ = [
     "FrameField",
     "FrameLayout",
@@ -488,15 +490,7 @@ class SerialGyro(GyroOutputDriver):
         self._timeout_s = float(
             parse_quantity(timeout, dimension="s", field="timeout").to("s").magnitude
         )
-        try:
-            import serial
-        except ImportError as exc:  # pragma: no cover - the test extra installs it
-            raise DriverError(
-                port,
-                None,
-                "pyserial is not installed",
-                hint="pip install 'metro-inertial[drivers]'",
-            ) from exc
+        serial = import_for_driver("serial", port, package="pyserial")
         self._serial_mod = serial
         try:
             self._port = serial.Serial(

@@ -10,7 +10,7 @@ from metro.core.base.errors import DataError
 from metro.core.base import extras
 
 from .common import (MAX_EXACT_INT, assemble, cell_field, check_cells, first_nonfinite,
-                     float64_chunk, nonfinite_error, select_columns)
+                     float64_chunk, nonfinite_error, refused_as_data, select_columns)
 
 
 # --------------------------------------------------------------------------- npy files
@@ -129,15 +129,9 @@ def read_parquet(path: Path, columns: list[tuple[str, str | None]] | None, parse
     import pyarrow.compute as pc
     import pyarrow.parquet as pq
 
-    try:
+    with refused_as_data((pa.ArrowInvalid, OSError), path, "header", "not a readable parquet file",
+                         "the file may be truncated or of another type; copy or write it again"):
         pf = pq.ParquetFile(path)
-    except (pa.ArrowInvalid, OSError) as exc:
-        raise DataError(
-            path,
-            "header",
-            f"not a readable parquet file: {exc}",
-            hint="the file may be truncated or of another type; copy or write it again",
-        ) from None
     schema = pf.schema_arrow
     try:
         available = check_cells(path, list(schema.names), "column name")
@@ -151,15 +145,9 @@ def read_parquet(path: Path, columns: list[tuple[str, str | None]] | None, parse
         raise
     selected = select_columns(path, available, columns)
     cells = {n: f"{n} [{u}]" for n, u in selected}
-    try:
+    with refused_as_data((pa.ArrowInvalid, OSError), path, "data", "cannot read the parquet data",
+                         "the file may be truncated; copy or write it again"):
         table = pf.read(columns=list(cells.values()), use_threads=True)
-    except (pa.ArrowInvalid, OSError) as exc:
-        raise DataError(
-            path,
-            "data",
-            f"cannot read the parquet data: {exc}",
-            hint="the file may be truncated; copy or write it again",
-        ) from None
     parsed()
     n = table.num_rows
     arrays: dict[str, np.ndarray] = {}

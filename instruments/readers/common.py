@@ -9,6 +9,7 @@ import os
 import re
 import threading
 from collections.abc import Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -277,6 +278,30 @@ def format_of(path: Path) -> str:
             hint="use one of " + ", ".join(sorted(FORMATS)),
         )
     return fmt
+
+
+@contextmanager
+def refused_as_data(
+    errors: type[BaseException] | tuple[type[BaseException], ...],
+    path: Path,
+    field: str,
+    message: str,
+    hint: str = "",
+) -> Iterator[None]:
+    """Within the block, an error of the types ``errors`` becomes a :class:`DataError` on
+    ``path`` and ``field`` saying ``message: <the error>`` with ``hint``.
+
+    >>> try:
+    ...     with refused_as_data(ValueError, Path("x.bin"), "data", "unreadable"):
+    ...         int("seven")
+    ... except DataError as exc:
+    ...     print(exc.field, "|", exc.__cause__, "|", str(exc).split(": ", 1)[1])
+    data | None | unreadable: invalid literal for int() with base 10: 'seven'
+    """
+    try:
+        yield
+    except errors as exc:
+        raise DataError(path, field, f"{message}: {exc}", hint=hint) from None
 
 
 def file_stat(path: Path) -> os.stat_result:
