@@ -41,8 +41,8 @@ import pint
 from metro.core.base.errors import DataError
 from metro.core.model.campaign import Equipment
 from metro.core.base.units import Q_, parse_quantity
-from .equipment_base import (EquipmentModel, as_float_array, fixed_rng, magnitude_in, non_negative,
-                             opt_q_of, q_of, uncertainty_converter)
+from .equipment_base import (EquipmentModel, accuracy_field, as_float_array, fixed_rng,
+                             magnitude_in, non_negative, opt_q_of, q_of, uncertainty_converter)
 
 __all__ = [
     "EquipmentModel",
@@ -106,12 +106,8 @@ class RateTable(EquipmentModel):
 
     ROLE = "rate_table"
     bands: tuple[RateBand, ...] = attrs.field(factory=_default_bands, converter=tuple)
-    angle_resolution: pint.Quantity = attrs.field(
-        default=Q_(0.36, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
-    revolution_pulse_accuracy: pint.Quantity = attrs.field(
-        default=Q_(2.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
+    angle_resolution: pint.Quantity = accuracy_field(Q_(0.36, "arcsec"), "arcsec")
+    revolution_pulse_accuracy: pint.Quantity = accuracy_field(Q_(2.0, "arcsec"), "arcsec")
 
     def __attrs_post_init__(self) -> None:
         super().__attrs_post_init__()
@@ -204,9 +200,7 @@ class LevelPlatform(EquipmentModel):
     ``levelness``)."""
 
     ROLE = "platform"
-    levelness: pint.Quantity = attrs.field(
-        default=Q_(2.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
+    levelness: pint.Quantity = accuracy_field(Q_(2.0, "arcsec"), "arcsec")
 
     def properties(self) -> dict[str, Any]:
         return {"levelness": self.levelness}
@@ -224,9 +218,7 @@ class Fixture(EquipmentModel):
     ``reseat_tilt``)."""
 
     ROLE = "fixture"
-    reseat_tilt: pint.Quantity = attrs.field(
-        default=Q_(3.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
+    reseat_tilt: pint.Quantity = accuracy_field(Q_(3.0, "arcsec"), "arcsec")
 
     def properties(self) -> dict[str, Any]:
         return {"reseat_tilt": self.reseat_tilt}
@@ -238,22 +230,28 @@ class Fixture(EquipmentModel):
         return Q_(float(a), "arcsec"), Q_(float(b), "arcsec")
 
 
+def reached_angles(
+    setpoints: pint.Quantity, accuracy: pint.Quantity, rng: np.random.Generator
+) -> pint.Quantity:
+    """The angles (deg) a table reaches for ``setpoints``: each within ±``accuracy``, uniform
+    (drawn from ``rng`` when ``accuracy`` is not 0)."""
+    s = as_float_array(setpoints, "deg", "setpoints")
+    e = magnitude_in(accuracy, "deg")
+    return Q_(s + (rng.uniform(-e, e, size=s.shape) if e > 0 else 0.0), "deg")
+
+
 @attrs.frozen(kw_only=True)
 class _Positioner(EquipmentModel):
     """A table that sets angles within ±``position_accuracy`` (uniform)."""
 
-    position_accuracy: pint.Quantity = attrs.field(
-        default=Q_(3.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
+    position_accuracy: pint.Quantity = accuracy_field(Q_(3.0, "arcsec"), "arcsec")
 
     def properties(self) -> dict[str, Any]:
         return {"position_accuracy": self.position_accuracy}
 
     def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
         """The angles the table actually reaches for these set points."""
-        s = as_float_array(setpoints, "deg", "setpoints")
-        e = magnitude_in(self.position_accuracy, "deg")
-        return Q_(s + (rng.uniform(-e, e, size=s.shape) if e > 0 else 0.0), "deg")
+        return reached_angles(setpoints, self.position_accuracy, rng)
 
 
 @attrs.frozen(kw_only=True)
@@ -291,9 +289,7 @@ class ThreeAxisTable(RateTable):
     (JJF 2003 reads ``position_accuracy``) and turns with the rate bands of :class:`RateTable`."""
 
     ROLE = "table"
-    position_accuracy: pint.Quantity = attrs.field(
-        default=Q_(10.0, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
+    position_accuracy: pint.Quantity = accuracy_field(Q_(10.0, "arcsec"), "arcsec")
 
     def properties(self) -> dict[str, Any]:
         p = super().properties()
@@ -302,9 +298,7 @@ class ThreeAxisTable(RateTable):
 
     def position(self, setpoints: pint.Quantity, rng: np.random.Generator) -> pint.Quantity:
         """Angles reached on one axis for these set points (uniform in ±position_accuracy)."""
-        s = as_float_array(setpoints, "deg", "setpoints")
-        e = magnitude_in(self.position_accuracy, "deg")
-        return Q_(s + (rng.uniform(-e, e, size=s.shape) if e > 0 else 0.0), "deg")
+        return reached_angles(setpoints, self.position_accuracy, rng)
 
 
 # ------------------------------------------------------------------------------ environment
@@ -324,29 +318,16 @@ class TemperatureChamber(EquipmentModel):
     U: pint.Quantity | None = attrs.field(
         default=None, converter=uncertainty_converter("K"), validator=non_negative
     )
-    setpoint_error: pint.Quantity = attrs.field(
-        default=Q_(0.5, "K"), converter=q_of("K"), validator=non_negative
-    )
-    fluctuation: pint.Quantity = attrs.field(
-        default=Q_(0.2, "K"), converter=q_of("K"), validator=non_negative
-    )
-    soak: pint.Quantity = attrs.field(
-        default=Q_(60.0, "min"), converter=q_of("s"), validator=non_negative
-    )
+    setpoint_error: pint.Quantity = accuracy_field(Q_(0.5, "K"), "K")
+    fluctuation: pint.Quantity = accuracy_field(Q_(0.2, "K"), "K")
+    soak: pint.Quantity = accuracy_field(Q_(60.0, "min"), "s")
     cycle: pint.Quantity = attrs.field(default=Q_(10.0, "min"), converter=q_of("s"))
     uniformity: pint.Quantity | None = attrs.field(
         default=None, converter=opt_q_of("K"), validator=non_negative
     )
 
     def properties(self) -> dict[str, Any]:
-        p = {
-            "setpoint_error": self.setpoint_error,
-            "fluctuation": self.fluctuation,
-            "soak": self.soak,
-        }
-        if self.uniformity is not None:
-            p["uniformity"] = self.uniformity
-        return p
+        return self.given("setpoint_error", "fluctuation", "soak", "uniformity")
 
     def offset(self, setpoint: pint.Quantity) -> float:
         """The fixed offset (K) of the chamber at this set point (inside ±setpoint_error)."""
@@ -392,12 +373,8 @@ class FieldGenerator(EquipmentModel):
     by ±``uniformity`` (GB/T 45570 D.5.5 reads ``uniformity``)."""
 
     ROLE = "field_generator"
-    setting_error: pint.Quantity = attrs.field(
-        default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative
-    )
-    uniformity: pint.Quantity = attrs.field(
-        default=Q_(5.0, "percent"), converter=q_of(""), validator=non_negative
-    )
+    setting_error: pint.Quantity = accuracy_field(Q_(5e-3, ""), "")
+    uniformity: pint.Quantity = accuracy_field(Q_(5.0, "percent"), "")
     max_field: pint.Quantity = attrs.field(default=Q_(2.0, "mT"), converter=q_of("mT"))
 
     def properties(self) -> dict[str, Any]:
@@ -435,12 +412,8 @@ class AngularVibrationTable(EquipmentModel):
     """
 
     ROLE = "angular-vibration"
-    amplitude_error: pint.Quantity = attrs.field(
-        default=Q_(5e-3, ""), converter=q_of(""), validator=non_negative
-    )
-    phase_U: pint.Quantity = attrs.field(
-        default=Q_(0.2, "deg"), converter=q_of("deg"), validator=non_negative
-    )
+    amplitude_error: pint.Quantity = accuracy_field(Q_(5e-3, ""), "")
+    phase_U: pint.Quantity = accuracy_field(Q_(0.2, "deg"), "deg")
     frequency_range: tuple[pint.Quantity, pint.Quantity] = attrs.field(
         default=(Q_(0.1, "Hz"), Q_(500.0, "Hz")),
         converter=lambda v: tuple(q_of("Hz")(x) for x in v),
@@ -482,26 +455,17 @@ class LinearShaker(EquipmentModel):
     budget the applied level from it (GB/T 45570's vibration items read ``level_accuracy``)."""
 
     ROLE = "vibration"
-    amplitude_error: pint.Quantity = attrs.field(
-        default=Q_(0.05, ""), converter=q_of(""), validator=non_negative
-    )
-    frequency_error: pint.Quantity = attrs.field(
-        default=Q_(1e-3, ""), converter=q_of(""), validator=non_negative
-    )
+    amplitude_error: pint.Quantity = accuracy_field(Q_(0.05, ""), "")
+    frequency_error: pint.Quantity = accuracy_field(Q_(1e-3, ""), "")
     max_acceleration: pint.Quantity = attrs.field(default=Q_(20.0, "gn"), converter=q_of("gn"))
     level_accuracy: pint.Quantity | None = attrs.field(
         default=None, converter=uncertainty_converter("gn"), validator=non_negative
     )
 
     def properties(self) -> dict[str, Any]:
-        p = {
-            "amplitude_error": self.amplitude_error,
-            "frequency_error": self.frequency_error,
-            "max_acceleration": self.max_acceleration,
-        }
-        if self.level_accuracy is not None:
-            p["level_accuracy"] = self.level_accuracy
-        return p
+        return self.given(
+            "amplitude_error", "frequency_error", "max_acceleration", "level_accuracy"
+        )
 
     def acceleration(
         self, amplitude: pint.Quantity, frequency: pint.Quantity, times: pint.Quantity
@@ -528,12 +492,8 @@ class ShockTable(EquipmentModel):
     ``duration_accuracy``)."""
 
     ROLE = "shock"
-    peak_error: pint.Quantity = attrs.field(
-        default=Q_(0.1, ""), converter=q_of(""), validator=non_negative
-    )
-    duration_accuracy: pint.Quantity = attrs.field(
-        default=Q_(1.0, "ms"), converter=q_of("s"), validator=non_negative
-    )
+    peak_error: pint.Quantity = accuracy_field(Q_(0.1, ""), "")
+    duration_accuracy: pint.Quantity = accuracy_field(Q_(1.0, "ms"), "s")
 
     def properties(self) -> dict[str, Any]:
         return {"peak_error": self.peak_error, "duration_accuracy": self.duration_accuracy}
@@ -581,12 +541,8 @@ class DigitalMultimeter(EquipmentModel):
 
     ROLE = "dmm"
     range: pint.Quantity = attrs.field(default=Q_(10.0, "V"), converter=_meter_range)
-    reading_error: pint.Quantity = attrs.field(
-        default=Q_(35.0, "ppm"), converter=q_of(""), validator=non_negative
-    )
-    range_error: pint.Quantity = attrs.field(
-        default=Q_(5.0, "ppm"), converter=q_of(""), validator=non_negative
-    )
+    reading_error: pint.Quantity = accuracy_field(Q_(35.0, "ppm"), "")
+    range_error: pint.Quantity = accuracy_field(Q_(5.0, "ppm"), "")
     digits: float = 6.5
 
     @property
@@ -646,9 +602,7 @@ class Counter(EquipmentModel):
     carried into the next gate, so no pulse is lost or counted twice."""
 
     ROLE = "counter"
-    timebase_error: pint.Quantity = attrs.field(
-        default=Q_(5e-8, ""), converter=q_of(""), validator=non_negative
-    )
+    timebase_error: pint.Quantity = accuracy_field(Q_(5e-8, ""), "")
 
     def properties(self) -> dict[str, Any]:
         return {"timebase_error": self.timebase_error}
@@ -720,12 +674,8 @@ class Timer(EquipmentModel):
     ``resolution``."""
 
     ROLE = "timer"
-    accuracy: pint.Quantity = attrs.field(
-        default=Q_(5e-7, ""), converter=q_of(""), validator=non_negative
-    )
-    resolution: pint.Quantity = attrs.field(
-        default=Q_(1e-6, "s"), converter=q_of("s"), validator=non_negative
-    )
+    accuracy: pint.Quantity = accuracy_field(Q_(5e-7, ""), "")
+    resolution: pint.Quantity = accuracy_field(Q_(1e-6, "s"), "s")
 
     def properties(self) -> dict[str, Any]:
         return {"accuracy": self.accuracy, "resolution": self.resolution}
@@ -746,15 +696,9 @@ class AngleTurntable(_Positioner):
     items read it) are stated too."""
 
     ROLE = "turntable"
-    position_accuracy: pint.Quantity = attrs.field(
-        default=Q_(0.1, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
-    axis_wobble: pint.Quantity = attrs.field(
-        default=Q_(0.3, "arcsec"), converter=q_of("arcsec"), validator=non_negative
-    )
-    parallelism: pint.Quantity = attrs.field(
-        default=Q_(0.1, "deg"), converter=q_of("deg"), validator=non_negative
-    )
+    position_accuracy: pint.Quantity = accuracy_field(Q_(0.1, "arcsec"), "arcsec")
+    axis_wobble: pint.Quantity = accuracy_field(Q_(0.3, "arcsec"), "arcsec")
+    parallelism: pint.Quantity = accuracy_field(Q_(0.1, "deg"), "deg")
 
     def properties(self) -> dict[str, Any]:
         return {
@@ -773,4 +717,4 @@ def equipment_list(models: Sequence[EquipmentModel]) -> list[Equipment]:
     return [m.equipment() for m in models]
 
 
-__all__ += ["equipment_list"]
+__all__ += ["equipment_list", "reached_angles"]

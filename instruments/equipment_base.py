@@ -41,6 +41,12 @@ def non_negative(inst: Any, attribute: attrs.Attribute, value: pint.Quantity) ->
         )
 
 
+def accuracy_field(default: pint.Quantity, dimension: str) -> Any:
+    """An attrs field of a model: a non-negative quantity of ``dimension`` (or its text),
+    ``default`` unless given, as the accuracy parameters of the models are."""
+    return attrs.field(default=default, converter=q_of(dimension), validator=non_negative)
+
+
 def magnitude_in(q: pint.Quantity, unit: str) -> float:
     """The magnitude of ``q`` in ``unit``, as a float."""
     return float(q.to(unit).magnitude)
@@ -114,6 +120,15 @@ class EquipmentModel:
         """The accuracy parameters as equipment properties (names the procedures read)."""
         return {}
 
+    def given(self, *names: str) -> dict[str, Any]:
+        """The fields ``names`` by name, in that order, leaving out those not given (``None``):
+        what :meth:`properties` states of a model with optional parameters.
+
+        >>> EquipmentModel(id="X", model="m").given("model", "U")
+        {'model': 'm'}
+        """
+        return {n: v for n in names if (v := getattr(self, n)) is not None}
+
     def equipment(self) -> Equipment:
         """The :class:`Equipment` a campaign carries for this instrument."""
         role = self.role or type(self).ROLE
@@ -140,3 +155,17 @@ def uncertainty_converter(dimension: str | None):
         return q
 
     return conv
+
+
+def simulated_lab(seed: int, certificate: str = "", U: Any = None) -> dict[str, Any]:
+    """The fields of an instrument of a simulated station: calibrated in the ``"simulated"`` lab
+    under ``certificate`` with expanded uncertainty ``U`` (none given: no calibration data), its
+    fixed errors drawn by ``seed``.
+
+    >>> simulated_lab(3, "SIM-CAL-0001", "1e-7")
+    {'lab': 'simulated', 'seed': 3, 'certificate': 'SIM-CAL-0001', 'U': '1e-7'}
+    """
+    fields: dict[str, Any] = {"lab": "simulated", "seed": int(seed)}
+    if certificate:
+        fields |= {"certificate": certificate, "U": U}
+    return fields

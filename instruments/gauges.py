@@ -16,7 +16,7 @@ import pint
 
 from metro.core.base.units import Q_
 
-from .equipment_base import EquipmentModel, fixed_rng, non_negative, q_of
+from .equipment_base import EquipmentModel, fixed_rng, non_negative, q_of, simulated_lab
 
 __all__ = ["Gauge", "Calliper", "Balance", "Megohmmeter", "type_test_equipment"]
 
@@ -81,33 +81,14 @@ class Megohmmeter(Gauge):
 def type_test_equipment(seed: int = 1) -> list[EquipmentModel]:
     """Callipers, balance and megohmmeter of the simulated type test (certificates, U,
     resolution)."""
-    sim = {"lab": "simulated", "seed": int(seed)}
     return [
-        Calliper(
-            id="SIM-CALLIPER",
-            model="simulated digital callipers 0–150 mm",
-            certificate="SIM-CAL-0101",
-            U=Q_(0.02, "mm"),
-            resolution=Q_(0.01, "mm"),
-            noise=1e-4,
-            **sim,
-        ),
-        Balance(
-            id="SIM-BALANCE",
-            model="simulated electronic balance 0–3 kg",
-            certificate="SIM-CAL-0102",
-            U=Q_(0.2, "g"),
-            resolution=Q_(0.1, "g"),
-            noise=2e-5,
-            **sim,
-        ),
-        Megohmmeter(
-            id="SIM-MEGOHM",
-            model="simulated insulation tester 500 V",
-            certificate="SIM-CAL-0103",
-            U=Q_(0.05, ""),
-            resolution=Q_(1, "Mohm"),
-            noise=5e-3,
-            **sim,
-        ),
+        Calliper(id="SIM-CALLIPER", model="simulated digital callipers 0–150 mm",
+                 resolution=Q_(0.01, "mm"), noise=1e-4,
+                 **simulated_lab(seed, "SIM-CAL-0101", Q_(0.02, "mm"))),
+        Balance(id="SIM-BALANCE", model="simulated electronic balance 0–3 kg",
+                resolution=Q_(0.1, "g"), noise=2e-5,
+                **simulated_lab(seed, "SIM-CAL-0102", Q_(0.2, "g"))),
+        Megohmmeter(id="SIM-MEGOHM", model="simulated insulation tester 500 V",
+                    resolution=Q_(1, "Mohm"), noise=5e-3,
+                    **simulated_lab(seed, "SIM-CAL-0103", Q_(0.05, ""))),
     ]
