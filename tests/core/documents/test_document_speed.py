@@ -125,8 +125,8 @@ def _xml(element) -> bytes:
 
 
 #: a small budget table: a header in both languages, subscripts, a spanning title row (bold,
-#shaded), : units that may wrap, a negative number, a summary row, leading/trailing spaces, a tab
-#and a line break
+#: shaded), units that may wrap, a negative number, a summary row, leading/trailing spaces, a tab
+#: and a line break
 HEADER = ["Source", "Symbol", "Type, distribution", "Value", "Divisor", "c_i", "u_i(y)", "ν_i"]
 ROWS = [
     ["D.5.2 — bias stability B_s   [u_i(y): °/h]"],

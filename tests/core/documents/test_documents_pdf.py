@@ -276,11 +276,11 @@ def test_jjf2003_notes_of_a_drifting_mimu_state_each_text_once(tmp_path):
 
 
 #: GB/T 45570 type test (--all) on the simulated station, zh+en: 45 pages measured (2026-11-24,
-#fifth : round: the budgets gained the turn-on rows of D.5.4/D.5.5 and D.6.3/D.6.4, the drift rows
-#of D.1.2/D.1.3 : and the folded-normal rows of D.5.5/D.6 — every page looked at, the layout
-#unchanged; 41 before them; : 47–48 before the budgets annex became one table per item with repeated
-#notes numbered once, exact : budgets grouped by reason and Chinese terms kept whole in narrow
-#columns; 46 before the layout : work, when the content was smaller and printed in one language)
+#: fifth round: the budgets gained the turn-on rows of D.5.4/D.5.5 and D.6.3/D.6.4, the drift rows
+#: of D.1.2/D.1.3 and the folded-normal rows of D.5.5/D.6 — every page looked at, the layout
+#: unchanged; 41 before them; 47–48 before the budgets annex became one table per item with repeated
+#: notes numbered once, exact budgets grouped by reason and Chinese terms kept whole in narrow
+#: columns; 46 before the layout work, when the content was smaller and printed in one language)
 GBT_ALL_PAGES = 46
 
 
