@@ -67,8 +67,8 @@ def test_migrations_from_an_empty_database(opened, register_url):
     insp = sa.inspect(reg.engine)
     tables = set(insp.get_table_names())
     assert set(Base.metadata.tables) <= tables and "alembic_version" in tables
-    with reg.engine.connect() as c:
-        assert c.exec_driver_sql("SELECT version_num FROM alembic_version").scalar_one() == "0002"  # 0002: the DCC columns
+    with reg.engine.connect() as c:  # 0002: the DCC columns
+        assert c.exec_driver_sql("SELECT version_num FROM alembic_version").scalar_one() == "0002"
     # the models and the migrated tables agree column by column
     for name, table in Base.metadata.tables.items():
         assert {c.name for c in table.columns} == {c["name"] for c in insp.get_columns(name)}, name
