@@ -38,10 +38,9 @@ import numpy as np
 
 from metro.api import (
     EARTH_RATE_DEG_PER_H, Q_, Campaign, DeviceUnderTest, Equipment, Segment, Step, parse_quantity,
-    station_options,
 )
 
-from .stations import device_class_fields, with_device_class
+from .stations import device_class_fields, drawn_station, simulated_campaign, simulated_device
 
 AXES = ("up", "north", "south", "east", "west")
 
@@ -158,11 +157,8 @@ class AngleInstrumentStation:
 
     def device(self) -> DeviceUnderTest:
         t = self.truth
-        return DeviceUnderTest(
-            id="SIM-OGAM-1",
-            model="virtual optical-gyro angle measuring instrument",
-            serial=f"seed {t.seed}",
-            manufacturer="metro simulator",
+        return simulated_device(
+            t.seed, "SIM-OGAM-1", "virtual optical-gyro angle measuring instrument",
             technology="laser",
             output="pulse",
             properties={
@@ -275,16 +271,8 @@ class AngleInstrumentStation:
             )
             if progress is not None:
                 progress("simulating angle instrument", i + 1, len(steps))
-        return Campaign(
-            id="SIMULATED-OGAM",
-            device=self.device(),
-            equipment=self.equipment(),
-            environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
-            site={"latitude": Q_(self.latitude_deg, "deg")},
-            segments=segments,
-            source="simulated station (angle instrument)",
-            simulated=True,
-            truth=self.truth.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+        return simulated_campaign(
+            self, "SIMULATED-OGAM", segments, source="simulated station (angle instrument)",
             expected=self.expected(steps),
         )
 
@@ -365,11 +353,10 @@ def draw_device(device_class: str, seed: int) -> dict[str, Any]:
 def station_factory(**options: Any) -> AngleInstrumentStation:
     """Factory of the ``simulated-ogam`` station (options: seed, latitude_deg, any truth field, and
     ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
-    truth_kw, st_kw = station_options(
-        "simulated-ogam", AngleInstrumentTruth, AngleInstrumentStation, options, ("latitude_deg",)
+    return drawn_station(
+        "simulated-ogam", AngleInstrumentTruth, AngleInstrumentStation, draw_device, options,
+        ("latitude_deg",),
     )
-    truth_kw = with_device_class(truth_kw, draw_device, AngleInstrumentTruth().seed)
-    return AngleInstrumentStation(truth=AngleInstrumentTruth(**truth_kw), **st_kw)
 
 
 __all__ = [

@@ -49,7 +49,7 @@ from metro.core.model.procedure import Step
 from metro.core.base.units import Q_
 
 from metro.core.stats.earth import EARTH_RATE_DEG_S, EARTH_RATE_RAD_S  # noqa: E402
-from .stations import device_class_fields, with_device_class
+from .stations import device_class_fields, drawn_station, simulated_campaign, simulated_device
 
 AXES = ("x", "y", "z")
 GYRO_COLUMNS = ("gx", "gy", "gz")
@@ -339,11 +339,8 @@ class MimuStation:
 
     def device(self) -> DeviceUnderTest:
         t = self.truth
-        return DeviceUnderTest(
-            id="SIM-MIMU-1",
-            model="virtual MEMS IMU",
-            serial=f"seed {t.seed}",
-            manufacturer="metro simulator",
+        return simulated_device(
+            t.seed, "SIM-MIMU-1", "virtual MEMS IMU",
             properties={
                 "gyro_range": Q_(t.gyro_range_deg_s, "deg/s"),
                 "accel_range": Q_(t.accel_range_gn, "gn"),
@@ -477,19 +474,10 @@ class MimuStation:
             )
             if progress is not None:
                 progress("simulating MIMU", k + 1, len(steps))
-        camp = Campaign(
-            id="SIMULATED-MIMU",
-            device=self.device(),
-            equipment=self.equipment(),
-            environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
-            # the simulated specific force at rest is 1 g_n (segment_kinematics): the site says so,
-            # as a
-            # real site gives its local gravity (JJF 2003 7.2.2/7.2.4 read it for Ā)
-            site={"latitude": Q_(self.latitude_deg, "deg"), "gravity": Q_(9.80665, "m/s**2")},
-            segments=segments,
-            source="simulated station",
-            simulated=True,
-            truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+        # the simulated specific force at rest is 1 g_n (segment_kinematics): the site says so, as
+        # a real site gives its local gravity (JJF 2003 7.2.2/7.2.4 read it for Ā)
+        camp = simulated_campaign(
+            self, "SIMULATED-MIMU", segments, site={"gravity": Q_(9.80665, "m/s**2")}
         )
         return attrs.evolve(camp, expected=_expected(self, camp, realized))
 
@@ -579,13 +567,10 @@ def station_factory(**options: Any) -> MimuStation:
     """Factory registered as ``simulated-mimu`` (options: seed, bits, latitude_deg, duration_scale,
     …,
     and ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
-    from metro.core.base.options import station_options
-
-    truth_kw, st_kw = station_options(
-        "simulated-mimu", MimuTruth, MimuStation, options, ("latitude_deg", "duration_scale")
+    return drawn_station(
+        "simulated-mimu", MimuTruth, MimuStation, draw_device, options,
+        ("latitude_deg", "duration_scale"),
     )
-    truth_kw = with_device_class(truth_kw, draw_device, MimuTruth().seed)
-    return MimuStation(truth=MimuTruth(**truth_kw), **st_kw)
 
 
 __all__ = [

@@ -22,7 +22,6 @@ The low/high-temperature records of D.6.1/D.6.2 are ordinary static records at a
 
 from __future__ import annotations
 
-import hashlib
 import math
 from typing import Any
 
@@ -31,8 +30,8 @@ from metro.core.model.campaign import Campaign, Segment
 from metro.core.base.units import Q_, parse_quantity
 
 from .simulated import (AXES, EARTH_RATE_DEG_PER_H, GyroTruth, SimulatedStation, register_expected,
-                        output_unit, register_step_kind, simulate_static)
-from .stations import standard_expected
+                        register_step_kind)
+from .stations import memory_segment, standard_expected
 
 
 def dead_band_response(truth: GyroTruth, input_deg_h: float) -> float:
@@ -49,54 +48,14 @@ def _axis(conditions) -> int:
     return AXES.index(str(conditions.get("axis", "IRA")).upper())
 
 
-def static_segment(
-    station: SimulatedStation,
-    step,
-    index: int,
-    *,
-    n: int,
-    interval_s: float,
-    latitude: float,
-    offset: float,
-    progress=None,
-) -> Segment:
-    """The gyro at rest for ``step`` at ``latitude`` with its bias shifted by ``offset`` (°/h)."""
-    t = station.truth
-    data = simulate_static(
-        t,
-        n=n,
-        interval_s=interval_s,
-        latitude_deg=latitude,
-        orientation="up",
-        seed=t.seed + index,
-        progress=progress,
-        bias_offset_deg_h=offset,
-    )
-    unit = output_unit(t)
-    return Segment(
-        id=step.segment,
-        kind=step.kind,
-        conditions=dict(step.conditions),
-        interval=Q_(interval_s, "s"),
-        sha256=hashlib.sha256(data.tobytes()).hexdigest(),
-        loader=(lambda d=data, u=unit: {"output": (d, u)}),
-    )
-
-
 @register_step_kind("tilt")
 def sim_tilt(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
     t = station.truth
     x = EARTH_RATE_DEG_PER_H * math.cos(math.radians(_psi(step.conditions)))
     # latitude 0 removes the vertical earth rate of simulate_static: the input is Ω_e·cos Ψ alone
-    return static_segment(
-        station,
-        step,
-        index,
-        n=n,
-        interval_s=interval_s,
-        latitude=0.0,
-        offset=bias_offset_deg_h + dead_band_response(t, x),
-        progress=progress,
+    return station.at_rest(
+        step, index, n=n, interval_s=interval_s, latitude_deg=0.0,
+        offset=bias_offset_deg_h + dead_band_response(t, x), progress=progress,
     )
 
 
@@ -121,33 +80,17 @@ def _mounted_latitude(station: SimulatedStation, conditions) -> float:
     return station.latitude_deg
 
 
-@register_step_kind("vibration")
-def sim_vibration(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
-    off = bias_offset_deg_h + _environment_shift(station.truth, "vibration", step.conditions)
-    return static_segment(
-        station,
-        step,
-        index,
-        n=n,
-        interval_s=interval_s,
-        latitude=_mounted_latitude(station, step.conditions),
-        offset=off,
-        progress=progress,
-    )
-
-
 @register_step_kind("shock")
-def sim_shock(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
-    off = bias_offset_deg_h + _environment_shift(station.truth, "shock", step.conditions)
-    return static_segment(
-        station,
-        step,
-        index,
-        n=n,
-        interval_s=interval_s,
-        latitude=_mounted_latitude(station, step.conditions),
-        offset=off,
-        progress=progress,
+@register_step_kind("vibration")
+def sim_vibration_shock(
+    station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_
+):
+    """The gyro at rest on the vibration or the shock table (the step's kind), its bias shifted
+    as the test and its phase say."""
+    off = bias_offset_deg_h + _environment_shift(station.truth, step.kind, step.conditions)
+    return station.at_rest(
+        step, index, n=n, interval_s=interval_s,
+        latitude_deg=_mounted_latitude(station, step.conditions), offset=off, progress=progress,
     )
 
 
@@ -167,27 +110,11 @@ def transient_per_sample(truth: GyroTruth, n: int, interval_s: float) -> np.ndar
 def sim_power_on(
     station, step, index, *, interval_s, n, orientation, bias_offset_deg_h, progress=None, **_
 ):
-    t = station.truth
     # the transient is part of the indicated rate, quantized with it
-    data = simulate_static(
-        t,
-        n=n,
-        interval_s=interval_s,
-        latitude_deg=station.latitude_deg,
-        orientation=orientation,
-        seed=t.seed + index,
-        progress=progress,
-        bias_offset_deg_h=bias_offset_deg_h,
-        extra_deg_h=transient_per_sample(t, n, interval_s),
-    )
-    unit = output_unit(t)
-    return Segment(
-        id=step.segment,
-        kind=step.kind,
-        conditions=dict(step.conditions),
-        interval=Q_(interval_s, "s"),
-        sha256=hashlib.sha256(data.tobytes()).hexdigest(),
-        loader=(lambda d=data, u=unit: {"output": (d, u)}),
+    return station.at_rest(
+        step, index, n=n, interval_s=interval_s, orientation=orientation,
+        offset=bias_offset_deg_h, progress=progress,
+        extra_deg_h=transient_per_sample(station.truth, n, interval_s),
     )
 
 
@@ -212,15 +139,7 @@ def sim_power(station, step, index, *, interval_s, n, **_):
     rng = np.random.default_rng([t.seed, index, 3301])
     u = V * (1.0 + rng.normal(0.0, t.power_noise_rel, size=n))
     i = current * (1.0 + rng.normal(0.0, t.power_noise_rel, size=n))
-    digest = hashlib.sha256(u.tobytes() + i.tobytes()).hexdigest()
-    return Segment(
-        id=step.segment,
-        kind=step.kind,
-        conditions=dict(step.conditions),
-        interval=Q_(interval_s, "s"),
-        sha256=digest,
-        loader=(lambda a=u, b=i: {"voltage": (a, "V"), "current": (b, "A")}),
-    )
+    return memory_segment(step, interval_s, {"voltage": (u, "V"), "current": (i, "A")})
 
 
 # --------------------------------------------------------------------------------------------

@@ -33,7 +33,6 @@ over the whole revolutions a step lasts; its vertical part and the bias enter as
 from __future__ import annotations
 
 import functools
-import hashlib
 import math
 from typing import Any, Mapping
 
@@ -44,7 +43,7 @@ from metro.core.base.units import Q_, parse_quantity
 from .simulated import (DIGITAL_DEFAULTS, EARTH_RATE_DEG_PER_H, GyroTruth, SimulatedStation,
                         register_expected, mounting_key, output_unit, pulse_readout, quantize_rate,
                         register_step_kind, scale_factor_at, station_factory)
-from .stations import standard_expected
+from .stations import memory_segment, standard_expected
 
 REV_ARCSEC = 360.0 * 3600.0
 
@@ -169,14 +168,7 @@ def _revolutions(
     cum = np.cumsum(K * (angle + rng.normal(0.0, noise_sd, size=turns)))
     counts = np.diff(pulse_readout(t, cum, rng), prepend=0.0)
     dur = np.full(turns, T)
-    return Segment(
-        id=step.segment,
-        kind=step.kind,
-        conditions=dict(step.conditions),
-        interval=Q_(T, "s"),
-        sha256=hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest(),
-        loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}),
-    )
+    return memory_segment(step, T, {"count": (counts, "P"), "duration": (dur, "s")})
 
 
 @register_step_kind("revolutions-repeat")
@@ -255,14 +247,7 @@ def rate_samples(
         out = np.diff(pulse_readout(t, cum, rng), prepend=0.0)
     else:
         out = quantize_rate(t, w, rng)
-    return Segment(
-        id=step.segment,
-        kind=step.kind,
-        conditions=dict(step.conditions),
-        interval=Q_(interval_s, "s"),
-        sha256=hashlib.sha256(out.tobytes()).hexdigest(),
-        loader=(lambda d=out, u=unit: {"output": (d, u)}),
-    )
+    return memory_segment(step, interval_s, {"output": (out, unit)})
 
 
 @register_step_kind("rate-output")
@@ -292,14 +277,7 @@ def sim_polarity(
         bias_offset_deg_h=bias_offset_deg_h,
     )
     unit = output_unit(station.truth)
-    return Segment(
-        id=step.segment,
-        kind=step.kind,
-        conditions=dict(step.conditions),
-        interval=Q_(interval_s, "s"),
-        sha256=hashlib.sha256(out.tobytes()).hexdigest(),
-        loader=(lambda d=out, u=unit: {"output": (d, u)}),
-    )
+    return memory_segment(step, interval_s, {"output": (out, unit)})
 
 
 @register_step_kind("rate-mounting")

@@ -16,8 +16,9 @@ within their certificate's U and round to their resolution; repeated readings ad
 
 from __future__ import annotations
 
+import functools
 import math
-from typing import Any
+from typing import Any, Callable
 
 import attrs
 import numpy as np
@@ -28,7 +29,7 @@ from metro.core.base.units import Q_
 from .gauges import type_test_equipment
 from .simulated import (SimulatedStation, register_expected, register_record_expected,
                         register_record_kind, register_step_kind)
-from .stations import standard_expected
+from .stations import memory_segment, standard_expected
 
 
 @attrs.frozen
@@ -100,27 +101,38 @@ def _eq(station: SimulatedStation, role: str):
     return next(m for m in type_test_equipment(station.truth.seed) if m.ROLE == role)
 
 
+def inspection_record(section: str) -> Callable[[Callable[..., Any]], Callable[..., dict]]:
+    """Decorator: ``fn(station, step, index)`` returns what the inspection ``section`` found;
+    registered as the record kind ``record:inspection.<section>``, whose table is
+    ``{"inspection": {section: found}}``."""
+
+    def deco(fn: Callable[..., Any]) -> Callable[..., dict]:
+        @functools.wraps(fn)
+        def take_down(station, step, index) -> dict:
+            return {"inspection": {section: fn(station, step, index)}}
+
+        return register_record_kind(f"record:inspection.{section}")(take_down)
+
+    return deco
+
+
 def _text(q: pint.Quantity, fmt: str = "g") -> str:
     return f"{q.magnitude:{fmt}} {q.units:~P}"
 
 
-@register_record_kind("record:inspection.appearance")
+@inspection_record("appearance")
 def rec_appearance(station, step, index) -> dict:
     return {
-        "inspection": {
-            "appearance": {
-                "a": True,
-                "b": True,
-                "c": True,
-                "d": True,
-                "lighting": "normal lighting (≥ 500 lx)",
-                "inspector": "simulated",
-            }
-        }
+        "a": True,
+        "b": True,
+        "c": True,
+        "d": True,
+        "lighting": "normal lighting (≥ 500 lx)",
+        "inspector": "simulated",
     }
 
 
-@register_record_kind("record:inspection.materials")
+@inspection_record("materials")
 def rec_materials(station, step, index) -> dict:
     if station.device().technology == "laser":
         m = {
@@ -134,28 +146,24 @@ def rec_materials(station, step, index) -> dict:
             "potting": "organic silicone, modulus matched",
             "housing": "aluminium alloy with permalloy shield",
         }
-    return {"inspection": {"materials": m}}
+    return m
 
 
-@register_record_kind("record:inspection.function")
+@inspection_record("function")
 def rec_function(station, step, index) -> dict:
     return {
-        "inspection": {
-            "function": {
-                "senses": True,
-                "outputs": True,
-                "composition": [
-                    "optical sensor",
-                    "structural assembly",
-                    "control circuit with software",
-                ],
-            }
-        }
+        "senses": True,
+        "outputs": True,
+        "composition": [
+            "optical sensor",
+            "structural assembly",
+            "control circuit with software",
+        ],
     }
 
 
-@register_record_kind("record:inspection.dimensions")
-def rec_dimensions(station, step, index) -> dict:
+@inspection_record("dimensions")
+def rec_dimensions(station, step, index) -> list:
     cal, rng, out = _eq(station, "calliper"), _rng(station, "dimensions"), []
     for name, nominal, tol, true in TRUTH.dimensions:
         vals = cal.read(Q_(true, "mm"), 3, rng, name)
@@ -167,26 +175,22 @@ def rec_dimensions(station, step, index) -> dict:
                 "readings": [f"{v.magnitude:.2f} mm" for v in vals],
             }
         )
-    return {"inspection": {"dimensions": out}}
+    return out
 
 
-@register_record_kind("record:inspection.mass")
+@inspection_record("mass")
 def rec_mass(station, step, index) -> dict:
     vals = _eq(station, "balance").read(Q_(TRUTH.mass_g, "g"), 3, _rng(station, "mass"), "mass")
     parts = ["cable", "connector", "mounting screws"]
     return {
-        "inspection": {
-            "mass": {
-                "readings": [f"{v.magnitude:.1f} g" for v in vals],
-                "includes": parts,
-                "delivered_with": parts,
-                "limit": TRUTH.mass_limit,
-            }
-        }
+        "readings": [f"{v.magnitude:.1f} g" for v in vals],
+        "includes": parts,
+        "delivered_with": parts,
+        "limit": TRUTH.mass_limit,
     }
 
 
-@register_record_kind("record:inspection.supply")
+@inspection_record("supply")
 def rec_supply(station, step, index) -> dict:
     rng = _rng(station, "supply")
     rails = []
@@ -202,34 +206,26 @@ def rec_supply(station, step, index) -> dict:
         )
     total = sum(abs(v * i) for v, i in station.truth.power_supplies)
     return {
-        "inspection": {
-            "supply": {
-                "voltage_type": "DC",
-                "power": f"{math.ceil(total * 1.5):g} W",
-                "rails": rails,
-            }
-        }
+        "voltage_type": "DC",
+        "power": f"{math.ceil(total * 1.5):g} W",
+        "rails": rails,
     }
 
 
-@register_record_kind("record:inspection.interfaces")
+@inspection_record("interfaces")
 def rec_interfaces(station, step, index) -> dict:
     return {
-        "inspection": {
-            "interfaces": {
-                "mechanical_per_specification": True,
-                "mounting_face_perpendicular": True,
-                "electrical_per_specification": True,
-                "protocol_per_specification": True,
-                "communication": "RS-422",
-                "output_content": ["rate", "voltage", "temperature", "status"],
-            }
-        }
+        "mechanical_per_specification": True,
+        "mounting_face_perpendicular": True,
+        "electrical_per_specification": True,
+        "protocol_per_specification": True,
+        "communication": "RS-422",
+        "output_content": ["rate", "voltage", "temperature", "status"],
     }
 
 
-@register_record_kind("record:inspection.insulation")
-def rec_insulation(station, step, index) -> dict:
+@inspection_record("insulation")
+def rec_insulation(station, step, index) -> list:
     meg, rng, out = _eq(station, "megohmmeter"), _rng(station, "insulation"), []
     hi = float(meg.high.to("Mohm").magnitude)
     for pair, R in TRUTH.insulation_Mohm:
@@ -248,7 +244,7 @@ def rec_insulation(station, step, index) -> dict:
                 "readings": texts,
             }
         )
-    return {"inspection": {"insulation": out}}
+    return out
 
 
 #: the 5.4 tests done elsewhere that the simulated environmental lab reports: (tag, the record's
@@ -361,20 +357,9 @@ def rec_life(station, step, index) -> dict:
 
 @register_step_kind("type-env")
 def sim_type_env(station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_):
-    from .sim_gbt_env import static_segment
-
     after = str(step.conditions.get("phase", "before")).lower() == "after"
     off = bias_offset_deg_h + (TRUTH.shift(str(step.conditions.get("test", ""))) if after else 0.0)
-    return static_segment(
-        station,
-        step,
-        index,
-        n=n,
-        interval_s=interval_s,
-        latitude=station.latitude_deg,
-        offset=off,
-        progress=progress,
-    )
+    return station.at_rest(step, index, n=n, interval_s=interval_s, offset=off, progress=progress)
 
 
 def _after_station(station: SimulatedStation, step) -> SimulatedStation:
@@ -396,9 +381,6 @@ def _after_station(station: SimulatedStation, step) -> SimulatedStation:
 @register_step_kind("type-env-revolutions")
 def sim_type_env_revolutions(station, step, index, *, bias_offset_deg_h, **_):
     """Whole revolutions before/after a test (the angle method's record, D.1.1.2 g))."""
-    import hashlib
-
-    from metro.core.model.campaign import Segment
     from metro.core.base.units import parse_quantity
 
     from .simulated import simulate_revolutions
@@ -414,14 +396,7 @@ def sim_type_env_revolutions(station, step, index, *, bias_offset_deg_h, **_):
         seed=st.truth.seed + 7919 * (index + 1),
         bias_offset_deg_h=bias_offset_deg_h,
     )
-    return Segment(
-        id=step.segment,
-        kind=step.kind,
-        conditions=dict(step.conditions),
-        interval=Q_(float(dur[0]), "s"),
-        sha256=hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest(),
-        loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}),
-    )
+    return memory_segment(step, float(dur[0]), {"count": (counts, "P"), "duration": (dur, "s")})
 
 
 @register_step_kind("type-env-rate-output")
@@ -438,17 +413,8 @@ def sim_type_env_rate_output(station, step, index, *, interval_s, n, bias_offset
 def sim_type_env_rate_static(
     station, step, index, *, interval_s, n, bias_offset_deg_h, progress=None, **_
 ):
-    from .sim_gbt_env import static_segment
-
-    return static_segment(
-        station,
-        step,
-        index,
-        n=n,
-        interval_s=interval_s,
-        latitude=station.latitude_deg,
-        offset=bias_offset_deg_h,
-        progress=progress,
+    return station.at_rest(
+        step, index, n=n, interval_s=interval_s, offset=bias_offset_deg_h, progress=progress
     )
 
 

@@ -40,7 +40,8 @@ from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  15.04107 
 from .sim_registry import (expected_contributors, merge_records, record_expected_contributors,
                            record_simulators, register_expected, register_record_expected,
                            register_record_kind, register_step_kind, step_simulators)
-from .stations import step_seed, with_device_class
+from .stations import (memory_segment, simulated_campaign, simulated_device, step_seed,
+                       with_device_class)
 from .gyro_truth import (DEVICE_CLASSES, DIGITAL_DEFAULTS, GRADES, GRADE_NAMES, GyroTruth,
                          device_description, draw_device)
 
@@ -164,11 +165,8 @@ class SimulatedStation:
         ):  # the data sheet's turn-on scatter, as from an earlier D.5.3 / D.1.4 (1σ)
             props["bias_repeatability"] = Q_(t.turn_on_sigma_deg_h, "deg/h")
             props["scale_factor_repeatability"] = Q_(t.sf_turn_on_sigma, "")
-        return DeviceUnderTest(
-            id="SIM-OG-1",
-            model=device_description(t),
-            serial=f"seed {t.seed}",
-            manufacturer="metro simulator",
+        return simulated_device(
+            t.seed, "SIM-OG-1", device_description(t),
             # a pulse output is a ring-laser gyro's; a digital word or a digital rate a fibre
             # gyro's (6.2.7.1
             # then sends it to the rate method D.2, which takes LSB, Hz and °/s outputs)
@@ -278,22 +276,13 @@ class SimulatedStation:
             if step.kind == "rate-revolutions":
                 segments.append(self._revolutions(step, i, offset))
                 continue
-            segments.append(self._at_rest(step, i, n, interval_s, orient, offset, cb))
+            segments.append(self.at_rest(
+                step, i, n=n, interval_s=interval_s, orientation=orient, offset=offset, progress=cb
+            ))
         if t.polarity < 0:
             segments = [_reversed(seg) for seg in segments]
-        camp = Campaign(
-            id="SIMULATED",
-            device=self.device(),
-            equipment=self.equipment(),
-            environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")},
-            site={
-                "latitude": Q_(self.latitude_deg, "deg"),
-                "latitude_uncertainty": Q_(0.001, "deg"),
-            },
-            segments=segments,
-            source="simulated station",
-            simulated=True,
-            truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+        camp = simulated_campaign(
+            self, "SIMULATED", segments, site={"latitude_uncertainty": Q_(0.001, "deg")},
             records=records,
         )
         return attrs.evolve(camp, expected=self.expected_values(camp, repeat_durations_s))
@@ -316,43 +305,31 @@ class SimulatedStation:
             seed=t.seed + 7919 * (i + 1),
             bias_offset_deg_h=offset,
         )
-        digest = hashlib.sha256(counts.tobytes() + dur.tobytes()).hexdigest()
-        return Segment(
-            id=step.segment,
-            kind=step.kind,
-            conditions=dict(step.conditions),
-            interval=Q_(float(dur[0]), "s"),
-            file=None,
-            sha256=digest,
-            loader=(lambda c=counts, d=dur: {"count": (c, "P"), "duration": (d, "s")}),
+        return memory_segment(
+            step, float(dur[0]), {"count": (counts, "P"), "duration": (dur, "s")}
         )
 
-    def _at_rest(
-        self, step: Step, i: int, n: int, interval_s: float, orient: str, offset: float, cb
+    def at_rest(
+        self, step: Step, index: int, *, n: int, interval_s: float, orientation: str = "up",
+        latitude_deg: float | None = None, offset: float = 0.0, progress=None,
+        extra_deg_h: np.ndarray | None = None,
     ) -> Segment:
-        """The gyro at rest on the platform for ``n`` samples (the station's own step kinds)."""
+        """The gyro at rest for ``step``: ``n`` samples of ``interval_s`` with IRA ``orientation``
+        at ``latitude_deg`` (default: the station's), its bias shifted by ``offset`` (°/h) and by
+        ``extra_deg_h`` per sample; its noise drawn with the truth's seed + ``index``."""
         t = self.truth
         data = simulate_static(
             t,
             n=n,
             interval_s=interval_s,
-            latitude_deg=self.latitude_deg,
-            orientation=orient,
-            seed=t.seed + i,
-            progress=cb,
+            latitude_deg=self.latitude_deg if latitude_deg is None else latitude_deg,
+            orientation=orientation,
+            seed=t.seed + index,
+            progress=progress,
             bias_offset_deg_h=offset,
+            extra_deg_h=extra_deg_h,
         )
-        digest = hashlib.sha256(data.tobytes()).hexdigest()
-        unit = output_unit(t)
-        return Segment(
-            id=step.segment,
-            kind=step.kind,
-            conditions=dict(step.conditions),
-            interval=Q_(interval_s, "s"),
-            file=None,
-            sha256=digest,
-            loader=(lambda d=data, u=unit: {"output": (d, u)}),
-        )
+        return memory_segment(step, interval_s, {"output": (data, output_unit(t))})
 
     def expected_values(
         self, camp: Campaign, repeat_durations_s: Sequence[float] = ()

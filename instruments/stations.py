@@ -9,8 +9,11 @@ step kinds a station cannot simulate.
 * :func:`refuse_unknown_kinds` — a station that is asked for a kind of step it does not know
   refuses before simulating anything, naming the step kind, the segment and the station, and the
   kinds it does simulate; it never records "a gyro at rest" in place of a motion it cannot make.
-* :func:`device_class_fields` and :func:`with_device_class` — the ``device_class`` station option
-  of the simulated stations: a preset class of devices, one of which the seed draws.
+* :func:`memory_segment` — a simulated step's segment, its columns held in memory;
+  :func:`simulated_campaign` — the campaign a simulated station returns.
+* :func:`device_class_fields`, :func:`with_device_class` and :func:`drawn_station` — the
+  ``device_class`` station option of the simulated stations: a preset class of devices, one of
+  which the seed draws.
 * :func:`standard_expected` — the expected values that follow from a station's truth only through
   a standard's formulas, computed by that standard's plugin (the ``metro_expected_values`` hook)
   from the noise-free quantities the station declares; instruments never import a plugin.
@@ -22,7 +25,8 @@ import hashlib
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
 from metro.core.base.errors import DataError, MetroError
-from metro.core.model.campaign import Campaign
+from metro.core.base.units import Q_
+from metro.core.model.campaign import Campaign, DeviceUnderTest, Segment
 from metro.core.model.procedure import Step
 
 __all__ = [
@@ -30,8 +34,12 @@ __all__ = [
     "step_seed",
     "refuse_unknown_kinds",
     "ELSEWHERE_HINT",
+    "memory_segment",
+    "simulated_campaign",
+    "simulated_device",
     "device_class_fields",
     "with_device_class",
+    "drawn_station",
     "standard_expected",
     "StationError",
 ]
@@ -91,6 +99,74 @@ def refuse_unknown_kinds(
         )
 
 
+def memory_segment(
+    step: Step, interval_s: float, columns: Mapping[str, tuple[Any, str]]
+) -> Segment:
+    """The segment a station simulated for ``step`` (its id, kind and conditions): ``columns``
+    (``{name: (array, unit)}``) held in memory, the sample interval ``interval_s`` (s), and the
+    SHA-256 of the arrays' bytes one after another in the order of ``columns``.
+
+    >>> import numpy as np
+    >>> step = Step("S1", "static", "at rest", duration=Q_(1, "s"), interval=Q_(1, "s"))
+    >>> seg = memory_segment(step, 0.5, {"output": (np.zeros(2), "P")})
+    >>> seg.interval, seg.sha256[:8], seg.loader()["output"][1]
+    (<Quantity(0.5, 'second')>, '374708ff', 'P')
+    """
+    cols = dict(columns)
+    digest = hashlib.sha256(b"".join(a.tobytes() for a, _ in cols.values())).hexdigest()
+    return Segment(
+        id=step.segment,
+        kind=step.kind,
+        conditions=dict(step.conditions),
+        interval=Q_(interval_s, "s"),
+        sha256=digest,
+        loader=(lambda: dict(cols)),
+    )
+
+
+def simulated_campaign(
+    station: Any,
+    campaign_id: str,
+    segments: Sequence[Segment],
+    *,
+    source: str = "simulated station",
+    environment: Mapping[str, Any] | None = None,
+    site: Mapping[str, Any] | None = None,
+    **fields: Any,
+) -> Campaign:
+    """The campaign of a simulated ``station`` (its ``device()``, ``equipment()``, ``truth`` and
+    ``latitude_deg``): the ``segments`` it simulated, in the simulated laboratory (20 °C, 45 %
+    humidity, then ``environment``) at a site at the station's latitude (then ``site``), with the
+    truth and the site latitude it declares; ``fields`` (``expected``, ``records`` …) as given."""
+    latitude = Q_(station.latitude_deg, "deg")
+    return Campaign(
+        id=campaign_id,
+        device=station.device(),
+        equipment=station.equipment(),
+        environment={"temperature": Q_(20.0, "degC"), "humidity": Q_(45.0, "percent")}
+        | dict(environment or {}),
+        site={"latitude": latitude} | dict(site or {}),
+        segments=segments,
+        source=source,
+        simulated=True,
+        truth=station.truth.as_quantities() | {"site latitude": Q_(station.latitude_deg, "deg")},
+        **fields,
+    )
+
+
+def simulated_device(seed: int, device_id: str, model: str, **fields: Any) -> DeviceUnderTest:
+    """The device under test of a simulated station: ``device_id``, ``model``, made by the
+    "metro simulator", its serial the truth's ``seed``; ``fields`` (``technology``, ``output``,
+    ``properties`` …) as given.
+
+    >>> simulated_device(7, "SIM-1", "virtual gyro", output="rate").serial
+    'seed 7'
+    """
+    return DeviceUnderTest(
+        id=device_id, model=model, serial=f"seed {seed}", manufacturer="metro simulator", **fields
+    )
+
+
 def device_class_fields(
     device_class: str, classes: Mapping[str, Mapping[str, Any]]
 ) -> dict[str, Any]:
@@ -131,6 +207,24 @@ def with_device_class(
     if not cls:
         return truth_kw
     return dict(draw(cls, truth_kw.get("seed", default_seed))) | truth_kw | {"device_class": cls}
+
+
+def drawn_station(
+    name: str,
+    truth_cls: type,
+    station_cls: type,
+    draw: Callable[[str, int], Mapping[str, Any]],
+    options: Mapping[str, Any],
+    station_fields: Iterable[str],
+) -> Any:
+    """The station ``station_cls`` a factory registered as ``name`` builds from ``options``: any
+    field of ``truth_cls`` and the ``station_fields`` of the station, and ``device_class`` (the
+    device ``draw`` draws with the seed, :func:`with_device_class`)."""
+    from metro.core.base.options import station_options
+
+    truth_kw, st_kw = station_options(name, truth_cls, station_cls, options, station_fields)
+    truth_kw = with_device_class(truth_kw, draw, truth_cls().seed)
+    return station_cls(truth=truth_cls(**truth_kw), **st_kw)
 
 
 def standard_expected(

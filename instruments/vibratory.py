@@ -45,13 +45,12 @@ from typing import Any
 
 import attrs
 import numpy as np
-from metro.core.base.options import station_options
 from metro.core.model.campaign import Campaign, DeviceUnderTest, Equipment, Segment
 from metro.core.model.procedure import Step
 from metro.core.base.units import Q_
 
 from metro.core.stats.earth import EARTH_RATE_DEG_PER_H  # noqa: E402  physical, 15.04107 °/h
-from .stations import device_class_fields, with_device_class
+from .stations import device_class_fields, drawn_station, simulated_campaign, simulated_device
 from .vibratory_model import (AXES, SAME_POWER_ON, VibratoryTruth, condition_value, increment_gain,
                               mean_output, misalignment_angles, operating_point, power_on_key,
                               simulate_segment, static_noise, steady_output)
@@ -67,6 +66,18 @@ def _fit(om, F):
     A = np.column_stack([om, np.ones_like(om)])
     (K, F0), *_ = np.linalg.lstsq(A, F, rcond=None)
     return float(K), float(F0)
+
+
+def largest_shift(by_axis_phase: Mapping[tuple[str, str], float]) -> float:
+    """The largest change |after − before| over the axes recorded after a shock or vibration
+    test, of values keyed by (axis, phase).
+
+    >>> largest_shift({("X", "before"): 1.0, ("X", "after"): 1.5, ("Y", "before"): 2.0,
+    ...                ("Y", "after"): 1.25, ("Z", "before"): 0.0})
+    0.75
+    """
+    s = by_axis_phase
+    return max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s)
 
 
 def _sets(steps, kind, key):
@@ -141,10 +152,7 @@ def _expected_k_sets(t: VibratoryTruth, steps: list[Step], lat: float) -> dict[s
     for kind, key in (("rate-shock", "dK_shock"), ("rate-vibration", "dK_vib")):
         s = kset(kind, ("axis", "phase"))
         if s:
-            ex[key] = Q_(
-                max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s),
-                "mV/(deg/s)",
-            )
+            ex[key] = Q_(largest_shift(s), "mV/(deg/s)")
     return ex
 
 
@@ -204,10 +212,7 @@ def _expected_bias_sets(
     for kind, key in (("static-shock", "dB_shock"), ("static-vibration", "dB_vib")):
         s = bset(kind, ("axis", "phase"))
         if s:
-            ex[key] = Q_(
-                max(abs(s[(a, "after")] - s[(a, "before")]) for a in AXES if (a, "after") in s),
-                "deg/h",
-            )
+            ex[key] = Q_(largest_shift(s), "deg/h")
     return ex
 
 
@@ -362,11 +367,8 @@ class VibratoryStation:
         return jjf2014_equipment(seed=self.truth.seed)
 
     def device(self) -> DeviceUnderTest:
-        return DeviceUnderTest(
-            id="SIM-MVG-1",
-            model="virtual metal-shell vibratory rate gyro",
-            serial=f"seed {self.truth.seed}",
-            manufacturer="metro simulator",
+        return simulated_device(
+            self.truth.seed, "SIM-MVG-1", "virtual metal-shell vibratory rate gyro",
             properties={
                 "full_scale": Q_(self.truth.full_scale_dps, "deg/s"),
                 "nonlinearity_spec": Q_(self.nonlinearity_spec, ""),
@@ -508,20 +510,9 @@ class VibratoryStation:
             )
             if progress is not None:
                 progress("simulating", k + 1, len(steps))
-        return Campaign(
-            id="SIMULATED-JJF2014",
-            device=self.device(),
-            equipment=self.equipment(),
-            environment={
-                "temperature": Q_(20.0, "degC"),
-                "humidity": Q_(45.0, "percent"),
-                "location": "simulated laboratory",
-            },
-            site={"latitude": Q_(self.latitude_deg, "deg")},
-            segments=segs,
-            source="simulated station (simulated-jjf2014)",
-            simulated=True,
-            truth=t.as_quantities() | {"site latitude": Q_(self.latitude_deg, "deg")},
+        return simulated_campaign(
+            self, "SIMULATED-JJF2014", segs, source="simulated station (simulated-jjf2014)",
+            environment={"location": "simulated laboratory"},
             expected=expected_values(t, steps, self.latitude_deg, self.nonlinearity_spec),
         )
 
@@ -571,21 +562,11 @@ def station_factory(**options: Any) -> VibratoryStation:
     """Factory of the ``simulated-jjf2014`` station (options: seed, any VibratoryTruth field,
     latitude_deg, duration_scale, nonlinearity_spec, instrument_errors, table_errors, and
     ``device_class`` — one of :data:`DEVICE_CLASSES`, drawn by the seed)."""
-    truth_kw, st_kw = station_options(
-        "simulated-jjf2014",
-        VibratoryTruth,
-        VibratoryStation,
-        options,
-        (
-            "latitude_deg",
-            "duration_scale",
-            "nonlinearity_spec",
-            "instrument_errors",
-            "table_errors",
-        ),
+    return drawn_station(
+        "simulated-jjf2014", VibratoryTruth, VibratoryStation, draw_device, options,
+        ("latitude_deg", "duration_scale", "nonlinearity_spec", "instrument_errors",
+         "table_errors"),
     )
-    truth_kw = with_device_class(truth_kw, draw_device, VibratoryTruth().seed)
-    return VibratoryStation(truth=VibratoryTruth(**truth_kw), **st_kw)
 
 
 __all__ = [
@@ -605,4 +586,5 @@ __all__ = [
     "increment_gain",
     "static_noise",
     "SAME_POWER_ON",
+    "largest_shift",
 ]
