@@ -8,9 +8,10 @@ import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from typing import Any
 
-from .xml import DccError, Writer, ncname
+from .xml import DCC_NS, DccError, Writer, ncname
 
-__all__ = ["administrative_data", "CONFORMITY", "result_ids", "NOT_STATED_COUNTRY"]
+__all__ = ["administrative_data", "CONFORMITY", "result_ids", "influence_conditions",
+           "NOT_STATED_COUNTRY"]
 
 #: metro's verdict (``Verdict.detail``) -> the DCC's ``stringConformityStatementStatusType``;
 #: a verdict with no U or on a result that is not reportable has no DCC value (text only)
@@ -22,6 +23,10 @@ _DATE = re.compile(r"\d{4}-\d{2}-\d{2}")
 _ROLES = (("operator", "calibrated by", "operator_title"), ("checker", "checked by",
                                                              "checker_title"),
           ("approver", "approved by", "approver_title"))
+_CONDITIONS = (("environment", "temperature"), ("environment", "humidity"),
+               ("environment", "pressure"), ("environment", "magnetic_field"),
+               ("site", "latitude"), ("site", "latitude_uncertainty"), ("site", "altitude"),
+               ("site", "gravity"))
 
 
 def result_ids(data: Mapping[str, Any]) -> list[str]:
@@ -33,6 +38,21 @@ def result_ids(data: Mapping[str, Any]) -> list[str]:
         seen[base] = seen.get(base, 0) + 1
         out.append(base if seen[base] == 1 else f"{base}-{seen[base]}")
     return out
+
+
+def influence_conditions(data: Mapping[str, Any]) -> list[tuple[str, str, dict[str, Any]]]:
+    """(id, name, {value, unit}) of each influence condition: the environment's temperature,
+    humidity, pressure and magnetic field, the site's latitude (and its uncertainty), altitude
+    and gravity, the earth's rate Ω_e and its vertical component at the site's latitude."""
+    cond = data["conditions"]
+    found = [(name.replace("_", " "), cond[where][name]) for where, name in _CONDITIONS
+             if name in cond.get(where, {})]
+    found.append(("earth rate Ω_e", cond["earth_rate"]))
+    if "earth_rate_vertical" in cond:
+        found.append(("earth rate, vertical component Ω_e·sin φ at the site's latitude",
+                      cond["earth_rate_vertical"]))
+    return [(ncname("condition", i, name.split()[0]), name, q)
+            for i, (name, q) in enumerate(found)]
 
 
 def _date(text: Any) -> str | None:
@@ -153,6 +173,12 @@ def _statement(w: Writer, parent: ET.Element, name: Any, declaration: Any = None
     return s
 
 
+def _reference(w: Writer, text: str) -> ET.Element:
+    e = ET.Element(f"{{{DCC_NS}}}reference")
+    e.text = " ".join(text.split())
+    return e
+
+
 def _verdicts(w: Writer, st: ET.Element, ctx: Mapping[str, Any]) -> None:
     data = ctx["data"]
     ids = {(r["item"], r["key"]): i for r, i in zip(data["results"], result_ids(data))}
@@ -198,8 +224,16 @@ def _statements(w: Writer, parent: ET.Element, ctx: Mapping[str, Any]) -> None:
                    convention=rule["name"])
     _verdicts(w, st, ctx)
     for std in ctx.get("standards", []):
-        _statement(w, st, "method", f"{std['designation']} {std['items_text']}",
-                   norm=str(std["designation"]))
+        s = _statement(w, st, "method", f"{std['designation']} {std['items_text']}",
+                       norm=str(std["designation"]))
+        for o in ctx["outcomes"]:  # the clause of each item, before the declaration
+            if o["standard"] == std["id"]:
+                item = "" if o["item"] == o["clause"] else f" (item {o['item']})"
+                s.insert(len(s) - 1, _reference(w, f"clause {o['clause']}{item}"))
+    conditions = influence_conditions(data)
+    s = _statement(w, st, "influence conditions", "; ".join(
+        f"{name} {q['text'] if q.get('text') else q['value']}" for _, name, q in conditions),
+        refId=" ".join(cid for cid, _, _ in conditions))
     _equipment(w, st, ctx)
     if facts.get("location"):
         _statement(w, st, "performance location", facts["location"],

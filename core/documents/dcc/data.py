@@ -141,11 +141,12 @@ def _conditions(record: "RunRecord") -> dict[str, Any]:
     site = {str(k): _quantity(v) for k, v in camp.site.items()}
     out: dict[str, Any] = {"environment": {k: v for k, v in env.items() if v is not None},
                            "site": {k: v for k, v in site.items() if v is not None},
-                           "earth_rate": {"value": EARTH_RATE_DEG_PER_H, "unit": "°/h"}}
+                           "earth_rate": {"value": EARTH_RATE_DEG_PER_H, "unit": "°/h",
+                                          "text": f"{EARTH_RATE_DEG_PER_H:.5g} °/h"}}
     lat = out["site"].get("latitude")
     if lat is not None and lat["unit"] == "°":
-        out["earth_rate_vertical"] = {"value": vertical_earth_rate_deg_h(lat["value"]),
-                                      "unit": "°/h"}
+        v = vertical_earth_rate_deg_h(lat["value"])
+        out["earth_rate_vertical"] = {"value": v, "unit": "°/h", "text": f"{v:.5g} °/h"}
     return out
 
 

@@ -9,7 +9,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from typing import Any
 
-from .admin import result_ids
+from .admin import influence_conditions, result_ids
 from .data import decimal_text
 from .xml import DccError, Writer, decimal, ncname
 
@@ -23,12 +23,6 @@ REF_BUDGET = "metro_budget"
 REF_TABLE = "metro_table"
 _AXES = "xyz"
 _MATRIX_KEY = re.compile(r"^(?P<base>.+?)(?P<row>[xyz])(?P<col>[xyz])$")
-_CONDITIONS = (("environment", "temperature"), ("environment", "humidity"),
-               ("environment", "pressure"), ("environment", "magnetic_field"),
-               ("site", "latitude"), ("site", "latitude_uncertainty"), ("site", "altitude"),
-               ("site", "gravity"))
-
-
 def _value_text(r: Mapping[str, Any]) -> str:
     """The value as the certificate states it (rounded to U's last digit), as decimal text."""
     return decimal_text(r["value_text"]) or decimal(r["value"])
@@ -99,20 +93,11 @@ def _equipment(w: Writer, parent: ET.Element, ctx: Mapping[str, Any]) -> None:
 
 
 def _conditions(w: Writer, parent: ET.Element, ctx: Mapping[str, Any]) -> None:
-    cond = ctx["data"]["conditions"]
     ic = w.el(parent, "influenceConditions")
-    found = [(name, cond[where][name]) for where, name in _CONDITIONS
-             if name in cond.get(where, {})]
-    found += [("earth rate Ω_e", cond["earth_rate"])]
-    if "earth_rate_vertical" in cond:
-        found.append(("earth rate, vertical component Ω_e·sin φ at the site's latitude",
-                      cond["earth_rate_vertical"]))
-    for name, q in found:
-        c = w.el(ic, "influenceCondition", id=ncname("condition", name.split()[0],
-                                                    len(ic)))
-        w.text(c, "name", name.replace("_", " "))
-        d = w.el(c, "data")
-        qe = w.quantity(d, name.replace("_", " "))
+    for cid, name, q in influence_conditions(ctx["data"]):
+        c = w.el(ic, "influenceCondition", id=cid)
+        w.text(c, "name", name)
+        qe = w.quantity(w.el(c, "data"), name)
         w.real(qe, decimal(q["value"]), q["unit"], where=f"influence condition {name}")
 
 
