@@ -65,7 +65,7 @@ class Writer:
 
     def __init__(self, lang: str) -> None:
         self.langs: list[str] = ["zh", "en"] if lang == "zh+en" else [lang]
-        self.tr: Translator = translator(lang)
+        self.tr: Translator = translator("zh+en")  # renders either language on demand
         self._seen: dict[str, list[tuple[str | None, str]]] = {}
 
     # --- plain elements --------------------------------------------------------------------
@@ -91,13 +91,12 @@ class Writer:
         return out
 
     def _texts(self, value: Any) -> list[tuple[str | None, str]]:
-        out = [(lang, " ".join(self.tr.render(value, lang).split())) for lang in self.langs]
-        out = [(lang, t) for lang, t in out if t]
-        if not out:
-            return []
-        if len({t for _, t in out}) == 1:
-            return [(None if len(out) > 1 else out[0][0], out[0][1])]
-        return out
+        """A text metro translates carries ``lang``; data (names, numbers, a text with no
+        translation) is written once, without one, whatever the document's language."""
+        both = {lang: " ".join(self.tr.render(value, lang).split()) for lang in ("zh", "en")}
+        if both["zh"] == both["en"]:
+            return [(None, both["en"])] if both["en"] else []
+        return [(lang, both[lang]) for lang in self.langs if both[lang]]
 
     def contents(self, parent: ET.Element, value: Any) -> None:
         """A ``dcc:content`` per language of ``value`` under ``parent``."""

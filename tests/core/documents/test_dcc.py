@@ -271,6 +271,11 @@ def test_core_data_from_the_campaign() -> None:
               for p in adm.iter(f"{D}respPerson")}
     assert people == {"Zhang San": "false", "Li Wei": "true"}
     assert adm.findtext(f"{D}customer/{D}name/{D}content") == "ACME Navigation"
+    # a Chinese certificate: translated texts in Chinese only, data (names) without a language
+    langs = {c.get("lang") for c in adm.iter(f"{D}content")}
+    assert langs == {None, "zh"}
+    name = adm.find(f"{D}customer/{D}name/{D}content")
+    assert name.get("lang") is None
 
 
 def test_validate_dcc_names_the_element_of_a_broken_document() -> None:
