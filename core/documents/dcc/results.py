@@ -16,10 +16,14 @@ from .xml import DccError, Writer, decimal, ncname
 __all__ = ["measurement_results", "matrices", "REF_ITEM", "REF_MATRIX", "REF_BUDGET",
            "REF_TABLE"]
 
-#: refTypes metro gives its own elements (declared in ``dcc:refTypeDefinitions``)
+#: refTypes metro gives its own elements (declared in ``dcc:refTypeDefinitions``): the item a
+#: measurement result is of, a 3×3 matrix of results, a budget, a table of records
 REF_ITEM = "metro_item"
+#: see :data:`REF_ITEM`
 REF_MATRIX = "metro_matrix"
+#: see :data:`REF_ITEM`
 REF_BUDGET = "metro_budget"
+#: see :data:`REF_ITEM`
 REF_TABLE = "metro_table"
 _AXES = "xyz"
 _MATRIX_KEY = re.compile(r"^(?P<base>.+?)(?P<row>[xyz])(?P<col>[xyz])$")

@@ -17,7 +17,9 @@ __all__ = [
     "DCC_NS", "SI_NS", "DccError", "Writer", "decimal", "k_text", "p_text", "ncname",
 ]
 
+#: the namespace of the DCC schema (prefix ``dcc``)
 DCC_NS = "https://ptb.de/dcc"
+#: the namespace of D-SI (prefix ``si``)
 SI_NS = "https://ptb.de/si"
 ET.register_namespace("dcc", DCC_NS)
 ET.register_namespace("si", SI_NS)
