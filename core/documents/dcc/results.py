@@ -9,6 +9,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from typing import Any
 
+from ...base.locale import join
 from .admin import influence_conditions, result_ids
 from .data import decimal_text
 from .xml import DccError, Writer, decimal, ncname
@@ -149,7 +150,7 @@ def _result(w: Writer, parent: ET.Element, r: Mapping[str, Any], rid: str) -> No
     ref = f"clause {r['clause']}" + (f", {r['equation']}" if r["equation"] else "")
     said = [ref] + [x for x in (r["note"], r["earth_rate"] and
                                 f"earth rate: {r['earth_rate']}") if x]
-    w.text(res, "description", "; ".join(str(x) for x in said))
+    w.text(res, "description", join("; ", said))  # a note stays translatable
     d = w.el(res, "data")
     where = f"{r['item']} {r['key']}"
     if not r["reportable"]:
@@ -215,8 +216,8 @@ def _outcome(w: Writer, parent: ET.Element, o: Mapping[str, Any],
              results: list[tuple[Mapping[str, Any], str]]) -> None:
     mr = w.el(parent, "measurementResult", id=ncname("item", o["number"], o["item"]))
     w.text(mr, "name", f"{o['item']} {o['title']}")
-    said = [f"segments: {o['segments_text']}"] + [str(x) for x in o.get("warnings", [])]
-    w.text(mr, "description", "\n".join(said))
+    said = [f"segments: {o['segments_text']}", *o.get("warnings", [])]
+    w.text(mr, "description", join("; ", said))
     um = w.el(w.el(mr, "usedMethods"), "usedMethod")
     w.text(um, "name", f"{o['designation']} {o['item']}")
     w.el(um, "norm", " ".join(str(o["designation"]).split()))
