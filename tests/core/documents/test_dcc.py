@@ -336,3 +336,23 @@ def test_recorded_campaign_with_a_lab_profile(tmp_path, capsys) -> None:
               for p in adm.iter(f"{D}respPerson")}
     assert people == {"张三": "false", "李四": "false", "王五": "true"}
     assert adm.findtext(f"{D}customer/{D}name/{D}content") == "某导航公司"
+
+
+@pytest.mark.parametrize(("printed", "decimal"), [
+    ("6.5×10⁻⁶", "6.5e-6"), ("1.2×10³", "1.2e3"), ("−0.00150", "-0.00150"), ("8", "8"),
+    ("1.01245", "1.01245"), ("—", None), ("u = 0.1", None)])
+def test_printed_numbers_as_dsi_decimals(printed: str, decimal: str | None) -> None:
+    from metro.core.documents.dcc.data import decimal_text
+
+    assert decimal_text(printed) == decimal
+
+
+def test_coverage_probability_of_a_fixed_k_is_the_normal_one() -> None:
+    from types import SimpleNamespace
+
+    from metro.core.documents.dcc.data import coverage_probability
+
+    # GUM G.1.3 table G.1: k = 2 → 95.45 %, k = 3 → 99.73 %, k = 1 → 68.27 %
+    fixed = SimpleNamespace(k=2.0, p=None)
+    assert [coverage_probability(fixed, k) for k in (2.0, 3.0, 1.0)] == [0.9545, 0.9973, 0.6827]
+    assert coverage_probability(SimpleNamespace(k=None, p=0.95), 2.03) == 0.95
