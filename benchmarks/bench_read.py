@@ -150,8 +150,9 @@ def child(reader: str, csv_path: Path, npy_path: Path) -> dict:
     elif reader == "polars":
         values = values.to_series(0).to_numpy()
     ref = np.load(npy_path, mmap_mode="r")
-    exact = bool(values.shape == ref.shape and np.array_equal(values.view(np.uint64),
-                                                              ref.view(np.uint64)))
+    exact = bool(
+        values.shape == ref.shape and np.array_equal(values.view(np.uint64), ref.view(np.uint64))
+    )
     return {
         "seconds": seconds,
         "cpu": (c1.user - c0.user) + (c1.system - c0.system),

@@ -460,8 +460,9 @@ def _jjf_noise_mc_K_rel(noise: Noise, dt: float, n_per_rate: int, K: float, out:
             F.append(out.record(sensed, dt, K_scale=asym_scale(r), rng=rng).mean())
         F = np.asarray(F)
         nn = rates.size
-        k_hat = (nn * (rates * F).sum() - rates.sum() * F.sum()) / (nn * (rates ** 2).sum()
-                                                                    - rates.sum() ** 2)
+        k_hat = (nn * (rates * F).sum() - rates.sum() * F.sum()) / (
+            nn * (rates**2).sum() - rates.sum() ** 2
+        )
         ks.append(k_hat)
     ks = np.asarray(ks)
     if out.kind == "mV/V":

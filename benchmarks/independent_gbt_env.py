@@ -243,16 +243,28 @@ def build_power(folder: Path, rng, *, supplies=(5.0, 15.0, -15.0), pulsed: bool 
     lat = float(rng.uniform(-65, 70))
     device = {"id": folder.name, "technology": "fibre", "application": "marine", "output": "rate"}
     if absolute:
-        vm = {"id": "VM-X", "role": "voltmeter", "calibration": {"certificate": "IND-VM-1",
-                                                                 "U": "0.005 V", "k": 2}}
-        am = {"id": "AM-X", "role": "ammeter", "calibration": {"certificate": "IND-AM-1",
-                                                               "U": "0.002 A", "k": 2}}
+        vm = {
+            "id": "VM-X",
+            "role": "voltmeter",
+            "calibration": {"certificate": "IND-VM-1", "U": "0.005 V", "k": 2},
+        }
+        am = {
+            "id": "AM-X",
+            "role": "ammeter",
+            "calibration": {"certificate": "IND-AM-1", "U": "0.002 A", "k": 2},
+        }
         ev, ei = 0.0025 * float(rng.standard_normal()), 0.001 * float(rng.standard_normal())
     else:
-        vm = {"id": "VM-X", "role": "voltmeter", "calibration": {"certificate": "IND-VM-1",
-                                                                 "U": "5e-4", "k": 2}}
-        am = {"id": "AM-X", "role": "ammeter", "calibration": {"certificate": "IND-AM-1",
-                                                               "U": "2e-3", "k": 2}}
+        vm = {
+            "id": "VM-X",
+            "role": "voltmeter",
+            "calibration": {"certificate": "IND-VM-1", "U": "5e-4", "k": 2},
+        }
+        am = {
+            "id": "AM-X",
+            "role": "ammeter",
+            "calibration": {"certificate": "IND-AM-1", "U": "2e-3", "k": 2},
+        }
         ev, ei = 2.5e-4 * float(rng.standard_normal()), 1e-3 * float(rng.standard_normal())
     camp = Campaign(folder, device, lat, [vm, am], fmt="csv", output=Output("deg/h"))
     n, dt = 60, 1.0
@@ -337,11 +349,13 @@ def static_repeats(camp: Campaign, rng, out: Output, noise: Noise, *, b: float, 
     n = int(round(seconds / dt))
     for j in range(1, Q + 1):
         e, w = noise.draw(n, dt, rng)
-        camp.add(f"repeat-{j}", "static-repeat", out.record(b + sigma_on
-                                                            * float(rng.standard_normal()) + earth
-                                                            + e + w,
-                                                            dt, rng=rng), dt,
-                 {"orientation": "IRA up", "run": j, "warmup": "30 min"})
+        camp.add(
+            f"repeat-{j}",
+            "static-repeat",
+            out.record(b + sigma_on * float(rng.standard_normal()) + earth + e + w, dt, rng=rng),
+            dt,
+            {"orientation": "IRA up", "run": j, "warmup": "30 min"},
+        )
 
 
 def build_vibration_shock(folder: Path, rng, *, kind: str, dt: float = 1.0, q: float = 0.05,

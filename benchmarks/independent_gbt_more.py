@@ -271,8 +271,11 @@ def build_kt_angle(folder: Path, rng, *, sigma_K_range=(1e-6, 2e-5), repeats: bo
     U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
     table = {"id": "RT-X", "role": "rate_table", "revolution_pulse_accuracy": "2″",
              "calibration": {"certificate": "IND-RT-2", "U": repr(U_table), "k": 2}}
-    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1",
-                                                                "U": "0.5 K", "k": 2}}
+    chamber = {
+        "id": "CH-X",
+        "role": "chamber",
+        "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2},
+    }
     device = {"id": folder.name, "technology": "laser", "application": "aviation",
               "output": "pulse",
               "scale_factor": f"{K!r} P/″", "scale_factor_U": "10 ppm"}
@@ -464,8 +467,11 @@ def build_kt(folder: Path, rng, *, dt: float = 1.0, seconds: float = 100.0, q: f
     U_table = float(rng.choice([1e-5, 3e-5, 1e-4]))
     table = {"id": "RT-X", "role": "rate_table",
              "calibration": {"certificate": "IND-RT-3", "U": repr(U_table), "k": 2}}
-    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1",
-                                                                "U": "0.5 K", "k": 2}}
+    chamber = {
+        "id": "CH-X",
+        "role": "chamber",
+        "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2},
+    }
     Kout = 3600.0 / q * float(rng.uniform(0.8, 1.25))
     out = Output("LSB", K=Kout)
     device = {"id": folder.name, "technology": "fibre", "application": "marine",
@@ -580,8 +586,11 @@ def build_bias_env(folder: Path, rng, *, kind: str, dt: float, q: float = 0.0, f
     # °/h/mT², cancels in D.44
     even = float(rng.uniform(-1, 1)) * 1e-3
     device, out = marine_gyro(folder, rng, kind, q=q, K_range=(0.5, 3.0))
-    chamber = {"id": "CH-X", "role": "chamber", "calibration": {"certificate": "IND-CH-1",
-                                                                "U": "0.5 K", "k": 2}}
+    chamber = {
+        "id": "CH-X",
+        "role": "chamber",
+        "calibration": {"certificate": "IND-CH-1", "U": "0.5 K", "k": 2},
+    }
     Hb = float(rng.choice([0.5, 1.0, 2.0]))
     gen = {"id": "FG-X", "role": "field_generator", "uniformity": "5 %",
            "calibration": {"certificate": "IND-FG-1", "U": "0.02", "k": 2}}

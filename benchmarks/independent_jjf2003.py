@@ -345,9 +345,11 @@ def build_mimu(folder: Path, rng, *, dt: float, seconds: float, fmt: str, bits: 
         w_b = W_b + rate * (C0.T @ axis_L)[None, :]
         g, a = dev.outputs(t, w_b, F_b, dt, rng)
         fname = write_six(folder / sid, g, a, dt, fmt, gyro_unit, acc_unit, with_time)
-        when = (t_begin + datetime.timedelta(milliseconds=round(1000
-                                                                * (t[0] - 0.5
-                                                                   * dt)))) if started else None
+        when = (
+            (t_begin + datetime.timedelta(milliseconds=round(1000 * (t[0] - 0.5 * dt))))
+            if started
+            else None
+        )
         camp.segments.append((sid, kind, fname, dt, cond, when))
         return t
 

@@ -193,10 +193,12 @@ def test_plugins_import_only_the_public_api():
 
 
 def test_public_api_check_catches_a_private_import(tmp_path):
-    (tmp_path
-     / "p.py").write_text("from metro.core.run.runner import run_items\nfrom metro.core.base.units "
-                          "import _x\n"
-                                   "from .sibling import thing\n", encoding="utf-8")
+    (tmp_path / "p.py").write_text(
+        "from metro.core.run.runner import run_items\nfrom metro.core.base.units "
+        "import _x\n"
+        "from .sibling import thing\n",
+        encoding="utf-8",
+    )
     got = list(_metro_imports(tmp_path / "p.py", "metro.plugins.zzz"))
     assert [m for _, m, _ in got] == ["metro.core.run.runner", "metro.core.base.units",
                                       "metro.plugins.zzz.sibling"]

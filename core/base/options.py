@@ -57,8 +57,11 @@ def convert_value(owner: str, field: str, value: Any, default: Any) -> Any:
     """``value`` converted to the type of ``default`` (see :func:`convert_options`); ``field`` names
     it in errors."""
     def bad(what: str) -> DataError:
-        example = ",".join(f"{x:g}" for x in default) if isinstance(default,
-                                                                    tuple) else str(default).lower()
+        example = (
+            ",".join(f"{x:g}" for x in default)
+            if isinstance(default, tuple)
+            else str(default).lower()
+        )
         return DataError(None, field, f"{value!r} is not {what}",
                          hint=f"{owner} takes it in the form of its default, "
                          f"{field.split()[-1]}={example}")

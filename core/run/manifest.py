@@ -354,11 +354,13 @@ def equipment_from_table(e: Mapping, src: str, where: str, warnings: list[str]
     eprops = {k: maybe_quantity(v, src, f"{where}.{k}") for k, v in e.items()
               if k not in {"id", "role", "model", "serial", "manufacturer", "calibration"}}
     return Equipment(
-        id=eid, role=_str(e, "role", src, where), model=_str(e, "model", src, where,
-                                                             required=False),
+        id=eid,
+        role=_str(e, "role", src, where),
+        model=_str(e, "model", src, where, required=False),
         serial=_str(e, "serial", src, where, required=False),
         manufacturer=_str(e, "manufacturer", src, where, required=False),
-        properties=eprops, calibration=cal,
+        properties=eprops,
+        calibration=cal,
     )
 
 
@@ -482,12 +484,15 @@ def segment_from_table(s: Any, i: int, path: Path, src: str, device: Any, reader
                         f"samples file {fname!r} not found (looked in {fpath.parent})")
     other = read_by.get((fpath, kind))
     if other is not None:  # one record cannot be two measurements of one kind (two rates, two runs)
-        raise DataError(src, f"{where}.file",
-                        f"segment {sid!r} reads {fname!r}, the samples file of segment {other!r} "
-                        f"of the same kind {kind!r}: each measurement has its own record",
-                        hint="give each segment the file it was recorded in (a file-name typo, or "
-                        "a name cut "
-                             "at a dot such as 'rate+0.25' -> 'rate+0.csv'?)")
+        raise DataError(
+            src,
+            f"{where}.file",
+            f"segment {sid!r} reads {fname!r}, the samples file of segment {other!r} "
+            f"of the same kind {kind!r}: each measurement has its own record",
+            hint="give each segment the file it was recorded in (a file-name typo, or "
+            "a name cut "
+            "at a dot such as 'rate+0.25' -> 'rate+0.csv'?)",
+        )
     read_by[(fpath, kind)] = sid
     if "sample_interval" not in s:
         raise DataError(src, f"{where}.sample_interval", "missing",

@@ -601,8 +601,10 @@ def test_serial_gyro_record_that_is_not_clean_is_refused_unless_allowed(
 
 
 def test_step_interval_must_be_whole_frames(tmp_path, world, pm, gyro_stream):
-    bench = _bench(tmp_path, GYRO_BENCH.format(port=gyro_stream["port"],
-                                               extra="").replace('"0.5 s"', '"0.3 s"'))
+    bench = _bench(
+        tmp_path,
+        GYRO_BENCH.format(port=gyro_stream["port"], extra="").replace('"0.5 s"', '"0.3 s"'),
+    )
     with pytest.raises(MetroError, match="not a whole number of the gyro's frame periods"):
         _acquire(pm, "gbt45570", ["D.5.1"], tmp_path / "camp", config=str(bench))
     assert world.commands == []

@@ -353,8 +353,9 @@ def test_the_simulated_jjf2014_rate_table_errs_as_its_certificate_says():
     from metro.instruments.vibratory import VibratoryStation, VibratoryTruth, mean_output
 
     pm = get_plugin_manager(autoload=False)
-    steps = pm.procedure("jjf2014", "7.2.1")().sequence(pm.procedure("jjf2014",
-                                                                     "7.2.1").option_values({}))
+    steps = pm.procedure("jjf2014", "7.2.1")().sequence(
+        pm.procedure("jjf2014", "7.2.1").option_values({})
+    )
     half = math.sqrt(3.0) * 0.5e-4
     deltas = {}
     for seed in (1, 2):

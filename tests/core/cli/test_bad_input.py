@@ -121,9 +121,9 @@ def test_at_least_fifteen_distinct_cases():
 def test_json_error_document(tmp_path, campaign_factory, run_cli):
     import json
 
-    manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.2,
-                                               manifest_edit=lambda m: m.replace('latitude = '
-                                                   '"39.98°"\n', ""))
+    manifest = campaign_factory.write_campaign(
+        tmp_path / "c", hours=0.2, manifest_edit=lambda m: m.replace('latitude = "39.98°"\n', "")
+    )
     code, stdout, _ = run_cli("run", "-s", "gbt45570", "-i", "D.5.1", "--data", str(manifest),
                               "--json",
                               "--no-report")

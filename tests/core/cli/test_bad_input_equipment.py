@@ -57,8 +57,9 @@ def test_a_required_role_missing_is_an_error_naming_it(tmp_path, d21, run_cli):
 
 
 def test_a_misspelt_required_role_is_named_with_did_you_mean(tmp_path, d21, run_cli):
-    m = _copy(d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"',
-                                                       'role = "rate_tabel"'))
+    m = _copy(
+        d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"', 'role = "rate_tabel"')
+    )
     code, _, err = _run_json(run_cli, m)
     assert code == 2 and "did you mean 'rate_table'" in err and "SIM-" in err
 
@@ -68,8 +69,9 @@ def test_an_old_role_spelling_keeps_its_budget_row(tmp_path, d21, run_cli):
     # gyro's K (≈ 5000 LSB/(°/s)) sits on table B.1's limit ≥ 5000, so its verdict is a draw
     code, ref, err = _run_json(run_cli, d21 / "manifest.toml")
     assert code in (0, 3, 4), err
-    m = _copy(d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"',
-                                                       'role = "rate-table"'))
+    m = _copy(
+        d21, tmp_path / "c", lambda t: t.replace('role = "rate_table"', 'role = "rate-table"')
+    )
     code, doc, err = _run_json(run_cli, m)
     assert code in (0, 3, 4), err
     assert _result(doc, "K")["U"] == _result(ref, "K")["U"]  # the rate-table row is still there

@@ -38,8 +38,9 @@ def _campaign(tmp_path: Path, edit) -> Path:
     ("\\u000B", "000B", "control character"),
 ])
 def test_text_a_report_cannot_hold_is_refused_at_load(tmp_path, run_cli, escape, code, kind):
-    manifest = _campaign(tmp_path, lambda t: t.replace('model = "RLG-90"',
-                                                       f'model = "RLG{escape}-90"', 1))
+    manifest = _campaign(
+        tmp_path, lambda t: t.replace('model = "RLG-90"', f'model = "RLG{escape}-90"', 1)
+    )
     out = tmp_path / "out"
     rc, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.2", "--data", str(manifest), "--out",
                          str(out),
@@ -51,9 +52,12 @@ def test_text_a_report_cannot_hold_is_refused_at_load(tmp_path, run_cli, escape,
 
 
 def test_a_key_and_a_record_section_are_checked_too(tmp_path, run_cli):
-    manifest = _campaign(tmp_path, lambda t: t
-                         + '\n[inspection]\nnote = "ok"\n\n[[inspection.items]]\n'
-                                                 '"名称\\uFFFF" = "外观"\n')
+    manifest = _campaign(
+        tmp_path,
+        lambda t: (
+            t + '\n[inspection]\nnote = "ok"\n\n[[inspection.items]]\n"名称\\uFFFF" = "外观"\n'
+        ),
+    )
     rc, _, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.2", "--data", str(manifest), "--out",
                          str(tmp_path / "out"), "--no-progress")
     assert rc == 2 and "field 'inspection.items[0]'" in err and "U+FFFF at position 3" in err, err

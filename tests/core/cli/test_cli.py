@@ -47,9 +47,9 @@ def test_recorded_campaign_with_provenance(tmp_path, campaign_factory, run_cli):
     assert code in (0, 3, 4), err
     doc = json.loads(out)
     assert doc["simulated"] is False
-    assert doc["provenance"]["data_files"] == [{"file": str((tmp_path / "c"
-                                                             / "static.csv").resolve()),
-                                                "sha256": digest}]
+    assert doc["provenance"]["data_files"] == [
+        {"file": str((tmp_path / "c" / "static.csv").resolve()), "sha256": digest}
+    ]
     assert {"metro", "numpy", "pint"} <= set(doc["provenance"]["software"])
     assert "gbt45570" in doc["provenance"]["plugins"]
     assert {e["id"] for e in doc["equipment"]} == {"PLAT-1", "CNT-1"}
@@ -486,9 +486,11 @@ def test_no_progress_on_a_non_terminal_and_quiet_silences_it(run_cli, monkeypatc
 
 def test_terminal_summary_is_concise_and_verbose_adds_the_detail(tmp_path, campaign_factory,
                                                                  run_cli):
-    manifest = campaign_factory.write_campaign(tmp_path / "c", hours=0.3,
-                                               manifest_edit=lambda t: t
-                                               + '\n[specification]\nB0 = "-100 .. 100 °/h"\n')
+    manifest = campaign_factory.write_campaign(
+        tmp_path / "c",
+        hours=0.3,
+        manifest_edit=lambda t: t + '\n[specification]\nB0 = "-100 .. 100 °/h"\n',
+    )
     code, out, err = run_cli("run", "-s", "gbt45570", "-i", "D.5.1,D.5.2", "--data", str(manifest),
                              "--out", str(tmp_path / "o"))
     assert code in (0, 3, 4), err

@@ -87,8 +87,11 @@ def _reference_table(doc, header, rows, *, font_pt=T.TABLE_PT, label_column=Fals
         if i - first in spans:
             cell = row.cells[0].merge(row.cells[n - 1]) if n > 1 else row.cells[0]
             tcPr = cell._tc.get_or_add_tcPr()
-            ins(tcPr, E("w:tcW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"),
-              B.TCPR_ORDER)
+            ins(
+                tcPr,
+                E("w:tcW", w=str(sum(B.mm_to_twips(w) for w in widths)), type="dxa"),
+                B.TCPR_ORDER,
+            )
             if i - first in shade:
                 ins(tcPr, E("w:shd", val="clear", color="auto", fill=T.LABEL_FILL), B.TCPR_ORDER)
             p = cell.paragraphs[0]

@@ -45,10 +45,9 @@ def test_a_shared_part_of_a_note_is_its_own_line_the_rest_stays_with_its_result(
                                                        msg("largest at {T} °C", T=60)])),
                        ("D.6.3", "ΔB_V13", msg("eq. ({eq})", eq="D.48")),
                        ("D.6.3", "", msg("no repeats"))])
-    assert [(w, str(t)) for w, t in own] == [("D.6.3",
-                                              "ΔB_V12: eq. (D.47); largest at 60 °C; ΔB_V13: eq. "
-                                              "(D.48); "
-                                                        "no repeats")]
+    assert [(w, str(t)) for w, t in own] == [
+        ("D.6.3", "ΔB_V12: eq. (D.47); largest at 60 °C; ΔB_V13: eq. (D.48); no repeats")
+    ]
     # two results of one symbol in one item (three supplies' U) saying the same: once
     u = [("5.2.6", "U", join("; ", [msg("nominal {v} V", v=v), msg("at the connector")])) for v
          in (5, 15)]
@@ -173,7 +172,9 @@ def test_certificate_notes_state_each_text_once_and_lose_none(warmup):
     assert len(drift) == 3 and all(ln.startswith("7.2.1, 7.2.2, 7.2.3: gyro ") for ln in drift)
     # the nine g earth-rate sentences: two lines, diagonal and cross-coupling
     g = [ln for ln in lines if "earth rate included" in ln]
-    assert [ln.split(" (7.2.2)")[0] for ln in g] == ["g_xx, g_yy, g_zz",
-                                                     "g_xy, g_xz, g_yx, g_yz, g_zx, g_zy"]
+    assert [ln.split(" (7.2.2)")[0] for ln in g] == [
+        "g_xx, g_yy, g_zz",
+        "g_xy, g_xz, g_yx, g_yz, g_zx, g_zy",
+    ]
     # 52 lines before the grouping (2⅓ pages of the zh+en certificate), each text once now: 20
     assert len(lines) <= 20, len(lines)

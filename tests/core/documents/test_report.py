@@ -636,9 +636,10 @@ def test_lab_logo_is_drawn_above_the_title(tmp_path, capsys):
     capsys.readouterr()
     logo = _png()
     (tmp_path / "logo.png").write_bytes(logo)
-    profile.write_text(profile.read_text(encoding="utf-8").replace('# logo = "logo.png"',
-                                                                   'logo = "logo.png"'),
-                       encoding="utf-8")
+    profile.write_text(
+        profile.read_text(encoding="utf-8").replace('# logo = "logo.png"', 'logo = "logo.png"'),
+        encoding="utf-8",
+    )
     lab = labmod.load_lab(profile)
     assert lab.logo == tmp_path / "logo.png"
     pm = get_plugin_manager(autoload=False)

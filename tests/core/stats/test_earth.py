@@ -11,9 +11,9 @@ from metro.core.base.units import Q_
 def test_earth_rate_in_degrees_per_hour():
     # IERS Ω = 7.2921150e-5 rad/s; 15.041 °/h is the rounded figure GB/T 45570 D.40 prints
     assert earth.EARTH_RATE_DEG_PER_H == pytest.approx(15.041067, abs=1e-6)
-    assert Q_(earth.EARTH_RATE_RAD_S,
-              "rad/s").to("deg/h").magnitude == pytest.approx(earth.EARTH_RATE_DEG_PER_H,
-                                                                                     rel=1e-15)
+    assert Q_(earth.EARTH_RATE_RAD_S, "rad/s").to("deg/h").magnitude == pytest.approx(
+        earth.EARTH_RATE_DEG_PER_H, rel=1e-15
+    )
 
 
 def test_components_add_up_and_match_the_poles():

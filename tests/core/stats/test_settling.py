@@ -40,5 +40,6 @@ def test_a_common_uncertainty_widens_every_lobe_probability():
     alone = S.excursion_lobes(d, t, 1.0, 1, 1.0, 1.0, 0.05, half_lobe_fit=True)[1].p
     common = S.excursion_lobes(d, t, 1.0, 1, 1.0, 1.0, 0.05, 0.05, half_lobe_fit=True)[1].p
     assert alone == pytest.approx(0.5 * (1 + math.erf(2 / math.sqrt(2))))
-    assert common == pytest.approx(0.5 * (1 + math.erf(0.1 / math.hypot(0.05, 0.05)
-                                                       / math.sqrt(2))))
+    assert common == pytest.approx(
+        0.5 * (1 + math.erf(0.1 / math.hypot(0.05, 0.05) / math.sqrt(2)))
+    )

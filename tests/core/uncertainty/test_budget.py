@@ -224,8 +224,9 @@ def test_between_variance_is_the_posterior_mean_of_a_variance_component():
     from metro.core.uncertainty.budget import between_variance
 
     e3 = math.exp(-3.0)
-    assert between_variance(1.0, 1.0, 6) == pytest.approx(6 * (1 - 4 * e3) / (4 * (1 - 8.5 * e3))
-                                                          - 1, rel=1e-12)
+    assert between_variance(1.0, 1.0, 6) == pytest.approx(
+        6 * (1 - 4 * e3) / (4 * (1 - 8.5 * e3)) - 1, rel=1e-12
+    )
     assert between_variance(1.0, 1.0, 6) == pytest.approx(1.0826230, rel=1e-6)
 
     def by_quadrature(s2, w, nu):
@@ -235,9 +236,9 @@ def test_between_variance_is_the_posterior_mean_of_a_variance_component():
 
     for s2, w, nu in ((0.3, 1.0, 6), (4.0, 1.0, 6), (2.0, 1.0, 9), (1.0, 3.0, 4)):
         assert between_variance(s2, w, nu) == pytest.approx(by_quadrature(s2, w, nu), rel=1e-6)
-    assert between_variance(2.0e-6, 1.0e-6, 9) == pytest.approx(1e-6
-                                                                * between_variance(2.0, 1.0, 9),
-                                                                rel=1e-12)
+    assert between_variance(2.0e-6, 1.0e-6, 9) == pytest.approx(
+        1e-6 * between_variance(2.0, 1.0, 9), rel=1e-12
+    )
     # never 0 while the runs have noise: s² → 0 gives 2w/(ν − 2); no within-run part gives ν/(ν −
     # 2)·s²
     assert between_variance(0.0, 1.0, 6) == pytest.approx(0.5)

@@ -99,8 +99,10 @@ def test_assess_matches_keyed_variants_and_lists_unmet_limits():
                                            res("Bh_XRA", 0.5, "deg/h/mT")])
     specs = [parse_limit("Bh", "|x| <= 0.1 deg/h/mT"), parse_limit("RWC", "<= 0.002 deg/hour**0.5")]
     a = cf.assess([out], specs, SIMPLE)
-    assert [(v.key, v.status) for v in a.verdicts] == [("Bh_IRA", Status.PASS),
-                                                       ("Bh_XRA", Status.FAIL)]
+    assert [(v.key, v.status) for v in a.verdicts] == [
+        ("Bh_IRA", Status.PASS),
+        ("Bh_XRA", Status.FAIL),
+    ]
     assert [s.symbol for s in a.not_assessed] == ["RWC"]
     assert a.overall is Status.FAIL and a.counts() == {"pass": 1, "fail": 1, "indeterminate": 0}
     # the most specific limit judges a result
@@ -109,8 +111,9 @@ def test_assess_matches_keyed_variants_and_lists_unmet_limits():
     assert [(v.spec.symbol, v.key, v.status) for v in a.verdicts] == [
         ("Bh", "Bh_IRA", Status.PASS), ("Bh_XRA", "Bh_XRA", Status.PASS)]
     # a manifest's limit replaces the standard's for the same symbol
-    merged = cf.merge_specifications(specs, [parse_limit("Bh", "<= 1 deg/h/mT",
-                                                         source="product spec")])
+    merged = cf.merge_specifications(
+        specs, [parse_limit("Bh", "<= 1 deg/h/mT", source="product spec")]
+    )
     assert {s.symbol: s.source for s in merged} == {"Bh": "product spec", "RWC": ""}
 
 
@@ -143,8 +146,11 @@ def test_a_result_declared_not_reportable_gets_no_statement_of_conformity():
         assert v["RWC"].status is Status.INDETERMINATE and v["RWC"].detail == "not reportable"
         assert "RWC is not reportable (the result gives the reason)" in v["RWC"].reason
         assert "no statement of conformity" in v["RWC"].reason
-        assert a.overall is Status.INDETERMINATE and a.counts() == {"pass": 1, "fail": 0,
-                                                                    "indeterminate": 1}
+        assert a.overall is Status.INDETERMINATE and a.counts() == {
+            "pass": 1,
+            "fail": 0,
+            "indeterminate": 1,
+        }
         assert v["RWC"].as_dict()["status"] == "indeterminate"
     # the same value, reportable, fails: the verdict above is the declaration's doing
     a = cf.assess([Outcome("s", "D.5.6", "t", "c",

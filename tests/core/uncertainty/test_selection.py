@@ -94,8 +94,11 @@ def test_absolute_value_of_one_difference_in_closed_form():
         expected = foldnorm.mean(m / u, scale=u) - m
         assert sel.bias == (pytest.approx(expected, rel=1e-9) if expected >= 1e-3 * u else 0.0)
         assert sel.s == pytest.approx(foldnorm.std(m / u, scale=u), rel=1e-6, abs=1e-12)
-        assert sel.printed == abs(d) and sel.value == pytest.approx(abs(d)
-                                                                    - sel.bias) and sel.degree == -3
+        assert (
+            sel.printed == abs(d)
+            and sel.value == pytest.approx(abs(d) - sel.bias)
+            and sel.degree == -3
+        )
         mc = max_abs_selection([d], [u], draws=400_000, seed=3)
         assert sel.bias == pytest.approx(mc.bias, abs=0.003 * u)
     assert abs_change(0.3, 0.0).bias == 0.0 and abs_change(0.3, 0.0).value == 0.3

@@ -172,8 +172,9 @@ class SimRateTable(RateTableDriver):
     def move_to(self, angle, *, axis=1):
         self._check(axis)
         self.world.command(0.0)
-        self.world.angle = float(parse_quantity(angle, dimension="deg",
-                                                field="angle").to("deg").magnitude)
+        self.world.angle = float(
+            parse_quantity(angle, dimension="deg", field="angle").to("deg").magnitude
+        )
 
     def stop(self, *, axis=None):
         if not self._open:

@@ -577,8 +577,9 @@ def test_measured_item_without_equipment(pm, tmp_path):
 
 
 def test_bad_reliability_records(pm, tmp_path):
-    ft = RELIABILITY.replace("failures = 3", "failures = 0").replace("time-terminated",
-                                                                     "failure-terminated")
+    ft = RELIABILITY.replace("failures = 3", "failures = 0").replace(
+        "time-terminated", "failure-terminated"
+    )
     with pytest.raises(DataError) as e:
         _run(pm, _write(tmp_path, HEAD + ft), ["6.2.9.1"])
     assert e.value.field == "reliability.failures"
@@ -626,9 +627,11 @@ def test_simulated_station_records_cover_the_type_test(pm):
     # issue 29)
     rec = run_items(pm, "gbt45570", items, station_options={"duration_scale": 0.2,
                                                             "states_repeatability": False})
-    assert rec.campaign.simulated and set(rec.campaign.records) == {"inspection",
-                                                                    "environmental_tests",
-                                                                    "reliability"}
+    assert rec.campaign.simulated and set(rec.campaign.records) == {
+        "inspection",
+        "environmental_tests",
+        "reliability",
+    }
     exp = rec.campaign.expected
     for key in ("mass", "dim_length", "R_ins_power_to_case", "mtbf_lower", "lts_dB0"):
         r = _result(rec, key)
@@ -736,9 +739,10 @@ def test_plan_of_the_whole_standard_includes_the_type_test(pm):
     wanted = {f"record:inspection.{p}" for p in ("materials", "function", "appearance",
                                                  "dimensions", "mass", "supply",
                                                  "interfaces", "insulation")}
-    wanted |= {f"record:environmental_tests.{t}" for t
-               in ("lts", "hts", "tsh", "lp", "acc", "dh", "mould", "salt",
-                                                           "tvac", "rad", "emc")}
+    wanted |= {
+        f"record:environmental_tests.{t}"
+        for t in ("lts", "hts", "tsh", "lp", "acc", "dh", "mould", "salt", "tvac", "rad", "emc")
+    }
     wanted |= {"record:reliability.mtbf", "record:reliability.life", "type-env",
                "type-env-revolutions"}
     assert wanted <= kinds
@@ -796,8 +800,9 @@ def test_before_and_after_a_54_test_carry_two_power_ons(pm):
     row = next(r for r in dk.budget.rows if r.symbol == "√2·σ_on")
     Kb = float(str(dk.note).split("K before ")[1].split(",")[0])
     one = scale_factor_angle_repeat_row(rec.campaign, Kb, "")[0][0]
-    assert row.contribution.m_as("ppm") == pytest.approx(math.sqrt(2) * one.contribution.magnitude
-                                                         / Kb * 1e6, rel=1e-9)
+    assert row.contribution.m_as("ppm") == pytest.approx(
+        math.sqrt(2) * one.contribution.magnitude / Kb * 1e6, rel=1e-9
+    )
     assert dk.budget.combined.m_as("ppm") > row.contribution.m_as("ppm") > 1.0
     db = _result(rec, "lts_dB0")
     brow = next(r for r in db.budget.rows if r.symbol == "√2·σ_on")

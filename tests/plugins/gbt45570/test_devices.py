@@ -35,11 +35,9 @@ def test_rounding_mean_bound_hand_worked():
     assert F.rounding_mean_bound(q, 0.0) == q / 2  # plain rounding: up to half a step
     # σ = q/4: (q/π)·e^(−2π²/16) = 0.0928·q (first term; the next, e^(−2π²·4/16)/2, is 4×10⁻³ of it)
     first = q / math.pi * math.exp(-2 * math.pi**2 / 16)
-    assert F.rounding_mean_bound(q, q / 4) == pytest.approx(first
-                                                            * (1 + 0.5
-                                                               * math.exp(
-                                                                   -2 * math.pi**2 * 3 / 16)),
-                                                            rel=1e-3)
+    assert F.rounding_mean_bound(q, q / 4) == pytest.approx(
+        first * (1 + 0.5 * math.exp(-2 * math.pi**2 * 3 / 16)), rel=1e-3
+    )
     assert F.rounding_mean_bound(q, q) < 1e-8 * q  # noise of one step dithers the rounding
     # Sheppard: s² = σ² + q²/12
     assert F.rounding_sigma(math.sqrt(0.04 + 1 / 12), 1.0) == pytest.approx(0.2, rel=1e-12)
@@ -265,10 +263,9 @@ def test_d26_rate_output_acquire_then_run(pm, tmp_path):
                                 station_options=so)
     recorded = run_items(pm, "gbt45570", ["D.2.6"], campaign=load_manifest(manifest, pm.reader_for))
     direct = run_items(pm, "gbt45570", ["D.2.6"], station="simulated", station_options=so)
-    assert _result(recorded,
-                   "alpha").value.magnitude == pytest.approx(_result(direct,
-                                                                     "alpha").value.magnitude,
-                                                             rel=1e-9)
+    assert _result(recorded, "alpha").value.magnitude == pytest.approx(
+        _result(direct, "alpha").value.magnitude, rel=1e-9
+    )
 
 
 def test_6277_coarse_pulses_cannot_resolve_the_band(pm):

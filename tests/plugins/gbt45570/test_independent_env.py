@@ -153,10 +153,12 @@ def test_d64_takes_a_stated_bias_repeatability(env, tmp_path):
     env.build_vibration_shock(folder, np.random.default_rng(8), kind="LSB", repeats=False,
                               quick=True)
     man = folder / "manifest.toml"
-    man.write_text(man.read_text(encoding="utf-8").replace("[device]\n",
-                                                           '[device]\nbias_repeatability = "0.01 '
-                                                           '°/h"\n', 1),
-                   encoding="utf-8")
+    man.write_text(
+        man.read_text(encoding="utf-8").replace(
+            "[device]\n", '[device]\nbias_repeatability = "0.01 °/h"\n', 1
+        ),
+        encoding="utf-8",
+    )
     code, doc, err = ic.run_metro(man, "gbt45570", "D.6.4")
     assert code in (0, 3, 4), err
     r = next(x for x in doc["results"] if x["key"] == "dBshock_IRA")

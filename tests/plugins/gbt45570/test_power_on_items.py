@@ -473,8 +473,11 @@ def test_d25_three_d24_power_ons_cannot_bound_the_turn_on_scatter_of_k(pm):
             and "scale_factor_repeatability" in kt.reason), kt.reason
     dev = attrs.evolve(camp.device, properties=dict(camp.device.properties)
                        | {"scale_factor_repeatability": "5e-6"})
-    kt = run_items(pm, "gbt45570", ["D.2.5"], campaign=attrs.evolve(camp,
-                                                                    device=dev)).outcomes[0].results[0]
+    kt = (
+        run_items(pm, "gbt45570", ["D.2.5"], campaign=attrs.evolve(camp, device=dev))
+        .outcomes[0]
+        .results[0]
+    )
     assert kt.reportable, kt.reason
     assert "5 ppm stated for the device (device.scale_factor_repeatability)" in kt.budget.rows[
         0].note, kt.budget.rows[0].note

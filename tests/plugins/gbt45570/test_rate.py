@@ -32,8 +32,9 @@ FAST = 0.1  # duration_scale: 10 samples per rate point keep the tests quick
 def test_d11_d28_hand_worked():
     # K_j = 1 ± small: mean 1.000002, std of (0, 1, 2, 3, 4, 2, 2)·1e-6 = sqrt(10/6)·1e-6
     k = [1.0 + d * 1e-6 for d in (0, 1, 2, 3, 4, 2, 2)]
-    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(math.sqrt(10 / 6) * 1e-6
-                                                                 / 1.000002, rel=1e-6)
+    assert F2.scale_factor_repeatability_d11(k) == pytest.approx(
+        math.sqrt(10 / 6) * 1e-6 / 1.000002, rel=1e-6
+    )
     assert F2.scale_factor_repeatability_d28 is F2.scale_factor_repeatability_d11
     with pytest.raises(ValueError, match="at least 2"):
         F2.scale_factor_repeatability_d11([1.0])
@@ -41,8 +42,9 @@ def test_d11_d28_hand_worked():
 
 def test_d12_d29_hand_worked():
     # K00 = 5000 at 20 °C; at 60 °C +1 LSB/(°/s) → 1/(5000·40) = 5e-6/°C; at −40 °C −0.9 → 3e-6/°C
-    kt, i = F2.scale_factor_temperature_sensitivity_d12([4999.1, 5000.0, 5001.0],
-                                                        [-40.0, 20.0, 60.0], 1)
+    kt, i = F2.scale_factor_temperature_sensitivity_d12(
+        [4999.1, 5000.0, 5001.0], [-40.0, 20.0, 60.0], 1
+    )
     assert kt == pytest.approx(5e-6, rel=1e-12) and i == 2
     with pytest.raises(ValueError, match="T_i − T_0"):
         F2.scale_factor_temperature_sensitivity_d12([1.0, 1.0], [20.0, 20.0], 0)

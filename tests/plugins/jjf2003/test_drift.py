@@ -299,9 +299,9 @@ def test_bad_started_is_refused(run_cli, tmp_path, value, message):
 
 def test_overlapping_records_are_refused(run_cli, tmp_path):
     """Record 3 (pos-x-h0) said to begin 30 s after record 2, which lasts 40 s."""
-    manifest = _write(tmp_path / "o", times={"pos-x-h0": (T0
-                                                          + dt.timedelta(
-                                                              seconds=STEP + 30)).isoformat()})
+    manifest = _write(
+        tmp_path / "o", times={"pos-x-h0": (T0 + dt.timedelta(seconds=STEP + 30)).isoformat()}
+    )
     code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.2", "--data", str(manifest),
                              "--json", "--no-report")
     assert code == 2 and "Traceback" not in err

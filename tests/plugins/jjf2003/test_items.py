@@ -208,9 +208,9 @@ def test_budgets_follow_appendix_a_structure(default_run):
     assert (b.round_mode == "up" and b.k == pytest.approx(stats.t.ppf(0.97725, b.nu_eff))
             and 2.0 <= b.k < 2.01)
     # u₁: table U = 2e-4, k = 2 → 1e-4 relative, times K
-    assert b.rows[0].contribution.magnitude == pytest.approx(1e-4
-                                                             * rec.outcomes[0].result(
-                                                                 "K_gxx").value.magnitude)
+    assert b.rows[0].contribution.magnitude == pytest.approx(
+        1e-4 * rec.outcomes[0].result("K_gxx").value.magnitude
+    )
     for o in rec.outcomes[1:]:
         for r in o.results:
             assert {"A", "B"} <= {row.type for row in r.budget.rows}

@@ -118,9 +118,10 @@ def test_six_position_divides_by_the_local_gravity(run_cli, tmp_path):
 
 def test_bad_site_gravity_is_refused(run_cli, tmp_path):
     manifest = _write(tmp_path / "bad", site=['gravity = "1 gn"'])
-    manifest.write_text(manifest.read_text(encoding="utf-8").replace('gravity = "1 gn"',
-                                                                     'gravity = "9.1 m/s²"'),
-                        encoding="utf-8")
+    manifest.write_text(
+        manifest.read_text(encoding="utf-8").replace('gravity = "1 gn"', 'gravity = "9.1 m/s²"'),
+        encoding="utf-8",
+    )
     code, out, err = run_cli("run", "-s", "jjf2003", "-i", "7.2.4", "--data", str(manifest),
                              "--json", "--no-report")
     assert code == 2 and "Traceback" not in err

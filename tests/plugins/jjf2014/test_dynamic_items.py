@@ -107,8 +107,9 @@ def test_a_negative_k_is_a_polarity_not_a_refusal(jjf_run, tmp_path):
     for K in (20.0, -20.0):
         folder = tmp_path / f"K{K:+g}"
         folder.mkdir()
-        res = jjf_run(_dynamic_campaign(folder, K, _first_order(80.0, 1e-3), freqs),
-                   "7.2.1,7.2.21,7.2.22")
+        res = jjf_run(
+            _dynamic_campaign(folder, K, _first_order(80.0, 1e-3), freqs), "7.2.1,7.2.21,7.2.22"
+        )
         got[K] = res
         # the literal 0.707 point of a first-order response
         bw7 = 80.0 * math.sqrt(1 / 0.707 ** 2 - 1)
@@ -385,9 +386,12 @@ def test_a_start_up_ringing_within_the_noise_of_the_band_edge_is_read_from_its_s
         folder.mkdir()
         m, truth = _ringing_rate_trial(folder, seed)
         r = jjf_run(m, "7.2.1,7.2.23")["t_startup"]
-        assert r["reportable"] is not False and abs(r["value"]
-                                                    - truth) <= r["U"], (seed, r["value"], truth, r[
-                                                        "U"])
+        assert r["reportable"] is not False and abs(r["value"] - truth) <= r["U"], (
+            seed,
+            r["value"],
+            truth,
+            r["U"],
+        )
         assert "decided by its samples" in r["note"]
 
 

@@ -97,8 +97,9 @@ def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(jjf_run, tmp_path):
         f = k * (b0 + bt * (T - 20)) / 3600.0
         w.add(f"st@{T:g}", "static-temperature", f + 2e-4 * rng.standard_normal(3600),
               {"temperature": f"{T!r} degC", "orientation": "IRA up"})
-    res = jjf_run(w.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
-               "7.2.5,7.2.16")
+    res = jjf_run(
+        w.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}), "7.2.5,7.2.16"
+    )
     assert math.isclose(res["Kt"]["value"], kt, rel_tol=0.05)
     r = res["Bt"]
     assert r["U"] < 0.03, r["U"]
@@ -109,8 +110,9 @@ def test_bias_at_a_chamber_point_is_over_the_k_at_that_point(jjf_run, tmp_path):
     w2.segs = [s for s in w.segs if s[1] != "rate-temperature"]
     for _sid, _kind, name, _dt, _cond in w2.segs:
         (w2.folder / name).write_bytes((tmp_path / name).read_bytes())
-    r2 = jjf_run(w2.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}),
-              "7.2.16")["Bt"]
+    r2 = jjf_run(
+        w2.manifest({"id": "KT", "technology": "vibratory", "output": "analog"}), "7.2.16"
+    )["Bt"]
     assert "K_i/K_m" in r2["budget"]["note"], r2["budget"]["note"]
 
 
@@ -208,7 +210,8 @@ def test_a_curved_k_of_t_is_not_noise(jjf_run, tmp_path):
         _cal(w, rng, k, "rate-temperature", f"rt@{T:g}", {"temperature": f"{T!r} degC"}, bias=100.0)
     truth = max(kt.values())
     assert math.isclose(truth, 3.0e-4)
-    r = jjf_run(w.manifest({"id": "KT2", "technology": "vibratory", "output": "analog"}),
-             "7.2.5")["Kt"]
+    r = jjf_run(w.manifest({"id": "KT2", "technology": "vibratory", "output": "analog"}), "7.2.5")[
+        "Kt"
+    ]
     assert abs(r["value"] - truth) <= 0.2 * r["U"], (r["value"], truth, r["U"])
     assert r["U"] < 0.1 * truth, r["U"]

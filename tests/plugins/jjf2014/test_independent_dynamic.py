@@ -55,7 +55,6 @@ def test_truth_of_the_dynamic_items(dyn):
     f = np.geomspace(10, 160, 12)
     assert dyn.td_eq50(f, np.unwrap(np.angle(r(f))), 80.0) == pytest.approx(1.5e-3, rel=1e-9)
     # a second-order response with ζ = 1/√2 has its −3 dB point at f_n
-    assert dyn.Response(2, 100.0, 0.0, zeta=1
-                        / math.sqrt(2)).level_point(1
-                                                    / math.sqrt(2)) == pytest.approx(
-                                                        100.0, rel=1e-9)
+    assert dyn.Response(2, 100.0, 0.0, zeta=1 / math.sqrt(2)).level_point(
+        1 / math.sqrt(2)
+    ) == pytest.approx(100.0, rel=1e-9)

@@ -731,8 +731,9 @@ def test_scale_factor_u3_is_the_repeatability_of_the_campaign(pm):
     outs = {o.item: o for o in run_items(pm, "jjf2014", ["7.2.1", "7.2.4"], campaign=camp).outcomes}
     K, Kr = outs["7.2.1"].result("K"), outs["7.2.4"].result("Kr")
     u3 = next(r for r in K.budget.rows if r.symbol == "u₃")
-    assert u3.standard_uncertainty.magnitude == pytest.approx(Kr.value.magnitude
-                                                              * K.value.magnitude, rel=1e-12)
+    assert u3.standard_uncertainty.magnitude == pytest.approx(
+        Kr.value.magnitude * K.value.magnitude, rel=1e-12
+    )
     assert u3.type == "A" and u3.dof == 5
     # the rule of issue 13: no budget smaller than the spread the standard's own repeatability item
     # measures
@@ -937,9 +938,9 @@ def test_repeatability_pooled_with_a_larger_scatter_of_the_items_own_calibration
     assert with_scatter(Spread(5e-4, math.inf, "stated", "B"), 3e-4, 2, "K before").value == 5e-4
     # residuals about the least-squares line
     s, nu = line_scatter([1.0, 2.0, 3.1, 3.9, 5.0], [0, 1, 2, 3, 4])
-    r = np.array([1.0, 2.0, 3.1, 3.9, 5.0]) - np.polyval(np.polyfit(np.arange(5.0),
-                                                                    [1.0, 2.0, 3.1, 3.9, 5.0], 1),
-                                                         np.arange(5.0))
+    r = np.array([1.0, 2.0, 3.1, 3.9, 5.0]) - np.polyval(
+        np.polyfit(np.arange(5.0), [1.0, 2.0, 3.1, 3.9, 5.0], 1), np.arange(5.0)
+    )
     assert nu == 3 and s == pytest.approx(math.sqrt(np.sum(r * r) / 3), rel=1e-12)
 
 
@@ -976,9 +977,12 @@ def test_largest_slope_and_change_corrected_on_power_on_devices(pm):
     # measured: ΔK printed +0.39, corrected +0.23; K_t printed +0.01
     assert np.mean(printed_err) > 0.25 and np.mean(value_err) < np.mean(printed_err) - 0.1
     assert abs(np.mean(kt_err)) < 0.15
-    rec = run_items(pm, "jjf2014", ["7.2.4", "7.2.5"],
-                    station_options={"seed": 1, "device_class": "analog-fine",
-                                                                         "duration_scale": 0.1})
+    rec = run_items(
+        pm,
+        "jjf2014",
+        ["7.2.4", "7.2.5"],
+        station_options={"seed": 1, "device_class": "analog-fine", "duration_scale": 0.1},
+    )
     kt = rec.outcomes[1].results[0]
     row = [r for r in kt.budget.rows if "largest of" in r.source]
     assert row and row[0].contribution.magnitude < 0.1 * kt.budget.combined.magnitude
@@ -999,8 +1003,10 @@ def test_ratiometric_output_round_trip_and_refusal(pm, tmp_path):
     k_mem = rec.outcomes[0].results[0].value.magnitude
     seg = rec.campaign.segments[0]
     assert seg.recorded_columns()["output"][1] == "mV/V" and seg.columns()["output"][1] == "mV"
-    assert {c["key"]: c["within_U"] for c in __import__("metro.core.cli.present",
-                                                        fromlist=["x"]).truth_checks(rec)}["K"]
+    assert {
+        c["key"]: c["within_U"]
+        for c in __import__("metro.core.cli.present", fromlist=["x"]).truth_checks(rec)
+    }["K"]
     out = tmp_path / "camp"
     write_campaign(rec.campaign, out)
     text = next(out.glob("*.csv")).read_text()

@@ -158,7 +158,8 @@ def test_bias_repeatability_from_constant_records_is_not_reportable(pm, seed):
     record shows the output's step (no rounding row) and the seven B_0i are equal: B_r was reported
     as 6×10⁻¹⁴ ± 9×10⁻¹⁴ and 0 ± 0 °/h against the draws' 1.86 and 2.82 °/h (E_n −2×10¹³; the
     200-device sweep, 2026-11-24)."""
-    rec = run_items(pm, "jjf2014", ["7.2.15"], station_options={"seed": seed,
-                                                                "device_class": "analog-coarser"})
+    rec = run_items(
+        pm, "jjf2014", ["7.2.15"], station_options={"seed": seed, "device_class": "analog-coarser"}
+    )
     br = _result(rec, "Br")
     assert not br.reportable and "one constant value" in br.reason, (br.value, br.U, br.reason)

@@ -475,8 +475,9 @@ def test_72_linearity_budget_and_mean_en_over_coarse_instruments(pm):
     range and the correction; the note keeps the printed value."""
     ens, inside = [], 0
     for seed in range(1, 61):
-        rec = run_items(pm, "ogam", ["7.2"], station_options={"seed": seed,
-                                                              "device_class": "fog-coarse"})
+        rec = run_items(
+            pm, "ogam", ["7.2"], station_options={"seed": seed, "device_class": "fog-coarse"}
+        )
         r = rec.outcomes[0].result("Kl")
         truth = rec.campaign.expected["Kl"].to("percent").magnitude
         ens.append((r.value.magnitude - truth) / r.U.magnitude)
