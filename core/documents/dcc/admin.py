@@ -112,19 +112,10 @@ def _items(w: Writer, parent: ET.Element, ctx: Mapping[str, Any]) -> None:
     items = w.el(parent, "items")
     item = w.el(items, "item", id="item-device")
     w.text(item, "name", (ctx.get("device") or {}).get("description") or dev["id"])
-    if dev.get("manufacturer"):
-        w.text(w.el(item, "manufacturer"), "name", dev["manufacturer"])
-    if dev.get("model"):
-        w.el(item, "model", " ".join(str(dev["model"]).split()))
-    ids = w.el(item, "identifications")
-    for issuer, value, name in (("manufacturer", dev.get("serial"), "serial number"),
-                                ("calibrationLaboratory", dev.get("id"), "device id"),
-                                ("customer", dev.get("customer_id"), "customer's id")):
-        if value and str(value).strip():
-            ident = w.el(ids, "identification")
-            w.el(ident, "issuer", issuer)
-            w.el(ident, "value", " ".join(str(value).split()))
-            w.text(ident, "name", name)
+    w.maker(item, dev.get("manufacturer"), dev.get("model"))
+    w.identifications(item, (("manufacturer", dev.get("serial"), "serial number"),
+                             ("calibrationLaboratory", dev.get("id"), "device id"),
+                             ("customer", dev.get("customer_id"), "customer's id")))
 
 
 def _contact(w: Writer, parent: ET.Element, tag: str, name: str, address: str,

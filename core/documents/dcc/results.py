@@ -75,19 +75,10 @@ def _equipment(w: Writer, parent: ET.Element, ctx: Mapping[str, Any]) -> None:
         m = w.el(me, "measuringEquipment", id=ncname("equipment", e["id"]))
         w.text(m, "name", e["description"] or e["id"])
         w.text(m, "description", f"role: {e['role']}" if e["role"] else e["id"])
-        if e.get("manufacturer"):
-            w.text(w.el(m, "manufacturer"), "name", e["manufacturer"])
-        if e.get("model"):
-            w.el(m, "model", " ".join(str(e["model"]).split()))
-        ids = w.el(m, "identifications")
-        for issuer, value, name in (("calibrationLaboratory", e["id"], "equipment id"),
-                                    ("manufacturer", e.get("serial"), "serial number"),
-                                    ("other", e.get("certificate"), "calibration certificate")):
-            if value and str(value).strip():
-                ident = w.el(ids, "identification")
-                w.el(ident, "issuer", issuer)
-                w.el(ident, "value", " ".join(str(value).split()))
-                w.text(ident, "name", name)
+        w.maker(m, e.get("manufacturer"), e.get("model"))
+        w.identifications(m, (("calibrationLaboratory", e["id"], "equipment id"),
+                              ("manufacturer", e.get("serial"), "serial number"),
+                              ("other", e.get("certificate"), "calibration certificate")))
         if e.get("certificate") and e.get("U") is not None:
             qs = w.el(m, "measuringEquipmentQuantities")
             q = w.el(qs, "measuringEquipmentQuantity")

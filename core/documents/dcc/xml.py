@@ -117,6 +117,27 @@ class Writer:
             self.el(e, "content", fallback)
         return e
 
+    def maker(self, parent: ET.Element, manufacturer: Any, model: Any) -> None:
+        """``dcc:manufacturer`` and ``dcc:model`` of an item or equipment, those that are
+        given."""
+        if manufacturer:
+            self.text(self.el(parent, "manufacturer"), "name", manufacturer)
+        if model:
+            self.el(parent, "model", " ".join(str(model).split()))
+
+    def identifications(self, parent: ET.Element,
+                        rows: Sequence[tuple[str, Any, str]]) -> ET.Element:
+        """``dcc:identifications``: one ``dcc:identification`` per (issuer, value, name) whose
+        value is given."""
+        ids = self.el(parent, "identifications")
+        for issuer, value, name in rows:
+            if value and str(value).strip():
+                ident = self.el(ids, "identification")
+                self.el(ident, "issuer", issuer)
+                self.el(ident, "value", " ".join(str(value).split()))
+                self.text(ident, "name", name)
+        return ids
+
     # --- D-SI --------------------------------------------------------------------------------
     @staticmethod
     def unit(u: str, where: str) -> str:
