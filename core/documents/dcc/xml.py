@@ -1,4 +1,4 @@
-"""Element helpers of the DCC writer: namespaced elements, texts in the document's languages,
+"""Element builders of the DCC writer: namespaced elements, texts in the document's languages,
 D-SI quantities (``si:real`` with ``si:expandedMU``, ``si:realListXMLList``) and identifiers."""
 
 from __future__ import annotations
