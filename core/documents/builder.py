@@ -340,9 +340,14 @@ class DocumentBuilder:
     #: the lab's logo (image bytes, from the lab profile), drawn above the title of page 1
     logo: bytes | None = None
     LOGO_HEIGHT_MM = 14.0
+    #: the verify QR code of a registered report (PNG bytes, :mod:`metro.core.documents.qr`) and
+    #: the link it encodes, drawn at the top right of page 1 when the lab profile has a verify URL
+    qr: tuple[bytes, str] | None = None
+    QR_MM = 22.0
 
     def title_block(self, title: str, subtitle: str = "") -> None:
-        """The title (and subtitle) of page 1, under the lab's logo when the profile gives one."""
+        """The title (and subtitle) of page 1, under the lab's logo when the profile gives one;
+        the verify QR code (:attr:`qr`) floats at the top right."""
         import io
 
         from docx.enum.text import WD_ALIGN_PARAGRAPH
@@ -356,6 +361,10 @@ class DocumentBuilder:
 
         p = self.doc.add_paragraph()
         p.alignment = WD_ALIGN_PARAGRAPH.CENTER
+        if self.qr:
+            from .qr import float_top_right
+
+            float_top_right(p, self.qr[0], self.QR_MM, self.qr[1])
         self.runs(p, title, bold=True, size=16)
         p.paragraph_format.space_after = self._pt(4)
         if subtitle:

@@ -604,9 +604,10 @@ def build_context(
     ``register`` is the register statement: ``{"registered": bool, "notices": [text, …]}``
     (:mod:`metro.core.record.registering`); each notice is printed at the top of the report.
     ``lang`` (``zh``, ``en``, ``zh+en``) is kept in the context (``ctx["lang"]``) so the same
-    document can be written again.  The result is plain JSON apart from each figure's ``spec`` (a
-    PlotSpec),
-    so the register can keep it and write the same report again (``metro report NUMBER``)."""
+    document can be written again; ``ctx["verify_url"]`` is the lab's verify page (the campaign's
+    ``lab_verify_url``, from the lab profile), whose QR code a registered report prints.  The
+    result is plain JSON apart from each figure's ``spec`` (a PlotSpec), so the register can keep
+    it and write the same report again (``metro report NUMBER``)."""
     ctx = report_context(record, designations=designations)
     ctx["register"] = (
         dict(register) if register is not None else {"registered": False, "notices": []}
@@ -619,6 +620,8 @@ def build_context(
     ctx["logo"] = _logo(
         ctx["facts"].get("logo", "")
     )  # after the text clean-up: image bytes as base64
+    # the lab profile's verify page (with_lab): a registered report prints its QR code
+    ctx["verify_url"] = str(record.campaign.meta.get("lab_verify_url") or "")
     return ctx
 
 

@@ -104,14 +104,14 @@ def _core_property(text: str, limit: int = 255) -> str:
 def _add_notices(document: Any, notices: Iterable[str]) -> None:
     """The register statement (registered, replaces …, not registered, --allow-expired) as bold
     paragraphs at the top of the document body, whatever the template — under the lab's logo
-    when the document opens with it."""
+    when the document opens with it (an inline picture; the floating verify QR code is no logo)."""
     from docx.oxml.ns import qn
 
     body = document.element.body
     first = body[0] if len(body) else None
     start = (
         1
-        if first is not None and first.tag == qn("w:p") and first.findall(".//" + qn("w:drawing"))
+        if first is not None and first.tag == qn("w:p") and first.findall(".//" + qn("wp:inline"))
         else 0
     )
     for i, text in enumerate(notices):
@@ -246,6 +246,11 @@ def build_document(
         import base64
 
         doc.logo = base64.b64decode(ctx["logo"]["base64"])
+    if ctx.get("verify_url") and (ctx.get("register") or {}).get("registered"):
+        from .qr import qr_png, verify_link
+
+        link = verify_link(ctx["verify_url"], ctx["report_number"])
+        doc.qr = (qr_png(link), link)
     for o in ctx["outcomes"]:
         for p in o["plots"]:
             if figures is not None and p["number"] in figures:

@@ -123,6 +123,9 @@ class LabProfile:
     #: the lab's equipment (metro.core.model.campaign.Equipment), found by id from a manifest
     equipment: tuple[Any, ...] = attrs.field(default=(), converter=tuple)
     source: str = ""
+    #: the base of the public verify page (``https://lab.example/verify/``): each registered report
+    #: prints a QR code linking to ``<verify_url>/<number>``; empty: no QR code
+    verify_url: str = ""
 
     @property
     def name(self) -> str:
@@ -227,7 +230,7 @@ def lab_in_force(cli_path: str | os.PathLike[str] | None = None, *,
 # --------------------------------------------------------------------------------------
 
 _LAB_KEYS = {"name_zh", "name_en", "address", "accreditation_body", "accreditation_number", "logo",
-             "language", "timezone", "register"}
+             "language", "timezone", "register", "verify_url"}
 
 
 def _text(t: Mapping, key: str, src: str, where: str, default: str = "") -> str:
@@ -249,6 +252,24 @@ def _register(value: str, base: Path, src: str) -> str:
     if not p.is_absolute():
         p = base / p
     return "sqlite:///" + str(p.resolve())
+
+
+def verify_url_problem(url: str) -> str | None:
+    """Why ``url`` cannot be the base of the verify links printed as QR codes, or ``None``: an
+    ``http(s)://host/…`` URL without spaces, query or fragment (the report number is appended)."""
+    from urllib.parse import urlsplit
+
+    if any(c.isspace() for c in url):
+        return "contains a space"
+    try:
+        parts = urlsplit(url)
+    except ValueError as exc:
+        return f"is not a URL ({exc})"
+    if parts.scheme not in ("http", "https") or not parts.hostname:
+        return "is not an http:// or https:// URL with a host"
+    if parts.query or parts.fragment or url.endswith(("?", "#")):
+        return "has a query or fragment (?, #): the report number is appended to it"
+    return None
 
 
 def numbering(doc: dict, src: str) -> tuple[str, str]:
@@ -382,6 +403,10 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
         raise DataError(src, "lab.timezone", f"unknown time zone {tz!r}",
                         hint="an IANA name such as Asia/Shanghai or UTC") from exc
     register = _register(vals["register"], base, src)
+    problem = verify_url_problem(vals["verify_url"]) if vals["verify_url"] else None
+    if problem:
+        raise DataError(src, "lab.verify_url", f"{vals['verify_url']!r} {problem}",
+                        hint='e.g. verify_url = "https://lab.example/verify/"')
 
     scheme, prefix = numbering(doc, src)
     signatories = signatories_of(doc, src)
@@ -397,7 +422,7 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
         accreditation_number=vals["accreditation_number"],
         logo=logo, signatories=signatories, prefix=prefix, scheme=scheme, language=language,
         timezone=tz,
-        register=register, equipment=equipment, source=src,
+        register=register, equipment=equipment, source=src, verify_url=vals["verify_url"],
     )
 
 
@@ -421,6 +446,9 @@ timezone = "Asia/Shanghai"               # IANA time zone: issue times are print
 # register: an SQLite file (relative to this file) or one PostgreSQL database for several
 # stations, e.g. "postgresql+psycopg://metro@db.lab.example:5432/metro"; METRO_REGISTER overrides.
 register = "register.sqlite"
+# the public verify page: each registered certificate prints a QR code linking to
+# <verify_url>/<number> (`metro serve` serves /verify/<number>); without it no QR code is printed
+# verify_url = "https://lab.example/verify/"
 
 [numbering]
 # {prefix}, {year} (numbers restart each year when it is used) and {seq} (required)

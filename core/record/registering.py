@@ -44,7 +44,8 @@ def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
     each one's title (``operator_title``, ``checked_by_title``, ``approved_by_title``) are filled in
     where the manifest gives none (under any spelling metro reads): campaign values override the
     profile per run, and a person the manifest names gets no title from the profile. ``lab_logo``
-    carries the profile's logo image (its path), which the documents draw above the title."""
+    carries the profile's logo image (its path), which the documents draw above the title, and
+    ``lab_verify_url`` the base of the verify link a registered report prints as a QR code."""
     try:
         from ..base.vocabulary import CAMPAIGN_ALIASES
     except ImportError:  # pragma: no cover - before the manifest vocabulary
@@ -65,7 +66,7 @@ def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
               "operator_title": cal.title if cal else "", "checked_by_title": chk.title if chk
               else "",
               "approved_by_title": app.title if app else "",
-              "lab_logo": str(lab.logo) if lab.logo else ""}
+              "lab_logo": str(lab.logo) if lab.logo else "", "lab_verify_url": lab.verify_url}
     added = {k: v for k, v in values.items() if v and not given(k)}
     for person in ("operator", "checked_by", "approved_by"):  # the title goes with the person
         if given(person):

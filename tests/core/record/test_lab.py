@@ -89,6 +89,14 @@ def test_register_env_overrides(tmp_path, capsys, monkeypatch):
      "format", "unsupported"),
     ('[lab]', '[lab]\n[lab.extra]',
      "lab.extra", "unknown key"),
+    ('# verify_url = "https://lab.example/verify/"', 'verify_url = "lab.example/verify/"',
+     "lab.verify_url", "not an http"),
+    ('# verify_url = "https://lab.example/verify/"', 'verify_url = "ftp://lab.example/verify/"',
+     "lab.verify_url", "not an http"),
+    ('# verify_url = "https://lab.example/verify/"', 'verify_url = "https://lab.example/v?n="',
+     "lab.verify_url", "query"),
+    ('# verify_url = "https://lab.example/verify/"', 'verify_url = "https://lab.example/a b/"',
+     "lab.verify_url", "space"),
 ])
 def test_bad_profile_names_file_field_reason(tmp_path, capsys, old, new, field, reason):
     path = _init(tmp_path, capsys)
@@ -127,3 +135,13 @@ def test_profile_api(tmp_path, capsys):
         labmod.Signatory(name="x", role="boss")
     with pytest.raises(ValueError):
         labmod.LabProfile(name_en="x", scheme="{prefix}")
+    assert p.verify_url == ""  # the template leaves it commented out: no QR code
+
+
+def test_verify_url_is_read(tmp_path, capsys):
+    """``[lab] verify_url``, the base of the verify link a registered report prints as QR code."""
+    path = _init(tmp_path, capsys)
+    text = path.read_text(encoding="utf-8")
+    path.write_text(text.replace('# verify_url = "https://lab.example/verify/"',
+                                 'verify_url = "http://10.0.0.5:8000/verify"'), encoding="utf-8")
+    assert labmod.load_lab(path).verify_url == "http://10.0.0.5:8000/verify"
