@@ -19,6 +19,7 @@ Phases:
    formulas, the expected values of a simulated campaign from what its station declares.
 3. **Run** — :func:`metro_campaign_loaded`, :func:`metro_procedure_started`,
    :func:`metro_procedure_finished`, :func:`metro_report_written`: lifecycle events.
+4. **Validation** — :func:`metro_validation_cases`: the cases ``metro validate`` runs.
 """
 
 from __future__ import annotations
@@ -276,4 +277,28 @@ def metro_report_written(path: "Path", outcomes: Sequence["Outcome"]) -> None:
     :param path: the final path of the document.
     :param outcomes: the outcomes it contains.
     :return: nothing.
+    """
+
+
+# ---------------------------------------------------------------------------------------
+# 4. Validation
+# ---------------------------------------------------------------------------------------
+
+
+@hookspec
+def metro_validation_cases() -> Sequence[Any]:
+    """Contribute validation cases to ``metro validate`` (ISO/IEC 17025 §7.11.2).
+
+    Return :class:`metro.api.ValidationCase` values: each names its published source (the
+    standard's worked example, its clause or table), gives the reference values as published
+    and the tolerance they are compared at, and computes its own values with the plugin's
+    formulas when it is run (a function of no argument).  A standard's plugin returns its worked
+    examples reproduced digit for digit; a third-party plugin its own.  ``metro validate`` runs
+    every case of every plugin (docs/validation.md), reports each (reference, tolerance, result,
+    verdict, the plugin that gave it) and exits 0 only when all pass.  Ids must be unique:
+    prefix them with the standard (``"jjf2003:A.1"``).  Building the list must be cheap; the
+    work is done when a case is run.
+
+    :return: a sequence of :class:`metro.api.ValidationCase` (may be empty).  Results of all
+        plugins are combined; each case is marked with the plugin that gave it.
     """
