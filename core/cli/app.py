@@ -129,6 +129,9 @@ def build_parser() -> argparse.ArgumentParser:
     from . import doctor
 
     doctor.add_command(sub)
+    from . import serve_command
+
+    serve_command.add_command(sub)
     _share_global_options(p)
     return p
 
@@ -361,6 +364,10 @@ def _main(argv: Sequence[str] | None) -> int:
             from .doctor import command
 
             return command(args)
+        if args.command == "serve":
+            from .serve_command import command as serve
+
+            return serve(args)
         from . import register_commands as cli_register
 
         if args.command in cli_register.COMMANDS:
