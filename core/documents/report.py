@@ -246,10 +246,10 @@ def build_document(
         import base64
 
         doc.logo = base64.b64decode(ctx["logo"]["base64"])
-    if ctx.get("verify_url") and (ctx.get("register") or {}).get("registered"):
-        from .qr import qr_png, verify_link
+    link = _verify_link(ctx)
+    if link:
+        from .qr import qr_png
 
-        link = verify_link(ctx["verify_url"], ctx["report_number"])
         doc.qr = (qr_png(link), link)
     for o in ctx["outcomes"]:
         for p in o["plots"]:
@@ -263,6 +263,17 @@ def build_document(
     _add_notices(doc.doc, (ctx.get("register") or {}).get("notices") or ())
     _set_properties(doc.doc, ctx)
     return doc
+
+
+def _verify_link(ctx: Mapping[str, Any]) -> str:
+    """The verify link a registered report prints as a QR code (the lab profile's verify URL and
+    the report number), or ``""``: none without a verify URL or when the report is not
+    registered."""
+    if not (ctx.get("verify_url") and (ctx.get("register") or {}).get("registered")):
+        return ""
+    from .qr import verify_link
+
+    return verify_link(ctx["verify_url"], ctx["report_number"])
 
 
 def _render_template(
@@ -292,6 +303,13 @@ def _render_template(
                 else:
                     png = draw_figure(p["spec"], tr, Path(tmpdir) / f"figure-{p['number']}.png")
                 p["image"] = InlineImage(tpl, str(png), width=Mm(IMAGE_WIDTH_MM))
+        link = _verify_link(ctx)
+        if link:  # the template's {{ verify_qr }} and {{ verify_link }}
+            from .qr import qr_png
+
+            ctx["verify_qr"] = InlineImage(tpl, io.BytesIO(qr_png(link)),
+                                           width=Mm(DocumentBuilder.QR_MM))
+            ctx["verify_link"] = link
         try:
             tpl.render(ctx, autoescape=True)
         except TemplateError as exc:

@@ -390,9 +390,13 @@ def _properties(doc) -> None:
 
 
 def _title_block(doc: Any) -> None:
-    """The title, the report number and the SIMULATED banner."""
+    """The title, the report number, the verify QR code of a registered report (when the lab
+    profile has a verify URL) and the SIMULATED banner."""
     para(doc, "{{ title }}", style="Title")
     para(doc, "Report number {{ report_number }} · issued {{ created }}", bold=True)
+    with block(doc, "if verify_qr"):
+        para(doc, "{{ verify_qr }}", style="Figure")
+        para(doc, "Verify this report: {{ verify_link }}", style="Caption")
     with block(doc, "if simulated"):
         _shade_paragraph(para(doc, "{{ simulated_banner }}", style="Banner"), BANNER_FILL, "9C1C1C")
 

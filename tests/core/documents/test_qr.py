@@ -80,10 +80,10 @@ def test_registered_report_prints_the_qr_code_only_with_a_verify_url(tmp_path, c
     layout = pm.template_for("jjf2014").layout
     registered = {"registered": True, "notices": ["REGISTERED notice"]}
 
-    def write(name: str, profile_lab, register) -> object:
+    def write(name: str, profile_lab, register, template=None) -> object:
         ctx = build_context(with_lab(rec, profile_lab), extend=pm.extend_report_context,
                             register=register)
-        return render_context(tmp_path / name, ctx, layout=layout)
+        return render_context(tmp_path / name, ctx, layout=layout, template=template)
 
     with_url = write("a.docx", lab, registered)
     ((descr, png),) = _floating_pictures(with_url)
@@ -98,3 +98,15 @@ def test_registered_report_prints_the_qr_code_only_with_a_verify_url(tmp_path, c
     # no verify URL in the profile, or a report not registered: no QR code
     assert _floating_pictures(write("b.docx", plain_lab, registered)) == []
     assert _floating_pictures(write("c.docx", lab, {"registered": False, "notices": []})) == []
+    # a lab's docxtpl template: {{ verify_qr }} and {{ verify_link }} (the packaged one has them)
+    from metro.core.documents.report import default_template
+
+    with default_template().open("rb") as fh:
+        (tmp_path / "template.docx").write_bytes(fh.read())
+    template = tmp_path / "template.docx"
+    d = docx.Document(str(write("d.docx", lab, registered, template)))
+    assert f"Verify this report: {URL}" in [p.text for p in d.paragraphs]
+    images = [d.part.related_parts[r].blob for r in d.element.body.xpath(".//a:blip/@r:embed")]
+    assert qr.qr_png(URL) in images
+    d = docx.Document(str(write("e.docx", plain_lab, registered, template)))
+    assert not any(p.text.startswith("Verify this report") for p in d.paragraphs)
