@@ -23,7 +23,9 @@ The names, by what they are for:
   the earth's rate and gravity, rate conversions;
 * units, messages and errors (:mod:`metro.core.base`): :data:`Q_`, :func:`unit`, :func:`msg`
   (a translatable text), :class:`DataError`, …;
-* documents: helpers a plugin's report layout uses (:mod:`document`, :func:`group_notes`, …).
+* documents: helpers a plugin's report layout uses (:mod:`document`, :func:`group_notes`, …);
+* validation (:mod:`metro.core.validation`): a :class:`ValidationCase` (with :class:`Figures`
+  when the published values come with the computation) for the ``metro_validation_cases`` hook.
 
 >>> from metro.api import Q_
 >>> f"{Q_(3600, 'deg/h').to('deg/s').magnitude:g}"
@@ -63,6 +65,7 @@ from metro.core.uncertainty.budget import (INF, BudgetRow, Coverage, Uncertainty
                                            between_variance, report_pair, round_uncertainty,
                                            std_sampling_u, std_upper_limit)
 from metro.core.uncertainty.conformity import SIMPLE, Comparison, Specification, decide, parse_limit
+from metro.core.validation.case import Figures, ValidationCase
 from metro.core.uncertainty.selection import (MaxSelection, abs_change, abs_change_note,
                                               abs_change_rows, curve_scatter, max_abs_selection,
                                               max_slope_selection, selection_note, selection_rows,
@@ -106,6 +109,7 @@ __all__ = [
     "DeviceUnderTest",
     "Equipment",
     "EquipmentRequirement",
+    "Figures",
     "LinearFit",
     "MaxSelection",
     "Metric",
@@ -128,6 +132,7 @@ __all__ = [
     "Text",
     "UncertaintyBudget",
     "UnitError",
+    "ValidationCase",
     "abs_change",
     "abs_change_note",
     "abs_change_rows",

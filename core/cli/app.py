@@ -34,8 +34,8 @@ from .common import (  # noqa: F401 — the exit codes and helpers are metro.cor
 EXIT_CODES_TEXT = (
     "exit codes: 0 done, conforming or nothing to judge; 2 usage or data error; 3 does not "
     "conform; 4 indeterminate (nothing fails, some verdict is indeterminate); 5 batch: a campaign "
-    "failed; 6 a check found a problem (register verify, doctor); 130 interrupted; 1 is an "
-    "internal error (a bug: please report the traceback)."
+    "failed; 6 a check found a problem (register verify, doctor, validate); 130 interrupted; "
+    "1 is an internal error (a bug: please report the traceback)."
 )
 #: `metro run` only: what its --strict changes
 SIMULATED_EXIT_TEXT = ("  A run on the simulated station judges a virtual device: it exits 0 once "
@@ -129,6 +129,9 @@ def build_parser() -> argparse.ArgumentParser:
     from . import doctor
 
     doctor.add_command(sub)
+    from . import validate_command
+
+    validate_command.add_command(sub)
     from . import serve_command
 
     serve_command.add_command(sub)
@@ -364,6 +367,10 @@ def _main(argv: Sequence[str] | None) -> int:
             from .doctor import command
 
             return command(args)
+        if args.command == "validate":
+            from .validate_command import command as validate
+
+            return validate(args)
         if args.command == "serve":
             from .serve_command import command as serve
 

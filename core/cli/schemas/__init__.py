@@ -23,7 +23,8 @@ SCHEMAS = {
     "register-show": "metro register show", "register-verify": "metro register verify",
     "report": "metro report", "amend": "metro amend", "withdraw": "metro withdraw",
     "history": "metro history", "lab-init": "metro lab init", "lab-show": "metro lab show",
-    "doctor": "metro doctor", "error": "any command, on a usage or data error (exit code 2)",
+    "doctor": "metro doctor", "validate": "metro validate",
+    "error": "any command, on a usage or data error (exit code 2)",
 }
 
 

@@ -415,6 +415,7 @@ class Register:
         reason: str = "",
         who: str | None = None,
         suffix: str = ".docx",
+        kind: str = "",
         _before_commit: Callable[[Path], None] | None = None,
     ) -> Issued:
         """Allocate the next number, write the report and insert its row, all or nothing.
@@ -422,7 +423,10 @@ class Register:
         ``make(number, issued_at)`` returns the :class:`Draft`; ``scheme(seq, year)`` formats the
         number; the file goes to ``folder/<number><suffix>`` (and a draft's DCC to
         ``folder/<number>.xml``).  With ``supersedes`` the new report replaces that (issued)
-        report, which becomes ``superseded`` in the same transaction.
+        report, which becomes ``superseded`` in the same transaction.  A record of another
+        ``kind`` than a calibration report (``"validation"``: ``metro validate``) is numbered in
+        a counter of its own (scope ``<kind>:<year>`` or ``<kind>:all``), so the reports' numbers
+        keep no gaps.
         """
         import zoneinfo
 
@@ -437,6 +441,7 @@ class Register:
                 issued_at = dt.datetime.now(dt.timezone.utc).replace(microsecond=0)
                 year = issued_at.astimezone(zoneinfo.ZoneInfo(timezone)).year
                 scope = str(year) if per_year else "all"
+                scope = f"{kind}:{scope}" if kind else scope
                 old = self._replaced(s, supersedes)
                 seq = self._allocate(s, scope)
                 number = scheme(seq, year)

@@ -172,13 +172,17 @@ def test_every_hook_of_a_third_party_plugin(tmp_path):
     got = pm.expected_values(camp, {"vendorx:offset": 0.25, "nobody:else": 1})
     assert got["X"].to("deg/h").magnitude == pytest.approx(0.25) and "nobody:else" not in got
     assert pm.expected_values(camp, {"nobody:else": 1}) == {}
+    # metro_validation_cases: the vendor's worked example, run as metro's own cases are
+    (case,) = [c for cases in pm.pm.hook.metro_validation_cases() for c in cases
+               if c.id.startswith("vendorx:")]
+    assert case.run().verdict == "pass" and case.run().computed == (0.5, 3.5)
 
 
 def test_hookspecs_are_documented_typed_stubs():
     import inspect
 
     names = [n for n in dir(hookspec) if n.startswith("metro_")]
-    assert len(names) == 14
+    assert len(names) == 15
     for n in names:
         fn = getattr(hookspec, n)
         doc = inspect.getdoc(fn) or ""

@@ -223,3 +223,21 @@ def metro_expected_values(campaign, ideal):
     from metro.api import Q_
 
     return {"X": Q_(float(ideal["vendorx:offset"]), "deg/h")}
+
+
+def vendor_tick_in_arcsec() -> list[float]:
+    """The vendor's tick (its unit definition) in arcseconds, and 7 ticks."""
+    from metro.api import Q_
+
+    return [float(Q_(1, "vtick").to("arcsec").magnitude), float(Q_(7, "vtick").to("arcsec")
+                                                                .magnitude)]
+
+
+@hookimpl
+def metro_validation_cases():
+    """The vendor's worked example: its tick is ½″ (VX-001 table 1)."""
+    from metro.api import ValidationCase
+
+    return [ValidationCase("vendorx:tick", "the vendor tick in arcseconds", "VX-001 table 1",
+                           [0.5, 3.5], vendor_tick_in_arcsec, rtol=1e-12,
+                           labels=("1 vtick", "7 vtick"), unit="″")]
