@@ -82,6 +82,19 @@ def _say(tr: "Translator", key: str) -> str:
     return tr.pick(zh, en)
 
 
+#: the tolerance's words in Chinese (a zh report)
+TOLERANCE_ZH = (("exact (as printed)", "逐位相同（按印出值）"), (" relative", " 相对"),
+                (" absolute, per value", " 绝对，逐值"), (" absolute", " 绝对"))
+
+
+def _tolerance(tr: "Translator", text: str) -> str:
+    if tr.lang != "zh":
+        return text
+    for en, zh in TOLERANCE_ZH:
+        text = text.replace(en, zh)
+    return text
+
+
 def value_text(v: Any) -> str:
     """A value as the report prints it: text as it is, numbers to 10 significant digits."""
     if isinstance(v, str):
@@ -140,7 +153,8 @@ def _case_rows(tr: "Translator", cases: Sequence["ValidationCase"]) -> tuple[lis
                                                                not in c.detail)
             verdict = _say(tr, "pass" if ok else ("error" if c.verdict == "error" else "fail"))
             tol = c.tolerance if not isinstance(c.atol, tuple) else f"±{c.atol_of(i):.3g}"
-            rows.append([c.label(i) + unit, value_text(ref), value_text(got), tol, verdict])
+            rows.append([c.label(i) + unit, value_text(ref), value_text(got), _tolerance(tr, tol),
+                         verdict])
         if c.verdict == "error" or not c.reference:
             shade.append(len(rows))
             rows.append([f"{_say(tr, 'error')}: {c.detail}", "", "", "", _say(tr, "error")])
