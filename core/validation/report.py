@@ -22,59 +22,63 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["LABELS", "value_text", "write_validation_report"]
 
+#: the report's labels, one a line: key | Chinese | English
+_LABEL_LINES = """
+title | 软件确认报告 | Software validation report
+subtitle | 依据 ISO/IEC 17025:2017 7.11.2 | ISO/IEC 17025:2017 clause 7.11.2
+lab | 实验室 | Laboratory
+address | 地址 | Address
+accreditation | 认可 | Accreditation
+number | 报告编号 | Report number
+date | 确认日期 | Date of validation
+mode | 范围 | Scope
+full | 全部案例 | every case
+quick | 快速（--quick） | quick cases (--quick)
+cases | 案例 | Cases
+counts | 通过 / 不通过 / 出错 | passed / failed / errors
+overall | 总结论 | Overall verdict
+duration | 用时 | Duration
+summary | 1 概述 | 1 Summary
+method | 2 方法 | 2 Method
+software | 3 软件与平台 | 3 Software and platform
+results | 4 案例结果 | 4 Results of the cases
+annex | 附录 A 已安装文件的 SHA-256 | Annex A SHA-256 of the installed files
+python | Python | Python
+platform | 平台 | Platform
+plugin | 插件 | Plugin
+plugins_of | 来源插件 | Contributed by
+quantity | 量 | Quantity
+reference | 参考值 | Reference
+computed | 计算值 | Result
+tolerance | 容差 | Tolerance
+verdict | 结论 | Verdict
+source | 来源 | Source
+file | 文件 | File
+pass | 通过 | pass
+fail | 不通过 | FAIL
+error | 出错 | ERROR
+validated | 已确认：全部案例通过 | validated: every case passed
+not_validated | 未确认：有案例未通过 | NOT validated: a case did not pass
+metro_cases | metro 自身 | metro itself
+footer | metro validate | metro validate
+not_registered | 未登记（无实验室配置） | not registered (no lab profile)
+"""
+
 #: the report's labels: key → (Chinese, English)
 LABELS: dict[str, tuple[str, str]] = {
-    "title": ("软件确认报告", "Software validation report"),
-    "subtitle": ("依据 ISO/IEC 17025:2017 7.11.2", "ISO/IEC 17025:2017 clause 7.11.2"),
-    "lab": ("实验室", "Laboratory"),
-    "address": ("地址", "Address"),
-    "accreditation": ("认可", "Accreditation"),
-    "number": ("报告编号", "Report number"),
-    "date": ("确认日期", "Date of validation"),
-    "mode": ("范围", "Scope"),
-    "full": ("全部案例", "every case"),
-    "quick": ("快速（--quick）", "quick cases (--quick)"),
-    "cases": ("案例", "Cases"),
-    "counts": ("通过 / 不通过 / 出错", "passed / failed / errors"),
-    "overall": ("总结论", "Overall verdict"),
-    "duration": ("用时", "Duration"),
-    "summary": ("1 概述", "1 Summary"),
-    "method": ("2 方法", "2 Method"),
-    "method_text": (
-        "每个案例用所安装的 metro 及其插件计算已发表的算例或参考数据，并在所述容差内与发表值比较："
-        "文本（标准中印出的数）须逐位相同，"
-        "数值须满足 |计算值 − 参考值| ≤ 绝对容差 + 相对容差·|参考值|。"
-        "全部案例通过时软件视为已确认。",
-        "Each case computes a published worked example or reference data set with the installed "
-        "metro and its plugins and compares the result with the published values at the "
-        "tolerance stated: text (a value as the standard prints it) must agree digit for digit, "
-        "numbers within |computed − reference| ≤ absolute tolerance + relative tolerance · "
-        "|reference|. The software is validated when every case passes."),
-    "software": ("3 软件与平台", "3 Software and platform"),
-    "results": ("4 案例结果", "4 Results of the cases"),
-    "annex": ("附录 A 已安装文件的 SHA-256", "Annex A SHA-256 of the installed files"),
-    "annex_text": ("metro 及其插件的每个已安装文件（编译缓存除外）。",
-                   "Every installed file of metro and its plugins (compiled caches left out)."),
-    "python": ("Python", "Python"),
-    "platform": ("平台", "Platform"),
-    "plugin": ("插件", "Plugin"),
-    "plugins_of": ("来源插件", "Contributed by"),
-    "quantity": ("量", "Quantity"),
-    "reference": ("参考值", "Reference"),
-    "computed": ("计算值", "Result"),
-    "tolerance": ("容差", "Tolerance"),
-    "verdict": ("结论", "Verdict"),
-    "source": ("来源", "Source"),
-    "file": ("文件", "File"),
-    "pass": ("通过", "pass"),
-    "fail": ("不通过", "FAIL"),
-    "error": ("出错", "ERROR"),
-    "validated": ("已确认：全部案例通过", "validated: every case passed"),
-    "not_validated": ("未确认：有案例未通过", "NOT validated: a case did not pass"),
-    "metro_cases": ("metro 自身", "metro itself"),
-    "footer": ("metro validate", "metro validate"),
-    "not_registered": ("未登记（无实验室配置）", "not registered (no lab profile)"),
+    k: (zh, en) for k, zh, en in (ln.split(" | ") for ln in _LABEL_LINES.strip().splitlines())
 }
+LABELS["method_text"] = (
+    "每个案例用所安装的 metro 及其插件计算已发表的算例或参考数据，并在所述容差内与发表值比较："
+    "文本（标准中印出的数）须逐位相同，"
+    "数值须满足 |计算值 − 参考值| ≤ 绝对容差 + 相对容差·|参考值|。全部案例通过时软件视为已确认。",
+    "Each case computes a published worked example or reference data set with the installed "
+    "metro and its plugins and compares the result with the published values at the tolerance "
+    "stated: text (a value as the standard prints it) must agree digit for digit, numbers within "
+    "|computed − reference| ≤ absolute tolerance + relative tolerance · |reference|. The "
+    "software is validated when every case passes.")
+LABELS["annex_text"] = ("metro 及其插件的每个已安装文件（编译缓存除外）。",
+                        "Every installed file of metro and its plugins (compiled caches left out).")
 
 
 def _say(tr: "Translator", key: str) -> str:
