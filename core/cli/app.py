@@ -183,6 +183,10 @@ def _add_run(sub: Any) -> None:
     r.add_argument("--lang", choices=("zh", "en", "zh+en"),
                    help="language of the report (default: the lab profile's, else zh+en)")
     r.add_argument("--seed", type=int, help="seed of the simulated station (no --data)")
+    r.add_argument("--monte-carlo", action="store_true",
+                   help="check every budget by Monte Carlo (JCGM 101): its u and shortest "
+                   "interval beside GUM's, and whether GUM's interval is validated "
+                   "(docs/monte-carlo.md)")
     r.add_argument("--strict", action="store_true",
                    help="on the simulated station too, exit 3/4 when the virtual device does not "
                    "conform or is indeterminate (recorded data always do)")
@@ -485,6 +489,10 @@ def _cmd_run(args) -> int:
                            station=args.station,
                            station_options=station_options, progress=prog, run_all=args.run_all,
                            decision_rule=args.decision_rule, **_lab_options(args))
+        if getattr(args, "monte_carlo", False):  # JCGM 101 clause 8 (core/run/montecarlo_run.py)
+            from ..run.montecarlo_run import with_monte_carlo
+
+            record = with_monte_carlo(record, args.seed)
         for w in record.campaign.warnings:  # deprecated spellings, unknown keys (core.vocabulary)
             print(f"metro: warning: {w}", file=sys.stderr)
         report_path = registration = None

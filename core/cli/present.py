@@ -173,6 +173,8 @@ def _print_results(con: Any, record: RunRecord) -> list[tuple[str, str, Any]]:
     from rich.markup import escape as esc
     from rich.table import Table
 
+    from ..documents.context import monte_carlo_interval
+
     colour = VERDICT_COLOUR
     verdicts: dict[tuple[str, str], Any] = {}
     if record.conformity is not None:
@@ -212,10 +214,22 @@ def _print_results(con: Any, record: RunRecord) -> list[tuple[str, str, Any]]:
                              "[yellow]not reportable[/] (why: below)")
             if r.earth_rate:
                 notes.append(f"earth rate {r.earth_rate}")
+            if r.monte_carlo is not None:  # --monte-carlo (JCGM 101 clause 8)
+                notes.append("GUM validated by MC" if r.monte_carlo.validated else
+                             "[yellow]GUM not validated by MC[/]")
             t.add_row(o.item, esc(f"{r.metric.name} {r.metric.symbol}"), esc(str(v)),
                       esc(str(u_text)),
                       esc(fmt_unit(r.metric.unit)), "; ".join(notes))
     con.print(t)
+    checked = [(o.item, r) for o in record.outcomes for r in o.results
+               if r.monte_carlo is not None]
+    if checked:
+        failed = [f"{item} {r.metric.symbol or r.metric.key} {monte_carlo_interval(r)}"
+                  for item, r in checked if not r.monte_carlo.validated]
+        con.print(f"Monte Carlo (JCGM 101): the GUM interval is validated for "
+                  f"{len(checked) - len(failed)} of {len(checked)} budgets"
+                  + (f"; not for {esc('; '.join(failed))} (the Monte Carlo interval, which "
+                     "the report states)" if failed else ""))
     return withheld
 
 

@@ -148,6 +148,10 @@ def result_row(r: "Result") -> dict[str, Any]:
         Utext = f"u = {fmt_num(u, 2)}"  # a standard uncertainty without a budget: say so
     reference = m.clause + (f", {m.equation}" if m.equation else "")
     unit = unit_text(m.unit)
+    k_text = DASH if r.k is None else fmt_num(r.k, 3)
+    mc = monte_carlo_interval(r)
+    if mc is not None:  # GUM not validated (JCGM 101 clause 8): the Monte Carlo interval instead
+        Utext, k_text = mc, "MC"
     return {
         "reportable": bool(getattr(r, "reportable", True)),
         "reason": getattr(r, "reason", "") or "",
@@ -163,12 +167,51 @@ def result_row(r: "Result") -> dict[str, Any]:
         "value": vtext,
         "U": Utext if Utext is not None else DASH,
         "unit": unit_text(m.unit) or "1",
-        "k": DASH if r.k is None else fmt_num(r.k, 3),
+        "k": k_text,
+        # GUM not validated: the Monte Carlo interval's coverage probability in % (else None)
+        "monte_carlo_p": None if mc is None else fmt_num(100 * r.monte_carlo.p, 4),
         "clause": m.clause,
         "equation": m.equation,
         "reference": reference or DASH,
         "note": r.note,
     }
+
+
+def monte_carlo_interval(r: "Result", *, always: bool = False) -> str | None:
+    """The Monte Carlo coverage interval of a result as the certificate prints it, ``[low, high]``
+    with both ends rounded to the place of two significant digits of its half-width (JJF 1059.1
+    5.3.8) — for a result whose GUM interval the check did not validate (JCGM 101 clause 8), or
+    for any checked result with ``always``; else None."""
+    mc = getattr(r, "monte_carlo", None)
+    if mc is None or (mc.validated and not always):
+        return None
+    from ..uncertainty.budget import round_to, round_uncertainty
+
+    low, high = r.monte_carlo_dict()["interval"]
+    place = round_uncertainty(abs(high - low) / 2).exponent if high > low else 0
+    return f"[{round_to(low, place).text}, {round_to(high, place).text}]"
+
+
+def monte_carlo_note(r: "Result") -> Any:
+    """The budget's Monte Carlo line (JCGM 101): u and the shortest interval beside GUM's, and
+    the clause-8 verdict; ``""`` without a check."""
+    mc = getattr(r, "monte_carlo", None)
+    if mc is None:
+        return ""
+    d = r.monte_carlo_dict()
+    fields = {"u": fmt_num(d["u"], 3), "p": fmt_num(100 * d["p"], 4),
+              "interval": monte_carlo_interval(r, always=True),
+              "unit": unit_text(r.metric.unit) or "1", "trials": f"{d['trials']:,}",
+              "d_low": fmt_num(d["d_low"], 2), "d_high": fmt_num(d["d_high"], 2),
+              "delta": fmt_num(d["delta"], 1)}
+    if mc.validated:
+        return msg("Monte Carlo (JCGM 101, {trials} trials): u = {u}, shortest {p} % coverage "
+                   "interval {interval} {unit}; the GUM interval is validated (d_low = {d_low}, "
+                   "d_high = {d_high} ≤ δ = {delta}, JCGM 101 clause 8).", **fields)
+    return msg("Monte Carlo (JCGM 101, {trials} trials): u = {u}, shortest {p} % coverage "
+               "interval {interval} {unit}; the GUM interval is not validated (d_low = {d_low}, "
+               "d_high = {d_high}, δ = {delta}, JCGM 101 clause 8): the result states the "
+               "Monte Carlo interval.", **fields)
 
 
 def budget_title(m: Any, measurand: str) -> str:
@@ -242,7 +285,8 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
         "U": d["U_reported"],
         "U_unrounded": fmt_num(d["U"]),
         "rounding": d["rounding"],
-        "note": d["note"],
+        "note": join(" ", [x for x in (d["note"], monte_carlo_note(r)) if x]) if getattr(
+            r, "monte_carlo", None) is not None else d["note"],
     }
 
 
@@ -297,6 +341,11 @@ def _outcome_block(
         "results": [result_row(r) for r in results],
         "notes": [
             join(": ", [r.metric.symbol or r.metric.name, r.note]) for r in results if r.note
+        ] + [
+            msg("{symbol}: the GUM interval (value ± U) is not validated by Monte Carlo (JCGM 101 "
+                "clause 8); U gives the Monte Carlo {p} % coverage interval (shortest) instead.",
+                symbol=r.metric.symbol or r.metric.name, p=fmt_num(100 * r.monte_carlo.p, 4))
+            for r in results if monte_carlo_interval(r) is not None
         ],
         "budgets": [_budget_block(r, r.budget) for r in results if r.budget is not None],
         "tables": [_table_block(t) for t in o.tables],

@@ -118,6 +118,8 @@ def result_cells(doc: DocumentBuilder, r: dict) -> tuple[str, str]:
         return value, U
     if r.get("U") in ("0", "0.0"):  # a count or a value taken as declared: no k to state
         return value, tr("no uncertainty (exact)")
+    if r.get("monte_carlo_p"):  # GUM not validated (JCGM 101 clause 8): the Monte Carlo interval
+        return value, tr("{interval} (Monte Carlo, {p} %)", interval=U, p=r["monte_carlo_p"])
     return value, f"U = {U} (k = {r['k']})"
 
 

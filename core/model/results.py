@@ -122,6 +122,10 @@ class Result:
     #: instrument's range): "lower" — the true value is at least ``value``; "upper" — at most; "" —
     #: no bound (stated with :data:`BOUND_SIGNS`)
     bound: str = attrs.field(default="", validator=attrs.validators.in_(("", "lower", "upper")))
+    #: the Monte Carlo check of the budget (JCGM 101 clause 8), a
+    #: :class:`~metro.core.uncertainty.montecarlo_budget.BudgetCheck`, when the run asked for it
+    #: (``metro run --monte-carlo``), else None
+    monte_carlo: Any = None
 
     @property
     def bound_sign(self) -> str:
@@ -193,7 +197,14 @@ class Result:
             "reason": self.reason or None,
             "earth_rate": self.earth_rate or None,
             "bound": self.bound or None,
-        }
+        } | ({} if self.monte_carlo is None else {"monte_carlo": self.monte_carlo_dict()})
+
+    def monte_carlo_dict(self) -> dict:
+        """The Monte Carlo check in the metric's unit, its interval about the value (``--json``'s
+        ``monte_carlo``; docs/monte-carlo.md)."""
+        unit_ = difference_unit(self.metric.unit)
+        scale = float((1.0 * self.budget.unit).to(unit_).magnitude)
+        return self.monte_carlo.as_dict(scale, float(self.value.to(self.metric.unit).magnitude))
 
 
 @attrs.frozen

@@ -28,7 +28,7 @@ from __future__ import annotations
 import functools
 import math
 from decimal import ROUND_CEILING, ROUND_HALF_EVEN, ROUND_FLOOR, Decimal
-from typing import Literal
+from typing import TYPE_CHECKING, Callable, Literal
 
 import attrs
 import pint
@@ -36,6 +36,9 @@ import pint
 from ..base.locale import msg
 from ..base.formatting import power_of_ten
 from ..base.units import Q_, fmt_unit, ureg
+
+if TYPE_CHECKING:
+    import numpy as np
 
 Distribution = Literal["normal", "uniform", "triangular", "arcsine", "t", "rectangular"]
 RoundMode = Literal["half-even", "up"]
@@ -242,6 +245,15 @@ class UncertaintyBudget:
     relative: bool = False
     #: a remark printed under the budget table, or ``""``
     note: str = ""
+    #: the measurement model where it is not the linear Σ c_i·x_i (a ratio, a maximum, a squared
+    #: term), or None: a function of the rows' input deviations δx_i — an array of shape
+    #: (rows, M), row i in the unit of its ``value``, drawn about 0 with u(x_i) — that returns the
+    #: M deviations δy of the output from its estimate, in ``unit``.  It reads the rows it needs
+    #: by position (a row appended later is drawn but need not be read).  Only the Monte Carlo
+    #: check (:mod:`.montecarlo_budget`) uses it: u_c, ν_eff, k and U stay those of the rows
+    model: Callable[[np.ndarray], np.ndarray] | None = attrs.field(
+        default=None, kw_only=True, eq=False, repr=False
+    )
 
     @rows.validator
     def _check_rows(self, attribute, rows) -> None:

@@ -28,6 +28,11 @@ DISTRIBUTIONS = ("normal", "rectangular", "uniform", "triangular", "arcsine", "t
 #: trials per batch of the adaptive procedure (JCGM 101 clause 7.9.4 b: max(J/(1 − p), 10⁴))
 BATCH = 10_000
 
+#: the fewest batches the adaptive procedure runs: the standard deviation s of h batch means
+#: rests on h − 1 degrees of freedom, and with h = 2 (clause 7.9.4's minimum) a lucky pair stops
+#: the run at 2·10⁴ trials with endpoints off by several δ; ten batches give s nine
+MIN_BATCHES = 10
+
 #: the largest number of trials the adaptive procedure runs before it stops unconverged
 MAX_TRIALS = 5_000_000
 
@@ -189,14 +194,21 @@ def propagate(
     rng: np.random.Generator | int | None = None,
     trials: int | None = None,
     max_trials: int = MAX_TRIALS,
+    delta: float | None = None,
 ) -> MonteCarloResult:
     """Propagate the ``inputs`` through ``model`` (default: their sum) by Monte Carlo.
 
     ``model`` maps the draws, an array of shape (n_inputs, M), to the M model values (clause
     7.5).  With ``trials`` the method runs that many trials at once (clause 7.2); without, the
-    adaptive procedure of clause 7.9.4 adds batches of :data:`BATCH` trials until 2·s ≤ δ for the
+    adaptive procedure of clause 7.9.4 adds batches of :data:`BATCH` trials (at least
+    :data:`MIN_BATCHES`) until 2·s ≤ δ for the
     means of y, u(y) and both endpoints of the shortest interval, δ from ``digits`` significant
-    digits of u(y) (clause 7.9.2), or until ``max_trials``.
+    digits of u(y) (clause 7.9.2), or until ``max_trials``.  A given ``delta`` is used instead
+    (clause 8.2 b: the tolerance of the GUM u(y) a validation compares with).
+
+    A t input with ν ≤ 2 has no variance (clause 6.4.9.4): u(y) is then NaN and left out of the
+    stopping rule, as it is with ν ≤ 4 (the sample variance of such draws has no variance, its
+    batch values do not settle); y and the interval's endpoints still decide.
 
     JCGM 101 9.2.2, four N(0, 1) inputs, Y = X₁ + X₂ + X₃ + X₄:
 
@@ -213,8 +225,15 @@ def propagate(
             draws[i] = x.draw(m, rng)
         return np.asarray(model(draws), dtype=float).reshape(m)
 
+    smallest_dof = min([i.dof for i in inputs if i.distribution == "t"], default=math.inf)
+    watch = [0, 1, 2, 3] if smallest_dof > 4 else [0, 2, 3]
+
+    def finish(values: np.ndarray, converged: bool) -> MonteCarloResult:
+        r = summarise(values, p, digits, converged=converged, delta=delta)
+        return r if smallest_dof > 2 else attrs.evolve(r, u=math.nan)
+
     if trials is not None:
-        return summarise(run(int(trials)), p, digits, converged=True)
+        return finish(run(int(trials)), True)
     batches: list[np.ndarray] = []
     figures: list[np.ndarray] = []
     moments = np.zeros(2)  # Σ(v − y₁), Σ(v − y₁)² about the first batch's mean y₁
@@ -224,29 +243,30 @@ def propagate(
         centred = batches[-1] - figures[0][0]
         moments += (centred.sum(), centred @ centred)
         h = len(batches)
-        if h < 2:
+        if h < MIN_BATCHES:
             continue
         s = np.std(np.array(figures), axis=0, ddof=1) / math.sqrt(h)  # clause 7.9.4 f
         n = h * BATCH  # clause 7.9.4 g: u(y) from all h·M values
         u = math.sqrt(max(moments[1] - moments[0] ** 2 / n, 0.0) / (n - 1))
-        delta = numerical_tolerance(u, digits) if u > 0 else 0.0
-        if u == 0 or bool(np.all(2.0 * s <= delta)):
-            return summarise(np.concatenate(batches), p, digits, converged=True)
+        tol = delta if delta is not None else numerical_tolerance(u, digits) if u > 0 else 0.0
+        if u == 0 or bool(np.all(2.0 * s[watch] <= tol)):
+            return finish(np.concatenate(batches), True)
         if h * BATCH >= max_trials:
-            return summarise(np.concatenate(batches), p, digits, converged=False)
+            return finish(np.concatenate(batches), False)
 
 
-def summarise(values: np.ndarray, p: float, digits: int = 2, *, converged: bool = True
-              ) -> MonteCarloResult:
+def summarise(values: np.ndarray, p: float, digits: int = 2, *, converged: bool = True,
+              delta: float | None = None) -> MonteCarloResult:
     """y, u(y) (JCGM 101 eqs. (12), (13)), both 100p % intervals (clause 7.7) and δ (clause
-    7.9.2) of the model values.
+    7.9.2, or the given ``delta``) of the model values.
 
     >>> summarise(np.arange(1.0, 101.0) ** 2, 0.9).shortest
     (1.0, 8281.0)
     """
     y = np.sort(values)
     u = float(np.std(y, ddof=1))
-    delta = numerical_tolerance(u, digits) if u > 0 else 0.0
+    if delta is None:
+        delta = numerical_tolerance(u, digits) if u > 0 else 0.0
     shortest, symmetric = coverage_intervals(y, p, presorted=True, tolerance=delta)
     return MonteCarloResult(
         float(np.mean(y)), u, float(p), shortest, symmetric, int(y.size), delta, converged

@@ -78,6 +78,8 @@ def documents(tmp_path_factory) -> dict[str, list[dict]]:
         add("doctor", "doctor")
         out = str(tmp / "out")
         add("run", *SIM_GBT, "--seed", "1", "--no-report")
+        add("run", "run", "-s", "ogam", "--all", "--monte-carlo", "--no-progress", "--seed", "1",
+            "--no-report")
         sim = add("run", *SIM_GBT, "--seed", "1", "--out", out, "--register-simulated")
         add(
             "run",

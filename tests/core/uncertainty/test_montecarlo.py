@@ -75,7 +75,7 @@ def test_shortest_and_symmetric_interval_of_an_exponential():
 
 def test_adaptive_procedure_stops_within_the_tolerance():
     r = propagate([Input("normal", 0, 1.0), Input("rectangular", 0, 1.0)], rng=5)
-    assert r.converged and r.trials >= 20_000 and r.trials % montecarlo.BATCH == 0
+    assert r.converged and r.trials >= 100_000 and r.trials % montecarlo.BATCH == 0
     assert r.delta == pytest.approx(0.05)  # u = √2 = 1.4: two digits 14×10⁻¹, δ = 0.05
     assert abs(r.u - math.sqrt(2)) <= 2 * r.delta
     # more digits need more trials
@@ -84,8 +84,8 @@ def test_adaptive_procedure_stops_within_the_tolerance():
 
 
 def test_adaptive_procedure_caps_the_trials():
-    r = propagate([Input("t", 0, 1.0, dof=1.5)], digits=3, rng=1, max_trials=50_000)
-    assert not r.converged and r.trials == 50_000
+    r = propagate([Input("t", 0, 1.0, dof=1.5)], digits=3, rng=1, max_trials=150_000)
+    assert not r.converged and r.trials == 150_000
 
 
 def test_linear_model_of_a_budget():
