@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["add_command", "case_json", "command"]
+__all__ = ["ProgressLine", "add_command", "case_json", "command"]
 
 
 def add_command(sub: Any) -> None:
@@ -45,7 +45,7 @@ def case_json(c: Any) -> dict[str, Any]:
             "seconds": round(c.seconds, 3)}
 
 
-class _Progress:
+class ProgressLine:
     """One line on stderr, redrawn in place and cut to the terminal's width: [i/n] the case."""
 
     def __init__(self, show: bool) -> None:
@@ -61,10 +61,10 @@ class _Progress:
     def __call__(self, i: int, n: int, case: Any) -> None:
         if not self.show:
             return
-        mark = "ok" if case.passed else case.verdict.upper()
+        mark = "…" if case.verdict is None else "ok" if case.passed else case.verdict.upper()
         line = f"[{i}/{n}] {mark:5s} {case.id}"[: self.width]
         sys.stderr.write("\r" + line.ljust(self.width))
-        if i == n:
+        if i == n and case.verdict is not None:
             sys.stderr.write("\r" + " " * self.width + "\r")
         sys.stderr.flush()
 
@@ -137,7 +137,7 @@ def command(args: Any) -> int:
     from .common import EXIT_CHECK_FAILED, EXIT_OK, plugin_manager, show_progress
 
     pm = plugin_manager(args)
-    prog = _Progress(show_progress(args) and not args.json)
+    prog = ProgressLine(show_progress(args) and not args.json)
     run = validate(pm, quick=args.quick, progress=prog, collected=prog.collected)
     report = _write_report(args, run)
     if args.json:

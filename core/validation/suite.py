@@ -69,9 +69,12 @@ def collect(pm: "MetroPluginManager", *, quick: bool = False) -> list[Validation
 def run_cases(cases: Sequence[ValidationCase],
               progress: Callable[[int, int, ValidationCase], None] | None = None
               ) -> list[ValidationCase]:
-    """Run each case in turn; ``progress(i, n, case)`` after each (the case as run)."""
+    """Run each case in turn; ``progress(i, n, case)`` before each (the case not yet run, its
+    verdict None) and after it (the case as run)."""
     out = []
     for i, case in enumerate(cases, 1):
+        if progress is not None:
+            progress(i, len(cases), case)
         done = case.run()
         out.append(done)
         if progress is not None:

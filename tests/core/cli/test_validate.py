@@ -91,3 +91,21 @@ def test_a_broken_formula_makes_validate_fail_and_name_the_case(tmp_path, monkey
     failed = [ln.split()[1] for ln in out.splitlines() if ln.startswith("FAIL")]
     assert failed == ["allan:mdev-nbs14-short", "allan:mdev-nbs14-long"]
     assert "NOT validated" in out
+
+
+def test_the_progress_line_fits_the_terminal(monkeypatch, capsys):
+    """One line redrawn in place, never wider than the terminal (a long case id is cut)."""
+    import os
+
+    from metro.core.cli.validate_command import ProgressLine
+    from metro.core.validation.case import ValidationCase
+
+    monkeypatch.setattr("shutil.get_terminal_size", lambda fallback=None: os.terminal_size((30, 5)))
+    prog = ProgressLine(True)
+    case = ValidationCase("x:" + "long-id-" * 10, "t", "s", [1.0], lambda: 1.0)
+    prog(1, 2, case)
+    prog(1, 2, case.run())
+    err = capsys.readouterr().err
+    lines = err.split("\r")[1:]
+    assert lines and all(len(ln) <= 29 for ln in lines)
+    assert lines[0].startswith("[1/2] …") and lines[1].startswith("[1/2] ok")
