@@ -10,8 +10,11 @@ from __future__ import annotations
 
 import datetime as dt
 import hashlib
+import math
 import os
+import re
 import threading
+import time
 import urllib.parse
 from pathlib import Path
 from typing import Any, Mapping
@@ -68,10 +71,20 @@ def _environment():
 
     env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(str(Path(__file__).parent / "templates")),
-        autoescape=True, trim_blocks=True, lstrip_blocks=True)
-    env.filters["q"] = lambda s: urllib.parse.quote(str(s), safe="")
+        autoescape=True, trim_blocks=True, lstrip_blocks=True, auto_reload=False)
+    env.filters["q"] = _quote
     env.filters["num"] = _num
     return env
+
+
+#: what needs no quoting in a path segment
+_PLAIN = re.compile(r"[A-Za-z0-9_.~-]*\Z")
+
+
+def _quote(v: Any) -> str:
+    """A path segment: ``v`` percent-encoded (``/`` too)."""
+    s = str(v)
+    return s if _PLAIN.match(s) else urllib.parse.quote(s, safe="")
 
 
 def _num(v: Any) -> str:
@@ -82,8 +95,17 @@ def _num(v: Any) -> str:
     return str(v)
 
 
+def _with_lang(request: Request, lang: str) -> str:
+    """This page's path and query with ``lang=`` (relative: the Host header is not trusted)."""
+    query = {k: v for k, v in request.query_params.items() if k != "lang"}
+    return request.url.path + "?" + urllib.parse.urlencode({**query, "lang": lang})
+
+
 class Site:
     """The pages of one register (``url``) and lab profile (``lab``, may be None)."""
+
+    #: how long a list page may lag the register (seconds)
+    VERSION_TTL = 1.0
 
     def __init__(self, url: str, lab: LabProfile | None) -> None:
         self.url = url
@@ -91,13 +113,16 @@ class Site:
         self.env = _environment()
         self.default_lang = i18n.default_lang(lab.language if lab else None)
         self.plot_lock = threading.Lock()
+        #: list pages as rendered, by query and language, with the register's version then
+        self.pages: dict[tuple[str, str, int], tuple[tuple, bytes]] = {}
+        self.seen: tuple[float, tuple] = (-math.inf, ())
 
     # -- rendering -----------------------------------------------------------------------
     def lang(self, request: Request) -> str:
         return i18n.pick_lang(request.query_params, request.cookies, self.default_lang)
 
     def render(self, request: Request, template: str, status: int = 200,
-               **ctx: Any) -> HTMLResponse:
+               **ctx: Any) -> Response:
         """A page in the request's language; ``?lang=`` is remembered in a cookie."""
         lang = self.lang(request)
         t = i18n.words(lang)
@@ -106,16 +131,20 @@ class Site:
             lab_name = self.lab.name_zh if lang == "zh" and self.lab.name_zh else self.lab.name
         html = self.env.get_template(template).render(
             t=t, lang=lang, lab_name=lab_name, path=request.url.path,
-            switch={x: str(request.url.include_query_params(lang=x)) for x in i18n.LANGS},
+            switch={x: _with_lang(request, x) for x in i18n.LANGS},
             **ctx)
-        resp = HTMLResponse(html, status_code=status)
-        if request.query_params.get("lang") in i18n.LANGS:
+        return self.remember_lang(request, HTMLResponse(html, status_code=status))
+
+    def remember_lang(self, request: Request, resp: Response) -> Response:
+        """``resp`` with the cookie that remembers ``?lang=`` when the request chose one."""
+        lang = request.query_params.get("lang")
+        if lang in i18n.LANGS:
             resp.set_cookie(i18n.COOKIE, lang, max_age=365 * 86400, httponly=True,
                             samesite="lax")
         return resp
 
     def error(self, request: Request, status: int, key: str, detail: str = "",
-              headers: Mapping[str, str] | None = None) -> HTMLResponse:
+              headers: Mapping[str, str] | None = None) -> Response:
         resp = self.render(request, "error.html", status=status, status_code=status,
                            key=key, detail=detail)
         for k, v in (headers or {}).items():
@@ -126,7 +155,30 @@ class Site:
     def home(self, request: Request) -> Response:
         return RedirectResponse("/reports", status_code=303)
 
-    def reports(self, request: Request) -> Response:
+    async def reports(self, request: Request) -> Response:
+        """A page is kept, by query and language, until the register changes
+        (:func:`queries.version`, one query on indexed keys, read at most once a second): a kept
+        page is answered on the event loop, a new one is read and rendered in the thread pool."""
+        key = (str(request.query_params), self.lang(request), queries.PAGE_SIZE)
+        version = self.version()
+        kept = self.pages.get(key)
+        if kept is not None and kept[0] == version:
+            return self.remember_lang(request, HTMLResponse(kept[1]))
+        resp = await run_in_threadpool(self.list_page, request)
+        if resp.status_code == 200:
+            if len(self.pages) >= 512:
+                self.pages.pop(next(iter(self.pages)))
+            self.pages[key] = (version, bytes(resp.body))
+        return resp
+
+    def version(self) -> tuple:
+        """The register's version (:func:`queries.version`), read at most once a second."""
+        now = time.monotonic()
+        if now - self.seen[0] >= self.VERSION_TTL:
+            self.seen = (now, queries.version(self.url))
+        return self.seen[1]
+
+    def list_page(self, request: Request) -> Response:
         q = request.query_params
         try:
             filters = queries.Filters.parse(q)
@@ -143,7 +195,7 @@ class Site:
                            standards=queries.standards(self.url), statuses=queries.STATUSES,
                            page_url=page_url)
 
-    def _report_or_404(self, request: Request) -> dict[str, Any] | HTMLResponse:
+    def _report_or_404(self, request: Request) -> dict[str, Any] | Response:
         number = request.path_params["number"]
         if not queries.NUMBER_RE.match(number):
             return self.error(request, 404, "not_found", "not a report number")

@@ -5,21 +5,24 @@ against its SHA-256."""
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
 import hashlib
+import json
 import re
+import threading
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any, Iterable, Iterator, Mapping
 
 import attrs
 
 from ..record.register import Register, report_dict, sqlite_path
 from ..record.register.models import STATUSES
-from ..record.register.reading import reading
+from ..record.register.reading import Reader, libpq_url
 
 __all__ = ["PAGE_SIZE", "NUMBER_RE", "KINDS", "Filters", "Page", "list_reports", "standards",
-           "get_report", "chain", "device_history", "lab_equipment_status", "checked_file",
-           "FileProblem", "upload_matches", "history_png", "dcc_pdf", "word_pdf"]
+           "get_report", "version", "chain", "device_history", "lab_equipment_status",
+           "checked_file", "FileProblem", "upload_matches", "history_png", "dcc_pdf", "word_pdf"]
 
 #: reports on one list page
 PAGE_SIZE = 25
@@ -102,28 +105,134 @@ class Page:
     pages: int
 
 
+class _PooledReader(Reader):
+    """A :class:`~metro.core.record.register.reading.Reader` on a kept connection."""
+
+    def __init__(self, conn: Any, sqlite: bool) -> None:  # the connection is given
+        self.conn = conn
+        self.sqlite = sqlite
+        self.mark = "?" if sqlite else "%s"
+
+
+class _Pool:
+    """Read-only connections to one register, kept between requests (a PostgreSQL connection
+    costs a server process; an SQLite one is opened ``mode=ro``).  PostgreSQL sessions are set
+    ``default_transaction_read_only``: the database itself refuses a write through them."""
+
+    #: connections at most (a request waits for a free one: opening a PostgreSQL connection costs
+    #: more than waiting for one)
+    SIZE = 8
+
+    def __init__(self, url: str) -> None:
+        self.url = url
+        self.file = sqlite_path(url)
+        self.idle: list[Any] = []
+        self.lock = threading.Lock()
+        self.free = threading.BoundedSemaphore(self.SIZE)
+
+    def _open(self) -> Any:
+        if self.file is not None:
+            import sqlite3
+            import urllib.parse
+
+            uri = "file:" + urllib.parse.quote(str(self.file)) + "?mode=ro"
+            return sqlite3.connect(uri, uri=True, timeout=300, check_same_thread=False,
+                                   isolation_level=None)
+        import psycopg
+
+        conn = psycopg.connect(libpq_url(self.url), autocommit=True)
+        conn.execute("SET default_transaction_read_only = on")
+        return conn
+
+    @contextlib.contextmanager
+    def reader(self) -> Iterator[Reader]:
+        with self.free:
+            with self.lock:
+                conn = self.idle.pop() if self.idle else None
+            if conn is None:
+                conn = self._open()
+            try:
+                yield _PooledReader(conn, self.file is not None)
+            except BaseException:
+                conn.close()  # perhaps broken: never reused
+                raise
+            with self.lock:
+                self.idle.append(conn)
+
+
+_POOLS: dict[str, _Pool] = {}
+_POOLS_LOCK = threading.Lock()
+
+
 def _reader(url: str):
-    return reading(url, sqlite_path(url))
+    """A reader of the register at ``url`` on a kept read-only connection."""
+    with _POOLS_LOCK:
+        pool = _POOLS.get(url)
+        if pool is None:
+            pool = _POOLS[url] = _Pool(url)
+    return pool.reader()
+
+
+#: the columns a list page shows (JSON columns other than ``items`` are not read)
+LIST_COLUMNS = ("id", "number", "status", "superseded_by", "standard", "items",
+                "device_manufacturer", "device_model", "device_serial", "customer",
+                "measurement_date", "issued_at", "simulated")
 
 
 def list_reports(url: str, filters: Filters, page: int = 1, size: int = PAGE_SIZE) -> Page:
-    """The reports matching ``filters``, newest issue first, page ``page`` (from 1) of ``size``."""
+    """The reports matching ``filters``, newest issue first, page ``page`` (from 1) of ``size``:
+    each a dict of :data:`LIST_COLUMNS` with ``device`` (manufacturer, model, serial), the dates as
+    text (``issued_at``: date and time in UTC)."""
     with _reader(url) as r:
         where, params = filters.where(r.sqlite)
         total = r.rows(f"SELECT count(*) FROM reports {where}", params)[0][0]
         pages = max(1, -(-total // size))
         page = min(max(1, page), pages)
-        sub = (f"WHERE id IN (SELECT id FROM reports {where} ORDER BY issued_at DESC, id DESC "
-               f"LIMIT {int(size)} OFFSET {int((page - 1) * size)})")
-        rows = r.reports(sub, params)
-    reports = [report_dict(x) for x in reversed(rows)]
+        names = ", ".join(f'"{c}"' for c in LIST_COLUMNS)
+        found = r.rows(f"SELECT {names} FROM reports {where} ORDER BY id DESC "
+                       f"LIMIT {int(size)} OFFSET {int((page - 1) * size)}", params)
+        sqlite = r.sqlite
+    reports = []
+    for row in found:
+        x = dict(zip(LIST_COLUMNS, row))
+        # as the list shows them: dates as text (SQLite keeps them so), items a list
+        x["measurement_date"] = str(x["measurement_date"])
+        x["issued_at"] = str(x["issued_at"])
+        x["items"] = json.loads(x["items"]) if sqlite else x["items"]
+        x["device"] = {"manufacturer": x["device_manufacturer"], "model": x["device_model"],
+                       "serial": x["device_serial"]}
+        reports.append(x)
     return Page(reports=reports, total=total, page=page, pages=pages)
 
 
-def standards(url: str) -> list[str]:
-    """The standards in the register (for the filter's choices)."""
+def version(url: str) -> tuple:
+    """What changes whenever the register does (a report issued, amended or withdrawn: each
+    writes an audit entry): the newest audit entry, the newest report and the number of reports,
+    read in one query on indexed keys."""
     with _reader(url) as r:
-        return [row[0] for row in r.rows("SELECT DISTINCT standard FROM reports ORDER BY standard")]
+        return tuple(r.rows("SELECT (SELECT max(id) FROM audit), (SELECT max(id) FROM reports), "
+                            "(SELECT count(*) FROM reports)")[0])
+
+
+#: the standards of each register and when they were read (the filter's choices: a standard
+#: new to the register shows within STANDARDS_TTL seconds)
+_STANDARDS: dict[str, tuple[float, list[str]]] = {}
+STANDARDS_TTL = 10.0
+
+
+def standards(url: str) -> list[str]:
+    """The standards in the register (for the filter's choices), read again every 10 s."""
+    import time
+
+    now = time.monotonic()
+    cached = _STANDARDS.get(url)
+    if cached is not None and now - cached[0] < STANDARDS_TTL:
+        return cached[1]
+    with _reader(url) as r:
+        found = [row[0] for row in r.rows("SELECT DISTINCT standard FROM reports ORDER BY "
+                                          "standard")]
+    _STANDARDS[url] = (now, found)
+    return found
 
 
 def get_report(url: str, number: str) -> dict[str, Any] | None:

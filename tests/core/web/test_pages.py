@@ -207,3 +207,19 @@ def test_the_language_follows_the_lab_then_the_switch_then_the_cookie(web):
     assert f"报告 {n['first']} 已被替代" in client.get(f"/verify/{n['first']}").text
     assert '<html lang="en">' in client.get("/equipment?lang=en").text
     assert '<html lang="en">' in client.get("/equipment?lang=fr").text  # cookie: en again
+
+
+def test_a_list_page_follows_the_register_within_a_second(web, web_register):
+    import time
+
+    from metro.core.record.register import open_register
+    from metro.core.web.app import Site
+
+    client, n, _ = web
+    status = re.compile(rf'data-number="{n["later"]}" data-status="(\w+)"')
+    assert status.search(client.get("/reports").text).group(1) == "issued"
+    with open_register(web_register[0], create=False) as reg:
+        reg.withdraw(n["later"], "a late correction", who="qm@lab")
+    time.sleep(Site.VERSION_TTL + 0.05)
+    assert status.search(client.get("/reports").text).group(1) == "withdrawn"
+    assert status.search(client.get("/reports?lang=zh").text).group(1) == "withdrawn"
