@@ -136,7 +136,7 @@ def comparison_loss(x1: float) -> list[ExampleFigure]:
     gum = first_order_u([Input("normal", x1, u), Input("normal", 0.0, u)],
                         lambda x: x[0] ** 2 + x[1] ** 2)  # c₁ = 2x₁, c₂ = 2x₂ = 0
     return [
-        _figure(f"{name}: u(δy) GUM", 100e-6, numerical_tolerance(100e-6, 2), gum,
+        _figure(f"{name}: u(δy) GUM", 100e-6, numerical_tolerance(100e-6, 3), gum,
                 monte_carlo=False),
         _figure(f"{name}: u(δy) Monte Carlo", 112e-6, numerical_tolerance(112e-6, 3), r.u),
     ]

@@ -1,0 +1,93 @@
+"""Coverage of the certificate's interval when ``metro run --monte-carlo`` moves it to Monte Carlo.
+
+Run:  .venv/bin/python benchmarks/within_mc.py -s STANDARD (-i ITEMS | --all) [--seeds A:B]
+                                               [--station-option NAME=VALUE ...]
+
+For each seed the items run on their simulated station (as benchmarks/within_u.py does), every
+budget is checked by Monte Carlo (JCGM 101, core/run/montecarlo_run.py, seeded with the seed),
+and each result the station's declared truth covers is compared with it twice: within the GUM
+interval value ± U, and within the interval the certificate states — the Monte Carlo shortest
+interval where the GUM one is not validated (JCGM 101 clause 8), else value ± U.  Per result:
+the seeds, how many moved to Monte Carlo, the GUM coverage, and the certificate's coverage over
+all seeds and over the moved ones.  Figures in docs/monte-carlo.md.
+
+Example: benchmarks/within_mc.py -s jjf2003 -i 7.2.2,7.2.4,7.2.5 --seeds 1:101
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+
+def _pairs(values: list[str]) -> dict[str, object]:
+    out: dict[str, object] = {}
+    for v in values:
+        k, _, x = v.partition("=")
+        try:
+            out[k] = float(x) if any(c in x for c in ".eE") else int(x)
+        except ValueError:
+            out[k] = x
+    return out
+
+
+def sweep(standard: str, items: list[str], seeds: range, station_options: dict) -> dict:
+    """(item, key) → list of (moved, within GUM U, within the certificate's interval)."""
+    from metro.core.run.montecarlo_run import with_monte_carlo
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
+
+    pm = get_plugin_manager(autoload=False)
+    rows: dict[tuple[str, str], list[tuple[bool, bool, bool]]] = {}
+    for seed in seeds:
+        rec = run_items(pm, standard, items, station_options=station_options | {"seed": seed})
+        rec = with_monte_carlo(rec, seed)
+        expected = rec.campaign.expected
+        for o in rec.outcomes:
+            for r in o.results:
+                if r.metric.key not in expected or r.monte_carlo is None or not r.reportable:
+                    continue
+                unit = r.metric.unit
+                v = float(r.value.to(unit).magnitude)
+                t = float(expected[r.metric.key].to(unit).magnitude)
+                gum = abs(v - t) <= float(r.U.magnitude)
+                moved = not r.monte_carlo.validated
+                low, high = r.monte_carlo_dict()["interval"]
+                cert = low <= t <= high if moved else gum
+                rows.setdefault((o.item, r.metric.key), []).append((moved, gum, cert))
+    return rows
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("-s", "--standard", required=True)
+    ap.add_argument("-i", "--item", default="", help="comma-separated item ids")
+    ap.add_argument("--all", action="store_true", help="every item of the standard")
+    ap.add_argument("--seeds", default="1:101", help="first:stop")
+    ap.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE")
+    a = ap.parse_args()
+    items = [x for x in a.item.split(",") if x]
+    if a.all:
+        from metro.core.run.plugin_manager import get_plugin_manager
+
+        items = [p.item for p in get_plugin_manager(autoload=False).procedures_of(a.standard)]
+    first, stop = (int(x) for x in a.seeds.split(":"))
+    t0 = time.perf_counter()
+    rows = sweep(a.standard, items, range(first, stop), _pairs(a.station_option))
+    print(f"{a.standard}: items {','.join(items)}, seeds {first}–{stop - 1}, "
+          f"{time.perf_counter() - t0:.0f} s")
+    print("| item | result | seeds | moved to MC | within GUM U | within the certificate's "
+          "interval | within it, moved seeds |")
+    print("|---|---|---|---|---|---|---|")
+    for (item, key), v in rows.items():
+        n = len(v)
+        moved = [c for m, _, c in v if m]
+        within_moved = (f"{100 * sum(moved) / len(moved):.1f} % ({len(moved)})" if moved
+                        else "—")
+        print(f"| {item} | {key} | {n} | {len(moved)} | {100 * sum(g for _, g, _ in v) / n:.1f} % "
+              f"| {100 * sum(c for _, _, c in v) / n:.1f} % | {within_moved} |")
+
+
+if __name__ == "__main__":
+    main()
