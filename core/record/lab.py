@@ -21,6 +21,7 @@ Importing this module is cheap (attrs and tomllib); the lab's equipment is parse
 from __future__ import annotations
 
 import os
+import re
 import string
 import tomllib
 from pathlib import Path
@@ -110,6 +111,8 @@ class LabProfile:
     name_zh: str = ""
     name_en: str = ""
     address: str = ""
+    #: ISO 3166-1 alpha-2 code of the lab's country (``CN``), written into a DCC's coreData
+    country: str = ""
     accreditation_body: str = ""
     accreditation_number: str = ""
     logo: Path | None = None
@@ -169,7 +172,7 @@ class LabProfile:
             })
         return {
             "source": self.source, "name_zh": self.name_zh, "name_en": self.name_en,
-            "address": self.address,
+            "address": self.address, "country": self.country,
             "accreditation_body": self.accreditation_body,
             "accreditation_number": self.accreditation_number,
             "logo": str(self.logo) if self.logo else None,
@@ -229,7 +232,8 @@ def lab_in_force(cli_path: str | os.PathLike[str] | None = None, *,
 # Reading
 # --------------------------------------------------------------------------------------
 
-_LAB_KEYS = {"name_zh", "name_en", "address", "accreditation_body", "accreditation_number", "logo",
+_LAB_KEYS = {"name_zh", "name_en", "address", "country", "accreditation_body",
+             "accreditation_number", "logo",
              "language", "timezone", "register", "verify_url"}
 
 
@@ -403,6 +407,9 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
         raise DataError(src, "lab.timezone", f"unknown time zone {tz!r}",
                         hint="an IANA name such as Asia/Shanghai or UTC") from exc
     register = _register(vals["register"], base, src)
+    if vals["country"] and not re.fullmatch(r"[A-Z]{2}", vals["country"]):
+        raise DataError(src, "lab.country",
+                        f"{vals['country']!r} is not an ISO 3166-1 alpha-2 code", hint='two capital letters, e.g. country = "CN"')
     problem = verify_url_problem(vals["verify_url"]) if vals["verify_url"] else None
     if problem:
         raise DataError(src, "lab.verify_url", f"{vals['verify_url']!r} {problem}",
@@ -418,6 +425,7 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
         equipment += read_store(p, {e.id for e in equipment})
     return LabProfile(
         name_zh=vals["name_zh"], name_en=vals["name_en"], address=vals["address"],
+        country=vals["country"],
         accreditation_body=vals["accreditation_body"],
         accreditation_number=vals["accreditation_number"],
         logo=logo, signatories=signatories, prefix=prefix, scheme=scheme, language=language,
@@ -438,6 +446,7 @@ format = "metro-lab/1"
 name_zh = "示例计量实验室"                 # the lab's name in Chinese
 name_en = "Example Metrology Laboratory"  # … and in English (one of the two is required)
 address = "1 Example Road, Example City"
+country = "CN"                          # ISO 3166-1 alpha-2 (a DCC's coreData names it)
 accreditation_body = "CNAS"              # who accredits the lab (leave empty if not accredited)
 accreditation_number = "CNAS L00000"
 # logo = "logo.png"                      # an image beside this file, printed on certificates

@@ -66,7 +66,8 @@ def with_lab(record: "RunRecord", lab: "LabProfile") -> "RunRecord":
               "operator_title": cal.title if cal else "", "checked_by_title": chk.title if chk
               else "",
               "approved_by_title": app.title if app else "",
-              "lab_logo": str(lab.logo) if lab.logo else "", "lab_verify_url": lab.verify_url}
+              "lab_logo": str(lab.logo) if lab.logo else "", "lab_verify_url": lab.verify_url,
+              "country": lab.country}
     added = {k: v for k, v in values.items() if v and not given(k)}
     for person in ("operator", "checked_by", "approved_by"):  # the title goes with the person
         if given(person):

@@ -89,6 +89,7 @@ def test_register_env_overrides(tmp_path, capsys, monkeypatch):
      "format", "unsupported"),
     ('[lab]', '[lab]\n[lab.extra]',
      "lab.extra", "unknown key"),
+    ('country = "CN"', 'country = "China"', "lab.country", "ISO 3166-1 alpha-2"),
     ('# verify_url = "https://lab.example/verify/"', 'verify_url = "lab.example/verify/"',
      "lab.verify_url", "not an http"),
     ('# verify_url = "https://lab.example/verify/"', 'verify_url = "ftp://lab.example/verify/"',
@@ -145,3 +146,22 @@ def test_verify_url_is_read(tmp_path, capsys):
     path.write_text(text.replace('# verify_url = "https://lab.example/verify/"',
                                  'verify_url = "http://10.0.0.5:8000/verify"'), encoding="utf-8")
     assert labmod.load_lab(path).verify_url == "http://10.0.0.5:8000/verify"
+
+
+def test_the_labs_country_reaches_the_campaign_unless_the_campaign_names_one(tmp_path, capsys):
+    """``country`` of the profile goes where a DCC's coreData reads it (the campaign's meta), as
+    the lab's address does; a campaign's own ``country`` is kept."""
+    import attrs
+
+    from metro.core.record.registering import with_lab
+    from metro.core.run.plugin_manager import get_plugin_manager
+    from metro.core.run.runner import run_items
+
+    lab = labmod.load_lab(_init(tmp_path, capsys))
+    assert lab.country == "CN"
+    rec = run_items(get_plugin_manager(autoload=False), "ogam", ["7.1"])
+    assert rec.campaign.meta.get("country") is None
+    assert with_lab(rec, lab).campaign.meta["country"] == "CN"
+    named = attrs.evolve(rec, campaign=attrs.evolve(rec.campaign,
+                                                    meta={**rec.campaign.meta, "country": "DE"}))
+    assert with_lab(named, lab).campaign.meta["country"] == "DE"
