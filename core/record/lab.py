@@ -409,7 +409,8 @@ def load_lab(path: str | os.PathLike[str], *, equipment: bool = True) -> LabProf
     register = _register(vals["register"], base, src)
     if vals["country"] and not re.fullmatch(r"[A-Z]{2}", vals["country"]):
         raise DataError(src, "lab.country",
-                        f"{vals['country']!r} is not an ISO 3166-1 alpha-2 code", hint='two capital letters, e.g. country = "CN"')
+                        f"{vals['country']!r} is not an ISO 3166-1 alpha-2 code",
+                        hint='two capital letters, e.g. country = "CN"')
     problem = verify_url_problem(vals["verify_url"]) if vals["verify_url"] else None
     if problem:
         raise DataError(src, "lab.verify_url", f"{vals['verify_url']!r} {problem}",
