@@ -79,6 +79,7 @@ def fill(url: str, folder: Path, draft_rows) -> dict[str, str]:
                                    reason="customer address corrected")
         fields, result = draft_rows(standard="gbt45570", serial="S1", day=10, value=2.0)
         fields["customer"] = "Acme Instruments"
+        result["value_text"] = "2.0"
         numbers["later"] = issue(reg, fields, result, content=b"later report")
         fields, result = draft_rows(standard="jjf2014", serial="S2", day=5, value=3.0)
         fields.update(device_model=SCRIPT, customer="Tom & Jerry <b>")
