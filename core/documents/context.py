@@ -168,13 +168,12 @@ def result_row(r: "Result") -> dict[str, Any]:
         "U": Utext if Utext is not None else DASH,
         "unit": unit_text(m.unit) or "1",
         "k": k_text,
-        # GUM not validated: the Monte Carlo interval's coverage probability in % (else None)
-        "monte_carlo_p": None if mc is None else fmt_num(100 * r.monte_carlo.p, 4),
         "clause": m.clause,
         "equation": m.equation,
         "reference": reference or DASH,
         "note": r.note,
-    }
+    } | ({} if mc is None else {  # GUM not validated: the Monte Carlo interval's p in %
+        "monte_carlo_p": fmt_num(100 * r.monte_carlo.p, 4)})
 
 
 def monte_carlo_interval(r: "Result", *, always: bool = False) -> str | None:
