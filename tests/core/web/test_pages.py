@@ -224,3 +224,47 @@ def test_a_list_page_follows_the_register_within_a_second(web, web_register):
     time.sleep(Site.VERSION_TTL + 0.05)
     assert status.search(client.get("/reports").text).group(1) == "withdrawn"
     assert status.search(client.get("/reports?lang=zh").text).group(1) == "withdrawn"
+
+
+def test_a_really_registered_run_is_shown_as_the_register_holds_it(lab, register_url,
+                                                                   monkeypatch, tmp_path, capsys):
+    """``metro run --register-simulated`` (JJF 2014 7.2.3), then its page: every result's reported
+    value and U as the register stores them, its verdicts, its equipment, its Word file."""
+    import html as htmlmod
+    import json
+
+    from starlette.testclient import TestClient
+
+    from metro.core.cli.app import main
+    from metro.core.record.register import open_register
+    from metro.core.web.app import create_app
+
+    monkeypatch.setenv("METRO_REGISTER", register_url)
+    code = main(["run", "-s", "jjf2014", "-i", "7.2.3", "--no-progress", "--seed", "2",
+                 "--out", str(tmp_path / "out"), "--register-simulated", "--json"])
+    assert code in (0, 3, 4)
+    number = json.loads(capsys.readouterr().out)["register"]["number"]
+    with open_register(register_url, create=False) as reg:
+        stored = reg.get(number)
+    with TestClient(create_app(register_url, lab=lab)) as client:
+        page = htmlmod.unescape(client.get(f"/reports/{number}?lang=en").text)
+        docx = client.get(f"/reports/{number}/files/docx")
+        device = client.get(f"/devices/{stored['device']['serial']}")
+    assert len(stored["results"]) >= 1
+    rows = re.findall(r'<tr class="result" data-item="([^"]+)" data-key="([^"]+)">(.*?)</tr>',
+                      page, re.S)
+    assert [(i, k) for i, k, _ in rows] == [(x["item"], x["key"]) for x in stored["results"]]
+    for (_, _, row), x in zip(rows, stored["results"]):
+        if x["reportable"]:
+            assert f'class="n value">{x["reported"]["value"]}<' in row
+            assert f'class="n U">{x["reported"]["U"] or "—"}<' in row
+        else:
+            assert x["reason"] in row
+    if stored["verdicts"] is None:  # no specification given: no statement, and said so
+        assert "makes no statement of conformity" in page
+    else:
+        assert stored["verdicts"]["statement"] in page
+    for e in stored["equipment"]:
+        assert f"<td>{e['id']}</td>" in page and e["status"] in page
+    assert hashlib.sha256(docx.content).hexdigest() == stored["report_sha256"]
+    assert device.status_code == 200 and number in device.text
