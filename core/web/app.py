@@ -271,7 +271,11 @@ class Site:
                            upload=upload)
 
     async def _upload(self, request: Request, report: Mapping[str, Any]) -> Any:
-        """The uploaded file's SHA-256 against the register: {"match": kind or None, "sha256"}."""
+        """The uploaded file's SHA-256 against the register: {"match": kind or None, "sha256"}; a
+        body larger than :data:`MAX_UPLOAD` is refused before it is read (413)."""
+        length = request.headers.get("content-length", "")
+        if length.isdigit() and int(length) > MAX_UPLOAD + 65536:
+            return self.error(request, 413, "error", "file too large")
         async with request.form(max_files=1, max_fields=4) as form:
             upload = form.get("file")
             if upload is None or isinstance(upload, str):

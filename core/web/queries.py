@@ -259,19 +259,17 @@ def chain(url: str, report: Mapping[str, Any]) -> list[dict[str, Any]]:
                 found[number] = report_dict(rows[0])
             return found[number]
 
-        older, cur = [], report
-        while cur.get("supersedes") and len(older) < 100:
-            cur = fetch(cur["supersedes"])
-            if cur is None:
-                break
-            older.append(cur)
-        newer, cur = [], report
-        while cur.get("superseded_by") and len(newer) < 100:
-            cur = fetch(cur["superseded_by"])
-            if cur is None:
-                break
-            newer.append(cur)
-    entries = [*reversed(older), report, *newer]
+        def walk(link: str) -> list[dict[str, Any]]:
+            """The reports reached by following ``link`` from ``report`` (at most 100)."""
+            out, cur = [], report
+            while cur.get(link) and len(out) < 100:
+                cur = fetch(cur[link])
+                if cur is None:
+                    break
+                out.append(cur)
+            return out
+
+        entries = [*reversed(walk("supersedes")), report, *walk("superseded_by")]
     return [{"number": e["number"], "status": e["status"], "reason": e["reason"],
              "supersedes": e["supersedes"], "superseded_by": e["superseded_by"],
              "current": e["number"] == report["number"]} for e in entries]

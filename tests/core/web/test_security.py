@@ -127,3 +127,16 @@ def test_serve_never_makes_a_register(tmp_path, monkeypatch, capsys):
     assert main(["--lab", str(lab), "serve"]) == 2
     assert "no register" in capsys.readouterr().err
     assert not (tmp_path / "register.sqlite").exists()
+
+
+def test_an_upload_too_large_is_refused(web, monkeypatch):
+    from metro.core.web import app
+
+    client, n, _ = web
+    monkeypatch.setattr(app, "MAX_UPLOAD", 1000)
+    small = client.post(f"/verify/{n['amended']}", files={"file": ("f", b"x" * 1000)})
+    assert small.status_code == 200 and 'data-match="false"' in small.text
+    # larger than the limit: read, then refused; far larger: refused by its length alone
+    for size in (1001, 100_000):
+        big = client.post(f"/verify/{n['amended']}", files={"file": ("f", b"x" * size)})
+        assert big.status_code == 413 and 'id="error" data-status="413"' in big.text, size
