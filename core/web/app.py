@@ -8,6 +8,7 @@ with autoescaping on; the register is read through :mod:`metro.core.web.queries`
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
 import hashlib
 import math
@@ -335,7 +336,13 @@ def create_app(register_url: str, *, lab: LabProfile | str | os.PathLike[str] | 
         Route("/verify", site.verify_form, methods=get),
         Route("/verify/{number}", site.verify, methods=["GET", "POST"]),
     ]
-    app = Starlette(routes=routes, exception_handlers={HTTPException: http_error})
+    @contextlib.asynccontextmanager
+    async def lifespan(app: Starlette):
+        yield
+        queries.close(register_url)  # the kept connections
+
+    app = Starlette(routes=routes, exception_handlers={HTTPException: http_error},
+                    lifespan=lifespan)
     app.add_middleware(_SecurityHeaders)
     app.state.site = site
     return app

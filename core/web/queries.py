@@ -21,8 +21,9 @@ from ..record.register.models import STATUSES
 from ..record.register.reading import Reader, libpq_url
 
 __all__ = ["PAGE_SIZE", "NUMBER_RE", "KINDS", "Filters", "Page", "list_reports", "standards",
-           "get_report", "version", "chain", "device_history", "lab_equipment_status",
-           "checked_file", "FileProblem", "upload_matches", "history_png", "dcc_pdf", "word_pdf"]
+           "get_report", "version", "reader", "close", "chain", "device_history",
+           "lab_equipment_status", "checked_file", "FileProblem", "upload_matches", "history_png",
+           "dcc_pdf", "word_pdf"]
 
 #: reports on one list page
 PAGE_SIZE = 25
@@ -160,16 +161,28 @@ class _Pool:
                 self.idle.append(conn)
 
 
-_POOLS: dict[str, _Pool] = {}
+#: the kept connections of each register being served, by URL
+POOLS: dict[str, _Pool] = {}
 _POOLS_LOCK = threading.Lock()
 
 
-def _reader(url: str):
+def close(url: str) -> None:
+    """Close the kept connections to the register at ``url`` (the application's shutdown)."""
+    with _POOLS_LOCK:
+        pool = POOLS.pop(url, None)
+    if pool is not None:
+        with pool.lock:
+            idle, pool.idle = pool.idle, []
+        for conn in idle:
+            conn.close()
+
+
+def reader(url: str):
     """A reader of the register at ``url`` on a kept read-only connection."""
     with _POOLS_LOCK:
-        pool = _POOLS.get(url)
+        pool = POOLS.get(url)
         if pool is None:
-            pool = _POOLS[url] = _Pool(url)
+            pool = POOLS[url] = _Pool(url)
     return pool.reader()
 
 
@@ -183,7 +196,7 @@ def list_reports(url: str, filters: Filters, page: int = 1, size: int = PAGE_SIZ
     """The reports matching ``filters``, newest issue first, page ``page`` (from 1) of ``size``:
     each a dict of :data:`LIST_COLUMNS` with ``device`` (manufacturer, model, serial), the dates as
     text (``issued_at``: date and time in UTC)."""
-    with _reader(url) as r:
+    with reader(url) as r:
         where, params = filters.where(r.sqlite)
         total = r.rows(f"SELECT count(*) FROM reports {where}", params)[0][0]
         pages = max(1, -(-total // size))
@@ -209,7 +222,7 @@ def version(url: str) -> tuple:
     """What changes whenever the register does (a report issued, amended or withdrawn: each
     writes an audit entry): the newest audit entry, the newest report and the number of reports,
     read in one query on indexed keys."""
-    with _reader(url) as r:
+    with reader(url) as r:
         return tuple(r.rows("SELECT (SELECT max(id) FROM audit), (SELECT max(id) FROM reports), "
                             "(SELECT count(*) FROM reports)")[0])
 
@@ -228,7 +241,7 @@ def standards(url: str) -> list[str]:
     cached = _STANDARDS.get(url)
     if cached is not None and now - cached[0] < STANDARDS_TTL:
         return cached[1]
-    with _reader(url) as r:
+    with reader(url) as r:
         found = [row[0] for row in r.rows("SELECT DISTINCT standard FROM reports ORDER BY "
                                           "standard")]
     _STANDARDS[url] = (now, found)
@@ -237,7 +250,7 @@ def standards(url: str) -> list[str]:
 
 def get_report(url: str, number: str) -> dict[str, Any] | None:
     """Report ``number`` with its results and audit trail, None when it is not registered."""
-    with _reader(url) as r:
+    with reader(url) as r:
         found = r.reports("WHERE number = ?", [number], results=True)
         if not found:
             return None
@@ -250,7 +263,7 @@ def chain(url: str, report: Mapping[str, Any]) -> list[dict[str, Any]]:
     """The amendment chain through ``report``, oldest first: each report's number, status,
     reason (why it replaced the one before, or why it was withdrawn) and measurement date."""
     found = {report["number"]: report}
-    with _reader(url) as r:
+    with reader(url) as r:
         def fetch(number: str) -> dict[str, Any] | None:
             if number not in found:
                 rows = r.reports("WHERE number = ?", [number])

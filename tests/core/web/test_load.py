@@ -60,7 +60,7 @@ def test_fifty_concurrent_list_pages_p95_within_200_ms(register_url):
     port = free_port()
     app = create_app(register_url)
     server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning",
-                                           lifespan="off"))
+                                           lifespan="on"))
     thread = threading.Thread(target=server.run, daemon=True)
     thread.start()
     deadline = time.monotonic() + 30

@@ -140,3 +140,21 @@ def test_an_upload_too_large_is_refused(web, monkeypatch):
     for size in (1001, 100_000):
         big = client.post(f"/verify/{n['amended']}", files={"file": ("f", b"x" * size)})
         assert big.status_code == 413 and 'id="error" data-status="413"' in big.text, size
+
+
+def test_the_kept_connections_are_read_only_and_closed_at_shutdown(web_register):
+    """The register is read on connections that cannot write (SQLite ``mode=ro``, PostgreSQL
+    ``default_transaction_read_only``), closed when the application stops."""
+    from starlette.testclient import TestClient
+
+    from metro.core.web import queries
+    from metro.core.web.app import create_app
+
+    url = web_register[0]
+    with TestClient(create_app(url)) as client:
+        assert client.get("/reports").status_code == 200
+        with queries.reader(url) as r:
+            with pytest.raises(Exception, match="(?i)read.only|readonly"):
+                r.rows("UPDATE reports SET customer = 'x'")
+        assert url in queries.POOLS
+    assert url not in queries.POOLS
