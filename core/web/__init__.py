@@ -46,7 +46,8 @@ HTML ids and classes the browser tests target:
   ``#standard``, ``#device`` (``a#device-link``), ``#customer``, ``#measured``, ``#issued``;
   ``ol#chain`` of ``li.chain-entry`` (``data-number``; ``.current``; ``.reason``);
   ``table#results`` of ``tr.result`` (``data-item``, ``data-key``) with ``td.value``, ``td.U``,
-  ``td.k``, ``td.unit``, ``td.verdict``; ``section#conformity`` (``#overall``);
+  ``td.k``, ``td.unit``, ``td.verdict`` (``data-verdict``: ``pass``, ``fail``,
+  ``indeterminate`` or empty); ``section#conformity`` (``#overall``, ``data-verdict``);
   ``table#report-equipment`` of ``tr.equipment`` (``td.cal-status``); ``ul#downloads``
   with ``a#download-pdf``, ``a#download-docx``, ``a#download-dcc``; ``#report-sha256``;
   ``a#verify-link``;
