@@ -38,7 +38,7 @@ def test_core_dependencies_leave_the_heavy_and_unused_packages_to_extras():
     assert {"dask", "pyarrow"} <= extras["batch"]
     assert extras["postgres"] == {"psycopg"}
     assert project["optional-dependencies"]["all"] == [
-        "metro-inertial[fast,batch,postgres,drivers,web]"]
+        "metro-inertial[fast,batch,postgres,drivers,dcc,web]"]
 
 
 def test_distribution_name_and_version():

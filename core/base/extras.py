@@ -10,6 +10,10 @@ extra          brings                      for
                                            reader and writer, Parquet sample files
 ``batch``      dask[distributed], pyarrow  ``metro batch`` (a production lot on a cluster)
 ``postgres``   psycopg[binary]             a register shared by several stations
+``drivers``    pyvisa, pyserial            live instrument drivers
+``dcc``        xmlschema                   checking a DCC against its schema (importing an
+                                           equipment's DCC; docs/dcc.md)
+``web``        starlette, jinja2, uvicorn  ``metro serve`` (the register in a browser)
 ``all``        all of the above
 =============  ==========================  ==============================================
 
@@ -37,6 +41,9 @@ EXTRA_OF = {
     "distributed": "batch",
     "dask": "batch",
     "psycopg": "postgres",
+    "xmlschema": "dcc",
+    "starlette": "web",
+    "uvicorn": "web",
 }
 
 

@@ -29,6 +29,9 @@ EXTRAS = (
     ("psycopg", "a register on PostgreSQL shared by several stations"),
     ("numba", "compiled Allan and block statistics (a numpy fallback runs without it)"),
     ("pyarrow", "the multi-threaded CSV reader and Parquet files (a numpy reader runs without it)"),
+    ("xmlschema", "checking DCCs against their schema (metro lab equipment import)"),
+    ("starlette", "metro serve (the register in a browser)"),
+    ("uvicorn", "metro serve's HTTP server"),
 )
 
 #: a character every CJK font of the figures must draw

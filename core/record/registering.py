@@ -587,6 +587,7 @@ def history_plot(hist: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
     import matplotlib
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib import dates as mdates
     from matplotlib.figure import Figure
 
     from ..base.atomic import atomic_path
@@ -614,6 +615,10 @@ def history_plot(hist: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
             ax.set_ylabel(f"{res['symbol'] or res['key']}{unit}")
             ax.legend(fontsize=7)
             ax.grid(True, alpha=0.3)
+            # dates that do not overlap however many reports there are (year once, then months)
+            locator = mdates.AutoDateLocator(maxticks=8)
+            ax.xaxis.set_major_locator(locator)
+            ax.xaxis.set_major_formatter(mdates.ConciseDateFormatter(locator))
         if not results:
             axes[0].text(0.5, 0.5, f"no results for {hist['serial']}", ha="center", va="center")
         fig.suptitle(f"History of device {hist['serial']}")
