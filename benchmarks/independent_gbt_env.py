@@ -242,30 +242,14 @@ def build_power(folder: Path, rng, *, supplies=(5.0, 15.0, -15.0), pulsed: bool 
     5 mV and 2 mA; their errors are drawn within them, the same on every rail."""
     lat = float(rng.uniform(-65, 70))
     device = {"id": folder.name, "technology": "fibre", "application": "marine", "output": "rate"}
-    if absolute:
-        vm = {
-            "id": "VM-X",
-            "role": "voltmeter",
-            "calibration": {"certificate": "IND-VM-1", "U": "0.005 V", "k": 2},
-        }
-        am = {
-            "id": "AM-X",
-            "role": "ammeter",
-            "calibration": {"certificate": "IND-AM-1", "U": "0.002 A", "k": 2},
-        }
-        ev, ei = 0.0025 * float(rng.standard_normal()), 0.001 * float(rng.standard_normal())
-    else:
-        vm = {
-            "id": "VM-X",
-            "role": "voltmeter",
-            "calibration": {"certificate": "IND-VM-1", "U": "5e-4", "k": 2},
-        }
-        am = {
-            "id": "AM-X",
-            "role": "ammeter",
-            "calibration": {"certificate": "IND-AM-1", "U": "2e-3", "k": 2},
-        }
-        ev, ei = 2.5e-4 * float(rng.standard_normal()), 1e-3 * float(rng.standard_normal())
+    # meters' U: absolute (5 mV, 2 mA) or relative; their errors drawn within U/2
+    (u_v, u_i), (s_v, s_i) = ((("0.005 V", "0.002 A"), (0.0025, 0.001)) if absolute
+                              else (("5e-4", "2e-3"), (2.5e-4, 1e-3)))
+    vm = {"id": "VM-X", "role": "voltmeter",
+          "calibration": {"certificate": "IND-VM-1", "U": u_v, "k": 2}}
+    am = {"id": "AM-X", "role": "ammeter",
+          "calibration": {"certificate": "IND-AM-1", "U": u_i, "k": 2}}
+    ev, ei = s_v * float(rng.standard_normal()), s_i * float(rng.standard_normal())
     camp = Campaign(folder, device, lat, [vm, am], fmt="csv", output=Output("deg/h"))
     n, dt = 60, 1.0
     P = 0.0
