@@ -62,20 +62,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from independent_campaigns import (  # noqa: E402  (the shared pieces of the harness)
-    DMM,
-    OMEGA_E_DEG_H,
-    RATE_TABLE,
-    UNIT_ALIASES,
-    Campaign,
-    Noise,
-    Output,
-    Variant,
-    build_with,
-    cli,
-    run_variant,
-    text,
-    variants,
-)
+                                   DMM, OMEGA_E_DEG_H, RATE_TABLE, UNIT_ALIASES, Campaign, Noise,
+                                   Output, Variant, build_with, cli, run_variant, text, variants)
 
 UNIT_ALIASES.setdefault("Hz", {"Hz", "hertz"})
 UNIT_ALIASES.setdefault("s", {"s", "second"})

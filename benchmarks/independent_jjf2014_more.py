@@ -60,21 +60,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from independent_campaigns import (  # noqa: E402  (the shared pieces of the harness)
-    DMM,
-    OMEGA_E_DEG_H,
-    RATE_TABLE,
-    UNIT_ALIASES,
-    Campaign,
-    Noise,
-    Output,
-    Variant,
-    build_with,
-    flicker,
-    run_variant,
-    score,
-    text,
-    variants,
-)
+                                   DMM, OMEGA_E_DEG_H, RATE_TABLE, UNIT_ALIASES, Campaign, Noise,
+                                   Output, Variant, build_with, flicker, run_variant, score, text,
+                                   variants)
 
 # the units of the items scored here, as metro may spell them
 UNIT_ALIASES.setdefault("°/s", {"°/s", "deg/s", "degree / second", "(°)/s"})
