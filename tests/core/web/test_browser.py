@@ -152,6 +152,8 @@ def test_the_register_in_a_browser(served, browser, tmp_path_factory):
     def shot(name: str) -> None:
         page.screenshot(path=str(shots / f"{name}.png"), full_page=True)
         visited.append((name, page.url))
+        # no Python object leaks into a page as text (a label once printed "<built-in method …>")
+        assert " object at 0x" not in page.inner_text("body"), name
 
     # 1. the list in the lab's language (zh+en: Chinese first), switched to English, filtered
     page.goto(f"{base}/reports")
@@ -219,10 +221,10 @@ def test_the_register_in_a_browser(served, browser, tmp_path_factory):
     phone = browser.new_context(viewport=PHONE, is_mobile=True, has_touch=True,
                                 device_scale_factor=2)
     page = phone.new_page()
-    page.goto(f"{base}/reports?lang=en")
     wide = {}
     for name, url in [v for v in visited if not v[0].startswith("5-")]:
-        page.goto(url)
+        lang = "zh" if name.endswith("-zh") else "en"
+        page.goto(url + ("&" if "?" in url else "?") + f"lang={lang}")
         page.screenshot(path=str(shots / f"phone-{name}.png"), full_page=True)
         wide[name] = page.evaluate("document.documentElement.scrollWidth")
     assert all(w <= PHONE["width"] for w in wide.values()), wide
