@@ -106,7 +106,7 @@ def served(request, tmp_path_factory, campaign_factory):
     port = _free_port()
     made = _fill(folder, url, port, campaign_factory)
     server = uvicorn.Server(uvicorn.Config(create_app(url, lab=made["lab"]), host="127.0.0.1",
-                                           port=port, log_level="warning", lifespan="off"))
+                                           port=port, log_level="warning"))
     thread = threading.Thread(target=server.run, daemon=True)
     thread.start()
     deadline = time.monotonic() + 10
