@@ -195,7 +195,7 @@ def monte_carlo_note(r: "Result") -> Any:
     """The budget's Monte Carlo line (JCGM 101): u and the shortest interval beside GUM's, and
     the clause-8 verdict; ``""`` without a check."""
     mc = getattr(r, "monte_carlo", None)
-    if mc is None:
+    if mc is None or mc.trials == 0:  # none, or an exact budget (u_c = 0): nothing to say
         return ""
     d = r.monte_carlo_dict()
     fields = {"u": fmt_num(d["u"], 3), "p": fmt_num(100 * d["p"], 4),
@@ -284,8 +284,8 @@ def _budget_block(r: "Result", budget: "UncertaintyBudget") -> dict[str, Any]:
         "U": d["U_reported"],
         "U_unrounded": fmt_num(d["U"]),
         "rounding": d["rounding"],
-        "note": join(" ", [x for x in (d["note"], monte_carlo_note(r)) if x]) if getattr(
-            r, "monte_carlo", None) is not None else d["note"],
+        "note": join(" ", [x for x in (d["note"], monte_carlo_note(r)) if x])
+        if monte_carlo_note(r) else d["note"],
     }
 
 

@@ -18,14 +18,14 @@ DEFAULT_SEED = 101
 
 def with_monte_carlo(record: RunRecord, seed: int | None = None) -> RunRecord:
     """``record`` with a :class:`~metro.core.uncertainty.montecarlo_budget.BudgetCheck` on every
-    result that has a budget with a non-zero u_c, drawn in the results' order from one generator
-    seeded with ``seed`` (default :data:`DEFAULT_SEED`)."""
+    result that has a budget (an exact one, u_c = 0, is validated as it is), drawn in the results'
+    order from one generator seeded with ``seed`` (default :data:`DEFAULT_SEED`)."""
     rng = np.random.default_rng(DEFAULT_SEED if seed is None else seed)
     outcomes = []
     for o in record.outcomes:
         results = []
         for r in o.results:
-            if r.budget is not None and float(r.budget.combined.magnitude) > 0:
+            if r.budget is not None:
                 r = attrs.evolve(r, monte_carlo=check_budget(r.budget, rng))
             results.append(r)
         outcomes.append(attrs.evolve(o, results=results))

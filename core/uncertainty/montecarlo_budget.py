@@ -63,7 +63,8 @@ class BudgetCheck:
     delta: float
     d_low: float
     d_high: float
-    #: the trials the adaptive procedure ran, and whether it met its tolerance
+    #: the trials the adaptive procedure ran (0 for an exact budget, u_c = 0), and whether it met
+    #: its tolerance
     trials: int
     converged: bool
     #: ``"linear"`` (Σ c_i·x_i) or ``"model"`` (the budget's own measurement model)
@@ -145,11 +146,14 @@ def check_budget(
     p = budget.coverage.p if budget.coverage.p is not None else gum_coverage_probability(
         budget.k)
     u_gum = float(budget.combined.magnitude)
+    top = budget.dominant()
+    if u_gum == 0 and not model_given:  # exact (a count, a pass/fail): 0 ± 0 either way
+        return BudgetCheck(0.0, 0.0, p, 0.0, 0.0, (0.0, 0.0), 0.0, 0.0, 0.0, 0, True, "linear",
+                           str(top.source), top.distribution)
     r = propagate(inputs, model, p=p, digits=digits, rng=rng, max_trials=BUDGET_MAX_TRIALS,
                   delta=numerical_tolerance(u_gum, digits))
     U = float(budget.expanded.magnitude)
     v = validate_gum(0.0, U, r.shortest, r.delta)
-    top = budget.dominant()
     return BudgetCheck(u_gum, U, p, r.u, r.y, r.shortest, r.delta, v.d_low, v.d_high, r.trials,
                        r.converged, "model" if model_given else "linear", str(top.source),
                        top.distribution)

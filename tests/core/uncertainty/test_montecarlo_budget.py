@@ -94,3 +94,8 @@ def test_the_model_changes_neither_equality_nor_the_gum_figures():
     with_model = _budget(*rows, model=lambda d: d[0] ** 2)
     assert with_model == _budget(*rows)
     assert with_model.as_dict() == _budget(*rows).as_dict()
+
+
+def test_an_exact_budget_is_validated_without_trials():
+    c = check_budget(_budget(BudgetRow.type_b("a pass/fail: exact", "—", 0.0)), 1)
+    assert c.validated and c.trials == 0 and c.interval == (0.0, 0.0) and c.U_gum == 0.0
