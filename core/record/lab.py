@@ -172,7 +172,7 @@ class LabProfile:
             })
         return {
             "source": self.source, "name_zh": self.name_zh, "name_en": self.name_en,
-            "address": self.address, "country": self.country,
+            "address": self.address, "country": self.country, "verify_url": self.verify_url,
             "accreditation_body": self.accreditation_body,
             "accreditation_number": self.accreditation_number,
             "logo": str(self.logo) if self.logo else None,

@@ -615,10 +615,15 @@ def history_plot(hist: Mapping[str, Any], path: str | os.PathLike[str]) -> Path:
             ax.set_ylabel(f"{res['symbol'] or res['key']}{unit}")
             ax.legend(fontsize=7)
             ax.grid(True, alpha=0.3)
-            # dates that do not overlap however many reports there are (year once, then months)
-            locator = mdates.AutoDateLocator(maxticks=8)
-            ax.xaxis.set_major_locator(locator)
-            ax.xaxis.set_major_formatter(mdates.ConciseDateFormatter(locator))
+            # dates that do not overlap however many reports there are (year once, then months);
+            # one day only: that date
+            if len(set(dates)) > 1:
+                locator = mdates.AutoDateLocator(maxticks=8)
+                ax.xaxis.set_major_locator(locator)
+                ax.xaxis.set_major_formatter(mdates.ConciseDateFormatter(locator))
+            else:
+                ax.set_xticks(dates[:1])
+                ax.xaxis.set_major_formatter(mdates.DateFormatter("%Y-%m-%d"))
         if not results:
             axes[0].text(0.5, 0.5, f"no results for {hist['serial']}", ha="center", va="center")
         fig.suptitle(f"History of device {hist['serial']}")
