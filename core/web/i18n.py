@@ -80,6 +80,7 @@ WORDS: dict[str, tuple[str, str]] = {
     "ok": ("有效", "valid"),
     "no_lab": ("没有实验室配置文件：没有设备清单。", "No lab profile: no equipment list."),
     "nothing_due": ("30 天内没有到期的设备。", "Nothing falls due in the next 30 days."),
+    "as_of": ("状态日期：", "Status as of"),
     "verify_issued": ("报告 {number} 已签发，有效。", "Report {number} is issued and valid."),
     "verify_superseded": ("报告 {number} 已被替代。", "Report {number} has been superseded."),
     "verify_withdrawn": ("报告 {number} 已撤回。", "Report {number} has been withdrawn."),

@@ -163,6 +163,8 @@ def test_the_equipment_page_says_what_falls_due(web):
     soon = html.split('id="due-soon"')[1].split("</section>")[0]
     assert 'data-id="GY-02"' in soon and "(10 d)" in soon
     assert list(states) == ["GY-02", "RT-01"]  # soonest first
+    # the date the states are judged on is labelled
+    assert re.search(r'id="as-of">[^<]*\S+ ' + dt.date.today().isoformat() + "<", html)
 
 
 def test_verify_says_issued_superseded_or_withdrawn_and_checks_an_upload(web):
