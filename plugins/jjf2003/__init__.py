@@ -41,3 +41,11 @@ def metro_expected_values(campaign, ideal):
     from .expected import expected_values
 
     return expected_values(campaign, ideal)
+
+
+@hookimpl
+def metro_validation_cases():
+    """This standard's worked examples as validation cases (``metro validate``)."""
+    from .validation import validation_cases
+
+    return validation_cases()

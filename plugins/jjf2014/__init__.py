@@ -39,3 +39,11 @@ def metro_extend_report_context(record, context) -> None:
     from .certificate import extend_context
 
     extend_context(record, context)
+
+
+@hookimpl
+def metro_validation_cases():
+    """This standard's worked examples as validation cases (``metro validate``)."""
+    from .validation import validation_cases
+
+    return validation_cases()

@@ -40,3 +40,11 @@ def metro_extend_report_context(record, context) -> None:
 
     if any(o.standard == STANDARD_ID for o in record.outcomes):
         context[STANDARD_ID] = certificate_context(record)
+
+
+@hookimpl
+def metro_validation_cases():
+    """This standard's worked examples as validation cases (``metro validate``)."""
+    from .validation import validation_cases
+
+    return validation_cases()

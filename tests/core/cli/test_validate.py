@@ -47,8 +47,11 @@ def test_validate_quick_passes_registers_and_its_json_validates(tmp_path, monkey
     assert doc["counts"]["fail"] == doc["counts"]["error"] == 0
     ids = {c["id"] for c in doc["cases"]}
     # every kind of case the issue names is there
-    for prefix in ("nist:", "allan:", "units:", "jcgm101:", "within-u:"):
+    for prefix in ("nist:", "allan:", "units:", "jcgm101:", "within-u:", "gbt45570:", "jjf2014:",
+                   "jjf2003:", "ogam:"):
         assert any(i.startswith(prefix) for i in ids), prefix
+    # each standard's worked examples come from its own plugin, through the hook
+    assert {c["plugin"] for c in doc["cases"] if c["id"].startswith("jjf2003:")} == {"jjf2003"}
     rep = doc["report"]
     # the first validation record: its own counter (the lab's scheme behind VAL-)
     assert rep["registered"] and rep["number"].startswith("VAL-EML")
@@ -74,23 +77,21 @@ def test_validate_quick_passes_registers_and_its_json_validates(tmp_path, monkey
 
 
 def test_a_broken_formula_makes_validate_fail_and_name_the_case(tmp_path, monkeypatch):
-    """NBS14 MDEV made 0.1 % high: exit 6, and the failing cases are named on stdout."""
-    from metro.core.stats import allan
+    """The ogam plugin's zero-drift term (appendix A 4.3) made twice too large: exit 6, and the
+    worked-example case that uses it is named on stdout; metro's own cases still pass."""
     from metro.core.validation import coverage, jcgm101
+    from metro.plugins.ogam import formulas
 
     monkeypatch.delenv("METRO_LAB", raising=False)
-    monkeypatch.setattr(coverage, "coverage_cases", lambda pm, quick=False: [])
+    monkeypatch.setattr(coverage, "coverage_cases", lambda pm, quick=False: [])  # time
     monkeypatch.setattr(jcgm101, "jcgm101_cases", lambda: [])
-    import attrs
-
-    real = allan.mdev
-    monkeypatch.setattr(allan, "mdev", lambda *a, **kw: attrs.evolve(
-        real(*a, **kw), deviation=real(*a, **kw).deviation * 1.001))
+    real = formulas.zero_drift_error
+    monkeypatch.setattr(formulas, "zero_drift_error", lambda *a: 2 * real(*a))
     code, out, _ = _main("validate", "--quick", "--no-pdf", "--out", str(tmp_path))
     assert code == 6
     failed = [ln.split()[1] for ln in out.splitlines() if ln.startswith("FAIL")]
-    assert failed == ["allan:mdev-nbs14-short", "allan:mdev-nbs14-long"]
-    assert "NOT validated" in out
+    assert "ogam:A-tilt" in failed and all(f.startswith("ogam:") for f in failed)
+    assert "drift term" in out and "NOT validated" in out
 
 
 def test_the_progress_line_fits_the_terminal(monkeypatch, capsys):
