@@ -245,7 +245,8 @@ class AsymmetryD13(ScaleFactorD11):
                          "over S = {S:.3g} h "
                          "(uniform within ±ḃ·S/2)", b=drift.rms * 3600.0, n=drift.points,
                          S=span / 3600.0)))
-        budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
+        budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE,
+                                   model=F.asymmetry_model_d10(Ka, abs(c_n0), len(rows)))
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
                      note=msg("K₊ = {Kp:.8f} P/″, K₋ = {Km:.8f} P/″, N̄₀ = {N0:.4f} P/s",
                               Kp=fp.coef[0], Km=fm.coef[0], N0=N0),

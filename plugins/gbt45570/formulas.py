@@ -289,6 +289,25 @@ def asymmetry_d10(K_plus: float, K_minus: float) -> float:
     return abs(K_plus - K_minus) / ((K_plus + K_minus) / 2.0)
 
 
+def asymmetry_model_d10(Ka: float, c_n0: float, n_rows: int):
+    """The measurement model of K_a (eq. (D.10)) for the Monte Carlo check of its budget (JCGM 101):
+    K_a = |K_+ − K_−|/K̄ is folded at 0, which the budget's linear Σ c_i·x_i is not.  Given the
+    draws of the rows' deviations (rows × M: the fits' relative √(u²(K₊)+u²(K₋))/K̄, then u(N̄₀) and
+    the bias drift in P/s, both through |∂K_a/∂N̄₀| = ``c_n0``), the deviation of K_a in ppm:
+    |K_a + δ_fit + c·(δN̄₀ + δḃ)| − K_a (the sign of K_+ − K_− is a symmetric draw's).
+
+    >>> import numpy as np
+    >>> round(float(asymmetry_model_d10(1e-6, 0.0, 2)(np.array([[-3e-6], [0.0]]))[0]), 9)
+    1.0
+    """
+
+    def model(d):
+        lin = Ka + d[0] + c_n0 * sum(d[i] for i in range(1, n_rows))
+        return (abs(lin) - Ka) * 1e6
+
+    return model
+
+
 # --------------------------------------------------------------------------------------------
 # Output quantization (not in the standard: the budget rows D.5.1, D.5.2 and D.5.6 need;
 # docs/interpretations.md, "D.5 — output quantization")

@@ -197,6 +197,27 @@ def asymmetry_d26_d27(K_plus: float, K_minus: float) -> float:
     return abs(K_plus - K_minus) / abs(mean)
 
 
+def asymmetry_model_d26(K_plus: float, K_minus: float, table_row: bool):
+    """The measurement model of K_a (eqs. (D.26), (D.27)) for the Monte Carlo check of its budget
+    (JCGM 101): |K_(+) − K_(−)|/K̄ is folded at 0 and a ratio, which the budget's linear sum is not.
+    Given the draws of the rows' relative deviations (rows × M: δK₊/K̄, δK₋/K̄, and with
+    ``table_row`` the table's rate error between the directions), the deviation of K_a in ppm.
+
+    >>> import numpy as np
+    >>> round(float(asymmetry_model_d26(1.0, 1.0, False)(np.array([[2e-6], [0.0]]))[0]), 6)
+    1.999998
+    """
+    mean = (K_plus + K_minus) / 2.0
+    d0 = (K_plus - K_minus) / mean
+    Ka = abs(d0)
+
+    def model(d):
+        diff = d0 + d[0] - d[1] + (d[2] if table_row else 0.0)
+        return (abs(diff) / (1.0 + (d[0] + d[1]) / 2.0) - Ka) * 1e6
+
+    return model
+
+
 # --------------------------------------------------------------------------------------------
 # D.3 maximum input rate
 # --------------------------------------------------------------------------------------------

@@ -202,7 +202,8 @@ class AsymmetryD23(ScaleFactorD21):
                                          distribution="normal", k=1.0,
                                          note=msg("independent at each signed set point; a common "
                                                   "error cancels")))
-        budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE)
+        budget = UncertaintyBudget("K_a", "ppm", rows, coverage=COVERAGE,
+                                   model=F2.asymmetry_model_d26(Kp, Km, len(rows) > 2))
         res = Result(self.metrics[0], Q_(Ka, ""), budget.combined, budget,
                      note=f"K(+) = {Kp:.4f}, K(−) = {Km:.4f} {k_text(data.unit)}",
                      earth_rate="removed")

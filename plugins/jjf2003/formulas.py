@@ -14,6 +14,28 @@ from typing import Sequence
 import numpy as np
 from metro.api import LinearFit, fit_linear, round_uncertainty
 
+
+def rate_sensitivity_model(p: float, coefficients: Sequence[float], rate_row: int | None):
+    """The measurement model of p = (U₈ − U₇)/ω² (eq. (12), (13)) for the Monte Carlo check of its
+    budget (JCGM 101): ω enters squared in the denominator, which the budget's linear row
+    c(ω) = −2p/ω (A.12) is not.  Given the draws of the rows' deviations (rows × M, each in its
+    row's unit), ``coefficients`` (each row's c_i in the budget's unit) and the index of the
+    table's relative rate error ε (or None), the deviation of p: (p + Σ c_i·δx_i)/(1 + ε)² − p,
+    the sum over the other rows.
+
+    >>> import numpy as np
+    >>> round(float(rate_sensitivity_model(1.0, [1.0, 2.0], 1)(np.array([[0.0], [0.01]]))[0]), 6)
+    -0.019704
+    """
+
+    def model(d):
+        lin = sum(c * d[i] for i, c in enumerate(coefficients) if i != rate_row)
+        if rate_row is None:
+            return lin
+        return (p + lin) / (1.0 + d[rate_row]) ** 2 - p
+
+    return model
+
 #: Order of the six positions in the columns of Ā (7.2.2.2 and 7.2.4.2): X up, X down,
 #: Y up, Y down, Z up, Z down.
 SIX_POSITIONS = ("+x", "-x", "+y", "-y", "+z", "-z")

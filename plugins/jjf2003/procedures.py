@@ -548,6 +548,13 @@ class AccelSixPosition(Procedure):
                        warnings=_unique(warnings), segments=seg_ids, options=options_text(opts))
 
 
+def _p_model(p: float, rows: list, rate_row: int | None):
+    """7.2.5's measurement model for the Monte Carlo check (:func:`.formulas.
+    rate_sensitivity_model`): each row's c_i in gn/(rad/s)², the table's ε at ``rate_row``."""
+    cs = [float((r.sensitivity * Q_(1.0, r.value.units)).to(P_UNIT).magnitude) for r in rows]
+    return F.rate_sensitivity_model(p, cs, rate_row)
+
+
 def _accel_scale(campaign: Campaign, means: Means, pairs, i: int) -> float:
     """|K_ii|·g of accelerometer i in g_n, the sensitivity of its reading to a tilt: its reading at
     rest with axis i up (U₇ of axis i's sweep), bias included (a few per cent of the row at
@@ -622,11 +629,14 @@ class AccelRateSensitivity(Procedure):
                 Q_(c * (u7 + u8), P_UNIT), BATCHES - 1)]
             rows += abs_quant_row(campaign, "accel_range", ACC_UNIT, Q_(2 * c, "1/(rad/s)**2"),
                                   warnings)
+            n_rate = len(rows)  # the table-rate row's place, if there is one
             rows += table_rate_row(campaign, Q_(2 * abs(p[i, j]), P_UNIT),
                                    msg("c(ω) = −2p/ω (A.12)"), warnings)
+            n_rate = n_rate if len(rows) > n_rate else None
             rows.append(mounting.rest_tilt_row(campaign, _accel_scale(campaign, means, pairs, i), w,
                                                P_UNIT))
-            b = UncertaintyBudget(m.symbol, P_UNIT, rows, coverage=COVERAGE, round_mode=ROUND)
+            b = UncertaintyBudget(m.symbol, P_UNIT, rows, coverage=COVERAGE, round_mode=ROUND,
+                                  model=_p_model(float(p[i, j]), rows, n_rate))
             results.append(Result(m, Q_(float(p[i, j]), P_UNIT), b.combined, b,
                                   earth_rate="not applicable",
                                   note=msg("the vertical earth rate adds a relative 2Ω_e·sin φ/ω "
