@@ -8,7 +8,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from metro.core.uncertainty.budget import BudgetRow
 from metro.core.base.errors import DataError, ProcedureError
 from metro.core.run.runner import run_items
 from metro.core.base.units import Q_
@@ -49,13 +48,9 @@ def test_ellipse_radius_eq_a3():
 
 
 def test_appendix_a_budget_reproduces_uc_and_U():
-    rows = [
-        BudgetRow.type_b("turntable", "u(P)", Q_(0.1, "arcsec"), distribution="uniform"),
-        C.tilt_row(Q_(0.1, "deg"))[0],
-        C.drift_row(Q_(0.005, "deg/h"), Q_(0.5, "min")),
-        C.repeatability_row(0.096, 10),
-    ]
-    b = C.e_budget(rows)
+    from metro.plugins.ogam.validation import appendix_a_rows  # the rows metro validate uses
+
+    b = C.e_budget(appendix_a_rows())
     c = b.contributions()
     # appendix A 4.1–4.4: 0.06″, 0.05″, 0.09″, 0.096″
     assert [f"{x:.2f}" for x in c[:3]] == ["0.06", "0.05", "0.09"]
