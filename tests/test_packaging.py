@@ -38,6 +38,9 @@ def test_wheel_contains_only_the_metro_namespace(wheel):
         "metro/core/base/locale/__init__.py", "metro/core/cli/schemas/run.schema.json",
         "metro/plugins/gbt45570/procedures.py", "metro/plugins/jjf2014/__init__.py",
         "metro/plugins/jjf2003/__init__.py", "metro/instruments/simulated.py",
+        # metro validate's reference data (docs/validation.md)
+        "metro/core/validation/data/Norris.dat", "metro/core/validation/data/Pontius.dat",
+        "metro/core/validation/data/allan_nbs14.json",
     ):
         assert needed in names, needed
 
