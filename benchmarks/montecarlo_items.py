@@ -47,9 +47,11 @@ def table(doc: dict) -> list[str]:
         wider = half > r["U"]
         d = max(mc["d_low"], mc["d_high"]) / mc["delta"] if mc["delta"] else float("inf")
         u = "—" if mc["u"] is None else f"{mc['u'] / r['u']:.2f}"
+        why = ("the measurement model (budget `model`)" if mc["model"] == "model"
+               and cause(r["budget"], wider) == "—" else cause(r["budget"], wider))
         out.append(f"| {r['item']} | {r['symbol'] or r['key']} | {u} | {half / r['U']:.2f} "
                    f"({'wider' if wider else 'narrower'}) | {d:.1f} | "
-                   f"{cause(r['budget'], wider)} |")
+                   f"{why} |")
     return out
 
 
