@@ -391,6 +391,11 @@ def stored_context(reg: "Register", number: str, pm: "MetroPluginManager") -> tu
     """Report ``number``'s stored document context and the loaded template it was rendered with;
     a :class:`MetroError` when no loaded plugin registers that template now."""
     doc, template_name = reg.context(number)
+    if template_name == "validation":  # metro validate's record (metro.core.validation)
+        raise MetroError(f"{number} is a software validation record (metro validate): it is kept "
+                         "as issued and not rendered again",
+                         hint="its file is listed by `metro register show`; run `metro validate` "
+                         "for a new validation")
     tpl = pm.register_all().templates.get(template_name)
     if tpl is None:
         raise MetroError(f"report {number} was rendered with the template {template_name!r}, which "

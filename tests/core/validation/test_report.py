@@ -87,6 +87,13 @@ def test_a_validation_record_is_numbered_apart_from_the_reports(tmp_path, monkey
                           per_year=lab.per_year(), timezone=lab.timezone)
         assert other.number == f"EML{year}-00001" and other.scope == str(year)
         assert [v["check"] for v in reg.verify()] == ["ok", "ok"]
+        # kept as issued: metro report / amend say what it is instead of looking for a template
+        from metro.core.base.errors import MetroError
+        from metro.core.record.registering import rerender
+        from metro.core.run.plugin_manager import builtin_plugin_manager
+
+        with pytest.raises(MetroError, match="software validation record"):
+            rerender(reg, issued.number, tmp_path / "again", pm=builtin_plugin_manager())
 
 
 def row_fields() -> dict:
