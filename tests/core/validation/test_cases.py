@@ -139,7 +139,7 @@ def test_a_within_u_run_counts_results_outside_u():
 # ------------------------------------------------------------------------------ collecting
 
 
-def test_a_third_party_plugin_case_runs_and_reports_as_metro_own(monkeypatch):
+def test_a_third_party_plugin_case_runs_and_reports_as_metro_own(monkeypatch, tmp_path):
     monkeypatch.setattr(suite, "core_cases", lambda pm, quick=False: [])
     pm = _pm("sample_vendor")
     run = suite.validate(pm, quick=True)
@@ -151,6 +151,21 @@ def test_a_third_party_plugin_case_runs_and_reports_as_metro_own(monkeypatch):
     assert any("sample_vendor.py" in p for p in paths)
     assert any(p == "metro.core/validation/case.py" for p in paths)
     assert run.environment["libraries"]["numpy"] == np.__version__
+    # reported as metro's own: a section under the plugin's name, its source, values and verdict
+    import docx
+
+    from metro.core.cli.validate_command import case_json
+    from metro.core.validation.report import write_validation_report
+
+    path = write_validation_report(tmp_path / "v.docx", run, number="VAL-T", lang="en")
+    d = docx.Document(str(path))
+    text = "\n".join([p.text for p in d.paragraphs]
+                     + [c.text for t in d.tables for r in t.rows for c in r.cells])
+    assert "Plugin sample_vendor" in text.replace("\xa0", " ")
+    assert "vendorx:tick" in text and "VX-001 table 1" in text.replace("\xa0", " ")
+    doc = case_json(vendor[0])
+    assert doc["plugin"] == "sample_vendor" and doc["verdict"] == "pass"
+    assert doc["reference"] == [0.5, 3.5] and doc["labels"] == ["1 vtick", "7 vtick"]
 
 
 def test_two_cases_with_one_id_are_an_error_naming_both(monkeypatch):
