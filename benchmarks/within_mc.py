@@ -18,17 +18,18 @@ Example: benchmarks/within_mc.py -s jjf2003 -i 7.2.2,7.2.4,7.2.5 --seeds 1:101
 from __future__ import annotations
 
 import argparse
+import json
 import time
 
 
-def _pairs(values: list[str]) -> dict[str, object]:
+def station_options(values: list[str]) -> dict[str, object]:
+    """``NAME=VALUE`` pairs; a value JSON reads (a number, true/false) as what it is, else text."""
     out: dict[str, object] = {}
-    for v in values:
-        k, _, x = v.partition("=")
+    for name, _, text in (v.partition("=") for v in values):
         try:
-            out[k] = float(x) if any(c in x for c in ".eE") else int(x)
+            out[name] = json.loads(text)
         except ValueError:
-            out[k] = x
+            out[name] = text
     return out
 
 
@@ -62,14 +63,21 @@ def sweep(standard: str, items: list[str], seeds: range, station_options: dict) 
     return rows
 
 
+#: the command line, as benchmarks/within_u.py reads it
+OPTIONS = (
+    (("-s", "--standard"), {"required": True}),
+    (("-i", "--item"), {"default": "", "help": "comma-separated item ids"}),
+    (("--all",), {"action": "store_true", "help": "every item of the standard"}),
+    (("--seeds",), {"default": "1:101", "help": "first:stop"}),
+    (("--station-option",), {"action": "append", "default": [], "metavar": "NAME=VALUE"}),
+)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("-s", "--standard", required=True)
-    ap.add_argument("-i", "--item", default="", help="comma-separated item ids")
-    ap.add_argument("--all", action="store_true", help="every item of the standard")
-    ap.add_argument("--seeds", default="1:101", help="first:stop")
-    ap.add_argument("--station-option", action="append", default=[], metavar="NAME=VALUE")
+    for flags, kwargs in OPTIONS:
+        ap.add_argument(*flags, **kwargs)
     a = ap.parse_args()
     items = [x for x in a.item.split(",") if x]
     if a.all:
@@ -78,7 +86,7 @@ def main() -> None:
         items = [p.item for p in get_plugin_manager(autoload=False).procedures_of(a.standard)]
     first, stop = (int(x) for x in a.seeds.split(":"))
     t0 = time.perf_counter()
-    rows = sweep(a.standard, items, range(first, stop), _pairs(a.station_option))
+    rows = sweep(a.standard, items, range(first, stop), station_options(a.station_option))
     print(f"{a.standard}: items {','.join(items)}, seeds {first}–{stop - 1}, "
           f"{time.perf_counter() - t0:.0f} s")
     print("| item | result | seeds | moved to MC | within GUM U | within the certificate's "

@@ -32,6 +32,7 @@ import numpy as np
 from .budget import UncertaintyBudget
 from .montecarlo import (
     Input,
+    Validation,
     gum_coverage_probability,
     linear_model,
     numerical_tolerance,
@@ -76,7 +77,7 @@ class BudgetCheck:
     @property
     def validated(self) -> bool:
         """True when d_low and d_high are both at most δ (JCGM 101 clause 8.2 c)."""
-        return self.d_low <= self.delta and self.d_high <= self.delta
+        return Validation(self.d_low, self.d_high, self.delta).validated
 
     def as_dict(self, scale: float = 1.0, value: float = 0.0) -> dict:
         """The check as ``--json`` writes it, in a unit ``scale`` times the budget's (the result's
