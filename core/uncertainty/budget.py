@@ -43,8 +43,10 @@ if TYPE_CHECKING:
 Distribution = Literal["normal", "uniform", "triangular", "arcsine", "t", "rectangular"]
 RoundMode = Literal["half-even", "up"]
 
-_DIVISORS = {
-    "normal": None,  # divisor is the stated k
+#: the divisor that turns a bounded distribution's half-width a into u (GUM 4.3.7 and 4.3.9; the
+#: arcsine after JCGM 101 6.4.6); ``None`` for a normal value, whose divisor is its stated k
+DIVISORS = {
+    "normal": None,
     "uniform": math.sqrt(3.0),
     "rectangular": math.sqrt(3.0),
     "triangular": math.sqrt(6.0),
@@ -151,9 +153,9 @@ class BudgetRow:
                 raise ValueError(f"{source}: a normal type B value needs its coverage factor k")
             divisor = float(k)
         else:
-            if distribution not in _DIVISORS:
+            if distribution not in DIVISORS:
                 raise ValueError(f"{source}: unknown distribution {distribution!r}")
-            divisor = _DIVISORS[distribution]  # type: ignore[assignment]
+            divisor = DIVISORS[distribution]  # type: ignore[assignment]
         return cls(
             source, symbol, "B", distribution, _as_q(value), divisor, _as_q(sensitivity), dof, note
         )

@@ -22,6 +22,8 @@ from collections.abc import Callable, Mapping, Sequence
 import attrs
 import numpy as np
 
+from .budget import DIVISORS
+
 #: the distributions a :class:`Input` can have (``"uniform"`` is ``"rectangular"``)
 DISTRIBUTIONS = ("normal", "rectangular", "uniform", "triangular", "arcsine", "t", "ctrap")
 
@@ -66,9 +68,8 @@ class Input:
     @property
     def half_width(self) -> float:
         """The half-width a of a bounded distribution (``u`` itself for ``"ctrap"``)."""
-        factor = {"rectangular": math.sqrt(3), "uniform": math.sqrt(3),
-                  "triangular": math.sqrt(6), "arcsine": math.sqrt(2), "ctrap": 1.0}
-        return self.u * factor.get(self.distribution, math.nan)
+        factor = 1.0 if self.distribution == "ctrap" else DIVISORS.get(self.distribution)
+        return self.u * (factor or math.nan)
 
     def draw(self, size: int, rng: np.random.Generator) -> np.ndarray:
         """``size`` values of X_i (JCGM 101 clause 6.4, Table 1 and clauses 6.4.2.4, 6.4.3.4,

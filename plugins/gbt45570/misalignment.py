@@ -5,6 +5,7 @@ is read from its segments."""
 
 from __future__ import annotations
 
+import abc
 import math
 from typing import Any, Mapping
 
@@ -179,21 +180,21 @@ class MountingMisalignment(GbtItem):
                                  dimension="deg/s").to("deg/s").magnitude)
         return mounting_steps(self.mounting_kind, r, options, revolutions=self.revolutions)
 
-    def scale_factor(self, campaign: Campaign, groups: Mapping[tuple[str, int],
-                                                               list]) -> DeviceScale:
+    @abc.abstractmethod
+    def scale_factor(self, campaign: Campaign,
+                     groups: Mapping[tuple[str, int], list]) -> DeviceScale:
         """The device's K the angles divide by (what :meth:`mounting_angle` and
         :meth:`relative_rows` are given)."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def mounting_angle(self, campaign: Campaign, mounting: tuple[str, int], segs: list,
                        scale: DeviceScale) -> tuple[tuple[float, float, int], list[str]]:
         """One mounting's (angle in °, its type A standard uncertainty in °, ν) and the ids of the
         segments it used."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def relative_rows(self, campaign: Campaign, scale: DeviceScale) -> list[BudgetRow]:
         """Relative type B rows (sensitivity 1), each scaled by the result."""
-        raise NotImplementedError
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)

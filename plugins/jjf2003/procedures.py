@@ -18,6 +18,7 @@ appendix A's large ν_eff); U rounded up to two significant digits.
 
 from __future__ import annotations
 
+import abc
 import math
 from typing import Any, Mapping
 
@@ -223,9 +224,9 @@ class _GyroSweepItem(Procedure):
     def sequence(self, options: Mapping[str, Any]) -> list[Step]:
         return sweep_steps(options)
 
+    @abc.abstractmethod
     def figures(self, fits) -> tuple[list[PlotSpec], list[TableSpec]]:
         """The item's plots and tables from the sweeps' fits."""
-        raise NotImplementedError
 
     def evaluate(self, campaign: Campaign, ctx: RunContext) -> Outcome:
         opts = self.option_values(ctx.options)
