@@ -23,7 +23,7 @@ from ..record.register.reading import Reader, libpq_url
 __all__ = ["PAGE_SIZE", "NUMBER_RE", "KINDS", "Filters", "Page", "list_reports", "standards",
            "get_report", "version", "reader", "close", "chain", "device_history",
            "lab_equipment_status", "checked_file", "FileProblem", "upload_matches", "history_png",
-           "dcc_pdf", "word_pdf"]
+           "word_pdf"]
 
 #: reports on one list page
 PAGE_SIZE = 25
@@ -379,30 +379,15 @@ def checked_file(report: Mapping[str, Any], kind: str) -> tuple[bytes, str]:
         raise FileProblem(404, "no_file")
     dcc = _registered(report, "dcc")
     if dcc is not None:
-        embedded = dcc_pdf(_checked(*dcc))
+        from ..documents.dcc import embedded_pdf
+
+        embedded = embedded_pdf(_checked(*dcc))
         if embedded is not None:
             return embedded, f"{number}.pdf"
     docx = _registered(report, "docx")
     if docx is None:
         raise FileProblem(404, "no_file")
     return word_pdf(_checked(*docx), docx[1]), f"{number}.pdf"
-
-
-def dcc_pdf(xml: bytes) -> bytes | None:
-    """The PDF a DCC embeds (``dcc:document``'s ``dcc:dataBase64``), None when it has none."""
-    import base64
-    import xml.etree.ElementTree as ET
-
-    try:
-        root = ET.fromstring(xml)
-    except ET.ParseError:
-        return None
-    for el in root.iter():
-        if el.tag.endswith("}dataBase64") and el.text:
-            data = base64.b64decode(el.text)
-            if data.startswith(b"%PDF"):
-                return data
-    return None
 
 
 #: PDFs made from checked Word files, by the Word file's SHA-256 (a few kept)

@@ -21,14 +21,14 @@ from typing import Any
 
 from .admin import CONFORMITY, administrative_data
 from .data import DATA_VERSION, dcc_data
-from .read import read_dcc_results
+from .read import embedded_pdf, read_dcc_results
 from .results import REF_BUDGET, REF_ITEM, REF_MATRIX, REF_TABLE, measurement_results
 from .schema import SCHEMA_DIR, validate_dcc
 from .xml import DCC_NS, SI_NS, DccError, Writer
 
 __all__ = [
     "DCC_NS", "SI_NS", "SCHEMA_VERSION", "SCHEMA_DIR", "CONFORMITY", "DccError", "build_dcc",
-    "write_dcc", "read_dcc_results", "validate_dcc", "dcc_data",
+    "write_dcc", "read_dcc_results", "embedded_pdf", "validate_dcc", "dcc_data",
 ]
 
 #: the DCC schema version metro writes (``schemaVersion``)

@@ -9,7 +9,7 @@ from ...base.dsi import metro_unit
 from .admin import CONFORMITY
 from .xml import DCC_NS, SI_NS, DccError
 
-__all__ = ["read_dcc_results"]
+__all__ = ["read_dcc_results", "embedded_pdf"]
 
 _D = f"{{{DCC_NS}}}"
 _S = f"{{{SI_NS}}}"
@@ -96,3 +96,29 @@ def read_dcc_results(xml: bytes) -> list[dict[str, Any]]:
                 continue
             out.append(_one(res, item, verdicts))
     return out
+
+
+def embedded_pdf(xml: bytes) -> bytes | None:
+    """The PDF a DCC carries as ``dcc:document`` (base64 in ``dataBase64``, ``mimeType``
+    application/pdf or the data a PDF: what :func:`~metro.core.documents.dcc.build_dcc` embeds);
+    None when it carries none or the XML does not parse.
+
+    >>> embedded_pdf(b"<x/>") is None
+    True
+    """
+    import base64
+    import binascii
+
+    try:
+        root = ET.fromstring(xml)
+    except ET.ParseError:
+        return None
+    for doc in root.iter(f"{_D}document"):
+        try:
+            data = base64.b64decode(doc.findtext(f"{_D}dataBase64") or "", validate=True)
+        except (binascii.Error, ValueError):
+            continue
+        if data and (doc.findtext(f"{_D}mimeType") == "application/pdf"
+                     or data.startswith(b"%PDF")):
+            return data
+    return None

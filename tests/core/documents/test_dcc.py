@@ -228,6 +228,11 @@ def test_pdf_embedded_and_file_never_replaced(tmp_path) -> None:
     doc = _root(target.read_bytes()).find(f"{D}document")
     assert base64.b64decode(doc.findtext(f"{D}dataBase64")) == pdf
     assert doc.findtext(f"{D}mimeType") == "application/pdf"
+    # read back by the DCC's reader (what metro serve hands out as the report's PDF)
+    from metro.core.documents.dcc import embedded_pdf
+
+    assert embedded_pdf(target.read_bytes()) == pdf
+    assert embedded_pdf(build_dcc(ctx)) is None and embedded_pdf(b"not xml") is None
     before = target.read_bytes()
     with pytest.raises(DccError, match="never replaces"):
         write_dcc(ctx, target)
